@@ -1,0 +1,306 @@
+//! The kernel's one error type.
+//!
+//! Every fallible routine validates all of its inputs before writing any output, so an `Err`
+//! always means "nothing was changed". Each variant names the offending argument (by its Rust
+//! parameter name) and, where there is one, the offending position or value.
+
+use core::fmt;
+
+/// Everything that can go wrong in the kernel.
+#[non_exhaustive]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Error {
+    /// Two arguments that must describe the same number of items disagree.
+    LengthMismatch {
+        /// The argument whose length is wrong.
+        arg: &'static str,
+        /// The length it must have.
+        expected: usize,
+        /// The length it has.
+        actual: usize,
+    },
+    /// A caller-provided output or scratch buffer is too small (see the `*_len` queries).
+    BufferTooSmall {
+        /// The buffer.
+        arg: &'static str,
+        /// The length it needs at least.
+        needed: usize,
+        /// The length it has.
+        actual: usize,
+    },
+    /// An index is outside its valid range.
+    IndexOutOfRange {
+        /// The argument holding the index.
+        arg: &'static str,
+        /// Position of the index within that argument.
+        position: usize,
+        /// The index found.
+        index: usize,
+        /// The exclusive upper bound it must respect.
+        bound: usize,
+    },
+    /// A count does not fit the kernel's `u32` index type.
+    TooLarge {
+        /// The argument.
+        arg: &'static str,
+        /// Its size.
+        value: usize,
+    },
+    /// CSR offsets are not a valid offsets array (must start at 0, never decrease and end at
+    /// the length of the targets array).
+    BadOffsets {
+        /// The offsets argument.
+        arg: &'static str,
+        /// Position of the first bad entry.
+        position: usize,
+    },
+    /// A graph has an edge from a node to itself.
+    SelfLoop {
+        /// The node.
+        node: usize,
+    },
+    /// A graph that must be symmetric has an edge `from → to` without `to → from`.
+    NotSymmetric {
+        /// Source of the unmatched edge.
+        from: usize,
+        /// Target of the unmatched edge.
+        to: usize,
+    },
+    /// A cell has a kind code the kernel does not know.
+    UnknownCellKind {
+        /// The cell.
+        cell: usize,
+        /// Its kind code (VTK numbering).
+        kind: u8,
+    },
+    /// A cell's node count does not match its kind.
+    WrongNodeCount {
+        /// The cell.
+        cell: usize,
+        /// Its kind code (VTK numbering).
+        kind: u8,
+        /// The node count the kind has.
+        expected: usize,
+        /// The node count given.
+        actual: usize,
+    },
+    /// A cell lists the same node twice.
+    RepeatedNode {
+        /// The cell.
+        cell: usize,
+        /// The repeated node.
+        node: usize,
+    },
+    /// A value is NaN or infinite.
+    NonFinite {
+        /// The argument.
+        arg: &'static str,
+        /// Position of the first non-finite item.
+        position: usize,
+    },
+    /// A scalar parameter is outside its valid range.
+    InvalidParameter {
+        /// The parameter.
+        arg: &'static str,
+        /// What it must satisfy.
+        reason: &'static str,
+    },
+    /// A quaternion or vector that must be normalised has zero (or subnormal) length.
+    ZeroLength {
+        /// The argument.
+        arg: &'static str,
+        /// Position of the item (0 for a single value).
+        position: usize,
+    },
+    /// An edge joins two nodes at the same position, so a length-based weight is undefined.
+    ZeroLengthEdge {
+        /// One end of the edge.
+        from: usize,
+        /// The other end.
+        to: usize,
+    },
+    /// A node's local system (2×2 or 3×3) is singular: its edges are colinear or coplanar.
+    SingularNode {
+        /// The node.
+        node: usize,
+    },
+    /// The global system is singular or not positive definite (for example a truss of quads
+    /// without diagonals is a mechanism).
+    SingularSystem {
+        /// The iteration at which the breakdown was detected.
+        iteration: usize,
+    },
+    /// A free node is not connected (through free nodes) to any fixed node, so its value is
+    /// undetermined.
+    Unanchored {
+        /// The first such node.
+        node: usize,
+    },
+    /// A grid line's arclength stopped increasing strictly (the grid folded).
+    FoldedLine {
+        /// Index of the line's first point.
+        line: usize,
+        /// The iteration at which the fold appeared (0 = in the input).
+        iteration: usize,
+    },
+    /// A structured block's dimensions are invalid (zero, or a product that overflows).
+    BadDimensions {
+        /// The dimensions argument.
+        arg: &'static str,
+    },
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Error::LengthMismatch { arg, expected, actual } => {
+                write!(f, "`{arg}` has length {actual}, expected {expected}")
+            }
+            Error::BufferTooSmall { arg, needed, actual } => {
+                write!(f, "buffer `{arg}` has length {actual}, needs at least {needed}")
+            }
+            Error::IndexOutOfRange { arg, position, index, bound } => write!(
+                f,
+                "`{arg}[{position}]` = {index} is out of range (must be < {bound})"
+            ),
+            Error::TooLarge { arg, value } => {
+                write!(f, "`{arg}` has size {value}, which does not fit a u32 index")
+            }
+            Error::BadOffsets { arg, position } => write!(
+                f,
+                "`{arg}[{position}]` breaks the CSR offsets rule (start at 0, non-decreasing, end at the targets length)"
+            ),
+            Error::SelfLoop { node } => write!(f, "node {node} has an edge to itself"),
+            Error::NotSymmetric { from, to } => {
+                write!(f, "edge {from} -> {to} has no reverse edge {to} -> {from}")
+            }
+            Error::UnknownCellKind { cell, kind } => {
+                write!(f, "cell {cell} has unknown kind code {kind}")
+            }
+            Error::WrongNodeCount { cell, kind, expected, actual } => write!(
+                f,
+                "cell {cell} (kind {kind}) has {actual} nodes, expected {expected}"
+            ),
+            Error::RepeatedNode { cell, node } => {
+                write!(f, "cell {cell} lists node {node} more than once")
+            }
+            Error::NonFinite { arg, position } => {
+                write!(f, "`{arg}` has a NaN or infinite value at position {position}")
+            }
+            Error::InvalidParameter { arg, reason } => write!(f, "`{arg}` {reason}"),
+            Error::ZeroLength { arg, position } => {
+                write!(f, "`{arg}` item {position} has zero length and cannot be normalised")
+            }
+            Error::ZeroLengthEdge { from, to } => {
+                write!(f, "edge {from} -> {to} has zero length")
+            }
+            Error::SingularNode { node } => write!(
+                f,
+                "the local system of node {node} is singular (its edges are colinear or coplanar)"
+            ),
+            Error::SingularSystem { iteration } => write!(
+                f,
+                "the global system is singular or indefinite (breakdown at iteration {iteration})"
+            ),
+            Error::Unanchored { node } => write!(
+                f,
+                "free node {node} is not connected to any fixed node"
+            ),
+            Error::FoldedLine { line, iteration } => write!(
+                f,
+                "the grid line starting at point {line} folded (arclength not increasing) at iteration {iteration}"
+            ),
+            Error::BadDimensions { arg } => {
+                write!(f, "`{arg}` has a zero dimension or too many points")
+            }
+        }
+    }
+}
+
+impl core::error::Error for Error {}
+
+#[cfg(feature = "defmt")]
+impl defmt::Format for Error {
+    fn format(&self, f: defmt::Formatter) {
+        match *self {
+            Error::LengthMismatch {
+                arg,
+                expected,
+                actual,
+            } => {
+                defmt::write!(f, "LengthMismatch({=str}: {} != {})", arg, actual, expected)
+            }
+            Error::BufferTooSmall {
+                arg,
+                needed,
+                actual,
+            } => {
+                defmt::write!(f, "BufferTooSmall({=str}: {} < {})", arg, actual, needed)
+            }
+            Error::IndexOutOfRange {
+                arg,
+                position,
+                index,
+                bound,
+            } => defmt::write!(
+                f,
+                "IndexOutOfRange({=str}[{}] = {} >= {})",
+                arg,
+                position,
+                index,
+                bound
+            ),
+            Error::TooLarge { arg, value } => defmt::write!(f, "TooLarge({=str}: {})", arg, value),
+            Error::BadOffsets { arg, position } => {
+                defmt::write!(f, "BadOffsets({=str}[{}])", arg, position)
+            }
+            Error::SelfLoop { node } => defmt::write!(f, "SelfLoop({})", node),
+            Error::NotSymmetric { from, to } => {
+                defmt::write!(f, "NotSymmetric({} -> {})", from, to)
+            }
+            Error::UnknownCellKind { cell, kind } => {
+                defmt::write!(f, "UnknownCellKind(cell {}: {})", cell, kind)
+            }
+            Error::WrongNodeCount {
+                cell,
+                kind,
+                expected,
+                actual,
+            } => defmt::write!(
+                f,
+                "WrongNodeCount(cell {} kind {}: {} != {})",
+                cell,
+                kind,
+                actual,
+                expected
+            ),
+            Error::RepeatedNode { cell, node } => {
+                defmt::write!(f, "RepeatedNode(cell {}: {})", cell, node)
+            }
+            Error::NonFinite { arg, position } => {
+                defmt::write!(f, "NonFinite({=str}[{}])", arg, position)
+            }
+            Error::InvalidParameter { arg, reason } => {
+                defmt::write!(f, "InvalidParameter({=str}: {=str})", arg, reason)
+            }
+            Error::ZeroLength { arg, position } => {
+                defmt::write!(f, "ZeroLength({=str}[{}])", arg, position)
+            }
+            Error::ZeroLengthEdge { from, to } => {
+                defmt::write!(f, "ZeroLengthEdge({} -> {})", from, to)
+            }
+            Error::SingularNode { node } => defmt::write!(f, "SingularNode({})", node),
+            Error::SingularSystem { iteration } => {
+                defmt::write!(f, "SingularSystem(iteration {})", iteration)
+            }
+            Error::Unanchored { node } => defmt::write!(f, "Unanchored({})", node),
+            Error::FoldedLine { line, iteration } => {
+                defmt::write!(f, "FoldedLine(line {} iteration {})", line, iteration)
+            }
+            Error::BadDimensions { arg } => defmt::write!(f, "BadDimensions({=str})", arg),
+        }
+    }
+}
+
+/// Shorthand for `Result<T, Error>`.
+pub type Result<T> = core::result::Result<T, Error>;

@@ -1,0 +1,271 @@
+//! Builders that write a symmetric, deduplicated [`Graph`](crate::Graph) into caller buffers.
+//!
+//! LAPACK-workspace style: ask `*_len` how long `targets` must be (an upper bound: twice the
+//! number of input edges), pass `offsets` of exactly `node_count + 1` entries, and the builder
+//! returns how many `targets` entries it used. Rows come out sorted by neighbour index, so the
+//! result is canonical: equal inputs up to edge order and duplication give equal bits.
+//! Validation happens before anything is written.
+
+use crate::cells::Cells;
+use crate::error::{Error, Result};
+
+/// Where the undirected edges come from.
+enum EdgeSource<'s, 'a> {
+    List(&'s [[u32; 2]]),
+    Cells(&'s Cells<'a>, bool),
+}
+
+impl EdgeSource<'_, '_> {
+    /// Calls `f(a, b)` for every undirected edge occurrence, in input order.
+    fn for_each(&self, mut f: impl FnMut(u32, u32)) {
+        match self {
+            EdgeSource::List(edges) => edges.iter().for_each(|&[a, b]| f(a, b)),
+            EdgeSource::Cells(cells, diagonals) => {
+                for (kind, nodes) in cells.iter() {
+                    let extra: &[[u8; 2]] = if *diagonals {
+                        kind.face_diagonals()
+                    } else {
+                        &[]
+                    };
+                    for &[la, lb] in kind.edges().iter().chain(extra) {
+                        if let (Some(&a), Some(&b)) =
+                            (nodes.get(la as usize), nodes.get(lb as usize))
+                        {
+                            f(a, b);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Length `targets` needs for [`graph_from_edges`]: `2 × edges.len()`.
+#[inline]
+pub fn graph_from_edges_len(edges: &[[u32; 2]]) -> usize {
+    edges.len().saturating_mul(2)
+}
+
+/// Builds the symmetric CSR graph of an undirected edge list (either orientation, duplicates
+/// allowed). Returns the number of `targets` entries used; entries past it are unspecified.
+///
+/// Errors: `offsets.len() != node_count + 1`, `targets` shorter than
+/// [`graph_from_edges_len`], an endpoint `>= node_count`, or an edge from a node to itself.
+pub fn graph_from_edges(
+    node_count: usize,
+    edges: &[[u32; 2]],
+    offsets: &mut [u32],
+    targets: &mut [u32],
+) -> Result<usize> {
+    for (e, &[a, b]) in edges.iter().enumerate() {
+        for (k, v) in [a, b].into_iter().enumerate() {
+            if v as usize >= node_count {
+                return Err(Error::IndexOutOfRange {
+                    arg: "edges",
+                    position: 2 * e + k,
+                    index: v as usize,
+                    bound: node_count,
+                });
+            }
+        }
+        if a == b {
+            return Err(Error::SelfLoop { node: a as usize });
+        }
+    }
+    build(
+        node_count,
+        graph_from_edges_len(edges),
+        &EdgeSource::List(edges),
+        offsets,
+        targets,
+    )
+}
+
+/// Length `targets` needs for [`graph_from_cells`]: twice the number of cell edges (plus
+/// quadrilateral-face diagonals when `face_diagonals` is set).
+pub fn graph_from_cells_len(cells: &Cells<'_>, face_diagonals: bool) -> usize {
+    let mut n = 0usize;
+    for (kind, _) in cells.iter() {
+        n = n.saturating_add(kind.edges().len());
+        if face_diagonals {
+            n = n.saturating_add(kind.face_diagonals().len());
+        }
+    }
+    n.saturating_mul(2)
+}
+
+/// Builds the symmetric CSR edge graph of a mixed-element mesh: two nodes are neighbours when
+/// they share a cell edge (or, with `face_diagonals`, a diagonal of a quadrilateral face).
+/// Returns the number of `targets` entries used; entries past it are unspecified.
+///
+/// Errors: `offsets.len() != cells.node_count() + 1` or `targets` shorter than
+/// [`graph_from_cells_len`].
+pub fn graph_from_cells(
+    cells: &Cells<'_>,
+    face_diagonals: bool,
+    offsets: &mut [u32],
+    targets: &mut [u32],
+) -> Result<usize> {
+    let needed = graph_from_cells_len(cells, face_diagonals);
+    build(
+        cells.node_count(),
+        needed,
+        &EdgeSource::Cells(cells, face_diagonals),
+        offsets,
+        targets,
+    )
+}
+
+/// Shared CSR construction: count, prefix-sum, scatter, then sort and deduplicate each row.
+/// The source's indices are already validated.
+fn build(
+    node_count: usize,
+    needed: usize,
+    source: &EdgeSource<'_, '_>,
+    offsets: &mut [u32],
+    targets: &mut [u32],
+) -> Result<usize> {
+    if u32::try_from(needed).is_err() {
+        return Err(Error::TooLarge {
+            arg: "edges",
+            value: needed / 2,
+        });
+    }
+    if u32::try_from(node_count).is_err() {
+        return Err(Error::TooLarge {
+            arg: "node_count",
+            value: node_count,
+        });
+    }
+    if offsets.len() != node_count.wrapping_add(1) {
+        return Err(Error::LengthMismatch {
+            arg: "offsets",
+            expected: node_count.wrapping_add(1),
+            actual: offsets.len(),
+        });
+    }
+    if targets.len() < needed {
+        return Err(Error::BufferTooSmall {
+            arg: "targets",
+            needed,
+            actual: targets.len(),
+        });
+    }
+
+    // 1. Degrees (with repetitions) into offsets[i + 1].
+    offsets.iter_mut().for_each(|o| *o = 0);
+    source.for_each(|a, b| {
+        for v in [a, b] {
+            if let Some(o) = offsets.get_mut(v as usize + 1) {
+                *o += 1;
+            }
+        }
+    });
+    // 2. Inclusive prefix sum: offsets[i] = start of row i, offsets[i + 1] = its end.
+    let mut acc = 0u32;
+    for o in offsets.iter_mut() {
+        acc = acc.wrapping_add(*o);
+        *o = acc;
+    }
+    // 3. Scatter, using offsets[i] as row i's cursor (it ends at row i's end = next start).
+    source.for_each(|a, b| {
+        for (from, to) in [(a, b), (b, a)] {
+            if let Some(cursor) = offsets.get_mut(from as usize) {
+                if let Some(t) = targets.get_mut(*cursor as usize) {
+                    *t = to;
+                }
+                *cursor += 1;
+            }
+        }
+    });
+    // Now offsets[i] = end of row i; shift back so offsets[i] = start, offsets[n] = total.
+    offsets.rotate_right(1);
+    if let Some(first) = offsets.first_mut() {
+        *first = 0;
+    }
+    // 4. Sort and deduplicate each row, compacting towards the front.
+    let mut write = 0usize;
+    let mut row_start = 0usize;
+    for i in 0..node_count {
+        let row_end = offsets.get(i + 1).map_or(row_start, |&e| e as usize);
+        let new_start = write;
+        if let Some(row) = targets.get_mut(row_start..row_end) {
+            heapsort(row);
+        }
+        let mut last: Option<u32> = None;
+        for r in row_start..row_end {
+            let Some(&v) = targets.get(r) else { break };
+            if last != Some(v) {
+                if let Some(t) = targets.get_mut(write) {
+                    *t = v;
+                }
+                write += 1;
+                last = Some(v);
+            }
+        }
+        if let Some(o) = offsets.get_mut(i) {
+            *o = new_start as u32;
+        }
+        row_start = row_end;
+    }
+    if let Some(o) = offsets.get_mut(node_count) {
+        *o = write as u32;
+    }
+    Ok(write)
+}
+
+/// In-place ascending heapsort (no allocation, no panic path, O(n log n) worst case).
+fn heapsort(v: &mut [u32]) {
+    let n = v.len();
+    let mut start = n / 2;
+    while start > 0 {
+        start -= 1;
+        sift_down(v, start, n);
+    }
+    let mut end = n;
+    while end > 1 {
+        end -= 1;
+        if end < v.len() {
+            v.swap(0, end);
+        }
+        sift_down(v, 0, end);
+    }
+}
+
+fn sift_down(v: &mut [u32], mut root: usize, end: usize) {
+    let end = end.min(v.len());
+    loop {
+        let mut child = 2 * root + 1;
+        if child >= end {
+            break;
+        }
+        if child + 1 < end {
+            if let (Some(a), Some(b)) = (v.get(child), v.get(child + 1)) {
+                if a < b {
+                    child += 1;
+                }
+            }
+        }
+        match (v.get(root), v.get(child)) {
+            (Some(r), Some(c)) if r < c => {
+                if root < v.len() && child < v.len() {
+                    v.swap(root, child);
+                }
+                root = child;
+            }
+            _ => break,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn heapsort_sorts() {
+        let mut v = [5u32, 1, 4, 1, 5, 9, 2, 6, 5, 3, 5];
+        heapsort(&mut v);
+        assert_eq!(v, [1, 1, 2, 3, 4, 5, 5, 5, 5, 6, 9]);
+    }
+}
