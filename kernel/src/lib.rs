@@ -28,14 +28,20 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod block;
 pub mod cells;
+pub mod deformation;
 pub mod error;
 pub mod graph;
 pub mod graph_builder;
+pub mod quality;
 pub mod quat;
 pub mod real;
+pub mod spring;
+pub mod taubin;
 pub mod vector;
 
+pub use block::Block;
 pub use cells::{CellKind, Cells};
 pub use error::{Error, Result};
 pub use graph::Graph;

@@ -1,0 +1,1 @@
+//! Quaternion mesh deformation (Samareh, NASA TM-2002-211646).

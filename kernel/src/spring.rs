@@ -1,0 +1,1 @@
+//! Spring-analogy mesh motion (Batina linear springs; Yang & Özgen angle-inclusion springs).

@@ -1,0 +1,1 @@
+//! Taubin λ|μ low-pass filtering and structured-grid tools (Alter).

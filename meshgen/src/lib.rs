@@ -1,0 +1,1 @@
+//! Deterministic mesh generators (std) shared by the tests, the benchmarks and the `deform demo`.
