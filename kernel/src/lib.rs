@@ -50,3 +50,8 @@ pub use graph_builder::{
 };
 pub use quat::{Quat, QuatAverage};
 pub use real::Real;
+
+/// The README's example, compiled and run as a doctest so it stays true.
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+pub struct ReadmeDoctests;

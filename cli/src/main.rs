@@ -1,0 +1,3 @@
+//! The `deform` command-line tool.
+
+fn main() {}
