@@ -1,0 +1,280 @@
+//! Graph and cell builders: `dk_graph_*`, `dk_cells_check`.
+//!
+//! Mesh node indices coming from the caller (edge lists, cell node lists) are read with
+//! `index_base` 0 (C) or 1 (Fortran) and converted on the fly; the CSR graph the kernel writes
+//! (`offsets`, `targets`) is always 0-based, because callers hand it back to other `dk_`
+//! functions unchanged and never index it themselves.
+#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
+
+use std::vec::Vec;
+
+use deform_kernel::{
+    graph_from_cells, graph_from_cells_len, graph_from_edges, graph_from_edges_len, Cells, Graph,
+};
+
+use crate::slice::{input, out_one, output};
+use crate::status::dk_status;
+
+/// Checks `index_base` and returns a copy of `indices` converted to 0-based. An index below
+/// the base is out of range (reported as `u32::MAX`, which every bound rejects).
+fn rebase(indices: &[u32], index_base: u32) -> Result<Vec<u32>, dk_status> {
+    match index_base {
+        0 => Ok(indices.to_vec()),
+        1 => Ok(indices
+            .iter()
+            .map(|&i| i.checked_sub(1).unwrap_or(u32::MAX))
+            .collect()),
+        _ => Err(dk_status::DK_ERR_BAD_INDEX_BASE),
+    }
+}
+
+fn done(r: Result<(), dk_status>) -> dk_status {
+    match r {
+        Ok(()) => dk_status::DK_OK,
+        Err(s) => s,
+    }
+}
+
+/// Length `targets` needs for [`dk_graph_from_edges`]: `edges_len` (two entries per edge).
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn dk_graph_from_edges_len(
+    edges_len: usize,
+    len_out: *mut usize,
+) -> dk_status {
+    done((|| {
+        if edges_len % 2 != 0 {
+            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+        }
+        // SAFETY: contract: one writable size_t at `len_out`.
+        let out = unsafe { out_one(len_out) }?;
+        *out = edges_len;
+        Ok(())
+    })())
+}
+
+/// Builds the symmetric, sorted, deduplicated CSR graph of an undirected edge list.
+///
+/// `edges` holds `edges_len / 2` pairs `(a, b)` of node indices in `index_base` (0 or 1);
+/// `offsets` must have `node_count + 1` entries; `targets` at least `edges_len` entries. On
+/// success `*used_out` is the number of `targets` entries used (entries past it are
+/// unspecified). Nothing is written on failure.
+///
+/// # Safety
+/// Every pointer is valid for its length (`edges`: `edges_len` reads; `offsets`:
+/// `offsets_len` writes; `targets`: `targets_len` writes; `used_out`: one write), and the
+/// output buffers do not overlap each other or the inputs.
+#[no_mangle]
+pub unsafe extern "C" fn dk_graph_from_edges(
+    node_count: usize,
+    edges: *const u32,
+    edges_len: usize,
+    index_base: u32,
+    offsets: *mut u32,
+    offsets_len: usize,
+    targets: *mut u32,
+    targets_len: usize,
+    used_out: *mut usize,
+) -> dk_status {
+    done((|| {
+        // SAFETY: contract: `edges_len` readable u32 at `edges`.
+        let e = unsafe { input(edges, edges_len) }?;
+        if edges_len % 2 != 0 {
+            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+        }
+        let e = rebase(e, index_base)?;
+        let pairs: Vec<[u32; 2]> = e
+            .chunks_exact(2)
+            .filter_map(|c| match *c {
+                [a, b] => Some([a, b]),
+                _ => None,
+            })
+            .collect();
+        // SAFETY: contract: `offsets_len` writable u32 at `offsets`, not overlapping.
+        let o = unsafe { output(offsets, offsets_len) }?;
+        // SAFETY: contract: `targets_len` writable u32 at `targets`, not overlapping.
+        let t = unsafe { output(targets, targets_len) }?;
+        // SAFETY: contract: one writable size_t at `used_out`.
+        let used = unsafe { out_one(used_out) }?;
+        if graph_from_edges_len(&pairs) != edges_len {
+            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+        }
+        let n = graph_from_edges(node_count, &pairs, o, t).map_err(dk_status::from)?;
+        *used = n;
+        Ok(())
+    })())
+}
+
+/// Owned copies of a caller's cell arrays: offsets, nodes (both 0-based) and kinds.
+type OwnedCells = (Vec<u32>, Vec<u32>, Vec<u8>);
+
+/// Reads a cell list (0-based offsets; node indices in `index_base`) into owned arrays.
+fn read_cells(
+    cell_offsets: *const u32,
+    cell_offsets_len: usize,
+    cell_nodes: *const u32,
+    cell_nodes_len: usize,
+    cell_kinds: *const u8,
+    cell_kinds_len: usize,
+    index_base: u32,
+) -> Result<OwnedCells, dk_status> {
+    // SAFETY: contract: each pointer readable for its length.
+    let offs = unsafe { input(cell_offsets, cell_offsets_len) }?;
+    // SAFETY: as above.
+    let nodes = unsafe { input(cell_nodes, cell_nodes_len) }?;
+    // SAFETY: as above.
+    let kinds = unsafe { input(cell_kinds, cell_kinds_len) }?;
+    // Offsets are positions in `cell_nodes`; with index_base 1 they are 1-based too.
+    let offs = match index_base {
+        0 => offs.to_vec(),
+        1 => offs
+            .iter()
+            .map(|&o| o.checked_sub(1).unwrap_or(u32::MAX))
+            .collect(),
+        _ => return Err(dk_status::DK_ERR_BAD_INDEX_BASE),
+    };
+    Ok((offs, rebase(nodes, index_base)?, kinds.to_vec()))
+}
+
+/// Validates a mixed-element cell list: `cell_offsets` has one entry per cell plus one,
+/// `cell_kinds` holds VTK codes (3 line, 5 tri, 9 quad, 10 tet, 12 hex, 13 prism, 14 pyramid),
+/// node indices are below `node_count`. With `index_base` 1, offsets and node indices are
+/// 1-based (Fortran).
+///
+/// # Safety
+/// Every pointer is valid for reading its length.
+#[no_mangle]
+pub unsafe extern "C" fn dk_cells_check(
+    node_count: usize,
+    cell_offsets: *const u32,
+    cell_offsets_len: usize,
+    cell_nodes: *const u32,
+    cell_nodes_len: usize,
+    cell_kinds: *const u8,
+    cell_kinds_len: usize,
+    index_base: u32,
+) -> dk_status {
+    done((|| {
+        let (o, n, k) = read_cells(
+            cell_offsets,
+            cell_offsets_len,
+            cell_nodes,
+            cell_nodes_len,
+            cell_kinds,
+            cell_kinds_len,
+            index_base,
+        )?;
+        Cells::new(node_count, &o, &n, &k).map_err(dk_status::from)?;
+        Ok(())
+    })())
+}
+
+/// Length `targets` needs for [`dk_graph_from_cells`] (validates the cells first).
+///
+/// # Safety
+/// Every pointer is valid for its length; `len_out` points to one writable `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn dk_graph_from_cells_len(
+    node_count: usize,
+    cell_offsets: *const u32,
+    cell_offsets_len: usize,
+    cell_nodes: *const u32,
+    cell_nodes_len: usize,
+    cell_kinds: *const u8,
+    cell_kinds_len: usize,
+    index_base: u32,
+    face_diagonals: bool,
+    len_out: *mut usize,
+) -> dk_status {
+    done((|| {
+        let (o, n, k) = read_cells(
+            cell_offsets,
+            cell_offsets_len,
+            cell_nodes,
+            cell_nodes_len,
+            cell_kinds,
+            cell_kinds_len,
+            index_base,
+        )?;
+        let cells = Cells::new(node_count, &o, &n, &k).map_err(dk_status::from)?;
+        // SAFETY: contract: one writable size_t at `len_out`.
+        let out = unsafe { out_one(len_out) }?;
+        *out = graph_from_cells_len(&cells, face_diagonals);
+        Ok(())
+    })())
+}
+
+/// Builds the edge graph of a mixed-element mesh (cell edges, plus quadrilateral-face
+/// diagonals when `face_diagonals` is true) as a symmetric, sorted, deduplicated CSR graph.
+/// `offsets` must have `node_count + 1` entries, `targets` at least the length from
+/// [`dk_graph_from_cells_len`]; `*used_out` receives the number of `targets` entries used.
+///
+/// # Safety
+/// Every pointer is valid for its length (reads for the cell arrays, writes for `offsets`,
+/// `targets`, `used_out`), and the outputs do not overlap each other or the inputs.
+#[no_mangle]
+pub unsafe extern "C" fn dk_graph_from_cells(
+    node_count: usize,
+    cell_offsets: *const u32,
+    cell_offsets_len: usize,
+    cell_nodes: *const u32,
+    cell_nodes_len: usize,
+    cell_kinds: *const u8,
+    cell_kinds_len: usize,
+    index_base: u32,
+    face_diagonals: bool,
+    offsets: *mut u32,
+    offsets_len: usize,
+    targets: *mut u32,
+    targets_len: usize,
+    used_out: *mut usize,
+) -> dk_status {
+    done((|| {
+        let (co, cn, ck) = read_cells(
+            cell_offsets,
+            cell_offsets_len,
+            cell_nodes,
+            cell_nodes_len,
+            cell_kinds,
+            cell_kinds_len,
+            index_base,
+        )?;
+        let cells = Cells::new(node_count, &co, &cn, &ck).map_err(dk_status::from)?;
+        // SAFETY: contract: `offsets_len` writable u32 at `offsets`, not overlapping.
+        let o = unsafe { output(offsets, offsets_len) }?;
+        // SAFETY: contract: `targets_len` writable u32 at `targets`, not overlapping.
+        let t = unsafe { output(targets, targets_len) }?;
+        // SAFETY: contract: one writable size_t at `used_out`.
+        let used = unsafe { out_one(used_out) }?;
+        *used = graph_from_cells(&cells, face_diagonals, o, t).map_err(dk_status::from)?;
+        Ok(())
+    })())
+}
+
+/// Validates a 0-based CSR graph (`offsets`: node count + 1 entries; `targets`); with
+/// `require_symmetric` also checks that every edge has its reverse.
+///
+/// # Safety
+/// `offsets` and `targets` are valid for reading their lengths.
+#[no_mangle]
+pub unsafe extern "C" fn dk_graph_check(
+    offsets: *const u32,
+    offsets_len: usize,
+    targets: *const u32,
+    targets_len: usize,
+    require_symmetric: bool,
+) -> dk_status {
+    done((|| {
+        // SAFETY: contract: readable for the given lengths.
+        let o = unsafe { input(offsets, offsets_len) }?;
+        // SAFETY: as above.
+        let t = unsafe { input(targets, targets_len) }?;
+        let g = Graph::new(o, t).map_err(dk_status::from)?;
+        if require_symmetric {
+            g.check_symmetric().map_err(dk_status::from)?;
+        }
+        Ok(())
+    })())
+}

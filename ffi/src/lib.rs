@@ -1,0 +1,31 @@
+//! # deform-kernel-ffi
+//!
+//! The C ABI of deform-kernel, for solvers written in C, C++ and Fortran. The header
+//! `include/deform_kernel.h` is generated from this crate by cbindgen and checked in; the
+//! Fortran module `fortran/deform_kernel.f90` binds the same functions with `iso_c_binding`.
+//!
+//! Conventions (every `dk_*` function):
+//! - returns a [`dk_status`]; `DK_OK` is 0; [`dk_status_str`] describes any value;
+//! - inputs first, outputs last; every buffer is followed by its length in elements;
+//! - outputs are written only on success: on any error the caller's buffers are unchanged;
+//! - NULL pointers are checked (a NULL buffer is allowed only with length 0);
+//! - f64 functions have an `_f32` twin with the same bits as the Rust API;
+//! - mesh node indices supplied by the caller are read with an `index_base` of 0 or 1, so
+//!   Fortran callers pass their arrays as they are;
+//! - all memory belongs to the caller; `*_len` functions say how large buffers must be;
+//! - the library is built with `panic = "abort"`, and the kernel beneath it is proven
+//!   panic-free at link time, so no panic can cross the ABI.
+
+#[cfg(not(any(panic = "abort", feature = "test-unwind")))]
+compile_error!(
+    "deform-kernel-ffi must be built with panic = \"abort\" (set in the workspace profiles); \
+     the `test-unwind` feature exists only for cargo's test harness"
+);
+
+mod slice;
+
+pub mod graph;
+pub mod quat;
+pub mod status;
+
+pub use status::{dk_status, dk_status_str};

@@ -1,0 +1,450 @@
+//! Quaternion algebra: `dk_quat_*` (f64) and `dk_quat_*_f32`.
+//!
+//! Quaternions are 4 scalars, scalar first `(w, x, y, z)`, as in Samareh's paper and in the
+//! kernel's `Quat` (`#[repr(C)]`). Vectors are 3 scalars.
+#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
+
+use deform_kernel::{Quat, QuatAverage, Real};
+
+use crate::slice::{input, out_one, output};
+use crate::status::dk_status;
+
+fn read4<T: Real>(p: *const T) -> Result<Quat<T>, dk_status> {
+    // SAFETY: the public functions' contracts require 4 readable scalars at `p`.
+    let s = unsafe { input(p, 4) }?;
+    match *s {
+        [w, x, y, z] => Ok(Quat::new(w, x, y, z)),
+        _ => Err(dk_status::DK_ERR_LENGTH_MISMATCH),
+    }
+}
+
+fn read3<T: Real>(p: *const T) -> Result<[T; 3], dk_status> {
+    // SAFETY: the public functions' contracts require 3 readable scalars at `p`.
+    let s = unsafe { input(p, 3) }?;
+    match *s {
+        [x, y, z] => Ok([x, y, z]),
+        _ => Err(dk_status::DK_ERR_LENGTH_MISMATCH),
+    }
+}
+
+fn write<T: Real, const N: usize>(p: *mut T, v: [T; N]) -> Result<(), dk_status> {
+    // SAFETY: the public functions' contracts require N writable scalars at `p`.
+    let s = unsafe { output(p, N) }?;
+    for (d, x) in s.iter_mut().zip(v) {
+        *d = x;
+    }
+    Ok(())
+}
+
+fn finite_quat<T: Real>(q: Quat<T>) -> Result<Quat<T>, dk_status> {
+    if q.is_finite() {
+        Ok(q)
+    } else {
+        Err(dk_status::DK_ERR_NON_FINITE)
+    }
+}
+
+fn done(r: Result<(), dk_status>) -> dk_status {
+    match r {
+        Ok(()) => dk_status::DK_OK,
+        Err(s) => s,
+    }
+}
+
+fn mul<T: Real>(a: *const T, b: *const T, out: *mut T) -> dk_status {
+    done((|| {
+        let q = finite_quat(read4(a)?)? * finite_quat(read4(b)?)?;
+        write(out, q.to_array())
+    })())
+}
+
+fn normalize<T: Real>(q: *const T, out: *mut T) -> dk_status {
+    done((|| {
+        let n = read4(q)?.normalize()?;
+        write(out, n.to_array())
+    })())
+}
+
+fn inverse<T: Real>(q: *const T, out: *mut T) -> dk_status {
+    done((|| {
+        let n = read4(q)?.inverse()?;
+        write(out, n.to_array())
+    })())
+}
+
+fn from_axis_angle<T: Real>(axis: *const T, angle: T, out: *mut T) -> dk_status {
+    done((|| {
+        let q = Quat::from_axis_angle(read3(axis)?, angle)?;
+        write(out, q.to_array())
+    })())
+}
+
+fn to_axis_angle<T: Real>(q: *const T, axis_out: *mut T, angle_out: *mut T) -> dk_status {
+    done((|| {
+        let q = read4(q)?.normalize()?;
+        let (axis, angle) = q.to_axis_angle();
+        // Check both outputs before writing either.
+        // SAFETY: the contract requires one writable scalar at `angle_out`.
+        let angle_slot = unsafe { out_one(angle_out) }?;
+        // SAFETY: the contract requires 3 writable scalars at `axis_out`.
+        let axis_slot = unsafe { output(axis_out, 3) }?;
+        for (d, x) in axis_slot.iter_mut().zip(axis) {
+            *d = x;
+        }
+        *angle_slot = angle;
+        Ok(())
+    })())
+}
+
+fn rotation_arc<T: Real>(from: *const T, to: *const T, out: *mut T) -> dk_status {
+    done((|| {
+        let q = Quat::rotation_arc(read3(from)?, read3(to)?)?;
+        write(out, q.to_array())
+    })())
+}
+
+fn rotate_points<T: Real>(
+    q: *const T,
+    points: *const T,
+    points_len: usize,
+    out: *mut T,
+    out_len: usize,
+) -> dk_status {
+    done((|| {
+        let q = read4(q)?.normalize()?;
+        // SAFETY: contract: `points_len` readable scalars at `points`.
+        let p = unsafe { input(points, points_len) }?;
+        if points_len % 3 != 0 {
+            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+        }
+        if out_len != points_len {
+            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+        }
+        if p.iter().any(|x| !x.is_finite()) {
+            return Err(dk_status::DK_ERR_NON_FINITE);
+        }
+        // SAFETY: contract: `out_len` writable scalars at `out`, not overlapping `points`.
+        let o = unsafe { output(out, out_len) }?;
+        for (src, dst) in p.chunks_exact(3).zip(o.chunks_exact_mut(3)) {
+            if let ([x, y, z], [a, b, c]) = (src, dst) {
+                let r = q.rotate([*x, *y, *z]);
+                *a = r[0];
+                *b = r[1];
+                *c = r[2];
+            }
+        }
+        Ok(())
+    })())
+}
+
+fn interpolate<T: Real>(a: *const T, b: *const T, t: T, out: *mut T, spherical: bool) -> dk_status {
+    done((|| {
+        let a = finite_quat(read4(a)?)?;
+        let b = finite_quat(read4(b)?)?;
+        if !t.is_finite() {
+            return Err(dk_status::DK_ERR_NON_FINITE);
+        }
+        let q = if spherical {
+            Quat::slerp(a, b, t)?
+        } else {
+            Quat::nlerp(a, b, t)?
+        };
+        write(out, q.to_array())
+    })())
+}
+
+fn average<T: Real>(
+    quats: *const T,
+    quats_len: usize,
+    weights: *const T,
+    weights_len: usize,
+    out: *mut T,
+) -> dk_status {
+    done((|| {
+        // SAFETY: contract: `quats_len` readable scalars at `quats`.
+        let qs = unsafe { input(quats, quats_len) }?;
+        if quats_len % 4 != 0 {
+            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+        }
+        let w = if weights.is_null() && weights_len == 0 {
+            None
+        } else {
+            // SAFETY: contract: `weights_len` readable scalars at `weights`.
+            let w = unsafe { input(weights, weights_len) }?;
+            if weights_len != quats_len / 4 {
+                return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+            }
+            Some(w)
+        };
+        if qs
+            .iter()
+            .chain(w.unwrap_or(&[]).iter())
+            .any(|x| !x.is_finite())
+        {
+            return Err(dk_status::DK_ERR_NON_FINITE);
+        }
+        let mut acc = QuatAverage::new();
+        for (k, c) in qs.chunks_exact(4).enumerate() {
+            if let [qw, qx, qy, qz] = *c {
+                let wk = w.and_then(|w| w.get(k).copied()).unwrap_or(T::ONE);
+                acc.add(Quat::new(qw, qx, qy, qz), wk);
+            }
+        }
+        write(out, acc.result()?.to_array())
+    })())
+}
+
+/// Hamilton product `out = a b` (each 4 scalars, scalar first). `out` may alias `a` or `b`.
+///
+/// # Safety
+/// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars (or NULL: error).
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_mul(a: *const f64, b: *const f64, out: *mut f64) -> dk_status {
+    mul(a, b, out)
+}
+
+/// `out = q / |q|`; a zero quaternion gives `DK_ERR_ZERO_LENGTH`, never NaN.
+///
+/// # Safety
+/// `q` points to 4 readable scalars, `out` to 4 writable scalars.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_normalize(q: *const f64, out: *mut f64) -> dk_status {
+    normalize(q, out)
+}
+
+/// `out = q⁻¹ = q* / |q|²`.
+///
+/// # Safety
+/// `q` points to 4 readable scalars, `out` to 4 writable scalars.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_inverse(q: *const f64, out: *mut f64) -> dk_status {
+    inverse(q, out)
+}
+
+/// Rotation by `angle` radians about `axis` (3 scalars, normalised here).
+///
+/// # Safety
+/// `axis` points to 3 readable scalars, `out` to 4 writable scalars.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_from_axis_angle(
+    axis: *const f64,
+    angle: f64,
+    out: *mut f64,
+) -> dk_status {
+    from_axis_angle(axis, angle, out)
+}
+
+/// Axis (3 scalars, unit) and angle in `[0, π]` of the rotation `q` (normalised here).
+///
+/// # Safety
+/// `q` points to 4 readable scalars, `axis_out` to 3 and `angle_out` to 1 writable scalar.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_to_axis_angle(
+    q: *const f64,
+    axis_out: *mut f64,
+    angle_out: *mut f64,
+) -> dk_status {
+    to_axis_angle(q, axis_out, angle_out)
+}
+
+/// Shortest rotation taking direction `from` to direction `to` (3 scalars each).
+///
+/// # Safety
+/// `from`, `to` point to 3 readable scalars, `out` to 4 writable scalars.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_rotation_arc(
+    from: *const f64,
+    to: *const f64,
+    out: *mut f64,
+) -> dk_status {
+    rotation_arc(from, to, out)
+}
+
+/// Rotates `points_len / 3` points `(x, y, z)` by `q` (normalised here) into `out`.
+/// `out_len` must equal `points_len`, a multiple of 3.
+///
+/// # Safety
+/// `q` points to 4 readable scalars; `points` to `points_len` readable scalars; `out`
+/// to `out_len` writable scalars not overlapping `points`.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_rotate_points(
+    q: *const f64,
+    points: *const f64,
+    points_len: usize,
+    out: *mut f64,
+    out_len: usize,
+) -> dk_status {
+    rotate_points(q, points, points_len, out, out_len)
+}
+
+/// Spherical linear interpolation on the shorter arc (`t` = 0 gives `a`, 1 gives `b`).
+///
+/// # Safety
+/// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_slerp(
+    a: *const f64,
+    b: *const f64,
+    t: f64,
+    out: *mut f64,
+) -> dk_status {
+    interpolate(a, b, t, out, true)
+}
+
+/// Normalised linear interpolation on the shorter arc.
+///
+/// # Safety
+/// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_nlerp(
+    a: *const f64,
+    b: *const f64,
+    t: f64,
+    out: *mut f64,
+) -> dk_status {
+    interpolate(a, b, t, out, false)
+}
+
+/// Hemisphere-aligned weighted average of `quats_len / 4` quaternions (`q` and `−q` are
+/// one rotation), renormalised. `weights` may be NULL with `weights_len` 0 (all 1);
+/// otherwise `weights_len == quats_len / 4`.
+///
+/// # Safety
+/// `quats` points to `quats_len` readable scalars, `weights` to `weights_len` (or is
+/// NULL with 0), `out` to 4 writable scalars.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_average(
+    quats: *const f64,
+    quats_len: usize,
+    weights: *const f64,
+    weights_len: usize,
+    out: *mut f64,
+) -> dk_status {
+    average(quats, quats_len, weights, weights_len, out)
+}
+
+/// Single-precision twin of [`dk_quat_mul`].
+///
+/// # Safety
+/// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars (or NULL: error).
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_mul_f32(a: *const f32, b: *const f32, out: *mut f32) -> dk_status {
+    mul(a, b, out)
+}
+
+/// Single-precision twin of [`dk_quat_normalize`].
+///
+/// # Safety
+/// `q` points to 4 readable scalars, `out` to 4 writable scalars.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_normalize_f32(q: *const f32, out: *mut f32) -> dk_status {
+    normalize(q, out)
+}
+
+/// Single-precision twin of [`dk_quat_inverse`].
+///
+/// # Safety
+/// `q` points to 4 readable scalars, `out` to 4 writable scalars.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_inverse_f32(q: *const f32, out: *mut f32) -> dk_status {
+    inverse(q, out)
+}
+
+/// Single-precision twin of [`dk_quat_from_axis_angle`].
+///
+/// # Safety
+/// `axis` points to 3 readable scalars, `out` to 4 writable scalars.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_from_axis_angle_f32(
+    axis: *const f32,
+    angle: f32,
+    out: *mut f32,
+) -> dk_status {
+    from_axis_angle(axis, angle, out)
+}
+
+/// Single-precision twin of [`dk_quat_to_axis_angle`].
+///
+/// # Safety
+/// `q` points to 4 readable scalars, `axis_out` to 3 and `angle_out` to 1 writable scalar.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_to_axis_angle_f32(
+    q: *const f32,
+    axis_out: *mut f32,
+    angle_out: *mut f32,
+) -> dk_status {
+    to_axis_angle(q, axis_out, angle_out)
+}
+
+/// Single-precision twin of [`dk_quat_rotation_arc`].
+///
+/// # Safety
+/// `from`, `to` point to 3 readable scalars, `out` to 4 writable scalars.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_rotation_arc_f32(
+    from: *const f32,
+    to: *const f32,
+    out: *mut f32,
+) -> dk_status {
+    rotation_arc(from, to, out)
+}
+
+/// Single-precision twin of [`dk_quat_rotate_points`].
+///
+/// # Safety
+/// `q` points to 4 readable scalars; `points` to `points_len` readable scalars; `out`
+/// to `out_len` writable scalars not overlapping `points`.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_rotate_points_f32(
+    q: *const f32,
+    points: *const f32,
+    points_len: usize,
+    out: *mut f32,
+    out_len: usize,
+) -> dk_status {
+    rotate_points(q, points, points_len, out, out_len)
+}
+
+/// Single-precision twin of [`dk_quat_slerp`].
+///
+/// # Safety
+/// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_slerp_f32(
+    a: *const f32,
+    b: *const f32,
+    t: f32,
+    out: *mut f32,
+) -> dk_status {
+    interpolate(a, b, t, out, true)
+}
+
+/// Single-precision twin of [`dk_quat_nlerp`].
+///
+/// # Safety
+/// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_nlerp_f32(
+    a: *const f32,
+    b: *const f32,
+    t: f32,
+    out: *mut f32,
+) -> dk_status {
+    interpolate(a, b, t, out, false)
+}
+
+/// Single-precision twin of [`dk_quat_average`].
+///
+/// # Safety
+/// `quats` points to `quats_len` readable scalars, `weights` to `weights_len` (or is
+/// NULL with 0), `out` to 4 writable scalars.
+#[no_mangle]
+pub unsafe extern "C" fn dk_quat_average_f32(
+    quats: *const f32,
+    quats_len: usize,
+    weights: *const f32,
+    weights_len: usize,
+    out: *mut f32,
+) -> dk_status {
+    average(quats, quats_len, weights, weights_len, out)
+}

@@ -1,0 +1,258 @@
+//! The C ABI seen from C and Fortran: builds `libdeform_kernel` (static and shared) with
+//! `panic = "abort"`, compiles the C and Fortran examples and the C bad-input program against
+//! both, runs them, and compares their printed bit patterns with the Rust API on the same
+//! inputs. Needs `gcc`, `g++`, `gfortran` and `nm` on PATH (`cargo xtask ci` installs gfortran).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+
+use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Quat, QuatAverage};
+
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("workspace root")
+        .to_path_buf()
+}
+
+/// Builds the C library once per test run, in its own target directory (so it does not wait
+/// on the lock of the cargo running these tests), and returns the directory holding it.
+fn library_dir() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ffi-build");
+        let status = Command::new(env!("CARGO"))
+            .current_dir(workspace())
+            .args([
+                "build",
+                "--release",
+                "--quiet",
+                "-p",
+                "deform-kernel-ffi",
+                "--target-dir",
+            ])
+            .arg(&target)
+            .status()
+            .expect("run cargo");
+        assert!(status.success(), "building deform-kernel-ffi failed");
+        target.join("release")
+    })
+}
+
+enum Link {
+    Static,
+    Shared,
+}
+
+fn compile(compiler: &str, sources: &[PathBuf], flags: &[&str], link: Link, exe: &Path) {
+    let lib = library_dir();
+    let mut cmd = Command::new(compiler);
+    cmd.args(flags).args(sources).arg("-o").arg(exe);
+    match link {
+        Link::Static => {
+            cmd.arg(lib.join("libdeform_kernel.a"));
+        }
+        Link::Shared => {
+            cmd.arg(format!("-L{}", lib.display()))
+                .arg("-ldeform_kernel")
+                .arg(format!("-Wl,-rpath,{}", lib.display()));
+        }
+    }
+    cmd.args(["-lm", "-lpthread", "-ldl"]);
+    let out = cmd
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {compiler}: {e}"));
+    assert!(
+        out.status.success(),
+        "{compiler} failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn run(exe: &Path) -> String {
+    let out = Command::new(exe).output().expect("run example");
+    assert!(
+        out.status.success(),
+        "{} failed:\n{}{}",
+        exe.display(),
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).expect("utf-8 output")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join(name)
+}
+
+fn c_flags() -> Vec<String> {
+    let inc = workspace().join("ffi/include");
+    ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"]
+        .iter()
+        .map(|s| s.to_string())
+        .chain([format!("-I{}", inc.display())])
+        .collect()
+}
+
+fn hex64(name: &str, v: &[f64]) -> String {
+    let mut s = name.to_string();
+    for x in v {
+        s += &format!(" {:016X}", x.to_bits());
+    }
+    s + "\n"
+}
+
+fn hex32(name: &str, v: &[f32]) -> String {
+    let mut s = name.to_string();
+    for x in v {
+        s += &format!(" {:08X}", x.to_bits());
+    }
+    s + "\n"
+}
+
+/// What `ffi/examples/mesh_basics.{c,f90}` must print, computed with the Rust API.
+fn expected_mesh_basics() -> String {
+    let mut out = String::new();
+    let co = [0u32, 4, 8, 12, 16];
+    let cn = [0u32, 1, 4, 3, 1, 2, 5, 4, 3, 4, 7, 6, 4, 5, 8, 7];
+    let ck = [9u8; 4];
+    let cells = Cells::new(9, &co, &cn, &ck).unwrap();
+    let mut offsets = [0u32; 10];
+    let mut targets = vec![0u32; graph_from_cells_len(&cells, true)];
+    let used = graph_from_cells(&cells, true, &mut offsets, &mut targets).unwrap();
+    out += &format!("offsets {}\n", offsets.map(|o| o.to_string()).join(" "));
+    let t: Vec<String> = targets[..used].iter().map(|t| t.to_string()).collect();
+    out += &format!("targets {}\n", t.join(" "));
+
+    let points: Vec<[f64; 3]> = (0..9)
+        .map(|i| [(i % 3) as f64 * 0.5, (i / 3) as f64 * 0.25, 0.0])
+        .collect();
+    let q = Quat::from_axis_angle([0.0, 0.0, 1.0], 0.3).unwrap();
+    let qn = q.normalize().unwrap();
+    let rotated: Vec<f64> = points.iter().flat_map(|&p| qn.rotate(p)).collect();
+    out += &hex64("rotated", &rotated);
+    let q32 = Quat::from_axis_angle([0.0f32, 0.0, 1.0], 0.3)
+        .unwrap()
+        .normalize()
+        .unwrap();
+    let rotated32: Vec<f32> = points
+        .iter()
+        .flat_map(|p| q32.rotate([p[0] as f32, p[1] as f32, 0.0]))
+        .collect();
+    out += &hex32("rotated_f32", &rotated32);
+    let arc = Quat::rotation_arc([1.0, 0.0, 0.0], [0.0, 1.0, 0.5]).unwrap();
+    out += &hex64("arc", &arc.to_array());
+    let mid = Quat::slerp(q, arc, 0.25).unwrap();
+    out += &hex64("slerp", &mid.to_array());
+    let mut avg = QuatAverage::new();
+    avg.add(q, 1.0);
+    avg.add(arc, 2.0);
+    avg.add(-mid, 0.5);
+    out += &hex64("average", &avg.result().unwrap().to_array());
+    out
+}
+
+#[test]
+fn c_example_matches_rust_bit_for_bit() {
+    let src = workspace().join("ffi/examples/mesh_basics.c");
+    let flags = c_flags();
+    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
+    let expected = expected_mesh_basics();
+    for (link, name) in [
+        (Link::Static, "mesh_basics_c_static"),
+        (Link::Shared, "mesh_basics_c_shared"),
+    ] {
+        let exe = tmp(name);
+        compile("gcc", std::slice::from_ref(&src), &flags, link, &exe);
+        assert_eq!(run(&exe), expected, "{name}");
+    }
+}
+
+#[test]
+fn header_compiles_as_cpp() {
+    let src = tmp("header_check.cpp");
+    std::fs::write(
+        &src,
+        "#include \"deform_kernel.h\"\nint main() { return dk_status_str(DK_OK)[0] == 0; }\n",
+    )
+    .unwrap();
+    let inc = format!("-I{}", workspace().join("ffi/include").display());
+    let exe = tmp("header_check_cpp");
+    compile(
+        "g++",
+        &[src],
+        &[
+            "-std=c++11",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            "-pedantic",
+            &inc,
+        ],
+        Link::Static,
+        &exe,
+    );
+    assert_eq!(run(&exe), "");
+}
+
+#[test]
+fn fortran_example_matches_rust_bit_for_bit() {
+    let module = workspace().join("ffi/fortran/deform_kernel.f90");
+    let src = workspace().join("ffi/examples/mesh_basics.f90");
+    let expected = expected_mesh_basics();
+    for (link, name) in [
+        (Link::Static, "mesh_basics_f_static"),
+        (Link::Shared, "mesh_basics_f_shared"),
+    ] {
+        let moddir = tmp(&format!("{name}_mod"));
+        std::fs::create_dir_all(&moddir).unwrap();
+        let jflag = format!("-J{}", moddir.display());
+        let exe = tmp(name);
+        compile(
+            "gfortran",
+            &[module.clone(), src.clone()],
+            &["-std=f2008", "-Wall", "-Werror", &jflag],
+            link,
+            &exe,
+        );
+        assert_eq!(run(&exe), expected, "{name}");
+    }
+}
+
+#[test]
+fn bad_input_from_c_returns_documented_status_and_writes_nothing() {
+    let src = workspace().join("ffi/tests/bad_input.c");
+    let flags = c_flags();
+    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
+    let exe = tmp("bad_input_c");
+    compile("gcc", &[src], &flags, Link::Static, &exe);
+    assert_eq!(run(&exe), "bad_input: every check held\n");
+}
+
+#[test]
+fn exported_symbols_match_the_checked_in_list() {
+    let so = library_dir().join("libdeform_kernel.so");
+    let out = Command::new("nm")
+        .args(["-D", "--defined-only"])
+        .arg(&so)
+        .output()
+        .expect("nm");
+    assert!(out.status.success());
+    let mut symbols: Vec<String> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .filter_map(|l| l.split_whitespace().nth(2))
+        .filter(|s| s.starts_with("dk_"))
+        .map(str::to_string)
+        .collect();
+    symbols.sort();
+    let listed = std::fs::read_to_string(workspace().join("ffi/symbols.txt")).unwrap();
+    let listed: Vec<&str> = listed
+        .lines()
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+        .collect();
+    assert_eq!(
+        symbols, listed,
+        "the exported dk_ symbols changed: update ffi/symbols.txt deliberately"
+    );
+}
