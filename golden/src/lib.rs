@@ -1,3 +1,171 @@
 //! Golden vectors: canonical inputs, the code that runs the kernel on them, and the committed
-//! hashes of all output bits. `no_std`, so the Cortex-M suite checks the same constants.
+//! hashes of all output bits. `no_std` and allocation-free (it builds for
+//! `thumbv7em-none-eabihf`), so the Cortex-M suite checks exactly the same constants as the
+//! host test `host-tests/tests/golden.rs`.
+//!
+//! # How it works
+//!
+//! Every [`Case`] has two runners, one instantiated for `f64` and one for `f32`. A runner
+//! builds its inputs from a fixed-seed [`XorShift`] generator (written here: no RNG crate, so
+//! the inputs never change under a dependency update), calls kernel routines, and feeds every
+//! output bit pattern (`to_bits`, widened to `u64`), every index and every error code into an
+//! FNV-1a-64 [`Fnv`] hash. The hash is compared with the committed `expected_*` value: any
+//! change in any output bit of any routine changes the hash (with overwhelming probability)
+//! and the test fails, naming the case.
+//!
+//! Integer-only cases (the graph builders) have no scalar type; both of their runners are the
+//! same function and both expected values are the same hash.
+//!
+//! # Adding a case
+//!
+//! 1. Write `fn my_case<T: Real>() -> u64` in a module (see [`quat_cases`]): build inputs with
+//!    [`XorShift`], run the routine, hash every output with [`Fnv`] (use [`Fnv::result_quat`]
+//!    style helpers for `Result`s so error outcomes are hashed too).
+//! 2. Append `Case { name: "my_case", run_f64: my_case::<f64>, run_f32: my_case::<f32>,
+//!    expected_f64: 0, expected_f32: 0 }` to [`CASES`].
+//! 3. Run `cargo test -p deform-host-tests --test golden`: it fails and prints the computed
+//!    values as a ready-to-paste `expected_f64: 0x…, expected_f32: 0x…` line. Paste it.
+//!
+//! # Updating a hash deliberately
+//!
+//! A hash may only change when an output bit changes *on purpose* (a more accurate formula, a
+//! changed operation order, a fixed bug). Then:
+//!
+//! 1. Make sure the change is intended: the property and parity tests
+//!    (`quat_properties`, `quat_parity`, …) must still pass, i.e. the new bits are still
+//!    correct.
+//! 2. Run `cargo test -p deform-host-tests --test golden`. It lists every case whose hash
+//!    differs with its new values; paste them over the old `expected_*` constants in
+//!    [`CASES`].
+//! 3. Say in the commit message which cases changed and why. Never edit a hash by hand to a
+//!    value that was not printed by the test, and never change the inputs of an existing case
+//!    (add a new case instead), so old and new hashes stay comparable.
+//!
+//! Hashes are platform independent by construction: core arithmetic is IEEE 754 correctly
+//! rounded everywhere, every transcendental function comes from `libm` (pure Rust), and the
+//! kernel never uses fused multiply-add. The `micromath` feature is excluded from these
+//! guarantees and must be off when the golden cases run.
 #![no_std]
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod graph_cases;
+pub mod hash;
+pub mod quat_cases;
+pub mod rng;
+
+pub use hash::Fnv;
+pub use rng::XorShift;
+
+/// One golden case: a name, a runner per scalar type, and the committed hashes.
+#[derive(Clone, Copy, Debug)]
+pub struct Case {
+    /// Short unique name (printed when the hash differs).
+    pub name: &'static str,
+    /// Runs the case in `f64` and returns the FNV-1a-64 hash of all output bits.
+    pub run_f64: fn() -> u64,
+    /// Runs the case in `f32` and returns the FNV-1a-64 hash of all output bits.
+    pub run_f32: fn() -> u64,
+    /// The committed `f64` hash.
+    pub expected_f64: u64,
+    /// The committed `f32` hash.
+    pub expected_f32: u64,
+}
+
+/// What running a [`Case`] produced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Outcome {
+    /// The `f64` hash computed now.
+    pub got_f64: u64,
+    /// The `f32` hash computed now.
+    pub got_f32: u64,
+}
+
+impl Case {
+    /// Runs both runners.
+    pub fn run(&self) -> Outcome {
+        Outcome {
+            got_f64: (self.run_f64)(),
+            got_f32: (self.run_f32)(),
+        }
+    }
+
+    /// `true` when `outcome` matches both committed hashes.
+    pub fn matches(&self, outcome: &Outcome) -> bool {
+        outcome.got_f64 == self.expected_f64 && outcome.got_f32 == self.expected_f32
+    }
+}
+
+/// Every golden case. Append new cases at the end; never reorder or change existing inputs.
+pub const CASES: &[Case] = &[
+    Case {
+        name: "quat_products",
+        run_f64: quat_cases::products::<f64>,
+        run_f32: quat_cases::products::<f32>,
+        expected_f64: 0x0e33_b884_15f1_5812,
+        expected_f32: 0xa852_4820_ebfc_62ab,
+    },
+    Case {
+        name: "quat_rotate",
+        run_f64: quat_cases::rotate::<f64>,
+        run_f32: quat_cases::rotate::<f32>,
+        expected_f64: 0x10e6_90fa_e485_8480,
+        expected_f32: 0x27c7_df10_ee8f_ec64,
+    },
+    Case {
+        name: "quat_rotation_arc",
+        run_f64: quat_cases::rotation_arc::<f64>,
+        run_f32: quat_cases::rotation_arc::<f32>,
+        expected_f64: 0x32f8_f5af_40dc_b9fd,
+        expected_f32: 0x7641_4789_b93e_c2a2,
+    },
+    Case {
+        name: "quat_slerp_nlerp",
+        run_f64: quat_cases::slerp::<f64>,
+        run_f32: quat_cases::slerp::<f32>,
+        expected_f64: 0x1a74_b6f5_c227_ad59,
+        expected_f32: 0xf15e_3ca6_c31c_76b4,
+    },
+    Case {
+        name: "quat_axis_angle",
+        run_f64: quat_cases::axis_angle::<f64>,
+        run_f32: quat_cases::axis_angle::<f32>,
+        expected_f64: 0x9fd8_3051_bb71_ef6c,
+        expected_f32: 0x77a7_f279_4f0e_0484,
+    },
+    Case {
+        name: "quat_average",
+        run_f64: quat_cases::average::<f64>,
+        run_f32: quat_cases::average::<f32>,
+        expected_f64: 0x08a0_9711_98a8_6a26,
+        expected_f32: 0x5877_c87e_6470_05e7,
+    },
+    Case {
+        name: "quat_normalize_inverse",
+        run_f64: quat_cases::normalize::<f64>,
+        run_f32: quat_cases::normalize::<f32>,
+        expected_f64: 0x8643_35d0_c41f_0d90,
+        expected_f32: 0x1405_470b_b1e8_4c1e,
+    },
+    Case {
+        name: "graph_from_edges",
+        run_f64: graph_cases::from_edges,
+        run_f32: graph_cases::from_edges,
+        expected_f64: 0x07b5_4d7d_d809_25e5,
+        expected_f32: 0x07b5_4d7d_d809_25e5,
+    },
+    Case {
+        name: "graph_from_cells",
+        run_f64: graph_cases::from_cells,
+        run_f32: graph_cases::from_cells,
+        expected_f64: 0xef08_9098_5a12_f7d5,
+        expected_f32: 0xef08_9098_5a12_f7d5,
+    },
+    Case {
+        name: "graph_from_cells_diagonals",
+        run_f64: graph_cases::from_cells_diagonals,
+        run_f32: graph_cases::from_cells_diagonals,
+        expected_f64: 0xdf78_d994_f188_b4b6,
+        expected_f32: 0xdf78_d994_f188_b4b6,
+    },
+];

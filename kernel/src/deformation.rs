@@ -1,1 +1,278 @@
 //! Quaternion mesh deformation (Samareh, NASA TM-2002-211646).
+//!
+//! The boundary motion is split into a rotation `Q_i` and a translation `Δ_i` per boundary
+//! node; both are propagated into the field and every point is moved by (eq. 6)
+//!
+//! ```text
+//! R^d = o + Δ + Q (R^u − o) Q*
+//! ```
+//!
+//! about an origin `o`. Because the rotation is carried along, cells near a rotating wall turn
+//! with it instead of being sheared, so large rotations keep near-wall cells intact.
+//!
+//! The steps, each a separate entry point so callers can mix them:
+//! 1. [`boundary_normals`]: area-weighted node normals of the boundary elements.
+//! 2. [`boundary_rotations`] (from the boundary shape: normal alignment and twist in 3D, change
+//!    of edge direction in 2D), or [`rigid_rotations`] when the caller knows the rotation.
+//! 3. [`boundary_origin`] (default origin) and [`boundary_translations`]:
+//!    `Δ_i = (r_i^d − o) − Q_i (r_i^u − o) Q_i*` (the DESIGN.md erratum of Samareh's `Δ`).
+//! 4. Propagation of `(Δ, Q)` into the field: [`propagate_idw`] (inverse distance),
+//!    [`propagate_tfi`] (transfinite interpolation of structured blocks, arclength blending),
+//!    [`propagate_spring`] (linear springs, one solve for `Δ` and `Q` together).
+//!    [`displacement_tfi`] is plain displacement TFI for comparison.
+//! 5. [`update_points`]: the field update (eq. 6); boundary nodes are copied from `r^d`.
+//!
+//! [`deform_idw`], [`deform_tfi`] and [`deform_spring`] run the whole pipeline in one call.
+//!
+//! **Boundary exactness.** `o + ((r^d − o) − x) + x` is not `r^d` in floating point (the
+//! subtraction can lose the low bits of `r^d`), so no evaluation order of eq. 6 reproduces the
+//! boundary bit for bit in general. [`update_points`] therefore writes the caller's `r^d`
+//! directly at every boundary node; every other node uses eq. 6.
+//!
+//! **Choices beyond the paper.** Translations are measured about an origin `o` (default: the
+//! centroid of the moving boundary, see [`boundary_origin`] for why a far origin hurts). The 3D
+//! twist is a circular mean weighted by the projected edge lengths (robust at sharp trailing
+//! edges). Antiparallel undeformed/deformed normals are not an error: `Q1` turns by 180° about
+//! a tangent axis and the twist completes the rotation; element normals that cancel *at* a
+//! node are ([`Error::ZeroLength`], `"normals"`): a folded sheet in 3D, a cusp for
+//! [`boundary_normals`] in 2D (2D rotations use edge directions, not normals).
+//!
+//! **Cost.** Normals, rotations, translations, TFI and the update are `O(B)` or `O(N)`;
+//! [`propagate_idw`] is `O(N · B)`; [`propagate_spring`] is one linear-spring solve.
+//!
+//! **Storage.** Boundary-level routines work on the boundary's own point list (`B` points,
+//! elements indexing `0..B`); field-level routines work on the mesh (`N` points) with
+//! `boundary: &[u32]` naming the mesh node of each boundary point; [`localize_nodes`] renumbers
+//! a marker's element nodes from mesh to boundary numbering.
+
+mod localize;
+mod normals;
+mod pipeline;
+mod propagate;
+mod rotations;
+mod springs;
+mod tfi;
+mod update;
+
+pub use localize::{localize_nodes, localize_nodes_scratch_len};
+pub use normals::{boundary_normals, boundary_normals_scratch_len};
+pub use pipeline::{
+    deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len, deform_tfi,
+    deform_tfi_scratch_len, BoundaryMotion, RotationSource,
+};
+pub use propagate::propagate_idw;
+pub use rotations::{
+    boundary_origin, boundary_rotations, boundary_rotations_scratch_len, boundary_translations,
+    rigid_rotations,
+};
+pub use springs::{propagate_spring, propagate_spring_scratch_len};
+pub use tfi::{displacement_tfi, propagate_tfi, tfi_scratch_len};
+pub use update::update_points;
+
+use crate::error::{Error, Result};
+use crate::quat::Quat;
+use crate::real::Real;
+
+/// A read-only view of `B` points: either a slice, or a mesh slice gathered through a node
+/// list (indices validated by the caller of [`Pts::mapped`]).
+#[derive(Clone, Copy)]
+pub(crate) struct Pts<'a, T, const D: usize> {
+    points: &'a [[T; D]],
+    map: Option<&'a [u32]>,
+}
+
+impl<'a, T: Real, const D: usize> Pts<'a, T, D> {
+    /// The points themselves.
+    #[inline]
+    fn direct(points: &'a [[T; D]]) -> Self {
+        Pts { points, map: None }
+    }
+
+    /// `points[map[k]]` for `k` in `0..map.len()`.
+    #[inline]
+    fn mapped(points: &'a [[T; D]], map: &'a [u32]) -> Self {
+        Pts {
+            points,
+            map: Some(map),
+        }
+    }
+
+    /// Number of points in the view.
+    #[inline]
+    fn len(&self) -> usize {
+        match self.map {
+            Some(m) => m.len(),
+            None => self.points.len(),
+        }
+    }
+
+    /// Point `k` (zero when out of range).
+    #[inline]
+    fn get(&self, k: usize) -> [T; D] {
+        let i = match self.map {
+            Some(m) => m.get(k).map_or(usize::MAX, |&i| i as usize),
+            None => k,
+        };
+        self.points.get(i).copied().unwrap_or([T::ZERO; D])
+    }
+
+    /// Point `k` lifted to 3D.
+    #[inline]
+    fn get3(&self, k: usize) -> [T; 3] {
+        lift(self.get(k))
+    }
+
+    /// Checks that every point in the view is finite.
+    fn check_finite(&self, arg: &'static str) -> Result<()> {
+        for k in 0..self.len() {
+            if !self.get(k).iter().all(|c| c.is_finite()) {
+                return Err(Error::NonFinite { arg, position: k });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Lifts a `D`-vector into 3D (missing components are zero).
+#[inline]
+fn lift<T: Real, const D: usize>(v: [T; D]) -> [T; 3] {
+    let mut r = [T::ZERO; 3];
+    for (a, b) in r.iter_mut().zip(v.iter()) {
+        *a = *b;
+    }
+    r
+}
+
+/// Drops a 3-vector to its first `D` components.
+#[inline]
+fn drop3<T: Real, const D: usize>(v: [T; 3]) -> [T; D] {
+    let mut r = [T::ZERO; D];
+    for (a, b) in r.iter_mut().zip(v.iter()) {
+        *a = *b;
+    }
+    r
+}
+
+/// Rotates a `D`-vector (2D points are taken at `z = 0`).
+#[inline]
+fn rotate_d<T: Real, const D: usize>(q: Quat<T>, v: [T; D]) -> [T; D] {
+    drop3(q.rotate(lift(v)))
+}
+
+/// Checks that `D` is 2 or 3.
+#[inline]
+fn check_dim<const D: usize>() -> Result<()> {
+    if D == 2 || D == 3 {
+        Ok(())
+    } else {
+        Err(Error::BadDimensions { arg: "D" })
+    }
+}
+
+/// Checks `slice.len() == expected`.
+#[inline]
+fn check_len(arg: &'static str, actual: usize, expected: usize) -> Result<()> {
+    if actual == expected {
+        Ok(())
+    } else {
+        Err(Error::LengthMismatch {
+            arg,
+            expected,
+            actual,
+        })
+    }
+}
+
+/// Checks `actual >= needed` for a buffer.
+#[inline]
+fn check_buffer(arg: &'static str, actual: usize, needed: usize) -> Result<()> {
+    if actual >= needed {
+        Ok(())
+    } else {
+        Err(Error::BufferTooSmall {
+            arg,
+            needed,
+            actual,
+        })
+    }
+}
+
+/// Checks that every component is finite.
+#[inline]
+fn check_finite<T: Real, const N: usize>(arg: &'static str, values: &[[T; N]]) -> Result<()> {
+    match crate::real::first_non_finite(values) {
+        Some(position) => Err(Error::NonFinite { arg, position }),
+        None => Ok(()),
+    }
+}
+
+/// Checks that every quaternion is finite and can be normalised.
+#[inline]
+fn check_quats<T: Real>(arg: &'static str, q: &[Quat<T>]) -> Result<()> {
+    for (position, r) in q.iter().enumerate() {
+        if !r.is_finite() {
+            return Err(Error::NonFinite { arg, position });
+        }
+        if r.normalize().is_err() {
+            return Err(Error::ZeroLength { arg, position });
+        }
+    }
+    Ok(())
+}
+
+/// Checks that every index in `nodes` is `< bound`.
+#[inline]
+fn check_indices(arg: &'static str, nodes: &[u32], bound: usize) -> Result<()> {
+    for (position, &n) in nodes.iter().enumerate() {
+        if n as usize >= bound {
+            return Err(Error::IndexOutOfRange {
+                arg,
+                position,
+                index: n as usize,
+                bound,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Checks that a scalar is finite.
+#[inline]
+fn check_scalar<T: Real>(arg: &'static str, x: T) -> Result<()> {
+    if x.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::NonFinite { arg, position: 0 })
+    }
+}
+
+/// Reads element `i` of a flat slice viewed as `[[T; N]]` (zeros when out of range).
+#[inline]
+fn load<T: Real, const N: usize>(s: &[T], i: usize) -> [T; N] {
+    let mut r = [T::ZERO; N];
+    let start = i.wrapping_mul(N);
+    if let Some(c) = s.get(start..start.wrapping_add(N)) {
+        for (a, b) in r.iter_mut().zip(c) {
+            *a = *b;
+        }
+    }
+    r
+}
+
+/// Writes element `i` of a flat slice viewed as `[[T; N]]` (ignored when out of range).
+#[inline]
+fn store<T: Real, const N: usize>(s: &mut [T], i: usize, v: [T; N]) {
+    let start = i.wrapping_mul(N);
+    if let Some(c) = s.get_mut(start..start.wrapping_add(N)) {
+        for (a, b) in c.iter_mut().zip(v) {
+            *a = b;
+        }
+    }
+}
+
+/// Splits `s` into `[..n]` and the rest (the rest is empty and the head short when `s` is).
+#[inline]
+fn take<T>(s: &mut [T], n: usize) -> (&mut [T], &mut [T]) {
+    let n = n.min(s.len());
+    s.split_at_mut_checked(n).unwrap_or_default()
+}

@@ -148,6 +148,39 @@ pub enum Error {
         /// The dimensions argument.
         arg: &'static str,
     },
+    /// A boundary node belongs to no boundary element (or all of its element edges are
+    /// degenerate), so its normal or rotation is undetermined.
+    IsolatedNode {
+        /// The node (index into the boundary point list).
+        node: usize,
+    },
+    /// A node list names the same node twice.
+    DuplicateNode {
+        /// The argument holding the list.
+        arg: &'static str,
+        /// Position of the second occurrence.
+        position: usize,
+        /// The repeated node.
+        node: usize,
+    },
+    /// A value that must be strictly positive (a spring stiffness, a weight) is zero or
+    /// negative.
+    NonPositive {
+        /// The argument.
+        arg: &'static str,
+        /// Position of the first offending item.
+        position: usize,
+    },
+    /// A cell's kind does not fit the point dimension (a routine for `D = 2` got a 3D cell,
+    /// or a 2D routine got a line).
+    CellDimension {
+        /// The cell (or boundary element).
+        cell: usize,
+        /// Its kind code (VTK numbering).
+        kind: u8,
+        /// The point dimension `D` of the call.
+        dimension: usize,
+    },
 }
 
 impl fmt::Display for Error {
@@ -213,6 +246,20 @@ impl fmt::Display for Error {
             Error::BadDimensions { arg } => {
                 write!(f, "`{arg}` has a zero dimension or too many points")
             }
+            Error::IsolatedNode { node } => write!(
+                f,
+                "boundary node {node} has no usable boundary element, so its normal or rotation is undetermined"
+            ),
+            Error::DuplicateNode { arg, position, node } => {
+                write!(f, "`{arg}[{position}]` repeats node {node}")
+            }
+            Error::NonPositive { arg, position } => {
+                write!(f, "`{arg}` has a zero or negative value at position {position}")
+            }
+            Error::CellDimension { cell, kind, dimension } => write!(
+                f,
+                "cell {cell} (kind {kind}) is not a valid cell for {dimension}D points"
+            ),
         }
     }
 }
@@ -298,6 +345,26 @@ impl defmt::Format for Error {
                 defmt::write!(f, "FoldedLine(line {} iteration {})", line, iteration)
             }
             Error::BadDimensions { arg } => defmt::write!(f, "BadDimensions({=str})", arg),
+            Error::IsolatedNode { node } => defmt::write!(f, "IsolatedNode({})", node),
+            Error::DuplicateNode {
+                arg,
+                position,
+                node,
+            } => defmt::write!(f, "DuplicateNode({=str}[{}] = {})", arg, position, node),
+            Error::NonPositive { arg, position } => {
+                defmt::write!(f, "NonPositive({=str}[{}])", arg, position)
+            }
+            Error::CellDimension {
+                cell,
+                kind,
+                dimension,
+            } => defmt::write!(
+                f,
+                "CellDimension(cell {} kind {}: {}D)",
+                cell,
+                kind,
+                dimension
+            ),
         }
     }
 }

@@ -179,7 +179,10 @@ fn build(
         }
     });
     // Now offsets[i] = end of row i; shift back so offsets[i] = start, offsets[n] = total.
-    offsets.rotate_right(1);
+    // (`offsets` is empty only when `node_count + 1` wrapped; `rotate_right` asserts.)
+    if !offsets.is_empty() {
+        offsets.rotate_right(1);
+    }
     if let Some(first) = offsets.first_mut() {
         *first = 0;
     }

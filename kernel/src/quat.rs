@@ -98,7 +98,10 @@ impl<T: Real> Quat<T> {
         Quat::new(self.w * s, self.x * s, self.y * s, self.z * s)
     }
 
-    /// `Q / |Q|`. A zero, subnormal or non-finite quaternion is an error, never NaN.
+    /// `Q / |Q|`. A quaternion whose components are all zero or subnormal is an error
+    /// (`ZeroLength`), as is a non-finite one (`NonFinite`), never NaN. When `|Q|²` would
+    /// overflow or underflow, `Q` is first divided by its largest component, so every finite
+    /// quaternion with a normal component normalises to full accuracy.
     pub fn normalize(self) -> Result<Self> {
         if !self.is_finite() {
             return Err(Error::NonFinite {
@@ -106,17 +109,31 @@ impl<T: Real> Quat<T> {
                 position: 0,
             });
         }
-        let n = self.norm();
-        if n.is_nan() || n < T::MIN_POSITIVE || !n.is_finite() {
+        let n2 = self.norm_sq();
+        if n2.is_finite() && n2 >= T::MIN_POSITIVE {
+            return Ok(self.scale(T::ONE / n2.sqrt()));
+        }
+        // |Q|² overflowed or underflowed: rescale by the largest component (norm in [1, 2]).
+        let m = self
+            .w
+            .abs()
+            .max(self.x.abs())
+            .max(self.y.abs())
+            .max(self.z.abs());
+        if m < T::MIN_POSITIVE {
             return Err(Error::ZeroLength {
                 arg: "quaternion",
                 position: 0,
             });
         }
-        Ok(self.scale(T::ONE / n))
+        let r = Quat::new(self.w / m, self.x / m, self.y / m, self.z / m);
+        Ok(r.scale(T::ONE / r.norm()))
     }
 
-    /// `Q⁻¹ = Q* / |Q|²` (equals the conjugate for unit quaternions).
+    /// `Q⁻¹ = Q* / |Q|²` (equals the conjugate for unit quaternions). Errors like
+    /// [`Quat::normalize`]; when `|Q|²` would overflow or underflow, `Q` is rescaled by its
+    /// largest component first (accuracy is then lost only where the true inverse is itself
+    /// subnormal or beyond the largest finite value).
     pub fn inverse(self) -> Result<Self> {
         if !self.is_finite() {
             return Err(Error::NonFinite {
@@ -125,13 +142,25 @@ impl<T: Real> Quat<T> {
             });
         }
         let n2 = self.norm_sq();
-        if n2.is_nan() || n2 < T::MIN_POSITIVE || !n2.is_finite() {
+        if n2.is_finite() && n2 >= T::MIN_POSITIVE {
+            return Ok(self.conjugate().scale(T::ONE / n2));
+        }
+        // |Q|² overflowed or underflowed: Q⁻¹ = (Q/m)* / (|Q/m|² m), m the largest component.
+        let m = self
+            .w
+            .abs()
+            .max(self.x.abs())
+            .max(self.y.abs())
+            .max(self.z.abs());
+        if m < T::MIN_POSITIVE {
             return Err(Error::ZeroLength {
                 arg: "quaternion",
                 position: 0,
             });
         }
-        Ok(self.conjugate().scale(T::ONE / n2))
+        let r = Quat::new(self.w / m, self.x / m, self.y / m, self.z / m);
+        let d = r.norm_sq() * m;
+        Ok(Quat::new(r.w / d, -r.x / d, -r.y / d, -r.z / d))
     }
 
     /// Rotation by `angle` radians about `axis` (normalised here; a zero axis is an error):
@@ -194,8 +223,11 @@ impl<T: Real> Quat<T> {
     ///
     /// For angles up to 90° this is the half-way construction `[u·h, u×h]` with
     /// `h = (u + v)/|u + v|`, accurate for tiny angles. Beyond 90° it uses
-    /// `[|u + v|/2, n̂ |u − v|/2]` with `n̂ = (u × v)/|u × v|`, accurate near 180°; exactly
-    /// antiparallel vectors turn by 180° about an axis orthogonal to `u`.
+    /// `[|u + v|/2, n̂ |u − v|/2]` with `n̂` the direction of `u × (u + v)` (equal to `u × v`,
+    /// but computed from the small sum `u + v`, which has a relative rounding error of at
+    /// most ε/2, so the axis stays accurate and orthogonal to `u` near 180°; `u × v` itself
+    /// loses all accuracy there); exactly antiparallel vectors turn by 180° about an axis
+    /// orthogonal to `u`.
     pub fn rotation_arc(from: [T; 3], to: [T; 3]) -> Result<Self> {
         if !from.iter().chain(to.iter()).all(|c| c.is_finite()) {
             return Err(Error::NonFinite {
@@ -217,7 +249,7 @@ impl<T: Real> Quat<T> {
         }
         let c = norm(add(u, v)) * T::HALF;
         let s = norm(sub(u, v)) * T::HALF;
-        let axis = normalize(cross(u, v)).unwrap_or_else(|| any_orthogonal(u));
+        let axis = normalize(cross(u, add(u, v))).unwrap_or_else(|| any_orthogonal(u));
         // Renormalise: c and s come from two independent roundings.
         Quat::from_scalar_vector(c, scale(axis, s)).normalize()
     }

@@ -1,1 +1,49 @@
-//! Spring-analogy mesh motion (Batina linear springs; Yang & Özgen angle-inclusion springs).
+//! Spring-analogy mesh motion: Batina's linear springs and Yang & Özgen's angle-inclusion
+//! springs.
+//!
+//! Geometry and solvers are separate. [`batina_stiffness`] turns coordinates and a
+//! [`Graph`](crate::Graph) into one stiffness per directed edge. [`SpringSystem`] validates
+//! graph + stiffness + fixed mask once (symmetry, positivity, every free node anchored to a
+//! fixed node). The solvers then propagate values:
+//!
+//! - **Linear springs** (Batina; Yang & Özgen eq. 1; Samareh eq. 2): every value component
+//!   solves the weighted graph Laplacian `Σ_j k_ij (x_j − x_i) = 0` at free nodes, with the
+//!   fixed nodes as Dirichlet data. Values are `[T; V]` for any `V`: displacements (`V = D`),
+//!   quaternion components (`V = 4`) or both together (`V = D + 4`), all in one pass over the
+//!   matrix. Methods: the paper's Jacobi iteration, Gauss–Seidel, SOR, and preconditioned
+//!   conjugate gradients (no, Jacobi or SSOR preconditioner) with per-component `α`, `β`
+//!   ([`solve_linear`]).
+//! - **Angle inclusion** (Yang & Özgen eq. 2; in 3D the block `k e eᵀ`): displacements couple
+//!   through the edge direction `e`. The direct method solves each node's 2×2 / 3×3 system by
+//!   Cramer's rule (Gauss–Seidel or Jacobi order); the indirect method is matrix-free CG on the
+//!   assembled block operator ([`solve_angle`]).
+//! - **Sweeps** over a node range ([`jacobi_sweep`], [`sor_sweep`], [`angle_jacobi_sweep`],
+//!   [`angle_gauss_seidel_sweep`]) return the local maximum change, so a distributed-memory
+//!   code can exchange halos between sweeps. The whole solves are built on the same sweeps.
+//!
+//! All updates are written in *delta form* (`x_i + Σ k (x_j − x_i) / Σ k`, algebraically the
+//! paper's `Σ k x_j / Σ k`): a field that is uniform over a node's neighbourhood is then a
+//! bit-exact fixed point, so a uniform translation of every boundary is reproduced exactly.
+//!
+//! **Fixed mask**: `&[u8]`, one byte per node, nonzero = fixed (Dirichlet). Not `&[bool]`: a
+//! C `_Bool`, `char` or Fortran `logical(c_bool)` array may hold bytes other than 0 and 1,
+//! which is undefined behaviour for a Rust `bool` but just "fixed" for a `u8`. So the C ABI can
+//! pass the caller's array through without a copy.
+
+mod angle;
+mod linear;
+mod stiffness;
+mod system;
+
+pub use angle::{
+    angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_probe_scratch_len, angle_rigidity_probe,
+    angle_scratch_len, solve_angle, AngleMethod, AngleSystem, DEFAULT_ANGLE_EPSILON,
+    MAX_AMPLIFICATION,
+};
+pub use linear::{
+    jacobi_sweep, relative_residual, solve_linear, solve_linear_scratch_len, sor_sweep,
+};
+pub use stiffness::batina_stiffness;
+pub use system::{
+    is_fixed, LinearMethod, Preconditioner, SolveOptions, SolveReport, SpringSystem, Sweep,
+};

@@ -64,15 +64,28 @@ pub fn distance<T: Real, const D: usize>(a: [T; D], b: [T; D]) -> T {
     norm(sub(a, b))
 }
 
-/// `a / |a|`, or `None` when `|a|` is zero, subnormal or not finite.
+/// `a / |a|`, or `None` when every component is zero or subnormal, or any is not finite.
+/// When `|a|²` would overflow or underflow, `a` is first divided by its largest component,
+/// so every finite vector with a normal component normalises to full accuracy.
 #[inline]
 pub fn normalize<T: Real, const D: usize>(a: [T; D]) -> Option<[T; D]> {
-    let n = norm(a);
-    if n.is_finite() && n >= T::MIN_POSITIVE {
-        Some(scale(a, T::ONE / n))
-    } else {
-        None
+    let n2 = norm_sq(a);
+    if n2.is_finite() && n2 >= T::MIN_POSITIVE {
+        return Some(scale(a, T::ONE / n2.sqrt()));
     }
+    if !a.iter().all(|x| x.is_finite()) {
+        return None;
+    }
+    // |a|² overflowed or underflowed: rescale by the largest component (norm in [1, √D]).
+    let m = a.iter().fold(T::ZERO, |m, x| m.max(x.abs()));
+    if m < T::MIN_POSITIVE {
+        return None;
+    }
+    let mut r = a;
+    for x in r.iter_mut() {
+        *x /= m;
+    }
+    Some(scale(r, T::ONE / norm(r)))
 }
 
 /// The 3D cross product `a × b`.

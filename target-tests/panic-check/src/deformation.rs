@@ -1,4 +1,240 @@
-//! Panic-check calls for the kernel's deformation entry points.
+//! Panic-check calls for the kernel's deformation entry points (`deform_kernel::deformation`),
+//! for `f32` and `f64`, in 2D and 3D, with black-boxed inputs and outputs.
+
+use core::hint::black_box;
+
+use deform_kernel::deformation::{
+    boundary_normals, boundary_normals_scratch_len, boundary_origin, boundary_rotations,
+    boundary_rotations_scratch_len, boundary_translations, deform_idw, deform_idw_scratch_len,
+    deform_spring, deform_spring_scratch_len, deform_tfi, deform_tfi_scratch_len, displacement_tfi,
+    localize_nodes, localize_nodes_scratch_len, propagate_idw, propagate_spring,
+    propagate_spring_scratch_len, propagate_tfi, rigid_rotations, tfi_scratch_len, update_points,
+    BoundaryMotion, RotationSource,
+};
+use deform_kernel::spring::{LinearMethod, Preconditioner, SolveOptions, SpringSystem};
+use deform_kernel::{Block, Cells, Graph, Quat, Real};
 
 /// Calls every deformation entry point with opaque inputs.
-pub fn exercise() {}
+pub fn exercise() {
+    run::<f32, 2, 6>();
+    run::<f64, 2, 6>();
+    run::<f32, 3, 7>();
+    run::<f64, 3, 7>();
+}
+
+/// Number of mesh points used (a 3 × 3 × 2 block; 2D uses the first 9 as 3 × 3).
+const N: usize = 18;
+/// Number of boundary points.
+const B: usize = 8;
+
+/// Keeps `x` alive (and its `Result` used).
+#[inline(always)]
+fn keep<T>(x: T) {
+    black_box(x);
+}
+
+/// An opaque value.
+#[inline(always)]
+fn bb<T>(x: T) -> T {
+    black_box(x)
+}
+
+#[inline(never)]
+fn run<T: Real, const D: usize, const V: usize>() {
+    let mut points = [[T::ZERO; D]; N];
+    for (i, p) in points.iter_mut().enumerate() {
+        for (d, x) in p.iter_mut().enumerate() {
+            *x = T::from_f64((i * (d + 1)) as f64 * 0.1);
+        }
+    }
+    let points = bb(points);
+    let deformed = bb([[T::HALF; D]; B]);
+    let boundary = bb([0u32, 1, 2, 3, 4, 5, 6, 7]);
+    let el_offsets = bb([0u32, 2, 4, 6, 8]);
+    let el_nodes = bb([0u32, 1, 2, 3, 4, 5, 6, 7]);
+    let el_kinds = bb([3u8, 9, 5, 3]);
+    let q = Quat::new(bb(T::ONE), bb(T::ZERO), bb(T::ZERO), bb(T::HALF));
+    let origin = bb([T::ZERO; D]);
+
+    let mut scratch = [T::ZERO; 3 * N * 4];
+    let mut normals = [[T::ZERO; D]; B];
+    let mut rot_b = [Quat::identity(); B];
+    let mut trans_b = [[T::ZERO; D]; B];
+    let mut trans = [[T::ZERO; D]; N];
+    let mut rot = [Quat::identity(); N];
+    let mut out = [[T::ZERO; D]; N];
+    let mut values = [[T::ZERO; V]; 5 * N];
+
+    keep(boundary_normals_scratch_len(bb(B)));
+    keep(boundary_rotations_scratch_len::<D>(bb(B)));
+    keep(deform_idw_scratch_len::<D>(bb(N), bb(B)));
+    keep(deform_spring_scratch_len::<D>(bb(N), bb(B)));
+
+    if let Ok(elements) = Cells::new(bb(B), &el_offsets, &el_nodes, &el_kinds) {
+        let s = bb(&mut scratch[..]);
+        keep(boundary_normals(
+            &points[..B],
+            &elements,
+            s,
+            bb(&mut normals[..]),
+        ));
+        let s = bb(&mut scratch[..]);
+        keep(boundary_rotations(
+            &points[..B],
+            &deformed,
+            &elements,
+            s,
+            bb(&mut rot_b[..]),
+        ));
+        let motion = BoundaryMotion {
+            nodes: &boundary,
+            deformed: &deformed,
+            elements: Some(elements),
+            rotations: RotationSource::Shape,
+            origin: None,
+        };
+        keep(deform_idw(
+            &points,
+            &motion,
+            bb(T::TWO),
+            bb(&mut trans[..]),
+            bb(&mut rot[..]),
+            bb(&mut scratch[..]),
+            bb(&mut out[..]),
+        ));
+        let given = bb([q; B]);
+        let motion2 = BoundaryMotion {
+            nodes: &boundary,
+            deformed: &deformed,
+            elements: None,
+            rotations: if bb(true) {
+                RotationSource::Rigid(q)
+            } else {
+                RotationSource::PerNode(&given)
+            },
+            origin: Some(origin),
+        };
+        if let Ok(block) = Block::new(bb([3, 3, if D == 3 { 2 } else { 1 }])) {
+            keep(tfi_scratch_len::<D>(&block));
+            keep(deform_tfi_scratch_len::<D>(&block, bb(B)));
+            let n = block.point_count().min(N);
+            keep(deform_tfi(
+                &block,
+                bb([true, true, false]),
+                &points[..n],
+                &motion2,
+                bb(&mut trans[..n]),
+                bb(&mut rot[..n]),
+                bb(&mut scratch[..]),
+                bb(&mut out[..n]),
+            ));
+            keep(propagate_tfi(
+                &block,
+                bb([true, false, D == 3]),
+                &points[..n],
+                bb(&mut trans[..n]),
+                bb(&mut rot[..n]),
+                bb(&mut scratch[..]),
+            ));
+            keep(displacement_tfi(
+                &block,
+                bb([true, true, true]),
+                &points[..n],
+                bb(&mut trans[..n]),
+                bb(&mut scratch[..]),
+            ));
+        }
+        // Springs on a path graph 0-1-2-…-(N−1).
+        let mut offsets = [0u32; N + 1];
+        let mut targets = [0u32; 2 * (N - 1)];
+        let mut t = 0usize;
+        for i in 0..N {
+            if i > 0 {
+                targets[t] = (i - 1) as u32;
+                t += 1;
+            }
+            if i + 1 < N {
+                targets[t] = (i + 1) as u32;
+                t += 1;
+            }
+            offsets[i + 1] = t as u32;
+        }
+        let offsets = bb(offsets);
+        let targets = bb(targets);
+        let k = bb([T::ONE; 2 * (N - 1)]);
+        let mut fixed = [0u8; N];
+        for f in fixed.iter_mut().take(B) {
+            *f = 1;
+        }
+        let fixed = bb(fixed);
+        let mut sscratch = [0u32; N];
+        if let Ok(graph) = Graph::new(&offsets, &targets) {
+            if let Ok(sys) = SpringSystem::new(graph, &k, &fixed, bb(&mut sscratch[..])) {
+                let method = if bb(true) {
+                    LinearMethod::Cg {
+                        preconditioner: Preconditioner::Jacobi,
+                    }
+                } else {
+                    LinearMethod::GaussSeidel
+                };
+                let options = bb(SolveOptions::default());
+                keep(propagate_spring_scratch_len(&method, bb(N)));
+                keep(propagate_spring(
+                    &sys,
+                    method,
+                    &options,
+                    bb(&mut trans[..]),
+                    bb(&mut rot[..]),
+                    bb(&mut values[..]),
+                ));
+                keep(deform_spring(
+                    &points,
+                    &motion2,
+                    &sys,
+                    method,
+                    &options,
+                    bb(&mut trans[..]),
+                    bb(&mut rot[..]),
+                    bb(&mut scratch[..]),
+                    bb(&mut values[..]),
+                    bb(&mut out[..]),
+                ));
+            }
+        }
+    }
+    keep(rigid_rotations(q, bb(&mut rot_b[..])));
+    let mut map = [0u32; N];
+    let mut local = [0u32; B];
+    keep(localize_nodes_scratch_len(bb(N)));
+    keep(localize_nodes(
+        bb(N),
+        &boundary,
+        &el_nodes,
+        bb(&mut map[..]),
+        bb(&mut local[..]),
+    ));
+    keep(boundary_origin(&points[..B], &deformed));
+    keep(boundary_translations(
+        origin,
+        &points[..B],
+        &deformed,
+        &rot_b,
+        bb(&mut trans_b[..]),
+    ));
+    keep(propagate_idw(
+        &points,
+        &boundary,
+        bb(T::from_f64(2.5)),
+        bb(&mut trans[..]),
+        bb(&mut rot[..]),
+    ));
+    keep(update_points(
+        origin,
+        &points,
+        &trans,
+        &rot,
+        &boundary,
+        &deformed,
+        bb(&mut out[..]),
+    ));
+}

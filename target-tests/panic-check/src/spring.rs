@@ -1,4 +1,208 @@
-//! Panic-check calls for the kernel's spring entry points.
+//! Panic-check calls for the kernel's spring entry points (`deform_kernel::spring`): stiffness,
+//! the validated systems, every sweep and every whole solve (all linear methods and
+//! preconditioners, all angle methods), for `f32` and `f64`, `D` = 2 and 3, and value widths
+//! `V` = 1, `D`, 4 and `D + 4`.
+//!
+//! Inputs are black-boxed (a four-node complete graph, so every buffer fits on the stack) and
+//! every output is black-boxed.
+
+use core::hint::black_box;
+
+use deform_kernel::spring::{
+    angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_scratch_len, batina_stiffness, is_fixed,
+    jacobi_sweep, relative_residual, solve_angle, solve_linear, solve_linear_scratch_len,
+    sor_sweep, AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
+    Sweep,
+};
+use deform_kernel::{Graph, Real};
+
+/// Nodes in the test graph.
+const N: usize = 4;
 
 /// Calls every spring entry point with opaque inputs.
-pub fn exercise() {}
+pub fn exercise() {
+    keep(is_fixed(bb(3)));
+    run::<f32, 2, 2, 6>();
+    run::<f32, 3, 3, 7>();
+    run::<f64, 2, 2, 6>();
+    run::<f64, 3, 3, 7>();
+    values::<f32, 2, 1>();
+    values::<f64, 3, 4>();
+}
+
+/// An opaque value of type `T`.
+#[inline(always)]
+fn bb<T>(x: T) -> T {
+    black_box(x)
+}
+
+/// Keeps `x` alive.
+#[inline(always)]
+fn keep<T>(x: T) {
+    black_box(x);
+}
+
+/// An opaque point set of `N` points in `D` dimensions.
+#[inline(always)]
+fn points<T: Real, const D: usize>() -> [[T; D]; N] {
+    let mut p = [[T::ZERO; D]; N];
+    for (i, q) in p.iter_mut().enumerate() {
+        for (c, x) in q.iter_mut().enumerate() {
+            *x = T::from_f64(((i * 7 + c * 3) % 5) as f64 * 0.25 + c as f64);
+        }
+    }
+    bb(p)
+}
+
+/// All whole-solve linear methods.
+#[inline(always)]
+fn linear_methods<T: Real>() -> [LinearMethod<T>; 6] {
+    bb([
+        LinearMethod::Jacobi,
+        LinearMethod::GaussSeidel,
+        LinearMethod::Sor {
+            omega: T::from_f64(1.5),
+        },
+        LinearMethod::Cg {
+            preconditioner: Preconditioner::None,
+        },
+        LinearMethod::Cg {
+            preconditioner: Preconditioner::Jacobi,
+        },
+        LinearMethod::Cg {
+            preconditioner: Preconditioner::Ssor { omega: T::ONE },
+        },
+    ])
+}
+
+/// Builds the opaque graph, stiffness and system, then runs the linear solvers for `V` and
+/// `W` and the angle solvers in `D`.
+#[inline(never)]
+fn run<T: Real, const D: usize, const V: usize, const W: usize>() {
+    let offsets: &[u32] = bb(&[0, 3, 6, 9, 12]);
+    let targets: &[u32] = bb(&[1, 2, 3, 0, 2, 3, 0, 1, 3, 0, 1, 2]);
+    let Ok(g) = Graph::new(offsets, targets) else {
+        return;
+    };
+    let g = bb(g);
+    let p = points::<T, D>();
+    let mut k = [T::ZERO; 12];
+    keep(batina_stiffness(&g, bb(&p[..]), bb(T::ONE), bb(&mut k[..])));
+    keep(batina_stiffness(
+        &g,
+        bb(&p[..]),
+        bb(T::from_f64(1.5)),
+        bb(&mut k[..]),
+    ));
+    keep(&k);
+    let fixed: &[u8] = bb(&[1, 0, 0, 1]);
+    let mut s = [0u32; N];
+    keep(SpringSystem::<T>::scratch_len(bb(N)));
+    let Ok(sys) = SpringSystem::new(g, bb(&k[..]), fixed, bb(&mut s[..])) else {
+        return;
+    };
+    let sys = bb(sys);
+    keep(sys.graph());
+    keep(sys.stiffness());
+    keep(sys.fixed());
+    keep(sys.node_count());
+    keep(sys.is_fixed(bb(2)));
+    linear::<T, V>(&sys);
+    linear::<T, W>(&sys);
+    angle::<T, D>(&sys, &p);
+}
+
+/// Linear sweeps and solves with value width `V`.
+#[inline(never)]
+fn linear<T: Real, const V: usize>(sys: &SpringSystem<'_, T>) {
+    let x: [[T; V]; N] = bb([[T::HALF; V]; N]);
+    let mut out = [[T::ZERO; V]; N];
+    let range = bb(1..3);
+    let s: deform_kernel::Result<Sweep<T>> =
+        jacobi_sweep(sys, range.clone(), bb(&x[..]), bb(&mut out[..]));
+    keep(s);
+    keep(&out);
+    let mut y = x;
+    keep(sor_sweep(sys, range, bb(&mut y[..]), bb(T::from_f64(1.2))));
+    keep(relative_residual(sys, bb(&y[..])));
+    keep(&y);
+    let opts: SolveOptions<T> = bb(SolveOptions::default());
+    for m in linear_methods::<T>() {
+        let mut scratch = [[T::ZERO; V]; 4 * N];
+        let len = solve_linear_scratch_len(&m, bb(N));
+        let mut z = x;
+        let sc = scratch.get_mut(..len).unwrap_or(&mut []);
+        keep(solve_linear(sys, bb(&mut z[..]), m, &opts, bb(sc)));
+        keep(&z);
+    }
+}
+
+/// Angle-inclusion sweeps and solves in `D` dimensions.
+#[inline(never)]
+fn angle<T: Real, const D: usize>(sys: &SpringSystem<'_, T>, p: &[[T; D]; N]) {
+    for eps in [T::ZERO, T::from_f64(0.01)] {
+        let Ok(a) = AngleSystem::new(*sys, bb(&p[..]), bb(eps)) else {
+            continue;
+        };
+        let a = bb(a);
+        keep(a.base());
+        keep(a.points());
+        keep(a.epsilon());
+        let x: [[T; D]; N] = bb([[T::HALF; D]; N]);
+        let mut out = [[T::ZERO; D]; N];
+        let range = bb(0..N);
+        keep(angle_jacobi_sweep(
+            &a,
+            range.clone(),
+            bb(&x[..]),
+            bb(&mut out[..]),
+        ));
+        keep(&out);
+        let mut y = x;
+        keep(angle_gauss_seidel_sweep(&a, range, bb(&mut y[..])));
+        keep(&y);
+        let opts: SolveOptions<T> = bb(SolveOptions::default());
+        for m in bb([
+            AngleMethod::DirectGaussSeidel,
+            AngleMethod::DirectJacobi,
+            AngleMethod::Cg,
+        ]) {
+            let mut scratch = [[T::ZERO; D]; 4 * N];
+            let len = angle_scratch_len(&a, m);
+            let mut z = x;
+            let sc = scratch.get_mut(..len).unwrap_or(&mut []);
+            keep(solve_angle(&a, bb(&mut z[..]), m, &opts, bb(sc)));
+            keep(&z);
+        }
+    }
+}
+
+/// Extra value widths for the linear solvers on a freshly built system.
+#[inline(never)]
+fn values<T: Real, const D: usize, const V: usize>() {
+    let offsets: &[u32] = bb(&[0, 1, 3, 4]);
+    let targets: &[u32] = bb(&[1, 0, 2, 1]);
+    let Ok(g) = Graph::new(offsets, targets) else {
+        return;
+    };
+    let k_store = [T::ONE, T::ONE, T::TWO, T::TWO];
+    let k: &[T] = bb(&k_store[..]);
+    let fixed: &[u8] = bb(&[1, 0, 1]);
+    let mut s = [0u32; 3];
+    if let Ok(sys) = SpringSystem::new(g, k, fixed, bb(&mut s[..])) {
+        let x: [[T; V]; 3] = bb([[T::ONE; V]; 3]);
+        let mut scratch = [[T::ZERO; V]; 12];
+        let mut z = x;
+        keep(solve_linear(
+            &sys,
+            bb(&mut z[..]),
+            LinearMethod::Cg {
+                preconditioner: Preconditioner::Ssor { omega: bb(T::ONE) },
+            },
+            &SolveOptions::default(),
+            bb(&mut scratch[..]),
+        ));
+        keep(&z);
+    }
+    keep(D);
+}

@@ -1,0 +1,405 @@
+//! The command line, as clap derive structures (doc comments are the `--help` text).
+
+use std::path::PathBuf;
+
+use clap::{ArgGroup, Args, Parser, Subcommand, ValueEnum};
+
+/// Deform, smooth and check real mesh files (SU2, Plot3D, VTK) with deform-kernel.
+///
+/// Exit status: 0 success, 1 bad input or failed run (nothing written), 2 bad command line,
+/// 3 feature not available yet in this build.
+#[derive(Debug, Parser)]
+#[command(name = "deform", version)]
+pub struct Cli {
+    /// Print a machine-readable JSON report on stdout (and no progress bars).
+    #[arg(long, global = true)]
+    pub json: bool,
+    /// The command.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The `deform` commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run the papers' experiments on generated NACA 2412 meshes and write pictures and a report.
+    Demo(DemoArgs),
+    /// Generate meshes.
+    #[command(subcommand)]
+    Mesh(MeshCommand),
+    /// Move boundary markers of an SU2 mesh and deform the volume mesh to follow.
+    Move(MoveArgs),
+    /// Smooth a Plot3D grid along one grid direction (Alter's arclength Taubin smoothing).
+    ///
+    /// Points slide along their own grid lines to the filtered arclength. If a line folds
+    /// (arclength stops increasing) the run stops with an error naming the line and the
+    /// iteration, and nothing is written.
+    Smooth(SmoothArgs),
+    /// Report mesh quality (signed measures, inverted and folded cells, area ratios).
+    Quality(QualityArgs),
+    /// Convert between formats: SU2 → SU2/VTU, Plot3D → Plot3D (any layout)/VTS.
+    Convert(ConvertArgs),
+}
+
+/// `deform demo`.
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Directory for pictures, VTK files and the report.
+    #[arg(long, default_value = "deform-demo")]
+    pub out: PathBuf,
+    /// A fast check: 384-node meshes, one angle (20°), smaller grids, and no angle-direct
+    /// runs (Gauss–Seidel on the angle springs needs thousands of sweeps).
+    #[arg(long)]
+    pub quick: bool,
+}
+
+/// `deform mesh …`.
+#[derive(Debug, Subcommand)]
+pub enum MeshCommand {
+    /// A NACA 4-digit airfoil mesh.
+    Naca(NacaArgs),
+    /// A structured block (optionally jittered, as a smoothing test case).
+    Block(BlockArgs),
+}
+
+/// Kinds of NACA mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum NacaKind {
+    /// Triangles everywhere (Euler).
+    Inviscid,
+    /// Quads near the wall, triangles outside (Navier–Stokes).
+    Viscous,
+    /// A structured O-grid of quads.
+    Ogrid,
+}
+
+/// `deform mesh naca`. Size options default to the kind's preset (inviscid: 160 × 56,
+/// first layer 2e-3; viscous and O-grid: 160 × 64, first layer 1e-5, 24 quad layers).
+#[derive(Debug, Args)]
+pub struct NacaArgs {
+    /// The 4-digit NACA code.
+    #[arg(long, default_value = "2412")]
+    pub code: String,
+    /// The kind of mesh.
+    #[arg(long, value_enum)]
+    pub kind: NacaKind,
+    /// Points around the airfoil (even, at least 8).
+    #[arg(long)]
+    pub surface_points: Option<usize>,
+    /// Points from the wall to the far field (at least 3).
+    #[arg(long)]
+    pub radial_points: Option<usize>,
+    /// Far-field radius in chords.
+    #[arg(long)]
+    pub farfield: Option<f64>,
+    /// First cell height at the wall, in chords.
+    #[arg(long)]
+    pub first_layer: Option<f64>,
+    /// Quad layers next to the wall (viscous kind).
+    #[arg(long)]
+    pub boundary_layers: Option<usize>,
+    /// Output mesh: .su2 (or .vtu to look at it).
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// `deform mesh block`.
+#[derive(Debug, Args)]
+pub struct BlockArgs {
+    /// Points per direction: ni,nj (2D) or ni,nj,nk (3D).
+    #[arg(long, value_parser = parse_dims)]
+    pub dims: Dims,
+    /// Random jitter of interior points, as a fraction of the local spacing (below 0.4).
+    #[arg(long, default_value_t = 0.0)]
+    pub noise: f64,
+    /// Seed of the jitter.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Output grid: Plot3D (.x .xyz .p3d .g .grd .xy: binary f64 with Fortran records;
+    /// .xyz and .p3d as ASCII), .vts, or .su2.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Block dimensions from the command line.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Dims(pub Vec<usize>);
+
+fn parse_dims(s: &str) -> Result<Dims, String> {
+    let v: Result<Vec<usize>, _> = s.split(',').map(|t| t.trim().parse::<usize>()).collect();
+    match v {
+        Ok(v) if (v.len() == 2 || v.len() == 3) && v.iter().all(|&d| d >= 2) => Ok(Dims(v)),
+        _ => Err(format!(
+            "expected ni,nj or ni,nj,nk (each at least 2), found {s:?}"
+        )),
+    }
+}
+
+/// Deformation methods.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Method {
+    /// Samareh's quaternion method, rotations and translations propagated by linear springs.
+    Quaternion,
+    /// Batina's linear springs.
+    Spring,
+    /// Yang & Özgen angle-inclusion springs, node-wise direct solve.
+    AngleDirect,
+    /// Yang & Özgen angle-inclusion springs, conjugate gradients.
+    AngleCg,
+    /// Samareh's quaternion method, propagated by inverse-distance weighting.
+    Idw,
+}
+
+/// Linear solvers for the spring methods.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Solver {
+    /// Conjugate gradients.
+    Cg,
+    /// Gauss–Seidel.
+    Gs,
+    /// Jacobi.
+    Jacobi,
+}
+
+/// `deform move`.
+#[derive(Debug, Args)]
+#[command(group(ArgGroup::new("motion").required(true).args(["rotate", "translate", "displacements"])))]
+pub struct MoveArgs {
+    /// The SU2 mesh.
+    pub mesh: PathBuf,
+    /// A marker to move (repeat for several); markers not named stay fixed.
+    #[arg(long = "marker", required = true)]
+    pub markers: Vec<String>,
+    /// Rotate the markers by DEG degrees, counter-clockwise about the axis (right-hand rule).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub rotate: Option<f64>,
+    /// Rotation axis x,y,z (default z).
+    #[arg(long, value_name = "X,Y,Z", requires = "rotate", value_parser = parse_vec3)]
+    pub axis: Option<Coords>,
+    /// Rotation centre x,y or x,y,z (default: centroid of the moved markers' nodes).
+    #[arg(long, value_name = "X,Y[,Z]", requires = "rotate", value_parser = parse_vec23, allow_hyphen_values = true)]
+    pub center: Option<Coords>,
+    /// Translate the markers by dx,dy (2D) or dx,dy,dz (3D).
+    #[arg(long, value_name = "DX,DY[,DZ]", value_parser = parse_vec23, allow_hyphen_values = true)]
+    pub translate: Option<Coords>,
+    /// Prescribed displacements: lines `node dx dy [dz]` (0-based node, `%` or `#` comments);
+    /// marker nodes not listed do not move.
+    #[arg(long, value_name = "FILE")]
+    pub displacements: Option<PathBuf>,
+    /// Deformation method.
+    #[arg(long, value_enum)]
+    pub method: Method,
+    /// Linear solver (quaternion and spring; angle-direct uses gs, or jacobi if asked).
+    #[arg(long, value_enum, default_value = "cg")]
+    pub solver: Solver,
+    /// Convergence tolerance on the relative residual.
+    #[arg(long, default_value_t = 1e-10)]
+    pub tol: f64,
+    /// Iteration limit.
+    #[arg(long, default_value_t = 10_000)]
+    pub max_iter: usize,
+    /// Inverse-distance exponent for --method idw (2 to 5 is typical; larger is more local).
+    #[arg(long, default_value_t = 3.0)]
+    pub idw_exponent: f64,
+    /// Output SU2 mesh.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Also write a VTK .vtu file with displacement and cell-quality fields.
+    #[arg(long)]
+    pub vtk: Option<PathBuf>,
+    /// Also draw the deformed mesh (.svg or .png).
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+}
+
+/// Grid directions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Direction {
+    /// Along i.
+    I,
+    /// Along j.
+    J,
+    /// Along k (3D grids only).
+    K,
+}
+
+/// Plot3D layout overrides (detection is automatic; use these when a file is ambiguous).
+#[derive(Debug, Args, Default, Clone)]
+pub struct LayoutArgs {
+    /// Dimension of the Plot3D grid.
+    #[arg(long, value_parser = clap::value_parser!(u8).range(2..=3))]
+    pub dim: Option<u8>,
+    /// Real width of a binary Plot3D file.
+    #[arg(long, value_enum)]
+    pub precision: Option<PrecisionArg>,
+    /// Byte order of a binary Plot3D file.
+    #[arg(long, value_enum)]
+    pub endian: Option<EndianArg>,
+    /// Fortran record markers: yes or no.
+    #[arg(long, value_enum)]
+    pub records: Option<YesNo>,
+    /// iblank present: yes or no.
+    #[arg(long, value_enum)]
+    pub iblank: Option<YesNo>,
+    /// Number-of-blocks header present: yes or no.
+    #[arg(long, value_enum)]
+    pub multi_block: Option<YesNo>,
+    /// Text (ascii) or binary.
+    #[arg(long, value_enum)]
+    pub encoding: Option<EncodingArg>,
+}
+
+/// Real widths.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum PrecisionArg {
+    /// 32-bit.
+    F32,
+    /// 64-bit.
+    F64,
+}
+
+/// Byte orders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum EndianArg {
+    /// Little endian.
+    Little,
+    /// Big endian.
+    Big,
+}
+
+/// Yes or no.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum YesNo {
+    /// Yes.
+    Yes,
+    /// No.
+    No,
+}
+
+/// Text or binary.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum EncodingArg {
+    /// Text.
+    Ascii,
+    /// Binary.
+    Binary,
+}
+
+/// `deform smooth`.
+#[derive(Debug, Args)]
+pub struct SmoothArgs {
+    /// The Plot3D grid.
+    pub grid: PathBuf,
+    /// Grid direction to smooth along.
+    #[arg(long, value_enum)]
+    pub direction: Direction,
+    /// Smooth normalised arclength (per line) instead of physical arclength.
+    #[arg(long)]
+    pub normalized: bool,
+    /// Number of λ|μ iterations.
+    #[arg(long)]
+    pub iterations: usize,
+    /// Taubin λ (positive).
+    #[arg(long, default_value_t = 0.33)]
+    pub lambda: f64,
+    /// Taubin μ (≤ 0; |μ| slightly above λ gives a low-pass filter; 0 gives plain Laplacian
+    /// smoothing).
+    #[arg(long, default_value_t = -0.334, allow_hyphen_values = true)]
+    pub mu: f64,
+    /// Alter's coarse-grid pass after the fine iterations: keep every M-th point in the
+    /// directions across the lines, run half as many iterations there, prolongate.
+    #[arg(long, value_name = "M")]
+    pub coarse: Option<usize>,
+    /// Output Plot3D grid (same layout as the input).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Input layout overrides.
+    #[command(flatten)]
+    pub layout: LayoutArgs,
+}
+
+/// `deform quality`.
+#[derive(Debug, Args)]
+pub struct QualityArgs {
+    /// The mesh (SU2) or grid (Plot3D).
+    pub file: PathBuf,
+    /// The undeformed mesh, for inverted cells, area ratios and wall-angle changes.
+    #[arg(long)]
+    pub reference: Option<PathBuf>,
+    /// Wall marker(s) for the first grid-line angle change (SU2, with --reference).
+    #[arg(long = "wall", value_name = "MARKER")]
+    pub walls: Vec<String>,
+    /// Also write the mesh with per-cell quality fields: .vtu for SU2, .vts for Plot3D (one
+    /// file per block, OUT_bN.vts, when there are several).
+    #[arg(long)]
+    pub vtk: Option<PathBuf>,
+    /// Input layout overrides (Plot3D).
+    #[command(flatten)]
+    pub layout: LayoutArgs,
+}
+
+/// `deform convert`.
+#[derive(Debug, Args)]
+pub struct ConvertArgs {
+    /// Input: .su2, or a Plot3D grid (.x, .xyz, .p3d, .g, .grd, .xy).
+    pub input: PathBuf,
+    /// Output: .su2 or .vtu from SU2; Plot3D or .vts from Plot3D (one .vts per block, named
+    /// OUT_bN.vts, when there are several blocks).
+    pub output: PathBuf,
+    /// Input layout overrides (Plot3D).
+    #[command(flatten)]
+    pub layout: LayoutArgs,
+    /// Output Plot3D encoding (default: the input's).
+    #[arg(long, value_enum)]
+    pub out_encoding: Option<EncodingArg>,
+    /// Output Plot3D real width (default: the input's, f64 for ASCII input).
+    #[arg(long, value_enum)]
+    pub out_precision: Option<PrecisionArg>,
+    /// Output Plot3D byte order (default: the input's, little for ASCII input).
+    #[arg(long, value_enum)]
+    pub out_endian: Option<EndianArg>,
+    /// Output Fortran record markers (default: the input's, yes for ASCII input).
+    #[arg(long, value_enum)]
+    pub out_records: Option<YesNo>,
+    /// Write VTK data arrays as ASCII text instead of base64 binary.
+    #[arg(long)]
+    pub vtk_ascii: bool,
+}
+
+/// A comma-separated list of 2 or 3 finite numbers from the command line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coords(pub Vec<f64>);
+
+fn parse_list(s: &str) -> Result<Vec<f64>, String> {
+    s.split(',')
+        .map(|t| {
+            let t = t.trim();
+            match t.parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(v),
+                _ => Err(format!("{t:?} is not a finite number")),
+            }
+        })
+        .collect()
+}
+
+fn parse_vec3(s: &str) -> Result<Coords, String> {
+    let v = parse_list(s)?;
+    if v.len() != 3 {
+        return Err(format!(
+            "expected 3 comma-separated numbers x,y,z, found {}",
+            v.len()
+        ));
+    }
+    Ok(Coords(v))
+}
+
+fn parse_vec23(s: &str) -> Result<Coords, String> {
+    let v = parse_list(s)?;
+    if v.len() != 2 && v.len() != 3 {
+        return Err(format!(
+            "expected 2 or 3 comma-separated numbers, found {}",
+            v.len()
+        ));
+    }
+    Ok(Coords(v))
+}

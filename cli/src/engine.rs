@@ -1,0 +1,751 @@
+//! The one place that calls deform-kernel (through its public API): graphs, quality, and the
+//! deformation and smoothing runs. Everything here takes the file-level types (`[f64; 3]`
+//! points, [`CellList`]) and converts to the kernel's `[T; D]` views.
+
+use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph};
+use serde::Serialize;
+
+use crate::commands::CliError;
+use crate::formats::CellList;
+
+fn kernel(context: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {
+    move |e| CliError::Kernel(format!("{context}: {e}"))
+}
+
+/// A validated kernel [`Cells`] view of a [`CellList`].
+pub fn cells_view<'a>(cells: &'a CellList, node_count: usize) -> Result<Cells<'a>, CliError> {
+    Cells::new(node_count, &cells.offsets, &cells.nodes, &cells.kinds).map_err(kernel("cells"))
+}
+
+/// An owned CSR edge graph.
+#[derive(Clone, Debug, Default)]
+pub struct OwnedGraph {
+    /// `n + 1` offsets.
+    pub offsets: Vec<u32>,
+    /// Neighbours.
+    pub targets: Vec<u32>,
+}
+
+impl OwnedGraph {
+    /// The kernel view.
+    pub fn view(&self) -> Result<Graph<'_>, CliError> {
+        Graph::new(&self.offsets, &self.targets).map_err(kernel("graph"))
+    }
+}
+
+/// The edge graph of a mesh (with quadrilateral face diagonals when `diagonals`).
+pub fn edge_graph(cells: &Cells<'_>, diagonals: bool) -> Result<OwnedGraph, CliError> {
+    let mut offsets = vec![0u32; cells.node_count() + 1];
+    let mut targets = vec![0u32; graph_from_cells_len(cells, diagonals)];
+    let used =
+        graph_from_cells(cells, diagonals, &mut offsets, &mut targets).map_err(kernel("graph"))?;
+    targets.truncate(used);
+    Ok(OwnedGraph { offsets, targets })
+}
+
+/// `[f64; 3]` points as `[f64; D]`.
+pub fn points_d<const D: usize>(points: &[[f64; 3]]) -> Vec<[f64; D]> {
+    points
+        .iter()
+        .map(|p| {
+            let mut q = [0.0; D];
+            for (s, &x) in q.iter_mut().zip(p) {
+                *s = x;
+            }
+            q
+        })
+        .collect()
+}
+
+/// The quality table of a mesh, optionally against its undeformed reference.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct QualitySummary {
+    /// Number of cells.
+    pub cells: usize,
+    /// Cells whose signed measure changed sign against the reference (`None` without one).
+    pub inverted_cells: Option<usize>,
+    /// Cells with some corner Jacobian ≤ 0.
+    pub folded_cells: usize,
+    /// Cells with signed measure ≤ 0.
+    pub nonpositive_cells: usize,
+    /// Smallest signed measure (area in 2D, volume in 3D).
+    pub min_measure: f64,
+    /// Smallest scaled corner Jacobian (sine of the worst corner angle in 2D).
+    pub min_scaled_jacobian: f64,
+    /// Smallest deformed/reference measure ratio.
+    pub min_area_ratio: Option<f64>,
+    /// Largest deformed/reference measure ratio.
+    pub max_area_ratio: Option<f64>,
+    /// Largest change of the first grid-line angle at the wall, degrees.
+    pub max_wall_angle_change_deg: Option<f64>,
+    /// Per-cell signed measure (for VTK output; not serialised).
+    #[serde(skip)]
+    pub measure: Vec<f64>,
+    /// Per-cell smallest scaled Jacobian (for VTK output; not serialised).
+    #[serde(skip)]
+    pub scaled_jacobian: Vec<f64>,
+    /// Per-cell measure ratio deformed/reference (empty without a reference; 0/0 gives NaN).
+    #[serde(skip)]
+    pub ratio: Vec<f64>,
+    /// Per cell: the signed measure changed sign against the reference.
+    #[serde(skip)]
+    pub inverted: Vec<bool>,
+}
+
+/// Computes the quality table. `wall` (boundary elements) is used only with a reference.
+pub fn quality(
+    dim: usize,
+    cells: &CellList,
+    points: &[[f64; 3]],
+    reference: Option<&[[f64; 3]]>,
+    wall: Option<&CellList>,
+) -> Result<QualitySummary, CliError> {
+    match dim {
+        2 => quality_d::<2>(cells, points, reference, wall),
+        3 => quality_d::<3>(cells, points, reference, wall),
+        _ => Err(CliError::Invalid(format!("dimension {dim} is not 2 or 3"))),
+    }
+}
+
+fn quality_d<const D: usize>(
+    cells: &CellList,
+    points: &[[f64; 3]],
+    reference: Option<&[[f64; 3]]>,
+    wall: Option<&CellList>,
+) -> Result<QualitySummary, CliError> {
+    use deform_kernel::quality::{
+        cell_measures, compare, min_corner_jacobians, wall_angle_scratch_len, Wall,
+    };
+    let n = points.len();
+    let view = cells_view(cells, n)?;
+    let pts = points_d::<D>(points);
+    let mut measure = vec![0.0; view.len()];
+    cell_measures(&view, &pts, &mut measure).map_err(kernel("quality"))?;
+    let mut scaled = vec![0.0; view.len()];
+    min_corner_jacobians(&view, &pts, true, &mut scaled).map_err(kernel("quality"))?;
+    let undeformed = match reference {
+        Some(r) => {
+            if r.len() != n {
+                return Err(CliError::Invalid(format!(
+                    "the reference has {} points, the mesh {n}",
+                    r.len()
+                )));
+            }
+            points_d::<D>(r)
+        }
+        None => pts.clone(),
+    };
+    let graph;
+    let wall_view;
+    let wall_obj = match (reference, wall) {
+        (Some(_), Some(w)) if !w.is_empty() => {
+            graph = edge_graph(&view, false)?;
+            wall_view = cells_view(w, n)?;
+            Some(Wall::new(wall_view, graph.view()?).map_err(kernel("wall"))?)
+        }
+        _ => None,
+    };
+    let mut scratch = vec![
+        [0.0; D];
+        if wall_obj.is_some() {
+            wall_angle_scratch_len(n)
+        } else {
+            0
+        }
+    ];
+    let r = compare(&view, &undeformed, &pts, wall_obj.as_ref(), &mut scratch)
+        .map_err(kernel("quality"))?;
+    let has_ref = reference.is_some();
+    let (ratio, inverted) = if has_ref {
+        let mut before = vec![0.0; view.len()];
+        cell_measures(&view, &undeformed, &mut before).map_err(kernel("quality"))?;
+        let ratio = before.iter().zip(&measure).map(|(b, a)| a / b).collect();
+        let inv = before
+            .iter()
+            .zip(&measure)
+            .map(|(&b, &a)| (b > 0.0 && a <= 0.0) || (b < 0.0 && a >= 0.0))
+            .collect();
+        (ratio, inv)
+    } else {
+        (Vec::new(), Vec::new())
+    };
+    let finite = |x: f64| if x.is_finite() { Some(x) } else { None };
+    Ok(QualitySummary {
+        cells: r.cells,
+        inverted_cells: has_ref.then_some(r.inverted_cells),
+        folded_cells: r.folded_cells,
+        nonpositive_cells: measure.iter().filter(|&&m| m <= 0.0).count(),
+        min_measure: r.min_measure,
+        min_scaled_jacobian: r.min_scaled_jacobian,
+        min_area_ratio: if has_ref {
+            finite(r.min_measure_ratio)
+        } else {
+            None
+        },
+        max_area_ratio: if has_ref {
+            finite(r.max_measure_ratio)
+        } else {
+            None
+        },
+        max_wall_angle_change_deg: r.wall.map(|w| w.max_change.to_degrees()),
+        measure,
+        scaled_jacobian: scaled,
+        ratio,
+        inverted,
+    })
+}
+
+/// Quads (2D) or hexes (3D) of a structured block `[ni, nj, nk]`, oriented so that the block's
+/// total signed measure is positive (left-handed blocks are renumbered cell by cell).
+pub fn structured_cells(dims: [usize; 3], points: &[[f64; 3]], dim: usize) -> CellList {
+    let [ni, nj, nk] = dims;
+    let id = |i: usize, j: usize, k: usize| (i + ni * (j + nj * k)) as u32;
+    let mut cells = CellList::new();
+    let p = |n: u32| points.get(n as usize).copied().unwrap_or([0.0; 3]);
+    if dim == 2 || nk == 1 {
+        let mut area = 0.0;
+        let mut quads = Vec::new();
+        for j in 0..nj.saturating_sub(1) {
+            for i in 0..ni.saturating_sub(1) {
+                let q = [
+                    id(i, j, 0),
+                    id(i + 1, j, 0),
+                    id(i + 1, j + 1, 0),
+                    id(i, j + 1, 0),
+                ];
+                let (a, b, c, d) = (p(q[0]), p(q[1]), p(q[2]), p(q[3]));
+                area += (c[0] - a[0]) * (d[1] - b[1]) - (c[1] - a[1]) * (d[0] - b[0]);
+                quads.push(q);
+            }
+        }
+        for q in quads {
+            let q = if area < 0.0 {
+                [q[0], q[3], q[2], q[1]]
+            } else {
+                q
+            };
+            cells.push(deform_kernel::CellKind::Quad, &q);
+        }
+    } else {
+        let mut vol = 0.0;
+        let mut hexes = Vec::new();
+        for k in 0..nk.saturating_sub(1) {
+            for j in 0..nj.saturating_sub(1) {
+                for i in 0..ni.saturating_sub(1) {
+                    let h = [
+                        id(i, j, k),
+                        id(i + 1, j, k),
+                        id(i + 1, j + 1, k),
+                        id(i, j + 1, k),
+                        id(i, j, k + 1),
+                        id(i + 1, j, k + 1),
+                        id(i + 1, j + 1, k + 1),
+                        id(i, j + 1, k + 1),
+                    ];
+                    // Sign of the volume from the main diagonal triple product.
+                    let (o, a, b, c) = (p(h[0]), p(h[1]), p(h[3]), p(h[4]));
+                    let u = [a[0] - o[0], a[1] - o[1], a[2] - o[2]];
+                    let v = [b[0] - o[0], b[1] - o[1], b[2] - o[2]];
+                    let w = [c[0] - o[0], c[1] - o[1], c[2] - o[2]];
+                    vol += u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+                        + u[2] * (v[0] * w[1] - v[1] * w[0]);
+                    hexes.push(h);
+                }
+            }
+        }
+        for h in hexes {
+            let h = if vol < 0.0 {
+                [h[4], h[5], h[6], h[7], h[0], h[1], h[2], h[3]]
+            } else {
+                h
+            };
+            cells.push(deform_kernel::CellKind::Hexahedron, &h);
+        }
+    }
+    cells
+}
+
+/// How the moved markers move.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Motion {
+    /// Rigid rotation by `degrees` (counter-clockwise, right-hand rule) about `axis` through
+    /// `center` (default: centroid of the moved nodes).
+    Rotate {
+        /// Angle in degrees.
+        degrees: f64,
+        /// Axis (need not be unit length).
+        axis: [f64; 3],
+        /// Centre of rotation.
+        center: Option<[f64; 3]>,
+    },
+    /// Rigid translation.
+    Translate([f64; 3]),
+    /// Prescribed displacement per node (other moved nodes stay put).
+    Field(Vec<(u32, [f64; 3])>),
+}
+
+/// The propagation method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MoveMethod {
+    /// Samareh quaternions propagated by linear springs.
+    Quaternion,
+    /// Samareh quaternions propagated by inverse distance weighting.
+    Idw,
+    /// Batina linear springs on the displacements.
+    Spring,
+    /// Yang & Özgen angle-inclusion springs, node-wise direct solve.
+    AngleDirect,
+    /// Yang & Özgen angle-inclusion springs, conjugate gradients.
+    AngleCg,
+}
+
+/// Linear solver for the spring systems.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MoveSolver {
+    /// Jacobi-preconditioned conjugate gradients.
+    Cg,
+    /// Gauss–Seidel.
+    GaussSeidel,
+    /// Jacobi.
+    Jacobi,
+}
+
+/// Inputs of a mesh motion.
+#[derive(Clone, Debug)]
+pub struct MoveInput<'a> {
+    /// 2 or 3.
+    pub dim: usize,
+    /// Undeformed points.
+    pub points: &'a [[f64; 3]],
+    /// Volume cells.
+    pub cells: &'a CellList,
+    /// Boundary elements of the moved markers.
+    pub moved: Vec<&'a CellList>,
+    /// Boundary elements of the markers that stay put.
+    pub fixed: Vec<&'a CellList>,
+    /// The motion of the moved markers.
+    pub motion: Motion,
+    /// Method.
+    pub method: MoveMethod,
+    /// Solver (spring-based methods).
+    pub solver: MoveSolver,
+    /// Relative residual tolerance.
+    pub tol: f64,
+    /// Iteration cap.
+    pub max_iter: usize,
+    /// Inverse-distance exponent (IDW).
+    pub idw_exponent: f64,
+}
+
+/// Result of a mesh motion.
+#[derive(Clone, Debug)]
+pub struct MoveResult {
+    /// Deformed points.
+    pub deformed: Vec<[f64; 3]>,
+    /// Displacement of every point.
+    pub displacement: Vec<[f64; 3]>,
+    /// Solver iterations (0 for IDW).
+    pub iterations: usize,
+    /// Final relative residual (0 for IDW).
+    pub residual: f64,
+    /// Whether the solver converged (true for IDW).
+    pub converged: bool,
+    /// Nodes on the moved markers.
+    pub moved_nodes: usize,
+    /// Boundary nodes held fixed.
+    pub fixed_nodes: usize,
+    /// Rotation centre used, when rotating.
+    pub center: Option<[f64; 3]>,
+}
+
+fn sorted_nodes(lists: &[&CellList]) -> Vec<u32> {
+    let mut v: Vec<u32> = lists.iter().flat_map(|l| l.nodes.iter().copied()).collect();
+    v.sort_unstable();
+    v.dedup();
+    v
+}
+
+/// Runs a mesh motion.
+pub fn run_move(input: &MoveInput<'_>) -> Result<MoveResult, CliError> {
+    match input.dim {
+        2 => move_d::<2, 6>(input),
+        3 => move_d::<3, 7>(input),
+        d => Err(CliError::Invalid(format!("dimension {d} is not 2 or 3"))),
+    }
+}
+
+fn linear_method(s: MoveSolver) -> deform_kernel::spring::LinearMethod<f64> {
+    use deform_kernel::spring::{LinearMethod, Preconditioner};
+    match s {
+        MoveSolver::Cg => LinearMethod::Cg {
+            preconditioner: Preconditioner::Jacobi,
+        },
+        MoveSolver::GaussSeidel => LinearMethod::GaussSeidel,
+        MoveSolver::Jacobi => LinearMethod::Jacobi,
+    }
+}
+
+fn move_d<const D: usize, const V: usize>(input: &MoveInput<'_>) -> Result<MoveResult, CliError> {
+    use deform_kernel::deformation::{
+        deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len,
+        propagate_spring_scratch_len, BoundaryMotion, RotationSource,
+    };
+    use deform_kernel::spring::{
+        angle_scratch_len, batina_stiffness, solve_angle, solve_linear, solve_linear_scratch_len,
+        AngleMethod, AngleSystem, SolveOptions, SpringSystem, DEFAULT_ANGLE_EPSILON,
+    };
+    use deform_kernel::Quat;
+
+    let n = input.points.len();
+    let moved = sorted_nodes(&input.moved);
+    if moved.is_empty() {
+        return Err(CliError::Invalid("the moved markers have no nodes".into()));
+    }
+    let mut boundary = moved.clone();
+    boundary.extend(sorted_nodes(&input.fixed));
+    boundary.sort_unstable();
+    boundary.dedup();
+    let fixed_nodes = boundary.len() - moved.len();
+    if let Some(&bad) = boundary.iter().find(|&&b| b as usize >= n) {
+        return Err(CliError::Invalid(format!(
+            "marker node {bad} is not a mesh node"
+        )));
+    }
+
+    // Prescribed displacement of every boundary node.
+    let mut disp = vec![[0.0f64; 3]; n];
+    let mut center_used = None;
+    let mut rigid_q = None;
+    match &input.motion {
+        Motion::Rotate {
+            degrees,
+            axis,
+            center,
+        } => {
+            let c = center.unwrap_or_else(|| {
+                let mut c = [0.0; 3];
+                for &m in &moved {
+                    let p = input.points.get(m as usize).copied().unwrap_or([0.0; 3]);
+                    for k in 0..3 {
+                        c[k] += p[k];
+                    }
+                }
+                c.map(|x| x / moved.len() as f64)
+            });
+            let c = if D == 2 { [c[0], c[1], 0.0] } else { c };
+            let q =
+                Quat::from_axis_angle(*axis, degrees.to_radians()).map_err(kernel("rotation"))?;
+            for &m in &moved {
+                let p = input.points.get(m as usize).copied().unwrap_or([0.0; 3]);
+                let r = q.rotate([p[0] - c[0], p[1] - c[1], p[2] - c[2]]);
+                if let Some(d) = disp.get_mut(m as usize) {
+                    *d = [c[0] + r[0] - p[0], c[1] + r[1] - p[1], c[2] + r[2] - p[2]];
+                    if D == 2 {
+                        d[2] = 0.0;
+                    }
+                }
+            }
+            center_used = Some(c);
+            rigid_q = Some(q);
+        }
+        Motion::Translate(t) => {
+            for &m in &moved {
+                if let Some(d) = disp.get_mut(m as usize) {
+                    *d = *t;
+                }
+            }
+            rigid_q = Some(Quat::identity());
+        }
+        Motion::Field(list) => {
+            for (node, d) in list {
+                if moved.binary_search(node).is_err() {
+                    return Err(CliError::Invalid(format!(
+                        "node {node} is not on the moved markers"
+                    )));
+                }
+                if let Some(slot) = disp.get_mut(*node as usize) {
+                    *slot = *d;
+                }
+            }
+        }
+    }
+
+    let view = cells_view(input.cells, n)?;
+    let pts = points_d::<D>(input.points);
+    let mut fixed = vec![0u8; n];
+    for &b in &boundary {
+        if let Some(f) = fixed.get_mut(b as usize) {
+            *f = 1;
+        }
+    }
+    let options = SolveOptions {
+        max_iterations: input.max_iter,
+        residual_tol: input.tol,
+        update_tol: 0.0,
+    };
+    let diagonals = matches!(input.method, MoveMethod::AngleDirect | MoveMethod::AngleCg);
+    let graph = edge_graph(&view, diagonals)?;
+    let g = graph.view()?;
+
+    let mut out = pts.clone();
+    let (iterations, residual, converged) = match input.method {
+        MoveMethod::Spring | MoveMethod::AngleDirect | MoveMethod::AngleCg => {
+            let mut k = vec![0.0; g.edge_count()];
+            batina_stiffness(&g, &pts, 1.0, &mut k).map_err(kernel("stiffness"))?;
+            let mut sscratch = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
+            let sys = SpringSystem::new(g, &k, &fixed, &mut sscratch).map_err(kernel("springs"))?;
+            let mut values: Vec<[f64; D]> = disp
+                .iter()
+                .map(|d| {
+                    let mut v = [0.0; D];
+                    for (s, &x) in v.iter_mut().zip(d) {
+                        *s = x;
+                    }
+                    v
+                })
+                .collect();
+            let report = if input.method == MoveMethod::Spring {
+                let method = linear_method(input.solver);
+                let mut scratch = vec![[0.0; D]; solve_linear_scratch_len(&method, n)];
+                solve_linear(&sys, &mut values, method, &options, &mut scratch)
+                    .map_err(kernel("linear springs"))?
+            } else {
+                let asys = AngleSystem::new(sys, &pts, DEFAULT_ANGLE_EPSILON)
+                    .map_err(kernel("angle springs"))?;
+                let method = match (input.method, input.solver) {
+                    (MoveMethod::AngleCg, _) => AngleMethod::Cg,
+                    (_, MoveSolver::Jacobi) => AngleMethod::DirectJacobi,
+                    _ => AngleMethod::DirectGaussSeidel,
+                };
+                let mut scratch = vec![[0.0; D]; angle_scratch_len(&asys, method)];
+                solve_angle(&asys, &mut values, method, &options, &mut scratch)
+                    .map_err(kernel("angle springs"))?
+            };
+            for ((o, p), v) in out.iter_mut().zip(&pts).zip(&values) {
+                for k in 0..D {
+                    o[k] = p[k] + v[k];
+                }
+            }
+            (report.iterations, report.residual, report.converged)
+        }
+        MoveMethod::Quaternion | MoveMethod::Idw => {
+            let deformed: Vec<[f64; D]> = boundary
+                .iter()
+                .map(|&b| {
+                    let p = pts.get(b as usize).copied().unwrap_or([0.0; D]);
+                    let d = disp.get(b as usize).copied().unwrap_or([0.0; 3]);
+                    let mut q = p;
+                    for k in 0..D {
+                        q[k] += d[k];
+                    }
+                    q
+                })
+                .collect();
+            // Boundary elements renumbered into 0..B (for rotations from the shape).
+            let mut local = vec![u32::MAX; n];
+            for (k, &b) in boundary.iter().enumerate() {
+                if let Some(l) = local.get_mut(b as usize) {
+                    *l = k as u32;
+                }
+            }
+            let mut elems = CellList::new();
+            for list in input.moved.iter().chain(&input.fixed) {
+                for (code, nodes) in list.iter() {
+                    let ln: Vec<u32> = nodes
+                        .iter()
+                        .map(|&v| local.get(v as usize).copied().unwrap_or(u32::MAX))
+                        .collect();
+                    if let Some(kind) = deform_kernel::CellKind::from_vtk(code) {
+                        elems.push(kind, &ln);
+                    }
+                }
+            }
+            let evw = cells_view(&elems, boundary.len())?;
+            let per_node: Vec<Quat<f64>> = match rigid_q {
+                Some(q) => boundary
+                    .iter()
+                    .map(|b| {
+                        if moved.binary_search(b).is_ok() {
+                            q
+                        } else {
+                            Quat::identity()
+                        }
+                    })
+                    .collect(),
+                None => Vec::new(),
+            };
+            let rotations_src = if rigid_q.is_some() {
+                RotationSource::PerNode(&per_node)
+            } else {
+                RotationSource::Shape
+            };
+            let origin = center_used.map(|c| {
+                let mut o = [0.0; D];
+                for (s, &x) in o.iter_mut().zip(&c) {
+                    *s = x;
+                }
+                o
+            });
+            let motion = BoundaryMotion {
+                nodes: &boundary,
+                deformed: &deformed,
+                elements: Some(evw),
+                rotations: rotations_src,
+                origin,
+            };
+            let mut translations = vec![[0.0; D]; n];
+            let mut rotations = vec![Quat::identity(); n];
+            if input.method == MoveMethod::Idw {
+                let mut scratch = vec![0.0; deform_idw_scratch_len::<D>(n, boundary.len())];
+                deform_idw(
+                    &pts,
+                    &motion,
+                    input.idw_exponent,
+                    &mut translations,
+                    &mut rotations,
+                    &mut scratch,
+                    &mut out,
+                )
+                .map_err(kernel("quaternion IDW"))?;
+                (0, 0.0, true)
+            } else {
+                let mut k = vec![0.0; g.edge_count()];
+                batina_stiffness(&g, &pts, 1.0, &mut k).map_err(kernel("stiffness"))?;
+                let mut sscratch = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
+                let sys =
+                    SpringSystem::new(g, &k, &fixed, &mut sscratch).map_err(kernel("springs"))?;
+                let method = linear_method(input.solver);
+                let mut scratch = vec![0.0; deform_spring_scratch_len::<D>(n, boundary.len())];
+                let mut values = vec![[0.0; V]; propagate_spring_scratch_len(&method, n)];
+                let (_, report) = deform_spring::<f64, D, V>(
+                    &pts,
+                    &motion,
+                    &sys,
+                    method,
+                    &options,
+                    &mut translations,
+                    &mut rotations,
+                    &mut scratch,
+                    &mut values,
+                    &mut out,
+                )
+                .map_err(kernel("quaternion springs"))?;
+                (report.iterations, report.residual, report.converged)
+            }
+        }
+    };
+    let deformed: Vec<[f64; 3]> = out
+        .iter()
+        .map(|p| {
+            let mut q = [0.0; 3];
+            for (s, &x) in q.iter_mut().zip(p) {
+                *s = x;
+            }
+            q
+        })
+        .collect();
+    let displacement = deformed
+        .iter()
+        .zip(input.points)
+        .map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]])
+        .collect();
+    Ok(MoveResult {
+        deformed,
+        displacement,
+        iterations,
+        residual,
+        converged,
+        moved_nodes: moved.len(),
+        fixed_nodes,
+        center: center_used,
+    })
+}
+
+/// What smoothing one block did.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct BlockSmoothing {
+    /// Iterations performed (fine + coarse).
+    pub iterations: usize,
+    /// Largest stretching ratio along the direction before.
+    pub max_stretching_before: f64,
+    /// Largest stretching ratio along the direction after.
+    pub max_stretching_after: f64,
+    /// Largest distance a point moved.
+    pub max_point_move: f64,
+}
+
+/// Smooths one structured block in place with Alter's arclength Taubin filter.
+#[allow(clippy::too_many_arguments)]
+pub fn smooth_block(
+    dim: usize,
+    dims: [usize; 3],
+    points: &mut [[f64; 3]],
+    direction: usize,
+    normalised: bool,
+    iterations: usize,
+    lambda: f64,
+    mu: f64,
+    coarse: Option<usize>,
+) -> Result<BlockSmoothing, CliError> {
+    match dim {
+        2 => smooth_d::<2>(
+            dims, points, direction, normalised, iterations, lambda, mu, coarse,
+        ),
+        3 => smooth_d::<3>(
+            dims, points, direction, normalised, iterations, lambda, mu, coarse,
+        ),
+        d => Err(CliError::Invalid(format!("dimension {d} is not 2 or 3"))),
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn smooth_d<const D: usize>(
+    dims: [usize; 3],
+    points: &mut [[f64; 3]],
+    direction: usize,
+    normalised: bool,
+    iterations: usize,
+    lambda: f64,
+    mu: f64,
+    coarse: Option<usize>,
+) -> Result<BlockSmoothing, CliError> {
+    use deform_kernel::taubin::{
+        smooth_arclength, smooth_arclength_scratch_len, Coarse, Prolongation, SmoothOptions,
+        TaubinParams,
+    };
+    let block = deform_kernel::Block::new(dims).map_err(kernel("block"))?;
+    let mut pts = points_d::<D>(points);
+    let mut options = SmoothOptions::new(direction);
+    options.params = TaubinParams { lambda, mu };
+    options.iterations = iterations;
+    options.normalised = normalised;
+    if let Some(m) = coarse {
+        let mut factor = [m; 3];
+        if let Some(f) = factor.get_mut(direction) {
+            *f = 1;
+        }
+        if D == 2 {
+            factor[2] = 1;
+        }
+        options.coarse = Some(Coarse {
+            factor,
+            prolongation: Prolongation::Values,
+        });
+        options.coarse_iterations = (iterations / 2).max(1);
+    }
+    let mut scratch =
+        vec![0.0; smooth_arclength_scratch_len::<D>(&block, direction, options.coarse.as_ref())];
+    let r = smooth_arclength(&block, &mut pts, &options, &mut scratch)
+        .map_err(kernel("arclength smoothing"))?;
+    for (p, q) in points.iter_mut().zip(&pts) {
+        for (s, &x) in p.iter_mut().zip(q) {
+            *s = x;
+        }
+    }
+    Ok(BlockSmoothing {
+        iterations: r.iterations,
+        max_stretching_before: r.stretching_before.0,
+        max_stretching_after: r.stretching_after.0,
+        max_point_move: r.max_displacement,
+    })
+}

@@ -1,0 +1,557 @@
+//! SU2 native ASCII meshes (2D and 3D, all element kinds, markers), read and write.
+//!
+//! Layout: `NDIME=`, then `NELEM=` with its element lines and `NPOIN=` with its point lines in
+//! either order, then `NMARK=` with `MARKER_TAG=` / `MARKER_ELEMS=` blocks. Indices are
+//! 0-based; trailing columns on point and element lines (SU2 writes a running index there) are
+//! ignored; `%` starts a comment. Element lines are `code n0 n1 …` with VTK type codes. A
+//! trailing `FFD_` section (free-form deformation boxes) ends the mesh part and is ignored.
+
+use std::io::{self, Write};
+
+use deform_kernel::CellKind;
+
+use super::error::{show, FormatError, FormatErrorKind, Location};
+use super::CellList;
+
+/// A boundary marker: its tag and its boundary elements (lines in 2D, triangles/quads in 3D).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Su2Marker {
+    /// `MARKER_TAG`.
+    pub name: String,
+    /// Boundary elements.
+    pub elements: CellList,
+}
+
+/// An SU2 mesh.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Su2Mesh {
+    /// `NDIME`: 2 or 3.
+    pub dim: usize,
+    /// Point coordinates; `z` is 0 in 2D.
+    pub points: Vec<[f64; 3]>,
+    /// Volume elements (triangles/quads in 2D; tets, hexes, prisms, pyramids in 3D).
+    pub elements: CellList,
+    /// Boundary markers, in file order.
+    pub markers: Vec<Su2Marker>,
+}
+
+impl Su2Mesh {
+    /// The marker called `name`, if any.
+    pub fn marker(&self, name: &str) -> Option<&Su2Marker> {
+        self.markers.iter().find(|m| m.name == name)
+    }
+}
+
+/// Reads lines, skipping blank and comment-only lines; strips `%` comments and `\r`.
+struct Lines<'a> {
+    data: &'a [u8],
+    pos: usize,
+    line: usize,
+}
+
+impl<'a> Lines<'a> {
+    fn new(data: &'a [u8]) -> Self {
+        Lines {
+            data,
+            pos: 0,
+            line: 0,
+        }
+    }
+
+    /// Next non-empty line: (1-based number, trimmed content without comment).
+    fn next_content(&mut self) -> Option<(usize, &'a [u8])> {
+        while self.pos < self.data.len() {
+            let rest = self.data.get(self.pos..).unwrap_or(&[]);
+            let len = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
+            let raw = rest.get(..len).unwrap_or(&[]);
+            self.pos += len + 1;
+            self.line += 1;
+            let raw = match raw.iter().position(|&b| b == b'%') {
+                Some(p) => raw.get(..p).unwrap_or(&[]),
+                None => raw,
+            };
+            let t = raw.trim_ascii();
+            if !t.is_empty() {
+                return Some((self.line, t));
+            }
+        }
+        None
+    }
+
+    /// The line number reported for an unexpected end of file: the line after the last one.
+    fn eof_line(&self) -> usize {
+        self.line + 1
+    }
+}
+
+fn tokens(line: &[u8]) -> impl Iterator<Item = &[u8]> {
+    line.split(|b| b.is_ascii_whitespace())
+        .filter(|t| !t.is_empty())
+}
+
+/// Splits `KEY= value` into (key, value) if the line has that shape.
+fn key_value(line: &[u8]) -> Option<(&[u8], &[u8])> {
+    let eq = line.iter().position(|&b| b == b'=')?;
+    let key = line.get(..eq)?.trim_ascii();
+    let value = line.get(eq + 1..)?.trim_ascii();
+    if key.is_empty() || !key.iter().all(|b| b.is_ascii_alphanumeric() || *b == b'_') {
+        return None;
+    }
+    Some((key, value))
+}
+
+fn parse_uint(tok: &[u8]) -> Option<u64> {
+    if tok.is_empty() || tok.len() > 19 || !tok.iter().all(u8::is_ascii_digit) {
+        return None;
+    }
+    std::str::from_utf8(tok).ok()?.parse().ok()
+}
+
+fn parse_count(line: usize, value: &[u8], keyword: &str) -> Result<usize, FormatError> {
+    let first = tokens(value).next().unwrap_or(&[]);
+    let n = parse_uint(first).ok_or_else(|| {
+        FormatError::expected_at_line(line, format!("a count after {keyword}="), value)
+    })?;
+    usize::try_from(n)
+        .ok()
+        .filter(|&n| u32::try_from(n).is_ok())
+        .ok_or_else(|| {
+            FormatError::new(
+                Location::Line(line),
+                FormatErrorKind::TooLarge {
+                    what: keyword.to_string(),
+                    value: n,
+                },
+            )
+        })
+}
+
+fn parse_real(line: usize, tok: &[u8], what: &str) -> Result<f64, FormatError> {
+    let v: f64 = std::str::from_utf8(tok)
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .ok_or_else(|| FormatError::expected_at_line(line, format!("{what} (a number)"), tok))?;
+    if !v.is_finite() {
+        return Err(FormatError::new(
+            Location::Line(line),
+            FormatErrorKind::NotFinite {
+                what: what.to_string(),
+                found: show(tok),
+            },
+        ));
+    }
+    Ok(v)
+}
+
+/// Parses one element line into `cells`; `allowed` lists the codes valid here.
+fn parse_element(
+    line: usize,
+    content: &[u8],
+    allowed: &[CellKind],
+    cells: &mut CellList,
+) -> Result<(), FormatError> {
+    let allowed_text = || {
+        allowed
+            .iter()
+            .map(|k| k.vtk_code().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut it = tokens(content);
+    let code_tok = it.next().unwrap_or(&[]);
+    let code = std::str::from_utf8(code_tok)
+        .ok()
+        .and_then(|s| s.parse::<i64>().ok())
+        .ok_or_else(|| {
+            FormatError::expected_at_line(
+                line,
+                format!("an element line (type code {})", allowed_text()),
+                content,
+            )
+        })?;
+    let kind = u8::try_from(code)
+        .ok()
+        .and_then(CellKind::from_vtk)
+        .filter(|k| allowed.contains(k))
+        .ok_or_else(|| {
+            FormatError::new(
+                Location::Line(line),
+                FormatErrorKind::BadElement {
+                    code,
+                    allowed: allowed_text(),
+                },
+            )
+        })?;
+    let mut nodes = [0u32; 8];
+    let count = kind.node_count();
+    for (k, slot) in nodes.iter_mut().take(count).enumerate() {
+        let tok = it.next().ok_or_else(|| {
+            FormatError::expected_at_line(
+                line,
+                format!("{count} node indices for element type {code}, found only {k}"),
+                content,
+            )
+        })?;
+        let v = parse_uint(tok).ok_or_else(|| {
+            FormatError::expected_at_line(line, "a node index (non-negative integer)", tok)
+        })?;
+        *slot = u32::try_from(v).map_err(|_| {
+            FormatError::new(
+                Location::Line(line),
+                FormatErrorKind::IndexOutOfRange {
+                    index: v,
+                    bound: u32::MAX as usize,
+                },
+            )
+        })?;
+    }
+    let cell = nodes.get(..count).unwrap_or(&[]);
+    for (k, &v) in cell.iter().enumerate() {
+        if cell.iter().take(k).any(|&u| u == v) {
+            return Err(FormatError::new(
+                Location::Line(line),
+                FormatErrorKind::RepeatedNode { node: v as u64 },
+            ));
+        }
+    }
+    if !cells.push(kind, cell) {
+        return Err(FormatError::new(
+            Location::Line(line),
+            FormatErrorKind::TooLarge {
+                what: "total element node count".into(),
+                value: cells.nodes.len() as u64,
+            },
+        ));
+    }
+    Ok(())
+}
+
+fn check_indices(cells: &CellList, lines: &[usize], npoin: usize) -> Result<(), FormatError> {
+    for (c, (_, nodes)) in cells.iter().enumerate() {
+        if let Some(&v) = nodes.iter().find(|&&v| v as usize >= npoin) {
+            return Err(FormatError::new(
+                Location::Line(lines.get(c).copied().unwrap_or(0)),
+                FormatErrorKind::IndexOutOfRange {
+                    index: v as u64,
+                    bound: npoin,
+                },
+            ));
+        }
+    }
+    Ok(())
+}
+
+const VOLUME_2D: [CellKind; 2] = [CellKind::Triangle, CellKind::Quad];
+const VOLUME_3D: [CellKind; 4] = [
+    CellKind::Tetra,
+    CellKind::Hexahedron,
+    CellKind::Prism,
+    CellKind::Pyramid,
+];
+const SURFACE_2D: [CellKind; 1] = [CellKind::Line];
+const SURFACE_3D: [CellKind; 2] = [CellKind::Triangle, CellKind::Quad];
+
+/// Parses an SU2 native ASCII mesh. Never panics; errors name the line.
+pub fn parse_su2(bytes: &[u8]) -> Result<Su2Mesh, FormatError> {
+    let mut lines = Lines::new(bytes);
+    let mut dim: Option<usize> = None;
+    let mut elements: Option<(CellList, Vec<usize>)> = None;
+    let mut points: Option<Vec<[f64; 3]>> = None;
+    let mut markers: Option<Vec<(Su2Marker, Vec<usize>)>> = None;
+
+    while let Some((line, content)) = lines.next_content() {
+        let Some((key, value)) = key_value(content) else {
+            return Err(FormatError::expected_at_line(
+                line,
+                "a keyword line (NDIME=, NELEM=, NPOIN= or NMARK=)",
+                content,
+            ));
+        };
+        match key.to_ascii_uppercase().as_slice() {
+            b"NDIME" => {
+                if dim.is_some() {
+                    return Err(FormatError::new(
+                        Location::Line(line),
+                        FormatErrorKind::Duplicate {
+                            keyword: "NDIME".into(),
+                        },
+                    ));
+                }
+                let d = parse_uint(tokens(value).next().unwrap_or(&[]));
+                match d {
+                    Some(2) => dim = Some(2),
+                    Some(3) => dim = Some(3),
+                    _ => {
+                        return Err(FormatError::expected_at_line(
+                            line,
+                            "NDIME= 2 or NDIME= 3",
+                            content,
+                        ))
+                    }
+                }
+            }
+            b"NZONE" | b"IZONE" => {
+                if parse_uint(tokens(value).next().unwrap_or(&[])) != Some(1) {
+                    return Err(FormatError::new(
+                        Location::Line(line),
+                        FormatErrorKind::Unsupported {
+                            what: "multi-zone SU2 meshes (NZONE/IZONE other than 1)".into(),
+                        },
+                    ));
+                }
+            }
+            b"NELEM" => {
+                let d = dim.ok_or_else(|| {
+                    FormatError::expected_at_line(line, "NDIME= before NELEM=", content)
+                })?;
+                if elements.is_some() {
+                    return Err(FormatError::new(
+                        Location::Line(line),
+                        FormatErrorKind::Duplicate {
+                            keyword: "NELEM".into(),
+                        },
+                    ));
+                }
+                let n = parse_count(line, value, "NELEM")?;
+                let allowed: &[CellKind] = if d == 2 { &VOLUME_2D } else { &VOLUME_3D };
+                let mut cells = CellList::new();
+                let mut where_ = Vec::new();
+                for e in 0..n {
+                    let (l, c) = lines.next_content().ok_or_else(|| {
+                        FormatError::eof_at_line(
+                            lines.eof_line(),
+                            format!("element {} of {n} (NELEM= {n})", e + 1),
+                        )
+                    })?;
+                    if key_value(c).is_some() {
+                        return Err(FormatError::expected_at_line(
+                            l,
+                            format!("element {} of {n} (NELEM= {n} at line {line})", e + 1),
+                            c,
+                        ));
+                    }
+                    parse_element(l, c, allowed, &mut cells)?;
+                    where_.push(l);
+                }
+                elements = Some((cells, where_));
+            }
+            b"NPOIN" => {
+                let d = dim.ok_or_else(|| {
+                    FormatError::expected_at_line(line, "NDIME= before NPOIN=", content)
+                })?;
+                if points.is_some() {
+                    return Err(FormatError::new(
+                        Location::Line(line),
+                        FormatErrorKind::Duplicate {
+                            keyword: "NPOIN".into(),
+                        },
+                    ));
+                }
+                let n = parse_count(line, value, "NPOIN")?;
+                let mut pts = Vec::new();
+                for p in 0..n {
+                    let (l, c) = lines.next_content().ok_or_else(|| {
+                        FormatError::eof_at_line(
+                            lines.eof_line(),
+                            format!("point {} of {n} (NPOIN= {n})", p + 1),
+                        )
+                    })?;
+                    let mut it = tokens(c);
+                    let mut xyz = [0.0f64; 3];
+                    for (k, slot) in xyz.iter_mut().take(d).enumerate() {
+                        let name = ["x", "y", "z"].get(k).copied().unwrap_or("coordinate");
+                        let tok = it.next().ok_or_else(|| {
+                            FormatError::expected_at_line(
+                                l,
+                                format!(
+                                    "{d} coordinates for point {} of {n} (NPOIN= {n} at line {line})",
+                                    p + 1
+                                ),
+                                c,
+                            )
+                        })?;
+                        *slot = parse_real(l, tok, &format!("{name} of point {p}"))?;
+                    }
+                    pts.push(xyz);
+                }
+                points = Some(pts);
+            }
+            b"NMARK" => {
+                let d = dim.ok_or_else(|| {
+                    FormatError::expected_at_line(line, "NDIME= before NMARK=", content)
+                })?;
+                if elements.is_none() || points.is_none() {
+                    return Err(FormatError::expected_at_line(
+                        line,
+                        "NELEM= and NPOIN= sections before NMARK=",
+                        content,
+                    ));
+                }
+                if markers.is_some() {
+                    return Err(FormatError::new(
+                        Location::Line(line),
+                        FormatErrorKind::Duplicate {
+                            keyword: "NMARK".into(),
+                        },
+                    ));
+                }
+                let m = parse_count(line, value, "NMARK")?;
+                let allowed: &[CellKind] = if d == 2 { &SURFACE_2D } else { &SURFACE_3D };
+                let mut list = Vec::new();
+                for k in 0..m {
+                    let what = format!(
+                        "MARKER_TAG= (marker {} of {m}, NMARK= {m} at line {line})",
+                        k + 1
+                    );
+                    let (l, c) = lines
+                        .next_content()
+                        .ok_or_else(|| FormatError::eof_at_line(lines.eof_line(), what.clone()))?;
+                    let name = match key_value(c) {
+                        Some((kk, v))
+                            if kk.eq_ignore_ascii_case(b"MARKER_TAG") && !v.is_empty() =>
+                        {
+                            std::str::from_utf8(v)
+                                .map_err(|_| {
+                                    FormatError::expected_at_line(l, "a UTF-8 marker name", v)
+                                })?
+                                .to_string()
+                        }
+                        _ => return Err(FormatError::expected_at_line(l, what, c)),
+                    };
+                    if list
+                        .iter()
+                        .any(|(mk, _): &(Su2Marker, Vec<usize>)| mk.name == name)
+                    {
+                        return Err(FormatError::new(
+                            Location::Line(l),
+                            FormatErrorKind::Duplicate {
+                                keyword: format!("MARKER_TAG= {name}"),
+                            },
+                        ));
+                    }
+                    let what = format!("MARKER_ELEMS= for marker {name}");
+                    let (l2, c2) = lines
+                        .next_content()
+                        .ok_or_else(|| FormatError::eof_at_line(lines.eof_line(), what.clone()))?;
+                    let count = match key_value(c2) {
+                        Some((kk, v)) if kk.eq_ignore_ascii_case(b"MARKER_ELEMS") => {
+                            parse_count(l2, v, "MARKER_ELEMS")?
+                        }
+                        _ => return Err(FormatError::expected_at_line(l2, what, c2)),
+                    };
+                    let mut cells = CellList::new();
+                    let mut where_ = Vec::new();
+                    for e in 0..count {
+                        let expected = format!(
+                            "element {} of {count} of marker {name} (MARKER_ELEMS= {count} at line {l2})",
+                            e + 1
+                        );
+                        let (l3, c3) = lines.next_content().ok_or_else(|| {
+                            FormatError::eof_at_line(lines.eof_line(), expected.clone())
+                        })?;
+                        if key_value(c3).is_some() {
+                            return Err(FormatError::expected_at_line(l3, expected, c3));
+                        }
+                        parse_element(l3, c3, allowed, &mut cells)?;
+                        where_.push(l3);
+                    }
+                    list.push((
+                        Su2Marker {
+                            name,
+                            elements: cells,
+                        },
+                        where_,
+                    ));
+                }
+                markers = Some(list);
+            }
+            k if k.starts_with(b"FFD_") => break,
+            _ => {
+                return Err(FormatError::expected_at_line(
+                    line,
+                    "a keyword line (NDIME=, NELEM=, NPOIN= or NMARK=)",
+                    content,
+                ))
+            }
+        }
+    }
+
+    let end = lines.eof_line();
+    let missing = |k: &str| {
+        FormatError::new(
+            Location::Line(end),
+            FormatErrorKind::Missing {
+                keyword: format!("{k} section (end of file reached)"),
+            },
+        )
+    };
+    let dim = dim.ok_or_else(|| missing("NDIME="))?;
+    let (elements, elem_lines) = elements.ok_or_else(|| missing("NELEM="))?;
+    let points = points.ok_or_else(|| missing("NPOIN="))?;
+    check_indices(&elements, &elem_lines, points.len())?;
+    let mut out = Vec::new();
+    for (m, where_) in markers.unwrap_or_default() {
+        check_indices(&m.elements, &where_, points.len())?;
+        out.push(m);
+    }
+    Ok(Su2Mesh {
+        dim,
+        points,
+        elements,
+        markers: out,
+    })
+}
+
+fn invalid(msg: String) -> io::Error {
+    io::Error::new(io::ErrorKind::InvalidInput, msg)
+}
+
+/// Writes `mesh` as SU2 native ASCII (with SU2's trailing index columns). Coordinates are
+/// written in Rust's shortest round-trip form, so reading the file back gives the same bits.
+pub fn write_su2<W: Write>(mesh: &Su2Mesh, w: &mut W) -> io::Result<()> {
+    if mesh.dim != 2 && mesh.dim != 3 {
+        return Err(invalid(format!(
+            "SU2 dimension must be 2 or 3, not {}",
+            mesh.dim
+        )));
+    }
+    for m in &mesh.markers {
+        if m.name.is_empty() || m.name.contains(['\n', '\r', '%', '=']) || m.name.trim() != m.name {
+            return Err(invalid(format!(
+                "marker name {:?} cannot be written to SU2 (empty, padded, or contains a newline, % or =)",
+                m.name
+            )));
+        }
+    }
+    let mut w = io::BufWriter::new(w);
+    writeln!(w, "% SU2 mesh written by deform")?;
+    writeln!(w, "NDIME= {}", mesh.dim)?;
+    writeln!(w, "NELEM= {}", mesh.elements.len())?;
+    for (c, (code, nodes)) in mesh.elements.iter().enumerate() {
+        write!(w, "{code}")?;
+        for n in nodes {
+            write!(w, " {n}")?;
+        }
+        writeln!(w, " {c}")?;
+    }
+    writeln!(w, "NPOIN= {}", mesh.points.len())?;
+    for (i, p) in mesh.points.iter().enumerate() {
+        for x in p.iter().take(mesh.dim) {
+            write!(w, "{x:e} ")?;
+        }
+        writeln!(w, "{i}")?;
+    }
+    writeln!(w, "NMARK= {}", mesh.markers.len())?;
+    for m in &mesh.markers {
+        writeln!(w, "MARKER_TAG= {}", m.name)?;
+        writeln!(w, "MARKER_ELEMS= {}", m.elements.len())?;
+        for (code, nodes) in m.elements.iter() {
+            write!(w, "{code}")?;
+            for n in nodes {
+                write!(w, " {n}")?;
+            }
+            writeln!(w)?;
+        }
+    }
+    w.flush()
+}

@@ -1,0 +1,163 @@
+//! Linear-spring propagation of `(Δ, Q)`: one solve with `V = D + 4` values per node.
+
+use super::propagate::check_boundary_entries;
+use super::{check_buffer, check_dim, check_len};
+use crate::error::{Error, Result};
+use crate::quat::Quat;
+use crate::real::Real;
+use crate::spring::{
+    solve_linear, solve_linear_scratch_len, LinearMethod, SolveOptions, SolveReport, SpringSystem,
+};
+
+/// Number of `[T; V]` scratch items [`propagate_spring`] needs: `N` for the packed values plus
+/// [`solve_linear_scratch_len`] for the solver.
+#[inline]
+pub fn propagate_spring_scratch_len<T>(method: &LinearMethod<T>, node_count: usize) -> usize {
+    node_count.saturating_add(solve_linear_scratch_len(method, node_count))
+}
+
+/// Propagates translations and rotations through a linear spring network (Samareh: "the
+/// translation vectors and quaternions are propagated into the field mesh by … the spring
+/// analogy"; Batina's springs, Samareh eq. 2): `Δ` and the four quaternion components are
+/// packed into one `[T; V]` field (`V = D + 4`) and solved together by
+/// [`solve_linear`](crate::spring::solve_linear) with `method` and `options`.
+///
+/// On entry `translations` and `rotations` hold the boundary values at the *fixed* nodes of
+/// `sys` (other entries are ignored). The fixed quaternions are flipped into the hemisphere of
+/// the first fixed node's (`q` and `−q` are one rotation, and the springs average components),
+/// the free nodes start from the mean of the fixed values, and after the solve every free
+/// node's quaternion is renormalised. Fixed entries are never written.
+///
+/// `scratch` needs [`propagate_spring_scratch_len`] items. Returns the solver's report (check
+/// `converged`).
+///
+/// Errors: `V != D + 4`, length mismatches, no fixed node, non-finite or zero boundary values,
+/// the solver's errors, and [`Error::ZeroLength`] (`"rotations"`, position = node) if a solved
+/// quaternion cancels to zero. On error `translations` and `rotations` are unchanged.
+pub fn propagate_spring<T: Real, const D: usize, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    method: LinearMethod<T>,
+    options: &SolveOptions<T>,
+    translations: &mut [[T; D]],
+    rotations: &mut [Quat<T>],
+    scratch: &mut [[T; V]],
+) -> Result<SolveReport<T>> {
+    check_dim::<D>()?;
+    if V != D + 4 {
+        return Err(Error::InvalidParameter {
+            arg: "V",
+            reason: "must be D + 4 (translation and quaternion components)",
+        });
+    }
+    let n = sys.node_count();
+    check_len("translations", translations.len(), n)?;
+    check_len("rotations", rotations.len(), n)?;
+    check_buffer(
+        "scratch",
+        scratch.len(),
+        propagate_spring_scratch_len(&method, n),
+    )?;
+    // Validate the fixed entries.
+    let mut first_fixed = None;
+    for (i, &m) in sys.fixed().iter().enumerate() {
+        if crate::spring::is_fixed(m) {
+            if first_fixed.is_none() {
+                first_fixed = Some(i);
+            }
+            if let Ok(index) = u32::try_from(i) {
+                check_boundary_entries(core::slice::from_ref(&index), translations, rotations)?;
+            }
+        }
+    }
+    let Some(first) = first_fixed else {
+        return Err(Error::InvalidParameter {
+            arg: "sys",
+            reason: "needs at least one fixed node",
+        });
+    };
+    let reference = rotations.get(first).copied().unwrap_or(Quat::identity());
+
+    let (values, solver_scratch) = match scratch.split_at_mut_checked(n) {
+        Some(p) => p,
+        None => {
+            return Err(Error::BufferTooSmall {
+                arg: "scratch",
+                needed: n,
+                actual: scratch.len(),
+            })
+        }
+    };
+    // Pack the fixed values (hemisphere-aligned) and their mean.
+    let mut mean = [T::ZERO; V];
+    let mut count = 0usize;
+    for (i, v) in values.iter_mut().enumerate() {
+        if !sys.is_fixed(i) {
+            continue;
+        }
+        let t = translations.get(i).copied().unwrap_or([T::ZERO; D]);
+        let q = rotations.get(i).copied().unwrap_or(reference);
+        let q = if q.dot(reference) < T::ZERO { -q } else { q };
+        *v = pack(t, q);
+        for (m, x) in mean.iter_mut().zip(v.iter()) {
+            *m += *x;
+        }
+        count += 1;
+    }
+    let c = T::from_usize(count.max(1));
+    for m in mean.iter_mut() {
+        *m /= c;
+    }
+    for (i, v) in values.iter_mut().enumerate() {
+        if !sys.is_fixed(i) {
+            *v = mean;
+        }
+    }
+    let report = solve_linear(sys, values, method, options, solver_scratch)?;
+    // Every free quaternion must normalise before anything is written.
+    for (i, v) in values.iter().enumerate() {
+        if !sys.is_fixed(i) && unpack::<T, D, V>(v).1.normalize().is_err() {
+            return Err(Error::ZeroLength {
+                arg: "rotations",
+                position: i,
+            });
+        }
+    }
+    for (i, ((v, t), r)) in values
+        .iter()
+        .zip(translations.iter_mut())
+        .zip(rotations.iter_mut())
+        .enumerate()
+    {
+        if sys.is_fixed(i) {
+            continue;
+        }
+        let (tv, qv) = unpack::<T, D, V>(v);
+        *t = tv;
+        *r = qv.normalize().unwrap_or(reference);
+    }
+    Ok(report)
+}
+
+/// `[Δ, w, x, y, z]`.
+#[inline]
+fn pack<T: Real, const D: usize, const V: usize>(t: [T; D], q: Quat<T>) -> [T; V] {
+    let mut v = [T::ZERO; V];
+    for (a, b) in v.iter_mut().zip(t.iter().chain(q.to_array().iter())) {
+        *a = *b;
+    }
+    v
+}
+
+/// Inverse of [`pack`].
+#[inline]
+fn unpack<T: Real, const D: usize, const V: usize>(v: &[T; V]) -> ([T; D], Quat<T>) {
+    let mut t = [T::ZERO; D];
+    for (a, b) in t.iter_mut().zip(v.iter()) {
+        *a = *b;
+    }
+    let mut q = [T::ZERO; 4];
+    for (a, b) in q.iter_mut().zip(v.iter().skip(D)) {
+        *a = *b;
+    }
+    (t, Quat::from_array(q))
+}

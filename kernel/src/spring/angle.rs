@@ -1,0 +1,748 @@
+//! Angle-inclusion springs (Yang & Özgen §2.2); see [`AngleSystem`].
+
+use core::ops::Range;
+
+use super::linear::relative;
+use super::system::{check_values, SolveOptions, SolveReport, SpringSystem, Sweep};
+use crate::error::{Error, Result};
+use crate::real::Real;
+use crate::vector;
+
+/// Default regularisation `ε` of the angle-inclusion springs (fraction of the linear spring
+/// added to every edge block). See the [`AngleSystem`] documentation.
+pub const DEFAULT_ANGLE_EPSILON: f64 = 0.01;
+
+/// Largest rigidity-probe amplification ([`angle_rigidity_probe`]) [`solve_angle`] accepts
+/// when `ε = 0`; above it the system is reported as [`Error::SingularSystem`] (numerically a
+/// mechanism: its solution would be dominated by near-zero-energy modes).
+pub const MAX_AMPLIFICATION: f64 = 1e8;
+
+/// A validated angle-inclusion spring system: a [`SpringSystem`] plus the (undeformed) node
+/// coordinates that give each edge its direction, and the regularisation `ε`.
+///
+/// For the edge `i → j` with `d = r_j − r_i` (undeformed coordinates), stiffness `k` and
+/// regularisation `ε`, the edge block is
+///
+/// `B_ij = k (d dᵀ / |d|² + ε I)`,
+///
+/// which is the paper's eq. 2 (`k [[c², cs], [cs, s²]]`, with `c`, `s` the cosine and sine of
+/// the edge angle) in 2D, and `k e eᵀ` in 3D, plus `ε` times the linear spring. Equilibrium at
+/// a free node is `Σ_j B_ij (x_j − x_i) = 0` (eq. 3 = 0).
+///
+/// **Regularisation (default [`DEFAULT_ANGLE_EPSILON`] = 0.01).** With `ε = 0` the operator is
+/// the paper's but may be singular: a node whose edges are colinear (2D) or coplanar (3D) has a
+/// singular 2×2/3×3 block, and a truss of quads without diagonals is a mechanism. With `ε > 0`
+/// the operator lies between `ε L` and `(1 + ε) L` (`L` = the linear-spring Laplacian), so it is
+/// positive definite whenever the linear springs are, with condition number at most
+/// `(1 + ε)/ε` times theirs; 0.01 changes the paper's operator by 1 % while keeping every
+/// node and global system solvable. Quad and hex meshes can instead (or also) be stiffened
+/// with face diagonals from [`graph_from_cells`](crate::graph_from_cells).
+///
+/// **Singularity detection.** [`AngleSystem::new`] rejects a free node whose block is singular
+/// ([`Error::SingularNode`]): its normalised determinant `det / (tr/D)^D` (1 for an isotropic
+/// block, 0 for a singular one) must exceed `√ε_machine` (about 1.5e-8 for `f64`, 3.5e-4 for
+/// `f32`). A singular *global* system cannot be seen by CG on the user's data: the right-hand
+/// side of a zero-energy mechanism is always orthogonal to the mechanism (fixed nodes push only
+/// along edges the mechanism does not stretch), so Krylov methods quietly converge to one of
+/// infinitely many answers. Therefore, when `ε = 0`, every solve first runs a **rigidity
+/// probe**: block-Jacobi CG on a deterministic pseudo-random right-hand side, which has a
+/// component in any null space. It must reach a relative residual of `max(1e-6, 100 ε_mach)`
+/// within `max(max_iterations, 100)` iterations with positive curvature, else the solve
+/// returns [`Error::SingularSystem`] before touching the values.
+#[derive(Clone, Copy, Debug)]
+pub struct AngleSystem<'a, T: Real, const D: usize> {
+    base: SpringSystem<'a, T>,
+    points: &'a [[T; D]],
+    epsilon: T,
+}
+
+/// Solution method for the angle-inclusion springs ([`solve_angle`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AngleMethod {
+    /// Direct method (Yang & Özgen §2.2.1): each node's 2×2/3×3 system solved by Cramer's rule,
+    /// in place, in node order (Gauss–Seidel). Converges: the operator is symmetric positive
+    /// definite.
+    DirectGaussSeidel,
+    /// Direct method in Jacobi order (every node from the previous field). Block Jacobi is
+    /// *not* guaranteed to converge on this operator; non-convergence is reported.
+    DirectJacobi,
+    /// Indirect method (§2.2.2): conjugate gradients on the assembled block operator
+    /// (`q_a = −K_aa⁻¹ K_ab q_b`, eq. 4), matrix-free, with the node blocks as preconditioner.
+    Cg,
+}
+
+/// `true` for the dimensions the angle springs support.
+#[inline]
+const fn supported(d: usize) -> bool {
+    d == 2 || d == 3
+}
+
+/// Entry `(i, j)` of a `D×D` array (0 outside).
+#[inline]
+fn at<T: Real, const D: usize>(m: &[[T; D]; D], i: usize, j: usize) -> T {
+    m.get(i)
+        .and_then(|row| row.get(j))
+        .copied()
+        .unwrap_or(T::ZERO)
+}
+
+/// Solves the symmetric `D×D` system `m x = r` by Cramer's rule (cofactors), or `None` when its
+/// normalised determinant `det / (tr/D)^D` is at most `√ε` (or `D` is not 2 or 3).
+fn cramer<T: Real, const D: usize>(m: &[[T; D]; D], r: &[T; D]) -> Option<[T; D]> {
+    let g = |i, j| at(m, i, j);
+    let rv = |i: usize| r.get(i).copied().unwrap_or(T::ZERO);
+    let tol = T::EPSILON.sqrt();
+    let mut out = [T::ZERO; D];
+    if D == 2 {
+        let (a, b, c) = (g(0, 0), g(0, 1), g(1, 1));
+        let det = a * c - b * b;
+        let t = (a + c) * T::HALF;
+        if det <= tol * t * t || !det.is_finite() {
+            return None;
+        }
+        let x = [(rv(0) * c - b * rv(1)) / det, (a * rv(1) - b * rv(0)) / det];
+        for (o, v) in out.iter_mut().zip(x) {
+            *o = v;
+        }
+        Some(out)
+    } else if D == 3 {
+        let (m00, m01, m02) = (g(0, 0), g(0, 1), g(0, 2));
+        let (m11, m12, m22) = (g(1, 1), g(1, 2), g(2, 2));
+        let c00 = m11 * m22 - m12 * m12;
+        let c01 = m02 * m12 - m01 * m22;
+        let c02 = m01 * m12 - m02 * m11;
+        let c11 = m00 * m22 - m02 * m02;
+        let c12 = m01 * m02 - m00 * m12;
+        let c22 = m00 * m11 - m01 * m01;
+        let det = m00 * c00 + m01 * c01 + m02 * c02;
+        let t = (m00 + m11 + m22) / T::from_f64(3.0);
+        if det <= tol * t * t * t || !det.is_finite() {
+            return None;
+        }
+        let (r0, r1, r2) = (rv(0), rv(1), rv(2));
+        let x = [
+            (c00 * r0 + c01 * r1 + c02 * r2) / det,
+            (c01 * r0 + c11 * r1 + c12 * r2) / det,
+            (c02 * r0 + c12 * r1 + c22 * r2) / det,
+        ];
+        for (o, v) in out.iter_mut().zip(x) {
+            *o = v;
+        }
+        Some(out)
+    } else {
+        None
+    }
+}
+
+impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
+    /// Validates the coordinates and `epsilon` against `base` and checks every free node's
+    /// block (see the [`AngleSystem`] documentation).
+    ///
+    /// Errors: `D` not 2 or 3 ([`Error::InvalidParameter`] on `points`);
+    /// `points.len() != node_count` ([`Error::LengthMismatch`]); a non-finite coordinate
+    /// ([`Error::NonFinite`]); `epsilon` not finite or negative ([`Error::InvalidParameter`]);
+    /// a zero-length edge ([`Error::ZeroLengthEdge`]); a free node whose block is singular
+    /// ([`Error::SingularNode`], colinear edges in 2D, coplanar in 3D).
+    pub fn new(base: SpringSystem<'a, T>, points: &'a [[T; D]], epsilon: T) -> Result<Self> {
+        if !supported(D) {
+            return Err(Error::InvalidParameter {
+                arg: "points",
+                reason: "must be 2D or 3D",
+            });
+        }
+        check_values("points", points, base.node_count())?;
+        if !(epsilon.is_finite() && epsilon >= T::ZERO) {
+            return Err(Error::InvalidParameter {
+                arg: "epsilon",
+                reason: "must be finite and >= 0",
+            });
+        }
+        let sys = AngleSystem {
+            base,
+            points,
+            epsilon,
+        };
+        for i in 0..base.node_count() {
+            for (j, _) in base.row(i) {
+                if sys.direction(i, j).is_none() {
+                    return Err(Error::ZeroLengthEdge { from: i, to: j });
+                }
+            }
+        }
+        for i in 0..base.node_count() {
+            if !base.is_fixed(i) && cramer(&sys.node_block(i), &[T::ZERO; D]).is_none() {
+                return Err(Error::SingularNode { node: i });
+            }
+        }
+        Ok(sys)
+    }
+
+    /// The underlying linear-spring system (graph, stiffness, fixed mask).
+    #[inline]
+    pub fn base(&self) -> &SpringSystem<'a, T> {
+        &self.base
+    }
+
+    /// The coordinates that define the edge directions.
+    #[inline]
+    pub fn points(&self) -> &'a [[T; D]] {
+        self.points
+    }
+
+    /// The regularisation `ε`.
+    #[inline]
+    pub fn epsilon(&self) -> T {
+        self.epsilon
+    }
+
+    /// `d = r_j − r_i` and `|d|²`, or `None` for a zero-length (or overflowing) edge.
+    #[inline]
+    fn direction(&self, i: usize, j: usize) -> Option<([T; D], T)> {
+        let d = vector::sub(*self.points.get(j)?, *self.points.get(i)?);
+        let d2 = vector::norm_sq(d);
+        (d2 > T::ZERO && d2.is_finite()).then_some((d, d2))
+    }
+
+    /// `B v = k (d (d·v) / |d|² + ε v)` for one edge.
+    #[inline]
+    fn edge_apply(&self, k: T, d: &[T; D], d2: T, v: &[T; D]) -> [T; D] {
+        let s = k * vector::dot(*d, *v) / d2;
+        let ke = k * self.epsilon;
+        let mut out = [T::ZERO; D];
+        for ((o, &dc), &vc) in out.iter_mut().zip(d).zip(v) {
+            *o = s * dc + ke * vc;
+        }
+        out
+    }
+
+    /// Node `i`'s block `A_ii = Σ_j B_ij`, summed in CSR order.
+    fn node_block(&self, i: usize) -> [[T; D]; D] {
+        let mut m = [[T::ZERO; D]; D];
+        for (j, k) in self.base.row(i) {
+            let Some((d, d2)) = self.direction(i, j) else {
+                continue;
+            };
+            let s = k / d2;
+            let ke = k * self.epsilon;
+            for (r, (row, &dr)) in m.iter_mut().zip(&d).enumerate() {
+                for (c, (e, &dc)) in row.iter_mut().zip(&d).enumerate() {
+                    *e += s * dr * dc;
+                    if r == c {
+                        *e += ke;
+                    }
+                }
+            }
+        }
+        m
+    }
+
+    /// Node `i`'s residual `Σ_j B_ij (x_j − x_i)` and block `A_ii`, in one pass over the row
+    /// (both summed in CSR order, exactly as [`Self::node_block`] sums the block).
+    fn node_residual(&self, i: usize, xi: [T; D], x: &[[T; D]]) -> ([T; D], [[T; D]; D]) {
+        let mut r = [T::ZERO; D];
+        let mut m = [[T::ZERO; D]; D];
+        for (j, k) in self.base.row(i) {
+            let Some((d, d2)) = self.direction(i, j) else {
+                continue;
+            };
+            let xj = x.get(j).copied().unwrap_or(xi);
+            let f = self.edge_apply(k, &d, d2, &vector::sub(xj, xi));
+            r = vector::add(r, f);
+            let s = k / d2;
+            let ke = k * self.epsilon;
+            for (row_i, (row, &dr)) in m.iter_mut().zip(&d).enumerate() {
+                for (col, (e, &dc)) in row.iter_mut().zip(&d).enumerate() {
+                    *e += s * dr * dc;
+                    if row_i == col {
+                        *e += ke;
+                    }
+                }
+            }
+        }
+        (r, m)
+    }
+
+    /// `(‖b − A x‖₂, ‖b‖₂)` over the free nodes, `b_i = Σ_{j fixed} B_ij x_j`.
+    fn residual_norms(&self, x: &[[T; D]]) -> (T, T) {
+        let mut rr = T::ZERO;
+        let mut bb = T::ZERO;
+        for (i, &xi) in x.iter().enumerate() {
+            if self.base.is_fixed(i) {
+                continue;
+            }
+            let mut r = [T::ZERO; D];
+            let mut b = [T::ZERO; D];
+            for (j, k) in self.base.row(i) {
+                let Some((d, d2)) = self.direction(i, j) else {
+                    continue;
+                };
+                let xj = x.get(j).copied().unwrap_or(xi);
+                r = vector::add(r, self.edge_apply(k, &d, d2, &vector::sub(xj, xi)));
+                if self.base.is_fixed(j) {
+                    b = vector::add(b, self.edge_apply(k, &d, d2, &xj));
+                }
+            }
+            rr += vector::norm_sq(r);
+            bb += vector::norm_sq(b);
+        }
+        (rr.sqrt(), bb.sqrt())
+    }
+
+    /// `q = A p` on free nodes (`p` zero on fixed nodes) and `Σ p_iᵀ A_ii p_i`.
+    fn apply(&self, p: &[[T; D]], q: &mut [[T; D]]) -> T {
+        let mut dpp = T::ZERO;
+        for (i, (qi, &pi)) in q.iter_mut().zip(p).enumerate() {
+            if self.base.is_fixed(i) {
+                *qi = [T::ZERO; D];
+                continue;
+            }
+            let mut acc = [T::ZERO; D];
+            let mut diag = [T::ZERO; D];
+            for (j, k) in self.base.row(i) {
+                let Some((d, d2)) = self.direction(i, j) else {
+                    continue;
+                };
+                let pj = p.get(j).copied().unwrap_or([T::ZERO; D]);
+                acc = vector::add(acc, self.edge_apply(k, &d, d2, &vector::sub(pi, pj)));
+                diag = vector::add(diag, self.edge_apply(k, &d, d2, &pi));
+            }
+            dpp += vector::dot(pi, diag);
+            *qi = acc;
+        }
+        dpp
+    }
+
+    /// Block-Jacobi preconditioner `z_i = A_ii⁻¹ r_i` (zero on fixed nodes).
+    fn precondition(&self, r: &[[T; D]], z: &mut [[T; D]]) {
+        for (i, (z, r)) in z.iter_mut().zip(r).enumerate() {
+            *z = if self.base.is_fixed(i) {
+                [T::ZERO; D]
+            } else {
+                cramer(&self.node_block(i), r).unwrap_or([T::ZERO; D])
+            };
+        }
+    }
+
+    /// Jacobi-order sweep without validation.
+    fn jacobi_core(
+        &self,
+        nodes: Range<usize>,
+        input: &[[T; D]],
+        output: &mut [[T; D]],
+    ) -> Sweep<T> {
+        let mut stats = Sweep {
+            max_change: T::ZERO,
+            residual_sq: T::ZERO,
+        };
+        for i in nodes {
+            let Some(&xi) = input.get(i) else { continue };
+            let new = if self.base.is_fixed(i) {
+                xi
+            } else {
+                let (r, m) = self.node_residual(i, xi, input);
+                let dx = cramer(&m, &r).unwrap_or([T::ZERO; D]);
+                tally(&mut stats, &dx, &r);
+                vector::add(xi, dx)
+            };
+            if let Some(o) = output.get_mut(i) {
+                *o = new;
+            }
+        }
+        stats
+    }
+
+    /// Gauss–Seidel-order sweep without validation.
+    fn gauss_seidel_core(&self, nodes: Range<usize>, values: &mut [[T; D]]) -> Sweep<T> {
+        let mut stats = Sweep {
+            max_change: T::ZERO,
+            residual_sq: T::ZERO,
+        };
+        for i in nodes {
+            if self.base.is_fixed(i) {
+                continue;
+            }
+            let Some(&xi) = values.get(i) else { continue };
+            let (r, m) = self.node_residual(i, xi, values);
+            let dx = cramer(&m, &r).unwrap_or([T::ZERO; D]);
+            tally(&mut stats, &dx, &r);
+            if let Some(o) = values.get_mut(i) {
+                *o = vector::add(xi, dx);
+            }
+        }
+        stats
+    }
+}
+
+/// `max(|δ|)` and `Σ r²` bookkeeping for one node.
+#[inline]
+fn tally<T: Real, const D: usize>(stats: &mut Sweep<T>, change: &[T; D], r: &[T; D]) {
+    for (&c, &r) in change.iter().zip(r) {
+        stats.max_change = stats.max_change.max(c.abs());
+        stats.residual_sq += r * r;
+    }
+}
+
+/// One Jacobi-order sweep of the angle-inclusion direct method over `nodes`: each free node
+/// solves its own 2×2/3×3 system (Yang & Özgen §2.2.1, Cramer's rule) with its neighbours
+/// read from `input`, `output[i] = x_i + A_ii⁻¹ Σ_j B_ij (x_j − x_i)`. Fixed nodes in the range
+/// are copied; `output` outside the range is untouched. Returns the range's maximum change and
+/// the residual of `input` there.
+///
+/// Errors (nothing written): wrong lengths, non-finite `input`, `nodes.end > node_count`.
+pub fn angle_jacobi_sweep<T: Real, const D: usize>(
+    sys: &AngleSystem<'_, T, D>,
+    nodes: Range<usize>,
+    input: &[[T; D]],
+    output: &mut [[T; D]],
+) -> Result<Sweep<T>> {
+    let n = sys.base.node_count();
+    check_values("input", input, n)?;
+    if output.len() != n {
+        return Err(Error::LengthMismatch {
+            arg: "output",
+            expected: n,
+            actual: output.len(),
+        });
+    }
+    sys.base.check_range(&nodes)?;
+    Ok(sys.jacobi_core(nodes, input, output))
+}
+
+/// One in-place Gauss–Seidel-order sweep of the angle-inclusion direct method over `nodes`
+/// (Yang & Özgen §2.2.1): like [`angle_jacobi_sweep`] but each node uses its neighbours'
+/// newest values. Returns the range's maximum change and residual estimate.
+///
+/// Errors (nothing written): wrong length, non-finite `values`, `nodes.end > node_count`.
+pub fn angle_gauss_seidel_sweep<T: Real, const D: usize>(
+    sys: &AngleSystem<'_, T, D>,
+    nodes: Range<usize>,
+    values: &mut [[T; D]],
+) -> Result<Sweep<T>> {
+    check_values("values", values, sys.base.node_count())?;
+    sys.base.check_range(&nodes)?;
+    Ok(sys.gauss_seidel_core(nodes, values))
+}
+
+/// Number of `[T; D]` scratch items [`solve_angle`] needs: `n` for [`AngleMethod::DirectJacobi`]
+/// (second field), 0 for [`AngleMethod::DirectGaussSeidel`], `4 n` for [`AngleMethod::Cg`];
+/// at least `4 n` whenever `ε = 0` (the rigidity probe, [`angle_probe_scratch_len`]).
+pub fn angle_scratch_len<T: Real, const D: usize>(
+    sys: &AngleSystem<'_, T, D>,
+    method: AngleMethod,
+) -> usize {
+    let n = sys.base.node_count();
+    let solve = match method {
+        AngleMethod::DirectJacobi => n,
+        AngleMethod::DirectGaussSeidel => 0,
+        AngleMethod::Cg => n.saturating_mul(4),
+    };
+    if sys.epsilon == T::ZERO {
+        solve.max(angle_probe_scratch_len(sys))
+    } else {
+        solve
+    }
+}
+
+/// Deterministic pseudo-random number in `[-1, 1)` for probe entry `i` (SplitMix64).
+fn probe_value<T: Real>(i: u64) -> T {
+    let mut z = i.wrapping_add(1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    T::from_f64((z >> 11) as f64 / (1u64 << 52) as f64 - 1.0)
+}
+
+/// Conjugate gradients with the block-Jacobi preconditioner, `x` updated in place (`x` may be
+/// `None` for the probe, which only needs the residual). `r` must hold `b − A x` on entry.
+/// Returns `(iterations, recurrence ‖r‖, last max update, met)`.
+#[allow(clippy::too_many_arguments)]
+fn block_cg<T: Real, const D: usize>(
+    sys: &AngleSystem<'_, T, D>,
+    mut x: Option<&mut [[T; D]]>,
+    r: &mut [[T; D]],
+    p: &mut [[T; D]],
+    w: &mut [[T; D]],
+    bnorm: T,
+    options: &SolveOptions<T>,
+    max_iterations: usize,
+) -> Result<(usize, T, T, bool)> {
+    sys.precondition(r, w);
+    for (p, &z) in p.iter_mut().zip(w.iter()) {
+        *p = z;
+    }
+    let mut rz = dot_all(r, w);
+    let mut it = 0;
+    let mut max_update = T::ZERO;
+    let mut rnorm = dot_all(r, r).sqrt();
+    while it < max_iterations {
+        if rz == T::ZERO {
+            return Ok((it, rnorm, max_update, true));
+        }
+        it += 1;
+        let dpp = sys.apply(p, w);
+        let pq = dot_all(p, w);
+        if pq <= T::EPSILON * dpp || !pq.is_finite() {
+            return Err(Error::SingularSystem { iteration: it });
+        }
+        let alpha = rz / pq;
+        max_update = T::ZERO;
+        let mut rr = T::ZERO;
+        for (i, ((r, &p), &q)) in r.iter_mut().zip(p.iter()).zip(w.iter()).enumerate() {
+            for (rc, &qc) in r.iter_mut().zip(&q) {
+                *rc -= alpha * qc;
+                rr += *rc * *rc;
+            }
+            for &pc in &p {
+                max_update = max_update.max((alpha * pc).abs());
+            }
+            if let Some(xi) = x.as_deref_mut().and_then(|x| x.get_mut(i)) {
+                for (xc, &pc) in xi.iter_mut().zip(&p) {
+                    *xc += alpha * pc;
+                }
+            }
+        }
+        rnorm = rr.sqrt();
+        if options.met(relative(rnorm, bnorm), max_update) {
+            return Ok((it, rnorm, max_update, true));
+        }
+        sys.precondition(r, w);
+        let rz_new = dot_all(r, w);
+        let beta = rz_new / rz;
+        for (p, &z) in p.iter_mut().zip(w.iter()) {
+            for (pc, &zc) in p.iter_mut().zip(&z) {
+                *pc = zc + beta * *pc;
+            }
+        }
+        rz = rz_new;
+    }
+    Ok((it, rnorm, max_update, false))
+}
+
+/// `Σ_i a_i · b_i` in node order.
+fn dot_all<T: Real, const D: usize>(a: &[[T; D]], b: &[[T; D]]) -> T {
+    let mut s = T::ZERO;
+    for (x, y) in a.iter().zip(b) {
+        s += vector::dot(*x, *y);
+    }
+    s
+}
+
+/// Number of `[T; D]` scratch items [`angle_rigidity_probe`] needs: `4 n`.
+pub fn angle_probe_scratch_len<T: Real, const D: usize>(sys: &AngleSystem<'_, T, D>) -> usize {
+    sys.base.node_count().saturating_mul(4)
+}
+
+/// The rigidity probe (see the [`AngleSystem`] documentation): solves `A y = ρ` for a
+/// deterministic pseudo-random `ρ` on the free nodes by block-Jacobi CG and returns the
+/// *amplification* `s = √(yᵀ M y / ρᵀ M⁻¹ ρ)`, `M` = the node blocks. `s` lies between
+/// `1/λ_max` and `1/λ_min` of the block-scaled operator and is close to `1/λ_min` when the
+/// system is nearly singular (a random `ρ` excites every mode): a condition estimate that
+/// needs no eigenvalue solver. Healthy meshes give `s` up to about `10⁵`–`10⁶` (it grows
+/// like the square of the number of cells across the mesh); a near-mechanism gives far more.
+///
+/// [`solve_angle`] runs it when `ε = 0` and rejects `s > `[`MAX_AMPLIFICATION`]. It is public
+/// so callers can check a system once and reuse it.
+///
+/// Errors: `scratch` shorter than [`angle_probe_scratch_len`]; [`Error::SingularSystem`] when
+/// CG meets non-positive curvature or does not reach a relative residual of
+/// `max(1e-6, 100 ε_mach)` within `max(options.max_iterations, 100)` iterations.
+pub fn angle_rigidity_probe<T: Real, const D: usize>(
+    sys: &AngleSystem<'_, T, D>,
+    options: &SolveOptions<T>,
+    scratch: &mut [[T; D]],
+) -> Result<T> {
+    let n = sys.base.node_count();
+    let needed = angle_probe_scratch_len(sys);
+    if scratch.len() < needed {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed,
+            actual: scratch.len(),
+        });
+    }
+    options.check()?;
+    let (y, rest) = scratch
+        .split_at_mut_checked(n)
+        .unwrap_or((&mut [], &mut []));
+    let (r, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+    let (p, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+    let w = rest.get_mut(..n).unwrap_or(&mut []);
+    let mut bb = T::ZERO;
+    for (i, (ri, yi)) in r.iter_mut().zip(y.iter_mut()).enumerate() {
+        *yi = [T::ZERO; D];
+        for (c, rc) in ri.iter_mut().enumerate() {
+            *rc = if sys.base.is_fixed(i) {
+                T::ZERO
+            } else {
+                probe_value((i as u64).wrapping_mul(D as u64).wrapping_add(c as u64))
+            };
+            bb += *rc * *rc;
+        }
+    }
+    if bb == T::ZERO {
+        return Ok(T::ZERO); // no free node
+    }
+    sys.precondition(r, w);
+    let rho_m_rho = dot_all(r, w);
+    let tol = T::from_f64(1e-6).max(T::from_f64(100.0) * T::EPSILON);
+    let probe_options = SolveOptions {
+        max_iterations: options.max_iterations.max(100),
+        residual_tol: tol,
+        update_tol: T::ZERO,
+    };
+    let (it, _, _, met) = block_cg(
+        sys,
+        Some(&mut *y),
+        r,
+        p,
+        w,
+        bb.sqrt(),
+        &probe_options,
+        probe_options.max_iterations,
+    )?;
+    if !met {
+        return Err(Error::SingularSystem { iteration: it });
+    }
+    let mut ymy = T::ZERO;
+    for (i, yi) in y.iter().enumerate() {
+        if !sys.base.is_fixed(i) {
+            let m = sys.node_block(i);
+            for (row, &a) in m.iter().zip(yi) {
+                ymy += a * vector::dot(*row, *yi);
+            }
+        }
+    }
+    let s = (ymy / rho_m_rho).sqrt();
+    if s.is_finite() {
+        Ok(s)
+    } else {
+        Err(Error::SingularSystem { iteration: it })
+    }
+}
+
+/// Solves the angle-inclusion springs for the free nodes' displacements:
+/// `Σ_j B_ij (x_j − x_i) = 0` (Yang & Özgen eq. 3 = 0, eq. 4 `K_aa q_a = −K_ab q_b`).
+/// `values` holds the prescribed displacements at fixed nodes and the initial guess at free
+/// nodes; on `Ok` it holds the last iterate and the report says whether it converged. The
+/// residual is the block operator's, relative to `‖b‖` as in [`SolveOptions`]. When
+/// `ε = 0` the rigidity probe runs first (see the [`AngleSystem`] documentation).
+///
+/// Errors (values untouched): wrong length or non-finite values, bad options, `scratch`
+/// shorter than [`angle_scratch_len`], [`Error::SingularSystem`] from the probe or from CG
+/// (non-positive curvature).
+pub fn solve_angle<T: Real, const D: usize>(
+    sys: &AngleSystem<'_, T, D>,
+    values: &mut [[T; D]],
+    method: AngleMethod,
+    options: &SolveOptions<T>,
+    scratch: &mut [[T; D]],
+) -> Result<SolveReport<T>> {
+    let n = sys.base.node_count();
+    check_values("values", values, n)?;
+    options.check()?;
+    let needed = angle_scratch_len(sys, method);
+    if scratch.len() < needed {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed,
+            actual: scratch.len(),
+        });
+    }
+    if sys.epsilon == T::ZERO {
+        let s = angle_rigidity_probe(sys, options, scratch)?;
+        if s > T::from_f64(MAX_AMPLIFICATION) {
+            return Err(Error::SingularSystem { iteration: 0 });
+        }
+    }
+    let (r0, bnorm) = sys.residual_norms(values);
+    let mut report = SolveReport {
+        iterations: 0,
+        residual: relative(r0, bnorm),
+        max_update: T::ZERO,
+        converged: false,
+    };
+    if report.residual <= options.residual_tol {
+        report.converged = true;
+        return Ok(report);
+    }
+    match method {
+        AngleMethod::DirectGaussSeidel | AngleMethod::DirectJacobi => {
+            let jacobi = method == AngleMethod::DirectJacobi;
+            let other = scratch.get_mut(..n).unwrap_or(&mut []);
+            let mut in_other = false;
+            let mut checked = false;
+            while report.iterations < options.max_iterations {
+                let stats = if !jacobi {
+                    sys.gauss_seidel_core(0..n, values)
+                } else if in_other {
+                    sys.jacobi_core(0..n, other, values)
+                } else {
+                    sys.jacobi_core(0..n, values, other)
+                };
+                if jacobi {
+                    in_other = !in_other;
+                }
+                report.iterations += 1;
+                report.max_update = stats.max_change;
+                checked = false;
+                if options.met(relative(stats.residual_sq.sqrt(), bnorm), stats.max_change) {
+                    let current: &[[T; D]] = if in_other { other } else { values };
+                    report.residual = relative(sys.residual_norms(current).0, bnorm);
+                    checked = true;
+                    if options.met(report.residual, stats.max_change) {
+                        report.converged = true;
+                        break;
+                    }
+                }
+            }
+            if in_other {
+                for (v, o) in values.iter_mut().zip(other.iter()) {
+                    *v = *o;
+                }
+            }
+            if !checked {
+                report.residual = relative(sys.residual_norms(values).0, bnorm);
+            }
+            Ok(report)
+        }
+        AngleMethod::Cg => {
+            let (x, rest) = scratch
+                .split_at_mut_checked(n)
+                .unwrap_or((&mut [], &mut []));
+            let (r, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+            let (p, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+            let w = rest.get_mut(..n).unwrap_or(&mut []);
+            for (x, &v) in x.iter_mut().zip(values.iter()) {
+                *x = v;
+            }
+            while report.iterations < options.max_iterations {
+                // (Re)start from the true residual.
+                for (i, ri) in r.iter_mut().enumerate() {
+                    let xi = x.get(i).copied().unwrap_or([T::ZERO; D]);
+                    *ri = if sys.base.is_fixed(i) {
+                        [T::ZERO; D]
+                    } else {
+                        sys.node_residual(i, xi, x).0
+                    };
+                }
+                let budget = options.max_iterations.saturating_sub(report.iterations);
+                let (it, _, max_update, met) =
+                    block_cg(sys, Some(&mut *x), r, p, w, bnorm, options, budget)?;
+                report.iterations += it;
+                report.max_update = max_update;
+                report.residual = relative(sys.residual_norms(x).0, bnorm);
+                if met && options.met(report.residual, max_update) {
+                    report.converged = true;
+                    break;
+                }
+                if it == 0 {
+                    break;
+                }
+            }
+            for (v, &x) in values.iter_mut().zip(x.iter()) {
+                *v = x;
+            }
+            Ok(report)
+        }
+    }
+}

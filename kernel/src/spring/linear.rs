@@ -1,0 +1,621 @@
+//! Linear (Batina) springs: Jacobi and SOR sweeps, and the whole solves (Jacobi, Gauss–Seidel,
+//! SOR, preconditioned CG) built on them.
+
+use core::ops::Range;
+
+use super::system::{
+    check_omega, check_values, LinearMethod, Preconditioner, SolveOptions, SolveReport,
+    SpringSystem, Sweep,
+};
+use crate::error::{Error, Result};
+use crate::real::Real;
+
+/// Node `i`'s residual `r_i = Σ_j k_ij (x_j − x_i)` (= `b − A x` at a free node, Yang & Özgen
+/// eq. 1 with the sign flipped) and diagonal `d_i = Σ_j k_ij`, summed in CSR order.
+#[inline]
+fn node_residual<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    i: usize,
+    xi: [T; V],
+    x: &[[T; V]],
+) -> ([T; V], T) {
+    let mut acc = [T::ZERO; V];
+    let mut d = T::ZERO;
+    for (j, k) in sys.row(i) {
+        let xj = x.get(j).copied().unwrap_or(xi);
+        for ((a, &b), &c) in acc.iter_mut().zip(&xj).zip(&xi) {
+            *a += k * (b - c);
+        }
+        d += k;
+    }
+    (acc, d)
+}
+
+/// `max(|δ|)` and `Σ r²` bookkeeping for one node.
+#[inline]
+fn tally<T: Real, const V: usize>(stats: &mut Sweep<T>, change: &[T; V], r: &[T; V]) {
+    for (&c, &r) in change.iter().zip(r) {
+        stats.max_change = stats.max_change.max(c.abs());
+        stats.residual_sq += r * r;
+    }
+}
+
+/// Jacobi sweep without validation (the solve validates once).
+pub(crate) fn jacobi_core<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    nodes: Range<usize>,
+    input: &[[T; V]],
+    output: &mut [[T; V]],
+) -> Sweep<T> {
+    let mut stats = Sweep {
+        max_change: T::ZERO,
+        residual_sq: T::ZERO,
+    };
+    for i in nodes {
+        let Some(&xi) = input.get(i) else { continue };
+        let new = if sys.is_fixed(i) {
+            xi
+        } else {
+            let (r, d) = node_residual(sys, i, xi, input);
+            let mut new = xi;
+            let mut change = [T::ZERO; V];
+            for ((n, c), &r) in new.iter_mut().zip(change.iter_mut()).zip(&r) {
+                *c = r / d;
+                *n += *c;
+            }
+            tally(&mut stats, &change, &r);
+            new
+        };
+        if let Some(o) = output.get_mut(i) {
+            *o = new;
+        }
+    }
+    stats
+}
+
+/// One Jacobi sweep of the linear springs over `nodes` (Yang & Özgen §2.1, Samareh eq. 2):
+/// for each free node `i` in the range, `output[i] = x_i + Σ_j k_ij (x_j − x_i) / Σ_j k_ij`
+/// with every `x` read from `input`; fixed nodes in the range are copied; `output` outside the
+/// range is not touched. Returns the range's maximum change and residual (of `input`).
+///
+/// `input` and `output` hold one `[T; V]` per node (the whole field: neighbours outside the
+/// range are read, e.g. halo nodes in a distributed mesh).
+///
+/// Errors (nothing written): wrong lengths, non-finite `input`, `nodes.end > node_count`.
+pub fn jacobi_sweep<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    nodes: Range<usize>,
+    input: &[[T; V]],
+    output: &mut [[T; V]],
+) -> Result<Sweep<T>> {
+    let n = sys.node_count();
+    check_values("input", input, n)?;
+    if output.len() != n {
+        return Err(Error::LengthMismatch {
+            arg: "output",
+            expected: n,
+            actual: output.len(),
+        });
+    }
+    sys.check_range(&nodes)?;
+    Ok(jacobi_core(sys, nodes, input, output))
+}
+
+/// SOR sweep without validation.
+pub(crate) fn sor_core<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    nodes: Range<usize>,
+    values: &mut [[T; V]],
+    omega: T,
+) -> Sweep<T> {
+    let mut stats = Sweep {
+        max_change: T::ZERO,
+        residual_sq: T::ZERO,
+    };
+    for i in nodes {
+        if sys.is_fixed(i) {
+            continue;
+        }
+        let Some(&xi) = values.get(i) else { continue };
+        let (r, d) = node_residual(sys, i, xi, values);
+        let mut new = xi;
+        let mut change = [T::ZERO; V];
+        for ((n, c), &r) in new.iter_mut().zip(change.iter_mut()).zip(&r) {
+            *c = omega * (r / d);
+            *n += *c;
+        }
+        tally(&mut stats, &change, &r);
+        if let Some(o) = values.get_mut(i) {
+            *o = new;
+        }
+    }
+    stats
+}
+
+/// One in-place Gauss–Seidel (`omega = 1`) or SOR sweep of the linear springs over `nodes`, in
+/// increasing node order: `x_i ← x_i + ω Σ_j k_ij (x_j − x_i) / Σ_j k_ij` using the newest
+/// values. Fixed nodes are skipped. Returns the range's maximum change and residual estimate.
+///
+/// Errors (nothing written): wrong length, non-finite `values`, `nodes.end > node_count`,
+/// `omega` outside `(0, 2)`.
+pub fn sor_sweep<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    nodes: Range<usize>,
+    values: &mut [[T; V]],
+    omega: T,
+) -> Result<Sweep<T>> {
+    check_values("values", values, sys.node_count())?;
+    sys.check_range(&nodes)?;
+    check_omega(omega)?;
+    Ok(sor_core(sys, nodes, values, omega))
+}
+
+/// `(‖b − A x‖₂, ‖b‖₂)` over free nodes and all components, `b_i = Σ_{j fixed} k_ij x_j`.
+pub(crate) fn residual_norms<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    x: &[[T; V]],
+) -> (T, T) {
+    let mut rr = T::ZERO;
+    let mut bb = T::ZERO;
+    for ((_, fixed, row), &xi) in sys.rows().zip(x) {
+        if fixed {
+            continue;
+        }
+        let mut r = [T::ZERO; V];
+        let mut b = [T::ZERO; V];
+        for (j, k) in row {
+            let xj = x.get(j).copied().unwrap_or(xi);
+            let fj = sys.is_fixed(j);
+            for (((r, b), &vj), &vi) in r.iter_mut().zip(b.iter_mut()).zip(&xj).zip(&xi) {
+                *r += k * (vj - vi);
+                if fj {
+                    *b += k * vj;
+                }
+            }
+        }
+        for (&r, &b) in r.iter().zip(&b) {
+            rr += r * r;
+            bb += b * b;
+        }
+    }
+    (rr.sqrt(), bb.sqrt())
+}
+
+/// `‖r‖ / ‖b‖`, or `‖r‖` when `b = 0`.
+#[inline]
+pub(crate) fn relative<T: Real>(r: T, b: T) -> T {
+    if b > T::ZERO {
+        r / b
+    } else {
+        r
+    }
+}
+
+/// The relative residual `‖b − A x‖₂ / ‖b‖₂` of a value field for the linear springs (the
+/// measure [`SolveOptions::residual_tol`] and [`SolveReport::residual`] use).
+///
+/// Errors: wrong length or non-finite `values`.
+pub fn relative_residual<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    values: &[[T; V]],
+) -> Result<T> {
+    check_values("values", values, sys.node_count())?;
+    let (r, b) = residual_norms(sys, values);
+    Ok(relative(r, b))
+}
+
+/// Number of `[T; V]` scratch items [`solve_linear`] needs: `n` for Jacobi (the second
+/// field), 0 for Gauss–Seidel and SOR, `4 n` for CG (iterate, residual, direction, and one
+/// vector shared by `A p` and the preconditioned residual).
+pub fn solve_linear_scratch_len<T>(method: &LinearMethod<T>, node_count: usize) -> usize {
+    match method {
+        LinearMethod::Jacobi => node_count,
+        LinearMethod::GaussSeidel | LinearMethod::Sor { .. } => 0,
+        LinearMethod::Cg { .. } => node_count.saturating_mul(4),
+    }
+}
+
+/// Solves the linear springs for every free node: `Σ_j k_ij (x_j − x_i) = 0` per component
+/// (Yang & Özgen eq. 1 = 0), with fixed nodes keeping their values. `values` holds the
+/// Dirichlet data at fixed nodes and the initial guess at free nodes; on `Ok` it holds the
+/// last iterate, and the report says whether it converged.
+///
+/// Stationary methods stop on the sweep's residual estimate and then confirm with the true
+/// residual; CG confirms its recurrence residual the same way and restarts from the true
+/// residual if they disagree. The reported residual is always recomputed from the values.
+///
+/// Errors (values untouched): wrong lengths, non-finite values, bad options or `omega`,
+/// `scratch` shorter than [`solve_linear_scratch_len`], and [`Error::SingularSystem`] if CG
+/// meets non-positive curvature (cannot happen for a validated system in exact arithmetic;
+/// reported rather than hidden if rounding causes it).
+pub fn solve_linear<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    values: &mut [[T; V]],
+    method: LinearMethod<T>,
+    options: &SolveOptions<T>,
+    scratch: &mut [[T; V]],
+) -> Result<SolveReport<T>> {
+    let n = sys.node_count();
+    check_values("values", values, n)?;
+    options.check()?;
+    match method {
+        LinearMethod::Sor { omega } => check_omega(omega)?,
+        LinearMethod::Cg {
+            preconditioner: Preconditioner::Ssor { omega },
+        } => check_omega(omega)?,
+        _ => {}
+    }
+    let needed = solve_linear_scratch_len(&method, n);
+    if scratch.len() < needed {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed,
+            actual: scratch.len(),
+        });
+    }
+    match method {
+        LinearMethod::Jacobi => Ok(solve_jacobi(sys, values, options, scratch)),
+        LinearMethod::GaussSeidel => Ok(solve_sor(sys, values, options, T::ONE)),
+        LinearMethod::Sor { omega } => Ok(solve_sor(sys, values, options, omega)),
+        LinearMethod::Cg { preconditioner } => {
+            solve_cg(sys, values, options, preconditioner, scratch)
+        }
+    }
+}
+
+fn solve_jacobi<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    values: &mut [[T; V]],
+    options: &SolveOptions<T>,
+    scratch: &mut [[T; V]],
+) -> SolveReport<T> {
+    let n = sys.node_count();
+    let other = scratch.get_mut(..n).unwrap_or(&mut []);
+    let (r0, bnorm) = residual_norms(sys, values);
+    let mut report = SolveReport {
+        iterations: 0,
+        residual: relative(r0, bnorm),
+        max_update: T::ZERO,
+        converged: false,
+    };
+    if report.residual <= options.residual_tol {
+        report.converged = true;
+        return report;
+    }
+    let mut in_other = false;
+    let mut checked = false;
+    while report.iterations < options.max_iterations {
+        let stats = if in_other {
+            jacobi_core(sys, 0..n, other, values)
+        } else {
+            jacobi_core(sys, 0..n, values, other)
+        };
+        in_other = !in_other;
+        report.iterations += 1;
+        report.max_update = stats.max_change;
+        // The sweep's residual is that of its input: a cheap, one-step-late estimate.
+        let estimate = relative(stats.residual_sq.sqrt(), bnorm);
+        checked = false;
+        if options.met(estimate, stats.max_change) {
+            let current: &[[T; V]] = if in_other { other } else { values };
+            let (r, _) = residual_norms(sys, current);
+            report.residual = relative(r, bnorm);
+            checked = true;
+            if options.met(report.residual, stats.max_change) {
+                report.converged = true;
+                break;
+            }
+        }
+    }
+    if in_other {
+        for (v, o) in values.iter_mut().zip(other.iter()) {
+            *v = *o;
+        }
+    }
+    if !checked {
+        let (r, _) = residual_norms(sys, values);
+        report.residual = relative(r, bnorm);
+    }
+    report
+}
+
+fn solve_sor<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    values: &mut [[T; V]],
+    options: &SolveOptions<T>,
+    omega: T,
+) -> SolveReport<T> {
+    let n = sys.node_count();
+    let (r0, bnorm) = residual_norms(sys, values);
+    let mut report = SolveReport {
+        iterations: 0,
+        residual: relative(r0, bnorm),
+        max_update: T::ZERO,
+        converged: false,
+    };
+    if report.residual <= options.residual_tol {
+        report.converged = true;
+        return report;
+    }
+    let mut checked = false;
+    while report.iterations < options.max_iterations {
+        let stats = sor_core(sys, 0..n, values, omega);
+        report.iterations += 1;
+        report.max_update = stats.max_change;
+        let estimate = relative(stats.residual_sq.sqrt(), bnorm);
+        checked = false;
+        if options.met(estimate, stats.max_change) {
+            let (r, _) = residual_norms(sys, values);
+            report.residual = relative(r, bnorm);
+            checked = true;
+            if options.met(report.residual, stats.max_change) {
+                report.converged = true;
+                break;
+            }
+        }
+    }
+    if !checked {
+        let (r, _) = residual_norms(sys, values);
+        report.residual = relative(r, bnorm);
+    }
+    report
+}
+
+/// `q = A p` on free nodes (`A` = weighted Laplacian restricted to free nodes; `p` is zero on
+/// fixed nodes), and per component `Σ d_i p_i²` for the curvature test.
+fn laplacian_apply<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    p: &[[T; V]],
+    q: &mut [[T; V]],
+) -> [T; V] {
+    let mut dpp = [T::ZERO; V];
+    for ((_, fixed, row), (qi, &pi)) in sys.rows().zip(q.iter_mut().zip(p)) {
+        if fixed {
+            *qi = [T::ZERO; V];
+            continue;
+        }
+        let mut acc = [T::ZERO; V];
+        let mut d = T::ZERO;
+        for (j, k) in row {
+            let pj = p.get(j).copied().unwrap_or([T::ZERO; V]);
+            for ((a, &x), &y) in acc.iter_mut().zip(&pi).zip(&pj) {
+                *a += k * (x - y);
+            }
+            d += k;
+        }
+        for (s, &x) in dpp.iter_mut().zip(&pi) {
+            *s += d * x * x;
+        }
+        *qi = acc;
+    }
+    dpp
+}
+
+/// `z = M⁻¹ r` for the chosen preconditioner (zero on fixed nodes).
+fn precondition<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    pre: Preconditioner<T>,
+    r: &[[T; V]],
+    z: &mut [[T; V]],
+) {
+    match pre {
+        Preconditioner::None => {
+            for (z, &r) in z.iter_mut().zip(r) {
+                *z = r;
+            }
+        }
+        Preconditioner::Jacobi => {
+            for ((_, fixed, row), (z, &r)) in sys.rows().zip(z.iter_mut().zip(r)) {
+                if fixed {
+                    *z = [T::ZERO; V];
+                    continue;
+                }
+                let mut d = T::ZERO;
+                for (_, k) in row {
+                    d += k;
+                }
+                for (z, &r) in z.iter_mut().zip(&r) {
+                    *z = r / d;
+                }
+            }
+        }
+        Preconditioner::Ssor { omega } => {
+            let n = sys.node_count();
+            let scale = omega * (T::TWO - omega);
+            // Forward: (D + ωL) y = ω(2 − ω) r, with L_ij = −k_ij for free j < i.
+            for i in 0..n {
+                if sys.is_fixed(i) {
+                    if let Some(z) = z.get_mut(i) {
+                        *z = [T::ZERO; V];
+                    }
+                    continue;
+                }
+                let ri = r.get(i).copied().unwrap_or([T::ZERO; V]);
+                let mut acc = [T::ZERO; V];
+                for (a, &x) in acc.iter_mut().zip(&ri) {
+                    *a = scale * x;
+                }
+                let mut d = T::ZERO;
+                for (j, k) in sys.row(i) {
+                    d += k;
+                    if j < i && !sys.is_fixed(j) {
+                        let zj = z.get(j).copied().unwrap_or([T::ZERO; V]);
+                        for (a, &y) in acc.iter_mut().zip(&zj) {
+                            *a += omega * k * y;
+                        }
+                    }
+                }
+                if let Some(zi) = z.get_mut(i) {
+                    for (zi, &a) in zi.iter_mut().zip(&acc) {
+                        *zi = a / d;
+                    }
+                }
+            }
+            // Backward: (D + ωU) z = D y, i.e. z_i = y_i + ω Σ_{free j > i} k_ij z_j / d_i.
+            for i in (0..n).rev() {
+                if sys.is_fixed(i) {
+                    continue;
+                }
+                let mut acc = [T::ZERO; V];
+                let mut d = T::ZERO;
+                for (j, k) in sys.row(i) {
+                    d += k;
+                    if j > i && !sys.is_fixed(j) {
+                        let zj = z.get(j).copied().unwrap_or([T::ZERO; V]);
+                        for (a, &y) in acc.iter_mut().zip(&zj) {
+                            *a += k * y;
+                        }
+                    }
+                }
+                if let Some(zi) = z.get_mut(i) {
+                    for (zi, &a) in zi.iter_mut().zip(&acc) {
+                        *zi += omega * a / d;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Per-component `Σ a·b` over all nodes, in node order.
+#[inline]
+pub(crate) fn dots<T: Real, const V: usize>(a: &[[T; V]], b: &[[T; V]]) -> [T; V] {
+    let mut s = [T::ZERO; V];
+    for (x, y) in a.iter().zip(b) {
+        for ((s, &x), &y) in s.iter_mut().zip(x).zip(y) {
+            *s += x * y;
+        }
+    }
+    s
+}
+
+fn solve_cg<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    values: &mut [[T; V]],
+    options: &SolveOptions<T>,
+    pre: Preconditioner<T>,
+    scratch: &mut [[T; V]],
+) -> Result<SolveReport<T>> {
+    let n = sys.node_count();
+    let Some((x, rest)) = scratch.split_at_mut_checked(n) else {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed: n.saturating_mul(4),
+            actual: scratch.len(),
+        });
+    };
+    let Some((r, rest)) = rest.split_at_mut_checked(n) else {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed: n.saturating_mul(4),
+            actual: scratch.len(),
+        });
+    };
+    let Some((p, rest)) = rest.split_at_mut_checked(n) else {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed: n.saturating_mul(4),
+            actual: scratch.len(),
+        });
+    };
+    let w = rest.get_mut(..n).unwrap_or(&mut []);
+    for (x, &v) in x.iter_mut().zip(values.iter()) {
+        *x = v;
+    }
+    let (r0, bnorm) = residual_norms(sys, x);
+    let mut report = SolveReport {
+        iterations: 0,
+        residual: relative(r0, bnorm),
+        max_update: T::ZERO,
+        converged: false,
+    };
+    if report.residual <= options.residual_tol {
+        report.converged = true;
+        return Ok(report);
+    }
+    // (Re)start: r = b − A x, z = M⁻¹ r, p = z.
+    let restart = |x: &[[T; V]], r: &mut [[T; V]], p: &mut [[T; V]], w: &mut [[T; V]]| {
+        for (i, ri) in r.iter_mut().enumerate() {
+            let xi = x.get(i).copied().unwrap_or([T::ZERO; V]);
+            *ri = if sys.is_fixed(i) {
+                [T::ZERO; V]
+            } else {
+                node_residual(sys, i, xi, x).0
+            };
+        }
+        precondition(sys, pre, r, w);
+        for (p, &z) in p.iter_mut().zip(w.iter()) {
+            *p = z;
+        }
+        dots(r, w)
+    };
+    let mut rz = restart(x, r, p, w);
+    let mut checked = true;
+    let tiny = T::EPSILON;
+    while report.iterations < options.max_iterations {
+        report.iterations += 1;
+        let dpp = laplacian_apply(sys, p, w);
+        let pq = dots(p, w);
+        let mut alpha = [T::ZERO; V];
+        for (((a, &pq), &dpp), &rz) in alpha.iter_mut().zip(&pq).zip(&dpp).zip(&rz) {
+            if dpp == T::ZERO || rz == T::ZERO {
+                continue; // this component has converged exactly
+            }
+            if pq <= tiny * dpp || !pq.is_finite() {
+                return Err(Error::SingularSystem {
+                    iteration: report.iterations,
+                });
+            }
+            *a = rz / pq;
+        }
+        let mut max_update = T::ZERO;
+        let mut rr = T::ZERO;
+        for (((x, r), &p), &q) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(w.iter()) {
+            for ((((x, r), &p), &q), &a) in
+                x.iter_mut().zip(r.iter_mut()).zip(&p).zip(&q).zip(&alpha)
+            {
+                let dx = a * p;
+                *x += dx;
+                *r -= a * q;
+                max_update = max_update.max(dx.abs());
+                rr += *r * *r;
+            }
+        }
+        report.max_update = max_update;
+        checked = false;
+        if options.met(relative(rr.sqrt(), bnorm), max_update) {
+            let (rt, _) = residual_norms(sys, x);
+            report.residual = relative(rt, bnorm);
+            checked = true;
+            if options.met(report.residual, max_update) {
+                report.converged = true;
+                break;
+            }
+            // Recurrence and true residual disagree: restart from the true residual.
+            rz = restart(x, r, p, w);
+            continue;
+        }
+        precondition(sys, pre, r, w);
+        let rz_new = dots(r, w);
+        let mut beta = [T::ZERO; V];
+        for ((b, &new), &old) in beta.iter_mut().zip(&rz_new).zip(&rz) {
+            if old != T::ZERO {
+                *b = new / old;
+            }
+        }
+        for (p, &z) in p.iter_mut().zip(w.iter()) {
+            for ((p, &z), &b) in p.iter_mut().zip(&z).zip(&beta) {
+                *p = z + b * *p;
+            }
+        }
+        rz = rz_new;
+    }
+    if !checked {
+        let (rt, _) = residual_norms(sys, x);
+        report.residual = relative(rt, bnorm);
+    }
+    for (v, &x) in values.iter_mut().zip(x.iter()) {
+        *v = x;
+    }
+    Ok(report)
+}

@@ -1,0 +1,85 @@
+//! Batina's edge stiffness from coordinates.
+
+use crate::error::{Error, Result};
+use crate::graph::Graph;
+use crate::real::Real;
+use crate::vector;
+
+/// Writes Batina's stiffness `k_ij = 1 / |r_i − r_j|^p` for every directed edge of `graph`
+/// into `stiffness` (Samareh eq. 2, Yang & Özgen §2.1; `p = 1` is the papers' choice, larger
+/// `p` stiffens small cells more; `p = 0` gives the uniform graph Laplacian).
+///
+/// `p = 1` is computed as `1 / |d|` and `p = 2` as `1 / (d·d)` (no `powf`), other exponents as
+/// `1 / powf(|d|, p)`. `|r_i − r_j|` and `|r_j − r_i|` are bit-identical, so the result is
+/// exactly symmetric, as [`SpringSystem`](super::SpringSystem) requires.
+///
+/// Errors (nothing written): `points.len() != graph.node_count()` or
+/// `stiffness.len() != graph.edge_count()` ([`Error::LengthMismatch`]); a NaN/infinite
+/// coordinate ([`Error::NonFinite`]); `exponent` not finite or negative
+/// ([`Error::InvalidParameter`]); an edge of zero length, or so short that `k` overflows
+/// ([`Error::ZeroLengthEdge`], the first such directed edge).
+pub fn batina_stiffness<T: Real, const D: usize>(
+    graph: &Graph<'_>,
+    points: &[[T; D]],
+    exponent: T,
+    stiffness: &mut [T],
+) -> Result<()> {
+    if points.len() != graph.node_count() {
+        return Err(Error::LengthMismatch {
+            arg: "points",
+            expected: graph.node_count(),
+            actual: points.len(),
+        });
+    }
+    if stiffness.len() != graph.edge_count() {
+        return Err(Error::LengthMismatch {
+            arg: "stiffness",
+            expected: graph.edge_count(),
+            actual: stiffness.len(),
+        });
+    }
+    if let Some(p) = crate::real::first_non_finite(points) {
+        return Err(Error::NonFinite {
+            arg: "points",
+            position: p,
+        });
+    }
+    if !(exponent.is_finite() && exponent >= T::ZERO) {
+        return Err(Error::InvalidParameter {
+            arg: "exponent",
+            reason: "must be finite and >= 0",
+        });
+    }
+    let k = |i: usize, j: usize| -> Option<T> {
+        let (a, b) = (points.get(i)?, points.get(j)?);
+        let d2 = vector::norm_sq(vector::sub(*b, *a));
+        let k = if exponent == T::ONE {
+            T::ONE / d2.sqrt()
+        } else if exponent == T::TWO {
+            T::ONE / d2
+        } else {
+            T::ONE / d2.sqrt().powf(exponent)
+        };
+        (d2 > T::ZERO && k.is_finite()).then_some(k)
+    };
+    // Validate every edge first, then write: on error `stiffness` is untouched.
+    for (i, _, row) in graph.rows() {
+        for &j in row {
+            if k(i, j as usize).is_none() {
+                return Err(Error::ZeroLengthEdge {
+                    from: i,
+                    to: j as usize,
+                });
+            }
+        }
+    }
+    for (i, first, row) in graph.rows() {
+        let out = stiffness
+            .get_mut(first..first + row.len())
+            .unwrap_or(&mut []);
+        for (o, &j) in out.iter_mut().zip(row) {
+            *o = k(i, j as usize).unwrap_or(T::ZERO);
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,250 @@
+//! The whole-grid driver: arclength functions → Taubin filter (fine, then optionally coarse)
+//! → fold guard → redistribution along the original lines.
+
+use crate::block::Block;
+use crate::error::{Error, Result};
+use crate::real::Real;
+
+use super::coarse::{coarse_core, coarse_dims, fine_of, Coarse};
+use super::lines::{
+    arclength_core, check_direction, check_increasing_core, line_collapsed, line_shape,
+    max_stretching_core, redistribute_core,
+};
+use super::structured::{check_mask, is_pinned, sweep_core, BlockRegion};
+use super::TaubinParams;
+
+/// Settings of [`smooth_arclength`]. Build with [`SmoothOptions::new`] (the paper's values)
+/// and change fields as needed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SmoothOptions<'a, T> {
+    /// Direction of the grid lines whose arclength is smoothed: 0 = i, 1 = j, 2 = k.
+    pub direction: usize,
+    /// λ and μ (default: the paper's 0.330 and −0.334).
+    pub params: TaubinParams<T>,
+    /// Fine-grid iterations (default 30, as in the paper).
+    pub iterations: usize,
+    /// Filter the normalised arclength `s = S / S_total` (Alter: reduces stretching and keeps
+    /// both line ends in place) instead of the dimensional `S` (smooths the grid; the far ends
+    /// of the lines are filtered too and may slide along their last segment). Default `false`.
+    pub normalised: bool,
+    /// Optional pin mask (`point_count` bytes, nonzero = the point does not move).
+    pub pinned: Option<&'a [u8]>,
+    /// Mirror (Neumann) faces per direction. The entry for `direction` itself is ignored: the
+    /// faces at the line ends always use the paper's in-plane rule, so `S = 0` on the first
+    /// face stays exactly 0.
+    pub mirror: [bool; 3],
+    /// Optional coarse-grid pass after the fine iterations (Alter's multi-grid step).
+    pub coarse: Option<Coarse>,
+    /// Iterations on the coarse grid (default 15: Alter halved the count there).
+    pub coarse_iterations: usize,
+}
+
+impl<'a, T: Real> SmoothOptions<'a, T> {
+    /// The paper's settings for lines along `direction`: λ = 0.330, μ = −0.334, 30
+    /// iterations, dimensional arclength, no pins, no mirror faces, no coarse pass.
+    pub fn new(direction: usize) -> Self {
+        SmoothOptions {
+            direction,
+            params: TaubinParams::paper(),
+            iterations: 30,
+            normalised: false,
+            pinned: None,
+            mirror: [false; 3],
+            coarse: None,
+            coarse_iterations: 15,
+        }
+    }
+}
+
+/// What [`smooth_arclength`] did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SmoothReport<T> {
+    /// Iterations performed (fine + coarse).
+    pub iterations: usize,
+    /// Largest `|change|` of the arclength field in either pass of the last iteration.
+    pub last_change: T,
+    /// Largest distance any point moved.
+    pub max_displacement: T,
+    /// Maximum stretching along `direction` before, and the point where it occurs.
+    pub stretching_before: (T, usize),
+    /// Maximum stretching along `direction` after, and the point where it occurs.
+    pub stretching_after: (T, usize),
+}
+
+/// Scratch length (in `T` values) for [`smooth_arclength`]:
+/// `n + max(n, 2 n_coarse, (D + 1) × points per line)`.
+pub fn smooth_arclength_scratch_len<const D: usize>(
+    block: &Block,
+    direction: usize,
+    coarse: Option<&Coarse>,
+) -> usize {
+    let n = block.point_count();
+    let (_, len, _) = line_shape(block.dims(), direction.min(2));
+    let nc = match coarse {
+        Some(c) => {
+            let [a, b, d] = coarse_dims(block, c.factor);
+            2 * a * b * d
+        }
+        None => 0,
+    };
+    n + n.max(nc).max((D + 1) * len)
+}
+
+/// Smooths a structured grid along one family of lines, Alter's way:
+///
+/// 1. `S(i, j, k)` = arclength along `direction` from each line's first point ([`arclength`],
+///    normalised with `options.normalised`);
+/// 2. `options.iterations` λ|μ iterations on `S` with the paper's 3D stencils
+///    (`S ← (1 − μL)(1 − λL) S`, `L = I − avg`, [`smooth_structured`]), then, with
+///    `options.coarse`, `options.coarse_iterations` more on the coarse grid and prolongation
+///    ([`smooth_structured_coarse`]);
+/// 3. the **fold guard**: after every iteration `S` must increase strictly along every line
+///    whose points do not all coincide, else `Err(FoldedLine { line, iteration })` (fine
+///    iterations count 1…N, coarse ones N+1…N+M; the check after prolongation uses N+M);
+/// 4. every point moves along its original polyline to its filtered arclength
+///    ([`redistribute`]); pinned points are not touched.
+///
+/// The grid is only written in step 4, so on **any** `Err` (including `FoldedLine`) `points`
+/// is unchanged; `scratch` ([`smooth_arclength_scratch_len`] values) is then unspecified.
+///
+/// [`arclength`]: super::arclength
+/// [`redistribute`]: super::redistribute
+/// [`smooth_structured`]: super::smooth_structured
+/// [`smooth_structured_coarse`]: super::smooth_structured_coarse
+///
+/// # Errors
+/// `InvalidParameter` (`direction`, `lambda`, `mu`, `coarse.factor`), `LengthMismatch`
+/// (`points`, `options.pinned`), `BufferTooSmall` (`scratch`), `NonFinite` (`points`,
+/// `lambda`, `mu`), `FoldedLine`.
+pub fn smooth_arclength<T: Real, const D: usize>(
+    block: &Block,
+    points: &mut [[T; D]],
+    options: &SmoothOptions<'_, T>,
+    scratch: &mut [T],
+) -> Result<SmoothReport<T>> {
+    let direction = options.direction;
+    check_direction(direction)?;
+    let n = block.point_count();
+    if points.len() != n {
+        return Err(Error::LengthMismatch {
+            arg: "points",
+            expected: n,
+            actual: points.len(),
+        });
+    }
+    check_mask(options.pinned, n, "options.pinned")?;
+    options.params.validate()?;
+    if let Some(c) = &options.coarse {
+        c.validate()?;
+    }
+    let need = smooth_arclength_scratch_len::<D>(block, direction, options.coarse.as_ref());
+    if scratch.len() < need {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed: need,
+            actual: scratch.len(),
+        });
+    }
+    if let Some(position) = crate::real::first_non_finite(points) {
+        return Err(Error::NonFinite {
+            arg: "points",
+            position,
+        });
+    }
+    let dims = block.dims();
+    let mut mirror = options.mirror;
+    if let Some(m) = mirror.get_mut(direction) {
+        *m = false;
+    }
+    let pinned = options.pinned;
+    let params = options.params;
+    let stretching_before = max_stretching_core(dims, points, direction);
+
+    let Some((field, rest)) = scratch.split_at_mut_checked(n) else {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed: need,
+            actual: scratch.len(),
+        });
+    };
+    arclength_core(dims, points, direction, options.normalised, field);
+
+    let pts: &[[T; D]] = points;
+    let collapsed = |base: usize| line_collapsed(dims, pts, direction, base);
+    let pin = |_: [usize; 3], p: usize| is_pinned(pinned, p);
+    let region = BlockRegion {
+        lo: [0; 3],
+        hi: dims,
+    };
+    let mut last_change = T::ZERO;
+    {
+        let Some(tmp) = rest.get_mut(..n) else {
+            return Err(Error::BufferTooSmall {
+                arg: "scratch",
+                needed: need,
+                actual: n,
+            });
+        };
+        for it in 1..=options.iterations {
+            let a = sweep_core(dims, field, tmp, params.lambda, mirror, &region, pin);
+            let b = sweep_core(dims, tmp, field, params.mu, mirror, &region, pin);
+            last_change = a.max(b);
+            check_increasing_core(dims, field, direction, it, collapsed)?;
+        }
+    }
+    let mut iterations = options.iterations;
+    if let Some(coarse) = &options.coarse {
+        let factor = coarse.factor;
+        let cdims = coarse_dims(block, factor);
+        let coarse_collapsed = |cbase: usize| {
+            // Map the coarse line's first point to the fine line through it.
+            let ci = cbase % cdims[0].max(1);
+            let rest = cbase / cdims[0].max(1);
+            let cj = rest % cdims[1].max(1);
+            let ck = rest / cdims[1].max(1);
+            line_collapsed(dims, pts, direction, fine_of(dims, factor, [ci, cj, ck]))
+        };
+        let report = coarse_core(
+            dims,
+            field,
+            coarse,
+            params,
+            options.coarse_iterations,
+            mirror,
+            |p| is_pinned(pinned, p),
+            rest,
+            |cfield, it| {
+                check_increasing_core(
+                    cdims,
+                    cfield,
+                    direction,
+                    options.iterations + it,
+                    coarse_collapsed,
+                )
+            },
+        )?;
+        iterations += options.coarse_iterations;
+        if options.coarse_iterations > 0 {
+            last_change = report.last_change;
+        }
+        check_increasing_core(dims, field, direction, iterations, collapsed)?;
+    }
+
+    let max_displacement = redistribute_core(
+        dims,
+        points,
+        direction,
+        field,
+        options.normalised,
+        rest,
+        |p| is_pinned(pinned, p),
+    );
+    let stretching_after = max_stretching_core(dims, points, direction);
+    Ok(SmoothReport {
+        iterations,
+        last_change,
+        max_displacement,
+        stretching_before,
+        stretching_after,
+    })
+}

@@ -1,0 +1,560 @@
+//! Grid-line tools: arclength distribution functions, redistribution along the original
+//! polylines, stretching ratios and the fold check.
+
+use core::cmp::Ordering;
+
+use crate::block::Block;
+use crate::error::{Error, Result};
+use crate::real::Real;
+use crate::vector;
+
+use super::structured::check_finite;
+
+/// Checks `direction < 3`.
+pub(crate) fn check_direction(direction: usize) -> Result<()> {
+    if direction < 3 {
+        Ok(())
+    } else {
+        Err(Error::InvalidParameter {
+            arg: "direction",
+            reason: "must be 0 (i), 1 (j) or 2 (k)",
+        })
+    }
+}
+
+/// The lines along `direction` of a block with dimensions `dims`: `(count, points per line,
+/// stride)`.
+#[inline]
+pub(crate) fn line_shape(dims: [usize; 3], direction: usize) -> (usize, usize, usize) {
+    let [ni, nj, nk] = dims;
+    match direction {
+        0 => (nj * nk, ni, 1),
+        1 => (ni * nk, nj, ni),
+        _ => (ni * nj, nk, ni * nj),
+    }
+}
+
+/// Linear index of the first point of line `l` along `direction`.
+#[inline]
+pub(crate) fn line_base(dims: [usize; 3], direction: usize, l: usize) -> usize {
+    let [ni, nj, _] = dims;
+    match direction {
+        0 => l * ni,
+        1 => {
+            let ni1 = ni.max(1);
+            (l % ni1) + ni * nj * (l / ni1)
+        }
+        _ => l,
+    }
+}
+
+/// Checks a points array against the block.
+fn check_points<T: Real, const D: usize>(block: &Block, points: &[[T; D]]) -> Result<()> {
+    let n = block.point_count();
+    if points.len() != n {
+        return Err(Error::LengthMismatch {
+            arg: "points",
+            expected: n,
+            actual: points.len(),
+        });
+    }
+    if let Some(position) = crate::real::first_non_finite(points) {
+        return Err(Error::NonFinite {
+            arg: "points",
+            position,
+        });
+    }
+    Ok(())
+}
+
+/// Writes the arclength of every line (no validation); see [`arclength`].
+pub(crate) fn arclength_core<T: Real, const D: usize>(
+    dims: [usize; 3],
+    points: &[[T; D]],
+    direction: usize,
+    normalised: bool,
+    out: &mut [T],
+) {
+    let (count, len, stride) = line_shape(dims, direction);
+    for l in 0..count {
+        let base = line_base(dims, direction, l);
+        let mut s = T::ZERO;
+        let mut prev: Option<[T; D]> = None;
+        for t in 0..len {
+            let p = base + t * stride;
+            let Some(&x) = points.get(p) else { continue };
+            if let Some(q) = prev {
+                s += vector::distance(q, x);
+            }
+            prev = Some(x);
+            if let Some(o) = out.get_mut(p) {
+                *o = s;
+            }
+        }
+        if normalised {
+            let total = s;
+            let last = T::from_usize(len.saturating_sub(1));
+            for t in 0..len {
+                let p = base + t * stride;
+                if let Some(o) = out.get_mut(p) {
+                    *o = if total > T::ZERO {
+                        *o / total
+                    } else if last > T::ZERO {
+                        T::from_usize(t) / last
+                    } else {
+                        T::ZERO
+                    };
+                }
+            }
+        }
+    }
+}
+
+/// Arclength distribution functions along `direction` (0 = i, 1 = j, 2 = k): for every point
+/// `p_t` of a line `p_0 … p_{n−1}`
+///
+/// ```text
+/// S_0 = 0,   S_t = S_{t−1} + |p_t − p_{t−1}|            (dimensional)
+/// s_t = S_t / S_{n−1}                                   (normalised, s_{n−1} = 1)
+/// ```
+///
+/// Summed in line order. A line of zero total length (all points coincide) has `S_t = 0` and,
+/// normalised, the uniform `s_t = t / (n − 1)` (no division by zero; `0` when `n = 1`).
+/// Alter filters the dimensional function to smooth a grid and the normalised one to reduce
+/// stretching.
+///
+/// # Errors
+/// `LengthMismatch` (`points`, `out`), `NonFinite` (`points`), `InvalidParameter`
+/// (`direction`).
+pub fn arclength<T: Real, const D: usize>(
+    block: &Block,
+    points: &[[T; D]],
+    direction: usize,
+    normalised: bool,
+    out: &mut [T],
+) -> Result<()> {
+    check_direction(direction)?;
+    check_points(block, points)?;
+    if out.len() != block.point_count() {
+        return Err(Error::LengthMismatch {
+            arg: "out",
+            expected: block.point_count(),
+            actual: out.len(),
+        });
+    }
+    arclength_core(block.dims(), points, direction, normalised, out);
+    Ok(())
+}
+
+/// Scratch length (in `T` values) for [`redistribute`]: `(D + 1) ×` points per line.
+pub fn redistribute_scratch_len<const D: usize>(block: &Block, direction: usize) -> usize {
+    let (_, len, _) = line_shape(block.dims(), direction.min(2));
+    (D + 1) * len
+}
+
+/// Reads point `t` of the line copy stored flat in `coords`.
+#[inline]
+fn line_point<T: Real, const D: usize>(coords: &[T], t: usize) -> [T; D] {
+    let mut x = [T::ZERO; D];
+    if let Some(c) = coords.get(t * D..t * D + D) {
+        for (a, &b) in x.iter_mut().zip(c) {
+            *a = b;
+        }
+    }
+    x
+}
+
+/// `a + f (b − a)`, returning `a` itself when `f == 0`.
+#[inline]
+fn along<T: Real, const D: usize>(a: [T; D], b: [T; D], f: T) -> [T; D] {
+    if f == T::ZERO {
+        a
+    } else {
+        vector::add(a, vector::scale(vector::sub(b, a), f))
+    }
+}
+
+/// Places a point at arclength `target` on the polyline `coords` with cumulative arclength
+/// `s` (`len` points, total `s[len − 1] > 0`). `seg` is the search hint, updated.
+fn place<T: Real, const D: usize>(
+    s: &[T],
+    coords: &[T],
+    len: usize,
+    target: T,
+    seg: &mut usize,
+) -> [T; D] {
+    let last = len.saturating_sub(1);
+    let get = |t: usize| s.get(t).copied().unwrap_or(T::ZERO);
+    let total = get(last);
+    if target <= T::ZERO {
+        if target == T::ZERO {
+            return line_point(coords, 0);
+        }
+        // Before the start: extrapolate along the first non-zero segment.
+        let mut f = 0;
+        while f + 1 < last && get(f + 1) <= T::ZERO {
+            f += 1;
+        }
+        let (a, b) = (get(f), get(f + 1));
+        let pa: [T; D] = line_point(coords, f);
+        let pb: [T; D] = line_point(coords, f + 1);
+        return along(pa, pb, (target - a) / (b - a));
+    }
+    if target >= total {
+        if target == total {
+            return line_point(coords, last);
+        }
+        // Beyond the end: extrapolate along the last non-zero segment, from the end point.
+        let mut g = last;
+        while g > 1 && get(g - 1) >= total {
+            g -= 1;
+        }
+        let (a, b) = (get(g - 1), get(g));
+        let pa: [T; D] = line_point(coords, g - 1);
+        let pb: [T; D] = line_point(coords, last);
+        return along(
+            pb,
+            vector::add(pb, vector::sub(pb, pa)),
+            (target - b) / (b - a),
+        );
+    }
+    // Inside: find m with s[m] <= target < s[m + 1] (then s[m + 1] > s[m]).
+    let mut m = (*seg).min(last.saturating_sub(1));
+    while m + 1 < last && get(m + 1) <= target {
+        m += 1;
+    }
+    while m > 0 && get(m) > target {
+        m -= 1;
+    }
+    *seg = m;
+    let (a, b) = (get(m), get(m + 1));
+    let pa: [T; D] = line_point(coords, m);
+    let pb: [T; D] = line_point(coords, m + 1);
+    along(pa, pb, (target - a) / (b - a))
+}
+
+/// Redistributes lines (no validation); returns the largest point displacement.
+/// `skip(p)` leaves point `p` untouched.
+pub(crate) fn redistribute_core<T: Real, const D: usize, F: Fn(usize) -> bool>(
+    dims: [usize; 3],
+    points: &mut [[T; D]],
+    direction: usize,
+    targets: &[T],
+    normalised: bool,
+    scratch: &mut [T],
+    skip: F,
+) -> T {
+    let (count, len, stride) = line_shape(dims, direction);
+    let Some((s, rest)) = scratch.split_at_mut_checked(len) else {
+        return T::ZERO;
+    };
+    let Some(coords) = rest.get_mut(..len * D) else {
+        return T::ZERO;
+    };
+    let mut max_move = T::ZERO;
+    for l in 0..count {
+        let base = line_base(dims, direction, l);
+        // Copy the original line and its arclength.
+        let mut acc = T::ZERO;
+        let mut prev: Option<[T; D]> = None;
+        for (t, (st, c)) in s.iter_mut().zip(coords.chunks_exact_mut(D)).enumerate() {
+            let x = points
+                .get(base + t * stride)
+                .copied()
+                .unwrap_or([T::ZERO; D]);
+            if let Some(q) = prev {
+                acc += vector::distance(q, x);
+            }
+            prev = Some(x);
+            *st = acc;
+            for (a, &b) in c.iter_mut().zip(&x) {
+                *a = b;
+            }
+        }
+        let total = acc;
+        if total <= T::ZERO {
+            // Collapsed line: every target maps to the single point; nothing moves.
+            continue;
+        }
+        let mut seg = 0;
+        for t in 0..len {
+            let p = base + t * stride;
+            if skip(p) {
+                continue;
+            }
+            let Some(&raw) = targets.get(p) else { continue };
+            let target = if normalised {
+                if raw == T::ONE {
+                    total
+                } else {
+                    raw * total
+                }
+            } else {
+                raw
+            };
+            let new: [T; D] = place(s, coords, len, target, &mut seg);
+            if let Some(x) = points.get_mut(p) {
+                let moved = vector::distance(*x, new);
+                if moved > max_move {
+                    max_move = moved;
+                }
+                *x = new;
+            }
+        }
+    }
+    max_move
+}
+
+/// Moves every point of every line along `direction` to the arclength `targets[p]` measured on
+/// the line's *original* polyline (Alter's reverse transformation). With `normalised`, targets
+/// are fractions of the line length (`S = s · S_{n−1}`).
+///
+/// ```text
+/// p_new = p_m + (S − S_m) / (S_{m+1} − S_m) · (p_{m+1} − p_m),   S_m ≤ S < S_{m+1}
+/// ```
+///
+/// A target beyond the end is extrapolated along the last non-zero segment (before the
+/// start: along the first non-zero segment); a target equal to an original `S_m` returns
+/// `p_m` exactly, so zero-length segments are skipped rather than divided by. A line of zero
+/// length is left as it is. Targets need not be monotone (a fold check is
+/// [`check_lines_increasing`]). Returns the largest point displacement. `scratch` needs
+/// [`redistribute_scratch_len`] values. On `Err` nothing is written.
+///
+/// # Errors
+/// `LengthMismatch` (`points`, `targets`), `BufferTooSmall` (`scratch`), `NonFinite`
+/// (`points`, `targets`), `InvalidParameter` (`direction`).
+pub fn redistribute<T: Real, const D: usize>(
+    block: &Block,
+    points: &mut [[T; D]],
+    direction: usize,
+    targets: &[T],
+    normalised: bool,
+    scratch: &mut [T],
+) -> Result<T> {
+    check_direction(direction)?;
+    check_points(block, points)?;
+    let n = block.point_count();
+    if targets.len() != n {
+        return Err(Error::LengthMismatch {
+            arg: "targets",
+            expected: n,
+            actual: targets.len(),
+        });
+    }
+    let need = redistribute_scratch_len::<D>(block, direction);
+    if scratch.len() < need {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed: need,
+            actual: scratch.len(),
+        });
+    }
+    check_finite(targets, "targets")?;
+    Ok(redistribute_core(
+        block.dims(),
+        points,
+        direction,
+        targets,
+        normalised,
+        scratch,
+        |_| false,
+    ))
+}
+
+/// Stretching ratio of two adjacent cell lengths: `max / min`, 1 when both are zero,
+/// infinity when only one is.
+#[inline]
+fn ratio<T: Real>(a: T, b: T) -> T {
+    let hi = a.max(b);
+    let lo = a.min(b);
+    if lo > T::ZERO {
+        hi / lo
+    } else if hi > T::ZERO {
+        T::INFINITY
+    } else {
+        T::ONE
+    }
+}
+
+/// Visits the stretching ratio at every point (no validation).
+fn for_each_stretching<T: Real, const D: usize, F: FnMut(usize, T)>(
+    dims: [usize; 3],
+    points: &[[T; D]],
+    direction: usize,
+    mut f: F,
+) {
+    let (count, len, stride) = line_shape(dims, direction);
+    for l in 0..count {
+        let base = line_base(dims, direction, l);
+        for t in 0..len {
+            let p = base + t * stride;
+            let r = if t == 0 || t + 1 >= len {
+                T::ONE
+            } else {
+                match (
+                    points.get(p - stride),
+                    points.get(p),
+                    points.get(p + stride),
+                ) {
+                    (Some(&a), Some(&b), Some(&c)) => {
+                        ratio(vector::distance(a, b), vector::distance(b, c))
+                    }
+                    _ => T::ONE,
+                }
+            };
+            f(p, r);
+        }
+    }
+}
+
+/// Grid stretching along `direction` at every point: the ratio of the larger to the smaller of
+/// the two cells meeting there (Alter §II.C: 1 for uniform spacing, > 1 otherwise)
+///
+/// ```text
+/// r_t = max(ΔS_t, ΔS_{t+1}) / min(ΔS_t, ΔS_{t+1}),   ΔS_t = |p_t − p_{t−1}|
+/// ```
+///
+/// Line ends (one adjacent cell) get 1, two zero-length cells give 1, and one zero-length cell
+/// next to a non-zero one gives `+∞`.
+///
+/// # Errors
+/// `LengthMismatch` (`points`, `out`), `NonFinite` (`points`), `InvalidParameter`
+/// (`direction`).
+pub fn stretching<T: Real, const D: usize>(
+    block: &Block,
+    points: &[[T; D]],
+    direction: usize,
+    out: &mut [T],
+) -> Result<()> {
+    check_direction(direction)?;
+    check_points(block, points)?;
+    if out.len() != block.point_count() {
+        return Err(Error::LengthMismatch {
+            arg: "out",
+            expected: block.point_count(),
+            actual: out.len(),
+        });
+    }
+    for_each_stretching(block.dims(), points, direction, |p, r| {
+        if let Some(o) = out.get_mut(p) {
+            *o = r;
+        }
+    });
+    Ok(())
+}
+
+/// The largest stretching ratio along `direction` (see [`stretching`]) and the first point
+/// where it occurs (lines in order, points along each line in order). `(1, 0)` for a block
+/// with fewer than three points per line.
+pub(crate) fn max_stretching_core<T: Real, const D: usize>(
+    dims: [usize; 3],
+    points: &[[T; D]],
+    direction: usize,
+) -> (T, usize) {
+    let mut best = (T::ONE, 0);
+    for_each_stretching(dims, points, direction, |p, r| {
+        if r > best.0 {
+            best = (r, p);
+        }
+    });
+    best
+}
+
+/// The maximum of [`stretching`] over the block and the first point where it occurs (line by
+/// line; `(1, 0)` when no point has two adjacent cells).
+///
+/// # Errors
+/// `LengthMismatch` (`points`), `NonFinite` (`points`), `InvalidParameter` (`direction`).
+pub fn max_stretching<T: Real, const D: usize>(
+    block: &Block,
+    points: &[[T; D]],
+    direction: usize,
+) -> Result<(T, usize)> {
+    check_direction(direction)?;
+    check_points(block, points)?;
+    Ok(max_stretching_core(block.dims(), points, direction))
+}
+
+/// Fold check without validation; `collapsed(line_base)` exempts a line.
+pub(crate) fn check_increasing_core<T: Real, F: Fn(usize) -> bool>(
+    dims: [usize; 3],
+    field: &[T],
+    direction: usize,
+    iteration: usize,
+    collapsed: F,
+) -> Result<()> {
+    let (count, len, stride) = line_shape(dims, direction);
+    for l in 0..count {
+        let base = line_base(dims, direction, l);
+        let mut prev: Option<T> = None;
+        for t in 0..len {
+            let Some(&v) = field.get(base + t * stride) else {
+                continue;
+            };
+            // Anything but "greater" (equal, smaller, NaN) is a fold.
+            if prev.is_some_and(|q| v.partial_cmp(&q) != Some(Ordering::Greater))
+                && !collapsed(base)
+            {
+                return Err(Error::FoldedLine {
+                    line: base,
+                    iteration,
+                });
+            }
+            prev = Some(v);
+        }
+    }
+    Ok(())
+}
+
+/// The fold guard: checks that `field` (an arclength function) increases strictly along every
+/// line in `direction`, `field_{t+1} > field_t`, else returns `FoldedLine { line, iteration }`
+/// with `line` = the linear index of the line's first point and the caller's `iteration`.
+/// When `points` is given, lines whose points all coincide (collapsed lines, e.g. a polar
+/// axis) are exempt.
+///
+/// # Errors
+/// `LengthMismatch` (`field`, `points`), `NonFinite` (`points`), `InvalidParameter`
+/// (`direction`), `FoldedLine`.
+pub fn check_lines_increasing<T: Real, const D: usize>(
+    block: &Block,
+    field: &[T],
+    direction: usize,
+    iteration: usize,
+    points: Option<&[[T; D]]>,
+) -> Result<()> {
+    check_direction(direction)?;
+    let n = block.point_count();
+    if field.len() != n {
+        return Err(Error::LengthMismatch {
+            arg: "field",
+            expected: n,
+            actual: field.len(),
+        });
+    }
+    if let Some(pts) = points {
+        check_points(block, pts)?;
+    }
+    let dims = block.dims();
+    check_increasing_core(dims, field, direction, iteration, |base| match points {
+        Some(pts) => line_collapsed(dims, pts, direction, base),
+        None => false,
+    })
+}
+
+/// Whether every point of the line starting at `base` equals its first point.
+pub(crate) fn line_collapsed<T: Real, const D: usize>(
+    dims: [usize; 3],
+    points: &[[T; D]],
+    direction: usize,
+    base: usize,
+) -> bool {
+    let (_, len, stride) = line_shape(dims, direction);
+    let Some(&first) = points.get(base) else {
+        return false;
+    };
+    (1..len).all(|t| {
+        points
+            .get(base + t * stride)
+            .is_some_and(|&x| vector::distance(first, x) == T::ZERO)
+    })
+}
