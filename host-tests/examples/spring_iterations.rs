@@ -135,18 +135,20 @@ fn run(label: &str, mesh: &Mesh2, diagonals: bool, linear: bool, angle: bool, wh
 }
 
 fn main() {
-    // `spring_iterations [linear|angle|all]` (default all).
+    // `spring_iterations [linear|angle|probe|all]` (default all).
     let what = std::env::args().nth(1).unwrap_or_else(|| "all".to_string());
     let (linear, angle) = (what == "all" || what == "linear", what != "linear");
     let grid = AirfoilGrid::preset_20k();
     let tri = naca_triangulated(&grid).unwrap();
     let hyb = naca_hybrid(&grid).unwrap();
+    let w = what.as_str();
     run(
         "NACA 2412 triangulated (preset_20k)",
         &tri,
         false,
         linear,
         angle,
+        w,
     );
     run(
         "NACA 2412 hybrid (preset_20k)",
@@ -154,7 +156,7 @@ fn main() {
         false,
         linear,
         angle,
-        &what,
+        w,
     );
     run(
         "NACA 2412 hybrid + quad diagonals",
@@ -162,5 +164,13 @@ fn main() {
         true,
         linear,
         angle,
+        w,
     );
+    if what == "probe" {
+        let inv = naca_triangulated(&AirfoilGrid::inviscid()).unwrap();
+        let vis = naca_hybrid(&AirfoilGrid::viscous()).unwrap();
+        run("inviscid preset", &inv, false, false, true, w);
+        run("viscous preset", &vis, false, false, true, w);
+        run("viscous preset + diagonals", &vis, true, false, true, w);
+    }
 }

@@ -14,7 +14,7 @@ use deform_kernel::spring::{
     SpringSystem,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Graph};
-use deform_meshgen::{naca_hybrid, naca_triangulated, rotate_markers2, AirfoilGrid, Mesh2};
+use deform_meshgen::{naca_hybrid, naca_triangulated, AirfoilGrid, Mesh2};
 
 /// One spring method of the table.
 #[derive(Clone, Copy)]
@@ -76,7 +76,61 @@ fn solve(
     }
 }
 
-fn table(out: &mut String, label: &str, mesh: &Mesh2, diagonals: bool, methods: &[Method]) {
+/// Deformed points, the last step's report and the total iterations.
+type Deformed = (Vec<[f64; 2]>, SolveReport<f64>, usize);
+
+/// Deforms `mesh` by rotating the airfoil `deg` degrees in `steps` equal increments: each
+/// step recomputes stiffness (and, for angle springs, edge directions) on the current mesh and
+/// solves for the increment. Returns the deformed points, the last report and the total
+/// iterations.
+fn deform(
+    mesh: &Mesh2,
+    g: Graph<'_>,
+    fixed: &[u8],
+    wall_nodes: &[u32],
+    method: Method,
+    deg: f64,
+    steps: usize,
+) -> Result<Deformed, String> {
+    let n = mesh.node_count();
+    let mut pts = mesh.points.clone();
+    let mut k = vec![0.0f64; g.edge_count()];
+    let mut s = vec![0u32; n];
+    let (sn, cs) = (deg / steps as f64).to_radians().sin_cos();
+    let c = AirfoilGrid::quarter_chord();
+    let mut total = 0;
+    let mut last = None;
+    for _ in 0..steps {
+        batina_stiffness(&g, &pts, 1.0, &mut k).map_err(|e| e.to_string())?;
+        let sys = SpringSystem::new(g, &k, fixed, &mut s).map_err(|e| e.to_string())?;
+        let mut x = vec![[0.0; 2]; n];
+        for &w in wall_nodes {
+            let p = pts[w as usize];
+            let (dx, dy) = (p[0] - c[0], p[1] - c[1]);
+            x[w as usize] = [
+                c[0] + cs * dx - sn * dy - p[0],
+                c[1] + sn * dx + cs * dy - p[1],
+            ];
+        }
+        let rep = solve(&sys, &pts, method, &mut x)?;
+        total += rep.iterations;
+        for (p, d) in pts.iter_mut().zip(&x) {
+            p[0] += d[0];
+            p[1] += d[1];
+        }
+        last = Some(rep);
+    }
+    last.map(|r| (pts, r, total))
+        .ok_or_else(|| "no step".to_string())
+}
+
+fn table(
+    out: &mut String,
+    label: &str,
+    mesh: &Mesh2,
+    diagonals: bool,
+    methods: &[(Method, usize)],
+) {
     let n = mesh.node_count();
     let cells = mesh.cells().unwrap();
     let mut offsets = vec![0u32; n + 1];
@@ -84,11 +138,7 @@ fn table(out: &mut String, label: &str, mesh: &Mesh2, diagonals: bool, methods: 
     let used = graph_from_cells(&cells, diagonals, &mut offsets, &mut targets).unwrap();
     targets.truncate(used);
     let g = Graph::new(&offsets, &targets).unwrap();
-    let mut k = vec![0.0f64; g.edge_count()];
-    batina_stiffness(&g, &mesh.points, 1.0, &mut k).unwrap();
     let fixed = mesh.boundary_mask();
-    let mut s = vec![0u32; n];
-    let sys = SpringSystem::new(g, &k, &fixed, &mut s).unwrap();
     let marker = mesh.require_marker("airfoil").unwrap();
     let wall = Wall::new(marker.cells(n).unwrap(), g).unwrap();
     let mut scratch = vec![[0.0; 2]; wall_angle_scratch_len(n)];
@@ -100,26 +150,20 @@ fn table(out: &mut String, label: &str, mesh: &Mesh2, diagonals: bool, methods: 
         if diagonals { " (quad face diagonals added)" } else { "" }
     );
     for deg in [10.0, 25.0, 50.0] {
-        let rot = rotate_markers2(mesh, &["airfoil"], AirfoilGrid::quarter_chord(), deg).unwrap();
-        let x0 = rot.to_field(n);
-        for &m in methods {
-            let mut x = x0.clone();
+        for &(m, steps) in methods {
             let t = std::time::Instant::now();
-            let row = match solve(&sys, &mesh.points, m, &mut x) {
-                Ok(rep) => {
-                    let deformed: Vec<[f64; 2]> = mesh
-                        .points
-                        .iter()
-                        .zip(&x)
-                        .map(|(p, d)| [p[0] + d[0], p[1] + d[1]])
-                        .collect();
+            let label = if steps > 1 {
+                format!("{}, {steps} steps", m.label())
+            } else {
+                m.label()
+            };
+            let row = match deform(mesh, g, &fixed, &marker.node_list, m, deg, steps) {
+                Ok((deformed, rep, total)) => {
                     let q = compare(&cells, &mesh.points, &deformed, Some(&wall), &mut scratch)
                         .unwrap();
                     let w = q.wall.map_or(f64::NAN, |w| w.max_change.to_degrees());
                     format!(
-                        "| {deg}° | {} | {} it., res {:.1e}{} | {} | {} | {:.3} | {:.2}° |",
-                        m.label(),
-                        rep.iterations,
+                        "| {deg}° | {label} | {total} it., res {:.1e}{} | {} | {} | {:.3} | {:.2}° |",
                         rep.residual,
                         if rep.converged {
                             ""
@@ -132,7 +176,7 @@ fn table(out: &mut String, label: &str, mesh: &Mesh2, diagonals: bool, methods: 
                         w
                     )
                 }
-                Err(e) => format!("| {deg}° | {} | error: {e} | – | – | – | – |", m.label()),
+                Err(e) => format!("| {deg}° | {label} | error: {e} | – | – | – | – |"),
             };
             eprintln!("{row}  ({:.1} s)", t.elapsed().as_secs_f64());
             let _ = writeln!(out, "{row}");
@@ -166,6 +210,10 @@ deformed/undeformed cell area; *max wall-angle change* = largest change of the f
 grid line's angle at the airfoil (`quality::wall_angle_change`). *solver* = iterations (sweeps
 or CG iterations) and the true relative residual reached.
 
+*N steps*: the rotation applied in N equal increments, stiffness and edge directions
+recomputed on the current mesh before each increment (the paper does not say whether it
+steps; one step is a linear model of a finite rotation). The iteration count is the total.
+
 Regenerate (a few minutes in release):
 
 ```
@@ -178,10 +226,12 @@ fn main() {
     let inviscid = naca_triangulated(&AirfoilGrid::inviscid()).unwrap();
     let viscous = naca_hybrid(&AirfoilGrid::viscous()).unwrap();
     let all = [
-        Method::Linear,
-        Method::Angle(AngleMethod::Cg, 0.01),
-        Method::Angle(AngleMethod::Cg, 0.0),
-        Method::Angle(AngleMethod::DirectGaussSeidel, 0.01),
+        (Method::Linear, 1),
+        (Method::Angle(AngleMethod::Cg, 0.01), 1),
+        (Method::Angle(AngleMethod::Cg, 0.0), 1),
+        (Method::Angle(AngleMethod::DirectGaussSeidel, 0.01), 1),
+        (Method::Linear, 10),
+        (Method::Angle(AngleMethod::Cg, 0.01), 10),
     ];
     table(&mut out, "Inviscid triangles", &inviscid, false, &all);
     table(
@@ -191,12 +241,18 @@ fn main() {
         false,
         &all,
     );
+    let diag = [
+        (Method::Linear, 1),
+        (Method::Angle(AngleMethod::Cg, 0.01), 1),
+        (Method::Angle(AngleMethod::Cg, 0.0), 1),
+        (Method::Angle(AngleMethod::Cg, 0.01), 10),
+    ];
     table(
         &mut out,
         "Viscous hybrid with quad diagonals (`graph_from_cells(.., true)`)",
         &viscous,
         true,
-        &all[..3],
+        &diag,
     );
     out.push_str(include_str!("spring_reproduction_notes.md"));
     let path = concat!(

@@ -7,8 +7,9 @@ mod spring_common;
 
 use deform_host_tests::spring_ref;
 use deform_kernel::spring::{
-    angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_scratch_len, solve_angle, AngleMethod,
-    AngleSystem, SolveOptions, SolveReport, SpringSystem, DEFAULT_ANGLE_EPSILON,
+    angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_probe_scratch_len, angle_rigidity_probe,
+    angle_scratch_len, solve_angle, AngleMethod, AngleSystem, SolveOptions, SolveReport,
+    SpringSystem, DEFAULT_ANGLE_EPSILON, MAX_AMPLIFICATION,
 };
 use deform_kernel::{Error, Real};
 use spring_common::*;
@@ -234,7 +235,7 @@ fn colinear_and_coplanar_nodes_are_singular() {
     assert!(AngleSystem::new(c.system(), &c.points, 0.01).is_ok());
 }
 
-/// Quad annulus edges (rings + spokes, no diagonals).
+/// Quad annulus edges (rings + spokes, optionally one diagonal per quad).
 fn quad_annulus(nr: usize, nt: usize, diagonals: bool) -> Case<f64, 2> {
     let (p, _, f) = spring_ref::annulus(nr, nt, 1.0, 4.0, 1.2);
     let id = |j: usize, i: usize| (j * nt + i % nt) as u32;
@@ -420,4 +421,29 @@ fn angle_errors_are_typed_and_leave_buffers_unchanged() {
     assert_eq!(bits(&x), before);
     assert!(out.iter().all(|v| *v == [1.0; 2]));
     let _: Option<SpringSystem<'_, f64>> = None;
+}
+
+/// The rigidity probe's amplification separates healthy systems from mechanisms: small (and
+/// deterministic) on a triangulated annulus, an error or far above the limit on the quad ring.
+#[test]
+fn rigidity_probe_amplification() {
+    let opts = SolveOptions::default();
+    let tri = annulus::<f64>(8, 24);
+    let sys = tri.angle(0.0);
+    let mut scratch = vec![[0.0; 2]; angle_probe_scratch_len(&sys)];
+    let s1 = angle_rigidity_probe(&sys, &opts, &mut scratch).unwrap();
+    let s2 = angle_rigidity_probe(&sys, &opts, &mut scratch).unwrap();
+    assert_eq!(s1.to_bits(), s2.to_bits());
+    assert!(s1 > 0.0 && s1 < 1e3, "{s1}");
+    assert!(matches!(
+        angle_rigidity_probe(&sys, &opts, &mut scratch[1..]),
+        Err(Error::BufferTooSmall { .. })
+    ));
+    let ring = quad_annulus(5, 16, false);
+    let sys = ring.angle(0.0);
+    match angle_rigidity_probe(&sys, &opts, &mut scratch) {
+        Err(Error::SingularSystem { .. }) => {}
+        Ok(s) => assert!(s > MAX_AMPLIFICATION, "{s}"),
+        Err(e) => panic!("{e}"),
+    }
 }

@@ -9,10 +9,10 @@
 use core::hint::black_box;
 
 use deform_kernel::spring::{
-    angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_scratch_len, batina_stiffness, is_fixed,
-    jacobi_sweep, relative_residual, solve_angle, solve_linear, solve_linear_scratch_len,
-    sor_sweep, AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
-    Sweep,
+    angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_probe_scratch_len, angle_rigidity_probe,
+    angle_scratch_len, batina_stiffness, is_fixed, jacobi_sweep, relative_residual, solve_angle,
+    solve_linear, solve_linear_scratch_len, sor_sweep, AngleMethod, AngleSystem, LinearMethod,
+    Preconditioner, SolveOptions, SpringSystem, Sweep,
 };
 use deform_kernel::{Graph, Real};
 
@@ -162,6 +162,11 @@ fn angle<T: Real, const D: usize>(sys: &SpringSystem<'_, T>, p: &[[T; D]; N]) {
         keep(angle_gauss_seidel_sweep(&a, range, bb(&mut y[..])));
         keep(&y);
         let opts: SolveOptions<T> = bb(SolveOptions::default());
+        let mut probe = [[T::ZERO; D]; 4 * N];
+        let len = angle_probe_scratch_len(&a);
+        let sc = probe.get_mut(..len).unwrap_or(&mut []);
+        keep(angle_rigidity_probe(&a, &opts, bb(sc)));
+        keep(&probe);
         for m in bb([
             AngleMethod::DirectGaussSeidel,
             AngleMethod::DirectJacobi,
