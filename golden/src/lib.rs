@@ -51,6 +51,7 @@
 
 pub mod graph_cases;
 pub mod hash;
+pub mod mesh_cases;
 pub mod quat_cases;
 pub mod rng;
 
@@ -167,5 +168,33 @@ pub const CASES: &[Case] = &[
         run_f32: graph_cases::from_cells_diagonals,
         expected_f64: 0xdf78_d994_f188_b4b6,
         expected_f32: 0xdf78_d994_f188_b4b6,
+    },
+    Case {
+        name: "spring_linear",
+        run_f64: mesh_cases::spring_linear::<f64>,
+        run_f32: mesh_cases::spring_linear::<f32>,
+        expected_f64: 0x21ea_ab10_1b37_b56c,
+        expected_f32: 0x5d1d_1fd2_604d_39c5,
+    },
+    Case {
+        name: "spring_angle",
+        run_f64: mesh_cases::spring_angle::<f64>,
+        run_f32: mesh_cases::spring_angle::<f32>,
+        expected_f64: 0xd292_c226_f61e_bb63,
+        expected_f32: 0xf89e_ed49_2202_a6b1,
+    },
+    Case {
+        name: "quaternion_deformation",
+        run_f64: mesh_cases::quaternion_deformation::<f64>,
+        run_f32: mesh_cases::quaternion_deformation::<f32>,
+        expected_f64: 0x1abb_ed81_1b85_faa4,
+        expected_f32: 0xf828_56b9_9e43_233b,
+    },
+    Case {
+        name: "taubin_smoothing",
+        run_f64: mesh_cases::taubin_smoothing::<f64>,
+        run_f32: mesh_cases::taubin_smoothing::<f32>,
+        expected_f64: 0xa9ea_d533_6889_ab72,
+        expected_f32: 0x535c_c68c_cf72_d981,
     },
 ];
