@@ -278,7 +278,7 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
                     } else {
                         20_000
                     },
-                    idw_exponent: 3.0,
+                    idw_exponent: 2.0,
                 };
                 let t = Instant::now();
                 let r = run_move(&input)?;

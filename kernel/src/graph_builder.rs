@@ -131,7 +131,8 @@ fn build(
             value: needed / 2,
         });
     }
-    if u32::try_from(node_count).is_err() {
+    // Strictly below u32::MAX, so `node_count + 1` never wraps (usize may be 32 bits).
+    if node_count >= u32::MAX as usize {
         return Err(Error::TooLarge {
             arg: "node_count",
             value: node_count,

@@ -49,7 +49,7 @@ const RUSTUP_COMPONENTS: &[&str] = &["rustfmt", "clippy", "rust-src", "llvm-tool
 
 /// Debian packages, installed with `apt-get install` when running as root (e.g. `gfortran`,
 /// `qemu-system-arm`). Checked with `dpkg -s`.
-const APT_PACKAGES: &[&str] = &[];
+const APT_PACKAGES: &[&str] = &["gfortran", "qemu-system-arm"];
 
 /// A cargo tool installed with `cargo install --locked NAME --version VERSION`.
 struct CargoTool {
@@ -60,7 +60,22 @@ struct CargoTool {
 }
 
 /// Cargo tools at pinned versions (e.g. cargo-fuzz, defmt-print, cbindgen).
-const CARGO_TOOLS: &[CargoTool] = &[];
+const CARGO_TOOLS: &[CargoTool] = &[
+    CargoTool {
+        name: "defmt-print",
+        version: "1.2.0",
+    },
+    CargoTool {
+        name: "cargo-fuzz",
+        version: "0.13.1",
+    },
+];
+
+/// The toolchain cargo-fuzz needs (sanitizer flags are nightly-only).
+const FUZZ_TOOLCHAIN: &str = "nightly";
+
+/// Seconds each fuzz target runs in `cargo xtask ci` (the smoke run).
+const FUZZ_SMOKE_SECONDS: u64 = 30;
 
 /// Symbol the panic-check's `#[panic_handler]` calls and that nothing defines.
 const PANIC_SYMBOL: &str = "deform_kernel_panic_path_survived";
@@ -86,6 +101,7 @@ fn main() -> ExitCode {
                 ExitCode::FAILURE
             }
         }
+        Some("fuzz") => fuzz_command(&ctx, &args[1..]),
         Some("panic-locate") => {
             let extra: Vec<&str> = args[1..].iter().map(String::as_str).collect();
             if panic_locate(&ctx, &extra) {
@@ -113,6 +129,7 @@ fn help() -> String {
          USAGE:\n\
          \x20   cargo xtask ci [--skip-install] [--step NAME]... [--list]\n\
          \x20   cargo xtask install\n\
+         \x20   cargo xtask fuzz [--seconds N] [--target NAME]\n\
          \x20   cargo xtask panic-locate [--features F]\n\
          \x20   cargo xtask help\n\
          \n\
@@ -123,6 +140,9 @@ fn help() -> String {
          \x20                 with the failed steps and `N passed, N failed`; exits non-zero on any\n\
          \x20                 failure. This is the project's single test command (.ci/run runs it).\n\
          \x20   install       Only the install part.\n\
+         \x20   fuzz          Build the cargo-fuzz targets (fuzz/, nightly) and run each for N\n\
+         \x20                 seconds (default 600) from fuzz/seeds/<target>, growing the corpus\n\
+         \x20                 in fuzz/corpus/<target>; prints executions and findings per target.\n\
          \x20   panic-locate  Build target-tests/panic-check with its `locate` feature (the panic\n\
          \x20                 handler defined, so it links) and list the functions that still reach\n\
          \x20                 it, with the source lines of the calls. Run it when `panic-check` fails;\n\
@@ -336,6 +356,16 @@ fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
             "panic-check-deliberate",
             "panic-check --features deliberate-panic fails to link on the panic symbol",
             || panic_check_deliberate(ctx),
+        ),
+        Step::new(
+            "on-target",
+            "defmt-test suite on a Cortex-M4F under QEMU (target-tests/on-target), bits = host",
+            || on_target(ctx),
+        ),
+        Step::new(
+            "fuzz-smoke",
+            "build every cargo-fuzz target and run each for 30 s from its committed seeds",
+            || fuzz(ctx, FUZZ_SMOKE_SECONDS, None),
         ),
         Step::new(
             "clippy-target-tests",
@@ -623,6 +653,19 @@ fn install(ctx: &Ctx) -> bool {
                 ]));
             }
         }
+    }
+
+    let (_, toolchains, _) = capture(&mut rustup(&["toolchain", "list"]));
+    if toolchains.lines().any(|l| l.starts_with(FUZZ_TOOLCHAIN)) {
+        println!("rustup toolchain {FUZZ_TOOLCHAIN}: present (for cargo-fuzz)");
+    } else {
+        ok &= run(&mut rustup(&[
+            "toolchain",
+            "install",
+            FUZZ_TOOLCHAIN,
+            "--profile",
+            "minimal",
+        ]));
     }
     ok
 }
@@ -996,4 +1039,159 @@ fn locate_report(dis: &str) -> String {
         }
     }
     out
+}
+
+// ---------------------------------------------------------------------------------------------
+// on-target suite
+
+/// Runs the defmt-test suite under QEMU and prints `on-target: N passed, N failed`, counted
+/// from defmt-test's `(i/n) running ...` and `all tests passed!` lines (it prints no summary).
+fn on_target(ctx: &Ctx) -> bool {
+    let mut cmd = ctx.cargo_tt(&["test", "--release", "-p", "deform-on-target"]);
+    println!("$ {}", show(&cmd));
+    let (ok, stdout, stderr) = capture(&mut cmd);
+    print!("{stdout}");
+    eprint!("{stderr}");
+    let (passed, failed) = count_defmt_tests(&format!("{stderr}\n{stdout}"));
+    println!("on-target: {passed} passed, {failed} failed");
+    ok && failed == 0 && passed > 0
+}
+
+/// Counts passed and failed tests in defmt-test output: in each binary, the tests announced
+/// before `all tests passed!` passed; when a binary stops without it, its last announced test
+/// failed (the panic handler exits QEMU at once).
+fn count_defmt_tests(out: &str) -> (usize, usize) {
+    let (mut passed, mut failed) = (0, 0);
+    let mut running = 0usize; // tests announced in the current binary and not yet settled
+    for line in out.lines() {
+        let line = line.trim();
+        if line.starts_with("Running ") {
+            if running > 0 {
+                // The previous binary ended without `all tests passed!`.
+                passed += running - 1;
+                failed += 1;
+            }
+            running = 0;
+        } else if line.starts_with('(') && line.contains(") running `") {
+            running += 1;
+        } else if line.contains("all tests passed!") {
+            passed += running;
+            running = 0;
+        }
+    }
+    if running > 0 {
+        passed += running - 1;
+        failed += 1;
+    }
+    (passed, failed)
+}
+
+// ---------------------------------------------------------------------------------------------
+// fuzzing
+
+/// `cargo xtask fuzz [--seconds N] [--target NAME]`.
+fn fuzz_command(ctx: &Ctx, args: &[String]) -> ExitCode {
+    let mut seconds = 600u64;
+    let mut target = None;
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match (a.as_str(), it.next()) {
+            ("--seconds", Some(v)) => match v.parse() {
+                Ok(n) => seconds = n,
+                Err(_) => {
+                    eprintln!("xtask: --seconds takes a whole number");
+                    return ExitCode::from(2);
+                }
+            },
+            ("--target", Some(v)) => target = Some(v.clone()),
+            _ => {
+                eprintln!("xtask: usage: cargo xtask fuzz [--seconds N] [--target NAME]");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    if fuzz(ctx, seconds, target.as_deref()) {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
+
+/// Builds the fuzz targets with cargo-fuzz on nightly and runs each (or `only`) for `seconds`,
+/// starting from the committed seeds; `true` when nothing crashed.
+fn fuzz(ctx: &Ctx, seconds: u64, only: Option<&str>) -> bool {
+    let dir = ctx.root.join("fuzz");
+    let fuzz_cmd = |args: &[&str]| {
+        let mut c = Command::new("cargo");
+        c.arg(format!("+{FUZZ_TOOLCHAIN}"))
+            .arg("fuzz")
+            .args(args)
+            .current_dir(&dir)
+            .env_remove("RUSTUP_TOOLCHAIN")
+            .env_remove("CARGO");
+        c
+    };
+    if !run(&mut fuzz_cmd(&["build", "-O"])) {
+        return false;
+    }
+    let (ok, list, _) = capture(&mut fuzz_cmd(&["list"]));
+    if !ok {
+        return false;
+    }
+    let targets: Vec<&str> = list
+        .lines()
+        .map(str::trim)
+        .filter(|t| !t.is_empty() && only.is_none_or(|o| o == *t))
+        .collect();
+    if targets.is_empty() {
+        println!("xtask: no fuzz target matches");
+        return false;
+    }
+    let mut all_ok = true;
+    let mut summary = String::new();
+    for t in &targets {
+        let corpus = dir.join("corpus").join(t);
+        let seeds = dir.join("seeds").join(t);
+        let _ = std::fs::create_dir_all(&corpus);
+        let mut args: Vec<String> = vec![
+            "run".into(),
+            "-O".into(),
+            (*t).into(),
+            corpus.display().to_string(),
+        ];
+        if seeds.is_dir() {
+            args.push(seeds.display().to_string());
+        }
+        args.push("--".into());
+        args.push(format!("-max_total_time={seconds}"));
+        args.push("-print_final_stats=1".into());
+        let dict = dir.join("dicts").join(format!("{t}.dict"));
+        if dict.is_file() {
+            args.push(format!("-dict={}", dict.display()));
+        }
+        let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+        let mut cmd = fuzz_cmd(&argv);
+        println!("$ {}", show(&cmd));
+        let (ok, stdout, stderr) = capture(&mut cmd);
+        let text = format!("{stdout}{stderr}");
+        let execs = text
+            .lines()
+            .find_map(|l| l.strip_prefix("stat::number_of_executed_units:"))
+            .map_or("?".to_string(), |v| v.trim().to_string());
+        if !ok {
+            print!("{text}");
+        }
+        let _ = writeln!(
+            summary,
+            "fuzz {t}: {} after {execs} executions in {seconds} s",
+            if ok {
+                "no findings"
+            } else {
+                "FAILED (see the output above)"
+            }
+        );
+        all_ok &= ok;
+    }
+    print!("{summary}");
+    all_ok
 }
