@@ -11,8 +11,7 @@ use deform_kernel::{Error, Quat, QuatAverage, Real};
 /// Quaternion algebra identities in precision `T`.
 fn quat_algebra<T: Real>() {
     let tol = T::EPSILON * T::from_f64(16.0);
-    let q = Quat::from_axis_angle([T::ONE, T::TWO, T::from_f64(-0.5)], T::from_f64(0.7))
-        .unwrap();
+    let q = Quat::from_axis_angle([T::ONE, T::TWO, T::from_f64(-0.5)], T::from_f64(0.7)).unwrap();
     defmt::assert!((q.norm() - T::ONE).abs() <= tol);
     let v = [T::from_f64(0.3), T::from_f64(-1.2), T::from_f64(2.5)];
     let r = q.rotate(v);
@@ -24,8 +23,7 @@ fn quat_algebra<T: Real>() {
     }
     let one = q * q.inverse().unwrap();
     defmt::assert!((one.w - T::ONE).abs() <= tol);
-    let arc = Quat::rotation_arc([T::ONE, T::ZERO, T::ZERO], [T::ZERO, T::ZERO, -T::ONE])
-        .unwrap();
+    let arc = Quat::rotation_arc([T::ONE, T::ZERO, T::ZERO], [T::ZERO, T::ZERO, -T::ONE]).unwrap();
     let x = arc.rotate([T::ONE, T::ZERO, T::ZERO]);
     defmt::assert!((x[2] + T::ONE).abs() <= tol);
     let mut avg = QuatAverage::new();
