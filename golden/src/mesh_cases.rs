@@ -125,6 +125,22 @@ fn boundary_displacement<T: Real>(m: &Mesh<T>) -> [[T; 2]; N] {
     d
 }
 
+/// Builds the Batina spring system of the mesh (stiffness `1/|e|`, perimeter fixed) and runs
+/// `f` on it with the stiffness slice; `None` when a step fails (never for this mesh).
+fn with_system<T: Real, R>(
+    m: &Mesh<T>,
+    f: impl FnOnce(&SpringSystem<'_, T>, &[T]) -> R,
+) -> Option<R> {
+    let g = Graph::new(&m.graph_offsets, m.targets.get(..m.used)?).ok()?;
+    let mut k = [T::ZERO; NE];
+    let k = k.get_mut(..m.used)?;
+    batina_stiffness(&g, &m.points, T::ONE, k).ok()?;
+    let k: &[T] = k;
+    let mut seen = [0u32; N];
+    let sys = SpringSystem::new(g, k, &m.fixed, &mut seen).ok()?;
+    Some(f(&sys, k))
+}
+
 fn hash_report<T: Real>(h: &mut Fnv, r: &SolveReport<T>) {
     h.usize(r.iterations);
     h.real(r.residual);
@@ -141,119 +157,88 @@ fn hash_points<T: Real, const D: usize>(h: &mut Fnv, pts: &[[T; D]]) {
 /// Linear springs (Batina stiffness): CG with SSOR and 40 Jacobi sweeps on the 20° motion.
 pub fn spring_linear<T: Real>() -> u64 {
     let m = mesh::<T>();
-    let mut h = Fnv::new();
-    let Ok(g) = Graph::new(&m.graph_offsets, m.targets.get(..m.used).unwrap_or(&[])) else {
-        return 0;
-    };
-    let mut k = [T::ZERO; NE];
-    let k = k.get_mut(..m.used).unwrap_or(&mut []);
-    if let Err(e) = batina_stiffness(&g, &m.points, T::ONE, k) {
-        h.error(&e);
-        return h.finish();
-    }
-    for &x in k.iter() {
-        h.real(x);
-    }
-    let mut seen = [0u32; N];
-    let Ok(sys) = SpringSystem::new(g, k, &m.fixed, &mut seen) else {
-        return 1;
-    };
-    let methods = [
-        (
-            LinearMethod::Cg {
-                preconditioner: Preconditioner::Ssor {
-                    omega: T::from_f64(1.2),
-                },
-            },
-            500,
-        ),
-        (LinearMethod::Jacobi, 40),
-    ];
-    for (method, max_iterations) in methods {
-        let mut values = boundary_displacement(&m);
-        let mut scratch = [[T::ZERO; 2]; 4 * N];
-        let len = solve_linear_scratch_len(&method, N).min(scratch.len());
-        let opts = SolveOptions {
-            max_iterations,
-            ..SolveOptions::default()
-        };
-        match solve_linear(
-            &sys,
-            &mut values,
-            method,
-            &opts,
-            scratch.get_mut(..len).unwrap_or(&mut []),
-        ) {
-            Ok(r) => hash_report(&mut h, &r),
-            Err(e) => h.error(&e),
+    with_system(&m, |sys, k| {
+        let mut h = Fnv::new();
+        for &x in k {
+            h.real(x);
         }
-        hash_points(&mut h, &values);
-    }
-    h.finish()
+        let methods = [
+            (
+                LinearMethod::Cg {
+                    preconditioner: Preconditioner::Ssor {
+                        omega: T::from_f64(1.2),
+                    },
+                },
+                500,
+            ),
+            (LinearMethod::Jacobi, 40),
+        ];
+        for (method, max_iterations) in methods {
+            let mut values = boundary_displacement(&m);
+            let mut scratch = [[T::ZERO; 2]; 4 * N];
+            let len = solve_linear_scratch_len(&method, N).min(scratch.len());
+            let opts = SolveOptions {
+                max_iterations,
+                ..SolveOptions::default()
+            };
+            let scratch = scratch.get_mut(..len).unwrap_or(&mut []);
+            match solve_linear(sys, &mut values, method, &opts, scratch) {
+                Ok(r) => hash_report(&mut h, &r),
+                Err(e) => h.error(&e),
+            }
+            hash_points(&mut h, &values);
+        }
+        h.finish()
+    })
+    .unwrap_or(0)
 }
 
 /// Angle-inclusion springs (Yang & Özgen eq. 2): direct Gauss–Seidel (60 sweeps) and CG.
 pub fn spring_angle<T: Real>() -> u64 {
     let m = mesh::<T>();
-    let mut h = Fnv::new();
-    let Ok(g) = Graph::new(&m.graph_offsets, m.targets.get(..m.used).unwrap_or(&[])) else {
-        return 0;
-    };
-    let mut k = [T::ZERO; NE];
-    let k = k.get_mut(..m.used).unwrap_or(&mut []);
-    if batina_stiffness(&g, &m.points, T::ONE, k).is_err() {
-        return 1;
-    }
-    let mut seen = [0u32; N];
-    let Ok(sys) = SpringSystem::new(g, k, &m.fixed, &mut seen) else {
-        return 2;
-    };
-    let eps = T::from_f64(DEFAULT_ANGLE_EPSILON);
-    let Ok(asys) = AngleSystem::new(sys, &m.points, eps) else {
-        return 3;
-    };
-    for (method, max_iterations) in [(AngleMethod::DirectGaussSeidel, 60), (AngleMethod::Cg, 500)] {
-        let mut values = boundary_displacement(&m);
-        let mut scratch = [[T::ZERO; 2]; 4 * N];
-        let len = angle_scratch_len(&asys, method).min(scratch.len());
-        let opts = SolveOptions {
-            max_iterations,
-            ..SolveOptions::default()
+    with_system(&m, |sys, _| {
+        let mut h = Fnv::new();
+        let eps = T::from_f64(DEFAULT_ANGLE_EPSILON);
+        let asys = match AngleSystem::new(*sys, &m.points, eps) {
+            Ok(a) => a,
+            Err(e) => {
+                h.error(&e);
+                return h.finish();
+            }
         };
-        match solve_angle(
-            &asys,
-            &mut values,
-            method,
-            &opts,
-            scratch.get_mut(..len).unwrap_or(&mut []),
-        ) {
-            Ok(r) => hash_report(&mut h, &r),
-            Err(e) => h.error(&e),
+        for (method, max_iterations) in
+            [(AngleMethod::DirectGaussSeidel, 60), (AngleMethod::Cg, 500)]
+        {
+            let mut values = boundary_displacement(&m);
+            let mut scratch = [[T::ZERO; 2]; 4 * N];
+            let len = angle_scratch_len(&asys, method).min(scratch.len());
+            let opts = SolveOptions {
+                max_iterations,
+                ..SolveOptions::default()
+            };
+            let scratch = scratch.get_mut(..len).unwrap_or(&mut []);
+            match solve_angle(&asys, &mut values, method, &opts, scratch) {
+                Ok(r) => hash_report(&mut h, &r),
+                Err(e) => h.error(&e),
+            }
+            hash_points(&mut h, &values);
         }
-        hash_points(&mut h, &values);
-    }
-    h.finish()
+        h.finish()
+    })
+    .unwrap_or(0)
 }
 
 /// The quaternion deformation (Samareh) of the 20° motion, propagated by springs (CG) and by
 /// inverse distance; then the quality comparison of the spring result.
 pub fn quaternion_deformation<T: Real>() -> u64 {
     let m = mesh::<T>();
-    let mut h = Fnv::new();
-    let Ok(g) = Graph::new(&m.graph_offsets, m.targets.get(..m.used).unwrap_or(&[])) else {
-        return 0;
-    };
-    let mut k = [T::ZERO; NE];
-    let k = k.get_mut(..m.used).unwrap_or(&mut []);
-    if batina_stiffness(&g, &m.points, T::ONE, k).is_err() {
-        return 1;
-    }
-    let mut seen = [0u32; N];
-    let Ok(sys) = SpringSystem::new(g, k, &m.fixed, &mut seen) else {
-        return 2;
-    };
+    with_system(&m, |sys, _| deformation_hash(&m, sys)).unwrap_or(0)
+}
 
-    let disp = boundary_displacement(&m);
+/// The body of [`quaternion_deformation`] once the spring system exists.
+fn deformation_hash<T: Real>(m: &Mesh<T>, sys: &SpringSystem<'_, T>) -> u64 {
+    let mut h = Fnv::new();
+    let disp = boundary_displacement(m);
     let q = Quat::from_rotation_z(T::from_f64(20f64.to_radians()));
     let mut deformed = [[T::ZERO; 2]; NB];
     let mut rotations_b = [Quat::identity(); NB];
@@ -290,7 +275,7 @@ pub fn quaternion_deformation<T: Real>() -> u64 {
     match deform_spring(
         &m.points,
         &motion,
-        &sys,
+        sys,
         method,
         &SolveOptions::default(),
         &mut translations,
