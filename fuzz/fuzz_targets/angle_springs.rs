@@ -38,16 +38,22 @@ fuzz_target!(|inp: Input| {
         .collect();
     let mut offsets = vec![0u32; n + 1];
     let mut targets = vec![0u32; graph_from_edges_len(&edges)];
-    let Ok(used) = graph_from_edges(n, &edges, &mut offsets, &mut targets) else { return };
+    let Ok(used) = graph_from_edges(n, &edges, &mut offsets, &mut targets) else {
+        return;
+    };
     targets.truncate(used);
     let g = Graph::new(&offsets, &targets).unwrap();
     let mut k = vec![0.0; used];
     if batina_stiffness(&g, &points, 1.0, &mut k).is_err() {
         return; // coincident points: ZeroLengthEdge, a typed error
     }
-    let fixed: Vec<u8> = (0..n).map(|i| u8::from(inp.fixed.get(i).copied().unwrap_or(i < 2))).collect();
+    let fixed: Vec<u8> = (0..n)
+        .map(|i| u8::from(inp.fixed.get(i).copied().unwrap_or(i < 2)))
+        .collect();
     let mut seen = vec![0u32; n];
-    let Ok(sys) = SpringSystem::new(g, &k, &fixed, &mut seen) else { return };
+    let Ok(sys) = SpringSystem::new(g, &k, &fixed, &mut seen) else {
+        return;
+    };
     let eps = if inp.paper_epsilon { 0.0 } else { 0.01 };
     let asys = match AngleSystem::new(sys, &points, eps) {
         Ok(a) => a,
@@ -70,7 +76,10 @@ fuzz_target!(|inp: Input| {
         1 => AngleMethod::DirectJacobi,
         _ => AngleMethod::Cg,
     };
-    let opts = SolveOptions { max_iterations: 300, ..SolveOptions::default() };
+    let opts = SolveOptions {
+        max_iterations: 300,
+        ..SolveOptions::default()
+    };
     let mut scratch = vec![[0.0f64; 2]; angle_scratch_len(&asys, method)];
     match solve_angle(&asys, &mut values, method, &opts, &mut scratch) {
         Ok(r) => {

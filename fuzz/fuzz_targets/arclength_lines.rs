@@ -61,7 +61,11 @@ fuzz_target!(|inp: Input| {
     // Redistribute to monotone targets (sorted bytes scaled to each line's length).
     let mut t = vec![0.0; n];
     for j in 0..nj {
-        let total = if inp.normalised { 1.0 } else { s[j * ni + ni - 1] };
+        let total = if inp.normalised {
+            1.0
+        } else {
+            s[j * ni + ni - 1]
+        };
         let mut v: Vec<f64> = (0..ni)
             .map(|i| f64::from(inp.targets.get(i + ni * j).copied().unwrap_or(0)) / 255.0 * total)
             .collect();
@@ -90,7 +94,9 @@ fuzz_target!(|inp: Input| {
             assert!(r.max_displacement.is_finite());
             assert!(monotone_lines(&block, &smoothed, false));
         }
-        Err(Error::FoldedLine { .. } | Error::InvalidParameter { .. } | Error::ZeroLength { .. }) => {
+        Err(
+            Error::FoldedLine { .. } | Error::InvalidParameter { .. } | Error::ZeroLength { .. },
+        ) => {
             assert_eq!(smoothed, points)
         }
         Err(e) => {

@@ -50,11 +50,19 @@ fuzz_target!(|inp: Input| {
             ptr_or_null(inp.edges.as_ptr(), inp.nulls & 1 != 0),
             edges_len,
             base,
-            if inp.nulls & 2 != 0 { ptr::null_mut() } else { offsets.as_mut_ptr() },
+            if inp.nulls & 2 != 0 {
+                ptr::null_mut()
+            } else {
+                offsets.as_mut_ptr()
+            },
             offsets.len(),
             targets.as_mut_ptr(),
             targets.len(),
-            if inp.nulls & 4 != 0 { ptr::null_mut() } else { &mut used },
+            if inp.nulls & 4 != 0 {
+                ptr::null_mut()
+            } else {
+                &mut used
+            },
         )
     };
     if s == dk_status::DK_OK {
@@ -70,7 +78,10 @@ fuzz_target!(|inp: Input| {
         assert_eq!(o, offsets);
         assert_eq!(&t[..n], &targets[..n]);
     } else {
-        assert!(offsets.iter().chain(&targets).all(|&x| x == SENTINEL), "{s:?}");
+        assert!(
+            offsets.iter().chain(&targets).all(|&x| x == SENTINEL),
+            "{s:?}"
+        );
         assert_eq!(used, usize::MAX);
     }
 

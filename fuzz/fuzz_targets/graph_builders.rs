@@ -21,7 +21,11 @@ struct Input {
 
 fuzz_target!(|inp: Input| {
     let n = inp.node_count as usize;
-    let edges: Vec<[u32; 2]> = inp.edges.iter().map(|e| [e[0] as u32, e[1] as u32]).collect();
+    let edges: Vec<[u32; 2]> = inp
+        .edges
+        .iter()
+        .map(|e| [e[0] as u32, e[1] as u32])
+        .collect();
     let offsets_len = (n as isize + 1 + (inp.offsets_slack as isize).signum()).max(0) as usize;
     let targets_len = (2 * edges.len() as isize + inp.targets_slack as isize).max(0) as usize;
     let mut offsets = vec![0xdead_beef_u32; offsets_len];
@@ -55,11 +59,20 @@ fuzz_target!(|inp: Input| {
     match (cells, want) {
         (Ok(c), Ok(())) => {
             let len = graph_from_cells_len(&c, inp.diagonals);
-            assert_eq!(len, graph_ref::graph_from_cells_len_ref(&inp.cell_kinds, inp.diagonals));
+            assert_eq!(
+                len,
+                graph_ref::graph_from_cells_len_ref(&inp.cell_kinds, inp.diagonals)
+            );
             let mut o = vec![0u32; n + 1];
             let mut t = vec![0u32; len];
             let used = graph_from_cells(&c, inp.diagonals, &mut o, &mut t).unwrap();
-            let r = graph_ref::graph_from_cells_ref(n, &cell_offsets, &nodes, &inp.cell_kinds, inp.diagonals);
+            let r = graph_ref::graph_from_cells_ref(
+                n,
+                &cell_offsets,
+                &nodes,
+                &inp.cell_kinds,
+                inp.diagonals,
+            );
             assert_eq!(o, r.offsets);
             assert_eq!(&t[..used], &r.targets[..]);
         }

@@ -56,7 +56,14 @@ fuzz_target!(|inp: Input| {
         Err(Error::ZeroLength { .. } | Error::NonFinite { .. }) => {}
         Err(e) => panic!("unexpected error {e:?}"),
     }
-    if !inp.a.iter().chain(&inp.b).chain(&inp.v).chain(&inp.u).all(|&x| tame(x)) {
+    if !inp
+        .a
+        .iter()
+        .chain(&inp.b)
+        .chain(&inp.v)
+        .chain(&inp.u)
+        .all(|&x| tame(x))
+    {
         return;
     }
 
@@ -65,10 +72,15 @@ fuzz_target!(|inp: Input| {
     let r = product(inp.a, inp.b);
     let scale = norm(&inp.a) * norm(&inp.b);
     for k in 0..4 {
-        assert!((p[k] - r[k]).abs() <= 8.0 * f64::EPSILON * scale, "{p:?} vs {r:?}");
+        assert!(
+            (p[k] - r[k]).abs() <= 8.0 * f64::EPSILON * scale,
+            "{p:?} vs {r:?}"
+        );
     }
 
-    let (Ok(na), Ok(nb)) = (qa.normalize(), qb.normalize()) else { return };
+    let (Ok(na), Ok(nb)) = (qa.normalize(), qb.normalize()) else {
+        return;
+    };
     // Rotation preserves length.
     let rv = na.rotate(inp.v);
     assert!((norm(&rv) - norm(&inp.v)).abs() <= 16.0 * f64::EPSILON * norm(&inp.v));
@@ -92,7 +104,10 @@ fuzz_target!(|inp: Input| {
         let mapped = arc.rotate(inp.u);
         let (nu, nv) = (norm(&inp.u), norm(&inp.v));
         for k in 0..3 {
-            assert!((mapped[k] / nu - inp.v[k] / nv).abs() <= 1e-12, "{mapped:?}");
+            assert!(
+                (mapped[k] / nu - inp.v[k] / nv).abs() <= 1e-12,
+                "{mapped:?}"
+            );
         }
     }
 });

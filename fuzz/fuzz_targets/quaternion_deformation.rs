@@ -4,7 +4,9 @@
 #![no_main]
 
 use arbitrary::Arbitrary;
-use deform_kernel::deformation::{deform_idw, deform_idw_scratch_len, BoundaryMotion, RotationSource};
+use deform_kernel::deformation::{
+    deform_idw, deform_idw_scratch_len, BoundaryMotion, RotationSource,
+};
 use deform_kernel::Quat;
 use libfuzzer_sys::fuzz_target;
 
@@ -20,7 +22,9 @@ struct Input {
 fuzz_target!(|inp: Input| {
     let (nx, ny) = ((inp.nx % 6) as usize + 2, (inp.ny % 6) as usize + 2);
     let n = nx * ny;
-    let points: Vec<[f64; 2]> = (0..n).map(|p| [(p % nx) as f64, (p / nx) as f64 * 0.7]).collect();
+    let points: Vec<[f64; 2]> = (0..n)
+        .map(|p| [(p % nx) as f64, (p / nx) as f64 * 0.7])
+        .collect();
     let boundary: Vec<u32> = (0..n)
         .filter(|&p| p % nx == 0 || p % nx == nx - 1 || p / nx == 0 || p / nx == ny - 1)
         .map(|p| p as u32)
@@ -32,7 +36,10 @@ fuzz_target!(|inp: Input| {
         .map(|(k, &p)| {
             let m = inp.moves.get(k).copied().unwrap_or([0, 0]);
             let q = points[p as usize];
-            [q[0] + f64::from(m[0]) / 100.0, q[1] + f64::from(m[1]) / 100.0]
+            [
+                q[0] + f64::from(m[0]) / 100.0,
+                q[1] + f64::from(m[1]) / 100.0,
+            ]
         })
         .collect();
     let rotations_b: Vec<Quat<f64>> = (0..b)
@@ -50,10 +57,21 @@ fuzz_target!(|inp: Input| {
     let mut scratch = vec![0.0; deform_idw_scratch_len::<2>(n, b)];
     let mut out = vec![[f64::NAN; 2]; n];
     let exponent = 1.0 + f64::from(inp.exponent % 5);
-    deform_idw(&points, &motion, exponent, &mut translations, &mut rotations, &mut scratch, &mut out)
-        .unwrap();
+    deform_idw(
+        &points,
+        &motion,
+        exponent,
+        &mut translations,
+        &mut rotations,
+        &mut scratch,
+        &mut out,
+    )
+    .unwrap();
     for (k, &p) in boundary.iter().enumerate() {
-        assert_eq!(out[p as usize].map(f64::to_bits), deformed[k].map(f64::to_bits));
+        assert_eq!(
+            out[p as usize].map(f64::to_bits),
+            deformed[k].map(f64::to_bits)
+        );
     }
     assert!(out.iter().all(|x| x[0].is_finite() && x[1].is_finite()));
 });

@@ -28,7 +28,9 @@ fuzz_target!(|inp: Input| {
         .collect();
     let mut offsets = vec![0u32; n + 1];
     let mut targets = vec![0u32; graph_from_edges_len(&edges)];
-    let Ok(used) = graph_from_edges(n, &edges, &mut offsets, &mut targets) else { return };
+    let Ok(used) = graph_from_edges(n, &edges, &mut offsets, &mut targets) else {
+        return;
+    };
     targets.truncate(used);
     // Symmetric stiffness: a weight per unordered pair, from the first edge naming it.
     let weight = |i: u32, j: u32| -> f64 {
@@ -47,7 +49,9 @@ fuzz_target!(|inp: Input| {
             k.push(weight(i as u32, targets[e]));
         }
     }
-    let fixed: Vec<u8> = (0..n).map(|i| u8::from(inp.fixed.get(i).copied().unwrap_or(i == 0))).collect();
+    let fixed: Vec<u8> = (0..n)
+        .map(|i| u8::from(inp.fixed.get(i).copied().unwrap_or(i == 0)))
+        .collect();
     let values: Vec<[f64; 2]> = (0..n)
         .map(|i| {
             let v = f64::from(inp.values.get(i).copied().unwrap_or(0)) / 64.0;
@@ -64,7 +68,12 @@ fuzz_target!(|inp: Input| {
     // Jacobi sweep: bitwise parity with the reference.
     let mut out = vec![[0.0f64; 2]; n];
     jacobi_sweep(&sys, 0..n, &values, &mut out).unwrap();
-    let net = Net { offsets: offsets.clone(), targets: targets.clone(), k: k.clone(), fixed: fixed.clone() };
+    let net = Net {
+        offsets: offsets.clone(),
+        targets: targets.clone(),
+        k: k.clone(),
+        fixed: fixed.clone(),
+    };
     let x: Vec<Vec<f64>> = values.iter().map(|v| v.to_vec()).collect();
     let want = ref_jacobi(&net, &x, 0..n);
     for (o, w) in out.iter().zip(&want) {
@@ -80,7 +89,10 @@ fuzz_target!(|inp: Input| {
             v[i] = values[first_fixed];
         }
     }
-    let opts = SolveOptions { max_iterations: 50, ..SolveOptions::default() };
+    let opts = SolveOptions {
+        max_iterations: 50,
+        ..SolveOptions::default()
+    };
     let mut ws = vec![[0.0f64; 2]; n];
     let report = solve_linear(&sys, &mut v, LinearMethod::GaussSeidel, &opts, &mut ws).unwrap();
     assert!(report.residual.is_finite());
@@ -88,11 +100,17 @@ fuzz_target!(|inp: Input| {
         let (lo, hi) = (0..n)
             .filter(|&i| fixed[i] != 0)
             .map(|i| values[i][c])
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                (a.min(x), b.max(x))
+            });
         let tol = 1e-12 * (hi - lo).abs().max(1.0);
         for value in &v {
             assert!(value[c].is_finite());
-            assert!(value[c] >= lo - tol && value[c] <= hi + tol, "{} not in [{lo}, {hi}]", value[c]);
+            assert!(
+                value[c] >= lo - tol && value[c] <= hi + tol,
+                "{} not in [{lo}, {hi}]",
+                value[c]
+            );
         }
     }
 });

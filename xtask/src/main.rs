@@ -249,8 +249,7 @@ impl<'a> Step<'a> {
 
 /// Every CI step, in order.
 fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
-    let mut s =
-        vec![
+    let mut s = vec![
         Step::new(
             "install",
             "rustup targets/components, apt packages, cargo tools",
@@ -258,12 +257,14 @@ fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
         ),
         Step::new(
             "fmt",
-            "cargo fmt --all --check (host workspace), cargo fmt --check (target-tests)",
+            "cargo fmt --check: host workspace, target-tests, fuzz",
             || {
                 let a = run(&mut ctx.cargo(&["fmt", "--all", "--check"]));
                 // Not `--all` there: that would also check the kernel (a path dependency).
                 let b = run(&mut ctx.cargo_tt(&["fmt", "--check"]));
-                a && b
+                let c =
+                    run(&mut ctx.cargo(&["fmt", "--check", "--manifest-path", "fuzz/Cargo.toml"]));
+                a && b && c
             },
         ),
         Step::new(
@@ -325,7 +326,14 @@ fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
                 // kernel's pages over it. rustdoc does not see the profile's `panic = "abort"`,
                 // which the ffi crate insists on unless its `test-unwind` feature is on.
                 let runs: [&[&str]; 3] = [
-                    &["doc", "-p", FFI_PACKAGE, "--no-deps", "--features", "test-unwind"],
+                    &[
+                        "doc",
+                        "-p",
+                        FFI_PACKAGE,
+                        "--no-deps",
+                        "--features",
+                        "test-unwind",
+                    ],
                     &["doc", "--workspace", "--no-deps", "--exclude", FFI_PACKAGE],
                     &["doc", "-p", "deform-kernel", "--no-deps", "--all-features"],
                 ];
