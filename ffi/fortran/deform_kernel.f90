@@ -33,6 +33,10 @@ module deform_kernel
   integer(c_int32_t), parameter, public :: DK_ERR_FOLDED_LINE = 19
   integer(c_int32_t), parameter, public :: DK_ERR_BAD_DIMENSIONS = 20
   integer(c_int32_t), parameter, public :: DK_ERR_BAD_INDEX_BASE = 21
+  integer(c_int32_t), parameter, public :: DK_ERR_ISOLATED_NODE = 22
+  integer(c_int32_t), parameter, public :: DK_ERR_DUPLICATE_NODE = 23
+  integer(c_int32_t), parameter, public :: DK_ERR_NON_POSITIVE = 24
+  integer(c_int32_t), parameter, public :: DK_ERR_CELL_DIMENSION = 25
   integer(c_int32_t), parameter, public :: DK_ERR_OTHER = 99
 
   ! VTK cell kind codes.
@@ -51,6 +55,11 @@ module deform_kernel
             dk_graph_from_cells_len, dk_graph_from_cells, dk_graph_check
   public :: dkf_rotate_points, dkf_graph_from_edges, dkf_graph_from_cells_len, &
             dkf_graph_from_cells
+
+  ! <<< public: springs, quality, taubin >>>
+  ! <<< end public: springs, quality, taubin >>>
+  ! <<< public: deformation >>>
+  ! <<< end public: deformation >>>
 
   interface
     function dk_status_str(status) bind(C, name="dk_status_str") result(p)
@@ -270,6 +279,10 @@ module deform_kernel
       logical(c_bool), value :: require_symmetric
       integer(c_int32_t) :: s
     end function
+  ! <<< interfaces: springs, quality, taubin >>>
+  ! <<< end interfaces: springs, quality, taubin >>>
+  ! <<< interfaces: deformation >>>
+  ! <<< end interfaces: deformation >>>
   end interface
 
 contains
@@ -348,5 +361,10 @@ contains
                             int(size(offsets), c_size_t), targets, int(size(targets), c_size_t), &
                             used)
   end function
+
+  ! <<< wrappers: springs, quality, taubin >>>
+  ! <<< end wrappers: springs, quality, taubin >>>
+  ! <<< wrappers: deformation >>>
+  ! <<< end wrappers: deformation >>>
 
 end module deform_kernel

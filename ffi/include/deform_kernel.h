@@ -67,6 +67,14 @@ enum dk_status
   DK_ERR_BAD_DIMENSIONS = 20,
   // `index_base` is neither 0 nor 1.
   DK_ERR_BAD_INDEX_BASE = 21,
+  // A boundary node belongs to no boundary element, so its normal or rotation is undefined.
+  DK_ERR_ISOLATED_NODE = 22,
+  // A node list names the same node twice.
+  DK_ERR_DUPLICATE_NODE = 23,
+  // A value that must be strictly positive (stiffness, weight) is zero or negative.
+  DK_ERR_NON_POSITIVE = 24,
+  // A cell's kind does not fit the point dimension of the call.
+  DK_ERR_CELL_DIMENSION = 25,
   // An error this version of the header does not know (a newer kernel).
   DK_ERR_OTHER = 99,
 };

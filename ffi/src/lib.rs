@@ -24,8 +24,12 @@ compile_error!(
 
 mod slice;
 
+pub mod deformation;
 pub mod graph;
+pub mod quality;
 pub mod quat;
+pub mod spring;
 pub mod status;
+pub mod taubin;
 
 pub use status::{dk_status, dk_status_str};

@@ -53,6 +53,14 @@ pub enum dk_status {
     DK_ERR_BAD_DIMENSIONS = 20,
     /// `index_base` is neither 0 nor 1.
     DK_ERR_BAD_INDEX_BASE = 21,
+    /// A boundary node belongs to no boundary element, so its normal or rotation is undefined.
+    DK_ERR_ISOLATED_NODE = 22,
+    /// A node list names the same node twice.
+    DK_ERR_DUPLICATE_NODE = 23,
+    /// A value that must be strictly positive (stiffness, weight) is zero or negative.
+    DK_ERR_NON_POSITIVE = 24,
+    /// A cell's kind does not fit the point dimension of the call.
+    DK_ERR_CELL_DIMENSION = 25,
     /// An error this version of the header does not know (a newer kernel).
     DK_ERR_OTHER = 99,
 }
@@ -79,6 +87,10 @@ impl From<Error> for dk_status {
             Error::Unanchored { .. } => dk_status::DK_ERR_UNANCHORED,
             Error::FoldedLine { .. } => dk_status::DK_ERR_FOLDED_LINE,
             Error::BadDimensions { .. } => dk_status::DK_ERR_BAD_DIMENSIONS,
+            Error::IsolatedNode { .. } => dk_status::DK_ERR_ISOLATED_NODE,
+            Error::DuplicateNode { .. } => dk_status::DK_ERR_DUPLICATE_NODE,
+            Error::NonPositive { .. } => dk_status::DK_ERR_NON_POSITIVE,
+            Error::CellDimension { .. } => dk_status::DK_ERR_CELL_DIMENSION,
             _ => dk_status::DK_ERR_OTHER,
         }
     }
@@ -111,6 +123,10 @@ pub extern "C" fn dk_status_str(status: i32) -> *const core::ffi::c_char {
         19 => c"a grid line folded (arclength not increasing)",
         20 => c"structured block dimensions are invalid",
         21 => c"index_base must be 0 or 1",
+        22 => c"a boundary node belongs to no boundary element",
+        23 => c"a node list names the same node twice",
+        24 => c"a value that must be positive (stiffness, weight) is zero or negative",
+        25 => c"a cell's kind does not fit the point dimension",
         99 => c"an error unknown to this header version",
         _ => c"unknown status",
     };

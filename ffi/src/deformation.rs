@@ -1,0 +1,1 @@
+//! C ABI: deformation (in progress).

@@ -1,0 +1,108 @@
+//! Shared helpers for the tests that build the C library and compile C and Fortran programs
+//! against it (`c_abi*.rs`). Include with `mod common;` and `use common::c_build::*;`.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+
+pub fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("workspace root")
+        .to_path_buf()
+}
+
+/// Builds the C library once per test run, in its own target directory (so it does not wait
+/// on the lock of the cargo running these tests), and returns the directory holding it.
+pub fn library_dir() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ffi-build");
+        let status = Command::new(env!("CARGO"))
+            .current_dir(workspace())
+            .args([
+                "build",
+                "--release",
+                "--quiet",
+                "-p",
+                "deform-kernel-ffi",
+                "--target-dir",
+            ])
+            .arg(&target)
+            .status()
+            .expect("run cargo");
+        assert!(status.success(), "building deform-kernel-ffi failed");
+        target.join("release")
+    })
+}
+
+pub enum Link {
+    Static,
+    Shared,
+}
+
+pub fn compile(compiler: &str, sources: &[PathBuf], flags: &[&str], link: Link, exe: &Path) {
+    let lib = library_dir();
+    let mut cmd = Command::new(compiler);
+    cmd.args(flags).args(sources).arg("-o").arg(exe);
+    match link {
+        Link::Static => {
+            cmd.arg(lib.join("libdeform_kernel.a"));
+        }
+        Link::Shared => {
+            cmd.arg(format!("-L{}", lib.display()))
+                .arg("-ldeform_kernel")
+                .arg(format!("-Wl,-rpath,{}", lib.display()));
+        }
+    }
+    cmd.args(["-lm", "-lpthread", "-ldl"]);
+    let out = cmd
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {compiler}: {e}"));
+    assert!(
+        out.status.success(),
+        "{compiler} failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+pub fn run(exe: &Path) -> String {
+    let out = Command::new(exe).output().expect("run example");
+    assert!(
+        out.status.success(),
+        "{} failed:\n{}{}",
+        exe.display(),
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).expect("utf-8 output")
+}
+
+pub fn tmp(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join(name)
+}
+
+pub fn c_flags() -> Vec<String> {
+    let inc = workspace().join("ffi/include");
+    ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"]
+        .iter()
+        .map(|s| s.to_string())
+        .chain([format!("-I{}", inc.display())])
+        .collect()
+}
+
+pub fn hex64(name: &str, v: &[f64]) -> String {
+    let mut s = name.to_string();
+    for x in v {
+        s += &format!(" {:016X}", x.to_bits());
+    }
+    s + "\n"
+}
+
+pub fn hex32(name: &str, v: &[f32]) -> String {
+    let mut s = name.to_string();
+    for x in v {
+        s += &format!(" {:08X}", x.to_bits());
+    }
+    s + "\n"
+}
