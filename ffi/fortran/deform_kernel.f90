@@ -57,8 +57,253 @@ module deform_kernel
             dkf_graph_from_cells
 
   ! <<< public: springs, quality, taubin >>>
+  ! Springs, quality and Taubin smoothing (dk_spring_*, dk_quality_*, dk_taubin_*). Options and
+  ! reports have real(c_double) fields for both precisions; flags in option structs are
+  ! integer(c_int8_t) (nonzero = true). Fill options with the *_default functions.
+  integer(c_int32_t), parameter, public :: DK_PROLONGATION_VALUES = 0, &
+       DK_PROLONGATION_CORRECTION = 1
+  integer(c_int32_t), parameter, public :: DK_LINEAR_JACOBI = 0, DK_LINEAR_GAUSS_SEIDEL = 1, &
+       DK_LINEAR_SOR = 2, DK_LINEAR_CG = 3
+  integer(c_int32_t), parameter, public :: DK_PRECONDITIONER_NONE = 0, &
+       DK_PRECONDITIONER_JACOBI = 1, DK_PRECONDITIONER_SSOR = 2
+  integer(c_int32_t), parameter, public :: DK_ANGLE_DIRECT_GAUSS_SEIDEL = 0, &
+       DK_ANGLE_DIRECT_JACOBI = 1, DK_ANGLE_CG = 2
+  !> "No such index" in the quality reports (C: SIZE_MAX).
+  integer(c_size_t), parameter, public :: DK_NO_INDEX = -1_c_size_t
+
+  !> Coarse-grid settings (C struct dk_taubin_coarse).
+  type, bind(C), public :: dk_taubin_coarse
+    integer(c_size_t) :: factor(3)
+    integer(c_int32_t) :: prolongation
+  end type
+
+  !> Options of the structured filters (C struct dk_structured_options); pinned is c_loc of
+  !> an integer(c_int8_t) array (one per point) or c_null_ptr.
+  type, bind(C), public :: dk_structured_options
+    type(c_ptr) :: pinned
+    integer(c_size_t) :: pinned_len
+    integer(c_int8_t) :: mirror(3)
+  end type
+
+  !> A box of structured indices (C struct dk_block_region); with index_base 1 the bounds
+  !> are 1-based and inclusive.
+  type, bind(C), public :: dk_block_region
+    integer(c_size_t) :: lo(3)
+    integer(c_size_t) :: hi(3)
+  end type
+
+  !> What a filter run did (C struct dk_filter_report).
+  type, bind(C), public :: dk_filter_report
+    integer(c_size_t) :: iterations
+    real(c_double) :: last_change
+  end type
+
+  !> Settings of dk_taubin_smooth_arclength (C struct dk_smooth_arclength_options); fill with
+  !> dk_smooth_arclength_options_default. direction is 0 (i), 1 (j) or 2 (k).
+  type, bind(C), public :: dk_smooth_arclength_options
+    real(c_double) :: lambda
+    real(c_double) :: mu
+    integer(c_size_t) :: iterations
+    integer(c_size_t) :: coarse_iterations
+    type(c_ptr) :: pinned
+    integer(c_size_t) :: pinned_len
+    type(dk_taubin_coarse) :: coarse
+    integer(c_int32_t) :: direction
+    integer(c_int8_t) :: normalised
+    integer(c_int8_t) :: use_coarse
+    integer(c_int8_t) :: mirror(3)
+  end type
+
+  !> What dk_taubin_smooth_arclength did (C struct dk_smooth_report); point indices are
+  !> 0-based linear indices.
+  type, bind(C), public :: dk_smooth_report
+    integer(c_size_t) :: iterations
+    real(c_double) :: last_change
+    real(c_double) :: max_displacement
+    real(c_double) :: stretching_before
+    real(c_double) :: stretching_after
+    integer(c_size_t) :: stretching_before_point
+    integer(c_size_t) :: stretching_after_point
+  end type
+
+  !> Method and stopping rules of dk_spring_solve_linear (C struct dk_spring_solve_options).
+  type, bind(C), public :: dk_spring_solve_options
+    integer(c_size_t) :: max_iterations
+    real(c_double) :: residual_tol
+    real(c_double) :: update_tol
+    real(c_double) :: omega
+    integer(c_int32_t) :: method
+    integer(c_int32_t) :: preconditioner
+  end type
+
+  !> Method, regularisation and stopping rules of the angle springs
+  !> (C struct dk_spring_angle_options).
+  type, bind(C), public :: dk_spring_angle_options
+    integer(c_size_t) :: max_iterations
+    real(c_double) :: residual_tol
+    real(c_double) :: update_tol
+    real(c_double) :: epsilon
+    integer(c_int32_t) :: method
+  end type
+
+  !> What a spring solve did (C struct dk_spring_solve_report).
+  type, bind(C), public :: dk_spring_solve_report
+    integer(c_size_t) :: iterations
+    real(c_double) :: residual
+    real(c_double) :: max_update
+    logical(c_bool) :: converged
+  end type
+
+  !> Result of one sweep (C struct dk_spring_sweep).
+  type, bind(C), public :: dk_spring_sweep
+    real(c_double) :: max_change
+    real(c_double) :: residual_sq
+  end type
+
+  !> Quality of one cell (C struct dk_cell_quality).
+  type, bind(C), public :: dk_cell_quality
+    real(c_double) :: measure
+    real(c_double) :: min_jacobian
+    real(c_double) :: min_scaled_jacobian
+  end type
+
+  !> Result of dk_quality_wall_angle_change (C struct dk_wall_angle_change); node is in the
+  !> caller's index_base, or DK_NO_INDEX.
+  type, bind(C), public :: dk_wall_angle_change
+    real(c_double) :: max_change
+    integer(c_size_t) :: node
+    integer(c_size_t) :: measured
+    integer(c_size_t) :: skipped
+  end type
+
+  !> Result of dk_quality_compare (C struct dk_quality_report); cell and node indices are in
+  !> the caller's index_base, or DK_NO_INDEX.
+  type, bind(C), public :: dk_quality_report
+    integer(c_size_t) :: cells
+    integer(c_size_t) :: inverted_cells
+    integer(c_size_t) :: folded_cells
+    integer(c_size_t) :: folded_cells_undeformed
+    integer(c_size_t) :: degenerate_cells
+    integer(c_size_t) :: min_ratio_cell
+    integer(c_size_t) :: max_ratio_cell
+    integer(c_size_t) :: wall_node
+    integer(c_size_t) :: wall_measured
+    integer(c_size_t) :: wall_skipped
+    real(c_double) :: min_measure_ratio
+    real(c_double) :: max_measure_ratio
+    real(c_double) :: min_measure
+    real(c_double) :: min_scaled_jacobian
+    real(c_double) :: wall_max_change
+    logical(c_bool) :: has_wall
+  end type
+
+  public :: dk_quality_cell_quality, dk_quality_cell_quality_f32, dk_quality_cell_measures, &
+            dk_quality_cell_measures_f32, dk_quality_min_corner_jacobians, &
+            dk_quality_min_corner_jacobians_f32, dk_quality_inverted_cells, &
+            dk_quality_inverted_cells_f32, dk_quality_folded_cells, dk_quality_folded_cells_f32, &
+            dk_quality_wall_angle_scratch_len, dk_quality_compare, dk_quality_compare_f32, &
+            dk_quality_wall_angle_change, dk_quality_wall_angle_change_f32, &
+            dk_spring_batina_stiffness, dk_spring_batina_stiffness_f32, &
+            dk_spring_index_scratch_len, dk_spring_solve_options_default, &
+            dk_spring_solve_options_default_f32, dk_spring_solve_linear_scratch_len, &
+            dk_spring_solve_linear, dk_spring_solve_linear_f32, dk_spring_jacobi_sweep, &
+            dk_spring_jacobi_sweep_f32, dk_spring_sor_sweep, dk_spring_sor_sweep_f32, &
+            dk_spring_relative_residual, dk_spring_relative_residual_f32, &
+            dk_spring_angle_options_default, dk_spring_angle_options_default_f32, &
+            dk_spring_solve_angle_scratch_len, dk_spring_solve_angle_scratch_len_f32, &
+            dk_spring_angle_rigidity_probe_scratch_len, dk_spring_solve_angle, &
+            dk_spring_solve_angle_f32, dk_spring_angle_jacobi_sweep, &
+            dk_spring_angle_jacobi_sweep_f32, dk_spring_angle_gauss_seidel_sweep, &
+            dk_spring_angle_gauss_seidel_sweep_f32, dk_spring_angle_rigidity_probe, &
+            dk_spring_angle_rigidity_probe_f32, dk_taubin_params_paper, &
+            dk_taubin_params_paper_f32, dk_taubin_params_from_pass_band, &
+            dk_taubin_params_from_pass_band_f32, dk_smooth_arclength_options_default, &
+            dk_taubin_smooth_arclength_scratch_len, dk_taubin_smooth_arclength, &
+            dk_taubin_smooth_arclength_f32, dk_taubin_smooth_structured_scratch_len, &
+            dk_taubin_smooth_structured, dk_taubin_smooth_structured_f32, &
+            dk_taubin_structured_sweep, dk_taubin_structured_sweep_f32, &
+            dk_taubin_smooth_structured_coarse_scratch_len, dk_taubin_smooth_structured_coarse, &
+            dk_taubin_smooth_structured_coarse_f32, dk_taubin_smooth_graph_scratch_len, &
+            dk_taubin_smooth_graph, dk_taubin_smooth_graph_f32, dk_taubin_graph_sweep, &
+            dk_taubin_graph_sweep_f32, dk_taubin_inverse_distance_weights, &
+            dk_taubin_inverse_distance_weights_f32, dk_taubin_arclength, dk_taubin_arclength_f32, &
+            dk_taubin_redistribute_scratch_len, dk_taubin_redistribute, &
+            dk_taubin_redistribute_f32, dk_taubin_stretching, dk_taubin_stretching_f32, &
+            dk_taubin_max_stretching, dk_taubin_max_stretching_f32, &
+            dk_taubin_check_lines_increasing, dk_taubin_check_lines_increasing_f32
+  public :: dkf_spring_solve_linear, dkf_taubin_smooth_arclength, dkf_taubin_smooth_structured, &
+            dkf_taubin_smooth_graph
   ! <<< end public: springs, quality, taubin >>>
   ! <<< public: deformation >>>
+  ! Quaternion deformation (dk_deform_*): rotation sources and TFI direction bits.
+  integer(c_int32_t), parameter, public :: DK_ROTATIONS_SHAPE = 0, DK_ROTATIONS_RIGID = 1, &
+       DK_ROTATIONS_PER_NODE = 2
+  integer(c_int32_t), parameter, public :: DK_DIRECTION_I = 1, DK_DIRECTION_J = 2, &
+       DK_DIRECTION_K = 4
+
+  !> The prescribed boundary motion (C struct dk_boundary_motion). Fill it with
+  !> dk_boundary_motion_default, then point its arrays at contiguous target arrays with c_loc,
+  !> or let the dkf_deform_* wrappers fill it from assumed-shape arrays.
+  type, bind(C), public :: dk_boundary_motion
+    type(c_ptr) :: nodes
+    integer(c_size_t) :: nodes_len
+    type(c_ptr) :: deformed
+    integer(c_size_t) :: deformed_len
+    type(c_ptr) :: element_offsets
+    integer(c_size_t) :: element_offsets_len
+    type(c_ptr) :: element_nodes
+    integer(c_size_t) :: element_nodes_len
+    type(c_ptr) :: element_kinds
+    integer(c_size_t) :: element_kinds_len
+    type(c_ptr) :: node_rotations
+    integer(c_size_t) :: node_rotations_len
+    real(c_double) :: rigid_rotation(4)
+    real(c_double) :: origin(3)
+    integer(c_int32_t) :: index_base
+    integer(c_int32_t) :: rotation_source
+    integer(c_int32_t) :: has_origin
+  end type
+
+  !> Single-precision twin of dk_boundary_motion.
+  type, bind(C), public :: dk_boundary_motion_f32
+    type(c_ptr) :: nodes
+    integer(c_size_t) :: nodes_len
+    type(c_ptr) :: deformed
+    integer(c_size_t) :: deformed_len
+    type(c_ptr) :: element_offsets
+    integer(c_size_t) :: element_offsets_len
+    type(c_ptr) :: element_nodes
+    integer(c_size_t) :: element_nodes_len
+    type(c_ptr) :: element_kinds
+    integer(c_size_t) :: element_kinds_len
+    type(c_ptr) :: node_rotations
+    integer(c_size_t) :: node_rotations_len
+    real(c_float) :: rigid_rotation(4)
+    real(c_float) :: origin(3)
+    integer(c_int32_t) :: index_base
+    integer(c_int32_t) :: rotation_source
+    integer(c_int32_t) :: has_origin
+  end type
+
+  public :: dk_boundary_motion_default, dk_boundary_motion_default_f32, &
+            dk_boundary_motion_index_scratch_len, dk_boundary_motion_index_scratch_len_f32, &
+            dk_deform_idw_scratch_len, dk_deform_idw, dk_deform_idw_f32, &
+            dk_deform_tfi_scratch_len, dk_deform_tfi, dk_deform_tfi_f32, &
+            dk_deform_boundary_normals_scratch_len, dk_deform_boundary_normals, &
+            dk_deform_boundary_normals_f32, dk_deform_boundary_rotations_scratch_len, &
+            dk_deform_boundary_rotations, dk_deform_boundary_rotations_f32, &
+            dk_deform_rigid_rotations, dk_deform_rigid_rotations_f32, dk_deform_boundary_origin, &
+            dk_deform_boundary_origin_f32, dk_deform_boundary_translations, &
+            dk_deform_boundary_translations_f32, dk_deform_propagate_idw, &
+            dk_deform_propagate_idw_f32, dk_deform_propagate_tfi_scratch_len, &
+            dk_deform_propagate_tfi, dk_deform_propagate_tfi_f32, dk_deform_displacement_tfi, &
+            dk_deform_displacement_tfi_f32, dk_deform_update_points, dk_deform_update_points_f32, &
+            dk_deform_localize_nodes_scratch_len, dk_deform_localize_nodes, &
+            dk_deform_spring_index_scratch_len, dk_deform_spring_index_scratch_len_f32, &
+            dkf_deform_idw, dkf_deform_idw_f32, dkf_deform_tfi, dkf_deform_tfi_f32
+  public :: dk_deform_spring_scratch_len, dk_deform_spring, dk_deform_spring_f32, &
+            dk_deform_propagate_spring_scratch_len, dk_deform_propagate_spring, &
+            dk_deform_propagate_spring_f32, dkf_deform_spring, dkf_deform_spring_f32
   ! <<< end public: deformation >>>
 
   interface
@@ -280,8 +525,1818 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
   ! <<< interfaces: springs, quality, taubin >>>
+    ! ---- springs, quality, Taubin (dk_spring_*, dk_quality_*, dk_taubin_*) ----
+    function dk_quality_cell_quality(kind, corners, corners_len, dim, out) &
+        bind(C, name="dk_quality_cell_quality") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_cell_quality
+      integer(c_int8_t), value :: kind
+      real(c_double), intent(in) :: corners(*)
+      integer(c_size_t), value :: corners_len
+      integer(c_int32_t), value :: dim
+      type(dk_cell_quality), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_cell_quality_f32(kind, corners, corners_len, dim, out) &
+        bind(C, name="dk_quality_cell_quality_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_cell_quality
+      integer(c_int8_t), value :: kind
+      real(c_float), intent(in) :: corners(*)
+      integer(c_size_t), value :: corners_len
+      integer(c_int32_t), value :: dim
+      type(dk_cell_quality), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_cell_measures(cell_offsets, cell_offsets_len, cell_nodes, &
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, &
+        out, out_len) bind(C, name="dk_quality_cell_measures") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_cell_measures_f32(cell_offsets, cell_offsets_len, cell_nodes, &
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, &
+        out, out_len) bind(C, name="dk_quality_cell_measures_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_min_corner_jacobians(cell_offsets, cell_offsets_len, cell_nodes, &
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, &
+        scaled, out, out_len) bind(C, name="dk_quality_min_corner_jacobians") result(s)
+      import :: c_bool, c_double, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      logical(c_bool), value :: scaled
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_min_corner_jacobians_f32(cell_offsets, cell_offsets_len, &
+        cell_nodes, cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, &
+        points_len, dim, scaled, out, out_len) &
+        bind(C, name="dk_quality_min_corner_jacobians_f32") result(s)
+      import :: c_bool, c_float, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      logical(c_bool), value :: scaled
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_inverted_cells(cell_offsets, cell_offsets_len, cell_nodes, &
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, undeformed, undeformed_len, &
+        deformed, deformed_len, dim, count_out) bind(C, name="dk_quality_inverted_cells") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(in) :: undeformed(*)
+      integer(c_size_t), value :: undeformed_len
+      real(c_double), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: count_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_inverted_cells_f32(cell_offsets, cell_offsets_len, cell_nodes, &
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, undeformed, undeformed_len, &
+        deformed, deformed_len, dim, count_out) &
+        bind(C, name="dk_quality_inverted_cells_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(in) :: undeformed(*)
+      integer(c_size_t), value :: undeformed_len
+      real(c_float), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: count_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_folded_cells(cell_offsets, cell_offsets_len, cell_nodes, &
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, &
+        count_out) bind(C, name="dk_quality_folded_cells") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: count_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_folded_cells_f32(cell_offsets, cell_offsets_len, cell_nodes, &
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, &
+        count_out) bind(C, name="dk_quality_folded_cells_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: count_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_wall_angle_scratch_len(node_count, dim, len_out) &
+        bind(C, name="dk_quality_wall_angle_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_compare(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
+        cell_kinds, cell_kinds_len, index_base, wall_offsets, wall_offsets_len, wall_nodes, &
+        wall_nodes_len, wall_kinds, wall_kinds_len, graph_offsets, graph_offsets_len, &
+        graph_targets, graph_targets_len, undeformed, undeformed_len, deformed, &
+        deformed_len, dim, scratch, scratch_len, report) &
+        bind(C, name="dk_quality_compare") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_quality_report
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      type(c_ptr), value :: wall_offsets
+      integer(c_size_t), value :: wall_offsets_len
+      type(c_ptr), value :: wall_nodes
+      integer(c_size_t), value :: wall_nodes_len
+      type(c_ptr), value :: wall_kinds
+      integer(c_size_t), value :: wall_kinds_len
+      type(c_ptr), value :: graph_offsets
+      integer(c_size_t), value :: graph_offsets_len
+      type(c_ptr), value :: graph_targets
+      integer(c_size_t), value :: graph_targets_len
+      real(c_double), intent(in) :: undeformed(*)
+      integer(c_size_t), value :: undeformed_len
+      real(c_double), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_quality_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_compare_f32(cell_offsets, cell_offsets_len, cell_nodes, &
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, wall_offsets, &
+        wall_offsets_len, wall_nodes, wall_nodes_len, wall_kinds, wall_kinds_len, &
+        graph_offsets, graph_offsets_len, graph_targets, graph_targets_len, undeformed, &
+        undeformed_len, deformed, deformed_len, dim, scratch, scratch_len, report) &
+        bind(C, name="dk_quality_compare_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_quality_report
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      type(c_ptr), value :: wall_offsets
+      integer(c_size_t), value :: wall_offsets_len
+      type(c_ptr), value :: wall_nodes
+      integer(c_size_t), value :: wall_nodes_len
+      type(c_ptr), value :: wall_kinds
+      integer(c_size_t), value :: wall_kinds_len
+      type(c_ptr), value :: graph_offsets
+      integer(c_size_t), value :: graph_offsets_len
+      type(c_ptr), value :: graph_targets
+      integer(c_size_t), value :: graph_targets_len
+      real(c_float), intent(in) :: undeformed(*)
+      integer(c_size_t), value :: undeformed_len
+      real(c_float), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_quality_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_wall_angle_change(wall_offsets, wall_offsets_len, wall_nodes, &
+        wall_nodes_len, wall_kinds, wall_kinds_len, index_base, graph_offsets, &
+        graph_offsets_len, graph_targets, graph_targets_len, undeformed, undeformed_len, &
+        deformed, deformed_len, dim, scratch, scratch_len, out) &
+        bind(C, name="dk_quality_wall_angle_change") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_wall_angle_change
+      integer(c_int32_t), intent(in) :: wall_offsets(*)
+      integer(c_size_t), value :: wall_offsets_len
+      integer(c_int32_t), intent(in) :: wall_nodes(*)
+      integer(c_size_t), value :: wall_nodes_len
+      integer(c_int8_t), intent(in) :: wall_kinds(*)
+      integer(c_size_t), value :: wall_kinds_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(in) :: graph_offsets(*)
+      integer(c_size_t), value :: graph_offsets_len
+      integer(c_int32_t), intent(in) :: graph_targets(*)
+      integer(c_size_t), value :: graph_targets_len
+      real(c_double), intent(in) :: undeformed(*)
+      integer(c_size_t), value :: undeformed_len
+      real(c_double), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_wall_angle_change), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_wall_angle_change_f32(wall_offsets, wall_offsets_len, wall_nodes, &
+        wall_nodes_len, wall_kinds, wall_kinds_len, index_base, graph_offsets, &
+        graph_offsets_len, graph_targets, graph_targets_len, undeformed, undeformed_len, &
+        deformed, deformed_len, dim, scratch, scratch_len, out) &
+        bind(C, name="dk_quality_wall_angle_change_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_wall_angle_change
+      integer(c_int32_t), intent(in) :: wall_offsets(*)
+      integer(c_size_t), value :: wall_offsets_len
+      integer(c_int32_t), intent(in) :: wall_nodes(*)
+      integer(c_size_t), value :: wall_nodes_len
+      integer(c_int8_t), intent(in) :: wall_kinds(*)
+      integer(c_size_t), value :: wall_kinds_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(in) :: graph_offsets(*)
+      integer(c_size_t), value :: graph_offsets_len
+      integer(c_int32_t), intent(in) :: graph_targets(*)
+      integer(c_size_t), value :: graph_targets_len
+      real(c_float), intent(in) :: undeformed(*)
+      integer(c_size_t), value :: undeformed_len
+      real(c_float), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_wall_angle_change), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_batina_stiffness(offsets, offsets_len, targets, targets_len, points, &
+        points_len, dim, exponent, stiffness, stiffness_len) &
+        bind(C, name="dk_spring_batina_stiffness") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), value :: exponent
+      real(c_double), intent(inout) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_batina_stiffness_f32(offsets, offsets_len, targets, targets_len, &
+        points, points_len, dim, exponent, stiffness, stiffness_len) &
+        bind(C, name="dk_spring_batina_stiffness_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_float), value :: exponent
+      real(c_float), intent(inout) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_index_scratch_len(node_count, len_out) &
+        bind(C, name="dk_spring_index_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_options_default(out) &
+        bind(C, name="dk_spring_solve_options_default") result(s)
+      import :: c_int32_t, dk_spring_solve_options
+      type(dk_spring_solve_options), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_options_default_f32(out) &
+        bind(C, name="dk_spring_solve_options_default_f32") result(s)
+      import :: c_int32_t, dk_spring_solve_options
+      type(dk_spring_solve_options), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_linear_scratch_len(node_count, components, options, len_out) &
+        bind(C, name="dk_spring_solve_linear_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_spring_solve_options
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), value :: components
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_linear(offsets, offsets_len, targets, targets_len, stiffness, &
+        stiffness_len, fixed, fixed_len, options, components, values, values_len, scratch, &
+        scratch_len, index_scratch, index_scratch_len, report) &
+        bind(C, name="dk_spring_solve_linear") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_solve_options, &
+          dk_spring_solve_report
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_double), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_int32_t), value :: components
+      real(c_double), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_linear_f32(offsets, offsets_len, targets, targets_len, &
+        stiffness, stiffness_len, fixed, fixed_len, options, components, values, &
+        values_len, scratch, scratch_len, index_scratch, index_scratch_len, report) &
+        bind(C, name="dk_spring_solve_linear_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_solve_options, &
+          dk_spring_solve_report
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_float), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_int32_t), value :: components
+      real(c_float), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_jacobi_sweep(offsets, offsets_len, targets, targets_len, stiffness, &
+        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, components, &
+        src, src_len, dst, dst_len, index_scratch, index_scratch_len, sweep) &
+        bind(C, name="dk_spring_jacobi_sweep") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_double), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      integer(c_size_t), value :: nodes_start
+      integer(c_size_t), value :: nodes_end
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), value :: components
+      real(c_double), intent(in) :: src(*)
+      integer(c_size_t), value :: src_len
+      real(c_double), intent(inout) :: dst(*)
+      integer(c_size_t), value :: dst_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_sweep), intent(inout) :: sweep
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_jacobi_sweep_f32(offsets, offsets_len, targets, targets_len, &
+        stiffness, stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, &
+        components, src, src_len, dst, dst_len, index_scratch, index_scratch_len, sweep) &
+        bind(C, name="dk_spring_jacobi_sweep_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_float), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      integer(c_size_t), value :: nodes_start
+      integer(c_size_t), value :: nodes_end
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), value :: components
+      real(c_float), intent(in) :: src(*)
+      integer(c_size_t), value :: src_len
+      real(c_float), intent(inout) :: dst(*)
+      integer(c_size_t), value :: dst_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_sweep), intent(inout) :: sweep
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_sor_sweep(offsets, offsets_len, targets, targets_len, stiffness, &
+        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, omega, &
+        components, values, values_len, index_scratch, index_scratch_len, sweep) &
+        bind(C, name="dk_spring_sor_sweep") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_double), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      integer(c_size_t), value :: nodes_start
+      integer(c_size_t), value :: nodes_end
+      integer(c_int32_t), value :: index_base
+      real(c_double), value :: omega
+      integer(c_int32_t), value :: components
+      real(c_double), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_sweep), intent(inout) :: sweep
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_sor_sweep_f32(offsets, offsets_len, targets, targets_len, stiffness, &
+        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, omega, &
+        components, values, values_len, index_scratch, index_scratch_len, sweep) &
+        bind(C, name="dk_spring_sor_sweep_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_float), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      integer(c_size_t), value :: nodes_start
+      integer(c_size_t), value :: nodes_end
+      integer(c_int32_t), value :: index_base
+      real(c_float), value :: omega
+      integer(c_int32_t), value :: components
+      real(c_float), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_sweep), intent(inout) :: sweep
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_relative_residual(offsets, offsets_len, targets, targets_len, &
+        stiffness, stiffness_len, fixed, fixed_len, components, values, values_len, &
+        index_scratch, index_scratch_len, residual_out) &
+        bind(C, name="dk_spring_relative_residual") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_double), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      integer(c_int32_t), value :: components
+      real(c_double), intent(in) :: values(*)
+      integer(c_size_t), value :: values_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: residual_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_relative_residual_f32(offsets, offsets_len, targets, targets_len, &
+        stiffness, stiffness_len, fixed, fixed_len, components, values, values_len, &
+        index_scratch, index_scratch_len, residual_out) &
+        bind(C, name="dk_spring_relative_residual_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_float), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      integer(c_int32_t), value :: components
+      real(c_float), intent(in) :: values(*)
+      integer(c_size_t), value :: values_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: residual_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_angle_options_default(out) &
+        bind(C, name="dk_spring_angle_options_default") result(s)
+      import :: c_int32_t, dk_spring_angle_options
+      type(dk_spring_angle_options), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_angle_options_default_f32(out) &
+        bind(C, name="dk_spring_angle_options_default_f32") result(s)
+      import :: c_int32_t, dk_spring_angle_options
+      type(dk_spring_angle_options), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle_scratch_len(node_count, dim, options, len_out) &
+        bind(C, name="dk_spring_solve_angle_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_spring_angle_options
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), value :: dim
+      type(dk_spring_angle_options), intent(in) :: options
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle_scratch_len_f32(node_count, dim, options, len_out) &
+        bind(C, name="dk_spring_solve_angle_scratch_len_f32") result(s)
+      import :: c_int32_t, c_size_t, dk_spring_angle_options
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), value :: dim
+      type(dk_spring_angle_options), intent(in) :: options
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_angle_rigidity_probe_scratch_len(node_count, dim, len_out) &
+        bind(C, name="dk_spring_angle_rigidity_probe_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle(offsets, offsets_len, targets, targets_len, stiffness, &
+        stiffness_len, fixed, fixed_len, points, points_len, dim, options, values, &
+        values_len, scratch, scratch_len, index_scratch, index_scratch_len, report) &
+        bind(C, name="dk_spring_solve_angle") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_angle_options, &
+          dk_spring_solve_report
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_double), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_spring_angle_options), intent(in) :: options
+      real(c_double), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle_f32(offsets, offsets_len, targets, targets_len, &
+        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, options, &
+        values, values_len, scratch, scratch_len, index_scratch, index_scratch_len, report) &
+        bind(C, name="dk_spring_solve_angle_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_angle_options, &
+          dk_spring_solve_report
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_float), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_spring_angle_options), intent(in) :: options
+      real(c_float), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_angle_jacobi_sweep(offsets, offsets_len, targets, targets_len, &
+        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, epsilon, &
+        nodes_start, nodes_end, index_base, src, src_len, dst, dst_len, index_scratch, &
+        index_scratch_len, sweep) bind(C, name="dk_spring_angle_jacobi_sweep") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_double), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), value :: epsilon
+      integer(c_size_t), value :: nodes_start
+      integer(c_size_t), value :: nodes_end
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(in) :: src(*)
+      integer(c_size_t), value :: src_len
+      real(c_double), intent(inout) :: dst(*)
+      integer(c_size_t), value :: dst_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_sweep), intent(inout) :: sweep
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_angle_jacobi_sweep_f32(offsets, offsets_len, targets, targets_len, &
+        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, epsilon, &
+        nodes_start, nodes_end, index_base, src, src_len, dst, dst_len, index_scratch, &
+        index_scratch_len, sweep) bind(C, name="dk_spring_angle_jacobi_sweep_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_float), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_float), value :: epsilon
+      integer(c_size_t), value :: nodes_start
+      integer(c_size_t), value :: nodes_end
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(in) :: src(*)
+      integer(c_size_t), value :: src_len
+      real(c_float), intent(inout) :: dst(*)
+      integer(c_size_t), value :: dst_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_sweep), intent(inout) :: sweep
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_angle_gauss_seidel_sweep(offsets, offsets_len, targets, targets_len, &
+        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, epsilon, &
+        nodes_start, nodes_end, index_base, values, values_len, index_scratch, &
+        index_scratch_len, sweep) bind(C, name="dk_spring_angle_gauss_seidel_sweep") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_double), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), value :: epsilon
+      integer(c_size_t), value :: nodes_start
+      integer(c_size_t), value :: nodes_end
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_sweep), intent(inout) :: sweep
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_angle_gauss_seidel_sweep_f32(offsets, offsets_len, targets, &
+        targets_len, stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, &
+        epsilon, nodes_start, nodes_end, index_base, values, values_len, index_scratch, &
+        index_scratch_len, sweep) bind(C, name="dk_spring_angle_gauss_seidel_sweep_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_float), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_float), value :: epsilon
+      integer(c_size_t), value :: nodes_start
+      integer(c_size_t), value :: nodes_end
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_sweep), intent(inout) :: sweep
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_angle_rigidity_probe(offsets, offsets_len, targets, targets_len, &
+        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, options, &
+        scratch, scratch_len, index_scratch, index_scratch_len, amplification_out) &
+        bind(C, name="dk_spring_angle_rigidity_probe") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_angle_options
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_double), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_spring_angle_options), intent(in) :: options
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: amplification_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_angle_rigidity_probe_f32(offsets, offsets_len, targets, targets_len, &
+        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, options, &
+        scratch, scratch_len, index_scratch, index_scratch_len, amplification_out) &
+        bind(C, name="dk_spring_angle_rigidity_probe_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_angle_options
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_float), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_spring_angle_options), intent(in) :: options
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: amplification_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_params_paper(lambda_out, mu_out) &
+        bind(C, name="dk_taubin_params_paper") result(s)
+      import :: c_double, c_int32_t
+      real(c_double), intent(inout) :: lambda_out
+      real(c_double), intent(inout) :: mu_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_params_paper_f32(lambda_out, mu_out) &
+        bind(C, name="dk_taubin_params_paper_f32") result(s)
+      import :: c_float, c_int32_t
+      real(c_float), intent(inout) :: lambda_out
+      real(c_float), intent(inout) :: mu_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_params_from_pass_band(lambda, pass_band, lambda_out, mu_out) &
+        bind(C, name="dk_taubin_params_from_pass_band") result(s)
+      import :: c_double, c_int32_t
+      real(c_double), value :: lambda
+      real(c_double), value :: pass_band
+      real(c_double), intent(inout) :: lambda_out
+      real(c_double), intent(inout) :: mu_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_params_from_pass_band_f32(lambda, pass_band, lambda_out, mu_out) &
+        bind(C, name="dk_taubin_params_from_pass_band_f32") result(s)
+      import :: c_float, c_int32_t
+      real(c_float), value :: lambda
+      real(c_float), value :: pass_band
+      real(c_float), intent(inout) :: lambda_out
+      real(c_float), intent(inout) :: mu_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_smooth_arclength_options_default(direction, out) &
+        bind(C, name="dk_smooth_arclength_options_default") result(s)
+      import :: c_int32_t, dk_smooth_arclength_options
+      integer(c_int32_t), value :: direction
+      type(dk_smooth_arclength_options), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_smooth_arclength_scratch_len(ni, nj, nk, options, dim, len_out) &
+        bind(C, name="dk_taubin_smooth_arclength_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_smooth_arclength_options
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      type(dk_smooth_arclength_options), intent(in) :: options
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_smooth_arclength(ni, nj, nk, options, points, points_len, dim, &
+        scratch, scratch_len, report) bind(C, name="dk_taubin_smooth_arclength") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_smooth_arclength_options, dk_smooth_report
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      type(dk_smooth_arclength_options), intent(in) :: options
+      real(c_double), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_smooth_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_smooth_arclength_f32(ni, nj, nk, options, points, points_len, dim, &
+        scratch, scratch_len, report) bind(C, name="dk_taubin_smooth_arclength_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_smooth_arclength_options, dk_smooth_report
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      type(dk_smooth_arclength_options), intent(in) :: options
+      real(c_float), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_smooth_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_smooth_structured_scratch_len(ni, nj, nk, len_out) &
+        bind(C, name="dk_taubin_smooth_structured_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_smooth_structured(ni, nj, nk, lambda, mu, iterations, options, &
+        field, field_len, scratch, scratch_len, report) &
+        bind(C, name="dk_taubin_smooth_structured") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_filter_report, dk_structured_options
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      real(c_double), value :: lambda
+      real(c_double), value :: mu
+      integer(c_size_t), value :: iterations
+      type(dk_structured_options), intent(in) :: options
+      real(c_double), intent(inout) :: field(*)
+      integer(c_size_t), value :: field_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_filter_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_smooth_structured_f32(ni, nj, nk, lambda, mu, iterations, options, &
+        field, field_len, scratch, scratch_len, report) &
+        bind(C, name="dk_taubin_smooth_structured_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_filter_report, dk_structured_options
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      real(c_float), value :: lambda
+      real(c_float), value :: mu
+      integer(c_size_t), value :: iterations
+      type(dk_structured_options), intent(in) :: options
+      real(c_float), intent(inout) :: field(*)
+      integer(c_size_t), value :: field_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_filter_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_structured_sweep(ni, nj, nk, src, src_len, weight, options, region, &
+        index_base, dst, dst_len, max_change_out) &
+        bind(C, name="dk_taubin_structured_sweep") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_block_region, dk_structured_options
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      real(c_double), intent(in) :: src(*)
+      integer(c_size_t), value :: src_len
+      real(c_double), value :: weight
+      type(dk_structured_options), intent(in) :: options
+      type(dk_block_region), intent(in) :: region
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(inout) :: dst(*)
+      integer(c_size_t), value :: dst_len
+      real(c_double), intent(inout) :: max_change_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_structured_sweep_f32(ni, nj, nk, src, src_len, weight, options, &
+        region, index_base, dst, dst_len, max_change_out) &
+        bind(C, name="dk_taubin_structured_sweep_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_block_region, dk_structured_options
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      real(c_float), intent(in) :: src(*)
+      integer(c_size_t), value :: src_len
+      real(c_float), value :: weight
+      type(dk_structured_options), intent(in) :: options
+      type(dk_block_region), intent(in) :: region
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(inout) :: dst(*)
+      integer(c_size_t), value :: dst_len
+      real(c_float), intent(inout) :: max_change_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_smooth_structured_coarse_scratch_len(ni, nj, nk, coarse, len_out) &
+        bind(C, name="dk_taubin_smooth_structured_coarse_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_taubin_coarse
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      type(dk_taubin_coarse), intent(in) :: coarse
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_smooth_structured_coarse(ni, nj, nk, coarse, lambda, mu, iterations, &
+        options, field, field_len, scratch, scratch_len, report) &
+        bind(C, name="dk_taubin_smooth_structured_coarse") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_filter_report, dk_structured_options, &
+          dk_taubin_coarse
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      type(dk_taubin_coarse), intent(in) :: coarse
+      real(c_double), value :: lambda
+      real(c_double), value :: mu
+      integer(c_size_t), value :: iterations
+      type(dk_structured_options), intent(in) :: options
+      real(c_double), intent(inout) :: field(*)
+      integer(c_size_t), value :: field_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_filter_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_smooth_structured_coarse_f32(ni, nj, nk, coarse, lambda, mu, &
+        iterations, options, field, field_len, scratch, scratch_len, report) &
+        bind(C, name="dk_taubin_smooth_structured_coarse_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_filter_report, dk_structured_options, &
+          dk_taubin_coarse
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      type(dk_taubin_coarse), intent(in) :: coarse
+      real(c_float), value :: lambda
+      real(c_float), value :: mu
+      integer(c_size_t), value :: iterations
+      type(dk_structured_options), intent(in) :: options
+      real(c_float), intent(inout) :: field(*)
+      integer(c_size_t), value :: field_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_filter_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_smooth_graph_scratch_len(node_count, components, len_out) &
+        bind(C, name="dk_taubin_smooth_graph_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), value :: components
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_smooth_graph(offsets, offsets_len, targets, targets_len, weights, &
+        weights_len, fixed, fixed_len, lambda, mu, iterations, components, values, &
+        values_len, scratch, scratch_len, report) bind(C, name="dk_taubin_smooth_graph") result(s)
+      import :: c_double, c_int32_t, c_ptr, c_size_t, dk_filter_report
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      type(c_ptr), value :: weights
+      integer(c_size_t), value :: weights_len
+      type(c_ptr), value :: fixed
+      integer(c_size_t), value :: fixed_len
+      real(c_double), value :: lambda
+      real(c_double), value :: mu
+      integer(c_size_t), value :: iterations
+      integer(c_int32_t), value :: components
+      real(c_double), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_filter_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_smooth_graph_f32(offsets, offsets_len, targets, targets_len, &
+        weights, weights_len, fixed, fixed_len, lambda, mu, iterations, components, values, &
+        values_len, scratch, scratch_len, report) &
+        bind(C, name="dk_taubin_smooth_graph_f32") result(s)
+      import :: c_float, c_int32_t, c_ptr, c_size_t, dk_filter_report
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      type(c_ptr), value :: weights
+      integer(c_size_t), value :: weights_len
+      type(c_ptr), value :: fixed
+      integer(c_size_t), value :: fixed_len
+      real(c_float), value :: lambda
+      real(c_float), value :: mu
+      integer(c_size_t), value :: iterations
+      integer(c_int32_t), value :: components
+      real(c_float), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_filter_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_graph_sweep(offsets, offsets_len, targets, targets_len, weights, &
+        weights_len, fixed, fixed_len, src, src_len, components, weight, nodes_start, &
+        nodes_end, index_base, dst, dst_len, max_change_out) &
+        bind(C, name="dk_taubin_graph_sweep") result(s)
+      import :: c_double, c_int32_t, c_ptr, c_size_t
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      type(c_ptr), value :: weights
+      integer(c_size_t), value :: weights_len
+      type(c_ptr), value :: fixed
+      integer(c_size_t), value :: fixed_len
+      real(c_double), intent(in) :: src(*)
+      integer(c_size_t), value :: src_len
+      integer(c_int32_t), value :: components
+      real(c_double), value :: weight
+      integer(c_size_t), value :: nodes_start
+      integer(c_size_t), value :: nodes_end
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(inout) :: dst(*)
+      integer(c_size_t), value :: dst_len
+      real(c_double), intent(inout) :: max_change_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_graph_sweep_f32(offsets, offsets_len, targets, targets_len, weights, &
+        weights_len, fixed, fixed_len, src, src_len, components, weight, nodes_start, &
+        nodes_end, index_base, dst, dst_len, max_change_out) &
+        bind(C, name="dk_taubin_graph_sweep_f32") result(s)
+      import :: c_float, c_int32_t, c_ptr, c_size_t
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      type(c_ptr), value :: weights
+      integer(c_size_t), value :: weights_len
+      type(c_ptr), value :: fixed
+      integer(c_size_t), value :: fixed_len
+      real(c_float), intent(in) :: src(*)
+      integer(c_size_t), value :: src_len
+      integer(c_int32_t), value :: components
+      real(c_float), value :: weight
+      integer(c_size_t), value :: nodes_start
+      integer(c_size_t), value :: nodes_end
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(inout) :: dst(*)
+      integer(c_size_t), value :: dst_len
+      real(c_float), intent(inout) :: max_change_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_inverse_distance_weights(offsets, offsets_len, targets, targets_len, &
+        points, points_len, dim, weights, weights_len) &
+        bind(C, name="dk_taubin_inverse_distance_weights") result(s)
+      import :: c_double, c_int32_t, c_ptr, c_size_t
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(c_ptr), value :: weights
+      integer(c_size_t), value :: weights_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_inverse_distance_weights_f32(offsets, offsets_len, targets, &
+        targets_len, points, points_len, dim, weights, weights_len) &
+        bind(C, name="dk_taubin_inverse_distance_weights_f32") result(s)
+      import :: c_float, c_int32_t, c_ptr, c_size_t
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(c_ptr), value :: weights
+      integer(c_size_t), value :: weights_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_arclength(ni, nj, nk, points, points_len, dim, direction, &
+        normalised, out, out_len) bind(C, name="dk_taubin_arclength") result(s)
+      import :: c_bool, c_double, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), value :: direction
+      logical(c_bool), value :: normalised
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_arclength_f32(ni, nj, nk, points, points_len, dim, direction, &
+        normalised, out, out_len) bind(C, name="dk_taubin_arclength_f32") result(s)
+      import :: c_bool, c_float, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), value :: direction
+      logical(c_bool), value :: normalised
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_redistribute_scratch_len(ni, nj, nk, dim, direction, len_out) &
+        bind(C, name="dk_taubin_redistribute_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), value :: direction
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_redistribute(ni, nj, nk, direction, targets, targets_len, &
+        normalised, points, points_len, dim, scratch, scratch_len, max_displacement_out) &
+        bind(C, name="dk_taubin_redistribute") result(s)
+      import :: c_bool, c_double, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_int32_t), value :: direction
+      real(c_double), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      logical(c_bool), value :: normalised
+      real(c_double), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_double), intent(inout) :: max_displacement_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_redistribute_f32(ni, nj, nk, direction, targets, targets_len, &
+        normalised, points, points_len, dim, scratch, scratch_len, max_displacement_out) &
+        bind(C, name="dk_taubin_redistribute_f32") result(s)
+      import :: c_bool, c_float, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_int32_t), value :: direction
+      real(c_float), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      logical(c_bool), value :: normalised
+      real(c_float), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_float), intent(inout) :: max_displacement_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_stretching(ni, nj, nk, points, points_len, dim, direction, out, &
+        out_len) bind(C, name="dk_taubin_stretching") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), value :: direction
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_stretching_f32(ni, nj, nk, points, points_len, dim, direction, out, &
+        out_len) bind(C, name="dk_taubin_stretching_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), value :: direction
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_max_stretching(ni, nj, nk, points, points_len, dim, direction, &
+        value_out, point_out) bind(C, name="dk_taubin_max_stretching") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), value :: direction
+      real(c_double), intent(inout) :: value_out
+      integer(c_size_t), intent(inout) :: point_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_max_stretching_f32(ni, nj, nk, points, points_len, dim, direction, &
+        value_out, point_out) bind(C, name="dk_taubin_max_stretching_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), value :: direction
+      real(c_float), intent(inout) :: value_out
+      integer(c_size_t), intent(inout) :: point_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_check_lines_increasing(ni, nj, nk, field, field_len, direction, &
+        iteration, points, points_len, dim) &
+        bind(C, name="dk_taubin_check_lines_increasing") result(s)
+      import :: c_double, c_int32_t, c_ptr, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      real(c_double), intent(in) :: field(*)
+      integer(c_size_t), value :: field_len
+      integer(c_int32_t), value :: direction
+      integer(c_size_t), value :: iteration
+      type(c_ptr), value :: points
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_check_lines_increasing_f32(ni, nj, nk, field, field_len, direction, &
+        iteration, points, points_len, dim) &
+        bind(C, name="dk_taubin_check_lines_increasing_f32") result(s)
+      import :: c_float, c_int32_t, c_ptr, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      real(c_float), intent(in) :: field(*)
+      integer(c_size_t), value :: field_len
+      integer(c_int32_t), value :: direction
+      integer(c_size_t), value :: iteration
+      type(c_ptr), value :: points
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t) :: s
+    end function
   ! <<< end interfaces: springs, quality, taubin >>>
   ! <<< interfaces: deformation >>>
+    ! ---- quaternion deformation (dk_deform_*; points flat, dim scalars each) ----
+    function dk_boundary_motion_default(out) &
+        bind(C, name="dk_boundary_motion_default") result(s)
+      import :: c_int32_t, dk_boundary_motion
+      type(dk_boundary_motion), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_boundary_motion_default_f32(out) &
+        bind(C, name="dk_boundary_motion_default_f32") result(s)
+      import :: c_int32_t, dk_boundary_motion_f32
+      type(dk_boundary_motion_f32), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_boundary_motion_index_scratch_len(motion, len_out) &
+        bind(C, name="dk_boundary_motion_index_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_boundary_motion
+      type(dk_boundary_motion), intent(in) :: motion
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_boundary_motion_index_scratch_len_f32(motion, len_out) &
+        bind(C, name="dk_boundary_motion_index_scratch_len_f32") result(s)
+      import :: c_int32_t, c_size_t, dk_boundary_motion_f32
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_idw_scratch_len(node_count, boundary_len, dim, len_out) &
+        bind(C, name="dk_deform_idw_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count, boundary_len
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_idw(points, points_len, dim, motion, exponent, scratch, scratch_len, &
+        index_scratch, index_scratch_len, translations, translations_len, rotations, &
+        rotations_len, out, out_len, origin_out, origin_out_len) &
+        bind(C, name="dk_deform_idw") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_boundary_motion
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len, scratch_len, index_scratch_len, translations_len, &
+          rotations_len, out_len, origin_out_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion), intent(in) :: motion
+      real(c_double), value :: exponent
+      real(c_double), intent(inout) :: scratch(*), translations(*), rotations(*), out(*), &
+          origin_out(*)
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_idw_f32(points, points_len, dim, motion, exponent, scratch, scratch_len, &
+        index_scratch, index_scratch_len, translations, translations_len, rotations, &
+        rotations_len, out, out_len, origin_out, origin_out_len) &
+        bind(C, name="dk_deform_idw_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_boundary_motion_f32
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len, scratch_len, index_scratch_len, translations_len, &
+          rotations_len, out_len, origin_out_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      real(c_float), value :: exponent
+      real(c_float), intent(inout) :: scratch(*), translations(*), rotations(*), out(*), &
+          origin_out(*)
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_tfi_scratch_len(ni, nj, nk, boundary_len, dim, len_out) &
+        bind(C, name="dk_deform_tfi_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: ni, nj, nk, boundary_len
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_tfi(ni, nj, nk, directions, points, points_len, dim, motion, scratch, &
+        scratch_len, index_scratch, index_scratch_len, translations, translations_len, &
+        rotations, rotations_len, out, out_len, origin_out, origin_out_len) &
+        bind(C, name="dk_deform_tfi") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_boundary_motion
+      integer(c_size_t), value :: ni, nj, nk, points_len, scratch_len, index_scratch_len, &
+          translations_len, rotations_len, out_len, origin_out_len
+      integer(c_int32_t), value :: directions, dim
+      real(c_double), intent(in) :: points(*)
+      type(dk_boundary_motion), intent(in) :: motion
+      real(c_double), intent(inout) :: scratch(*), translations(*), rotations(*), out(*), &
+          origin_out(*)
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_tfi_f32(ni, nj, nk, directions, points, points_len, dim, motion, &
+        scratch, scratch_len, index_scratch, index_scratch_len, translations, translations_len, &
+        rotations, rotations_len, out, out_len, origin_out, origin_out_len) &
+        bind(C, name="dk_deform_tfi_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_boundary_motion_f32
+      integer(c_size_t), value :: ni, nj, nk, points_len, scratch_len, index_scratch_len, &
+          translations_len, rotations_len, out_len, origin_out_len
+      integer(c_int32_t), value :: directions, dim
+      real(c_float), intent(in) :: points(*)
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      real(c_float), intent(inout) :: scratch(*), translations(*), rotations(*), out(*), &
+          origin_out(*)
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_normals_scratch_len(boundary_len, len_out) &
+        bind(C, name="dk_deform_boundary_normals_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: boundary_len
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_normals(points, points_len, dim, element_offsets, &
+        element_offsets_len, element_nodes, element_nodes_len, element_kinds, &
+        element_kinds_len, index_base, scratch, scratch_len, index_scratch, index_scratch_len, &
+        normals, normals_len) &
+        bind(C, name="dk_deform_boundary_normals") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len, element_offsets_len, element_nodes_len, &
+          element_kinds_len, scratch_len, index_scratch_len, normals_len
+      integer(c_int32_t), value :: dim, index_base
+      integer(c_int32_t), intent(in) :: element_offsets(*), element_nodes(*)
+      integer(c_int8_t), intent(in) :: element_kinds(*)
+      real(c_double), intent(inout) :: scratch(*), normals(*)
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_normals_f32(points, points_len, dim, element_offsets, &
+        element_offsets_len, element_nodes, element_nodes_len, element_kinds, &
+        element_kinds_len, index_base, scratch, scratch_len, index_scratch, index_scratch_len, &
+        normals, normals_len) &
+        bind(C, name="dk_deform_boundary_normals_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len, element_offsets_len, element_nodes_len, &
+          element_kinds_len, scratch_len, index_scratch_len, normals_len
+      integer(c_int32_t), value :: dim, index_base
+      integer(c_int32_t), intent(in) :: element_offsets(*), element_nodes(*)
+      integer(c_int8_t), intent(in) :: element_kinds(*)
+      real(c_float), intent(inout) :: scratch(*), normals(*)
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_rotations_scratch_len(boundary_len, dim, len_out) &
+        bind(C, name="dk_deform_boundary_rotations_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_rotations(undeformed, undeformed_len, deformed, deformed_len, &
+        dim, element_offsets, element_offsets_len, element_nodes, element_nodes_len, &
+        element_kinds, element_kinds_len, index_base, scratch, scratch_len, index_scratch, &
+        index_scratch_len, rotations, rotations_len) &
+        bind(C, name="dk_deform_boundary_rotations") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t
+      real(c_double), intent(in) :: undeformed(*), deformed(*)
+      integer(c_size_t), value :: undeformed_len, deformed_len, element_offsets_len, &
+          element_nodes_len, element_kinds_len, scratch_len, index_scratch_len, rotations_len
+      integer(c_int32_t), value :: dim, index_base
+      integer(c_int32_t), intent(in) :: element_offsets(*), element_nodes(*)
+      integer(c_int8_t), intent(in) :: element_kinds(*)
+      real(c_double), intent(inout) :: scratch(*), rotations(*)
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_rotations_f32(undeformed, undeformed_len, deformed, &
+        deformed_len, dim, element_offsets, element_offsets_len, element_nodes, &
+        element_nodes_len, element_kinds, element_kinds_len, index_base, scratch, scratch_len, &
+        index_scratch, index_scratch_len, rotations, rotations_len) &
+        bind(C, name="dk_deform_boundary_rotations_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t
+      real(c_float), intent(in) :: undeformed(*), deformed(*)
+      integer(c_size_t), value :: undeformed_len, deformed_len, element_offsets_len, &
+          element_nodes_len, element_kinds_len, scratch_len, index_scratch_len, rotations_len
+      integer(c_int32_t), value :: dim, index_base
+      integer(c_int32_t), intent(in) :: element_offsets(*), element_nodes(*)
+      integer(c_int8_t), intent(in) :: element_kinds(*)
+      real(c_float), intent(inout) :: scratch(*), rotations(*)
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_rigid_rotations(q, rotations, rotations_len) &
+        bind(C, name="dk_deform_rigid_rotations") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: q(*)
+      real(c_double), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_rigid_rotations_f32(q, rotations, rotations_len) &
+        bind(C, name="dk_deform_rigid_rotations_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: q(*)
+      real(c_float), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_origin(undeformed, undeformed_len, deformed, deformed_len, dim, &
+        origin_out, origin_out_len) &
+        bind(C, name="dk_deform_boundary_origin") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: undeformed(*), deformed(*)
+      integer(c_size_t), value :: undeformed_len, deformed_len, origin_out_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(inout) :: origin_out(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_origin_f32(undeformed, undeformed_len, deformed, deformed_len, &
+        dim, origin_out, origin_out_len) &
+        bind(C, name="dk_deform_boundary_origin_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: undeformed(*), deformed(*)
+      integer(c_size_t), value :: undeformed_len, deformed_len, origin_out_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: origin_out(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_translations(origin, origin_len, undeformed, undeformed_len, &
+        deformed, deformed_len, dim, rotations, rotations_len, translations, translations_len) &
+        bind(C, name="dk_deform_boundary_translations") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: origin(*), undeformed(*), deformed(*), rotations(*)
+      integer(c_size_t), value :: origin_len, undeformed_len, deformed_len, rotations_len, &
+          translations_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(inout) :: translations(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_translations_f32(origin, origin_len, undeformed, &
+        undeformed_len, deformed, deformed_len, dim, rotations, rotations_len, translations, &
+        translations_len) &
+        bind(C, name="dk_deform_boundary_translations_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: origin(*), undeformed(*), deformed(*), rotations(*)
+      integer(c_size_t), value :: origin_len, undeformed_len, deformed_len, rotations_len, &
+          translations_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: translations(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_idw(points, points_len, dim, boundary, boundary_len, &
+        index_base, exponent, index_scratch, index_scratch_len, translations, translations_len, &
+        rotations, rotations_len) &
+        bind(C, name="dk_deform_propagate_idw") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len, boundary_len, index_scratch_len, translations_len, &
+          rotations_len
+      integer(c_int32_t), value :: dim, index_base
+      integer(c_int32_t), intent(in) :: boundary(*)
+      real(c_double), value :: exponent
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      real(c_double), intent(inout) :: translations(*), rotations(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_idw_f32(points, points_len, dim, boundary, boundary_len, &
+        index_base, exponent, index_scratch, index_scratch_len, translations, translations_len, &
+        rotations, rotations_len) &
+        bind(C, name="dk_deform_propagate_idw_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len, boundary_len, index_scratch_len, translations_len, &
+          rotations_len
+      integer(c_int32_t), value :: dim, index_base
+      integer(c_int32_t), intent(in) :: boundary(*)
+      real(c_float), value :: exponent
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      real(c_float), intent(inout) :: translations(*), rotations(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_tfi_scratch_len(ni, nj, nk, dim, len_out) &
+        bind(C, name="dk_deform_propagate_tfi_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: ni, nj, nk
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_tfi(ni, nj, nk, directions, points, points_len, dim, scratch, &
+        scratch_len, translations, translations_len, rotations, rotations_len) &
+        bind(C, name="dk_deform_propagate_tfi") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni, nj, nk, points_len, scratch_len, translations_len, &
+          rotations_len
+      integer(c_int32_t), value :: directions, dim
+      real(c_double), intent(in) :: points(*)
+      real(c_double), intent(inout) :: scratch(*), translations(*), rotations(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_tfi_f32(ni, nj, nk, directions, points, points_len, dim, &
+        scratch, scratch_len, translations, translations_len, rotations, rotations_len) &
+        bind(C, name="dk_deform_propagate_tfi_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni, nj, nk, points_len, scratch_len, translations_len, &
+          rotations_len
+      integer(c_int32_t), value :: directions, dim
+      real(c_float), intent(in) :: points(*)
+      real(c_float), intent(inout) :: scratch(*), translations(*), rotations(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_displacement_tfi(ni, nj, nk, directions, points, points_len, dim, &
+        scratch, scratch_len, displacements, displacements_len) &
+        bind(C, name="dk_deform_displacement_tfi") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni, nj, nk, points_len, scratch_len, displacements_len
+      integer(c_int32_t), value :: directions, dim
+      real(c_double), intent(in) :: points(*)
+      real(c_double), intent(inout) :: scratch(*), displacements(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_displacement_tfi_f32(ni, nj, nk, directions, points, points_len, dim, &
+        scratch, scratch_len, displacements, displacements_len) &
+        bind(C, name="dk_deform_displacement_tfi_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni, nj, nk, points_len, scratch_len, displacements_len
+      integer(c_int32_t), value :: directions, dim
+      real(c_float), intent(in) :: points(*)
+      real(c_float), intent(inout) :: scratch(*), displacements(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_update_points(origin, origin_len, points, points_len, dim, translations, &
+        translations_len, rotations, rotations_len, boundary, boundary_len, index_base, &
+        boundary_deformed, boundary_deformed_len, index_scratch, index_scratch_len, out, &
+        out_len) &
+        bind(C, name="dk_deform_update_points") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: origin(*), points(*), translations(*), rotations(*), &
+          boundary_deformed(*)
+      integer(c_size_t), value :: origin_len, points_len, translations_len, rotations_len, &
+          boundary_len, boundary_deformed_len, index_scratch_len, out_len
+      integer(c_int32_t), value :: dim, index_base
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      real(c_double), intent(inout) :: out(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_update_points_f32(origin, origin_len, points, points_len, dim, &
+        translations, translations_len, rotations, rotations_len, boundary, boundary_len, &
+        index_base, boundary_deformed, boundary_deformed_len, index_scratch, index_scratch_len, &
+        out, out_len) &
+        bind(C, name="dk_deform_update_points_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: origin(*), points(*), translations(*), rotations(*), &
+          boundary_deformed(*)
+      integer(c_size_t), value :: origin_len, points_len, translations_len, rotations_len, &
+          boundary_len, boundary_deformed_len, index_scratch_len, out_len
+      integer(c_int32_t), value :: dim, index_base
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      real(c_float), intent(inout) :: out(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_localize_nodes_scratch_len(node_count, boundary_len, global_len, &
+        index_base, len_out) &
+        bind(C, name="dk_deform_localize_nodes_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count, boundary_len, global_len
+      integer(c_int32_t), value :: index_base
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_localize_nodes(node_count, boundary, boundary_len, global, global_len, &
+        index_base, scratch, scratch_len, local, local_len) &
+        bind(C, name="dk_deform_localize_nodes") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count, boundary_len, global_len, scratch_len, local_len
+      integer(c_int32_t), intent(in) :: boundary(*), global(*)
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: scratch(*), local(*)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_spring_index_scratch_len(motion, node_count, len_out) &
+        bind(C, name="dk_deform_spring_index_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_boundary_motion
+      type(dk_boundary_motion), intent(in) :: motion
+      integer(c_size_t), value :: node_count
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_spring_index_scratch_len_f32(motion, node_count, len_out) &
+        bind(C, name="dk_deform_spring_index_scratch_len_f32") result(s)
+      import :: c_int32_t, c_size_t, dk_boundary_motion_f32
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      integer(c_size_t), value :: node_count
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_spring_scratch_len(node_count, boundary_len, dim, options, &
+        scratch_len_out, values_len_out) &
+        bind(C, name="dk_deform_spring_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_spring_solve_options
+      integer(c_size_t), value :: node_count, boundary_len
+      integer(c_int32_t), value :: dim
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_size_t), intent(inout) :: scratch_len_out, values_len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_spring(points, points_len, dim, motion, offsets, offsets_len, targets, &
+        targets_len, stiffness, stiffness_len, fixed, fixed_len, options, scratch, scratch_len, &
+        values, values_len, index_scratch, index_scratch_len, translations, translations_len, &
+        rotations, rotations_len, out, out_len, origin_out, origin_out_len, report) &
+        bind(C, name="dk_deform_spring") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_boundary_motion, &
+          dk_spring_solve_options, dk_spring_solve_report
+      real(c_double), intent(in) :: points(*), stiffness(*)
+      integer(c_size_t), value :: points_len, offsets_len, targets_len, stiffness_len, fixed_len, &
+          scratch_len, values_len, index_scratch_len, translations_len, rotations_len, out_len, &
+          origin_out_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion), intent(in) :: motion
+      integer(c_int32_t), intent(in) :: offsets(*), targets(*)
+      integer(c_int8_t), intent(in) :: fixed(*)
+      type(dk_spring_solve_options), intent(in) :: options
+      real(c_double), intent(inout) :: scratch(*), values(*), translations(*), rotations(*), &
+          out(*), origin_out(*)
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_spring_f32(points, points_len, dim, motion, offsets, offsets_len, &
+        targets, targets_len, stiffness, stiffness_len, fixed, fixed_len, options, scratch, &
+        scratch_len, values, values_len, index_scratch, index_scratch_len, translations, &
+        translations_len, rotations, rotations_len, out, out_len, origin_out, origin_out_len, &
+        report) &
+        bind(C, name="dk_deform_spring_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_boundary_motion_f32, &
+          dk_spring_solve_options, dk_spring_solve_report
+      real(c_float), intent(in) :: points(*), stiffness(*)
+      integer(c_size_t), value :: points_len, offsets_len, targets_len, stiffness_len, fixed_len, &
+          scratch_len, values_len, index_scratch_len, translations_len, rotations_len, out_len, &
+          origin_out_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      integer(c_int32_t), intent(in) :: offsets(*), targets(*)
+      integer(c_int8_t), intent(in) :: fixed(*)
+      type(dk_spring_solve_options), intent(in) :: options
+      real(c_float), intent(inout) :: scratch(*), values(*), translations(*), rotations(*), &
+          out(*), &
+          origin_out(*)
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_spring_scratch_len(node_count, dim, options, len_out) &
+        bind(C, name="dk_deform_propagate_spring_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_spring_solve_options
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), value :: dim
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_spring(offsets, offsets_len, targets, targets_len, stiffness, &
+        stiffness_len, fixed, fixed_len, options, dim, index_scratch, index_scratch_len, &
+        values, values_len, translations, translations_len, rotations, rotations_len, report) &
+        bind(C, name="dk_deform_propagate_spring") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_solve_options, &
+          dk_spring_solve_report
+      integer(c_int32_t), intent(in) :: offsets(*), targets(*)
+      integer(c_size_t), value :: offsets_len, targets_len, stiffness_len, fixed_len, &
+          index_scratch_len, values_len, translations_len, rotations_len
+      real(c_double), intent(in) :: stiffness(*)
+      integer(c_int8_t), intent(in) :: fixed(*)
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      real(c_double), intent(inout) :: values(*), translations(*), rotations(*)
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_spring_f32(offsets, offsets_len, targets, targets_len, &
+        stiffness, stiffness_len, fixed, fixed_len, options, dim, index_scratch, &
+        index_scratch_len, values, values_len, translations, translations_len, rotations, &
+        rotations_len, report) &
+        bind(C, name="dk_deform_propagate_spring_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_solve_options, &
+          dk_spring_solve_report
+      integer(c_int32_t), intent(in) :: offsets(*), targets(*)
+      integer(c_size_t), value :: offsets_len, targets_len, stiffness_len, fixed_len, &
+          index_scratch_len, values_len, translations_len, rotations_len
+      real(c_float), intent(in) :: stiffness(*)
+      integer(c_int8_t), intent(in) :: fixed(*)
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      real(c_float), intent(inout) :: values(*), translations(*), rotations(*)
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
   ! <<< end interfaces: deformation >>>
   end interface
 
@@ -363,8 +2418,488 @@ contains
   end function
 
   ! <<< wrappers: springs, quality, taubin >>>
+  !> dk_spring_solve_linear with assumed-shape arrays: values(components, node_count) is
+  !> updated in place (components = size(values, 1), 1 to 7); offsets/targets are the 0-based
+  !> CSR graph from dk_graph_from_*; scratch needs dk_spring_solve_linear_scratch_len values
+  !> (may be empty for Gauss-Seidel and SOR), index_scratch node_count entries.
+  function dkf_spring_solve_linear(offsets, targets, stiffness, fixed, options, values, &
+                                   scratch, index_scratch, report) result(s)
+    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:)
+    real(c_double), intent(in), contiguous :: stiffness(:)
+    integer(c_int8_t), intent(in), contiguous :: fixed(:)
+    type(dk_spring_solve_options), intent(in) :: options
+    real(c_double), intent(inout), contiguous :: values(:, :)
+    real(c_double), intent(inout), contiguous :: scratch(:)
+    integer(c_int32_t), intent(inout), contiguous :: index_scratch(:)
+    type(dk_spring_solve_report), intent(inout) :: report
+    integer(c_int32_t) :: s
+    s = dk_spring_solve_linear(offsets, int(size(offsets), c_size_t), targets, &
+                               int(size(targets), c_size_t), stiffness, &
+                               int(size(stiffness), c_size_t), fixed, int(size(fixed), c_size_t), &
+                               options, int(size(values, 1), c_int32_t), values, &
+                               int(size(values), c_size_t), scratch, int(size(scratch), c_size_t), &
+                               index_scratch, int(size(index_scratch), c_size_t), report)
+  end function
+
+  !> dk_taubin_smooth_arclength with assumed-shape arrays: points(dim, ni*nj*nk) (dim 2 or 3)
+  !> is updated in place; scratch needs dk_taubin_smooth_arclength_scratch_len values.
+  function dkf_taubin_smooth_arclength(ni, nj, nk, options, points, scratch, report) result(s)
+    integer(c_size_t), intent(in) :: ni, nj, nk
+    type(dk_smooth_arclength_options), intent(in) :: options
+    real(c_double), intent(inout), contiguous :: points(:, :)
+    real(c_double), intent(inout), contiguous :: scratch(:)
+    type(dk_smooth_report), intent(inout) :: report
+    integer(c_int32_t) :: s
+    s = dk_taubin_smooth_arclength(ni, nj, nk, options, points, int(size(points), c_size_t), &
+                                   int(size(points, 1), c_int32_t), scratch, &
+                                   int(size(scratch), c_size_t), report)
+  end function
+
+  !> dk_taubin_smooth_structured with assumed-shape arrays: field (ni*nj*nk values, any
+  !> shape, i fastest) is updated in place; scratch needs ni*nj*nk values.
+  function dkf_taubin_smooth_structured(ni, nj, nk, lambda, mu, iterations, options, field, &
+                                        scratch, report) result(s)
+    integer(c_size_t), intent(in) :: ni, nj, nk, iterations
+    real(c_double), intent(in) :: lambda, mu
+    type(dk_structured_options), intent(in) :: options
+    real(c_double), intent(inout), contiguous :: field(:)
+    real(c_double), intent(inout), contiguous :: scratch(:)
+    type(dk_filter_report), intent(inout) :: report
+    integer(c_int32_t) :: s
+    s = dk_taubin_smooth_structured(ni, nj, nk, lambda, mu, iterations, options, field, &
+                                    int(size(field), c_size_t), scratch, &
+                                    int(size(scratch), c_size_t), report)
+  end function
+
+  !> dk_taubin_smooth_graph with assumed-shape arrays: values(components, node_count) is
+  !> updated in place (components = size(values, 1), 1 to 7); weights (one per directed edge)
+  !> and fixed (one per node, nonzero = fixed) are optional; scratch needs size(values) values.
+  function dkf_taubin_smooth_graph(offsets, targets, lambda, mu, iterations, values, scratch, &
+                                   report, weights, fixed) result(s)
+    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
+    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:)
+    real(c_double), intent(in) :: lambda, mu
+    integer(c_size_t), intent(in) :: iterations
+    real(c_double), intent(inout), contiguous :: values(:, :)
+    real(c_double), intent(inout), contiguous :: scratch(:)
+    type(dk_filter_report), intent(inout) :: report
+    real(c_double), intent(in), contiguous, target, optional :: weights(:)
+    integer(c_int8_t), intent(in), contiguous, target, optional :: fixed(:)
+    integer(c_int32_t) :: s
+    type(c_ptr) :: w, f
+    integer(c_size_t) :: wl, fl
+    w = c_null_ptr
+    f = c_null_ptr
+    wl = 0
+    fl = 0
+    if (present(weights)) then
+      wl = size(weights, kind=c_size_t)
+      if (wl > 0) w = c_loc(weights)
+    end if
+    if (present(fixed)) then
+      fl = size(fixed, kind=c_size_t)
+      if (fl > 0) f = c_loc(fixed)
+    end if
+    s = dk_taubin_smooth_graph(offsets, int(size(offsets), c_size_t), targets, &
+                               int(size(targets), c_size_t), w, wl, f, fl, lambda, mu, &
+                               iterations, int(size(values, 1), c_int32_t), values, &
+                               int(size(values), c_size_t), scratch, int(size(scratch), c_size_t), &
+                               report)
+  end function
   ! <<< end wrappers: springs, quality, taubin >>>
   ! <<< wrappers: deformation >>>
+  !> Fills m for the dkf_deform_* wrappers: 1-based nodes(b) and deformed(dim, b); optional
+  !> boundary elements (1-based offsets and positions in nodes, VTK kinds), rigid_rotation(4)
+  !> or node_rotations(4, b) (else the rotations come from the shape), origin(dim) (else the
+  !> default origin). The pointers stay valid while the actual arguments do.
+  subroutine dkf_fill_motion(m, nodes, deformed, element_offsets, element_nodes, &
+                             element_kinds, rigid_rotation, node_rotations, origin)
+    use, intrinsic :: iso_c_binding, only: c_loc
+    type(dk_boundary_motion), intent(inout) :: m
+    integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
+    real(c_double), intent(in), target, contiguous :: deformed(:, :)
+    integer(c_int32_t), intent(in), target, contiguous, optional :: element_offsets(:), &
+                                                                     element_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous, optional :: element_kinds(:)
+    real(c_double), intent(in), optional :: rigid_rotation(4)
+    real(c_double), intent(in), target, contiguous, optional :: node_rotations(:, :)
+    real(c_double), intent(in), optional :: origin(:)
+    integer(c_int32_t) :: s
+    integer :: k
+    s = dk_boundary_motion_default(m)
+    m%index_base = 1
+    m%nodes = c_loc(nodes)
+    m%nodes_len = size(nodes, kind=c_size_t)
+    m%deformed = c_loc(deformed)
+    m%deformed_len = size(deformed, kind=c_size_t)
+    if (present(element_offsets) .and. present(element_nodes) .and. present(element_kinds)) then
+      m%element_offsets = c_loc(element_offsets)
+      m%element_offsets_len = size(element_offsets, kind=c_size_t)
+      m%element_nodes = c_loc(element_nodes)
+      m%element_nodes_len = size(element_nodes, kind=c_size_t)
+      m%element_kinds = c_loc(element_kinds)
+      m%element_kinds_len = size(element_kinds, kind=c_size_t)
+    end if
+    if (present(rigid_rotation)) then
+      m%rotation_source = DK_ROTATIONS_RIGID
+      m%rigid_rotation = rigid_rotation
+    else if (present(node_rotations)) then
+      m%rotation_source = DK_ROTATIONS_PER_NODE
+      m%node_rotations = c_loc(node_rotations)
+      m%node_rotations_len = size(node_rotations, kind=c_size_t)
+    end if
+    if (present(origin)) then
+      m%has_origin = 1
+      do k = 1, min(size(origin), 3)
+        m%origin(k) = origin(k)
+      end do
+    end if
+  end subroutine
+
+  !> dk_deform_idw with Fortran arrays and 1-based node numbers: points(dim, n), nodes(b),
+  !> deformed(dim, b); scratch(:) (dk_deform_idw_scratch_len), index_scratch(:) (at least
+  !> size(nodes) + size(element_offsets) + size(element_nodes)), translations(dim, n) and
+  !> rotations(4, n) (workspaces); out(dim, n). Optional arguments as dkf_fill_motion, and
+  !> origin_out(dim) for the origin used.
+  function dkf_deform_idw(points, nodes, deformed, exponent, scratch, index_scratch, &
+                          translations, rotations, out, element_offsets, element_nodes, &
+                          element_kinds, rigid_rotation, node_rotations, origin, origin_out) &
+      result(s)
+    real(c_double), intent(in), contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
+    real(c_double), intent(in), target, contiguous :: deformed(:, :)
+    real(c_double), intent(in) :: exponent
+    real(c_double), intent(inout), contiguous :: scratch(:), translations(:, :), &
+                                                 rotations(:, :), out(:, :)
+    integer(c_int32_t), intent(inout), contiguous :: index_scratch(:)
+    integer(c_int32_t), intent(in), target, contiguous, optional :: element_offsets(:), &
+                                                                     element_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous, optional :: element_kinds(:)
+    real(c_double), intent(in), optional :: rigid_rotation(4)
+    real(c_double), intent(in), target, contiguous, optional :: node_rotations(:, :)
+    real(c_double), intent(in), optional :: origin(:)
+    real(c_double), intent(inout), contiguous, optional :: origin_out(:)
+    integer(c_int32_t) :: s
+    type(dk_boundary_motion) :: m
+    real(c_double) :: none(1)
+    call dkf_fill_motion(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
+                         rigid_rotation, node_rotations, origin)
+    if (present(origin_out)) then
+      s = dk_deform_idw(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
+                        m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
+                        size(index_scratch, kind=c_size_t), translations, &
+                        size(translations, kind=c_size_t), rotations, &
+                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                        origin_out, size(origin_out, kind=c_size_t))
+    else
+      s = dk_deform_idw(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
+                        m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
+                        size(index_scratch, kind=c_size_t), translations, &
+                        size(translations, kind=c_size_t), rotations, &
+                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                        none, 0_c_size_t)
+    end if
+  end function
+
+  !> dk_deform_tfi with Fortran arrays: a dims(1) x dims(2) x dims(3) block (dims(3) = 1 in
+  !> 2D), directions a sum of DK_DIRECTION_*; other arguments as dkf_deform_idw (scratch:
+  !> dk_deform_tfi_scratch_len).
+  function dkf_deform_tfi(dims, directions, points, nodes, deformed, scratch, index_scratch, &
+                          translations, rotations, out, element_offsets, element_nodes, &
+                          element_kinds, rigid_rotation, node_rotations, origin, origin_out) &
+      result(s)
+    integer(c_size_t), intent(in) :: dims(3)
+    integer(c_int32_t), intent(in) :: directions
+    real(c_double), intent(in), contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
+    real(c_double), intent(in), target, contiguous :: deformed(:, :)
+    real(c_double), intent(inout), contiguous :: scratch(:), translations(:, :), &
+                                                 rotations(:, :), out(:, :)
+    integer(c_int32_t), intent(inout), contiguous :: index_scratch(:)
+    integer(c_int32_t), intent(in), target, contiguous, optional :: element_offsets(:), &
+                                                                     element_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous, optional :: element_kinds(:)
+    real(c_double), intent(in), optional :: rigid_rotation(4)
+    real(c_double), intent(in), target, contiguous, optional :: node_rotations(:, :)
+    real(c_double), intent(in), optional :: origin(:)
+    real(c_double), intent(inout), contiguous, optional :: origin_out(:)
+    integer(c_int32_t) :: s
+    type(dk_boundary_motion) :: m
+    real(c_double) :: none(1)
+    call dkf_fill_motion(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
+                         rigid_rotation, node_rotations, origin)
+    if (present(origin_out)) then
+      s = dk_deform_tfi(dims(1), dims(2), dims(3), directions, points, &
+                        size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
+                        scratch, size(scratch, kind=c_size_t), index_scratch, &
+                        size(index_scratch, kind=c_size_t), translations, &
+                        size(translations, kind=c_size_t), rotations, &
+                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                        origin_out, size(origin_out, kind=c_size_t))
+    else
+      s = dk_deform_tfi(dims(1), dims(2), dims(3), directions, points, &
+                        size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
+                        scratch, size(scratch, kind=c_size_t), index_scratch, &
+                        size(index_scratch, kind=c_size_t), translations, &
+                        size(translations, kind=c_size_t), rotations, &
+                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                        none, 0_c_size_t)
+    end if
+  end function
+
+  !> Single-precision twin of dkf_fill_motion.
+  !> Fills m for the dkf_deform_*_f32 wrappers: 1-based nodes(b) and deformed(dim, b); optional
+  !> boundary elements (1-based offsets and positions in nodes, VTK kinds), rigid_rotation(4)
+  !> or node_rotations(4, b) (else the rotations come from the shape), origin(dim) (else the
+  !> default origin). The pointers stay valid while the actual arguments do.
+  subroutine dkf_fill_motion_f32(m, nodes, deformed, element_offsets, element_nodes, &
+                             element_kinds, rigid_rotation, node_rotations, origin)
+    use, intrinsic :: iso_c_binding, only: c_loc
+    type(dk_boundary_motion_f32), intent(inout) :: m
+    integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
+    real(c_float), intent(in), target, contiguous :: deformed(:, :)
+    integer(c_int32_t), intent(in), target, contiguous, optional :: element_offsets(:), &
+                                                                     element_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous, optional :: element_kinds(:)
+    real(c_float), intent(in), optional :: rigid_rotation(4)
+    real(c_float), intent(in), target, contiguous, optional :: node_rotations(:, :)
+    real(c_float), intent(in), optional :: origin(:)
+    integer(c_int32_t) :: s
+    integer :: k
+    s = dk_boundary_motion_default_f32(m)
+    m%index_base = 1
+    m%nodes = c_loc(nodes)
+    m%nodes_len = size(nodes, kind=c_size_t)
+    m%deformed = c_loc(deformed)
+    m%deformed_len = size(deformed, kind=c_size_t)
+    if (present(element_offsets) .and. present(element_nodes) .and. present(element_kinds)) then
+      m%element_offsets = c_loc(element_offsets)
+      m%element_offsets_len = size(element_offsets, kind=c_size_t)
+      m%element_nodes = c_loc(element_nodes)
+      m%element_nodes_len = size(element_nodes, kind=c_size_t)
+      m%element_kinds = c_loc(element_kinds)
+      m%element_kinds_len = size(element_kinds, kind=c_size_t)
+    end if
+    if (present(rigid_rotation)) then
+      m%rotation_source = DK_ROTATIONS_RIGID
+      m%rigid_rotation = rigid_rotation
+    else if (present(node_rotations)) then
+      m%rotation_source = DK_ROTATIONS_PER_NODE
+      m%node_rotations = c_loc(node_rotations)
+      m%node_rotations_len = size(node_rotations, kind=c_size_t)
+    end if
+    if (present(origin)) then
+      m%has_origin = 1
+      do k = 1, min(size(origin), 3)
+        m%origin(k) = origin(k)
+      end do
+    end if
+  end subroutine
+
+  !> dk_deform_idw_f32 with Fortran arrays and 1-based node numbers: points(dim, n), nodes(b),
+  !> deformed(dim, b); scratch(:) (dk_deform_idw_scratch_len), index_scratch(:) (at least
+  !> size(nodes) + size(element_offsets) + size(element_nodes)), translations(dim, n) and
+  !> rotations(4, n) (workspaces); out(dim, n). Optional arguments as dkf_fill_motion_f32, and
+  !> origin_out(dim) for the origin used.
+  function dkf_deform_idw_f32(points, nodes, deformed, exponent, scratch, index_scratch, &
+                          translations, rotations, out, element_offsets, element_nodes, &
+                          element_kinds, rigid_rotation, node_rotations, origin, origin_out) &
+      result(s)
+    real(c_float), intent(in), contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
+    real(c_float), intent(in), target, contiguous :: deformed(:, :)
+    real(c_float), intent(in) :: exponent
+    real(c_float), intent(inout), contiguous :: scratch(:), translations(:, :), &
+                                                 rotations(:, :), out(:, :)
+    integer(c_int32_t), intent(inout), contiguous :: index_scratch(:)
+    integer(c_int32_t), intent(in), target, contiguous, optional :: element_offsets(:), &
+                                                                     element_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous, optional :: element_kinds(:)
+    real(c_float), intent(in), optional :: rigid_rotation(4)
+    real(c_float), intent(in), target, contiguous, optional :: node_rotations(:, :)
+    real(c_float), intent(in), optional :: origin(:)
+    real(c_float), intent(inout), contiguous, optional :: origin_out(:)
+    integer(c_int32_t) :: s
+    type(dk_boundary_motion_f32) :: m
+    real(c_float) :: none(1)
+    call dkf_fill_motion_f32(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
+                         rigid_rotation, node_rotations, origin)
+    if (present(origin_out)) then
+      s = dk_deform_idw_f32(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
+                        m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
+                        size(index_scratch, kind=c_size_t), translations, &
+                        size(translations, kind=c_size_t), rotations, &
+                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                        origin_out, size(origin_out, kind=c_size_t))
+    else
+      s = dk_deform_idw_f32(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
+                        m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
+                        size(index_scratch, kind=c_size_t), translations, &
+                        size(translations, kind=c_size_t), rotations, &
+                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                        none, 0_c_size_t)
+    end if
+  end function
+
+  !> dk_deform_tfi_f32 with Fortran arrays: a dims(1) x dims(2) x dims(3) block (dims(3) = 1 in
+  !> 2D), directions a sum of DK_DIRECTION_*; other arguments as dkf_deform_idw_f32 (scratch:
+  !> dk_deform_tfi_scratch_len).
+  function dkf_deform_tfi_f32(dims, directions, points, nodes, deformed, scratch, index_scratch, &
+                          translations, rotations, out, element_offsets, element_nodes, &
+                          element_kinds, rigid_rotation, node_rotations, origin, origin_out) &
+      result(s)
+    integer(c_size_t), intent(in) :: dims(3)
+    integer(c_int32_t), intent(in) :: directions
+    real(c_float), intent(in), contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
+    real(c_float), intent(in), target, contiguous :: deformed(:, :)
+    real(c_float), intent(inout), contiguous :: scratch(:), translations(:, :), &
+                                                 rotations(:, :), out(:, :)
+    integer(c_int32_t), intent(inout), contiguous :: index_scratch(:)
+    integer(c_int32_t), intent(in), target, contiguous, optional :: element_offsets(:), &
+                                                                     element_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous, optional :: element_kinds(:)
+    real(c_float), intent(in), optional :: rigid_rotation(4)
+    real(c_float), intent(in), target, contiguous, optional :: node_rotations(:, :)
+    real(c_float), intent(in), optional :: origin(:)
+    real(c_float), intent(inout), contiguous, optional :: origin_out(:)
+    integer(c_int32_t) :: s
+    type(dk_boundary_motion_f32) :: m
+    real(c_float) :: none(1)
+    call dkf_fill_motion_f32(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
+                         rigid_rotation, node_rotations, origin)
+    if (present(origin_out)) then
+      s = dk_deform_tfi_f32(dims(1), dims(2), dims(3), directions, points, &
+                        size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
+                        scratch, size(scratch, kind=c_size_t), index_scratch, &
+                        size(index_scratch, kind=c_size_t), translations, &
+                        size(translations, kind=c_size_t), rotations, &
+                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                        origin_out, size(origin_out, kind=c_size_t))
+    else
+      s = dk_deform_tfi_f32(dims(1), dims(2), dims(3), directions, points, &
+                        size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
+                        scratch, size(scratch, kind=c_size_t), index_scratch, &
+                        size(index_scratch, kind=c_size_t), translations, &
+                        size(translations, kind=c_size_t), rotations, &
+                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                        none, 0_c_size_t)
+    end if
+  end function
+
+  !> dk_deform_spring with Fortran arrays: the 0-based CSR graph offsets(n + 1), targets(:)
+  !> from dkf_graph_from_*, stiffness(size(targets)), fixed(n) (nonzero = boundary node),
+  !> options; values(:) (second length of dk_deform_spring_scratch_len); index_scratch(:) at
+  !> least size(nodes) + size(element_offsets) + size(element_nodes) + n; report receives the
+  !> solver report. Other arguments as dkf_deform_idw.
+  function dkf_deform_spring(points, nodes, deformed, offsets, targets, stiffness, fixed, &
+                             options, scratch, values, index_scratch, translations, rotations, &
+                             out, report, element_offsets, element_nodes, element_kinds, &
+                             rigid_rotation, node_rotations, origin, origin_out) result(s)
+    real(c_double), intent(in), contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
+    real(c_double), intent(in), target, contiguous :: deformed(:, :)
+    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:)
+    real(c_double), intent(in), contiguous :: stiffness(:)
+    integer(c_int8_t), intent(in), contiguous :: fixed(:)
+    type(dk_spring_solve_options), intent(in) :: options
+    real(c_double), intent(inout), contiguous :: scratch(:), values(:), translations(:, :), &
+                                                 rotations(:, :), out(:, :)
+    integer(c_int32_t), intent(inout), contiguous :: index_scratch(:)
+    type(dk_spring_solve_report), intent(inout) :: report
+    integer(c_int32_t), intent(in), target, contiguous, optional :: element_offsets(:), &
+                                                                     element_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous, optional :: element_kinds(:)
+    real(c_double), intent(in), optional :: rigid_rotation(4)
+    real(c_double), intent(in), target, contiguous, optional :: node_rotations(:, :)
+    real(c_double), intent(in), optional :: origin(:)
+    real(c_double), intent(inout), contiguous, optional :: origin_out(:)
+    integer(c_int32_t) :: s
+    type(dk_boundary_motion) :: m
+    real(c_double) :: none(1)
+    call dkf_fill_motion(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
+                         rigid_rotation, node_rotations, origin)
+    if (present(origin_out)) then
+      s = dk_deform_spring(points, size(points, kind=c_size_t), &
+                           int(size(points, 1), c_int32_t), m, offsets, &
+                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
+                           stiffness, size(stiffness, kind=c_size_t), fixed, &
+                           size(fixed, kind=c_size_t), options, scratch, &
+                           size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
+                           index_scratch, size(index_scratch, kind=c_size_t), translations, &
+                           size(translations, kind=c_size_t), rotations, &
+                           size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                           origin_out, size(origin_out, kind=c_size_t), report)
+    else
+      s = dk_deform_spring(points, size(points, kind=c_size_t), &
+                           int(size(points, 1), c_int32_t), m, offsets, &
+                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
+                           stiffness, size(stiffness, kind=c_size_t), fixed, &
+                           size(fixed, kind=c_size_t), options, scratch, &
+                           size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
+                           index_scratch, size(index_scratch, kind=c_size_t), translations, &
+                           size(translations, kind=c_size_t), rotations, &
+                           size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                           none, 0_c_size_t, report)
+    end if
+  end function
+
+  !> dk_deform_spring_f32 with Fortran arrays: the 0-based CSR graph offsets(n + 1), targets(:)
+  !> from dkf_graph_from_*, stiffness(size(targets)), fixed(n) (nonzero = boundary node),
+  !> options; values(:) (second length of dk_deform_spring_scratch_len); index_scratch(:) at
+  !> least size(nodes) + size(element_offsets) + size(element_nodes) + n; report receives the
+  !> solver report. Other arguments as dkf_deform_idw_f32.
+  function dkf_deform_spring_f32(points, nodes, deformed, offsets, targets, stiffness, fixed, &
+                             options, scratch, values, index_scratch, translations, rotations, &
+                             out, report, element_offsets, element_nodes, element_kinds, &
+                             rigid_rotation, node_rotations, origin, origin_out) result(s)
+    real(c_float), intent(in), contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
+    real(c_float), intent(in), target, contiguous :: deformed(:, :)
+    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:)
+    real(c_float), intent(in), contiguous :: stiffness(:)
+    integer(c_int8_t), intent(in), contiguous :: fixed(:)
+    type(dk_spring_solve_options), intent(in) :: options
+    real(c_float), intent(inout), contiguous :: scratch(:), values(:), translations(:, :), &
+                                                 rotations(:, :), out(:, :)
+    integer(c_int32_t), intent(inout), contiguous :: index_scratch(:)
+    type(dk_spring_solve_report), intent(inout) :: report
+    integer(c_int32_t), intent(in), target, contiguous, optional :: element_offsets(:), &
+                                                                     element_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous, optional :: element_kinds(:)
+    real(c_float), intent(in), optional :: rigid_rotation(4)
+    real(c_float), intent(in), target, contiguous, optional :: node_rotations(:, :)
+    real(c_float), intent(in), optional :: origin(:)
+    real(c_float), intent(inout), contiguous, optional :: origin_out(:)
+    integer(c_int32_t) :: s
+    type(dk_boundary_motion_f32) :: m
+    real(c_float) :: none(1)
+    call dkf_fill_motion_f32(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
+                         rigid_rotation, node_rotations, origin)
+    if (present(origin_out)) then
+      s = dk_deform_spring_f32(points, size(points, kind=c_size_t), &
+                           int(size(points, 1), c_int32_t), m, offsets, &
+                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
+                           stiffness, size(stiffness, kind=c_size_t), fixed, &
+                           size(fixed, kind=c_size_t), options, scratch, &
+                           size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
+                           index_scratch, size(index_scratch, kind=c_size_t), translations, &
+                           size(translations, kind=c_size_t), rotations, &
+                           size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                           origin_out, size(origin_out, kind=c_size_t), report)
+    else
+      s = dk_deform_spring_f32(points, size(points, kind=c_size_t), &
+                           int(size(points, 1), c_int32_t), m, offsets, &
+                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
+                           stiffness, size(stiffness, kind=c_size_t), fixed, &
+                           size(fixed, kind=c_size_t), options, scratch, &
+                           size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
+                           index_scratch, size(index_scratch, kind=c_size_t), translations, &
+                           size(translations, kind=c_size_t), rotations, &
+                           size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                           none, 0_c_size_t, report)
+    end if
+  end function
   ! <<< end wrappers: deformation >>>
 
 end module deform_kernel

@@ -108,10 +108,11 @@ pub unsafe extern "C" fn dk_graph_from_edges(
 }
 
 /// Owned copies of a caller's cell arrays: offsets, nodes (both 0-based) and kinds.
-type OwnedCells = (Vec<u32>, Vec<u32>, Vec<u8>);
+pub(crate) type OwnedCells = (Vec<u32>, Vec<u32>, Vec<u8>);
 
 /// Reads a cell list (0-based offsets; node indices in `index_base`) into owned arrays.
-fn read_cells(
+/// Shared with the quality module, which takes cells the same way.
+pub(crate) fn read_cells(
     cell_offsets: *const u32,
     cell_offsets_len: usize,
     cell_nodes: *const u32,

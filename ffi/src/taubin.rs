@@ -1,1 +1,2073 @@
-//! C ABI: taubin (in progress).
+//! Taubin λ|μ smoothing and the structured-grid line tools: `dk_taubin_*` (f64) and
+//! `dk_taubin_*_f32`, plus Alter's whole-grid job `dk_taubin_smooth_arclength`.
+//!
+//! Conventions of this module:
+//! - A structured block crosses the ABI as three `size_t` dimensions `ni, nj, nk` (each ≥ 1,
+//!   `nk = 1` for 2D, `nj = nk = 1` for 1D); point `(i, j, k)` has the linear index
+//!   `i + ni (j + nj k)` (i fastest: Plot3D and Fortran order).
+//! - Points are flat arrays of `n * dim` scalars (`x0, y0, [z0,] x1, …`) with `dim` 2 or 3;
+//!   per-node values on a graph are flat arrays of `n * components` scalars (`components`
+//!   1 to 7: a scalar, a displacement, a quaternion, or a displacement and a quaternion).
+//! - Options and reports are `#[repr(C)]` structs whose floating-point fields are `double`
+//!   for both precisions: the `_f32` functions round them to `float` (exact for values that
+//!   are `float`s, and the defaults round exactly as the Rust API's `f32` defaults do), and
+//!   widen their `float` results exactly.
+//! - Flags inside structs are `uint8_t` (nonzero = true), so a C `char`, `_Bool` or Fortran
+//!   `integer(c_int8_t)` can be passed through without a conversion.
+//! - Index ranges (`dk_block_region`, graph node ranges) honour `index_base`: with 0 they are
+//!   C's `lo <= i < hi`, with 1 they are Fortran's inclusive `lo <= i <= hi`, 1-based.
+//! - Routines that update a caller buffer in place (`points`, `field`, `values`) validate
+//!   everything first: on any error the buffer and every output are unchanged. Scratch buffers
+//!   are work space: their contents after any call are unspecified.
+#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
+
+use deform_kernel::taubin::{
+    arclength, check_lines_increasing, graph_sweep, inverse_distance_weights, max_stretching,
+    redistribute, redistribute_scratch_len, smooth_arclength, smooth_arclength_scratch_len,
+    smooth_graph, smooth_structured, smooth_structured_coarse, stretching,
+    structured_coarse_scratch_len, structured_scratch_len, structured_sweep, BlockRegion, Coarse,
+    FilterReport, GraphOptions, Prolongation, SmoothOptions, SmoothReport, StructuredOptions,
+    TaubinParams,
+};
+use deform_kernel::{Block, Graph, Real};
+
+use crate::slice::{chunks, chunks_mut, input, out_one, output};
+use crate::status::dk_status;
+
+// ---------------------------------------------------------------------------------------------
+// Shared helpers (also used by the spring and quality modules).
+// ---------------------------------------------------------------------------------------------
+
+/// `Ok(())` → `DK_OK`, `Err(s)` → `s`.
+pub(crate) fn done(r: Result<(), dk_status>) -> dk_status {
+    match r {
+        Ok(()) => dk_status::DK_OK,
+        Err(s) => s,
+    }
+}
+
+/// Copies one `T` from `p` (NULL is an error).
+pub(crate) fn read_one<T: Copy>(p: *const T) -> Result<T, dk_status> {
+    // SAFETY: every public function taking a single-item pointer documents that it points to
+    // one readable, aligned item (or is NULL, rejected by `input`).
+    let s = unsafe { input(p, 1) }?;
+    s.first().copied().ok_or(dk_status::DK_ERR_NULL_POINTER)
+}
+
+/// Validates the dimensions of a structured block.
+fn block(ni: usize, nj: usize, nk: usize) -> Result<Block, dk_status> {
+    Block::new([ni, nj, nk]).map_err(dk_status::from)
+}
+
+/// Borrows and validates a 0-based CSR graph.
+pub(crate) fn graph<'a>(
+    offsets: *const u32,
+    offsets_len: usize,
+    targets: *const u32,
+    targets_len: usize,
+) -> Result<Graph<'a>, dk_status> {
+    // SAFETY: contract of every caller: `offsets_len` readable u32 at `offsets`.
+    let o = unsafe { input(offsets, offsets_len) }?;
+    // SAFETY: as above for `targets`.
+    let t = unsafe { input(targets, targets_len) }?;
+    Graph::new(o, t).map_err(dk_status::from)
+}
+
+/// An optional input array: `None` when `ptr` is NULL and `len` is 0, else the borrowed
+/// slice (so a non-NULL pointer with length 0 is an empty array, checked by the kernel).
+pub(crate) fn optional<'a, T>(ptr: *const T, len: usize) -> Result<Option<&'a [T]>, dk_status> {
+    if ptr.is_null() && len == 0 {
+        return Ok(None);
+    }
+    // SAFETY: contract of every caller: `len` readable values at `ptr`.
+    unsafe { input(ptr, len) }.map(Some)
+}
+
+/// Converts a caller's index range (`index_base` 0: `start <= i < end`; 1: 1-based inclusive
+/// `start <= i <= end`) to a 0-based half-open range. A 1-based start of 0 is out of range.
+pub(crate) fn range(start: usize, end: usize, index_base: u32) -> Result<[usize; 2], dk_status> {
+    match index_base {
+        0 => Ok([start, end]),
+        1 => match start.checked_sub(1) {
+            Some(s) => Ok([s, end]),
+            None => Err(dk_status::DK_ERR_INDEX_OUT_OF_RANGE),
+        },
+        _ => Err(dk_status::DK_ERR_BAD_INDEX_BASE),
+    }
+}
+
+/// `n * m` or `DK_ERR_TOO_LARGE`.
+pub(crate) fn mul_len(n: usize, m: usize) -> Result<usize, dk_status> {
+    n.checked_mul(m).ok_or(dk_status::DK_ERR_TOO_LARGE)
+}
+
+/// Writes a size query result.
+fn write_len(len_out: *mut usize, len: usize) -> Result<(), dk_status> {
+    // SAFETY: contract of every `*_len` function: one writable size_t at `len_out`.
+    let out = unsafe { out_one(len_out) }?;
+    *out = len;
+    Ok(())
+}
+
+/// Writes one scalar.
+pub(crate) fn write_one<T>(p: *mut T, v: T) -> Result<(), dk_status> {
+    // SAFETY: contract of every caller: one writable, aligned `T` at `p`.
+    let out = unsafe { out_one(p) }?;
+    *out = v;
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// repr(C) types.
+// ---------------------------------------------------------------------------------------------
+
+/// `dk_taubin_coarse::prolongation`: the fine field becomes the interpolated coarse field
+/// (Alter's prolongation of the arclength functions; the default).
+pub const DK_PROLONGATION_VALUES: u32 = 0;
+/// `dk_taubin_coarse::prolongation`: the interpolated coarse *change* is added to the fine
+/// field (keeps fine-scale content the coarse grid cannot see).
+pub const DK_PROLONGATION_CORRECTION: u32 = 1;
+
+/// Coarse-grid (multi-grid) settings: keep every `factor[d]`-th index in direction `d` (1 = do
+/// not coarsen; the last index is always kept) and the prolongation rule
+/// (`DK_PROLONGATION_VALUES` or `DK_PROLONGATION_CORRECTION`). Alter used `{4, 4, 1}` for
+/// k-lines.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(non_camel_case_types)]
+pub struct dk_taubin_coarse {
+    /// Sampling factor per direction i, j, k (each ≥ 1).
+    pub factor: [usize; 3],
+    /// `DK_PROLONGATION_VALUES` (0) or `DK_PROLONGATION_CORRECTION` (1).
+    pub prolongation: u32,
+}
+#[cfg(target_pointer_width = "64")]
+const _: () = assert!(
+    core::mem::size_of::<dk_taubin_coarse>() == 32
+        && core::mem::offset_of!(dk_taubin_coarse, factor) == 0
+        && core::mem::offset_of!(dk_taubin_coarse, prolongation) == 24
+);
+
+impl dk_taubin_coarse {
+    fn to_kernel(self) -> Result<Coarse, dk_status> {
+        // The kernel checks this too, but its size query treats 0 as 1: reject it here so
+        // the scratch-length function agrees with the solver.
+        if self.factor.contains(&0) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        let prolongation = match self.prolongation {
+            DK_PROLONGATION_VALUES => Prolongation::Values,
+            DK_PROLONGATION_CORRECTION => Prolongation::Correction,
+            _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        };
+        Ok(Coarse {
+            factor: self.factor,
+            prolongation,
+        })
+    }
+}
+
+/// Options of the structured filters (`dk_taubin_smooth_structured*`,
+/// `dk_taubin_structured_sweep`). All zero (`{0}`) is the paper's setting: no pins, the
+/// in-plane face rule everywhere.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(non_camel_case_types)]
+pub struct dk_structured_options {
+    /// Optional pin mask, one byte per point (nonzero = the point keeps its value); NULL (with
+    /// `pinned_len` 0) for none.
+    pub pinned: *const u8,
+    /// Length of `pinned` (the point count when given).
+    pub pinned_len: usize,
+    /// Per direction i, j, k: nonzero = the faces normal to it use the mirror (Neumann) rule
+    /// instead of the paper's in-plane average.
+    pub mirror: [u8; 3],
+}
+#[cfg(target_pointer_width = "64")]
+const _: () = assert!(
+    core::mem::size_of::<dk_structured_options>() == 24
+        && core::mem::offset_of!(dk_structured_options, pinned) == 0
+        && core::mem::offset_of!(dk_structured_options, pinned_len) == 8
+        && core::mem::offset_of!(dk_structured_options, mirror) == 16
+);
+
+impl dk_structured_options {
+    fn to_kernel<'a>(self) -> Result<StructuredOptions<'a>, dk_status> {
+        Ok(StructuredOptions {
+            pinned: optional(self.pinned, self.pinned_len)?,
+            mirror: self.mirror.map(|m| m != 0),
+        })
+    }
+}
+
+/// A box of structured indices, the points one `dk_taubin_structured_sweep` updates. With
+/// `index_base` 0: `lo[d] <= index[d] < hi[d]`; with 1: `lo[d] <= index[d] <= hi[d]`, 1-based.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(non_camel_case_types)]
+pub struct dk_block_region {
+    /// First index per direction i, j, k.
+    pub lo: [usize; 3],
+    /// End per direction: exclusive (index_base 0) or inclusive (index_base 1).
+    pub hi: [usize; 3],
+}
+#[cfg(target_pointer_width = "64")]
+const _: () = assert!(
+    core::mem::size_of::<dk_block_region>() == 48
+        && core::mem::offset_of!(dk_block_region, lo) == 0
+        && core::mem::offset_of!(dk_block_region, hi) == 24
+);
+
+/// What a whole filter run did (`dk_taubin_smooth_structured*`, `dk_taubin_smooth_graph`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(non_camel_case_types)]
+pub struct dk_filter_report {
+    /// Iterations performed (one iteration = λ pass + μ pass).
+    pub iterations: usize,
+    /// Largest `|change|` of any value in either pass of the last iteration (0 when no
+    /// iteration ran).
+    pub last_change: f64,
+}
+#[cfg(target_pointer_width = "64")]
+const _: () = assert!(
+    core::mem::size_of::<dk_filter_report>() == 16
+        && core::mem::offset_of!(dk_filter_report, iterations) == 0
+        && core::mem::offset_of!(dk_filter_report, last_change) == 8
+);
+
+impl dk_filter_report {
+    fn of<T: Real>(r: FilterReport<T>) -> Self {
+        dk_filter_report {
+            iterations: r.iterations,
+            last_change: r.last_change.to_f64(),
+        }
+    }
+}
+
+/// Settings of `dk_taubin_smooth_arclength` (Alter's whole-grid smoothing). Fill with
+/// `dk_smooth_arclength_options_default` and change fields as needed.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(non_camel_case_types)]
+pub struct dk_smooth_arclength_options {
+    /// Forward (smoothing) factor λ > 0 (default 0.330).
+    pub lambda: f64,
+    /// Backward (shape-recovery) factor μ ≤ 0 (default −0.334).
+    pub mu: f64,
+    /// Fine-grid iterations (default 30).
+    pub iterations: usize,
+    /// Coarse-grid iterations when `use_coarse` is nonzero (default 15).
+    pub coarse_iterations: usize,
+    /// Optional pin mask, one byte per point (nonzero = the point does not move); NULL (with
+    /// `pinned_len` 0) for none.
+    pub pinned: *const u8,
+    /// Length of `pinned` (the point count when given).
+    pub pinned_len: usize,
+    /// Coarse-grid settings, used when `use_coarse` is nonzero (default `{1, 1, 1}`, values).
+    pub coarse: dk_taubin_coarse,
+    /// Direction of the smoothed grid lines: 0 = i, 1 = j, 2 = k.
+    pub direction: u32,
+    /// Nonzero: filter the normalised arclength `S / S_total` (both line ends stay put; reduces
+    /// stretching). Zero (default): the dimensional arclength.
+    pub normalised: u8,
+    /// Nonzero: run the coarse-grid pass after the fine iterations (default 0).
+    pub use_coarse: u8,
+    /// Per direction i, j, k: nonzero = mirror (Neumann) faces. The entry for `direction` is
+    /// ignored (the line-end faces always use the paper's rule).
+    pub mirror: [u8; 3],
+}
+#[cfg(target_pointer_width = "64")]
+const _: () = assert!(
+    core::mem::size_of::<dk_smooth_arclength_options>() == 96
+        && core::mem::offset_of!(dk_smooth_arclength_options, lambda) == 0
+        && core::mem::offset_of!(dk_smooth_arclength_options, mu) == 8
+        && core::mem::offset_of!(dk_smooth_arclength_options, iterations) == 16
+        && core::mem::offset_of!(dk_smooth_arclength_options, coarse_iterations) == 24
+        && core::mem::offset_of!(dk_smooth_arclength_options, pinned) == 32
+        && core::mem::offset_of!(dk_smooth_arclength_options, pinned_len) == 40
+        && core::mem::offset_of!(dk_smooth_arclength_options, coarse) == 48
+        && core::mem::offset_of!(dk_smooth_arclength_options, direction) == 80
+        && core::mem::offset_of!(dk_smooth_arclength_options, normalised) == 84
+        && core::mem::offset_of!(dk_smooth_arclength_options, use_coarse) == 85
+        && core::mem::offset_of!(dk_smooth_arclength_options, mirror) == 86
+);
+
+impl dk_smooth_arclength_options {
+    fn to_kernel<'a, T: Real>(self) -> Result<SmoothOptions<'a, T>, dk_status> {
+        Ok(SmoothOptions {
+            direction: self.direction as usize,
+            params: TaubinParams {
+                lambda: T::from_f64(self.lambda),
+                mu: T::from_f64(self.mu),
+            },
+            iterations: self.iterations,
+            normalised: self.normalised != 0,
+            pinned: optional(self.pinned, self.pinned_len)?,
+            mirror: self.mirror.map(|m| m != 0),
+            coarse: if self.use_coarse != 0 {
+                Some(self.coarse.to_kernel()?)
+            } else {
+                None
+            },
+            coarse_iterations: self.coarse_iterations,
+        })
+    }
+}
+
+/// What `dk_taubin_smooth_arclength` did.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(non_camel_case_types)]
+pub struct dk_smooth_report {
+    /// Iterations performed (fine + coarse).
+    pub iterations: usize,
+    /// Largest `|change|` of the arclength field in either pass of the last iteration.
+    pub last_change: f64,
+    /// Largest distance any point moved.
+    pub max_displacement: f64,
+    /// Maximum stretching along the smoothing direction before.
+    pub stretching_before: f64,
+    /// Maximum stretching along the smoothing direction after.
+    pub stretching_after: f64,
+    /// 0-based linear index `i + ni (j + nj k)` of the point of `stretching_before`.
+    pub stretching_before_point: usize,
+    /// 0-based linear index of the point of `stretching_after`.
+    pub stretching_after_point: usize,
+}
+#[cfg(target_pointer_width = "64")]
+const _: () = assert!(
+    core::mem::size_of::<dk_smooth_report>() == 56
+        && core::mem::offset_of!(dk_smooth_report, iterations) == 0
+        && core::mem::offset_of!(dk_smooth_report, last_change) == 8
+        && core::mem::offset_of!(dk_smooth_report, max_displacement) == 16
+        && core::mem::offset_of!(dk_smooth_report, stretching_before) == 24
+        && core::mem::offset_of!(dk_smooth_report, stretching_after) == 32
+        && core::mem::offset_of!(dk_smooth_report, stretching_before_point) == 40
+        && core::mem::offset_of!(dk_smooth_report, stretching_after_point) == 48
+);
+
+impl dk_smooth_report {
+    fn of<T: Real>(r: SmoothReport<T>) -> Self {
+        dk_smooth_report {
+            iterations: r.iterations,
+            last_change: r.last_change.to_f64(),
+            max_displacement: r.max_displacement.to_f64(),
+            stretching_before: r.stretching_before.0.to_f64(),
+            stretching_after: r.stretching_after.0.to_f64(),
+            stretching_before_point: r.stretching_before.1,
+            stretching_after_point: r.stretching_after.1,
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Generic inner functions.
+// ---------------------------------------------------------------------------------------------
+
+fn params_paper<T: Real>(lambda_out: *mut T, mu_out: *mut T) -> dk_status {
+    done((|| {
+        let p = TaubinParams::<T>::paper();
+        // SAFETY: contract: one writable scalar at `lambda_out`.
+        let l = unsafe { out_one(lambda_out) }?;
+        // SAFETY: contract: one writable scalar at `mu_out`, not overlapping `lambda_out`.
+        let m = unsafe { out_one(mu_out) }?;
+        *l = p.lambda;
+        *m = p.mu;
+        Ok(())
+    })())
+}
+
+fn params_from_pass_band<T: Real>(
+    lambda: T,
+    pass_band: T,
+    lambda_out: *mut T,
+    mu_out: *mut T,
+) -> dk_status {
+    done((|| {
+        let p = TaubinParams::from_pass_band(lambda, pass_band).map_err(dk_status::from)?;
+        // SAFETY: contract: one writable scalar at `lambda_out`.
+        let l = unsafe { out_one(lambda_out) }?;
+        // SAFETY: contract: one writable scalar at `mu_out`, not overlapping `lambda_out`.
+        let m = unsafe { out_one(mu_out) }?;
+        *l = p.lambda;
+        *m = p.mu;
+        Ok(())
+    })())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn smooth_arclength_d<T: Real, const D: usize>(
+    block: &Block,
+    options: &dk_smooth_arclength_options,
+    points: *mut T,
+    points_len: usize,
+    scratch: *mut T,
+    scratch_len: usize,
+    report: *mut dk_smooth_report,
+) -> Result<(), dk_status> {
+    let opts = options.to_kernel::<T>()?;
+    // SAFETY: contract: `points_len` readable and writable scalars at `points`, not
+    // overlapping any other argument.
+    let p = unsafe { chunks_mut::<T, D>(points, points_len) }?;
+    // SAFETY: contract: `scratch_len` writable scalars at `scratch`, not overlapping.
+    let s = unsafe { output(scratch, scratch_len) }?;
+    // SAFETY: contract: one writable report at `report`, not overlapping.
+    let r = unsafe { out_one(report) }?;
+    // The kernel validates everything before it moves a point: on Err `points` is unchanged.
+    let rep = smooth_arclength(block, p, &opts, s).map_err(dk_status::from)?;
+    *r = dk_smooth_report::of(rep);
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn smooth_arclength_t<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    options: *const dk_smooth_arclength_options,
+    points: *mut T,
+    points_len: usize,
+    dim: u32,
+    scratch: *mut T,
+    scratch_len: usize,
+    report: *mut dk_smooth_report,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        let o = read_one(options)?;
+        match dim {
+            2 => {
+                smooth_arclength_d::<T, 2>(&b, &o, points, points_len, scratch, scratch_len, report)
+            }
+            3 => {
+                smooth_arclength_d::<T, 3>(&b, &o, points, points_len, scratch, scratch_len, report)
+            }
+            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        }
+    })())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn smooth_structured_t<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    lambda: T,
+    mu: T,
+    iterations: usize,
+    options: *const dk_structured_options,
+    field: *mut T,
+    field_len: usize,
+    scratch: *mut T,
+    scratch_len: usize,
+    report: *mut dk_filter_report,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        let o = read_one(options)?.to_kernel()?;
+        // SAFETY: contract: `field_len` readable and writable scalars at `field`.
+        let f = unsafe { output(field, field_len) }?;
+        // SAFETY: contract: `scratch_len` writable scalars at `scratch`, not overlapping.
+        let s = unsafe { output(scratch, scratch_len) }?;
+        // SAFETY: contract: one writable report at `report`.
+        let r = unsafe { out_one(report) }?;
+        let rep = smooth_structured(&b, f, TaubinParams { lambda, mu }, iterations, &o, s)
+            .map_err(dk_status::from)?;
+        *r = dk_filter_report::of(rep);
+        Ok(())
+    })())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn structured_sweep_t<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    src: *const T,
+    src_len: usize,
+    weight: T,
+    options: *const dk_structured_options,
+    region: *const dk_block_region,
+    index_base: u32,
+    dst: *mut T,
+    dst_len: usize,
+    max_change_out: *mut T,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        let o = read_one(options)?.to_kernel()?;
+        let reg = read_one(region)?;
+        let mut lo = [0usize; 3];
+        let mut hi = [0usize; 3];
+        for ((l, h), (&rl, &rh)) in lo
+            .iter_mut()
+            .zip(hi.iter_mut())
+            .zip(reg.lo.iter().zip(&reg.hi))
+        {
+            let [a, z] = range(rl, rh, index_base)?;
+            *l = a;
+            *h = z;
+        }
+        // SAFETY: contract: `src_len` readable scalars at `src`.
+        let s = unsafe { input(src, src_len) }?;
+        // SAFETY: contract: `dst_len` writable scalars at `dst`, not overlapping `src`.
+        let d = unsafe { output(dst, dst_len) }?;
+        // SAFETY: contract: one writable scalar at `max_change_out`.
+        let m = unsafe { out_one(max_change_out) }?;
+        let change = structured_sweep(&b, s, d, weight, &o, &BlockRegion { lo, hi })
+            .map_err(dk_status::from)?;
+        *m = change;
+        Ok(())
+    })())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn smooth_structured_coarse_t<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    coarse: *const dk_taubin_coarse,
+    lambda: T,
+    mu: T,
+    iterations: usize,
+    options: *const dk_structured_options,
+    field: *mut T,
+    field_len: usize,
+    scratch: *mut T,
+    scratch_len: usize,
+    report: *mut dk_filter_report,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        let c = read_one(coarse)?.to_kernel()?;
+        let o = read_one(options)?.to_kernel()?;
+        // SAFETY: contract: `field_len` readable and writable scalars at `field`.
+        let f = unsafe { output(field, field_len) }?;
+        // SAFETY: contract: `scratch_len` writable scalars at `scratch`, not overlapping.
+        let s = unsafe { output(scratch, scratch_len) }?;
+        // SAFETY: contract: one writable report at `report`.
+        let r = unsafe { out_one(report) }?;
+        let rep =
+            smooth_structured_coarse(&b, f, &c, TaubinParams { lambda, mu }, iterations, &o, s)
+                .map_err(dk_status::from)?;
+        *r = dk_filter_report::of(rep);
+        Ok(())
+    })())
+}
+
+/// Dispatches on the number of value components `V` (1 to 7).
+macro_rules! by_components {
+    ($v:expr, $f:ident :: <$t:ty>, ($($arg:expr),* $(,)?)) => {
+        match $v {
+            1 => $f::<$t, 1>($($arg),*),
+            2 => $f::<$t, 2>($($arg),*),
+            3 => $f::<$t, 3>($($arg),*),
+            4 => $f::<$t, 4>($($arg),*),
+            5 => $f::<$t, 5>($($arg),*),
+            6 => $f::<$t, 6>($($arg),*),
+            7 => $f::<$t, 7>($($arg),*),
+            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        }
+    };
+}
+
+/// Graph arguments shared by the graph filter functions.
+struct GraphArgs<T> {
+    offsets: *const u32,
+    offsets_len: usize,
+    targets: *const u32,
+    targets_len: usize,
+    weights: *const T,
+    weights_len: usize,
+    fixed: *const u8,
+    fixed_len: usize,
+}
+
+impl<T> GraphArgs<T> {
+    fn read<'a>(&self) -> Result<(Graph<'a>, GraphOptions<'a, T>), dk_status> {
+        let g = graph(
+            self.offsets,
+            self.offsets_len,
+            self.targets,
+            self.targets_len,
+        )?;
+        let o = GraphOptions {
+            weights: optional(self.weights, self.weights_len)?,
+            fixed: optional(self.fixed, self.fixed_len)?,
+        };
+        Ok((g, o))
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn smooth_graph_v<T: Real, const V: usize>(
+    args: &GraphArgs<T>,
+    params: TaubinParams<T>,
+    iterations: usize,
+    values: *mut T,
+    values_len: usize,
+    scratch: *mut T,
+    scratch_len: usize,
+    report: *mut dk_filter_report,
+) -> Result<(), dk_status> {
+    let (g, o) = args.read()?;
+    // SAFETY: contract: `values_len` readable and writable scalars at `values`.
+    let v = unsafe { chunks_mut::<T, V>(values, values_len) }?;
+    // The scratch may be longer than needed: use only whole items.
+    let scratch_len = scratch_len - scratch_len % V;
+    // SAFETY: contract: `scratch_len` (or more) writable scalars at `scratch`, not overlapping.
+    let s = unsafe { chunks_mut::<T, V>(scratch, scratch_len) }?;
+    // SAFETY: contract: one writable report at `report`.
+    let r = unsafe { out_one(report) }?;
+    let rep = smooth_graph(&g, v, params, iterations, &o, s).map_err(dk_status::from)?;
+    *r = dk_filter_report::of(rep);
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn graph_sweep_v<T: Real, const V: usize>(
+    args: &GraphArgs<T>,
+    src: *const T,
+    src_len: usize,
+    weight: T,
+    nodes: [usize; 2],
+    dst: *mut T,
+    dst_len: usize,
+    max_change_out: *mut T,
+) -> Result<(), dk_status> {
+    let (g, o) = args.read()?;
+    // SAFETY: contract: `src_len` readable scalars at `src`.
+    let s = unsafe { chunks::<T, V>(src, src_len) }?;
+    // SAFETY: contract: `dst_len` writable scalars at `dst`, not overlapping `src`.
+    let d = unsafe { chunks_mut::<T, V>(dst, dst_len) }?;
+    // SAFETY: contract: one writable scalar at `max_change_out`.
+    let m = unsafe { out_one(max_change_out) }?;
+    let [a, b] = nodes;
+    *m = graph_sweep(&g, s, d, weight, &o, a..b).map_err(dk_status::from)?;
+    Ok(())
+}
+
+fn inverse_distance_weights_d<T: Real, const D: usize>(
+    g: &Graph<'_>,
+    points: *const T,
+    points_len: usize,
+    weights: *mut T,
+    weights_len: usize,
+) -> Result<(), dk_status> {
+    // SAFETY: contract: `points_len` readable scalars at `points`.
+    let p = unsafe { chunks::<T, D>(points, points_len) }?;
+    // SAFETY: contract: `weights_len` writable scalars at `weights`, not overlapping.
+    let w = unsafe { output(weights, weights_len) }?;
+    inverse_distance_weights(g, p, w).map_err(dk_status::from)
+}
+
+/// Dispatches on the point dimension `dim` (2 or 3).
+macro_rules! by_dim {
+    ($dim:expr, $f:ident :: <$t:ty>, ($($arg:expr),* $(,)?)) => {
+        match $dim {
+            2 => $f::<$t, 2>($($arg),*),
+            3 => $f::<$t, 3>($($arg),*),
+            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        }
+    };
+}
+
+#[allow(clippy::too_many_arguments)]
+fn arclength_d<T: Real, const D: usize>(
+    b: &Block,
+    points: *const T,
+    points_len: usize,
+    direction: u32,
+    normalised: bool,
+    out: *mut T,
+    out_len: usize,
+) -> Result<(), dk_status> {
+    // SAFETY: contract: `points_len` readable scalars at `points`.
+    let p = unsafe { chunks::<T, D>(points, points_len) }?;
+    // SAFETY: contract: `out_len` writable scalars at `out`, not overlapping `points`.
+    let o = unsafe { output(out, out_len) }?;
+    arclength(b, p, direction as usize, normalised, o).map_err(dk_status::from)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn redistribute_d<T: Real, const D: usize>(
+    b: &Block,
+    direction: u32,
+    targets: *const T,
+    targets_len: usize,
+    normalised: bool,
+    points: *mut T,
+    points_len: usize,
+    scratch: *mut T,
+    scratch_len: usize,
+    max_displacement_out: *mut T,
+) -> Result<(), dk_status> {
+    // SAFETY: contract: `targets_len` readable scalars at `targets`.
+    let t = unsafe { input(targets, targets_len) }?;
+    // SAFETY: contract: `points_len` readable and writable scalars at `points`.
+    let p = unsafe { chunks_mut::<T, D>(points, points_len) }?;
+    // SAFETY: contract: `scratch_len` writable scalars at `scratch`, not overlapping.
+    let s = unsafe { output(scratch, scratch_len) }?;
+    // SAFETY: contract: one writable scalar at `max_displacement_out`.
+    let m = unsafe { out_one(max_displacement_out) }?;
+    // The kernel validates everything before it moves a point.
+    *m = redistribute(b, p, direction as usize, t, normalised, s).map_err(dk_status::from)?;
+    Ok(())
+}
+
+fn stretching_d<T: Real, const D: usize>(
+    b: &Block,
+    points: *const T,
+    points_len: usize,
+    direction: u32,
+    out: *mut T,
+    out_len: usize,
+) -> Result<(), dk_status> {
+    // SAFETY: contract: `points_len` readable scalars at `points`.
+    let p = unsafe { chunks::<T, D>(points, points_len) }?;
+    // SAFETY: contract: `out_len` writable scalars at `out`, not overlapping `points`.
+    let o = unsafe { output(out, out_len) }?;
+    stretching(b, p, direction as usize, o).map_err(dk_status::from)
+}
+
+fn max_stretching_d<T: Real, const D: usize>(
+    b: &Block,
+    points: *const T,
+    points_len: usize,
+    direction: u32,
+    value_out: *mut T,
+    point_out: *mut usize,
+) -> Result<(), dk_status> {
+    // SAFETY: contract: `points_len` readable scalars at `points`.
+    let p = unsafe { chunks::<T, D>(points, points_len) }?;
+    // SAFETY: contract: one writable scalar at `value_out`.
+    let v = unsafe { out_one(value_out) }?;
+    // SAFETY: contract: one writable size_t at `point_out`.
+    let i = unsafe { out_one(point_out) }?;
+    let (r, at) = max_stretching(b, p, direction as usize).map_err(dk_status::from)?;
+    *v = r;
+    *i = at;
+    Ok(())
+}
+
+fn check_lines_d<T: Real, const D: usize>(
+    b: &Block,
+    field: &[T],
+    direction: u32,
+    iteration: usize,
+    points: *const T,
+    points_len: usize,
+) -> Result<(), dk_status> {
+    let p = if points.is_null() && points_len == 0 {
+        None
+    } else {
+        // SAFETY: contract: `points_len` readable scalars at `points`.
+        Some(unsafe { chunks::<T, D>(points, points_len) }?)
+    };
+    check_lines_increasing(b, field, direction as usize, iteration, p).map_err(dk_status::from)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Parameters.
+// ---------------------------------------------------------------------------------------------
+
+/// The λ|μ values Alter took from Taubin: `λ = 0.330`, `μ = −0.334` (pass band ≈ 0.0363).
+///
+/// # Safety
+/// `lambda_out` and `mu_out` each point to one writable scalar.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_params_paper(
+    lambda_out: *mut f64,
+    mu_out: *mut f64,
+) -> dk_status {
+    params_paper(lambda_out, mu_out)
+}
+
+/// `f32` twin of [`dk_taubin_params_paper`].
+///
+/// # Safety
+/// As [`dk_taubin_params_paper`].
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_params_paper_f32(
+    lambda_out: *mut f32,
+    mu_out: *mut f32,
+) -> dk_status {
+    params_paper(lambda_out, mu_out)
+}
+
+/// `λ` with `μ` from Taubin's pass-band relation `1/λ + 1/μ = pass_band`. Needs `λ > 0` and
+/// `0 < pass_band < 1/λ` (`DK_ERR_INVALID_PARAMETER`; NaN/∞: `DK_ERR_NON_FINITE`). Writes `λ`
+/// unchanged to `*lambda_out` and `μ` to `*mu_out`.
+///
+/// # Safety
+/// `lambda_out` and `mu_out` each point to one writable scalar.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_params_from_pass_band(
+    lambda: f64,
+    pass_band: f64,
+    lambda_out: *mut f64,
+    mu_out: *mut f64,
+) -> dk_status {
+    params_from_pass_band(lambda, pass_band, lambda_out, mu_out)
+}
+
+/// `f32` twin of [`dk_taubin_params_from_pass_band`].
+///
+/// # Safety
+/// As [`dk_taubin_params_from_pass_band`].
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_params_from_pass_band_f32(
+    lambda: f32,
+    pass_band: f32,
+    lambda_out: *mut f32,
+    mu_out: *mut f32,
+) -> dk_status {
+    params_from_pass_band(lambda, pass_band, lambda_out, mu_out)
+}
+
+// ---------------------------------------------------------------------------------------------
+// The whole-grid job.
+// ---------------------------------------------------------------------------------------------
+
+/// Fills `*out` with the paper's settings for lines along `direction` (0 = i, 1 = j, 2 = k):
+/// λ = 0.330, μ = −0.334, 30 iterations, dimensional arclength, no pins, no mirror faces, no
+/// coarse pass (coarse factor `{1, 1, 1}`, values prolongation, 15 coarse iterations).
+/// `direction > 2` gives `DK_ERR_INVALID_PARAMETER`.
+///
+/// # Safety
+/// `out` points to one writable `dk_smooth_arclength_options`.
+#[no_mangle]
+pub unsafe extern "C" fn dk_smooth_arclength_options_default(
+    direction: u32,
+    out: *mut dk_smooth_arclength_options,
+) -> dk_status {
+    done((|| {
+        if direction > 2 {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        let k = SmoothOptions::<f64>::new(direction as usize);
+        let v = dk_smooth_arclength_options {
+            lambda: k.params.lambda,
+            mu: k.params.mu,
+            iterations: k.iterations,
+            coarse_iterations: k.coarse_iterations,
+            pinned: core::ptr::null(),
+            pinned_len: 0,
+            coarse: dk_taubin_coarse {
+                factor: [1, 1, 1],
+                prolongation: DK_PROLONGATION_VALUES,
+            },
+            direction,
+            normalised: u8::from(k.normalised),
+            use_coarse: 0,
+            mirror: k.mirror.map(u8::from),
+        };
+        // SAFETY: contract: one writable options struct at `out`.
+        let o = unsafe { out_one(out) }?;
+        *o = v;
+        Ok(())
+    })())
+}
+
+/// Scratch length (in scalars of the precision used) for [`dk_taubin_smooth_arclength`] with
+/// these dimensions, `dim` (2 or 3) and options (only `direction`, `use_coarse` and `coarse`
+/// matter): `n + max(n, 2 n_coarse, (dim + 1) × points per line)`.
+///
+/// # Safety
+/// `options` points to one readable options struct; `len_out` to one writable `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_smooth_arclength_scratch_len(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    options: *const dk_smooth_arclength_options,
+    dim: u32,
+    len_out: *mut usize,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        let o = read_one(options)?;
+        let coarse = if o.use_coarse != 0 {
+            Some(o.coarse.to_kernel()?)
+        } else {
+            None
+        };
+        let d = o.direction as usize;
+        let len = match dim {
+            2 => smooth_arclength_scratch_len::<2>(&b, d, coarse.as_ref()),
+            3 => smooth_arclength_scratch_len::<3>(&b, d, coarse.as_ref()),
+            _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        };
+        write_len(len_out, len)
+    })())
+}
+
+/// Smooths a structured grid along one family of lines, Alter's way: arclength along
+/// `options->direction` → `options->iterations` Taubin λ|μ iterations on that scalar field
+/// (then the optional coarse pass) → fold guard (`DK_ERR_FOLDED_LINE` if the filtered
+/// arclength stops increasing along any line) → every point slides along its original grid
+/// line to its filtered arclength. Pinned points do not move.
+///
+/// `points` holds `ni·nj·nk` points of `dim` (2 or 3) scalars, updated in place; `scratch`
+/// needs [`dk_taubin_smooth_arclength_scratch_len`] scalars; `*report` receives what was done.
+/// On any error (including `DK_ERR_FOLDED_LINE`) `points` and `*report` are unchanged; the
+/// scratch contents are unspecified afterwards.
+///
+/// # Safety
+/// `options` points to one readable options struct whose `pinned` is NULL or readable for
+/// `pinned_len` bytes; `points` is readable and writable for `points_len` scalars; `scratch`
+/// writable for `scratch_len` scalars; `report` points to one writable report; the writable
+/// buffers overlap neither each other nor the inputs.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_smooth_arclength(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    options: *const dk_smooth_arclength_options,
+    points: *mut f64,
+    points_len: usize,
+    dim: u32,
+    scratch: *mut f64,
+    scratch_len: usize,
+    report: *mut dk_smooth_report,
+) -> dk_status {
+    smooth_arclength_t(
+        ni,
+        nj,
+        nk,
+        options,
+        points,
+        points_len,
+        dim,
+        scratch,
+        scratch_len,
+        report,
+    )
+}
+
+/// `f32` twin of [`dk_taubin_smooth_arclength`] (`options->lambda`, `mu` are rounded to
+/// `float`; the report's values are widened exactly).
+///
+/// # Safety
+/// As [`dk_taubin_smooth_arclength`].
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_smooth_arclength_f32(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    options: *const dk_smooth_arclength_options,
+    points: *mut f32,
+    points_len: usize,
+    dim: u32,
+    scratch: *mut f32,
+    scratch_len: usize,
+    report: *mut dk_smooth_report,
+) -> dk_status {
+    smooth_arclength_t(
+        ni,
+        nj,
+        nk,
+        options,
+        points,
+        points_len,
+        dim,
+        scratch,
+        scratch_len,
+        report,
+    )
+}
+
+// ---------------------------------------------------------------------------------------------
+// The structured scalar filter.
+// ---------------------------------------------------------------------------------------------
+
+/// Scratch length (in scalars) for [`dk_taubin_smooth_structured`]: the point count.
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_smooth_structured_scratch_len(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    len_out: *mut usize,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        write_len(len_out, structured_scratch_len(&b))
+    })())
+}
+
+/// Smooths a scalar field on a structured block (`ni·nj·nk` values, in place) with
+/// `iterations` Taubin λ|μ iterations, Alter's stencils: the average of the 6 neighbours
+/// inside, the 4 in-plane ones on a face, the 2 along an edge; corners and pinned points keep
+/// their value (see `dk_structured_options` for pins and mirror faces). `scratch` needs
+/// [`dk_taubin_smooth_structured_scratch_len`] scalars. Errors: `DK_ERR_INVALID_PARAMETER`
+/// (`λ ≤ 0`, `μ > 0`), `DK_ERR_NON_FINITE` (`λ`, `μ`, field), length and pointer errors. On
+/// error `field` and `*report` are unchanged.
+///
+/// # Safety
+/// `options` points to one readable struct whose `pinned` is NULL or readable for
+/// `pinned_len` bytes; `field` is readable and writable for `field_len` scalars; `scratch`
+/// writable for `scratch_len` scalars; `report` points to one writable report; the writable
+/// buffers overlap neither each other nor the inputs.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_smooth_structured(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    lambda: f64,
+    mu: f64,
+    iterations: usize,
+    options: *const dk_structured_options,
+    field: *mut f64,
+    field_len: usize,
+    scratch: *mut f64,
+    scratch_len: usize,
+    report: *mut dk_filter_report,
+) -> dk_status {
+    smooth_structured_t(
+        ni,
+        nj,
+        nk,
+        lambda,
+        mu,
+        iterations,
+        options,
+        field,
+        field_len,
+        scratch,
+        scratch_len,
+        report,
+    )
+}
+
+/// `f32` twin of [`dk_taubin_smooth_structured`].
+///
+/// # Safety
+/// As [`dk_taubin_smooth_structured`].
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_smooth_structured_f32(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    lambda: f32,
+    mu: f32,
+    iterations: usize,
+    options: *const dk_structured_options,
+    field: *mut f32,
+    field_len: usize,
+    scratch: *mut f32,
+    scratch_len: usize,
+    report: *mut dk_filter_report,
+) -> dk_status {
+    smooth_structured_t(
+        ni,
+        nj,
+        nk,
+        lambda,
+        mu,
+        iterations,
+        options,
+        field,
+        field_len,
+        scratch,
+        scratch_len,
+        report,
+    )
+}
+
+/// One Jacobi pass of the structured filter over `region` only: `dst = src + weight ·
+/// (avg(src) − src)` at every free point of the region (`dst = src` at pinned points); `dst`
+/// outside the region is not touched. `*max_change_out` receives the largest `|dst − src|` in
+/// the region. One iteration of [`dk_taubin_smooth_structured`] is a sweep `field → tmp` with
+/// `λ` then `tmp → field` with `μ` over the whole block; an MPI code sweeps its own box and
+/// exchanges halo values of `src` between passes. `region` is read with `index_base` (0: C's
+/// half-open `lo <= i < hi`; 1: Fortran's inclusive 1-based `lo <= i <= hi`). Errors
+/// (nothing written): `DK_ERR_INDEX_OUT_OF_RANGE` (region), `DK_ERR_NON_FINITE` (`weight`,
+/// `src`), `DK_ERR_BAD_INDEX_BASE`, length and pointer errors.
+///
+/// # Safety
+/// `src` is readable for `src_len` scalars; `options` and `region` point to one readable
+/// struct each (`options->pinned` NULL or readable for `pinned_len` bytes); `dst` is writable
+/// for `dst_len` scalars and `max_change_out` for one; `dst` overlaps no input.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_structured_sweep(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    src: *const f64,
+    src_len: usize,
+    weight: f64,
+    options: *const dk_structured_options,
+    region: *const dk_block_region,
+    index_base: u32,
+    dst: *mut f64,
+    dst_len: usize,
+    max_change_out: *mut f64,
+) -> dk_status {
+    structured_sweep_t(
+        ni,
+        nj,
+        nk,
+        src,
+        src_len,
+        weight,
+        options,
+        region,
+        index_base,
+        dst,
+        dst_len,
+        max_change_out,
+    )
+}
+
+/// `f32` twin of [`dk_taubin_structured_sweep`].
+///
+/// # Safety
+/// As [`dk_taubin_structured_sweep`].
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_structured_sweep_f32(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    src: *const f32,
+    src_len: usize,
+    weight: f32,
+    options: *const dk_structured_options,
+    region: *const dk_block_region,
+    index_base: u32,
+    dst: *mut f32,
+    dst_len: usize,
+    max_change_out: *mut f32,
+) -> dk_status {
+    structured_sweep_t(
+        ni,
+        nj,
+        nk,
+        src,
+        src_len,
+        weight,
+        options,
+        region,
+        index_base,
+        dst,
+        dst_len,
+        max_change_out,
+    )
+}
+
+/// Scratch length (in scalars) for [`dk_taubin_smooth_structured_coarse`]: two coarse fields.
+///
+/// # Safety
+/// `coarse` points to one readable struct; `len_out` to one writable `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse_scratch_len(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    coarse: *const dk_taubin_coarse,
+    len_out: *mut usize,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        let c = read_one(coarse)?.to_kernel()?;
+        write_len(len_out, structured_coarse_scratch_len(&b, &c))
+    })())
+}
+
+/// The coarse-grid variant of [`dk_taubin_smooth_structured`] (Alter's multi-grid step):
+/// restrict the field to every `coarse->factor[d]`-th index (the last index always kept), run
+/// `iterations` λ|μ iterations there, prolong back by multilinear interpolation
+/// (`coarse->prolongation`). Pinned fine points keep their value. `scratch` needs
+/// [`dk_taubin_smooth_structured_coarse_scratch_len`] scalars. Errors as
+/// [`dk_taubin_smooth_structured`], plus `DK_ERR_INVALID_PARAMETER` for a zero factor or an
+/// unknown prolongation. On error `field` and `*report` are unchanged.
+///
+/// # Safety
+/// As [`dk_taubin_smooth_structured`]; `coarse` points to one readable struct.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    coarse: *const dk_taubin_coarse,
+    lambda: f64,
+    mu: f64,
+    iterations: usize,
+    options: *const dk_structured_options,
+    field: *mut f64,
+    field_len: usize,
+    scratch: *mut f64,
+    scratch_len: usize,
+    report: *mut dk_filter_report,
+) -> dk_status {
+    smooth_structured_coarse_t(
+        ni,
+        nj,
+        nk,
+        coarse,
+        lambda,
+        mu,
+        iterations,
+        options,
+        field,
+        field_len,
+        scratch,
+        scratch_len,
+        report,
+    )
+}
+
+/// `f32` twin of [`dk_taubin_smooth_structured_coarse`].
+///
+/// # Safety
+/// As [`dk_taubin_smooth_structured_coarse`].
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse_f32(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    coarse: *const dk_taubin_coarse,
+    lambda: f32,
+    mu: f32,
+    iterations: usize,
+    options: *const dk_structured_options,
+    field: *mut f32,
+    field_len: usize,
+    scratch: *mut f32,
+    scratch_len: usize,
+    report: *mut dk_filter_report,
+) -> dk_status {
+    smooth_structured_coarse_t(
+        ni,
+        nj,
+        nk,
+        coarse,
+        lambda,
+        mu,
+        iterations,
+        options,
+        field,
+        field_len,
+        scratch,
+        scratch_len,
+        report,
+    )
+}
+
+// ---------------------------------------------------------------------------------------------
+// The graph filter.
+// ---------------------------------------------------------------------------------------------
+
+/// Scratch length (in scalars) for [`dk_taubin_smooth_graph`]: `node_count * components`
+/// (`DK_ERR_TOO_LARGE` if that overflows `size_t`).
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_smooth_graph_scratch_len(
+    node_count: usize,
+    components: u32,
+    len_out: *mut usize,
+) -> dk_status {
+    done((|| {
+        if !(1..=7).contains(&components) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        write_len(len_out, mul_len(node_count, components as usize)?)
+    })())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn smooth_graph_t<T: Real>(
+    args: GraphArgs<T>,
+    lambda: T,
+    mu: T,
+    iterations: usize,
+    components: u32,
+    values: *mut T,
+    values_len: usize,
+    scratch: *mut T,
+    scratch_len: usize,
+    report: *mut dk_filter_report,
+) -> dk_status {
+    let params = TaubinParams { lambda, mu };
+    done(by_components!(
+        components,
+        smooth_graph_v::<T>,
+        (
+            &args,
+            params,
+            iterations,
+            values,
+            values_len,
+            scratch,
+            scratch_len,
+            report
+        )
+    ))
+}
+
+/// Taubin fairing of per-node values on a CSR graph (the classic unstructured variant):
+/// `iterations` λ|μ iterations, each two Jacobi passes
+/// `x_i ← x_i + w (Σ_j w_ij x_j / Σ_j w_ij − x_i)` with `w = λ`, then `w = μ`.
+///
+/// - `offsets`/`targets`: a 0-based CSR graph (from `dk_graph_from_*`);
+/// - `weights`: per directed edge (`targets_len` values, each finite and `> 0`), or NULL with
+///   `weights_len` 0 for uniform weights (see [`dk_taubin_inverse_distance_weights`]);
+/// - `fixed`: one byte per node (nonzero = keeps its value), or NULL with `fixed_len` 0;
+/// - `values`: `node_count * components` scalars (`components` 1 to 7), updated in place;
+/// - `scratch`: at least [`dk_taubin_smooth_graph_scratch_len`] scalars.
+///
+/// Fixed nodes and nodes without neighbours keep their values. On error `values` and
+/// `*report` are unchanged.
+///
+/// # Safety
+/// Every input pointer is NULL (with length 0) or readable for its length; `values` is
+/// readable and writable for `values_len` scalars, `scratch` writable for `scratch_len`,
+/// `report` points to one writable report; writable buffers overlap nothing else.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_smooth_graph(
+    offsets: *const u32,
+    offsets_len: usize,
+    targets: *const u32,
+    targets_len: usize,
+    weights: *const f64,
+    weights_len: usize,
+    fixed: *const u8,
+    fixed_len: usize,
+    lambda: f64,
+    mu: f64,
+    iterations: usize,
+    components: u32,
+    values: *mut f64,
+    values_len: usize,
+    scratch: *mut f64,
+    scratch_len: usize,
+    report: *mut dk_filter_report,
+) -> dk_status {
+    let args = GraphArgs {
+        offsets,
+        offsets_len,
+        targets,
+        targets_len,
+        weights,
+        weights_len,
+        fixed,
+        fixed_len,
+    };
+    smooth_graph_t(
+        args,
+        lambda,
+        mu,
+        iterations,
+        components,
+        values,
+        values_len,
+        scratch,
+        scratch_len,
+        report,
+    )
+}
+
+/// `f32` twin of [`dk_taubin_smooth_graph`].
+///
+/// # Safety
+/// As [`dk_taubin_smooth_graph`].
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_smooth_graph_f32(
+    offsets: *const u32,
+    offsets_len: usize,
+    targets: *const u32,
+    targets_len: usize,
+    weights: *const f32,
+    weights_len: usize,
+    fixed: *const u8,
+    fixed_len: usize,
+    lambda: f32,
+    mu: f32,
+    iterations: usize,
+    components: u32,
+    values: *mut f32,
+    values_len: usize,
+    scratch: *mut f32,
+    scratch_len: usize,
+    report: *mut dk_filter_report,
+) -> dk_status {
+    let args = GraphArgs {
+        offsets,
+        offsets_len,
+        targets,
+        targets_len,
+        weights,
+        weights_len,
+        fixed,
+        fixed_len,
+    };
+    smooth_graph_t(
+        args,
+        lambda,
+        mu,
+        iterations,
+        components,
+        values,
+        values_len,
+        scratch,
+        scratch_len,
+        report,
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+fn graph_sweep_t<T: Real>(
+    args: GraphArgs<T>,
+    src: *const T,
+    src_len: usize,
+    components: u32,
+    weight: T,
+    nodes_start: usize,
+    nodes_end: usize,
+    index_base: u32,
+    dst: *mut T,
+    dst_len: usize,
+    max_change_out: *mut T,
+) -> dk_status {
+    done((|| {
+        let nodes = range(nodes_start, nodes_end, index_base)?;
+        by_components!(
+            components,
+            graph_sweep_v::<T>,
+            (
+                &args,
+                src,
+                src_len,
+                weight,
+                nodes,
+                dst,
+                dst_len,
+                max_change_out
+            )
+        )
+    })())
+}
+
+/// One Jacobi pass of the graph filter over the nodes `nodes_start..nodes_end` only:
+/// `dst_i = src_i + weight · (avg_i(src) − src_i)` for every free node in the range
+/// (`dst_i = src_i` for fixed ones); `dst` outside the range is not touched.
+/// `*max_change_out` receives the largest component change in the range. The range is read
+/// with `index_base` (0: `start <= i < end`; 1: 1-based inclusive `start <= i <= end`).
+/// Graph, weights, fixed mask and `components` as in [`dk_taubin_smooth_graph`]. Nothing is
+/// written on error.
+///
+/// # Safety
+/// Every input pointer is NULL (with length 0) or readable for its length; `dst` is writable
+/// for `dst_len` scalars and `max_change_out` for one; `dst` overlaps no input.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_graph_sweep(
+    offsets: *const u32,
+    offsets_len: usize,
+    targets: *const u32,
+    targets_len: usize,
+    weights: *const f64,
+    weights_len: usize,
+    fixed: *const u8,
+    fixed_len: usize,
+    src: *const f64,
+    src_len: usize,
+    components: u32,
+    weight: f64,
+    nodes_start: usize,
+    nodes_end: usize,
+    index_base: u32,
+    dst: *mut f64,
+    dst_len: usize,
+    max_change_out: *mut f64,
+) -> dk_status {
+    let args = GraphArgs {
+        offsets,
+        offsets_len,
+        targets,
+        targets_len,
+        weights,
+        weights_len,
+        fixed,
+        fixed_len,
+    };
+    graph_sweep_t(
+        args,
+        src,
+        src_len,
+        components,
+        weight,
+        nodes_start,
+        nodes_end,
+        index_base,
+        dst,
+        dst_len,
+        max_change_out,
+    )
+}
+
+/// `f32` twin of [`dk_taubin_graph_sweep`].
+///
+/// # Safety
+/// As [`dk_taubin_graph_sweep`].
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_graph_sweep_f32(
+    offsets: *const u32,
+    offsets_len: usize,
+    targets: *const u32,
+    targets_len: usize,
+    weights: *const f32,
+    weights_len: usize,
+    fixed: *const u8,
+    fixed_len: usize,
+    src: *const f32,
+    src_len: usize,
+    components: u32,
+    weight: f32,
+    nodes_start: usize,
+    nodes_end: usize,
+    index_base: u32,
+    dst: *mut f32,
+    dst_len: usize,
+    max_change_out: *mut f32,
+) -> dk_status {
+    let args = GraphArgs {
+        offsets,
+        offsets_len,
+        targets,
+        targets_len,
+        weights,
+        weights_len,
+        fixed,
+        fixed_len,
+    };
+    graph_sweep_t(
+        args,
+        src,
+        src_len,
+        components,
+        weight,
+        nodes_start,
+        nodes_end,
+        index_base,
+        dst,
+        dst_len,
+        max_change_out,
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+fn inverse_distance_weights_t<T: Real>(
+    offsets: *const u32,
+    offsets_len: usize,
+    targets: *const u32,
+    targets_len: usize,
+    points: *const T,
+    points_len: usize,
+    dim: u32,
+    weights: *mut T,
+    weights_len: usize,
+) -> dk_status {
+    done((|| {
+        let g = graph(offsets, offsets_len, targets, targets_len)?;
+        by_dim!(
+            dim,
+            inverse_distance_weights_d::<T>,
+            (&g, points, points_len, weights, weights_len)
+        )
+    })())
+}
+
+/// Fujiwara's inverse-distance weights `weights[e] = 1 / |x_i − x_j|` for every directed edge
+/// `e = i → j` of the 0-based CSR graph (`weights_len` = `targets_len`), for
+/// [`dk_taubin_smooth_graph`] on meshes with uneven edge lengths. `points`: `node_count *
+/// dim` scalars, `dim` 2 or 3. Errors (nothing written): `DK_ERR_ZERO_LENGTH_EDGE` (two
+/// neighbours coincide), `DK_ERR_NON_FINITE`, length and pointer errors.
+///
+/// # Safety
+/// Inputs readable for their lengths; `weights` writable for `weights_len` scalars, not
+/// overlapping the inputs.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_inverse_distance_weights(
+    offsets: *const u32,
+    offsets_len: usize,
+    targets: *const u32,
+    targets_len: usize,
+    points: *const f64,
+    points_len: usize,
+    dim: u32,
+    weights: *mut f64,
+    weights_len: usize,
+) -> dk_status {
+    inverse_distance_weights_t(
+        offsets,
+        offsets_len,
+        targets,
+        targets_len,
+        points,
+        points_len,
+        dim,
+        weights,
+        weights_len,
+    )
+}
+
+/// `f32` twin of [`dk_taubin_inverse_distance_weights`].
+///
+/// # Safety
+/// As [`dk_taubin_inverse_distance_weights`].
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_inverse_distance_weights_f32(
+    offsets: *const u32,
+    offsets_len: usize,
+    targets: *const u32,
+    targets_len: usize,
+    points: *const f32,
+    points_len: usize,
+    dim: u32,
+    weights: *mut f32,
+    weights_len: usize,
+) -> dk_status {
+    inverse_distance_weights_t(
+        offsets,
+        offsets_len,
+        targets,
+        targets_len,
+        points,
+        points_len,
+        dim,
+        weights,
+        weights_len,
+    )
+}
+
+// ---------------------------------------------------------------------------------------------
+// Line tools.
+// ---------------------------------------------------------------------------------------------
+
+#[allow(clippy::too_many_arguments)]
+fn arclength_t<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    points: *const T,
+    points_len: usize,
+    dim: u32,
+    direction: u32,
+    normalised: bool,
+    out: *mut T,
+    out_len: usize,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        by_dim!(
+            dim,
+            arclength_d::<T>,
+            (&b, points, points_len, direction, normalised, out, out_len)
+        )
+    })())
+}
+
+/// Arclength along grid lines in `direction` (0 = i, 1 = j, 2 = k) at every point:
+/// `S_0 = 0`, `S_t = S_{t−1} + |p_t − p_{t−1}|`, or with `normalised` `s_t = S_t / S_{n−1}`
+/// (a zero-length line gives the uniform `t / (n − 1)`). `points`: `ni·nj·nk·dim` scalars;
+/// `out`: `ni·nj·nk` scalars. Nothing is written on error.
+///
+/// # Safety
+/// `points` readable for `points_len` scalars; `out` writable for `out_len`, not overlapping.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_arclength(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    points: *const f64,
+    points_len: usize,
+    dim: u32,
+    direction: u32,
+    normalised: bool,
+    out: *mut f64,
+    out_len: usize,
+) -> dk_status {
+    arclength_t(
+        ni, nj, nk, points, points_len, dim, direction, normalised, out, out_len,
+    )
+}
+
+/// `f32` twin of [`dk_taubin_arclength`].
+///
+/// # Safety
+/// As [`dk_taubin_arclength`].
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_arclength_f32(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    points: *const f32,
+    points_len: usize,
+    dim: u32,
+    direction: u32,
+    normalised: bool,
+    out: *mut f32,
+    out_len: usize,
+) -> dk_status {
+    arclength_t(
+        ni, nj, nk, points, points_len, dim, direction, normalised, out, out_len,
+    )
+}
+
+/// Scratch length (in scalars) for [`dk_taubin_redistribute`]: `(dim + 1) ×` points per line
+/// in `direction` (`DK_ERR_INVALID_PARAMETER` for `dim` not 2 or 3 or `direction > 2`).
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_redistribute_scratch_len(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    dim: u32,
+    direction: u32,
+    len_out: *mut usize,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        if direction > 2 {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        let len = match dim {
+            2 => redistribute_scratch_len::<2>(&b, direction as usize),
+            3 => redistribute_scratch_len::<3>(&b, direction as usize),
+            _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        };
+        write_len(len_out, len)
+    })())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn redistribute_t<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    direction: u32,
+    targets: *const T,
+    targets_len: usize,
+    normalised: bool,
+    points: *mut T,
+    points_len: usize,
+    dim: u32,
+    scratch: *mut T,
+    scratch_len: usize,
+    max_displacement_out: *mut T,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        by_dim!(
+            dim,
+            redistribute_d::<T>,
+            (
+                &b,
+                direction,
+                targets,
+                targets_len,
+                normalised,
+                points,
+                points_len,
+                scratch,
+                scratch_len,
+                max_displacement_out
+            )
+        )
+    })())
+}
+
+/// Alter's reverse transformation: moves every point of every line in `direction` (in place)
+/// to the arclength `targets[p]` measured on the line's *original* polyline (with
+/// `normalised`, targets are fractions of the line length). Targets beyond an end extrapolate
+/// along the last non-zero segment; zero-length lines are left as they are.
+/// `*max_displacement_out` receives the largest point displacement. `scratch` needs
+/// [`dk_taubin_redistribute_scratch_len`] scalars. On error `points` is unchanged.
+///
+/// # Safety
+/// `targets` readable for `targets_len` scalars; `points` readable and writable for
+/// `points_len`; `scratch` writable for `scratch_len`; `max_displacement_out` writable for
+/// one; writable buffers overlap nothing else.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_redistribute(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    direction: u32,
+    targets: *const f64,
+    targets_len: usize,
+    normalised: bool,
+    points: *mut f64,
+    points_len: usize,
+    dim: u32,
+    scratch: *mut f64,
+    scratch_len: usize,
+    max_displacement_out: *mut f64,
+) -> dk_status {
+    redistribute_t(
+        ni,
+        nj,
+        nk,
+        direction,
+        targets,
+        targets_len,
+        normalised,
+        points,
+        points_len,
+        dim,
+        scratch,
+        scratch_len,
+        max_displacement_out,
+    )
+}
+
+/// `f32` twin of [`dk_taubin_redistribute`].
+///
+/// # Safety
+/// As [`dk_taubin_redistribute`].
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_redistribute_f32(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    direction: u32,
+    targets: *const f32,
+    targets_len: usize,
+    normalised: bool,
+    points: *mut f32,
+    points_len: usize,
+    dim: u32,
+    scratch: *mut f32,
+    scratch_len: usize,
+    max_displacement_out: *mut f32,
+) -> dk_status {
+    redistribute_t(
+        ni,
+        nj,
+        nk,
+        direction,
+        targets,
+        targets_len,
+        normalised,
+        points,
+        points_len,
+        dim,
+        scratch,
+        scratch_len,
+        max_displacement_out,
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+fn stretching_t<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    points: *const T,
+    points_len: usize,
+    dim: u32,
+    direction: u32,
+    out: *mut T,
+    out_len: usize,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        by_dim!(
+            dim,
+            stretching_d::<T>,
+            (&b, points, points_len, direction, out, out_len)
+        )
+    })())
+}
+
+/// Grid stretching along `direction` at every point: the ratio of the larger to the smaller
+/// of the two cells meeting there (1 at line ends and for uniform spacing, `+∞` where one of
+/// the two cells has zero length). `out`: `ni·nj·nk` scalars. Nothing is written on error.
+///
+/// # Safety
+/// `points` readable for `points_len` scalars; `out` writable for `out_len`, not overlapping.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_stretching(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    points: *const f64,
+    points_len: usize,
+    dim: u32,
+    direction: u32,
+    out: *mut f64,
+    out_len: usize,
+) -> dk_status {
+    stretching_t(ni, nj, nk, points, points_len, dim, direction, out, out_len)
+}
+
+/// `f32` twin of [`dk_taubin_stretching`].
+///
+/// # Safety
+/// As [`dk_taubin_stretching`].
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_stretching_f32(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    points: *const f32,
+    points_len: usize,
+    dim: u32,
+    direction: u32,
+    out: *mut f32,
+    out_len: usize,
+) -> dk_status {
+    stretching_t(ni, nj, nk, points, points_len, dim, direction, out, out_len)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn max_stretching_t<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    points: *const T,
+    points_len: usize,
+    dim: u32,
+    direction: u32,
+    value_out: *mut T,
+    point_out: *mut usize,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        by_dim!(
+            dim,
+            max_stretching_d::<T>,
+            (&b, points, points_len, direction, value_out, point_out)
+        )
+    })())
+}
+
+/// The largest stretching along `direction` (see [`dk_taubin_stretching`]) into
+/// `*value_out`, and the 0-based linear index of the first point where it occurs into
+/// `*point_out` (`1` and `0` when no point has two adjacent cells). Nothing is written on
+/// error.
+///
+/// # Safety
+/// `points` readable for `points_len` scalars; `value_out` and `point_out` writable for one
+/// item each.
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_max_stretching(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    points: *const f64,
+    points_len: usize,
+    dim: u32,
+    direction: u32,
+    value_out: *mut f64,
+    point_out: *mut usize,
+) -> dk_status {
+    max_stretching_t(
+        ni, nj, nk, points, points_len, dim, direction, value_out, point_out,
+    )
+}
+
+/// `f32` twin of [`dk_taubin_max_stretching`].
+///
+/// # Safety
+/// As [`dk_taubin_max_stretching`].
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_max_stretching_f32(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    points: *const f32,
+    points_len: usize,
+    dim: u32,
+    direction: u32,
+    value_out: *mut f32,
+    point_out: *mut usize,
+) -> dk_status {
+    max_stretching_t(
+        ni, nj, nk, points, points_len, dim, direction, value_out, point_out,
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+fn check_lines_t<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    field: *const T,
+    field_len: usize,
+    direction: u32,
+    iteration: usize,
+    points: *const T,
+    points_len: usize,
+    dim: u32,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        // SAFETY: contract: `field_len` readable scalars at `field`.
+        let f = unsafe { input(field, field_len) }?;
+        if points.is_null() && points_len == 0 {
+            // No points: `dim` is not used.
+            return check_lines_d::<T, 3>(&b, f, direction, iteration, points, points_len);
+        }
+        by_dim!(
+            dim,
+            check_lines_d::<T>,
+            (&b, f, direction, iteration, points, points_len)
+        )
+    })())
+}
+
+/// The fold guard: `DK_OK` when `field` (an arclength function, `ni·nj·nk` scalars) increases
+/// strictly along every line in `direction`, else `DK_ERR_FOLDED_LINE` (`iteration` is only
+/// carried into the Rust error). With `points` (`ni·nj·nk·dim` scalars; NULL with
+/// `points_len` 0 for none, then `dim` is ignored), lines whose points all coincide are
+/// exempt. Writes nothing.
+///
+/// # Safety
+/// `field` and `points` readable for their lengths (or NULL with length 0).
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_check_lines_increasing(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    field: *const f64,
+    field_len: usize,
+    direction: u32,
+    iteration: usize,
+    points: *const f64,
+    points_len: usize,
+    dim: u32,
+) -> dk_status {
+    check_lines_t(
+        ni, nj, nk, field, field_len, direction, iteration, points, points_len, dim,
+    )
+}
+
+/// `f32` twin of [`dk_taubin_check_lines_increasing`].
+///
+/// # Safety
+/// As [`dk_taubin_check_lines_increasing`].
+#[no_mangle]
+pub unsafe extern "C" fn dk_taubin_check_lines_increasing_f32(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    field: *const f32,
+    field_len: usize,
+    direction: u32,
+    iteration: usize,
+    points: *const f32,
+    points_len: usize,
+    dim: u32,
+) -> dk_status {
+    check_lines_t(
+        ni, nj, nk, field, field_len, direction, iteration, points, points_len, dim,
+    )
+}

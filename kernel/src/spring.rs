@@ -44,6 +44,8 @@ pub use linear::{
     jacobi_sweep, relative_residual, solve_linear, solve_linear_scratch_len, sor_sweep,
 };
 pub use stiffness::batina_stiffness;
+#[cfg(feature = "micromath")]
+pub use stiffness::batina_stiffness_fast;
 pub use system::{
     is_fixed, LinearMethod, Preconditioner, SolveOptions, SolveReport, SpringSystem, Sweep,
 };

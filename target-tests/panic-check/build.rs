@@ -1,5 +1,5 @@
-//! Puts the shared `target-tests/memory.x` on the linker search path (cortex-m-rt's `link.x`
-//! includes it) and adds defmt's linker script for this binary only.
+//! Puts the shared `target-tests/link/memory.x` on the linker search path (cortex-m-rt's
+//! `link.x` includes it) and adds defmt's linker script for this binary only.
 
 use std::path::PathBuf;
 use std::{env, fs};
@@ -8,8 +8,9 @@ fn main() {
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("OUT_DIR is set by cargo"));
     let memory = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("set by cargo"))
         .join("..")
+        .join("link")
         .join("memory.x");
-    fs::copy(&memory, out.join("memory.x")).expect("copy target-tests/memory.x");
+    fs::copy(&memory, out.join("memory.x")).expect("copy target-tests/link/memory.x");
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
     println!("cargo:rerun-if-changed={}", memory.display());

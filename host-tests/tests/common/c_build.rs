@@ -52,7 +52,8 @@ pub fn compile(compiler: &str, sources: &[PathBuf], flags: &[&str], link: Link, 
         Link::Shared => {
             cmd.arg(format!("-L{}", lib.display()))
                 .arg("-ldeform_kernel")
-                .arg(format!("-Wl,-rpath,{}", lib.display()));
+                .arg(format!("-Wl,-rpath,{}", lib.display()))
+                .arg("-Wl,--disable-new-dtags");
         }
     }
     cmd.args(["-lm", "-lpthread", "-ldl"]);
@@ -67,7 +68,12 @@ pub fn compile(compiler: &str, sources: &[PathBuf], flags: &[&str], link: Link, 
 }
 
 pub fn run(exe: &Path) -> String {
-    let out = Command::new(exe).output().expect("run example");
+    // cargo puts its own target directories on LD_LIBRARY_PATH, which would override the
+    // rpath of the shared-library builds and could load a stale libdeform_kernel.so.
+    let out = Command::new(exe)
+        .env_remove("LD_LIBRARY_PATH")
+        .output()
+        .expect("run example");
     assert!(
         out.status.success(),
         "{} failed:\n{}{}",

@@ -24,6 +24,42 @@ pub fn batina_stiffness<T: Real, const D: usize>(
     exponent: T,
     stiffness: &mut [T],
 ) -> Result<()> {
+    stiffness_with(graph, points, exponent, stiffness, |d2| T::ONE / d2.sqrt())
+}
+
+/// [`batina_stiffness`] with the fast inverse square root (feature `micromath`; **excluded
+/// from bit parity**, and used by no other kernel routine): for `p = 1`,
+/// `k = `[`Real::fast_inv_sqrt`]`(d·d)` instead of `1 / sqrt(d·d)` (no square root, no
+/// division); other exponents, and squared lengths that are not normal numbers, use the
+/// exact formulas. For `f32` each `k` is within
+/// [`FAST_INV_SQRT_F32_MAX_REL_ERROR`](crate::real::FAST_INV_SQRT_F32_MAX_REL_ERROR) (4.8e-6)
+/// relative of [`batina_stiffness`]'s (tested on host and on target); for `f64` the two are
+/// identical. Still exactly symmetric (`k_ij` and `k_ji` come from the same `d·d` bits), with
+/// the same validation and errors.
+#[cfg(feature = "micromath")]
+pub fn batina_stiffness_fast<T: Real, const D: usize>(
+    graph: &Graph<'_>,
+    points: &[[T; D]],
+    exponent: T,
+    stiffness: &mut [T],
+) -> Result<()> {
+    stiffness_with(graph, points, exponent, stiffness, |d2| {
+        if d2 >= T::MIN_POSITIVE {
+            d2.fast_inv_sqrt()
+        } else {
+            T::ONE / d2.sqrt()
+        }
+    })
+}
+
+/// The body of [`batina_stiffness`], with `inv_len(d·d)` giving `1 / |d|` for `p = 1`.
+fn stiffness_with<T: Real, const D: usize>(
+    graph: &Graph<'_>,
+    points: &[[T; D]],
+    exponent: T,
+    stiffness: &mut [T],
+    inv_len: impl Fn(T) -> T,
+) -> Result<()> {
     if points.len() != graph.node_count() {
         return Err(Error::LengthMismatch {
             arg: "points",
@@ -54,7 +90,7 @@ pub fn batina_stiffness<T: Real, const D: usize>(
         let (a, b) = (points.get(i)?, points.get(j)?);
         let d2 = vector::norm_sq(vector::sub(*b, *a));
         let k = if exponent == T::ONE {
-            T::ONE / d2.sqrt()
+            inv_len(d2)
         } else if exponent == T::TWO {
             T::ONE / d2
         } else {

@@ -19,3 +19,47 @@ fn panic(info: &core::panic::PanicInfo) -> ! {
 fn defmt_panic() -> ! {
     semihosting::process::exit(1)
 }
+
+pub mod mesh;
+
+use deform_kernel::Real;
+
+/// Largest `|a − b|` over all components of two point/value lists (∞ on a length mismatch).
+pub fn max_diff<T: Real, const V: usize>(a: &[[T; V]], b: &[[T; V]]) -> T {
+    if a.len() != b.len() {
+        return T::INFINITY;
+    }
+    let mut m = T::ZERO;
+    for (x, y) in a.iter().zip(b) {
+        for (&p, &q) in x.iter().zip(y) {
+            m = m.max((p - q).abs());
+        }
+    }
+    m
+}
+
+/// Largest `|x|` over all components.
+pub fn max_abs<T: Real, const V: usize>(a: &[[T; V]]) -> T {
+    a.iter()
+        .flat_map(|v| v.iter())
+        .fold(T::ZERO, |m, &x| m.max(x.abs()))
+}
+
+/// `true` when both lists have the same bits everywhere.
+pub fn same_bits<T: Real, const V: usize>(a: &[[T; V]], b: &[[T; V]]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            x.iter()
+                .zip(y)
+                .all(|(p, q)| p.to_bits_u64() == q.to_bits_u64())
+        })
+}
+
+/// `"f32"` or `"f64"` for log lines.
+pub fn precision<T: Real>() -> &'static str {
+    if T::MANTISSA_DIGITS == 24 {
+        "f32"
+    } else {
+        "f64"
+    }
+}

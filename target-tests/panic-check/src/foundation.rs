@@ -173,6 +173,10 @@ fn quat<T: Real>() {
     keep(p.is_finite());
     keep(p.scale(s));
     keep(p.normalize());
+    #[cfg(feature = "micromath")]
+    keep(p.normalize_fast());
+    #[cfg(feature = "micromath")]
+    keep(s.fast_inv_sqrt());
     keep(p.inverse());
     keep(Quat::from_axis_angle(u, s));
     keep(Quat::from_rotation_z(s));

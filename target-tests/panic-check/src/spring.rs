@@ -94,6 +94,14 @@ fn run<T: Real, const D: usize, const V: usize, const W: usize>() {
         bb(T::from_f64(1.5)),
         bb(&mut k[..]),
     ));
+    // The `micromath` fast path (second panic-check build).
+    #[cfg(feature = "micromath")]
+    keep(deform_kernel::spring::batina_stiffness_fast(
+        &g,
+        bb(&p[..]),
+        bb(T::ONE),
+        bb(&mut k[..]),
+    ));
     keep(&k);
     let fixed: &[u8] = bb(&[1, 0, 0, 1]);
     let mut s = [0u32; N];
