@@ -529,7 +529,7 @@ dk_status dk_deform_idw_scratch_len(size_t node_count,
 // `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero rotation), `DK_ERR_INVALID_PARAMETER` (no
 // boundary node, bad exponent, unknown rotation source, shape rotations without elements),
 // the cell errors of the elements and the errors of the shape rotations
-// (`DK_ERR_ISOLATED_NODE`, `DK_ERR_ZERO_LENGTH_EDGE`, `DK_ERR_INVALID_PARAMETER` for an element
+// (`DK_ERR_ISOLATED_NODE`, `DK_ERR_ZERO_LENGTH_EDGE`, `DK_ERR_CELL_DIMENSION` for an element
 // kind that does not fit `dim`). On error
 // `out` and `origin_out` are unchanged.
 //
@@ -673,7 +673,7 @@ dk_status dk_deform_boundary_normals_scratch_len(size_t boundary_len, size_t *le
 // `B * dim` scalars.
 //
 // Errors: pointer and length errors (no elements: `DK_ERR_LENGTH_MISMATCH`), the cell errors,
-// `DK_ERR_INVALID_PARAMETER` (an element kind that does not fit `dim`), `DK_ERR_NON_FINITE`,
+// `DK_ERR_CELL_DIMENSION` (an element kind that does not fit `dim`), `DK_ERR_NON_FINITE`,
 // `DK_ERR_ISOLATED_NODE` (a point in no element), `DK_ERR_ZERO_LENGTH` (the element normals
 // cancel at a node). On error `normals` is unchanged.
 //

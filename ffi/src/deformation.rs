@@ -32,17 +32,15 @@ use deform_kernel::deformation::{
     propagate_spring_scratch_len, propagate_tfi, rigid_rotations, tfi_scratch_len, update_points,
     BoundaryMotion, RotationSource,
 };
-use deform_kernel::spring::{
-    LinearMethod, Preconditioner, SolveOptions, SolveReport, SpringSystem,
-};
-use deform_kernel::{Block, Cells, Graph, Quat, Real};
+use deform_kernel::spring::SpringSystem;
+use deform_kernel::{Block, Cells, Quat, Real};
 
-use crate::slice::{chunks, chunks_mut, input, out_one, output, quats, quats_mut};
-use crate::spring::{
-    dk_spring_solve_options, dk_spring_solve_report, DK_LINEAR_CG, DK_LINEAR_GAUSS_SEIDEL,
-    DK_LINEAR_JACOBI, DK_LINEAR_SOR, DK_PRECONDITIONER_JACOBI, DK_PRECONDITIONER_NONE,
-    DK_PRECONDITIONER_SSOR,
+use crate::args::{
+    assert_layout, block, check_base, done, graph, mul_len, read_array, read_one, read_points,
+    write_len, zero_based,
 };
+use crate::slice::{chunks, chunks_mut, input, out_one, output, quats, quats_mut};
+use crate::spring::{dk_spring_solve_options, dk_spring_solve_report};
 use crate::status::dk_status;
 
 // ---------------------------------------------------------------------------------------------
@@ -165,42 +163,23 @@ pub struct dk_boundary_motion_f32 {
 }
 
 #[cfg(target_pointer_width = "64")]
-const _: () = assert!(
-    core::mem::size_of::<dk_boundary_motion>() == 168
-        && core::mem::offset_of!(dk_boundary_motion, nodes_len) == 8
-        && core::mem::offset_of!(dk_boundary_motion, deformed) == 16
-        && core::mem::offset_of!(dk_boundary_motion, element_offsets) == 32
-        && core::mem::offset_of!(dk_boundary_motion, element_nodes) == 48
-        && core::mem::offset_of!(dk_boundary_motion, element_kinds) == 64
-        && core::mem::offset_of!(dk_boundary_motion, node_rotations) == 80
-        && core::mem::offset_of!(dk_boundary_motion, rigid_rotation) == 96
-        && core::mem::offset_of!(dk_boundary_motion, origin) == 128
-        && core::mem::offset_of!(dk_boundary_motion, index_base) == 152
-        && core::mem::offset_of!(dk_boundary_motion, rotation_source) == 156
-        && core::mem::offset_of!(dk_boundary_motion, has_origin) == 160
+assert_layout!(
+    dk_boundary_motion, 168;
+    nodes_len = 8, deformed = 16, element_offsets = 32, element_nodes = 48, element_kinds = 64,
+    node_rotations = 80, rigid_rotation = 96, origin = 128, index_base = 152, rotation_source = 156,
+    has_origin = 160,
 );
 
 #[cfg(target_pointer_width = "64")]
-const _: () = assert!(
-    core::mem::size_of::<dk_boundary_motion_f32>() == 136
-        && core::mem::offset_of!(dk_boundary_motion_f32, node_rotations) == 80
-        && core::mem::offset_of!(dk_boundary_motion_f32, rigid_rotation) == 96
-        && core::mem::offset_of!(dk_boundary_motion_f32, origin) == 112
-        && core::mem::offset_of!(dk_boundary_motion_f32, index_base) == 124
-        && core::mem::offset_of!(dk_boundary_motion_f32, rotation_source) == 128
-        && core::mem::offset_of!(dk_boundary_motion_f32, has_origin) == 132
+assert_layout!(
+    dk_boundary_motion_f32, 136;
+    node_rotations = 80, rigid_rotation = 96, origin = 112, index_base = 124, rotation_source = 128,
+    has_origin = 132,
 );
 
 // ---------------------------------------------------------------------------------------------
 // Private plumbing
 // ---------------------------------------------------------------------------------------------
-
-fn done(r: Result<(), dk_status>) -> dk_status {
-    match r {
-        Ok(()) => dk_status::DK_OK,
-        Err(s) => s,
-    }
-}
 
 /// A piece of work generic over the point dimension `D` and the packed spring value width
 /// `V = D + 4` (unused by most jobs).
@@ -218,14 +197,6 @@ fn by_dim(dim: u32, job: impl ByDim) -> dk_status {
     })
 }
 
-/// Checks `index_base` (0 or 1).
-fn check_base(index_base: u32) -> Result<(), dk_status> {
-    match index_base {
-        0 | 1 => Ok(()),
-        _ => Err(dk_status::DK_ERR_BAD_INDEX_BASE),
-    }
-}
-
 /// The 0-based view of a caller's index array: the array itself (`index_base` 0), or a
 /// converted copy in the front of `scratch` (`index_base` 1; an index below the base becomes
 /// `u32::MAX`, which every bound rejects). Returns the view and the unused rest of `scratch`.
@@ -241,7 +212,7 @@ fn rebase<'a>(
                 .split_at_mut_checked(src.len())
                 .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
             for (d, &s) in head.iter_mut().zip(src) {
-                *d = s.checked_sub(1).unwrap_or(u32::MAX);
+                *d = zero_based(s, index_base);
             }
             Ok((&*head, tail))
         }
@@ -320,16 +291,6 @@ fn read_required_elements<'a>(
     cells.ok_or(dk_status::DK_ERR_LENGTH_MISMATCH)
 }
 
-/// Reads `len` scalars that must be exactly `D` (an origin), as `[T; D]`.
-fn read_vec<T: Real, const D: usize>(ptr: *const T, len: usize) -> Result<[T; D], dk_status> {
-    if len != D {
-        return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
-    }
-    // SAFETY: the public functions' contracts: `len` readable scalars at `ptr`.
-    let s = unsafe { chunks::<T, D>(ptr, len) }?;
-    s.first().copied().ok_or(dk_status::DK_ERR_NULL_POINTER)
-}
-
 /// An optional `D`-scalar output: NULL with length 0 (not wanted) or exactly `D` scalars.
 fn optional_out<'a, T: Real, const D: usize>(
     ptr: *mut T,
@@ -377,7 +338,7 @@ struct RawMotion<T> {
 }
 
 /// The two C motion structs, seen through [`RawMotion`].
-trait MotionC {
+trait MotionC: Copy {
     type T: Real;
     fn raw(&self) -> RawMotion<Self::T>;
     fn default_value() -> Self;
@@ -437,11 +398,7 @@ motion_c!(dk_boundary_motion_f32, f32);
 
 /// Reads the caller's motion struct.
 fn read_raw<M: MotionC>(motion: *const M) -> Result<RawMotion<M::T>, dk_status> {
-    // SAFETY: the public functions' contracts: `motion` points to one readable struct.
-    let m = unsafe { input(motion, 1) }?;
-    m.first()
-        .map(MotionC::raw)
-        .ok_or(dk_status::DK_ERR_NULL_POINTER)
+    read_one(motion).map(|m| m.raw())
 }
 
 impl<T: Real> RawMotion<T> {
@@ -478,8 +435,7 @@ impl<T: Real> RawMotion<T> {
             self.index_base,
             scratch,
         )?;
-        // SAFETY: contract: `deformed` readable for `deformed_len` scalars.
-        let deformed = unsafe { chunks::<T, D>(self.deformed, self.deformed_len) }?;
+        let deformed = read_points::<T, D>(self.deformed, self.deformed_len)?;
         let rotations = match self.rotation_source {
             DK_ROTATIONS_SHAPE => RotationSource::Shape,
             DK_ROTATIONS_RIGID => RotationSource::Rigid(Quat::from_array(self.rigid_rotation)),
@@ -519,7 +475,7 @@ fn tfi_setup(
     nk: usize,
     directions: u32,
 ) -> Result<(Block, [bool; 3]), dk_status> {
-    let block = Block::new([ni, nj, nk]).map_err(dk_status::from)?;
+    let block = block(ni, nj, nk)?;
     if directions & !(DK_DIRECTION_I | DK_DIRECTION_J | DK_DIRECTION_K) != 0 {
         return Err(dk_status::DK_ERR_INVALID_PARAMETER);
     }
@@ -533,15 +489,10 @@ fn tfi_setup(
     ))
 }
 
-/// Writes `v` to a `size_t` out-parameter.
-fn write_len(len_out: *mut usize, v: Result<usize, dk_status>) -> dk_status {
-    done((|| {
-        let v = v?;
-        // SAFETY: the public functions' contracts: one writable size_t at `len_out`.
-        let out = unsafe { out_one(len_out) }?;
-        *out = v;
-        Ok(())
-    })())
+/// Writes the size `v` to a `size_t` out-parameter, or returns the error that computing it
+/// gave (then `len_out` is not checked).
+fn len_status(len_out: *mut usize, v: Result<usize, dk_status>) -> dk_status {
+    done(v.and_then(|v| write_len(len_out, v)))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -580,7 +531,7 @@ pub unsafe extern "C" fn dk_boundary_motion_default_f32(
 }
 
 fn motion_index_len<M: MotionC>(motion: *const M, len_out: *mut usize) -> dk_status {
-    write_len(len_out, read_raw(motion).and_then(|m| m.index_need()))
+    len_status(len_out, read_raw(motion).and_then(|m| m.index_need()))
 }
 
 /// Number of `uint32_t` entries the `index_scratch` of a pipeline needs for `*motion`:
@@ -629,7 +580,7 @@ pub unsafe extern "C" fn dk_deform_idw_scratch_len(
     dim: u32,
     len_out: *mut usize,
 ) -> dk_status {
-    write_len(
+    len_status(
         len_out,
         match dim {
             2 => Ok(deform_idw_scratch_len::<2>(node_count, boundary_len)),
@@ -701,8 +652,7 @@ struct Idw<M: MotionC> {
 impl<M: MotionC> ByDim for Idw<M> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
         let raw = read_raw(self.motion)?;
-        // SAFETY: contract: `points` readable for `points_len` scalars.
-        let points = unsafe { chunks::<M::T, D>(self.points, self.points_len) }?;
+        let points = read_points::<M::T, D>(self.points, self.points_len)?;
         let b = self.bufs.borrow::<D>()?;
         let (motion, _) = raw.view::<D>(b.index_scratch)?;
         let origin = deform_idw(
@@ -742,7 +692,7 @@ impl<M: MotionC> ByDim for Idw<M> {
 /// `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero rotation), `DK_ERR_INVALID_PARAMETER` (no
 /// boundary node, bad exponent, unknown rotation source, shape rotations without elements),
 /// the cell errors of the elements and the errors of the shape rotations
-/// (`DK_ERR_ISOLATED_NODE`, `DK_ERR_ZERO_LENGTH_EDGE`, `DK_ERR_INVALID_PARAMETER` for an element
+/// (`DK_ERR_ISOLATED_NODE`, `DK_ERR_ZERO_LENGTH_EDGE`, `DK_ERR_CELL_DIMENSION` for an element
 /// kind that does not fit `dim`). On error
 /// `out` and `origin_out` are unchanged.
 ///
@@ -864,15 +814,13 @@ pub unsafe extern "C" fn dk_deform_tfi_scratch_len(
     dim: u32,
     len_out: *mut usize,
 ) -> dk_status {
-    write_len(
+    len_status(
         len_out,
-        Block::new([ni, nj, nk])
-            .map_err(dk_status::from)
-            .and_then(|b| match dim {
-                2 => Ok(deform_tfi_scratch_len::<2>(&b, boundary_len)),
-                3 => Ok(deform_tfi_scratch_len::<3>(&b, boundary_len)),
-                _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
-            }),
+        block(ni, nj, nk).and_then(|b| match dim {
+            2 => Ok(deform_tfi_scratch_len::<2>(&b, boundary_len)),
+            3 => Ok(deform_tfi_scratch_len::<3>(&b, boundary_len)),
+            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        }),
     )
 }
 
@@ -890,8 +838,7 @@ impl<M: MotionC> ByDim for Tfi<M> {
         let [ni, nj, nk] = self.dims;
         let (block, directions) = tfi_setup(ni, nj, nk, self.directions)?;
         let raw = read_raw(self.motion)?;
-        // SAFETY: contract: `points` readable for `points_len` scalars.
-        let points = unsafe { chunks::<M::T, D>(self.points, self.points_len) }?;
+        let points = read_points::<M::T, D>(self.points, self.points_len)?;
         let b = self.bufs.borrow::<D>()?;
         let (motion, _) = raw.view::<D>(b.index_scratch)?;
         let origin = deform_tfi(
@@ -1042,7 +989,7 @@ pub unsafe extern "C" fn dk_deform_boundary_normals_scratch_len(
     boundary_len: usize,
     len_out: *mut usize,
 ) -> dk_status {
-    write_len(len_out, Ok(boundary_normals_scratch_len(boundary_len)))
+    len_status(len_out, Ok(boundary_normals_scratch_len(boundary_len)))
 }
 
 /// A boundary element list as it crosses the ABI (offsets and nodes in `index_base`).
@@ -1092,8 +1039,7 @@ struct Normals<T> {
 
 impl<T: Real> ByDim for Normals<T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
-        // SAFETY: contract: `points` readable for `points_len` scalars.
-        let points = unsafe { chunks::<T, D>(self.points, self.points_len) }?;
+        let points = read_points::<T, D>(self.points, self.points_len)?;
         let cells = self.elements.read(points.len())?;
         // SAFETY: contract: `scratch` writable for its length, overlapping nothing.
         let scratch = unsafe { output(self.scratch, self.scratch_len) }?;
@@ -1116,7 +1062,7 @@ impl<T: Real> ByDim for Normals<T> {
 /// `B * dim` scalars.
 ///
 /// Errors: pointer and length errors (no elements: `DK_ERR_LENGTH_MISMATCH`), the cell errors,
-/// `DK_ERR_INVALID_PARAMETER` (an element kind that does not fit `dim`), `DK_ERR_NON_FINITE`,
+/// `DK_ERR_CELL_DIMENSION` (an element kind that does not fit `dim`), `DK_ERR_NON_FINITE`,
 /// `DK_ERR_ISOLATED_NODE` (a point in no element), `DK_ERR_ZERO_LENGTH` (the element normals
 /// cancel at a node). On error `normals` is unchanged.
 ///
@@ -1224,7 +1170,7 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations_scratch_len(
     dim: u32,
     len_out: *mut usize,
 ) -> dk_status {
-    write_len(
+    len_status(
         len_out,
         match dim {
             2 => Ok(boundary_rotations_scratch_len::<2>(boundary_len)),
@@ -1248,10 +1194,8 @@ struct Rotations<T> {
 
 impl<T: Real> ByDim for Rotations<T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
-        // SAFETY: contract: readable for its length.
-        let u = unsafe { chunks::<T, D>(self.undeformed, self.undeformed_len) }?;
-        // SAFETY: contract: readable for its length.
-        let d = unsafe { chunks::<T, D>(self.deformed, self.deformed_len) }?;
+        let u = read_points::<T, D>(self.undeformed, self.undeformed_len)?;
+        let d = read_points::<T, D>(self.deformed, self.deformed_len)?;
         let cells = self.elements.read(u.len())?;
         // SAFETY: contract: writable for its length, overlapping nothing.
         let scratch = unsafe { output(self.scratch, self.scratch_len) }?;
@@ -1379,10 +1323,7 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations_f32(
 fn rigid<T: Real>(q: *const T, rotations: *mut T, rotations_len: usize) -> dk_status {
     done((|| {
         // SAFETY: contract: 4 readable scalars at `q`.
-        let q = unsafe { quats(q, 4) }?
-            .first()
-            .copied()
-            .ok_or(dk_status::DK_ERR_NULL_POINTER)?;
+        let q = read_array::<T, 4>(q, 4).map(Quat::from_array)?;
         // SAFETY: contract: `rotations` writable for its length, not overlapping `q`.
         let r = unsafe { quats_mut(rotations, rotations_len) }?;
         rigid_rotations(q, r).map_err(dk_status::from)
@@ -1430,10 +1371,8 @@ struct Origin<T> {
 
 impl<T: Real> ByDim for Origin<T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
-        // SAFETY: contract: readable for its length.
-        let u = unsafe { chunks::<T, D>(self.undeformed, self.undeformed_len) }?;
-        // SAFETY: contract: readable for its length.
-        let d = unsafe { chunks::<T, D>(self.deformed, self.deformed_len) }?;
+        let u = read_points::<T, D>(self.undeformed, self.undeformed_len)?;
+        let d = read_points::<T, D>(self.deformed, self.deformed_len)?;
         if self.origin_out_len != D {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
@@ -1523,11 +1462,9 @@ struct Translations<T> {
 
 impl<T: Real> ByDim for Translations<T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
-        let origin = read_vec::<T, D>(self.origin, self.origin_len)?;
-        // SAFETY: contract: readable for its length.
-        let u = unsafe { chunks::<T, D>(self.undeformed, self.undeformed_len) }?;
-        // SAFETY: contract: readable for its length.
-        let d = unsafe { chunks::<T, D>(self.deformed, self.deformed_len) }?;
+        let origin = read_array::<T, D>(self.origin, self.origin_len)?;
+        let u = read_points::<T, D>(self.undeformed, self.undeformed_len)?;
+        let d = read_points::<T, D>(self.deformed, self.deformed_len)?;
         // SAFETY: contract: readable for its length.
         let q = unsafe { quats(self.rotations, self.rotations_len) }?;
         // SAFETY: contract: writable for its length, overlapping no input.
@@ -1636,8 +1573,7 @@ struct PropIdw<T> {
 
 impl<T: Real> ByDim for PropIdw<T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
-        // SAFETY: contract: readable for its length.
-        let points = unsafe { chunks::<T, D>(self.points, self.points_len) }?;
+        let points = read_points::<T, D>(self.points, self.points_len)?;
         // SAFETY: contract: readable for its length.
         let boundary = unsafe { input(self.boundary, self.boundary_len) }?;
         // SAFETY: contract: writable for its length, overlapping nothing else.
@@ -1756,15 +1692,13 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi_scratch_len(
     dim: u32,
     len_out: *mut usize,
 ) -> dk_status {
-    write_len(
+    len_status(
         len_out,
-        Block::new([ni, nj, nk])
-            .map_err(dk_status::from)
-            .and_then(|b| match dim {
-                2 => Ok(tfi_scratch_len::<2>(&b)),
-                3 => Ok(tfi_scratch_len::<3>(&b)),
-                _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
-            }),
+        block(ni, nj, nk).and_then(|b| match dim {
+            2 => Ok(tfi_scratch_len::<2>(&b)),
+            3 => Ok(tfi_scratch_len::<3>(&b)),
+            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        }),
     )
 }
 
@@ -1787,8 +1721,7 @@ impl<T: Real> ByDim for PropTfi<T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
         let [ni, nj, nk] = self.dims;
         let (block, directions) = tfi_setup(ni, nj, nk, self.directions)?;
-        // SAFETY: contract: readable for its length.
-        let points = unsafe { chunks::<T, D>(self.points, self.points_len) }?;
+        let points = read_points::<T, D>(self.points, self.points_len)?;
         // SAFETY: contract: writable for its length, overlapping nothing else.
         let scratch = unsafe { output(self.scratch, self.scratch_len) }?;
         // SAFETY: contract: readable and writable for its length, overlapping nothing else.
@@ -1992,17 +1925,15 @@ struct Update<T> {
 
 impl<T: Real> ByDim for Update<T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
-        let origin = read_vec::<T, D>(self.origin, self.origin_len)?;
+        let origin = read_array::<T, D>(self.origin, self.origin_len)?;
+        let points = read_points::<T, D>(self.points, self.points_len)?;
         // SAFETY: contract: the inputs are readable for their lengths.
-        let points = unsafe { chunks::<T, D>(self.points, self.points_len) }?;
-        // SAFETY: as above.
         let t = unsafe { chunks::<T, D>(self.translations, self.translations_len) }?;
         // SAFETY: as above.
         let q = unsafe { quats(self.rotations, self.rotations_len) }?;
         // SAFETY: as above.
         let boundary = unsafe { input(self.boundary, self.boundary_len) }?;
-        // SAFETY: as above.
-        let bd = unsafe { chunks::<T, D>(self.boundary_deformed, self.boundary_deformed_len) }?;
+        let bd = read_points::<T, D>(self.boundary_deformed, self.boundary_deformed_len)?;
         // SAFETY: contract: writable for its length, overlapping nothing else.
         let scratch = unsafe { output(self.index_scratch, self.index_scratch_len) }?;
         let (boundary, _) = rebase(boundary, self.index_base, scratch)?;
@@ -2137,7 +2068,7 @@ pub unsafe extern "C" fn dk_deform_localize_nodes_scratch_len(
     index_base: u32,
     len_out: *mut usize,
 ) -> dk_status {
-    write_len(
+    len_status(
         len_out,
         index_need(index_base, &[boundary_len, global_len]).and_then(|n| {
             n.checked_add(localize_nodes_scratch_len(node_count))
@@ -2205,51 +2136,6 @@ pub unsafe extern "C" fn dk_deform_localize_nodes(
 // Springs (options and report types from the spring module)
 // ---------------------------------------------------------------------------------------------
 
-/// The kernel's linear method of `o` (the same mapping as `dk_spring_solve_linear`).
-fn linear_method<T: Real>(o: &dk_spring_solve_options) -> Result<LinearMethod<T>, dk_status> {
-    let omega = T::from_f64(o.omega);
-    Ok(match o.method {
-        DK_LINEAR_JACOBI => LinearMethod::Jacobi,
-        DK_LINEAR_GAUSS_SEIDEL => LinearMethod::GaussSeidel,
-        DK_LINEAR_SOR => LinearMethod::Sor { omega },
-        DK_LINEAR_CG => LinearMethod::Cg {
-            preconditioner: match o.preconditioner {
-                DK_PRECONDITIONER_NONE => Preconditioner::None,
-                DK_PRECONDITIONER_JACOBI => Preconditioner::Jacobi,
-                DK_PRECONDITIONER_SSOR => Preconditioner::Ssor { omega },
-                _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
-            },
-        },
-        _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
-    })
-}
-
-/// The kernel's stopping rules of `o` (tolerances rounded to `T`).
-fn stopping<T: Real>(o: &dk_spring_solve_options) -> SolveOptions<T> {
-    SolveOptions {
-        max_iterations: o.max_iterations,
-        residual_tol: T::from_f64(o.residual_tol),
-        update_tol: T::from_f64(o.update_tol),
-    }
-}
-
-/// The C report of a kernel report (values widened exactly).
-fn report_of<T: Real>(r: SolveReport<T>) -> dk_spring_solve_report {
-    dk_spring_solve_report {
-        iterations: r.iterations,
-        residual: r.residual.to_f64(),
-        max_update: r.max_update.to_f64(),
-        converged: r.converged,
-    }
-}
-
-/// Reads the options struct.
-fn read_options(p: *const dk_spring_solve_options) -> Result<dk_spring_solve_options, dk_status> {
-    // SAFETY: the public functions' contracts: one readable options struct at `p`.
-    let s = unsafe { input(p, 1) }?;
-    s.first().copied().ok_or(dk_status::DK_ERR_NULL_POINTER)
-}
-
 /// Number of scalars of the packed `values` workspace of the spring propagation:
 /// `propagate_spring_scratch_len` items of `dim + 4` scalars.
 fn spring_values_len(
@@ -2257,8 +2143,8 @@ fn spring_values_len(
     dim: u32,
     options: *const dk_spring_solve_options,
 ) -> Result<usize, dk_status> {
-    let o = read_options(options)?;
-    let method = linear_method::<f64>(&o)?;
+    let o = read_one(options)?;
+    let method = o.method::<f64>()?;
     let v = match dim {
         2 => 6usize,
         3 => 7,
@@ -2269,7 +2155,7 @@ fn spring_values_len(
     if items == usize::MAX {
         return Err(dk_status::DK_ERR_TOO_LARGE);
     }
-    items.checked_mul(v).ok_or(dk_status::DK_ERR_TOO_LARGE)
+    mul_len(items, v)
 }
 
 /// The arguments describing a spring system (0-based CSR graph, per-edge stiffness, fixed
@@ -2289,14 +2175,17 @@ struct SystemIn<T> {
 impl<T: Real> SystemIn<T> {
     fn build<'a>(&self, scratch: &mut [u32]) -> Result<SpringSystem<'a, T>, dk_status> {
         // SAFETY: the public functions' contracts: each array readable for its length.
-        let o = unsafe { input(self.offsets, self.offsets_len) }?;
-        // SAFETY: as above.
-        let t = unsafe { input(self.targets, self.targets_len) }?;
-        // SAFETY: as above.
         let k = unsafe { input(self.stiffness, self.stiffness_len) }?;
         // SAFETY: as above.
         let f = unsafe { input(self.fixed, self.fixed_len) }?;
-        let g = Graph::new(o, t).map_err(dk_status::from)?;
+        // All four arrays are NULL-checked before the graph is validated (unlike
+        // `dk_spring_*`, which validate the graph first).
+        let g = graph(
+            self.offsets,
+            self.offsets_len,
+            self.targets,
+            self.targets_len,
+        )?;
         SpringSystem::new(g, k, f, scratch).map_err(dk_status::from)
     }
 }
@@ -2344,7 +2233,7 @@ fn spring_index_len<M: MotionC>(
     node_count: usize,
     len_out: *mut usize,
 ) -> dk_status {
-    write_len(
+    len_status(
         len_out,
         read_raw(motion).and_then(|m| {
             m.index_need()?
@@ -2396,12 +2285,11 @@ struct Spring<M: MotionC> {
 
 impl<M: MotionC> ByDim for Spring<M> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
-        let o = read_options(self.options)?;
-        let method = linear_method::<M::T>(&o)?;
-        let stop = stopping::<M::T>(&o);
+        let o = read_one(self.options)?;
+        let method = o.method::<M::T>()?;
+        let stop = o.stopping::<M::T>();
         let raw = read_raw(self.motion)?;
-        // SAFETY: contract: `points` readable for `points_len` scalars.
-        let points = unsafe { chunks::<M::T, D>(self.points, self.points_len) }?;
+        let points = read_points::<M::T, D>(self.points, self.points_len)?;
         let b = self.bufs.borrow::<D>()?;
         // Only whole items of the values workspace are used.
         let values_len = self.values_len - self.values_len % V;
@@ -2425,7 +2313,7 @@ impl<M: MotionC> ByDim for Spring<M> {
         )
         .map_err(dk_status::from)?;
         write_optional(b.origin_out, origin);
-        *report = report_of(rep);
+        *report = dk_spring_solve_report::of(rep);
         Ok(())
     }
 }
@@ -2613,7 +2501,7 @@ pub unsafe extern "C" fn dk_deform_propagate_spring_scratch_len(
     options: *const dk_spring_solve_options,
     len_out: *mut usize,
 ) -> dk_status {
-    write_len(len_out, spring_values_len(node_count, dim, options))
+    len_status(len_out, spring_values_len(node_count, dim, options))
 }
 
 struct PropSpring<T> {
@@ -2632,9 +2520,9 @@ struct PropSpring<T> {
 
 impl<T: Real> ByDim for PropSpring<T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
-        let o = read_options(self.options)?;
-        let method = linear_method::<T>(&o)?;
-        let stop = stopping::<T>(&o);
+        let o = read_one(self.options)?;
+        let method = o.method::<T>()?;
+        let stop = o.stopping::<T>();
         // SAFETY: contract: writable for its length, overlapping nothing else.
         let s = unsafe { output(self.index_scratch, self.index_scratch_len) }?;
         let values_len = self.values_len - self.values_len % V;
@@ -2648,7 +2536,7 @@ impl<T: Real> ByDim for PropSpring<T> {
         let report = unsafe { out_one(self.report) }?;
         let sys = self.system.build(s)?;
         let rep = propagate_spring(&sys, method, &stop, t, q, values).map_err(dk_status::from)?;
-        *report = report_of(rep);
+        *report = dk_spring_solve_report::of(rep);
         Ok(())
     }
 }

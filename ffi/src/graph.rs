@@ -12,27 +12,15 @@ use deform_kernel::{
     graph_from_cells, graph_from_cells_len, graph_from_edges, graph_from_edges_len, Cells, Graph,
 };
 
+use crate::args::{check_base, done, write_len, zero_based};
 use crate::slice::{input, out_one, output};
 use crate::status::dk_status;
 
 /// Checks `index_base` and returns a copy of `indices` converted to 0-based. An index below
 /// the base is out of range (reported as `u32::MAX`, which every bound rejects).
 fn rebase(indices: &[u32], index_base: u32) -> Result<Vec<u32>, dk_status> {
-    match index_base {
-        0 => Ok(indices.to_vec()),
-        1 => Ok(indices
-            .iter()
-            .map(|&i| i.checked_sub(1).unwrap_or(u32::MAX))
-            .collect()),
-        _ => Err(dk_status::DK_ERR_BAD_INDEX_BASE),
-    }
-}
-
-fn done(r: Result<(), dk_status>) -> dk_status {
-    match r {
-        Ok(()) => dk_status::DK_OK,
-        Err(s) => s,
-    }
+    check_base(index_base)?;
+    Ok(indices.iter().map(|&i| zero_based(i, index_base)).collect())
 }
 
 /// Length `targets` needs for [`dk_graph_from_edges`]: `edges_len` (two entries per edge).
@@ -48,10 +36,7 @@ pub unsafe extern "C" fn dk_graph_from_edges_len(
         if edges_len % 2 != 0 {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
-        // SAFETY: contract: one writable size_t at `len_out`.
-        let out = unsafe { out_one(len_out) }?;
-        *out = edges_len;
-        Ok(())
+        write_len(len_out, edges_len)
     })())
 }
 
@@ -128,15 +113,11 @@ pub(crate) fn read_cells(
     // SAFETY: as above.
     let kinds = unsafe { input(cell_kinds, cell_kinds_len) }?;
     // Offsets are positions in `cell_nodes`; with index_base 1 they are 1-based too.
-    let offs = match index_base {
-        0 => offs.to_vec(),
-        1 => offs
-            .iter()
-            .map(|&o| o.checked_sub(1).unwrap_or(u32::MAX))
-            .collect(),
-        _ => return Err(dk_status::DK_ERR_BAD_INDEX_BASE),
-    };
-    Ok((offs, rebase(nodes, index_base)?, kinds.to_vec()))
+    Ok((
+        rebase(offs, index_base)?,
+        rebase(nodes, index_base)?,
+        kinds.to_vec(),
+    ))
 }
 
 /// Validates a mixed-element cell list: `cell_offsets` has one entry per cell plus one,
@@ -200,10 +181,7 @@ pub unsafe extern "C" fn dk_graph_from_cells_len(
             index_base,
         )?;
         let cells = Cells::new(node_count, &o, &n, &k).map_err(dk_status::from)?;
-        // SAFETY: contract: one writable size_t at `len_out`.
-        let out = unsafe { out_one(len_out) }?;
-        *out = graph_from_cells_len(&cells, face_diagonals);
-        Ok(())
+        write_len(len_out, graph_from_cells_len(&cells, face_diagonals))
     })())
 }
 

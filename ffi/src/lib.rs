@@ -22,6 +22,8 @@ compile_error!(
      the `test-unwind` feature exists only for cargo's test harness"
 );
 
+/// argument reading and writing shared by every entry point
+pub(crate) mod args;
 mod slice;
 
 pub mod deformation;

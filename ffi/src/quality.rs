@@ -19,10 +19,10 @@ use deform_kernel::quality::{
 };
 use deform_kernel::{CellKind, Cells, Real};
 
+use crate::args::{assert_layout, by_dim, done, graph, mul_len, read_points, write_len};
 use crate::graph::{read_cells, OwnedCells};
-use crate::slice::{chunks, chunks_mut, out_one, output};
+use crate::slice::{chunks_mut, out_one, output};
 use crate::status::dk_status;
-use crate::taubin::{done, graph, mul_len, write_one};
 
 /// "No such index" in the quality reports: `SIZE_MAX`.
 pub const DK_NO_INDEX: usize = -1isize as usize;
@@ -39,12 +39,7 @@ pub struct dk_cell_quality {
     /// Smallest corner Jacobian divided by the product of its edge lengths, in `[−1, 1]`.
     pub min_scaled_jacobian: f64,
 }
-const _: () = assert!(
-    core::mem::size_of::<dk_cell_quality>() == 24
-        && core::mem::offset_of!(dk_cell_quality, measure) == 0
-        && core::mem::offset_of!(dk_cell_quality, min_jacobian) == 8
-        && core::mem::offset_of!(dk_cell_quality, min_scaled_jacobian) == 16
-);
+assert_layout!(dk_cell_quality, 24; measure = 0, min_jacobian = 8, min_scaled_jacobian = 16);
 
 impl dk_cell_quality {
     fn of<T: Real>(q: CellQuality<T>) -> Self {
@@ -72,13 +67,7 @@ pub struct dk_wall_angle_change {
     pub skipped: usize,
 }
 #[cfg(target_pointer_width = "64")]
-const _: () = assert!(
-    core::mem::size_of::<dk_wall_angle_change>() == 32
-        && core::mem::offset_of!(dk_wall_angle_change, max_change) == 0
-        && core::mem::offset_of!(dk_wall_angle_change, node) == 8
-        && core::mem::offset_of!(dk_wall_angle_change, measured) == 16
-        && core::mem::offset_of!(dk_wall_angle_change, skipped) == 24
-);
+assert_layout!(dk_wall_angle_change, 32; max_change = 0, node = 8, measured = 16, skipped = 24);
 
 /// An optional 0-based index as `index_base` or `DK_NO_INDEX`.
 fn based(i: Option<usize>, index_base: u32) -> usize {
@@ -139,24 +128,12 @@ pub struct dk_quality_report {
     pub has_wall: bool,
 }
 #[cfg(target_pointer_width = "64")]
-const _: () = assert!(
-    core::mem::size_of::<dk_quality_report>() == 128
-        && core::mem::offset_of!(dk_quality_report, cells) == 0
-        && core::mem::offset_of!(dk_quality_report, inverted_cells) == 8
-        && core::mem::offset_of!(dk_quality_report, folded_cells) == 16
-        && core::mem::offset_of!(dk_quality_report, folded_cells_undeformed) == 24
-        && core::mem::offset_of!(dk_quality_report, degenerate_cells) == 32
-        && core::mem::offset_of!(dk_quality_report, min_ratio_cell) == 40
-        && core::mem::offset_of!(dk_quality_report, max_ratio_cell) == 48
-        && core::mem::offset_of!(dk_quality_report, wall_node) == 56
-        && core::mem::offset_of!(dk_quality_report, wall_measured) == 64
-        && core::mem::offset_of!(dk_quality_report, wall_skipped) == 72
-        && core::mem::offset_of!(dk_quality_report, min_measure_ratio) == 80
-        && core::mem::offset_of!(dk_quality_report, max_measure_ratio) == 88
-        && core::mem::offset_of!(dk_quality_report, min_measure) == 96
-        && core::mem::offset_of!(dk_quality_report, min_scaled_jacobian) == 104
-        && core::mem::offset_of!(dk_quality_report, wall_max_change) == 112
-        && core::mem::offset_of!(dk_quality_report, has_wall) == 120
+assert_layout!(
+    dk_quality_report, 128;
+    cells = 0, inverted_cells = 8, folded_cells = 16, folded_cells_undeformed = 24,
+    degenerate_cells = 32, min_ratio_cell = 40, max_ratio_cell = 48, wall_node = 56,
+    wall_measured = 64, wall_skipped = 72, min_measure_ratio = 80, max_measure_ratio = 88,
+    min_measure = 96, min_scaled_jacobian = 104, wall_max_change = 112, has_wall = 120,
 );
 
 impl dk_quality_report {
@@ -220,23 +197,6 @@ fn cells_of(owned: &OwnedCells, node_count: usize) -> Result<Cells<'_>, dk_statu
     Cells::new(node_count, o, n, k).map_err(dk_status::from)
 }
 
-/// Borrows a point array of `D`-vectors.
-fn points<'a, T, const D: usize>(p: *const T, len: usize) -> Result<&'a [[T; D]], dk_status> {
-    // SAFETY: contract of every public function: `len` readable scalars at `p`.
-    unsafe { chunks::<T, D>(p, len) }
-}
-
-/// Dispatches on the point dimension `dim` (2 or 3).
-macro_rules! by_dim {
-    ($dim:expr, $f:ident :: <$t:ty>, ($($arg:expr),* $(,)?)) => {
-        match $dim {
-            2 => $f::<$t, 2>($($arg),*),
-            3 => $f::<$t, 3>($($arg),*),
-            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
-        }
-    };
-}
-
 // ---------------------------------------------------------------------------------------------
 // Generic inner functions.
 // ---------------------------------------------------------------------------------------------
@@ -248,7 +208,7 @@ fn cell_quality_d<T: Real, const D: usize>(
     out: *mut dk_cell_quality,
 ) -> Result<(), dk_status> {
     let kind = CellKind::from_vtk(kind).ok_or(dk_status::DK_ERR_UNKNOWN_CELL_KIND)?;
-    let c = points::<T, D>(corners, corners_len)?;
+    let c = read_points::<T, D>(corners, corners_len)?;
     // SAFETY: contract: one writable struct at `out`.
     let o = unsafe { out_one(out) }?;
     *o = dk_cell_quality::of(cell_quality(kind, c).map_err(dk_status::from)?);
@@ -278,7 +238,7 @@ fn per_cell_d<T: Real, const D: usize>(
     out: *mut T,
     out_len: usize,
 ) -> Result<(), dk_status> {
-    let p = points::<T, D>(pts, pts_len)?;
+    let p = read_points::<T, D>(pts, pts_len)?;
     let owned = cells.read()?;
     let c = cells_of(&owned, p.len())?;
     // SAFETY: contract: `out_len` writable scalars at `out`, not overlapping the inputs.
@@ -316,8 +276,8 @@ fn inverted_d<T: Real, const D: usize>(
     deformed_len: usize,
     count_out: *mut usize,
 ) -> Result<(), dk_status> {
-    let u = points::<T, D>(undeformed, undeformed_len)?;
-    let d = points::<T, D>(deformed, deformed_len)?;
+    let u = read_points::<T, D>(undeformed, undeformed_len)?;
+    let d = read_points::<T, D>(deformed, deformed_len)?;
     let owned = cells.read()?;
     let c = cells_of(&owned, u.len())?;
     // SAFETY: contract: one writable size_t at `count_out`.
@@ -356,7 +316,7 @@ fn folded_d<T: Real, const D: usize>(
     pts_len: usize,
     count_out: *mut usize,
 ) -> Result<(), dk_status> {
-    let p = points::<T, D>(pts, pts_len)?;
+    let p = read_points::<T, D>(pts, pts_len)?;
     let owned = cells.read()?;
     let c = cells_of(&owned, p.len())?;
     // SAFETY: contract: one writable size_t at `count_out`.
@@ -419,8 +379,8 @@ fn compare_d<T: Real, const D: usize>(
     scratch_len: usize,
     report: *mut dk_quality_report,
 ) -> Result<(), dk_status> {
-    let u = points::<T, D>(undeformed, undeformed_len)?;
-    let d = points::<T, D>(deformed, deformed_len)?;
+    let u = read_points::<T, D>(undeformed, undeformed_len)?;
+    let d = read_points::<T, D>(deformed, deformed_len)?;
     let owned = cells.read()?;
     let c = cells_of(&owned, u.len())?;
     let scratch_len = scratch_len - scratch_len % D;
@@ -488,8 +448,8 @@ fn wall_angle_d<T: Real, const D: usize>(
     scratch_len: usize,
     out: *mut dk_wall_angle_change,
 ) -> Result<(), dk_status> {
-    let u = points::<T, D>(undeformed, undeformed_len)?;
-    let d = points::<T, D>(deformed, deformed_len)?;
+    let u = read_points::<T, D>(undeformed, undeformed_len)?;
+    let d = read_points::<T, D>(deformed, deformed_len)?;
     let wowned = wall.elements.read()?;
     let we = cells_of(&wowned, u.len())?;
     let g = graph(
@@ -871,7 +831,7 @@ pub unsafe extern "C" fn dk_quality_wall_angle_scratch_len(
         if node_count > usize::MAX / 2 {
             return Err(dk_status::DK_ERR_TOO_LARGE);
         }
-        write_one(
+        write_len(
             len_out,
             mul_len(wall_angle_scratch_len(node_count), dim as usize)?,
         )

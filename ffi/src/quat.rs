@@ -6,34 +6,16 @@
 
 use deform_kernel::{Quat, QuatAverage, Real};
 
+use crate::args::{done, optional, read_array, write_array};
 use crate::slice::{input, out_one, output};
 use crate::status::dk_status;
 
 fn read4<T: Real>(p: *const T) -> Result<Quat<T>, dk_status> {
-    // SAFETY: the public functions' contracts require 4 readable scalars at `p`.
-    let s = unsafe { input(p, 4) }?;
-    match *s {
-        [w, x, y, z] => Ok(Quat::new(w, x, y, z)),
-        _ => Err(dk_status::DK_ERR_LENGTH_MISMATCH),
-    }
+    read_array::<T, 4>(p, 4).map(Quat::from_array)
 }
 
 fn read3<T: Real>(p: *const T) -> Result<[T; 3], dk_status> {
-    // SAFETY: the public functions' contracts require 3 readable scalars at `p`.
-    let s = unsafe { input(p, 3) }?;
-    match *s {
-        [x, y, z] => Ok([x, y, z]),
-        _ => Err(dk_status::DK_ERR_LENGTH_MISMATCH),
-    }
-}
-
-fn write<T: Real, const N: usize>(p: *mut T, v: [T; N]) -> Result<(), dk_status> {
-    // SAFETY: the public functions' contracts require N writable scalars at `p`.
-    let s = unsafe { output(p, N) }?;
-    for (d, x) in s.iter_mut().zip(v) {
-        *d = x;
-    }
-    Ok(())
+    read_array::<T, 3>(p, 3)
 }
 
 fn finite_quat<T: Real>(q: Quat<T>) -> Result<Quat<T>, dk_status> {
@@ -44,38 +26,31 @@ fn finite_quat<T: Real>(q: Quat<T>) -> Result<Quat<T>, dk_status> {
     }
 }
 
-fn done(r: Result<(), dk_status>) -> dk_status {
-    match r {
-        Ok(()) => dk_status::DK_OK,
-        Err(s) => s,
-    }
-}
-
 fn mul<T: Real>(a: *const T, b: *const T, out: *mut T) -> dk_status {
     done((|| {
         let q = finite_quat(read4(a)?)? * finite_quat(read4(b)?)?;
-        write(out, q.to_array())
+        write_array(out, q.to_array())
     })())
 }
 
 fn normalize<T: Real>(q: *const T, out: *mut T) -> dk_status {
     done((|| {
         let n = read4(q)?.normalize()?;
-        write(out, n.to_array())
+        write_array(out, n.to_array())
     })())
 }
 
 fn inverse<T: Real>(q: *const T, out: *mut T) -> dk_status {
     done((|| {
         let n = read4(q)?.inverse()?;
-        write(out, n.to_array())
+        write_array(out, n.to_array())
     })())
 }
 
 fn from_axis_angle<T: Real>(axis: *const T, angle: T, out: *mut T) -> dk_status {
     done((|| {
         let q = Quat::from_axis_angle(read3(axis)?, angle)?;
-        write(out, q.to_array())
+        write_array(out, q.to_array())
     })())
 }
 
@@ -99,7 +74,7 @@ fn to_axis_angle<T: Real>(q: *const T, axis_out: *mut T, angle_out: *mut T) -> d
 fn rotation_arc<T: Real>(from: *const T, to: *const T, out: *mut T) -> dk_status {
     done((|| {
         let q = Quat::rotation_arc(read3(from)?, read3(to)?)?;
-        write(out, q.to_array())
+        write_array(out, q.to_array())
     })())
 }
 
@@ -149,7 +124,7 @@ fn interpolate<T: Real>(a: *const T, b: *const T, t: T, out: *mut T, spherical: 
         } else {
             Quat::nlerp(a, b, t)?
         };
-        write(out, q.to_array())
+        write_array(out, q.to_array())
     })())
 }
 
@@ -166,16 +141,10 @@ fn average<T: Real>(
         if quats_len % 4 != 0 {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
-        let w = if weights.is_null() && weights_len == 0 {
-            None
-        } else {
-            // SAFETY: contract: `weights_len` readable scalars at `weights`.
-            let w = unsafe { input(weights, weights_len) }?;
-            if weights_len != quats_len / 4 {
-                return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
-            }
-            Some(w)
-        };
+        let w = optional(weights, weights_len)?;
+        if w.is_some() && weights_len != quats_len / 4 {
+            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+        }
         if qs
             .iter()
             .chain(w.unwrap_or(&[]).iter())
@@ -190,7 +159,7 @@ fn average<T: Real>(
                 acc.add(Quat::new(qw, qx, qy, qz), wk);
             }
         }
-        write(out, acc.result()?.to_array())
+        write_array(out, acc.result()?.to_array())
     })())
 }
 

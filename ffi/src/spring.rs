@@ -29,9 +29,12 @@ use deform_kernel::spring::{
 };
 use deform_kernel::Real;
 
+use crate::args::{
+    assert_layout, by_components, by_dim, done, graph, mul_len, range, read_one, read_points,
+    write_len, write_one,
+};
 use crate::slice::{chunks, chunks_mut, input, out_one, output};
 use crate::status::dk_status;
-use crate::taubin::{done, graph, mul_len, range, read_one, write_one};
 
 // ---------------------------------------------------------------------------------------------
 // repr(C) types and constants.
@@ -90,18 +93,16 @@ pub struct dk_spring_solve_options {
     pub preconditioner: u32,
 }
 #[cfg(target_pointer_width = "64")]
-const _: () = assert!(
-    core::mem::size_of::<dk_spring_solve_options>() == 40
-        && core::mem::offset_of!(dk_spring_solve_options, max_iterations) == 0
-        && core::mem::offset_of!(dk_spring_solve_options, residual_tol) == 8
-        && core::mem::offset_of!(dk_spring_solve_options, update_tol) == 16
-        && core::mem::offset_of!(dk_spring_solve_options, omega) == 24
-        && core::mem::offset_of!(dk_spring_solve_options, method) == 32
-        && core::mem::offset_of!(dk_spring_solve_options, preconditioner) == 36
+assert_layout!(
+    dk_spring_solve_options, 40;
+    max_iterations = 0, residual_tol = 8, update_tol = 16, omega = 24, method = 32,
+    preconditioner = 36,
 );
 
 impl dk_spring_solve_options {
-    fn method<T: Real>(&self) -> Result<LinearMethod<T>, dk_status> {
+    /// The kernel's linear method (`DK_ERR_INVALID_PARAMETER` for an unknown method or
+    /// preconditioner code).
+    pub(crate) fn method<T: Real>(&self) -> Result<LinearMethod<T>, dk_status> {
         let omega = T::from_f64(self.omega);
         Ok(match self.method {
             DK_LINEAR_JACOBI => LinearMethod::Jacobi,
@@ -119,12 +120,18 @@ impl dk_spring_solve_options {
         })
     }
 
-    fn stopping<T: Real>(&self) -> SolveOptions<T> {
-        SolveOptions {
-            max_iterations: self.max_iterations,
-            residual_tol: T::from_f64(self.residual_tol),
-            update_tol: T::from_f64(self.update_tol),
-        }
+    /// The kernel's stopping rules (tolerances rounded to `T`).
+    pub(crate) fn stopping<T: Real>(&self) -> SolveOptions<T> {
+        stopping(self.max_iterations, self.residual_tol, self.update_tol)
+    }
+}
+
+/// The kernel's stopping rules from the C fields (tolerances rounded to `T`).
+fn stopping<T: Real>(max_iterations: usize, residual_tol: f64, update_tol: f64) -> SolveOptions<T> {
+    SolveOptions {
+        max_iterations,
+        residual_tol: T::from_f64(residual_tol),
+        update_tol: T::from_f64(update_tol),
     }
 }
 
@@ -149,13 +156,9 @@ pub struct dk_spring_angle_options {
     pub method: u32,
 }
 #[cfg(target_pointer_width = "64")]
-const _: () = assert!(
-    core::mem::size_of::<dk_spring_angle_options>() == 40
-        && core::mem::offset_of!(dk_spring_angle_options, max_iterations) == 0
-        && core::mem::offset_of!(dk_spring_angle_options, residual_tol) == 8
-        && core::mem::offset_of!(dk_spring_angle_options, update_tol) == 16
-        && core::mem::offset_of!(dk_spring_angle_options, epsilon) == 24
-        && core::mem::offset_of!(dk_spring_angle_options, method) == 32
+assert_layout!(
+    dk_spring_angle_options, 40;
+    max_iterations = 0, residual_tol = 8, update_tol = 16, epsilon = 24, method = 32,
 );
 
 impl dk_spring_angle_options {
@@ -169,11 +172,7 @@ impl dk_spring_angle_options {
     }
 
     fn stopping<T: Real>(&self) -> SolveOptions<T> {
-        SolveOptions {
-            max_iterations: self.max_iterations,
-            residual_tol: T::from_f64(self.residual_tol),
-            update_tol: T::from_f64(self.update_tol),
-        }
+        stopping(self.max_iterations, self.residual_tol, self.update_tol)
     }
 }
 
@@ -193,16 +192,14 @@ pub struct dk_spring_solve_report {
     pub converged: bool,
 }
 #[cfg(target_pointer_width = "64")]
-const _: () = assert!(
-    core::mem::size_of::<dk_spring_solve_report>() == 32
-        && core::mem::offset_of!(dk_spring_solve_report, iterations) == 0
-        && core::mem::offset_of!(dk_spring_solve_report, residual) == 8
-        && core::mem::offset_of!(dk_spring_solve_report, max_update) == 16
-        && core::mem::offset_of!(dk_spring_solve_report, converged) == 24
+assert_layout!(
+    dk_spring_solve_report, 32;
+    iterations = 0, residual = 8, max_update = 16, converged = 24,
 );
 
 impl dk_spring_solve_report {
-    fn of<T: Real>(r: SolveReport<T>) -> Self {
+    /// The C report of a kernel report (values widened exactly).
+    pub(crate) fn of<T: Real>(r: SolveReport<T>) -> Self {
         dk_spring_solve_report {
             iterations: r.iterations,
             residual: r.residual.to_f64(),
@@ -226,11 +223,7 @@ pub struct dk_spring_sweep {
     pub residual_sq: f64,
 }
 #[cfg(target_pointer_width = "64")]
-const _: () = assert!(
-    core::mem::size_of::<dk_spring_sweep>() == 16
-        && core::mem::offset_of!(dk_spring_sweep, max_change) == 0
-        && core::mem::offset_of!(dk_spring_sweep, residual_sq) == 8
-);
+assert_layout!(dk_spring_sweep, 16; max_change = 0, residual_sq = 8);
 
 impl dk_spring_sweep {
     fn of<T: Real>(s: Sweep<T>) -> Self {
@@ -279,33 +272,6 @@ impl<T: Real> SysArgs<T> {
     }
 }
 
-/// Dispatches on the number of value components `V` (1 to 7).
-macro_rules! by_components {
-    ($v:expr, $f:ident :: <$t:ty>, ($($arg:expr),* $(,)?)) => {
-        match $v {
-            1 => $f::<$t, 1>($($arg),*),
-            2 => $f::<$t, 2>($($arg),*),
-            3 => $f::<$t, 3>($($arg),*),
-            4 => $f::<$t, 4>($($arg),*),
-            5 => $f::<$t, 5>($($arg),*),
-            6 => $f::<$t, 6>($($arg),*),
-            7 => $f::<$t, 7>($($arg),*),
-            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
-        }
-    };
-}
-
-/// Dispatches on the point dimension `dim` (2 or 3).
-macro_rules! by_dim {
-    ($dim:expr, $f:ident :: <$t:ty>, ($($arg:expr),* $(,)?)) => {
-        match $dim {
-            2 => $f::<$t, 2>($($arg),*),
-            3 => $f::<$t, 3>($($arg),*),
-            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
-        }
-    };
-}
-
 // ---------------------------------------------------------------------------------------------
 // Generic inner functions.
 // ---------------------------------------------------------------------------------------------
@@ -318,8 +284,7 @@ fn batina_d<T: Real, const D: usize>(
     stiffness: *mut T,
     stiffness_len: usize,
 ) -> Result<(), dk_status> {
-    // SAFETY: contract: `points_len` readable scalars at `points`.
-    let p = unsafe { chunks::<T, D>(points, points_len) }?;
+    let p = read_points::<T, D>(points, points_len)?;
     // SAFETY: contract: `stiffness_len` writable scalars at `stiffness`, not overlapping.
     let k = unsafe { output(stiffness, stiffness_len) }?;
     batina_stiffness(g, p, exponent, k).map_err(dk_status::from)
@@ -550,9 +515,7 @@ fn angle_scratch_scalars<T: Real>(
             return Err(dk_status::DK_ERR_INVALID_PARAMETER);
         }
         // Mirrors deform_kernel::spring::angle_scratch_len (items of [T; D]).
-        let four = node_count
-            .checked_mul(4)
-            .ok_or(dk_status::DK_ERR_TOO_LARGE)?;
+        let four = mul_len(node_count, 4)?;
         let solve = match method {
             AngleMethod::DirectJacobi => node_count,
             AngleMethod::DirectGaussSeidel => 0,
@@ -564,7 +527,7 @@ fn angle_scratch_scalars<T: Real>(
             solve
         };
         let len = mul_len(items, dim as usize)?;
-        write_one(len_out, len)
+        write_len(len_out, len)
     })())
 }
 
@@ -580,8 +543,7 @@ impl<T: Real> AngleArgs<T> {
         base: SpringSystem<'a, T>,
         epsilon: T,
     ) -> Result<AngleSystem<'a, T, D>, dk_status> {
-        // SAFETY: contract: `points_len` readable scalars at `points`.
-        let p = unsafe { chunks::<T, D>(self.points, self.points_len) }?;
+        let p = read_points::<T, D>(self.points, self.points_len)?;
         AngleSystem::new(base, p, epsilon).map_err(dk_status::from)
     }
 }
@@ -860,7 +822,7 @@ pub unsafe extern "C" fn dk_spring_index_scratch_len(
     node_count: usize,
     len_out: *mut usize,
 ) -> dk_status {
-    done(write_one(
+    done(write_len(
         len_out,
         SpringSystem::<f64>::scratch_len(node_count),
     ))
@@ -914,7 +876,7 @@ pub unsafe extern "C" fn dk_spring_solve_linear_scratch_len(
             return Err(dk_status::DK_ERR_TOO_LARGE);
         }
         let items = solve_linear_scratch_len(&method, node_count);
-        write_one(len_out, mul_len(items, components as usize)?)
+        write_len(len_out, mul_len(items, components as usize)?)
     })())
 }
 
@@ -1396,10 +1358,8 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_scratch_len(
         if !(2..=3).contains(&dim) {
             return Err(dk_status::DK_ERR_INVALID_PARAMETER);
         }
-        let items = node_count
-            .checked_mul(4)
-            .ok_or(dk_status::DK_ERR_TOO_LARGE)?;
-        write_one(len_out, mul_len(items, dim as usize)?)
+        let items = mul_len(node_count, 4)?;
+        write_len(len_out, mul_len(items, dim as usize)?)
     })())
 }
 

@@ -31,91 +31,12 @@ use deform_kernel::taubin::{
 };
 use deform_kernel::{Block, Graph, Real};
 
+use crate::args::{
+    assert_layout, block, by_components, by_dim, done, graph, mul_len, optional, range, read_one,
+    read_optional_points, read_points, write_len,
+};
 use crate::slice::{chunks, chunks_mut, input, out_one, output};
 use crate::status::dk_status;
-
-// ---------------------------------------------------------------------------------------------
-// Shared helpers (also used by the spring and quality modules).
-// ---------------------------------------------------------------------------------------------
-
-/// `Ok(())` → `DK_OK`, `Err(s)` → `s`.
-pub(crate) fn done(r: Result<(), dk_status>) -> dk_status {
-    match r {
-        Ok(()) => dk_status::DK_OK,
-        Err(s) => s,
-    }
-}
-
-/// Copies one `T` from `p` (NULL is an error).
-pub(crate) fn read_one<T: Copy>(p: *const T) -> Result<T, dk_status> {
-    // SAFETY: every public function taking a single-item pointer documents that it points to
-    // one readable, aligned item (or is NULL, rejected by `input`).
-    let s = unsafe { input(p, 1) }?;
-    s.first().copied().ok_or(dk_status::DK_ERR_NULL_POINTER)
-}
-
-/// Validates the dimensions of a structured block.
-fn block(ni: usize, nj: usize, nk: usize) -> Result<Block, dk_status> {
-    Block::new([ni, nj, nk]).map_err(dk_status::from)
-}
-
-/// Borrows and validates a 0-based CSR graph.
-pub(crate) fn graph<'a>(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-) -> Result<Graph<'a>, dk_status> {
-    // SAFETY: contract of every caller: `offsets_len` readable u32 at `offsets`.
-    let o = unsafe { input(offsets, offsets_len) }?;
-    // SAFETY: as above for `targets`.
-    let t = unsafe { input(targets, targets_len) }?;
-    Graph::new(o, t).map_err(dk_status::from)
-}
-
-/// An optional input array: `None` when `ptr` is NULL and `len` is 0, else the borrowed
-/// slice (so a non-NULL pointer with length 0 is an empty array, checked by the kernel).
-pub(crate) fn optional<'a, T>(ptr: *const T, len: usize) -> Result<Option<&'a [T]>, dk_status> {
-    if ptr.is_null() && len == 0 {
-        return Ok(None);
-    }
-    // SAFETY: contract of every caller: `len` readable values at `ptr`.
-    unsafe { input(ptr, len) }.map(Some)
-}
-
-/// Converts a caller's index range (`index_base` 0: `start <= i < end`; 1: 1-based inclusive
-/// `start <= i <= end`) to a 0-based half-open range. A 1-based start of 0 is out of range.
-pub(crate) fn range(start: usize, end: usize, index_base: u32) -> Result<[usize; 2], dk_status> {
-    match index_base {
-        0 => Ok([start, end]),
-        1 => match start.checked_sub(1) {
-            Some(s) => Ok([s, end]),
-            None => Err(dk_status::DK_ERR_INDEX_OUT_OF_RANGE),
-        },
-        _ => Err(dk_status::DK_ERR_BAD_INDEX_BASE),
-    }
-}
-
-/// `n * m` or `DK_ERR_TOO_LARGE`.
-pub(crate) fn mul_len(n: usize, m: usize) -> Result<usize, dk_status> {
-    n.checked_mul(m).ok_or(dk_status::DK_ERR_TOO_LARGE)
-}
-
-/// Writes a size query result.
-fn write_len(len_out: *mut usize, len: usize) -> Result<(), dk_status> {
-    // SAFETY: contract of every `*_len` function: one writable size_t at `len_out`.
-    let out = unsafe { out_one(len_out) }?;
-    *out = len;
-    Ok(())
-}
-
-/// Writes one scalar.
-pub(crate) fn write_one<T>(p: *mut T, v: T) -> Result<(), dk_status> {
-    // SAFETY: contract of every caller: one writable, aligned `T` at `p`.
-    let out = unsafe { out_one(p) }?;
-    *out = v;
-    Ok(())
-}
 
 // ---------------------------------------------------------------------------------------------
 // repr(C) types.
@@ -142,11 +63,7 @@ pub struct dk_taubin_coarse {
     pub prolongation: u32,
 }
 #[cfg(target_pointer_width = "64")]
-const _: () = assert!(
-    core::mem::size_of::<dk_taubin_coarse>() == 32
-        && core::mem::offset_of!(dk_taubin_coarse, factor) == 0
-        && core::mem::offset_of!(dk_taubin_coarse, prolongation) == 24
-);
+assert_layout!(dk_taubin_coarse, 32; factor = 0, prolongation = 24);
 
 impl dk_taubin_coarse {
     fn to_kernel(self) -> Result<Coarse, dk_status> {
@@ -184,12 +101,7 @@ pub struct dk_structured_options {
     pub mirror: [u8; 3],
 }
 #[cfg(target_pointer_width = "64")]
-const _: () = assert!(
-    core::mem::size_of::<dk_structured_options>() == 24
-        && core::mem::offset_of!(dk_structured_options, pinned) == 0
-        && core::mem::offset_of!(dk_structured_options, pinned_len) == 8
-        && core::mem::offset_of!(dk_structured_options, mirror) == 16
-);
+assert_layout!(dk_structured_options, 24; pinned = 0, pinned_len = 8, mirror = 16);
 
 impl dk_structured_options {
     fn to_kernel<'a>(self) -> Result<StructuredOptions<'a>, dk_status> {
@@ -212,11 +124,7 @@ pub struct dk_block_region {
     pub hi: [usize; 3],
 }
 #[cfg(target_pointer_width = "64")]
-const _: () = assert!(
-    core::mem::size_of::<dk_block_region>() == 48
-        && core::mem::offset_of!(dk_block_region, lo) == 0
-        && core::mem::offset_of!(dk_block_region, hi) == 24
-);
+assert_layout!(dk_block_region, 48; lo = 0, hi = 24);
 
 /// What a whole filter run did (`dk_taubin_smooth_structured*`, `dk_taubin_smooth_graph`).
 #[repr(C)]
@@ -230,11 +138,7 @@ pub struct dk_filter_report {
     pub last_change: f64,
 }
 #[cfg(target_pointer_width = "64")]
-const _: () = assert!(
-    core::mem::size_of::<dk_filter_report>() == 16
-        && core::mem::offset_of!(dk_filter_report, iterations) == 0
-        && core::mem::offset_of!(dk_filter_report, last_change) == 8
-);
+assert_layout!(dk_filter_report, 16; iterations = 0, last_change = 8);
 
 impl dk_filter_report {
     fn of<T: Real>(r: FilterReport<T>) -> Self {
@@ -278,19 +182,10 @@ pub struct dk_smooth_arclength_options {
     pub mirror: [u8; 3],
 }
 #[cfg(target_pointer_width = "64")]
-const _: () = assert!(
-    core::mem::size_of::<dk_smooth_arclength_options>() == 96
-        && core::mem::offset_of!(dk_smooth_arclength_options, lambda) == 0
-        && core::mem::offset_of!(dk_smooth_arclength_options, mu) == 8
-        && core::mem::offset_of!(dk_smooth_arclength_options, iterations) == 16
-        && core::mem::offset_of!(dk_smooth_arclength_options, coarse_iterations) == 24
-        && core::mem::offset_of!(dk_smooth_arclength_options, pinned) == 32
-        && core::mem::offset_of!(dk_smooth_arclength_options, pinned_len) == 40
-        && core::mem::offset_of!(dk_smooth_arclength_options, coarse) == 48
-        && core::mem::offset_of!(dk_smooth_arclength_options, direction) == 80
-        && core::mem::offset_of!(dk_smooth_arclength_options, normalised) == 84
-        && core::mem::offset_of!(dk_smooth_arclength_options, use_coarse) == 85
-        && core::mem::offset_of!(dk_smooth_arclength_options, mirror) == 86
+assert_layout!(
+    dk_smooth_arclength_options, 96;
+    lambda = 0, mu = 8, iterations = 16, coarse_iterations = 24, pinned = 32, pinned_len = 40,
+    coarse = 48, direction = 80, normalised = 84, use_coarse = 85, mirror = 86,
 );
 
 impl dk_smooth_arclength_options {
@@ -336,15 +231,10 @@ pub struct dk_smooth_report {
     pub stretching_after_point: usize,
 }
 #[cfg(target_pointer_width = "64")]
-const _: () = assert!(
-    core::mem::size_of::<dk_smooth_report>() == 56
-        && core::mem::offset_of!(dk_smooth_report, iterations) == 0
-        && core::mem::offset_of!(dk_smooth_report, last_change) == 8
-        && core::mem::offset_of!(dk_smooth_report, max_displacement) == 16
-        && core::mem::offset_of!(dk_smooth_report, stretching_before) == 24
-        && core::mem::offset_of!(dk_smooth_report, stretching_after) == 32
-        && core::mem::offset_of!(dk_smooth_report, stretching_before_point) == 40
-        && core::mem::offset_of!(dk_smooth_report, stretching_after_point) == 48
+assert_layout!(
+    dk_smooth_report, 56;
+    iterations = 0, last_change = 8, max_displacement = 16, stretching_before = 24,
+    stretching_after = 32, stretching_before_point = 40, stretching_after_point = 48,
 );
 
 impl dk_smooth_report {
@@ -436,15 +326,11 @@ fn smooth_arclength_t<T: Real>(
     done((|| {
         let b = block(ni, nj, nk)?;
         let o = read_one(options)?;
-        match dim {
-            2 => {
-                smooth_arclength_d::<T, 2>(&b, &o, points, points_len, scratch, scratch_len, report)
-            }
-            3 => {
-                smooth_arclength_d::<T, 3>(&b, &o, points, points_len, scratch, scratch_len, report)
-            }
-            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
-        }
+        by_dim!(
+            dim,
+            smooth_arclength_d::<T>,
+            (&b, &o, points, points_len, scratch, scratch_len, report)
+        )
     })())
 }
 
@@ -556,22 +442,6 @@ fn smooth_structured_coarse_t<T: Real>(
     })())
 }
 
-/// Dispatches on the number of value components `V` (1 to 7).
-macro_rules! by_components {
-    ($v:expr, $f:ident :: <$t:ty>, ($($arg:expr),* $(,)?)) => {
-        match $v {
-            1 => $f::<$t, 1>($($arg),*),
-            2 => $f::<$t, 2>($($arg),*),
-            3 => $f::<$t, 3>($($arg),*),
-            4 => $f::<$t, 4>($($arg),*),
-            5 => $f::<$t, 5>($($arg),*),
-            6 => $f::<$t, 6>($($arg),*),
-            7 => $f::<$t, 7>($($arg),*),
-            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
-        }
-    };
-}
-
 /// Graph arguments shared by the graph filter functions.
 struct GraphArgs<T> {
     offsets: *const u32,
@@ -655,22 +525,10 @@ fn inverse_distance_weights_d<T: Real, const D: usize>(
     weights: *mut T,
     weights_len: usize,
 ) -> Result<(), dk_status> {
-    // SAFETY: contract: `points_len` readable scalars at `points`.
-    let p = unsafe { chunks::<T, D>(points, points_len) }?;
+    let p = read_points::<T, D>(points, points_len)?;
     // SAFETY: contract: `weights_len` writable scalars at `weights`, not overlapping.
     let w = unsafe { output(weights, weights_len) }?;
     inverse_distance_weights(g, p, w).map_err(dk_status::from)
-}
-
-/// Dispatches on the point dimension `dim` (2 or 3).
-macro_rules! by_dim {
-    ($dim:expr, $f:ident :: <$t:ty>, ($($arg:expr),* $(,)?)) => {
-        match $dim {
-            2 => $f::<$t, 2>($($arg),*),
-            3 => $f::<$t, 3>($($arg),*),
-            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
-        }
-    };
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -683,8 +541,7 @@ fn arclength_d<T: Real, const D: usize>(
     out: *mut T,
     out_len: usize,
 ) -> Result<(), dk_status> {
-    // SAFETY: contract: `points_len` readable scalars at `points`.
-    let p = unsafe { chunks::<T, D>(points, points_len) }?;
+    let p = read_points::<T, D>(points, points_len)?;
     // SAFETY: contract: `out_len` writable scalars at `out`, not overlapping `points`.
     let o = unsafe { output(out, out_len) }?;
     arclength(b, p, direction as usize, normalised, o).map_err(dk_status::from)
@@ -724,8 +581,7 @@ fn stretching_d<T: Real, const D: usize>(
     out: *mut T,
     out_len: usize,
 ) -> Result<(), dk_status> {
-    // SAFETY: contract: `points_len` readable scalars at `points`.
-    let p = unsafe { chunks::<T, D>(points, points_len) }?;
+    let p = read_points::<T, D>(points, points_len)?;
     // SAFETY: contract: `out_len` writable scalars at `out`, not overlapping `points`.
     let o = unsafe { output(out, out_len) }?;
     stretching(b, p, direction as usize, o).map_err(dk_status::from)
@@ -739,8 +595,7 @@ fn max_stretching_d<T: Real, const D: usize>(
     value_out: *mut T,
     point_out: *mut usize,
 ) -> Result<(), dk_status> {
-    // SAFETY: contract: `points_len` readable scalars at `points`.
-    let p = unsafe { chunks::<T, D>(points, points_len) }?;
+    let p = read_points::<T, D>(points, points_len)?;
     // SAFETY: contract: one writable scalar at `value_out`.
     let v = unsafe { out_one(value_out) }?;
     // SAFETY: contract: one writable size_t at `point_out`.
@@ -759,12 +614,7 @@ fn check_lines_d<T: Real, const D: usize>(
     points: *const T,
     points_len: usize,
 ) -> Result<(), dk_status> {
-    let p = if points.is_null() && points_len == 0 {
-        None
-    } else {
-        // SAFETY: contract: `points_len` readable scalars at `points`.
-        Some(unsafe { chunks::<T, D>(points, points_len) }?)
-    };
+    let p = read_optional_points::<T, D>(points, points_len)?;
     check_lines_increasing(b, field, direction as usize, iteration, p).map_err(dk_status::from)
 }
 

@@ -753,7 +753,7 @@ static void SFX(blocks)(void) {
     }
     EXPECT(SFX(dk_deform_boundary_normals)(cube, 24, 3, so, 5, sn, 8, sk, 4, 0, csc, 24, NULL, 0,
                                            crot, 24),
-           DK_ERR_INVALID_PARAMETER); /* segments are not 3D boundary elements */
+           DK_ERR_CELL_DIMENSION); /* segments are not 3D boundary elements */
 
     /* Rigid rotations: normalised copies. */
     for (k = 0; k < 4; k++) q[k] = (REAL)(k + 1);

@@ -419,9 +419,10 @@ fn bad_sizes_and_kinds_are_errors() {
     let tri = Cells::new(3, &[0, 3], &[0, 1, 2], &[5]).unwrap();
     assert!(matches!(
         boundary_rotations(&u, &u, &tri, &mut s, &mut q),
-        Err(Error::InvalidParameter {
-            arg: "elements",
-            ..
+        Err(Error::CellDimension {
+            cell: 0,
+            kind: 5,
+            dimension: 2
         })
     ));
     assert!(q.iter().all(|x| x.w == SENTINEL));

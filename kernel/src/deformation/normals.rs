@@ -14,16 +14,17 @@ pub(super) fn check_elements<const D: usize>(
 ) -> Result<()> {
     check_dim::<D>()?;
     check_len("elements.node_count", elements.node_count(), point_count)?;
-    for (kind, _) in elements.iter() {
+    for (cell, (kind, _)) in elements.iter().enumerate() {
         let ok = match kind {
             CellKind::Line => D == 2,
             CellKind::Triangle | CellKind::Quad => D == 3,
             _ => false,
         };
         if !ok {
-            return Err(Error::InvalidParameter {
-                arg: "elements",
-                reason: "must be line segments in 2D, triangles or quadrilaterals in 3D",
+            return Err(Error::CellDimension {
+                cell,
+                kind: kind.vtk_code(),
+                dimension: D,
             });
         }
     }

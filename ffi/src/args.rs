@@ -1,0 +1,185 @@
+//! Argument reading and writing shared by every entry point: status plumbing, single values,
+//! size queries, optional arrays, index bases and ranges, CSR graphs, structured blocks,
+//! points, and the dispatch on the point dimension or the number of value components.
+//!
+//! Every raw pointer is turned into a reference by [`crate::slice`]; the helpers here only
+//! forward the contract of the public function that received the pointer.
+#![allow(unsafe_code)] // calls into crate::slice; no pointer is dereferenced here.
+
+use deform_kernel::{Block, Graph};
+
+use crate::slice::{chunks, input, out_one, output};
+use crate::status::dk_status;
+
+/// `Ok(())` → `DK_OK`, `Err(s)` → `s`.
+pub(crate) fn done(r: Result<(), dk_status>) -> dk_status {
+    match r {
+        Ok(()) => dk_status::DK_OK,
+        Err(s) => s,
+    }
+}
+
+/// Copies one `T` from `p` (NULL is an error).
+pub(crate) fn read_one<T: Copy>(p: *const T) -> Result<T, dk_status> {
+    // SAFETY: every public function taking a single-item pointer documents that it points to
+    // one readable, aligned item (or is NULL, rejected by `input`).
+    let s = unsafe { input(p, 1) }?;
+    s.first().copied().ok_or(dk_status::DK_ERR_NULL_POINTER)
+}
+
+/// Writes one `T` to `p` (NULL is an error).
+pub(crate) fn write_one<T>(p: *mut T, v: T) -> Result<(), dk_status> {
+    // SAFETY: contract of every caller: one writable, aligned `T` at `p`.
+    let out = unsafe { out_one(p) }?;
+    *out = v;
+    Ok(())
+}
+
+/// Writes a size query result to `len_out` (NULL is an error).
+pub(crate) fn write_len(len_out: *mut usize, len: usize) -> Result<(), dk_status> {
+    write_one(len_out, len)
+}
+
+/// Reads exactly `N` scalars (`len` must be `N`, else `DK_ERR_LENGTH_MISMATCH`; NULL is an
+/// error).
+pub(crate) fn read_array<T: Copy, const N: usize>(
+    ptr: *const T,
+    len: usize,
+) -> Result<[T; N], dk_status> {
+    if len != N {
+        return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+    }
+    // SAFETY: contract of every caller: `len` readable scalars at `ptr`.
+    let s = unsafe { chunks::<T, N>(ptr, len) }?;
+    s.first().copied().ok_or(dk_status::DK_ERR_NULL_POINTER)
+}
+
+/// Writes `N` scalars to `ptr` (NULL is an error).
+pub(crate) fn write_array<T, const N: usize>(ptr: *mut T, v: [T; N]) -> Result<(), dk_status> {
+    // SAFETY: contract of every caller: `N` writable scalars at `ptr`.
+    let s = unsafe { output(ptr, N) }?;
+    for (d, x) in s.iter_mut().zip(v) {
+        *d = x;
+    }
+    Ok(())
+}
+
+/// An optional input array: `None` when `ptr` is NULL and `len` is 0, else the borrowed
+/// slice (so a non-NULL pointer with length 0 is an empty array, checked by the kernel).
+pub(crate) fn optional<'a, T>(ptr: *const T, len: usize) -> Result<Option<&'a [T]>, dk_status> {
+    if ptr.is_null() && len == 0 {
+        return Ok(None);
+    }
+    // SAFETY: contract of every caller: `len` readable values at `ptr`.
+    unsafe { input(ptr, len) }.map(Some)
+}
+
+/// Borrows a point array of `D`-vectors (`len` scalars, a multiple of `D`).
+pub(crate) fn read_points<'a, T, const D: usize>(
+    p: *const T,
+    len: usize,
+) -> Result<&'a [[T; D]], dk_status> {
+    // SAFETY: contract of every caller: `len` readable scalars at `p`.
+    unsafe { chunks::<T, D>(p, len) }
+}
+
+/// An optional point array, as [`optional`]: `None` when `p` is NULL and `len` is 0.
+pub(crate) fn read_optional_points<'a, T, const D: usize>(
+    p: *const T,
+    len: usize,
+) -> Result<Option<&'a [[T; D]]>, dk_status> {
+    if p.is_null() && len == 0 {
+        return Ok(None);
+    }
+    read_points::<T, D>(p, len).map(Some)
+}
+
+/// `n * m` or `DK_ERR_TOO_LARGE`.
+pub(crate) fn mul_len(n: usize, m: usize) -> Result<usize, dk_status> {
+    n.checked_mul(m).ok_or(dk_status::DK_ERR_TOO_LARGE)
+}
+
+/// Checks `index_base` (0 or 1; else `DK_ERR_BAD_INDEX_BASE`).
+pub(crate) fn check_base(index_base: u32) -> Result<(), dk_status> {
+    match index_base {
+        0 | 1 => Ok(()),
+        _ => Err(dk_status::DK_ERR_BAD_INDEX_BASE),
+    }
+}
+
+/// A caller's index `i` in a checked `index_base` as a 0-based index. An index below the base
+/// becomes `u32::MAX`, which every bound rejects.
+pub(crate) fn zero_based(i: u32, index_base: u32) -> u32 {
+    i.checked_sub(index_base).unwrap_or(u32::MAX)
+}
+
+/// Converts a caller's index range (`index_base` 0: `start <= i < end`; 1: 1-based inclusive
+/// `start <= i <= end`) to a 0-based half-open range. A 1-based start of 0 is out of range.
+pub(crate) fn range(start: usize, end: usize, index_base: u32) -> Result<[usize; 2], dk_status> {
+    check_base(index_base)?;
+    match start.checked_sub(index_base as usize) {
+        Some(s) => Ok([s, end]),
+        None => Err(dk_status::DK_ERR_INDEX_OUT_OF_RANGE),
+    }
+}
+
+/// Validates the dimensions of a structured block.
+pub(crate) fn block(ni: usize, nj: usize, nk: usize) -> Result<Block, dk_status> {
+    Block::new([ni, nj, nk]).map_err(dk_status::from)
+}
+
+/// Borrows and validates a 0-based CSR graph.
+pub(crate) fn graph<'a>(
+    offsets: *const u32,
+    offsets_len: usize,
+    targets: *const u32,
+    targets_len: usize,
+) -> Result<Graph<'a>, dk_status> {
+    // SAFETY: contract of every caller: `offsets_len` readable u32 at `offsets`.
+    let o = unsafe { input(offsets, offsets_len) }?;
+    // SAFETY: as above for `targets`.
+    let t = unsafe { input(targets, targets_len) }?;
+    Graph::new(o, t).map_err(dk_status::from)
+}
+
+/// Asserts at compile time the size of a `#[repr(C)]` type and the offsets of its fields (the
+/// layout the header promises).
+macro_rules! assert_layout {
+    ($t:ty, $size:expr; $($field:ident = $offset:expr),+ $(,)?) => {
+        const _: () = assert!(
+            core::mem::size_of::<$t>() == $size
+                $(&& core::mem::offset_of!($t, $field) == $offset)+
+        );
+    };
+}
+pub(crate) use assert_layout;
+
+/// Dispatches on the point dimension `dim` (2 or 3; else `DK_ERR_INVALID_PARAMETER`).
+macro_rules! by_dim {
+    ($dim:expr, $f:ident :: <$t:ty>, ($($arg:expr),* $(,)?)) => {
+        match $dim {
+            2 => $f::<$t, 2>($($arg),*),
+            3 => $f::<$t, 3>($($arg),*),
+            _ => Err($crate::status::dk_status::DK_ERR_INVALID_PARAMETER),
+        }
+    };
+}
+pub(crate) use by_dim;
+
+/// Dispatches on the number of value components `V` (1 to 7; else
+/// `DK_ERR_INVALID_PARAMETER`).
+macro_rules! by_components {
+    ($v:expr, $f:ident :: <$t:ty>, ($($arg:expr),* $(,)?)) => {
+        match $v {
+            1 => $f::<$t, 1>($($arg),*),
+            2 => $f::<$t, 2>($($arg),*),
+            3 => $f::<$t, 3>($($arg),*),
+            4 => $f::<$t, 4>($($arg),*),
+            5 => $f::<$t, 5>($($arg),*),
+            6 => $f::<$t, 6>($($arg),*),
+            7 => $f::<$t, 7>($($arg),*),
+            _ => Err($crate::status::dk_status::DK_ERR_INVALID_PARAMETER),
+        }
+    };
+}
+pub(crate) use by_components;
