@@ -1,11 +1,13 @@
 //! Graph and cell builders: `dk_graph_*`, `dk_cells_check`.
 //!
 //! Mesh node indices coming from the caller (edge lists, cell node lists) are read with
-//! `index_base` 0 (C) or 1 (Fortran) and converted on the fly; the CSR graph the kernel writes
+//! `index_base` 0 (C: read in place, no copy) or 1 (Fortran: converted into a temporary copy
+//! that lives for the call); the CSR graph the kernel writes
 //! (`offsets`, `targets`) is always 0-based, because callers hand it back to other `dk_`
 //! functions unchanged and never index it themselves.
 #![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
 
+use std::borrow::Cow;
 use std::vec::Vec;
 
 use deform_kernel::{
@@ -13,14 +15,19 @@ use deform_kernel::{
 };
 
 use crate::args::{check_base, done, write_len, zero_based};
-use crate::slice::{input, out_one, output};
+use crate::slice::{chunks, input, out_one, output};
 use crate::status::dk_status;
 
-/// Checks `index_base` and returns a copy of `indices` converted to 0-based. An index below
-/// the base is out of range (reported as `u32::MAX`, which every bound rejects).
-fn rebase(indices: &[u32], index_base: u32) -> Result<Vec<u32>, dk_status> {
+/// Checks `index_base` and returns `indices` 0-based: the caller's array itself (no copy) with
+/// base 0, a converted copy with base 1. An index below the base is out of range (reported as
+/// `u32::MAX`, which every bound rejects).
+fn rebase(indices: &[u32], index_base: u32) -> Result<Cow<'_, [u32]>, dk_status> {
     check_base(index_base)?;
-    Ok(indices.iter().map(|&i| zero_based(i, index_base)).collect())
+    Ok(if index_base == 0 {
+        Cow::Borrowed(indices)
+    } else {
+        Cow::Owned(indices.iter().map(|&i| zero_based(i, index_base)).collect())
+    })
 }
 
 /// Length `targets` needs for [`dk_graph_from_edges`]: `edges_len` (two entries per edge).
@@ -64,19 +71,18 @@ pub unsafe extern "C" fn dk_graph_from_edges(
     used_out: *mut usize,
 ) -> dk_status {
     done((|| {
-        // SAFETY: contract: `edges_len` readable u32 at `edges`.
-        let e = unsafe { input(edges, edges_len) }?;
-        if edges_len % 2 != 0 {
-            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
-        }
-        let e = rebase(e, index_base)?;
-        let pairs: Vec<[u32; 2]> = e
-            .chunks_exact(2)
-            .filter_map(|c| match *c {
-                [a, b] => Some([a, b]),
-                _ => None,
-            })
-            .collect();
+        // SAFETY: contract: `edges_len` readable u32 at `edges` (checked to be pairs).
+        let e: &[[u32; 2]] = unsafe { chunks(edges, edges_len) }?;
+        check_base(index_base)?;
+        let pairs: Cow<'_, [[u32; 2]]> = if index_base == 0 {
+            Cow::Borrowed(e)
+        } else {
+            Cow::Owned(
+                e.iter()
+                    .map(|p| p.map(|i| zero_based(i, index_base)))
+                    .collect::<Vec<_>>(),
+            )
+        };
         // SAFETY: contract: `offsets_len` writable u32 at `offsets`, not overlapping.
         let o = unsafe { output(offsets, offsets_len) }?;
         // SAFETY: contract: `targets_len` writable u32 at `targets`, not overlapping.
@@ -92,12 +98,13 @@ pub unsafe extern "C" fn dk_graph_from_edges(
     })())
 }
 
-/// Owned copies of a caller's cell arrays: offsets, nodes (both 0-based) and kinds.
-pub(crate) type OwnedCells = (Vec<u32>, Vec<u32>, Vec<u8>);
+/// A caller's cell arrays, 0-based: offsets and nodes (borrowed as they are with `index_base`
+/// 0, converted copies with 1) and kinds (always borrowed).
+pub(crate) type OwnedCells<'a> = (Cow<'a, [u32]>, Cow<'a, [u32]>, &'a [u8]);
 
-/// Reads a cell list (0-based offsets; node indices in `index_base`) into owned arrays.
+/// Reads a cell list (offsets and node indices in `index_base`); copies only for base 1.
 /// Shared with the quality module, which takes cells the same way.
-pub(crate) fn read_cells(
+pub(crate) fn read_cells<'a>(
     cell_offsets: *const u32,
     cell_offsets_len: usize,
     cell_nodes: *const u32,
@@ -105,7 +112,7 @@ pub(crate) fn read_cells(
     cell_kinds: *const u8,
     cell_kinds_len: usize,
     index_base: u32,
-) -> Result<OwnedCells, dk_status> {
+) -> Result<OwnedCells<'a>, dk_status> {
     // SAFETY: contract: each pointer readable for its length.
     let offs = unsafe { input(cell_offsets, cell_offsets_len) }?;
     // SAFETY: as above.
@@ -113,11 +120,7 @@ pub(crate) fn read_cells(
     // SAFETY: as above.
     let kinds = unsafe { input(cell_kinds, cell_kinds_len) }?;
     // Offsets are positions in `cell_nodes`; with index_base 1 they are 1-based too.
-    Ok((
-        rebase(offs, index_base)?,
-        rebase(nodes, index_base)?,
-        kinds.to_vec(),
-    ))
+    Ok((rebase(offs, index_base)?, rebase(nodes, index_base)?, kinds))
 }
 
 /// Validates a mixed-element cell list: `cell_offsets` has one entry per cell plus one,
@@ -148,7 +151,7 @@ pub unsafe extern "C" fn dk_cells_check(
             cell_kinds_len,
             index_base,
         )?;
-        Cells::new(node_count, &o, &n, &k).map_err(dk_status::from)?;
+        Cells::new(node_count, &o, &n, k).map_err(dk_status::from)?;
         Ok(())
     })())
 }
@@ -180,7 +183,7 @@ pub unsafe extern "C" fn dk_graph_from_cells_len(
             cell_kinds_len,
             index_base,
         )?;
-        let cells = Cells::new(node_count, &o, &n, &k).map_err(dk_status::from)?;
+        let cells = Cells::new(node_count, &o, &n, k).map_err(dk_status::from)?;
         write_len(len_out, graph_from_cells_len(&cells, face_diagonals))
     })())
 }
@@ -220,7 +223,7 @@ pub unsafe extern "C" fn dk_graph_from_cells(
             cell_kinds_len,
             index_base,
         )?;
-        let cells = Cells::new(node_count, &co, &cn, &ck).map_err(dk_status::from)?;
+        let cells = Cells::new(node_count, &co, &cn, ck).map_err(dk_status::from)?;
         // SAFETY: contract: `offsets_len` writable u32 at `offsets`, not overlapping.
         let o = unsafe { output(offsets, offsets_len) }?;
         // SAFETY: contract: `targets_len` writable u32 at `targets`, not overlapping.

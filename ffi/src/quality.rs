@@ -178,7 +178,7 @@ struct CellArgs {
 
 impl CellArgs {
     /// Reads the cells into owned 0-based arrays (validated later against the node count).
-    fn read(&self) -> Result<OwnedCells, dk_status> {
+    fn read(&self) -> Result<OwnedCells<'_>, dk_status> {
         read_cells(
             self.offsets,
             self.offsets_len,
@@ -192,7 +192,7 @@ impl CellArgs {
 }
 
 /// Validates owned cell arrays over `node_count` nodes.
-fn cells_of(owned: &OwnedCells, node_count: usize) -> Result<Cells<'_>, dk_status> {
+fn cells_of<'a>(owned: &'a OwnedCells<'_>, node_count: usize) -> Result<Cells<'a>, dk_status> {
     let (o, n, k) = owned;
     Cells::new(node_count, o, n, k).map_err(dk_status::from)
 }
