@@ -49,7 +49,9 @@ const RUSTUP_COMPONENTS: &[&str] = &["rustfmt", "clippy", "rust-src", "llvm-tool
 
 /// Debian packages, installed with `apt-get install` when running as root (e.g. `gfortran`,
 /// `qemu-system-arm`). Checked with `dpkg -s`.
-const APT_PACKAGES: &[&str] = &["gfortran", "qemu-system-arm"];
+/// `libssl-dev` and `pkg-config` are needed to build cargo-c, and `pkg-config` by the
+/// `cinstall` step.
+const APT_PACKAGES: &[&str] = &["gfortran", "qemu-system-arm", "libssl-dev", "pkg-config"];
 
 /// A cargo tool installed with `cargo install --locked NAME --version VERSION`.
 struct CargoTool {
@@ -68,6 +70,11 @@ const CARGO_TOOLS: &[CargoTool] = &[
     CargoTool {
         name: "cargo-fuzz",
         version: "0.13.1",
+    },
+    // The last cargo-c release that builds with the pinned stable rustc (1.95).
+    CargoTool {
+        name: "cargo-c",
+        version: "0.10.24+cargo-0.98.0",
     },
 ];
 
@@ -294,6 +301,11 @@ fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
                 }
                 ok
             },
+        ),
+        Step::new(
+            "cinstall",
+            "cargo cinstall into a staging root; a C program builds against it via pkg-config",
+            || cinstall(ctx),
         ),
         Step::new("test", "cargo test --workspace", || {
             run(&mut ctx.cargo(&["test", "--workspace"]))
@@ -681,6 +693,84 @@ fn install(ctx: &Ctx) -> bool {
         ]));
     }
     ok
+}
+
+/// `cargo cinstall` (cargo-c) of the C library into `target/cinstall/root` with prefix `/usr`:
+/// checks that the static and shared libraries, `deform_kernel.pc` and the checked-in header
+/// (byte-identical) are installed, then compiles `ffi/examples/mesh_basics.c` with the flags
+/// `pkg-config` gives for the staged tree, links it to the shared library and runs it.
+fn cinstall(ctx: &Ctx) -> bool {
+    let base = ctx.root.join("target").join("cinstall");
+    let root = base.join("root");
+    let _ = std::fs::remove_dir_all(&root);
+    let mut cmd = ctx.cargo(&[
+        "cinstall",
+        "-p",
+        FFI_PACKAGE,
+        "--release",
+        "--prefix",
+        "/usr",
+        "--libdir",
+        "/usr/lib",
+    ]);
+    cmd.arg("--destdir")
+        .arg(&root)
+        .arg("--target-dir")
+        .arg(base.join("build"));
+    if !run(&mut cmd) {
+        return false;
+    }
+    let lib = root.join("usr/lib");
+    let header = root.join("usr/include/deform_kernel.h");
+    let mut ok = true;
+    for f in [
+        lib.join("libdeform_kernel.a"),
+        lib.join("libdeform_kernel.so"),
+        lib.join("pkgconfig/deform_kernel.pc"),
+        header.clone(),
+    ] {
+        if !f.exists() {
+            println!("xtask: cargo cinstall did not install {}", f.display());
+            ok = false;
+        }
+    }
+    let checked_in = ctx.root.join("ffi/include/deform_kernel.h");
+    if std::fs::read(&header).ok() != std::fs::read(&checked_in).ok() {
+        println!("xtask: the installed header differs from ffi/include/deform_kernel.h");
+        ok = false;
+    }
+    if !ok {
+        return false;
+    }
+    let mut pc = Command::new("pkg-config");
+    pc.args(["--cflags", "--libs", "deform_kernel"])
+        .env("PKG_CONFIG_PATH", lib.join("pkgconfig"))
+        .env("PKG_CONFIG_SYSROOT_DIR", &root);
+    let (found, flags, err) = capture(&mut pc);
+    println!("$ {} -> {}", show(&pc), flags.trim());
+    if !found {
+        print!("{err}");
+        return false;
+    }
+    let exe = base.join("mesh_basics");
+    let mut cc = Command::new("gcc");
+    cc.args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"])
+        .arg(ctx.root.join("ffi/examples/mesh_basics.c"))
+        .args(flags.split_whitespace())
+        .arg("-o")
+        .arg(&exe);
+    if !run(&mut cc) {
+        return false;
+    }
+    let mut prog = Command::new(&exe);
+    prog.env("LD_LIBRARY_PATH", &lib);
+    let (ran, out, err) = capture(&mut prog);
+    if !ran || !out.starts_with("offsets ") {
+        println!("xtask: the installed-library build of mesh_basics failed:\n{out}{err}");
+        return false;
+    }
+    println!("cinstall: mesh_basics built with pkg-config against the installed tree and ran");
+    true
 }
 
 fn is_root() -> bool {
