@@ -1,16 +1,40 @@
 //! Target 8: the C ABI with arbitrary lengths (never more than the real buffer), NULL pointers
 //! and index bases: no crash, a documented status, outputs untouched unless `DK_OK`, and on
-//! success the same bits as the Rust API.
+//! success the same bits as the Rust API (quaternions, graph builder), finite outputs for finite
+//! inputs, and, for the deformation pipelines, boundary nodes reproduced bitwise.
+//!
+//! Beyond the quaternion and graph-builder calls, every input drives up to four of the solver
+//! entry points (springs, quality, Taubin, deformation; f64 or `_f32`) on a small structured
+//! grid (at most 64 nodes, at most 50 iterations). A stream of "knob" bytes decides, buffer by
+//! buffer, whether the pointer is NULL and whether the length passed is the real one, shorter
+//! (a lie downwards), or a longer allocation passed in full; a stream of `i16` codes gives the
+//! values (including NaN, ±Inf, 1e300, −0 and subnormals).
 #![no_main]
 
+use std::fmt::Debug;
+use std::marker::PhantomData;
 use std::ptr;
 
 use arbitrary::Arbitrary;
 use deform_kernel::{graph_from_edges, Quat};
+use dk_ffi::deformation::{self as de, dk_boundary_motion, dk_boundary_motion_f32};
 use dk_ffi::dk_status;
 use dk_ffi::graph::dk_graph_from_edges;
+use dk_ffi::quality::{self as qu, dk_cell_quality, dk_quality_report};
 use dk_ffi::quat::{dk_quat_average, dk_quat_mul, dk_quat_rotate_points};
+use dk_ffi::spring::{
+    self as sp, dk_spring_angle_options, dk_spring_solve_options, dk_spring_solve_report,
+    dk_spring_sweep,
+};
+use dk_ffi::taubin::{
+    self as ta, dk_filter_report, dk_smooth_arclength_options, dk_smooth_report,
+    dk_structured_options, dk_taubin_coarse,
+};
 use libfuzzer_sys::fuzz_target;
+
+// ---------------------------------------------------------------------------------------------
+// Input.
+// ---------------------------------------------------------------------------------------------
 
 #[derive(Arbitrary, Debug)]
 struct Input {
@@ -24,7 +48,2270 @@ struct Input {
     quats: Vec<f64>,
     quats_len_cut: u8,
     points: Vec<f64>,
+    mesh: MeshSpec,
+    ops: Vec<Op>,
+    knobs: Vec<u8>,
+    vals: Vec<i16>,
+    bits: Vec<u8>,
 }
+
+#[derive(Arbitrary, Debug)]
+struct MeshSpec {
+    ni: u8,
+    nj: u8,
+    nk: u8,
+    /// Low bit: 3D storage; bits 1..: the `dim` passed (mostly the storage dimension).
+    dim: u8,
+    /// `index_base` passed: 0, 1 or something else.
+    base: u8,
+    /// Lie about the block dimensions passed to structured functions.
+    dims_lie: u8,
+    jitter: Vec<i16>,
+    /// A raw (probably invalid) CSR graph instead of the grid's.
+    raw_graph: Option<(Vec<u8>, Vec<u8>)>,
+}
+
+#[derive(Arbitrary, Debug)]
+enum Op {
+    Batina {
+        exponent: i16,
+        f32: bool,
+    },
+    SolveLinear {
+        method: u8,
+        precond: u8,
+        omega: i16,
+        max_iter: u8,
+        comps: u8,
+        res_tol: i16,
+        upd_tol: i16,
+        sys: SysSel,
+        f32: bool,
+    },
+    JacobiSweep {
+        start: u8,
+        end: u8,
+        comps: u8,
+        sys: SysSel,
+        f32: bool,
+    },
+    SolveAngle {
+        method: u8,
+        epsilon: i16,
+        max_iter: u8,
+        sys: SysSel,
+        f32: bool,
+    },
+    CellQuality {
+        kind: u8,
+        from_mesh: bool,
+        f32: bool,
+    },
+    Compare {
+        wall: bool,
+        scale: i16,
+        f32: bool,
+    },
+    SmoothStructured {
+        lambda: i16,
+        mu: i16,
+        iterations: u8,
+        pinned: bool,
+        mirror: u8,
+        f32: bool,
+    },
+    SmoothArclength {
+        direction: u8,
+        normalised: bool,
+        use_coarse: bool,
+        factor: [u8; 3],
+        prolongation: u8,
+        iterations: u8,
+        coarse_iterations: u8,
+        params: Option<(i16, i16)>,
+        pinned: bool,
+        mirror: u8,
+        f32: bool,
+    },
+    SmoothGraph {
+        lambda: i16,
+        mu: i16,
+        iterations: u8,
+        comps: u8,
+        weights: u8,
+        fixed: u8,
+        f32: bool,
+    },
+    Redistribute {
+        direction: u8,
+        normalised: bool,
+        perturb: bool,
+        f32: bool,
+    },
+    Deform(DeformSpec),
+}
+
+#[derive(Arbitrary, Debug, Clone, Copy)]
+struct SysSel {
+    /// Stiffness: Batina (1/|d|), uniform, or raw values.
+    stiffness: u8,
+    /// Fixed mask: the grid boundary, raw bits, or none.
+    fixed: u8,
+}
+
+#[derive(Arbitrary, Debug)]
+struct DeformSpec {
+    /// IDW, TFI or springs.
+    method: u8,
+    rotation_source: u8,
+    has_origin: bool,
+    origin: [i16; 3],
+    rigid: [i16; 4],
+    /// Boundary elements: the grid's, raw, or none.
+    elements: u8,
+    /// Boundary nodes: the grid's boundary, a subset, raw, or with a duplicate.
+    boundary: u8,
+    raw: Vec<u8>,
+    translation: [i16; 3],
+    exponent: i16,
+    directions: u8,
+    spring_method: u8,
+    max_iter: u8,
+    fixed_flip: u8,
+    f32: bool,
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scalars and the per-precision entry points.
+// ---------------------------------------------------------------------------------------------
+
+type BatinaFn<T> = unsafe extern "C" fn(
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const T,
+    usize,
+    u32,
+    T,
+    *mut T,
+    usize,
+) -> dk_status;
+type SolveLinearFn<T> = unsafe extern "C" fn(
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const T,
+    usize,
+    *const u8,
+    usize,
+    *const dk_spring_solve_options,
+    u32,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut dk_spring_solve_report,
+) -> dk_status;
+type JacobiFn<T> = unsafe extern "C" fn(
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const T,
+    usize,
+    *const u8,
+    usize,
+    usize,
+    usize,
+    u32,
+    u32,
+    *const T,
+    usize,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut dk_spring_sweep,
+) -> dk_status;
+type SolveAngleFn<T> = unsafe extern "C" fn(
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const T,
+    usize,
+    *const u8,
+    usize,
+    *const T,
+    usize,
+    u32,
+    *const dk_spring_angle_options,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut dk_spring_solve_report,
+) -> dk_status;
+type AngleLenFn =
+    unsafe extern "C" fn(usize, u32, *const dk_spring_angle_options, *mut usize) -> dk_status;
+type CellQualityFn<T> =
+    unsafe extern "C" fn(u8, *const T, usize, u32, *mut dk_cell_quality) -> dk_status;
+type CompareFn<T> = unsafe extern "C" fn(
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u8,
+    usize,
+    u32,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u8,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const T,
+    usize,
+    *const T,
+    usize,
+    u32,
+    *mut T,
+    usize,
+    *mut dk_quality_report,
+) -> dk_status;
+type StructuredFn<T> = unsafe extern "C" fn(
+    usize,
+    usize,
+    usize,
+    T,
+    T,
+    usize,
+    *const dk_structured_options,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut dk_filter_report,
+) -> dk_status;
+type ArclengthSmoothFn<T> = unsafe extern "C" fn(
+    usize,
+    usize,
+    usize,
+    *const dk_smooth_arclength_options,
+    *mut T,
+    usize,
+    u32,
+    *mut T,
+    usize,
+    *mut dk_smooth_report,
+) -> dk_status;
+type GraphSmoothFn<T> = unsafe extern "C" fn(
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const T,
+    usize,
+    *const u8,
+    usize,
+    T,
+    T,
+    usize,
+    u32,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut dk_filter_report,
+) -> dk_status;
+type ArclengthFn<T> = unsafe extern "C" fn(
+    usize,
+    usize,
+    usize,
+    *const T,
+    usize,
+    u32,
+    u32,
+    bool,
+    *mut T,
+    usize,
+) -> dk_status;
+type RedistributeFn<T> = unsafe extern "C" fn(
+    usize,
+    usize,
+    usize,
+    u32,
+    *const T,
+    usize,
+    bool,
+    *mut T,
+    usize,
+    u32,
+    *mut T,
+    usize,
+    *mut T,
+) -> dk_status;
+type IdwFn<T, M> = unsafe extern "C" fn(
+    *const T,
+    usize,
+    u32,
+    *const M,
+    T,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+) -> dk_status;
+type TfiFn<T, M> = unsafe extern "C" fn(
+    usize,
+    usize,
+    usize,
+    u32,
+    *const T,
+    usize,
+    u32,
+    *const M,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+) -> dk_status;
+type SpringFn<T, M> = unsafe extern "C" fn(
+    *const T,
+    usize,
+    u32,
+    *const M,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const T,
+    usize,
+    *const u8,
+    usize,
+    *const dk_spring_solve_options,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut dk_spring_solve_report,
+) -> dk_status;
+type MotionLenFn<M> = unsafe extern "C" fn(*const M, *mut usize) -> dk_status;
+type SpringIndexLenFn<M> = unsafe extern "C" fn(*const M, usize, *mut usize) -> dk_status;
+
+/// The motion arrays, before they become a `dk_boundary_motion(_f32)`.
+struct MotionParts<T> {
+    nodes: (*const u32, usize),
+    deformed: (*const T, usize),
+    element_offsets: (*const u32, usize),
+    element_nodes: (*const u32, usize),
+    element_kinds: (*const u8, usize),
+    node_rotations: (*const T, usize),
+    rigid: [f64; 4],
+    origin: [f64; 3],
+    index_base: u32,
+    rotation_source: u32,
+    has_origin: u32,
+}
+
+trait Sc: Copy + Debug + Default + 'static {
+    type Motion: Copy;
+    const SENT: Self;
+    fn of(x: f64) -> Self;
+    fn bits(self) -> u64;
+    fn fin(self) -> bool;
+    fn motion(p: &MotionParts<Self>) -> Self::Motion;
+    const BATINA: BatinaFn<Self>;
+    const SOLVE_LINEAR: SolveLinearFn<Self>;
+    const LINEAR_DEFAULT: unsafe extern "C" fn(*mut dk_spring_solve_options) -> dk_status;
+    const JACOBI: JacobiFn<Self>;
+    const SOLVE_ANGLE: SolveAngleFn<Self>;
+    const ANGLE_DEFAULT: unsafe extern "C" fn(*mut dk_spring_angle_options) -> dk_status;
+    const ANGLE_LEN: AngleLenFn;
+    const CELL_QUALITY: CellQualityFn<Self>;
+    const COMPARE: CompareFn<Self>;
+    const STRUCTURED: StructuredFn<Self>;
+    const SMOOTH_ARCLENGTH: ArclengthSmoothFn<Self>;
+    const SMOOTH_GRAPH: GraphSmoothFn<Self>;
+    const ARCLENGTH: ArclengthFn<Self>;
+    const REDISTRIBUTE: RedistributeFn<Self>;
+    const IDW: IdwFn<Self, Self::Motion>;
+    const TFI: TfiFn<Self, Self::Motion>;
+    const SPRING: SpringFn<Self, Self::Motion>;
+    const MOTION_LEN: MotionLenFn<Self::Motion>;
+    const SPRING_INDEX_LEN: SpringIndexLenFn<Self::Motion>;
+}
+
+macro_rules! motion_of {
+    ($m:ty, $def:path, $t:ty, $p:expr) => {{
+        let p = $p;
+        // SAFETY: a zeroed motion is a valid value (NULL pointers, zero lengths); the default
+        // function then fills it.
+        let mut m: $m = unsafe { std::mem::zeroed() };
+        // SAFETY: one writable struct.
+        assert_eq!(unsafe { $def(&mut m) }, dk_status::DK_OK);
+        m.nodes = p.nodes.0;
+        m.nodes_len = p.nodes.1;
+        m.deformed = p.deformed.0;
+        m.deformed_len = p.deformed.1;
+        m.element_offsets = p.element_offsets.0;
+        m.element_offsets_len = p.element_offsets.1;
+        m.element_nodes = p.element_nodes.0;
+        m.element_nodes_len = p.element_nodes.1;
+        m.element_kinds = p.element_kinds.0;
+        m.element_kinds_len = p.element_kinds.1;
+        m.node_rotations = p.node_rotations.0;
+        m.node_rotations_len = p.node_rotations.1;
+        m.rigid_rotation = p.rigid.map(|x| x as $t);
+        m.origin = p.origin.map(|x| x as $t);
+        m.index_base = p.index_base;
+        m.rotation_source = p.rotation_source;
+        m.has_origin = p.has_origin;
+        m
+    }};
+}
+
+impl Sc for f64 {
+    type Motion = dk_boundary_motion;
+    const SENT: f64 = f64::from_bits(0x7ff0_dead_0000_0001);
+    fn of(x: f64) -> f64 {
+        x
+    }
+    fn bits(self) -> u64 {
+        self.to_bits()
+    }
+    fn fin(self) -> bool {
+        self.is_finite()
+    }
+    fn motion(p: &MotionParts<f64>) -> dk_boundary_motion {
+        motion_of!(dk_boundary_motion, de::dk_boundary_motion_default, f64, p)
+    }
+    const BATINA: BatinaFn<f64> = sp::dk_spring_batina_stiffness;
+    const SOLVE_LINEAR: SolveLinearFn<f64> = sp::dk_spring_solve_linear;
+    const LINEAR_DEFAULT: unsafe extern "C" fn(*mut dk_spring_solve_options) -> dk_status =
+        sp::dk_spring_solve_options_default;
+    const JACOBI: JacobiFn<f64> = sp::dk_spring_jacobi_sweep;
+    const SOLVE_ANGLE: SolveAngleFn<f64> = sp::dk_spring_solve_angle;
+    const ANGLE_DEFAULT: unsafe extern "C" fn(*mut dk_spring_angle_options) -> dk_status =
+        sp::dk_spring_angle_options_default;
+    const ANGLE_LEN: AngleLenFn = sp::dk_spring_solve_angle_scratch_len;
+    const CELL_QUALITY: CellQualityFn<f64> = qu::dk_quality_cell_quality;
+    const COMPARE: CompareFn<f64> = qu::dk_quality_compare;
+    const STRUCTURED: StructuredFn<f64> = ta::dk_taubin_smooth_structured;
+    const SMOOTH_ARCLENGTH: ArclengthSmoothFn<f64> = ta::dk_taubin_smooth_arclength;
+    const SMOOTH_GRAPH: GraphSmoothFn<f64> = ta::dk_taubin_smooth_graph;
+    const ARCLENGTH: ArclengthFn<f64> = ta::dk_taubin_arclength;
+    const REDISTRIBUTE: RedistributeFn<f64> = ta::dk_taubin_redistribute;
+    const IDW: IdwFn<f64, dk_boundary_motion> = de::dk_deform_idw;
+    const TFI: TfiFn<f64, dk_boundary_motion> = de::dk_deform_tfi;
+    const SPRING: SpringFn<f64, dk_boundary_motion> = de::dk_deform_spring;
+    const MOTION_LEN: MotionLenFn<dk_boundary_motion> = de::dk_boundary_motion_index_scratch_len;
+    const SPRING_INDEX_LEN: SpringIndexLenFn<dk_boundary_motion> =
+        de::dk_deform_spring_index_scratch_len;
+}
+
+impl Sc for f32 {
+    type Motion = dk_boundary_motion_f32;
+    const SENT: f32 = f32::from_bits(0x7fa0_dead);
+    fn of(x: f64) -> f32 {
+        x as f32
+    }
+    fn bits(self) -> u64 {
+        u64::from(self.to_bits())
+    }
+    fn fin(self) -> bool {
+        self.is_finite()
+    }
+    fn motion(p: &MotionParts<f32>) -> dk_boundary_motion_f32 {
+        motion_of!(
+            dk_boundary_motion_f32,
+            de::dk_boundary_motion_default_f32,
+            f32,
+            p
+        )
+    }
+    const BATINA: BatinaFn<f32> = sp::dk_spring_batina_stiffness_f32;
+    const SOLVE_LINEAR: SolveLinearFn<f32> = sp::dk_spring_solve_linear_f32;
+    const LINEAR_DEFAULT: unsafe extern "C" fn(*mut dk_spring_solve_options) -> dk_status =
+        sp::dk_spring_solve_options_default_f32;
+    const JACOBI: JacobiFn<f32> = sp::dk_spring_jacobi_sweep_f32;
+    const SOLVE_ANGLE: SolveAngleFn<f32> = sp::dk_spring_solve_angle_f32;
+    const ANGLE_DEFAULT: unsafe extern "C" fn(*mut dk_spring_angle_options) -> dk_status =
+        sp::dk_spring_angle_options_default_f32;
+    const ANGLE_LEN: AngleLenFn = sp::dk_spring_solve_angle_scratch_len_f32;
+    const CELL_QUALITY: CellQualityFn<f32> = qu::dk_quality_cell_quality_f32;
+    const COMPARE: CompareFn<f32> = qu::dk_quality_compare_f32;
+    const STRUCTURED: StructuredFn<f32> = ta::dk_taubin_smooth_structured_f32;
+    const SMOOTH_ARCLENGTH: ArclengthSmoothFn<f32> = ta::dk_taubin_smooth_arclength_f32;
+    const SMOOTH_GRAPH: GraphSmoothFn<f32> = ta::dk_taubin_smooth_graph_f32;
+    const ARCLENGTH: ArclengthFn<f32> = ta::dk_taubin_arclength_f32;
+    const REDISTRIBUTE: RedistributeFn<f32> = ta::dk_taubin_redistribute_f32;
+    const IDW: IdwFn<f32, dk_boundary_motion_f32> = de::dk_deform_idw_f32;
+    const TFI: TfiFn<f32, dk_boundary_motion_f32> = de::dk_deform_tfi_f32;
+    const SPRING: SpringFn<f32, dk_boundary_motion_f32> = de::dk_deform_spring_f32;
+    const MOTION_LEN: MotionLenFn<dk_boundary_motion_f32> =
+        de::dk_boundary_motion_index_scratch_len_f32;
+    const SPRING_INDEX_LEN: SpringIndexLenFn<dk_boundary_motion_f32> =
+        de::dk_deform_spring_index_scratch_len_f32;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Knobs (pointer and length of every buffer), values, buffers and output slots.
+// ---------------------------------------------------------------------------------------------
+
+struct Knobs<'a> {
+    k: &'a [u8],
+    i: usize,
+}
+
+impl Knobs<'_> {
+    fn next(&mut self) -> u8 {
+        let b = self.k.get(self.i).copied().unwrap_or(0);
+        self.i += 1;
+        b
+    }
+
+    /// `(allocation, length passed, NULL)` for a buffer that needs `need` elements. The length
+    /// passed never exceeds the allocation (unless the pointer is NULL).
+    fn shape(&mut self, need: usize) -> (usize, usize, bool) {
+        match self.next() {
+            0..=0xbf => (need, need, false),
+            k @ 0xc0..=0xdf => (need, need.saturating_sub(usize::from(k - 0xbf)), false),
+            k @ 0xe0..=0xef => {
+                let a = need + usize::from(k - 0xdf);
+                (a, a, false)
+            }
+            k @ 0xf0..=0xf7 => (need, usize::from(k & 1) * need, true),
+            k => (0, need + usize::from(k - 0xf7), true),
+        }
+    }
+
+    fn null_one(&mut self) -> bool {
+        self.next() >= 0xfc
+    }
+}
+
+/// `i16` codes to reals: mostly `x / 256`, a few codes are special values.
+fn real(x: i16) -> f64 {
+    match x {
+        i16::MIN => f64::NAN,
+        -32767 => f64::INFINITY,
+        -32766 => f64::NEG_INFINITY,
+        -32765 => 1e300,
+        -32764 => -0.0,
+        -32763 => 1e-310,
+        -32762 => -1e300,
+        _ => f64::from(x) / 256.0,
+    }
+}
+
+struct Vals<'a> {
+    v: &'a [i16],
+    i: usize,
+    nonfinite: bool,
+}
+
+impl Vals<'_> {
+    fn next(&mut self) -> f64 {
+        if self.v.is_empty() {
+            return 0.0;
+        }
+        let x = real(self.v[self.i % self.v.len()]);
+        self.i += 1;
+        self.note(x)
+    }
+
+    /// Records whether `x` is outside the "finite input" class of the finite-output
+    /// invariant: NaN, ±Inf, and also huge values (the `±1e300` codes), whose squares overflow
+    /// (a known overflow of the kernel's distances, reported separately) and which are not
+    /// `float`s at all.
+    fn note(&mut self, x: f64) -> f64 {
+        if !(x.abs() <= 1e30) {
+            self.nonfinite = true;
+        }
+        x
+    }
+}
+
+struct Buf<T> {
+    v: Vec<T>,
+    pass: usize,
+    null: bool,
+}
+
+impl<T: Copy> Buf<T> {
+    /// An input buffer holding `data` (the allocation may be longer, padded with `pad`).
+    fn input(kn: &mut Knobs, data: &[T], pad: T) -> Self {
+        let (alloc, pass, null) = kn.shape(data.len());
+        let mut v = data.to_vec();
+        v.resize(alloc, pad);
+        Buf { v, pass, null }
+    }
+
+    /// An output buffer of `need` elements (or another shape) filled with `fill`.
+    fn output(kn: &mut Knobs, need: usize, fill: T) -> Self {
+        let (alloc, pass, null) = kn.shape(need);
+        Buf {
+            v: vec![fill; alloc],
+            pass,
+            null,
+        }
+    }
+
+    fn p(&self) -> *const T {
+        if self.null {
+            ptr::null()
+        } else {
+            self.v.as_ptr()
+        }
+    }
+
+    fn m(&mut self) -> *mut T {
+        if self.null {
+            ptr::null_mut()
+        } else {
+            self.v.as_mut_ptr()
+        }
+    }
+
+    fn n(&self) -> usize {
+        if !self.null {
+            assert!(self.pass <= self.v.len());
+        }
+        self.pass
+    }
+
+    fn absent() -> Self {
+        Buf {
+            v: Vec::new(),
+            pass: 0,
+            null: true,
+        }
+    }
+
+    fn pn(&self) -> (*const T, usize) {
+        (self.p(), self.n())
+    }
+}
+
+fn bits<T: Sc>(s: &[T]) -> Vec<u64> {
+    s.iter().map(|x| x.bits()).collect()
+}
+
+fn all_sent<T: Sc>(s: &[T]) -> bool {
+    s.iter().all(|x| x.bits() == T::SENT.bits())
+}
+
+fn all_fin<T: Sc>(s: &[T]) -> bool {
+    s.iter().all(|x| x.fin())
+}
+
+const SLOT_WORD: u64 = 0xa5a5_5a5a_a5a5_5a5a;
+
+/// One output struct, seen as words so that "unchanged" is checked bit for bit (padding too).
+struct Slot<R> {
+    w: Vec<u64>,
+    null: bool,
+    _r: PhantomData<R>,
+}
+
+impl<R: Copy> Slot<R> {
+    fn new(kn: &mut Knobs) -> Self {
+        assert!(std::mem::align_of::<R>() <= 8);
+        Slot {
+            w: vec![SLOT_WORD; std::mem::size_of::<R>().div_ceil(8)],
+            null: kn.null_one(),
+            _r: PhantomData,
+        }
+    }
+
+    fn p(&mut self) -> *mut R {
+        if self.null {
+            ptr::null_mut()
+        } else {
+            self.w.as_mut_ptr().cast()
+        }
+    }
+
+    fn untouched(&self) -> bool {
+        self.w.iter().all(|&x| x == SLOT_WORD)
+    }
+
+    fn get(&self) -> R {
+        assert!(!self.null);
+        // SAFETY: the library wrote a whole `R` here (status OK); aligned words.
+        unsafe { ptr::read(self.w.as_ptr().cast()) }
+    }
+}
+
+/// A read-only struct argument, or NULL.
+fn opt_ptr<R>(kn: &mut Knobs, r: &R) -> *const R {
+    if kn.null_one() {
+        ptr::null()
+    } else {
+        r
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The mesh: a jittered structured grid, its edge graph, cells and boundary.
+// ---------------------------------------------------------------------------------------------
+
+struct Mesh {
+    dims: [usize; 3],
+    /// Storage dimension (2 or 3).
+    d: usize,
+    /// `dim` passed to the library.
+    dim: u32,
+    /// `index_base` passed.
+    base: u32,
+    /// Block dimensions passed (maybe a lie).
+    pass_dims: [usize; 3],
+    n: usize,
+    pts: Vec<f64>,
+    finite: bool,
+    offsets: Vec<u32>,
+    targets: Vec<u32>,
+    /// Mesh nodes on the block's faces, in a counter-clockwise loop in 2D.
+    boundary: Vec<u32>,
+    is_boundary: Vec<u8>,
+}
+
+impl Mesh {
+    fn new(s: &MeshSpec) -> Mesh {
+        let d = if s.dim & 1 == 0 { 2 } else { 3 };
+        let dim = match (s.dim >> 1) % 16 {
+            0..=12 => d as u32,
+            13 => 5 - d as u32,
+            14 => 0,
+            _ => u32::from(s.dim),
+        };
+        let base = match s.base % 8 {
+            0..=3 => 0,
+            4..=6 => 1,
+            _ => 2 + u32::from(s.base),
+        };
+        let mut dims = [
+            1 + usize::from(s.ni % 8),
+            1 + usize::from(s.nj % 8),
+            if d == 3 { 1 + usize::from(s.nk % 3) } else { 1 },
+        ];
+        while dims.iter().product::<usize>() > 64 {
+            if dims[2] > 1 {
+                dims[2] -= 1;
+            } else {
+                dims[1] -= 1;
+            }
+        }
+        let [ni, nj, nk] = dims;
+        let n = ni * nj * nk;
+        let pass_dims = match s.dims_lie % 16 {
+            0..=12 => dims,
+            13 => [nj, ni, nk],
+            14 => [ni, nj, 0],
+            _ => [ni, usize::MAX / 2, 3],
+        };
+        let mut vals = Vals {
+            v: &s.jitter,
+            i: 0,
+            nonfinite: false,
+        };
+        let mut pts = Vec::with_capacity(n * d);
+        for c in 0..n {
+            let ijk = [c % ni, c / ni % nj, c / (ni * nj)];
+            for &x in &ijk[..d] {
+                pts.push(x as f64 + vals.next() / 64.0);
+            }
+        }
+        let at = |i: usize, j: usize, k: usize| (i + ni * (j + nj * k)) as u32;
+        let (offsets, targets) = match &s.raw_graph {
+            Some((o, t)) => (
+                o.iter().map(|&x| u32::from(x)).collect(),
+                t.iter().map(|&x| u32::from(x)).collect(),
+            ),
+            None => {
+                let mut pairs = Vec::new();
+                for c in 0..n {
+                    let (i, j, k) = (c % ni, c / ni % nj, c / (ni * nj));
+                    if i + 1 < ni {
+                        pairs.push([c as u32, at(i + 1, j, k)]);
+                    }
+                    if j + 1 < nj {
+                        pairs.push([c as u32, at(i, j + 1, k)]);
+                    }
+                    if k + 1 < nk {
+                        pairs.push([c as u32, at(i, j, k + 1)]);
+                    }
+                }
+                let mut o = vec![0u32; n + 1];
+                let mut t = vec![0u32; 2 * pairs.len()];
+                let used = graph_from_edges(n, &pairs, &mut o, &mut t).unwrap();
+                t.truncate(used);
+                (o, t)
+            }
+        };
+        let mut boundary = Vec::new();
+        if d == 2 && ni >= 2 && nj >= 2 {
+            boundary.extend((0..ni).map(|i| at(i, 0, 0)));
+            boundary.extend((1..nj).map(|j| at(ni - 1, j, 0)));
+            boundary.extend((0..ni - 1).rev().map(|i| at(i, nj - 1, 0)));
+            boundary.extend((1..nj - 1).rev().map(|j| at(0, j, 0)));
+        } else {
+            for c in 0..n {
+                let (i, j, k) = (c % ni, c / ni % nj, c / (ni * nj));
+                if i == 0
+                    || i == ni - 1
+                    || j == 0
+                    || j == nj - 1
+                    || (d == 3 && (k == 0 || k == nk - 1))
+                {
+                    boundary.push(c as u32);
+                }
+            }
+        }
+        let mut is_boundary = vec![0u8; n];
+        for &b in &boundary {
+            is_boundary[b as usize] = 1;
+        }
+        Mesh {
+            dims,
+            d,
+            dim,
+            base,
+            pass_dims,
+            n,
+            pts,
+            finite: !vals.nonfinite,
+            offsets,
+            targets,
+            boundary,
+            is_boundary,
+        }
+    }
+
+    fn pts<T: Sc>(&self) -> Vec<T> {
+        self.pts.iter().map(|&x| T::of(x)).collect()
+    }
+
+    /// The grid's cells (quads in 2D, hexahedra when `nk > 1`), 0-based.
+    fn cells(&self) -> (Vec<u32>, Vec<u32>, Vec<u8>) {
+        let [ni, nj, nk] = self.dims;
+        let at = |i: usize, j: usize, k: usize| (i + ni * (j + nj * k)) as u32;
+        let (mut o, mut c, mut kinds) = (vec![0u32], Vec::new(), Vec::new());
+        for k in 0..nk.max(2) - 1 {
+            for j in 0..nj.saturating_sub(1) {
+                for i in 0..ni.saturating_sub(1) {
+                    let quad = [
+                        at(i, j, k),
+                        at(i + 1, j, k),
+                        at(i + 1, j + 1, k),
+                        at(i, j + 1, k),
+                    ];
+                    c.extend(quad);
+                    if nk > 1 {
+                        c.extend([
+                            at(i, j, k + 1),
+                            at(i + 1, j, k + 1),
+                            at(i + 1, j + 1, k + 1),
+                            at(i, j + 1, k + 1),
+                        ]);
+                        kinds.push(12);
+                    } else {
+                        kinds.push(9);
+                    }
+                    o.push(c.len() as u32);
+                }
+            }
+        }
+        (o, c, kinds)
+    }
+
+    /// Shifts 0-based indices into the `index_base` passed.
+    fn based(&self, v: &[u32]) -> Vec<u32> {
+        let shift = if self.base == 1 { 1 } else { 0 };
+        v.iter().map(|&x| x.wrapping_add(shift)).collect()
+    }
+
+    /// A 0-based half-open node range from a caller's `[start, end]` in `index_base`.
+    fn range(&self, start: usize, end: usize) -> (usize, usize) {
+        if self.base == 1 {
+            (start.saturating_sub(1), end)
+        } else {
+            (start, end)
+        }
+    }
+}
+
+/// The spring system's stiffness and fixed mask.
+fn system<T: Sc>(m: &Mesh, sel: SysSel, vals: &mut Vals, bits: &[u8]) -> (Vec<T>, Vec<u8>) {
+    let e = m.targets.len();
+    let stiffness: Vec<T> = match sel.stiffness % 4 {
+        0 | 1 => {
+            let mut k = vec![T::default(); e];
+            let p = m.pts::<T>();
+            // SAFETY: every buffer is exactly as long as passed.
+            let s = unsafe {
+                (T::BATINA)(
+                    m.offsets.as_ptr(),
+                    m.offsets.len(),
+                    m.targets.as_ptr(),
+                    m.targets.len(),
+                    p.as_ptr(),
+                    p.len(),
+                    m.d as u32,
+                    T::of(1.0),
+                    k.as_mut_ptr(),
+                    k.len(),
+                )
+            };
+            if s != dk_status::DK_OK {
+                k = vec![T::of(1.0); e];
+            }
+            k
+        }
+        2 => vec![T::of(1.0); e],
+        _ => (0..e).map(|_| T::of(vals.next())).collect(),
+    };
+    let fixed = match sel.fixed % 4 {
+        0 | 1 => m.is_boundary.clone(),
+        2 => (0..m.n)
+            .map(|i| bits.get(i / 8).map_or(0, |b| (b >> (i % 8)) & 1))
+            .collect(),
+        _ => vec![0; m.n],
+    };
+    (stiffness, fixed)
+}
+
+fn iterations(x: u8) -> usize {
+    usize::from(x % 51)
+}
+
+fn components(x: u8) -> u32 {
+    match x % 10 {
+        0..=6 => u32::from(x % 10) + 1,
+        7 => 0,
+        8 => 8,
+        _ => u32::from(x),
+    }
+}
+
+/// Checks an output that must be unchanged on error; on success its tail past the length
+/// passed is unchanged and, for finite inputs, the part written is finite.
+fn check_out<T: Sc>(what: &str, s: dk_status, b: &Buf<T>, finite_in: bool) {
+    if s != dk_status::DK_OK {
+        assert!(all_sent(&b.v), "{what}: written on {s:?}");
+    } else {
+        let n = b.n().min(b.v.len());
+        assert!(all_sent(&b.v[n..]), "{what}: written past its length");
+        if finite_in {
+            assert!(
+                all_fin(&b.v[..n]),
+                "{what}: non-finite output on finite input"
+            );
+        }
+    }
+}
+
+/// Checks a buffer updated in place (`before` its contents on entry).
+fn check_inplace<T: Sc>(what: &str, s: dk_status, b: &Buf<T>, before: &[u64], finite_in: bool) {
+    if s != dk_status::DK_OK {
+        assert!(bits(&b.v) == before, "{what}: changed on {s:?}");
+    } else {
+        let n = b.n().min(b.v.len());
+        assert!(
+            bits(&b.v[n..]) == before[n..],
+            "{what}: written past its length"
+        );
+        if finite_in {
+            assert!(
+                all_fin(&b.v[..n]),
+                "{what}: non-finite result on finite input"
+            );
+        }
+    }
+}
+
+fn check_slot<R: Copy>(what: &str, s: dk_status, r: &Slot<R>) {
+    if s != dk_status::DK_OK {
+        assert!(r.untouched(), "{what}: report written on {s:?}");
+    } else {
+        assert!(!r.null && !r.untouched(), "{what}: OK without a report");
+    }
+}
+
+struct Ctx<'a> {
+    kn: Knobs<'a>,
+    vals: Vals<'a>,
+    bits: &'a [u8],
+    m: &'a Mesh,
+}
+
+// ---------------------------------------------------------------------------------------------
+// The operations.
+// ---------------------------------------------------------------------------------------------
+
+fn batina<T: Sc>(c: &mut Ctx, exponent: i16) {
+    let m = c.m;
+    let e = c.vals.note(real(exponent));
+    let o = Buf::input(&mut c.kn, &m.offsets, 0);
+    let t = Buf::input(&mut c.kn, &m.targets, 0);
+    let p = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
+    let mut k = Buf::output(&mut c.kn, m.targets.len(), T::SENT);
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    let s = unsafe {
+        (T::BATINA)(
+            o.p(),
+            o.n(),
+            t.p(),
+            t.n(),
+            p.p(),
+            p.n(),
+            m.dim,
+            T::of(e),
+            k.m(),
+            k.n(),
+        )
+    };
+    check_out("batina stiffness", s, &k, m.finite && !c.vals.nonfinite);
+}
+
+#[allow(clippy::too_many_arguments)]
+fn solve_linear<T: Sc>(
+    c: &mut Ctx,
+    method: u8,
+    precond: u8,
+    omega: i16,
+    max_iter: u8,
+    comps: u8,
+    res_tol: i16,
+    upd_tol: i16,
+    sel: SysSel,
+) {
+    let m = c.m;
+    let (k, fixed) = system::<T>(m, sel, &mut c.vals, c.bits);
+    let mut opts = dk_spring_solve_options {
+        max_iterations: 0,
+        residual_tol: 0.0,
+        update_tol: 0.0,
+        omega: 0.0,
+        method: 0,
+        preconditioner: 0,
+    };
+    // SAFETY: one writable struct.
+    assert_eq!(unsafe { (T::LINEAR_DEFAULT)(&mut opts) }, dk_status::DK_OK);
+    opts.max_iterations = iterations(max_iter);
+    opts.method = if method < 250 {
+        u32::from(method % 4)
+    } else {
+        u32::from(method)
+    };
+    opts.preconditioner = if precond < 250 {
+        u32::from(precond % 3)
+    } else {
+        u32::from(precond)
+    };
+    if omega != 0 {
+        opts.omega = c.vals.note(real(omega) / 64.0);
+    }
+    if res_tol != 0 {
+        opts.residual_tol = c.vals.note(real(res_tol) / 1e4);
+    }
+    if upd_tol != 0 {
+        opts.update_tol = c.vals.note(real(upd_tol) / 1e4);
+    }
+    let comps = components(comps);
+    let nv = m.n * comps as usize;
+    let values: Vec<T> = (0..nv).map(|_| T::of(c.vals.next())).collect();
+    let mut need = 0usize;
+    // SAFETY: valid options and output.
+    if unsafe { sp::dk_spring_solve_linear_scratch_len(m.n, comps, &opts, &mut need) }
+        != dk_status::DK_OK
+    {
+        need = 4 * nv;
+    }
+    let o = Buf::input(&mut c.kn, &m.offsets, 0);
+    let t = Buf::input(&mut c.kn, &m.targets, 0);
+    let kb = Buf::input(&mut c.kn, &k, T::of(1.0));
+    let fb = Buf::input(&mut c.kn, &fixed, 1);
+    let optp = opt_ptr(&mut c.kn, &opts);
+    let mut v = Buf::input(&mut c.kn, &values, T::of(0.25));
+    let before = bits(&v.v);
+    let mut scratch = Buf::output(&mut c.kn, need, T::SENT);
+    let mut idx = Buf::output(&mut c.kn, m.n, 0u32);
+    let mut rep = Slot::<dk_spring_solve_report>::new(&mut c.kn);
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    let s = unsafe {
+        (T::SOLVE_LINEAR)(
+            o.p(),
+            o.n(),
+            t.p(),
+            t.n(),
+            kb.p(),
+            kb.n(),
+            fb.p(),
+            fb.n(),
+            optp,
+            comps,
+            v.m(),
+            v.n(),
+            scratch.m(),
+            scratch.n(),
+            idx.m(),
+            idx.n(),
+            rep.p(),
+        )
+    };
+    let finite_in = m.finite && !c.vals.nonfinite;
+    check_inplace("solve_linear values", s, &v, &before, finite_in);
+    check_slot("solve_linear", s, &rep);
+    if s == dk_status::DK_OK {
+        let r = rep.get();
+        assert!(r.iterations <= opts.max_iterations, "{r:?}");
+        // Fixed nodes keep their values.
+        let cs = comps as usize;
+        for (i, &f) in fb.v.iter().take(fb.n()).enumerate() {
+            if f != 0 {
+                // Bit for bit, −0.0 included (CG used to turn a fixed −0.0 into +0.0; found
+                // here, regression test in host-tests/tests/fuzz_regressions.rs).
+                let now = &v.v[i * cs..(i + 1) * cs];
+                let was = &before[i * cs..(i + 1) * cs];
+                assert!(
+                    now.iter().zip(was).all(|(&x, &b)| x.bits() == b),
+                    "fixed node {i} changed: {now:?} ({opts:?}, components {comps})"
+                );
+            }
+        }
+    }
+}
+
+fn jacobi<T: Sc>(c: &mut Ctx, start: u8, end: u8, comps: u8, sel: SysSel) {
+    let m = c.m;
+    let (k, fixed) = system::<T>(m, sel, &mut c.vals, c.bits);
+    let comps = components(comps);
+    let nv = m.n * comps as usize;
+    let src: Vec<T> = (0..nv).map(|_| T::of(c.vals.next())).collect();
+    let span = m.n + 3;
+    let (start, end) = (usize::from(start) % span, usize::from(end) % span);
+    let o = Buf::input(&mut c.kn, &m.offsets, 0);
+    let t = Buf::input(&mut c.kn, &m.targets, 0);
+    let kb = Buf::input(&mut c.kn, &k, T::of(1.0));
+    let fb = Buf::input(&mut c.kn, &fixed, 1);
+    let sb = Buf::input(&mut c.kn, &src, T::of(0.0));
+    let mut dst = Buf::output(&mut c.kn, nv, T::SENT);
+    let mut idx = Buf::output(&mut c.kn, m.n, 0u32);
+    let mut sw = Slot::<dk_spring_sweep>::new(&mut c.kn);
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    let s = unsafe {
+        (T::JACOBI)(
+            o.p(),
+            o.n(),
+            t.p(),
+            t.n(),
+            kb.p(),
+            kb.n(),
+            fb.p(),
+            fb.n(),
+            start,
+            end,
+            m.base,
+            comps,
+            sb.p(),
+            sb.n(),
+            dst.m(),
+            dst.n(),
+            idx.m(),
+            idx.n(),
+            sw.p(),
+        )
+    };
+    check_slot("jacobi_sweep", s, &sw);
+    if s != dk_status::DK_OK {
+        assert!(all_sent(&dst.v), "jacobi dst written on {s:?}");
+        return;
+    }
+    let finite_in = m.finite && !c.vals.nonfinite;
+    let cs = comps as usize;
+    let (a, b) = m.range(start, end);
+    for i in 0..dst.n() / cs {
+        let d = &dst.v[i * cs..(i + 1) * cs];
+        if i < a || i >= b {
+            assert!(all_sent(d), "jacobi wrote node {i} outside {a}..{b}");
+        } else if fb.v[i] != 0 {
+            assert!(
+                bits(d) == bits(&sb.v[i * cs..(i + 1) * cs]),
+                "fixed node {i} not copied"
+            );
+        } else if finite_in {
+            assert!(all_fin(d), "jacobi non-finite at {i}");
+        }
+    }
+    assert!(all_sent(&dst.v[dst.n()..]), "jacobi wrote past dst_len");
+}
+
+fn solve_angle<T: Sc>(c: &mut Ctx, method: u8, epsilon: i16, max_iter: u8, sel: SysSel) {
+    let m = c.m;
+    let (k, fixed) = system::<T>(m, sel, &mut c.vals, c.bits);
+    let mut opts = dk_spring_angle_options {
+        max_iterations: 0,
+        residual_tol: 0.0,
+        update_tol: 0.0,
+        epsilon: 0.0,
+        method: 0,
+    };
+    // SAFETY: one writable struct.
+    assert_eq!(unsafe { (T::ANGLE_DEFAULT)(&mut opts) }, dk_status::DK_OK);
+    opts.max_iterations = iterations(max_iter);
+    opts.method = if method < 250 {
+        u32::from(method % 3)
+    } else {
+        u32::from(method)
+    };
+    if epsilon != 0 {
+        opts.epsilon = c.vals.note(real(epsilon) / 256.0);
+    }
+    let nv = m.n * m.d;
+    let values: Vec<T> = (0..nv).map(|_| T::of(c.vals.next() / 16.0)).collect();
+    let mut need = 0usize;
+    // SAFETY: valid options and output.
+    if unsafe { (T::ANGLE_LEN)(m.n, m.dim, &opts, &mut need) } != dk_status::DK_OK {
+        need = 4 * nv;
+    }
+    let o = Buf::input(&mut c.kn, &m.offsets, 0);
+    let t = Buf::input(&mut c.kn, &m.targets, 0);
+    let kb = Buf::input(&mut c.kn, &k, T::of(1.0));
+    let fb = Buf::input(&mut c.kn, &fixed, 1);
+    let p = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
+    let optp = opt_ptr(&mut c.kn, &opts);
+    let mut v = Buf::input(&mut c.kn, &values, T::of(0.25));
+    let before = bits(&v.v);
+    let mut scratch = Buf::output(&mut c.kn, need, T::SENT);
+    let mut idx = Buf::output(&mut c.kn, m.n, 0u32);
+    let mut rep = Slot::<dk_spring_solve_report>::new(&mut c.kn);
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    let s = unsafe {
+        (T::SOLVE_ANGLE)(
+            o.p(),
+            o.n(),
+            t.p(),
+            t.n(),
+            kb.p(),
+            kb.n(),
+            fb.p(),
+            fb.n(),
+            p.p(),
+            p.n(),
+            m.dim,
+            optp,
+            v.m(),
+            v.n(),
+            scratch.m(),
+            scratch.n(),
+            idx.m(),
+            idx.n(),
+            rep.p(),
+        )
+    };
+    check_inplace(
+        "solve_angle values",
+        s,
+        &v,
+        &before,
+        m.finite && !c.vals.nonfinite,
+    );
+    check_slot("solve_angle", s, &rep);
+}
+
+fn cell_quality<T: Sc>(c: &mut Ctx, kind: u8, from_mesh: bool) {
+    let m = c.m;
+    let (kind, nodes) = match kind % 10 {
+        0 => (3, 2),
+        1 => (5, 3),
+        2 => (9, 4),
+        3 => (10, 4),
+        4 => (12, 8),
+        5 => (13, 6),
+        6 => (14, 5),
+        7 => (0, 4),
+        8 => (7, 4),
+        _ => (kind, usize::from(kind % 9)),
+    };
+    let len = nodes * m.d;
+    let corners: Vec<T> = if from_mesh {
+        let (_, cn, _) = m.cells();
+        (0..len)
+            .map(|i| {
+                let node = cn.get(i / m.d).map_or(i / m.d, |&x| x as usize) % m.n;
+                T::of(m.pts[node * m.d + i % m.d])
+            })
+            .collect()
+    } else {
+        (0..len).map(|_| T::of(c.vals.next())).collect()
+    };
+    let cb = Buf::input(&mut c.kn, &corners, T::of(0.0));
+    let mut out = Slot::<dk_cell_quality>::new(&mut c.kn);
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    let s = unsafe { (T::CELL_QUALITY)(kind, cb.p(), cb.n(), m.dim, out.p()) };
+    check_slot("cell_quality", s, &out);
+    if s == dk_status::DK_OK && m.finite && !c.vals.nonfinite {
+        let q = out.get();
+        assert!(q.measure.is_finite() && q.min_jacobian.is_finite(), "{q:?}");
+        assert!(q.min_scaled_jacobian.abs() <= 1.0 + 1e-5, "{q:?}");
+    }
+}
+
+fn compare<T: Sc>(c: &mut Ctx, wall: bool, scale: i16) {
+    let m = c.m;
+    let (co, cn, ck) = m.cells();
+    let scale = c.vals.note(real(scale)) / 64.0;
+    let deformed: Vec<T> = m
+        .pts
+        .iter()
+        .map(|&x| T::of(x + scale * c.vals.next()))
+        .collect();
+    let [ni, nj, _] = m.dims;
+    let (mut wo, mut wn, mut wk) = (vec![0u32], Vec::new(), Vec::new());
+    if wall {
+        if m.d == 2 {
+            for i in 0..ni.saturating_sub(1) {
+                wn.extend([i as u32, i as u32 + 1]);
+                wk.push(3u8);
+                wo.push(wn.len() as u32);
+            }
+        } else {
+            for j in 0..nj.saturating_sub(1) {
+                for i in 0..ni.saturating_sub(1) {
+                    let a = |i: usize, j: usize| (i + ni * j) as u32;
+                    wn.extend([a(i, j), a(i, j + 1), a(i + 1, j + 1), a(i + 1, j)]);
+                    wk.push(9u8);
+                    wo.push(wn.len() as u32);
+                }
+            }
+        }
+    }
+    let mut need = 0usize;
+    // SAFETY: one writable size_t.
+    if !wall
+        || unsafe { qu::dk_quality_wall_angle_scratch_len(m.n, m.dim, &mut need) }
+            != dk_status::DK_OK
+    {
+        need = 0;
+    }
+    let cob = Buf::input(&mut c.kn, &m.based(&co), 0);
+    let cnb = Buf::input(&mut c.kn, &m.based(&cn), 0);
+    let ckb = Buf::input(&mut c.kn, &ck, 9);
+    let (wob, wnb, wkb, go, gt) = if wall {
+        (
+            Buf::input(&mut c.kn, &m.based(&wo), 0),
+            Buf::input(&mut c.kn, &m.based(&wn), 0),
+            Buf::input(&mut c.kn, &wk, 3),
+            Buf::input(&mut c.kn, &m.offsets, 0),
+            Buf::input(&mut c.kn, &m.targets, 0),
+        )
+    } else {
+        (
+            Buf::absent(),
+            Buf::absent(),
+            Buf::absent(),
+            Buf::absent(),
+            Buf::absent(),
+        )
+    };
+    let u = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
+    let d = Buf::input(&mut c.kn, &deformed, T::of(0.5));
+    let mut scratch = Buf::output(&mut c.kn, need, T::SENT);
+    let mut rep = Slot::<dk_quality_report>::new(&mut c.kn);
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    let s = unsafe {
+        (T::COMPARE)(
+            cob.p(),
+            cob.n(),
+            cnb.p(),
+            cnb.n(),
+            ckb.p(),
+            ckb.n(),
+            m.base,
+            wob.p(),
+            wob.n(),
+            wnb.p(),
+            wnb.n(),
+            wkb.p(),
+            wkb.n(),
+            go.p(),
+            go.n(),
+            gt.p(),
+            gt.n(),
+            u.p(),
+            u.n(),
+            d.p(),
+            d.n(),
+            m.dim,
+            scratch.m(),
+            scratch.n(),
+            rep.p(),
+        )
+    };
+    check_slot("quality_compare", s, &rep);
+    if s == dk_status::DK_OK {
+        let r = rep.get();
+        let cells = ckb.n();
+        assert_eq!(r.cells, cells, "{r:?}");
+        assert!(
+            r.inverted_cells <= cells && r.folded_cells <= cells,
+            "{r:?}"
+        );
+        assert!(
+            r.folded_cells_undeformed <= cells && r.degenerate_cells <= cells,
+            "{r:?}"
+        );
+        let absent = wob.null
+            && wnb.null
+            && wkb.null
+            && go.null
+            && gt.null
+            && wob.n() + wnb.n() + wkb.n() + go.n() + gt.n() == 0;
+        assert_eq!(r.has_wall, !absent, "{r:?}");
+        if r.has_wall {
+            assert!(r.wall_measured + r.wall_skipped <= m.n, "{r:?}");
+            if m.finite && !c.vals.nonfinite {
+                assert!(r.wall_max_change.is_finite(), "{r:?}");
+            }
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn smooth_structured<T: Sc>(
+    c: &mut Ctx,
+    lambda: i16,
+    mu: i16,
+    iters: u8,
+    pinned: bool,
+    mirror: u8,
+) {
+    let m = c.m;
+    let [ni, nj, nk] = m.pass_dims;
+    let (lambda, mu) = (
+        c.vals.note(real(lambda) / 128.0),
+        c.vals.note(real(mu) / 128.0),
+    );
+    let field: Vec<T> = (0..m.n).map(|_| T::of(c.vals.next())).collect();
+    let pins: Vec<u8> = (0..m.n)
+        .map(|i| c.bits.get(i / 8).map_or(0, |b| (b >> (i % 8)) & 1))
+        .collect();
+    let mut need = 0usize;
+    // SAFETY: one writable size_t.
+    if unsafe {
+        ta::dk_taubin_smooth_structured_scratch_len(m.dims[0], m.dims[1], m.dims[2], &mut need)
+    } != dk_status::DK_OK
+    {
+        need = m.n;
+    }
+    let pb = if pinned {
+        Buf::input(&mut c.kn, &pins, 0)
+    } else {
+        Buf::absent()
+    };
+    let opts = dk_structured_options {
+        pinned: pb.p(),
+        pinned_len: pb.n(),
+        mirror: [mirror & 1, mirror & 2, mirror & 4],
+    };
+    let optp = opt_ptr(&mut c.kn, &opts);
+    let mut f = Buf::input(&mut c.kn, &field, T::of(0.0));
+    let before = bits(&f.v);
+    let mut scratch = Buf::output(&mut c.kn, need, T::SENT);
+    let mut rep = Slot::<dk_filter_report>::new(&mut c.kn);
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    let s = unsafe {
+        (T::STRUCTURED)(
+            ni,
+            nj,
+            nk,
+            T::of(lambda),
+            T::of(mu),
+            iterations(iters),
+            optp,
+            f.m(),
+            f.n(),
+            scratch.m(),
+            scratch.n(),
+            rep.p(),
+        )
+    };
+    check_inplace("smooth_structured field", s, &f, &before, !c.vals.nonfinite);
+    check_slot("smooth_structured", s, &rep);
+    if s == dk_status::DK_OK {
+        assert!(rep.get().iterations <= iterations(iters));
+        if pinned {
+            for (i, &p) in pb.v.iter().enumerate().take(f.n()) {
+                if p != 0 {
+                    assert_eq!(f.v[i].bits(), before[i], "pinned point {i} moved");
+                }
+            }
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn smooth_arclength<T: Sc>(
+    c: &mut Ctx,
+    direction: u8,
+    normalised: bool,
+    use_coarse: bool,
+    factor: [u8; 3],
+    prolongation: u8,
+    iters: u8,
+    coarse_iters: u8,
+    params: Option<(i16, i16)>,
+    pinned: bool,
+    mirror: u8,
+) {
+    let m = c.m;
+    let [ni, nj, nk] = m.pass_dims;
+    let direction = if direction < 250 {
+        u32::from(direction % 3)
+    } else {
+        u32::from(direction)
+    };
+    let mut opts = dk_smooth_arclength_options {
+        lambda: 0.0,
+        mu: 0.0,
+        iterations: 0,
+        coarse_iterations: 0,
+        pinned: ptr::null(),
+        pinned_len: 0,
+        coarse: dk_taubin_coarse {
+            factor: [1; 3],
+            prolongation: 0,
+        },
+        direction: 0,
+        normalised: 0,
+        use_coarse: 0,
+        mirror: [0; 3],
+    };
+    // SAFETY: one writable struct.
+    let s0 = unsafe { ta::dk_smooth_arclength_options_default(direction, &mut opts) };
+    assert_eq!(s0 == dk_status::DK_OK, direction <= 2);
+    opts.direction = direction;
+    opts.iterations = iterations(iters);
+    opts.coarse_iterations = iterations(coarse_iters) / 2;
+    if let Some((l, mu)) = params {
+        opts.lambda = c.vals.note(real(l) / 128.0);
+        opts.mu = c.vals.note(real(mu) / 128.0);
+    }
+    opts.normalised = u8::from(normalised);
+    opts.use_coarse = u8::from(use_coarse);
+    opts.coarse.factor = factor.map(|f| usize::from(f % 5));
+    opts.coarse.prolongation = u32::from(prolongation % 3);
+    opts.mirror = [mirror & 1, mirror & 2, mirror & 4];
+    let pins: Vec<u8> = (0..m.n)
+        .map(|i| c.bits.get(i / 8).map_or(0, |b| (b >> (i % 8)) & 1))
+        .collect();
+    let pb = if pinned {
+        Buf::input(&mut c.kn, &pins, 0)
+    } else {
+        Buf::absent()
+    };
+    opts.pinned = pb.p();
+    opts.pinned_len = pb.n();
+    let mut need = 0usize;
+    // SAFETY: valid options, one writable size_t.
+    if unsafe {
+        ta::dk_taubin_smooth_arclength_scratch_len(
+            m.dims[0], m.dims[1], m.dims[2], &opts, m.d as u32, &mut need,
+        )
+    } != dk_status::DK_OK
+    {
+        need = 8 * m.n;
+    }
+    let optp = opt_ptr(&mut c.kn, &opts);
+    let mut p = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
+    let before = bits(&p.v);
+    let mut scratch = Buf::output(&mut c.kn, need, T::SENT);
+    let mut rep = Slot::<dk_smooth_report>::new(&mut c.kn);
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    let s = unsafe {
+        (T::SMOOTH_ARCLENGTH)(
+            ni,
+            nj,
+            nk,
+            optp,
+            p.m(),
+            p.n(),
+            m.dim,
+            scratch.m(),
+            scratch.n(),
+            rep.p(),
+        )
+    };
+    check_inplace(
+        "smooth_arclength points",
+        s,
+        &p,
+        &before,
+        m.finite && !c.vals.nonfinite,
+    );
+    check_slot("smooth_arclength", s, &rep);
+    if s == dk_status::DK_OK && pinned && m.dim as usize == m.d {
+        let d = m.d;
+        for (i, &q) in pb.v.iter().enumerate().take(p.n() / d) {
+            if q != 0 {
+                assert!(
+                    bits(&p.v[i * d..(i + 1) * d]) == before[i * d..(i + 1) * d],
+                    "pinned point {i} moved"
+                );
+            }
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn smooth_graph<T: Sc>(
+    c: &mut Ctx,
+    lambda: i16,
+    mu: i16,
+    iters: u8,
+    comps: u8,
+    weights: u8,
+    fixed: u8,
+) {
+    let m = c.m;
+    let (lambda, mu) = (
+        c.vals.note(real(lambda) / 128.0),
+        c.vals.note(real(mu) / 128.0),
+    );
+    let comps = components(comps);
+    let nv = m.n * comps as usize;
+    let values: Vec<T> = (0..nv).map(|_| T::of(c.vals.next())).collect();
+    let d = m.d;
+    let w: Option<Vec<T>> = match weights % 3 {
+        0 => None,
+        1 => Some(
+            (0..m.n)
+                .flat_map(|i| {
+                    let (a, b) = (m.offsets.get(i).copied(), m.offsets.get(i + 1).copied());
+                    let r = match (a, b) {
+                        (Some(a), Some(b)) if a <= b => a as usize..b as usize,
+                        _ => 0..0,
+                    };
+                    r.map(move |e| (i, e))
+                })
+                .map(|(i, e)| {
+                    let j = m.targets.get(e).map_or(0, |&j| j as usize) % m.n;
+                    let dd: f64 = (0..d)
+                        .map(|k| (m.pts[i * d + k] - m.pts[j * d + k]).powi(2))
+                        .sum();
+                    T::of(1.0 / dd.sqrt())
+                })
+                .collect(),
+        ),
+        _ => Some((0..m.targets.len()).map(|_| T::of(c.vals.next())).collect()),
+    };
+    let f: Option<Vec<u8>> = match fixed % 3 {
+        0 => None,
+        1 => Some(m.is_boundary.clone()),
+        _ => Some(
+            (0..m.n)
+                .map(|i| c.bits.get(i / 8).map_or(0, |b| (b >> (i % 8)) & 1))
+                .collect(),
+        ),
+    };
+    let mut need = 0usize;
+    // SAFETY: one writable size_t.
+    if unsafe { ta::dk_taubin_smooth_graph_scratch_len(m.n, comps, &mut need) } != dk_status::DK_OK
+    {
+        need = nv;
+    }
+    let o = Buf::input(&mut c.kn, &m.offsets, 0);
+    let t = Buf::input(&mut c.kn, &m.targets, 0);
+    let wb = match &w {
+        Some(w) => Buf::input(&mut c.kn, w, T::of(1.0)),
+        None => Buf::absent(),
+    };
+    let fb = match &f {
+        Some(f) => Buf::input(&mut c.kn, f, 0),
+        None => Buf::absent(),
+    };
+    let mut v = Buf::input(&mut c.kn, &values, T::of(0.0));
+    let before = bits(&v.v);
+    let mut scratch = Buf::output(&mut c.kn, need, T::SENT);
+    let mut rep = Slot::<dk_filter_report>::new(&mut c.kn);
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    let s = unsafe {
+        (T::SMOOTH_GRAPH)(
+            o.p(),
+            o.n(),
+            t.p(),
+            t.n(),
+            wb.p(),
+            wb.n(),
+            fb.p(),
+            fb.n(),
+            T::of(lambda),
+            T::of(mu),
+            iterations(iters),
+            comps,
+            v.m(),
+            v.n(),
+            scratch.m(),
+            scratch.n(),
+            rep.p(),
+        )
+    };
+    check_inplace(
+        "smooth_graph values",
+        s,
+        &v,
+        &before,
+        m.finite && !c.vals.nonfinite,
+    );
+    check_slot("smooth_graph", s, &rep);
+    if s == dk_status::DK_OK {
+        let cs = comps as usize;
+        for (i, &q) in fb.v.iter().enumerate().take(v.n() / cs) {
+            if q != 0 {
+                assert!(
+                    bits(&v.v[i * cs..(i + 1) * cs]) == before[i * cs..(i + 1) * cs],
+                    "fixed node {i} moved"
+                );
+            }
+        }
+    }
+}
+
+fn redistribute<T: Sc>(c: &mut Ctx, direction: u8, normalised: bool, perturb: bool) {
+    let m = c.m;
+    let [ni, nj, nk] = m.pass_dims;
+    let direction = if direction < 250 {
+        u32::from(direction % 3)
+    } else {
+        u32::from(direction)
+    };
+    let pts = m.pts::<T>();
+    let mut targets = vec![T::default(); m.n];
+    // SAFETY: exact buffers.
+    let s0 = unsafe {
+        (T::ARCLENGTH)(
+            m.dims[0],
+            m.dims[1],
+            m.dims[2],
+            pts.as_ptr(),
+            pts.len(),
+            m.d as u32,
+            direction,
+            normalised,
+            targets.as_mut_ptr(),
+            targets.len(),
+        )
+    };
+    if s0 != dk_status::DK_OK {
+        targets = (0..m.n).map(|_| T::of(c.vals.next())).collect();
+    } else if perturb {
+        let extra: Vec<f64> = (0..m.n).map(|_| c.vals.next() / 64.0).collect();
+        for (t, e) in targets.iter_mut().zip(extra) {
+            // Perturb through f64 (exact for both precisions' values of this size).
+            *t = T::of(to_f64(*t) + e);
+        }
+    }
+    let mut need = 0usize;
+    // SAFETY: one writable size_t.
+    if unsafe {
+        ta::dk_taubin_redistribute_scratch_len(
+            m.dims[0], m.dims[1], m.dims[2], m.d as u32, direction, &mut need,
+        )
+    } != dk_status::DK_OK
+    {
+        need = 4 * m.n;
+    }
+    let tb = Buf::input(&mut c.kn, &targets, T::of(0.0));
+    let mut p = Buf::input(&mut c.kn, &pts, T::of(0.5));
+    let before = bits(&p.v);
+    let mut scratch = Buf::output(&mut c.kn, need, T::SENT);
+    let mut md = Buf::output(&mut c.kn, 1, T::SENT);
+    // A single-scalar output: non-NULL means at least one element was allocated.
+    let mdp = md.m();
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    let s = unsafe {
+        (T::REDISTRIBUTE)(
+            ni,
+            nj,
+            nk,
+            direction,
+            tb.p(),
+            tb.n(),
+            normalised,
+            p.m(),
+            p.n(),
+            m.dim,
+            scratch.m(),
+            scratch.n(),
+            mdp,
+        )
+    };
+    let finite_in = m.finite && !c.vals.nonfinite;
+    check_inplace("redistribute points", s, &p, &before, finite_in);
+    if s != dk_status::DK_OK {
+        assert!(all_sent(&md.v));
+    } else {
+        assert!(!mdp.is_null());
+        if finite_in {
+            assert!(md.v[0].fin(), "max displacement {:?}", md.v[0]);
+        }
+    }
+}
+
+fn to_f64<T: Sc>(x: T) -> f64 {
+    // Via the bit pattern: f32 bits are < 2^32.
+    let b = x.bits();
+    if std::mem::size_of::<T>() == 4 {
+        f64::from(f32::from_bits(b as u32))
+    } else {
+        f64::from_bits(b)
+    }
+}
+
+fn deform<T: Sc>(c: &mut Ctx, sp_: &DeformSpec) {
+    let m = c.m;
+    let d = m.d;
+    // Boundary positions (0..B) -> mesh nodes, 0-based.
+    let mut nodes: Vec<u32> = match sp_.boundary % 8 {
+        0..=4 => m.boundary.clone(),
+        5 => m
+            .boundary
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| c.bits.get(i / 8).map_or(true, |b| (b >> (i % 8)) & 1 == 0))
+            .map(|(_, &x)| x)
+            .collect(),
+        6 => sp_
+            .raw
+            .iter()
+            .map(|&x| u32::from(x) % (m.n as u32 + 2))
+            .collect(),
+        _ => {
+            let mut v = m.boundary.clone();
+            if let Some(&x) = v.first() {
+                v.push(x);
+            }
+            v
+        }
+    };
+    nodes.truncate(64);
+    let bl = nodes.len();
+    let t = sp_.translation.map(|x| c.vals.note(real(x) / 64.0));
+    let mut deformed = Vec::with_capacity(bl * d);
+    for &node in &nodes {
+        for k in 0..d {
+            let base = m.pts.get(node as usize * d + k).copied().unwrap_or(0.0);
+            deformed.push(T::of(base + t[k] + c.vals.next() / 512.0));
+        }
+    }
+    // Boundary elements, numbered by position in `nodes`.
+    let (mut eo, mut en, mut ek) = (Vec::new(), Vec::new(), Vec::new());
+    match sp_.elements % 4 {
+        0 | 1 if d == 2 && sp_.boundary % 8 <= 4 && m.dims[0] >= 2 && m.dims[1] >= 2 => {
+            eo.push(0u32);
+            for i in 0..bl {
+                en.extend([i as u32, ((i + 1) % bl) as u32]);
+                ek.push(3u8);
+                eo.push(en.len() as u32);
+            }
+        }
+        2 => {
+            let per = if d == 2 { 2 } else { 3 };
+            eo.push(0u32);
+            for ch in sp_.raw.chunks_exact(per) {
+                en.extend(ch.iter().map(|&x| u32::from(x) % (bl as u32 + 1)));
+                ek.push(if d == 2 { 3 } else { 5 });
+                eo.push(en.len() as u32);
+            }
+        }
+        _ => {}
+    }
+    let rotations: Vec<T> = (0..4 * bl)
+        .map(|i| T::of(if i % 4 == 0 { 1.0 } else { 0.0 } + c.vals.next() / 256.0))
+        .collect();
+    let rigid = sp_.rigid.map(|x| c.vals.note(real(x) / 64.0));
+    let rigid = [1.0 + rigid[0], rigid[1], rigid[2], rigid[3]];
+    let origin = sp_.origin.map(|x| c.vals.note(real(x) / 64.0));
+    let rotation_source = match sp_.rotation_source % 8 {
+        0..=2 => 0,
+        3..=4 => 1,
+        5..=6 => 2,
+        _ => u32::from(sp_.rotation_source),
+    };
+    let nb = Buf::input(&mut c.kn, &m.based(&nodes), 0);
+    let db = Buf::input(&mut c.kn, &deformed, T::of(0.0));
+    let (eob, enb, ekb) = if eo.is_empty() {
+        (Buf::absent(), Buf::absent(), Buf::absent())
+    } else {
+        (
+            Buf::input(&mut c.kn, &m.based(&eo), 0),
+            Buf::input(&mut c.kn, &m.based(&en), 0),
+            Buf::input(&mut c.kn, &ek, 3),
+        )
+    };
+    let rb = Buf::input(&mut c.kn, &rotations, T::of(0.0));
+    let parts = MotionParts {
+        nodes: nb.pn(),
+        deformed: db.pn(),
+        element_offsets: eob.pn(),
+        element_nodes: enb.pn(),
+        element_kinds: ekb.pn(),
+        node_rotations: rb.pn(),
+        rigid,
+        origin,
+        index_base: m.base,
+        rotation_source,
+        has_origin: u32::from(sp_.has_origin),
+    };
+    let motion = T::motion(&parts);
+    let mp = opt_ptr(&mut c.kn, &motion);
+    let method = sp_.method % 3;
+    let dims = m.dims;
+    let pdims = m.pass_dims;
+
+    // Spring system and options.
+    let (k, mut fixed) = system::<T>(
+        m,
+        SysSel {
+            stiffness: sp_.spring_method >> 4,
+            fixed: 0,
+        },
+        &mut c.vals,
+        c.bits,
+    );
+    if sp_.fixed_flip != 0 && !fixed.is_empty() {
+        let i = usize::from(sp_.fixed_flip) % fixed.len();
+        fixed[i] ^= 1;
+    }
+    let mut opts = dk_spring_solve_options {
+        max_iterations: 0,
+        residual_tol: 0.0,
+        update_tol: 0.0,
+        omega: 0.0,
+        method: 0,
+        preconditioner: 0,
+    };
+    // SAFETY: one writable struct.
+    assert_eq!(unsafe { (T::LINEAR_DEFAULT)(&mut opts) }, dk_status::DK_OK);
+    opts.max_iterations = iterations(sp_.max_iter);
+    opts.method = u32::from(sp_.spring_method % 5);
+    opts.preconditioner = u32::from((sp_.spring_method >> 3) % 3);
+
+    // Sizes.
+    let mut need = 0usize;
+    let mut vneed = 0usize;
+    // SAFETY: valid arguments, writable size_t outputs.
+    let q = unsafe {
+        match method {
+            0 => de::dk_deform_idw_scratch_len(m.n, bl, m.d as u32, &mut need),
+            1 => {
+                de::dk_deform_tfi_scratch_len(dims[0], dims[1], dims[2], bl, m.d as u32, &mut need)
+            }
+            _ => {
+                de::dk_deform_spring_scratch_len(m.n, bl, m.d as u32, &opts, &mut need, &mut vneed)
+            }
+        }
+    };
+    if q != dk_status::DK_OK {
+        need = 16 * (m.n + bl);
+        vneed = 7 * m.n;
+    }
+    let mut ineed = 0usize;
+    // SAFETY: `motion` is valid (its arrays as described), writable size_t.
+    let q = unsafe {
+        if method == 2 {
+            (T::SPRING_INDEX_LEN)(&motion, m.n, &mut ineed)
+        } else {
+            (T::MOTION_LEN)(&motion, &mut ineed)
+        }
+    };
+    if q != dk_status::DK_OK {
+        ineed = 3 * bl + m.n + 4;
+    }
+    let p = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
+    let mut scratch = Buf::output(&mut c.kn, need, T::SENT);
+    let mut idx = Buf::output(&mut c.kn, ineed, 0u32);
+    let mut tr = Buf::output(&mut c.kn, m.n * d, T::SENT);
+    let mut rot = Buf::output(&mut c.kn, 4 * m.n, T::SENT);
+    let mut out = Buf::output(&mut c.kn, m.n * d, T::SENT);
+    let mut org = if c.kn.next() & 1 == 0 {
+        Buf::absent()
+    } else {
+        Buf::output(&mut c.kn, d, T::SENT)
+    };
+    let e = c.vals.note(real(sp_.exponent) / 16.0);
+    let s;
+    let mut rep = Slot::<dk_spring_solve_report>::new(&mut c.kn);
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    unsafe {
+        match method {
+            0 => {
+                s = (T::IDW)(
+                    p.p(),
+                    p.n(),
+                    m.dim,
+                    mp,
+                    T::of(e),
+                    scratch.m(),
+                    scratch.n(),
+                    idx.m(),
+                    idx.n(),
+                    tr.m(),
+                    tr.n(),
+                    rot.m(),
+                    rot.n(),
+                    out.m(),
+                    out.n(),
+                    org.m(),
+                    org.n(),
+                );
+            }
+            1 => {
+                let dirs = u32::from(sp_.directions % 9);
+                s = (T::TFI)(
+                    pdims[0],
+                    pdims[1],
+                    pdims[2],
+                    dirs,
+                    p.p(),
+                    p.n(),
+                    m.dim,
+                    mp,
+                    scratch.m(),
+                    scratch.n(),
+                    idx.m(),
+                    idx.n(),
+                    tr.m(),
+                    tr.n(),
+                    rot.m(),
+                    rot.n(),
+                    out.m(),
+                    out.n(),
+                    org.m(),
+                    org.n(),
+                );
+            }
+            _ => {
+                let o = Buf::input(&mut c.kn, &m.offsets, 0);
+                let t = Buf::input(&mut c.kn, &m.targets, 0);
+                let kb = Buf::input(&mut c.kn, &k, T::of(1.0));
+                let fb = Buf::input(&mut c.kn, &fixed, 1);
+                let optp = opt_ptr(&mut c.kn, &opts);
+                let mut vals = Buf::output(&mut c.kn, vneed, T::SENT);
+                s = (T::SPRING)(
+                    p.p(),
+                    p.n(),
+                    m.dim,
+                    mp,
+                    o.p(),
+                    o.n(),
+                    t.p(),
+                    t.n(),
+                    kb.p(),
+                    kb.n(),
+                    fb.p(),
+                    fb.n(),
+                    optp,
+                    scratch.m(),
+                    scratch.n(),
+                    vals.m(),
+                    vals.n(),
+                    idx.m(),
+                    idx.n(),
+                    tr.m(),
+                    tr.n(),
+                    rot.m(),
+                    rot.n(),
+                    out.m(),
+                    out.n(),
+                    org.m(),
+                    org.n(),
+                    rep.p(),
+                );
+            }
+        }
+    }
+    let finite_in = m.finite && !c.vals.nonfinite;
+    check_out("deform out", s, &out, finite_in);
+    check_out("deform origin_out", s, &org, finite_in);
+    if method == 2 {
+        check_slot("deform_spring", s, &rep);
+    } else {
+        assert!(rep.untouched());
+    }
+    if s == dk_status::DK_OK && m.dim as usize == d {
+        // Boundary nodes are reproduced bitwise.
+        for (b, &node) in nodes.iter().enumerate() {
+            let node = node as usize;
+            assert!(
+                bits(&out.v[node * d..(node + 1) * d]) == bits(&deformed[b * d..(b + 1) * d]),
+                "boundary node {node} (position {b}) not reproduced: {:?} vs {:?}",
+                &out.v[node * d..(node + 1) * d],
+                &deformed[b * d..(b + 1) * d]
+            );
+        }
+    }
+}
+
+fn run_op(c: &mut Ctx, op: &Op) {
+    macro_rules! prec {
+        ($f32:expr, $f:ident ( $($a:expr),* )) => {
+            if $f32 { $f::<f32>(c, $($a),*) } else { $f::<f64>(c, $($a),*) }
+        };
+    }
+    match *op {
+        Op::Batina { exponent, f32 } => prec!(f32, batina(exponent)),
+        Op::SolveLinear {
+            method,
+            precond,
+            omega,
+            max_iter,
+            comps,
+            res_tol,
+            upd_tol,
+            sys,
+            f32,
+        } => {
+            prec!(
+                f32,
+                solve_linear(method, precond, omega, max_iter, comps, res_tol, upd_tol, sys)
+            )
+        }
+        Op::JacobiSweep {
+            start,
+            end,
+            comps,
+            sys,
+            f32,
+        } => prec!(f32, jacobi(start, end, comps, sys)),
+        Op::SolveAngle {
+            method,
+            epsilon,
+            max_iter,
+            sys,
+            f32,
+        } => {
+            prec!(f32, solve_angle(method, epsilon, max_iter, sys))
+        }
+        Op::CellQuality {
+            kind,
+            from_mesh,
+            f32,
+        } => prec!(f32, cell_quality(kind, from_mesh)),
+        Op::Compare { wall, scale, f32 } => prec!(f32, compare(wall, scale)),
+        Op::SmoothStructured {
+            lambda,
+            mu,
+            iterations,
+            pinned,
+            mirror,
+            f32,
+        } => {
+            prec!(
+                f32,
+                smooth_structured(lambda, mu, iterations, pinned, mirror)
+            )
+        }
+        Op::SmoothArclength {
+            direction,
+            normalised,
+            use_coarse,
+            factor,
+            prolongation,
+            iterations,
+            coarse_iterations,
+            params,
+            pinned,
+            mirror,
+            f32,
+        } => prec!(
+            f32,
+            smooth_arclength(
+                direction,
+                normalised,
+                use_coarse,
+                factor,
+                prolongation,
+                iterations,
+                coarse_iterations,
+                params,
+                pinned,
+                mirror
+            )
+        ),
+        Op::SmoothGraph {
+            lambda,
+            mu,
+            iterations,
+            comps,
+            weights,
+            fixed,
+            f32,
+        } => {
+            prec!(
+                f32,
+                smooth_graph(lambda, mu, iterations, comps, weights, fixed)
+            )
+        }
+        Op::Redistribute {
+            direction,
+            normalised,
+            perturb,
+            f32,
+        } => {
+            prec!(f32, redistribute(direction, normalised, perturb))
+        }
+        Op::Deform(ref s) => {
+            if s.f32 {
+                deform::<f32>(c, s)
+            } else {
+                deform::<f64>(c, s)
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The target.
+// ---------------------------------------------------------------------------------------------
 
 const SENTINEL: u32 = 0x5a5a_5a5a;
 
@@ -37,6 +2324,30 @@ fn ptr_or_null<T>(p: *const T, null: bool) -> *const T {
 }
 
 fuzz_target!(|inp: Input| {
+    legacy(&inp);
+    let mesh = Mesh::new(&inp.mesh);
+    let mut kn = Knobs {
+        k: &inp.knobs,
+        i: 0,
+    };
+    for (i, op) in inp.ops.iter().take(4).enumerate() {
+        let mut c = Ctx {
+            kn: Knobs { k: kn.k, i: kn.i },
+            vals: Vals {
+                v: &inp.vals,
+                i: 7 * i,
+                nonfinite: false,
+            },
+            bits: &inp.bits,
+            m: &mesh,
+        };
+        run_op(&mut c, op);
+        kn.i = c.kn.i;
+    }
+});
+
+/// The quaternion and graph-builder calls.
+fn legacy(inp: &Input) {
     // --- dk_graph_from_edges ---
     let edges_len = inp.edges.len().saturating_sub(inp.edges_len_cut as usize);
     let mut offsets = vec![SENTINEL; inp.offsets_len as usize];
@@ -135,4 +2446,4 @@ fuzz_target!(|inp: Input| {
     if s != dk_status::DK_OK {
         assert!(rotated.iter().all(|x| x.to_bits() == (-0.0f64).to_bits()));
     }
-});
+}

@@ -58,6 +58,22 @@ pub fn norm<T: Real, const D: usize>(a: [T; D]) -> T {
     norm_sq(a).sqrt()
 }
 
+/// `|a|` without overflow or underflow of `|a|²`: bit-identical to [`norm`] whenever `|a|²`
+/// is a finite normal number (or `a` has a non-finite component); otherwise computed as
+/// `m·|a/m|` with `m` the largest `|a_k|`.
+#[inline]
+pub fn norm_robust<T: Real, const D: usize>(a: [T; D]) -> T {
+    let n2 = norm_sq(a);
+    if (n2.is_finite() && n2 >= T::MIN_POSITIVE) || !a.iter().all(|x| x.is_finite()) {
+        return n2.sqrt();
+    }
+    let m = a.iter().fold(T::ZERO, |m, x| m.max(x.abs()));
+    if m == T::ZERO {
+        return T::ZERO;
+    }
+    m * norm(a.map(|x| x / m))
+}
+
 /// `|a − b|`.
 #[inline]
 pub fn distance<T: Real, const D: usize>(a: [T; D], b: [T; D]) -> T {

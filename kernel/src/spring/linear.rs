@@ -614,8 +614,12 @@ fn solve_cg<T: Real, const V: usize>(
         let (rt, _) = residual_norms(sys, x);
         report.residual = relative(rt, bnorm);
     }
-    for (v, &x) in values.iter_mut().zip(x.iter()) {
-        *v = x;
+    // Free nodes only: CG adds `α·p` with `p = 0` at fixed nodes, which would turn a fixed
+    // −0.0 into +0.0; fixed values must come back bit for bit.
+    for (i, (v, &x)) in values.iter_mut().zip(x.iter()).enumerate() {
+        if !sys.is_fixed(i) {
+            *v = x;
+        }
     }
     Ok(report)
 }

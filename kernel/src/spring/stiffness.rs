@@ -17,7 +17,10 @@ use crate::vector;
 /// `stiffness.len() != graph.edge_count()` ([`Error::LengthMismatch`]); a NaN/infinite
 /// coordinate ([`Error::NonFinite`]); `exponent` not finite or negative
 /// ([`Error::InvalidParameter`]); an edge of zero length, or so short that `k` overflows
-/// ([`Error::ZeroLengthEdge`], the first such directed edge).
+/// ([`Error::ZeroLengthEdge`], the first such directed edge); an edge so long that `k`
+/// underflows to zero ([`Error::NonPositive`] with `arg = "stiffness"` and the edge's source
+/// node as `position`). Edges longer than `√MAX` (where `|d|²` overflows) get their stiffness
+/// from the rescaled length.
 pub fn batina_stiffness<T: Real, const D: usize>(
     graph: &Graph<'_>,
     points: &[[T; D]],
@@ -86,27 +89,53 @@ fn stiffness_with<T: Real, const D: usize>(
             reason: "must be finite and >= 0",
         });
     }
-    let k = |i: usize, j: usize| -> Option<T> {
-        let (a, b) = (points.get(i)?, points.get(j)?);
-        let d2 = vector::norm_sq(vector::sub(*b, *a));
-        let k = if exponent == T::ONE {
-            inv_len(d2)
-        } else if exponent == T::TWO {
-            T::ONE / d2
-        } else {
-            T::ONE / d2.sqrt().powf(exponent)
+    // `Ok(k)`, or the error of the edge: zero length (or so short that `k` overflows), or so
+    // long that `k` underflows to 0.
+    let k = |i: usize, j: usize| -> Result<T> {
+        let zero_length = Error::ZeroLengthEdge { from: i, to: j };
+        let (Some(a), Some(b)) = (points.get(i), points.get(j)) else {
+            return Err(zero_length);
         };
-        (d2 > T::ZERO && k.is_finite()).then_some(k)
+        let d = vector::sub(*b, *a);
+        let d2 = vector::norm_sq(d);
+        let k = if d2.is_finite() && d2 > T::ZERO {
+            if exponent == T::ONE {
+                inv_len(d2)
+            } else if exponent == T::TWO {
+                T::ONE / d2
+            } else {
+                T::ONE / d2.sqrt().powf(exponent)
+            }
+        } else {
+            // |d|² overflowed (an edge longer than ~1e154 in f64) or underflowed: use the
+            // rescaled length, so a long edge gets its tiny stiffness instead of 1/∞ = 0.
+            let len = vector::norm_robust(d);
+            if len == T::ZERO {
+                return Err(zero_length);
+            }
+            if exponent == T::ONE {
+                T::ONE / len
+            } else if exponent == T::TWO {
+                T::ONE / (len * len)
+            } else {
+                T::ONE / len.powf(exponent)
+            }
+        };
+        if !k.is_finite() {
+            Err(zero_length)
+        } else if k <= T::ZERO {
+            Err(Error::NonPositive {
+                arg: "stiffness",
+                position: i,
+            })
+        } else {
+            Ok(k)
+        }
     };
     // Validate every edge first, then write: on error `stiffness` is untouched.
     for (i, _, row) in graph.rows() {
         for &j in row {
-            if k(i, j as usize).is_none() {
-                return Err(Error::ZeroLengthEdge {
-                    from: i,
-                    to: j as usize,
-                });
-            }
+            k(i, j as usize)?;
         }
     }
     for (i, first, row) in graph.rows() {

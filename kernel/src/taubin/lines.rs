@@ -294,7 +294,8 @@ pub(crate) fn redistribute_core<T: Real, const D: usize, F: Fn(usize) -> bool>(
             };
             let new: [T; D] = place(s, coords, len, target, &mut seg);
             if let Some(x) = points.get_mut(p) {
-                let moved = vector::distance(*x, new);
+                // Robust: a finite move longer than √MAX must not report +∞.
+                let moved = vector::norm_robust(vector::sub(*x, new));
                 if moved > max_move {
                     max_move = moved;
                 }
