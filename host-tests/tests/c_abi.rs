@@ -156,3 +156,60 @@ fn exported_symbols_match_the_checked_in_list() {
         "the exported dk_ symbols changed: update ffi/symbols.txt deliberately"
     );
 }
+
+#[test]
+fn quaternion_twins_from_c_hold_their_identities() {
+    let src = workspace().join("ffi/tests/quaternions.c");
+    let flags = c_flags();
+    let mut flags: Vec<&str> = flags.iter().map(String::as_str).collect();
+    let tests_dir = format!("-I{}", workspace().join("ffi/tests").display());
+    flags.push(&tests_dir);
+    for (link, name) in [
+        (Link::Static, "quaternions_c_static"),
+        (Link::Shared, "quaternions_c_shared"),
+    ] {
+        let exe = tmp(name);
+        compile("gcc", std::slice::from_ref(&src), &flags, link, &exe);
+        assert_eq!(run(&exe), "quaternions: every check held\n", "{name}");
+    }
+}
+
+/// Issue #6: every exported `dk_` function is called from C. A function counts as called when
+/// a C file under `ffi/tests/` or `ffi/examples/` names it, or, for an `_f32` twin, calls its
+/// double name through the precision macros `SFX(name)` / `FN(name)` of the files that include
+/// themselves once per precision.
+#[test]
+fn every_exported_function_is_called_from_c() {
+    let mut c_text = String::new();
+    for dir in ["ffi/tests", "ffi/examples"] {
+        for entry in std::fs::read_dir(workspace().join(dir)).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "c") {
+                c_text += &std::fs::read_to_string(&path).unwrap();
+            }
+        }
+    }
+    let is_word_char = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    let names_word = |word: &str| {
+        c_text.match_indices(word).any(|(i, _)| {
+            let before = c_text[..i].chars().next_back();
+            let after = c_text[i + word.len()..].chars().next();
+            !before.is_some_and(is_word_char) && !after.is_some_and(is_word_char)
+        })
+    };
+    let listed = std::fs::read_to_string(workspace().join("ffi/symbols.txt")).unwrap();
+    let missing: Vec<&str> = listed
+        .lines()
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+        .filter(|s| {
+            let via_macro = s.strip_suffix("_f32").is_some_and(|base| {
+                c_text.contains(&format!("SFX({base})")) || c_text.contains(&format!("FN({base})"))
+            });
+            !names_word(s) && !via_macro
+        })
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "not called from any C program: {missing:?}"
+    );
+}
