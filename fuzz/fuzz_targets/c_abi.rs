@@ -1578,7 +1578,8 @@ fn smooth_structured<T: Sc>(
     check_slot("smooth_structured", s, &rep);
     if s == dk_status::DK_OK {
         assert!(rep.get().iterations <= iterations(iters));
-        if pinned {
+        // Only when the mask really reached the library (a knob may pass it as NULL with 0).
+        if pinned && !opts.pinned.is_null() && opts.pinned_len > 0 {
             for (i, &p) in pb.v.iter().enumerate().take(f.n()) {
                 if p != 0 {
                     assert_eq!(f.v[i].bits(), before[i], "pinned point {i} moved");
@@ -1688,7 +1689,9 @@ fn smooth_arclength<T: Sc>(
         m.finite && !c.vals.nonfinite,
     );
     check_slot("smooth_arclength", s, &rep);
-    if s == dk_status::DK_OK && pinned && m.dim as usize == m.d {
+    // Only when the mask really reached the library (a knob may pass it as NULL with 0).
+    let pins_passed = !opts.pinned.is_null() && opts.pinned_len > 0;
+    if s == dk_status::DK_OK && pinned && pins_passed && m.dim as usize == m.d {
         let d = m.d;
         for (i, &q) in pb.v.iter().enumerate().take(p.n() / d) {
             if q != 0 {
