@@ -37,6 +37,7 @@ module deform_kernel
   integer(c_int32_t), parameter, public :: DK_ERR_DUPLICATE_NODE = 23
   integer(c_int32_t), parameter, public :: DK_ERR_NON_POSITIVE = 24
   integer(c_int32_t), parameter, public :: DK_ERR_CELL_DIMENSION = 25
+  integer(c_int32_t), parameter, public :: DK_ERR_OVERFLOW = 26
   integer(c_int32_t), parameter, public :: DK_ERR_OTHER = 99
 
   ! VTK cell kind codes.

@@ -143,6 +143,8 @@ enum dk_status
   DK_ERR_NON_POSITIVE = 24,
   // A cell's kind does not fit the point dimension of the call.
   DK_ERR_CELL_DIMENSION = 25,
+  // An intermediate result exceeded the floating-point range even after rescaling.
+  DK_ERR_OVERFLOW = 26,
   // An error this version of the header does not know (a newer kernel).
   DK_ERR_OTHER = 99,
 };

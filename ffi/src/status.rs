@@ -61,6 +61,8 @@ pub enum dk_status {
     DK_ERR_NON_POSITIVE = 24,
     /// A cell's kind does not fit the point dimension of the call.
     DK_ERR_CELL_DIMENSION = 25,
+    /// An intermediate result exceeded the floating-point range even after rescaling.
+    DK_ERR_OVERFLOW = 26,
     /// An error this version of the header does not know (a newer kernel).
     DK_ERR_OTHER = 99,
 }
@@ -91,6 +93,7 @@ impl From<Error> for dk_status {
             Error::DuplicateNode { .. } => dk_status::DK_ERR_DUPLICATE_NODE,
             Error::NonPositive { .. } => dk_status::DK_ERR_NON_POSITIVE,
             Error::CellDimension { .. } => dk_status::DK_ERR_CELL_DIMENSION,
+            Error::Overflow { .. } => dk_status::DK_ERR_OVERFLOW,
             _ => dk_status::DK_ERR_OTHER,
         }
     }
@@ -127,6 +130,7 @@ pub extern "C" fn dk_status_str(status: i32) -> *const core::ffi::c_char {
         23 => c"a node list names the same node twice",
         24 => c"a value that must be positive (stiffness, weight) is zero or negative",
         25 => c"a cell's kind does not fit the point dimension",
+        26 => c"an intermediate result exceeded the floating-point range",
         99 => c"an error unknown to this header version",
         _ => c"unknown status",
     };

@@ -181,6 +181,13 @@ pub enum Error {
         /// The point dimension `D` of the call.
         dimension: usize,
     },
+    /// An intermediate quantity exceeded the floating-point range even after the kernel's
+    /// power-of-two rescaling (for example stiffness and values whose products span more than
+    /// the exponent range): no result is returned rather than a wrong one.
+    Overflow {
+        /// The argument whose scale caused it.
+        arg: &'static str,
+    },
 }
 
 impl fmt::Display for Error {
@@ -259,6 +266,10 @@ impl fmt::Display for Error {
             Error::CellDimension { cell, kind, dimension } => write!(
                 f,
                 "cell {cell} (kind {kind}) is not a valid cell for {dimension}D points"
+            ),
+            Error::Overflow { arg } => write!(
+                f,
+                "a computation on `{arg}` exceeded the floating-point range"
             ),
         }
     }
@@ -365,6 +376,7 @@ impl defmt::Format for Error {
                 kind,
                 dimension
             ),
+            Error::Overflow { arg } => defmt::write!(f, "Overflow({=str})", arg),
         }
     }
 }

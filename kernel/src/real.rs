@@ -105,6 +105,12 @@ pub trait Real:
     fn is_nan(self) -> bool;
     /// `true` when the sign bit is set (also for `-0.0` and negative NaN).
     fn is_sign_negative(self) -> bool;
+    /// The binary exponent `e` with `2^e ≤ |self| < 2^(e+1)` for a normal `self`; the smallest
+    /// normal exponent (−1022 / −126) for zero and subnormals, one above the largest (1024 /
+    /// 128) for infinities and NaN. Read from the bits: exact and branch-free.
+    fn exponent(self) -> i32;
+    /// `2^e` exactly, with `e` clamped to the normal exponents (−1022..=1023 / −126..=127).
+    fn pow2(e: i32) -> Self;
 
     /// Minimum; if one argument is NaN the other is returned (IEEE 754 `minNum`).
     #[inline]
@@ -288,6 +294,20 @@ macro_rules! impl_real {
             #[inline]
             fn is_sign_negative(self) -> bool {
                 <$t>::is_sign_negative(self)
+            }
+            #[inline]
+            fn exponent(self) -> i32 {
+                const FRACTION_BITS: u32 = <$t>::MANTISSA_DIGITS - 1;
+                const BIAS: i32 = <$t>::MAX_EXP - 1;
+                let field = (self.to_bits() >> FRACTION_BITS) as i32 & (2 * BIAS + 1);
+                field.max(1) - BIAS
+            }
+            #[inline]
+            fn pow2(e: i32) -> Self {
+                const FRACTION_BITS: u32 = <$t>::MANTISSA_DIGITS - 1;
+                const BIAS: i32 = <$t>::MAX_EXP - 1;
+                let field = e.clamp(1 - BIAS, BIAS) + BIAS;
+                <$t>::from_bits((field as $bits) << FRACTION_BITS)
             }
             #[cfg(feature = "micromath")]
             #[inline]

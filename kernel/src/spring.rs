@@ -32,6 +32,7 @@
 
 mod angle;
 mod linear;
+mod norms;
 mod stiffness;
 mod system;
 

@@ -4,7 +4,7 @@ use super::{check_dim, check_finite, check_indices, check_len};
 use crate::error::{Error, Result};
 use crate::quat::{Quat, QuatAverage};
 use crate::real::Real;
-use crate::vector::{norm_sq, sub};
+use crate::vector::{norm_robust, norm_sq, scale, sub};
 
 /// Validates the boundary entries of field arrays: indices, finite translations and
 /// normalisable rotations at every boundary node.
@@ -97,14 +97,22 @@ pub fn propagate_idw<T: Real, const D: usize>(
 
     let half_p = exponent * T::HALF;
     let at = |i: u32| points.get(i as usize).copied().unwrap_or([T::ZERO; D]);
+    let quarter = T::HALF * T::HALF;
+    // Distance / 4 without overflow or underflow (the quarter keeps `x − b` finite): the
+    // fallback when a squared distance leaves the normal range.
+    let robust = |x: [T; D], b: [T; D]| norm_robust(sub(scale(x, quarter), scale(b, quarter)));
     for (i, x) in points.iter().enumerate() {
         // Nearest boundary node (squared distances; the first wins ties); skip boundary nodes.
         let mut d2min = T::INFINITY;
         let mut nearest = 0u32;
         let mut is_boundary = false;
+        let mut plain = true;
         for &b in boundary {
             is_boundary |= b as usize == i;
-            let d2 = norm_sq(sub(*x, at(b)));
+            let diff = sub(*x, at(b));
+            let d2 = norm_sq(diff);
+            plain &=
+                d2.is_finite() && (d2 >= T::MIN_POSITIVE || diff.iter().all(|&c| c == T::ZERO));
             if d2 < d2min {
                 d2min = d2;
                 nearest = b;
@@ -112,6 +120,19 @@ pub fn propagate_idw<T: Real, const D: usize>(
         }
         if is_boundary {
             continue;
+        }
+        // Squared distances overflowed or underflowed (points beyond ~1e154 or closer than
+        // ~1e-154 in f64): weigh by robust distances instead, `w = (h_min / h)^p`.
+        let mut hmin = T::INFINITY;
+        if !plain {
+            for &b in boundary {
+                let h = robust(*x, at(b));
+                if h < hmin {
+                    hmin = h;
+                    nearest = b;
+                }
+            }
+            d2min = hmin;
         }
         let tn = translations
             .get(nearest as usize)
@@ -126,11 +147,20 @@ pub fn propagate_idw<T: Real, const D: usize>(
             let mut wsum = T::ZERO;
             let mut qavg = QuatAverage::with_reference(qn);
             for &b in boundary {
-                let ratio = d2min / norm_sq(sub(*x, at(b)));
-                let w = if half_p == T::ONE {
-                    ratio
+                let w = if plain {
+                    let ratio = d2min / norm_sq(sub(*x, at(b)));
+                    if half_p == T::ONE {
+                        ratio
+                    } else {
+                        ratio.powf(half_p)
+                    }
                 } else {
-                    ratio.powf(half_p)
+                    let ratio = hmin / robust(*x, at(b));
+                    if half_p == T::ONE {
+                        ratio * ratio
+                    } else {
+                        ratio.powf(exponent)
+                    }
                 };
                 let bt = translations.get(b as usize).copied().unwrap_or(tn);
                 for (s, c) in sum.iter_mut().zip(bt) {

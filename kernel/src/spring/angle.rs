@@ -2,7 +2,7 @@
 
 use core::ops::Range;
 
-use super::linear::relative;
+use super::norms::{scale_by, sweep_exponent, Norm, SumSq};
 use super::system::{check_values, SolveOptions, SolveReport, SpringSystem, Sweep};
 use crate::error::{Error, Result};
 use crate::real::Real;
@@ -264,10 +264,9 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
         (r, m)
     }
 
-    /// `(‖b − A x‖₂, ‖b‖₂)` over the free nodes, `b_i = Σ_{j fixed} B_ij x_j`.
-    fn residual_norms(&self, x: &[[T; D]]) -> (T, T) {
-        let mut rr = T::ZERO;
-        let mut bb = T::ZERO;
+    /// Calls `f(r_i, b_i)` for every free node in node order: the residual
+    /// `r_i = Σ_j B_ij (x_j − x_i)` and the fixed nodes' pull `b_i = Σ_{j fixed} B_ij x_j`.
+    fn for_each_free_residual<F: FnMut(&[T; D], &[T; D])>(&self, x: &[[T; D]], mut f: F) {
         for (i, &xi) in x.iter().enumerate() {
             if self.base.is_fixed(i) {
                 continue;
@@ -284,10 +283,38 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
                     b = vector::add(b, self.edge_apply(k, &d, d2, &xj));
                 }
             }
-            rr += vector::norm_sq(r);
-            bb += vector::norm_sq(b);
+            f(&r, &b);
         }
-        (rr.sqrt(), bb.sqrt())
+    }
+
+    /// `(‖b − A x‖₂, ‖b‖₂)` over the free nodes, `b_i = Σ_{j fixed} B_ij x_j`, without
+    /// overflow or underflow (see [`super::norms`]); `x` may be stored scaled by `2^−exp`.
+    fn residual_norms(&self, x: &[[T; D]], exp: i32) -> (Norm<T>, Norm<T>) {
+        let mut rs = SumSq::new();
+        let mut bs = SumSq::new();
+        self.for_each_free_residual(x, |r, b| {
+            rs.add_vector(r);
+            bs.add_vector(b);
+        });
+        let (pr, pb) = (rs.plain(), bs.plain());
+        let (r, b) = match (pr, pb) {
+            (Ok(r), Ok(b)) => (r, b),
+            _ => {
+                let qr = T::pow2(-pr.err().unwrap_or(0));
+                let qb = T::pow2(-pb.err().unwrap_or(0));
+                let mut sr = T::ZERO;
+                let mut sb = T::ZERO;
+                self.for_each_free_residual(x, |r, b| {
+                    sr += vector::norm_sq(vector::scale(*r, qr));
+                    sb += vector::norm_sq(vector::scale(*b, qb));
+                });
+                (
+                    pr.unwrap_or_else(|e| Norm::from_sum(sr, e)),
+                    pb.unwrap_or_else(|e| Norm::from_sum(sb, e)),
+                )
+            }
+        };
+        (r.shifted(exp), b.shifted(exp))
     }
 
     /// `q = A p` on free nodes (`p` zero on fixed nodes) and `Σ p_iᵀ A_ii p_i`.
@@ -331,6 +358,7 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
         nodes: Range<usize>,
         input: &[[T; D]],
         output: &mut [[T; D]],
+        sigma: T,
     ) -> Sweep<T> {
         let mut stats = Sweep {
             max_change: T::ZERO,
@@ -343,7 +371,7 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
             } else {
                 let (r, m) = self.node_residual(i, xi, input);
                 let dx = cramer(&m, &r).unwrap_or([T::ZERO; D]);
-                tally(&mut stats, &dx, &r);
+                tally(&mut stats, &dx, &r, sigma);
                 vector::add(xi, dx)
             };
             if let Some(o) = output.get_mut(i) {
@@ -354,7 +382,7 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
     }
 
     /// Gauss–Seidel-order sweep without validation.
-    fn gauss_seidel_core(&self, nodes: Range<usize>, values: &mut [[T; D]]) -> Sweep<T> {
+    fn gauss_seidel_core(&self, nodes: Range<usize>, values: &mut [[T; D]], sigma: T) -> Sweep<T> {
         let mut stats = Sweep {
             max_change: T::ZERO,
             residual_sq: T::ZERO,
@@ -366,7 +394,7 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
             let Some(&xi) = values.get(i) else { continue };
             let (r, m) = self.node_residual(i, xi, values);
             let dx = cramer(&m, &r).unwrap_or([T::ZERO; D]);
-            tally(&mut stats, &dx, &r);
+            tally(&mut stats, &dx, &r, sigma);
             if let Some(o) = values.get_mut(i) {
                 *o = vector::add(xi, dx);
             }
@@ -375,11 +403,13 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
     }
 }
 
-/// `max(|δ|)` and `Σ r²` bookkeeping for one node.
+/// `max(|δ|)` and `Σ (σ r)²` bookkeeping for one node (`σ` a power of two: 1 in the public
+/// sweeps, chosen by the whole solves so the sum stays in range).
 #[inline]
-fn tally<T: Real, const D: usize>(stats: &mut Sweep<T>, change: &[T; D], r: &[T; D]) {
+fn tally<T: Real, const D: usize>(stats: &mut Sweep<T>, change: &[T; D], r: &[T; D], sigma: T) {
     for (&c, &r) in change.iter().zip(r) {
         stats.max_change = stats.max_change.max(c.abs());
+        let r = r * sigma;
         stats.residual_sq += r * r;
     }
 }
@@ -407,7 +437,7 @@ pub fn angle_jacobi_sweep<T: Real, const D: usize>(
         });
     }
     sys.base.check_range(&nodes)?;
-    Ok(sys.jacobi_core(nodes, input, output))
+    Ok(sys.jacobi_core(nodes, input, output, T::ONE))
 }
 
 /// One in-place Gauss–Seidel-order sweep of the angle-inclusion direct method over `nodes`
@@ -422,7 +452,7 @@ pub fn angle_gauss_seidel_sweep<T: Real, const D: usize>(
 ) -> Result<Sweep<T>> {
     check_values("values", values, sys.base.node_count())?;
     sys.base.check_range(&nodes)?;
-    Ok(sys.gauss_seidel_core(nodes, values))
+    Ok(sys.gauss_seidel_core(nodes, values, T::ONE))
 }
 
 /// Number of `[T; D]` scratch items [`solve_angle`] needs: `n` for [`AngleMethod::DirectJacobi`]
@@ -456,7 +486,11 @@ fn probe_value<T: Real>(i: u64) -> T {
 
 /// Conjugate gradients with the block-Jacobi preconditioner, `x` updated in place (`x` may be
 /// `None` for the probe, which only needs the residual). `r` must hold `b − A x` on entry.
-/// Returns `(iterations, recurrence ‖r‖, last max update, met)`.
+/// `x` and `r` may be stored scaled by `2^−exp` (`bnorm` is unscaled). Returns
+/// `(iterations, last max update (unscaled), met)`.
+///
+/// Errors: [`Error::SingularSystem`] on non-positive curvature, [`Error::Overflow`] when an
+/// inner product leaves the floating-point range.
 #[allow(clippy::too_many_arguments)]
 fn block_cg<T: Real, const D: usize>(
     sys: &AngleSystem<'_, T, D>,
@@ -464,10 +498,11 @@ fn block_cg<T: Real, const D: usize>(
     r: &mut [[T; D]],
     p: &mut [[T; D]],
     w: &mut [[T; D]],
-    bnorm: T,
+    bnorm: Norm<T>,
+    exp: i32,
     options: &SolveOptions<T>,
     max_iterations: usize,
-) -> Result<(usize, T, T, bool)> {
+) -> Result<(usize, T, bool)> {
     sys.precondition(r, w);
     for (p, &z) in p.iter_mut().zip(w.iter()) {
         *p = z;
@@ -475,15 +510,20 @@ fn block_cg<T: Real, const D: usize>(
     let mut rz = dot_all(r, w);
     let mut it = 0;
     let mut max_update = T::ZERO;
-    let mut rnorm = dot_all(r, r).sqrt();
     while it < max_iterations {
+        if !rz.is_finite() {
+            return Err(Error::Overflow { arg: "values" });
+        }
         if rz == T::ZERO {
-            return Ok((it, rnorm, max_update, true));
+            return Ok((it, scale_by(max_update, exp), true));
         }
         it += 1;
         let dpp = sys.apply(p, w);
         let pq = dot_all(p, w);
-        if pq <= T::EPSILON * dpp || !pq.is_finite() {
+        if !(pq.is_finite() && dpp.is_finite()) {
+            return Err(Error::Overflow { arg: "values" });
+        }
+        if pq <= T::EPSILON * dpp {
             return Err(Error::SingularSystem { iteration: it });
         }
         let alpha = rz / pq;
@@ -503,9 +543,12 @@ fn block_cg<T: Real, const D: usize>(
                 }
             }
         }
-        rnorm = rr.sqrt();
-        if options.met(relative(rnorm, bnorm), max_update) {
-            return Ok((it, rnorm, max_update, true));
+        if !rr.is_finite() {
+            return Err(Error::Overflow { arg: "values" });
+        }
+        let update = scale_by(max_update, exp);
+        if options.met(Norm::from_sum(rr, exp).relative_to(bnorm), update) {
+            return Ok((it, update, true));
         }
         sys.precondition(r, w);
         let rz_new = dot_all(r, w);
@@ -517,7 +560,23 @@ fn block_cg<T: Real, const D: usize>(
         }
         rz = rz_new;
     }
-    Ok((it, rnorm, max_update, false))
+    Ok((it, scale_by(max_update, exp), false))
+}
+
+/// The power-of-two exponent `e` of the scaled CG iterate `x · 2^−e`: brings `max |x|` to
+/// about `1/√k_max`, so every product CG forms is near 1 (one exponent for all components:
+/// the edge blocks couple them).
+fn cg_exponent<T: Real, const D: usize>(sys: &AngleSystem<'_, T, D>, x: &[[T; D]]) -> i32 {
+    let kmax = sys.base.stiffness().iter().fold(T::ZERO, |m, &k| m.max(k));
+    let vmax = x.iter().flatten().fold(T::ZERO, |m, &v| m.max(v.abs()));
+    let ek = if kmax > T::ZERO {
+        kmax.exponent() / 2
+    } else {
+        0
+    };
+    let ev = if vmax > T::ZERO { vmax.exponent() } else { 0 };
+    let limit = T::MAX.exponent() - 1;
+    (ev + ek).clamp(-limit, limit)
 }
 
 /// `Σ_i a_i · b_i` in node order.
@@ -594,13 +653,14 @@ pub fn angle_rigidity_probe<T: Real, const D: usize>(
         residual_tol: tol,
         update_tol: T::ZERO,
     };
-    let (it, _, _, met) = block_cg(
+    let (it, _, met) = block_cg(
         sys,
         Some(&mut *y),
         r,
         p,
         w,
-        bb.sqrt(),
+        Norm::from_sum(bb, 0),
+        0,
         &probe_options,
         probe_options.max_iterations,
     )?;
@@ -634,7 +694,11 @@ pub fn angle_rigidity_probe<T: Real, const D: usize>(
 /// Errors (values untouched): wrong length or non-finite values, bad options, `scratch`
 /// shorter than [`angle_scratch_len`], [`Error::SingularSystem`] from the probe (`iteration`
 /// = the probe's CG iteration, or 0 when the probe converged but its amplification exceeded
-/// [`MAX_AMPLIFICATION`]) or from CG (non-positive curvature).
+/// [`MAX_AMPLIFICATION`]) or from CG (non-positive curvature); [`Error::Overflow`] when
+/// stiffness and values together exceed the range (direct methods: `max_i Σ_j k_ij (1 + ε) ·
+/// 4 max |x|` overflows, `arg` = `"stiffness"`; CG: an inner product overflows even after
+/// power-of-two rescaling, `"values"`). Residuals use scaled norms and CG a rescaled copy, so
+/// the result at `2^k ·` values is exactly `2^k ·` the result (while no value is subnormal).
 pub fn solve_angle<T: Real, const D: usize>(
     sys: &AngleSystem<'_, T, D>,
     values: &mut [[T; D]],
@@ -659,10 +723,24 @@ pub fn solve_angle<T: Real, const D: usize>(
             return Err(Error::SingularSystem { iteration: 0 });
         }
     }
-    let (r0, bnorm) = sys.residual_norms(values);
+    if method != AngleMethod::Cg {
+        // The direct sweeps form `Σ_j B_ij (x_j − x_i)` unscaled (|B_ij v| ≤ (1 + ε) k |v|).
+        let vmax = values
+            .iter()
+            .flatten()
+            .fold(T::ZERO, |m, &v| m.max(v.abs()));
+        let dmax = (0..n).fold(T::ZERO, |m, i| {
+            m.max(sys.base.row(i).fold(T::ZERO, |d, (_, k)| d + k))
+        });
+        let four = T::TWO * T::TWO;
+        if !(dmax * (T::ONE + sys.epsilon) * (four * vmax)).is_finite() {
+            return Err(Error::Overflow { arg: "stiffness" });
+        }
+    }
+    let (r0, bnorm) = sys.residual_norms(values, 0);
     let mut report = SolveReport {
         iterations: 0,
-        residual: relative(r0, bnorm),
+        residual: r0.relative_to(bnorm),
         max_update: T::ZERO,
         converged: false,
     };
@@ -676,13 +754,15 @@ pub fn solve_angle<T: Real, const D: usize>(
             let other = scratch.get_mut(..n).unwrap_or(&mut []);
             let mut in_other = false;
             let mut checked = false;
+            let est_exp = sweep_exponent(&r0, &bnorm);
+            let sigma = T::pow2(-est_exp);
             while report.iterations < options.max_iterations {
                 let stats = if !jacobi {
-                    sys.gauss_seidel_core(0..n, values)
+                    sys.gauss_seidel_core(0..n, values, sigma)
                 } else if in_other {
-                    sys.jacobi_core(0..n, other, values)
+                    sys.jacobi_core(0..n, other, values, sigma)
                 } else {
-                    sys.jacobi_core(0..n, values, other)
+                    sys.jacobi_core(0..n, values, other, sigma)
                 };
                 if jacobi {
                     in_other = !in_other;
@@ -690,9 +770,10 @@ pub fn solve_angle<T: Real, const D: usize>(
                 report.iterations += 1;
                 report.max_update = stats.max_change;
                 checked = false;
-                if options.met(relative(stats.residual_sq.sqrt(), bnorm), stats.max_change) {
+                let estimate = Norm::from_sum(stats.residual_sq, est_exp).relative_to(bnorm);
+                if options.met(estimate, stats.max_change) {
                     let current: &[[T; D]] = if in_other { other } else { values };
-                    report.residual = relative(sys.residual_norms(current).0, bnorm);
+                    report.residual = sys.residual_norms(current, 0).0.relative_to(bnorm);
                     checked = true;
                     if options.met(report.residual, stats.max_change) {
                         report.converged = true;
@@ -706,7 +787,7 @@ pub fn solve_angle<T: Real, const D: usize>(
                 }
             }
             if !checked {
-                report.residual = relative(sys.residual_norms(values).0, bnorm);
+                report.residual = sys.residual_norms(values, 0).0.relative_to(bnorm);
             }
             Ok(report)
         }
@@ -717,8 +798,12 @@ pub fn solve_angle<T: Real, const D: usize>(
             let (r, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
             let (p, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
             let w = rest.get_mut(..n).unwrap_or(&mut []);
+            // CG runs on the field scaled by a power of two (exact): `max |x|` near
+            // `1/√k_max`, so `rᵀz` and `pᵀAp` stay in range at any scale of values and stiffness.
+            let exp = cg_exponent(sys, values);
+            let down = T::pow2(-exp);
             for (x, &v) in x.iter_mut().zip(values.iter()) {
-                *x = v;
+                *x = vector::scale(v, down);
             }
             while report.iterations < options.max_iterations {
                 // (Re)start from the true residual.
@@ -731,11 +816,11 @@ pub fn solve_angle<T: Real, const D: usize>(
                     };
                 }
                 let budget = options.max_iterations.saturating_sub(report.iterations);
-                let (it, _, max_update, met) =
-                    block_cg(sys, Some(&mut *x), r, p, w, bnorm, options, budget)?;
+                let (it, max_update, met) =
+                    block_cg(sys, Some(&mut *x), r, p, w, bnorm, exp, options, budget)?;
                 report.iterations += it;
                 report.max_update = max_update;
-                report.residual = relative(sys.residual_norms(x).0, bnorm);
+                report.residual = sys.residual_norms(x, exp).0.relative_to(bnorm);
                 if met && options.met(report.residual, max_update) {
                     report.converged = true;
                     break;
@@ -744,8 +829,11 @@ pub fn solve_angle<T: Real, const D: usize>(
                     break;
                 }
             }
-            for (v, &x) in values.iter_mut().zip(x.iter()) {
-                *v = x;
+            let up = T::pow2(exp);
+            for (i, (v, &x)) in values.iter_mut().zip(x.iter()).enumerate() {
+                if !sys.base.is_fixed(i) {
+                    *v = vector::scale(x, up);
+                }
             }
             Ok(report)
         }

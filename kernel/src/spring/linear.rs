@@ -3,6 +3,7 @@
 
 use core::ops::Range;
 
+use super::norms::{scale_by, sweep_exponent, Norm, SumSq};
 use super::system::{
     check_omega, check_values, LinearMethod, Preconditioner, SolveOptions, SolveReport,
     SpringSystem, Sweep,
@@ -31,11 +32,13 @@ fn node_residual<T: Real, const V: usize>(
     (acc, d)
 }
 
-/// `max(|δ|)` and `Σ r²` bookkeeping for one node.
+/// `max(|δ|)` and `Σ (σ r)²` bookkeeping for one node (`σ` a power of two, 1 in the public
+/// sweeps; the whole solves pick it so the sum neither overflows nor underflows).
 #[inline]
-fn tally<T: Real, const V: usize>(stats: &mut Sweep<T>, change: &[T; V], r: &[T; V]) {
+fn tally<T: Real, const V: usize>(stats: &mut Sweep<T>, change: &[T; V], r: &[T; V], sigma: T) {
     for (&c, &r) in change.iter().zip(r) {
         stats.max_change = stats.max_change.max(c.abs());
+        let r = r * sigma;
         stats.residual_sq += r * r;
     }
 }
@@ -46,6 +49,7 @@ pub(crate) fn jacobi_core<T: Real, const V: usize>(
     nodes: Range<usize>,
     input: &[[T; V]],
     output: &mut [[T; V]],
+    sigma: T,
 ) -> Sweep<T> {
     let mut stats = Sweep {
         max_change: T::ZERO,
@@ -63,7 +67,7 @@ pub(crate) fn jacobi_core<T: Real, const V: usize>(
                 *c = r / d;
                 *n += *c;
             }
-            tally(&mut stats, &change, &r);
+            tally(&mut stats, &change, &r, sigma);
             new
         };
         if let Some(o) = output.get_mut(i) {
@@ -98,7 +102,7 @@ pub fn jacobi_sweep<T: Real, const V: usize>(
         });
     }
     sys.check_range(&nodes)?;
-    Ok(jacobi_core(sys, nodes, input, output))
+    Ok(jacobi_core(sys, nodes, input, output, T::ONE))
 }
 
 /// SOR sweep without validation.
@@ -107,6 +111,7 @@ pub(crate) fn sor_core<T: Real, const V: usize>(
     nodes: Range<usize>,
     values: &mut [[T; V]],
     omega: T,
+    sigma: T,
 ) -> Sweep<T> {
     let mut stats = Sweep {
         max_change: T::ZERO,
@@ -124,7 +129,7 @@ pub(crate) fn sor_core<T: Real, const V: usize>(
             *c = omega * (r / d);
             *n += *c;
         }
-        tally(&mut stats, &change, &r);
+        tally(&mut stats, &change, &r, sigma);
         if let Some(o) = values.get_mut(i) {
             *o = new;
         }
@@ -147,16 +152,17 @@ pub fn sor_sweep<T: Real, const V: usize>(
     check_values("values", values, sys.node_count())?;
     sys.check_range(&nodes)?;
     check_omega(omega)?;
-    Ok(sor_core(sys, nodes, values, omega))
+    Ok(sor_core(sys, nodes, values, omega, T::ONE))
 }
 
-/// `(‖b − A x‖₂, ‖b‖₂)` over free nodes and all components, `b_i = Σ_{j fixed} k_ij x_j`.
-pub(crate) fn residual_norms<T: Real, const V: usize>(
+/// Calls `f(r_i, b_i)` for every free node `i` in node order: the residual
+/// `r_i = Σ_j k_ij (x_j − x_i)` (= `b − A x`) and the fixed nodes' pull `b_i = Σ_{j fixed} k_ij x_j`.
+#[inline]
+fn for_each_free_residual<T: Real, const V: usize, F: FnMut(&[T; V], &[T; V])>(
     sys: &SpringSystem<'_, T>,
     x: &[[T; V]],
-) -> (T, T) {
-    let mut rr = T::ZERO;
-    let mut bb = T::ZERO;
+    mut f: F,
+) {
     for ((_, fixed, row), &xi) in sys.rows().zip(x) {
         if fixed {
             continue;
@@ -173,22 +179,60 @@ pub(crate) fn residual_norms<T: Real, const V: usize>(
                 }
             }
         }
-        for (&r, &b) in r.iter().zip(&b) {
-            rr += r * r;
-            bb += b * b;
-        }
+        f(&r, &b);
     }
-    (rr.sqrt(), bb.sqrt())
 }
 
-/// `‖r‖ / ‖b‖`, or `‖r‖` when `b = 0`.
-#[inline]
-pub(crate) fn relative<T: Real>(r: T, b: T) -> T {
-    if b > T::ZERO {
-        r / b
-    } else {
-        r
-    }
+/// `(‖b − A x‖₂, ‖b‖₂)` over free nodes and all components, `b_i = Σ_{j fixed} k_ij x_j`,
+/// without overflow or underflow (see [`super::norms`]).
+pub(crate) fn residual_norms<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    x: &[[T; V]],
+) -> (Norm<T>, Norm<T>) {
+    residual_norms_scaled(sys, x, &[0; V])
+}
+
+/// [`residual_norms`] of a field whose component `c` is stored as `x_c · 2^−exps[c]` (the
+/// scaled CG iterate): the norms of the unscaled field.
+fn residual_norms_scaled<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    x: &[[T; V]],
+    exps: &[i32; V],
+) -> (Norm<T>, Norm<T>) {
+    // Bring every component to the largest component's scale (factors are 1 when unscaled).
+    let top = exps.iter().copied().max().unwrap_or(0);
+    let g = exps.map(|e| scale_by(T::ONE, e - top));
+    let mut rs = SumSq::new();
+    let mut bs = SumSq::new();
+    for_each_free_residual(sys, x, |r, b| {
+        for ((&r, &b), &g) in r.iter().zip(b).zip(&g) {
+            rs.add(r * g);
+            bs.add(b * g);
+        }
+    });
+    let (pr, pb) = (rs.plain(), bs.plain());
+    let (r, b) = match (pr, pb) {
+        (Ok(r), Ok(b)) => (r, b),
+        _ => {
+            // Second pass, each sum scaled by its own power of two.
+            let qr = T::pow2(-pr.err().unwrap_or(0));
+            let qb = T::pow2(-pb.err().unwrap_or(0));
+            let mut sr = T::ZERO;
+            let mut sb = T::ZERO;
+            for_each_free_residual(sys, x, |r, b| {
+                for ((&r, &b), &g) in r.iter().zip(b).zip(&g) {
+                    let (r, b) = (r * g * qr, b * g * qb);
+                    sr += r * r;
+                    sb += b * b;
+                }
+            });
+            (
+                pr.unwrap_or_else(|e| Norm::from_sum(sr, e)),
+                pb.unwrap_or_else(|e| Norm::from_sum(sb, e)),
+            )
+        }
+    };
+    (r.shifted(top), b.shifted(top))
 }
 
 /// The relative residual `‖b − A x‖₂ / ‖b‖₂` of a value field for the linear springs (the
@@ -201,7 +245,28 @@ pub fn relative_residual<T: Real, const V: usize>(
 ) -> Result<T> {
     check_values("values", values, sys.node_count())?;
     let (r, b) = residual_norms(sys, values);
-    Ok(relative(r, b))
+    Ok(r.relative_to(b))
+}
+
+/// The stationary sweeps form `Σ_j k_ij (x_j − x_i)` unscaled; it stays finite when
+/// `max_i Σ_j k_ij · 2 max |x| ` does (the iterates stay within the data's range).
+/// Otherwise [`Error::Overflow`] on `stiffness`, before anything is written.
+pub(crate) fn check_sweep_range<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    values: &[[T; V]],
+) -> Result<()> {
+    let vmax = values
+        .iter()
+        .flatten()
+        .fold(T::ZERO, |m, &v| m.max(v.abs()));
+    let dmax = sys.rows().fold(T::ZERO, |m, (_, _, row)| {
+        m.max(row.fold(T::ZERO, |d, (_, k)| d + k))
+    });
+    if (dmax * (T::TWO * vmax)).is_finite() {
+        Ok(())
+    } else {
+        Err(Error::Overflow { arg: "stiffness" })
+    }
 }
 
 /// Number of `[T; V]` scratch items [`solve_linear`] needs: `n` for Jacobi (the second
@@ -224,10 +289,17 @@ pub fn solve_linear_scratch_len<T>(method: &LinearMethod<T>, node_count: usize) 
 /// residual; CG confirms its recurrence residual the same way and restarts from the true
 /// residual if they disagree. The reported residual is always recomputed from the values.
 ///
+/// Residuals are measured with scaled norms and CG runs on a power-of-two-scaled copy, so any
+/// finite values are handled: the result at `2^k ·` values is exactly `2^k ·` the result
+/// (while no value is subnormal).
+///
 /// Errors (values untouched): wrong lengths, non-finite values, bad options or `omega`,
-/// `scratch` shorter than [`solve_linear_scratch_len`], and [`Error::SingularSystem`] if CG
+/// `scratch` shorter than [`solve_linear_scratch_len`], [`Error::SingularSystem`] if CG
 /// meets non-positive curvature (cannot happen for a validated system in exact arithmetic;
-/// reported rather than hidden if rounding causes it).
+/// reported rather than hidden if rounding causes it), [`Error::Overflow`] when stiffness and
+/// values together exceed the range: for Jacobi/Gauss–Seidel/SOR when `max_i Σ_j k_ij ·
+/// 2 max |x|` overflows (`arg` = `"stiffness"`), for CG when an inner product overflows even
+/// after rescaling (`"values"`; for example `k ≈ 1e308` without a preconditioner).
 pub fn solve_linear<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     values: &mut [[T; V]],
@@ -253,6 +325,9 @@ pub fn solve_linear<T: Real, const V: usize>(
             actual: scratch.len(),
         });
     }
+    if !matches!(method, LinearMethod::Cg { .. }) {
+        check_sweep_range(sys, values)?;
+    }
     match method {
         LinearMethod::Jacobi => Ok(solve_jacobi(sys, values, options, scratch)),
         LinearMethod::GaussSeidel => Ok(solve_sor(sys, values, options, T::ONE)),
@@ -272,9 +347,11 @@ fn solve_jacobi<T: Real, const V: usize>(
     let n = sys.node_count();
     let other = scratch.get_mut(..n).unwrap_or(&mut []);
     let (r0, bnorm) = residual_norms(sys, values);
+    let est_exp = sweep_exponent(&r0, &bnorm);
+    let sigma = T::pow2(-est_exp);
     let mut report = SolveReport {
         iterations: 0,
-        residual: relative(r0, bnorm),
+        residual: r0.relative_to(bnorm),
         max_update: T::ZERO,
         converged: false,
     };
@@ -286,20 +363,20 @@ fn solve_jacobi<T: Real, const V: usize>(
     let mut checked = false;
     while report.iterations < options.max_iterations {
         let stats = if in_other {
-            jacobi_core(sys, 0..n, other, values)
+            jacobi_core(sys, 0..n, other, values, sigma)
         } else {
-            jacobi_core(sys, 0..n, values, other)
+            jacobi_core(sys, 0..n, values, other, sigma)
         };
         in_other = !in_other;
         report.iterations += 1;
         report.max_update = stats.max_change;
         // The sweep's residual is that of its input: a cheap, one-step-late estimate.
-        let estimate = relative(stats.residual_sq.sqrt(), bnorm);
+        let estimate = Norm::from_sum(stats.residual_sq, est_exp).relative_to(bnorm);
         checked = false;
         if options.met(estimate, stats.max_change) {
             let current: &[[T; V]] = if in_other { other } else { values };
             let (r, _) = residual_norms(sys, current);
-            report.residual = relative(r, bnorm);
+            report.residual = r.relative_to(bnorm);
             checked = true;
             if options.met(report.residual, stats.max_change) {
                 report.converged = true;
@@ -314,7 +391,7 @@ fn solve_jacobi<T: Real, const V: usize>(
     }
     if !checked {
         let (r, _) = residual_norms(sys, values);
-        report.residual = relative(r, bnorm);
+        report.residual = r.relative_to(bnorm);
     }
     report
 }
@@ -327,9 +404,11 @@ fn solve_sor<T: Real, const V: usize>(
 ) -> SolveReport<T> {
     let n = sys.node_count();
     let (r0, bnorm) = residual_norms(sys, values);
+    let est_exp = sweep_exponent(&r0, &bnorm);
+    let sigma = T::pow2(-est_exp);
     let mut report = SolveReport {
         iterations: 0,
-        residual: relative(r0, bnorm),
+        residual: r0.relative_to(bnorm),
         max_update: T::ZERO,
         converged: false,
     };
@@ -339,14 +418,14 @@ fn solve_sor<T: Real, const V: usize>(
     }
     let mut checked = false;
     while report.iterations < options.max_iterations {
-        let stats = sor_core(sys, 0..n, values, omega);
+        let stats = sor_core(sys, 0..n, values, omega, sigma);
         report.iterations += 1;
         report.max_update = stats.max_change;
-        let estimate = relative(stats.residual_sq.sqrt(), bnorm);
+        let estimate = Norm::from_sum(stats.residual_sq, est_exp).relative_to(bnorm);
         checked = false;
         if options.met(estimate, stats.max_change) {
             let (r, _) = residual_norms(sys, values);
-            report.residual = relative(r, bnorm);
+            report.residual = r.relative_to(bnorm);
             checked = true;
             if options.met(report.residual, stats.max_change) {
                 report.converged = true;
@@ -356,7 +435,7 @@ fn solve_sor<T: Real, const V: usize>(
     }
     if !checked {
         let (r, _) = residual_norms(sys, values);
-        report.residual = relative(r, bnorm);
+        report.residual = r.relative_to(bnorm);
     }
     report
 }
@@ -489,6 +568,30 @@ pub(crate) fn dots<T: Real, const V: usize>(a: &[[T; V]], b: &[[T; V]]) -> [T; V
     s
 }
 
+/// Per-component power-of-two exponents `e_c` for the scaled CG iterate `x_c · 2^−e_c`:
+/// brings `max_i |x_ic|` to about `1/√k_max`, so every product CG forms (`k x²` in `rᵀz`,
+/// `pᵀAp`) is near 1 whatever the scale of the values or the stiffness. Powers of two scale
+/// exactly: the iterates are the unscaled ones times `2^−e_c`, bit for bit.
+fn cg_exponents<T: Real, const V: usize>(sys: &SpringSystem<'_, T>, x: &[[T; V]]) -> [i32; V] {
+    let kmax = sys.stiffness().iter().fold(T::ZERO, |m, &k| m.max(k));
+    let ek = if kmax > T::ZERO {
+        kmax.exponent() / 2
+    } else {
+        0
+    };
+    let mut vmax = [T::ZERO; V];
+    for xi in x {
+        for (m, &v) in vmax.iter_mut().zip(xi) {
+            *m = m.max(v.abs());
+        }
+    }
+    let limit = T::MAX.exponent() - 1;
+    vmax.map(|m| {
+        let ev = if m > T::ZERO { m.exponent() } else { 0 };
+        (ev + ek).clamp(-limit, limit)
+    })
+}
+
 fn solve_cg<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     values: &mut [[T; V]],
@@ -497,35 +600,36 @@ fn solve_cg<T: Real, const V: usize>(
     scratch: &mut [[T; V]],
 ) -> Result<SolveReport<T>> {
     let n = sys.node_count();
+    let too_small = Error::BufferTooSmall {
+        arg: "scratch",
+        needed: n.saturating_mul(4),
+        actual: scratch.len(),
+    };
     let Some((x, rest)) = scratch.split_at_mut_checked(n) else {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed: n.saturating_mul(4),
-            actual: scratch.len(),
-        });
+        return Err(too_small);
     };
     let Some((r, rest)) = rest.split_at_mut_checked(n) else {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed: n.saturating_mul(4),
-            actual: scratch.len(),
-        });
+        return Err(too_small);
     };
     let Some((p, rest)) = rest.split_at_mut_checked(n) else {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed: n.saturating_mul(4),
-            actual: scratch.len(),
-        });
+        return Err(too_small);
     };
     let w = rest.get_mut(..n).unwrap_or(&mut []);
-    for (x, &v) in x.iter_mut().zip(values.iter()) {
-        *x = v;
+    // CG runs on the scaled field x_c · 2^−e_c (see `cg_exponents`).
+    let exps = cg_exponents(sys, values);
+    let down = exps.map(|e| T::pow2(-e));
+    for (x, v) in x.iter_mut().zip(values.iter()) {
+        for ((x, &v), &f) in x.iter_mut().zip(v).zip(&down) {
+            *x = v * f;
+        }
     }
-    let (r0, bnorm) = residual_norms(sys, x);
+    // The recurrence residual summed at the largest component's scale.
+    let top = exps.iter().copied().max().unwrap_or(0);
+    let to_top = exps.map(|e| scale_by(T::ONE, e - top));
+    let (r0, bnorm) = residual_norms_scaled(sys, x, &exps);
     let mut report = SolveReport {
         iterations: 0,
-        residual: relative(r0, bnorm),
+        residual: r0.relative_to(bnorm),
         max_update: T::ZERO,
         converged: false,
     };
@@ -558,42 +662,60 @@ fn solve_cg<T: Real, const V: usize>(
         let pq = dots(p, w);
         let mut alpha = [T::ZERO; V];
         for (((a, &pq), &dpp), &rz) in alpha.iter_mut().zip(&pq).zip(&dpp).zip(&rz) {
+            if !(pq.is_finite() && rz.is_finite() && dpp.is_finite()) {
+                return Err(Error::Overflow { arg: "values" });
+            }
             if dpp == T::ZERO || rz == T::ZERO {
                 continue; // this component has converged exactly
             }
-            if pq <= tiny * dpp || !pq.is_finite() {
+            if pq <= tiny * dpp {
                 return Err(Error::SingularSystem {
                     iteration: report.iterations,
                 });
             }
             *a = rz / pq;
         }
-        let mut max_update = T::ZERO;
+        let mut max_update = [T::ZERO; V];
         let mut rr = T::ZERO;
         for (((x, r), &p), &q) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(w.iter()) {
-            for ((((x, r), &p), &q), &a) in
-                x.iter_mut().zip(r.iter_mut()).zip(&p).zip(&q).zip(&alpha)
+            for ((((((x, r), &p), &q), &a), m), &g) in x
+                .iter_mut()
+                .zip(r.iter_mut())
+                .zip(&p)
+                .zip(&q)
+                .zip(&alpha)
+                .zip(max_update.iter_mut())
+                .zip(&to_top)
             {
                 let dx = a * p;
                 *x += dx;
                 *r -= a * q;
-                max_update = max_update.max(dx.abs());
-                rr += *r * *r;
+                *m = m.max(dx.abs());
+                let rg = *r * g;
+                rr += rg * rg;
             }
         }
-        report.max_update = max_update;
+        report.max_update = max_update
+            .iter()
+            .zip(&exps)
+            .fold(T::ZERO, |m, (&u, &e)| m.max(scale_by(u, e)));
         checked = false;
-        if options.met(relative(rr.sqrt(), bnorm), max_update) {
-            let (rt, _) = residual_norms(sys, x);
-            report.residual = relative(rt, bnorm);
+        // An overflowing recurrence sum cannot say "converged": ask the true residual.
+        let estimate_ok = rr.is_finite();
+        let estimate = Norm::from_sum(rr, top).relative_to(bnorm);
+        if !estimate_ok || options.met(estimate, report.max_update) {
+            let (rt, _) = residual_norms_scaled(sys, x, &exps);
+            report.residual = rt.relative_to(bnorm);
             checked = true;
-            if options.met(report.residual, max_update) {
+            if options.met(report.residual, report.max_update) {
                 report.converged = true;
                 break;
             }
-            // Recurrence and true residual disagree: restart from the true residual.
-            rz = restart(x, r, p, w);
-            continue;
+            if estimate_ok {
+                // Recurrence and true residual disagree: restart from the true residual.
+                rz = restart(x, r, p, w);
+                continue;
+            }
         }
         precondition(sys, pre, r, w);
         let rz_new = dots(r, w);
@@ -611,14 +733,18 @@ fn solve_cg<T: Real, const V: usize>(
         rz = rz_new;
     }
     if !checked {
-        let (rt, _) = residual_norms(sys, x);
-        report.residual = relative(rt, bnorm);
+        let (rt, _) = residual_norms_scaled(sys, x, &exps);
+        report.residual = rt.relative_to(bnorm);
     }
     // Free nodes only: CG adds `α·p` with `p = 0` at fixed nodes, which would turn a fixed
-    // −0.0 into +0.0; fixed values must come back bit for bit.
-    for (i, (v, &x)) in values.iter_mut().zip(x.iter()).enumerate() {
+    // −0.0 into +0.0 (and scaling could round a fixed subnormal); fixed values must come back
+    // bit for bit.
+    let up = exps.map(|e| T::pow2(e));
+    for (i, (v, x)) in values.iter_mut().zip(x.iter()).enumerate() {
         if !sys.is_fixed(i) {
-            *v = x;
+            for ((v, &x), &f) in v.iter_mut().zip(x).zip(&up) {
+                *v = x * f;
+            }
         }
     }
     Ok(report)

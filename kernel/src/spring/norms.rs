@@ -1,0 +1,155 @@
+//! Euclidean norms of whole value fields that neither overflow nor underflow.
+//!
+//! `Σ x²` overflows once a component exceeds `√MAX` (1.3e154 for `f64`, 1.8e19 for `f32`) and
+//! underflows to 0 below `√MIN_POSITIVE` (1.5e-154, 1.1e-19). A relative residual built from
+//! such sums is then `inf/inf = NaN`, `finite/inf = 0` or `0/0 → 0`, and a solve stops early
+//! with a wrong answer that claims convergence. So every norm here is accumulated plainly
+//! together with the largest `|x|` ([`SumSq`]); when the plain sum is outside the range where
+//! it is exact to rounding, the caller accumulates once more with every term multiplied by
+//! `2^−e`, `2^e` being the largest `|x|`'s binade. Powers of two scale exactly, so the
+//! rescaled sum has the bits the plain sum would have had with an unlimited exponent range:
+//! a field multiplied by `2^k` has its norm multiplied by exactly `2^k` and its relative
+//! residual unchanged. Norms are kept as `value · 2^exp` ([`Norm`]) until a ratio is formed.
+
+use crate::real::Real;
+
+/// A plain running `Σ x²` and `max |x|`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SumSq<T> {
+    /// `Σ x²` (may have overflowed or underflowed).
+    pub(crate) sum: T,
+    /// `max |x|` (exact).
+    pub(crate) max: T,
+}
+
+impl<T: Real> SumSq<T> {
+    /// The empty sum.
+    pub(crate) const fn new() -> Self {
+        SumSq {
+            sum: T::ZERO,
+            max: T::ZERO,
+        }
+    }
+
+    /// Adds `x²` (and `|x|` to the maximum).
+    #[inline]
+    pub(crate) fn add(&mut self, x: T) {
+        self.sum += x * x;
+        self.max = self.max.max(x.abs());
+    }
+
+    /// Adds `|v|²` summed first within `v` (the angle springs' node-by-node order) and every
+    /// `|v_c|` to the maximum.
+    #[inline]
+    pub(crate) fn add_vector<const D: usize>(&mut self, v: &[T; D]) {
+        self.sum += crate::vector::norm_sq(*v);
+        for &x in v {
+            self.max = self.max.max(x.abs());
+        }
+    }
+
+    /// The norm `√Σ x²` if the plain sum is exact to rounding (finite, and either large enough
+    /// that no underflowed term matters or made of zeros only), else `Err(e)`: sum again with
+    /// every term multiplied by [`Real::pow2`]`(−e)` and finish with [`Norm::from_sum`]`(s, e)`.
+    #[inline]
+    pub(crate) fn plain(&self) -> Result<Norm<T>, i32> {
+        if !self.max.is_finite() {
+            // A term itself overflowed: the norm is genuinely not representable.
+            return Ok(Norm {
+                value: T::INFINITY,
+                exp: 0,
+            });
+        }
+        if self.sum.is_finite() && (self.sum >= T::MIN_POSITIVE / T::EPSILON || self.max == T::ZERO)
+        {
+            Ok(Norm::from_sum(self.sum, 0))
+        } else {
+            Err(scale_exponent(self.max))
+        }
+    }
+}
+
+/// The exponent `e` that brings `max` (finite, ≥ 0) into `[1, 2)` when multiplied by `2^−e`,
+/// clamped so that `2^−e` and `2^e` are normal numbers.
+#[inline]
+pub(crate) fn scale_exponent<T: Real>(max: T) -> i32 {
+    let limit = T::MAX.exponent() - 1;
+    max.exponent().clamp(-limit, limit)
+}
+
+/// `x · 2^e` for any `e` (in steps that stay within the normal powers of two).
+#[inline]
+pub(crate) fn scale_by<T: Real>(mut x: T, mut e: i32) -> T {
+    let step = T::MAX.exponent() - 1;
+    // At most a few steps: exponents here are differences of two clamped exponents.
+    for _ in 0..8 {
+        if e > step {
+            x *= T::pow2(step);
+            e -= step;
+        } else if e < -step {
+            x *= T::pow2(-step);
+            e += step;
+        } else {
+            break;
+        }
+    }
+    x * T::pow2(e)
+}
+
+/// A Euclidean norm stored as `value · 2^exp`, so it never overflows or underflows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Norm<T> {
+    value: T,
+    exp: i32,
+}
+
+impl<T: Real> Norm<T> {
+    /// The norm of terms that were summed as `Σ (x · 2^−exp)²`.
+    #[inline]
+    pub(crate) fn from_sum(sum: T, exp: i32) -> Self {
+        Norm {
+            value: sum.sqrt(),
+            exp,
+        }
+    }
+
+    /// The same norm for values that were scaled by `2^−k` (multiplies it by `2^k`).
+    #[inline]
+    pub(crate) fn shifted(self, k: i32) -> Self {
+        Norm {
+            value: self.value,
+            exp: self.exp.saturating_add(k),
+        }
+    }
+
+    /// The norm as a number (`+∞` if it exceeds the range).
+    #[inline]
+    pub(crate) fn to_real(self) -> T {
+        scale_by(self.value, self.exp)
+    }
+
+    /// `self / b`, or `self` when `b = 0` (the relative residual `‖r‖ / ‖b‖` of
+    /// [`SolveOptions`](super::SolveOptions)).
+    #[inline]
+    pub(crate) fn relative_to(self, b: Norm<T>) -> T {
+        if b.value > T::ZERO {
+            scale_by(self.value / b.value, self.exp - b.exp)
+        } else {
+            self.to_real()
+        }
+    }
+}
+
+/// The power-of-two exponent `e` in which a stationary solve accumulates its sweeps'
+/// `Σ (2^−e r)²`, from the initial residual and right-hand-side norms: 0 (plain sums, today's
+/// bits) when both were summed plainly, else the larger of their exponents, so the sums stay in
+/// range while the residual falls from `‖r₀‖` towards `tol · ‖b‖`.
+#[inline]
+pub(crate) fn sweep_exponent<T: Real>(r0: &Norm<T>, b: &Norm<T>) -> i32 {
+    match (r0.exp, b.exp) {
+        (0, 0) => 0,
+        (er, eb) if b.value > T::ZERO && r0.value > T::ZERO => er.max(eb),
+        (er, _) if r0.value > T::ZERO => er,
+        (_, eb) => eb,
+    }
+}
