@@ -30,12 +30,17 @@
 //! which is undefined behaviour for a Rust `bool` but just "fixed" for a `u8`. So the C ABI can
 //! pass the caller's array through without a copy.
 
+mod amg;
 mod angle;
 mod linear;
 mod norms;
 mod stiffness;
 mod system;
 
+pub use amg::{
+    amg_precondition, amg_precondition_scratch_len, solve_linear_amg, solve_linear_amg_scratch_len,
+    AmgHierarchy, AmgOptions, AmgSizes, AmgSmoother, AMG_MAX_DENSE, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
+};
 pub use angle::{
     angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_probe_scratch_len, angle_rigidity_probe,
     angle_scratch_len, solve_angle, AngleMethod, AngleSystem, DEFAULT_ANGLE_EPSILON,

@@ -32,6 +32,7 @@ use core::hint::black_box;
 use cortex_m as _;
 use cortex_m_rt::entry;
 
+mod amg;
 mod deformation;
 mod foundation;
 mod quality;
@@ -42,6 +43,7 @@ mod taubin;
 fn main() -> ! {
     foundation::exercise();
     spring::exercise();
+    amg::exercise();
     quality::exercise();
     taubin::exercise();
     deformation::exercise();

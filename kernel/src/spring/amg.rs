@@ -1,0 +1,388 @@
+//! Smoothed-aggregation algebraic multigrid (SA-AMG) as a conjugate-gradient preconditioner
+//! for the linear springs.
+//!
+//! Every value component of a linear-spring solve (displacements `V = D`, the quaternion
+//! method's `V = D + 4`, joint solves) sees the same scalar operator: the weighted graph
+//! Laplacian restricted to the free nodes (`A_ii = Σ_j k_ij` over all neighbours, `A_ij = −k_ij`
+//! for free `j`). So the hierarchy is built once on that scalar operator and applied to all `V`
+//! components at once.
+//!
+//! Construction (Vaněk, Mandel & Brezina's smoothed aggregation, as in pyamg's defaults):
+//! - **strength of connection**: the symmetric measure `|a_ij| ≥ θ √(a_ii a_jj)` on the fine
+//!   level (θ = 0 by default: every spring is strong); coarse levels use all their connections
+//!   (their sparsity is then known before their values, which makes the size query exact);
+//! - **aggregation**: pyamg's standard two-pass aggregation in fixed node order (roots with all
+//!   their free neighbours, then leftovers join a neighbouring aggregate); fixed nodes belong to
+//!   no aggregate, so they are eliminated from every coarse problem;
+//! - **tentative prolongator** `T`: piecewise constant (the constant is the near-null space of a
+//!   free spring network);
+//! - **smoothed prolongator** `P = (I − ω D⁻¹ A) T`, `ω = (4/3) / ρ`, with `ρ` the Gershgorin
+//!   bound of `ρ(D⁻¹A)` (an upper bound, so the smoother and the prolongator stay stable);
+//! - **Galerkin coarse operators** `Pᵀ A P` (sparse triple product, symbolic then numeric),
+//!   symmetrised exactly;
+//! - **coarsest level**: dense Cholesky when it has at most `max_coarse` unknowns, otherwise
+//!   the smoother;
+//! - **V-cycle**: damped Jacobi pre- and post-smoothing with the same weight and sweep count
+//!   (a symmetric preconditioner, so CG stays valid; no Gauss–Seidel, so the result does not
+//!   depend on a node partition).
+//!
+//! Storage: all of it in caller buffers. [`AmgHierarchy::setup_len`] runs the symbolic pass in
+//! a `work` buffer of [`AmgHierarchy::setup_work_len`] entries and returns the exact
+//! [`AmgSizes`]; [`AmgHierarchy::setup`] fills an `index` (`u32`) and a `values` (`T`) buffer of
+//! those sizes. The buffers are reusable: a new setup (new stiffness, next time step) writes
+//! them again. [`solve_linear_amg`] then runs the preconditioned CG.
+
+mod cycle;
+mod pcg;
+mod setup;
+
+pub use pcg::{
+    amg_precondition, amg_precondition_scratch_len, solve_linear_amg, solve_linear_amg_scratch_len,
+};
+
+use crate::error::{Error, Result};
+use crate::real::Real;
+
+use super::system::SpringSystem;
+
+/// Most levels a hierarchy can have (the level table is a fixed-size array).
+pub const AMG_MAX_LEVELS: usize = 16;
+
+/// Largest `max_coarse` accepted (the dense coarsest factor needs `max_coarse²` values).
+pub const AMG_MAX_DENSE: usize = 2048;
+
+/// Options of the multigrid hierarchy and its V-cycle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AmgOptions<T> {
+    /// Strength-of-connection threshold θ in `[0, 1)` for the fine level: a spring `i–j` is
+    /// strong when `k_ij ≥ θ √(A_ii A_jj)`. Default 0 (all springs strong, pyamg's default for
+    /// smoothed aggregation).
+    pub strength_theta: T,
+    /// Most levels, in `1..=`[`AMG_MAX_LEVELS`] (1 = the smoother alone). Default 10.
+    pub max_levels: usize,
+    /// Coarsening stops at a coarse level with at most this many unknowns, which is then solved
+    /// by dense Cholesky; in `1..=`[`AMG_MAX_DENSE`]. Default 256.
+    pub max_coarse: usize,
+    /// The smoother of every level (the same before and after the coarse correction, so the
+    /// V-cycle is symmetric). Default Chebyshev.
+    pub smoother: AmgSmoother,
+    /// Smoothing steps before and after the coarse correction (the Chebyshev degree), in
+    /// `1..=`[`AMG_MAX_SWEEPS`]. Default 2.
+    pub sweeps: usize,
+}
+
+/// Most smoothing steps per application ([`AmgOptions::sweeps`]).
+pub const AMG_MAX_SWEEPS: usize = 16;
+
+/// The V-cycle's smoother. Both are Richardson steps `x += ω_s D⁻¹ (b − A x)` (node-local,
+/// partition-independent) and differ in the weights.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AmgSmoother {
+    /// Damped Jacobi: `ω = (4/3) / ρ` every step, `ρ` the Gershgorin bound of `ρ(D⁻¹A)`.
+    Jacobi,
+    /// Chebyshev polynomial in `D⁻¹A` in product form: step `s` of `m` uses `ω_s = 1 / λ_s` with
+    /// `λ_s` the roots of the degree-`m` Chebyshev polynomial on `[ρ/30, ρ]` (the interval
+    /// pyamg's Chebyshev smoother targets).
+    Chebyshev,
+}
+
+impl<T: Real> Default for AmgOptions<T> {
+    fn default() -> Self {
+        AmgOptions {
+            strength_theta: T::ZERO,
+            max_levels: 10,
+            max_coarse: 256,
+            smoother: AmgSmoother::Chebyshev,
+            sweeps: 2,
+        }
+    }
+}
+
+impl<T: Real> AmgOptions<T> {
+    /// Checks every option (see the field docs).
+    fn check(&self) -> Result<()> {
+        let t = self.strength_theta;
+        if !(t.is_finite() && t >= T::ZERO && t < T::ONE) {
+            return Err(Error::InvalidParameter {
+                arg: "strength_theta",
+                reason: "must be in [0, 1)",
+            });
+        }
+        if self.max_levels == 0 || self.max_levels > AMG_MAX_LEVELS {
+            return Err(Error::InvalidParameter {
+                arg: "max_levels",
+                reason: "must be in 1..=AMG_MAX_LEVELS",
+            });
+        }
+        if self.max_coarse == 0 || self.max_coarse > AMG_MAX_DENSE {
+            return Err(Error::InvalidParameter {
+                arg: "max_coarse",
+                reason: "must be in 1..=AMG_MAX_DENSE",
+            });
+        }
+        if self.sweeps == 0 || self.sweeps > AMG_MAX_SWEEPS {
+            return Err(Error::InvalidParameter {
+                arg: "sweeps",
+                reason: "must be in 1..=AMG_MAX_SWEEPS",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Exact buffer sizes of one hierarchy ([`AmgHierarchy::setup_len`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AmgSizes {
+    /// `u32` entries of the `index` buffer (aggregates, prolongator and coarse-operator
+    /// sparsity).
+    pub index: usize,
+    /// `T` entries of the `values` buffer (diagonals, prolongator and coarse-operator values,
+    /// dense coarsest factor, one accumulator row).
+    pub values: usize,
+    /// Number of levels (1 = no coarse level).
+    pub levels: usize,
+    /// Unknowns on all coarse levels together (the V-cycle's vectors; see
+    /// [`solve_linear_amg_scratch_len`]).
+    pub coarse_unknowns: usize,
+}
+
+/// Where one level's arrays live in the `index` / `values` buffers. Level 0 reads its operator
+/// from the [`SpringSystem`]; levels `≥ 1` have a CSR operator (off-diagonal entries, sorted
+/// columns) and a separate diagonal. Every level but the coarsest has an aggregate map and a
+/// prolongator to the next level, stored by rows (`p_*`) and by columns (`pt_*`: row index and
+/// position of the entry in `p_*`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Level {
+    /// Unknowns on this level (level 0: all nodes, fixed ones inactive).
+    pub n: usize,
+    /// `values`: diagonal (`n`).
+    pub diag: usize,
+    /// `index`: operator row offsets (`n + 1`, levels ≥ 1).
+    pub a_offs: usize,
+    /// `index`: operator columns (`a_nnz`).
+    pub a_cols: usize,
+    /// Off-diagonal operator entries.
+    pub a_nnz: usize,
+    /// `values`: operator values (`a_nnz`).
+    pub a_vals: usize,
+    /// `index`: aggregate of every unknown (`n`; `NONE` = in no aggregate).
+    pub agg: usize,
+    /// `index`: prolongator row offsets (`n + 1`).
+    pub p_offs: usize,
+    /// `index`: prolongator columns (`p_nnz`).
+    pub p_cols: usize,
+    /// Prolongator entries.
+    pub p_nnz: usize,
+    /// `values`: prolongator values (`p_nnz`).
+    pub p_vals: usize,
+    /// `index`: transposed prolongator offsets (`n_next + 1`).
+    pub pt_offs: usize,
+    /// `index`: transposed prolongator rows (`p_nnz`).
+    pub pt_rows: usize,
+    /// `index`: position in `p_cols`/`p_vals` of each transposed entry (`p_nnz`).
+    pub pt_pos: usize,
+}
+
+/// The whole buffer layout of a hierarchy: computed by the symbolic pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Layout {
+    /// The level table (the first `count` entries are used).
+    pub levels: [Level; AMG_MAX_LEVELS],
+    /// Levels in use (≥ 1).
+    pub count: usize,
+    /// `index` entries used.
+    pub index_len: usize,
+    /// `values` entries used.
+    pub values_len: usize,
+    /// `values`: dense coarsest Cholesky factor (`dense_n²`), when `dense_n > 0`.
+    pub dense: usize,
+    /// Size of the dense coarsest factor (0 = the coarsest level is smoothed, not factored).
+    pub dense_n: usize,
+    /// `values`: accumulator row of the setup (`acc_len`).
+    pub acc: usize,
+    /// Accumulator length (largest coarse level).
+    pub acc_len: usize,
+    /// Nodes and directed edges of the system the layout was built for.
+    pub nodes: usize,
+    /// Directed edges of the system.
+    pub edges: usize,
+}
+
+impl Layout {
+    /// The level table entry `l` (a default, empty level when out of range).
+    #[inline]
+    pub fn level(&self, l: usize) -> Level {
+        self.levels.get(l).copied().unwrap_or_default()
+    }
+
+    /// Unknowns on all coarse levels.
+    pub fn coarse_unknowns(&self) -> usize {
+        self.levels
+            .iter()
+            .take(self.count)
+            .skip(1)
+            .fold(0usize, |s, l| s.saturating_add(l.n))
+    }
+}
+
+/// A smoothed-aggregation multigrid hierarchy for one [`SpringSystem`], stored in caller
+/// buffers; the preconditioner of [`solve_linear_amg`].
+#[derive(Clone, Copy, Debug)]
+pub struct AmgHierarchy<'a, T: Real> {
+    layout: Layout,
+    /// Smoothing weights of every level and step.
+    weights: [[T; AMG_MAX_SWEEPS]; AMG_MAX_LEVELS],
+    index: &'a [u32],
+    values: &'a [T],
+    sweeps: usize,
+}
+
+impl<'a, T: Real> AmgHierarchy<'a, T> {
+    /// `u32` entries of the `work` buffer [`AmgHierarchy::setup_len`] and
+    /// [`AmgHierarchy::setup`] need for their symbolic pass: `4 (N + E) + 64` for `N` nodes
+    /// and `E` directed edges. The hierarchy never needs more: coarsening stops at a level whose
+    /// successor would not fit (which does not happen on meshes; see [`AmgSizes::levels`]).
+    pub fn setup_work_len(sys: &SpringSystem<'_, T>) -> usize {
+        setup::budget(sys.node_count(), sys.graph().edge_count())
+    }
+
+    /// The symbolic pass: aggregation and the sparsity of every prolongator and coarse
+    /// operator, in `work`; returns the exact buffer sizes [`AmgHierarchy::setup`] needs.
+    ///
+    /// Errors: invalid `options` ([`Error::InvalidParameter`]), `work` shorter than
+    /// [`AmgHierarchy::setup_work_len`] ([`Error::BufferTooSmall`]), more than `2³¹ − 2`
+    /// nodes ([`Error::TooLarge`]). Only `work` is written.
+    pub fn setup_len(
+        sys: &SpringSystem<'_, T>,
+        options: &AmgOptions<T>,
+        work: &mut [u32],
+    ) -> Result<AmgSizes> {
+        let layout = setup::symbolic(sys, options, work)?;
+        Ok(AmgSizes {
+            index: layout.index_len,
+            values: layout.values_len,
+            levels: layout.count,
+            coarse_unknowns: layout.coarse_unknowns(),
+        })
+    }
+
+    /// Builds the hierarchy: the symbolic pass again in `work` (scratch), then the numeric pass
+    /// into `index` and `values`, which need at least the [`AmgSizes`] of
+    /// [`AmgHierarchy::setup_len`] (larger buffers work; the tail is untouched). The hierarchy
+    /// borrows the two buffers; they are reusable for the next setup.
+    ///
+    /// Errors: those of [`AmgHierarchy::setup_len`]; `index` or `values` too short
+    /// ([`Error::BufferTooSmall`], checked before either is written); a coarse operator that is
+    /// not positive definite in floating point, e.g. from overflowing stiffness
+    /// ([`Error::SingularSystem`] with `iteration: 0`; `index` and `values` then hold no
+    /// hierarchy).
+    pub fn setup(
+        sys: &SpringSystem<'_, T>,
+        options: &AmgOptions<T>,
+        work: &mut [u32],
+        index: &'a mut [u32],
+        values: &'a mut [T],
+    ) -> Result<Self> {
+        let layout = setup::symbolic(sys, options, work)?;
+        if index.len() < layout.index_len {
+            return Err(Error::BufferTooSmall {
+                arg: "index",
+                needed: layout.index_len,
+                actual: index.len(),
+            });
+        }
+        if values.len() < layout.values_len {
+            return Err(Error::BufferTooSmall {
+                arg: "values",
+                needed: layout.values_len,
+                actual: values.len(),
+            });
+        }
+        let index = index.get_mut(..layout.index_len).unwrap_or(&mut []);
+        let values = values.get_mut(..layout.values_len).unwrap_or(&mut []);
+        for (d, &s) in index.iter_mut().zip(work.iter()) {
+            *d = s;
+        }
+        let rho = setup::numeric(sys, &layout, index, values)?;
+        let weights = setup::smoothing_weights(&rho, options.smoother, options.sweeps);
+        Ok(AmgHierarchy {
+            layout,
+            weights,
+            index,
+            values,
+            sweeps: options.sweeps,
+        })
+    }
+
+    /// Number of levels (1 = the smoother alone).
+    #[inline]
+    pub fn levels(&self) -> usize {
+        self.layout.count
+    }
+
+    /// Unknowns on level `l` (level 0: every node, fixed ones included; 0 beyond the last
+    /// level).
+    #[inline]
+    pub fn level_size(&self, l: usize) -> usize {
+        if l < self.layout.count {
+            self.layout.level(l).n
+        } else {
+            0
+        }
+    }
+
+    /// Off-diagonal entries of level `l`'s operator (level 0: the directed edges of the
+    /// system).
+    #[inline]
+    pub fn level_entries(&self, l: usize) -> usize {
+        match l {
+            0 => self.layout.edges,
+            l if l < self.layout.count => self.layout.level(l).a_nnz,
+            _ => 0,
+        }
+    }
+
+    /// Unknowns on all coarse levels together.
+    #[inline]
+    pub fn coarse_unknowns(&self) -> usize {
+        self.layout.coarse_unknowns()
+    }
+
+    /// Checks that the hierarchy was built for a system of this shape.
+    pub(crate) fn check_system(&self, sys: &SpringSystem<'_, T>) -> Result<()> {
+        if sys.node_count() != self.layout.nodes {
+            return Err(Error::LengthMismatch {
+                arg: "hierarchy",
+                expected: sys.node_count(),
+                actual: self.layout.nodes,
+            });
+        }
+        if sys.graph().edge_count() != self.layout.edges {
+            return Err(Error::LengthMismatch {
+                arg: "hierarchy",
+                expected: sys.graph().edge_count(),
+                actual: self.layout.edges,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// `buf[start .. start + len]`, empty when out of range (never panics).
+#[inline]
+pub(crate) fn seg<X>(buf: &[X], start: usize, len: usize) -> &[X] {
+    buf.get(start..start.saturating_add(len)).unwrap_or(&[])
+}
+
+/// Mutable [`seg`].
+#[inline]
+pub(crate) fn seg_mut<X>(buf: &mut [X], start: usize, len: usize) -> &mut [X] {
+    buf.get_mut(start..start.saturating_add(len))
+        .unwrap_or(&mut [])
+}
+
+/// Entry `i` of a `u32` array as `usize` (`usize::MAX` when out of range).
+#[inline]
+pub(crate) fn at(buf: &[u32], i: usize) -> usize {
+    buf.get(i).map_or(usize::MAX, |&x| x as usize)
+}

@@ -1,0 +1,272 @@
+//! Conjugate gradients preconditioned by the multigrid V-cycle.
+
+use super::cycle::vcycle;
+use super::AmgHierarchy;
+use crate::error::{Error, Result};
+use crate::real::Real;
+use crate::spring::linear::{dots, relative, residual_norms};
+use crate::spring::system::{check_values, SolveOptions, SolveReport, SpringSystem};
+
+/// Number of `[T; V]` scratch items [`solve_linear_amg`] needs: `5 N` for the CG vectors
+/// (iterate, residual, direction, `A p`, preconditioned residual) plus three vectors per coarse
+/// level (`3 ×` [`AmgHierarchy::coarse_unknowns`]).
+pub fn solve_linear_amg_scratch_len<T: Real>(hierarchy: &AmgHierarchy<'_, T>) -> usize {
+    hierarchy
+        .layout
+        .nodes
+        .saturating_mul(5)
+        .saturating_add(hierarchy.coarse_unknowns().saturating_mul(3))
+}
+
+/// Number of `[T; V]` scratch items [`amg_precondition`] needs: one fine vector plus three
+/// per coarse unknown.
+pub fn amg_precondition_scratch_len<T: Real>(hierarchy: &AmgHierarchy<'_, T>) -> usize {
+    hierarchy
+        .layout
+        .nodes
+        .saturating_add(hierarchy.coarse_unknowns().saturating_mul(3))
+}
+
+/// Applies the preconditioner once, `z = M⁻¹ r`: one V-cycle from zero (symmetric positive
+/// definite on the free nodes). Entries of `r` at fixed nodes are ignored and `z` is zero there.
+/// For callers with their own Krylov solver (e.g. a distributed CG).
+///
+/// Errors (nothing written): a hierarchy for a system of another size, wrong lengths,
+/// non-finite `r`, `scratch` shorter than [`amg_precondition_scratch_len`].
+pub fn amg_precondition<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    hierarchy: &AmgHierarchy<'_, T>,
+    r: &[[T; V]],
+    z: &mut [[T; V]],
+    scratch: &mut [[T; V]],
+) -> Result<()> {
+    let n = sys.node_count();
+    hierarchy.check_system(sys)?;
+    check_values("r", r, n)?;
+    if z.len() != n {
+        return Err(Error::LengthMismatch {
+            arg: "z",
+            expected: n,
+            actual: z.len(),
+        });
+    }
+    let needed = amg_precondition_scratch_len(hierarchy);
+    let Some((t, coarse)) = scratch
+        .get_mut(..needed)
+        .and_then(|s| s.split_at_mut_checked(n))
+    else {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed,
+            actual: scratch.len(),
+        });
+    };
+    vcycle(sys, hierarchy, r, z, t, coarse);
+    zero_fixed(sys, z);
+    Ok(())
+}
+
+/// `r = b − A x` at free nodes (`Σ_j k_ij (x_j − x_i)`, fixed values as Dirichlet data), zero at
+/// fixed nodes.
+fn fine_residual<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    x: &[[T; V]],
+    r: &mut [[T; V]],
+) {
+    for ((_, fixed, row), (ri, &xi)) in sys.rows().zip(r.iter_mut().zip(x)) {
+        let mut acc = [T::ZERO; V];
+        if !fixed {
+            for (j, k) in row {
+                let xj = x.get(j).copied().unwrap_or(xi);
+                for ((a, &b), &c) in acc.iter_mut().zip(&xj).zip(&xi) {
+                    *a += k * (b - c);
+                }
+            }
+        }
+        *ri = acc;
+    }
+}
+
+/// Zeroes `z` at fixed nodes (the V-cycle already does unless the hierarchy was built for
+/// another fixed mask; the search direction must never move a fixed node).
+fn zero_fixed<T: Real, const V: usize>(sys: &SpringSystem<'_, T>, z: &mut [[T; V]]) {
+    for (z, &m) in z.iter_mut().zip(sys.fixed()) {
+        if crate::spring::is_fixed(m) {
+            *z = [T::ZERO; V];
+        }
+    }
+}
+
+/// `q = A p` at free nodes (`p` is zero at fixed nodes) and per component `Σ d_i p_i²`.
+fn apply<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    p: &[[T; V]],
+    q: &mut [[T; V]],
+) -> [T; V] {
+    let mut dpp = [T::ZERO; V];
+    for ((_, fixed, row), (qi, &pi)) in sys.rows().zip(q.iter_mut().zip(p)) {
+        if fixed {
+            *qi = [T::ZERO; V];
+            continue;
+        }
+        let mut acc = [T::ZERO; V];
+        let mut d = T::ZERO;
+        for (j, k) in row {
+            let pj = p.get(j).copied().unwrap_or([T::ZERO; V]);
+            for ((a, &x), &y) in acc.iter_mut().zip(&pi).zip(&pj) {
+                *a += k * (x - y);
+            }
+            d += k;
+        }
+        for (s, &x) in dpp.iter_mut().zip(&pi) {
+            *s += d * x * x;
+        }
+        *qi = acc;
+    }
+    dpp
+}
+
+/// Solves the linear springs (the problem of [`solve_linear`](crate::spring::solve_linear)) by
+/// conjugate gradients preconditioned with one multigrid V-cycle per iteration, one `α`, `β`
+/// per value component. `values` holds the Dirichlet data at fixed nodes and the initial guess
+/// at free nodes; on `Ok` it holds the last iterate (fixed values untouched, bit for bit) and
+/// the report says whether it converged. The operator and every residual come from `sys`
+/// itself; the hierarchy only preconditions, so a hierarchy built for other stiffness values of
+/// the same graph slows convergence down but cannot change the answer.
+///
+/// Errors (values untouched): a hierarchy built for a system of another size
+/// ([`Error::LengthMismatch`], `"hierarchy"`), wrong length or non-finite `values`, bad
+/// options, `scratch` shorter than [`solve_linear_amg_scratch_len`], and
+/// [`Error::SingularSystem`] if CG meets non-positive curvature.
+pub fn solve_linear_amg<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    hierarchy: &AmgHierarchy<'_, T>,
+    values: &mut [[T; V]],
+    options: &SolveOptions<T>,
+    scratch: &mut [[T; V]],
+) -> Result<SolveReport<T>> {
+    let n = sys.node_count();
+    hierarchy.check_system(sys)?;
+    check_values("values", values, n)?;
+    options.check()?;
+    let needed = solve_linear_amg_scratch_len(hierarchy);
+    if scratch.len() < needed {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed,
+            actual: scratch.len(),
+        });
+    }
+    let too_small = Error::BufferTooSmall {
+        arg: "scratch",
+        needed,
+        actual: scratch.len(),
+    };
+    let (x, rest) = scratch.split_at_mut_checked(n).ok_or(too_small)?;
+    let (r, rest) = rest.split_at_mut_checked(n).ok_or(too_small)?;
+    let (p, rest) = rest.split_at_mut_checked(n).ok_or(too_small)?;
+    let (q, rest) = rest.split_at_mut_checked(n).ok_or(too_small)?;
+    let (z, coarse) = rest.split_at_mut_checked(n).ok_or(too_small)?;
+    for (x, &v) in x.iter_mut().zip(values.iter()) {
+        *x = v;
+    }
+    let (r0, bnorm) = residual_norms(sys, x);
+    let mut report = SolveReport {
+        iterations: 0,
+        residual: relative(r0, bnorm),
+        max_update: T::ZERO,
+        converged: false,
+    };
+    if report.residual <= options.residual_tol {
+        report.converged = true;
+        return Ok(report);
+    }
+    // (Re)start: r = b − A x, z = M⁻¹ r, p = z; returns r·z per component.
+    let restart = |x: &[[T; V]],
+                   r: &mut [[T; V]],
+                   p: &mut [[T; V]],
+                   q: &mut [[T; V]],
+                   z: &mut [[T; V]],
+                   coarse: &mut [[T; V]]| {
+        fine_residual(sys, x, r);
+        vcycle(sys, hierarchy, r, z, q, coarse);
+        zero_fixed(sys, z);
+        for (p, &z) in p.iter_mut().zip(z.iter()) {
+            *p = z;
+        }
+        dots(r, z)
+    };
+    let mut rz = restart(x, r, p, q, z, coarse);
+    let mut checked = true;
+    let tiny = T::EPSILON;
+    while report.iterations < options.max_iterations {
+        report.iterations += 1;
+        let dpp = apply(sys, p, q);
+        let pq = dots(p, q);
+        let mut alpha = [T::ZERO; V];
+        for (((a, &pq), &dpp), &rz) in alpha.iter_mut().zip(&pq).zip(&dpp).zip(&rz) {
+            if dpp == T::ZERO || rz == T::ZERO {
+                continue; // this component has converged exactly
+            }
+            if pq <= tiny * dpp || !pq.is_finite() {
+                return Err(Error::SingularSystem {
+                    iteration: report.iterations,
+                });
+            }
+            *a = rz / pq;
+        }
+        let mut max_update = T::ZERO;
+        let mut rr = T::ZERO;
+        for (((x, r), &p), &q) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter()) {
+            for ((((x, r), &p), &q), &a) in
+                x.iter_mut().zip(r.iter_mut()).zip(&p).zip(&q).zip(&alpha)
+            {
+                let dx = a * p;
+                *x += dx;
+                *r -= a * q;
+                max_update = max_update.max(dx.abs());
+                rr += *r * *r;
+            }
+        }
+        report.max_update = max_update;
+        checked = false;
+        if options.met(relative(rr.sqrt(), bnorm), max_update) {
+            let (rt, _) = residual_norms(sys, x);
+            report.residual = relative(rt, bnorm);
+            checked = true;
+            if options.met(report.residual, max_update) {
+                report.converged = true;
+                break;
+            }
+            // Recurrence and true residual disagree: restart from the true residual.
+            rz = restart(x, r, p, q, z, coarse);
+            continue;
+        }
+        vcycle(sys, hierarchy, r, z, q, coarse);
+        zero_fixed(sys, z);
+        let rz_new = dots(r, z);
+        let mut beta = [T::ZERO; V];
+        for ((b, &new), &old) in beta.iter_mut().zip(&rz_new).zip(&rz) {
+            if old != T::ZERO {
+                *b = new / old;
+            }
+        }
+        for (p, &z) in p.iter_mut().zip(z.iter()) {
+            for ((p, &z), &b) in p.iter_mut().zip(&z).zip(&beta) {
+                *p = z + b * *p;
+            }
+        }
+        rz = rz_new;
+    }
+    if !checked {
+        let (rt, _) = residual_norms(sys, x);
+        report.residual = relative(rt, bnorm);
+    }
+    // Free nodes only: fixed values come back bit for bit.
+    for (i, (v, &x)) in values.iter_mut().zip(x.iter()).enumerate() {
+        if !sys.is_fixed(i) {
+            *v = x;
+        }
+    }
+    Ok(report)
+}
