@@ -591,3 +591,41 @@ fn degenerate_systems() {
     assert!(rep.converged);
     assert!(max_diff_to_reference(&ann, &x0, &x) < 1e-9);
 }
+
+#[test]
+fn power_of_two_scaling_is_exact() {
+    // Values times 2^k solve to exactly 2^k times the solution (the CG iterate is rescaled by
+    // powers of two, as in the plain CG), also far outside the range where Σ x² is finite.
+    let ann = annulus::<f64>(10, 28);
+    let sys = ann.system();
+    let opts = AmgOptions {
+        max_coarse: 8,
+        ..AmgOptions::default()
+    };
+    let x0 = field::<f64, 2, 2>(&ann);
+    let mut base = x0.clone();
+    let rep = amg_solve(&sys, &opts, &mut base, &tight()).unwrap();
+    for k in [512, -960, 30] {
+        let f = 2f64.powi(k);
+        let mut x: Vec<[f64; 2]> = x0.iter().map(|v| v.map(|c| c * f)).collect();
+        let r = amg_solve(&sys, &opts, &mut x, &tight()).unwrap();
+        assert_eq!(r.iterations, rep.iterations, "2^{k}");
+        for (a, b) in base.iter().zip(&x) {
+            assert_eq!(a.map(|c| (c * f).to_bits()), b.map(f64::to_bits), "2^{k}");
+        }
+    }
+    // A constant field (every fixed value 1e154) is reproduced exactly.
+    let mut c = vec![[1e154f64; 2]; ann.n()];
+    for (v, &f) in c.iter_mut().zip(&ann.fixed) {
+        if f == 0 {
+            *v = [0.0; 2];
+        }
+    }
+    let r = amg_solve(&sys, &opts, &mut c, &tight()).unwrap();
+    assert!(r.converged);
+    for v in &c {
+        for &x in v {
+            assert!((x - 1e154).abs() <= 1e154 * 1e-10, "{x:e}");
+        }
+    }
+}

@@ -194,7 +194,7 @@ pub(crate) fn residual_norms<T: Real, const V: usize>(
 
 /// [`residual_norms`] of a field whose component `c` is stored as `x_c · 2^−exps[c]` (the
 /// scaled CG iterate): the norms of the unscaled field.
-fn residual_norms_scaled<T: Real, const V: usize>(
+pub(crate) fn residual_norms_scaled<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     x: &[[T; V]],
     exps: &[i32; V],
@@ -572,7 +572,10 @@ pub(crate) fn dots<T: Real, const V: usize>(a: &[[T; V]], b: &[[T; V]]) -> [T; V
 /// brings `max_i |x_ic|` to about `1/√k_max`, so every product CG forms (`k x²` in `rᵀz`,
 /// `pᵀAp`) is near 1 whatever the scale of the values or the stiffness. Powers of two scale
 /// exactly: the iterates are the unscaled ones times `2^−e_c`, bit for bit.
-fn cg_exponents<T: Real, const V: usize>(sys: &SpringSystem<'_, T>, x: &[[T; V]]) -> [i32; V] {
+pub(crate) fn cg_exponents<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    x: &[[T; V]],
+) -> [i32; V] {
     let kmax = sys.stiffness().iter().fold(T::ZERO, |m, &k| m.max(k));
     let ek = if kmax > T::ZERO {
         kmax.exponent() / 2

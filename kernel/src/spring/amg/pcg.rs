@@ -4,7 +4,8 @@ use super::cycle::vcycle;
 use super::AmgHierarchy;
 use crate::error::{Error, Result};
 use crate::real::Real;
-use crate::spring::linear::{dots, relative, residual_norms};
+use crate::spring::linear::{cg_exponents, dots, residual_norms_scaled};
+use crate::spring::norms::{scale_by, Norm};
 use crate::spring::system::{check_values, SolveOptions, SolveReport, SpringSystem};
 
 /// Number of `[T; V]` scratch items [`solve_linear_amg`] needs: `5 N` for the CG vectors
@@ -137,7 +138,8 @@ fn apply<T: Real, const V: usize>(
 /// Errors (values untouched): a hierarchy built for a system of another size
 /// ([`Error::LengthMismatch`], `"hierarchy"`), wrong length or non-finite `values`, bad
 /// options, `scratch` shorter than [`solve_linear_amg_scratch_len`], and
-/// [`Error::SingularSystem`] if CG meets non-positive curvature.
+/// [`Error::SingularSystem`] if CG meets non-positive curvature, [`Error::Overflow`] if its
+/// inner products overflow even after the power-of-two rescaling the plain CG uses.
 pub fn solve_linear_amg<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     hierarchy: &AmgHierarchy<'_, T>,
@@ -167,13 +169,21 @@ pub fn solve_linear_amg<T: Real, const V: usize>(
     let (p, rest) = rest.split_at_mut_checked(n).ok_or(too_small)?;
     let (q, rest) = rest.split_at_mut_checked(n).ok_or(too_small)?;
     let (z, coarse) = rest.split_at_mut_checked(n).ok_or(too_small)?;
-    for (x, &v) in x.iter_mut().zip(values.iter()) {
-        *x = v;
+    // CG runs on the scaled field x_c · 2^−e_c, as the plain CG does (the preconditioner is
+    // linear, so it commutes with the scaling).
+    let exps = cg_exponents(sys, values);
+    let down = exps.map(|e| T::pow2(-e));
+    for (x, v) in x.iter_mut().zip(values.iter()) {
+        for ((x, &v), &f) in x.iter_mut().zip(v).zip(&down) {
+            *x = v * f;
+        }
     }
-    let (r0, bnorm) = residual_norms(sys, x);
+    let top = exps.iter().copied().max().unwrap_or(0);
+    let to_top = exps.map(|e| scale_by(T::ONE, e - top));
+    let (r0, bnorm) = residual_norms_scaled(sys, x, &exps);
     let mut report = SolveReport {
         iterations: 0,
-        residual: relative(r0, bnorm),
+        residual: r0.relative_to(bnorm),
         max_update: T::ZERO,
         converged: false,
     };
@@ -205,42 +215,60 @@ pub fn solve_linear_amg<T: Real, const V: usize>(
         let pq = dots(p, q);
         let mut alpha = [T::ZERO; V];
         for (((a, &pq), &dpp), &rz) in alpha.iter_mut().zip(&pq).zip(&dpp).zip(&rz) {
+            if !(pq.is_finite() && rz.is_finite() && dpp.is_finite()) {
+                return Err(Error::Overflow { arg: "values" });
+            }
             if dpp == T::ZERO || rz == T::ZERO {
                 continue; // this component has converged exactly
             }
-            if pq <= tiny * dpp || !pq.is_finite() {
+            if pq <= tiny * dpp {
                 return Err(Error::SingularSystem {
                     iteration: report.iterations,
                 });
             }
             *a = rz / pq;
         }
-        let mut max_update = T::ZERO;
+        let mut max_update = [T::ZERO; V];
         let mut rr = T::ZERO;
         for (((x, r), &p), &q) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter()) {
-            for ((((x, r), &p), &q), &a) in
-                x.iter_mut().zip(r.iter_mut()).zip(&p).zip(&q).zip(&alpha)
+            for ((((((x, r), &p), &q), &a), m), &g) in x
+                .iter_mut()
+                .zip(r.iter_mut())
+                .zip(&p)
+                .zip(&q)
+                .zip(&alpha)
+                .zip(max_update.iter_mut())
+                .zip(&to_top)
             {
                 let dx = a * p;
                 *x += dx;
                 *r -= a * q;
-                max_update = max_update.max(dx.abs());
-                rr += *r * *r;
+                *m = m.max(dx.abs());
+                let rg = *r * g;
+                rr += rg * rg;
             }
         }
-        report.max_update = max_update;
+        report.max_update = max_update
+            .iter()
+            .zip(&exps)
+            .fold(T::ZERO, |m, (&u, &e)| m.max(scale_by(u, e)));
         checked = false;
-        if options.met(relative(rr.sqrt(), bnorm), max_update) {
-            let (rt, _) = residual_norms(sys, x);
-            report.residual = relative(rt, bnorm);
+        // An overflowing recurrence sum cannot say "converged": ask the true residual.
+        let estimate_ok = rr.is_finite();
+        let estimate = Norm::from_sum(rr, top).relative_to(bnorm);
+        if !estimate_ok || options.met(estimate, report.max_update) {
+            let (rt, _) = residual_norms_scaled(sys, x, &exps);
+            report.residual = rt.relative_to(bnorm);
             checked = true;
-            if options.met(report.residual, max_update) {
+            if options.met(report.residual, report.max_update) {
                 report.converged = true;
                 break;
             }
-            // Recurrence and true residual disagree: restart from the true residual.
-            rz = restart(x, r, p, q, z, coarse);
-            continue;
+            if estimate_ok {
+                // Recurrence and true residual disagree: restart from the true residual.
+                rz = restart(x, r, p, q, z, coarse);
+                continue;
+            }
         }
         vcycle(sys, hierarchy, r, z, q, coarse);
         zero_fixed(sys, z);
@@ -259,13 +287,16 @@ pub fn solve_linear_amg<T: Real, const V: usize>(
         rz = rz_new;
     }
     if !checked {
-        let (rt, _) = residual_norms(sys, x);
-        report.residual = relative(rt, bnorm);
+        let (rt, _) = residual_norms_scaled(sys, x, &exps);
+        report.residual = rt.relative_to(bnorm);
     }
     // Free nodes only: fixed values come back bit for bit.
-    for (i, (v, &x)) in values.iter_mut().zip(x.iter()).enumerate() {
+    let up = exps.map(|e| T::pow2(e));
+    for (i, (v, x)) in values.iter_mut().zip(x.iter()).enumerate() {
         if !sys.is_fixed(i) {
-            *v = x;
+            for ((v, &x), &f) in v.iter_mut().zip(x).zip(&up) {
+                *v = x * f;
+            }
         }
     }
     Ok(report)
