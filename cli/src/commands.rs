@@ -727,8 +727,10 @@ fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
         iterations: result.iterations,
         residual: result.residual,
         converged: result.converged,
+        orientation: q.orientation.describe(mesh.dim),
         inverted_cells: q.inverted_cells.unwrap_or(0),
         folded_cells: q.folded_cells,
+        degenerate_cells: q.degenerate_cells,
         min_area_ratio: q.min_area_ratio,
         max_area_ratio: q.max_area_ratio,
         min_scaled_jacobian: q.min_scaled_jacobian,
@@ -742,7 +744,7 @@ fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
         );
     }
     let text = format!(
-        "{} -> {}: {} nodes ({} moved, {} fixed), method {}, {} iterations, residual {:.3e}{}\n  inverted cells {}, folded cells {}, min area ratio {}, max wall angle change {} deg, {:.2} s",
+        "{} -> {}: {} nodes ({} moved, {} fixed), method {}, {} iterations, residual {:.3e}{}\n  {} mesh; inverted cells {}, folded cells {}, degenerate cells {}, {} ratio min {} max {}, max wall angle change {} deg, {:.2} s",
         report.mesh,
         report.outputs.join(", "),
         report.nodes,
@@ -752,9 +754,13 @@ fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
         report.iterations,
         report.residual,
         if report.converged { "" } else { " (NOT converged)" },
+        report.orientation,
         report.inverted_cells,
         report.folded_cells,
+        report.degenerate_cells,
+        if mesh.dim == 3 { "volume" } else { "area" },
         fmt_opt(report.min_area_ratio),
+        fmt_opt(report.max_area_ratio),
         fmt_opt(report.max_wall_angle_change_deg),
         report.seconds
     );
@@ -779,8 +785,10 @@ struct MoveReport {
     iterations: usize,
     residual: f64,
     converged: bool,
+    orientation: String,
     inverted_cells: usize,
     folded_cells: usize,
+    degenerate_cells: usize,
     min_area_ratio: Option<f64>,
     max_area_ratio: Option<f64>,
     min_scaled_jacobian: f64,
@@ -989,24 +997,30 @@ fn quality_text(r: &QualityReport) -> String {
 "
         ));
     }
-    let rows: [(&str, String); 10] = [
-        ("nodes", r.nodes.to_string()),
-        ("cells", s.cells.to_string()),
+    let measure = if r.dim == 3 { "volume" } else { "area" };
+    let rows: [(String, String); 12] = [
+        ("nodes".into(), r.nodes.to_string()),
+        ("cells".into(), s.cells.to_string()),
+        ("orientation".into(), s.orientation.describe(r.dim)),
         (
-            "inverted cells",
+            "inverted cells".into(),
             s.inverted_cells.map_or("-".into(), |v| v.to_string()),
         ),
-        ("folded cells", s.folded_cells.to_string()),
-        ("cells with measure <= 0", s.nonpositive_cells.to_string()),
-        ("min measure", format!("{:.6e}", s.min_measure)),
+        ("folded cells".into(), s.folded_cells.to_string()),
+        ("degenerate cells".into(), s.degenerate_cells.to_string()),
         (
-            "min scaled Jacobian",
+            format!("cells with {measure} <= 0"),
+            s.nonpositive_cells.to_string(),
+        ),
+        (format!("min {measure}"), format!("{:.6e}", s.min_measure)),
+        (
+            "min scaled Jacobian".into(),
             format!("{:.6}", s.min_scaled_jacobian),
         ),
-        ("min area ratio", fmt_opt(s.min_area_ratio)),
-        ("max area ratio", fmt_opt(s.max_area_ratio)),
+        (format!("min {measure} ratio"), fmt_opt(s.min_area_ratio)),
+        (format!("max {measure} ratio"), fmt_opt(s.max_area_ratio)),
         (
-            "max wall angle change (deg)",
+            "max wall angle change (deg)".into(),
             fmt_opt(s.max_wall_angle_change_deg),
         ),
     ];
@@ -1038,7 +1052,12 @@ fn add_summary(total: &mut Option<QualitySummary>, s: QualitySummary) {
     t.cells += s.cells;
     t.inverted_cells = add_opt(t.inverted_cells, s.inverted_cells);
     t.folded_cells += s.folded_cells;
+    t.degenerate_cells += s.degenerate_cells;
     t.nonpositive_cells += s.nonpositive_cells;
+    t.orientation.regions += s.orientation.regions;
+    t.orientation.positive_regions += s.orientation.positive_regions;
+    t.orientation.negative_regions += s.orientation.negative_regions;
+    t.orientation.cells_against_region += s.orientation.cells_against_region;
     t.min_measure = t.min_measure.min(s.min_measure);
     t.min_scaled_jacobian = t.min_scaled_jacobian.min(s.min_scaled_jacobian);
     t.min_area_ratio = min_opt(t.min_area_ratio, s.min_area_ratio);

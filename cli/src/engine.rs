@@ -7,6 +7,7 @@ use serde::Serialize;
 
 use crate::commands::CliError;
 use crate::formats::CellList;
+use crate::orientation::{Orientation, OrientationSummary};
 
 fn kernel(context: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {
     move |e| CliError::Kernel(format!("{context}: {e}"))
@@ -64,11 +65,18 @@ pub struct QualitySummary {
     pub cells: usize,
     /// Cells whose signed measure changed sign against the reference (`None` without one).
     pub inverted_cells: Option<usize>,
-    /// Cells with some corner Jacobian ≤ 0.
+    /// Cells with some corner Jacobian < 0 relative to their region's orientation (see
+    /// [`crate::orientation`]): a valid mesh has 0 whichever way its cells turn.
     pub folded_cells: usize,
-    /// Cells with signed measure ≤ 0.
+    /// Cells with no negative but some zero corner Jacobian (a collapsed edge, e.g. on a
+    /// singular axis): degenerate, not folded.
+    pub degenerate_cells: usize,
+    /// Cells with signed measure ≤ 0 relative to their region's orientation.
     pub nonpositive_cells: usize,
-    /// Smallest signed measure (area in 2D, volume in 3D).
+    /// Which way the mesh's connected regions turn (decided on the reference mesh).
+    pub orientation: OrientationSummary,
+    /// Smallest signed measure relative to the region's orientation (area in 2D, volume in
+    /// 3D).
     pub min_measure: f64,
     /// Smallest scaled corner Jacobian (sine of the worst corner angle in 2D).
     pub min_scaled_jacobian: f64,
@@ -78,7 +86,8 @@ pub struct QualitySummary {
     pub max_area_ratio: Option<f64>,
     /// Largest change of the first grid-line angle at the wall, degrees.
     pub max_wall_angle_change_deg: Option<f64>,
-    /// Per-cell signed measure (for VTK output; not serialised).
+    /// Per-cell signed measure relative to the region's orientation (for VTK output; not
+    /// serialised).
     #[serde(skip)]
     pub measure: Vec<f64>,
     /// Per-cell smallest scaled Jacobian (for VTK output; not serialised).
@@ -118,12 +127,7 @@ fn quality_d<const D: usize>(
     };
     let n = points.len();
     let view = cells_view(cells, n)?;
-    let pts = points_d::<D>(points);
-    let mut measure = vec![0.0; view.len()];
-    cell_measures(&view, &pts, &mut measure).map_err(kernel("quality"))?;
-    let mut scaled = vec![0.0; view.len()];
-    min_corner_jacobians(&view, &pts, true, &mut scaled).map_err(kernel("quality"))?;
-    let undeformed = match reference {
+    let input_undeformed = match reference {
         Some(r) => {
             if r.len() != n {
                 return Err(CliError::Invalid(format!(
@@ -133,8 +137,23 @@ fn quality_d<const D: usize>(
             }
             points_d::<D>(r)
         }
-        None => pts.clone(),
+        None => points_d::<D>(points),
     };
+    // Orientation from the reference mesh; everything below is measured on canonical
+    // coordinates (negative regions mirrored exactly), i.e. relative to each region.
+    let mut reference_measure = vec![0.0; view.len()];
+    cell_measures(&view, &input_undeformed, &mut reference_measure).map_err(kernel("quality"))?;
+    let orientation = Orientation::of(cells, n, &reference_measure);
+    let undeformed = orientation.canonical(&input_undeformed);
+    let pts = orientation.canonical(&points_d::<D>(points));
+    let mut measure = vec![0.0; view.len()];
+    cell_measures(&view, &pts, &mut measure).map_err(kernel("quality"))?;
+    let mut scaled = vec![0.0; view.len()];
+    min_corner_jacobians(&view, &pts, true, &mut scaled).map_err(kernel("quality"))?;
+    let mut corner = vec![0.0; view.len()];
+    min_corner_jacobians(&view, &pts, false, &mut corner).map_err(kernel("quality"))?;
+    let folded_cells = corner.iter().filter(|&&j| j < 0.0).count();
+    let degenerate_cells = corner.iter().filter(|&&j| j == 0.0).count();
     let graph;
     let wall_view;
     let wall_obj = match (reference, wall) {
@@ -173,7 +192,9 @@ fn quality_d<const D: usize>(
     Ok(QualitySummary {
         cells: r.cells,
         inverted_cells: has_ref.then_some(r.inverted_cells),
-        folded_cells: r.folded_cells,
+        folded_cells,
+        degenerate_cells,
+        orientation: orientation.summary,
         nonpositive_cells: measure.iter().filter(|&&m| m <= 0.0).count(),
         min_measure: r.min_measure,
         min_scaled_jacobian: r.min_scaled_jacobian,

@@ -18,6 +18,7 @@ pub mod commands;
 pub mod demo;
 pub mod engine;
 pub mod formats;
+pub mod orientation;
 pub mod output;
 pub mod plot;
 pub mod progress;

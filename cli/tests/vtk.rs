@@ -170,6 +170,67 @@ fn base64_known_vectors() {
     assert_eq!(decode_b64(&base64::encode(&all)), all);
 }
 
+/// The connectivity VTK expects: prisms (13) as `0,2,1,3,5,4`, everything else unchanged.
+fn vtk_order(cells: &deform_cli::formats::CellList) -> Vec<u32> {
+    let mut out = Vec::new();
+    for (c, &kind) in cells.kinds.iter().enumerate() {
+        let nodes = &cells.nodes[cells.offsets[c] as usize..cells.offsets[c + 1] as usize];
+        if kind == 13 {
+            out.extend([0, 2, 1, 3, 5, 4].map(|k| nodes[k]));
+        } else {
+            out.extend_from_slice(nodes);
+        }
+    }
+    out
+}
+
+/// A prism that the kernel calls positive must reach VTK with its base `0,1,2` turning toward
+/// the top `3,4,5`: that is the wedge VTK's own code (vtkMeshQuality's wedge volume,
+/// vtkCellSizeFilter, checked with VTK 9 from PyPI: +0.5 for this order, −0.5 for SU2's)
+/// calls positive, whatever vtkWedge's documentation says.
+#[test]
+fn prisms_reach_vtk_with_vtk_orientation() {
+    use deform_kernel::quality::cell_measures;
+    let points = [
+        [0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 1.0, 1.0],
+        [1.0, 0.0, 1.0],
+    ];
+    let mut cells = deform_cli::formats::CellList::new();
+    cells.push(deform_kernel::CellKind::Prism, &[0, 1, 2, 3, 4, 5]);
+    let view = deform_kernel::Cells::new(6, &cells.offsets, &cells.nodes, &cells.kinds).unwrap();
+    let mut m = [0.0];
+    cell_measures(&view, &points, &mut m).unwrap();
+    assert!(m[0] > 0.0, "the kernel calls this prism positive: {}", m[0]);
+    let mut out = Vec::new();
+    write_vtu(&mut out, &points, &cells, &[], &[], VtkEncoding::Ascii).unwrap();
+    let p = parse(&String::from_utf8(out).unwrap());
+    let conn: Vec<usize> = values(find(&p, "connectivity"))
+        .into_iter()
+        .map(|b| f64::from_bits(b) as usize)
+        .collect();
+    let sub =
+        |a: usize, b: usize| -> [f64; 3] { core::array::from_fn(|k| points[b][k] - points[a][k]) };
+    let (e1, e2, up) = (
+        sub(conn[0], conn[1]),
+        sub(conn[0], conn[2]),
+        sub(conn[0], conn[3]),
+    );
+    let normal = [
+        e1[1] * e2[2] - e1[2] * e2[1],
+        e1[2] * e2[0] - e1[0] * e2[2],
+        e1[0] * e2[1] - e1[1] * e2[0],
+    ];
+    let toward_top = normal[0] * up[0] + normal[1] * up[1] + normal[2] * up[2];
+    assert!(
+        toward_top > 0.0,
+        "VTK's base must turn toward the top: {conn:?}"
+    );
+}
+
 #[test]
 fn vtu_round_trips_in_both_encodings() {
     for mesh in [mesh_2d(4, 3), mesh_3d()] {
@@ -215,7 +276,7 @@ fn vtu_round_trips_in_both_encodings() {
             );
             assert_eq!(
                 values(find(&p, "connectivity")),
-                bits(mesh.elements.nodes.iter().map(|&v| v as f64))
+                bits(vtk_order(&mesh.elements).into_iter().map(|v| v as f64))
             );
             assert_eq!(
                 values(find(&p, "offsets")),

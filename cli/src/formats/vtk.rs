@@ -188,7 +188,32 @@ fn points_section<W: Write>(w: &mut W, points: &[[f64; 3]], enc: VtkEncoding) ->
     writeln!(w, "      </Points>")
 }
 
-/// Writes an unstructured grid (`.vtu`). Cell node indices must be `< points.len()`.
+/// VTK's wedge (13) and SU2's prism differ in orientation: a prism that SU2 (and the kernel)
+/// calls positive has its base `0,1,2` turning *away* from the top `3,4,5`, while VTK's own
+/// volume and quality code (vtkMeshQuality, vtkCellSizeFilter) calls such a wedge negative. The
+/// `.vtu` writer therefore lists prism nodes as `0,2,1,3,5,4` (both triangles reversed, the
+/// vertical edges kept), so ParaView sees positive prisms where `deform quality` does.
+const VTK_PRISM_ORDER: [usize; 6] = [0, 2, 1, 3, 5, 4];
+
+/// Connectivity in VTK's node order (prisms reordered, every other kind as stored).
+fn vtk_connectivity(cells: &CellList) -> Vec<i64> {
+    let mut conn = Vec::with_capacity(cells.nodes.len());
+    for (c, &kind) in cells.kinds.iter().enumerate() {
+        let range = cells.offsets.get(c).zip(cells.offsets.get(c + 1));
+        let nodes = range
+            .and_then(|(&a, &b)| cells.nodes.get(a as usize..b as usize))
+            .unwrap_or(&[]);
+        if kind == 13 && nodes.len() == 6 {
+            conn.extend(VTK_PRISM_ORDER.iter().map(|&k| i64::from(nodes[k])));
+        } else {
+            conn.extend(nodes.iter().map(|&n| i64::from(n)));
+        }
+    }
+    conn
+}
+
+/// Writes an unstructured grid (`.vtu`). Cell node indices must be `< points.len()`; prisms
+/// are written in VTK's orientation (see [`VTK_PRISM_ORDER`]).
 pub fn write_vtu<W: Write>(
     w: &mut W,
     points: &[[f64; 3]],
@@ -218,7 +243,7 @@ pub fn write_vtu<W: Write>(
     fields_section(&mut w, "CellData", cell_data, enc)?;
     points_section(&mut w, points, enc)?;
     writeln!(w, "      <Cells>")?;
-    let conn: Vec<i64> = cells.nodes.iter().map(|&n| n as i64).collect();
+    let conn = vtk_connectivity(cells);
     data_array(&mut w, "connectivity", 1, Data::I64(conn), enc)?;
     let offs: Vec<i64> = cells.offsets.iter().skip(1).map(|&n| n as i64).collect();
     data_array(&mut w, "offsets", 1, Data::I64(offs), enc)?;
