@@ -153,8 +153,13 @@ pub enum Method {
 /// Linear solvers for the spring methods.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Solver {
-    /// Conjugate gradients.
+    /// Conjugate gradients preconditioned by smoothed-aggregation algebraic multigrid.
+    Amg,
+    /// Jacobi-preconditioned conjugate gradients.
+    #[value(alias = "cg-jacobi")]
     Cg,
+    /// SSOR-preconditioned conjugate gradients (ω = 1.5).
+    CgSsor,
     /// Gauss–Seidel.
     Gs,
     /// Jacobi.
@@ -190,7 +195,7 @@ pub struct MoveArgs {
     #[arg(long, value_enum)]
     pub method: Method,
     /// Linear solver (quaternion and spring; angle-direct uses gs, or jacobi if asked).
-    #[arg(long, value_enum, default_value = "cg")]
+    #[arg(long, value_enum, default_value = "amg")]
     pub solver: Solver,
     /// Convergence tolerance on the relative residual.
     #[arg(long, default_value_t = 1e-10)]

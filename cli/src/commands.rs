@@ -603,7 +603,9 @@ fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
         Method::AngleCg => MoveMethod::AngleCg,
     };
     let solver = match a.solver {
+        Solver::Amg => MoveSolver::Amg,
         Solver::Cg => MoveSolver::Cg,
+        Solver::CgSsor => MoveSolver::CgSsor,
         Solver::Gs => MoveSolver::GaussSeidel,
         Solver::Jacobi => MoveSolver::Jacobi,
     };

@@ -323,8 +323,12 @@ pub enum MoveMethod {
 /// Linear solver for the spring systems.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MoveSolver {
+    /// Conjugate gradients preconditioned by smoothed-aggregation algebraic multigrid.
+    Amg,
     /// Jacobi-preconditioned conjugate gradients.
     Cg,
+    /// SSOR-preconditioned conjugate gradients (ω = 1.5).
+    CgSsor,
     /// Gauss–Seidel.
     GaussSeidel,
     /// Jacobi.
@@ -395,25 +399,58 @@ pub fn run_move(input: &MoveInput<'_>) -> Result<MoveResult, CliError> {
     }
 }
 
-fn linear_method(s: MoveSolver) -> deform_kernel::spring::LinearMethod<f64> {
+/// The one-level method of a solver choice (`None` for multigrid).
+fn linear_method(s: MoveSolver) -> Option<deform_kernel::spring::LinearMethod<f64>> {
     use deform_kernel::spring::{LinearMethod, Preconditioner};
     match s {
-        MoveSolver::Cg => LinearMethod::Cg {
+        MoveSolver::Amg => None,
+        MoveSolver::Cg => Some(LinearMethod::Cg {
             preconditioner: Preconditioner::Jacobi,
-        },
-        MoveSolver::GaussSeidel => LinearMethod::GaussSeidel,
-        MoveSolver::Jacobi => LinearMethod::Jacobi,
+        }),
+        MoveSolver::CgSsor => Some(LinearMethod::Cg {
+            preconditioner: Preconditioner::Ssor { omega: 1.5 },
+        }),
+        MoveSolver::GaussSeidel => Some(LinearMethod::GaussSeidel),
+        MoveSolver::Jacobi => Some(LinearMethod::Jacobi),
+    }
+}
+
+/// Owned storage of a multigrid hierarchy (`index`, `values`; the setup's work buffer is
+/// freed before the solve).
+#[derive(Default)]
+struct AmgStorage {
+    index: Vec<u32>,
+    values: Vec<f64>,
+}
+
+impl AmgStorage {
+    /// Builds the hierarchy of `sys` with the default options (two-phase: exact sizes, then
+    /// values).
+    fn build<'a>(
+        &'a mut self,
+        sys: &deform_kernel::spring::SpringSystem<'_, f64>,
+    ) -> Result<deform_kernel::spring::AmgHierarchy<'a, f64>, CliError> {
+        use deform_kernel::spring::{AmgHierarchy, AmgOptions};
+        let opts = AmgOptions::default();
+        let mut work = vec![0u32; AmgHierarchy::setup_work_len(sys)];
+        let sizes =
+            AmgHierarchy::setup_len(sys, &opts, &mut work).map_err(kernel("multigrid setup"))?;
+        self.index = vec![0; sizes.index];
+        self.values = vec![0.0; sizes.values];
+        AmgHierarchy::setup(sys, &opts, &mut work, &mut self.index, &mut self.values)
+            .map_err(kernel("multigrid setup"))
     }
 }
 
 fn move_d<const D: usize, const V: usize>(input: &MoveInput<'_>) -> Result<MoveResult, CliError> {
     use deform_kernel::deformation::{
-        deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len,
-        propagate_spring_scratch_len, BoundaryMotion, RotationSource,
+        deform_idw, deform_idw_scratch_len, deform_spring_scratch_len, deform_spring_with,
+        propagate_spring_with_scratch_len, BoundaryMotion, RotationSource,
     };
     use deform_kernel::spring::{
-        angle_scratch_len, batina_stiffness, solve_angle, solve_linear, solve_linear_scratch_len,
-        AngleMethod, AngleSystem, SolveOptions, SpringSystem, DEFAULT_ANGLE_EPSILON,
+        angle_scratch_len, batina_stiffness, solve_angle, solve_linear_with,
+        solve_linear_with_scratch_len, AngleMethod, AngleSystem, LinearSolver, SolveOptions,
+        SpringSystem, DEFAULT_ANGLE_EPSILON,
     };
     use deform_kernel::Quat;
 
@@ -526,9 +563,17 @@ fn move_d<const D: usize, const V: usize>(input: &MoveInput<'_>) -> Result<MoveR
                 })
                 .collect();
             let report = if input.method == MoveMethod::Spring {
-                let method = linear_method(input.solver);
-                let mut scratch = vec![[0.0; D]; solve_linear_scratch_len(&method, n)];
-                solve_linear(&sys, &mut values, method, &options, &mut scratch)
+                let mut storage = AmgStorage::default();
+                let hierarchy;
+                let solver = match linear_method(input.solver) {
+                    Some(m) => LinearSolver::Method(m),
+                    None => {
+                        hierarchy = storage.build(&sys)?;
+                        LinearSolver::Amg(&hierarchy)
+                    }
+                };
+                let mut scratch = vec![[0.0; D]; solve_linear_with_scratch_len(&solver, n)];
+                solve_linear_with(&sys, &mut values, solver, &options, &mut scratch)
                     .map_err(kernel("linear springs"))?
             } else {
                 let asys = AngleSystem::new(sys, &pts, DEFAULT_ANGLE_EPSILON)
@@ -635,14 +680,22 @@ fn move_d<const D: usize, const V: usize>(input: &MoveInput<'_>) -> Result<MoveR
                 let mut sscratch = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
                 let sys =
                     SpringSystem::new(g, &k, &fixed, &mut sscratch).map_err(kernel("springs"))?;
-                let method = linear_method(input.solver);
+                let mut storage = AmgStorage::default();
+                let hierarchy;
+                let solver = match linear_method(input.solver) {
+                    Some(m) => LinearSolver::Method(m),
+                    None => {
+                        hierarchy = storage.build(&sys)?;
+                        LinearSolver::Amg(&hierarchy)
+                    }
+                };
                 let mut scratch = vec![0.0; deform_spring_scratch_len::<D>(n, boundary.len())];
-                let mut values = vec![[0.0; V]; propagate_spring_scratch_len(&method, n)];
-                let (_, report) = deform_spring::<f64, D, V>(
+                let mut values = vec![[0.0; V]; propagate_spring_with_scratch_len(&solver, n)];
+                let (_, report) = deform_spring_with::<f64, D, V>(
                     &pts,
                     &motion,
                     &sys,
-                    method,
+                    solver,
                     &options,
                     &mut translations,
                     &mut rotations,

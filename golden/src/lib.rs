@@ -197,4 +197,11 @@ pub const CASES: &[Case] = &[
         expected_f64: 0xa9ea_d533_6889_ab72,
         expected_f32: 0x535c_c68c_cf72_d981,
     },
+    Case {
+        name: "spring_amg",
+        run_f64: mesh_cases::spring_amg::<f64>,
+        run_f32: mesh_cases::spring_amg::<f32>,
+        expected_f64: 0x9f52_38eb_e37a_5911,
+        expected_f32: 0x8e36_50e0_a8e2_046b,
+    },
 ];

@@ -9,9 +9,10 @@ use deform_kernel::deformation::{
 };
 use deform_kernel::quality::compare;
 use deform_kernel::spring::{
-    angle_scratch_len, batina_stiffness, solve_angle, solve_linear, solve_linear_scratch_len,
-    AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions, SolveReport,
-    SpringSystem, DEFAULT_ANGLE_EPSILON,
+    amg_precondition, amg_precondition_scratch_len, angle_scratch_len, batina_stiffness,
+    solve_angle, solve_linear, solve_linear_amg, solve_linear_amg_scratch_len,
+    solve_linear_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother, AngleMethod, AngleSystem,
+    LinearMethod, Preconditioner, SolveOptions, SolveReport, SpringSystem, DEFAULT_ANGLE_EPSILON,
 };
 use deform_kernel::taubin::{
     smooth_arclength, smooth_arclength_scratch_len, smooth_structured, structured_scratch_len,
@@ -183,6 +184,70 @@ pub fn spring_linear<T: Real>() -> u64 {
             };
             let scratch = scratch.get_mut(..len).unwrap_or(&mut []);
             match solve_linear(sys, &mut values, method, &opts, scratch) {
+                Ok(r) => hash_report(&mut h, &r),
+                Err(e) => h.error(&e),
+            }
+            hash_points(&mut h, &values);
+        }
+        h.finish()
+    })
+    .unwrap_or(0)
+}
+
+/// Linear springs with the multigrid-preconditioned CG: the hierarchy's sizes, one V-cycle
+/// of a fixed residual and the whole solve, for both smoothers (coarse levels down to 4
+/// unknowns, so the small mesh still has a coarse level).
+pub fn spring_amg<T: Real>() -> u64 {
+    let m = mesh::<T>();
+    with_system(&m, |sys, _| {
+        let mut h = Fnv::new();
+        for smoother in [AmgSmoother::Jacobi, AmgSmoother::Chebyshev] {
+            let opts = AmgOptions {
+                smoother,
+                max_coarse: 4,
+                ..AmgOptions::default()
+            };
+            let mut work = [0u32; 4 * (N + NE) + 64];
+            let mut index = [0u32; 2048];
+            let mut vals = [T::ZERO; 1024];
+            match AmgHierarchy::setup_len(sys, &opts, &mut work) {
+                Ok(s) => {
+                    h.usize(s.index);
+                    h.usize(s.values);
+                    h.usize(s.levels);
+                    h.usize(s.coarse_unknowns);
+                }
+                Err(e) => h.error(&e),
+            }
+            let hier = match AmgHierarchy::setup(sys, &opts, &mut work, &mut index, &mut vals) {
+                Ok(x) => x,
+                Err(e) => {
+                    h.error(&e);
+                    continue;
+                }
+            };
+            let mut scratch = [[T::ZERO; 2]; 8 * N];
+            let r = boundary_displacement(&m);
+            let mut z = [[T::ZERO; 2]; N];
+            let len = amg_precondition_scratch_len(&hier).min(scratch.len());
+            match amg_precondition(
+                sys,
+                &hier,
+                &r,
+                &mut z,
+                scratch.get_mut(..len).unwrap_or(&mut []),
+            ) {
+                Ok(()) => hash_points(&mut h, &z),
+                Err(e) => h.error(&e),
+            }
+            let mut values = boundary_displacement(&m);
+            let len = solve_linear_amg_scratch_len(&hier).min(scratch.len());
+            let stop = SolveOptions {
+                max_iterations: 100,
+                ..SolveOptions::default()
+            };
+            let sc = scratch.get_mut(..len).unwrap_or(&mut []);
+            match solve_linear_amg(sys, &hier, &mut values, &stop, sc) {
                 Ok(r) => hash_report(&mut h, &r),
                 Err(e) => h.error(&e),
             }

@@ -57,15 +57,18 @@ mod update;
 pub use localize::{localize_nodes, localize_nodes_scratch_len};
 pub use normals::{boundary_normals, boundary_normals_scratch_len};
 pub use pipeline::{
-    deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len, deform_tfi,
-    deform_tfi_scratch_len, BoundaryMotion, RotationSource,
+    deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len,
+    deform_spring_with, deform_tfi, deform_tfi_scratch_len, BoundaryMotion, RotationSource,
 };
 pub use propagate::propagate_idw;
 pub use rotations::{
     boundary_origin, boundary_rotations, boundary_rotations_scratch_len, boundary_translations,
     rigid_rotations,
 };
-pub use springs::{propagate_spring, propagate_spring_scratch_len};
+pub use springs::{
+    propagate_spring, propagate_spring_scratch_len, propagate_spring_with,
+    propagate_spring_with_scratch_len,
+};
 pub use tfi::{displacement_tfi, propagate_tfi, tfi_scratch_len};
 pub use update::update_points;
 

@@ -12,7 +12,10 @@
 //!   quaternion components (`V = 4`) or both together (`V = D + 4`), all in one pass over the
 //!   matrix. Methods: the paper's Jacobi iteration, Gauss–Seidel, SOR, and preconditioned
 //!   conjugate gradients (no, Jacobi or SSOR preconditioner) with per-component `α`, `β`
-//!   ([`solve_linear`]).
+//!   ([`solve_linear`]), and CG preconditioned by smoothed-aggregation algebraic multigrid
+//!   ([`AmgHierarchy`], [`solve_linear_amg`]): the hierarchy is built once on the scalar
+//!   operator (caller buffers, exact size query) and applied to all `V` components;
+//!   [`LinearSolver`] names either kind for the deformation pipelines.
 //! - **Angle inclusion** (Yang & Özgen eq. 2; in 3D the block `k e eᵀ`): displacements couple
 //!   through the edge direction `e`. The direct method solves each node's 2×2 / 3×3 system by
 //!   Cramer's rule (Gauss–Seidel or Jacobi order); the indirect method is matrix-free CG on the
@@ -34,6 +37,7 @@ mod amg;
 mod angle;
 mod linear;
 mod norms;
+mod solver;
 mod stiffness;
 mod system;
 
@@ -49,6 +53,7 @@ pub use angle::{
 pub use linear::{
     jacobi_sweep, relative_residual, solve_linear, solve_linear_scratch_len, sor_sweep,
 };
+pub use solver::{solve_linear_with, solve_linear_with_scratch_len, LinearSolver};
 pub use stiffness::batina_stiffness;
 #[cfg(feature = "micromath")]
 pub use stiffness::batina_stiffness_fast;

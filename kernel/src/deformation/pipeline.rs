@@ -1,7 +1,7 @@
 //! One-call deformation pipelines: boundary rotations and translations, propagation, update.
 
 use super::rotations::{origin_core, rotations_core, translation};
-use super::springs::{propagate_spring, propagate_spring_scratch_len};
+use super::springs::{propagate_spring_with, propagate_spring_with_scratch_len};
 use super::{
     boundary_rotations_scratch_len, check_buffer, check_dim, check_finite, check_indices,
     check_len, check_quats, check_scalar, propagate_idw, propagate_tfi, tfi_scratch_len,
@@ -12,7 +12,7 @@ use crate::cells::Cells;
 use crate::error::{Error, Result};
 use crate::quat::Quat;
 use crate::real::Real;
-use crate::spring::{LinearMethod, SolveOptions, SolveReport, SpringSystem};
+use crate::spring::{LinearMethod, LinearSolver, SolveOptions, SolveReport, SpringSystem};
 
 /// Where the boundary rotations come from.
 #[derive(Clone, Copy, Debug)]
@@ -298,7 +298,7 @@ pub fn deform_tfi<T: Real, const D: usize>(
 }
 
 /// Length of the `scratch` slice [`deform_spring`] needs: `max(N, rotation scratch)` (its
-/// `values` workspace needs [`propagate_spring_scratch_len`] items).
+/// `values` workspace needs [`propagate_spring_scratch_len`](super::propagate_spring_scratch_len) items).
 #[inline]
 pub fn deform_spring_scratch_len<const D: usize>(node_count: usize, boundary_len: usize) -> usize {
     deform_idw_scratch_len::<D>(node_count, boundary_len)
@@ -306,12 +306,12 @@ pub fn deform_spring_scratch_len<const D: usize>(node_count: usize, boundary_len
 
 /// The whole quaternion deformation with linear-spring propagation (Samareh's unstructured
 /// variant): boundary rotations and translations as in [`deform_idw`], then
-/// [`propagate_spring`] on `sys` (whose fixed mask must mark exactly `motion.nodes`), then
+/// [`propagate_spring`](super::propagate_spring) on `sys` (whose fixed mask must mark exactly `motion.nodes`), then
 /// [`update_points`]. Returns the origin and the solver report; `out` is written even when the
 /// solver did not converge (check the report).
 ///
 /// `scratch` needs [`deform_spring_scratch_len`] entries and `values`
-/// [`propagate_spring_scratch_len`] items, with `V = D + 4`. On error `out` is unchanged; solver
+/// [`propagate_spring_scratch_len`](super::propagate_spring_scratch_len) items, with `V = D + 4`. On error `out` is unchanged; solver
 /// errors are detected after the boundary entries of `translations` and `rotations` were
 /// written.
 #[allow(clippy::too_many_arguments)]
@@ -320,6 +320,37 @@ pub fn deform_spring<T: Real, const D: usize, const V: usize>(
     motion: &BoundaryMotion<'_, T, D>,
     sys: &SpringSystem<'_, T>,
     method: LinearMethod<T>,
+    options: &SolveOptions<T>,
+    translations: &mut [[T; D]],
+    rotations: &mut [Quat<T>],
+    scratch: &mut [T],
+    values: &mut [[T; V]],
+    out: &mut [[T; D]],
+) -> Result<([T; D], SolveReport<T>)> {
+    deform_spring_with(
+        points,
+        motion,
+        sys,
+        LinearSolver::Method(method),
+        options,
+        translations,
+        rotations,
+        scratch,
+        values,
+        out,
+    )
+}
+
+/// [`deform_spring`] with any linear-spring solver, e.g. the multigrid-preconditioned CG
+/// ([`LinearSolver::Amg`], hierarchy built for `sys`); `values` needs
+/// [`propagate_spring_with_scratch_len`](super::propagate_spring_with_scratch_len) items.
+/// Otherwise identical.
+#[allow(clippy::too_many_arguments)]
+pub fn deform_spring_with<T: Real, const D: usize, const V: usize>(
+    points: &[[T; D]],
+    motion: &BoundaryMotion<'_, T, D>,
+    sys: &SpringSystem<'_, T>,
+    solver: LinearSolver<'_, T>,
     options: &SolveOptions<T>,
     translations: &mut [[T; D]],
     rotations: &mut [Quat<T>],
@@ -346,7 +377,7 @@ pub fn deform_spring<T: Real, const D: usize, const V: usize>(
     check_buffer(
         "values",
         values.len(),
-        propagate_spring_scratch_len(&method, points.len()),
+        propagate_spring_with_scratch_len(&solver, points.len()),
     )?;
     for (m, &f) in scratch.iter().zip(sys.fixed()) {
         if (*m != T::ZERO) != crate::spring::is_fixed(f) {
@@ -357,7 +388,7 @@ pub fn deform_spring<T: Real, const D: usize, const V: usize>(
         }
     }
     let origin = boundary_values(points, motion, translations, rotations, scratch)?;
-    let report = propagate_spring(sys, method, options, translations, rotations, values)?;
+    let report = propagate_spring_with(sys, solver, options, translations, rotations, values)?;
     update_points(
         origin,
         points,

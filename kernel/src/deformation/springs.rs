@@ -6,14 +6,25 @@ use crate::error::{Error, Result};
 use crate::quat::Quat;
 use crate::real::Real;
 use crate::spring::{
-    solve_linear, solve_linear_scratch_len, LinearMethod, SolveOptions, SolveReport, SpringSystem,
+    solve_linear_with, solve_linear_with_scratch_len, LinearMethod, LinearSolver, SolveOptions,
+    SolveReport, SpringSystem,
 };
 
 /// Number of `[T; V]` scratch items [`propagate_spring`] needs: `N` for the packed values plus
-/// [`solve_linear_scratch_len`] for the solver.
+/// [`solve_linear_scratch_len`](crate::spring::solve_linear_scratch_len) for the solver.
 #[inline]
-pub fn propagate_spring_scratch_len<T>(method: &LinearMethod<T>, node_count: usize) -> usize {
-    node_count.saturating_add(solve_linear_scratch_len(method, node_count))
+pub fn propagate_spring_scratch_len<T: Real>(method: &LinearMethod<T>, node_count: usize) -> usize {
+    propagate_spring_with_scratch_len(&LinearSolver::Method(*method), node_count)
+}
+
+/// Number of `[T; V]` scratch items [`propagate_spring_with`] needs: `N` for the packed values
+/// plus [`solve_linear_with_scratch_len`] for the solver.
+#[inline]
+pub fn propagate_spring_with_scratch_len<T: Real>(
+    solver: &LinearSolver<'_, T>,
+    node_count: usize,
+) -> usize {
+    node_count.saturating_add(solve_linear_with_scratch_len(solver, node_count))
 }
 
 /// Propagates translations and rotations through a linear spring network (Samareh: "the
@@ -42,6 +53,27 @@ pub fn propagate_spring<T: Real, const D: usize, const V: usize>(
     rotations: &mut [Quat<T>],
     scratch: &mut [[T; V]],
 ) -> Result<SolveReport<T>> {
+    propagate_spring_with(
+        sys,
+        LinearSolver::Method(method),
+        options,
+        translations,
+        rotations,
+        scratch,
+    )
+}
+
+/// [`propagate_spring`] with any linear-spring solver, e.g. the multigrid-preconditioned CG
+/// ([`LinearSolver::Amg`], hierarchy built for `sys`). `scratch` needs
+/// [`propagate_spring_with_scratch_len`] items; otherwise identical.
+pub fn propagate_spring_with<T: Real, const D: usize, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    solver: LinearSolver<'_, T>,
+    options: &SolveOptions<T>,
+    translations: &mut [[T; D]],
+    rotations: &mut [Quat<T>],
+    scratch: &mut [[T; V]],
+) -> Result<SolveReport<T>> {
     check_dim::<D>()?;
     if V != D + 4 {
         return Err(Error::InvalidParameter {
@@ -55,7 +87,7 @@ pub fn propagate_spring<T: Real, const D: usize, const V: usize>(
     check_buffer(
         "scratch",
         scratch.len(),
-        propagate_spring_scratch_len(&method, n),
+        propagate_spring_with_scratch_len(&solver, n),
     )?;
     // Validate the fixed entries.
     let mut first_fixed = None;
@@ -112,7 +144,7 @@ pub fn propagate_spring<T: Real, const D: usize, const V: usize>(
             *v = mean;
         }
     }
-    let report = solve_linear(sys, values, method, options, solver_scratch)?;
+    let report = solve_linear_with(sys, values, solver, options, solver_scratch)?;
     // Every free quaternion must normalise before anything is written.
     for (i, v) in values.iter().enumerate() {
         if !sys.is_fixed(i) && unpack::<T, D, V>(v).1.normalize().is_err() {

@@ -9,7 +9,8 @@ use core::hint::black_box;
 
 use deform_kernel::spring::{
     amg_precondition, amg_precondition_scratch_len, solve_linear_amg,
-    solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother, SolveOptions,
+    solve_linear_amg_scratch_len, solve_linear_with, solve_linear_with_scratch_len, AmgHierarchy,
+    AmgOptions, AmgSmoother, LinearMethod, LinearSolver, Preconditioner, SolveOptions,
     SpringSystem,
 };
 use deform_kernel::{Graph, Real};
@@ -99,4 +100,18 @@ fn solve<T: Real, const V: usize>(sys: &SpringSystem<'_, T>, h: &AmgHierarchy<'_
     let sc = scratch.get_mut(..len).unwrap_or(&mut []);
     keep(amg_precondition(sys, h, bb(&x[..]), bb(&mut z[..]), bb(sc)));
     keep(&z);
+    // Through the solver handle, both kinds.
+    for solver in [
+        LinearSolver::Amg(h),
+        LinearSolver::Method(LinearMethod::Cg {
+            preconditioner: Preconditioner::Jacobi,
+        }),
+    ] {
+        let solver = bb(solver);
+        let len = solve_linear_with_scratch_len(&solver, bb(N));
+        let mut y = x;
+        let sc = scratch.get_mut(..len).unwrap_or(&mut []);
+        keep(solve_linear_with(sys, bb(&mut y[..]), solver, &opts, bb(sc)));
+        keep(&y);
+    }
 }

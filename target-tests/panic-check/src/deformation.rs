@@ -6,12 +6,16 @@ use core::hint::black_box;
 use deform_kernel::deformation::{
     boundary_normals, boundary_normals_scratch_len, boundary_origin, boundary_rotations,
     boundary_rotations_scratch_len, boundary_translations, deform_idw, deform_idw_scratch_len,
-    deform_spring, deform_spring_scratch_len, deform_tfi, deform_tfi_scratch_len, displacement_tfi,
-    localize_nodes, localize_nodes_scratch_len, propagate_idw, propagate_spring,
-    propagate_spring_scratch_len, propagate_tfi, rigid_rotations, tfi_scratch_len, update_points,
+    deform_spring, deform_spring_scratch_len, deform_spring_with, deform_tfi, deform_tfi_scratch_len,
+    displacement_tfi, localize_nodes, localize_nodes_scratch_len, propagate_idw, propagate_spring,
+    propagate_spring_scratch_len, propagate_spring_with, propagate_spring_with_scratch_len,
+    propagate_tfi, rigid_rotations, tfi_scratch_len, update_points,
     BoundaryMotion, RotationSource,
 };
-use deform_kernel::spring::{LinearMethod, Preconditioner, SolveOptions, SpringSystem};
+use deform_kernel::spring::{
+    AmgHierarchy, AmgOptions, LinearMethod, LinearSolver, Preconditioner, SolveOptions,
+    SpringSystem,
+};
 use deform_kernel::{Block, Cells, Graph, Quat, Real};
 
 /// Calls every deformation entry point with opaque inputs.
@@ -199,6 +203,42 @@ fn run<T: Real, const D: usize, const V: usize>() {
                     bb(&mut values[..]),
                     bb(&mut out[..]),
                 ));
+                // The same pipelines with the multigrid-preconditioned CG.
+                let amg_opts = bb(AmgOptions::<T>::default());
+                let mut work = [0u32; 4 * (3 * N) + 64];
+                let mut index = [0u32; 512];
+                let mut hvals = [T::ZERO; 512];
+                if let Ok(h) = AmgHierarchy::setup(
+                    &sys,
+                    &amg_opts,
+                    bb(&mut work[..]),
+                    bb(&mut index[..]),
+                    bb(&mut hvals[..]),
+                ) {
+                    let solver = bb(LinearSolver::Amg(&h));
+                    let mut big = [[T::ZERO; V]; 10 * N];
+                    keep(propagate_spring_with_scratch_len(&solver, bb(N)));
+                    keep(propagate_spring_with(
+                        &sys,
+                        solver,
+                        &options,
+                        bb(&mut trans[..]),
+                        bb(&mut rot[..]),
+                        bb(&mut big[..]),
+                    ));
+                    keep(deform_spring_with(
+                        &points,
+                        &motion2,
+                        &sys,
+                        solver,
+                        &options,
+                        bb(&mut trans[..]),
+                        bb(&mut rot[..]),
+                        bb(&mut scratch[..]),
+                        bb(&mut big[..]),
+                        bb(&mut out[..]),
+                    ));
+                }
             }
         }
     }

@@ -1,0 +1,50 @@
+//! One handle for every linear-spring solver: a [`LinearMethod`] (stationary or CG with a
+//! one-level preconditioner) or the multigrid-preconditioned CG with a prebuilt
+//! [`AmgHierarchy`]. The deformation pipelines take this, so they run with either.
+
+use super::amg::{solve_linear_amg, solve_linear_amg_scratch_len, AmgHierarchy};
+use super::linear::{solve_linear, solve_linear_scratch_len};
+use super::system::{LinearMethod, SolveOptions, SolveReport, SpringSystem};
+use crate::error::Result;
+use crate::real::Real;
+
+/// A linear-spring solver.
+#[derive(Clone, Copy, Debug)]
+pub enum LinearSolver<'a, T: Real> {
+    /// [`solve_linear`] with this method.
+    Method(LinearMethod<T>),
+    /// [`solve_linear_amg`] with this hierarchy (built for the system being solved).
+    Amg(&'a AmgHierarchy<'a, T>),
+}
+
+impl<T: Real> From<LinearMethod<T>> for LinearSolver<'_, T> {
+    fn from(m: LinearMethod<T>) -> Self {
+        LinearSolver::Method(m)
+    }
+}
+
+/// Number of `[T; V]` scratch items [`solve_linear_with`] needs for `node_count` nodes.
+pub fn solve_linear_with_scratch_len<T: Real>(
+    solver: &LinearSolver<'_, T>,
+    node_count: usize,
+) -> usize {
+    match solver {
+        LinearSolver::Method(m) => solve_linear_scratch_len(m, node_count),
+        LinearSolver::Amg(h) => solve_linear_amg_scratch_len(h),
+    }
+}
+
+/// Solves the linear springs with `solver`: [`solve_linear`] or [`solve_linear_amg`] (same
+/// problem, same report, same errors).
+pub fn solve_linear_with<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    values: &mut [[T; V]],
+    solver: LinearSolver<'_, T>,
+    options: &SolveOptions<T>,
+    scratch: &mut [[T; V]],
+) -> Result<SolveReport<T>> {
+    match solver {
+        LinearSolver::Method(m) => solve_linear(sys, values, m, options, scratch),
+        LinearSolver::Amg(h) => solve_linear_amg(sys, h, values, options, scratch),
+    }
+}
