@@ -49,6 +49,13 @@ pub enum CliError {
     Invalid(String),
     /// The kernel reported an error.
     Kernel(String),
+    /// The work would not fit in the memory available.
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// How much is needed and available.
+        message: String,
+    },
     /// This build does not have what the command needs yet.
     NotAvailable {
         /// The command or option.
@@ -59,6 +66,14 @@ pub enum CliError {
 }
 
 impl CliError {
+    /// Names the input file in a kernel error (other errors already name their file).
+    pub fn in_file(self, path: &Path) -> CliError {
+        match self {
+            CliError::Kernel(m) => CliError::Kernel(format!("{}: {m}", path.display())),
+            e => e,
+        }
+    }
+
     /// The process exit status: 3 for [`CliError::NotAvailable`], 1 otherwise (clap uses 2 for
     /// a bad command line).
     pub fn exit_code(&self) -> i32 {
@@ -76,6 +91,7 @@ impl fmt::Display for CliError {
             CliError::Io { path, source } => write!(f, "{}: {source}", path.display()),
             CliError::Invalid(m) => write!(f, "{m}"),
             CliError::Kernel(m) => write!(f, "kernel: {m}"),
+            CliError::TooLarge { path, message } => write!(f, "{}: {message}", path.display()),
             CliError::NotAvailable { feature, needs } => {
                 write!(f, "{feature}: not available yet: needs {needs}")
             }
@@ -97,6 +113,9 @@ pub struct Outcome {
 /// Runs the parsed command line.
 pub fn run(cli: &Cli) -> Result<Outcome, CliError> {
     let quiet = cli.json;
+    let (inputs, outputs) = files_of(&cli.command);
+    crate::guard::check_outputs(&inputs, &outputs)?;
+    crate::guard::register_inputs(&inputs);
     match &cli.command {
         Command::Demo(a) => crate::demo::demo(a, quiet),
         Command::Mesh(MeshCommand::Naca(a)) => mesh_naca(a),
@@ -105,6 +124,37 @@ pub fn run(cli: &Cli) -> Result<Outcome, CliError> {
         Command::Smooth(a) => smooth(a, quiet),
         Command::Quality(a) => quality(a),
         Command::Convert(a) => convert(a),
+    }
+}
+
+/// The input and output files a command names on its command line.
+fn files_of(command: &Command) -> (Vec<&Path>, Vec<&Path>) {
+    fn opt(p: &Option<PathBuf>) -> Option<&Path> {
+        p.as_deref()
+    }
+    match command {
+        Command::Demo(_) => (vec![], vec![]),
+        Command::Mesh(MeshCommand::Naca(a)) => (vec![], vec![&a.out]),
+        Command::Mesh(MeshCommand::Block(a)) => (vec![], vec![&a.out]),
+        Command::Move(a) => (
+            [Some(a.mesh.as_path()), opt(&a.displacements)]
+                .into_iter()
+                .flatten()
+                .collect(),
+            [Some(a.out.as_path()), opt(&a.vtk), opt(&a.plot)]
+                .into_iter()
+                .flatten()
+                .collect(),
+        ),
+        Command::Smooth(a) => (vec![&a.grid], vec![&a.out]),
+        Command::Quality(a) => (
+            [Some(a.file.as_path()), opt(&a.reference)]
+                .into_iter()
+                .flatten()
+                .collect(),
+            opt(&a.vtk).into_iter().collect(),
+        ),
+        Command::Convert(a) => (vec![&a.input], vec![&a.output]),
     }
 }
 
@@ -136,10 +186,7 @@ pub fn file_kind(path: &Path) -> Option<FileKind> {
 }
 
 fn read_bytes(path: &Path) -> Result<Vec<u8>, CliError> {
-    std::fs::read(path).map_err(|source| CliError::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+    crate::guard::read_file(path)
 }
 
 /// Reads an SU2 mesh file.
@@ -487,6 +534,11 @@ fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
         return Err(CliError::Invalid("--tol must be a positive number".into()));
     }
     let mesh = read_su2(&a.mesh)?;
+    crate::guard::check_memory(
+        &a.mesh,
+        "deform move on this mesh",
+        crate::guard::move_estimate(mesh.points.len(), mesh.elements.nodes.len()),
+    )?;
     let moved = marker_nodes(&mesh, &a.markers, &a.mesh)?;
     if moved.is_empty() {
         return Err(CliError::Invalid("the named markers have no nodes".into()));
@@ -625,7 +677,7 @@ fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
     let spinner = crate::progress::spinner("deforming", quiet);
     let result = run_move(&input);
     spinner.finish_and_clear();
-    let result = result?;
+    let result = result.map_err(|e| e.in_file(&a.mesh))?;
     let wall = marker_union(&mesh, &a.markers, &a.mesh)?;
     let q = crate::engine::quality(
         mesh.dim,
@@ -633,7 +685,8 @@ fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
         &result.deformed,
         Some(&mesh.points),
         Some(&wall),
-    )?;
+    )
+    .map_err(|e| e.in_file(&a.mesh))?;
     let out_mesh = Su2Mesh {
         points: result.deformed.clone(),
         ..mesh.clone()

@@ -18,6 +18,7 @@ pub mod commands;
 pub mod demo;
 pub mod engine;
 pub mod formats;
+pub mod guard;
 pub mod orientation;
 pub mod output;
 pub mod plot;

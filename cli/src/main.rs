@@ -8,6 +8,9 @@ use deform_cli::commands::run;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(e) = deform_cli::guard::install_signal_cleanup() {
+        eprintln!("deform: warning: cannot watch for interrupts ({e}); an interrupted run may leave a hidden .deform-tmp file");
+    }
     match run(&cli) {
         Ok(outcome) => {
             if cli.json {

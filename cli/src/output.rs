@@ -42,7 +42,18 @@ impl Staged {
                 format!("{} is a directory", target.display()),
             ));
         }
+        if let Some(input) = crate::guard::is_input(target) {
+            return Err(io::Error::new(
+                io::ErrorKind::AlreadyExists,
+                format!(
+                    "{} is the input file {}; refusing to overwrite an input",
+                    target.display(),
+                    input.display()
+                ),
+            ));
+        }
         let tmp = temp_path(target);
+        crate::guard::register_temp(&tmp);
         let result = (|| {
             let mut f = fs::File::create(&tmp)?;
             write(&mut f)?;
@@ -56,6 +67,7 @@ impl Staged {
             }
             Err(e) => {
                 let _ = fs::remove_file(&tmp);
+                crate::guard::forget_temp(&tmp);
                 Err(e)
             }
         }
@@ -66,10 +78,13 @@ impl Staged {
         let files = std::mem::take(&mut self.files);
         let mut iter = files.into_iter();
         while let Some((tmp, target)) = iter.next() {
-            if let Err(e) = fs::rename(&tmp, &target) {
+            let renamed = fs::rename(&tmp, &target);
+            crate::guard::forget_temp(&tmp);
+            if let Err(e) = renamed {
                 let _ = fs::remove_file(&tmp);
                 for (t, _) in iter {
                     let _ = fs::remove_file(&t);
+                    crate::guard::forget_temp(&t);
                 }
                 return Err(io::Error::new(
                     e.kind(),
@@ -85,6 +100,7 @@ impl Drop for Staged {
     fn drop(&mut self) {
         for (tmp, _) in self.files.drain(..) {
             let _ = fs::remove_file(&tmp);
+            crate::guard::forget_temp(&tmp);
         }
     }
 }
