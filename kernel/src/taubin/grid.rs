@@ -23,9 +23,9 @@ pub struct SmoothOptions<'a, T> {
     pub params: TaubinParams<T>,
     /// Fine-grid iterations (default 30, as in the paper).
     pub iterations: usize,
-    /// Filter the normalised arclength `s = S / S_total` (Alter: reduces stretching and keeps
-    /// both line ends in place) instead of the dimensional `S` (smooths the grid; the far ends
-    /// of the lines are filtered too and may slide along their last segment). Default `false`.
+    /// Filter the normalised arclength `s = S / S_total` (Alter: reduces stretching) instead
+    /// of the dimensional `S` (smooths the grid). In both modes the line ends stay where they
+    /// are. Default `false`.
     pub normalised: bool,
     /// Optional pin mask (`point_count` bytes, nonzero = the point does not move).
     pub pinned: Option<&'a [u8]>,
@@ -90,6 +90,18 @@ pub fn smooth_arclength_scratch_len<const D: usize>(
     n + n.max(nc).max((D + 1) * len)
 }
 
+/// True when point `p` is the first or last point of its line along `direction`.
+fn is_line_end(dims: [usize; 3], direction: usize, p: usize) -> bool {
+    let [ni, nj, _] = dims;
+    let (stride, len) = match direction {
+        0 => (1, ni),
+        1 => (ni, nj),
+        _ => (ni.saturating_mul(nj), dims[2]),
+    };
+    let t = (p / stride.max(1)) % len.max(1);
+    t == 0 || t + 1 == len
+}
+
 /// Smooths a structured grid along one family of lines, Alter's way:
 ///
 /// 1. `S(i, j, k)` = arclength along `direction` from each line's first point ([`arclength`],
@@ -103,6 +115,12 @@ pub fn smooth_arclength_scratch_len<const D: usize>(
 ///    iterations count 1…N, coarse ones N+1…N+M; the check after prolongation uses N+M);
 /// 4. every point moves along its original polyline to its filtered arclength
 ///    ([`redistribute`]); pinned points are not touched.
+///
+/// In both modes the **first and last point of every line stay bitwise where they were**:
+/// they are held in the filter (like pinned points) and skipped by the redistribution, so the
+/// grid's boundary faces at the line ends, and whatever meets them there (an O-grid seam, a
+/// block interface), do not move. Dimensional smoothing thus redistributes points between
+/// fixed ends.
 ///
 /// The grid is only written in step 4, so on **any** `Err` (including `FoldedLine`) `points`
 /// is unchanged; `scratch` ([`smooth_arclength_scratch_len`] values) is then unspecified.
@@ -171,7 +189,9 @@ pub fn smooth_arclength<T: Real, const D: usize>(
 
     let pts: &[[T; D]] = points;
     let collapsed = |base: usize| line_collapsed(dims, pts, direction, base);
-    let pin = |_: [usize; 3], p: usize| is_pinned(pinned, p);
+    // Line ends never move: pinned in the filter and skipped by the redistribution.
+    let held = |p: usize| is_pinned(pinned, p) || is_line_end(dims, direction, p);
+    let pin = |_: [usize; 3], p: usize| held(p);
     let region = BlockRegion {
         lo: [0; 3],
         hi: dims,
@@ -211,7 +231,7 @@ pub fn smooth_arclength<T: Real, const D: usize>(
             params,
             options.coarse_iterations,
             mirror,
-            |p| is_pinned(pinned, p),
+            held,
             rest,
             |cfield, it| {
                 check_increasing_core(
@@ -237,7 +257,7 @@ pub fn smooth_arclength<T: Real, const D: usize>(
         field,
         options.normalised,
         rest,
-        |p| is_pinned(pinned, p),
+        held,
     );
     let stretching_after = max_stretching_core(dims, points, direction);
     Ok(SmoothReport {
