@@ -31,9 +31,17 @@ pub enum Command {
     Move(MoveArgs),
     /// Smooth a Plot3D grid along one grid direction (Alter's arclength Taubin smoothing).
     ///
-    /// Points slide along their own grid lines to the filtered arclength. If a line folds
-    /// (arclength stops increasing) the run stops with an error naming the line and the
-    /// iteration, and nothing is written.
+    /// Points slide along their own grid lines to the filtered arclength; the first and last
+    /// point of every line never move (bit for bit), and neither does any point that
+    /// coincides with another grid point (O-grid seams, block interfaces), so seams and
+    /// interfaces stay closed. Without --normalized the physical arclength is filtered (this
+    /// smooths the grid: points are redistributed between the fixed ends); with --normalized
+    /// the arclength divided by each line's length is filtered (this reduces stretching).
+    /// If a line folds (arclength stops increasing) or a cell flips (a corner Jacobian that
+    /// was positive becomes ≤ 0) the run stops with an error naming the block, the line or
+    /// cell and the iteration, and nothing is written (--allow-folds writes flipped cells
+    /// anyway and reports them). Reports the largest stretching ratio and Alter's stretching
+    /// measure ∇²S before and after.
     Smooth(SmoothArgs),
     /// Report mesh quality (signed measures, inverted and folded cells, area ratios).
     Quality(QualityArgs),
@@ -299,9 +307,13 @@ pub struct SmoothArgs {
     /// Grid direction to smooth along.
     #[arg(long, value_enum)]
     pub direction: Direction,
-    /// Smooth normalised arclength (per line) instead of physical arclength.
+    /// Filter the normalised arclength S/S_line (reduces stretching) instead of the physical
+    /// arclength S (smooths the grid). Line ends stay fixed in both modes.
     #[arg(long)]
     pub normalized: bool,
+    /// Write the result even if cells flip, and report them (default: refuse, write nothing).
+    #[arg(long)]
+    pub allow_folds: bool,
     /// Number of λ|μ iterations.
     #[arg(long)]
     pub iterations: usize,

@@ -464,6 +464,7 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
             0.330,
             -0.334,
             *coarse,
+            None,
         )?;
         let cells = structured_cells(dims, &after, 2);
         let q = quality(2, &cells, &after, Some(&before), None)?;

@@ -760,13 +760,14 @@ pub fn smooth_block(
     lambda: f64,
     mu: f64,
     coarse: Option<usize>,
+    pinned: Option<&[u8]>,
 ) -> Result<BlockSmoothing, CliError> {
     match dim {
         2 => smooth_d::<2>(
-            dims, points, direction, normalised, iterations, lambda, mu, coarse,
+            dims, points, direction, normalised, iterations, lambda, mu, coarse, pinned,
         ),
         3 => smooth_d::<3>(
-            dims, points, direction, normalised, iterations, lambda, mu, coarse,
+            dims, points, direction, normalised, iterations, lambda, mu, coarse, pinned,
         ),
         d => Err(CliError::Invalid(format!("dimension {d} is not 2 or 3"))),
     }
@@ -782,6 +783,7 @@ fn smooth_d<const D: usize>(
     lambda: f64,
     mu: f64,
     coarse: Option<usize>,
+    pinned: Option<&[u8]>,
 ) -> Result<BlockSmoothing, CliError> {
     use deform_kernel::taubin::{
         smooth_arclength, smooth_arclength_scratch_len, Coarse, Prolongation, SmoothOptions,
@@ -793,6 +795,7 @@ fn smooth_d<const D: usize>(
     options.params = TaubinParams { lambda, mu };
     options.iterations = iterations;
     options.normalised = normalised;
+    options.pinned = pinned;
     if let Some(m) = coarse {
         let mut factor = [m; 3];
         if let Some(f) = factor.get_mut(direction) {
@@ -822,4 +825,81 @@ fn smooth_d<const D: usize>(
         max_stretching_after: r.stretching_after.0,
         max_point_move: r.max_displacement,
     })
+}
+
+/// Per-cell smallest corner Jacobian of `cells` at `points` (2D: quads of a 2D grid; 3D:
+/// hexahedra). Compare two point sets with the same `cells` to find cells that flipped.
+pub fn corner_jacobians(
+    dim: usize,
+    cells: &CellList,
+    points: &[[f64; 3]],
+) -> Result<Vec<f64>, CliError> {
+    fn run<const D: usize>(cells: &CellList, points: &[[f64; 3]]) -> Result<Vec<f64>, CliError> {
+        let view = cells_view(cells, points.len())?;
+        let mut out = vec![0.0; view.len()];
+        deform_kernel::quality::min_corner_jacobians(
+            &view,
+            &points_d::<D>(points),
+            false,
+            &mut out,
+        )
+        .map_err(kernel("corner Jacobians"))?;
+        Ok(out)
+    }
+    match dim {
+        2 => run::<2>(cells, points),
+        3 => run::<3>(cells, points),
+        d => Err(CliError::Invalid(format!("dimension {d} is not 2 or 3"))),
+    }
+}
+
+/// Alter's cell-size stretching measure (his eq. 1): the largest `|∇²S|` over the points that
+/// are interior in every direction with at least three points, where `S` is the dimensional
+/// arclength along `direction` and `∇²S = Σ_axes (S₋ − 2S + S₊) / 2`. 0 for a grid whose
+/// arclength is linear in the indices (uniform, straight and equally long lines).
+pub fn max_arclength_laplacian(
+    dim: usize,
+    dims: [usize; 3],
+    points: &[[f64; 3]],
+    direction: usize,
+) -> Result<f64, CliError> {
+    fn run<const D: usize>(
+        dims: [usize; 3],
+        points: &[[f64; 3]],
+        direction: usize,
+    ) -> Result<f64, CliError> {
+        let block = deform_kernel::Block::new(dims).map_err(kernel("block"))?;
+        let pts = points_d::<D>(points);
+        let mut s = vec![0.0; pts.len()];
+        deform_kernel::taubin::arclength(&block, &pts, direction, false, &mut s)
+            .map_err(kernel("arclength"))?;
+        let [ni, nj, nk] = dims;
+        let strides = [1, ni, ni * nj];
+        let inside = |t: usize, n: usize| n < 3 || (t > 0 && t + 1 < n);
+        let mut max = 0.0f64;
+        for k in 0..nk {
+            for j in 0..nj {
+                for i in 0..ni {
+                    let idx = [i, j, k];
+                    if !(0..3).all(|a| inside(idx[a], dims[a])) {
+                        continue;
+                    }
+                    let p = i + ni * (j + nj * k);
+                    let mut lap = 0.0;
+                    for a in 0..3 {
+                        if dims[a] >= 3 {
+                            lap += (s[p - strides[a]] - 2.0 * s[p] + s[p + strides[a]]) / 2.0;
+                        }
+                    }
+                    max = max.max(lap.abs());
+                }
+            }
+        }
+        Ok(max)
+    }
+    match dim {
+        2 => run::<2>(dims, points, direction),
+        3 => run::<3>(dims, points, direction),
+        d => Err(CliError::Invalid(format!("dimension {d} is not 2 or 3"))),
+    }
 }
