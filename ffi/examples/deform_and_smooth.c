@@ -19,7 +19,7 @@
 #define N (NI * NJ)  /* mesh nodes */
 #define NB (2 * NI)  /* boundary nodes: the wall (j = 0) and the far field (j = NJ - 1) */
 #define NC (NI * (NJ - 1)) /* quadrilateral cells */
-#define SCRATCH (32 * N)   /* >= every scratch length queried below */
+#define SCRATCH (40 * N)   /* >= every scratch length queried below */
 #define EDGES (8 * NC)     /* the edge graph's targets length bound: 8 per quad */
 
 #define CHECK(call)                                                                  \

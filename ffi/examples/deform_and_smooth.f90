@@ -11,7 +11,7 @@ program deform_and_smooth
   use deform_kernel
   implicit none
   integer, parameter :: NI = 24, NJ = 12, N = NI * NJ, NB = 2 * NI, NC = NI * (NJ - 1)
-  integer, parameter :: MAXSCR = 32 * N, MAXEDGE = 8 * NC
+  integer, parameter :: MAXSCR = 40 * N, MAXEDGE = 8 * NC
   real(c_double) :: points(2, N), out(2, N), tfi(2, N), translations(2, N), rotations(4, N)
   real(c_double) :: deformed(2, NB), node_rot(4, NB), scratch(MAXSCR), values(MAXSCR)
   real(c_double) :: stiffness(MAXEDGE), wall3(3, NI), turned3(3, NI), q(4), origin(2)

@@ -1927,8 +1927,8 @@ dk_status dk_spring_solve_options_default(dk_spring_solve_options *out);
 dk_status dk_spring_solve_options_default_f32(dk_spring_solve_options *out);
 
 // Scalars of `scratch` [`dk_spring_solve_linear`] needs for `options->method`:
-// `node_count * components` for Jacobi, 0 for Gauss–Seidel and SOR, `4 * node_count *
-// components` for CG (same count for both precisions).
+// `node_count * components` for Jacobi, 0 for Gauss–Seidel and SOR, `5 * node_count *
+// components` for CG (four vectors and the diagonal; same count for both precisions).
 //
 // # Safety
 // `options` points to one readable struct; `len_out` to one writable `size_t`.

@@ -234,7 +234,7 @@ static void precision_independent(void) {
         CHECK(len == 0);
         so.method = DK_LINEAR_CG;
         OK(dk_spring_solve_linear_scratch_len(10, 3, &so, &len));
-        CHECK(len == 120);
+        CHECK(len == 150);
         len = sentinel_len;
         so.method = 9;
         EXPECT(dk_spring_solve_linear_scratch_len(10, 3, &so, &len), DK_ERR_INVALID_PARAMETER);

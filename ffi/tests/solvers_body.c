@@ -707,14 +707,14 @@ static void CAT(springs_linear_, SUF)(void) {
     o.preconditioner = DK_PRECONDITIONER_SSOR;
     o.omega = 1.2;
     OK(FN(dk_spring_solve_linear)(grid_off, 17, grid_tgt, 48, kg, 48, gfixed, 16, &o, 1, gv, 16,
-                                  s, 64, idx, 16, &r));
+                                  s, 80, idx, 16, &r));
     CHECK(r.converged);
     for (i = 0; i < 16; i++)
         if (!gfixed[i]) CHECK(gv[i] > -2 && gv[i] < 3);
     /* Linear boundary data x + 2y reproduce the linear field inside. */
     for (i = 0; i < 16; i++) gv[i] = gfixed[i] ? gx[2 * i] + 2 * gx[2 * i + 1] : 0;
     OK(FN(dk_spring_solve_linear)(grid_off, 17, grid_tgt, 48, kg, 48, gfixed, 16, &o, 1, gv, 16,
-                                  s, 64, idx, 16, &r));
+                                  s, 80, idx, 16, &r));
     for (i = 0; i < 16; i++) CLOSE(gv[i], gx[2 * i] + 2 * gx[2 * i + 1], LOOSE);
 
     /* Relative residual of the zero interior guess is exactly 1 (r = b). */

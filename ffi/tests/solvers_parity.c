@@ -68,7 +68,7 @@ static void graphs(void) {
 
 #define BODY(REAL, FN, HEX, TAG)                                                          \
     do {                                                                                  \
-        REAL pts[32], k[48], v[16], s[64], field[60], fs[60], grid[36], gs[64], gv[10];   \
+        REAL pts[32], k[48], v[16], s[80], field[60], fs[60], grid[36], gs[64], gv[10];   \
         REAL lambda, mu, cs[10];                                                          \
         uint8_t fixed[16];                                                                \
         uint32_t idx[16];                                                                 \
@@ -92,7 +92,7 @@ static void graphs(void) {
               "batina");                                                                  \
         check(FN(dk_spring_solve_options_default)(&so), "options");                       \
         check(FN(dk_spring_solve_linear)(goff, 17, gtgt, 48, k, 48, fixed, 16, &so, 1, v, \
-                                         16, s, 64, idx, 16, &sr),                        \
+                                         16, s, 80, idx, 16, &sr),                        \
               "solve");                                                                   \
         HEX("spring_" TAG, v, 16);                                                        \
         check(FN(dk_taubin_params_paper)(&lambda, &mu), "paper");                         \

@@ -176,7 +176,7 @@ pub fn spring_linear<T: Real>() -> u64 {
         ];
         for (method, max_iterations) in methods {
             let mut values = boundary_displacement(&m);
-            let mut scratch = [[T::ZERO; 2]; 4 * N];
+            let mut scratch = [[T::ZERO; 2]; 5 * N];
             let len = solve_linear_scratch_len(&method, N).min(scratch.len());
             let opts = SolveOptions {
                 max_iterations,
@@ -333,7 +333,7 @@ fn deformation_hash<T: Real>(m: &Mesh<T>, sys: &SpringSystem<'_, T>) -> u64 {
     let method = LinearMethod::Cg {
         preconditioner: Preconditioner::Jacobi,
     };
-    let mut values = [[T::ZERO; 6]; 5 * N];
+    let mut values = [[T::ZERO; 6]; 6 * N];
     let vlen = propagate_spring_scratch_len(&method, N).min(values.len());
     let slen = deform_spring_scratch_len::<2>(N, NB).min(scratch.len());
     let mut out = [[T::ZERO; 2]; N];

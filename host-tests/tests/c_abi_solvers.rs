@@ -108,7 +108,7 @@ fn expected_for<T: Real>(tag: &str, hex: fn(&str, &[T]) -> String) -> String {
     batina_stiffness(&grid, &pts, T::ONE, &mut k).unwrap();
     let mut idx = vec![0u32; 16];
     let sys = SpringSystem::new(grid, &k, &fixed, &mut idx).unwrap();
-    let mut scratch = vec![[T::ZERO; 1]; 64];
+    let mut scratch = vec![[T::ZERO; 1]; 80];
     let method = LinearMethod::Cg {
         preconditioner: Preconditioner::Jacobi,
     };

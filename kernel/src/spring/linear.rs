@@ -5,7 +5,7 @@ use core::ops::Range;
 
 use super::norms::{scale_by, sweep_exponent, Norm, SumSq};
 use super::system::{
-    check_omega, check_values, LinearMethod, Preconditioner, SolveOptions, SolveReport,
+    check_omega, check_values, is_fixed, LinearMethod, Preconditioner, SolveOptions, SolveReport,
     SpringSystem, Sweep,
 };
 use crate::error::{Error, Result};
@@ -270,14 +270,20 @@ pub(crate) fn check_sweep_range<T: Real, const V: usize>(
 }
 
 /// Number of `[T; V]` scratch items [`solve_linear`] needs: `n` for Jacobi (the second
-/// field), 0 for Gauss–Seidel and SOR, `4 n` for CG (iterate, residual, direction, and one
-/// vector shared by `A p` and the preconditioned residual).
+/// field), 0 for Gauss–Seidel and SOR, `5 n` for CG: `4 n` vectors (iterate, residual,
+/// direction, and one shared by `A p` and the preconditioned residual) and the diagonal
+/// `Σ_j k_ij`, `n` scalars packed `V` to an item (`⌈n / V⌉` items; `n` covers every `V`).
 pub fn solve_linear_scratch_len<T>(method: &LinearMethod<T>, node_count: usize) -> usize {
     match method {
         LinearMethod::Jacobi => node_count,
         LinearMethod::GaussSeidel | LinearMethod::Sor { .. } => 0,
-        LinearMethod::Cg { .. } => node_count.saturating_mul(4),
+        LinearMethod::Cg { .. } => node_count.saturating_mul(5),
     }
+}
+
+/// The exact CG scratch need for `V` components: `4 n + ⌈n / V⌉` items.
+fn cg_scratch_len<const V: usize>(n: usize) -> usize {
+    n.saturating_mul(4).saturating_add(n.div_ceil(V.max(1)))
 }
 
 /// Solves the linear springs for every free node: `Σ_j k_ij (x_j − x_i) = 0` per component
@@ -294,7 +300,8 @@ pub fn solve_linear_scratch_len<T>(method: &LinearMethod<T>, node_count: usize) 
 /// (while no value is subnormal).
 ///
 /// Errors (values untouched): wrong lengths, non-finite values, bad options or `omega`,
-/// `scratch` shorter than [`solve_linear_scratch_len`], [`Error::SingularSystem`] if CG
+/// `scratch` shorter than [`solve_linear_scratch_len`] (CG needs exactly `4 n + ⌈n / V⌉`
+/// items of it), [`Error::SingularSystem`] if CG
 /// meets non-positive curvature (cannot happen for a validated system in exact arithmetic;
 /// reported rather than hidden if rounding causes it), [`Error::Overflow`] when stiffness and
 /// values together exceed the range: for Jacobi/Gauss–Seidel/SOR when `max_i Σ_j k_ij ·
@@ -317,7 +324,10 @@ pub fn solve_linear<T: Real, const V: usize>(
         } => check_omega(omega)?,
         _ => {}
     }
-    let needed = solve_linear_scratch_len(&method, n);
+    let needed = match method {
+        LinearMethod::Cg { .. } => cg_scratch_len::<V>(n),
+        _ => solve_linear_scratch_len(&method, n),
+    };
     if scratch.len() < needed {
         return Err(Error::BufferTooSmall {
             arg: "scratch",
@@ -440,39 +450,50 @@ fn solve_sor<T: Real, const V: usize>(
     report
 }
 
+/// `d_i = Σ_j k_ij` for every node, summed in CSR order (the same sums the sweeps form):
+/// computed once per CG solve instead of once per row per iteration.
+fn diagonal<T: Real>(sys: &SpringSystem<'_, T>, diag: &mut [T]) {
+    for ((_, _, row), d) in sys.rows().zip(diag.iter_mut()) {
+        *d = row.fold(T::ZERO, |s, (_, k)| s + k);
+    }
+}
+
 /// `q = A p` on free nodes (`A` = weighted Laplacian restricted to free nodes; `p` is zero on
-/// fixed nodes), and per component `Σ d_i p_i²` for the curvature test.
+/// fixed nodes), with per component `Σ d_i p_i²` (for the curvature test) and `pᵀq`, both in
+/// node order (the fixed nodes' zero terms are skipped: adding `+0` changes no sum).
 fn laplacian_apply<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
+    diag: &[T],
     p: &[[T; V]],
     q: &mut [[T; V]],
-) -> [T; V] {
+) -> ([T; V], [T; V]) {
     let mut dpp = [T::ZERO; V];
-    for ((_, fixed, row), (qi, &pi)) in sys.rows().zip(q.iter_mut().zip(p)) {
+    let mut pq = [T::ZERO; V];
+    for ((_, fixed, row), ((qi, &pi), &d)) in sys.rows().zip(q.iter_mut().zip(p).zip(diag)) {
         if fixed {
             *qi = [T::ZERO; V];
             continue;
         }
         let mut acc = [T::ZERO; V];
-        let mut d = T::ZERO;
         for (j, k) in row {
             let pj = p.get(j).copied().unwrap_or([T::ZERO; V]);
             for ((a, &x), &y) in acc.iter_mut().zip(&pi).zip(&pj) {
                 *a += k * (x - y);
             }
-            d += k;
         }
-        for (s, &x) in dpp.iter_mut().zip(&pi) {
+        for (((s, t), &x), &a) in dpp.iter_mut().zip(pq.iter_mut()).zip(&pi).zip(&acc) {
             *s += d * x * x;
+            *t += x * a;
         }
         *qi = acc;
     }
-    dpp
+    (dpp, pq)
 }
 
-/// `z = M⁻¹ r` for the chosen preconditioner (zero on fixed nodes).
+/// `z = M⁻¹ r` for the chosen preconditioner (zero on fixed nodes), `diag` from [`diagonal`].
 fn precondition<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
+    diag: &[T],
     pre: Preconditioner<T>,
     r: &[[T; V]],
     z: &mut [[T; V]],
@@ -484,73 +505,72 @@ fn precondition<T: Real, const V: usize>(
             }
         }
         Preconditioner::Jacobi => {
-            for ((_, fixed, row), (z, &r)) in sys.rows().zip(z.iter_mut().zip(r)) {
-                if fixed {
-                    *z = [T::ZERO; V];
-                    continue;
+            for (((z, &r), &d), &m) in z.iter_mut().zip(r).zip(diag).zip(sys.fixed()) {
+                *z = jacobi_node(r, d, is_fixed(m));
+            }
+        }
+        Preconditioner::Ssor { omega } => ssor(sys, diag, omega, r, z),
+    }
+}
+
+/// One node of the Jacobi preconditioner: `r / d`, or zero at a fixed node.
+#[inline]
+fn jacobi_node<T: Real, const V: usize>(r: [T; V], d: T, fixed: bool) -> [T; V] {
+    if fixed {
+        [T::ZERO; V]
+    } else {
+        r.map(|r| r / d)
+    }
+}
+
+/// The SSOR preconditioner, `M = (D + ωL) D⁻¹ (D + ωU) / (ω (2 − ω))`: one forward and one
+/// backward sweep. No per-edge fixed-mask test: `z` is zero at fixed nodes (set by the forward
+/// sweep before any later row reads it), so their terms add nothing.
+fn ssor<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    diag: &[T],
+    omega: T,
+    r: &[[T; V]],
+    z: &mut [[T; V]],
+) {
+    let scale = omega * (T::TWO - omega);
+    // Forward: (D + ωL) y = ω(2 − ω) r, with L_ij = −k_ij for free j < i.
+    for (i, ((&ri, &d), &m)) in r.iter().zip(diag).zip(sys.fixed()).enumerate() {
+        let new = if is_fixed(m) {
+            [T::ZERO; V]
+        } else {
+            let mut acc = ri.map(|x| scale * x);
+            for (j, k) in sys.row(i) {
+                if j < i {
+                    let zj = z.get(j).copied().unwrap_or([T::ZERO; V]);
+                    for (a, &y) in acc.iter_mut().zip(&zj) {
+                        *a += omega * k * y;
+                    }
                 }
-                let mut d = T::ZERO;
-                for (_, k) in row {
-                    d += k;
-                }
-                for (z, &r) in z.iter_mut().zip(&r) {
-                    *z = r / d;
+            }
+            acc.map(|a| a / d)
+        };
+        if let Some(zi) = z.get_mut(i) {
+            *zi = new;
+        }
+    }
+    // Backward: (D + ωU) z = D y, i.e. z_i = y_i + ω Σ_{free j > i} k_ij z_j / d_i.
+    for (i, (&d, &m)) in diag.iter().zip(sys.fixed()).enumerate().rev() {
+        if is_fixed(m) {
+            continue;
+        }
+        let mut acc = [T::ZERO; V];
+        for (j, k) in sys.row(i) {
+            if j > i {
+                let zj = z.get(j).copied().unwrap_or([T::ZERO; V]);
+                for (a, &y) in acc.iter_mut().zip(&zj) {
+                    *a += k * y;
                 }
             }
         }
-        Preconditioner::Ssor { omega } => {
-            let n = sys.node_count();
-            let scale = omega * (T::TWO - omega);
-            // Forward: (D + ωL) y = ω(2 − ω) r, with L_ij = −k_ij for free j < i.
-            for i in 0..n {
-                if sys.is_fixed(i) {
-                    if let Some(z) = z.get_mut(i) {
-                        *z = [T::ZERO; V];
-                    }
-                    continue;
-                }
-                let ri = r.get(i).copied().unwrap_or([T::ZERO; V]);
-                let mut acc = [T::ZERO; V];
-                for (a, &x) in acc.iter_mut().zip(&ri) {
-                    *a = scale * x;
-                }
-                let mut d = T::ZERO;
-                for (j, k) in sys.row(i) {
-                    d += k;
-                    if j < i && !sys.is_fixed(j) {
-                        let zj = z.get(j).copied().unwrap_or([T::ZERO; V]);
-                        for (a, &y) in acc.iter_mut().zip(&zj) {
-                            *a += omega * k * y;
-                        }
-                    }
-                }
-                if let Some(zi) = z.get_mut(i) {
-                    for (zi, &a) in zi.iter_mut().zip(&acc) {
-                        *zi = a / d;
-                    }
-                }
-            }
-            // Backward: (D + ωU) z = D y, i.e. z_i = y_i + ω Σ_{free j > i} k_ij z_j / d_i.
-            for i in (0..n).rev() {
-                if sys.is_fixed(i) {
-                    continue;
-                }
-                let mut acc = [T::ZERO; V];
-                let mut d = T::ZERO;
-                for (j, k) in sys.row(i) {
-                    d += k;
-                    if j > i && !sys.is_fixed(j) {
-                        let zj = z.get(j).copied().unwrap_or([T::ZERO; V]);
-                        for (a, &y) in acc.iter_mut().zip(&zj) {
-                            *a += k * y;
-                        }
-                    }
-                }
-                if let Some(zi) = z.get_mut(i) {
-                    for (zi, &a) in zi.iter_mut().zip(&acc) {
-                        *zi += omega * a / d;
-                    }
-                }
+        if let Some(zi) = z.get_mut(i) {
+            for (zi, &a) in zi.iter_mut().zip(&acc) {
+                *zi += omega * a / d;
             }
         }
     }
@@ -605,7 +625,7 @@ fn solve_cg<T: Real, const V: usize>(
     let n = sys.node_count();
     let too_small = Error::BufferTooSmall {
         arg: "scratch",
-        needed: n.saturating_mul(4),
+        needed: cg_scratch_len::<V>(n),
         actual: scratch.len(),
     };
     let Some((x, rest)) = scratch.split_at_mut_checked(n) else {
@@ -617,7 +637,12 @@ fn solve_cg<T: Real, const V: usize>(
     let Some((p, rest)) = rest.split_at_mut_checked(n) else {
         return Err(too_small);
     };
-    let w = rest.get_mut(..n).unwrap_or(&mut []);
+    let Some((w, rest)) = rest.split_at_mut_checked(n) else {
+        return Err(too_small);
+    };
+    let diag = rest.as_flattened_mut().get_mut(..n).unwrap_or(&mut []);
+    diagonal(sys, diag);
+    let diag: &[T] = diag;
     // CG runs on the scaled field x_c · 2^−e_c (see `cg_exponents`).
     let exps = cg_exponents(sys, values);
     let down = exps.map(|e| T::pow2(-e));
@@ -650,7 +675,7 @@ fn solve_cg<T: Real, const V: usize>(
                 node_residual(sys, i, xi, x).0
             };
         }
-        precondition(sys, pre, r, w);
+        precondition(sys, diag, pre, r, w);
         for (p, &z) in p.iter_mut().zip(w.iter()) {
             *p = z;
         }
@@ -661,8 +686,7 @@ fn solve_cg<T: Real, const V: usize>(
     let tiny = T::EPSILON;
     while report.iterations < options.max_iterations {
         report.iterations += 1;
-        let dpp = laplacian_apply(sys, p, w);
-        let pq = dots(p, w);
+        let (dpp, pq) = laplacian_apply(sys, diag, p, w);
         let mut alpha = [T::ZERO; V];
         for (((a, &pq), &dpp), &rz) in alpha.iter_mut().zip(&pq).zip(&dpp).zip(&rz) {
             if !(pq.is_finite() && rz.is_finite() && dpp.is_finite()) {
@@ -678,14 +702,24 @@ fn solve_cg<T: Real, const V: usize>(
             }
             *a = rz / pq;
         }
+        // One pass: x += α p, r −= α q, the recurrence residual, and (Jacobi or none) the
+        // preconditioned residual z (into w, over q) with rᵀz, all in node order.
         let mut max_update = [T::ZERO; V];
         let mut rr = T::ZERO;
-        for (((x, r), &p), &q) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(w.iter()) {
+        let mut rz_new = [T::ZERO; V];
+        let local = !matches!(pre, Preconditioner::Ssor { .. });
+        for ((((x, r), &p), w), (&d, &m)) in x
+            .iter_mut()
+            .zip(r.iter_mut())
+            .zip(p.iter())
+            .zip(w.iter_mut())
+            .zip(diag.iter().zip(sys.fixed()))
+        {
             for ((((((x, r), &p), &q), &a), m), &g) in x
                 .iter_mut()
                 .zip(r.iter_mut())
                 .zip(&p)
-                .zip(&q)
+                .zip(w.iter())
                 .zip(&alpha)
                 .zip(max_update.iter_mut())
                 .zip(&to_top)
@@ -696,6 +730,15 @@ fn solve_cg<T: Real, const V: usize>(
                 *m = m.max(dx.abs());
                 let rg = *r * g;
                 rr += rg * rg;
+            }
+            if local {
+                *w = match pre {
+                    Preconditioner::Jacobi => jacobi_node(*r, d, is_fixed(m)),
+                    _ => *r,
+                };
+                for ((s, &r), &z) in rz_new.iter_mut().zip(r.iter()).zip(w.iter()) {
+                    *s += r * z;
+                }
             }
         }
         report.max_update = max_update
@@ -720,8 +763,10 @@ fn solve_cg<T: Real, const V: usize>(
                 continue;
             }
         }
-        precondition(sys, pre, r, w);
-        let rz_new = dots(r, w);
+        if !local {
+            precondition(sys, diag, pre, r, w);
+            rz_new = dots(r, w);
+        }
         let mut beta = [T::ZERO; V];
         for ((b, &new), &old) in beta.iter_mut().zip(&rz_new).zip(&rz) {
             if old != T::ZERO {

@@ -402,7 +402,7 @@ fn linear_cg<T: Real>(meter: &mut Meter) {
     let m = small::<T>();
     with_system(&m, |sys| {
         let mut values = small_values::<T, 2>();
-        let mut scratch = [[T::ZERO; 2]; 4 * SN];
+        let mut scratch = [[T::ZERO; 2]; 5 * SN];
         let method = LinearMethod::Cg {
             preconditioner: Preconditioner::Ssor {
                 omega: T::from_f64(1.2),
@@ -477,7 +477,7 @@ fn spring_deformation<T: Real>(meter: &mut Meter) {
             rotations: RotationSource::Rigid(Quat::identity()),
             origin: None,
         };
-        // Gauss–Seidel: no solver scratch, so `values` is only N items (CG would need 5 N).
+        // Gauss–Seidel: no solver scratch, so `values` is only N items (CG would need 6 N).
         let method = LinearMethod::GaussSeidel;
         let mut t = [[T::ZERO; 2]; SN];
         let mut q = [Quat::identity(); SN];

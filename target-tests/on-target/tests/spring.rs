@@ -90,7 +90,7 @@ fn linear_methods<T: Real>() {
         let mut reference = data;
         for (n, method) in methods.into_iter().enumerate() {
             let mut values = data;
-            let mut scratch = [[T::ZERO; 2]; 4 * N];
+            let mut scratch = [[T::ZERO; 2]; 5 * N];
             let len = solve_linear_scratch_len(&method, N);
             let r = solve_linear(sys, &mut values, method, &opts, &mut scratch[..len]).unwrap();
             defmt::info!(
@@ -249,7 +249,7 @@ fn uniform_translation_is_exact<T: Real>() {
         let t = [T::from_f64(0.3125), T::from_f64(-1.75)];
         let data = [t; N];
         let mut values = data;
-        let mut scratch = [[T::ZERO; 2]; 4 * N];
+        let mut scratch = [[T::ZERO; 2]; 5 * N];
         let r = solve_linear(
             sys,
             &mut values,

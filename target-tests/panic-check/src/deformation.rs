@@ -67,7 +67,7 @@ fn run<T: Real, const D: usize, const V: usize>() {
     let mut trans = [[T::ZERO; D]; N];
     let mut rot = [Quat::identity(); N];
     let mut out = [[T::ZERO; D]; N];
-    let mut values = [[T::ZERO; V]; 5 * N];
+    let mut values = [[T::ZERO; V]; 6 * N];
 
     keep(boundary_normals_scratch_len(bb(B)));
     keep(boundary_rotations_scratch_len::<D>(bb(B)));

@@ -136,7 +136,7 @@ fn linear<T: Real, const V: usize>(sys: &SpringSystem<'_, T>) {
     keep(&y);
     let opts: SolveOptions<T> = bb(SolveOptions::default());
     for m in linear_methods::<T>() {
-        let mut scratch = [[T::ZERO; V]; 4 * N];
+        let mut scratch = [[T::ZERO; V]; 5 * N];
         let len = solve_linear_scratch_len(&m, bb(N));
         let mut z = x;
         let sc = scratch.get_mut(..len).unwrap_or(&mut []);
