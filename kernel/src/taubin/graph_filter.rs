@@ -7,7 +7,7 @@ use crate::graph::Graph;
 use crate::real::Real;
 use crate::vector;
 
-use super::structured::{check_mask, is_pinned, FilterReport};
+use super::structured::{check_mask, FilterReport};
 use super::TaubinParams;
 
 /// Optional inputs of the graph filter.
@@ -117,6 +117,9 @@ fn check_options<T: Real>(graph: &Graph<'_>, options: &GraphOptions<'_, T>) -> R
 }
 
 /// One Jacobi pass over `nodes` (no validation). Returns the largest component change.
+///
+/// The "weights given?" and "fixed mask given?" decisions are taken once here, not per edge
+/// and node: each of the four combinations runs its own loop ([`sweep_rows`]).
 fn sweep_core<T: Real, const V: usize>(
     graph: &Graph<'_>,
     options: &GraphOptions<'_, T>,
@@ -125,30 +128,61 @@ fn sweep_core<T: Real, const V: usize>(
     weight: T,
     nodes: Range<usize>,
 ) -> T {
+    let pinned = |f: &[u8], i: usize| f.get(i).is_some_and(|&b| b != 0);
+    match (options.weights, options.fixed) {
+        (Some(w), Some(f)) => sweep_rows(graph, src, dst, weight, nodes, Some(w), |i| pinned(f, i)),
+        (Some(w), None) => sweep_rows(graph, src, dst, weight, nodes, Some(w), |_| false),
+        (None, Some(f)) => sweep_rows(graph, src, dst, weight, nodes, None, |i| pinned(f, i)),
+        (None, None) => sweep_rows(graph, src, dst, weight, nodes, None, |_| false),
+    }
+}
+
+/// The loop of [`sweep_core`] for one combination: `weights` per directed edge (row slices
+/// fetched once per node) or uniform (`w = 1`, the same arithmetic: `1 · x` is `x`), and
+/// `fixed(i)`.
+#[inline(always)]
+fn sweep_rows<T: Real, const V: usize, F: Fn(usize) -> bool>(
+    graph: &Graph<'_>,
+    src: &[[T; V]],
+    dst: &mut [[T; V]],
+    weight: T,
+    nodes: Range<usize>,
+    weights: Option<&[T]>,
+    fixed: F,
+) -> T {
     let offsets = graph.offsets();
     let targets = graph.targets();
     let mut max_change = T::ZERO;
     for i in nodes {
         let Some(&x) = src.get(i) else { continue };
         let mut new = x;
-        if !is_pinned(options.fixed, i) {
+        if !fixed(i) {
             let (Some(&a), Some(&b)) = (offsets.get(i), offsets.get(i + 1)) else {
                 continue;
             };
-            let row = targets.get(a as usize..b as usize).unwrap_or(&[]);
+            let (a, b) = (a as usize, b as usize);
+            let row = targets.get(a..b).unwrap_or(&[]);
             let mut sum = [T::ZERO; V];
             let mut wsum = T::ZERO;
-            for (e, &j) in (a as usize..).zip(row) {
-                let Some(xj) = src.get(j as usize) else {
-                    continue;
-                };
-                let w = match options.weights {
-                    Some(ws) => ws.get(e).copied().unwrap_or(T::ONE),
-                    None => T::ONE,
-                };
-                wsum += w;
-                for (s, &c) in sum.iter_mut().zip(xj) {
-                    *s += w * c;
+            let mut add = |w: T, j: u32| {
+                if let Some(xj) = src.get(j as usize) {
+                    wsum += w;
+                    for (s, &c) in sum.iter_mut().zip(xj) {
+                        *s += w * c;
+                    }
+                }
+            };
+            match weights {
+                Some(ws) => {
+                    let wrow = ws.get(a..b).unwrap_or(&[]);
+                    for (&j, &w) in row.iter().zip(wrow) {
+                        add(w, j);
+                    }
+                }
+                None => {
+                    for &j in row {
+                        add(T::ONE, j);
+                    }
                 }
             }
             if wsum > T::ZERO {

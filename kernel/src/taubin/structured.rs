@@ -158,6 +158,11 @@ pub(crate) fn stencil_average<T: Real>(
 /// One Jacobi pass over `region` of a field on a block with dimensions `dims`:
 /// `dst = src + w (avg(src) − src)` at every point in the region whose `pinned(idx, p)` is
 /// false, `dst = src` at pinned points. Returns the largest `|dst − src|`. No validation.
+///
+/// Rows (lines along i) whose j and k are interior take a straight loop over their interior
+/// points ([`interior_run`]: row slices fetched once, no index tests); the boundary shell
+/// takes the general rule ([`stencil_average`]). Both sum the same neighbours in the same
+/// order and divide by the same count, so the bits are those of the general rule everywhere.
 pub(crate) fn sweep_core<T: Real, P: Fn([usize; 3], usize) -> bool>(
     dims: [usize; 3],
     src: &[T],
@@ -167,29 +172,173 @@ pub(crate) fn sweep_core<T: Real, P: Fn([usize; 3], usize) -> bool>(
     region: &BlockRegion,
     pinned: P,
 ) -> T {
-    let [ni, nj, _] = dims;
+    let [ni, nj, nk] = dims;
+    // The straight loop covers the blocks whose active directions are i, (i, j) or (i, j, k).
+    let active = if ni < 2 {
+        0
+    } else if nj < 2 {
+        if nk < 2 {
+            1
+        } else {
+            0
+        }
+    } else if nk < 2 {
+        2
+    } else {
+        3
+    };
+    // Interior i (both neighbours inside): 1 ≤ i < ni − 1, clipped to the region.
+    let ilo = region.lo[0].max(1);
+    let ihi = region.hi[0].min(ni.saturating_sub(1));
+    let interior = |c: usize, n: usize| n < 2 || (c >= 1 && c + 1 < n);
     let mut max_change = T::ZERO;
+    let general = |i: usize, j: usize, k: usize, dst: &mut [T], max_change: &mut T| {
+        let p = i + ni * (j + nj * k);
+        let Some(&x) = src.get(p) else { return };
+        let idx = [i, j, k];
+        let new = if pinned(idx, p) {
+            x
+        } else {
+            match stencil_average(dims, src, idx, p, mirror) {
+                Some(avg) => x + weight * (avg - x),
+                None => x,
+            }
+        };
+        if let Some(out) = dst.get_mut(p) {
+            *out = new;
+        }
+        let change = (new - x).abs();
+        if change > *max_change {
+            *max_change = change;
+        }
+    };
     for k in region.lo[2]..region.hi[2] {
         for j in region.lo[1]..region.hi[1] {
-            for i in region.lo[0]..region.hi[0] {
-                let p = i + ni * (j + nj * k);
-                let Some(&x) = src.get(p) else { continue };
-                let idx = [i, j, k];
-                let new = if pinned(idx, p) {
-                    x
-                } else {
-                    match stencil_average(dims, src, idx, p, mirror) {
-                        Some(avg) => x + weight * (avg - x),
-                        None => x,
-                    }
-                };
-                if let Some(out) = dst.get_mut(p) {
-                    *out = new;
+            let fast = active > 0 && ilo < ihi && interior(j, nj) && interior(k, nk);
+            if !fast {
+                for i in region.lo[0]..region.hi[0] {
+                    general(i, j, k, dst, &mut max_change);
                 }
-                let change = (new - x).abs();
-                if change > max_change {
-                    max_change = change;
-                }
+                continue;
+            }
+            for i in region.lo[0]..ilo {
+                general(i, j, k, dst, &mut max_change);
+            }
+            let row = ni * (j + nj * k);
+            let m = interior_run(
+                src,
+                dst,
+                row,
+                [ilo, ihi],
+                [ni, ni * nj],
+                active,
+                weight,
+                |i, p| pinned([i, j, k], p),
+            );
+            if m > max_change {
+                max_change = m;
+            }
+            for i in ihi..region.hi[0] {
+                general(i, j, k, dst, &mut max_change);
+            }
+        }
+    }
+    max_change
+}
+
+/// The straight loop over the interior points `i ∈ [lo, hi)` of the row starting at `row`:
+/// the neighbours along i, then j (stride `strides[0]`), then k (`strides[1]`), lower before
+/// upper, for the first `active` directions, summed from zero and divided by their count,
+/// exactly as [`stencil_average`] does. Returns the largest change.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn interior_run<T: Real, P: Fn(usize, usize) -> bool>(
+    src: &[T],
+    dst: &mut [T],
+    row: usize,
+    [lo, hi]: [usize; 2],
+    strides: [usize; 2],
+    active: usize,
+    weight: T,
+    pinned: P,
+) -> T {
+    let len = hi - lo;
+    let at = |offset: isize| -> &[T] {
+        let start = (row + lo).wrapping_add_signed(offset);
+        start
+            .checked_add(len)
+            .and_then(|end| src.get(start..end))
+            .unwrap_or(&[])
+    };
+    let sj = strides[0] as isize;
+    let sk = strides[1] as isize;
+    let count = T::from_usize(2 * active);
+    let (x0, im, ip) = (at(0), at(-1), at(1));
+    let Some(out) = dst.get_mut(row + lo..row + hi) else {
+        return T::ZERO;
+    };
+    let mut max_change = T::ZERO;
+    let mut finish = |t: usize, x: T, sum: T, o: &mut T| {
+        let new = if pinned(lo + t, row + lo + t) {
+            x
+        } else {
+            x + weight * (sum / count - x)
+        };
+        *o = new;
+        let change = (new - x).abs();
+        if change > max_change {
+            max_change = change;
+        }
+    };
+    match active {
+        1 => {
+            for (t, (((o, &x), &a), &b)) in out.iter_mut().zip(x0).zip(im).zip(ip).enumerate() {
+                let mut sum = T::ZERO;
+                sum += a;
+                sum += b;
+                finish(t, x, sum, o);
+            }
+        }
+        2 => {
+            let (jm, jp) = (at(-sj), at(sj));
+            for (t, (((((o, &x), &a), &b), &c), &d)) in out
+                .iter_mut()
+                .zip(x0)
+                .zip(im)
+                .zip(ip)
+                .zip(jm)
+                .zip(jp)
+                .enumerate()
+            {
+                let mut sum = T::ZERO;
+                sum += a;
+                sum += b;
+                sum += c;
+                sum += d;
+                finish(t, x, sum, o);
+            }
+        }
+        _ => {
+            let (jm, jp, km, kp) = (at(-sj), at(sj), at(-sk), at(sk));
+            for (t, (((((((o, &x), &a), &b), &c), &d), &e), &f)) in out
+                .iter_mut()
+                .zip(x0)
+                .zip(im)
+                .zip(ip)
+                .zip(jm)
+                .zip(jp)
+                .zip(km)
+                .zip(kp)
+                .enumerate()
+            {
+                let mut sum = T::ZERO;
+                sum += a;
+                sum += b;
+                sum += c;
+                sum += d;
+                sum += e;
+                sum += f;
+                finish(t, x, sum, o);
             }
         }
     }
