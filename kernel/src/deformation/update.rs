@@ -37,10 +37,17 @@ pub fn update_points<T: Real, const D: usize>(
         check_scalar("origin", x)?;
     }
     check_indices("boundary", boundary, n)?;
-    check_finite("points", points)?;
-    check_finite("translations", translations)?;
+    // One fused pass over points, translations and rotations (no square roots); only when it
+    // finds a problem do the per-array checks run, to report the same first error as always.
+    let valid = all_valid(points, translations, rotations);
+    if !valid {
+        check_finite("points", points)?;
+        check_finite("translations", translations)?;
+    }
     check_finite("boundary_deformed", boundary_deformed)?;
-    check_quats("rotations", rotations)?;
+    if !valid {
+        check_quats("rotations", rotations)?;
+    }
     for (((o, r), t), q) in out.iter_mut().zip(points).zip(translations).zip(rotations) {
         let q = q.normalize().unwrap_or(Quat::identity());
         *o = apply(origin, *r, *t, q);
@@ -51,6 +58,25 @@ pub fn update_points<T: Real, const D: usize>(
         }
     }
     Ok(())
+}
+
+/// `true` when every point and translation is finite and every rotation can be normalised
+/// (finite, largest component at least `MIN_POSITIVE`: exactly when [`Quat::normalize`]
+/// succeeds). Branch-free per item so the pass runs at memory speed.
+#[inline]
+fn all_valid<T: Real, const D: usize>(
+    points: &[[T; D]],
+    translations: &[[T; D]],
+    rotations: &[Quat<T>],
+) -> bool {
+    let mut ok = true;
+    for ((r, t), q) in points.iter().zip(translations).zip(rotations) {
+        let m = q.w.abs().max(q.x.abs()).max(q.y.abs()).max(q.z.abs());
+        ok &= r.iter().chain(t).fold(true, |a, c| a & c.is_finite())
+            & q.is_finite()
+            & (m >= T::MIN_POSITIVE);
+    }
+    ok
 }
 
 /// `o + (t + q (r − o) q*)` for a unit `q`.
