@@ -773,7 +773,11 @@ fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
             Method::Idw => "none".to_string(),
             Method::AngleCg => "cg".to_string(),
             Method::AngleDirect if a.solver == Solver::Jacobi => "jacobi".to_string(),
-            Method::AngleDirect => "gs".to_string(),
+            Method::AngleDirect if a.solver == Solver::Gs => "gs".to_string(),
+            Method::AngleDirect => format!(
+                "sor {:.3}",
+                crate::engine::angle_direct_omega(mesh.points.len(), mesh.dim)
+            ),
             _ => value_name(&a.solver),
         },
         moved_nodes: result.moved_nodes,

@@ -97,9 +97,10 @@ type SmoothCase<'a> = (
     &'a str,
 );
 
-/// Sweep cap of the node-wise Gauss–Seidel angle-spring runs: on 10⁴-node meshes it needs
-/// more than 2·10⁴ sweeps (tens of seconds each), which would blow the demo's one-minute
-/// budget; capped runs are reported as not converged, and angle-cg solves the same system.
+/// Sweep cap of the node-wise angle-spring runs. Plain Gauss–Seidel needs more than 2·10⁴
+/// sweeps on these 10⁴-node meshes; over-relaxed (the CLI's default, ω from
+/// [`crate::engine::angle_direct_omega`]) it needs about 800–1200 at 15°. Capped runs are
+/// reported as not converged, and angle-cg solves the same system.
 const ANGLE_DIRECT_SWEEPS: usize = 3000;
 
 const METHODS: [(MoveMethod, &str); 5] = [
@@ -603,7 +604,7 @@ fn markdown(
     let _ = writeln!(s, "## Deformation\n\n{}", deform_table(rows));
     let _ = writeln!(
         s,
-        "angle-direct (Yang & Özgen's node-wise direct method, Gauss–Seidel order) is capped at {ANGLE_DIRECT_SWEEPS} sweeps to keep the demo short; a capped run is marked **no** under *converged*. angle-cg solves the same equations with conjugate gradients.\n"
+        "angle-direct (Yang & Özgen's node-wise direct method, Gauss–Seidel order over-relaxed, ω = 2/(1 + 1.5/√n), about 1.97 here) is capped at {ANGLE_DIRECT_SWEEPS} sweeps to keep the demo short; a capped run is marked **no** under *converged*. angle-cg solves the same equations with conjugate gradients.\n"
     );
     let _ = writeln!(
         s,

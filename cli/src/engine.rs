@@ -320,6 +320,18 @@ pub enum MoveMethod {
     AngleCg,
 }
 
+/// Over-relaxation factor of `--method angle-direct` (default solver, block SOR over the
+/// nodes) for a mesh of `n` nodes in `dim` dimensions: `ω = 2 / (1 + 1.5 h)`, `h = n^(−1/dim)`
+/// (SOR's optimal factor is `1 − O(h)`). The constant 1.5 was fitted on NACA 2412 meshes
+/// (`cargo run --release -p deform-host-tests --example perf_loops -- angle-sor more`, 15°
+/// pitch, tol 1e-10): the best ω was 1.85 at 384 nodes, 1.97 at 9–10k (1179, 802 and 808
+/// sweeps on the three `deform demo` meshes, where plain Gauss–Seidel stops unconverged at
+/// the 3000-sweep cap), 1.98 at 20k. Not calibrated on 3D meshes.
+pub fn angle_direct_omega(n: usize, dim: usize) -> f64 {
+    let h = (n.max(1) as f64).powf(-1.0 / dim.max(1) as f64);
+    2.0 / (1.0 + 1.5 * h)
+}
+
 /// Linear solver for the spring systems.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MoveSolver {
@@ -448,7 +460,7 @@ fn move_d<const D: usize, const V: usize>(input: &MoveInput<'_>) -> Result<MoveR
         propagate_spring_with_scratch_len, BoundaryMotion, RotationSource,
     };
     use deform_kernel::spring::{
-        angle_scratch_len, batina_stiffness, solve_angle, solve_linear_with,
+        angle_scratch_len, batina_stiffness, solve_angle, solve_angle_sor, solve_linear_with,
         solve_linear_with_scratch_len, AngleMethod, AngleSystem, LinearSolver, SolveOptions,
         SpringSystem, DEFAULT_ANGLE_EPSILON,
     };
@@ -584,8 +596,20 @@ fn move_d<const D: usize, const V: usize>(input: &MoveInput<'_>) -> Result<MoveR
                     _ => AngleMethod::DirectGaussSeidel,
                 };
                 let mut scratch = vec![[0.0; D]; angle_scratch_len(&asys, method)];
-                solve_angle(&asys, &mut values, method, &options, &mut scratch)
-                    .map_err(kernel("angle springs"))?
+                let sor = input.method == MoveMethod::AngleDirect
+                    && !matches!(input.solver, MoveSolver::GaussSeidel | MoveSolver::Jacobi);
+                if sor {
+                    solve_angle_sor(
+                        &asys,
+                        &mut values,
+                        angle_direct_omega(n, D),
+                        &options,
+                        &mut scratch,
+                    )
+                } else {
+                    solve_angle(&asys, &mut values, method, &options, &mut scratch)
+                }
+                .map_err(kernel("angle springs"))?
             };
             for ((o, p), v) in out.iter_mut().zip(&pts).zip(&values) {
                 for k in 0..D {

@@ -47,8 +47,8 @@ pub use amg::{
 };
 pub use angle::{
     angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_probe_scratch_len, angle_rigidity_probe,
-    angle_scratch_len, solve_angle, AngleMethod, AngleSystem, DEFAULT_ANGLE_EPSILON,
-    MAX_AMPLIFICATION,
+    angle_scratch_len, angle_sor_sweep, solve_angle, solve_angle_sor, AngleMethod, AngleSystem,
+    DEFAULT_ANGLE_EPSILON, MAX_AMPLIFICATION,
 };
 pub use linear::{
     jacobi_sweep, relative_residual, solve_linear, solve_linear_scratch_len, sor_sweep,

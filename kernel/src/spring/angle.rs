@@ -3,7 +3,7 @@
 use core::ops::Range;
 
 use super::norms::{scale_by, sweep_exponent, Norm, SumSq};
-use super::system::{check_values, SolveOptions, SolveReport, SpringSystem, Sweep};
+use super::system::{check_omega, check_values, SolveOptions, SolveReport, SpringSystem, Sweep};
 use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::vector;
@@ -382,7 +382,15 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
     }
 
     /// Gauss–Seidel-order sweep without validation.
-    fn gauss_seidel_core(&self, nodes: Range<usize>, values: &mut [[T; D]], sigma: T) -> Sweep<T> {
+    /// Gauss–Seidel-order sweep without validation, over-relaxed by `omega` (1 = plain
+    /// Gauss–Seidel: `1 · δ` is `δ`, so those bits do not depend on the factor).
+    fn gauss_seidel_core(
+        &self,
+        nodes: Range<usize>,
+        values: &mut [[T; D]],
+        omega: T,
+        sigma: T,
+    ) -> Sweep<T> {
         let mut stats = Sweep {
             max_change: T::ZERO,
             residual_sq: T::ZERO,
@@ -393,7 +401,7 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
             }
             let Some(&xi) = values.get(i) else { continue };
             let (r, m) = self.node_residual(i, xi, values);
-            let dx = cramer(&m, &r).unwrap_or([T::ZERO; D]);
+            let dx = vector::scale(cramer(&m, &r).unwrap_or([T::ZERO; D]), omega);
             tally(&mut stats, &dx, &r, sigma);
             if let Some(o) = values.get_mut(i) {
                 *o = vector::add(xi, dx);
@@ -452,7 +460,7 @@ pub fn angle_gauss_seidel_sweep<T: Real, const D: usize>(
 ) -> Result<Sweep<T>> {
     check_values("values", values, sys.base.node_count())?;
     sys.base.check_range(&nodes)?;
-    Ok(sys.gauss_seidel_core(nodes, values, T::ONE))
+    Ok(sys.gauss_seidel_core(nodes, values, T::ONE, T::ONE))
 }
 
 /// Number of `[T; D]` scratch items [`solve_angle`] needs: `n` for [`AngleMethod::DirectJacobi`]
@@ -706,6 +714,65 @@ pub fn solve_angle<T: Real, const D: usize>(
     options: &SolveOptions<T>,
     scratch: &mut [[T; D]],
 ) -> Result<SolveReport<T>> {
+    solve_angle_core(sys, values, method, T::ONE, options, scratch)
+}
+
+/// The direct method with over-relaxation (block SOR, in node order): each free node moves by
+/// `ω` times its own 2×2/3×3 correction, `x_i ← x_i + ω A_ii⁻¹ Σ_j B_ij (x_j − x_i)`. For the
+/// symmetric positive definite operator every `0 < ω < 2` converges; `ω = 1` is
+/// [`AngleMethod::DirectGaussSeidel`] bit for bit. Plain Gauss–Seidel needs `O(h⁻²)` sweeps on
+/// a fine mesh (it hits any practical cap on 10⁴-node airfoil meshes); a good `ω` near 2 cuts
+/// that to `O(h⁻¹)`. Everything else (residual, probe when `ε = 0`, report, errors) is as in
+/// [`solve_angle`]; `scratch` needs [`angle_scratch_len`] for
+/// [`AngleMethod::DirectGaussSeidel`] (none unless `ε = 0`).
+///
+/// Errors: those of [`solve_angle`], and `omega` outside `(0, 2)` ([`Error::InvalidParameter`]).
+pub fn solve_angle_sor<T: Real, const D: usize>(
+    sys: &AngleSystem<'_, T, D>,
+    values: &mut [[T; D]],
+    omega: T,
+    options: &SolveOptions<T>,
+    scratch: &mut [[T; D]],
+) -> Result<SolveReport<T>> {
+    check_omega(omega)?;
+    solve_angle_core(
+        sys,
+        values,
+        AngleMethod::DirectGaussSeidel,
+        omega,
+        options,
+        scratch,
+    )
+}
+
+/// One in-place over-relaxed sweep of the direct method over `nodes` (see
+/// [`solve_angle_sor`]): [`angle_gauss_seidel_sweep`] with every correction scaled by `omega`.
+/// Returns the range's maximum change and residual estimate.
+///
+/// Errors (nothing written): wrong length, non-finite `values`, `nodes.end > node_count`,
+/// `omega` outside `(0, 2)`.
+pub fn angle_sor_sweep<T: Real, const D: usize>(
+    sys: &AngleSystem<'_, T, D>,
+    nodes: Range<usize>,
+    values: &mut [[T; D]],
+    omega: T,
+) -> Result<Sweep<T>> {
+    check_values("values", values, sys.base.node_count())?;
+    sys.base.check_range(&nodes)?;
+    check_omega(omega)?;
+    Ok(sys.gauss_seidel_core(nodes, values, omega, T::ONE))
+}
+
+/// [`solve_angle`] with the over-relaxation factor of the Gauss–Seidel-order direct method
+/// (1 for the other methods).
+fn solve_angle_core<T: Real, const D: usize>(
+    sys: &AngleSystem<'_, T, D>,
+    values: &mut [[T; D]],
+    method: AngleMethod,
+    omega: T,
+    options: &SolveOptions<T>,
+    scratch: &mut [[T; D]],
+) -> Result<SolveReport<T>> {
     let n = sys.base.node_count();
     check_values("values", values, n)?;
     options.check()?;
@@ -758,7 +825,7 @@ pub fn solve_angle<T: Real, const D: usize>(
             let sigma = T::pow2(-est_exp);
             while report.iterations < options.max_iterations {
                 let stats = if !jacobi {
-                    sys.gauss_seidel_core(0..n, values, sigma)
+                    sys.gauss_seidel_core(0..n, values, omega, sigma)
                 } else if in_other {
                     sys.jacobi_core(0..n, other, values, sigma)
                 } else {

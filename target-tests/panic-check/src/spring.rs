@@ -10,7 +10,7 @@ use core::hint::black_box;
 
 use deform_kernel::spring::{
     angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_probe_scratch_len, angle_rigidity_probe,
-    angle_scratch_len, batina_stiffness, is_fixed, jacobi_sweep, relative_residual, solve_angle,
+    angle_scratch_len, angle_sor_sweep, batina_stiffness, is_fixed, jacobi_sweep, relative_residual, solve_angle, solve_angle_sor,
     solve_linear, solve_linear_scratch_len, sor_sweep, AngleMethod, AngleSystem, LinearMethod,
     Preconditioner, SolveOptions, SpringSystem, Sweep,
 };
@@ -167,7 +167,9 @@ fn angle<T: Real, const D: usize>(sys: &SpringSystem<'_, T>, p: &[[T; D]; N]) {
         ));
         keep(&out);
         let mut y = x;
-        keep(angle_gauss_seidel_sweep(&a, range, bb(&mut y[..])));
+        keep(angle_gauss_seidel_sweep(&a, range.clone(), bb(&mut y[..])));
+        keep(&y);
+        keep(angle_sor_sweep(&a, range, bb(&mut y[..]), bb(T::from_f64(1.8))));
         keep(&y);
         let opts: SolveOptions<T> = bb(SolveOptions::default());
         let mut probe = [[T::ZERO; D]; 4 * N];
@@ -187,6 +189,18 @@ fn angle<T: Real, const D: usize>(sys: &SpringSystem<'_, T>, p: &[[T; D]; N]) {
             keep(solve_angle(&a, bb(&mut z[..]), m, &opts, bb(sc)));
             keep(&z);
         }
+        let mut scratch = [[T::ZERO; D]; 4 * N];
+        let len = angle_scratch_len(&a, AngleMethod::DirectGaussSeidel);
+        let mut z = x;
+        let sc = scratch.get_mut(..len).unwrap_or(&mut []);
+        keep(solve_angle_sor(
+            &a,
+            bb(&mut z[..]),
+            bb(T::from_f64(1.8)),
+            &opts,
+            bb(sc),
+        ));
+        keep(&z);
     }
 }
 
