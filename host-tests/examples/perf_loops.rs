@@ -2,22 +2,25 @@
 //! iteration, structured and graph Taubin per point-pass, `update_points` per point.
 //! Speed is measured here, never asserted in tests.
 //!
-//! `cargo run --release -p deform-host-tests --example perf_loops [-- cg|structured|graph|update|all]`
+//! `cargo run --release -p deform-host-tests --example perf_loops [-- cg|structured|graph|update|angle-sor|all]`
 
 use std::hint::black_box;
 use std::time::Instant;
 
 use deform_kernel::deformation::update_points;
 use deform_kernel::spring::{
-    batina_stiffness, solve_linear, solve_linear_scratch_len, LinearMethod, Preconditioner,
-    SolveOptions, SpringSystem,
+    angle_scratch_len, batina_stiffness, solve_angle, solve_angle_sor, solve_linear,
+    solve_linear_scratch_len, AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions,
+    SpringSystem, DEFAULT_ANGLE_EPSILON,
 };
 use deform_kernel::taubin::{
     inverse_distance_weights, smooth_graph, smooth_structured, GraphOptions, StructuredOptions,
     TaubinParams,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Block, Graph, Quat};
-use deform_meshgen::{naca_triangulated, rotate_markers2, AirfoilGrid};
+use deform_meshgen::{
+    naca_hybrid, naca_ogrid, naca_triangulated, rotate_markers2, AirfoilGrid, Mesh2,
+};
 
 /// Best of `reps` runs of `f`, in seconds.
 fn best<F: FnMut()>(reps: usize, mut f: F) -> f64 {
@@ -241,6 +244,76 @@ fn update() {
     );
 }
 
+/// Sweeps of the direct (node-wise) angle-spring method, plain Gauss–Seidel and
+/// over-relaxed, on the `deform demo` meshes (inviscid triangles; viscous hybrid with quad
+/// diagonals, as `deform move --method angle-direct` builds it), 15° pitch, tol 1e-10.
+fn angle_sor() {
+    let run = |label: &str, mesh: &Mesh2, diagonals: bool| {
+        let n = mesh.node_count();
+        let cells = mesh.cells().unwrap();
+        let mut offsets = vec![0u32; n + 1];
+        let mut targets = vec![0u32; graph_from_cells_len(&cells, diagonals)];
+        let used = graph_from_cells(&cells, diagonals, &mut offsets, &mut targets).unwrap();
+        targets.truncate(used);
+        let g = Graph::new(&offsets, &targets).unwrap();
+        let mut k = vec![0.0f64; g.edge_count()];
+        batina_stiffness(&g, &mesh.points, 1.0, &mut k).unwrap();
+        let fixed = mesh.boundary_mask();
+        let mut s = vec![0u32; n];
+        let sys = SpringSystem::new(g, &k, &fixed, &mut s).unwrap();
+        let asys = AngleSystem::new(sys, &mesh.points, DEFAULT_ANGLE_EPSILON).unwrap();
+        let rot = rotate_markers2(mesh, &["airfoil"], AirfoilGrid::quarter_chord(), 15.0).unwrap();
+        let x0: Vec<[f64; 2]> = rot.to_field(n);
+        println!("angle direct, {label}: {n} nodes");
+        let opts = SolveOptions {
+            max_iterations: 3000,
+            residual_tol: 1e-10,
+            update_tol: 0.0,
+        };
+        let mut scratch = vec![[0.0; 2]; angle_scratch_len(&asys, AngleMethod::Cg)];
+        let mut x = x0.clone();
+        let t = Instant::now();
+        let r = solve_angle(&asys, &mut x, AngleMethod::Cg, &opts, &mut scratch).unwrap();
+        println!(
+            "  cg (reference)  {:>6} iterations, residual {:.2e}, converged {} ({:.2} s)",
+            r.iterations,
+            r.residual,
+            r.converged,
+            t.elapsed().as_secs_f64()
+        );
+        let reference = x;
+        for omega in [1.0, 1.7, 1.8, 1.85, 1.9, 1.95, 1.97, 1.98, 1.99] {
+            let mut x = x0.clone();
+            let t = Instant::now();
+            let r = solve_angle_sor(&asys, &mut x, omega, &opts, &mut scratch).unwrap();
+            let diff = x
+                .iter()
+                .flatten()
+                .zip(reference.iter().flatten())
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            println!(
+                "  sor omega {omega:<5} {:>6} sweeps, residual {:.2e}, converged {}, max |x - x_cg| {diff:.1e} ({:.2} s)",
+                r.iterations,
+                r.residual,
+                r.converged,
+                t.elapsed().as_secs_f64()
+            );
+        }
+    };
+    let inv = naca_triangulated(&AirfoilGrid::inviscid()).unwrap();
+    let vis = naca_hybrid(&AirfoilGrid::viscous()).unwrap();
+    run("inviscid triangles (demo)", &inv, false);
+    run("viscous hybrid + diagonals (demo)", &vis, true);
+    let og = naca_ogrid(&AirfoilGrid::viscous()).unwrap();
+    run("viscous O-grid + diagonals (demo)", &og, true);
+    if std::env::args().nth(2).as_deref() == Some("more") {
+        let tiny = naca_hybrid(&AirfoilGrid::tiny()).unwrap();
+        run("tiny hybrid + diagonals", &tiny, true);
+        let big = naca_hybrid(&AirfoilGrid::preset_20k()).unwrap();
+        run("20k hybrid + diagonals", &big, true);
+    }
+}
+
 fn main() {
     let what = std::env::args().nth(1).unwrap_or_else(|| "all".into());
     if what == "cg" || what == "all" {
@@ -254,5 +327,8 @@ fn main() {
     }
     if what == "update" || what == "all" {
         update();
+    }
+    if what == "angle-sor" || what == "all" {
+        angle_sor();
     }
 }
