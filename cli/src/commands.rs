@@ -302,6 +302,7 @@ fn su2_from_parts(
                 elements: list(&m.offsets, &m.nodes, &m.kinds),
             })
             .collect(),
+        passthrough: Vec::new(),
     }
 }
 

@@ -117,6 +117,7 @@ fn block_3d(n: usize) -> Su2Mesh {
                 elements: rest,
             },
         ],
+        passthrough: Vec::new(),
     }
 }
 

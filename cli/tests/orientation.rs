@@ -222,6 +222,7 @@ fn hex_box() -> Su2Mesh {
         points,
         elements,
         markers: Vec::new(),
+        passthrough: Vec::new(),
     }
 }
 

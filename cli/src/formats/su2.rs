@@ -3,8 +3,11 @@
 //! Layout: `NDIME=`, then `NELEM=` with its element lines and `NPOIN=` with its point lines in
 //! either order, then `NMARK=` with `MARKER_TAG=` / `MARKER_ELEMS=` blocks. Indices are
 //! 0-based; trailing columns on point and element lines (SU2 writes a running index there) are
-//! ignored; `%` starts a comment. Element lines are `code n0 n1 …` with VTK type codes. A
-//! trailing `FFD_` section (free-form deformation boxes) ends the mesh part and is ignored.
+//! ignored; `%` starts a comment. Element lines are `code n0 n1 …` with VTK type codes.
+//! `MARKERTAG=` is read as `MARKER_TAG=` (SU2 reads both). The sections SU2 reads that the
+//! tool does not use — `NPERIODIC=` with its `PERIODIC_INDEX=` blocks and the `FFD_*`
+//! free-form deformation boxes — are kept byte for byte ([`Su2Mesh::passthrough`]) and written
+//! back unchanged; any other keyword is an error naming its line.
 
 use std::io::{self, Write};
 
@@ -33,6 +36,10 @@ pub struct Su2Mesh {
     pub elements: CellList,
     /// Boundary markers, in file order.
     pub markers: Vec<Su2Marker>,
+    /// Sections SU2 reads that this tool does not use (`NPERIODIC=` / `PERIODIC_INDEX=`
+    /// blocks, `FFD_*` free-form deformation boxes), byte for byte as they were in the file,
+    /// comments and line endings included; [`write_su2`] writes them back after the markers.
+    pub passthrough: Vec<u8>,
 }
 
 impl Su2Mesh {
@@ -47,6 +54,8 @@ struct Lines<'a> {
     data: &'a [u8],
     pos: usize,
     line: usize,
+    /// Byte offset where the line last returned by `next_content` starts.
+    start: usize,
 }
 
 impl<'a> Lines<'a> {
@@ -55,6 +64,7 @@ impl<'a> Lines<'a> {
             data,
             pos: 0,
             line: 0,
+            start: 0,
         }
     }
 
@@ -64,6 +74,7 @@ impl<'a> Lines<'a> {
             let rest = self.data.get(self.pos..).unwrap_or(&[]);
             let len = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
             let raw = rest.get(..len).unwrap_or(&[]);
+            self.start = self.pos;
             self.pos += len + 1;
             self.line += 1;
             let raw = match raw.iter().position(|&b| b == b'%') {
@@ -82,6 +93,26 @@ impl<'a> Lines<'a> {
     fn eof_line(&self) -> usize {
         self.line + 1
     }
+}
+
+/// Keywords that start a section of the mesh proper.
+fn is_mesh_keyword(key: &[u8]) -> bool {
+    [
+        b"NDIME".as_slice(),
+        b"NELEM",
+        b"NPOIN",
+        b"NMARK",
+        b"NZONE",
+        b"IZONE",
+    ]
+    .iter()
+    .any(|k| key.eq_ignore_ascii_case(k))
+}
+
+/// Keywords of sections SU2 reads and this tool passes through unchanged.
+fn is_passthrough_keyword(key: &[u8]) -> bool {
+    let upper = key.to_ascii_uppercase();
+    upper == b"NPERIODIC" || upper == b"PERIODIC_INDEX" || upper.starts_with(b"FFD_")
 }
 
 fn tokens(line: &[u8]) -> impl Iterator<Item = &[u8]> {
@@ -258,6 +289,7 @@ pub fn parse_su2(bytes: &[u8]) -> Result<Su2Mesh, FormatError> {
     let mut elements: Option<(CellList, Vec<usize>)> = None;
     let mut points: Option<Vec<[f64; 3]>> = None;
     let mut markers: Option<Vec<(Su2Marker, Vec<usize>)>> = None;
+    let mut passthrough: Vec<u8> = Vec::new();
 
     while let Some((line, content)) = lines.next_content() {
         let Some((key, value)) = key_value(content) else {
@@ -408,7 +440,9 @@ pub fn parse_su2(bytes: &[u8]) -> Result<Su2Mesh, FormatError> {
                         .ok_or_else(|| FormatError::eof_at_line(lines.eof_line(), what.clone()))?;
                     let name = match key_value(c) {
                         Some((kk, v))
-                            if kk.eq_ignore_ascii_case(b"MARKER_TAG") && !v.is_empty() =>
+                            if (kk.eq_ignore_ascii_case(b"MARKER_TAG")
+                                || kk.eq_ignore_ascii_case(b"MARKERTAG"))
+                                && !v.is_empty() =>
                         {
                             std::str::from_utf8(v)
                                 .map_err(|_| {
@@ -465,7 +499,30 @@ pub fn parse_su2(bytes: &[u8]) -> Result<Su2Mesh, FormatError> {
                 }
                 markers = Some(list);
             }
-            k if k.starts_with(b"FFD_") => break,
+            k if is_passthrough_keyword(k) => {
+                // Keep this line and everything up to the next mesh keyword, byte for byte.
+                let from = lines.start;
+                let mut to = bytes.len();
+                loop {
+                    let (pos, count) = (lines.pos, lines.line);
+                    match lines.next_content() {
+                        None => break,
+                        Some((_, c)) => {
+                            if key_value(c).is_some_and(|(k, _)| is_mesh_keyword(k)) {
+                                to = lines.start;
+                                lines.pos = pos;
+                                lines.line = count;
+                                break;
+                            }
+                        }
+                    }
+                }
+                let chunk = bytes.get(from..to).unwrap_or(&[]);
+                if !passthrough.is_empty() && !passthrough.ends_with(b"\n") {
+                    passthrough.push(b'\n');
+                }
+                passthrough.extend_from_slice(chunk);
+            }
             _ => {
                 return Err(FormatError::expected_at_line(
                     line,
@@ -499,6 +556,7 @@ pub fn parse_su2(bytes: &[u8]) -> Result<Su2Mesh, FormatError> {
         points,
         elements,
         markers: out,
+        passthrough,
     })
 }
 
@@ -553,5 +611,6 @@ pub fn write_su2<W: Write>(mesh: &Su2Mesh, w: &mut W) -> io::Result<()> {
             writeln!(w)?;
         }
     }
+    w.write_all(&mesh.passthrough)?;
     w.flush()
 }

@@ -213,7 +213,7 @@ fn vtk_connectivity(cells: &CellList) -> Vec<i64> {
 }
 
 /// Writes an unstructured grid (`.vtu`). Cell node indices must be `< points.len()`; prisms
-/// are written in VTK's orientation (see [`VTK_PRISM_ORDER`]).
+/// are written in VTK's orientation (prism nodes reordered `0,2,1,3,5,4`).
 pub fn write_vtu<W: Write>(
     w: &mut W,
     points: &[[f64; 3]],

@@ -79,6 +79,7 @@ pub fn mesh_2d(nx: usize, ny: usize) -> Su2Mesh {
                 elements: far,
             },
         ],
+        passthrough: Vec::new(),
     }
 }
 
@@ -124,6 +125,7 @@ pub fn mesh_3d() -> Su2Mesh {
                 elements: quad,
             },
         ],
+        passthrough: Vec::new(),
     }
 }
 
