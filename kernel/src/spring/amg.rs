@@ -227,6 +227,44 @@ impl Layout {
 
 /// A smoothed-aggregation multigrid hierarchy for one [`SpringSystem`], stored in caller
 /// buffers; the preconditioner of [`solve_linear_amg`].
+///
+/// ```
+/// use deform_kernel::spring::{
+///     solve_linear_amg, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, SolveOptions,
+///     SpringSystem,
+/// };
+/// use deform_kernel::{graph_from_edges, graph_from_edges_len, Graph};
+/// // A chain of 40 springs, both ends fixed (at 0 and 1).
+/// let n = 41;
+/// let edges: Vec<[u32; 2]> = (0..n as u32 - 1).map(|i| [i, i + 1]).collect();
+/// let mut offsets = vec![0u32; n + 1];
+/// let mut targets = vec![0u32; graph_from_edges_len(&edges)];
+/// let used = graph_from_edges(n, &edges, &mut offsets, &mut targets)?;
+/// let g = Graph::new(&offsets, &targets[..used])?;
+/// let k = vec![1.0f64; g.edge_count()];
+/// let mut fixed = vec![0u8; n];
+/// fixed[0] = 1;
+/// fixed[n - 1] = 1;
+/// let mut s = vec![0u32; n];
+/// let sys = SpringSystem::new(g, &k, &fixed, &mut s)?;
+///
+/// // Symbolic pass (exact sizes), then the hierarchy in buffers of exactly those sizes.
+/// let opts = AmgOptions { max_coarse: 4, ..AmgOptions::default() };
+/// let mut work = vec![0u32; AmgHierarchy::setup_work_len(&sys)];
+/// let sizes = AmgHierarchy::setup_len(&sys, &opts, &mut work)?;
+/// let mut index = vec![0u32; sizes.index];
+/// let mut values = vec![0.0f64; sizes.values];
+/// let h = AmgHierarchy::setup(&sys, &opts, &mut work, &mut index, &mut values)?;
+/// assert!(h.levels() >= 2);
+///
+/// let mut x = vec![[0.0f64]; n];
+/// x[n - 1] = [1.0];
+/// let mut scratch = vec![[0.0f64]; solve_linear_amg_scratch_len(&h)];
+/// let report = solve_linear_amg(&sys, &h, &mut x, &SolveOptions::default(), &mut scratch)?;
+/// assert!(report.converged);
+/// assert!((x[10][0] - 0.25).abs() < 1e-8); // linear between the fixed ends
+/// # Ok::<(), deform_kernel::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct AmgHierarchy<'a, T: Real> {
     layout: Layout,
