@@ -14,6 +14,11 @@ pub struct Cli {
     /// Print a machine-readable JSON report on stdout (and no progress bars).
     #[arg(long, global = true)]
     pub json: bool,
+    /// Read input meshes as this format instead of detecting it from their content (SU2 by
+    /// its keywords, VTK XML by its header, anything else as Plot3D; the extension does not
+    /// matter).
+    #[arg(long, global = true, value_enum, value_name = "FORMAT")]
+    pub format: Option<InputFormat>,
     /// The command.
     #[command(subcommand)]
     pub command: Command,
@@ -422,4 +427,15 @@ fn parse_vec23(s: &str) -> Result<Coords, String> {
         ));
     }
     Ok(Coords(v))
+}
+
+/// Input formats for `--format`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum InputFormat {
+    /// SU2 native ASCII.
+    Su2,
+    /// Plot3D whole grid (any layout; see the layout options).
+    Plot3d,
+    /// VTK XML (.vtu/.vts): written by the tool, not read.
+    Vtk,
 }

@@ -11,8 +11,8 @@ use serde_json::json;
 
 use crate::args::{
     BlockArgs, Cli, Command, ConvertArgs, Coords, Dims, Direction, EncodingArg, EndianArg,
-    LayoutArgs, MeshCommand, Method, MoveArgs, NacaArgs, NacaKind, PrecisionArg, QualityArgs,
-    SmoothArgs, Solver, YesNo,
+    InputFormat, LayoutArgs, MeshCommand, Method, MoveArgs, NacaArgs, NacaKind, PrecisionArg,
+    QualityArgs, SmoothArgs, Solver, YesNo,
 };
 use crate::engine::{run_move, Motion, MoveInput, MoveMethod, MoveSolver, QualitySummary};
 use crate::formats::displacements::parse_displacements;
@@ -113,6 +113,7 @@ pub struct Outcome {
 /// Runs the parsed command line.
 pub fn run(cli: &Cli) -> Result<Outcome, CliError> {
     let quiet = cli.json;
+    FORCED_FORMAT.with(|f| f.set(cli.format));
     let (inputs, outputs) = files_of(&cli.command);
     crate::guard::check_outputs(&inputs, &outputs)?;
     crate::guard::register_inputs(&inputs);
@@ -240,13 +241,58 @@ fn io_err(path: &Path) -> impl FnOnce(io::Error) -> CliError + '_ {
     }
 }
 
+thread_local! {
+    /// `--format` of the running command, for [`input_kind`] (set by [`run`]).
+    static FORCED_FORMAT: std::cell::Cell<Option<InputFormat>> = const { std::cell::Cell::new(None) };
+}
+
+/// What the first 64 KiB of a file look like: SU2 (an `NDIME=` keyword line), VTK XML, or
+/// neither. A UTF-8 byte-order mark and leading whitespace are skipped.
+fn sniff(path: &Path) -> Result<Option<InputFormat>, CliError> {
+    use std::io::Read;
+    let mut head = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(64 * 1024).read_to_end(&mut head))
+        .map_err(io_err(path))?;
+    let text = head
+        .strip_prefix(b"\xEF\xBB\xBF")
+        .unwrap_or(&head)
+        .trim_ascii_start();
+    if text.starts_with(b"<?xml") || text.starts_with(b"<VTKFile") {
+        return Ok(Some(InputFormat::Vtk));
+    }
+    let su2 = text.split(|&b| b == b'\n').any(|line| {
+        let line = line
+            .split(|&b| b == b'%')
+            .next()
+            .unwrap_or(&[])
+            .trim_ascii();
+        line.len() >= 6
+            && line[..5].eq_ignore_ascii_case(b"NDIME")
+            && line[5..].trim_ascii_start().starts_with(b"=")
+    });
+    Ok(su2.then_some(InputFormat::Su2))
+}
+
+/// The format of an input file: `--format` if given; else from its content (SU2 keywords,
+/// VTK XML); else `.su2` by name (so a broken SU2 file gets the SU2 reader's message); else
+/// Plot3D, whose reader detects the layout from the content.
 fn input_kind(path: &Path) -> Result<FileKind, CliError> {
-    match file_kind(path) {
-        Some(k @ (FileKind::Su2 | FileKind::Plot3d)) => Ok(k),
-        _ => Err(CliError::Invalid(format!(
-            "{}: unknown input format (expected .su2 or a Plot3D grid: .x .xyz .p3d .g .grd .xy)",
-            path.display()
-        ))),
+    let format = match FORCED_FORMAT.with(|f| f.get()) {
+        Some(f) => f,
+        None => match sniff(path)? {
+            Some(f) => f,
+            None if file_kind(path) == Some(FileKind::Su2) => InputFormat::Su2,
+            None => InputFormat::Plot3d,
+        },
+    };
+    match format {
+        InputFormat::Su2 => Ok(FileKind::Su2),
+        InputFormat::Plot3d => Ok(FileKind::Plot3d),
+        InputFormat::Vtk => Err(CliError::NotAvailable {
+            feature: "reading VTK files",
+            needs: "an SU2 or Plot3D input (the tool writes .vtu/.vts for viewing; convert your mesh to SU2 or Plot3D first)",
+        }),
     }
 }
 
@@ -511,11 +557,11 @@ pub fn marker_nodes(mesh: &Su2Mesh, names: &[String], path: &Path) -> Result<Vec
 }
 
 fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
-    if file_kind(&a.mesh) != Some(FileKind::Su2) {
-        return Err(CliError::Invalid(format!(
-            "{}: move reads .su2 meshes",
-            a.mesh.display()
-        )));
+    if input_kind(&a.mesh)? != FileKind::Su2 {
+        return Err(CliError::NotAvailable {
+            feature: "deform move on Plot3D grids",
+            needs: "an SU2 mesh (this file is not SU2; use --format su2 if it is)",
+        });
     }
     if file_kind(&a.out) != Some(FileKind::Su2) {
         return Err(CliError::Invalid(format!(
@@ -954,6 +1000,22 @@ fn coincident_points(grid: &Plot3dGrid) -> (Vec<Vec<u8>>, usize) {
     (masks, total)
 }
 
+/// The dimension a block's cells are measured in: 2 for a 2D grid and for a single k-plane
+/// of a 3D grid whose `z` is constant (a 2D grid stored as 3D, as many codes write them),
+/// else the grid's.
+fn cell_dim(grid_dim: usize, blk: &Plot3dBlock) -> usize {
+    let planar = blk.dims[2] == 1
+        && blk
+            .points
+            .first()
+            .is_some_and(|p0| blk.points.iter().all(|p| p[2] == p0[2]));
+    if grid_dim == 3 && planar {
+        2
+    } else {
+        grid_dim
+    }
+}
+
 /// The cells (0-based, i-fastest) whose smallest corner Jacobian was > 0 and is ≤ 0.
 fn flipped(before: &[f64], after: &[f64]) -> Vec<usize> {
     before
@@ -979,10 +1041,19 @@ fn cell_name(dims: [usize; 3], dim: usize, c: usize) -> String {
 
 fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
     let t0 = Instant::now();
-    if file_kind(&a.out) != Some(FileKind::Plot3d) {
+    if matches!(
+        file_kind(&a.out),
+        Some(FileKind::Su2 | FileKind::Vtu | FileKind::Vts)
+    ) {
         return Err(CliError::Invalid(format!(
-            "{}: --out must be a Plot3D grid (.x .xyz .p3d .g .grd .xy)",
+            "{}: --out must be a Plot3D grid (written in the input's layout; any extension but .su2, .vtu, .vts)",
             a.out.display()
+        )));
+    }
+    if input_kind(&a.grid)? != FileKind::Plot3d {
+        return Err(CliError::Invalid(format!(
+            "{}: smooth needs a structured Plot3D grid, this is an SU2 mesh",
+            a.grid.display()
         )));
     }
     if !(a.lambda.is_finite() && a.lambda > 0.0 && a.mu.is_finite() && a.mu <= 0.0) {
@@ -1069,19 +1140,20 @@ fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
                     dim, blk.dims, &smoothed, direction,
                 )?);
         // The cell check: every corner Jacobian against the input's.
-        if dim == 3 && blk.dims.contains(&1) {
+        let cdim = cell_dim(dim, blk);
+        if cdim == 3 && blk.dims.contains(&1) {
             report.unchecked_blocks += 1;
         } else {
-            let cells = crate::engine::structured_cells(blk.dims, &original, dim);
-            let before = crate::engine::corner_jacobians(dim, &cells, &original)?;
-            let after = crate::engine::corner_jacobians(dim, &cells, &smoothed)?;
+            let cells = crate::engine::structured_cells(blk.dims, &original, cdim);
+            let before = crate::engine::corner_jacobians(cdim, &cells, &original)?;
+            let after = crate::engine::corner_jacobians(cdim, &cells, &smoothed)?;
             let bad = flipped(&before, &after);
             if !bad.is_empty() && !a.allow_folds {
                 // Name the first iteration after which a cell is flipped (fine iterations
                 // 1..N by bisection, assuming a flip persists; else the coarse pass).
                 let flips_after = |k: usize| -> Result<bool, CliError> {
                     let (p, _) = smooth_copy(k, None).map_err(in_block(b))?;
-                    let after = crate::engine::corner_jacobians(dim, &cells, &p)?;
+                    let after = crate::engine::corner_jacobians(cdim, &cells, &p)?;
                     Ok(!flipped(&before, &after).is_empty())
                 };
                 let when = if a.iterations > 0 && flips_after(a.iterations)? {
@@ -1388,20 +1460,19 @@ fn quality(a: &QualityArgs) -> Result<Outcome, CliError> {
             };
             let mut total = None;
             for (b, blk) in g.blocks.iter().enumerate() {
-                if g.dim == 3 && blk.dims.contains(&1) {
-                    return Err(CliError::Invalid(format!(
-                        "{}: block {} is a surface ({:?}); quality needs volume blocks in 3D",
-                        a.file.display(),
-                        b + 1,
-                        blk.dims
-                    )));
+                let dim = cell_dim(g.dim, blk);
+                if dim == 3 && blk.dims.contains(&1) {
+                    return Err(CliError::NotAvailable {
+                        feature: "quality of a curved surface block in a 3D grid",
+                        needs: "volume blocks, or planar k-planes (constant z), which are measured as 2D",
+                    });
                 }
-                let cells = crate::engine::structured_cells(blk.dims, &blk.points, g.dim);
+                let cells = crate::engine::structured_cells(blk.dims, &blk.points, dim);
                 let rpts = reference
                     .as_ref()
                     .and_then(|r| r.blocks.get(b))
                     .map(|rb| rb.points.as_slice());
-                let s = crate::engine::quality(g.dim, &cells, &blk.points, rpts, None)?;
+                let s = crate::engine::quality(dim, &cells, &blk.points, rpts, None)?;
                 if let Some(v) = &a.vtk {
                     let p = block_vts_path(v, b, g.blocks.len());
                     staged
@@ -1438,7 +1509,13 @@ fn quality(a: &QualityArgs) -> Result<Outcome, CliError> {
                 file: a.file.display().to_string(),
                 reference: a.reference.as_ref().map(|r| r.display().to_string()),
                 format: format!("Plot3D {layout}"),
-                dim: g.dim,
+                // Planar k-planes of a 3D file are measured (and worded) as 2D.
+                dim: g
+                    .blocks
+                    .iter()
+                    .map(|b| cell_dim(g.dim, b))
+                    .max()
+                    .unwrap_or(g.dim),
                 nodes: g.blocks.iter().map(|b| b.points.len()).sum(),
                 blocks: g.blocks.len(),
                 summary,
@@ -1483,7 +1560,11 @@ fn block_vts_path(out: &Path, b: usize, nblocks: usize) -> PathBuf {
 fn convert(a: &ConvertArgs) -> Result<Outcome, CliError> {
     let t0 = Instant::now();
     let kin = input_kind(&a.input)?;
-    let kout = file_kind(&a.output);
+    // A Plot3D input may be written to any name that is not SU2 or VTK.
+    let kout = match (kin, file_kind(&a.output)) {
+        (FileKind::Plot3d, None) => Some(FileKind::Plot3d),
+        (_, k) => k,
+    };
     let enc = if a.vtk_ascii {
         VtkEncoding::Ascii
     } else {

@@ -199,6 +199,30 @@ fn candidates(opts: &Plot3dOptions, ascii: bool) -> Vec<Plot3dLayout> {
     out
 }
 
+/// The largest |iblank| accepted. Plot3D iblank is 1 (field), 0 (blanked), 2 (fringe in some
+/// codes) or a negative donor-grid number for overset interpolation; a value beyond this is a
+/// real or a dimension read as an iblank (a corrupted or misdetected file).
+const IBLANK_LIMIT: u32 = 100_000;
+
+fn check_iblank(v: i32, point: usize, block: usize, at: Location) -> Result<(), FormatError> {
+    if v.unsigned_abs() > IBLANK_LIMIT {
+        return Err(FormatError::new(
+            at,
+            FormatErrorKind::Expected {
+                expected: format!(
+                    "an iblank value for point {point} of block {} (0, 1, 2 or a negative grid number, |iblank| <= {IBLANK_LIMIT}); the dimensions or the layout are probably wrong",
+                    block + 1
+                ),
+                found: v.to_string(),
+            },
+        ));
+    }
+    Ok(())
+}
+
+/// A UTF-8 byte-order mark, which some editors put before ASCII Plot3D files.
+const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
+
 fn looks_ascii(bytes: &[u8]) -> bool {
     bytes
         .iter()
@@ -218,9 +242,10 @@ pub fn parse_plot3d(
             },
         ));
     }
-    let ascii = opts.ascii.unwrap_or_else(|| looks_ascii(bytes));
+    let text = bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes);
+    let ascii = opts.ascii.unwrap_or_else(|| looks_ascii(text));
     if ascii {
-        let toks = ascii_tokens(bytes);
+        let toks = ascii_tokens(text);
         let mut fits = Vec::new();
         let mut best: Option<(u64, FormatError, Plot3dLayout)> = None;
         for layout in candidates(opts, true) {
@@ -630,6 +655,24 @@ fn binary_read(
                         },
                     ));
                 }
+                // A subnormal coordinate is what reals read in the wrong byte order (or at
+                // the wrong offset) look like; no grid generator writes them.
+                let subnormal = match prec {
+                    Precision::Single => (v as f32).is_subnormal(),
+                    Precision::Double => v.is_subnormal(),
+                };
+                if subnormal {
+                    return Err(FormatError::new(
+                        loc,
+                        FormatErrorKind::Expected {
+                            expected: format!(
+                                "a plausible {axis} of point {i} of block {} ({endian:?}-endian {prec:?}; a subnormal value means the reals are in another byte order than the integers, or the layout is wrong)",
+                                b + 1
+                            ),
+                            found: format!("{v:e}"),
+                        },
+                    ));
+                }
                 if let Some(slot) = p.get_mut(k) {
                     *slot = v;
                 }
@@ -637,8 +680,11 @@ fn binary_read(
         }
         let iblank = if layout.iblank {
             let mut ib = Vec::with_capacity(n);
-            for _ in 0..n {
-                ib.push(c.i32("an iblank value")?);
+            for i in 0..n {
+                let loc = c.at();
+                let v = c.i32("an iblank value")?;
+                check_iblank(v, i, b, loc)?;
+                ib.push(v);
             }
             Some(ib)
         } else {
@@ -831,6 +877,7 @@ fn ascii_read(
                             t.text,
                         )
                     })?;
+                check_iblank(v, p, b, Location::Line(t.line))?;
                 ib.push(v);
                 i += 1;
             }
