@@ -181,7 +181,7 @@ pub enum Solver {
 
 /// `deform move`.
 #[derive(Debug, Args)]
-#[command(group(ArgGroup::new("motion").required(true).args(["rotate", "translate", "displacements"])))]
+#[command(group(ArgGroup::new("motion").required(true).args(["rotate", "translate", "displacements", "surface_positions"])))]
 pub struct MoveArgs {
     /// The SU2 mesh.
     pub mesh: PathBuf,
@@ -204,6 +204,11 @@ pub struct MoveArgs {
     /// marker nodes not listed do not move.
     #[arg(long, value_name = "FILE")]
     pub displacements: Option<PathBuf>,
+    /// New positions of marker nodes, as SU2_DEF reads them (DV_KIND= SURFACE_FILE): lines
+    /// `GlobalIndex x y [z]` (0-based node, absolute coordinates); marker nodes not listed do
+    /// not move.
+    #[arg(long, value_name = "FILE")]
+    pub surface_positions: Option<PathBuf>,
     /// Deformation method.
     #[arg(long, value_enum)]
     pub method: Method,

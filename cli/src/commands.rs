@@ -15,7 +15,7 @@ use crate::args::{
     QualityArgs, SmoothArgs, Solver, YesNo,
 };
 use crate::engine::{run_move, Motion, MoveInput, MoveMethod, MoveSolver, QualitySummary};
-use crate::formats::displacements::parse_displacements;
+use crate::formats::displacements::{parse_displacements, parse_surface_positions};
 use crate::formats::plot3d::{
     parse_plot3d, write_plot3d, Encoding, Endian, Plot3dBlock, Plot3dGrid, Plot3dLayout,
     Plot3dOptions, Precision,
@@ -138,10 +138,14 @@ fn files_of(command: &Command) -> (Vec<&Path>, Vec<&Path>) {
         Command::Mesh(MeshCommand::Naca(a)) => (vec![], vec![&a.out]),
         Command::Mesh(MeshCommand::Block(a)) => (vec![], vec![&a.out]),
         Command::Move(a) => (
-            [Some(a.mesh.as_path()), opt(&a.displacements)]
-                .into_iter()
-                .flatten()
-                .collect(),
+            [
+                Some(a.mesh.as_path()),
+                opt(&a.displacements),
+                opt(&a.surface_positions),
+            ]
+            .into_iter()
+            .flatten()
+            .collect(),
             [Some(a.out.as_path()), opt(&a.vtk), opt(&a.plot)]
                 .into_iter()
                 .flatten()
@@ -624,14 +628,48 @@ fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
             if mesh.dim == 3 && c.len() != 3 {
                 return Err(CliError::Invalid("--center: a 3D mesh needs x,y,z".into()));
             }
+            if mesh.dim == 2 && c.len() != 2 {
+                return Err(CliError::Invalid(
+                    "--center: a 2D mesh rotates about a point x,y (no z)".into(),
+                ));
+            }
         }
     }
-    let motion = if let Some(path) = &a.displacements {
+    let table = match (&a.displacements, &a.surface_positions) {
+        (Some(path), _) => Some((path, false)),
+        (None, Some(path)) => Some((path, true)),
+        (None, None) => None,
+    };
+    // Surface positions are placed exactly as given after the deformation (old + (new − old)
+    // can differ from new in the last bit).
+    let mut exact_positions: Vec<(u32, [f64; 3])> = Vec::new();
+    let motion = if let Some((path, absolute)) = table {
         let bytes = read_bytes(path)?;
-        let list = parse_displacements(&bytes, mesh.dim).map_err(|source| CliError::Read {
+        let parse = if absolute {
+            parse_surface_positions
+        } else {
+            parse_displacements
+        };
+        let mut list = parse(&bytes, mesh.dim).map_err(|source| CliError::Read {
             path: path.clone(),
             source,
         })?;
+        if absolute {
+            exact_positions = list.clone();
+            // New positions → displacements from the mesh's own coordinates.
+            for (node, p) in &mut list {
+                let Some(old) = mesh.points.get(*node as usize) else {
+                    return Err(CliError::Invalid(format!(
+                        "{}: node {node} is not in the mesh ({} points)",
+                        path.display(),
+                        mesh.points.len()
+                    )));
+                };
+                for (c, o) in p.iter_mut().zip(old) {
+                    *c -= o;
+                }
+            }
+        }
         for (node, _) in &list {
             if moved.binary_search(node).is_err() {
                 return Err(CliError::Invalid(format!(
@@ -724,7 +762,12 @@ fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
     let spinner = crate::progress::spinner("deforming", quiet);
     let result = run_move(&input);
     spinner.finish_and_clear();
-    let result = result.map_err(|e| e.in_file(&a.mesh))?;
+    let mut result = result.map_err(|e| e.in_file(&a.mesh))?;
+    for (node, p) in &exact_positions {
+        if let Some(x) = result.deformed.get_mut(*node as usize) {
+            *x = *p;
+        }
+    }
     let wall = marker_union(&mesh, &a.markers, &a.mesh)?;
     let q = crate::engine::quality(
         mesh.dim,
@@ -809,6 +852,41 @@ fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
         outputs.push(p.display().to_string());
     }
     staged.commit().map_err(io_err(&a.out))?;
+    let norm = |d: &[f64; 3]| (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    let motion_text = if let Some(p) = &a.displacements {
+        format!("displacements from {}", p.display())
+    } else if let Some(p) = &a.surface_positions {
+        format!("surface positions from {}", p.display())
+    } else if let Some(Coords(t)) = &a.translate {
+        format!("translate {t:?}")
+    } else {
+        let c = result
+            .center
+            .map_or_else(|| "-".to_string(), |c| format!("{:?}", &c[..mesh.dim]));
+        format!("rotate {} deg about {c}", a.rotate.unwrap_or(0.0))
+    };
+    let marker_motions: Vec<MarkerMotion> = a
+        .markers
+        .iter()
+        .filter_map(|name| mesh.marker(name))
+        .map(|m| {
+            let mut nodes = m.elements.nodes.clone();
+            nodes.sort_unstable();
+            nodes.dedup();
+            let max = nodes
+                .iter()
+                .filter_map(|&n| result.displacement.get(n as usize))
+                .map(norm)
+                .fold(0.0, f64::max);
+            MarkerMotion {
+                marker: m.name.clone(),
+                nodes: nodes.len(),
+                motion: motion_text.clone(),
+                max_displacement: max,
+            }
+        })
+        .collect();
+    let max_displacement = result.displacement.iter().map(norm).fold(0.0, f64::max);
     let report = MoveReport {
         command: "move",
         mesh: a.mesh.display().to_string(),
@@ -833,6 +911,8 @@ fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
         iterations: result.iterations,
         residual: result.residual,
         converged: result.converged,
+        markers: marker_motions,
+        max_displacement,
         orientation: q.orientation.describe(mesh.dim),
         inverted_cells: q.inverted_cells.unwrap_or(0),
         folded_cells: q.folded_cells,
@@ -870,6 +950,17 @@ fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
         fmt_opt(report.max_wall_angle_change_deg),
         report.seconds
     );
+    let mut text = text;
+    text.push_str(&format!(
+        "\n  max displacement {:.6e}",
+        report.max_displacement
+    ));
+    for m in &report.markers {
+        text.push_str(&format!(
+            "\n  marker {}: {} nodes, {}, max displacement {:.6e}",
+            m.marker, m.nodes, m.motion, m.max_displacement
+        ));
+    }
     Ok(Outcome {
         text,
         json: serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
@@ -891,6 +982,8 @@ struct MoveReport {
     iterations: usize,
     residual: f64,
     converged: bool,
+    markers: Vec<MarkerMotion>,
+    max_displacement: f64,
     orientation: String,
     inverted_cells: usize,
     folded_cells: usize,
@@ -900,6 +993,15 @@ struct MoveReport {
     min_scaled_jacobian: f64,
     max_wall_angle_change_deg: Option<f64>,
     seconds: f64,
+}
+
+/// What `move` did to one marker.
+#[derive(Serialize)]
+struct MarkerMotion {
+    marker: String,
+    nodes: usize,
+    motion: String,
+    max_displacement: f64,
 }
 
 /// The command-line spelling of an enum value.

@@ -1,11 +1,30 @@
-//! Prescribed-displacement files for `deform move --displacements`: one line per node,
-//! `node dx dy [dz]` (0-based node index), blank lines and `%` or `#` comments ignored.
+//! Node tables for `deform move`: prescribed displacements (`--displacements`: `node dx dy
+//! [dz]`) and SU2_DEF's surface-position files (`--surface-positions`, SU2's `SURFACE_FILE`:
+//! `GlobalIndex x y [z]`, the new absolute positions). One line per node, 0-based node index,
+//! blank lines and `%` or `#` comments ignored, each node at most once.
 
 use super::error::{show, FormatError, FormatErrorKind, Location};
 
 /// Parses a displacement file for a mesh of dimension `dim` (2 or 3). Returns `(node, d)` pairs
 /// in file order, `d[2] = 0` in 2D. Each node may appear once.
 pub fn parse_displacements(bytes: &[u8], dim: usize) -> Result<Vec<(u32, [f64; 3])>, FormatError> {
+    parse_node_table(bytes, dim, "displacement")
+}
+
+/// Parses an SU2 surface-position file (`GlobalIndex x y [z]`: new absolute coordinates) for
+/// a mesh of dimension `dim`. Returns `(node, position)` pairs in file order, `z = 0` in 2D.
+pub fn parse_surface_positions(
+    bytes: &[u8],
+    dim: usize,
+) -> Result<Vec<(u32, [f64; 3])>, FormatError> {
+    parse_node_table(bytes, dim, "position")
+}
+
+fn parse_node_table(
+    bytes: &[u8],
+    dim: usize,
+    value: &str,
+) -> Result<Vec<(u32, [f64; 3])>, FormatError> {
     let mut out: Vec<(u32, [f64; 3])> = Vec::new();
     let mut seen = std::collections::BTreeMap::new();
     for (l, raw) in bytes.split(|&b| b == b'\n').enumerate() {
@@ -47,13 +66,13 @@ pub fn parse_displacements(bytes: &[u8], dim: usize) -> Result<Vec<(u32, [f64; 3
                 .ok()
                 .and_then(|s| s.parse::<f64>().ok())
                 .ok_or_else(|| {
-                    FormatError::expected_at_line(line, "a displacement (a number)", tok)
+                    FormatError::expected_at_line(line, format!("a {value} (a number)"), tok)
                 })?;
             if !v.is_finite() {
                 return Err(FormatError::new(
                     Location::Line(line),
                     FormatErrorKind::NotFinite {
-                        what: format!("displacement of node {node}"),
+                        what: format!("{value} of node {node}"),
                         found: show(tok),
                     },
                 ));
