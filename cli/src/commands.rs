@@ -1,7 +1,6 @@
 //! The command implementations behind the `deform` binary. Each validates all of its inputs,
 //! stages every output in a temporary file and renames them into place only on success.
 
-use std::fmt;
 use std::io;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -22,84 +21,12 @@ use crate::formats::plot3d::{
 };
 use crate::formats::su2::{parse_su2, write_su2, Su2Marker, Su2Mesh};
 use crate::formats::vtk::{write_vts, write_vtu, VtkEncoding, VtkField};
-use crate::formats::{CellList, FormatError};
+use crate::formats::CellList;
 use crate::output::Staged;
 use crate::plot::{bounding_window, png, svg, zoom, Picture, Window};
 use deform_meshgen::AirfoilGrid;
 
-/// Why a command failed.
-#[derive(Debug)]
-pub enum CliError {
-    /// An input file is malformed.
-    Read {
-        /// The file.
-        path: PathBuf,
-        /// What is wrong, and where.
-        source: FormatError,
-    },
-    /// A file could not be read or written.
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The system error.
-        source: io::Error,
-    },
-    /// The inputs are well-formed but do not fit together (a missing marker, a 3D rotation on
-    /// a 2D mesh, …).
-    Invalid(String),
-    /// The kernel reported an error.
-    Kernel(String),
-    /// The work would not fit in the memory available.
-    TooLarge {
-        /// The file.
-        path: PathBuf,
-        /// How much is needed and available.
-        message: String,
-    },
-    /// This build does not have what the command needs yet.
-    NotAvailable {
-        /// The command or option.
-        feature: &'static str,
-        /// The missing part.
-        needs: &'static str,
-    },
-}
-
-impl CliError {
-    /// Names the input file in a kernel error (other errors already name their file).
-    pub fn in_file(self, path: &Path) -> CliError {
-        match self {
-            CliError::Kernel(m) => CliError::Kernel(format!("{}: {m}", path.display())),
-            e => e,
-        }
-    }
-
-    /// The process exit status: 3 for [`CliError::NotAvailable`], 1 otherwise (clap uses 2 for
-    /// a bad command line).
-    pub fn exit_code(&self) -> i32 {
-        match self {
-            CliError::NotAvailable { .. } => 3,
-            _ => 1,
-        }
-    }
-}
-
-impl fmt::Display for CliError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            CliError::Read { path, source } => write!(f, "{}: {source}", path.display()),
-            CliError::Io { path, source } => write!(f, "{}: {source}", path.display()),
-            CliError::Invalid(m) => write!(f, "{m}"),
-            CliError::Kernel(m) => write!(f, "kernel: {m}"),
-            CliError::TooLarge { path, message } => write!(f, "{}: {message}", path.display()),
-            CliError::NotAvailable { feature, needs } => {
-                write!(f, "{feature}: not available yet: needs {needs}")
-            }
-        }
-    }
-}
-
-impl std::error::Error for CliError {}
+pub use crate::error::CliError;
 
 /// What a successful command reports: a JSON value and the same for people.
 #[derive(Debug)]
@@ -1202,12 +1129,7 @@ fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
     let (pins, shared) = coincident_points(&grid);
     report.pinned_coincident_points = shared;
     let dim = grid.dim;
-    let in_block = |b: usize| {
-        move |e: CliError| match e {
-            CliError::Kernel(m) => CliError::Kernel(format!("block {}: {m}", b + 1)),
-            e => e,
-        }
-    };
+    let in_block = |b: usize| move |e: CliError| e.within(&format!("block {}", b + 1));
     for (b, (blk, pin)) in grid.blocks.iter_mut().zip(&pins).enumerate() {
         let original = blk.points.clone();
         let smooth_copy = |iterations: usize, coarse: Option<usize>| {

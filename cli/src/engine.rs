@@ -5,12 +5,15 @@
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph};
 use serde::Serialize;
 
-use crate::commands::CliError;
+use crate::error::CliError;
 use crate::formats::CellList;
 use crate::orientation::{Orientation, OrientationSummary};
 
 fn kernel(context: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {
-    move |e| CliError::Kernel(format!("{context}: {e}"))
+    move |source| CliError::Kernel {
+        context: context.to_string(),
+        source,
+    }
 }
 
 /// A validated kernel [`Cells`] view of a [`CellList`].

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-use crate::commands::CliError;
+use crate::error::CliError;
 
 /// True when `a` and `b` name the same existing file, also through symbolic or hard links
 /// (same device and inode on Unix; equal canonical paths elsewhere).

@@ -17,6 +17,7 @@ pub mod args;
 pub mod commands;
 pub mod demo;
 pub mod engine;
+pub mod error;
 pub mod formats;
 pub mod guard;
 pub mod orientation;
