@@ -8,10 +8,9 @@
 use core::hint::black_box;
 
 use deform_kernel::spring::{
-    amg_precondition, amg_precondition_scratch_len, solve_linear_amg,
-    solve_linear_amg_scratch_len, solve_linear_with, solve_linear_with_scratch_len, AmgHierarchy,
-    AmgOptions, AmgSmoother, LinearMethod, LinearSolver, Preconditioner, SolveOptions,
-    SpringSystem,
+    amg_precondition, amg_precondition_scratch_len, solve_linear_amg, solve_linear_amg_scratch_len,
+    solve_linear_with, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother,
+    LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::{Graph, Real};
 
@@ -111,7 +110,13 @@ fn solve<T: Real, const V: usize>(sys: &SpringSystem<'_, T>, h: &AmgHierarchy<'_
         let len = solve_linear_with_scratch_len(&solver, bb(N));
         let mut y = x;
         let sc = scratch.get_mut(..len).unwrap_or(&mut []);
-        keep(solve_linear_with(sys, bb(&mut y[..]), solver, &opts, bb(sc)));
+        keep(solve_linear_with(
+            sys,
+            bb(&mut y[..]),
+            solver,
+            &opts,
+            bb(sc),
+        ));
         keep(&y);
     }
 }

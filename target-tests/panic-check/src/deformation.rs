@@ -6,11 +6,11 @@ use core::hint::black_box;
 use deform_kernel::deformation::{
     boundary_normals, boundary_normals_scratch_len, boundary_origin, boundary_rotations,
     boundary_rotations_scratch_len, boundary_translations, deform_idw, deform_idw_scratch_len,
-    deform_spring, deform_spring_scratch_len, deform_spring_with, deform_tfi, deform_tfi_scratch_len,
-    displacement_tfi, localize_nodes, localize_nodes_scratch_len, propagate_idw, propagate_spring,
-    propagate_spring_scratch_len, propagate_spring_with, propagate_spring_with_scratch_len,
-    propagate_tfi, rigid_rotations, tfi_scratch_len, update_points,
-    BoundaryMotion, RotationSource,
+    deform_spring, deform_spring_scratch_len, deform_spring_with, deform_tfi,
+    deform_tfi_scratch_len, displacement_tfi, localize_nodes, localize_nodes_scratch_len,
+    propagate_idw, propagate_spring, propagate_spring_scratch_len, propagate_spring_with,
+    propagate_spring_with_scratch_len, propagate_tfi, rigid_rotations, tfi_scratch_len,
+    update_points, BoundaryMotion, RotationSource,
 };
 use deform_kernel::spring::{
     AmgHierarchy, AmgOptions, LinearMethod, LinearSolver, Preconditioner, SolveOptions,

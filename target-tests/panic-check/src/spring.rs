@@ -10,9 +10,10 @@ use core::hint::black_box;
 
 use deform_kernel::spring::{
     angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_probe_scratch_len, angle_rigidity_probe,
-    angle_scratch_len, angle_sor_sweep, batina_stiffness, is_fixed, jacobi_sweep, relative_residual, solve_angle, solve_angle_sor,
-    solve_linear, solve_linear_scratch_len, sor_sweep, AngleMethod, AngleSystem, LinearMethod,
-    Preconditioner, SolveOptions, SpringSystem, Sweep,
+    angle_scratch_len, angle_sor_sweep, batina_stiffness, is_fixed, jacobi_sweep,
+    relative_residual, solve_angle, solve_angle_sor, solve_linear, solve_linear_scratch_len,
+    sor_sweep, AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
+    Sweep,
 };
 use deform_kernel::{Graph, Real};
 
@@ -169,7 +170,12 @@ fn angle<T: Real, const D: usize>(sys: &SpringSystem<'_, T>, p: &[[T; D]; N]) {
         let mut y = x;
         keep(angle_gauss_seidel_sweep(&a, range.clone(), bb(&mut y[..])));
         keep(&y);
-        keep(angle_sor_sweep(&a, range, bb(&mut y[..]), bb(T::from_f64(1.8))));
+        keep(angle_sor_sweep(
+            &a,
+            range,
+            bb(&mut y[..]),
+            bb(T::from_f64(1.8)),
+        ));
         keep(&y);
         let opts: SolveOptions<T> = bb(SolveOptions::default());
         let mut probe = [[T::ZERO; D]; 4 * N];
