@@ -161,6 +161,27 @@ pub enum Method {
     AngleCg,
     /// Samareh's quaternion method, propagated by inverse-distance weighting.
     Idw,
+    /// Samareh's quaternion transfinite interpolation (Plot3D grids, with --wall).
+    Tfi,
+    /// Plain displacement transfinite interpolation (Plot3D grids, with --wall).
+    TfiDisplacement,
+}
+
+/// A face of a structured block.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FaceArg {
+    /// i = 1.
+    Imin,
+    /// i = ni.
+    Imax,
+    /// j = 1.
+    Jmin,
+    /// j = nj.
+    Jmax,
+    /// k = 1.
+    Kmin,
+    /// k = nk.
+    Kmax,
 }
 
 /// Linear solvers for the spring methods.
@@ -183,11 +204,15 @@ pub enum Solver {
 #[derive(Debug, Args)]
 #[command(group(ArgGroup::new("motion").required(true).args(["rotate", "translate", "displacements", "surface_positions"])))]
 pub struct MoveArgs {
-    /// The SU2 mesh.
+    /// The SU2 mesh, or a Plot3D grid (with --method tfi|tfi-displacement and --wall).
     pub mesh: PathBuf,
-    /// A marker to move (repeat for several); markers not named stay fixed.
-    #[arg(long = "marker", required = true)]
+    /// A marker to move (repeat for several; SU2 meshes); markers not named stay fixed.
+    #[arg(long = "marker")]
     pub markers: Vec<String>,
+    /// Plot3D grids: the block face that moves (in every block); the opposite face stays and
+    /// the points in between follow by transfinite interpolation along that direction.
+    #[arg(long, value_enum, value_name = "FACE")]
+    pub wall: Option<FaceArg>,
     /// Rotate the markers by DEG degrees, counter-clockwise about the axis (right-hand rule).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     pub rotate: Option<f64>,

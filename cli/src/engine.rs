@@ -930,3 +930,176 @@ pub fn max_arclength_laplacian(
         d => Err(CliError::Invalid(format!("dimension {d} is not 2 or 3"))),
     }
 }
+
+/// A block face: the direction (0 = i, 1 = j, 2 = k) and which end (`false` = min).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Face {
+    /// 0 = i, 1 = j, 2 = k.
+    pub direction: usize,
+    /// The `max` face (index `n − 1`) rather than the `min` face (index 0).
+    pub max: bool,
+}
+
+/// A rigid motion of a wall face.
+#[derive(Clone, Copy, Debug)]
+pub enum RigidMotion {
+    /// Rotate by `degrees` about `axis` through `center` (default: the wall's centroid).
+    Rotate {
+        /// Angle, degrees, right-hand rule.
+        degrees: f64,
+        /// Axis (z in 2D).
+        axis: [f64; 3],
+        /// Centre.
+        center: Option<[f64; 3]>,
+    },
+    /// Translate by this vector.
+    Translate([f64; 3]),
+}
+
+/// Transfinite interpolation on a structured block: the `wall` face moves rigidly, the
+/// opposite face stays, and the interior follows along the wall's direction, either with
+/// Samareh's quaternion TFI (`quaternion`: rotations blended, rigid motion reproduced) or
+/// with plain displacement TFI. Returns the new points (same numbering).
+pub fn tfi_block(
+    dim: usize,
+    dims: [usize; 3],
+    points: &[[f64; 3]],
+    wall: Face,
+    motion: RigidMotion,
+    quaternion: bool,
+) -> Result<Vec<[f64; 3]>, CliError> {
+    match dim {
+        2 => tfi_d::<2>(dims, points, wall, motion, quaternion),
+        3 => tfi_d::<3>(dims, points, wall, motion, quaternion),
+        d => Err(CliError::Invalid(format!("dimension {d} is not 2 or 3"))),
+    }
+}
+
+fn tfi_d<const D: usize>(
+    dims: [usize; 3],
+    points: &[[f64; 3]],
+    wall: Face,
+    motion: RigidMotion,
+    quaternion: bool,
+) -> Result<Vec<[f64; 3]>, CliError> {
+    use deform_kernel::deformation::{
+        deform_tfi, deform_tfi_scratch_len, displacement_tfi, tfi_scratch_len, BoundaryMotion,
+        RotationSource,
+    };
+    use deform_kernel::Quat;
+    let block = deform_kernel::Block::new(dims).map_err(kernel("block"))?;
+    let pts = points_d::<D>(points);
+    let n = pts.len();
+    let len = dims[wall.direction];
+    let wall_t = if wall.max { len - 1 } else { 0 };
+    let far_t = if wall.max { 0 } else { len - 1 };
+    let mut wall_nodes = Vec::new();
+    let mut far_nodes = Vec::new();
+    for p in 0..n {
+        let t = block.ijk(p)[wall.direction];
+        if t == wall_t {
+            wall_nodes.push(p as u32);
+        } else if t == far_t {
+            far_nodes.push(p as u32);
+        }
+    }
+    let centroid = {
+        let mut c = [0.0; 3];
+        for &p in &wall_nodes {
+            for (s, x) in c.iter_mut().zip(points[p as usize]) {
+                *s += x;
+            }
+        }
+        c.map(|s| s / wall_nodes.len().max(1) as f64)
+    };
+    let (q, shift, center) = match motion {
+        RigidMotion::Rotate {
+            degrees,
+            axis,
+            center,
+        } => {
+            let q =
+                Quat::from_axis_angle(axis, degrees.to_radians()).map_err(kernel("rotation"))?;
+            (q, [0.0; 3], center.unwrap_or(centroid))
+        }
+        RigidMotion::Translate(t) => (Quat::identity(), t, centroid),
+    };
+    let moved = |p: [f64; 3]| -> [f64; D] {
+        let r = q.rotate([p[0] - center[0], p[1] - center[1], p[2] - center[2]]);
+        core::array::from_fn(|k| r[k] + center[k] + shift[k])
+    };
+    let mut out = vec![[0.0; D]; n];
+    if quaternion {
+        let nodes: Vec<u32> = wall_nodes.iter().chain(&far_nodes).copied().collect();
+        let deformed: Vec<[f64; D]> = nodes
+            .iter()
+            .enumerate()
+            .map(|(k, &p)| {
+                if k < wall_nodes.len() {
+                    moved(points[p as usize])
+                } else {
+                    pts[p as usize]
+                }
+            })
+            .collect();
+        let rotations: Vec<Quat<f64>> = (0..nodes.len())
+            .map(|k| {
+                if k < wall_nodes.len() {
+                    q
+                } else {
+                    Quat::identity()
+                }
+            })
+            .collect();
+        let m = BoundaryMotion {
+            nodes: &nodes,
+            deformed: &deformed,
+            elements: None,
+            rotations: RotationSource::PerNode(&rotations),
+            origin: Some(core::array::from_fn(|k| center[k])),
+        };
+        let mut directions = [false; 3];
+        directions[wall.direction] = true;
+        let mut tr = vec![[0.0; D]; n];
+        let mut rot = vec![Quat::identity(); n];
+        let mut scratch = vec![0.0; deform_tfi_scratch_len::<D>(&block, nodes.len())];
+        deform_tfi(
+            &block,
+            directions,
+            &pts,
+            &m,
+            &mut tr,
+            &mut rot,
+            &mut scratch,
+            &mut out,
+        )
+        .map_err(kernel("quaternion TFI"))?;
+    } else {
+        let mut disp = vec![[0.0; D]; n];
+        for &p in &wall_nodes {
+            let new = moved(points[p as usize]);
+            disp[p as usize] = core::array::from_fn(|k| new[k] - pts[p as usize][k]);
+        }
+        let mut directions = [false; 3];
+        directions[wall.direction] = true;
+        let mut scratch = vec![0.0; tfi_scratch_len::<D>(&block)];
+        displacement_tfi(&block, directions, &pts, &mut disp, &mut scratch)
+            .map_err(kernel("displacement TFI"))?;
+        for ((o, p), d) in out.iter_mut().zip(&pts).zip(&disp) {
+            *o = core::array::from_fn(|k| p[k] + d[k]);
+        }
+        // The wall is placed exactly (p + (new − p) may differ from new in the last bit).
+        for &p in &wall_nodes {
+            out[p as usize] = moved(points[p as usize]);
+        }
+    }
+    Ok(out
+        .iter()
+        .zip(points)
+        .map(|(o, p)| {
+            let mut r = *p;
+            r[..D].copy_from_slice(o);
+            r
+        })
+        .collect())
+}
