@@ -113,17 +113,20 @@ fn an_interrupted_write_leaves_no_temporary_file_and_the_old_output() {
     let d = tmp_dir("safety-signal");
     std::fs::write(d.join("big.su2"), b"previous output\n").unwrap();
     for signal in ["TERM", "INT"] {
-        // A grid big enough that writing it takes a while in a debug build.
-        let mut child = Command::new(env!("CARGO_BIN_EXE_deform"))
-            .current_dir(&d)
-            .args(["mesh", "block", "--dims", "120,120,60", "--out", "big.su2"])
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("spawn deform");
-        let temp_seen = {
+        // A grid big enough that writing it takes a while in a debug build; a bigger one if
+        // the machine wrote it before the temporary file was seen.
+        let mut running = None;
+        for dims in ["120,120,60", "200,200,80", "300,300,100"] {
+            std::fs::write(d.join("big.su2"), b"previous output\n").unwrap();
+            let mut child = Command::new(env!("CARGO_BIN_EXE_deform"))
+                .current_dir(&d)
+                .args(["mesh", "block", "--dims", dims, "--out", "big.su2"])
+                .stdout(Stdio::null())
+                .stderr(Stdio::piped())
+                .spawn()
+                .expect("spawn deform");
             let t0 = Instant::now();
-            loop {
+            let seen = loop {
                 let has_temp = std::fs::read_dir(&d)
                     .unwrap()
                     .filter_map(|e| e.ok())
@@ -135,12 +138,15 @@ fn an_interrupted_write_leaves_no_temporary_file_and_the_old_output() {
                     break false;
                 }
                 std::thread::sleep(Duration::from_millis(2));
+            };
+            if seen {
+                running = Some(child);
+                break;
             }
-        };
-        assert!(
-            temp_seen,
-            "the write finished before the signal could be sent"
-        );
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+        let child = running.expect("every write finished before the signal could be sent");
         let status = Command::new("kill")
             .args([format!("-{signal}"), child.id().to_string()])
             .status()
