@@ -15,15 +15,16 @@
 
 pub mod args;
 pub mod commands;
-pub mod demo;
 pub mod engine;
 pub mod error;
+pub mod files;
 pub mod formats;
 pub mod guard;
 pub mod orientation;
 pub mod output;
 pub mod plot;
 pub mod progress;
+pub mod report;
 
 pub use formats::plot3d::parse_plot3d;
 pub use formats::su2::parse_su2;

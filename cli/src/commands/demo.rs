@@ -20,15 +20,17 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::args::DemoArgs;
-use crate::commands::{su2_from_mesh2, CliError, Outcome};
 use crate::engine::{
     quality, run_move, smooth_block, structured_cells, Motion, MoveInput, MoveMethod, MoveSolver,
 };
+use crate::error::CliError;
+use crate::files::su2_from_mesh2;
 use crate::formats::su2::{write_su2, Su2Mesh};
 use crate::formats::vtk::{write_vts, write_vtu, VtkEncoding, VtkField};
 use crate::formats::CellList;
 use crate::output::Staged;
 use crate::plot::{bounding_window, png, png_panels, svg, svg_panels, zoom, Picture, Window};
+use crate::report::Outcome;
 
 /// One deformation run of the table.
 #[derive(Clone, Debug, Serialize)]

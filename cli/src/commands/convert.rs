@@ -1,0 +1,173 @@
+//! `deform convert`: SU2 ↔ VTK, Plot3D layouts and Plot3D → VTK structured.
+
+use std::time::Instant;
+
+use serde::Serialize;
+use serde_json::json;
+
+use crate::args::{ConvertArgs, EncodingArg, EndianArg, PrecisionArg};
+use crate::formats::plot3d::{write_plot3d, Encoding, Endian, Plot3dLayout, Precision};
+use crate::formats::su2::write_su2;
+use crate::formats::vtk::{write_vts, write_vtu, VtkEncoding};
+use crate::output::Staged;
+
+use crate::error::CliError;
+use crate::files::{
+    block_vts_path, file_kind, input_kind, io_err, plot3d_options, read_plot3d, read_su2, yes,
+    FileKind,
+};
+use crate::report::{seconds, Outcome};
+
+#[derive(Serialize)]
+pub(crate) struct ConvertReport {
+    command: &'static str,
+    input: String,
+    outputs: Vec<String>,
+    input_format: String,
+    points: usize,
+    cells: usize,
+    blocks: usize,
+    seconds: f64,
+}
+
+pub(crate) fn convert(a: &ConvertArgs) -> Result<Outcome, CliError> {
+    let t0 = Instant::now();
+    let kin = input_kind(&a.input)?;
+    // A Plot3D input may be written to any name that is not SU2 or VTK.
+    let kout = match (kin, file_kind(&a.output)) {
+        (FileKind::Plot3d, None) => Some(FileKind::Plot3d),
+        (_, k) => k,
+    };
+    let enc = if a.vtk_ascii {
+        VtkEncoding::Ascii
+    } else {
+        VtkEncoding::Base64
+    };
+    let mut staged = Staged::new();
+    let mut outputs = Vec::new();
+    let report = match (kin, kout) {
+        (FileKind::Su2, Some(k @ (FileKind::Su2 | FileKind::Vtu))) => {
+            let m = read_su2(&a.input)?;
+            staged
+                .write(&a.output, |f| {
+                    if k == FileKind::Su2 {
+                        write_su2(&m, f)
+                    } else {
+                        write_vtu(f, &m.points, &m.elements, &[], &[], enc)
+                    }
+                })
+                .map_err(io_err(&a.output))?;
+            outputs.push(a.output.display().to_string());
+            ConvertReport {
+                command: "convert",
+                input: a.input.display().to_string(),
+                outputs: Vec::new(),
+                input_format: format!("SU2 {}D, {} markers", m.dim, m.markers.len()),
+                points: m.points.len(),
+                cells: m.elements.len(),
+                blocks: 0,
+                seconds: 0.0,
+            }
+        }
+        (FileKind::Plot3d, Some(k @ (FileKind::Plot3d | FileKind::Vts))) => {
+            let (g, layout) = read_plot3d(&a.input, &plot3d_options(&a.layout))?;
+            if k == FileKind::Plot3d {
+                let out_layout = output_layout(&layout, a);
+                staged
+                    .write(&a.output, |f| write_plot3d(&g, &out_layout, f))
+                    .map_err(io_err(&a.output))?;
+                outputs.push(a.output.display().to_string());
+            } else {
+                for (b, blk) in g.blocks.iter().enumerate() {
+                    let p = block_vts_path(&a.output, b, g.blocks.len());
+                    staged
+                        .write(&p, |f| write_vts(f, blk.dims, &blk.points, &[], &[], enc))
+                        .map_err(io_err(&p))?;
+                    outputs.push(p.display().to_string());
+                }
+            }
+            ConvertReport {
+                command: "convert",
+                input: a.input.display().to_string(),
+                outputs: Vec::new(),
+                input_format: format!("Plot3D {layout}"),
+                points: g.blocks.iter().map(|b| b.points.len()).sum(),
+                cells: g
+                    .blocks
+                    .iter()
+                    .map(|b| {
+                        b.dims
+                            .iter()
+                            .map(|&d| d.saturating_sub(1).max(1))
+                            .product::<usize>()
+                    })
+                    .sum(),
+                blocks: g.blocks.len(),
+                seconds: 0.0,
+            }
+        }
+        _ => {
+            return Err(CliError::Invalid(format!(
+                "cannot convert {} to {}: SU2 converts to .su2 or .vtu, Plot3D to Plot3D or .vts",
+                a.input.display(),
+                a.output.display()
+            )))
+        }
+    };
+    staged.commit().map_err(io_err(&a.output))?;
+    let report = ConvertReport {
+        outputs,
+        seconds: seconds(t0),
+        ..report
+    };
+    let text = format!(
+        "{} ({}): {} points, {} cells -> {}",
+        report.input,
+        report.input_format,
+        report.points,
+        report.cells,
+        report.outputs.join(", ")
+    );
+    Ok(Outcome {
+        json: serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
+        text,
+    })
+}
+
+pub(crate) fn output_layout(input: &Plot3dLayout, a: &ConvertArgs) -> Plot3dLayout {
+    let (endian, precision, records) = match input.encoding {
+        Encoding::Binary {
+            endian,
+            precision,
+            records,
+        } => (endian, precision, records),
+        Encoding::Ascii => (Endian::Little, Precision::Double, true),
+    };
+    let endian = match a.out_endian {
+        Some(EndianArg::Little) => Endian::Little,
+        Some(EndianArg::Big) => Endian::Big,
+        None => endian,
+    };
+    let precision = match a.out_precision {
+        Some(PrecisionArg::F32) => Precision::Single,
+        Some(PrecisionArg::F64) => Precision::Double,
+        None => precision,
+    };
+    let records = yes(a.out_records).unwrap_or(records);
+    let ascii = match a.out_encoding {
+        Some(e) => e == EncodingArg::Ascii,
+        None => input.encoding == Encoding::Ascii,
+    };
+    Plot3dLayout {
+        encoding: if ascii {
+            Encoding::Ascii
+        } else {
+            Encoding::Binary {
+                endian,
+                precision,
+                records,
+            }
+        },
+        ..*input
+    }
+}

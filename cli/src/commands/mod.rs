@@ -1,0 +1,79 @@
+//! The commands behind the `deform` binary, one module each. Each validates all of its inputs,
+//! stages every output in a temporary file and renames them into place only on success.
+//!
+//! Dependencies run one way: `commands` → [`crate::files`], [`crate::report`], [`crate::engine`],
+//! [`crate::plot`], [`crate::output`], [`crate::formats`] → [`crate::error`]; nothing below imports
+//! a command.
+
+mod convert;
+mod demo;
+mod mesh;
+mod move_grid;
+mod move_mesh;
+mod quality;
+mod smooth;
+
+use std::path::{Path, PathBuf};
+
+use crate::args::{Cli, Command, MeshCommand};
+
+pub use crate::error::CliError;
+use crate::report::Outcome;
+use convert::convert;
+use mesh::{mesh_block, mesh_naca};
+use move_mesh::move_mesh;
+use quality::quality;
+use smooth::smooth;
+
+/// Runs the parsed command line.
+pub fn run(cli: &Cli) -> Result<Outcome, CliError> {
+    let quiet = cli.json;
+    crate::files::force_format(cli.format);
+    let (inputs, outputs) = files_of(&cli.command);
+    crate::guard::check_outputs(&inputs, &outputs)?;
+    crate::guard::register_inputs(&inputs);
+    match &cli.command {
+        Command::Demo(a) => demo::demo(a, quiet),
+        Command::Mesh(MeshCommand::Naca(a)) => mesh_naca(a),
+        Command::Mesh(MeshCommand::Block(a)) => mesh_block(a),
+        Command::Move(a) => move_mesh(a, quiet),
+        Command::Smooth(a) => smooth(a, quiet),
+        Command::Quality(a) => quality(a),
+        Command::Convert(a) => convert(a),
+    }
+}
+
+/// The input and output files a command names on its command line.
+pub(crate) fn files_of(command: &Command) -> (Vec<&Path>, Vec<&Path>) {
+    fn opt(p: &Option<PathBuf>) -> Option<&Path> {
+        p.as_deref()
+    }
+    match command {
+        Command::Demo(_) => (vec![], vec![]),
+        Command::Mesh(MeshCommand::Naca(a)) => (vec![], vec![&a.out]),
+        Command::Mesh(MeshCommand::Block(a)) => (vec![], vec![&a.out]),
+        Command::Move(a) => (
+            [
+                Some(a.mesh.as_path()),
+                opt(&a.displacements),
+                opt(&a.surface_positions),
+            ]
+            .into_iter()
+            .flatten()
+            .collect(),
+            [Some(a.out.as_path()), opt(&a.vtk), opt(&a.plot)]
+                .into_iter()
+                .flatten()
+                .collect(),
+        ),
+        Command::Smooth(a) => (vec![&a.grid], vec![&a.out]),
+        Command::Quality(a) => (
+            [Some(a.file.as_path()), opt(&a.reference)]
+                .into_iter()
+                .flatten()
+                .collect(),
+            opt(&a.vtk).into_iter().collect(),
+        ),
+        Command::Convert(a) => (vec![&a.input], vec![&a.output]),
+    }
+}

@@ -1,0 +1,158 @@
+//! `deform move` on Plot3D grids: Samareh's TFI (quaternion or displacement) from a moved
+//! wall face.
+
+use std::time::Instant;
+
+use serde_json::json;
+
+use crate::args::{Coords, FaceArg, Method, MoveArgs};
+use crate::engine::QualitySummary;
+use crate::formats::plot3d::{write_plot3d, Plot3dOptions};
+use crate::output::Staged;
+
+use crate::error::CliError;
+use crate::files::{cell_dim, file_kind, io_err, read_plot3d, FileKind};
+use crate::report::{add_summary, fmt_opt, seconds, value_name, Outcome};
+
+/// `deform move` on a Plot3D grid: the `--wall` face of every block moves rigidly, the opposite
+/// face stays, transfinite interpolation (quaternion or displacement) in between.
+pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
+    let t0 = Instant::now();
+    let Some(face) = a.wall else {
+        return Err(CliError::Invalid(
+            "--wall FACE (imin, imax, jmin, jmax, kmin, kmax) is required for a Plot3D grid".into(),
+        ));
+    };
+    if !a.markers.is_empty() || a.displacements.is_some() || a.surface_positions.is_some() {
+        return Err(CliError::Invalid(
+            "a Plot3D grid moves its --wall face with --rotate or --translate (no markers or node files)".into(),
+        ));
+    }
+    if matches!(
+        file_kind(&a.out),
+        Some(FileKind::Su2 | FileKind::Vtu | FileKind::Vts)
+    ) {
+        return Err(CliError::Invalid(format!(
+            "{}: --out must be a Plot3D grid (written in the input's layout)",
+            a.out.display()
+        )));
+    }
+    if a.vtk.is_some() || a.plot.is_some() {
+        return Err(CliError::NotAvailable {
+            feature: "--vtk and --plot for Plot3D grids in move",
+            needs: "deform convert OUT out.vts after the move",
+        });
+    }
+    let (mut grid, layout) = read_plot3d(&a.mesh, &Plot3dOptions::default())?;
+    let (direction, max) = match face {
+        FaceArg::Imin => (0, false),
+        FaceArg::Imax => (0, true),
+        FaceArg::Jmin => (1, false),
+        FaceArg::Jmax => (1, true),
+        FaceArg::Kmin => (2, false),
+        FaceArg::Kmax => (2, true),
+    };
+    let coords = |c: &Option<Coords>, fill: f64| {
+        c.as_ref().map(|Coords(v)| {
+            [
+                v.first().copied().unwrap_or(fill),
+                v.get(1).copied().unwrap_or(fill),
+                v.get(2).copied().unwrap_or(fill),
+            ]
+        })
+    };
+    let motion =
+        match (a.rotate, coords(&a.translate, 0.0)) {
+            (Some(deg), None) if deg.is_finite() => crate::engine::RigidMotion::Rotate {
+                degrees: deg,
+                axis: coords(&a.axis, 0.0).unwrap_or([0.0, 0.0, 1.0]),
+                center: coords(&a.center, 0.0),
+            },
+            (None, Some(t)) if t.iter().all(|x| x.is_finite()) => {
+                crate::engine::RigidMotion::Translate(t)
+            }
+            _ => return Err(CliError::Invalid(
+                "--rotate DEG or --translate DX,DY[,DZ] (finite) moves the wall of a Plot3D grid"
+                    .into(),
+            )),
+        };
+    let quaternion = a.method == Method::Tfi;
+    let mut total: Option<QualitySummary> = None;
+    let mut max_displacement = 0.0f64;
+    for (b, blk) in grid.blocks.iter_mut().enumerate() {
+        let dim = cell_dim(grid.dim, blk);
+        if dim == 2 && direction == 2 {
+            return Err(CliError::Invalid(format!(
+                "{}: block {}: --wall {} needs a 3D block",
+                a.mesh.display(),
+                b + 1,
+                value_name(&face)
+            )));
+        }
+        if dim == 3 && blk.dims.contains(&1) {
+            return Err(CliError::NotAvailable {
+                feature: "TFI on a surface block of a 3D grid",
+                needs: "volume blocks, or constant-z k-planes",
+            });
+        }
+        let new = crate::engine::tfi_block(
+            dim,
+            blk.dims,
+            &blk.points,
+            crate::engine::Face { direction, max },
+            motion,
+            quaternion,
+        )
+        .map_err(|e| e.within(&format!("block {}", b + 1)).in_file(&a.mesh))?;
+        for (p, q) in blk.points.iter().zip(&new) {
+            let d = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
+            max_displacement =
+                max_displacement.max((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
+        }
+        let cells = crate::engine::structured_cells(blk.dims, &blk.points, dim);
+        let s = crate::engine::quality(dim, &cells, &new, Some(&blk.points), None)?;
+        add_summary(&mut total, s);
+        blk.points = new;
+    }
+    let Some(q) = total else {
+        return Err(CliError::Invalid("the grid has no blocks".into()));
+    };
+    let mut staged = Staged::new();
+    staged
+        .write(&a.out, |f| write_plot3d(&grid, &layout, f))
+        .map_err(io_err(&a.out))?;
+    staged.commit().map_err(io_err(&a.out))?;
+    let json = json!({
+        "command": "move",
+        "mesh": a.mesh.display().to_string(),
+        "outputs": [a.out.display().to_string()],
+        "format": format!("Plot3D {layout}"),
+        "blocks": grid.blocks.len(),
+        "method": value_name(&a.method),
+        "wall": value_name(&face),
+        "max_displacement": max_displacement,
+        "inverted_cells": q.inverted_cells.unwrap_or(0),
+        "folded_cells": q.folded_cells,
+        "degenerate_cells": q.degenerate_cells,
+        "orientation": q.orientation,
+        "min_area_ratio": q.min_area_ratio,
+        "max_area_ratio": q.max_area_ratio,
+        "min_scaled_jacobian": q.min_scaled_jacobian,
+        "seconds": seconds(t0),
+    });
+    let text = format!(
+        "{} -> {}: {} block(s), method {}, wall {}: max displacement {:.6e}, inverted cells {}, folded cells {}, degenerate cells {}, ratio min {} max {}",
+        a.mesh.display(),
+        a.out.display(),
+        grid.blocks.len(),
+        value_name(&a.method),
+        value_name(&face),
+        max_displacement,
+        q.inverted_cells.unwrap_or(0),
+        q.folded_cells,
+        q.degenerate_cells,
+        fmt_opt(q.min_area_ratio),
+        fmt_opt(q.max_area_ratio),
+    );
+    Ok(Outcome { json, text })
+}

@@ -1,0 +1,504 @@
+//! `deform move` on SU2 meshes: marker motions, displacement or surface-position files,
+//! propagated by springs, the quaternion method or IDW.
+
+use std::time::Instant;
+
+use serde::Serialize;
+use serde_json::json;
+
+use crate::args::{Coords, Method, MoveArgs, Solver};
+use crate::engine::{run_move, Motion, MoveInput, MoveMethod, MoveSolver};
+use crate::formats::displacements::{parse_displacements, parse_surface_positions};
+use crate::formats::su2::{write_su2, Su2Mesh};
+use crate::formats::vtk::{write_vtu, VtkEncoding, VtkField};
+use crate::formats::CellList;
+use crate::output::Staged;
+use crate::plot::{bounding_window, zoom, Picture, Window};
+
+use super::move_grid::move_grid;
+use crate::error::CliError;
+use crate::files::{
+    file_kind, input_kind, io_err, marker_nodes, marker_union, read_bytes, read_su2, FileKind,
+};
+use crate::report::{fmt_opt, seconds, value_name, write_picture, Outcome};
+
+pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
+    let tfi = matches!(a.method, Method::Tfi | Method::TfiDisplacement);
+    if input_kind(&a.mesh)? != FileKind::Su2 {
+        if !tfi {
+            return Err(CliError::NotAvailable {
+                feature: "this method on Plot3D grids",
+                needs: "--method tfi or tfi-displacement with --wall FACE (or an SU2 mesh)",
+            });
+        }
+        return move_grid(a);
+    }
+    if tfi {
+        return Err(CliError::NotAvailable {
+            feature: "transfinite interpolation on SU2 meshes",
+            needs: "a structured Plot3D grid (TFI interpolates along grid lines)",
+        });
+    }
+    if a.markers.is_empty() {
+        return Err(CliError::Invalid(
+            "--marker is required for SU2 meshes (the markers that move)".into(),
+        ));
+    }
+    if file_kind(&a.out) != Some(FileKind::Su2) {
+        return Err(CliError::Invalid(format!(
+            "{}: --out must be a .su2 file",
+            a.out.display()
+        )));
+    }
+    if let Some(v) = &a.vtk {
+        if file_kind(v) != Some(FileKind::Vtu) {
+            return Err(CliError::Invalid(format!(
+                "{}: --vtk must be a .vtu file",
+                v.display()
+            )));
+        }
+    }
+    if !(a.tol.is_finite() && a.tol > 0.0) {
+        return Err(CliError::Invalid("--tol must be a positive number".into()));
+    }
+    let mesh = read_su2(&a.mesh)?;
+    crate::guard::check_memory(
+        &a.mesh,
+        "deform move on this mesh",
+        crate::guard::move_estimate(mesh.points.len(), mesh.elements.nodes.len()),
+    )?;
+    let moved = marker_nodes(&mesh, &a.markers, &a.mesh)?;
+    if moved.is_empty() {
+        return Err(CliError::Invalid("the named markers have no nodes".into()));
+    }
+    if let Some(Coords(t)) = &a.translate {
+        if mesh.dim == 2 && t.get(2).is_some_and(|&z| z != 0.0) {
+            return Err(CliError::Invalid(
+                "--translate: a 2D mesh cannot move in z".into(),
+            ));
+        }
+        if mesh.dim == 3 && t.len() != 3 {
+            return Err(CliError::Invalid(
+                "--translate: a 3D mesh needs dx,dy,dz".into(),
+            ));
+        }
+    }
+    if let Some(r) = a.rotate {
+        if !r.is_finite() {
+            return Err(CliError::Invalid(
+                "--rotate must be a finite angle in degrees".into(),
+            ));
+        }
+        if let Some(Coords(ax)) = &a.axis {
+            if ax.iter().all(|&v| v == 0.0) {
+                return Err(CliError::Invalid(
+                    "--axis must not be the zero vector".into(),
+                ));
+            }
+            if mesh.dim == 2 && (ax.first() != Some(&0.0) || ax.get(1) != Some(&0.0)) {
+                return Err(CliError::Invalid(
+                    "--axis: a 2D mesh rotates about z only (axis 0,0,1)".into(),
+                ));
+            }
+        }
+        if let Some(Coords(c)) = &a.center {
+            if mesh.dim == 3 && c.len() != 3 {
+                return Err(CliError::Invalid("--center: a 3D mesh needs x,y,z".into()));
+            }
+            if mesh.dim == 2 && c.len() != 2 {
+                return Err(CliError::Invalid(
+                    "--center: a 2D mesh rotates about a point x,y (no z)".into(),
+                ));
+            }
+        }
+    }
+    let table = match (&a.displacements, &a.surface_positions) {
+        (Some(path), _) => Some((path, false)),
+        (None, Some(path)) => Some((path, true)),
+        (None, None) => None,
+    };
+    // Surface positions are placed exactly as given after the deformation (old + (new − old)
+    // can differ from new in the last bit).
+    let mut exact_positions: Vec<(u32, [f64; 3])> = Vec::new();
+    let motion = if let Some((path, absolute)) = table {
+        let bytes = read_bytes(path)?;
+        let parse = if absolute {
+            parse_surface_positions
+        } else {
+            parse_displacements
+        };
+        let mut list = parse(&bytes, mesh.dim).map_err(|source| CliError::Read {
+            path: path.clone(),
+            source,
+        })?;
+        if absolute {
+            exact_positions = list.clone();
+            // New positions → displacements from the mesh's own coordinates.
+            for (node, p) in &mut list {
+                let Some(old) = mesh.points.get(*node as usize) else {
+                    return Err(CliError::Invalid(format!(
+                        "{}: node {node} is not in the mesh ({} points)",
+                        path.display(),
+                        mesh.points.len()
+                    )));
+                };
+                for (c, o) in p.iter_mut().zip(old) {
+                    *c -= o;
+                }
+            }
+        }
+        for (node, _) in &list {
+            if moved.binary_search(node).is_err() {
+                return Err(CliError::Invalid(format!(
+                    "{}: node {node} is not on the moved markers",
+                    path.display()
+                )));
+            }
+        }
+        Motion::Field(list)
+    } else if let Some(Coords(t)) = &a.translate {
+        Motion::Translate([
+            t.first().copied().unwrap_or(0.0),
+            t.get(1).copied().unwrap_or(0.0),
+            t.get(2).copied().unwrap_or(0.0),
+        ])
+    } else {
+        let axis = match &a.axis {
+            Some(Coords(v)) => [
+                v.first().copied().unwrap_or(0.0),
+                v.get(1).copied().unwrap_or(0.0),
+                v.get(2).copied().unwrap_or(1.0),
+            ],
+            None => [0.0, 0.0, 1.0],
+        };
+        let center = a.center.as_ref().map(|Coords(c)| {
+            [
+                c.first().copied().unwrap_or(0.0),
+                c.get(1).copied().unwrap_or(0.0),
+                c.get(2).copied().unwrap_or(0.0),
+            ]
+        });
+        Motion::Rotate {
+            degrees: a.rotate.unwrap_or(0.0),
+            axis,
+            center,
+        }
+    };
+    if let Some(p) = &a.plot {
+        let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if !ext.eq_ignore_ascii_case("svg") && !ext.eq_ignore_ascii_case("png") {
+            return Err(CliError::Invalid(format!(
+                "{}: --plot must be a .svg or .png file",
+                p.display()
+            )));
+        }
+    }
+    if !(a.idw_exponent.is_finite() && a.idw_exponent > 0.0) {
+        return Err(CliError::Invalid("--idw-exponent must be positive".into()));
+    }
+    let t0 = Instant::now();
+    let moved_lists: Vec<&CellList> = mesh
+        .markers
+        .iter()
+        .filter(|m| a.markers.contains(&m.name))
+        .map(|m| &m.elements)
+        .collect();
+    let fixed_lists: Vec<&CellList> = mesh
+        .markers
+        .iter()
+        .filter(|m| !a.markers.contains(&m.name))
+        .map(|m| &m.elements)
+        .collect();
+    let method = match a.method {
+        Method::Quaternion => MoveMethod::Quaternion,
+        Method::Idw => MoveMethod::Idw,
+        Method::Spring => MoveMethod::Spring,
+        Method::AngleDirect => MoveMethod::AngleDirect,
+        Method::AngleCg => MoveMethod::AngleCg,
+        Method::Tfi | Method::TfiDisplacement => unreachable_tfi()?,
+    };
+    let solver = match a.solver {
+        Solver::Amg => MoveSolver::Amg,
+        Solver::Cg => MoveSolver::Cg,
+        Solver::CgSsor => MoveSolver::CgSsor,
+        Solver::Gs => MoveSolver::GaussSeidel,
+        Solver::Jacobi => MoveSolver::Jacobi,
+    };
+    let input = MoveInput {
+        dim: mesh.dim,
+        points: &mesh.points,
+        cells: &mesh.elements,
+        moved: moved_lists.clone(),
+        fixed: fixed_lists,
+        motion,
+        method,
+        solver,
+        tol: a.tol,
+        max_iter: a.max_iter,
+        idw_exponent: a.idw_exponent,
+    };
+    let spinner = crate::progress::spinner("deforming", quiet);
+    let result = run_move(&input);
+    spinner.finish_and_clear();
+    let mut result = result.map_err(|e| e.in_file(&a.mesh))?;
+    for (node, p) in &exact_positions {
+        if let Some(x) = result.deformed.get_mut(*node as usize) {
+            *x = *p;
+        }
+    }
+    let wall = marker_union(&mesh, &a.markers, &a.mesh)?;
+    let q = crate::engine::quality(
+        mesh.dim,
+        &mesh.elements,
+        &result.deformed,
+        Some(&mesh.points),
+        Some(&wall),
+    )
+    .map_err(|e| e.in_file(&a.mesh))?;
+    let out_mesh = Su2Mesh {
+        points: result.deformed.clone(),
+        ..mesh.clone()
+    };
+    let mut staged = Staged::new();
+    let mut outputs = vec![a.out.display().to_string()];
+    staged
+        .write(&a.out, |f| write_su2(&out_mesh, f))
+        .map_err(io_err(&a.out))?;
+    if let Some(v) = &a.vtk {
+        let disp: Vec<f64> = result.displacement.iter().flatten().copied().collect();
+        staged
+            .write(v, |f| {
+                write_vtu(
+                    f,
+                    &out_mesh.points,
+                    &out_mesh.elements,
+                    &[VtkField {
+                        name: "displacement",
+                        components: 3,
+                        values: &disp,
+                    }],
+                    &[
+                        VtkField {
+                            name: "scaled_jacobian",
+                            components: 1,
+                            values: &q.scaled_jacobian,
+                        },
+                        VtkField {
+                            name: "area_ratio",
+                            components: 1,
+                            values: &q.ratio,
+                        },
+                        VtkField {
+                            name: "inverted",
+                            components: 1,
+                            values: &q
+                                .inverted
+                                .iter()
+                                .map(|&b| if b { 1.0 } else { 0.0 })
+                                .collect::<Vec<_>>(),
+                        },
+                    ],
+                    VtkEncoding::Base64,
+                )
+            })
+            .map_err(io_err(v))?;
+        outputs.push(v.display().to_string());
+    }
+    if let Some(p) = &a.plot {
+        let window = marker_window(&result.deformed, &moved_lists);
+        let title = format!(
+            "{} {}: {} inverted, {} folded",
+            a.mesh.display(),
+            value_name(&a.method),
+            q.inverted_cells.unwrap_or(0),
+            q.folded_cells
+        );
+        let folded_or_inverted: Vec<bool> = q
+            .inverted
+            .iter()
+            .zip(&q.scaled_jacobian)
+            .map(|(&i, &j)| i || j <= 0.0)
+            .collect();
+        let pic = Picture {
+            points: &result.deformed,
+            cells: &out_mesh.elements,
+            boundaries: &moved_lists,
+            highlight: &folded_or_inverted,
+            title: &title,
+        };
+        write_picture(&mut staged, p, &pic, window, 1200)?;
+        outputs.push(p.display().to_string());
+    }
+    staged.commit().map_err(io_err(&a.out))?;
+    let norm = |d: &[f64; 3]| (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    let motion_text = if let Some(p) = &a.displacements {
+        format!("displacements from {}", p.display())
+    } else if let Some(p) = &a.surface_positions {
+        format!("surface positions from {}", p.display())
+    } else if let Some(Coords(t)) = &a.translate {
+        format!("translate {t:?}")
+    } else {
+        let c = result
+            .center
+            .map_or_else(|| "-".to_string(), |c| format!("{:?}", &c[..mesh.dim]));
+        format!("rotate {} deg about {c}", a.rotate.unwrap_or(0.0))
+    };
+    let marker_motions: Vec<MarkerMotion> = a
+        .markers
+        .iter()
+        .filter_map(|name| mesh.marker(name))
+        .map(|m| {
+            let mut nodes = m.elements.nodes.clone();
+            nodes.sort_unstable();
+            nodes.dedup();
+            let max = nodes
+                .iter()
+                .filter_map(|&n| result.displacement.get(n as usize))
+                .map(norm)
+                .fold(0.0, f64::max);
+            MarkerMotion {
+                marker: m.name.clone(),
+                nodes: nodes.len(),
+                motion: motion_text.clone(),
+                max_displacement: max,
+            }
+        })
+        .collect();
+    let max_displacement = result.displacement.iter().map(norm).fold(0.0, f64::max);
+    let report = MoveReport {
+        command: "move",
+        mesh: a.mesh.display().to_string(),
+        outputs,
+        nodes: mesh.points.len(),
+        cells: mesh.elements.len(),
+        method: value_name(&a.method),
+        solver: match a.method {
+            Method::Idw | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
+            Method::AngleCg => "cg".to_string(),
+            Method::AngleDirect if a.solver == Solver::Jacobi => "jacobi".to_string(),
+            Method::AngleDirect if a.solver == Solver::Gs => "gs".to_string(),
+            Method::AngleDirect => format!(
+                "sor {:.3}",
+                crate::engine::angle_direct_omega(mesh.points.len(), mesh.dim)
+            ),
+            _ => value_name(&a.solver),
+        },
+        moved_nodes: result.moved_nodes,
+        fixed_nodes: result.fixed_nodes,
+        center: result.center,
+        iterations: result.iterations,
+        residual: result.residual,
+        converged: result.converged,
+        markers: marker_motions,
+        max_displacement,
+        orientation: q.orientation.describe(mesh.dim),
+        inverted_cells: q.inverted_cells.unwrap_or(0),
+        folded_cells: q.folded_cells,
+        degenerate_cells: q.degenerate_cells,
+        min_area_ratio: q.min_area_ratio,
+        max_area_ratio: q.max_area_ratio,
+        min_scaled_jacobian: q.min_scaled_jacobian,
+        max_wall_angle_change_deg: q.max_wall_angle_change_deg,
+        seconds: seconds(t0),
+    };
+    if !report.converged {
+        eprintln!(
+            "deform: warning: the solver did not converge in {} iterations (residual {:.3e})",
+            report.iterations, report.residual
+        );
+    }
+    let text = format!(
+        "{} -> {}: {} nodes ({} moved, {} fixed), method {}, {} iterations, residual {:.3e}{}\n  {} mesh; inverted cells {}, folded cells {}, degenerate cells {}, {} ratio min {} max {}, max wall angle change {} deg, {:.2} s",
+        report.mesh,
+        report.outputs.join(", "),
+        report.nodes,
+        report.moved_nodes,
+        report.fixed_nodes,
+        report.method,
+        report.iterations,
+        report.residual,
+        if report.converged { "" } else { " (NOT converged)" },
+        report.orientation,
+        report.inverted_cells,
+        report.folded_cells,
+        report.degenerate_cells,
+        if mesh.dim == 3 { "volume" } else { "area" },
+        fmt_opt(report.min_area_ratio),
+        fmt_opt(report.max_area_ratio),
+        fmt_opt(report.max_wall_angle_change_deg),
+        report.seconds
+    );
+    let mut text = text;
+    text.push_str(&format!(
+        "\n  max displacement {:.6e}",
+        report.max_displacement
+    ));
+    for m in &report.markers {
+        text.push_str(&format!(
+            "\n  marker {}: {} nodes, {}, max displacement {:.6e}",
+            m.marker, m.nodes, m.motion, m.max_displacement
+        ));
+    }
+    Ok(Outcome {
+        text,
+        json: serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
+    })
+}
+
+#[derive(Serialize)]
+pub(crate) struct MoveReport {
+    command: &'static str,
+    mesh: String,
+    outputs: Vec<String>,
+    nodes: usize,
+    cells: usize,
+    method: String,
+    solver: String,
+    moved_nodes: usize,
+    fixed_nodes: usize,
+    center: Option<[f64; 3]>,
+    iterations: usize,
+    residual: f64,
+    converged: bool,
+    markers: Vec<MarkerMotion>,
+    max_displacement: f64,
+    orientation: String,
+    inverted_cells: usize,
+    folded_cells: usize,
+    degenerate_cells: usize,
+    min_area_ratio: Option<f64>,
+    max_area_ratio: Option<f64>,
+    min_scaled_jacobian: f64,
+    max_wall_angle_change_deg: Option<f64>,
+    seconds: f64,
+}
+
+/// TFI never reaches the unstructured path (checked at the top of `move_mesh`).
+pub(crate) fn unreachable_tfi() -> Result<MoveMethod, CliError> {
+    Err(CliError::NotAvailable {
+        feature: "transfinite interpolation on SU2 meshes",
+        needs: "a structured Plot3D grid",
+    })
+}
+
+/// What `move` did to one marker.
+#[derive(Serialize)]
+pub(crate) struct MarkerMotion {
+    marker: String,
+    nodes: usize,
+    motion: String,
+    max_displacement: f64,
+}
+
+/// A square window around the moved markers (their bounding box, enlarged by half).
+pub(crate) fn marker_window(points: &[[f64; 3]], lists: &[&CellList]) -> Window {
+    let pts: Vec<[f64; 3]> = lists
+        .iter()
+        .flat_map(|l| l.nodes.iter())
+        .filter_map(|&n| points.get(n as usize).copied())
+        .collect();
+    let w = bounding_window(&pts);
+    let c = [(w[0] + w[2]) / 2.0, (w[1] + w[3]) / 2.0];
+    let half = 0.75 * (w[2] - w[0]).max(w[3] - w[1]);
+    zoom(c, half)
+}

@@ -1,0 +1,271 @@
+//! `deform quality`: cell measures, orientation, folded/inverted counts and ratios against a
+//! reference.
+
+use std::time::Instant;
+
+use serde::Serialize;
+use serde_json::json;
+
+use crate::args::QualityArgs;
+use crate::engine::QualitySummary;
+use crate::formats::vtk::{write_vts, write_vtu, VtkEncoding, VtkField};
+use crate::output::Staged;
+
+use crate::error::CliError;
+use crate::files::{
+    block_vts_path, cell_dim, file_kind, input_kind, io_err, marker_union, plot3d_options,
+    read_plot3d, read_su2, FileKind,
+};
+use crate::report::{add_summary, fmt_opt, seconds, Outcome};
+
+#[derive(Serialize)]
+pub(crate) struct QualityReport {
+    command: &'static str,
+    file: String,
+    reference: Option<String>,
+    format: String,
+    dim: usize,
+    nodes: usize,
+    blocks: usize,
+    #[serde(flatten)]
+    summary: QualitySummary,
+    seconds: f64,
+}
+
+pub(crate) fn quality_text(r: &QualityReport) -> String {
+    let s = &r.summary;
+    let mut t = format!(
+        "quality of {} ({})
+",
+        r.file, r.format
+    );
+    if let Some(reference) = &r.reference {
+        t.push_str(&format!(
+            "  reference                   {reference}
+"
+        ));
+    }
+    let measure = if r.dim == 3 { "volume" } else { "area" };
+    let rows: [(String, String); 12] = [
+        ("nodes".into(), r.nodes.to_string()),
+        ("cells".into(), s.cells.to_string()),
+        ("orientation".into(), s.orientation.describe(r.dim)),
+        (
+            "inverted cells".into(),
+            s.inverted_cells.map_or("-".into(), |v| v.to_string()),
+        ),
+        ("folded cells".into(), s.folded_cells.to_string()),
+        ("degenerate cells".into(), s.degenerate_cells.to_string()),
+        (
+            format!("cells with {measure} <= 0"),
+            s.nonpositive_cells.to_string(),
+        ),
+        (format!("min {measure}"), format!("{:.6e}", s.min_measure)),
+        (
+            "min scaled Jacobian".into(),
+            format!("{:.6}", s.min_scaled_jacobian),
+        ),
+        (format!("min {measure} ratio"), fmt_opt(s.min_area_ratio)),
+        (format!("max {measure} ratio"), fmt_opt(s.max_area_ratio)),
+        (
+            "max wall angle change (deg)".into(),
+            fmt_opt(s.max_wall_angle_change_deg),
+        ),
+    ];
+    for (k, v) in rows {
+        t.push_str(&format!("  {k:<28}{v}\n"));
+    }
+    t.trim_end().to_string()
+}
+
+pub(crate) fn quality(a: &QualityArgs) -> Result<Outcome, CliError> {
+    let t0 = Instant::now();
+    let kind = input_kind(&a.file)?;
+    let opts = plot3d_options(&a.layout);
+    let mut staged = Staged::new();
+    let report = match kind {
+        FileKind::Su2 => {
+            if let Some(v) = &a.vtk {
+                if file_kind(v) != Some(FileKind::Vtu) {
+                    return Err(CliError::Invalid(format!(
+                        "{}: --vtk must be a .vtu file for an SU2 mesh",
+                        v.display()
+                    )));
+                }
+            }
+            let m = read_su2(&a.file)?;
+            let reference = match &a.reference {
+                Some(r) => {
+                    let reference = read_su2(r)?;
+                    if reference.points.len() != m.points.len() || reference.elements != m.elements
+                    {
+                        return Err(CliError::Invalid(format!(
+                            "{}: the reference mesh has different points or elements",
+                            r.display()
+                        )));
+                    }
+                    Some(reference)
+                }
+                None => None,
+            };
+            if !a.walls.is_empty() && reference.is_none() {
+                return Err(CliError::Invalid("--wall needs --reference".into()));
+            }
+            let wall = if a.walls.is_empty() {
+                None
+            } else {
+                Some(marker_union(&m, &a.walls, &a.file)?)
+            };
+            let summary = crate::engine::quality(
+                m.dim,
+                &m.elements,
+                &m.points,
+                reference.as_ref().map(|r| r.points.as_slice()),
+                wall.as_ref(),
+            )?;
+            if let Some(v) = &a.vtk {
+                staged
+                    .write(v, |f| {
+                        write_vtu(
+                            f,
+                            &m.points,
+                            &m.elements,
+                            &[],
+                            &[
+                                VtkField {
+                                    name: "measure",
+                                    components: 1,
+                                    values: &summary.measure,
+                                },
+                                VtkField {
+                                    name: "scaled_jacobian",
+                                    components: 1,
+                                    values: &summary.scaled_jacobian,
+                                },
+                            ],
+                            VtkEncoding::Base64,
+                        )
+                    })
+                    .map_err(io_err(v))?;
+            }
+            QualityReport {
+                command: "quality",
+                file: a.file.display().to_string(),
+                reference: a.reference.as_ref().map(|r| r.display().to_string()),
+                format: format!("SU2 {}D", m.dim),
+                dim: m.dim,
+                nodes: m.points.len(),
+                blocks: 0,
+                summary,
+                seconds: 0.0,
+            }
+        }
+        _ => {
+            if let Some(v) = &a.vtk {
+                if file_kind(v) != Some(FileKind::Vts) {
+                    return Err(CliError::Invalid(format!(
+                        "{}: --vtk must be a .vts file for a Plot3D grid",
+                        v.display()
+                    )));
+                }
+            }
+            if !a.walls.is_empty() {
+                return Err(CliError::Invalid(
+                    "--wall applies to SU2 meshes only".into(),
+                ));
+            }
+            let (g, layout) = read_plot3d(&a.file, &opts)?;
+            let reference = match &a.reference {
+                Some(r) => {
+                    let (reference, _) = read_plot3d(r, &opts)?;
+                    let same = reference.blocks.len() == g.blocks.len()
+                        && reference
+                            .blocks
+                            .iter()
+                            .zip(&g.blocks)
+                            .all(|(x, y)| x.dims == y.dims);
+                    if !same {
+                        return Err(CliError::Invalid(format!(
+                            "{}: the reference grid has different blocks or dimensions",
+                            r.display()
+                        )));
+                    }
+                    Some(reference)
+                }
+                None => None,
+            };
+            let mut total = None;
+            for (b, blk) in g.blocks.iter().enumerate() {
+                let dim = cell_dim(g.dim, blk);
+                if dim == 3 && blk.dims.contains(&1) {
+                    return Err(CliError::NotAvailable {
+                        feature: "quality of a curved surface block in a 3D grid",
+                        needs: "volume blocks, or planar k-planes (constant z), which are measured as 2D",
+                    });
+                }
+                let cells = crate::engine::structured_cells(blk.dims, &blk.points, dim);
+                let rpts = reference
+                    .as_ref()
+                    .and_then(|r| r.blocks.get(b))
+                    .map(|rb| rb.points.as_slice());
+                let s = crate::engine::quality(dim, &cells, &blk.points, rpts, None)?;
+                if let Some(v) = &a.vtk {
+                    let p = block_vts_path(v, b, g.blocks.len());
+                    staged
+                        .write(&p, |f| {
+                            write_vts(
+                                f,
+                                blk.dims,
+                                &blk.points,
+                                &[],
+                                &[
+                                    VtkField {
+                                        name: "measure",
+                                        components: 1,
+                                        values: &s.measure,
+                                    },
+                                    VtkField {
+                                        name: "scaled_jacobian",
+                                        components: 1,
+                                        values: &s.scaled_jacobian,
+                                    },
+                                ],
+                                VtkEncoding::Base64,
+                            )
+                        })
+                        .map_err(io_err(&p))?;
+                }
+                add_summary(&mut total, s);
+            }
+            let Some(summary) = total else {
+                return Err(CliError::Invalid("the grid has no blocks".into()));
+            };
+            QualityReport {
+                command: "quality",
+                file: a.file.display().to_string(),
+                reference: a.reference.as_ref().map(|r| r.display().to_string()),
+                format: format!("Plot3D {layout}"),
+                // Planar k-planes of a 3D file are measured (and worded) as 2D.
+                dim: g
+                    .blocks
+                    .iter()
+                    .map(|b| cell_dim(g.dim, b))
+                    .max()
+                    .unwrap_or(g.dim),
+                nodes: g.blocks.iter().map(|b| b.points.len()).sum(),
+                blocks: g.blocks.len(),
+                summary,
+                seconds: 0.0,
+            }
+        }
+    };
+    staged.commit().map_err(io_err(&a.file))?;
+    let report = QualityReport {
+        seconds: seconds(t0),
+        ..report
+    };
+    Ok(Outcome {
+        text: quality_text(&report),
+        json: serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
+    })
+}

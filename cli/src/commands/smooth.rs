@@ -1,0 +1,275 @@
+//! `deform smooth`: Alter's Taubin arclength smoothing of Plot3D grids, with every line end,
+//! seam and interface held and every cell checked against the input for flips.
+
+use std::time::Instant;
+
+use serde::Serialize;
+use serde_json::json;
+
+use crate::args::{Direction, SmoothArgs};
+use crate::formats::plot3d::{write_plot3d, Plot3dGrid};
+use crate::output::Staged;
+
+use crate::error::CliError;
+use crate::files::{
+    cell_dim, file_kind, input_kind, io_err, plot3d_options, read_plot3d, FileKind,
+};
+use crate::report::{seconds, value_name, Outcome};
+
+#[derive(Serialize)]
+pub(crate) struct SmoothReport {
+    command: &'static str,
+    grid: String,
+    output: String,
+    format: String,
+    blocks: usize,
+    direction: String,
+    normalized: bool,
+    iterations: usize,
+    max_stretching_before: f64,
+    max_stretching_after: f64,
+    max_point_move: f64,
+    max_laplacian_s_before: f64,
+    max_laplacian_s_after: f64,
+    pinned_coincident_points: usize,
+    flipped_cells: usize,
+    unchecked_blocks: usize,
+    folded_lines: usize,
+    seconds: f64,
+}
+
+/// Per block, a mask of the points whose coordinates (bit for bit, `−0 = +0`) occur at more
+/// than one grid position of the file: O-grid seams, C-grid wake cuts, block interfaces,
+/// collapsed axes. Smoothing holds them so that what was closed stays closed.
+pub(crate) fn coincident_points(grid: &Plot3dGrid) -> (Vec<Vec<u8>>, usize) {
+    use std::collections::HashMap;
+    let key = |p: &[f64; 3]| p.map(|x| (x + 0.0).to_bits());
+    let mut count: HashMap<[u64; 3], u32> = HashMap::new();
+    for b in &grid.blocks {
+        for p in &b.points {
+            *count.entry(key(p)).or_insert(0) += 1;
+        }
+    }
+    let mut total = 0;
+    let masks = grid
+        .blocks
+        .iter()
+        .map(|b| {
+            b.points
+                .iter()
+                .map(|p| {
+                    let shared = count.get(&key(p)).copied().unwrap_or(0) > 1;
+                    total += usize::from(shared);
+                    u8::from(shared)
+                })
+                .collect()
+        })
+        .collect();
+    (masks, total)
+}
+
+/// The cells (0-based, i-fastest) whose smallest corner Jacobian was > 0 and is ≤ 0.
+pub(crate) fn flipped(before: &[f64], after: &[f64]) -> Vec<usize> {
+    before
+        .iter()
+        .zip(after)
+        .enumerate()
+        .filter(|(_, (&b, &a))| b > 0.0 && a <= 0.0)
+        .map(|(c, _)| c)
+        .collect()
+}
+
+/// `i=…, j=…[, k=…]` (1-based, as Plot3D users count) of cell `c` of a block.
+pub(crate) fn cell_name(dims: [usize; 3], dim: usize, c: usize) -> String {
+    let ci = dims[0].saturating_sub(1).max(1);
+    let cj = dims[1].saturating_sub(1).max(1);
+    let (i, j, k) = (c % ci, (c / ci) % cj, c / (ci * cj));
+    if dim == 2 {
+        format!("i={}, j={}", i + 1, j + 1)
+    } else {
+        format!("i={}, j={}, k={}", i + 1, j + 1, k + 1)
+    }
+}
+
+pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
+    let t0 = Instant::now();
+    if matches!(
+        file_kind(&a.out),
+        Some(FileKind::Su2 | FileKind::Vtu | FileKind::Vts)
+    ) {
+        return Err(CliError::Invalid(format!(
+            "{}: --out must be a Plot3D grid (written in the input's layout; any extension but .su2, .vtu, .vts)",
+            a.out.display()
+        )));
+    }
+    if input_kind(&a.grid)? != FileKind::Plot3d {
+        return Err(CliError::Invalid(format!(
+            "{}: smooth needs a structured Plot3D grid, this is an SU2 mesh",
+            a.grid.display()
+        )));
+    }
+    if !(a.lambda.is_finite() && a.lambda > 0.0 && a.mu.is_finite() && a.mu <= 0.0) {
+        return Err(CliError::Invalid(
+            "--lambda must be > 0 and --mu <= 0 (Taubin: mu slightly below -lambda)".into(),
+        ));
+    }
+    if a.coarse == Some(0) {
+        return Err(CliError::Invalid("--coarse must be at least 1".into()));
+    }
+    let (mut grid, layout) = read_plot3d(&a.grid, &plot3d_options(&a.layout))?;
+    if grid.dim == 2 && a.direction == Direction::K {
+        return Err(CliError::Invalid(format!(
+            "{}: --direction k needs a 3D grid, this one is 2D",
+            a.grid.display()
+        )));
+    }
+    let direction = match a.direction {
+        Direction::I => 0,
+        Direction::J => 1,
+        Direction::K => 2,
+    };
+    let bar = crate::progress::bar(grid.blocks.len() as u64, "smoothing", quiet);
+    let mut report = SmoothReport {
+        command: "smooth",
+        grid: a.grid.display().to_string(),
+        output: a.out.display().to_string(),
+        format: format!("Plot3D {layout}"),
+        blocks: grid.blocks.len(),
+        direction: value_name(&a.direction),
+        normalized: a.normalized,
+        iterations: 0,
+        max_stretching_before: 1.0,
+        max_stretching_after: 1.0,
+        max_point_move: 0.0,
+        max_laplacian_s_before: 0.0,
+        max_laplacian_s_after: 0.0,
+        pinned_coincident_points: 0,
+        flipped_cells: 0,
+        unchecked_blocks: 0,
+        folded_lines: 0,
+        seconds: 0.0,
+    };
+    let (pins, shared) = coincident_points(&grid);
+    report.pinned_coincident_points = shared;
+    let dim = grid.dim;
+    let in_block = |b: usize| move |e: CliError| e.within(&format!("block {}", b + 1));
+    for (b, (blk, pin)) in grid.blocks.iter_mut().zip(&pins).enumerate() {
+        let original = blk.points.clone();
+        let smooth_copy = |iterations: usize, coarse: Option<usize>| {
+            let mut pts = original.clone();
+            crate::engine::smooth_block(
+                dim,
+                blk.dims,
+                &mut pts,
+                direction,
+                a.normalized,
+                iterations,
+                a.lambda,
+                a.mu,
+                coarse,
+                Some(pin),
+            )
+            .map(|r| (pts, r))
+        };
+        let (smoothed, r) = smooth_copy(a.iterations, a.coarse)
+            .map_err(in_block(b))
+            .map_err(|e| e.in_file(&a.grid))?;
+        report.max_laplacian_s_before =
+            report
+                .max_laplacian_s_before
+                .max(crate::engine::max_arclength_laplacian(
+                    dim, blk.dims, &original, direction,
+                )?);
+        report.max_laplacian_s_after =
+            report
+                .max_laplacian_s_after
+                .max(crate::engine::max_arclength_laplacian(
+                    dim, blk.dims, &smoothed, direction,
+                )?);
+        // The cell check: every corner Jacobian against the input's.
+        let cdim = cell_dim(dim, blk);
+        if cdim == 3 && blk.dims.contains(&1) {
+            report.unchecked_blocks += 1;
+        } else {
+            let cells = crate::engine::structured_cells(blk.dims, &original, cdim);
+            let before = crate::engine::corner_jacobians(cdim, &cells, &original)?;
+            let after = crate::engine::corner_jacobians(cdim, &cells, &smoothed)?;
+            let bad = flipped(&before, &after);
+            if !bad.is_empty() && !a.allow_folds {
+                // Name the first iteration after which a cell is flipped (fine iterations
+                // 1..N by bisection, assuming a flip persists; else the coarse pass).
+                let flips_after = |k: usize| -> Result<bool, CliError> {
+                    let (p, _) = smooth_copy(k, None).map_err(in_block(b))?;
+                    let after = crate::engine::corner_jacobians(cdim, &cells, &p)?;
+                    Ok(!flipped(&before, &after).is_empty())
+                };
+                let when = if a.iterations > 0 && flips_after(a.iterations)? {
+                    let (mut lo, mut hi) = (1, a.iterations);
+                    while lo < hi {
+                        let mid = lo + (hi - lo) / 2;
+                        if flips_after(mid)? {
+                            hi = mid;
+                        } else {
+                            lo = mid + 1;
+                        }
+                    }
+                    format!("after iteration {lo}")
+                } else {
+                    "in the coarse-grid pass".to_string()
+                };
+                return Err(CliError::Invalid(format!(
+                    "{}: block {}: smoothing flips {} cell(s) (first: cell {}, {when}); nothing was written (--allow-folds writes them anyway)",
+                    a.grid.display(),
+                    b + 1,
+                    bad.len(),
+                    cell_name(blk.dims, dim, bad[0]),
+                )));
+            }
+            report.flipped_cells += bad.len();
+        }
+        blk.points = smoothed;
+        report.iterations = report.iterations.max(r.iterations);
+        report.max_stretching_before = report.max_stretching_before.max(r.max_stretching_before);
+        report.max_stretching_after = report.max_stretching_after.max(r.max_stretching_after);
+        report.max_point_move = report.max_point_move.max(r.max_point_move);
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let mut staged = Staged::new();
+    staged
+        .write(&a.out, |f| write_plot3d(&grid, &layout, f))
+        .map_err(io_err(&a.out))?;
+    staged.commit().map_err(io_err(&a.out))?;
+    report.seconds = seconds(t0);
+    let mut text = format!(
+        "{} -> {}: {} block(s), {} iterations along {}{}, max stretching {:.4} -> {:.4}, max |∇²S| {:.4e} -> {:.4e}, max point move {:.3e}, {} coincident points held",
+        report.grid,
+        report.output,
+        report.blocks,
+        report.iterations,
+        report.direction,
+        if report.normalized { " (normalized)" } else { "" },
+        report.max_stretching_before,
+        report.max_stretching_after,
+        report.max_laplacian_s_before,
+        report.max_laplacian_s_after,
+        report.max_point_move,
+        report.pinned_coincident_points,
+    );
+    if report.flipped_cells > 0 {
+        text.push_str(&format!(
+            "\n  WARNING: {} cell(s) flipped (written because of --allow-folds)",
+            report.flipped_cells
+        ));
+    }
+    if report.unchecked_blocks > 0 {
+        text.push_str(&format!(
+            "\n  note: {} surface block(s) of a 3D grid have no volume cells; their cells were not checked",
+            report.unchecked_blocks
+        ));
+    }
+    Ok(Outcome {
+        text,
+        json: serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
+    })
+}
