@@ -258,7 +258,9 @@ pub struct MoveArgs {
     /// Also write a VTK .vtu file with displacement and cell-quality fields.
     #[arg(long)]
     pub vtk: Option<PathBuf>,
-    /// Also draw the deformed mesh (.svg or .png).
+    /// Also draw the deformed mesh (.svg or .png) around the moved markers, folded or inverted
+    /// cells in red. A 3D mesh is drawn as its section by the plane z = const through the
+    /// middle of the moved markers.
     #[arg(long)]
     pub plot: Option<PathBuf>,
 }

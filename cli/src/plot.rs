@@ -1,8 +1,11 @@
 //! Mesh pictures: SVG (own writer) and PNG (rasterised with tiny-skia). The mesh is drawn in
 //! the x–y plane: every cell edge in grey, marker edges in blue, highlighted cells (inverted or
-//! folded) filled red. A window zooms in (trailing edge, wall).
+//! folded) filled red, and optionally every cell filled by a value on a colour scale (with a
+//! colour bar). A window zooms in (trailing edge, wall). A 3D mesh is drawn as its section by a
+//! plane `z = const` ([`slice_z`]): drawing every edge of a volume mesh projected on x–y is an
+//! unreadable tangle.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 
 use deform_kernel::CellKind;
@@ -23,6 +26,53 @@ pub struct Picture<'a> {
     pub highlight: &'a [bool],
     /// Caption (drawn in SVG only).
     pub title: &'a str,
+    /// Per cell: a value to colour the cell by (`None`: no fill).
+    pub shading: Option<Shading<'a>>,
+}
+
+/// Cells filled by a value on a colour scale, with a colour bar in the lower right corner.
+#[derive(Clone, Copy, Debug)]
+pub struct Shading<'a> {
+    /// One value per cell (NaN: not filled).
+    pub values: &'a [f64],
+    /// The values mapped to the two ends of the scale (values outside are clamped), so that
+    /// two pictures with the same range can be compared.
+    pub range: [f64; 2],
+    /// What the colours mean (drawn in SVG only, with the range).
+    pub label: &'a str,
+}
+
+/// The colour of `t` in [0, 1] on a blue → green → yellow → red scale.
+pub fn colour_scale(t: f64) -> [u8; 3] {
+    const STOPS: [[f64; 3]; 5] = [
+        [48.0, 18.0, 59.0],
+        [40.0, 140.0, 230.0],
+        [60.0, 200.0, 110.0],
+        [240.0, 200.0, 40.0],
+        [200.0, 30.0, 20.0],
+    ];
+    let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) } * 4.0;
+    let k = (t.floor() as usize).min(3);
+    let f = t - k as f64;
+    let (a, b) = (STOPS[k], STOPS[k + 1]);
+    let mix = |i: usize| (a[i] + (b[i] - a[i]) * f).round().clamp(0.0, 255.0) as u8;
+    [mix(0), mix(1), mix(2)]
+}
+
+impl Shading<'_> {
+    fn colour(&self, c: usize) -> Option<[u8; 3]> {
+        let v = *self.values.get(c)?;
+        if !v.is_finite() {
+            return None;
+        }
+        let span = self.range[1] - self.range[0];
+        let t = if span > 0.0 {
+            (v - self.range[0]) / span
+        } else {
+            0.0
+        };
+        Some(colour_scale(t))
+    }
 }
 
 /// A rectangular window `[xmin, ymin, xmax, ymax]` of the x–y plane.
@@ -59,9 +109,19 @@ pub fn zoom(centre: [f64; 2], half: f64) -> Window {
     ]
 }
 
+/// VTK's polygon code: the sections drawn by [`slice_z`] (not a kernel cell kind).
+pub const VTK_POLYGON: u8 = 7;
+
 fn unique_edges(cells: &CellList) -> Vec<(u32, u32)> {
     let mut set = BTreeSet::new();
     for (code, nodes) in cells.iter() {
+        if code == VTK_POLYGON {
+            for (k, &a) in nodes.iter().enumerate() {
+                let b = nodes[(k + 1) % nodes.len()];
+                set.insert((a.min(b), a.max(b)));
+            }
+            continue;
+        }
         let Some(kind) = CellKind::from_vtk(code) else {
             continue;
         };
@@ -107,14 +167,25 @@ fn point(points: &[[f64; 3]], n: u32) -> Option<&[f64; 3]> {
     points.get(n as usize)
 }
 
-/// Polygons (in picture coordinates) of the highlighted 2D cells.
-fn highlighted(pic: &Picture<'_>, f: &Frame) -> Vec<Vec<(f64, f64)>> {
+/// A polygon in picture coordinates.
+type Polygon = Vec<(f64, f64)>;
+
+/// Polygons (in picture coordinates) of the cells `keep` selects.
+fn cell_polygons(
+    pic: &Picture<'_>,
+    f: &Frame,
+    mut keep: impl FnMut(usize) -> bool,
+) -> Vec<(usize, Vec<(f64, f64)>)> {
     let mut out = Vec::new();
     for (c, (code, nodes)) in pic.cells.iter().enumerate() {
-        if !pic.highlight.get(c).copied().unwrap_or(false) {
+        if !keep(c) {
             continue;
         }
         let poly: Vec<(f64, f64)> = match CellKind::from_vtk(code) {
+            _ if code == VTK_POLYGON => nodes
+                .iter()
+                .filter_map(|&n| point(pic.points, n).map(|p| f.map(p)))
+                .collect(),
             Some(CellKind::Triangle | CellKind::Quad) => nodes
                 .iter()
                 .filter_map(|&n| point(pic.points, n).map(|p| f.map(p)))
@@ -130,11 +201,40 @@ fn highlighted(pic: &Picture<'_>, f: &Frame) -> Vec<Vec<(f64, f64)>> {
             None => Vec::new(),
         };
         if poly.len() >= 2 {
-            out.push(poly);
+            out.push((c, poly));
         }
     }
     out
 }
+
+/// Polygons of the highlighted cells.
+fn highlighted(pic: &Picture<'_>, f: &Frame) -> Vec<Vec<(f64, f64)>> {
+    cell_polygons(pic, f, |c| pic.highlight.get(c).copied().unwrap_or(false))
+        .into_iter()
+        .map(|(_, p)| p)
+        .collect()
+}
+
+/// Polygons of the shaded cells with their colours.
+fn shaded(pic: &Picture<'_>, f: &Frame) -> Vec<([u8; 3], Polygon)> {
+    let Some(sh) = pic.shading else {
+        return Vec::new();
+    };
+    cell_polygons(pic, f, |c| sh.colour(c).is_some())
+        .into_iter()
+        .filter_map(|(c, p)| sh.colour(c).map(|col| (col, p)))
+        .collect()
+}
+
+/// The colour bar's rectangle (x, y, width, height) in picture coordinates.
+fn colour_bar(f: &Frame) -> (f64, f64, f64, f64) {
+    let w = (0.3 * f.width).clamp(60.0, 300.0);
+    let h = 14.0;
+    (f.width - w - 10.0, f.height - h - 10.0, w, h)
+}
+
+/// Steps the colour bar is drawn in.
+const BAR_STEPS: usize = 32;
 
 /// The picture as an SVG document, `width` pixels wide (height from the window's aspect).
 pub fn svg(pic: &Picture<'_>, window: Window, width: u32) -> String {
@@ -175,6 +275,17 @@ const GAP: f64 = 6.0;
 
 fn svg_body(pic: &Picture<'_>, f: &Frame, s: &mut String) {
     let _ = writeln!(s, "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>");
+    for (col, poly) in shaded(pic, f) {
+        let pts: Vec<String> = poly.iter().map(|(x, y)| format!("{x:.2},{y:.2}")).collect();
+        let _ = writeln!(
+            s,
+            "<polygon class=\"shade\" points=\"{}\" fill=\"rgb({},{},{})\" stroke=\"none\"/>",
+            pts.join(" "),
+            col[0],
+            col[1],
+            col[2]
+        );
+    }
     for poly in highlighted(pic, f) {
         let pts: Vec<String> = poly.iter().map(|(x, y)| format!("{x:.2},{y:.2}")).collect();
         let _ = writeln!(
@@ -203,18 +314,43 @@ fn svg_body(pic: &Picture<'_>, f: &Frame, s: &mut String) {
     for b in pic.boundaries {
         path(b, "#1f4fd0", 1.5, s);
     }
-    let title: String = pic
-        .title
-        .chars()
-        .map(|c| match c {
-            '<' | '>' | '&' => ' ',
-            c => c,
-        })
-        .collect();
+    let clean = |t: &str| -> String {
+        t.chars()
+            .map(|c| match c {
+                '<' | '>' | '&' => ' ',
+                c => c,
+            })
+            .collect()
+    };
     let _ = writeln!(
         s,
-        "<text x=\"8\" y=\"20\" font-family=\"sans-serif\" font-size=\"14\" fill=\"black\">{title}</text>"
+        "<text x=\"8\" y=\"20\" font-family=\"sans-serif\" font-size=\"14\" fill=\"black\">{}</text>",
+        clean(pic.title)
     );
+    if let Some(sh) = pic.shading {
+        let (x, y, w, h) = colour_bar(f);
+        for k in 0..BAR_STEPS {
+            let c = colour_scale((k as f64 + 0.5) / BAR_STEPS as f64);
+            let step = w / BAR_STEPS as f64;
+            let _ = writeln!(
+                s,
+                "<rect x=\"{:.2}\" y=\"{y:.2}\" width=\"{:.2}\" height=\"{h}\" fill=\"rgb({},{},{})\"/>",
+                x + k as f64 * step,
+                step + 0.3,
+                c[0],
+                c[1],
+                c[2]
+            );
+        }
+        let _ = writeln!(
+            s,
+            "<text x=\"{x:.2}\" y=\"{:.2}\" font-family=\"sans-serif\" font-size=\"12\" fill=\"black\">{}: {:.3} … {:.3}</text>",
+            y - 4.0,
+            clean(sh.label),
+            sh.range[0],
+            sh.range[1]
+        );
+    }
 }
 
 /// The picture as PNG bytes, `width` pixels wide.
@@ -260,6 +396,32 @@ fn render(pic: &Picture<'_>, window: Window, width: u32) -> Result<Pixmap, Strin
     let mut pixmap = Pixmap::new(f.width as u32, f.height as u32)
         .ok_or_else(|| "cannot allocate the picture".to_string())?;
     pixmap.fill(Color::WHITE);
+    let fill_poly = |pixmap: &mut Pixmap, poly: &[(f64, f64)], rgba: [u8; 4]| {
+        let mut pb = PathBuilder::new();
+        for (k, (x, y)) in poly.iter().enumerate() {
+            if k == 0 {
+                pb.move_to(*x as f32, *y as f32);
+            } else {
+                pb.line_to(*x as f32, *y as f32);
+            }
+        }
+        pb.close();
+        if let Some(path) = pb.finish() {
+            let mut paint = Paint::default();
+            paint.set_color_rgba8(rgba[0], rgba[1], rgba[2], rgba[3]);
+            paint.anti_alias = false;
+            pixmap.fill_path(
+                &path,
+                &paint,
+                FillRule::EvenOdd,
+                Transform::identity(),
+                None,
+            );
+        }
+    };
+    for (col, poly) in shaded(pic, &f) {
+        fill_poly(&mut pixmap, &poly, [col[0], col[1], col[2], 255]);
+    }
     let mut red = Paint::default();
     red.set_color_rgba8(224, 32, 32, 200);
     red.anti_alias = true;
@@ -309,5 +471,136 @@ fn render(pic: &Picture<'_>, window: Window, width: u32) -> Result<Pixmap, Strin
     for b in pic.boundaries {
         draw(b, [31, 79, 208, 255], 2.0);
     }
+    if pic.shading.is_some() {
+        let (x, y, w, h) = colour_bar(&f);
+        let step = w / BAR_STEPS as f64;
+        for k in 0..BAR_STEPS {
+            let c = colour_scale((k as f64 + 0.5) / BAR_STEPS as f64);
+            let x0 = x + k as f64 * step;
+            let rect = [
+                (x0, y),
+                (x0 + step + 0.5, y),
+                (x0 + step + 0.5, y + h),
+                (x0, y + h),
+            ];
+            fill_poly(&mut pixmap, &rect, [c[0], c[1], c[2], 255]);
+        }
+    }
     Ok(pixmap)
+}
+
+/// A 3D mesh cut by the plane `z = z0`: each cell the plane crosses becomes the polygon of
+/// its section (a [`VTK_POLYGON`] cell), each boundary face a segment; highlighted flags and
+/// shading values follow their cells. Points are the edge–plane intersections (one per cut
+/// edge, shared by the cells around it, so shared section edges are drawn once). 2D cells
+/// are dropped.
+#[derive(Clone, Debug, Default)]
+pub struct Section {
+    /// Intersection points (z = z0).
+    pub points: Vec<[f64; 3]>,
+    /// Section polygons.
+    pub cells: CellList,
+    /// For each section polygon, the index of the cell it cuts.
+    pub source: Vec<usize>,
+    /// The boundary lists' sections (line segments).
+    pub boundaries: Vec<CellList>,
+}
+
+/// The section of `cells` (and of the boundary face lists) by the plane `z = z0`.
+pub fn slice_z(
+    points: &[[f64; 3]],
+    cells: &CellList,
+    boundaries: &[&CellList],
+    z0: f64,
+) -> Section {
+    let mut index: BTreeMap<(u32, u32), u32> = BTreeMap::new();
+    let mut out = Section::default();
+    let mut cut = |a: u32, b: u32, out: &mut Section| -> Option<u32> {
+        let (pa, pb) = (point(points, a)?, point(points, b)?);
+        let (da, db) = (pa[2] - z0, pb[2] - z0);
+        // Half-open rule: a node exactly on the plane counts as above, so each crossing
+        // edge is found once and a face lying in the plane produces nothing degenerate.
+        if (da >= 0.0) == (db >= 0.0) {
+            return None;
+        }
+        let key = (a.min(b), a.max(b));
+        if let Some(&k) = index.get(&key) {
+            return Some(k);
+        }
+        let t = da / (da - db);
+        let p = [pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1]), z0];
+        let k = u32::try_from(out.points.len()).ok()?;
+        out.points.push(p);
+        index.insert(key, k);
+        Some(k)
+    };
+    let ring = |ids: &mut Vec<u32>, pts: &[[f64; 3]]| {
+        ids.sort_unstable();
+        ids.dedup();
+        let n = ids.len() as f64;
+        let (cx, cy) = ids.iter().fold((0.0, 0.0), |(x, y), &k| {
+            let p = pts[k as usize];
+            (x + p[0] / n, y + p[1] / n)
+        });
+        ids.sort_by(|&a, &b| {
+            let (pa, pb) = (pts[a as usize], pts[b as usize]);
+            let ta = (pa[1] - cy).atan2(pa[0] - cx);
+            let tb = (pb[1] - cy).atan2(pb[0] - cx);
+            ta.total_cmp(&tb)
+        });
+    };
+    for (c, (code, nodes)) in cells.iter().enumerate() {
+        let Some(kind) = CellKind::from_vtk(code) else {
+            continue;
+        };
+        if kind.dimension() < 3 {
+            continue;
+        }
+        let mut ids = Vec::new();
+        for e in kind.edges() {
+            let (Some(&a), Some(&b)) = (nodes.get(e[0] as usize), nodes.get(e[1] as usize)) else {
+                continue;
+            };
+            if let Some(k) = cut(a, b, &mut out) {
+                ids.push(k);
+            }
+        }
+        ring(&mut ids, &out.points);
+        if ids.len() >= 3 {
+            out.cells.push_code(VTK_POLYGON, &ids);
+            out.source.push(c);
+        }
+    }
+    for list in boundaries {
+        let mut segs = CellList::new();
+        for (code, nodes) in list.iter() {
+            let Some(kind) = CellKind::from_vtk(code) else {
+                continue;
+            };
+            let mut ids = Vec::new();
+            for e in kind.edges() {
+                let (Some(&a), Some(&b)) = (nodes.get(e[0] as usize), nodes.get(e[1] as usize))
+                else {
+                    continue;
+                };
+                if let Some(k) = cut(a, b, &mut out) {
+                    ids.push(k);
+                }
+            }
+            ids.sort_unstable();
+            ids.dedup();
+            if let [a, b] = ids[..] {
+                segs.push(CellKind::Line, &[a, b]);
+            }
+        }
+        out.boundaries.push(segs);
+    }
+    out
+}
+
+/// True when any cell of `cells` is a volume cell, so pictures show a section.
+pub fn has_volume_cells(cells: &CellList) -> bool {
+    cells
+        .iter()
+        .any(|(code, _)| CellKind::from_vtk(code).is_some_and(|k| k.dimension() == 3))
 }

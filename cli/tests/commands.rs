@@ -628,3 +628,37 @@ fn angle_direct_over_relaxation_converges_where_gauss_seidel_does_not() {
         .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
     assert!(err < 1e-6, "sor vs cg: {err:e}");
 }
+
+#[test]
+fn move_plot_of_a_3d_mesh_draws_a_section_through_the_moved_marker() {
+    let d = tmp_dir("move-plot-3d");
+    std::fs::write(d.join("m.su2"), common::su2_bytes(&common::mesh_3d())).expect("write");
+    let r = json(
+        &d,
+        &[
+            "move",
+            "m.su2",
+            "--marker",
+            "top",
+            "--translate",
+            "0,0,1e-4",
+            "--method",
+            "idw",
+            "--out",
+            "o.su2",
+            "--plot",
+            "o.svg",
+        ],
+    );
+    assert_eq!(r["inverted_cells"], 0, "{r}");
+    let svg = std::fs::read_to_string(d.join("o.svg")).expect("svg");
+    assert!(svg.contains("(section z = "), "{svg}");
+    // Section polygons only: every drawn cell edge lies in one plane z = z0, so there are far
+    // fewer than the 30 distinct edges of the four volume cells projected on x–y.
+    let grey = svg
+        .lines()
+        .find(|l| l.contains("stroke=\"#505050\""))
+        .expect("cell edges");
+    let drawn = grey.matches('M').count();
+    assert!(drawn > 0 && drawn < 12, "{drawn} section edges");
+}

@@ -7,7 +7,10 @@
 //!   largest change of the first grid-line angle at the wall.
 //! - Alter: Taubin λ|μ arclength smoothing of a noisy structured grid and of a cavity-like grid
 //!   with abrupt stretching jumps; the table gives the largest stretching ratio before and
-//!   after.
+//!   after, and the pictures colour every cell by its spacing ratio along the smoothed lines
+//!   (before and after on one scale, so the difference shows).
+//! - Wall close-ups are sized to the first-layer height at mid-chord, so the first grid line's
+//!   angle at the wall (kept by the quaternion method, sheared by springs) is visible.
 //!
 //! Every file is staged and renamed into the output directory only when the whole demo
 //! succeeded.
@@ -29,7 +32,9 @@ use crate::formats::su2::{write_su2, Su2Mesh};
 use crate::formats::vtk::{write_vts, write_vtu, VtkEncoding, VtkField};
 use crate::formats::CellList;
 use crate::output::Staged;
-use crate::plot::{bounding_window, png, png_panels, svg, svg_panels, zoom, Picture, Window};
+use crate::plot::{
+    bounding_window, png, png_panels, svg, svg_panels, zoom, Picture, Shading, Window,
+};
 use crate::report::Outcome;
 
 /// One deformation run of the table.
@@ -112,6 +117,96 @@ const METHODS: [(MoveMethod, &str); 5] = [
     (MoveMethod::AngleDirect, "angle-direct"),
     (MoveMethod::AngleCg, "angle-cg"),
 ];
+
+/// The wall node of `wall` nearest to `near`, and the distance from it to its nearest
+/// neighbour off the wall (the first-layer height there), so that a close-up can be sized to
+/// the boundary layer's first cells instead of a fixed fraction of the chord.
+fn wall_node_near(
+    points: &[[f64; 3]],
+    cells: &CellList,
+    wall: &CellList,
+    near: [f64; 2],
+) -> ([f64; 2], f64) {
+    let d2 = |p: &[f64; 3], q: [f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
+    let on_wall: std::collections::BTreeSet<u32> = wall.nodes.iter().copied().collect();
+    let Some(&w) = on_wall.iter().min_by(|&&a, &&b| {
+        let pa = points
+            .get(a as usize)
+            .map_or(f64::INFINITY, |p| d2(p, near));
+        let pb = points
+            .get(b as usize)
+            .map_or(f64::INFINITY, |p| d2(p, near));
+        pa.total_cmp(&pb)
+    }) else {
+        return (near, 0.015);
+    };
+    let Some(pw) = points.get(w as usize).copied() else {
+        return (near, 0.015);
+    };
+    let first = cells
+        .iter()
+        .filter(|(_, nodes)| nodes.contains(&w))
+        .flat_map(|(_, nodes)| nodes.iter().copied())
+        .filter(|n| !on_wall.contains(n))
+        .filter_map(|n| points.get(n as usize).map(|p| d2(p, [pw[0], pw[1]]).sqrt()))
+        .fold(f64::INFINITY, f64::min);
+    let first = if first.is_finite() && first > 0.0 {
+        first
+    } else {
+        0.015
+    };
+    ([pw[0], pw[1]], first)
+}
+
+/// Per cell of a 2D structured grid (in [`structured_cells`]' order): the largest ratio of
+/// its spacing along `direction` (0 = i, 1 = j) to a neighbour's on the same line (≥ 1; 1 =
+/// uniform), so pictures show where the grid stretches abruptly.
+fn cell_spacing_ratios(dims: [usize; 3], points: &[[f64; 3]], direction: usize) -> Vec<f64> {
+    let [ni, nj, _] = dims;
+    let p = |i: usize, j: usize| points.get(i + ni * j).copied().unwrap_or([0.0; 3]);
+    let len = |a: [f64; 3], b: [f64; 3]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
+    // Spacing of the line segment starting at (i, j) in `direction`, if it exists.
+    let step = |i: usize, j: usize| -> Option<f64> {
+        if direction == 0 {
+            (i + 1 < ni && j < nj).then(|| len(p(i, j), p(i + 1, j)))
+        } else {
+            (j + 1 < nj && i < ni).then(|| len(p(i, j), p(i, j + 1)))
+        }
+    };
+    let ratio = |a: f64, b: f64| {
+        if a > 0.0 && b > 0.0 {
+            a.max(b) / a.min(b)
+        } else {
+            1.0
+        }
+    };
+    let mut out = Vec::with_capacity(ni.saturating_sub(1) * nj.saturating_sub(1));
+    for j in 0..nj.saturating_sub(1) {
+        for i in 0..ni.saturating_sub(1) {
+            let (here, prev, next) = if direction == 0 {
+                (
+                    step(i, j),
+                    i.checked_sub(1).and_then(|i| step(i, j)),
+                    step(i + 1, j),
+                )
+            } else {
+                (
+                    step(i, j),
+                    j.checked_sub(1).and_then(|j| step(i, j)),
+                    step(i, j + 1),
+                )
+            };
+            let h = here.unwrap_or(0.0);
+            let r = [prev, next]
+                .iter()
+                .flatten()
+                .map(|&n| ratio(h, n))
+                .fold(1.0, f64::max);
+            out.push(r);
+        }
+    }
+    out
+}
 
 fn rotate_about(p: [f64; 2], c: [f64; 2], deg: f64) -> [f64; 2] {
     let (s, co) = deg.to_radians().sin_cos();
@@ -242,6 +337,7 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
             boundaries: &[airfoil],
             highlight: &none,
             title: &format!("NACA 2412 {name}: {} nodes", mesh.points.len()),
+            shading: None,
         };
         if *name == "viscous" {
             files.picture(
@@ -323,14 +419,27 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
                         boundaries: &[airfoil],
                         highlight: &bad,
                         title: &title,
+                        shading: None,
                     };
                     let te = rotate_about([1.0, 0.0], centre, angle);
                     let stem = format!("{name}_{mname}_{angle}");
                     files.picture(&format!("{stem}_whole"), &pic, bounding_window(&r.deformed))?;
                     files.picture(&format!("{stem}_airfoil"), &pic, [-0.2, -0.6, 1.2, 0.6])?;
                     files.picture(&format!("{stem}_te"), &pic, zoom(te, 0.04))?;
-                    let wall = rotate_about([0.5, 0.07], centre, angle);
-                    files.picture(&format!("{stem}_wall"), &pic, zoom(wall, 0.015))?;
+                    let (wall, first) = wall_node_near(
+                        &r.deformed,
+                        &mesh.elements,
+                        airfoil,
+                        rotate_about([0.5, 0.07], centre, angle),
+                    );
+                    let wall_title = format!(
+                        "{title}; first cells at the upper wall, x/c = 0.5 (first layer {first:.1e})"
+                    );
+                    let wall_pic = Picture {
+                        title: &wall_title,
+                        ..pic
+                    };
+                    files.picture(&format!("{stem}_wall"), &wall_pic, zoom(wall, 8.0 * first))?;
                     let disp: Vec<f64> = r.displacement.iter().flatten().copied().collect();
                     let inverted: Vec<f64> =
                         q.inverted.iter().map(|&b| f64::from(u8::from(b))).collect();
@@ -376,6 +485,7 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
                     boundaries: &walls,
                     highlight: &none,
                     title: "undeformed",
+                    shading: None,
                 },
                 zoom([1.0, 0.0], 0.04),
             )];
@@ -387,6 +497,7 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
                     boundaries: &walls,
                     highlight: bad,
                     title: m,
+                    shading: None,
                 };
                 panels.push((pic, zoom(te, 0.04)));
                 airfoil_panels.push((pic, [-0.2, -0.6, 1.2, 0.6]));
@@ -483,19 +594,32 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
         let none = vec![false; cells.len()];
         let empty: [&CellList; 0] = [];
         let stem = format!("smooth{}_{gname}", k + 1);
+        let line = ["i", "j"].get(*direction).copied().unwrap_or("k");
+        let label = format!("spacing ratio along {line} lines");
+        let ratios_before = cell_spacing_ratios(dims, &before, *direction);
+        let top = ratios_before.iter().copied().fold(1.0, f64::max);
         for (tag, pts) in [("before", &before), ("after", &after)] {
             if k == 1 && tag == "before" {
                 continue; // same grid as case 1
             }
-            let title = format!("{gname} grid {tag}: {settings}");
+            let ratios = cell_spacing_ratios(dims, pts, *direction);
+            let title = format!("{gname} grid {tag}: {settings}; colour: {label}");
             let pic = Picture {
                 points: pts,
                 cells: &cells,
                 boundaries: &empty,
                 highlight: &none,
                 title: &title,
+                shading: Some(Shading {
+                    values: &ratios,
+                    range: [1.0, top],
+                    label: &label,
+                }),
             };
-            files.picture(&format!("{stem}_{tag}"), &pic, bounding_window(pts))?;
+            // Room below the grid for the colour bar.
+            let mut window = bounding_window(pts);
+            window[1] -= 0.25 * (window[3] - window[1]);
+            files.picture(&format!("{stem}_{tag}"), &pic, window)?;
             let mut v = Vec::new();
             write_vts(&mut v, dims, pts, &[], &[], VtkEncoding::Base64)
                 .map_err(|e| CliError::Invalid(e.to_string()))?;

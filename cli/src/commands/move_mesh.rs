@@ -13,7 +13,7 @@ use crate::formats::su2::{write_su2, Su2Mesh};
 use crate::formats::vtk::{write_vtu, VtkEncoding, VtkField};
 use crate::formats::CellList;
 use crate::output::Staged;
-use crate::plot::{bounding_window, zoom, Picture, Window};
+use crate::plot::{bounding_window, has_volume_cells, slice_z, zoom, Picture, Window};
 
 use super::move_grid::move_grid;
 use crate::error::CliError;
@@ -319,14 +319,50 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
             .zip(&q.scaled_jacobian)
             .map(|(&i, &j)| i || j <= 0.0)
             .collect();
-        let pic = Picture {
-            points: &result.deformed,
-            cells: &out_mesh.elements,
-            boundaries: &moved_lists,
-            highlight: &folded_or_inverted,
-            title: &title,
-        };
-        write_picture(&mut staged, p, &pic, window, 1200)?;
+        if has_volume_cells(&out_mesh.elements) {
+            // A 3D mesh is drawn as its section by the plane through the middle of the moved
+            // markers (z = const): all edges projected on x–y would be a tangle.
+            let zs = moved_lists
+                .iter()
+                .flat_map(|l| l.nodes.iter())
+                .filter_map(|&n| result.deformed.get(n as usize).map(|p| p[2]));
+            let (lo, hi) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), z| {
+                (lo.min(z), hi.max(z))
+            });
+            let z0 = if lo <= hi { 0.5 * (lo + hi) } else { 0.0 };
+            let section = slice_z(&result.deformed, &out_mesh.elements, &moved_lists, z0);
+            let highlight: Vec<bool> = section
+                .source
+                .iter()
+                .map(|&c| folded_or_inverted.get(c).copied().unwrap_or(false))
+                .collect();
+            let boundaries: Vec<&CellList> = section.boundaries.iter().collect();
+            let title = format!("{title} (section z = {z0:.6})");
+            let pic = Picture {
+                points: &section.points,
+                cells: &section.cells,
+                boundaries: &boundaries,
+                highlight: &highlight,
+                title: &title,
+                shading: None,
+            };
+            let window = if boundaries.iter().all(|b| b.is_empty()) {
+                bounding_window(&section.points)
+            } else {
+                marker_window(&section.points, &boundaries)
+            };
+            write_picture(&mut staged, p, &pic, window, 1200)?;
+        } else {
+            let pic = Picture {
+                points: &result.deformed,
+                cells: &out_mesh.elements,
+                boundaries: &moved_lists,
+                highlight: &folded_or_inverted,
+                title: &title,
+                shading: None,
+            };
+            write_picture(&mut staged, p, &pic, window, 1200)?;
+        }
         outputs.push(p.display().to_string());
     }
     staged.commit().map_err(io_err(&a.out))?;

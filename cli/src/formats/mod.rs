@@ -50,6 +50,12 @@ impl CellList {
     /// Appends a cell. Returns `false` (and appends nothing) when the node array would outgrow
     /// `u32` offsets.
     pub fn push(&mut self, kind: CellKind, nodes: &[u32]) -> bool {
+        self.push_code(kind.vtk_code(), nodes)
+    }
+
+    /// Appends a cell by its VTK code (also codes the kernel has no [`CellKind`] for, such as
+    /// the polygons of a picture's section). Returns `false` as [`CellList::push`] does.
+    pub fn push_code(&mut self, code: u8, nodes: &[u32]) -> bool {
         let Some(end) = self
             .nodes
             .len()
@@ -63,7 +69,7 @@ impl CellList {
         }
         self.nodes.extend_from_slice(nodes);
         self.offsets.push(end);
-        self.kinds.push(kind.vtk_code());
+        self.kinds.push(code);
         true
     }
 
