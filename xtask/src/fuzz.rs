@@ -1,0 +1,117 @@
+//! `cargo xtask fuzz` and the CI fuzz smoke run.
+
+use crate::ctx::Ctx;
+use crate::install::FUZZ_TOOLCHAIN;
+use crate::process::{capture, run, show};
+use std::fmt::Write as _;
+use std::process::{Command, ExitCode};
+
+/// Seconds each fuzz target runs in `cargo xtask ci` (the smoke run).
+pub(crate) const FUZZ_SMOKE_SECONDS: u64 = 30;
+
+/// `cargo xtask fuzz [--seconds N] [--target NAME]`.
+pub(crate) fn fuzz_command(ctx: &Ctx, args: &[String]) -> ExitCode {
+    let mut seconds = 600u64;
+    let mut target = None;
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match (a.as_str(), it.next()) {
+            ("--seconds", Some(v)) => match v.parse() {
+                Ok(n) => seconds = n,
+                Err(_) => {
+                    eprintln!("xtask: --seconds takes a whole number");
+                    return ExitCode::from(2);
+                }
+            },
+            ("--target", Some(v)) => target = Some(v.clone()),
+            _ => {
+                eprintln!("xtask: usage: cargo xtask fuzz [--seconds N] [--target NAME]");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    if fuzz(ctx, seconds, target.as_deref()) {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
+
+/// Builds the fuzz targets with cargo-fuzz on nightly and runs each (or `only`) for `seconds`,
+/// starting from the committed seeds; `true` when nothing crashed.
+pub(crate) fn fuzz(ctx: &Ctx, seconds: u64, only: Option<&str>) -> bool {
+    let dir = ctx.root.join("fuzz");
+    let fuzz_cmd = |args: &[&str]| {
+        let mut c = Command::new("cargo");
+        c.arg(format!("+{FUZZ_TOOLCHAIN}"))
+            .arg("fuzz")
+            .args(args)
+            .current_dir(&dir)
+            .env_remove("RUSTUP_TOOLCHAIN")
+            .env_remove("CARGO");
+        c
+    };
+    if !run(&mut fuzz_cmd(&["build", "-O"])) {
+        return false;
+    }
+    let (ok, list, _) = capture(&mut fuzz_cmd(&["list"]));
+    if !ok {
+        return false;
+    }
+    let targets: Vec<&str> = list
+        .lines()
+        .map(str::trim)
+        .filter(|t| !t.is_empty() && only.is_none_or(|o| o == *t))
+        .collect();
+    if targets.is_empty() {
+        println!("xtask: no fuzz target matches");
+        return false;
+    }
+    let mut all_ok = true;
+    let mut summary = String::new();
+    for t in &targets {
+        let corpus = dir.join("corpus").join(t);
+        let seeds = dir.join("seeds").join(t);
+        let _ = std::fs::create_dir_all(&corpus);
+        let mut args: Vec<String> = vec![
+            "run".into(),
+            "-O".into(),
+            (*t).into(),
+            corpus.display().to_string(),
+        ];
+        if seeds.is_dir() {
+            args.push(seeds.display().to_string());
+        }
+        args.push("--".into());
+        args.push(format!("-max_total_time={seconds}"));
+        args.push("-print_final_stats=1".into());
+        let dict = dir.join("dicts").join(format!("{t}.dict"));
+        if dict.is_file() {
+            args.push(format!("-dict={}", dict.display()));
+        }
+        let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+        let mut cmd = fuzz_cmd(&argv);
+        println!("$ {}", show(&cmd));
+        let (ok, stdout, stderr) = capture(&mut cmd);
+        let text = format!("{stdout}{stderr}");
+        let execs = text
+            .lines()
+            .find_map(|l| l.strip_prefix("stat::number_of_executed_units:"))
+            .map_or("?".to_string(), |v| v.trim().to_string());
+        if !ok {
+            print!("{text}");
+        }
+        let _ = writeln!(
+            summary,
+            "fuzz {t}: {} after {execs} executions in {seconds} s",
+            if ok {
+                "no findings"
+            } else {
+                "FAILED (see the output above)"
+            }
+        );
+        all_ok &= ok;
+    }
+    print!("{summary}");
+    all_ok
+}
