@@ -6,6 +6,7 @@
 //! cargo xtask ci --step NAME          run one step (repeatable; no install unless named)
 //! cargo xtask ci --list               list the step names
 //! cargo xtask install                 only install what is missing
+//! cargo xtask bench [--quick]        kernel vs peers on the same inputs (docs/performance.md)
 //! cargo xtask panic-locate [ARGS]     show which functions still reach the panic handler
 //! cargo xtask help                    this text
 //! ```
@@ -29,6 +30,7 @@
 //!
 //! Only std is used, so the tool builds in a second.
 
+mod bench;
 mod ci;
 mod ctx;
 mod embedded;
@@ -59,6 +61,7 @@ fn main() -> ExitCode {
             }
         }
         Some("fuzz") => fuzz_command(&ctx, &args[1..]),
+        Some("bench") => bench::bench_command(&ctx, &args[1..]),
         Some("panic-locate") => {
             let extra: Vec<&str> = args[1..].iter().map(String::as_str).collect();
             if panic_locate(&ctx, &extra) {
@@ -87,6 +90,7 @@ pub(crate) fn help() -> String {
          \x20   cargo xtask ci [--skip-install] [--step NAME]... [--list]\n\
          \x20   cargo xtask install\n\
          \x20   cargo xtask fuzz [--seconds N] [--target NAME]\n\
+         \x20   cargo xtask bench [--quick] [--no-peers]\n\
          \x20   cargo xtask panic-locate [--features F]\n\
          \x20   cargo xtask help\n\
          \n\
@@ -100,6 +104,10 @@ pub(crate) fn help() -> String {
          \x20   fuzz          Build the cargo-fuzz targets (fuzz/, nightly) and run each for N\n\
          \x20                 seconds (default 600) from fuzz/seeds/<target>, growing the corpus\n\
          \x20                 in fuzz/corpus/<target>; prints executions and findings per target.\n\
+         \x20   bench         The kernel against numpy/scipy, scipy.ndimage, trimesh, pyamg and\n\
+         \x20                 nalgebra on the same generated inputs (bench/, bench/peers/), and\n\
+         \x20                 `deform move` on the 234k NACA 2412 mesh; ratios and load to stdout\n\
+         \x20                 and target/bench/report.md (see docs/performance.md).\n\
          \x20   panic-locate  Build target-tests/panic-check with its `locate` feature (the panic\n\
          \x20                 handler defined, so it links) and list the functions that still reach\n\
          \x20                 it, with the source lines of the calls. Run it when `panic-check` fails;\n\
