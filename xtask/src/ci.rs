@@ -47,14 +47,16 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
         ),
         Step::new(
             "fmt",
-            "cargo fmt --check: host workspace, target-tests, fuzz",
+            "cargo fmt --check: host workspace, target-tests, fuzz, bench",
             || {
                 let a = run(&mut ctx.cargo(&["fmt", "--all", "--check"]));
                 // Not `--all` there: that would also check the kernel (a path dependency).
                 let b = run(&mut ctx.cargo_tt(&["fmt", "--check"]));
                 let c =
                     run(&mut ctx.cargo(&["fmt", "--check", "--manifest-path", "fuzz/Cargo.toml"]));
-                a && b && c
+                let d =
+                    run(&mut ctx.cargo(&["fmt", "--check", "--manifest-path", "bench/Cargo.toml"]));
+                a && b && c && d
             },
         ),
         Step::new(
