@@ -188,6 +188,22 @@ pub enum Error {
         /// The argument whose scale caused it.
         arg: &'static str,
     },
+    /// A direction that must be a unit vector (a sliding node's plane normal or line tangent)
+    /// is not one within the tolerance ([`crate::slide::unit_tolerance`]).
+    NotUnit {
+        /// The argument.
+        arg: &'static str,
+        /// Position of the item.
+        position: usize,
+    },
+    /// A node set that must lie on a plane (a line in 2D) deviates from its least-squares fit
+    /// by more than the tolerance.
+    NotPlanar {
+        /// The argument.
+        arg: &'static str,
+        /// Position (in the argument) of the node farthest from the fitted plane.
+        position: usize,
+    },
 }
 
 impl fmt::Display for Error {
@@ -270,6 +286,13 @@ impl fmt::Display for Error {
             Error::Overflow { arg } => write!(
                 f,
                 "a computation on `{arg}` exceeded the floating-point range"
+            ),
+            Error::NotUnit { arg, position } => {
+                write!(f, "`{arg}` item {position} is not a unit vector")
+            }
+            Error::NotPlanar { arg, position } => write!(
+                f,
+                "the nodes of `{arg}` are not planar: item {position} is farther from the fitted plane than the tolerance"
             ),
         }
     }
@@ -377,6 +400,12 @@ impl defmt::Format for Error {
                 dimension
             ),
             Error::Overflow { arg } => defmt::write!(f, "Overflow({=str})", arg),
+            Error::NotUnit { arg, position } => {
+                defmt::write!(f, "NotUnit({=str}[{}])", arg, position)
+            }
+            Error::NotPlanar { arg, position } => {
+                defmt::write!(f, "NotPlanar({=str}[{}])", arg, position)
+            }
         }
     }
 }

@@ -37,6 +37,7 @@ pub mod graph_builder;
 pub mod quality;
 pub mod quat;
 pub mod real;
+pub mod slide;
 pub mod spring;
 pub mod taubin;
 pub mod vector;

@@ -28,6 +28,11 @@
 //! paper's `Σ k x_j / Σ k`): a field that is uniform over a node's neighbourhood is then a
 //! bit-exact fixed point, so a uniform translation of every boundary is reproduced exactly.
 //!
+//! - **Sliding nodes** ([`Constraints`](crate::slide::Constraints): a node slides on a plane
+//!   or a line): [`solve_linear_sliding`] and [`solve_angle_sliding`] solve the projected
+//!   system `P K P d = P b` jointly over the components (see their module for why it stays
+//!   symmetric positive definite and how the multigrid hierarchy is used).
+//!
 //! **Fixed mask**: `&[u8]`, one byte per node, nonzero = fixed (Dirichlet). Not `&[bool]`: a
 //! C `_Bool`, `char` or Fortran `logical(c_bool)` array may hold bytes other than 0 and 1,
 //! which is undefined behaviour for a Rust `bool` but just "fixed" for a `u8`. So the C ABI can
@@ -37,6 +42,7 @@ mod amg;
 mod angle;
 mod linear;
 mod norms;
+mod sliding;
 mod solver;
 mod stiffness;
 mod system;
@@ -52,6 +58,10 @@ pub use angle::{
 };
 pub use linear::{
     jacobi_sweep, relative_residual, solve_linear, solve_linear_scratch_len, sor_sweep,
+};
+pub use sliding::{
+    solve_angle_sliding, solve_angle_sliding_scratch_len, solve_linear_sliding,
+    solve_linear_sliding_scratch_len,
 };
 pub use solver::{solve_linear_with, solve_linear_with_scratch_len, LinearSolver};
 pub use stiffness::batina_stiffness;

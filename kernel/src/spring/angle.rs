@@ -90,7 +90,7 @@ fn at<T: Real, const D: usize>(m: &[[T; D]; D], i: usize, j: usize) -> T {
 
 /// Solves the symmetric `D×D` system `m x = r` by Cramer's rule (cofactors), or `None` when its
 /// normalised determinant `det / (tr/D)^D` is at most `√ε` (or `D` is not 2 or 3).
-fn cramer<T: Real, const D: usize>(m: &[[T; D]; D], r: &[T; D]) -> Option<[T; D]> {
+pub(super) fn cramer<T: Real, const D: usize>(m: &[[T; D]; D], r: &[T; D]) -> Option<[T; D]> {
     let g = |i, j| at(m, i, j);
     let rv = |i: usize| r.get(i).copied().unwrap_or(T::ZERO);
     let tol = T::EPSILON.sqrt();
@@ -199,7 +199,7 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
 
     /// `d = r_j − r_i` and `|d|²`, or `None` for a zero-length (or overflowing) edge.
     #[inline]
-    fn direction(&self, i: usize, j: usize) -> Option<([T; D], T)> {
+    pub(super) fn direction(&self, i: usize, j: usize) -> Option<([T; D], T)> {
         let d = vector::sub(*self.points.get(j)?, *self.points.get(i)?);
         let d2 = vector::norm_sq(d);
         (d2 > T::ZERO && d2.is_finite()).then_some((d, d2))
@@ -207,7 +207,7 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
 
     /// `B v = k (d (d·v) / |d|² + ε v)` for one edge.
     #[inline]
-    fn edge_apply(&self, k: T, d: &[T; D], d2: T, v: &[T; D]) -> [T; D] {
+    pub(super) fn edge_apply(&self, k: T, d: &[T; D], d2: T, v: &[T; D]) -> [T; D] {
         let s = k * vector::dot(*d, *v) / d2;
         let ke = k * self.epsilon;
         let mut out = [T::ZERO; D];
@@ -218,7 +218,7 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
     }
 
     /// Node `i`'s block `A_ii = Σ_j B_ij`, summed in CSR order.
-    fn node_block(&self, i: usize) -> [[T; D]; D] {
+    pub(super) fn node_block(&self, i: usize) -> [[T; D]; D] {
         let mut m = [[T::ZERO; D]; D];
         for (j, k) in self.base.row(i) {
             let Some((d, d2)) = self.direction(i, j) else {
@@ -240,7 +240,7 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
 
     /// Node `i`'s residual `Σ_j B_ij (x_j − x_i)` and block `A_ii`, in one pass over the row
     /// (both summed in CSR order, exactly as [`Self::node_block`] sums the block).
-    fn node_residual(&self, i: usize, xi: [T; D], x: &[[T; D]]) -> ([T; D], [[T; D]; D]) {
+    pub(super) fn node_residual(&self, i: usize, xi: [T; D], x: &[[T; D]]) -> ([T; D], [[T; D]; D]) {
         let mut r = [T::ZERO; D];
         let mut m = [[T::ZERO; D]; D];
         for (j, k) in self.base.row(i) {

@@ -452,7 +452,7 @@ fn solve_sor<T: Real, const V: usize>(
 
 /// `d_i = Σ_j k_ij` for every node, summed in CSR order (the same sums the sweeps form):
 /// computed once per CG solve instead of once per row per iteration.
-fn diagonal<T: Real>(sys: &SpringSystem<'_, T>, diag: &mut [T]) {
+pub(crate) fn diagonal<T: Real>(sys: &SpringSystem<'_, T>, diag: &mut [T]) {
     for ((_, _, row), d) in sys.rows().zip(diag.iter_mut()) {
         *d = row.fold(T::ZERO, |s, (_, k)| s + k);
     }
@@ -491,7 +491,7 @@ fn laplacian_apply<T: Real, const V: usize>(
 }
 
 /// `z = M⁻¹ r` for the chosen preconditioner (zero on fixed nodes), `diag` from [`diagonal`].
-fn precondition<T: Real, const V: usize>(
+pub(crate) fn precondition<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     diag: &[T],
     pre: Preconditioner<T>,

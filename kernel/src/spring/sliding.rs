@@ -1,0 +1,755 @@
+//! Spring solves with sliding nodes ([`Constraints`]): the linear and angle springs restricted
+//! to each node's allowed motion.
+//!
+//! **Problem.** With `P` the block-diagonal projector (`P_i` = `I` free, `0` fixed,
+//! `I − n nᵀ` on a plane, `t tᵀ` on a line) the displacements minimise the spring energy
+//! `½ dᵀ K d` over `d_i ∈ range(P_i)` with the fixed nodes' values given, i.e. they solve
+//!
+//! `P K P d = P b`   (on `range(P)`),
+//!
+//! where `K` is the free-node operator (`k I` per linear edge, `B_ij` per angle edge) and `b`
+//! the fixed nodes' pull. `P` couples the components, so the solve is joint over `D`
+//! components (one `α`, `β` in CG instead of one per component). `P K P` is symmetric positive
+//! definite on `range(P)` whenever `K` is (every free and sliding node anchored, as
+//! [`SpringSystem::new`] checks): for `v ∈ range(P)`, `vᵀ P K P v = vᵀ K v > 0`.
+//!
+//! **Methods.**
+//! - Stationary sweeps (Jacobi, Gauss–Seidel, SOR; the angle springs' direct method): node
+//!   `i` solves its own projected block, `δ = (P A_ii P)⁺ P r_i`. For linear springs
+//!   `A_ii = d_i I`, so `δ = P r_i / d_i`; for the angle springs `δ = P (P A P + s (I − P))⁻¹
+//!   P r` with `s = tr A / D` (the added term only fills the null space, so `δ ∈ range(P)`).
+//!   Block Gauss–Seidel/SOR converge for any SPD operator.
+//! - CG: on `range(P)` with the preconditioner `z = P M⁻¹ r`, `M` any symmetric positive
+//!   definite preconditioner of the unconstrained operator applied component-wise (Jacobi,
+//!   SSOR, or the [`AmgHierarchy`] V-cycle of the scalar operator, built for the system with
+//!   the sliding nodes free); `P M⁻¹ P` is SPD on `range(P)`, so CG's guarantees hold. The
+//!   angle springs' CG uses the projected node blocks `(P A_ii P)⁺`.
+//!
+//! **Values** are displacements: prescribed at fixed nodes, an initial guess elsewhere (the
+//! guess at sliding nodes is projected first). Every method runs on a power-of-two-scaled copy
+//! (exact), writes back only on success, and projects every sliding node's result once more,
+//! so `n · d` is at rounding level of `|d|`.
+
+use super::amg::{amg_precondition, amg_precondition_scratch_len, AmgHierarchy};
+use super::angle::{
+    angle_probe_scratch_len, angle_rigidity_probe, cramer, AngleMethod, AngleSystem,
+    MAX_AMPLIFICATION,
+};
+use super::linear::{diagonal, precondition};
+use super::norms::{scale_by, sweep_exponent, Norm, SumSq};
+use super::solver::LinearSolver;
+use super::system::{
+    check_omega, check_values, LinearMethod, Preconditioner, SolveOptions, SolveReport,
+    SpringSystem,
+};
+use crate::error::{Error, Result};
+use crate::real::Real;
+use crate::slide::{Constraints, NodeKind};
+use crate::vector;
+
+/// The operator a constrained solve needs: node residuals and blocks.
+trait BlockOp<T: Real, const D: usize> {
+    /// Number of nodes.
+    fn n(&self) -> usize;
+    /// `true` at fixed nodes.
+    fn fixed(&self, i: usize) -> bool;
+    /// `r_i = Σ_j B_ij (x_j − x_i)` and the block `A_ii = Σ_j B_ij`.
+    fn node(&self, i: usize, x: &[[T; D]]) -> ([T; D], [[T; D]; D]);
+    /// The fixed nodes' pull `b_i = Σ_{j fixed} B_ij x_j`.
+    fn pull(&self, i: usize, x: &[[T; D]]) -> [T; D];
+    /// `δ ∈ range(P_i)` with `P A P δ = pr` (`pr` already projected).
+    fn block_solve(&self, c: &Constraints<'_, T, D>, i: usize, m: &[[T; D]; D], pr: [T; D])
+        -> [T; D];
+    /// Largest edge stiffness (sets the scale of the CG copy).
+    fn kmax(&self) -> T;
+    /// Largest row sum `Σ_j k_ij (1 + ε)`: bounds every `|B v|` per unit `|v|`.
+    fn row_max(&self) -> T;
+}
+
+/// Linear springs: `B_ij = k_ij I`.
+struct LinearOp<'s, 'a, T: Real>(&'s SpringSystem<'a, T>);
+
+impl<T: Real, const D: usize> BlockOp<T, D> for LinearOp<'_, '_, T> {
+    fn n(&self) -> usize {
+        self.0.node_count()
+    }
+    fn fixed(&self, i: usize) -> bool {
+        self.0.is_fixed(i)
+    }
+    fn node(&self, i: usize, x: &[[T; D]]) -> ([T; D], [[T; D]; D]) {
+        let xi = x.get(i).copied().unwrap_or([T::ZERO; D]);
+        let mut r = [T::ZERO; D];
+        let mut d = T::ZERO;
+        for (j, k) in self.0.row(i) {
+            let xj = x.get(j).copied().unwrap_or(xi);
+            for ((a, &b), &c) in r.iter_mut().zip(&xj).zip(&xi) {
+                *a += k * (b - c);
+            }
+            d += k;
+        }
+        let mut m = [[T::ZERO; D]; D];
+        for (c, row) in m.iter_mut().enumerate() {
+            if let Some(e) = row.get_mut(c) {
+                *e = d;
+            }
+        }
+        (r, m)
+    }
+    fn pull(&self, i: usize, x: &[[T; D]]) -> [T; D] {
+        let mut b = [T::ZERO; D];
+        for (j, k) in self.0.row(i) {
+            if self.0.is_fixed(j) {
+                let xj = x.get(j).copied().unwrap_or([T::ZERO; D]);
+                for (a, &v) in b.iter_mut().zip(&xj) {
+                    *a += k * v;
+                }
+            }
+        }
+        b
+    }
+    fn block_solve(
+        &self,
+        _: &Constraints<'_, T, D>,
+        _: usize,
+        m: &[[T; D]; D],
+        pr: [T; D],
+    ) -> [T; D] {
+        let d = m.first().and_then(|r| r.first()).copied().unwrap_or(T::ONE);
+        pr.map(|v| v / d)
+    }
+    fn kmax(&self) -> T {
+        self.0.stiffness().iter().fold(T::ZERO, |m, &k| m.max(k))
+    }
+    fn row_max(&self) -> T {
+        self.0.rows().fold(T::ZERO, |m, (_, _, row)| {
+            m.max(row.fold(T::ZERO, |d, (_, k)| d + k))
+        })
+    }
+}
+
+/// Angle springs: `B_ij = k (e eᵀ + ε I)`.
+struct AngleOp<'s, 'a, T: Real, const D: usize>(&'s AngleSystem<'a, T, D>);
+
+impl<T: Real, const D: usize> BlockOp<T, D> for AngleOp<'_, '_, T, D> {
+    fn n(&self) -> usize {
+        self.0.base().node_count()
+    }
+    fn fixed(&self, i: usize) -> bool {
+        self.0.base().is_fixed(i)
+    }
+    fn node(&self, i: usize, x: &[[T; D]]) -> ([T; D], [[T; D]; D]) {
+        let xi = x.get(i).copied().unwrap_or([T::ZERO; D]);
+        self.0.node_residual(i, xi, x)
+    }
+    fn pull(&self, i: usize, x: &[[T; D]]) -> [T; D] {
+        let mut b = [T::ZERO; D];
+        for (j, k) in self.0.base().row(i) {
+            if let (true, Some((d, d2))) = (self.0.base().is_fixed(j), self.0.direction(i, j)) {
+                let xj = x.get(j).copied().unwrap_or([T::ZERO; D]);
+                b = vector::add(b, self.0.edge_apply(k, &d, d2, &xj));
+            }
+        }
+        b
+    }
+    fn block_solve(
+        &self,
+        c: &Constraints<'_, T, D>,
+        i: usize,
+        m: &[[T; D]; D],
+        pr: [T; D],
+    ) -> [T; D] {
+        if c.kind(i) == NodeKind::Free {
+            return cramer(m, &pr).unwrap_or([T::ZERO; D]);
+        }
+        // (P A P + s (I − P)) δ = P r, then δ ← P δ.
+        let p = c.matrix(i);
+        let mut tr = T::ZERO;
+        for (k, row) in m.iter().enumerate() {
+            tr += row.get(k).copied().unwrap_or(T::ZERO);
+        }
+        let s = tr / T::from_usize(D);
+        let mut ap = [[T::ZERO; D]; D]; // A P
+        for (row_ap, row_a) in ap.iter_mut().zip(m) {
+            for (k, e) in row_ap.iter_mut().enumerate() {
+                for (l, &a) in row_a.iter().enumerate() {
+                    let plk = p.get(l).and_then(|r| r.get(k)).copied().unwrap_or(T::ZERO);
+                    *e += a * plk;
+                }
+            }
+        }
+        let mut mm = [[T::ZERO; D]; D];
+        for (r, row) in mm.iter_mut().enumerate() {
+            for (k, e) in row.iter_mut().enumerate() {
+                let mut acc = T::ZERO;
+                for l in 0..D {
+                    let prl = p.get(r).and_then(|x| x.get(l)).copied().unwrap_or(T::ZERO);
+                    let aplk = ap.get(l).and_then(|x| x.get(k)).copied().unwrap_or(T::ZERO);
+                    acc += prl * aplk;
+                }
+                let id = if r == k { T::ONE } else { T::ZERO };
+                let prk = p.get(r).and_then(|x| x.get(k)).copied().unwrap_or(T::ZERO);
+                *e = acc + s * (id - prk);
+            }
+        }
+        c.project(i, cramer(&mm, &pr).unwrap_or([T::ZERO; D]))
+    }
+    fn kmax(&self) -> T {
+        self.0
+            .base()
+            .stiffness()
+            .iter()
+            .fold(T::ZERO, |m, &k| m.max(k))
+    }
+    fn row_max(&self) -> T {
+        let e1 = T::ONE + self.0.epsilon();
+        self.0.base().rows().fold(T::ZERO, |m, (_, _, row)| {
+            m.max(row.fold(T::ZERO, |d, (_, k)| d + k) * e1)
+        })
+    }
+}
+
+/// The preconditioner of a constrained CG.
+#[derive(Clone, Copy)]
+enum Pre<'h, T: Real> {
+    /// A one-level preconditioner of the linear springs (component-wise).
+    Linear(Preconditioner<T>),
+    /// The multigrid V-cycle of the linear springs (component-wise).
+    Amg(&'h AmgHierarchy<'h, T>),
+    /// The projected node blocks `(P A_ii P)⁺` (angle springs).
+    Blocks,
+}
+
+/// A constrained method.
+#[derive(Clone, Copy)]
+enum Method<'h, T: Real> {
+    Jacobi,
+    Sor(T),
+    Cg(Pre<'h, T>),
+}
+
+/// Number of `[T; D]` scratch items [`solve_linear_sliding`] needs for `node_count` nodes:
+/// `n` (the scaled copy) plus `n` for Jacobi, nothing more for Gauss–Seidel/SOR, `5 n` for
+/// CG (residual, direction, `A p`, preconditioned residual, diagonal) and, with a multigrid
+/// hierarchy, [`amg_precondition_scratch_len`] more.
+pub fn solve_linear_sliding_scratch_len<T: Real>(
+    solver: &LinearSolver<'_, T>,
+    node_count: usize,
+) -> usize {
+    let n = node_count;
+    match solver {
+        LinearSolver::Method(LinearMethod::Jacobi) => n.saturating_mul(2),
+        LinearSolver::Method(LinearMethod::GaussSeidel | LinearMethod::Sor { .. }) => n,
+        LinearSolver::Method(LinearMethod::Cg { .. }) => n.saturating_mul(6),
+        LinearSolver::Amg(h) => n
+            .saturating_mul(5)
+            .saturating_add(amg_precondition_scratch_len(h)),
+    }
+}
+
+/// Solves the linear springs with sliding nodes (see the [module documentation](self)):
+/// `values` are displacements, prescribed at the fixed nodes, the initial guess elsewhere.
+/// `sys` must be built with the mask [`Constraints::fixed_mask`] writes (sliding nodes are
+/// free in it). Any [`LinearSolver`] works: Jacobi/Gauss–Seidel/SOR project each node's
+/// update, CG (with its preconditioner, or the multigrid hierarchy) runs on the projected
+/// system. On `Ok` every sliding node's displacement lies in its plane or line to rounding,
+/// and the report's residual is `‖P(b − K d)‖ / ‖P b‖`.
+///
+/// # Errors (values untouched)
+/// Wrong length or non-finite `values`; constraints of another length or whose fixed nodes
+/// differ from the system's mask ([`Error::InvalidParameter`] on `constraints`); bad options or
+/// `omega`; a hierarchy built for another system; `scratch` shorter than
+/// [`solve_linear_sliding_scratch_len`]; [`Error::SingularSystem`] when CG meets non-positive
+/// curvature; [`Error::Overflow`] when stiffness and values exceed the range.
+pub fn solve_linear_sliding<T: Real, const D: usize>(
+    sys: &SpringSystem<'_, T>,
+    constraints: &Constraints<'_, T, D>,
+    values: &mut [[T; D]],
+    solver: LinearSolver<'_, T>,
+    options: &SolveOptions<T>,
+    scratch: &mut [[T; D]],
+) -> Result<SolveReport<T>> {
+    let n = sys.node_count();
+    check_values("values", values, n)?;
+    constraints.check_mask(sys.fixed())?;
+    options.check()?;
+    let method = match solver {
+        LinearSolver::Method(LinearMethod::Jacobi) => Method::Jacobi,
+        LinearSolver::Method(LinearMethod::GaussSeidel) => Method::Sor(T::ONE),
+        LinearSolver::Method(LinearMethod::Sor { omega }) => {
+            check_omega(omega)?;
+            Method::Sor(omega)
+        }
+        LinearSolver::Method(LinearMethod::Cg { preconditioner }) => {
+            if let Preconditioner::Ssor { omega } = preconditioner {
+                check_omega(omega)?;
+            }
+            Method::Cg(Pre::Linear(preconditioner))
+        }
+        LinearSolver::Amg(h) => {
+            h.check_system(sys)?;
+            Method::Cg(Pre::Amg(h))
+        }
+    };
+    let needed = solve_linear_sliding_scratch_len(&solver, n);
+    if scratch.len() < needed {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed,
+            actual: scratch.len(),
+        });
+    }
+    solve(&LinearOp(sys), Some(sys), constraints, values, method, options, scratch)
+}
+
+/// Number of `[T; D]` scratch items [`solve_angle_sliding`] needs: `n` (the scaled copy) plus
+/// `n` for [`AngleMethod::DirectJacobi`], nothing more for [`AngleMethod::DirectGaussSeidel`],
+/// `4 n` for [`AngleMethod::Cg`]; at least the rigidity probe's `4 n` when `ε = 0`.
+pub fn solve_angle_sliding_scratch_len<T: Real, const D: usize>(
+    sys: &AngleSystem<'_, T, D>,
+    method: AngleMethod,
+) -> usize {
+    let n = sys.base().node_count();
+    let solve = match method {
+        AngleMethod::DirectJacobi => n.saturating_mul(2),
+        AngleMethod::DirectGaussSeidel => n,
+        AngleMethod::Cg => n.saturating_mul(5),
+    };
+    if sys.epsilon() == T::ZERO {
+        solve.max(angle_probe_scratch_len(sys))
+    } else {
+        solve
+    }
+}
+
+/// Solves the angle-inclusion springs with sliding nodes (see the [module
+/// documentation](self)): the direct method solves each node's projected block (in
+/// Gauss–Seidel order over-relaxed by `omega`, 1 = plain, or in Jacobi order), CG runs on the
+/// projected system with the projected node blocks as preconditioner. With `ε = 0` the
+/// unconstrained system's rigidity probe runs first (a rigid unconstrained system stays rigid
+/// when nodes are restricted further). Values, report and sliding guarantee as in
+/// [`solve_linear_sliding`].
+///
+/// # Errors (values untouched)
+/// Those of [`solve_linear_sliding`] and of [`solve_angle`](super::solve_angle) (probe);
+/// `omega` outside `(0, 2)` for any method.
+pub fn solve_angle_sliding<T: Real, const D: usize>(
+    sys: &AngleSystem<'_, T, D>,
+    constraints: &Constraints<'_, T, D>,
+    values: &mut [[T; D]],
+    method: AngleMethod,
+    omega: T,
+    options: &SolveOptions<T>,
+    scratch: &mut [[T; D]],
+) -> Result<SolveReport<T>> {
+    let n = sys.base().node_count();
+    check_values("values", values, n)?;
+    constraints.check_mask(sys.base().fixed())?;
+    options.check()?;
+    check_omega(omega)?;
+    let needed = solve_angle_sliding_scratch_len(sys, method);
+    if scratch.len() < needed {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed,
+            actual: scratch.len(),
+        });
+    }
+    if sys.epsilon() == T::ZERO {
+        let s = angle_rigidity_probe(sys, options, scratch)?;
+        if s > T::from_f64(MAX_AMPLIFICATION) {
+            return Err(Error::SingularSystem { iteration: 0 });
+        }
+    }
+    let m = match method {
+        AngleMethod::DirectGaussSeidel => Method::Sor(omega),
+        AngleMethod::DirectJacobi => Method::Jacobi,
+        AngleMethod::Cg => Method::Cg(Pre::Blocks),
+    };
+    solve(&AngleOp(sys), None, constraints, values, m, options, scratch)
+}
+
+/// `(‖P (b − K x)‖, ‖P b‖)` over the non-fixed nodes, without overflow or underflow.
+fn norms<T: Real, const D: usize, O: BlockOp<T, D>>(
+    op: &O,
+    c: &Constraints<'_, T, D>,
+    x: &[[T; D]],
+) -> (Norm<T>, Norm<T>) {
+    let each = |f: &mut dyn FnMut(&[T; D], &[T; D])| {
+        for i in 0..op.n() {
+            if !op.fixed(i) {
+                let r = c.project(i, op.node(i, x).0);
+                let b = c.project(i, op.pull(i, x));
+                f(&r, &b);
+            }
+        }
+    };
+    let mut rs = SumSq::new();
+    let mut bs = SumSq::new();
+    each(&mut |r, b| {
+        for (&r, &b) in r.iter().zip(b) {
+            rs.add(r);
+            bs.add(b);
+        }
+    });
+    let (pr, pb) = (rs.plain(), bs.plain());
+    match (pr, pb) {
+        (Ok(r), Ok(b)) => (r, b),
+        _ => {
+            let er = pr.err().unwrap_or(0);
+            let eb = pb.err().unwrap_or(0);
+            let (qr, qb) = (T::pow2(-er), T::pow2(-eb));
+            let mut sr = T::ZERO;
+            let mut sb = T::ZERO;
+            each(&mut |r, b| {
+                for (&r, &b) in r.iter().zip(b) {
+                    let (r, b) = (r * qr, b * qb);
+                    sr += r * r;
+                    sb += b * b;
+                }
+            });
+            (
+                pr.unwrap_or_else(|_| Norm::from_sum(sr, er)),
+                pb.unwrap_or_else(|_| Norm::from_sum(sb, eb)),
+            )
+        }
+    }
+}
+
+/// Runs `method` on a scaled copy in `scratch` and writes the result back on success.
+fn solve<T: Real, const D: usize, O: BlockOp<T, D>>(
+    op: &O,
+    sys: Option<&SpringSystem<'_, T>>,
+    c: &Constraints<'_, T, D>,
+    values: &mut [[T; D]],
+    method: Method<'_, T>,
+    options: &SolveOptions<T>,
+    scratch: &mut [[T; D]],
+) -> Result<SolveReport<T>> {
+    let n = op.n();
+    // Scale: values to about 1/√k_max, so k x² and the residuals stay near 1.
+    let kmax = op.kmax();
+    let vmax = values
+        .iter()
+        .flatten()
+        .fold(T::ZERO, |m, &v| m.max(v.abs()));
+    let limit = T::MAX.exponent() - 1;
+    let ev = if vmax > T::ZERO { vmax.exponent() } else { 0 };
+    let ek = if kmax > T::ZERO { kmax.exponent() / 2 } else { 0 };
+    let e = (ev + ek).clamp(-limit, limit);
+    let down = T::pow2(-e);
+    if !(op.row_max() * T::from_f64(4.0) * (vmax * down)).is_finite() {
+        return Err(Error::Overflow { arg: "stiffness" });
+    }
+    let (x, rest) = scratch.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+    if x.len() != n {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed: n,
+            actual: 0,
+        });
+    }
+    for (i, (x, &v)) in x.iter_mut().zip(values.iter()).enumerate() {
+        let s = vector::scale(v, down);
+        *x = if op.fixed(i) { s } else { c.project(i, s) };
+    }
+    let mut report = match method {
+        Method::Jacobi => stationary(op, c, x, rest, None, options, e),
+        Method::Sor(omega) => stationary(op, c, x, rest, Some(omega), options, e),
+        Method::Cg(pre) => cg(op, sys, c, x, rest, pre, options, e)?,
+    };
+    report.max_update = scale_by(report.max_update, e);
+    let up = T::pow2(e);
+    for (i, xi) in x.iter().enumerate() {
+        if !op.fixed(i) && !c.project(i, vector::scale(*xi, up)).iter().all(|v| v.is_finite()) {
+            return Err(Error::Overflow { arg: "values" });
+        }
+    }
+    for (i, (v, xi)) in values.iter_mut().zip(x.iter()).enumerate() {
+        if !op.fixed(i) {
+            *v = c.project(i, vector::scale(*xi, up));
+        }
+    }
+    Ok(report)
+}
+
+/// Jacobi (`omega = None`, second field in `other`) or in-place block SOR sweeps on `x`.
+fn stationary<T: Real, const D: usize, O: BlockOp<T, D>>(
+    op: &O,
+    c: &Constraints<'_, T, D>,
+    x: &mut [[T; D]],
+    other: &mut [[T; D]],
+    omega: Option<T>,
+    options: &SolveOptions<T>,
+    e: i32,
+) -> SolveReport<T> {
+    let n = op.n();
+    let other = other.get_mut(..n).unwrap_or(&mut []);
+    if omega.is_none() {
+        for (o, &v) in other.iter_mut().zip(x.iter()) {
+            *o = v;
+        }
+    }
+    let (r0, bnorm) = norms(op, c, x);
+    let est_exp = sweep_exponent(&r0, &bnorm);
+    let sigma = T::pow2(-est_exp);
+    let mut report = SolveReport {
+        iterations: 0,
+        residual: r0.relative_to(bnorm),
+        max_update: T::ZERO,
+        converged: false,
+    };
+    if report.residual <= options.residual_tol {
+        report.converged = true;
+        return report;
+    }
+    let mut in_other = false;
+    let mut checked = false;
+    while report.iterations < options.max_iterations {
+        let mut max_change = T::ZERO;
+        let mut rsq = T::ZERO;
+        let mut visit = |i: usize, src: &[[T; D]]| -> Option<[T; D]> {
+            if op.fixed(i) {
+                return None;
+            }
+            let (r, m) = op.node(i, src);
+            let pr = c.project(i, r);
+            let d = op.block_solve(c, i, &m, pr);
+            let d = match omega {
+                Some(w) => vector::scale(d, w),
+                None => d,
+            };
+            for (&dc, &rc) in d.iter().zip(&pr) {
+                max_change = max_change.max(dc.abs());
+                let rs = rc * sigma;
+                rsq += rs * rs;
+            }
+            Some(d)
+        };
+        match omega {
+            Some(_) => {
+                for i in 0..n {
+                    if let Some(d) = visit(i, x) {
+                        if let Some(xi) = x.get_mut(i) {
+                            *xi = vector::add(*xi, d);
+                        }
+                    }
+                }
+            }
+            None => {
+                let (src, dst): (&[[T; D]], &mut [[T; D]]) = if in_other {
+                    (&*other, &mut *x)
+                } else {
+                    (&*x, &mut *other)
+                };
+                for i in 0..n {
+                    let new = match visit(i, src) {
+                        Some(d) => vector::add(src.get(i).copied().unwrap_or([T::ZERO; D]), d),
+                        None => src.get(i).copied().unwrap_or([T::ZERO; D]),
+                    };
+                    if let Some(o) = dst.get_mut(i) {
+                        *o = new;
+                    }
+                }
+                in_other = !in_other;
+            }
+        }
+        report.iterations += 1;
+        report.max_update = max_change;
+        let estimate = Norm::from_sum(rsq, est_exp).relative_to(bnorm);
+        let unscaled_update = scale_by(max_change, e);
+        checked = false;
+        if options.met(estimate, unscaled_update) {
+            let current: &[[T; D]] = if in_other { other } else { x };
+            let (r, _) = norms(op, c, current);
+            report.residual = r.relative_to(bnorm);
+            checked = true;
+            if options.met(report.residual, unscaled_update) {
+                report.converged = true;
+                break;
+            }
+        }
+    }
+    if in_other {
+        for (v, o) in x.iter_mut().zip(other.iter()) {
+            *v = *o;
+        }
+    }
+    if !checked {
+        let (r, _) = norms(op, c, x);
+        report.residual = r.relative_to(bnorm);
+    }
+    report
+}
+
+/// `Σ aᵀ b` over all nodes, in node order.
+fn dot_all<T: Real, const D: usize>(a: &[[T; D]], b: &[[T; D]]) -> T {
+    a.iter()
+        .zip(b)
+        .fold(T::ZERO, |s, (x, y)| s + vector::dot(*x, *y))
+}
+
+/// `z = P M⁻¹ r` (zero at fixed nodes).
+#[allow(clippy::too_many_arguments)]
+fn apply_pre<T: Real, const D: usize, O: BlockOp<T, D>>(
+    op: &O,
+    sys: Option<&SpringSystem<'_, T>>,
+    c: &Constraints<'_, T, D>,
+    pre: Pre<'_, T>,
+    diag: &[T],
+    r: &[[T; D]],
+    z: &mut [[T; D]],
+    work: &mut [[T; D]],
+) -> Result<()> {
+    match (pre, sys) {
+        (Pre::Linear(p), Some(s)) => precondition(s, diag, p, r, z),
+        (Pre::Amg(h), Some(s)) => amg_precondition(s, h, r, z, work)?,
+        _ => {
+            for (i, (z, &r)) in z.iter_mut().zip(r).enumerate() {
+                *z = if op.fixed(i) {
+                    [T::ZERO; D]
+                } else {
+                    let (_, m) = op.node(i, &[]);
+                    op.block_solve(c, i, &m, r)
+                };
+            }
+        }
+    }
+    for (i, z) in z.iter_mut().enumerate() {
+        *z = if op.fixed(i) {
+            [T::ZERO; D]
+        } else {
+            c.project(i, *z)
+        };
+    }
+    Ok(())
+}
+
+/// Projected preconditioned CG on the scaled copy `x`.
+#[allow(clippy::too_many_arguments)]
+fn cg<T: Real, const D: usize, O: BlockOp<T, D>>(
+    op: &O,
+    sys: Option<&SpringSystem<'_, T>>,
+    c: &Constraints<'_, T, D>,
+    x: &mut [[T; D]],
+    rest: &mut [[T; D]],
+    pre: Pre<'_, T>,
+    options: &SolveOptions<T>,
+    e: i32,
+) -> Result<SolveReport<T>> {
+    let n = op.n();
+    let (r, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+    let (p, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+    let (q, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+    let (z, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+    let (diag_items, work) = match pre {
+        Pre::Linear(_) => rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut [])),
+        _ => (&mut [][..], rest),
+    };
+    let diag = diag_items.as_flattened_mut().get_mut(..n).unwrap_or(&mut []);
+    if let (Pre::Linear(_), Some(s)) = (pre, sys) {
+        diagonal(s, diag);
+    }
+    let diag: &[T] = diag;
+    let (r0, bnorm) = norms(op, c, x);
+    let mut report = SolveReport {
+        iterations: 0,
+        residual: r0.relative_to(bnorm),
+        max_update: T::ZERO,
+        converged: false,
+    };
+    if report.residual <= options.residual_tol {
+        report.converged = true;
+        return Ok(report);
+    }
+    // (Re)start: r = P (b − K x), z = P M⁻¹ r, p = z.
+    let restart = |x: &[[T; D]],
+                   r: &mut [[T; D]],
+                   p: &mut [[T; D]],
+                   z: &mut [[T; D]],
+                   work: &mut [[T; D]]|
+     -> Result<T> {
+        for (i, ri) in r.iter_mut().enumerate() {
+            *ri = if op.fixed(i) {
+                [T::ZERO; D]
+            } else {
+                c.project(i, op.node(i, x).0)
+            };
+        }
+        apply_pre(op, sys, c, pre, diag, r, z, work)?;
+        for (p, &zi) in p.iter_mut().zip(z.iter()) {
+            *p = zi;
+        }
+        Ok(dot_all(r, z))
+    };
+    let mut rz = restart(x, r, p, z, work)?;
+    let mut checked = true;
+    while report.iterations < options.max_iterations {
+        report.iterations += 1;
+        // q = P K p (p is zero at fixed nodes: node() gives −(K p)_i).
+        for (i, qi) in q.iter_mut().enumerate() {
+            *qi = if op.fixed(i) {
+                [T::ZERO; D]
+            } else {
+                c.project(i, vector::scale(op.node(i, p).0, -T::ONE))
+            };
+        }
+        let pq = dot_all(p, q);
+        if !(pq.is_finite() && rz.is_finite()) {
+            return Err(Error::Overflow { arg: "values" });
+        }
+        if rz == T::ZERO {
+            report.converged = true;
+            break;
+        }
+        if pq <= T::ZERO {
+            return Err(Error::SingularSystem {
+                iteration: report.iterations,
+            });
+        }
+        let alpha = rz / pq;
+        let mut max_update = T::ZERO;
+        let mut rr = T::ZERO;
+        for (((xi, ri), &pi), &qi) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter())
+        {
+            for (((xc, rc), &pc), &qc) in xi.iter_mut().zip(ri.iter_mut()).zip(&pi).zip(&qi) {
+                let dx = alpha * pc;
+                *xc += dx;
+                *rc -= alpha * qc;
+                max_update = max_update.max(dx.abs());
+                rr += *rc * *rc;
+            }
+        }
+        report.max_update = max_update;
+        let unscaled_update = scale_by(max_update, e);
+        checked = false;
+        let estimate_ok = rr.is_finite();
+        let estimate = Norm::from_sum(rr, 0).relative_to(bnorm);
+        if !estimate_ok || options.met(estimate, unscaled_update) {
+            let (rt, _) = norms(op, c, x);
+            report.residual = rt.relative_to(bnorm);
+            checked = true;
+            if options.met(report.residual, unscaled_update) {
+                report.converged = true;
+                break;
+            }
+            if estimate_ok {
+                rz = restart(x, r, p, z, work)?;
+                continue;
+            }
+        }
+        apply_pre(op, sys, c, pre, diag, r, z, work)?;
+        let rz_new = dot_all(r, z);
+        let beta = if rz == T::ZERO { T::ZERO } else { rz_new / rz };
+        for (pi, &zi) in p.iter_mut().zip(z.iter()) {
+            for (pc, &zc) in pi.iter_mut().zip(&zi) {
+                *pc = zc + beta * *pc;
+            }
+        }
+        rz = rz_new;
+    }
+    if !checked {
+        let (rt, _) = norms(op, c, x);
+        report.residual = rt.relative_to(bnorm);
+    }
+    Ok(report)
+}
