@@ -36,6 +36,7 @@ mod amg;
 mod deformation;
 mod foundation;
 mod quality;
+mod slide;
 mod spring;
 mod taubin;
 
@@ -47,6 +48,7 @@ fn main() -> ! {
     quality::exercise();
     taubin::exercise();
     deformation::exercise();
+    slide::exercise();
     #[cfg(feature = "deliberate-panic")]
     deliberate_panic();
     loop {
