@@ -50,7 +50,11 @@ fuzz_target!(|inp: Input| {
     }
     let points: Vec<[f64; 2]> = (0..n)
         .map(|i| {
-            let p = inp.points.get(i).copied().unwrap_or([i as i16, (i * i) as i16]);
+            let p = inp
+                .points
+                .get(i)
+                .copied()
+                .unwrap_or([i as i16, (i * i) as i16]);
             [f64::from(p[0]) / 16.0, f64::from(p[1]) / 16.0]
         })
         .collect();

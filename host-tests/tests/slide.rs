@@ -2,7 +2,9 @@
 //! dense reference, and half-models (2D annulus, 3D box with an inner box) whose symmetry
 //! plane slides instead of being pinned.
 
-use deform_kernel::deformation::{deform_idw, deform_idw_scratch_len, BoundaryMotion, RotationSource};
+use deform_kernel::deformation::{
+    deform_idw, deform_idw_scratch_len, BoundaryMotion, RotationSource,
+};
 use deform_kernel::quality::compare;
 use deform_kernel::slide::{fit_plane, plane_intersection, slide_points, Constraints, NodeKind};
 use deform_kernel::spring::{
@@ -38,8 +40,11 @@ impl<const D: usize> Half<D> {
         let (mut offsets, mut nodes, mut kinds) = (vec![0u32], Vec::new(), Vec::new());
         for c in 0..mesh.cell_count() {
             let (kind, cn) = mesh.cell(c).unwrap();
-            let centroid: f64 =
-                cn.iter().map(|&i| mesh.points[i as usize][axis]).sum::<f64>() / cn.len() as f64;
+            let centroid: f64 = cn
+                .iter()
+                .map(|&i| mesh.points[i as usize][axis])
+                .sum::<f64>()
+                / cn.len() as f64;
             if centroid <= cut {
                 continue;
             }
@@ -130,8 +135,16 @@ impl<const D: usize> Half<D> {
     fn size(&self) -> f64 {
         (0..D)
             .map(|c| {
-                let lo = self.points.iter().map(|p| p[c]).fold(f64::INFINITY, f64::min);
-                let hi = self.points.iter().map(|p| p[c]).fold(-f64::INFINITY, f64::max);
+                let lo = self
+                    .points
+                    .iter()
+                    .map(|p| p[c])
+                    .fold(f64::INFINITY, f64::min);
+                let hi = self
+                    .points
+                    .iter()
+                    .map(|p| p[c])
+                    .fold(-f64::INFINITY, f64::max);
                 hi - lo
             })
             .fold(0.0, f64::max)
@@ -306,7 +319,9 @@ fn dense_reference<const D: usize>(
     let rhs = -(z.transpose() * (&kmat * &df));
     let y = a.cholesky().expect("SPD").solve(&rhs);
     let d = df + &z * y;
-    (0..n).map(|i| std::array::from_fn(|c| d[D * i + c])).collect()
+    (0..n)
+        .map(|i| std::array::from_fn(|c| d[D * i + c]))
+        .collect()
 }
 
 fn max_diff<const D: usize>(a: &[[f64; D]], b: &[[f64; D]]) -> f64 {
@@ -393,8 +408,8 @@ fn angle_matches_dense_reference() {
         ] {
             let mut d = fixed.clone();
             let mut work = vec![[0.0; D]; solve_angle_sliding_scratch_len(&asys, method)];
-            let r = solve_angle_sliding(&asys, &c, &mut d, method, omega, &opts, &mut work)
-                .unwrap();
+            let r =
+                solve_angle_sliding(&asys, &c, &mut d, method, omega, &opts, &mut work).unwrap();
             if method == AngleMethod::DirectJacobi && !r.converged {
                 continue; // block Jacobi is not guaranteed to converge on this operator
             }
@@ -431,7 +446,10 @@ fn half_models_slide_and_beat_pinned() {
                     .fold(0.0, f64::max)
             })
             .fold(0.0, f64::max);
-        assert!(moved > 1e-3, "{name}: symmetry nodes did not move ({moved:e})");
+        assert!(
+            moved > 1e-3,
+            "{name}: symmetry nodes did not move ({moved:e})"
+        );
         let (rs, rp) = (h.min_ratio(&slid), h.min_ratio(&pinned));
         eprintln!("{name}: min ratio sliding {rs:.4}, pinned {rp:.4}, off-plane {off:.2e}");
         assert!(rs > rp, "{name}: sliding {rs} <= pinned {rp}");
@@ -477,7 +495,16 @@ fn idw_then_slide_points() {
         let mut rot = vec![Quat::identity(); n];
         let mut scratch = vec![0.0; deform_idw_scratch_len::<2>(n, nodes.len())];
         let mut out = vec![[0.0; 2]; n];
-        deform_idw(&h.points, &motion, 3.0, &mut tr, &mut rot, &mut scratch, &mut out).unwrap();
+        deform_idw(
+            &h.points,
+            &motion,
+            3.0,
+            &mut tr,
+            &mut rot,
+            &mut scratch,
+            &mut out,
+        )
+        .unwrap();
         out
     };
     let (kinds, dirs, normal) = h.constraints(false);
@@ -532,7 +559,12 @@ fn fit_plane_against_svd() {
     assert!((cosine.abs() - 1.0).abs() < 1e-12, "{cosine}");
     let residual = pts
         .iter()
-        .map(|p| (0..3).map(|k| fit.normal[k] * (p[k] - fit.point[k])).sum::<f64>().abs())
+        .map(|p| {
+            (0..3)
+                .map(|k| fit.normal[k] * (p[k] - fit.point[k]))
+                .sum::<f64>()
+                .abs()
+        })
         .fold(0.0, f64::max);
     assert_eq!(fit.residual, residual);
     assert!(fit.residual < 1e-6 && fit.residual > 1e-8);
@@ -546,7 +578,10 @@ fn fit_plane_against_svd() {
     bent[3][0] += 1.0;
     assert!(matches!(
         fit_plane(&bent, &nodes, 1e-6),
-        Err(Error::NotPlanar { arg: "nodes", position: 3 })
+        Err(Error::NotPlanar {
+            arg: "nodes",
+            position: 3
+        })
     ));
     assert!(fit_plane(&bent, &nodes, f64::INFINITY).unwrap().residual > 0.1);
     // Collinear, coincident, too few, out of range, NaN.
@@ -565,20 +600,32 @@ fn fit_plane_against_svd() {
     ));
     assert!(matches!(
         fit_plane(&line, &[1, 2, 9], 1e-6),
-        Err(Error::IndexOutOfRange { arg: "nodes", position: 2, .. })
+        Err(Error::IndexOutOfRange {
+            arg: "nodes",
+            position: 2,
+            ..
+        })
     ));
     let mut nan = line.clone();
     nan[2][1] = f64::NAN;
     assert!(matches!(
         fit_plane(&nan, &[0, 1, 2], 1e-6),
-        Err(Error::NonFinite { arg: "points", position: 2 })
+        Err(Error::NonFinite {
+            arg: "points",
+            position: 2
+        })
     ));
     assert!(matches!(
         fit_plane(&pts, &nodes, f64::NAN),
-        Err(Error::InvalidParameter { arg: "tolerance", .. })
+        Err(Error::InvalidParameter {
+            arg: "tolerance",
+            ..
+        })
     ));
     // 2D: a line y = 2x + 1 gives the normal ±(−2, 1)/√5.
-    let l2: Vec<[f64; 2]> = (0..6).map(|k| [k as f64 * 0.3, 2.0 * k as f64 * 0.3 + 1.0]).collect();
+    let l2: Vec<[f64; 2]> = (0..6)
+        .map(|k| [k as f64 * 0.3, 2.0 * k as f64 * 0.3 + 1.0])
+        .collect();
     let f2 = fit_plane(&l2, &[0, 1, 2, 3, 4, 5], 1e-12).unwrap();
     let s5 = 5f64.sqrt();
     assert!((f2.normal[0] - 2.0 / s5).abs() < 1e-14 && (f2.normal[1] + 1.0 / s5).abs() < 1e-14);
@@ -610,7 +657,10 @@ fn line_constraint_on_quarter_box() {
     m.points = half.points.clone();
     for c in 0..half.kinds.len() {
         let (a, b) = (half.offsets[c] as usize, half.offsets[c + 1] as usize);
-        m.push_cell(deform_kernel::CellKind::from_vtk(half.kinds[c]).unwrap(), &half.nodes[a..b]);
+        m.push_cell(
+            deform_kernel::CellKind::from_vtk(half.kinds[c]).unwrap(),
+            &half.nodes[a..b],
+        );
     }
     m.markers = mesh.markers.clone();
     // Markers index the full mesh: rebuild them through the half's wall/outer lists.
@@ -680,7 +730,11 @@ fn line_constraint_on_quarter_box() {
     assert!(r.converged);
     assert!(max_diff(&d, &reference) / max_abs(&reference) < 1e-8);
     for &i in &on_line {
-        assert!(d[i][0].abs() <= 1e-15 && d[i][1].abs() <= 1e-15, "{:?}", d[i]);
+        assert!(
+            d[i][0].abs() <= 1e-15 && d[i][1].abs() <= 1e-15,
+            "{:?}",
+            d[i]
+        );
         assert!(d[i][2].abs() > 1e-4, "line node {i} did not slide");
     }
 }
@@ -692,25 +746,42 @@ fn bad_input_is_refused_untouched() {
     assert!(Constraints::new(&[0, 1, 2], &dirs).is_ok());
     assert!(matches!(
         Constraints::new(&[0, 4, 2], &dirs),
-        Err(Error::IndexOutOfRange { arg: "kinds", position: 1, index: 4, bound: 4 })
+        Err(Error::IndexOutOfRange {
+            arg: "kinds",
+            position: 1,
+            index: 4,
+            bound: 4
+        })
     ));
     assert!(matches!(
         Constraints::new(&[0, 1, 2], &[[0.0, 1.0], [0.0, 1.0], [0.6, 0.81]]),
-        Err(Error::NotUnit { arg: "directions", position: 2 })
+        Err(Error::NotUnit {
+            arg: "directions",
+            position: 2
+        })
     ));
     assert!(matches!(
         Constraints::new(&[0, 1, 3], &[[0.0, 1.0], [0.0, 1.0], [0.0, 0.0]]),
-        Err(Error::NotUnit { arg: "directions", position: 2 })
+        Err(Error::NotUnit {
+            arg: "directions",
+            position: 2
+        })
     ));
     assert!(matches!(
         Constraints::new(&[0, 1, 2], &[[0.0, 1.0], [0.0, 1.0], [f64::NAN, 1.0]]),
-        Err(Error::NonFinite { arg: "directions", position: 2 })
+        Err(Error::NonFinite {
+            arg: "directions",
+            position: 2
+        })
     ));
     // Directions of free and fixed nodes are ignored, NaN included.
     assert!(Constraints::new(&[0, 1], &[[f64::NAN; 2], [f64::INFINITY; 2]]).is_ok());
     assert!(matches!(
         Constraints::new(&[0, 1], &dirs),
-        Err(Error::LengthMismatch { arg: "directions", .. })
+        Err(Error::LengthMismatch {
+            arg: "directions",
+            ..
+        })
     ));
 
     // Solves: mask mismatch and NaN values leave the values bit for bit.
@@ -731,23 +802,42 @@ fn bad_input_is_refused_untouched() {
     let before = d.clone();
     assert!(matches!(
         solve_linear_sliding(&sys_wrong, &c, &mut d, solver, &opts, &mut work),
-        Err(Error::InvalidParameter { arg: "constraints", .. })
+        Err(Error::InvalidParameter {
+            arg: "constraints",
+            ..
+        })
     ));
     d[5][1] = f64::NAN;
     let nan_before: Vec<[u64; 2]> = d.iter().map(|v| v.map(f64::to_bits)).collect();
     assert!(matches!(
         solve_linear_sliding(&sys, &c, &mut d, solver, &opts, &mut work),
-        Err(Error::NonFinite { arg: "values", position: 5 })
+        Err(Error::NonFinite {
+            arg: "values",
+            position: 5
+        })
     ));
-    assert_eq!(nan_before, d.iter().map(|v| v.map(f64::to_bits)).collect::<Vec<_>>());
+    assert_eq!(
+        nan_before,
+        d.iter().map(|v| v.map(f64::to_bits)).collect::<Vec<_>>()
+    );
     d[5][1] = -0.0;
     assert_eq!(
-        before.iter().map(|v| v.map(f64::to_bits)).collect::<Vec<_>>(),
+        before
+            .iter()
+            .map(|v| v.map(f64::to_bits))
+            .collect::<Vec<_>>(),
         d.iter().map(|v| v.map(f64::to_bits)).collect::<Vec<_>>()
     );
     let mut short = vec![[0.0; 2]; 1];
     assert!(matches!(
-        solve_linear_sliding(&sys, &c, &mut d, LinearMethod::Jacobi.into(), &opts, &mut short),
+        solve_linear_sliding(
+            &sys,
+            &c,
+            &mut d,
+            LinearMethod::Jacobi.into(),
+            &opts,
+            &mut short
+        ),
         Err(Error::BufferTooSmall { arg: "scratch", .. })
     ));
     let bad = SolveOptions {
@@ -771,7 +861,10 @@ fn bad_input_is_refused_untouched() {
     let hb: Vec<[u64; 2]> = huge.iter().map(|v| v.map(f64::to_bits)).collect();
     let r = solve_linear_sliding(&sys_big, &c, &mut huge, solver, &opts, &mut work);
     if r.is_err() {
-        assert_eq!(hb, huge.iter().map(|v| v.map(f64::to_bits)).collect::<Vec<_>>());
+        assert_eq!(
+            hb,
+            huge.iter().map(|v| v.map(f64::to_bits)).collect::<Vec<_>>()
+        );
     } else {
         assert!(huge.iter().flatten().all(|x| x.is_finite()));
     }
@@ -782,12 +875,21 @@ fn bad_input_is_refused_untouched() {
     let pb: Vec<[u64; 2]> = pts.iter().map(|v| v.map(f64::to_bits)).collect();
     assert!(matches!(
         slide_points(&c, &h.points, &mut pts),
-        Err(Error::NonFinite { arg: "points", position: 0 })
+        Err(Error::NonFinite {
+            arg: "points",
+            position: 0
+        })
     ));
-    assert_eq!(pb, pts.iter().map(|v| v.map(f64::to_bits)).collect::<Vec<_>>());
+    assert_eq!(
+        pb,
+        pts.iter().map(|v| v.map(f64::to_bits)).collect::<Vec<_>>()
+    );
     assert!(matches!(
         slide_points(&c, &h.points[1..], &mut pts),
-        Err(Error::LengthMismatch { arg: "original", .. })
+        Err(Error::LengthMismatch {
+            arg: "original",
+            ..
+        })
     ));
 }
 
@@ -800,7 +902,11 @@ fn power_of_two_scaling_is_exact() {
     }
     .into();
     let a = h.solve([0.0, 0.3, 0.1], false, solver);
-    let b = h.solve([0.0, 0.3 * 2f64.powi(40), 0.1 * 2f64.powi(40)], false, solver);
+    let b = h.solve(
+        [0.0, 0.3 * 2f64.powi(40), 0.1 * 2f64.powi(40)],
+        false,
+        solver,
+    );
     for (x, y) in a.iter().zip(&b) {
         for (p, q) in x.iter().zip(y) {
             assert_eq!((p * 2f64.powi(40)).to_bits(), q.to_bits());

@@ -452,11 +452,11 @@ fn smallest_eigenvector<T: Real, const D: usize>(m: &[[T; D]; D]) -> Option<[T; 
                 *e = g(i, j);
             }
         }
-        let mut v = [[T::ONE, T::ZERO, T::ZERO], [T::ZERO, T::ONE, T::ZERO], [
-            T::ZERO,
-            T::ZERO,
-            T::ONE,
-        ]];
+        let mut v = [
+            [T::ONE, T::ZERO, T::ZERO],
+            [T::ZERO, T::ONE, T::ZERO],
+            [T::ZERO, T::ZERO, T::ONE],
+        ];
         jacobi_eigen(&mut a, &mut v);
         let l = [a[0][0], a[1][1], a[2][2]];
         // Index of the smallest eigenvalue (first on ties), and the other two.

@@ -240,7 +240,12 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
 
     /// Node `i`'s residual `Σ_j B_ij (x_j − x_i)` and block `A_ii`, in one pass over the row
     /// (both summed in CSR order, exactly as [`Self::node_block`] sums the block).
-    pub(super) fn node_residual(&self, i: usize, xi: [T; D], x: &[[T; D]]) -> ([T; D], [[T; D]; D]) {
+    pub(super) fn node_residual(
+        &self,
+        i: usize,
+        xi: [T; D],
+        x: &[[T; D]],
+    ) -> ([T; D], [[T; D]; D]) {
         let mut r = [T::ZERO; D];
         let mut m = [[T::ZERO; D]; D];
         for (j, k) in self.base.row(i) {

@@ -58,8 +58,13 @@ trait BlockOp<T: Real, const D: usize> {
     /// The fixed nodes' pull `b_i = Σ_{j fixed} B_ij x_j`.
     fn pull(&self, i: usize, x: &[[T; D]]) -> [T; D];
     /// `δ ∈ range(P_i)` with `P A P δ = pr` (`pr` already projected).
-    fn block_solve(&self, c: &Constraints<'_, T, D>, i: usize, m: &[[T; D]; D], pr: [T; D])
-        -> [T; D];
+    fn block_solve(
+        &self,
+        c: &Constraints<'_, T, D>,
+        i: usize,
+        m: &[[T; D]; D],
+        pr: [T; D],
+    ) -> [T; D];
     /// Largest edge stiffness (sets the scale of the CG copy).
     fn kmax(&self) -> T;
     /// Largest row sum `Σ_j k_ij (1 + ε)`: bounds every `|B v|` per unit `|v|`.
@@ -298,7 +303,15 @@ pub fn solve_linear_sliding<T: Real, const D: usize>(
             actual: scratch.len(),
         });
     }
-    solve(&LinearOp(sys), Some(sys), constraints, values, method, options, scratch)
+    solve(
+        &LinearOp(sys),
+        Some(sys),
+        constraints,
+        values,
+        method,
+        options,
+        scratch,
+    )
 }
 
 /// Number of `[T; D]` scratch items [`solve_angle_sliding`] needs: `n` (the scaled copy) plus
@@ -365,7 +378,15 @@ pub fn solve_angle_sliding<T: Real, const D: usize>(
         AngleMethod::DirectJacobi => Method::Jacobi,
         AngleMethod::Cg => Method::Cg(Pre::Blocks),
     };
-    solve(&AngleOp(sys), None, constraints, values, m, options, scratch)
+    solve(
+        &AngleOp(sys),
+        None,
+        constraints,
+        values,
+        m,
+        options,
+        scratch,
+    )
 }
 
 /// `(‖P (b − K x)‖, ‖P b‖)` over the non-fixed nodes, without overflow or underflow.
@@ -434,13 +455,19 @@ fn solve<T: Real, const D: usize, O: BlockOp<T, D>>(
         .fold(T::ZERO, |m, &v| m.max(v.abs()));
     let limit = T::MAX.exponent() - 1;
     let ev = if vmax > T::ZERO { vmax.exponent() } else { 0 };
-    let ek = if kmax > T::ZERO { kmax.exponent() / 2 } else { 0 };
+    let ek = if kmax > T::ZERO {
+        kmax.exponent() / 2
+    } else {
+        0
+    };
     let e = (ev + ek).clamp(-limit, limit);
     let down = T::pow2(-e);
     if !(op.row_max() * T::from_f64(4.0) * (vmax * down)).is_finite() {
         return Err(Error::Overflow { arg: "stiffness" });
     }
-    let (x, rest) = scratch.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+    let (x, rest) = scratch
+        .split_at_mut_checked(n)
+        .unwrap_or((&mut [], &mut []));
     if x.len() != n {
         return Err(Error::BufferTooSmall {
             arg: "scratch",
@@ -460,7 +487,12 @@ fn solve<T: Real, const D: usize, O: BlockOp<T, D>>(
     report.max_update = scale_by(report.max_update, e);
     let up = T::pow2(e);
     for (i, xi) in x.iter().enumerate() {
-        if !op.fixed(i) && !c.project(i, vector::scale(*xi, up)).iter().all(|v| v.is_finite()) {
+        if !op.fixed(i)
+            && !c
+                .project(i, vector::scale(*xi, up))
+                .iter()
+                .all(|v| v.is_finite())
+        {
             return Err(Error::Overflow { arg: "values" });
         }
     }
@@ -645,7 +677,10 @@ fn cg<T: Real, const D: usize, O: BlockOp<T, D>>(
         Pre::Linear(_) => rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut [])),
         _ => (&mut [][..], rest),
     };
-    let diag = diag_items.as_flattened_mut().get_mut(..n).unwrap_or(&mut []);
+    let diag = diag_items
+        .as_flattened_mut()
+        .get_mut(..n)
+        .unwrap_or(&mut []);
     if let (Pre::Linear(_), Some(s)) = (pre, sys) {
         diagonal(s, diag);
     }
@@ -709,8 +744,7 @@ fn cg<T: Real, const D: usize, O: BlockOp<T, D>>(
         let alpha = rz / pq;
         let mut max_update = T::ZERO;
         let mut rr = T::ZERO;
-        for (((xi, ri), &pi), &qi) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter())
-        {
+        for (((xi, ri), &pi), &qi) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter()) {
             for (((xc, rc), &pc), &qc) in xi.iter_mut().zip(ri.iter_mut()).zip(&pi).zip(&qi) {
                 let dx = alpha * pc;
                 *xc += dx;

@@ -39,7 +39,10 @@ pub fn exercise() {
         bb([1.0f64, 0.0, 0.0]),
         bb([0.0f64, 1.0, 0.0]),
     ));
-    keep(plane_intersection(bb([1.0f32, 0.0, 0.0]), bb([0.0f32, 1.0, 0.0])));
+    keep(plane_intersection(
+        bb([1.0f32, 0.0, 0.0]),
+        bb([0.0f32, 1.0, 0.0]),
+    ));
 }
 
 #[inline(always)]
@@ -120,7 +123,14 @@ fn run<T: Real, const D: usize>() {
         let len = solve_linear_sliding_scratch_len(&solver, bb(N));
         let mut y = x;
         let sc = scratch.get_mut(..len).unwrap_or(&mut []);
-        keep(solve_linear_sliding(&sys, &c, bb(&mut y[..]), solver, &opts, bb(sc)));
+        keep(solve_linear_sliding(
+            &sys,
+            &c,
+            bb(&mut y[..]),
+            solver,
+            &opts,
+            bb(sc),
+        ));
         keep(&y);
     }
     let amg_opts = bb(AmgOptions {
@@ -142,7 +152,14 @@ fn run<T: Real, const D: usize>() {
         let len = solve_linear_sliding_scratch_len(&solver, bb(N));
         let mut y = x;
         let sc = scratch.get_mut(..len).unwrap_or(&mut []);
-        keep(solve_linear_sliding(&sys, &c, bb(&mut y[..]), solver, &opts, bb(sc)));
+        keep(solve_linear_sliding(
+            &sys,
+            &c,
+            bb(&mut y[..]),
+            solver,
+            &opts,
+            bb(sc),
+        ));
         keep(&y);
     }
     for eps in [T::ZERO, T::from_f64(0.01)] {
