@@ -524,9 +524,9 @@ fn idw_then_slide_points() {
 /// refuses non-planar and collinear sets.
 #[test]
 fn fit_plane_against_svd() {
-    let n = [0.3, -0.5, 0.8];
-    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) as f64;
-    let n = n.map(|x: f64| x / len.sqrt());
+    let n: [f64; 3] = [0.3, -0.5, 0.8];
+    let len = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    let n = n.map(|x| x / len.sqrt());
     let u = [0.5 * n[1] - 0.0, -(0.5 * n[0]) + n[2], -n[1]]; // some vector
     let un = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
     let dot = (u[0] * n[0] + u[1] * n[1] + u[2] * n[2]) / un;

@@ -28,6 +28,23 @@
 //! projects its displacement. A line sliding on the intersection of two planes gets its
 //! tangent from [`plane_intersection`]; a plane given by a marker's nodes gets its normal from
 //! [`fit_plane`], which refuses node sets that are not planar within a tolerance.
+//!
+//! ```
+//! use deform_kernel::slide::{fit_plane, slide_points, Constraints, NodeKind};
+//! // Nodes 1 and 2 lie on the symmetry plane z = 0; node 0 is fixed, node 3 free.
+//! let points = [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [3.0, 1.0, 0.0]];
+//! let fit = fit_plane(&points, &[1, 2, 3], 1e-12)?;
+//! assert_eq!(fit.normal, [0.0, 0.0, 1.0]);
+//! let kinds = [NodeKind::Fixed as u8, NodeKind::Plane as u8, NodeKind::Plane as u8, 0];
+//! let dirs = [[0.0; 3], fit.normal, fit.normal, [0.0; 3]];
+//! let c = Constraints::new(&kinds, &dirs)?;
+//! // A propagation moved every node by (0.1, 0.2, 0.3); the plane nodes keep z = 0.
+//! let mut moved = points.map(|p| [p[0] + 0.1, p[1] + 0.2, p[2] + 0.3]);
+//! slide_points(&c, &points, &mut moved)?;
+//! assert_eq!(moved[1], [1.1, 0.2, 0.0]);
+//! assert_eq!(moved[3][2], 0.3);
+//! # Ok::<(), deform_kernel::Error>(())
+//! ```
 
 use crate::error::{Error, Result};
 use crate::real::Real;
@@ -477,7 +494,7 @@ fn smallest_eigenvector<T: Real, const D: usize>(m: &[[T; D]; D]) -> Option<[T; 
             _ => ([l[0], l[1]], [v[0][2], v[1][2], v[2][2]]),
         };
         let (lmid, lmax) = (others[0].min(others[1]), others[0].max(others[1]));
-        if !(lmid > T::from_f64(64.0) * T::EPSILON * lmax) {
+        if lmid.is_nan() || lmid <= T::from_f64(64.0) * T::EPSILON * lmax {
             return None;
         }
         for (o, x) in out.iter_mut().zip(col) {
