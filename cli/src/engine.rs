@@ -396,6 +396,126 @@ pub struct MoveResult {
     pub fixed_nodes: usize,
     /// Rotation centre used, when rotating.
     pub center: Option<[f64; 3]>,
+    /// Nodes sliding on a plane or on the line where two sliding planes meet (`--slide`).
+    pub sliding_nodes: usize,
+    /// Largest distance of a sliding node from its plane(s) after the motion, measured from
+    /// the written coordinates (0 without `--slide`).
+    pub max_slide_offset: f64,
+}
+
+/// A marker whose nodes slide on the plane (a line in 2D) fitted to them (`deform move
+/// --slide`).
+#[derive(Clone, Copy, Debug)]
+pub struct SlideMarker<'a> {
+    /// The marker's name (for messages).
+    pub name: &'a str,
+    /// Its boundary elements.
+    pub elements: &'a CellList,
+}
+
+/// How far a `--slide` marker's nodes may be from their least-squares plane: this fraction
+/// of the marker's size (the largest node distance from its centroid).
+pub const SLIDE_PLANE_TOLERANCE: f64 = 1e-6;
+
+/// The per-node constraint table of the sliding markers: kinds, directions, the normals of
+/// each sliding node's planes (for the offset check), and the nodes pinned because they lie
+/// on too many planes (3D: three or more; 2D: two) and are not on a moved or fixed marker.
+struct SlideTable<const D: usize> {
+    kinds: Vec<u8>,
+    directions: Vec<[f64; D]>,
+    planes: Vec<(u32, [f64; D])>,
+    pinned: Vec<u32>,
+    sliding: usize,
+}
+
+fn slide_table<const D: usize>(
+    pts: &[[f64; D]],
+    boundary: &[u32],
+    sliding: &[SlideMarker<'_>],
+) -> Result<SlideTable<D>, CliError> {
+    use deform_kernel::slide::{fit_plane, plane_intersection, NodeKind};
+    let n = pts.len();
+    let mut normals: Vec<Vec<[f64; D]>> = vec![Vec::new(); n];
+    for m in sliding {
+        let nodes = sorted_nodes(&[m.elements]);
+        if let Some(&bad) = nodes.iter().find(|&&b| b as usize >= n) {
+            return Err(CliError::Invalid(format!(
+                "--slide {}: marker node {bad} is not a mesh node",
+                m.name
+            )));
+        }
+        let fit = fit_plane(pts, &nodes, f64::INFINITY)
+            .map_err(|e| CliError::Invalid(format!("--slide {}: {e}", m.name)))?;
+        if fit.residual > SLIDE_PLANE_TOLERANCE * fit.extent {
+            let what = if D == 2 { "straight" } else { "planar" };
+            return Err(CliError::Invalid(format!(
+                "--slide {}: the marker is not {what}: a node is {:.3e} from the best-fit {} \
+                 (more than {SLIDE_PLANE_TOLERANCE:e} x the marker's size {:.3e}); only flat \
+                 symmetry planes can slide",
+                m.name,
+                fit.residual,
+                if D == 2 { "line" } else { "plane" },
+                fit.extent
+            )));
+        }
+        for &v in &nodes {
+            if let Some(list) = normals.get_mut(v as usize) {
+                list.push(fit.normal);
+            }
+        }
+    }
+    let mut t = SlideTable {
+        kinds: vec![NodeKind::Free.code(); n],
+        directions: vec![[0.0; D]; n],
+        planes: Vec::new(),
+        pinned: Vec::new(),
+        sliding: 0,
+    };
+    for &b in boundary {
+        if let Some(k) = t.kinds.get_mut(b as usize) {
+            *k = NodeKind::Fixed.code();
+        }
+    }
+    for (i, list) in normals.iter().enumerate() {
+        if list.is_empty() || t.kinds.get(i) == Some(&NodeKind::Fixed.code()) {
+            continue;
+        }
+        // Distinct planes only (two markers on one plane count once).
+        let mut distinct: Vec<[f64; D]> = Vec::new();
+        for nv in list {
+            let parallel = distinct
+                .iter()
+                .any(|d| d.iter().zip(nv).map(|(a, b)| a * b).sum::<f64>().abs() >= 1.0 - 1e-9);
+            if !parallel {
+                distinct.push(*nv);
+            }
+        }
+        let (kind, dir) = match distinct.as_slice() {
+            [a] => (NodeKind::Plane, *a),
+            [a, b] if D == 3 => {
+                let lift = |v: &[f64; D]| [v[0], v[1], v.get(2).copied().unwrap_or(0.0)];
+                let tan = plane_intersection(lift(a), lift(b))
+                    .map_err(|e| CliError::Invalid(format!("--slide: {e}")))?;
+                let mut d = [0.0; D];
+                for (x, y) in d.iter_mut().zip(tan) {
+                    *x = y;
+                }
+                (NodeKind::Line, d)
+            }
+            _ => (NodeKind::Fixed, [0.0; D]),
+        };
+        t.kinds[i] = kind.code();
+        t.directions[i] = dir;
+        if kind == NodeKind::Fixed {
+            t.pinned.push(i as u32);
+        } else {
+            t.sliding += 1;
+            for nv in &distinct {
+                t.planes.push((i as u32, *nv));
+            }
+        }
+    }
+    Ok(t)
 }
 
 fn sorted_nodes(lists: &[&CellList]) -> Vec<u32> {
@@ -407,9 +527,21 @@ fn sorted_nodes(lists: &[&CellList]) -> Vec<u32> {
 
 /// Runs a mesh motion.
 pub fn run_move(input: &MoveInput<'_>) -> Result<MoveResult, CliError> {
+    run_move_sliding(input, &[])
+}
+
+/// Runs a mesh motion in which the nodes of the `sliding` markers (not on a moved or fixed
+/// marker) slide on their markers' least-squares planes, and nodes on two such planes (3D)
+/// on the line where they meet; a marker that is not planar within
+/// [`SLIDE_PLANE_TOLERANCE`] is refused. Springs solve the constrained system; the quaternion
+/// methods and IDW propagate the sliding nodes as field nodes and then project their motion.
+pub fn run_move_sliding(
+    input: &MoveInput<'_>,
+    sliding: &[SlideMarker<'_>],
+) -> Result<MoveResult, CliError> {
     match input.dim {
-        2 => move_d::<2, 6>(input),
-        3 => move_d::<3, 7>(input),
+        2 => move_d::<2, 6>(input, sliding),
+        3 => move_d::<3, 7>(input, sliding),
         d => Err(CliError::Invalid(format!("dimension {d} is not 2 or 3"))),
     }
 }
@@ -457,15 +589,21 @@ impl AmgStorage {
     }
 }
 
-fn move_d<const D: usize, const V: usize>(input: &MoveInput<'_>) -> Result<MoveResult, CliError> {
+fn move_d<const D: usize, const V: usize>(
+    input: &MoveInput<'_>,
+    sliding: &[SlideMarker<'_>],
+) -> Result<MoveResult, CliError> {
     use deform_kernel::deformation::{
         deform_idw, deform_idw_scratch_len, deform_spring_scratch_len, deform_spring_with,
         propagate_spring_with_scratch_len, BoundaryMotion, RotationSource,
     };
+    use deform_kernel::slide::{slide_points, Constraints};
     use deform_kernel::spring::{
-        angle_scratch_len, batina_stiffness, solve_angle, solve_angle_sor, solve_linear_with,
-        solve_linear_with_scratch_len, AngleMethod, AngleSystem, LinearSolver, SolveOptions,
-        SpringSystem, DEFAULT_ANGLE_EPSILON,
+        angle_scratch_len, batina_stiffness, solve_angle, solve_angle_sliding,
+        solve_angle_sliding_scratch_len, solve_angle_sor, solve_linear_sliding,
+        solve_linear_sliding_scratch_len, solve_linear_with, solve_linear_with_scratch_len,
+        AngleMethod, AngleSystem, LinearSolver, SolveOptions, SpringSystem,
+        DEFAULT_ANGLE_EPSILON,
     };
     use deform_kernel::Quat;
 
@@ -478,7 +616,6 @@ fn move_d<const D: usize, const V: usize>(input: &MoveInput<'_>) -> Result<MoveR
     boundary.extend(sorted_nodes(&input.fixed));
     boundary.sort_unstable();
     boundary.dedup();
-    let fixed_nodes = boundary.len() - moved.len();
     if let Some(&bad) = boundary.iter().find(|&&b| b as usize >= n) {
         return Err(CliError::Invalid(format!(
             "marker node {bad} is not a mesh node"
@@ -545,6 +682,22 @@ fn move_d<const D: usize, const V: usize>(input: &MoveInput<'_>) -> Result<MoveR
 
     let view = cells_view(input.cells, n)?;
     let pts = points_d::<D>(input.points);
+    let table = if sliding.is_empty() {
+        None
+    } else {
+        let t = slide_table(&pts, &boundary, sliding)?;
+        // Nodes on too many sliding planes are held where they are.
+        boundary.extend(&t.pinned);
+        boundary.sort_unstable();
+        Some(t)
+    };
+    let fixed_nodes = boundary.len() - moved.len();
+    let constraints = match &table {
+        Some(t) => Some(
+            Constraints::new(&t.kinds, &t.directions).map_err(kernel("sliding constraints"))?,
+        ),
+        None => None,
+    };
     let mut fixed = vec![0u8; n];
     for &b in &boundary {
         if let Some(f) = fixed.get_mut(b as usize) {
@@ -587,9 +740,19 @@ fn move_d<const D: usize, const V: usize>(input: &MoveInput<'_>) -> Result<MoveR
                         LinearSolver::Amg(&hierarchy)
                     }
                 };
-                let mut scratch = vec![[0.0; D]; solve_linear_with_scratch_len(&solver, n)];
-                solve_linear_with(&sys, &mut values, solver, &options, &mut scratch)
-                    .map_err(kernel("linear springs"))?
+                match &constraints {
+                    Some(c) => {
+                        let len = solve_linear_sliding_scratch_len(&solver, n);
+                        let mut scratch = vec![[0.0; D]; len];
+                        solve_linear_sliding(&sys, c, &mut values, solver, &options, &mut scratch)
+                    }
+                    None => {
+                        let len = solve_linear_with_scratch_len(&solver, n);
+                        let mut scratch = vec![[0.0; D]; len];
+                        solve_linear_with(&sys, &mut values, solver, &options, &mut scratch)
+                    }
+                }
+                .map_err(kernel("linear springs"))?
             } else {
                 let asys = AngleSystem::new(sys, &pts, DEFAULT_ANGLE_EPSILON)
                     .map_err(kernel("angle springs"))?;
@@ -598,10 +761,23 @@ fn move_d<const D: usize, const V: usize>(input: &MoveInput<'_>) -> Result<MoveR
                     (_, MoveSolver::Jacobi) => AngleMethod::DirectJacobi,
                     _ => AngleMethod::DirectGaussSeidel,
                 };
-                let mut scratch = vec![[0.0; D]; angle_scratch_len(&asys, method)];
                 let sor = input.method == MoveMethod::AngleDirect
                     && !matches!(input.solver, MoveSolver::GaussSeidel | MoveSolver::Jacobi);
-                if sor {
+                if let Some(c) = &constraints {
+                    let len = solve_angle_sliding_scratch_len(&asys, method);
+                    let mut scratch = vec![[0.0; D]; len];
+                    let omega = if sor { angle_direct_omega(n, D) } else { 1.0 };
+                    solve_angle_sliding(
+                        &asys,
+                        c,
+                        &mut values,
+                        method,
+                        omega,
+                        &options,
+                        &mut scratch,
+                    )
+                } else if sor {
+                    let mut scratch = vec![[0.0; D]; angle_scratch_len(&asys, method)];
                     solve_angle_sor(
                         &asys,
                         &mut values,
@@ -610,6 +786,7 @@ fn move_d<const D: usize, const V: usize>(input: &MoveInput<'_>) -> Result<MoveR
                         &mut scratch,
                     )
                 } else {
+                    let mut scratch = vec![[0.0; D]; angle_scratch_len(&asys, method)];
                     solve_angle(&asys, &mut values, method, &options, &mut scratch)
                 }
                 .map_err(kernel("angle springs"))?
@@ -735,6 +912,22 @@ fn move_d<const D: usize, const V: usize>(input: &MoveInput<'_>) -> Result<MoveR
             }
         }
     };
+    if let Some(c) = &constraints {
+        // Spring solves already moved the sliding nodes along their planes; the quaternion
+        // methods and IDW moved them as field nodes: project their motion (exact for springs
+        // up to rounding, so done for every method).
+        slide_points(c, &pts, &mut out).map_err(kernel("sliding"))?;
+    }
+    let max_slide_offset = table.as_ref().map_or(0.0, |t| {
+        t.planes.iter().fold(0.0f64, |m, &(i, nv)| {
+            let (a, b) = (
+                out.get(i as usize).copied().unwrap_or([0.0; D]),
+                pts.get(i as usize).copied().unwrap_or([0.0; D]),
+            );
+            let d: f64 = nv.iter().zip(a.iter().zip(&b)).map(|(n, (x, y))| n * (x - y)).sum();
+            m.max(d.abs())
+        })
+    });
     let deformed: Vec<[f64; 3]> = out
         .iter()
         .map(|p| {
@@ -759,6 +952,8 @@ fn move_d<const D: usize, const V: usize>(input: &MoveInput<'_>) -> Result<MoveR
         moved_nodes: moved.len(),
         fixed_nodes,
         center: center_used,
+        sliding_nodes: table.as_ref().map_or(0, |t| t.sliding),
+        max_slide_offset,
     })
 }
 
