@@ -602,8 +602,7 @@ fn move_d<const D: usize, const V: usize>(
         angle_scratch_len, batina_stiffness, solve_angle, solve_angle_sliding,
         solve_angle_sliding_scratch_len, solve_angle_sor, solve_linear_sliding,
         solve_linear_sliding_scratch_len, solve_linear_with, solve_linear_with_scratch_len,
-        AngleMethod, AngleSystem, LinearSolver, SolveOptions, SpringSystem,
-        DEFAULT_ANGLE_EPSILON,
+        AngleMethod, AngleSystem, LinearSolver, SolveOptions, SpringSystem, DEFAULT_ANGLE_EPSILON,
     };
     use deform_kernel::Quat;
 
@@ -693,9 +692,9 @@ fn move_d<const D: usize, const V: usize>(
     };
     let fixed_nodes = boundary.len() - moved.len();
     let constraints = match &table {
-        Some(t) => Some(
-            Constraints::new(&t.kinds, &t.directions).map_err(kernel("sliding constraints"))?,
-        ),
+        Some(t) => {
+            Some(Constraints::new(&t.kinds, &t.directions).map_err(kernel("sliding constraints"))?)
+        }
         None => None,
     };
     let mut fixed = vec![0u8; n];
@@ -924,7 +923,11 @@ fn move_d<const D: usize, const V: usize>(
                 out.get(i as usize).copied().unwrap_or([0.0; D]),
                 pts.get(i as usize).copied().unwrap_or([0.0; D]),
             );
-            let d: f64 = nv.iter().zip(a.iter().zip(&b)).map(|(n, (x, y))| n * (x - y)).sum();
+            let d: f64 = nv
+                .iter()
+                .zip(a.iter().zip(&b))
+                .map(|(n, (x, y))| n * (x - y))
+                .sum();
             m.max(d.abs())
         })
     });
