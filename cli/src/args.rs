@@ -209,6 +209,13 @@ pub struct MoveArgs {
     /// A marker to move (repeat for several; SU2 meshes); markers not named stay fixed.
     #[arg(long = "marker")]
     pub markers: Vec<String>,
+    /// A symmetry marker whose nodes slide on its plane (a line in 2D) instead of staying
+    /// fixed (repeat for several; SU2 meshes). The plane is fitted to the marker's nodes and
+    /// must be flat (residual at most 1e-6 of the marker's size); nodes on two sliding planes
+    /// slide along the line where they meet; nodes also on a moved or fixed marker follow that
+    /// marker.
+    #[arg(long = "slide", value_name = "MARKER")]
+    pub slide: Vec<String>,
     /// Plot3D grids: the block face that moves (in every block); the opposite face stays and
     /// the points in between follow by transfinite interpolation along that direction.
     #[arg(long, value_enum, value_name = "FACE")]
