@@ -221,3 +221,108 @@ fn curved_marker_is_refused() {
         "{e}"
     );
 }
+
+mod common;
+
+/// Runs `deform --json ARGS` in `dir`: (exit code, stdout JSON or Null, stderr).
+fn deform(dir: &std::path::Path, args: &[&str]) -> (Option<i32>, serde_json::Value, String) {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_deform"))
+        .current_dir(dir)
+        .arg("--json")
+        .args(args)
+        .output()
+        .expect("run deform");
+    let v = serde_json::from_slice(&o.stdout).unwrap_or(serde_json::Value::Null);
+    (
+        o.status.code(),
+        v,
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+/// `deform move … --slide symmetry_left --slide symmetry_right` on the sphere slice: the
+/// written file (read back) has every symmetry node on its original plane to 1e-12 of the
+/// mesh size, the report's minimum volume ratio beats the pinned run, and misuse is refused.
+#[test]
+fn cli_slide_on_the_sphere_slice() {
+    let dir = common::tmp_dir("move_slide");
+    let mesh = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/sphere_slice_2syms.su2"
+    );
+    let base = [
+        "move",
+        mesh,
+        "--marker",
+        "wall",
+        "--translate",
+        "0.1,0,0",
+        "--method",
+        "spring",
+    ];
+    let run = |extra: &[&str], out: &str| {
+        let mut args: Vec<&str> = base.to_vec();
+        args.extend(extra);
+        args.extend(["--out", out]);
+        deform(&dir, &args)
+    };
+    let (code, pinned, err) = run(&[], "pinned.su2");
+    assert_eq!(code, Some(0), "{err}");
+    let (code, slid, err) = run(
+        &["--slide", "symmetry_left", "--slide", "symmetry_right"],
+        "slid.su2",
+    );
+    assert_eq!(code, Some(0), "{err}");
+    let (rp, rs) = (
+        pinned["min_area_ratio"].as_f64().unwrap(),
+        slid["min_area_ratio"].as_f64().unwrap(),
+    );
+    eprintln!("deform move --method spring: min volume ratio pinned {rp:.4}, sliding {rs:.4}");
+    assert!(rs > rp + 0.3, "sliding {rs}, pinned {rp}");
+    assert_eq!(slid["sliding_nodes"].as_u64(), Some(2792));
+    assert_eq!(slid["inverted_cells"].as_u64(), Some(0));
+    // The written file, read back: symmetry nodes on their planes.
+    let original = sphere();
+    let written = parse_su2(&std::fs::read(dir.join("slid.su2")).unwrap()).unwrap();
+    let mut worst = 0.0f64;
+    for name in SYMMETRY {
+        let (n, nodes) = plane_normal(&original, name);
+        for &i in &nodes {
+            let x = written.points[i as usize];
+            worst = worst.max((n[0] * x[0] + n[1] * x[1] + n[2] * x[2]).abs());
+        }
+    }
+    eprintln!("written file: max distance from the symmetry planes {worst:.2e} (size 20)");
+    assert!(worst <= 1e-12 * 20.0, "{worst:e}");
+
+    // Misuse: unknown marker, moved and sliding, a curved marker, Plot3D.
+    let (code, _, err) = run(&["--slide", "nope"], "x.su2");
+    assert_eq!(code, Some(1));
+    assert!(err.contains("\"nope\" not found"), "{err}");
+    let (code, _, err) = run(&["--slide", "wall"], "x.su2");
+    assert_eq!(code, Some(1));
+    assert!(err.contains("both --marker and --slide"), "{err}");
+    let (code, _, err) = deform(
+        &dir,
+        &[
+            "move",
+            mesh,
+            "--marker",
+            "wall",
+            "--translate",
+            "0.1,0,0",
+            "--method",
+            "spring",
+            "--slide",
+            "farfield",
+            "--out",
+            "x.su2",
+        ],
+    );
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("--slide farfield") && err.contains("not planar"),
+        "{err}"
+    );
+    assert!(!dir.join("x.su2").exists());
+}

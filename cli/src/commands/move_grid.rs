@@ -23,6 +23,12 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
             "--wall FACE (imin, imax, jmin, jmax, kmin, kmax) is required for a Plot3D grid".into(),
         ));
     };
+    if !a.slide.is_empty() {
+        return Err(CliError::NotAvailable {
+            feature: "--slide on Plot3D grids",
+            needs: "an SU2 mesh with the symmetry plane as a marker",
+        });
+    }
     if !a.markers.is_empty() || a.displacements.is_some() || a.surface_positions.is_some() {
         return Err(CliError::Invalid(
             "a Plot3D grid moves its --wall face with --rotate or --translate (no markers or node files)".into(),

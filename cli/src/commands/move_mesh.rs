@@ -7,7 +7,7 @@ use serde::Serialize;
 use serde_json::json;
 
 use crate::args::{Coords, Method, MoveArgs, Solver};
-use crate::engine::{run_move, Motion, MoveInput, MoveMethod, MoveSolver};
+use crate::engine::{run_move_sliding, Motion, MoveInput, MoveMethod, MoveSolver, SlideMarker};
 use crate::formats::displacements::{parse_displacements, parse_surface_positions};
 use crate::formats::su2::{write_su2, Su2Mesh};
 use crate::formats::vtk::{write_vtu, VtkEncoding, VtkField};
@@ -70,6 +70,18 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
     let moved = marker_nodes(&mesh, &a.markers, &a.mesh)?;
     if moved.is_empty() {
         return Err(CliError::Invalid("the named markers have no nodes".into()));
+    }
+    // --slide markers: known, not also moved, named once.
+    marker_nodes(&mesh, &a.slide, &a.mesh)?;
+    for (k, name) in a.slide.iter().enumerate() {
+        if a.markers.contains(name) {
+            return Err(CliError::Invalid(format!(
+                "marker {name:?} is given to both --marker and --slide (a marker either moves or slides)"
+            )));
+        }
+        if a.slide[..k].contains(name) {
+            return Err(CliError::Invalid(format!("--slide {name} is given twice")));
+        }
     }
     if let Some(Coords(t)) = &a.translate {
         if mesh.dim == 2 && t.get(2).is_some_and(|&z| z != 0.0) {
@@ -206,8 +218,17 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
     let fixed_lists: Vec<&CellList> = mesh
         .markers
         .iter()
-        .filter(|m| !a.markers.contains(&m.name))
+        .filter(|m| !a.markers.contains(&m.name) && !a.slide.contains(&m.name))
         .map(|m| &m.elements)
+        .collect();
+    let slide_markers: Vec<SlideMarker<'_>> = mesh
+        .markers
+        .iter()
+        .filter(|m| a.slide.contains(&m.name))
+        .map(|m| SlideMarker {
+            name: &m.name,
+            elements: &m.elements,
+        })
         .collect();
     let method = match a.method {
         Method::Quaternion => MoveMethod::Quaternion,
@@ -238,7 +259,7 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
         idw_exponent: a.idw_exponent,
     };
     let spinner = crate::progress::spinner("deforming", quiet);
-    let result = run_move(&input);
+    let result = run_move_sliding(&input, &slide_markers);
     spinner.finish_and_clear();
     let mut result = result.map_err(|e| e.in_file(&a.mesh))?;
     for (node, p) in &exact_positions {
@@ -421,6 +442,9 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
         },
         moved_nodes: result.moved_nodes,
         fixed_nodes: result.fixed_nodes,
+        sliding_markers: a.slide.clone(),
+        sliding_nodes: result.sliding_nodes,
+        max_slide_offset: result.max_slide_offset,
         center: result.center,
         iterations: result.iterations,
         residual: result.residual,
@@ -475,6 +499,14 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
             m.marker, m.nodes, m.motion, m.max_displacement
         ));
     }
+    if !report.sliding_markers.is_empty() {
+        text.push_str(&format!(
+            "\n  sliding {}: {} nodes, max distance from their planes {:.3e}",
+            report.sliding_markers.join(", "),
+            report.sliding_nodes,
+            report.max_slide_offset
+        ));
+    }
     Ok(Outcome {
         text,
         json: serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
@@ -492,6 +524,9 @@ pub(crate) struct MoveReport {
     solver: String,
     moved_nodes: usize,
     fixed_nodes: usize,
+    sliding_markers: Vec<String>,
+    sliding_nodes: usize,
+    max_slide_offset: f64,
     center: Option<[f64; 3]>,
     iterations: usize,
     residual: f64,
