@@ -251,7 +251,13 @@ pub fn solve_linear_sliding_scratch_len<T: Real>(
     }
 }
 
-/// Solves the linear springs with sliding nodes (see the [module documentation](self)):
+/// Solves the linear springs with sliding nodes ([`Constraints`]): the displacements that
+/// minimise the spring energy over each node's allowed motions, i.e. `P K P d = P b` on
+/// `range(P)` (`P_i` = `I` free, `0` fixed, `I − n nᵀ` plane, `t tᵀ` line), solved jointly
+/// over the components. It is symmetric positive definite whenever the unconstrained system
+/// is (`vᵀ P K P v = vᵀ K v` on `range(P)`), and a preconditioner `M` of the unconstrained
+/// operator (Jacobi, SSOR, one V-cycle of the scalar [`AmgHierarchy`] built for the system
+/// with the sliding nodes free) is applied as `P M⁻¹ P`, which keeps CG's guarantees.
 /// `values` are displacements, prescribed at the fixed nodes, the initial guess elsewhere.
 /// `sys` must be built with the mask [`Constraints::fixed_mask`] writes (sliding nodes are
 /// free in it). Any [`LinearSolver`] works: Jacobi/Gauss–Seidel/SOR project each node's
@@ -334,8 +340,9 @@ pub fn solve_angle_sliding_scratch_len<T: Real, const D: usize>(
     }
 }
 
-/// Solves the angle-inclusion springs with sliding nodes (see the [module
-/// documentation](self)): the direct method solves each node's projected block (in
+/// Solves the angle-inclusion springs with sliding nodes (the problem of
+/// [`solve_linear_sliding`] with the angle springs' edge blocks): the direct method solves
+/// each node's projected block `(P A P + s (I − P)) δ = P r`, `s = tr A / D` (in
 /// Gauss–Seidel order over-relaxed by `omega`, 1 = plain, or in Jacobi order), CG runs on the
 /// projected system with the projected node blocks as preconditioner. With `ε = 0` the
 /// unconstrained system's rigidity probe runs first (a rigid unconstrained system stays rigid
