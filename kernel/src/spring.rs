@@ -44,6 +44,7 @@ mod linear;
 mod norms;
 mod sliding;
 mod solver;
+mod stiffening;
 mod stiffness;
 mod system;
 
@@ -64,6 +65,9 @@ pub use sliding::{
     solve_linear_sliding_scratch_len,
 };
 pub use solver::{solve_linear_with, solve_linear_with_scratch_len, LinearSolver};
+pub use stiffening::{
+    dual_volumes, inverse_volume_factors, scale_stiffness, wall_distance_factors, wall_distances,
+};
 pub use stiffness::batina_stiffness;
 #[cfg(feature = "micromath")]
 pub use stiffness::batina_stiffness_fast;

@@ -10,12 +10,12 @@ use core::hint::black_box;
 
 use deform_kernel::spring::{
     angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_probe_scratch_len, angle_rigidity_probe,
-    angle_scratch_len, angle_sor_sweep, batina_stiffness, is_fixed, jacobi_sweep,
-    relative_residual, solve_angle, solve_angle_sor, solve_linear, solve_linear_scratch_len,
-    sor_sweep, AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
-    Sweep,
+    angle_scratch_len, angle_sor_sweep, batina_stiffness, dual_volumes, inverse_volume_factors,
+    is_fixed, jacobi_sweep, relative_residual, scale_stiffness, solve_angle, solve_angle_sor,
+    solve_linear, solve_linear_scratch_len, sor_sweep, wall_distance_factors, wall_distances,
+    AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions, SpringSystem, Sweep,
 };
-use deform_kernel::{Graph, Real};
+use deform_kernel::{Cells, Graph, Real};
 
 /// Nodes in the test graph.
 const N: usize = 4;
@@ -103,6 +103,36 @@ fn run<T: Real, const D: usize, const V: usize, const W: usize>() {
         bb(T::ONE),
         bb(&mut k[..]),
     ));
+    keep(&k);
+    // Stiffness choices: wall distance and inverse volume factors, edge scaling.
+    let mut dist = [T::ZERO; N];
+    keep(wall_distances(
+        bb(&p[..]),
+        bb(&[0u32, 3][..]),
+        bb(&mut dist[..]),
+    ));
+    keep(wall_distance_factors(bb(&mut dist[..]), bb(T::ONE)));
+    keep(inverse_volume_factors(
+        bb(&mut dist[..]),
+        bb(T::from_f64(1.5)),
+    ));
+    keep(scale_stiffness(&g, bb(&dist[..]), bb(&mut k[..])));
+    let (c_offsets, c_nodes, c_kinds): (&[u32], &[u32], &[u8]) = if D == 2 {
+        (bb(&[0, 3, 6]), bb(&[0, 1, 2, 0, 2, 3]), bb(&[5, 5]))
+    } else {
+        (bb(&[0, 4]), bb(&[0, 1, 2, 3]), bb(&[10]))
+    };
+    if let Ok(cells) = Cells::new(bb(N), c_offsets, c_nodes, c_kinds) {
+        let mut volumes = [T::ZERO; N];
+        let mut measures = [T::ZERO; 2];
+        keep(dual_volumes(
+            &cells,
+            bb(&p[..]),
+            bb(&mut volumes[..]),
+            bb(&mut measures[..]),
+        ));
+        keep(&volumes);
+    }
     keep(&k);
     let fixed: &[u8] = bb(&[1, 0, 0, 1]);
     let mut s = [0u32; N];
