@@ -375,6 +375,55 @@ pub struct MoveInput<'a> {
     pub max_iter: usize,
     /// Inverse-distance exponent (IDW).
     pub idw_exponent: f64,
+    /// Spring stiffness (spring, angle-spring and quaternion-spring methods).
+    pub stiffness: Stiffness,
+}
+
+/// How stiff each spring is (`deform move --stiffness`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Stiffness {
+    /// Batina's `1 / L` (the papers' choice).
+    #[default]
+    Batina,
+    /// `1 / L` times the mean of the two nodes' `d̄ / d` (distance to the moved markers), as
+    /// SU2's `WALL_DISTANCE`: cells near the moving wall move almost rigidly with it.
+    WallDistance,
+    /// `1 / L` times the mean of the two nodes' `V̄ / V` (dual volume), as SU2's
+    /// `INVERSE_VOLUME`: small cells are stiffer.
+    InverseVolume,
+}
+
+/// The stiffness of every directed edge of `g` for the chosen [`Stiffness`]; `walls` are the
+/// nodes the wall distance is measured to.
+fn spring_stiffness<const D: usize>(
+    g: &deform_kernel::Graph<'_>,
+    cells: &Cells<'_>,
+    pts: &[[f64; D]],
+    walls: &[u32],
+    choice: Stiffness,
+) -> Result<Vec<f64>, CliError> {
+    use deform_kernel::spring::{
+        dual_volumes, inverse_volume_factors, scale_stiffness, wall_distance_factors,
+        wall_distances,
+    };
+    let mut k = vec![0.0; g.edge_count()];
+    deform_kernel::spring::batina_stiffness(g, pts, 1.0, &mut k).map_err(kernel("stiffness"))?;
+    let mut factors = vec![0.0; pts.len()];
+    match choice {
+        Stiffness::Batina => return Ok(k),
+        Stiffness::WallDistance => {
+            wall_distances(pts, walls, &mut factors).map_err(kernel("wall distances"))?;
+            wall_distance_factors(&mut factors, 1.0).map_err(kernel("wall distances"))?;
+        }
+        Stiffness::InverseVolume => {
+            let mut measures = vec![0.0; cells.len()];
+            dual_volumes(cells, pts, &mut factors, &mut measures)
+                .map_err(kernel("dual volumes"))?;
+            inverse_volume_factors(&mut factors, 1.0).map_err(kernel("dual volumes"))?;
+        }
+    }
+    scale_stiffness(g, &factors, &mut k).map_err(kernel("stiffness"))?;
+    Ok(k)
 }
 
 /// Result of a mesh motion.
@@ -599,10 +648,10 @@ fn move_d<const D: usize, const V: usize>(
     };
     use deform_kernel::slide::{slide_points, Constraints};
     use deform_kernel::spring::{
-        angle_scratch_len, batina_stiffness, solve_angle, solve_angle_sliding,
-        solve_angle_sliding_scratch_len, solve_angle_sor, solve_linear_sliding,
-        solve_linear_sliding_scratch_len, solve_linear_with, solve_linear_with_scratch_len,
-        AngleMethod, AngleSystem, LinearSolver, SolveOptions, SpringSystem, DEFAULT_ANGLE_EPSILON,
+        angle_scratch_len, solve_angle, solve_angle_sliding, solve_angle_sliding_scratch_len,
+        solve_angle_sor, solve_linear_sliding, solve_linear_sliding_scratch_len, solve_linear_with,
+        solve_linear_with_scratch_len, AngleMethod, AngleSystem, LinearSolver, SolveOptions,
+        SpringSystem, DEFAULT_ANGLE_EPSILON,
     };
     use deform_kernel::Quat;
 
@@ -715,8 +764,7 @@ fn move_d<const D: usize, const V: usize>(
     let mut out = pts.clone();
     let (iterations, residual, converged) = match input.method {
         MoveMethod::Spring | MoveMethod::AngleDirect | MoveMethod::AngleCg => {
-            let mut k = vec![0.0; g.edge_count()];
-            batina_stiffness(&g, &pts, 1.0, &mut k).map_err(kernel("stiffness"))?;
+            let k = spring_stiffness(&g, &view, &pts, &moved, input.stiffness)?;
             let mut sscratch = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
             let sys = SpringSystem::new(g, &k, &fixed, &mut sscratch).map_err(kernel("springs"))?;
             let mut values: Vec<[f64; D]> = disp
@@ -878,8 +926,7 @@ fn move_d<const D: usize, const V: usize>(
                 .map_err(kernel("quaternion IDW"))?;
                 (0, 0.0, true)
             } else {
-                let mut k = vec![0.0; g.edge_count()];
-                batina_stiffness(&g, &pts, 1.0, &mut k).map_err(kernel("stiffness"))?;
+                let k = spring_stiffness(&g, &view, &pts, &moved, input.stiffness)?;
                 let mut sscratch = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
                 let sys =
                     SpringSystem::new(g, &k, &fixed, &mut sscratch).map_err(kernel("springs"))?;

@@ -7,7 +7,7 @@
 
 use deform_cli::engine::{
     quality, run_move, run_move_sliding, Motion, MoveInput, MoveMethod, MoveResult, MoveSolver,
-    SlideMarker,
+    SlideMarker, Stiffness,
 };
 use deform_cli::formats::su2::{parse_su2, Su2Mesh};
 use deform_cli::formats::CellList;
@@ -48,6 +48,7 @@ fn input(mesh: &Su2Mesh, method: MoveMethod, pinned: bool) -> MoveInput<'_> {
         tol: 1e-10,
         max_iter: 20_000,
         idw_exponent: 2.0,
+        stiffness: Stiffness::Batina,
     }
 }
 
@@ -206,6 +207,7 @@ fn curved_marker_is_refused() {
         tol: 1e-10,
         max_iter: 100,
         idw_exponent: 2.0,
+        stiffness: Stiffness::Batina,
     };
     let e = run_move_sliding(
         &inp,

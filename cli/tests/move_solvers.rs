@@ -5,7 +5,7 @@
 mod common;
 
 use common::mesh_2d;
-use deform_cli::engine::{run_move, Motion, MoveInput, MoveMethod, MoveSolver};
+use deform_cli::engine::{run_move, Motion, MoveInput, MoveMethod, MoveSolver, Stiffness};
 use deform_cli::formats::su2::{Su2Marker, Su2Mesh};
 use deform_cli::formats::CellList;
 use deform_kernel::CellKind;
@@ -150,6 +150,7 @@ fn run(mesh: &Su2Mesh, moved: &str, method: MoveMethod, solver: MoveSolver) -> V
         tol: 1e-12,
         max_iter: 10_000,
         idw_exponent: 2.0,
+        stiffness: Stiffness::Batina,
     };
     let r = run_move(&input).expect("move");
     assert!(r.converged, "{method:?}/{solver:?} did not converge");

@@ -25,6 +25,7 @@ use serde::Serialize;
 use crate::args::DemoArgs;
 use crate::engine::{
     quality, run_move, smooth_block, structured_cells, Motion, MoveInput, MoveMethod, MoveSolver,
+    Stiffness,
 };
 use crate::error::CliError;
 use crate::files::su2_from_mesh2;
@@ -378,6 +379,7 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
                         20_000
                     },
                     idw_exponent: 2.0,
+                    stiffness: Stiffness::Batina,
                 };
                 let t = Instant::now();
                 let r = run_move(&input)?;

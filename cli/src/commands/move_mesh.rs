@@ -6,8 +6,10 @@ use std::time::Instant;
 use serde::Serialize;
 use serde_json::json;
 
-use crate::args::{Coords, Method, MoveArgs, Solver};
-use crate::engine::{run_move_sliding, Motion, MoveInput, MoveMethod, MoveSolver, SlideMarker};
+use crate::args::{Coords, Method, MoveArgs, Solver, StiffnessArg};
+use crate::engine::{
+    run_move_sliding, Motion, MoveInput, MoveMethod, MoveSolver, SlideMarker, Stiffness,
+};
 use crate::formats::displacements::{parse_displacements, parse_surface_positions};
 use crate::formats::su2::{write_su2, Su2Mesh};
 use crate::formats::vtk::{write_vtu, VtkEncoding, VtkField};
@@ -24,6 +26,13 @@ use crate::report::{fmt_opt, seconds, value_name, write_picture, Outcome};
 
 pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
     let tfi = matches!(a.method, Method::Tfi | Method::TfiDisplacement);
+    if a.stiffness != StiffnessArg::Batina && (tfi || a.method == Method::Idw) {
+        return Err(CliError::Invalid(format!(
+            "--stiffness {} applies to the spring, angle-spring and quaternion methods; --method {} has no springs",
+            value_name(&a.stiffness),
+            value_name(&a.method)
+        )));
+    }
     if input_kind(&a.mesh)? != FileKind::Su2 {
         if !tfi {
             return Err(CliError::NotAvailable {
@@ -257,6 +266,11 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
         tol: a.tol,
         max_iter: a.max_iter,
         idw_exponent: a.idw_exponent,
+        stiffness: match a.stiffness {
+            StiffnessArg::Batina => Stiffness::Batina,
+            StiffnessArg::WallDistance => Stiffness::WallDistance,
+            StiffnessArg::InverseVolume => Stiffness::InverseVolume,
+        },
     };
     let spinner = crate::progress::spinner("deforming", quiet);
     let result = run_move_sliding(&input, &slide_markers);
@@ -440,6 +454,10 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
             ),
             _ => value_name(&a.solver),
         },
+        stiffness: match a.method {
+            Method::Idw | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
+            _ => value_name(&a.stiffness),
+        },
         moved_nodes: result.moved_nodes,
         fixed_nodes: result.fixed_nodes,
         sliding_markers: a.slide.clone(),
@@ -468,13 +486,18 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
         );
     }
     let text = format!(
-        "{} -> {}: {} nodes ({} moved, {} fixed), method {}, {} iterations, residual {:.3e}{}\n  {} mesh; inverted cells {}, folded cells {}, degenerate cells {}, {} ratio min {} max {}, max wall angle change {} deg, {:.2} s",
+        "{} -> {}: {} nodes ({} moved, {} fixed), method {}{}, {} iterations, residual {:.3e}{}\n  {} mesh; inverted cells {}, folded cells {}, degenerate cells {}, {} ratio min {} max {}, max wall angle change {} deg, {:.2} s",
         report.mesh,
         report.outputs.join(", "),
         report.nodes,
         report.moved_nodes,
         report.fixed_nodes,
         report.method,
+        if report.stiffness == "none" || report.stiffness == "batina" {
+            String::new()
+        } else {
+            format!(" (stiffness {})", report.stiffness)
+        },
         report.iterations,
         report.residual,
         if report.converged { "" } else { " (NOT converged)" },
@@ -522,6 +545,7 @@ pub(crate) struct MoveReport {
     cells: usize,
     method: String,
     solver: String,
+    stiffness: String,
     moved_nodes: usize,
     fixed_nodes: usize,
     sliding_markers: Vec<String>,
