@@ -266,6 +266,11 @@ pub struct MoveArgs {
     /// batina, 34 with wall-distance and 0 with inverse-volume.
     #[arg(long, value_enum, default_value = "batina")]
     pub stiffness: StiffnessArg,
+    /// Move in N increments: each step moves the markers by 1/N of the motion starting from
+    /// the previous step's mesh, so stiffness and rotations follow the deforming mesh (large
+    /// rotations); the last step ends exactly on the prescribed motion.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    pub steps: u32,
     /// Convergence tolerance on the relative residual.
     #[arg(long, default_value_t = 1e-10)]
     pub tol: f64,

@@ -595,6 +595,133 @@ pub fn run_move_sliding(
     }
 }
 
+/// Runs a large motion as `steps` increments (`deform move --steps N`): step `s` moves the
+/// moved markers to `s/N` of the motion (a rotation by `s·θ/N` about the same centre, a
+/// translation or displacement field scaled by `s/N`), starting from the mesh the previous step
+/// produced, so stiffness, wall distances, dual volumes and the quaternion method's rotations are
+/// re-derived on the current mesh every step. After each step the moved nodes are put exactly
+/// on their prescribed positions (the composed increments would drift by a few ulps), so the
+/// last step ends with the exact prescribed motion. `steps = 1` is [`run_move_sliding`].
+pub fn run_move_in_steps(
+    input: &MoveInput<'_>,
+    sliding: &[SlideMarker<'_>],
+    steps: usize,
+) -> Result<MoveResult, CliError> {
+    if steps <= 1 {
+        return run_move_sliding(input, sliding);
+    }
+    let mut moved: Vec<u32> = input
+        .moved
+        .iter()
+        .flat_map(|l| l.nodes.iter().copied())
+        .collect();
+    moved.sort_unstable();
+    moved.dedup();
+    let original = input.points;
+    let mut current = original.to_vec();
+    let field: std::collections::BTreeMap<u32, [f64; 3]> = match &input.motion {
+        Motion::Field(list) => list.iter().copied().collect(),
+        _ => std::collections::BTreeMap::new(),
+    };
+    let (mut iterations, mut residual, mut converged) = (0, 0.0f64, true);
+    let mut center = None;
+    let mut last = None;
+    for s in 1..=steps {
+        let fraction = |x: f64| {
+            if s == steps {
+                x
+            } else {
+                x * s as f64 / steps as f64
+            }
+        };
+        let motion = match &input.motion {
+            Motion::Rotate {
+                degrees,
+                axis,
+                center: c,
+            } => Motion::Rotate {
+                degrees: degrees / steps as f64,
+                axis: *axis,
+                center: c.or(center),
+            },
+            Motion::Translate(t) => Motion::Translate(t.map(|x| x / steps as f64)),
+            Motion::Field(list) => Motion::Field(
+                list.iter()
+                    .map(|(n, d)| {
+                        let p = original.get(*n as usize).copied().unwrap_or([0.0; 3]);
+                        let q = current.get(*n as usize).copied().unwrap_or([0.0; 3]);
+                        let target = [0, 1, 2].map(|c| p[c] + fraction(d[c]));
+                        (*n, [0, 1, 2].map(|c| target[c] - q[c]))
+                    })
+                    .collect(),
+            ),
+        };
+        let step_input = MoveInput {
+            points: &current,
+            moved: input.moved.clone(),
+            fixed: input.fixed.clone(),
+            motion,
+            ..*input
+        };
+        let r = run_move_sliding(&step_input, sliding)?;
+        if center.is_none() {
+            center = r.center;
+        }
+        iterations += r.iterations;
+        residual = residual.max(r.residual);
+        converged &= r.converged;
+        current = r.deformed.clone();
+        // The prescribed positions of the moved nodes after this step, exactly.
+        let rotation = match &input.motion {
+            Motion::Rotate { degrees, axis, .. } => Some(
+                deform_kernel::Quat::from_axis_angle(*axis, fraction(*degrees).to_radians())
+                    .map_err(kernel("rotation"))?,
+            ),
+            _ => None,
+        };
+        for &m in &moved {
+            let Some(p) = original.get(m as usize).copied() else {
+                continue;
+            };
+            let target = match (&input.motion, rotation, center) {
+                (Motion::Rotate { .. }, Some(q), Some(c)) => {
+                    // The same arithmetic as a single step: p + ((c + r) − p).
+                    let r = q.rotate([p[0] - c[0], p[1] - c[1], p[2] - c[2]]);
+                    let mut d = [0, 1, 2].map(|k| c[k] + r[k] - p[k]);
+                    if input.dim == 2 {
+                        d[2] = 0.0;
+                    }
+                    [0, 1, 2].map(|k| p[k] + d[k])
+                }
+                (Motion::Translate(t), _, _) => [0, 1, 2].map(|c| p[c] + fraction(t[c])),
+                (Motion::Field(_), _, _) => match field.get(&m) {
+                    Some(d) => [0, 1, 2].map(|c| p[c] + fraction(d[c])),
+                    None => p,
+                },
+                _ => continue,
+            };
+            if let Some(x) = current.get_mut(m as usize) {
+                *x = target;
+            }
+        }
+        last = Some(r);
+    }
+    let Some(mut result) = last else {
+        return run_move_sliding(input, sliding);
+    };
+    result.displacement = current
+        .iter()
+        .zip(original)
+        .map(|(q, p)| [q[0] - p[0], q[1] - p[1], q[2] - p[2]])
+        .collect();
+    result.deformed = current;
+    result.iterations = iterations;
+    result.residual = residual;
+    result.converged = converged;
+    result.center = center;
+    Ok(result)
+}
+
 /// The one-level method of a solver choice (`None` for multigrid).
 fn linear_method(s: MoveSolver) -> Option<deform_kernel::spring::LinearMethod<f64>> {
     use deform_kernel::spring::{LinearMethod, Preconditioner};

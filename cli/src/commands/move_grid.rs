@@ -23,6 +23,12 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
             "--wall FACE (imin, imax, jmin, jmax, kmin, kmax) is required for a Plot3D grid".into(),
         ));
     };
+    if a.steps > 1 {
+        return Err(CliError::NotAvailable {
+            feature: "--steps on Plot3D grids",
+            needs: "one step (TFI interpolates the whole motion directly)",
+        });
+    }
     if !a.slide.is_empty() {
         return Err(CliError::NotAvailable {
             feature: "--slide on Plot3D grids",

@@ -8,7 +8,7 @@ use serde_json::json;
 
 use crate::args::{Coords, Method, MoveArgs, Solver, StiffnessArg};
 use crate::engine::{
-    run_move_sliding, Motion, MoveInput, MoveMethod, MoveSolver, SlideMarker, Stiffness,
+    run_move_in_steps, Motion, MoveInput, MoveMethod, MoveSolver, SlideMarker, Stiffness,
 };
 use crate::formats::displacements::{parse_displacements, parse_surface_positions};
 use crate::formats::su2::{write_su2, Su2Mesh};
@@ -273,7 +273,7 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
         },
     };
     let spinner = crate::progress::spinner("deforming", quiet);
-    let result = run_move_sliding(&input, &slide_markers);
+    let result = run_move_in_steps(&input, &slide_markers, a.steps as usize);
     spinner.finish_and_clear();
     let mut result = result.map_err(|e| e.in_file(&a.mesh))?;
     for (node, p) in &exact_positions {
@@ -458,6 +458,7 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
             Method::Idw | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
             _ => value_name(&a.stiffness),
         },
+        steps: a.steps,
         moved_nodes: result.moved_nodes,
         fixed_nodes: result.fixed_nodes,
         sliding_markers: a.slide.clone(),
@@ -497,6 +498,10 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
             String::new()
         } else {
             format!(" (stiffness {})", report.stiffness)
+        } + &if report.steps > 1 {
+            format!(" in {} steps", report.steps)
+        } else {
+            String::new()
         },
         report.iterations,
         report.residual,
@@ -546,6 +551,7 @@ pub(crate) struct MoveReport {
     method: String,
     solver: String,
     stiffness: String,
+    steps: u32,
     moved_nodes: usize,
     fixed_nodes: usize,
     sliding_markers: Vec<String>,
