@@ -214,7 +214,7 @@ pub enum Solver {
 
 /// `deform move`.
 #[derive(Debug, Args)]
-#[command(group(ArgGroup::new("motion").required(true).args(["rotate", "translate", "displacements", "surface_positions"])))]
+#[command(group(ArgGroup::new("motion").required(true).args(["rotate", "translate", "displacements", "surface_positions", "motions"])))]
 pub struct MoveArgs {
     /// The SU2 mesh, or a Plot3D grid (with --method tfi|tfi-displacement and --wall).
     pub mesh: PathBuf,
@@ -253,6 +253,11 @@ pub struct MoveArgs {
     /// not move.
     #[arg(long, value_name = "FILE")]
     pub surface_positions: Option<PathBuf>,
+    /// A different rigid motion per marker: lines `MARKER rotate DEG [center X,Y[,Z]] [axis
+    /// X,Y,Z]` or `MARKER translate DX,DY[,DZ]` (`%`/`#` comments). The markers named there
+    /// move (no --marker); a node on two markers must get the same motion from both.
+    #[arg(long, value_name = "FILE", conflicts_with = "markers")]
+    pub motions: Option<PathBuf>,
     /// Deformation method.
     #[arg(long, value_enum)]
     pub method: Method,

@@ -57,6 +57,7 @@ pub(crate) fn files_of(command: &Command) -> (Vec<&Path>, Vec<&Path>) {
                 Some(a.mesh.as_path()),
                 opt(&a.displacements),
                 opt(&a.surface_positions),
+                opt(&a.motions),
             ]
             .into_iter()
             .flatten()

@@ -35,7 +35,11 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
             needs: "an SU2 mesh with the symmetry plane as a marker",
         });
     }
-    if !a.markers.is_empty() || a.displacements.is_some() || a.surface_positions.is_some() {
+    if !a.markers.is_empty()
+        || a.displacements.is_some()
+        || a.surface_positions.is_some()
+        || a.motions.is_some()
+    {
         return Err(CliError::Invalid(
             "a Plot3D grid moves its --wall face with --rotate or --translate (no markers or node files)".into(),
         ));

@@ -11,6 +11,7 @@ use crate::engine::{
     run_move_in_steps, Motion, MoveInput, MoveMethod, MoveSolver, SlideMarker, Stiffness,
 };
 use crate::formats::displacements::{parse_displacements, parse_surface_positions};
+use crate::formats::motions::{parse_motions, MarkerMotionSpec, RigidMotion};
 use crate::formats::su2::{write_su2, Su2Mesh};
 use crate::formats::vtk::{write_vtu, VtkEncoding, VtkField};
 use crate::formats::CellList;
@@ -48,9 +49,10 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
             needs: "a structured Plot3D grid (TFI interpolates along grid lines)",
         });
     }
-    if a.markers.is_empty() {
+    if a.markers.is_empty() && a.motions.is_none() {
         return Err(CliError::Invalid(
-            "--marker is required for SU2 meshes (the markers that move)".into(),
+            "--marker (or --motions FILE) is required for SU2 meshes (the markers that move)"
+                .into(),
         ));
     }
     if file_kind(&a.out) != Some(FileKind::Su2) {
@@ -76,14 +78,23 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
         "deform move on this mesh",
         crate::guard::move_estimate(mesh.points.len(), mesh.elements.nodes.len()),
     )?;
-    let moved = marker_nodes(&mesh, &a.markers, &a.mesh)?;
+    // --motions: the markers and their own rigid motions, as one displacement field.
+    let per_marker = match &a.motions {
+        Some(path) => Some(marker_motions_field(&mesh, path, a.steps)?),
+        None => None,
+    };
+    let markers: Vec<String> = match &per_marker {
+        Some((specs, _)) => specs.iter().map(|m| m.marker.clone()).collect(),
+        None => a.markers.clone(),
+    };
+    let moved = marker_nodes(&mesh, &markers, &a.mesh)?;
     if moved.is_empty() {
         return Err(CliError::Invalid("the named markers have no nodes".into()));
     }
     // --slide markers: known, not also moved, named once.
     marker_nodes(&mesh, &a.slide, &a.mesh)?;
     for (k, name) in a.slide.iter().enumerate() {
-        if a.markers.contains(name) {
+        if markers.contains(name) {
             return Err(CliError::Invalid(format!(
                 "marker {name:?} is given to both --marker and --slide (a marker either moves or slides)"
             )));
@@ -141,7 +152,9 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
     // Surface positions are placed exactly as given after the deformation (old + (new − old)
     // can differ from new in the last bit).
     let mut exact_positions: Vec<(u32, [f64; 3])> = Vec::new();
-    let motion = if let Some((path, absolute)) = table {
+    let motion = if let Some((_, field)) = &per_marker {
+        Motion::Field(field.clone())
+    } else if let Some((path, absolute)) = table {
         let bytes = read_bytes(path)?;
         let parse = if absolute {
             parse_surface_positions
@@ -221,13 +234,13 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
     let moved_lists: Vec<&CellList> = mesh
         .markers
         .iter()
-        .filter(|m| a.markers.contains(&m.name))
+        .filter(|m| markers.contains(&m.name))
         .map(|m| &m.elements)
         .collect();
     let fixed_lists: Vec<&CellList> = mesh
         .markers
         .iter()
-        .filter(|m| !a.markers.contains(&m.name) && !a.slide.contains(&m.name))
+        .filter(|m| !markers.contains(&m.name) && !a.slide.contains(&m.name))
         .map(|m| &m.elements)
         .collect();
     let slide_markers: Vec<SlideMarker<'_>> = mesh
@@ -281,7 +294,7 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
             *x = *p;
         }
     }
-    let wall = marker_union(&mesh, &a.markers, &a.mesh)?;
+    let wall = marker_union(&mesh, &markers, &a.mesh)?;
     let q = crate::engine::quality(
         mesh.dim,
         &mesh.elements,
@@ -402,7 +415,9 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
     }
     staged.commit().map_err(io_err(&a.out))?;
     let norm = |d: &[f64; 3]| (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-    let motion_text = if let Some(p) = &a.displacements {
+    let motion_text = if let Some(p) = &a.motions {
+        format!("motions from {}", p.display())
+    } else if let Some(p) = &a.displacements {
         format!("displacements from {}", p.display())
     } else if let Some(p) = &a.surface_positions {
         format!("surface positions from {}", p.display())
@@ -414,8 +429,7 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
             .map_or_else(|| "-".to_string(), |c| format!("{:?}", &c[..mesh.dim]));
         format!("rotate {} deg about {c}", a.rotate.unwrap_or(0.0))
     };
-    let marker_motions: Vec<MarkerMotion> = a
-        .markers
+    let marker_motions: Vec<MarkerMotion> = markers
         .iter()
         .filter_map(|name| mesh.marker(name))
         .map(|m| {
@@ -430,7 +444,13 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
             MarkerMotion {
                 marker: m.name.clone(),
                 nodes: nodes.len(),
-                motion: motion_text.clone(),
+                motion: match &per_marker {
+                    Some((specs, _)) => specs
+                        .iter()
+                        .find(|x| x.marker == m.name)
+                        .map_or_else(|| motion_text.clone(), |x| describe(&x.motion, mesh.dim)),
+                    None => motion_text.clone(),
+                },
                 max_displacement: max,
             }
         })
@@ -602,4 +622,107 @@ pub(crate) fn marker_window(points: &[[f64; 3]], lists: &[&CellList]) -> Window 
     let c = [(w[0] + w[2]) / 2.0, (w[1] + w[3]) / 2.0];
     let half = 0.75 * (w[2] - w[0]).max(w[3] - w[1]);
     zoom(c, half)
+}
+
+/// `(node, displacement)` pairs, ascending by node.
+type NodeDisplacements = Vec<(u32, [f64; 3])>;
+
+/// A marker's rigid motion in words, for the report.
+fn describe(m: &RigidMotion, dim: usize) -> String {
+    match m {
+        RigidMotion::Rotate {
+            degrees, center, ..
+        } => match center {
+            Some(c) => format!("rotate {degrees} deg about {:?}", &c[..dim]),
+            None => format!("rotate {degrees} deg about its centroid"),
+        },
+        RigidMotion::Translate(t) => format!("translate {:?}", &t[..dim]),
+    }
+}
+
+/// Reads a `--motions` file and turns every marker's rigid motion into displacements of its
+/// nodes (`(node, d)`, ascending): `c + Q (p − c) − p` for a rotation (centre: given, or the
+/// centroid of the marker's nodes), `t` for a translation. A node on two markers must get the
+/// same displacement (bit for bit) from both. `--steps` > 1 scales displacements linearly, which
+/// would shrink a rotating marker between steps, so it is refused when any marker rotates.
+fn marker_motions_field(
+    mesh: &Su2Mesh,
+    path: &std::path::Path,
+    steps: u32,
+) -> Result<(Vec<MarkerMotionSpec>, NodeDisplacements), CliError> {
+    let bytes = read_bytes(path)?;
+    let specs = parse_motions(&bytes, mesh.dim).map_err(|source| CliError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    if steps > 1
+        && specs
+            .iter()
+            .any(|m| matches!(m.motion, RigidMotion::Rotate { .. }))
+    {
+        return Err(CliError::NotAvailable {
+            feature: "--steps with per-marker rotations from --motions",
+            needs: "one step, or --rotate for a single rigid rotation in steps",
+        });
+    }
+    let mut field: std::collections::BTreeMap<u32, ([f64; 3], usize)> =
+        std::collections::BTreeMap::new();
+    for (k, spec) in specs.iter().enumerate() {
+        let nodes = marker_nodes(mesh, std::slice::from_ref(&spec.marker), path)?;
+        let point = |n: u32| mesh.points.get(n as usize).copied().unwrap_or([0.0; 3]);
+        let displacement: Box<dyn Fn([f64; 3]) -> [f64; 3]> = match &spec.motion {
+            RigidMotion::Translate(t) => {
+                let t = *t;
+                Box::new(move |_| t)
+            }
+            RigidMotion::Rotate {
+                degrees,
+                axis,
+                center,
+            } => {
+                let c = center.unwrap_or_else(|| {
+                    let n = nodes.len().max(1) as f64;
+                    let s = nodes.iter().fold([0.0; 3], |s, &i| {
+                        let p = point(i);
+                        [s[0] + p[0], s[1] + p[1], s[2] + p[2]]
+                    });
+                    [s[0] / n, s[1] / n, s[2] / n]
+                });
+                let q = deform_kernel::Quat::from_axis_angle(*axis, degrees.to_radians()).map_err(
+                    |source| CliError::Kernel {
+                        context: format!("{}: line {}: rotation", path.display(), spec.line),
+                        source,
+                    },
+                )?;
+                let dim = mesh.dim;
+                Box::new(move |p: [f64; 3]| {
+                    let r = q.rotate([p[0] - c[0], p[1] - c[1], p[2] - c[2]]);
+                    let mut d = [0, 1, 2].map(|i| c[i] + r[i] - p[i]);
+                    if dim == 2 {
+                        d[2] = 0.0;
+                    }
+                    d
+                })
+            }
+        };
+        for &n in &nodes {
+            let d = displacement(point(n));
+            match field.get(&n) {
+                Some((other, j)) if other.map(f64::to_bits) != d.map(f64::to_bits) => {
+                    return Err(CliError::Invalid(format!(
+                        "{}: node {n} is on markers {:?} and {:?}, which move it differently (lines {} and {})",
+                        path.display(),
+                        specs[*j].marker,
+                        spec.marker,
+                        specs[*j].line,
+                        spec.line
+                    )));
+                }
+                _ => {
+                    field.insert(n, (d, k));
+                }
+            }
+        }
+    }
+    Ok((specs, field.into_iter().map(|(n, (d, _))| (n, d)).collect()))
 }
