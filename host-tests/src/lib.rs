@@ -4,6 +4,7 @@
 
 pub mod deformation_ref;
 pub mod graph_ref;
+pub mod idw_ref;
 pub mod quality_ref;
 pub mod spring_ref;
 pub mod taubin_ref;

@@ -18,7 +18,9 @@
 //!    `Δ_i = (r_i^d − o) − Q_i (r_i^u − o) Q_i*` (the DESIGN.md erratum of Samareh's `Δ`).
 //! 4. Propagation of `(Δ, Q)` into the field: [`propagate_idw`] (inverse distance),
 //!    [`propagate_tfi`] (transfinite interpolation of structured blocks, arclength blending),
-//!    [`propagate_spring`] (linear springs, one solve for `Δ` and `Q` together).
+//!    [`propagate_spring`] (linear springs, one solve for `Δ` and `Q` together),
+//!    [`propagate_idw_fast`] (inverse distance with far-field clusters of a k-d tree and a
+//!    per-point error bound, for large boundaries).
 //!    [`displacement_tfi`] is plain displacement TFI for comparison.
 //! 5. [`update_points`]: the field update (eq. 6); boundary nodes are copied from `r^d`.
 //!
@@ -38,13 +40,15 @@
 //! [`boundary_normals`] in 2D (2D rotations use edge directions, not normals).
 //!
 //! **Cost.** Normals, rotations, translations, TFI and the update are `O(B)` or `O(N)`;
-//! [`propagate_idw`] is `O(N · B)`; [`propagate_spring`] is one linear-spring solve.
+//! [`propagate_idw`] is `O(N · B)`, [`propagate_idw_fast`] about `O(N log B)` node visits
+//! for a fixed `θ` (plus an `O(B log² B)` tree build); [`propagate_spring`] is one linear-spring solve.
 //!
 //! **Storage.** Boundary-level routines work on the boundary's own point list (`B` points,
 //! elements indexing `0..B`); field-level routines work on the mesh (`N` points) with
 //! `boundary: &[u32]` naming the mesh node of each boundary point; [`localize_nodes`] renumbers
 //! a marker's element nodes from mesh to boundary numbering.
 
+mod idw_fast;
 mod localize;
 mod normals;
 mod pipeline;
@@ -54,6 +58,10 @@ mod springs;
 mod tfi;
 mod update;
 
+pub use idw_fast::{
+    propagate_idw_fast, propagate_idw_fast_index_len, propagate_idw_fast_scratch_len,
+    IdwFastOptions, IdwFastReport, IDW_FAST_LEAF,
+};
 pub use localize::{localize_nodes, localize_nodes_scratch_len};
 pub use normals::{boundary_normals, boundary_normals_scratch_len};
 pub use pipeline::{

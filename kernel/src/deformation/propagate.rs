@@ -95,93 +95,110 @@ pub fn propagate_idw<T: Real, const D: usize>(
     check_finite("points", points)?;
     check_boundary_entries(boundary, translations, rotations)?;
 
+    for (i, x) in points.iter().enumerate() {
+        if let Some((t, q)) = idw_point(points, boundary, exponent, translations, rotations, i, *x)
+        {
+            if let Some(x) = translations.get_mut(i) {
+                *x = t;
+            }
+            if let Some(x) = rotations.get_mut(i) {
+                *x = q;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The exact inverse-distance value at one field point `x` (mesh node `i`), as
+/// [`propagate_idw`] computes it; `None` when `i` is a boundary node. Inputs are validated by
+/// the caller. Also the fast method's fallback for points whose squared distances leave the
+/// normal range.
+pub(super) fn idw_point<T: Real, const D: usize>(
+    points: &[[T; D]],
+    boundary: &[u32],
+    exponent: T,
+    translations: &[[T; D]],
+    rotations: &[Quat<T>],
+    i: usize,
+    x: [T; D],
+) -> Option<([T; D], Quat<T>)> {
     let half_p = exponent * T::HALF;
     let at = |i: u32| points.get(i as usize).copied().unwrap_or([T::ZERO; D]);
     let quarter = T::HALF * T::HALF;
     // Distance / 4 without overflow or underflow (the quarter keeps `x − b` finite): the
     // fallback when a squared distance leaves the normal range.
     let robust = |x: [T; D], b: [T; D]| norm_robust(sub(scale(x, quarter), scale(b, quarter)));
-    for (i, x) in points.iter().enumerate() {
-        // Nearest boundary node (squared distances; the first wins ties); skip boundary nodes.
-        let mut d2min = T::INFINITY;
-        let mut nearest = 0u32;
-        let mut is_boundary = false;
-        let mut plain = true;
+    // Nearest boundary node (squared distances; the first wins ties); skip boundary nodes.
+    let mut d2min = T::INFINITY;
+    let mut nearest = 0u32;
+    let mut is_boundary = false;
+    let mut plain = true;
+    for &b in boundary {
+        is_boundary |= b as usize == i;
+        let diff = sub(x, at(b));
+        let d2 = norm_sq(diff);
+        plain &= d2.is_finite() && (d2 >= T::MIN_POSITIVE || diff.iter().all(|&c| c == T::ZERO));
+        if d2 < d2min {
+            d2min = d2;
+            nearest = b;
+        }
+    }
+    if is_boundary {
+        return None;
+    }
+    // Squared distances overflowed or underflowed (points beyond ~1e154 or closer than
+    // ~1e-154 in f64): weigh by robust distances instead, `w = (h_min / h)^p`.
+    let mut hmin = T::INFINITY;
+    if !plain {
         for &b in boundary {
-            is_boundary |= b as usize == i;
-            let diff = sub(*x, at(b));
-            let d2 = norm_sq(diff);
-            plain &=
-                d2.is_finite() && (d2 >= T::MIN_POSITIVE || diff.iter().all(|&c| c == T::ZERO));
-            if d2 < d2min {
-                d2min = d2;
+            let h = robust(x, at(b));
+            if h < hmin {
+                hmin = h;
                 nearest = b;
             }
         }
-        if is_boundary {
-            continue;
-        }
-        // Squared distances overflowed or underflowed (points beyond ~1e154 or closer than
-        // ~1e-154 in f64): weigh by robust distances instead, `w = (h_min / h)^p`.
-        let mut hmin = T::INFINITY;
-        if !plain {
-            for &b in boundary {
-                let h = robust(*x, at(b));
-                if h < hmin {
-                    hmin = h;
-                    nearest = b;
-                }
-            }
-            d2min = hmin;
-        }
-        let tn = translations
-            .get(nearest as usize)
-            .copied()
-            .unwrap_or([T::ZERO; D]);
-        let qn = rotations
-            .get(nearest as usize)
-            .copied()
-            .unwrap_or(Quat::identity());
-        let (t, q) = if d2min > T::ZERO {
-            let mut sum = [T::ZERO; D];
-            let mut wsum = T::ZERO;
-            let mut qavg = QuatAverage::with_reference(qn);
-            for &b in boundary {
-                let w = if plain {
-                    let ratio = d2min / norm_sq(sub(*x, at(b)));
-                    if half_p == T::ONE {
-                        ratio
-                    } else {
-                        ratio.powf(half_p)
-                    }
-                } else {
-                    let ratio = hmin / robust(*x, at(b));
-                    if half_p == T::ONE {
-                        ratio * ratio
-                    } else {
-                        ratio.powf(exponent)
-                    }
-                };
-                let bt = translations.get(b as usize).copied().unwrap_or(tn);
-                for (s, c) in sum.iter_mut().zip(bt) {
-                    *s += w * c;
-                }
-                wsum += w;
-                qavg.add(rotations.get(b as usize).copied().unwrap_or(qn), w);
-            }
-            for s in sum.iter_mut() {
-                *s /= wsum;
-            }
-            (sum, qavg.result().unwrap_or(qn))
-        } else {
-            (tn, qn)
-        };
-        if let Some(x) = translations.get_mut(i) {
-            *x = t;
-        }
-        if let Some(x) = rotations.get_mut(i) {
-            *x = q;
-        }
+        d2min = hmin;
     }
-    Ok(())
+    let tn = translations
+        .get(nearest as usize)
+        .copied()
+        .unwrap_or([T::ZERO; D]);
+    let qn = rotations
+        .get(nearest as usize)
+        .copied()
+        .unwrap_or(Quat::identity());
+    if d2min > T::ZERO {
+        let mut sum = [T::ZERO; D];
+        let mut wsum = T::ZERO;
+        let mut qavg = QuatAverage::with_reference(qn);
+        for &b in boundary {
+            let w = if plain {
+                let ratio = d2min / norm_sq(sub(x, at(b)));
+                if half_p == T::ONE {
+                    ratio
+                } else {
+                    ratio.powf(half_p)
+                }
+            } else {
+                let ratio = hmin / robust(x, at(b));
+                if half_p == T::ONE {
+                    ratio * ratio
+                } else {
+                    ratio.powf(exponent)
+                }
+            };
+            let bt = translations.get(b as usize).copied().unwrap_or(tn);
+            for (s, c) in sum.iter_mut().zip(bt) {
+                *s += w * c;
+            }
+            wsum += w;
+            qavg.add(rotations.get(b as usize).copied().unwrap_or(qn), w);
+        }
+        for s in sum.iter_mut() {
+            *s /= wsum;
+        }
+        Some((sum, qavg.result().unwrap_or(qn)))
+    } else {
+        Some((tn, qn))
+    }
 }

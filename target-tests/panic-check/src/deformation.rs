@@ -8,9 +8,10 @@ use deform_kernel::deformation::{
     boundary_rotations_scratch_len, boundary_translations, deform_idw, deform_idw_scratch_len,
     deform_spring, deform_spring_scratch_len, deform_spring_with, deform_tfi,
     deform_tfi_scratch_len, displacement_tfi, localize_nodes, localize_nodes_scratch_len,
-    propagate_idw, propagate_spring, propagate_spring_scratch_len, propagate_spring_with,
-    propagate_spring_with_scratch_len, propagate_tfi, rigid_rotations, tfi_scratch_len,
-    update_points, BoundaryMotion, RotationSource,
+    propagate_idw, propagate_idw_fast, propagate_idw_fast_index_len,
+    propagate_idw_fast_scratch_len, propagate_spring, propagate_spring_scratch_len,
+    propagate_spring_with, propagate_spring_with_scratch_len, propagate_tfi, rigid_rotations,
+    tfi_scratch_len, update_points, BoundaryMotion, IdwFastOptions, RotationSource,
 };
 use deform_kernel::spring::{
     AmgHierarchy, AmgOptions, LinearMethod, LinearSolver, Preconditioner, SolveOptions,
@@ -267,6 +268,29 @@ fn run<T: Real, const D: usize, const V: usize>() {
         bb(T::from_f64(2.5)),
         bb(&mut trans[..]),
         bb(&mut rot[..]),
+    ));
+    keep(propagate_idw_fast_index_len(bb(B)));
+    keep(propagate_idw_fast_scratch_len::<D>(bb(B)));
+    let mut index = [0u32; B];
+    let mut bounds = [T::ZERO; N];
+    let options = IdwFastOptions {
+        theta: bb(T::HALF),
+        tolerance: bb(T::from_f64(0.05)),
+    };
+    keep(propagate_idw_fast(
+        &points,
+        &boundary,
+        bb(T::from_f64(2.5)),
+        &options,
+        bb(&mut index[..]),
+        bb(&mut scratch[..]),
+        bb(&mut trans[..]),
+        bb(&mut rot[..]),
+        if bb(true) {
+            Some(bb(&mut bounds[..]))
+        } else {
+            None
+        },
     ));
     keep(update_points(
         origin,
