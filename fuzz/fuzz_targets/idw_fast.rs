@@ -131,13 +131,12 @@ fn run<const D: usize>(inp: &Input) {
             // value whose choice depends on rounding of tiny distances.
             continue;
         }
-        let err = r
-            .t
-            .iter()
-            .zip(t[i])
-            .map(|(a, b)| (a - b) * (a - b))
-            .sum::<f64>()
-            .sqrt();
+        let err =
+            r.t.iter()
+                .zip(t[i])
+                .map(|(a, b)| (a - b) * (a - b))
+                .sum::<f64>()
+                .sqrt();
         let slack = 1e-10 * tscale * b as f64;
         assert!(
             err <= eta[i] * r.spread_t + slack,

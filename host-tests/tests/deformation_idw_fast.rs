@@ -724,3 +724,127 @@ fn deterministic() {
     }
     assert_eq!(a.report, b.report);
 }
+
+/// The viscous NACA 2412 O-grid (first layer 1e-5 chords) pitched about the quarter chord
+/// by the whole quaternion pipeline, propagated exactly and fast: the fast field inverts or
+/// folds no cell the exact one does not, and keeps the boundary layer turning rigidly.
+#[test]
+fn fast_idw_keeps_the_naca_boundary_layer() {
+    use deform_kernel::deformation::{
+        deform_idw, deform_idw_scratch_len, update_points, BoundaryMotion, RotationSource,
+    };
+    use deform_kernel::quality::{compare, wall_angle_scratch_len, Wall};
+    use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph};
+
+    let mesh = naca_ogrid(&AirfoilGrid::viscous()).unwrap();
+    let n = mesh.points.len();
+    let cells = mesh.cells().unwrap();
+    let mut offsets = vec![0u32; n + 1];
+    let mut targets = vec![0u32; graph_from_cells_len(&cells, false)];
+    let used = graph_from_cells(&cells, false, &mut offsets, &mut targets).unwrap();
+    let graph = Graph::new(&offsets, &targets[..used]).unwrap();
+    let wall = Wall::new(mesh.marker("airfoil").unwrap().cells(n).unwrap(), graph).unwrap();
+    // Boundary: airfoil then far field, elements in boundary numbering.
+    let mut local = vec![u32::MAX; n];
+    let (mut nodes, mut el_off, mut el, mut kinds) = (Vec::new(), vec![0u32], Vec::new(), vec![]);
+    let mut airfoil = 0;
+    for name in ["airfoil", "farfield"] {
+        let m = mesh.marker(name).unwrap();
+        for &i in &m.node_list {
+            local[i as usize] = nodes.len() as u32;
+            nodes.push(i);
+        }
+        if name == "airfoil" {
+            airfoil = nodes.len();
+        }
+        for e in 0..m.kinds.len() {
+            for &i in &m.nodes[m.offsets[e] as usize..m.offsets[e + 1] as usize] {
+                el.push(local[i as usize]);
+            }
+            kinds.push(m.kinds[e]);
+            el_off.push(el.len() as u32);
+        }
+    }
+    let elements = Cells::new(nodes.len(), &el_off, &el, &kinds).unwrap();
+    let qc = AirfoilGrid::quarter_chord();
+    let measure = |out: &[[f64; 2]]| {
+        let mut s = vec![[0.0; 2]; wall_angle_scratch_len(n)];
+        let q = compare(&cells, &mesh.points, out, Some(&wall), &mut s).unwrap();
+        (
+            q.inverted_cells,
+            q.folded_cells,
+            q.min_measure_ratio,
+            q.wall.map_or(f64::NAN, |w| w.max_change.to_degrees()),
+        )
+    };
+    for degrees in [10.0f64, 25.0, 50.0] {
+        let (s, c) = degrees.to_radians().sin_cos();
+        let deformed: Vec<[f64; 2]> = nodes
+            .iter()
+            .enumerate()
+            .map(|(k, &i)| {
+                let p = mesh.points[i as usize];
+                if k < airfoil {
+                    let (dx, dy) = (p[0] - qc[0], p[1] - qc[1]);
+                    [qc[0] + c * dx - s * dy, qc[1] + s * dx + c * dy]
+                } else {
+                    p
+                }
+            })
+            .collect();
+        let motion = BoundaryMotion {
+            nodes: &nodes,
+            deformed: &deformed,
+            elements: Some(elements),
+            rotations: RotationSource::Shape,
+            origin: None,
+        };
+        let mut t = vec![[0.0; 2]; n];
+        let mut q = vec![Quat::identity(); n];
+        let mut out = vec![[0.0; 2]; n];
+        let mut scratch = vec![0.0; deform_idw_scratch_len::<2>(n, nodes.len())];
+        let origin = deform_idw(
+            &mesh.points,
+            &motion,
+            2.0,
+            &mut t,
+            &mut q,
+            &mut scratch,
+            &mut out,
+        )
+        .unwrap();
+        let exact = measure(&out);
+        println!("{degrees}° exact: inverted, folded, min ratio, wall-angle change {exact:?}");
+        for (theta, tol) in [(0.3, f64::INFINITY), (0.5, f64::INFINITY), (0.5, 0.1)] {
+            let (mut tf, mut qf) = (t.clone(), q.clone());
+            let b = nodes.len();
+            let mut index = vec![0u32; propagate_idw_fast_index_len(b)];
+            let mut sc = vec![0.0; propagate_idw_fast_scratch_len::<2>(b)];
+            let options = IdwFastOptions {
+                theta,
+                tolerance: tol,
+            };
+            propagate_idw_fast(
+                &mesh.points,
+                &nodes,
+                2.0,
+                &options,
+                &mut index,
+                &mut sc,
+                &mut tf,
+                &mut qf,
+                None,
+            )
+            .unwrap();
+            let mut outf = vec![[0.0; 2]; n];
+            update_points(origin, &mesh.points, &tf, &qf, &nodes, &deformed, &mut outf).unwrap();
+            let fast = measure(&outf);
+            println!("{degrees}° fast θ {theta} τ {tol}: {fast:?}");
+            assert!(
+                fast.0 <= exact.0 && fast.1 <= exact.1,
+                "{degrees}° θ {theta}"
+            );
+            assert!(fast.3 <= exact.3 + 0.05, "{degrees}° θ {theta}: wall angle");
+        }
+    }
+}
