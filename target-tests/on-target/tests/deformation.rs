@@ -2,7 +2,9 @@
 //! triangle mesh / 6 × 5 structured block: `deform_idw`, `deform_tfi` and `deform_spring`
 //! reproduce a rigid motion of the whole boundary within a few ε·L (also with rotations taken
 //! from the boundary shape), reproduce every boundary node bit for bit under a non-rigid
-//! motion, and reject bad input with typed errors, leaving `out` untouched.
+//! motion, and reject bad input with typed errors, leaving `out` untouched. The fast IDW
+//! (`propagate_idw_fast`) stays within its reported bound of the exact IDW, equals it to
+//! rounding at `θ = 0`, reproduces a uniform translation, and rejects a bad `θ`.
 #![no_std]
 #![no_main]
 
@@ -10,7 +12,9 @@ use deform_on_target as _;
 
 use deform_kernel::deformation::{
     deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len, deform_tfi,
-    deform_tfi_scratch_len, propagate_spring_scratch_len, BoundaryMotion, RotationSource,
+    deform_tfi_scratch_len, propagate_idw, propagate_idw_fast, propagate_idw_fast_index_len,
+    propagate_idw_fast_scratch_len, propagate_spring_scratch_len, BoundaryMotion, IdwFastOptions,
+    RotationSource,
 };
 use deform_kernel::spring::{
     batina_stiffness, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
@@ -319,6 +323,130 @@ fn typed_errors<T: Real>() {
     ));
 }
 
+/// Scratch for the fast IDW on the perimeter (`NB` boundary nodes).
+const FS: usize = 512;
+
+/// Fast against exact IDW on the jittered mesh with non-uniform boundary values.
+fn idw_fast<T: Real>() {
+    defmt::assert!(propagate_idw_fast_scratch_len::<2>(NB) <= FS);
+    defmt::assert!(propagate_idw_fast_index_len(NB) == NB);
+    let m = Mesh::<T>::new(0.25);
+    let mut t0 = [[T::ZERO; 2]; N];
+    let mut q0 = [Quat::identity(); N];
+    for (k, &b) in m.boundary.iter().enumerate() {
+        let s = T::from_usize(k) * T::from_f64(0.37);
+        t0[b as usize] = [s.sin(), (s * T::TWO).cos() * T::HALF];
+        q0[b as usize] = Quat::from_rotation_z(s * T::from_f64(0.1));
+    }
+    let (mut te, mut qe) = (t0, q0);
+    propagate_idw(&m.points, &m.boundary, T::TWO, &mut te, &mut qe).unwrap();
+    let mut index = [0u32; NB];
+    let mut scratch = [T::ZERO; FS];
+    let mut eta = [T::ZERO; N];
+    let eps = T::EPSILON;
+    let slack = T::from_f64(4.0 * NB as f64) * eps * T::TWO;
+    let mut any_cluster = false;
+    for theta in [0.0, 0.5, 0.8] {
+        let (mut t, mut q) = (t0, q0);
+        let options = IdwFastOptions {
+            theta: T::from_f64(theta),
+            tolerance: T::INFINITY,
+        };
+        let report = propagate_idw_fast(
+            &m.points,
+            &m.boundary,
+            T::TWO,
+            &options,
+            &mut index,
+            &mut scratch,
+            &mut t,
+            &mut q,
+            Some(&mut eta),
+        )
+        .unwrap();
+        any_cluster |= report.clusters > 0;
+        let mut worst = T::ZERO;
+        for i in 0..N {
+            if m.fixed[i] != 0 {
+                defmt::assert!(same_bits(&t[i..=i], &t0[i..=i]));
+                continue;
+            }
+            // The spread max_k |Δ_k − Δ(x)| at this point, from the exact value.
+            let mut spread = T::ZERO;
+            for &b in &m.boundary {
+                let d = [t0[b as usize][0] - te[i][0], t0[b as usize][1] - te[i][1]];
+                spread = spread.max((d[0] * d[0] + d[1] * d[1]).sqrt());
+            }
+            let d = [t[i][0] - te[i][0], t[i][1] - te[i][1]];
+            let err = (d[0] * d[0] + d[1] * d[1]).sqrt();
+            defmt::assert!(err <= eta[i] * spread + slack);
+            if theta == 0.0 {
+                defmt::assert!(eta[i] == T::ZERO && err <= slack);
+            }
+            worst = worst.max(err);
+        }
+        defmt::info!(
+            "{=str} fast IDW θ {=f64}: max error {=f64}, max bound {=f64}, {=u64} clusters",
+            precision::<T>(),
+            theta,
+            worst.to_f64(),
+            report.max_bound.to_f64(),
+            report.clusters
+        );
+    }
+    defmt::assert!(any_cluster);
+    // A uniform translation is reproduced to rounding.
+    let mut t = t0;
+    let mut q = q0;
+    let shift = [T::from_f64(0.75), T::from_f64(-0.25)];
+    for &b in &m.boundary {
+        t[b as usize] = shift;
+    }
+    let options = IdwFastOptions {
+        theta: T::from_f64(0.8),
+        tolerance: T::INFINITY,
+    };
+    propagate_idw_fast(
+        &m.points,
+        &m.boundary,
+        T::TWO,
+        &options,
+        &mut index,
+        &mut scratch,
+        &mut t,
+        &mut q,
+        None,
+    )
+    .unwrap();
+    let expected = [shift; N];
+    defmt::assert!(max_diff(&t, &expected) <= T::from_f64(64.0) * eps);
+    // A bad θ: typed error, outputs untouched.
+    let (mut t, mut q) = (t0, q0);
+    let bad = IdwFastOptions {
+        theta: T::ONE,
+        tolerance: T::INFINITY,
+    };
+    let r = propagate_idw_fast(
+        &m.points,
+        &m.boundary,
+        T::TWO,
+        &bad,
+        &mut index,
+        &mut scratch,
+        &mut t,
+        &mut q,
+        None,
+    );
+    defmt::assert!(matches!(
+        r,
+        Err(Error::InvalidParameter {
+            arg: "options.theta",
+            ..
+        })
+    ));
+    defmt::assert!(same_bits(&t, &t0));
+}
+
 #[defmt_test::tests]
 mod tests {
     use super::*;
@@ -341,6 +469,16 @@ mod tests {
     #[test]
     fn boundary_bitwise_exact_f32() {
         boundary_exact::<f32>();
+    }
+
+    #[test]
+    fn idw_fast_within_bound_f64() {
+        idw_fast::<f64>();
+    }
+
+    #[test]
+    fn idw_fast_within_bound_f32() {
+        idw_fast::<f32>();
     }
 
     #[test]
