@@ -848,3 +848,120 @@ fn fast_idw_keeps_the_naca_boundary_layer() {
         }
     }
 }
+
+/// The one-call pipeline `deform_idw_fast`: with `θ = 0` it equals `deform_idw` to rounding
+/// (boundary nodes bit for bit); at `θ = 0.5` it stays close; a bad `θ` or a short tree
+/// buffer is a typed error with `out` unchanged.
+#[test]
+fn deform_idw_fast_pipeline() {
+    use deform_kernel::deformation::{
+        deform_idw, deform_idw_fast, deform_idw_scratch_len, BoundaryMotion, RotationSource,
+    };
+    let case = naca2d(&AirfoilGrid::tiny());
+    let n = case.points.len();
+    let b = case.boundary.len();
+    let deformed: Vec<[f64; 2]> = case
+        .boundary
+        .iter()
+        .map(|&i| {
+            let p = case.points[i as usize];
+            if p[0].hypot(p[1]) < 2.0 {
+                [p[0] + 0.02 * p[1], p[1] + 0.05 * p[0]]
+            } else {
+                p
+            }
+        })
+        .collect();
+    let q = Quat::from_rotation_z(0.05);
+    let motion = BoundaryMotion {
+        nodes: &case.boundary,
+        deformed: &deformed,
+        elements: None,
+        rotations: RotationSource::Rigid(q),
+        origin: None,
+    };
+    let (mut t, mut r) = (vec![[0.0; 2]; n], vec![Quat::identity(); n]);
+    let mut s = vec![0.0; deform_idw_scratch_len::<2>(n, b)];
+    let mut exact = vec![[0.0; 2]; n];
+    deform_idw(
+        &case.points,
+        &motion,
+        2.0,
+        &mut t,
+        &mut r,
+        &mut s,
+        &mut exact,
+    )
+    .unwrap();
+    let mut index = vec![0u32; propagate_idw_fast_index_len(b)];
+    let mut tree = vec![0.0; propagate_idw_fast_scratch_len::<2>(b)];
+    for (theta, tol) in [(0.0, 1e-13), (0.5, 1e-2)] {
+        let mut out = vec![[f64::NAN; 2]; n];
+        let options = IdwFastOptions {
+            theta,
+            tolerance: 0.1,
+        };
+        let (_, report) = deform_idw_fast(
+            &case.points,
+            &motion,
+            2.0,
+            &options,
+            &mut t,
+            &mut r,
+            &mut s,
+            &mut index,
+            &mut tree,
+            &mut out,
+        )
+        .unwrap();
+        let worst = (0..n)
+            .map(|i| vdist(out[i], &exact[i]))
+            .fold(0.0f64, f64::max);
+        println!("deform_idw_fast θ {theta}: max diff to deform_idw {worst:.2e}, {report:?}");
+        assert!(worst <= tol, "θ {theta}: {worst}");
+        for (k, &i) in case.boundary.iter().enumerate() {
+            assert_eq!(
+                out[i as usize].map(f64::to_bits),
+                deformed[k].map(f64::to_bits)
+            );
+        }
+    }
+    let mut out = vec![[7.0; 2]; n];
+    let bad = IdwFastOptions {
+        theta: 1.5,
+        tolerance: 0.1,
+    };
+    let e = deform_idw_fast(
+        &case.points,
+        &motion,
+        2.0,
+        &bad,
+        &mut t,
+        &mut r,
+        &mut s,
+        &mut index,
+        &mut tree,
+        &mut out,
+    );
+    assert!(matches!(
+        e,
+        Err(Error::InvalidParameter {
+            arg: "options.theta",
+            ..
+        })
+    ));
+    let e = deform_idw_fast(
+        &case.points,
+        &motion,
+        2.0,
+        &IdwFastOptions::default(),
+        &mut t,
+        &mut r,
+        &mut s,
+        &mut index,
+        &mut tree[..1],
+        &mut out,
+    );
+    assert!(matches!(e, Err(Error::BufferTooSmall { arg: "tree", .. })));
+    assert!(out.iter().all(|p| *p == [7.0, 7.0]));
+}

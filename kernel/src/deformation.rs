@@ -24,7 +24,8 @@
 //!    [`displacement_tfi`] is plain displacement TFI for comparison.
 //! 5. [`update_points`]: the field update (eq. 6); boundary nodes are copied from `r^d`.
 //!
-//! [`deform_idw`], [`deform_tfi`] and [`deform_spring`] run the whole pipeline in one call.
+//! [`deform_idw`], [`deform_idw_fast`], [`deform_tfi`] and [`deform_spring`] run the whole
+//! pipeline in one call.
 //!
 //! **Boundary exactness.** `o + ((r^d − o) − x) + x` is not `r^d` in floating point (the
 //! subtraction can lose the low bits of `r^d`), so no evaluation order of eq. 6 reproduces the
@@ -65,7 +66,7 @@ pub use idw_fast::{
 pub use localize::{localize_nodes, localize_nodes_scratch_len};
 pub use normals::{boundary_normals, boundary_normals_scratch_len};
 pub use pipeline::{
-    deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len,
+    deform_idw, deform_idw_fast, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len,
     deform_spring_with, deform_tfi, deform_tfi_scratch_len, BoundaryMotion, RotationSource,
 };
 pub use propagate::propagate_idw;

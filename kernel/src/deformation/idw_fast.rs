@@ -254,22 +254,8 @@ pub fn propagate_idw_fast<T: Real, const D: usize>(
             reason: "must be finite and positive",
         });
     }
-    let theta = options.theta;
-    if !(theta.is_finite() && theta >= T::ZERO && theta < T::ONE) {
-        return Err(Error::InvalidParameter {
-            arg: "options.theta",
-            reason: "must be in [0, 1)",
-        });
-    }
-    if options.tolerance.is_nan() || options.tolerance < T::ZERO {
-        return Err(Error::InvalidParameter {
-            arg: "options.tolerance",
-            reason: "must be non-negative (+inf for no refinement)",
-        });
-    }
-    check_buffer("index", index.len(), propagate_idw_fast_index_len(b))?;
+    check_options_and_buffers::<T, D>(options, b, index.len(), scratch.len(), "scratch")?;
     let nodes_needed = propagate_idw_fast_scratch_len::<D>(b);
-    check_buffer("scratch", scratch.len(), nodes_needed)?;
     check_finite("points", points)?;
     check_boundary_entries(boundary, translations, rotations)?;
 
@@ -329,6 +315,36 @@ pub fn propagate_idw_fast<T: Real, const D: usize>(
         }
     }
     Ok(report)
+}
+
+/// Checks `θ`, the tolerance and the sizes of the tree buffers for `b` boundary nodes
+/// (`scratch_arg` names the scalar buffer in errors).
+pub(super) fn check_options_and_buffers<T: Real, const D: usize>(
+    options: &IdwFastOptions<T>,
+    b: usize,
+    index_len: usize,
+    scratch_len: usize,
+    scratch_arg: &'static str,
+) -> Result<()> {
+    let theta = options.theta;
+    if !(theta.is_finite() && theta >= T::ZERO && theta < T::ONE) {
+        return Err(Error::InvalidParameter {
+            arg: "options.theta",
+            reason: "must be in [0, 1)",
+        });
+    }
+    if options.tolerance.is_nan() || options.tolerance < T::ZERO {
+        return Err(Error::InvalidParameter {
+            arg: "options.tolerance",
+            reason: "must be non-negative (+inf for no refinement)",
+        });
+    }
+    check_buffer("index", index_len, propagate_idw_fast_index_len(b))?;
+    check_buffer(
+        scratch_arg,
+        scratch_len,
+        propagate_idw_fast_scratch_len::<D>(b),
+    )
 }
 
 /// Offsets of the fields of a node record.

@@ -1,11 +1,12 @@
 //! One-call deformation pipelines: boundary rotations and translations, propagation, update.
 
+use super::idw_fast::check_options_and_buffers;
 use super::rotations::{origin_core, rotations_core, translation};
 use super::springs::{propagate_spring_with, propagate_spring_with_scratch_len};
 use super::{
     boundary_rotations_scratch_len, check_buffer, check_dim, check_finite, check_indices,
-    check_len, check_quats, check_scalar, propagate_idw, propagate_tfi, tfi_scratch_len,
-    update_points, Pts,
+    check_len, check_quats, check_scalar, propagate_idw, propagate_idw_fast, propagate_tfi,
+    tfi_scratch_len, update_points, IdwFastOptions, IdwFastReport, Pts,
 };
 use crate::block::Block;
 use crate::cells::Cells;
@@ -232,6 +233,73 @@ pub fn deform_idw<T: Real, const D: usize>(
         out,
     )?;
     Ok(origin)
+}
+
+/// [`deform_idw`] with the fast, tree-based propagation
+/// [`propagate_idw_fast`](super::propagate_idw_fast) (far-field clusters, per-point bound
+/// `η ≤ options.tolerance`). `index` and `tree` are its buffers
+/// ([`propagate_idw_fast_index_len`](super::propagate_idw_fast_index_len),
+/// [`propagate_idw_fast_scratch_len`](super::propagate_idw_fast_scratch_len) for `B =
+/// motion.nodes.len()`); `scratch` as for [`deform_idw`]. Returns the origin and the
+/// propagation report. Errors: those of [`deform_idw`] and of the options and buffers; on
+/// error `out` is unchanged.
+#[allow(clippy::too_many_arguments)]
+pub fn deform_idw_fast<T: Real, const D: usize>(
+    points: &[[T; D]],
+    motion: &BoundaryMotion<'_, T, D>,
+    exponent: T,
+    options: &IdwFastOptions<T>,
+    translations: &mut [[T; D]],
+    rotations: &mut [Quat<T>],
+    scratch: &mut [T],
+    index: &mut [u32],
+    tree: &mut [T],
+    out: &mut [[T; D]],
+) -> Result<([T; D], IdwFastReport<T>)> {
+    validate(
+        points,
+        motion,
+        translations,
+        rotations,
+        scratch,
+        boundary_rotations_scratch_len::<D>(motion.nodes.len()),
+        out,
+    )?;
+    if !(exponent.is_finite() && exponent > T::ZERO) {
+        return Err(Error::InvalidParameter {
+            arg: "exponent",
+            reason: "must be finite and positive",
+        });
+    }
+    check_options_and_buffers::<T, D>(
+        options,
+        motion.nodes.len(),
+        index.len(),
+        tree.len(),
+        "tree",
+    )?;
+    let origin = boundary_values(points, motion, translations, rotations, scratch)?;
+    let report = propagate_idw_fast(
+        points,
+        motion.nodes,
+        exponent,
+        options,
+        index,
+        tree,
+        translations,
+        rotations,
+        None,
+    )?;
+    update_points(
+        origin,
+        points,
+        translations,
+        rotations,
+        motion.nodes,
+        motion.deformed,
+        out,
+    )?;
+    Ok((origin, report))
 }
 
 /// Length of the `scratch` slice [`deform_tfi`] needs: `max(D N, rotation scratch)`.

@@ -5,10 +5,10 @@ use core::hint::black_box;
 
 use deform_kernel::deformation::{
     boundary_normals, boundary_normals_scratch_len, boundary_origin, boundary_rotations,
-    boundary_rotations_scratch_len, boundary_translations, deform_idw, deform_idw_scratch_len,
-    deform_spring, deform_spring_scratch_len, deform_spring_with, deform_tfi,
-    deform_tfi_scratch_len, displacement_tfi, localize_nodes, localize_nodes_scratch_len,
-    propagate_idw, propagate_idw_fast, propagate_idw_fast_index_len,
+    boundary_rotations_scratch_len, boundary_translations, deform_idw, deform_idw_fast,
+    deform_idw_scratch_len, deform_spring, deform_spring_scratch_len, deform_spring_with,
+    deform_tfi, deform_tfi_scratch_len, displacement_tfi, localize_nodes,
+    localize_nodes_scratch_len, propagate_idw, propagate_idw_fast, propagate_idw_fast_index_len,
     propagate_idw_fast_scratch_len, propagate_spring, propagate_spring_scratch_len,
     propagate_spring_with, propagate_spring_with_scratch_len, propagate_tfi, rigid_rotations,
     tfi_scratch_len, update_points, BoundaryMotion, IdwFastOptions, RotationSource,
@@ -105,6 +105,24 @@ fn run<T: Real, const D: usize, const V: usize>() {
             bb(&mut trans[..]),
             bb(&mut rot[..]),
             bb(&mut scratch[..]),
+            bb(&mut out[..]),
+        ));
+        let mut fast_index = [0u32; B];
+        let mut tree = [T::ZERO; 128];
+        let fast_options = IdwFastOptions {
+            theta: bb(T::HALF),
+            tolerance: bb(T::INFINITY),
+        };
+        keep(deform_idw_fast(
+            &points,
+            &motion,
+            bb(T::TWO),
+            &fast_options,
+            bb(&mut trans[..]),
+            bb(&mut rot[..]),
+            bb(&mut scratch[..]),
+            bb(&mut fast_index[..]),
+            bb(&mut tree[..]),
             bb(&mut out[..]),
         ));
         let given = bb([q; B]);
