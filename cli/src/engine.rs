@@ -377,6 +377,8 @@ pub struct MoveInput<'a> {
     pub idw_exponent: f64,
     /// Spring stiffness (spring, angle-spring and quaternion-spring methods).
     pub stiffness: Stiffness,
+    /// `--method idw` with the fast tree-based propagation: `(θ, tolerance)` (`None`: exact).
+    pub idw_fast: Option<(f64, f64)>,
 }
 
 /// How stiff each spring is (`deform move --stiffness`).
@@ -429,6 +431,9 @@ fn spring_stiffness<const D: usize>(
 /// Result of a mesh motion.
 #[derive(Clone, Debug)]
 pub struct MoveResult {
+    /// The largest per-point error bound of the fast IDW (relative to the spread of the
+    /// boundary motion; `None` when the exact propagation ran).
+    pub idw_max_bound: Option<f64>,
     /// Deformed points.
     pub deformed: Vec<[f64; 3]>,
     /// Displacement of every point.
@@ -626,6 +631,7 @@ pub fn run_move_in_steps(
     let (mut iterations, mut residual, mut converged) = (0, 0.0f64, true);
     let mut center = None;
     let mut last = None;
+    let mut idw_bound: Option<f64> = None;
     for s in 1..=steps {
         let fraction = |x: f64| {
             if s == steps {
@@ -669,6 +675,10 @@ pub fn run_move_in_steps(
         }
         iterations += r.iterations;
         residual = residual.max(r.residual);
+        idw_bound = match (idw_bound, r.idw_max_bound) {
+            (Some(a), Some(b)) => Some(f64::max(a, b)),
+            (a, b) => a.or(b),
+        };
         converged &= r.converged;
         current = r.deformed.clone();
         // The prescribed positions of the moved nodes after this step, exactly.
@@ -719,6 +729,7 @@ pub fn run_move_in_steps(
     result.residual = residual;
     result.converged = converged;
     result.center = center;
+    result.idw_max_bound = idw_bound;
     Ok(result)
 }
 
@@ -889,6 +900,7 @@ fn move_d<const D: usize, const V: usize>(
     let g = graph.view()?;
 
     let mut out = pts.clone();
+    let mut idw_max_bound = None;
     let (iterations, residual, converged) = match input.method {
         MoveMethod::Spring | MoveMethod::AngleDirect | MoveMethod::AngleCg => {
             let k = spring_stiffness(&g, &view, &pts, &moved, input.stiffness)?;
@@ -1041,16 +1053,43 @@ fn move_d<const D: usize, const V: usize>(
             let mut rotations = vec![Quat::identity(); n];
             if input.method == MoveMethod::Idw {
                 let mut scratch = vec![0.0; deform_idw_scratch_len::<D>(n, boundary.len())];
-                deform_idw(
-                    &pts,
-                    &motion,
-                    input.idw_exponent,
-                    &mut translations,
-                    &mut rotations,
-                    &mut scratch,
-                    &mut out,
-                )
-                .map_err(kernel("quaternion IDW"))?;
+                match input.idw_fast {
+                    None => {
+                        deform_idw(
+                            &pts,
+                            &motion,
+                            input.idw_exponent,
+                            &mut translations,
+                            &mut rotations,
+                            &mut scratch,
+                            &mut out,
+                        )
+                        .map_err(kernel("quaternion IDW"))?;
+                    }
+                    Some((theta, tolerance)) => {
+                        use deform_kernel::deformation::{
+                            deform_idw_fast, propagate_idw_fast_index_len,
+                            propagate_idw_fast_scratch_len, IdwFastOptions,
+                        };
+                        let b = boundary.len();
+                        let mut index = vec![0u32; propagate_idw_fast_index_len(b)];
+                        let mut tree = vec![0.0; propagate_idw_fast_scratch_len::<D>(b)];
+                        let (_, report) = deform_idw_fast(
+                            &pts,
+                            &motion,
+                            input.idw_exponent,
+                            &IdwFastOptions { theta, tolerance },
+                            &mut translations,
+                            &mut rotations,
+                            &mut scratch,
+                            &mut index,
+                            &mut tree,
+                            &mut out,
+                        )
+                        .map_err(kernel("fast quaternion IDW"))?;
+                        idw_max_bound = Some(report.max_bound);
+                    }
+                }
                 (0, 0.0, true)
             } else {
                 let k = spring_stiffness(&g, &view, &pts, &moved, input.stiffness)?;
@@ -1121,6 +1160,7 @@ fn move_d<const D: usize, const V: usize>(
         .map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]])
         .collect();
     Ok(MoveResult {
+        idw_max_bound,
         deformed,
         displacement,
         iterations,

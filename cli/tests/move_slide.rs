@@ -49,6 +49,7 @@ fn input(mesh: &Su2Mesh, method: MoveMethod, pinned: bool) -> MoveInput<'_> {
         max_iter: 20_000,
         idw_exponent: 2.0,
         stiffness: Stiffness::Batina,
+        idw_fast: None,
     }
 }
 
@@ -208,6 +209,7 @@ fn curved_marker_is_refused() {
         max_iter: 100,
         idw_exponent: 2.0,
         stiffness: Stiffness::Batina,
+        idw_fast: None,
     };
     let e = run_move_sliding(
         &inp,

@@ -151,6 +151,7 @@ fn run(mesh: &Su2Mesh, moved: &str, method: MoveMethod, solver: MoveSolver) -> V
         max_iter: 10_000,
         idw_exponent: 2.0,
         stiffness: Stiffness::Batina,
+        idw_fast: None,
     };
     let r = run_move(&input).expect("move");
     assert!(r.converged, "{method:?}/{solver:?} did not converge");

@@ -227,6 +227,22 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
             )));
         }
     }
+    if let Some(theta) = a.idw_theta {
+        if a.method != Method::Idw {
+            return Err(CliError::Invalid(format!(
+                "--idw-theta applies to --method idw, not {}",
+                value_name(&a.method)
+            )));
+        }
+        if !(0.0..1.0).contains(&theta) {
+            return Err(CliError::Invalid("--idw-theta must be in [0, 1)".into()));
+        }
+        if a.idw_tolerance.is_nan() || a.idw_tolerance < 0.0 {
+            return Err(CliError::Invalid(
+                "--idw-tolerance must be a non-negative number (inf: θ alone)".into(),
+            ));
+        }
+    }
     if !(a.idw_exponent.is_finite() && a.idw_exponent > 0.0) {
         return Err(CliError::Invalid("--idw-exponent must be positive".into()));
     }
@@ -279,6 +295,7 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
         tol: a.tol,
         max_iter: a.max_iter,
         idw_exponent: a.idw_exponent,
+        idw_fast: a.idw_theta.map(|theta| (theta, a.idw_tolerance)),
         stiffness: match a.stiffness {
             StiffnessArg::Batina => Stiffness::Batina,
             StiffnessArg::WallDistance => Stiffness::WallDistance,
@@ -479,6 +496,7 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
             _ => value_name(&a.stiffness),
         },
         steps: a.steps,
+        idw_max_bound: result.idw_max_bound,
         moved_nodes: result.moved_nodes,
         fixed_nodes: result.fixed_nodes,
         sliding_markers: a.slide.clone(),
@@ -522,7 +540,9 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
             format!(" in {} steps", report.steps)
         } else {
             String::new()
-        },
+        } + &report.idw_max_bound.map_or_else(String::new, |b| {
+            format!(" (fast, θ {}, error bound {b:.2e} of the motion's spread)", a.idw_theta.unwrap_or(0.0))
+        }),
         report.iterations,
         report.residual,
         if report.converged { "" } else { " (NOT converged)" },
@@ -572,6 +592,7 @@ pub(crate) struct MoveReport {
     solver: String,
     stiffness: String,
     steps: u32,
+    idw_max_bound: Option<f64>,
     moved_nodes: usize,
     fixed_nodes: usize,
     sliding_markers: Vec<String>,
