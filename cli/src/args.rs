@@ -303,6 +303,11 @@ pub struct MoveArgs {
         requires = "idw_theta"
     )]
     pub idw_tolerance: f64,
+    /// Quaternion and IDW methods: fade the propagated motion smoothly to none at this
+    /// distance from the moved markers (mesh units), so far-away nodes stay put (by default a
+    /// small interpolated rotation turns far nodes about the rotation origin).
+    #[arg(long, value_name = "DISTANCE")]
+    pub reach: Option<f64>,
     /// Output SU2 mesh.
     #[arg(long)]
     pub out: PathBuf,

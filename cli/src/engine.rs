@@ -379,6 +379,9 @@ pub struct MoveInput<'a> {
     pub stiffness: Stiffness,
     /// `--method idw` with the fast tree-based propagation: `(θ, tolerance)` (`None`: exact).
     pub idw_fast: Option<(f64, f64)>,
+    /// Quaternion and IDW methods: no motion beyond this distance from the moved markers
+    /// (`None`: the propagation's own reach).
+    pub reach: Option<f64>,
 }
 
 /// How stiff each spring is (`deform move --stiffness`).
@@ -1051,11 +1054,12 @@ fn move_d<const D: usize, const V: usize>(
             };
             let mut translations = vec![[0.0; D]; n];
             let mut rotations = vec![Quat::identity(); n];
-            if input.method == MoveMethod::Idw {
+            let origin_used: [f64; D];
+            let solved = if input.method == MoveMethod::Idw {
                 let mut scratch = vec![0.0; deform_idw_scratch_len::<D>(n, boundary.len())];
                 match input.idw_fast {
                     None => {
-                        deform_idw(
+                        origin_used = deform_idw(
                             &pts,
                             &motion,
                             input.idw_exponent,
@@ -1074,7 +1078,7 @@ fn move_d<const D: usize, const V: usize>(
                         let b = boundary.len();
                         let mut index = vec![0u32; propagate_idw_fast_index_len(b)];
                         let mut tree = vec![0.0; propagate_idw_fast_scratch_len::<D>(b)];
-                        let (_, report) = deform_idw_fast(
+                        let (o, report) = deform_idw_fast(
                             &pts,
                             &motion,
                             input.idw_exponent,
@@ -1088,6 +1092,7 @@ fn move_d<const D: usize, const V: usize>(
                         )
                         .map_err(kernel("fast quaternion IDW"))?;
                         idw_max_bound = Some(report.max_bound);
+                        origin_used = o;
                     }
                 }
                 (0, 0.0, true)
@@ -1107,7 +1112,7 @@ fn move_d<const D: usize, const V: usize>(
                 };
                 let mut scratch = vec![0.0; deform_spring_scratch_len::<D>(n, boundary.len())];
                 let mut values = vec![[0.0; V]; propagate_spring_with_scratch_len(&solver, n)];
-                let (_, report) = deform_spring_with::<f64, D, V>(
+                let (o, report) = deform_spring_with::<f64, D, V>(
                     &pts,
                     &motion,
                     &sys,
@@ -1120,8 +1125,37 @@ fn move_d<const D: usize, const V: usize>(
                     &mut out,
                 )
                 .map_err(kernel("quaternion springs"))?;
+                origin_used = o;
                 (report.iterations, report.residual, report.converged)
+            };
+            if let Some(radius) = input.reach {
+                // Fade (Δ, Q) to no motion beyond `radius` from the moving markers, then redo
+                // the field update.
+                use deform_kernel::deformation::{limit_reach, update_points};
+                let mut distances = vec![0.0; n];
+                deform_kernel::spring::wall_distances(&pts, &moved, &mut distances)
+                    .map_err(kernel("reach"))?;
+                limit_reach(&distances, radius, &mut translations, &mut rotations)
+                    .map_err(kernel("reach"))?;
+                update_points(
+                    origin_used,
+                    &pts,
+                    &translations,
+                    &rotations,
+                    &boundary,
+                    &deformed,
+                    &mut out,
+                )
+                .map_err(kernel("reach"))?;
+                // Beyond the reach the update is o + (p − o), which can differ from p in the
+                // last bit: those nodes keep their coordinates exactly.
+                for ((o, p), &d) in out.iter_mut().zip(&pts).zip(&distances) {
+                    if d >= radius {
+                        *o = *p;
+                    }
+                }
             }
+            solved
         }
     };
     if let Some(c) = &constraints {

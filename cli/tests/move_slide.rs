@@ -50,6 +50,7 @@ fn input(mesh: &Su2Mesh, method: MoveMethod, pinned: bool) -> MoveInput<'_> {
         idw_exponent: 2.0,
         stiffness: Stiffness::Batina,
         idw_fast: None,
+        reach: None,
     }
 }
 
@@ -210,6 +211,7 @@ fn curved_marker_is_refused() {
         idw_exponent: 2.0,
         stiffness: Stiffness::Batina,
         idw_fast: None,
+        reach: None,
     };
     let e = run_move_sliding(
         &inp,

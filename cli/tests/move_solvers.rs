@@ -152,6 +152,7 @@ fn run(mesh: &Su2Mesh, moved: &str, method: MoveMethod, solver: MoveSolver) -> V
         idw_exponent: 2.0,
         stiffness: Stiffness::Batina,
         idw_fast: None,
+        reach: None,
     };
     let r = run_move(&input).expect("move");
     assert!(r.converged, "{method:?}/{solver:?} did not converge");

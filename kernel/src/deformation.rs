@@ -22,6 +22,8 @@
 //!    [`propagate_idw_fast`] (inverse distance with far-field clusters of a k-d tree and a
 //!    per-point error bound, for large boundaries).
 //!    [`displacement_tfi`] is plain displacement TFI for comparison.
+//!    [`limit_reach`] optionally fades `(Δ, Q)` to no motion beyond a radius from the moving
+//!    boundary.
 //! 5. [`update_points`]: the field update (eq. 6); boundary nodes are copied from `r^d`.
 //!
 //! [`deform_idw`], [`deform_idw_fast`], [`deform_tfi`] and [`deform_spring`] run the whole
@@ -54,6 +56,7 @@ mod localize;
 mod normals;
 mod pipeline;
 mod propagate;
+mod reach;
 mod rotations;
 mod springs;
 mod tfi;
@@ -70,6 +73,7 @@ pub use pipeline::{
     deform_spring_with, deform_tfi, deform_tfi_scratch_len, BoundaryMotion, RotationSource,
 };
 pub use propagate::propagate_idw;
+pub use reach::{limit_reach, reach_weight};
 pub use rotations::{
     boundary_origin, boundary_rotations, boundary_rotations_scratch_len, boundary_translations,
     rigid_rotations,

@@ -381,6 +381,7 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
                     idw_exponent: 2.0,
                     stiffness: Stiffness::Batina,
                     idw_fast: None,
+                    reach: None,
                 };
                 let t = Instant::now();
                 let r = run_move(&input)?;

@@ -227,6 +227,19 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
             )));
         }
     }
+    if let Some(r) = a.reach {
+        if !matches!(a.method, Method::Quaternion | Method::Idw) {
+            return Err(CliError::Invalid(format!(
+                "--reach applies to the quaternion and idw methods, not {}",
+                value_name(&a.method)
+            )));
+        }
+        if !(r.is_finite() && r > 0.0) {
+            return Err(CliError::Invalid(
+                "--reach must be a positive distance".into(),
+            ));
+        }
+    }
     if let Some(theta) = a.idw_theta {
         if a.method != Method::Idw {
             return Err(CliError::Invalid(format!(
@@ -296,6 +309,7 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
         max_iter: a.max_iter,
         idw_exponent: a.idw_exponent,
         idw_fast: a.idw_theta.map(|theta| (theta, a.idw_tolerance)),
+        reach: a.reach,
         stiffness: match a.stiffness {
             StiffnessArg::Batina => Stiffness::Batina,
             StiffnessArg::WallDistance => Stiffness::WallDistance,
@@ -496,6 +510,7 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
             _ => value_name(&a.stiffness),
         },
         steps: a.steps,
+        reach: a.reach,
         idw_max_bound: result.idw_max_bound,
         moved_nodes: result.moved_nodes,
         fixed_nodes: result.fixed_nodes,
@@ -540,7 +555,8 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
             format!(" in {} steps", report.steps)
         } else {
             String::new()
-        } + &report.idw_max_bound.map_or_else(String::new, |b| {
+        } + &a.reach.map_or_else(String::new, |r| format!(" (reach {r})"))
+            + &report.idw_max_bound.map_or_else(String::new, |b| {
             format!(" (fast, θ {}, error bound {b:.2e} of the motion's spread)", a.idw_theta.unwrap_or(0.0))
         }),
         report.iterations,
@@ -592,6 +608,7 @@ pub(crate) struct MoveReport {
     solver: String,
     stiffness: String,
     steps: u32,
+    reach: Option<f64>,
     idw_max_bound: Option<f64>,
     moved_nodes: usize,
     fixed_nodes: usize,

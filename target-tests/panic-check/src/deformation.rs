@@ -7,11 +7,12 @@ use deform_kernel::deformation::{
     boundary_normals, boundary_normals_scratch_len, boundary_origin, boundary_rotations,
     boundary_rotations_scratch_len, boundary_translations, deform_idw, deform_idw_fast,
     deform_idw_scratch_len, deform_spring, deform_spring_scratch_len, deform_spring_with,
-    deform_tfi, deform_tfi_scratch_len, displacement_tfi, localize_nodes,
+    deform_tfi, deform_tfi_scratch_len, displacement_tfi, limit_reach, localize_nodes,
     localize_nodes_scratch_len, propagate_idw, propagate_idw_fast, propagate_idw_fast_index_len,
     propagate_idw_fast_scratch_len, propagate_spring, propagate_spring_scratch_len,
-    propagate_spring_with, propagate_spring_with_scratch_len, propagate_tfi, rigid_rotations,
-    tfi_scratch_len, update_points, BoundaryMotion, IdwFastOptions, RotationSource,
+    propagate_spring_with, propagate_spring_with_scratch_len, propagate_tfi, reach_weight,
+    rigid_rotations, tfi_scratch_len, update_points, BoundaryMotion, IdwFastOptions,
+    RotationSource,
 };
 use deform_kernel::spring::{
     AmgHierarchy, AmgOptions, LinearMethod, LinearSolver, Preconditioner, SolveOptions,
@@ -309,6 +310,17 @@ fn run<T: Real, const D: usize, const V: usize>() {
         } else {
             None
         },
+    ));
+    let mut reach_distances = [T::ZERO; N];
+    for (k, d) in reach_distances.iter_mut().enumerate() {
+        *d = bb(T::from_usize(k));
+    }
+    keep(reach_weight(bb(T::HALF), bb(T::TWO)));
+    keep(limit_reach(
+        &reach_distances,
+        bb(T::TWO),
+        bb(&mut trans[..]),
+        bb(&mut rot[..]),
     ));
     keep(update_points(
         origin,
