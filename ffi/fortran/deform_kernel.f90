@@ -38,6 +38,8 @@ module deform_kernel
   integer(c_int32_t), parameter, public :: DK_ERR_NON_POSITIVE = 24
   integer(c_int32_t), parameter, public :: DK_ERR_CELL_DIMENSION = 25
   integer(c_int32_t), parameter, public :: DK_ERR_OVERFLOW = 26
+  integer(c_int32_t), parameter, public :: DK_ERR_NOT_UNIT = 27
+  integer(c_int32_t), parameter, public :: DK_ERR_NOT_PLANAR = 28
   integer(c_int32_t), parameter, public :: DK_ERR_OTHER = 99
 
   ! VTK cell kind codes.

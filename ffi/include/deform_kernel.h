@@ -145,6 +145,10 @@ enum dk_status
   DK_ERR_CELL_DIMENSION = 25,
   // An intermediate result exceeded the floating-point range even after rescaling.
   DK_ERR_OVERFLOW = 26,
+  // A direction that must be a unit vector (a sliding node's normal or tangent) is not.
+  DK_ERR_NOT_UNIT = 27,
+  // A node set that must be planar (a symmetry plane) deviates from its fitted plane.
+  DK_ERR_NOT_PLANAR = 28,
   // An error this version of the header does not know (a newer kernel).
   DK_ERR_OTHER = 99,
 };

@@ -63,6 +63,10 @@ pub enum dk_status {
     DK_ERR_CELL_DIMENSION = 25,
     /// An intermediate result exceeded the floating-point range even after rescaling.
     DK_ERR_OVERFLOW = 26,
+    /// A direction that must be a unit vector (a sliding node's normal or tangent) is not.
+    DK_ERR_NOT_UNIT = 27,
+    /// A node set that must be planar (a symmetry plane) deviates from its fitted plane.
+    DK_ERR_NOT_PLANAR = 28,
     /// An error this version of the header does not know (a newer kernel).
     DK_ERR_OTHER = 99,
 }
@@ -94,6 +98,8 @@ impl From<Error> for dk_status {
             Error::NonPositive { .. } => dk_status::DK_ERR_NON_POSITIVE,
             Error::CellDimension { .. } => dk_status::DK_ERR_CELL_DIMENSION,
             Error::Overflow { .. } => dk_status::DK_ERR_OVERFLOW,
+            Error::NotUnit { .. } => dk_status::DK_ERR_NOT_UNIT,
+            Error::NotPlanar { .. } => dk_status::DK_ERR_NOT_PLANAR,
             _ => dk_status::DK_ERR_OTHER,
         }
     }
@@ -131,6 +137,8 @@ pub extern "C" fn dk_status_str(status: i32) -> *const core::ffi::c_char {
         24 => c"a value that must be positive (stiffness, weight) is zero or negative",
         25 => c"a cell's kind does not fit the point dimension",
         26 => c"an intermediate result exceeded the floating-point range",
+        27 => c"a direction that must be a unit vector is not",
+        28 => c"a node set that must be planar deviates from its fitted plane",
         99 => c"an error unknown to this header version",
         _ => c"unknown status",
     };

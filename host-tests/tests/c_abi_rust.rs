@@ -458,3 +458,34 @@ fn deform_idw_rejects_bad_motion_and_keeps_out() {
         "negative exponent",
     );
 }
+
+#[test]
+fn every_kernel_error_has_its_own_status_and_description() {
+    use deform_kernel::Error;
+    let cases = [
+        (Error::Overflow { arg: "x" }, dk_status::DK_ERR_OVERFLOW, 26),
+        (
+            Error::NotUnit {
+                arg: "directions",
+                position: 3,
+            },
+            dk_status::DK_ERR_NOT_UNIT,
+            27,
+        ),
+        (
+            Error::NotPlanar {
+                arg: "nodes",
+                position: 1,
+            },
+            dk_status::DK_ERR_NOT_PLANAR,
+            28,
+        ),
+    ];
+    for (error, status, code) in cases {
+        assert_eq!(dk_status::from(error), status);
+        assert_eq!(status as i32, code);
+        let text = unsafe { core::ffi::CStr::from_ptr(dk_ffi::status::dk_status_str(code)) };
+        let text = text.to_str().expect("UTF-8");
+        assert!(!text.contains("unknown"), "{code}: {text}");
+    }
+}
