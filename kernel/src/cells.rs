@@ -180,6 +180,22 @@ pub struct Cells<'a> {
 }
 
 impl<'a> Cells<'a> {
+    /// Wraps arrays that [`Cells::new`] accepted before (a prepared plan's copies): no check.
+    #[inline]
+    pub(crate) fn trusted(
+        node_count: usize,
+        offsets: &'a [u32],
+        nodes: &'a [u32],
+        kinds: &'a [u8],
+    ) -> Self {
+        Cells {
+            node_count,
+            offsets,
+            nodes,
+            kinds,
+        }
+    }
+
     /// Validates and wraps the arrays. `node_count` is the number of mesh points.
     pub fn new(
         node_count: usize,

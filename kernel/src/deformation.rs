@@ -85,6 +85,12 @@ pub use springs::{
 pub use tfi::{displacement_tfi, propagate_tfi, tfi_scratch_len};
 pub use update::update_points;
 
+/// The pieces of the pipelines a prepared plan ([`crate::plan`]) reuses, so its steps run the
+/// very same arithmetic.
+pub(crate) use normals::check_elements;
+pub(crate) use rotations::{origin_core, rotations_core, translation};
+pub(crate) use update::apply;
+
 use crate::error::{Error, Result};
 use crate::quat::Quat;
 use crate::real::Real;
@@ -100,13 +106,13 @@ pub(crate) struct Pts<'a, T, const D: usize> {
 impl<'a, T: Real, const D: usize> Pts<'a, T, D> {
     /// The points themselves.
     #[inline]
-    fn direct(points: &'a [[T; D]]) -> Self {
+    pub(crate) fn direct(points: &'a [[T; D]]) -> Self {
         Pts { points, map: None }
     }
 
     /// `points[map[k]]` for `k` in `0..map.len()`.
     #[inline]
-    fn mapped(points: &'a [[T; D]], map: &'a [u32]) -> Self {
+    pub(crate) fn mapped(points: &'a [[T; D]], map: &'a [u32]) -> Self {
         Pts {
             points,
             map: Some(map),
@@ -124,7 +130,7 @@ impl<'a, T: Real, const D: usize> Pts<'a, T, D> {
 
     /// Point `k` (zero when out of range).
     #[inline]
-    fn get(&self, k: usize) -> [T; D] {
+    pub(crate) fn get(&self, k: usize) -> [T; D] {
         let i = match self.map {
             Some(m) => m.get(k).map_or(usize::MAX, |&i| i as usize),
             None => k,

@@ -59,6 +59,13 @@ pub enum Error {
         /// The node.
         node: usize,
     },
+    /// Buffers given as a prepared plan ([`Plan::open`](crate::plan::Plan::open)) do not hold
+    /// one: wrong magic, version, scalar type, dimension or sizes, inconsistent sections, or a
+    /// checksum mismatch of the parts that never change (a corrupted or foreign buffer).
+    BadPlan {
+        /// What is wrong.
+        reason: &'static str,
+    },
     /// A graph that must be symmetric has an edge `from → to` without `to → from`.
     NotSymmetric {
         /// Source of the unmatched edge.
@@ -290,6 +297,7 @@ impl fmt::Display for Error {
             Error::NotUnit { arg, position } => {
                 write!(f, "`{arg}` item {position} is not a unit vector")
             }
+            Error::BadPlan { reason } => write!(f, "the buffers are not a valid plan: {reason}"),
             Error::NotPlanar { arg, position } => write!(
                 f,
                 "the nodes of `{arg}` are not planar: item {position} is farther from the fitted plane than the tolerance"
@@ -403,6 +411,7 @@ impl defmt::Format for Error {
             Error::NotUnit { arg, position } => {
                 defmt::write!(f, "NotUnit({=str}[{}])", arg, position)
             }
+            Error::BadPlan { reason } => defmt::write!(f, "BadPlan({=str})", reason),
             Error::NotPlanar { arg, position } => {
                 defmt::write!(f, "NotPlanar({=str}[{}])", arg, position)
             }

@@ -84,6 +84,12 @@ impl<'a> Graph<'a> {
         Ok(Graph { offsets, targets })
     }
 
+    /// Wraps arrays that [`Graph::new`] accepted before (a prepared plan's copies): no check.
+    #[inline]
+    pub(crate) fn trusted(offsets: &'a [u32], targets: &'a [u32]) -> Self {
+        Graph { offsets, targets }
+    }
+
     /// Number of nodes `n`.
     #[inline]
     pub fn node_count(&self) -> usize {

@@ -34,6 +34,7 @@ pub mod deformation;
 pub mod error;
 pub mod graph;
 pub mod graph_builder;
+pub mod plan;
 pub mod quality;
 pub mod quat;
 pub mod real;

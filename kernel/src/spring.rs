@@ -52,6 +52,7 @@ pub use amg::{
     amg_precondition, amg_precondition_scratch_len, solve_linear_amg, solve_linear_amg_scratch_len,
     AmgHierarchy, AmgOptions, AmgSizes, AmgSmoother, AMG_MAX_DENSE, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
 };
+pub(crate) use amg::{Layout, Level};
 pub use angle::{
     angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_probe_scratch_len, angle_rigidity_probe,
     angle_scratch_len, angle_sor_sweep, solve_angle, solve_angle_sor, AngleMethod, AngleSystem,
@@ -71,6 +72,7 @@ pub use stiffening::{
 pub use stiffness::batina_stiffness;
 #[cfg(feature = "micromath")]
 pub use stiffness::batina_stiffness_fast;
+pub(crate) use system::check_omega;
 pub use system::{
     is_fixed, LinearMethod, Preconditioner, SolveOptions, SolveReport, SpringSystem, Sweep,
 };

@@ -8,7 +8,7 @@ use crate::vector::{cross, norm, scale, sub};
 
 /// Checks that `elements` indexes `point_count` points and has the kinds `D` allows: line
 /// segments in 2D, triangles and quadrilaterals in 3D.
-pub(super) fn check_elements<const D: usize>(
+pub(crate) fn check_elements<const D: usize>(
     elements: &Cells<'_>,
     point_count: usize,
 ) -> Result<()> {

@@ -86,7 +86,7 @@ pub fn boundary_rotations<T: Real, const D: usize>(
 
 /// [`boundary_rotations`] on point views: validates, computes, then calls `emit(node, Q)` for
 /// every node in order (only when everything succeeded).
-pub(super) fn rotations_core<T: Real, const D: usize>(
+pub(crate) fn rotations_core<T: Real, const D: usize>(
     undeformed: Pts<'_, T, D>,
     deformed: Pts<'_, T, D>,
     elements: &Cells<'_>,
@@ -266,7 +266,7 @@ pub fn boundary_origin<T: Real, const D: usize>(
 }
 
 /// [`boundary_origin`] on point views.
-pub(super) fn origin_core<T: Real, const D: usize>(
+pub(crate) fn origin_core<T: Real, const D: usize>(
     undeformed: Pts<'_, T, D>,
     deformed: Pts<'_, T, D>,
 ) -> Result<[T; D]> {
@@ -346,7 +346,7 @@ pub fn boundary_translations<T: Real, const D: usize>(
 
 /// `(d − o) − q (u − o) q*` for a unit `q`.
 #[inline]
-pub(super) fn translation<T: Real, const D: usize>(
+pub(crate) fn translation<T: Real, const D: usize>(
     origin: [T; D],
     u: [T; D],
     d: [T; D],

@@ -81,7 +81,7 @@ fn all_valid<T: Real, const D: usize>(
 
 /// `o + (t + q (r − o) q*)` for a unit `q`.
 #[inline]
-pub(super) fn apply<T: Real, const D: usize>(
+pub(crate) fn apply<T: Real, const D: usize>(
     origin: [T; D],
     r: [T; D],
     t: [T; D],

@@ -352,6 +352,32 @@ impl<'a, T: Real> AmgHierarchy<'a, T> {
         })
     }
 
+    /// The layout, smoothing weights and sweep count: what a prepared plan stores beside the
+    /// two buffers to rebuild the hierarchy with [`AmgHierarchy::from_parts`].
+    #[inline]
+    pub(crate) fn parts(&self) -> (Layout, [[T; AMG_MAX_SWEEPS]; AMG_MAX_LEVELS], usize) {
+        (self.layout, self.weights, self.sweeps)
+    }
+
+    /// A hierarchy from parts [`AmgHierarchy::setup`] produced before (no check: the plan
+    /// validates its header and checksum instead).
+    #[inline]
+    pub(crate) fn from_parts(
+        layout: Layout,
+        weights: [[T; AMG_MAX_SWEEPS]; AMG_MAX_LEVELS],
+        sweeps: usize,
+        index: &'a [u32],
+        values: &'a [T],
+    ) -> Self {
+        AmgHierarchy {
+            layout,
+            weights,
+            index,
+            values,
+            sweeps,
+        }
+    }
+
     /// Number of levels (1 = the smoother alone).
     #[inline]
     pub fn levels(&self) -> usize {

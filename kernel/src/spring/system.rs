@@ -120,6 +120,17 @@ impl<'a, T: Real> SpringSystem<'a, T> {
         Ok(sys)
     }
 
+    /// Wraps parts that were validated by [`SpringSystem::new`] before (a prepared plan's
+    /// copies): no check at all.
+    #[inline]
+    pub(crate) fn trusted(graph: Graph<'a>, stiffness: &'a [T], fixed: &'a [u8]) -> Self {
+        SpringSystem {
+            graph,
+            stiffness,
+            fixed,
+        }
+    }
+
     /// Breadth-first search from every fixed node; returns the smallest free node never
     /// reached. The queue is a linked list threaded through `state`: `UNSEEN` = not reached,
     /// `end` (= n) = reached and last in the queue, otherwise the next node in the queue.

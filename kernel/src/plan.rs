@@ -1,0 +1,338 @@
+//! Prepared deformation plans in caller memory: validate and set up once, step many times.
+//!
+//! A flow or structural solver moves its boundary every time step. The stateless entry points
+//! re-validate the graph (symmetry, anchoring), rebuild stiffness and multigrid hierarchy and
+//! start the solve from a cold guess on every call. A [`Plan`] does that work once, in
+//! [`Plan::init`], into three caller buffers (pools):
+//!
+//! - `reals: &mut [T]`: reference points, stiffness, solver parameters, the hierarchy's
+//!   values, the previous solution (warm start) and the step workspaces;
+//! - `indices: &mut [u32]`: a header (magic, version, counts, checksum, step counter), the
+//!   mesh graph (copied in), the boundary node list and elements, the hierarchy's layout and
+//!   index arrays;
+//! - `bytes: &mut [u8]`: the per-node constraint table (kind codes as in
+//!   [`crate::slide`]: 0 free, 1 fixed) and the fixed mask of the spring system.
+//!
+//! [`Plan::sizes`] returns their exact lengths ([`PlanSizes`]); both need a transient
+//! [`PlanWork`] (sizes from [`Plan::work_sizes`]), which can be freed after `init`. Then
+//! [`Plan::step`] takes the new boundary positions and writes the deformed mesh; the previous
+//! step's solution is the initial guess ([`Start::Warm`]) and the [`StepReport`] says how many
+//! iterations the solve took.
+//!
+//! **Offsets, not pointers.** The plan stores only counts and positions inside its pools, so
+//! the pools can be copied, written to disk and read back: [`Plan::open`] checks the header
+//! (magic, version, scalar type, dimension, sizes) and a 64-bit checksum of every part that
+//! never changes, and resumes with the same bits (the warm-start state travels with the pools).
+//! A corrupted or foreign buffer is [`Error::BadPlan`], never garbage.
+//!
+//! **Lifetime rules.** After `init` the plan borrows nothing from the caller but its three
+//! pools: points, graph, boundary list, elements and stiffness are copied in. The plan stays
+//! valid while the mesh connectivity, the reference points, the boundary node list (the fixed
+//! set) and the constraint table stay the same; changing any of them means a new plan
+//! ([`Plan::init`] again, the same pools can be reused when the sizes still fit). Each step
+//! deforms the *reference* mesh (positions are absolute), so stiffness and hierarchy never go
+//! stale. A plan holds no pointers, so moving or copying the pools is always safe; a `Plan`
+//! value is only a view, cheap to drop and reopen.
+//!
+//! **Methods** ([`PlanMethod`]): linear springs on the displacements (`V = D` values per
+//! node) and the quaternion method with linear-spring propagation (`V = D + 4`), each with any
+//! linear-spring solver ([`PlanSolver`]: the multigrid-preconditioned CG or a one-level
+//! method). A cold step gives exactly the bits of the stateless calls
+//! ([`solve_linear_with`](crate::spring::solve_linear_with) from zero free displacements,
+//! [`deform_spring_with`](crate::deformation::deform_spring_with)); a warm step starts from
+//! the previous solution instead.
+//!
+//! **Constraints.** The pools already hold a per-node kind table and a reserved section for
+//! sliding directions ([`PlanSpec::constraints`]); today a plan accepts only free and fixed
+//! nodes, and a table with sliding kinds is refused with [`Error::InvalidParameter`].
+//!
+//! **Errors.** `step` validates its input before it touches anything: on `Err` the caller's
+//! `out` and the plan's state (previous solution, step counter) are unchanged.
+
+mod build;
+mod layout;
+mod step;
+
+use crate::cells::Cells;
+use crate::deformation::RotationSource;
+use crate::error::Result;
+use crate::graph::Graph;
+use crate::real::Real;
+use crate::slide::Constraints;
+use crate::spring::{
+    AmgOptions, LinearMethod, SolveOptions, SolveReport, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
+};
+
+use layout::Meta;
+
+/// What a plan computes each step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PlanMethod {
+    /// Linear (Batina) springs on the displacements: the boundary displacements are the
+    /// Dirichlet data, every free node's displacement solves the spring network.
+    Spring,
+    /// The quaternion method (Samareh) with linear-spring propagation of `(Δ, Q)`.
+    QuaternionSpring,
+}
+
+/// The linear-spring solver of a plan.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PlanSolver<T> {
+    /// CG preconditioned by a smoothed-aggregation hierarchy, built once at `init`.
+    Amg(AmgOptions<T>),
+    /// A one-level method ([`LinearMethod`]).
+    Method(LinearMethod<T>),
+}
+
+/// Where the plan's stiffness comes from (computed or copied once, at `init`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PlanStiffness<'a, T> {
+    /// [`batina_stiffness`](crate::spring::batina_stiffness) of the reference points with
+    /// this exponent (1 is Batina's).
+    Batina {
+        /// The exponent `p` of `1 / |r_i − r_j|^p`.
+        exponent: T,
+    },
+    /// One stiffness per directed edge of the graph (e.g. from
+    /// [`scale_stiffness`](crate::spring::scale_stiffness)); copied in.
+    Given(&'a [T]),
+}
+
+/// Everything a plan is built from. Nothing here is borrowed after [`Plan::init`].
+#[derive(Clone, Copy, Debug)]
+pub struct PlanSpec<'a, T: Real, const D: usize> {
+    /// Reference (undeformed) mesh points, `N`. Every step deforms these.
+    pub points: &'a [[T; D]],
+    /// The mesh graph (edges of the cells), symmetric, `N` nodes.
+    pub graph: Graph<'a>,
+    /// Mesh node of each of the `B` prescribed boundary points (distinct): moved walls and
+    /// fixed far field alike. Exactly these nodes are fixed in the spring system.
+    pub boundary: &'a [u32],
+    /// Boundary elements indexing `0..B` (segments in 2D, triangles/quadrilaterals in 3D),
+    /// for [`RotationSource::Shape`] in the quaternion method; ignored by
+    /// [`PlanMethod::Spring`].
+    pub elements: Option<Cells<'a>>,
+    /// Per-node kinds (the place for sliding boundaries): `None` derives free/fixed from
+    /// `boundary`. A table must mark exactly the boundary nodes fixed; sliding kinds (plane,
+    /// line) are not supported by plans yet.
+    pub constraints: Option<Constraints<'a, T, D>>,
+    /// What each step computes.
+    pub method: PlanMethod,
+    /// Spring stiffness.
+    pub stiffness: PlanStiffness<'a, T>,
+    /// Linear-spring solver.
+    pub solver: PlanSolver<T>,
+    /// Stopping rules of every step's solve.
+    pub options: SolveOptions<T>,
+}
+
+/// Lengths of the three plan pools (or of the transient [`PlanWork`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PlanSizes {
+    /// `T` entries.
+    pub reals: usize,
+    /// `u32` entries.
+    pub indices: usize,
+    /// `u8` entries.
+    pub bytes: usize,
+}
+
+/// Transient buffers of [`Plan::sizes`] and [`Plan::init`] (lengths from
+/// [`Plan::work_sizes`]); free them after `init`.
+#[derive(Debug)]
+pub struct PlanWork<'w, T> {
+    /// `T` entries (the stiffness before it is validated).
+    pub reals: &'w mut [T],
+    /// `u32` entries (anchoring search, the hierarchy's symbolic pass).
+    pub indices: &'w mut [u32],
+    /// `u8` entries (the fixed mask before it is validated).
+    pub bytes: &'w mut [u8],
+}
+
+/// How a step starts its solve.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Start {
+    /// From the previous step's solution when its relative residual is smaller than the cold
+    /// guess's (two residual evaluations decide; cold when there is no previous solution).
+    /// After a small motion, e.g. a pitching wall passing its rest position, the previous
+    /// solution can be the worse guess.
+    #[default]
+    Warm,
+    /// As the stateless calls do: zero free displacements ([`PlanMethod::Spring`]) or the
+    /// mean of the boundary values ([`PlanMethod::QuaternionSpring`]).
+    Cold,
+}
+
+/// One time step's boundary motion.
+#[derive(Clone, Copy, Debug)]
+pub struct PlanMotion<'a, T, const D: usize> {
+    /// New position of each of the `B` boundary points (in [`PlanSpec::boundary`] order);
+    /// reproduced exactly in the output.
+    pub deformed: &'a [[T; D]],
+    /// Where the rotations come from (quaternion method; ignored by [`PlanMethod::Spring`]).
+    /// [`RotationSource::Shape`] uses the plan's elements.
+    pub rotations: RotationSource<'a, T>,
+    /// Rotation origin (quaternion method); `None` for the centroid of the moving points.
+    pub origin: Option<[T; D]>,
+    /// Warm or cold start.
+    pub start: Start,
+}
+
+impl<'a, T, const D: usize> PlanMotion<'a, T, D> {
+    /// A motion with rotations from the boundary shape, the default origin and a warm start.
+    pub fn new(deformed: &'a [[T; D]]) -> Self {
+        PlanMotion {
+            deformed,
+            rotations: RotationSource::Shape,
+            origin: None,
+            start: Start::Warm,
+        }
+    }
+}
+
+/// What one step did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepReport<T, const D: usize> {
+    /// The solve's report (iterations, true relative residual, convergence). The output is
+    /// written even when the solve did not converge; check `converged`.
+    pub solve: SolveReport<T>,
+    /// Whether the solve started from the previous solution (see [`Start::Warm`]).
+    pub warm: bool,
+    /// Steps completed by this plan, this one included.
+    pub step: u64,
+    /// The rotation origin used (quaternion method; zero for [`PlanMethod::Spring`]).
+    pub origin: [T; D],
+}
+
+/// A prepared plan: a view of three caller pools ([`Plan::init`], [`Plan::open`]).
+#[derive(Debug)]
+pub struct Plan<'a, T: Real, const D: usize> {
+    reals: &'a mut [T],
+    indices: &'a mut [u32],
+    bytes: &'a mut [u8],
+    meta: Meta,
+    amg: Option<layout::AmgParts<T>>,
+}
+
+impl<'a, T: Real, const D: usize> Plan<'a, T, D> {
+    /// Lengths of the transient [`PlanWork`] for this spec: `E` reals, `max(4 (N + E) + 64,
+    /// N)` indices, `N` bytes.
+    pub fn work_sizes(spec: &PlanSpec<'_, T, D>) -> PlanSizes {
+        build::work_sizes(spec)
+    }
+
+    /// The exact pool sizes for `spec` (validates the spec and runs the hierarchy's symbolic
+    /// pass in `work`).
+    ///
+    /// # Errors
+    /// Those of [`Plan::init`]'s validation; only `work` is written.
+    pub fn sizes(spec: &PlanSpec<'_, T, D>, work: &mut PlanWork<'_, T>) -> Result<PlanSizes> {
+        build::sizes(spec, work).map(|(s, _)| s)
+    }
+
+    /// Builds the plan in the pools (each at least [`Plan::sizes`] long; larger pools work,
+    /// the tail is untouched): validates the spec once (points finite, boundary distinct and in
+    /// range, graph symmetric with a positive symmetric stiffness, every free node anchored,
+    /// elements of the right kinds, solver options), copies mesh data in, computes the
+    /// stiffness and sets up the hierarchy.
+    ///
+    /// # Errors
+    /// `D` not 2 or 3, length mismatches, non-finite points, an empty, repeated or
+    /// out-of-range boundary node, the errors of [`SpringSystem::new`](crate::spring::SpringSystem::new),
+    /// [`batina_stiffness`](crate::spring::batina_stiffness) and
+    /// [`AmgHierarchy::setup`](crate::spring::AmgHierarchy::setup), invalid options,
+    /// sliding constraints ([`Error::InvalidParameter`](crate::Error::InvalidParameter)), pools
+    /// or work too small ([`Error::BufferTooSmall`](crate::Error::BufferTooSmall)), counts
+    /// beyond `u32` ([`Error::TooLarge`](crate::Error::TooLarge)). Every check on the spec
+    /// runs before a pool is written; only a hierarchy setup that breaks down in floating
+    /// point fails after, and then the pools hold no plan (the header is written last).
+    pub fn init(
+        spec: &PlanSpec<'_, T, D>,
+        work: &mut PlanWork<'_, T>,
+        reals: &'a mut [T],
+        indices: &'a mut [u32],
+        bytes: &'a mut [u8],
+    ) -> Result<Self> {
+        build::init(spec, work, reals, indices, bytes)?;
+        Plan::open(reals, indices, bytes)
+    }
+
+    /// Reopens pools that hold a plan (e.g. copied from a checkpoint): checks the header
+    /// (magic, version, scalar type, `D`, counts, pool lengths), the consistency of the
+    /// hierarchy's layout, a 64-bit checksum of every part that never changes and the
+    /// finiteness of the stored solution. Cost: one pass over the pools.
+    ///
+    /// # Errors
+    /// [`Error::BadPlan`](crate::Error::BadPlan) with the reason; nothing is written.
+    pub fn open(reals: &'a mut [T], indices: &'a mut [u32], bytes: &'a mut [u8]) -> Result<Self> {
+        let (meta, amg) = layout::open::<T, D>(reals, indices, bytes)?;
+        Ok(Plan {
+            reals,
+            indices,
+            bytes,
+            meta,
+            amg,
+        })
+    }
+
+    /// One time step: the new boundary positions in, the deformed mesh (`N` points) out.
+    /// The previous solution is the initial guess when `motion.start` is [`Start::Warm`].
+    ///
+    /// # Errors
+    /// Checked before anything is written: `out.len() != N`, `motion.deformed.len() != B`
+    /// ([`Error::LengthMismatch`](crate::Error::LengthMismatch)), non-finite positions or
+    /// origin ([`Error::NonFinite`](crate::Error::NonFinite)), rotations that cannot be
+    /// normalised, [`RotationSource::Shape`] without elements. Then, still before `out` or
+    /// the state is written: the boundary rotations' errors (degenerate deformed shape), the
+    /// solver's errors, and a propagated rotation that cancels to zero
+    /// ([`Error::ZeroLength`](crate::Error::ZeroLength)). On `Err`, `out`, the stored
+    /// solution and the step counter are unchanged.
+    pub fn step(
+        &mut self,
+        motion: &PlanMotion<'_, T, D>,
+        out: &mut [[T; D]],
+    ) -> Result<StepReport<T, D>> {
+        step::step(self, motion, out)
+    }
+
+    /// The three pools, read-only (to checkpoint a plan while it is in use).
+    pub fn buffers(&self) -> (&[T], &[u32], &[u8]) {
+        (self.reals, self.indices, self.bytes)
+    }
+
+    /// The pool lengths this plan uses.
+    pub fn used(&self) -> PlanSizes {
+        self.meta.sizes
+    }
+
+    /// Nodes `N`.
+    pub fn node_count(&self) -> usize {
+        self.meta.n
+    }
+
+    /// Boundary points `B`.
+    pub fn boundary_len(&self) -> usize {
+        self.meta.b
+    }
+
+    /// The method.
+    pub fn method(&self) -> PlanMethod {
+        self.meta.method
+    }
+
+    /// Steps completed.
+    pub fn steps(&self) -> u64 {
+        self.meta.steps
+    }
+
+    /// Levels of the multigrid hierarchy (0 without one).
+    pub fn amg_levels(&self) -> usize {
+        self.amg.as_ref().map_or(0, |a| a.layout.count)
+    }
+}
+
+/// Largest number of words the hierarchy's layout takes in the index pool.
+const AMG_LAYOUT_WORDS: usize = AMG_MAX_LEVELS * 14 + 11;
+
+/// Number of weights the hierarchy stores (every level and step).
+const AMG_WEIGHTS: usize = AMG_MAX_LEVELS * AMG_MAX_SWEEPS;

@@ -1,0 +1,575 @@
+//! The plan's storage format: header words, the sections of the three pools (a pure function
+//! of the counts in the header, so no offset is stored), the checksum and [`open`].
+
+use core::ops::Range;
+
+use super::{PlanMethod, PlanSizes, AMG_LAYOUT_WORDS, AMG_WEIGHTS};
+use crate::error::{Error, Result};
+use crate::real::Real;
+use crate::spring::{Layout, Level, AMG_MAX_LEVELS, AMG_MAX_SWEEPS};
+
+/// `"DPLN"` (deform plan), little end first.
+pub(super) const MAGIC: u32 = 0x4E4C_5044;
+/// Format version; bump on any layout change.
+pub(super) const VERSION: u32 = 1;
+/// Header words at the start of the index pool.
+pub(super) const HEADER: usize = 48;
+
+/// Header word positions.
+pub(super) mod w {
+    pub const MAGIC: usize = 0;
+    pub const VERSION: usize = 1;
+    pub const SCALAR: usize = 2;
+    pub const DIM: usize = 3;
+    pub const METHOD: usize = 4;
+    pub const SOLVER: usize = 5;
+    pub const N: usize = 6;
+    pub const E: usize = 7;
+    pub const B: usize = 8;
+    pub const HAS_ELEMENTS: usize = 9;
+    pub const C: usize = 10;
+    pub const CN: usize = 11;
+    pub const K_FIRST: usize = 12;
+    pub const MAX_ITER_LO: usize = 13;
+    pub const MAX_ITER_HI: usize = 14;
+    pub const AMG_INDEX: usize = 15;
+    pub const AMG_VALUES: usize = 16;
+    pub const SCRATCH: usize = 17;
+    /// Reserved for sliding constraints (0: free/fixed only).
+    pub const SLIDING: usize = 18;
+    pub const REALS: usize = 19;
+    pub const INDICES: usize = 20;
+    pub const BYTES: usize = 21;
+    /// Words `0..CHECKED` are covered by the checksum.
+    pub const CHECKED: usize = 40;
+    pub const SUM_LO: usize = 40;
+    pub const SUM_HI: usize = 41;
+    /// Mutable state (not checksummed).
+    pub const HAS_STATE: usize = 42;
+    pub const STEPS_LO: usize = 43;
+    pub const STEPS_HI: usize = 44;
+}
+
+/// Real parameters stored in the `params` section.
+pub(super) const PARAMS: usize = 4;
+/// `params[0]`: residual tolerance, `[1]`: update tolerance, `[2]`: ω (SOR / SSOR).
+pub(super) const P_RESIDUAL: usize = 0;
+pub(super) const P_UPDATE: usize = 1;
+pub(super) const P_OMEGA: usize = 2;
+
+/// The linear-spring solver, as stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum SolverKind {
+    Jacobi = 1,
+    GaussSeidel = 2,
+    Sor = 3,
+    CgNone = 4,
+    CgJacobi = 5,
+    CgSsor = 6,
+    Amg = 7,
+}
+
+impl SolverKind {
+    fn from_code(c: u32) -> Option<Self> {
+        Some(match c {
+            1 => SolverKind::Jacobi,
+            2 => SolverKind::GaussSeidel,
+            3 => SolverKind::Sor,
+            4 => SolverKind::CgNone,
+            5 => SolverKind::CgJacobi,
+            6 => SolverKind::CgSsor,
+            7 => SolverKind::Amg,
+            _ => return None,
+        })
+    }
+}
+
+/// The counts a layout is computed from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Counts {
+    pub method: PlanMethod,
+    pub solver: SolverKind,
+    pub d: usize,
+    pub n: usize,
+    pub e: usize,
+    pub b: usize,
+    pub has_elements: bool,
+    pub c: usize,
+    pub cn: usize,
+    pub amg_index: usize,
+    pub amg_values: usize,
+    /// Solver scratch items of `V` values.
+    pub scratch: usize,
+}
+
+impl Counts {
+    /// Values per node of the solve.
+    pub fn v(&self) -> usize {
+        match self.method {
+            PlanMethod::Spring => self.d,
+            PlanMethod::QuaternionSpring => self.d + 4,
+        }
+    }
+
+    fn quaternion(&self) -> bool {
+        self.method == PlanMethod::QuaternionSpring
+    }
+}
+
+/// Where every section lives.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub(super) struct Sections {
+    // index pool
+    pub offs: Range<usize>,
+    pub targets: Range<usize>,
+    pub boundary: Range<usize>,
+    pub cell_offs: Range<usize>,
+    pub cell_nodes: Range<usize>,
+    pub amg_words: Range<usize>,
+    pub amg_index: Range<usize>,
+    // byte pool
+    pub kinds: Range<usize>,
+    pub mask: Range<usize>,
+    pub cell_kinds: Range<usize>,
+    // real pool: immutable
+    pub points: Range<usize>,
+    pub stiffness: Range<usize>,
+    pub params: Range<usize>,
+    pub directions: Range<usize>,
+    pub amg_weights: Range<usize>,
+    pub amg_values: Range<usize>,
+    // real pool: state
+    pub state: Range<usize>,
+    pub state_ref: Range<usize>,
+    // real pool: step workspaces
+    pub work: Range<usize>,
+    pub scratch: Range<usize>,
+    pub rot: Range<usize>,
+    pub bq: Range<usize>,
+    pub sizes: PlanSizes,
+}
+
+/// A running cursor that hands out consecutive ranges with overflow checks.
+struct Cursor(usize);
+
+impl Cursor {
+    fn take(&mut self, len: Option<usize>) -> Result<Range<usize>> {
+        let end = len
+            .and_then(|l| self.0.checked_add(l))
+            .ok_or(Error::TooLarge {
+                arg: "plan",
+                value: usize::MAX,
+            })?;
+        let r = self.0..end;
+        self.0 = end;
+        Ok(r)
+    }
+}
+
+impl Sections {
+    /// The layout for `c` (fails only on arithmetic overflow).
+    pub fn new(c: &Counts) -> Result<Self> {
+        let amg = c.solver == SolverKind::Amg;
+        let q = c.quaternion();
+        let v = c.v();
+        let mut s = Sections::default();
+        let mut i = Cursor(HEADER);
+        s.offs = i.take(c.n.checked_add(1))?;
+        s.targets = i.take(Some(c.e))?;
+        s.boundary = i.take(Some(c.b))?;
+        let el = q && c.has_elements;
+        s.cell_offs = i.take(Some(if el { c.c + 1 } else { 0 }))?;
+        s.cell_nodes = i.take(Some(if el { c.cn } else { 0 }))?;
+        s.amg_words = i.take(Some(if amg { AMG_LAYOUT_WORDS } else { 0 }))?;
+        s.amg_index = i.take(Some(if amg { c.amg_index } else { 0 }))?;
+        let mut y = Cursor(0);
+        s.kinds = y.take(Some(c.n))?;
+        s.mask = y.take(Some(c.n))?;
+        s.cell_kinds = y.take(Some(if el { c.c } else { 0 }))?;
+        let mut r = Cursor(0);
+        s.points = r.take(c.n.checked_mul(c.d))?;
+        s.stiffness = r.take(Some(c.e))?;
+        s.params = r.take(Some(PARAMS))?;
+        s.directions = r.take(Some(0))?;
+        s.amg_weights = r.take(Some(if amg { AMG_WEIGHTS } else { 0 }))?;
+        s.amg_values = r.take(Some(if amg { c.amg_values } else { 0 }))?;
+        s.state = r.take(c.n.checked_mul(v))?;
+        s.state_ref = r.take(Some(4))?;
+        s.work = r.take(c.n.checked_mul(v))?;
+        s.scratch = r.take(c.scratch.checked_mul(v))?;
+        let rot = if el {
+            c.b.checked_mul(if c.d == 2 { 3 } else { 13 })
+        } else {
+            Some(0)
+        };
+        s.rot = r.take(rot)?;
+        s.bq = r.take(if q { c.b.checked_mul(4) } else { Some(0) })?;
+        s.sizes = PlanSizes {
+            reals: r.0,
+            indices: i.0,
+            bytes: y.0,
+        };
+        // Every count is stored in one u32 header word.
+        for x in [s.sizes.reals, s.sizes.indices, s.sizes.bytes] {
+            if u32::try_from(x).is_err() {
+                return Err(Error::TooLarge {
+                    arg: "plan",
+                    value: x,
+                });
+            }
+        }
+        Ok(s)
+    }
+
+    /// End of the immutable real sections (checksummed).
+    pub fn reals_fixed_end(&self) -> usize {
+        self.amg_values.end
+    }
+}
+
+/// The parsed header.
+#[derive(Clone, Debug)]
+pub(super) struct Meta {
+    pub counts: Counts,
+    pub sec: Sections,
+    pub sizes: PlanSizes,
+    pub method: PlanMethod,
+    pub solver: SolverKind,
+    pub n: usize,
+    pub b: usize,
+    pub k_first: usize,
+    pub max_iterations: usize,
+    pub has_state: bool,
+    pub steps: u64,
+}
+
+/// The hierarchy's small parts kept beside its buffers.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct AmgParts<T> {
+    pub layout: Layout,
+    pub weights: [[T; AMG_MAX_SWEEPS]; AMG_MAX_LEVELS],
+    pub sweeps: usize,
+}
+
+/// 64-bit FNV-1a over 32-bit words.
+#[derive(Clone, Copy)]
+pub(super) struct Checksum(u64);
+
+impl Checksum {
+    pub fn new() -> Self {
+        Checksum(0xcbf2_9ce4_8422_2325)
+    }
+
+    #[inline]
+    pub fn word(&mut self, x: u32) {
+        self.0 = (self.0 ^ u64::from(x)).wrapping_mul(0x0000_0100_0000_01b3);
+    }
+
+    pub fn words(&mut self, xs: &[u32]) {
+        for &x in xs {
+            self.word(x);
+        }
+    }
+
+    pub fn bytes(&mut self, xs: &[u8]) {
+        for &x in xs {
+            self.word(u32::from(x));
+        }
+    }
+
+    pub fn reals<T: Real>(&mut self, xs: &[T]) {
+        for &x in xs {
+            let b = x.to_bits_u64();
+            self.word(b as u32);
+            self.word((b >> 32) as u32);
+        }
+    }
+
+    pub fn value(self) -> u64 {
+        self.0
+    }
+}
+
+/// The checksum of a plan's immutable parts.
+pub(super) fn checksum<T: Real>(sec: &Sections, reals: &[T], indices: &[u32], bytes: &[u8]) -> u64 {
+    let mut h = Checksum::new();
+    h.words(indices.get(..w::CHECKED).unwrap_or(&[]));
+    h.words(indices.get(HEADER..sec.sizes.indices).unwrap_or(&[]));
+    h.bytes(bytes.get(..sec.sizes.bytes).unwrap_or(&[]));
+    h.reals(reals.get(..sec.reals_fixed_end()).unwrap_or(&[]));
+    h.value()
+}
+
+/// Header word `i` (0 when out of range).
+#[inline]
+pub(super) fn hw(indices: &[u32], i: usize) -> u32 {
+    indices.get(i).copied().unwrap_or(0)
+}
+
+/// Writes header word `i`.
+#[inline]
+pub(super) fn set_hw(indices: &mut [u32], i: usize, x: u32) {
+    if let Some(s) = indices.get_mut(i) {
+        *s = x;
+    }
+}
+
+/// `x` as a `u32` header word.
+pub(super) fn word(arg: &'static str, x: usize) -> Result<u32> {
+    u32::try_from(x).map_err(|_| Error::TooLarge { arg, value: x })
+}
+
+/// The fields of one level, in storage order.
+fn level_fields(l: &Level) -> [usize; 14] {
+    [
+        l.n, l.diag, l.a_offs, l.a_cols, l.a_nnz, l.a_vals, l.agg, l.p_offs, l.p_cols, l.p_nnz,
+        l.p_vals, l.pt_offs, l.pt_rows, l.pt_pos,
+    ]
+}
+
+/// Serialises a hierarchy's layout and sweep count into `out` ([`AMG_LAYOUT_WORDS`] words).
+pub(super) fn write_amg_words(layout: &Layout, sweeps: usize, out: &mut [u32]) -> Result<()> {
+    let mut it = out.iter_mut();
+    let mut put = |x: usize| -> Result<()> {
+        let v = word("plan", x)?;
+        if let Some(s) = it.next() {
+            *s = v;
+        }
+        Ok(())
+    };
+    for l in layout.levels.iter() {
+        for x in level_fields(l) {
+            put(x)?;
+        }
+    }
+    for x in [
+        layout.count,
+        layout.index_len,
+        layout.values_len,
+        layout.dense,
+        layout.dense_n,
+        layout.acc,
+        layout.acc_len,
+        layout.nodes,
+        layout.edges,
+        sweeps,
+        0,
+    ] {
+        put(x)?;
+    }
+    Ok(())
+}
+
+/// Inverse of [`write_amg_words`] (no checks here; see [`check_amg`]).
+fn read_amg_words(words: &[u32]) -> (Layout, usize) {
+    let mut it = words.iter().map(|&x| x as usize);
+    let mut next = || it.next().unwrap_or(0);
+    let mut levels = [Level::default(); AMG_MAX_LEVELS];
+    for l in levels.iter_mut() {
+        *l = Level {
+            n: next(),
+            diag: next(),
+            a_offs: next(),
+            a_cols: next(),
+            a_nnz: next(),
+            a_vals: next(),
+            agg: next(),
+            p_offs: next(),
+            p_cols: next(),
+            p_nnz: next(),
+            p_vals: next(),
+            pt_offs: next(),
+            pt_rows: next(),
+            pt_pos: next(),
+        };
+    }
+    let layout = Layout {
+        levels,
+        count: next(),
+        index_len: next(),
+        values_len: next(),
+        dense: next(),
+        dense_n: next(),
+        acc: next(),
+        acc_len: next(),
+        nodes: next(),
+        edges: next(),
+    };
+    let sweeps = next();
+    (layout, sweeps)
+}
+
+/// Bad-plan error.
+fn bad(reason: &'static str) -> Error {
+    Error::BadPlan { reason }
+}
+
+/// `start + len <= bound` without overflow.
+fn within(start: usize, len: usize, bound: usize) -> bool {
+    start.checked_add(len).is_some_and(|e| e <= bound)
+}
+
+/// Structural checks of a stored hierarchy layout (every array inside its buffer), so that a
+/// plan whose checksum was forged still cannot index outside the hierarchy's buffers in a
+/// meaningful way (every access is bounds-checked anyway).
+fn check_amg(layout: &Layout, sweeps: usize, c: &Counts) -> Result<()> {
+    if layout.count == 0 || layout.count > AMG_MAX_LEVELS {
+        return Err(bad("multigrid level count out of range"));
+    }
+    if sweeps == 0 || sweeps > AMG_MAX_SWEEPS {
+        return Err(bad("multigrid sweep count out of range"));
+    }
+    if layout.index_len != c.amg_index || layout.values_len != c.amg_values {
+        return Err(bad("multigrid buffer sizes disagree with the header"));
+    }
+    if layout.nodes != c.n || layout.edges != c.e {
+        return Err(bad("multigrid hierarchy built for another graph"));
+    }
+    let vi = layout.index_len;
+    let vv = layout.values_len;
+    for l in layout.levels.iter().take(layout.count) {
+        let n1 = l.n.saturating_add(1);
+        let ok = within(l.diag, l.n, vv)
+            && within(l.a_vals, l.a_nnz, vv)
+            && within(l.p_vals, l.p_nnz, vv)
+            && within(l.a_cols, l.a_nnz, vi)
+            && within(l.agg, l.n, vi)
+            && within(l.p_offs, n1, vi)
+            && within(l.p_cols, l.p_nnz, vi)
+            && within(l.pt_rows, l.p_nnz, vi)
+            && within(l.pt_pos, l.p_nnz, vi);
+        if !ok {
+            return Err(bad("multigrid level outside its buffers"));
+        }
+    }
+    if !within(
+        layout.dense,
+        layout.dense_n.saturating_mul(layout.dense_n),
+        vv,
+    ) || !within(layout.acc, layout.acc_len, vv)
+    {
+        return Err(bad("multigrid coarse factor outside its buffers"));
+    }
+    let coarse = layout.coarse_unknowns();
+    if c.scratch
+        != c.n
+            .saturating_mul(5)
+            .saturating_add(coarse.saturating_mul(3))
+    {
+        return Err(bad("solver scratch size disagrees with the hierarchy"));
+    }
+    Ok(())
+}
+
+/// Parses and checks a plan's pools (see [`Plan::open`](super::Plan::open)).
+pub(super) fn open<T: Real, const D: usize>(
+    reals: &[T],
+    indices: &[u32],
+    bytes: &[u8],
+) -> Result<(Meta, Option<AmgParts<T>>)> {
+    if indices.len() < HEADER {
+        return Err(bad("index pool shorter than the header"));
+    }
+    let h = |i| hw(indices, i) as usize;
+    if hw(indices, w::MAGIC) != MAGIC {
+        return Err(bad("no plan magic"));
+    }
+    if hw(indices, w::VERSION) != VERSION {
+        return Err(bad("unsupported plan version"));
+    }
+    if h(w::SCALAR) != core::mem::size_of::<T>() {
+        return Err(bad("plan built for another scalar type"));
+    }
+    if h(w::DIM) != D {
+        return Err(bad("plan built for another dimension"));
+    }
+    let method = match hw(indices, w::METHOD) {
+        1 => PlanMethod::Spring,
+        2 => PlanMethod::QuaternionSpring,
+        _ => return Err(bad("unknown method code")),
+    };
+    let solver = SolverKind::from_code(hw(indices, w::SOLVER)).ok_or(bad("unknown solver code"))?;
+    let has_elements = match hw(indices, w::HAS_ELEMENTS) {
+        0 => false,
+        1 => true,
+        _ => return Err(bad("bad elements flag")),
+    };
+    if hw(indices, w::SLIDING) != 0 {
+        return Err(bad("sliding constraints are not supported by this version"));
+    }
+    let counts = Counts {
+        method,
+        solver,
+        d: D,
+        n: h(w::N),
+        e: h(w::E),
+        b: h(w::B),
+        has_elements,
+        c: h(w::C),
+        cn: h(w::CN),
+        amg_index: h(w::AMG_INDEX),
+        amg_values: h(w::AMG_VALUES),
+        scratch: h(w::SCRATCH),
+    };
+    let sec = Sections::new(&counts).map_err(|_| bad("counts overflow"))?;
+    let sizes = sec.sizes;
+    if h(w::REALS) != sizes.reals || h(w::INDICES) != sizes.indices || h(w::BYTES) != sizes.bytes {
+        return Err(bad("stored pool sizes disagree with the counts"));
+    }
+    if reals.len() < sizes.reals || indices.len() < sizes.indices || bytes.len() < sizes.bytes {
+        return Err(bad("a pool is shorter than the plan"));
+    }
+    if counts.b == 0 || counts.b > counts.n || h(w::K_FIRST) >= counts.b {
+        return Err(bad("bad boundary counts"));
+    }
+    let stored = u64::from(hw(indices, w::SUM_LO)) | (u64::from(hw(indices, w::SUM_HI)) << 32);
+    if checksum(&sec, reals, indices, bytes) != stored {
+        return Err(bad("checksum mismatch"));
+    }
+    let has_state = match hw(indices, w::HAS_STATE) {
+        0 => false,
+        1 => true,
+        _ => return Err(bad("bad state flag")),
+    };
+    let state = reals.get(sec.state.start..sec.state_ref.end).unwrap_or(&[]);
+    if has_state && state.iter().any(|x| !x.is_finite()) {
+        return Err(bad("stored solution is not finite"));
+    }
+    let amg = if solver == SolverKind::Amg {
+        let (layout, sweeps) = read_amg_words(indices.get(sec.amg_words.clone()).unwrap_or(&[]));
+        check_amg(&layout, sweeps, &counts)?;
+        let mut weights = [[T::ZERO; AMG_MAX_SWEEPS]; AMG_MAX_LEVELS];
+        let stored = reals.get(sec.amg_weights.clone()).unwrap_or(&[]);
+        for (d, s) in weights.iter_mut().flatten().zip(stored) {
+            *d = *s;
+        }
+        Some(AmgParts {
+            layout,
+            weights,
+            sweeps,
+        })
+    } else {
+        None
+    };
+    let steps = u64::from(hw(indices, w::STEPS_LO)) | (u64::from(hw(indices, w::STEPS_HI)) << 32);
+    let max_iterations = (u64::from(hw(indices, w::MAX_ITER_LO))
+        | (u64::from(hw(indices, w::MAX_ITER_HI)) << 32))
+        .try_into()
+        .unwrap_or(usize::MAX);
+    Ok((
+        Meta {
+            counts,
+            sizes,
+            method,
+            solver,
+            n: counts.n,
+            b: counts.b,
+            k_first: h(w::K_FIRST),
+            max_iterations,
+            has_state,
+            steps,
+            sec,
+        },
+        amg,
+    ))
+}

@@ -1,0 +1,489 @@
+//! One time step of a plan: validate the motion, set up the solve (warm or cold), solve, write
+//! the mesh, commit the new state. The arithmetic is the stateless pipelines': the same
+//! functions in the same order, so a cold step gives their bits.
+
+use super::layout::{self, set_hw, w, AmgParts, Meta, SolverKind};
+use super::{Plan, PlanMethod, PlanMotion, Start, StepReport};
+use crate::cells::Cells;
+use crate::deformation::{apply, origin_core, rotations_core, translation, Pts, RotationSource};
+use crate::error::{Error, Result};
+use crate::graph::Graph;
+use crate::quat::Quat;
+use crate::real::Real;
+use crate::spring::{
+    relative_residual, solve_linear_with, AmgHierarchy, LinearMethod, LinearSolver, Preconditioner,
+    SolveOptions, SolveReport, SpringSystem,
+};
+use crate::vector::{add, sub};
+
+/// `buf[r]`, empty when out of range.
+#[inline]
+fn sec<'b, X>(buf: &'b [X], r: &core::ops::Range<usize>) -> &'b [X] {
+    buf.get(r.clone()).unwrap_or(&[])
+}
+
+/// Splits the first `n` items off `s`.
+#[inline]
+fn carve<'b, X>(s: &mut &'b mut [X], n: usize) -> &'b mut [X] {
+    let t = core::mem::take(s);
+    let (a, b) = t.split_at_mut_checked(n).unwrap_or_default();
+    *s = b;
+    a
+}
+
+/// The checks on the motion and `out` (nothing is written before they pass).
+fn validate<T: Real, const D: usize>(
+    meta: &Meta,
+    motion: &PlanMotion<'_, T, D>,
+    out: &[[T; D]],
+) -> Result<()> {
+    check_len("out", out.len(), meta.n)?;
+    check_len("motion.deformed", motion.deformed.len(), meta.b)?;
+    if let Some(p) = crate::real::first_non_finite(motion.deformed) {
+        return Err(Error::NonFinite {
+            arg: "motion.deformed",
+            position: p,
+        });
+    }
+    if meta.method != PlanMethod::QuaternionSpring {
+        return Ok(());
+    }
+    if let Some(o) = motion.origin {
+        if o.iter().any(|x| !x.is_finite()) {
+            return Err(Error::NonFinite {
+                arg: "motion.origin",
+                position: 0,
+            });
+        }
+    }
+    match motion.rotations {
+        RotationSource::Shape => {
+            if !meta.counts.has_elements {
+                return Err(Error::InvalidParameter {
+                    arg: "motion.rotations",
+                    reason: "rotations from the boundary shape need a plan built with elements",
+                });
+            }
+        }
+        RotationSource::Rigid(q) => check_quats("motion.rotations", core::slice::from_ref(&q))?,
+        RotationSource::PerNode(q) => {
+            check_len("motion.rotations", q.len(), meta.b)?;
+            check_quats("motion.rotations", q)?;
+        }
+    }
+    Ok(())
+}
+
+fn check_len(arg: &'static str, actual: usize, expected: usize) -> Result<()> {
+    if actual == expected {
+        Ok(())
+    } else {
+        Err(Error::LengthMismatch {
+            arg,
+            expected,
+            actual,
+        })
+    }
+}
+
+fn check_quats<T: Real>(arg: &'static str, q: &[Quat<T>]) -> Result<()> {
+    for (position, r) in q.iter().enumerate() {
+        if !r.is_finite() {
+            return Err(Error::NonFinite { arg, position });
+        }
+        if r.normalize().is_err() {
+            return Err(Error::ZeroLength { arg, position });
+        }
+    }
+    Ok(())
+}
+
+/// The stored solver.
+fn solver<'h, T: Real>(
+    kind: SolverKind,
+    omega: T,
+    amg: Option<&'h AmgHierarchy<'h, T>>,
+) -> LinearSolver<'h, T> {
+    let m = match kind {
+        SolverKind::Jacobi => LinearMethod::Jacobi,
+        SolverKind::GaussSeidel => LinearMethod::GaussSeidel,
+        SolverKind::Sor => LinearMethod::Sor { omega },
+        SolverKind::CgNone => LinearMethod::Cg {
+            preconditioner: Preconditioner::None,
+        },
+        SolverKind::CgJacobi | SolverKind::Amg => LinearMethod::Cg {
+            preconditioner: Preconditioner::Jacobi,
+        },
+        SolverKind::CgSsor => LinearMethod::Cg {
+            preconditioner: Preconditioner::Ssor { omega },
+        },
+    };
+    match (kind, amg) {
+        (SolverKind::Amg, Some(h)) => LinearSolver::Amg(h),
+        _ => LinearSolver::Method(m),
+    }
+}
+
+/// Runs one step (see [`Plan::step`]).
+pub(super) fn step<T: Real, const D: usize>(
+    plan: &mut Plan<'_, T, D>,
+    motion: &PlanMotion<'_, T, D>,
+    out: &mut [[T; D]],
+) -> Result<StepReport<T, D>> {
+    validate(&plan.meta, motion, out)?;
+    let warm = motion.start == Start::Warm && plan.meta.has_state;
+    let (solve, warm, origin) = match (plan.meta.method, D) {
+        (PlanMethod::Spring, _) => run_spring(plan, motion, warm, out)?,
+        (PlanMethod::QuaternionSpring, 2) => run_quaternion::<T, D, 6>(plan, motion, warm, out)?,
+        (PlanMethod::QuaternionSpring, 3) => run_quaternion::<T, D, 7>(plan, motion, warm, out)?,
+        _ => return Err(Error::BadDimensions { arg: "D" }),
+    };
+    // Commit: the solution is in the state section already; record it in the header.
+    let steps = plan.meta.steps.wrapping_add(1);
+    set_hw(plan.indices, w::HAS_STATE, 1);
+    set_hw(plan.indices, w::STEPS_LO, steps as u32);
+    set_hw(plan.indices, w::STEPS_HI, (steps >> 32) as u32);
+    plan.meta.has_state = true;
+    plan.meta.steps = steps;
+    Ok(StepReport {
+        solve,
+        warm,
+        step: steps,
+        origin,
+    })
+}
+
+/// The read-only parts every step needs.
+struct Fixed<'p, T: Real, const D: usize> {
+    sys: SpringSystem<'p, T>,
+    points: &'p [[T; D]],
+    boundary: &'p [u32],
+    options: SolveOptions<T>,
+    omega: T,
+}
+
+/// The step workspaces and the state, as `V`-vectors.
+struct Mutable<'p, T, const V: usize> {
+    state: &'p mut [[T; V]],
+    state_ref: &'p mut [T],
+    work: &'p mut [[T; V]],
+    scratch: &'p mut [[T; V]],
+    rot: &'p mut [T],
+    bq: &'p mut [[T; 4]],
+}
+
+/// Splits the pools into the read-only plan data and the mutable sections.
+#[allow(clippy::type_complexity)]
+fn views<'p, T: Real, const D: usize, const V: usize>(
+    meta: &Meta,
+    reals: &'p mut [T],
+    indices: &'p [u32],
+    bytes: &'p [u8],
+) -> (Fixed<'p, T, D>, &'p [T], Mutable<'p, T, V>) {
+    let s = &meta.sec;
+    let (fixed, mut rest) = reals
+        .split_at_mut_checked(s.state.start)
+        .unwrap_or_default();
+    let fixed: &'p [T] = fixed;
+    let state = carve(&mut rest, s.state.len()).as_chunks_mut::<V>().0;
+    let state_ref = carve(&mut rest, s.state_ref.len());
+    let work = carve(&mut rest, s.work.len()).as_chunks_mut::<V>().0;
+    let scratch = carve(&mut rest, s.scratch.len()).as_chunks_mut::<V>().0;
+    let rot = carve(&mut rest, s.rot.len());
+    let bq = carve(&mut rest, s.bq.len()).as_chunks_mut::<4>().0;
+    let graph = Graph::trusted(sec(indices, &s.offs), sec(indices, &s.targets));
+    let sys = SpringSystem::trusted(graph, sec(fixed, &s.stiffness), sec(bytes, &s.mask));
+    let params = sec(fixed, &s.params);
+    let p = |i: usize| params.get(i).copied().unwrap_or(T::ZERO);
+    let options = SolveOptions {
+        max_iterations: meta.max_iterations,
+        residual_tol: p(layout::P_RESIDUAL),
+        update_tol: p(layout::P_UPDATE),
+    };
+    (
+        Fixed {
+            sys,
+            points: sec(fixed, &s.points).as_chunks::<D>().0,
+            boundary: sec(indices, &s.boundary),
+            options,
+            omega: p(layout::P_OMEGA),
+        },
+        fixed,
+        Mutable {
+            state,
+            state_ref,
+            work,
+            scratch,
+            rot,
+            bq,
+        },
+    )
+}
+
+/// The hierarchy view, when the plan has one.
+fn hierarchy<'p, T: Real>(
+    meta: &Meta,
+    amg: &Option<AmgParts<T>>,
+    fixed: &'p [T],
+    indices: &'p [u32],
+) -> Option<AmgHierarchy<'p, T>> {
+    amg.as_ref().map(|a| {
+        AmgHierarchy::from_parts(
+            a.layout,
+            a.weights,
+            a.sweeps,
+            sec(indices, &meta.sec.amg_index),
+            sec(fixed, &meta.sec.amg_values),
+        )
+    })
+}
+
+/// Linear springs on the displacements (`V = D`).
+fn run_spring<T: Real, const D: usize>(
+    plan: &mut Plan<'_, T, D>,
+    motion: &PlanMotion<'_, T, D>,
+    warm: bool,
+    out: &mut [[T; D]],
+) -> Result<(SolveReport<T>, bool, [T; D])> {
+    let Plan {
+        reals,
+        indices,
+        bytes,
+        meta,
+        amg,
+    } = plan;
+    let (f, fixed, m) = views::<T, D, D>(meta, reals, indices, bytes);
+    let h = hierarchy(meta, amg, fixed, indices);
+    let solver = solver(meta.solver, f.omega, h.as_ref());
+    m.work.fill([T::ZERO; D]);
+    for (&i, d) in f.boundary.iter().zip(motion.deformed) {
+        let i = i as usize;
+        if let (Some(v), Some(p)) = (m.work.get_mut(i), f.points.get(i)) {
+            *v = sub(*d, *p);
+        }
+    }
+    let warm = warm && choose_warm(&f.sys, m.work, m.state, |_| {}, |v| *v = [T::ZERO; D])?;
+    let report = solve_linear_with(&f.sys, m.work, solver, &f.options, m.scratch)?;
+    if crate::real::first_non_finite(m.work).is_some() {
+        return Err(Error::Overflow { arg: "values" });
+    }
+    for ((o, p), v) in out.iter_mut().zip(f.points).zip(m.work.iter()) {
+        *o = add(*p, *v);
+    }
+    for (&i, d) in f.boundary.iter().zip(motion.deformed) {
+        if let Some(o) = out.get_mut(i as usize) {
+            *o = *d;
+        }
+    }
+    for (s, v) in m.state.iter_mut().zip(m.work.iter()) {
+        *s = *v;
+    }
+    Ok((report, warm, [T::ZERO; D]))
+}
+
+/// `work` holds the cold initial guess (boundary values set). Replaces the free entries by the
+/// previous solution (`state`, adjusted by `align`) and keeps it when its relative residual
+/// is smaller than the cold guess's; otherwise puts the cold guess back (`cold`). Returns
+/// whether the previous solution is used. (After a small motion, e.g. a pitching wall passing
+/// its rest position, the previous solution can be a worse guess than the cold one: the
+/// residual decides.)
+fn choose_warm<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    work: &mut [[T; V]],
+    state: &[[T; V]],
+    align: impl Fn(&mut [T; V]),
+    cold: impl Fn(&mut [T; V]),
+) -> Result<bool> {
+    let r_cold = relative_residual(sys, work)?;
+    for (i, (v, s)) in work.iter_mut().zip(state).enumerate() {
+        if !sys.is_fixed(i) {
+            *v = *s;
+            align(v);
+        }
+    }
+    let r_warm = relative_residual(sys, work)?;
+    if r_warm < r_cold {
+        return Ok(true);
+    }
+    for (i, v) in work.iter_mut().enumerate() {
+        if !sys.is_fixed(i) {
+            cold(v);
+        }
+    }
+    Ok(false)
+}
+
+/// `[Δ, w, x, y, z]`.
+#[inline]
+fn pack<T: Real, const D: usize, const V: usize>(t: [T; D], q: Quat<T>) -> [T; V] {
+    let mut v = [T::ZERO; V];
+    for (a, b) in v.iter_mut().zip(t.iter().chain(q.to_array().iter())) {
+        *a = *b;
+    }
+    v
+}
+
+/// Inverse of [`pack`].
+#[inline]
+fn unpack<T: Real, const D: usize, const V: usize>(v: &[T; V]) -> ([T; D], Quat<T>) {
+    let mut t = [T::ZERO; D];
+    for (a, b) in t.iter_mut().zip(v.iter()) {
+        *a = *b;
+    }
+    let mut q = [T::ZERO; 4];
+    for (a, b) in q.iter_mut().zip(v.iter().skip(D)) {
+        *a = *b;
+    }
+    (t, Quat::from_array(q))
+}
+
+/// The quaternion method with spring propagation (`V = D + 4`): the steps of
+/// [`deform_spring_with`](crate::deformation::deform_spring_with) on the plan's data.
+fn run_quaternion<T: Real, const D: usize, const V: usize>(
+    plan: &mut Plan<'_, T, D>,
+    motion: &PlanMotion<'_, T, D>,
+    mut warm: bool,
+    out: &mut [[T; D]],
+) -> Result<(SolveReport<T>, bool, [T; D])> {
+    if V != D + 4 {
+        return Err(Error::BadDimensions { arg: "D" });
+    }
+    let Plan {
+        reals,
+        indices,
+        bytes,
+        meta,
+        amg,
+    } = plan;
+    let (f, fixed, m) = views::<T, D, V>(meta, reals, indices, bytes);
+    let h = hierarchy(meta, amg, fixed, indices);
+    let solver = solver(meta.solver, f.omega, h.as_ref());
+    let s = &meta.sec;
+    let u = Pts::mapped(f.points, f.boundary);
+    let d = Pts::direct(motion.deformed);
+    let origin = match motion.origin {
+        Some(o) => o,
+        None => origin_core(u, d)?,
+    };
+    // Boundary rotations (raw, as the stateless pipeline stores them).
+    match motion.rotations {
+        RotationSource::Shape => {
+            let cells = Cells::trusted(
+                meta.b,
+                sec(indices, &s.cell_offs),
+                sec(indices, &s.cell_nodes),
+                sec(bytes, &s.cell_kinds),
+            );
+            let bq = &mut *m.bq;
+            rotations_core(u, d, &cells, m.rot, |k, q| {
+                if let Some(r) = bq.get_mut(k) {
+                    *r = q.to_array();
+                }
+            })?;
+        }
+        RotationSource::Rigid(q) => {
+            let q = q.normalize()?.to_array();
+            m.bq.fill(q);
+        }
+        RotationSource::PerNode(qs) => {
+            for (r, q) in m.bq.iter_mut().zip(qs) {
+                *r = q.to_array();
+            }
+        }
+    }
+    let reference =
+        m.bq.get(meta.k_first)
+            .map_or(Quat::identity(), |&a| Quat::from_array(a));
+    // Translations, packed with the hemisphere-aligned rotations at the boundary nodes.
+    for (k, ((&i, &dk), q)) in f
+        .boundary
+        .iter()
+        .zip(motion.deformed)
+        .zip(m.bq.iter())
+        .enumerate()
+    {
+        let q = Quat::from_array(*q);
+        let t = translation(
+            origin,
+            u.get(k),
+            dk,
+            q.normalize().unwrap_or(Quat::identity()),
+        );
+        let q = if q.dot(reference) < T::ZERO { -q } else { q };
+        if let Some(v) = m.work.get_mut(i as usize) {
+            *v = pack(t, q);
+        }
+    }
+    // Initial guess at the free nodes: the cold one (as the stateless pipeline), then the
+    // previous solution if its residual is smaller.
+    {
+        let mut mean = [T::ZERO; V];
+        let mut count = 0usize;
+        for (i, v) in m.work.iter().enumerate() {
+            if f.sys.is_fixed(i) {
+                for (a, x) in mean.iter_mut().zip(v.iter()) {
+                    *a += *x;
+                }
+                count += 1;
+            }
+        }
+        let c = T::from_usize(count.max(1));
+        for a in mean.iter_mut() {
+            *a /= c;
+        }
+        for (i, v) in m.work.iter_mut().enumerate() {
+            if !f.sys.is_fixed(i) {
+                *v = mean;
+            }
+        }
+        let prev = m
+            .state_ref
+            .as_chunks::<4>()
+            .0
+            .first()
+            .map_or(reference, |&a| Quat::from_array(a));
+        let flip = prev.dot(reference) < T::ZERO;
+        let align = |v: &mut [T; V]| {
+            if flip {
+                for x in v.iter_mut().skip(D) {
+                    *x = -*x;
+                }
+            }
+        };
+        warm = warm && choose_warm(&f.sys, m.work, m.state, align, |v| *v = mean)?;
+    }
+    let report = solve_linear_with(&f.sys, m.work, solver, &f.options, m.scratch)?;
+    for (i, v) in m.work.iter().enumerate() {
+        if !f.sys.is_fixed(i) && unpack::<T, D, V>(v).1.normalize().is_err() {
+            return Err(Error::ZeroLength {
+                arg: "rotations",
+                position: i,
+            });
+        }
+    }
+    if crate::real::first_non_finite(m.work).is_some() {
+        return Err(Error::Overflow { arg: "values" });
+    }
+    // The field update (eq. 6) with the twice-normalised rotations of the stateless path.
+    for (i, ((o, p), v)) in out.iter_mut().zip(f.points).zip(m.work.iter()).enumerate() {
+        if f.sys.is_fixed(i) {
+            continue;
+        }
+        let (t, q) = unpack::<T, D, V>(v);
+        let q = q.normalize().unwrap_or(reference);
+        let q = q.normalize().unwrap_or(Quat::identity());
+        *o = apply(origin, *p, t, q);
+    }
+    for (&i, dk) in f.boundary.iter().zip(motion.deformed) {
+        if let Some(o) = out.get_mut(i as usize) {
+            *o = *dk;
+        }
+    }
+    for (st, v) in m.state.iter_mut().zip(m.work.iter()) {
+        *st = *v;
+    }
+    for (a, b) in m.state_ref.iter_mut().zip(reference.to_array()) {
+        *a = b;
+    }
+    Ok((report, warm, origin))
+}
