@@ -35,6 +35,7 @@ use cortex_m_rt::entry;
 mod amg;
 mod deformation;
 mod foundation;
+mod plan;
 mod quality;
 mod slide;
 mod spring;
@@ -49,6 +50,7 @@ fn main() -> ! {
     taubin::exercise();
     deformation::exercise();
     slide::exercise();
+    plan::exercise();
     #[cfg(feature = "deliberate-panic")]
     deliberate_panic();
     loop {
