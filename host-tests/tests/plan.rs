@@ -22,14 +22,14 @@ use deform_kernel::spring::{
     LinearMethod, LinearSolver, Preconditioner, SolveOptions, SolveReport, SpringSystem,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Error, Graph, Quat, Real};
-use deform_meshgen::{naca_hybrid, AirfoilGrid, Mesh2};
+use deform_meshgen::{extrude, naca_hybrid, naca_triangulated, AirfoilGrid, Mesh, Mesh2};
 
 const STEPS: usize = 20;
 
 /// A NACA mesh with its graph and boundary (airfoil then far field, elements in boundary
 /// numbering), in precision `T`.
-struct Case<T> {
-    points: Vec<[T; 2]>,
+struct Case<T, const D: usize = 2> {
+    points: Vec<[T; D]>,
     offsets: Vec<u32>,
     targets: Vec<u32>,
     nodes: Vec<u32>,
@@ -39,8 +39,8 @@ struct Case<T> {
     airfoil: usize,
 }
 
-impl<T: Real> Case<T> {
-    fn new(mesh: &Mesh2) -> Self {
+impl<T: Real, const D: usize> Case<T, D> {
+    fn new(mesh: &Mesh<D>) -> Self {
         let n = mesh.points.len();
         let cells = mesh.cells().unwrap();
         let mut offsets = vec![0u32; n + 1];
@@ -49,11 +49,7 @@ impl<T: Real> Case<T> {
         targets.truncate(used);
         let mut local = vec![u32::MAX; n];
         let mut c = Case {
-            points: mesh
-                .points
-                .iter()
-                .map(|p| [T::from_f64(p[0]), T::from_f64(p[1])])
-                .collect(),
+            points: mesh.points.iter().map(|p| p.map(T::from_f64)).collect(),
             offsets,
             targets,
             nodes: Vec::new(),
@@ -62,13 +58,19 @@ impl<T: Real> Case<T> {
             el_kinds: Vec::new(),
             airfoil: 0,
         };
-        for name in ["airfoil", "farfield"] {
+        // In 3D the end caps share nodes with the airfoil and the far field.
+        for name in ["airfoil", "farfield", "zmin", "zmax"]
+            .iter()
+            .take(D + D - 2)
+        {
             let m = mesh.marker(name).unwrap();
             for &i in &m.node_list {
-                local[i as usize] = c.nodes.len() as u32;
-                c.nodes.push(i);
+                if local[i as usize] == u32::MAX {
+                    local[i as usize] = c.nodes.len() as u32;
+                    c.nodes.push(i);
+                }
             }
-            if name == "airfoil" {
+            if *name == "airfoil" {
                 c.airfoil = c.nodes.len();
             }
             for e in 0..m.kinds.len() {
@@ -98,12 +100,12 @@ impl<T: Real> Case<T> {
 
     /// Boundary positions at time step `s`: the airfoil pitched by `5° sin(2π s / 20)` about
     /// the quarter chord, the far field fixed.
-    fn deformed(&self, s: usize) -> Vec<[T; 2]> {
+    fn deformed(&self, s: usize) -> Vec<[T; D]> {
         self.pitched(s, 20)
     }
 
     /// The airfoil pitched by `5° sin(2π s / period)`.
-    fn pitched(&self, s: usize, period: usize) -> Vec<[T; 2]> {
+    fn pitched(&self, s: usize, period: usize) -> Vec<[T; D]> {
         let a =
             (5.0f64).to_radians() * (2.0 * std::f64::consts::PI * s as f64 / period as f64).sin();
         let (sn, cs) = a.sin_cos();
@@ -113,15 +115,13 @@ impl<T: Real> Case<T> {
             .enumerate()
             .map(|(k, &i)| {
                 let p = self.points[i as usize];
+                let mut p = p;
                 if k < self.airfoil {
                     let (x, y) = (p[0].to_f64() - c[0], p[1].to_f64() - c[1]);
-                    [
-                        T::from_f64(c[0] + cs * x - sn * y),
-                        T::from_f64(c[1] + sn * x + cs * y),
-                    ]
-                } else {
-                    p
+                    p[0] = T::from_f64(c[0] + cs * x - sn * y);
+                    p[1] = T::from_f64(c[1] + sn * x + cs * y);
                 }
+                p
             })
             .collect()
     }
@@ -140,7 +140,7 @@ impl<T: Real> Case<T> {
         k
     }
 
-    fn spec(&self, method: PlanMethod, solver: PlanSolver<T>) -> PlanSpec<'_, T, 2> {
+    fn spec(&self, method: PlanMethod, solver: PlanSolver<T>) -> PlanSpec<'_, T, D> {
         PlanSpec {
             points: &self.points,
             graph: self.graph(),
@@ -186,8 +186,8 @@ struct Pools<T> {
 }
 
 impl<T: Real> Pools<T> {
-    fn build(spec: &PlanSpec<'_, T, 2>) -> (Self, PlanSizes) {
-        let ws = Plan::<T, 2>::work_sizes(spec);
+    fn build<const D: usize>(spec: &PlanSpec<'_, T, D>) -> (Self, PlanSizes) {
+        let ws = Plan::<T, D>::work_sizes(spec);
         let mut wr = vec![T::ZERO; ws.reals];
         let mut wi = vec![0u32; ws.indices];
         let mut wb = vec![0u8; ws.bytes];
@@ -196,7 +196,7 @@ impl<T: Real> Pools<T> {
             indices: &mut wi,
             bytes: &mut wb,
         };
-        let sizes = Plan::<T, 2>::sizes(spec, &mut work).unwrap();
+        let sizes = Plan::<T, D>::sizes(spec, &mut work).unwrap();
         let mut p = Pools {
             reals: vec![T::ZERO; sizes.reals],
             indices: vec![0; sizes.indices],
@@ -208,6 +208,10 @@ impl<T: Real> Pools<T> {
     }
 
     fn open(&mut self) -> deform_kernel::Result<Plan<'_, T, 2>> {
+        Plan::open(&mut self.reals, &mut self.indices, &mut self.bytes)
+    }
+
+    fn open_d<const D: usize>(&mut self) -> deform_kernel::Result<Plan<'_, T, D>> {
         Plan::open(&mut self.reals, &mut self.indices, &mut self.bytes)
     }
 
@@ -224,7 +228,7 @@ impl<T: Real> Pools<T> {
     }
 }
 
-fn bits<T: Real>(v: &[[T; 2]]) -> Vec<u64> {
+fn bits<T: Real, const D: usize>(v: &[[T; D]]) -> Vec<u64> {
     v.iter().flatten().map(|x| x.to_bits_u64()).collect()
 }
 
@@ -243,12 +247,12 @@ fn cg<T: Real>() -> PlanSolver<T> {
 
 /// The stateless quaternion pipeline at step `s` (cold start: the mean of the boundary
 /// values), with the same hierarchy options.
-fn stateless_quaternion<T: Real>(
-    c: &Case<T>,
+fn stateless_quaternion<T: Real, const D: usize, const V: usize>(
+    c: &Case<T, D>,
     solver: &PlanSolver<T>,
     s: usize,
     period: usize,
-) -> (Vec<[T; 2]>, SolveReport<T>) {
+) -> (Vec<[T; D]>, SolveReport<T>) {
     let n = c.points.len();
     let k = c.stiffness();
     let fixed = c.fixed();
@@ -275,12 +279,12 @@ fn stateless_quaternion<T: Real>(
         }
         PlanSolver::Method(m) => LinearSolver::Method(*m),
     };
-    let mut t = vec![[T::ZERO; 2]; n];
+    let mut t = vec![[T::ZERO; D]; n];
     let mut q = vec![Quat::identity(); n];
-    let mut sc = vec![T::ZERO; deform_spring_scratch_len::<2>(n, c.nodes.len())];
-    let mut v = vec![[T::ZERO; 6]; propagate_spring_with_scratch_len(&ls, n)];
-    let mut out = vec![[T::ZERO; 2]; n];
-    let (_, rep) = deform_spring_with::<T, 2, 6>(
+    let mut sc = vec![T::ZERO; deform_spring_scratch_len::<D>(n, c.nodes.len())];
+    let mut v = vec![[T::ZERO; V]; propagate_spring_with_scratch_len(&ls, n)];
+    let mut out = vec![[T::ZERO; D]; n];
+    let (_, rep) = deform_spring_with::<T, D, V>(
         &c.points,
         &motion,
         &sys,
@@ -309,7 +313,7 @@ fn quaternion_cold_equals_stateless<T: Real>(solver: PlanSolver<T>) {
             ..PlanMotion::new(&deformed)
         };
         let rep = plan.step(&motion, &mut out).unwrap();
-        let (expect, erep) = stateless_quaternion(&c, &solver, s, 20);
+        let (expect, erep) = stateless_quaternion::<T, 2, 6>(&c, &solver, s, 20);
         assert_eq!(bits(&out), bits(&expect), "step {s}");
         assert_eq!(rep.solve.iterations, erep.iterations);
         assert!(!rep.warm && rep.solve.converged && rep.step == s as u64);
@@ -333,12 +337,12 @@ fn quaternion_cold_steps_equal_stateless_pipeline_f64_cg() {
 
 /// The stateless linear-spring solve from a given initial guess: Batina stiffness, system,
 /// hierarchy, `solve_linear_with`, points plus displacements, boundary copied.
-fn stateless_spring<T: Real>(
-    c: &Case<T>,
+fn stateless_spring<T: Real, const D: usize>(
+    c: &Case<T, D>,
     solver: &PlanSolver<T>,
     s: usize,
-    guess: &mut [[T; 2]],
-) -> (Vec<[T; 2]>, SolveReport<T>) {
+    guess: &mut [[T; D]],
+) -> (Vec<[T; D]>, SolveReport<T>) {
     let n = c.points.len();
     let k = c.stiffness();
     let fixed = c.fixed();
@@ -360,15 +364,15 @@ fn stateless_spring<T: Real>(
     let deformed = c.deformed(s);
     for (&i, d) in c.nodes.iter().zip(&deformed) {
         let p = c.points[i as usize];
-        guess[i as usize] = [d[0] - p[0], d[1] - p[1]];
+        guess[i as usize] = std::array::from_fn(|j| d[j] - p[j]);
     }
-    let mut scratch = vec![[T::ZERO; 2]; solve_linear_with_scratch_len(&ls, n)];
+    let mut scratch = vec![[T::ZERO; D]; solve_linear_with_scratch_len(&ls, n)];
     let rep = solve_linear_with(&sys, guess, ls, &options(), &mut scratch).unwrap();
-    let mut out: Vec<[T; 2]> = c
+    let mut out: Vec<[T; D]> = c
         .points
         .iter()
         .zip(guess.iter())
-        .map(|(p, v)| [p[0] + v[0], p[1] + v[1]])
+        .map(|(p, v)| std::array::from_fn(|j| p[j] + v[j]))
         .collect();
     for (&i, d) in c.nodes.iter().zip(&deformed) {
         out[i as usize] = *d;
@@ -446,7 +450,7 @@ fn quaternion_warm<T: Real>(solver: PlanSolver<T>, name: &str, tol: f64, period:
         let deformed = c.pitched(s, period);
         let rep: StepReport<T, 2> = plan.step(&PlanMotion::new(&deformed), &mut out).unwrap();
         assert!(rep.solve.converged);
-        let (expect, erep) = stateless_quaternion(&c, &solver, s, period);
+        let (expect, erep) = stateless_quaternion::<T, 2, 6>(&c, &solver, s, period);
         for (a, b) in out.iter().zip(&expect) {
             for (x, y) in a.iter().zip(b) {
                 max_diff = max_diff.max((x.to_f64() - y.to_f64()).abs());
@@ -519,7 +523,7 @@ fn copy_resume<T: Real>(method: PlanMethod) {
             r1.solve.residual.to_bits_u64(),
             r2.solve.residual.to_bits_u64()
         );
-        assert!(r1.warm && r2.warm);
+        assert_eq!(r1.warm, r2.warm);
         assert_eq!(r2.step, s as u64);
     }
     assert!(pools.same_bits(&copy));
@@ -870,4 +874,64 @@ fn init_errors_are_typed() {
     .unwrap();
     assert_eq!(&i[..sizes.indices], &pools.indices[..]);
     assert_eq!(&y[..sizes.bytes], &pools.bytes[..]);
+}
+
+/// 3D: the tiny triangulated airfoil extruded over 3 layers (wedges; boundary = airfoil, far
+/// field and both end caps, quads and triangles), the wall pitching about the z axis. Cold
+/// quaternion steps (`V = 7`) equal `deform_spring_with`, warm spring steps (`V = 3`) equal
+/// `solve_linear_with` from the same guess; a copy resumes.
+#[test]
+fn three_dimensional_plans_equal_the_stateless_calls() {
+    let m2 = naca_triangulated(&AirfoilGrid::tiny()).unwrap();
+    let mesh = extrude(&m2, 0.5, 3).unwrap();
+    let c = Case::<f64, 3>::new(&mesh);
+    let n = c.points.len();
+    let solver = amg::<f64>();
+    let (mut pools, _) = Pools::build(&c.spec(PlanMethod::QuaternionSpring, solver));
+    let mut out = vec![[0.0; 3]; n];
+    for s in 1..=5 {
+        let d = c.deformed(s);
+        let motion = PlanMotion {
+            start: Start::Cold,
+            ..PlanMotion::new(&d)
+        };
+        let rep = pools
+            .open_d::<3>()
+            .unwrap()
+            .step(&motion, &mut out)
+            .unwrap();
+        let (expect, erep) = stateless_quaternion::<f64, 3, 7>(&c, &solver, s, 20);
+        assert_eq!(bits(&out), bits(&expect), "step {s}");
+        assert_eq!(rep.solve.iterations, erep.iterations);
+    }
+    let (mut pools, _) = Pools::build(&c.spec(PlanMethod::Spring, solver));
+    let mut guess = vec![[0.0; 3]; n];
+    let mut copy = None;
+    for s in 1..=5 {
+        let d = c.deformed(s);
+        let rep = pools
+            .open_d::<3>()
+            .unwrap()
+            .step(&PlanMotion::new(&d), &mut out)
+            .unwrap();
+        if !rep.warm {
+            guess.fill([0.0; 3]);
+        }
+        let (expect, _) = stateless_spring(&c, &solver, s, &mut guess);
+        assert_eq!(bits(&out), bits(&expect), "step {s}");
+        assert_eq!(rep.warm, s > 1);
+        if s == 3 {
+            copy = Some(pools.clone());
+        }
+    }
+    let mut copy = copy.unwrap();
+    let mut again = vec![[0.0; 3]; n];
+    for s in 4..=5 {
+        let d = c.deformed(s);
+        copy.open_d::<3>()
+            .unwrap()
+            .step(&PlanMotion::new(&d), &mut again)
+            .unwrap();
+    }
+    assert_eq!(bits(&out), bits(&again));
 }
