@@ -23,7 +23,7 @@
 //! the pools can be copied, written to disk and read back: [`Plan::open`] checks the header
 //! (magic, version, scalar type, dimension, sizes) and a 64-bit checksum of every part that
 //! never changes, and resumes with the same bits (the warm-start state travels with the pools).
-//! A corrupted or foreign buffer is [`Error::BadPlan`], never garbage.
+//! A corrupted or foreign buffer is [`Error::BadPlan`](crate::Error::BadPlan), never garbage.
 //!
 //! **Lifetime rules.** After `init` the plan borrows nothing from the caller but its three
 //! pools: points, graph, boundary list, elements and stiffness are copied in. The plan stays
@@ -44,7 +44,8 @@
 //!
 //! **Constraints.** The pools already hold a per-node kind table and a reserved section for
 //! sliding directions ([`PlanSpec::constraints`]); today a plan accepts only free and fixed
-//! nodes, and a table with sliding kinds is refused with [`Error::InvalidParameter`].
+//! nodes, and a table with sliding kinds is refused with
+//! [`Error::InvalidParameter`](crate::Error::InvalidParameter).
 //!
 //! **Errors.** `step` validates its input before it touches anything: on `Err` the caller's
 //! `out` and the plan's state (previous solution, step counter) are unchanged.
