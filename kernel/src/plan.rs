@@ -206,13 +206,26 @@ pub struct StepReport<T, const D: usize> {
 }
 
 /// A prepared plan: a view of three caller pools ([`Plan::init`], [`Plan::open`]).
-#[derive(Debug)]
 pub struct Plan<'a, T: Real, const D: usize> {
     reals: &'a mut [T],
     indices: &'a mut [u32],
     bytes: &'a mut [u8],
     meta: Meta,
     amg: Option<layout::AmgParts<T>>,
+}
+
+/// The counts, not the pools (which can hold hundreds of megabytes).
+impl<T: Real, const D: usize> core::fmt::Debug for Plan<'_, T, D> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Plan")
+            .field("method", &self.meta.method)
+            .field("nodes", &self.meta.n)
+            .field("boundary", &self.meta.b)
+            .field("used", &self.meta.sizes)
+            .field("steps", &self.meta.steps)
+            .field("amg_levels", &self.amg_levels())
+            .finish()
+    }
 }
 
 impl<'a, T: Real, const D: usize> Plan<'a, T, D> {
