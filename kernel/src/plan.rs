@@ -153,10 +153,11 @@ pub struct PlanWork<'w, T> {
 /// How a step starts its solve.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Start {
-    /// From the previous step's solution when its relative residual is smaller than the cold
-    /// guess's (two residual evaluations decide; cold when there is no previous solution).
-    /// After a small motion, e.g. a pitching wall passing its rest position, the previous
-    /// solution can be the worse guess.
+    /// From the stored solutions: the last one, or the linear extrapolation `x_n + (x_n −
+    /// x_{n−1})` of the last two, whichever has the smallest true relative residual, and the
+    /// cold guess when that is smaller still (up to three residual evaluations decide). After
+    /// a small motion, e.g. a pitching wall passing its rest position, the stored solutions
+    /// can be the worse guesses.
     #[default]
     Warm,
     /// As the stateless calls do: zero free displacements ([`PlanMethod::Spring`]) or the
@@ -197,8 +198,10 @@ pub struct StepReport<T, const D: usize> {
     /// The solve's report (iterations, true relative residual, convergence). The output is
     /// written even when the solve did not converge; check `converged`.
     pub solve: SolveReport<T>,
-    /// Whether the solve started from the previous solution (see [`Start::Warm`]).
+    /// Whether the solve started from the stored solutions (see [`Start::Warm`]).
     pub warm: bool,
+    /// Whether that start was the extrapolation from the last two solutions.
+    pub extrapolated: bool,
     /// Steps completed by this plan, this one included.
     pub step: u64,
     /// The rotation origin used (quaternion method; zero for [`PlanMethod::Spring`]).

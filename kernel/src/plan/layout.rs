@@ -44,7 +44,7 @@ pub(super) mod w {
     pub const CHECKED: usize = 40;
     pub const SUM_LO: usize = 40;
     pub const SUM_HI: usize = 41;
-    /// Mutable state (not checksummed).
+    /// Mutable state (not checksummed): solutions stored (0, 1, 2), steps.
     pub const HAS_STATE: usize = 42;
     pub const STEPS_LO: usize = 43;
     pub const STEPS_HI: usize = 44;
@@ -141,6 +141,8 @@ pub(super) struct Sections {
     // real pool: state
     pub state: Range<usize>,
     pub state_ref: Range<usize>,
+    pub state2: Range<usize>,
+    pub state2_ref: Range<usize>,
     // real pool: step workspaces
     pub work: Range<usize>,
     pub scratch: Range<usize>,
@@ -195,6 +197,8 @@ impl Sections {
         s.amg_values = r.take(Some(if amg { c.amg_values } else { 0 }))?;
         s.state = r.take(c.n.checked_mul(v))?;
         s.state_ref = r.take(Some(4))?;
+        s.state2 = r.take(c.n.checked_mul(v))?;
+        s.state2_ref = r.take(Some(4))?;
         s.work = r.take(c.n.checked_mul(v))?;
         s.scratch = r.take(c.scratch.checked_mul(v))?;
         let rot = if el {
@@ -239,7 +243,8 @@ pub(super) struct Meta {
     pub b: usize,
     pub k_first: usize,
     pub max_iterations: usize,
-    pub has_state: bool,
+    /// Solutions stored (0, 1 or 2: the last and the one before).
+    pub stored: u32,
     pub steps: u64,
 }
 
@@ -526,14 +531,18 @@ pub(super) fn open<T: Real, const D: usize>(
     if checksum(&sec, reals, indices, bytes) != stored {
         return Err(bad("checksum mismatch"));
     }
-    let has_state = match hw(indices, w::HAS_STATE) {
-        0 => false,
-        1 => true,
-        _ => return Err(bad("bad state flag")),
-    };
-    let state = reals.get(sec.state.start..sec.state_ref.end).unwrap_or(&[]);
-    if has_state && state.iter().any(|x| !x.is_finite()) {
-        return Err(bad("stored solution is not finite"));
+    let stored = hw(indices, w::HAS_STATE);
+    if stored > 2 {
+        return Err(bad("bad state flag"));
+    }
+    for (r, needed) in [
+        (sec.state.start..sec.state_ref.end, 1),
+        (sec.state2.start..sec.state2_ref.end, 2),
+    ] {
+        let state = reals.get(r).unwrap_or(&[]);
+        if stored >= needed && state.iter().any(|x| !x.is_finite()) {
+            return Err(bad("stored solution is not finite"));
+        }
     }
     let amg = if solver == SolverKind::Amg {
         let (layout, sweeps) = read_amg_words(indices.get(sec.amg_words.clone()).unwrap_or(&[]));
@@ -566,7 +575,7 @@ pub(super) fn open<T: Real, const D: usize>(
             b: counts.b,
             k_first: h(w::K_FIRST),
             max_iterations,
-            has_state,
+            stored,
             steps,
             sec,
         },

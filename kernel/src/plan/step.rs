@@ -131,8 +131,8 @@ pub(super) fn step<T: Real, const D: usize>(
     out: &mut [[T; D]],
 ) -> Result<StepReport<T, D>> {
     validate(&plan.meta, motion, out)?;
-    let warm = motion.start == Start::Warm && plan.meta.has_state;
-    let (solve, warm, origin) = match (plan.meta.method, D) {
+    let warm = motion.start == Start::Warm && plan.meta.stored >= 1;
+    let (solve, guess, origin) = match (plan.meta.method, D) {
         (PlanMethod::Spring, _) => run_spring(plan, motion, warm, out)?,
         (PlanMethod::QuaternionSpring, 2) => run_quaternion::<T, D, 6>(plan, motion, warm, out)?,
         (PlanMethod::QuaternionSpring, 3) => run_quaternion::<T, D, 7>(plan, motion, warm, out)?,
@@ -140,14 +140,16 @@ pub(super) fn step<T: Real, const D: usize>(
     };
     // Commit: the solution is in the state section already; record it in the header.
     let steps = plan.meta.steps.wrapping_add(1);
-    set_hw(plan.indices, w::HAS_STATE, 1);
+    let stored = plan.meta.stored.saturating_add(1).min(2);
+    set_hw(plan.indices, w::HAS_STATE, stored);
     set_hw(plan.indices, w::STEPS_LO, steps as u32);
     set_hw(plan.indices, w::STEPS_HI, (steps >> 32) as u32);
-    plan.meta.has_state = true;
+    plan.meta.stored = stored;
     plan.meta.steps = steps;
     Ok(StepReport {
         solve,
-        warm,
+        warm: guess != Guess::Cold,
+        extrapolated: guess == Guess::Extrapolated,
         step: steps,
         origin,
     })
@@ -166,6 +168,8 @@ struct Fixed<'p, T: Real, const D: usize> {
 struct Mutable<'p, T, const V: usize> {
     state: &'p mut [[T; V]],
     state_ref: &'p mut [T],
+    state2: &'p mut [[T; V]],
+    state2_ref: &'p mut [T],
     work: &'p mut [[T; V]],
     scratch: &'p mut [[T; V]],
     rot: &'p mut [T],
@@ -187,6 +191,8 @@ fn views<'p, T: Real, const D: usize, const V: usize>(
     let fixed: &'p [T] = fixed;
     let state = carve(&mut rest, s.state.len()).as_chunks_mut::<V>().0;
     let state_ref = carve(&mut rest, s.state_ref.len());
+    let state2 = carve(&mut rest, s.state2.len()).as_chunks_mut::<V>().0;
+    let state2_ref = carve(&mut rest, s.state2_ref.len());
     let work = carve(&mut rest, s.work.len()).as_chunks_mut::<V>().0;
     let scratch = carve(&mut rest, s.scratch.len()).as_chunks_mut::<V>().0;
     let rot = carve(&mut rest, s.rot.len());
@@ -212,6 +218,8 @@ fn views<'p, T: Real, const D: usize, const V: usize>(
         Mutable {
             state,
             state_ref,
+            state2,
+            state2_ref,
             work,
             scratch,
             rot,
@@ -244,7 +252,7 @@ fn run_spring<T: Real, const D: usize>(
     motion: &PlanMotion<'_, T, D>,
     warm: bool,
     out: &mut [[T; D]],
-) -> Result<(SolveReport<T>, bool, [T; D])> {
+) -> Result<(SolveReport<T>, Guess, [T; D])> {
     let Plan {
         reals,
         indices,
@@ -252,7 +260,7 @@ fn run_spring<T: Real, const D: usize>(
         meta,
         amg,
     } = plan;
-    let (f, fixed, m) = views::<T, D, D>(meta, reals, indices, bytes);
+    let (f, fixed, mut m) = views::<T, D, D>(meta, reals, indices, bytes);
     let h = hierarchy(meta, amg, fixed, indices);
     let solver = solver(meta.solver, f.omega, h.as_ref());
     m.work.fill([T::ZERO; D]);
@@ -262,7 +270,17 @@ fn run_spring<T: Real, const D: usize>(
             *v = sub(*d, *p);
         }
     }
-    let warm = warm && choose_warm(&f.sys, m.work, m.state, |_| {}, |v| *v = [T::ZERO; D])?;
+    let guess = if warm {
+        let previous = Previous {
+            last: m.state,
+            before: (meta.stored >= 2).then_some(&*m.state2),
+            flip_last: false,
+            flip_before: false,
+        };
+        choose_start::<T, D, D>(&f.sys, m.work, &previous, |v| *v = [T::ZERO; D])?
+    } else {
+        Guess::Cold
+    };
     let report = solve_linear_with(&f.sys, m.work, solver, &f.options, m.scratch)?;
     if crate::real::first_non_finite(m.work).is_some() {
         return Err(Error::Overflow { arg: "values" });
@@ -275,42 +293,118 @@ fn run_spring<T: Real, const D: usize>(
             *o = *d;
         }
     }
+    commit(&mut m, meta.stored, Quat::identity());
+    Ok((report, guess, [T::ZERO; D]))
+}
+
+/// Stores the solution in `work` as the last one (the last becomes the one before).
+fn commit<T: Real, const V: usize>(m: &mut Mutable<'_, T, V>, stored: u32, reference: Quat<T>) {
+    if stored >= 1 {
+        for (a, b) in m.state2.iter_mut().zip(m.state.iter()) {
+            *a = *b;
+        }
+        for (a, b) in m.state2_ref.iter_mut().zip(m.state_ref.iter()) {
+            *a = *b;
+        }
+    }
     for (s, v) in m.state.iter_mut().zip(m.work.iter()) {
         *s = *v;
     }
-    Ok((report, warm, [T::ZERO; D]))
+    for (a, b) in m.state_ref.iter_mut().zip(reference.to_array()) {
+        *a = b;
+    }
 }
 
-/// `work` holds the cold initial guess (boundary values set). Replaces the free entries by the
-/// previous solution (`state`, adjusted by `align`) and keeps it when its relative residual
-/// is smaller than the cold guess's; otherwise puts the cold guess back (`cold`). Returns
-/// whether the previous solution is used. (After a small motion, e.g. a pitching wall passing
-/// its rest position, the previous solution can be a worse guess than the cold one: the
-/// residual decides.)
-fn choose_warm<T: Real, const V: usize>(
+/// The initial guess a step used.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Guess {
+    /// The stateless pipelines' guess.
+    Cold,
+    /// The last solution.
+    Previous,
+    /// `x_n + (x_n − x_{n−1})` from the last two solutions.
+    Extrapolated,
+}
+
+/// The stored solutions, with whether their quaternion components must be negated into the
+/// current reference hemisphere.
+struct Previous<'s, T, const V: usize> {
+    last: &'s [[T; V]],
+    before: Option<&'s [[T; V]]>,
+    flip_last: bool,
+    flip_before: bool,
+}
+
+/// `v` with its components from `D` on negated when `flip`.
+#[inline]
+fn aligned<T: Real, const D: usize, const V: usize>(mut v: [T; V], flip: bool) -> [T; V] {
+    if flip {
+        for x in v.iter_mut().skip(D) {
+            *x = -*x;
+        }
+    }
+    v
+}
+
+/// `work` holds the cold initial guess (boundary values set). Tries the last solution and,
+/// when two are stored, the linear extrapolation `x_n + (x_n − x_{n−1})` at the free nodes,
+/// and keeps the guess with the smallest true relative residual (ties go to the simpler one);
+/// otherwise puts the cold guess back (`cold`). After a small motion, e.g. a pitching wall
+/// passing its rest position, the previous solution can be the worse guess: the residual
+/// decides.
+fn choose_start<T: Real, const D: usize, const V: usize>(
     sys: &SpringSystem<'_, T>,
     work: &mut [[T; V]],
-    state: &[[T; V]],
-    align: impl Fn(&mut [T; V]),
+    prev: &Previous<'_, T, V>,
     cold: impl Fn(&mut [T; V]),
-) -> Result<bool> {
+) -> Result<Guess> {
+    let fill = |work: &mut [[T; V]], g: Guess| {
+        for (i, v) in work.iter_mut().enumerate() {
+            if sys.is_fixed(i) {
+                continue;
+            }
+            let last = prev
+                .last
+                .get(i)
+                .map(|&a| aligned::<T, D, V>(a, prev.flip_last));
+            let before = prev
+                .before
+                .and_then(|b| b.get(i))
+                .map(|&b| aligned::<T, D, V>(b, prev.flip_before));
+            match (g, last, before) {
+                (Guess::Previous, Some(a), _) => *v = a,
+                (Guess::Extrapolated, Some(a), Some(b)) => {
+                    for ((x, &p), &q) in v.iter_mut().zip(a.iter()).zip(b.iter()) {
+                        *x = p + (p - q);
+                    }
+                }
+                _ => cold(v),
+            }
+        }
+    };
     let r_cold = relative_residual(sys, work)?;
-    for (i, (v, s)) in work.iter_mut().zip(state).enumerate() {
-        if !sys.is_fixed(i) {
-            *v = *s;
-            align(v);
+    fill(work, Guess::Previous);
+    let r_prev = relative_residual(sys, work)?;
+    let (mut best, r_best) = if r_prev < r_cold {
+        (Guess::Previous, r_prev)
+    } else {
+        (Guess::Cold, r_cold)
+    };
+    if prev.before.is_some() {
+        fill(work, Guess::Extrapolated);
+        if relative_residual(sys, work)? < r_best {
+            best = Guess::Extrapolated;
         }
     }
-    let r_warm = relative_residual(sys, work)?;
-    if r_warm < r_cold {
-        return Ok(true);
+    let current = if prev.before.is_some() {
+        Guess::Extrapolated
+    } else {
+        Guess::Previous
+    };
+    if best != current {
+        fill(work, best);
     }
-    for (i, v) in work.iter_mut().enumerate() {
-        if !sys.is_fixed(i) {
-            cold(v);
-        }
-    }
-    Ok(false)
+    Ok(best)
 }
 
 /// `[Δ, w, x, y, z]`.
@@ -342,9 +436,9 @@ fn unpack<T: Real, const D: usize, const V: usize>(v: &[T; V]) -> ([T; D], Quat<
 fn run_quaternion<T: Real, const D: usize, const V: usize>(
     plan: &mut Plan<'_, T, D>,
     motion: &PlanMotion<'_, T, D>,
-    mut warm: bool,
+    warm: bool,
     out: &mut [[T; D]],
-) -> Result<(SolveReport<T>, bool, [T; D])> {
+) -> Result<(SolveReport<T>, Guess, [T; D])> {
     if V != D + 4 {
         return Err(Error::BadDimensions { arg: "D" });
     }
@@ -355,7 +449,7 @@ fn run_quaternion<T: Real, const D: usize, const V: usize>(
         meta,
         amg,
     } = plan;
-    let (f, fixed, m) = views::<T, D, V>(meta, reals, indices, bytes);
+    let (f, fixed, mut m) = views::<T, D, V>(meta, reals, indices, bytes);
     let h = hierarchy(meta, amg, fixed, indices);
     let solver = solver(meta.solver, f.omega, h.as_ref());
     let s = &meta.sec;
@@ -415,8 +509,8 @@ fn run_quaternion<T: Real, const D: usize, const V: usize>(
         }
     }
     // Initial guess at the free nodes: the cold one (as the stateless pipeline), then the
-    // previous solution if its residual is smaller.
-    {
+    // stored solutions if their residual is smaller.
+    let guess = {
         let mut mean = [T::ZERO; V];
         let mut count = 0usize;
         for (i, v) in m.work.iter().enumerate() {
@@ -436,22 +530,26 @@ fn run_quaternion<T: Real, const D: usize, const V: usize>(
                 *v = mean;
             }
         }
-        let prev = m
-            .state_ref
-            .as_chunks::<4>()
-            .0
-            .first()
-            .map_or(reference, |&a| Quat::from_array(a));
-        let flip = prev.dot(reference) < T::ZERO;
-        let align = |v: &mut [T; V]| {
-            if flip {
-                for x in v.iter_mut().skip(D) {
-                    *x = -*x;
-                }
-            }
+        let flip = |r: &[T]| {
+            let q = r
+                .as_chunks::<4>()
+                .0
+                .first()
+                .map_or(reference, |&a| Quat::from_array(a));
+            q.dot(reference) < T::ZERO
         };
-        warm = warm && choose_warm(&f.sys, m.work, m.state, align, |v| *v = mean)?;
-    }
+        if warm {
+            let previous = Previous {
+                last: m.state,
+                before: (meta.stored >= 2).then_some(&*m.state2),
+                flip_last: flip(m.state_ref),
+                flip_before: flip(m.state2_ref),
+            };
+            choose_start::<T, D, V>(&f.sys, m.work, &previous, |v| *v = mean)?
+        } else {
+            Guess::Cold
+        }
+    };
     let report = solve_linear_with(&f.sys, m.work, solver, &f.options, m.scratch)?;
     for (i, v) in m.work.iter().enumerate() {
         if !f.sys.is_fixed(i) && unpack::<T, D, V>(v).1.normalize().is_err() {
@@ -479,11 +577,6 @@ fn run_quaternion<T: Real, const D: usize, const V: usize>(
             *o = *dk;
         }
     }
-    for (st, v) in m.state.iter_mut().zip(m.work.iter()) {
-        *st = *v;
-    }
-    for (a, b) in m.state_ref.iter_mut().zip(reference.to_array()) {
-        *a = b;
-    }
-    Ok((report, warm, origin))
+    commit(&mut m, meta.stored, reference);
+    Ok((report, guess, origin))
 }

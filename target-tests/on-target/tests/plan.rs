@@ -1,7 +1,7 @@
 //! Prepared plans on target, in f32 and f64, on the small jittered triangle mesh (perimeter
 //! prescribed): a few time steps through a plan give the bits of the stateless calls with the
-//! same initial guesses (linear springs with the multigrid solver, warm; the quaternion method
-//! with rigid rotations, cold), copied pools resume bit for bit, and bad input or a corrupted
+//! same initial guesses (linear springs with the multigrid solver, warm: the previous solution,
+//! then the extrapolation of the last two; the quaternion method with rigid rotations, cold), copied pools resume bit for bit, and bad input or a corrupted
 //! header is a typed error with the output untouched.
 #![no_std]
 #![no_main]
@@ -138,7 +138,8 @@ fn spring_plan<T: Real>() {
     let solver = LinearSolver::Amg(&h);
     let mut scratch = [[T::ZERO; 2]; 8 * N];
     let len = solve_linear_with_scratch_len(&solver, N);
-    let mut guess = [[T::ZERO; 2]; N];
+    let mut last = [[T::ZERO; 2]; N];
+    let mut before = [[T::ZERO; 2]; N];
     let mut out = [[T::ZERO; 2]; N];
     let mut copy = None;
     for s in 1..=STEPS {
@@ -148,8 +149,16 @@ fn spring_plan<T: Real>() {
             .unwrap()
             .step(&PlanMotion::new(&d), &mut out)
             .unwrap();
-        if !rep.warm {
-            guess = [[T::ZERO; 2]; N];
+        // The guess the plan used: zero, the last solution or `x_n + (x_n − x_{n−1})`.
+        let mut guess = [[T::ZERO; 2]; N];
+        if rep.warm {
+            for ((g, a), b) in guess.iter_mut().zip(&last).zip(&before) {
+                *g = if rep.extrapolated {
+                    [a[0] + (a[0] - b[0]), a[1] + (a[1] - b[1])]
+                } else {
+                    *a
+                };
+            }
         }
         for (&i, di) in m.boundary.iter().zip(&d) {
             let p = m.points[i as usize];
@@ -164,6 +173,9 @@ fn spring_plan<T: Real>() {
         )
         .unwrap();
         defmt::assert!(r.iterations == rep.solve.iterations && rep.warm == (s > 1));
+        defmt::assert!(rep.extrapolated == (s > 2));
+        before = last;
+        last = guess;
         let mut expect = [[T::ZERO; 2]; N];
         for ((e, p), v) in expect.iter_mut().zip(&m.points).zip(&guess) {
             *e = [p[0] + v[0], p[1] + v[1]];
