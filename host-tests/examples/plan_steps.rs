@@ -260,7 +260,8 @@ fn run(label: &str, period: usize) {
         let mut plan = Plan::<f64, 2>::open(&mut reals, &mut indices, &mut bytes).unwrap();
         let open = t0.elapsed();
         let mut out = vec![[0.0; 2]; n];
-        let (mut step_time, mut it_warm, mut warm_steps) = (Duration::ZERO, 0, 0);
+        let (mut step_time, mut it_warm, mut warm_steps, mut extrapolated) =
+            (Duration::ZERO, 0, 0, 0);
         let mut per_step = Vec::new();
         for s in 1..=STEPS {
             let d = c.deformed(s, period);
@@ -270,6 +271,7 @@ fn run(label: &str, period: usize) {
             assert!(rep.solve.converged);
             it_warm += rep.solve.iterations;
             warm_steps += usize::from(rep.warm);
+            extrapolated += usize::from(rep.extrapolated);
             per_step.push(rep.solve.iterations);
         }
         let mb = (sizes.reals * 8 + sizes.indices * 4 + sizes.bytes) as f64 / 1e6;
@@ -280,7 +282,7 @@ fn run(label: &str, period: usize) {
         let st = STEPS as f64;
         println!(
             "  {name}: stateless {:.1} ms/step (setup {:.1} + solve {:.1}), {} iterations; \
-             plan {:.1} ms/step, {} iterations ({warm_steps} warm), init {:.1} ms, open {:.1} \
+             plan {:.1} ms/step, {} iterations ({warm_steps} warm, {extrapolated} extrapolated), init {:.1} ms, open {:.1} \
              ms, pools {mb:.1} MB; plan iterations per step {per_step:?}",
             ms(setup + solve) / st,
             ms(setup) / st,
