@@ -5,7 +5,7 @@
 ! output is identical to the C program's.
 !
 ! Build: gfortran -std=f2008 ffi/fortran/deform_kernel.f90 deform_and_smooth.f90 \
-!        target/release/libdeform_kernel.a -lm
+!        ffi/capi/target/release/libdeform_kernel.a -lm
 program deform_and_smooth
   use, intrinsic :: iso_c_binding
   use deform_kernel

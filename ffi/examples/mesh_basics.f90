@@ -2,7 +2,7 @@
 ! a Fortran code stores it. Prints every result's bit pattern for the bit-parity test.
 !
 ! Build: gfortran -std=f2008 ffi/fortran/deform_kernel.f90 mesh_basics.f90 \
-!        target/release/libdeform_kernel.a -lm
+!        ffi/capi/target/release/libdeform_kernel.a -lm
 program mesh_basics
   use, intrinsic :: iso_c_binding
   use deform_kernel

@@ -514,7 +514,7 @@ fn motion_default<M: MotionC>(out: *mut M) -> dk_status {
 ///
 /// # Safety
 /// `out` points to one writable `dk_boundary_motion` (or is NULL: `DK_ERR_NULL_POINTER`).
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_boundary_motion_default(out: *mut dk_boundary_motion) -> dk_status {
     motion_default(out)
 }
@@ -523,7 +523,7 @@ pub unsafe extern "C" fn dk_boundary_motion_default(out: *mut dk_boundary_motion
 ///
 /// # Safety
 /// As [`dk_boundary_motion_default`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_boundary_motion_default_f32(
     out: *mut dk_boundary_motion_f32,
 ) -> dk_status {
@@ -542,7 +542,7 @@ fn motion_index_len<M: MotionC>(motion: *const M, len_out: *mut usize) -> dk_sta
 ///
 /// # Safety
 /// `motion` points to one readable `dk_boundary_motion`; `len_out` to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_boundary_motion_index_scratch_len(
     motion: *const dk_boundary_motion,
     len_out: *mut usize,
@@ -554,7 +554,7 @@ pub unsafe extern "C" fn dk_boundary_motion_index_scratch_len(
 ///
 /// # Safety
 /// As [`dk_boundary_motion_index_scratch_len`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_boundary_motion_index_scratch_len_f32(
     motion: *const dk_boundary_motion_f32,
     len_out: *mut usize,
@@ -573,7 +573,7 @@ pub unsafe extern "C" fn dk_boundary_motion_index_scratch_len_f32(
 ///
 /// # Safety
 /// `len_out` points to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_idw_scratch_len(
     node_count: usize,
     boundary_len: usize,
@@ -700,7 +700,7 @@ impl<M: MotionC> ByDim for Idw<M> {
 /// `points` is readable for `points_len` scalars; `motion` points to one readable struct
 /// whose arrays are readable for their lengths; every writable buffer is valid for its length;
 /// no writable buffer overlaps another buffer or an input.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_idw(
     points: *const f64,
     points_len: usize,
@@ -749,7 +749,7 @@ pub unsafe extern "C" fn dk_deform_idw(
 ///
 /// # Safety
 /// As [`dk_deform_idw`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_idw_f32(
     points: *const f32,
     points_len: usize,
@@ -805,7 +805,7 @@ pub unsafe extern "C" fn dk_deform_idw_f32(
 ///
 /// # Safety
 /// `len_out` points to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_tfi_scratch_len(
     ni: usize,
     nj: usize,
@@ -873,7 +873,7 @@ impl<M: MotionC> ByDim for Tfi<M> {
 ///
 /// # Safety
 /// As [`dk_deform_idw`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_tfi(
     ni: usize,
     nj: usize,
@@ -926,7 +926,7 @@ pub unsafe extern "C" fn dk_deform_tfi(
 ///
 /// # Safety
 /// As [`dk_deform_idw`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_tfi_f32(
     ni: usize,
     nj: usize,
@@ -984,7 +984,7 @@ pub unsafe extern "C" fn dk_deform_tfi_f32(
 ///
 /// # Safety
 /// `len_out` points to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_normals_scratch_len(
     boundary_len: usize,
     len_out: *mut usize,
@@ -1069,7 +1069,7 @@ impl<T: Real> ByDim for Normals<T> {
 /// # Safety
 /// Every pointer is valid for its length (reads for inputs, writes for `scratch`,
 /// `index_scratch`, `normals`); the writable buffers overlap nothing else.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_normals(
     points: *const f64,
     points_len: usize,
@@ -1116,7 +1116,7 @@ pub unsafe extern "C" fn dk_deform_boundary_normals(
 ///
 /// # Safety
 /// As [`dk_deform_boundary_normals`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_normals_f32(
     points: *const f32,
     points_len: usize,
@@ -1164,7 +1164,7 @@ pub unsafe extern "C" fn dk_deform_boundary_normals_f32(
 ///
 /// # Safety
 /// `len_out` points to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_rotations_scratch_len(
     boundary_len: usize,
     dim: u32,
@@ -1222,7 +1222,7 @@ impl<T: Real> ByDim for Rotations<T> {
 ///
 /// # Safety
 /// As [`dk_deform_boundary_normals`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_rotations(
     undeformed: *const f64,
     undeformed_len: usize,
@@ -1273,7 +1273,7 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations(
 ///
 /// # Safety
 /// As [`dk_deform_boundary_normals`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_rotations_f32(
     undeformed: *const f32,
     undeformed_len: usize,
@@ -1338,7 +1338,7 @@ fn rigid<T: Real>(q: *const T, rotations: *mut T, rotations_len: usize) -> dk_st
 /// # Safety
 /// `q` points to 4 readable scalars; `rotations` is writable for `rotations_len` scalars and
 /// does not overlap `q`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_rigid_rotations(
     q: *const f64,
     rotations: *mut f64,
@@ -1351,7 +1351,7 @@ pub unsafe extern "C" fn dk_deform_rigid_rotations(
 ///
 /// # Safety
 /// As [`dk_deform_rigid_rotations`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_rigid_rotations_f32(
     q: *const f32,
     rotations: *mut f32,
@@ -1397,7 +1397,7 @@ impl<T: Real> ByDim for Origin<T> {
 /// # Safety
 /// The inputs are readable for their lengths; `origin_out` is writable for `origin_out_len`
 /// scalars and overlaps no input.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_origin(
     undeformed: *const f64,
     undeformed_len: usize,
@@ -1424,7 +1424,7 @@ pub unsafe extern "C" fn dk_deform_boundary_origin(
 ///
 /// # Safety
 /// As [`dk_deform_boundary_origin`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_origin_f32(
     undeformed: *const f32,
     undeformed_len: usize,
@@ -1486,7 +1486,7 @@ impl<T: Real> ByDim for Translations<T> {
 /// # Safety
 /// The inputs are readable for their lengths; `translations` is writable for its length and
 /// overlaps no input.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_translations(
     origin: *const f64,
     origin_len: usize,
@@ -1521,7 +1521,7 @@ pub unsafe extern "C" fn dk_deform_boundary_translations(
 ///
 /// # Safety
 /// As [`dk_deform_boundary_translations`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_translations_f32(
     origin: *const f32,
     origin_len: usize,
@@ -1604,7 +1604,7 @@ impl<T: Real> ByDim for PropIdw<T> {
 /// # Safety
 /// Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
 /// the writable buffers overlap nothing else.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_propagate_idw(
     points: *const f64,
     points_len: usize,
@@ -1643,7 +1643,7 @@ pub unsafe extern "C" fn dk_deform_propagate_idw(
 ///
 /// # Safety
 /// As [`dk_deform_propagate_idw`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_propagate_idw_f32(
     points: *const f32,
     points_len: usize,
@@ -1684,7 +1684,7 @@ pub unsafe extern "C" fn dk_deform_propagate_idw_f32(
 ///
 /// # Safety
 /// `len_out` points to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_propagate_tfi_scratch_len(
     ni: usize,
     nj: usize,
@@ -1753,7 +1753,7 @@ impl<T: Real> ByDim for PropTfi<T> {
 /// # Safety
 /// Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
 /// the writable buffers overlap nothing else.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_propagate_tfi(
     ni: usize,
     nj: usize,
@@ -1791,7 +1791,7 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi(
 ///
 /// # Safety
 /// As [`dk_deform_propagate_tfi`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_propagate_tfi_f32(
     ni: usize,
     nj: usize,
@@ -1835,7 +1835,7 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi_f32(
 /// # Safety
 /// Every pointer is valid for its length (`displacements` for reads and writes); the writable
 /// buffers overlap nothing else.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_displacement_tfi(
     ni: usize,
     nj: usize,
@@ -1871,7 +1871,7 @@ pub unsafe extern "C" fn dk_deform_displacement_tfi(
 ///
 /// # Safety
 /// As [`dk_deform_displacement_tfi`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_displacement_tfi_f32(
     ni: usize,
     nj: usize,
@@ -1956,7 +1956,7 @@ impl<T: Real> ByDim for Update<T> {
 ///
 /// # Safety
 /// Every pointer is valid for its length; `out` and `index_scratch` overlap nothing else.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_update_points(
     origin: *const f64,
     origin_len: usize,
@@ -2005,7 +2005,7 @@ pub unsafe extern "C" fn dk_deform_update_points(
 ///
 /// # Safety
 /// As [`dk_deform_update_points`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_update_points_f32(
     origin: *const f32,
     origin_len: usize,
@@ -2060,7 +2060,7 @@ pub unsafe extern "C" fn dk_deform_update_points_f32(
 ///
 /// # Safety
 /// `len_out` points to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_localize_nodes_scratch_len(
     node_count: usize,
     boundary_len: usize,
@@ -2094,7 +2094,7 @@ pub unsafe extern "C" fn dk_deform_localize_nodes_scratch_len(
 /// # Safety
 /// `boundary`, `global` are readable for their lengths; `scratch`, `local` are writable for
 /// theirs; the writable buffers overlap nothing else.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_localize_nodes(
     node_count: usize,
     boundary: *const u32,
@@ -2200,7 +2200,7 @@ impl<T: Real> SystemIn<T> {
 /// # Safety
 /// `options` points to one readable `dk_spring_solve_options`; `scratch_len_out` and
 /// `values_len_out` each to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_spring_scratch_len(
     node_count: usize,
     boundary_len: usize,
@@ -2249,7 +2249,7 @@ fn spring_index_len<M: MotionC>(
 ///
 /// # Safety
 /// `motion` points to one readable `dk_boundary_motion`; `len_out` to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_spring_index_scratch_len(
     motion: *const dk_boundary_motion,
     node_count: usize,
@@ -2262,7 +2262,7 @@ pub unsafe extern "C" fn dk_deform_spring_index_scratch_len(
 ///
 /// # Safety
 /// As [`dk_deform_spring_index_scratch_len`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_spring_index_scratch_len_f32(
     motion: *const dk_boundary_motion_f32,
     node_count: usize,
@@ -2344,7 +2344,7 @@ impl<M: MotionC> ByDim for Spring<M> {
 /// As [`dk_deform_idw`]; also the graph, stiffness and fixed arrays are readable for their
 /// lengths, `options` points to one readable struct, `values` is writable for `values_len`
 /// scalars and `report` points to one writable report, none overlapping another buffer.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_spring(
     points: *const f64,
     points_len: usize,
@@ -2418,7 +2418,7 @@ pub unsafe extern "C" fn dk_deform_spring(
 ///
 /// # Safety
 /// As [`dk_deform_spring`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_spring_f32(
     points: *const f32,
     points_len: usize,
@@ -2494,7 +2494,7 @@ pub unsafe extern "C" fn dk_deform_spring_f32(
 /// # Safety
 /// `options` points to one readable `dk_spring_solve_options`; `len_out` to one writable
 /// `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_propagate_spring_scratch_len(
     node_count: usize,
     dim: u32,
@@ -2562,7 +2562,7 @@ impl<T: Real> ByDim for PropSpring<T> {
 /// Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
 /// `options` points to one readable struct and `report` to one writable report; the writable
 /// buffers overlap nothing else.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_propagate_spring(
     offsets: *const u32,
     offsets_len: usize,
@@ -2615,7 +2615,7 @@ pub unsafe extern "C" fn dk_deform_propagate_spring(
 ///
 /// # Safety
 /// As [`dk_deform_propagate_spring`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_propagate_spring_f32(
     offsets: *const u32,
     offsets_len: usize,

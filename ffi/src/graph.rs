@@ -34,7 +34,7 @@ fn rebase(indices: &[u32], index_base: u32) -> Result<Cow<'_, [u32]>, dk_status>
 ///
 /// # Safety
 /// `len_out` points to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_graph_from_edges_len(
     edges_len: usize,
     len_out: *mut usize,
@@ -58,7 +58,7 @@ pub unsafe extern "C" fn dk_graph_from_edges_len(
 /// Every pointer is valid for its length (`edges`: `edges_len` reads; `offsets`:
 /// `offsets_len` writes; `targets`: `targets_len` writes; `used_out`: one write), and the
 /// output buffers do not overlap each other or the inputs.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_graph_from_edges(
     node_count: usize,
     edges: *const u32,
@@ -130,7 +130,7 @@ pub(crate) fn read_cells<'a>(
 ///
 /// # Safety
 /// Every pointer is valid for reading its length.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_cells_check(
     node_count: usize,
     cell_offsets: *const u32,
@@ -160,7 +160,7 @@ pub unsafe extern "C" fn dk_cells_check(
 ///
 /// # Safety
 /// Every pointer is valid for its length; `len_out` points to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_graph_from_cells_len(
     node_count: usize,
     cell_offsets: *const u32,
@@ -196,7 +196,7 @@ pub unsafe extern "C" fn dk_graph_from_cells_len(
 /// # Safety
 /// Every pointer is valid for its length (reads for the cell arrays, writes for `offsets`,
 /// `targets`, `used_out`), and the outputs do not overlap each other or the inputs.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_graph_from_cells(
     node_count: usize,
     cell_offsets: *const u32,
@@ -240,7 +240,7 @@ pub unsafe extern "C" fn dk_graph_from_cells(
 ///
 /// # Safety
 /// `offsets` and `targets` are valid for reading their lengths.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_graph_check(
     offsets: *const u32,
     offsets_len: usize,

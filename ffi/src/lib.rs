@@ -13,14 +13,12 @@
 //! - mesh node indices supplied by the caller are read with an `index_base` of 0 or 1, so
 //!   Fortran callers pass their arrays as they are;
 //! - all memory belongs to the caller; `*_len` functions say how large buffers must be;
-//! - the library is built with `panic = "abort"`, and the kernel beneath it is proven
-//!   panic-free at link time, so no panic can cross the ABI.
-
-#[cfg(not(any(panic = "abort", feature = "test-unwind")))]
-compile_error!(
-    "deform-kernel-ffi must be built with panic = \"abort\" (set in the workspace profiles); \
-     the `test-unwind` feature exists only for cargo's test harness"
-);
+//! - the C library (`capi/`, crate `deform-kernel-capi`) is built with `panic = "abort"`, and
+//!   the kernel beneath it is proven panic-free at link time, so no panic can cross the ABI.
+//!
+//! This crate is an rlib: Rust code (tests, fuzzing) calls the `dk_*` functions by path and
+//! unwinds normally. The C symbol names exist only with the `export-symbols` feature, which
+//! the thin `deform-kernel-capi` crate turns on when it builds `libdeform_kernel.{a,so}`.
 
 /// argument reading and writing shared by every entry point
 pub(crate) mod args;

@@ -509,7 +509,7 @@ fn wall_angle_t<T: Real>(
 ///
 /// # Safety
 /// `corners` readable for `corners_len` scalars; `out` points to one writable struct.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_cell_quality(
     kind: u8,
     corners: *const f64,
@@ -524,7 +524,7 @@ pub unsafe extern "C" fn dk_quality_cell_quality(
 ///
 /// # Safety
 /// As [`dk_quality_cell_quality`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_cell_quality_f32(
     kind: u8,
     corners: *const f32,
@@ -543,7 +543,7 @@ pub unsafe extern "C" fn dk_quality_cell_quality_f32(
 /// # Safety
 /// The cell arrays and `points` are readable for their lengths; `out` writable for `out_len`
 /// scalars, not overlapping the inputs.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_cell_measures(
     cell_offsets: *const u32,
     cell_offsets_len: usize,
@@ -574,7 +574,7 @@ pub unsafe extern "C" fn dk_quality_cell_measures(
 ///
 /// # Safety
 /// As [`dk_quality_cell_measures`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_cell_measures_f32(
     cell_offsets: *const u32,
     cell_offsets_len: usize,
@@ -607,7 +607,7 @@ pub unsafe extern "C" fn dk_quality_cell_measures_f32(
 ///
 /// # Safety
 /// As [`dk_quality_cell_measures`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_min_corner_jacobians(
     cell_offsets: *const u32,
     cell_offsets_len: usize,
@@ -639,7 +639,7 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians(
 ///
 /// # Safety
 /// As [`dk_quality_min_corner_jacobians`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_min_corner_jacobians_f32(
     cell_offsets: *const u32,
     cell_offsets_len: usize,
@@ -674,7 +674,7 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians_f32(
 /// # Safety
 /// The cell arrays and point arrays are readable for their lengths; `count_out` points to one
 /// writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_inverted_cells(
     cell_offsets: *const u32,
     cell_offsets_len: usize,
@@ -714,7 +714,7 @@ pub unsafe extern "C" fn dk_quality_inverted_cells(
 ///
 /// # Safety
 /// As [`dk_quality_inverted_cells`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_inverted_cells_f32(
     cell_offsets: *const u32,
     cell_offsets_len: usize,
@@ -757,7 +757,7 @@ pub unsafe extern "C" fn dk_quality_inverted_cells_f32(
 /// # Safety
 /// The cell arrays and `points` are readable for their lengths; `count_out` points to one
 /// writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_folded_cells(
     cell_offsets: *const u32,
     cell_offsets_len: usize,
@@ -787,7 +787,7 @@ pub unsafe extern "C" fn dk_quality_folded_cells(
 ///
 /// # Safety
 /// As [`dk_quality_folded_cells`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_folded_cells_f32(
     cell_offsets: *const u32,
     cell_offsets_len: usize,
@@ -818,7 +818,7 @@ pub unsafe extern "C" fn dk_quality_folded_cells_f32(
 ///
 /// # Safety
 /// `len_out` points to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_wall_angle_scratch_len(
     node_count: usize,
     dim: u32,
@@ -853,7 +853,7 @@ pub unsafe extern "C" fn dk_quality_wall_angle_scratch_len(
 /// Every input array is NULL with length 0 or readable for its length; `scratch` writable for
 /// `scratch_len` scalars; `report` points to one writable report; writable buffers overlap
 /// nothing else.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_compare(
     cell_offsets: *const u32,
     cell_offsets_len: usize,
@@ -923,7 +923,7 @@ pub unsafe extern "C" fn dk_quality_compare(
 ///
 /// # Safety
 /// As [`dk_quality_compare`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_compare_f32(
     cell_offsets: *const u32,
     cell_offsets_len: usize,
@@ -1003,7 +1003,7 @@ pub unsafe extern "C" fn dk_quality_compare_f32(
 /// # Safety
 /// Every input array is readable for its length; `scratch` writable for `scratch_len`
 /// scalars; `out` points to one writable struct; writable buffers overlap nothing else.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_wall_angle_change(
     wall_offsets: *const u32,
     wall_offsets_len: usize,
@@ -1057,7 +1057,7 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change(
 ///
 /// # Safety
 /// As [`dk_quality_wall_angle_change`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_wall_angle_change_f32(
     wall_offsets: *const u32,
     wall_offsets_len: usize,

@@ -167,7 +167,7 @@ fn average<T: Real>(
 ///
 /// # Safety
 /// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars (or NULL: error).
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_mul(a: *const f64, b: *const f64, out: *mut f64) -> dk_status {
     mul(a, b, out)
 }
@@ -176,7 +176,7 @@ pub unsafe extern "C" fn dk_quat_mul(a: *const f64, b: *const f64, out: *mut f64
 ///
 /// # Safety
 /// `q` points to 4 readable scalars, `out` to 4 writable scalars.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_normalize(q: *const f64, out: *mut f64) -> dk_status {
     normalize(q, out)
 }
@@ -185,7 +185,7 @@ pub unsafe extern "C" fn dk_quat_normalize(q: *const f64, out: *mut f64) -> dk_s
 ///
 /// # Safety
 /// `q` points to 4 readable scalars, `out` to 4 writable scalars.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_inverse(q: *const f64, out: *mut f64) -> dk_status {
     inverse(q, out)
 }
@@ -194,7 +194,7 @@ pub unsafe extern "C" fn dk_quat_inverse(q: *const f64, out: *mut f64) -> dk_sta
 ///
 /// # Safety
 /// `axis` points to 3 readable scalars, `out` to 4 writable scalars.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_from_axis_angle(
     axis: *const f64,
     angle: f64,
@@ -207,7 +207,7 @@ pub unsafe extern "C" fn dk_quat_from_axis_angle(
 ///
 /// # Safety
 /// `q` points to 4 readable scalars, `axis_out` to 3 and `angle_out` to 1 writable scalar.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_to_axis_angle(
     q: *const f64,
     axis_out: *mut f64,
@@ -220,7 +220,7 @@ pub unsafe extern "C" fn dk_quat_to_axis_angle(
 ///
 /// # Safety
 /// `from`, `to` point to 3 readable scalars, `out` to 4 writable scalars.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_rotation_arc(
     from: *const f64,
     to: *const f64,
@@ -235,7 +235,7 @@ pub unsafe extern "C" fn dk_quat_rotation_arc(
 /// # Safety
 /// `q` points to 4 readable scalars; `points` to `points_len` readable scalars; `out`
 /// to `out_len` writable scalars not overlapping `points`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_rotate_points(
     q: *const f64,
     points: *const f64,
@@ -250,7 +250,7 @@ pub unsafe extern "C" fn dk_quat_rotate_points(
 ///
 /// # Safety
 /// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_slerp(
     a: *const f64,
     b: *const f64,
@@ -264,7 +264,7 @@ pub unsafe extern "C" fn dk_quat_slerp(
 ///
 /// # Safety
 /// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_nlerp(
     a: *const f64,
     b: *const f64,
@@ -281,7 +281,7 @@ pub unsafe extern "C" fn dk_quat_nlerp(
 /// # Safety
 /// `quats` points to `quats_len` readable scalars, `weights` to `weights_len` (or is
 /// NULL with 0), `out` to 4 writable scalars.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_average(
     quats: *const f64,
     quats_len: usize,
@@ -296,7 +296,7 @@ pub unsafe extern "C" fn dk_quat_average(
 ///
 /// # Safety
 /// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars (or NULL: error).
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_mul_f32(a: *const f32, b: *const f32, out: *mut f32) -> dk_status {
     mul(a, b, out)
 }
@@ -305,7 +305,7 @@ pub unsafe extern "C" fn dk_quat_mul_f32(a: *const f32, b: *const f32, out: *mut
 ///
 /// # Safety
 /// `q` points to 4 readable scalars, `out` to 4 writable scalars.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_normalize_f32(q: *const f32, out: *mut f32) -> dk_status {
     normalize(q, out)
 }
@@ -314,7 +314,7 @@ pub unsafe extern "C" fn dk_quat_normalize_f32(q: *const f32, out: *mut f32) -> 
 ///
 /// # Safety
 /// `q` points to 4 readable scalars, `out` to 4 writable scalars.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_inverse_f32(q: *const f32, out: *mut f32) -> dk_status {
     inverse(q, out)
 }
@@ -323,7 +323,7 @@ pub unsafe extern "C" fn dk_quat_inverse_f32(q: *const f32, out: *mut f32) -> dk
 ///
 /// # Safety
 /// `axis` points to 3 readable scalars, `out` to 4 writable scalars.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_from_axis_angle_f32(
     axis: *const f32,
     angle: f32,
@@ -336,7 +336,7 @@ pub unsafe extern "C" fn dk_quat_from_axis_angle_f32(
 ///
 /// # Safety
 /// `q` points to 4 readable scalars, `axis_out` to 3 and `angle_out` to 1 writable scalar.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_to_axis_angle_f32(
     q: *const f32,
     axis_out: *mut f32,
@@ -349,7 +349,7 @@ pub unsafe extern "C" fn dk_quat_to_axis_angle_f32(
 ///
 /// # Safety
 /// `from`, `to` point to 3 readable scalars, `out` to 4 writable scalars.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_rotation_arc_f32(
     from: *const f32,
     to: *const f32,
@@ -363,7 +363,7 @@ pub unsafe extern "C" fn dk_quat_rotation_arc_f32(
 /// # Safety
 /// `q` points to 4 readable scalars; `points` to `points_len` readable scalars; `out`
 /// to `out_len` writable scalars not overlapping `points`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_rotate_points_f32(
     q: *const f32,
     points: *const f32,
@@ -378,7 +378,7 @@ pub unsafe extern "C" fn dk_quat_rotate_points_f32(
 ///
 /// # Safety
 /// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_slerp_f32(
     a: *const f32,
     b: *const f32,
@@ -392,7 +392,7 @@ pub unsafe extern "C" fn dk_quat_slerp_f32(
 ///
 /// # Safety
 /// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_nlerp_f32(
     a: *const f32,
     b: *const f32,
@@ -407,7 +407,7 @@ pub unsafe extern "C" fn dk_quat_nlerp_f32(
 /// # Safety
 /// `quats` points to `quats_len` readable scalars, `weights` to `weights_len` (or is
 /// NULL with 0), `out` to 4 writable scalars.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_average_f32(
     quats: *const f32,
     quats_len: usize,

@@ -754,7 +754,7 @@ fn probe_t<T: Real>(
 /// # Safety
 /// Inputs readable for their lengths; `stiffness` writable for `stiffness_len` scalars, not
 /// overlapping the inputs.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_batina_stiffness(
     offsets: *const u32,
     offsets_len: usize,
@@ -785,7 +785,7 @@ pub unsafe extern "C" fn dk_spring_batina_stiffness(
 ///
 /// # Safety
 /// As [`dk_spring_batina_stiffness`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_batina_stiffness_f32(
     offsets: *const u32,
     offsets_len: usize,
@@ -817,7 +817,7 @@ pub unsafe extern "C" fn dk_spring_batina_stiffness_f32(
 ///
 /// # Safety
 /// `len_out` points to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_index_scratch_len(
     node_count: usize,
     len_out: *mut usize,
@@ -834,7 +834,7 @@ pub unsafe extern "C" fn dk_spring_index_scratch_len(
 ///
 /// # Safety
 /// `out` points to one writable options struct.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_options_default(
     out: *mut dk_spring_solve_options,
 ) -> dk_status {
@@ -846,7 +846,7 @@ pub unsafe extern "C" fn dk_spring_solve_options_default(
 ///
 /// # Safety
 /// As [`dk_spring_solve_options_default`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_options_default_f32(
     out: *mut dk_spring_solve_options,
 ) -> dk_status {
@@ -859,7 +859,7 @@ pub unsafe extern "C" fn dk_spring_solve_options_default_f32(
 ///
 /// # Safety
 /// `options` points to one readable struct; `len_out` to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_linear_scratch_len(
     node_count: usize,
     components: u32,
@@ -902,7 +902,7 @@ pub unsafe extern "C" fn dk_spring_solve_linear_scratch_len(
 /// `values` is readable and writable for `values_len` scalars; `scratch` and `index_scratch`
 /// writable for their lengths; `report` points to one writable report; writable buffers
 /// overlap nothing else.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_linear(
     offsets: *const u32,
     offsets_len: usize,
@@ -950,7 +950,7 @@ pub unsafe extern "C" fn dk_spring_solve_linear(
 ///
 /// # Safety
 /// As [`dk_spring_solve_linear`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_linear_f32(
     offsets: *const u32,
     offsets_len: usize,
@@ -1005,7 +1005,7 @@ pub unsafe extern "C" fn dk_spring_solve_linear_f32(
 /// # Safety
 /// As [`dk_spring_solve_linear`]; `src` readable for `src_len` scalars, `dst` writable for
 /// `dst_len` and not overlapping `src`; `sweep` points to one writable struct.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_jacobi_sweep(
     offsets: *const u32,
     offsets_len: usize,
@@ -1057,7 +1057,7 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep(
 ///
 /// # Safety
 /// As [`dk_spring_jacobi_sweep`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_jacobi_sweep_f32(
     offsets: *const u32,
     offsets_len: usize,
@@ -1115,7 +1115,7 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_f32(
 /// # Safety
 /// As [`dk_spring_solve_linear`]; `values` readable and writable for `values_len` scalars;
 /// `sweep` points to one writable struct.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_sor_sweep(
     offsets: *const u32,
     offsets_len: usize,
@@ -1165,7 +1165,7 @@ pub unsafe extern "C" fn dk_spring_sor_sweep(
 ///
 /// # Safety
 /// As [`dk_spring_sor_sweep`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_sor_sweep_f32(
     offsets: *const u32,
     offsets_len: usize,
@@ -1218,7 +1218,7 @@ pub unsafe extern "C" fn dk_spring_sor_sweep_f32(
 /// # Safety
 /// As [`dk_spring_solve_linear`]; `values` readable for `values_len` scalars; `residual_out`
 /// writable for one scalar.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_relative_residual(
     offsets: *const u32,
     offsets_len: usize,
@@ -1254,7 +1254,7 @@ pub unsafe extern "C" fn dk_spring_relative_residual(
 ///
 /// # Safety
 /// As [`dk_spring_relative_residual`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_relative_residual_f32(
     offsets: *const u32,
     offsets_len: usize,
@@ -1295,7 +1295,7 @@ pub unsafe extern "C" fn dk_spring_relative_residual_f32(
 ///
 /// # Safety
 /// `out` points to one writable options struct.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_options_default(
     out: *mut dk_spring_angle_options,
 ) -> dk_status {
@@ -1306,7 +1306,7 @@ pub unsafe extern "C" fn dk_spring_angle_options_default(
 ///
 /// # Safety
 /// As [`dk_spring_angle_options_default`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_options_default_f32(
     out: *mut dk_spring_angle_options,
 ) -> dk_status {
@@ -1319,7 +1319,7 @@ pub unsafe extern "C" fn dk_spring_angle_options_default_f32(
 ///
 /// # Safety
 /// `options` points to one readable struct; `len_out` to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_angle_scratch_len(
     node_count: usize,
     dim: u32,
@@ -1334,7 +1334,7 @@ pub unsafe extern "C" fn dk_spring_solve_angle_scratch_len(
 ///
 /// # Safety
 /// As [`dk_spring_solve_angle_scratch_len`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_angle_scratch_len_f32(
     node_count: usize,
     dim: u32,
@@ -1348,7 +1348,7 @@ pub unsafe extern "C" fn dk_spring_solve_angle_scratch_len_f32(
 ///
 /// # Safety
 /// `len_out` points to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_scratch_len(
     node_count: usize,
     dim: u32,
@@ -1377,7 +1377,7 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_scratch_len(
 ///
 /// # Safety
 /// As [`dk_spring_solve_linear`]; `points` readable for `points_len` scalars.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_angle(
     offsets: *const u32,
     offsets_len: usize,
@@ -1429,7 +1429,7 @@ pub unsafe extern "C" fn dk_spring_solve_angle(
 ///
 /// # Safety
 /// As [`dk_spring_solve_angle`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_angle_f32(
     offsets: *const u32,
     offsets_len: usize,
@@ -1487,7 +1487,7 @@ pub unsafe extern "C" fn dk_spring_solve_angle_f32(
 /// # Safety
 /// As [`dk_spring_solve_angle`]; `src` readable for `src_len` scalars; `dst` writable for
 /// `dst_len`, not overlapping `src`; `sweep` points to one writable struct.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep(
     offsets: *const u32,
     offsets_len: usize,
@@ -1545,7 +1545,7 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep(
 ///
 /// # Safety
 /// As [`dk_spring_angle_jacobi_sweep`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep_f32(
     offsets: *const u32,
     offsets_len: usize,
@@ -1607,7 +1607,7 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep_f32(
 /// # Safety
 /// As [`dk_spring_solve_angle`]; `values` readable and writable for `values_len` scalars;
 /// `sweep` points to one writable struct.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep(
     offsets: *const u32,
     offsets_len: usize,
@@ -1661,7 +1661,7 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep(
 ///
 /// # Safety
 /// As [`dk_spring_angle_gauss_seidel_sweep`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep_f32(
     offsets: *const u32,
     offsets_len: usize,
@@ -1721,7 +1721,7 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep_f32(
 ///
 /// # Safety
 /// As [`dk_spring_solve_angle`]; `amplification_out` writable for one scalar.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_rigidity_probe(
     offsets: *const u32,
     offsets_len: usize,
@@ -1769,7 +1769,7 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe(
 ///
 /// # Safety
 /// As [`dk_spring_angle_rigidity_probe`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_f32(
     offsets: *const u32,
     offsets_len: usize,

@@ -107,7 +107,7 @@ impl From<Error> for dk_status {
 
 /// A static, NUL-terminated English description of `status`. Never NULL; unknown values give
 /// "unknown status".
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub extern "C" fn dk_status_str(status: i32) -> *const core::ffi::c_char {
     let s: &'static core::ffi::CStr = match status {
         0 => c"success",

@@ -626,7 +626,7 @@ fn check_lines_d<T: Real, const D: usize>(
 ///
 /// # Safety
 /// `lambda_out` and `mu_out` each point to one writable scalar.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_params_paper(
     lambda_out: *mut f64,
     mu_out: *mut f64,
@@ -638,7 +638,7 @@ pub unsafe extern "C" fn dk_taubin_params_paper(
 ///
 /// # Safety
 /// As [`dk_taubin_params_paper`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_params_paper_f32(
     lambda_out: *mut f32,
     mu_out: *mut f32,
@@ -652,7 +652,7 @@ pub unsafe extern "C" fn dk_taubin_params_paper_f32(
 ///
 /// # Safety
 /// `lambda_out` and `mu_out` each point to one writable scalar.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_params_from_pass_band(
     lambda: f64,
     pass_band: f64,
@@ -666,7 +666,7 @@ pub unsafe extern "C" fn dk_taubin_params_from_pass_band(
 ///
 /// # Safety
 /// As [`dk_taubin_params_from_pass_band`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_params_from_pass_band_f32(
     lambda: f32,
     pass_band: f32,
@@ -687,7 +687,7 @@ pub unsafe extern "C" fn dk_taubin_params_from_pass_band_f32(
 ///
 /// # Safety
 /// `out` points to one writable `dk_smooth_arclength_options`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_smooth_arclength_options_default(
     direction: u32,
     out: *mut dk_smooth_arclength_options,
@@ -726,7 +726,7 @@ pub unsafe extern "C" fn dk_smooth_arclength_options_default(
 ///
 /// # Safety
 /// `options` points to one readable options struct; `len_out` to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_arclength_scratch_len(
     ni: usize,
     nj: usize,
@@ -769,7 +769,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength_scratch_len(
 /// `pinned_len` bytes; `points` is readable and writable for `points_len` scalars; `scratch`
 /// writable for `scratch_len` scalars; `report` points to one writable report; the writable
 /// buffers overlap neither each other nor the inputs.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_arclength(
     ni: usize,
     nj: usize,
@@ -801,7 +801,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength(
 ///
 /// # Safety
 /// As [`dk_taubin_smooth_arclength`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_arclength_f32(
     ni: usize,
     nj: usize,
@@ -836,7 +836,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength_f32(
 ///
 /// # Safety
 /// `len_out` points to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_structured_scratch_len(
     ni: usize,
     nj: usize,
@@ -862,7 +862,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_scratch_len(
 /// `pinned_len` bytes; `field` is readable and writable for `field_len` scalars; `scratch`
 /// writable for `scratch_len` scalars; `report` points to one writable report; the writable
 /// buffers overlap neither each other nor the inputs.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_structured(
     ni: usize,
     nj: usize,
@@ -897,7 +897,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured(
 ///
 /// # Safety
 /// As [`dk_taubin_smooth_structured`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_structured_f32(
     ni: usize,
     nj: usize,
@@ -942,7 +942,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_f32(
 /// `src` is readable for `src_len` scalars; `options` and `region` point to one readable
 /// struct each (`options->pinned` NULL or readable for `pinned_len` bytes); `dst` is writable
 /// for `dst_len` scalars and `max_change_out` for one; `dst` overlaps no input.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_structured_sweep(
     ni: usize,
     nj: usize,
@@ -977,7 +977,7 @@ pub unsafe extern "C" fn dk_taubin_structured_sweep(
 ///
 /// # Safety
 /// As [`dk_taubin_structured_sweep`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_structured_sweep_f32(
     ni: usize,
     nj: usize,
@@ -1012,7 +1012,7 @@ pub unsafe extern "C" fn dk_taubin_structured_sweep_f32(
 ///
 /// # Safety
 /// `coarse` points to one readable struct; `len_out` to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse_scratch_len(
     ni: usize,
     nj: usize,
@@ -1037,7 +1037,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse_scratch_len(
 ///
 /// # Safety
 /// As [`dk_taubin_smooth_structured`]; `coarse` points to one readable struct.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse(
     ni: usize,
     nj: usize,
@@ -1074,7 +1074,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse(
 ///
 /// # Safety
 /// As [`dk_taubin_smooth_structured_coarse`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse_f32(
     ni: usize,
     nj: usize,
@@ -1116,7 +1116,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse_f32(
 ///
 /// # Safety
 /// `len_out` points to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_graph_scratch_len(
     node_count: usize,
     components: u32,
@@ -1178,7 +1178,7 @@ fn smooth_graph_t<T: Real>(
 /// Every input pointer is NULL (with length 0) or readable for its length; `values` is
 /// readable and writable for `values_len` scalars, `scratch` writable for `scratch_len`,
 /// `report` points to one writable report; writable buffers overlap nothing else.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_graph(
     offsets: *const u32,
     offsets_len: usize,
@@ -1226,7 +1226,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph(
 ///
 /// # Safety
 /// As [`dk_taubin_smooth_graph`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_graph_f32(
     offsets: *const u32,
     offsets_len: usize,
@@ -1314,7 +1314,7 @@ fn graph_sweep_t<T: Real>(
 /// # Safety
 /// Every input pointer is NULL (with length 0) or readable for its length; `dst` is writable
 /// for `dst_len` scalars and `max_change_out` for one; `dst` overlaps no input.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_graph_sweep(
     offsets: *const u32,
     offsets_len: usize,
@@ -1364,7 +1364,7 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep(
 ///
 /// # Safety
 /// As [`dk_taubin_graph_sweep`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_graph_sweep_f32(
     offsets: *const u32,
     offsets_len: usize,
@@ -1441,7 +1441,7 @@ fn inverse_distance_weights_t<T: Real>(
 /// # Safety
 /// Inputs readable for their lengths; `weights` writable for `weights_len` scalars, not
 /// overlapping the inputs.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_inverse_distance_weights(
     offsets: *const u32,
     offsets_len: usize,
@@ -1470,7 +1470,7 @@ pub unsafe extern "C" fn dk_taubin_inverse_distance_weights(
 ///
 /// # Safety
 /// As [`dk_taubin_inverse_distance_weights`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_inverse_distance_weights_f32(
     offsets: *const u32,
     offsets_len: usize,
@@ -1529,7 +1529,7 @@ fn arclength_t<T: Real>(
 ///
 /// # Safety
 /// `points` readable for `points_len` scalars; `out` writable for `out_len`, not overlapping.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_arclength(
     ni: usize,
     nj: usize,
@@ -1551,7 +1551,7 @@ pub unsafe extern "C" fn dk_taubin_arclength(
 ///
 /// # Safety
 /// As [`dk_taubin_arclength`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_arclength_f32(
     ni: usize,
     nj: usize,
@@ -1574,7 +1574,7 @@ pub unsafe extern "C" fn dk_taubin_arclength_f32(
 ///
 /// # Safety
 /// `len_out` points to one writable `size_t`.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_redistribute_scratch_len(
     ni: usize,
     nj: usize,
@@ -1645,7 +1645,7 @@ fn redistribute_t<T: Real>(
 /// `targets` readable for `targets_len` scalars; `points` readable and writable for
 /// `points_len`; `scratch` writable for `scratch_len`; `max_displacement_out` writable for
 /// one; writable buffers overlap nothing else.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_redistribute(
     ni: usize,
     nj: usize,
@@ -1682,7 +1682,7 @@ pub unsafe extern "C" fn dk_taubin_redistribute(
 ///
 /// # Safety
 /// As [`dk_taubin_redistribute`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_redistribute_f32(
     ni: usize,
     nj: usize,
@@ -1743,7 +1743,7 @@ fn stretching_t<T: Real>(
 ///
 /// # Safety
 /// `points` readable for `points_len` scalars; `out` writable for `out_len`, not overlapping.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_stretching(
     ni: usize,
     nj: usize,
@@ -1762,7 +1762,7 @@ pub unsafe extern "C" fn dk_taubin_stretching(
 ///
 /// # Safety
 /// As [`dk_taubin_stretching`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_stretching_f32(
     ni: usize,
     nj: usize,
@@ -1807,7 +1807,7 @@ fn max_stretching_t<T: Real>(
 /// # Safety
 /// `points` readable for `points_len` scalars; `value_out` and `point_out` writable for one
 /// item each.
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_max_stretching(
     ni: usize,
     nj: usize,
@@ -1828,7 +1828,7 @@ pub unsafe extern "C" fn dk_taubin_max_stretching(
 ///
 /// # Safety
 /// As [`dk_taubin_max_stretching`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_max_stretching_f32(
     ni: usize,
     nj: usize,
@@ -1882,7 +1882,7 @@ fn check_lines_t<T: Real>(
 ///
 /// # Safety
 /// `field` and `points` readable for their lengths (or NULL with length 0).
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_check_lines_increasing(
     ni: usize,
     nj: usize,
@@ -1904,7 +1904,7 @@ pub unsafe extern "C" fn dk_taubin_check_lines_increasing(
 ///
 /// # Safety
 /// As [`dk_taubin_check_lines_increasing`].
-#[no_mangle]
+#[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_check_lines_increasing_f32(
     ni: usize,
     nj: usize,

@@ -17,16 +17,16 @@ use std::ptr;
 
 use arbitrary::Arbitrary;
 use deform_kernel::{graph_from_edges, Quat};
-use dk_ffi::deformation::{self as de, dk_boundary_motion, dk_boundary_motion_f32};
-use dk_ffi::dk_status;
-use dk_ffi::graph::dk_graph_from_edges;
-use dk_ffi::quality::{self as qu, dk_cell_quality, dk_quality_report};
-use dk_ffi::quat::{dk_quat_average, dk_quat_mul, dk_quat_rotate_points};
-use dk_ffi::spring::{
+use deform_kernel_ffi::deformation::{self as de, dk_boundary_motion, dk_boundary_motion_f32};
+use deform_kernel_ffi::dk_status;
+use deform_kernel_ffi::graph::dk_graph_from_edges;
+use deform_kernel_ffi::quality::{self as qu, dk_cell_quality, dk_quality_report};
+use deform_kernel_ffi::quat::{dk_quat_average, dk_quat_mul, dk_quat_rotate_points};
+use deform_kernel_ffi::spring::{
     self as sp, dk_spring_angle_options, dk_spring_solve_options, dk_spring_solve_report,
     dk_spring_sweep,
 };
-use dk_ffi::taubin::{
+use deform_kernel_ffi::taubin::{
     self as ta, dk_filter_report, dk_smooth_arclength_options, dk_smooth_report,
     dk_structured_options, dk_taubin_coarse,
 };

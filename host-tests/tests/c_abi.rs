@@ -1,5 +1,5 @@
-//! The C ABI seen from C and Fortran: builds `libdeform_kernel` (static and shared) with
-//! `panic = "abort"`, compiles the C and Fortran examples and the C bad-input program against
+//! The C ABI seen from C and Fortran: builds `libdeform_kernel` (static and shared; crate
+//! `deform-kernel-capi` in `ffi/capi`, `panic = "abort"`), compiles the C and Fortran examples and the C bad-input program against
 //! both, runs them, and compares their printed bit patterns with the Rust API on the same
 //! inputs. Needs `gcc`, `g++`, `gfortran` and `nm` on PATH (`cargo xtask ci` installs gfortran).
 
@@ -130,12 +130,11 @@ fn bad_input_from_c_returns_documented_status_and_writes_nothing() {
     assert_eq!(run(&exe), "bad_input: every check held\n");
 }
 
-#[test]
-fn exported_symbols_match_the_checked_in_list() {
-    let so = library_dir().join("libdeform_kernel.so");
+/// The `dk_` symbols binutils' `nm` lists (defined, global) with `args` in `file`, sorted.
+fn dk_symbols(args: &[&str], file: &std::path::Path) -> Vec<String> {
     let out = Command::new("nm")
-        .args(["-D", "--defined-only"])
-        .arg(&so)
+        .args(args)
+        .arg(file)
         .output()
         .expect("nm");
     assert!(out.status.success());
@@ -146,14 +145,29 @@ fn exported_symbols_match_the_checked_in_list() {
         .map(str::to_string)
         .collect();
     symbols.sort();
+    symbols
+}
+
+/// Both libraries export exactly `ffi/symbols.txt`; for the static one this also shows that
+/// binutils sees its symbols (an archive of embedded LLVM bitcode shows none).
+#[test]
+fn exported_symbols_match_the_checked_in_list() {
     let listed = std::fs::read_to_string(workspace().join("ffi/symbols.txt")).unwrap();
     let listed: Vec<&str> = listed
         .lines()
         .filter(|l| !l.is_empty() && !l.starts_with('#'))
         .collect();
+    let so = library_dir().join("libdeform_kernel.so");
     assert_eq!(
-        symbols, listed,
+        dk_symbols(&["-D", "--defined-only"], &so),
+        listed,
         "the exported dk_ symbols changed: update ffi/symbols.txt deliberately"
+    );
+    let a = library_dir().join("libdeform_kernel.a");
+    assert_eq!(
+        dk_symbols(&["-g", "--defined-only"], &a),
+        listed,
+        "nm does not list the static library's dk_ symbols as ffi/symbols.txt has them"
     );
 }
 

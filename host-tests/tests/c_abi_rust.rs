@@ -7,17 +7,17 @@
 
 use core::ptr::{null, null_mut};
 
-use dk_ffi::deformation::{
+use deform_kernel_ffi::deformation::{
     dk_boundary_motion, dk_boundary_motion_default, dk_deform_idw, dk_deform_idw_scratch_len,
     DK_ROTATIONS_RIGID,
 };
-use dk_ffi::graph::dk_graph_from_edges;
-use dk_ffi::spring::{
+use deform_kernel_ffi::graph::dk_graph_from_edges;
+use deform_kernel_ffi::spring::{
     dk_spring_index_scratch_len, dk_spring_solve_linear, dk_spring_solve_linear_scratch_len,
     dk_spring_solve_options, dk_spring_solve_options_default, dk_spring_solve_report,
 };
-use dk_ffi::status::dk_status;
-use dk_ffi::taubin::{
+use deform_kernel_ffi::status::dk_status;
+use deform_kernel_ffi::taubin::{
     dk_filter_report, dk_structured_options, dk_taubin_smooth_structured,
     dk_taubin_smooth_structured_scratch_len,
 };
@@ -484,7 +484,8 @@ fn every_kernel_error_has_its_own_status_and_description() {
     for (error, status, code) in cases {
         assert_eq!(dk_status::from(error), status);
         assert_eq!(status as i32, code);
-        let text = unsafe { core::ffi::CStr::from_ptr(dk_ffi::status::dk_status_str(code)) };
+        let text =
+            unsafe { core::ffi::CStr::from_ptr(deform_kernel_ffi::status::dk_status_str(code)) };
         let text = text.to_str().expect("UTF-8");
         assert!(!text.contains("unknown"), "{code}: {text}");
     }

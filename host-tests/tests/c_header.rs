@@ -1,8 +1,16 @@
 //! The checked-in C header is exactly what cbindgen (pinned version, `ffi/cbindgen.toml`)
 //! generates from the ffi crate today. Regenerate with
 //! `DEFORM_BLESS=1 cargo test -p deform-host-tests --test c_header`.
+//!
+//! The ffi crate names its C symbols only with its `export-symbols` feature
+//! (`#[cfg_attr(feature = "export-symbols", no_mangle)]`), which cbindgen does not evaluate; so
+//! cbindgen reads a copy of `ffi/src` with that attribute written as the plain `#[no_mangle]`
+//! the C library gets.
 
 use std::path::Path;
+
+/// The attribute as written in `ffi/src`, and what the C library build makes of it.
+const EXPORT_ATTR: &str = "#[cfg_attr(feature = \"export-symbols\", no_mangle)]";
 
 #[test]
 fn checked_in_header_is_up_to_date() {
@@ -11,8 +19,20 @@ fn checked_in_header_is_up_to_date() {
         .unwrap()
         .join("ffi");
     let config = cbindgen::Config::from_file(ffi.join("cbindgen.toml")).expect("cbindgen.toml");
+    let src = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cbindgen-src");
+    let _ = std::fs::remove_dir_all(&src);
+    std::fs::create_dir_all(&src).unwrap();
+    let mut exported = 0;
+    for entry in std::fs::read_dir(ffi.join("src")).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        exported += text.matches(EXPORT_ATTR).count();
+        let text = text.replace(EXPORT_ATTR, "#[no_mangle]");
+        std::fs::write(src.join(path.file_name().unwrap()), text).unwrap();
+    }
+    assert!(exported > 0, "no `{EXPORT_ATTR}` found in ffi/src");
     let bindings = cbindgen::Builder::new()
-        .with_crate(&ffi)
+        .with_src(src.join("lib.rs"))
         .with_config(config)
         .generate()
         .expect("cbindgen generates the header");

@@ -13,8 +13,8 @@ use std::time::Instant;
 /// Kernel features that only make sense on embedded targets: left out of the host test run.
 pub(crate) const EMBEDDED_ONLY_FEATURES: &[&str] = &["defmt"];
 
-/// The C ABI crate (its lib is also named `deform_kernel`; see the `doc` step).
-pub(crate) const FFI_PACKAGE: &str = "deform-kernel-ffi";
+/// The C library crate (`libdeform_kernel`): its own workspace, so built by manifest path.
+pub(crate) const CAPI_MANIFEST: &str = "ffi/capi/Cargo.toml";
 
 /// One CI step: a name, a one-line description and the work (`true` = passed).
 pub(crate) struct Step<'a> {
@@ -99,10 +99,9 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
             "test-all-features",
             "cargo test --workspace with every kernel feature that runs on a host (not defmt)",
             || {
-                // Not `--all-features`: the kernel's `defmt` feature puts defmt's JSON-named
-                // symbols into the C library's cdylib (a dependency of host-tests), whose
-                // linker version script then fails to parse. defmt is for embedded targets;
-                // it is clippy-checked, cross-built and linked by the panic check instead.
+                // Not `--all-features`: the kernel's `defmt` feature is for embedded targets
+                // (in a cdylib its JSON-named symbols break the linker's version script); it
+                // is clippy-checked, cross-built and linked by the panic check instead.
                 let features: Vec<String> = ctx
                     .kernel_features
                     .iter()
@@ -117,21 +116,8 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
             "doc",
             "cargo doc --workspace --no-deps (+ kernel --all-features), RUSTDOCFLAGS=-D warnings",
             || {
-                // The ffi crate's lib is also named `deform_kernel` (for libdeform_kernel.a),
-                // so `cargo doc --workspace` refuses to document both at once ("output filename
-                // collision"). Document it on its own first; the workspace run then writes the
-                // kernel's pages over it. rustdoc does not see the profile's `panic = "abort"`,
-                // which the ffi crate insists on unless its `test-unwind` feature is on.
-                let runs: [&[&str]; 3] = [
-                    &[
-                        "doc",
-                        "-p",
-                        FFI_PACKAGE,
-                        "--no-deps",
-                        "--features",
-                        "test-unwind",
-                    ],
-                    &["doc", "--workspace", "--no-deps", "--exclude", FFI_PACKAGE],
+                let runs: [&[&str]; 2] = [
+                    &["doc", "--workspace", "--no-deps"],
                     &["doc", "-p", "deform-kernel", "--no-deps", "--all-features"],
                 ];
                 let mut ok = true;

@@ -1,7 +1,7 @@
 //! What CI installs when missing: rustup targets and components, apt packages, pinned cargo
 //! tools; and the `cinstall` step (the C library installed with cargo-c).
 
-use crate::ci::FFI_PACKAGE;
+use crate::ci::CAPI_MANIFEST;
 use crate::ctx::Ctx;
 use crate::process::{capture, run, show};
 use std::process::{Command, Stdio};
@@ -170,8 +170,8 @@ pub(crate) fn install(ctx: &Ctx) -> bool {
 }
 
 /// `cargo cinstall` (cargo-c) of the C library into `target/cinstall/root` with prefix `/usr`:
-/// checks that the static and shared libraries, `deform_kernel.pc` and the checked-in header
-/// (byte-identical) are installed, then compiles `ffi/examples/mesh_basics.c` with the flags
+/// checks that the static and shared libraries, `deform_kernel.pc`, the checked-in header and
+/// the Fortran module source (both byte-identical) are installed, then compiles `ffi/examples/mesh_basics.c` with the flags
 /// `pkg-config` gives for the staged tree, links it to the shared library and runs it.
 pub(crate) fn cinstall(ctx: &Ctx) -> bool {
     let base = ctx.root.join("target").join("cinstall");
@@ -179,8 +179,8 @@ pub(crate) fn cinstall(ctx: &Ctx) -> bool {
     let _ = std::fs::remove_dir_all(&root);
     let mut cmd = ctx.cargo(&[
         "cinstall",
-        "-p",
-        FFI_PACKAGE,
+        "--manifest-path",
+        CAPI_MANIFEST,
         "--release",
         "--prefix",
         "/usr",
@@ -208,10 +208,18 @@ pub(crate) fn cinstall(ctx: &Ctx) -> bool {
             ok = false;
         }
     }
-    let checked_in = ctx.root.join("ffi/include/deform_kernel.h");
-    if std::fs::read(&header).ok() != std::fs::read(&checked_in).ok() {
-        println!("xtask: the installed header differs from ffi/include/deform_kernel.h");
-        ok = false;
+    let module = root.join("usr/include/deform_kernel.f90");
+    for (installed, checked_in) in [
+        (&header, "ffi/include/deform_kernel.h"),
+        (&module, "ffi/fortran/deform_kernel.f90"),
+    ] {
+        if std::fs::read(installed).ok() != std::fs::read(ctx.root.join(checked_in)).ok() {
+            println!(
+                "xtask: the installed {} differs from {checked_in}",
+                installed.display()
+            );
+            ok = false;
+        }
     }
     if !ok {
         return false;

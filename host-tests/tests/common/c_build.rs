@@ -12,26 +12,22 @@ pub fn workspace() -> PathBuf {
         .to_path_buf()
 }
 
-/// Builds the C library once per test run, in its own target directory (so it does not wait
-/// on the lock of the cargo running these tests), and returns the directory holding it.
+/// Builds the C library (`ffi/capi`, its own workspace with `panic = "abort"`) once per test
+/// run, in its own target directory (so it does not wait on the lock of the cargo running these
+/// tests), and returns the directory holding `libdeform_kernel.{a,so}`.
 pub fn library_dir() -> &'static Path {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
-        let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ffi-build");
+        let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("capi-build");
         let status = Command::new(env!("CARGO"))
             .current_dir(workspace())
-            .args([
-                "build",
-                "--release",
-                "--quiet",
-                "-p",
-                "deform-kernel-ffi",
-                "--target-dir",
-            ])
+            .args(["build", "--release", "--quiet", "--manifest-path"])
+            .arg(workspace().join("ffi/capi/Cargo.toml"))
+            .arg("--target-dir")
             .arg(&target)
             .status()
             .expect("run cargo");
-        assert!(status.success(), "building deform-kernel-ffi failed");
+        assert!(status.success(), "building deform-kernel-capi failed");
         target.join("release")
     })
 }
