@@ -8,7 +8,7 @@
 
 use deform_kernel::{Block, Graph};
 
-use crate::slice::{chunks, input, out_one, output};
+use crate::slice::{chunks, input, out_one, output, In, Out};
 use crate::status::dk_status;
 
 /// `Ok(())` → `DK_OK`, `Err(s)` → `s`.
@@ -20,44 +20,39 @@ pub(crate) fn done(r: Result<(), dk_status>) -> dk_status {
 }
 
 /// Copies one `T` from `p` (NULL is an error).
-pub(crate) fn read_one<T: Copy>(p: *const T) -> Result<T, dk_status> {
-    // SAFETY: every public function taking a single-item pointer documents that it points to
-    // one readable, aligned item (or is NULL, rejected by `input`).
-    let s = unsafe { input(p, 1) }?;
+pub(crate) fn read_one<T: Copy>(p: In<'_, T>) -> Result<T, dk_status> {
+    let s = input(p, 1)?;
     s.first().copied().ok_or(dk_status::DK_ERR_NULL_POINTER)
 }
 
 /// Writes one `T` to `p` (NULL is an error).
-pub(crate) fn write_one<T>(p: *mut T, v: T) -> Result<(), dk_status> {
-    // SAFETY: contract of every caller: one writable, aligned `T` at `p`.
-    let out = unsafe { out_one(p) }?;
+pub(crate) fn write_one<T>(p: Out<'_, T>, v: T) -> Result<(), dk_status> {
+    let out = out_one(p)?;
     *out = v;
     Ok(())
 }
 
 /// Writes a size query result to `len_out` (NULL is an error).
-pub(crate) fn write_len(len_out: *mut usize, len: usize) -> Result<(), dk_status> {
+pub(crate) fn write_len(len_out: Out<'_, usize>, len: usize) -> Result<(), dk_status> {
     write_one(len_out, len)
 }
 
 /// Reads exactly `N` scalars (`len` must be `N`, else `DK_ERR_LENGTH_MISMATCH`; NULL is an
 /// error).
 pub(crate) fn read_array<T: Copy, const N: usize>(
-    ptr: *const T,
+    ptr: In<'_, T>,
     len: usize,
 ) -> Result<[T; N], dk_status> {
     if len != N {
         return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
     }
-    // SAFETY: contract of every caller: `len` readable scalars at `ptr`.
-    let s = unsafe { chunks::<T, N>(ptr, len) }?;
+    let s = chunks::<T, N>(ptr, len)?;
     s.first().copied().ok_or(dk_status::DK_ERR_NULL_POINTER)
 }
 
 /// Writes `N` scalars to `ptr` (NULL is an error).
-pub(crate) fn write_array<T, const N: usize>(ptr: *mut T, v: [T; N]) -> Result<(), dk_status> {
-    // SAFETY: contract of every caller: `N` writable scalars at `ptr`.
-    let s = unsafe { output(ptr, N) }?;
+pub(crate) fn write_array<T, const N: usize>(ptr: Out<'_, T>, v: [T; N]) -> Result<(), dk_status> {
+    let s = output(ptr, N)?;
     for (d, x) in s.iter_mut().zip(v) {
         *d = x;
     }
@@ -66,26 +61,24 @@ pub(crate) fn write_array<T, const N: usize>(ptr: *mut T, v: [T; N]) -> Result<(
 
 /// An optional input array: `None` when `ptr` is NULL and `len` is 0, else the borrowed
 /// slice (so a non-NULL pointer with length 0 is an empty array, checked by the kernel).
-pub(crate) fn optional<'a, T>(ptr: *const T, len: usize) -> Result<Option<&'a [T]>, dk_status> {
+pub(crate) fn optional<'a, T>(ptr: In<'a, T>, len: usize) -> Result<Option<&'a [T]>, dk_status> {
     if ptr.is_null() && len == 0 {
         return Ok(None);
     }
-    // SAFETY: contract of every caller: `len` readable values at `ptr`.
-    unsafe { input(ptr, len) }.map(Some)
+    input(ptr, len).map(Some)
 }
 
 /// Borrows a point array of `D`-vectors (`len` scalars, a multiple of `D`).
 pub(crate) fn read_points<'a, T, const D: usize>(
-    p: *const T,
+    p: In<'a, T>,
     len: usize,
 ) -> Result<&'a [[T; D]], dk_status> {
-    // SAFETY: contract of every caller: `len` readable scalars at `p`.
-    unsafe { chunks::<T, D>(p, len) }
+    chunks::<T, D>(p, len)
 }
 
 /// An optional point array, as [`optional`]: `None` when `p` is NULL and `len` is 0.
 pub(crate) fn read_optional_points<'a, T, const D: usize>(
-    p: *const T,
+    p: In<'a, T>,
     len: usize,
 ) -> Result<Option<&'a [[T; D]]>, dk_status> {
     if p.is_null() && len == 0 {
@@ -130,15 +123,13 @@ pub(crate) fn block(ni: usize, nj: usize, nk: usize) -> Result<Block, dk_status>
 
 /// Borrows and validates a 0-based CSR graph.
 pub(crate) fn graph<'a>(
-    offsets: *const u32,
+    offsets: In<'a, u32>,
     offsets_len: usize,
-    targets: *const u32,
+    targets: In<'a, u32>,
     targets_len: usize,
 ) -> Result<Graph<'a>, dk_status> {
-    // SAFETY: contract of every caller: `offsets_len` readable u32 at `offsets`.
-    let o = unsafe { input(offsets, offsets_len) }?;
-    // SAFETY: as above for `targets`.
-    let t = unsafe { input(targets, targets_len) }?;
+    let o = input(offsets, offsets_len)?;
+    let t = input(targets, targets_len)?;
     Graph::new(o, t).map_err(dk_status::from)
 }
 

@@ -39,7 +39,7 @@ use crate::args::{
     assert_layout, block, check_base, done, graph, mul_len, read_array, read_one, read_points,
     write_len, zero_based,
 };
-use crate::slice::{chunks, chunks_mut, input, out_one, output, quats, quats_mut};
+use crate::slice::{chunks, chunks_mut, input, out_one, output, quats, quats_mut, In, Out};
 use crate::spring::{dk_spring_solve_options, dk_spring_solve_report};
 use crate::status::dk_status;
 
@@ -236,11 +236,11 @@ fn index_need(index_base: u32, lens: &[usize]) -> Result<usize, dk_status> {
 #[allow(clippy::too_many_arguments)]
 fn read_elements<'a>(
     boundary_len: usize,
-    offsets: *const u32,
+    offsets: In<'a, u32>,
     offsets_len: usize,
-    nodes: *const u32,
+    nodes: In<'a, u32>,
     nodes_len: usize,
-    kinds: *const u8,
+    kinds: In<'a, u8>,
     kinds_len: usize,
     index_base: u32,
     scratch: &'a mut [u32],
@@ -252,12 +252,9 @@ fn read_elements<'a>(
         }
         return Ok((None, scratch));
     }
-    // SAFETY: the public functions' contracts: each array readable for its length.
-    let o = unsafe { input(offsets, offsets_len) }?;
-    // SAFETY: as above.
-    let n = unsafe { input(nodes, nodes_len) }?;
-    // SAFETY: as above.
-    let k = unsafe { input(kinds, kinds_len) }?;
+    let o = input(offsets, offsets_len)?;
+    let n = input(nodes, nodes_len)?;
+    let k = input(kinds, kinds_len)?;
     let (o, scratch) = rebase(o, index_base, scratch)?;
     let (n, scratch) = rebase(n, index_base, scratch)?;
     let cells = Cells::new(boundary_len, o, n, k).map_err(dk_status::from)?;
@@ -268,11 +265,11 @@ fn read_elements<'a>(
 #[allow(clippy::too_many_arguments)]
 fn read_required_elements<'a>(
     boundary_len: usize,
-    offsets: *const u32,
+    offsets: In<'a, u32>,
     offsets_len: usize,
-    nodes: *const u32,
+    nodes: In<'a, u32>,
     nodes_len: usize,
-    kinds: *const u8,
+    kinds: In<'a, u8>,
     kinds_len: usize,
     index_base: u32,
     scratch: &'a mut [u32],
@@ -293,7 +290,7 @@ fn read_required_elements<'a>(
 
 /// An optional `D`-scalar output: NULL with length 0 (not wanted) or exactly `D` scalars.
 fn optional_out<'a, T: Real, const D: usize>(
-    ptr: *mut T,
+    ptr: Out<'a, T>,
     len: usize,
 ) -> Result<Option<&'a mut [T]>, dk_status> {
     if len == 0 {
@@ -302,8 +299,7 @@ fn optional_out<'a, T: Real, const D: usize>(
     if len != D {
         return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
     }
-    // SAFETY: the public functions' contracts: `len` writable scalars at `ptr`.
-    unsafe { output(ptr, len) }.map(Some)
+    output(ptr, len).map(Some)
 }
 
 /// Writes `v` into an optional output (see [`optional_out`]).
@@ -317,18 +313,18 @@ fn write_optional<T: Real, const D: usize>(slot: Option<&mut [T]>, v: [T; D]) {
 
 /// The precision-independent view of a [`dk_boundary_motion`] or [`dk_boundary_motion_f32`].
 #[derive(Clone, Copy)]
-struct RawMotion<T> {
-    nodes: *const u32,
+struct RawMotion<'a, T> {
+    nodes: In<'a, u32>,
     nodes_len: usize,
-    deformed: *const T,
+    deformed: In<'a, T>,
     deformed_len: usize,
-    element_offsets: *const u32,
+    element_offsets: In<'a, u32>,
     element_offsets_len: usize,
-    element_nodes: *const u32,
+    element_nodes: In<'a, u32>,
     element_nodes_len: usize,
-    element_kinds: *const u8,
+    element_kinds: In<'a, u8>,
     element_kinds_len: usize,
-    node_rotations: *const T,
+    node_rotations: In<'a, T>,
     node_rotations_len: usize,
     rigid_rotation: [T; 4],
     origin: [T; 3],
@@ -340,7 +336,8 @@ struct RawMotion<T> {
 /// The two C motion structs, seen through [`RawMotion`].
 trait MotionC: Copy {
     type T: Real;
-    fn raw(&self) -> RawMotion<Self::T>;
+    /// Reads the struct and wraps its arrays in tokens of the struct's lifetime.
+    fn raw(p: In<'_, Self>) -> Result<RawMotion<'_, Self::T>, dk_status>;
     fn default_value() -> Self;
 }
 
@@ -348,26 +345,32 @@ macro_rules! motion_c {
     ($ty:ty, $t:ty) => {
         impl MotionC for $ty {
             type T = $t;
-            fn raw(&self) -> RawMotion<$t> {
-                RawMotion {
-                    nodes: self.nodes,
-                    nodes_len: self.nodes_len,
-                    deformed: self.deformed,
-                    deformed_len: self.deformed_len,
-                    element_offsets: self.element_offsets,
-                    element_offsets_len: self.element_offsets_len,
-                    element_nodes: self.element_nodes,
-                    element_nodes_len: self.element_nodes_len,
-                    element_kinds: self.element_kinds,
-                    element_kinds_len: self.element_kinds_len,
-                    node_rotations: self.node_rotations,
-                    node_rotations_len: self.node_rotations_len,
-                    rigid_rotation: self.rigid_rotation,
-                    origin: self.origin,
-                    index_base: self.index_base,
-                    rotation_source: self.rotation_source,
-                    has_origin: self.has_origin,
-                }
+            fn raw(p: In<'_, Self>) -> Result<RawMotion<'_, $t>, dk_status> {
+                let m = read_one(p)?;
+                // SAFETY: a token for a motion struct carries the contract of the functions
+                // that take one: its arrays are readable for their lengths while it is.
+                let raw = unsafe {
+                    RawMotion {
+                        nodes: In::new(m.nodes, m.nodes_len),
+                        nodes_len: m.nodes_len,
+                        deformed: In::new(m.deformed, m.deformed_len),
+                        deformed_len: m.deformed_len,
+                        element_offsets: In::new(m.element_offsets, m.element_offsets_len),
+                        element_offsets_len: m.element_offsets_len,
+                        element_nodes: In::new(m.element_nodes, m.element_nodes_len),
+                        element_nodes_len: m.element_nodes_len,
+                        element_kinds: In::new(m.element_kinds, m.element_kinds_len),
+                        element_kinds_len: m.element_kinds_len,
+                        node_rotations: In::new(m.node_rotations, m.node_rotations_len),
+                        node_rotations_len: m.node_rotations_len,
+                        rigid_rotation: m.rigid_rotation,
+                        origin: m.origin,
+                        index_base: m.index_base,
+                        rotation_source: m.rotation_source,
+                        has_origin: m.has_origin,
+                    }
+                };
+                Ok(raw)
             }
             fn default_value() -> Self {
                 Self {
@@ -397,11 +400,11 @@ motion_c!(dk_boundary_motion, f64);
 motion_c!(dk_boundary_motion_f32, f32);
 
 /// Reads the caller's motion struct.
-fn read_raw<M: MotionC>(motion: *const M) -> Result<RawMotion<M::T>, dk_status> {
-    read_one(motion).map(|m| m.raw())
+fn read_raw<M: MotionC>(motion: In<'_, M>) -> Result<RawMotion<'_, M::T>, dk_status> {
+    M::raw(motion)
 }
 
-impl<T: Real> RawMotion<T> {
+impl<'a, T: Real> RawMotion<'a, T> {
     /// `index_scratch` entries this motion needs.
     fn index_need(&self) -> Result<usize, dk_status> {
         index_need(
@@ -416,13 +419,12 @@ impl<T: Real> RawMotion<T> {
 
     /// The kernel's view of the motion (indices rebased into `scratch`); returns the rest of
     /// `scratch`.
-    fn view<'a, const D: usize>(
+    fn view<const D: usize>(
         &self,
         scratch: &'a mut [u32],
     ) -> Result<(BoundaryMotion<'a, T, D>, &'a mut [u32]), dk_status> {
         check_base(self.index_base)?;
-        // SAFETY: contract of `dk_boundary_motion`: `nodes` readable for `nodes_len`.
-        let nodes = unsafe { input(self.nodes, self.nodes_len) }?;
+        let nodes = input(self.nodes, self.nodes_len)?;
         let (nodes, scratch) = rebase(nodes, self.index_base, scratch)?;
         let (elements, scratch) = read_elements(
             nodes.len(),
@@ -440,8 +442,7 @@ impl<T: Real> RawMotion<T> {
             DK_ROTATIONS_SHAPE => RotationSource::Shape,
             DK_ROTATIONS_RIGID => RotationSource::Rigid(Quat::from_array(self.rigid_rotation)),
             DK_ROTATIONS_PER_NODE => {
-                // SAFETY: contract: `node_rotations` readable for `node_rotations_len`.
-                let q = unsafe { quats(self.node_rotations, self.node_rotations_len) }?;
+                let q = quats(self.node_rotations, self.node_rotations_len)?;
                 RotationSource::PerNode(q)
             }
             _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
@@ -491,7 +492,7 @@ fn tfi_setup(
 
 /// Writes the size `v` to a `size_t` out-parameter, or returns the error that computing it
 /// gave (then `len_out` is not checked).
-fn len_status(len_out: *mut usize, v: Result<usize, dk_status>) -> dk_status {
+fn len_status(len_out: Out<'_, usize>, v: Result<usize, dk_status>) -> dk_status {
     done(v.and_then(|v| write_len(len_out, v)))
 }
 
@@ -499,10 +500,9 @@ fn len_status(len_out: *mut usize, v: Result<usize, dk_status>) -> dk_status {
 // The motion struct
 // ---------------------------------------------------------------------------------------------
 
-fn motion_default<M: MotionC>(out: *mut M) -> dk_status {
+fn motion_default<M: MotionC>(out: Out<'_, M>) -> dk_status {
     done((|| {
-        // SAFETY: the public functions' contracts: one writable struct at `out`.
-        let o = unsafe { out_one(out) }?;
+        let o = out_one(out)?;
         *o = M::default_value();
         Ok(())
     })())
@@ -516,6 +516,9 @@ fn motion_default<M: MotionC>(out: *mut M) -> dk_status {
 /// `out` points to one writable `dk_boundary_motion` (or is NULL: `DK_ERR_NULL_POINTER`).
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_boundary_motion_default(out: *mut dk_boundary_motion) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let out = unsafe { Out::new(out, 1) };
     motion_default(out)
 }
 
@@ -527,10 +530,13 @@ pub unsafe extern "C" fn dk_boundary_motion_default(out: *mut dk_boundary_motion
 pub unsafe extern "C" fn dk_boundary_motion_default_f32(
     out: *mut dk_boundary_motion_f32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let out = unsafe { Out::new(out, 1) };
     motion_default(out)
 }
 
-fn motion_index_len<M: MotionC>(motion: *const M, len_out: *mut usize) -> dk_status {
+fn motion_index_len<M: MotionC>(motion: In<'_, M>, len_out: Out<'_, usize>) -> dk_status {
     len_status(len_out, read_raw(motion).and_then(|m| m.index_need()))
 }
 
@@ -547,6 +553,9 @@ pub unsafe extern "C" fn dk_boundary_motion_index_scratch_len(
     motion: *const dk_boundary_motion,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (motion, len_out) = unsafe { (In::new(motion, 1), Out::new(len_out, 1)) };
     motion_index_len(motion, len_out)
 }
 
@@ -559,6 +568,9 @@ pub unsafe extern "C" fn dk_boundary_motion_index_scratch_len_f32(
     motion: *const dk_boundary_motion_f32,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (motion, len_out) = unsafe { (In::new(motion, 1), Out::new(len_out, 1)) };
     motion_index_len(motion, len_out)
 }
 
@@ -580,6 +592,9 @@ pub unsafe extern "C" fn dk_deform_idw_scratch_len(
     dim: u32,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let len_out = unsafe { Out::new(len_out, 1) };
     len_status(
         len_out,
         match dim {
@@ -591,18 +606,18 @@ pub unsafe extern "C" fn dk_deform_idw_scratch_len(
 }
 
 /// Outputs common to the pipelines.
-struct PipelineOut<T> {
-    scratch: *mut T,
+struct PipelineOut<'a, T> {
+    scratch: Out<'a, T>,
     scratch_len: usize,
-    index_scratch: *mut u32,
+    index_scratch: Out<'a, u32>,
     index_scratch_len: usize,
-    translations: *mut T,
+    translations: Out<'a, T>,
     translations_len: usize,
-    rotations: *mut T,
+    rotations: Out<'a, T>,
     rotations_len: usize,
-    out: *mut T,
+    out: Out<'a, T>,
     out_len: usize,
-    origin_out: *mut T,
+    origin_out: Out<'a, T>,
     origin_out_len: usize,
 }
 
@@ -616,19 +631,13 @@ struct PipelineBufs<'a, T, const D: usize> {
     origin_out: Option<&'a mut [T]>,
 }
 
-impl<T: Real> PipelineOut<T> {
-    fn borrow<'a, const D: usize>(&self) -> Result<PipelineBufs<'a, T, D>, dk_status> {
-        // SAFETY: the pipelines' contracts: each buffer writable for its length (this and the
-        // four below), none overlapping another or an input.
-        let scratch = unsafe { output(self.scratch, self.scratch_len) }?;
-        // SAFETY: as above.
-        let index_scratch = unsafe { output(self.index_scratch, self.index_scratch_len) }?;
-        // SAFETY: as above.
-        let translations = unsafe { chunks_mut::<T, D>(self.translations, self.translations_len) }?;
-        // SAFETY: as above.
-        let rotations = unsafe { quats_mut(self.rotations, self.rotations_len) }?;
-        // SAFETY: as above.
-        let out = unsafe { chunks_mut::<T, D>(self.out, self.out_len) }?;
+impl<'a, T: Real> PipelineOut<'a, T> {
+    fn borrow<const D: usize>(self) -> Result<PipelineBufs<'a, T, D>, dk_status> {
+        let scratch = output(self.scratch, self.scratch_len)?;
+        let index_scratch = output(self.index_scratch, self.index_scratch_len)?;
+        let translations = chunks_mut::<T, D>(self.translations, self.translations_len)?;
+        let rotations = quats_mut(self.rotations, self.rotations_len)?;
+        let out = chunks_mut::<T, D>(self.out, self.out_len)?;
         let origin_out = optional_out::<T, D>(self.origin_out, self.origin_out_len)?;
         Ok(PipelineBufs {
             scratch,
@@ -641,15 +650,15 @@ impl<T: Real> PipelineOut<T> {
     }
 }
 
-struct Idw<M: MotionC> {
-    points: *const M::T,
+struct Idw<'a, M: MotionC> {
+    points: In<'a, M::T>,
     points_len: usize,
-    motion: *const M,
+    motion: In<'a, M>,
     exponent: M::T,
-    bufs: PipelineOut<M::T>,
+    bufs: PipelineOut<'a, M::T>,
 }
 
-impl<M: MotionC> ByDim for Idw<M> {
+impl<'a, M: MotionC> ByDim for Idw<'a, M> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
         let raw = read_raw(self.motion)?;
         let points = read_points::<M::T, D>(self.points, self.points_len)?;
@@ -720,6 +729,20 @@ pub unsafe extern "C" fn dk_deform_idw(
     origin_out: *mut f64,
     origin_out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, motion, scratch, index_scratch, translations, rotations, out, origin_out) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(motion, 1),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(translations, translations_len),
+            Out::new(rotations, rotations_len),
+            Out::new(out, out_len),
+            Out::new(origin_out, origin_out_len),
+        )
+    };
     by_dim(
         dim,
         Idw {
@@ -769,6 +792,20 @@ pub unsafe extern "C" fn dk_deform_idw_f32(
     origin_out: *mut f32,
     origin_out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, motion, scratch, index_scratch, translations, rotations, out, origin_out) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(motion, 1),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(translations, translations_len),
+            Out::new(rotations, rotations_len),
+            Out::new(out, out_len),
+            Out::new(origin_out, origin_out_len),
+        )
+    };
     by_dim(
         dim,
         Idw {
@@ -814,6 +851,9 @@ pub unsafe extern "C" fn dk_deform_tfi_scratch_len(
     dim: u32,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let len_out = unsafe { Out::new(len_out, 1) };
     len_status(
         len_out,
         block(ni, nj, nk).and_then(|b| match dim {
@@ -824,16 +864,16 @@ pub unsafe extern "C" fn dk_deform_tfi_scratch_len(
     )
 }
 
-struct Tfi<M: MotionC> {
+struct Tfi<'a, M: MotionC> {
     dims: [usize; 3],
     directions: u32,
-    points: *const M::T,
+    points: In<'a, M::T>,
     points_len: usize,
-    motion: *const M,
-    bufs: PipelineOut<M::T>,
+    motion: In<'a, M>,
+    bufs: PipelineOut<'a, M::T>,
 }
 
-impl<M: MotionC> ByDim for Tfi<M> {
+impl<'a, M: MotionC> ByDim for Tfi<'a, M> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
         let [ni, nj, nk] = self.dims;
         let (block, directions) = tfi_setup(ni, nj, nk, self.directions)?;
@@ -896,6 +936,20 @@ pub unsafe extern "C" fn dk_deform_tfi(
     origin_out: *mut f64,
     origin_out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, motion, scratch, index_scratch, translations, rotations, out, origin_out) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(motion, 1),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(translations, translations_len),
+            Out::new(rotations, rotations_len),
+            Out::new(out, out_len),
+            Out::new(origin_out, origin_out_len),
+        )
+    };
     by_dim(
         dim,
         Tfi {
@@ -949,6 +1003,20 @@ pub unsafe extern "C" fn dk_deform_tfi_f32(
     origin_out: *mut f32,
     origin_out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, motion, scratch, index_scratch, translations, rotations, out, origin_out) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(motion, 1),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(translations, translations_len),
+            Out::new(rotations, rotations_len),
+            Out::new(out, out_len),
+            Out::new(origin_out, origin_out_len),
+        )
+    };
     by_dim(
         dim,
         Tfi {
@@ -989,30 +1057,30 @@ pub unsafe extern "C" fn dk_deform_boundary_normals_scratch_len(
     boundary_len: usize,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let len_out = unsafe { Out::new(len_out, 1) };
     len_status(len_out, Ok(boundary_normals_scratch_len(boundary_len)))
 }
 
 /// A boundary element list as it crosses the ABI (offsets and nodes in `index_base`).
-#[derive(Clone, Copy)]
-struct ElementsIn {
-    offsets: *const u32,
+struct ElementsIn<'a> {
+    offsets: In<'a, u32>,
     offsets_len: usize,
-    nodes: *const u32,
+    nodes: In<'a, u32>,
     nodes_len: usize,
-    kinds: *const u8,
+    kinds: In<'a, u8>,
     kinds_len: usize,
     index_base: u32,
-    index_scratch: *mut u32,
+    index_scratch: Out<'a, u32>,
     index_scratch_len: usize,
 }
 
-impl ElementsIn {
+impl<'a> ElementsIn<'a> {
     /// The validated cells over `boundary_len` points (required: no elements is a length
     /// mismatch).
-    fn read<'a>(&self, boundary_len: usize) -> Result<Cells<'a>, dk_status> {
-        // SAFETY: the public functions' contracts: `index_scratch` writable for its length
-        // and overlapping nothing else.
-        let scratch = unsafe { output(self.index_scratch, self.index_scratch_len) }?;
+    fn read(self, boundary_len: usize) -> Result<Cells<'a>, dk_status> {
+        let scratch = output(self.index_scratch, self.index_scratch_len)?;
         read_required_elements(
             boundary_len,
             self.offsets,
@@ -1027,24 +1095,22 @@ impl ElementsIn {
     }
 }
 
-struct Normals<T> {
-    points: *const T,
+struct Normals<'a, T> {
+    points: In<'a, T>,
     points_len: usize,
-    elements: ElementsIn,
-    scratch: *mut T,
+    elements: ElementsIn<'a>,
+    scratch: Out<'a, T>,
     scratch_len: usize,
-    normals: *mut T,
+    normals: Out<'a, T>,
     normals_len: usize,
 }
 
-impl<T: Real> ByDim for Normals<T> {
+impl<'a, T: Real> ByDim for Normals<'a, T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
         let points = read_points::<T, D>(self.points, self.points_len)?;
         let cells = self.elements.read(points.len())?;
-        // SAFETY: contract: `scratch` writable for its length, overlapping nothing.
-        let scratch = unsafe { output(self.scratch, self.scratch_len) }?;
-        // SAFETY: contract: `normals` writable for its length, overlapping nothing.
-        let normals = unsafe { chunks_mut::<T, D>(self.normals, self.normals_len) }?;
+        let scratch = output(self.scratch, self.scratch_len)?;
+        let normals = chunks_mut::<T, D>(self.normals, self.normals_len)?;
         boundary_normals(points, &cells, scratch, normals).map_err(dk_status::from)
     }
 }
@@ -1088,6 +1154,19 @@ pub unsafe extern "C" fn dk_deform_boundary_normals(
     normals: *mut f64,
     normals_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, element_offsets, element_nodes, element_kinds, scratch, index_scratch, normals) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(element_offsets, element_offsets_len),
+            In::new(element_nodes, element_nodes_len),
+            In::new(element_kinds, element_kinds_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(normals, normals_len),
+        )
+    };
     by_dim(
         dim,
         Normals {
@@ -1135,6 +1214,19 @@ pub unsafe extern "C" fn dk_deform_boundary_normals_f32(
     normals: *mut f32,
     normals_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, element_offsets, element_nodes, element_kinds, scratch, index_scratch, normals) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(element_offsets, element_offsets_len),
+            In::new(element_nodes, element_nodes_len),
+            In::new(element_kinds, element_kinds_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(normals, normals_len),
+        )
+    };
     by_dim(
         dim,
         Normals {
@@ -1170,6 +1262,9 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations_scratch_len(
     dim: u32,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let len_out = unsafe { Out::new(len_out, 1) };
     len_status(
         len_out,
         match dim {
@@ -1180,27 +1275,25 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations_scratch_len(
     )
 }
 
-struct Rotations<T> {
-    undeformed: *const T,
+struct Rotations<'a, T> {
+    undeformed: In<'a, T>,
     undeformed_len: usize,
-    deformed: *const T,
+    deformed: In<'a, T>,
     deformed_len: usize,
-    elements: ElementsIn,
-    scratch: *mut T,
+    elements: ElementsIn<'a>,
+    scratch: Out<'a, T>,
     scratch_len: usize,
-    rotations: *mut T,
+    rotations: Out<'a, T>,
     rotations_len: usize,
 }
 
-impl<T: Real> ByDim for Rotations<T> {
+impl<'a, T: Real> ByDim for Rotations<'a, T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
         let u = read_points::<T, D>(self.undeformed, self.undeformed_len)?;
         let d = read_points::<T, D>(self.deformed, self.deformed_len)?;
         let cells = self.elements.read(u.len())?;
-        // SAFETY: contract: writable for its length, overlapping nothing.
-        let scratch = unsafe { output(self.scratch, self.scratch_len) }?;
-        // SAFETY: contract: writable for its length, overlapping nothing.
-        let rotations = unsafe { quats_mut(self.rotations, self.rotations_len) }?;
+        let scratch = output(self.scratch, self.scratch_len)?;
+        let rotations = quats_mut(self.rotations, self.rotations_len)?;
         boundary_rotations(u, d, &cells, scratch, rotations).map_err(dk_status::from)
     }
 }
@@ -1243,6 +1336,29 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations(
     rotations: *mut f64,
     rotations_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (
+        undeformed,
+        deformed,
+        element_offsets,
+        element_nodes,
+        element_kinds,
+        scratch,
+        index_scratch,
+        rotations,
+    ) = unsafe {
+        (
+            In::new(undeformed, undeformed_len),
+            In::new(deformed, deformed_len),
+            In::new(element_offsets, element_offsets_len),
+            In::new(element_nodes, element_nodes_len),
+            In::new(element_kinds, element_kinds_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(rotations, rotations_len),
+        )
+    };
     by_dim(
         dim,
         Rotations {
@@ -1294,6 +1410,29 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations_f32(
     rotations: *mut f32,
     rotations_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (
+        undeformed,
+        deformed,
+        element_offsets,
+        element_nodes,
+        element_kinds,
+        scratch,
+        index_scratch,
+        rotations,
+    ) = unsafe {
+        (
+            In::new(undeformed, undeformed_len),
+            In::new(deformed, deformed_len),
+            In::new(element_offsets, element_offsets_len),
+            In::new(element_nodes, element_nodes_len),
+            In::new(element_kinds, element_kinds_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(rotations, rotations_len),
+        )
+    };
     by_dim(
         dim,
         Rotations {
@@ -1320,12 +1459,10 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations_f32(
     )
 }
 
-fn rigid<T: Real>(q: *const T, rotations: *mut T, rotations_len: usize) -> dk_status {
+fn rigid<T: Real>(q: In<'_, T>, rotations: Out<'_, T>, rotations_len: usize) -> dk_status {
     done((|| {
-        // SAFETY: contract: 4 readable scalars at `q`.
         let q = read_array::<T, 4>(q, 4).map(Quat::from_array)?;
-        // SAFETY: contract: `rotations` writable for its length, not overlapping `q`.
-        let r = unsafe { quats_mut(rotations, rotations_len) }?;
+        let r = quats_mut(rotations, rotations_len)?;
         rigid_rotations(q, r).map_err(dk_status::from)
     })())
 }
@@ -1344,6 +1481,9 @@ pub unsafe extern "C" fn dk_deform_rigid_rotations(
     rotations: *mut f64,
     rotations_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (q, rotations) = unsafe { (In::new(q, 4), Out::new(rotations, rotations_len)) };
     rigid(q, rotations, rotations_len)
 }
 
@@ -1357,27 +1497,29 @@ pub unsafe extern "C" fn dk_deform_rigid_rotations_f32(
     rotations: *mut f32,
     rotations_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (q, rotations) = unsafe { (In::new(q, 4), Out::new(rotations, rotations_len)) };
     rigid(q, rotations, rotations_len)
 }
 
-struct Origin<T> {
-    undeformed: *const T,
+struct Origin<'a, T> {
+    undeformed: In<'a, T>,
     undeformed_len: usize,
-    deformed: *const T,
+    deformed: In<'a, T>,
     deformed_len: usize,
-    origin_out: *mut T,
+    origin_out: Out<'a, T>,
     origin_out_len: usize,
 }
 
-impl<T: Real> ByDim for Origin<T> {
+impl<'a, T: Real> ByDim for Origin<'a, T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
         let u = read_points::<T, D>(self.undeformed, self.undeformed_len)?;
         let d = read_points::<T, D>(self.deformed, self.deformed_len)?;
         if self.origin_out_len != D {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
-        // SAFETY: contract: `origin_out` writable for `origin_out_len` (= dim) scalars.
-        let o = unsafe { output(self.origin_out, self.origin_out_len) }?;
+        let o = output(self.origin_out, self.origin_out_len)?;
         let origin = boundary_origin(u, d).map_err(dk_status::from)?;
         write_optional(Some(o), origin);
         Ok(())
@@ -1407,6 +1549,15 @@ pub unsafe extern "C" fn dk_deform_boundary_origin(
     origin_out: *mut f64,
     origin_out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (undeformed, deformed, origin_out) = unsafe {
+        (
+            In::new(undeformed, undeformed_len),
+            In::new(deformed, deformed_len),
+            Out::new(origin_out, origin_out_len),
+        )
+    };
     by_dim(
         dim,
         Origin {
@@ -1434,6 +1585,15 @@ pub unsafe extern "C" fn dk_deform_boundary_origin_f32(
     origin_out: *mut f32,
     origin_out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (undeformed, deformed, origin_out) = unsafe {
+        (
+            In::new(undeformed, undeformed_len),
+            In::new(deformed, deformed_len),
+            Out::new(origin_out, origin_out_len),
+        )
+    };
     by_dim(
         dim,
         Origin {
@@ -1447,28 +1607,26 @@ pub unsafe extern "C" fn dk_deform_boundary_origin_f32(
     )
 }
 
-struct Translations<T> {
-    origin: *const T,
+struct Translations<'a, T> {
+    origin: In<'a, T>,
     origin_len: usize,
-    undeformed: *const T,
+    undeformed: In<'a, T>,
     undeformed_len: usize,
-    deformed: *const T,
+    deformed: In<'a, T>,
     deformed_len: usize,
-    rotations: *const T,
+    rotations: In<'a, T>,
     rotations_len: usize,
-    translations: *mut T,
+    translations: Out<'a, T>,
     translations_len: usize,
 }
 
-impl<T: Real> ByDim for Translations<T> {
+impl<'a, T: Real> ByDim for Translations<'a, T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
         let origin = read_array::<T, D>(self.origin, self.origin_len)?;
         let u = read_points::<T, D>(self.undeformed, self.undeformed_len)?;
         let d = read_points::<T, D>(self.deformed, self.deformed_len)?;
-        // SAFETY: contract: readable for its length.
-        let q = unsafe { quats(self.rotations, self.rotations_len) }?;
-        // SAFETY: contract: writable for its length, overlapping no input.
-        let t = unsafe { chunks_mut::<T, D>(self.translations, self.translations_len) }?;
+        let q = quats(self.rotations, self.rotations_len)?;
+        let t = chunks_mut::<T, D>(self.translations, self.translations_len)?;
         boundary_translations(origin, u, d, q, t).map_err(dk_status::from)
     }
 }
@@ -1500,6 +1658,17 @@ pub unsafe extern "C" fn dk_deform_boundary_translations(
     translations: *mut f64,
     translations_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (origin, undeformed, deformed, rotations, translations) = unsafe {
+        (
+            In::new(origin, origin_len),
+            In::new(undeformed, undeformed_len),
+            In::new(deformed, deformed_len),
+            In::new(rotations, rotations_len),
+            Out::new(translations, translations_len),
+        )
+    };
     by_dim(
         dim,
         Translations {
@@ -1535,6 +1704,17 @@ pub unsafe extern "C" fn dk_deform_boundary_translations_f32(
     translations: *mut f32,
     translations_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (origin, undeformed, deformed, rotations, translations) = unsafe {
+        (
+            In::new(origin, origin_len),
+            In::new(undeformed, undeformed_len),
+            In::new(deformed, deformed_len),
+            In::new(rotations, rotations_len),
+            Out::new(translations, translations_len),
+        )
+    };
     by_dim(
         dim,
         Translations {
@@ -1556,33 +1736,29 @@ pub unsafe extern "C" fn dk_deform_boundary_translations_f32(
 // Building blocks: field level
 // ---------------------------------------------------------------------------------------------
 
-struct PropIdw<T> {
-    points: *const T,
+struct PropIdw<'a, T> {
+    points: In<'a, T>,
     points_len: usize,
-    boundary: *const u32,
+    boundary: In<'a, u32>,
     boundary_len: usize,
     index_base: u32,
     exponent: T,
-    index_scratch: *mut u32,
+    index_scratch: Out<'a, u32>,
     index_scratch_len: usize,
-    translations: *mut T,
+    translations: Out<'a, T>,
     translations_len: usize,
-    rotations: *mut T,
+    rotations: Out<'a, T>,
     rotations_len: usize,
 }
 
-impl<T: Real> ByDim for PropIdw<T> {
+impl<'a, T: Real> ByDim for PropIdw<'a, T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
         let points = read_points::<T, D>(self.points, self.points_len)?;
-        // SAFETY: contract: readable for its length.
-        let boundary = unsafe { input(self.boundary, self.boundary_len) }?;
-        // SAFETY: contract: writable for its length, overlapping nothing else.
-        let scratch = unsafe { output(self.index_scratch, self.index_scratch_len) }?;
+        let boundary = input(self.boundary, self.boundary_len)?;
+        let scratch = output(self.index_scratch, self.index_scratch_len)?;
         let (boundary, _) = rebase(boundary, self.index_base, scratch)?;
-        // SAFETY: contract: readable and writable for its length, overlapping nothing else.
-        let t = unsafe { chunks_mut::<T, D>(self.translations, self.translations_len) }?;
-        // SAFETY: as above.
-        let q = unsafe { quats_mut(self.rotations, self.rotations_len) }?;
+        let t = chunks_mut::<T, D>(self.translations, self.translations_len)?;
+        let q = quats_mut(self.rotations, self.rotations_len)?;
         propagate_idw(points, boundary, self.exponent, t, q).map_err(dk_status::from)
     }
 }
@@ -1620,6 +1796,17 @@ pub unsafe extern "C" fn dk_deform_propagate_idw(
     rotations: *mut f64,
     rotations_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, boundary, index_scratch, translations, rotations) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(boundary, boundary_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(translations, translations_len),
+            Out::new(rotations, rotations_len),
+        )
+    };
     by_dim(
         dim,
         PropIdw {
@@ -1659,6 +1846,17 @@ pub unsafe extern "C" fn dk_deform_propagate_idw_f32(
     rotations: *mut f32,
     rotations_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, boundary, index_scratch, translations, rotations) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(boundary, boundary_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(translations, translations_len),
+            Out::new(rotations, rotations_len),
+        )
+    };
     by_dim(
         dim,
         PropIdw {
@@ -1692,6 +1890,9 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi_scratch_len(
     dim: u32,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let len_out = unsafe { Out::new(len_out, 1) };
     len_status(
         len_out,
         block(ni, nj, nk).and_then(|b| match dim {
@@ -1702,36 +1903,33 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi_scratch_len(
     )
 }
 
-struct PropTfi<T> {
+struct PropTfi<'a, T> {
     dims: [usize; 3],
     directions: u32,
-    points: *const T,
+    points: In<'a, T>,
     points_len: usize,
-    scratch: *mut T,
+    scratch: Out<'a, T>,
     scratch_len: usize,
-    translations: *mut T,
+    translations: Out<'a, T>,
     translations_len: usize,
     /// NULL with 0 and `displacement` set: plain displacement TFI.
-    rotations: *mut T,
+    rotations: Out<'a, T>,
     rotations_len: usize,
     displacement: bool,
 }
 
-impl<T: Real> ByDim for PropTfi<T> {
+impl<'a, T: Real> ByDim for PropTfi<'a, T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
         let [ni, nj, nk] = self.dims;
         let (block, directions) = tfi_setup(ni, nj, nk, self.directions)?;
         let points = read_points::<T, D>(self.points, self.points_len)?;
-        // SAFETY: contract: writable for its length, overlapping nothing else.
-        let scratch = unsafe { output(self.scratch, self.scratch_len) }?;
-        // SAFETY: contract: readable and writable for its length, overlapping nothing else.
-        let t = unsafe { chunks_mut::<T, D>(self.translations, self.translations_len) }?;
+        let scratch = output(self.scratch, self.scratch_len)?;
+        let t = chunks_mut::<T, D>(self.translations, self.translations_len)?;
         if self.displacement {
             return displacement_tfi(&block, directions, points, t, scratch)
                 .map_err(dk_status::from);
         }
-        // SAFETY: as above.
-        let q = unsafe { quats_mut(self.rotations, self.rotations_len) }?;
+        let q = quats_mut(self.rotations, self.rotations_len)?;
         propagate_tfi(&block, directions, points, t, q, scratch).map_err(dk_status::from)
     }
 }
@@ -1769,6 +1967,16 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi(
     rotations: *mut f64,
     rotations_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, scratch, translations, rotations) = unsafe {
+        (
+            In::new(points, points_len),
+            Out::new(scratch, scratch_len),
+            Out::new(translations, translations_len),
+            Out::new(rotations, rotations_len),
+        )
+    };
     by_dim(
         dim,
         PropTfi {
@@ -1807,6 +2015,16 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi_f32(
     rotations: *mut f32,
     rotations_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, scratch, translations, rotations) = unsafe {
+        (
+            In::new(points, points_len),
+            Out::new(scratch, scratch_len),
+            Out::new(translations, translations_len),
+            Out::new(rotations, rotations_len),
+        )
+    };
     by_dim(
         dim,
         PropTfi {
@@ -1849,6 +2067,15 @@ pub unsafe extern "C" fn dk_deform_displacement_tfi(
     displacements: *mut f64,
     displacements_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, scratch, displacements) = unsafe {
+        (
+            In::new(points, points_len),
+            Out::new(scratch, scratch_len),
+            Out::new(displacements, displacements_len),
+        )
+    };
     by_dim(
         dim,
         PropTfi {
@@ -1860,7 +2087,7 @@ pub unsafe extern "C" fn dk_deform_displacement_tfi(
             scratch_len,
             translations: displacements,
             translations_len: displacements_len,
-            rotations: core::ptr::null_mut(),
+            rotations: Out::null(),
             rotations_len: 0,
             displacement: true,
         },
@@ -1885,6 +2112,15 @@ pub unsafe extern "C" fn dk_deform_displacement_tfi_f32(
     displacements: *mut f32,
     displacements_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, scratch, displacements) = unsafe {
+        (
+            In::new(points, points_len),
+            Out::new(scratch, scratch_len),
+            Out::new(displacements, displacements_len),
+        )
+    };
     by_dim(
         dim,
         PropTfi {
@@ -1896,49 +2132,44 @@ pub unsafe extern "C" fn dk_deform_displacement_tfi_f32(
             scratch_len,
             translations: displacements,
             translations_len: displacements_len,
-            rotations: core::ptr::null_mut(),
+            rotations: Out::null(),
             rotations_len: 0,
             displacement: true,
         },
     )
 }
 
-struct Update<T> {
-    origin: *const T,
+struct Update<'a, T> {
+    origin: In<'a, T>,
     origin_len: usize,
-    points: *const T,
+    points: In<'a, T>,
     points_len: usize,
-    translations: *const T,
+    translations: In<'a, T>,
     translations_len: usize,
-    rotations: *const T,
+    rotations: In<'a, T>,
     rotations_len: usize,
-    boundary: *const u32,
+    boundary: In<'a, u32>,
     boundary_len: usize,
     index_base: u32,
-    boundary_deformed: *const T,
+    boundary_deformed: In<'a, T>,
     boundary_deformed_len: usize,
-    index_scratch: *mut u32,
+    index_scratch: Out<'a, u32>,
     index_scratch_len: usize,
-    out: *mut T,
+    out: Out<'a, T>,
     out_len: usize,
 }
 
-impl<T: Real> ByDim for Update<T> {
+impl<'a, T: Real> ByDim for Update<'a, T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
         let origin = read_array::<T, D>(self.origin, self.origin_len)?;
         let points = read_points::<T, D>(self.points, self.points_len)?;
-        // SAFETY: contract: the inputs are readable for their lengths.
-        let t = unsafe { chunks::<T, D>(self.translations, self.translations_len) }?;
-        // SAFETY: as above.
-        let q = unsafe { quats(self.rotations, self.rotations_len) }?;
-        // SAFETY: as above.
-        let boundary = unsafe { input(self.boundary, self.boundary_len) }?;
+        let t = chunks::<T, D>(self.translations, self.translations_len)?;
+        let q = quats(self.rotations, self.rotations_len)?;
+        let boundary = input(self.boundary, self.boundary_len)?;
         let bd = read_points::<T, D>(self.boundary_deformed, self.boundary_deformed_len)?;
-        // SAFETY: contract: writable for its length, overlapping nothing else.
-        let scratch = unsafe { output(self.index_scratch, self.index_scratch_len) }?;
+        let scratch = output(self.index_scratch, self.index_scratch_len)?;
         let (boundary, _) = rebase(boundary, self.index_base, scratch)?;
-        // SAFETY: contract: writable for its length, overlapping nothing else.
-        let out = unsafe { chunks_mut::<T, D>(self.out, self.out_len) }?;
+        let out = chunks_mut::<T, D>(self.out, self.out_len)?;
         update_points(origin, points, t, q, boundary, bd, out).map_err(dk_status::from)
     }
 }
@@ -1977,6 +2208,20 @@ pub unsafe extern "C" fn dk_deform_update_points(
     out: *mut f64,
     out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (origin, points, translations, rotations, boundary, boundary_deformed, index_scratch, out) = unsafe {
+        (
+            In::new(origin, origin_len),
+            In::new(points, points_len),
+            In::new(translations, translations_len),
+            In::new(rotations, rotations_len),
+            In::new(boundary, boundary_len),
+            In::new(boundary_deformed, boundary_deformed_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(out, out_len),
+        )
+    };
     by_dim(
         dim,
         Update {
@@ -2026,6 +2271,20 @@ pub unsafe extern "C" fn dk_deform_update_points_f32(
     out: *mut f32,
     out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (origin, points, translations, rotations, boundary, boundary_deformed, index_scratch, out) = unsafe {
+        (
+            In::new(origin, origin_len),
+            In::new(points, points_len),
+            In::new(translations, translations_len),
+            In::new(rotations, rotations_len),
+            In::new(boundary, boundary_len),
+            In::new(boundary_deformed, boundary_deformed_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(out, out_len),
+        )
+    };
     by_dim(
         dim,
         Update {
@@ -2068,6 +2327,9 @@ pub unsafe extern "C" fn dk_deform_localize_nodes_scratch_len(
     index_base: u32,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let len_out = unsafe { Out::new(len_out, 1) };
     len_status(
         len_out,
         index_need(index_base, &[boundary_len, global_len]).and_then(|n| {
@@ -2107,16 +2369,22 @@ pub unsafe extern "C" fn dk_deform_localize_nodes(
     local: *mut u32,
     local_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (boundary, global, scratch, local) = unsafe {
+        (
+            In::new(boundary, boundary_len),
+            In::new(global, global_len),
+            Out::new(scratch, scratch_len),
+            Out::new(local, local_len),
+        )
+    };
     done((|| {
         check_base(index_base)?;
-        // SAFETY: contract: readable for its length.
-        let b = unsafe { input(boundary, boundary_len) }?;
-        // SAFETY: contract: readable for its length.
-        let g = unsafe { input(global, global_len) }?;
-        // SAFETY: contract: writable for its length, overlapping nothing else.
-        let s = unsafe { output(scratch, scratch_len) }?;
-        // SAFETY: contract: writable for its length, overlapping nothing else.
-        let l = unsafe { output(local, local_len) }?;
+        let b = input(boundary, boundary_len)?;
+        let g = input(global, global_len)?;
+        let s = output(scratch, scratch_len)?;
+        let l = output(local, local_len)?;
         if u32::try_from(b.len()).is_err() {
             return Err(dk_status::DK_ERR_TOO_LARGE);
         }
@@ -2141,7 +2409,7 @@ pub unsafe extern "C" fn dk_deform_localize_nodes(
 fn spring_values_len(
     node_count: usize,
     dim: u32,
-    options: *const dk_spring_solve_options,
+    options: In<'_, dk_spring_solve_options>,
 ) -> Result<usize, dk_status> {
     let o = read_one(options)?;
     let method = o.method::<f64>()?;
@@ -2161,23 +2429,21 @@ fn spring_values_len(
 /// The arguments describing a spring system (0-based CSR graph, per-edge stiffness, fixed
 /// mask); validated into a `SpringSystem` with a `node_count` slice of index scratch.
 #[derive(Clone, Copy)]
-struct SystemIn<T> {
-    offsets: *const u32,
+struct SystemIn<'a, T> {
+    offsets: In<'a, u32>,
     offsets_len: usize,
-    targets: *const u32,
+    targets: In<'a, u32>,
     targets_len: usize,
-    stiffness: *const T,
+    stiffness: In<'a, T>,
     stiffness_len: usize,
-    fixed: *const u8,
+    fixed: In<'a, u8>,
     fixed_len: usize,
 }
 
-impl<T: Real> SystemIn<T> {
-    fn build<'a>(&self, scratch: &mut [u32]) -> Result<SpringSystem<'a, T>, dk_status> {
-        // SAFETY: the public functions' contracts: each array readable for its length.
-        let k = unsafe { input(self.stiffness, self.stiffness_len) }?;
-        // SAFETY: as above.
-        let f = unsafe { input(self.fixed, self.fixed_len) }?;
+impl<'a, T: Real> SystemIn<'a, T> {
+    fn build(&self, scratch: &mut [u32]) -> Result<SpringSystem<'a, T>, dk_status> {
+        let k = input(self.stiffness, self.stiffness_len)?;
+        let f = input(self.fixed, self.fixed_len)?;
         // All four arrays are NULL-checked before the graph is validated (unlike
         // `dk_spring_*`, which validate the graph first).
         let g = graph(
@@ -2209,19 +2475,26 @@ pub unsafe extern "C" fn dk_deform_spring_scratch_len(
     scratch_len_out: *mut usize,
     values_len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, scratch_len_out, values_len_out) = unsafe {
+        (
+            In::new(options, 1),
+            Out::new(scratch_len_out, 1),
+            Out::new(values_len_out, 1),
+        )
+    };
     done((|| {
         let values = spring_values_len(node_count, dim, options)?;
-        if core::ptr::eq(scratch_len_out, values_len_out) {
+        if scratch_len_out.same_address(&values_len_out) {
             return Err(dk_status::DK_ERR_INVALID_PARAMETER);
         }
         let scratch = match dim {
             2 => deform_spring_scratch_len::<2>(node_count, boundary_len),
             _ => deform_spring_scratch_len::<3>(node_count, boundary_len),
         };
-        // SAFETY: contract: one writable size_t at each pointer.
-        let a = unsafe { out_one(scratch_len_out) }?;
-        // SAFETY: as above.
-        let b = unsafe { out_one(values_len_out) }?;
+        let a = out_one(scratch_len_out)?;
+        let b = out_one(values_len_out)?;
         *a = scratch;
         *b = values;
         Ok(())
@@ -2229,9 +2502,9 @@ pub unsafe extern "C" fn dk_deform_spring_scratch_len(
 }
 
 fn spring_index_len<M: MotionC>(
-    motion: *const M,
+    motion: In<'_, M>,
     node_count: usize,
-    len_out: *mut usize,
+    len_out: Out<'_, usize>,
 ) -> dk_status {
     len_status(
         len_out,
@@ -2255,6 +2528,9 @@ pub unsafe extern "C" fn dk_deform_spring_index_scratch_len(
     node_count: usize,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (motion, len_out) = unsafe { (In::new(motion, 1), Out::new(len_out, 1)) };
     spring_index_len(motion, node_count, len_out)
 }
 
@@ -2268,22 +2544,25 @@ pub unsafe extern "C" fn dk_deform_spring_index_scratch_len_f32(
     node_count: usize,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (motion, len_out) = unsafe { (In::new(motion, 1), Out::new(len_out, 1)) };
     spring_index_len(motion, node_count, len_out)
 }
 
-struct Spring<M: MotionC> {
-    points: *const M::T,
+struct Spring<'a, M: MotionC> {
+    points: In<'a, M::T>,
     points_len: usize,
-    motion: *const M,
-    system: SystemIn<M::T>,
-    options: *const dk_spring_solve_options,
-    values: *mut M::T,
+    motion: In<'a, M>,
+    system: SystemIn<'a, M::T>,
+    options: In<'a, dk_spring_solve_options>,
+    values: Out<'a, M::T>,
     values_len: usize,
-    bufs: PipelineOut<M::T>,
-    report: *mut dk_spring_solve_report,
+    bufs: PipelineOut<'a, M::T>,
+    report: Out<'a, dk_spring_solve_report>,
 }
 
-impl<M: MotionC> ByDim for Spring<M> {
+impl<'a, M: MotionC> ByDim for Spring<'a, M> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
         let o = read_one(self.options)?;
         let method = o.method::<M::T>()?;
@@ -2293,10 +2572,8 @@ impl<M: MotionC> ByDim for Spring<M> {
         let b = self.bufs.borrow::<D>()?;
         // Only whole items of the values workspace are used.
         let values_len = self.values_len - self.values_len % V;
-        // SAFETY: contract: `values` writable for `values_len` scalars, overlapping nothing.
-        let values = unsafe { chunks_mut::<M::T, V>(self.values, values_len) }?;
-        // SAFETY: contract: one writable report at `report`.
-        let report = unsafe { out_one(self.report) }?;
+        let values = chunks_mut::<M::T, V>(self.values, values_len)?;
+        let report = out_one(self.report)?;
         let (motion, rest) = raw.view::<D>(b.index_scratch)?;
         let sys = self.system.build(rest)?;
         let (origin, rep) = deform_spring(
@@ -2375,6 +2652,43 @@ pub unsafe extern "C" fn dk_deform_spring(
     origin_out_len: usize,
     report: *mut dk_spring_solve_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (
+        points,
+        motion,
+        offsets,
+        targets,
+        stiffness,
+        fixed,
+        options,
+        scratch,
+        values,
+        index_scratch,
+        translations,
+        rotations,
+        out,
+        origin_out,
+        report,
+    ) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(motion, 1),
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(options, 1),
+            Out::new(scratch, scratch_len),
+            Out::new(values, values_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(translations, translations_len),
+            Out::new(rotations, rotations_len),
+            Out::new(out, out_len),
+            Out::new(origin_out, origin_out_len),
+            Out::new(report, 1),
+        )
+    };
     by_dim(
         dim,
         Spring {
@@ -2449,6 +2763,43 @@ pub unsafe extern "C" fn dk_deform_spring_f32(
     origin_out_len: usize,
     report: *mut dk_spring_solve_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (
+        points,
+        motion,
+        offsets,
+        targets,
+        stiffness,
+        fixed,
+        options,
+        scratch,
+        values,
+        index_scratch,
+        translations,
+        rotations,
+        out,
+        origin_out,
+        report,
+    ) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(motion, 1),
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(options, 1),
+            Out::new(scratch, scratch_len),
+            Out::new(values, values_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(translations, translations_len),
+            Out::new(rotations, rotations_len),
+            Out::new(out, out_len),
+            Out::new(origin_out, origin_out_len),
+            Out::new(report, 1),
+        )
+    };
     by_dim(
         dim,
         Spring {
@@ -2501,39 +2852,37 @@ pub unsafe extern "C" fn dk_deform_propagate_spring_scratch_len(
     options: *const dk_spring_solve_options,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
     len_status(len_out, spring_values_len(node_count, dim, options))
 }
 
-struct PropSpring<T> {
-    system: SystemIn<T>,
-    options: *const dk_spring_solve_options,
-    index_scratch: *mut u32,
+struct PropSpring<'a, T> {
+    system: SystemIn<'a, T>,
+    options: In<'a, dk_spring_solve_options>,
+    index_scratch: Out<'a, u32>,
     index_scratch_len: usize,
-    values: *mut T,
+    values: Out<'a, T>,
     values_len: usize,
-    translations: *mut T,
+    translations: Out<'a, T>,
     translations_len: usize,
-    rotations: *mut T,
+    rotations: Out<'a, T>,
     rotations_len: usize,
-    report: *mut dk_spring_solve_report,
+    report: Out<'a, dk_spring_solve_report>,
 }
 
-impl<T: Real> ByDim for PropSpring<T> {
+impl<'a, T: Real> ByDim for PropSpring<'a, T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
         let o = read_one(self.options)?;
         let method = o.method::<T>()?;
         let stop = o.stopping::<T>();
-        // SAFETY: contract: writable for its length, overlapping nothing else.
-        let s = unsafe { output(self.index_scratch, self.index_scratch_len) }?;
+        let s = output(self.index_scratch, self.index_scratch_len)?;
         let values_len = self.values_len - self.values_len % V;
-        // SAFETY: contract: writable for its length, overlapping nothing else.
-        let values = unsafe { chunks_mut::<T, V>(self.values, values_len) }?;
-        // SAFETY: contract: readable and writable for its length, overlapping nothing else.
-        let t = unsafe { chunks_mut::<T, D>(self.translations, self.translations_len) }?;
-        // SAFETY: as above.
-        let q = unsafe { quats_mut(self.rotations, self.rotations_len) }?;
-        // SAFETY: contract: one writable report.
-        let report = unsafe { out_one(self.report) }?;
+        let values = chunks_mut::<T, V>(self.values, values_len)?;
+        let t = chunks_mut::<T, D>(self.translations, self.translations_len)?;
+        let q = quats_mut(self.rotations, self.rotations_len)?;
+        let report = out_one(self.report)?;
         let sys = self.system.build(s)?;
         let rep = propagate_spring(&sys, method, &stop, t, q, values).map_err(dk_status::from)?;
         *report = dk_spring_solve_report::of(rep);
@@ -2584,6 +2933,33 @@ pub unsafe extern "C" fn dk_deform_propagate_spring(
     rotations_len: usize,
     report: *mut dk_spring_solve_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (
+        offsets,
+        targets,
+        stiffness,
+        fixed,
+        options,
+        index_scratch,
+        values,
+        translations,
+        rotations,
+        report,
+    ) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(options, 1),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(values, values_len),
+            Out::new(translations, translations_len),
+            Out::new(rotations, rotations_len),
+            Out::new(report, 1),
+        )
+    };
     by_dim(
         dim,
         PropSpring {
@@ -2637,6 +3013,33 @@ pub unsafe extern "C" fn dk_deform_propagate_spring_f32(
     rotations_len: usize,
     report: *mut dk_spring_solve_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (
+        offsets,
+        targets,
+        stiffness,
+        fixed,
+        options,
+        index_scratch,
+        values,
+        translations,
+        rotations,
+        report,
+    ) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(options, 1),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(values, values_len),
+            Out::new(translations, translations_len),
+            Out::new(rotations, rotations_len),
+            Out::new(report, 1),
+        )
+    };
     by_dim(
         dim,
         PropSpring {

@@ -15,7 +15,7 @@ use deform_kernel::{
 };
 
 use crate::args::{check_base, done, write_len, zero_based};
-use crate::slice::{chunks, input, out_one, output};
+use crate::slice::{chunks, input, out_one, output, In, Out};
 use crate::status::dk_status;
 
 /// Checks `index_base` and returns `indices` 0-based: the caller's array itself (no copy) with
@@ -39,6 +39,9 @@ pub unsafe extern "C" fn dk_graph_from_edges_len(
     edges_len: usize,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let len_out = unsafe { Out::new(len_out, 1) };
     done((|| {
         if edges_len % 2 != 0 {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
@@ -70,9 +73,18 @@ pub unsafe extern "C" fn dk_graph_from_edges(
     targets_len: usize,
     used_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (edges, offsets, targets, used_out) = unsafe {
+        (
+            In::new(edges, edges_len),
+            Out::new(offsets, offsets_len),
+            Out::new(targets, targets_len),
+            Out::new(used_out, 1),
+        )
+    };
     done((|| {
-        // SAFETY: contract: `edges_len` readable u32 at `edges` (checked to be pairs).
-        let e: &[[u32; 2]] = unsafe { chunks(edges, edges_len) }?;
+        let e: &[[u32; 2]] = chunks(edges, edges_len)?;
         check_base(index_base)?;
         let pairs: Cow<'_, [[u32; 2]]> = if index_base == 0 {
             Cow::Borrowed(e)
@@ -83,12 +95,9 @@ pub unsafe extern "C" fn dk_graph_from_edges(
                     .collect::<Vec<_>>(),
             )
         };
-        // SAFETY: contract: `offsets_len` writable u32 at `offsets`, not overlapping.
-        let o = unsafe { output(offsets, offsets_len) }?;
-        // SAFETY: contract: `targets_len` writable u32 at `targets`, not overlapping.
-        let t = unsafe { output(targets, targets_len) }?;
-        // SAFETY: contract: one writable size_t at `used_out`.
-        let used = unsafe { out_one(used_out) }?;
+        let o = output(offsets, offsets_len)?;
+        let t = output(targets, targets_len)?;
+        let used = out_one(used_out)?;
         if graph_from_edges_len(&pairs) != edges_len {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
@@ -105,20 +114,17 @@ pub(crate) type OwnedCells<'a> = (Cow<'a, [u32]>, Cow<'a, [u32]>, &'a [u8]);
 /// Reads a cell list (offsets and node indices in `index_base`); copies only for base 1.
 /// Shared with the quality module, which takes cells the same way.
 pub(crate) fn read_cells<'a>(
-    cell_offsets: *const u32,
+    cell_offsets: In<'a, u32>,
     cell_offsets_len: usize,
-    cell_nodes: *const u32,
+    cell_nodes: In<'a, u32>,
     cell_nodes_len: usize,
-    cell_kinds: *const u8,
+    cell_kinds: In<'a, u8>,
     cell_kinds_len: usize,
     index_base: u32,
 ) -> Result<OwnedCells<'a>, dk_status> {
-    // SAFETY: contract: each pointer readable for its length.
-    let offs = unsafe { input(cell_offsets, cell_offsets_len) }?;
-    // SAFETY: as above.
-    let nodes = unsafe { input(cell_nodes, cell_nodes_len) }?;
-    // SAFETY: as above.
-    let kinds = unsafe { input(cell_kinds, cell_kinds_len) }?;
+    let offs = input(cell_offsets, cell_offsets_len)?;
+    let nodes = input(cell_nodes, cell_nodes_len)?;
+    let kinds = input(cell_kinds, cell_kinds_len)?;
     // Offsets are positions in `cell_nodes`; with index_base 1 they are 1-based too.
     Ok((rebase(offs, index_base)?, rebase(nodes, index_base)?, kinds))
 }
@@ -141,6 +147,15 @@ pub unsafe extern "C" fn dk_cells_check(
     cell_kinds_len: usize,
     index_base: u32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (cell_offsets, cell_nodes, cell_kinds) = unsafe {
+        (
+            In::new(cell_offsets, cell_offsets_len),
+            In::new(cell_nodes, cell_nodes_len),
+            In::new(cell_kinds, cell_kinds_len),
+        )
+    };
     done((|| {
         let (o, n, k) = read_cells(
             cell_offsets,
@@ -173,6 +188,16 @@ pub unsafe extern "C" fn dk_graph_from_cells_len(
     face_diagonals: bool,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (cell_offsets, cell_nodes, cell_kinds, len_out) = unsafe {
+        (
+            In::new(cell_offsets, cell_offsets_len),
+            In::new(cell_nodes, cell_nodes_len),
+            In::new(cell_kinds, cell_kinds_len),
+            Out::new(len_out, 1),
+        )
+    };
     done((|| {
         let (o, n, k) = read_cells(
             cell_offsets,
@@ -213,6 +238,18 @@ pub unsafe extern "C" fn dk_graph_from_cells(
     targets_len: usize,
     used_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (cell_offsets, cell_nodes, cell_kinds, offsets, targets, used_out) = unsafe {
+        (
+            In::new(cell_offsets, cell_offsets_len),
+            In::new(cell_nodes, cell_nodes_len),
+            In::new(cell_kinds, cell_kinds_len),
+            Out::new(offsets, offsets_len),
+            Out::new(targets, targets_len),
+            Out::new(used_out, 1),
+        )
+    };
     done((|| {
         let (co, cn, ck) = read_cells(
             cell_offsets,
@@ -224,12 +261,9 @@ pub unsafe extern "C" fn dk_graph_from_cells(
             index_base,
         )?;
         let cells = Cells::new(node_count, &co, &cn, ck).map_err(dk_status::from)?;
-        // SAFETY: contract: `offsets_len` writable u32 at `offsets`, not overlapping.
-        let o = unsafe { output(offsets, offsets_len) }?;
-        // SAFETY: contract: `targets_len` writable u32 at `targets`, not overlapping.
-        let t = unsafe { output(targets, targets_len) }?;
-        // SAFETY: contract: one writable size_t at `used_out`.
-        let used = unsafe { out_one(used_out) }?;
+        let o = output(offsets, offsets_len)?;
+        let t = output(targets, targets_len)?;
+        let used = out_one(used_out)?;
         *used = graph_from_cells(&cells, face_diagonals, o, t).map_err(dk_status::from)?;
         Ok(())
     })())
@@ -248,11 +282,13 @@ pub unsafe extern "C" fn dk_graph_check(
     targets_len: usize,
     require_symmetric: bool,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets) =
+        unsafe { (In::new(offsets, offsets_len), In::new(targets, targets_len)) };
     done((|| {
-        // SAFETY: contract: readable for the given lengths.
-        let o = unsafe { input(offsets, offsets_len) }?;
-        // SAFETY: as above.
-        let t = unsafe { input(targets, targets_len) }?;
+        let o = input(offsets, offsets_len)?;
+        let t = input(targets, targets_len)?;
         let g = Graph::new(o, t).map_err(dk_status::from)?;
         if require_symmetric {
             g.check_symmetric().map_err(dk_status::from)?;

@@ -33,3 +33,6 @@ pub mod status;
 pub mod taubin;
 
 pub use status::{dk_status, dk_status_str};
+
+#[cfg(test)]
+mod tests;

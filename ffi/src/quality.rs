@@ -21,7 +21,7 @@ use deform_kernel::{CellKind, Cells, Real};
 
 use crate::args::{assert_layout, by_dim, done, graph, mul_len, read_points, write_len};
 use crate::graph::{read_cells, OwnedCells};
-use crate::slice::{chunks_mut, out_one, output};
+use crate::slice::{chunks_mut, out_one, output, In, Out};
 use crate::status::dk_status;
 
 /// "No such index" in the quality reports: `SIZE_MAX`.
@@ -166,17 +166,17 @@ impl dk_quality_report {
 
 /// A caller's cell arrays (as `dk_graph_from_cells` takes them).
 #[derive(Clone, Copy)]
-struct CellArgs {
-    offsets: *const u32,
+struct CellArgs<'a> {
+    offsets: In<'a, u32>,
     offsets_len: usize,
-    nodes: *const u32,
+    nodes: In<'a, u32>,
     nodes_len: usize,
-    kinds: *const u8,
+    kinds: In<'a, u8>,
     kinds_len: usize,
     index_base: u32,
 }
 
-impl CellArgs {
+impl<'a> CellArgs<'a> {
     /// Reads the cells into owned 0-based arrays (validated later against the node count).
     fn read(&self) -> Result<OwnedCells<'_>, dk_status> {
         read_cells(
@@ -203,24 +203,23 @@ fn cells_of<'a>(owned: &'a OwnedCells<'_>, node_count: usize) -> Result<Cells<'a
 
 fn cell_quality_d<T: Real, const D: usize>(
     kind: u8,
-    corners: *const T,
+    corners: In<'_, T>,
     corners_len: usize,
-    out: *mut dk_cell_quality,
+    out: Out<'_, dk_cell_quality>,
 ) -> Result<(), dk_status> {
     let kind = CellKind::from_vtk(kind).ok_or(dk_status::DK_ERR_UNKNOWN_CELL_KIND)?;
     let c = read_points::<T, D>(corners, corners_len)?;
-    // SAFETY: contract: one writable struct at `out`.
-    let o = unsafe { out_one(out) }?;
+    let o = out_one(out)?;
     *o = dk_cell_quality::of(cell_quality(kind, c).map_err(dk_status::from)?);
     Ok(())
 }
 
 fn cell_quality_t<T: Real>(
     kind: u8,
-    corners: *const T,
+    corners: In<'_, T>,
     corners_len: usize,
     dim: u32,
-    out: *mut dk_cell_quality,
+    out: Out<'_, dk_cell_quality>,
 ) -> dk_status {
     done(by_dim!(
         dim,
@@ -232,17 +231,16 @@ fn cell_quality_t<T: Real>(
 /// Per-cell output: measures (`jacobians` None) or minimum corner Jacobians.
 fn per_cell_d<T: Real, const D: usize>(
     cells: CellArgs,
-    pts: *const T,
+    pts: In<'_, T>,
     pts_len: usize,
     jacobians: Option<bool>,
-    out: *mut T,
+    out: Out<'_, T>,
     out_len: usize,
 ) -> Result<(), dk_status> {
     let p = read_points::<T, D>(pts, pts_len)?;
     let owned = cells.read()?;
     let c = cells_of(&owned, p.len())?;
-    // SAFETY: contract: `out_len` writable scalars at `out`, not overlapping the inputs.
-    let o = unsafe { output(out, out_len) }?;
+    let o = output(out, out_len)?;
     match jacobians {
         None => cell_measures(&c, p, o),
         Some(scaled) => min_corner_jacobians(&c, p, scaled, o),
@@ -253,11 +251,11 @@ fn per_cell_d<T: Real, const D: usize>(
 #[allow(clippy::too_many_arguments)]
 fn per_cell_t<T: Real>(
     cells: CellArgs,
-    pts: *const T,
+    pts: In<'_, T>,
     pts_len: usize,
     dim: u32,
     jacobians: Option<bool>,
-    out: *mut T,
+    out: Out<'_, T>,
     out_len: usize,
 ) -> dk_status {
     done(by_dim!(
@@ -270,18 +268,17 @@ fn per_cell_t<T: Real>(
 #[allow(clippy::too_many_arguments)]
 fn inverted_d<T: Real, const D: usize>(
     cells: CellArgs,
-    undeformed: *const T,
+    undeformed: In<'_, T>,
     undeformed_len: usize,
-    deformed: *const T,
+    deformed: In<'_, T>,
     deformed_len: usize,
-    count_out: *mut usize,
+    count_out: Out<'_, usize>,
 ) -> Result<(), dk_status> {
     let u = read_points::<T, D>(undeformed, undeformed_len)?;
     let d = read_points::<T, D>(deformed, deformed_len)?;
     let owned = cells.read()?;
     let c = cells_of(&owned, u.len())?;
-    // SAFETY: contract: one writable size_t at `count_out`.
-    let o = unsafe { out_one(count_out) }?;
+    let o = out_one(count_out)?;
     *o = inverted_cells(&c, u, d).map_err(dk_status::from)?;
     Ok(())
 }
@@ -289,12 +286,12 @@ fn inverted_d<T: Real, const D: usize>(
 #[allow(clippy::too_many_arguments)]
 fn inverted_t<T: Real>(
     cells: CellArgs,
-    undeformed: *const T,
+    undeformed: In<'_, T>,
     undeformed_len: usize,
-    deformed: *const T,
+    deformed: In<'_, T>,
     deformed_len: usize,
     dim: u32,
-    count_out: *mut usize,
+    count_out: Out<'_, usize>,
 ) -> dk_status {
     done(by_dim!(
         dim,
@@ -312,25 +309,24 @@ fn inverted_t<T: Real>(
 
 fn folded_d<T: Real, const D: usize>(
     cells: CellArgs,
-    pts: *const T,
+    pts: In<'_, T>,
     pts_len: usize,
-    count_out: *mut usize,
+    count_out: Out<'_, usize>,
 ) -> Result<(), dk_status> {
     let p = read_points::<T, D>(pts, pts_len)?;
     let owned = cells.read()?;
     let c = cells_of(&owned, p.len())?;
-    // SAFETY: contract: one writable size_t at `count_out`.
-    let o = unsafe { out_one(count_out) }?;
+    let o = out_one(count_out)?;
     *o = folded_cells(&c, p).map_err(dk_status::from)?;
     Ok(())
 }
 
 fn folded_t<T: Real>(
     cells: CellArgs,
-    pts: *const T,
+    pts: In<'_, T>,
     pts_len: usize,
     dim: u32,
-    count_out: *mut usize,
+    count_out: Out<'_, usize>,
 ) -> dk_status {
     done(by_dim!(
         dim,
@@ -342,15 +338,15 @@ fn folded_t<T: Real>(
 /// The arguments describing a wall: its elements (cells, in the mesh's `index_base`) and the
 /// mesh's 0-based CSR edge graph.
 #[derive(Clone, Copy)]
-struct WallArgs {
-    elements: CellArgs,
-    graph_offsets: *const u32,
+struct WallArgs<'a> {
+    elements: CellArgs<'a>,
+    graph_offsets: In<'a, u32>,
     graph_offsets_len: usize,
-    graph_targets: *const u32,
+    graph_targets: In<'a, u32>,
     graph_targets_len: usize,
 }
 
-impl WallArgs {
+impl<'a> WallArgs<'a> {
     /// `true` when no wall was given (every wall pointer NULL, every length 0).
     fn absent(&self) -> bool {
         let e = &self.elements;
@@ -371,23 +367,21 @@ impl WallArgs {
 fn compare_d<T: Real, const D: usize>(
     cells: CellArgs,
     wall: WallArgs,
-    undeformed: *const T,
+    undeformed: In<'_, T>,
     undeformed_len: usize,
-    deformed: *const T,
+    deformed: In<'_, T>,
     deformed_len: usize,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    report: *mut dk_quality_report,
+    report: Out<'_, dk_quality_report>,
 ) -> Result<(), dk_status> {
     let u = read_points::<T, D>(undeformed, undeformed_len)?;
     let d = read_points::<T, D>(deformed, deformed_len)?;
     let owned = cells.read()?;
     let c = cells_of(&owned, u.len())?;
     let scratch_len = scratch_len - scratch_len % D;
-    // SAFETY: contract: `scratch_len` (or more) writable scalars at `scratch`, not overlapping.
-    let s = unsafe { chunks_mut::<T, D>(scratch, scratch_len) }?;
-    // SAFETY: contract: one writable report at `report`.
-    let r = unsafe { out_one(report) }?;
+    let s = chunks_mut::<T, D>(scratch, scratch_len)?;
+    let r = out_one(report)?;
     let rep = if wall.absent() {
         compare(&c, u, d, None, s)
     } else {
@@ -411,14 +405,14 @@ fn compare_d<T: Real, const D: usize>(
 fn compare_t<T: Real>(
     cells: CellArgs,
     wall: WallArgs,
-    undeformed: *const T,
+    undeformed: In<'_, T>,
     undeformed_len: usize,
-    deformed: *const T,
+    deformed: In<'_, T>,
     deformed_len: usize,
     dim: u32,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    report: *mut dk_quality_report,
+    report: Out<'_, dk_quality_report>,
 ) -> dk_status {
     done(by_dim!(
         dim,
@@ -440,13 +434,13 @@ fn compare_t<T: Real>(
 #[allow(clippy::too_many_arguments)]
 fn wall_angle_d<T: Real, const D: usize>(
     wall: WallArgs,
-    undeformed: *const T,
+    undeformed: In<'_, T>,
     undeformed_len: usize,
-    deformed: *const T,
+    deformed: In<'_, T>,
     deformed_len: usize,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    out: *mut dk_wall_angle_change,
+    out: Out<'_, dk_wall_angle_change>,
 ) -> Result<(), dk_status> {
     let u = read_points::<T, D>(undeformed, undeformed_len)?;
     let d = read_points::<T, D>(deformed, deformed_len)?;
@@ -460,10 +454,8 @@ fn wall_angle_d<T: Real, const D: usize>(
     )?;
     let w = Wall::new(we, g).map_err(dk_status::from)?;
     let scratch_len = scratch_len - scratch_len % D;
-    // SAFETY: contract: `scratch_len` (or more) writable scalars at `scratch`, not overlapping.
-    let s = unsafe { chunks_mut::<T, D>(scratch, scratch_len) }?;
-    // SAFETY: contract: one writable struct at `out`.
-    let o = unsafe { out_one(out) }?;
+    let s = chunks_mut::<T, D>(scratch, scratch_len)?;
+    let o = out_one(out)?;
     let r = wall_angle_change(&w, u, d, s).map_err(dk_status::from)?;
     *o = dk_wall_angle_change::of(r, wall.elements.index_base);
     Ok(())
@@ -472,14 +464,14 @@ fn wall_angle_d<T: Real, const D: usize>(
 #[allow(clippy::too_many_arguments)]
 fn wall_angle_t<T: Real>(
     wall: WallArgs,
-    undeformed: *const T,
+    undeformed: In<'_, T>,
     undeformed_len: usize,
-    deformed: *const T,
+    deformed: In<'_, T>,
     deformed_len: usize,
     dim: u32,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    out: *mut dk_wall_angle_change,
+    out: Out<'_, dk_wall_angle_change>,
 ) -> dk_status {
     done(by_dim!(
         dim,
@@ -517,6 +509,9 @@ pub unsafe extern "C" fn dk_quality_cell_quality(
     dim: u32,
     out: *mut dk_cell_quality,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (corners, out) = unsafe { (In::new(corners, corners_len), Out::new(out, 1)) };
     cell_quality_t(kind, corners, corners_len, dim, out)
 }
 
@@ -532,6 +527,9 @@ pub unsafe extern "C" fn dk_quality_cell_quality_f32(
     dim: u32,
     out: *mut dk_cell_quality,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (corners, out) = unsafe { (In::new(corners, corners_len), Out::new(out, 1)) };
     cell_quality_t(kind, corners, corners_len, dim, out)
 }
 
@@ -558,6 +556,17 @@ pub unsafe extern "C" fn dk_quality_cell_measures(
     out: *mut f64,
     out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (cell_offsets, cell_nodes, cell_kinds, points, out) = unsafe {
+        (
+            In::new(cell_offsets, cell_offsets_len),
+            In::new(cell_nodes, cell_nodes_len),
+            In::new(cell_kinds, cell_kinds_len),
+            In::new(points, points_len),
+            Out::new(out, out_len),
+        )
+    };
     let cells = CellArgs {
         offsets: cell_offsets,
         offsets_len: cell_offsets_len,
@@ -589,6 +598,17 @@ pub unsafe extern "C" fn dk_quality_cell_measures_f32(
     out: *mut f32,
     out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (cell_offsets, cell_nodes, cell_kinds, points, out) = unsafe {
+        (
+            In::new(cell_offsets, cell_offsets_len),
+            In::new(cell_nodes, cell_nodes_len),
+            In::new(cell_kinds, cell_kinds_len),
+            In::new(points, points_len),
+            Out::new(out, out_len),
+        )
+    };
     let cells = CellArgs {
         offsets: cell_offsets,
         offsets_len: cell_offsets_len,
@@ -623,6 +643,17 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians(
     out: *mut f64,
     out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (cell_offsets, cell_nodes, cell_kinds, points, out) = unsafe {
+        (
+            In::new(cell_offsets, cell_offsets_len),
+            In::new(cell_nodes, cell_nodes_len),
+            In::new(cell_kinds, cell_kinds_len),
+            In::new(points, points_len),
+            Out::new(out, out_len),
+        )
+    };
     let cells = CellArgs {
         offsets: cell_offsets,
         offsets_len: cell_offsets_len,
@@ -655,6 +686,17 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians_f32(
     out: *mut f32,
     out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (cell_offsets, cell_nodes, cell_kinds, points, out) = unsafe {
+        (
+            In::new(cell_offsets, cell_offsets_len),
+            In::new(cell_nodes, cell_nodes_len),
+            In::new(cell_kinds, cell_kinds_len),
+            In::new(points, points_len),
+            Out::new(out, out_len),
+        )
+    };
     let cells = CellArgs {
         offsets: cell_offsets,
         offsets_len: cell_offsets_len,
@@ -690,6 +732,18 @@ pub unsafe extern "C" fn dk_quality_inverted_cells(
     dim: u32,
     count_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (cell_offsets, cell_nodes, cell_kinds, undeformed, deformed, count_out) = unsafe {
+        (
+            In::new(cell_offsets, cell_offsets_len),
+            In::new(cell_nodes, cell_nodes_len),
+            In::new(cell_kinds, cell_kinds_len),
+            In::new(undeformed, undeformed_len),
+            In::new(deformed, deformed_len),
+            Out::new(count_out, 1),
+        )
+    };
     let cells = CellArgs {
         offsets: cell_offsets,
         offsets_len: cell_offsets_len,
@@ -730,6 +784,18 @@ pub unsafe extern "C" fn dk_quality_inverted_cells_f32(
     dim: u32,
     count_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (cell_offsets, cell_nodes, cell_kinds, undeformed, deformed, count_out) = unsafe {
+        (
+            In::new(cell_offsets, cell_offsets_len),
+            In::new(cell_nodes, cell_nodes_len),
+            In::new(cell_kinds, cell_kinds_len),
+            In::new(undeformed, undeformed_len),
+            In::new(deformed, deformed_len),
+            Out::new(count_out, 1),
+        )
+    };
     let cells = CellArgs {
         offsets: cell_offsets,
         offsets_len: cell_offsets_len,
@@ -771,6 +837,17 @@ pub unsafe extern "C" fn dk_quality_folded_cells(
     dim: u32,
     count_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (cell_offsets, cell_nodes, cell_kinds, points, count_out) = unsafe {
+        (
+            In::new(cell_offsets, cell_offsets_len),
+            In::new(cell_nodes, cell_nodes_len),
+            In::new(cell_kinds, cell_kinds_len),
+            In::new(points, points_len),
+            Out::new(count_out, 1),
+        )
+    };
     let cells = CellArgs {
         offsets: cell_offsets,
         offsets_len: cell_offsets_len,
@@ -801,6 +878,17 @@ pub unsafe extern "C" fn dk_quality_folded_cells_f32(
     dim: u32,
     count_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (cell_offsets, cell_nodes, cell_kinds, points, count_out) = unsafe {
+        (
+            In::new(cell_offsets, cell_offsets_len),
+            In::new(cell_nodes, cell_nodes_len),
+            In::new(cell_kinds, cell_kinds_len),
+            In::new(points, points_len),
+            Out::new(count_out, 1),
+        )
+    };
     let cells = CellArgs {
         offsets: cell_offsets,
         offsets_len: cell_offsets_len,
@@ -824,6 +912,9 @@ pub unsafe extern "C" fn dk_quality_wall_angle_scratch_len(
     dim: u32,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let len_out = unsafe { Out::new(len_out, 1) };
     done((|| {
         if !(2..=3).contains(&dim) {
             return Err(dk_status::DK_ERR_INVALID_PARAMETER);
@@ -881,6 +972,37 @@ pub unsafe extern "C" fn dk_quality_compare(
     scratch_len: usize,
     report: *mut dk_quality_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (
+        cell_offsets,
+        cell_nodes,
+        cell_kinds,
+        wall_offsets,
+        wall_nodes,
+        wall_kinds,
+        graph_offsets,
+        graph_targets,
+        undeformed,
+        deformed,
+        scratch,
+        report,
+    ) = unsafe {
+        (
+            In::new(cell_offsets, cell_offsets_len),
+            In::new(cell_nodes, cell_nodes_len),
+            In::new(cell_kinds, cell_kinds_len),
+            In::new(wall_offsets, wall_offsets_len),
+            In::new(wall_nodes, wall_nodes_len),
+            In::new(wall_kinds, wall_kinds_len),
+            In::new(graph_offsets, graph_offsets_len),
+            In::new(graph_targets, graph_targets_len),
+            In::new(undeformed, undeformed_len),
+            In::new(deformed, deformed_len),
+            Out::new(scratch, scratch_len),
+            Out::new(report, 1),
+        )
+    };
     let cells = CellArgs {
         offsets: cell_offsets,
         offsets_len: cell_offsets_len,
@@ -951,6 +1073,37 @@ pub unsafe extern "C" fn dk_quality_compare_f32(
     scratch_len: usize,
     report: *mut dk_quality_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (
+        cell_offsets,
+        cell_nodes,
+        cell_kinds,
+        wall_offsets,
+        wall_nodes,
+        wall_kinds,
+        graph_offsets,
+        graph_targets,
+        undeformed,
+        deformed,
+        scratch,
+        report,
+    ) = unsafe {
+        (
+            In::new(cell_offsets, cell_offsets_len),
+            In::new(cell_nodes, cell_nodes_len),
+            In::new(cell_kinds, cell_kinds_len),
+            In::new(wall_offsets, wall_offsets_len),
+            In::new(wall_nodes, wall_nodes_len),
+            In::new(wall_kinds, wall_kinds_len),
+            In::new(graph_offsets, graph_offsets_len),
+            In::new(graph_targets, graph_targets_len),
+            In::new(undeformed, undeformed_len),
+            In::new(deformed, deformed_len),
+            Out::new(scratch, scratch_len),
+            Out::new(report, 1),
+        )
+    };
     let cells = CellArgs {
         offsets: cell_offsets,
         offsets_len: cell_offsets_len,
@@ -1025,6 +1178,31 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change(
     scratch_len: usize,
     out: *mut dk_wall_angle_change,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (
+        wall_offsets,
+        wall_nodes,
+        wall_kinds,
+        graph_offsets,
+        graph_targets,
+        undeformed,
+        deformed,
+        scratch,
+        out,
+    ) = unsafe {
+        (
+            In::new(wall_offsets, wall_offsets_len),
+            In::new(wall_nodes, wall_nodes_len),
+            In::new(wall_kinds, wall_kinds_len),
+            In::new(graph_offsets, graph_offsets_len),
+            In::new(graph_targets, graph_targets_len),
+            In::new(undeformed, undeformed_len),
+            In::new(deformed, deformed_len),
+            Out::new(scratch, scratch_len),
+            Out::new(out, 1),
+        )
+    };
     let wall = WallArgs {
         elements: CellArgs {
             offsets: wall_offsets,
@@ -1079,6 +1257,31 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change_f32(
     scratch_len: usize,
     out: *mut dk_wall_angle_change,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (
+        wall_offsets,
+        wall_nodes,
+        wall_kinds,
+        graph_offsets,
+        graph_targets,
+        undeformed,
+        deformed,
+        scratch,
+        out,
+    ) = unsafe {
+        (
+            In::new(wall_offsets, wall_offsets_len),
+            In::new(wall_nodes, wall_nodes_len),
+            In::new(wall_kinds, wall_kinds_len),
+            In::new(graph_offsets, graph_offsets_len),
+            In::new(graph_targets, graph_targets_len),
+            In::new(undeformed, undeformed_len),
+            In::new(deformed, deformed_len),
+            Out::new(scratch, scratch_len),
+            Out::new(out, 1),
+        )
+    };
     let wall = WallArgs {
         elements: CellArgs {
             offsets: wall_offsets,

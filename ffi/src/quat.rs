@@ -7,14 +7,14 @@
 use deform_kernel::{Quat, QuatAverage, Real};
 
 use crate::args::{done, optional, read_array, write_array};
-use crate::slice::{input, out_one, output};
+use crate::slice::{input, out_one, output, In, Out};
 use crate::status::dk_status;
 
-fn read4<T: Real>(p: *const T) -> Result<Quat<T>, dk_status> {
+fn read4<T: Real>(p: In<'_, T>) -> Result<Quat<T>, dk_status> {
     read_array::<T, 4>(p, 4).map(Quat::from_array)
 }
 
-fn read3<T: Real>(p: *const T) -> Result<[T; 3], dk_status> {
+fn read3<T: Real>(p: In<'_, T>) -> Result<[T; 3], dk_status> {
     read_array::<T, 3>(p, 3)
 }
 
@@ -26,43 +26,41 @@ fn finite_quat<T: Real>(q: Quat<T>) -> Result<Quat<T>, dk_status> {
     }
 }
 
-fn mul<T: Real>(a: *const T, b: *const T, out: *mut T) -> dk_status {
+fn mul<T: Real>(a: In<'_, T>, b: In<'_, T>, out: Out<'_, T>) -> dk_status {
     done((|| {
         let q = finite_quat(read4(a)?)? * finite_quat(read4(b)?)?;
         write_array(out, q.to_array())
     })())
 }
 
-fn normalize<T: Real>(q: *const T, out: *mut T) -> dk_status {
+fn normalize<T: Real>(q: In<'_, T>, out: Out<'_, T>) -> dk_status {
     done((|| {
         let n = read4(q)?.normalize()?;
         write_array(out, n.to_array())
     })())
 }
 
-fn inverse<T: Real>(q: *const T, out: *mut T) -> dk_status {
+fn inverse<T: Real>(q: In<'_, T>, out: Out<'_, T>) -> dk_status {
     done((|| {
         let n = read4(q)?.inverse()?;
         write_array(out, n.to_array())
     })())
 }
 
-fn from_axis_angle<T: Real>(axis: *const T, angle: T, out: *mut T) -> dk_status {
+fn from_axis_angle<T: Real>(axis: In<'_, T>, angle: T, out: Out<'_, T>) -> dk_status {
     done((|| {
         let q = Quat::from_axis_angle(read3(axis)?, angle)?;
         write_array(out, q.to_array())
     })())
 }
 
-fn to_axis_angle<T: Real>(q: *const T, axis_out: *mut T, angle_out: *mut T) -> dk_status {
+fn to_axis_angle<T: Real>(q: In<'_, T>, axis_out: Out<'_, T>, angle_out: Out<'_, T>) -> dk_status {
     done((|| {
         let q = read4(q)?.normalize()?;
         let (axis, angle) = q.to_axis_angle();
         // Check both outputs before writing either.
-        // SAFETY: the contract requires one writable scalar at `angle_out`.
-        let angle_slot = unsafe { out_one(angle_out) }?;
-        // SAFETY: the contract requires 3 writable scalars at `axis_out`.
-        let axis_slot = unsafe { output(axis_out, 3) }?;
+        let angle_slot = out_one(angle_out)?;
+        let axis_slot = output(axis_out, 3)?;
         for (d, x) in axis_slot.iter_mut().zip(axis) {
             *d = x;
         }
@@ -71,7 +69,7 @@ fn to_axis_angle<T: Real>(q: *const T, axis_out: *mut T, angle_out: *mut T) -> d
     })())
 }
 
-fn rotation_arc<T: Real>(from: *const T, to: *const T, out: *mut T) -> dk_status {
+fn rotation_arc<T: Real>(from: In<'_, T>, to: In<'_, T>, out: Out<'_, T>) -> dk_status {
     done((|| {
         let q = Quat::rotation_arc(read3(from)?, read3(to)?)?;
         write_array(out, q.to_array())
@@ -79,16 +77,15 @@ fn rotation_arc<T: Real>(from: *const T, to: *const T, out: *mut T) -> dk_status
 }
 
 fn rotate_points<T: Real>(
-    q: *const T,
-    points: *const T,
+    q: In<'_, T>,
+    points: In<'_, T>,
     points_len: usize,
-    out: *mut T,
+    out: Out<'_, T>,
     out_len: usize,
 ) -> dk_status {
     done((|| {
         let q = read4(q)?.normalize()?;
-        // SAFETY: contract: `points_len` readable scalars at `points`.
-        let p = unsafe { input(points, points_len) }?;
+        let p = input(points, points_len)?;
         if points_len % 3 != 0 {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
@@ -98,8 +95,7 @@ fn rotate_points<T: Real>(
         if p.iter().any(|x| !x.is_finite()) {
             return Err(dk_status::DK_ERR_NON_FINITE);
         }
-        // SAFETY: contract: `out_len` writable scalars at `out`, not overlapping `points`.
-        let o = unsafe { output(out, out_len) }?;
+        let o = output(out, out_len)?;
         for (src, dst) in p.chunks_exact(3).zip(o.chunks_exact_mut(3)) {
             if let ([x, y, z], [a, b, c]) = (src, dst) {
                 let r = q.rotate([*x, *y, *z]);
@@ -112,7 +108,13 @@ fn rotate_points<T: Real>(
     })())
 }
 
-fn interpolate<T: Real>(a: *const T, b: *const T, t: T, out: *mut T, spherical: bool) -> dk_status {
+fn interpolate<T: Real>(
+    a: In<'_, T>,
+    b: In<'_, T>,
+    t: T,
+    out: Out<'_, T>,
+    spherical: bool,
+) -> dk_status {
     done((|| {
         let a = finite_quat(read4(a)?)?;
         let b = finite_quat(read4(b)?)?;
@@ -129,15 +131,14 @@ fn interpolate<T: Real>(a: *const T, b: *const T, t: T, out: *mut T, spherical: 
 }
 
 fn average<T: Real>(
-    quats: *const T,
+    quats: In<'_, T>,
     quats_len: usize,
-    weights: *const T,
+    weights: In<'_, T>,
     weights_len: usize,
-    out: *mut T,
+    out: Out<'_, T>,
 ) -> dk_status {
     done((|| {
-        // SAFETY: contract: `quats_len` readable scalars at `quats`.
-        let qs = unsafe { input(quats, quats_len) }?;
+        let qs = input(quats, quats_len)?;
         if quats_len % 4 != 0 {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
@@ -169,6 +170,9 @@ fn average<T: Real>(
 /// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars (or NULL: error).
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_mul(a: *const f64, b: *const f64, out: *mut f64) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (a, b, out) = unsafe { (In::new(a, 4), In::new(b, 4), Out::new(out, 4)) };
     mul(a, b, out)
 }
 
@@ -178,6 +182,9 @@ pub unsafe extern "C" fn dk_quat_mul(a: *const f64, b: *const f64, out: *mut f64
 /// `q` points to 4 readable scalars, `out` to 4 writable scalars.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_normalize(q: *const f64, out: *mut f64) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (q, out) = unsafe { (In::new(q, 4), Out::new(out, 4)) };
     normalize(q, out)
 }
 
@@ -187,6 +194,9 @@ pub unsafe extern "C" fn dk_quat_normalize(q: *const f64, out: *mut f64) -> dk_s
 /// `q` points to 4 readable scalars, `out` to 4 writable scalars.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_inverse(q: *const f64, out: *mut f64) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (q, out) = unsafe { (In::new(q, 4), Out::new(out, 4)) };
     inverse(q, out)
 }
 
@@ -200,6 +210,9 @@ pub unsafe extern "C" fn dk_quat_from_axis_angle(
     angle: f64,
     out: *mut f64,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (axis, out) = unsafe { (In::new(axis, 3), Out::new(out, 4)) };
     from_axis_angle(axis, angle, out)
 }
 
@@ -213,6 +226,10 @@ pub unsafe extern "C" fn dk_quat_to_axis_angle(
     axis_out: *mut f64,
     angle_out: *mut f64,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (q, axis_out, angle_out) =
+        unsafe { (In::new(q, 4), Out::new(axis_out, 3), Out::new(angle_out, 1)) };
     to_axis_angle(q, axis_out, angle_out)
 }
 
@@ -226,6 +243,9 @@ pub unsafe extern "C" fn dk_quat_rotation_arc(
     to: *const f64,
     out: *mut f64,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (from, to, out) = unsafe { (In::new(from, 3), In::new(to, 3), Out::new(out, 4)) };
     rotation_arc(from, to, out)
 }
 
@@ -243,6 +263,15 @@ pub unsafe extern "C" fn dk_quat_rotate_points(
     out: *mut f64,
     out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (q, points, out) = unsafe {
+        (
+            In::new(q, 4),
+            In::new(points, points_len),
+            Out::new(out, out_len),
+        )
+    };
     rotate_points(q, points, points_len, out, out_len)
 }
 
@@ -257,6 +286,9 @@ pub unsafe extern "C" fn dk_quat_slerp(
     t: f64,
     out: *mut f64,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (a, b, out) = unsafe { (In::new(a, 4), In::new(b, 4), Out::new(out, 4)) };
     interpolate(a, b, t, out, true)
 }
 
@@ -271,6 +303,9 @@ pub unsafe extern "C" fn dk_quat_nlerp(
     t: f64,
     out: *mut f64,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (a, b, out) = unsafe { (In::new(a, 4), In::new(b, 4), Out::new(out, 4)) };
     interpolate(a, b, t, out, false)
 }
 
@@ -289,6 +324,15 @@ pub unsafe extern "C" fn dk_quat_average(
     weights_len: usize,
     out: *mut f64,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (quats, weights, out) = unsafe {
+        (
+            In::new(quats, quats_len),
+            In::new(weights, weights_len),
+            Out::new(out, 4),
+        )
+    };
     average(quats, quats_len, weights, weights_len, out)
 }
 
@@ -298,6 +342,9 @@ pub unsafe extern "C" fn dk_quat_average(
 /// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars (or NULL: error).
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_mul_f32(a: *const f32, b: *const f32, out: *mut f32) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (a, b, out) = unsafe { (In::new(a, 4), In::new(b, 4), Out::new(out, 4)) };
     mul(a, b, out)
 }
 
@@ -307,6 +354,9 @@ pub unsafe extern "C" fn dk_quat_mul_f32(a: *const f32, b: *const f32, out: *mut
 /// `q` points to 4 readable scalars, `out` to 4 writable scalars.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_normalize_f32(q: *const f32, out: *mut f32) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (q, out) = unsafe { (In::new(q, 4), Out::new(out, 4)) };
     normalize(q, out)
 }
 
@@ -316,6 +366,9 @@ pub unsafe extern "C" fn dk_quat_normalize_f32(q: *const f32, out: *mut f32) -> 
 /// `q` points to 4 readable scalars, `out` to 4 writable scalars.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_inverse_f32(q: *const f32, out: *mut f32) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (q, out) = unsafe { (In::new(q, 4), Out::new(out, 4)) };
     inverse(q, out)
 }
 
@@ -329,6 +382,9 @@ pub unsafe extern "C" fn dk_quat_from_axis_angle_f32(
     angle: f32,
     out: *mut f32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (axis, out) = unsafe { (In::new(axis, 3), Out::new(out, 4)) };
     from_axis_angle(axis, angle, out)
 }
 
@@ -342,6 +398,10 @@ pub unsafe extern "C" fn dk_quat_to_axis_angle_f32(
     axis_out: *mut f32,
     angle_out: *mut f32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (q, axis_out, angle_out) =
+        unsafe { (In::new(q, 4), Out::new(axis_out, 3), Out::new(angle_out, 1)) };
     to_axis_angle(q, axis_out, angle_out)
 }
 
@@ -355,6 +415,9 @@ pub unsafe extern "C" fn dk_quat_rotation_arc_f32(
     to: *const f32,
     out: *mut f32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (from, to, out) = unsafe { (In::new(from, 3), In::new(to, 3), Out::new(out, 4)) };
     rotation_arc(from, to, out)
 }
 
@@ -371,6 +434,15 @@ pub unsafe extern "C" fn dk_quat_rotate_points_f32(
     out: *mut f32,
     out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (q, points, out) = unsafe {
+        (
+            In::new(q, 4),
+            In::new(points, points_len),
+            Out::new(out, out_len),
+        )
+    };
     rotate_points(q, points, points_len, out, out_len)
 }
 
@@ -385,6 +457,9 @@ pub unsafe extern "C" fn dk_quat_slerp_f32(
     t: f32,
     out: *mut f32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (a, b, out) = unsafe { (In::new(a, 4), In::new(b, 4), Out::new(out, 4)) };
     interpolate(a, b, t, out, true)
 }
 
@@ -399,6 +474,9 @@ pub unsafe extern "C" fn dk_quat_nlerp_f32(
     t: f32,
     out: *mut f32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (a, b, out) = unsafe { (In::new(a, 4), In::new(b, 4), Out::new(out, 4)) };
     interpolate(a, b, t, out, false)
 }
 
@@ -415,5 +493,14 @@ pub unsafe extern "C" fn dk_quat_average_f32(
     weights_len: usize,
     out: *mut f32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (quats, weights, out) = unsafe {
+        (
+            In::new(quats, quats_len),
+            In::new(weights, weights_len),
+            Out::new(out, 4),
+        )
+    };
     average(quats, quats_len, weights, weights_len, out)
 }

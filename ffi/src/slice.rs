@@ -1,53 +1,136 @@
-//! The crate's only `unsafe`: turning a C pointer and a length into a Rust slice.
+//! The crate's only pointer dereferences: turning a caller's pointer and length into a Rust
+//! slice.
+//!
+//! An `extern "C"` function wraps each pointer it receives, with the length its contract
+//! promises, in an [`In`] (read) or [`Out`] (write) token; that construction is `unsafe` and
+//! carries the `// SAFETY:` note, at the ABI boundary and nowhere else. Everything below takes
+//! tokens and is safe: the functions here check NULL, alignment and that no more than the
+//! promised length is borrowed, so no safe code can read or write outside what the caller
+//! promised. An [`Out`] is not `Copy` and each borrow consumes it, so it yields at most one
+//! `&mut` slice.
 #![allow(unsafe_code)]
+
+use core::marker::PhantomData;
 
 use deform_kernel::{Quat, Real};
 
 use crate::status::dk_status;
 
-/// Borrows `len` elements at `ptr` as a shared slice. A NULL pointer is an error unless `len`
-/// is 0 (then an empty slice is returned whatever the pointer).
-///
-/// # Safety
-/// If `ptr` is non-NULL and `len > 0`, `ptr` must point to `len` initialised, properly aligned
-/// elements that stay valid and are not written through another pointer for `'a`.
-pub(crate) unsafe fn input<'a, T>(ptr: *const T, len: usize) -> Result<&'a [T], dk_status> {
+/// A caller's input buffer: a pointer and the number of elements the caller promised are
+/// readable there for `'a` (see [`In::new`]).
+pub(crate) struct In<'a, T> {
+    ptr: *const T,
+    cap: usize,
+    life: PhantomData<&'a [T]>,
+}
+
+impl<T> Clone for In<'_, T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<T> Copy for In<'_, T> {}
+
+impl<'a, T> In<'a, T> {
+    /// Wraps an input pointer.
+    ///
+    /// # Safety
+    /// `ptr` is NULL, or points to `cap` initialised elements (properly aligned, or the token
+    /// reports NULL) that stay valid and are not written through another pointer while any
+    /// slice borrowed from this token lives (at most `'a`). An output the function's contract
+    /// allows to alias this input is written only after the input was copied.
+    pub(crate) unsafe fn new(ptr: *const T, cap: usize) -> Self {
+        In {
+            ptr,
+            cap,
+            life: PhantomData,
+        }
+    }
+
+    /// Whether the caller passed NULL.
+    pub(crate) fn is_null(&self) -> bool {
+        self.ptr.is_null()
+    }
+}
+
+/// A caller's output buffer: a pointer and the number of elements the caller promised are
+/// writable there, exclusively, for `'a` (see [`Out::new`]).
+pub(crate) struct Out<'a, T> {
+    ptr: *mut T,
+    cap: usize,
+    life: PhantomData<&'a mut [T]>,
+}
+
+impl<'a, T> Out<'a, T> {
+    /// Wraps an output pointer.
+    ///
+    /// # Safety
+    /// `ptr` is NULL, or points to `cap` elements (properly aligned, or the token reports
+    /// NULL) valid for reads and writes and not accessed through any other pointer while the
+    /// slice borrowed from this token lives (at most `'a`), except inputs the function's
+    /// contract allows to alias it, which are read before it is written.
+    pub(crate) unsafe fn new(ptr: *mut T, cap: usize) -> Self {
+        Out {
+            ptr,
+            cap,
+            life: PhantomData,
+        }
+    }
+
+    /// A NULL token (no buffer).
+    pub(crate) fn null() -> Self {
+        Out {
+            ptr: core::ptr::null_mut(),
+            cap: 0,
+            life: PhantomData,
+        }
+    }
+
+    /// Whether two output tokens name the same address.
+    pub(crate) fn same_address<U>(&self, other: &Out<'_, U>) -> bool {
+        core::ptr::eq(self.ptr.cast::<u8>(), other.ptr.cast::<u8>())
+    }
+}
+
+/// NULL (unless `len` is 0), misalignment and a length beyond the promised one are errors.
+fn check<T>(ptr: *const T, cap: usize, len: usize) -> Result<(), dk_status> {
+    if ptr.is_null() || !ptr.is_aligned() {
+        return Err(dk_status::DK_ERR_NULL_POINTER);
+    }
+    if len > cap {
+        return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+    }
+    Ok(())
+}
+
+/// Borrows the first `len` elements of `p` as a shared slice. A NULL pointer is an error
+/// unless `len` is 0 (then an empty slice is returned whatever the pointer).
+pub(crate) fn input<T>(p: In<'_, T>, len: usize) -> Result<&[T], dk_status> {
     if len == 0 {
         return Ok(&[]);
     }
-    if ptr.is_null() || !ptr.is_aligned() {
-        return Err(dk_status::DK_ERR_NULL_POINTER);
-    }
-    // SAFETY: non-NULL and aligned (checked above); validity for `len` elements and the
-    // absence of concurrent writes are the caller's contract, documented on every `dk_*`
-    // function that takes this buffer.
-    Ok(unsafe { core::slice::from_raw_parts(ptr, len) })
+    check(p.ptr, p.cap, len)?;
+    // SAFETY: non-NULL, aligned and `len <= cap` (checked above); by the contract of
+    // `In::new`, `cap` initialised elements are readable and unaliased by writes for `'a`.
+    Ok(unsafe { core::slice::from_raw_parts(p.ptr, len) })
 }
 
-/// Borrows `len` elements at `ptr` as a mutable slice; NULL is an error unless `len` is 0.
-///
-/// # Safety
-/// If `ptr` is non-NULL and `len > 0`, `ptr` must point to `len` properly aligned elements,
-/// valid for reads and writes and not accessed through any other pointer for `'a`.
-pub(crate) unsafe fn output<'a, T>(ptr: *mut T, len: usize) -> Result<&'a mut [T], dk_status> {
+/// Borrows the first `len` elements of `p` as a mutable slice; NULL is an error unless `len`
+/// is 0. Consumes the token, so this is the only slice of it.
+pub(crate) fn output<T>(p: Out<'_, T>, len: usize) -> Result<&mut [T], dk_status> {
     if len == 0 {
         return Ok(&mut []);
     }
-    if ptr.is_null() || !ptr.is_aligned() {
-        return Err(dk_status::DK_ERR_NULL_POINTER);
-    }
-    // SAFETY: non-NULL and aligned (checked above); exclusivity and validity for `len`
-    // elements are the caller's contract, documented on every `dk_*` function.
-    Ok(unsafe { core::slice::from_raw_parts_mut(ptr, len) })
+    check(p.ptr, p.cap, len)?;
+    // SAFETY: non-NULL, aligned and `len <= cap` (checked above); by the contract of
+    // `Out::new`, `cap` elements are writable and not accessed otherwise for `'a`, and the
+    // token is consumed, so no second slice of it exists.
+    Ok(unsafe { core::slice::from_raw_parts_mut(p.ptr, len) })
 }
 
 /// Borrows a single value (NULL is an error).
-///
-/// # Safety
-/// `ptr` must be NULL or point to a valid, aligned, exclusively accessible `T`.
-pub(crate) unsafe fn out_one<'a, T>(ptr: *mut T) -> Result<&'a mut T, dk_status> {
-    // SAFETY: forwarded contract; a one-element slice of `ptr`.
-    let s = unsafe { output(ptr, 1) }?;
+pub(crate) fn out_one<T>(p: Out<'_, T>) -> Result<&mut T, dk_status> {
+    let s = output(p, 1)?;
     s.first_mut().ok_or(dk_status::DK_ERR_NULL_POINTER)
 }
 
@@ -55,71 +138,41 @@ pub(crate) unsafe fn out_one<'a, T>(ptr: *mut T) -> Result<&'a mut T, dk_status>
 /// coordinates, values with `D` components). `len` must be a multiple of `D` (else
 /// `DK_ERR_LENGTH_MISMATCH`); NULL is an error unless `len` is 0. [`chunks_mut`] is the
 /// mutable twin.
-///
-/// # Safety
-/// As [`input`].
-pub(crate) unsafe fn chunks<'a, T, const D: usize>(
-    ptr: *const T,
-    len: usize,
-) -> Result<&'a [[T; D]], dk_status> {
-    // SAFETY: forwarded contract.
-    let flat: &'a [T] = unsafe { input(ptr, len) }?;
+pub(crate) fn chunks<T, const D: usize>(p: In<'_, T>, len: usize) -> Result<&[[T; D]], dk_status> {
+    let flat = input(p, len)?;
     if D == 0 || len % D != 0 {
         return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
     }
-    // SAFETY: `[T; D]` has the size of `D` values `T` and the alignment of `T`, with no
-    // padding, so `len / D` arrays occupy exactly the `len` initialised, aligned values of
-    // `flat`, which stay borrowed (shared) for `'a`.
-    Ok(unsafe { core::slice::from_raw_parts(flat.as_ptr().cast::<[T; D]>(), len / D) })
+    Ok(flat.as_chunks::<D>().0)
 }
 
 /// Mutable twin of [`chunks`].
-///
-/// # Safety
-/// As [`output`].
-pub(crate) unsafe fn chunks_mut<'a, T, const D: usize>(
-    ptr: *mut T,
+pub(crate) fn chunks_mut<T, const D: usize>(
+    p: Out<'_, T>,
     len: usize,
-) -> Result<&'a mut [[T; D]], dk_status> {
-    // SAFETY: forwarded contract.
-    let flat: &'a mut [T] = unsafe { output(ptr, len) }?;
+) -> Result<&mut [[T; D]], dk_status> {
+    let flat = output(p, len)?;
     if D == 0 || len % D != 0 {
         return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
     }
-    // SAFETY: as in `chunks`; the exclusive borrow of `flat` moves into the returned slice,
-    // so no other reference to these values exists for `'a`.
-    Ok(unsafe { core::slice::from_raw_parts_mut(flat.as_mut_ptr().cast::<[T; D]>(), len / D) })
+    Ok(flat.as_chunks_mut::<D>().0)
 }
 
 /// Reinterprets a flat buffer of `len` scalars as `len / 4` quaternions (scalar first, the
 /// layout of the kernel's `#[repr(C)]` [`Quat`]). `len` must be a multiple of 4 (else
 /// `DK_ERR_LENGTH_MISMATCH`); NULL is an error unless `len` is 0. [`quats_mut`] is the mutable
 /// twin.
-///
-/// # Safety
-/// As [`input`].
-pub(crate) unsafe fn quats<'a, T: Real>(
-    ptr: *const T,
-    len: usize,
-) -> Result<&'a [Quat<T>], dk_status> {
-    // SAFETY: forwarded contract.
-    let flat: &'a [[T; 4]] = unsafe { chunks::<T, 4>(ptr, len) }?;
+pub(crate) fn quats<T: Real>(p: In<'_, T>, len: usize) -> Result<&[Quat<T>], dk_status> {
+    let flat: &[[T; 4]] = chunks::<T, 4>(p, len)?;
     // SAFETY: `Quat<T>` is `#[repr(C)]` with exactly four fields of type `T` (asserted for
     // both scalar types below), so it has the size and alignment of `[T; 4]` and every bit
-    // pattern of four `T` is a valid `Quat<T>`; the shared borrow carries over for `'a`.
+    // pattern of four `T` is a valid `Quat<T>`; the shared borrow carries over.
     Ok(unsafe { core::slice::from_raw_parts(flat.as_ptr().cast::<Quat<T>>(), flat.len()) })
 }
 
 /// Mutable twin of [`quats`].
-///
-/// # Safety
-/// As [`output`].
-pub(crate) unsafe fn quats_mut<'a, T: Real>(
-    ptr: *mut T,
-    len: usize,
-) -> Result<&'a mut [Quat<T>], dk_status> {
-    // SAFETY: forwarded contract.
-    let flat: &'a mut [[T; 4]] = unsafe { chunks_mut::<T, 4>(ptr, len) }?;
+pub(crate) fn quats_mut<T: Real>(p: Out<'_, T>, len: usize) -> Result<&mut [Quat<T>], dk_status> {
+    let flat: &mut [[T; 4]] = chunks_mut::<T, 4>(p, len)?;
     // SAFETY: as in `quats`; the exclusive borrow of `flat` moves into the returned slice.
     Ok(unsafe { core::slice::from_raw_parts_mut(flat.as_mut_ptr().cast::<Quat<T>>(), flat.len()) })
 }

@@ -33,7 +33,7 @@ use crate::args::{
     assert_layout, by_components, by_dim, done, graph, mul_len, range, read_one, read_points,
     write_len, write_one,
 };
-use crate::slice::{chunks, chunks_mut, input, out_one, output};
+use crate::slice::{chunks, chunks_mut, input, out_one, output, In, Out};
 use crate::status::dk_status;
 
 // ---------------------------------------------------------------------------------------------
@@ -239,35 +239,31 @@ impl dk_spring_sweep {
 // ---------------------------------------------------------------------------------------------
 
 /// The arguments that describe a spring system.
-struct SysArgs<T> {
-    offsets: *const u32,
+struct SysArgs<'a, T> {
+    offsets: In<'a, u32>,
     offsets_len: usize,
-    targets: *const u32,
+    targets: In<'a, u32>,
     targets_len: usize,
-    stiffness: *const T,
+    stiffness: In<'a, T>,
     stiffness_len: usize,
-    fixed: *const u8,
+    fixed: In<'a, u8>,
     fixed_len: usize,
-    index_scratch: *mut u32,
+    index_scratch: Out<'a, u32>,
     index_scratch_len: usize,
 }
 
-impl<T: Real> SysArgs<T> {
+impl<'a, T: Real> SysArgs<'a, T> {
     /// Borrows and validates the system (writes only `index_scratch`).
-    fn build<'a>(&self) -> Result<SpringSystem<'a, T>, dk_status> {
+    fn build(self) -> Result<SpringSystem<'a, T>, dk_status> {
         let g = graph(
             self.offsets,
             self.offsets_len,
             self.targets,
             self.targets_len,
         )?;
-        // SAFETY: contract: `stiffness_len` readable scalars at `stiffness`.
-        let k = unsafe { input(self.stiffness, self.stiffness_len) }?;
-        // SAFETY: contract: `fixed_len` readable bytes at `fixed`.
-        let f = unsafe { input(self.fixed, self.fixed_len) }?;
-        // SAFETY: contract: `index_scratch_len` writable u32 at `index_scratch`, overlapping
-        // no other argument.
-        let s = unsafe { output(self.index_scratch, self.index_scratch_len) }?;
+        let k = input(self.stiffness, self.stiffness_len)?;
+        let f = input(self.fixed, self.fixed_len)?;
+        let s = output(self.index_scratch, self.index_scratch_len)?;
         SpringSystem::new(g, k, f, s).map_err(dk_status::from)
     }
 }
@@ -278,29 +274,28 @@ impl<T: Real> SysArgs<T> {
 
 fn batina_d<T: Real, const D: usize>(
     g: &deform_kernel::Graph<'_>,
-    points: *const T,
+    points: In<'_, T>,
     points_len: usize,
     exponent: T,
-    stiffness: *mut T,
+    stiffness: Out<'_, T>,
     stiffness_len: usize,
 ) -> Result<(), dk_status> {
     let p = read_points::<T, D>(points, points_len)?;
-    // SAFETY: contract: `stiffness_len` writable scalars at `stiffness`, not overlapping.
-    let k = unsafe { output(stiffness, stiffness_len) }?;
+    let k = output(stiffness, stiffness_len)?;
     batina_stiffness(g, p, exponent, k).map_err(dk_status::from)
 }
 
 #[allow(clippy::too_many_arguments)]
 fn batina_t<T: Real>(
-    offsets: *const u32,
+    offsets: In<'_, u32>,
     offsets_len: usize,
-    targets: *const u32,
+    targets: In<'_, u32>,
     targets_len: usize,
-    points: *const T,
+    points: In<'_, T>,
     points_len: usize,
     dim: u32,
     exponent: T,
-    stiffness: *mut T,
+    stiffness: Out<'_, T>,
     stiffness_len: usize,
 ) -> dk_status {
     done((|| {
@@ -313,7 +308,7 @@ fn batina_t<T: Real>(
     })())
 }
 
-fn solve_options_default<T: Real>(out: *mut dk_spring_solve_options) -> dk_status {
+fn solve_options_default<T: Real>(out: Out<'_, dk_spring_solve_options>) -> dk_status {
     let k = SolveOptions::<T>::default();
     let v = dk_spring_solve_options {
         max_iterations: k.max_iterations,
@@ -326,7 +321,7 @@ fn solve_options_default<T: Real>(out: *mut dk_spring_solve_options) -> dk_statu
     done(write_one(out, v))
 }
 
-fn angle_options_default<T: Real>(out: *mut dk_spring_angle_options) -> dk_status {
+fn angle_options_default<T: Real>(out: Out<'_, dk_spring_angle_options>) -> dk_status {
     let k = SolveOptions::<T>::default();
     let v = dk_spring_angle_options {
         max_iterations: k.max_iterations,
@@ -340,24 +335,21 @@ fn angle_options_default<T: Real>(out: *mut dk_spring_angle_options) -> dk_statu
 
 #[allow(clippy::too_many_arguments)]
 fn solve_linear_v<T: Real, const V: usize>(
-    sys: &SysArgs<T>,
+    sys: SysArgs<'_, T>,
     options: &dk_spring_solve_options,
-    values: *mut T,
+    values: Out<'_, T>,
     values_len: usize,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    report: *mut dk_spring_solve_report,
+    report: Out<'_, dk_spring_solve_report>,
 ) -> Result<(), dk_status> {
     let method = options.method::<T>()?;
     let stop = options.stopping::<T>();
-    // SAFETY: contract: `values_len` readable and writable scalars at `values`.
-    let v = unsafe { chunks_mut::<T, V>(values, values_len) }?;
+    let v = chunks_mut::<T, V>(values, values_len)?;
     // Only whole items of the scratch are used.
     let scratch_len = scratch_len - scratch_len % V;
-    // SAFETY: contract: `scratch_len` (or more) writable scalars at `scratch`, not overlapping.
-    let s = unsafe { chunks_mut::<T, V>(scratch, scratch_len) }?;
-    // SAFETY: contract: one writable report at `report`.
-    let r = unsafe { out_one(report) }?;
+    let s = chunks_mut::<T, V>(scratch, scratch_len)?;
+    let r = out_one(report)?;
     let system = sys.build()?;
     // The kernel validates before it writes, and CG works on a copy in the scratch: on any
     // error `values` is unchanged.
@@ -369,40 +361,37 @@ fn solve_linear_v<T: Real, const V: usize>(
 #[allow(clippy::too_many_arguments)]
 fn solve_linear_t<T: Real>(
     sys: SysArgs<T>,
-    options: *const dk_spring_solve_options,
+    options: In<'_, dk_spring_solve_options>,
     components: u32,
-    values: *mut T,
+    values: Out<'_, T>,
     values_len: usize,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    report: *mut dk_spring_solve_report,
+    report: Out<'_, dk_spring_solve_report>,
 ) -> dk_status {
     done((|| {
         let o = read_one(options)?;
         by_components!(
             components,
             solve_linear_v::<T>,
-            (&sys, &o, values, values_len, scratch, scratch_len, report)
+            (sys, &o, values, values_len, scratch, scratch_len, report)
         )
     })())
 }
 
 #[allow(clippy::too_many_arguments)]
 fn jacobi_sweep_v<T: Real, const V: usize>(
-    sys: &SysArgs<T>,
+    sys: SysArgs<'_, T>,
     nodes: [usize; 2],
-    src: *const T,
+    src: In<'_, T>,
     src_len: usize,
-    dst: *mut T,
+    dst: Out<'_, T>,
     dst_len: usize,
-    sweep: *mut dk_spring_sweep,
+    sweep: Out<'_, dk_spring_sweep>,
 ) -> Result<(), dk_status> {
-    // SAFETY: contract: `src_len` readable scalars at `src`.
-    let s = unsafe { chunks::<T, V>(src, src_len) }?;
-    // SAFETY: contract: `dst_len` writable scalars at `dst`, not overlapping any input.
-    let d = unsafe { chunks_mut::<T, V>(dst, dst_len) }?;
-    // SAFETY: contract: one writable struct at `sweep`.
-    let w = unsafe { out_one(sweep) }?;
+    let s = chunks::<T, V>(src, src_len)?;
+    let d = chunks_mut::<T, V>(dst, dst_len)?;
+    let w = out_one(sweep)?;
     let system = sys.build()?;
     let [a, b] = nodes;
     *w = dk_spring_sweep::of(jacobi_sweep(&system, a..b, s, d).map_err(dk_status::from)?);
@@ -416,34 +405,32 @@ fn jacobi_sweep_t<T: Real>(
     nodes_end: usize,
     index_base: u32,
     components: u32,
-    src: *const T,
+    src: In<'_, T>,
     src_len: usize,
-    dst: *mut T,
+    dst: Out<'_, T>,
     dst_len: usize,
-    sweep: *mut dk_spring_sweep,
+    sweep: Out<'_, dk_spring_sweep>,
 ) -> dk_status {
     done((|| {
         let nodes = range(nodes_start, nodes_end, index_base)?;
         by_components!(
             components,
             jacobi_sweep_v::<T>,
-            (&sys, nodes, src, src_len, dst, dst_len, sweep)
+            (sys, nodes, src, src_len, dst, dst_len, sweep)
         )
     })())
 }
 
 fn sor_sweep_v<T: Real, const V: usize>(
-    sys: &SysArgs<T>,
+    sys: SysArgs<'_, T>,
     nodes: [usize; 2],
     omega: T,
-    values: *mut T,
+    values: Out<'_, T>,
     values_len: usize,
-    sweep: *mut dk_spring_sweep,
+    sweep: Out<'_, dk_spring_sweep>,
 ) -> Result<(), dk_status> {
-    // SAFETY: contract: `values_len` readable and writable scalars at `values`.
-    let v = unsafe { chunks_mut::<T, V>(values, values_len) }?;
-    // SAFETY: contract: one writable struct at `sweep`.
-    let w = unsafe { out_one(sweep) }?;
+    let v = chunks_mut::<T, V>(values, values_len)?;
+    let w = out_one(sweep)?;
     let system = sys.build()?;
     let [a, b] = nodes;
     *w = dk_spring_sweep::of(sor_sweep(&system, a..b, v, omega).map_err(dk_status::from)?);
@@ -458,30 +445,28 @@ fn sor_sweep_t<T: Real>(
     index_base: u32,
     omega: T,
     components: u32,
-    values: *mut T,
+    values: Out<'_, T>,
     values_len: usize,
-    sweep: *mut dk_spring_sweep,
+    sweep: Out<'_, dk_spring_sweep>,
 ) -> dk_status {
     done((|| {
         let nodes = range(nodes_start, nodes_end, index_base)?;
         by_components!(
             components,
             sor_sweep_v::<T>,
-            (&sys, nodes, omega, values, values_len, sweep)
+            (sys, nodes, omega, values, values_len, sweep)
         )
     })())
 }
 
 fn relative_residual_v<T: Real, const V: usize>(
-    sys: &SysArgs<T>,
-    values: *const T,
+    sys: SysArgs<'_, T>,
+    values: In<'_, T>,
     values_len: usize,
-    residual_out: *mut T,
+    residual_out: Out<'_, T>,
 ) -> Result<(), dk_status> {
-    // SAFETY: contract: `values_len` readable scalars at `values`.
-    let v = unsafe { chunks::<T, V>(values, values_len) }?;
-    // SAFETY: contract: one writable scalar at `residual_out`.
-    let r = unsafe { out_one(residual_out) }?;
+    let v = chunks::<T, V>(values, values_len)?;
+    let r = out_one(residual_out)?;
     let system = sys.build()?;
     *r = relative_residual(&system, v).map_err(dk_status::from)?;
     Ok(())
@@ -490,14 +475,14 @@ fn relative_residual_v<T: Real, const V: usize>(
 fn relative_residual_t<T: Real>(
     sys: SysArgs<T>,
     components: u32,
-    values: *const T,
+    values: In<'_, T>,
     values_len: usize,
-    residual_out: *mut T,
+    residual_out: Out<'_, T>,
 ) -> dk_status {
     done(by_components!(
         components,
         relative_residual_v::<T>,
-        (&sys, values, values_len, residual_out)
+        (sys, values, values_len, residual_out)
     ))
 }
 
@@ -505,8 +490,8 @@ fn relative_residual_t<T: Real>(
 fn angle_scratch_scalars<T: Real>(
     node_count: usize,
     dim: u32,
-    options: *const dk_spring_angle_options,
-    len_out: *mut usize,
+    options: In<'_, dk_spring_angle_options>,
+    len_out: Out<'_, usize>,
 ) -> dk_status {
     done((|| {
         let o = read_one(options)?;
@@ -532,13 +517,13 @@ fn angle_scratch_scalars<T: Real>(
 }
 
 /// The angle system's arguments beyond the spring system.
-struct AngleArgs<T> {
-    points: *const T,
+struct AngleArgs<'a, T> {
+    points: In<'a, T>,
     points_len: usize,
 }
 
-impl<T: Real> AngleArgs<T> {
-    fn build<'a, const D: usize>(
+impl<'a, T: Real> AngleArgs<'a, T> {
+    fn build<const D: usize>(
         &self,
         base: SpringSystem<'a, T>,
         epsilon: T,
@@ -550,24 +535,21 @@ impl<T: Real> AngleArgs<T> {
 
 #[allow(clippy::too_many_arguments)]
 fn solve_angle_d<T: Real, const D: usize>(
-    sys: &SysArgs<T>,
+    sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
     options: &dk_spring_angle_options,
-    values: *mut T,
+    values: Out<'_, T>,
     values_len: usize,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    report: *mut dk_spring_solve_report,
+    report: Out<'_, dk_spring_solve_report>,
 ) -> Result<(), dk_status> {
     let method = options.method()?;
     let stop = options.stopping::<T>();
-    // SAFETY: contract: `values_len` readable and writable scalars at `values`.
-    let v = unsafe { chunks_mut::<T, D>(values, values_len) }?;
+    let v = chunks_mut::<T, D>(values, values_len)?;
     let scratch_len = scratch_len - scratch_len % D;
-    // SAFETY: contract: `scratch_len` (or more) writable scalars at `scratch`, not overlapping.
-    let s = unsafe { chunks_mut::<T, D>(scratch, scratch_len) }?;
-    // SAFETY: contract: one writable report at `report`.
-    let r = unsafe { out_one(report) }?;
+    let s = chunks_mut::<T, D>(scratch, scratch_len)?;
+    let r = out_one(report)?;
     let base = sys.build()?;
     let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
     // Values are written only after the probe and only by a successful solve.
@@ -581,12 +563,12 @@ fn solve_angle_t<T: Real>(
     sys: SysArgs<T>,
     pts: AngleArgs<T>,
     dim: u32,
-    options: *const dk_spring_angle_options,
-    values: *mut T,
+    options: In<'_, dk_spring_angle_options>,
+    values: Out<'_, T>,
     values_len: usize,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    report: *mut dk_spring_solve_report,
+    report: Out<'_, dk_spring_solve_report>,
 ) -> dk_status {
     done((|| {
         let o = read_one(options)?;
@@ -594,7 +576,7 @@ fn solve_angle_t<T: Real>(
             dim,
             solve_angle_d::<T>,
             (
-                &sys,
+                sys,
                 &pts,
                 &o,
                 values,
@@ -609,22 +591,19 @@ fn solve_angle_t<T: Real>(
 
 #[allow(clippy::too_many_arguments)]
 fn angle_jacobi_d<T: Real, const D: usize>(
-    sys: &SysArgs<T>,
+    sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
     epsilon: T,
     nodes: [usize; 2],
-    src: *const T,
+    src: In<'_, T>,
     src_len: usize,
-    dst: *mut T,
+    dst: Out<'_, T>,
     dst_len: usize,
-    sweep: *mut dk_spring_sweep,
+    sweep: Out<'_, dk_spring_sweep>,
 ) -> Result<(), dk_status> {
-    // SAFETY: contract: `src_len` readable scalars at `src`.
-    let s = unsafe { chunks::<T, D>(src, src_len) }?;
-    // SAFETY: contract: `dst_len` writable scalars at `dst`, not overlapping any input.
-    let d = unsafe { chunks_mut::<T, D>(dst, dst_len) }?;
-    // SAFETY: contract: one writable struct at `sweep`.
-    let w = unsafe { out_one(sweep) }?;
+    let s = chunks::<T, D>(src, src_len)?;
+    let d = chunks_mut::<T, D>(dst, dst_len)?;
+    let w = out_one(sweep)?;
     let system = pts.build::<D>(sys.build()?, epsilon)?;
     let [a, b] = nodes;
     *w = dk_spring_sweep::of(angle_jacobi_sweep(&system, a..b, s, d).map_err(dk_status::from)?);
@@ -640,36 +619,34 @@ fn angle_jacobi_t<T: Real>(
     nodes_start: usize,
     nodes_end: usize,
     index_base: u32,
-    src: *const T,
+    src: In<'_, T>,
     src_len: usize,
-    dst: *mut T,
+    dst: Out<'_, T>,
     dst_len: usize,
-    sweep: *mut dk_spring_sweep,
+    sweep: Out<'_, dk_spring_sweep>,
 ) -> dk_status {
     done((|| {
         let nodes = range(nodes_start, nodes_end, index_base)?;
         by_dim!(
             dim,
             angle_jacobi_d::<T>,
-            (&sys, &pts, epsilon, nodes, src, src_len, dst, dst_len, sweep)
+            (sys, &pts, epsilon, nodes, src, src_len, dst, dst_len, sweep)
         )
     })())
 }
 
 #[allow(clippy::too_many_arguments)]
 fn angle_gs_d<T: Real, const D: usize>(
-    sys: &SysArgs<T>,
+    sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
     epsilon: T,
     nodes: [usize; 2],
-    values: *mut T,
+    values: Out<'_, T>,
     values_len: usize,
-    sweep: *mut dk_spring_sweep,
+    sweep: Out<'_, dk_spring_sweep>,
 ) -> Result<(), dk_status> {
-    // SAFETY: contract: `values_len` readable and writable scalars at `values`.
-    let v = unsafe { chunks_mut::<T, D>(values, values_len) }?;
-    // SAFETY: contract: one writable struct at `sweep`.
-    let w = unsafe { out_one(sweep) }?;
+    let v = chunks_mut::<T, D>(values, values_len)?;
+    let w = out_one(sweep)?;
     let system = pts.build::<D>(sys.build()?, epsilon)?;
     let [a, b] = nodes;
     *w = dk_spring_sweep::of(angle_gauss_seidel_sweep(&system, a..b, v).map_err(dk_status::from)?);
@@ -685,35 +662,33 @@ fn angle_gs_t<T: Real>(
     nodes_start: usize,
     nodes_end: usize,
     index_base: u32,
-    values: *mut T,
+    values: Out<'_, T>,
     values_len: usize,
-    sweep: *mut dk_spring_sweep,
+    sweep: Out<'_, dk_spring_sweep>,
 ) -> dk_status {
     done((|| {
         let nodes = range(nodes_start, nodes_end, index_base)?;
         by_dim!(
             dim,
             angle_gs_d::<T>,
-            (&sys, &pts, epsilon, nodes, values, values_len, sweep)
+            (sys, &pts, epsilon, nodes, values, values_len, sweep)
         )
     })())
 }
 
 #[allow(clippy::too_many_arguments)]
 fn probe_d<T: Real, const D: usize>(
-    sys: &SysArgs<T>,
+    sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
     options: &dk_spring_angle_options,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    amplification_out: *mut T,
+    amplification_out: Out<'_, T>,
 ) -> Result<(), dk_status> {
     let stop = options.stopping::<T>();
     let scratch_len = scratch_len - scratch_len % D;
-    // SAFETY: contract: `scratch_len` (or more) writable scalars at `scratch`, not overlapping.
-    let s = unsafe { chunks_mut::<T, D>(scratch, scratch_len) }?;
-    // SAFETY: contract: one writable scalar at `amplification_out`.
-    let a = unsafe { out_one(amplification_out) }?;
+    let s = chunks_mut::<T, D>(scratch, scratch_len)?;
+    let a = out_one(amplification_out)?;
     let system = pts.build::<D>(sys.build()?, T::from_f64(options.epsilon))?;
     *a = angle_rigidity_probe(&system, &stop, s).map_err(dk_status::from)?;
     Ok(())
@@ -724,17 +699,17 @@ fn probe_t<T: Real>(
     sys: SysArgs<T>,
     pts: AngleArgs<T>,
     dim: u32,
-    options: *const dk_spring_angle_options,
-    scratch: *mut T,
+    options: In<'_, dk_spring_angle_options>,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    amplification_out: *mut T,
+    amplification_out: Out<'_, T>,
 ) -> dk_status {
     done((|| {
         let o = read_one(options)?;
         by_dim!(
             dim,
             probe_d::<T>,
-            (&sys, &pts, &o, scratch, scratch_len, amplification_out)
+            (sys, &pts, &o, scratch, scratch_len, amplification_out)
         )
     })())
 }
@@ -767,6 +742,16 @@ pub unsafe extern "C" fn dk_spring_batina_stiffness(
     stiffness: *mut f64,
     stiffness_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, points, stiffness) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(points, points_len),
+            Out::new(stiffness, stiffness_len),
+        )
+    };
     batina_t(
         offsets,
         offsets_len,
@@ -798,6 +783,16 @@ pub unsafe extern "C" fn dk_spring_batina_stiffness_f32(
     stiffness: *mut f32,
     stiffness_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, points, stiffness) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(points, points_len),
+            Out::new(stiffness, stiffness_len),
+        )
+    };
     batina_t(
         offsets,
         offsets_len,
@@ -822,6 +817,9 @@ pub unsafe extern "C" fn dk_spring_index_scratch_len(
     node_count: usize,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let len_out = unsafe { Out::new(len_out, 1) };
     done(write_len(
         len_out,
         SpringSystem::<f64>::scratch_len(node_count),
@@ -838,6 +836,9 @@ pub unsafe extern "C" fn dk_spring_index_scratch_len(
 pub unsafe extern "C" fn dk_spring_solve_options_default(
     out: *mut dk_spring_solve_options,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let out = unsafe { Out::new(out, 1) };
     solve_options_default::<f64>(out)
 }
 
@@ -850,6 +851,9 @@ pub unsafe extern "C" fn dk_spring_solve_options_default(
 pub unsafe extern "C" fn dk_spring_solve_options_default_f32(
     out: *mut dk_spring_solve_options,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let out = unsafe { Out::new(out, 1) };
     solve_options_default::<f32>(out)
 }
 
@@ -866,6 +870,9 @@ pub unsafe extern "C" fn dk_spring_solve_linear_scratch_len(
     options: *const dk_spring_solve_options,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
     done((|| {
         let o = read_one(options)?;
         let method = o.method::<f64>()?;
@@ -922,6 +929,21 @@ pub unsafe extern "C" fn dk_spring_solve_linear(
     index_scratch_len: usize,
     report: *mut dk_spring_solve_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, stiffness, fixed, options, values, scratch, index_scratch, report) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(options, 1),
+            Out::new(values, values_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(report, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,
@@ -970,6 +992,21 @@ pub unsafe extern "C" fn dk_spring_solve_linear_f32(
     index_scratch_len: usize,
     report: *mut dk_spring_solve_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, stiffness, fixed, options, values, scratch, index_scratch, report) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(options, 1),
+            Out::new(values, values_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(report, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,
@@ -1027,6 +1064,20 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep(
     index_scratch_len: usize,
     sweep: *mut dk_spring_sweep,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, stiffness, fixed, src, dst, index_scratch, sweep) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(src, src_len),
+            Out::new(dst, dst_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(sweep, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,
@@ -1079,6 +1130,20 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_f32(
     index_scratch_len: usize,
     sweep: *mut dk_spring_sweep,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, stiffness, fixed, src, dst, index_scratch, sweep) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(src, src_len),
+            Out::new(dst, dst_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(sweep, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,
@@ -1136,6 +1201,19 @@ pub unsafe extern "C" fn dk_spring_sor_sweep(
     index_scratch_len: usize,
     sweep: *mut dk_spring_sweep,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, stiffness, fixed, values, index_scratch, sweep) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            Out::new(values, values_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(sweep, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,
@@ -1186,6 +1264,19 @@ pub unsafe extern "C" fn dk_spring_sor_sweep_f32(
     index_scratch_len: usize,
     sweep: *mut dk_spring_sweep,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, stiffness, fixed, values, index_scratch, sweep) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            Out::new(values, values_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(sweep, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,
@@ -1235,6 +1326,19 @@ pub unsafe extern "C" fn dk_spring_relative_residual(
     index_scratch_len: usize,
     residual_out: *mut f64,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, stiffness, fixed, values, index_scratch, residual_out) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(values, values_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(residual_out, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,
@@ -1271,6 +1375,19 @@ pub unsafe extern "C" fn dk_spring_relative_residual_f32(
     index_scratch_len: usize,
     residual_out: *mut f32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, stiffness, fixed, values, index_scratch, residual_out) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(values, values_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(residual_out, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,
@@ -1299,6 +1416,9 @@ pub unsafe extern "C" fn dk_spring_relative_residual_f32(
 pub unsafe extern "C" fn dk_spring_angle_options_default(
     out: *mut dk_spring_angle_options,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let out = unsafe { Out::new(out, 1) };
     angle_options_default::<f64>(out)
 }
 
@@ -1310,6 +1430,9 @@ pub unsafe extern "C" fn dk_spring_angle_options_default(
 pub unsafe extern "C" fn dk_spring_angle_options_default_f32(
     out: *mut dk_spring_angle_options,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let out = unsafe { Out::new(out, 1) };
     angle_options_default::<f32>(out)
 }
 
@@ -1326,6 +1449,9 @@ pub unsafe extern "C" fn dk_spring_solve_angle_scratch_len(
     options: *const dk_spring_angle_options,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
     angle_scratch_scalars::<f64>(node_count, dim, options, len_out)
 }
 
@@ -1341,6 +1467,9 @@ pub unsafe extern "C" fn dk_spring_solve_angle_scratch_len_f32(
     options: *const dk_spring_angle_options,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
     angle_scratch_scalars::<f32>(node_count, dim, options, len_out)
 }
 
@@ -1354,6 +1483,9 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_scratch_len(
     dim: u32,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let len_out = unsafe { Out::new(len_out, 1) };
     done((|| {
         if !(2..=3).contains(&dim) {
             return Err(dk_status::DK_ERR_INVALID_PARAMETER);
@@ -1399,6 +1531,33 @@ pub unsafe extern "C" fn dk_spring_solve_angle(
     index_scratch_len: usize,
     report: *mut dk_spring_solve_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (
+        offsets,
+        targets,
+        stiffness,
+        fixed,
+        points,
+        options,
+        values,
+        scratch,
+        index_scratch,
+        report,
+    ) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(points, points_len),
+            In::new(options, 1),
+            Out::new(values, values_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(report, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,
@@ -1451,6 +1610,33 @@ pub unsafe extern "C" fn dk_spring_solve_angle_f32(
     index_scratch_len: usize,
     report: *mut dk_spring_solve_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (
+        offsets,
+        targets,
+        stiffness,
+        fixed,
+        points,
+        options,
+        values,
+        scratch,
+        index_scratch,
+        report,
+    ) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(points, points_len),
+            In::new(options, 1),
+            Out::new(values, values_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(report, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,
@@ -1512,6 +1698,21 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep(
     index_scratch_len: usize,
     sweep: *mut dk_spring_sweep,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, stiffness, fixed, points, src, dst, index_scratch, sweep) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(points, points_len),
+            In::new(src, src_len),
+            Out::new(dst, dst_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(sweep, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,
@@ -1570,6 +1771,21 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep_f32(
     index_scratch_len: usize,
     sweep: *mut dk_spring_sweep,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, stiffness, fixed, points, src, dst, index_scratch, sweep) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(points, points_len),
+            In::new(src, src_len),
+            Out::new(dst, dst_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(sweep, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,
@@ -1630,6 +1846,20 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep(
     index_scratch_len: usize,
     sweep: *mut dk_spring_sweep,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, stiffness, fixed, points, values, index_scratch, sweep) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(points, points_len),
+            Out::new(values, values_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(sweep, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,
@@ -1684,6 +1914,20 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep_f32(
     index_scratch_len: usize,
     sweep: *mut dk_spring_sweep,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, stiffness, fixed, points, values, index_scratch, sweep) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(points, points_len),
+            Out::new(values, values_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(sweep, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,
@@ -1741,6 +1985,31 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe(
     index_scratch_len: usize,
     amplification_out: *mut f64,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (
+        offsets,
+        targets,
+        stiffness,
+        fixed,
+        points,
+        options,
+        scratch,
+        index_scratch,
+        amplification_out,
+    ) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(points, points_len),
+            In::new(options, 1),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(amplification_out, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,
@@ -1789,6 +2058,31 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_f32(
     index_scratch_len: usize,
     amplification_out: *mut f32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (
+        offsets,
+        targets,
+        stiffness,
+        fixed,
+        points,
+        options,
+        scratch,
+        index_scratch,
+        amplification_out,
+    ) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(points, points_len),
+            In::new(options, 1),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(amplification_out, 1),
+        )
+    };
     let sys = SysArgs {
         offsets,
         offsets_len,

@@ -35,7 +35,7 @@ use crate::args::{
     assert_layout, block, by_components, by_dim, done, graph, mul_len, optional, range, read_one,
     read_optional_points, read_points, write_len,
 };
-use crate::slice::{chunks, chunks_mut, input, out_one, output};
+use crate::slice::{chunks, chunks_mut, input, out_one, output, In, Out};
 use crate::status::dk_status;
 
 // ---------------------------------------------------------------------------------------------
@@ -103,10 +103,37 @@ pub struct dk_structured_options {
 #[cfg(target_pointer_width = "64")]
 assert_layout!(dk_structured_options, 24; pinned = 0, pinned_len = 8, mirror = 16);
 
+/// Options structs that carry an optional pin mask.
+trait HasPins: Copy {
+    fn pins(&self) -> (*const u8, usize);
+}
+
+impl HasPins for dk_structured_options {
+    fn pins(&self) -> (*const u8, usize) {
+        (self.pinned, self.pinned_len)
+    }
+}
+
+impl HasPins for dk_smooth_arclength_options {
+    fn pins(&self) -> (*const u8, usize) {
+        (self.pinned, self.pinned_len)
+    }
+}
+
+/// Reads an options struct and borrows its optional pin mask for the struct's lifetime.
+fn read_with_pins<S: HasPins>(p: In<'_, S>) -> Result<(S, Option<&[u8]>), dk_status> {
+    let s = read_one(p)?;
+    let (ptr, len) = s.pins();
+    // SAFETY: a token for an options struct carries the contract of the functions that take
+    // one: its pin mask is NULL or readable for `pinned_len` bytes while the struct is.
+    let pins = unsafe { In::new(ptr, len) };
+    Ok((s, optional(pins, len)?))
+}
+
 impl dk_structured_options {
-    fn to_kernel<'a>(self) -> Result<StructuredOptions<'a>, dk_status> {
+    fn to_kernel(self, pinned: Option<&[u8]>) -> Result<StructuredOptions<'_>, dk_status> {
         Ok(StructuredOptions {
-            pinned: optional(self.pinned, self.pinned_len)?,
+            pinned,
             mirror: self.mirror.map(|m| m != 0),
         })
     }
@@ -189,7 +216,7 @@ assert_layout!(
 );
 
 impl dk_smooth_arclength_options {
-    fn to_kernel<'a, T: Real>(self) -> Result<SmoothOptions<'a, T>, dk_status> {
+    fn to_kernel<T: Real>(self, pinned: Option<&[u8]>) -> Result<SmoothOptions<'_, T>, dk_status> {
         Ok(SmoothOptions {
             direction: self.direction as usize,
             params: TaubinParams {
@@ -198,7 +225,7 @@ impl dk_smooth_arclength_options {
             },
             iterations: self.iterations,
             normalised: self.normalised != 0,
-            pinned: optional(self.pinned, self.pinned_len)?,
+            pinned,
             mirror: self.mirror.map(|m| m != 0),
             coarse: if self.use_coarse != 0 {
                 Some(self.coarse.to_kernel()?)
@@ -255,13 +282,11 @@ impl dk_smooth_report {
 // Generic inner functions.
 // ---------------------------------------------------------------------------------------------
 
-fn params_paper<T: Real>(lambda_out: *mut T, mu_out: *mut T) -> dk_status {
+fn params_paper<T: Real>(lambda_out: Out<'_, T>, mu_out: Out<'_, T>) -> dk_status {
     done((|| {
         let p = TaubinParams::<T>::paper();
-        // SAFETY: contract: one writable scalar at `lambda_out`.
-        let l = unsafe { out_one(lambda_out) }?;
-        // SAFETY: contract: one writable scalar at `mu_out`, not overlapping `lambda_out`.
-        let m = unsafe { out_one(mu_out) }?;
+        let l = out_one(lambda_out)?;
+        let m = out_one(mu_out)?;
         *l = p.lambda;
         *m = p.mu;
         Ok(())
@@ -271,15 +296,13 @@ fn params_paper<T: Real>(lambda_out: *mut T, mu_out: *mut T) -> dk_status {
 fn params_from_pass_band<T: Real>(
     lambda: T,
     pass_band: T,
-    lambda_out: *mut T,
-    mu_out: *mut T,
+    lambda_out: Out<'_, T>,
+    mu_out: Out<'_, T>,
 ) -> dk_status {
     done((|| {
         let p = TaubinParams::from_pass_band(lambda, pass_band).map_err(dk_status::from)?;
-        // SAFETY: contract: one writable scalar at `lambda_out`.
-        let l = unsafe { out_one(lambda_out) }?;
-        // SAFETY: contract: one writable scalar at `mu_out`, not overlapping `lambda_out`.
-        let m = unsafe { out_one(mu_out) }?;
+        let l = out_one(lambda_out)?;
+        let m = out_one(mu_out)?;
         *l = p.lambda;
         *m = p.mu;
         Ok(())
@@ -290,20 +313,17 @@ fn params_from_pass_band<T: Real>(
 fn smooth_arclength_d<T: Real, const D: usize>(
     block: &Block,
     options: &dk_smooth_arclength_options,
-    points: *mut T,
+    pinned: Option<&[u8]>,
+    points: Out<'_, T>,
     points_len: usize,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    report: *mut dk_smooth_report,
+    report: Out<'_, dk_smooth_report>,
 ) -> Result<(), dk_status> {
-    let opts = options.to_kernel::<T>()?;
-    // SAFETY: contract: `points_len` readable and writable scalars at `points`, not
-    // overlapping any other argument.
-    let p = unsafe { chunks_mut::<T, D>(points, points_len) }?;
-    // SAFETY: contract: `scratch_len` writable scalars at `scratch`, not overlapping.
-    let s = unsafe { output(scratch, scratch_len) }?;
-    // SAFETY: contract: one writable report at `report`, not overlapping.
-    let r = unsafe { out_one(report) }?;
+    let opts = options.to_kernel::<T>(pinned)?;
+    let p = chunks_mut::<T, D>(points, points_len)?;
+    let s = output(scratch, scratch_len)?;
+    let r = out_one(report)?;
     // The kernel validates everything before it moves a point: on Err `points` is unchanged.
     let rep = smooth_arclength(block, p, &opts, s).map_err(dk_status::from)?;
     *r = dk_smooth_report::of(rep);
@@ -315,21 +335,30 @@ fn smooth_arclength_t<T: Real>(
     ni: usize,
     nj: usize,
     nk: usize,
-    options: *const dk_smooth_arclength_options,
-    points: *mut T,
+    options: In<'_, dk_smooth_arclength_options>,
+    points: Out<'_, T>,
     points_len: usize,
     dim: u32,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    report: *mut dk_smooth_report,
+    report: Out<'_, dk_smooth_report>,
 ) -> dk_status {
     done((|| {
         let b = block(ni, nj, nk)?;
-        let o = read_one(options)?;
+        let (o, pinned) = read_with_pins(options)?;
         by_dim!(
             dim,
             smooth_arclength_d::<T>,
-            (&b, &o, points, points_len, scratch, scratch_len, report)
+            (
+                &b,
+                &o,
+                pinned,
+                points,
+                points_len,
+                scratch,
+                scratch_len,
+                report
+            )
         )
     })())
 }
@@ -342,22 +371,20 @@ fn smooth_structured_t<T: Real>(
     lambda: T,
     mu: T,
     iterations: usize,
-    options: *const dk_structured_options,
-    field: *mut T,
+    options: In<'_, dk_structured_options>,
+    field: Out<'_, T>,
     field_len: usize,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    report: *mut dk_filter_report,
+    report: Out<'_, dk_filter_report>,
 ) -> dk_status {
     done((|| {
         let b = block(ni, nj, nk)?;
-        let o = read_one(options)?.to_kernel()?;
-        // SAFETY: contract: `field_len` readable and writable scalars at `field`.
-        let f = unsafe { output(field, field_len) }?;
-        // SAFETY: contract: `scratch_len` writable scalars at `scratch`, not overlapping.
-        let s = unsafe { output(scratch, scratch_len) }?;
-        // SAFETY: contract: one writable report at `report`.
-        let r = unsafe { out_one(report) }?;
+        let (o, pinned) = read_with_pins(options)?;
+        let o = o.to_kernel(pinned)?;
+        let f = output(field, field_len)?;
+        let s = output(scratch, scratch_len)?;
+        let r = out_one(report)?;
         let rep = smooth_structured(&b, f, TaubinParams { lambda, mu }, iterations, &o, s)
             .map_err(dk_status::from)?;
         *r = dk_filter_report::of(rep);
@@ -370,19 +397,20 @@ fn structured_sweep_t<T: Real>(
     ni: usize,
     nj: usize,
     nk: usize,
-    src: *const T,
+    src: In<'_, T>,
     src_len: usize,
     weight: T,
-    options: *const dk_structured_options,
-    region: *const dk_block_region,
+    options: In<'_, dk_structured_options>,
+    region: In<'_, dk_block_region>,
     index_base: u32,
-    dst: *mut T,
+    dst: Out<'_, T>,
     dst_len: usize,
-    max_change_out: *mut T,
+    max_change_out: Out<'_, T>,
 ) -> dk_status {
     done((|| {
         let b = block(ni, nj, nk)?;
-        let o = read_one(options)?.to_kernel()?;
+        let (o, pinned) = read_with_pins(options)?;
+        let o = o.to_kernel(pinned)?;
         let reg = read_one(region)?;
         let mut lo = [0usize; 3];
         let mut hi = [0usize; 3];
@@ -395,12 +423,9 @@ fn structured_sweep_t<T: Real>(
             *l = a;
             *h = z;
         }
-        // SAFETY: contract: `src_len` readable scalars at `src`.
-        let s = unsafe { input(src, src_len) }?;
-        // SAFETY: contract: `dst_len` writable scalars at `dst`, not overlapping `src`.
-        let d = unsafe { output(dst, dst_len) }?;
-        // SAFETY: contract: one writable scalar at `max_change_out`.
-        let m = unsafe { out_one(max_change_out) }?;
+        let s = input(src, src_len)?;
+        let d = output(dst, dst_len)?;
+        let m = out_one(max_change_out)?;
         let change = structured_sweep(&b, s, d, weight, &o, &BlockRegion { lo, hi })
             .map_err(dk_status::from)?;
         *m = change;
@@ -413,27 +438,25 @@ fn smooth_structured_coarse_t<T: Real>(
     ni: usize,
     nj: usize,
     nk: usize,
-    coarse: *const dk_taubin_coarse,
+    coarse: In<'_, dk_taubin_coarse>,
     lambda: T,
     mu: T,
     iterations: usize,
-    options: *const dk_structured_options,
-    field: *mut T,
+    options: In<'_, dk_structured_options>,
+    field: Out<'_, T>,
     field_len: usize,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    report: *mut dk_filter_report,
+    report: Out<'_, dk_filter_report>,
 ) -> dk_status {
     done((|| {
         let b = block(ni, nj, nk)?;
         let c = read_one(coarse)?.to_kernel()?;
-        let o = read_one(options)?.to_kernel()?;
-        // SAFETY: contract: `field_len` readable and writable scalars at `field`.
-        let f = unsafe { output(field, field_len) }?;
-        // SAFETY: contract: `scratch_len` writable scalars at `scratch`, not overlapping.
-        let s = unsafe { output(scratch, scratch_len) }?;
-        // SAFETY: contract: one writable report at `report`.
-        let r = unsafe { out_one(report) }?;
+        let (o, pinned) = read_with_pins(options)?;
+        let o = o.to_kernel(pinned)?;
+        let f = output(field, field_len)?;
+        let s = output(scratch, scratch_len)?;
+        let r = out_one(report)?;
         let rep =
             smooth_structured_coarse(&b, f, &c, TaubinParams { lambda, mu }, iterations, &o, s)
                 .map_err(dk_status::from)?;
@@ -443,19 +466,19 @@ fn smooth_structured_coarse_t<T: Real>(
 }
 
 /// Graph arguments shared by the graph filter functions.
-struct GraphArgs<T> {
-    offsets: *const u32,
+struct GraphArgs<'a, T> {
+    offsets: In<'a, u32>,
     offsets_len: usize,
-    targets: *const u32,
+    targets: In<'a, u32>,
     targets_len: usize,
-    weights: *const T,
+    weights: In<'a, T>,
     weights_len: usize,
-    fixed: *const u8,
+    fixed: In<'a, u8>,
     fixed_len: usize,
 }
 
-impl<T> GraphArgs<T> {
-    fn read<'a>(&self) -> Result<(Graph<'a>, GraphOptions<'a, T>), dk_status> {
+impl<'a, T> GraphArgs<'a, T> {
+    fn read(&self) -> Result<(Graph<'a>, GraphOptions<'a, T>), dk_status> {
         let g = graph(
             self.offsets,
             self.offsets_len,
@@ -475,21 +498,18 @@ fn smooth_graph_v<T: Real, const V: usize>(
     args: &GraphArgs<T>,
     params: TaubinParams<T>,
     iterations: usize,
-    values: *mut T,
+    values: Out<'_, T>,
     values_len: usize,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    report: *mut dk_filter_report,
+    report: Out<'_, dk_filter_report>,
 ) -> Result<(), dk_status> {
     let (g, o) = args.read()?;
-    // SAFETY: contract: `values_len` readable and writable scalars at `values`.
-    let v = unsafe { chunks_mut::<T, V>(values, values_len) }?;
+    let v = chunks_mut::<T, V>(values, values_len)?;
     // The scratch may be longer than needed: use only whole items.
     let scratch_len = scratch_len - scratch_len % V;
-    // SAFETY: contract: `scratch_len` (or more) writable scalars at `scratch`, not overlapping.
-    let s = unsafe { chunks_mut::<T, V>(scratch, scratch_len) }?;
-    // SAFETY: contract: one writable report at `report`.
-    let r = unsafe { out_one(report) }?;
+    let s = chunks_mut::<T, V>(scratch, scratch_len)?;
+    let r = out_one(report)?;
     let rep = smooth_graph(&g, v, params, iterations, &o, s).map_err(dk_status::from)?;
     *r = dk_filter_report::of(rep);
     Ok(())
@@ -498,21 +518,18 @@ fn smooth_graph_v<T: Real, const V: usize>(
 #[allow(clippy::too_many_arguments)]
 fn graph_sweep_v<T: Real, const V: usize>(
     args: &GraphArgs<T>,
-    src: *const T,
+    src: In<'_, T>,
     src_len: usize,
     weight: T,
     nodes: [usize; 2],
-    dst: *mut T,
+    dst: Out<'_, T>,
     dst_len: usize,
-    max_change_out: *mut T,
+    max_change_out: Out<'_, T>,
 ) -> Result<(), dk_status> {
     let (g, o) = args.read()?;
-    // SAFETY: contract: `src_len` readable scalars at `src`.
-    let s = unsafe { chunks::<T, V>(src, src_len) }?;
-    // SAFETY: contract: `dst_len` writable scalars at `dst`, not overlapping `src`.
-    let d = unsafe { chunks_mut::<T, V>(dst, dst_len) }?;
-    // SAFETY: contract: one writable scalar at `max_change_out`.
-    let m = unsafe { out_one(max_change_out) }?;
+    let s = chunks::<T, V>(src, src_len)?;
+    let d = chunks_mut::<T, V>(dst, dst_len)?;
+    let m = out_one(max_change_out)?;
     let [a, b] = nodes;
     *m = graph_sweep(&g, s, d, weight, &o, a..b).map_err(dk_status::from)?;
     Ok(())
@@ -520,30 +537,28 @@ fn graph_sweep_v<T: Real, const V: usize>(
 
 fn inverse_distance_weights_d<T: Real, const D: usize>(
     g: &Graph<'_>,
-    points: *const T,
+    points: In<'_, T>,
     points_len: usize,
-    weights: *mut T,
+    weights: Out<'_, T>,
     weights_len: usize,
 ) -> Result<(), dk_status> {
     let p = read_points::<T, D>(points, points_len)?;
-    // SAFETY: contract: `weights_len` writable scalars at `weights`, not overlapping.
-    let w = unsafe { output(weights, weights_len) }?;
+    let w = output(weights, weights_len)?;
     inverse_distance_weights(g, p, w).map_err(dk_status::from)
 }
 
 #[allow(clippy::too_many_arguments)]
 fn arclength_d<T: Real, const D: usize>(
     b: &Block,
-    points: *const T,
+    points: In<'_, T>,
     points_len: usize,
     direction: u32,
     normalised: bool,
-    out: *mut T,
+    out: Out<'_, T>,
     out_len: usize,
 ) -> Result<(), dk_status> {
     let p = read_points::<T, D>(points, points_len)?;
-    // SAFETY: contract: `out_len` writable scalars at `out`, not overlapping `points`.
-    let o = unsafe { output(out, out_len) }?;
+    let o = output(out, out_len)?;
     arclength(b, p, direction as usize, normalised, o).map_err(dk_status::from)
 }
 
@@ -551,23 +566,19 @@ fn arclength_d<T: Real, const D: usize>(
 fn redistribute_d<T: Real, const D: usize>(
     b: &Block,
     direction: u32,
-    targets: *const T,
+    targets: In<'_, T>,
     targets_len: usize,
     normalised: bool,
-    points: *mut T,
+    points: Out<'_, T>,
     points_len: usize,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    max_displacement_out: *mut T,
+    max_displacement_out: Out<'_, T>,
 ) -> Result<(), dk_status> {
-    // SAFETY: contract: `targets_len` readable scalars at `targets`.
-    let t = unsafe { input(targets, targets_len) }?;
-    // SAFETY: contract: `points_len` readable and writable scalars at `points`.
-    let p = unsafe { chunks_mut::<T, D>(points, points_len) }?;
-    // SAFETY: contract: `scratch_len` writable scalars at `scratch`, not overlapping.
-    let s = unsafe { output(scratch, scratch_len) }?;
-    // SAFETY: contract: one writable scalar at `max_displacement_out`.
-    let m = unsafe { out_one(max_displacement_out) }?;
+    let t = input(targets, targets_len)?;
+    let p = chunks_mut::<T, D>(points, points_len)?;
+    let s = output(scratch, scratch_len)?;
+    let m = out_one(max_displacement_out)?;
     // The kernel validates everything before it moves a point.
     *m = redistribute(b, p, direction as usize, t, normalised, s).map_err(dk_status::from)?;
     Ok(())
@@ -575,31 +586,28 @@ fn redistribute_d<T: Real, const D: usize>(
 
 fn stretching_d<T: Real, const D: usize>(
     b: &Block,
-    points: *const T,
+    points: In<'_, T>,
     points_len: usize,
     direction: u32,
-    out: *mut T,
+    out: Out<'_, T>,
     out_len: usize,
 ) -> Result<(), dk_status> {
     let p = read_points::<T, D>(points, points_len)?;
-    // SAFETY: contract: `out_len` writable scalars at `out`, not overlapping `points`.
-    let o = unsafe { output(out, out_len) }?;
+    let o = output(out, out_len)?;
     stretching(b, p, direction as usize, o).map_err(dk_status::from)
 }
 
 fn max_stretching_d<T: Real, const D: usize>(
     b: &Block,
-    points: *const T,
+    points: In<'_, T>,
     points_len: usize,
     direction: u32,
-    value_out: *mut T,
-    point_out: *mut usize,
+    value_out: Out<'_, T>,
+    point_out: Out<'_, usize>,
 ) -> Result<(), dk_status> {
     let p = read_points::<T, D>(points, points_len)?;
-    // SAFETY: contract: one writable scalar at `value_out`.
-    let v = unsafe { out_one(value_out) }?;
-    // SAFETY: contract: one writable size_t at `point_out`.
-    let i = unsafe { out_one(point_out) }?;
+    let v = out_one(value_out)?;
+    let i = out_one(point_out)?;
     let (r, at) = max_stretching(b, p, direction as usize).map_err(dk_status::from)?;
     *v = r;
     *i = at;
@@ -611,7 +619,7 @@ fn check_lines_d<T: Real, const D: usize>(
     field: &[T],
     direction: u32,
     iteration: usize,
-    points: *const T,
+    points: In<'_, T>,
     points_len: usize,
 ) -> Result<(), dk_status> {
     let p = read_optional_points::<T, D>(points, points_len)?;
@@ -631,6 +639,9 @@ pub unsafe extern "C" fn dk_taubin_params_paper(
     lambda_out: *mut f64,
     mu_out: *mut f64,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (lambda_out, mu_out) = unsafe { (Out::new(lambda_out, 1), Out::new(mu_out, 1)) };
     params_paper(lambda_out, mu_out)
 }
 
@@ -643,6 +654,9 @@ pub unsafe extern "C" fn dk_taubin_params_paper_f32(
     lambda_out: *mut f32,
     mu_out: *mut f32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (lambda_out, mu_out) = unsafe { (Out::new(lambda_out, 1), Out::new(mu_out, 1)) };
     params_paper(lambda_out, mu_out)
 }
 
@@ -659,6 +673,9 @@ pub unsafe extern "C" fn dk_taubin_params_from_pass_band(
     lambda_out: *mut f64,
     mu_out: *mut f64,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (lambda_out, mu_out) = unsafe { (Out::new(lambda_out, 1), Out::new(mu_out, 1)) };
     params_from_pass_band(lambda, pass_band, lambda_out, mu_out)
 }
 
@@ -673,6 +690,9 @@ pub unsafe extern "C" fn dk_taubin_params_from_pass_band_f32(
     lambda_out: *mut f32,
     mu_out: *mut f32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (lambda_out, mu_out) = unsafe { (Out::new(lambda_out, 1), Out::new(mu_out, 1)) };
     params_from_pass_band(lambda, pass_band, lambda_out, mu_out)
 }
 
@@ -692,6 +712,9 @@ pub unsafe extern "C" fn dk_smooth_arclength_options_default(
     direction: u32,
     out: *mut dk_smooth_arclength_options,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let out = unsafe { Out::new(out, 1) };
     done((|| {
         if direction > 2 {
             return Err(dk_status::DK_ERR_INVALID_PARAMETER);
@@ -713,8 +736,7 @@ pub unsafe extern "C" fn dk_smooth_arclength_options_default(
             use_coarse: 0,
             mirror: k.mirror.map(u8::from),
         };
-        // SAFETY: contract: one writable options struct at `out`.
-        let o = unsafe { out_one(out) }?;
+        let o = out_one(out)?;
         *o = v;
         Ok(())
     })())
@@ -735,6 +757,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength_scratch_len(
     dim: u32,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
     done((|| {
         let b = block(ni, nj, nk)?;
         let o = read_one(options)?;
@@ -782,6 +807,16 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength(
     scratch_len: usize,
     report: *mut dk_smooth_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, points, scratch, report) = unsafe {
+        (
+            In::new(options, 1),
+            Out::new(points, points_len),
+            Out::new(scratch, scratch_len),
+            Out::new(report, 1),
+        )
+    };
     smooth_arclength_t(
         ni,
         nj,
@@ -814,6 +849,16 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength_f32(
     scratch_len: usize,
     report: *mut dk_smooth_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, points, scratch, report) = unsafe {
+        (
+            In::new(options, 1),
+            Out::new(points, points_len),
+            Out::new(scratch, scratch_len),
+            Out::new(report, 1),
+        )
+    };
     smooth_arclength_t(
         ni,
         nj,
@@ -843,6 +888,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_scratch_len(
     nk: usize,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let len_out = unsafe { Out::new(len_out, 1) };
     done((|| {
         let b = block(ni, nj, nk)?;
         write_len(len_out, structured_scratch_len(&b))
@@ -877,6 +925,16 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured(
     scratch_len: usize,
     report: *mut dk_filter_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, field, scratch, report) = unsafe {
+        (
+            In::new(options, 1),
+            Out::new(field, field_len),
+            Out::new(scratch, scratch_len),
+            Out::new(report, 1),
+        )
+    };
     smooth_structured_t(
         ni,
         nj,
@@ -912,6 +970,16 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_f32(
     scratch_len: usize,
     report: *mut dk_filter_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, field, scratch, report) = unsafe {
+        (
+            In::new(options, 1),
+            Out::new(field, field_len),
+            Out::new(scratch, scratch_len),
+            Out::new(report, 1),
+        )
+    };
     smooth_structured_t(
         ni,
         nj,
@@ -957,6 +1025,17 @@ pub unsafe extern "C" fn dk_taubin_structured_sweep(
     dst_len: usize,
     max_change_out: *mut f64,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (src, options, region, dst, max_change_out) = unsafe {
+        (
+            In::new(src, src_len),
+            In::new(options, 1),
+            In::new(region, 1),
+            Out::new(dst, dst_len),
+            Out::new(max_change_out, 1),
+        )
+    };
     structured_sweep_t(
         ni,
         nj,
@@ -992,6 +1071,17 @@ pub unsafe extern "C" fn dk_taubin_structured_sweep_f32(
     dst_len: usize,
     max_change_out: *mut f32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (src, options, region, dst, max_change_out) = unsafe {
+        (
+            In::new(src, src_len),
+            In::new(options, 1),
+            In::new(region, 1),
+            Out::new(dst, dst_len),
+            Out::new(max_change_out, 1),
+        )
+    };
     structured_sweep_t(
         ni,
         nj,
@@ -1020,6 +1110,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse_scratch_len(
     coarse: *const dk_taubin_coarse,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (coarse, len_out) = unsafe { (In::new(coarse, 1), Out::new(len_out, 1)) };
     done((|| {
         let b = block(ni, nj, nk)?;
         let c = read_one(coarse)?.to_kernel()?;
@@ -1053,6 +1146,17 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse(
     scratch_len: usize,
     report: *mut dk_filter_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (coarse, options, field, scratch, report) = unsafe {
+        (
+            In::new(coarse, 1),
+            In::new(options, 1),
+            Out::new(field, field_len),
+            Out::new(scratch, scratch_len),
+            Out::new(report, 1),
+        )
+    };
     smooth_structured_coarse_t(
         ni,
         nj,
@@ -1090,6 +1194,17 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse_f32(
     scratch_len: usize,
     report: *mut dk_filter_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (coarse, options, field, scratch, report) = unsafe {
+        (
+            In::new(coarse, 1),
+            In::new(options, 1),
+            Out::new(field, field_len),
+            Out::new(scratch, scratch_len),
+            Out::new(report, 1),
+        )
+    };
     smooth_structured_coarse_t(
         ni,
         nj,
@@ -1122,6 +1237,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph_scratch_len(
     components: u32,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let len_out = unsafe { Out::new(len_out, 1) };
     done((|| {
         if !(1..=7).contains(&components) {
             return Err(dk_status::DK_ERR_INVALID_PARAMETER);
@@ -1137,11 +1255,11 @@ fn smooth_graph_t<T: Real>(
     mu: T,
     iterations: usize,
     components: u32,
-    values: *mut T,
+    values: Out<'_, T>,
     values_len: usize,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    report: *mut dk_filter_report,
+    report: Out<'_, dk_filter_report>,
 ) -> dk_status {
     let params = TaubinParams { lambda, mu };
     done(by_components!(
@@ -1198,6 +1316,19 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph(
     scratch_len: usize,
     report: *mut dk_filter_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, weights, fixed, values, scratch, report) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(weights, weights_len),
+            In::new(fixed, fixed_len),
+            Out::new(values, values_len),
+            Out::new(scratch, scratch_len),
+            Out::new(report, 1),
+        )
+    };
     let args = GraphArgs {
         offsets,
         offsets_len,
@@ -1246,6 +1377,19 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph_f32(
     scratch_len: usize,
     report: *mut dk_filter_report,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, weights, fixed, values, scratch, report) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(weights, weights_len),
+            In::new(fixed, fixed_len),
+            Out::new(values, values_len),
+            Out::new(scratch, scratch_len),
+            Out::new(report, 1),
+        )
+    };
     let args = GraphArgs {
         offsets,
         offsets_len,
@@ -1273,16 +1417,16 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph_f32(
 #[allow(clippy::too_many_arguments)]
 fn graph_sweep_t<T: Real>(
     args: GraphArgs<T>,
-    src: *const T,
+    src: In<'_, T>,
     src_len: usize,
     components: u32,
     weight: T,
     nodes_start: usize,
     nodes_end: usize,
     index_base: u32,
-    dst: *mut T,
+    dst: Out<'_, T>,
     dst_len: usize,
-    max_change_out: *mut T,
+    max_change_out: Out<'_, T>,
 ) -> dk_status {
     done((|| {
         let nodes = range(nodes_start, nodes_end, index_base)?;
@@ -1335,6 +1479,19 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep(
     dst_len: usize,
     max_change_out: *mut f64,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, weights, fixed, src, dst, max_change_out) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(weights, weights_len),
+            In::new(fixed, fixed_len),
+            In::new(src, src_len),
+            Out::new(dst, dst_len),
+            Out::new(max_change_out, 1),
+        )
+    };
     let args = GraphArgs {
         offsets,
         offsets_len,
@@ -1385,6 +1542,19 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep_f32(
     dst_len: usize,
     max_change_out: *mut f32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, weights, fixed, src, dst, max_change_out) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(weights, weights_len),
+            In::new(fixed, fixed_len),
+            In::new(src, src_len),
+            Out::new(dst, dst_len),
+            Out::new(max_change_out, 1),
+        )
+    };
     let args = GraphArgs {
         offsets,
         offsets_len,
@@ -1412,14 +1582,14 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep_f32(
 
 #[allow(clippy::too_many_arguments)]
 fn inverse_distance_weights_t<T: Real>(
-    offsets: *const u32,
+    offsets: In<'_, u32>,
     offsets_len: usize,
-    targets: *const u32,
+    targets: In<'_, u32>,
     targets_len: usize,
-    points: *const T,
+    points: In<'_, T>,
     points_len: usize,
     dim: u32,
-    weights: *mut T,
+    weights: Out<'_, T>,
     weights_len: usize,
 ) -> dk_status {
     done((|| {
@@ -1453,6 +1623,16 @@ pub unsafe extern "C" fn dk_taubin_inverse_distance_weights(
     weights: *mut f64,
     weights_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, points, weights) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(points, points_len),
+            Out::new(weights, weights_len),
+        )
+    };
     inverse_distance_weights_t(
         offsets,
         offsets_len,
@@ -1482,6 +1662,16 @@ pub unsafe extern "C" fn dk_taubin_inverse_distance_weights_f32(
     weights: *mut f32,
     weights_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, points, weights) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(points, points_len),
+            Out::new(weights, weights_len),
+        )
+    };
     inverse_distance_weights_t(
         offsets,
         offsets_len,
@@ -1504,12 +1694,12 @@ fn arclength_t<T: Real>(
     ni: usize,
     nj: usize,
     nk: usize,
-    points: *const T,
+    points: In<'_, T>,
     points_len: usize,
     dim: u32,
     direction: u32,
     normalised: bool,
-    out: *mut T,
+    out: Out<'_, T>,
     out_len: usize,
 ) -> dk_status {
     done((|| {
@@ -1542,6 +1732,9 @@ pub unsafe extern "C" fn dk_taubin_arclength(
     out: *mut f64,
     out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
     arclength_t(
         ni, nj, nk, points, points_len, dim, direction, normalised, out, out_len,
     )
@@ -1564,6 +1757,9 @@ pub unsafe extern "C" fn dk_taubin_arclength_f32(
     out: *mut f32,
     out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
     arclength_t(
         ni, nj, nk, points, points_len, dim, direction, normalised, out, out_len,
     )
@@ -1583,6 +1779,9 @@ pub unsafe extern "C" fn dk_taubin_redistribute_scratch_len(
     direction: u32,
     len_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let len_out = unsafe { Out::new(len_out, 1) };
     done((|| {
         let b = block(ni, nj, nk)?;
         if direction > 2 {
@@ -1603,15 +1802,15 @@ fn redistribute_t<T: Real>(
     nj: usize,
     nk: usize,
     direction: u32,
-    targets: *const T,
+    targets: In<'_, T>,
     targets_len: usize,
     normalised: bool,
-    points: *mut T,
+    points: Out<'_, T>,
     points_len: usize,
     dim: u32,
-    scratch: *mut T,
+    scratch: Out<'_, T>,
     scratch_len: usize,
-    max_displacement_out: *mut T,
+    max_displacement_out: Out<'_, T>,
 ) -> dk_status {
     done((|| {
         let b = block(ni, nj, nk)?;
@@ -1661,6 +1860,16 @@ pub unsafe extern "C" fn dk_taubin_redistribute(
     scratch_len: usize,
     max_displacement_out: *mut f64,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (targets, points, scratch, max_displacement_out) = unsafe {
+        (
+            In::new(targets, targets_len),
+            Out::new(points, points_len),
+            Out::new(scratch, scratch_len),
+            Out::new(max_displacement_out, 1),
+        )
+    };
     redistribute_t(
         ni,
         nj,
@@ -1698,6 +1907,16 @@ pub unsafe extern "C" fn dk_taubin_redistribute_f32(
     scratch_len: usize,
     max_displacement_out: *mut f32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (targets, points, scratch, max_displacement_out) = unsafe {
+        (
+            In::new(targets, targets_len),
+            Out::new(points, points_len),
+            Out::new(scratch, scratch_len),
+            Out::new(max_displacement_out, 1),
+        )
+    };
     redistribute_t(
         ni,
         nj,
@@ -1720,11 +1939,11 @@ fn stretching_t<T: Real>(
     ni: usize,
     nj: usize,
     nk: usize,
-    points: *const T,
+    points: In<'_, T>,
     points_len: usize,
     dim: u32,
     direction: u32,
-    out: *mut T,
+    out: Out<'_, T>,
     out_len: usize,
 ) -> dk_status {
     done((|| {
@@ -1755,6 +1974,9 @@ pub unsafe extern "C" fn dk_taubin_stretching(
     out: *mut f64,
     out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
     stretching_t(ni, nj, nk, points, points_len, dim, direction, out, out_len)
 }
 
@@ -1774,6 +1996,9 @@ pub unsafe extern "C" fn dk_taubin_stretching_f32(
     out: *mut f32,
     out_len: usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
     stretching_t(ni, nj, nk, points, points_len, dim, direction, out, out_len)
 }
 
@@ -1782,12 +2007,12 @@ fn max_stretching_t<T: Real>(
     ni: usize,
     nj: usize,
     nk: usize,
-    points: *const T,
+    points: In<'_, T>,
     points_len: usize,
     dim: u32,
     direction: u32,
-    value_out: *mut T,
-    point_out: *mut usize,
+    value_out: Out<'_, T>,
+    point_out: Out<'_, usize>,
 ) -> dk_status {
     done((|| {
         let b = block(ni, nj, nk)?;
@@ -1819,6 +2044,15 @@ pub unsafe extern "C" fn dk_taubin_max_stretching(
     value_out: *mut f64,
     point_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, value_out, point_out) = unsafe {
+        (
+            In::new(points, points_len),
+            Out::new(value_out, 1),
+            Out::new(point_out, 1),
+        )
+    };
     max_stretching_t(
         ni, nj, nk, points, points_len, dim, direction, value_out, point_out,
     )
@@ -1840,6 +2074,15 @@ pub unsafe extern "C" fn dk_taubin_max_stretching_f32(
     value_out: *mut f32,
     point_out: *mut usize,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, value_out, point_out) = unsafe {
+        (
+            In::new(points, points_len),
+            Out::new(value_out, 1),
+            Out::new(point_out, 1),
+        )
+    };
     max_stretching_t(
         ni, nj, nk, points, points_len, dim, direction, value_out, point_out,
     )
@@ -1850,18 +2093,17 @@ fn check_lines_t<T: Real>(
     ni: usize,
     nj: usize,
     nk: usize,
-    field: *const T,
+    field: In<'_, T>,
     field_len: usize,
     direction: u32,
     iteration: usize,
-    points: *const T,
+    points: In<'_, T>,
     points_len: usize,
     dim: u32,
 ) -> dk_status {
     done((|| {
         let b = block(ni, nj, nk)?;
-        // SAFETY: contract: `field_len` readable scalars at `field`.
-        let f = unsafe { input(field, field_len) }?;
+        let f = input(field, field_len)?;
         if points.is_null() && points_len == 0 {
             // No points: `dim` is not used.
             return check_lines_d::<T, 3>(&b, f, direction, iteration, points, points_len);
@@ -1895,6 +2137,9 @@ pub unsafe extern "C" fn dk_taubin_check_lines_increasing(
     points_len: usize,
     dim: u32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (field, points) = unsafe { (In::new(field, field_len), In::new(points, points_len)) };
     check_lines_t(
         ni, nj, nk, field, field_len, direction, iteration, points, points_len, dim,
     )
@@ -1917,6 +2162,9 @@ pub unsafe extern "C" fn dk_taubin_check_lines_increasing_f32(
     points_len: usize,
     dim: u32,
 ) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (field, points) = unsafe { (In::new(field, field_len), In::new(points, points_len)) };
     check_lines_t(
         ni, nj, nk, field, field_len, direction, iteration, points, points_len, dim,
     )

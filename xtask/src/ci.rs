@@ -4,10 +4,10 @@ use crate::ctx::Ctx;
 use crate::embedded::{cross_build, footprint, on_target};
 use crate::fuzz::{fuzz, FUZZ_SMOKE_SECONDS};
 use crate::help;
-use crate::install::{cinstall, install, CROSS_TARGETS};
+use crate::install::{cinstall, install, CROSS_TARGETS, FUZZ_TOOLCHAIN};
 use crate::panic::{panic_check, panic_check_deliberate};
 use crate::process::run;
-use std::process::ExitCode;
+use std::process::{Command, ExitCode};
 use std::time::Instant;
 
 /// Kernel features that only make sense on embedded targets: left out of the host test run.
@@ -91,6 +91,20 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
             "cinstall",
             "cargo cinstall into a staging root; a C program builds against it via pkg-config",
             || cinstall(ctx),
+        ),
+        Step::new(
+            "miri",
+            "cargo +nightly miri test -p deform-kernel-ffi (the ABI boundary's unsafe, under Miri)",
+            || {
+                // The rustup proxy (not `ctx.cargo`, the active toolchain's cargo) picks nightly.
+                let mut c = Command::new("cargo");
+                c.arg(format!("+{FUZZ_TOOLCHAIN}"))
+                    .args(["miri", "test", "-p", "deform-kernel-ffi"])
+                    .current_dir(&ctx.root)
+                    .env_remove("RUSTUP_TOOLCHAIN")
+                    .env_remove("CARGO");
+                run(&mut c)
+            },
         ),
         Step::new("test", "cargo test --workspace", || {
             run(&mut ctx.cargo(&["test", "--workspace"]))

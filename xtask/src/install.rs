@@ -156,7 +156,7 @@ pub(crate) fn install(ctx: &Ctx) -> bool {
 
     let (_, toolchains, _) = capture(&mut rustup(&["toolchain", "list"]));
     if toolchains.lines().any(|l| l.starts_with(FUZZ_TOOLCHAIN)) {
-        println!("rustup toolchain {FUZZ_TOOLCHAIN}: present (for cargo-fuzz)");
+        println!("rustup toolchain {FUZZ_TOOLCHAIN}: present (for cargo-fuzz and Miri)");
     } else {
         ok &= run(&mut rustup(&[
             "toolchain",
@@ -165,6 +165,25 @@ pub(crate) fn install(ctx: &Ctx) -> bool {
             "--profile",
             "minimal",
         ]));
+    }
+    // Miri (the `miri` step) runs on the same nightly; it needs `rust-src` for its sysroot.
+    let (_, nightly, _) = capture(&mut rustup(&[
+        "component",
+        "list",
+        "--installed",
+        "--toolchain",
+        FUZZ_TOOLCHAIN,
+    ]));
+    let missing: Vec<&str> = ["miri", "rust-src"]
+        .into_iter()
+        .filter(|c| !nightly.lines().any(|l| l.starts_with(c)))
+        .collect();
+    if missing.is_empty() {
+        println!("rustup components on {FUZZ_TOOLCHAIN}: miri, rust-src present");
+    } else {
+        let mut args = vec!["component", "add", "--toolchain", FUZZ_TOOLCHAIN];
+        args.extend(missing);
+        ok &= run(&mut rustup(&args));
     }
     ok
 }

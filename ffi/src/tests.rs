@@ -1,0 +1,241 @@
+//! The ABI boundary exercised from Rust, small enough for Miri (`cargo +nightly miri test -p
+//! deform-kernel-ffi`): every kind of token (inputs, outputs, aliasing outputs, single values,
+//! structs that carry arrays, optional arrays) on real calls, compared with the Rust API on
+//! the same inputs, and the NULL / short-buffer paths, which must leave outputs untouched.
+#![allow(unsafe_code)] // calling the `extern "C"` functions is the point of this module
+
+use core::ptr::null;
+
+use deform_kernel::deformation::{
+    deform_idw, deform_idw_scratch_len, BoundaryMotion, RotationSource,
+};
+use deform_kernel::taubin::{smooth_structured, StructuredOptions, TaubinParams};
+use deform_kernel::{graph_from_edges, graph_from_edges_len, Block, Quat};
+
+use crate::deformation::{
+    dk_boundary_motion, dk_boundary_motion_default, dk_deform_idw, dk_deform_idw_scratch_len,
+    DK_ROTATIONS_RIGID,
+};
+use crate::graph::{dk_graph_from_edges, dk_graph_from_edges_len};
+use crate::quat::{dk_quat_mul, dk_quat_rotate_points};
+use crate::status::dk_status;
+use crate::taubin::{
+    dk_filter_report, dk_structured_options, dk_taubin_smooth_structured,
+    dk_taubin_smooth_structured_scratch_len,
+};
+
+fn bits(v: &[f64]) -> Vec<u64> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+#[test]
+fn quaternion_product_may_write_over_its_input() {
+    let a = [0.9, 0.1, -0.3, 0.2];
+    let b = [0.5, -0.5, 0.5, 0.5];
+    let expected = (Quat::from_array(a) * Quat::from_array(b)).to_array();
+    let mut q = a;
+    // One pointer for both, as a C caller passes it (a shared and a mutable Rust borrow of
+    // `q` could not coexist).
+    let p = q.as_mut_ptr();
+    // SAFETY: `p` and `b` hold 4 scalars; `out` may alias `a` (documented).
+    let s = unsafe { dk_quat_mul(p, b.as_ptr(), p) };
+    assert_eq!(s, dk_status::DK_OK);
+    assert_eq!(bits(&q), bits(&expected));
+}
+
+#[test]
+fn rotated_points_match_the_rust_api_and_null_writes_nothing() {
+    let q = Quat::from_axis_angle([0.0, 0.0, 1.0], 0.3).unwrap();
+    let pts = [1.0, 0.0, 0.0, 0.0, 1.0, 0.5, -2.0, 3.0, 1.0];
+    let mut out = [7.0; 9];
+    let qa = q.to_array();
+    // SAFETY: every buffer is as long as its length argument.
+    let s = unsafe { dk_quat_rotate_points(qa.as_ptr(), null(), 9, out.as_mut_ptr(), 9) };
+    assert_eq!(s, dk_status::DK_ERR_NULL_POINTER);
+    assert_eq!(out, [7.0; 9]);
+    // SAFETY: as above.
+    let s = unsafe { dk_quat_rotate_points(qa.as_ptr(), pts.as_ptr(), 9, out.as_mut_ptr(), 9) };
+    assert_eq!(s, dk_status::DK_OK);
+    // The ABI normalises the quaternion it is given.
+    let qn = q.normalize().unwrap();
+    let expected: Vec<f64> = pts
+        .chunks_exact(3)
+        .flat_map(|p| qn.rotate([p[0], p[1], p[2]]))
+        .collect();
+    assert_eq!(bits(&out), bits(&expected));
+}
+
+#[test]
+fn graph_from_one_based_edges_equals_the_kernel_graph() {
+    let edges1 = [1u32, 2, 2, 3, 3, 4, 4, 1, 1, 3];
+    let edges0: Vec<[u32; 2]> = edges1
+        .chunks_exact(2)
+        .map(|e| [e[0] - 1, e[1] - 1])
+        .collect();
+    let mut len = 0usize;
+    // SAFETY: `len` is one writable size_t.
+    let s = unsafe { dk_graph_from_edges_len(10, &mut len) };
+    assert_eq!(s, dk_status::DK_OK);
+    assert_eq!(len, graph_from_edges_len(&edges0));
+    let (mut o, mut t, mut used) = ([0u32; 5], vec![0u32; len], 0usize);
+    // SAFETY: every buffer is as long as its length argument; `used` is one size_t.
+    let s = unsafe {
+        dk_graph_from_edges(
+            4,
+            edges1.as_ptr(),
+            10,
+            1,
+            o.as_mut_ptr(),
+            5,
+            t.as_mut_ptr(),
+            len,
+            &mut used,
+        )
+    };
+    assert_eq!(s, dk_status::DK_OK);
+    let (mut ko, mut kt) = ([0u32; 5], vec![0u32; len]);
+    let kused = graph_from_edges(4, &edges0, &mut ko, &mut kt).unwrap();
+    assert_eq!((o, &t[..used]), (ko, &kt[..kused]));
+}
+
+#[test]
+fn structured_smoothing_reads_the_pin_mask_through_the_options_struct() {
+    let (ni, nj) = (4usize, 3usize);
+    let field0: Vec<f64> = (0..ni * nj).map(|i| ((i * 7) % 5) as f64 - 1.5).collect();
+    let pinned: Vec<u8> = (0..ni * nj).map(|i| u8::from(i % 4 == 0)).collect();
+    let mut len = 0usize;
+    // SAFETY: `len` is one writable size_t.
+    let s = unsafe { dk_taubin_smooth_structured_scratch_len(ni, nj, 1, &mut len) };
+    assert_eq!(s, dk_status::DK_OK);
+    let opts = dk_structured_options {
+        pinned: pinned.as_ptr(),
+        pinned_len: pinned.len(),
+        mirror: [1, 0, 0],
+    };
+    let mut field = field0.clone();
+    let mut scratch = vec![0.0; len];
+    let mut report = dk_filter_report {
+        iterations: 0,
+        last_change: 0.0,
+    };
+    // SAFETY: every buffer is as long as its length argument; the options' mask too.
+    let s = unsafe {
+        dk_taubin_smooth_structured(
+            ni,
+            nj,
+            1,
+            0.33,
+            -0.34,
+            3,
+            &opts,
+            field.as_mut_ptr(),
+            field.len(),
+            scratch.as_mut_ptr(),
+            len,
+            &mut report,
+        )
+    };
+    assert_eq!(s, dk_status::DK_OK);
+    let mut expected = field0.clone();
+    let mut kscratch = vec![0.0; len];
+    let kopts = StructuredOptions {
+        pinned: Some(&pinned),
+        mirror: [true, false, false],
+    };
+    let block = Block::new([ni, nj, 1]).unwrap();
+    let params = TaubinParams {
+        lambda: 0.33,
+        mu: -0.34,
+    };
+    smooth_structured(&block, &mut expected, params, 3, &kopts, &mut kscratch).unwrap();
+    assert_eq!(bits(&field), bits(&expected));
+    assert_ne!(bits(&field), bits(&field0), "the smoothing moved nothing");
+}
+
+#[test]
+fn idw_deformation_reads_the_motion_struct_arrays() {
+    // A 3 x 3 grid, the left column moves rigidly (rotation about z), the right column is fixed.
+    let points: Vec<f64> = (0..9)
+        .flat_map(|i| [(i % 3) as f64, (i / 3) as f64])
+        .collect();
+    let nodes = [1u32, 4, 7, 3, 6, 9]; // 1-based
+    let q = Quat::from_axis_angle([0.0, 0.0, 1.0], 0.1).unwrap();
+    let mut deformed = Vec::new();
+    for (k, &n) in nodes.iter().enumerate() {
+        let i = (n - 1) as usize;
+        let p = [points[2 * i], points[2 * i + 1]];
+        if k < 3 {
+            let r = q.rotate([p[0], p[1], 0.0]);
+            deformed.extend([r[0] + 0.05, r[1]]);
+        } else {
+            deformed.extend(p);
+        }
+    }
+    let mut motion = core::mem::MaybeUninit::<dk_boundary_motion>::uninit();
+    assert_eq!(
+        // SAFETY: `motion` is one writable struct.
+        unsafe { dk_boundary_motion_default(motion.as_mut_ptr()) },
+        dk_status::DK_OK
+    );
+    // SAFETY: `dk_boundary_motion_default` returned DK_OK, so it wrote every field.
+    let mut motion = unsafe { motion.assume_init() };
+    motion.nodes = nodes.as_ptr();
+    motion.nodes_len = nodes.len();
+    motion.deformed = deformed.as_ptr();
+    motion.deformed_len = deformed.len();
+    motion.index_base = 1;
+    motion.rotation_source = DK_ROTATIONS_RIGID;
+    motion.rigid_rotation = q.to_array();
+    let mut len = 0usize;
+    assert_eq!(
+        // SAFETY: `len` is one writable size_t.
+        unsafe { dk_deform_idw_scratch_len(9, 6, 2, &mut len) },
+        dk_status::DK_OK
+    );
+    assert_eq!(len, deform_idw_scratch_len::<2>(9, 6));
+    let mut scratch = vec![0.0; len];
+    let mut index_scratch = [0u32; 6];
+    let (mut tr, mut rot, mut out, mut origin) =
+        (vec![0.0; 18], vec![0.0; 36], vec![0.0; 18], [0.0; 2]);
+    // SAFETY: every buffer is as long as its length argument; the motion's arrays too.
+    let s = unsafe {
+        dk_deform_idw(
+            points.as_ptr(),
+            18,
+            2,
+            &motion,
+            2.0,
+            scratch.as_mut_ptr(),
+            len,
+            index_scratch.as_mut_ptr(),
+            6,
+            tr.as_mut_ptr(),
+            18,
+            rot.as_mut_ptr(),
+            36,
+            out.as_mut_ptr(),
+            18,
+            origin.as_mut_ptr(),
+            2,
+        )
+    };
+    assert_eq!(s, dk_status::DK_OK);
+    let pts: Vec<[f64; 2]> = points.chunks_exact(2).map(|p| [p[0], p[1]]).collect();
+    let def: Vec<[f64; 2]> = deformed.chunks_exact(2).map(|p| [p[0], p[1]]).collect();
+    let nodes0: Vec<u32> = nodes.iter().map(|n| n - 1).collect();
+    let kmotion = BoundaryMotion {
+        nodes: &nodes0,
+        deformed: &def,
+        elements: None,
+        rotations: RotationSource::Rigid(q),
+        origin: None,
+    };
+    let (mut ktr, mut krot) = (vec![[0.0; 2]; 9], vec![Quat::new(1.0, 0.0, 0.0, 0.0); 9]);
+    let mut kout = vec![[0.0; 2]; 9];
+    let mut ks = vec![0.0; len];
+    let ko = deform_idw(&pts, &kmotion, 2.0, &mut ktr, &mut krot, &mut ks, &mut kout).unwrap();
+    let kout: Vec<f64> = kout.concat();
+    assert_eq!(bits(&out), bits(&kout));
+    assert_eq!(bits(&origin), bits(&ko));
+    assert_ne!(bits(&out), bits(&points), "nothing moved");
+}
