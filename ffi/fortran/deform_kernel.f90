@@ -48,14 +48,6 @@ module deform_kernel
        DK_PRISM = 13_c_int8_t, DK_PYRAMID = 14_c_int8_t
 
   public :: dk_status_str, dk_status_message
-  public :: dk_quat_mul, dk_quat_normalize, dk_quat_inverse, dk_quat_from_axis_angle, &
-            dk_quat_to_axis_angle, dk_quat_rotation_arc, dk_quat_rotate_points, dk_quat_slerp, &
-            dk_quat_nlerp, dk_quat_average
-  public :: dk_quat_mul_f32, dk_quat_normalize_f32, dk_quat_inverse_f32, &
-            dk_quat_from_axis_angle_f32, dk_quat_to_axis_angle_f32, dk_quat_rotation_arc_f32, &
-            dk_quat_rotate_points_f32, dk_quat_slerp_f32, dk_quat_nlerp_f32, dk_quat_average_f32
-  public :: dk_graph_from_edges_len, dk_graph_from_edges, dk_cells_check, &
-            dk_graph_from_cells_len, dk_graph_from_cells, dk_graph_check
   public :: dkf_rotate_points, dkf_graph_from_edges, dkf_graph_from_cells_len, &
             dkf_graph_from_cells
 
@@ -200,40 +192,6 @@ module deform_kernel
     logical(c_bool) :: has_wall
   end type
 
-  public :: dk_quality_cell_quality, dk_quality_cell_quality_f32, dk_quality_cell_measures, &
-            dk_quality_cell_measures_f32, dk_quality_min_corner_jacobians, &
-            dk_quality_min_corner_jacobians_f32, dk_quality_inverted_cells, &
-            dk_quality_inverted_cells_f32, dk_quality_folded_cells, dk_quality_folded_cells_f32, &
-            dk_quality_wall_angle_scratch_len, dk_quality_compare, dk_quality_compare_f32, &
-            dk_quality_wall_angle_change, dk_quality_wall_angle_change_f32, &
-            dk_spring_batina_stiffness, dk_spring_batina_stiffness_f32, &
-            dk_spring_index_scratch_len, dk_spring_solve_options_default, &
-            dk_spring_solve_options_default_f32, dk_spring_solve_linear_scratch_len, &
-            dk_spring_solve_linear, dk_spring_solve_linear_f32, dk_spring_jacobi_sweep, &
-            dk_spring_jacobi_sweep_f32, dk_spring_sor_sweep, dk_spring_sor_sweep_f32, &
-            dk_spring_relative_residual, dk_spring_relative_residual_f32, &
-            dk_spring_angle_options_default, dk_spring_angle_options_default_f32, &
-            dk_spring_solve_angle_scratch_len, dk_spring_solve_angle_scratch_len_f32, &
-            dk_spring_angle_rigidity_probe_scratch_len, dk_spring_solve_angle, &
-            dk_spring_solve_angle_f32, dk_spring_angle_jacobi_sweep, &
-            dk_spring_angle_jacobi_sweep_f32, dk_spring_angle_gauss_seidel_sweep, &
-            dk_spring_angle_gauss_seidel_sweep_f32, dk_spring_angle_rigidity_probe, &
-            dk_spring_angle_rigidity_probe_f32, dk_taubin_params_paper, &
-            dk_taubin_params_paper_f32, dk_taubin_params_from_pass_band, &
-            dk_taubin_params_from_pass_band_f32, dk_smooth_arclength_options_default, &
-            dk_taubin_smooth_arclength_scratch_len, dk_taubin_smooth_arclength, &
-            dk_taubin_smooth_arclength_f32, dk_taubin_smooth_structured_scratch_len, &
-            dk_taubin_smooth_structured, dk_taubin_smooth_structured_f32, &
-            dk_taubin_structured_sweep, dk_taubin_structured_sweep_f32, &
-            dk_taubin_smooth_structured_coarse_scratch_len, dk_taubin_smooth_structured_coarse, &
-            dk_taubin_smooth_structured_coarse_f32, dk_taubin_smooth_graph_scratch_len, &
-            dk_taubin_smooth_graph, dk_taubin_smooth_graph_f32, dk_taubin_graph_sweep, &
-            dk_taubin_graph_sweep_f32, dk_taubin_inverse_distance_weights, &
-            dk_taubin_inverse_distance_weights_f32, dk_taubin_arclength, dk_taubin_arclength_f32, &
-            dk_taubin_redistribute_scratch_len, dk_taubin_redistribute, &
-            dk_taubin_redistribute_f32, dk_taubin_stretching, dk_taubin_stretching_f32, &
-            dk_taubin_max_stretching, dk_taubin_max_stretching_f32, &
-            dk_taubin_check_lines_increasing, dk_taubin_check_lines_increasing_f32
   public :: dkf_spring_solve_linear, dkf_taubin_smooth_arclength, dkf_taubin_smooth_structured, &
             dkf_taubin_smooth_graph
   ! <<< end public: springs, quality, taubin >>>
@@ -288,25 +246,8 @@ module deform_kernel
     integer(c_int32_t) :: has_origin
   end type
 
-  public :: dk_boundary_motion_default, dk_boundary_motion_default_f32, &
-            dk_boundary_motion_index_scratch_len, dk_boundary_motion_index_scratch_len_f32, &
-            dk_deform_idw_scratch_len, dk_deform_idw, dk_deform_idw_f32, &
-            dk_deform_tfi_scratch_len, dk_deform_tfi, dk_deform_tfi_f32, &
-            dk_deform_boundary_normals_scratch_len, dk_deform_boundary_normals, &
-            dk_deform_boundary_normals_f32, dk_deform_boundary_rotations_scratch_len, &
-            dk_deform_boundary_rotations, dk_deform_boundary_rotations_f32, &
-            dk_deform_rigid_rotations, dk_deform_rigid_rotations_f32, dk_deform_boundary_origin, &
-            dk_deform_boundary_origin_f32, dk_deform_boundary_translations, &
-            dk_deform_boundary_translations_f32, dk_deform_propagate_idw, &
-            dk_deform_propagate_idw_f32, dk_deform_propagate_tfi_scratch_len, &
-            dk_deform_propagate_tfi, dk_deform_propagate_tfi_f32, dk_deform_displacement_tfi, &
-            dk_deform_displacement_tfi_f32, dk_deform_update_points, dk_deform_update_points_f32, &
-            dk_deform_localize_nodes_scratch_len, dk_deform_localize_nodes, &
-            dk_deform_spring_index_scratch_len, dk_deform_spring_index_scratch_len_f32, &
-            dkf_deform_idw, dkf_deform_idw_f32, dkf_deform_tfi, dkf_deform_tfi_f32
-  public :: dk_deform_spring_scratch_len, dk_deform_spring, dk_deform_spring_f32, &
-            dk_deform_propagate_spring_scratch_len, dk_deform_propagate_spring, &
-            dk_deform_propagate_spring_f32, dkf_deform_spring, dkf_deform_spring_f32
+  public :: dkf_deform_idw, dkf_deform_idw_f32, dkf_deform_tfi, dkf_deform_tfi_f32
+  public :: dkf_deform_spring, dkf_deform_spring_f32
   ! <<< end public: deformation >>>
 
   interface
@@ -321,151 +262,762 @@ module deform_kernel
       type(c_ptr), value :: s
       integer(c_size_t) :: n
     end function
+  end interface
 
-    ! ---- quaternions, double precision: q = (w, x, y, z) ----
-    function dk_quat_mul(a, b, out) bind(C, name="dk_quat_mul") result(s)
-      import :: c_int32_t, c_double
-      real(c_double), intent(in) :: a(4), b(4)
-      real(c_double), intent(inout) :: out(4)
+  ! <<< generated by `cargo xtask codegen` from ffi/abi/*.abi: do not edit >>>
+  public :: dk_boundary_motion_default, dk_boundary_motion_default_f32, &
+            dk_boundary_motion_index_scratch_len, dk_boundary_motion_index_scratch_len_f32, &
+            dk_deform_idw_scratch_len, dk_deform_idw, dk_deform_idw_f32, &
+            dk_deform_tfi_scratch_len, dk_deform_tfi, dk_deform_tfi_f32, &
+            dk_deform_boundary_normals_scratch_len, dk_deform_boundary_normals, &
+            dk_deform_boundary_normals_f32, dk_deform_boundary_rotations_scratch_len, &
+            dk_deform_boundary_rotations, dk_deform_boundary_rotations_f32, &
+            dk_deform_rigid_rotations, dk_deform_rigid_rotations_f32, dk_deform_boundary_origin, &
+            dk_deform_boundary_origin_f32, dk_deform_boundary_translations, &
+            dk_deform_boundary_translations_f32, dk_deform_propagate_idw, &
+            dk_deform_propagate_idw_f32, dk_deform_propagate_tfi_scratch_len, &
+            dk_deform_propagate_tfi, dk_deform_propagate_tfi_f32, dk_deform_displacement_tfi, &
+            dk_deform_displacement_tfi_f32, dk_deform_update_points, dk_deform_update_points_f32, &
+            dk_deform_localize_nodes_scratch_len, dk_deform_localize_nodes, &
+            dk_deform_spring_scratch_len, dk_deform_spring_index_scratch_len, &
+            dk_deform_spring_index_scratch_len_f32, dk_deform_spring, dk_deform_spring_f32, &
+            dk_deform_propagate_spring_scratch_len, dk_deform_propagate_spring, &
+            dk_deform_propagate_spring_f32, dk_graph_from_edges_len, dk_graph_from_edges, &
+            dk_cells_check, dk_graph_from_cells_len, dk_graph_from_cells, dk_graph_check, &
+            dk_quality_cell_quality, dk_quality_cell_quality_f32, dk_quality_cell_measures, &
+            dk_quality_cell_measures_f32, dk_quality_min_corner_jacobians, &
+            dk_quality_min_corner_jacobians_f32, dk_quality_inverted_cells, &
+            dk_quality_inverted_cells_f32, dk_quality_folded_cells, dk_quality_folded_cells_f32, &
+            dk_quality_wall_angle_scratch_len, dk_quality_compare, dk_quality_compare_f32, &
+            dk_quality_wall_angle_change, dk_quality_wall_angle_change_f32, dk_quat_mul, &
+            dk_quat_mul_f32, dk_quat_normalize, dk_quat_normalize_f32, dk_quat_inverse, &
+            dk_quat_inverse_f32, dk_quat_from_axis_angle, dk_quat_from_axis_angle_f32, &
+            dk_quat_to_axis_angle, dk_quat_to_axis_angle_f32, dk_quat_rotation_arc, &
+            dk_quat_rotation_arc_f32, dk_quat_rotate_points, dk_quat_rotate_points_f32, &
+            dk_quat_slerp, dk_quat_slerp_f32, dk_quat_nlerp, dk_quat_nlerp_f32, dk_quat_average, &
+            dk_quat_average_f32, dk_spring_batina_stiffness, dk_spring_batina_stiffness_f32, &
+            dk_spring_index_scratch_len, dk_spring_solve_options_default, &
+            dk_spring_solve_options_default_f32, dk_spring_solve_linear_scratch_len, &
+            dk_spring_solve_linear, dk_spring_solve_linear_f32, dk_spring_jacobi_sweep, &
+            dk_spring_jacobi_sweep_f32, dk_spring_sor_sweep, dk_spring_sor_sweep_f32, &
+            dk_spring_relative_residual, dk_spring_relative_residual_f32, &
+            dk_spring_angle_options_default, dk_spring_angle_options_default_f32, &
+            dk_spring_solve_angle_scratch_len, dk_spring_solve_angle_scratch_len_f32, &
+            dk_spring_angle_rigidity_probe_scratch_len, dk_spring_solve_angle, &
+            dk_spring_solve_angle_f32, dk_spring_angle_jacobi_sweep, &
+            dk_spring_angle_jacobi_sweep_f32, dk_spring_angle_gauss_seidel_sweep, &
+            dk_spring_angle_gauss_seidel_sweep_f32, dk_spring_angle_rigidity_probe, &
+            dk_spring_angle_rigidity_probe_f32, dk_taubin_params_paper, &
+            dk_taubin_params_paper_f32, dk_taubin_params_from_pass_band, &
+            dk_taubin_params_from_pass_band_f32, dk_smooth_arclength_options_default, &
+            dk_taubin_smooth_arclength_scratch_len, dk_taubin_smooth_arclength, &
+            dk_taubin_smooth_arclength_f32, dk_taubin_smooth_structured_scratch_len, &
+            dk_taubin_smooth_structured, dk_taubin_smooth_structured_f32, &
+            dk_taubin_structured_sweep, dk_taubin_structured_sweep_f32, &
+            dk_taubin_smooth_structured_coarse_scratch_len, dk_taubin_smooth_structured_coarse, &
+            dk_taubin_smooth_structured_coarse_f32, dk_taubin_smooth_graph_scratch_len, &
+            dk_taubin_smooth_graph, dk_taubin_smooth_graph_f32, dk_taubin_graph_sweep, &
+            dk_taubin_graph_sweep_f32, dk_taubin_inverse_distance_weights, &
+            dk_taubin_inverse_distance_weights_f32, dk_taubin_arclength, dk_taubin_arclength_f32, &
+            dk_taubin_redistribute_scratch_len, dk_taubin_redistribute, &
+            dk_taubin_redistribute_f32, dk_taubin_stretching, dk_taubin_stretching_f32, &
+            dk_taubin_max_stretching, dk_taubin_max_stretching_f32, &
+            dk_taubin_check_lines_increasing, dk_taubin_check_lines_increasing_f32
+
+  interface
+    function dk_boundary_motion_default(out) bind(C, name="dk_boundary_motion_default") result(s)
+      import :: c_int32_t, dk_boundary_motion
+      type(dk_boundary_motion), intent(inout) :: out
       integer(c_int32_t) :: s
     end function
-    function dk_quat_normalize(q, out) bind(C, name="dk_quat_normalize") result(s)
-      import :: c_int32_t, c_double
-      real(c_double), intent(in) :: q(4)
-      real(c_double), intent(inout) :: out(4)
-      integer(c_int32_t) :: s
-    end function
-    function dk_quat_inverse(q, out) bind(C, name="dk_quat_inverse") result(s)
-      import :: c_int32_t, c_double
-      real(c_double), intent(in) :: q(4)
-      real(c_double), intent(inout) :: out(4)
-      integer(c_int32_t) :: s
-    end function
-    function dk_quat_from_axis_angle(axis, angle, out) bind(C, name="dk_quat_from_axis_angle") &
+    function dk_boundary_motion_default_f32(out) bind(C, name="dk_boundary_motion_default_f32") &
         result(s)
-      import :: c_int32_t, c_double
-      real(c_double), intent(in) :: axis(3)
-      real(c_double), value :: angle
-      real(c_double), intent(inout) :: out(4)
+      import :: c_int32_t, dk_boundary_motion_f32
+      type(dk_boundary_motion_f32), intent(inout) :: out
       integer(c_int32_t) :: s
     end function
-    function dk_quat_to_axis_angle(q, axis_out, angle_out) bind(C, name="dk_quat_to_axis_angle") &
+    function dk_boundary_motion_index_scratch_len(motion, len_out) bind(C, &
+        name="dk_boundary_motion_index_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_boundary_motion
+      type(dk_boundary_motion), intent(in) :: motion
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_boundary_motion_index_scratch_len_f32(motion, len_out) bind(C, &
+        name="dk_boundary_motion_index_scratch_len_f32") result(s)
+      import :: c_int32_t, c_size_t, dk_boundary_motion_f32
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_idw_scratch_len(node_count, boundary_len, dim, len_out) bind(C, &
+        name="dk_deform_idw_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_idw(points, points_len, dim, motion, exponent, scratch, scratch_len, &
+        index_scratch, index_scratch_len, translations, translations_len, rotations, &
+        rotations_len, out, out_len, origin_out, origin_out_len) bind(C, name="dk_deform_idw") &
         result(s)
-      import :: c_int32_t, c_double
-      real(c_double), intent(in) :: q(4)
-      real(c_double), intent(inout) :: axis_out(3), angle_out
-      integer(c_int32_t) :: s
-    end function
-    function dk_quat_rotation_arc(from, to, out) bind(C, name="dk_quat_rotation_arc") result(s)
-      import :: c_int32_t, c_double
-      real(c_double), intent(in) :: from(3), to(3)
-      real(c_double), intent(inout) :: out(4)
-      integer(c_int32_t) :: s
-    end function
-    function dk_quat_rotate_points(q, points, points_len, out, out_len) &
-        bind(C, name="dk_quat_rotate_points") result(s)
-      import :: c_int32_t, c_double, c_size_t
-      real(c_double), intent(in) :: q(4), points(*)
-      integer(c_size_t), value :: points_len, out_len
+      import :: c_double, c_int32_t, c_size_t, dk_boundary_motion
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion), intent(in) :: motion
+      real(c_double), value :: exponent
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_double), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
       real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      real(c_double), intent(inout) :: origin_out(*)
+      integer(c_size_t), value :: origin_out_len
       integer(c_int32_t) :: s
     end function
-    function dk_quat_slerp(a, b, t, out) bind(C, name="dk_quat_slerp") result(s)
-      import :: c_int32_t, c_double
-      real(c_double), intent(in) :: a(4), b(4)
-      real(c_double), value :: t
-      real(c_double), intent(inout) :: out(4)
-      integer(c_int32_t) :: s
-    end function
-    function dk_quat_nlerp(a, b, t, out) bind(C, name="dk_quat_nlerp") result(s)
-      import :: c_int32_t, c_double
-      real(c_double), intent(in) :: a(4), b(4)
-      real(c_double), value :: t
-      real(c_double), intent(inout) :: out(4)
-      integer(c_int32_t) :: s
-    end function
-    function dk_quat_average(quats, quats_len, weights, weights_len, out) &
-        bind(C, name="dk_quat_average") result(s)
-      import :: c_int32_t, c_double, c_size_t
-      real(c_double), intent(in) :: quats(*), weights(*)
-      integer(c_size_t), value :: quats_len, weights_len
-      real(c_double), intent(inout) :: out(4)
-      integer(c_int32_t) :: s
-    end function
-
-    ! ---- quaternions, single precision ----
-    function dk_quat_mul_f32(a, b, out) bind(C, name="dk_quat_mul_f32") result(s)
-      import :: c_int32_t, c_float
-      real(c_float), intent(in) :: a(4), b(4)
-      real(c_float), intent(inout) :: out(4)
-      integer(c_int32_t) :: s
-    end function
-    function dk_quat_normalize_f32(q, out) bind(C, name="dk_quat_normalize_f32") result(s)
-      import :: c_int32_t, c_float
-      real(c_float), intent(in) :: q(4)
-      real(c_float), intent(inout) :: out(4)
-      integer(c_int32_t) :: s
-    end function
-    function dk_quat_inverse_f32(q, out) bind(C, name="dk_quat_inverse_f32") result(s)
-      import :: c_int32_t, c_float
-      real(c_float), intent(in) :: q(4)
-      real(c_float), intent(inout) :: out(4)
-      integer(c_int32_t) :: s
-    end function
-    function dk_quat_from_axis_angle_f32(axis, angle, out) &
-        bind(C, name="dk_quat_from_axis_angle_f32") result(s)
-      import :: c_int32_t, c_float
-      real(c_float), intent(in) :: axis(3)
-      real(c_float), value :: angle
-      real(c_float), intent(inout) :: out(4)
-      integer(c_int32_t) :: s
-    end function
-    function dk_quat_to_axis_angle_f32(q, axis_out, angle_out) &
-        bind(C, name="dk_quat_to_axis_angle_f32") result(s)
-      import :: c_int32_t, c_float
-      real(c_float), intent(in) :: q(4)
-      real(c_float), intent(inout) :: axis_out(3), angle_out
-      integer(c_int32_t) :: s
-    end function
-    function dk_quat_rotation_arc_f32(from, to, out) bind(C, name="dk_quat_rotation_arc_f32") &
+    function dk_deform_idw_f32(points, points_len, dim, motion, exponent, scratch, scratch_len, &
+        index_scratch, index_scratch_len, translations, translations_len, rotations, &
+        rotations_len, out, out_len, origin_out, origin_out_len) bind(C, name="dk_deform_idw_f32") &
         result(s)
-      import :: c_int32_t, c_float
-      real(c_float), intent(in) :: from(3), to(3)
-      real(c_float), intent(inout) :: out(4)
-      integer(c_int32_t) :: s
-    end function
-    function dk_quat_rotate_points_f32(q, points, points_len, out, out_len) &
-        bind(C, name="dk_quat_rotate_points_f32") result(s)
-      import :: c_int32_t, c_float, c_size_t
-      real(c_float), intent(in) :: q(4), points(*)
-      integer(c_size_t), value :: points_len, out_len
+      import :: c_float, c_int32_t, c_size_t, dk_boundary_motion_f32
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      real(c_float), value :: exponent
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_float), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
       real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      real(c_float), intent(inout) :: origin_out(*)
+      integer(c_size_t), value :: origin_out_len
       integer(c_int32_t) :: s
     end function
-    function dk_quat_slerp_f32(a, b, t, out) bind(C, name="dk_quat_slerp_f32") result(s)
-      import :: c_int32_t, c_float
-      real(c_float), intent(in) :: a(4), b(4)
-      real(c_float), value :: t
-      real(c_float), intent(inout) :: out(4)
+    function dk_deform_tfi_scratch_len(ni, nj, nk, boundary_len, dim, len_out) bind(C, &
+        name="dk_deform_tfi_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_quat_nlerp_f32(a, b, t, out) bind(C, name="dk_quat_nlerp_f32") result(s)
-      import :: c_int32_t, c_float
-      real(c_float), intent(in) :: a(4), b(4)
-      real(c_float), value :: t
-      real(c_float), intent(inout) :: out(4)
+    function dk_deform_tfi(ni, nj, nk, directions, points, points_len, dim, motion, scratch, &
+        scratch_len, index_scratch, index_scratch_len, translations, translations_len, rotations, &
+        rotations_len, out, out_len, origin_out, origin_out_len) bind(C, name="dk_deform_tfi") &
+        result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_boundary_motion
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_int32_t), value :: directions
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion), intent(in) :: motion
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_double), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      real(c_double), intent(inout) :: origin_out(*)
+      integer(c_size_t), value :: origin_out_len
       integer(c_int32_t) :: s
     end function
-    function dk_quat_average_f32(quats, quats_len, weights, weights_len, out) &
-        bind(C, name="dk_quat_average_f32") result(s)
-      import :: c_int32_t, c_float, c_size_t
-      real(c_float), intent(in) :: quats(*), weights(*)
-      integer(c_size_t), value :: quats_len, weights_len
-      real(c_float), intent(inout) :: out(4)
+    function dk_deform_tfi_f32(ni, nj, nk, directions, points, points_len, dim, motion, scratch, &
+        scratch_len, index_scratch, index_scratch_len, translations, translations_len, rotations, &
+        rotations_len, out, out_len, origin_out, origin_out_len) bind(C, name="dk_deform_tfi_f32") &
+        result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_boundary_motion_f32
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_int32_t), value :: directions
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_float), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      real(c_float), intent(inout) :: origin_out(*)
+      integer(c_size_t), value :: origin_out_len
       integer(c_int32_t) :: s
     end function
-
-    ! ---- graphs and cells (node indices in index_base; CSR output always 0-based) ----
+    function dk_deform_boundary_normals_scratch_len(boundary_len, len_out) bind(C, &
+        name="dk_deform_boundary_normals_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: boundary_len
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_normals(points, points_len, dim, element_offsets, &
+        element_offsets_len, element_nodes, element_nodes_len, element_kinds, element_kinds_len, &
+        index_base, scratch, scratch_len, index_scratch, index_scratch_len, normals, normals_len) &
+        bind(C, name="dk_deform_boundary_normals") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: element_offsets(*)
+      integer(c_size_t), value :: element_offsets_len
+      integer(c_int32_t), intent(in) :: element_nodes(*)
+      integer(c_size_t), value :: element_nodes_len
+      integer(c_int8_t), intent(in) :: element_kinds(*)
+      integer(c_size_t), value :: element_kinds_len
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: normals(*)
+      integer(c_size_t), value :: normals_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_normals_f32(points, points_len, dim, element_offsets, &
+        element_offsets_len, element_nodes, element_nodes_len, element_kinds, element_kinds_len, &
+        index_base, scratch, scratch_len, index_scratch, index_scratch_len, normals, normals_len) &
+        bind(C, name="dk_deform_boundary_normals_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: element_offsets(*)
+      integer(c_size_t), value :: element_offsets_len
+      integer(c_int32_t), intent(in) :: element_nodes(*)
+      integer(c_size_t), value :: element_nodes_len
+      integer(c_int8_t), intent(in) :: element_kinds(*)
+      integer(c_size_t), value :: element_kinds_len
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: normals(*)
+      integer(c_size_t), value :: normals_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_rotations_scratch_len(boundary_len, dim, len_out) bind(C, &
+        name="dk_deform_boundary_rotations_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_rotations(undeformed, undeformed_len, deformed, deformed_len, dim, &
+        element_offsets, element_offsets_len, element_nodes, element_nodes_len, element_kinds, &
+        element_kinds_len, index_base, scratch, scratch_len, index_scratch, index_scratch_len, &
+        rotations, rotations_len) bind(C, name="dk_deform_boundary_rotations") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t
+      real(c_double), intent(in) :: undeformed(*)
+      integer(c_size_t), value :: undeformed_len
+      real(c_double), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: element_offsets(*)
+      integer(c_size_t), value :: element_offsets_len
+      integer(c_int32_t), intent(in) :: element_nodes(*)
+      integer(c_size_t), value :: element_nodes_len
+      integer(c_int8_t), intent(in) :: element_kinds(*)
+      integer(c_size_t), value :: element_kinds_len
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_rotations_f32(undeformed, undeformed_len, deformed, deformed_len, &
+        dim, element_offsets, element_offsets_len, element_nodes, element_nodes_len, &
+        element_kinds, element_kinds_len, index_base, scratch, scratch_len, index_scratch, &
+        index_scratch_len, rotations, rotations_len) bind(C, &
+        name="dk_deform_boundary_rotations_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t
+      real(c_float), intent(in) :: undeformed(*)
+      integer(c_size_t), value :: undeformed_len
+      real(c_float), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: element_offsets(*)
+      integer(c_size_t), value :: element_offsets_len
+      integer(c_int32_t), intent(in) :: element_nodes(*)
+      integer(c_size_t), value :: element_nodes_len
+      integer(c_int8_t), intent(in) :: element_kinds(*)
+      integer(c_size_t), value :: element_kinds_len
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_rigid_rotations(q, rotations, rotations_len) bind(C, &
+        name="dk_deform_rigid_rotations") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: q(4)
+      real(c_double), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_rigid_rotations_f32(q, rotations, rotations_len) bind(C, &
+        name="dk_deform_rigid_rotations_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: q(4)
+      real(c_float), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_origin(undeformed, undeformed_len, deformed, deformed_len, dim, &
+        origin_out, origin_out_len) bind(C, name="dk_deform_boundary_origin") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: undeformed(*)
+      integer(c_size_t), value :: undeformed_len
+      real(c_double), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(inout) :: origin_out(*)
+      integer(c_size_t), value :: origin_out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_origin_f32(undeformed, undeformed_len, deformed, deformed_len, &
+        dim, origin_out, origin_out_len) bind(C, name="dk_deform_boundary_origin_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: undeformed(*)
+      integer(c_size_t), value :: undeformed_len
+      real(c_float), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: origin_out(*)
+      integer(c_size_t), value :: origin_out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_translations(origin, origin_len, undeformed, undeformed_len, &
+        deformed, deformed_len, dim, rotations, rotations_len, translations, translations_len) &
+        bind(C, name="dk_deform_boundary_translations") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: origin(*)
+      integer(c_size_t), value :: origin_len
+      real(c_double), intent(in) :: undeformed(*)
+      integer(c_size_t), value :: undeformed_len
+      real(c_double), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(in) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_double), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_boundary_translations_f32(origin, origin_len, undeformed, undeformed_len, &
+        deformed, deformed_len, dim, rotations, rotations_len, translations, translations_len) &
+        bind(C, name="dk_deform_boundary_translations_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: origin(*)
+      integer(c_size_t), value :: origin_len
+      real(c_float), intent(in) :: undeformed(*)
+      integer(c_size_t), value :: undeformed_len
+      real(c_float), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(in) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_float), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_idw(points, points_len, dim, boundary, boundary_len, index_base, &
+        exponent, index_scratch, index_scratch_len, translations, translations_len, rotations, &
+        rotations_len) bind(C, name="dk_deform_propagate_idw") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      real(c_double), value :: exponent
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_double), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_idw_f32(points, points_len, dim, boundary, boundary_len, &
+        index_base, exponent, index_scratch, index_scratch_len, translations, translations_len, &
+        rotations, rotations_len) bind(C, name="dk_deform_propagate_idw_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      real(c_float), value :: exponent
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_float), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_tfi_scratch_len(ni, nj, nk, dim, len_out) bind(C, &
+        name="dk_deform_propagate_tfi_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_tfi(ni, nj, nk, directions, points, points_len, dim, scratch, &
+        scratch_len, translations, translations_len, rotations, rotations_len) bind(C, &
+        name="dk_deform_propagate_tfi") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_int32_t), value :: directions
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_double), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_double), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_tfi_f32(ni, nj, nk, directions, points, points_len, dim, scratch, &
+        scratch_len, translations, translations_len, rotations, rotations_len) bind(C, &
+        name="dk_deform_propagate_tfi_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_int32_t), value :: directions
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_float), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_float), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_displacement_tfi(ni, nj, nk, directions, points, points_len, dim, scratch, &
+        scratch_len, displacements, displacements_len) bind(C, name="dk_deform_displacement_tfi") &
+        result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_int32_t), value :: directions
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_double), intent(inout) :: displacements(*)
+      integer(c_size_t), value :: displacements_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_displacement_tfi_f32(ni, nj, nk, directions, points, points_len, dim, &
+        scratch, scratch_len, displacements, displacements_len) bind(C, &
+        name="dk_deform_displacement_tfi_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_int32_t), value :: directions
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_float), intent(inout) :: displacements(*)
+      integer(c_size_t), value :: displacements_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_update_points(origin, origin_len, points, points_len, dim, translations, &
+        translations_len, rotations, rotations_len, boundary, boundary_len, index_base, &
+        boundary_deformed, boundary_deformed_len, index_scratch, index_scratch_len, out, out_len) &
+        bind(C, name="dk_deform_update_points") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: origin(*)
+      integer(c_size_t), value :: origin_len
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(in) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_double), intent(in) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(in) :: boundary_deformed(*)
+      integer(c_size_t), value :: boundary_deformed_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_update_points_f32(origin, origin_len, points, points_len, dim, &
+        translations, translations_len, rotations, rotations_len, boundary, boundary_len, &
+        index_base, boundary_deformed, boundary_deformed_len, index_scratch, index_scratch_len, &
+        out, out_len) bind(C, name="dk_deform_update_points_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: origin(*)
+      integer(c_size_t), value :: origin_len
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(in) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_float), intent(in) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(in) :: boundary_deformed(*)
+      integer(c_size_t), value :: boundary_deformed_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_localize_nodes_scratch_len(node_count, boundary_len, global_len, &
+        index_base, len_out) bind(C, name="dk_deform_localize_nodes_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_size_t), value :: boundary_len
+      integer(c_size_t), value :: global_len
+      integer(c_int32_t), value :: index_base
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_localize_nodes(node_count, boundary, boundary_len, global, global_len, &
+        index_base, scratch, scratch_len, local, local_len) bind(C, &
+        name="dk_deform_localize_nodes") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), intent(in) :: global(*)
+      integer(c_size_t), value :: global_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: local(*)
+      integer(c_size_t), value :: local_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_spring_scratch_len(node_count, boundary_len, dim, options, scratch_len_out, &
+        values_len_out) bind(C, name="dk_deform_spring_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_spring_solve_options
+      integer(c_size_t), value :: node_count
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: dim
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_size_t), intent(inout) :: scratch_len_out
+      integer(c_size_t), intent(inout) :: values_len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_spring_index_scratch_len(motion, node_count, len_out) bind(C, &
+        name="dk_deform_spring_index_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_boundary_motion
+      type(dk_boundary_motion), intent(in) :: motion
+      integer(c_size_t), value :: node_count
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_spring_index_scratch_len_f32(motion, node_count, len_out) bind(C, &
+        name="dk_deform_spring_index_scratch_len_f32") result(s)
+      import :: c_int32_t, c_size_t, dk_boundary_motion_f32
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      integer(c_size_t), value :: node_count
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_spring(points, points_len, dim, motion, offsets, offsets_len, targets, &
+        targets_len, stiffness, stiffness_len, fixed, fixed_len, options, scratch, scratch_len, &
+        values, values_len, index_scratch, index_scratch_len, translations, translations_len, &
+        rotations, rotations_len, out, out_len, origin_out, origin_out_len, report) bind(C, &
+        name="dk_deform_spring") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_boundary_motion, &
+          dk_spring_solve_options, dk_spring_solve_report
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion), intent(in) :: motion
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_double), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_spring_solve_options), intent(in) :: options
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_double), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_double), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      real(c_double), intent(inout) :: origin_out(*)
+      integer(c_size_t), value :: origin_out_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_spring_f32(points, points_len, dim, motion, offsets, offsets_len, targets, &
+        targets_len, stiffness, stiffness_len, fixed, fixed_len, options, scratch, scratch_len, &
+        values, values_len, index_scratch, index_scratch_len, translations, translations_len, &
+        rotations, rotations_len, out, out_len, origin_out, origin_out_len, report) bind(C, &
+        name="dk_deform_spring_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_boundary_motion_f32, &
+          dk_spring_solve_options, dk_spring_solve_report
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_float), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_spring_solve_options), intent(in) :: options
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_float), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_float), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      real(c_float), intent(inout) :: origin_out(*)
+      integer(c_size_t), value :: origin_out_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_spring_scratch_len(node_count, dim, options, len_out) bind(C, &
+        name="dk_deform_propagate_spring_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_spring_solve_options
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), value :: dim
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_spring(offsets, offsets_len, targets, targets_len, stiffness, &
+        stiffness_len, fixed, fixed_len, options, dim, index_scratch, index_scratch_len, values, &
+        values_len, translations, translations_len, rotations, rotations_len, report) bind(C, &
+        name="dk_deform_propagate_spring") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_solve_options, &
+          dk_spring_solve_report
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_double), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      real(c_double), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_double), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_propagate_spring_f32(offsets, offsets_len, targets, targets_len, stiffness, &
+        stiffness_len, fixed, fixed_len, options, dim, index_scratch, index_scratch_len, values, &
+        values_len, translations, translations_len, rotations, rotations_len, report) bind(C, &
+        name="dk_deform_propagate_spring_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_solve_options, &
+          dk_spring_solve_report
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_float), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      real(c_float), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_float), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
     function dk_graph_from_edges_len(edges_len, len_out) bind(C, name="dk_graph_from_edges_len") &
         result(s)
       import :: c_int32_t, c_size_t
@@ -476,10 +1028,14 @@ module deform_kernel
     function dk_graph_from_edges(node_count, edges, edges_len, index_base, offsets, offsets_len, &
         targets, targets_len, used_out) bind(C, name="dk_graph_from_edges") result(s)
       import :: c_int32_t, c_size_t
-      integer(c_size_t), value :: node_count, edges_len, offsets_len, targets_len
+      integer(c_size_t), value :: node_count
       integer(c_int32_t), intent(in) :: edges(*)
+      integer(c_size_t), value :: edges_len
       integer(c_int32_t), value :: index_base
-      integer(c_int32_t), intent(inout) :: offsets(*), targets(*)
+      integer(c_int32_t), intent(inout) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(inout) :: targets(*)
+      integer(c_size_t), value :: targets_len
       integer(c_size_t), intent(inout) :: used_out
       integer(c_int32_t) :: s
     end function
@@ -487,19 +1043,27 @@ module deform_kernel
         cell_nodes_len, cell_kinds, cell_kinds_len, index_base) bind(C, name="dk_cells_check") &
         result(s)
       import :: c_int32_t, c_int8_t, c_size_t
-      integer(c_size_t), value :: node_count, cell_offsets_len, cell_nodes_len, cell_kinds_len
-      integer(c_int32_t), intent(in) :: cell_offsets(*), cell_nodes(*)
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
       integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
       integer(c_int32_t), value :: index_base
       integer(c_int32_t) :: s
     end function
     function dk_graph_from_cells_len(node_count, cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, face_diagonals, len_out) &
-        bind(C, name="dk_graph_from_cells_len") result(s)
-      import :: c_int32_t, c_int8_t, c_size_t, c_bool
-      integer(c_size_t), value :: node_count, cell_offsets_len, cell_nodes_len, cell_kinds_len
-      integer(c_int32_t), intent(in) :: cell_offsets(*), cell_nodes(*)
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, face_diagonals, len_out) bind(C, &
+        name="dk_graph_from_cells_len") result(s)
+      import :: c_bool, c_int32_t, c_int8_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
       integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
       integer(c_int32_t), value :: index_base
       logical(c_bool), value :: face_diagonals
       integer(c_size_t), intent(inout) :: len_out
@@ -508,29 +1072,35 @@ module deform_kernel
     function dk_graph_from_cells(node_count, cell_offsets, cell_offsets_len, cell_nodes, &
         cell_nodes_len, cell_kinds, cell_kinds_len, index_base, face_diagonals, offsets, &
         offsets_len, targets, targets_len, used_out) bind(C, name="dk_graph_from_cells") result(s)
-      import :: c_int32_t, c_int8_t, c_size_t, c_bool
-      integer(c_size_t), value :: node_count, cell_offsets_len, cell_nodes_len, cell_kinds_len
-      integer(c_int32_t), intent(in) :: cell_offsets(*), cell_nodes(*)
+      import :: c_bool, c_int32_t, c_int8_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
       integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
       integer(c_int32_t), value :: index_base
       logical(c_bool), value :: face_diagonals
-      integer(c_size_t), value :: offsets_len, targets_len
-      integer(c_int32_t), intent(inout) :: offsets(*), targets(*)
+      integer(c_int32_t), intent(inout) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(inout) :: targets(*)
+      integer(c_size_t), value :: targets_len
       integer(c_size_t), intent(inout) :: used_out
       integer(c_int32_t) :: s
     end function
-    function dk_graph_check(offsets, offsets_len, targets, targets_len, require_symmetric) &
-        bind(C, name="dk_graph_check") result(s)
-      import :: c_int32_t, c_size_t, c_bool
-      integer(c_int32_t), intent(in) :: offsets(*), targets(*)
-      integer(c_size_t), value :: offsets_len, targets_len
+    function dk_graph_check(offsets, offsets_len, targets, targets_len, require_symmetric) bind(C, &
+        name="dk_graph_check") result(s)
+      import :: c_bool, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
       logical(c_bool), value :: require_symmetric
       integer(c_int32_t) :: s
     end function
-  ! <<< interfaces: springs, quality, taubin >>>
-    ! ---- springs, quality, Taubin (dk_spring_*, dk_quality_*, dk_taubin_*) ----
-    function dk_quality_cell_quality(kind, corners, corners_len, dim, out) &
-        bind(C, name="dk_quality_cell_quality") result(s)
+    function dk_quality_cell_quality(kind, corners, corners_len, dim, out) bind(C, &
+        name="dk_quality_cell_quality") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_cell_quality
       integer(c_int8_t), value :: kind
       real(c_double), intent(in) :: corners(*)
@@ -539,8 +1109,8 @@ module deform_kernel
       type(dk_cell_quality), intent(inout) :: out
       integer(c_int32_t) :: s
     end function
-    function dk_quality_cell_quality_f32(kind, corners, corners_len, dim, out) &
-        bind(C, name="dk_quality_cell_quality_f32") result(s)
+    function dk_quality_cell_quality_f32(kind, corners, corners_len, dim, out) bind(C, &
+        name="dk_quality_cell_quality_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_cell_quality
       integer(c_int8_t), value :: kind
       real(c_float), intent(in) :: corners(*)
@@ -549,9 +1119,9 @@ module deform_kernel
       type(dk_cell_quality), intent(inout) :: out
       integer(c_int32_t) :: s
     end function
-    function dk_quality_cell_measures(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, &
-        out, out_len) bind(C, name="dk_quality_cell_measures") result(s)
+    function dk_quality_cell_measures(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
+        cell_kinds, cell_kinds_len, index_base, points, points_len, dim, out, out_len) bind(C, &
+        name="dk_quality_cell_measures") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t
       integer(c_int32_t), intent(in) :: cell_offsets(*)
       integer(c_size_t), value :: cell_offsets_len
@@ -568,8 +1138,8 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_quality_cell_measures_f32(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, &
-        out, out_len) bind(C, name="dk_quality_cell_measures_f32") result(s)
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, out, &
+        out_len) bind(C, name="dk_quality_cell_measures_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_size_t
       integer(c_int32_t), intent(in) :: cell_offsets(*)
       integer(c_size_t), value :: cell_offsets_len
@@ -586,8 +1156,8 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_quality_min_corner_jacobians(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, &
-        scaled, out, out_len) bind(C, name="dk_quality_min_corner_jacobians") result(s)
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, scaled, &
+        out, out_len) bind(C, name="dk_quality_min_corner_jacobians") result(s)
       import :: c_bool, c_double, c_int32_t, c_int8_t, c_size_t
       integer(c_int32_t), intent(in) :: cell_offsets(*)
       integer(c_size_t), value :: cell_offsets_len
@@ -604,10 +1174,9 @@ module deform_kernel
       integer(c_size_t), value :: out_len
       integer(c_int32_t) :: s
     end function
-    function dk_quality_min_corner_jacobians_f32(cell_offsets, cell_offsets_len, &
-        cell_nodes, cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, &
-        points_len, dim, scaled, out, out_len) &
-        bind(C, name="dk_quality_min_corner_jacobians_f32") result(s)
+    function dk_quality_min_corner_jacobians_f32(cell_offsets, cell_offsets_len, cell_nodes, &
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, scaled, &
+        out, out_len) bind(C, name="dk_quality_min_corner_jacobians_f32") result(s)
       import :: c_bool, c_float, c_int32_t, c_int8_t, c_size_t
       integer(c_int32_t), intent(in) :: cell_offsets(*)
       integer(c_size_t), value :: cell_offsets_len
@@ -624,9 +1193,9 @@ module deform_kernel
       integer(c_size_t), value :: out_len
       integer(c_int32_t) :: s
     end function
-    function dk_quality_inverted_cells(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, undeformed, undeformed_len, &
-        deformed, deformed_len, dim, count_out) bind(C, name="dk_quality_inverted_cells") result(s)
+    function dk_quality_inverted_cells(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
+        cell_kinds, cell_kinds_len, index_base, undeformed, undeformed_len, deformed, &
+        deformed_len, dim, count_out) bind(C, name="dk_quality_inverted_cells") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t
       integer(c_int32_t), intent(in) :: cell_offsets(*)
       integer(c_size_t), value :: cell_offsets_len
@@ -645,8 +1214,8 @@ module deform_kernel
     end function
     function dk_quality_inverted_cells_f32(cell_offsets, cell_offsets_len, cell_nodes, &
         cell_nodes_len, cell_kinds, cell_kinds_len, index_base, undeformed, undeformed_len, &
-        deformed, deformed_len, dim, count_out) &
-        bind(C, name="dk_quality_inverted_cells_f32") result(s)
+        deformed, deformed_len, dim, count_out) bind(C, name="dk_quality_inverted_cells_f32") &
+        result(s)
       import :: c_float, c_int32_t, c_int8_t, c_size_t
       integer(c_int32_t), intent(in) :: cell_offsets(*)
       integer(c_size_t), value :: cell_offsets_len
@@ -663,9 +1232,9 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: count_out
       integer(c_int32_t) :: s
     end function
-    function dk_quality_folded_cells(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, &
-        count_out) bind(C, name="dk_quality_folded_cells") result(s)
+    function dk_quality_folded_cells(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
+        cell_kinds, cell_kinds_len, index_base, points, points_len, dim, count_out) bind(C, &
+        name="dk_quality_folded_cells") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t
       integer(c_int32_t), intent(in) :: cell_offsets(*)
       integer(c_size_t), value :: cell_offsets_len
@@ -697,8 +1266,8 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: count_out
       integer(c_int32_t) :: s
     end function
-    function dk_quality_wall_angle_scratch_len(node_count, dim, len_out) &
-        bind(C, name="dk_quality_wall_angle_scratch_len") result(s)
+    function dk_quality_wall_angle_scratch_len(node_count, dim, len_out) bind(C, &
+        name="dk_quality_wall_angle_scratch_len") result(s)
       import :: c_int32_t, c_size_t
       integer(c_size_t), value :: node_count
       integer(c_int32_t), value :: dim
@@ -708,9 +1277,8 @@ module deform_kernel
     function dk_quality_compare(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
         cell_kinds, cell_kinds_len, index_base, wall_offsets, wall_offsets_len, wall_nodes, &
         wall_nodes_len, wall_kinds, wall_kinds_len, graph_offsets, graph_offsets_len, &
-        graph_targets, graph_targets_len, undeformed, undeformed_len, deformed, &
-        deformed_len, dim, scratch, scratch_len, report) &
-        bind(C, name="dk_quality_compare") result(s)
+        graph_targets, graph_targets_len, undeformed, undeformed_len, deformed, deformed_len, dim, &
+        scratch, scratch_len, report) bind(C, name="dk_quality_compare") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_quality_report
       integer(c_int32_t), intent(in) :: cell_offsets(*)
       integer(c_size_t), value :: cell_offsets_len
@@ -739,12 +1307,11 @@ module deform_kernel
       type(dk_quality_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_quality_compare_f32(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, wall_offsets, &
-        wall_offsets_len, wall_nodes, wall_nodes_len, wall_kinds, wall_kinds_len, &
-        graph_offsets, graph_offsets_len, graph_targets, graph_targets_len, undeformed, &
-        undeformed_len, deformed, deformed_len, dim, scratch, scratch_len, report) &
-        bind(C, name="dk_quality_compare_f32") result(s)
+    function dk_quality_compare_f32(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
+        cell_kinds, cell_kinds_len, index_base, wall_offsets, wall_offsets_len, wall_nodes, &
+        wall_nodes_len, wall_kinds, wall_kinds_len, graph_offsets, graph_offsets_len, &
+        graph_targets, graph_targets_len, undeformed, undeformed_len, deformed, deformed_len, dim, &
+        scratch, scratch_len, report) bind(C, name="dk_quality_compare_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_quality_report
       integer(c_int32_t), intent(in) :: cell_offsets(*)
       integer(c_size_t), value :: cell_offsets_len
@@ -774,10 +1341,9 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_quality_wall_angle_change(wall_offsets, wall_offsets_len, wall_nodes, &
-        wall_nodes_len, wall_kinds, wall_kinds_len, index_base, graph_offsets, &
-        graph_offsets_len, graph_targets, graph_targets_len, undeformed, undeformed_len, &
-        deformed, deformed_len, dim, scratch, scratch_len, out) &
-        bind(C, name="dk_quality_wall_angle_change") result(s)
+        wall_nodes_len, wall_kinds, wall_kinds_len, index_base, graph_offsets, graph_offsets_len, &
+        graph_targets, graph_targets_len, undeformed, undeformed_len, deformed, deformed_len, dim, &
+        scratch, scratch_len, out) bind(C, name="dk_quality_wall_angle_change") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_wall_angle_change
       integer(c_int32_t), intent(in) :: wall_offsets(*)
       integer(c_size_t), value :: wall_offsets_len
@@ -801,10 +1367,9 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_quality_wall_angle_change_f32(wall_offsets, wall_offsets_len, wall_nodes, &
-        wall_nodes_len, wall_kinds, wall_kinds_len, index_base, graph_offsets, &
-        graph_offsets_len, graph_targets, graph_targets_len, undeformed, undeformed_len, &
-        deformed, deformed_len, dim, scratch, scratch_len, out) &
-        bind(C, name="dk_quality_wall_angle_change_f32") result(s)
+        wall_nodes_len, wall_kinds, wall_kinds_len, index_base, graph_offsets, graph_offsets_len, &
+        graph_targets, graph_targets_len, undeformed, undeformed_len, deformed, deformed_len, dim, &
+        scratch, scratch_len, out) bind(C, name="dk_quality_wall_angle_change_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_wall_angle_change
       integer(c_int32_t), intent(in) :: wall_offsets(*)
       integer(c_size_t), value :: wall_offsets_len
@@ -827,9 +1392,166 @@ module deform_kernel
       type(dk_wall_angle_change), intent(inout) :: out
       integer(c_int32_t) :: s
     end function
+    function dk_quat_mul(a, b, out) bind(C, name="dk_quat_mul") result(s)
+      import :: c_double, c_int32_t
+      real(c_double), intent(in) :: a(4)
+      real(c_double), intent(in) :: b(4)
+      real(c_double), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_mul_f32(a, b, out) bind(C, name="dk_quat_mul_f32") result(s)
+      import :: c_float, c_int32_t
+      real(c_float), intent(in) :: a(4)
+      real(c_float), intent(in) :: b(4)
+      real(c_float), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_normalize(q, out) bind(C, name="dk_quat_normalize") result(s)
+      import :: c_double, c_int32_t
+      real(c_double), intent(in) :: q(4)
+      real(c_double), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_normalize_f32(q, out) bind(C, name="dk_quat_normalize_f32") result(s)
+      import :: c_float, c_int32_t
+      real(c_float), intent(in) :: q(4)
+      real(c_float), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_inverse(q, out) bind(C, name="dk_quat_inverse") result(s)
+      import :: c_double, c_int32_t
+      real(c_double), intent(in) :: q(4)
+      real(c_double), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_inverse_f32(q, out) bind(C, name="dk_quat_inverse_f32") result(s)
+      import :: c_float, c_int32_t
+      real(c_float), intent(in) :: q(4)
+      real(c_float), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_from_axis_angle(axis, angle, out) bind(C, name="dk_quat_from_axis_angle") &
+        result(s)
+      import :: c_double, c_int32_t
+      real(c_double), intent(in) :: axis(3)
+      real(c_double), value :: angle
+      real(c_double), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_from_axis_angle_f32(axis, angle, out) bind(C, &
+        name="dk_quat_from_axis_angle_f32") result(s)
+      import :: c_float, c_int32_t
+      real(c_float), intent(in) :: axis(3)
+      real(c_float), value :: angle
+      real(c_float), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_to_axis_angle(q, axis_out, angle_out) bind(C, name="dk_quat_to_axis_angle") &
+        result(s)
+      import :: c_double, c_int32_t
+      real(c_double), intent(in) :: q(4)
+      real(c_double), intent(inout) :: axis_out(3)
+      real(c_double), intent(inout) :: angle_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_to_axis_angle_f32(q, axis_out, angle_out) bind(C, &
+        name="dk_quat_to_axis_angle_f32") result(s)
+      import :: c_float, c_int32_t
+      real(c_float), intent(in) :: q(4)
+      real(c_float), intent(inout) :: axis_out(3)
+      real(c_float), intent(inout) :: angle_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_rotation_arc(from, to, out) bind(C, name="dk_quat_rotation_arc") result(s)
+      import :: c_double, c_int32_t
+      real(c_double), intent(in) :: from(3)
+      real(c_double), intent(in) :: to(3)
+      real(c_double), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_rotation_arc_f32(from, to, out) bind(C, name="dk_quat_rotation_arc_f32") &
+        result(s)
+      import :: c_float, c_int32_t
+      real(c_float), intent(in) :: from(3)
+      real(c_float), intent(in) :: to(3)
+      real(c_float), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_rotate_points(q, points, points_len, out, out_len) bind(C, &
+        name="dk_quat_rotate_points") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: q(4)
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_rotate_points_f32(q, points, points_len, out, out_len) bind(C, &
+        name="dk_quat_rotate_points_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: q(4)
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_slerp(a, b, t, out) bind(C, name="dk_quat_slerp") result(s)
+      import :: c_double, c_int32_t
+      real(c_double), intent(in) :: a(4)
+      real(c_double), intent(in) :: b(4)
+      real(c_double), value :: t
+      real(c_double), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_slerp_f32(a, b, t, out) bind(C, name="dk_quat_slerp_f32") result(s)
+      import :: c_float, c_int32_t
+      real(c_float), intent(in) :: a(4)
+      real(c_float), intent(in) :: b(4)
+      real(c_float), value :: t
+      real(c_float), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_nlerp(a, b, t, out) bind(C, name="dk_quat_nlerp") result(s)
+      import :: c_double, c_int32_t
+      real(c_double), intent(in) :: a(4)
+      real(c_double), intent(in) :: b(4)
+      real(c_double), value :: t
+      real(c_double), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_nlerp_f32(a, b, t, out) bind(C, name="dk_quat_nlerp_f32") result(s)
+      import :: c_float, c_int32_t
+      real(c_float), intent(in) :: a(4)
+      real(c_float), intent(in) :: b(4)
+      real(c_float), value :: t
+      real(c_float), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_average(quats, quats_len, weights, weights_len, out) bind(C, &
+        name="dk_quat_average") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: quats(*)
+      integer(c_size_t), value :: quats_len
+      real(c_double), intent(in) :: weights(*)
+      integer(c_size_t), value :: weights_len
+      real(c_double), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_average_f32(quats, quats_len, weights, weights_len, out) bind(C, &
+        name="dk_quat_average_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: quats(*)
+      integer(c_size_t), value :: quats_len
+      real(c_float), intent(in) :: weights(*)
+      integer(c_size_t), value :: weights_len
+      real(c_float), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
     function dk_spring_batina_stiffness(offsets, offsets_len, targets, targets_len, points, &
-        points_len, dim, exponent, stiffness, stiffness_len) &
-        bind(C, name="dk_spring_batina_stiffness") result(s)
+        points_len, dim, exponent, stiffness, stiffness_len) bind(C, &
+        name="dk_spring_batina_stiffness") result(s)
       import :: c_double, c_int32_t, c_size_t
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -843,9 +1565,9 @@ module deform_kernel
       integer(c_size_t), value :: stiffness_len
       integer(c_int32_t) :: s
     end function
-    function dk_spring_batina_stiffness_f32(offsets, offsets_len, targets, targets_len, &
-        points, points_len, dim, exponent, stiffness, stiffness_len) &
-        bind(C, name="dk_spring_batina_stiffness_f32") result(s)
+    function dk_spring_batina_stiffness_f32(offsets, offsets_len, targets, targets_len, points, &
+        points_len, dim, exponent, stiffness, stiffness_len) bind(C, &
+        name="dk_spring_batina_stiffness_f32") result(s)
       import :: c_float, c_int32_t, c_size_t
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -859,27 +1581,27 @@ module deform_kernel
       integer(c_size_t), value :: stiffness_len
       integer(c_int32_t) :: s
     end function
-    function dk_spring_index_scratch_len(node_count, len_out) &
-        bind(C, name="dk_spring_index_scratch_len") result(s)
+    function dk_spring_index_scratch_len(node_count, len_out) bind(C, &
+        name="dk_spring_index_scratch_len") result(s)
       import :: c_int32_t, c_size_t
       integer(c_size_t), value :: node_count
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_spring_solve_options_default(out) &
-        bind(C, name="dk_spring_solve_options_default") result(s)
+    function dk_spring_solve_options_default(out) bind(C, name="dk_spring_solve_options_default") &
+        result(s)
       import :: c_int32_t, dk_spring_solve_options
       type(dk_spring_solve_options), intent(inout) :: out
       integer(c_int32_t) :: s
     end function
-    function dk_spring_solve_options_default_f32(out) &
-        bind(C, name="dk_spring_solve_options_default_f32") result(s)
+    function dk_spring_solve_options_default_f32(out) bind(C, &
+        name="dk_spring_solve_options_default_f32") result(s)
       import :: c_int32_t, dk_spring_solve_options
       type(dk_spring_solve_options), intent(inout) :: out
       integer(c_int32_t) :: s
     end function
-    function dk_spring_solve_linear_scratch_len(node_count, components, options, len_out) &
-        bind(C, name="dk_spring_solve_linear_scratch_len") result(s)
+    function dk_spring_solve_linear_scratch_len(node_count, components, options, len_out) bind(C, &
+        name="dk_spring_solve_linear_scratch_len") result(s)
       import :: c_int32_t, c_size_t, dk_spring_solve_options
       integer(c_size_t), value :: node_count
       integer(c_int32_t), value :: components
@@ -889,8 +1611,8 @@ module deform_kernel
     end function
     function dk_spring_solve_linear(offsets, offsets_len, targets, targets_len, stiffness, &
         stiffness_len, fixed, fixed_len, options, components, values, values_len, scratch, &
-        scratch_len, index_scratch, index_scratch_len, report) &
-        bind(C, name="dk_spring_solve_linear") result(s)
+        scratch_len, index_scratch, index_scratch_len, report) bind(C, &
+        name="dk_spring_solve_linear") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_solve_options, &
           dk_spring_solve_report
       integer(c_int32_t), intent(in) :: offsets(*)
@@ -912,10 +1634,10 @@ module deform_kernel
       type(dk_spring_solve_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_spring_solve_linear_f32(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, options, components, values, &
-        values_len, scratch, scratch_len, index_scratch, index_scratch_len, report) &
-        bind(C, name="dk_spring_solve_linear_f32") result(s)
+    function dk_spring_solve_linear_f32(offsets, offsets_len, targets, targets_len, stiffness, &
+        stiffness_len, fixed, fixed_len, options, components, values, values_len, scratch, &
+        scratch_len, index_scratch, index_scratch_len, report) bind(C, &
+        name="dk_spring_solve_linear_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_solve_options, &
           dk_spring_solve_report
       integer(c_int32_t), intent(in) :: offsets(*)
@@ -938,9 +1660,9 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_spring_jacobi_sweep(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, components, &
-        src, src_len, dst, dst_len, index_scratch, index_scratch_len, sweep) &
-        bind(C, name="dk_spring_jacobi_sweep") result(s)
+        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, components, src, &
+        src_len, dst, dst_len, index_scratch, index_scratch_len, sweep) bind(C, &
+        name="dk_spring_jacobi_sweep") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -963,10 +1685,10 @@ module deform_kernel
       type(dk_spring_sweep), intent(inout) :: sweep
       integer(c_int32_t) :: s
     end function
-    function dk_spring_jacobi_sweep_f32(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, &
-        components, src, src_len, dst, dst_len, index_scratch, index_scratch_len, sweep) &
-        bind(C, name="dk_spring_jacobi_sweep_f32") result(s)
+    function dk_spring_jacobi_sweep_f32(offsets, offsets_len, targets, targets_len, stiffness, &
+        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, components, src, &
+        src_len, dst, dst_len, index_scratch, index_scratch_len, sweep) bind(C, &
+        name="dk_spring_jacobi_sweep_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -990,9 +1712,9 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_spring_sor_sweep(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, omega, &
-        components, values, values_len, index_scratch, index_scratch_len, sweep) &
-        bind(C, name="dk_spring_sor_sweep") result(s)
+        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, omega, components, &
+        values, values_len, index_scratch, index_scratch_len, sweep) bind(C, &
+        name="dk_spring_sor_sweep") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1015,9 +1737,9 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_spring_sor_sweep_f32(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, omega, &
-        components, values, values_len, index_scratch, index_scratch_len, sweep) &
-        bind(C, name="dk_spring_sor_sweep_f32") result(s)
+        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, omega, components, &
+        values, values_len, index_scratch, index_scratch_len, sweep) bind(C, &
+        name="dk_spring_sor_sweep_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1039,10 +1761,9 @@ module deform_kernel
       type(dk_spring_sweep), intent(inout) :: sweep
       integer(c_int32_t) :: s
     end function
-    function dk_spring_relative_residual(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, components, values, values_len, &
-        index_scratch, index_scratch_len, residual_out) &
-        bind(C, name="dk_spring_relative_residual") result(s)
+    function dk_spring_relative_residual(offsets, offsets_len, targets, targets_len, stiffness, &
+        stiffness_len, fixed, fixed_len, components, values, values_len, index_scratch, &
+        index_scratch_len, residual_out) bind(C, name="dk_spring_relative_residual") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1061,9 +1782,8 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_spring_relative_residual_f32(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, components, values, values_len, &
-        index_scratch, index_scratch_len, residual_out) &
-        bind(C, name="dk_spring_relative_residual_f32") result(s)
+        stiffness, stiffness_len, fixed, fixed_len, components, values, values_len, index_scratch, &
+        index_scratch_len, residual_out) bind(C, name="dk_spring_relative_residual_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_size_t
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1081,20 +1801,20 @@ module deform_kernel
       real(c_float), intent(inout) :: residual_out
       integer(c_int32_t) :: s
     end function
-    function dk_spring_angle_options_default(out) &
-        bind(C, name="dk_spring_angle_options_default") result(s)
+    function dk_spring_angle_options_default(out) bind(C, name="dk_spring_angle_options_default") &
+        result(s)
       import :: c_int32_t, dk_spring_angle_options
       type(dk_spring_angle_options), intent(inout) :: out
       integer(c_int32_t) :: s
     end function
-    function dk_spring_angle_options_default_f32(out) &
-        bind(C, name="dk_spring_angle_options_default_f32") result(s)
+    function dk_spring_angle_options_default_f32(out) bind(C, &
+        name="dk_spring_angle_options_default_f32") result(s)
       import :: c_int32_t, dk_spring_angle_options
       type(dk_spring_angle_options), intent(inout) :: out
       integer(c_int32_t) :: s
     end function
-    function dk_spring_solve_angle_scratch_len(node_count, dim, options, len_out) &
-        bind(C, name="dk_spring_solve_angle_scratch_len") result(s)
+    function dk_spring_solve_angle_scratch_len(node_count, dim, options, len_out) bind(C, &
+        name="dk_spring_solve_angle_scratch_len") result(s)
       import :: c_int32_t, c_size_t, dk_spring_angle_options
       integer(c_size_t), value :: node_count
       integer(c_int32_t), value :: dim
@@ -1102,8 +1822,8 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_spring_solve_angle_scratch_len_f32(node_count, dim, options, len_out) &
-        bind(C, name="dk_spring_solve_angle_scratch_len_f32") result(s)
+    function dk_spring_solve_angle_scratch_len_f32(node_count, dim, options, len_out) bind(C, &
+        name="dk_spring_solve_angle_scratch_len_f32") result(s)
       import :: c_int32_t, c_size_t, dk_spring_angle_options
       integer(c_size_t), value :: node_count
       integer(c_int32_t), value :: dim
@@ -1111,8 +1831,8 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_spring_angle_rigidity_probe_scratch_len(node_count, dim, len_out) &
-        bind(C, name="dk_spring_angle_rigidity_probe_scratch_len") result(s)
+    function dk_spring_angle_rigidity_probe_scratch_len(node_count, dim, len_out) bind(C, &
+        name="dk_spring_angle_rigidity_probe_scratch_len") result(s)
       import :: c_int32_t, c_size_t
       integer(c_size_t), value :: node_count
       integer(c_int32_t), value :: dim
@@ -1120,9 +1840,9 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_spring_solve_angle(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, points, points_len, dim, options, values, &
-        values_len, scratch, scratch_len, index_scratch, index_scratch_len, report) &
-        bind(C, name="dk_spring_solve_angle") result(s)
+        stiffness_len, fixed, fixed_len, points, points_len, dim, options, values, values_len, &
+        scratch, scratch_len, index_scratch, index_scratch_len, report) bind(C, &
+        name="dk_spring_solve_angle") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_angle_options, &
           dk_spring_solve_report
       integer(c_int32_t), intent(in) :: offsets(*)
@@ -1146,10 +1866,10 @@ module deform_kernel
       type(dk_spring_solve_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_spring_solve_angle_f32(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, options, &
-        values, values_len, scratch, scratch_len, index_scratch, index_scratch_len, report) &
-        bind(C, name="dk_spring_solve_angle_f32") result(s)
+    function dk_spring_solve_angle_f32(offsets, offsets_len, targets, targets_len, stiffness, &
+        stiffness_len, fixed, fixed_len, points, points_len, dim, options, values, values_len, &
+        scratch, scratch_len, index_scratch, index_scratch_len, report) bind(C, &
+        name="dk_spring_solve_angle_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_angle_options, &
           dk_spring_solve_report
       integer(c_int32_t), intent(in) :: offsets(*)
@@ -1173,10 +1893,10 @@ module deform_kernel
       type(dk_spring_solve_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_spring_angle_jacobi_sweep(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, epsilon, &
-        nodes_start, nodes_end, index_base, src, src_len, dst, dst_len, index_scratch, &
-        index_scratch_len, sweep) bind(C, name="dk_spring_angle_jacobi_sweep") result(s)
+    function dk_spring_angle_jacobi_sweep(offsets, offsets_len, targets, targets_len, stiffness, &
+        stiffness_len, fixed, fixed_len, points, points_len, dim, epsilon, nodes_start, nodes_end, &
+        index_base, src, src_len, dst, dst_len, index_scratch, index_scratch_len, sweep) bind(C, &
+        name="dk_spring_angle_jacobi_sweep") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1203,9 +1923,9 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_spring_angle_jacobi_sweep_f32(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, epsilon, &
-        nodes_start, nodes_end, index_base, src, src_len, dst, dst_len, index_scratch, &
-        index_scratch_len, sweep) bind(C, name="dk_spring_angle_jacobi_sweep_f32") result(s)
+        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, epsilon, nodes_start, &
+        nodes_end, index_base, src, src_len, dst, dst_len, index_scratch, index_scratch_len, &
+        sweep) bind(C, name="dk_spring_angle_jacobi_sweep_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1232,9 +1952,9 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_spring_angle_gauss_seidel_sweep(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, epsilon, &
-        nodes_start, nodes_end, index_base, values, values_len, index_scratch, &
-        index_scratch_len, sweep) bind(C, name="dk_spring_angle_gauss_seidel_sweep") result(s)
+        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, epsilon, nodes_start, &
+        nodes_end, index_base, values, values_len, index_scratch, index_scratch_len, sweep) &
+        bind(C, name="dk_spring_angle_gauss_seidel_sweep") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1258,10 +1978,10 @@ module deform_kernel
       type(dk_spring_sweep), intent(inout) :: sweep
       integer(c_int32_t) :: s
     end function
-    function dk_spring_angle_gauss_seidel_sweep_f32(offsets, offsets_len, targets, &
-        targets_len, stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, &
-        epsilon, nodes_start, nodes_end, index_base, values, values_len, index_scratch, &
-        index_scratch_len, sweep) bind(C, name="dk_spring_angle_gauss_seidel_sweep_f32") result(s)
+    function dk_spring_angle_gauss_seidel_sweep_f32(offsets, offsets_len, targets, targets_len, &
+        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, epsilon, nodes_start, &
+        nodes_end, index_base, values, values_len, index_scratch, index_scratch_len, sweep) &
+        bind(C, name="dk_spring_angle_gauss_seidel_sweep_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1285,10 +2005,10 @@ module deform_kernel
       type(dk_spring_sweep), intent(inout) :: sweep
       integer(c_int32_t) :: s
     end function
-    function dk_spring_angle_rigidity_probe(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, options, &
-        scratch, scratch_len, index_scratch, index_scratch_len, amplification_out) &
-        bind(C, name="dk_spring_angle_rigidity_probe") result(s)
+    function dk_spring_angle_rigidity_probe(offsets, offsets_len, targets, targets_len, stiffness, &
+        stiffness_len, fixed, fixed_len, points, points_len, dim, options, scratch, scratch_len, &
+        index_scratch, index_scratch_len, amplification_out) bind(C, &
+        name="dk_spring_angle_rigidity_probe") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_angle_options
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1310,9 +2030,9 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_spring_angle_rigidity_probe_f32(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, options, &
-        scratch, scratch_len, index_scratch, index_scratch_len, amplification_out) &
-        bind(C, name="dk_spring_angle_rigidity_probe_f32") result(s)
+        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, options, scratch, &
+        scratch_len, index_scratch, index_scratch_len, amplification_out) bind(C, &
+        name="dk_spring_angle_rigidity_probe_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_angle_options
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1333,22 +2053,22 @@ module deform_kernel
       real(c_float), intent(inout) :: amplification_out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_params_paper(lambda_out, mu_out) &
-        bind(C, name="dk_taubin_params_paper") result(s)
+    function dk_taubin_params_paper(lambda_out, mu_out) bind(C, name="dk_taubin_params_paper") &
+        result(s)
       import :: c_double, c_int32_t
       real(c_double), intent(inout) :: lambda_out
       real(c_double), intent(inout) :: mu_out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_params_paper_f32(lambda_out, mu_out) &
-        bind(C, name="dk_taubin_params_paper_f32") result(s)
+    function dk_taubin_params_paper_f32(lambda_out, mu_out) bind(C, &
+        name="dk_taubin_params_paper_f32") result(s)
       import :: c_float, c_int32_t
       real(c_float), intent(inout) :: lambda_out
       real(c_float), intent(inout) :: mu_out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_params_from_pass_band(lambda, pass_band, lambda_out, mu_out) &
-        bind(C, name="dk_taubin_params_from_pass_band") result(s)
+    function dk_taubin_params_from_pass_band(lambda, pass_band, lambda_out, mu_out) bind(C, &
+        name="dk_taubin_params_from_pass_band") result(s)
       import :: c_double, c_int32_t
       real(c_double), value :: lambda
       real(c_double), value :: pass_band
@@ -1356,8 +2076,8 @@ module deform_kernel
       real(c_double), intent(inout) :: mu_out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_params_from_pass_band_f32(lambda, pass_band, lambda_out, mu_out) &
-        bind(C, name="dk_taubin_params_from_pass_band_f32") result(s)
+    function dk_taubin_params_from_pass_band_f32(lambda, pass_band, lambda_out, mu_out) bind(C, &
+        name="dk_taubin_params_from_pass_band_f32") result(s)
       import :: c_float, c_int32_t
       real(c_float), value :: lambda
       real(c_float), value :: pass_band
@@ -1365,15 +2085,15 @@ module deform_kernel
       real(c_float), intent(inout) :: mu_out
       integer(c_int32_t) :: s
     end function
-    function dk_smooth_arclength_options_default(direction, out) &
-        bind(C, name="dk_smooth_arclength_options_default") result(s)
+    function dk_smooth_arclength_options_default(direction, out) bind(C, &
+        name="dk_smooth_arclength_options_default") result(s)
       import :: c_int32_t, dk_smooth_arclength_options
       integer(c_int32_t), value :: direction
       type(dk_smooth_arclength_options), intent(inout) :: out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_smooth_arclength_scratch_len(ni, nj, nk, options, dim, len_out) &
-        bind(C, name="dk_taubin_smooth_arclength_scratch_len") result(s)
+    function dk_taubin_smooth_arclength_scratch_len(ni, nj, nk, options, dim, len_out) bind(C, &
+        name="dk_taubin_smooth_arclength_scratch_len") result(s)
       import :: c_int32_t, c_size_t, dk_smooth_arclength_options
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1383,8 +2103,8 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_smooth_arclength(ni, nj, nk, options, points, points_len, dim, &
-        scratch, scratch_len, report) bind(C, name="dk_taubin_smooth_arclength") result(s)
+    function dk_taubin_smooth_arclength(ni, nj, nk, options, points, points_len, dim, scratch, &
+        scratch_len, report) bind(C, name="dk_taubin_smooth_arclength") result(s)
       import :: c_double, c_int32_t, c_size_t, dk_smooth_arclength_options, dk_smooth_report
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1398,8 +2118,8 @@ module deform_kernel
       type(dk_smooth_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_smooth_arclength_f32(ni, nj, nk, options, points, points_len, dim, &
-        scratch, scratch_len, report) bind(C, name="dk_taubin_smooth_arclength_f32") result(s)
+    function dk_taubin_smooth_arclength_f32(ni, nj, nk, options, points, points_len, dim, scratch, &
+        scratch_len, report) bind(C, name="dk_taubin_smooth_arclength_f32") result(s)
       import :: c_float, c_int32_t, c_size_t, dk_smooth_arclength_options, dk_smooth_report
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1413,8 +2133,8 @@ module deform_kernel
       type(dk_smooth_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_smooth_structured_scratch_len(ni, nj, nk, len_out) &
-        bind(C, name="dk_taubin_smooth_structured_scratch_len") result(s)
+    function dk_taubin_smooth_structured_scratch_len(ni, nj, nk, len_out) bind(C, &
+        name="dk_taubin_smooth_structured_scratch_len") result(s)
       import :: c_int32_t, c_size_t
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1422,9 +2142,9 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_smooth_structured(ni, nj, nk, lambda, mu, iterations, options, &
-        field, field_len, scratch, scratch_len, report) &
-        bind(C, name="dk_taubin_smooth_structured") result(s)
+    function dk_taubin_smooth_structured(ni, nj, nk, lambda, mu, iterations, options, field, &
+        field_len, scratch, scratch_len, report) bind(C, name="dk_taubin_smooth_structured") &
+        result(s)
       import :: c_double, c_int32_t, c_size_t, dk_filter_report, dk_structured_options
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1440,9 +2160,9 @@ module deform_kernel
       type(dk_filter_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_smooth_structured_f32(ni, nj, nk, lambda, mu, iterations, options, &
-        field, field_len, scratch, scratch_len, report) &
-        bind(C, name="dk_taubin_smooth_structured_f32") result(s)
+    function dk_taubin_smooth_structured_f32(ni, nj, nk, lambda, mu, iterations, options, field, &
+        field_len, scratch, scratch_len, report) bind(C, name="dk_taubin_smooth_structured_f32") &
+        result(s)
       import :: c_float, c_int32_t, c_size_t, dk_filter_report, dk_structured_options
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1459,8 +2179,8 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_taubin_structured_sweep(ni, nj, nk, src, src_len, weight, options, region, &
-        index_base, dst, dst_len, max_change_out) &
-        bind(C, name="dk_taubin_structured_sweep") result(s)
+        index_base, dst, dst_len, max_change_out) bind(C, name="dk_taubin_structured_sweep") &
+        result(s)
       import :: c_double, c_int32_t, c_size_t, dk_block_region, dk_structured_options
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1476,9 +2196,9 @@ module deform_kernel
       real(c_double), intent(inout) :: max_change_out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_structured_sweep_f32(ni, nj, nk, src, src_len, weight, options, &
-        region, index_base, dst, dst_len, max_change_out) &
-        bind(C, name="dk_taubin_structured_sweep_f32") result(s)
+    function dk_taubin_structured_sweep_f32(ni, nj, nk, src, src_len, weight, options, region, &
+        index_base, dst, dst_len, max_change_out) bind(C, name="dk_taubin_structured_sweep_f32") &
+        result(s)
       import :: c_float, c_int32_t, c_size_t, dk_block_region, dk_structured_options
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1494,8 +2214,8 @@ module deform_kernel
       real(c_float), intent(inout) :: max_change_out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_smooth_structured_coarse_scratch_len(ni, nj, nk, coarse, len_out) &
-        bind(C, name="dk_taubin_smooth_structured_coarse_scratch_len") result(s)
+    function dk_taubin_smooth_structured_coarse_scratch_len(ni, nj, nk, coarse, len_out) bind(C, &
+        name="dk_taubin_smooth_structured_coarse_scratch_len") result(s)
       import :: c_int32_t, c_size_t, dk_taubin_coarse
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1505,8 +2225,8 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_taubin_smooth_structured_coarse(ni, nj, nk, coarse, lambda, mu, iterations, &
-        options, field, field_len, scratch, scratch_len, report) &
-        bind(C, name="dk_taubin_smooth_structured_coarse") result(s)
+        options, field, field_len, scratch, scratch_len, report) bind(C, &
+        name="dk_taubin_smooth_structured_coarse") result(s)
       import :: c_double, c_int32_t, c_size_t, dk_filter_report, dk_structured_options, &
           dk_taubin_coarse
       integer(c_size_t), value :: ni
@@ -1524,9 +2244,9 @@ module deform_kernel
       type(dk_filter_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_smooth_structured_coarse_f32(ni, nj, nk, coarse, lambda, mu, &
-        iterations, options, field, field_len, scratch, scratch_len, report) &
-        bind(C, name="dk_taubin_smooth_structured_coarse_f32") result(s)
+    function dk_taubin_smooth_structured_coarse_f32(ni, nj, nk, coarse, lambda, mu, iterations, &
+        options, field, field_len, scratch, scratch_len, report) bind(C, &
+        name="dk_taubin_smooth_structured_coarse_f32") result(s)
       import :: c_float, c_int32_t, c_size_t, dk_filter_report, dk_structured_options, &
           dk_taubin_coarse
       integer(c_size_t), value :: ni
@@ -1544,8 +2264,8 @@ module deform_kernel
       type(dk_filter_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_smooth_graph_scratch_len(node_count, components, len_out) &
-        bind(C, name="dk_taubin_smooth_graph_scratch_len") result(s)
+    function dk_taubin_smooth_graph_scratch_len(node_count, components, len_out) bind(C, &
+        name="dk_taubin_smooth_graph_scratch_len") result(s)
       import :: c_int32_t, c_size_t
       integer(c_size_t), value :: node_count
       integer(c_int32_t), value :: components
@@ -1553,8 +2273,8 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_taubin_smooth_graph(offsets, offsets_len, targets, targets_len, weights, &
-        weights_len, fixed, fixed_len, lambda, mu, iterations, components, values, &
-        values_len, scratch, scratch_len, report) bind(C, name="dk_taubin_smooth_graph") result(s)
+        weights_len, fixed, fixed_len, lambda, mu, iterations, components, values, values_len, &
+        scratch, scratch_len, report) bind(C, name="dk_taubin_smooth_graph") result(s)
       import :: c_double, c_int32_t, c_ptr, c_size_t, dk_filter_report
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1575,10 +2295,9 @@ module deform_kernel
       type(dk_filter_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_smooth_graph_f32(offsets, offsets_len, targets, targets_len, &
-        weights, weights_len, fixed, fixed_len, lambda, mu, iterations, components, values, &
-        values_len, scratch, scratch_len, report) &
-        bind(C, name="dk_taubin_smooth_graph_f32") result(s)
+    function dk_taubin_smooth_graph_f32(offsets, offsets_len, targets, targets_len, weights, &
+        weights_len, fixed, fixed_len, lambda, mu, iterations, components, values, values_len, &
+        scratch, scratch_len, report) bind(C, name="dk_taubin_smooth_graph_f32") result(s)
       import :: c_float, c_int32_t, c_ptr, c_size_t, dk_filter_report
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1600,9 +2319,8 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_taubin_graph_sweep(offsets, offsets_len, targets, targets_len, weights, &
-        weights_len, fixed, fixed_len, src, src_len, components, weight, nodes_start, &
-        nodes_end, index_base, dst, dst_len, max_change_out) &
-        bind(C, name="dk_taubin_graph_sweep") result(s)
+        weights_len, fixed, fixed_len, src, src_len, components, weight, nodes_start, nodes_end, &
+        index_base, dst, dst_len, max_change_out) bind(C, name="dk_taubin_graph_sweep") result(s)
       import :: c_double, c_int32_t, c_ptr, c_size_t
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1625,9 +2343,9 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_taubin_graph_sweep_f32(offsets, offsets_len, targets, targets_len, weights, &
-        weights_len, fixed, fixed_len, src, src_len, components, weight, nodes_start, &
-        nodes_end, index_base, dst, dst_len, max_change_out) &
-        bind(C, name="dk_taubin_graph_sweep_f32") result(s)
+        weights_len, fixed, fixed_len, src, src_len, components, weight, nodes_start, nodes_end, &
+        index_base, dst, dst_len, max_change_out) bind(C, name="dk_taubin_graph_sweep_f32") &
+        result(s)
       import :: c_float, c_int32_t, c_ptr, c_size_t
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1650,8 +2368,8 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_taubin_inverse_distance_weights(offsets, offsets_len, targets, targets_len, &
-        points, points_len, dim, weights, weights_len) &
-        bind(C, name="dk_taubin_inverse_distance_weights") result(s)
+        points, points_len, dim, weights, weights_len) bind(C, &
+        name="dk_taubin_inverse_distance_weights") result(s)
       import :: c_double, c_int32_t, c_ptr, c_size_t
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1664,9 +2382,9 @@ module deform_kernel
       integer(c_size_t), value :: weights_len
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_inverse_distance_weights_f32(offsets, offsets_len, targets, &
-        targets_len, points, points_len, dim, weights, weights_len) &
-        bind(C, name="dk_taubin_inverse_distance_weights_f32") result(s)
+    function dk_taubin_inverse_distance_weights_f32(offsets, offsets_len, targets, targets_len, &
+        points, points_len, dim, weights, weights_len) bind(C, &
+        name="dk_taubin_inverse_distance_weights_f32") result(s)
       import :: c_float, c_int32_t, c_ptr, c_size_t
       integer(c_int32_t), intent(in) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1679,8 +2397,8 @@ module deform_kernel
       integer(c_size_t), value :: weights_len
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_arclength(ni, nj, nk, points, points_len, dim, direction, &
-        normalised, out, out_len) bind(C, name="dk_taubin_arclength") result(s)
+    function dk_taubin_arclength(ni, nj, nk, points, points_len, dim, direction, normalised, out, &
+        out_len) bind(C, name="dk_taubin_arclength") result(s)
       import :: c_bool, c_double, c_int32_t, c_size_t
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1694,8 +2412,8 @@ module deform_kernel
       integer(c_size_t), value :: out_len
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_arclength_f32(ni, nj, nk, points, points_len, dim, direction, &
-        normalised, out, out_len) bind(C, name="dk_taubin_arclength_f32") result(s)
+    function dk_taubin_arclength_f32(ni, nj, nk, points, points_len, dim, direction, normalised, &
+        out, out_len) bind(C, name="dk_taubin_arclength_f32") result(s)
       import :: c_bool, c_float, c_int32_t, c_size_t
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1709,8 +2427,8 @@ module deform_kernel
       integer(c_size_t), value :: out_len
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_redistribute_scratch_len(ni, nj, nk, dim, direction, len_out) &
-        bind(C, name="dk_taubin_redistribute_scratch_len") result(s)
+    function dk_taubin_redistribute_scratch_len(ni, nj, nk, dim, direction, len_out) bind(C, &
+        name="dk_taubin_redistribute_scratch_len") result(s)
       import :: c_int32_t, c_size_t
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1720,9 +2438,9 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_redistribute(ni, nj, nk, direction, targets, targets_len, &
-        normalised, points, points_len, dim, scratch, scratch_len, max_displacement_out) &
-        bind(C, name="dk_taubin_redistribute") result(s)
+    function dk_taubin_redistribute(ni, nj, nk, direction, targets, targets_len, normalised, &
+        points, points_len, dim, scratch, scratch_len, max_displacement_out) bind(C, &
+        name="dk_taubin_redistribute") result(s)
       import :: c_bool, c_double, c_int32_t, c_size_t
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1739,9 +2457,9 @@ module deform_kernel
       real(c_double), intent(inout) :: max_displacement_out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_redistribute_f32(ni, nj, nk, direction, targets, targets_len, &
-        normalised, points, points_len, dim, scratch, scratch_len, max_displacement_out) &
-        bind(C, name="dk_taubin_redistribute_f32") result(s)
+    function dk_taubin_redistribute_f32(ni, nj, nk, direction, targets, targets_len, normalised, &
+        points, points_len, dim, scratch, scratch_len, max_displacement_out) bind(C, &
+        name="dk_taubin_redistribute_f32") result(s)
       import :: c_bool, c_float, c_int32_t, c_size_t
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1758,8 +2476,8 @@ module deform_kernel
       real(c_float), intent(inout) :: max_displacement_out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_stretching(ni, nj, nk, points, points_len, dim, direction, out, &
-        out_len) bind(C, name="dk_taubin_stretching") result(s)
+    function dk_taubin_stretching(ni, nj, nk, points, points_len, dim, direction, out, out_len) &
+        bind(C, name="dk_taubin_stretching") result(s)
       import :: c_double, c_int32_t, c_size_t
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1786,8 +2504,8 @@ module deform_kernel
       integer(c_size_t), value :: out_len
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_max_stretching(ni, nj, nk, points, points_len, dim, direction, &
-        value_out, point_out) bind(C, name="dk_taubin_max_stretching") result(s)
+    function dk_taubin_max_stretching(ni, nj, nk, points, points_len, dim, direction, value_out, &
+        point_out) bind(C, name="dk_taubin_max_stretching") result(s)
       import :: c_double, c_int32_t, c_size_t
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1814,9 +2532,8 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: point_out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_check_lines_increasing(ni, nj, nk, field, field_len, direction, &
-        iteration, points, points_len, dim) &
-        bind(C, name="dk_taubin_check_lines_increasing") result(s)
+    function dk_taubin_check_lines_increasing(ni, nj, nk, field, field_len, direction, iteration, &
+        points, points_len, dim) bind(C, name="dk_taubin_check_lines_increasing") result(s)
       import :: c_double, c_int32_t, c_ptr, c_size_t
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1831,8 +2548,8 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_taubin_check_lines_increasing_f32(ni, nj, nk, field, field_len, direction, &
-        iteration, points, points_len, dim) &
-        bind(C, name="dk_taubin_check_lines_increasing_f32") result(s)
+        iteration, points, points_len, dim) bind(C, name="dk_taubin_check_lines_increasing_f32") &
+        result(s)
       import :: c_float, c_int32_t, c_ptr, c_size_t
       integer(c_size_t), value :: ni
       integer(c_size_t), value :: nj
@@ -1846,502 +2563,8 @@ module deform_kernel
       integer(c_int32_t), value :: dim
       integer(c_int32_t) :: s
     end function
-  ! <<< end interfaces: springs, quality, taubin >>>
-  ! <<< interfaces: deformation >>>
-    ! ---- quaternion deformation (dk_deform_*; points flat, dim scalars each) ----
-    function dk_boundary_motion_default(out) &
-        bind(C, name="dk_boundary_motion_default") result(s)
-      import :: c_int32_t, dk_boundary_motion
-      type(dk_boundary_motion), intent(inout) :: out
-      integer(c_int32_t) :: s
-    end function
-    function dk_boundary_motion_default_f32(out) &
-        bind(C, name="dk_boundary_motion_default_f32") result(s)
-      import :: c_int32_t, dk_boundary_motion_f32
-      type(dk_boundary_motion_f32), intent(inout) :: out
-      integer(c_int32_t) :: s
-    end function
-    function dk_boundary_motion_index_scratch_len(motion, len_out) &
-        bind(C, name="dk_boundary_motion_index_scratch_len") result(s)
-      import :: c_int32_t, c_size_t, dk_boundary_motion
-      type(dk_boundary_motion), intent(in) :: motion
-      integer(c_size_t), intent(inout) :: len_out
-      integer(c_int32_t) :: s
-    end function
-    function dk_boundary_motion_index_scratch_len_f32(motion, len_out) &
-        bind(C, name="dk_boundary_motion_index_scratch_len_f32") result(s)
-      import :: c_int32_t, c_size_t, dk_boundary_motion_f32
-      type(dk_boundary_motion_f32), intent(in) :: motion
-      integer(c_size_t), intent(inout) :: len_out
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_idw_scratch_len(node_count, boundary_len, dim, len_out) &
-        bind(C, name="dk_deform_idw_scratch_len") result(s)
-      import :: c_int32_t, c_size_t
-      integer(c_size_t), value :: node_count, boundary_len
-      integer(c_int32_t), value :: dim
-      integer(c_size_t), intent(inout) :: len_out
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_idw(points, points_len, dim, motion, exponent, scratch, scratch_len, &
-        index_scratch, index_scratch_len, translations, translations_len, rotations, &
-        rotations_len, out, out_len, origin_out, origin_out_len) &
-        bind(C, name="dk_deform_idw") result(s)
-      import :: c_double, c_int32_t, c_size_t, dk_boundary_motion
-      real(c_double), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len, scratch_len, index_scratch_len, translations_len, &
-          rotations_len, out_len, origin_out_len
-      integer(c_int32_t), value :: dim
-      type(dk_boundary_motion), intent(in) :: motion
-      real(c_double), value :: exponent
-      real(c_double), intent(inout) :: scratch(*), translations(*), rotations(*), out(*), &
-          origin_out(*)
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_idw_f32(points, points_len, dim, motion, exponent, scratch, scratch_len, &
-        index_scratch, index_scratch_len, translations, translations_len, rotations, &
-        rotations_len, out, out_len, origin_out, origin_out_len) &
-        bind(C, name="dk_deform_idw_f32") result(s)
-      import :: c_float, c_int32_t, c_size_t, dk_boundary_motion_f32
-      real(c_float), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len, scratch_len, index_scratch_len, translations_len, &
-          rotations_len, out_len, origin_out_len
-      integer(c_int32_t), value :: dim
-      type(dk_boundary_motion_f32), intent(in) :: motion
-      real(c_float), value :: exponent
-      real(c_float), intent(inout) :: scratch(*), translations(*), rotations(*), out(*), &
-          origin_out(*)
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_tfi_scratch_len(ni, nj, nk, boundary_len, dim, len_out) &
-        bind(C, name="dk_deform_tfi_scratch_len") result(s)
-      import :: c_int32_t, c_size_t
-      integer(c_size_t), value :: ni, nj, nk, boundary_len
-      integer(c_int32_t), value :: dim
-      integer(c_size_t), intent(inout) :: len_out
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_tfi(ni, nj, nk, directions, points, points_len, dim, motion, scratch, &
-        scratch_len, index_scratch, index_scratch_len, translations, translations_len, &
-        rotations, rotations_len, out, out_len, origin_out, origin_out_len) &
-        bind(C, name="dk_deform_tfi") result(s)
-      import :: c_double, c_int32_t, c_size_t, dk_boundary_motion
-      integer(c_size_t), value :: ni, nj, nk, points_len, scratch_len, index_scratch_len, &
-          translations_len, rotations_len, out_len, origin_out_len
-      integer(c_int32_t), value :: directions, dim
-      real(c_double), intent(in) :: points(*)
-      type(dk_boundary_motion), intent(in) :: motion
-      real(c_double), intent(inout) :: scratch(*), translations(*), rotations(*), out(*), &
-          origin_out(*)
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_tfi_f32(ni, nj, nk, directions, points, points_len, dim, motion, &
-        scratch, scratch_len, index_scratch, index_scratch_len, translations, translations_len, &
-        rotations, rotations_len, out, out_len, origin_out, origin_out_len) &
-        bind(C, name="dk_deform_tfi_f32") result(s)
-      import :: c_float, c_int32_t, c_size_t, dk_boundary_motion_f32
-      integer(c_size_t), value :: ni, nj, nk, points_len, scratch_len, index_scratch_len, &
-          translations_len, rotations_len, out_len, origin_out_len
-      integer(c_int32_t), value :: directions, dim
-      real(c_float), intent(in) :: points(*)
-      type(dk_boundary_motion_f32), intent(in) :: motion
-      real(c_float), intent(inout) :: scratch(*), translations(*), rotations(*), out(*), &
-          origin_out(*)
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_boundary_normals_scratch_len(boundary_len, len_out) &
-        bind(C, name="dk_deform_boundary_normals_scratch_len") result(s)
-      import :: c_int32_t, c_size_t
-      integer(c_size_t), value :: boundary_len
-      integer(c_size_t), intent(inout) :: len_out
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_boundary_normals(points, points_len, dim, element_offsets, &
-        element_offsets_len, element_nodes, element_nodes_len, element_kinds, &
-        element_kinds_len, index_base, scratch, scratch_len, index_scratch, index_scratch_len, &
-        normals, normals_len) &
-        bind(C, name="dk_deform_boundary_normals") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t
-      real(c_double), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len, element_offsets_len, element_nodes_len, &
-          element_kinds_len, scratch_len, index_scratch_len, normals_len
-      integer(c_int32_t), value :: dim, index_base
-      integer(c_int32_t), intent(in) :: element_offsets(*), element_nodes(*)
-      integer(c_int8_t), intent(in) :: element_kinds(*)
-      real(c_double), intent(inout) :: scratch(*), normals(*)
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_boundary_normals_f32(points, points_len, dim, element_offsets, &
-        element_offsets_len, element_nodes, element_nodes_len, element_kinds, &
-        element_kinds_len, index_base, scratch, scratch_len, index_scratch, index_scratch_len, &
-        normals, normals_len) &
-        bind(C, name="dk_deform_boundary_normals_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t
-      real(c_float), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len, element_offsets_len, element_nodes_len, &
-          element_kinds_len, scratch_len, index_scratch_len, normals_len
-      integer(c_int32_t), value :: dim, index_base
-      integer(c_int32_t), intent(in) :: element_offsets(*), element_nodes(*)
-      integer(c_int8_t), intent(in) :: element_kinds(*)
-      real(c_float), intent(inout) :: scratch(*), normals(*)
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_boundary_rotations_scratch_len(boundary_len, dim, len_out) &
-        bind(C, name="dk_deform_boundary_rotations_scratch_len") result(s)
-      import :: c_int32_t, c_size_t
-      integer(c_size_t), value :: boundary_len
-      integer(c_int32_t), value :: dim
-      integer(c_size_t), intent(inout) :: len_out
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_boundary_rotations(undeformed, undeformed_len, deformed, deformed_len, &
-        dim, element_offsets, element_offsets_len, element_nodes, element_nodes_len, &
-        element_kinds, element_kinds_len, index_base, scratch, scratch_len, index_scratch, &
-        index_scratch_len, rotations, rotations_len) &
-        bind(C, name="dk_deform_boundary_rotations") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t
-      real(c_double), intent(in) :: undeformed(*), deformed(*)
-      integer(c_size_t), value :: undeformed_len, deformed_len, element_offsets_len, &
-          element_nodes_len, element_kinds_len, scratch_len, index_scratch_len, rotations_len
-      integer(c_int32_t), value :: dim, index_base
-      integer(c_int32_t), intent(in) :: element_offsets(*), element_nodes(*)
-      integer(c_int8_t), intent(in) :: element_kinds(*)
-      real(c_double), intent(inout) :: scratch(*), rotations(*)
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_boundary_rotations_f32(undeformed, undeformed_len, deformed, &
-        deformed_len, dim, element_offsets, element_offsets_len, element_nodes, &
-        element_nodes_len, element_kinds, element_kinds_len, index_base, scratch, scratch_len, &
-        index_scratch, index_scratch_len, rotations, rotations_len) &
-        bind(C, name="dk_deform_boundary_rotations_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t
-      real(c_float), intent(in) :: undeformed(*), deformed(*)
-      integer(c_size_t), value :: undeformed_len, deformed_len, element_offsets_len, &
-          element_nodes_len, element_kinds_len, scratch_len, index_scratch_len, rotations_len
-      integer(c_int32_t), value :: dim, index_base
-      integer(c_int32_t), intent(in) :: element_offsets(*), element_nodes(*)
-      integer(c_int8_t), intent(in) :: element_kinds(*)
-      real(c_float), intent(inout) :: scratch(*), rotations(*)
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_rigid_rotations(q, rotations, rotations_len) &
-        bind(C, name="dk_deform_rigid_rotations") result(s)
-      import :: c_double, c_int32_t, c_size_t
-      real(c_double), intent(in) :: q(*)
-      real(c_double), intent(inout) :: rotations(*)
-      integer(c_size_t), value :: rotations_len
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_rigid_rotations_f32(q, rotations, rotations_len) &
-        bind(C, name="dk_deform_rigid_rotations_f32") result(s)
-      import :: c_float, c_int32_t, c_size_t
-      real(c_float), intent(in) :: q(*)
-      real(c_float), intent(inout) :: rotations(*)
-      integer(c_size_t), value :: rotations_len
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_boundary_origin(undeformed, undeformed_len, deformed, deformed_len, dim, &
-        origin_out, origin_out_len) &
-        bind(C, name="dk_deform_boundary_origin") result(s)
-      import :: c_double, c_int32_t, c_size_t
-      real(c_double), intent(in) :: undeformed(*), deformed(*)
-      integer(c_size_t), value :: undeformed_len, deformed_len, origin_out_len
-      integer(c_int32_t), value :: dim
-      real(c_double), intent(inout) :: origin_out(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_boundary_origin_f32(undeformed, undeformed_len, deformed, deformed_len, &
-        dim, origin_out, origin_out_len) &
-        bind(C, name="dk_deform_boundary_origin_f32") result(s)
-      import :: c_float, c_int32_t, c_size_t
-      real(c_float), intent(in) :: undeformed(*), deformed(*)
-      integer(c_size_t), value :: undeformed_len, deformed_len, origin_out_len
-      integer(c_int32_t), value :: dim
-      real(c_float), intent(inout) :: origin_out(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_boundary_translations(origin, origin_len, undeformed, undeformed_len, &
-        deformed, deformed_len, dim, rotations, rotations_len, translations, translations_len) &
-        bind(C, name="dk_deform_boundary_translations") result(s)
-      import :: c_double, c_int32_t, c_size_t
-      real(c_double), intent(in) :: origin(*), undeformed(*), deformed(*), rotations(*)
-      integer(c_size_t), value :: origin_len, undeformed_len, deformed_len, rotations_len, &
-          translations_len
-      integer(c_int32_t), value :: dim
-      real(c_double), intent(inout) :: translations(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_boundary_translations_f32(origin, origin_len, undeformed, &
-        undeformed_len, deformed, deformed_len, dim, rotations, rotations_len, translations, &
-        translations_len) &
-        bind(C, name="dk_deform_boundary_translations_f32") result(s)
-      import :: c_float, c_int32_t, c_size_t
-      real(c_float), intent(in) :: origin(*), undeformed(*), deformed(*), rotations(*)
-      integer(c_size_t), value :: origin_len, undeformed_len, deformed_len, rotations_len, &
-          translations_len
-      integer(c_int32_t), value :: dim
-      real(c_float), intent(inout) :: translations(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_propagate_idw(points, points_len, dim, boundary, boundary_len, &
-        index_base, exponent, index_scratch, index_scratch_len, translations, translations_len, &
-        rotations, rotations_len) &
-        bind(C, name="dk_deform_propagate_idw") result(s)
-      import :: c_double, c_int32_t, c_size_t
-      real(c_double), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len, boundary_len, index_scratch_len, translations_len, &
-          rotations_len
-      integer(c_int32_t), value :: dim, index_base
-      integer(c_int32_t), intent(in) :: boundary(*)
-      real(c_double), value :: exponent
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      real(c_double), intent(inout) :: translations(*), rotations(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_propagate_idw_f32(points, points_len, dim, boundary, boundary_len, &
-        index_base, exponent, index_scratch, index_scratch_len, translations, translations_len, &
-        rotations, rotations_len) &
-        bind(C, name="dk_deform_propagate_idw_f32") result(s)
-      import :: c_float, c_int32_t, c_size_t
-      real(c_float), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len, boundary_len, index_scratch_len, translations_len, &
-          rotations_len
-      integer(c_int32_t), value :: dim, index_base
-      integer(c_int32_t), intent(in) :: boundary(*)
-      real(c_float), value :: exponent
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      real(c_float), intent(inout) :: translations(*), rotations(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_propagate_tfi_scratch_len(ni, nj, nk, dim, len_out) &
-        bind(C, name="dk_deform_propagate_tfi_scratch_len") result(s)
-      import :: c_int32_t, c_size_t
-      integer(c_size_t), value :: ni, nj, nk
-      integer(c_int32_t), value :: dim
-      integer(c_size_t), intent(inout) :: len_out
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_propagate_tfi(ni, nj, nk, directions, points, points_len, dim, scratch, &
-        scratch_len, translations, translations_len, rotations, rotations_len) &
-        bind(C, name="dk_deform_propagate_tfi") result(s)
-      import :: c_double, c_int32_t, c_size_t
-      integer(c_size_t), value :: ni, nj, nk, points_len, scratch_len, translations_len, &
-          rotations_len
-      integer(c_int32_t), value :: directions, dim
-      real(c_double), intent(in) :: points(*)
-      real(c_double), intent(inout) :: scratch(*), translations(*), rotations(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_propagate_tfi_f32(ni, nj, nk, directions, points, points_len, dim, &
-        scratch, scratch_len, translations, translations_len, rotations, rotations_len) &
-        bind(C, name="dk_deform_propagate_tfi_f32") result(s)
-      import :: c_float, c_int32_t, c_size_t
-      integer(c_size_t), value :: ni, nj, nk, points_len, scratch_len, translations_len, &
-          rotations_len
-      integer(c_int32_t), value :: directions, dim
-      real(c_float), intent(in) :: points(*)
-      real(c_float), intent(inout) :: scratch(*), translations(*), rotations(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_displacement_tfi(ni, nj, nk, directions, points, points_len, dim, &
-        scratch, scratch_len, displacements, displacements_len) &
-        bind(C, name="dk_deform_displacement_tfi") result(s)
-      import :: c_double, c_int32_t, c_size_t
-      integer(c_size_t), value :: ni, nj, nk, points_len, scratch_len, displacements_len
-      integer(c_int32_t), value :: directions, dim
-      real(c_double), intent(in) :: points(*)
-      real(c_double), intent(inout) :: scratch(*), displacements(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_displacement_tfi_f32(ni, nj, nk, directions, points, points_len, dim, &
-        scratch, scratch_len, displacements, displacements_len) &
-        bind(C, name="dk_deform_displacement_tfi_f32") result(s)
-      import :: c_float, c_int32_t, c_size_t
-      integer(c_size_t), value :: ni, nj, nk, points_len, scratch_len, displacements_len
-      integer(c_int32_t), value :: directions, dim
-      real(c_float), intent(in) :: points(*)
-      real(c_float), intent(inout) :: scratch(*), displacements(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_update_points(origin, origin_len, points, points_len, dim, translations, &
-        translations_len, rotations, rotations_len, boundary, boundary_len, index_base, &
-        boundary_deformed, boundary_deformed_len, index_scratch, index_scratch_len, out, &
-        out_len) &
-        bind(C, name="dk_deform_update_points") result(s)
-      import :: c_double, c_int32_t, c_size_t
-      real(c_double), intent(in) :: origin(*), points(*), translations(*), rotations(*), &
-          boundary_deformed(*)
-      integer(c_size_t), value :: origin_len, points_len, translations_len, rotations_len, &
-          boundary_len, boundary_deformed_len, index_scratch_len, out_len
-      integer(c_int32_t), value :: dim, index_base
-      integer(c_int32_t), intent(in) :: boundary(*)
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      real(c_double), intent(inout) :: out(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_update_points_f32(origin, origin_len, points, points_len, dim, &
-        translations, translations_len, rotations, rotations_len, boundary, boundary_len, &
-        index_base, boundary_deformed, boundary_deformed_len, index_scratch, index_scratch_len, &
-        out, out_len) &
-        bind(C, name="dk_deform_update_points_f32") result(s)
-      import :: c_float, c_int32_t, c_size_t
-      real(c_float), intent(in) :: origin(*), points(*), translations(*), rotations(*), &
-          boundary_deformed(*)
-      integer(c_size_t), value :: origin_len, points_len, translations_len, rotations_len, &
-          boundary_len, boundary_deformed_len, index_scratch_len, out_len
-      integer(c_int32_t), value :: dim, index_base
-      integer(c_int32_t), intent(in) :: boundary(*)
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      real(c_float), intent(inout) :: out(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_localize_nodes_scratch_len(node_count, boundary_len, global_len, &
-        index_base, len_out) &
-        bind(C, name="dk_deform_localize_nodes_scratch_len") result(s)
-      import :: c_int32_t, c_size_t
-      integer(c_size_t), value :: node_count, boundary_len, global_len
-      integer(c_int32_t), value :: index_base
-      integer(c_size_t), intent(inout) :: len_out
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_localize_nodes(node_count, boundary, boundary_len, global, global_len, &
-        index_base, scratch, scratch_len, local, local_len) &
-        bind(C, name="dk_deform_localize_nodes") result(s)
-      import :: c_int32_t, c_size_t
-      integer(c_size_t), value :: node_count, boundary_len, global_len, scratch_len, local_len
-      integer(c_int32_t), intent(in) :: boundary(*), global(*)
-      integer(c_int32_t), value :: index_base
-      integer(c_int32_t), intent(inout) :: scratch(*), local(*)
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_spring_index_scratch_len(motion, node_count, len_out) &
-        bind(C, name="dk_deform_spring_index_scratch_len") result(s)
-      import :: c_int32_t, c_size_t, dk_boundary_motion
-      type(dk_boundary_motion), intent(in) :: motion
-      integer(c_size_t), value :: node_count
-      integer(c_size_t), intent(inout) :: len_out
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_spring_index_scratch_len_f32(motion, node_count, len_out) &
-        bind(C, name="dk_deform_spring_index_scratch_len_f32") result(s)
-      import :: c_int32_t, c_size_t, dk_boundary_motion_f32
-      type(dk_boundary_motion_f32), intent(in) :: motion
-      integer(c_size_t), value :: node_count
-      integer(c_size_t), intent(inout) :: len_out
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_spring_scratch_len(node_count, boundary_len, dim, options, &
-        scratch_len_out, values_len_out) &
-        bind(C, name="dk_deform_spring_scratch_len") result(s)
-      import :: c_int32_t, c_size_t, dk_spring_solve_options
-      integer(c_size_t), value :: node_count, boundary_len
-      integer(c_int32_t), value :: dim
-      type(dk_spring_solve_options), intent(in) :: options
-      integer(c_size_t), intent(inout) :: scratch_len_out, values_len_out
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_spring(points, points_len, dim, motion, offsets, offsets_len, targets, &
-        targets_len, stiffness, stiffness_len, fixed, fixed_len, options, scratch, scratch_len, &
-        values, values_len, index_scratch, index_scratch_len, translations, translations_len, &
-        rotations, rotations_len, out, out_len, origin_out, origin_out_len, report) &
-        bind(C, name="dk_deform_spring") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_boundary_motion, &
-          dk_spring_solve_options, dk_spring_solve_report
-      real(c_double), intent(in) :: points(*), stiffness(*)
-      integer(c_size_t), value :: points_len, offsets_len, targets_len, stiffness_len, fixed_len, &
-          scratch_len, values_len, index_scratch_len, translations_len, rotations_len, out_len, &
-          origin_out_len
-      integer(c_int32_t), value :: dim
-      type(dk_boundary_motion), intent(in) :: motion
-      integer(c_int32_t), intent(in) :: offsets(*), targets(*)
-      integer(c_int8_t), intent(in) :: fixed(*)
-      type(dk_spring_solve_options), intent(in) :: options
-      real(c_double), intent(inout) :: scratch(*), values(*), translations(*), rotations(*), &
-          out(*), origin_out(*)
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      type(dk_spring_solve_report), intent(inout) :: report
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_spring_f32(points, points_len, dim, motion, offsets, offsets_len, &
-        targets, targets_len, stiffness, stiffness_len, fixed, fixed_len, options, scratch, &
-        scratch_len, values, values_len, index_scratch, index_scratch_len, translations, &
-        translations_len, rotations, rotations_len, out, out_len, origin_out, origin_out_len, &
-        report) &
-        bind(C, name="dk_deform_spring_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_boundary_motion_f32, &
-          dk_spring_solve_options, dk_spring_solve_report
-      real(c_float), intent(in) :: points(*), stiffness(*)
-      integer(c_size_t), value :: points_len, offsets_len, targets_len, stiffness_len, fixed_len, &
-          scratch_len, values_len, index_scratch_len, translations_len, rotations_len, out_len, &
-          origin_out_len
-      integer(c_int32_t), value :: dim
-      type(dk_boundary_motion_f32), intent(in) :: motion
-      integer(c_int32_t), intent(in) :: offsets(*), targets(*)
-      integer(c_int8_t), intent(in) :: fixed(*)
-      type(dk_spring_solve_options), intent(in) :: options
-      real(c_float), intent(inout) :: scratch(*), values(*), translations(*), rotations(*), &
-          out(*), &
-          origin_out(*)
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      type(dk_spring_solve_report), intent(inout) :: report
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_propagate_spring_scratch_len(node_count, dim, options, len_out) &
-        bind(C, name="dk_deform_propagate_spring_scratch_len") result(s)
-      import :: c_int32_t, c_size_t, dk_spring_solve_options
-      integer(c_size_t), value :: node_count
-      integer(c_int32_t), value :: dim
-      type(dk_spring_solve_options), intent(in) :: options
-      integer(c_size_t), intent(inout) :: len_out
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_propagate_spring(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, options, dim, index_scratch, index_scratch_len, &
-        values, values_len, translations, translations_len, rotations, rotations_len, report) &
-        bind(C, name="dk_deform_propagate_spring") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_solve_options, &
-          dk_spring_solve_report
-      integer(c_int32_t), intent(in) :: offsets(*), targets(*)
-      integer(c_size_t), value :: offsets_len, targets_len, stiffness_len, fixed_len, &
-          index_scratch_len, values_len, translations_len, rotations_len
-      real(c_double), intent(in) :: stiffness(*)
-      integer(c_int8_t), intent(in) :: fixed(*)
-      type(dk_spring_solve_options), intent(in) :: options
-      integer(c_int32_t), value :: dim
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      real(c_double), intent(inout) :: values(*), translations(*), rotations(*)
-      type(dk_spring_solve_report), intent(inout) :: report
-      integer(c_int32_t) :: s
-    end function
-    function dk_deform_propagate_spring_f32(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, options, dim, index_scratch, &
-        index_scratch_len, values, values_len, translations, translations_len, rotations, &
-        rotations_len, report) &
-        bind(C, name="dk_deform_propagate_spring_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_solve_options, &
-          dk_spring_solve_report
-      integer(c_int32_t), intent(in) :: offsets(*), targets(*)
-      integer(c_size_t), value :: offsets_len, targets_len, stiffness_len, fixed_len, &
-          index_scratch_len, values_len, translations_len, rotations_len
-      real(c_float), intent(in) :: stiffness(*)
-      integer(c_int8_t), intent(in) :: fixed(*)
-      type(dk_spring_solve_options), intent(in) :: options
-      integer(c_int32_t), value :: dim
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      real(c_float), intent(inout) :: values(*), translations(*), rotations(*)
-      type(dk_spring_solve_report), intent(inout) :: report
-      integer(c_int32_t) :: s
-    end function
-  ! <<< end interfaces: deformation >>>
   end interface
+  ! <<< end generated >>>
 
 contains
 

@@ -637,7 +637,7 @@ dk_status dk_deform_tfi(size_t ni,
 // `f32` twin of [`dk_deform_tfi`].
 //
 // # Safety
-// As [`dk_deform_idw`].
+// As [`dk_deform_tfi`].
 dk_status dk_deform_tfi_f32(size_t ni,
                             size_t nj,
                             size_t nk,
@@ -772,7 +772,7 @@ dk_status dk_deform_boundary_rotations(const double *undeformed,
 // `f32` twin of [`dk_deform_boundary_rotations`].
 //
 // # Safety
-// As [`dk_deform_boundary_normals`].
+// As [`dk_deform_boundary_rotations`].
 dk_status dk_deform_boundary_rotations_f32(const float *undeformed,
                                            size_t undeformed_len,
                                            const float *deformed,
@@ -1734,11 +1734,23 @@ dk_status dk_quality_wall_angle_change_f32(const uint32_t *wall_offsets,
 // `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars (or NULL: error).
 dk_status dk_quat_mul(const double *a, const double *b, double *out);
 
+// `f32` twin of [`dk_quat_mul`].
+//
+// # Safety
+// As [`dk_quat_mul`].
+dk_status dk_quat_mul_f32(const float *a, const float *b, float *out);
+
 // `out = q / |q|`; a zero quaternion gives `DK_ERR_ZERO_LENGTH`, never NaN.
 //
 // # Safety
 // `q` points to 4 readable scalars, `out` to 4 writable scalars.
 dk_status dk_quat_normalize(const double *q, double *out);
+
+// `f32` twin of [`dk_quat_normalize`].
+//
+// # Safety
+// As [`dk_quat_normalize`].
+dk_status dk_quat_normalize_f32(const float *q, float *out);
 
 // `out = q⁻¹ = q* / |q|²`.
 //
@@ -1746,11 +1758,23 @@ dk_status dk_quat_normalize(const double *q, double *out);
 // `q` points to 4 readable scalars, `out` to 4 writable scalars.
 dk_status dk_quat_inverse(const double *q, double *out);
 
+// `f32` twin of [`dk_quat_inverse`].
+//
+// # Safety
+// As [`dk_quat_inverse`].
+dk_status dk_quat_inverse_f32(const float *q, float *out);
+
 // Rotation by `angle` radians about `axis` (3 scalars, normalised here).
 //
 // # Safety
 // `axis` points to 3 readable scalars, `out` to 4 writable scalars.
 dk_status dk_quat_from_axis_angle(const double *axis, double angle, double *out);
+
+// `f32` twin of [`dk_quat_from_axis_angle`].
+//
+// # Safety
+// As [`dk_quat_from_axis_angle`].
+dk_status dk_quat_from_axis_angle_f32(const float *axis, float angle, float *out);
 
 // Axis (3 scalars, unit) and angle in `[0, π]` of the rotation `q` (normalised here).
 //
@@ -1758,11 +1782,23 @@ dk_status dk_quat_from_axis_angle(const double *axis, double angle, double *out)
 // `q` points to 4 readable scalars, `axis_out` to 3 and `angle_out` to 1 writable scalar.
 dk_status dk_quat_to_axis_angle(const double *q, double *axis_out, double *angle_out);
 
+// `f32` twin of [`dk_quat_to_axis_angle`].
+//
+// # Safety
+// As [`dk_quat_to_axis_angle`].
+dk_status dk_quat_to_axis_angle_f32(const float *q, float *axis_out, float *angle_out);
+
 // Shortest rotation taking direction `from` to direction `to` (3 scalars each).
 //
 // # Safety
 // `from`, `to` point to 3 readable scalars, `out` to 4 writable scalars.
 dk_status dk_quat_rotation_arc(const double *from, const double *to, double *out);
+
+// `f32` twin of [`dk_quat_rotation_arc`].
+//
+// # Safety
+// As [`dk_quat_rotation_arc`].
+dk_status dk_quat_rotation_arc_f32(const float *from, const float *to, float *out);
 
 // Rotates `points_len / 3` points `(x, y, z)` by `q` (normalised here) into `out`.
 // `out_len` must equal `points_len`, a multiple of 3.
@@ -1776,17 +1812,39 @@ dk_status dk_quat_rotate_points(const double *q,
                                 double *out,
                                 size_t out_len);
 
+// `f32` twin of [`dk_quat_rotate_points`].
+//
+// # Safety
+// As [`dk_quat_rotate_points`].
+dk_status dk_quat_rotate_points_f32(const float *q,
+                                    const float *points,
+                                    size_t points_len,
+                                    float *out,
+                                    size_t out_len);
+
 // Spherical linear interpolation on the shorter arc (`t` = 0 gives `a`, 1 gives `b`).
 //
 // # Safety
 // `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
 dk_status dk_quat_slerp(const double *a, const double *b, double t, double *out);
 
+// `f32` twin of [`dk_quat_slerp`].
+//
+// # Safety
+// As [`dk_quat_slerp`].
+dk_status dk_quat_slerp_f32(const float *a, const float *b, float t, float *out);
+
 // Normalised linear interpolation on the shorter arc.
 //
 // # Safety
 // `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
 dk_status dk_quat_nlerp(const double *a, const double *b, double t, double *out);
+
+// `f32` twin of [`dk_quat_nlerp`].
+//
+// # Safety
+// As [`dk_quat_nlerp`].
+dk_status dk_quat_nlerp_f32(const float *a, const float *b, float t, float *out);
 
 // Hemisphere-aligned weighted average of `quats_len / 4` quaternions (`q` and `−q` are
 // one rotation), renormalised. `weights` may be NULL with `weights_len` 0 (all 1);
@@ -1801,70 +1859,10 @@ dk_status dk_quat_average(const double *quats,
                           size_t weights_len,
                           double *out);
 
-// Single-precision twin of [`dk_quat_mul`].
+// `f32` twin of [`dk_quat_average`].
 //
 // # Safety
-// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars (or NULL: error).
-dk_status dk_quat_mul_f32(const float *a, const float *b, float *out);
-
-// Single-precision twin of [`dk_quat_normalize`].
-//
-// # Safety
-// `q` points to 4 readable scalars, `out` to 4 writable scalars.
-dk_status dk_quat_normalize_f32(const float *q, float *out);
-
-// Single-precision twin of [`dk_quat_inverse`].
-//
-// # Safety
-// `q` points to 4 readable scalars, `out` to 4 writable scalars.
-dk_status dk_quat_inverse_f32(const float *q, float *out);
-
-// Single-precision twin of [`dk_quat_from_axis_angle`].
-//
-// # Safety
-// `axis` points to 3 readable scalars, `out` to 4 writable scalars.
-dk_status dk_quat_from_axis_angle_f32(const float *axis, float angle, float *out);
-
-// Single-precision twin of [`dk_quat_to_axis_angle`].
-//
-// # Safety
-// `q` points to 4 readable scalars, `axis_out` to 3 and `angle_out` to 1 writable scalar.
-dk_status dk_quat_to_axis_angle_f32(const float *q, float *axis_out, float *angle_out);
-
-// Single-precision twin of [`dk_quat_rotation_arc`].
-//
-// # Safety
-// `from`, `to` point to 3 readable scalars, `out` to 4 writable scalars.
-dk_status dk_quat_rotation_arc_f32(const float *from, const float *to, float *out);
-
-// Single-precision twin of [`dk_quat_rotate_points`].
-//
-// # Safety
-// `q` points to 4 readable scalars; `points` to `points_len` readable scalars; `out`
-// to `out_len` writable scalars not overlapping `points`.
-dk_status dk_quat_rotate_points_f32(const float *q,
-                                    const float *points,
-                                    size_t points_len,
-                                    float *out,
-                                    size_t out_len);
-
-// Single-precision twin of [`dk_quat_slerp`].
-//
-// # Safety
-// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
-dk_status dk_quat_slerp_f32(const float *a, const float *b, float t, float *out);
-
-// Single-precision twin of [`dk_quat_nlerp`].
-//
-// # Safety
-// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
-dk_status dk_quat_nlerp_f32(const float *a, const float *b, float t, float *out);
-
-// Single-precision twin of [`dk_quat_average`].
-//
-// # Safety
-// `quats` points to `quats_len` readable scalars, `weights` to `weights_len` (or is
-// NULL with 0), `out` to 4 writable scalars.
+// As [`dk_quat_average`].
 dk_status dk_quat_average_f32(const float *quats,
                               size_t quats_len,
                               const float *weights,

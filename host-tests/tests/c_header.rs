@@ -21,15 +21,7 @@ fn checked_in_header_is_up_to_date() {
     let config = cbindgen::Config::from_file(ffi.join("cbindgen.toml")).expect("cbindgen.toml");
     let src = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cbindgen-src");
     let _ = std::fs::remove_dir_all(&src);
-    std::fs::create_dir_all(&src).unwrap();
-    let mut exported = 0;
-    for entry in std::fs::read_dir(ffi.join("src")).unwrap() {
-        let path = entry.unwrap().path();
-        let text = std::fs::read_to_string(&path).unwrap();
-        exported += text.matches(EXPORT_ATTR).count();
-        let text = text.replace(EXPORT_ATTR, "#[no_mangle]");
-        std::fs::write(src.join(path.file_name().unwrap()), text).unwrap();
-    }
+    let exported = copy_exported(&ffi.join("src"), &src);
     assert!(exported > 0, "no `{EXPORT_ATTR}` found in ffi/src");
     let bindings = cbindgen::Builder::new()
         .with_src(src.join("lib.rs"))
@@ -48,4 +40,23 @@ fn checked_in_header_is_up_to_date() {
         generated == checked_in,
         "ffi/include/deform_kernel.h is stale: run `DEFORM_BLESS=1 cargo test -p deform-host-tests --test c_header`"
     );
+}
+
+/// Copies the `.rs` files under `from` (recursively) to `to`, spelling the export attribute as
+/// `#[no_mangle]`; returns how many attributes it rewrote.
+fn copy_exported(from: &Path, to: &Path) -> usize {
+    std::fs::create_dir_all(to).unwrap();
+    let mut exported = 0;
+    for entry in std::fs::read_dir(from).unwrap() {
+        let path = entry.unwrap().path();
+        let dest = to.join(path.file_name().unwrap());
+        if path.is_dir() {
+            exported += copy_exported(&path, &dest);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            exported += text.matches(EXPORT_ATTR).count();
+            std::fs::write(dest, text.replace(EXPORT_ATTR, "#[no_mangle]")).unwrap();
+        }
+    }
+    exported
 }

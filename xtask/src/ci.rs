@@ -1,5 +1,6 @@
 //! `cargo xtask ci`: the step list and the runner that prints `N passed, N failed`.
 
+use crate::codegen::codegen;
 use crate::ctx::Ctx;
 use crate::embedded::{cross_build, footprint, on_target};
 use crate::fuzz::{fuzz, FUZZ_SMOKE_SECONDS};
@@ -58,6 +59,11 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
                     run(&mut ctx.cargo(&["fmt", "--check", "--manifest-path", "bench/Cargo.toml"]));
                 a && b && c && d
             },
+        ),
+        Step::new(
+            "codegen",
+            "cargo xtask codegen --check: the generated C ABI and Fortran interfaces are current",
+            || codegen(ctx, true),
         ),
         Step::new(
             "clippy",

@@ -7,6 +7,7 @@
 //! cargo xtask ci --list               list the step names
 //! cargo xtask install                 only install what is missing
 //! cargo xtask bench [--quick]        kernel vs peers on the same inputs (docs/performance.md)
+//! cargo xtask codegen [--check]       the C ABI's extern fns and Fortran interfaces from ffi/abi
 //! cargo xtask panic-locate [ARGS]     show which functions still reach the panic handler
 //! cargo xtask help                    this text
 //! ```
@@ -25,13 +26,15 @@
 //! - a kernel entry point: call it from `target-tests/panic-check/src/<module>.rs`;
 //! - a step: add it to `ci::steps`.
 //!
-//! One file a concern: `ci` (steps and runner), `install`, `panic` (panic-freedom proof),
+//! One file a concern: `ci` (steps and runner), `codegen` (C ABI from its table), `install`,
+//! `panic` (panic-freedom proof),
 //! `embedded` (cross builds, QEMU, footprint), `fuzz`, `process` (running commands), `ctx`.
 //!
 //! Only std is used, so the tool builds in a second.
 
 mod bench;
 mod ci;
+mod codegen;
 mod ctx;
 mod embedded;
 mod fuzz;
@@ -61,6 +64,7 @@ fn main() -> ExitCode {
             }
         }
         Some("fuzz") => fuzz_command(&ctx, &args[1..]),
+        Some("codegen") => codegen::codegen_command(&ctx, &args[1..]),
         Some("bench") => bench::bench_command(&ctx, &args[1..]),
         Some("panic-locate") => {
             let extra: Vec<&str> = args[1..].iter().map(String::as_str).collect();
@@ -91,6 +95,7 @@ pub(crate) fn help() -> String {
          \x20   cargo xtask install\n\
          \x20   cargo xtask fuzz [--seconds N] [--target NAME]\n\
          \x20   cargo xtask bench [--quick] [--no-peers]\n\
+         \x20   cargo xtask codegen [--check]\n\
          \x20   cargo xtask panic-locate [--features F]\n\
          \x20   cargo xtask help\n\
          \n\
@@ -108,6 +113,9 @@ pub(crate) fn help() -> String {
          \x20                 nalgebra on the same generated inputs (bench/, bench/peers/), and\n\
          \x20                 `deform move` on the 234k NACA 2412 mesh; ratios and load to stdout\n\
          \x20                 and target/bench/report.md (see docs/performance.md).\n\
+         \x20   codegen       Write ffi/src/<module>/abi.rs (the extern \"C\" functions, f64 and _f32)\n\
+         \x20                 and the Fortran interfaces of ffi/fortran/deform_kernel.f90 from the\n\
+         \x20                 table ffi/abi/<module>.abi; --check only compares (a CI step).\n\
          \x20   panic-locate  Build target-tests/panic-check with its `locate` feature (the panic\n\
          \x20                 handler defined, so it links) and list the functions that still reach\n\
          \x20                 it, with the source lines of the calls. Run it when `panic-check` fails;\n\
