@@ -2873,146 +2873,6 @@ contains
     end if
   end function
 
-  !> Single-precision twin of dkf_fill_motion.
-  !> Fills m for the dkf_deform_*_f32 wrappers: 1-based nodes(b) and deformed(dim, b); optional
-  !> boundary elements (1-based offsets and positions in nodes, VTK kinds), rigid_rotation(4)
-  !> or node_rotations(4, b) (else the rotations come from the shape), origin(dim) (else the
-  !> default origin). The pointers stay valid while the actual arguments do.
-  subroutine dkf_fill_motion_f32(m, nodes, deformed, element_offsets, element_nodes, &
-                             element_kinds, rigid_rotation, node_rotations, origin)
-    use, intrinsic :: iso_c_binding, only: c_loc
-    type(dk_boundary_motion_f32), intent(inout) :: m
-    integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
-    real(c_float), intent(in), target, contiguous :: deformed(:, :)
-    integer(c_int32_t), intent(in), target, contiguous, optional :: element_offsets(:), &
-                                                                     element_nodes(:)
-    integer(c_int8_t), intent(in), target, contiguous, optional :: element_kinds(:)
-    real(c_float), intent(in), optional :: rigid_rotation(4)
-    real(c_float), intent(in), target, contiguous, optional :: node_rotations(:, :)
-    real(c_float), intent(in), optional :: origin(:)
-    integer(c_int32_t) :: s
-    integer :: k
-    s = dk_boundary_motion_default_f32(m)
-    m%index_base = 1
-    m%nodes = c_loc(nodes)
-    m%nodes_len = size(nodes, kind=c_size_t)
-    m%deformed = c_loc(deformed)
-    m%deformed_len = size(deformed, kind=c_size_t)
-    if (present(element_offsets) .and. present(element_nodes) .and. present(element_kinds)) then
-      m%element_offsets = c_loc(element_offsets)
-      m%element_offsets_len = size(element_offsets, kind=c_size_t)
-      m%element_nodes = c_loc(element_nodes)
-      m%element_nodes_len = size(element_nodes, kind=c_size_t)
-      m%element_kinds = c_loc(element_kinds)
-      m%element_kinds_len = size(element_kinds, kind=c_size_t)
-    end if
-    if (present(rigid_rotation)) then
-      m%rotation_source = DK_ROTATIONS_RIGID
-      m%rigid_rotation = rigid_rotation
-    else if (present(node_rotations)) then
-      m%rotation_source = DK_ROTATIONS_PER_NODE
-      m%node_rotations = c_loc(node_rotations)
-      m%node_rotations_len = size(node_rotations, kind=c_size_t)
-    end if
-    if (present(origin)) then
-      m%has_origin = 1
-      do k = 1, min(size(origin), 3)
-        m%origin(k) = origin(k)
-      end do
-    end if
-  end subroutine
-
-  !> dk_deform_idw_f32 with Fortran arrays and 1-based node numbers: points(dim, n), nodes(b),
-  !> deformed(dim, b); scratch(:) (dk_deform_idw_scratch_len), index_scratch(:) (at least
-  !> size(nodes) + size(element_offsets) + size(element_nodes)), translations(dim, n) and
-  !> rotations(4, n) (workspaces); out(dim, n). Optional arguments as dkf_fill_motion_f32, and
-  !> origin_out(dim) for the origin used.
-  function dkf_deform_idw_f32(points, nodes, deformed, exponent, scratch, index_scratch, &
-                          translations, rotations, out, element_offsets, element_nodes, &
-                          element_kinds, rigid_rotation, node_rotations, origin, origin_out) &
-      result(s)
-    real(c_float), intent(in), contiguous :: points(:, :)
-    integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
-    real(c_float), intent(in), target, contiguous :: deformed(:, :)
-    real(c_float), intent(in) :: exponent
-    real(c_float), intent(inout), contiguous :: scratch(:), translations(:, :), &
-                                                 rotations(:, :), out(:, :)
-    integer(c_int32_t), intent(inout), contiguous :: index_scratch(:)
-    integer(c_int32_t), intent(in), target, contiguous, optional :: element_offsets(:), &
-                                                                     element_nodes(:)
-    integer(c_int8_t), intent(in), target, contiguous, optional :: element_kinds(:)
-    real(c_float), intent(in), optional :: rigid_rotation(4)
-    real(c_float), intent(in), target, contiguous, optional :: node_rotations(:, :)
-    real(c_float), intent(in), optional :: origin(:)
-    real(c_float), intent(inout), contiguous, optional :: origin_out(:)
-    integer(c_int32_t) :: s
-    type(dk_boundary_motion_f32) :: m
-    real(c_float) :: none(1)
-    call dkf_fill_motion_f32(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
-                         rigid_rotation, node_rotations, origin)
-    if (present(origin_out)) then
-      s = dk_deform_idw_f32(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
-                        m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        origin_out, size(origin_out, kind=c_size_t))
-    else
-      s = dk_deform_idw_f32(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
-                        m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        none, 0_c_size_t)
-    end if
-  end function
-
-  !> dk_deform_tfi_f32 with Fortran arrays: a dims(1) x dims(2) x dims(3) block (dims(3) = 1 in
-  !> 2D), directions a sum of DK_DIRECTION_*; other arguments as dkf_deform_idw_f32 (scratch:
-  !> dk_deform_tfi_scratch_len).
-  function dkf_deform_tfi_f32(dims, directions, points, nodes, deformed, scratch, index_scratch, &
-                          translations, rotations, out, element_offsets, element_nodes, &
-                          element_kinds, rigid_rotation, node_rotations, origin, origin_out) &
-      result(s)
-    integer(c_size_t), intent(in) :: dims(3)
-    integer(c_int32_t), intent(in) :: directions
-    real(c_float), intent(in), contiguous :: points(:, :)
-    integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
-    real(c_float), intent(in), target, contiguous :: deformed(:, :)
-    real(c_float), intent(inout), contiguous :: scratch(:), translations(:, :), &
-                                                 rotations(:, :), out(:, :)
-    integer(c_int32_t), intent(inout), contiguous :: index_scratch(:)
-    integer(c_int32_t), intent(in), target, contiguous, optional :: element_offsets(:), &
-                                                                     element_nodes(:)
-    integer(c_int8_t), intent(in), target, contiguous, optional :: element_kinds(:)
-    real(c_float), intent(in), optional :: rigid_rotation(4)
-    real(c_float), intent(in), target, contiguous, optional :: node_rotations(:, :)
-    real(c_float), intent(in), optional :: origin(:)
-    real(c_float), intent(inout), contiguous, optional :: origin_out(:)
-    integer(c_int32_t) :: s
-    type(dk_boundary_motion_f32) :: m
-    real(c_float) :: none(1)
-    call dkf_fill_motion_f32(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
-                         rigid_rotation, node_rotations, origin)
-    if (present(origin_out)) then
-      s = dk_deform_tfi_f32(dims(1), dims(2), dims(3), directions, points, &
-                        size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
-                        scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        origin_out, size(origin_out, kind=c_size_t))
-    else
-      s = dk_deform_tfi_f32(dims(1), dims(2), dims(3), directions, points, &
-                        size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
-                        scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        none, 0_c_size_t)
-    end if
-  end function
-
   !> dk_deform_spring with Fortran arrays: the 0-based CSR graph offsets(n + 1), targets(:)
   !> from dkf_graph_from_*, stiffness(size(targets)), fixed(n) (nonzero = boundary node),
   !> options; values(:) (second length of dk_deform_spring_scratch_len); index_scratch(:) at
@@ -3070,6 +2930,150 @@ contains
     end if
   end function
 
+  ! <<< generated by `cargo xtask codegen`: the _f32 twins of the dkf_ wrappers above >>>
+  !> Single-precision twin of dkf_fill_motion.
+  !> Fills m for the dkf_deform_* wrappers: 1-based nodes(b) and deformed(dim, b); optional
+  !> boundary elements (1-based offsets and positions in nodes, VTK kinds), rigid_rotation(4)
+  !> or node_rotations(4, b) (else the rotations come from the shape), origin(dim) (else the
+  !> default origin). The pointers stay valid while the actual arguments do.
+  subroutine dkf_fill_motion_f32(m, nodes, deformed, element_offsets, element_nodes, &
+                             element_kinds, rigid_rotation, node_rotations, origin)
+    use, intrinsic :: iso_c_binding, only: c_loc
+    type(dk_boundary_motion_f32), intent(inout) :: m
+    integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
+    real(c_float), intent(in), target, contiguous :: deformed(:, :)
+    integer(c_int32_t), intent(in), target, contiguous, optional :: element_offsets(:), &
+                                                                     element_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous, optional :: element_kinds(:)
+    real(c_float), intent(in), optional :: rigid_rotation(4)
+    real(c_float), intent(in), target, contiguous, optional :: node_rotations(:, :)
+    real(c_float), intent(in), optional :: origin(:)
+    integer(c_int32_t) :: s
+    integer :: k
+    s = dk_boundary_motion_default_f32(m)
+    m%index_base = 1
+    m%nodes = c_loc(nodes)
+    m%nodes_len = size(nodes, kind=c_size_t)
+    m%deformed = c_loc(deformed)
+    m%deformed_len = size(deformed, kind=c_size_t)
+    if (present(element_offsets) .and. present(element_nodes) .and. present(element_kinds)) then
+      m%element_offsets = c_loc(element_offsets)
+      m%element_offsets_len = size(element_offsets, kind=c_size_t)
+      m%element_nodes = c_loc(element_nodes)
+      m%element_nodes_len = size(element_nodes, kind=c_size_t)
+      m%element_kinds = c_loc(element_kinds)
+      m%element_kinds_len = size(element_kinds, kind=c_size_t)
+    end if
+    if (present(rigid_rotation)) then
+      m%rotation_source = DK_ROTATIONS_RIGID
+      m%rigid_rotation = rigid_rotation
+    else if (present(node_rotations)) then
+      m%rotation_source = DK_ROTATIONS_PER_NODE
+      m%node_rotations = c_loc(node_rotations)
+      m%node_rotations_len = size(node_rotations, kind=c_size_t)
+    end if
+    if (present(origin)) then
+      m%has_origin = 1
+      do k = 1, min(size(origin), 3)
+        m%origin(k) = origin(k)
+      end do
+    end if
+  end subroutine
+
+  !> Single-precision twin of dkf_deform_idw.
+  !> dk_deform_idw_f32 with Fortran arrays and 1-based node numbers: points(dim, n), nodes(b),
+  !> deformed(dim, b); scratch(:) (dk_deform_idw_scratch_len), index_scratch(:) (at least
+  !> size(nodes) + size(element_offsets) + size(element_nodes)), translations(dim, n) and
+  !> rotations(4, n) (workspaces); out(dim, n). Optional arguments as dkf_fill_motion_f32, and
+  !> origin_out(dim) for the origin used.
+  function dkf_deform_idw_f32(points, nodes, deformed, exponent, scratch, index_scratch, &
+                          translations, rotations, out, element_offsets, element_nodes, &
+                          element_kinds, rigid_rotation, node_rotations, origin, origin_out) &
+      result(s)
+    real(c_float), intent(in), contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
+    real(c_float), intent(in), target, contiguous :: deformed(:, :)
+    real(c_float), intent(in) :: exponent
+    real(c_float), intent(inout), contiguous :: scratch(:), translations(:, :), &
+                                                 rotations(:, :), out(:, :)
+    integer(c_int32_t), intent(inout), contiguous :: index_scratch(:)
+    integer(c_int32_t), intent(in), target, contiguous, optional :: element_offsets(:), &
+                                                                     element_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous, optional :: element_kinds(:)
+    real(c_float), intent(in), optional :: rigid_rotation(4)
+    real(c_float), intent(in), target, contiguous, optional :: node_rotations(:, :)
+    real(c_float), intent(in), optional :: origin(:)
+    real(c_float), intent(inout), contiguous, optional :: origin_out(:)
+    integer(c_int32_t) :: s
+    type(dk_boundary_motion_f32) :: m
+    real(c_float) :: none(1)
+    call dkf_fill_motion_f32(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
+                         rigid_rotation, node_rotations, origin)
+    if (present(origin_out)) then
+      s = dk_deform_idw_f32(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
+                        m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
+                        size(index_scratch, kind=c_size_t), translations, &
+                        size(translations, kind=c_size_t), rotations, &
+                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                        origin_out, size(origin_out, kind=c_size_t))
+    else
+      s = dk_deform_idw_f32(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
+                        m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
+                        size(index_scratch, kind=c_size_t), translations, &
+                        size(translations, kind=c_size_t), rotations, &
+                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                        none, 0_c_size_t)
+    end if
+  end function
+
+  !> Single-precision twin of dkf_deform_tfi.
+  !> dk_deform_tfi_f32 with Fortran arrays: a dims(1) x dims(2) x dims(3) block (dims(3) = 1 in
+  !> 2D), directions a sum of DK_DIRECTION_*; other arguments as dkf_deform_idw_f32 (scratch:
+  !> dk_deform_tfi_scratch_len).
+  function dkf_deform_tfi_f32(dims, directions, points, nodes, deformed, scratch, index_scratch, &
+                          translations, rotations, out, element_offsets, element_nodes, &
+                          element_kinds, rigid_rotation, node_rotations, origin, origin_out) &
+      result(s)
+    integer(c_size_t), intent(in) :: dims(3)
+    integer(c_int32_t), intent(in) :: directions
+    real(c_float), intent(in), contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
+    real(c_float), intent(in), target, contiguous :: deformed(:, :)
+    real(c_float), intent(inout), contiguous :: scratch(:), translations(:, :), &
+                                                 rotations(:, :), out(:, :)
+    integer(c_int32_t), intent(inout), contiguous :: index_scratch(:)
+    integer(c_int32_t), intent(in), target, contiguous, optional :: element_offsets(:), &
+                                                                     element_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous, optional :: element_kinds(:)
+    real(c_float), intent(in), optional :: rigid_rotation(4)
+    real(c_float), intent(in), target, contiguous, optional :: node_rotations(:, :)
+    real(c_float), intent(in), optional :: origin(:)
+    real(c_float), intent(inout), contiguous, optional :: origin_out(:)
+    integer(c_int32_t) :: s
+    type(dk_boundary_motion_f32) :: m
+    real(c_float) :: none(1)
+    call dkf_fill_motion_f32(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
+                         rigid_rotation, node_rotations, origin)
+    if (present(origin_out)) then
+      s = dk_deform_tfi_f32(dims(1), dims(2), dims(3), directions, points, &
+                        size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
+                        scratch, size(scratch, kind=c_size_t), index_scratch, &
+                        size(index_scratch, kind=c_size_t), translations, &
+                        size(translations, kind=c_size_t), rotations, &
+                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                        origin_out, size(origin_out, kind=c_size_t))
+    else
+      s = dk_deform_tfi_f32(dims(1), dims(2), dims(3), directions, points, &
+                        size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
+                        scratch, size(scratch, kind=c_size_t), index_scratch, &
+                        size(index_scratch, kind=c_size_t), translations, &
+                        size(translations, kind=c_size_t), rotations, &
+                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                        none, 0_c_size_t)
+    end if
+  end function
+
+  !> Single-precision twin of dkf_deform_spring.
   !> dk_deform_spring_f32 with Fortran arrays: the 0-based CSR graph offsets(n + 1), targets(:)
   !> from dkf_graph_from_*, stiffness(size(targets)), fixed(n) (nonzero = boundary node),
   !> options; values(:) (second length of dk_deform_spring_scratch_len); index_scratch(:) at
@@ -3126,6 +3130,7 @@ contains
                            none, 0_c_size_t, report)
     end if
   end function
+  ! <<< end generated twins >>>
   ! <<< end wrappers: deformation >>>
 
 end module deform_kernel
