@@ -14,10 +14,11 @@
 //! arg wall_offsets: *const u32 ?  as above; `?` = may be NULL: Fortran passes `type(c_ptr)`
 //! arg len_out: *mut usize [1]   a pointer to one value or struct (a Fortran scalar)
 //! arg dim: u32                  a value
-//! body                          the call to the generic adapter, pointers already tokens
-//!     mul(a, b, out)
-//! end
+//! call mul                      the body: `mul(a, b, out)`, every argument in order (the
+//!                               pointers already tokens, each `_len` after its pointer)
 //! ```
+//!
+//! or, instead of `call`, any body: `body`, lines indented by 4, `end`.
 //!
 //! Written from it: `ffi/src/<module>/abi.rs` (every function: doc, C symbol name behind the
 //! `export-symbols` feature, the pointers wrapped in `In`/`Out` tokens with their promised
@@ -140,6 +141,16 @@ fn parse(path: &Path) -> Result<Vec<Entry>, String> {
             } else if let Some(a) = line.strip_prefix("arg ") {
                 e.args
                     .push(parse_arg(a).ok_or_else(|| err(n, "bad `arg`"))?);
+            } else if let Some(adapter) = line.strip_prefix("call ") {
+                let mut call = format!("{adapter}(");
+                for a in &e.args {
+                    call += &format!("{}, ", a.name);
+                    if a.has_len() {
+                        call += &format!("{}_len, ", a.name);
+                    }
+                }
+                e.body.push(format!("{})", call.trim_end_matches(", ")));
+                break;
             } else if line == "body" {
                 for (n, line) in lines.by_ref() {
                     if line == "end" {
@@ -152,7 +163,7 @@ fn parse(path: &Path) -> Result<Vec<Entry>, String> {
                 }
                 break;
             } else {
-                return Err(err(n, "expected `///`, `32///`, `arg` or `body`"));
+                return Err(err(n, "expected `///`, `32///`, `arg`, `call` or `body`"));
             }
         }
         entries.push(e);
