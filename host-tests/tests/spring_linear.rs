@@ -188,6 +188,41 @@ fn jacobi_parity<T: Real + spring_ref::Float, const V: usize>() {
     }
 }
 
+/// A sweep split into node ranges (as ranks or threads would run it) gives, after merging the
+/// ranges' exact residual sums, the bits of one sweep over all nodes: for every split.
+fn split_sweeps_merge_to_the_whole<T: Real, const V: usize>() {
+    let case = annulus::<T>(9, 21);
+    let sys = case.system();
+    let mut rng = Lcg(7);
+    let x: Vec<[T; V]> = field(&case, &mut rng, None);
+    let n = case.n();
+    let mut out = vec![[T::ZERO; V]; n];
+    let whole = jacobi_sweep(&sys, 0..n, &x, &mut out).unwrap();
+    assert!(whole.residual_sq > T::ZERO);
+    assert_eq!(whole.residual_sq, whole.residual_sum.value::<T>());
+    for cuts in [vec![1], vec![n / 3, 2 * n / 3], vec![5, 6, 50, 51, n - 1], (1..n).step_by(7).collect()] {
+        let mut bounds = vec![0];
+        bounds.extend(cuts);
+        bounds.push(n);
+        // Merge in reverse order too: the result may not depend on it.
+        let mut merged = deform_kernel::reduce::ExactSum::new();
+        let mut max_change = T::ZERO;
+        for w in bounds.windows(2).rev() {
+            let s = jacobi_sweep(&sys, w[0]..w[1], &x, &mut out).unwrap();
+            merged.merge(&s.residual_sum);
+            max_change = max_change.max(s.max_change);
+        }
+        assert_eq!(merged.value::<T>().to_bits_u64(), whole.residual_sq.to_bits_u64());
+        assert_eq!(max_change, whole.max_change);
+    }
+}
+
+#[test]
+fn split_sweeps_give_the_bits_of_one_sweep() {
+    split_sweeps_merge_to_the_whole::<f64, 2>();
+    split_sweeps_merge_to_the_whole::<f32, 3>();
+}
+
 #[test]
 fn jacobi_and_sor_sweeps_are_bitwise_equal_to_naive_reference() {
     jacobi_parity::<f64, 2>();

@@ -37,6 +37,7 @@ pub mod graph_builder;
 pub mod plan;
 pub mod quality;
 pub mod quat;
+pub mod reduce;
 pub mod real;
 pub mod slide;
 pub mod spring;

@@ -6,6 +6,7 @@ use super::norms::{scale_by, sweep_exponent, Norm, SumSq};
 use super::system::{check_omega, check_values, SolveOptions, SolveReport, SpringSystem, Sweep};
 use crate::error::{Error, Result};
 use crate::real::Real;
+use crate::reduce::ExactSum;
 use crate::vector;
 
 /// Default regularisation `ε` of the angle-inclusion springs (fraction of the linear spring
@@ -307,15 +308,15 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
             _ => {
                 let qr = T::pow2(-pr.err().unwrap_or(0));
                 let qb = T::pow2(-pb.err().unwrap_or(0));
-                let mut sr = T::ZERO;
-                let mut sb = T::ZERO;
+                let mut sr = ExactSum::new();
+                let mut sb = ExactSum::new();
                 self.for_each_free_residual(x, |r, b| {
-                    sr += vector::norm_sq(vector::scale(*r, qr));
-                    sb += vector::norm_sq(vector::scale(*b, qb));
+                    sr.add(vector::norm_sq(vector::scale(*r, qr)));
+                    sb.add(vector::norm_sq(vector::scale(*b, qb)));
                 });
                 (
-                    pr.unwrap_or_else(|e| Norm::from_sum(sr, e)),
-                    pb.unwrap_or_else(|e| Norm::from_sum(sb, e)),
+                    pr.unwrap_or_else(|e| Norm::from_sum(sr.value(), e)),
+                    pb.unwrap_or_else(|e| Norm::from_sum(sb.value(), e)),
                 )
             }
         };
@@ -324,7 +325,7 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
 
     /// `q = A p` on free nodes (`p` zero on fixed nodes) and `Σ p_iᵀ A_ii p_i`.
     fn apply(&self, p: &[[T; D]], q: &mut [[T; D]]) -> T {
-        let mut dpp = T::ZERO;
+        let mut dpp = ExactSum::new();
         for (i, (qi, &pi)) in q.iter_mut().zip(p).enumerate() {
             if self.base.is_fixed(i) {
                 *qi = [T::ZERO; D];
@@ -340,10 +341,10 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
                 acc = vector::add(acc, self.edge_apply(k, &d, d2, &vector::sub(pi, pj)));
                 diag = vector::add(diag, self.edge_apply(k, &d, d2, &pi));
             }
-            dpp += vector::dot(pi, diag);
+            dpp.add(vector::dot(pi, diag));
             *qi = acc;
         }
-        dpp
+        dpp.value()
     }
 
     /// Block-Jacobi preconditioner `z_i = A_ii⁻¹ r_i` (zero on fixed nodes).
@@ -365,10 +366,8 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
         output: &mut [[T; D]],
         sigma: T,
     ) -> Sweep<T> {
-        let mut stats = Sweep {
-            max_change: T::ZERO,
-            residual_sq: T::ZERO,
-        };
+        let mut max_change = T::ZERO;
+        let mut residual_sq = ExactSum::new();
         for i in nodes {
             let Some(&xi) = input.get(i) else { continue };
             let new = if self.base.is_fixed(i) {
@@ -376,14 +375,18 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
             } else {
                 let (r, m) = self.node_residual(i, xi, input);
                 let dx = cramer(&m, &r).unwrap_or([T::ZERO; D]);
-                tally(&mut stats, &dx, &r, sigma);
+                tally(&mut max_change, &mut residual_sq, &dx, &r, sigma);
                 vector::add(xi, dx)
             };
             if let Some(o) = output.get_mut(i) {
                 *o = new;
             }
         }
-        stats
+        Sweep {
+            max_change,
+            residual_sq: residual_sq.value(),
+            residual_sum: residual_sq,
+        }
     }
 
     /// Gauss–Seidel-order sweep without validation.
@@ -396,10 +399,8 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
         omega: T,
         sigma: T,
     ) -> Sweep<T> {
-        let mut stats = Sweep {
-            max_change: T::ZERO,
-            residual_sq: T::ZERO,
-        };
+        let mut max_change = T::ZERO;
+        let mut residual_sq = ExactSum::new();
         for i in nodes {
             if self.base.is_fixed(i) {
                 continue;
@@ -407,23 +408,33 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
             let Some(&xi) = values.get(i) else { continue };
             let (r, m) = self.node_residual(i, xi, values);
             let dx = vector::scale(cramer(&m, &r).unwrap_or([T::ZERO; D]), omega);
-            tally(&mut stats, &dx, &r, sigma);
+            tally(&mut max_change, &mut residual_sq, &dx, &r, sigma);
             if let Some(o) = values.get_mut(i) {
                 *o = vector::add(xi, dx);
             }
         }
-        stats
+        Sweep {
+            max_change,
+            residual_sq: residual_sq.value(),
+            residual_sum: residual_sq,
+        }
     }
 }
 
 /// `max(|δ|)` and `Σ (σ r)²` bookkeeping for one node (`σ` a power of two: 1 in the public
-/// sweeps, chosen by the whole solves so the sum stays in range).
+/// sweeps, chosen by the whole solves so the sum stays in range); the sum is exact.
 #[inline]
-fn tally<T: Real, const D: usize>(stats: &mut Sweep<T>, change: &[T; D], r: &[T; D], sigma: T) {
+fn tally<T: Real, const D: usize>(
+    max_change: &mut T,
+    residual_sq: &mut ExactSum,
+    change: &[T; D],
+    r: &[T; D],
+    sigma: T,
+) {
     for (&c, &r) in change.iter().zip(r) {
-        stats.max_change = stats.max_change.max(c.abs());
+        *max_change = max_change.max(c.abs());
         let r = r * sigma;
-        stats.residual_sq += r * r;
+        residual_sq.add(r * r);
     }
 }
 
@@ -541,11 +552,11 @@ fn block_cg<T: Real, const D: usize>(
         }
         let alpha = rz / pq;
         max_update = T::ZERO;
-        let mut rr = T::ZERO;
+        let mut rr = ExactSum::new();
         for (i, ((r, &p), &q)) in r.iter_mut().zip(p.iter()).zip(w.iter()).enumerate() {
             for (rc, &qc) in r.iter_mut().zip(&q) {
                 *rc -= alpha * qc;
-                rr += *rc * *rc;
+                rr.add(*rc * *rc);
             }
             for &pc in &p {
                 max_update = max_update.max((alpha * pc).abs());
@@ -556,6 +567,7 @@ fn block_cg<T: Real, const D: usize>(
                 }
             }
         }
+        let rr: T = rr.value();
         if !rr.is_finite() {
             return Err(Error::Overflow { arg: "values" });
         }
@@ -592,13 +604,13 @@ fn cg_exponent<T: Real, const D: usize>(sys: &AngleSystem<'_, T, D>, x: &[[T; D]
     (ev + ek).clamp(-limit, limit)
 }
 
-/// `Σ_i a_i · b_i` in node order.
+/// `Σ_i a_i · b_i`: each node's `a_i · b_i` in component order, the nodes' terms summed exactly.
 fn dot_all<T: Real, const D: usize>(a: &[[T; D]], b: &[[T; D]]) -> T {
-    let mut s = T::ZERO;
+    let mut s = ExactSum::new();
     for (x, y) in a.iter().zip(b) {
-        s += vector::dot(*x, *y);
+        s.add(vector::dot(*x, *y));
     }
-    s
+    s.value()
 }
 
 /// Number of `[T; D]` scratch items [`angle_rigidity_probe`] needs: `4 n`.
@@ -643,7 +655,7 @@ pub fn angle_rigidity_probe<T: Real, const D: usize>(
     let (r, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
     let (p, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
     let w = rest.get_mut(..n).unwrap_or(&mut []);
-    let mut bb = T::ZERO;
+    let mut bb = ExactSum::new();
     for (i, (ri, yi)) in r.iter_mut().zip(y.iter_mut()).enumerate() {
         *yi = [T::ZERO; D];
         for (c, rc) in ri.iter_mut().enumerate() {
@@ -652,9 +664,10 @@ pub fn angle_rigidity_probe<T: Real, const D: usize>(
             } else {
                 probe_value((i as u64).wrapping_mul(D as u64).wrapping_add(c as u64))
             };
-            bb += *rc * *rc;
+            bb.add(*rc * *rc);
         }
     }
+    let bb: T = bb.value();
     if bb == T::ZERO {
         return Ok(T::ZERO); // no free node
     }
@@ -680,15 +693,16 @@ pub fn angle_rigidity_probe<T: Real, const D: usize>(
     if !met {
         return Err(Error::SingularSystem { iteration: it });
     }
-    let mut ymy = T::ZERO;
+    let mut ymy = ExactSum::new();
     for (i, yi) in y.iter().enumerate() {
         if !sys.base.is_fixed(i) {
             let m = sys.node_block(i);
             for (row, &a) in m.iter().zip(yi) {
-                ymy += a * vector::dot(*row, *yi);
+                ymy.add(a * vector::dot(*row, *yi));
             }
         }
     }
+    let ymy: T = ymy.value();
     let s = (ymy / rho_m_rho).sqrt();
     if s.is_finite() {
         Ok(s)

@@ -10,6 +10,7 @@ use super::system::{
 };
 use crate::error::{Error, Result};
 use crate::real::Real;
+use crate::reduce::ExactSum;
 
 /// Node `i`'s residual `r_i = Σ_j k_ij (x_j − x_i)` (= `b − A x` at a free node, Yang & Özgen
 /// eq. 1 with the sign flipped) and diagonal `d_i = Σ_j k_ij`, summed in CSR order.
@@ -33,13 +34,20 @@ fn node_residual<T: Real, const V: usize>(
 }
 
 /// `max(|δ|)` and `Σ (σ r)²` bookkeeping for one node (`σ` a power of two, 1 in the public
-/// sweeps; the whole solves pick it so the sum neither overflows nor underflows).
+/// sweeps; the whole solves pick it so the sum neither overflows nor underflows). The sum is
+/// exact ([`ExactSum`]): a sweep split into ranges sums to the same bits.
 #[inline]
-fn tally<T: Real, const V: usize>(stats: &mut Sweep<T>, change: &[T; V], r: &[T; V], sigma: T) {
+fn tally<T: Real, const V: usize>(
+    max_change: &mut T,
+    residual_sq: &mut ExactSum,
+    change: &[T; V],
+    r: &[T; V],
+    sigma: T,
+) {
     for (&c, &r) in change.iter().zip(r) {
-        stats.max_change = stats.max_change.max(c.abs());
+        *max_change = max_change.max(c.abs());
         let r = r * sigma;
-        stats.residual_sq += r * r;
+        residual_sq.add(r * r);
     }
 }
 
@@ -51,10 +59,8 @@ pub(crate) fn jacobi_core<T: Real, const V: usize>(
     output: &mut [[T; V]],
     sigma: T,
 ) -> Sweep<T> {
-    let mut stats = Sweep {
-        max_change: T::ZERO,
-        residual_sq: T::ZERO,
-    };
+    let mut max_change = T::ZERO;
+    let mut residual_sq = ExactSum::new();
     for i in nodes {
         let Some(&xi) = input.get(i) else { continue };
         let new = if sys.is_fixed(i) {
@@ -67,14 +73,18 @@ pub(crate) fn jacobi_core<T: Real, const V: usize>(
                 *c = r / d;
                 *n += *c;
             }
-            tally(&mut stats, &change, &r, sigma);
+            tally(&mut max_change, &mut residual_sq, &change, &r, sigma);
             new
         };
         if let Some(o) = output.get_mut(i) {
             *o = new;
         }
     }
-    stats
+    Sweep {
+        max_change,
+        residual_sq: residual_sq.value(),
+        residual_sum: residual_sq,
+    }
 }
 
 /// One Jacobi sweep of the linear springs over `nodes` (Yang & Özgen §2.1, Samareh eq. 2):
@@ -113,10 +123,8 @@ pub(crate) fn sor_core<T: Real, const V: usize>(
     omega: T,
     sigma: T,
 ) -> Sweep<T> {
-    let mut stats = Sweep {
-        max_change: T::ZERO,
-        residual_sq: T::ZERO,
-    };
+    let mut max_change = T::ZERO;
+    let mut residual_sq = ExactSum::new();
     for i in nodes {
         if sys.is_fixed(i) {
             continue;
@@ -129,12 +137,16 @@ pub(crate) fn sor_core<T: Real, const V: usize>(
             *c = omega * (r / d);
             *n += *c;
         }
-        tally(&mut stats, &change, &r, sigma);
+        tally(&mut max_change, &mut residual_sq, &change, &r, sigma);
         if let Some(o) = values.get_mut(i) {
             *o = new;
         }
     }
-    stats
+    Sweep {
+        max_change,
+        residual_sq: residual_sq.value(),
+        residual_sum: residual_sq,
+    }
 }
 
 /// One in-place Gauss–Seidel (`omega = 1`) or SOR sweep of the linear springs over `nodes`, in
@@ -217,18 +229,18 @@ pub(crate) fn residual_norms_scaled<T: Real, const V: usize>(
             // Second pass, each sum scaled by its own power of two.
             let qr = T::pow2(-pr.err().unwrap_or(0));
             let qb = T::pow2(-pb.err().unwrap_or(0));
-            let mut sr = T::ZERO;
-            let mut sb = T::ZERO;
+            let mut sr = ExactSum::new();
+            let mut sb = ExactSum::new();
             for_each_free_residual(sys, x, |r, b| {
                 for ((&r, &b), &g) in r.iter().zip(b).zip(&g) {
                     let (r, b) = (r * g * qr, b * g * qb);
-                    sr += r * r;
-                    sb += b * b;
+                    sr.add(r * r);
+                    sb.add(b * b);
                 }
             });
             (
-                pr.unwrap_or_else(|e| Norm::from_sum(sr, e)),
-                pb.unwrap_or_else(|e| Norm::from_sum(sb, e)),
+                pr.unwrap_or_else(|e| Norm::from_sum(sr.value(), e)),
+                pb.unwrap_or_else(|e| Norm::from_sum(sb.value(), e)),
             )
         }
     };
@@ -459,16 +471,16 @@ pub(crate) fn diagonal<T: Real>(sys: &SpringSystem<'_, T>, diag: &mut [T]) {
 }
 
 /// `q = A p` on free nodes (`A` = weighted Laplacian restricted to free nodes; `p` is zero on
-/// fixed nodes), with per component `Σ d_i p_i²` (for the curvature test) and `pᵀq`, both in
-/// node order (the fixed nodes' zero terms are skipped: adding `+0` changes no sum).
+/// fixed nodes), with per component `Σ d_i p_i²` (for the curvature test) and `pᵀq`, both
+/// summed exactly (the fixed nodes' zero terms are skipped: adding `+0` changes no sum).
 fn laplacian_apply<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     diag: &[T],
     p: &[[T; V]],
     q: &mut [[T; V]],
 ) -> ([T; V], [T; V]) {
-    let mut dpp = [T::ZERO; V];
-    let mut pq = [T::ZERO; V];
+    let mut dpp = [ExactSum::new(); V];
+    let mut pq = [ExactSum::new(); V];
     for ((_, fixed, row), ((qi, &pi), &d)) in sys.rows().zip(q.iter_mut().zip(p).zip(diag)) {
         if fixed {
             *qi = [T::ZERO; V];
@@ -482,12 +494,12 @@ fn laplacian_apply<T: Real, const V: usize>(
             }
         }
         for (((s, t), &x), &a) in dpp.iter_mut().zip(pq.iter_mut()).zip(&pi).zip(&acc) {
-            *s += d * x * x;
-            *t += x * a;
+            s.add(d * x * x);
+            t.add(x * a);
         }
         *qi = acc;
     }
-    (dpp, pq)
+    (dpp.map(|s| s.value()), pq.map(|s| s.value()))
 }
 
 /// `z = M⁻¹ r` for the chosen preconditioner (zero on fixed nodes), `diag` from [`diagonal`].
@@ -576,16 +588,17 @@ fn ssor<T: Real, const V: usize>(
     }
 }
 
-/// Per-component `Σ a·b` over all nodes, in node order.
+/// Per-component `Σ a·b` over all nodes, summed exactly ([`ExactSum`]: any split of the nodes
+/// gives the same bits).
 #[inline]
 pub(crate) fn dots<T: Real, const V: usize>(a: &[[T; V]], b: &[[T; V]]) -> [T; V] {
-    let mut s = [T::ZERO; V];
+    let mut s = [ExactSum::new(); V];
     for (x, y) in a.iter().zip(b) {
         for ((s, &x), &y) in s.iter_mut().zip(x).zip(y) {
-            *s += x * y;
+            s.add(x * y);
         }
     }
-    s
+    s.map(|s| s.value())
 }
 
 /// Per-component power-of-two exponents `e_c` for the scaled CG iterate `x_c · 2^−e_c`:
@@ -705,8 +718,8 @@ fn solve_cg<T: Real, const V: usize>(
         // One pass: x += α p, r −= α q, the recurrence residual, and (Jacobi or none) the
         // preconditioned residual z (into w, over q) with rᵀz, all in node order.
         let mut max_update = [T::ZERO; V];
-        let mut rr = T::ZERO;
-        let mut rz_new = [T::ZERO; V];
+        let mut rr = ExactSum::new();
+        let mut rz_exact = [ExactSum::new(); V];
         let local = !matches!(pre, Preconditioner::Ssor { .. });
         for ((((x, r), &p), w), (&d, &m)) in x
             .iter_mut()
@@ -729,15 +742,15 @@ fn solve_cg<T: Real, const V: usize>(
                 *r -= a * q;
                 *m = m.max(dx.abs());
                 let rg = *r * g;
-                rr += rg * rg;
+                rr.add(rg * rg);
             }
             if local {
                 *w = match pre {
                     Preconditioner::Jacobi => jacobi_node(*r, d, is_fixed(m)),
                     _ => *r,
                 };
-                for ((s, &r), &z) in rz_new.iter_mut().zip(r.iter()).zip(w.iter()) {
-                    *s += r * z;
+                for ((s, &r), &z) in rz_exact.iter_mut().zip(r.iter()).zip(w.iter()) {
+                    s.add(r * z);
                 }
             }
         }
@@ -745,6 +758,8 @@ fn solve_cg<T: Real, const V: usize>(
             .iter()
             .zip(&exps)
             .fold(T::ZERO, |m, (&u, &e)| m.max(scale_by(u, e)));
+        let rr: T = rr.value();
+        let mut rz_new = rz_exact.map(|s| s.value());
         checked = false;
         // An overflowing recurrence sum cannot say "converged": ask the true residual.
         let estimate_ok = rr.is_finite();

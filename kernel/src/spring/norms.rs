@@ -10,14 +10,18 @@
 //! rescaled sum has the bits the plain sum would have had with an unlimited exponent range:
 //! a field multiplied by `2^k` has its norm multiplied by exactly `2^k` and its relative
 //! residual unchanged. Norms are kept as `value · 2^exp` ([`Norm`]) until a ratio is formed.
+//!
+//! The sums are exact ([`ExactSum`]) and the maximum is order-independent, so a norm does not
+//! depend on the order of its terms or on how a caller splits the nodes.
 
 use crate::real::Real;
+use crate::reduce::ExactSum;
 
-/// A plain running `Σ x²` and `max |x|`.
+/// An exact running `Σ x²` (each `x²` rounded once) and `max |x|`.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct SumSq<T> {
-    /// `Σ x²` (may have overflowed or underflowed).
-    pub(crate) sum: T,
+    /// `Σ x²` (terms may have overflowed or underflowed).
+    pub(crate) sum: ExactSum,
     /// `max |x|` (exact).
     pub(crate) max: T,
 }
@@ -26,7 +30,7 @@ impl<T: Real> SumSq<T> {
     /// The empty sum.
     pub(crate) const fn new() -> Self {
         SumSq {
-            sum: T::ZERO,
+            sum: ExactSum::new(),
             max: T::ZERO,
         }
     }
@@ -34,7 +38,7 @@ impl<T: Real> SumSq<T> {
     /// Adds `x²` (and `|x|` to the maximum).
     #[inline]
     pub(crate) fn add(&mut self, x: T) {
-        self.sum += x * x;
+        self.sum.add(x * x);
         self.max = self.max.max(x.abs());
     }
 
@@ -42,7 +46,7 @@ impl<T: Real> SumSq<T> {
     /// `|v_c|` to the maximum.
     #[inline]
     pub(crate) fn add_vector<const D: usize>(&mut self, v: &[T; D]) {
-        self.sum += crate::vector::norm_sq(*v);
+        self.sum.add(crate::vector::norm_sq(*v));
         for &x in v {
             self.max = self.max.max(x.abs());
         }
@@ -60,9 +64,9 @@ impl<T: Real> SumSq<T> {
                 exp: 0,
             });
         }
-        if self.sum.is_finite() && (self.sum >= T::MIN_POSITIVE / T::EPSILON || self.max == T::ZERO)
-        {
-            Ok(Norm::from_sum(self.sum, 0))
+        let sum: T = self.sum.value();
+        if sum.is_finite() && (sum >= T::MIN_POSITIVE / T::EPSILON || self.max == T::ZERO) {
+            Ok(Norm::from_sum(sum, 0))
         } else {
             Err(scale_exponent(self.max))
         }

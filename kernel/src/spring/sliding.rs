@@ -44,6 +44,7 @@ use super::system::{
 };
 use crate::error::{Error, Result};
 use crate::real::Real;
+use crate::reduce::ExactSum;
 use crate::slide::{Constraints, NodeKind};
 use crate::vector;
 
@@ -426,18 +427,18 @@ fn norms<T: Real, const D: usize, O: BlockOp<T, D>>(
             let er = pr.err().unwrap_or(0);
             let eb = pb.err().unwrap_or(0);
             let (qr, qb) = (T::pow2(-er), T::pow2(-eb));
-            let mut sr = T::ZERO;
-            let mut sb = T::ZERO;
+            let mut sr = ExactSum::new();
+            let mut sb = ExactSum::new();
             each(&mut |r, b| {
                 for (&r, &b) in r.iter().zip(b) {
                     let (r, b) = (r * qr, b * qb);
-                    sr += r * r;
-                    sb += b * b;
+                    sr.add(r * r);
+                    sb.add(b * b);
                 }
             });
             (
-                pr.unwrap_or_else(|_| Norm::from_sum(sr, er)),
-                pb.unwrap_or_else(|_| Norm::from_sum(sb, eb)),
+                pr.unwrap_or_else(|_| Norm::from_sum(sr.value(), er)),
+                pb.unwrap_or_else(|_| Norm::from_sum(sb.value(), eb)),
             )
         }
     }
@@ -545,7 +546,7 @@ fn stationary<T: Real, const D: usize, O: BlockOp<T, D>>(
     let mut checked = false;
     while report.iterations < options.max_iterations {
         let mut max_change = T::ZERO;
-        let mut rsq = T::ZERO;
+        let mut rsq = ExactSum::new();
         let mut visit = |i: usize, src: &[[T; D]]| -> Option<[T; D]> {
             if op.fixed(i) {
                 return None;
@@ -560,7 +561,7 @@ fn stationary<T: Real, const D: usize, O: BlockOp<T, D>>(
             for (&dc, &rc) in d.iter().zip(&pr) {
                 max_change = max_change.max(dc.abs());
                 let rs = rc * sigma;
-                rsq += rs * rs;
+                rsq.add(rs * rs);
             }
             Some(d)
         };
@@ -594,7 +595,7 @@ fn stationary<T: Real, const D: usize, O: BlockOp<T, D>>(
         }
         report.iterations += 1;
         report.max_update = max_change;
-        let estimate = Norm::from_sum(rsq, est_exp).relative_to(bnorm);
+        let estimate = Norm::from_sum(rsq.value(), est_exp).relative_to(bnorm);
         let unscaled_update = scale_by(max_change, e);
         checked = false;
         if options.met(estimate, unscaled_update) {
@@ -620,11 +621,14 @@ fn stationary<T: Real, const D: usize, O: BlockOp<T, D>>(
     report
 }
 
-/// `Σ aᵀ b` over all nodes, in node order.
+/// `Σ aᵀ b` over all nodes: each node's `aᵀ b` in component order, the nodes' terms summed
+/// exactly.
 fn dot_all<T: Real, const D: usize>(a: &[[T; D]], b: &[[T; D]]) -> T {
-    a.iter()
-        .zip(b)
-        .fold(T::ZERO, |s, (x, y)| s + vector::dot(*x, *y))
+    let mut s = ExactSum::new();
+    for (x, y) in a.iter().zip(b) {
+        s.add(vector::dot(*x, *y));
+    }
+    s.value()
 }
 
 /// `z = P M⁻¹ r` (zero at fixed nodes).
@@ -750,16 +754,17 @@ fn cg<T: Real, const D: usize, O: BlockOp<T, D>>(
         }
         let alpha = rz / pq;
         let mut max_update = T::ZERO;
-        let mut rr = T::ZERO;
+        let mut rr = ExactSum::new();
         for (((xi, ri), &pi), &qi) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter()) {
             for (((xc, rc), &pc), &qc) in xi.iter_mut().zip(ri.iter_mut()).zip(&pi).zip(&qi) {
                 let dx = alpha * pc;
                 *xc += dx;
                 *rc -= alpha * qc;
                 max_update = max_update.max(dx.abs());
-                rr += *rc * *rc;
+                rr.add(*rc * *rc);
             }
         }
+        let rr: T = rr.value();
         report.max_update = max_update;
         let unscaled_update = scale_by(max_update, e);
         checked = false;

@@ -6,6 +6,7 @@ use core::ops::Range;
 use crate::error::{Error, Result};
 use crate::graph::Graph;
 use crate::real::Real;
+use crate::reduce::ExactSum;
 
 /// `true` when mask byte `m` marks a fixed (Dirichlet) node: any nonzero byte.
 #[inline]
@@ -271,8 +272,12 @@ pub struct Sweep<T> {
     /// `b − A x` at node `i` seen by the sweep. For a Jacobi sweep this is exactly the residual
     /// of the input field; for Gauss–Seidel/SOR it is the residual of the partly updated field
     /// at the moment node `i` was visited (an estimate; the whole solves confirm convergence
-    /// with the true residual). Summed over ranks it gives a global residual.
+    /// with the true residual). Rounded from [`Sweep::residual_sum`].
     pub residual_sq: T,
+    /// The same `Σ |r_i|²`, exact: [`ExactSum::merge`] the sweeps of several ranges (or
+    /// ranks) and round once with [`ExactSum::value`] to get the bits one sweep over their
+    /// union gives, however the nodes were split.
+    pub residual_sum: ExactSum,
 }
 
 /// Stopping rules shared by every spring solver.

@@ -4,6 +4,7 @@ use super::cycle::vcycle;
 use super::AmgHierarchy;
 use crate::error::{Error, Result};
 use crate::real::Real;
+use crate::reduce::ExactSum;
 use crate::spring::linear::{cg_exponents, dots, residual_norms_scaled};
 use crate::spring::norms::{scale_by, Norm};
 use crate::spring::system::{check_values, SolveOptions, SolveReport, SpringSystem};
@@ -104,7 +105,7 @@ fn apply<T: Real, const V: usize>(
     p: &[[T; V]],
     q: &mut [[T; V]],
 ) -> [T; V] {
-    let mut dpp = [T::ZERO; V];
+    let mut dpp = [ExactSum::new(); V];
     for ((_, fixed, row), (qi, &pi)) in sys.rows().zip(q.iter_mut().zip(p)) {
         if fixed {
             *qi = [T::ZERO; V];
@@ -120,11 +121,11 @@ fn apply<T: Real, const V: usize>(
             d += k;
         }
         for (s, &x) in dpp.iter_mut().zip(&pi) {
-            *s += d * x * x;
+            s.add(d * x * x);
         }
         *qi = acc;
     }
-    dpp
+    dpp.map(|s| s.value())
 }
 
 /// Solves the linear springs (the problem of [`solve_linear`](crate::spring::solve_linear)) by
@@ -229,7 +230,7 @@ pub fn solve_linear_amg<T: Real, const V: usize>(
             *a = rz / pq;
         }
         let mut max_update = [T::ZERO; V];
-        let mut rr = T::ZERO;
+        let mut rr = ExactSum::new();
         for (((x, r), &p), &q) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter()) {
             for ((((((x, r), &p), &q), &a), m), &g) in x
                 .iter_mut()
@@ -245,13 +246,14 @@ pub fn solve_linear_amg<T: Real, const V: usize>(
                 *r -= a * q;
                 *m = m.max(dx.abs());
                 let rg = *r * g;
-                rr += rg * rg;
+                rr.add(rg * rg);
             }
         }
         report.max_update = max_update
             .iter()
             .zip(&exps)
             .fold(T::ZERO, |m, (&u, &e)| m.max(scale_by(u, e)));
+        let rr: T = rr.value();
         checked = false;
         // An overflowing recurrence sum cannot say "converged": ask the true residual.
         let estimate_ok = rr.is_finite();
