@@ -99,7 +99,10 @@ fn halfway_cases_round_to_even() {
     assert_eq!(exact(&[1.0, 2f64.powi(-53), 1e-300]), 1.0 + f64::EPSILON);
     let odd = 1.0 + f64::EPSILON;
     assert_eq!(exact(&[odd, 2f64.powi(-53)]), 1.0 + 2.0 * f64::EPSILON);
-    assert_eq!(exact(&[-odd, -(2f64.powi(-53))]), -(1.0 + 2.0 * f64::EPSILON));
+    assert_eq!(
+        exact(&[-odd, -(2f64.powi(-53))]),
+        -(1.0 + 2.0 * f64::EPSILON)
+    );
 }
 
 #[test]
@@ -126,7 +129,11 @@ fn f32_terms() {
 #[test]
 fn words_round_trip_and_sum_like_mpi() {
     let parts: Vec<Vec<f64>> = (0..5)
-        .map(|r| (0..1000).map(|i| ((i * 7 + r * 13) as f64).sin() * 1e10f64.powi(r as i32 % 3)).collect())
+        .map(|r| {
+            (0..1000)
+                .map(|i| ((i * 7 + r * 13) as f64).sin() * 1e10f64.powi(r % 3))
+                .collect()
+        })
         .collect();
     let all: Vec<f64> = parts.concat();
     let mut summed = [0i64; EXACT_SUM_WORDS];

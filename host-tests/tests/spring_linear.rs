@@ -200,7 +200,12 @@ fn split_sweeps_merge_to_the_whole<T: Real, const V: usize>() {
     let whole = jacobi_sweep(&sys, 0..n, &x, &mut out).unwrap();
     assert!(whole.residual_sq > T::ZERO);
     assert_eq!(whole.residual_sq, whole.residual_sum.value::<T>());
-    for cuts in [vec![1], vec![n / 3, 2 * n / 3], vec![5, 6, 50, 51, n - 1], (1..n).step_by(7).collect()] {
+    for cuts in [
+        vec![1],
+        vec![n / 3, 2 * n / 3],
+        vec![5, 6, 50, 51, n - 1],
+        (1..n).step_by(7).collect(),
+    ] {
         let mut bounds = vec![0];
         bounds.extend(cuts);
         bounds.push(n);
@@ -212,7 +217,10 @@ fn split_sweeps_merge_to_the_whole<T: Real, const V: usize>() {
             merged.merge(&s.residual_sum);
             max_change = max_change.max(s.max_change);
         }
-        assert_eq!(merged.value::<T>().to_bits_u64(), whole.residual_sq.to_bits_u64());
+        assert_eq!(
+            merged.value::<T>().to_bits_u64(),
+            whole.residual_sq.to_bits_u64()
+        );
         assert_eq!(max_change, whole.max_change);
     }
 }

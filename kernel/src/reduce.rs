@@ -32,6 +32,8 @@ const NEG_INF: usize = DIGITS + 2;
 const LOAD: usize = DIGITS + 3;
 /// Carries are propagated once the load reaches this (far below the `2^31` the words allow).
 const LOAD_LIMIT: i64 = 1 << 29;
+/// Pending terms are moved into the load counter after this many.
+const PENDING_LIMIT: u32 = 1 << 20;
 
 /// Number of `i64` words in [`ExactSum::to_words`]: 68 digits, three non-finite counts and a
 /// load counter. The layout is stable (part of the C ABI's merge protocol).
@@ -41,6 +43,9 @@ pub const EXACT_SUM_WORDS: usize = DIGITS + 4;
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub struct ExactSum {
     words: [i64; EXACT_SUM_WORDS],
+    /// Terms added since the words' load was last updated (kept apart from the words so that
+    /// counting is a register increment, not a memory round trip in the add loop).
+    pending: u32,
 }
 
 impl core::fmt::Debug for ExactSum {
@@ -62,6 +67,7 @@ impl ExactSum {
     pub const fn new() -> Self {
         ExactSum {
             words: [0; EXACT_SUM_WORDS],
+            pending: 0,
         }
     }
 
@@ -75,6 +81,9 @@ impl ExactSum {
     #[inline]
     pub fn add_f64(&mut self, x: f64) {
         let bits = x.to_bits();
+        if bits << 1 == 0 {
+            return; // ±0 changes no sum
+        }
         let field = ((bits >> 52) & 0x7ff) as u32;
         let negative = bits >> 63 != 0;
         let mut m = bits & ((1u64 << 52) - 1);
@@ -97,23 +106,19 @@ impl ExactSum {
         let shift = p & 31;
         // `p ≤ 2045`, so `c ≤ 63` and `c + 2 < DIGITS`: the mask only tells the compiler.
         let c = (p >> 5) as usize & 63;
-        let lo = ((m << shift) & 0xffff_ffff) as i64;
+        // Branch-free sign: terms of random sign would mispredict half the time.
+        let sign = -i64::from(negative);
+        let lo = (((m << shift) & 0xffff_ffff) as i64 ^ sign) - sign;
         let high = m >> (32 - shift);
-        let mid = (high & 0xffff_ffff) as i64;
-        let top = (high >> 32) as i64;
+        let mid = ((high & 0xffff_ffff) as i64 ^ sign) - sign;
+        let top = ((high >> 32) as i64 ^ sign) - sign;
         let w = &mut self.words;
-        if negative {
-            w[c] -= lo;
-            w[c + 1] -= mid;
-            w[c + 2] -= top;
-        } else {
-            w[c] += lo;
-            w[c + 1] += mid;
-            w[c + 2] += top;
-        }
-        w[LOAD] += 1;
-        if w[LOAD] >= LOAD_LIMIT {
-            self.normalize();
+        w[c] += lo;
+        w[c + 1] += mid;
+        w[c + 2] += top;
+        self.pending += 1;
+        if self.pending >= PENDING_LIMIT {
+            self.settle();
         }
     }
 
@@ -121,6 +126,15 @@ impl ExactSum {
     pub fn add_all<T: Real>(&mut self, xs: &[T]) {
         for &x in xs {
             self.add(x);
+        }
+    }
+
+    /// Moves the pending count into the load (and propagates carries if it is due).
+    fn settle(&mut self) {
+        self.words[LOAD] = self.words[LOAD].saturating_add(i64::from(self.pending));
+        self.pending = 0;
+        if self.words[LOAD] >= LOAD_LIMIT {
+            self.normalize();
         }
     }
 
@@ -132,6 +146,9 @@ impl ExactSum {
 
     /// Adds another partial sum (element-wise word addition: associative and commutative).
     pub fn merge(&mut self, other: &ExactSum) {
+        self.settle();
+        let mut other = *other;
+        other.settle();
         for (k, (a, &b)) in self.words.iter_mut().zip(&other.words).enumerate() {
             *a = if k < DIGITS {
                 a.wrapping_add(b)
@@ -172,7 +189,7 @@ impl ExactSum {
 
     /// A sum from words made by [`ExactSum::to_words`] (or element-wise sums of them).
     pub fn from_words(words: [i64; EXACT_SUM_WORDS]) -> Self {
-        let mut s = ExactSum { words };
+        let mut s = ExactSum { words, pending: 0 };
         s.words[LOAD] = s.words[LOAD].max(0);
         if s.words[LOAD] >= LOAD_LIMIT {
             s.normalize();

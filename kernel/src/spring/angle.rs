@@ -323,9 +323,10 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
         (r.shifted(exp), b.shifted(exp))
     }
 
-    /// `q = A p` on free nodes (`p` zero on fixed nodes) and `Σ p_iᵀ A_ii p_i`.
+    /// `q = A p` on free nodes (`p` zero on fixed nodes) and the curvature scale
+    /// `max_i p_iᵀ A_ii p_i` (a maximum: exact and order-independent).
     fn apply(&self, p: &[[T; D]], q: &mut [[T; D]]) -> T {
-        let mut dpp = ExactSum::new();
+        let mut dpp = T::ZERO;
         for (i, (qi, &pi)) in q.iter_mut().zip(p).enumerate() {
             if self.base.is_fixed(i) {
                 *qi = [T::ZERO; D];
@@ -341,10 +342,10 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
                 acc = vector::add(acc, self.edge_apply(k, &d, d2, &vector::sub(pi, pj)));
                 diag = vector::add(diag, self.edge_apply(k, &d, d2, &pi));
             }
-            dpp.add(vector::dot(pi, diag));
+            dpp = dpp.max(vector::dot(pi, diag));
             *qi = acc;
         }
-        dpp.value()
+        dpp
     }
 
     /// Block-Jacobi preconditioner `z_i = A_ii⁻¹ r_i` (zero on fixed nodes).

@@ -471,15 +471,16 @@ pub(crate) fn diagonal<T: Real>(sys: &SpringSystem<'_, T>, diag: &mut [T]) {
 }
 
 /// `q = A p` on free nodes (`A` = weighted Laplacian restricted to free nodes; `p` is zero on
-/// fixed nodes), with per component `Σ d_i p_i²` (for the curvature test) and `pᵀq`, both
-/// summed exactly (the fixed nodes' zero terms are skipped: adding `+0` changes no sum).
+/// fixed nodes), with per component the curvature scale `max_i d_i p_i²` (a maximum: exact and
+/// order-independent) and `pᵀq` (summed exactly; the fixed nodes' zero terms are skipped).
+/// The curvature test compares `pᵀq = Σ d_i p_i² − Σ_j k_ij p_i p_j` with this scale.
 fn laplacian_apply<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     diag: &[T],
     p: &[[T; V]],
     q: &mut [[T; V]],
 ) -> ([T; V], [T; V]) {
-    let mut dpp = [ExactSum::new(); V];
+    let mut dpp = [T::ZERO; V];
     let mut pq = [ExactSum::new(); V];
     for ((_, fixed, row), ((qi, &pi), &d)) in sys.rows().zip(q.iter_mut().zip(p).zip(diag)) {
         if fixed {
@@ -494,12 +495,12 @@ fn laplacian_apply<T: Real, const V: usize>(
             }
         }
         for (((s, t), &x), &a) in dpp.iter_mut().zip(pq.iter_mut()).zip(&pi).zip(&acc) {
-            s.add(d * x * x);
+            *s = s.max(d * x * x);
             t.add(x * a);
         }
         *qi = acc;
     }
-    (dpp.map(|s| s.value()), pq.map(|s| s.value()))
+    (dpp, pq.map(|s| s.value()))
 }
 
 /// `z = M⁻¹ r` for the chosen preconditioner (zero on fixed nodes), `diag` from [`diagonal`].

@@ -79,4 +79,38 @@ mod tests {
         defmt::assert_eq!(graph_from_edges(3, &edges, &mut o, &mut t).unwrap(), 6);
         defmt::assert_eq!(o, [0, 2, 4, 6]);
     }
+
+    /// Exact sums give the host's bits: cancellation across 600 binades, order and split
+    /// independence, and the word protocol ranks merge with.
+    #[test]
+    fn exact_sums_are_order_independent() {
+        use deform_kernel::reduce::ExactSum;
+        let terms = [1e300, 1.0, -1e300, 0.1, 1e-300, -0.3, 2.5e-320, 0.2];
+        let mut a = ExactSum::new();
+        a.add_all(&terms);
+        let mut b = ExactSum::new();
+        for &t in terms.iter().rev() {
+            b.add(t);
+        }
+        defmt::assert_eq!(a.value::<f64>().to_bits(), b.value::<f64>().to_bits());
+        // The exact sum is 1 + 2.8e-17 (the binary 0.1 + 0.2 − 0.3 and the tiny terms): 1.0
+        // rounded once (Python: float(sum(map(Fraction, terms)))).
+        defmt::assert_eq!(a.value::<f64>().to_bits(), 0x3ff0_0000_0000_0000);
+        let (lo, hi) = terms.split_at(3);
+        let mut x = ExactSum::new();
+        x.add_all(hi);
+        let mut y = ExactSum::new();
+        y.add_all(lo);
+        let mut words = x.to_words();
+        for (w, v) in words.iter_mut().zip(y.to_words()) {
+            *w += v;
+        }
+        defmt::assert_eq!(
+            ExactSum::from_words(words).value::<f64>().to_bits(),
+            a.value::<f64>().to_bits()
+        );
+        let mut f = ExactSum::new();
+        f.add_all(&[3.0e38f32, 1.0, -3.0e38]);
+        defmt::assert_eq!(f.value::<f32>(), 1.0);
+    }
 }

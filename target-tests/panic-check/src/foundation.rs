@@ -1,5 +1,5 @@
 //! Panic-check calls for the kernel's foundation entry points: `real`, `vector`, `quat`,
-//! `graph`, `graph_builder`, `cells`, `block` and `error` (Display and defmt).
+//! `graph`, `graph_builder`, `reduce`, `cells`, `block` and `error` (Display and defmt).
 //!
 //! Not called: derived `Debug` impls and float `Display`/`Debug`. They are core's code, and
 //! core's `<str as Debug>` (escape_debug) keeps panic paths that no optimisation removes.
@@ -37,6 +37,7 @@ pub fn exercise() {
     quat::<f64>();
     glam_interop();
     graph();
+    reduce();
     cells();
     block();
     errors();
@@ -365,4 +366,23 @@ fn errors() {
         defmt::info!("{}", e);
     }
     keep(sink.0);
+}
+
+/// `reduce::ExactSum`: adds of any `f32`/`f64` (non-finite included), merges, the word
+/// protocol and the rounding to either type.
+fn reduce() {
+    use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
+    let mut a = ExactSum::new();
+    a.add(black_box(1.5f64));
+    a.add(black_box(-2.5f32));
+    a.add_f64(black_box(f64::MIN_POSITIVE));
+    a.add_all(black_box(&[1.0f32, 2.0][..]));
+    a.add_all(black_box(&[1.0f64, f64::NAN][..]));
+    let mut b = black_box(ExactSum::default());
+    b.merge(black_box(&a));
+    let words: [i64; EXACT_SUM_WORDS] = black_box(b.to_words());
+    let c = ExactSum::from_words(words);
+    black_box(c.value::<f32>());
+    black_box(c.value::<f64>());
+    black_box(c == a);
 }

@@ -99,13 +99,15 @@ fn zero_fixed<T: Real, const V: usize>(sys: &SpringSystem<'_, T>, z: &mut [[T; V
     }
 }
 
-/// `q = A p` at free nodes (`p` is zero at fixed nodes) and per component `Σ d_i p_i²`.
+/// `q = A p` at free nodes (`p` is zero at fixed nodes), and per component the curvature
+/// scale `max_i d_i p_i²` (exact and order-independent) and `pᵀq` (summed exactly).
 fn apply<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     p: &[[T; V]],
     q: &mut [[T; V]],
-) -> [T; V] {
-    let mut dpp = [ExactSum::new(); V];
+) -> ([T; V], [T; V]) {
+    let mut dpp = [T::ZERO; V];
+    let mut pq = [ExactSum::new(); V];
     for ((_, fixed, row), (qi, &pi)) in sys.rows().zip(q.iter_mut().zip(p)) {
         if fixed {
             *qi = [T::ZERO; V];
@@ -120,12 +122,13 @@ fn apply<T: Real, const V: usize>(
             }
             d += k;
         }
-        for (s, &x) in dpp.iter_mut().zip(&pi) {
-            s.add(d * x * x);
+        for (((s, t), &x), &a) in dpp.iter_mut().zip(pq.iter_mut()).zip(&pi).zip(&acc) {
+            *s = s.max(d * x * x);
+            t.add(x * a);
         }
         *qi = acc;
     }
-    dpp.map(|s| s.value())
+    (dpp, pq.map(|s| s.value()))
 }
 
 /// Solves the linear springs (the problem of [`solve_linear`](crate::spring::solve_linear)) by
@@ -212,8 +215,7 @@ pub fn solve_linear_amg<T: Real, const V: usize>(
     let tiny = T::EPSILON;
     while report.iterations < options.max_iterations {
         report.iterations += 1;
-        let dpp = apply(sys, p, q);
-        let pq = dots(p, q);
+        let (dpp, pq) = apply(sys, p, q);
         let mut alpha = [T::ZERO; V];
         for (((a, &pq), &dpp), &rz) in alpha.iter_mut().zip(&pq).zip(&dpp).zip(&rz) {
             if !(pq.is_finite() && rz.is_finite() && dpp.is_finite()) {
