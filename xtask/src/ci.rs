@@ -6,6 +6,7 @@ use crate::embedded::{cross_build, footprint, on_target};
 use crate::fuzz::{fuzz, FUZZ_SMOKE_SECONDS};
 use crate::help;
 use crate::install::{cinstall, install, CROSS_TARGETS, FUZZ_TOOLCHAIN};
+use crate::mpi::mpi_check;
 use crate::panic::{panic_check, panic_check_deliberate};
 use crate::process::run;
 use std::process::{Command, ExitCode};
@@ -48,7 +49,7 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
         ),
         Step::new(
             "fmt",
-            "cargo fmt --check: host workspace, target-tests, fuzz, bench",
+            "cargo fmt --check: host workspace, target-tests, fuzz, bench, mpi-check",
             || {
                 let a = run(&mut ctx.cargo(&["fmt", "--all", "--check"]));
                 // Not `--all` there: that would also check the kernel (a path dependency).
@@ -57,7 +58,13 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
                     run(&mut ctx.cargo(&["fmt", "--check", "--manifest-path", "fuzz/Cargo.toml"]));
                 let d =
                     run(&mut ctx.cargo(&["fmt", "--check", "--manifest-path", "bench/Cargo.toml"]));
-                a && b && c && d
+                let e = run(&mut ctx.cargo(&[
+                    "fmt",
+                    "--check",
+                    "--manifest-path",
+                    "mpi-check/Cargo.toml",
+                ]));
+                a && b && c && d && e
             },
         ),
         Step::new(
@@ -177,6 +184,11 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
             "footprint",
             "1,000-node deformation in 64 KiB RAM + stack per entry point (QEMU); llvm-size per feature set",
             || footprint(ctx),
+        ),
+        Step::new(
+            "mpi",
+            "mpirun --oversubscribe -np 1, 2, 3: split spring sweeps + exact sums = serial bits (mpi-check)",
+            || mpi_check(ctx),
         ),
         Step::new(
             "fuzz-smoke",

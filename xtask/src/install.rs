@@ -23,9 +23,16 @@ pub(crate) const RUSTUP_COMPONENTS: &[&str] = &["rustfmt", "clippy", "rust-src",
 /// Debian packages, installed with `apt-get install` when running as root (e.g. `gfortran`,
 /// `qemu-system-arm`). Checked with `dpkg -s`.
 /// `libssl-dev` and `pkg-config` are needed to build cargo-c, and `pkg-config` by the
-/// `cinstall` step.
-pub(crate) const APT_PACKAGES: &[&str] =
-    &["gfortran", "qemu-system-arm", "libssl-dev", "pkg-config"];
+/// `cinstall` step; OpenMPI and libclang (for the `mpi` crate's bindings) by the `mpi` step.
+pub(crate) const APT_PACKAGES: &[&str] = &[
+    "gfortran",
+    "qemu-system-arm",
+    "libssl-dev",
+    "pkg-config",
+    "openmpi-bin",
+    "libopenmpi-dev",
+    "libclang-dev",
+];
 
 /// A cargo tool installed with `cargo install --locked NAME --version VERSION`.
 pub(crate) struct CargoTool {

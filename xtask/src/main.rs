@@ -39,6 +39,7 @@ mod ctx;
 mod embedded;
 mod fuzz;
 mod install;
+mod mpi;
 mod panic;
 mod process;
 

@@ -1,0 +1,230 @@
+//! Linear-spring Jacobi sweeps split across MPI ranks give the serial bits.
+//!
+//! `mpirun -np N target/release/deform-mpi-check` (built with `cargo build --release` here;
+//! `cargo xtask ci --step mpi` runs N = 1, 2, 3). On a generated 2D mesh (NACA 2412,
+//! triangles) and a 3D one (the same mesh extruded into prisms):
+//!
+//! - nodes are partitioned by recursive coordinate bisection, so a rank owns an arbitrary set
+//!   of node numbers, not a range;
+//! - each rank sweeps its own nodes with the kernel's range sweep (`jacobi_sweep`, one call
+//!   per run of consecutive owned numbers), exchanges its new values with the others
+//!   (`MPI_Allgatherv`; replicated field, the simplest correct exchange), and merges the
+//!   sweeps' exact residual sums (`ExactSum::to_words`, `MPI_Allreduce` with `MPI_SUM` on
+//!   `i64`) and maximum changes (`MPI_MAX`);
+//! - rank 0 runs the same sweeps serially over all nodes and compares every value and every
+//!   sweep's residual bit for bit.
+//!
+//! Exit status 0 only if everything matches on every rank.
+
+use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
+use deform_kernel::spring::{batina_stiffness, jacobi_sweep, SpringSystem};
+use deform_kernel::{graph_from_cells, graph_from_cells_len, Graph};
+use deform_meshgen::{extrude, naca_triangulated, AirfoilGrid, Mesh};
+use mpi::collective::SystemOperation;
+use mpi::datatype::PartitionMut;
+use mpi::traits::*;
+
+/// Sweeps per case.
+const SWEEPS: usize = 40;
+
+/// Node numbers owned by each of `parts` ranks: recursive coordinate bisection (split the
+/// longest extent at the weighted median, recursively), deterministic.
+fn rcb<const D: usize>(
+    points: &[[f64; D]],
+    nodes: Vec<u32>,
+    parts: usize,
+    out: &mut Vec<Vec<u32>>,
+) {
+    if parts <= 1 || nodes.len() <= 1 {
+        out.push(nodes);
+        for _ in 1..parts {
+            out.push(Vec::new());
+        }
+        return;
+    }
+    let mut extent = [0.0f64; D];
+    for (a, e) in extent.iter_mut().enumerate() {
+        let (lo, hi) = nodes.iter().fold((f64::MAX, f64::MIN), |(lo, hi), &i| {
+            let x = points[i as usize][a];
+            (lo.min(x), hi.max(x))
+        });
+        *e = hi - lo;
+    }
+    let axis = (0..D)
+        .max_by(|&a, &b| extent[a].total_cmp(&extent[b]))
+        .unwrap_or(0);
+    let mut sorted = nodes;
+    sorted.sort_by(|&i, &j| {
+        points[i as usize][axis]
+            .total_cmp(&points[j as usize][axis])
+            .then(i.cmp(&j))
+    });
+    let left_parts = parts / 2;
+    let cut = sorted.len() * left_parts / parts;
+    let right = sorted.split_off(cut);
+    rcb(points, sorted, left_parts, out);
+    rcb(points, right, parts - left_parts, out);
+}
+
+/// Maximal runs of consecutive numbers in a sorted list.
+fn runs(sorted: &[u32]) -> Vec<std::ops::Range<usize>> {
+    let mut out: Vec<std::ops::Range<usize>> = Vec::new();
+    for &i in sorted {
+        let i = i as usize;
+        match out.last_mut() {
+            Some(r) if r.end == i => r.end = i + 1,
+            _ => out.push(i..i + 1),
+        }
+    }
+    out
+}
+
+/// One case: serial sweeps on rank 0, split sweeps on every rank, compared bit for bit.
+fn check<const D: usize, C: Communicator>(world: &C, name: &str, mesh: &Mesh<D>) -> bool {
+    let rank = world.rank() as usize;
+    let size = world.size() as usize;
+    let n = mesh.node_count();
+    let cells = mesh.cells().expect("cells");
+    let mut offsets = vec![0u32; n + 1];
+    let mut targets = vec![0u32; graph_from_cells_len(&cells, false)];
+    let used = graph_from_cells(&cells, false, &mut offsets, &mut targets).expect("graph");
+    targets.truncate(used);
+    let g = Graph::new(&offsets, &targets).expect("graph");
+    let mut k = vec![0.0f64; g.edge_count()];
+    batina_stiffness(&g, &mesh.points, 1.0, &mut k).expect("stiffness");
+    let fixed = mesh.boundary_mask();
+    let mut scratch = vec![0u32; n];
+    let sys = SpringSystem::new(g, &k, &fixed, &mut scratch).expect("system");
+    // Boundary displacement: a small rotation plus a shear; free nodes start at zero.
+    let x0: Vec<[f64; D]> = mesh
+        .points
+        .iter()
+        .zip(&fixed)
+        .map(|(p, &f)| {
+            let mut d = [0.0; D];
+            if f != 0 {
+                d[0] = -0.05 * p[1] + 0.01 * p[0] * p[1];
+                d[1] = 0.05 * p[0];
+                if D == 3 {
+                    d[D - 1] = 0.02 * p[0];
+                }
+            }
+            d
+        })
+        .collect();
+
+    // Serial reference (rank 0 only; the others take its verdict).
+    let mut serial_residuals = Vec::new();
+    let mut serial = x0.clone();
+    if rank == 0 {
+        let mut next = serial.clone();
+        for _ in 0..SWEEPS {
+            let s = jacobi_sweep(&sys, 0..n, &serial, &mut next).expect("sweep");
+            serial_residuals.push((s.residual_sq.to_bits(), s.max_change.to_bits()));
+            std::mem::swap(&mut serial, &mut next);
+        }
+    }
+
+    // Partitioned sweeps.
+    let mut parts = Vec::new();
+    rcb(&mesh.points, (0..n as u32).collect(), size, &mut parts);
+    let mut mine = parts[rank].clone();
+    mine.sort_unstable();
+    let my_runs = runs(&mine);
+    let counts: Vec<i32> = parts.iter().map(|p| (p.len() * D) as i32).collect();
+    let displs: Vec<i32> = counts
+        .iter()
+        .scan(0, |acc, &c| {
+            let d = *acc;
+            *acc += c;
+            Some(d)
+        })
+        .collect();
+    let order: Vec<u32> = parts
+        .iter()
+        .flat_map(|p| {
+            let mut p = p.clone();
+            p.sort_unstable();
+            p
+        })
+        .collect();
+    let mut x = x0.clone();
+    let mut out = x0.clone();
+    let mut residuals = Vec::new();
+    let mut plain_residuals = Vec::new();
+    for _ in 0..SWEEPS {
+        let mut sum = ExactSum::new();
+        let mut plain = 0.0f64;
+        let mut max_change = 0.0f64;
+        for r in &my_runs {
+            let s = jacobi_sweep(&sys, r.clone(), &x, &mut out).expect("sweep");
+            sum.merge(&s.residual_sum);
+            plain += s.residual_sq;
+            max_change = max_change.max(s.max_change);
+        }
+        // Exchange the owned values (every rank ends with the whole new field).
+        let send: Vec<f64> = mine.iter().flat_map(|&i| out[i as usize]).collect();
+        let mut recv = vec![0.0f64; n * D];
+        {
+            let mut part = PartitionMut::new(&mut recv[..], &counts[..], &displs[..]);
+            world.all_gather_varcount_into(&send[..], &mut part);
+        }
+        for (&i, v) in order.iter().zip(recv.chunks_exact(D)) {
+            x[i as usize].copy_from_slice(v);
+        }
+        // Merge the exact sums and the maxima.
+        let words = sum.to_words();
+        let mut total = [0i64; EXACT_SUM_WORDS];
+        world.all_reduce_into(&words[..], &mut total[..], SystemOperation::sum());
+        let mut global_max = 0.0f64;
+        world.all_reduce_into(&max_change, &mut global_max, SystemOperation::max());
+        let residual: f64 = ExactSum::from_words(total).value();
+        residuals.push((residual.to_bits(), global_max.to_bits()));
+        // For contrast: the ranks' rounded residuals added as floats (what a plain MPI_SUM of
+        // partial sums gives).
+        let mut plain_total = 0.0f64;
+        world.all_reduce_into(&plain, &mut plain_total, SystemOperation::sum());
+        plain_residuals.push((plain_total.to_bits(), global_max.to_bits()));
+    }
+
+    let mut ok = 1i32;
+    if rank == 0 {
+        let values_equal = x
+            .iter()
+            .zip(&serial)
+            .all(|(a, b)| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits()));
+        let sums_equal = residuals == serial_residuals;
+        let plain_differ = plain_residuals
+            .iter()
+            .zip(&serial_residuals)
+            .filter(|(a, b)| a != b)
+            .count();
+        ok = i32::from(values_equal && sums_equal);
+        println!(
+            "{name}: {n} nodes, {SWEEPS} Jacobi sweeps on {size} rank(s) (owned: {:?}, rank 0 in {} runs): values {}, exact residual sums {} (plain float merge: {plain_differ} of {SWEEPS} differ)",
+            parts.iter().map(Vec::len).collect::<Vec<_>>(),
+            my_runs.len(),
+            if values_equal { "bit-identical" } else { "DIFFER" },
+            if sums_equal { "bit-identical" } else { "DIFFER" },
+        );
+    }
+    world.process_at_rank(0).broadcast_into(&mut ok);
+    ok == 1
+}
+
+fn main() {
+    let universe = mpi::initialize().expect("MPI init");
+    let world = universe.world();
+    let grid = AirfoilGrid {
+        surface_points: 96,
+        radial_points: 24,
+        ..AirfoilGrid::default()
+    };
+    let mesh2 = naca_triangulated(&grid).expect("2D mesh");
+    let mesh3 = extrude(&mesh2, 0.5, 4).expect("3D mesh");
+    let a = check(&world, "2D NACA 2412 triangles", &mesh2);
+    let b = check(&world, "3D extruded prisms", &mesh3);
+    if !(a && b) {
+        std::process::exit(1);
+    }
+}
