@@ -40,6 +40,7 @@
 
 mod amg;
 mod angle;
+mod distributed;
 mod linear;
 mod norms;
 mod sliding;
@@ -58,6 +59,7 @@ pub use angle::{
     angle_scratch_len, angle_sor_sweep, solve_angle, solve_angle_sor, AngleMethod, AngleSystem,
     DEFAULT_ANGLE_EPSILON, MAX_AMPLIFICATION,
 };
+pub use distributed::{Collective, Serial};
 pub use linear::{
     jacobi_sweep, relative_residual, solve_linear, solve_linear_scratch_len, sor_sweep,
 };

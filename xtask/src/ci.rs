@@ -49,7 +49,7 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
         ),
         Step::new(
             "fmt",
-            "cargo fmt --check: host workspace, target-tests, fuzz, bench, mpi-check",
+            "cargo fmt --check: host workspace, target-tests, fuzz, bench, mpi",
             || {
                 let a = run(&mut ctx.cargo(&["fmt", "--all", "--check"]));
                 // Not `--all` there: that would also check the kernel (a path dependency).
@@ -58,12 +58,8 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
                     run(&mut ctx.cargo(&["fmt", "--check", "--manifest-path", "fuzz/Cargo.toml"]));
                 let d =
                     run(&mut ctx.cargo(&["fmt", "--check", "--manifest-path", "bench/Cargo.toml"]));
-                let e = run(&mut ctx.cargo(&[
-                    "fmt",
-                    "--check",
-                    "--manifest-path",
-                    "mpi-check/Cargo.toml",
-                ]));
+                let e =
+                    run(&mut ctx.cargo(&["fmt", "--check", "--manifest-path", "mpi/Cargo.toml"]));
                 a && b && c && d && e
             },
         ),
@@ -187,7 +183,7 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
         ),
         Step::new(
             "mpi",
-            "mpirun --oversubscribe -np 1, 2, 3: split spring sweeps + exact sums = serial bits (mpi-check)",
+            "mpirun --oversubscribe -np 1, 2, 3: split spring sweeps + exact sums = serial bits (mpi/)",
             || mpi_check(ctx),
         ),
         Step::new(

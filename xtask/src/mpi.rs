@@ -1,4 +1,4 @@
-//! The `mpi` step (issue 16): builds `mpi-check/` (its own workspace: the `mpi` crate needs
+//! The `mpi` step (issue 16): builds `mpi/` (its own workspace: the `mpi` crate needs
 //! OpenMPI and libclang, installed by the `install` step) and runs it under
 //! `mpirun --oversubscribe -np 1, 2, 3`. Each run compares linear-spring sweeps split across
 //! the ranks (recursive coordinate bisection, exact residual sums merged with `MPI_SUM`) with
@@ -14,12 +14,12 @@ pub(crate) const MPI_RANKS: &[usize] = &[1, 2, 3];
 
 /// Builds and runs the MPI check for every rank count in [`MPI_RANKS`].
 pub(crate) fn mpi_check(ctx: &Ctx) -> bool {
-    let manifest = ctx.root.join("mpi-check/Cargo.toml");
+    let manifest = ctx.root.join("mpi/Cargo.toml");
     let manifest = manifest.to_string_lossy();
     if !run(&mut ctx.cargo(&["build", "--release", "--manifest-path", &manifest])) {
         return false;
     }
-    let exe = ctx.root.join("mpi-check/target/release/deform-mpi-check");
+    let exe = ctx.root.join("mpi/target/release/deform-mpi-check");
     let mut ok = true;
     for &np in MPI_RANKS {
         let mut c = Command::new("mpirun");

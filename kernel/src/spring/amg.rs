@@ -34,6 +34,7 @@
 
 mod cycle;
 mod pcg;
+pub(crate) use pcg::solve_amg_on;
 mod setup;
 
 pub use pcg::{

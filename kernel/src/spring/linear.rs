@@ -3,6 +3,7 @@
 
 use core::ops::Range;
 
+use super::distributed::{check_owned, merged, merged_max, share_field, Collective, Serial};
 use super::norms::{scale_by, sweep_exponent, Norm, SumSq};
 use super::system::{
     check_omega, check_values, is_fixed, LinearMethod, Preconditioner, SolveOptions, SolveReport,
@@ -167,15 +168,30 @@ pub fn sor_sweep<T: Real, const V: usize>(
     Ok(sor_core(sys, nodes, values, omega, T::ONE))
 }
 
-/// Calls `f(r_i, b_i)` for every free node `i` in node order: the residual
+/// Calls `f(r_i, b_i)` for every free node `i` of the ranges, in node order: the residual
 /// `r_i = Σ_j k_ij (x_j − x_i)` (= `b − A x`) and the fixed nodes' pull `b_i = Σ_{j fixed} k_ij x_j`.
 #[inline]
 fn for_each_free_residual<T: Real, const V: usize, F: FnMut(&[T; V], &[T; V])>(
     sys: &SpringSystem<'_, T>,
+    ranges: &[Range<usize>],
     x: &[[T; V]],
     mut f: F,
 ) {
-    for ((_, fixed, row), &xi) in sys.rows().zip(x) {
+    for range in ranges {
+        let xs = x.get(range.clone()).unwrap_or(&[]);
+        for_each_free_residual_in(sys, range.clone(), xs, x, &mut f);
+    }
+}
+
+#[inline]
+fn for_each_free_residual_in<T: Real, const V: usize, F: FnMut(&[T; V], &[T; V])>(
+    sys: &SpringSystem<'_, T>,
+    range: Range<usize>,
+    xs: &[[T; V]],
+    x: &[[T; V]],
+    f: &mut F,
+) {
+    for ((_, fixed, row), &xi) in sys.rows_in(range).zip(xs) {
         if fixed {
             continue;
         }
@@ -201,27 +217,32 @@ pub(crate) fn residual_norms<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     x: &[[T; V]],
 ) -> (Norm<T>, Norm<T>) {
-    residual_norms_scaled(sys, x, &[0; V])
+    residual_norms_scaled(sys, x, &[0; V], &Serial::new(sys.node_count()))
 }
 
 /// [`residual_norms`] of a field whose component `c` is stored as `x_c · 2^−exps[c]` (the
-/// scaled CG iterate): the norms of the unscaled field.
+/// scaled CG iterate): the norms of the unscaled field. Each process sums its owned rows; the
+/// sums and maxima are merged (`x` must be current on every node).
 pub(crate) fn residual_norms_scaled<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     x: &[[T; V]],
     exps: &[i32; V],
+    comm: &dyn Collective<T>,
 ) -> (Norm<T>, Norm<T>) {
+    let owned = comm.owned();
     // Bring every component to the largest component's scale (factors are 1 when unscaled).
     let top = exps.iter().copied().max().unwrap_or(0);
     let g = exps.map(|e| scale_by(T::ONE, e - top));
     let mut rs = SumSq::new();
     let mut bs = SumSq::new();
-    for_each_free_residual(sys, x, |r, b| {
+    for_each_free_residual(sys, owned, x, |r, b| {
         for ((&r, &b), &g) in r.iter().zip(b).zip(&g) {
             rs.add(r * g);
             bs.add(b * g);
         }
     });
+    rs.merge_over(comm);
+    bs.merge_over(comm);
     let (pr, pb) = (rs.plain(), bs.plain());
     let (r, b) = match (pr, pb) {
         (Ok(r), Ok(b)) => (r, b),
@@ -231,16 +252,17 @@ pub(crate) fn residual_norms_scaled<T: Real, const V: usize>(
             let qb = T::pow2(-pb.err().unwrap_or(0));
             let mut sr = ExactSum::new();
             let mut sb = ExactSum::new();
-            for_each_free_residual(sys, x, |r, b| {
+            for_each_free_residual(sys, owned, x, |r, b| {
                 for ((&r, &b), &g) in r.iter().zip(b).zip(&g) {
                     let (r, b) = (r * g * qr, b * g * qb);
                     sr.add(r * r);
                     sb.add(b * b);
                 }
             });
+            let [sr, sb] = merged(comm, &[sr, sb]);
             (
-                pr.unwrap_or_else(|e| Norm::from_sum(sr.value(), e)),
-                pb.unwrap_or_else(|e| Norm::from_sum(sb.value(), e)),
+                pr.unwrap_or_else(|e| Norm::from_sum(sr, e)),
+                pb.unwrap_or_else(|e| Norm::from_sum(sb, e)),
             )
         }
     };
@@ -326,7 +348,35 @@ pub fn solve_linear<T: Real, const V: usize>(
     options: &SolveOptions<T>,
     scratch: &mut [[T; V]],
 ) -> Result<SolveReport<T>> {
+    solve_linear_on(sys, values, method, options, scratch, None)
+}
+
+/// [`solve_linear`], with the rows split over the processes of `comm` when given (CG with a
+/// Jacobi or no preconditioner only: the other methods visit the nodes in order).
+pub(crate) fn solve_linear_on<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    values: &mut [[T; V]],
+    method: LinearMethod<T>,
+    options: &SolveOptions<T>,
+    scratch: &mut [[T; V]],
+    comm: Option<&dyn Collective<T>>,
+) -> Result<SolveReport<T>> {
     let n = sys.node_count();
+    if let Some(c) = comm {
+        check_owned(c, n)?;
+        if !matches!(
+            method,
+            LinearMethod::Cg {
+                preconditioner: Preconditioner::Jacobi | Preconditioner::None
+            }
+        ) {
+            return Err(Error::InvalidParameter {
+                arg: "method",
+                reason:
+                    "split across processes: CG with a Jacobi or no preconditioner, or multigrid",
+            });
+        }
+    }
     check_values("values", values, n)?;
     options.check()?;
     match method {
@@ -354,9 +404,17 @@ pub fn solve_linear<T: Real, const V: usize>(
         LinearMethod::Jacobi => Ok(solve_jacobi(sys, values, options, scratch)),
         LinearMethod::GaussSeidel => Ok(solve_sor(sys, values, options, T::ONE)),
         LinearMethod::Sor { omega } => Ok(solve_sor(sys, values, options, omega)),
-        LinearMethod::Cg { preconditioner } => {
-            solve_cg(sys, values, options, preconditioner, scratch)
-        }
+        LinearMethod::Cg { preconditioner } => match comm {
+            Some(c) => solve_cg(sys, values, options, preconditioner, scratch, c),
+            None => solve_cg(
+                sys,
+                values,
+                options,
+                preconditioner,
+                scratch,
+                &Serial::new(n),
+            ),
+        },
     }
 }
 
@@ -476,31 +534,44 @@ pub(crate) fn diagonal<T: Real>(sys: &SpringSystem<'_, T>, diag: &mut [T]) {
 /// The curvature test compares `pᵀq = Σ d_i p_i² − Σ_j k_ij p_i p_j` with this scale.
 fn laplacian_apply<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
+    owned: &[Range<usize>],
     diag: &[T],
     p: &[[T; V]],
     q: &mut [[T; V]],
-) -> ([T; V], [T; V]) {
+) -> ([T; V], [ExactSum; V]) {
     let mut dpp = [T::ZERO; V];
     let mut pq = [ExactSum::new(); V];
-    for ((_, fixed, row), ((qi, &pi), &d)) in sys.rows().zip(q.iter_mut().zip(p).zip(diag)) {
-        if fixed {
-            *qi = [T::ZERO; V];
+    for range in owned {
+        let (Some(qs), Some(ps), Some(ds)) = (
+            q.get_mut(range.clone()),
+            p.get(range.clone()),
+            diag.get(range.clone()),
+        ) else {
             continue;
-        }
-        let mut acc = [T::ZERO; V];
-        for (j, k) in row {
-            let pj = p.get(j).copied().unwrap_or([T::ZERO; V]);
-            for ((a, &x), &y) in acc.iter_mut().zip(&pi).zip(&pj) {
-                *a += k * (x - y);
+        };
+        for ((_, fixed, row), ((qi, &pi), &d)) in sys
+            .rows_in(range.clone())
+            .zip(qs.iter_mut().zip(ps).zip(ds))
+        {
+            if fixed {
+                *qi = [T::ZERO; V];
+                continue;
             }
+            let mut acc = [T::ZERO; V];
+            for (j, k) in row {
+                let pj = p.get(j).copied().unwrap_or([T::ZERO; V]);
+                for ((a, &x), &y) in acc.iter_mut().zip(&pi).zip(&pj) {
+                    *a += k * (x - y);
+                }
+            }
+            for (((s, t), &x), &a) in dpp.iter_mut().zip(pq.iter_mut()).zip(&pi).zip(&acc) {
+                *s = s.max(d * x * x);
+                t.add(x * a);
+            }
+            *qi = acc;
         }
-        for (((s, t), &x), &a) in dpp.iter_mut().zip(pq.iter_mut()).zip(&pi).zip(&acc) {
-            *s = s.max(d * x * x);
-            t.add(x * a);
-        }
-        *qi = acc;
     }
-    (dpp, pq.map(|s| s.value()))
+    (dpp, pq)
 }
 
 /// `z = M⁻¹ r` for the chosen preconditioner (zero on fixed nodes), `diag` from [`diagonal`].
@@ -635,6 +706,7 @@ fn solve_cg<T: Real, const V: usize>(
     options: &SolveOptions<T>,
     pre: Preconditioner<T>,
     scratch: &mut [[T; V]],
+    comm: &dyn Collective<T>,
 ) -> Result<SolveReport<T>> {
     let n = sys.node_count();
     let too_small = Error::BufferTooSmall {
@@ -657,6 +729,9 @@ fn solve_cg<T: Real, const V: usize>(
     let diag = rest.as_flattened_mut().get_mut(..n).unwrap_or(&mut []);
     diagonal(sys, diag);
     let diag: &[T] = diag;
+    let owned = comm.owned();
+    // SSOR sweeps the nodes in order: only whole (serial) solves may use it.
+    let local = !matches!(pre, Preconditioner::Ssor { .. });
     // CG runs on the scaled field x_c · 2^−e_c (see `cg_exponents`).
     let exps = cg_exponents(sys, values);
     let down = exps.map(|e| T::pow2(-e));
@@ -668,7 +743,7 @@ fn solve_cg<T: Real, const V: usize>(
     // The recurrence residual summed at the largest component's scale.
     let top = exps.iter().copied().max().unwrap_or(0);
     let to_top = exps.map(|e| scale_by(T::ONE, e - top));
-    let (r0, bnorm) = residual_norms_scaled(sys, x, &exps);
+    let (r0, bnorm) = residual_norms_scaled(sys, x, &exps, comm);
     let mut report = SolveReport {
         iterations: 0,
         residual: r0.relative_to(bnorm),
@@ -679,28 +754,69 @@ fn solve_cg<T: Real, const V: usize>(
         report.converged = true;
         return Ok(report);
     }
-    // (Re)start: r = b − A x, z = M⁻¹ r, p = z.
+    // (Re)start: r = b − A x, z = M⁻¹ r, p = z on the owned rows (x current everywhere),
+    // then p shared; returns rᵀz.
     let restart = |x: &[[T; V]], r: &mut [[T; V]], p: &mut [[T; V]], w: &mut [[T; V]]| {
-        for (i, ri) in r.iter_mut().enumerate() {
-            let xi = x.get(i).copied().unwrap_or([T::ZERO; V]);
-            *ri = if sys.is_fixed(i) {
-                [T::ZERO; V]
-            } else {
-                node_residual(sys, i, xi, x).0
-            };
+        let mut rz = [ExactSum::new(); V];
+        if local {
+            for range in owned {
+                for i in range.clone() {
+                    let xi = x.get(i).copied().unwrap_or([T::ZERO; V]);
+                    let ri = if sys.is_fixed(i) {
+                        [T::ZERO; V]
+                    } else {
+                        node_residual(sys, i, xi, x).0
+                    };
+                    let d = diag.get(i).copied().unwrap_or(T::ONE);
+                    let zi = match pre {
+                        Preconditioner::Jacobi => jacobi_node(ri, d, sys.is_fixed(i)),
+                        _ => ri,
+                    };
+                    for ((s, &a), &b) in rz.iter_mut().zip(&ri).zip(&zi) {
+                        s.add(a * b);
+                    }
+                    if let (Some(r), Some(w), Some(p)) = (r.get_mut(i), w.get_mut(i), p.get_mut(i))
+                    {
+                        (*r, *w, *p) = (ri, zi, zi);
+                    }
+                }
+            }
+            share_field(comm, p);
+        } else {
+            for (i, ri) in r.iter_mut().enumerate() {
+                let xi = x.get(i).copied().unwrap_or([T::ZERO; V]);
+                *ri = if sys.is_fixed(i) {
+                    [T::ZERO; V]
+                } else {
+                    node_residual(sys, i, xi, x).0
+                };
+            }
+            precondition(sys, diag, pre, r, w);
+            for (p, &z) in p.iter_mut().zip(w.iter()) {
+                *p = z;
+            }
+            for (ri, zi) in r.iter().zip(w.iter()) {
+                for ((s, &a), &b) in rz.iter_mut().zip(ri).zip(zi) {
+                    s.add(a * b);
+                }
+            }
         }
-        precondition(sys, diag, pre, r, w);
-        for (p, &z) in p.iter_mut().zip(w.iter()) {
-            *p = z;
-        }
-        dots(r, w)
+        merged(comm, &rz)
     };
+    if !local && owned.len() != 1 {
+        return Err(Error::InvalidParameter {
+            arg: "solver",
+            reason: "SSOR sweeps the nodes in order: not with nodes split across processes",
+        });
+    }
     let mut rz = restart(x, r, p, w);
     let mut checked = true;
     let tiny = T::EPSILON;
     while report.iterations < options.max_iterations {
         report.iterations += 1;
-        let (dpp, pq) = laplacian_apply(sys, diag, p, w);
+        let (dpp, pq) = laplacian_apply(sys, owned, diag, p, w);
+        let dpp = merged_max(comm, dpp);
+        let pq = merged(comm, &pq);
         let mut alpha = [T::ZERO; V];
         for (((a, &pq), &dpp), &rz) in alpha.iter_mut().zip(&pq).zip(&dpp).zip(&rz) {
             if !(pq.is_finite() && rz.is_finite() && dpp.is_finite()) {
@@ -716,57 +832,71 @@ fn solve_cg<T: Real, const V: usize>(
             }
             *a = rz / pq;
         }
-        // One pass: x += α p, r −= α q, the recurrence residual, and (Jacobi or none) the
-        // preconditioned residual z (into w, over q) with rᵀz, all in node order.
+        // One pass over the owned rows: x += α p, r −= α q, the recurrence residual, and
+        // (Jacobi or none) the preconditioned residual z (into w, over q) with rᵀz.
         let mut max_update = [T::ZERO; V];
         let mut rr = ExactSum::new();
         let mut rz_exact = [ExactSum::new(); V];
-        let local = !matches!(pre, Preconditioner::Ssor { .. });
-        for ((((x, r), &p), w), (&d, &m)) in x
-            .iter_mut()
-            .zip(r.iter_mut())
-            .zip(p.iter())
-            .zip(w.iter_mut())
-            .zip(diag.iter().zip(sys.fixed()))
-        {
-            for ((((((x, r), &p), &q), &a), m), &g) in x
+        for range in owned {
+            let rows = range.clone();
+            let (Some(x), Some(r), Some(p), Some(w), Some(d), Some(m)) = (
+                x.get_mut(rows.clone()),
+                r.get_mut(rows.clone()),
+                p.get(rows.clone()),
+                w.get_mut(rows.clone()),
+                diag.get(rows.clone()),
+                sys.fixed().get(rows),
+            ) else {
+                continue;
+            };
+            for ((((x, r), &p), w), (&d, &m)) in x
                 .iter_mut()
                 .zip(r.iter_mut())
-                .zip(&p)
-                .zip(w.iter())
-                .zip(&alpha)
-                .zip(max_update.iter_mut())
-                .zip(&to_top)
+                .zip(p.iter())
+                .zip(w.iter_mut())
+                .zip(d.iter().zip(m))
             {
-                let dx = a * p;
-                *x += dx;
-                *r -= a * q;
-                *m = m.max(dx.abs());
-                let rg = *r * g;
-                rr.add(rg * rg);
-            }
-            if local {
-                *w = match pre {
-                    Preconditioner::Jacobi => jacobi_node(*r, d, is_fixed(m)),
-                    _ => *r,
-                };
-                for ((s, &r), &z) in rz_exact.iter_mut().zip(r.iter()).zip(w.iter()) {
-                    s.add(r * z);
+                for ((((((x, r), &p), &q), &a), m), &g) in x
+                    .iter_mut()
+                    .zip(r.iter_mut())
+                    .zip(&p)
+                    .zip(w.iter())
+                    .zip(&alpha)
+                    .zip(max_update.iter_mut())
+                    .zip(&to_top)
+                {
+                    let dx = a * p;
+                    *x += dx;
+                    *r -= a * q;
+                    *m = m.max(dx.abs());
+                    let rg = *r * g;
+                    rr.add(rg * rg);
+                }
+                if local {
+                    *w = match pre {
+                        Preconditioner::Jacobi => jacobi_node(*r, d, is_fixed(m)),
+                        _ => *r,
+                    };
+                    for ((s, &r), &z) in rz_exact.iter_mut().zip(r.iter()).zip(w.iter()) {
+                        s.add(r * z);
+                    }
                 }
             }
         }
+        let max_update = merged_max(comm, max_update);
         report.max_update = max_update
             .iter()
             .zip(&exps)
             .fold(T::ZERO, |m, (&u, &e)| m.max(scale_by(u, e)));
-        let rr: T = rr.value();
-        let mut rz_new = rz_exact.map(|s| s.value());
+        let [rr] = merged(comm, &[rr]);
+        let mut rz_new = merged(comm, &rz_exact);
         checked = false;
         // An overflowing recurrence sum cannot say "converged": ask the true residual.
         let estimate_ok = rr.is_finite();
         let estimate = Norm::from_sum(rr, top).relative_to(bnorm);
         if !estimate_ok || options.met(estimate, report.max_update) {
-            let (rt, _) = residual_norms_scaled(sys, x, &exps);
+            share_field(comm, x);
+            let (rt, _) = residual_norms_scaled(sys, x, &exps, comm);
             report.residual = rt.relative_to(bnorm);
             checked = true;
             if options.met(report.residual, report.max_update) {
@@ -789,15 +919,22 @@ fn solve_cg<T: Real, const V: usize>(
                 *b = new / old;
             }
         }
-        for (p, &z) in p.iter_mut().zip(w.iter()) {
-            for ((p, &z), &b) in p.iter_mut().zip(&z).zip(&beta) {
-                *p = z + b * *p;
+        for range in owned {
+            let (Some(p), Some(w)) = (p.get_mut(range.clone()), w.get(range.clone())) else {
+                continue;
+            };
+            for (p, &z) in p.iter_mut().zip(w.iter()) {
+                for ((p, &z), &b) in p.iter_mut().zip(&z).zip(&beta) {
+                    *p = z + b * *p;
+                }
             }
         }
+        share_field(comm, p);
         rz = rz_new;
     }
+    share_field(comm, x);
     if !checked {
-        let (rt, _) = residual_norms_scaled(sys, x, &exps);
+        let (rt, _) = residual_norms_scaled(sys, x, &exps, comm);
         report.residual = rt.relative_to(bnorm);
     }
     // Free nodes only: CG adds `α·p` with `p = 0` at fixed nodes, which would turn a fixed

@@ -52,6 +52,16 @@ impl<T: Real> SumSq<T> {
         }
     }
 
+    /// Merges the sum and maximum over all processes of `comm`.
+    pub(crate) fn merge_over(&mut self, comm: &dyn crate::spring::Collective<T>) {
+        let mut w = self.sum.to_words();
+        comm.sum_words(&mut w);
+        self.sum = ExactSum::from_words(w);
+        let mut m = [self.max];
+        comm.max(&mut m);
+        self.max = m[0];
+    }
+
     /// The norm `√Σ x²` if the plain sum is exact to rounding (finite, and either large enough
     /// that no underflowed term matters or made of zeros only), else `Err(e)`: sum again with
     /// every term multiplied by [`Real::pow2`]`(−e)` and finish with [`Norm::from_sum`]`(s, e)`.

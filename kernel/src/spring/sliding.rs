@@ -249,6 +249,7 @@ pub fn solve_linear_sliding_scratch_len<T: Real>(
         LinearSolver::Amg(h) => n
             .saturating_mul(5)
             .saturating_add(amg_precondition_scratch_len(h)),
+        LinearSolver::Distributed(..) | LinearSolver::DistributedAmg(..) => 0,
     }
 }
 
@@ -296,6 +297,12 @@ pub fn solve_linear_sliding<T: Real, const D: usize>(
                 check_omega(omega)?;
             }
             Method::Cg(Pre::Linear(preconditioner))
+        }
+        LinearSolver::Distributed(..) | LinearSolver::DistributedAmg(..) => {
+            return Err(Error::InvalidParameter {
+                arg: "solver",
+                reason: "sliding solves are not split across processes yet",
+            })
         }
         LinearSolver::Amg(h) => {
             h.check_system(sys)?;

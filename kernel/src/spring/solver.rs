@@ -2,8 +2,9 @@
 //! one-level preconditioner) or the multigrid-preconditioned CG with a prebuilt
 //! [`AmgHierarchy`]. The deformation pipelines take this, so they run with either.
 
-use super::amg::{solve_linear_amg, solve_linear_amg_scratch_len, AmgHierarchy};
-use super::linear::{solve_linear, solve_linear_scratch_len};
+use super::amg::{solve_amg_on, solve_linear_amg, solve_linear_amg_scratch_len, AmgHierarchy};
+use super::distributed::Collective;
+use super::linear::{solve_linear, solve_linear_on, solve_linear_scratch_len};
 use super::system::{LinearMethod, SolveOptions, SolveReport, SpringSystem};
 use crate::error::Result;
 use crate::real::Real;
@@ -15,6 +16,13 @@ pub enum LinearSolver<'a, T: Real> {
     Method(LinearMethod<T>),
     /// [`solve_linear_amg`] with this hierarchy (built for the system being solved).
     Amg(&'a AmgHierarchy<'a, T>),
+    /// This method with the rows split over the processes of a [`Collective`]: every
+    /// process calls with the whole system and field and gets the serial bits. CG with a
+    /// Jacobi or no preconditioner only (the others visit nodes in order).
+    Distributed(LinearMethod<T>, &'a dyn Collective<T>),
+    /// Multigrid-preconditioned CG with the rows split over the processes (the V-cycle runs
+    /// whole on each; the serial bits on every process).
+    DistributedAmg(&'a AmgHierarchy<'a, T>, &'a dyn Collective<T>),
 }
 
 impl<T: Real> From<LinearMethod<T>> for LinearSolver<'_, T> {
@@ -29,8 +37,12 @@ pub fn solve_linear_with_scratch_len<T: Real>(
     node_count: usize,
 ) -> usize {
     match solver {
-        LinearSolver::Method(m) => solve_linear_scratch_len(m, node_count),
-        LinearSolver::Amg(h) => solve_linear_amg_scratch_len(h),
+        LinearSolver::Method(m) | LinearSolver::Distributed(m, _) => {
+            solve_linear_scratch_len(m, node_count)
+        }
+        LinearSolver::Amg(h) | LinearSolver::DistributedAmg(h, _) => {
+            solve_linear_amg_scratch_len(h)
+        }
     }
 }
 
@@ -46,5 +58,9 @@ pub fn solve_linear_with<T: Real, const V: usize>(
     match solver {
         LinearSolver::Method(m) => solve_linear(sys, values, m, options, scratch),
         LinearSolver::Amg(h) => solve_linear_amg(sys, h, values, options, scratch),
+        LinearSolver::Distributed(m, c) => {
+            solve_linear_on(sys, values, m, options, scratch, Some(c))
+        }
+        LinearSolver::DistributedAmg(h, c) => solve_amg_on(sys, h, values, options, scratch, c),
     }
 }

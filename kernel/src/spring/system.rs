@@ -228,6 +228,34 @@ impl<'a, T: Real> SpringSystem<'a, T> {
         })
     }
 
+    /// Rows `nodes` in node order: `(node, fixed?, row iterator)` (empty past the end).
+    #[inline]
+    pub(crate) fn rows_in(
+        &self,
+        nodes: Range<usize>,
+    ) -> impl Iterator<Item = (usize, bool, impl Iterator<Item = (usize, T)> + 'a)> + 'a {
+        let stiffness = self.stiffness;
+        let fixed = self.fixed;
+        let targets = self.graph.targets();
+        let start = nodes.start;
+        let offsets = self
+            .graph
+            .offsets()
+            .get(nodes.start..nodes.end.saturating_add(1))
+            .unwrap_or(&[]);
+        offsets.windows(2).enumerate().map(move |(k, w)| {
+            let i = start + k;
+            let (a, b) = match *w {
+                [a, b] => (a as usize, b as usize),
+                _ => (0, 0),
+            };
+            let t = targets.get(a..b).unwrap_or(&[]);
+            let kk = stiffness.get(a..b).unwrap_or(&[]);
+            let f = fixed.get(i).is_none_or(|&m| is_fixed(m));
+            (i, f, t.iter().zip(kk).map(|(&j, &k)| (j as usize, k)))
+        })
+    }
+
     /// Checks a node range against the node count.
     pub(crate) fn check_range(&self, nodes: &Range<usize>) -> Result<()> {
         let n = self.node_count();

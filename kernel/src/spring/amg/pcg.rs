@@ -5,7 +5,10 @@ use super::AmgHierarchy;
 use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::reduce::ExactSum;
-use crate::spring::linear::{cg_exponents, dots, residual_norms_scaled};
+use crate::spring::distributed::{
+    check_owned, merged, merged_max, share_field, Collective, Serial,
+};
+use crate::spring::linear::{cg_exponents, residual_norms_scaled};
 use crate::spring::norms::{scale_by, Norm};
 use crate::spring::system::{check_values, SolveOptions, SolveReport, SpringSystem};
 
@@ -72,21 +75,47 @@ pub fn amg_precondition<T: Real, const V: usize>(
 /// fixed nodes.
 fn fine_residual<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
+    owned: &[core::ops::Range<usize>],
     x: &[[T; V]],
     r: &mut [[T; V]],
 ) {
-    for ((_, fixed, row), (ri, &xi)) in sys.rows().zip(r.iter_mut().zip(x)) {
-        let mut acc = [T::ZERO; V];
-        if !fixed {
-            for (j, k) in row {
-                let xj = x.get(j).copied().unwrap_or(xi);
-                for ((a, &b), &c) in acc.iter_mut().zip(&xj).zip(&xi) {
-                    *a += k * (b - c);
+    for range in owned {
+        let (Some(rs), Some(xs)) = (r.get_mut(range.clone()), x.get(range.clone())) else {
+            continue;
+        };
+        for ((_, fixed, row), (ri, &xi)) in sys.rows_in(range.clone()).zip(rs.iter_mut().zip(xs)) {
+            let mut acc = [T::ZERO; V];
+            if !fixed {
+                for (j, k) in row {
+                    let xj = x.get(j).copied().unwrap_or(xi);
+                    for ((a, &b), &c) in acc.iter_mut().zip(&xj).zip(&xi) {
+                        *a += k * (b - c);
+                    }
                 }
             }
+            *ri = acc;
         }
-        *ri = acc;
     }
+}
+
+/// Per-component exact `Σ a·b` over the owned rows (merged by the caller).
+fn dots_in<T: Real, const V: usize>(
+    owned: &[core::ops::Range<usize>],
+    a: &[[T; V]],
+    b: &[[T; V]],
+) -> [ExactSum; V] {
+    let mut s = [ExactSum::new(); V];
+    for range in owned {
+        let (Some(a), Some(b)) = (a.get(range.clone()), b.get(range.clone())) else {
+            continue;
+        };
+        for (x, y) in a.iter().zip(b) {
+            for ((s, &x), &y) in s.iter_mut().zip(x).zip(y) {
+                s.add(x * y);
+            }
+        }
+    }
+    s
 }
 
 /// Zeroes `z` at fixed nodes (the V-cycle already does unless the hierarchy was built for
@@ -103,32 +132,38 @@ fn zero_fixed<T: Real, const V: usize>(sys: &SpringSystem<'_, T>, z: &mut [[T; V
 /// scale `max_i d_i p_i²` (exact and order-independent) and `pᵀq` (summed exactly).
 fn apply<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
+    owned: &[core::ops::Range<usize>],
     p: &[[T; V]],
     q: &mut [[T; V]],
-) -> ([T; V], [T; V]) {
+) -> ([T; V], [ExactSum; V]) {
     let mut dpp = [T::ZERO; V];
     let mut pq = [ExactSum::new(); V];
-    for ((_, fixed, row), (qi, &pi)) in sys.rows().zip(q.iter_mut().zip(p)) {
-        if fixed {
-            *qi = [T::ZERO; V];
+    for range in owned {
+        let (Some(qs), Some(ps)) = (q.get_mut(range.clone()), p.get(range.clone())) else {
             continue;
-        }
-        let mut acc = [T::ZERO; V];
-        let mut d = T::ZERO;
-        for (j, k) in row {
-            let pj = p.get(j).copied().unwrap_or([T::ZERO; V]);
-            for ((a, &x), &y) in acc.iter_mut().zip(&pi).zip(&pj) {
-                *a += k * (x - y);
+        };
+        for ((_, fixed, row), (qi, &pi)) in sys.rows_in(range.clone()).zip(qs.iter_mut().zip(ps)) {
+            if fixed {
+                *qi = [T::ZERO; V];
+                continue;
             }
-            d += k;
+            let mut acc = [T::ZERO; V];
+            let mut d = T::ZERO;
+            for (j, k) in row {
+                let pj = p.get(j).copied().unwrap_or([T::ZERO; V]);
+                for ((a, &x), &y) in acc.iter_mut().zip(&pi).zip(&pj) {
+                    *a += k * (x - y);
+                }
+                d += k;
+            }
+            for (((s, t), &x), &a) in dpp.iter_mut().zip(pq.iter_mut()).zip(&pi).zip(&acc) {
+                *s = s.max(d * x * x);
+                t.add(x * a);
+            }
+            *qi = acc;
         }
-        for (((s, t), &x), &a) in dpp.iter_mut().zip(pq.iter_mut()).zip(&pi).zip(&acc) {
-            *s = s.max(d * x * x);
-            t.add(x * a);
-        }
-        *qi = acc;
     }
-    (dpp, pq.map(|s| s.value()))
+    (dpp, pq)
 }
 
 /// Solves the linear springs (the problem of [`solve_linear`](crate::spring::solve_linear)) by
@@ -151,8 +186,30 @@ pub fn solve_linear_amg<T: Real, const V: usize>(
     options: &SolveOptions<T>,
     scratch: &mut [[T; V]],
 ) -> Result<SolveReport<T>> {
+    solve_amg_on(
+        sys,
+        hierarchy,
+        values,
+        options,
+        scratch,
+        &Serial::new(sys.node_count()),
+    )
+}
+
+/// [`solve_linear_amg`] with the rows split over the processes of `comm` (the V-cycle runs
+/// whole on every process, on the shared residual; everything else on the owned rows).
+pub(crate) fn solve_amg_on<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    hierarchy: &AmgHierarchy<'_, T>,
+    values: &mut [[T; V]],
+    options: &SolveOptions<T>,
+    scratch: &mut [[T; V]],
+    comm: &dyn Collective<T>,
+) -> Result<SolveReport<T>> {
     let n = sys.node_count();
+    let owned = comm.owned();
     hierarchy.check_system(sys)?;
+    check_owned(comm, n)?;
     check_values("values", values, n)?;
     options.check()?;
     let needed = solve_linear_amg_scratch_len(hierarchy);
@@ -184,7 +241,7 @@ pub fn solve_linear_amg<T: Real, const V: usize>(
     }
     let top = exps.iter().copied().max().unwrap_or(0);
     let to_top = exps.map(|e| scale_by(T::ONE, e - top));
-    let (r0, bnorm) = residual_norms_scaled(sys, x, &exps);
+    let (r0, bnorm) = residual_norms_scaled(sys, x, &exps, comm);
     let mut report = SolveReport {
         iterations: 0,
         residual: r0.relative_to(bnorm),
@@ -202,20 +259,23 @@ pub fn solve_linear_amg<T: Real, const V: usize>(
                    q: &mut [[T; V]],
                    z: &mut [[T; V]],
                    coarse: &mut [[T; V]]| {
-        fine_residual(sys, x, r);
+        fine_residual(sys, owned, x, r);
+        share_field(comm, r);
         vcycle(sys, hierarchy, r, z, q, coarse);
         zero_fixed(sys, z);
         for (p, &z) in p.iter_mut().zip(z.iter()) {
             *p = z;
         }
-        dots(r, z)
+        merged(comm, &dots_in(owned, r, z))
     };
     let mut rz = restart(x, r, p, q, z, coarse);
     let mut checked = true;
     let tiny = T::EPSILON;
     while report.iterations < options.max_iterations {
         report.iterations += 1;
-        let (dpp, pq) = apply(sys, p, q);
+        let (dpp, pq) = apply(sys, owned, p, q);
+        let dpp = merged_max(comm, dpp);
+        let pq = merged(comm, &pq);
         let mut alpha = [T::ZERO; V];
         for (((a, &pq), &dpp), &rz) in alpha.iter_mut().zip(&pq).zip(&dpp).zip(&rz) {
             if !(pq.is_finite() && rz.is_finite() && dpp.is_finite()) {
@@ -233,35 +293,47 @@ pub fn solve_linear_amg<T: Real, const V: usize>(
         }
         let mut max_update = [T::ZERO; V];
         let mut rr = ExactSum::new();
-        for (((x, r), &p), &q) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter()) {
-            for ((((((x, r), &p), &q), &a), m), &g) in x
-                .iter_mut()
-                .zip(r.iter_mut())
-                .zip(&p)
-                .zip(&q)
-                .zip(&alpha)
-                .zip(max_update.iter_mut())
-                .zip(&to_top)
-            {
-                let dx = a * p;
-                *x += dx;
-                *r -= a * q;
-                *m = m.max(dx.abs());
-                let rg = *r * g;
-                rr.add(rg * rg);
+        for range in owned {
+            let (Some(x), Some(r), Some(p), Some(q)) = (
+                x.get_mut(range.clone()),
+                r.get_mut(range.clone()),
+                p.get(range.clone()),
+                q.get(range.clone()),
+            ) else {
+                continue;
+            };
+            for (((x, r), &p), &q) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter()) {
+                for ((((((x, r), &p), &q), &a), m), &g) in x
+                    .iter_mut()
+                    .zip(r.iter_mut())
+                    .zip(&p)
+                    .zip(&q)
+                    .zip(&alpha)
+                    .zip(max_update.iter_mut())
+                    .zip(&to_top)
+                {
+                    let dx = a * p;
+                    *x += dx;
+                    *r -= a * q;
+                    *m = m.max(dx.abs());
+                    let rg = *r * g;
+                    rr.add(rg * rg);
+                }
             }
         }
+        let max_update = merged_max(comm, max_update);
         report.max_update = max_update
             .iter()
             .zip(&exps)
             .fold(T::ZERO, |m, (&u, &e)| m.max(scale_by(u, e)));
-        let rr: T = rr.value();
+        let [rr] = merged(comm, &[rr]);
         checked = false;
         // An overflowing recurrence sum cannot say "converged": ask the true residual.
         let estimate_ok = rr.is_finite();
         let estimate = Norm::from_sum(rr, top).relative_to(bnorm);
         if !estimate_ok || options.met(estimate, report.max_update) {
-            let (rt, _) = residual_norms_scaled(sys, x, &exps);
+            share_field(comm, x);
+            let (rt, _) = residual_norms_scaled(sys, x, &exps, comm);
             report.residual = rt.relative_to(bnorm);
             checked = true;
             if options.met(report.residual, report.max_update) {
@@ -274,9 +346,10 @@ pub fn solve_linear_amg<T: Real, const V: usize>(
                 continue;
             }
         }
+        share_field(comm, r);
         vcycle(sys, hierarchy, r, z, q, coarse);
         zero_fixed(sys, z);
-        let rz_new = dots(r, z);
+        let rz_new = merged(comm, &dots_in(owned, r, z));
         let mut beta = [T::ZERO; V];
         for ((b, &new), &old) in beta.iter_mut().zip(&rz_new).zip(&rz) {
             if old != T::ZERO {
@@ -290,8 +363,9 @@ pub fn solve_linear_amg<T: Real, const V: usize>(
         }
         rz = rz_new;
     }
+    share_field(comm, x);
     if !checked {
-        let (rt, _) = residual_norms_scaled(sys, x, &exps);
+        let (rt, _) = residual_norms_scaled(sys, x, &exps, comm);
         report.residual = rt.relative_to(bnorm);
     }
     // Free nodes only: fixed values come back bit for bit.

@@ -17,67 +17,19 @@
 //! Exit status 0 only if everything matches on every rank.
 
 use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
-use deform_kernel::spring::{batina_stiffness, jacobi_sweep, SpringSystem};
+use deform_kernel::spring::{
+    batina_stiffness, jacobi_sweep, solve_linear_with, solve_linear_with_scratch_len, AmgHierarchy,
+    AmgOptions, LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
+};
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Graph};
 use deform_meshgen::{extrude, naca_triangulated, AirfoilGrid, Mesh};
+use deform_mpi::{rcb, runs, MpiCollective};
 use mpi::collective::SystemOperation;
 use mpi::datatype::PartitionMut;
 use mpi::traits::*;
 
 /// Sweeps per case.
 const SWEEPS: usize = 40;
-
-/// Node numbers owned by each of `parts` ranks: recursive coordinate bisection (split the
-/// longest extent at the weighted median, recursively), deterministic.
-fn rcb<const D: usize>(
-    points: &[[f64; D]],
-    nodes: Vec<u32>,
-    parts: usize,
-    out: &mut Vec<Vec<u32>>,
-) {
-    if parts <= 1 || nodes.len() <= 1 {
-        out.push(nodes);
-        for _ in 1..parts {
-            out.push(Vec::new());
-        }
-        return;
-    }
-    let mut extent = [0.0f64; D];
-    for (a, e) in extent.iter_mut().enumerate() {
-        let (lo, hi) = nodes.iter().fold((f64::MAX, f64::MIN), |(lo, hi), &i| {
-            let x = points[i as usize][a];
-            (lo.min(x), hi.max(x))
-        });
-        *e = hi - lo;
-    }
-    let axis = (0..D)
-        .max_by(|&a, &b| extent[a].total_cmp(&extent[b]))
-        .unwrap_or(0);
-    let mut sorted = nodes;
-    sorted.sort_by(|&i, &j| {
-        points[i as usize][axis]
-            .total_cmp(&points[j as usize][axis])
-            .then(i.cmp(&j))
-    });
-    let left_parts = parts / 2;
-    let cut = sorted.len() * left_parts / parts;
-    let right = sorted.split_off(cut);
-    rcb(points, sorted, left_parts, out);
-    rcb(points, right, parts - left_parts, out);
-}
-
-/// Maximal runs of consecutive numbers in a sorted list.
-fn runs(sorted: &[u32]) -> Vec<std::ops::Range<usize>> {
-    let mut out: Vec<std::ops::Range<usize>> = Vec::new();
-    for &i in sorted {
-        let i = i as usize;
-        match out.last_mut() {
-            Some(r) if r.end == i => r.end = i + 1,
-            _ => out.push(i..i + 1),
-        }
-    }
-    out
-}
 
 /// One case: serial sweeps on rank 0, split sweeps on every rank, compared bit for bit.
 fn check<const D: usize, C: Communicator>(world: &C, name: &str, mesh: &Mesh<D>) -> bool {
@@ -126,10 +78,8 @@ fn check<const D: usize, C: Communicator>(world: &C, name: &str, mesh: &Mesh<D>)
     }
 
     // Partitioned sweeps.
-    let mut parts = Vec::new();
-    rcb(&mesh.points, (0..n as u32).collect(), size, &mut parts);
-    let mut mine = parts[rank].clone();
-    mine.sort_unstable();
+    let parts = rcb(&mesh.points, size);
+    let mine = parts[rank].clone();
     let my_runs = runs(&mine);
     let counts: Vec<i32> = parts.iter().map(|p| (p.len() * D) as i32).collect();
     let displs: Vec<i32> = counts
@@ -140,14 +90,7 @@ fn check<const D: usize, C: Communicator>(world: &C, name: &str, mesh: &Mesh<D>)
             Some(d)
         })
         .collect();
-    let order: Vec<u32> = parts
-        .iter()
-        .flat_map(|p| {
-            let mut p = p.clone();
-            p.sort_unstable();
-            p
-        })
-        .collect();
+    let order: Vec<u32> = parts.iter().flatten().copied().collect();
     let mut x = x0.clone();
     let mut out = x0.clone();
     let mut residuals = Vec::new();
@@ -207,6 +150,68 @@ fn check<const D: usize, C: Communicator>(world: &C, name: &str, mesh: &Mesh<D>)
             if values_equal { "bit-identical" } else { "DIFFER" },
             if sums_equal { "bit-identical" } else { "DIFFER" },
         );
+    }
+    // Whole solves with the rows split: CG + Jacobi and multigrid-preconditioned CG through
+    // `LinearSolver::Distributed*`, against the serial solves.
+    let comm = MpiCollective::new(world, &parts);
+    let options = SolveOptions {
+        residual_tol: 1e-10,
+        max_iterations: 20_000,
+        update_tol: 0.0,
+    };
+    let amg_options = AmgOptions::default();
+    let mut work = vec![0u32; AmgHierarchy::setup_work_len(&sys)];
+    let sizes = AmgHierarchy::setup_len(&sys, &amg_options, &mut work).expect("amg sizes");
+    let mut index = vec![0u32; sizes.index];
+    let mut values = vec![0.0f64; sizes.values];
+    let h = AmgHierarchy::setup(&sys, &amg_options, &mut work, &mut index, &mut values)
+        .expect("amg setup");
+    let cg = LinearMethod::Cg {
+        preconditioner: Preconditioner::Jacobi,
+    };
+    for (label, serial_solver, split_solver) in [
+        (
+            "CG + Jacobi",
+            LinearSolver::Method(cg),
+            LinearSolver::Distributed(cg, &comm),
+        ),
+        (
+            "AMG-CG",
+            LinearSolver::Amg(&h),
+            LinearSolver::DistributedAmg(&h, &comm),
+        ),
+    ] {
+        let mut a = x0.clone();
+        let mut scratch = vec![[0.0; D]; solve_linear_with_scratch_len(&serial_solver, n)];
+        let ra = solve_linear_with(&sys, &mut a, serial_solver, &options, &mut scratch)
+            .expect("serial solve");
+        let mut b = x0.clone();
+        let rb = solve_linear_with(&sys, &mut b, split_solver, &options, &mut scratch)
+            .expect("split solve");
+        let same = a
+            .iter()
+            .zip(&b)
+            .all(|(a, b)| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits()))
+            && ra.iterations == rb.iterations
+            && ra.residual.to_bits() == rb.residual.to_bits()
+            && rb.converged;
+        let mut all_same = i32::from(same);
+        world.all_reduce_into(&i32::from(same), &mut all_same, SystemOperation::min());
+        if rank == 0 {
+            println!(
+                "{name}: {label} on {size} rank(s): {} iterations, residual {:.3e}, solution {}",
+                rb.iterations,
+                rb.residual,
+                if all_same == 1 {
+                    "bit-identical to serial on every rank"
+                } else {
+                    "DIFFERS"
+                }
+            );
+        }
+        if all_same != 1 {
+            ok = 0;
+        }
     }
     world.process_at_rank(0).broadcast_into(&mut ok);
     ok == 1

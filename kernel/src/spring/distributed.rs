@@ -1,0 +1,96 @@
+//! Distributed solves: the caller's message passing behind a small trait.
+//!
+//! A [`Collective`] says which nodes this process computes and how partial results meet:
+//! exact sums are merged by adding their words ([`ExactSum::to_words`], `MPI_SUM` on
+//! `MPI_INT64_T`), maxima by `MPI_MAX`, and a field whose owned rows were just updated is
+//! made current everywhere (`share`). Every process holds the whole system and whole value
+//! fields (replicated data); only rows are divided. The linear-spring CG with a Jacobi or no
+//! preconditioner and the multigrid-preconditioned CG take one through
+//! [`LinearSolver`](super::LinearSolver), and give the serial bits for every partition
+//! (their sums are exact, their row updates are the serial ones): the serial solves are the
+//! same code with [`Serial`].
+
+use core::ops::Range;
+
+use crate::real::Real;
+use crate::reduce::{ExactSum, EXACT_SUM_WORDS};
+
+/// The message passing a distributed solve needs (one implementation per process; methods
+/// take `&self`, as an MPI communicator does).
+pub trait Collective<T: Real>: core::fmt::Debug {
+    /// The node ranges this process computes: sorted, disjoint, and over all processes each
+    /// node exactly once.
+    fn owned(&self) -> &[Range<usize>];
+    /// Element-wise sum over all processes, in place (`MPI_Allreduce`, `MPI_SUM`, `i64`).
+    fn sum_words(&self, words: &mut [i64]);
+    /// Element-wise maximum over all processes, in place (`MPI_Allreduce`, `MPI_MAX`).
+    fn max(&self, values: &mut [T]);
+    /// `field` holds `width` reals per node; on return every node holds the value its owner
+    /// had (each process has just updated its own rows).
+    fn share(&self, field: &mut [T], width: usize);
+}
+
+/// One process owning every node: the serial solves.
+#[derive(Clone, Debug)]
+pub struct Serial {
+    all: [Range<usize>; 1],
+}
+
+impl Serial {
+    /// Every node of an `n`-node system.
+    pub fn new(n: usize) -> Self {
+        Serial { all: [0..n] }
+    }
+}
+
+impl<T: Real> Collective<T> for Serial {
+    fn owned(&self) -> &[Range<usize>] {
+        &self.all
+    }
+    fn sum_words(&self, _: &mut [i64]) {}
+    fn max(&self, _: &mut [T]) {}
+    fn share(&self, _: &mut [T], _: usize) {}
+}
+
+/// Merges per-component exact sums over all processes and rounds them.
+pub(crate) fn merged<T: Real, const V: usize>(
+    comm: &dyn Collective<T>,
+    sums: &[ExactSum; V],
+) -> [T; V] {
+    let mut out = [T::ZERO; V];
+    for (o, s) in out.iter_mut().zip(sums) {
+        let mut w: [i64; EXACT_SUM_WORDS] = s.to_words();
+        comm.sum_words(&mut w);
+        *o = ExactSum::from_words(w).value();
+    }
+    out
+}
+
+/// Element-wise maximum over all processes.
+pub(crate) fn merged_max<T: Real, const V: usize>(
+    comm: &dyn Collective<T>,
+    mut v: [T; V],
+) -> [T; V] {
+    comm.max(&mut v);
+    v
+}
+
+/// Shares a `[T; V]` field's owned rows with every process.
+pub(crate) fn share_field<T: Real, const V: usize>(comm: &dyn Collective<T>, field: &mut [[T; V]]) {
+    comm.share(field.as_flattened_mut(), V);
+}
+
+/// Checks a process's owned ranges: each within `0..n`, sorted and disjoint.
+pub(crate) fn check_owned<T: Real>(comm: &dyn Collective<T>, n: usize) -> crate::error::Result<()> {
+    let mut end = 0;
+    for r in comm.owned() {
+        if r.start < end || r.start > r.end || r.end > n {
+            return Err(crate::error::Error::InvalidParameter {
+                arg: "owned",
+                reason: "owned node ranges must be sorted, disjoint and within the node count",
+            });
+        }
+        end = r.end;
+    }
+    Ok(())
+}
