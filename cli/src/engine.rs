@@ -382,6 +382,22 @@ pub struct MoveInput<'a> {
     /// Quaternion and IDW methods: no motion beyond this distance from the moved markers
     /// (`None`: the propagation's own reach).
     pub reach: Option<f64>,
+    /// The spring solves' rows split across processes (`mpirun`; `None`: this process
+    /// alone). The result is bit-identical either way.
+    pub split: Option<&'a dyn deform_kernel::spring::Collective<f64>>,
+}
+
+/// `solver` with its rows split over `split`'s processes (unchanged when `None`).
+fn split_solver<'a>(
+    solver: deform_kernel::spring::LinearSolver<'a, f64>,
+    split: Option<&'a dyn deform_kernel::spring::Collective<f64>>,
+) -> deform_kernel::spring::LinearSolver<'a, f64> {
+    use deform_kernel::spring::LinearSolver;
+    match (solver, split) {
+        (LinearSolver::Method(m), Some(c)) => LinearSolver::Distributed(m, c),
+        (LinearSolver::Amg(h), Some(c)) => LinearSolver::DistributedAmg(h, c),
+        (s, _) => s,
+    }
 }
 
 /// How stiff each spring is (`deform move --stiffness`).
@@ -929,6 +945,7 @@ fn move_d<const D: usize, const V: usize>(
                         LinearSolver::Amg(&hierarchy)
                     }
                 };
+                let solver = split_solver(solver, input.split);
                 match &constraints {
                     Some(c) => {
                         let len = solve_linear_sliding_scratch_len(&solver, n);
@@ -1110,6 +1127,7 @@ fn move_d<const D: usize, const V: usize>(
                         LinearSolver::Amg(&hierarchy)
                     }
                 };
+                let solver = split_solver(solver, input.split);
                 let mut scratch = vec![0.0; deform_spring_scratch_len::<D>(n, boundary.len())];
                 let mut values = vec![[0.0; V]; propagate_spring_with_scratch_len(&solver, n)];
                 let (o, report) = deform_spring_with::<f64, D, V>(

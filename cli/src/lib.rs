@@ -25,6 +25,7 @@ pub mod output;
 pub mod plot;
 pub mod progress;
 pub mod report;
+pub mod split;
 
 pub use formats::plot3d::parse_plot3d;
 pub use formats::su2::parse_su2;

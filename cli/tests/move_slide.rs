@@ -37,6 +37,7 @@ fn input(mesh: &Su2Mesh, method: MoveMethod, pinned: bool) -> MoveInput<'_> {
         fixed.extend(SYMMETRY);
     }
     MoveInput {
+        split: None,
         dim: mesh.dim,
         points: &mesh.points,
         cells: &mesh.elements,
@@ -169,6 +170,7 @@ fn curved_marker_is_refused() {
     }];
     let inp = input(&mesh, MoveMethod::Spring, false);
     let inp = MoveInput {
+        split: None,
         moved: markers(&mesh, &["farfield"]),
         fixed: Vec::new(),
         ..inp
@@ -198,6 +200,7 @@ fn curved_marker_is_refused() {
     top.push(CellKind::Line, &[2, 3]);
     top.push(CellKind::Line, &[3, 0]);
     let inp = MoveInput {
+        split: None,
         dim: 2,
         points: &pts,
         cells: &cells,

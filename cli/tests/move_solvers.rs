@@ -135,6 +135,7 @@ fn run(mesh: &Su2Mesh, moved: &str, method: MoveMethod, solver: MoveSolver) -> V
         .map(|m| &m.elements)
         .collect();
     let input = MoveInput {
+        split: None,
         dim: mesh.dim,
         points: &mesh.points,
         cells: &mesh.elements,

@@ -1,18 +1,33 @@
-//! The `mpi` step (issue 16): builds `mpi/` (its own workspace: the `mpi` crate needs
-//! OpenMPI and libclang, installed by the `install` step) and runs it under
-//! `mpirun --oversubscribe -np 1, 2, 3`. Each run compares linear-spring sweeps split across
-//! the ranks (recursive coordinate bisection, exact residual sums merged with `MPI_SUM`) with
-//! the serial sweeps bit for bit, on a generated 2D and 3D mesh.
+//! The `mpi` step (issue 16), after the `install` step has put OpenMPI and libclang in place:
+//!
+//! 1. `mpi/`'s `deform-mpi-check` under `mpirun --oversubscribe -np 1, 2, 3`: spring sweeps
+//!    and whole solves (CG + Jacobi, multigrid CG) split across the ranks by recursive
+//!    coordinate bisection give the serial bits, on a generated 2D and 3D mesh;
+//! 2. the `deform` tool built with `--features mpi`: `mpirun -np N deform move …` writes a
+//!    file byte-identical to the serial `deform move`, for the spring and quaternion methods,
+//!    on a generated triangle mesh, a generated viscous (quad + triangle) mesh and the public
+//!    3D SU2 half-model in `cli/tests/data`.
 
 use crate::ctx::Ctx;
 use crate::install::is_root;
 use crate::process::run;
+use std::path::Path;
 use std::process::Command;
 
 /// Rank counts the step runs.
 pub(crate) const MPI_RANKS: &[usize] = &[1, 2, 3];
 
-/// Builds and runs the MPI check for every rank count in [`MPI_RANKS`].
+/// `mpirun [--allow-run-as-root] --oversubscribe -np N`.
+fn mpirun(np: usize) -> Command {
+    let mut c = Command::new("mpirun");
+    if is_root() {
+        c.arg("--allow-run-as-root");
+    }
+    c.args(["--oversubscribe", "-np", &np.to_string()]);
+    c
+}
+
+/// Builds and runs the MPI checks.
 pub(crate) fn mpi_check(ctx: &Ctx) -> bool {
     let manifest = ctx.root.join("mpi/Cargo.toml");
     let manifest = manifest.to_string_lossy();
@@ -22,14 +37,91 @@ pub(crate) fn mpi_check(ctx: &Ctx) -> bool {
     let exe = ctx.root.join("mpi/target/release/deform-mpi-check");
     let mut ok = true;
     for &np in MPI_RANKS {
-        let mut c = Command::new("mpirun");
-        if is_root() {
-            c.arg("--allow-run-as-root");
+        ok &= run(mpirun(np).arg(&exe).current_dir(&ctx.root));
+    }
+    ok && deform_move_under_mpi(ctx)
+}
+
+/// `deform move` under mpirun against the serial run, byte for byte.
+fn deform_move_under_mpi(ctx: &Ctx) -> bool {
+    // Its own target directory: the feature set differs from every other step's `deform`.
+    let target = ctx.root.join("target/mpi");
+    let target_s = target.to_string_lossy();
+    let build = [
+        "build",
+        "-p",
+        "deform-cli",
+        "--features",
+        "mpi",
+        "--target-dir",
+        &target_s,
+    ];
+    if !run(&mut ctx.cargo(&build)) {
+        return false;
+    }
+    let deform = target.join("debug/deform");
+    let work = target.join("runs");
+    if std::fs::create_dir_all(&work).is_err() {
+        println!("xtask: cannot create {}", work.display());
+        return false;
+    }
+    let mut ok = true;
+    for kind in ["inviscid", "viscous"] {
+        ok &= run(Command::new(&deform)
+            .args(["mesh", "naca", "--kind", kind, "--out"])
+            .arg(work.join(format!("{kind}.su2"))));
+    }
+    let sphere = ctx.root.join("cli/tests/data/sphere_slice_2syms.su2");
+    let cases: [(&str, &Path, &[&str]); 3] = [
+        (
+            "inviscid",
+            &work.join("inviscid.su2"),
+            &[
+                "--marker", "airfoil", "--rotate", "-10", "--center", "0.25,0",
+            ],
+        ),
+        (
+            "viscous",
+            &work.join("viscous.su2"),
+            &[
+                "--marker", "airfoil", "--rotate", "-5", "--center", "0.25,0",
+            ],
+        ),
+        (
+            "sphere",
+            &sphere,
+            &["--marker", "wall", "--translate", "0.05,0,0"],
+        ),
+    ];
+    for (name, mesh, motion) in cases {
+        for method in ["spring", "quaternion"] {
+            let serial = work.join(format!("{name}_{method}_serial.su2"));
+            let mut c = Command::new(&deform);
+            c.arg("move")
+                .arg(mesh)
+                .args(motion)
+                .args(["--method", method, "--out"]);
+            ok &= run(c.arg(&serial));
+            for &np in MPI_RANKS {
+                let split = work.join(format!("{name}_{method}_np{np}.su2"));
+                let mut c = mpirun(np);
+                c.arg(&deform).arg("move").arg(mesh).args(motion);
+                ok &= run(c.args(["--method", method, "--out"]).arg(&split));
+                let same = matches!(
+                    (std::fs::read(&serial), std::fs::read(&split)),
+                    (Ok(a), Ok(b)) if a == b
+                );
+                println!(
+                    "deform move {name} --method {method}, {np} rank(s): {}",
+                    if same {
+                        "byte-identical to serial"
+                    } else {
+                        "DIFFERS from serial"
+                    }
+                );
+                ok &= same;
+            }
         }
-        c.args(["--oversubscribe", "-np", &np.to_string()])
-            .arg(&exe)
-            .current_dir(&ctx.root);
-        ok &= run(&mut c);
     }
     ok
 }

@@ -360,6 +360,7 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
         for &angle in angles {
             for &(method, mname) in &methods {
                 let input = MoveInput {
+                    split: None,
                     dim: 2,
                     points: &mesh.points,
                     cells: &mesh.elements,

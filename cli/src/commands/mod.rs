@@ -27,6 +27,20 @@ use smooth::smooth;
 
 /// Runs the parsed command line.
 pub fn run(cli: &Cli) -> Result<Outcome, CliError> {
+    run_split(cli, None)
+}
+
+/// Runs the parsed command line as one of several processes (`mpirun`, the `mpi` feature):
+/// `deform move` splits its spring solves over them; other commands are refused.
+pub fn run_split(
+    cli: &Cli,
+    split: Option<&dyn crate::split::Splitter>,
+) -> Result<Outcome, CliError> {
+    if split.is_some_and(|s| s.size() > 1) && !matches!(cli.command, Command::Move(_)) {
+        return Err(CliError::Invalid(
+            "under mpirun only `deform move` runs split across processes; run this command without mpirun".into(),
+        ));
+    }
     let quiet = cli.json;
     crate::files::force_format(cli.format);
     let (inputs, outputs) = files_of(&cli.command);
@@ -36,7 +50,7 @@ pub fn run(cli: &Cli) -> Result<Outcome, CliError> {
         Command::Demo(a) => demo::demo(a, quiet),
         Command::Mesh(MeshCommand::Naca(a)) => mesh_naca(a),
         Command::Mesh(MeshCommand::Block(a)) => mesh_block(a),
-        Command::Move(a) => move_mesh(a, quiet),
+        Command::Move(a) => move_mesh(a, quiet, split),
         Command::Smooth(a) => smooth(a, quiet),
         Command::Quality(a) => quality(a),
         Command::Convert(a) => convert(a),

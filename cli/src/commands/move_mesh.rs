@@ -25,7 +25,11 @@ use crate::files::{
 };
 use crate::report::{fmt_opt, seconds, value_name, write_picture, Outcome};
 
-pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> {
+pub(crate) fn move_mesh(
+    a: &MoveArgs,
+    quiet: bool,
+    split: Option<&dyn crate::split::Splitter>,
+) -> Result<Outcome, CliError> {
     let tfi = matches!(a.method, Method::Tfi | Method::TfiDisplacement);
     if a.stiffness != StiffnessArg::Batina && (tfi || a.method == Method::Idw) {
         return Err(CliError::Invalid(format!(
@@ -296,7 +300,12 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
         Solver::Gs => MoveSolver::GaussSeidel,
         Solver::Jacobi => MoveSolver::Jacobi,
     };
+    if let Some(s) = split {
+        s.check_move(a)?;
+    }
+    let collective = split.map(|s| s.collective(&mesh.points));
     let input = MoveInput {
+        split: collective.as_deref(),
         dim: mesh.dim,
         points: &mesh.points,
         cells: &mesh.elements,
@@ -320,6 +329,13 @@ pub(crate) fn move_mesh(a: &MoveArgs, quiet: bool) -> Result<Outcome, CliError> 
     let result = run_move_in_steps(&input, &slide_markers, a.steps as usize);
     spinner.finish_and_clear();
     let mut result = result.map_err(|e| e.in_file(&a.mesh))?;
+    if split.is_some_and(|s| !s.is_root()) {
+        // The other processes helped with the solves; the first one writes and reports.
+        return Ok(Outcome {
+            json: serde_json::Value::Null,
+            text: String::new(),
+        });
+    }
     for (node, p) in &exact_positions {
         if let Some(x) = result.deformed.get_mut(*node as usize) {
             *x = *p;

@@ -39,7 +39,9 @@ pub struct Serial {
 impl Serial {
     /// Every node of an `n`-node system.
     pub fn new(n: usize) -> Self {
-        Serial { all: [0..n] }
+        Serial {
+            all: [Range { start: 0, end: n }],
+        }
     }
 }
 
