@@ -6,7 +6,7 @@
 ! Functions ending in _f32 take real(c_float) arrays. The dkf_* wrappers take assumed-shape
 ! contiguous arrays and pass their sizes for you.
 module deform_kernel
-  use, intrinsic :: iso_c_binding, only: c_int32_t, c_int8_t, c_size_t, c_double, c_float, &
+  use, intrinsic :: iso_c_binding, only: c_int32_t, c_int64_t, c_int8_t, c_size_t, c_double, c_float, &
                                          c_bool, c_ptr, c_char, c_f_pointer, c_associated
   implicit none
   private
@@ -299,8 +299,9 @@ module deform_kernel
             dk_spring_index_scratch_len, dk_spring_solve_options_default, &
             dk_spring_solve_options_default_f32, dk_spring_solve_linear_scratch_len, &
             dk_spring_solve_linear, dk_spring_solve_linear_f32, dk_spring_jacobi_sweep, &
-            dk_spring_jacobi_sweep_f32, dk_spring_sor_sweep, dk_spring_sor_sweep_f32, &
-            dk_spring_relative_residual, dk_spring_relative_residual_f32, &
+            dk_spring_jacobi_sweep_f32, dk_spring_jacobi_sweep_exact, &
+            dk_spring_jacobi_sweep_exact_f32, dk_exact_sum_value, dk_spring_sor_sweep, &
+            dk_spring_sor_sweep_f32, dk_spring_relative_residual, dk_spring_relative_residual_f32, &
             dk_spring_angle_options_default, dk_spring_angle_options_default_f32, &
             dk_spring_solve_angle_scratch_len, dk_spring_solve_angle_scratch_len_f32, &
             dk_spring_angle_rigidity_probe_scratch_len, dk_spring_solve_angle, &
@@ -1709,6 +1710,66 @@ module deform_kernel
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
       type(dk_spring_sweep), intent(inout) :: sweep
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_jacobi_sweep_exact(offsets, offsets_len, targets, targets_len, stiffness, &
+        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, components, src, &
+        src_len, dst, dst_len, index_scratch, index_scratch_len, sweep, residual_words) bind(C, &
+        name="dk_spring_jacobi_sweep_exact") result(s)
+      import :: c_double, c_int32_t, c_int64_t, c_int8_t, c_size_t, dk_spring_sweep
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_double), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      integer(c_size_t), value :: nodes_start
+      integer(c_size_t), value :: nodes_end
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), value :: components
+      real(c_double), intent(in) :: src(*)
+      integer(c_size_t), value :: src_len
+      real(c_double), intent(inout) :: dst(*)
+      integer(c_size_t), value :: dst_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_sweep), intent(inout) :: sweep
+      integer(c_int64_t), intent(inout) :: residual_words(72)
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_jacobi_sweep_exact_f32(offsets, offsets_len, targets, targets_len, &
+        stiffness, stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, &
+        components, src, src_len, dst, dst_len, index_scratch, index_scratch_len, sweep, &
+        residual_words) bind(C, name="dk_spring_jacobi_sweep_exact_f32") result(s)
+      import :: c_float, c_int32_t, c_int64_t, c_int8_t, c_size_t, dk_spring_sweep
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_float), intent(in) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      integer(c_size_t), value :: nodes_start
+      integer(c_size_t), value :: nodes_end
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), value :: components
+      real(c_float), intent(in) :: src(*)
+      integer(c_size_t), value :: src_len
+      real(c_float), intent(inout) :: dst(*)
+      integer(c_size_t), value :: dst_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_sweep), intent(inout) :: sweep
+      integer(c_int64_t), intent(inout) :: residual_words(72)
+      integer(c_int32_t) :: s
+    end function
+    function dk_exact_sum_value(words, value_out) bind(C, name="dk_exact_sum_value") result(s)
+      import :: c_double, c_int32_t, c_int64_t
+      integer(c_int64_t), intent(in) :: words(72)
+      real(c_double), intent(inout) :: value_out
       integer(c_int32_t) :: s
     end function
     function dk_spring_sor_sweep(offsets, offsets_len, targets, targets_len, stiffness, &

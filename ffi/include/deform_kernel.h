@@ -76,6 +76,9 @@
 // preconditioner.
 #define DK_ANGLE_CG 2
 
+// Words of an exact sum ([`ExactSum::to_words`]): the C ABI's merge protocol.
+#define DK_EXACT_SUM_WORDS 72
+
 // `dk_taubin_coarse::prolongation`: the fine field becomes the interpolated coarse field
 // (Alter's prolongation of the arclength functions; the default).
 #define DK_PROLONGATION_VALUES 0
@@ -2051,6 +2054,69 @@ dk_status dk_spring_jacobi_sweep_f32(const uint32_t *offsets,
                                      uint32_t *index_scratch,
                                      size_t index_scratch_len,
                                      dk_spring_sweep *sweep);
+
+// [`dk_spring_jacobi_sweep`], and the range's `Σ |r_i|²` as the words of an exact sum:
+// `residual_words` receives [`DK_EXACT_SUM_WORDS`] `int64_t`. Words of several ranges or
+// processes add element-wise (`MPI_Allreduce` with `MPI_SUM` on `MPI_INT64_T`); rounded
+// with [`dk_exact_sum_value`] they give the bits of one sweep over all their nodes, however
+// the nodes were split (docs/reductions.md). Nothing is written on error.
+//
+// # Safety
+// As [`dk_spring_jacobi_sweep`]; `residual_words` writable for `DK_EXACT_SUM_WORDS` values.
+dk_status dk_spring_jacobi_sweep_exact(const uint32_t *offsets,
+                                       size_t offsets_len,
+                                       const uint32_t *targets,
+                                       size_t targets_len,
+                                       const double *stiffness,
+                                       size_t stiffness_len,
+                                       const uint8_t *fixed,
+                                       size_t fixed_len,
+                                       size_t nodes_start,
+                                       size_t nodes_end,
+                                       uint32_t index_base,
+                                       uint32_t components,
+                                       const double *src,
+                                       size_t src_len,
+                                       double *dst,
+                                       size_t dst_len,
+                                       uint32_t *index_scratch,
+                                       size_t index_scratch_len,
+                                       dk_spring_sweep *sweep,
+                                       int64_t *residual_words);
+
+// `f32` twin of [`dk_spring_jacobi_sweep_exact`].
+//
+// # Safety
+// As [`dk_spring_jacobi_sweep_exact`].
+dk_status dk_spring_jacobi_sweep_exact_f32(const uint32_t *offsets,
+                                           size_t offsets_len,
+                                           const uint32_t *targets,
+                                           size_t targets_len,
+                                           const float *stiffness,
+                                           size_t stiffness_len,
+                                           const uint8_t *fixed,
+                                           size_t fixed_len,
+                                           size_t nodes_start,
+                                           size_t nodes_end,
+                                           uint32_t index_base,
+                                           uint32_t components,
+                                           const float *src,
+                                           size_t src_len,
+                                           float *dst,
+                                           size_t dst_len,
+                                           uint32_t *index_scratch,
+                                           size_t index_scratch_len,
+                                           dk_spring_sweep *sweep,
+                                           int64_t *residual_words);
+
+// Rounds an exact sum given by its words (from [`dk_spring_jacobi_sweep_exact`], or the
+// element-wise sum of such word arrays) to the nearest `double`, ties to even. Errors:
+// pointer errors.
+//
+// # Safety
+// `words` readable for [`DK_EXACT_SUM_WORDS`] values; `value_out` points to one writable
+// `double`.
+dk_status dk_exact_sum_value(const int64_t *words, double *value_out);
 
 // One in-place Gauss–Seidel (`omega` = 1) or SOR sweep of the linear springs over the nodes
 // `nodes_start..nodes_end` (read with `index_base`), in increasing node order:

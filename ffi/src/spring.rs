@@ -21,6 +21,7 @@
 //! the precision. Values updated in place are unchanged on any error.
 #![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
 
+use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
 use deform_kernel::spring::{
     angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_rigidity_probe, batina_stiffness,
     jacobi_sweep, relative_residual, solve_angle, solve_linear, solve_linear_scratch_len,
@@ -418,6 +419,76 @@ fn jacobi_sweep_t<T: Real>(
             jacobi_sweep_v::<T>,
             (sys, nodes, src, src_len, dst, dst_len, sweep)
         )
+    })())
+}
+
+/// Words of an exact sum ([`ExactSum::to_words`]): the C ABI's merge protocol.
+pub const DK_EXACT_SUM_WORDS: usize = 72;
+const _: () = assert!(DK_EXACT_SUM_WORDS == EXACT_SUM_WORDS);
+
+#[allow(clippy::too_many_arguments)]
+fn jacobi_sweep_exact_v<T: Real, const V: usize>(
+    sys: SysArgs<'_, T>,
+    nodes: [usize; 2],
+    src: In<'_, T>,
+    src_len: usize,
+    dst: Out<'_, T>,
+    dst_len: usize,
+    sweep: Out<'_, dk_spring_sweep>,
+    residual_words: Out<'_, i64>,
+) -> Result<(), dk_status> {
+    let s = chunks::<T, V>(src, src_len)?;
+    let d = chunks_mut::<T, V>(dst, dst_len)?;
+    let w = out_one(sweep)?;
+    let words = output(residual_words, EXACT_SUM_WORDS)?;
+    let system = sys.build()?;
+    let [a, b] = nodes;
+    let result = jacobi_sweep(&system, a..b, s, d).map_err(dk_status::from)?;
+    *w = dk_spring_sweep::of(result);
+    words.copy_from_slice(&result.residual_sum.to_words());
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn jacobi_sweep_exact_t<T: Real>(
+    sys: SysArgs<T>,
+    nodes: [usize; 2],
+    index_base: u32,
+    components: u32,
+    src: In<'_, T>,
+    src_len: usize,
+    dst: Out<'_, T>,
+    dst_len: usize,
+    sweep: Out<'_, dk_spring_sweep>,
+    residual_words: Out<'_, i64>,
+) -> dk_status {
+    done((|| {
+        let nodes = range(nodes[0], nodes[1], index_base)?;
+        by_components!(
+            components,
+            jacobi_sweep_exact_v::<T>,
+            (
+                sys,
+                nodes,
+                src,
+                src_len,
+                dst,
+                dst_len,
+                sweep,
+                residual_words
+            )
+        )
+    })())
+}
+
+fn exact_sum_value(words: In<'_, i64>, value_out: Out<'_, f64>) -> dk_status {
+    done((|| {
+        let w: &[i64] = input(words, EXACT_SUM_WORDS)?;
+        let out = out_one(value_out)?;
+        let mut a = [0i64; EXACT_SUM_WORDS];
+        a.copy_from_slice(w);
+        *out = ExactSum::from_words(a).value();
+        Ok(())
     })())
 }
 

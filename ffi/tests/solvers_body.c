@@ -735,6 +735,23 @@ static void CAT(springs_linear_, SUF)(void) {
     OK(FN(dk_spring_jacobi_sweep)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 0, 5, 0, 1, v, 5,
                                   v0, 5, idx, 5, &sw));
     CHECK(v0[0] == 0 && v0[1] == 2 && v0[2] == 5 && v0[3] == 10 && v0[4] == 16);
+    {
+        /* The same sweep in two ranges with exact residual words: their element-wise sum,
+         * rounded, is the whole sweep's residual (residuals 2, 2, 2 at nodes 1–3: 12). */
+        int64_t w1[DK_EXACT_SUM_WORDS], w2[DK_EXACT_SUM_WORDS];
+        double total = -1;
+        dk_spring_sweep sw1, sw2;
+        int k2;
+        OK(FN(dk_spring_jacobi_sweep_exact)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 0, 2, 0,
+                                            1, v, 5, v0, 5, idx, 5, &sw1, w1));
+        OK(FN(dk_spring_jacobi_sweep_exact)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 2, 5, 0,
+                                            1, v, 5, v0, 5, idx, 5, &sw2, w2));
+        for (k2 = 0; k2 < DK_EXACT_SUM_WORDS; k2++) w1[k2] += w2[k2];
+        OK(dk_exact_sum_value(w1, &total));
+        CHECK(total == sw.residual_sq && total == 12);
+        CHECK(v0[0] == 0 && v0[1] == 2 && v0[2] == 5 && v0[3] == 10 && v0[4] == 16);
+        EXPECT(dk_exact_sum_value(NULL, &total), DK_ERR_NULL_POINTER);
+    }
     OK(FN(dk_spring_sor_sweep)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 0, 5, 0, 1, 1, v, 5,
                                idx, 5, &sw));
     /* Gauss–Seidel: v1 = (0 + 4)/2 = 2, v2 = (2 + 9)/2 = 5.5, v3 = (5.5 + 16)/2 = 10.75. */

@@ -300,6 +300,7 @@ fn fortran_type(t: &str) -> Result<(String, Option<&'static str>), String> {
         "f64" => ("real(c_double)".into(), Some("c_double")),
         "f32" => ("real(c_float)".into(), Some("c_float")),
         "u32" | "i32" => ("integer(c_int32_t)".into(), Some("c_int32_t")),
+        "i64" => ("integer(c_int64_t)".into(), Some("c_int64_t")),
         "usize" => ("integer(c_size_t)".into(), Some("c_size_t")),
         "u8" => ("integer(c_int8_t)".into(), Some("c_int8_t")),
         "bool" => ("logical(c_bool)".into(), Some("c_bool")),

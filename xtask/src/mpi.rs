@@ -6,7 +6,10 @@
 //! 2. the `deform` tool built with `--features mpi`: `mpirun -np N deform move …` writes a
 //!    file byte-identical to the serial `deform move`, for the spring and quaternion methods,
 //!    on a generated triangle mesh, a generated viscous (quad + triangle) mesh and the public
-//!    3D SU2 half-model in `cli/tests/data`.
+//!    3D SU2 half-model in `cli/tests/data`;
+//! 3. `ffi/examples/mpi_deform.c`, built with `mpicc` against the static C library: a C
+//!    solver with its own (interleaved) partition sweeps its rows with the kernel, merges the
+//!    exact residual words with `MPI_Allreduce` and checks the serial bits.
 
 use crate::ctx::Ctx;
 use crate::install::is_root;
@@ -39,7 +42,41 @@ pub(crate) fn mpi_check(ctx: &Ctx) -> bool {
     for &np in MPI_RANKS {
         ok &= run(mpirun(np).arg(&exe).current_dir(&ctx.root));
     }
-    ok && deform_move_under_mpi(ctx)
+    ok && deform_move_under_mpi(ctx) && c_example(ctx)
+}
+
+/// `ffi/examples/mpi_deform.c` under mpirun.
+fn c_example(ctx: &Ctx) -> bool {
+    let target = ctx.root.join("target/capi");
+    let capi = ctx.root.join(crate::ci::CAPI_MANIFEST);
+    let mut build = ctx.cargo(&["build", "--release", "--manifest-path"]);
+    build.arg(&capi).arg("--target-dir").arg(&target);
+    if !run(&mut build) {
+        return false;
+    }
+    let exe = target.join("mpi_deform");
+    let mut cc = Command::new("mpicc");
+    cc.args([
+        "-std=c11",
+        "-O2",
+        "-Wall",
+        "-Wextra",
+        "-Werror",
+        "-Iffi/include",
+    ])
+    .arg("ffi/examples/mpi_deform.c")
+    .arg(target.join("release/libdeform_kernel.a"))
+    .args(["-lm", "-lpthread", "-ldl", "-o"])
+    .arg(&exe)
+    .current_dir(&ctx.root);
+    if !run(&mut cc) {
+        return false;
+    }
+    let mut ok = true;
+    for &np in MPI_RANKS {
+        ok &= run(mpirun(np).arg(&exe).current_dir(&ctx.root));
+    }
+    ok
 }
 
 /// `deform move` under mpirun against the serial run, byte for byte.

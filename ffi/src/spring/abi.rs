@@ -456,6 +456,161 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_f32(
     )
 }
 
+/// [`dk_spring_jacobi_sweep`], and the range's `Σ |r_i|²` as the words of an exact sum:
+/// `residual_words` receives [`DK_EXACT_SUM_WORDS`] `int64_t`. Words of several ranges or
+/// processes add element-wise (`MPI_Allreduce` with `MPI_SUM` on `MPI_INT64_T`); rounded
+/// with [`dk_exact_sum_value`] they give the bits of one sweep over all their nodes, however
+/// the nodes were split (docs/reductions.md). Nothing is written on error.
+///
+/// # Safety
+/// As [`dk_spring_jacobi_sweep`]; `residual_words` writable for `DK_EXACT_SUM_WORDS` values.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact(
+    offsets: *const u32,
+    offsets_len: usize,
+    targets: *const u32,
+    targets_len: usize,
+    stiffness: *const f64,
+    stiffness_len: usize,
+    fixed: *const u8,
+    fixed_len: usize,
+    nodes_start: usize,
+    nodes_end: usize,
+    index_base: u32,
+    components: u32,
+    src: *const f64,
+    src_len: usize,
+    dst: *mut f64,
+    dst_len: usize,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    sweep: *mut dk_spring_sweep,
+    residual_words: *mut i64,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, stiffness, fixed, src, dst, index_scratch, sweep, residual_words) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(src, src_len),
+            Out::new(dst, dst_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(sweep, 1),
+            Out::new(residual_words, 72),
+        )
+    };
+    let sys = SysArgs {
+        offsets,
+        offsets_len,
+        targets,
+        targets_len,
+        stiffness,
+        stiffness_len,
+        fixed,
+        fixed_len,
+        index_scratch,
+        index_scratch_len,
+    };
+    jacobi_sweep_exact_t(
+        sys,
+        [nodes_start, nodes_end],
+        index_base,
+        components,
+        src,
+        src_len,
+        dst,
+        dst_len,
+        sweep,
+        residual_words,
+    )
+}
+
+/// `f32` twin of [`dk_spring_jacobi_sweep_exact`].
+///
+/// # Safety
+/// As [`dk_spring_jacobi_sweep_exact`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact_f32(
+    offsets: *const u32,
+    offsets_len: usize,
+    targets: *const u32,
+    targets_len: usize,
+    stiffness: *const f32,
+    stiffness_len: usize,
+    fixed: *const u8,
+    fixed_len: usize,
+    nodes_start: usize,
+    nodes_end: usize,
+    index_base: u32,
+    components: u32,
+    src: *const f32,
+    src_len: usize,
+    dst: *mut f32,
+    dst_len: usize,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    sweep: *mut dk_spring_sweep,
+    residual_words: *mut i64,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (offsets, targets, stiffness, fixed, src, dst, index_scratch, sweep, residual_words) = unsafe {
+        (
+            In::new(offsets, offsets_len),
+            In::new(targets, targets_len),
+            In::new(stiffness, stiffness_len),
+            In::new(fixed, fixed_len),
+            In::new(src, src_len),
+            Out::new(dst, dst_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(sweep, 1),
+            Out::new(residual_words, 72),
+        )
+    };
+    let sys = SysArgs {
+        offsets,
+        offsets_len,
+        targets,
+        targets_len,
+        stiffness,
+        stiffness_len,
+        fixed,
+        fixed_len,
+        index_scratch,
+        index_scratch_len,
+    };
+    jacobi_sweep_exact_t(
+        sys,
+        [nodes_start, nodes_end],
+        index_base,
+        components,
+        src,
+        src_len,
+        dst,
+        dst_len,
+        sweep,
+        residual_words,
+    )
+}
+
+/// Rounds an exact sum given by its words (from [`dk_spring_jacobi_sweep_exact`], or the
+/// element-wise sum of such word arrays) to the nearest `double`, ties to even. Errors:
+/// pointer errors.
+///
+/// # Safety
+/// `words` readable for [`DK_EXACT_SUM_WORDS`] values; `value_out` points to one writable
+/// `double`.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_exact_sum_value(words: *const i64, value_out: *mut f64) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (words, value_out) = unsafe { (In::new(words, 72), Out::new(value_out, 1)) };
+    exact_sum_value(words, value_out)
+}
+
 /// One in-place Gauss–Seidel (`omega` = 1) or SOR sweep of the linear springs over the nodes
 /// `nodes_start..nodes_end` (read with `index_base`), in increasing node order:
 /// `x_i ← x_i + ω Σ_j k_ij (x_j − x_i) / Σ_j k_ij` with the newest values; fixed nodes are
