@@ -384,7 +384,7 @@ pub struct MoveInput<'a> {
     pub reach: Option<f64>,
     /// The spring solves' rows split across processes (`mpirun`; `None`: this process
     /// alone). The result is bit-identical either way.
-    pub split: Option<&'a dyn deform_kernel::spring::Collective<f64>>,
+    pub split: Option<&'a dyn crate::split::Splitter>,
 }
 
 /// `solver` with its rows split over `split`'s processes (unchanged when `None`).
@@ -945,7 +945,10 @@ fn move_d<const D: usize, const V: usize>(
                         LinearSolver::Amg(&hierarchy)
                     }
                 };
-                let solver = split_solver(solver, input.split);
+                let collective = input
+                    .split
+                    .map(|s| s.collective(input.points, g.offsets(), g.targets()));
+                let solver = split_solver(solver, collective.as_deref());
                 match &constraints {
                     Some(c) => {
                         let len = solve_linear_sliding_scratch_len(&solver, n);
@@ -1127,7 +1130,10 @@ fn move_d<const D: usize, const V: usize>(
                         LinearSolver::Amg(&hierarchy)
                     }
                 };
-                let solver = split_solver(solver, input.split);
+                let collective = input
+                    .split
+                    .map(|s| s.collective(input.points, g.offsets(), g.targets()));
+                let solver = split_solver(solver, collective.as_deref());
                 let mut scratch = vec![0.0; deform_spring_scratch_len::<D>(n, boundary.len())];
                 let mut values = vec![[0.0; V]; propagate_spring_with_scratch_len(&solver, n)];
                 let (o, report) = deform_spring_with::<f64, D, V>(

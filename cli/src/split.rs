@@ -14,13 +14,19 @@ use crate::args::{Method, MoveArgs, Solver};
 use crate::error::CliError;
 
 /// The processes a `deform move` runs on (the `mpi` feature implements it over MPI).
-pub trait Splitter {
+pub trait Splitter: std::fmt::Debug {
     /// Number of processes.
     fn size(&self) -> usize;
     /// Whether this process writes files and reports.
     fn is_root(&self) -> bool;
-    /// The collective for a mesh with these points (a deterministic partition of them).
-    fn collective<'s>(&'s self, points: &[[f64; 3]]) -> Box<dyn Collective<f64> + 's>;
+    /// The collective for a mesh with these points and this (symmetric CSR) graph: a
+    /// deterministic partition of the points, halo exchanges along the graph.
+    fn collective<'s>(
+        &'s self,
+        points: &[[f64; 3]],
+        offsets: &[u32],
+        targets: &[u32],
+    ) -> Box<dyn Collective<f64> + 's>;
 
     /// Refuses what cannot run split (with more than one process).
     fn check_move(&self, a: &MoveArgs) -> Result<(), CliError> {
@@ -65,6 +71,14 @@ mod over_mpi {
         world: &'w SimpleCommunicator,
     }
 
+    impl std::fmt::Debug for MpiSplitter<'_> {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.debug_struct("MpiSplitter")
+                .field("size", &self.size())
+                .finish()
+        }
+    }
+
     impl<'w> MpiSplitter<'w> {
         /// The splitter over `world`.
         pub fn new(world: &'w SimpleCommunicator) -> Self {
@@ -79,9 +93,16 @@ mod over_mpi {
         fn is_root(&self) -> bool {
             self.world.rank() == 0
         }
-        fn collective<'s>(&'s self, points: &[[f64; 3]]) -> Box<dyn Collective<f64> + 's> {
+        fn collective<'s>(
+            &'s self,
+            points: &[[f64; 3]],
+            offsets: &[u32],
+            targets: &[u32],
+        ) -> Box<dyn Collective<f64> + 's> {
             let parts = rcb(points, self.size());
-            Box::new(MpiCollective::new(self.world, &parts))
+            Box::new(MpiCollective::with_graph(
+                self.world, &parts, offsets, targets,
+            ))
         }
     }
 }

@@ -10,7 +10,7 @@ use std::ops::Range;
 
 use deform_kernel::spring::Collective;
 use mpi::collective::SystemOperation;
-use mpi::datatype::PartitionMut;
+use mpi::datatype::{Partition, PartitionMut};
 use mpi::traits::*;
 
 /// The nodes each of `parts` processes owns: recursive coordinate bisection (split the
@@ -93,6 +93,15 @@ pub struct MpiCollective<'c, C: Communicator> {
     order: Vec<u32>,
     /// Nodes per process.
     counts: Vec<usize>,
+    /// Halo exchange (when built with the graph): per process, the own nodes it reads, and
+    /// its nodes this process reads (sorted; both sides compute the same lists).
+    halo: Option<Halo>,
+}
+
+/// The node lists of a halo exchange.
+struct Halo {
+    send: Vec<Vec<u32>>,
+    recv: Vec<Vec<u32>>,
 }
 
 impl<C: Communicator> std::fmt::Debug for MpiCollective<'_, C> {
@@ -118,7 +127,54 @@ impl<'c, C: Communicator> MpiCollective<'c, C> {
             mine,
             order: parts.iter().flatten().copied().collect(),
             counts: parts.iter().map(Vec::len).collect(),
+            halo: None,
         }
+    }
+
+    /// As [`MpiCollective::new`], with halo exchanges for the graph `offsets`/`targets` (CSR,
+    /// symmetric): `share_halo` then sends each process only the own nodes next to its rows.
+    pub fn with_graph(comm: &'c C, parts: &[Vec<u32>], offsets: &[u32], targets: &[u32]) -> Self {
+        let mut c = Self::new(comm, parts);
+        let rank = comm.rank() as usize;
+        let n = offsets.len().saturating_sub(1);
+        let mut owner = vec![0usize; n];
+        for (r, p) in parts.iter().enumerate() {
+            for &i in p {
+                owner[i as usize] = r;
+            }
+        }
+        let neighbours = |i: usize| {
+            targets[offsets[i] as usize..offsets[i + 1] as usize]
+                .iter()
+                .map(|&j| j as usize)
+        };
+        let size = parts.len();
+        let mut send = vec![Vec::new(); size];
+        let mut recv = vec![Vec::new(); size];
+        for &i in &c.mine {
+            let i = i as usize;
+            for j in neighbours(i) {
+                let q = owner[j];
+                if q != rank {
+                    // q reads my i (symmetric graph), and I read its j.
+                    send[q].push(i as u32);
+                    recv[q].push(j as u32);
+                }
+            }
+        }
+        for l in send.iter_mut().chain(recv.iter_mut()) {
+            l.sort_unstable();
+            l.dedup();
+        }
+        c.halo = Some(Halo { send, recv });
+        c
+    }
+
+    /// Nodes this process receives in a halo exchange (0 without the graph).
+    pub fn halo_len(&self) -> usize {
+        self.halo
+            .as_ref()
+            .map_or(0, |h| h.recv.iter().map(Vec::len).sum())
     }
 
     /// Number of maximal runs of consecutive owned nodes.
@@ -127,7 +183,48 @@ impl<'c, C: Communicator> MpiCollective<'c, C> {
     }
 }
 
+/// Counts and displacements of `lists` (`width` values per node) for a varcount exchange.
+fn layout(lists: &[Vec<u32>], width: usize) -> (Vec<i32>, Vec<i32>) {
+    let counts: Vec<i32> = lists.iter().map(|l| (l.len() * width) as i32).collect();
+    let displs = counts
+        .iter()
+        .scan(0, |acc, &c| {
+            let d = *acc;
+            *acc += c;
+            Some(d)
+        })
+        .collect();
+    (counts, displs)
+}
+
 impl<C: Communicator> Collective<f64> for MpiCollective<'_, C> {
+    fn share_halo(&self, field: &mut [f64], width: usize) {
+        let Some(h) = &self.halo else {
+            return self.share(field, width);
+        };
+        let send: Vec<f64> = h
+            .send
+            .iter()
+            .flatten()
+            .flat_map(|&i| {
+                let a = i as usize * width;
+                field[a..a + width].iter().copied()
+            })
+            .collect();
+        let (sc, sd) = layout(&h.send, width);
+        let (rc, rd) = layout(&h.recv, width);
+        let mut recv = vec![0.0f64; h.recv.iter().map(Vec::len).sum::<usize>() * width];
+        {
+            let s = Partition::new(&send[..], &sc[..], &sd[..]);
+            let mut r = PartitionMut::new(&mut recv[..], &rc[..], &rd[..]);
+            self.comm.all_to_all_varcount_into(&s, &mut r);
+        }
+        for (&i, v) in h.recv.iter().flatten().zip(recv.chunks_exact(width)) {
+            let a = i as usize * width;
+            field[a..a + width].copy_from_slice(v);
+        }
+    }
+
     fn owned(&self) -> &[Range<usize>] {
         &self.owned
     }

@@ -153,7 +153,7 @@ fn check<const D: usize, C: Communicator>(world: &C, name: &str, mesh: &Mesh<D>)
     }
     // Whole solves with the rows split: CG + Jacobi and multigrid-preconditioned CG through
     // `LinearSolver::Distributed*`, against the serial solves.
-    let comm = MpiCollective::new(world, &parts);
+    let comm = MpiCollective::with_graph(world, &parts, &offsets, &targets);
     let options = SolveOptions {
         residual_tol: 1e-10,
         max_iterations: 20_000,
@@ -217,9 +217,87 @@ fn check<const D: usize, C: Communicator>(world: &C, name: &str, mesh: &Mesh<D>)
     ok == 1
 }
 
+/// `--bench`: the split solves on the 234,496-node NACA 2412 mesh of `cargo xtask bench`,
+/// timed (median of 3, wall clock of the slowest rank), for docs/scaling.md.
+fn bench<C: Communicator>(world: &C) {
+    let grid = AirfoilGrid {
+        surface_points: 1024,
+        radial_points: 229,
+        first_layer: 1e-5,
+        boundary_layers: 40,
+        ..AirfoilGrid::default()
+    };
+    let mesh = naca_triangulated(&grid).expect("mesh");
+    let n = mesh.node_count();
+    let cells = mesh.cells().expect("cells");
+    let mut offsets = vec![0u32; n + 1];
+    let mut targets = vec![0u32; graph_from_cells_len(&cells, false)];
+    let used = graph_from_cells(&cells, false, &mut offsets, &mut targets).expect("graph");
+    targets.truncate(used);
+    let g = Graph::new(&offsets, &targets).expect("graph");
+    let mut k = vec![0.0f64; g.edge_count()];
+    batina_stiffness(&g, &mesh.points, 1.0, &mut k).expect("stiffness");
+    let fixed = mesh.boundary_mask();
+    let mut scratch = vec![0u32; n];
+    let sys = SpringSystem::new(g, &k, &fixed, &mut scratch).expect("system");
+    let rot =
+        deform_meshgen::rotate_markers2(&mesh, &["airfoil"], AirfoilGrid::quarter_chord(), -10.0)
+            .expect("rotation");
+    let x0: Vec<[f64; 2]> = rot.to_field(n);
+    let parts = rcb(&mesh.points, world.size() as usize);
+    let comm = MpiCollective::with_graph(world, &parts, &offsets, &targets);
+    let options = SolveOptions {
+        residual_tol: 1e-8,
+        max_iterations: 100_000,
+        update_tol: 0.0,
+    };
+    let amg_options = AmgOptions::default();
+    let mut work = vec![0u32; AmgHierarchy::setup_work_len(&sys)];
+    let sizes = AmgHierarchy::setup_len(&sys, &amg_options, &mut work).expect("amg sizes");
+    let mut index = vec![0u32; sizes.index];
+    let mut values = vec![0.0f64; sizes.values];
+    let h = AmgHierarchy::setup(&sys, &amg_options, &mut work, &mut index, &mut values)
+        .expect("amg setup");
+    let cg = LinearMethod::Cg {
+        preconditioner: Preconditioner::Jacobi,
+    };
+    for (label, solver, reps) in [
+        ("AMG-CG", LinearSolver::DistributedAmg(&h, &comm), 3),
+        ("CG + Jacobi", LinearSolver::Distributed(cg, &comm), 1),
+    ] {
+        let mut times = Vec::new();
+        let mut iterations = 0;
+        for _ in 0..reps {
+            let mut x = x0.clone();
+            let mut s = vec![[0.0; 2]; solve_linear_with_scratch_len(&solver, n)];
+            world.barrier();
+            let t = std::time::Instant::now();
+            let r = solve_linear_with(&sys, &mut x, solver, &options, &mut s).expect("solve");
+            let mine = t.elapsed().as_secs_f64();
+            let mut slowest = 0.0f64;
+            world.all_reduce_into(&mine, &mut slowest, SystemOperation::max());
+            times.push(slowest);
+            iterations = r.iterations;
+        }
+        times.sort_by(f64::total_cmp);
+        if world.rank() == 0 {
+            println!(
+                "bench: {label}, {n} nodes, {} rank(s), halo {} nodes on rank 0: {iterations} iterations, {:.3} s (median of {reps})",
+                world.size(),
+                comm.halo_len(),
+                times[times.len() / 2]
+            );
+        }
+    }
+}
+
 fn main() {
     let universe = mpi::initialize().expect("MPI init");
     let world = universe.world();
+    if std::env::args().any(|a| a == "--bench") {
+        bench(&world);
+        return;
+    }
     let grid = AirfoilGrid {
         surface_points: 96,
         radial_points: 24,

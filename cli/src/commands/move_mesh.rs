@@ -303,9 +303,8 @@ pub(crate) fn move_mesh(
     if let Some(s) = split {
         s.check_move(a)?;
     }
-    let collective = split.map(|s| s.collective(&mesh.points));
     let input = MoveInput {
-        split: collective.as_deref(),
+        split,
         dim: mesh.dim,
         points: &mesh.points,
         cells: &mesh.elements,

@@ -28,6 +28,12 @@ pub trait Collective<T: Real>: core::fmt::Debug {
     /// `field` holds `width` reals per node; on return every node holds the value its owner
     /// had (each process has just updated its own rows).
     fn share(&self, field: &mut [T], width: usize);
+    /// As [`share`](Self::share), but only the nodes next to this process's own rows (its
+    /// halo) need to be current afterwards: all a sweep over the own rows reads. Defaults to
+    /// `share`.
+    fn share_halo(&self, field: &mut [T], width: usize) {
+        self.share(field, width);
+    }
 }
 
 /// One process owning every node: the serial solves.
@@ -54,18 +60,55 @@ impl<T: Real> Collective<T> for Serial {
     fn share(&self, _: &mut [T], _: usize) {}
 }
 
-/// Merges per-component exact sums over all processes and rounds them.
+/// Merges per-component exact sums over all processes (one exchange) and rounds them.
 pub(crate) fn merged<T: Real, const V: usize>(
     comm: &dyn Collective<T>,
     sums: &[ExactSum; V],
 ) -> [T; V] {
     let mut out = [T::ZERO; V];
-    for (o, s) in out.iter_mut().zip(sums) {
-        let mut w: [i64; EXACT_SUM_WORDS] = s.to_words();
-        comm.sum_words(&mut w);
-        *o = ExactSum::from_words(w).value();
-    }
+    merge_into(comm, sums, &mut out);
     out
+}
+
+/// Merges `first` and `rest` over all processes in one exchange (while they fit a batch).
+pub(crate) fn merged_with<T: Real, const V: usize>(
+    comm: &dyn Collective<T>,
+    first: &ExactSum,
+    rest: &[ExactSum; V],
+) -> (T, [T; V]) {
+    if V + 1 > BATCH {
+        let [a] = merged(comm, &[*first]);
+        return (a, merged(comm, rest));
+    }
+    let mut sums = [ExactSum::new(); BATCH];
+    for (s, r) in sums.iter_mut().zip(core::iter::once(first).chain(rest)) {
+        *s = *r;
+    }
+    let mut out = [T::ZERO; BATCH];
+    merge_into(comm, sums.get(..V + 1).unwrap_or(&[]), &mut out);
+    let mut tail = [T::ZERO; V];
+    for (t, &o) in tail.iter_mut().zip(out.iter().skip(1)) {
+        *t = o;
+    }
+    (out[0], tail)
+}
+
+/// Sums exchanged at once (the stack buffer's size: 8 × 72 words).
+const BATCH: usize = 8;
+
+/// Merges `sums` over all processes and rounds them into `out`: one exchange per 8 sums.
+pub(crate) fn merge_into<T: Real>(comm: &dyn Collective<T>, sums: &[ExactSum], out: &mut [T]) {
+    for (sums, out) in sums.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
+        let mut words = [[0i64; EXACT_SUM_WORDS]; BATCH];
+        for (w, s) in words.iter_mut().zip(sums) {
+            *w = s.to_words();
+        }
+        let used = words.get_mut(..sums.len()).unwrap_or(&mut []);
+        comm.sum_words(used.as_flattened_mut());
+        for (o, w) in out.iter_mut().zip(used.iter()) {
+            *o = ExactSum::from_words(*w).value();
+        }
+    }
 }
 
 /// Element-wise maximum over all processes.
@@ -95,4 +138,9 @@ pub(crate) fn check_owned<T: Real>(comm: &dyn Collective<T>, n: usize) -> crate:
         end = r.end;
     }
     Ok(())
+}
+
+/// Shares the halo of a `[T; V]` field's owned rows.
+pub(crate) fn share_halo<T: Real, const V: usize>(comm: &dyn Collective<T>, field: &mut [[T; V]]) {
+    comm.share_halo(field.as_flattened_mut(), V);
 }

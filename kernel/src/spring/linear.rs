@@ -3,7 +3,9 @@
 
 use core::ops::Range;
 
-use super::distributed::{check_owned, merged, merged_max, share_field, Collective, Serial};
+use super::distributed::{
+    check_owned, merged, merged_max, merged_with, share_field, share_halo, Collective, Serial,
+};
 use super::norms::{scale_by, sweep_exponent, Norm, SumSq};
 use super::system::{
     check_omega, check_values, is_fixed, LinearMethod, Preconditioner, SolveOptions, SolveReport,
@@ -781,7 +783,7 @@ fn solve_cg<T: Real, const V: usize>(
                     }
                 }
             }
-            share_field(comm, p);
+            share_halo(comm, p);
         } else {
             for (i, ri) in r.iter_mut().enumerate() {
                 let xi = x.get(i).copied().unwrap_or([T::ZERO; V]);
@@ -888,14 +890,14 @@ fn solve_cg<T: Real, const V: usize>(
             .iter()
             .zip(&exps)
             .fold(T::ZERO, |m, (&u, &e)| m.max(scale_by(u, e)));
-        let [rr] = merged(comm, &[rr]);
-        let mut rz_new = merged(comm, &rz_exact);
+        // rr and rᵀz in one exchange.
+        let (rr, mut rz_new) = merged_with(comm, &rr, &rz_exact);
         checked = false;
         // An overflowing recurrence sum cannot say "converged": ask the true residual.
         let estimate_ok = rr.is_finite();
         let estimate = Norm::from_sum(rr, top).relative_to(bnorm);
         if !estimate_ok || options.met(estimate, report.max_update) {
-            share_field(comm, x);
+            share_halo(comm, x);
             let (rt, _) = residual_norms_scaled(sys, x, &exps, comm);
             report.residual = rt.relative_to(bnorm);
             checked = true;
@@ -929,7 +931,7 @@ fn solve_cg<T: Real, const V: usize>(
                 }
             }
         }
-        share_field(comm, p);
+        share_halo(comm, p);
         rz = rz_new;
     }
     share_field(comm, x);

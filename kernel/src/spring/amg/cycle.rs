@@ -3,12 +3,16 @@
 //! same damped-Jacobi post-smoothing. Every operation is node-local or a fixed-order sum, so
 //! the result does not depend on how the nodes would be partitioned.
 
+use core::ops::Range;
+
 use super::setup::{csr_row, entries};
 use super::{at, seg, AmgHierarchy, Level};
 use crate::real::Real;
+use crate::spring::distributed::{share_field, share_halo, Collective};
 use crate::spring::system::SpringSystem;
 
-/// `t = b − A x` on level `l` (zero on fixed nodes of level 0, where `x` is zero).
+/// `t = b − A x` on level `l` (zero on fixed nodes of level 0, where `x` is zero); on level 0
+/// only at the `rows` (a process's own; `x` current on their neighbours).
 fn residual<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     h: &AmgHierarchy<'_, T>,
@@ -16,29 +20,42 @@ fn residual<T: Real, const V: usize>(
     x: &[[T; V]],
     b: &[[T; V]],
     t: &mut [[T; V]],
+    rows: &[Range<usize>],
 ) {
     let lv = h.layout.level(l);
     let diag = seg(h.values, lv.diag, lv.n);
     if l == 0 {
-        for (((_, fixed, row), (ti, &bi)), (&xi, &d)) in
-            sys.rows().zip(t.iter_mut().zip(b)).zip(x.iter().zip(diag))
-        {
-            if fixed {
-                *ti = [T::ZERO; V];
+        for range in rows {
+            let (Some(ts), Some(bs), Some(xs), Some(ds)) = (
+                t.get_mut(range.clone()),
+                b.get(range.clone()),
+                x.get(range.clone()),
+                diag.get(range.clone()),
+            ) else {
                 continue;
-            }
-            let mut ax = [T::ZERO; V];
-            for (a, &v) in ax.iter_mut().zip(&xi) {
-                *a = d * v;
-            }
-            for (j, k) in row {
-                let xj = x.get(j).copied().unwrap_or([T::ZERO; V]);
-                for (a, &v) in ax.iter_mut().zip(&xj) {
-                    *a -= k * v;
+            };
+            for (((_, fixed, row), (ti, &bi)), (&xi, &d)) in sys
+                .rows_in(range.clone())
+                .zip(ts.iter_mut().zip(bs))
+                .zip(xs.iter().zip(ds))
+            {
+                if fixed {
+                    *ti = [T::ZERO; V];
+                    continue;
                 }
-            }
-            for ((r, &bv), &a) in ti.iter_mut().zip(&bi).zip(&ax) {
-                *r = bv - a;
+                let mut ax = [T::ZERO; V];
+                for (a, &v) in ax.iter_mut().zip(&xi) {
+                    *a = d * v;
+                }
+                for (j, k) in row {
+                    let xj = x.get(j).copied().unwrap_or([T::ZERO; V]);
+                    for (a, &v) in ax.iter_mut().zip(&xj) {
+                        *a -= k * v;
+                    }
+                }
+                for ((r, &bv), &a) in ti.iter_mut().zip(&bi).zip(&ax) {
+                    *r = bv - a;
+                }
             }
         }
     } else {
@@ -60,7 +77,8 @@ fn residual<T: Real, const V: usize>(
     }
 }
 
-/// `x += (ω_s / d) t` on the active unknowns of level `l` (step `s`'s weight).
+/// `x += (ω_s / d) t` on the active unknowns of level `l` (step `s`'s weight); on level 0
+/// only at the `rows`.
 fn jacobi_update<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     h: &AmgHierarchy<'_, T>,
@@ -68,6 +86,7 @@ fn jacobi_update<T: Real, const V: usize>(
     s: usize,
     x: &mut [[T; V]],
     t: &[[T; V]],
+    rows: &[Range<usize>],
 ) {
     let lv = h.layout.level(l);
     let w = h
@@ -77,10 +96,28 @@ fn jacobi_update<T: Real, const V: usize>(
         .copied()
         .unwrap_or(T::ZERO);
     let diag = seg(h.values, lv.diag, lv.n);
-    for (i, ((xi, ti), &d)) in x.iter_mut().zip(t).zip(diag).enumerate() {
-        if l == 0 && sys.is_fixed(i) {
-            continue;
+    if l == 0 {
+        for range in rows {
+            let (Some(xs), Some(ts), Some(ds)) = (
+                x.get_mut(range.clone()),
+                t.get(range.clone()),
+                diag.get(range.clone()),
+            ) else {
+                continue;
+            };
+            for (i, ((xi, ti), &d)) in (range.start..).zip(xs.iter_mut().zip(ts).zip(ds)) {
+                if sys.is_fixed(i) {
+                    continue;
+                }
+                let c = w / d;
+                for (xv, &tv) in xi.iter_mut().zip(ti) {
+                    *xv += c * tv;
+                }
+            }
         }
+        return;
+    }
+    for ((xi, ti), &d) in x.iter_mut().zip(t).zip(diag) {
         let c = w / d;
         for (xv, &tv) in xi.iter_mut().zip(ti) {
             *xv += c * tv;
@@ -88,7 +125,9 @@ fn jacobi_update<T: Real, const V: usize>(
     }
 }
 
-/// The smoother's steps on `A x = b`; from `x = 0` when `from_zero`.
+/// The smoother's steps on `A x = b`; from `x = 0` when `from_zero`. On level 0 only the
+/// `rows` are computed, and `x`'s halo is shared before every residual.
+#[allow(clippy::too_many_arguments)]
 fn smooth<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     h: &AmgHierarchy<'_, T>,
@@ -97,6 +136,8 @@ fn smooth<T: Real, const V: usize>(
     b: &[[T; V]],
     t: &mut [[T; V]],
     from_zero: bool,
+    rows: &[Range<usize>],
+    comm: &dyn Collective<T>,
 ) {
     let mut first = 0;
     if from_zero {
@@ -104,12 +145,15 @@ fn smooth<T: Real, const V: usize>(
         for x in x.iter_mut() {
             *x = [T::ZERO; V];
         }
-        jacobi_update(sys, h, l, 0, x, b);
+        jacobi_update(sys, h, l, 0, x, b, rows);
         first = 1;
     }
     for s in first..h.sweeps {
-        residual(sys, h, l, x, b, t);
-        jacobi_update(sys, h, l, s, x, t);
+        if l == 0 {
+            share_halo(comm, x);
+        }
+        residual(sys, h, l, x, b, t, rows);
+        jacobi_update(sys, h, l, s, x, t, rows);
     }
 }
 
@@ -140,14 +184,31 @@ fn restrict<T: Real, const V: usize>(
     }
 }
 
-/// `x += P xc`.
+/// `x += P xc` at the `rows` of `x`.
 fn prolong<T: Real, const V: usize>(
     h: &AmgHierarchy<'_, T>,
     lv: &Level,
     xc: &[[T; V]],
     x: &mut [[T; V]],
+    rows: &[Range<usize>],
 ) {
-    for (i, xi) in x.iter_mut().enumerate() {
+    for range in rows {
+        let Some(xs) = x.get_mut(range.clone()) else {
+            continue;
+        };
+        prolong_rows(h, lv, xc, xs, range.start);
+    }
+}
+
+/// [`prolong`] on `x`, the rows from `first` on.
+fn prolong_rows<T: Real, const V: usize>(
+    h: &AmgHierarchy<'_, T>,
+    lv: &Level,
+    xc: &[[T; V]],
+    x: &mut [[T; V]],
+    first: usize,
+) {
+    for (i, xi) in (first..).zip(x.iter_mut()) {
         let (s, len) = csr_row(h.index, lv.p_offs, lv.p_cols, i);
         let cols = seg(h.index, s, len);
         let vals = seg(h.values, lv.p_vals + (s - lv.p_cols), len);
@@ -223,6 +284,11 @@ fn parts<X>(buf: &mut [X], off: usize, n: usize) -> (&mut [X], &mut [X], &mut [X
 /// `z = M⁻¹ r`: one V-cycle from zero. `t` is a fine-level temporary, `coarse` holds three
 /// vectors per coarse level ([`AmgSizes::coarse_unknowns`](super::AmgSizes) × 3 items).
 /// `z` is zero on fixed nodes.
+///
+/// Split over the processes of `comm`: the fine level is computed at the own rows only
+/// (`r` needed there; `z` comes back right there), with `z`'s halo shared before each fine
+/// residual and the fine residual shared whole before the restriction; the coarse levels run
+/// whole on every process. Every row is computed as in one process, so `z` has the same bits.
 pub(crate) fn vcycle<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     h: &AmgHierarchy<'_, T>,
@@ -230,41 +296,47 @@ pub(crate) fn vcycle<T: Real, const V: usize>(
     z: &mut [[T; V]],
     t: &mut [[T; V]],
     coarse: &mut [[T; V]],
+    comm: &dyn Collective<T>,
 ) {
+    let rows = comm.owned();
     let last = h.layout.count.saturating_sub(1);
     // Down: pre-smooth, residual, restrict.
     for l in 0..last {
         let lv = h.layout.level(l);
         let next = h.layout.level(l + 1);
         if l == 0 {
-            smooth(sys, h, 0, z, r, t, true);
-            residual(sys, h, 0, z, r, t);
+            smooth(sys, h, 0, z, r, t, true, rows, comm);
+            share_halo(comm, z);
+            residual(sys, h, 0, z, r, t, rows);
+            share_field(comm, t);
             let (_, bc, _) = parts(coarse, 0, next.n);
             restrict(h, &lv, t, bc);
         } else {
+            let all = [Range { start: 0, end: lv.n }];
             let split = offset(h, l + 1);
             let (lo, hi) = coarse.split_at_mut(split.min(coarse.len()));
             let (x, b, tl) = parts(lo, offset(h, l), lv.n);
-            smooth(sys, h, l, x, b, tl, true);
-            residual(sys, h, l, x, b, tl);
+            smooth(sys, h, l, x, b, tl, true, &all, comm);
+            residual(sys, h, l, x, b, tl, &all);
             let (_, bc, _) = parts(hi, 0, next.n);
             restrict(h, &lv, tl, bc);
         }
     }
     // Coarsest level.
     if last == 0 {
-        smooth(sys, h, 0, z, r, t, true);
-        smooth(sys, h, 0, z, r, t, false);
+        smooth(sys, h, 0, z, r, t, true, rows, comm);
+        smooth(sys, h, 0, z, r, t, false, rows, comm);
         return;
     }
     {
         let lv = h.layout.level(last);
+        let all = [Range { start: 0, end: lv.n }];
         let (x, b, tl) = parts(coarse, offset(h, last), lv.n);
         if h.layout.dense_n > 0 {
             dense_solve(h, x, b);
         } else {
-            smooth(sys, h, last, x, b, tl, true);
-            smooth(sys, h, last, x, b, tl, false);
+            smooth(sys, h, last, x, b, tl, true, &all, comm);
+            smooth(sys, h, last, x, b, tl, false, &all, comm);
         }
     }
     // Up: prolong, post-smooth.
@@ -274,14 +346,15 @@ pub(crate) fn vcycle<T: Real, const V: usize>(
         let split = offset(h, l + 1);
         if l == 0 {
             let (xc, _, _) = parts(coarse, 0, next.n);
-            prolong(h, &lv, xc, z);
-            smooth(sys, h, 0, z, r, t, false);
+            prolong(h, &lv, xc, z, rows);
+            smooth(sys, h, 0, z, r, t, false, rows, comm);
         } else {
+            let all = [Range { start: 0, end: lv.n }];
             let (lo, hi) = coarse.split_at_mut(split.min(coarse.len()));
             let (xc, _, _) = parts(hi, 0, next.n);
             let (x, b, tl) = parts(lo, offset(h, l), lv.n);
-            prolong(h, &lv, xc, x);
-            smooth(sys, h, l, x, b, tl, false);
+            prolong(h, &lv, xc, x, &all);
+            smooth(sys, h, l, x, b, tl, false, &all, comm);
         }
     }
 }

@@ -6,7 +6,7 @@ use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::reduce::ExactSum;
 use crate::spring::distributed::{
-    check_owned, merged, merged_max, share_field, Collective, Serial,
+    check_owned, merged, merged_max, share_field, share_halo, Collective, Serial,
 };
 use crate::spring::linear::{cg_exponents, residual_norms_scaled};
 use crate::spring::norms::{scale_by, Norm};
@@ -66,7 +66,7 @@ pub fn amg_precondition<T: Real, const V: usize>(
             actual: scratch.len(),
         });
     };
-    vcycle(sys, hierarchy, r, z, t, coarse);
+    vcycle(sys, hierarchy, r, z, t, coarse, &Serial::new(n));
     zero_fixed(sys, z);
     Ok(())
 }
@@ -260,12 +260,12 @@ pub(crate) fn solve_amg_on<T: Real, const V: usize>(
                    z: &mut [[T; V]],
                    coarse: &mut [[T; V]]| {
         fine_residual(sys, owned, x, r);
-        share_field(comm, r);
-        vcycle(sys, hierarchy, r, z, q, coarse);
+        vcycle(sys, hierarchy, r, z, q, coarse, comm);
         zero_fixed(sys, z);
         for (p, &z) in p.iter_mut().zip(z.iter()) {
             *p = z;
         }
+        share_halo(comm, p);
         merged(comm, &dots_in(owned, r, z))
     };
     let mut rz = restart(x, r, p, q, z, coarse);
@@ -332,7 +332,7 @@ pub(crate) fn solve_amg_on<T: Real, const V: usize>(
         let estimate_ok = rr.is_finite();
         let estimate = Norm::from_sum(rr, top).relative_to(bnorm);
         if !estimate_ok || options.met(estimate, report.max_update) {
-            share_field(comm, x);
+            share_halo(comm, x);
             let (rt, _) = residual_norms_scaled(sys, x, &exps, comm);
             report.residual = rt.relative_to(bnorm);
             checked = true;
@@ -346,8 +346,7 @@ pub(crate) fn solve_amg_on<T: Real, const V: usize>(
                 continue;
             }
         }
-        share_field(comm, r);
-        vcycle(sys, hierarchy, r, z, q, coarse);
+        vcycle(sys, hierarchy, r, z, q, coarse, comm);
         zero_fixed(sys, z);
         let rz_new = merged(comm, &dots_in(owned, r, z));
         let mut beta = [T::ZERO; V];
@@ -356,11 +355,17 @@ pub(crate) fn solve_amg_on<T: Real, const V: usize>(
                 *b = new / old;
             }
         }
-        for (p, &z) in p.iter_mut().zip(z.iter()) {
-            for ((p, &z), &b) in p.iter_mut().zip(&z).zip(&beta) {
-                *p = z + b * *p;
+        for range in owned {
+            let (Some(p), Some(z)) = (p.get_mut(range.clone()), z.get(range.clone())) else {
+                continue;
+            };
+            for (p, &z) in p.iter_mut().zip(z.iter()) {
+                for ((p, &z), &b) in p.iter_mut().zip(&z).zip(&beta) {
+                    *p = z + b * *p;
+                }
             }
         }
+        share_halo(comm, p);
         rz = rz_new;
     }
     share_field(comm, x);
