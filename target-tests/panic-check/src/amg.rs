@@ -99,12 +99,16 @@ fn solve<T: Real, const V: usize>(sys: &SpringSystem<'_, T>, h: &AmgHierarchy<'_
     let sc = scratch.get_mut(..len).unwrap_or(&mut []);
     keep(amg_precondition(sys, h, bb(&x[..]), bb(&mut z[..]), bb(sc)));
     keep(&z);
-    // Through the solver handle, both kinds.
+    // Through the solver handle, every kind, split ones with opaque owned ranges.
+    let split = Opaque([bb(0..N / 2), bb(N / 2..N)]);
+    let cg = LinearMethod::Cg {
+        preconditioner: Preconditioner::Jacobi,
+    };
     for solver in [
         LinearSolver::Amg(h),
-        LinearSolver::Method(LinearMethod::Cg {
-            preconditioner: Preconditioner::Jacobi,
-        }),
+        LinearSolver::Method(cg),
+        LinearSolver::DistributedAmg(h, &split),
+        LinearSolver::Distributed(bb(cg), &split),
     ] {
         let solver = bb(solver);
         let len = solve_linear_with_scratch_len(&solver, bb(N));
@@ -118,5 +122,24 @@ fn solve<T: Real, const V: usize>(sys: &SpringSystem<'_, T>, h: &AmgHierarchy<'_
             bb(sc),
         ));
         keep(&y);
+    }
+}
+
+/// A collective whose owned ranges and messages the optimiser cannot see.
+#[derive(Debug)]
+struct Opaque([core::ops::Range<usize>; 2]);
+
+impl<T: Real> deform_kernel::spring::Collective<T> for Opaque {
+    fn owned(&self) -> &[core::ops::Range<usize>] {
+        bb(&self.0[..])
+    }
+    fn sum_words(&self, words: &mut [i64]) {
+        bb(words);
+    }
+    fn max(&self, values: &mut [T]) {
+        bb(values);
+    }
+    fn share(&self, field: &mut [T], width: usize) {
+        bb((field, width));
     }
 }

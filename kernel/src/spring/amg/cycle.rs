@@ -312,7 +312,10 @@ pub(crate) fn vcycle<T: Real, const V: usize>(
             let (_, bc, _) = parts(coarse, 0, next.n);
             restrict(h, &lv, t, bc);
         } else {
-            let all = [Range { start: 0, end: lv.n }];
+            let all = [Range {
+                start: 0,
+                end: lv.n,
+            }];
             let split = offset(h, l + 1);
             let (lo, hi) = coarse.split_at_mut(split.min(coarse.len()));
             let (x, b, tl) = parts(lo, offset(h, l), lv.n);
@@ -330,7 +333,10 @@ pub(crate) fn vcycle<T: Real, const V: usize>(
     }
     {
         let lv = h.layout.level(last);
-        let all = [Range { start: 0, end: lv.n }];
+        let all = [Range {
+            start: 0,
+            end: lv.n,
+        }];
         let (x, b, tl) = parts(coarse, offset(h, last), lv.n);
         if h.layout.dense_n > 0 {
             dense_solve(h, x, b);
@@ -349,7 +355,10 @@ pub(crate) fn vcycle<T: Real, const V: usize>(
             prolong(h, &lv, xc, z, rows);
             smooth(sys, h, 0, z, r, t, false, rows, comm);
         } else {
-            let all = [Range { start: 0, end: lv.n }];
+            let all = [Range {
+                start: 0,
+                end: lv.n,
+            }];
             let (lo, hi) = coarse.split_at_mut(split.min(coarse.len()));
             let (xc, _, _) = parts(hi, 0, next.n);
             let (x, b, tl) = parts(lo, offset(h, l), lv.n);
