@@ -47,7 +47,8 @@ pub(crate) fn mpi_check(ctx: &Ctx) -> bool {
 
 /// `ffi/examples/mpi_deform.c` under mpirun.
 fn c_example(ctx: &Ctx) -> bool {
-    let target = ctx.root.join("target/capi");
+    // Where host-tests build the C library (CARGO_TARGET_TMPDIR/capi-build): reused.
+    let target = ctx.root.join("target/tmp/capi-build");
     let capi = ctx.root.join(crate::ci::CAPI_MANIFEST);
     let mut build = ctx.cargo(&["build", "--release", "--manifest-path"]);
     build.arg(&capi).arg("--target-dir").arg(&target);
@@ -81,23 +82,13 @@ fn c_example(ctx: &Ctx) -> bool {
 
 /// `deform move` under mpirun against the serial run, byte for byte.
 fn deform_move_under_mpi(ctx: &Ctx) -> bool {
-    // Its own target directory: the feature set differs from every other step's `deform`.
-    let target = ctx.root.join("target/mpi");
-    let target_s = target.to_string_lossy();
-    let build = [
-        "build",
-        "-p",
-        "deform-cli",
-        "--features",
-        "mpi",
-        "--target-dir",
-        &target_s,
-    ];
-    if !run(&mut ctx.cargo(&build)) {
+    // The workspace's target directory: only deform-cli and the MPI crates compile anew.
+    if !run(&mut ctx.cargo(&["build", "-p", "deform-cli", "--features", "mpi"])) {
         return false;
     }
+    let target = ctx.root.join("target");
     let deform = target.join("debug/deform");
-    let work = target.join("runs");
+    let work = target.join("mpi-runs");
     if std::fs::create_dir_all(&work).is_err() {
         println!("xtask: cannot create {}", work.display());
         return false;
