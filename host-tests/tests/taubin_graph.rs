@@ -227,6 +227,136 @@ proptest! {
     }
 }
 
+/// A `nu × nv` grid with the diagonal of a triangulation, periodic in `i` and/or `j` (a
+/// torus numbers its last band next to its first: far edges both ways), plus `extra` edges
+/// between random nodes: symmetric, or (`one_way`) only from the later node to the earlier
+/// one, so a row reads a far earlier node that reads nothing far (a non-symmetric graph).
+#[allow(clippy::too_many_arguments)]
+fn banded_graph(
+    nu: usize,
+    nv: usize,
+    wrap_i: bool,
+    wrap_j: bool,
+    extra: usize,
+    one_way: bool,
+    seed: u64,
+) -> (Vec<u32>, Vec<u32>) {
+    let n = nu * nv;
+    let mut adj = vec![BTreeSet::new(); n];
+    let id = |i: usize, j: usize| (i % nu) + nu * (j % nv);
+    for j in 0..nv {
+        for i in 0..nu {
+            let a = id(i, j);
+            let mut link = |b: usize| {
+                if a != b {
+                    adj[a].insert(b as u32);
+                    adj[b].insert(a as u32);
+                }
+            };
+            if i + 1 < nu || wrap_i {
+                link(id(i + 1, j));
+            }
+            if j + 1 < nv || wrap_j {
+                link(id(i, j + 1));
+                if i + 1 < nu || wrap_i {
+                    link(id(i + 1, j + 1));
+                }
+            }
+        }
+    }
+    let mut s = seed;
+    for _ in 0..extra {
+        let mut next = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 33) as usize % n
+        };
+        let (a, b) = (next(), next());
+        if a != b {
+            let (lo, hi) = (a.min(b), a.max(b));
+            adj[hi].insert(lo as u32);
+            if !one_way {
+                adj[lo].insert(hi as u32);
+            }
+        }
+    }
+    let mut offsets = vec![0u32];
+    let mut targets = Vec::new();
+    for row in &adj {
+        // Unsorted rows: the filter must not rely on sorted neighbours.
+        let mut r: Vec<u32> = row.iter().copied().collect();
+        r.reverse();
+        targets.extend(r);
+        offsets.push(targets.len() as u32);
+    }
+    (offsets, targets)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// Graphs large and banded enough for the fused λ|μ iteration (the μ pass running a few
+    /// rows behind the λ pass, rows with far neighbours deferred), and non-symmetric ones where
+    /// it must not be used: values bitwise equal to the reference, and the reported change
+    /// equal to the one of two separate sweeps in the last iteration.
+    #[test]
+    fn banded_graphs_parity_with_reference_and_sweeps(
+        nu in 4usize..70, rows in 1300usize..2600, wrap_i in any::<bool>(), wrap_j in any::<bool>(),
+        extra in 0usize..12, one_way in any::<bool>(), seed in any::<u64>(),
+        weighting in 0u8..2, use_fixed in any::<bool>(), iterations in 0usize..5,
+    ) {
+        let nv = rows.div_ceil(nu).max(2);
+        let (offsets, targets) = banded_graph(nu, nv, wrap_i, wrap_j, extra, one_way, seed);
+        let graph = Graph::new(&offsets, &targets).unwrap();
+        let n = graph.node_count();
+        let values: Vec<[f64; 3]> = (0..n)
+            .map(|i| {
+                let t = (i as u64).wrapping_mul(2654435761) ^ seed;
+                [(t % 1000) as f64 / 300.0, ((t >> 10) % 777) as f64 / 100.0, i as f64 * 1e-3]
+            })
+            .collect();
+        let fixed: Vec<u8> = (0..n).map(|i| u8::from((i as u64 ^ seed) % 7 == 0)).collect();
+        let fixed_opt = use_fixed.then_some(&fixed[..]);
+        let weights: Option<Vec<f64>> = (weighting == 1)
+            .then(|| (0..targets.len()).map(|e| 0.1 + ((e as u64 * 7919 + seed) % 97) as f64 / 10.0).collect());
+        let opts = GraphOptions { weights: weights.as_deref(), fixed: fixed_opt };
+        let (lambda, mu) = (0.33, -0.34);
+        let mut got = values.clone();
+        let mut scratch = vec![[0.0; 3]; n];
+        let report = smooth_graph(&graph, &mut got, TaubinParams { lambda, mu }, iterations, &opts, &mut scratch).unwrap();
+        let want = taubin_ref::graph_filter(&offsets, &targets, weights.as_deref(), fixed_opt, &values, lambda, mu, iterations);
+        for (i, (a, b)) in got.iter().zip(&want).enumerate() {
+            for c in 0..3 {
+                prop_assert_eq!(a[c].to_bits(), b[c].to_bits(), "node {} comp {}", i, c);
+            }
+        }
+        let mut x = values.clone();
+        let mut y = vec![[0.0; 3]; n];
+        let mut last = 0.0f64;
+        for _ in 0..iterations {
+            let a = graph_sweep(&graph, &x, &mut y, lambda, &opts, 0..n).unwrap();
+            let b = graph_sweep(&graph, &y, &mut x, mu, &opts, 0..n).unwrap();
+            last = a.max(b);
+        }
+        prop_assert_eq!(&x, &got);
+        prop_assert_eq!(report.last_change.to_bits(), last.to_bits());
+        prop_assert_eq!(report.iterations, iterations);
+
+        // f32, V = 1.
+        let v32: Vec<[f32; 1]> = values.iter().map(|v| [v[0] as f32]).collect();
+        let w32: Option<Vec<f32>> = weights.as_ref().map(|w| w.iter().map(|&x| x as f32).collect());
+        let opts32 = GraphOptions { weights: w32.as_deref(), fixed: fixed_opt };
+        let mut got32 = v32.clone();
+        let mut scratch32 = vec![[0.0f32; 1]; n];
+        smooth_graph(&graph, &mut got32, TaubinParams { lambda: 0.33f32, mu: -0.34f32 }, iterations, &opts32, &mut scratch32).unwrap();
+        let want32 = taubin_ref::graph_filter(&offsets, &targets, w32.as_deref(), fixed_opt, &v32, 0.33f32, -0.34f32, iterations);
+        for (a, b) in got32.iter().zip(&want32) {
+            prop_assert_eq!(a[0].to_bits(), b[0].to_bits());
+        }
+    }
+}
+
 #[test]
 fn bad_inputs_give_typed_errors_and_leave_buffers_unchanged() {
     let (offsets, targets) = ring(6);
