@@ -153,19 +153,34 @@ fn sweep_fixed<T: Real, const V: usize, const TRACK: bool>(
     nodes: Range<usize>,
 ) -> T {
     let (g, w) = (pass.graph, pass.weight);
-    let pinned = |f: &[u8], i: usize| f.get(i).is_some_and(|&b| b != 0);
+    let free = core::iter::repeat(false);
+    let range = nodes.clone();
     match (pass.options.weights, pass.options.fixed) {
-        (Some(ws), Some(f)) => {
-            sweep_rows::<_, V, _, TRACK>(g, src, dst, w, nodes, Some(ws), |i| pinned(f, i))
-        }
-        (Some(ws), None) => {
-            sweep_rows::<_, V, _, TRACK>(g, src, dst, w, nodes, Some(ws), |_| false)
-        }
+        (Some(ws), Some(f)) => sweep_rows::<_, V, _, TRACK>(
+            g,
+            src,
+            dst,
+            w,
+            range,
+            Some(ws),
+            mask_flags(f, nodes.clone()),
+        ),
+        (Some(ws), None) => sweep_rows::<_, V, _, TRACK>(g, src, dst, w, range, Some(ws), free),
         (None, Some(f)) => {
-            sweep_rows::<_, V, _, TRACK>(g, src, dst, w, nodes, None, |i| pinned(f, i))
+            sweep_rows::<_, V, _, TRACK>(g, src, dst, w, range, None, mask_flags(f, nodes.clone()))
         }
-        (None, None) => sweep_rows::<_, V, _, TRACK>(g, src, dst, w, nodes, None, |_| false),
+        (None, None) => sweep_rows::<_, V, _, TRACK>(g, src, dst, w, range, None, free),
     }
+}
+
+/// The fixed mask as one flag per node from `nodes.start` on (false beyond the mask's end,
+/// as `get` would say), so the loop needs no node index.
+fn mask_flags(mask: &[u8], nodes: Range<usize>) -> impl Iterator<Item = bool> + '_ {
+    mask.get(nodes.start..)
+        .unwrap_or(&[])
+        .iter()
+        .map(|&b| b != 0)
+        .chain(core::iter::repeat(false))
 }
 
 /// `count` ones summed in `T`, as the weighted loop sums uniform weights: `count` while it
@@ -179,12 +194,12 @@ fn ones_sum<T: Real>(count: usize) -> T {
 
 /// The loop of [`sweep_core`] for one combination: `weights` per directed edge (row slices
 /// fetched once per node) or uniform (`w = 1`: the weight sum is the neighbour count and
-/// `1 · x` is `x`, so the loop only adds), and `fixed(i)`. Offsets,
+/// `1 · x` is `x`, so the loop only adds), and `fixed` (one flag per node of the range). Offsets,
 /// values and outputs are walked as contiguous slices of the range; the largest change is
 /// kept per component and reduced at the end (a maximum: the order does not matter), or not
 /// at all without `TRACK`.
 #[inline(always)]
-fn sweep_rows<T: Real, const V: usize, F: Fn(usize) -> bool, const TRACK: bool>(
+fn sweep_rows<T: Real, const V: usize, F: Iterator<Item = bool>, const TRACK: bool>(
     graph: &Graph<'_>,
     src: &[[T; V]],
     dst: &mut [[T; V]],
@@ -204,12 +219,9 @@ fn sweep_rows<T: Real, const V: usize, F: Fn(usize) -> bool, const TRACK: bool>(
     ) else {
         return T::ZERO;
     };
-    for ((i, (pair, &x)), y) in (nodes.start..)
-        .zip(offsets.windows(2).zip(xs))
-        .zip(out.iter_mut())
-    {
+    for ((pinned, (pair, &x)), y) in fixed.zip(offsets.windows(2).zip(xs)).zip(out.iter_mut()) {
         let mut new = x;
-        if let (false, &[a, b]) = (fixed(i), pair) {
+        if let (false, &[a, b]) = (pinned, pair) {
             let (a, b) = (a as usize, b as usize);
             let row = targets.get(a..b).unwrap_or(&[]);
             let mut sum = [T::ZERO; V];
