@@ -205,6 +205,19 @@ fn check_len(arg: &'static str, actual: usize, expected: usize) -> Result<()> {
     }
 }
 
+/// Checks the IDW exponent `p`: finite and positive.
+#[inline]
+fn check_exponent<T: Real>(exponent: T) -> Result<()> {
+    if exponent.is_finite() && exponent > T::ZERO {
+        Ok(())
+    } else {
+        Err(Error::InvalidParameter {
+            arg: "exponent",
+            reason: "must be finite and positive",
+        })
+    }
+}
+
 /// Checks `actual >= needed` for a buffer.
 #[inline]
 fn check_buffer(arg: &'static str, actual: usize, needed: usize) -> Result<()> {

@@ -98,7 +98,7 @@
 //! are computed by the exact method's robust path.
 
 use super::propagate::{check_boundary_entries, idw_point};
-use super::{check_buffer, check_dim, check_finite, check_len};
+use super::{check_buffer, check_dim, check_exponent, check_finite, check_len};
 use crate::error::{Error, Result};
 use crate::quat::Quat;
 use crate::real::Real;
@@ -248,12 +248,7 @@ pub fn propagate_idw_fast<T: Real, const D: usize>(
             value: b,
         });
     }
-    if !(exponent.is_finite() && exponent > T::ZERO) {
-        return Err(Error::InvalidParameter {
-            arg: "exponent",
-            reason: "must be finite and positive",
-        });
-    }
+    check_exponent(exponent)?;
     check_options_and_buffers::<T, D>(options, b, index.len(), scratch.len(), "scratch")?;
     let nodes_needed = propagate_idw_fast_scratch_len::<D>(b);
     check_finite("points", points)?;

@@ -4,9 +4,9 @@ use super::idw_fast::check_options_and_buffers;
 use super::rotations::{origin_core, rotations_core, translation};
 use super::springs::{propagate_spring_with, propagate_spring_with_scratch_len};
 use super::{
-    boundary_rotations_scratch_len, check_buffer, check_dim, check_finite, check_indices,
-    check_len, check_quats, check_scalar, propagate_idw, propagate_idw_fast, propagate_tfi,
-    tfi_scratch_len, update_points, IdwFastOptions, IdwFastReport, Pts,
+    boundary_rotations_scratch_len, check_buffer, check_dim, check_exponent, check_finite,
+    check_indices, check_len, check_quats, check_scalar, propagate_idw, propagate_idw_fast,
+    propagate_tfi, tfi_scratch_len, update_points, IdwFastOptions, IdwFastReport, Pts,
 };
 use crate::block::Block;
 use crate::cells::Cells;
@@ -181,6 +181,27 @@ fn boundary_values<T: Real, const D: usize>(
     Ok(origin)
 }
 
+/// [`validate`] with the scratch the boundary rotations need: the checks [`deform_idw`],
+/// [`deform_idw_fast`] and [`deform_spring_with`] share.
+fn validate_unstructured<T: Real, const D: usize>(
+    points: &[[T; D]],
+    motion: &BoundaryMotion<'_, T, D>,
+    translations: &[[T; D]],
+    rotations: &[Quat<T>],
+    scratch: &mut [T],
+    out: &[[T; D]],
+) -> Result<()> {
+    validate(
+        points,
+        motion,
+        translations,
+        rotations,
+        scratch,
+        boundary_rotations_scratch_len::<D>(motion.nodes.len()),
+        out,
+    )
+}
+
 /// Length of the `scratch` slice [`deform_idw`] needs: `max(N, rotation scratch)`.
 #[inline]
 pub fn deform_idw_scratch_len<const D: usize>(node_count: usize, boundary_len: usize) -> usize {
@@ -206,21 +227,8 @@ pub fn deform_idw<T: Real, const D: usize>(
     scratch: &mut [T],
     out: &mut [[T; D]],
 ) -> Result<[T; D]> {
-    validate(
-        points,
-        motion,
-        translations,
-        rotations,
-        scratch,
-        boundary_rotations_scratch_len::<D>(motion.nodes.len()),
-        out,
-    )?;
-    if !(exponent.is_finite() && exponent > T::ZERO) {
-        return Err(Error::InvalidParameter {
-            arg: "exponent",
-            reason: "must be finite and positive",
-        });
-    }
+    validate_unstructured(points, motion, translations, rotations, scratch, out)?;
+    check_exponent(exponent)?;
     let origin = boundary_values(points, motion, translations, rotations, scratch)?;
     propagate_idw(points, motion.nodes, exponent, translations, rotations)?;
     update_points(
@@ -256,21 +264,8 @@ pub fn deform_idw_fast<T: Real, const D: usize>(
     tree: &mut [T],
     out: &mut [[T; D]],
 ) -> Result<([T; D], IdwFastReport<T>)> {
-    validate(
-        points,
-        motion,
-        translations,
-        rotations,
-        scratch,
-        boundary_rotations_scratch_len::<D>(motion.nodes.len()),
-        out,
-    )?;
-    if !(exponent.is_finite() && exponent > T::ZERO) {
-        return Err(Error::InvalidParameter {
-            arg: "exponent",
-            reason: "must be finite and positive",
-        });
-    }
+    validate_unstructured(points, motion, translations, rotations, scratch, out)?;
+    check_exponent(exponent)?;
     check_options_and_buffers::<T, D>(
         options,
         motion.nodes.len(),
@@ -426,15 +421,7 @@ pub fn deform_spring_with<T: Real, const D: usize, const V: usize>(
     values: &mut [[T; V]],
     out: &mut [[T; D]],
 ) -> Result<([T; D], SolveReport<T>)> {
-    validate(
-        points,
-        motion,
-        translations,
-        rotations,
-        scratch,
-        boundary_rotations_scratch_len::<D>(motion.nodes.len()),
-        out,
-    )?;
+    validate_unstructured(points, motion, translations, rotations, scratch, out)?;
     check_len("sys", sys.node_count(), points.len())?;
     if V != D + 4 {
         return Err(Error::InvalidParameter {

@@ -1,6 +1,6 @@
 //! Inverse-distance propagation of `(Δ, Q)` into the field.
 
-use super::{check_dim, check_finite, check_indices, check_len};
+use super::{check_dim, check_exponent, check_finite, check_indices, check_len};
 use crate::error::{Error, Result};
 use crate::quat::{Quat, QuatAverage};
 use crate::real::Real;
@@ -86,12 +86,7 @@ pub fn propagate_idw<T: Real, const D: usize>(
             reason: "must not be empty",
         });
     }
-    if !(exponent.is_finite() && exponent > T::ZERO) {
-        return Err(Error::InvalidParameter {
-            arg: "exponent",
-            reason: "must be finite and positive",
-        });
-    }
+    check_exponent(exponent)?;
     check_finite("points", points)?;
     check_boundary_entries(boundary, translations, rotations)?;
 
