@@ -2,7 +2,8 @@
 
 use core::ops::Range;
 
-use super::norms::{scale_by, sweep_exponent, Norm, SumSq};
+use super::linear::{drive_sweeps, Sweeps};
+use super::norms::{scale_by, Norm, SumSq};
 use super::system::{check_omega, check_values, SolveOptions, SolveReport, SpringSystem, Sweep};
 use crate::error::{Error, Result};
 use crate::real::Real;
@@ -390,7 +391,6 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
         }
     }
 
-    /// Gauss–Seidel-order sweep without validation.
     /// Gauss–Seidel-order sweep without validation, over-relaxed by `omega` (1 = plain
     /// Gauss–Seidel: `1 · δ` is `δ`, so those bits do not depend on the factor).
     fn gauss_seidel_core(
@@ -712,6 +712,44 @@ pub fn angle_rigidity_probe<T: Real, const D: usize>(
     }
 }
 
+/// The angle springs' direct method as [`drive_sweeps`] runs it: node-wise Cramer solves in
+/// Jacobi order (`values` and `other` alternating) or Gauss–Seidel order, over-relaxed by
+/// `omega`.
+struct DirectSweeps<'s, 'a, 'v, T: Real, const D: usize> {
+    sys: &'s AngleSystem<'a, T, D>,
+    values: &'v mut [[T; D]],
+    other: &'v mut [[T; D]],
+    jacobi: bool,
+    omega: T,
+    in_other: bool,
+}
+
+impl<T: Real, const D: usize> Sweeps<T> for DirectSweeps<'_, '_, '_, T, D> {
+    fn sweep(&mut self, sigma: T) -> Sweep<T> {
+        let n = self.sys.base.node_count();
+        if !self.jacobi {
+            return self
+                .sys
+                .gauss_seidel_core(0..n, self.values, self.omega, sigma);
+        }
+        let stats = if self.in_other {
+            self.sys.jacobi_core(0..n, self.other, self.values, sigma)
+        } else {
+            self.sys.jacobi_core(0..n, self.values, self.other, sigma)
+        };
+        self.in_other = !self.in_other;
+        stats
+    }
+    fn residual(&mut self) -> Norm<T> {
+        let current: &[[T; D]] = if self.in_other {
+            self.other
+        } else {
+            self.values
+        };
+        self.sys.residual_norms(current, 0).0
+    }
+}
+
 /// Solves the angle-inclusion springs for the free nodes' displacements:
 /// `Σ_j B_ij (x_j − x_i) = 0` (Yang & Özgen eq. 3 = 0, eq. 4 `K_aa q_a = −K_ab q_b`).
 /// `values` holds the prescribed displacements at fixed nodes and the initial guess at free
@@ -837,44 +875,20 @@ fn solve_angle_core<T: Real, const D: usize>(
     }
     match method {
         AngleMethod::DirectGaussSeidel | AngleMethod::DirectJacobi => {
-            let jacobi = method == AngleMethod::DirectJacobi;
             let other = scratch.get_mut(..n).unwrap_or(&mut []);
-            let mut in_other = false;
-            let mut checked = false;
-            let est_exp = sweep_exponent(&r0, &bnorm);
-            let sigma = T::pow2(-est_exp);
-            while report.iterations < options.max_iterations {
-                let stats = if !jacobi {
-                    sys.gauss_seidel_core(0..n, values, omega, sigma)
-                } else if in_other {
-                    sys.jacobi_core(0..n, other, values, sigma)
-                } else {
-                    sys.jacobi_core(0..n, values, other, sigma)
-                };
-                if jacobi {
-                    in_other = !in_other;
-                }
-                report.iterations += 1;
-                report.max_update = stats.max_change;
-                checked = false;
-                let estimate = Norm::from_sum(stats.residual_sq, est_exp).relative_to(bnorm);
-                if options.met(estimate, stats.max_change) {
-                    let current: &[[T; D]] = if in_other { other } else { values };
-                    report.residual = sys.residual_norms(current, 0).0.relative_to(bnorm);
-                    checked = true;
-                    if options.met(report.residual, stats.max_change) {
-                        report.converged = true;
-                        break;
-                    }
-                }
-            }
-            if in_other {
-                for (v, o) in values.iter_mut().zip(other.iter()) {
+            let mut direct = DirectSweeps {
+                sys,
+                values,
+                other,
+                jacobi: method == AngleMethod::DirectJacobi,
+                omega,
+                in_other: false,
+            };
+            let report = drive_sweeps(&mut direct, r0, bnorm, 0, options);
+            if direct.in_other {
+                for (v, o) in direct.values.iter_mut().zip(direct.other.iter()) {
                     *v = *o;
                 }
-            }
-            if !checked {
-                report.residual = sys.residual_norms(values, 0).0.relative_to(bnorm);
             }
             Ok(report)
         }

@@ -420,15 +420,27 @@ pub(crate) fn solve_linear_on<T: Real, const V: usize>(
     }
 }
 
-fn solve_jacobi<T: Real, const V: usize>(
-    sys: &SpringSystem<'_, T>,
-    values: &mut [[T; V]],
+/// A stationary method as [`drive_sweeps`] runs it: one sweep of the current iterate, and the
+/// residual norm of the current iterate (Jacobi variants alternate two buffers).
+pub(crate) trait Sweeps<T: Real> {
+    /// One sweep; the residuals it sees, scaled by `sigma`, are summed in the result.
+    fn sweep(&mut self, sigma: T) -> Sweep<T>;
+    /// `‖b − A x‖` of the current iterate.
+    fn residual(&mut self) -> Norm<T>;
+}
+
+/// The iteration every stationary solve shares (linear Jacobi/SOR, the sliding block sweeps,
+/// the angle springs' direct method): sweep until the one-step-late residual estimate and the
+/// largest update meet `options`, confirm with the true residual, and report the final
+/// residual. `update_exp` unscales the update for the test (0 when the values are unscaled);
+/// the report's `max_update` is the sweep's own.
+pub(crate) fn drive_sweeps<T: Real, S: Sweeps<T>>(
+    method: &mut S,
+    r0: Norm<T>,
+    bnorm: Norm<T>,
+    update_exp: i32,
     options: &SolveOptions<T>,
-    scratch: &mut [[T; V]],
 ) -> SolveReport<T> {
-    let n = sys.node_count();
-    let other = scratch.get_mut(..n).unwrap_or(&mut []);
-    let (r0, bnorm) = residual_norms(sys, values);
     let est_exp = sweep_exponent(&r0, &bnorm);
     let sigma = T::pow2(-est_exp);
     let mut report = SolveReport {
@@ -441,39 +453,96 @@ fn solve_jacobi<T: Real, const V: usize>(
         report.converged = true;
         return report;
     }
-    let mut in_other = false;
     let mut checked = false;
     while report.iterations < options.max_iterations {
-        let stats = if in_other {
-            jacobi_core(sys, 0..n, other, values, sigma)
-        } else {
-            jacobi_core(sys, 0..n, values, other, sigma)
-        };
-        in_other = !in_other;
+        let stats = method.sweep(sigma);
         report.iterations += 1;
         report.max_update = stats.max_change;
         // The sweep's residual is that of its input: a cheap, one-step-late estimate.
         let estimate = Norm::from_sum(stats.residual_sq, est_exp).relative_to(bnorm);
+        let update = scale_by(stats.max_change, update_exp);
         checked = false;
-        if options.met(estimate, stats.max_change) {
-            let current: &[[T; V]] = if in_other { other } else { values };
-            let (r, _) = residual_norms(sys, current);
-            report.residual = r.relative_to(bnorm);
+        if options.met(estimate, update) {
+            report.residual = method.residual().relative_to(bnorm);
             checked = true;
-            if options.met(report.residual, stats.max_change) {
+            if options.met(report.residual, update) {
                 report.converged = true;
                 break;
             }
         }
     }
-    if in_other {
-        for (v, o) in values.iter_mut().zip(other.iter()) {
+    if !checked {
+        report.residual = method.residual().relative_to(bnorm);
+    }
+    report
+}
+
+/// Jacobi on the linear springs: `values` and `other` alternate as input and output.
+struct LinearJacobi<'s, 'a, 'v, T: Real, const V: usize> {
+    sys: &'s SpringSystem<'a, T>,
+    values: &'v mut [[T; V]],
+    other: &'v mut [[T; V]],
+    in_other: bool,
+}
+
+impl<T: Real, const V: usize> Sweeps<T> for LinearJacobi<'_, '_, '_, T, V> {
+    fn sweep(&mut self, sigma: T) -> Sweep<T> {
+        let n = self.sys.node_count();
+        let stats = if self.in_other {
+            jacobi_core(self.sys, 0..n, self.other, self.values, sigma)
+        } else {
+            jacobi_core(self.sys, 0..n, self.values, self.other, sigma)
+        };
+        self.in_other = !self.in_other;
+        stats
+    }
+    fn residual(&mut self) -> Norm<T> {
+        let current: &[[T; V]] = if self.in_other {
+            self.other
+        } else {
+            self.values
+        };
+        residual_norms(self.sys, current).0
+    }
+}
+
+/// Gauss–Seidel / SOR on the linear springs, in place.
+struct LinearSor<'s, 'a, 'v, T: Real, const V: usize> {
+    sys: &'s SpringSystem<'a, T>,
+    values: &'v mut [[T; V]],
+    omega: T,
+}
+
+impl<T: Real, const V: usize> Sweeps<T> for LinearSor<'_, '_, '_, T, V> {
+    fn sweep(&mut self, sigma: T) -> Sweep<T> {
+        let n = self.sys.node_count();
+        sor_core(self.sys, 0..n, self.values, self.omega, sigma)
+    }
+    fn residual(&mut self) -> Norm<T> {
+        residual_norms(self.sys, self.values).0
+    }
+}
+
+fn solve_jacobi<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    values: &mut [[T; V]],
+    options: &SolveOptions<T>,
+    scratch: &mut [[T; V]],
+) -> SolveReport<T> {
+    let n = sys.node_count();
+    let other = scratch.get_mut(..n).unwrap_or(&mut []);
+    let (r0, bnorm) = residual_norms(sys, values);
+    let mut jacobi = LinearJacobi {
+        sys,
+        values,
+        other,
+        in_other: false,
+    };
+    let report = drive_sweeps(&mut jacobi, r0, bnorm, 0, options);
+    if jacobi.in_other {
+        for (v, o) in jacobi.values.iter_mut().zip(jacobi.other.iter()) {
             *v = *o;
         }
-    }
-    if !checked {
-        let (r, _) = residual_norms(sys, values);
-        report.residual = r.relative_to(bnorm);
     }
     report
 }
@@ -484,42 +553,9 @@ fn solve_sor<T: Real, const V: usize>(
     options: &SolveOptions<T>,
     omega: T,
 ) -> SolveReport<T> {
-    let n = sys.node_count();
     let (r0, bnorm) = residual_norms(sys, values);
-    let est_exp = sweep_exponent(&r0, &bnorm);
-    let sigma = T::pow2(-est_exp);
-    let mut report = SolveReport {
-        iterations: 0,
-        residual: r0.relative_to(bnorm),
-        max_update: T::ZERO,
-        converged: false,
-    };
-    if report.residual <= options.residual_tol {
-        report.converged = true;
-        return report;
-    }
-    let mut checked = false;
-    while report.iterations < options.max_iterations {
-        let stats = sor_core(sys, 0..n, values, omega, sigma);
-        report.iterations += 1;
-        report.max_update = stats.max_change;
-        let estimate = Norm::from_sum(stats.residual_sq, est_exp).relative_to(bnorm);
-        checked = false;
-        if options.met(estimate, stats.max_change) {
-            let (r, _) = residual_norms(sys, values);
-            report.residual = r.relative_to(bnorm);
-            checked = true;
-            if options.met(report.residual, stats.max_change) {
-                report.converged = true;
-                break;
-            }
-        }
-    }
-    if !checked {
-        let (r, _) = residual_norms(sys, values);
-        report.residual = r.relative_to(bnorm);
-    }
-    report
+    let mut sor = LinearSor { sys, values, omega };
+    drive_sweeps(&mut sor, r0, bnorm, 0, options)
 }
 
 /// `d_i = Σ_j k_ij` for every node, summed in CSR order (the same sums the sweeps form):

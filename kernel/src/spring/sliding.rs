@@ -35,12 +35,12 @@ use super::angle::{
     angle_probe_scratch_len, angle_rigidity_probe, cramer, AngleMethod, AngleSystem,
     MAX_AMPLIFICATION,
 };
-use super::linear::{diagonal, precondition};
-use super::norms::{scale_by, sweep_exponent, Norm, SumSq};
+use super::linear::{diagonal, drive_sweeps, precondition, Sweeps};
+use super::norms::{scale_by, Norm, SumSq};
 use super::solver::LinearSolver;
 use super::system::{
     check_omega, check_values, LinearMethod, Preconditioner, SolveOptions, SolveReport,
-    SpringSystem,
+    SpringSystem, Sweep,
 };
 use crate::error::{Error, Result};
 use crate::real::Real;
@@ -519,6 +519,80 @@ fn solve<T: Real, const D: usize, O: BlockOp<T, D>>(
     Ok(report)
 }
 
+/// Block Jacobi (`omega = None`, second field in `other`) or in-place block SOR on `x`, as
+/// [`drive_sweeps`] runs them.
+struct BlockSweeps<'o, 'c, 'x, T: Real, const D: usize, O: BlockOp<T, D>> {
+    op: &'o O,
+    c: &'c Constraints<'c, T, D>,
+    x: &'x mut [[T; D]],
+    other: &'x mut [[T; D]],
+    omega: Option<T>,
+    in_other: bool,
+}
+
+impl<T: Real, const D: usize, O: BlockOp<T, D>> Sweeps<T> for BlockSweeps<'_, '_, '_, T, D, O> {
+    fn sweep(&mut self, sigma: T) -> Sweep<T> {
+        let (op, c, omega, n) = (self.op, self.c, self.omega, self.op.n());
+        let mut max_change = T::ZERO;
+        let mut residual_sq = ExactSum::new();
+        let mut visit = |i: usize, src: &[[T; D]]| -> Option<[T; D]> {
+            if op.fixed(i) {
+                return None;
+            }
+            let (r, m) = op.node(i, src);
+            let pr = c.project(i, r);
+            let d = op.block_solve(c, i, &m, pr);
+            let d = match omega {
+                Some(w) => vector::scale(d, w),
+                None => d,
+            };
+            for (&dc, &rc) in d.iter().zip(&pr) {
+                max_change = max_change.max(dc.abs());
+                let rs = rc * sigma;
+                residual_sq.add(rs * rs);
+            }
+            Some(d)
+        };
+        match omega {
+            Some(_) => {
+                for i in 0..n {
+                    if let Some(d) = visit(i, self.x) {
+                        if let Some(xi) = self.x.get_mut(i) {
+                            *xi = vector::add(*xi, d);
+                        }
+                    }
+                }
+            }
+            None => {
+                let (src, dst): (&[[T; D]], &mut [[T; D]]) = if self.in_other {
+                    (&*self.other, &mut *self.x)
+                } else {
+                    (&*self.x, &mut *self.other)
+                };
+                for i in 0..n {
+                    let new = match visit(i, src) {
+                        Some(d) => vector::add(src.get(i).copied().unwrap_or([T::ZERO; D]), d),
+                        None => src.get(i).copied().unwrap_or([T::ZERO; D]),
+                    };
+                    if let Some(o) = dst.get_mut(i) {
+                        *o = new;
+                    }
+                }
+                self.in_other = !self.in_other;
+            }
+        }
+        Sweep {
+            max_change,
+            residual_sq: residual_sq.value(),
+            residual_sum: residual_sq,
+        }
+    }
+    fn residual(&mut self) -> Norm<T> {
+        let current: &[[T; D]] = if self.in_other { self.other } else { self.x };
+        norms(self.op, self.c, current).0
+    }
+}
+
 /// Jacobi (`omega = None`, second field in `other`) or in-place block SOR sweeps on `x`.
 fn stationary<T: Real, const D: usize, O: BlockOp<T, D>>(
     op: &O,
@@ -537,93 +611,19 @@ fn stationary<T: Real, const D: usize, O: BlockOp<T, D>>(
         }
     }
     let (r0, bnorm) = norms(op, c, x);
-    let est_exp = sweep_exponent(&r0, &bnorm);
-    let sigma = T::pow2(-est_exp);
-    let mut report = SolveReport {
-        iterations: 0,
-        residual: r0.relative_to(bnorm),
-        max_update: T::ZERO,
-        converged: false,
+    let mut sweeps = BlockSweeps {
+        op,
+        c,
+        x,
+        other,
+        omega,
+        in_other: false,
     };
-    if report.residual <= options.residual_tol {
-        report.converged = true;
-        return report;
-    }
-    let mut in_other = false;
-    let mut checked = false;
-    while report.iterations < options.max_iterations {
-        let mut max_change = T::ZERO;
-        let mut rsq = ExactSum::new();
-        let mut visit = |i: usize, src: &[[T; D]]| -> Option<[T; D]> {
-            if op.fixed(i) {
-                return None;
-            }
-            let (r, m) = op.node(i, src);
-            let pr = c.project(i, r);
-            let d = op.block_solve(c, i, &m, pr);
-            let d = match omega {
-                Some(w) => vector::scale(d, w),
-                None => d,
-            };
-            for (&dc, &rc) in d.iter().zip(&pr) {
-                max_change = max_change.max(dc.abs());
-                let rs = rc * sigma;
-                rsq.add(rs * rs);
-            }
-            Some(d)
-        };
-        match omega {
-            Some(_) => {
-                for i in 0..n {
-                    if let Some(d) = visit(i, x) {
-                        if let Some(xi) = x.get_mut(i) {
-                            *xi = vector::add(*xi, d);
-                        }
-                    }
-                }
-            }
-            None => {
-                let (src, dst): (&[[T; D]], &mut [[T; D]]) = if in_other {
-                    (&*other, &mut *x)
-                } else {
-                    (&*x, &mut *other)
-                };
-                for i in 0..n {
-                    let new = match visit(i, src) {
-                        Some(d) => vector::add(src.get(i).copied().unwrap_or([T::ZERO; D]), d),
-                        None => src.get(i).copied().unwrap_or([T::ZERO; D]),
-                    };
-                    if let Some(o) = dst.get_mut(i) {
-                        *o = new;
-                    }
-                }
-                in_other = !in_other;
-            }
-        }
-        report.iterations += 1;
-        report.max_update = max_change;
-        let estimate = Norm::from_sum(rsq.value(), est_exp).relative_to(bnorm);
-        let unscaled_update = scale_by(max_change, e);
-        checked = false;
-        if options.met(estimate, unscaled_update) {
-            let current: &[[T; D]] = if in_other { other } else { x };
-            let (r, _) = norms(op, c, current);
-            report.residual = r.relative_to(bnorm);
-            checked = true;
-            if options.met(report.residual, unscaled_update) {
-                report.converged = true;
-                break;
-            }
-        }
-    }
-    if in_other {
-        for (v, o) in x.iter_mut().zip(other.iter()) {
+    let report = drive_sweeps(&mut sweeps, r0, bnorm, e, options);
+    if sweeps.in_other {
+        for (v, o) in sweeps.x.iter_mut().zip(sweeps.other.iter()) {
             *v = *o;
         }
-    }
-    if !checked {
-        let (r, _) = norms(op, c, x);
-        report.residual = r.relative_to(bnorm);
     }
     report
 }
