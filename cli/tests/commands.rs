@@ -3,18 +3,9 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-use common::{listing, tmp_dir};
+use common::{deform, listing, tmp_dir};
 use serde_json::Value;
-
-fn deform(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_deform"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run deform")
-}
 
 fn json(dir: &Path, args: &[&str]) -> Value {
     let mut v = vec!["--json"];

@@ -5,18 +5,10 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::tmp_dir;
-
-fn deform(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_deform"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run deform")
-}
+use common::{deform, tmp_dir};
 
 fn naca(dir: &Path, out: &str) {
     let o = deform(

@@ -5,18 +5,9 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-use common::tmp_dir;
+use common::{deform_json, deform_refused, naca_mesh, read_su2, tmp_dir};
 use serde_json::Value;
-
-fn deform(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_deform"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run deform")
-}
 
 fn run(dir: &Path, out: &str, extra: &[&str]) -> (Value, Vec<[f64; 3]>) {
     let mut args = vec![
@@ -24,37 +15,14 @@ fn run(dir: &Path, out: &str, extra: &[&str]) -> (Value, Vec<[f64; 3]>) {
         "--method", "idw", "--out", out,
     ];
     args.extend_from_slice(extra);
-    let o = deform(dir, &args);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let r = serde_json::from_slice(&o.stdout).expect("json");
-    let m = deform_cli::parse_su2(&std::fs::read(dir.join(out)).expect("read")).expect("parse");
-    (r, m.points)
+    let r = deform_json(dir, &args);
+    (r, read_su2(&dir.join(out)).points)
 }
 
 #[test]
 fn fast_idw_agrees_with_the_exact_propagation_within_its_bound() {
     let d = tmp_dir("move-idw-fast");
-    let o = deform(
-        &d,
-        &[
-            "mesh",
-            "naca",
-            "--kind",
-            "inviscid",
-            "--surface-points",
-            "96",
-            "--radial-points",
-            "24",
-            "--out",
-            "m.su2",
-        ],
-    );
-    assert!(o.status.success());
+    naca_mesh(&d, "inviscid", 96, 24, "m.su2");
     let (exact_r, exact) = run(&d, "exact.su2", &[]);
     assert!(exact_r["idw_max_bound"].is_null());
     let max_move = exact_r["max_displacement"].as_f64().expect("max");
@@ -89,28 +57,13 @@ fn fast_idw_agrees_with_the_exact_propagation_within_its_bound() {
 #[test]
 fn idw_theta_is_checked_and_only_for_idw() {
     let d = tmp_dir("move-idw-fast-bad");
-    let o = deform(
-        &d,
-        &[
-            "mesh",
-            "naca",
-            "--kind",
-            "inviscid",
-            "--surface-points",
-            "32",
-            "--radial-points",
-            "8",
-            "--out",
-            "m.su2",
-        ],
-    );
-    assert!(o.status.success());
+    naca_mesh(&d, "inviscid", 32, 8, "m.su2");
     for (method, theta, needle) in [
         ("spring", "0.5", "applies to --method idw"),
         ("idw", "1.5", "[0, 1)"),
         ("idw", "nan", "[0, 1)"),
     ] {
-        let o = deform(
+        deform_refused(
             &d,
             &[
                 "move",
@@ -126,10 +79,9 @@ fn idw_theta_is_checked_and_only_for_idw() {
                 "--out",
                 "o.su2",
             ],
+            1,
+            needle,
+            "o.su2",
         );
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(o.status.code(), Some(1), "{err}");
-        assert!(err.contains(needle), "{err}");
-        assert!(!d.join("o.su2").exists());
     }
 }

@@ -4,65 +4,18 @@
 
 mod common;
 
-use std::path::Path;
-use std::process::{Command, Output};
-
-use common::tmp_dir;
-
-fn deform(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_deform"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run deform")
-}
-
-fn ok(dir: &Path, args: &[&str]) {
-    let o = deform(dir, args);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-}
-
-fn fails(dir: &Path, args: &[&str], code: i32, needle: &str) {
-    let o = deform(dir, args);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(code), "{args:?}: {err}");
-    assert!(err.contains(needle), "expected {needle:?} in {err:?}");
-    assert!(!dir.join("o.su2").exists());
-}
-
-fn mesh(path: &Path) -> deform_cli::formats::su2::Su2Mesh {
-    deform_cli::parse_su2(&std::fs::read(path).expect("read")).expect("parse")
-}
+use common::{deform_json, deform_ok, deform_refused, naca_mesh, read_su2, tmp_dir};
 
 #[test]
 fn each_marker_moves_exactly_as_it_would_alone() {
     let d = tmp_dir("move-motions");
-    ok(
-        &d,
-        &[
-            "mesh",
-            "naca",
-            "--kind",
-            "inviscid",
-            "--surface-points",
-            "64",
-            "--radial-points",
-            "20",
-            "--out",
-            "m.su2",
-        ],
-    );
+    naca_mesh(&d, "inviscid", 64, 20, "m.su2");
     std::fs::write(
         d.join("motions.txt"),
         "# airfoil pitches, far field drifts\nairfoil rotate -5 center 0.25,0  % nose up\n\nfarfield translate 0.5,0\n",
     )
     .expect("write");
-    ok(
+    deform_ok(
         &d,
         &[
             "move",
@@ -75,7 +28,7 @@ fn each_marker_moves_exactly_as_it_would_alone() {
             "both.su2",
         ],
     );
-    ok(
+    deform_ok(
         &d,
         &[
             "move",
@@ -93,9 +46,9 @@ fn each_marker_moves_exactly_as_it_would_alone() {
         ],
     );
     let (m, both, alone) = (
-        mesh(&d.join("m.su2")),
-        mesh(&d.join("both.su2")),
-        mesh(&d.join("alone.su2")),
+        read_su2(&d.join("m.su2")),
+        read_su2(&d.join("both.su2")),
+        read_su2(&d.join("alone.su2")),
     );
     for marker in &m.markers {
         for &n in &marker.elements.nodes {
@@ -117,7 +70,7 @@ fn each_marker_moves_exactly_as_it_would_alone() {
         }
     }
     // The report names each marker's own motion.
-    let o = deform(
+    let r = deform_json(
         &d,
         &[
             "--json",
@@ -131,8 +84,6 @@ fn each_marker_moves_exactly_as_it_would_alone() {
             "q.su2",
         ],
     );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let r: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
     let motions: Vec<String> = r["markers"]
         .as_array()
         .expect("markers")
@@ -148,7 +99,7 @@ fn each_marker_moves_exactly_as_it_would_alone() {
 #[test]
 fn conflicting_or_malformed_motions_are_refused_before_anything_is_written() {
     let d = tmp_dir("move-motions-bad");
-    ok(&d, &["mesh", "block", "--dims", "6,5", "--out", "b.su2"]);
+    deform_ok(&d, &["mesh", "block", "--dims", "6,5", "--out", "b.su2"]);
     let run = |text: &str, extra: &[&str], code: i32, needle: &str| {
         std::fs::write(d.join("mot.txt"), text).expect("write");
         let mut args = vec![
@@ -162,7 +113,7 @@ fn conflicting_or_malformed_motions_are_refused_before_anything_is_written() {
             "o.su2",
         ];
         args.extend_from_slice(extra);
-        fails(&d, &args, code, needle);
+        deform_refused(&d, &args, code, needle, "o.su2");
     };
     // imin and jmin share the corner node 0.
     run(
@@ -185,7 +136,7 @@ fn conflicting_or_malformed_motions_are_refused_before_anything_is_written() {
         "imin translate 0.1,0\njmin translate 0.1,0\n",
     )
     .expect("write");
-    ok(
+    deform_ok(
         &d,
         &[
             "move",

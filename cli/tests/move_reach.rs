@@ -5,18 +5,9 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-use common::tmp_dir;
+use common::{deform_json, deform_refused, naca_mesh, read_su2, tmp_dir};
 use serde_json::Value;
-
-fn deform(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_deform"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run deform")
-}
 
 fn pitched(dir: &Path, method: &str, out: &str, extra: &[&str]) -> Value {
     let mut args = vec![
@@ -24,36 +15,14 @@ fn pitched(dir: &Path, method: &str, out: &str, extra: &[&str]) -> Value {
         "--method", method, "--out", out,
     ];
     args.extend_from_slice(extra);
-    let o = deform(dir, &args);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).expect("JSON")
+    deform_json(dir, &args)
 }
 
 #[test]
 fn nothing_moves_beyond_the_reach() {
     let d = tmp_dir("move-reach");
-    let o = deform(
-        &d,
-        &[
-            "mesh",
-            "naca",
-            "--kind",
-            "inviscid",
-            "--surface-points",
-            "64",
-            "--radial-points",
-            "20",
-            "--out",
-            "m.su2",
-        ],
-    );
-    assert!(o.status.success());
-    let mesh = deform_cli::parse_su2(&std::fs::read(d.join("m.su2")).expect("read")).expect("mesh");
+    naca_mesh(&d, "inviscid", 64, 20, "m.su2");
+    let mesh = read_su2(&d.join("m.su2"));
     let airfoil: Vec<[f64; 3]> = mesh
         .markers
         .iter()
@@ -69,9 +38,7 @@ fn nothing_moves_beyond_the_reach() {
     for method in ["quaternion", "idw"] {
         let free = pitched(&d, method, "free.su2", &[]);
         let near = pitched(&d, method, "near.su2", &["--reach", "2"]);
-        let moved = deform_cli::parse_su2(&std::fs::read(d.join("near.su2")).expect("read"))
-            .expect("moved")
-            .points;
+        let moved = read_su2(&d.join("near.su2")).points;
         let mut beyond = 0;
         for (p, q) in mesh.points.iter().zip(&moved) {
             if dist(*p) >= 2.0 {
@@ -96,15 +63,14 @@ fn nothing_moves_beyond_the_reach() {
         );
         assert_eq!(near["inverted_cells"], 0, "{method}");
     }
-    let o = deform(
+    deform_refused(
         &d,
         &[
             "move", "m.su2", "--marker", "airfoil", "--rotate", "3", "--method", "spring",
             "--reach", "2", "--out", "o.su2",
         ],
+        1,
+        "--reach applies",
+        "o.su2",
     );
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(err.contains("--reach applies"), "{err}");
-    assert!(!d.join("o.su2").exists());
 }

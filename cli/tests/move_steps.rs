@@ -6,18 +6,9 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-use common::tmp_dir;
+use common::{deform, deform_json, deform_ok, deform_refused, naca_mesh, read_su2, tmp_dir};
 use serde_json::Value;
-
-fn deform(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_deform"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run deform")
-}
 
 fn moved(dir: &Path, method: &str, steps: &str, extra: &[&str]) -> Value {
     let out = format!("{method}_{steps}.su2");
@@ -26,41 +17,17 @@ fn moved(dir: &Path, method: &str, steps: &str, extra: &[&str]) -> Value {
         "--steps", steps, "--out", &out,
     ];
     args.extend_from_slice(extra);
-    let o = deform(dir, &args);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).expect("JSON report")
+    deform_json(dir, &args)
 }
 
 fn points(path: &Path) -> Vec<[f64; 3]> {
-    deform_cli::parse_su2(&std::fs::read(path).expect("read"))
-        .expect("parse")
-        .points
+    read_su2(path).points
 }
 
 #[test]
 fn a_large_rotation_in_steps_inverts_fewer_cells_and_ends_on_the_exact_motion() {
     let d = tmp_dir("move-steps");
-    let o = deform(
-        &d,
-        &[
-            "mesh",
-            "naca",
-            "--kind",
-            "inviscid",
-            "--surface-points",
-            "64",
-            "--radial-points",
-            "20",
-            "--out",
-            "m.su2",
-        ],
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    naca_mesh(&d, "inviscid", 64, 20, "m.su2");
     let one = moved(&d, "spring", "1", &["--rotate", "60"]);
     let eight = moved(&d, "spring", "8", &["--rotate", "60"]);
     assert_eq!(eight["steps"], 8);
@@ -76,7 +43,7 @@ fn a_large_rotation_in_steps_inverts_fewer_cells_and_ends_on_the_exact_motion() 
         inv(&one)
     );
     // The airfoil ends where one step puts it, bit for bit; the far field has not moved.
-    let mesh = deform_cli::parse_su2(&std::fs::read(d.join("m.su2")).expect("read")).expect("mesh");
+    let mesh = read_su2(&d.join("m.su2"));
     let (p1, p8) = (
         points(&d.join("spring_1.su2")),
         points(&d.join("spring_8.su2")),
@@ -124,17 +91,15 @@ fn steps_must_be_positive_and_are_not_offered_for_plot3d() {
         "{}",
         String::from_utf8_lossy(&o.stderr)
     );
-    let o = deform(&d, &["mesh", "block", "--dims", "5,4", "--out", "g.x"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let o = deform(
+    deform_ok(&d, &["mesh", "block", "--dims", "5,4", "--out", "g.x"]);
+    deform_refused(
         &d,
         &[
             "move", "g.x", "--wall", "jmin", "--rotate", "5", "--method", "tfi", "--steps", "3",
             "--out", "o.x",
         ],
+        3,
+        "--steps",
+        "o.x",
     );
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(3), "{err}");
-    assert!(err.contains("--steps"), "{err}");
-    assert!(!d.join("o.x").exists());
 }

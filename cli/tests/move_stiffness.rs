@@ -4,22 +4,13 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-use common::tmp_dir;
+use common::{deform_json, deform_refused, naca_mesh, tmp_dir};
 use serde_json::Value;
-
-fn deform(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_deform"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run deform")
-}
 
 fn pitch(dir: &Path, method: &str, stiffness: &str) -> Value {
     let out = format!("{method}_{stiffness}.su2");
-    let o = deform(
+    deform_json(
         dir,
         &[
             "--json",
@@ -38,35 +29,13 @@ fn pitch(dir: &Path, method: &str, stiffness: &str) -> Value {
             "--out",
             &out,
         ],
-    );
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).expect("JSON report")
+    )
 }
 
 #[test]
 fn stiffer_small_and_near_wall_cells_invert_fewer_cells() {
     let d = tmp_dir("move-stiffness");
-    let o = deform(
-        &d,
-        &[
-            "mesh",
-            "naca",
-            "--kind",
-            "viscous",
-            "--surface-points",
-            "128",
-            "--radial-points",
-            "40",
-            "--out",
-            "v.su2",
-        ],
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    naca_mesh(&d, "viscous", 128, 40, "v.su2");
     let inverted = |r: &Value| r["inverted_cells"].as_u64().expect("count");
     let batina = pitch(&d, "spring", "batina");
     let wall = pitch(&d, "spring", "wall-distance");
@@ -91,23 +60,8 @@ fn stiffer_small_and_near_wall_cells_invert_fewer_cells() {
 #[test]
 fn a_stiffness_for_a_method_without_springs_is_refused() {
     let d = tmp_dir("move-stiffness-idw");
-    let o = deform(
-        &d,
-        &[
-            "mesh",
-            "naca",
-            "--kind",
-            "inviscid",
-            "--surface-points",
-            "32",
-            "--radial-points",
-            "8",
-            "--out",
-            "m.su2",
-        ],
-    );
-    assert!(o.status.success());
-    let o = deform(
+    naca_mesh(&d, "inviscid", 32, 8, "m.su2");
+    deform_refused(
         &d,
         &[
             "move",
@@ -123,9 +77,8 @@ fn a_stiffness_for_a_method_without_springs_is_refused() {
             "--out",
             "o.su2",
         ],
+        1,
+        "has no springs",
+        "o.su2",
     );
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(err.contains("has no springs"), "{err}");
-    assert!(!d.join("o.su2").exists());
 }

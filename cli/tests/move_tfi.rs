@@ -5,18 +5,9 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-use common::tmp_dir;
+use common::{deform, tmp_dir};
 use serde_json::Value;
-
-fn deform(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_deform"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run deform")
-}
 
 /// An elliptic O-grid (i around, j outward), 2D ASCII Plot3D with a block count.
 fn ogrid(dir: &Path) -> (usize, usize, Vec<[f64; 2]>) {

@@ -7,9 +7,8 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-use common::tmp_dir;
+use common::{deform, tmp_dir};
 use serde_json::Value;
 
 type Block = (usize, usize, Vec<[f64; 2]>);
@@ -47,14 +46,6 @@ fn read_p2d(path: &Path) -> Vec<Block> {
             (ni, nj, x.into_iter().zip(y).map(|(a, b)| [a, b]).collect())
         })
         .collect()
-}
-
-fn deform(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_deform"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run deform")
 }
 
 fn json(dir: &Path, args: &[&str]) -> Value {

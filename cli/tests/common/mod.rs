@@ -1,5 +1,9 @@
-//! Shared test helpers: small generated meshes and a deterministic random generator.
+//! Shared test helpers: small generated meshes, a deterministic random generator, and running
+//! the `deform` binary (exit codes, JSON reports, NACA meshes, SU2 files read back).
 #![allow(dead_code)]
+
+use std::path::Path;
+use std::process::{Command, Output};
 
 use deform_cli::formats::su2::{Su2Marker, Su2Mesh};
 use deform_cli::formats::CellList;
@@ -152,4 +156,65 @@ pub fn listing(dir: &std::path::Path) -> Vec<String> {
         .collect();
     v.sort();
     v
+}
+
+/// Runs the `deform` binary in `dir`.
+pub fn deform(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_deform"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("run deform")
+}
+
+/// Runs `deform` and asserts that it succeeded (its stderr in the message).
+pub fn deform_ok(dir: &Path, args: &[&str]) -> Output {
+    let o = deform(dir, args);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    o
+}
+
+/// Runs `deform` (with `--json` among `args`), asserts success and parses its report.
+pub fn deform_json(dir: &Path, args: &[&str]) -> serde_json::Value {
+    serde_json::from_slice(&deform_ok(dir, args).stdout).expect("JSON report")
+}
+
+/// Runs `deform` and asserts that it failed with `code`, said `needle` on stderr, and did
+/// not write `out`.
+pub fn deform_refused(dir: &Path, args: &[&str], code: i32, needle: &str, out: &str) {
+    let o = deform(dir, args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(code), "{args:?}: {err}");
+    assert!(err.contains(needle), "expected {needle:?} in {err:?}");
+    assert!(!dir.join(out).exists(), "{out} written");
+}
+
+/// `deform mesh naca --kind KIND` with `surface` × `radial` points into `dir/out`.
+pub fn naca_mesh(dir: &Path, kind: &str, surface: usize, radial: usize, out: &str) {
+    let (surface, radial) = (surface.to_string(), radial.to_string());
+    deform_ok(
+        dir,
+        &[
+            "mesh",
+            "naca",
+            "--kind",
+            kind,
+            "--surface-points",
+            &surface,
+            "--radial-points",
+            &radial,
+            "--out",
+            out,
+        ],
+    );
+}
+
+/// An SU2 file read back.
+pub fn read_su2(path: &Path) -> Su2Mesh {
+    deform_cli::parse_su2(&std::fs::read(path).expect("read")).expect("parse SU2")
 }
