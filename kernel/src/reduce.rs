@@ -147,17 +147,35 @@ impl ExactSum {
     /// Adds another partial sum (element-wise word addition: associative and commutative).
     pub fn merge(&mut self, other: &ExactSum) {
         self.settle();
-        let mut other = *other;
-        other.settle();
+        // `other` is read in place (no copy: 584 bytes matter on a small stack). Its digits
+        // obey `|d| ≤ (load + pending + 1) 2^32`; the sum obeys the bound with the two loads
+        // plus one, which stays far below `2^63` (each load is below `2^29 + 2^20`).
+        let other_load = other.words[LOAD].saturating_add(i64::from(other.pending));
         for (k, (a, &b)) in self.words.iter_mut().zip(&other.words).enumerate() {
-            *a = if k < DIGITS {
-                a.wrapping_add(b)
-            } else {
-                a.saturating_add(b)
-            };
+            if k < DIGITS {
+                *a = a.wrapping_add(b);
+            } else if k != LOAD {
+                *a = a.saturating_add(b);
+            }
         }
-        // Both digit sets obey `|d| ≤ (load + 1) 2^32`; the sum obeys it with load + 1 more.
-        self.words[LOAD] = self.words[LOAD].saturating_add(1);
+        self.words[LOAD] = self.words[LOAD]
+            .saturating_add(other_load)
+            .saturating_add(1);
+        if self.words[LOAD] >= LOAD_LIMIT {
+            self.normalize();
+        }
+    }
+
+    /// Sums this partial sum over all processes in place: the words are brought to the form
+    /// [`ExactSum::to_words`] returns, `sum_words` adds every other process's words into them
+    /// (`MPI_Allreduce` with `MPI_SUM` on `MPI_INT64_T`), and they are read back as
+    /// [`ExactSum::from_words`] would. No copy of the accumulator is made.
+    pub fn exchange(&mut self, sum_words: impl FnOnce(&mut [i64; EXACT_SUM_WORDS])) {
+        self.pending = 0;
+        self.normalize();
+        self.words[LOAD] = 1;
+        sum_words(&mut self.words);
+        self.words[LOAD] = self.words[LOAD].max(0);
         if self.words[LOAD] >= LOAD_LIMIT {
             self.normalize();
         }
@@ -211,30 +229,59 @@ impl ExactSum {
         if neg > 0 {
             return -T::INFINITY;
         }
-        let mut s = *self;
-        s.normalize();
-        let negative = s.words[DIGITS - 1] < 0;
-        if negative {
-            for d in s.words.iter_mut().take(DIGITS) {
-                *d = d.wrapping_neg();
+        // Two streaming passes over the digits, no copy of the accumulator: the first
+        // propagates the carries to find the sign (the top digit of the normalized number),
+        // the second normalizes again and, for a negative sum, negates and normalizes the
+        // digits on the fly, keeping the three highest non-zero magnitude digits seen so far
+        // and whether anything below them is non-zero.
+        let digits = &w[..DIGITS];
+        let mut carry = 0i64;
+        let mut top_digit = 0i64;
+        for (k, &d) in digits.iter().enumerate() {
+            let v = d.wrapping_add(carry);
+            if k + 1 == DIGITS {
+                top_digit = v;
             }
-            s.normalize();
+            carry = v >> 32;
         }
-        let digits = &s.words[..DIGITS];
-        let Some(h) = digits.iter().rposition(|&d| d != 0) else {
+        let negative = top_digit < 0;
+        let (mut carry, mut neg_carry) = (0i64, 0i64);
+        // Magnitude digits at positions k − 2, k − 1, k (rolling), and at the highest
+        // non-zero position found so far.
+        let mut window = [0u64; 3];
+        let mut found: Option<(usize, [u64; 3], bool)> = None;
+        let mut sticky_rest = false; // any non-zero magnitude digit below position k − 2
+        for (k, &d) in digits.iter().enumerate() {
+            let last = k + 1 == DIGITS;
+            let v = d.wrapping_add(carry);
+            carry = v >> 32;
+            let n = if last { v } else { v & 0xffff_ffff };
+            let m = if negative {
+                let u = n.wrapping_neg().wrapping_add(neg_carry);
+                neg_carry = u >> 32;
+                if last {
+                    u
+                } else {
+                    u & 0xffff_ffff
+                }
+            } else {
+                n
+            };
+            sticky_rest |= window[0] != 0;
+            window = [window[1], window[2], m as u64];
+            if m != 0 {
+                found = Some((k, window, sticky_rest));
+            }
+        }
+        let Some((h, [d2, d1, dh], sticky_rest)) = found else {
             return T::ZERO;
         };
         // Bits from 2^(32·66 − 1074) = 2^1038 up: beyond every finite number.
         if h >= DIGITS - 2 {
             return if negative { -T::INFINITY } else { T::INFINITY };
         }
-        let at = |k: usize| digits.get(k).copied().unwrap_or(0) as u64;
-        let (below1, below2) = (h.checked_sub(1), h.checked_sub(2));
-        let d1 = below1.map_or(0, at);
-        let d2 = below2.map_or(0, at);
-        let sticky_rest = below2.is_some_and(|b| digits.iter().take(b).any(|&d| d != 0));
         // 64-bit window with its top bit set, the bits below it folded into a sticky bit.
-        let top = (at(h) << 32) | d1;
+        let top = (dh << 32) | d1;
         let lz = top.leading_zeros();
         let (window, lost) = if lz == 0 {
             (top, d2)

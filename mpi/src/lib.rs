@@ -8,6 +8,7 @@
 
 use std::ops::Range;
 
+use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
 use deform_kernel::spring::Collective;
 use mpi::collective::SystemOperation;
 use mpi::datatype::{Partition, PartitionMut};
@@ -233,6 +234,25 @@ impl<C: Communicator> Collective<f64> for MpiCollective<'_, C> {
         let send = words.to_vec();
         self.comm
             .all_reduce_into(&send[..], words, SystemOperation::sum());
+    }
+
+    /// All sums in one `MPI_Allreduce` (their words packed into one buffer).
+    fn sum_exact(&self, groups: &mut [&mut [ExactSum]]) {
+        let mut words: Vec<i64> = groups
+            .iter()
+            .flat_map(|g| g.iter())
+            .flat_map(|s| s.to_words())
+            .collect();
+        self.sum_words(&mut words);
+        for (s, w) in groups
+            .iter_mut()
+            .flat_map(|g| g.iter_mut())
+            .zip(words.chunks_exact(EXACT_SUM_WORDS))
+        {
+            let mut a = [0i64; EXACT_SUM_WORDS];
+            a.copy_from_slice(w);
+            *s = ExactSum::from_words(a);
+        }
     }
 
     fn max(&self, values: &mut [f64]) {

@@ -309,8 +309,9 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
             _ => {
                 let qr = T::pow2(-pr.err().unwrap_or(0));
                 let qb = T::pow2(-pb.err().unwrap_or(0));
-                let mut sr = ExactSum::new();
-                let mut sb = ExactSum::new();
+                // The first pass's accumulators are reused (fewer sums on the stack).
+                let (sr, sb) = (&mut rs.sum, &mut bs.sum);
+                (*sr, *sb) = (ExactSum::new(), ExactSum::new());
                 self.for_each_free_residual(x, |r, b| {
                     sr.add(vector::norm_sq(vector::scale(*r, qr)));
                     sb.add(vector::norm_sq(vector::scale(*b, qb)));

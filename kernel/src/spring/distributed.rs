@@ -13,7 +13,7 @@
 use core::ops::Range;
 
 use crate::real::Real;
-use crate::reduce::{ExactSum, EXACT_SUM_WORDS};
+use crate::reduce::ExactSum;
 
 /// The message passing a distributed solve needs (one implementation per process; methods
 /// take `&self`, as an MPI communicator does).
@@ -23,6 +23,15 @@ pub trait Collective<T: Real>: core::fmt::Debug {
     fn owned(&self) -> &[Range<usize>];
     /// Element-wise sum over all processes, in place (`MPI_Allreduce`, `MPI_SUM`, `i64`).
     fn sum_words(&self, words: &mut [i64]);
+    /// Replaces every exact sum in `groups` by its sum over all processes. The default
+    /// exchanges each sum's words in place with [`sum_words`](Self::sum_words) (no buffer:
+    /// the kernel keeps no stack copies of its 584-byte accumulators); an implementation
+    /// with a heap may pack all of them into one exchange, as `deform-mpi` does.
+    fn sum_exact(&self, groups: &mut [&mut [ExactSum]]) {
+        for sum in groups.iter_mut().flat_map(|g| g.iter_mut()) {
+            sum.exchange(|words| self.sum_words(words));
+        }
+    }
     /// Element-wise maximum over all processes, in place (`MPI_Allreduce`, `MPI_MAX`).
     fn max(&self, values: &mut [T]);
     /// `field` holds `width` reals per node; on return every node holds the value its owner
@@ -56,6 +65,7 @@ impl<T: Real> Collective<T> for Serial {
         &self.all
     }
     fn sum_words(&self, _: &mut [i64]) {}
+    fn sum_exact(&self, _: &mut [&mut [ExactSum]]) {}
     fn max(&self, _: &mut [T]) {}
     fn share(&self, _: &mut [T], _: usize) {}
 }
@@ -63,52 +73,26 @@ impl<T: Real> Collective<T> for Serial {
 /// Merges per-component exact sums over all processes (one exchange) and rounds them.
 pub(crate) fn merged<T: Real, const V: usize>(
     comm: &dyn Collective<T>,
-    sums: &[ExactSum; V],
+    sums: &mut [ExactSum; V],
 ) -> [T; V] {
-    let mut out = [T::ZERO; V];
-    merge_into(comm, sums, &mut out);
-    out
+    comm.sum_exact(&mut [sums]);
+    sums.each_ref().map(|s| s.value())
 }
 
-/// Merges `first` and `rest` over all processes in one exchange (while they fit a batch).
+/// Merges one exact sum over all processes and rounds it.
+pub(crate) fn merged_one<T: Real>(comm: &dyn Collective<T>, sum: &mut ExactSum) -> T {
+    comm.sum_exact(&mut [core::slice::from_mut(sum)]);
+    sum.value()
+}
+
+/// Merges `first` and `rest` over all processes in one exchange and rounds them.
 pub(crate) fn merged_with<T: Real, const V: usize>(
     comm: &dyn Collective<T>,
-    first: &ExactSum,
-    rest: &[ExactSum; V],
+    first: &mut ExactSum,
+    rest: &mut [ExactSum; V],
 ) -> (T, [T; V]) {
-    if V + 1 > BATCH {
-        let [a] = merged(comm, &[*first]);
-        return (a, merged(comm, rest));
-    }
-    let mut sums = [ExactSum::new(); BATCH];
-    for (s, r) in sums.iter_mut().zip(core::iter::once(first).chain(rest)) {
-        *s = *r;
-    }
-    let mut out = [T::ZERO; BATCH];
-    merge_into(comm, sums.get(..V + 1).unwrap_or(&[]), &mut out);
-    let mut tail = [T::ZERO; V];
-    for (t, &o) in tail.iter_mut().zip(out.iter().skip(1)) {
-        *t = o;
-    }
-    (out[0], tail)
-}
-
-/// Sums exchanged at once (the stack buffer's size: 8 × 72 words).
-const BATCH: usize = 8;
-
-/// Merges `sums` over all processes and rounds them into `out`: one exchange per 8 sums.
-pub(crate) fn merge_into<T: Real>(comm: &dyn Collective<T>, sums: &[ExactSum], out: &mut [T]) {
-    for (sums, out) in sums.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
-        let mut words = [[0i64; EXACT_SUM_WORDS]; BATCH];
-        for (w, s) in words.iter_mut().zip(sums) {
-            *w = s.to_words();
-        }
-        let used = words.get_mut(..sums.len()).unwrap_or(&mut []);
-        comm.sum_words(used.as_flattened_mut());
-        for (o, w) in out.iter_mut().zip(used.iter()) {
-            *o = ExactSum::from_words(*w).value();
-        }
-    }
+    comm.sum_exact(&mut [core::slice::from_mut(first), rest]);
+    (first.value(), rest.each_ref().map(|s| s.value()))
 }
 
 /// Element-wise maximum over all processes.

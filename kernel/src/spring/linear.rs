@@ -252,8 +252,9 @@ pub(crate) fn residual_norms_scaled<T: Real, const V: usize>(
             // Second pass, each sum scaled by its own power of two.
             let qr = T::pow2(-pr.err().unwrap_or(0));
             let qb = T::pow2(-pb.err().unwrap_or(0));
-            let mut sr = ExactSum::new();
-            let mut sb = ExactSum::new();
+            // The first pass's accumulators are reused (no more sums on the stack).
+            let (sr, sb) = (&mut rs.sum, &mut bs.sum);
+            (*sr, *sb) = (ExactSum::new(), ExactSum::new());
             for_each_free_residual(sys, owned, x, |r, b| {
                 for ((&r, &b), &g) in r.iter().zip(b).zip(&g) {
                     let (r, b) = (r * g * qr, b * g * qb);
@@ -261,7 +262,8 @@ pub(crate) fn residual_norms_scaled<T: Real, const V: usize>(
                     sb.add(b * b);
                 }
             });
-            let [sr, sb] = merged(comm, &[sr, sb]);
+            comm.sum_exact(&mut [core::slice::from_mut(sr), core::slice::from_mut(sb)]);
+            let (sr, sb) = (sr.value(), sb.value());
             (
                 pr.unwrap_or_else(|e| Norm::from_sum(sr, e)),
                 pb.unwrap_or_else(|e| Norm::from_sum(sb, e)),
@@ -576,9 +578,10 @@ fn laplacian_apply<T: Real, const V: usize>(
     diag: &[T],
     p: &[[T; V]],
     q: &mut [[T; V]],
-) -> ([T; V], [ExactSum; V]) {
+    pq: &mut [ExactSum; V],
+) -> [T; V] {
     let mut dpp = [T::ZERO; V];
-    let mut pq = [ExactSum::new(); V];
+    pq.iter_mut().for_each(|s| *s = ExactSum::new());
     for range in owned {
         let (Some(qs), Some(ps), Some(ds)) = (
             q.get_mut(range.clone()),
@@ -609,7 +612,7 @@ fn laplacian_apply<T: Real, const V: usize>(
             *qi = acc;
         }
     }
-    (dpp, pq)
+    dpp
 }
 
 /// `z = M⁻¹ r` for the chosen preconditioner (zero on fixed nodes), `diag` from [`diagonal`].
@@ -699,16 +702,20 @@ fn ssor<T: Real, const V: usize>(
 }
 
 /// Per-component `Σ a·b` over all nodes, summed exactly ([`ExactSum`]: any split of the nodes
-/// gives the same bits).
+/// gives the same bits), accumulated in `s`.
 #[inline]
-pub(crate) fn dots<T: Real, const V: usize>(a: &[[T; V]], b: &[[T; V]]) -> [T; V] {
-    let mut s = [ExactSum::new(); V];
+pub(crate) fn dots<T: Real, const V: usize>(
+    a: &[[T; V]],
+    b: &[[T; V]],
+    s: &mut [ExactSum; V],
+) -> [T; V] {
+    s.iter_mut().for_each(|s| *s = ExactSum::new());
     for (x, y) in a.iter().zip(b) {
         for ((s, &x), &y) in s.iter_mut().zip(x).zip(y) {
             s.add(x * y);
         }
     }
-    s.map(|s| s.value())
+    s.each_ref().map(|s| s.value())
 }
 
 /// Per-component power-of-two exponents `e_c` for the scaled CG iterate `x_c · 2^−e_c`:
@@ -794,8 +801,12 @@ fn solve_cg<T: Real, const V: usize>(
     }
     // (Re)start: r = b − A x, z = M⁻¹ r, p = z on the owned rows (x current everywhere),
     // then p shared; returns rᵀz.
-    let restart = |x: &[[T; V]], r: &mut [[T; V]], p: &mut [[T; V]], w: &mut [[T; V]]| {
-        let mut rz = [ExactSum::new(); V];
+    let restart = |x: &[[T; V]],
+                   r: &mut [[T; V]],
+                   p: &mut [[T; V]],
+                   w: &mut [[T; V]],
+                   rz: &mut [ExactSum; V]| {
+        rz.iter_mut().for_each(|s| *s = ExactSum::new());
         if local {
             for range in owned {
                 for i in range.clone() {
@@ -839,7 +850,7 @@ fn solve_cg<T: Real, const V: usize>(
                 }
             }
         }
-        merged(comm, &rz)
+        merged(comm, rz)
     };
     if !local && owned.len() != 1 {
         return Err(Error::InvalidParameter {
@@ -847,14 +858,17 @@ fn solve_cg<T: Real, const V: usize>(
             reason: "SSOR sweeps the nodes in order: not with nodes split across processes",
         });
     }
-    let mut rz = restart(x, r, p, w);
+    // One set of per-component accumulators for every per-component sum of an iteration
+    // (each is rounded before the next begins): 584 bytes a component matter on a small stack.
+    let mut sums = [ExactSum::new(); V];
+    let mut rz = restart(x, r, p, w, &mut sums);
     let mut checked = true;
     let tiny = T::EPSILON;
     while report.iterations < options.max_iterations {
         report.iterations += 1;
-        let (dpp, pq) = laplacian_apply(sys, owned, diag, p, w);
+        let dpp = laplacian_apply(sys, owned, diag, p, w, &mut sums);
         let dpp = merged_max(comm, dpp);
-        let pq = merged(comm, &pq);
+        let pq = merged(comm, &mut sums);
         let mut alpha = [T::ZERO; V];
         for (((a, &pq), &dpp), &rz) in alpha.iter_mut().zip(&pq).zip(&dpp).zip(&rz) {
             if !(pq.is_finite() && rz.is_finite() && dpp.is_finite()) {
@@ -874,7 +888,8 @@ fn solve_cg<T: Real, const V: usize>(
         // (Jacobi or none) the preconditioned residual z (into w, over q) with rᵀz.
         let mut max_update = [T::ZERO; V];
         let mut rr = ExactSum::new();
-        let mut rz_exact = [ExactSum::new(); V];
+        let rz_exact = &mut sums;
+        rz_exact.iter_mut().for_each(|s| *s = ExactSum::new());
         for range in owned {
             let rows = range.clone();
             let (Some(x), Some(r), Some(p), Some(w), Some(d), Some(m)) = (
@@ -927,7 +942,7 @@ fn solve_cg<T: Real, const V: usize>(
             .zip(&exps)
             .fold(T::ZERO, |m, (&u, &e)| m.max(scale_by(u, e)));
         // rr and rᵀz in one exchange.
-        let (rr, mut rz_new) = merged_with(comm, &rr, &rz_exact);
+        let (rr, mut rz_new) = merged_with(comm, &mut rr, rz_exact);
         checked = false;
         // An overflowing recurrence sum cannot say "converged": ask the true residual.
         let estimate_ok = rr.is_finite();
@@ -943,13 +958,13 @@ fn solve_cg<T: Real, const V: usize>(
             }
             if estimate_ok {
                 // Recurrence and true residual disagree: restart from the true residual.
-                rz = restart(x, r, p, w);
+                rz = restart(x, r, p, w, &mut sums);
                 continue;
             }
         }
         if !local {
             precondition(sys, diag, pre, r, w);
-            rz_new = dots(r, w);
+            rz_new = dots(r, w, &mut sums);
         }
         let mut beta = [T::ZERO; V];
         for ((b, &new), &old) in beta.iter_mut().zip(&rz_new).zip(&rz) {

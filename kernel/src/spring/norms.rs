@@ -54,9 +54,7 @@ impl<T: Real> SumSq<T> {
 
     /// Merges the sum and maximum over all processes of `comm`.
     pub(crate) fn merge_over(&mut self, comm: &dyn crate::spring::Collective<T>) {
-        let mut w = self.sum.to_words();
-        comm.sum_words(&mut w);
-        self.sum = ExactSum::from_words(w);
+        comm.sum_exact(&mut [core::slice::from_mut(&mut self.sum)]);
         let mut m = [self.max];
         comm.max(&mut m);
         self.max = m[0];

@@ -434,8 +434,9 @@ fn norms<T: Real, const D: usize, O: BlockOp<T, D>>(
             let er = pr.err().unwrap_or(0);
             let eb = pb.err().unwrap_or(0);
             let (qr, qb) = (T::pow2(-er), T::pow2(-eb));
-            let mut sr = ExactSum::new();
-            let mut sb = ExactSum::new();
+            // The first pass's accumulators are reused (fewer sums on the stack).
+            let (sr, sb) = (&mut rs.sum, &mut bs.sum);
+            (*sr, *sb) = (ExactSum::new(), ExactSum::new());
             each(&mut |r, b| {
                 for (&r, &b) in r.iter().zip(b) {
                     let (r, b) = (r * qr, b * qb);

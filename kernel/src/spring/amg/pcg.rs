@@ -6,7 +6,7 @@ use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::reduce::ExactSum;
 use crate::spring::distributed::{
-    check_owned, merged, merged_max, share_field, share_halo, Collective, Serial,
+    check_owned, merged, merged_max, merged_one, share_field, share_halo, Collective, Serial,
 };
 use crate::spring::linear::{cg_exponents, residual_norms_scaled};
 use crate::spring::norms::{scale_by, Norm};
@@ -98,13 +98,14 @@ fn fine_residual<T: Real, const V: usize>(
     }
 }
 
-/// Per-component exact `Σ a·b` over the owned rows (merged by the caller).
-fn dots_in<T: Real, const V: usize>(
+/// Per-component exact `Σ a·b` over the owned rows into `s` (merged by the caller).
+fn dots_in<'s, T: Real, const V: usize>(
     owned: &[core::ops::Range<usize>],
     a: &[[T; V]],
     b: &[[T; V]],
-) -> [ExactSum; V] {
-    let mut s = [ExactSum::new(); V];
+    s: &'s mut [ExactSum; V],
+) -> &'s mut [ExactSum; V] {
+    s.iter_mut().for_each(|s| *s = ExactSum::new());
     for range in owned {
         let (Some(a), Some(b)) = (a.get(range.clone()), b.get(range.clone())) else {
             continue;
@@ -129,15 +130,16 @@ fn zero_fixed<T: Real, const V: usize>(sys: &SpringSystem<'_, T>, z: &mut [[T; V
 }
 
 /// `q = A p` at free nodes (`p` is zero at fixed nodes), and per component the curvature
-/// scale `max_i d_i p_i²` (exact and order-independent) and `pᵀq` (summed exactly).
+/// scale `max_i d_i p_i²` (exact and order-independent) and `pᵀq` (summed exactly into `pq`).
 fn apply<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     owned: &[core::ops::Range<usize>],
     p: &[[T; V]],
     q: &mut [[T; V]],
-) -> ([T; V], [ExactSum; V]) {
+    pq: &mut [ExactSum; V],
+) -> [T; V] {
     let mut dpp = [T::ZERO; V];
-    let mut pq = [ExactSum::new(); V];
+    pq.iter_mut().for_each(|s| *s = ExactSum::new());
     for range in owned {
         let (Some(qs), Some(ps)) = (q.get_mut(range.clone()), p.get(range.clone())) else {
             continue;
@@ -163,7 +165,7 @@ fn apply<T: Real, const V: usize>(
             *qi = acc;
         }
     }
-    (dpp, pq)
+    dpp
 }
 
 /// Solves the linear springs (the problem of [`solve_linear`](crate::spring::solve_linear)) by
@@ -258,7 +260,8 @@ pub(crate) fn solve_amg_on<T: Real, const V: usize>(
                    p: &mut [[T; V]],
                    q: &mut [[T; V]],
                    z: &mut [[T; V]],
-                   coarse: &mut [[T; V]]| {
+                   coarse: &mut [[T; V]],
+                   sums: &mut [ExactSum; V]| {
         fine_residual(sys, owned, x, r);
         vcycle(sys, hierarchy, r, z, q, coarse, comm);
         zero_fixed(sys, z);
@@ -266,16 +269,19 @@ pub(crate) fn solve_amg_on<T: Real, const V: usize>(
             *p = z;
         }
         share_halo(comm, p);
-        merged(comm, &dots_in(owned, r, z))
+        merged(comm, dots_in(owned, r, z, sums))
     };
-    let mut rz = restart(x, r, p, q, z, coarse);
+    // One set of per-component accumulators for every sum of an iteration (each is rounded
+    // before the next begins): 584 bytes a component matter on a small stack.
+    let mut sums = [ExactSum::new(); V];
+    let mut rz = restart(x, r, p, q, z, coarse, &mut sums);
     let mut checked = true;
     let tiny = T::EPSILON;
     while report.iterations < options.max_iterations {
         report.iterations += 1;
-        let (dpp, pq) = apply(sys, owned, p, q);
+        let dpp = apply(sys, owned, p, q, &mut sums);
         let dpp = merged_max(comm, dpp);
-        let pq = merged(comm, &pq);
+        let pq = merged(comm, &mut sums);
         let mut alpha = [T::ZERO; V];
         for (((a, &pq), &dpp), &rz) in alpha.iter_mut().zip(&pq).zip(&dpp).zip(&rz) {
             if !(pq.is_finite() && rz.is_finite() && dpp.is_finite()) {
@@ -326,7 +332,7 @@ pub(crate) fn solve_amg_on<T: Real, const V: usize>(
             .iter()
             .zip(&exps)
             .fold(T::ZERO, |m, (&u, &e)| m.max(scale_by(u, e)));
-        let [rr] = merged(comm, &[rr]);
+        let rr = merged_one(comm, &mut rr);
         checked = false;
         // An overflowing recurrence sum cannot say "converged": ask the true residual.
         let estimate_ok = rr.is_finite();
@@ -342,13 +348,13 @@ pub(crate) fn solve_amg_on<T: Real, const V: usize>(
             }
             if estimate_ok {
                 // Recurrence and true residual disagree: restart from the true residual.
-                rz = restart(x, r, p, q, z, coarse);
+                rz = restart(x, r, p, q, z, coarse, &mut sums);
                 continue;
             }
         }
         vcycle(sys, hierarchy, r, z, q, coarse, comm);
         zero_fixed(sys, z);
-        let rz_new = merged(comm, &dots_in(owned, r, z));
+        let rz_new = merged(comm, dots_in(owned, r, z, &mut sums));
         let mut beta = [T::ZERO; V];
         for ((b, &new), &old) in beta.iter_mut().zip(&rz_new).zip(&rz) {
             if old != T::ZERO {
