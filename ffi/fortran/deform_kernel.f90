@@ -40,6 +40,7 @@ module deform_kernel
   integer(c_int32_t), parameter, public :: DK_ERR_OVERFLOW = 26
   integer(c_int32_t), parameter, public :: DK_ERR_NOT_UNIT = 27
   integer(c_int32_t), parameter, public :: DK_ERR_NOT_PLANAR = 28
+  integer(c_int32_t), parameter, public :: DK_ERR_BAD_PLAN = 29
   integer(c_int32_t), parameter, public :: DK_ERR_OTHER = 99
 
   ! VTK cell kind codes.
@@ -192,6 +193,47 @@ module deform_kernel
     logical(c_bool) :: has_wall
   end type
 
+  ! Prepared plans (dk_plan_*): methods, solvers, starts.
+  integer(c_int32_t), parameter, public :: DK_PLAN_SPRING = 1, DK_PLAN_QUATERNION = 2
+  integer(c_int32_t), parameter, public :: DK_PLAN_SOLVER_AMG = 0, DK_PLAN_SOLVER_LINEAR = 1
+  integer(c_int32_t), parameter, public :: DK_PLAN_WARM = 0, DK_PLAN_COLD = 1
+
+  !> How a plan is built (C struct dk_plan_options); fill with dk_plan_options_default.
+  type, bind(C), public :: dk_plan_options
+    integer(c_int32_t) :: method
+    integer(c_int32_t) :: solver
+    real(c_double) :: stiffness_exponent
+    type(dk_spring_solve_options) :: linear
+  end type
+
+  !> Lengths of the plan pools or work buffers (C struct dk_plan_sizes).
+  type, bind(C), public :: dk_plan_sizes
+    integer(c_size_t) :: reals
+    integer(c_size_t) :: indices
+    integer(c_size_t) :: bytes
+  end type
+
+  !> What a plan holds (C struct dk_plan_info).
+  type, bind(C), public :: dk_plan_info
+    integer(c_size_t) :: nodes
+    integer(c_size_t) :: boundary
+    integer(c_int64_t) :: steps
+    integer(c_size_t) :: amg_levels
+    type(dk_plan_sizes) :: used
+    integer(c_int32_t) :: method
+  end type
+
+  !> What one dk_plan_step did (C struct dk_plan_step_report).
+  type, bind(C), public :: dk_plan_step_report
+    integer(c_size_t) :: iterations
+    real(c_double) :: residual
+    real(c_double) :: max_update
+    integer(c_int64_t) :: step
+    logical(c_bool) :: converged
+    logical(c_bool) :: warm
+    logical(c_bool) :: extrapolated
+  end type
+
   public :: dkf_spring_solve_linear, dkf_taubin_smooth_arclength, dkf_taubin_smooth_structured, &
             dkf_taubin_smooth_graph
   ! <<< end public: springs, quality, taubin >>>
@@ -284,6 +326,9 @@ module deform_kernel
             dk_deform_propagate_spring_scratch_len, dk_deform_propagate_spring, &
             dk_deform_propagate_spring_f32, dk_graph_from_edges_len, dk_graph_from_edges, &
             dk_cells_check, dk_graph_from_cells_len, dk_graph_from_cells, dk_graph_check, &
+            dk_plan_options_default, dk_plan_options_default_f32, dk_plan_work_sizes, &
+            dk_plan_work_sizes_f32, dk_plan_pool_sizes, dk_plan_pool_sizes_f32, dk_plan_init, &
+            dk_plan_init_f32, dk_plan_open, dk_plan_open_f32, dk_plan_step, dk_plan_step_f32, &
             dk_quality_cell_quality, dk_quality_cell_quality_f32, dk_quality_cell_measures, &
             dk_quality_cell_measures_f32, dk_quality_min_corner_jacobians, &
             dk_quality_min_corner_jacobians_f32, dk_quality_inverted_cells, &
@@ -1098,6 +1143,277 @@ module deform_kernel
       integer(c_int32_t), intent(in) :: targets(*)
       integer(c_size_t), value :: targets_len
       logical(c_bool), value :: require_symmetric
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_options_default(out) bind(C, name="dk_plan_options_default") result(s)
+      import :: c_int32_t, dk_plan_options
+      type(dk_plan_options), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_options_default_f32(out) bind(C, name="dk_plan_options_default_f32") &
+        result(s)
+      import :: c_int32_t, dk_plan_options
+      type(dk_plan_options), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_work_sizes(points, points_len, offsets, offsets_len, targets, targets_len, &
+        boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
+        element_nodes_len, element_kinds, element_kinds_len, dim, options, sizes_out) bind(C, &
+        name="dk_plan_work_sizes") result(s)
+      import :: c_double, c_int32_t, c_ptr, c_size_t, dk_plan_options, dk_plan_sizes
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      type(c_ptr), value :: element_offsets
+      integer(c_size_t), value :: element_offsets_len
+      type(c_ptr), value :: element_nodes
+      integer(c_size_t), value :: element_nodes_len
+      type(c_ptr), value :: element_kinds
+      integer(c_size_t), value :: element_kinds_len
+      integer(c_int32_t), value :: dim
+      type(dk_plan_options), intent(in) :: options
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_work_sizes_f32(points, points_len, offsets, offsets_len, targets, &
+        targets_len, boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
+        element_nodes_len, element_kinds, element_kinds_len, dim, options, sizes_out) bind(C, &
+        name="dk_plan_work_sizes_f32") result(s)
+      import :: c_float, c_int32_t, c_ptr, c_size_t, dk_plan_options, dk_plan_sizes
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      type(c_ptr), value :: element_offsets
+      integer(c_size_t), value :: element_offsets_len
+      type(c_ptr), value :: element_nodes
+      integer(c_size_t), value :: element_nodes_len
+      type(c_ptr), value :: element_kinds
+      integer(c_size_t), value :: element_kinds_len
+      integer(c_int32_t), value :: dim
+      type(dk_plan_options), intent(in) :: options
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_pool_sizes(points, points_len, offsets, offsets_len, targets, targets_len, &
+        boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
+        element_nodes_len, element_kinds, element_kinds_len, dim, options, work_reals, &
+        work_reals_len, work_indices, work_indices_len, work_bytes, work_bytes_len, sizes_out) &
+        bind(C, name="dk_plan_pool_sizes") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_options, dk_plan_sizes
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      type(c_ptr), value :: element_offsets
+      integer(c_size_t), value :: element_offsets_len
+      type(c_ptr), value :: element_nodes
+      integer(c_size_t), value :: element_nodes_len
+      type(c_ptr), value :: element_kinds
+      integer(c_size_t), value :: element_kinds_len
+      integer(c_int32_t), value :: dim
+      type(dk_plan_options), intent(in) :: options
+      real(c_double), intent(inout) :: work_reals(*)
+      integer(c_size_t), value :: work_reals_len
+      integer(c_int32_t), intent(inout) :: work_indices(*)
+      integer(c_size_t), value :: work_indices_len
+      integer(c_int8_t), intent(inout) :: work_bytes(*)
+      integer(c_size_t), value :: work_bytes_len
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_pool_sizes_f32(points, points_len, offsets, offsets_len, targets, &
+        targets_len, boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
+        element_nodes_len, element_kinds, element_kinds_len, dim, options, work_reals, &
+        work_reals_len, work_indices, work_indices_len, work_bytes, work_bytes_len, sizes_out) &
+        bind(C, name="dk_plan_pool_sizes_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_options, dk_plan_sizes
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      type(c_ptr), value :: element_offsets
+      integer(c_size_t), value :: element_offsets_len
+      type(c_ptr), value :: element_nodes
+      integer(c_size_t), value :: element_nodes_len
+      type(c_ptr), value :: element_kinds
+      integer(c_size_t), value :: element_kinds_len
+      integer(c_int32_t), value :: dim
+      type(dk_plan_options), intent(in) :: options
+      real(c_float), intent(inout) :: work_reals(*)
+      integer(c_size_t), value :: work_reals_len
+      integer(c_int32_t), intent(inout) :: work_indices(*)
+      integer(c_size_t), value :: work_indices_len
+      integer(c_int8_t), intent(inout) :: work_bytes(*)
+      integer(c_size_t), value :: work_bytes_len
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_init(points, points_len, offsets, offsets_len, targets, targets_len, &
+        boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
+        element_nodes_len, element_kinds, element_kinds_len, dim, options, work_reals, &
+        work_reals_len, work_indices, work_indices_len, work_bytes, work_bytes_len, reals, &
+        reals_len, indices, indices_len, bytes, bytes_len, info_out) bind(C, name="dk_plan_init") &
+        result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_info, dk_plan_options
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      type(c_ptr), value :: element_offsets
+      integer(c_size_t), value :: element_offsets_len
+      type(c_ptr), value :: element_nodes
+      integer(c_size_t), value :: element_nodes_len
+      type(c_ptr), value :: element_kinds
+      integer(c_size_t), value :: element_kinds_len
+      integer(c_int32_t), value :: dim
+      type(dk_plan_options), intent(in) :: options
+      real(c_double), intent(inout) :: work_reals(*)
+      integer(c_size_t), value :: work_reals_len
+      integer(c_int32_t), intent(inout) :: work_indices(*)
+      integer(c_size_t), value :: work_indices_len
+      integer(c_int8_t), intent(inout) :: work_bytes(*)
+      integer(c_size_t), value :: work_bytes_len
+      real(c_double), intent(inout) :: reals(*)
+      integer(c_size_t), value :: reals_len
+      integer(c_int32_t), intent(inout) :: indices(*)
+      integer(c_size_t), value :: indices_len
+      integer(c_int8_t), intent(inout) :: bytes(*)
+      integer(c_size_t), value :: bytes_len
+      type(dk_plan_info), intent(inout) :: info_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_init_f32(points, points_len, offsets, offsets_len, targets, targets_len, &
+        boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
+        element_nodes_len, element_kinds, element_kinds_len, dim, options, work_reals, &
+        work_reals_len, work_indices, work_indices_len, work_bytes, work_bytes_len, reals, &
+        reals_len, indices, indices_len, bytes, bytes_len, info_out) bind(C, &
+        name="dk_plan_init_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_info, dk_plan_options
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      type(c_ptr), value :: element_offsets
+      integer(c_size_t), value :: element_offsets_len
+      type(c_ptr), value :: element_nodes
+      integer(c_size_t), value :: element_nodes_len
+      type(c_ptr), value :: element_kinds
+      integer(c_size_t), value :: element_kinds_len
+      integer(c_int32_t), value :: dim
+      type(dk_plan_options), intent(in) :: options
+      real(c_float), intent(inout) :: work_reals(*)
+      integer(c_size_t), value :: work_reals_len
+      integer(c_int32_t), intent(inout) :: work_indices(*)
+      integer(c_size_t), value :: work_indices_len
+      integer(c_int8_t), intent(inout) :: work_bytes(*)
+      integer(c_size_t), value :: work_bytes_len
+      real(c_float), intent(inout) :: reals(*)
+      integer(c_size_t), value :: reals_len
+      integer(c_int32_t), intent(inout) :: indices(*)
+      integer(c_size_t), value :: indices_len
+      integer(c_int8_t), intent(inout) :: bytes(*)
+      integer(c_size_t), value :: bytes_len
+      type(dk_plan_info), intent(inout) :: info_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_open(reals, reals_len, indices, indices_len, bytes, bytes_len, dim, info_out) &
+        bind(C, name="dk_plan_open") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_plan_info
+      real(c_double), intent(inout) :: reals(*)
+      integer(c_size_t), value :: reals_len
+      integer(c_int32_t), intent(inout) :: indices(*)
+      integer(c_size_t), value :: indices_len
+      integer(c_int8_t), intent(inout) :: bytes(*)
+      integer(c_size_t), value :: bytes_len
+      integer(c_int32_t), value :: dim
+      type(dk_plan_info), intent(inout) :: info_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_open_f32(reals, reals_len, indices, indices_len, bytes, bytes_len, dim, &
+        info_out) bind(C, name="dk_plan_open_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_plan_info
+      real(c_float), intent(inout) :: reals(*)
+      integer(c_size_t), value :: reals_len
+      integer(c_int32_t), intent(inout) :: indices(*)
+      integer(c_size_t), value :: indices_len
+      integer(c_int8_t), intent(inout) :: bytes(*)
+      integer(c_size_t), value :: bytes_len
+      integer(c_int32_t), value :: dim
+      type(dk_plan_info), intent(inout) :: info_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_step(reals, reals_len, indices, indices_len, bytes, bytes_len, dim, deformed, &
+        deformed_len, rotation_source, rotations, rotations_len, origin, origin_len, start, out, &
+        out_len, report_out) bind(C, name="dk_plan_step") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_step_report
+      real(c_double), intent(inout) :: reals(*)
+      integer(c_size_t), value :: reals_len
+      integer(c_int32_t), intent(inout) :: indices(*)
+      integer(c_size_t), value :: indices_len
+      integer(c_int8_t), intent(inout) :: bytes(*)
+      integer(c_size_t), value :: bytes_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: rotation_source
+      type(c_ptr), value :: rotations
+      integer(c_size_t), value :: rotations_len
+      type(c_ptr), value :: origin
+      integer(c_size_t), value :: origin_len
+      integer(c_int32_t), value :: start
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      type(dk_plan_step_report), intent(inout) :: report_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_step_f32(reals, reals_len, indices, indices_len, bytes, bytes_len, dim, &
+        deformed, deformed_len, rotation_source, rotations, rotations_len, origin, origin_len, &
+        start, out, out_len, report_out) bind(C, name="dk_plan_step_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_step_report
+      real(c_float), intent(inout) :: reals(*)
+      integer(c_size_t), value :: reals_len
+      integer(c_int32_t), intent(inout) :: indices(*)
+      integer(c_size_t), value :: indices_len
+      integer(c_int8_t), intent(inout) :: bytes(*)
+      integer(c_size_t), value :: bytes_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: rotation_source
+      type(c_ptr), value :: rotations
+      integer(c_size_t), value :: rotations_len
+      type(c_ptr), value :: origin
+      integer(c_size_t), value :: origin_len
+      integer(c_int32_t), value :: start
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      type(dk_plan_step_report), intent(inout) :: report_out
       integer(c_int32_t) :: s
     end function
     function dk_quality_cell_quality(kind, corners, corners_len, dim, out) bind(C, &

@@ -38,6 +38,26 @@
 // Bit of a TFI `directions` mask: interpolate along `k` (3D blocks only).
 #define DK_DIRECTION_K 4
 
+// `dk_plan_options.method`: linear (Batina) springs on the displacements.
+#define DK_PLAN_SPRING 1
+
+// `dk_plan_options.method`: Samareh's quaternion method with spring propagation (default).
+#define DK_PLAN_QUATERNION 2
+
+// `dk_plan_options.solver`: CG preconditioned by smoothed-aggregation multigrid, the
+// hierarchy built once at init (default).
+#define DK_PLAN_SOLVER_AMG 0
+
+// `dk_plan_options.solver`: the one-level method of `dk_plan_options.linear`.
+#define DK_PLAN_SOLVER_LINEAR 1
+
+// `dk_plan_step` `start`: from the stored solutions (the last one or the extrapolation of
+// the last two, whichever has the smaller residual, or the cold guess when smaller still).
+#define DK_PLAN_WARM 0
+
+// `dk_plan_step` `start`: as the stateless calls (the same bits as `dk_deform_spring`).
+#define DK_PLAN_COLD 1
+
 // "No such index" in the quality reports: `SIZE_MAX`.
 #define DK_NO_INDEX (size_t)-1
 
@@ -152,6 +172,9 @@ enum dk_status
   DK_ERR_NOT_UNIT = 27,
   // A node set that must be planar (a symmetry plane) deviates from its fitted plane.
   DK_ERR_NOT_PLANAR = 28,
+  // Plan pools do not hold a valid plan (no plan, another scalar type or dimension, or an
+  // immutable part overwritten: checksum mismatch).
+  DK_ERR_BAD_PLAN = 29,
   // An error this version of the header does not know (a newer kernel).
   DK_ERR_OTHER = 99,
 };
@@ -288,6 +311,64 @@ typedef struct {
   // Whether a stopping rule was met.
   bool converged;
 } dk_spring_solve_report;
+
+// How a plan is built ([`dk_plan_options_default`](abi::dk_plan_options_default) fills
+// the defaults). The same struct serves both precisions.
+typedef struct {
+  // `DK_PLAN_QUATERNION` (default) or `DK_PLAN_SPRING`.
+  uint32_t method;
+  // `DK_PLAN_SOLVER_AMG` (default) or `DK_PLAN_SOLVER_LINEAR`.
+  uint32_t solver;
+  // Batina stiffness exponent `p` of `1 / |r_i − r_j|^p` (default 1; finite, ≥ 0).
+  double stiffness_exponent;
+  // Stopping rules of every step's solve (`max_iterations`, `residual_tol`, `update_tol`)
+  // and, for `DK_PLAN_SOLVER_LINEAR`, the method (`method`, `preconditioner`, `omega`).
+  dk_spring_solve_options linear;
+} dk_plan_options;
+
+// Lengths of the three plan pools, or of the transient work buffers.
+typedef struct {
+  // Scalars (`double` for the f64 functions, `float` for the `_f32` ones).
+  size_t reals;
+  // `uint32_t` entries.
+  size_t indices;
+  // `uint8_t` entries.
+  size_t bytes;
+} dk_plan_sizes;
+
+// What a plan holds (from `dk_plan_init` or `dk_plan_open`).
+typedef struct {
+  // Mesh nodes `N`.
+  size_t nodes;
+  // Boundary points `B`.
+  size_t boundary;
+  // Steps completed.
+  uint64_t steps;
+  // Levels of the multigrid hierarchy (0 without one).
+  size_t amg_levels;
+  // Pool lengths the plan uses.
+  dk_plan_sizes used;
+  // `DK_PLAN_SPRING` or `DK_PLAN_QUATERNION`.
+  uint32_t method;
+} dk_plan_info;
+
+// What one `dk_plan_step` did.
+typedef struct {
+  // Iterations of the solve.
+  size_t iterations;
+  // True relative residual at the end.
+  double residual;
+  // Largest change of the last iteration.
+  double max_update;
+  // Steps completed by the plan, this one included.
+  uint64_t step;
+  // Whether the solve met its tolerance (the mesh is written either way).
+  bool converged;
+  // Whether the stored solutions gave the initial guess.
+  bool warm;
+  // Whether that guess was the extrapolation of the last two solutions.
+  bool extrapolated;
+} dk_plan_step_report;
 
 // Signed measure and corner-Jacobian summary of one cell (`dk_quality_cell_quality`).
 typedef struct {
@@ -1420,6 +1501,320 @@ dk_status dk_graph_check(const uint32_t *offsets,
                          const uint32_t *targets,
                          size_t targets_len,
                          bool require_symmetric);
+
+// Fills `*out` with the default plan options for f64: the quaternion method, multigrid-
+// preconditioned CG, Batina stiffness (exponent 1), the default stopping rules of
+// `dk_spring_solve_options_default` (10 000 iterations, residual tolerance 1e-10).
+//
+// # Safety
+// `out` points to one writable options struct.
+dk_status dk_plan_options_default(dk_plan_options *out);
+
+// As [`dk_plan_options_default`] with the f32 default residual tolerance (`100 ε_f32`).
+//
+// # Safety
+// As [`dk_plan_options_default`].
+dk_status dk_plan_options_default_f32(dk_plan_options *out);
+
+// Lengths of the transient work buffers [`dk_plan_pool_sizes`] and [`dk_plan_init`] need for this
+// mesh (free them after init).
+//
+// The mesh, shared by the three set-up calls (all indices 0-based):
+// - `points`: the reference mesh, `N * dim` scalars, `dim` 2 or 3; every step deforms it;
+// - `offsets`, `targets`: the symmetric CSR graph of the mesh edges (as
+//   `dk_graph_from_cells` builds it);
+// - `boundary`: the mesh node of each of the `B` prescribed points (moving walls and fixed
+//   far field alike), distinct; exactly these nodes are held by the springs;
+// - `element_offsets`, `element_nodes`, `element_kinds`: boundary elements over `0..B`
+//   (segments in 2D, triangles/quadrilaterals in 3D) for shape rotations, or all NULL with
+//   length 0;
+// - `options`: see [`dk_plan_options`].
+//
+// Errors (nothing written): `DK_ERR_INVALID_PARAMETER` (`dim`, an unknown method or solver
+// code), graph, cell, length and pointer errors.
+//
+// # Safety
+// Inputs readable for their lengths; `options` and `sizes_out` point to one struct each.
+dk_status dk_plan_work_sizes(const double *points,
+                             size_t points_len,
+                             const uint32_t *offsets,
+                             size_t offsets_len,
+                             const uint32_t *targets,
+                             size_t targets_len,
+                             const uint32_t *boundary,
+                             size_t boundary_len,
+                             const uint32_t *element_offsets,
+                             size_t element_offsets_len,
+                             const uint32_t *element_nodes,
+                             size_t element_nodes_len,
+                             const uint8_t *element_kinds,
+                             size_t element_kinds_len,
+                             uint32_t dim,
+                             const dk_plan_options *options,
+                             dk_plan_sizes *sizes_out);
+
+// `f32` twin of [`dk_plan_work_sizes`].
+//
+// # Safety
+// As [`dk_plan_work_sizes`].
+dk_status dk_plan_work_sizes_f32(const float *points,
+                                 size_t points_len,
+                                 const uint32_t *offsets,
+                                 size_t offsets_len,
+                                 const uint32_t *targets,
+                                 size_t targets_len,
+                                 const uint32_t *boundary,
+                                 size_t boundary_len,
+                                 const uint32_t *element_offsets,
+                                 size_t element_offsets_len,
+                                 const uint32_t *element_nodes,
+                                 size_t element_nodes_len,
+                                 const uint8_t *element_kinds,
+                                 size_t element_kinds_len,
+                                 uint32_t dim,
+                                 const dk_plan_options *options,
+                                 dk_plan_sizes *sizes_out);
+
+// The exact lengths of the three plan pools for this mesh: validates the mesh and options
+// (as [`dk_plan_init`] does) and runs the multigrid hierarchy's symbolic pass in the work
+// buffers (lengths from [`dk_plan_work_sizes`]). Arguments as [`dk_plan_work_sizes`], plus
+// the work buffers. Errors: those of [`dk_plan_init`]'s validation; only the work buffers
+// are written.
+//
+// # Safety
+// Inputs readable for their lengths; the work buffers writable for theirs and not
+// overlapping anything else; `options` and `sizes_out` point to one struct each.
+dk_status dk_plan_pool_sizes(const double *points,
+                             size_t points_len,
+                             const uint32_t *offsets,
+                             size_t offsets_len,
+                             const uint32_t *targets,
+                             size_t targets_len,
+                             const uint32_t *boundary,
+                             size_t boundary_len,
+                             const uint32_t *element_offsets,
+                             size_t element_offsets_len,
+                             const uint32_t *element_nodes,
+                             size_t element_nodes_len,
+                             const uint8_t *element_kinds,
+                             size_t element_kinds_len,
+                             uint32_t dim,
+                             const dk_plan_options *options,
+                             double *work_reals,
+                             size_t work_reals_len,
+                             uint32_t *work_indices,
+                             size_t work_indices_len,
+                             uint8_t *work_bytes,
+                             size_t work_bytes_len,
+                             dk_plan_sizes *sizes_out);
+
+// `f32` twin of [`dk_plan_pool_sizes`].
+//
+// # Safety
+// As [`dk_plan_pool_sizes`].
+dk_status dk_plan_pool_sizes_f32(const float *points,
+                                 size_t points_len,
+                                 const uint32_t *offsets,
+                                 size_t offsets_len,
+                                 const uint32_t *targets,
+                                 size_t targets_len,
+                                 const uint32_t *boundary,
+                                 size_t boundary_len,
+                                 const uint32_t *element_offsets,
+                                 size_t element_offsets_len,
+                                 const uint32_t *element_nodes,
+                                 size_t element_nodes_len,
+                                 const uint8_t *element_kinds,
+                                 size_t element_kinds_len,
+                                 uint32_t dim,
+                                 const dk_plan_options *options,
+                                 float *work_reals,
+                                 size_t work_reals_len,
+                                 uint32_t *work_indices,
+                                 size_t work_indices_len,
+                                 uint8_t *work_bytes,
+                                 size_t work_bytes_len,
+                                 dk_plan_sizes *sizes_out);
+
+// Builds a plan in the pools `reals`, `indices`, `bytes` (each at least the length
+// [`dk_plan_pool_sizes`] gave; the tail of a longer pool is untouched): validates the mesh once
+// (points finite, boundary distinct and in range, graph symmetric, every free node
+// anchored, elements of the right kinds, options), copies the mesh in, computes the
+// stiffness and sets up the multigrid hierarchy. Arguments as [`dk_plan_pool_sizes`], plus the
+// pools and `info_out` (what the plan holds). The pools hold no pointers: copy or
+// checkpoint them freely, and reopen a copy with [`dk_plan_open`].
+//
+// Errors: those of the validation (checked before any pool is written), `DK_ERR_BUFFER_TOO_SMALL`,
+// `DK_ERR_TOO_LARGE`; a hierarchy set-up that breaks down in floating point fails after
+// writing, and then the pools hold no plan.
+//
+// # Safety
+// As [`dk_plan_pool_sizes`]; the pools writable for their lengths, not overlapping anything else;
+// `info_out` points to one writable struct.
+dk_status dk_plan_init(const double *points,
+                       size_t points_len,
+                       const uint32_t *offsets,
+                       size_t offsets_len,
+                       const uint32_t *targets,
+                       size_t targets_len,
+                       const uint32_t *boundary,
+                       size_t boundary_len,
+                       const uint32_t *element_offsets,
+                       size_t element_offsets_len,
+                       const uint32_t *element_nodes,
+                       size_t element_nodes_len,
+                       const uint8_t *element_kinds,
+                       size_t element_kinds_len,
+                       uint32_t dim,
+                       const dk_plan_options *options,
+                       double *work_reals,
+                       size_t work_reals_len,
+                       uint32_t *work_indices,
+                       size_t work_indices_len,
+                       uint8_t *work_bytes,
+                       size_t work_bytes_len,
+                       double *reals,
+                       size_t reals_len,
+                       uint32_t *indices,
+                       size_t indices_len,
+                       uint8_t *bytes,
+                       size_t bytes_len,
+                       dk_plan_info *info_out);
+
+// `f32` twin of [`dk_plan_init`].
+//
+// # Safety
+// As [`dk_plan_init`].
+dk_status dk_plan_init_f32(const float *points,
+                           size_t points_len,
+                           const uint32_t *offsets,
+                           size_t offsets_len,
+                           const uint32_t *targets,
+                           size_t targets_len,
+                           const uint32_t *boundary,
+                           size_t boundary_len,
+                           const uint32_t *element_offsets,
+                           size_t element_offsets_len,
+                           const uint32_t *element_nodes,
+                           size_t element_nodes_len,
+                           const uint8_t *element_kinds,
+                           size_t element_kinds_len,
+                           uint32_t dim,
+                           const dk_plan_options *options,
+                           float *work_reals,
+                           size_t work_reals_len,
+                           uint32_t *work_indices,
+                           size_t work_indices_len,
+                           uint8_t *work_bytes,
+                           size_t work_bytes_len,
+                           float *reals,
+                           size_t reals_len,
+                           uint32_t *indices,
+                           size_t indices_len,
+                           uint8_t *bytes,
+                           size_t bytes_len,
+                           dk_plan_info *info_out);
+
+// Checks that the pools hold a plan for this precision and `dim` (magic, version, counts,
+// pool lengths, the hierarchy's layout, a checksum of every immutable part, finite stored
+// solutions) and says what it holds. Use it after restoring a checkpoint. Errors:
+// `DK_ERR_BAD_PLAN`, `DK_ERR_INVALID_PARAMETER` (`dim`), pointer errors; nothing is written
+// but `info_out`.
+//
+// # Safety
+// The pools readable and writable for their lengths; `info_out` points to one writable
+// struct.
+dk_status dk_plan_open(double *reals,
+                       size_t reals_len,
+                       uint32_t *indices,
+                       size_t indices_len,
+                       uint8_t *bytes,
+                       size_t bytes_len,
+                       uint32_t dim,
+                       dk_plan_info *info_out);
+
+// `f32` twin of [`dk_plan_open`].
+//
+// # Safety
+// As [`dk_plan_open`].
+dk_status dk_plan_open_f32(float *reals,
+                           size_t reals_len,
+                           uint32_t *indices,
+                           size_t indices_len,
+                           uint8_t *bytes,
+                           size_t bytes_len,
+                           uint32_t dim,
+                           dk_plan_info *info_out);
+
+// One time step: the new boundary positions in, the deformed mesh out (`out`: `N * dim`
+// scalars). Each step deforms the reference mesh; the stored solutions of the previous
+// steps give the initial guess (`start` `DK_PLAN_WARM`), or the stateless calls' guess
+// (`DK_PLAN_COLD`, then the bits of `dk_deform_spring`). The pools are checked as
+// [`dk_plan_open`] checks them (one pass, a few percent of a step), so a plan overwritten by
+// mistake is an error, not a wrong mesh.
+//
+// - `deformed`: the new position of each of the `B` boundary points, in the plan's boundary
+//   order (`B * dim` scalars), reproduced exactly in `out`;
+// - `rotation_source` (quaternion method; ignored by the spring method):
+//   `DK_ROTATIONS_SHAPE` (from the plan's elements; `rotations` NULL with length 0),
+//   `DK_ROTATIONS_RIGID` (`rotations`: one quaternion, 4 scalars `w x y z`) or
+//   `DK_ROTATIONS_PER_NODE` (`rotations`: `4 B` scalars);
+// - `origin`: the rotation origin (`dim` scalars), or NULL with length 0 for the centroid
+//   of the moving points;
+// - `report_out`: iterations, residual, whether the solve converged (the mesh is written
+//   either way), warm, extrapolated, the step count.
+//
+// Errors (checked before `out` or the plan is written): `DK_ERR_BAD_PLAN`, length and
+// pointer errors, `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero rotation),
+// `DK_ERR_INVALID_PARAMETER` (`dim`, `rotation_source`, `start`, shape rotations without
+// elements), the boundary rotations' and the solver's errors. On error `out`, the stored
+// solutions and the step count are unchanged.
+//
+// # Safety
+// The pools readable and writable for their lengths; inputs readable for theirs; `out`
+// writable for `out_len` scalars; no writable buffer overlaps another buffer or an input;
+// `report_out` points to one writable struct.
+dk_status dk_plan_step(double *reals,
+                       size_t reals_len,
+                       uint32_t *indices,
+                       size_t indices_len,
+                       uint8_t *bytes,
+                       size_t bytes_len,
+                       uint32_t dim,
+                       const double *deformed,
+                       size_t deformed_len,
+                       uint32_t rotation_source,
+                       const double *rotations,
+                       size_t rotations_len,
+                       const double *origin,
+                       size_t origin_len,
+                       uint32_t start,
+                       double *out,
+                       size_t out_len,
+                       dk_plan_step_report *report_out);
+
+// `f32` twin of [`dk_plan_step`].
+//
+// # Safety
+// As [`dk_plan_step`].
+dk_status dk_plan_step_f32(float *reals,
+                           size_t reals_len,
+                           uint32_t *indices,
+                           size_t indices_len,
+                           uint8_t *bytes,
+                           size_t bytes_len,
+                           uint32_t dim,
+                           const float *deformed,
+                           size_t deformed_len,
+                           uint32_t rotation_source,
+                           const float *rotations,
+                           size_t rotations_len,
+                           const float *origin,
+                           size_t origin_len,
+                           uint32_t start,
+                           float *out,
+                           size_t out_len,
+                           dk_plan_step_report *report_out);
 
 // Quality of one cell of VTK kind `kind` from its corner coordinates (`corners_len` =
 // node count of the kind × `dim`, VTK order): signed measure, smallest corner Jacobian,

@@ -26,6 +26,7 @@ mod slice;
 
 pub mod deformation;
 pub mod graph;
+pub mod plan;
 pub mod quality;
 pub mod quat;
 pub mod spring;

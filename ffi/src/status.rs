@@ -67,6 +67,9 @@ pub enum dk_status {
     DK_ERR_NOT_UNIT = 27,
     /// A node set that must be planar (a symmetry plane) deviates from its fitted plane.
     DK_ERR_NOT_PLANAR = 28,
+    /// Plan pools do not hold a valid plan (no plan, another scalar type or dimension, or an
+    /// immutable part overwritten: checksum mismatch).
+    DK_ERR_BAD_PLAN = 29,
     /// An error this version of the header does not know (a newer kernel).
     DK_ERR_OTHER = 99,
 }
@@ -100,6 +103,7 @@ impl From<Error> for dk_status {
             Error::Overflow { .. } => dk_status::DK_ERR_OVERFLOW,
             Error::NotUnit { .. } => dk_status::DK_ERR_NOT_UNIT,
             Error::NotPlanar { .. } => dk_status::DK_ERR_NOT_PLANAR,
+            Error::BadPlan { .. } => dk_status::DK_ERR_BAD_PLAN,
             _ => dk_status::DK_ERR_OTHER,
         }
     }
@@ -139,6 +143,7 @@ pub extern "C" fn dk_status_str(status: i32) -> *const core::ffi::c_char {
         26 => c"an intermediate result exceeded the floating-point range",
         27 => c"a direction that must be a unit vector is not",
         28 => c"a node set that must be planar deviates from its fitted plane",
+        29 => c"the plan pools do not hold a valid plan (none, another type, or overwritten)",
         99 => c"an error unknown to this header version",
         _ => c"unknown status",
     };

@@ -480,6 +480,13 @@ fn every_kernel_error_has_its_own_status_and_description() {
             dk_status::DK_ERR_NOT_PLANAR,
             28,
         ),
+        (
+            Error::BadPlan {
+                reason: "checksum mismatch",
+            },
+            dk_status::DK_ERR_BAD_PLAN,
+            29,
+        ),
     ];
     for (error, status, code) in cases {
         assert_eq!(dk_status::from(error), status);

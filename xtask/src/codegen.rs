@@ -38,6 +38,7 @@ use crate::ctx::Ctx;
 const MODULES: &[&str] = &[
     "deformation",
     "graph",
+    "plan",
     "quality",
     "quat",
     "spring",

@@ -1,0 +1,478 @@
+//! Prepared plans (`deform_kernel::plan`) through the C ABI: set a deformation up once in three
+//! caller pools, then step it every time step with new boundary positions.
+//!
+//! The pools are the caller's memory: `reals` (`double` / `float`), `indices` (`uint32_t`)
+//! and `bytes` (`uint8_t`), sized by [`dk_plan_pool_sizes`](abi::dk_plan_pool_sizes) after
+//! [`dk_plan_work_sizes`](abi::dk_plan_work_sizes) sized the transient work buffers. The plan
+//! stores no pointers (offsets follow from the counts in its header), so a caller may copy,
+//! checkpoint or move the pools between steps. Every step reopens the pools with
+//! `Plan::open` (header, layout and a checksum of every immutable part: one pass over the
+//! pools, about 3 % of a warm 234k-node step), so pools that were overwritten by mistake are
+//! a `DK_ERR_BAD_PLAN`, never a wrong mesh. Indices are 0-based.
+
+use deform_kernel::deformation::RotationSource;
+use deform_kernel::plan::{
+    Plan, PlanMethod, PlanMotion, PlanSizes, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
+};
+use deform_kernel::spring::AmgOptions;
+use deform_kernel::{Cells, Quat, Real};
+
+use crate::args::{assert_layout, done, graph, read_one, read_points, write_one};
+use crate::slice::{chunks_mut, input, output, quats, In, Out};
+use crate::spring::dk_spring_solve_options;
+use crate::status::dk_status;
+
+pub mod abi;
+
+/// `dk_plan_options.method`: linear (Batina) springs on the displacements.
+pub const DK_PLAN_SPRING: u32 = 1;
+/// `dk_plan_options.method`: Samareh's quaternion method with spring propagation (default).
+pub const DK_PLAN_QUATERNION: u32 = 2;
+/// `dk_plan_options.solver`: CG preconditioned by smoothed-aggregation multigrid, the
+/// hierarchy built once at init (default).
+pub const DK_PLAN_SOLVER_AMG: u32 = 0;
+/// `dk_plan_options.solver`: the one-level method of `dk_plan_options.linear`.
+pub const DK_PLAN_SOLVER_LINEAR: u32 = 1;
+/// `dk_plan_step` `start`: from the stored solutions (the last one or the extrapolation of
+/// the last two, whichever has the smaller residual, or the cold guess when smaller still).
+pub const DK_PLAN_WARM: u32 = 0;
+/// `dk_plan_step` `start`: as the stateless calls (the same bits as `dk_deform_spring`).
+pub const DK_PLAN_COLD: u32 = 1;
+
+/// How a plan is built ([`dk_plan_options_default`](abi::dk_plan_options_default) fills
+/// the defaults). The same struct serves both precisions.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(non_camel_case_types)]
+pub struct dk_plan_options {
+    /// `DK_PLAN_QUATERNION` (default) or `DK_PLAN_SPRING`.
+    pub method: u32,
+    /// `DK_PLAN_SOLVER_AMG` (default) or `DK_PLAN_SOLVER_LINEAR`.
+    pub solver: u32,
+    /// Batina stiffness exponent `p` of `1 / |r_i − r_j|^p` (default 1; finite, ≥ 0).
+    pub stiffness_exponent: f64,
+    /// Stopping rules of every step's solve (`max_iterations`, `residual_tol`, `update_tol`)
+    /// and, for `DK_PLAN_SOLVER_LINEAR`, the method (`method`, `preconditioner`, `omega`).
+    pub linear: dk_spring_solve_options,
+}
+#[cfg(target_pointer_width = "64")]
+assert_layout!(dk_plan_options, 56; method = 0, solver = 4, stiffness_exponent = 8, linear = 16);
+
+/// Lengths of the three plan pools, or of the transient work buffers.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[allow(non_camel_case_types)]
+pub struct dk_plan_sizes {
+    /// Scalars (`double` for the f64 functions, `float` for the `_f32` ones).
+    pub reals: usize,
+    /// `uint32_t` entries.
+    pub indices: usize,
+    /// `uint8_t` entries.
+    pub bytes: usize,
+}
+#[cfg(target_pointer_width = "64")]
+assert_layout!(dk_plan_sizes, 24; reals = 0, indices = 8, bytes = 16);
+
+impl From<PlanSizes> for dk_plan_sizes {
+    fn from(s: PlanSizes) -> Self {
+        dk_plan_sizes {
+            reals: s.reals,
+            indices: s.indices,
+            bytes: s.bytes,
+        }
+    }
+}
+
+/// What a plan holds (from `dk_plan_init` or `dk_plan_open`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[allow(non_camel_case_types)]
+pub struct dk_plan_info {
+    /// Mesh nodes `N`.
+    pub nodes: usize,
+    /// Boundary points `B`.
+    pub boundary: usize,
+    /// Steps completed.
+    pub steps: u64,
+    /// Levels of the multigrid hierarchy (0 without one).
+    pub amg_levels: usize,
+    /// Pool lengths the plan uses.
+    pub used: dk_plan_sizes,
+    /// `DK_PLAN_SPRING` or `DK_PLAN_QUATERNION`.
+    pub method: u32,
+}
+#[cfg(target_pointer_width = "64")]
+assert_layout!(
+    dk_plan_info, 64;
+    nodes = 0, boundary = 8, steps = 16, amg_levels = 24, used = 32, method = 56,
+);
+
+/// What one `dk_plan_step` did.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[allow(non_camel_case_types)]
+pub struct dk_plan_step_report {
+    /// Iterations of the solve.
+    pub iterations: usize,
+    /// True relative residual at the end.
+    pub residual: f64,
+    /// Largest change of the last iteration.
+    pub max_update: f64,
+    /// Steps completed by the plan, this one included.
+    pub step: u64,
+    /// Whether the solve met its tolerance (the mesh is written either way).
+    pub converged: bool,
+    /// Whether the stored solutions gave the initial guess.
+    pub warm: bool,
+    /// Whether that guess was the extrapolation of the last two solutions.
+    pub extrapolated: bool,
+}
+#[cfg(target_pointer_width = "64")]
+assert_layout!(
+    dk_plan_step_report, 40;
+    iterations = 0, residual = 8, max_update = 16, step = 24, converged = 32, warm = 33,
+    extrapolated = 34,
+);
+
+fn method_code(m: PlanMethod) -> u32 {
+    match m {
+        PlanMethod::Spring => DK_PLAN_SPRING,
+        PlanMethod::QuaternionSpring => DK_PLAN_QUATERNION,
+    }
+}
+
+fn info<T: Real, const D: usize>(p: &Plan<'_, T, D>) -> dk_plan_info {
+    dk_plan_info {
+        nodes: p.node_count(),
+        boundary: p.boundary_len(),
+        steps: p.steps(),
+        amg_levels: p.amg_levels(),
+        used: p.used().into(),
+        method: method_code(p.method()),
+    }
+}
+
+pub(crate) fn options_default<T: Real>(out: Out<'_, dk_plan_options>) -> dk_status {
+    let mut linear = dk_spring_solve_options {
+        max_iterations: 0,
+        residual_tol: 0.0,
+        update_tol: 0.0,
+        omega: 1.0,
+        method: crate::spring::DK_LINEAR_CG,
+        preconditioner: crate::spring::DK_PRECONDITIONER_JACOBI,
+    };
+    let k = deform_kernel::spring::SolveOptions::<T>::default();
+    linear.max_iterations = k.max_iterations;
+    linear.residual_tol = k.residual_tol.to_f64();
+    linear.update_tol = k.update_tol.to_f64();
+    done(write_one(
+        out,
+        dk_plan_options {
+            method: DK_PLAN_QUATERNION,
+            solver: DK_PLAN_SOLVER_AMG,
+            stiffness_exponent: 1.0,
+            linear,
+        },
+    ))
+}
+
+/// The mesh and options a plan is built from, as the C caller passed them.
+pub(crate) struct SpecArgs<'a, T> {
+    pub(crate) points: In<'a, T>,
+    pub(crate) points_len: usize,
+    pub(crate) offsets: In<'a, u32>,
+    pub(crate) offsets_len: usize,
+    pub(crate) targets: In<'a, u32>,
+    pub(crate) targets_len: usize,
+    pub(crate) boundary: In<'a, u32>,
+    pub(crate) boundary_len: usize,
+    pub(crate) element_offsets: In<'a, u32>,
+    pub(crate) element_offsets_len: usize,
+    pub(crate) element_nodes: In<'a, u32>,
+    pub(crate) element_nodes_len: usize,
+    pub(crate) element_kinds: In<'a, u8>,
+    pub(crate) element_kinds_len: usize,
+    pub(crate) dim: u32,
+    pub(crate) options: In<'a, dk_plan_options>,
+}
+
+/// The transient work buffers, as the C caller passed them.
+pub(crate) struct WorkArgs<'a, T> {
+    pub(crate) reals: Out<'a, T>,
+    pub(crate) reals_len: usize,
+    pub(crate) indices: Out<'a, u32>,
+    pub(crate) indices_len: usize,
+    pub(crate) bytes: Out<'a, u8>,
+    pub(crate) bytes_len: usize,
+}
+
+impl<'a, T> WorkArgs<'a, T> {
+    fn borrow(self) -> Result<PlanWork<'a, T>, dk_status> {
+        Ok(PlanWork {
+            reals: output(self.reals, self.reals_len)?,
+            indices: output(self.indices, self.indices_len)?,
+            bytes: output(self.bytes, self.bytes_len)?,
+        })
+    }
+}
+
+/// The three plan pools, as the C caller passed them.
+pub(crate) struct PoolArgs<'a, T> {
+    pub(crate) reals: Out<'a, T>,
+    pub(crate) reals_len: usize,
+    pub(crate) indices: Out<'a, u32>,
+    pub(crate) indices_len: usize,
+    pub(crate) bytes: Out<'a, u8>,
+    pub(crate) bytes_len: usize,
+}
+
+impl<'a, T: Real> PoolArgs<'a, T> {
+    fn open<const D: usize>(self) -> Result<Plan<'a, T, D>, dk_status> {
+        let reals = output(self.reals, self.reals_len)?;
+        let indices = output(self.indices, self.indices_len)?;
+        let bytes = output(self.bytes, self.bytes_len)?;
+        Plan::open(reals, indices, bytes).map_err(dk_status::from)
+    }
+}
+
+impl<'a, T: Real> SpecArgs<'a, T> {
+    /// The kernel's spec (borrowing the caller's arrays; everything is copied at init).
+    fn spec<const D: usize>(&self) -> Result<PlanSpec<'a, T, D>, dk_status> {
+        let o = read_one(self.options)?;
+        let points = read_points::<T, D>(self.points, self.points_len)?;
+        let graph = graph(
+            self.offsets,
+            self.offsets_len,
+            self.targets,
+            self.targets_len,
+        )?;
+        let boundary = input(self.boundary, self.boundary_len)?;
+        let elements = if self.element_offsets_len == 0 {
+            if self.element_nodes_len != 0 || self.element_kinds_len != 0 {
+                return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+            }
+            None
+        } else {
+            let eo = input(self.element_offsets, self.element_offsets_len)?;
+            let en = input(self.element_nodes, self.element_nodes_len)?;
+            let ek = input(self.element_kinds, self.element_kinds_len)?;
+            Some(Cells::new(boundary.len(), eo, en, ek).map_err(dk_status::from)?)
+        };
+        let method = match o.method {
+            DK_PLAN_SPRING => PlanMethod::Spring,
+            DK_PLAN_QUATERNION => PlanMethod::QuaternionSpring,
+            _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        };
+        let solver = match o.solver {
+            DK_PLAN_SOLVER_AMG => PlanSolver::Amg(AmgOptions::default()),
+            DK_PLAN_SOLVER_LINEAR => PlanSolver::Method(o.linear.method::<T>()?),
+            _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        };
+        Ok(PlanSpec {
+            points,
+            graph,
+            boundary,
+            elements,
+            constraints: None,
+            method,
+            stiffness: PlanStiffness::Batina {
+                exponent: T::from_f64(o.stiffness_exponent),
+            },
+            solver,
+            options: o.linear.stopping::<T>(),
+        })
+    }
+}
+
+/// Runs `$f::<T, D>` for `dim` 2 or 3 (else `DK_ERR_INVALID_PARAMETER`).
+macro_rules! dim2or3 {
+    ($dim:expr, $f:ident :: <$t:ty>, ($($arg:expr),* $(,)?)) => {
+        match $dim {
+            2 => $f::<$t, 2>($($arg),*),
+            3 => $f::<$t, 3>($($arg),*),
+            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        }
+    };
+}
+
+fn work_sizes_d<T: Real, const D: usize>(
+    spec: &SpecArgs<'_, T>,
+    out: Out<'_, dk_plan_sizes>,
+) -> Result<(), dk_status> {
+    let s = spec.spec::<D>()?;
+    write_one(out, Plan::<T, D>::work_sizes(&s).into())
+}
+
+pub(crate) fn work_sizes_t<T: Real>(
+    spec: SpecArgs<'_, T>,
+    out: Out<'_, dk_plan_sizes>,
+) -> dk_status {
+    done(dim2or3!(spec.dim, work_sizes_d::<T>, (&spec, out)))
+}
+
+fn sizes_d<T: Real, const D: usize>(
+    spec: &SpecArgs<'_, T>,
+    work: WorkArgs<'_, T>,
+    out: Out<'_, dk_plan_sizes>,
+) -> Result<(), dk_status> {
+    let s = spec.spec::<D>()?;
+    let mut work = work.borrow()?;
+    let sizes = Plan::<T, D>::sizes(&s, &mut work).map_err(dk_status::from)?;
+    write_one(out, sizes.into())
+}
+
+pub(crate) fn sizes_t<T: Real>(
+    spec: SpecArgs<'_, T>,
+    work: WorkArgs<'_, T>,
+    out: Out<'_, dk_plan_sizes>,
+) -> dk_status {
+    done(dim2or3!(spec.dim, sizes_d::<T>, (&spec, work, out)))
+}
+
+fn init_d<T: Real, const D: usize>(
+    spec: &SpecArgs<'_, T>,
+    work: WorkArgs<'_, T>,
+    pools: PoolArgs<'_, T>,
+    info_out: Out<'_, dk_plan_info>,
+) -> Result<(), dk_status> {
+    let s = spec.spec::<D>()?;
+    let mut work = work.borrow()?;
+    let info_slot = crate::slice::out_one(info_out)?;
+    let reals = output(pools.reals, pools.reals_len)?;
+    let indices = output(pools.indices, pools.indices_len)?;
+    let bytes = output(pools.bytes, pools.bytes_len)?;
+    let plan = Plan::<T, D>::init(&s, &mut work, reals, indices, bytes).map_err(dk_status::from)?;
+    *info_slot = info(&plan);
+    Ok(())
+}
+
+pub(crate) fn init_t<T: Real>(
+    spec: SpecArgs<'_, T>,
+    work: WorkArgs<'_, T>,
+    pools: PoolArgs<'_, T>,
+    info_out: Out<'_, dk_plan_info>,
+) -> dk_status {
+    done(dim2or3!(
+        spec.dim,
+        init_d::<T>,
+        (&spec, work, pools, info_out)
+    ))
+}
+
+fn open_d<T: Real, const D: usize>(
+    pools: PoolArgs<'_, T>,
+    info_out: Out<'_, dk_plan_info>,
+) -> Result<(), dk_status> {
+    let info_slot = crate::slice::out_one(info_out)?;
+    let plan = pools.open::<D>()?;
+    *info_slot = info(&plan);
+    Ok(())
+}
+
+pub(crate) fn open_t<T: Real>(
+    pools: PoolArgs<'_, T>,
+    dim: u32,
+    info_out: Out<'_, dk_plan_info>,
+) -> dk_status {
+    done(dim2or3!(dim, open_d::<T>, (pools, info_out)))
+}
+
+/// One step's motion, as the C caller passed it.
+pub(crate) struct MotionArgs<'a, T> {
+    pub(crate) deformed: In<'a, T>,
+    pub(crate) deformed_len: usize,
+    pub(crate) rotation_source: u32,
+    pub(crate) rotations: In<'a, T>,
+    pub(crate) rotations_len: usize,
+    pub(crate) origin: In<'a, T>,
+    pub(crate) origin_len: usize,
+    pub(crate) start: u32,
+}
+
+impl<'a, T: Real> MotionArgs<'a, T> {
+    fn motion<const D: usize>(self) -> Result<PlanMotion<'a, T, D>, dk_status> {
+        let deformed = read_points::<T, D>(self.deformed, self.deformed_len)?;
+        let rotations = match self.rotation_source {
+            crate::deformation::DK_ROTATIONS_SHAPE => {
+                if self.rotations_len != 0 {
+                    return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+                }
+                RotationSource::Shape
+            }
+            crate::deformation::DK_ROTATIONS_RIGID => {
+                let q = input(self.rotations, self.rotations_len)?;
+                let [w, x, y, z] = match q {
+                    [w, x, y, z] => [*w, *x, *y, *z],
+                    _ => return Err(dk_status::DK_ERR_LENGTH_MISMATCH),
+                };
+                RotationSource::Rigid(Quat::new(w, x, y, z))
+            }
+            crate::deformation::DK_ROTATIONS_PER_NODE => {
+                RotationSource::PerNode(quats(self.rotations, self.rotations_len)?)
+            }
+            _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        };
+        let origin = match self.origin_len {
+            0 => None,
+            n if n == D => {
+                let o = input(self.origin, n)?;
+                let mut a = [T::ZERO; D];
+                for (d, &s) in a.iter_mut().zip(o) {
+                    *d = s;
+                }
+                Some(a)
+            }
+            _ => return Err(dk_status::DK_ERR_LENGTH_MISMATCH),
+        };
+        let start = match self.start {
+            DK_PLAN_WARM => Start::Warm,
+            DK_PLAN_COLD => Start::Cold,
+            _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        };
+        Ok(PlanMotion {
+            deformed,
+            rotations,
+            origin,
+            start,
+        })
+    }
+}
+
+fn step_d<T: Real, const D: usize>(
+    pools: PoolArgs<'_, T>,
+    motion: MotionArgs<'_, T>,
+    out: Out<'_, T>,
+    out_len: usize,
+    report_out: Out<'_, dk_plan_step_report>,
+) -> Result<(), dk_status> {
+    let mut plan = pools.open::<D>()?;
+    let motion = motion.motion::<D>()?;
+    let out = chunks_mut::<T, D>(out, out_len)?;
+    let report_slot = crate::slice::out_one(report_out)?;
+    let r = plan.step(&motion, out).map_err(dk_status::from)?;
+    *report_slot = dk_plan_step_report {
+        iterations: r.solve.iterations,
+        residual: r.solve.residual.to_f64(),
+        max_update: r.solve.max_update.to_f64(),
+        step: r.step,
+        converged: r.solve.converged,
+        warm: r.warm,
+        extrapolated: r.extrapolated,
+    };
+    Ok(())
+}
+
+pub(crate) fn step_t<T: Real>(
+    pools: PoolArgs<'_, T>,
+    dim: u32,
+    motion: MotionArgs<'_, T>,
+    out: Out<'_, T>,
+    out_len: usize,
+    report_out: Out<'_, dk_plan_step_report>,
+) -> dk_status {
+    done(dim2or3!(
+        dim,
+        step_d::<T>,
+        (pools, motion, out, out_len, report_out)
+    ))
+}
