@@ -234,6 +234,8 @@ module deform_kernel
     logical(c_bool) :: extrapolated
   end type
 
+  public :: dkf_plan_pool_sizes, dkf_plan_pool_sizes_f32, dkf_plan_init, dkf_plan_init_f32, &
+            dkf_plan_step, dkf_plan_step_f32, dkf_plan_open, dkf_plan_open_f32
   public :: dkf_spring_solve_linear, dkf_taubin_smooth_arclength, dkf_taubin_smooth_structured, &
             dkf_taubin_smooth_graph
   ! <<< end public: springs, quality, taubin >>>
@@ -3307,6 +3309,183 @@ contains
     end if
   end function
 
+  !> dk_plan_work_sizes + dk_plan_pool_sizes with Fortran arrays: points(dim, n), the CSR
+  !> graph offsets(n + 1), targets(:) from dkf_graph_from_*, the 1-based boundary(:) node
+  !> list, options (from dk_plan_options_default), optional boundary elements over
+  !> 1..size(boundary) as 1-based element_offsets/element_nodes (as dkf_graph_from_cells takes
+  !> cells) and element_kinds. The work buffers and 0-based copies of the node lists are
+  !> allocated here and freed on return; pools receives the three pool lengths.
+  function dkf_plan_pool_sizes(points, offsets, targets, boundary, options, pools, &
+                               element_offsets, element_nodes, element_kinds) result(s)
+    real(c_double), intent(in), contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:), boundary(:)
+    type(dk_plan_options), intent(in) :: options
+    type(dk_plan_sizes), intent(out) :: pools
+    integer(c_int32_t), intent(in), contiguous, optional :: element_offsets(:), element_nodes(:)
+    integer(c_int8_t), intent(in), contiguous, optional :: element_kinds(:)
+    integer(c_int32_t) :: s
+    type(dk_plan_sizes) :: work
+    real(c_double), allocatable :: wr(:)
+    integer(c_int32_t), allocatable :: wi(:)
+    integer(c_int8_t), allocatable :: wb(:)
+    type(c_ptr) :: eo, en, ek
+    integer(c_size_t) :: neo, nen, nek
+    integer(c_int32_t), allocatable, target :: b0(:), eo0(:), en0(:)
+    integer(c_int8_t), allocatable, target :: ek0(:)
+    allocate(b0(size(boundary)))
+    b0 = boundary - 1
+    call dkf_plan_elements(element_offsets, element_nodes, element_kinds, eo0, en0, ek0, eo, neo, &
+                           en, nen, ek, nek)
+    s = dk_plan_work_sizes(points, size(points, kind=c_size_t), offsets, &
+                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
+                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, &
+                           int(size(points, 1), c_int32_t), options, work)
+    if (s /= DK_OK) return
+    allocate(wr(max(work%reals, 1_c_size_t)), wi(max(work%indices, 1_c_size_t)), &
+             wb(max(work%bytes, 1_c_size_t)))
+    s = dk_plan_pool_sizes(points, size(points, kind=c_size_t), offsets, &
+                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
+                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, &
+                           int(size(points, 1), c_int32_t), options, wr, work%reals, wi, &
+                           work%indices, wb, work%bytes, pools)
+  end function
+
+  !> dk_plan_init with Fortran arrays (arguments as dkf_plan_pool_sizes; the work buffers are
+  !> allocated here): builds the plan in reals(:), indices(:), bytes(:) (at least the lengths
+  !> dkf_plan_pool_sizes gave); info receives what the plan holds.
+  function dkf_plan_init(points, offsets, targets, boundary, options, reals, indices, bytes, &
+                         info, element_offsets, element_nodes, element_kinds) result(s)
+    real(c_double), intent(in), contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:), boundary(:)
+    type(dk_plan_options), intent(in) :: options
+    real(c_double), intent(inout), contiguous :: reals(:)
+    integer(c_int32_t), intent(inout), contiguous :: indices(:)
+    integer(c_int8_t), intent(inout), contiguous :: bytes(:)
+    type(dk_plan_info), intent(inout) :: info
+    integer(c_int32_t), intent(in), contiguous, optional :: element_offsets(:), element_nodes(:)
+    integer(c_int8_t), intent(in), contiguous, optional :: element_kinds(:)
+    integer(c_int32_t) :: s
+    type(dk_plan_sizes) :: work
+    real(c_double), allocatable :: wr(:)
+    integer(c_int32_t), allocatable :: wi(:)
+    integer(c_int8_t), allocatable :: wb(:)
+    type(c_ptr) :: eo, en, ek
+    integer(c_size_t) :: neo, nen, nek
+    integer(c_int32_t), allocatable, target :: b0(:), eo0(:), en0(:)
+    integer(c_int8_t), allocatable, target :: ek0(:)
+    allocate(b0(size(boundary)))
+    b0 = boundary - 1
+    call dkf_plan_elements(element_offsets, element_nodes, element_kinds, eo0, en0, ek0, eo, neo, &
+                           en, nen, ek, nek)
+    s = dk_plan_work_sizes(points, size(points, kind=c_size_t), offsets, &
+                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
+                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, &
+                           int(size(points, 1), c_int32_t), options, work)
+    if (s /= DK_OK) return
+    allocate(wr(max(work%reals, 1_c_size_t)), wi(max(work%indices, 1_c_size_t)), &
+             wb(max(work%bytes, 1_c_size_t)))
+    s = dk_plan_init(points, size(points, kind=c_size_t), offsets, size(offsets, kind=c_size_t), &
+                     targets, size(targets, kind=c_size_t), b0, size(b0, kind=c_size_t), eo, &
+                     neo, en, nen, ek, nek, &
+                     int(size(points, 1), c_int32_t), options, wr, work%reals, wi, work%indices, &
+                     wb, work%bytes, reals, size(reals, kind=c_size_t), indices, &
+                     size(indices, kind=c_size_t), bytes, size(bytes, kind=c_size_t), info)
+  end function
+
+  !> dk_plan_step with Fortran arrays: deformed(dim, size(boundary)) in, out(dim, n) out;
+  !> start DK_PLAN_WARM (default) or DK_PLAN_COLD; rotations from the plan's elements unless
+  !> rigid_rotation(4) or node_rotations(4, size(boundary)) is given; origin(dim) optional.
+  function dkf_plan_step(reals, indices, bytes, deformed, out, report, start, rigid_rotation, &
+                         node_rotations, origin) result(s)
+    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
+    real(c_double), intent(inout), contiguous :: reals(:)
+    integer(c_int32_t), intent(inout), contiguous :: indices(:)
+    integer(c_int8_t), intent(inout), contiguous :: bytes(:)
+    real(c_double), intent(in), contiguous :: deformed(:, :)
+    real(c_double), intent(inout), contiguous :: out(:, :)
+    type(dk_plan_step_report), intent(inout) :: report
+    integer(c_int32_t), intent(in), optional :: start
+    real(c_double), intent(in), target, optional :: rigid_rotation(4)
+    real(c_double), intent(in), target, contiguous, optional :: node_rotations(:, :)
+    real(c_double), intent(in), target, contiguous, optional :: origin(:)
+    integer(c_int32_t) :: s, st, source
+    type(c_ptr) :: rot, org
+    integer(c_size_t) :: nrot, norg
+    st = DK_PLAN_WARM
+    if (present(start)) st = start
+    source = DK_ROTATIONS_SHAPE
+    rot = c_null_ptr
+    nrot = 0
+    if (present(rigid_rotation)) then
+      source = DK_ROTATIONS_RIGID
+      rot = c_loc(rigid_rotation)
+      nrot = 4
+    else if (present(node_rotations)) then
+      source = DK_ROTATIONS_PER_NODE
+      rot = c_loc(node_rotations)
+      nrot = size(node_rotations, kind=c_size_t)
+    end if
+    org = c_null_ptr
+    norg = 0
+    if (present(origin)) then
+      org = c_loc(origin)
+      norg = size(origin, kind=c_size_t)
+    end if
+    s = dk_plan_step(reals, size(reals, kind=c_size_t), indices, size(indices, kind=c_size_t), &
+                     bytes, size(bytes, kind=c_size_t), int(size(deformed, 1), c_int32_t), &
+                     deformed, size(deformed, kind=c_size_t), source, rot, nrot, org, norg, st, &
+                     out, size(out, kind=c_size_t), report)
+  end function
+
+  !> dk_plan_open with Fortran arrays (dim 2 or 3).
+  function dkf_plan_open(reals, indices, bytes, dim, info) result(s)
+    real(c_double), intent(inout), contiguous :: reals(:)
+    integer(c_int32_t), intent(inout), contiguous :: indices(:)
+    integer(c_int8_t), intent(inout), contiguous :: bytes(:)
+    integer(c_int32_t), intent(in) :: dim
+    type(dk_plan_info), intent(inout) :: info
+    integer(c_int32_t) :: s
+    s = dk_plan_open(reals, size(reals, kind=c_size_t), indices, size(indices, kind=c_size_t), &
+                     bytes, size(bytes, kind=c_size_t), dim, info)
+  end function
+
+  !> The optional 1-based element arrays of the plan wrappers as 0-based copies (eo0, en0,
+  !> ek0, declared target by the caller) and C pointers to them with their lengths.
+  subroutine dkf_plan_elements(element_offsets, element_nodes, element_kinds, eo0, en0, ek0, eo, &
+                               neo, en, nen, ek, nek)
+    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
+    integer(c_int32_t), intent(in), contiguous, optional :: element_offsets(:), element_nodes(:)
+    integer(c_int8_t), intent(in), contiguous, optional :: element_kinds(:)
+    integer(c_int32_t), allocatable, target, intent(inout) :: eo0(:), en0(:)
+    integer(c_int8_t), allocatable, target, intent(inout) :: ek0(:)
+    type(c_ptr), intent(out) :: eo, en, ek
+    integer(c_size_t), intent(out) :: neo, nen, nek
+    eo = c_null_ptr
+    en = c_null_ptr
+    ek = c_null_ptr
+    neo = 0
+    nen = 0
+    nek = 0
+    if (present(element_offsets)) then
+      allocate(eo0(size(element_offsets)))
+      eo0 = element_offsets - 1
+      eo = c_loc(eo0)
+      neo = size(eo0, kind=c_size_t)
+    end if
+    if (present(element_nodes)) then
+      allocate(en0(size(element_nodes)))
+      en0 = element_nodes - 1
+      en = c_loc(en0)
+      nen = size(en0, kind=c_size_t)
+    end if
+    if (present(element_kinds)) then
+      allocate(ek0(size(element_kinds)))
+      ek0 = element_kinds
+      ek = c_loc(ek0)
+      nek = size(ek0, kind=c_size_t)
+    end if
+  end subroutine
+
   ! <<< generated by `cargo xtask codegen`: the _f32 twins of the dkf_ wrappers above >>>
   !> Single-precision twin of dkf_fill_motion.
   !> Fills m for the dkf_deform_* wrappers: 1-based nodes(b) and deformed(dim, b); optional
@@ -3506,6 +3685,150 @@ contains
                            size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
                            none, 0_c_size_t, report)
     end if
+  end function
+
+  !> Single-precision twin of dkf_plan_pool_sizes.
+  !> dk_plan_work_sizes_f32 + dk_plan_pool_sizes_f32 with Fortran arrays: points(dim, n), the CSR
+  !> graph offsets(n + 1), targets(:) from dkf_graph_from_*, the 1-based boundary(:) node
+  !> list, options (from dk_plan_options_default_f32), optional boundary elements over
+  !> 1..size(boundary) as 1-based element_offsets/element_nodes (as dkf_graph_from_cells takes
+  !> cells) and element_kinds. The work buffers and 0-based copies of the node lists are
+  !> allocated here and freed on return; pools receives the three pool lengths.
+  function dkf_plan_pool_sizes_f32(points, offsets, targets, boundary, options, pools, &
+                               element_offsets, element_nodes, element_kinds) result(s)
+    real(c_float), intent(in), contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:), boundary(:)
+    type(dk_plan_options), intent(in) :: options
+    type(dk_plan_sizes), intent(out) :: pools
+    integer(c_int32_t), intent(in), contiguous, optional :: element_offsets(:), element_nodes(:)
+    integer(c_int8_t), intent(in), contiguous, optional :: element_kinds(:)
+    integer(c_int32_t) :: s
+    type(dk_plan_sizes) :: work
+    real(c_float), allocatable :: wr(:)
+    integer(c_int32_t), allocatable :: wi(:)
+    integer(c_int8_t), allocatable :: wb(:)
+    type(c_ptr) :: eo, en, ek
+    integer(c_size_t) :: neo, nen, nek
+    integer(c_int32_t), allocatable, target :: b0(:), eo0(:), en0(:)
+    integer(c_int8_t), allocatable, target :: ek0(:)
+    allocate(b0(size(boundary)))
+    b0 = boundary - 1
+    call dkf_plan_elements(element_offsets, element_nodes, element_kinds, eo0, en0, ek0, eo, neo, &
+                           en, nen, ek, nek)
+    s = dk_plan_work_sizes_f32(points, size(points, kind=c_size_t), offsets, &
+                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
+                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, &
+                           int(size(points, 1), c_int32_t), options, work)
+    if (s /= DK_OK) return
+    allocate(wr(max(work%reals, 1_c_size_t)), wi(max(work%indices, 1_c_size_t)), &
+             wb(max(work%bytes, 1_c_size_t)))
+    s = dk_plan_pool_sizes_f32(points, size(points, kind=c_size_t), offsets, &
+                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
+                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, &
+                           int(size(points, 1), c_int32_t), options, wr, work%reals, wi, &
+                           work%indices, wb, work%bytes, pools)
+  end function
+
+  !> Single-precision twin of dkf_plan_init.
+  !> dk_plan_init_f32 with Fortran arrays (arguments as dkf_plan_pool_sizes_f32; the work buffers are
+  !> allocated here): builds the plan in reals(:), indices(:), bytes(:) (at least the lengths
+  !> dkf_plan_pool_sizes_f32 gave); info receives what the plan holds.
+  function dkf_plan_init_f32(points, offsets, targets, boundary, options, reals, indices, bytes, &
+                         info, element_offsets, element_nodes, element_kinds) result(s)
+    real(c_float), intent(in), contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:), boundary(:)
+    type(dk_plan_options), intent(in) :: options
+    real(c_float), intent(inout), contiguous :: reals(:)
+    integer(c_int32_t), intent(inout), contiguous :: indices(:)
+    integer(c_int8_t), intent(inout), contiguous :: bytes(:)
+    type(dk_plan_info), intent(inout) :: info
+    integer(c_int32_t), intent(in), contiguous, optional :: element_offsets(:), element_nodes(:)
+    integer(c_int8_t), intent(in), contiguous, optional :: element_kinds(:)
+    integer(c_int32_t) :: s
+    type(dk_plan_sizes) :: work
+    real(c_float), allocatable :: wr(:)
+    integer(c_int32_t), allocatable :: wi(:)
+    integer(c_int8_t), allocatable :: wb(:)
+    type(c_ptr) :: eo, en, ek
+    integer(c_size_t) :: neo, nen, nek
+    integer(c_int32_t), allocatable, target :: b0(:), eo0(:), en0(:)
+    integer(c_int8_t), allocatable, target :: ek0(:)
+    allocate(b0(size(boundary)))
+    b0 = boundary - 1
+    call dkf_plan_elements(element_offsets, element_nodes, element_kinds, eo0, en0, ek0, eo, neo, &
+                           en, nen, ek, nek)
+    s = dk_plan_work_sizes_f32(points, size(points, kind=c_size_t), offsets, &
+                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
+                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, &
+                           int(size(points, 1), c_int32_t), options, work)
+    if (s /= DK_OK) return
+    allocate(wr(max(work%reals, 1_c_size_t)), wi(max(work%indices, 1_c_size_t)), &
+             wb(max(work%bytes, 1_c_size_t)))
+    s = dk_plan_init_f32(points, size(points, kind=c_size_t), offsets, size(offsets, kind=c_size_t), &
+                     targets, size(targets, kind=c_size_t), b0, size(b0, kind=c_size_t), eo, &
+                     neo, en, nen, ek, nek, &
+                     int(size(points, 1), c_int32_t), options, wr, work%reals, wi, work%indices, &
+                     wb, work%bytes, reals, size(reals, kind=c_size_t), indices, &
+                     size(indices, kind=c_size_t), bytes, size(bytes, kind=c_size_t), info)
+  end function
+
+  !> Single-precision twin of dkf_plan_step.
+  !> dk_plan_step_f32 with Fortran arrays: deformed(dim, size(boundary)) in, out(dim, n) out;
+  !> start DK_PLAN_WARM (default) or DK_PLAN_COLD; rotations from the plan's elements unless
+  !> rigid_rotation(4) or node_rotations(4, size(boundary)) is given; origin(dim) optional.
+  function dkf_plan_step_f32(reals, indices, bytes, deformed, out, report, start, rigid_rotation, &
+                         node_rotations, origin) result(s)
+    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
+    real(c_float), intent(inout), contiguous :: reals(:)
+    integer(c_int32_t), intent(inout), contiguous :: indices(:)
+    integer(c_int8_t), intent(inout), contiguous :: bytes(:)
+    real(c_float), intent(in), contiguous :: deformed(:, :)
+    real(c_float), intent(inout), contiguous :: out(:, :)
+    type(dk_plan_step_report), intent(inout) :: report
+    integer(c_int32_t), intent(in), optional :: start
+    real(c_float), intent(in), target, optional :: rigid_rotation(4)
+    real(c_float), intent(in), target, contiguous, optional :: node_rotations(:, :)
+    real(c_float), intent(in), target, contiguous, optional :: origin(:)
+    integer(c_int32_t) :: s, st, source
+    type(c_ptr) :: rot, org
+    integer(c_size_t) :: nrot, norg
+    st = DK_PLAN_WARM
+    if (present(start)) st = start
+    source = DK_ROTATIONS_SHAPE
+    rot = c_null_ptr
+    nrot = 0
+    if (present(rigid_rotation)) then
+      source = DK_ROTATIONS_RIGID
+      rot = c_loc(rigid_rotation)
+      nrot = 4
+    else if (present(node_rotations)) then
+      source = DK_ROTATIONS_PER_NODE
+      rot = c_loc(node_rotations)
+      nrot = size(node_rotations, kind=c_size_t)
+    end if
+    org = c_null_ptr
+    norg = 0
+    if (present(origin)) then
+      org = c_loc(origin)
+      norg = size(origin, kind=c_size_t)
+    end if
+    s = dk_plan_step_f32(reals, size(reals, kind=c_size_t), indices, size(indices, kind=c_size_t), &
+                     bytes, size(bytes, kind=c_size_t), int(size(deformed, 1), c_int32_t), &
+                     deformed, size(deformed, kind=c_size_t), source, rot, nrot, org, norg, st, &
+                     out, size(out, kind=c_size_t), report)
+  end function
+
+  !> Single-precision twin of dkf_plan_open.
+  !> dk_plan_open_f32 with Fortran arrays (dim 2 or 3).
+  function dkf_plan_open_f32(reals, indices, bytes, dim, info) result(s)
+    real(c_float), intent(inout), contiguous :: reals(:)
+    integer(c_int32_t), intent(inout), contiguous :: indices(:)
+    integer(c_int8_t), intent(inout), contiguous :: bytes(:)
+    integer(c_int32_t), intent(in) :: dim
+    type(dk_plan_info), intent(inout) :: info
+    integer(c_int32_t) :: s
+    s = dk_plan_open_f32(reals, size(reals, kind=c_size_t), indices, size(indices, kind=c_size_t), &
+                     bytes, size(bytes, kind=c_size_t), dim, info)
   end function
   ! <<< end generated twins >>>
   ! <<< end wrappers: deformation >>>

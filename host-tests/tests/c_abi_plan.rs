@@ -1,7 +1,8 @@
-//! Prepared plans from C: `ffi/examples/plan_pitching.c` steps a pitching O-grid 20 times
-//! through one plan (checkpointed halfway), and the Rust `Plan` API on the same input must
-//! give the same iterations, warm/extrapolated choices and final mesh, bit for bit. The
-//! example itself fails unless warm starts take fewer iterations than cold ones. Needs `gcc`.
+//! Prepared plans from C and Fortran: `ffi/examples/plan_pitching.{c,f90}` step a pitching
+//! O-grid 20 times through one plan (checkpointed halfway); the Fortran program must print
+//! exactly what the C one prints, and the Rust `Plan` API on the same input must give the same
+//! iterations, warm/extrapolated choices and final mesh, bit for bit. The examples fail
+//! unless warm starts take fewer iterations than cold ones. Needs `gcc` and `gfortran`.
 
 mod common;
 
@@ -46,6 +47,24 @@ fn c_plan_steps_equal_the_rust_plan_bit_for_bit() {
         &exe,
     );
     let printed = run(&exe);
+
+    let module = workspace().join("ffi/fortran/deform_kernel.f90");
+    let fsrc = workspace().join("ffi/examples/plan_pitching.f90");
+    let moddir = tmp("plan_pitching_f_mod");
+    std::fs::create_dir_all(&moddir).unwrap();
+    let jflag = format!("-J{}", moddir.display());
+    let fexe = tmp("plan_pitching_f");
+    compile(
+        "gfortran",
+        &[module, fsrc],
+        &["-std=f2008", "-Wall", "-Werror", &jflag],
+        Link::Static,
+        &fexe,
+    );
+    assert!(
+        run(&fexe) == printed,
+        "the Fortran example printed something else than the C one"
+    );
     let mut lines = printed.lines();
 
     // The same mesh, graph, boundary and elements as the C program builds.

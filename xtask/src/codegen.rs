@@ -61,6 +61,10 @@ const F32_WRAPPERS: &[&str] = &[
     "dkf_deform_idw",
     "dkf_deform_tfi",
     "dkf_deform_spring",
+    "dkf_plan_pool_sizes",
+    "dkf_plan_init",
+    "dkf_plan_step",
+    "dkf_plan_open",
 ];
 
 /// One argument of a table entry.
