@@ -20,6 +20,9 @@ use deform_kernel::{graph_from_edges, Quat};
 use deform_kernel_ffi::deformation::{self as de, dk_boundary_motion, dk_boundary_motion_f32};
 use deform_kernel_ffi::dk_status;
 use deform_kernel_ffi::graph::dk_graph_from_edges;
+use deform_kernel_ffi::plan::{
+    self as pl, dk_plan_info, dk_plan_options, dk_plan_sizes, dk_plan_step_report,
+};
 use deform_kernel_ffi::quality::{self as qu, dk_cell_quality, dk_quality_report};
 use deform_kernel_ffi::quat::{dk_quat_average, dk_quat_mul, dk_quat_rotate_points};
 use deform_kernel_ffi::spring::{
@@ -149,6 +152,14 @@ enum Op {
         f32: bool,
     },
     Deform(DeformSpec),
+    Plan {
+        quaternion: bool,
+        amg: bool,
+        steps: u8,
+        corrupt: u8,
+        cold: bool,
+        f32: bool,
+    },
 }
 
 #[derive(Arbitrary, Debug, Clone, Copy)]
@@ -2194,6 +2205,374 @@ fn deform<T: Sc>(c: &mut Ctx, sp_: &DeformSpec) {
     }
 }
 
+// ---------------------------------------------------------------------------------------------
+// Prepared plans.
+// ---------------------------------------------------------------------------------------------
+
+type PlanSizesFn<T> = unsafe extern "C" fn(
+    *const T,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u8,
+    usize,
+    u32,
+    *const dk_plan_options,
+    *mut dk_plan_sizes,
+) -> dk_status;
+type PlanPoolsFn<T> = unsafe extern "C" fn(
+    *const T,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u8,
+    usize,
+    u32,
+    *const dk_plan_options,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut u8,
+    usize,
+    *mut dk_plan_sizes,
+) -> dk_status;
+type PlanInitFn<T> = unsafe extern "C" fn(
+    *const T,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u8,
+    usize,
+    u32,
+    *const dk_plan_options,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut u8,
+    usize,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut u8,
+    usize,
+    *mut dk_plan_info,
+) -> dk_status;
+type PlanStepFn<T> = unsafe extern "C" fn(
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut u8,
+    usize,
+    u32,
+    *const T,
+    usize,
+    u32,
+    *const T,
+    usize,
+    *const T,
+    usize,
+    u32,
+    *mut T,
+    usize,
+    *mut dk_plan_step_report,
+) -> dk_status;
+
+/// The plan entry points of one precision.
+trait PlanSc: Sc {
+    const DEFAULT: unsafe extern "C" fn(*mut dk_plan_options) -> dk_status;
+    const WORK: PlanSizesFn<Self>;
+    const POOLS: PlanPoolsFn<Self>;
+    const INIT: PlanInitFn<Self>;
+    const STEP: PlanStepFn<Self>;
+}
+
+impl PlanSc for f64 {
+    const DEFAULT: unsafe extern "C" fn(*mut dk_plan_options) -> dk_status =
+        pl::abi::dk_plan_options_default;
+    const WORK: PlanSizesFn<f64> = pl::abi::dk_plan_work_sizes;
+    const POOLS: PlanPoolsFn<f64> = pl::abi::dk_plan_pool_sizes;
+    const INIT: PlanInitFn<f64> = pl::abi::dk_plan_init;
+    const STEP: PlanStepFn<f64> = pl::abi::dk_plan_step;
+}
+
+impl PlanSc for f32 {
+    const DEFAULT: unsafe extern "C" fn(*mut dk_plan_options) -> dk_status =
+        pl::abi::dk_plan_options_default_f32;
+    const WORK: PlanSizesFn<f32> = pl::abi::dk_plan_work_sizes_f32;
+    const POOLS: PlanPoolsFn<f32> = pl::abi::dk_plan_pool_sizes_f32;
+    const INIT: PlanInitFn<f32> = pl::abi::dk_plan_init_f32;
+    const STEP: PlanStepFn<f32> = pl::abi::dk_plan_step_f32;
+}
+
+/// A plan on the grid (boundary fixed, 2D boundary loops as segment elements): sizes, init
+/// and up to three steps with arbitrary boundary positions, every buffer shaped by the knobs;
+/// `corrupt` overwrites the plan's magic before one step. Statuses documented, outputs
+/// untouched unless OK, boundary points reproduced bitwise on OK.
+fn plan<T: PlanSc>(c: &mut Ctx, quaternion: bool, amg: bool, steps: u8, corrupt: u8, cold: bool) {
+    let m = c.m;
+    let b = m.boundary.len();
+    let loop2d = m.d == 2 && b >= 3 && m.dims[0] >= 2 && m.dims[1] >= 2;
+    let (eo, en, ek): (Vec<u32>, Vec<u32>, Vec<u8>) = if loop2d {
+        (
+            (0..=b).map(|i| 2 * i as u32).collect(),
+            (0..b)
+                .flat_map(|i| [i as u32, ((i + 1) % b) as u32])
+                .collect(),
+            vec![3; b],
+        )
+    } else {
+        (Vec::new(), Vec::new(), Vec::new())
+    };
+    let mut opts = dk_plan_options {
+        method: 0,
+        solver: 0,
+        stiffness_exponent: 0.0,
+        linear: unsafe { std::mem::zeroed() },
+    };
+    // SAFETY: one writable struct.
+    assert_eq!(unsafe { (T::DEFAULT)(&mut opts) }, dk_status::DK_OK);
+    opts.method = if quaternion {
+        pl::DK_PLAN_QUATERNION
+    } else {
+        pl::DK_PLAN_SPRING
+    };
+    opts.solver = if amg {
+        pl::DK_PLAN_SOLVER_AMG
+    } else {
+        pl::DK_PLAN_SOLVER_LINEAR
+    };
+    opts.linear.max_iterations = 50;
+    let p = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
+    let o = Buf::input(&mut c.kn, &m.offsets, 0);
+    let t = Buf::input(&mut c.kn, &m.targets, 0);
+    let bn = Buf::input(&mut c.kn, &m.boundary, 0);
+    let (eo, en, ek) = if eo.is_empty() {
+        (Buf::absent(), Buf::absent(), Buf::absent())
+    } else {
+        (
+            Buf::input(&mut c.kn, &eo, 0),
+            Buf::input(&mut c.kn, &en, 0),
+            Buf::input(&mut c.kn, &ek, 3),
+        )
+    };
+    let op = opt_ptr(&mut c.kn, &opts);
+    let mut work = Slot::<dk_plan_sizes>::new(&mut c.kn);
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    let s = unsafe {
+        (T::WORK)(
+            p.p(),
+            p.n(),
+            o.p(),
+            o.n(),
+            t.p(),
+            t.n(),
+            bn.p(),
+            bn.n(),
+            eo.p(),
+            eo.n(),
+            en.p(),
+            en.n(),
+            ek.p(),
+            ek.n(),
+            m.dim,
+            op,
+            work.p(),
+        )
+    };
+    check_slot("plan work sizes", s, &work);
+    if s != dk_status::DK_OK {
+        return;
+    }
+    let ws = work.get();
+    let mut wr = Buf::output(&mut c.kn, ws.reals, T::SENT);
+    let mut wi = Buf::output(&mut c.kn, ws.indices, 0u32);
+    let mut wb = Buf::output(&mut c.kn, ws.bytes, 0u8);
+    let mut sizes = Slot::<dk_plan_sizes>::new(&mut c.kn);
+    // SAFETY: as above.
+    let s = unsafe {
+        (T::POOLS)(
+            p.p(),
+            p.n(),
+            o.p(),
+            o.n(),
+            t.p(),
+            t.n(),
+            bn.p(),
+            bn.n(),
+            eo.p(),
+            eo.n(),
+            en.p(),
+            en.n(),
+            ek.p(),
+            ek.n(),
+            m.dim,
+            op,
+            wr.m(),
+            wr.n(),
+            wi.m(),
+            wi.n(),
+            wb.m(),
+            wb.n(),
+            sizes.p(),
+        )
+    };
+    check_slot("plan pool sizes", s, &sizes);
+    if s != dk_status::DK_OK {
+        return;
+    }
+    let ps = sizes.get();
+    let mut reals = Buf::output(&mut c.kn, ps.reals, T::SENT);
+    let mut indices = Buf::output(&mut c.kn, ps.indices, 0u32);
+    let mut bytes = Buf::output(&mut c.kn, ps.bytes, 0u8);
+    let mut info = Slot::<dk_plan_info>::new(&mut c.kn);
+    // SAFETY: as above.
+    let s = unsafe {
+        (T::INIT)(
+            p.p(),
+            p.n(),
+            o.p(),
+            o.n(),
+            t.p(),
+            t.n(),
+            bn.p(),
+            bn.n(),
+            eo.p(),
+            eo.n(),
+            en.p(),
+            en.n(),
+            ek.p(),
+            ek.n(),
+            m.dim,
+            op,
+            wr.m(),
+            wr.n(),
+            wi.m(),
+            wi.n(),
+            wb.m(),
+            wb.n(),
+            reals.m(),
+            reals.n(),
+            indices.m(),
+            indices.n(),
+            bytes.m(),
+            bytes.n(),
+            info.p(),
+        )
+    };
+    check_slot("plan init", s, &info);
+    if s != dk_status::DK_OK {
+        return;
+    }
+    let d = m.d;
+    for step in 0..steps % 4 {
+        if corrupt % 4 == step {
+            if let Some(w) = indices.v.first_mut() {
+                *w ^= 1;
+            }
+        }
+        let mut deformed = Vec::with_capacity(b * d);
+        for &node in &m.boundary {
+            for k in 0..d {
+                let x = m.pts[node as usize * d + k] + c.vals.next() / 16.0;
+                deformed.push(T::of(x));
+            }
+        }
+        let df = Buf::input(&mut c.kn, &deformed, T::of(0.0));
+        let rigid = [T::of(1.0), T::of(0.0), T::of(0.0), T::of(0.0)];
+        let (source, rot) = if loop2d {
+            (de::DK_ROTATIONS_SHAPE, Buf::absent())
+        } else {
+            (
+                de::DK_ROTATIONS_RIGID,
+                Buf::input(&mut c.kn, &rigid, T::of(0.0)),
+            )
+        };
+        let mut out = Buf::output(&mut c.kn, m.n * d, T::SENT);
+        let mut report = Slot::<dk_plan_step_report>::new(&mut c.kn);
+        let start = if cold {
+            pl::DK_PLAN_COLD
+        } else {
+            pl::DK_PLAN_WARM
+        };
+        // SAFETY: as above.
+        let s = unsafe {
+            (T::STEP)(
+                reals.m(),
+                reals.n(),
+                indices.m(),
+                indices.n(),
+                bytes.m(),
+                bytes.n(),
+                m.dim,
+                df.p(),
+                df.n(),
+                source,
+                rot.p(),
+                rot.n(),
+                ptr::null(),
+                0,
+                start,
+                out.m(),
+                out.n(),
+                report.p(),
+            )
+        };
+        check_slot("plan step", s, &report);
+        if corrupt % 4 == step && !indices.null && indices.n() > 0 {
+            assert_eq!(
+                s,
+                dk_status::DK_ERR_BAD_PLAN,
+                "a plan with a broken magic stepped"
+            );
+        }
+        if s != dk_status::DK_OK {
+            assert!(all_sent(&out.v), "plan step: out written on {s:?}");
+            return;
+        }
+        for (j, &node) in m.boundary.iter().enumerate() {
+            for k in 0..d {
+                assert_eq!(
+                    out.v[node as usize * d + k].bits(),
+                    deformed[j * d + k].bits(),
+                    "plan step: boundary point not reproduced"
+                );
+            }
+        }
+        let r = report.get();
+        if r.converged && m.finite && !c.vals.nonfinite {
+            assert!(all_fin(&out.v[..m.n * d]), "plan step: non-finite output");
+        }
+    }
+}
+
 fn run_op(c: &mut Ctx, op: &Op) {
     macro_rules! prec {
         ($f32:expr, $f:ident ( $($a:expr),* )) => {
@@ -2301,6 +2680,20 @@ fn run_op(c: &mut Ctx, op: &Op) {
             f32,
         } => {
             prec!(f32, redistribute(direction, normalised, perturb))
+        }
+        Op::Plan {
+            quaternion,
+            amg,
+            steps,
+            corrupt,
+            cold,
+            f32,
+        } => {
+            if f32 {
+                plan::<f32>(c, quaternion, amg, steps, corrupt, cold)
+            } else {
+                plan::<f64>(c, quaternion, amg, steps, corrupt, cold)
+            }
         }
         Op::Deform(ref s) => {
             if s.f32 {
