@@ -234,6 +234,9 @@ module deform_kernel
     logical(c_bool) :: extrapolated
   end type
 
+  public :: dkf_quality_cell_measures, dkf_quality_cell_measures_f32, &
+            dkf_quality_min_corner_jacobians, dkf_quality_min_corner_jacobians_f32, &
+            dkf_quality_compare, dkf_quality_compare_f32
   public :: dkf_plan_pool_sizes, dkf_plan_pool_sizes_f32, dkf_plan_init, dkf_plan_init_f32, &
             dkf_plan_step, dkf_plan_step_f32, dkf_plan_open, dkf_plan_open_f32
   public :: dkf_spring_solve_linear, dkf_taubin_smooth_arclength, dkf_taubin_smooth_structured, &
@@ -3486,6 +3489,101 @@ contains
     end if
   end subroutine
 
+  !> dk_quality_cell_measures with Fortran arrays and 1-based cells (cell_offsets(ncells + 1),
+  !> cell_nodes(:), cell_kinds(ncells), as dkf_graph_from_cells takes them): the signed area
+  !> (2D) or volume (3D) of every cell of points(dim, n) into out(ncells).
+  function dkf_quality_cell_measures(cell_offsets, cell_nodes, cell_kinds, points, out) result(s)
+    integer(c_int32_t), intent(in), contiguous :: cell_offsets(:), cell_nodes(:)
+    integer(c_int8_t), intent(in), contiguous :: cell_kinds(:)
+    real(c_double), intent(in), contiguous :: points(:, :)
+    real(c_double), intent(inout), contiguous :: out(:)
+    integer(c_int32_t) :: s
+    s = dk_quality_cell_measures(cell_offsets, size(cell_offsets, kind=c_size_t), cell_nodes, &
+                                 size(cell_nodes, kind=c_size_t), cell_kinds, &
+                                 size(cell_kinds, kind=c_size_t), 1_c_int32_t, points, &
+                                 size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
+                                 out, size(out, kind=c_size_t))
+  end function
+
+  !> dk_quality_min_corner_jacobians with Fortran arrays (cells as dkf_quality_cell_measures):
+  !> the smallest corner Jacobian of every cell, divided by its edge lengths when scaled.
+  function dkf_quality_min_corner_jacobians(cell_offsets, cell_nodes, cell_kinds, points, &
+                                            scaled, out) result(s)
+    integer(c_int32_t), intent(in), contiguous :: cell_offsets(:), cell_nodes(:)
+    integer(c_int8_t), intent(in), contiguous :: cell_kinds(:)
+    real(c_double), intent(in), contiguous :: points(:, :)
+    logical, intent(in) :: scaled
+    real(c_double), intent(inout), contiguous :: out(:)
+    integer(c_int32_t) :: s
+    s = dk_quality_min_corner_jacobians(cell_offsets, size(cell_offsets, kind=c_size_t), &
+                                        cell_nodes, size(cell_nodes, kind=c_size_t), cell_kinds, &
+                                        size(cell_kinds, kind=c_size_t), 1_c_int32_t, points, &
+                                        size(points, kind=c_size_t), &
+                                        int(size(points, 1), c_int32_t), &
+                                        logical(scaled, c_bool), out, size(out, kind=c_size_t))
+  end function
+
+  !> dk_quality_compare with Fortran arrays: deformed(dim, n) against undeformed(dim, n) over
+  !> the 1-based cells; with a wall (1-based wall_offsets, wall_nodes, wall_kinds and the CSR
+  !> graph_offsets, graph_targets from dkf_graph_from_*, all five or none) also the wall-angle
+  !> change (the scratch is allocated here). report receives the comparison; its cell and node
+  !> indices are 1-based, or DK_NO_INDEX.
+  function dkf_quality_compare(cell_offsets, cell_nodes, cell_kinds, undeformed, deformed, &
+                               report, wall_offsets, wall_nodes, wall_kinds, graph_offsets, &
+                               graph_targets) result(s)
+    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
+    integer(c_int32_t), intent(in), contiguous :: cell_offsets(:), cell_nodes(:)
+    integer(c_int8_t), intent(in), contiguous :: cell_kinds(:)
+    real(c_double), intent(in), contiguous :: undeformed(:, :), deformed(:, :)
+    type(dk_quality_report), intent(inout) :: report
+    integer(c_int32_t), intent(in), target, contiguous, optional :: wall_offsets(:), &
+        wall_nodes(:), graph_offsets(:), graph_targets(:)
+    integer(c_int8_t), intent(in), target, contiguous, optional :: wall_kinds(:)
+    integer(c_int32_t) :: s
+    real(c_double), allocatable :: scratch(:)
+    integer(c_size_t) :: need
+    type(c_ptr) :: wo, wn, wk, go, gt
+    integer(c_size_t) :: nwo, nwn, nwk, ngo, ngt
+    wo = c_null_ptr
+    wn = c_null_ptr
+    wk = c_null_ptr
+    go = c_null_ptr
+    gt = c_null_ptr
+    nwo = 0
+    nwn = 0
+    nwk = 0
+    ngo = 0
+    ngt = 0
+    need = 0
+    if (present(wall_offsets) .and. present(wall_nodes) .and. present(wall_kinds) .and. &
+        present(graph_offsets) .and. present(graph_targets)) then
+      wo = c_loc(wall_offsets)
+      wn = c_loc(wall_nodes)
+      wk = c_loc(wall_kinds)
+      go = c_loc(graph_offsets)
+      gt = c_loc(graph_targets)
+      nwo = size(wall_offsets, kind=c_size_t)
+      nwn = size(wall_nodes, kind=c_size_t)
+      nwk = size(wall_kinds, kind=c_size_t)
+      ngo = size(graph_offsets, kind=c_size_t)
+      ngt = size(graph_targets, kind=c_size_t)
+      s = dk_quality_wall_angle_scratch_len(size(undeformed, 2, kind=c_size_t), &
+                                            int(size(undeformed, 1), c_int32_t), need)
+      if (s /= DK_OK) return
+    else if (present(wall_offsets) .or. present(wall_nodes) .or. present(wall_kinds) .or. &
+             present(graph_offsets) .or. present(graph_targets)) then
+      s = DK_ERR_LENGTH_MISMATCH
+      return
+    end if
+    allocate(scratch(max(need, 1_c_size_t)))
+    s = dk_quality_compare(cell_offsets, size(cell_offsets, kind=c_size_t), cell_nodes, &
+                           size(cell_nodes, kind=c_size_t), cell_kinds, &
+                           size(cell_kinds, kind=c_size_t), 1_c_int32_t, wo, nwo, wn, nwn, wk, &
+                           nwk, go, ngo, gt, ngt, undeformed, size(undeformed, kind=c_size_t), &
+                           deformed, size(deformed, kind=c_size_t), &
+                           int(size(undeformed, 1), c_int32_t), scratch, need, report)
+  end function
+
   ! <<< generated by `cargo xtask codegen`: the _f32 twins of the dkf_ wrappers above >>>
   !> Single-precision twin of dkf_fill_motion.
   !> Fills m for the dkf_deform_* wrappers: 1-based nodes(b) and deformed(dim, b); optional
@@ -3829,6 +3927,104 @@ contains
     integer(c_int32_t) :: s
     s = dk_plan_open_f32(reals, size(reals, kind=c_size_t), indices, size(indices, kind=c_size_t), &
                      bytes, size(bytes, kind=c_size_t), dim, info)
+  end function
+
+  !> Single-precision twin of dkf_quality_cell_measures.
+  !> dk_quality_cell_measures_f32 with Fortran arrays and 1-based cells (cell_offsets(ncells + 1),
+  !> cell_nodes(:), cell_kinds(ncells), as dkf_graph_from_cells takes them): the signed area
+  !> (2D) or volume (3D) of every cell of points(dim, n) into out(ncells).
+  function dkf_quality_cell_measures_f32(cell_offsets, cell_nodes, cell_kinds, points, out) result(s)
+    integer(c_int32_t), intent(in), contiguous :: cell_offsets(:), cell_nodes(:)
+    integer(c_int8_t), intent(in), contiguous :: cell_kinds(:)
+    real(c_float), intent(in), contiguous :: points(:, :)
+    real(c_float), intent(inout), contiguous :: out(:)
+    integer(c_int32_t) :: s
+    s = dk_quality_cell_measures_f32(cell_offsets, size(cell_offsets, kind=c_size_t), cell_nodes, &
+                                 size(cell_nodes, kind=c_size_t), cell_kinds, &
+                                 size(cell_kinds, kind=c_size_t), 1_c_int32_t, points, &
+                                 size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
+                                 out, size(out, kind=c_size_t))
+  end function
+
+  !> Single-precision twin of dkf_quality_min_corner_jacobians.
+  !> dk_quality_min_corner_jacobians_f32 with Fortran arrays (cells as dkf_quality_cell_measures_f32):
+  !> the smallest corner Jacobian of every cell, divided by its edge lengths when scaled.
+  function dkf_quality_min_corner_jacobians_f32(cell_offsets, cell_nodes, cell_kinds, points, &
+                                            scaled, out) result(s)
+    integer(c_int32_t), intent(in), contiguous :: cell_offsets(:), cell_nodes(:)
+    integer(c_int8_t), intent(in), contiguous :: cell_kinds(:)
+    real(c_float), intent(in), contiguous :: points(:, :)
+    logical, intent(in) :: scaled
+    real(c_float), intent(inout), contiguous :: out(:)
+    integer(c_int32_t) :: s
+    s = dk_quality_min_corner_jacobians_f32(cell_offsets, size(cell_offsets, kind=c_size_t), &
+                                        cell_nodes, size(cell_nodes, kind=c_size_t), cell_kinds, &
+                                        size(cell_kinds, kind=c_size_t), 1_c_int32_t, points, &
+                                        size(points, kind=c_size_t), &
+                                        int(size(points, 1), c_int32_t), &
+                                        logical(scaled, c_bool), out, size(out, kind=c_size_t))
+  end function
+
+  !> Single-precision twin of dkf_quality_compare.
+  !> dk_quality_compare_f32 with Fortran arrays: deformed(dim, n) against undeformed(dim, n) over
+  !> the 1-based cells; with a wall (1-based wall_offsets, wall_nodes, wall_kinds and the CSR
+  !> graph_offsets, graph_targets from dkf_graph_from_*, all five or none) also the wall-angle
+  !> change (the scratch is allocated here). report receives the comparison; its cell and node
+  !> indices are 1-based, or DK_NO_INDEX.
+  function dkf_quality_compare_f32(cell_offsets, cell_nodes, cell_kinds, undeformed, deformed, &
+                               report, wall_offsets, wall_nodes, wall_kinds, graph_offsets, &
+                               graph_targets) result(s)
+    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
+    integer(c_int32_t), intent(in), contiguous :: cell_offsets(:), cell_nodes(:)
+    integer(c_int8_t), intent(in), contiguous :: cell_kinds(:)
+    real(c_float), intent(in), contiguous :: undeformed(:, :), deformed(:, :)
+    type(dk_quality_report), intent(inout) :: report
+    integer(c_int32_t), intent(in), target, contiguous, optional :: wall_offsets(:), &
+        wall_nodes(:), graph_offsets(:), graph_targets(:)
+    integer(c_int8_t), intent(in), target, contiguous, optional :: wall_kinds(:)
+    integer(c_int32_t) :: s
+    real(c_float), allocatable :: scratch(:)
+    integer(c_size_t) :: need
+    type(c_ptr) :: wo, wn, wk, go, gt
+    integer(c_size_t) :: nwo, nwn, nwk, ngo, ngt
+    wo = c_null_ptr
+    wn = c_null_ptr
+    wk = c_null_ptr
+    go = c_null_ptr
+    gt = c_null_ptr
+    nwo = 0
+    nwn = 0
+    nwk = 0
+    ngo = 0
+    ngt = 0
+    need = 0
+    if (present(wall_offsets) .and. present(wall_nodes) .and. present(wall_kinds) .and. &
+        present(graph_offsets) .and. present(graph_targets)) then
+      wo = c_loc(wall_offsets)
+      wn = c_loc(wall_nodes)
+      wk = c_loc(wall_kinds)
+      go = c_loc(graph_offsets)
+      gt = c_loc(graph_targets)
+      nwo = size(wall_offsets, kind=c_size_t)
+      nwn = size(wall_nodes, kind=c_size_t)
+      nwk = size(wall_kinds, kind=c_size_t)
+      ngo = size(graph_offsets, kind=c_size_t)
+      ngt = size(graph_targets, kind=c_size_t)
+      s = dk_quality_wall_angle_scratch_len(size(undeformed, 2, kind=c_size_t), &
+                                            int(size(undeformed, 1), c_int32_t), need)
+      if (s /= DK_OK) return
+    else if (present(wall_offsets) .or. present(wall_nodes) .or. present(wall_kinds) .or. &
+             present(graph_offsets) .or. present(graph_targets)) then
+      s = DK_ERR_LENGTH_MISMATCH
+      return
+    end if
+    allocate(scratch(max(need, 1_c_size_t)))
+    s = dk_quality_compare_f32(cell_offsets, size(cell_offsets, kind=c_size_t), cell_nodes, &
+                           size(cell_nodes, kind=c_size_t), cell_kinds, &
+                           size(cell_kinds, kind=c_size_t), 1_c_int32_t, wo, nwo, wn, nwn, wk, &
+                           nwk, go, ngo, gt, ngt, undeformed, size(undeformed, kind=c_size_t), &
+                           deformed, size(deformed, kind=c_size_t), &
+                           int(size(undeformed, 1), c_int32_t), scratch, need, report)
   end function
   ! <<< end generated twins >>>
   ! <<< end wrappers: deformation >>>

@@ -120,6 +120,26 @@ fn fortran_example_matches_rust_bit_for_bit() {
     }
 }
 
+/// The Fortran quality wrappers (`ffi/tests/quality.f90`): exact measures and Jacobians, a
+/// rigid motion and a fold compared, a partial wall refused.
+#[test]
+fn fortran_quality_wrappers() {
+    let module = workspace().join("ffi/fortran/deform_kernel.f90");
+    let src = workspace().join("ffi/tests/quality.f90");
+    let moddir = tmp("quality_f_mod");
+    std::fs::create_dir_all(&moddir).unwrap();
+    let jflag = format!("-J{}", moddir.display());
+    let exe = tmp("quality_f");
+    compile(
+        "gfortran",
+        &[module, src],
+        &["-std=f2008", "-Wall", "-Werror", &jflag],
+        Link::Static,
+        &exe,
+    );
+    assert_eq!(run(&exe), "quality: every check held\n");
+}
+
 #[test]
 fn bad_input_from_c_returns_documented_status_and_writes_nothing() {
     let src = workspace().join("ffi/tests/bad_input.c");

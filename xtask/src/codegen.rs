@@ -65,6 +65,9 @@ const F32_WRAPPERS: &[&str] = &[
     "dkf_plan_init",
     "dkf_plan_step",
     "dkf_plan_open",
+    "dkf_quality_cell_measures",
+    "dkf_quality_min_corner_jacobians",
+    "dkf_quality_compare",
 ];
 
 /// One argument of a table entry.
