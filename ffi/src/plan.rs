@@ -7,8 +7,8 @@
 //! stores no pointers (offsets follow from the counts in its header), so a caller may copy,
 //! checkpoint or move the pools between steps. Every step reopens the pools with
 //! `Plan::open` (header, layout and a checksum of every immutable part: one pass over the
-//! pools, about 3 % of a warm 234k-node step), so pools that were overwritten by mistake are
-//! a `DK_ERR_BAD_PLAN`, never a wrong mesh. Indices are 0-based.
+//! pools, 11 ms against a warm 234k-node step of 231–328 ms), so pools that were overwritten
+//! by mistake are a `DK_ERR_BAD_PLAN`, never a wrong mesh. Indices are 0-based.
 
 use deform_kernel::deformation::RotationSource;
 use deform_kernel::plan::{
