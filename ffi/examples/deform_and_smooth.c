@@ -138,10 +138,10 @@ int main(void) {
     }
     cell_offsets[NC] = 4 * NC;
     CHECK(dk_graph_from_cells_len(N, cell_offsets, NC + 1, cell_nodes, 4 * NC, cell_kinds, NC, 0,
-                                  false, &len));
+                                  NULL, 0, false, &len));
     if (len > EDGES) return EXIT_FAILURE;
-    CHECK(dk_graph_from_cells(N, cell_offsets, NC + 1, cell_nodes, 4 * NC, cell_kinds, NC, 0,
-                              false, offsets, N + 1, targets, len, &targets_len));
+    CHECK(dk_graph_from_cells(N, cell_offsets, NC + 1, cell_nodes, 4 * NC, cell_kinds, NC, 0, NULL,
+                              0, false, offsets, N + 1, targets, len, &targets_len));
     CHECK(dk_spring_batina_stiffness(offsets, N + 1, targets, targets_len, points, 2 * N, 2, 1.0,
                                      stiffness, targets_len));
     CHECK(dk_spring_batina_stiffness_f32(offsets, N + 1, targets, targets_len, points32, 2 * N,

@@ -24,6 +24,7 @@ program deform_and_smooth
   integer(c_int32_t) :: nodes(NB), element_offsets(NB + 1), element_nodes(2 * NB)
   integer(c_int32_t) :: cell_offsets(NC + 1), cell_nodes(4 * NC), offsets(N + 1)
   integer(c_int32_t) :: targets(MAXEDGE), index_scratch(5 * NB + N)
+  integer(c_int32_t) :: cell_scratch(5 * NC + 1) ! 0-based copies of the 1-based cell arrays
   integer(c_int8_t) :: element_kinds(NB), cell_kinds(NC), fixed(N)
   integer(c_size_t) :: dims(3) = [int(NI, c_size_t), int(NJ, c_size_t), 1_c_size_t]
   integer(c_size_t) :: length, targets_len, values_len
@@ -64,12 +65,14 @@ program deform_and_smooth
   cell_kinds = DK_QUAD
   call check(dk_graph_from_cells_len(int(N, c_size_t), cell_offsets, int(NC + 1, c_size_t), &
                                      cell_nodes, int(4 * NC, c_size_t), cell_kinds, &
-                                     int(NC, c_size_t), 1_c_int32_t, .false._c_bool, length), &
+                                     int(NC, c_size_t), 1_c_int32_t, cell_scratch, &
+                                     int(5 * NC + 1, c_size_t), .false._c_bool, length), &
              "graph_from_cells_len")
   if (length > MAXEDGE) stop 1
   call check(dk_graph_from_cells(int(N, c_size_t), cell_offsets, int(NC + 1, c_size_t), &
                                  cell_nodes, int(4 * NC, c_size_t), cell_kinds, &
-                                 int(NC, c_size_t), 1_c_int32_t, .false._c_bool, offsets, &
+                                 int(NC, c_size_t), 1_c_int32_t, cell_scratch, &
+                                 int(5 * NC + 1, c_size_t), .false._c_bool, offsets, &
                                  int(N + 1, c_size_t), targets, length, targets_len), &
              "graph_from_cells")
   call check(dk_spring_batina_stiffness(offsets, int(N + 1, c_size_t), targets, targets_len, &

@@ -63,11 +63,11 @@ int main(void) {
         points32[3 * i + 2] = 0.0f;
     }
 
-    CHECK(dk_graph_from_cells_len(9, cell_offsets, 5, cell_nodes, 16, cell_kinds, 4, 0, true,
-                                  &targets_len));
+    CHECK(dk_graph_from_cells_len(9, cell_offsets, 5, cell_nodes, 16, cell_kinds, 4, 0, NULL, 0,
+                                  true, &targets_len));
     if (targets_len > sizeof targets / sizeof targets[0]) return EXIT_FAILURE;
-    CHECK(dk_graph_from_cells(9, cell_offsets, 5, cell_nodes, 16, cell_kinds, 4, 0, true, offsets,
-                              10, targets, targets_len, &used));
+    CHECK(dk_graph_from_cells(9, cell_offsets, 5, cell_nodes, 16, cell_kinds, 4, 0, NULL, 0, true,
+                              offsets, 10, targets, targets_len, &used));
     printf("offsets");
     for (i = 0; i < 10; i++) printf(" %u", (unsigned)offsets[i]);
     printf("\ntargets");

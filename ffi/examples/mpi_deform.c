@@ -71,7 +71,7 @@ static void build(problem *p) {
     p->offsets = malloc((n + 1) * sizeof *p->offsets);
     p->targets = malloc(tlen * sizeof *p->targets);
     size_t used = 0;
-    CHECK(dk_graph_from_edges(n, edges, e, 0, p->offsets, n + 1, p->targets, tlen, &used));
+    CHECK(dk_graph_from_edges(n, edges, e, 0, NULL, 0, p->offsets, n + 1, p->targets, tlen, &used));
     p->targets_len = used;
     free(edges);
     /* A slightly irregular grid, so the stiffness varies from edge to edge. */

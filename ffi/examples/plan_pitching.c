@@ -141,11 +141,11 @@ int main(void) {
     }
     cell_offsets[c] = (uint32_t)(4 * c);
     CHECK(dk_graph_from_cells_len(N, cell_offsets, (size_t)c + 1, cell_nodes, 4 * (size_t)c,
-                                  cell_kinds, (size_t)c, 0, true, &targets_len));
+                                  cell_kinds, (size_t)c, 0, NULL, 0, true, &targets_len));
     targets = malloc(targets_len * sizeof *targets);
     if (!targets) return EXIT_FAILURE;
     CHECK(dk_graph_from_cells(N, cell_offsets, (size_t)c + 1, cell_nodes, 4 * (size_t)c,
-                              cell_kinds, (size_t)c, 0, true, offsets, N + 1, targets,
+                              cell_kinds, (size_t)c, 0, NULL, 0, true, offsets, N + 1, targets,
                               targets_len, &used_targets));
 
     /* Boundary: the wall ring, then the far-field ring; segments over 0..B on each. */

@@ -1076,13 +1076,16 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_graph_from_edges(node_count, edges, edges_len, index_base, offsets, offsets_len, &
-        targets, targets_len, used_out) bind(C, name="dk_graph_from_edges") result(s)
+    function dk_graph_from_edges(node_count, edges, edges_len, index_base, index_scratch, &
+        index_scratch_len, offsets, offsets_len, targets, targets_len, used_out) bind(C, &
+        name="dk_graph_from_edges") result(s)
       import :: c_int32_t, c_size_t
       integer(c_size_t), value :: node_count
       integer(c_int32_t), intent(in) :: edges(*)
       integer(c_size_t), value :: edges_len
       integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
       integer(c_int32_t), intent(inout) :: offsets(*)
       integer(c_size_t), value :: offsets_len
       integer(c_int32_t), intent(inout) :: targets(*)
@@ -1091,8 +1094,8 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_cells_check(node_count, cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base) bind(C, name="dk_cells_check") &
-        result(s)
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len) &
+        bind(C, name="dk_cells_check") result(s)
       import :: c_int32_t, c_int8_t, c_size_t
       integer(c_size_t), value :: node_count
       integer(c_int32_t), intent(in) :: cell_offsets(*)
@@ -1102,11 +1105,13 @@ module deform_kernel
       integer(c_int8_t), intent(in) :: cell_kinds(*)
       integer(c_size_t), value :: cell_kinds_len
       integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
       integer(c_int32_t) :: s
     end function
     function dk_graph_from_cells_len(node_count, cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, face_diagonals, len_out) bind(C, &
-        name="dk_graph_from_cells_len") result(s)
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
+        face_diagonals, len_out) bind(C, name="dk_graph_from_cells_len") result(s)
       import :: c_bool, c_int32_t, c_int8_t, c_size_t
       integer(c_size_t), value :: node_count
       integer(c_int32_t), intent(in) :: cell_offsets(*)
@@ -1116,13 +1121,16 @@ module deform_kernel
       integer(c_int8_t), intent(in) :: cell_kinds(*)
       integer(c_size_t), value :: cell_kinds_len
       integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
       logical(c_bool), value :: face_diagonals
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
     function dk_graph_from_cells(node_count, cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, face_diagonals, offsets, &
-        offsets_len, targets, targets_len, used_out) bind(C, name="dk_graph_from_cells") result(s)
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
+        face_diagonals, offsets, offsets_len, targets, targets_len, used_out) bind(C, &
+        name="dk_graph_from_cells") result(s)
       import :: c_bool, c_int32_t, c_int8_t, c_size_t
       integer(c_size_t), value :: node_count
       integer(c_int32_t), intent(in) :: cell_offsets(*)
@@ -1132,6 +1140,8 @@ module deform_kernel
       integer(c_int8_t), intent(in) :: cell_kinds(*)
       integer(c_size_t), value :: cell_kinds_len
       integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
       logical(c_bool), value :: face_diagonals
       integer(c_int32_t), intent(inout) :: offsets(*)
       integer(c_size_t), value :: offsets_len
@@ -1442,8 +1452,8 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_quality_cell_measures(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
-        cell_kinds, cell_kinds_len, index_base, points, points_len, dim, out, out_len) bind(C, &
-        name="dk_quality_cell_measures") result(s)
+        cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, points, &
+        points_len, dim, out, out_len) bind(C, name="dk_quality_cell_measures") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t
       integer(c_int32_t), intent(in) :: cell_offsets(*)
       integer(c_size_t), value :: cell_offsets_len
@@ -1452,6 +1462,8 @@ module deform_kernel
       integer(c_int8_t), intent(in) :: cell_kinds(*)
       integer(c_size_t), value :: cell_kinds_len
       integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
       real(c_double), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
@@ -1460,83 +1472,8 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_quality_cell_measures_f32(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, out, &
-        out_len) bind(C, name="dk_quality_cell_measures_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
-      integer(c_int32_t), value :: index_base
-      real(c_float), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len
-      integer(c_int32_t), value :: dim
-      real(c_float), intent(inout) :: out(*)
-      integer(c_size_t), value :: out_len
-      integer(c_int32_t) :: s
-    end function
-    function dk_quality_min_corner_jacobians(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, scaled, &
-        out, out_len) bind(C, name="dk_quality_min_corner_jacobians") result(s)
-      import :: c_bool, c_double, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
-      integer(c_int32_t), value :: index_base
-      real(c_double), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len
-      integer(c_int32_t), value :: dim
-      logical(c_bool), value :: scaled
-      real(c_double), intent(inout) :: out(*)
-      integer(c_size_t), value :: out_len
-      integer(c_int32_t) :: s
-    end function
-    function dk_quality_min_corner_jacobians_f32(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, scaled, &
-        out, out_len) bind(C, name="dk_quality_min_corner_jacobians_f32") result(s)
-      import :: c_bool, c_float, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
-      integer(c_int32_t), value :: index_base
-      real(c_float), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len
-      integer(c_int32_t), value :: dim
-      logical(c_bool), value :: scaled
-      real(c_float), intent(inout) :: out(*)
-      integer(c_size_t), value :: out_len
-      integer(c_int32_t) :: s
-    end function
-    function dk_quality_inverted_cells(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
-        cell_kinds, cell_kinds_len, index_base, undeformed, undeformed_len, deformed, &
-        deformed_len, dim, count_out) bind(C, name="dk_quality_inverted_cells") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
-      integer(c_int32_t), value :: index_base
-      real(c_double), intent(in) :: undeformed(*)
-      integer(c_size_t), value :: undeformed_len
-      real(c_double), intent(in) :: deformed(*)
-      integer(c_size_t), value :: deformed_len
-      integer(c_int32_t), value :: dim
-      integer(c_size_t), intent(inout) :: count_out
-      integer(c_int32_t) :: s
-    end function
-    function dk_quality_inverted_cells_f32(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, undeformed, undeformed_len, &
-        deformed, deformed_len, dim, count_out) bind(C, name="dk_quality_inverted_cells_f32") &
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
+        points, points_len, dim, out, out_len) bind(C, name="dk_quality_cell_measures_f32") &
         result(s)
       import :: c_float, c_int32_t, c_int8_t, c_size_t
       integer(c_int32_t), intent(in) :: cell_offsets(*)
@@ -1546,6 +1483,95 @@ module deform_kernel
       integer(c_int8_t), intent(in) :: cell_kinds(*)
       integer(c_size_t), value :: cell_kinds_len
       integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_min_corner_jacobians(cell_offsets, cell_offsets_len, cell_nodes, &
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
+        points, points_len, dim, scaled, out, out_len) bind(C, &
+        name="dk_quality_min_corner_jacobians") result(s)
+      import :: c_bool, c_double, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      logical(c_bool), value :: scaled
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_min_corner_jacobians_f32(cell_offsets, cell_offsets_len, cell_nodes, &
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
+        points, points_len, dim, scaled, out, out_len) bind(C, &
+        name="dk_quality_min_corner_jacobians_f32") result(s)
+      import :: c_bool, c_float, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      logical(c_bool), value :: scaled
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_inverted_cells(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
+        cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, undeformed, &
+        undeformed_len, deformed, deformed_len, dim, count_out) bind(C, &
+        name="dk_quality_inverted_cells") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(in) :: undeformed(*)
+      integer(c_size_t), value :: undeformed_len
+      real(c_double), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: count_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_quality_inverted_cells_f32(cell_offsets, cell_offsets_len, cell_nodes, &
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
+        undeformed, undeformed_len, deformed, deformed_len, dim, count_out) bind(C, &
+        name="dk_quality_inverted_cells_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
       real(c_float), intent(in) :: undeformed(*)
       integer(c_size_t), value :: undeformed_len
       real(c_float), intent(in) :: deformed(*)
@@ -1555,8 +1581,8 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_quality_folded_cells(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
-        cell_kinds, cell_kinds_len, index_base, points, points_len, dim, count_out) bind(C, &
-        name="dk_quality_folded_cells") result(s)
+        cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, points, &
+        points_len, dim, count_out) bind(C, name="dk_quality_folded_cells") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t
       integer(c_int32_t), intent(in) :: cell_offsets(*)
       integer(c_size_t), value :: cell_offsets_len
@@ -1565,6 +1591,8 @@ module deform_kernel
       integer(c_int8_t), intent(in) :: cell_kinds(*)
       integer(c_size_t), value :: cell_kinds_len
       integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
       real(c_double), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
@@ -1572,8 +1600,8 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_quality_folded_cells_f32(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, points, points_len, dim, &
-        count_out) bind(C, name="dk_quality_folded_cells_f32") result(s)
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
+        points, points_len, dim, count_out) bind(C, name="dk_quality_folded_cells_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_size_t
       integer(c_int32_t), intent(in) :: cell_offsets(*)
       integer(c_size_t), value :: cell_offsets_len
@@ -1582,6 +1610,8 @@ module deform_kernel
       integer(c_int8_t), intent(in) :: cell_kinds(*)
       integer(c_size_t), value :: cell_kinds_len
       integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
       real(c_float), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
@@ -1597,10 +1627,11 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_quality_compare(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
-        cell_kinds, cell_kinds_len, index_base, wall_offsets, wall_offsets_len, wall_nodes, &
-        wall_nodes_len, wall_kinds, wall_kinds_len, graph_offsets, graph_offsets_len, &
-        graph_targets, graph_targets_len, undeformed, undeformed_len, deformed, deformed_len, dim, &
-        scratch, scratch_len, report) bind(C, name="dk_quality_compare") result(s)
+        cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, wall_offsets, &
+        wall_offsets_len, wall_nodes, wall_nodes_len, wall_kinds, wall_kinds_len, graph_offsets, &
+        graph_offsets_len, graph_targets, graph_targets_len, undeformed, undeformed_len, deformed, &
+        deformed_len, dim, scratch, scratch_len, report) bind(C, name="dk_quality_compare") &
+        result(s)
       import :: c_double, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_quality_report
       integer(c_int32_t), intent(in) :: cell_offsets(*)
       integer(c_size_t), value :: cell_offsets_len
@@ -1609,6 +1640,8 @@ module deform_kernel
       integer(c_int8_t), intent(in) :: cell_kinds(*)
       integer(c_size_t), value :: cell_kinds_len
       integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
       type(c_ptr), value :: wall_offsets
       integer(c_size_t), value :: wall_offsets_len
       type(c_ptr), value :: wall_nodes
@@ -1630,10 +1663,11 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_quality_compare_f32(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
-        cell_kinds, cell_kinds_len, index_base, wall_offsets, wall_offsets_len, wall_nodes, &
-        wall_nodes_len, wall_kinds, wall_kinds_len, graph_offsets, graph_offsets_len, &
-        graph_targets, graph_targets_len, undeformed, undeformed_len, deformed, deformed_len, dim, &
-        scratch, scratch_len, report) bind(C, name="dk_quality_compare_f32") result(s)
+        cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, wall_offsets, &
+        wall_offsets_len, wall_nodes, wall_nodes_len, wall_kinds, wall_kinds_len, graph_offsets, &
+        graph_offsets_len, graph_targets, graph_targets_len, undeformed, undeformed_len, deformed, &
+        deformed_len, dim, scratch, scratch_len, report) bind(C, name="dk_quality_compare_f32") &
+        result(s)
       import :: c_float, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_quality_report
       integer(c_int32_t), intent(in) :: cell_offsets(*)
       integer(c_size_t), value :: cell_offsets_len
@@ -1642,6 +1676,8 @@ module deform_kernel
       integer(c_int8_t), intent(in) :: cell_kinds(*)
       integer(c_size_t), value :: cell_kinds_len
       integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
       type(c_ptr), value :: wall_offsets
       integer(c_size_t), value :: wall_offsets_len
       type(c_ptr), value :: wall_nodes
@@ -1663,9 +1699,10 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_quality_wall_angle_change(wall_offsets, wall_offsets_len, wall_nodes, &
-        wall_nodes_len, wall_kinds, wall_kinds_len, index_base, graph_offsets, graph_offsets_len, &
-        graph_targets, graph_targets_len, undeformed, undeformed_len, deformed, deformed_len, dim, &
-        scratch, scratch_len, out) bind(C, name="dk_quality_wall_angle_change") result(s)
+        wall_nodes_len, wall_kinds, wall_kinds_len, index_base, index_scratch, index_scratch_len, &
+        graph_offsets, graph_offsets_len, graph_targets, graph_targets_len, undeformed, &
+        undeformed_len, deformed, deformed_len, dim, scratch, scratch_len, out) bind(C, &
+        name="dk_quality_wall_angle_change") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_wall_angle_change
       integer(c_int32_t), intent(in) :: wall_offsets(*)
       integer(c_size_t), value :: wall_offsets_len
@@ -1674,6 +1711,8 @@ module deform_kernel
       integer(c_int8_t), intent(in) :: wall_kinds(*)
       integer(c_size_t), value :: wall_kinds_len
       integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
       integer(c_int32_t), intent(in) :: graph_offsets(*)
       integer(c_size_t), value :: graph_offsets_len
       integer(c_int32_t), intent(in) :: graph_targets(*)
@@ -1689,9 +1728,10 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_quality_wall_angle_change_f32(wall_offsets, wall_offsets_len, wall_nodes, &
-        wall_nodes_len, wall_kinds, wall_kinds_len, index_base, graph_offsets, graph_offsets_len, &
-        graph_targets, graph_targets_len, undeformed, undeformed_len, deformed, deformed_len, dim, &
-        scratch, scratch_len, out) bind(C, name="dk_quality_wall_angle_change_f32") result(s)
+        wall_nodes_len, wall_kinds, wall_kinds_len, index_base, index_scratch, index_scratch_len, &
+        graph_offsets, graph_offsets_len, graph_targets, graph_targets_len, undeformed, &
+        undeformed_len, deformed, deformed_len, dim, scratch, scratch_len, out) bind(C, &
+        name="dk_quality_wall_angle_change_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_wall_angle_change
       integer(c_int32_t), intent(in) :: wall_offsets(*)
       integer(c_size_t), value :: wall_offsets_len
@@ -1700,6 +1740,8 @@ module deform_kernel
       integer(c_int8_t), intent(in) :: wall_kinds(*)
       integer(c_size_t), value :: wall_kinds_len
       integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
       integer(c_int32_t), intent(in) :: graph_offsets(*)
       integer(c_size_t), value :: graph_offsets_len
       integer(c_int32_t), intent(in) :: graph_targets(*)
@@ -2987,9 +3029,12 @@ contains
     integer(c_int32_t), intent(inout), contiguous :: offsets(:), targets(:)
     integer(c_size_t), intent(inout) :: used
     integer(c_int32_t) :: s
+    integer(c_int32_t), allocatable :: index_scratch(:)
+    allocate(index_scratch(size(edges)))
     s = dk_graph_from_edges(node_count, edges, int(size(edges), c_size_t), 1_c_int32_t, &
-                            offsets, int(size(offsets), c_size_t), targets, &
-                            int(size(targets), c_size_t), used)
+                            index_scratch, int(size(index_scratch), c_size_t), offsets, &
+                            int(size(offsets), c_size_t), targets, int(size(targets), c_size_t), &
+                            used)
   end function
 
   !> Length targets needs for dkf_graph_from_cells (1-based cell offsets and nodes).
@@ -3001,9 +3046,12 @@ contains
     logical, intent(in) :: face_diagonals
     integer(c_size_t), intent(inout) :: len
     integer(c_int32_t) :: s
+    integer(c_int32_t), allocatable :: index_scratch(:)
+    allocate(index_scratch(size(cell_offsets) + size(cell_nodes)))
     s = dk_graph_from_cells_len(node_count, cell_offsets, int(size(cell_offsets), c_size_t), &
                                 cell_nodes, int(size(cell_nodes), c_size_t), cell_kinds, &
-                                int(size(cell_kinds), c_size_t), 1_c_int32_t, &
+                                int(size(cell_kinds), c_size_t), 1_c_int32_t, index_scratch, &
+                                int(size(index_scratch), c_size_t), &
                                 logical(face_diagonals, c_bool), len)
   end function
 
@@ -3017,9 +3065,12 @@ contains
     integer(c_int32_t), intent(inout), contiguous :: offsets(:), targets(:)
     integer(c_size_t), intent(inout) :: used
     integer(c_int32_t) :: s
+    integer(c_int32_t), allocatable :: index_scratch(:)
+    allocate(index_scratch(size(cell_offsets) + size(cell_nodes)))
     s = dk_graph_from_cells(node_count, cell_offsets, int(size(cell_offsets), c_size_t), &
                             cell_nodes, int(size(cell_nodes), c_size_t), cell_kinds, &
-                            int(size(cell_kinds), c_size_t), 1_c_int32_t, &
+                            int(size(cell_kinds), c_size_t), 1_c_int32_t, index_scratch, &
+                            int(size(index_scratch), c_size_t), &
                             logical(face_diagonals, c_bool), offsets, &
                             int(size(offsets), c_size_t), targets, int(size(targets), c_size_t), &
                             used)
@@ -3498,9 +3549,12 @@ contains
     real(c_double), intent(in), contiguous :: points(:, :)
     real(c_double), intent(inout), contiguous :: out(:)
     integer(c_int32_t) :: s
+    integer(c_int32_t), allocatable :: index_scratch(:)
+    allocate(index_scratch(size(cell_offsets) + size(cell_nodes)))
     s = dk_quality_cell_measures(cell_offsets, size(cell_offsets, kind=c_size_t), cell_nodes, &
                                  size(cell_nodes, kind=c_size_t), cell_kinds, &
-                                 size(cell_kinds, kind=c_size_t), 1_c_int32_t, points, &
+                                 size(cell_kinds, kind=c_size_t), 1_c_int32_t, index_scratch, &
+                                 size(index_scratch, kind=c_size_t), points, &
                                  size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
                                  out, size(out, kind=c_size_t))
   end function
@@ -3515,9 +3569,12 @@ contains
     logical, intent(in) :: scaled
     real(c_double), intent(inout), contiguous :: out(:)
     integer(c_int32_t) :: s
+    integer(c_int32_t), allocatable :: index_scratch(:)
+    allocate(index_scratch(size(cell_offsets) + size(cell_nodes)))
     s = dk_quality_min_corner_jacobians(cell_offsets, size(cell_offsets, kind=c_size_t), &
                                         cell_nodes, size(cell_nodes, kind=c_size_t), cell_kinds, &
-                                        size(cell_kinds, kind=c_size_t), 1_c_int32_t, points, &
+                                        size(cell_kinds, kind=c_size_t), 1_c_int32_t, &
+                                        index_scratch, size(index_scratch, kind=c_size_t), points, &
                                         size(points, kind=c_size_t), &
                                         int(size(points, 1), c_int32_t), &
                                         logical(scaled, c_bool), out, size(out, kind=c_size_t))
@@ -3541,6 +3598,7 @@ contains
     integer(c_int8_t), intent(in), target, contiguous, optional :: wall_kinds(:)
     integer(c_int32_t) :: s
     real(c_double), allocatable :: scratch(:)
+    integer(c_int32_t), allocatable :: index_scratch(:)
     integer(c_size_t) :: need
     type(c_ptr) :: wo, wn, wk, go, gt
     integer(c_size_t) :: nwo, nwn, nwk, ngo, ngt
@@ -3576,9 +3634,11 @@ contains
       return
     end if
     allocate(scratch(max(need, 1_c_size_t)))
+    allocate(index_scratch(size(cell_offsets) + size(cell_nodes) + nwo + nwn))
     s = dk_quality_compare(cell_offsets, size(cell_offsets, kind=c_size_t), cell_nodes, &
                            size(cell_nodes, kind=c_size_t), cell_kinds, &
-                           size(cell_kinds, kind=c_size_t), 1_c_int32_t, wo, nwo, wn, nwn, wk, &
+                           size(cell_kinds, kind=c_size_t), 1_c_int32_t, index_scratch, &
+                           size(index_scratch, kind=c_size_t), wo, nwo, wn, nwn, wk, &
                            nwk, go, ngo, gt, ngt, undeformed, size(undeformed, kind=c_size_t), &
                            deformed, size(deformed, kind=c_size_t), &
                            int(size(undeformed, 1), c_int32_t), scratch, need, report)
@@ -3939,9 +3999,12 @@ contains
     real(c_float), intent(in), contiguous :: points(:, :)
     real(c_float), intent(inout), contiguous :: out(:)
     integer(c_int32_t) :: s
+    integer(c_int32_t), allocatable :: index_scratch(:)
+    allocate(index_scratch(size(cell_offsets) + size(cell_nodes)))
     s = dk_quality_cell_measures_f32(cell_offsets, size(cell_offsets, kind=c_size_t), cell_nodes, &
                                  size(cell_nodes, kind=c_size_t), cell_kinds, &
-                                 size(cell_kinds, kind=c_size_t), 1_c_int32_t, points, &
+                                 size(cell_kinds, kind=c_size_t), 1_c_int32_t, index_scratch, &
+                                 size(index_scratch, kind=c_size_t), points, &
                                  size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
                                  out, size(out, kind=c_size_t))
   end function
@@ -3957,9 +4020,12 @@ contains
     logical, intent(in) :: scaled
     real(c_float), intent(inout), contiguous :: out(:)
     integer(c_int32_t) :: s
+    integer(c_int32_t), allocatable :: index_scratch(:)
+    allocate(index_scratch(size(cell_offsets) + size(cell_nodes)))
     s = dk_quality_min_corner_jacobians_f32(cell_offsets, size(cell_offsets, kind=c_size_t), &
                                         cell_nodes, size(cell_nodes, kind=c_size_t), cell_kinds, &
-                                        size(cell_kinds, kind=c_size_t), 1_c_int32_t, points, &
+                                        size(cell_kinds, kind=c_size_t), 1_c_int32_t, &
+                                        index_scratch, size(index_scratch, kind=c_size_t), points, &
                                         size(points, kind=c_size_t), &
                                         int(size(points, 1), c_int32_t), &
                                         logical(scaled, c_bool), out, size(out, kind=c_size_t))
@@ -3984,6 +4050,7 @@ contains
     integer(c_int8_t), intent(in), target, contiguous, optional :: wall_kinds(:)
     integer(c_int32_t) :: s
     real(c_float), allocatable :: scratch(:)
+    integer(c_int32_t), allocatable :: index_scratch(:)
     integer(c_size_t) :: need
     type(c_ptr) :: wo, wn, wk, go, gt
     integer(c_size_t) :: nwo, nwn, nwk, ngo, ngt
@@ -4019,9 +4086,11 @@ contains
       return
     end if
     allocate(scratch(max(need, 1_c_size_t)))
+    allocate(index_scratch(size(cell_offsets) + size(cell_nodes) + nwo + nwn))
     s = dk_quality_compare_f32(cell_offsets, size(cell_offsets, kind=c_size_t), cell_nodes, &
                            size(cell_nodes, kind=c_size_t), cell_kinds, &
-                           size(cell_kinds, kind=c_size_t), 1_c_int32_t, wo, nwo, wn, nwn, wk, &
+                           size(cell_kinds, kind=c_size_t), 1_c_int32_t, index_scratch, &
+                           size(index_scratch, kind=c_size_t), wo, nwo, wn, nwn, wk, &
                            nwk, go, ngo, gt, ngt, undeformed, size(undeformed, kind=c_size_t), &
                            deformed, size(deformed, kind=c_size_t), &
                            int(size(undeformed, 1), c_int32_t), scratch, need, report)

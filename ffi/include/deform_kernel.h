@@ -1419,18 +1419,22 @@ dk_status dk_graph_from_edges_len(size_t edges_len, size_t *len_out);
 // Builds the symmetric, sorted, deduplicated CSR graph of an undirected edge list.
 //
 // `edges` holds `edges_len / 2` pairs `(a, b)` of node indices in `index_base` (0 or 1);
-// `offsets` must have `node_count + 1` entries; `targets` at least `edges_len` entries. On
-// success `*used_out` is the number of `targets` entries used (entries past it are
-// unspecified). Nothing is written on failure.
+// with `index_base` 1, `index_scratch` needs `edges_len` entries (it receives the 0-based
+// copy; with 0 it may be NULL with length 0). `offsets` must have `node_count + 1` entries;
+// `targets` at least `edges_len` entries. On success `*used_out` is the number of `targets`
+// entries used (entries past it are unspecified). Nothing but `index_scratch` is written on
+// failure.
 //
 // # Safety
-// Every pointer is valid for its length (`edges`: `edges_len` reads; `offsets`:
-// `offsets_len` writes; `targets`: `targets_len` writes; `used_out`: one write), and the
-// output buffers do not overlap each other or the inputs.
+// Every pointer is valid for its length (`edges`: `edges_len` reads; `index_scratch`,
+// `offsets`, `targets`: their lengths in writes; `used_out`: one write), and the writable
+// buffers do not overlap each other or the inputs.
 dk_status dk_graph_from_edges(size_t node_count,
                               const uint32_t *edges,
                               size_t edges_len,
                               uint32_t index_base,
+                              uint32_t *index_scratch,
+                              size_t index_scratch_len,
                               uint32_t *offsets,
                               size_t offsets_len,
                               uint32_t *targets,
@@ -1440,10 +1444,12 @@ dk_status dk_graph_from_edges(size_t node_count,
 // Validates a mixed-element cell list: `cell_offsets` has one entry per cell plus one,
 // `cell_kinds` holds VTK codes (3 line, 5 tri, 9 quad, 10 tet, 12 hex, 13 prism, 14 pyramid),
 // node indices are below `node_count`. With `index_base` 1, offsets and node indices are
-// 1-based (Fortran).
+// 1-based (Fortran), and `index_scratch` needs `cell_offsets_len + cell_nodes_len` entries
+// (their 0-based copies); with 0 it may be NULL with length 0.
 //
 // # Safety
-// Every pointer is valid for reading its length.
+// Every pointer is valid for reading its length; `index_scratch` for writing its length,
+// overlapping nothing else.
 dk_status dk_cells_check(size_t node_count,
                          const uint32_t *cell_offsets,
                          size_t cell_offsets_len,
@@ -1451,9 +1457,12 @@ dk_status dk_cells_check(size_t node_count,
                          size_t cell_nodes_len,
                          const uint8_t *cell_kinds,
                          size_t cell_kinds_len,
-                         uint32_t index_base);
+                         uint32_t index_base,
+                         uint32_t *index_scratch,
+                         size_t index_scratch_len);
 
-// Length `targets` needs for [`dk_graph_from_cells`] (validates the cells first).
+// Length `targets` needs for [`dk_graph_from_cells`] (validates the cells first;
+// `index_scratch` as in [`dk_cells_check`]).
 //
 // # Safety
 // Every pointer is valid for its length; `len_out` points to one writable `size_t`.
@@ -1465,6 +1474,8 @@ dk_status dk_graph_from_cells_len(size_t node_count,
                                   const uint8_t *cell_kinds,
                                   size_t cell_kinds_len,
                                   uint32_t index_base,
+                                  uint32_t *index_scratch,
+                                  size_t index_scratch_len,
                                   bool face_diagonals,
                                   size_t *len_out);
 
@@ -1472,10 +1483,12 @@ dk_status dk_graph_from_cells_len(size_t node_count,
 // diagonals when `face_diagonals` is true) as a symmetric, sorted, deduplicated CSR graph.
 // `offsets` must have `node_count + 1` entries, `targets` at least the length from
 // [`dk_graph_from_cells_len`]; `*used_out` receives the number of `targets` entries used.
+// `index_scratch` as in [`dk_cells_check`].
 //
 // # Safety
-// Every pointer is valid for its length (reads for the cell arrays, writes for `offsets`,
-// `targets`, `used_out`), and the outputs do not overlap each other or the inputs.
+// Every pointer is valid for its length (reads for the cell arrays, writes for
+// `index_scratch`, `offsets`, `targets`, `used_out`), and the writable buffers do not overlap
+// each other or the inputs.
 dk_status dk_graph_from_cells(size_t node_count,
                               const uint32_t *cell_offsets,
                               size_t cell_offsets_len,
@@ -1484,6 +1497,8 @@ dk_status dk_graph_from_cells(size_t node_count,
                               const uint8_t *cell_kinds,
                               size_t cell_kinds_len,
                               uint32_t index_base,
+                              uint32_t *index_scratch,
+                              size_t index_scratch_len,
                               bool face_diagonals,
                               uint32_t *offsets,
                               size_t offsets_len,
@@ -1843,11 +1858,14 @@ dk_status dk_quality_cell_quality_f32(uint8_t kind,
 // Signed area (`dim` 2) or volume (`dim` 3) of every cell into `out` (one scalar per cell).
 // Positive for counter-clockwise 2D cells and VTK-positive 3D cells. Errors (nothing
 // written): cell errors as `dk_cells_check`, `DK_ERR_CELL_DIMENSION` (a kind that does not
-// fit `dim`), `DK_ERR_NON_FINITE`, length and pointer errors.
+// fit `dim`), `DK_ERR_NON_FINITE`, length and pointer errors. With `index_base` 1,
+// `index_scratch` receives the 0-based copies of the cell arrays and needs
+// `cell_offsets_len + cell_nodes_len` entries (else `DK_ERR_BUFFER_TOO_SMALL`); with 0 it
+// may be NULL with length 0.
 //
 // # Safety
-// The cell arrays and `points` are readable for their lengths; `out` writable for `out_len`
-// scalars, not overlapping the inputs.
+// The cell arrays and `points` are readable for their lengths; `out` and `index_scratch`
+// writable for their lengths, not overlapping the inputs or each other.
 dk_status dk_quality_cell_measures(const uint32_t *cell_offsets,
                                    size_t cell_offsets_len,
                                    const uint32_t *cell_nodes,
@@ -1855,6 +1873,8 @@ dk_status dk_quality_cell_measures(const uint32_t *cell_offsets,
                                    const uint8_t *cell_kinds,
                                    size_t cell_kinds_len,
                                    uint32_t index_base,
+                                   uint32_t *index_scratch,
+                                   size_t index_scratch_len,
                                    const double *points,
                                    size_t points_len,
                                    uint32_t dim,
@@ -1872,6 +1892,8 @@ dk_status dk_quality_cell_measures_f32(const uint32_t *cell_offsets,
                                        const uint8_t *cell_kinds,
                                        size_t cell_kinds_len,
                                        uint32_t index_base,
+                                       uint32_t *index_scratch,
+                                       size_t index_scratch_len,
                                        const float *points,
                                        size_t points_len,
                                        uint32_t dim,
@@ -1891,6 +1913,8 @@ dk_status dk_quality_min_corner_jacobians(const uint32_t *cell_offsets,
                                           const uint8_t *cell_kinds,
                                           size_t cell_kinds_len,
                                           uint32_t index_base,
+                                          uint32_t *index_scratch,
+                                          size_t index_scratch_len,
                                           const double *points,
                                           size_t points_len,
                                           uint32_t dim,
@@ -1909,6 +1933,8 @@ dk_status dk_quality_min_corner_jacobians_f32(const uint32_t *cell_offsets,
                                               const uint8_t *cell_kinds,
                                               size_t cell_kinds_len,
                                               uint32_t index_base,
+                                              uint32_t *index_scratch,
+                                              size_t index_scratch_len,
                                               const float *points,
                                               size_t points_len,
                                               uint32_t dim,
@@ -1930,6 +1956,8 @@ dk_status dk_quality_inverted_cells(const uint32_t *cell_offsets,
                                     const uint8_t *cell_kinds,
                                     size_t cell_kinds_len,
                                     uint32_t index_base,
+                                    uint32_t *index_scratch,
+                                    size_t index_scratch_len,
                                     const double *undeformed,
                                     size_t undeformed_len,
                                     const double *deformed,
@@ -1948,6 +1976,8 @@ dk_status dk_quality_inverted_cells_f32(const uint32_t *cell_offsets,
                                         const uint8_t *cell_kinds,
                                         size_t cell_kinds_len,
                                         uint32_t index_base,
+                                        uint32_t *index_scratch,
+                                        size_t index_scratch_len,
                                         const float *undeformed,
                                         size_t undeformed_len,
                                         const float *deformed,
@@ -1969,6 +1999,8 @@ dk_status dk_quality_folded_cells(const uint32_t *cell_offsets,
                                   const uint8_t *cell_kinds,
                                   size_t cell_kinds_len,
                                   uint32_t index_base,
+                                  uint32_t *index_scratch,
+                                  size_t index_scratch_len,
                                   const double *points,
                                   size_t points_len,
                                   uint32_t dim,
@@ -1985,6 +2017,8 @@ dk_status dk_quality_folded_cells_f32(const uint32_t *cell_offsets,
                                       const uint8_t *cell_kinds,
                                       size_t cell_kinds_len,
                                       uint32_t index_base,
+                                      uint32_t *index_scratch,
+                                      size_t index_scratch_len,
                                       const float *points,
                                       size_t points_len,
                                       uint32_t dim,
@@ -2004,7 +2038,9 @@ dk_status dk_quality_wall_angle_scratch_len(size_t node_count, uint32_t dim, siz
 // `dim` 3, in the same `index_base` as the cells) and the mesh's 0-based CSR edge graph
 // (`graph_offsets`/`graph_targets`); pass all six wall pointers NULL with length 0 for no
 // wall (then `scratch` may be NULL with `scratch_len` 0; with a wall it needs
-// [`dk_quality_wall_angle_scratch_len`] scalars). Errors (nothing written): as
+// [`dk_quality_wall_angle_scratch_len`] scalars). `index_scratch` as in
+// [`dk_quality_cell_measures`], with `wall_offsets_len + wall_nodes_len` more entries for a
+// wall. Errors (nothing written): as
 // [`dk_quality_cell_measures`] for both point arrays and as
 // [`dk_quality_wall_angle_change`] for the wall.
 //
@@ -2019,6 +2055,8 @@ dk_status dk_quality_compare(const uint32_t *cell_offsets,
                              const uint8_t *cell_kinds,
                              size_t cell_kinds_len,
                              uint32_t index_base,
+                             uint32_t *index_scratch,
+                             size_t index_scratch_len,
                              const uint32_t *wall_offsets,
                              size_t wall_offsets_len,
                              const uint32_t *wall_nodes,
@@ -2049,6 +2087,8 @@ dk_status dk_quality_compare_f32(const uint32_t *cell_offsets,
                                  const uint8_t *cell_kinds,
                                  size_t cell_kinds_len,
                                  uint32_t index_base,
+                                 uint32_t *index_scratch,
+                                 size_t index_scratch_len,
                                  const uint32_t *wall_offsets,
                                  size_t wall_offsets_len,
                                  const uint32_t *wall_nodes,
@@ -2075,7 +2115,8 @@ dk_status dk_quality_compare_f32(const uint32_t *cell_offsets,
 // `wall_nodes`, `wall_kinds`, read with `index_base`: lines for `dim` 2, triangles or quads
 // for `dim` 3, consistently oriented) index the mesh nodes; `graph_offsets`/`graph_targets`
 // is the mesh's 0-based CSR edge graph. `scratch` needs
-// [`dk_quality_wall_angle_scratch_len`] scalars. Errors (nothing written): cell and graph
+// [`dk_quality_wall_angle_scratch_len`] scalars; with `index_base` 1, `index_scratch` needs
+// `wall_offsets_len + wall_nodes_len` entries (NULL with 0 for `index_base` 0). Errors (nothing written): cell and graph
 // errors, `DK_ERR_CELL_DIMENSION` (wrong element kind), `DK_ERR_NON_FINITE`, length and
 // pointer errors.
 //
@@ -2089,6 +2130,8 @@ dk_status dk_quality_wall_angle_change(const uint32_t *wall_offsets,
                                        const uint8_t *wall_kinds,
                                        size_t wall_kinds_len,
                                        uint32_t index_base,
+                                       uint32_t *index_scratch,
+                                       size_t index_scratch_len,
                                        const uint32_t *graph_offsets,
                                        size_t graph_offsets_len,
                                        const uint32_t *graph_targets,
@@ -2113,6 +2156,8 @@ dk_status dk_quality_wall_angle_change_f32(const uint32_t *wall_offsets,
                                            const uint8_t *wall_kinds,
                                            size_t wall_kinds_len,
                                            uint32_t index_base,
+                                           uint32_t *index_scratch,
+                                           size_t index_scratch_len,
                                            const uint32_t *graph_offsets,
                                            size_t graph_offsets_len,
                                            const uint32_t *graph_targets,

@@ -106,6 +106,40 @@ pub(crate) fn zero_based(i: u32, index_base: u32) -> u32 {
     i.checked_sub(index_base).unwrap_or(u32::MAX)
 }
 
+/// The 0-based view of a caller's index array: the array itself (`index_base` 0), or a
+/// converted copy in the front of `scratch` (`index_base` 1; an index below the base becomes
+/// `u32::MAX`, which every bound rejects). Returns the view and the unused rest of `scratch`.
+pub(crate) fn rebase<'a>(
+    src: &'a [u32],
+    index_base: u32,
+    scratch: &'a mut [u32],
+) -> Result<(&'a [u32], &'a mut [u32]), dk_status> {
+    match index_base {
+        0 => Ok((src, scratch)),
+        1 => {
+            let (head, tail) = scratch
+                .split_at_mut_checked(src.len())
+                .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
+            for (d, &s) in head.iter_mut().zip(src) {
+                *d = zero_based(s, index_base);
+            }
+            Ok((&*head, tail))
+        }
+        _ => Err(dk_status::DK_ERR_BAD_INDEX_BASE),
+    }
+}
+
+/// Number of `index_scratch` entries that rebasing arrays of `lens` entries needs.
+pub(crate) fn index_need(index_base: u32, lens: &[usize]) -> Result<usize, dk_status> {
+    check_base(index_base)?;
+    if index_base == 0 {
+        return Ok(0);
+    }
+    lens.iter()
+        .try_fold(0usize, |a, &l| a.checked_add(l))
+        .ok_or(dk_status::DK_ERR_TOO_LARGE)
+}
+
 /// Converts a caller's index range (`index_base` 0: `start <= i < end`; 1: 1-based inclusive
 /// `start <= i <= end`) to a 0-based half-open range. A 1-based start of 0 is out of range.
 pub(crate) fn range(start: usize, end: usize, index_base: u32) -> Result<[usize; 2], dk_status> {
@@ -134,9 +168,10 @@ pub(crate) fn graph<'a>(
 }
 
 /// Asserts at compile time the size of a `#[repr(C)]` type and the offsets of its fields (the
-/// layout the header promises).
+/// layout the header promises) on 64-bit targets, where the figures are written for.
 macro_rules! assert_layout {
     ($t:ty, $size:expr; $($field:ident = $offset:expr),+ $(,)?) => {
+        #[cfg(target_pointer_width = "64")]
         const _: () = assert!(
             core::mem::size_of::<$t>() == $size
                 $(&& core::mem::offset_of!($t, $field) == $offset)+

@@ -36,8 +36,8 @@ use deform_kernel::spring::SpringSystem;
 use deform_kernel::{Block, Cells, Quat, Real};
 
 use crate::args::{
-    assert_layout, block, check_base, done, graph, mul_len, read_array, read_one, read_points,
-    write_len, zero_based,
+    assert_layout, block, check_base, done, graph, index_need, mul_len, read_array, read_one,
+    read_points, rebase, write_len,
 };
 use crate::slice::{chunks, chunks_mut, input, out_one, output, quats, quats_mut, In, Out};
 use crate::spring::{dk_spring_solve_options, dk_spring_solve_report};
@@ -162,7 +162,6 @@ pub struct dk_boundary_motion_f32 {
     pub has_origin: u32,
 }
 
-#[cfg(target_pointer_width = "64")]
 assert_layout!(
     dk_boundary_motion, 168;
     nodes_len = 8, deformed = 16, element_offsets = 32, element_nodes = 48, element_kinds = 64,
@@ -170,7 +169,6 @@ assert_layout!(
     has_origin = 160,
 );
 
-#[cfg(target_pointer_width = "64")]
 assert_layout!(
     dk_boundary_motion_f32, 136;
     node_rotations = 80, rigid_rotation = 96, origin = 112, index_base = 124, rotation_source = 128,
@@ -195,40 +193,6 @@ fn by_dim(dim: u32, job: impl ByDim) -> dk_status {
         3 => job.run::<3, 7>(),
         _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
     })
-}
-
-/// The 0-based view of a caller's index array: the array itself (`index_base` 0), or a
-/// converted copy in the front of `scratch` (`index_base` 1; an index below the base becomes
-/// `u32::MAX`, which every bound rejects). Returns the view and the unused rest of `scratch`.
-fn rebase<'a>(
-    src: &'a [u32],
-    index_base: u32,
-    scratch: &'a mut [u32],
-) -> Result<(&'a [u32], &'a mut [u32]), dk_status> {
-    match index_base {
-        0 => Ok((src, scratch)),
-        1 => {
-            let (head, tail) = scratch
-                .split_at_mut_checked(src.len())
-                .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
-            for (d, &s) in head.iter_mut().zip(src) {
-                *d = zero_based(s, index_base);
-            }
-            Ok((&*head, tail))
-        }
-        _ => Err(dk_status::DK_ERR_BAD_INDEX_BASE),
-    }
-}
-
-/// Number of `index_scratch` entries that rebasing arrays of `lens` entries needs.
-fn index_need(index_base: u32, lens: &[usize]) -> Result<usize, dk_status> {
-    check_base(index_base)?;
-    if index_base == 0 {
-        return Ok(0);
-    }
-    lens.iter()
-        .try_fold(0usize, |a, &l| a.checked_add(l))
-        .ok_or(dk_status::DK_ERR_TOO_LARGE)
 }
 
 /// Reads a boundary element list (offsets and nodes in `index_base`) over `boundary_len`

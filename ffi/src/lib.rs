@@ -12,13 +12,17 @@
 //! - f64 functions have an `_f32` twin with the same bits as the Rust API;
 //! - mesh node indices supplied by the caller are read with an `index_base` of 0 or 1, so
 //!   Fortran callers pass their arrays as they are;
-//! - all memory belongs to the caller; `*_len` functions say how large buffers must be;
+//! - all memory belongs to the caller; `*_len` functions say how large buffers must be; the
+//!   crate is `no_std` and never allocates (1-based indices are converted into the caller's
+//!   `index_scratch`);
 //! - the C library (`capi/`, crate `deform-kernel-capi`) is built with `panic = "abort"`, and
-//!   the kernel beneath it is proven panic-free at link time, so no panic can cross the ABI.
+//!   every `dk_*` function is proven panic-free at link time (target-tests/panic-check calls
+//!   each one, both precisions, with opaque arguments), so no panic can cross the ABI.
 //!
 //! This crate is an rlib: Rust code (tests, fuzzing) calls the `dk_*` functions by path and
 //! unwinds normally. The C symbol names exist only with the `export-symbols` feature, which
 //! the thin `deform-kernel-capi` crate turns on when it builds `libdeform_kernel.{a,so}`.
+#![cfg_attr(not(test), no_std)]
 
 /// argument reading and writing shared by every entry point
 pub(crate) mod args;

@@ -22,7 +22,8 @@ use crate::slice::{chunks_mut, input, output, quats, In, Out};
 use crate::spring::dk_spring_solve_options;
 use crate::status::dk_status;
 
-pub mod abi;
+mod abi;
+pub use abi::*;
 
 /// `dk_plan_options.method`: linear (Batina) springs on the displacements.
 pub const DK_PLAN_SPRING: u32 = 1;
@@ -55,7 +56,6 @@ pub struct dk_plan_options {
     /// and, for `DK_PLAN_SOLVER_LINEAR`, the method (`method`, `preconditioner`, `omega`).
     pub linear: dk_spring_solve_options,
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(dk_plan_options, 56; method = 0, solver = 4, stiffness_exponent = 8, linear = 16);
 
 /// Lengths of the three plan pools, or of the transient work buffers.
@@ -70,7 +70,6 @@ pub struct dk_plan_sizes {
     /// `uint8_t` entries.
     pub bytes: usize,
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(dk_plan_sizes, 24; reals = 0, indices = 8, bytes = 16);
 
 impl From<PlanSizes> for dk_plan_sizes {
@@ -101,7 +100,6 @@ pub struct dk_plan_info {
     /// `DK_PLAN_SPRING` or `DK_PLAN_QUATERNION`.
     pub method: u32,
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(
     dk_plan_info, 64;
     nodes = 0, boundary = 8, steps = 16, amg_levels = 24, used = 32, method = 56,
@@ -127,7 +125,6 @@ pub struct dk_plan_step_report {
     /// Whether that guess was the extrapolation of the last two solutions.
     pub extrapolated: bool,
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(
     dk_plan_step_report, 40;
     iterations = 0, residual = 8, max_update = 16, step = 24, converged = 32, warm = 33,

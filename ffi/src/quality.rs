@@ -6,7 +6,10 @@
 //!
 //! Cells cross the ABI exactly as in `dk_graph_from_cells`: `cell_offsets` (cell count + 1
 //! entries), `cell_nodes`, `cell_kinds` (VTK codes), with offsets and node indices read in
-//! `index_base` (0 or 1). Points are flat arrays of `node_count * dim` scalars (`dim` 2 or 3);
+//! `index_base` (0 or 1); with `index_base` 1 their 0-based copies go to the caller's
+//! `uint32_t` `index_scratch` (`cell_offsets_len + cell_nodes_len` entries, plus
+//! `wall_offsets_len + wall_nodes_len` for a wall; NULL with length 0 for `index_base` 0; no
+//! allocation). Points are flat arrays of `node_count * dim` scalars (`dim` 2 or 3);
 //! the node count is `points_len / dim`. Cell and node indices *returned* (in
 //! `dk_quality_report`, `dk_wall_angle_change`) are in the same `index_base`, or
 //! `DK_NO_INDEX` (`SIZE_MAX`; Fortran reads −1) when there is none. Reports have `double`
@@ -20,7 +23,7 @@ use deform_kernel::quality::{
 use deform_kernel::{CellKind, Cells, Real};
 
 use crate::args::{assert_layout, by_dim, done, graph, mul_len, read_points, write_len};
-use crate::graph::{read_cells, OwnedCells};
+use crate::graph::{read_cells, RawCells};
 use crate::slice::{chunks_mut, out_one, output, In, Out};
 use crate::status::dk_status;
 
@@ -66,7 +69,6 @@ pub struct dk_wall_angle_change {
     /// Wall nodes skipped (no off-wall neighbour, zero normal or zero-length edge).
     pub skipped: usize,
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(dk_wall_angle_change, 32; max_change = 0, node = 8, measured = 16, skipped = 24);
 
 /// An optional 0-based index as `index_base` or `DK_NO_INDEX`.
@@ -127,7 +129,6 @@ pub struct dk_quality_report {
     /// Whether a wall was given (the `wall_*` fields are meaningful).
     pub has_wall: bool,
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(
     dk_quality_report, 128;
     cells = 0, inverted_cells = 8, folded_cells = 16, folded_cells_undeformed = 24,
@@ -177,9 +178,14 @@ struct CellArgs<'a> {
 }
 
 impl<'a> CellArgs<'a> {
-    /// Reads the cells into owned 0-based arrays (validated later against the node count).
-    fn read(&self) -> Result<OwnedCells<'_>, dk_status> {
-        read_cells(
+    /// Reads the cells as 0-based arrays (with `index_base` 1, copies at the front of
+    /// `scratch`, whose rest is returned) and validates them over `node_count` nodes.
+    fn read(
+        &self,
+        node_count: usize,
+        scratch: &'a mut [u32],
+    ) -> Result<(Cells<'a>, &'a mut [u32]), dk_status> {
+        let ((o, n, k), rest): (RawCells<'a>, _) = read_cells(
             self.offsets,
             self.offsets_len,
             self.nodes,
@@ -187,14 +193,13 @@ impl<'a> CellArgs<'a> {
             self.kinds,
             self.kinds_len,
             self.index_base,
-        )
+            scratch,
+        )?;
+        Ok((
+            Cells::new(node_count, o, n, k).map_err(dk_status::from)?,
+            rest,
+        ))
     }
-}
-
-/// Validates owned cell arrays over `node_count` nodes.
-fn cells_of<'a>(owned: &'a OwnedCells<'_>, node_count: usize) -> Result<Cells<'a>, dk_status> {
-    let (o, n, k) = owned;
-    Cells::new(node_count, o, n, k).map_err(dk_status::from)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -229,8 +234,11 @@ fn cell_quality_t<T: Real>(
 }
 
 /// Per-cell output: measures (`jacobians` None) or minimum corner Jacobians.
+#[allow(clippy::too_many_arguments)]
 fn per_cell_d<T: Real, const D: usize>(
     cells: CellArgs,
+    index_scratch: Out<'_, u32>,
+    index_scratch_len: usize,
     pts: In<'_, T>,
     pts_len: usize,
     jacobians: Option<bool>,
@@ -238,8 +246,7 @@ fn per_cell_d<T: Real, const D: usize>(
     out_len: usize,
 ) -> Result<(), dk_status> {
     let p = read_points::<T, D>(pts, pts_len)?;
-    let owned = cells.read()?;
-    let c = cells_of(&owned, p.len())?;
+    let (c, _) = cells.read(p.len(), output(index_scratch, index_scratch_len)?)?;
     let o = output(out, out_len)?;
     match jacobians {
         None => cell_measures(&c, p, o),
@@ -251,6 +258,8 @@ fn per_cell_d<T: Real, const D: usize>(
 #[allow(clippy::too_many_arguments)]
 fn per_cell_t<T: Real>(
     cells: CellArgs,
+    index_scratch: Out<'_, u32>,
+    index_scratch_len: usize,
     pts: In<'_, T>,
     pts_len: usize,
     dim: u32,
@@ -261,13 +270,24 @@ fn per_cell_t<T: Real>(
     done(by_dim!(
         dim,
         per_cell_d::<T>,
-        (cells, pts, pts_len, jacobians, out, out_len)
+        (
+            cells,
+            index_scratch,
+            index_scratch_len,
+            pts,
+            pts_len,
+            jacobians,
+            out,
+            out_len
+        )
     ))
 }
 
 #[allow(clippy::too_many_arguments)]
 fn inverted_d<T: Real, const D: usize>(
     cells: CellArgs,
+    index_scratch: Out<'_, u32>,
+    index_scratch_len: usize,
     undeformed: In<'_, T>,
     undeformed_len: usize,
     deformed: In<'_, T>,
@@ -276,8 +296,7 @@ fn inverted_d<T: Real, const D: usize>(
 ) -> Result<(), dk_status> {
     let u = read_points::<T, D>(undeformed, undeformed_len)?;
     let d = read_points::<T, D>(deformed, deformed_len)?;
-    let owned = cells.read()?;
-    let c = cells_of(&owned, u.len())?;
+    let (c, _) = cells.read(u.len(), output(index_scratch, index_scratch_len)?)?;
     let o = out_one(count_out)?;
     *o = inverted_cells(&c, u, d).map_err(dk_status::from)?;
     Ok(())
@@ -286,6 +305,8 @@ fn inverted_d<T: Real, const D: usize>(
 #[allow(clippy::too_many_arguments)]
 fn inverted_t<T: Real>(
     cells: CellArgs,
+    index_scratch: Out<'_, u32>,
+    index_scratch_len: usize,
     undeformed: In<'_, T>,
     undeformed_len: usize,
     deformed: In<'_, T>,
@@ -298,6 +319,8 @@ fn inverted_t<T: Real>(
         inverted_d::<T>,
         (
             cells,
+            index_scratch,
+            index_scratch_len,
             undeformed,
             undeformed_len,
             deformed,
@@ -309,20 +332,24 @@ fn inverted_t<T: Real>(
 
 fn folded_d<T: Real, const D: usize>(
     cells: CellArgs,
+    index_scratch: Out<'_, u32>,
+    index_scratch_len: usize,
     pts: In<'_, T>,
     pts_len: usize,
     count_out: Out<'_, usize>,
 ) -> Result<(), dk_status> {
     let p = read_points::<T, D>(pts, pts_len)?;
-    let owned = cells.read()?;
-    let c = cells_of(&owned, p.len())?;
+    let (c, _) = cells.read(p.len(), output(index_scratch, index_scratch_len)?)?;
     let o = out_one(count_out)?;
     *o = folded_cells(&c, p).map_err(dk_status::from)?;
     Ok(())
 }
 
+#[allow(clippy::too_many_arguments)]
 fn folded_t<T: Real>(
     cells: CellArgs,
+    index_scratch: Out<'_, u32>,
+    index_scratch_len: usize,
     pts: In<'_, T>,
     pts_len: usize,
     dim: u32,
@@ -331,7 +358,14 @@ fn folded_t<T: Real>(
     done(by_dim!(
         dim,
         folded_d::<T>,
-        (cells, pts, pts_len, count_out)
+        (
+            cells,
+            index_scratch,
+            index_scratch_len,
+            pts,
+            pts_len,
+            count_out
+        )
     ))
 }
 
@@ -367,6 +401,8 @@ impl<'a> WallArgs<'a> {
 fn compare_d<T: Real, const D: usize>(
     cells: CellArgs,
     wall: WallArgs,
+    index_scratch: Out<'_, u32>,
+    index_scratch_len: usize,
     undeformed: In<'_, T>,
     undeformed_len: usize,
     deformed: In<'_, T>,
@@ -377,16 +413,14 @@ fn compare_d<T: Real, const D: usize>(
 ) -> Result<(), dk_status> {
     let u = read_points::<T, D>(undeformed, undeformed_len)?;
     let d = read_points::<T, D>(deformed, deformed_len)?;
-    let owned = cells.read()?;
-    let c = cells_of(&owned, u.len())?;
+    let (c, index_rest) = cells.read(u.len(), output(index_scratch, index_scratch_len)?)?;
     let scratch_len = scratch_len - scratch_len % D;
     let s = chunks_mut::<T, D>(scratch, scratch_len)?;
     let r = out_one(report)?;
     let rep = if wall.absent() {
         compare(&c, u, d, None, s)
     } else {
-        let wowned = wall.elements.read()?;
-        let we = cells_of(&wowned, u.len())?;
+        let (we, _) = wall.elements.read(u.len(), index_rest)?;
         let g = graph(
             wall.graph_offsets,
             wall.graph_offsets_len,
@@ -405,6 +439,8 @@ fn compare_d<T: Real, const D: usize>(
 fn compare_t<T: Real>(
     cells: CellArgs,
     wall: WallArgs,
+    index_scratch: Out<'_, u32>,
+    index_scratch_len: usize,
     undeformed: In<'_, T>,
     undeformed_len: usize,
     deformed: In<'_, T>,
@@ -420,6 +456,8 @@ fn compare_t<T: Real>(
         (
             cells,
             wall,
+            index_scratch,
+            index_scratch_len,
             undeformed,
             undeformed_len,
             deformed,
@@ -434,6 +472,8 @@ fn compare_t<T: Real>(
 #[allow(clippy::too_many_arguments)]
 fn wall_angle_d<T: Real, const D: usize>(
     wall: WallArgs,
+    index_scratch: Out<'_, u32>,
+    index_scratch_len: usize,
     undeformed: In<'_, T>,
     undeformed_len: usize,
     deformed: In<'_, T>,
@@ -444,8 +484,9 @@ fn wall_angle_d<T: Real, const D: usize>(
 ) -> Result<(), dk_status> {
     let u = read_points::<T, D>(undeformed, undeformed_len)?;
     let d = read_points::<T, D>(deformed, deformed_len)?;
-    let wowned = wall.elements.read()?;
-    let we = cells_of(&wowned, u.len())?;
+    let (we, _) = wall
+        .elements
+        .read(u.len(), output(index_scratch, index_scratch_len)?)?;
     let g = graph(
         wall.graph_offsets,
         wall.graph_offsets_len,
@@ -464,6 +505,8 @@ fn wall_angle_d<T: Real, const D: usize>(
 #[allow(clippy::too_many_arguments)]
 fn wall_angle_t<T: Real>(
     wall: WallArgs,
+    index_scratch: Out<'_, u32>,
+    index_scratch_len: usize,
     undeformed: In<'_, T>,
     undeformed_len: usize,
     deformed: In<'_, T>,
@@ -478,6 +521,8 @@ fn wall_angle_t<T: Real>(
         wall_angle_d::<T>,
         (
             wall,
+            index_scratch,
+            index_scratch_len,
             undeformed,
             undeformed_len,
             deformed,

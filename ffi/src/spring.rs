@@ -93,7 +93,6 @@ pub struct dk_spring_solve_options {
     /// `DK_PRECONDITIONER_SSOR`; ignored by the other methods.
     pub preconditioner: u32,
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(
     dk_spring_solve_options, 40;
     max_iterations = 0, residual_tol = 8, update_tol = 16, omega = 24, method = 32,
@@ -156,7 +155,6 @@ pub struct dk_spring_angle_options {
     /// `DK_ANGLE_DIRECT_GAUSS_SEIDEL` (default), `DK_ANGLE_DIRECT_JACOBI` or `DK_ANGLE_CG`.
     pub method: u32,
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(
     dk_spring_angle_options, 40;
     max_iterations = 0, residual_tol = 8, update_tol = 16, epsilon = 24, method = 32,
@@ -192,7 +190,6 @@ pub struct dk_spring_solve_report {
     /// Whether a stopping rule was met.
     pub converged: bool,
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(
     dk_spring_solve_report, 32;
     iterations = 0, residual = 8, max_update = 16, converged = 24,
@@ -223,7 +220,6 @@ pub struct dk_spring_sweep {
     /// global residual.
     pub residual_sq: f64,
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(dk_spring_sweep, 16; max_change = 0, residual_sq = 8);
 
 impl dk_spring_sweep {

@@ -62,7 +62,6 @@ pub struct dk_taubin_coarse {
     /// `DK_PROLONGATION_VALUES` (0) or `DK_PROLONGATION_CORRECTION` (1).
     pub prolongation: u32,
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(dk_taubin_coarse, 32; factor = 0, prolongation = 24);
 
 impl dk_taubin_coarse {
@@ -100,7 +99,6 @@ pub struct dk_structured_options {
     /// instead of the paper's in-plane average.
     pub mirror: [u8; 3],
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(dk_structured_options, 24; pinned = 0, pinned_len = 8, mirror = 16);
 
 /// Options structs that carry an optional pin mask.
@@ -150,7 +148,6 @@ pub struct dk_block_region {
     /// End per direction: exclusive (index_base 0) or inclusive (index_base 1).
     pub hi: [usize; 3],
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(dk_block_region, 48; lo = 0, hi = 24);
 
 /// What a whole filter run did (`dk_taubin_smooth_structured*`, `dk_taubin_smooth_graph`).
@@ -164,7 +161,6 @@ pub struct dk_filter_report {
     /// iteration ran).
     pub last_change: f64,
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(dk_filter_report, 16; iterations = 0, last_change = 8);
 
 impl dk_filter_report {
@@ -208,7 +204,6 @@ pub struct dk_smooth_arclength_options {
     /// ignored (the line-end faces always use the paper's rule).
     pub mirror: [u8; 3],
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(
     dk_smooth_arclength_options, 96;
     lambda = 0, mu = 8, iterations = 16, coarse_iterations = 24, pinned = 32, pinned_len = 40,
@@ -257,7 +252,6 @@ pub struct dk_smooth_report {
     /// 0-based linear index of the point of `stretching_after`.
     pub stretching_after_point: usize,
 }
-#[cfg(target_pointer_width = "64")]
 assert_layout!(
     dk_smooth_report, 56;
     iterations = 0, last_change = 8, max_displacement = 16, stretching_before = 24,

@@ -78,6 +78,7 @@ fn graph_from_one_based_edges_equals_the_kernel_graph() {
     assert_eq!(s, dk_status::DK_OK);
     assert_eq!(len, graph_from_edges_len(&edges0));
     let (mut o, mut t, mut used) = ([0u32; 5], vec![0u32; len], 0usize);
+    let mut index_scratch = [0u32; 10];
     // SAFETY: every buffer is as long as its length argument; `used` is one size_t.
     let s = unsafe {
         dk_graph_from_edges(
@@ -85,6 +86,8 @@ fn graph_from_one_based_edges_equals_the_kernel_graph() {
             edges1.as_ptr(),
             10,
             1,
+            index_scratch.as_mut_ptr(),
+            10,
             o.as_mut_ptr(),
             5,
             t.as_mut_ptr(),

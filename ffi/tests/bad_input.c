@@ -37,6 +37,7 @@ int main(void) {
     double pts[6] = {1, 2, 3, 4, 5, 6}, pout[6];
     const uint32_t edges[4] = {0, 1, 1, 5};
     const uint32_t edges1[4] = {1, 2, 2, 3}; /* 1-based */
+    uint32_t iscr[8]; /* index_scratch for the 1-based calls */
     const uint32_t loop_edges[2] = {2, 2};
     uint32_t offsets[4] = {7, 7, 7, 7}, targets[4] = {7, 7, 7, 7};
     size_t used = 99, i;
@@ -65,22 +66,28 @@ int main(void) {
     EXPECT(dk_quat_rotate_points(q, pts, 6, pout, 6), DK_ERR_NON_FINITE);
     UNTOUCHED(pout, 6);
 
-    EXPECT(dk_graph_from_edges(3, edges, 4, 0, offsets, 4, targets, 4, &used),
+    EXPECT(dk_graph_from_edges(3, edges, 4, 0, NULL, 0, offsets, 4, targets, 4, &used),
            DK_ERR_INDEX_OUT_OF_RANGE);
-    EXPECT(dk_graph_from_edges(3, edges, 3, 0, offsets, 4, targets, 4, &used),
+    EXPECT(dk_graph_from_edges(3, edges, 3, 0, NULL, 0, offsets, 4, targets, 4, &used),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(dk_graph_from_edges(3, edges1, 4, 2, offsets, 4, targets, 4, &used),
+    EXPECT(dk_graph_from_edges(3, edges1, 4, 2, iscr, 8, offsets, 4, targets, 4, &used),
            DK_ERR_BAD_INDEX_BASE);
-    EXPECT(dk_graph_from_edges(3, edges1, 4, 0, offsets, 4, targets, 4, &used),
+    EXPECT(dk_graph_from_edges(3, edges1, 4, 0, NULL, 0, offsets, 4, targets, 4, &used),
            DK_ERR_INDEX_OUT_OF_RANGE); /* 3 is out of range when read 0-based */
-    EXPECT(dk_graph_from_edges(3, edges, 2, 0, offsets, 3, targets, 4, &used),
+    EXPECT(dk_graph_from_edges(3, edges, 2, 0, NULL, 0, offsets, 3, targets, 4, &used),
            DK_ERR_LENGTH_MISMATCH); /* offsets must have node_count + 1 entries */
-    EXPECT(dk_graph_from_edges(3, edges1, 4, 1, offsets, 4, targets, 3, &used),
+    EXPECT(dk_graph_from_edges(3, edges1, 4, 1, iscr, 8, offsets, 4, targets, 3, &used),
            DK_ERR_BUFFER_TOO_SMALL);
-    EXPECT(dk_graph_from_edges(3, loop_edges, 2, 0, offsets, 4, targets, 4, &used),
+    EXPECT(dk_graph_from_edges(3, loop_edges, 2, 0, NULL, 0, offsets, 4, targets, 4, &used),
            DK_ERR_SELF_LOOP);
-    EXPECT(dk_graph_from_edges(3, edges1, 4, 1, NULL, 4, targets, 4, &used), DK_ERR_NULL_POINTER);
-    EXPECT(dk_graph_from_edges(3, edges1, 4, 1, offsets, 4, targets, 4, NULL), DK_ERR_NULL_POINTER);
+    EXPECT(dk_graph_from_edges(3, edges1, 4, 1, iscr, 8, NULL, 4, targets, 4, &used),
+           DK_ERR_NULL_POINTER);
+    EXPECT(dk_graph_from_edges(3, edges1, 4, 1, iscr, 8, offsets, 4, targets, 4, NULL),
+           DK_ERR_NULL_POINTER);
+    EXPECT(dk_graph_from_edges(3, edges1, 4, 1, iscr, 3, offsets, 4, targets, 4, &used),
+           DK_ERR_BUFFER_TOO_SMALL); /* 1-based needs edges_len index_scratch entries */
+    EXPECT(dk_graph_from_edges(3, edges1, 4, 1, NULL, 0, offsets, 4, targets, 4, &used),
+           DK_ERR_BUFFER_TOO_SMALL);
     for (i = 0; i < 4; i++)
         if (offsets[i] != 7 || targets[i] != 7) {
             printf("FAIL graph buffers were written\n");
@@ -92,11 +99,14 @@ int main(void) {
         failures++;
     }
 
-    EXPECT(dk_cells_check(4, co, 2, cn, 4, bad_kind, 1, 0), DK_ERR_UNKNOWN_CELL_KIND);
-    EXPECT(dk_cells_check(3, co, 2, cn, 4, quad, 1, 0), DK_ERR_INDEX_OUT_OF_RANGE);
-    EXPECT(dk_cells_check(4, co, 2, cn, 3, quad, 1, 0), DK_ERR_BAD_OFFSETS);
-    EXPECT(dk_cells_check(4, co, 2, cn, 4, quad, 1, 1), DK_ERR_BAD_OFFSETS); /* 0 is not 1-based */
-    EXPECT(dk_cells_check(4, co, 2, cn, 4, quad, 1, 0), DK_OK);
+    EXPECT(dk_cells_check(4, co, 2, cn, 4, bad_kind, 1, 0, NULL, 0), DK_ERR_UNKNOWN_CELL_KIND);
+    EXPECT(dk_cells_check(3, co, 2, cn, 4, quad, 1, 0, NULL, 0), DK_ERR_INDEX_OUT_OF_RANGE);
+    EXPECT(dk_cells_check(4, co, 2, cn, 3, quad, 1, 0, NULL, 0), DK_ERR_BAD_OFFSETS);
+    EXPECT(dk_cells_check(4, co, 2, cn, 4, quad, 1, 1, iscr, 8),
+           DK_ERR_BAD_OFFSETS); /* 0 is not 1-based */
+    EXPECT(dk_cells_check(4, co, 2, cn, 4, quad, 1, 1, iscr, 5),
+           DK_ERR_BUFFER_TOO_SMALL); /* 1-based needs offsets + nodes = 6 entries */
+    EXPECT(dk_cells_check(4, co, 2, cn, 4, quad, 1, 0, NULL, 0), DK_OK);
     EXPECT(dk_graph_check(offsets, 4, targets, 0, false), DK_ERR_BAD_OFFSETS);
 
     if (strcmp(dk_status_str(DK_OK), "success") != 0 || dk_status_str(-7) == NULL) {

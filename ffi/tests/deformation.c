@@ -107,8 +107,8 @@ static void setup(void) {
         ck[c] = 9;
     }
     co[NC2] = 4 * NC2;
-    OK(dk_graph_from_cells_len(N2, co, NC2 + 1, cn, 4 * NC2, ck, NC2, 0, false, &len));
-    OK(dk_graph_from_cells(N2, co, NC2 + 1, cn, 4 * NC2, ck, NC2, 0, false, graph_offsets,
+    OK(dk_graph_from_cells_len(N2, co, NC2 + 1, cn, 4 * NC2, ck, NC2, 0, NULL, 0, false, &len));
+    OK(dk_graph_from_cells(N2, co, NC2 + 1, cn, 4 * NC2, ck, NC2, 0, NULL, 0, false, graph_offsets,
                            N2 + 1, graph_targets, len, &graph_len));
     memset(fixed2, 0, sizeof fixed2);
     for (k = 0; k < B2; k++) fixed2[perimeter[k]] = 1;

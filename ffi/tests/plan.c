@@ -52,10 +52,10 @@ int main(void) {
         }
     cell_offsets[c] = (uint32_t)(4 * c);
     if (dk_graph_from_cells_len(N, cell_offsets, (size_t)c + 1, cell_nodes, 4 * (size_t)c,
-                                cell_kinds, (size_t)c, 0, true, &targets_len) != DK_OK ||
+                                cell_kinds, (size_t)c, 0, NULL, 0, true, &targets_len) != DK_OK ||
         targets_len > sizeof targets / sizeof targets[0] ||
         dk_graph_from_cells(N, cell_offsets, (size_t)c + 1, cell_nodes, 4 * (size_t)c, cell_kinds,
-                            (size_t)c, 0, true, offsets, N + 1, targets, targets_len,
+                            (size_t)c, 0, NULL, 0, true, offsets, N + 1, targets, targets_len,
                             &used) != DK_OK)
         return EXIT_FAILURE;
     /* The perimeter is the boundary; the top row moves up by 0.5. */

@@ -14,6 +14,11 @@
 
 #include "deform_kernel.h"
 
+/* index_scratch for the 1-based quality calls of solvers_body.c (0-based copies of the cell
+ * and wall arrays; the largest call reads 16 indices). */
+#define ISCR_LEN 64
+static uint32_t iscr[ISCR_LEN];
+
 static int failures = 0;
 
 #define EXPECT(call, status)                                                              \
@@ -81,7 +86,7 @@ static void build_graphs(void) {
         edges[k++] = (uint32_t)i;
         edges[k++] = (uint32_t)(i + 1);
     }
-    OK(dk_graph_from_edges(CHAIN_N, edges, k, 0, chain_off, CHAIN_N + 1, chain_tgt,
+    OK(dk_graph_from_edges(CHAIN_N, edges, k, 0, NULL, 0, chain_off, CHAIN_N + 1, chain_tgt,
                            2 * (CHAIN_N - 1), &chain_e));
     k = 0;
     for (j = 0; j < 4; j++)
@@ -95,12 +100,14 @@ static void build_graphs(void) {
                 edges[k++] = (uint32_t)(i + 4 * (j + 1));
             }
         }
-    OK(dk_graph_from_edges(GRID_N, edges, k, 0, grid_off, GRID_N + 1, grid_tgt, 48, &grid_e));
+    OK(dk_graph_from_edges(GRID_N, edges, k, 0, NULL, 0, grid_off, GRID_N + 1, grid_tgt, 48,
+                           &grid_e));
     {
         /* 1-based on purpose: the builder converts. */
         const uint32_t fan_edges[16] = {1, 2, 2, 3, 3, 4, 4, 1, 1, 5, 2, 5, 3, 5, 4, 5};
-        OK(dk_graph_from_edges(FAN_N, fan_edges, 16, 1, fan_off, FAN_N + 1, fan_tgt, 16,
-                               &fan_e));
+        uint32_t fan_scratch[16]; /* their 0-based copy */
+        OK(dk_graph_from_edges(FAN_N, fan_edges, 16, 1, fan_scratch, 16, fan_off, FAN_N + 1,
+                               fan_tgt, 16, &fan_e));
     }
     k = 0;
     for (j = 0; j < 3; j++)
@@ -114,7 +121,7 @@ static void build_graphs(void) {
                 edges[k++] = (uint32_t)(i + 3 * (j + 1));
             }
         }
-    OK(dk_graph_from_edges(9, edges, k, 0, q9_off, 10, q9_tgt, 24, &q9_e));
+    OK(dk_graph_from_edges(9, edges, k, 0, NULL, 0, q9_off, 10, q9_tgt, 24, &q9_e));
     CHECK(chain_e == 8 && grid_e == 48 && fan_e == 16 && q9_e == 24);
 }
 

@@ -1133,28 +1133,28 @@ static void CAT(quality_, SUF)(void) {
         SAME(&q, &q0, sizeof q);
     }
 
-    OK(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, before, 8, 2, out, 2));
+    OK(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 2, out, 2));
     CHECK(out[0] == 0.5 && out[1] == 0.5);
-    OK(FN(dk_quality_cell_measures)(co1, 3, cn1, 6, ck, 2, 1, after, 8, 2, out, 2));
+    OK(FN(dk_quality_cell_measures)(co1, 3, cn1, 6, ck, 2, 1, iscr, ISCR_LEN, after, 8, 2, out, 2));
     CHECK(out[0] == (REAL)-0.25 && out[1] == (REAL)0.25);
-    OK(FN(dk_quality_min_corner_jacobians)(co, 3, cn, 6, ck, 2, 0, before, 8, 2, false, out, 2));
+    OK(FN(dk_quality_min_corner_jacobians)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 2, false, out, 2));
     CHECK(out[0] == 1 && out[1] == 1);
-    OK(FN(dk_quality_min_corner_jacobians)(co, 3, cn, 6, ck, 2, 0, before, 8, 2, true, out, 2));
+    OK(FN(dk_quality_min_corner_jacobians)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 2, true, out, 2));
     CLOSE(out[0], sqrt(0.5), TOL);
-    OK(FN(dk_quality_inverted_cells)(co, 3, cn, 6, ck, 2, 0, before, 8, after, 8, 2, &count));
+    OK(FN(dk_quality_inverted_cells)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, after, 8, 2, &count));
     CHECK(count == 1);
-    OK(FN(dk_quality_folded_cells)(co1, 3, cn1, 6, ck, 2, 1, after, 8, 2, &count));
+    OK(FN(dk_quality_folded_cells)(co1, 3, cn1, 6, ck, 2, 1, iscr, ISCR_LEN, after, 8, 2, &count));
     CHECK(count == 1);
-    OK(FN(dk_quality_folded_cells)(co, 3, cn, 6, ck, 2, 0, before, 8, 2, &count));
+    OK(FN(dk_quality_folded_cells)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 2, &count));
     CHECK(count == 0);
-    OK(FN(dk_quality_compare)(co, 3, cn, 6, ck, 2, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0,
+    OK(FN(dk_quality_compare)(co, 3, cn, 6, ck, 2, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0,
                               before, 8, after, 8, 2, NULL, 0, &r));
     CHECK(r.cells == 2 && r.inverted_cells == 1 && r.folded_cells == 1);
     CHECK(r.folded_cells_undeformed == 0 && r.degenerate_cells == 0);
     CHECK(r.min_measure_ratio == -0.5 && r.max_measure_ratio == 0.5);
     CHECK(r.min_ratio_cell == 0 && r.max_ratio_cell == 1);
     CHECK(r.min_measure == -0.25 && !r.has_wall && r.wall_node == DK_NO_INDEX);
-    OK(FN(dk_quality_compare)(co1, 3, cn1, 6, ck, 2, 1, NULL, 0, NULL, 0, NULL, 0, NULL, 0, NULL,
+    OK(FN(dk_quality_compare)(co1, 3, cn1, 6, ck, 2, 1, iscr, ISCR_LEN, NULL, 0, NULL, 0, NULL, 0, NULL, 0, NULL,
                               0, before, 8, after, 8, 2, NULL, 0, &r));
     CHECK(r.min_ratio_cell == 1 && r.max_ratio_cell == 2); /* reported 1-based */
 
@@ -1179,14 +1179,14 @@ static void CAT(quality_, SUF)(void) {
             }
         OK(dk_quality_wall_angle_scratch_len(9, 2, &count));
         CHECK(count == 36);
-        OK(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, q9_off, 10, q9_tgt, 24, u, 18,
+        OK(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, q9_off, 10, q9_tgt, 24, u, 18,
                                             d, 18, 2, s, 36, &wa));
         CLOSE(wa.max_change, atan(0.1), LOOSE);
         CHECK(wa.measured == 3 && wa.skipped == 0 && wa.node < 3);
-        OK(FN(dk_quality_wall_angle_change)(wo1, 3, wn1, 4, wk, 2, 1, q9_off, 10, q9_tgt, 24, u,
+        OK(FN(dk_quality_wall_angle_change)(wo1, 3, wn1, 4, wk, 2, 1, iscr, ISCR_LEN, q9_off, 10, q9_tgt, 24, u,
                                             18, d, 18, 2, s, 36, &wa));
         CHECK(wa.node >= 1 && wa.node <= 3); /* 1-based */
-        OK(FN(dk_quality_compare)(qo, 5, qn, 16, qk, 4, 0, wo, 3, wn, 4, wk, 2, q9_off, 10,
+        OK(FN(dk_quality_compare)(qo, 5, qn, 16, qk, 4, 0, NULL, 0, wo, 3, wn, 4, wk, 2, q9_off, 10,
                                   q9_tgt, 24, u, 18, d, 18, 2, s, 36, &r));
         CHECK(r.has_wall && r.wall_measured == 3 && r.wall_node < 3);
         CLOSE(r.wall_max_change, atan(0.1), LOOSE);
@@ -1198,42 +1198,42 @@ static void CAT(quality_, SUF)(void) {
         wa0 = wa;
         POISON(r);
         r0 = r;
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, q9_off, 10, q9_tgt, 24,
+        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, q9_off, 10, q9_tgt, 24,
                                                 u, 18, d, 18, 2, s, 35, &wa),
                DK_ERR_BUFFER_TOO_SMALL);
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 2, q9_off, 10, q9_tgt, 24,
+        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 2, iscr, ISCR_LEN, q9_off, 10, q9_tgt, 24,
                                                 u, 18, d, 18, 2, s, 36, &wa),
                DK_ERR_BAD_INDEX_BASE);
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, qk, 2, 0, q9_off, 10, q9_tgt, 24,
+        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, qk, 2, 0, NULL, 0, q9_off, 10, q9_tgt, 24,
                                                 u, 18, d, 18, 2, s, 36, &wa),
                DK_ERR_WRONG_NODE_COUNT);
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, q9_off, 9, q9_tgt, 24,
+        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, q9_off, 9, q9_tgt, 24,
                                                 u, 18, d, 18, 2, s, 36, &wa),
                DK_ERR_BAD_OFFSETS);
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, chain_off, 6, chain_tgt,
+        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, chain_off, 6, chain_tgt,
                                                 8, u, 18, d, 18, 2, s, 36, &wa),
                DK_ERR_LENGTH_MISMATCH); /* a 5-node graph for a 9-node mesh */
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, q9_off, 10, q9_tgt, 24,
+        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, q9_off, 10, q9_tgt, 24,
                                                 u, 18, d, 16, 2, s, 36, &wa),
                DK_ERR_LENGTH_MISMATCH);
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, q9_off, 10, q9_tgt, 24,
+        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, q9_off, 10, q9_tgt, 24,
                                                 u, 18, d, 18, 2, s, 36, NULL),
                DK_ERR_NULL_POINTER);
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, q9_off, 10, q9_tgt, 24,
+        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, q9_off, 10, q9_tgt, 24,
                                                 u, 18, d, 18, 3, s, 36, &wa),
                DK_ERR_LENGTH_MISMATCH);
         d[5] = (REAL)NAN;
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, q9_off, 10, q9_tgt, 24,
+        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, q9_off, 10, q9_tgt, 24,
                                                 u, 18, d, 18, 2, s, 36, &wa),
                DK_ERR_NON_FINITE);
-        EXPECT(FN(dk_quality_compare)(qo, 5, qn, 16, qk, 4, 0, wo, 3, wn, 4, wk, 2, q9_off, 10,
+        EXPECT(FN(dk_quality_compare)(qo, 5, qn, 16, qk, 4, 0, NULL, 0, wo, 3, wn, 4, wk, 2, q9_off, 10,
                                       q9_tgt, 24, u, 18, d, 18, 2, s, 36, &r),
                DK_ERR_NON_FINITE);
         d[5] = 0;
-        EXPECT(FN(dk_quality_compare)(qo, 5, qn, 16, qk, 4, 0, wo, 3, wn, 4, wk, 2, q9_off, 10,
+        EXPECT(FN(dk_quality_compare)(qo, 5, qn, 16, qk, 4, 0, NULL, 0, wo, 3, wn, 4, wk, 2, q9_off, 10,
                                       q9_tgt, 24, u, 18, d, 18, 2, s, 35, &r),
                DK_ERR_BUFFER_TOO_SMALL);
-        EXPECT(FN(dk_quality_compare)(qo, 5, qn, 16, qk, 4, 0, wo, 3, wn, 4, wk, 2, NULL, 10,
+        EXPECT(FN(dk_quality_compare)(qo, 5, qn, 16, qk, 4, 0, NULL, 0, wo, 3, wn, 4, wk, 2, NULL, 10,
                                       q9_tgt, 24, u, 18, d, 18, 2, s, 36, &r),
                DK_ERR_NULL_POINTER);
         SAME(&wa, &wa0, sizeof wa);
@@ -1246,62 +1246,66 @@ static void CAT(quality_, SUF)(void) {
     count0 = count = 12345;
     POISON(r);
     r0 = r;
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn_bad, 6, ck, 2, 0, before, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn_bad, 6, ck, 2, 0, NULL, 0, before, 8, 2, out, 2),
            DK_ERR_INDEX_OUT_OF_RANGE);
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck_bad, 2, 0, before, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck_bad, 2, 0, NULL, 0, before, 8, 2, out, 2),
            DK_ERR_UNKNOWN_CELL_KIND);
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck_3d, 2, 0, before, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck_3d, 2, 0, NULL, 0, before, 8, 2, out, 2),
            DK_ERR_WRONG_NODE_COUNT);
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 2, before, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 2, iscr, ISCR_LEN, before, 8, 2, out, 2),
            DK_ERR_BAD_INDEX_BASE);
-    EXPECT(FN(dk_quality_cell_measures)(co1, 3, cn, 6, ck, 2, 1, before, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(co1, 3, cn, 6, ck, 2, 1, iscr, ISCR_LEN, before, 8, 2, out, 2),
            DK_ERR_INDEX_OUT_OF_RANGE); /* 0-based nodes read 1-based */
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn1, 6, ck, 2, 1, before, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn1, 6, ck, 2, 1, iscr, ISCR_LEN, before, 8, 2, out, 2),
            DK_ERR_BAD_OFFSETS); /* 0-based offsets read 1-based */
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, before, 8, 2, out, 1),
+    EXPECT(FN(dk_quality_cell_measures)(co1, 3, cn1, 6, ck, 2, 1, iscr, 8, after, 8, 2, out, 2),
+           DK_ERR_BUFFER_TOO_SMALL); /* 1-based needs 3 + 6 index_scratch entries */
+    EXPECT(FN(dk_quality_cell_measures)(co1, 3, cn1, 6, ck, 2, 1, NULL, 0, after, 8, 2, out, 2),
+           DK_ERR_BUFFER_TOO_SMALL);
+    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 2, out, 1),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, before, 8, 3, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 3, out, 2),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, before, 6, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 6, 2, out, 2),
            DK_ERR_INDEX_OUT_OF_RANGE); /* 3 points: node 3 does not exist */
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, NULL, 6, ck, 2, 0, before, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(co, 3, NULL, 6, ck, 2, 0, NULL, 0, before, 8, 2, out, 2),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, before, 8, 2, NULL, 2),
+    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 2, NULL, 2),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_quality_min_corner_jacobians)(co, 3, cn, 6, ck, 2, 0, before, 8, 3, true, out,
+    EXPECT(FN(dk_quality_min_corner_jacobians)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 3, true, out,
                                                2),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_quality_min_corner_jacobians)(co, 3, cn, 6, ck, 2, 2, before, 8, 2, true, out,
+    EXPECT(FN(dk_quality_min_corner_jacobians)(co, 3, cn, 6, ck, 2, 2, iscr, ISCR_LEN, before, 8, 2, true, out,
                                                2),
            DK_ERR_BAD_INDEX_BASE);
-    EXPECT(FN(dk_quality_inverted_cells)(co, 3, cn, 6, ck, 2, 0, before, 8, after, 6, 2, &count),
+    EXPECT(FN(dk_quality_inverted_cells)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, after, 6, 2, &count),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_quality_inverted_cells)(co, 3, cn_bad, 6, ck, 2, 0, before, 8, after, 8, 2,
+    EXPECT(FN(dk_quality_inverted_cells)(co, 3, cn_bad, 6, ck, 2, 0, NULL, 0, before, 8, after, 8, 2,
                                          &count),
            DK_ERR_INDEX_OUT_OF_RANGE);
-    EXPECT(FN(dk_quality_inverted_cells)(co, 3, cn, 6, ck, 2, 0, before, 8, after, 8, 2, NULL),
+    EXPECT(FN(dk_quality_inverted_cells)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, after, 8, 2, NULL),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_quality_folded_cells)(co, 3, cn, 6, ck, 2, 7, before, 8, 2, &count),
+    EXPECT(FN(dk_quality_folded_cells)(co, 3, cn, 6, ck, 2, 7, iscr, ISCR_LEN, before, 8, 2, &count),
            DK_ERR_BAD_INDEX_BASE);
-    EXPECT(FN(dk_quality_folded_cells)(co, 2, cn, 6, ck, 2, 0, before, 8, 2, &count),
+    EXPECT(FN(dk_quality_folded_cells)(co, 2, cn, 6, ck, 2, 0, NULL, 0, before, 8, 2, &count),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_quality_compare)(co, 3, cn, 6, ck, 2, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0,
+    EXPECT(FN(dk_quality_compare)(co, 3, cn, 6, ck, 2, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0,
                                   NULL, 0, before, 8, after, 8, 2, NULL, 0, NULL),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_quality_compare)(co, 3, cn_bad, 6, ck, 2, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0,
+    EXPECT(FN(dk_quality_compare)(co, 3, cn_bad, 6, ck, 2, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0,
                                   NULL, 0, before, 8, after, 8, 2, NULL, 0, &r),
            DK_ERR_INDEX_OUT_OF_RANGE);
     after[3] = (REAL)NAN;
-    EXPECT(FN(dk_quality_inverted_cells)(co, 3, cn, 6, ck, 2, 0, before, 8, after, 8, 2, &count),
+    EXPECT(FN(dk_quality_inverted_cells)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, after, 8, 2, &count),
            DK_ERR_NON_FINITE);
-    EXPECT(FN(dk_quality_folded_cells)(co, 3, cn, 6, ck, 2, 0, after, 8, 2, &count),
+    EXPECT(FN(dk_quality_folded_cells)(co, 3, cn, 6, ck, 2, 0, NULL, 0, after, 8, 2, &count),
            DK_ERR_NON_FINITE);
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, after, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, NULL, 0, after, 8, 2, out, 2),
            DK_ERR_NON_FINITE);
-    EXPECT(FN(dk_quality_min_corner_jacobians)(co, 3, cn, 6, ck, 2, 0, after, 8, 2, false, out,
+    EXPECT(FN(dk_quality_min_corner_jacobians)(co, 3, cn, 6, ck, 2, 0, NULL, 0, after, 8, 2, false, out,
                                                2),
            DK_ERR_NON_FINITE);
-    EXPECT(FN(dk_quality_compare)(co, 3, cn, 6, ck, 2, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0,
+    EXPECT(FN(dk_quality_compare)(co, 3, cn, 6, ck, 2, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0,
                                   NULL, 0, before, 8, after, 8, 2, NULL, 0, &r),
            DK_ERR_NON_FINITE);
     SAME(out, out0, sizeof out);

@@ -58,12 +58,12 @@ static void graphs(void) {
                 e[k++] = (uint32_t)(i + 4 * (j + 1));
             }
         }
-    check(dk_graph_from_edges(16, e, k, 0, goff, 17, gtgt, 48, &used), "grid");
+    check(dk_graph_from_edges(16, e, k, 0, NULL, 0, goff, 17, gtgt, 48, &used), "grid");
     for (k = 0, i = 0; i < 4; i++) {
         e[k++] = (uint32_t)i;
         e[k++] = (uint32_t)(i + 1);
     }
-    check(dk_graph_from_edges(5, e, k, 0, coff, 6, ctgt, 8, &used), "chain");
+    check(dk_graph_from_edges(5, e, k, 0, NULL, 0, coff, 6, ctgt, 8, &used), "chain");
 }
 
 #define BODY(REAL, FN, HEX, TAG)                                                          \

@@ -281,6 +281,8 @@ type CompareFn<T> = unsafe extern "C" fn(
     *const u8,
     usize,
     u32,
+    *mut u32,
+    usize,
     *const u32,
     usize,
     *const u32,
@@ -1466,6 +1468,13 @@ fn compare<T: Sc>(c: &mut Ctx, wall: bool, scale: i16) {
     let u = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
     let d = Buf::input(&mut c.kn, &deformed, T::of(0.5));
     let mut scratch = Buf::output(&mut c.kn, need, T::SENT);
+    // 1-based cells and wall are copied 0-based into the index scratch.
+    let index_need = if m.base == 1 {
+        co.len() + cn.len() + wo.len() + wn.len()
+    } else {
+        0
+    };
+    let mut index_scratch = Buf::output(&mut c.kn, index_need, 0u32);
     let mut rep = Slot::<dk_quality_report>::new(&mut c.kn);
     // SAFETY: every pointer is NULL or valid for the length passed with it.
     let s = unsafe {
@@ -1477,6 +1486,8 @@ fn compare<T: Sc>(c: &mut Ctx, wall: bool, scale: i16) {
             ckb.p(),
             ckb.n(),
             m.base,
+            index_scratch.m(),
+            index_scratch.n(),
             wob.p(),
             wob.n(),
             wnb.p(),
@@ -2316,20 +2327,20 @@ trait PlanSc: Sc {
 
 impl PlanSc for f64 {
     const DEFAULT: unsafe extern "C" fn(*mut dk_plan_options) -> dk_status =
-        pl::abi::dk_plan_options_default;
-    const WORK: PlanSizesFn<f64> = pl::abi::dk_plan_work_sizes;
-    const POOLS: PlanPoolsFn<f64> = pl::abi::dk_plan_pool_sizes;
-    const INIT: PlanInitFn<f64> = pl::abi::dk_plan_init;
-    const STEP: PlanStepFn<f64> = pl::abi::dk_plan_step;
+        pl::dk_plan_options_default;
+    const WORK: PlanSizesFn<f64> = pl::dk_plan_work_sizes;
+    const POOLS: PlanPoolsFn<f64> = pl::dk_plan_pool_sizes;
+    const INIT: PlanInitFn<f64> = pl::dk_plan_init;
+    const STEP: PlanStepFn<f64> = pl::dk_plan_step;
 }
 
 impl PlanSc for f32 {
     const DEFAULT: unsafe extern "C" fn(*mut dk_plan_options) -> dk_status =
-        pl::abi::dk_plan_options_default_f32;
-    const WORK: PlanSizesFn<f32> = pl::abi::dk_plan_work_sizes_f32;
-    const POOLS: PlanPoolsFn<f32> = pl::abi::dk_plan_pool_sizes_f32;
-    const INIT: PlanInitFn<f32> = pl::abi::dk_plan_init_f32;
-    const STEP: PlanStepFn<f32> = pl::abi::dk_plan_step_f32;
+        pl::dk_plan_options_default_f32;
+    const WORK: PlanSizesFn<f32> = pl::dk_plan_work_sizes_f32;
+    const POOLS: PlanPoolsFn<f32> = pl::dk_plan_pool_sizes_f32;
+    const INIT: PlanInitFn<f32> = pl::dk_plan_init_f32;
+    const STEP: PlanStepFn<f32> = pl::dk_plan_step_f32;
 }
 
 /// A plan on the grid (boundary fixed, 2D boundary loops as segment elements): sizes, init
@@ -2750,6 +2761,8 @@ fn legacy(inp: &Input) {
     let mut targets = vec![SENTINEL; inp.targets_len as usize];
     let mut used = usize::MAX;
     let base = (inp.index_base % 3) as u32;
+    // Base 1 needs `edges_len` entries; the fuzzer's cut makes it short at times.
+    let mut index_scratch = vec![0u32; edges_len.saturating_sub(inp.edges_len_cut as usize % 3)];
     // SAFETY: every pointer is valid for the length passed with it (or NULL).
     let s = unsafe {
         dk_graph_from_edges(
@@ -2757,6 +2770,8 @@ fn legacy(inp: &Input) {
             ptr_or_null(inp.edges.as_ptr(), inp.nulls & 1 != 0),
             edges_len,
             base,
+            index_scratch.as_mut_ptr(),
+            index_scratch.len(),
             if inp.nulls & 2 != 0 {
                 ptr::null_mut()
             } else {
@@ -2774,6 +2789,7 @@ fn legacy(inp: &Input) {
     };
     if s == dk_status::DK_OK {
         assert!(base <= 1 && edges_len % 2 == 0);
+        assert!(base == 0 || index_scratch.len() >= edges_len);
         let pairs: Vec<[u32; 2]> = inp.edges[..edges_len]
             .chunks_exact(2)
             .map(|c| [c[0].wrapping_sub(base), c[1].wrapping_sub(base)])

@@ -48,6 +48,7 @@ fn graph_from_edges_rejects_bad_input_and_writes_nothing() {
         let mut offsets = [77u32; 5];
         let mut targets = [77u32; 6];
         let mut used = 99usize;
+        let mut index_scratch = [0u32; 6];
         // SAFETY: every buffer is valid for the length passed with it.
         let s = unsafe {
             dk_graph_from_edges(
@@ -55,6 +56,8 @@ fn graph_from_edges_rejects_bad_input_and_writes_nothing() {
                 edges,
                 len,
                 base,
+                index_scratch.as_mut_ptr(),
+                index_scratch.len(),
                 offsets.as_mut_ptr(),
                 offsets.len(),
                 targets.as_mut_ptr(),

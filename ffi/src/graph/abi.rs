@@ -31,20 +31,24 @@ pub unsafe extern "C" fn dk_graph_from_edges_len(
 /// Builds the symmetric, sorted, deduplicated CSR graph of an undirected edge list.
 ///
 /// `edges` holds `edges_len / 2` pairs `(a, b)` of node indices in `index_base` (0 or 1);
-/// `offsets` must have `node_count + 1` entries; `targets` at least `edges_len` entries. On
-/// success `*used_out` is the number of `targets` entries used (entries past it are
-/// unspecified). Nothing is written on failure.
+/// with `index_base` 1, `index_scratch` needs `edges_len` entries (it receives the 0-based
+/// copy; with 0 it may be NULL with length 0). `offsets` must have `node_count + 1` entries;
+/// `targets` at least `edges_len` entries. On success `*used_out` is the number of `targets`
+/// entries used (entries past it are unspecified). Nothing but `index_scratch` is written on
+/// failure.
 ///
 /// # Safety
-/// Every pointer is valid for its length (`edges`: `edges_len` reads; `offsets`:
-/// `offsets_len` writes; `targets`: `targets_len` writes; `used_out`: one write), and the
-/// output buffers do not overlap each other or the inputs.
+/// Every pointer is valid for its length (`edges`: `edges_len` reads; `index_scratch`,
+/// `offsets`, `targets`: their lengths in writes; `used_out`: one write), and the writable
+/// buffers do not overlap each other or the inputs.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_graph_from_edges(
     node_count: usize,
     edges: *const u32,
     edges_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
     offsets: *mut u32,
     offsets_len: usize,
     targets: *mut u32,
@@ -53,34 +57,29 @@ pub unsafe extern "C" fn dk_graph_from_edges(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (edges, offsets, targets, used_out) = unsafe {
+    let (edges, index_scratch, offsets, targets, used_out) = unsafe {
         (
             In::new(edges, edges_len),
+            Out::new(index_scratch, index_scratch_len),
             Out::new(offsets, offsets_len),
             Out::new(targets, targets_len),
             Out::new(used_out, 1),
         )
     };
     done((|| {
-        let e: &[[u32; 2]] = chunks(edges, edges_len)?;
-        check_base(index_base)?;
-        let pairs: Cow<'_, [[u32; 2]]> = if index_base == 0 {
-            Cow::Borrowed(e)
-        } else {
-            Cow::Owned(
-                e.iter()
-                    .map(|p| p.map(|i| zero_based(i, index_base)))
-                    .collect::<Vec<_>>(),
-            )
-        };
+        if edges_len % 2 != 0 {
+            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+        }
+        let e = input(edges, edges_len)?;
+        let (e, _) = rebase(e, index_base, output(index_scratch, index_scratch_len)?)?;
+        let pairs = e.as_chunks::<2>().0;
         let o = output(offsets, offsets_len)?;
         let t = output(targets, targets_len)?;
         let used = out_one(used_out)?;
-        if graph_from_edges_len(&pairs) != edges_len {
+        if graph_from_edges_len(pairs) != edges_len {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
-        let n = graph_from_edges(node_count, &pairs, o, t).map_err(dk_status::from)?;
-        *used = n;
+        *used = graph_from_edges(node_count, pairs, o, t).map_err(dk_status::from)?;
         Ok(())
     })())
 }
@@ -88,10 +87,12 @@ pub unsafe extern "C" fn dk_graph_from_edges(
 /// Validates a mixed-element cell list: `cell_offsets` has one entry per cell plus one,
 /// `cell_kinds` holds VTK codes (3 line, 5 tri, 9 quad, 10 tet, 12 hex, 13 prism, 14 pyramid),
 /// node indices are below `node_count`. With `index_base` 1, offsets and node indices are
-/// 1-based (Fortran).
+/// 1-based (Fortran), and `index_scratch` needs `cell_offsets_len + cell_nodes_len` entries
+/// (their 0-based copies); with 0 it may be NULL with length 0.
 ///
 /// # Safety
-/// Every pointer is valid for reading its length.
+/// Every pointer is valid for reading its length; `index_scratch` for writing its length,
+/// overlapping nothing else.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_cells_check(
     node_count: usize,
@@ -102,18 +103,21 @@ pub unsafe extern "C" fn dk_cells_check(
     cell_kinds: *const u8,
     cell_kinds_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds) = unsafe {
+    let (cell_offsets, cell_nodes, cell_kinds, index_scratch) = unsafe {
         (
             In::new(cell_offsets, cell_offsets_len),
             In::new(cell_nodes, cell_nodes_len),
             In::new(cell_kinds, cell_kinds_len),
+            Out::new(index_scratch, index_scratch_len),
         )
     };
     done((|| {
-        let (o, n, k) = read_cells(
+        let ((o, n, k), _) = read_cells(
             cell_offsets,
             cell_offsets_len,
             cell_nodes,
@@ -121,13 +125,15 @@ pub unsafe extern "C" fn dk_cells_check(
             cell_kinds,
             cell_kinds_len,
             index_base,
+            output(index_scratch, index_scratch_len)?,
         )?;
-        Cells::new(node_count, &o, &n, k).map_err(dk_status::from)?;
+        Cells::new(node_count, o, n, k).map_err(dk_status::from)?;
         Ok(())
     })())
 }
 
-/// Length `targets` needs for [`dk_graph_from_cells`] (validates the cells first).
+/// Length `targets` needs for [`dk_graph_from_cells`] (validates the cells first;
+/// `index_scratch` as in [`dk_cells_check`]).
 ///
 /// # Safety
 /// Every pointer is valid for its length; `len_out` points to one writable `size_t`.
@@ -141,21 +147,24 @@ pub unsafe extern "C" fn dk_graph_from_cells_len(
     cell_kinds: *const u8,
     cell_kinds_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
     face_diagonals: bool,
     len_out: *mut usize,
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, len_out) = unsafe {
+    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, len_out) = unsafe {
         (
             In::new(cell_offsets, cell_offsets_len),
             In::new(cell_nodes, cell_nodes_len),
             In::new(cell_kinds, cell_kinds_len),
+            Out::new(index_scratch, index_scratch_len),
             Out::new(len_out, 1),
         )
     };
     done((|| {
-        let (o, n, k) = read_cells(
+        let ((o, n, k), _) = read_cells(
             cell_offsets,
             cell_offsets_len,
             cell_nodes,
@@ -163,8 +172,9 @@ pub unsafe extern "C" fn dk_graph_from_cells_len(
             cell_kinds,
             cell_kinds_len,
             index_base,
+            output(index_scratch, index_scratch_len)?,
         )?;
-        let cells = Cells::new(node_count, &o, &n, k).map_err(dk_status::from)?;
+        let cells = Cells::new(node_count, o, n, k).map_err(dk_status::from)?;
         write_len(len_out, graph_from_cells_len(&cells, face_diagonals))
     })())
 }
@@ -173,10 +183,12 @@ pub unsafe extern "C" fn dk_graph_from_cells_len(
 /// diagonals when `face_diagonals` is true) as a symmetric, sorted, deduplicated CSR graph.
 /// `offsets` must have `node_count + 1` entries, `targets` at least the length from
 /// [`dk_graph_from_cells_len`]; `*used_out` receives the number of `targets` entries used.
+/// `index_scratch` as in [`dk_cells_check`].
 ///
 /// # Safety
-/// Every pointer is valid for its length (reads for the cell arrays, writes for `offsets`,
-/// `targets`, `used_out`), and the outputs do not overlap each other or the inputs.
+/// Every pointer is valid for its length (reads for the cell arrays, writes for
+/// `index_scratch`, `offsets`, `targets`, `used_out`), and the writable buffers do not overlap
+/// each other or the inputs.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_graph_from_cells(
     node_count: usize,
@@ -187,6 +199,8 @@ pub unsafe extern "C" fn dk_graph_from_cells(
     cell_kinds: *const u8,
     cell_kinds_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
     face_diagonals: bool,
     offsets: *mut u32,
     offsets_len: usize,
@@ -196,18 +210,19 @@ pub unsafe extern "C" fn dk_graph_from_cells(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, offsets, targets, used_out) = unsafe {
+    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, offsets, targets, used_out) = unsafe {
         (
             In::new(cell_offsets, cell_offsets_len),
             In::new(cell_nodes, cell_nodes_len),
             In::new(cell_kinds, cell_kinds_len),
+            Out::new(index_scratch, index_scratch_len),
             Out::new(offsets, offsets_len),
             Out::new(targets, targets_len),
             Out::new(used_out, 1),
         )
     };
     done((|| {
-        let (co, cn, ck) = read_cells(
+        let ((co, cn, ck), _) = read_cells(
             cell_offsets,
             cell_offsets_len,
             cell_nodes,
@@ -215,8 +230,9 @@ pub unsafe extern "C" fn dk_graph_from_cells(
             cell_kinds,
             cell_kinds_len,
             index_base,
+            output(index_scratch, index_scratch_len)?,
         )?;
-        let cells = Cells::new(node_count, &co, &cn, ck).map_err(dk_status::from)?;
+        let cells = Cells::new(node_count, co, cn, ck).map_err(dk_status::from)?;
         let o = output(offsets, offsets_len)?;
         let t = output(targets, targets_len)?;
         let used = out_one(used_out)?;

@@ -51,11 +51,14 @@ pub unsafe extern "C" fn dk_quality_cell_quality_f32(
 /// Signed area (`dim` 2) or volume (`dim` 3) of every cell into `out` (one scalar per cell).
 /// Positive for counter-clockwise 2D cells and VTK-positive 3D cells. Errors (nothing
 /// written): cell errors as `dk_cells_check`, `DK_ERR_CELL_DIMENSION` (a kind that does not
-/// fit `dim`), `DK_ERR_NON_FINITE`, length and pointer errors.
+/// fit `dim`), `DK_ERR_NON_FINITE`, length and pointer errors. With `index_base` 1,
+/// `index_scratch` receives the 0-based copies of the cell arrays and needs
+/// `cell_offsets_len + cell_nodes_len` entries (else `DK_ERR_BUFFER_TOO_SMALL`); with 0 it
+/// may be NULL with length 0.
 ///
 /// # Safety
-/// The cell arrays and `points` are readable for their lengths; `out` writable for `out_len`
-/// scalars, not overlapping the inputs.
+/// The cell arrays and `points` are readable for their lengths; `out` and `index_scratch`
+/// writable for their lengths, not overlapping the inputs or each other.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_cell_measures(
     cell_offsets: *const u32,
@@ -65,6 +68,8 @@ pub unsafe extern "C" fn dk_quality_cell_measures(
     cell_kinds: *const u8,
     cell_kinds_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
     points: *const f64,
     points_len: usize,
     dim: u32,
@@ -73,11 +78,12 @@ pub unsafe extern "C" fn dk_quality_cell_measures(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, points, out) = unsafe {
+    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, points, out) = unsafe {
         (
             In::new(cell_offsets, cell_offsets_len),
             In::new(cell_nodes, cell_nodes_len),
             In::new(cell_kinds, cell_kinds_len),
+            Out::new(index_scratch, index_scratch_len),
             In::new(points, points_len),
             Out::new(out, out_len),
         )
@@ -91,7 +97,17 @@ pub unsafe extern "C" fn dk_quality_cell_measures(
         kinds_len: cell_kinds_len,
         index_base,
     };
-    per_cell_t(cells, points, points_len, dim, None, out, out_len)
+    per_cell_t(
+        cells,
+        index_scratch,
+        index_scratch_len,
+        points,
+        points_len,
+        dim,
+        None,
+        out,
+        out_len,
+    )
 }
 
 /// `f32` twin of [`dk_quality_cell_measures`].
@@ -107,6 +123,8 @@ pub unsafe extern "C" fn dk_quality_cell_measures_f32(
     cell_kinds: *const u8,
     cell_kinds_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
     points: *const f32,
     points_len: usize,
     dim: u32,
@@ -115,11 +133,12 @@ pub unsafe extern "C" fn dk_quality_cell_measures_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, points, out) = unsafe {
+    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, points, out) = unsafe {
         (
             In::new(cell_offsets, cell_offsets_len),
             In::new(cell_nodes, cell_nodes_len),
             In::new(cell_kinds, cell_kinds_len),
+            Out::new(index_scratch, index_scratch_len),
             In::new(points, points_len),
             Out::new(out, out_len),
         )
@@ -133,7 +152,17 @@ pub unsafe extern "C" fn dk_quality_cell_measures_f32(
         kinds_len: cell_kinds_len,
         index_base,
     };
-    per_cell_t(cells, points, points_len, dim, None, out, out_len)
+    per_cell_t(
+        cells,
+        index_scratch,
+        index_scratch_len,
+        points,
+        points_len,
+        dim,
+        None,
+        out,
+        out_len,
+    )
 }
 
 /// Smallest corner Jacobian of every cell into `out` (one scalar per cell), divided by the
@@ -151,6 +180,8 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians(
     cell_kinds: *const u8,
     cell_kinds_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
     points: *const f64,
     points_len: usize,
     dim: u32,
@@ -160,11 +191,12 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, points, out) = unsafe {
+    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, points, out) = unsafe {
         (
             In::new(cell_offsets, cell_offsets_len),
             In::new(cell_nodes, cell_nodes_len),
             In::new(cell_kinds, cell_kinds_len),
+            Out::new(index_scratch, index_scratch_len),
             In::new(points, points_len),
             Out::new(out, out_len),
         )
@@ -178,7 +210,17 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians(
         kinds_len: cell_kinds_len,
         index_base,
     };
-    per_cell_t(cells, points, points_len, dim, Some(scaled), out, out_len)
+    per_cell_t(
+        cells,
+        index_scratch,
+        index_scratch_len,
+        points,
+        points_len,
+        dim,
+        Some(scaled),
+        out,
+        out_len,
+    )
 }
 
 /// `f32` twin of [`dk_quality_min_corner_jacobians`].
@@ -194,6 +236,8 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians_f32(
     cell_kinds: *const u8,
     cell_kinds_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
     points: *const f32,
     points_len: usize,
     dim: u32,
@@ -203,11 +247,12 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, points, out) = unsafe {
+    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, points, out) = unsafe {
         (
             In::new(cell_offsets, cell_offsets_len),
             In::new(cell_nodes, cell_nodes_len),
             In::new(cell_kinds, cell_kinds_len),
+            Out::new(index_scratch, index_scratch_len),
             In::new(points, points_len),
             Out::new(out, out_len),
         )
@@ -221,7 +266,17 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians_f32(
         kinds_len: cell_kinds_len,
         index_base,
     };
-    per_cell_t(cells, points, points_len, dim, Some(scaled), out, out_len)
+    per_cell_t(
+        cells,
+        index_scratch,
+        index_scratch_len,
+        points,
+        points_len,
+        dim,
+        Some(scaled),
+        out,
+        out_len,
+    )
 }
 
 /// Number of cells whose signed measure changed sign between `undeformed` and `deformed`
@@ -240,6 +295,8 @@ pub unsafe extern "C" fn dk_quality_inverted_cells(
     cell_kinds: *const u8,
     cell_kinds_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
     undeformed: *const f64,
     undeformed_len: usize,
     deformed: *const f64,
@@ -249,11 +306,12 @@ pub unsafe extern "C" fn dk_quality_inverted_cells(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, undeformed, deformed, count_out) = unsafe {
+    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, undeformed, deformed, count_out) = unsafe {
         (
             In::new(cell_offsets, cell_offsets_len),
             In::new(cell_nodes, cell_nodes_len),
             In::new(cell_kinds, cell_kinds_len),
+            Out::new(index_scratch, index_scratch_len),
             In::new(undeformed, undeformed_len),
             In::new(deformed, deformed_len),
             Out::new(count_out, 1),
@@ -270,6 +328,8 @@ pub unsafe extern "C" fn dk_quality_inverted_cells(
     };
     inverted_t(
         cells,
+        index_scratch,
+        index_scratch_len,
         undeformed,
         undeformed_len,
         deformed,
@@ -292,6 +352,8 @@ pub unsafe extern "C" fn dk_quality_inverted_cells_f32(
     cell_kinds: *const u8,
     cell_kinds_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
     undeformed: *const f32,
     undeformed_len: usize,
     deformed: *const f32,
@@ -301,11 +363,12 @@ pub unsafe extern "C" fn dk_quality_inverted_cells_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, undeformed, deformed, count_out) = unsafe {
+    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, undeformed, deformed, count_out) = unsafe {
         (
             In::new(cell_offsets, cell_offsets_len),
             In::new(cell_nodes, cell_nodes_len),
             In::new(cell_kinds, cell_kinds_len),
+            Out::new(index_scratch, index_scratch_len),
             In::new(undeformed, undeformed_len),
             In::new(deformed, deformed_len),
             Out::new(count_out, 1),
@@ -322,6 +385,8 @@ pub unsafe extern "C" fn dk_quality_inverted_cells_f32(
     };
     inverted_t(
         cells,
+        index_scratch,
+        index_scratch_len,
         undeformed,
         undeformed_len,
         deformed,
@@ -347,6 +412,8 @@ pub unsafe extern "C" fn dk_quality_folded_cells(
     cell_kinds: *const u8,
     cell_kinds_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
     points: *const f64,
     points_len: usize,
     dim: u32,
@@ -354,11 +421,12 @@ pub unsafe extern "C" fn dk_quality_folded_cells(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, points, count_out) = unsafe {
+    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, points, count_out) = unsafe {
         (
             In::new(cell_offsets, cell_offsets_len),
             In::new(cell_nodes, cell_nodes_len),
             In::new(cell_kinds, cell_kinds_len),
+            Out::new(index_scratch, index_scratch_len),
             In::new(points, points_len),
             Out::new(count_out, 1),
         )
@@ -372,7 +440,15 @@ pub unsafe extern "C" fn dk_quality_folded_cells(
         kinds_len: cell_kinds_len,
         index_base,
     };
-    folded_t(cells, points, points_len, dim, count_out)
+    folded_t(
+        cells,
+        index_scratch,
+        index_scratch_len,
+        points,
+        points_len,
+        dim,
+        count_out,
+    )
 }
 
 /// `f32` twin of [`dk_quality_folded_cells`].
@@ -388,6 +464,8 @@ pub unsafe extern "C" fn dk_quality_folded_cells_f32(
     cell_kinds: *const u8,
     cell_kinds_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
     points: *const f32,
     points_len: usize,
     dim: u32,
@@ -395,11 +473,12 @@ pub unsafe extern "C" fn dk_quality_folded_cells_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, points, count_out) = unsafe {
+    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, points, count_out) = unsafe {
         (
             In::new(cell_offsets, cell_offsets_len),
             In::new(cell_nodes, cell_nodes_len),
             In::new(cell_kinds, cell_kinds_len),
+            Out::new(index_scratch, index_scratch_len),
             In::new(points, points_len),
             Out::new(count_out, 1),
         )
@@ -413,7 +492,15 @@ pub unsafe extern "C" fn dk_quality_folded_cells_f32(
         kinds_len: cell_kinds_len,
         index_base,
     };
-    folded_t(cells, points, points_len, dim, count_out)
+    folded_t(
+        cells,
+        index_scratch,
+        index_scratch_len,
+        points,
+        points_len,
+        dim,
+        count_out,
+    )
 }
 
 /// Scalars of `scratch` [`dk_quality_wall_angle_change`] (and [`dk_quality_compare`] with a
@@ -451,7 +538,9 @@ pub unsafe extern "C" fn dk_quality_wall_angle_scratch_len(
 /// `dim` 3, in the same `index_base` as the cells) and the mesh's 0-based CSR edge graph
 /// (`graph_offsets`/`graph_targets`); pass all six wall pointers NULL with length 0 for no
 /// wall (then `scratch` may be NULL with `scratch_len` 0; with a wall it needs
-/// [`dk_quality_wall_angle_scratch_len`] scalars). Errors (nothing written): as
+/// [`dk_quality_wall_angle_scratch_len`] scalars). `index_scratch` as in
+/// [`dk_quality_cell_measures`], with `wall_offsets_len + wall_nodes_len` more entries for a
+/// wall. Errors (nothing written): as
 /// [`dk_quality_cell_measures`] for both point arrays and as
 /// [`dk_quality_wall_angle_change`] for the wall.
 ///
@@ -468,6 +557,8 @@ pub unsafe extern "C" fn dk_quality_compare(
     cell_kinds: *const u8,
     cell_kinds_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
     wall_offsets: *const u32,
     wall_offsets_len: usize,
     wall_nodes: *const u32,
@@ -493,6 +584,7 @@ pub unsafe extern "C" fn dk_quality_compare(
         cell_offsets,
         cell_nodes,
         cell_kinds,
+        index_scratch,
         wall_offsets,
         wall_nodes,
         wall_kinds,
@@ -507,6 +599,7 @@ pub unsafe extern "C" fn dk_quality_compare(
             In::new(cell_offsets, cell_offsets_len),
             In::new(cell_nodes, cell_nodes_len),
             In::new(cell_kinds, cell_kinds_len),
+            Out::new(index_scratch, index_scratch_len),
             In::new(wall_offsets, wall_offsets_len),
             In::new(wall_nodes, wall_nodes_len),
             In::new(wall_kinds, wall_kinds_len),
@@ -545,6 +638,8 @@ pub unsafe extern "C" fn dk_quality_compare(
     compare_t(
         cells,
         wall,
+        index_scratch,
+        index_scratch_len,
         undeformed,
         undeformed_len,
         deformed,
@@ -569,6 +664,8 @@ pub unsafe extern "C" fn dk_quality_compare_f32(
     cell_kinds: *const u8,
     cell_kinds_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
     wall_offsets: *const u32,
     wall_offsets_len: usize,
     wall_nodes: *const u32,
@@ -594,6 +691,7 @@ pub unsafe extern "C" fn dk_quality_compare_f32(
         cell_offsets,
         cell_nodes,
         cell_kinds,
+        index_scratch,
         wall_offsets,
         wall_nodes,
         wall_kinds,
@@ -608,6 +706,7 @@ pub unsafe extern "C" fn dk_quality_compare_f32(
             In::new(cell_offsets, cell_offsets_len),
             In::new(cell_nodes, cell_nodes_len),
             In::new(cell_kinds, cell_kinds_len),
+            Out::new(index_scratch, index_scratch_len),
             In::new(wall_offsets, wall_offsets_len),
             In::new(wall_nodes, wall_nodes_len),
             In::new(wall_kinds, wall_kinds_len),
@@ -646,6 +745,8 @@ pub unsafe extern "C" fn dk_quality_compare_f32(
     compare_t(
         cells,
         wall,
+        index_scratch,
+        index_scratch_len,
         undeformed,
         undeformed_len,
         deformed,
@@ -664,7 +765,8 @@ pub unsafe extern "C" fn dk_quality_compare_f32(
 /// `wall_nodes`, `wall_kinds`, read with `index_base`: lines for `dim` 2, triangles or quads
 /// for `dim` 3, consistently oriented) index the mesh nodes; `graph_offsets`/`graph_targets`
 /// is the mesh's 0-based CSR edge graph. `scratch` needs
-/// [`dk_quality_wall_angle_scratch_len`] scalars. Errors (nothing written): cell and graph
+/// [`dk_quality_wall_angle_scratch_len`] scalars; with `index_base` 1, `index_scratch` needs
+/// `wall_offsets_len + wall_nodes_len` entries (NULL with 0 for `index_base` 0). Errors (nothing written): cell and graph
 /// errors, `DK_ERR_CELL_DIMENSION` (wrong element kind), `DK_ERR_NON_FINITE`, length and
 /// pointer errors.
 ///
@@ -680,6 +782,8 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change(
     wall_kinds: *const u8,
     wall_kinds_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
     graph_offsets: *const u32,
     graph_offsets_len: usize,
     graph_targets: *const u32,
@@ -699,6 +803,7 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change(
         wall_offsets,
         wall_nodes,
         wall_kinds,
+        index_scratch,
         graph_offsets,
         graph_targets,
         undeformed,
@@ -710,6 +815,7 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change(
             In::new(wall_offsets, wall_offsets_len),
             In::new(wall_nodes, wall_nodes_len),
             In::new(wall_kinds, wall_kinds_len),
+            Out::new(index_scratch, index_scratch_len),
             In::new(graph_offsets, graph_offsets_len),
             In::new(graph_targets, graph_targets_len),
             In::new(undeformed, undeformed_len),
@@ -735,6 +841,8 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change(
     };
     wall_angle_t(
         wall,
+        index_scratch,
+        index_scratch_len,
         undeformed,
         undeformed_len,
         deformed,
@@ -759,6 +867,8 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change_f32(
     wall_kinds: *const u8,
     wall_kinds_len: usize,
     index_base: u32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
     graph_offsets: *const u32,
     graph_offsets_len: usize,
     graph_targets: *const u32,
@@ -778,6 +888,7 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change_f32(
         wall_offsets,
         wall_nodes,
         wall_kinds,
+        index_scratch,
         graph_offsets,
         graph_targets,
         undeformed,
@@ -789,6 +900,7 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change_f32(
             In::new(wall_offsets, wall_offsets_len),
             In::new(wall_nodes, wall_nodes_len),
             In::new(wall_kinds, wall_kinds_len),
+            Out::new(index_scratch, index_scratch_len),
             In::new(graph_offsets, graph_offsets_len),
             In::new(graph_targets, graph_targets_len),
             In::new(undeformed, undeformed_len),
@@ -814,6 +926,8 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change_f32(
     };
     wall_angle_t(
         wall,
+        index_scratch,
+        index_scratch_len,
         undeformed,
         undeformed_len,
         deformed,
