@@ -1,0 +1,485 @@
+//! The C ABI on target, f32 and f64: the `dk_*` functions the C library exports, called the way
+//! a C or Fortran solver on a Cortex-M4F would call them, give the bits of the Rust API.
+//!
+//! - `dk_graph_from_cells` with 1-based cells (Fortran's numbering, converted in a caller
+//!   `index_scratch`) builds the kernel's graph; a short scratch is a typed error with the
+//!   outputs untouched.
+//! - A prepared plan stepped through `dk_plan_*` (linear springs, multigrid CG, warm starts)
+//!   gives per step the bits, iterations and warm/extrapolated flags of the Rust `Plan`; a
+//!   corrupted pool is `DK_ERR_BAD_PLAN` with `out` and the report untouched.
+#![no_std]
+#![no_main]
+
+use deform_on_target as _;
+
+use core::mem::MaybeUninit;
+
+use deform_kernel::plan::{
+    Plan, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanWork,
+};
+use deform_kernel::spring::{AmgOptions, SolveOptions};
+use deform_kernel::{Quat, Real};
+use deform_kernel_ffi::plan::{
+    dk_plan_info, dk_plan_options, dk_plan_sizes, dk_plan_step_report, DK_PLAN_SPRING, DK_PLAN_WARM,
+};
+use deform_kernel_ffi::status::dk_status;
+use deform_on_target::mesh::{Mesh, N, NB, NE, NT, NX};
+
+/// Pool and work lengths (generous for the 30-node mesh; the queried sizes must fit).
+const REALS: usize = 3072;
+const INDICES: usize = 2048;
+const BYTES: usize = 128;
+const WORK: usize = 4 * (N + NE) + 64;
+/// Steps per run.
+const STEPS: usize = 4;
+/// CG iteration cap of both sides.
+const MAX_ITERATIONS: usize = 500;
+
+type OptionsFn = unsafe extern "C" fn(*mut dk_plan_options) -> dk_status;
+type SizesFn<T> = unsafe extern "C" fn(
+    *const T,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u8,
+    usize,
+    u32,
+    *const dk_plan_options,
+    *mut dk_plan_sizes,
+) -> dk_status;
+type PoolSizesFn<T> = unsafe extern "C" fn(
+    *const T,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u8,
+    usize,
+    u32,
+    *const dk_plan_options,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut u8,
+    usize,
+    *mut dk_plan_sizes,
+) -> dk_status;
+type InitFn<T> = unsafe extern "C" fn(
+    *const T,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u8,
+    usize,
+    u32,
+    *const dk_plan_options,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut u8,
+    usize,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut u8,
+    usize,
+    *mut dk_plan_info,
+) -> dk_status;
+type StepFn<T> = unsafe extern "C" fn(
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut u8,
+    usize,
+    u32,
+    *const T,
+    usize,
+    u32,
+    *const T,
+    usize,
+    *const T,
+    usize,
+    u32,
+    *mut T,
+    usize,
+    *mut dk_plan_step_report,
+) -> dk_status;
+
+/// The f64 or `_f32` plan functions, and the residual tolerance used with them.
+trait Abi: Real {
+    const OPTIONS: OptionsFn;
+    const WORK_SIZES: SizesFn<Self>;
+    const POOL_SIZES: PoolSizesFn<Self>;
+    const INIT: InitFn<Self>;
+    const STEP: StepFn<Self>;
+    const TOL: f64;
+}
+
+impl Abi for f64 {
+    const OPTIONS: OptionsFn = deform_kernel_ffi::plan::dk_plan_options_default;
+    const WORK_SIZES: SizesFn<f64> = deform_kernel_ffi::plan::dk_plan_work_sizes;
+    const POOL_SIZES: PoolSizesFn<f64> = deform_kernel_ffi::plan::dk_plan_pool_sizes;
+    const INIT: InitFn<f64> = deform_kernel_ffi::plan::dk_plan_init;
+    const STEP: StepFn<f64> = deform_kernel_ffi::plan::dk_plan_step;
+    const TOL: f64 = 1e-9;
+}
+
+impl Abi for f32 {
+    const OPTIONS: OptionsFn = deform_kernel_ffi::plan::dk_plan_options_default_f32;
+    const WORK_SIZES: SizesFn<f32> = deform_kernel_ffi::plan::dk_plan_work_sizes_f32;
+    const POOL_SIZES: PoolSizesFn<f32> = deform_kernel_ffi::plan::dk_plan_pool_sizes_f32;
+    const INIT: InitFn<f32> = deform_kernel_ffi::plan::dk_plan_init_f32;
+    const STEP: StepFn<f32> = deform_kernel_ffi::plan::dk_plan_step_f32;
+    const TOL: f64 = 1e-4;
+}
+
+/// The perimeter's positions at step `s`: the bottom row turns by `4° s` about its midpoint.
+fn deformed<T: Real>(m: &Mesh<T>, s: usize) -> [[T; 2]; NB] {
+    let q = Quat::from_rotation_z(T::from_f64((4.0 * s as f64).to_radians()));
+    let c = [T::from_f64((NX - 1) as f64 * 0.5), T::ZERO];
+    let mut d = [[T::ZERO; 2]; NB];
+    for (di, &i) in d.iter_mut().zip(&m.boundary) {
+        let p = m.points[i as usize];
+        *di = if (i as usize) < NX {
+            let r = q.rotate_2d([p[0] - c[0], p[1] - c[1]]);
+            [r[0] + c[0], r[1] + c[1]]
+        } else {
+            p
+        };
+    }
+    d
+}
+
+/// The Rust side: the same plan, built with the kernel API.
+fn rust_plan<T: Abi>(
+    m: &Mesh<T>,
+    reals: &mut [T; REALS],
+    indices: &mut [u32; INDICES],
+    bytes: &mut [u8; BYTES],
+) {
+    let options = SolveOptions::<T> {
+        max_iterations: MAX_ITERATIONS,
+        residual_tol: T::from_f64(T::TOL),
+        ..SolveOptions::default()
+    };
+    let spec = PlanSpec {
+        points: &m.points,
+        graph: m.graph(),
+        boundary: &m.boundary,
+        elements: None,
+        constraints: None,
+        method: PlanMethod::Spring,
+        stiffness: PlanStiffness::Batina { exponent: T::ONE },
+        solver: PlanSolver::Amg(AmgOptions::default()),
+        options,
+    };
+    let mut wr = [T::ZERO; NE];
+    let mut wi = [0u32; WORK];
+    let mut wb = [0u8; N];
+    let mut work = PlanWork {
+        reals: &mut wr,
+        indices: &mut wi,
+        bytes: &mut wb,
+    };
+    Plan::<T, 2>::init(&spec, &mut work, reals, indices, bytes).unwrap();
+}
+
+fn flat<T, const D: usize>(a: &[[T; D]]) -> &[T] {
+    a.as_flattened()
+}
+
+fn flat_mut<T, const D: usize>(a: &mut [[T; D]]) -> &mut [T] {
+    a.as_flattened_mut()
+}
+
+/// A plan stepped through the C ABI equals the Rust plan bit for bit, step by step.
+fn plan_through_the_abi<T: Abi>() {
+    let m = Mesh::<T>::new(0.25);
+    let mut o = MaybeUninit::<dk_plan_options>::zeroed();
+    // SAFETY: `o` is one writable struct.
+    defmt::assert!(unsafe { T::OPTIONS(o.as_mut_ptr()) } == dk_status::DK_OK);
+    // SAFETY: every field is an integer or a float, so the zeroed struct was valid already, and
+    // the call above filled it.
+    let mut o = unsafe { o.assume_init() };
+    o.method = DK_PLAN_SPRING;
+    o.linear.max_iterations = MAX_ITERATIONS;
+    o.linear.residual_tol = T::TOL;
+    let g = &m.targets[..m.used];
+    let mut ws = dk_plan_sizes::default();
+    // SAFETY: every array is valid for the length passed with it; the elements are NULL with
+    // length 0; `o` and `ws` are one struct each.
+    let s = unsafe {
+        T::WORK_SIZES(
+            flat(&m.points).as_ptr(),
+            2 * N,
+            m.graph_offsets.as_ptr(),
+            N + 1,
+            g.as_ptr(),
+            g.len(),
+            m.boundary.as_ptr(),
+            NB,
+            core::ptr::null(),
+            0,
+            core::ptr::null(),
+            0,
+            core::ptr::null(),
+            0,
+            2,
+            &o,
+            &mut ws,
+        )
+    };
+    defmt::assert!(s == dk_status::DK_OK && ws.reals <= NE && ws.indices <= WORK && ws.bytes <= N);
+    let mut wr = [T::ZERO; NE];
+    let mut wi = [0u32; WORK];
+    let mut wb = [0u8; N];
+    let mut sizes = dk_plan_sizes::default();
+    // SAFETY: as above, plus the work buffers writable for their lengths.
+    let s = unsafe {
+        T::POOL_SIZES(
+            flat(&m.points).as_ptr(),
+            2 * N,
+            m.graph_offsets.as_ptr(),
+            N + 1,
+            g.as_ptr(),
+            g.len(),
+            m.boundary.as_ptr(),
+            NB,
+            core::ptr::null(),
+            0,
+            core::ptr::null(),
+            0,
+            core::ptr::null(),
+            0,
+            2,
+            &o,
+            wr.as_mut_ptr(),
+            NE,
+            wi.as_mut_ptr(),
+            WORK,
+            wb.as_mut_ptr(),
+            N,
+            &mut sizes,
+        )
+    };
+    defmt::assert!(s == dk_status::DK_OK);
+    defmt::assert!(sizes.reals <= REALS && sizes.indices <= INDICES && sizes.bytes <= BYTES);
+    let mut reals = [T::ZERO; REALS];
+    let mut indices = [0u32; INDICES];
+    let mut bytes = [0u8; BYTES];
+    let mut info = dk_plan_info::default();
+    // SAFETY: as above, plus the pools writable for their lengths and `info` one struct.
+    let s = unsafe {
+        T::INIT(
+            flat(&m.points).as_ptr(),
+            2 * N,
+            m.graph_offsets.as_ptr(),
+            N + 1,
+            g.as_ptr(),
+            g.len(),
+            m.boundary.as_ptr(),
+            NB,
+            core::ptr::null(),
+            0,
+            core::ptr::null(),
+            0,
+            core::ptr::null(),
+            0,
+            2,
+            &o,
+            wr.as_mut_ptr(),
+            NE,
+            wi.as_mut_ptr(),
+            WORK,
+            wb.as_mut_ptr(),
+            N,
+            reals.as_mut_ptr(),
+            REALS,
+            indices.as_mut_ptr(),
+            INDICES,
+            bytes.as_mut_ptr(),
+            BYTES,
+            &mut info,
+        )
+    };
+    defmt::assert!(s == dk_status::DK_OK && info.nodes == N && info.boundary == NB);
+    defmt::assert!(info.used == sizes && info.amg_levels >= 1);
+
+    let (mut rr, mut ri, mut rb) = ([T::ZERO; REALS], [0u32; INDICES], [0u8; BYTES]);
+    rust_plan(&m, &mut rr, &mut ri, &mut rb);
+    let mut iterations = 0;
+    for step in 1..=STEPS {
+        let d = deformed(&m, step);
+        let mut out = [[T::ZERO; 2]; N];
+        let mut rep = dk_plan_step_report::default();
+        // SAFETY: the pools and `out` writable for their lengths, `d` readable, no rotations
+        // or origin (NULL with length 0), `rep` one struct.
+        let s = unsafe {
+            T::STEP(
+                reals.as_mut_ptr(),
+                REALS,
+                indices.as_mut_ptr(),
+                INDICES,
+                bytes.as_mut_ptr(),
+                BYTES,
+                2,
+                flat(&d).as_ptr(),
+                2 * NB,
+                0,
+                core::ptr::null(),
+                0,
+                core::ptr::null(),
+                0,
+                DK_PLAN_WARM,
+                flat_mut(&mut out).as_mut_ptr(),
+                2 * N,
+                &mut rep,
+            )
+        };
+        defmt::assert!(s == dk_status::DK_OK && rep.step == step as u64 && rep.converged);
+        let mut expect = [[T::ZERO; 2]; N];
+        let r = Plan::<T, 2>::open(&mut rr, &mut ri, &mut rb)
+            .unwrap()
+            .step(&PlanMotion::new(&d), &mut expect)
+            .unwrap();
+        defmt::assert!(deform_on_target::same_bits(&out, &expect));
+        defmt::assert!(r.solve.iterations == rep.iterations);
+        defmt::assert!(r.warm == rep.warm && r.extrapolated == rep.extrapolated);
+        defmt::assert!(rep.warm == (step > 1));
+        iterations += rep.iterations;
+    }
+    defmt::info!(
+        "{=str}: {=usize} steps through dk_plan_step, {=usize} CG iterations, Rust bits",
+        deform_on_target::precision::<T>(),
+        STEPS,
+        iterations
+    );
+
+    // A corrupted pool: a typed error, `out` and the report untouched, the plan not stepped.
+    reals[0] = T::from_f64(12345.0);
+    let mut out = [[T::from_f64(7.0); 2]; N];
+    let mut rep = dk_plan_step_report {
+        iterations: 99,
+        ..dk_plan_step_report::default()
+    };
+    let d = deformed(&m, STEPS + 1);
+    // SAFETY: as in the steps above.
+    let s = unsafe {
+        T::STEP(
+            reals.as_mut_ptr(),
+            REALS,
+            indices.as_mut_ptr(),
+            INDICES,
+            bytes.as_mut_ptr(),
+            BYTES,
+            2,
+            flat(&d).as_ptr(),
+            2 * NB,
+            0,
+            core::ptr::null(),
+            0,
+            core::ptr::null(),
+            0,
+            DK_PLAN_WARM,
+            flat_mut(&mut out).as_mut_ptr(),
+            2 * N,
+            &mut rep,
+        )
+    };
+    defmt::assert!(s == dk_status::DK_ERR_BAD_PLAN);
+    defmt::assert!(rep.iterations == 99 && rep.step == 0);
+    defmt::assert!(out.iter().flatten().all(|&x| x == T::from_f64(7.0)));
+}
+
+/// 1-based cells (Fortran) through `dk_graph_from_cells`: the kernel's graph; a short
+/// `index_scratch` is `DK_ERR_BUFFER_TOO_SMALL` with the outputs untouched.
+fn graph_from_1_based_cells() {
+    let m = Mesh::<f64>::new(0.25);
+    let mut offsets1 = m.offsets;
+    let mut nodes1 = m.nodes;
+    for x in offsets1.iter_mut().chain(nodes1.iter_mut()) {
+        *x += 1;
+    }
+    let mut scratch = [0u32; NT + 1 + 3 * NT];
+    let mut offsets = [7u32; N + 1];
+    let mut targets = [7u32; NE];
+    let mut used = 99usize;
+    let call = |scratch: &mut [u32],
+                offsets: &mut [u32; N + 1],
+                targets: &mut [u32; NE],
+                used: &mut usize| {
+        // SAFETY: every array is valid for the length passed with it; `used` is one size_t.
+        unsafe {
+            deform_kernel_ffi::graph::dk_graph_from_cells(
+                N,
+                offsets1.as_ptr(),
+                offsets1.len(),
+                nodes1.as_ptr(),
+                nodes1.len(),
+                m.kinds.as_ptr(),
+                m.kinds.len(),
+                1,
+                scratch.as_mut_ptr(),
+                scratch.len(),
+                false,
+                offsets.as_mut_ptr(),
+                offsets.len(),
+                targets.as_mut_ptr(),
+                targets.len(),
+                used,
+            )
+        }
+    };
+    let short = scratch.len() - 1;
+    let s = call(&mut scratch[..short], &mut offsets, &mut targets, &mut used);
+    defmt::assert!(s == dk_status::DK_ERR_BUFFER_TOO_SMALL && used == 99);
+    defmt::assert!(offsets.iter().chain(&targets).all(|&x| x == 7));
+    let s = call(&mut scratch, &mut offsets, &mut targets, &mut used);
+    defmt::assert!(s == dk_status::DK_OK && used == m.used);
+    defmt::assert!(offsets == m.graph_offsets && targets[..used] == m.targets[..m.used]);
+}
+
+#[defmt_test::tests]
+mod tests {
+    #[test]
+    fn graph_from_1_based_cells_through_the_abi() {
+        super::graph_from_1_based_cells();
+    }
+
+    #[test]
+    fn plan_through_the_abi_f64() {
+        super::plan_through_the_abi::<f64>();
+    }
+
+    #[test]
+    fn plan_through_the_abi_f32() {
+        super::plan_through_the_abi::<f32>();
+    }
+}
