@@ -21,7 +21,9 @@
 #define DK_ROTATIONS_SHAPE 0
 
 // [`dk_boundary_motion::rotation_source`]: one rigid rotation
-// ([`dk_boundary_motion::rigid_rotation`]) for every boundary node.
+// ([`dk_boundary_motion::rigid_rotation`]) for the moving boundary; boundary nodes that stay
+// exactly in place although the rotation would move them (a fixed far field) get the
+// identity, as `deform move` does. Nodes on the rotation axis keep the rotation.
 #define DK_ROTATIONS_RIGID 1
 
 // [`dk_boundary_motion::rotation_source`]: one rotation per boundary node
@@ -224,7 +226,7 @@ typedef struct {
   const double *node_rotations;
   // Number of scalars in `node_rotations`.
   size_t node_rotations_len;
-  // With [`DK_ROTATIONS_RIGID`]: the rotation `(w, x, y, z)` of every boundary node
+  // With [`DK_ROTATIONS_RIGID`]: the rotation `(w, x, y, z)` of the moving boundary nodes
   // (normalised by the library). Ignored otherwise.
   double rigid_rotation[4];
   // The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
@@ -265,7 +267,7 @@ typedef struct {
   const float *node_rotations;
   // Number of scalars in `node_rotations`.
   size_t node_rotations_len;
-  // With [`DK_ROTATIONS_RIGID`]: the rotation of every boundary node. Ignored otherwise.
+  // With [`DK_ROTATIONS_RIGID`]: the rotation of the moving boundary. Ignored otherwise.
   float rigid_rotation[4];
   // The rotation origin, used when `has_origin` is nonzero.
   float origin[3];

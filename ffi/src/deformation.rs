@@ -51,7 +51,9 @@ use crate::status::dk_status;
 /// shapes (needs the boundary elements).
 pub const DK_ROTATIONS_SHAPE: u32 = 0;
 /// [`dk_boundary_motion::rotation_source`]: one rigid rotation
-/// ([`dk_boundary_motion::rigid_rotation`]) for every boundary node.
+/// ([`dk_boundary_motion::rigid_rotation`]) for the moving boundary; boundary nodes that stay
+/// exactly in place although the rotation would move them (a fixed far field) get the
+/// identity, as `deform move` does. Nodes on the rotation axis keep the rotation.
 pub const DK_ROTATIONS_RIGID: u32 = 1;
 /// [`dk_boundary_motion::rotation_source`]: one rotation per boundary node
 /// ([`dk_boundary_motion::node_rotations`]).
@@ -106,7 +108,7 @@ pub struct dk_boundary_motion {
     pub node_rotations: *const f64,
     /// Number of scalars in `node_rotations`.
     pub node_rotations_len: usize,
-    /// With [`DK_ROTATIONS_RIGID`]: the rotation `(w, x, y, z)` of every boundary node
+    /// With [`DK_ROTATIONS_RIGID`]: the rotation `(w, x, y, z)` of the moving boundary nodes
     /// (normalised by the library). Ignored otherwise.
     pub rigid_rotation: [f64; 4],
     /// The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
@@ -150,7 +152,7 @@ pub struct dk_boundary_motion_f32 {
     pub node_rotations: *const f32,
     /// Number of scalars in `node_rotations`.
     pub node_rotations_len: usize,
-    /// With [`DK_ROTATIONS_RIGID`]: the rotation of every boundary node. Ignored otherwise.
+    /// With [`DK_ROTATIONS_RIGID`]: the rotation of the moving boundary. Ignored otherwise.
     pub rigid_rotation: [f32; 4],
     /// The rotation origin, used when `has_origin` is nonzero.
     pub origin: [f32; 3],

@@ -88,7 +88,7 @@ pub use update::update_points;
 /// The pieces of the pipelines a prepared plan ([`crate::plan`]) reuses, so its steps run the
 /// very same arithmetic.
 pub(crate) use normals::check_elements;
-pub(crate) use rotations::{origin_core, rotations_core, translation};
+pub(crate) use rotations::{origin_core, rigid_node_rotation, rotations_core, translation};
 pub(crate) use update::apply;
 
 use crate::error::{Error, Result};

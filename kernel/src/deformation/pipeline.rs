@@ -1,7 +1,7 @@
 //! One-call deformation pipelines: boundary rotations and translations, propagation, update.
 
 use super::idw_fast::check_options_and_buffers;
-use super::rotations::{origin_core, rotations_core, translation};
+use super::rotations::{origin_core, rigid_node_rotation, rotations_core, translation};
 use super::springs::{propagate_spring_with, propagate_spring_with_scratch_len};
 use super::{
     boundary_rotations_scratch_len, check_buffer, check_dim, check_exponent, check_finite,
@@ -22,7 +22,10 @@ pub enum RotationSource<'a, T> {
     /// ([`boundary_rotations`](super::boundary_rotations)); needs
     /// [`BoundaryMotion::elements`].
     Shape,
-    /// One rigid rotation for every boundary node (a rigid body whose motion is known).
+    /// One rigid rotation for the moving boundary (a rigid body whose motion is known). A node
+    /// that stays exactly in place although the rotation about the origin would move it is
+    /// not part of the body (a fixed far field or wall) and gets the identity, as `deform
+    /// move` gives it; nodes on the rotation axis keep the rotation.
     Rigid(Quat<T>),
     /// One rotation per boundary node, in [`BoundaryMotion::nodes`] order (for example several
     /// markers filled with [`rigid_rotations`](super::rigid_rotations) and
@@ -153,9 +156,9 @@ fn boundary_values<T: Real, const D: usize>(
         }
         (RotationSource::Rigid(q), _) => {
             let q = q.normalize()?;
-            for &i in motion.nodes {
+            for (k, &i) in motion.nodes.iter().enumerate() {
                 if let Some(r) = rotations.get_mut(i as usize) {
-                    *r = q;
+                    *r = rigid_node_rotation(q, origin, u.get(k), d.get(k));
                 }
             }
         }

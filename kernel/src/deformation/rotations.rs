@@ -247,6 +247,35 @@ pub fn rigid_rotations<T: Real>(q: Quat<T>, rotations: &mut [Quat<T>]) -> Result
     Ok(())
 }
 
+/// The rotation [`RotationSource::Rigid`](super::RotationSource::Rigid) gives one boundary
+/// node (`u` undeformed, `d` deformed): the unit `q`, except for a node that stays exactly in
+/// place although `q` about `origin` would move it (by more than 16 ε of its lever arm): that
+/// node is not part of the rigid body (a fixed far field, a fixed wall) and gets the identity.
+/// A node that stays on the rotation axis, or at the origin, is part of the body and keeps `q`.
+pub(crate) fn rigid_node_rotation<T: Real, const D: usize>(
+    q: Quat<T>,
+    origin: [T; D],
+    u: [T; D],
+    d: [T; D],
+) -> Quat<T> {
+    if u != d {
+        return q;
+    }
+    let v = sub(u, origin);
+    let w = rotate_d(q, v);
+    let mut moved = T::ZERO;
+    let mut arm = T::ZERO;
+    for (a, b) in w.iter().zip(&v) {
+        moved = moved.max((*a - *b).abs());
+        arm = arm.max(b.abs());
+    }
+    if moved > T::from_f64(16.0) * T::EPSILON * arm {
+        Quat::identity()
+    } else {
+        q
+    }
+}
+
 /// The default origin: the centroid of the undeformed positions of the boundary points that
 /// move (`deformed != undeformed`), or of all points when none moves.
 ///

@@ -5,7 +5,9 @@
 use super::layout::{self, set_hw, w, AmgParts, Meta, SolverKind};
 use super::{Plan, PlanMethod, PlanMotion, Start, StepReport};
 use crate::cells::Cells;
-use crate::deformation::{apply, origin_core, rotations_core, translation, Pts, RotationSource};
+use crate::deformation::{
+    apply, origin_core, rigid_node_rotation, rotations_core, translation, Pts, RotationSource,
+};
 use crate::error::{Error, Result};
 use crate::graph::Graph;
 use crate::quat::Quat;
@@ -476,8 +478,10 @@ fn run_quaternion<T: Real, const D: usize, const V: usize>(
             })?;
         }
         RotationSource::Rigid(q) => {
-            let q = q.normalize()?.to_array();
-            m.bq.fill(q);
+            let q = q.normalize()?;
+            for (k, r) in m.bq.iter_mut().enumerate() {
+                *r = rigid_node_rotation(q, origin, u.get(k), d.get(k)).to_array();
+            }
         }
         RotationSource::PerNode(qs) => {
             for (r, q) in m.bq.iter_mut().zip(qs) {
