@@ -75,11 +75,9 @@ fn max_diff<T: Real, const D: usize>(a: &[[T; D]], b: &[[T; D]]) -> f64 {
 }
 
 /// The O-grid's wall pitched by 10° about `pivot` (the far field fixed): `Rigid` equals the
-/// per-node rotations with the identity on the far field, not the old all-rotated field.
-fn pitch<T: Real>(
-    pivot: [f64; 2],
-    origin: Option<[T; 2]>,
-) -> (Vec<[T; 2]>, Vec<[T; 2]>, Vec<[T; 2]>) {
+/// per-node rotations with the identity on the far field, not the old all-rotated field
+/// (returned: `Rigid`, the per-node rotations, everything rotated).
+fn pitch<T: Real>(pivot: [f64; 2], origin: Option<[T; 2]>) -> [Vec<[T; 2]>; 3] {
     let points = o_grid::<T>();
     let wall: Vec<u32> = (0..NI as u32).collect();
     let far: Vec<u32> = ((NI * (NJ - 1)) as u32..(NI * NJ) as u32).collect();
@@ -127,11 +125,11 @@ fn pitch<T: Real>(
         RotationSource::PerNode(&all),
         origin,
     );
-    (rigid, per_node, all_rotated)
+    [rigid, per_node, all_rotated]
 }
 
 fn far_field_is_not_rotated<T: Real>() {
-    let (rigid, per_node, all_rotated) = pitch::<T>([0.25, 0.0], None);
+    let [rigid, per_node, all_rotated] = pitch::<T>([0.25, 0.0], None);
     assert_eq!(
         bits(&rigid),
         bits(&per_node),
@@ -166,7 +164,7 @@ fn rigid_rotation_leaves_a_fixed_far_field_unrotated_f32() {
 #[test]
 fn a_wall_node_at_the_origin_keeps_the_rotation() {
     let pivot = o_grid::<f64>()[0];
-    let (rigid, per_node, _) = pitch::<f64>(pivot, Some(pivot));
+    let [rigid, per_node, _] = pitch::<f64>(pivot, Some(pivot));
     assert_eq!(bits(&rigid), bits(&per_node));
 }
 
