@@ -8,7 +8,7 @@
 
 use deform_kernel::{Block, Graph};
 
-use crate::slice::{chunks, input, out_one, output, In, Out};
+use crate::slice::{chunks, input, input_n, out_one, output_n, In, Out};
 use crate::status::dk_status;
 
 /// `Ok(())` → `DK_OK`, `Err(s)` → `s`.
@@ -21,7 +21,7 @@ pub(crate) fn done(r: Result<(), dk_status>) -> dk_status {
 
 /// Copies one `T` from `p` (NULL is an error).
 pub(crate) fn read_one<T: Copy>(p: In<'_, T>) -> Result<T, dk_status> {
-    let s = input(p, 1)?;
+    let s = input_n(p, 1)?;
     s.first().copied().ok_or(dk_status::DK_ERR_NULL_POINTER)
 }
 
@@ -37,54 +37,47 @@ pub(crate) fn write_len(len_out: Out<'_, usize>, len: usize) -> Result<(), dk_st
     write_one(len_out, len)
 }
 
-/// Reads exactly `N` scalars (`len` must be `N`, else `DK_ERR_LENGTH_MISMATCH`; NULL is an
-/// error).
-pub(crate) fn read_array<T: Copy, const N: usize>(
-    ptr: In<'_, T>,
-    len: usize,
-) -> Result<[T; N], dk_status> {
-    if len != N {
+/// Reads exactly `N` scalars (the length must be `N`, else `DK_ERR_LENGTH_MISMATCH`; NULL is
+/// an error).
+pub(crate) fn read_array<T: Copy, const N: usize>(ptr: In<'_, T>) -> Result<[T; N], dk_status> {
+    if ptr.len() != N {
         return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
     }
-    let s = chunks::<T, N>(ptr, len)?;
+    let s = chunks::<T, N>(ptr)?;
     s.first().copied().ok_or(dk_status::DK_ERR_NULL_POINTER)
 }
 
 /// Writes `N` scalars to `ptr` (NULL is an error).
 pub(crate) fn write_array<T, const N: usize>(ptr: Out<'_, T>, v: [T; N]) -> Result<(), dk_status> {
-    let s = output(ptr, N)?;
+    let s = output_n(ptr, N)?;
     for (d, x) in s.iter_mut().zip(v) {
         *d = x;
     }
     Ok(())
 }
 
-/// An optional input array: `None` when `ptr` is NULL and `len` is 0, else the borrowed
+/// An optional input array: `None` when `ptr` is NULL with length 0, else the borrowed
 /// slice (so a non-NULL pointer with length 0 is an empty array, checked by the kernel).
-pub(crate) fn optional<'a, T>(ptr: In<'a, T>, len: usize) -> Result<Option<&'a [T]>, dk_status> {
-    if ptr.is_null() && len == 0 {
+pub(crate) fn optional<T>(ptr: In<'_, T>) -> Result<Option<&[T]>, dk_status> {
+    if ptr.is_null() && ptr.len() == 0 {
         return Ok(None);
     }
-    input(ptr, len).map(Some)
+    input(ptr).map(Some)
 }
 
-/// Borrows a point array of `D`-vectors (`len` scalars, a multiple of `D`).
-pub(crate) fn read_points<'a, T, const D: usize>(
-    p: In<'a, T>,
-    len: usize,
-) -> Result<&'a [[T; D]], dk_status> {
-    chunks::<T, D>(p, len)
+/// Borrows a point array of `D`-vectors (a multiple of `D` scalars).
+pub(crate) fn read_points<T, const D: usize>(p: In<'_, T>) -> Result<&[[T; D]], dk_status> {
+    chunks::<T, D>(p)
 }
 
-/// An optional point array, as [`optional`]: `None` when `p` is NULL and `len` is 0.
-pub(crate) fn read_optional_points<'a, T, const D: usize>(
-    p: In<'a, T>,
-    len: usize,
-) -> Result<Option<&'a [[T; D]]>, dk_status> {
-    if p.is_null() && len == 0 {
+/// An optional point array, as [`optional`]: `None` when `p` is NULL with length 0.
+pub(crate) fn read_optional_points<T, const D: usize>(
+    p: In<'_, T>,
+) -> Result<Option<&[[T; D]]>, dk_status> {
+    if p.is_null() && p.len() == 0 {
         return Ok(None);
     }
-    read_points::<T, D>(p, len).map(Some)
+    read_points::<T, D>(p).map(Some)
 }
 
 /// `n * m` or `DK_ERR_TOO_LARGE`.
@@ -158,12 +151,10 @@ pub(crate) fn block(ni: usize, nj: usize, nk: usize) -> Result<Block, dk_status>
 /// Borrows and validates a 0-based CSR graph.
 pub(crate) fn graph<'a>(
     offsets: In<'a, u32>,
-    offsets_len: usize,
     targets: In<'a, u32>,
-    targets_len: usize,
 ) -> Result<Graph<'a>, dk_status> {
-    let o = input(offsets, offsets_len)?;
-    let t = input(targets, targets_len)?;
+    let o = input(offsets)?;
+    let t = input(targets)?;
     Graph::new(o, t).map_err(dk_status::from)
 }
 

@@ -39,7 +39,9 @@ use crate::args::{
     assert_layout, block, check_base, done, graph, index_need, mul_len, read_array, read_one,
     read_points, rebase, write_len,
 };
-use crate::slice::{chunks, chunks_mut, input, out_one, output, quats, quats_mut, In, Out};
+use crate::slice::{
+    chunks, chunks_mut, input, out_one, output, quats, quats_mut, whole_chunks_mut, In, Out,
+};
 use crate::spring::{dk_spring_solve_options, dk_spring_solve_report};
 use crate::status::dk_status;
 
@@ -203,24 +205,21 @@ fn by_dim(dim: u32, job: impl ByDim) -> dk_status {
 fn read_elements<'a>(
     boundary_len: usize,
     offsets: In<'a, u32>,
-    offsets_len: usize,
     nodes: In<'a, u32>,
-    nodes_len: usize,
     kinds: In<'a, u8>,
-    kinds_len: usize,
     index_base: u32,
     scratch: &'a mut [u32],
 ) -> Result<(Option<Cells<'a>>, &'a mut [u32]), dk_status> {
     check_base(index_base)?;
-    if offsets_len == 0 {
-        if nodes_len != 0 || kinds_len != 0 {
+    if offsets.len() == 0 {
+        if nodes.len() != 0 || kinds.len() != 0 {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
         return Ok((None, scratch));
     }
-    let o = input(offsets, offsets_len)?;
-    let n = input(nodes, nodes_len)?;
-    let k = input(kinds, kinds_len)?;
+    let o = input(offsets)?;
+    let n = input(nodes)?;
+    let k = input(kinds)?;
     let (o, scratch) = rebase(o, index_base, scratch)?;
     let (n, scratch) = rebase(n, index_base, scratch)?;
     let cells = Cells::new(boundary_len, o, n, k).map_err(dk_status::from)?;
@@ -232,40 +231,22 @@ fn read_elements<'a>(
 fn read_required_elements<'a>(
     boundary_len: usize,
     offsets: In<'a, u32>,
-    offsets_len: usize,
     nodes: In<'a, u32>,
-    nodes_len: usize,
     kinds: In<'a, u8>,
-    kinds_len: usize,
     index_base: u32,
     scratch: &'a mut [u32],
 ) -> Result<Cells<'a>, dk_status> {
-    let (cells, _) = read_elements(
-        boundary_len,
-        offsets,
-        offsets_len,
-        nodes,
-        nodes_len,
-        kinds,
-        kinds_len,
-        index_base,
-        scratch,
-    )?;
+    let (cells, _) = read_elements(boundary_len, offsets, nodes, kinds, index_base, scratch)?;
     cells.ok_or(dk_status::DK_ERR_LENGTH_MISMATCH)
 }
 
-/// An optional `D`-scalar output: NULL with length 0 (not wanted) or exactly `D` scalars.
-fn optional_out<'a, T: Real, const D: usize>(
-    ptr: Out<'a, T>,
-    len: usize,
-) -> Result<Option<&'a mut [T]>, dk_status> {
-    if len == 0 {
-        return Ok(None);
+/// An optional `D`-scalar output: length 0 (not wanted) or exactly `D` scalars.
+fn optional_out<T: Real, const D: usize>(ptr: Out<'_, T>) -> Result<Option<&mut [T]>, dk_status> {
+    match ptr.len() {
+        0 => Ok(None),
+        len if len == D => output(ptr).map(Some),
+        _ => Err(dk_status::DK_ERR_LENGTH_MISMATCH),
     }
-    if len != D {
-        return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
-    }
-    output(ptr, len).map(Some)
 }
 
 /// Writes `v` into an optional output (see [`optional_out`]).
@@ -281,17 +262,11 @@ fn write_optional<T: Real, const D: usize>(slot: Option<&mut [T]>, v: [T; D]) {
 #[derive(Clone, Copy)]
 struct RawMotion<'a, T> {
     nodes: In<'a, u32>,
-    nodes_len: usize,
     deformed: In<'a, T>,
-    deformed_len: usize,
     element_offsets: In<'a, u32>,
-    element_offsets_len: usize,
     element_nodes: In<'a, u32>,
-    element_nodes_len: usize,
     element_kinds: In<'a, u8>,
-    element_kinds_len: usize,
     node_rotations: In<'a, T>,
-    node_rotations_len: usize,
     rigid_rotation: [T; 4],
     origin: [T; 3],
     index_base: u32,
@@ -318,17 +293,11 @@ macro_rules! motion_c {
                 let raw = unsafe {
                     RawMotion {
                         nodes: In::new(m.nodes, m.nodes_len),
-                        nodes_len: m.nodes_len,
                         deformed: In::new(m.deformed, m.deformed_len),
-                        deformed_len: m.deformed_len,
                         element_offsets: In::new(m.element_offsets, m.element_offsets_len),
-                        element_offsets_len: m.element_offsets_len,
                         element_nodes: In::new(m.element_nodes, m.element_nodes_len),
-                        element_nodes_len: m.element_nodes_len,
                         element_kinds: In::new(m.element_kinds, m.element_kinds_len),
-                        element_kinds_len: m.element_kinds_len,
                         node_rotations: In::new(m.node_rotations, m.node_rotations_len),
-                        node_rotations_len: m.node_rotations_len,
                         rigid_rotation: m.rigid_rotation,
                         origin: m.origin,
                         index_base: m.index_base,
@@ -376,9 +345,9 @@ impl<'a, T: Real> RawMotion<'a, T> {
         index_need(
             self.index_base,
             &[
-                self.nodes_len,
-                self.element_offsets_len,
-                self.element_nodes_len,
+                self.nodes.len(),
+                self.element_offsets.len(),
+                self.element_nodes.len(),
             ],
         )
     }
@@ -390,25 +359,22 @@ impl<'a, T: Real> RawMotion<'a, T> {
         scratch: &'a mut [u32],
     ) -> Result<(BoundaryMotion<'a, T, D>, &'a mut [u32]), dk_status> {
         check_base(self.index_base)?;
-        let nodes = input(self.nodes, self.nodes_len)?;
+        let nodes = input(self.nodes)?;
         let (nodes, scratch) = rebase(nodes, self.index_base, scratch)?;
         let (elements, scratch) = read_elements(
             nodes.len(),
             self.element_offsets,
-            self.element_offsets_len,
             self.element_nodes,
-            self.element_nodes_len,
             self.element_kinds,
-            self.element_kinds_len,
             self.index_base,
             scratch,
         )?;
-        let deformed = read_points::<T, D>(self.deformed, self.deformed_len)?;
+        let deformed = read_points::<T, D>(self.deformed)?;
         let rotations = match self.rotation_source {
             DK_ROTATIONS_SHAPE => RotationSource::Shape,
             DK_ROTATIONS_RIGID => RotationSource::Rigid(Quat::from_array(self.rigid_rotation)),
             DK_ROTATIONS_PER_NODE => {
-                let q = quats(self.node_rotations, self.node_rotations_len)?;
+                let q = quats(self.node_rotations)?;
                 RotationSource::PerNode(q)
             }
             _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
@@ -485,17 +451,11 @@ fn motion_index_len<M: MotionC>(motion: In<'_, M>, len_out: Out<'_, usize>) -> d
 /// Outputs common to the pipelines.
 struct PipelineOut<'a, T> {
     scratch: Out<'a, T>,
-    scratch_len: usize,
     index_scratch: Out<'a, u32>,
-    index_scratch_len: usize,
     translations: Out<'a, T>,
-    translations_len: usize,
     rotations: Out<'a, T>,
-    rotations_len: usize,
     out: Out<'a, T>,
-    out_len: usize,
     origin_out: Out<'a, T>,
-    origin_out_len: usize,
 }
 
 /// The borrowed pipeline buffers (validated pointers).
@@ -510,12 +470,12 @@ struct PipelineBufs<'a, T, const D: usize> {
 
 impl<'a, T: Real> PipelineOut<'a, T> {
     fn borrow<const D: usize>(self) -> Result<PipelineBufs<'a, T, D>, dk_status> {
-        let scratch = output(self.scratch, self.scratch_len)?;
-        let index_scratch = output(self.index_scratch, self.index_scratch_len)?;
-        let translations = chunks_mut::<T, D>(self.translations, self.translations_len)?;
-        let rotations = quats_mut(self.rotations, self.rotations_len)?;
-        let out = chunks_mut::<T, D>(self.out, self.out_len)?;
-        let origin_out = optional_out::<T, D>(self.origin_out, self.origin_out_len)?;
+        let scratch = output(self.scratch)?;
+        let index_scratch = output(self.index_scratch)?;
+        let translations = chunks_mut::<T, D>(self.translations)?;
+        let rotations = quats_mut(self.rotations)?;
+        let out = chunks_mut::<T, D>(self.out)?;
+        let origin_out = optional_out::<T, D>(self.origin_out)?;
         Ok(PipelineBufs {
             scratch,
             index_scratch,
@@ -529,7 +489,6 @@ impl<'a, T: Real> PipelineOut<'a, T> {
 
 struct Idw<'a, M: MotionC> {
     points: In<'a, M::T>,
-    points_len: usize,
     motion: In<'a, M>,
     exponent: M::T,
     bufs: PipelineOut<'a, M::T>,
@@ -538,7 +497,7 @@ struct Idw<'a, M: MotionC> {
 impl<'a, M: MotionC> ByDim for Idw<'a, M> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
         let raw = read_raw(self.motion)?;
-        let points = read_points::<M::T, D>(self.points, self.points_len)?;
+        let points = read_points::<M::T, D>(self.points)?;
         let b = self.bufs.borrow::<D>()?;
         let (motion, _) = raw.view::<D>(b.index_scratch)?;
         let origin = deform_idw(
@@ -564,7 +523,6 @@ struct Tfi<'a, M: MotionC> {
     dims: [usize; 3],
     directions: u32,
     points: In<'a, M::T>,
-    points_len: usize,
     motion: In<'a, M>,
     bufs: PipelineOut<'a, M::T>,
 }
@@ -574,7 +532,7 @@ impl<'a, M: MotionC> ByDim for Tfi<'a, M> {
         let [ni, nj, nk] = self.dims;
         let (block, directions) = tfi_setup(ni, nj, nk, self.directions)?;
         let raw = read_raw(self.motion)?;
-        let points = read_points::<M::T, D>(self.points, self.points_len)?;
+        let points = read_points::<M::T, D>(self.points)?;
         let b = self.bufs.borrow::<D>()?;
         let (motion, _) = raw.view::<D>(b.index_scratch)?;
         let origin = deform_tfi(
@@ -600,29 +558,22 @@ impl<'a, M: MotionC> ByDim for Tfi<'a, M> {
 /// A boundary element list as it crosses the ABI (offsets and nodes in `index_base`).
 struct ElementsIn<'a> {
     offsets: In<'a, u32>,
-    offsets_len: usize,
     nodes: In<'a, u32>,
-    nodes_len: usize,
     kinds: In<'a, u8>,
-    kinds_len: usize,
     index_base: u32,
     index_scratch: Out<'a, u32>,
-    index_scratch_len: usize,
 }
 
 impl<'a> ElementsIn<'a> {
     /// The validated cells over `boundary_len` points (required: no elements is a length
     /// mismatch).
     fn read(self, boundary_len: usize) -> Result<Cells<'a>, dk_status> {
-        let scratch = output(self.index_scratch, self.index_scratch_len)?;
+        let scratch = output(self.index_scratch)?;
         read_required_elements(
             boundary_len,
             self.offsets,
-            self.offsets_len,
             self.nodes,
-            self.nodes_len,
             self.kinds,
-            self.kinds_len,
             self.index_base,
             scratch,
         )
@@ -631,72 +582,62 @@ impl<'a> ElementsIn<'a> {
 
 struct Normals<'a, T> {
     points: In<'a, T>,
-    points_len: usize,
     elements: ElementsIn<'a>,
     scratch: Out<'a, T>,
-    scratch_len: usize,
     normals: Out<'a, T>,
-    normals_len: usize,
 }
 
 impl<'a, T: Real> ByDim for Normals<'a, T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
-        let points = read_points::<T, D>(self.points, self.points_len)?;
+        let points = read_points::<T, D>(self.points)?;
         let cells = self.elements.read(points.len())?;
-        let scratch = output(self.scratch, self.scratch_len)?;
-        let normals = chunks_mut::<T, D>(self.normals, self.normals_len)?;
+        let scratch = output(self.scratch)?;
+        let normals = chunks_mut::<T, D>(self.normals)?;
         boundary_normals(points, &cells, scratch, normals).map_err(dk_status::from)
     }
 }
 
 struct Rotations<'a, T> {
     undeformed: In<'a, T>,
-    undeformed_len: usize,
     deformed: In<'a, T>,
-    deformed_len: usize,
     elements: ElementsIn<'a>,
     scratch: Out<'a, T>,
-    scratch_len: usize,
     rotations: Out<'a, T>,
-    rotations_len: usize,
 }
 
 impl<'a, T: Real> ByDim for Rotations<'a, T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
-        let u = read_points::<T, D>(self.undeformed, self.undeformed_len)?;
-        let d = read_points::<T, D>(self.deformed, self.deformed_len)?;
+        let u = read_points::<T, D>(self.undeformed)?;
+        let d = read_points::<T, D>(self.deformed)?;
         let cells = self.elements.read(u.len())?;
-        let scratch = output(self.scratch, self.scratch_len)?;
-        let rotations = quats_mut(self.rotations, self.rotations_len)?;
+        let scratch = output(self.scratch)?;
+        let rotations = quats_mut(self.rotations)?;
         boundary_rotations(u, d, &cells, scratch, rotations).map_err(dk_status::from)
     }
 }
 
-fn rigid<T: Real>(q: In<'_, T>, rotations: Out<'_, T>, rotations_len: usize) -> dk_status {
+fn rigid<T: Real>(q: In<'_, T>, rotations: Out<'_, T>) -> dk_status {
     done((|| {
-        let q = read_array::<T, 4>(q, 4).map(Quat::from_array)?;
-        let r = quats_mut(rotations, rotations_len)?;
+        let q = read_array::<T, 4>(q).map(Quat::from_array)?;
+        let r = quats_mut(rotations)?;
         rigid_rotations(q, r).map_err(dk_status::from)
     })())
 }
 
 struct Origin<'a, T> {
     undeformed: In<'a, T>,
-    undeformed_len: usize,
     deformed: In<'a, T>,
-    deformed_len: usize,
     origin_out: Out<'a, T>,
-    origin_out_len: usize,
 }
 
 impl<'a, T: Real> ByDim for Origin<'a, T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
-        let u = read_points::<T, D>(self.undeformed, self.undeformed_len)?;
-        let d = read_points::<T, D>(self.deformed, self.deformed_len)?;
-        if self.origin_out_len != D {
+        let u = read_points::<T, D>(self.undeformed)?;
+        let d = read_points::<T, D>(self.deformed)?;
+        if self.origin_out.len() != D {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
-        let o = output(self.origin_out, self.origin_out_len)?;
+        let o = output(self.origin_out)?;
         let origin = boundary_origin(u, d).map_err(dk_status::from)?;
         write_optional(Some(o), origin);
         Ok(())
@@ -705,24 +646,19 @@ impl<'a, T: Real> ByDim for Origin<'a, T> {
 
 struct Translations<'a, T> {
     origin: In<'a, T>,
-    origin_len: usize,
     undeformed: In<'a, T>,
-    undeformed_len: usize,
     deformed: In<'a, T>,
-    deformed_len: usize,
     rotations: In<'a, T>,
-    rotations_len: usize,
     translations: Out<'a, T>,
-    translations_len: usize,
 }
 
 impl<'a, T: Real> ByDim for Translations<'a, T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
-        let origin = read_array::<T, D>(self.origin, self.origin_len)?;
-        let u = read_points::<T, D>(self.undeformed, self.undeformed_len)?;
-        let d = read_points::<T, D>(self.deformed, self.deformed_len)?;
-        let q = quats(self.rotations, self.rotations_len)?;
-        let t = chunks_mut::<T, D>(self.translations, self.translations_len)?;
+        let origin = read_array::<T, D>(self.origin)?;
+        let u = read_points::<T, D>(self.undeformed)?;
+        let d = read_points::<T, D>(self.deformed)?;
+        let q = quats(self.rotations)?;
+        let t = chunks_mut::<T, D>(self.translations)?;
         boundary_translations(origin, u, d, q, t).map_err(dk_status::from)
     }
 }
@@ -733,27 +669,22 @@ impl<'a, T: Real> ByDim for Translations<'a, T> {
 
 struct PropIdw<'a, T> {
     points: In<'a, T>,
-    points_len: usize,
     boundary: In<'a, u32>,
-    boundary_len: usize,
     index_base: u32,
     exponent: T,
     index_scratch: Out<'a, u32>,
-    index_scratch_len: usize,
     translations: Out<'a, T>,
-    translations_len: usize,
     rotations: Out<'a, T>,
-    rotations_len: usize,
 }
 
 impl<'a, T: Real> ByDim for PropIdw<'a, T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
-        let points = read_points::<T, D>(self.points, self.points_len)?;
-        let boundary = input(self.boundary, self.boundary_len)?;
-        let scratch = output(self.index_scratch, self.index_scratch_len)?;
+        let points = read_points::<T, D>(self.points)?;
+        let boundary = input(self.boundary)?;
+        let scratch = output(self.index_scratch)?;
         let (boundary, _) = rebase(boundary, self.index_base, scratch)?;
-        let t = chunks_mut::<T, D>(self.translations, self.translations_len)?;
-        let q = quats_mut(self.rotations, self.rotations_len)?;
+        let t = chunks_mut::<T, D>(self.translations)?;
+        let q = quats_mut(self.rotations)?;
         propagate_idw(points, boundary, self.exponent, t, q).map_err(dk_status::from)
     }
 }
@@ -762,14 +693,10 @@ struct PropTfi<'a, T> {
     dims: [usize; 3],
     directions: u32,
     points: In<'a, T>,
-    points_len: usize,
     scratch: Out<'a, T>,
-    scratch_len: usize,
     translations: Out<'a, T>,
-    translations_len: usize,
     /// NULL with 0 and `displacement` set: plain displacement TFI.
     rotations: Out<'a, T>,
-    rotations_len: usize,
     displacement: bool,
 }
 
@@ -777,49 +704,41 @@ impl<'a, T: Real> ByDim for PropTfi<'a, T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
         let [ni, nj, nk] = self.dims;
         let (block, directions) = tfi_setup(ni, nj, nk, self.directions)?;
-        let points = read_points::<T, D>(self.points, self.points_len)?;
-        let scratch = output(self.scratch, self.scratch_len)?;
-        let t = chunks_mut::<T, D>(self.translations, self.translations_len)?;
+        let points = read_points::<T, D>(self.points)?;
+        let scratch = output(self.scratch)?;
+        let t = chunks_mut::<T, D>(self.translations)?;
         if self.displacement {
             return displacement_tfi(&block, directions, points, t, scratch)
                 .map_err(dk_status::from);
         }
-        let q = quats_mut(self.rotations, self.rotations_len)?;
+        let q = quats_mut(self.rotations)?;
         propagate_tfi(&block, directions, points, t, q, scratch).map_err(dk_status::from)
     }
 }
 
 struct Update<'a, T> {
     origin: In<'a, T>,
-    origin_len: usize,
     points: In<'a, T>,
-    points_len: usize,
     translations: In<'a, T>,
-    translations_len: usize,
     rotations: In<'a, T>,
-    rotations_len: usize,
     boundary: In<'a, u32>,
-    boundary_len: usize,
     index_base: u32,
     boundary_deformed: In<'a, T>,
-    boundary_deformed_len: usize,
     index_scratch: Out<'a, u32>,
-    index_scratch_len: usize,
     out: Out<'a, T>,
-    out_len: usize,
 }
 
 impl<'a, T: Real> ByDim for Update<'a, T> {
     fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
-        let origin = read_array::<T, D>(self.origin, self.origin_len)?;
-        let points = read_points::<T, D>(self.points, self.points_len)?;
-        let t = chunks::<T, D>(self.translations, self.translations_len)?;
-        let q = quats(self.rotations, self.rotations_len)?;
-        let boundary = input(self.boundary, self.boundary_len)?;
-        let bd = read_points::<T, D>(self.boundary_deformed, self.boundary_deformed_len)?;
-        let scratch = output(self.index_scratch, self.index_scratch_len)?;
+        let origin = read_array::<T, D>(self.origin)?;
+        let points = read_points::<T, D>(self.points)?;
+        let t = chunks::<T, D>(self.translations)?;
+        let q = quats(self.rotations)?;
+        let boundary = input(self.boundary)?;
+        let bd = read_points::<T, D>(self.boundary_deformed)?;
+        let scratch = output(self.index_scratch)?;
         let (boundary, _) = rebase(boundary, self.index_base, scratch)?;
-        let out = chunks_mut::<T, D>(self.out, self.out_len)?;
+        let out = chunks_mut::<T, D>(self.out)?;
         update_points(origin, points, t, q, boundary, bd, out).map_err(dk_status::from)
     }
 }
@@ -859,27 +778,18 @@ fn spring_values_len(
 #[derive(Clone, Copy)]
 struct SystemIn<'a, T> {
     offsets: In<'a, u32>,
-    offsets_len: usize,
     targets: In<'a, u32>,
-    targets_len: usize,
     stiffness: In<'a, T>,
-    stiffness_len: usize,
     fixed: In<'a, u8>,
-    fixed_len: usize,
 }
 
 impl<'a, T: Real> SystemIn<'a, T> {
     fn build(&self, scratch: &mut [u32]) -> Result<SpringSystem<'a, T>, dk_status> {
-        let k = input(self.stiffness, self.stiffness_len)?;
-        let f = input(self.fixed, self.fixed_len)?;
+        let k = input(self.stiffness)?;
+        let f = input(self.fixed)?;
         // All four arrays are NULL-checked before the graph is validated (unlike
         // `dk_spring_*`, which validate the graph first).
-        let g = graph(
-            self.offsets,
-            self.offsets_len,
-            self.targets,
-            self.targets_len,
-        )?;
+        let g = graph(self.offsets, self.targets)?;
         SpringSystem::new(g, k, f, scratch).map_err(dk_status::from)
     }
 }
@@ -901,12 +811,10 @@ fn spring_index_len<M: MotionC>(
 
 struct Spring<'a, M: MotionC> {
     points: In<'a, M::T>,
-    points_len: usize,
     motion: In<'a, M>,
     system: SystemIn<'a, M::T>,
     options: In<'a, dk_spring_solve_options>,
     values: Out<'a, M::T>,
-    values_len: usize,
     bufs: PipelineOut<'a, M::T>,
     report: Out<'a, dk_spring_solve_report>,
 }
@@ -917,11 +825,10 @@ impl<'a, M: MotionC> ByDim for Spring<'a, M> {
         let method = o.method::<M::T>()?;
         let stop = o.stopping::<M::T>();
         let raw = read_raw(self.motion)?;
-        let points = read_points::<M::T, D>(self.points, self.points_len)?;
+        let points = read_points::<M::T, D>(self.points)?;
         let b = self.bufs.borrow::<D>()?;
         // Only whole items of the values workspace are used.
-        let values_len = self.values_len - self.values_len % V;
-        let values = chunks_mut::<M::T, V>(self.values, values_len)?;
+        let values = whole_chunks_mut::<M::T, V>(self.values)?;
         let report = out_one(self.report)?;
         let (motion, rest) = raw.view::<D>(b.index_scratch)?;
         let sys = self.system.build(rest)?;
@@ -948,13 +855,9 @@ struct PropSpring<'a, T> {
     system: SystemIn<'a, T>,
     options: In<'a, dk_spring_solve_options>,
     index_scratch: Out<'a, u32>,
-    index_scratch_len: usize,
     values: Out<'a, T>,
-    values_len: usize,
     translations: Out<'a, T>,
-    translations_len: usize,
     rotations: Out<'a, T>,
-    rotations_len: usize,
     report: Out<'a, dk_spring_solve_report>,
 }
 
@@ -963,11 +866,10 @@ impl<'a, T: Real> ByDim for PropSpring<'a, T> {
         let o = read_one(self.options)?;
         let method = o.method::<T>()?;
         let stop = o.stopping::<T>();
-        let s = output(self.index_scratch, self.index_scratch_len)?;
-        let values_len = self.values_len - self.values_len % V;
-        let values = chunks_mut::<T, V>(self.values, values_len)?;
-        let t = chunks_mut::<T, D>(self.translations, self.translations_len)?;
-        let q = quats_mut(self.rotations, self.rotations_len)?;
+        let s = output(self.index_scratch)?;
+        let values = whole_chunks_mut::<T, V>(self.values)?;
+        let t = chunks_mut::<T, D>(self.translations)?;
+        let q = quats_mut(self.rotations)?;
         let report = out_one(self.report)?;
         let sys = self.system.build(s)?;
         let rep = propagate_spring(&sys, method, &stop, t, q, values).map_err(dk_status::from)?;

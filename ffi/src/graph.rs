@@ -27,17 +27,14 @@ pub(crate) type RawCells<'a> = (&'a [u32], &'a [u32], &'a [u8]);
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn read_cells<'a>(
     cell_offsets: In<'a, u32>,
-    cell_offsets_len: usize,
     cell_nodes: In<'a, u32>,
-    cell_nodes_len: usize,
     cell_kinds: In<'a, u8>,
-    cell_kinds_len: usize,
     index_base: u32,
     scratch: &'a mut [u32],
 ) -> Result<(RawCells<'a>, &'a mut [u32]), dk_status> {
-    let offs = input(cell_offsets, cell_offsets_len)?;
-    let nodes = input(cell_nodes, cell_nodes_len)?;
-    let kinds = input(cell_kinds, cell_kinds_len)?;
+    let offs = input(cell_offsets)?;
+    let nodes = input(cell_nodes)?;
+    let kinds = input(cell_kinds)?;
     // Offsets are positions in `cell_nodes`; with index_base 1 they are 1-based too.
     let (offs, scratch) = rebase(offs, index_base, scratch)?;
     let (nodes, scratch) = rebase(nodes, index_base, scratch)?;

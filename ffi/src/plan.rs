@@ -176,19 +176,12 @@ pub(crate) fn options_default<T: Real>(out: Out<'_, dk_plan_options>) -> dk_stat
 /// The mesh and options a plan is built from, as the C caller passed them.
 pub(crate) struct SpecArgs<'a, T> {
     pub(crate) points: In<'a, T>,
-    pub(crate) points_len: usize,
     pub(crate) offsets: In<'a, u32>,
-    pub(crate) offsets_len: usize,
     pub(crate) targets: In<'a, u32>,
-    pub(crate) targets_len: usize,
     pub(crate) boundary: In<'a, u32>,
-    pub(crate) boundary_len: usize,
     pub(crate) element_offsets: In<'a, u32>,
-    pub(crate) element_offsets_len: usize,
     pub(crate) element_nodes: In<'a, u32>,
-    pub(crate) element_nodes_len: usize,
     pub(crate) element_kinds: In<'a, u8>,
-    pub(crate) element_kinds_len: usize,
     pub(crate) dim: u32,
     pub(crate) options: In<'a, dk_plan_options>,
 }
@@ -196,19 +189,16 @@ pub(crate) struct SpecArgs<'a, T> {
 /// The transient work buffers, as the C caller passed them.
 pub(crate) struct WorkArgs<'a, T> {
     pub(crate) reals: Out<'a, T>,
-    pub(crate) reals_len: usize,
     pub(crate) indices: Out<'a, u32>,
-    pub(crate) indices_len: usize,
     pub(crate) bytes: Out<'a, u8>,
-    pub(crate) bytes_len: usize,
 }
 
 impl<'a, T> WorkArgs<'a, T> {
     fn borrow(self) -> Result<PlanWork<'a, T>, dk_status> {
         Ok(PlanWork {
-            reals: output(self.reals, self.reals_len)?,
-            indices: output(self.indices, self.indices_len)?,
-            bytes: output(self.bytes, self.bytes_len)?,
+            reals: output(self.reals)?,
+            indices: output(self.indices)?,
+            bytes: output(self.bytes)?,
         })
     }
 }
@@ -216,18 +206,15 @@ impl<'a, T> WorkArgs<'a, T> {
 /// The three plan pools, as the C caller passed them.
 pub(crate) struct PoolArgs<'a, T> {
     pub(crate) reals: Out<'a, T>,
-    pub(crate) reals_len: usize,
     pub(crate) indices: Out<'a, u32>,
-    pub(crate) indices_len: usize,
     pub(crate) bytes: Out<'a, u8>,
-    pub(crate) bytes_len: usize,
 }
 
 impl<'a, T: Real> PoolArgs<'a, T> {
     fn open<const D: usize>(self) -> Result<Plan<'a, T, D>, dk_status> {
-        let reals = output(self.reals, self.reals_len)?;
-        let indices = output(self.indices, self.indices_len)?;
-        let bytes = output(self.bytes, self.bytes_len)?;
+        let reals = output(self.reals)?;
+        let indices = output(self.indices)?;
+        let bytes = output(self.bytes)?;
         Plan::open(reals, indices, bytes).map_err(dk_status::from)
     }
 }
@@ -236,23 +223,18 @@ impl<'a, T: Real> SpecArgs<'a, T> {
     /// The kernel's spec (borrowing the caller's arrays; everything is copied at init).
     fn spec<const D: usize>(&self) -> Result<PlanSpec<'a, T, D>, dk_status> {
         let o = read_one(self.options)?;
-        let points = read_points::<T, D>(self.points, self.points_len)?;
-        let graph = graph(
-            self.offsets,
-            self.offsets_len,
-            self.targets,
-            self.targets_len,
-        )?;
-        let boundary = input(self.boundary, self.boundary_len)?;
-        let elements = if self.element_offsets_len == 0 {
-            if self.element_nodes_len != 0 || self.element_kinds_len != 0 {
+        let points = read_points::<T, D>(self.points)?;
+        let graph = graph(self.offsets, self.targets)?;
+        let boundary = input(self.boundary)?;
+        let elements = if self.element_offsets.len() == 0 {
+            if self.element_nodes.len() != 0 || self.element_kinds.len() != 0 {
                 return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
             }
             None
         } else {
-            let eo = input(self.element_offsets, self.element_offsets_len)?;
-            let en = input(self.element_nodes, self.element_nodes_len)?;
-            let ek = input(self.element_kinds, self.element_kinds_len)?;
+            let eo = input(self.element_offsets)?;
+            let en = input(self.element_nodes)?;
+            let ek = input(self.element_kinds)?;
             Some(Cells::new(boundary.len(), eo, en, ek).map_err(dk_status::from)?)
         };
         let method = match o.method {
@@ -335,9 +317,9 @@ fn init_d<T: Real, const D: usize>(
     let s = spec.spec::<D>()?;
     let mut work = work.borrow()?;
     let info_slot = crate::slice::out_one(info_out)?;
-    let reals = output(pools.reals, pools.reals_len)?;
-    let indices = output(pools.indices, pools.indices_len)?;
-    let bytes = output(pools.bytes, pools.bytes_len)?;
+    let reals = output(pools.reals)?;
+    let indices = output(pools.indices)?;
+    let bytes = output(pools.bytes)?;
     let plan = Plan::<T, D>::init(&s, &mut work, reals, indices, bytes).map_err(dk_status::from)?;
     *info_slot = info(&plan);
     Ok(())
@@ -377,27 +359,24 @@ pub(crate) fn open_t<T: Real>(
 /// One step's motion, as the C caller passed it.
 pub(crate) struct MotionArgs<'a, T> {
     pub(crate) deformed: In<'a, T>,
-    pub(crate) deformed_len: usize,
     pub(crate) rotation_source: u32,
     pub(crate) rotations: In<'a, T>,
-    pub(crate) rotations_len: usize,
     pub(crate) origin: In<'a, T>,
-    pub(crate) origin_len: usize,
     pub(crate) start: u32,
 }
 
 impl<'a, T: Real> MotionArgs<'a, T> {
     fn motion<const D: usize>(self) -> Result<PlanMotion<'a, T, D>, dk_status> {
-        let deformed = read_points::<T, D>(self.deformed, self.deformed_len)?;
+        let deformed = read_points::<T, D>(self.deformed)?;
         let rotations = match self.rotation_source {
             crate::deformation::DK_ROTATIONS_SHAPE => {
-                if self.rotations_len != 0 {
+                if self.rotations.len() != 0 {
                     return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
                 }
                 RotationSource::Shape
             }
             crate::deformation::DK_ROTATIONS_RIGID => {
-                let q = input(self.rotations, self.rotations_len)?;
+                let q = input(self.rotations)?;
                 let [w, x, y, z] = match q {
                     [w, x, y, z] => [*w, *x, *y, *z],
                     _ => return Err(dk_status::DK_ERR_LENGTH_MISMATCH),
@@ -405,14 +384,14 @@ impl<'a, T: Real> MotionArgs<'a, T> {
                 RotationSource::Rigid(Quat::new(w, x, y, z))
             }
             crate::deformation::DK_ROTATIONS_PER_NODE => {
-                RotationSource::PerNode(quats(self.rotations, self.rotations_len)?)
+                RotationSource::PerNode(quats(self.rotations)?)
             }
             _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
         };
-        let origin = match self.origin_len {
+        let origin = match self.origin.len() {
             0 => None,
             n if n == D => {
-                let o = input(self.origin, n)?;
+                let o = input(self.origin)?;
                 let mut a = [T::ZERO; D];
                 for (d, &s) in a.iter_mut().zip(o) {
                     *d = s;
@@ -439,12 +418,11 @@ fn step_d<T: Real, const D: usize>(
     pools: PoolArgs<'_, T>,
     motion: MotionArgs<'_, T>,
     out: Out<'_, T>,
-    out_len: usize,
     report_out: Out<'_, dk_plan_step_report>,
 ) -> Result<(), dk_status> {
     let mut plan = pools.open::<D>()?;
     let motion = motion.motion::<D>()?;
-    let out = chunks_mut::<T, D>(out, out_len)?;
+    let out = chunks_mut::<T, D>(out)?;
     let report_slot = crate::slice::out_one(report_out)?;
     let r = plan.step(&motion, out).map_err(dk_status::from)?;
     *report_slot = dk_plan_step_report {
@@ -464,12 +442,7 @@ pub(crate) fn step_t<T: Real>(
     dim: u32,
     motion: MotionArgs<'_, T>,
     out: Out<'_, T>,
-    out_len: usize,
     report_out: Out<'_, dk_plan_step_report>,
 ) -> dk_status {
-    done(dim2or3!(
-        dim,
-        step_d::<T>,
-        (pools, motion, out, out_len, report_out)
-    ))
+    done(dim2or3!(dim, step_d::<T>, (pools, motion, out, report_out)))
 }

@@ -24,7 +24,7 @@ use deform_kernel::{CellKind, Cells, Real};
 
 use crate::args::{assert_layout, by_dim, done, graph, mul_len, read_points, write_len};
 use crate::graph::{read_cells, RawCells};
-use crate::slice::{chunks_mut, out_one, output, In, Out};
+use crate::slice::{out_one, output, whole_chunks_mut, In, Out};
 use crate::status::dk_status;
 
 /// "No such index" in the quality reports: `SIZE_MAX`.
@@ -169,11 +169,8 @@ impl dk_quality_report {
 #[derive(Clone, Copy)]
 struct CellArgs<'a> {
     offsets: In<'a, u32>,
-    offsets_len: usize,
     nodes: In<'a, u32>,
-    nodes_len: usize,
     kinds: In<'a, u8>,
-    kinds_len: usize,
     index_base: u32,
 }
 
@@ -187,11 +184,8 @@ impl<'a> CellArgs<'a> {
     ) -> Result<(Cells<'a>, &'a mut [u32]), dk_status> {
         let ((o, n, k), rest): (RawCells<'a>, _) = read_cells(
             self.offsets,
-            self.offsets_len,
             self.nodes,
-            self.nodes_len,
             self.kinds,
-            self.kinds_len,
             self.index_base,
             scratch,
         )?;
@@ -209,11 +203,10 @@ impl<'a> CellArgs<'a> {
 fn cell_quality_d<T: Real, const D: usize>(
     kind: u8,
     corners: In<'_, T>,
-    corners_len: usize,
     out: Out<'_, dk_cell_quality>,
 ) -> Result<(), dk_status> {
     let kind = CellKind::from_vtk(kind).ok_or(dk_status::DK_ERR_UNKNOWN_CELL_KIND)?;
-    let c = read_points::<T, D>(corners, corners_len)?;
+    let c = read_points::<T, D>(corners)?;
     let o = out_one(out)?;
     *o = dk_cell_quality::of(cell_quality(kind, c).map_err(dk_status::from)?);
     Ok(())
@@ -222,15 +215,10 @@ fn cell_quality_d<T: Real, const D: usize>(
 fn cell_quality_t<T: Real>(
     kind: u8,
     corners: In<'_, T>,
-    corners_len: usize,
     dim: u32,
     out: Out<'_, dk_cell_quality>,
 ) -> dk_status {
-    done(by_dim!(
-        dim,
-        cell_quality_d::<T>,
-        (kind, corners, corners_len, out)
-    ))
+    done(by_dim!(dim, cell_quality_d::<T>, (kind, corners, out)))
 }
 
 /// Per-cell output: measures (`jacobians` None) or minimum corner Jacobians.
@@ -238,16 +226,13 @@ fn cell_quality_t<T: Real>(
 fn per_cell_d<T: Real, const D: usize>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
-    index_scratch_len: usize,
     pts: In<'_, T>,
-    pts_len: usize,
     jacobians: Option<bool>,
     out: Out<'_, T>,
-    out_len: usize,
 ) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(pts, pts_len)?;
-    let (c, _) = cells.read(p.len(), output(index_scratch, index_scratch_len)?)?;
-    let o = output(out, out_len)?;
+    let p = read_points::<T, D>(pts)?;
+    let (c, _) = cells.read(p.len(), output(index_scratch)?)?;
+    let o = output(out)?;
     match jacobians {
         None => cell_measures(&c, p, o),
         Some(scaled) => min_corner_jacobians(&c, p, scaled, o),
@@ -259,27 +244,15 @@ fn per_cell_d<T: Real, const D: usize>(
 fn per_cell_t<T: Real>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
-    index_scratch_len: usize,
     pts: In<'_, T>,
-    pts_len: usize,
     dim: u32,
     jacobians: Option<bool>,
     out: Out<'_, T>,
-    out_len: usize,
 ) -> dk_status {
     done(by_dim!(
         dim,
         per_cell_d::<T>,
-        (
-            cells,
-            index_scratch,
-            index_scratch_len,
-            pts,
-            pts_len,
-            jacobians,
-            out,
-            out_len
-        )
+        (cells, index_scratch, pts, jacobians, out)
     ))
 }
 
@@ -287,16 +260,13 @@ fn per_cell_t<T: Real>(
 fn inverted_d<T: Real, const D: usize>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
-    index_scratch_len: usize,
     undeformed: In<'_, T>,
-    undeformed_len: usize,
     deformed: In<'_, T>,
-    deformed_len: usize,
     count_out: Out<'_, usize>,
 ) -> Result<(), dk_status> {
-    let u = read_points::<T, D>(undeformed, undeformed_len)?;
-    let d = read_points::<T, D>(deformed, deformed_len)?;
-    let (c, _) = cells.read(u.len(), output(index_scratch, index_scratch_len)?)?;
+    let u = read_points::<T, D>(undeformed)?;
+    let d = read_points::<T, D>(deformed)?;
+    let (c, _) = cells.read(u.len(), output(index_scratch)?)?;
     let o = out_one(count_out)?;
     *o = inverted_cells(&c, u, d).map_err(dk_status::from)?;
     Ok(())
@@ -306,40 +276,26 @@ fn inverted_d<T: Real, const D: usize>(
 fn inverted_t<T: Real>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
-    index_scratch_len: usize,
     undeformed: In<'_, T>,
-    undeformed_len: usize,
     deformed: In<'_, T>,
-    deformed_len: usize,
     dim: u32,
     count_out: Out<'_, usize>,
 ) -> dk_status {
     done(by_dim!(
         dim,
         inverted_d::<T>,
-        (
-            cells,
-            index_scratch,
-            index_scratch_len,
-            undeformed,
-            undeformed_len,
-            deformed,
-            deformed_len,
-            count_out
-        )
+        (cells, index_scratch, undeformed, deformed, count_out)
     ))
 }
 
 fn folded_d<T: Real, const D: usize>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
-    index_scratch_len: usize,
     pts: In<'_, T>,
-    pts_len: usize,
     count_out: Out<'_, usize>,
 ) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(pts, pts_len)?;
-    let (c, _) = cells.read(p.len(), output(index_scratch, index_scratch_len)?)?;
+    let p = read_points::<T, D>(pts)?;
+    let (c, _) = cells.read(p.len(), output(index_scratch)?)?;
     let o = out_one(count_out)?;
     *o = folded_cells(&c, p).map_err(dk_status::from)?;
     Ok(())
@@ -349,23 +305,14 @@ fn folded_d<T: Real, const D: usize>(
 fn folded_t<T: Real>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
-    index_scratch_len: usize,
     pts: In<'_, T>,
-    pts_len: usize,
     dim: u32,
     count_out: Out<'_, usize>,
 ) -> dk_status {
     done(by_dim!(
         dim,
         folded_d::<T>,
-        (
-            cells,
-            index_scratch,
-            index_scratch_len,
-            pts,
-            pts_len,
-            count_out
-        )
+        (cells, index_scratch, pts, count_out)
     ))
 }
 
@@ -375,9 +322,7 @@ fn folded_t<T: Real>(
 struct WallArgs<'a> {
     elements: CellArgs<'a>,
     graph_offsets: In<'a, u32>,
-    graph_offsets_len: usize,
     graph_targets: In<'a, u32>,
-    graph_targets_len: usize,
 }
 
 impl<'a> WallArgs<'a> {
@@ -385,15 +330,15 @@ impl<'a> WallArgs<'a> {
     fn absent(&self) -> bool {
         let e = &self.elements;
         e.offsets.is_null()
-            && e.offsets_len == 0
+            && e.offsets.len() == 0
             && e.nodes.is_null()
-            && e.nodes_len == 0
+            && e.nodes.len() == 0
             && e.kinds.is_null()
-            && e.kinds_len == 0
+            && e.kinds.len() == 0
             && self.graph_offsets.is_null()
-            && self.graph_offsets_len == 0
+            && self.graph_offsets.len() == 0
             && self.graph_targets.is_null()
-            && self.graph_targets_len == 0
+            && self.graph_targets.len() == 0
     }
 }
 
@@ -402,31 +347,21 @@ fn compare_d<T: Real, const D: usize>(
     cells: CellArgs,
     wall: WallArgs,
     index_scratch: Out<'_, u32>,
-    index_scratch_len: usize,
     undeformed: In<'_, T>,
-    undeformed_len: usize,
     deformed: In<'_, T>,
-    deformed_len: usize,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     report: Out<'_, dk_quality_report>,
 ) -> Result<(), dk_status> {
-    let u = read_points::<T, D>(undeformed, undeformed_len)?;
-    let d = read_points::<T, D>(deformed, deformed_len)?;
-    let (c, index_rest) = cells.read(u.len(), output(index_scratch, index_scratch_len)?)?;
-    let scratch_len = scratch_len - scratch_len % D;
-    let s = chunks_mut::<T, D>(scratch, scratch_len)?;
+    let u = read_points::<T, D>(undeformed)?;
+    let d = read_points::<T, D>(deformed)?;
+    let (c, index_rest) = cells.read(u.len(), output(index_scratch)?)?;
+    let s = whole_chunks_mut::<T, D>(scratch)?;
     let r = out_one(report)?;
     let rep = if wall.absent() {
         compare(&c, u, d, None, s)
     } else {
         let (we, _) = wall.elements.read(u.len(), index_rest)?;
-        let g = graph(
-            wall.graph_offsets,
-            wall.graph_offsets_len,
-            wall.graph_targets,
-            wall.graph_targets_len,
-        )?;
+        let g = graph(wall.graph_offsets, wall.graph_targets)?;
         let w = Wall::new(we, g).map_err(dk_status::from)?;
         compare(&c, u, d, Some(&w), s)
     }
@@ -440,14 +375,10 @@ fn compare_t<T: Real>(
     cells: CellArgs,
     wall: WallArgs,
     index_scratch: Out<'_, u32>,
-    index_scratch_len: usize,
     undeformed: In<'_, T>,
-    undeformed_len: usize,
     deformed: In<'_, T>,
-    deformed_len: usize,
     dim: u32,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     report: Out<'_, dk_quality_report>,
 ) -> dk_status {
     done(by_dim!(
@@ -457,13 +388,9 @@ fn compare_t<T: Real>(
             cells,
             wall,
             index_scratch,
-            index_scratch_len,
             undeformed,
-            undeformed_len,
             deformed,
-            deformed_len,
             scratch,
-            scratch_len,
             report
         )
     ))
@@ -473,29 +400,17 @@ fn compare_t<T: Real>(
 fn wall_angle_d<T: Real, const D: usize>(
     wall: WallArgs,
     index_scratch: Out<'_, u32>,
-    index_scratch_len: usize,
     undeformed: In<'_, T>,
-    undeformed_len: usize,
     deformed: In<'_, T>,
-    deformed_len: usize,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     out: Out<'_, dk_wall_angle_change>,
 ) -> Result<(), dk_status> {
-    let u = read_points::<T, D>(undeformed, undeformed_len)?;
-    let d = read_points::<T, D>(deformed, deformed_len)?;
-    let (we, _) = wall
-        .elements
-        .read(u.len(), output(index_scratch, index_scratch_len)?)?;
-    let g = graph(
-        wall.graph_offsets,
-        wall.graph_offsets_len,
-        wall.graph_targets,
-        wall.graph_targets_len,
-    )?;
+    let u = read_points::<T, D>(undeformed)?;
+    let d = read_points::<T, D>(deformed)?;
+    let (we, _) = wall.elements.read(u.len(), output(index_scratch)?)?;
+    let g = graph(wall.graph_offsets, wall.graph_targets)?;
     let w = Wall::new(we, g).map_err(dk_status::from)?;
-    let scratch_len = scratch_len - scratch_len % D;
-    let s = chunks_mut::<T, D>(scratch, scratch_len)?;
+    let s = whole_chunks_mut::<T, D>(scratch)?;
     let o = out_one(out)?;
     let r = wall_angle_change(&w, u, d, s).map_err(dk_status::from)?;
     *o = dk_wall_angle_change::of(r, wall.elements.index_base);
@@ -506,31 +421,16 @@ fn wall_angle_d<T: Real, const D: usize>(
 fn wall_angle_t<T: Real>(
     wall: WallArgs,
     index_scratch: Out<'_, u32>,
-    index_scratch_len: usize,
     undeformed: In<'_, T>,
-    undeformed_len: usize,
     deformed: In<'_, T>,
-    deformed_len: usize,
     dim: u32,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     out: Out<'_, dk_wall_angle_change>,
 ) -> dk_status {
     done(by_dim!(
         dim,
         wall_angle_d::<T>,
-        (
-            wall,
-            index_scratch,
-            index_scratch_len,
-            undeformed,
-            undeformed_len,
-            deformed,
-            deformed_len,
-            scratch,
-            scratch_len,
-            out
-        )
+        (wall, index_scratch, undeformed, deformed, scratch, out)
     ))
 }
 

@@ -7,15 +7,15 @@
 use deform_kernel::{Quat, QuatAverage, Real};
 
 use crate::args::{done, optional, read_array, write_array};
-use crate::slice::{input, out_one, output, In, Out};
+use crate::slice::{input, out_one, output, output_n, In, Out};
 use crate::status::dk_status;
 
 fn read4<T: Real>(p: In<'_, T>) -> Result<Quat<T>, dk_status> {
-    read_array::<T, 4>(p, 4).map(Quat::from_array)
+    read_array::<T, 4>(p).map(Quat::from_array)
 }
 
 fn read3<T: Real>(p: In<'_, T>) -> Result<[T; 3], dk_status> {
-    read_array::<T, 3>(p, 3)
+    read_array::<T, 3>(p)
 }
 
 fn finite_quat<T: Real>(q: Quat<T>) -> Result<Quat<T>, dk_status> {
@@ -60,7 +60,7 @@ fn to_axis_angle<T: Real>(q: In<'_, T>, axis_out: Out<'_, T>, angle_out: Out<'_,
         let (axis, angle) = q.to_axis_angle();
         // Check both outputs before writing either.
         let angle_slot = out_one(angle_out)?;
-        let axis_slot = output(axis_out, 3)?;
+        let axis_slot = output_n(axis_out, 3)?;
         for (d, x) in axis_slot.iter_mut().zip(axis) {
             *d = x;
         }
@@ -76,26 +76,20 @@ fn rotation_arc<T: Real>(from: In<'_, T>, to: In<'_, T>, out: Out<'_, T>) -> dk_
     })())
 }
 
-fn rotate_points<T: Real>(
-    q: In<'_, T>,
-    points: In<'_, T>,
-    points_len: usize,
-    out: Out<'_, T>,
-    out_len: usize,
-) -> dk_status {
+fn rotate_points<T: Real>(q: In<'_, T>, points: In<'_, T>, out: Out<'_, T>) -> dk_status {
     done((|| {
         let q = read4(q)?.normalize()?;
-        let p = input(points, points_len)?;
-        if points_len % 3 != 0 {
+        let p = input(points)?;
+        if p.len() % 3 != 0 {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
-        if out_len != points_len {
+        if out.len() != p.len() {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
         if p.iter().any(|x| !x.is_finite()) {
             return Err(dk_status::DK_ERR_NON_FINITE);
         }
-        let o = output(out, out_len)?;
+        let o = output(out)?;
         for (src, dst) in p.chunks_exact(3).zip(o.chunks_exact_mut(3)) {
             if let ([x, y, z], [a, b, c]) = (src, dst) {
                 let r = q.rotate([*x, *y, *z]);
@@ -130,20 +124,14 @@ fn interpolate<T: Real>(
     })())
 }
 
-fn average<T: Real>(
-    quats: In<'_, T>,
-    quats_len: usize,
-    weights: In<'_, T>,
-    weights_len: usize,
-    out: Out<'_, T>,
-) -> dk_status {
+fn average<T: Real>(quats: In<'_, T>, weights: In<'_, T>, out: Out<'_, T>) -> dk_status {
     done((|| {
-        let qs = input(quats, quats_len)?;
-        if quats_len % 4 != 0 {
+        let qs = input(quats)?;
+        if qs.len() % 4 != 0 {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
-        let w = optional(weights, weights_len)?;
-        if w.is_some() && weights_len != quats_len / 4 {
+        let w = optional(weights)?;
+        if w.is_some_and(|w| w.len() != qs.len() / 4) {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
         if qs

@@ -51,6 +51,11 @@ impl<'a, T> In<'a, T> {
     pub(crate) fn is_null(&self) -> bool {
         self.ptr.is_null()
     }
+
+    /// The number of elements the caller promised (its `_len` argument).
+    pub(crate) fn len(&self) -> usize {
+        self.cap
+    }
 }
 
 /// A caller's output buffer: a pointer and the number of elements the caller promised are
@@ -86,6 +91,11 @@ impl<'a, T> Out<'a, T> {
         }
     }
 
+    /// The number of elements the caller promised (its `_len` argument).
+    pub(crate) fn len(&self) -> usize {
+        self.cap
+    }
+
     /// Whether two output tokens name the same address.
     pub(crate) fn same_address<U>(&self, other: &Out<'_, U>) -> bool {
         core::ptr::eq(self.ptr.cast::<u8>(), other.ptr.cast::<u8>())
@@ -103,9 +113,15 @@ fn check<T>(ptr: *const T, cap: usize, len: usize) -> Result<(), dk_status> {
     Ok(())
 }
 
+/// Borrows all `p.len()` elements of `p` (the caller's whole buffer) as a shared slice; NULL
+/// is an error unless the length is 0.
+pub(crate) fn input<T>(p: In<'_, T>) -> Result<&[T], dk_status> {
+    input_n(p, p.cap)
+}
+
 /// Borrows the first `len` elements of `p` as a shared slice. A NULL pointer is an error
 /// unless `len` is 0 (then an empty slice is returned whatever the pointer).
-pub(crate) fn input<T>(p: In<'_, T>, len: usize) -> Result<&[T], dk_status> {
+pub(crate) fn input_n<T>(p: In<'_, T>, len: usize) -> Result<&[T], dk_status> {
     if len == 0 {
         return Ok(&[]);
     }
@@ -115,9 +131,16 @@ pub(crate) fn input<T>(p: In<'_, T>, len: usize) -> Result<&[T], dk_status> {
     Ok(unsafe { core::slice::from_raw_parts(p.ptr, len) })
 }
 
+/// Borrows all `p.len()` elements of `p` as a mutable slice; NULL is an error unless the
+/// length is 0. Consumes the token, so this is the only slice of it.
+pub(crate) fn output<'a, T>(p: Out<'a, T>) -> Result<&'a mut [T], dk_status> {
+    let len = p.cap;
+    output_n(p, len)
+}
+
 /// Borrows the first `len` elements of `p` as a mutable slice; NULL is an error unless `len`
 /// is 0. Consumes the token, so this is the only slice of it.
-pub(crate) fn output<T>(p: Out<'_, T>, len: usize) -> Result<&mut [T], dk_status> {
+pub(crate) fn output_n<T>(p: Out<'_, T>, len: usize) -> Result<&mut [T], dk_status> {
     if len == 0 {
         return Ok(&mut []);
     }
@@ -130,16 +153,17 @@ pub(crate) fn output<T>(p: Out<'_, T>, len: usize) -> Result<&mut [T], dk_status
 
 /// Borrows a single value (NULL is an error).
 pub(crate) fn out_one<T>(p: Out<'_, T>) -> Result<&mut T, dk_status> {
-    let s = output(p, 1)?;
+    let s = output_n(p, 1)?;
     s.first_mut().ok_or(dk_status::DK_ERR_NULL_POINTER)
 }
 
-/// Reinterprets a flat buffer of `len` scalars as `len / D` items `[T; D]` (points with `D`
-/// coordinates, values with `D` components). `len` must be a multiple of `D` (else
-/// `DK_ERR_LENGTH_MISMATCH`); NULL is an error unless `len` is 0. [`chunks_mut`] is the
-/// mutable twin.
-pub(crate) fn chunks<T, const D: usize>(p: In<'_, T>, len: usize) -> Result<&[[T; D]], dk_status> {
-    let flat = input(p, len)?;
+/// Reinterprets a flat buffer of `len` scalars (the token's length) as `len / D` items
+/// `[T; D]` (points with `D` coordinates, values with `D` components). `len` must be a
+/// multiple of `D` (else `DK_ERR_LENGTH_MISMATCH`); NULL is an error unless `len` is 0.
+/// [`chunks_mut`] is the mutable twin.
+pub(crate) fn chunks<T, const D: usize>(p: In<'_, T>) -> Result<&[[T; D]], dk_status> {
+    let len = p.cap;
+    let flat = input(p)?;
     if D == 0 || len % D != 0 {
         return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
     }
@@ -147,23 +171,35 @@ pub(crate) fn chunks<T, const D: usize>(p: In<'_, T>, len: usize) -> Result<&[[T
 }
 
 /// Mutable twin of [`chunks`].
-pub(crate) fn chunks_mut<T, const D: usize>(
+pub(crate) fn chunks_mut<T, const D: usize>(p: Out<'_, T>) -> Result<&mut [[T; D]], dk_status> {
+    let len = p.cap;
+    chunks_mut_n(p, len)
+}
+
+/// The whole items of a scratch buffer that may be longer than needed (a length that is not a
+/// multiple of `D` leaves its tail unused).
+pub(crate) fn whole_chunks_mut<T, const D: usize>(
     p: Out<'_, T>,
-    len: usize,
 ) -> Result<&mut [[T; D]], dk_status> {
-    let flat = output(p, len)?;
+    let len = p.cap - p.cap % D.max(1);
+    chunks_mut_n(p, len)
+}
+
+/// [`chunks_mut`] of the first `len` scalars.
+fn chunks_mut_n<T, const D: usize>(p: Out<'_, T>, len: usize) -> Result<&mut [[T; D]], dk_status> {
+    let flat = output_n(p, len)?;
     if D == 0 || len % D != 0 {
         return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
     }
     Ok(flat.as_chunks_mut::<D>().0)
 }
 
-/// Reinterprets a flat buffer of `len` scalars as `len / 4` quaternions (scalar first, the
+/// Reinterprets a flat buffer of `len` scalars (the token's length) as `len / 4` quaternions (scalar first, the
 /// layout of the kernel's `#[repr(C)]` [`Quat`]). `len` must be a multiple of 4 (else
 /// `DK_ERR_LENGTH_MISMATCH`); NULL is an error unless `len` is 0. [`quats_mut`] is the mutable
 /// twin.
-pub(crate) fn quats<T: Real>(p: In<'_, T>, len: usize) -> Result<&[Quat<T>], dk_status> {
-    let flat: &[[T; 4]] = chunks::<T, 4>(p, len)?;
+pub(crate) fn quats<T: Real>(p: In<'_, T>) -> Result<&[Quat<T>], dk_status> {
+    let flat: &[[T; 4]] = chunks::<T, 4>(p)?;
     // SAFETY: `Quat<T>` is `#[repr(C)]` with exactly four fields of type `T` (asserted for
     // both scalar types below), so it has the size and alignment of `[T; 4]` and every bit
     // pattern of four `T` is a valid `Quat<T>`; the shared borrow carries over.
@@ -171,8 +207,8 @@ pub(crate) fn quats<T: Real>(p: In<'_, T>, len: usize) -> Result<&[Quat<T>], dk_
 }
 
 /// Mutable twin of [`quats`].
-pub(crate) fn quats_mut<T: Real>(p: Out<'_, T>, len: usize) -> Result<&mut [Quat<T>], dk_status> {
-    let flat: &mut [[T; 4]] = chunks_mut::<T, 4>(p, len)?;
+pub(crate) fn quats_mut<T: Real>(p: Out<'_, T>) -> Result<&mut [Quat<T>], dk_status> {
+    let flat: &mut [[T; 4]] = chunks_mut::<T, 4>(p)?;
     // SAFETY: as in `quats`; the exclusive borrow of `flat` moves into the returned slice.
     Ok(unsafe { core::slice::from_raw_parts_mut(flat.as_mut_ptr().cast::<Quat<T>>(), flat.len()) })
 }

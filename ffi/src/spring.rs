@@ -34,7 +34,9 @@ use crate::args::{
     assert_layout, by_components, by_dim, done, graph, mul_len, range, read_one, read_points,
     write_len, write_one,
 };
-use crate::slice::{chunks, chunks_mut, input, out_one, output, In, Out};
+use crate::slice::{
+    chunks, chunks_mut, input, input_n, out_one, output, output_n, whole_chunks_mut, In, Out,
+};
 use crate::status::dk_status;
 
 // ---------------------------------------------------------------------------------------------
@@ -238,29 +240,19 @@ impl dk_spring_sweep {
 /// The arguments that describe a spring system.
 struct SysArgs<'a, T> {
     offsets: In<'a, u32>,
-    offsets_len: usize,
     targets: In<'a, u32>,
-    targets_len: usize,
     stiffness: In<'a, T>,
-    stiffness_len: usize,
     fixed: In<'a, u8>,
-    fixed_len: usize,
     index_scratch: Out<'a, u32>,
-    index_scratch_len: usize,
 }
 
 impl<'a, T: Real> SysArgs<'a, T> {
     /// Borrows and validates the system (writes only `index_scratch`).
     fn build(self) -> Result<SpringSystem<'a, T>, dk_status> {
-        let g = graph(
-            self.offsets,
-            self.offsets_len,
-            self.targets,
-            self.targets_len,
-        )?;
-        let k = input(self.stiffness, self.stiffness_len)?;
-        let f = input(self.fixed, self.fixed_len)?;
-        let s = output(self.index_scratch, self.index_scratch_len)?;
+        let g = graph(self.offsets, self.targets)?;
+        let k = input(self.stiffness)?;
+        let f = input(self.fixed)?;
+        let s = output(self.index_scratch)?;
         SpringSystem::new(g, k, f, s).map_err(dk_status::from)
     }
 }
@@ -272,36 +264,26 @@ impl<'a, T: Real> SysArgs<'a, T> {
 fn batina_d<T: Real, const D: usize>(
     g: &deform_kernel::Graph<'_>,
     points: In<'_, T>,
-    points_len: usize,
     exponent: T,
     stiffness: Out<'_, T>,
-    stiffness_len: usize,
 ) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points, points_len)?;
-    let k = output(stiffness, stiffness_len)?;
+    let p = read_points::<T, D>(points)?;
+    let k = output(stiffness)?;
     batina_stiffness(g, p, exponent, k).map_err(dk_status::from)
 }
 
 #[allow(clippy::too_many_arguments)]
 fn batina_t<T: Real>(
     offsets: In<'_, u32>,
-    offsets_len: usize,
     targets: In<'_, u32>,
-    targets_len: usize,
     points: In<'_, T>,
-    points_len: usize,
     dim: u32,
     exponent: T,
     stiffness: Out<'_, T>,
-    stiffness_len: usize,
 ) -> dk_status {
     done((|| {
-        let g = graph(offsets, offsets_len, targets, targets_len)?;
-        by_dim!(
-            dim,
-            batina_d::<T>,
-            (&g, points, points_len, exponent, stiffness, stiffness_len)
-        )
+        let g = graph(offsets, targets)?;
+        by_dim!(dim, batina_d::<T>, (&g, points, exponent, stiffness))
     })())
 }
 
@@ -335,17 +317,14 @@ fn solve_linear_v<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     options: &dk_spring_solve_options,
     values: Out<'_, T>,
-    values_len: usize,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     report: Out<'_, dk_spring_solve_report>,
 ) -> Result<(), dk_status> {
     let method = options.method::<T>()?;
     let stop = options.stopping::<T>();
-    let v = chunks_mut::<T, V>(values, values_len)?;
+    let v = chunks_mut::<T, V>(values)?;
     // Only whole items of the scratch are used.
-    let scratch_len = scratch_len - scratch_len % V;
-    let s = chunks_mut::<T, V>(scratch, scratch_len)?;
+    let s = whole_chunks_mut::<T, V>(scratch)?;
     let r = out_one(report)?;
     let system = sys.build()?;
     // The kernel validates before it writes, and CG works on a copy in the scratch: on any
@@ -361,9 +340,7 @@ fn solve_linear_t<T: Real>(
     options: In<'_, dk_spring_solve_options>,
     components: u32,
     values: Out<'_, T>,
-    values_len: usize,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     report: Out<'_, dk_spring_solve_report>,
 ) -> dk_status {
     done((|| {
@@ -371,7 +348,7 @@ fn solve_linear_t<T: Real>(
         by_components!(
             components,
             solve_linear_v::<T>,
-            (sys, &o, values, values_len, scratch, scratch_len, report)
+            (sys, &o, values, scratch, report)
         )
     })())
 }
@@ -381,13 +358,11 @@ fn jacobi_sweep_v<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     nodes: [usize; 2],
     src: In<'_, T>,
-    src_len: usize,
     dst: Out<'_, T>,
-    dst_len: usize,
     sweep: Out<'_, dk_spring_sweep>,
 ) -> Result<(), dk_status> {
-    let s = chunks::<T, V>(src, src_len)?;
-    let d = chunks_mut::<T, V>(dst, dst_len)?;
+    let s = chunks::<T, V>(src)?;
+    let d = chunks_mut::<T, V>(dst)?;
     let w = out_one(sweep)?;
     let system = sys.build()?;
     let [a, b] = nodes;
@@ -403,9 +378,7 @@ fn jacobi_sweep_t<T: Real>(
     index_base: u32,
     components: u32,
     src: In<'_, T>,
-    src_len: usize,
     dst: Out<'_, T>,
-    dst_len: usize,
     sweep: Out<'_, dk_spring_sweep>,
 ) -> dk_status {
     done((|| {
@@ -413,7 +386,7 @@ fn jacobi_sweep_t<T: Real>(
         by_components!(
             components,
             jacobi_sweep_v::<T>,
-            (sys, nodes, src, src_len, dst, dst_len, sweep)
+            (sys, nodes, src, dst, sweep)
         )
     })())
 }
@@ -427,16 +400,14 @@ fn jacobi_sweep_exact_v<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     nodes: [usize; 2],
     src: In<'_, T>,
-    src_len: usize,
     dst: Out<'_, T>,
-    dst_len: usize,
     sweep: Out<'_, dk_spring_sweep>,
     residual_words: Out<'_, i64>,
 ) -> Result<(), dk_status> {
-    let s = chunks::<T, V>(src, src_len)?;
-    let d = chunks_mut::<T, V>(dst, dst_len)?;
+    let s = chunks::<T, V>(src)?;
+    let d = chunks_mut::<T, V>(dst)?;
     let w = out_one(sweep)?;
-    let words = output(residual_words, EXACT_SUM_WORDS)?;
+    let words = output_n(residual_words, EXACT_SUM_WORDS)?;
     let system = sys.build()?;
     let [a, b] = nodes;
     let result = jacobi_sweep(&system, a..b, s, d).map_err(dk_status::from)?;
@@ -452,9 +423,7 @@ fn jacobi_sweep_exact_t<T: Real>(
     index_base: u32,
     components: u32,
     src: In<'_, T>,
-    src_len: usize,
     dst: Out<'_, T>,
-    dst_len: usize,
     sweep: Out<'_, dk_spring_sweep>,
     residual_words: Out<'_, i64>,
 ) -> dk_status {
@@ -463,23 +432,14 @@ fn jacobi_sweep_exact_t<T: Real>(
         by_components!(
             components,
             jacobi_sweep_exact_v::<T>,
-            (
-                sys,
-                nodes,
-                src,
-                src_len,
-                dst,
-                dst_len,
-                sweep,
-                residual_words
-            )
+            (sys, nodes, src, dst, sweep, residual_words)
         )
     })())
 }
 
 fn exact_sum_value(words: In<'_, i64>, value_out: Out<'_, f64>) -> dk_status {
     done((|| {
-        let w: &[i64] = input(words, EXACT_SUM_WORDS)?;
+        let w: &[i64] = input_n(words, EXACT_SUM_WORDS)?;
         let out = out_one(value_out)?;
         let mut a = [0i64; EXACT_SUM_WORDS];
         a.copy_from_slice(w);
@@ -493,10 +453,9 @@ fn sor_sweep_v<T: Real, const V: usize>(
     nodes: [usize; 2],
     omega: T,
     values: Out<'_, T>,
-    values_len: usize,
     sweep: Out<'_, dk_spring_sweep>,
 ) -> Result<(), dk_status> {
-    let v = chunks_mut::<T, V>(values, values_len)?;
+    let v = chunks_mut::<T, V>(values)?;
     let w = out_one(sweep)?;
     let system = sys.build()?;
     let [a, b] = nodes;
@@ -513,7 +472,6 @@ fn sor_sweep_t<T: Real>(
     omega: T,
     components: u32,
     values: Out<'_, T>,
-    values_len: usize,
     sweep: Out<'_, dk_spring_sweep>,
 ) -> dk_status {
     done((|| {
@@ -521,7 +479,7 @@ fn sor_sweep_t<T: Real>(
         by_components!(
             components,
             sor_sweep_v::<T>,
-            (sys, nodes, omega, values, values_len, sweep)
+            (sys, nodes, omega, values, sweep)
         )
     })())
 }
@@ -529,10 +487,9 @@ fn sor_sweep_t<T: Real>(
 fn relative_residual_v<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     values: In<'_, T>,
-    values_len: usize,
     residual_out: Out<'_, T>,
 ) -> Result<(), dk_status> {
-    let v = chunks::<T, V>(values, values_len)?;
+    let v = chunks::<T, V>(values)?;
     let r = out_one(residual_out)?;
     let system = sys.build()?;
     *r = relative_residual(&system, v).map_err(dk_status::from)?;
@@ -543,13 +500,12 @@ fn relative_residual_t<T: Real>(
     sys: SysArgs<T>,
     components: u32,
     values: In<'_, T>,
-    values_len: usize,
     residual_out: Out<'_, T>,
 ) -> dk_status {
     done(by_components!(
         components,
         relative_residual_v::<T>,
-        (sys, values, values_len, residual_out)
+        (sys, values, residual_out)
     ))
 }
 
@@ -586,7 +542,6 @@ fn angle_scratch_scalars<T: Real>(
 /// The angle system's arguments beyond the spring system.
 struct AngleArgs<'a, T> {
     points: In<'a, T>,
-    points_len: usize,
 }
 
 impl<'a, T: Real> AngleArgs<'a, T> {
@@ -595,7 +550,7 @@ impl<'a, T: Real> AngleArgs<'a, T> {
         base: SpringSystem<'a, T>,
         epsilon: T,
     ) -> Result<AngleSystem<'a, T, D>, dk_status> {
-        let p = read_points::<T, D>(self.points, self.points_len)?;
+        let p = read_points::<T, D>(self.points)?;
         AngleSystem::new(base, p, epsilon).map_err(dk_status::from)
     }
 }
@@ -606,16 +561,13 @@ fn solve_angle_d<T: Real, const D: usize>(
     pts: &AngleArgs<T>,
     options: &dk_spring_angle_options,
     values: Out<'_, T>,
-    values_len: usize,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     report: Out<'_, dk_spring_solve_report>,
 ) -> Result<(), dk_status> {
     let method = options.method()?;
     let stop = options.stopping::<T>();
-    let v = chunks_mut::<T, D>(values, values_len)?;
-    let scratch_len = scratch_len - scratch_len % D;
-    let s = chunks_mut::<T, D>(scratch, scratch_len)?;
+    let v = chunks_mut::<T, D>(values)?;
+    let s = whole_chunks_mut::<T, D>(scratch)?;
     let r = out_one(report)?;
     let base = sys.build()?;
     let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
@@ -632,9 +584,7 @@ fn solve_angle_t<T: Real>(
     dim: u32,
     options: In<'_, dk_spring_angle_options>,
     values: Out<'_, T>,
-    values_len: usize,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     report: Out<'_, dk_spring_solve_report>,
 ) -> dk_status {
     done((|| {
@@ -642,16 +592,7 @@ fn solve_angle_t<T: Real>(
         by_dim!(
             dim,
             solve_angle_d::<T>,
-            (
-                sys,
-                &pts,
-                &o,
-                values,
-                values_len,
-                scratch,
-                scratch_len,
-                report
-            )
+            (sys, &pts, &o, values, scratch, report)
         )
     })())
 }
@@ -663,13 +604,11 @@ fn angle_jacobi_d<T: Real, const D: usize>(
     epsilon: T,
     nodes: [usize; 2],
     src: In<'_, T>,
-    src_len: usize,
     dst: Out<'_, T>,
-    dst_len: usize,
     sweep: Out<'_, dk_spring_sweep>,
 ) -> Result<(), dk_status> {
-    let s = chunks::<T, D>(src, src_len)?;
-    let d = chunks_mut::<T, D>(dst, dst_len)?;
+    let s = chunks::<T, D>(src)?;
+    let d = chunks_mut::<T, D>(dst)?;
     let w = out_one(sweep)?;
     let system = pts.build::<D>(sys.build()?, epsilon)?;
     let [a, b] = nodes;
@@ -687,9 +626,7 @@ fn angle_jacobi_t<T: Real>(
     nodes_end: usize,
     index_base: u32,
     src: In<'_, T>,
-    src_len: usize,
     dst: Out<'_, T>,
-    dst_len: usize,
     sweep: Out<'_, dk_spring_sweep>,
 ) -> dk_status {
     done((|| {
@@ -697,7 +634,7 @@ fn angle_jacobi_t<T: Real>(
         by_dim!(
             dim,
             angle_jacobi_d::<T>,
-            (sys, &pts, epsilon, nodes, src, src_len, dst, dst_len, sweep)
+            (sys, &pts, epsilon, nodes, src, dst, sweep)
         )
     })())
 }
@@ -709,10 +646,9 @@ fn angle_gs_d<T: Real, const D: usize>(
     epsilon: T,
     nodes: [usize; 2],
     values: Out<'_, T>,
-    values_len: usize,
     sweep: Out<'_, dk_spring_sweep>,
 ) -> Result<(), dk_status> {
-    let v = chunks_mut::<T, D>(values, values_len)?;
+    let v = chunks_mut::<T, D>(values)?;
     let w = out_one(sweep)?;
     let system = pts.build::<D>(sys.build()?, epsilon)?;
     let [a, b] = nodes;
@@ -730,7 +666,6 @@ fn angle_gs_t<T: Real>(
     nodes_end: usize,
     index_base: u32,
     values: Out<'_, T>,
-    values_len: usize,
     sweep: Out<'_, dk_spring_sweep>,
 ) -> dk_status {
     done((|| {
@@ -738,7 +673,7 @@ fn angle_gs_t<T: Real>(
         by_dim!(
             dim,
             angle_gs_d::<T>,
-            (sys, &pts, epsilon, nodes, values, values_len, sweep)
+            (sys, &pts, epsilon, nodes, values, sweep)
         )
     })())
 }
@@ -749,12 +684,10 @@ fn probe_d<T: Real, const D: usize>(
     pts: &AngleArgs<T>,
     options: &dk_spring_angle_options,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     amplification_out: Out<'_, T>,
 ) -> Result<(), dk_status> {
     let stop = options.stopping::<T>();
-    let scratch_len = scratch_len - scratch_len % D;
-    let s = chunks_mut::<T, D>(scratch, scratch_len)?;
+    let s = whole_chunks_mut::<T, D>(scratch)?;
     let a = out_one(amplification_out)?;
     let system = pts.build::<D>(sys.build()?, T::from_f64(options.epsilon))?;
     *a = angle_rigidity_probe(&system, &stop, s).map_err(dk_status::from)?;
@@ -768,7 +701,6 @@ fn probe_t<T: Real>(
     dim: u32,
     options: In<'_, dk_spring_angle_options>,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     amplification_out: Out<'_, T>,
 ) -> dk_status {
     done((|| {
@@ -776,7 +708,7 @@ fn probe_t<T: Real>(
         by_dim!(
             dim,
             probe_d::<T>,
-            (sys, &pts, &o, scratch, scratch_len, amplification_out)
+            (sys, &pts, &o, scratch, amplification_out)
         )
     })())
 }

@@ -35,7 +35,7 @@ use crate::args::{
     assert_layout, block, by_components, by_dim, done, graph, mul_len, optional, range, read_one,
     read_optional_points, read_points, write_len,
 };
-use crate::slice::{chunks, chunks_mut, input, out_one, output, In, Out};
+use crate::slice::{chunks, chunks_mut, input, out_one, output, whole_chunks_mut, In, Out};
 use crate::status::dk_status;
 
 // ---------------------------------------------------------------------------------------------
@@ -125,7 +125,7 @@ fn read_with_pins<S: HasPins>(p: In<'_, S>) -> Result<(S, Option<&[u8]>), dk_sta
     // SAFETY: a token for an options struct carries the contract of the functions that take
     // one: its pin mask is NULL or readable for `pinned_len` bytes while the struct is.
     let pins = unsafe { In::new(ptr, len) };
-    Ok((s, optional(pins, len)?))
+    Ok((s, optional(pins)?))
 }
 
 impl dk_structured_options {
@@ -309,14 +309,12 @@ fn smooth_arclength_d<T: Real, const D: usize>(
     options: &dk_smooth_arclength_options,
     pinned: Option<&[u8]>,
     points: Out<'_, T>,
-    points_len: usize,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     report: Out<'_, dk_smooth_report>,
 ) -> Result<(), dk_status> {
     let opts = options.to_kernel::<T>(pinned)?;
-    let p = chunks_mut::<T, D>(points, points_len)?;
-    let s = output(scratch, scratch_len)?;
+    let p = chunks_mut::<T, D>(points)?;
+    let s = output(scratch)?;
     let r = out_one(report)?;
     // The kernel validates everything before it moves a point: on Err `points` is unchanged.
     let rep = smooth_arclength(block, p, &opts, s).map_err(dk_status::from)?;
@@ -331,10 +329,8 @@ fn smooth_arclength_t<T: Real>(
     nk: usize,
     options: In<'_, dk_smooth_arclength_options>,
     points: Out<'_, T>,
-    points_len: usize,
     dim: u32,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     report: Out<'_, dk_smooth_report>,
 ) -> dk_status {
     done((|| {
@@ -343,16 +339,7 @@ fn smooth_arclength_t<T: Real>(
         by_dim!(
             dim,
             smooth_arclength_d::<T>,
-            (
-                &b,
-                &o,
-                pinned,
-                points,
-                points_len,
-                scratch,
-                scratch_len,
-                report
-            )
+            (&b, &o, pinned, points, scratch, report)
         )
     })())
 }
@@ -367,17 +354,15 @@ fn smooth_structured_t<T: Real>(
     iterations: usize,
     options: In<'_, dk_structured_options>,
     field: Out<'_, T>,
-    field_len: usize,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     report: Out<'_, dk_filter_report>,
 ) -> dk_status {
     done((|| {
         let b = block(ni, nj, nk)?;
         let (o, pinned) = read_with_pins(options)?;
         let o = o.to_kernel(pinned)?;
-        let f = output(field, field_len)?;
-        let s = output(scratch, scratch_len)?;
+        let f = output(field)?;
+        let s = output(scratch)?;
         let r = out_one(report)?;
         let rep = smooth_structured(&b, f, TaubinParams { lambda, mu }, iterations, &o, s)
             .map_err(dk_status::from)?;
@@ -392,13 +377,11 @@ fn structured_sweep_t<T: Real>(
     nj: usize,
     nk: usize,
     src: In<'_, T>,
-    src_len: usize,
     weight: T,
     options: In<'_, dk_structured_options>,
     region: In<'_, dk_block_region>,
     index_base: u32,
     dst: Out<'_, T>,
-    dst_len: usize,
     max_change_out: Out<'_, T>,
 ) -> dk_status {
     done((|| {
@@ -417,8 +400,8 @@ fn structured_sweep_t<T: Real>(
             *l = a;
             *h = z;
         }
-        let s = input(src, src_len)?;
-        let d = output(dst, dst_len)?;
+        let s = input(src)?;
+        let d = output(dst)?;
         let m = out_one(max_change_out)?;
         let change = structured_sweep(&b, s, d, weight, &o, &BlockRegion { lo, hi })
             .map_err(dk_status::from)?;
@@ -438,9 +421,7 @@ fn smooth_structured_coarse_t<T: Real>(
     iterations: usize,
     options: In<'_, dk_structured_options>,
     field: Out<'_, T>,
-    field_len: usize,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     report: Out<'_, dk_filter_report>,
 ) -> dk_status {
     done((|| {
@@ -448,8 +429,8 @@ fn smooth_structured_coarse_t<T: Real>(
         let c = read_one(coarse)?.to_kernel()?;
         let (o, pinned) = read_with_pins(options)?;
         let o = o.to_kernel(pinned)?;
-        let f = output(field, field_len)?;
-        let s = output(scratch, scratch_len)?;
+        let f = output(field)?;
+        let s = output(scratch)?;
         let r = out_one(report)?;
         let rep =
             smooth_structured_coarse(&b, f, &c, TaubinParams { lambda, mu }, iterations, &o, s)
@@ -462,26 +443,17 @@ fn smooth_structured_coarse_t<T: Real>(
 /// Graph arguments shared by the graph filter functions.
 struct GraphArgs<'a, T> {
     offsets: In<'a, u32>,
-    offsets_len: usize,
     targets: In<'a, u32>,
-    targets_len: usize,
     weights: In<'a, T>,
-    weights_len: usize,
     fixed: In<'a, u8>,
-    fixed_len: usize,
 }
 
 impl<'a, T> GraphArgs<'a, T> {
     fn read(&self) -> Result<(Graph<'a>, GraphOptions<'a, T>), dk_status> {
-        let g = graph(
-            self.offsets,
-            self.offsets_len,
-            self.targets,
-            self.targets_len,
-        )?;
+        let g = graph(self.offsets, self.targets)?;
         let o = GraphOptions {
-            weights: optional(self.weights, self.weights_len)?,
-            fixed: optional(self.fixed, self.fixed_len)?,
+            weights: optional(self.weights)?,
+            fixed: optional(self.fixed)?,
         };
         Ok((g, o))
     }
@@ -493,16 +465,13 @@ fn smooth_graph_v<T: Real, const V: usize>(
     params: TaubinParams<T>,
     iterations: usize,
     values: Out<'_, T>,
-    values_len: usize,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     report: Out<'_, dk_filter_report>,
 ) -> Result<(), dk_status> {
     let (g, o) = args.read()?;
-    let v = chunks_mut::<T, V>(values, values_len)?;
+    let v = chunks_mut::<T, V>(values)?;
     // The scratch may be longer than needed: use only whole items.
-    let scratch_len = scratch_len - scratch_len % V;
-    let s = chunks_mut::<T, V>(scratch, scratch_len)?;
+    let s = whole_chunks_mut::<T, V>(scratch)?;
     let r = out_one(report)?;
     let rep = smooth_graph(&g, v, params, iterations, &o, s).map_err(dk_status::from)?;
     *r = dk_filter_report::of(rep);
@@ -513,16 +482,14 @@ fn smooth_graph_v<T: Real, const V: usize>(
 fn graph_sweep_v<T: Real, const V: usize>(
     args: &GraphArgs<T>,
     src: In<'_, T>,
-    src_len: usize,
     weight: T,
     nodes: [usize; 2],
     dst: Out<'_, T>,
-    dst_len: usize,
     max_change_out: Out<'_, T>,
 ) -> Result<(), dk_status> {
     let (g, o) = args.read()?;
-    let s = chunks::<T, V>(src, src_len)?;
-    let d = chunks_mut::<T, V>(dst, dst_len)?;
+    let s = chunks::<T, V>(src)?;
+    let d = chunks_mut::<T, V>(dst)?;
     let m = out_one(max_change_out)?;
     let [a, b] = nodes;
     *m = graph_sweep(&g, s, d, weight, &o, a..b).map_err(dk_status::from)?;
@@ -532,12 +499,10 @@ fn graph_sweep_v<T: Real, const V: usize>(
 fn inverse_distance_weights_d<T: Real, const D: usize>(
     g: &Graph<'_>,
     points: In<'_, T>,
-    points_len: usize,
     weights: Out<'_, T>,
-    weights_len: usize,
 ) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points, points_len)?;
-    let w = output(weights, weights_len)?;
+    let p = read_points::<T, D>(points)?;
+    let w = output(weights)?;
     inverse_distance_weights(g, p, w).map_err(dk_status::from)
 }
 
@@ -545,14 +510,12 @@ fn inverse_distance_weights_d<T: Real, const D: usize>(
 fn arclength_d<T: Real, const D: usize>(
     b: &Block,
     points: In<'_, T>,
-    points_len: usize,
     direction: u32,
     normalised: bool,
     out: Out<'_, T>,
-    out_len: usize,
 ) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points, points_len)?;
-    let o = output(out, out_len)?;
+    let p = read_points::<T, D>(points)?;
+    let o = output(out)?;
     arclength(b, p, direction as usize, normalised, o).map_err(dk_status::from)
 }
 
@@ -561,17 +524,14 @@ fn redistribute_d<T: Real, const D: usize>(
     b: &Block,
     direction: u32,
     targets: In<'_, T>,
-    targets_len: usize,
     normalised: bool,
     points: Out<'_, T>,
-    points_len: usize,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     max_displacement_out: Out<'_, T>,
 ) -> Result<(), dk_status> {
-    let t = input(targets, targets_len)?;
-    let p = chunks_mut::<T, D>(points, points_len)?;
-    let s = output(scratch, scratch_len)?;
+    let t = input(targets)?;
+    let p = chunks_mut::<T, D>(points)?;
+    let s = output(scratch)?;
     let m = out_one(max_displacement_out)?;
     // The kernel validates everything before it moves a point.
     *m = redistribute(b, p, direction as usize, t, normalised, s).map_err(dk_status::from)?;
@@ -581,25 +541,22 @@ fn redistribute_d<T: Real, const D: usize>(
 fn stretching_d<T: Real, const D: usize>(
     b: &Block,
     points: In<'_, T>,
-    points_len: usize,
     direction: u32,
     out: Out<'_, T>,
-    out_len: usize,
 ) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points, points_len)?;
-    let o = output(out, out_len)?;
+    let p = read_points::<T, D>(points)?;
+    let o = output(out)?;
     stretching(b, p, direction as usize, o).map_err(dk_status::from)
 }
 
 fn max_stretching_d<T: Real, const D: usize>(
     b: &Block,
     points: In<'_, T>,
-    points_len: usize,
     direction: u32,
     value_out: Out<'_, T>,
     point_out: Out<'_, usize>,
 ) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points, points_len)?;
+    let p = read_points::<T, D>(points)?;
     let v = out_one(value_out)?;
     let i = out_one(point_out)?;
     let (r, at) = max_stretching(b, p, direction as usize).map_err(dk_status::from)?;
@@ -614,9 +571,8 @@ fn check_lines_d<T: Real, const D: usize>(
     direction: u32,
     iteration: usize,
     points: In<'_, T>,
-    points_len: usize,
 ) -> Result<(), dk_status> {
-    let p = read_optional_points::<T, D>(points, points_len)?;
+    let p = read_optional_points::<T, D>(points)?;
     check_lines_increasing(b, field, direction as usize, iteration, p).map_err(dk_status::from)
 }
 
@@ -644,25 +600,14 @@ fn smooth_graph_t<T: Real>(
     iterations: usize,
     components: u32,
     values: Out<'_, T>,
-    values_len: usize,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     report: Out<'_, dk_filter_report>,
 ) -> dk_status {
     let params = TaubinParams { lambda, mu };
     done(by_components!(
         components,
         smooth_graph_v::<T>,
-        (
-            &args,
-            params,
-            iterations,
-            values,
-            values_len,
-            scratch,
-            scratch_len,
-            report
-        )
+        (&args, params, iterations, values, scratch, report)
     ))
 }
 
@@ -670,14 +615,12 @@ fn smooth_graph_t<T: Real>(
 fn graph_sweep_t<T: Real>(
     args: GraphArgs<T>,
     src: In<'_, T>,
-    src_len: usize,
     components: u32,
     weight: T,
     nodes_start: usize,
     nodes_end: usize,
     index_base: u32,
     dst: Out<'_, T>,
-    dst_len: usize,
     max_change_out: Out<'_, T>,
 ) -> dk_status {
     done((|| {
@@ -685,16 +628,7 @@ fn graph_sweep_t<T: Real>(
         by_components!(
             components,
             graph_sweep_v::<T>,
-            (
-                &args,
-                src,
-                src_len,
-                weight,
-                nodes,
-                dst,
-                dst_len,
-                max_change_out
-            )
+            (&args, src, weight, nodes, dst, max_change_out)
         )
     })())
 }
@@ -702,22 +636,14 @@ fn graph_sweep_t<T: Real>(
 #[allow(clippy::too_many_arguments)]
 fn inverse_distance_weights_t<T: Real>(
     offsets: In<'_, u32>,
-    offsets_len: usize,
     targets: In<'_, u32>,
-    targets_len: usize,
     points: In<'_, T>,
-    points_len: usize,
     dim: u32,
     weights: Out<'_, T>,
-    weights_len: usize,
 ) -> dk_status {
     done((|| {
-        let g = graph(offsets, offsets_len, targets, targets_len)?;
-        by_dim!(
-            dim,
-            inverse_distance_weights_d::<T>,
-            (&g, points, points_len, weights, weights_len)
-        )
+        let g = graph(offsets, targets)?;
+        by_dim!(dim, inverse_distance_weights_d::<T>, (&g, points, weights))
     })())
 }
 
@@ -731,19 +657,17 @@ fn arclength_t<T: Real>(
     nj: usize,
     nk: usize,
     points: In<'_, T>,
-    points_len: usize,
     dim: u32,
     direction: u32,
     normalised: bool,
     out: Out<'_, T>,
-    out_len: usize,
 ) -> dk_status {
     done((|| {
         let b = block(ni, nj, nk)?;
         by_dim!(
             dim,
             arclength_d::<T>,
-            (&b, points, points_len, direction, normalised, out, out_len)
+            (&b, points, direction, normalised, out)
         )
     })())
 }
@@ -755,13 +679,10 @@ fn redistribute_t<T: Real>(
     nk: usize,
     direction: u32,
     targets: In<'_, T>,
-    targets_len: usize,
     normalised: bool,
     points: Out<'_, T>,
-    points_len: usize,
     dim: u32,
     scratch: Out<'_, T>,
-    scratch_len: usize,
     max_displacement_out: Out<'_, T>,
 ) -> dk_status {
     done((|| {
@@ -773,12 +694,9 @@ fn redistribute_t<T: Real>(
                 &b,
                 direction,
                 targets,
-                targets_len,
                 normalised,
                 points,
-                points_len,
                 scratch,
-                scratch_len,
                 max_displacement_out
             )
         )
@@ -791,19 +709,13 @@ fn stretching_t<T: Real>(
     nj: usize,
     nk: usize,
     points: In<'_, T>,
-    points_len: usize,
     dim: u32,
     direction: u32,
     out: Out<'_, T>,
-    out_len: usize,
 ) -> dk_status {
     done((|| {
         let b = block(ni, nj, nk)?;
-        by_dim!(
-            dim,
-            stretching_d::<T>,
-            (&b, points, points_len, direction, out, out_len)
-        )
+        by_dim!(dim, stretching_d::<T>, (&b, points, direction, out))
     })())
 }
 
@@ -813,7 +725,6 @@ fn max_stretching_t<T: Real>(
     nj: usize,
     nk: usize,
     points: In<'_, T>,
-    points_len: usize,
     dim: u32,
     direction: u32,
     value_out: Out<'_, T>,
@@ -824,7 +735,7 @@ fn max_stretching_t<T: Real>(
         by_dim!(
             dim,
             max_stretching_d::<T>,
-            (&b, points, points_len, direction, value_out, point_out)
+            (&b, points, direction, value_out, point_out)
         )
     })())
 }
@@ -835,24 +746,22 @@ fn check_lines_t<T: Real>(
     nj: usize,
     nk: usize,
     field: In<'_, T>,
-    field_len: usize,
     direction: u32,
     iteration: usize,
     points: In<'_, T>,
-    points_len: usize,
     dim: u32,
 ) -> dk_status {
     done((|| {
         let b = block(ni, nj, nk)?;
-        let f = input(field, field_len)?;
-        if points.is_null() && points_len == 0 {
+        let f = input(field)?;
+        if points.is_null() && points.len() == 0 {
             // No points: `dim` is not used.
-            return check_lines_d::<T, 3>(&b, f, direction, iteration, points, points_len);
+            return check_lines_d::<T, 3>(&b, f, direction, iteration, points);
         }
         by_dim!(
             dim,
             check_lines_d::<T>,
-            (&b, f, direction, iteration, points, points_len)
+            (&b, f, direction, iteration, points)
         )
     })())
 }

@@ -15,7 +15,7 @@
 //! arg len_out: *mut usize [1]   a pointer to one value or struct (a Fortran scalar)
 //! arg dim: u32                  a value
 //! call mul                      the body: `mul(a, b, out)`, every argument in order (the
-//!                               pointers already tokens, each `_len` after its pointer)
+//!                               pointers already tokens, which carry their lengths)
 //! ```
 //!
 //! or, instead of `call`, any body: `body`, lines indented by 4, `end`.
@@ -157,9 +157,6 @@ fn parse(path: &Path) -> Result<Vec<Entry>, String> {
                 let mut call = format!("{adapter}(");
                 for a in &e.args {
                     call += &format!("{}, ", a.name);
-                    if a.has_len() {
-                        call += &format!("{}_len, ", a.name);
-                    }
                 }
                 e.body.push(format!("{})", call.trim_end_matches(", ")));
                 break;

@@ -165,22 +165,15 @@ pub unsafe extern "C" fn dk_deform_idw(
         dim,
         Idw {
             points,
-            points_len,
             motion,
             exponent,
             bufs: PipelineOut {
                 scratch,
-                scratch_len,
                 index_scratch,
-                index_scratch_len,
                 translations,
-                translations_len,
                 rotations,
-                rotations_len,
                 out,
-                out_len,
                 origin_out,
-                origin_out_len,
             },
         },
     )
@@ -228,22 +221,15 @@ pub unsafe extern "C" fn dk_deform_idw_f32(
         dim,
         Idw {
             points,
-            points_len,
             motion,
             exponent,
             bufs: PipelineOut {
                 scratch,
-                scratch_len,
                 index_scratch,
-                index_scratch_len,
                 translations,
-                translations_len,
                 rotations,
-                rotations_len,
                 out,
-                out_len,
                 origin_out,
-                origin_out_len,
             },
         },
     )
@@ -337,21 +323,14 @@ pub unsafe extern "C" fn dk_deform_tfi(
             dims: [ni, nj, nk],
             directions,
             points,
-            points_len,
             motion,
             bufs: PipelineOut {
                 scratch,
-                scratch_len,
                 index_scratch,
-                index_scratch_len,
                 translations,
-                translations_len,
                 rotations,
-                rotations_len,
                 out,
-                out_len,
                 origin_out,
-                origin_out_len,
             },
         },
     )
@@ -404,21 +383,14 @@ pub unsafe extern "C" fn dk_deform_tfi_f32(
             dims: [ni, nj, nk],
             directions,
             points,
-            points_len,
             motion,
             bufs: PipelineOut {
                 scratch,
-                scratch_len,
                 index_scratch,
-                index_scratch_len,
                 translations,
-                translations_len,
                 rotations,
-                rotations_len,
                 out,
-                out_len,
                 origin_out,
-                origin_out_len,
             },
         },
     )
@@ -496,22 +468,15 @@ pub unsafe extern "C" fn dk_deform_boundary_normals(
         dim,
         Normals {
             points,
-            points_len,
             elements: ElementsIn {
                 offsets: element_offsets,
-                offsets_len: element_offsets_len,
                 nodes: element_nodes,
-                nodes_len: element_nodes_len,
                 kinds: element_kinds,
-                kinds_len: element_kinds_len,
                 index_base,
                 index_scratch,
-                index_scratch_len,
             },
             scratch,
-            scratch_len,
             normals,
-            normals_len,
         },
     )
 }
@@ -556,22 +521,15 @@ pub unsafe extern "C" fn dk_deform_boundary_normals_f32(
         dim,
         Normals {
             points,
-            points_len,
             elements: ElementsIn {
                 offsets: element_offsets,
-                offsets_len: element_offsets_len,
                 nodes: element_nodes,
-                nodes_len: element_nodes_len,
                 kinds: element_kinds,
-                kinds_len: element_kinds_len,
                 index_base,
                 index_scratch,
-                index_scratch_len,
             },
             scratch,
-            scratch_len,
             normals,
-            normals_len,
         },
     )
 }
@@ -665,24 +623,16 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations(
         dim,
         Rotations {
             undeformed,
-            undeformed_len,
             deformed,
-            deformed_len,
             elements: ElementsIn {
                 offsets: element_offsets,
-                offsets_len: element_offsets_len,
                 nodes: element_nodes,
-                nodes_len: element_nodes_len,
                 kinds: element_kinds,
-                kinds_len: element_kinds_len,
                 index_base,
                 index_scratch,
-                index_scratch_len,
             },
             scratch,
-            scratch_len,
             rotations,
-            rotations_len,
         },
     )
 }
@@ -739,24 +689,16 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations_f32(
         dim,
         Rotations {
             undeformed,
-            undeformed_len,
             deformed,
-            deformed_len,
             elements: ElementsIn {
                 offsets: element_offsets,
-                offsets_len: element_offsets_len,
                 nodes: element_nodes,
-                nodes_len: element_nodes_len,
                 kinds: element_kinds,
-                kinds_len: element_kinds_len,
                 index_base,
                 index_scratch,
-                index_scratch_len,
             },
             scratch,
-            scratch_len,
             rotations,
-            rotations_len,
         },
     )
 }
@@ -778,7 +720,7 @@ pub unsafe extern "C" fn dk_deform_rigid_rotations(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (q, rotations) = unsafe { (In::new(q, 4), Out::new(rotations, rotations_len)) };
-    rigid(q, rotations, rotations_len)
+    rigid(q, rotations)
 }
 
 /// `f32` twin of [`dk_deform_rigid_rotations`].
@@ -794,7 +736,7 @@ pub unsafe extern "C" fn dk_deform_rigid_rotations_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (q, rotations) = unsafe { (In::new(q, 4), Out::new(rotations, rotations_len)) };
-    rigid(q, rotations, rotations_len)
+    rigid(q, rotations)
 }
 
 /// The default rotation origin (the kernel's `boundary_origin`): the centroid of the
@@ -833,11 +775,8 @@ pub unsafe extern "C" fn dk_deform_boundary_origin(
         dim,
         Origin {
             undeformed,
-            undeformed_len,
             deformed,
-            deformed_len,
             origin_out,
-            origin_out_len,
         },
     )
 }
@@ -869,11 +808,8 @@ pub unsafe extern "C" fn dk_deform_boundary_origin_f32(
         dim,
         Origin {
             undeformed,
-            undeformed_len,
             deformed,
-            deformed_len,
             origin_out,
-            origin_out_len,
         },
     )
 }
@@ -920,15 +856,10 @@ pub unsafe extern "C" fn dk_deform_boundary_translations(
         dim,
         Translations {
             origin,
-            origin_len,
             undeformed,
-            undeformed_len,
             deformed,
-            deformed_len,
             rotations,
-            rotations_len,
             translations,
-            translations_len,
         },
     )
 }
@@ -966,15 +897,10 @@ pub unsafe extern "C" fn dk_deform_boundary_translations_f32(
         dim,
         Translations {
             origin,
-            origin_len,
             undeformed,
-            undeformed_len,
             deformed,
-            deformed_len,
             rotations,
-            rotations_len,
             translations,
-            translations_len,
         },
     )
 }
@@ -1027,17 +953,12 @@ pub unsafe extern "C" fn dk_deform_propagate_idw(
         dim,
         PropIdw {
             points,
-            points_len,
             boundary,
-            boundary_len,
             index_base,
             exponent,
             index_scratch,
-            index_scratch_len,
             translations,
-            translations_len,
             rotations,
-            rotations_len,
         },
     )
 }
@@ -1077,17 +998,12 @@ pub unsafe extern "C" fn dk_deform_propagate_idw_f32(
         dim,
         PropIdw {
             points,
-            points_len,
             boundary,
-            boundary_len,
             index_base,
             exponent,
             index_scratch,
-            index_scratch_len,
             translations,
-            translations_len,
             rotations,
-            rotations_len,
         },
     )
 }
@@ -1168,13 +1084,9 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi(
             dims: [ni, nj, nk],
             directions,
             points,
-            points_len,
             scratch,
-            scratch_len,
             translations,
-            translations_len,
             rotations,
-            rotations_len,
             displacement: false,
         },
     )
@@ -1216,13 +1128,9 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi_f32(
             dims: [ni, nj, nk],
             directions,
             points,
-            points_len,
             scratch,
-            scratch_len,
             translations,
-            translations_len,
             rotations,
-            rotations_len,
             displacement: false,
         },
     )
@@ -1267,13 +1175,9 @@ pub unsafe extern "C" fn dk_deform_displacement_tfi(
             dims: [ni, nj, nk],
             directions,
             points,
-            points_len,
             scratch,
-            scratch_len,
             translations: displacements,
-            translations_len: displacements_len,
             rotations: Out::null(),
-            rotations_len: 0,
             displacement: true,
         },
     )
@@ -1312,13 +1216,9 @@ pub unsafe extern "C" fn dk_deform_displacement_tfi_f32(
             dims: [ni, nj, nk],
             directions,
             points,
-            points_len,
             scratch,
-            scratch_len,
             translations: displacements,
-            translations_len: displacements_len,
             rotations: Out::null(),
-            rotations_len: 0,
             displacement: true,
         },
     )
@@ -1376,22 +1276,14 @@ pub unsafe extern "C" fn dk_deform_update_points(
         dim,
         Update {
             origin,
-            origin_len,
             points,
-            points_len,
             translations,
-            translations_len,
             rotations,
-            rotations_len,
             boundary,
-            boundary_len,
             index_base,
             boundary_deformed,
-            boundary_deformed_len,
             index_scratch,
-            index_scratch_len,
             out,
-            out_len,
         },
     )
 }
@@ -1439,22 +1331,14 @@ pub unsafe extern "C" fn dk_deform_update_points_f32(
         dim,
         Update {
             origin,
-            origin_len,
             points,
-            points_len,
             translations,
-            translations_len,
             rotations,
-            rotations_len,
             boundary,
-            boundary_len,
             index_base,
             boundary_deformed,
-            boundary_deformed_len,
             index_scratch,
-            index_scratch_len,
             out,
-            out_len,
         },
     )
 }
@@ -1527,10 +1411,10 @@ pub unsafe extern "C" fn dk_deform_localize_nodes(
     };
     done((|| {
         check_base(index_base)?;
-        let b = input(boundary, boundary_len)?;
-        let g = input(global, global_len)?;
-        let s = output(scratch, scratch_len)?;
-        let l = output(local, local_len)?;
+        let b = input(boundary)?;
+        let g = input(global)?;
+        let s = output(scratch)?;
+        let l = output(local)?;
         if u32::try_from(b.len()).is_err() {
             return Err(dk_status::DK_ERR_TOO_LARGE);
         }
@@ -1723,34 +1607,22 @@ pub unsafe extern "C" fn dk_deform_spring(
         dim,
         Spring {
             points,
-            points_len,
             motion,
             system: SystemIn {
                 offsets,
-                offsets_len,
                 targets,
-                targets_len,
                 stiffness,
-                stiffness_len,
                 fixed,
-                fixed_len,
             },
             options,
             values,
-            values_len,
             bufs: PipelineOut {
                 scratch,
-                scratch_len,
                 index_scratch,
-                index_scratch_len,
                 translations,
-                translations_len,
                 rotations,
-                rotations_len,
                 out,
-                out_len,
                 origin_out,
-                origin_out_len,
             },
             report,
         },
@@ -1834,34 +1706,22 @@ pub unsafe extern "C" fn dk_deform_spring_f32(
         dim,
         Spring {
             points,
-            points_len,
             motion,
             system: SystemIn {
                 offsets,
-                offsets_len,
                 targets,
-                targets_len,
                 stiffness,
-                stiffness_len,
                 fixed,
-                fixed_len,
             },
             options,
             values,
-            values_len,
             bufs: PipelineOut {
                 scratch,
-                scratch_len,
                 index_scratch,
-                index_scratch_len,
                 translations,
-                translations_len,
                 rotations,
-                rotations_len,
                 out,
-                out_len,
                 origin_out,
-                origin_out_len,
             },
             report,
         },
@@ -1963,23 +1823,15 @@ pub unsafe extern "C" fn dk_deform_propagate_spring(
         PropSpring {
             system: SystemIn {
                 offsets,
-                offsets_len,
                 targets,
-                targets_len,
                 stiffness,
-                stiffness_len,
                 fixed,
-                fixed_len,
             },
             options,
             index_scratch,
-            index_scratch_len,
             values,
-            values_len,
             translations,
-            translations_len,
             rotations,
-            rotations_len,
             report,
         },
     )
@@ -2043,23 +1895,15 @@ pub unsafe extern "C" fn dk_deform_propagate_spring_f32(
         PropSpring {
             system: SystemIn {
                 offsets,
-                offsets_len,
                 targets,
-                targets_len,
                 stiffness,
-                stiffness_len,
                 fixed,
-                fixed_len,
             },
             options,
             index_scratch,
-            index_scratch_len,
             values,
-            values_len,
             translations,
-            translations_len,
             rotations,
-            rotations_len,
             report,
         },
     )

@@ -70,11 +70,11 @@ pub unsafe extern "C" fn dk_graph_from_edges(
         if edges_len % 2 != 0 {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
-        let e = input(edges, edges_len)?;
-        let (e, _) = rebase(e, index_base, output(index_scratch, index_scratch_len)?)?;
+        let e = input(edges)?;
+        let (e, _) = rebase(e, index_base, output(index_scratch)?)?;
         let pairs = e.as_chunks::<2>().0;
-        let o = output(offsets, offsets_len)?;
-        let t = output(targets, targets_len)?;
+        let o = output(offsets)?;
+        let t = output(targets)?;
         let used = out_one(used_out)?;
         if graph_from_edges_len(pairs) != edges_len {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
@@ -119,13 +119,10 @@ pub unsafe extern "C" fn dk_cells_check(
     done((|| {
         let ((o, n, k), _) = read_cells(
             cell_offsets,
-            cell_offsets_len,
             cell_nodes,
-            cell_nodes_len,
             cell_kinds,
-            cell_kinds_len,
             index_base,
-            output(index_scratch, index_scratch_len)?,
+            output(index_scratch)?,
         )?;
         Cells::new(node_count, o, n, k).map_err(dk_status::from)?;
         Ok(())
@@ -166,13 +163,10 @@ pub unsafe extern "C" fn dk_graph_from_cells_len(
     done((|| {
         let ((o, n, k), _) = read_cells(
             cell_offsets,
-            cell_offsets_len,
             cell_nodes,
-            cell_nodes_len,
             cell_kinds,
-            cell_kinds_len,
             index_base,
-            output(index_scratch, index_scratch_len)?,
+            output(index_scratch)?,
         )?;
         let cells = Cells::new(node_count, o, n, k).map_err(dk_status::from)?;
         write_len(len_out, graph_from_cells_len(&cells, face_diagonals))
@@ -224,17 +218,14 @@ pub unsafe extern "C" fn dk_graph_from_cells(
     done((|| {
         let ((co, cn, ck), _) = read_cells(
             cell_offsets,
-            cell_offsets_len,
             cell_nodes,
-            cell_nodes_len,
             cell_kinds,
-            cell_kinds_len,
             index_base,
-            output(index_scratch, index_scratch_len)?,
+            output(index_scratch)?,
         )?;
         let cells = Cells::new(node_count, co, cn, ck).map_err(dk_status::from)?;
-        let o = output(offsets, offsets_len)?;
-        let t = output(targets, targets_len)?;
+        let o = output(offsets)?;
+        let t = output(targets)?;
         let used = out_one(used_out)?;
         *used = graph_from_cells(&cells, face_diagonals, o, t).map_err(dk_status::from)?;
         Ok(())
@@ -259,8 +250,8 @@ pub unsafe extern "C" fn dk_graph_check(
     let (offsets, targets) =
         unsafe { (In::new(offsets, offsets_len), In::new(targets, targets_len)) };
     done((|| {
-        let o = input(offsets, offsets_len)?;
-        let t = input(targets, targets_len)?;
+        let o = input(offsets)?;
+        let t = input(targets)?;
         let g = Graph::new(o, t).map_err(dk_status::from)?;
         if require_symmetric {
             g.check_symmetric().map_err(dk_status::from)?;

@@ -27,7 +27,7 @@ pub unsafe extern "C" fn dk_quality_cell_quality(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (corners, out) = unsafe { (In::new(corners, corners_len), Out::new(out, 1)) };
-    cell_quality_t(kind, corners, corners_len, dim, out)
+    cell_quality_t(kind, corners, dim, out)
 }
 
 /// `f32` twin of [`dk_quality_cell_quality`].
@@ -45,7 +45,7 @@ pub unsafe extern "C" fn dk_quality_cell_quality_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (corners, out) = unsafe { (In::new(corners, corners_len), Out::new(out, 1)) };
-    cell_quality_t(kind, corners, corners_len, dim, out)
+    cell_quality_t(kind, corners, dim, out)
 }
 
 /// Signed area (`dim` 2) or volume (`dim` 3) of every cell into `out` (one scalar per cell).
@@ -90,24 +90,11 @@ pub unsafe extern "C" fn dk_quality_cell_measures(
     };
     let cells = CellArgs {
         offsets: cell_offsets,
-        offsets_len: cell_offsets_len,
         nodes: cell_nodes,
-        nodes_len: cell_nodes_len,
         kinds: cell_kinds,
-        kinds_len: cell_kinds_len,
         index_base,
     };
-    per_cell_t(
-        cells,
-        index_scratch,
-        index_scratch_len,
-        points,
-        points_len,
-        dim,
-        None,
-        out,
-        out_len,
-    )
+    per_cell_t(cells, index_scratch, points, dim, None, out)
 }
 
 /// `f32` twin of [`dk_quality_cell_measures`].
@@ -145,24 +132,11 @@ pub unsafe extern "C" fn dk_quality_cell_measures_f32(
     };
     let cells = CellArgs {
         offsets: cell_offsets,
-        offsets_len: cell_offsets_len,
         nodes: cell_nodes,
-        nodes_len: cell_nodes_len,
         kinds: cell_kinds,
-        kinds_len: cell_kinds_len,
         index_base,
     };
-    per_cell_t(
-        cells,
-        index_scratch,
-        index_scratch_len,
-        points,
-        points_len,
-        dim,
-        None,
-        out,
-        out_len,
-    )
+    per_cell_t(cells, index_scratch, points, dim, None, out)
 }
 
 /// Smallest corner Jacobian of every cell into `out` (one scalar per cell), divided by the
@@ -203,24 +177,11 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians(
     };
     let cells = CellArgs {
         offsets: cell_offsets,
-        offsets_len: cell_offsets_len,
         nodes: cell_nodes,
-        nodes_len: cell_nodes_len,
         kinds: cell_kinds,
-        kinds_len: cell_kinds_len,
         index_base,
     };
-    per_cell_t(
-        cells,
-        index_scratch,
-        index_scratch_len,
-        points,
-        points_len,
-        dim,
-        Some(scaled),
-        out,
-        out_len,
-    )
+    per_cell_t(cells, index_scratch, points, dim, Some(scaled), out)
 }
 
 /// `f32` twin of [`dk_quality_min_corner_jacobians`].
@@ -259,24 +220,11 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians_f32(
     };
     let cells = CellArgs {
         offsets: cell_offsets,
-        offsets_len: cell_offsets_len,
         nodes: cell_nodes,
-        nodes_len: cell_nodes_len,
         kinds: cell_kinds,
-        kinds_len: cell_kinds_len,
         index_base,
     };
-    per_cell_t(
-        cells,
-        index_scratch,
-        index_scratch_len,
-        points,
-        points_len,
-        dim,
-        Some(scaled),
-        out,
-        out_len,
-    )
+    per_cell_t(cells, index_scratch, points, dim, Some(scaled), out)
 }
 
 /// Number of cells whose signed measure changed sign between `undeformed` and `deformed`
@@ -319,24 +267,11 @@ pub unsafe extern "C" fn dk_quality_inverted_cells(
     };
     let cells = CellArgs {
         offsets: cell_offsets,
-        offsets_len: cell_offsets_len,
         nodes: cell_nodes,
-        nodes_len: cell_nodes_len,
         kinds: cell_kinds,
-        kinds_len: cell_kinds_len,
         index_base,
     };
-    inverted_t(
-        cells,
-        index_scratch,
-        index_scratch_len,
-        undeformed,
-        undeformed_len,
-        deformed,
-        deformed_len,
-        dim,
-        count_out,
-    )
+    inverted_t(cells, index_scratch, undeformed, deformed, dim, count_out)
 }
 
 /// `f32` twin of [`dk_quality_inverted_cells`].
@@ -376,24 +311,11 @@ pub unsafe extern "C" fn dk_quality_inverted_cells_f32(
     };
     let cells = CellArgs {
         offsets: cell_offsets,
-        offsets_len: cell_offsets_len,
         nodes: cell_nodes,
-        nodes_len: cell_nodes_len,
         kinds: cell_kinds,
-        kinds_len: cell_kinds_len,
         index_base,
     };
-    inverted_t(
-        cells,
-        index_scratch,
-        index_scratch_len,
-        undeformed,
-        undeformed_len,
-        deformed,
-        deformed_len,
-        dim,
-        count_out,
-    )
+    inverted_t(cells, index_scratch, undeformed, deformed, dim, count_out)
 }
 
 /// Number of cells with some corner Jacobian `≤ 0` (folded or inverted at a corner; also
@@ -433,22 +355,11 @@ pub unsafe extern "C" fn dk_quality_folded_cells(
     };
     let cells = CellArgs {
         offsets: cell_offsets,
-        offsets_len: cell_offsets_len,
         nodes: cell_nodes,
-        nodes_len: cell_nodes_len,
         kinds: cell_kinds,
-        kinds_len: cell_kinds_len,
         index_base,
     };
-    folded_t(
-        cells,
-        index_scratch,
-        index_scratch_len,
-        points,
-        points_len,
-        dim,
-        count_out,
-    )
+    folded_t(cells, index_scratch, points, dim, count_out)
 }
 
 /// `f32` twin of [`dk_quality_folded_cells`].
@@ -485,22 +396,11 @@ pub unsafe extern "C" fn dk_quality_folded_cells_f32(
     };
     let cells = CellArgs {
         offsets: cell_offsets,
-        offsets_len: cell_offsets_len,
         nodes: cell_nodes,
-        nodes_len: cell_nodes_len,
         kinds: cell_kinds,
-        kinds_len: cell_kinds_len,
         index_base,
     };
-    folded_t(
-        cells,
-        index_scratch,
-        index_scratch_len,
-        points,
-        points_len,
-        dim,
-        count_out,
-    )
+    folded_t(cells, index_scratch, points, dim, count_out)
 }
 
 /// Scalars of `scratch` [`dk_quality_wall_angle_change`] (and [`dk_quality_compare`] with a
@@ -613,40 +513,28 @@ pub unsafe extern "C" fn dk_quality_compare(
     };
     let cells = CellArgs {
         offsets: cell_offsets,
-        offsets_len: cell_offsets_len,
         nodes: cell_nodes,
-        nodes_len: cell_nodes_len,
         kinds: cell_kinds,
-        kinds_len: cell_kinds_len,
         index_base,
     };
     let wall = WallArgs {
         elements: CellArgs {
             offsets: wall_offsets,
-            offsets_len: wall_offsets_len,
             nodes: wall_nodes,
-            nodes_len: wall_nodes_len,
             kinds: wall_kinds,
-            kinds_len: wall_kinds_len,
             index_base,
         },
         graph_offsets,
-        graph_offsets_len,
         graph_targets,
-        graph_targets_len,
     };
     compare_t(
         cells,
         wall,
         index_scratch,
-        index_scratch_len,
         undeformed,
-        undeformed_len,
         deformed,
-        deformed_len,
         dim,
         scratch,
-        scratch_len,
         report,
     )
 }
@@ -720,40 +608,28 @@ pub unsafe extern "C" fn dk_quality_compare_f32(
     };
     let cells = CellArgs {
         offsets: cell_offsets,
-        offsets_len: cell_offsets_len,
         nodes: cell_nodes,
-        nodes_len: cell_nodes_len,
         kinds: cell_kinds,
-        kinds_len: cell_kinds_len,
         index_base,
     };
     let wall = WallArgs {
         elements: CellArgs {
             offsets: wall_offsets,
-            offsets_len: wall_offsets_len,
             nodes: wall_nodes,
-            nodes_len: wall_nodes_len,
             kinds: wall_kinds,
-            kinds_len: wall_kinds_len,
             index_base,
         },
         graph_offsets,
-        graph_offsets_len,
         graph_targets,
-        graph_targets_len,
     };
     compare_t(
         cells,
         wall,
         index_scratch,
-        index_scratch_len,
         undeformed,
-        undeformed_len,
         deformed,
-        deformed_len,
         dim,
         scratch,
-        scratch_len,
         report,
     )
 }
@@ -827,31 +703,14 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change(
     let wall = WallArgs {
         elements: CellArgs {
             offsets: wall_offsets,
-            offsets_len: wall_offsets_len,
             nodes: wall_nodes,
-            nodes_len: wall_nodes_len,
             kinds: wall_kinds,
-            kinds_len: wall_kinds_len,
             index_base,
         },
         graph_offsets,
-        graph_offsets_len,
         graph_targets,
-        graph_targets_len,
     };
-    wall_angle_t(
-        wall,
-        index_scratch,
-        index_scratch_len,
-        undeformed,
-        undeformed_len,
-        deformed,
-        deformed_len,
-        dim,
-        scratch,
-        scratch_len,
-        out,
-    )
+    wall_angle_t(wall, index_scratch, undeformed, deformed, dim, scratch, out)
 }
 
 /// `f32` twin of [`dk_quality_wall_angle_change`].
@@ -912,29 +771,12 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change_f32(
     let wall = WallArgs {
         elements: CellArgs {
             offsets: wall_offsets,
-            offsets_len: wall_offsets_len,
             nodes: wall_nodes,
-            nodes_len: wall_nodes_len,
             kinds: wall_kinds,
-            kinds_len: wall_kinds_len,
             index_base,
         },
         graph_offsets,
-        graph_offsets_len,
         graph_targets,
-        graph_targets_len,
     };
-    wall_angle_t(
-        wall,
-        index_scratch,
-        index_scratch_len,
-        undeformed,
-        undeformed_len,
-        deformed,
-        deformed_len,
-        dim,
-        scratch,
-        scratch_len,
-        out,
-    )
+    wall_angle_t(wall, index_scratch, undeformed, deformed, dim, scratch, out)
 }

@@ -201,7 +201,7 @@ pub unsafe extern "C" fn dk_quat_rotate_points(
             Out::new(out, out_len),
         )
     };
-    rotate_points(q, points, points_len, out, out_len)
+    rotate_points(q, points, out)
 }
 
 /// `f32` twin of [`dk_quat_rotate_points`].
@@ -225,7 +225,7 @@ pub unsafe extern "C" fn dk_quat_rotate_points_f32(
             Out::new(out, out_len),
         )
     };
-    rotate_points(q, points, points_len, out, out_len)
+    rotate_points(q, points, out)
 }
 
 /// Spherical linear interpolation on the shorter arc (`t` = 0 gives `a`, 1 gives `b`).
@@ -320,7 +320,7 @@ pub unsafe extern "C" fn dk_quat_average(
             Out::new(out, 4),
         )
     };
-    average(quats, quats_len, weights, weights_len, out)
+    average(quats, weights, out)
 }
 
 /// `f32` twin of [`dk_quat_average`].
@@ -344,5 +344,5 @@ pub unsafe extern "C" fn dk_quat_average_f32(
             Out::new(out, 4),
         )
     };
-    average(quats, quats_len, weights, weights_len, out)
+    average(quats, weights, out)
 }

@@ -42,18 +42,7 @@ pub unsafe extern "C" fn dk_spring_batina_stiffness(
             Out::new(stiffness, stiffness_len),
         )
     };
-    batina_t(
-        offsets,
-        offsets_len,
-        targets,
-        targets_len,
-        points,
-        points_len,
-        dim,
-        exponent,
-        stiffness,
-        stiffness_len,
-    )
+    batina_t(offsets, targets, points, dim, exponent, stiffness)
 }
 
 /// `f32` twin of [`dk_spring_batina_stiffness`].
@@ -83,18 +72,7 @@ pub unsafe extern "C" fn dk_spring_batina_stiffness_f32(
             Out::new(stiffness, stiffness_len),
         )
     };
-    batina_t(
-        offsets,
-        offsets_len,
-        targets,
-        targets_len,
-        points,
-        points_len,
-        dim,
-        exponent,
-        stiffness,
-        stiffness_len,
-    )
+    batina_t(offsets, targets, points, dim, exponent, stiffness)
 }
 
 /// Length of the `uint32_t` `index_scratch` every spring solver and sweep needs to validate
@@ -232,26 +210,12 @@ pub unsafe extern "C" fn dk_spring_solve_linear(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
-    solve_linear_t(
-        sys,
-        options,
-        components,
-        values,
-        values_len,
-        scratch,
-        scratch_len,
-        report,
-    )
+    solve_linear_t(sys, options, components, values, scratch, report)
 }
 
 /// `f32` twin of [`dk_spring_solve_linear`].
@@ -295,26 +259,12 @@ pub unsafe extern "C" fn dk_spring_solve_linear_f32(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
-    solve_linear_t(
-        sys,
-        options,
-        components,
-        values,
-        values_len,
-        scratch,
-        scratch_len,
-        report,
-    )
+    solve_linear_t(sys, options, components, values, scratch, report)
 }
 
 /// One Jacobi sweep of the linear springs over the nodes `nodes_start..nodes_end` (read with
@@ -366,15 +316,10 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
     jacobi_sweep_t(
         sys,
@@ -383,9 +328,7 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep(
         index_base,
         components,
         src,
-        src_len,
         dst,
-        dst_len,
         sweep,
     )
 }
@@ -432,15 +375,10 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_f32(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
     jacobi_sweep_t(
         sys,
@@ -449,9 +387,7 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_f32(
         index_base,
         components,
         src,
-        src_len,
         dst,
-        dst_len,
         sweep,
     )
 }
@@ -504,15 +440,10 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
     jacobi_sweep_exact_t(
         sys,
@@ -520,9 +451,7 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact(
         index_base,
         components,
         src,
-        src_len,
         dst,
-        dst_len,
         sweep,
         residual_words,
     )
@@ -572,15 +501,10 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact_f32(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
     jacobi_sweep_exact_t(
         sys,
@@ -588,9 +512,7 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact_f32(
         index_base,
         components,
         src,
-        src_len,
         dst,
-        dst_len,
         sweep,
         residual_words,
     )
@@ -657,15 +579,10 @@ pub unsafe extern "C" fn dk_spring_sor_sweep(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
     sor_sweep_t(
         sys,
@@ -675,7 +592,6 @@ pub unsafe extern "C" fn dk_spring_sor_sweep(
         omega,
         components,
         values,
-        values_len,
         sweep,
     )
 }
@@ -720,15 +636,10 @@ pub unsafe extern "C" fn dk_spring_sor_sweep_f32(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
     sor_sweep_t(
         sys,
@@ -738,7 +649,6 @@ pub unsafe extern "C" fn dk_spring_sor_sweep_f32(
         omega,
         components,
         values,
-        values_len,
         sweep,
     )
 }
@@ -782,17 +692,12 @@ pub unsafe extern "C" fn dk_spring_relative_residual(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
-    relative_residual_t(sys, components, values, values_len, residual_out)
+    relative_residual_t(sys, components, values, residual_out)
 }
 
 /// `f32` twin of [`dk_spring_relative_residual`].
@@ -831,17 +736,12 @@ pub unsafe extern "C" fn dk_spring_relative_residual_f32(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
-    relative_residual_t(sys, components, values, values_len, residual_out)
+    relative_residual_t(sys, components, values, residual_out)
 }
 
 /// Fills `*out` with the default angle-spring settings for f64: direct Gauss–Seidel,
@@ -997,28 +897,13 @@ pub unsafe extern "C" fn dk_spring_solve_angle(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
-    let pts = AngleArgs { points, points_len };
-    solve_angle_t(
-        sys,
-        pts,
-        dim,
-        options,
-        values,
-        values_len,
-        scratch,
-        scratch_len,
-        report,
-    )
+    let pts = AngleArgs { points };
+    solve_angle_t(sys, pts, dim, options, values, scratch, report)
 }
 
 /// `f32` twin of [`dk_spring_solve_angle`].
@@ -1076,28 +961,13 @@ pub unsafe extern "C" fn dk_spring_solve_angle_f32(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
-    let pts = AngleArgs { points, points_len };
-    solve_angle_t(
-        sys,
-        pts,
-        dim,
-        options,
-        values,
-        values_len,
-        scratch,
-        scratch_len,
-        report,
-    )
+    let pts = AngleArgs { points };
+    solve_angle_t(sys, pts, dim, options, values, scratch, report)
 }
 
 /// One Jacobi-order sweep of the angle-spring direct method over the nodes
@@ -1152,17 +1022,12 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
-    let pts = AngleArgs { points, points_len };
+    let pts = AngleArgs { points };
     angle_jacobi_t(
         sys,
         pts,
@@ -1172,9 +1037,7 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep(
         nodes_end,
         index_base,
         src,
-        src_len,
         dst,
-        dst_len,
         sweep,
     )
 }
@@ -1225,17 +1088,12 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep_f32(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
-    let pts = AngleArgs { points, points_len };
+    let pts = AngleArgs { points };
     angle_jacobi_t(
         sys,
         pts,
@@ -1245,9 +1103,7 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep_f32(
         nodes_end,
         index_base,
         src,
-        src_len,
         dst,
-        dst_len,
         sweep,
     )
 }
@@ -1299,17 +1155,12 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
-    let pts = AngleArgs { points, points_len };
+    let pts = AngleArgs { points };
     angle_gs_t(
         sys,
         pts,
@@ -1319,7 +1170,6 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep(
         nodes_end,
         index_base,
         values,
-        values_len,
         sweep,
     )
 }
@@ -1367,17 +1217,12 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep_f32(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
-    let pts = AngleArgs { points, points_len };
+    let pts = AngleArgs { points };
     angle_gs_t(
         sys,
         pts,
@@ -1387,7 +1232,6 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep_f32(
         nodes_end,
         index_base,
         values,
-        values_len,
         sweep,
     )
 }
@@ -1449,26 +1293,13 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
-    let pts = AngleArgs { points, points_len };
-    probe_t(
-        sys,
-        pts,
-        dim,
-        options,
-        scratch,
-        scratch_len,
-        amplification_out,
-    )
+    let pts = AngleArgs { points };
+    probe_t(sys, pts, dim, options, scratch, amplification_out)
 }
 
 /// `f32` twin of [`dk_spring_angle_rigidity_probe`].
@@ -1522,24 +1353,11 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_f32(
     };
     let sys = SysArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         stiffness,
-        stiffness_len,
         fixed,
-        fixed_len,
         index_scratch,
-        index_scratch_len,
     };
-    let pts = AngleArgs { points, points_len };
-    probe_t(
-        sys,
-        pts,
-        dim,
-        options,
-        scratch,
-        scratch_len,
-        amplification_out,
-    )
+    let pts = AngleArgs { points };
+    probe_t(sys, pts, dim, options, scratch, amplification_out)
 }

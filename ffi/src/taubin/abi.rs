@@ -191,18 +191,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength(
             Out::new(report, 1),
         )
     };
-    smooth_arclength_t(
-        ni,
-        nj,
-        nk,
-        options,
-        points,
-        points_len,
-        dim,
-        scratch,
-        scratch_len,
-        report,
-    )
+    smooth_arclength_t(ni, nj, nk, options, points, dim, scratch, report)
 }
 
 /// `f32` twin of [`dk_taubin_smooth_arclength`] (`options->lambda`, `mu` are rounded to
@@ -233,18 +222,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength_f32(
             Out::new(report, 1),
         )
     };
-    smooth_arclength_t(
-        ni,
-        nj,
-        nk,
-        options,
-        points,
-        points_len,
-        dim,
-        scratch,
-        scratch_len,
-        report,
-    )
+    smooth_arclength_t(ni, nj, nk, options, points, dim, scratch, report)
 }
 
 /// Scratch length (in scalars) for [`dk_taubin_smooth_structured`]: the point count.
@@ -306,18 +284,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured(
         )
     };
     smooth_structured_t(
-        ni,
-        nj,
-        nk,
-        lambda,
-        mu,
-        iterations,
-        options,
-        field,
-        field_len,
-        scratch,
-        scratch_len,
-        report,
+        ni, nj, nk, lambda, mu, iterations, options, field, scratch, report,
     )
 }
 
@@ -351,18 +318,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_f32(
         )
     };
     smooth_structured_t(
-        ni,
-        nj,
-        nk,
-        lambda,
-        mu,
-        iterations,
-        options,
-        field,
-        field_len,
-        scratch,
-        scratch_len,
-        report,
+        ni, nj, nk, lambda, mu, iterations, options, field, scratch, report,
     )
 }
 
@@ -411,13 +367,11 @@ pub unsafe extern "C" fn dk_taubin_structured_sweep(
         nj,
         nk,
         src,
-        src_len,
         weight,
         options,
         region,
         index_base,
         dst,
-        dst_len,
         max_change_out,
     )
 }
@@ -457,13 +411,11 @@ pub unsafe extern "C" fn dk_taubin_structured_sweep_f32(
         nj,
         nk,
         src,
-        src_len,
         weight,
         options,
         region,
         index_base,
         dst,
-        dst_len,
         max_change_out,
     )
 }
@@ -528,19 +480,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse(
         )
     };
     smooth_structured_coarse_t(
-        ni,
-        nj,
-        nk,
-        coarse,
-        lambda,
-        mu,
-        iterations,
-        options,
-        field,
-        field_len,
-        scratch,
-        scratch_len,
-        report,
+        ni, nj, nk, coarse, lambda, mu, iterations, options, field, scratch, report,
     )
 }
 
@@ -576,19 +516,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse_f32(
         )
     };
     smooth_structured_coarse_t(
-        ni,
-        nj,
-        nk,
-        coarse,
-        lambda,
-        mu,
-        iterations,
-        options,
-        field,
-        field_len,
-        scratch,
-        scratch_len,
-        report,
+        ni, nj, nk, coarse, lambda, mu, iterations, options, field, scratch, report,
     )
 }
 
@@ -667,25 +595,12 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph(
     };
     let args = GraphArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         weights,
-        weights_len,
         fixed,
-        fixed_len,
     };
     smooth_graph_t(
-        args,
-        lambda,
-        mu,
-        iterations,
-        components,
-        values,
-        values_len,
-        scratch,
-        scratch_len,
-        report,
+        args, lambda, mu, iterations, components, values, scratch, report,
     )
 }
 
@@ -728,25 +643,12 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph_f32(
     };
     let args = GraphArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         weights,
-        weights_len,
         fixed,
-        fixed_len,
     };
     smooth_graph_t(
-        args,
-        lambda,
-        mu,
-        iterations,
-        components,
-        values,
-        values_len,
-        scratch,
-        scratch_len,
-        report,
+        args, lambda, mu, iterations, components, values, scratch, report,
     )
 }
 
@@ -797,25 +699,19 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep(
     };
     let args = GraphArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         weights,
-        weights_len,
         fixed,
-        fixed_len,
     };
     graph_sweep_t(
         args,
         src,
-        src_len,
         components,
         weight,
         nodes_start,
         nodes_end,
         index_base,
         dst,
-        dst_len,
         max_change_out,
     )
 }
@@ -860,25 +756,19 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep_f32(
     };
     let args = GraphArgs {
         offsets,
-        offsets_len,
         targets,
-        targets_len,
         weights,
-        weights_len,
         fixed,
-        fixed_len,
     };
     graph_sweep_t(
         args,
         src,
-        src_len,
         components,
         weight,
         nodes_start,
         nodes_end,
         index_base,
         dst,
-        dst_len,
         max_change_out,
     )
 }
@@ -914,17 +804,7 @@ pub unsafe extern "C" fn dk_taubin_inverse_distance_weights(
             Out::new(weights, weights_len),
         )
     };
-    inverse_distance_weights_t(
-        offsets,
-        offsets_len,
-        targets,
-        targets_len,
-        points,
-        points_len,
-        dim,
-        weights,
-        weights_len,
-    )
+    inverse_distance_weights_t(offsets, targets, points, dim, weights)
 }
 
 /// `f32` twin of [`dk_taubin_inverse_distance_weights`].
@@ -953,17 +833,7 @@ pub unsafe extern "C" fn dk_taubin_inverse_distance_weights_f32(
             Out::new(weights, weights_len),
         )
     };
-    inverse_distance_weights_t(
-        offsets,
-        offsets_len,
-        targets,
-        targets_len,
-        points,
-        points_len,
-        dim,
-        weights,
-        weights_len,
-    )
+    inverse_distance_weights_t(offsets, targets, points, dim, weights)
 }
 
 /// Arclength along grid lines in `direction` (0 = i, 1 = j, 2 = k) at every point:
@@ -989,9 +859,7 @@ pub unsafe extern "C" fn dk_taubin_arclength(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
-    arclength_t(
-        ni, nj, nk, points, points_len, dim, direction, normalised, out, out_len,
-    )
+    arclength_t(ni, nj, nk, points, dim, direction, normalised, out)
 }
 
 /// `f32` twin of [`dk_taubin_arclength`].
@@ -1014,9 +882,7 @@ pub unsafe extern "C" fn dk_taubin_arclength_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
-    arclength_t(
-        ni, nj, nk, points, points_len, dim, direction, normalised, out, out_len,
-    )
+    arclength_t(ni, nj, nk, points, dim, direction, normalised, out)
 }
 
 /// Scratch length (in scalars) for [`dk_taubin_redistribute`]: `(dim + 1) ×` points per line
@@ -1093,13 +959,10 @@ pub unsafe extern "C" fn dk_taubin_redistribute(
         nk,
         direction,
         targets,
-        targets_len,
         normalised,
         points,
-        points_len,
         dim,
         scratch,
-        scratch_len,
         max_displacement_out,
     )
 }
@@ -1140,13 +1003,10 @@ pub unsafe extern "C" fn dk_taubin_redistribute_f32(
         nk,
         direction,
         targets,
-        targets_len,
         normalised,
         points,
-        points_len,
         dim,
         scratch,
-        scratch_len,
         max_displacement_out,
     )
 }
@@ -1172,7 +1032,7 @@ pub unsafe extern "C" fn dk_taubin_stretching(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
-    stretching_t(ni, nj, nk, points, points_len, dim, direction, out, out_len)
+    stretching_t(ni, nj, nk, points, dim, direction, out)
 }
 
 /// `f32` twin of [`dk_taubin_stretching`].
@@ -1194,7 +1054,7 @@ pub unsafe extern "C" fn dk_taubin_stretching_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
-    stretching_t(ni, nj, nk, points, points_len, dim, direction, out, out_len)
+    stretching_t(ni, nj, nk, points, dim, direction, out)
 }
 
 /// The largest stretching along `direction` (see [`dk_taubin_stretching`]) into
@@ -1226,9 +1086,7 @@ pub unsafe extern "C" fn dk_taubin_max_stretching(
             Out::new(point_out, 1),
         )
     };
-    max_stretching_t(
-        ni, nj, nk, points, points_len, dim, direction, value_out, point_out,
-    )
+    max_stretching_t(ni, nj, nk, points, dim, direction, value_out, point_out)
 }
 
 /// `f32` twin of [`dk_taubin_max_stretching`].
@@ -1256,9 +1114,7 @@ pub unsafe extern "C" fn dk_taubin_max_stretching_f32(
             Out::new(point_out, 1),
         )
     };
-    max_stretching_t(
-        ni, nj, nk, points, points_len, dim, direction, value_out, point_out,
-    )
+    max_stretching_t(ni, nj, nk, points, dim, direction, value_out, point_out)
 }
 
 /// The fold guard: `DK_OK` when `field` (an arclength function, `ni·nj·nk` scalars) increases
@@ -1285,9 +1141,7 @@ pub unsafe extern "C" fn dk_taubin_check_lines_increasing(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (field, points) = unsafe { (In::new(field, field_len), In::new(points, points_len)) };
-    check_lines_t(
-        ni, nj, nk, field, field_len, direction, iteration, points, points_len, dim,
-    )
+    check_lines_t(ni, nj, nk, field, direction, iteration, points, dim)
 }
 
 /// `f32` twin of [`dk_taubin_check_lines_increasing`].
@@ -1310,7 +1164,5 @@ pub unsafe extern "C" fn dk_taubin_check_lines_increasing_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (field, points) = unsafe { (In::new(field, field_len), In::new(points, points_len)) };
-    check_lines_t(
-        ni, nj, nk, field, field_len, direction, iteration, points, points_len, dim,
-    )
+    check_lines_t(ni, nj, nk, field, direction, iteration, points, dim)
 }
