@@ -201,7 +201,6 @@ fn by_dim(dim: u32, job: impl ByDim) -> dk_status {
 
 /// Reads a boundary element list (offsets and nodes in `index_base`) over `boundary_len`
 /// points; `None` when `offsets_len` is 0. Returns the rest of `scratch`.
-#[allow(clippy::too_many_arguments)]
 fn read_elements<'a>(
     boundary_len: usize,
     offsets: In<'a, u32>,
@@ -227,7 +226,6 @@ fn read_elements<'a>(
 }
 
 /// Reads a required element list (absent elements are a length mismatch).
-#[allow(clippy::too_many_arguments)]
 fn read_required_elements<'a>(
     boundary_len: usize,
     offsets: In<'a, u32>,

@@ -24,7 +24,6 @@ pub(crate) type RawCells<'a> = (&'a [u32], &'a [u32], &'a [u8]);
 /// Reads a cell list (offsets and node indices in `index_base`); with base 1 the 0-based
 /// copies take `cell_offsets_len + cell_nodes_len` entries at the front of `scratch`, whose
 /// rest is returned. Shared with the quality module, which takes cells the same way.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn read_cells<'a>(
     cell_offsets: In<'a, u32>,
     cell_nodes: In<'a, u32>,

@@ -222,7 +222,6 @@ fn cell_quality_t<T: Real>(
 }
 
 /// Per-cell output: measures (`jacobians` None) or minimum corner Jacobians.
-#[allow(clippy::too_many_arguments)]
 fn per_cell_d<T: Real, const D: usize>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
@@ -240,7 +239,6 @@ fn per_cell_d<T: Real, const D: usize>(
     .map_err(dk_status::from)
 }
 
-#[allow(clippy::too_many_arguments)]
 fn per_cell_t<T: Real>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
@@ -256,7 +254,6 @@ fn per_cell_t<T: Real>(
     ))
 }
 
-#[allow(clippy::too_many_arguments)]
 fn inverted_d<T: Real, const D: usize>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
@@ -272,7 +269,6 @@ fn inverted_d<T: Real, const D: usize>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn inverted_t<T: Real>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
@@ -301,7 +297,6 @@ fn folded_d<T: Real, const D: usize>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn folded_t<T: Real>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
@@ -342,7 +337,6 @@ impl<'a> WallArgs<'a> {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 fn compare_d<T: Real, const D: usize>(
     cells: CellArgs,
     wall: WallArgs,
@@ -396,7 +390,6 @@ fn compare_t<T: Real>(
     ))
 }
 
-#[allow(clippy::too_many_arguments)]
 fn wall_angle_d<T: Real, const D: usize>(
     wall: WallArgs,
     index_scratch: Out<'_, u32>,
@@ -417,7 +410,6 @@ fn wall_angle_d<T: Real, const D: usize>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn wall_angle_t<T: Real>(
     wall: WallArgs,
     index_scratch: Out<'_, u32>,

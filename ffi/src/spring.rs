@@ -272,7 +272,6 @@ fn batina_d<T: Real, const D: usize>(
     batina_stiffness(g, p, exponent, k).map_err(dk_status::from)
 }
 
-#[allow(clippy::too_many_arguments)]
 fn batina_t<T: Real>(
     offsets: In<'_, u32>,
     targets: In<'_, u32>,
@@ -312,7 +311,6 @@ fn angle_options_default<T: Real>(out: Out<'_, dk_spring_angle_options>) -> dk_s
     done(write_one(out, v))
 }
 
-#[allow(clippy::too_many_arguments)]
 fn solve_linear_v<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     options: &dk_spring_solve_options,
@@ -334,7 +332,6 @@ fn solve_linear_v<T: Real, const V: usize>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn solve_linear_t<T: Real>(
     sys: SysArgs<T>,
     options: In<'_, dk_spring_solve_options>,
@@ -353,7 +350,6 @@ fn solve_linear_t<T: Real>(
     })())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn jacobi_sweep_v<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     nodes: [usize; 2],
@@ -395,7 +391,6 @@ fn jacobi_sweep_t<T: Real>(
 pub const DK_EXACT_SUM_WORDS: usize = 72;
 const _: () = assert!(DK_EXACT_SUM_WORDS == EXACT_SUM_WORDS);
 
-#[allow(clippy::too_many_arguments)]
 fn jacobi_sweep_exact_v<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     nodes: [usize; 2],
@@ -555,7 +550,6 @@ impl<'a, T: Real> AngleArgs<'a, T> {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 fn solve_angle_d<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
@@ -577,7 +571,6 @@ fn solve_angle_d<T: Real, const D: usize>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn solve_angle_t<T: Real>(
     sys: SysArgs<T>,
     pts: AngleArgs<T>,
@@ -597,7 +590,6 @@ fn solve_angle_t<T: Real>(
     })())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn angle_jacobi_d<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
@@ -639,7 +631,6 @@ fn angle_jacobi_t<T: Real>(
     })())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn angle_gs_d<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
@@ -678,7 +669,6 @@ fn angle_gs_t<T: Real>(
     })())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn probe_d<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
@@ -694,7 +684,6 @@ fn probe_d<T: Real, const D: usize>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn probe_t<T: Real>(
     sys: SysArgs<T>,
     pts: AngleArgs<T>,

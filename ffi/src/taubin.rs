@@ -303,7 +303,6 @@ fn params_from_pass_band<T: Real>(
     })())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn smooth_arclength_d<T: Real, const D: usize>(
     block: &Block,
     options: &dk_smooth_arclength_options,
@@ -459,7 +458,6 @@ impl<'a, T> GraphArgs<'a, T> {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 fn smooth_graph_v<T: Real, const V: usize>(
     args: &GraphArgs<T>,
     params: TaubinParams<T>,
@@ -478,7 +476,6 @@ fn smooth_graph_v<T: Real, const V: usize>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn graph_sweep_v<T: Real, const V: usize>(
     args: &GraphArgs<T>,
     src: In<'_, T>,
@@ -506,7 +503,6 @@ fn inverse_distance_weights_d<T: Real, const D: usize>(
     inverse_distance_weights(g, p, w).map_err(dk_status::from)
 }
 
-#[allow(clippy::too_many_arguments)]
 fn arclength_d<T: Real, const D: usize>(
     b: &Block,
     points: In<'_, T>,
@@ -519,7 +515,6 @@ fn arclength_d<T: Real, const D: usize>(
     arclength(b, p, direction as usize, normalised, o).map_err(dk_status::from)
 }
 
-#[allow(clippy::too_many_arguments)]
 fn redistribute_d<T: Real, const D: usize>(
     b: &Block,
     direction: u32,
@@ -633,7 +628,6 @@ fn graph_sweep_t<T: Real>(
     })())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn inverse_distance_weights_t<T: Real>(
     offsets: In<'_, u32>,
     targets: In<'_, u32>,
@@ -703,7 +697,6 @@ fn redistribute_t<T: Real>(
     })())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn stretching_t<T: Real>(
     ni: usize,
     nj: usize,
