@@ -166,22 +166,22 @@ int main(void) {
     /* Set up once: work sizes, pool sizes, init (the work buffers are freed after). */
     CHECK(dk_plan_options_default(&options));
     CHECK(dk_plan_work_sizes(points, 2 * N, offsets, N + 1, targets, used_targets, boundary, B,
-                             element_offsets, B + 1, element_nodes, 2 * B, element_kinds, B, 2,
-                             &options, &work));
+                             element_offsets, B + 1, element_nodes, 2 * B, element_kinds, B,
+                             NULL, 0, 2, &options, &work));
     work_reals = malloc((work.reals + 1) * sizeof *work_reals);
     work_indices = malloc((work.indices + 1) * sizeof *work_indices);
     work_bytes = malloc(work.bytes + 1);
     if (!work_reals || !work_indices || !work_bytes) return EXIT_FAILURE;
     CHECK(dk_plan_pool_sizes(points, 2 * N, offsets, N + 1, targets, used_targets, boundary, B,
-                             element_offsets, B + 1, element_nodes, 2 * B, element_kinds, B, 2,
-                             &options, work_reals, work.reals, work_indices, work.indices,
-                             work_bytes, work.bytes, &pools));
+                             element_offsets, B + 1, element_nodes, 2 * B, element_kinds, B,
+                             NULL, 0, 2, &options, work_reals, work.reals, work_indices,
+                             work.indices, work_bytes, work.bytes, &pools));
     reals = malloc(pools.reals * sizeof *reals);
     indices = malloc(pools.indices * sizeof *indices);
     bytes = malloc(pools.bytes);
     if (!reals || !indices || !bytes) return EXIT_FAILURE;
     CHECK(dk_plan_init(points, 2 * N, offsets, N + 1, targets, used_targets, boundary, B,
-                       element_offsets, B + 1, element_nodes, 2 * B, element_kinds, B, 2,
+                       element_offsets, B + 1, element_nodes, 2 * B, element_kinds, B, NULL, 0, 2,
                        &options, work_reals, work.reals, work_indices, work.indices, work_bytes,
                        work.bytes, reals, pools.reals, indices, pools.indices, bytes,
                        pools.bytes, &info));
@@ -220,7 +220,7 @@ int main(void) {
 
     /* The same steps from cold starts, in a fresh plan. */
     CHECK(dk_plan_init(points, 2 * N, offsets, N + 1, targets, used_targets, boundary, B,
-                       element_offsets, B + 1, element_nodes, 2 * B, element_kinds, B, 2,
+                       element_offsets, B + 1, element_nodes, 2 * B, element_kinds, B, NULL, 0, 2,
                        &options, work_reals, work.reals, work_indices, work.indices, work_bytes,
                        work.bytes, reals, pools.reals, indices, pools.indices, bytes,
                        pools.bytes, &info));

@@ -197,6 +197,16 @@ module deform_kernel
   integer(c_int32_t), parameter, public :: DK_PLAN_SPRING = 1, DK_PLAN_QUATERNION = 2
   integer(c_int32_t), parameter, public :: DK_PLAN_SOLVER_AMG = 0, DK_PLAN_SOLVER_LINEAR = 1
   integer(c_int32_t), parameter, public :: DK_PLAN_WARM = 0, DK_PLAN_COLD = 1
+  integer(c_int32_t), parameter, public :: DK_AMG_JACOBI = 0, DK_AMG_CHEBYSHEV = 1
+
+  !> The multigrid preconditioner's options (C struct dk_amg_options).
+  type, bind(C), public :: dk_amg_options
+    real(c_double) :: strength_theta
+    integer(c_size_t) :: max_levels
+    integer(c_size_t) :: max_coarse
+    integer(c_size_t) :: sweeps
+    integer(c_int32_t) :: smoother
+  end type
 
   !> How a plan is built (C struct dk_plan_options); fill with dk_plan_options_default.
   type, bind(C), public :: dk_plan_options
@@ -204,6 +214,7 @@ module deform_kernel
     integer(c_int32_t) :: solver
     real(c_double) :: stiffness_exponent
     type(dk_spring_solve_options) :: linear
+    type(dk_amg_options) :: amg
   end type
 
   !> Lengths of the plan pools or work buffers (C struct dk_plan_sizes).
@@ -358,21 +369,25 @@ module deform_kernel
             dk_spring_solve_angle_f32, dk_spring_angle_jacobi_sweep, &
             dk_spring_angle_jacobi_sweep_f32, dk_spring_angle_gauss_seidel_sweep, &
             dk_spring_angle_gauss_seidel_sweep_f32, dk_spring_angle_rigidity_probe, &
-            dk_spring_angle_rigidity_probe_f32, dk_taubin_params_paper, &
-            dk_taubin_params_paper_f32, dk_taubin_params_from_pass_band, &
-            dk_taubin_params_from_pass_band_f32, dk_smooth_arclength_options_default, &
-            dk_taubin_smooth_arclength_scratch_len, dk_taubin_smooth_arclength, &
-            dk_taubin_smooth_arclength_f32, dk_taubin_smooth_structured_scratch_len, &
-            dk_taubin_smooth_structured, dk_taubin_smooth_structured_f32, &
-            dk_taubin_structured_sweep, dk_taubin_structured_sweep_f32, &
-            dk_taubin_smooth_structured_coarse_scratch_len, dk_taubin_smooth_structured_coarse, &
-            dk_taubin_smooth_structured_coarse_f32, dk_taubin_smooth_graph_scratch_len, &
-            dk_taubin_smooth_graph, dk_taubin_smooth_graph_f32, dk_taubin_graph_sweep, &
-            dk_taubin_graph_sweep_f32, dk_taubin_inverse_distance_weights, &
-            dk_taubin_inverse_distance_weights_f32, dk_taubin_arclength, dk_taubin_arclength_f32, &
-            dk_taubin_redistribute_scratch_len, dk_taubin_redistribute, &
-            dk_taubin_redistribute_f32, dk_taubin_stretching, dk_taubin_stretching_f32, &
-            dk_taubin_max_stretching, dk_taubin_max_stretching_f32, &
+            dk_spring_angle_rigidity_probe_f32, dk_spring_wall_distances, &
+            dk_spring_wall_distances_f32, dk_spring_wall_distance_factors, &
+            dk_spring_wall_distance_factors_f32, dk_spring_dual_volumes, &
+            dk_spring_dual_volumes_f32, dk_spring_inverse_volume_factors, &
+            dk_spring_inverse_volume_factors_f32, dk_spring_scale_stiffness, &
+            dk_spring_scale_stiffness_f32, dk_taubin_params_paper, dk_taubin_params_paper_f32, &
+            dk_taubin_params_from_pass_band, dk_taubin_params_from_pass_band_f32, &
+            dk_smooth_arclength_options_default, dk_taubin_smooth_arclength_scratch_len, &
+            dk_taubin_smooth_arclength, dk_taubin_smooth_arclength_f32, &
+            dk_taubin_smooth_structured_scratch_len, dk_taubin_smooth_structured, &
+            dk_taubin_smooth_structured_f32, dk_taubin_structured_sweep, &
+            dk_taubin_structured_sweep_f32, dk_taubin_smooth_structured_coarse_scratch_len, &
+            dk_taubin_smooth_structured_coarse, dk_taubin_smooth_structured_coarse_f32, &
+            dk_taubin_smooth_graph_scratch_len, dk_taubin_smooth_graph, &
+            dk_taubin_smooth_graph_f32, dk_taubin_graph_sweep, dk_taubin_graph_sweep_f32, &
+            dk_taubin_inverse_distance_weights, dk_taubin_inverse_distance_weights_f32, &
+            dk_taubin_arclength, dk_taubin_arclength_f32, dk_taubin_redistribute_scratch_len, &
+            dk_taubin_redistribute, dk_taubin_redistribute_f32, dk_taubin_stretching, &
+            dk_taubin_stretching_f32, dk_taubin_max_stretching, dk_taubin_max_stretching_f32, &
             dk_taubin_check_lines_increasing, dk_taubin_check_lines_increasing_f32
 
   interface
@@ -1173,8 +1188,8 @@ module deform_kernel
     end function
     function dk_plan_work_sizes(points, points_len, offsets, offsets_len, targets, targets_len, &
         boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
-        element_nodes_len, element_kinds, element_kinds_len, dim, options, sizes_out) bind(C, &
-        name="dk_plan_work_sizes") result(s)
+        element_nodes_len, element_kinds, element_kinds_len, stiffness, stiffness_len, dim, &
+        options, sizes_out) bind(C, name="dk_plan_work_sizes") result(s)
       import :: c_double, c_int32_t, c_ptr, c_size_t, dk_plan_options, dk_plan_sizes
       real(c_double), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
@@ -1190,6 +1205,8 @@ module deform_kernel
       integer(c_size_t), value :: element_nodes_len
       type(c_ptr), value :: element_kinds
       integer(c_size_t), value :: element_kinds_len
+      type(c_ptr), value :: stiffness
+      integer(c_size_t), value :: stiffness_len
       integer(c_int32_t), value :: dim
       type(dk_plan_options), intent(in) :: options
       type(dk_plan_sizes), intent(inout) :: sizes_out
@@ -1197,8 +1214,8 @@ module deform_kernel
     end function
     function dk_plan_work_sizes_f32(points, points_len, offsets, offsets_len, targets, &
         targets_len, boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
-        element_nodes_len, element_kinds, element_kinds_len, dim, options, sizes_out) bind(C, &
-        name="dk_plan_work_sizes_f32") result(s)
+        element_nodes_len, element_kinds, element_kinds_len, stiffness, stiffness_len, dim, &
+        options, sizes_out) bind(C, name="dk_plan_work_sizes_f32") result(s)
       import :: c_float, c_int32_t, c_ptr, c_size_t, dk_plan_options, dk_plan_sizes
       real(c_float), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
@@ -1214,6 +1231,8 @@ module deform_kernel
       integer(c_size_t), value :: element_nodes_len
       type(c_ptr), value :: element_kinds
       integer(c_size_t), value :: element_kinds_len
+      type(c_ptr), value :: stiffness
+      integer(c_size_t), value :: stiffness_len
       integer(c_int32_t), value :: dim
       type(dk_plan_options), intent(in) :: options
       type(dk_plan_sizes), intent(inout) :: sizes_out
@@ -1221,9 +1240,9 @@ module deform_kernel
     end function
     function dk_plan_pool_sizes(points, points_len, offsets, offsets_len, targets, targets_len, &
         boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
-        element_nodes_len, element_kinds, element_kinds_len, dim, options, work_reals, &
-        work_reals_len, work_indices, work_indices_len, work_bytes, work_bytes_len, sizes_out) &
-        bind(C, name="dk_plan_pool_sizes") result(s)
+        element_nodes_len, element_kinds, element_kinds_len, stiffness, stiffness_len, dim, &
+        options, work_reals, work_reals_len, work_indices, work_indices_len, work_bytes, &
+        work_bytes_len, sizes_out) bind(C, name="dk_plan_pool_sizes") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_options, dk_plan_sizes
       real(c_double), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
@@ -1239,6 +1258,8 @@ module deform_kernel
       integer(c_size_t), value :: element_nodes_len
       type(c_ptr), value :: element_kinds
       integer(c_size_t), value :: element_kinds_len
+      type(c_ptr), value :: stiffness
+      integer(c_size_t), value :: stiffness_len
       integer(c_int32_t), value :: dim
       type(dk_plan_options), intent(in) :: options
       real(c_double), intent(inout) :: work_reals(*)
@@ -1252,9 +1273,9 @@ module deform_kernel
     end function
     function dk_plan_pool_sizes_f32(points, points_len, offsets, offsets_len, targets, &
         targets_len, boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
-        element_nodes_len, element_kinds, element_kinds_len, dim, options, work_reals, &
-        work_reals_len, work_indices, work_indices_len, work_bytes, work_bytes_len, sizes_out) &
-        bind(C, name="dk_plan_pool_sizes_f32") result(s)
+        element_nodes_len, element_kinds, element_kinds_len, stiffness, stiffness_len, dim, &
+        options, work_reals, work_reals_len, work_indices, work_indices_len, work_bytes, &
+        work_bytes_len, sizes_out) bind(C, name="dk_plan_pool_sizes_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_options, dk_plan_sizes
       real(c_float), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
@@ -1270,6 +1291,8 @@ module deform_kernel
       integer(c_size_t), value :: element_nodes_len
       type(c_ptr), value :: element_kinds
       integer(c_size_t), value :: element_kinds_len
+      type(c_ptr), value :: stiffness
+      integer(c_size_t), value :: stiffness_len
       integer(c_int32_t), value :: dim
       type(dk_plan_options), intent(in) :: options
       real(c_float), intent(inout) :: work_reals(*)
@@ -1283,10 +1306,10 @@ module deform_kernel
     end function
     function dk_plan_init(points, points_len, offsets, offsets_len, targets, targets_len, &
         boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
-        element_nodes_len, element_kinds, element_kinds_len, dim, options, work_reals, &
-        work_reals_len, work_indices, work_indices_len, work_bytes, work_bytes_len, reals, &
-        reals_len, indices, indices_len, bytes, bytes_len, info_out) bind(C, name="dk_plan_init") &
-        result(s)
+        element_nodes_len, element_kinds, element_kinds_len, stiffness, stiffness_len, dim, &
+        options, work_reals, work_reals_len, work_indices, work_indices_len, work_bytes, &
+        work_bytes_len, reals, reals_len, indices, indices_len, bytes, bytes_len, info_out) &
+        bind(C, name="dk_plan_init") result(s)
       import :: c_double, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_info, dk_plan_options
       real(c_double), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
@@ -1302,6 +1325,8 @@ module deform_kernel
       integer(c_size_t), value :: element_nodes_len
       type(c_ptr), value :: element_kinds
       integer(c_size_t), value :: element_kinds_len
+      type(c_ptr), value :: stiffness
+      integer(c_size_t), value :: stiffness_len
       integer(c_int32_t), value :: dim
       type(dk_plan_options), intent(in) :: options
       real(c_double), intent(inout) :: work_reals(*)
@@ -1321,10 +1346,10 @@ module deform_kernel
     end function
     function dk_plan_init_f32(points, points_len, offsets, offsets_len, targets, targets_len, &
         boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
-        element_nodes_len, element_kinds, element_kinds_len, dim, options, work_reals, &
-        work_reals_len, work_indices, work_indices_len, work_bytes, work_bytes_len, reals, &
-        reals_len, indices, indices_len, bytes, bytes_len, info_out) bind(C, &
-        name="dk_plan_init_f32") result(s)
+        element_nodes_len, element_kinds, element_kinds_len, stiffness, stiffness_len, dim, &
+        options, work_reals, work_reals_len, work_indices, work_indices_len, work_bytes, &
+        work_bytes_len, reals, reals_len, indices, indices_len, bytes, bytes_len, info_out) &
+        bind(C, name="dk_plan_init_f32") result(s)
       import :: c_float, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_info, dk_plan_options
       real(c_float), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
@@ -1340,6 +1365,8 @@ module deform_kernel
       integer(c_size_t), value :: element_nodes_len
       type(c_ptr), value :: element_kinds
       integer(c_size_t), value :: element_kinds_len
+      type(c_ptr), value :: stiffness
+      integer(c_size_t), value :: stiffness_len
       integer(c_int32_t), value :: dim
       type(dk_plan_options), intent(in) :: options
       real(c_float), intent(inout) :: work_reals(*)
@@ -2477,6 +2504,143 @@ module deform_kernel
       real(c_float), intent(inout) :: amplification_out
       integer(c_int32_t) :: s
     end function
+    function dk_spring_wall_distances(points, points_len, dim, wall, wall_len, index_base, &
+        index_scratch, index_scratch_len, out, out_len) bind(C, name="dk_spring_wall_distances") &
+        result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: wall(*)
+      integer(c_size_t), value :: wall_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_wall_distances_f32(points, points_len, dim, wall, wall_len, index_base, &
+        index_scratch, index_scratch_len, out, out_len) bind(C, &
+        name="dk_spring_wall_distances_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: wall(*)
+      integer(c_size_t), value :: wall_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_wall_distance_factors(distances, distances_len, exponent) bind(C, &
+        name="dk_spring_wall_distance_factors") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(inout) :: distances(*)
+      integer(c_size_t), value :: distances_len
+      real(c_double), value :: exponent
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_wall_distance_factors_f32(distances, distances_len, exponent) bind(C, &
+        name="dk_spring_wall_distance_factors_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(inout) :: distances(*)
+      integer(c_size_t), value :: distances_len
+      real(c_float), value :: exponent
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_dual_volumes(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
+        cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, points, &
+        points_len, dim, out, out_len, scratch, scratch_len) bind(C, &
+        name="dk_spring_dual_volumes") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_dual_volumes_f32(cell_offsets, cell_offsets_len, cell_nodes, &
+        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
+        points, points_len, dim, out, out_len, scratch, scratch_len) bind(C, &
+        name="dk_spring_dual_volumes_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t
+      integer(c_int32_t), intent(in) :: cell_offsets(*)
+      integer(c_size_t), value :: cell_offsets_len
+      integer(c_int32_t), intent(in) :: cell_nodes(*)
+      integer(c_size_t), value :: cell_nodes_len
+      integer(c_int8_t), intent(in) :: cell_kinds(*)
+      integer(c_size_t), value :: cell_kinds_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_inverse_volume_factors(volumes, volumes_len, exponent) bind(C, &
+        name="dk_spring_inverse_volume_factors") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(inout) :: volumes(*)
+      integer(c_size_t), value :: volumes_len
+      real(c_double), value :: exponent
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_inverse_volume_factors_f32(volumes, volumes_len, exponent) bind(C, &
+        name="dk_spring_inverse_volume_factors_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(inout) :: volumes(*)
+      integer(c_size_t), value :: volumes_len
+      real(c_float), value :: exponent
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_scale_stiffness(offsets, offsets_len, targets, targets_len, factors, &
+        factors_len, stiffness, stiffness_len) bind(C, name="dk_spring_scale_stiffness") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_double), intent(in) :: factors(*)
+      integer(c_size_t), value :: factors_len
+      real(c_double), intent(inout) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_scale_stiffness_f32(offsets, offsets_len, targets, targets_len, factors, &
+        factors_len, stiffness, stiffness_len) bind(C, name="dk_spring_scale_stiffness_f32") &
+        result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(in) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      real(c_float), intent(in) :: factors(*)
+      integer(c_size_t), value :: factors_len
+      real(c_float), intent(inout) :: stiffness(*)
+      integer(c_size_t), value :: stiffness_len
+      integer(c_int32_t) :: s
+    end function
     function dk_taubin_params_paper(lambda_out, mu_out) bind(C, name="dk_taubin_params_paper") &
         result(s)
       import :: c_double, c_int32_t
@@ -3367,39 +3531,48 @@ contains
   !> graph offsets(n + 1), targets(:) from dkf_graph_from_*, the 1-based boundary(:) node
   !> list, options (from dk_plan_options_default), optional boundary elements over
   !> 1..size(boundary) as 1-based element_offsets/element_nodes (as dkf_graph_from_cells takes
-  !> cells) and element_kinds. The work buffers and 0-based copies of the node lists are
-  !> allocated here and freed on return; pools receives the three pool lengths.
+  !> cells) and element_kinds, and an optional stiffness(size(targets)) per directed edge (else
+  !> Batina's with options%stiffness_exponent). The work buffers and 0-based copies of the node
+  !> lists are allocated here and freed on return; pools receives the three pool lengths.
   function dkf_plan_pool_sizes(points, offsets, targets, boundary, options, pools, &
-                               element_offsets, element_nodes, element_kinds) result(s)
+                               element_offsets, element_nodes, element_kinds, stiffness) result(s)
+    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
     real(c_double), intent(in), contiguous :: points(:, :)
     integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:), boundary(:)
     type(dk_plan_options), intent(in) :: options
     type(dk_plan_sizes), intent(out) :: pools
     integer(c_int32_t), intent(in), contiguous, optional :: element_offsets(:), element_nodes(:)
     integer(c_int8_t), intent(in), contiguous, optional :: element_kinds(:)
+    real(c_double), intent(in), target, contiguous, optional :: stiffness(:)
     integer(c_int32_t) :: s
     type(dk_plan_sizes) :: work
     real(c_double), allocatable :: wr(:)
     integer(c_int32_t), allocatable :: wi(:)
     integer(c_int8_t), allocatable :: wb(:)
-    type(c_ptr) :: eo, en, ek
-    integer(c_size_t) :: neo, nen, nek
+    type(c_ptr) :: eo, en, ek, k
+    integer(c_size_t) :: neo, nen, nek, nk
     integer(c_int32_t), allocatable, target :: b0(:), eo0(:), en0(:)
     integer(c_int8_t), allocatable, target :: ek0(:)
     allocate(b0(size(boundary)))
     b0 = boundary - 1
     call dkf_plan_elements(element_offsets, element_nodes, element_kinds, eo0, en0, ek0, eo, neo, &
                            en, nen, ek, nek)
+    k = c_null_ptr
+    nk = 0
+    if (present(stiffness)) then
+      k = c_loc(stiffness)
+      nk = size(stiffness, kind=c_size_t)
+    end if
     s = dk_plan_work_sizes(points, size(points, kind=c_size_t), offsets, &
                            size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, &
+                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, k, nk, &
                            int(size(points, 1), c_int32_t), options, work)
     if (s /= DK_OK) return
     allocate(wr(max(work%reals, 1_c_size_t)), wi(max(work%indices, 1_c_size_t)), &
              wb(max(work%bytes, 1_c_size_t)))
     s = dk_plan_pool_sizes(points, size(points, kind=c_size_t), offsets, &
                            size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, &
+                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, k, nk, &
                            int(size(points, 1), c_int32_t), options, wr, work%reals, wi, &
                            work%indices, wb, work%bytes, pools)
   end function
@@ -3408,7 +3581,8 @@ contains
   !> allocated here): builds the plan in reals(:), indices(:), bytes(:) (at least the lengths
   !> dkf_plan_pool_sizes gave); info receives what the plan holds.
   function dkf_plan_init(points, offsets, targets, boundary, options, reals, indices, bytes, &
-                         info, element_offsets, element_nodes, element_kinds) result(s)
+                         info, element_offsets, element_nodes, element_kinds, stiffness) result(s)
+    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
     real(c_double), intent(in), contiguous :: points(:, :)
     integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:), boundary(:)
     type(dk_plan_options), intent(in) :: options
@@ -3418,29 +3592,36 @@ contains
     type(dk_plan_info), intent(inout) :: info
     integer(c_int32_t), intent(in), contiguous, optional :: element_offsets(:), element_nodes(:)
     integer(c_int8_t), intent(in), contiguous, optional :: element_kinds(:)
+    real(c_double), intent(in), target, contiguous, optional :: stiffness(:)
     integer(c_int32_t) :: s
     type(dk_plan_sizes) :: work
     real(c_double), allocatable :: wr(:)
     integer(c_int32_t), allocatable :: wi(:)
     integer(c_int8_t), allocatable :: wb(:)
-    type(c_ptr) :: eo, en, ek
-    integer(c_size_t) :: neo, nen, nek
+    type(c_ptr) :: eo, en, ek, k
+    integer(c_size_t) :: neo, nen, nek, nk
     integer(c_int32_t), allocatable, target :: b0(:), eo0(:), en0(:)
     integer(c_int8_t), allocatable, target :: ek0(:)
     allocate(b0(size(boundary)))
     b0 = boundary - 1
     call dkf_plan_elements(element_offsets, element_nodes, element_kinds, eo0, en0, ek0, eo, neo, &
                            en, nen, ek, nek)
+    k = c_null_ptr
+    nk = 0
+    if (present(stiffness)) then
+      k = c_loc(stiffness)
+      nk = size(stiffness, kind=c_size_t)
+    end if
     s = dk_plan_work_sizes(points, size(points, kind=c_size_t), offsets, &
                            size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, &
+                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, k, nk, &
                            int(size(points, 1), c_int32_t), options, work)
     if (s /= DK_OK) return
     allocate(wr(max(work%reals, 1_c_size_t)), wi(max(work%indices, 1_c_size_t)), &
              wb(max(work%bytes, 1_c_size_t)))
     s = dk_plan_init(points, size(points, kind=c_size_t), offsets, size(offsets, kind=c_size_t), &
                      targets, size(targets, kind=c_size_t), b0, size(b0, kind=c_size_t), eo, &
-                     neo, en, nen, ek, nek, &
+                     neo, en, nen, ek, nek, k, nk, &
                      int(size(points, 1), c_int32_t), options, wr, work%reals, wi, work%indices, &
                      wb, work%bytes, reals, size(reals, kind=c_size_t), indices, &
                      size(indices, kind=c_size_t), bytes, size(bytes, kind=c_size_t), info)
@@ -3850,39 +4031,48 @@ contains
   !> graph offsets(n + 1), targets(:) from dkf_graph_from_*, the 1-based boundary(:) node
   !> list, options (from dk_plan_options_default_f32), optional boundary elements over
   !> 1..size(boundary) as 1-based element_offsets/element_nodes (as dkf_graph_from_cells takes
-  !> cells) and element_kinds. The work buffers and 0-based copies of the node lists are
-  !> allocated here and freed on return; pools receives the three pool lengths.
+  !> cells) and element_kinds, and an optional stiffness(size(targets)) per directed edge (else
+  !> Batina's with options%stiffness_exponent). The work buffers and 0-based copies of the node
+  !> lists are allocated here and freed on return; pools receives the three pool lengths.
   function dkf_plan_pool_sizes_f32(points, offsets, targets, boundary, options, pools, &
-                               element_offsets, element_nodes, element_kinds) result(s)
+                               element_offsets, element_nodes, element_kinds, stiffness) result(s)
+    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
     real(c_float), intent(in), contiguous :: points(:, :)
     integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:), boundary(:)
     type(dk_plan_options), intent(in) :: options
     type(dk_plan_sizes), intent(out) :: pools
     integer(c_int32_t), intent(in), contiguous, optional :: element_offsets(:), element_nodes(:)
     integer(c_int8_t), intent(in), contiguous, optional :: element_kinds(:)
+    real(c_float), intent(in), target, contiguous, optional :: stiffness(:)
     integer(c_int32_t) :: s
     type(dk_plan_sizes) :: work
     real(c_float), allocatable :: wr(:)
     integer(c_int32_t), allocatable :: wi(:)
     integer(c_int8_t), allocatable :: wb(:)
-    type(c_ptr) :: eo, en, ek
-    integer(c_size_t) :: neo, nen, nek
+    type(c_ptr) :: eo, en, ek, k
+    integer(c_size_t) :: neo, nen, nek, nk
     integer(c_int32_t), allocatable, target :: b0(:), eo0(:), en0(:)
     integer(c_int8_t), allocatable, target :: ek0(:)
     allocate(b0(size(boundary)))
     b0 = boundary - 1
     call dkf_plan_elements(element_offsets, element_nodes, element_kinds, eo0, en0, ek0, eo, neo, &
                            en, nen, ek, nek)
+    k = c_null_ptr
+    nk = 0
+    if (present(stiffness)) then
+      k = c_loc(stiffness)
+      nk = size(stiffness, kind=c_size_t)
+    end if
     s = dk_plan_work_sizes_f32(points, size(points, kind=c_size_t), offsets, &
                            size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, &
+                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, k, nk, &
                            int(size(points, 1), c_int32_t), options, work)
     if (s /= DK_OK) return
     allocate(wr(max(work%reals, 1_c_size_t)), wi(max(work%indices, 1_c_size_t)), &
              wb(max(work%bytes, 1_c_size_t)))
     s = dk_plan_pool_sizes_f32(points, size(points, kind=c_size_t), offsets, &
                            size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, &
+                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, k, nk, &
                            int(size(points, 1), c_int32_t), options, wr, work%reals, wi, &
                            work%indices, wb, work%bytes, pools)
   end function
@@ -3892,7 +4082,8 @@ contains
   !> allocated here): builds the plan in reals(:), indices(:), bytes(:) (at least the lengths
   !> dkf_plan_pool_sizes_f32 gave); info receives what the plan holds.
   function dkf_plan_init_f32(points, offsets, targets, boundary, options, reals, indices, bytes, &
-                         info, element_offsets, element_nodes, element_kinds) result(s)
+                         info, element_offsets, element_nodes, element_kinds, stiffness) result(s)
+    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
     real(c_float), intent(in), contiguous :: points(:, :)
     integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:), boundary(:)
     type(dk_plan_options), intent(in) :: options
@@ -3902,29 +4093,36 @@ contains
     type(dk_plan_info), intent(inout) :: info
     integer(c_int32_t), intent(in), contiguous, optional :: element_offsets(:), element_nodes(:)
     integer(c_int8_t), intent(in), contiguous, optional :: element_kinds(:)
+    real(c_float), intent(in), target, contiguous, optional :: stiffness(:)
     integer(c_int32_t) :: s
     type(dk_plan_sizes) :: work
     real(c_float), allocatable :: wr(:)
     integer(c_int32_t), allocatable :: wi(:)
     integer(c_int8_t), allocatable :: wb(:)
-    type(c_ptr) :: eo, en, ek
-    integer(c_size_t) :: neo, nen, nek
+    type(c_ptr) :: eo, en, ek, k
+    integer(c_size_t) :: neo, nen, nek, nk
     integer(c_int32_t), allocatable, target :: b0(:), eo0(:), en0(:)
     integer(c_int8_t), allocatable, target :: ek0(:)
     allocate(b0(size(boundary)))
     b0 = boundary - 1
     call dkf_plan_elements(element_offsets, element_nodes, element_kinds, eo0, en0, ek0, eo, neo, &
                            en, nen, ek, nek)
+    k = c_null_ptr
+    nk = 0
+    if (present(stiffness)) then
+      k = c_loc(stiffness)
+      nk = size(stiffness, kind=c_size_t)
+    end if
     s = dk_plan_work_sizes_f32(points, size(points, kind=c_size_t), offsets, &
                            size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, &
+                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, k, nk, &
                            int(size(points, 1), c_int32_t), options, work)
     if (s /= DK_OK) return
     allocate(wr(max(work%reals, 1_c_size_t)), wi(max(work%indices, 1_c_size_t)), &
              wb(max(work%bytes, 1_c_size_t)))
     s = dk_plan_init_f32(points, size(points, kind=c_size_t), offsets, size(offsets, kind=c_size_t), &
                      targets, size(targets, kind=c_size_t), b0, size(b0, kind=c_size_t), eo, &
-                     neo, en, nen, ek, nek, &
+                     neo, en, nen, ek, nek, k, nk, &
                      int(size(points, 1), c_int32_t), options, wr, work%reals, wi, work%indices, &
                      wb, work%bytes, reals, size(reals, kind=c_size_t), indices, &
                      size(indices, kind=c_size_t), bytes, size(bytes, kind=c_size_t), info)

@@ -35,6 +35,7 @@ pub mod quality;
 pub mod quat;
 pub mod spring;
 pub mod status;
+pub mod stiffening;
 pub mod taubin;
 
 pub use status::{dk_status, dk_status_str};

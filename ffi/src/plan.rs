@@ -2,8 +2,8 @@
 //! caller pools, then step it every time step with new boundary positions.
 //!
 //! The pools are the caller's memory: `reals` (`double` / `float`), `indices` (`uint32_t`)
-//! and `bytes` (`uint8_t`), sized by [`dk_plan_pool_sizes`](abi::dk_plan_pool_sizes) after
-//! [`dk_plan_work_sizes`](abi::dk_plan_work_sizes) sized the transient work buffers. The plan
+//! and `bytes` (`uint8_t`), sized by [`dk_plan_pool_sizes`] after
+//! [`dk_plan_work_sizes`] sized the transient work buffers. The plan
 //! stores no pointers (offsets follow from the counts in its header), so a caller may copy,
 //! checkpoint or move the pools between steps. Every step reopens the pools with
 //! `Plan::open` (header, layout and a checksum of every immutable part: one pass over the
@@ -14,7 +14,7 @@ use deform_kernel::deformation::RotationSource;
 use deform_kernel::plan::{
     Plan, PlanMethod, PlanMotion, PlanSizes, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
 };
-use deform_kernel::spring::AmgOptions;
+use deform_kernel::spring::{AmgOptions, AmgSmoother};
 use deform_kernel::{Cells, Quat, Real};
 
 use crate::args::{assert_layout, done, graph, read_one, read_points, write_one};
@@ -40,7 +40,66 @@ pub const DK_PLAN_WARM: u32 = 0;
 /// `dk_plan_step` `start`: as the stateless calls (the same bits as `dk_deform_spring`).
 pub const DK_PLAN_COLD: u32 = 1;
 
-/// How a plan is built ([`dk_plan_options_default`](abi::dk_plan_options_default) fills
+/// [`dk_amg_options::smoother`]: damped Jacobi.
+pub const DK_AMG_JACOBI: u32 = 0;
+/// [`dk_amg_options::smoother`]: Chebyshev polynomial smoothing (default).
+pub const DK_AMG_CHEBYSHEV: u32 = 1;
+
+/// The multigrid preconditioner of `DK_PLAN_SOLVER_AMG` (the kernel's `AmgOptions`; see
+/// docs/amg.md). [`dk_plan_options_default`] fills pyamg-like
+/// defaults.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(non_camel_case_types)]
+pub struct dk_amg_options {
+    /// Strength-of-connection threshold θ in `[0, 1)` (default 0: every spring strong).
+    pub strength_theta: f64,
+    /// Most levels, 1 to 16 (default 10).
+    pub max_levels: usize,
+    /// Coarsening stops at a level with at most this many unknowns, solved by dense Cholesky;
+    /// 1 to 1024 (default 256).
+    pub max_coarse: usize,
+    /// Smoothing steps before and after the coarse correction, 1 to 16 (default 2).
+    pub sweeps: usize,
+    /// [`DK_AMG_CHEBYSHEV`] (default) or [`DK_AMG_JACOBI`].
+    pub smoother: u32,
+}
+assert_layout!(
+    dk_amg_options, 40;
+    strength_theta = 0, max_levels = 8, max_coarse = 16, sweeps = 24, smoother = 32,
+);
+
+impl dk_amg_options {
+    fn of<T: Real>(a: AmgOptions<T>) -> Self {
+        dk_amg_options {
+            strength_theta: a.strength_theta.to_f64(),
+            max_levels: a.max_levels,
+            max_coarse: a.max_coarse,
+            sweeps: a.sweeps,
+            smoother: match a.smoother {
+                AmgSmoother::Jacobi => DK_AMG_JACOBI,
+                AmgSmoother::Chebyshev => DK_AMG_CHEBYSHEV,
+            },
+        }
+    }
+
+    /// The kernel's options (checked by the kernel when the hierarchy is set up).
+    fn to_kernel<T: Real>(self) -> Result<AmgOptions<T>, dk_status> {
+        Ok(AmgOptions {
+            strength_theta: T::from_f64(self.strength_theta),
+            max_levels: self.max_levels,
+            max_coarse: self.max_coarse,
+            sweeps: self.sweeps,
+            smoother: match self.smoother {
+                DK_AMG_JACOBI => AmgSmoother::Jacobi,
+                DK_AMG_CHEBYSHEV => AmgSmoother::Chebyshev,
+                _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
+            },
+        })
+    }
+}
+
+/// How a plan is built ([`dk_plan_options_default`] fills
 /// the defaults). The same struct serves both precisions.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,8 +114,13 @@ pub struct dk_plan_options {
     /// Stopping rules of every step's solve (`max_iterations`, `residual_tol`, `update_tol`)
     /// and, for `DK_PLAN_SOLVER_LINEAR`, the method (`method`, `preconditioner`, `omega`).
     pub linear: dk_spring_solve_options,
+    /// The multigrid preconditioner of `DK_PLAN_SOLVER_AMG` (ignored otherwise).
+    pub amg: dk_amg_options,
 }
-assert_layout!(dk_plan_options, 56; method = 0, solver = 4, stiffness_exponent = 8, linear = 16);
+assert_layout!(
+    dk_plan_options, 96;
+    method = 0, solver = 4, stiffness_exponent = 8, linear = 16, amg = 56,
+);
 
 /// Lengths of the three plan pools, or of the transient work buffers.
 #[repr(C)]
@@ -169,6 +233,7 @@ pub(crate) fn options_default<T: Real>(out: Out<'_, dk_plan_options>) -> dk_stat
             solver: DK_PLAN_SOLVER_AMG,
             stiffness_exponent: 1.0,
             linear,
+            amg: dk_amg_options::of(AmgOptions::<T>::default()),
         },
     ))
 }
@@ -182,6 +247,8 @@ pub(crate) struct SpecArgs<'a, T> {
     pub(crate) element_offsets: In<'a, u32>,
     pub(crate) element_nodes: In<'a, u32>,
     pub(crate) element_kinds: In<'a, u8>,
+    /// Per directed edge, or NULL with length 0 for Batina's with `stiffness_exponent`.
+    pub(crate) stiffness: In<'a, T>,
     pub(crate) dim: u32,
     pub(crate) options: In<'a, dk_plan_options>,
 }
@@ -243,7 +310,7 @@ impl<'a, T: Real> SpecArgs<'a, T> {
             _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
         };
         let solver = match o.solver {
-            DK_PLAN_SOLVER_AMG => PlanSolver::Amg(AmgOptions::default()),
+            DK_PLAN_SOLVER_AMG => PlanSolver::Amg(o.amg.to_kernel()?),
             DK_PLAN_SOLVER_LINEAR => PlanSolver::Method(o.linear.method::<T>()?),
             _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
         };
@@ -254,8 +321,12 @@ impl<'a, T: Real> SpecArgs<'a, T> {
             elements,
             constraints: None,
             method,
-            stiffness: PlanStiffness::Batina {
-                exponent: T::from_f64(o.stiffness_exponent),
+            stiffness: if self.stiffness.is_null() && self.stiffness.len() == 0 {
+                PlanStiffness::Batina {
+                    exponent: T::from_f64(o.stiffness_exponent),
+                }
+            } else {
+                PlanStiffness::Given(input(self.stiffness)?)
             },
             solver,
             options: o.linear.stopping::<T>(),

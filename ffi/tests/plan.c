@@ -75,13 +75,13 @@ int main(void) {
     options.method = DK_PLAN_SPRING;
     options.solver = DK_PLAN_SOLVER_LINEAR;
     EXPECT(dk_plan_work_sizes_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL,
-                                  0, NULL, 0, NULL, 0, 2, &options, &work) == DK_OK);
+                                  0, NULL, 0, NULL, 0, NULL, 0, 2, &options, &work) == DK_OK);
     wr = malloc((work.reals + 1) * sizeof *wr);
     wi = malloc((work.indices + 1) * sizeof *wi);
     wb = malloc(work.bytes + 1);
     if (!wr || !wi || !wb) return EXIT_FAILURE;
     EXPECT(dk_plan_pool_sizes_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL,
-                                  0, NULL, 0, NULL, 0, 2, &options, wr, work.reals, wi,
+                                  0, NULL, 0, NULL, 0, NULL, 0, 2, &options, wr, work.reals, wi,
                                   work.indices, wb, work.bytes, &pools) == DK_OK);
     reals = malloc(pools.reals * sizeof *reals);
     indices = malloc(pools.indices * sizeof *indices);
@@ -92,24 +92,24 @@ int main(void) {
     memset(&info, 0x5a, sizeof info);
     memcpy(&info2, &info, sizeof info);
     EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL, 0,
-                            NULL, 0, NULL, 0, 4, &options, wr, work.reals, wi, work.indices, wb,
-                            work.bytes, reals, pools.reals, indices, pools.indices, bytes,
+                            NULL, 0, NULL, 0, NULL, 0, 4, &options, wr, work.reals, wi, work.indices,
+                            wb, work.bytes, reals, pools.reals, indices, pools.indices, bytes,
                             pools.bytes, &info) == DK_ERR_INVALID_PARAMETER);
     boundary[1] = boundary[0];
     EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL, 0,
-                            NULL, 0, NULL, 0, 2, &options, wr, work.reals, wi, work.indices, wb,
-                            work.bytes, reals, pools.reals, indices, pools.indices, bytes,
+                            NULL, 0, NULL, 0, NULL, 0, 2, &options, wr, work.reals, wi, work.indices,
+                            wb, work.bytes, reals, pools.reals, indices, pools.indices, bytes,
                             pools.bytes, &info) == DK_ERR_DUPLICATE_NODE);
     boundary[1] = 1;
     EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL, 0,
-                            NULL, 0, NULL, 0, 2, &options, wr, work.reals, wi, work.indices, wb,
-                            work.bytes, reals, pools.reals - 1, indices, pools.indices, bytes,
+                            NULL, 0, NULL, 0, NULL, 0, 2, &options, wr, work.reals, wi, work.indices,
+                            wb, work.bytes, reals, pools.reals - 1, indices, pools.indices, bytes,
                             pools.bytes, &info) == DK_ERR_BUFFER_TOO_SMALL);
     EXPECT(memcmp(&info, &info2, sizeof info) == 0);
 
     EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL, 0,
-                            NULL, 0, NULL, 0, 2, &options, wr, work.reals, wi, work.indices, wb,
-                            work.bytes, reals, pools.reals, indices, pools.indices, bytes,
+                            NULL, 0, NULL, 0, NULL, 0, 2, &options, wr, work.reals, wi, work.indices,
+                            wb, work.bytes, reals, pools.reals, indices, pools.indices, bytes,
                             pools.bytes, &info) == DK_OK);
     EXPECT(info.nodes == N && info.boundary == B && info.steps == 0 && info.amg_levels == 0 &&
            info.method == DK_PLAN_SPRING);
@@ -146,6 +146,61 @@ int main(void) {
         EXPECT(out[2 * boundary[k] + 1] == deformed[2 * k + 1]);
     }
     EXPECT(out[2 * (2 * NX + 2) + 1] > 2.0f && out[2 * (2 * NX + 2) + 1] < 2.5f);
+
+    /* A given stiffness (Batina's, computed by the caller) gives the first step's bits; a
+     * stiffness of the wrong length and bad multigrid options are refused. */
+    {
+        static float k[8 * N], out2[2 * N];
+        dk_plan_sizes pools2;
+        dk_plan_info info3;
+        float *r2;
+        uint32_t *i2;
+        uint8_t *b2;
+        EXPECT(dk_spring_batina_stiffness_f32(offsets, N + 1, targets, used, points, 2 * N, 2,
+                                              1.0f, k, used) == DK_OK);
+        EXPECT(dk_plan_pool_sizes_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B,
+                                      NULL, 0, NULL, 0, NULL, 0, k, used, 2, &options, wr,
+                                      work.reals, wi, work.indices, wb, work.bytes,
+                                      &pools2) == DK_OK);
+        r2 = malloc(pools2.reals * sizeof *r2);
+        i2 = malloc(pools2.indices * sizeof *i2);
+        b2 = malloc(pools2.bytes);
+        if (!r2 || !i2 || !b2) return EXIT_FAILURE;
+        memset(&info3, 0x5a, sizeof info3);
+        memcpy(&info2, &info3, sizeof info3);
+        EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL,
+                                0, NULL, 0, NULL, 0, k, used - 1, 2, &options, wr, work.reals,
+                                wi, work.indices, wb, work.bytes, r2, pools2.reals, i2,
+                                pools2.indices, b2, pools2.bytes,
+                                &info3) == DK_ERR_LENGTH_MISMATCH);
+        options.solver = DK_PLAN_SOLVER_AMG;
+        options.amg.smoother = 7;
+        EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL,
+                                0, NULL, 0, NULL, 0, k, used, 2, &options, wr, work.reals, wi,
+                                work.indices, wb, work.bytes, r2, pools2.reals, i2,
+                                pools2.indices, b2, pools2.bytes,
+                                &info3) == DK_ERR_INVALID_PARAMETER);
+        options.amg.smoother = DK_AMG_CHEBYSHEV;
+        options.amg.max_coarse = 0;
+        EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL,
+                                0, NULL, 0, NULL, 0, k, used, 2, &options, wr, work.reals, wi,
+                                work.indices, wb, work.bytes, r2, pools2.reals, i2,
+                                pools2.indices, b2, pools2.bytes,
+                                &info3) == DK_ERR_INVALID_PARAMETER);
+        EXPECT(memcmp(&info3, &info2, sizeof info3) == 0);
+        options.solver = DK_PLAN_SOLVER_LINEAR;
+        EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL,
+                                0, NULL, 0, NULL, 0, k, used, 2, &options, wr, work.reals, wi,
+                                work.indices, wb, work.bytes, r2, pools2.reals, i2,
+                                pools2.indices, b2, pools2.bytes, &info3) == DK_OK);
+        EXPECT(dk_plan_step_f32(r2, pools2.reals, i2, pools2.indices, b2, pools2.bytes, 2,
+                                deformed, 2 * B, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0,
+                                DK_PLAN_WARM, out2, 2 * N, &report) == DK_OK);
+        EXPECT(memcmp(out, out2, sizeof out) == 0);
+        free(r2);
+        free(i2);
+        free(b2);
+    }
 
     /* An overwritten immutable part is refused, and the stored state is not touched. */
     reals[0] += 1.0f;

@@ -1313,7 +1313,74 @@ static void CAT(quality_, SUF)(void) {
     SAME(&r, &r0, sizeof r);
 }
 
+/* Stiffness choices: wall distances and dual volumes with their factors, scaled springs. */
+static void CAT(stiffening_, SUF)(void) {
+    REAL pts[10], d[5], d0[5], k[8], k0[8], v[4], cs[2];
+    const uint32_t wall0[1] = {0}, wall1[1] = {1}, far[1] = {5};
+    const uint32_t co[3] = {0, 3, 6}, cn[6] = {0, 1, 2, 0, 2, 3};
+    const uint32_t co1[3] = {1, 4, 7}, cn1[6] = {1, 2, 3, 1, 3, 4};
+    const uint8_t ck[2] = {5, 5};
+    const REAL square[8] = {0, 0, 1, 0, 1, 1, 0, 1};
+    const REAL f_wall[5] = {1000, 4, (REAL)4 / 3, (REAL)2 / 3, (REAL)0.4};
+    size_t i;
+
+    /* The chain at x = 0, 1, 3, 6, 10; the wall is node 0. */
+    for (i = 0; i < 5; i++) {
+        pts[2 * i] = (REAL)(i * (i + 1) / 2);
+        pts[2 * i + 1] = 0;
+    }
+    OK(FN(dk_spring_wall_distances)(pts, 10, 2, wall0, 1, 0, NULL, 0, d, 5));
+    for (i = 0; i < 5; i++) CHECK(d[i] == pts[2 * i]);
+    OK(FN(dk_spring_wall_distances)(pts, 10, 2, wall1, 1, 1, iscr, ISCR_LEN, d0, 5));
+    SAME(d, d0, sizeof d);
+    EXPECT(FN(dk_spring_wall_distances)(pts, 10, 2, far, 1, 0, NULL, 0, d0, 5),
+           DK_ERR_INDEX_OUT_OF_RANGE);
+    EXPECT(FN(dk_spring_wall_distances)(pts, 10, 2, wall0, 0, 0, NULL, 0, d0, 5),
+           DK_ERR_INVALID_PARAMETER);
+    EXPECT(FN(dk_spring_wall_distances)(pts, 10, 2, wall1, 1, 1, NULL, 0, d0, 5),
+           DK_ERR_BUFFER_TOO_SMALL);
+    SAME(d, d0, sizeof d);
+    /* Factors mean / max(d, 1e-3 mean), mean 4: the wall node is floored at 4e-3. */
+    OK(FN(dk_spring_wall_distance_factors)(d, 5, 1));
+    for (i = 0; i < 5; i++) CLOSE(d[i], f_wall[i], 1e-6 * f_wall[i]);
+    memcpy(d0, d, sizeof d);
+    EXPECT(FN(dk_spring_wall_distance_factors)(d, 5, -1), DK_ERR_INVALID_PARAMETER);
+    SAME(d, d0, sizeof d);
+    /* Scaled Batina springs: k_ij (f_i + f_j) / 2, still exactly symmetric. */
+    OK(FN(dk_spring_batina_stiffness)(chain_off, 6, chain_tgt, 8, pts, 10, 2, 1, k, 8));
+    memcpy(k0, k, sizeof k);
+    OK(FN(dk_spring_scale_stiffness)(chain_off, 6, chain_tgt, 8, d, 5, k, 8));
+    CLOSE(k[0], k0[0] * (f_wall[0] + f_wall[1]) / 2, 1e-5 * k[0]);
+    CLOSE(k[7], k0[7] * (f_wall[3] + f_wall[4]) / 2, 1e-5 * k[7]);
+    CHECK(k[0] == k[1] && k[2] == k[3] && k[4] == k[5] && k[6] == k[7]);
+    memcpy(k0, k, sizeof k);
+    d[2] = 0;
+    EXPECT(FN(dk_spring_scale_stiffness)(chain_off, 6, chain_tgt, 8, d, 5, k, 8),
+           DK_ERR_NON_POSITIVE);
+    EXPECT(FN(dk_spring_scale_stiffness)(chain_off, 6, chain_tgt, 8, d, 4, k, 8),
+           DK_ERR_LENGTH_MISMATCH);
+    SAME(k, k0, sizeof k);
+
+    /* Dual volumes of two triangles of the unit square: 1/3 at the shared corners, 1/6 else. */
+    OK(FN(dk_spring_dual_volumes)(co, 3, cn, 6, ck, 2, 0, NULL, 0, square, 8, 2, v, 4, cs, 2));
+    CLOSE(v[0], 1.0 / 3, 1e-6);
+    CLOSE(v[1], 1.0 / 6, 1e-6);
+    CLOSE(v[2], 1.0 / 3, 1e-6);
+    CLOSE(v[3], 1.0 / 6, 1e-6);
+    OK(FN(dk_spring_dual_volumes)(co1, 3, cn1, 6, ck, 2, 1, iscr, ISCR_LEN, square, 8, 2, d0, 4,
+                                  cs, 2));
+    SAME(v, d0, sizeof v);
+    EXPECT(FN(dk_spring_dual_volumes)(co, 3, cn, 6, ck, 2, 0, NULL, 0, square, 8, 2, d0, 4, cs,
+                                      1),
+           DK_ERR_BUFFER_TOO_SMALL);
+    /* Inverse-volume factors mean / v, mean 1/4: 3/4 and 3/2. */
+    OK(FN(dk_spring_inverse_volume_factors)(v, 4, 1));
+    CLOSE(v[0], 0.75, 1e-6);
+    CLOSE(v[1], 1.5, 1e-6);
+}
+
 static void CAT(run_, SUF)(void) {
+    CAT(stiffening_, SUF)();
     CAT(taubin_params_, SUF)();
     CAT(taubin_smooth_arclength_, SUF)();
     CAT(taubin_structured_, SUF)();

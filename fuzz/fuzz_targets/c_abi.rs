@@ -29,6 +29,7 @@ use deform_kernel_ffi::spring::{
     self as sp, dk_spring_angle_options, dk_spring_solve_options, dk_spring_solve_report,
     dk_spring_sweep,
 };
+use deform_kernel_ffi::stiffening as st;
 use deform_kernel_ffi::taubin::{
     self as ta, dk_filter_report, dk_smooth_arclength_options, dk_smooth_report,
     dk_structured_options, dk_taubin_coarse,
@@ -108,6 +109,12 @@ enum Op {
     CellQuality {
         kind: u8,
         from_mesh: bool,
+        f32: bool,
+    },
+    Stiffening {
+        wall_node: u8,
+        exponent: i16,
+        volumes: bool,
         f32: bool,
     },
     Compare {
@@ -196,6 +203,47 @@ struct DeformSpec {
 // Scalars and the per-precision entry points.
 // ---------------------------------------------------------------------------------------------
 
+type WallDistancesFn<T> = unsafe extern "C" fn(
+    *const T,
+    usize,
+    u32,
+    *const u32,
+    usize,
+    u32,
+    *mut u32,
+    usize,
+    *mut T,
+    usize,
+) -> dk_status;
+type FactorsFn<T> = unsafe extern "C" fn(*mut T, usize, T) -> dk_status;
+type DualVolumesFn<T> = unsafe extern "C" fn(
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const u8,
+    usize,
+    u32,
+    *mut u32,
+    usize,
+    *const T,
+    usize,
+    u32,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+) -> dk_status;
+type ScaleFn<T> = unsafe extern "C" fn(
+    *const u32,
+    usize,
+    *const u32,
+    usize,
+    *const T,
+    usize,
+    *mut T,
+    usize,
+) -> dk_status;
 type BatinaFn<T> = unsafe extern "C" fn(
     *const u32,
     usize,
@@ -471,6 +519,11 @@ trait Sc: Copy + Debug + Default + 'static {
     fn fin(self) -> bool;
     fn motion(p: &MotionParts<Self>) -> Self::Motion;
     const BATINA: BatinaFn<Self>;
+    const WALL_DISTANCES: WallDistancesFn<Self>;
+    const WALL_FACTORS: FactorsFn<Self>;
+    const DUAL_VOLUMES: DualVolumesFn<Self>;
+    const VOLUME_FACTORS: FactorsFn<Self>;
+    const SCALE: ScaleFn<Self>;
     const SOLVE_LINEAR: SolveLinearFn<Self>;
     const LINEAR_DEFAULT: unsafe extern "C" fn(*mut dk_spring_solve_options) -> dk_status;
     const JACOBI: JacobiFn<Self>;
@@ -536,6 +589,11 @@ impl Sc for f64 {
         motion_of!(dk_boundary_motion, de::dk_boundary_motion_default, f64, p)
     }
     const BATINA: BatinaFn<f64> = sp::dk_spring_batina_stiffness;
+    const WALL_DISTANCES: WallDistancesFn<f64> = st::dk_spring_wall_distances;
+    const WALL_FACTORS: FactorsFn<f64> = st::dk_spring_wall_distance_factors;
+    const DUAL_VOLUMES: DualVolumesFn<f64> = st::dk_spring_dual_volumes;
+    const VOLUME_FACTORS: FactorsFn<f64> = st::dk_spring_inverse_volume_factors;
+    const SCALE: ScaleFn<f64> = st::dk_spring_scale_stiffness;
     const SOLVE_LINEAR: SolveLinearFn<f64> = sp::dk_spring_solve_linear;
     const LINEAR_DEFAULT: unsafe extern "C" fn(*mut dk_spring_solve_options) -> dk_status =
         sp::dk_spring_solve_options_default;
@@ -580,6 +638,11 @@ impl Sc for f32 {
         )
     }
     const BATINA: BatinaFn<f32> = sp::dk_spring_batina_stiffness_f32;
+    const WALL_DISTANCES: WallDistancesFn<f32> = st::dk_spring_wall_distances_f32;
+    const WALL_FACTORS: FactorsFn<f32> = st::dk_spring_wall_distance_factors_f32;
+    const DUAL_VOLUMES: DualVolumesFn<f32> = st::dk_spring_dual_volumes_f32;
+    const VOLUME_FACTORS: FactorsFn<f32> = st::dk_spring_inverse_volume_factors_f32;
+    const SCALE: ScaleFn<f32> = st::dk_spring_scale_stiffness_f32;
     const SOLVE_LINEAR: SolveLinearFn<f32> = sp::dk_spring_solve_linear_f32;
     const LINEAR_DEFAULT: unsafe extern "C" fn(*mut dk_spring_solve_options) -> dk_status =
         sp::dk_spring_solve_options_default_f32;
@@ -1122,6 +1185,104 @@ fn batina<T: Sc>(c: &mut Ctx, exponent: i16) {
         )
     };
     check_out("batina stiffness", s, &k, m.finite && !c.vals.nonfinite);
+}
+
+/// Wall distances or dual volumes, their stiffness factors, and a stiffness of ones scaled
+/// by them: each step checked for untouched outputs on error, and the scaled stiffness for
+/// exact symmetry.
+fn stiffening<T: Sc>(c: &mut Ctx, wall_node: u8, exponent: i16, volumes: bool) {
+    let m = c.m;
+    let e = c.vals.note(real(exponent));
+    let p = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
+    let mut f = Buf::output(&mut c.kn, m.n, T::SENT);
+    let s = if volumes {
+        let (co, cn, ck) = m.cells();
+        let index_need = if m.base == 1 { co.len() + cn.len() } else { 0 };
+        let cob = Buf::input(&mut c.kn, &m.based(&co), 0);
+        let cnb = Buf::input(&mut c.kn, &m.based(&cn), 0);
+        let ckb = Buf::input(&mut c.kn, &ck, 9);
+        let mut iscr = Buf::output(&mut c.kn, index_need, 0u32);
+        let mut cs = Buf::output(&mut c.kn, ck.len(), T::SENT);
+        // SAFETY: every pointer is NULL or valid for the length passed with it.
+        unsafe {
+            (T::DUAL_VOLUMES)(
+                cob.p(),
+                cob.n(),
+                cnb.p(),
+                cnb.n(),
+                ckb.p(),
+                ckb.n(),
+                m.base,
+                iscr.m(),
+                iscr.n(),
+                p.p(),
+                p.n(),
+                m.dim,
+                f.m(),
+                f.n(),
+                cs.m(),
+                cs.n(),
+            )
+        }
+    } else {
+        let wb = Buf::input(&mut c.kn, &m.based(&[u32::from(wall_node)]), 0);
+        let mut iscr = Buf::output(&mut c.kn, usize::from(m.base == 1), 0u32);
+        // SAFETY: every pointer is NULL or valid for the length passed with it.
+        unsafe {
+            (T::WALL_DISTANCES)(
+                p.p(),
+                p.n(),
+                m.dim,
+                wb.p(),
+                wb.n(),
+                m.base,
+                iscr.m(),
+                iscr.n(),
+                f.m(),
+                f.n(),
+            )
+        }
+    };
+    check_out("stiffening measure", s, &f, m.finite);
+    if s != dk_status::DK_OK {
+        return;
+    }
+    let before = bits(&f.v);
+    let factors = if volumes {
+        T::VOLUME_FACTORS
+    } else {
+        T::WALL_FACTORS
+    };
+    // SAFETY: `f` is valid for the length passed with it.
+    let s = unsafe { factors(f.m(), f.n(), T::of(e)) };
+    check_inplace("stiffening factors", s, &f, &before, false);
+    if s != dk_status::DK_OK {
+        return;
+    }
+    let o = Buf::input(&mut c.kn, &m.offsets, 0);
+    let t = Buf::input(&mut c.kn, &m.targets, 0);
+    let fb = Buf::input(&mut c.kn, &f.v[..f.n().min(f.v.len())], T::of(1.0));
+    let mut k = Buf::input(&mut c.kn, &vec![T::of(1.0); m.targets.len()], T::of(1.0));
+    let before = bits(&k.v);
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    let s = unsafe { (T::SCALE)(o.p(), o.n(), t.p(), t.n(), fb.p(), fb.n(), k.m(), k.n()) };
+    check_inplace("scale stiffness", s, &k, &before, true);
+    if s == dk_status::DK_OK {
+        for i in 0..m.n {
+            let row = m.offsets[i] as usize..m.offsets[i + 1] as usize;
+            for e in row {
+                let j = m.targets[e] as usize;
+                let back = (m.offsets[j] as usize..m.offsets[j + 1] as usize)
+                    .find(|&r| m.targets[r] as usize == i)
+                    .expect("symmetric graph");
+                assert_eq!(
+                    k.v[e].bits(),
+                    k.v[back].bits(),
+                    "scaled stiffness not symmetric"
+                );
+            }
+        }
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -2235,6 +2396,8 @@ type PlanSizesFn<T> = unsafe extern "C" fn(
     usize,
     *const u8,
     usize,
+    *const T,
+    usize,
     u32,
     *const dk_plan_options,
     *mut dk_plan_sizes,
@@ -2253,6 +2416,8 @@ type PlanPoolsFn<T> = unsafe extern "C" fn(
     *const u32,
     usize,
     *const u8,
+    usize,
+    *const T,
     usize,
     u32,
     *const dk_plan_options,
@@ -2278,6 +2443,8 @@ type PlanInitFn<T> = unsafe extern "C" fn(
     *const u32,
     usize,
     *const u8,
+    usize,
+    *const T,
     usize,
     u32,
     *const dk_plan_options,
@@ -2367,6 +2534,7 @@ fn plan<T: PlanSc>(c: &mut Ctx, quaternion: bool, amg: bool, steps: u8, corrupt:
         solver: 0,
         stiffness_exponent: 0.0,
         linear: unsafe { std::mem::zeroed() },
+        amg: unsafe { std::mem::zeroed() },
     };
     // SAFETY: one writable struct.
     assert_eq!(unsafe { (T::DEFAULT)(&mut opts) }, dk_status::DK_OK);
@@ -2381,6 +2549,9 @@ fn plan<T: PlanSc>(c: &mut Ctx, quaternion: bool, amg: bool, steps: u8, corrupt:
         pl::DK_PLAN_SOLVER_LINEAR
     };
     opts.linear.max_iterations = 50;
+    // Multigrid knobs: the coarsest size and the smoother (out-of-range values must be refused).
+    opts.amg.max_coarse = usize::from(c.kn.next() % 64);
+    opts.amg.smoother = u32::from(c.kn.next() % 3);
     let p = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
     let o = Buf::input(&mut c.kn, &m.offsets, 0);
     let t = Buf::input(&mut c.kn, &m.targets, 0);
@@ -2393,6 +2564,12 @@ fn plan<T: PlanSc>(c: &mut Ctx, quaternion: bool, amg: bool, steps: u8, corrupt:
             Buf::input(&mut c.kn, &en, 0),
             Buf::input(&mut c.kn, &ek, 3),
         )
+    };
+    // A given stiffness (1 on every directed edge: symmetric and positive) or Batina's.
+    let k = if c.kn.next() & 1 == 1 {
+        Buf::input(&mut c.kn, &vec![T::of(1.0); m.targets.len()], T::of(1.0))
+    } else {
+        Buf::absent()
     };
     let op = opt_ptr(&mut c.kn, &opts);
     let mut work = Slot::<dk_plan_sizes>::new(&mut c.kn);
@@ -2413,6 +2590,8 @@ fn plan<T: PlanSc>(c: &mut Ctx, quaternion: bool, amg: bool, steps: u8, corrupt:
             en.n(),
             ek.p(),
             ek.n(),
+            k.p(),
+            k.n(),
             m.dim,
             op,
             work.p(),
@@ -2444,6 +2623,8 @@ fn plan<T: PlanSc>(c: &mut Ctx, quaternion: bool, amg: bool, steps: u8, corrupt:
             en.n(),
             ek.p(),
             ek.n(),
+            k.p(),
+            k.n(),
             m.dim,
             op,
             wr.m(),
@@ -2481,6 +2662,8 @@ fn plan<T: PlanSc>(c: &mut Ctx, quaternion: bool, amg: bool, steps: u8, corrupt:
             en.n(),
             ek.p(),
             ek.n(),
+            k.p(),
+            k.n(),
             m.dim,
             op,
             wr.m(),
@@ -2630,6 +2813,12 @@ fn run_op(c: &mut Ctx, op: &Op) {
             f32,
         } => prec!(f32, cell_quality(kind, from_mesh)),
         Op::Compare { wall, scale, f32 } => prec!(f32, compare(wall, scale)),
+        Op::Stiffening {
+            wall_node,
+            exponent,
+            volumes,
+            f32,
+        } => prec!(f32, stiffening(wall_node, exponent, volumes)),
         Op::SmoothStructured {
             lambda,
             mu,

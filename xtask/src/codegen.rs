@@ -44,6 +44,7 @@ const MODULES: &[&str] = &[
     "quality",
     "quat",
     "spring",
+    "stiffening",
     "taubin",
 ];
 

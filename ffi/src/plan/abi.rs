@@ -46,7 +46,13 @@ pub unsafe extern "C" fn dk_plan_options_default_f32(out: *mut dk_plan_options) 
 /// - `element_offsets`, `element_nodes`, `element_kinds`: boundary elements over `0..B`
 ///   (segments in 2D, triangles/quadrilaterals in 3D) for shape rotations, or all NULL with
 ///   length 0;
-/// - `options`: see [`dk_plan_options`].
+/// - `stiffness`: one spring stiffness per directed edge (`targets_len` scalars, exactly
+///   symmetric, finite and positive; for example Batina's scaled by
+///   `dk_spring_wall_distance_factors` or `dk_spring_inverse_volume_factors` with
+///   `dk_spring_scale_stiffness`), copied into the plan; or NULL with length 0 for Batina's
+///   `1 / L^p` with `options->stiffness_exponent`;
+/// - `options`: see [`dk_plan_options`] (the solver, its stopping rules and the multigrid
+///   options).
 ///
 /// Errors (nothing written): `DK_ERR_INVALID_PARAMETER` (`dim`, an unknown method or solver
 /// code), graph, cell, length and pointer errors.
@@ -69,6 +75,8 @@ pub unsafe extern "C" fn dk_plan_work_sizes(
     element_nodes_len: usize,
     element_kinds: *const u8,
     element_kinds_len: usize,
+    stiffness: *const f64,
+    stiffness_len: usize,
     dim: u32,
     options: *const dk_plan_options,
     sizes_out: *mut dk_plan_sizes,
@@ -83,6 +91,7 @@ pub unsafe extern "C" fn dk_plan_work_sizes(
         element_offsets,
         element_nodes,
         element_kinds,
+        stiffness,
         options,
         sizes_out,
     ) = unsafe {
@@ -94,6 +103,7 @@ pub unsafe extern "C" fn dk_plan_work_sizes(
             In::new(element_offsets, element_offsets_len),
             In::new(element_nodes, element_nodes_len),
             In::new(element_kinds, element_kinds_len),
+            In::new(stiffness, stiffness_len),
             In::new(options, 1),
             Out::new(sizes_out, 1),
         )
@@ -107,6 +117,7 @@ pub unsafe extern "C" fn dk_plan_work_sizes(
             element_offsets,
             element_nodes,
             element_kinds,
+            stiffness,
             dim,
             options,
         },
@@ -134,6 +145,8 @@ pub unsafe extern "C" fn dk_plan_work_sizes_f32(
     element_nodes_len: usize,
     element_kinds: *const u8,
     element_kinds_len: usize,
+    stiffness: *const f32,
+    stiffness_len: usize,
     dim: u32,
     options: *const dk_plan_options,
     sizes_out: *mut dk_plan_sizes,
@@ -148,6 +161,7 @@ pub unsafe extern "C" fn dk_plan_work_sizes_f32(
         element_offsets,
         element_nodes,
         element_kinds,
+        stiffness,
         options,
         sizes_out,
     ) = unsafe {
@@ -159,6 +173,7 @@ pub unsafe extern "C" fn dk_plan_work_sizes_f32(
             In::new(element_offsets, element_offsets_len),
             In::new(element_nodes, element_nodes_len),
             In::new(element_kinds, element_kinds_len),
+            In::new(stiffness, stiffness_len),
             In::new(options, 1),
             Out::new(sizes_out, 1),
         )
@@ -172,6 +187,7 @@ pub unsafe extern "C" fn dk_plan_work_sizes_f32(
             element_offsets,
             element_nodes,
             element_kinds,
+            stiffness,
             dim,
             options,
         },
@@ -204,6 +220,8 @@ pub unsafe extern "C" fn dk_plan_pool_sizes(
     element_nodes_len: usize,
     element_kinds: *const u8,
     element_kinds_len: usize,
+    stiffness: *const f64,
+    stiffness_len: usize,
     dim: u32,
     options: *const dk_plan_options,
     work_reals: *mut f64,
@@ -224,6 +242,7 @@ pub unsafe extern "C" fn dk_plan_pool_sizes(
         element_offsets,
         element_nodes,
         element_kinds,
+        stiffness,
         options,
         work_reals,
         work_indices,
@@ -238,6 +257,7 @@ pub unsafe extern "C" fn dk_plan_pool_sizes(
             In::new(element_offsets, element_offsets_len),
             In::new(element_nodes, element_nodes_len),
             In::new(element_kinds, element_kinds_len),
+            In::new(stiffness, stiffness_len),
             In::new(options, 1),
             Out::new(work_reals, work_reals_len),
             Out::new(work_indices, work_indices_len),
@@ -254,6 +274,7 @@ pub unsafe extern "C" fn dk_plan_pool_sizes(
             element_offsets,
             element_nodes,
             element_kinds,
+            stiffness,
             dim,
             options,
         },
@@ -286,6 +307,8 @@ pub unsafe extern "C" fn dk_plan_pool_sizes_f32(
     element_nodes_len: usize,
     element_kinds: *const u8,
     element_kinds_len: usize,
+    stiffness: *const f32,
+    stiffness_len: usize,
     dim: u32,
     options: *const dk_plan_options,
     work_reals: *mut f32,
@@ -306,6 +329,7 @@ pub unsafe extern "C" fn dk_plan_pool_sizes_f32(
         element_offsets,
         element_nodes,
         element_kinds,
+        stiffness,
         options,
         work_reals,
         work_indices,
@@ -320,6 +344,7 @@ pub unsafe extern "C" fn dk_plan_pool_sizes_f32(
             In::new(element_offsets, element_offsets_len),
             In::new(element_nodes, element_nodes_len),
             In::new(element_kinds, element_kinds_len),
+            In::new(stiffness, stiffness_len),
             In::new(options, 1),
             Out::new(work_reals, work_reals_len),
             Out::new(work_indices, work_indices_len),
@@ -336,6 +361,7 @@ pub unsafe extern "C" fn dk_plan_pool_sizes_f32(
             element_offsets,
             element_nodes,
             element_kinds,
+            stiffness,
             dim,
             options,
         },
@@ -379,6 +405,8 @@ pub unsafe extern "C" fn dk_plan_init(
     element_nodes_len: usize,
     element_kinds: *const u8,
     element_kinds_len: usize,
+    stiffness: *const f64,
+    stiffness_len: usize,
     dim: u32,
     options: *const dk_plan_options,
     work_reals: *mut f64,
@@ -405,6 +433,7 @@ pub unsafe extern "C" fn dk_plan_init(
         element_offsets,
         element_nodes,
         element_kinds,
+        stiffness,
         options,
         work_reals,
         work_indices,
@@ -422,6 +451,7 @@ pub unsafe extern "C" fn dk_plan_init(
             In::new(element_offsets, element_offsets_len),
             In::new(element_nodes, element_nodes_len),
             In::new(element_kinds, element_kinds_len),
+            In::new(stiffness, stiffness_len),
             In::new(options, 1),
             Out::new(work_reals, work_reals_len),
             Out::new(work_indices, work_indices_len),
@@ -441,6 +471,7 @@ pub unsafe extern "C" fn dk_plan_init(
             element_offsets,
             element_nodes,
             element_kinds,
+            stiffness,
             dim,
             options,
         },
@@ -478,6 +509,8 @@ pub unsafe extern "C" fn dk_plan_init_f32(
     element_nodes_len: usize,
     element_kinds: *const u8,
     element_kinds_len: usize,
+    stiffness: *const f32,
+    stiffness_len: usize,
     dim: u32,
     options: *const dk_plan_options,
     work_reals: *mut f32,
@@ -504,6 +537,7 @@ pub unsafe extern "C" fn dk_plan_init_f32(
         element_offsets,
         element_nodes,
         element_kinds,
+        stiffness,
         options,
         work_reals,
         work_indices,
@@ -521,6 +555,7 @@ pub unsafe extern "C" fn dk_plan_init_f32(
             In::new(element_offsets, element_offsets_len),
             In::new(element_nodes, element_nodes_len),
             In::new(element_kinds, element_kinds_len),
+            In::new(stiffness, stiffness_len),
             In::new(options, 1),
             Out::new(work_reals, work_reals_len),
             Out::new(work_indices, work_indices_len),
@@ -540,6 +575,7 @@ pub unsafe extern "C" fn dk_plan_init_f32(
             element_offsets,
             element_nodes,
             element_kinds,
+            stiffness,
             dim,
             options,
         },

@@ -51,6 +51,8 @@ type SizesFn<T> = unsafe extern "C" fn(
     usize,
     *const u8,
     usize,
+    *const T,
+    usize,
     u32,
     *const dk_plan_options,
     *mut dk_plan_sizes,
@@ -69,6 +71,8 @@ type PoolSizesFn<T> = unsafe extern "C" fn(
     *const u32,
     usize,
     *const u8,
+    usize,
+    *const T,
     usize,
     u32,
     *const dk_plan_options,
@@ -94,6 +98,8 @@ type InitFn<T> = unsafe extern "C" fn(
     *const u32,
     usize,
     *const u8,
+    usize,
+    *const T,
     usize,
     u32,
     *const dk_plan_options,
@@ -251,6 +257,8 @@ fn plan_through_the_abi<T: Abi>() {
             0,
             core::ptr::null(),
             0,
+            core::ptr::null(),
+            0,
             2,
             &o,
             &mut ws,
@@ -272,6 +280,8 @@ fn plan_through_the_abi<T: Abi>() {
             g.len(),
             m.boundary.as_ptr(),
             NB,
+            core::ptr::null(),
+            0,
             core::ptr::null(),
             0,
             core::ptr::null(),
@@ -306,6 +316,8 @@ fn plan_through_the_abi<T: Abi>() {
             g.len(),
             m.boundary.as_ptr(),
             NB,
+            core::ptr::null(),
+            0,
             core::ptr::null(),
             0,
             core::ptr::null(),
@@ -466,8 +478,141 @@ fn graph_from_1_based_cells() {
     defmt::assert!(offsets == m.graph_offsets && targets[..used] == m.targets[..m.used]);
 }
 
+/// The stiffness functions through the ABI give the kernel's bits: wall distances to the
+/// bottom row and their factors, dual volumes and their factors, Batina's springs scaled by
+/// them (exactly symmetric).
+macro_rules! stiffening_case {
+    ($name:ident, $t:ty, $sfx:ident) => {
+        fn $name() {
+            use deform_kernel::spring::{
+                batina_stiffness, dual_volumes, inverse_volume_factors, scale_stiffness,
+                wall_distance_factors, wall_distances,
+            };
+            use deform_kernel_ffi::stiffening as st;
+            let m = Mesh::<$t>::new(0.25);
+            let wall: [u32; NX] = core::array::from_fn(|i| i as u32);
+            let mut k = [0.0 as $t; NE];
+            let k = &mut k[..m.used];
+            batina_stiffness(&m.graph(), &m.points, 1.0, k).unwrap();
+            let mut expect = [0.0 as $t; N];
+            wall_distances(&m.points, &wall, &mut expect).unwrap();
+            wall_distance_factors(&mut expect, 1.0).unwrap();
+            let mut volumes = [0.0 as $t; N];
+            let mut cs = [0.0 as $t; NT];
+            dual_volumes(&m.cells(), &m.points, &mut volumes, &mut cs).unwrap();
+            inverse_volume_factors(&mut volumes, 1.0).unwrap();
+            let mut kk = [0.0 as $t; NE];
+            let kk = &mut kk[..m.used];
+            kk.copy_from_slice(k);
+            scale_stiffness(&m.graph(), &expect, kk).unwrap();
+
+            let mut d = [0.0 as $t; N];
+            let mut v = [0.0 as $t; N];
+            let mut kc = [0.0 as $t; NE];
+            let kc = &mut kc[..m.used];
+            kc.copy_from_slice(k);
+            let g = &m.targets[..m.used];
+            // SAFETY: every array is valid for the length passed with it.
+            let s = unsafe {
+                [
+                    paste_sfx!(st, dk_spring_wall_distances, $sfx)(
+                        flat(&m.points).as_ptr(),
+                        2 * N,
+                        2,
+                        wall.as_ptr(),
+                        NX,
+                        0,
+                        core::ptr::null_mut(),
+                        0,
+                        d.as_mut_ptr(),
+                        N,
+                    ),
+                    paste_sfx!(st, dk_spring_wall_distance_factors, $sfx)(d.as_mut_ptr(), N, 1.0),
+                    paste_sfx!(st, dk_spring_dual_volumes, $sfx)(
+                        m.offsets.as_ptr(),
+                        NT + 1,
+                        m.nodes.as_ptr(),
+                        3 * NT,
+                        m.kinds.as_ptr(),
+                        NT,
+                        0,
+                        core::ptr::null_mut(),
+                        0,
+                        flat(&m.points).as_ptr(),
+                        2 * N,
+                        2,
+                        v.as_mut_ptr(),
+                        N,
+                        cs.as_mut_ptr(),
+                        NT,
+                    ),
+                    paste_sfx!(st, dk_spring_inverse_volume_factors, $sfx)(v.as_mut_ptr(), N, 1.0),
+                    paste_sfx!(st, dk_spring_scale_stiffness, $sfx)(
+                        m.graph_offsets.as_ptr(),
+                        N + 1,
+                        g.as_ptr(),
+                        g.len(),
+                        d.as_ptr(),
+                        N,
+                        kc.as_mut_ptr(),
+                        kc.len(),
+                    ),
+                ]
+            };
+            defmt::assert!(s.iter().all(|&s| s == dk_status::DK_OK));
+            defmt::assert!(d
+                .iter()
+                .zip(&expect)
+                .all(|(a, b)| a.to_bits() == b.to_bits()));
+            defmt::assert!(v
+                .iter()
+                .zip(&volumes)
+                .all(|(a, b)| a.to_bits() == b.to_bits()));
+            defmt::assert!(kc
+                .iter()
+                .zip(kk.iter())
+                .all(|(a, b)| a.to_bits() == b.to_bits()));
+        }
+    };
+}
+
+/// `st::name` or `st::name_f32`.
+macro_rules! paste_sfx {
+    ($m:ident, $f:ident, f64) => {
+        $m::$f
+    };
+    ($m:ident, dk_spring_wall_distances, f32) => {
+        $m::dk_spring_wall_distances_f32
+    };
+    ($m:ident, dk_spring_wall_distance_factors, f32) => {
+        $m::dk_spring_wall_distance_factors_f32
+    };
+    ($m:ident, dk_spring_dual_volumes, f32) => {
+        $m::dk_spring_dual_volumes_f32
+    };
+    ($m:ident, dk_spring_inverse_volume_factors, f32) => {
+        $m::dk_spring_inverse_volume_factors_f32
+    };
+    ($m:ident, dk_spring_scale_stiffness, f32) => {
+        $m::dk_spring_scale_stiffness_f32
+    };
+}
+
+stiffening_case!(stiffening_f64, f64, f64);
+stiffening_case!(stiffening_f32, f32, f32);
+
 #[defmt_test::tests]
 mod tests {
+    #[test]
+    fn stiffness_choices_through_the_abi_f64() {
+        super::stiffening_f64();
+    }
+
+    #[test]
+    fn stiffness_choices_through_the_abi_f32() {
+        super::stiffening_f32();
+    }
+
     #[test]
     fn graph_from_1_based_cells_through_the_abi() {
         super::graph_from_1_based_cells();

@@ -812,6 +812,8 @@ pub fn exercise() {
             black_box(0),
             black_box(null()),
             black_box(0),
+            black_box(null()),
+            black_box(0),
             black_box(Default::default()),
             black_box(null()),
             black_box(null_mut()),
@@ -835,6 +837,8 @@ pub fn exercise() {
             black_box(0),
             black_box(null()),
             black_box(0),
+            black_box(null()),
+            black_box(0),
             black_box(Default::default()),
             black_box(null()),
             black_box(null_mut()),
@@ -844,6 +848,8 @@ pub fn exercise() {
     // keep every path of the function.
     black_box(unsafe {
         deform_kernel_ffi::plan::dk_plan_pool_sizes(
+            black_box(null()),
+            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(null()),
@@ -887,6 +893,8 @@ pub fn exercise() {
             black_box(0),
             black_box(null()),
             black_box(0),
+            black_box(null()),
+            black_box(0),
             black_box(Default::default()),
             black_box(null()),
             black_box(null_mut()),
@@ -902,6 +910,8 @@ pub fn exercise() {
     // keep every path of the function.
     black_box(unsafe {
         deform_kernel_ffi::plan::dk_plan_init(
+            black_box(null()),
+            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(null()),
@@ -937,6 +947,8 @@ pub fn exercise() {
     // keep every path of the function.
     black_box(unsafe {
         deform_kernel_ffi::plan::dk_plan_init_f32(
+            black_box(null()),
+            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(null()),
@@ -2075,6 +2087,146 @@ pub fn exercise() {
             black_box(null_mut()),
             black_box(0),
             black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::stiffening::dk_spring_wall_distances(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::stiffening::dk_spring_wall_distances_f32(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::stiffening::dk_spring_wall_distance_factors(
+            black_box(null_mut()),
+            black_box(0),
+            black_box(Default::default()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::stiffening::dk_spring_wall_distance_factors_f32(
+            black_box(null_mut()),
+            black_box(0),
+            black_box(Default::default()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::stiffening::dk_spring_dual_volumes(
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::stiffening::dk_spring_dual_volumes_f32(
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::stiffening::dk_spring_inverse_volume_factors(
+            black_box(null_mut()),
+            black_box(0),
+            black_box(Default::default()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::stiffening::dk_spring_inverse_volume_factors_f32(
+            black_box(null_mut()),
+            black_box(0),
+            black_box(Default::default()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::stiffening::dk_spring_scale_stiffness(
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::stiffening::dk_spring_scale_stiffness_f32(
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
         )
     });
     // SAFETY: never executed (the binary is only linked); the opaque arguments
