@@ -4,6 +4,7 @@
 use crate::ci::CAPI_MANIFEST;
 use crate::ctx::Ctx;
 use crate::process::{capture, run, show};
+use std::path::Path;
 use std::process::{Command, Stdio};
 
 /// Cross-compilation targets the kernel must build for (bare metal, no std).
@@ -278,6 +279,43 @@ pub(crate) fn cinstall(ctx: &Ctx) -> bool {
         return false;
     }
     println!("cinstall: mesh_basics built with pkg-config against the installed tree and ran");
+    cinstall_static(ctx, &base, &root)
+}
+
+/// The second pkg-config file, `deform_kernel-static`, links the archive even though the
+/// shared library is installed beside it: the program must not need `libdeform_kernel.so`
+/// and must run without `LD_LIBRARY_PATH`.
+fn cinstall_static(ctx: &Ctx, base: &Path, root: &Path) -> bool {
+    let mut pc = Command::new("pkg-config");
+    pc.args(["--cflags", "--libs", "deform_kernel-static"])
+        .env("PKG_CONFIG_PATH", root.join("usr/share/pkgconfig"));
+    let (found, flags, err) = capture(&mut pc);
+    println!("$ {} -> {}", show(&pc), flags.trim());
+    if !found {
+        print!("{err}");
+        return false;
+    }
+    let exe = base.join("mesh_basics_static");
+    let mut cc = Command::new("gcc");
+    cc.args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"])
+        .arg(ctx.root.join("ffi/examples/mesh_basics.c"))
+        .args(flags.split_whitespace())
+        .arg("-o")
+        .arg(&exe);
+    if !run(&mut cc) {
+        return false;
+    }
+    let (read, dynamic, _) = capture(Command::new("readelf").arg("-d").arg(&exe));
+    if !read || dynamic.contains("libdeform_kernel") {
+        println!("xtask: mesh_basics_static needs the shared library:\n{dynamic}");
+        return false;
+    }
+    let (ran, out, err) = capture(&mut Command::new(&exe));
+    if !ran || !out.starts_with("offsets ") {
+        println!("xtask: the static build of mesh_basics failed:\n{out}{err}");
+        return false;
+    }
+    println!("cinstall: mesh_basics linked statically via deform_kernel-static.pc and ran");
     true
 }
 
