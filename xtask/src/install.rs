@@ -262,24 +262,35 @@ pub(crate) fn cinstall(ctx: &Ctx) -> bool {
         return false;
     }
     let exe = base.join("mesh_basics");
+    if !build_and_run_mesh_basics(ctx, &flags, &exe, Some(&lib)) {
+        return false;
+    }
+    println!("cinstall: mesh_basics built with pkg-config against the installed tree and ran");
+    cinstall_static(ctx, &base, &root)
+}
+
+/// Compiles `ffi/examples/mesh_basics.c` with `flags` into `exe` and runs it (with
+/// `LD_LIBRARY_PATH` = `lib` when given); `true` when it printed its graph.
+fn build_and_run_mesh_basics(ctx: &Ctx, flags: &str, exe: &Path, lib: Option<&Path>) -> bool {
     let mut cc = Command::new("gcc");
     cc.args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"])
         .arg(ctx.root.join("ffi/examples/mesh_basics.c"))
         .args(flags.split_whitespace())
         .arg("-o")
-        .arg(&exe);
+        .arg(exe);
     if !run(&mut cc) {
         return false;
     }
-    let mut prog = Command::new(&exe);
-    prog.env("LD_LIBRARY_PATH", &lib);
+    let mut prog = Command::new(exe);
+    if let Some(lib) = lib {
+        prog.env("LD_LIBRARY_PATH", lib);
+    }
     let (ran, out, err) = capture(&mut prog);
     if !ran || !out.starts_with("offsets ") {
-        println!("xtask: the installed-library build of mesh_basics failed:\n{out}{err}");
+        println!("xtask: the build of mesh_basics with {flags} failed:\n{out}{err}");
         return false;
     }
-    println!("cinstall: mesh_basics built with pkg-config against the installed tree and ran");
-    cinstall_static(ctx, &base, &root)
+    true
 }
 
 /// The second pkg-config file, `deform_kernel-static`, links the archive even though the
@@ -296,23 +307,12 @@ fn cinstall_static(ctx: &Ctx, base: &Path, root: &Path) -> bool {
         return false;
     }
     let exe = base.join("mesh_basics_static");
-    let mut cc = Command::new("gcc");
-    cc.args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"])
-        .arg(ctx.root.join("ffi/examples/mesh_basics.c"))
-        .args(flags.split_whitespace())
-        .arg("-o")
-        .arg(&exe);
-    if !run(&mut cc) {
+    if !build_and_run_mesh_basics(ctx, &flags, &exe, None) {
         return false;
     }
     let (read, dynamic, _) = capture(Command::new("readelf").arg("-d").arg(&exe));
     if !read || dynamic.contains("libdeform_kernel") {
         println!("xtask: mesh_basics_static needs the shared library:\n{dynamic}");
-        return false;
-    }
-    let (ran, out, err) = capture(&mut Command::new(&exe));
-    if !ran || !out.starts_with("offsets ") {
-        println!("xtask: the static build of mesh_basics failed:\n{out}{err}");
         return false;
     }
     println!("cinstall: mesh_basics linked statically via deform_kernel-static.pc and ran");

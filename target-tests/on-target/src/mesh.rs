@@ -2,7 +2,7 @@
 //! structured block, built into fixed-size arrays (no allocation), shared by the test binaries.
 
 use deform_golden::XorShift;
-use deform_kernel::{graph_from_cells, Block, CellKind, Cells, Graph, Real};
+use deform_kernel::{graph_from_cells, Block, CellKind, Cells, Graph, Quat, Real};
 
 /// Grid points along x.
 pub const NX: usize = 6;
@@ -113,6 +113,24 @@ impl<T: Real> Mesh<T> {
     pub fn graph(&self) -> Graph<'_> {
         Graph::new(&self.graph_offsets, &self.targets[..self.used]).unwrap()
     }
+}
+
+/// The perimeter's positions at step `s`: the bottom row turns by `4° s` about its midpoint,
+/// the rest stays (the time steps of the plan tests).
+pub fn turned_bottom_row<T: Real>(m: &Mesh<T>, s: usize) -> [[T; 2]; NB] {
+    let q = Quat::from_rotation_z(T::from_f64((4.0 * s as f64).to_radians()));
+    let c = [T::from_f64((NX - 1) as f64 * 0.5), T::ZERO];
+    let mut d = [[T::ZERO; 2]; NB];
+    for (di, &i) in d.iter_mut().zip(&m.boundary) {
+        let p = m.points.get(i as usize).copied().unwrap_or([T::ZERO; 2]);
+        *di = if (i as usize) < NX {
+            let r = q.rotate_2d([p[0] - c[0], p[1] - c[1]]);
+            [r[0] + c[0], r[1] + c[1]]
+        } else {
+            p
+        };
+    }
+    d
 }
 
 /// The regular `NX × NY` grid as a structured block (same node numbering as [`Mesh`]).

@@ -18,12 +18,12 @@ use deform_kernel::plan::{
     Plan, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanWork,
 };
 use deform_kernel::spring::{AmgOptions, SolveOptions};
-use deform_kernel::{Quat, Real};
+use deform_kernel::Real;
 use deform_kernel_ffi::plan::{
     dk_plan_info, dk_plan_options, dk_plan_sizes, dk_plan_step_report, DK_PLAN_SPRING, DK_PLAN_WARM,
 };
 use deform_kernel_ffi::status::dk_status;
-use deform_on_target::mesh::{Mesh, N, NB, NE, NT, NX};
+use deform_on_target::mesh::{turned_bottom_row as deformed, Mesh, N, NB, NE, NT, NX};
 
 /// Pool and work lengths (generous for the 30-node mesh; the queried sizes must fit).
 const REALS: usize = 3072;
@@ -166,23 +166,6 @@ impl Abi for f32 {
     const TOL: f64 = 1e-4;
 }
 
-/// The perimeter's positions at step `s`: the bottom row turns by `4° s` about its midpoint.
-fn deformed<T: Real>(m: &Mesh<T>, s: usize) -> [[T; 2]; NB] {
-    let q = Quat::from_rotation_z(T::from_f64((4.0 * s as f64).to_radians()));
-    let c = [T::from_f64((NX - 1) as f64 * 0.5), T::ZERO];
-    let mut d = [[T::ZERO; 2]; NB];
-    for (di, &i) in d.iter_mut().zip(&m.boundary) {
-        let p = m.points[i as usize];
-        *di = if (i as usize) < NX {
-            let r = q.rotate_2d([p[0] - c[0], p[1] - c[1]]);
-            [r[0] + c[0], r[1] + c[1]]
-        } else {
-            p
-        };
-    }
-    d
-}
-
 /// The Rust side: the same plan, built with the kernel API.
 fn rust_plan<T: Abi>(
     m: &Mesh<T>,
@@ -223,6 +206,42 @@ fn flat<T, const D: usize>(a: &[[T; D]]) -> &[T] {
 
 fn flat_mut<T, const D: usize>(a: &mut [[T; D]]) -> &mut [T] {
     a.as_flattened_mut()
+}
+
+/// One warm `dk_plan_step` (or `_f32`) of the plan in the pools, rotations from the springs'
+/// method (none), default origin.
+fn step_abi<T: Abi>(
+    reals: &mut [T; REALS],
+    indices: &mut [u32; INDICES],
+    bytes: &mut [u8; BYTES],
+    d: &[[T; 2]; NB],
+    out: &mut [[T; 2]; N],
+    rep: &mut dk_plan_step_report,
+) -> dk_status {
+    // SAFETY: the pools and `out` writable for their lengths, `d` readable, no rotations or
+    // origin (NULL with length 0), `rep` one struct.
+    unsafe {
+        T::STEP(
+            reals.as_mut_ptr(),
+            REALS,
+            indices.as_mut_ptr(),
+            INDICES,
+            bytes.as_mut_ptr(),
+            BYTES,
+            2,
+            flat(d).as_ptr(),
+            2 * NB,
+            0,
+            core::ptr::null(),
+            0,
+            core::ptr::null(),
+            0,
+            DK_PLAN_WARM,
+            flat_mut(out).as_mut_ptr(),
+            2 * N,
+            rep,
+        )
+    }
 }
 
 /// A plan stepped through the C ABI equals the Rust plan bit for bit, step by step.
@@ -351,30 +370,7 @@ fn plan_through_the_abi<T: Abi>() {
         let d = deformed(&m, step);
         let mut out = [[T::ZERO; 2]; N];
         let mut rep = dk_plan_step_report::default();
-        // SAFETY: the pools and `out` writable for their lengths, `d` readable, no rotations
-        // or origin (NULL with length 0), `rep` one struct.
-        let s = unsafe {
-            T::STEP(
-                reals.as_mut_ptr(),
-                REALS,
-                indices.as_mut_ptr(),
-                INDICES,
-                bytes.as_mut_ptr(),
-                BYTES,
-                2,
-                flat(&d).as_ptr(),
-                2 * NB,
-                0,
-                core::ptr::null(),
-                0,
-                core::ptr::null(),
-                0,
-                DK_PLAN_WARM,
-                flat_mut(&mut out).as_mut_ptr(),
-                2 * N,
-                &mut rep,
-            )
-        };
+        let s = step_abi(&mut reals, &mut indices, &mut bytes, &d, &mut out, &mut rep);
         defmt::assert!(s == dk_status::DK_OK && rep.step == step as u64 && rep.converged);
         let mut expect = [[T::ZERO; 2]; N];
         let r = Plan::<T, 2>::open(&mut rr, &mut ri, &mut rb)
@@ -402,29 +398,7 @@ fn plan_through_the_abi<T: Abi>() {
         ..dk_plan_step_report::default()
     };
     let d = deformed(&m, STEPS + 1);
-    // SAFETY: as in the steps above.
-    let s = unsafe {
-        T::STEP(
-            reals.as_mut_ptr(),
-            REALS,
-            indices.as_mut_ptr(),
-            INDICES,
-            bytes.as_mut_ptr(),
-            BYTES,
-            2,
-            flat(&d).as_ptr(),
-            2 * NB,
-            0,
-            core::ptr::null(),
-            0,
-            core::ptr::null(),
-            0,
-            DK_PLAN_WARM,
-            flat_mut(&mut out).as_mut_ptr(),
-            2 * N,
-            &mut rep,
-        )
-    };
+    let s = step_abi(&mut reals, &mut indices, &mut bytes, &d, &mut out, &mut rep);
     defmt::assert!(s == dk_status::DK_ERR_BAD_PLAN);
     defmt::assert!(rep.iterations == 99 && rep.step == 0);
     defmt::assert!(out.iter().flatten().all(|&x| x == T::from_f64(7.0)));

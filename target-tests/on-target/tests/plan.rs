@@ -19,7 +19,7 @@ use deform_kernel::spring::{
     LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::{Error, Quat, Real};
-use deform_on_target::mesh::{Mesh, N, NB, NE, NX};
+use deform_on_target::mesh::{turned_bottom_row as deformed, Mesh, N, NB, NE};
 use deform_on_target::same_bits;
 
 /// Pool lengths (generous for the 30-node mesh; the exact sizes are checked against them).
@@ -51,24 +51,6 @@ impl<T: Real> Pools<T> {
     fn open(&mut self) -> deform_kernel::Result<Plan<'_, T, 2>> {
         Plan::open(&mut self.reals, &mut self.indices, &mut self.bytes)
     }
-}
-
-/// The perimeter's positions at step `s`: the bottom row turns by `4° s` about its midpoint,
-/// the rest stays.
-fn deformed<T: Real>(m: &Mesh<T>, s: usize) -> [[T; 2]; NB] {
-    let q = Quat::from_rotation_z(T::from_f64((4.0 * s as f64).to_radians()));
-    let c = [T::from_f64((NX - 1) as f64 * 0.5), T::ZERO];
-    let mut d = [[T::ZERO; 2]; NB];
-    for (di, &i) in d.iter_mut().zip(&m.boundary) {
-        let p = m.points[i as usize];
-        *di = if (i as usize) < NX {
-            let r = q.rotate_2d([p[0] - c[0], p[1] - c[1]]);
-            [r[0] + c[0], r[1] + c[1]]
-        } else {
-            p
-        };
-    }
-    d
 }
 
 fn amg<T: Real>() -> PlanSolver<T> {
