@@ -17,7 +17,7 @@ use deform_kernel::plan::{
 use deform_kernel::spring::{AmgOptions, AmgSmoother};
 use deform_kernel::{Cells, Quat, Real};
 
-use crate::args::{assert_layout, done, graph, read_one, read_points, write_one};
+use crate::args::{assert_layout, by_dim, done, graph, read_one, read_points, write_one};
 use crate::slice::{chunks_mut, input, output, quats, In, Out};
 use crate::spring::dk_spring_solve_options;
 use crate::status::dk_status;
@@ -249,7 +249,6 @@ pub(crate) struct SpecArgs<'a, T> {
     pub(crate) element_kinds: In<'a, u8>,
     /// Per directed edge, or NULL with length 0 for Batina's with `stiffness_exponent`.
     pub(crate) stiffness: In<'a, T>,
-    pub(crate) dim: u32,
     pub(crate) options: In<'a, dk_plan_options>,
 }
 
@@ -334,30 +333,12 @@ impl<'a, T: Real> SpecArgs<'a, T> {
     }
 }
 
-/// Runs `$f::<T, D>` for `dim` 2 or 3 (else `DK_ERR_INVALID_PARAMETER`).
-macro_rules! dim2or3 {
-    ($dim:expr, $f:ident :: <$t:ty>, ($($arg:expr),* $(,)?)) => {
-        match $dim {
-            2 => $f::<$t, 2>($($arg),*),
-            3 => $f::<$t, 3>($($arg),*),
-            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
-        }
-    };
-}
-
 fn work_sizes_d<T: Real, const D: usize>(
     spec: &SpecArgs<'_, T>,
     out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
     let s = spec.spec::<D>()?;
     write_one(out, Plan::<T, D>::work_sizes(&s).into())
-}
-
-pub(crate) fn work_sizes_t<T: Real>(
-    spec: SpecArgs<'_, T>,
-    out: Out<'_, dk_plan_sizes>,
-) -> dk_status {
-    done(dim2or3!(spec.dim, work_sizes_d::<T>, (&spec, out)))
 }
 
 fn sizes_d<T: Real, const D: usize>(
@@ -369,14 +350,6 @@ fn sizes_d<T: Real, const D: usize>(
     let mut work = work.borrow()?;
     let sizes = Plan::<T, D>::sizes(&s, &mut work).map_err(dk_status::from)?;
     write_one(out, sizes.into())
-}
-
-pub(crate) fn sizes_t<T: Real>(
-    spec: SpecArgs<'_, T>,
-    work: WorkArgs<'_, T>,
-    out: Out<'_, dk_plan_sizes>,
-) -> dk_status {
-    done(dim2or3!(spec.dim, sizes_d::<T>, (&spec, work, out)))
 }
 
 fn init_d<T: Real, const D: usize>(
@@ -396,19 +369,6 @@ fn init_d<T: Real, const D: usize>(
     Ok(())
 }
 
-pub(crate) fn init_t<T: Real>(
-    spec: SpecArgs<'_, T>,
-    work: WorkArgs<'_, T>,
-    pools: PoolArgs<'_, T>,
-    info_out: Out<'_, dk_plan_info>,
-) -> dk_status {
-    done(dim2or3!(
-        spec.dim,
-        init_d::<T>,
-        (&spec, work, pools, info_out)
-    ))
-}
-
 fn open_d<T: Real, const D: usize>(
     pools: PoolArgs<'_, T>,
     info_out: Out<'_, dk_plan_info>,
@@ -417,14 +377,6 @@ fn open_d<T: Real, const D: usize>(
     let plan = pools.open::<D>()?;
     *info_slot = info(&plan);
     Ok(())
-}
-
-pub(crate) fn open_t<T: Real>(
-    pools: PoolArgs<'_, T>,
-    dim: u32,
-    info_out: Out<'_, dk_plan_info>,
-) -> dk_status {
-    done(dim2or3!(dim, open_d::<T>, (pools, info_out)))
 }
 
 /// One step's motion, as the C caller passed it.
@@ -506,14 +458,4 @@ fn step_d<T: Real, const D: usize>(
         extrapolated: r.extrapolated,
     };
     Ok(())
-}
-
-pub(crate) fn step_t<T: Real>(
-    pools: PoolArgs<'_, T>,
-    dim: u32,
-    motion: MotionArgs<'_, T>,
-    out: Out<'_, T>,
-    report_out: Out<'_, dk_plan_step_report>,
-) -> dk_status {
-    done(dim2or3!(dim, step_d::<T>, (pools, motion, out, report_out)))
 }

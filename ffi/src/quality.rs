@@ -212,15 +212,6 @@ fn cell_quality_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn cell_quality_t<T: Real>(
-    kind: u8,
-    corners: In<'_, T>,
-    dim: u32,
-    out: Out<'_, dk_cell_quality>,
-) -> dk_status {
-    done(by_dim!(dim, cell_quality_d::<T>, (kind, corners, out)))
-}
-
 /// Per-cell output: measures (`jacobians` None) or minimum corner Jacobians.
 fn per_cell_d<T: Real, const D: usize>(
     cells: CellArgs,
@@ -239,21 +230,6 @@ fn per_cell_d<T: Real, const D: usize>(
     .map_err(dk_status::from)
 }
 
-fn per_cell_t<T: Real>(
-    cells: CellArgs,
-    index_scratch: Out<'_, u32>,
-    pts: In<'_, T>,
-    dim: u32,
-    jacobians: Option<bool>,
-    out: Out<'_, T>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        per_cell_d::<T>,
-        (cells, index_scratch, pts, jacobians, out)
-    ))
-}
-
 fn inverted_d<T: Real, const D: usize>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
@@ -269,21 +245,6 @@ fn inverted_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn inverted_t<T: Real>(
-    cells: CellArgs,
-    index_scratch: Out<'_, u32>,
-    undeformed: In<'_, T>,
-    deformed: In<'_, T>,
-    dim: u32,
-    count_out: Out<'_, usize>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        inverted_d::<T>,
-        (cells, index_scratch, undeformed, deformed, count_out)
-    ))
-}
-
 fn folded_d<T: Real, const D: usize>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
@@ -295,20 +256,6 @@ fn folded_d<T: Real, const D: usize>(
     let o = out_one(count_out)?;
     *o = folded_cells(&c, p).map_err(dk_status::from)?;
     Ok(())
-}
-
-fn folded_t<T: Real>(
-    cells: CellArgs,
-    index_scratch: Out<'_, u32>,
-    pts: In<'_, T>,
-    dim: u32,
-    count_out: Out<'_, usize>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        folded_d::<T>,
-        (cells, index_scratch, pts, count_out)
-    ))
 }
 
 /// The arguments describing a wall: its elements (cells, in the mesh's `index_base`) and the
@@ -364,32 +311,6 @@ fn compare_d<T: Real, const D: usize>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
-fn compare_t<T: Real>(
-    cells: CellArgs,
-    wall: WallArgs,
-    index_scratch: Out<'_, u32>,
-    undeformed: In<'_, T>,
-    deformed: In<'_, T>,
-    dim: u32,
-    scratch: Out<'_, T>,
-    report: Out<'_, dk_quality_report>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        compare_d::<T>,
-        (
-            cells,
-            wall,
-            index_scratch,
-            undeformed,
-            deformed,
-            scratch,
-            report
-        )
-    ))
-}
-
 fn wall_angle_d<T: Real, const D: usize>(
     wall: WallArgs,
     index_scratch: Out<'_, u32>,
@@ -408,22 +329,6 @@ fn wall_angle_d<T: Real, const D: usize>(
     let r = wall_angle_change(&w, u, d, s).map_err(dk_status::from)?;
     *o = dk_wall_angle_change::of(r, wall.elements.index_base);
     Ok(())
-}
-
-fn wall_angle_t<T: Real>(
-    wall: WallArgs,
-    index_scratch: Out<'_, u32>,
-    undeformed: In<'_, T>,
-    deformed: In<'_, T>,
-    dim: u32,
-    scratch: Out<'_, T>,
-    out: Out<'_, dk_wall_angle_change>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        wall_angle_d::<T>,
-        (wall, index_scratch, undeformed, deformed, scratch, out)
-    ))
 }
 
 // ---------------------------------------------------------------------------------------------

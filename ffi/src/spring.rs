@@ -491,19 +491,6 @@ fn relative_residual_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn relative_residual_t<T: Real>(
-    sys: SysArgs<T>,
-    components: u32,
-    values: In<'_, T>,
-    residual_out: Out<'_, T>,
-) -> dk_status {
-    done(by_components!(
-        components,
-        relative_residual_v::<T>,
-        (sys, values, residual_out)
-    ))
-}
-
 /// Scalars of scratch `dk_spring_solve_angle` needs for precision `T`.
 fn angle_scratch_scalars<T: Real>(
     node_count: usize,

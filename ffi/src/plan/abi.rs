@@ -108,21 +108,18 @@ pub unsafe extern "C" fn dk_plan_work_sizes(
             Out::new(sizes_out, 1),
         )
     };
-    work_sizes_t(
-        SpecArgs {
-            points,
-            offsets,
-            targets,
-            boundary,
-            element_offsets,
-            element_nodes,
-            element_kinds,
-            stiffness,
-            dim,
-            options,
-        },
-        sizes_out,
-    )
+    let spec = SpecArgs {
+        points,
+        offsets,
+        targets,
+        boundary,
+        element_offsets,
+        element_nodes,
+        element_kinds,
+        stiffness,
+        options,
+    };
+    done(by_dim!(dim, work_sizes_d::<f64>, (&spec, sizes_out)))
 }
 
 /// `f32` twin of [`dk_plan_work_sizes`].
@@ -178,21 +175,18 @@ pub unsafe extern "C" fn dk_plan_work_sizes_f32(
             Out::new(sizes_out, 1),
         )
     };
-    work_sizes_t(
-        SpecArgs {
-            points,
-            offsets,
-            targets,
-            boundary,
-            element_offsets,
-            element_nodes,
-            element_kinds,
-            stiffness,
-            dim,
-            options,
-        },
-        sizes_out,
-    )
+    let spec = SpecArgs {
+        points,
+        offsets,
+        targets,
+        boundary,
+        element_offsets,
+        element_nodes,
+        element_kinds,
+        stiffness,
+        options,
+    };
+    done(by_dim!(dim, work_sizes_d::<f32>, (&spec, sizes_out)))
 }
 
 /// The exact lengths of the three plan pools for this mesh: validates the mesh and options
@@ -265,26 +259,23 @@ pub unsafe extern "C" fn dk_plan_pool_sizes(
             Out::new(sizes_out, 1),
         )
     };
-    sizes_t(
-        SpecArgs {
-            points,
-            offsets,
-            targets,
-            boundary,
-            element_offsets,
-            element_nodes,
-            element_kinds,
-            stiffness,
-            dim,
-            options,
-        },
-        WorkArgs {
-            reals: work_reals,
-            indices: work_indices,
-            bytes: work_bytes,
-        },
-        sizes_out,
-    )
+    let spec = SpecArgs {
+        points,
+        offsets,
+        targets,
+        boundary,
+        element_offsets,
+        element_nodes,
+        element_kinds,
+        stiffness,
+        options,
+    };
+    let work = WorkArgs {
+        reals: work_reals,
+        indices: work_indices,
+        bytes: work_bytes,
+    };
+    done(by_dim!(dim, sizes_d::<f64>, (&spec, work, sizes_out)))
 }
 
 /// `f32` twin of [`dk_plan_pool_sizes`].
@@ -352,26 +343,23 @@ pub unsafe extern "C" fn dk_plan_pool_sizes_f32(
             Out::new(sizes_out, 1),
         )
     };
-    sizes_t(
-        SpecArgs {
-            points,
-            offsets,
-            targets,
-            boundary,
-            element_offsets,
-            element_nodes,
-            element_kinds,
-            stiffness,
-            dim,
-            options,
-        },
-        WorkArgs {
-            reals: work_reals,
-            indices: work_indices,
-            bytes: work_bytes,
-        },
-        sizes_out,
-    )
+    let spec = SpecArgs {
+        points,
+        offsets,
+        targets,
+        boundary,
+        element_offsets,
+        element_nodes,
+        element_kinds,
+        stiffness,
+        options,
+    };
+    let work = WorkArgs {
+        reals: work_reals,
+        indices: work_indices,
+        bytes: work_bytes,
+    };
+    done(by_dim!(dim, sizes_d::<f32>, (&spec, work, sizes_out)))
 }
 
 /// Builds a plan in the pools `reals`, `indices`, `bytes` (each at least the length
@@ -462,31 +450,28 @@ pub unsafe extern "C" fn dk_plan_init(
             Out::new(info_out, 1),
         )
     };
-    init_t(
-        SpecArgs {
-            points,
-            offsets,
-            targets,
-            boundary,
-            element_offsets,
-            element_nodes,
-            element_kinds,
-            stiffness,
-            dim,
-            options,
-        },
-        WorkArgs {
-            reals: work_reals,
-            indices: work_indices,
-            bytes: work_bytes,
-        },
-        PoolArgs {
-            reals,
-            indices,
-            bytes,
-        },
-        info_out,
-    )
+    let spec = SpecArgs {
+        points,
+        offsets,
+        targets,
+        boundary,
+        element_offsets,
+        element_nodes,
+        element_kinds,
+        stiffness,
+        options,
+    };
+    let work = WorkArgs {
+        reals: work_reals,
+        indices: work_indices,
+        bytes: work_bytes,
+    };
+    let pools = PoolArgs {
+        reals,
+        indices,
+        bytes,
+    };
+    done(by_dim!(dim, init_d::<f64>, (&spec, work, pools, info_out)))
 }
 
 /// `f32` twin of [`dk_plan_init`].
@@ -566,31 +551,28 @@ pub unsafe extern "C" fn dk_plan_init_f32(
             Out::new(info_out, 1),
         )
     };
-    init_t(
-        SpecArgs {
-            points,
-            offsets,
-            targets,
-            boundary,
-            element_offsets,
-            element_nodes,
-            element_kinds,
-            stiffness,
-            dim,
-            options,
-        },
-        WorkArgs {
-            reals: work_reals,
-            indices: work_indices,
-            bytes: work_bytes,
-        },
-        PoolArgs {
-            reals,
-            indices,
-            bytes,
-        },
-        info_out,
-    )
+    let spec = SpecArgs {
+        points,
+        offsets,
+        targets,
+        boundary,
+        element_offsets,
+        element_nodes,
+        element_kinds,
+        stiffness,
+        options,
+    };
+    let work = WorkArgs {
+        reals: work_reals,
+        indices: work_indices,
+        bytes: work_bytes,
+    };
+    let pools = PoolArgs {
+        reals,
+        indices,
+        bytes,
+    };
+    done(by_dim!(dim, init_d::<f32>, (&spec, work, pools, info_out)))
 }
 
 /// Checks that the pools hold a plan for this precision and `dim` (magic, version, counts,
@@ -623,15 +605,12 @@ pub unsafe extern "C" fn dk_plan_open(
             Out::new(info_out, 1),
         )
     };
-    open_t(
-        PoolArgs {
-            reals,
-            indices,
-            bytes,
-        },
-        dim,
-        info_out,
-    )
+    let pools = PoolArgs {
+        reals,
+        indices,
+        bytes,
+    };
+    done(by_dim!(dim, open_d::<f64>, (pools, info_out)))
 }
 
 /// `f32` twin of [`dk_plan_open`].
@@ -659,15 +638,12 @@ pub unsafe extern "C" fn dk_plan_open_f32(
             Out::new(info_out, 1),
         )
     };
-    open_t(
-        PoolArgs {
-            reals,
-            indices,
-            bytes,
-        },
-        dim,
-        info_out,
-    )
+    let pools = PoolArgs {
+        reals,
+        indices,
+        bytes,
+    };
+    done(by_dim!(dim, open_d::<f32>, (pools, info_out)))
 }
 
 /// One time step: the new boundary positions in, the deformed mesh out (`out`: `N * dim`
@@ -733,23 +709,23 @@ pub unsafe extern "C" fn dk_plan_step(
             Out::new(report_out, 1),
         )
     };
-    step_t(
-        PoolArgs {
-            reals,
-            indices,
-            bytes,
-        },
+    let pools = PoolArgs {
+        reals,
+        indices,
+        bytes,
+    };
+    let motion = MotionArgs {
+        deformed,
+        rotation_source,
+        rotations,
+        origin,
+        start,
+    };
+    done(by_dim!(
         dim,
-        MotionArgs {
-            deformed,
-            rotation_source,
-            rotations,
-            origin,
-            start,
-        },
-        out,
-        report_out,
-    )
+        step_d::<f64>,
+        (pools, motion, out, report_out)
+    ))
 }
 
 /// `f32` twin of [`dk_plan_step`].
@@ -791,21 +767,21 @@ pub unsafe extern "C" fn dk_plan_step_f32(
             Out::new(report_out, 1),
         )
     };
-    step_t(
-        PoolArgs {
-            reals,
-            indices,
-            bytes,
-        },
+    let pools = PoolArgs {
+        reals,
+        indices,
+        bytes,
+    };
+    let motion = MotionArgs {
+        deformed,
+        rotation_source,
+        rotations,
+        origin,
+        start,
+    };
+    done(by_dim!(
         dim,
-        MotionArgs {
-            deformed,
-            rotation_source,
-            rotations,
-            origin,
-            start,
-        },
-        out,
-        report_out,
-    )
+        step_d::<f32>,
+        (pools, motion, out, report_out)
+    ))
 }

@@ -27,7 +27,7 @@ pub unsafe extern "C" fn dk_quality_cell_quality(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (corners, out) = unsafe { (In::new(corners, corners_len), Out::new(out, 1)) };
-    cell_quality_t(kind, corners, dim, out)
+    done(by_dim!(dim, cell_quality_d::<f64>, (kind, corners, out)))
 }
 
 /// `f32` twin of [`dk_quality_cell_quality`].
@@ -45,7 +45,7 @@ pub unsafe extern "C" fn dk_quality_cell_quality_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (corners, out) = unsafe { (In::new(corners, corners_len), Out::new(out, 1)) };
-    cell_quality_t(kind, corners, dim, out)
+    done(by_dim!(dim, cell_quality_d::<f32>, (kind, corners, out)))
 }
 
 /// Signed area (`dim` 2) or volume (`dim` 3) of every cell into `out` (one scalar per cell).
@@ -94,7 +94,11 @@ pub unsafe extern "C" fn dk_quality_cell_measures(
         kinds: cell_kinds,
         index_base,
     };
-    per_cell_t(cells, index_scratch, points, dim, None, out)
+    done(by_dim!(
+        dim,
+        per_cell_d::<f64>,
+        (cells, index_scratch, points, None, out)
+    ))
 }
 
 /// `f32` twin of [`dk_quality_cell_measures`].
@@ -136,7 +140,11 @@ pub unsafe extern "C" fn dk_quality_cell_measures_f32(
         kinds: cell_kinds,
         index_base,
     };
-    per_cell_t(cells, index_scratch, points, dim, None, out)
+    done(by_dim!(
+        dim,
+        per_cell_d::<f32>,
+        (cells, index_scratch, points, None, out)
+    ))
 }
 
 /// Smallest corner Jacobian of every cell into `out` (one scalar per cell), divided by the
@@ -181,7 +189,11 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians(
         kinds: cell_kinds,
         index_base,
     };
-    per_cell_t(cells, index_scratch, points, dim, Some(scaled), out)
+    done(by_dim!(
+        dim,
+        per_cell_d::<f64>,
+        (cells, index_scratch, points, Some(scaled), out)
+    ))
 }
 
 /// `f32` twin of [`dk_quality_min_corner_jacobians`].
@@ -224,7 +236,11 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians_f32(
         kinds: cell_kinds,
         index_base,
     };
-    per_cell_t(cells, index_scratch, points, dim, Some(scaled), out)
+    done(by_dim!(
+        dim,
+        per_cell_d::<f32>,
+        (cells, index_scratch, points, Some(scaled), out)
+    ))
 }
 
 /// Number of cells whose signed measure changed sign between `undeformed` and `deformed`
@@ -271,7 +287,11 @@ pub unsafe extern "C" fn dk_quality_inverted_cells(
         kinds: cell_kinds,
         index_base,
     };
-    inverted_t(cells, index_scratch, undeformed, deformed, dim, count_out)
+    done(by_dim!(
+        dim,
+        inverted_d::<f64>,
+        (cells, index_scratch, undeformed, deformed, count_out)
+    ))
 }
 
 /// `f32` twin of [`dk_quality_inverted_cells`].
@@ -315,7 +335,11 @@ pub unsafe extern "C" fn dk_quality_inverted_cells_f32(
         kinds: cell_kinds,
         index_base,
     };
-    inverted_t(cells, index_scratch, undeformed, deformed, dim, count_out)
+    done(by_dim!(
+        dim,
+        inverted_d::<f32>,
+        (cells, index_scratch, undeformed, deformed, count_out)
+    ))
 }
 
 /// Number of cells with some corner Jacobian `≤ 0` (folded or inverted at a corner; also
@@ -359,7 +383,11 @@ pub unsafe extern "C" fn dk_quality_folded_cells(
         kinds: cell_kinds,
         index_base,
     };
-    folded_t(cells, index_scratch, points, dim, count_out)
+    done(by_dim!(
+        dim,
+        folded_d::<f64>,
+        (cells, index_scratch, points, count_out)
+    ))
 }
 
 /// `f32` twin of [`dk_quality_folded_cells`].
@@ -400,7 +428,11 @@ pub unsafe extern "C" fn dk_quality_folded_cells_f32(
         kinds: cell_kinds,
         index_base,
     };
-    folded_t(cells, index_scratch, points, dim, count_out)
+    done(by_dim!(
+        dim,
+        folded_d::<f32>,
+        (cells, index_scratch, points, count_out)
+    ))
 }
 
 /// Scalars of `scratch` [`dk_quality_wall_angle_change`] (and [`dk_quality_compare`] with a
@@ -527,16 +559,19 @@ pub unsafe extern "C" fn dk_quality_compare(
         graph_offsets,
         graph_targets,
     };
-    compare_t(
-        cells,
-        wall,
-        index_scratch,
-        undeformed,
-        deformed,
+    done(by_dim!(
         dim,
-        scratch,
-        report,
-    )
+        compare_d::<f64>,
+        (
+            cells,
+            wall,
+            index_scratch,
+            undeformed,
+            deformed,
+            scratch,
+            report
+        )
+    ))
 }
 
 /// `f32` twin of [`dk_quality_compare`].
@@ -622,16 +657,19 @@ pub unsafe extern "C" fn dk_quality_compare_f32(
         graph_offsets,
         graph_targets,
     };
-    compare_t(
-        cells,
-        wall,
-        index_scratch,
-        undeformed,
-        deformed,
+    done(by_dim!(
         dim,
-        scratch,
-        report,
-    )
+        compare_d::<f32>,
+        (
+            cells,
+            wall,
+            index_scratch,
+            undeformed,
+            deformed,
+            scratch,
+            report
+        )
+    ))
 }
 
 /// Change of the first grid-line angle at a wall, in radians (boundary-layer orthogonality):
@@ -710,7 +748,11 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change(
         graph_offsets,
         graph_targets,
     };
-    wall_angle_t(wall, index_scratch, undeformed, deformed, dim, scratch, out)
+    done(by_dim!(
+        dim,
+        wall_angle_d::<f64>,
+        (wall, index_scratch, undeformed, deformed, scratch, out)
+    ))
 }
 
 /// `f32` twin of [`dk_quality_wall_angle_change`].
@@ -778,5 +820,9 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change_f32(
         graph_offsets,
         graph_targets,
     };
-    wall_angle_t(wall, index_scratch, undeformed, deformed, dim, scratch, out)
+    done(by_dim!(
+        dim,
+        wall_angle_d::<f32>,
+        (wall, index_scratch, undeformed, deformed, scratch, out)
+    ))
 }

@@ -697,7 +697,11 @@ pub unsafe extern "C" fn dk_spring_relative_residual(
         fixed,
         index_scratch,
     };
-    relative_residual_t(sys, components, values, residual_out)
+    done(by_components!(
+        components,
+        relative_residual_v::<f64>,
+        (sys, values, residual_out)
+    ))
 }
 
 /// `f32` twin of [`dk_spring_relative_residual`].
@@ -741,7 +745,11 @@ pub unsafe extern "C" fn dk_spring_relative_residual_f32(
         fixed,
         index_scratch,
     };
-    relative_residual_t(sys, components, values, residual_out)
+    done(by_components!(
+        components,
+        relative_residual_v::<f32>,
+        (sys, values, residual_out)
+    ))
 }
 
 /// Fills `*out` with the default angle-spring settings for f64: direct Gauss–Seidel,
