@@ -321,8 +321,7 @@ typedef struct {
 } dk_spring_solve_report;
 
 // The multigrid preconditioner of `DK_PLAN_SOLVER_AMG` (the kernel's `AmgOptions`; see
-// docs/amg.md). [`dk_plan_options_default`] fills pyamg-like
-// defaults.
+// docs/amg.md). [`dk_plan_options_default`] fills pyamg-like defaults.
 typedef struct {
   // Strength-of-connection threshold θ in `[0, 1)` (default 0: every spring strong).
   double strength_theta;
@@ -337,8 +336,8 @@ typedef struct {
   uint32_t smoother;
 } dk_amg_options;
 
-// How a plan is built ([`dk_plan_options_default`] fills
-// the defaults). The same struct serves both precisions.
+// How a plan is built ([`dk_plan_options_default`] fills the defaults). The same struct
+// serves both precisions.
 typedef struct {
   // `DK_PLAN_QUATERNION` (default) or `DK_PLAN_SPRING`.
   uint32_t method;

@@ -39,6 +39,7 @@ use crate::args::{
     assert_layout, block, check_base, done, graph, index_need, mul_len, read_array, read_one,
     read_points, rebase, write_len,
 };
+use crate::graph::read_optional_cells;
 use crate::slice::{
     chunks, chunks_mut, input, out_one, output, quats, quats_mut, whole_chunks_mut, In, Out,
 };
@@ -199,32 +200,6 @@ fn by_dim(dim: u32, job: impl ByDim) -> dk_status {
     })
 }
 
-/// Reads a boundary element list (offsets and nodes in `index_base`) over `boundary_len`
-/// points; `None` when `offsets_len` is 0. Returns the rest of `scratch`.
-fn read_elements<'a>(
-    boundary_len: usize,
-    offsets: In<'a, u32>,
-    nodes: In<'a, u32>,
-    kinds: In<'a, u8>,
-    index_base: u32,
-    scratch: &'a mut [u32],
-) -> Result<(Option<Cells<'a>>, &'a mut [u32]), dk_status> {
-    check_base(index_base)?;
-    if offsets.len() == 0 {
-        if nodes.len() != 0 || kinds.len() != 0 {
-            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
-        }
-        return Ok((None, scratch));
-    }
-    let o = input(offsets)?;
-    let n = input(nodes)?;
-    let k = input(kinds)?;
-    let (o, scratch) = rebase(o, index_base, scratch)?;
-    let (n, scratch) = rebase(n, index_base, scratch)?;
-    let cells = Cells::new(boundary_len, o, n, k).map_err(dk_status::from)?;
-    Ok((Some(cells), scratch))
-}
-
 /// Reads a required element list (absent elements are a length mismatch).
 fn read_required_elements<'a>(
     boundary_len: usize,
@@ -234,7 +209,7 @@ fn read_required_elements<'a>(
     index_base: u32,
     scratch: &'a mut [u32],
 ) -> Result<Cells<'a>, dk_status> {
-    let (cells, _) = read_elements(boundary_len, offsets, nodes, kinds, index_base, scratch)?;
+    let (cells, _) = read_optional_cells(boundary_len, offsets, nodes, kinds, index_base, scratch)?;
     cells.ok_or(dk_status::DK_ERR_LENGTH_MISMATCH)
 }
 
@@ -359,7 +334,7 @@ impl<'a, T: Real> RawMotion<'a, T> {
         check_base(self.index_base)?;
         let nodes = input(self.nodes)?;
         let (nodes, scratch) = rebase(nodes, self.index_base, scratch)?;
-        let (elements, scratch) = read_elements(
+        let (elements, scratch) = read_optional_cells(
             nodes.len(),
             self.element_offsets,
             self.element_nodes,

@@ -2,9 +2,8 @@
 //! caller pools, then step it every time step with new boundary positions.
 //!
 //! The pools are the caller's memory: `reals` (`double` / `float`), `indices` (`uint32_t`)
-//! and `bytes` (`uint8_t`), sized by [`dk_plan_pool_sizes`] after
-//! [`dk_plan_work_sizes`] sized the transient work buffers. The plan
-//! stores no pointers (offsets follow from the counts in its header), so a caller may copy,
+//! and `bytes` (`uint8_t`), sized by [`dk_plan_pool_sizes`] after [`dk_plan_work_sizes`]
+//! sized the transient work buffers. The plan stores no pointers (offsets follow from the counts in its header), so a caller may copy,
 //! checkpoint or move the pools between steps. Every step reopens the pools with
 //! `Plan::open` (header, layout and a checksum of every immutable part: one pass over the
 //! pools, 11 ms against a warm 234k-node step of 231–328 ms), so pools that were overwritten
@@ -15,9 +14,12 @@ use deform_kernel::plan::{
     Plan, PlanMethod, PlanMotion, PlanSizes, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
 };
 use deform_kernel::spring::{AmgOptions, AmgSmoother};
-use deform_kernel::{Cells, Quat, Real};
+use deform_kernel::{Quat, Real};
 
-use crate::args::{assert_layout, by_dim, done, graph, read_one, read_points, write_one};
+use crate::args::{
+    assert_layout, by_dim, done, graph, read_array, read_one, read_points, write_one,
+};
+use crate::graph::read_optional_cells;
 use crate::slice::{chunks_mut, input, output, quats, In, Out};
 use crate::spring::dk_spring_solve_options;
 use crate::status::dk_status;
@@ -46,8 +48,7 @@ pub const DK_AMG_JACOBI: u32 = 0;
 pub const DK_AMG_CHEBYSHEV: u32 = 1;
 
 /// The multigrid preconditioner of `DK_PLAN_SOLVER_AMG` (the kernel's `AmgOptions`; see
-/// docs/amg.md). [`dk_plan_options_default`] fills pyamg-like
-/// defaults.
+/// docs/amg.md). [`dk_plan_options_default`] fills pyamg-like defaults.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[allow(non_camel_case_types)]
@@ -99,8 +100,8 @@ impl dk_amg_options {
     }
 }
 
-/// How a plan is built ([`dk_plan_options_default`] fills
-/// the defaults). The same struct serves both precisions.
+/// How a plan is built ([`dk_plan_options_default`] fills the defaults). The same struct
+/// serves both precisions.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[allow(non_camel_case_types)]
@@ -292,17 +293,14 @@ impl<'a, T: Real> SpecArgs<'a, T> {
         let points = read_points::<T, D>(self.points)?;
         let graph = graph(self.offsets, self.targets)?;
         let boundary = input(self.boundary)?;
-        let elements = if self.element_offsets.len() == 0 {
-            if self.element_nodes.len() != 0 || self.element_kinds.len() != 0 {
-                return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
-            }
-            None
-        } else {
-            let eo = input(self.element_offsets)?;
-            let en = input(self.element_nodes)?;
-            let ek = input(self.element_kinds)?;
-            Some(Cells::new(boundary.len(), eo, en, ek).map_err(dk_status::from)?)
-        };
+        let (elements, _) = read_optional_cells(
+            boundary.len(),
+            self.element_offsets,
+            self.element_nodes,
+            self.element_kinds,
+            0,
+            &mut [],
+        )?;
         let method = match o.method {
             DK_PLAN_SPRING => PlanMethod::Spring,
             DK_PLAN_QUATERNION => PlanMethod::QuaternionSpring,
@@ -399,12 +397,7 @@ impl<'a, T: Real> MotionArgs<'a, T> {
                 RotationSource::Shape
             }
             crate::deformation::DK_ROTATIONS_RIGID => {
-                let q = input(self.rotations)?;
-                let [w, x, y, z] = match q {
-                    [w, x, y, z] => [*w, *x, *y, *z],
-                    _ => return Err(dk_status::DK_ERR_LENGTH_MISMATCH),
-                };
-                RotationSource::Rigid(Quat::new(w, x, y, z))
+                RotationSource::Rigid(Quat::from_array(read_array::<T, 4>(self.rotations)?))
             }
             crate::deformation::DK_ROTATIONS_PER_NODE => {
                 RotationSource::PerNode(quats(self.rotations)?)
@@ -413,15 +406,7 @@ impl<'a, T: Real> MotionArgs<'a, T> {
         };
         let origin = match self.origin.len() {
             0 => None,
-            n if n == D => {
-                let o = input(self.origin)?;
-                let mut a = [T::ZERO; D];
-                for (d, &s) in a.iter_mut().zip(o) {
-                    *d = s;
-                }
-                Some(a)
-            }
-            _ => return Err(dk_status::DK_ERR_LENGTH_MISMATCH),
+            _ => Some(read_array::<T, D>(self.origin)?),
         };
         let start = match self.start {
             DK_PLAN_WARM => Start::Warm,

@@ -23,7 +23,7 @@ use deform_kernel::quality::{
 use deform_kernel::{CellKind, Cells, Real};
 
 use crate::args::{assert_layout, by_dim, done, graph, mul_len, read_points, write_len};
-use crate::graph::{read_cells, RawCells};
+use crate::graph::read_cells;
 use crate::slice::{out_one, output, whole_chunks_mut, In, Out};
 use crate::status::dk_status;
 
@@ -182,17 +182,14 @@ impl<'a> CellArgs<'a> {
         node_count: usize,
         scratch: &'a mut [u32],
     ) -> Result<(Cells<'a>, &'a mut [u32]), dk_status> {
-        let ((o, n, k), rest): (RawCells<'a>, _) = read_cells(
+        read_cells(
+            node_count,
             self.offsets,
             self.nodes,
             self.kinds,
             self.index_base,
             scratch,
-        )?;
-        Ok((
-            Cells::new(node_count, o, n, k).map_err(dk_status::from)?,
-            rest,
-        ))
+        )
     }
 }
 

@@ -194,10 +194,10 @@ fn chunks_mut_n<T, const D: usize>(p: Out<'_, T>, len: usize) -> Result<&mut [[T
     Ok(flat.as_chunks_mut::<D>().0)
 }
 
-/// Reinterprets a flat buffer of `len` scalars (the token's length) as `len / 4` quaternions (scalar first, the
-/// layout of the kernel's `#[repr(C)]` [`Quat`]). `len` must be a multiple of 4 (else
-/// `DK_ERR_LENGTH_MISMATCH`); NULL is an error unless `len` is 0. [`quats_mut`] is the mutable
-/// twin.
+/// Reinterprets a flat buffer of `len` scalars (the token's length) as `len / 4` quaternions
+/// (scalar first, the layout of the kernel's `#[repr(C)]` [`Quat`]). `len` must be a multiple
+/// of 4 (else `DK_ERR_LENGTH_MISMATCH`); NULL is an error unless `len` is 0. [`quats_mut`] is
+/// the mutable twin.
 pub(crate) fn quats<T: Real>(p: In<'_, T>) -> Result<&[Quat<T>], dk_status> {
     let flat: &[[T; 4]] = chunks::<T, 4>(p)?;
     // SAFETY: `Quat<T>` is `#[repr(C)]` with exactly four fields of type `T` (asserted for

@@ -13,7 +13,7 @@
 use deform_kernel::spring::{
     dual_volumes, inverse_volume_factors, scale_stiffness, wall_distance_factors, wall_distances,
 };
-use deform_kernel::{Cells, Real};
+use deform_kernel::Real;
 
 use crate::args::{by_dim, done, graph, read_points, rebase};
 use crate::graph::read_cells;
@@ -45,8 +45,7 @@ fn dual_volumes_d<T: Real, const D: usize>(
 ) -> Result<(), dk_status> {
     let p = read_points::<T, D>(points)?;
     let s = output(index_scratch)?;
-    let ((o, n, k), _) = read_cells(offsets, nodes, kinds, index_base, s)?;
-    let c = Cells::new(p.len(), o, n, k).map_err(dk_status::from)?;
+    let (c, _) = read_cells(p.len(), offsets, nodes, kinds, index_base, s)?;
     dual_volumes(&c, p, output(out)?, output(scratch)?).map_err(dk_status::from)
 }
 

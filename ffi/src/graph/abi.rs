@@ -117,14 +117,15 @@ pub unsafe extern "C" fn dk_cells_check(
         )
     };
     done((|| {
-        let ((o, n, k), _) = read_cells(
+        let scratch = output(index_scratch)?;
+        read_cells(
+            node_count,
             cell_offsets,
             cell_nodes,
             cell_kinds,
             index_base,
-            output(index_scratch)?,
+            scratch,
         )?;
-        Cells::new(node_count, o, n, k).map_err(dk_status::from)?;
         Ok(())
     })())
 }
@@ -161,14 +162,14 @@ pub unsafe extern "C" fn dk_graph_from_cells_len(
         )
     };
     done((|| {
-        let ((o, n, k), _) = read_cells(
+        let (cells, _) = read_cells(
+            node_count,
             cell_offsets,
             cell_nodes,
             cell_kinds,
             index_base,
             output(index_scratch)?,
         )?;
-        let cells = Cells::new(node_count, o, n, k).map_err(dk_status::from)?;
         write_len(len_out, graph_from_cells_len(&cells, face_diagonals))
     })())
 }
@@ -216,14 +217,14 @@ pub unsafe extern "C" fn dk_graph_from_cells(
         )
     };
     done((|| {
-        let ((co, cn, ck), _) = read_cells(
+        let (cells, _) = read_cells(
+            node_count,
             cell_offsets,
             cell_nodes,
             cell_kinds,
             index_base,
             output(index_scratch)?,
         )?;
-        let cells = Cells::new(node_count, co, cn, ck).map_err(dk_status::from)?;
         let o = output(offsets)?;
         let t = output(targets)?;
         let used = out_one(used_out)?;
