@@ -3,6 +3,7 @@
 //! Cells are stored like a CSR array: cell `c` has kind `kinds[c]` (a VTK type code) and
 //! nodes `nodes[offsets[c]..offsets[c + 1]]`, in VTK node order.
 
+use crate::check;
 use crate::error::{Error, Result};
 
 /// The element kinds the kernel understands, with their VTK type codes.
@@ -215,13 +216,7 @@ impl<'a> Cells<'a> {
                 value: nodes.len(),
             });
         }
-        if offsets.len() != kinds.len().wrapping_add(1) {
-            return Err(Error::LengthMismatch {
-                arg: "offsets",
-                expected: kinds.len().wrapping_add(1),
-                actual: offsets.len(),
-            });
-        }
+        check::len("offsets", offsets.len(), kinds.len().wrapping_add(1))?;
         if offsets.first() != Some(&0) {
             return Err(Error::BadOffsets {
                 arg: "offsets",

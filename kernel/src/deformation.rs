@@ -181,30 +181,6 @@ fn rotate_d<T: Real, const D: usize>(q: Quat<T>, v: [T; D]) -> [T; D] {
     drop3(q.rotate(lift(v)))
 }
 
-/// Checks that `D` is 2 or 3.
-#[inline]
-fn check_dim<const D: usize>() -> Result<()> {
-    if D == 2 || D == 3 {
-        Ok(())
-    } else {
-        Err(Error::BadDimensions { arg: "D" })
-    }
-}
-
-/// Checks `slice.len() == expected`.
-#[inline]
-fn check_len(arg: &'static str, actual: usize, expected: usize) -> Result<()> {
-    if actual == expected {
-        Ok(())
-    } else {
-        Err(Error::LengthMismatch {
-            arg,
-            expected,
-            actual,
-        })
-    }
-}
-
 /// Checks the IDW exponent `p`: finite and positive.
 #[inline]
 fn check_exponent<T: Real>(exponent: T) -> Result<()> {
@@ -215,69 +191,6 @@ fn check_exponent<T: Real>(exponent: T) -> Result<()> {
             arg: "exponent",
             reason: "must be finite and positive",
         })
-    }
-}
-
-/// Checks `actual >= needed` for a buffer.
-#[inline]
-fn check_buffer(arg: &'static str, actual: usize, needed: usize) -> Result<()> {
-    if actual >= needed {
-        Ok(())
-    } else {
-        Err(Error::BufferTooSmall {
-            arg,
-            needed,
-            actual,
-        })
-    }
-}
-
-/// Checks that every component is finite.
-#[inline]
-fn check_finite<T: Real, const N: usize>(arg: &'static str, values: &[[T; N]]) -> Result<()> {
-    match crate::real::first_non_finite(values) {
-        Some(position) => Err(Error::NonFinite { arg, position }),
-        None => Ok(()),
-    }
-}
-
-/// Checks that every quaternion is finite and can be normalised.
-#[inline]
-fn check_quats<T: Real>(arg: &'static str, q: &[Quat<T>]) -> Result<()> {
-    for (position, r) in q.iter().enumerate() {
-        if !r.is_finite() {
-            return Err(Error::NonFinite { arg, position });
-        }
-        if r.normalize().is_err() {
-            return Err(Error::ZeroLength { arg, position });
-        }
-    }
-    Ok(())
-}
-
-/// Checks that every index in `nodes` is `< bound`.
-#[inline]
-fn check_indices(arg: &'static str, nodes: &[u32], bound: usize) -> Result<()> {
-    for (position, &n) in nodes.iter().enumerate() {
-        if n as usize >= bound {
-            return Err(Error::IndexOutOfRange {
-                arg,
-                position,
-                index: n as usize,
-                bound,
-            });
-        }
-    }
-    Ok(())
-}
-
-/// Checks that a scalar is finite.
-#[inline]
-fn check_scalar<T: Real>(arg: &'static str, x: T) -> Result<()> {
-    if x.is_finite() {
-        Ok(())
-    } else {
-        Err(Error::NonFinite { arg, position: 0 })
     }
 }
 

@@ -7,6 +7,7 @@
 //! Validation happens before anything is written.
 
 use crate::cells::Cells;
+use crate::check;
 use crate::error::{Error, Result};
 
 /// Where the undirected edges come from.
@@ -138,20 +139,8 @@ fn build(
             value: node_count,
         });
     }
-    if offsets.len() != node_count.wrapping_add(1) {
-        return Err(Error::LengthMismatch {
-            arg: "offsets",
-            expected: node_count.wrapping_add(1),
-            actual: offsets.len(),
-        });
-    }
-    if targets.len() < needed {
-        return Err(Error::BufferTooSmall {
-            arg: "targets",
-            needed,
-            actual: targets.len(),
-        });
-    }
+    check::len("offsets", offsets.len(), node_count.wrapping_add(1))?;
+    check::buffer("targets", targets.len(), needed)?;
 
     // 1. Degrees (with repetitions) into offsets[i + 1].
     offsets.iter_mut().for_each(|o| *o = 0);

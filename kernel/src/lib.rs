@@ -30,6 +30,7 @@
 
 pub mod block;
 pub mod cells;
+mod check;
 pub mod deformation;
 pub mod error;
 pub mod graph;

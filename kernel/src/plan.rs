@@ -254,7 +254,7 @@ impl<'a, T: Real, const D: usize> Plan<'a, T, D> {
     /// stiffness and sets up the hierarchy.
     ///
     /// # Errors
-    /// `D` not 2 or 3, length mismatches, non-finite points, an empty, repeated or
+    /// Length mismatches, non-finite points, an empty, repeated or
     /// out-of-range boundary node, the errors of [`SpringSystem::new`](crate::spring::SpringSystem::new),
     /// [`batina_stiffness`](crate::spring::batina_stiffness) and
     /// [`AmgHierarchy::setup`](crate::spring::AmgHierarchy::setup), invalid options,

@@ -44,31 +44,9 @@ pub use element::CellQuality;
 pub use wall::{wall_angle_change, wall_angle_scratch_len, Wall, WallAngleChange};
 
 use crate::cells::{CellKind, Cells};
+use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
-
-/// `D` must be 2 or 3.
-pub(crate) fn check_dimension<const D: usize>() -> Result<()> {
-    if D == 2 || D == 3 {
-        Ok(())
-    } else {
-        Err(Error::InvalidParameter {
-            arg: "D",
-            reason: "must be 2 or 3 for mesh quality",
-        })
-    }
-}
-
-/// Every coordinate finite.
-pub(crate) fn check_finite<T: Real, const D: usize>(
-    arg: &'static str,
-    points: &[[T; D]],
-) -> Result<()> {
-    match crate::real::first_non_finite(points) {
-        Some(position) => Err(Error::NonFinite { arg, position }),
-        None => Ok(()),
-    }
-}
 
 /// Points match the cells, are finite, and every cell kind fits `D`.
 fn check_cells<T: Real, const D: usize>(
@@ -76,14 +54,8 @@ fn check_cells<T: Real, const D: usize>(
     arg: &'static str,
     points: &[[T; D]],
 ) -> Result<()> {
-    check_dimension::<D>()?;
-    if points.len() != cells.node_count() {
-        return Err(Error::LengthMismatch {
-            arg,
-            expected: cells.node_count(),
-            actual: points.len(),
-        });
-    }
+    check::mesh_dim::<D>();
+    check::len(arg, points.len(), cells.node_count())?;
     for (c, &code) in cells.kinds().iter().enumerate() {
         let dim = CellKind::from_vtk(code).map(CellKind::dimension);
         if dim != Some(D) {
@@ -94,17 +66,11 @@ fn check_cells<T: Real, const D: usize>(
             });
         }
     }
-    check_finite(arg, points)
+    check::finite_items(arg, points)
 }
 
 fn check_out<T>(cells: &Cells<'_>, out: &[T]) -> Result<()> {
-    if out.len() != cells.len() {
-        return Err(Error::LengthMismatch {
-            arg: "out",
-            expected: cells.len(),
-            actual: out.len(),
-        });
-    }
+    check::len("out", out.len(), cells.len())?;
     Ok(())
 }
 
@@ -125,13 +91,13 @@ fn each_cell<'c, T: Real, const D: usize>(
 
 /// Quality of one cell of kind `kind` from its corner coordinates (in VTK order).
 ///
-/// Errors: `D` not 2 or 3, a kind that does not fit `D` ([`Error::CellDimension`] with
+/// Errors: a kind that does not fit `D` ([`Error::CellDimension`] with
 /// `cell` 0), the wrong number of corners, a non-finite coordinate.
 pub fn cell_quality<T: Real, const D: usize>(
     kind: CellKind,
     corners: &[[T; D]],
 ) -> Result<CellQuality<T>> {
-    check_dimension::<D>()?;
+    check::mesh_dim::<D>();
     if kind.dimension() != D {
         return Err(Error::CellDimension {
             cell: 0,
@@ -139,14 +105,8 @@ pub fn cell_quality<T: Real, const D: usize>(
             dimension: D,
         });
     }
-    if corners.len() != kind.node_count() {
-        return Err(Error::LengthMismatch {
-            arg: "corners",
-            expected: kind.node_count(),
-            actual: corners.len(),
-        });
-    }
-    check_finite("corners", corners)?;
+    check::len("corners", corners.len(), kind.node_count())?;
+    check::finite_items("corners", corners)?;
     let mut p = [[T::ZERO; 3]; 8];
     for (slot, c) in p.iter_mut().zip(corners) {
         for (s, &x) in slot.iter_mut().zip(c.iter()) {
@@ -162,8 +122,17 @@ pub fn cell_quality<T: Real, const D: usize>(
 
 /// Signed area (2D) or volume (3D) of every cell into `out` (`out.len() == cells.len()`).
 ///
-/// Errors (nothing written): `D` not 2 or 3, `points.len() != cells.node_count()`, a cell kind
-/// that does not fit `D`, a non-finite coordinate, `out` of the wrong length.
+/// Errors (nothing written): `points.len() != cells.node_count()`, a cell kind that does not
+/// fit `D`, a non-finite coordinate, `out` of the wrong length. `D` is 2 or 3, checked at
+/// compile time:
+///
+/// ```compile_fail,E0080
+/// # use deform_kernel::{cells::Cells, quality::cell_measures};
+/// let cells = Cells::new(2, &[0, 2], &[0, 1], &[3]).unwrap();
+/// let mut out = [0.0f64; 1];
+/// // A 4-vector is not a mesh point: this does not compile.
+/// let _ = cell_measures(&cells, &[[0.0f64; 4]; 2], &mut out);
+/// ```
 pub fn cell_measures<T: Real, const D: usize>(
     cells: &Cells<'_>,
     points: &[[T; D]],
@@ -278,13 +247,7 @@ pub fn compare<T: Real, const D: usize>(
     if let Some(w) = wall {
         wall::check_wall(w, undeformed, deformed)?;
         let needed = wall_angle_scratch_len(undeformed.len());
-        if scratch.len() < needed {
-            return Err(Error::BufferTooSmall {
-                arg: "scratch",
-                needed,
-                actual: scratch.len(),
-            });
-        }
+        check::buffer("scratch", scratch.len(), needed)?;
     }
     let mut r = QualityReport {
         cells: cells.len(),

@@ -46,6 +46,7 @@
 //! # Ok::<(), deform_kernel::Error>(())
 //! ```
 
+use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::vector;
@@ -102,21 +103,13 @@ impl<'a, T: Real, const D: usize> Constraints<'a, T, D> {
     /// Validates a kind table and its directions.
     ///
     /// # Errors
-    /// `D` not 2 or 3 ([`Error::BadDimensions`]); `directions.len() != kinds.len()`
+    /// `directions.len() != kinds.len()`
     /// ([`Error::LengthMismatch`]); a kind code above 3 ([`Error::IndexOutOfRange`] on
     /// `kinds`, `bound` 4); a sliding node's direction not finite ([`Error::NonFinite`]) or
     /// not of unit length within [`unit_tolerance`] ([`Error::NotUnit`]).
     pub fn new(kinds: &'a [u8], directions: &'a [[T; D]]) -> Result<Self> {
-        if !(D == 2 || D == 3) {
-            return Err(Error::BadDimensions { arg: "D" });
-        }
-        if directions.len() != kinds.len() {
-            return Err(Error::LengthMismatch {
-                arg: "directions",
-                expected: kinds.len(),
-                actual: directions.len(),
-            });
-        }
+        check::mesh_dim::<D>();
+        check::len("directions", directions.len(), kinds.len())?;
         let tol = unit_tolerance::<T>();
         for (position, (&k, d)) in kinds.iter().zip(directions).enumerate() {
             match NodeKind::from_code(k) {
@@ -219,13 +212,7 @@ impl<'a, T: Real, const D: usize> Constraints<'a, T, D> {
     /// # Errors
     /// `mask.len() != self.len()` ([`Error::LengthMismatch`]; nothing written).
     pub fn fixed_mask(&self, mask: &mut [u8]) -> Result<()> {
-        if mask.len() != self.len() {
-            return Err(Error::LengthMismatch {
-                arg: "mask",
-                expected: self.len(),
-                actual: mask.len(),
-            });
-        }
+        check::len("mask", mask.len(), self.len())?;
         for (m, &k) in mask.iter_mut().zip(self.kinds) {
             *m = u8::from(k == NodeKind::Fixed.code());
         }
@@ -235,13 +222,7 @@ impl<'a, T: Real, const D: usize> Constraints<'a, T, D> {
     /// Checks that `fixed` (a spring system's mask, nonzero = fixed) marks exactly the nodes
     /// of kind [`NodeKind::Fixed`].
     pub(crate) fn check_mask(&self, fixed: &[u8]) -> Result<()> {
-        if fixed.len() != self.len() {
-            return Err(Error::LengthMismatch {
-                arg: "constraints",
-                expected: fixed.len(),
-                actual: self.len(),
-            });
-        }
+        check::len("constraints", self.len(), fixed.len())?;
         for (&m, &k) in fixed.iter().zip(self.kinds) {
             if (m != 0) != (k == NodeKind::Fixed.code()) {
                 return Err(Error::InvalidParameter {
@@ -260,30 +241,20 @@ impl<'a, T: Real, const D: usize> Constraints<'a, T, D> {
 /// or spring pipelines) in which the sliding nodes were ordinary field nodes.
 ///
 /// # Errors (nothing written)
-/// `D` not 2 or 3; lengths differ from `constraints.len()`; non-finite `original` or
+/// Lengths differ from `constraints.len()`; non-finite `original` or
 /// `points`; a projected position that is not finite ([`Error::Overflow`] on `points`).
 pub fn slide_points<T: Real, const D: usize>(
     constraints: &Constraints<'_, T, D>,
     original: &[[T; D]],
     points: &mut [[T; D]],
 ) -> Result<()> {
-    if !(D == 2 || D == 3) {
-        return Err(Error::BadDimensions { arg: "D" });
-    }
+    check::mesh_dim::<D>();
     let n = constraints.len();
     for (arg, len) in [("original", original.len()), ("points", points.len())] {
-        if len != n {
-            return Err(Error::LengthMismatch {
-                arg,
-                expected: n,
-                actual: len,
-            });
-        }
+        check::len(arg, len, n)?;
     }
     for (arg, v) in [("original", original), ("points", &*points)] {
-        if let Some(position) = crate::real::first_non_finite(v) {
-            return Err(Error::NonFinite { arg, position });
-        }
+        check::finite_items(arg, v)?;
     }
     let moved = |i: usize, o: [T; D], p: [T; D]| -> [T; D] {
         vector::add(o, constraints.project(i, vector::sub(p, o)))
@@ -324,7 +295,7 @@ pub struct PlaneFit<T, const D: usize> {
 /// `tolerance · extent`. Pass `T::INFINITY` to never refuse and read [`PlaneFit::residual`].
 ///
 /// # Errors
-/// `D` not 2 or 3 ([`Error::BadDimensions`]); fewer than `D` nodes or nodes that do not span a
+/// Fewer than `D` nodes or nodes that do not span a
 /// plane (all coincident, or collinear in 3D) ([`Error::InvalidParameter`] on `nodes`); an
 /// index `>= points.len()` ([`Error::IndexOutOfRange`]); a non-finite coordinate
 /// ([`Error::NonFinite`] on `points`, position = the node index); `tolerance` NaN or negative
@@ -336,9 +307,7 @@ pub fn fit_plane<T: Real, const D: usize>(
     nodes: &[u32],
     tolerance: T,
 ) -> Result<PlaneFit<T, D>> {
-    if !(D == 2 || D == 3) {
-        return Err(Error::BadDimensions { arg: "D" });
-    }
+    check::mesh_dim::<D>();
     if tolerance.is_nan() || tolerance < T::ZERO {
         return Err(Error::InvalidParameter {
             arg: "tolerance",

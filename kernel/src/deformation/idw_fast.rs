@@ -97,8 +97,9 @@
 //! leave the normal range (coordinates beyond about 1e154 or closer than 1e-154 in `f64`)
 //! are computed by the exact method's robust path.
 
+use super::check_exponent;
 use super::propagate::{check_boundary_entries, idw_point};
-use super::{check_buffer, check_dim, check_exponent, check_finite, check_len};
+use crate::check;
 use crate::error::{Error, Result};
 use crate::quat::Quat;
 use crate::real::Real;
@@ -228,13 +229,13 @@ pub fn propagate_idw_fast<T: Real, const D: usize>(
     rotations: &mut [Quat<T>],
     mut bounds: Option<&mut [T]>,
 ) -> Result<IdwFastReport<T>> {
-    check_dim::<D>()?;
+    check::mesh_dim::<D>();
     let n = points.len();
     let b = boundary.len();
-    check_len("translations", translations.len(), n)?;
-    check_len("rotations", rotations.len(), n)?;
+    check::len("translations", translations.len(), n)?;
+    check::len("rotations", rotations.len(), n)?;
     if let Some(bd) = bounds.as_deref() {
-        check_len("bounds", bd.len(), n)?;
+        check::len("bounds", bd.len(), n)?;
     }
     if b == 0 {
         return Err(Error::InvalidParameter {
@@ -251,7 +252,7 @@ pub fn propagate_idw_fast<T: Real, const D: usize>(
     check_exponent(exponent)?;
     check_options_and_buffers::<T, D>(options, b, index.len(), scratch.len(), "scratch")?;
     let nodes_needed = propagate_idw_fast_scratch_len::<D>(b);
-    check_finite("points", points)?;
+    check::finite_items("points", points)?;
     check_boundary_entries(boundary, translations, rotations)?;
 
     let index = index.get_mut(..b).unwrap_or(&mut []);
@@ -334,8 +335,8 @@ pub(super) fn check_options_and_buffers<T: Real, const D: usize>(
             reason: "must be non-negative (+inf for no refinement)",
         });
     }
-    check_buffer("index", index_len, propagate_idw_fast_index_len(b))?;
-    check_buffer(
+    check::buffer("index", index_len, propagate_idw_fast_index_len(b))?;
+    check::buffer(
         scratch_arg,
         scratch_len,
         propagate_idw_fast_scratch_len::<D>(b),

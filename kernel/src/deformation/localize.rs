@@ -1,6 +1,6 @@
 //! Renumbering boundary elements from mesh numbering to boundary-local numbering.
 
-use super::{check_buffer, check_indices, check_len};
+use crate::check;
 use crate::error::{Error, Result};
 
 /// Length of the `u32` scratch [`localize_nodes`] needs: one entry per mesh node.
@@ -28,8 +28,8 @@ pub fn localize_nodes(
     scratch: &mut [u32],
     local: &mut [u32],
 ) -> Result<()> {
-    check_len("local", local.len(), global.len())?;
-    check_buffer(
+    check::len("local", local.len(), global.len())?;
+    check::buffer(
         "scratch",
         scratch.len(),
         localize_nodes_scratch_len(node_count),
@@ -40,8 +40,8 @@ pub fn localize_nodes(
             value: boundary.len(),
         });
     }
-    check_indices("boundary", boundary, node_count)?;
-    check_indices("global", global, node_count)?;
+    check::indices("boundary", boundary, node_count)?;
+    check::indices("global", global, node_count)?;
     let map = scratch.get_mut(..node_count).unwrap_or(&mut []);
     for m in map.iter_mut() {
         *m = u32::MAX;

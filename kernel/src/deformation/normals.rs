@@ -1,7 +1,8 @@
 //! Area-weighted boundary node normals.
 
-use super::{check_buffer, check_dim, check_len, drop3, load, store, Pts};
+use super::{drop3, load, store, Pts};
 use crate::cells::{CellKind, Cells};
+use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::vector::{cross, norm, scale, sub};
@@ -12,8 +13,8 @@ pub(crate) fn check_elements<const D: usize>(
     elements: &Cells<'_>,
     point_count: usize,
 ) -> Result<()> {
-    check_dim::<D>()?;
-    check_len("elements.node_count", elements.node_count(), point_count)?;
+    check::mesh_dim::<D>();
+    check::len("elements.node_count", elements.node_count(), point_count)?;
     for (cell, (kind, _)) in elements.iter().enumerate() {
         let ok = match kind {
             CellKind::Line => D == 2,
@@ -117,8 +118,8 @@ pub fn boundary_normals<T: Real, const D: usize>(
     normals: &mut [[T; D]],
 ) -> Result<()> {
     check_elements::<D>(elements, points.len())?;
-    check_len("normals", normals.len(), points.len())?;
-    check_buffer(
+    check::len("normals", normals.len(), points.len())?;
+    check::buffer(
         "scratch",
         scratch.len(),
         boundary_normals_scratch_len(points.len()),

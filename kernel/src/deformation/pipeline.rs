@@ -4,12 +4,12 @@ use super::idw_fast::check_options_and_buffers;
 use super::rotations::{origin_core, rigid_node_rotation, rotations_core, translation};
 use super::springs::{propagate_spring_with, propagate_spring_with_scratch_len};
 use super::{
-    boundary_rotations_scratch_len, check_buffer, check_dim, check_exponent, check_finite,
-    check_indices, check_len, check_quats, check_scalar, propagate_idw, propagate_idw_fast,
+    boundary_rotations_scratch_len, check_exponent, propagate_idw, propagate_idw_fast,
     propagate_tfi, tfi_scratch_len, update_points, IdwFastOptions, IdwFastReport, Pts,
 };
 use crate::block::Block;
 use crate::cells::Cells;
+use crate::check;
 use crate::error::{Error, Result};
 use crate::quat::Quat;
 use crate::real::Real;
@@ -62,21 +62,21 @@ fn validate<T: Real, const D: usize>(
     rot_scratch_needed: usize,
     out: &[[T; D]],
 ) -> Result<()> {
-    check_dim::<D>()?;
+    check::mesh_dim::<D>();
     let n = points.len();
     let b = motion.nodes.len();
-    check_len("translations", translations.len(), n)?;
-    check_len("rotations", rotations.len(), n)?;
-    check_len("out", out.len(), n)?;
-    check_len("motion.deformed", motion.deformed.len(), b)?;
+    check::len("translations", translations.len(), n)?;
+    check::len("rotations", rotations.len(), n)?;
+    check::len("out", out.len(), n)?;
+    check::len("motion.deformed", motion.deformed.len(), b)?;
     if b == 0 {
         return Err(Error::InvalidParameter {
             arg: "motion.nodes",
             reason: "must not be empty",
         });
     }
-    check_buffer("scratch", scratch.len(), n.max(rot_scratch_needed))?;
-    check_indices("motion.nodes", motion.nodes, n)?;
+    check::buffer("scratch", scratch.len(), n.max(rot_scratch_needed))?;
+    check::indices("motion.nodes", motion.nodes, n)?;
     match motion.rotations {
         RotationSource::Shape => {
             if motion.elements.is_none() {
@@ -87,20 +87,20 @@ fn validate<T: Real, const D: usize>(
             }
         }
         RotationSource::Rigid(q) => {
-            check_quats("motion.rotations", core::slice::from_ref(&q))?;
+            check::quats("motion.rotations", core::slice::from_ref(&q))?;
         }
         RotationSource::PerNode(q) => {
-            check_len("motion.rotations", q.len(), b)?;
-            check_quats("motion.rotations", q)?;
+            check::len("motion.rotations", q.len(), b)?;
+            check::quats("motion.rotations", q)?;
         }
     }
     if let Some(o) = motion.origin {
         for x in o {
-            check_scalar("motion.origin", x)?;
+            check::scalar("motion.origin", x)?;
         }
     }
-    check_finite("points", points)?;
-    check_finite("motion.deformed", motion.deformed)?;
+    check::finite_items("points", points)?;
+    check::finite_items("motion.deformed", motion.deformed)?;
     // Duplicate check, leaving the marks in scratch[..n].
     let marks = scratch.get_mut(..n).unwrap_or(&mut []);
     for m in marks.iter_mut() {
@@ -335,7 +335,7 @@ pub fn deform_tfi<T: Real, const D: usize>(
         deform_tfi_scratch_len::<D>(block, motion.nodes.len()),
         out,
     )?;
-    check_len("points", points.len(), block.point_count())?;
+    check::len("points", points.len(), block.point_count())?;
     super::tfi::check_directions::<D>(block, directions)?;
     let dims = block.dims();
     for (p, m) in scratch.iter().take(points.len()).enumerate() {
@@ -425,14 +425,14 @@ pub fn deform_spring_with<T: Real, const D: usize, const V: usize>(
     out: &mut [[T; D]],
 ) -> Result<([T; D], SolveReport<T>)> {
     validate_unstructured(points, motion, translations, rotations, scratch, out)?;
-    check_len("sys", sys.node_count(), points.len())?;
+    check::len("sys", sys.node_count(), points.len())?;
     if V != D + 4 {
         return Err(Error::InvalidParameter {
             arg: "V",
             reason: "must be D + 4 (translation and quaternion components)",
         });
     }
-    check_buffer(
+    check::buffer(
         "values",
         values.len(),
         propagate_spring_with_scratch_len(&solver, points.len()),

@@ -1,6 +1,7 @@
 //! Inverse-distance propagation of `(Δ, Q)` into the field.
 
-use super::{check_dim, check_exponent, check_finite, check_indices, check_len};
+use super::check_exponent;
+use crate::check;
 use crate::error::{Error, Result};
 use crate::quat::{Quat, QuatAverage};
 use crate::real::Real;
@@ -13,7 +14,7 @@ pub(super) fn check_boundary_entries<T: Real, const D: usize>(
     translations: &[[T; D]],
     rotations: &[Quat<T>],
 ) -> Result<()> {
-    check_indices(
+    check::indices(
         "boundary",
         boundary,
         translations.len().min(rotations.len()),
@@ -21,7 +22,7 @@ pub(super) fn check_boundary_entries<T: Real, const D: usize>(
     for &b in boundary {
         let b = b as usize;
         if let Some(t) = translations.get(b) {
-            check_finite("translations", core::slice::from_ref(t)).map_err(|_| {
+            check::finite_items("translations", core::slice::from_ref(t)).map_err(|_| {
                 Error::NonFinite {
                     arg: "translations",
                     position: b,
@@ -76,10 +77,10 @@ pub fn propagate_idw<T: Real, const D: usize>(
     translations: &mut [[T; D]],
     rotations: &mut [Quat<T>],
 ) -> Result<()> {
-    check_dim::<D>()?;
+    check::mesh_dim::<D>();
     let n = points.len();
-    check_len("translations", translations.len(), n)?;
-    check_len("rotations", rotations.len(), n)?;
+    check::len("translations", translations.len(), n)?;
+    check::len("rotations", rotations.len(), n)?;
     if boundary.is_empty() {
         return Err(Error::InvalidParameter {
             arg: "boundary",
@@ -87,7 +88,7 @@ pub fn propagate_idw<T: Real, const D: usize>(
         });
     }
     check_exponent(exponent)?;
-    check_finite("points", points)?;
+    check::finite_items("points", points)?;
     check_boundary_entries(boundary, translations, rotations)?;
 
     for (i, x) in points.iter().enumerate() {

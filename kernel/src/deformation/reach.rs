@@ -1,6 +1,6 @@
 //! Limiting how far the propagated motion reaches.
 
-use super::check_len;
+use crate::check;
 use crate::error::{Error, Result};
 use crate::quat::Quat;
 use crate::real::Real;
@@ -40,8 +40,8 @@ pub fn limit_reach<T: Real, const D: usize>(
     translations: &mut [[T; D]],
     rotations: &mut [Quat<T>],
 ) -> Result<()> {
-    check_len("translations", translations.len(), distances.len())?;
-    check_len("rotations", rotations.len(), distances.len())?;
+    check::len("translations", translations.len(), distances.len())?;
+    check::len("rotations", rotations.len(), distances.len())?;
     if !(radius.is_finite() && radius > T::ZERO) {
         return Err(Error::InvalidParameter {
             arg: "radius",

@@ -1,11 +1,9 @@
 //! Boundary rotations (Samareh steps 1–3), the default origin and the translations `Δ`.
 
 use super::normals::{check_elements, unit_normals};
-use super::{
-    check_buffer, check_dim, check_finite, check_len, check_quats, check_scalar, load, rotate_d,
-    store, take, Pts,
-};
+use super::{load, rotate_d, store, take, Pts};
 use crate::cells::Cells;
+use crate::check;
 use crate::error::{Error, Result};
 use crate::quat::Quat;
 use crate::real::Real;
@@ -70,7 +68,7 @@ pub fn boundary_rotations<T: Real, const D: usize>(
     scratch: &mut [T],
     rotations: &mut [Quat<T>],
 ) -> Result<()> {
-    check_len("rotations", rotations.len(), undeformed.len())?;
+    check::len("rotations", rotations.len(), undeformed.len())?;
     rotations_core(
         Pts::direct(undeformed),
         Pts::direct(deformed),
@@ -93,11 +91,11 @@ pub(crate) fn rotations_core<T: Real, const D: usize>(
     scratch: &mut [T],
     emit: impl FnMut(usize, Quat<T>),
 ) -> Result<()> {
-    check_dim::<D>()?;
+    check::mesh_dim::<D>();
     let b = undeformed.len();
     check_elements::<D>(elements, b)?;
-    check_len("deformed", deformed.len(), b)?;
-    check_buffer(
+    check::len("deformed", deformed.len(), b)?;
+    check::buffer(
         "scratch",
         scratch.len(),
         boundary_rotations_scratch_len::<D>(b),
@@ -299,9 +297,9 @@ pub(crate) fn origin_core<T: Real, const D: usize>(
     undeformed: Pts<'_, T, D>,
     deformed: Pts<'_, T, D>,
 ) -> Result<[T; D]> {
-    check_dim::<D>()?;
+    check::mesh_dim::<D>();
     let b = undeformed.len();
-    check_len("deformed", deformed.len(), b)?;
+    check::len("deformed", deformed.len(), b)?;
     if b == 0 {
         return Err(Error::InvalidParameter {
             arg: "undeformed",
@@ -350,17 +348,17 @@ pub fn boundary_translations<T: Real, const D: usize>(
     rotations: &[Quat<T>],
     translations: &mut [[T; D]],
 ) -> Result<()> {
-    check_dim::<D>()?;
+    check::mesh_dim::<D>();
     let b = undeformed.len();
-    check_len("deformed", deformed.len(), b)?;
-    check_len("rotations", rotations.len(), b)?;
-    check_len("translations", translations.len(), b)?;
+    check::len("deformed", deformed.len(), b)?;
+    check::len("rotations", rotations.len(), b)?;
+    check::len("translations", translations.len(), b)?;
     for &x in origin.iter() {
-        check_scalar("origin", x)?;
+        check::scalar("origin", x)?;
     }
-    check_finite("undeformed", undeformed)?;
-    check_finite("deformed", deformed)?;
-    check_quats("rotations", rotations)?;
+    check::finite_items("undeformed", undeformed)?;
+    check::finite_items("deformed", deformed)?;
+    check::quats("rotations", rotations)?;
     for (((t, u), d), q) in translations
         .iter_mut()
         .zip(undeformed)

@@ -1,7 +1,7 @@
 //! Linear-spring propagation of `(Δ, Q)`: one solve with `V = D + 4` values per node.
 
 use super::propagate::check_boundary_entries;
-use super::{check_buffer, check_dim, check_len};
+use crate::check;
 use crate::error::{Error, Result};
 use crate::quat::Quat;
 use crate::real::Real;
@@ -74,7 +74,7 @@ pub fn propagate_spring_with<T: Real, const D: usize, const V: usize>(
     rotations: &mut [Quat<T>],
     scratch: &mut [[T; V]],
 ) -> Result<SolveReport<T>> {
-    check_dim::<D>()?;
+    check::mesh_dim::<D>();
     if V != D + 4 {
         return Err(Error::InvalidParameter {
             arg: "V",
@@ -82,9 +82,9 @@ pub fn propagate_spring_with<T: Real, const D: usize, const V: usize>(
         });
     }
     let n = sys.node_count();
-    check_len("translations", translations.len(), n)?;
-    check_len("rotations", rotations.len(), n)?;
-    check_buffer(
+    check::len("translations", translations.len(), n)?;
+    check::len("rotations", rotations.len(), n)?;
+    check::buffer(
         "scratch",
         scratch.len(),
         propagate_spring_with_scratch_len(&solver, n),

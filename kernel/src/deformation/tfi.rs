@@ -1,7 +1,7 @@
 //! Transfinite interpolation (TFI) on structured blocks with arclength blending (Soni).
 
-use super::{check_buffer, check_dim, check_len};
 use crate::block::Block;
+use crate::check;
 use crate::error::{Error, Result};
 use crate::quat::Quat;
 use crate::real::Real;
@@ -26,7 +26,7 @@ struct Setup {
 
 /// Checks the block shape and the active directions for `D` (no sizes).
 pub(super) fn check_directions<const D: usize>(block: &Block, directions: [bool; 3]) -> Result<()> {
-    check_dim::<D>()?;
+    check::mesh_dim::<D>();
     let dims = block.dims();
     if D == 2 && dims[2] != 1 {
         return Err(Error::BadDimensions { arg: "block" });
@@ -70,15 +70,10 @@ fn setup<T: Real, const D: usize>(
             active |= 1 << d;
         }
     }
-    check_len("points", points.len(), n)?;
-    check_len(values_arg, values_len, n)?;
-    check_buffer("scratch", scratch_len, tfi_scratch_len::<D>(block))?;
-    if let Some(position) = crate::real::first_non_finite(points) {
-        return Err(Error::NonFinite {
-            arg: "points",
-            position,
-        });
-    }
+    check::len("points", points.len(), n)?;
+    check::len(values_arg, values_len, n)?;
+    check::buffer("scratch", scratch_len, tfi_scratch_len::<D>(block))?;
+    check::finite_items("points", points)?;
     Ok(Setup { dims, n, active })
 }
 
@@ -284,7 +279,7 @@ pub fn propagate_tfi<T: Real, const D: usize>(
         "translations",
         scratch.len(),
     )?;
-    check_len("rotations", rotations.len(), s.n)?;
+    check::len("rotations", rotations.len(), s.n)?;
     check_face_values(&s, "translations", translations)?;
     for (position, q) in rotations.iter().enumerate() {
         if s.on_face(s.ijk(position)) {

@@ -1,8 +1,7 @@
 //! The field update `R^d = o + Δ + Q (R^u − o) Q*` (Samareh eq. 6).
 
-use super::{
-    check_dim, check_finite, check_indices, check_len, check_quats, check_scalar, rotate_d,
-};
+use super::rotate_d;
+use crate::check;
 use crate::error::Result;
 use crate::quat::Quat;
 use crate::real::Real;
@@ -27,26 +26,26 @@ pub fn update_points<T: Real, const D: usize>(
     boundary_deformed: &[[T; D]],
     out: &mut [[T; D]],
 ) -> Result<()> {
-    check_dim::<D>()?;
+    check::mesh_dim::<D>();
     let n = points.len();
-    check_len("translations", translations.len(), n)?;
-    check_len("rotations", rotations.len(), n)?;
-    check_len("out", out.len(), n)?;
-    check_len("boundary_deformed", boundary_deformed.len(), boundary.len())?;
+    check::len("translations", translations.len(), n)?;
+    check::len("rotations", rotations.len(), n)?;
+    check::len("out", out.len(), n)?;
+    check::len("boundary_deformed", boundary_deformed.len(), boundary.len())?;
     for &x in origin.iter() {
-        check_scalar("origin", x)?;
+        check::scalar("origin", x)?;
     }
-    check_indices("boundary", boundary, n)?;
+    check::indices("boundary", boundary, n)?;
     // One fused pass over points, translations and rotations (no square roots); only when it
     // finds a problem do the per-array checks run, to report the same first error as always.
     let valid = all_valid(points, translations, rotations);
     if !valid {
-        check_finite("points", points)?;
-        check_finite("translations", translations)?;
+        check::finite_items("points", points)?;
+        check::finite_items("translations", translations)?;
     }
-    check_finite("boundary_deformed", boundary_deformed)?;
+    check::finite_items("boundary_deformed", boundary_deformed)?;
     if !valid {
-        check_quats("rotations", rotations)?;
+        check::quats("rotations", rotations)?;
     }
     for (((o, r), t), q) in out.iter_mut().zip(points).zip(translations).zip(rotations) {
         let q = q.normalize().unwrap_or(Quat::identity());

@@ -2,6 +2,7 @@
 
 use super::layout::{self, set_hw, w, word, Counts, Sections, SolverKind, HEADER};
 use super::{PlanMethod, PlanSizes, PlanSolver, PlanSpec, PlanStiffness, PlanWork};
+use crate::check;
 use crate::deformation::check_elements;
 use crate::error::{Error, Result};
 use crate::graph::Graph;
@@ -45,9 +46,7 @@ fn prepare<T: Real, const D: usize>(
     spec: &PlanSpec<'_, T, D>,
     work: &mut PlanWork<'_, T>,
 ) -> Result<Counts> {
-    if !(D == 2 || D == 3) {
-        return Err(Error::BadDimensions { arg: "D" });
-    }
+    check::mesh_dim::<D>();
     let n = spec.graph.node_count();
     let e = spec.graph.edge_count();
     let b = spec.boundary.len();

@@ -5,6 +5,7 @@
 use super::layout::{self, set_hw, w, AmgParts, Meta, SolverKind};
 use super::{Plan, PlanMethod, PlanMotion, Start, StepReport};
 use crate::cells::Cells;
+use crate::check;
 use crate::deformation::{
     apply, origin_core, rigid_node_rotation, rotations_core, translation, Pts, RotationSource,
 };
@@ -39,8 +40,8 @@ fn validate<T: Real, const D: usize>(
     motion: &PlanMotion<'_, T, D>,
     out: &[[T; D]],
 ) -> Result<()> {
-    check_len("out", out.len(), meta.n)?;
-    check_len("motion.deformed", motion.deformed.len(), meta.b)?;
+    check::len("out", out.len(), meta.n)?;
+    check::len("motion.deformed", motion.deformed.len(), meta.b)?;
     if let Some(p) = crate::real::first_non_finite(motion.deformed) {
         return Err(Error::NonFinite {
             arg: "motion.deformed",
@@ -67,34 +68,10 @@ fn validate<T: Real, const D: usize>(
                 });
             }
         }
-        RotationSource::Rigid(q) => check_quats("motion.rotations", core::slice::from_ref(&q))?,
+        RotationSource::Rigid(q) => check::quats("motion.rotations", core::slice::from_ref(&q))?,
         RotationSource::PerNode(q) => {
-            check_len("motion.rotations", q.len(), meta.b)?;
-            check_quats("motion.rotations", q)?;
-        }
-    }
-    Ok(())
-}
-
-fn check_len(arg: &'static str, actual: usize, expected: usize) -> Result<()> {
-    if actual == expected {
-        Ok(())
-    } else {
-        Err(Error::LengthMismatch {
-            arg,
-            expected,
-            actual,
-        })
-    }
-}
-
-fn check_quats<T: Real>(arg: &'static str, q: &[Quat<T>]) -> Result<()> {
-    for (position, r) in q.iter().enumerate() {
-        if !r.is_finite() {
-            return Err(Error::NonFinite { arg, position });
-        }
-        if r.normalize().is_err() {
-            return Err(Error::ZeroLength { arg, position });
+            check::len("motion.rotations", q.len(), meta.b)?;
+            check::quats("motion.rotations", q)?;
         }
     }
     Ok(())

@@ -1,6 +1,7 @@
 //! Change of the first grid-line angle at a wall (boundary-layer orthogonality).
 
 use crate::cells::{CellKind, Cells};
+use crate::check;
 use crate::error::{Error, Result};
 use crate::graph::Graph;
 use crate::real::Real;
@@ -18,13 +19,7 @@ pub struct Wall<'a> {
 impl<'a> Wall<'a> {
     /// Wraps wall elements and the edge graph; both must describe the same number of nodes.
     pub fn new(elements: Cells<'a>, graph: Graph<'a>) -> Result<Self> {
-        if graph.node_count() != elements.node_count() {
-            return Err(Error::LengthMismatch {
-                arg: "graph",
-                expected: elements.node_count(),
-                actual: graph.node_count(),
-            });
-        }
+        check::len("graph", graph.node_count(), elements.node_count())?;
         Ok(Wall { elements, graph })
     }
 
@@ -130,13 +125,7 @@ pub(crate) fn check_wall<T: Real, const D: usize>(
 ) -> Result<()> {
     let n = wall.elements.node_count();
     for (arg, pts) in [("undeformed", undeformed), ("deformed", deformed)] {
-        if pts.len() != n {
-            return Err(Error::LengthMismatch {
-                arg,
-                expected: n,
-                actual: pts.len(),
-            });
-        }
+        check::len(arg, pts.len(), n)?;
     }
     for (e, &code) in wall.elements.kinds().iter().enumerate() {
         let ok = match CellKind::from_vtk(code) {
@@ -177,7 +166,7 @@ pub(crate) fn check_wall<T: Real, const D: usize>(
 /// differences) do not overflow; a wall node whose normal sum overflows is treated as off-wall.
 ///
 /// `scratch` needs [`wall_angle_scratch_len`] items and is overwritten. Errors (nothing
-/// written): `D` not 2 or 3, point arrays not matching the wall's node count, non-finite
+/// written): point arrays not matching the wall's node count, non-finite
 /// coordinates, wall elements of the wrong kind ([`Error::CellDimension`]), scratch too small.
 pub fn wall_angle_change<T: Real, const D: usize>(
     wall: &Wall<'_>,
@@ -185,19 +174,13 @@ pub fn wall_angle_change<T: Real, const D: usize>(
     deformed: &[[T; D]],
     scratch: &mut [[T; D]],
 ) -> Result<WallAngleChange<T>> {
-    super::check_dimension::<D>()?;
+    crate::check::mesh_dim::<D>();
     check_wall(wall, undeformed, deformed)?;
-    super::check_finite("undeformed", undeformed)?;
-    super::check_finite("deformed", deformed)?;
+    crate::check::finite_items("undeformed", undeformed)?;
+    crate::check::finite_items("deformed", deformed)?;
     let n = undeformed.len();
     let needed = wall_angle_scratch_len(n);
-    if scratch.len() < needed {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed,
-            actual: scratch.len(),
-        });
-    }
+    check::buffer("scratch", scratch.len(), needed)?;
     Ok(compute(wall, undeformed, deformed, scratch))
 }
 

@@ -41,6 +41,7 @@ pub use pcg::{
     amg_precondition, amg_precondition_scratch_len, solve_linear_amg, solve_linear_amg_scratch_len,
 };
 
+use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
 
@@ -323,20 +324,8 @@ impl<'a, T: Real> AmgHierarchy<'a, T> {
         values: &'a mut [T],
     ) -> Result<Self> {
         let layout = setup::symbolic(sys, options, work)?;
-        if index.len() < layout.index_len {
-            return Err(Error::BufferTooSmall {
-                arg: "index",
-                needed: layout.index_len,
-                actual: index.len(),
-            });
-        }
-        if values.len() < layout.values_len {
-            return Err(Error::BufferTooSmall {
-                arg: "values",
-                needed: layout.values_len,
-                actual: values.len(),
-            });
-        }
+        check::buffer("index", index.len(), layout.index_len)?;
+        check::buffer("values", values.len(), layout.values_len)?;
         let index = index.get_mut(..layout.index_len).unwrap_or(&mut []);
         let values = values.get_mut(..layout.values_len).unwrap_or(&mut []);
         for (d, &s) in index.iter_mut().zip(work.iter()) {
@@ -415,20 +404,8 @@ impl<'a, T: Real> AmgHierarchy<'a, T> {
 
     /// Checks that the hierarchy was built for a system of this shape.
     pub(crate) fn check_system(&self, sys: &SpringSystem<'_, T>) -> Result<()> {
-        if sys.node_count() != self.layout.nodes {
-            return Err(Error::LengthMismatch {
-                arg: "hierarchy",
-                expected: sys.node_count(),
-                actual: self.layout.nodes,
-            });
-        }
-        if sys.graph().edge_count() != self.layout.edges {
-            return Err(Error::LengthMismatch {
-                arg: "hierarchy",
-                expected: sys.graph().edge_count(),
-                actual: self.layout.edges,
-            });
-        }
+        check::len("hierarchy", self.layout.nodes, sys.node_count())?;
+        check::len("hierarchy", self.layout.edges, sys.graph().edge_count())?;
         Ok(())
     }
 }

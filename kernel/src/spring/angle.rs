@@ -5,6 +5,7 @@ use core::ops::Range;
 use super::linear::{drive_sweeps, Sweeps};
 use super::norms::{scale_by, Norm, SumSq};
 use super::system::{check_omega, check_values, SolveOptions, SolveReport, SpringSystem, Sweep};
+use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::reduce::ExactSum;
@@ -75,12 +76,6 @@ pub enum AngleMethod {
     Cg,
 }
 
-/// `true` for the dimensions the angle springs support.
-#[inline]
-const fn supported(d: usize) -> bool {
-    d == 2 || d == 3
-}
-
 /// Entry `(i, j)` of a `D×D` array (0 outside).
 #[inline]
 fn at<T: Real, const D: usize>(m: &[[T; D]; D], i: usize, j: usize) -> T {
@@ -91,7 +86,7 @@ fn at<T: Real, const D: usize>(m: &[[T; D]; D], i: usize, j: usize) -> T {
 }
 
 /// Solves the symmetric `D×D` system `m x = r` by Cramer's rule (cofactors), or `None` when its
-/// normalised determinant `det / (tr/D)^D` is at most `√ε` (or `D` is not 2 or 3).
+/// normalised determinant `det / (tr/D)^D` is at most `√ε`.
 pub(super) fn cramer<T: Real, const D: usize>(m: &[[T; D]; D], r: &[T; D]) -> Option<[T; D]> {
     let g = |i, j| at(m, i, j);
     let rv = |i: usize| r.get(i).copied().unwrap_or(T::ZERO);
@@ -142,18 +137,12 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
     /// Validates the coordinates and `epsilon` against `base` and checks every free node's
     /// block (see the [`AngleSystem`] documentation).
     ///
-    /// Errors: `D` not 2 or 3 ([`Error::InvalidParameter`] on `points`);
-    /// `points.len() != node_count` ([`Error::LengthMismatch`]); a non-finite coordinate
+    /// Errors: `points.len() != node_count` ([`Error::LengthMismatch`]); a non-finite coordinate
     /// ([`Error::NonFinite`]); `epsilon` not finite or negative ([`Error::InvalidParameter`]);
     /// a zero-length edge ([`Error::ZeroLengthEdge`]); a free node whose block is singular
     /// ([`Error::SingularNode`], colinear edges in 2D, coplanar in 3D).
     pub fn new(base: SpringSystem<'a, T>, points: &'a [[T; D]], epsilon: T) -> Result<Self> {
-        if !supported(D) {
-            return Err(Error::InvalidParameter {
-                arg: "points",
-                reason: "must be 2D or 3D",
-            });
-        }
+        crate::check::mesh_dim::<D>();
         check_values("points", points, base.node_count())?;
         if !(epsilon.is_finite() && epsilon >= T::ZERO) {
             return Err(Error::InvalidParameter {
@@ -455,13 +444,7 @@ pub fn angle_jacobi_sweep<T: Real, const D: usize>(
 ) -> Result<Sweep<T>> {
     let n = sys.base.node_count();
     check_values("input", input, n)?;
-    if output.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "output",
-            expected: n,
-            actual: output.len(),
-        });
-    }
+    check::len("output", output.len(), n)?;
     sys.base.check_range(&nodes)?;
     Ok(sys.jacobi_core(nodes, input, output, T::ONE))
 }
@@ -643,13 +626,7 @@ pub fn angle_rigidity_probe<T: Real, const D: usize>(
 ) -> Result<T> {
     let n = sys.base.node_count();
     let needed = angle_probe_scratch_len(sys);
-    if scratch.len() < needed {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed,
-            actual: scratch.len(),
-        });
-    }
+    check::buffer("scratch", scratch.len(), needed)?;
     options.check()?;
     let (y, rest) = scratch
         .split_at_mut_checked(n)
@@ -836,13 +813,7 @@ fn solve_angle_core<T: Real, const D: usize>(
     check_values("values", values, n)?;
     options.check()?;
     let needed = angle_scratch_len(sys, method);
-    if scratch.len() < needed {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed,
-            actual: scratch.len(),
-        });
-    }
+    check::buffer("scratch", scratch.len(), needed)?;
     if sys.epsilon == T::ZERO {
         let s = angle_rigidity_probe(sys, options, scratch)?;
         if s > T::from_f64(MAX_AMPLIFICATION) {

@@ -11,6 +11,7 @@ use super::system::{
     check_omega, check_values, is_fixed, LinearMethod, Preconditioner, SolveOptions, SolveReport,
     SpringSystem, Sweep,
 };
+use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::reduce::ExactSum;
@@ -107,13 +108,7 @@ pub fn jacobi_sweep<T: Real, const V: usize>(
 ) -> Result<Sweep<T>> {
     let n = sys.node_count();
     check_values("input", input, n)?;
-    if output.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "output",
-            expected: n,
-            actual: output.len(),
-        });
-    }
+    check::len("output", output.len(), n)?;
     sys.check_range(&nodes)?;
     Ok(jacobi_core(sys, nodes, input, output, T::ONE))
 }
@@ -394,13 +389,7 @@ pub(crate) fn solve_linear_on<T: Real, const V: usize>(
         LinearMethod::Cg { .. } => cg_scratch_len::<V>(n),
         _ => solve_linear_scratch_len(&method, n),
     };
-    if scratch.len() < needed {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed,
-            actual: scratch.len(),
-        });
-    }
+    check::buffer("scratch", scratch.len(), needed)?;
     if !matches!(method, LinearMethod::Cg { .. }) {
         check_sweep_range(sys, values)?;
     }

@@ -42,6 +42,7 @@ use super::system::{
     check_omega, check_values, LinearMethod, Preconditioner, SolveOptions, SolveReport,
     SpringSystem, Sweep,
 };
+use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::reduce::ExactSum;
@@ -310,13 +311,7 @@ pub fn solve_linear_sliding<T: Real, const D: usize>(
         }
     };
     let needed = solve_linear_sliding_scratch_len(&solver, n);
-    if scratch.len() < needed {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed,
-            actual: scratch.len(),
-        });
-    }
+    check::buffer("scratch", scratch.len(), needed)?;
     solve(
         &LinearOp(sys),
         Some(sys),
@@ -375,13 +370,7 @@ pub fn solve_angle_sliding<T: Real, const D: usize>(
     options.check()?;
     check_omega(omega)?;
     let needed = solve_angle_sliding_scratch_len(sys, method);
-    if scratch.len() < needed {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed,
-            actual: scratch.len(),
-        });
-    }
+    check::buffer("scratch", scratch.len(), needed)?;
     if sys.epsilon() == T::ZERO {
         let s = angle_rigidity_probe(sys, options, scratch)?;
         if s > T::from_f64(MAX_AMPLIFICATION) {

@@ -15,6 +15,7 @@
 //! then sees stiffness values of the same magnitude as Batina's, whatever the mesh's units.
 
 use crate::cells::Cells;
+use crate::check;
 use crate::error::{Error, Result};
 use crate::graph::Graph;
 use crate::real::Real;
@@ -37,13 +38,7 @@ pub fn wall_distances<T: Real, const D: usize>(
     wall: &[u32],
     out: &mut [T],
 ) -> Result<()> {
-    if out.len() != points.len() {
-        return Err(Error::LengthMismatch {
-            arg: "out",
-            expected: points.len(),
-            actual: out.len(),
-        });
-    }
+    check::len("out", out.len(), points.len())?;
     if wall.is_empty() {
         return Err(Error::InvalidParameter {
             arg: "wall",
@@ -60,12 +55,7 @@ pub fn wall_distances<T: Real, const D: usize>(
             });
         }
     }
-    if let Some(p) = crate::real::first_non_finite(points) {
-        return Err(Error::NonFinite {
-            arg: "points",
-            position: p,
-        });
-    }
+    check::finite_items("points", points)?;
     for (o, p) in out.iter_mut().zip(points) {
         let mut best = T::INFINITY;
         for &w in wall {
@@ -106,13 +96,7 @@ pub fn dual_volumes<T: Real, const D: usize>(
     out: &mut [T],
     scratch: &mut [T],
 ) -> Result<()> {
-    if out.len() != points.len() {
-        return Err(Error::LengthMismatch {
-            arg: "out",
-            expected: points.len(),
-            actual: out.len(),
-        });
-    }
+    check::len("out", out.len(), points.len())?;
     let available = scratch.len();
     let measures = scratch
         .get_mut(..cells.len())
@@ -157,20 +141,8 @@ pub fn scale_stiffness<T: Real>(
     factors: &[T],
     stiffness: &mut [T],
 ) -> Result<()> {
-    if factors.len() != graph.node_count() {
-        return Err(Error::LengthMismatch {
-            arg: "factors",
-            expected: graph.node_count(),
-            actual: factors.len(),
-        });
-    }
-    if stiffness.len() != graph.edge_count() {
-        return Err(Error::LengthMismatch {
-            arg: "stiffness",
-            expected: graph.edge_count(),
-            actual: stiffness.len(),
-        });
-    }
+    check::len("factors", factors.len(), graph.node_count())?;
+    check::len("stiffness", stiffness.len(), graph.edge_count())?;
     for (position, &f) in factors.iter().enumerate() {
         if !f.is_finite() {
             return Err(Error::NonFinite {

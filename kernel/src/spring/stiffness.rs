@@ -1,5 +1,6 @@
 //! Batina's edge stiffness from coordinates.
 
+use crate::check;
 use crate::error::{Error, Result};
 use crate::graph::Graph;
 use crate::real::Real;
@@ -63,26 +64,9 @@ fn stiffness_with<T: Real, const D: usize>(
     stiffness: &mut [T],
     inv_len: impl Fn(T) -> T,
 ) -> Result<()> {
-    if points.len() != graph.node_count() {
-        return Err(Error::LengthMismatch {
-            arg: "points",
-            expected: graph.node_count(),
-            actual: points.len(),
-        });
-    }
-    if stiffness.len() != graph.edge_count() {
-        return Err(Error::LengthMismatch {
-            arg: "stiffness",
-            expected: graph.edge_count(),
-            actual: stiffness.len(),
-        });
-    }
-    if let Some(p) = crate::real::first_non_finite(points) {
-        return Err(Error::NonFinite {
-            arg: "points",
-            position: p,
-        });
-    }
+    check::len("points", points.len(), graph.node_count())?;
+    check::len("stiffness", stiffness.len(), graph.edge_count())?;
+    check::finite_items("points", points)?;
     if !(exponent.is_finite() && exponent >= T::ZERO) {
         return Err(Error::InvalidParameter {
             arg: "exponent",

@@ -3,6 +3,7 @@
 
 use core::ops::Range;
 
+use crate::check;
 use crate::error::{Error, Result};
 use crate::graph::Graph;
 use crate::real::Real;
@@ -52,27 +53,9 @@ impl<'a, T: Real> SpringSystem<'a, T> {
         scratch: &mut [u32],
     ) -> Result<Self> {
         let n = graph.node_count();
-        if stiffness.len() != graph.edge_count() {
-            return Err(Error::LengthMismatch {
-                arg: "stiffness",
-                expected: graph.edge_count(),
-                actual: stiffness.len(),
-            });
-        }
-        if fixed.len() != n {
-            return Err(Error::LengthMismatch {
-                arg: "fixed",
-                expected: n,
-                actual: fixed.len(),
-            });
-        }
-        if scratch.len() < n {
-            return Err(Error::BufferTooSmall {
-                arg: "scratch",
-                needed: n,
-                actual: scratch.len(),
-            });
-        }
+        check::len("stiffness", stiffness.len(), graph.edge_count())?;
+        check::len("fixed", fixed.len(), n)?;
+        check::buffer("scratch", scratch.len(), n)?;
         // The anchoring search stores node indices and `n` as an end marker in u32.
         if u32::try_from(n).map_or(true, |m| m == u32::MAX) {
             return Err(Error::TooLarge {
@@ -277,16 +260,8 @@ pub(crate) fn check_values<T: Real, const V: usize>(
     values: &[[T; V]],
     n: usize,
 ) -> Result<()> {
-    if values.len() != n {
-        return Err(Error::LengthMismatch {
-            arg,
-            expected: n,
-            actual: values.len(),
-        });
-    }
-    if let Some(p) = crate::real::first_non_finite(values) {
-        return Err(Error::NonFinite { arg, position: p });
-    }
+    check::len(arg, values.len(), n)?;
+    check::finite_items(arg, values)?;
     Ok(())
 }
 

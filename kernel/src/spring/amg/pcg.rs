@@ -2,6 +2,7 @@
 
 use super::cycle::vcycle;
 use super::AmgHierarchy;
+use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::reduce::ExactSum;
@@ -48,13 +49,7 @@ pub fn amg_precondition<T: Real, const V: usize>(
     let n = sys.node_count();
     hierarchy.check_system(sys)?;
     check_values("r", r, n)?;
-    if z.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "z",
-            expected: n,
-            actual: z.len(),
-        });
-    }
+    check::len("z", z.len(), n)?;
     let needed = amg_precondition_scratch_len(hierarchy);
     let Some((t, coarse)) = scratch
         .get_mut(..needed)
@@ -215,13 +210,7 @@ pub(crate) fn solve_amg_on<T: Real, const V: usize>(
     check_values("values", values, n)?;
     options.check()?;
     let needed = solve_linear_amg_scratch_len(hierarchy);
-    if scratch.len() < needed {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed,
-            actual: scratch.len(),
-        });
-    }
+    check::buffer("scratch", scratch.len(), needed)?;
     let too_small = Error::BufferTooSmall {
         arg: "scratch",
         needed,
