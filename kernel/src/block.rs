@@ -12,6 +12,9 @@ pub struct Block {
 
 impl Block {
     /// Validates `[ni, nj, nk]`.
+    ///
+    /// # Errors
+    /// A zero dimension, or more than `u32::MAX` points ([`Error::BadDimensions`]).
     pub fn new(dims: [usize; 3]) -> Result<Self> {
         if dims.contains(&0) {
             return Err(Error::BadDimensions { arg: "dims" });

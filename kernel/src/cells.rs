@@ -9,6 +9,7 @@ use crate::error::{Error, Result};
 /// The element kinds the kernel understands, with their VTK type codes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[repr(u8)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum CellKind {
     /// 2-node line segment (VTK 3).
     Line = 3,
@@ -198,6 +199,13 @@ impl<'a> Cells<'a> {
     }
 
     /// Validates and wraps the arrays. `node_count` is the number of mesh points.
+    ///
+    /// # Errors
+    /// `node_count` or `nodes.len()` above `u32::MAX` ([`Error::TooLarge`]); offsets that do
+    /// not start at 0, decrease or do not end at `nodes.len()` ([`Error::BadOffsets`]); a kind
+    /// code the kernel does not know ([`Error::UnknownCellKind`]); a cell with the wrong number
+    /// of nodes for its kind ([`Error::WrongNodeCount`]); a node index `>= node_count`
+    /// ([`Error::IndexOutOfRange`]); a node repeated within a cell ([`Error::RepeatedNode`]).
     pub fn new(
         node_count: usize,
         offsets: &'a [u32],

@@ -21,6 +21,12 @@ pub struct Graph<'a> {
 
 impl<'a> Graph<'a> {
     /// Validates `offsets` and `targets` and wraps them. Never copies.
+    ///
+    /// # Errors
+    /// Offsets that do not start at 0, decrease or do not end at `targets.len()`
+    /// ([`Error::BadOffsets`]); more than `u32::MAX` nodes or edges ([`Error::TooLarge`]); a
+    /// target `>= node_count` ([`Error::IndexOutOfRange`]); an edge from a node to itself
+    /// ([`Error::SelfLoop`]).
     pub fn new(offsets: &'a [u32], targets: &'a [u32]) -> Result<Self> {
         let Some((&first, _)) = offsets.split_first() else {
             return Err(Error::BadOffsets {
@@ -159,6 +165,9 @@ impl<'a> Graph<'a> {
     }
 
     /// Checks that every edge `i → j` has its reverse `j → i`.
+    ///
+    /// # Errors
+    /// The first edge `i → j` without its reverse ([`Error::NotSymmetric`]).
     pub fn check_symmetric(&self) -> Result<()> {
         for (i, _, row) in self.rows() {
             for &j in row {

@@ -50,7 +50,8 @@ pub fn graph_from_edges_len(edges: &[[u32; 2]]) -> usize {
 /// Builds the symmetric CSR graph of an undirected edge list (either orientation, duplicates
 /// allowed). Returns the number of `targets` entries used; entries past it are unspecified.
 ///
-/// Errors: `offsets.len() != node_count + 1`, `targets` shorter than
+/// # Errors
+/// `offsets.len() != node_count + 1`, `targets` shorter than
 /// [`graph_from_edges_len`], an endpoint `>= node_count`, or an edge from a node to itself.
 pub fn graph_from_edges(
     node_count: usize,
@@ -99,7 +100,8 @@ pub fn graph_from_cells_len(cells: &Cells<'_>, face_diagonals: bool) -> usize {
 /// they share a cell edge (or, with `face_diagonals`, a diagonal of a quadrilateral face).
 /// Returns the number of `targets` entries used; entries past it are unspecified.
 ///
-/// Errors: `offsets.len() != cells.node_count() + 1` or `targets` shorter than
+/// # Errors
+/// `offsets.len() != cells.node_count() + 1` or `targets` shorter than
 /// [`graph_from_cells_len`].
 pub fn graph_from_cells(
     cells: &Cells<'_>,

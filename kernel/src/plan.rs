@@ -68,6 +68,7 @@ use layout::Meta;
 
 /// What a plan computes each step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum PlanMethod {
     /// Linear (Batina) springs on the displacements: the boundary displacements are the
     /// Dirichlet data, every free node's displacement solves the spring network.
@@ -78,6 +79,7 @@ pub enum PlanMethod {
 
 /// The linear-spring solver of a plan.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum PlanSolver<T> {
     /// CG preconditioned by a smoothed-aggregation hierarchy, built once at `init`.
     Amg(AmgOptions<T>),
@@ -152,6 +154,7 @@ pub struct PlanWork<'w, T> {
 
 /// How a step starts its solve.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Start {
     /// From the stored solutions: the last one, or the linear extrapolation `x_n + (x_n −
     /// x_{n−1})` of the last two, whichever has the smallest true relative residual, and the
@@ -194,6 +197,8 @@ impl<'a, T, const D: usize> PlanMotion<'a, T, D> {
 
 /// What one step did.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub struct StepReport<T, const D: usize> {
     /// The solve's report (iterations, true relative residual, convergence). The output is
     /// written even when the solve did not converge; check `converged`.

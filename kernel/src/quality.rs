@@ -91,7 +91,8 @@ fn each_cell<'c, T: Real, const D: usize>(
 
 /// Quality of one cell of kind `kind` from its corner coordinates (in VTK order).
 ///
-/// Errors: a kind that does not fit `D` ([`Error::CellDimension`] with
+/// # Errors
+/// A kind that does not fit `D` ([`Error::CellDimension`] with
 /// `cell` 0), the wrong number of corners, a non-finite coordinate.
 pub fn cell_quality<T: Real, const D: usize>(
     kind: CellKind,
@@ -122,7 +123,8 @@ pub fn cell_quality<T: Real, const D: usize>(
 
 /// Signed area (2D) or volume (3D) of every cell into `out` (`out.len() == cells.len()`).
 ///
-/// Errors (nothing written): `points.len() != cells.node_count()`, a cell kind that does not
+/// # Errors
+/// Nothing is written on error: `points.len() != cells.node_count()`, a cell kind that does not
 /// fit `D`, a non-finite coordinate, `out` of the wrong length. `D` is 2 or 3, checked at
 /// compile time:
 ///
@@ -148,6 +150,9 @@ pub fn cell_measures<T: Real, const D: usize>(
 
 /// Smallest corner Jacobian of every cell into `out`, scaled by the edge lengths when
 /// `scaled` (see [`CellQuality`]). Same errors as [`cell_measures`].
+///
+/// # Errors
+/// Those of [`cell_measures`] (nothing written).
 pub fn min_corner_jacobians<T: Real, const D: usize>(
     cells: &Cells<'_>,
     points: &[[T; D]],
@@ -174,6 +179,10 @@ fn inverted<T: Real>(before: T, after: T) -> bool {
 }
 
 /// Number of cells whose signed measure changed sign between `undeformed` and `deformed`.
+///
+/// # Errors
+/// Either point array not matching `cells` ([`Error::LengthMismatch`]), a cell kind that does
+/// not fit `D` ([`Error::CellDimension`]), a non-finite coordinate ([`Error::NonFinite`]).
 pub fn inverted_cells<T: Real, const D: usize>(
     cells: &Cells<'_>,
     undeformed: &[[T; D]],
@@ -188,6 +197,9 @@ pub fn inverted_cells<T: Real, const D: usize>(
 }
 
 /// Number of cells with a corner Jacobian `≤ 0` (folded or inverted at some corner).
+///
+/// # Errors
+/// Those of [`inverted_cells`] for one point array.
 pub fn folded_cells<T: Real, const D: usize>(
     cells: &Cells<'_>,
     points: &[[T; D]],
@@ -200,6 +212,8 @@ pub fn folded_cells<T: Real, const D: usize>(
 
 /// One-call quality comparison of a deformed mesh against the undeformed one.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub struct QualityReport<T> {
     /// Number of cells.
     pub cells: usize,
@@ -233,7 +247,8 @@ pub struct QualityReport<T> {
 /// change at that wall ([`wall_angle_change`]; `scratch` then needs
 /// [`wall_angle_scratch_len`] items and is overwritten, otherwise it may be empty).
 ///
-/// Errors (nothing written): as [`cell_measures`] for both point arrays, and as
+/// # Errors
+/// Nothing is written on error: as [`cell_measures`] for both point arrays, and as
 /// [`wall_angle_change`] for the wall.
 pub fn compare<T: Real, const D: usize>(
     cells: &Cells<'_>,

@@ -102,6 +102,10 @@ impl<T: Real> Quat<T> {
     /// (`ZeroLength`), as is a non-finite one (`NonFinite`), never NaN. When `|Q|²` would
     /// overflow or underflow, `Q` is first divided by its largest component, so every finite
     /// quaternion with a normal component normalises to full accuracy.
+    ///
+    /// # Errors
+    /// A non-finite component ([`Error::NonFinite`]); all components zero or subnormal
+    /// ([`Error::ZeroLength`]).
     pub fn normalize(self) -> Result<Self> {
         if !self.is_finite() {
             return Err(Error::NonFinite {
@@ -134,8 +138,11 @@ impl<T: Real> Quat<T> {
     /// used by any other kernel routine): `Q` times [`Real::fast_inv_sqrt`]`(|Q|²)`, no square
     /// root, no division. For `f32` the result's norm is within
     /// [`NORMALIZE_FAST_F32_MAX_NORM_ERROR`] of 1 (measured; tested on host and on target);
-    /// for `f64` it equals [`Quat::normalize`] (micromath has no `f64` functions). Errors like
-    /// [`Quat::normalize`]; when `|Q|²` is not a finite normal number the exact path is taken.
+    /// for `f64` it equals [`Quat::normalize`] (micromath has no `f64` functions). When `|Q|²`
+    /// is not a finite normal number the exact path is taken.
+    ///
+    /// # Errors
+    /// Those of [`Quat::normalize`].
     #[cfg(feature = "micromath")]
     pub fn normalize_fast(self) -> Result<Self> {
         let n2 = self.norm_sq();
@@ -146,7 +153,10 @@ impl<T: Real> Quat<T> {
         }
     }
 
-    /// `Q⁻¹ = Q* / |Q|²` (equals the conjugate for unit quaternions). Errors like
+    /// `Q⁻¹ = Q* / |Q|²` (equals the conjugate for unit quaternions).
+    ///
+    /// # Errors
+    /// Like
     /// [`Quat::normalize`]; when `|Q|²` would overflow or underflow, `Q` is rescaled by its
     /// largest component first (accuracy is then lost only where the true inverse is itself
     /// subnormal or beyond the largest finite value).
@@ -181,6 +191,9 @@ impl<T: Real> Quat<T> {
 
     /// Rotation by `angle` radians about `axis` (normalised here; a zero axis is an error):
     /// `[cos(θ/2), û sin(θ/2)]` (Samareh eq. 3).
+    ///
+    /// # Errors
+    /// A non-finite axis or angle ([`Error::NonFinite`]); a zero axis ([`Error::ZeroLength`]).
     pub fn from_axis_angle(axis: [T; 3], angle: T) -> Result<Self> {
         if !axis.iter().all(|c| c.is_finite()) || !angle.is_finite() {
             return Err(Error::NonFinite {
@@ -244,6 +257,9 @@ impl<T: Real> Quat<T> {
     /// most ε/2, so the axis stays accurate and orthogonal to `u` near 180°; `u × v` itself
     /// loses all accuracy there); exactly antiparallel vectors turn by 180° about an axis
     /// orthogonal to `u`.
+    ///
+    /// # Errors
+    /// A non-finite vector ([`Error::NonFinite`]); a zero vector ([`Error::ZeroLength`]).
     pub fn rotation_arc(from: [T; 3], to: [T; 3]) -> Result<Self> {
         if !from.iter().chain(to.iter()).all(|c| c.is_finite()) {
             return Err(Error::NonFinite {
@@ -311,6 +327,10 @@ impl<T: Real> Quat<T> {
     }
 
     /// Normalised linear interpolation on the shorter arc (`b` is negated when `a·b < 0`).
+    ///
+    /// # Errors
+    /// Those of [`Quat::normalize`] on the interpolated quaternion (non-finite input, or a
+    /// blend that cancels).
     pub fn nlerp(a: Self, b: Self, t: T) -> Result<Self> {
         let b = if a.dot(b) < T::ZERO { -b } else { b };
         let s = T::ONE - t;
@@ -327,6 +347,10 @@ impl<T: Real> Quat<T> {
     /// speed, `t = 0` gives `a` and `t = 1` gives `b` (up to sign alignment). The arc angle is
     /// `2 atan2(|a − b|, |a + b|)`, accurate near 0; below a tiny angle it falls back to
     /// [`Quat::nlerp`].
+    ///
+    /// # Errors
+    /// Non-finite input ([`Error::NonFinite`]); a quaternion that cannot be normalised
+    /// ([`Error::ZeroLength`]).
     pub fn slerp(a: Self, b: Self, t: T) -> Result<Self> {
         if !a.is_finite() || !b.is_finite() || !t.is_finite() {
             return Err(Error::NonFinite {
@@ -453,6 +477,10 @@ impl<T: Real> QuatAverage<T> {
     }
 
     /// The normalised average. Empty or cancelling input is an error.
+    ///
+    /// # Errors
+    /// No quaternion added, or a sum that cancels ([`Error::ZeroLength`]); an overflowing sum
+    /// ([`Error::NonFinite`]).
     #[inline]
     pub fn result(&self) -> Result<Quat<T>> {
         Quat::from_array(self.sum).normalize()

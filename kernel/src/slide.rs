@@ -54,6 +54,7 @@ use crate::vector;
 /// What a node may do. The `u8` codes are the ABI (`repr(u8)`).
 #[repr(u8)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum NodeKind {
     /// Moves freely (an unknown of the solve).
     Free = 0,
@@ -240,7 +241,8 @@ impl<'a, T: Real, const D: usize> Constraints<'a, T, D> {
 /// nodes are left as they are. Call it after a propagation ([`crate::deformation`]'s IDW, TFI
 /// or spring pipelines) in which the sliding nodes were ordinary field nodes.
 ///
-/// # Errors (nothing written)
+/// # Errors
+/// Nothing is written on error:
 /// Lengths differ from `constraints.len()`; non-finite `original` or
 /// `points`; a projected position that is not finite ([`Error::Overflow`] on `points`).
 pub fn slide_points<T: Real, const D: usize>(

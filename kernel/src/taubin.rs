@@ -97,6 +97,7 @@ use crate::real::Real;
 /// The two relaxation factors of one Taubin iteration: the smoothing weight `λ > 0` (forward
 /// pass) and the shape-recovering weight `μ ≤ 0` (backward pass).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct TaubinParams<T> {
     /// Forward (smoothing) relaxation factor, Alter's `ω_forward`. Must be finite and `> 0`.
     pub lambda: T,
@@ -117,6 +118,9 @@ impl<T: Real> TaubinParams<T> {
 
     /// `λ` with `μ` derived from the pass-band frequency `k_PB` by `1/λ + 1/μ = k_PB`
     /// (see [`mu_from_pass_band`]).
+    ///
+    /// # Errors
+    /// Those of [`mu_from_pass_band`].
     pub fn from_pass_band(lambda: T, pass_band: T) -> Result<Self> {
         Ok(TaubinParams {
             lambda,
@@ -125,6 +129,10 @@ impl<T: Real> TaubinParams<T> {
     }
 
     /// Checks `λ` finite and `> 0`, `μ` finite and `≤ 0`.
+    ///
+    /// # Errors
+    /// A non-finite `λ` or `μ` ([`Error::NonFinite`]); `λ ≤ 0` or `μ > 0`
+    /// ([`Error::InvalidParameter`]).
     pub fn validate(&self) -> Result<()> {
         if !self.lambda.is_finite() {
             return Err(Error::NonFinite {
@@ -182,6 +190,10 @@ impl<T: Real> Default for TaubinParams<T> {
 /// Needs `λ > 0` and `0 < k_PB < 1/λ` (then `μ < −λ < 0`: the backward pass is slightly
 /// stronger than the forward pass, which is what makes the filter low-pass). Taubin suggests
 /// `k_PB` between 0.01 and 0.1.
+///
+/// # Errors
+/// A non-finite `λ` or `k_PB` ([`Error::NonFinite`]); `λ ≤ 0`, or `k_PB` outside
+/// `(0, 1/λ)` ([`Error::InvalidParameter`]).
 pub fn mu_from_pass_band<T: Real>(lambda: T, pass_band: T) -> Result<T> {
     if !lambda.is_finite() {
         return Err(Error::NonFinite {

@@ -110,6 +110,7 @@ pub const IDW_FAST_LEAF: usize = 8;
 
 /// Options of [`propagate_idw_fast`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct IdwFastOptions<T> {
     /// Opening parameter `θ ∈ [0, 1)`: a cluster of radius `r` whose centroid is at distance
     /// `d` is used as a whole when `r < θ d`. Smaller is more accurate and slower; `0` weighs
@@ -133,6 +134,8 @@ impl<T: Real> Default for IdwFastOptions<T> {
 
 /// What [`propagate_idw_fast`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub struct IdwFastReport<T> {
     /// The largest per-point bound `η` over the field points written: every written
     /// translation is within `η · max_k |Δ_k − Δ(x)|` of the exact one.
@@ -213,7 +216,8 @@ const fn leaf_len(d: usize) -> usize {
 /// Returns the largest `η` and the work done. Every written point satisfies `η ≤
 /// options.tolerance`.
 ///
-/// Errors: those of [`propagate_idw`](super::propagate_idw), plus `theta` not in `[0, 1)`,
+/// # Errors
+/// Those of [`propagate_idw`](super::propagate_idw), plus `theta` not in `[0, 1)`,
 /// `tolerance` negative or NaN, buffers too small, `bounds` of the wrong length, more than
 /// `u32::MAX` boundary nodes. On error `translations`, `rotations` and `bounds` are unchanged
 /// (`index` and `scratch` are workspaces).

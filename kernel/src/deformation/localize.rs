@@ -17,7 +17,9 @@ pub fn localize_nodes_scratch_len(node_count: usize) -> usize {
 /// `local` with the same offsets and kinds.
 ///
 /// `scratch` needs [`localize_nodes_scratch_len`] entries (contents unspecified afterwards).
-/// Errors: `boundary` or `global` entries `>= node_count`, a node listed twice in `boundary`
+///
+/// # Errors
+/// `boundary` or `global` entries `>= node_count`, a node listed twice in `boundary`
 /// ([`Error::DuplicateNode`]), an element node not in `boundary`
 /// ([`Error::IndexOutOfRange`] on `"global"`, `bound` = the boundary length), `local` of the
 /// wrong length. On error `local` is unchanged.

@@ -108,7 +108,8 @@ pub fn boundary_normals_scratch_len(boundary_len: usize) -> usize {
 /// elements disagree their normals cancel. `scratch` needs [`boundary_normals_scratch_len`]
 /// entries; its contents afterwards are unspecified.
 ///
-/// Errors: length mismatches, non-finite points, wrong element kinds,
+/// # Errors
+/// Length mismatches, non-finite points, wrong element kinds,
 /// [`Error::IsolatedNode`] for a point in no element, [`Error::ZeroLength`] (`"normals"`,
 /// position = node) when the element normals at a node cancel. On error `normals` is unchanged.
 pub fn boundary_normals<T: Real, const D: usize>(

@@ -218,7 +218,10 @@ pub fn deform_idw_scratch_len<const D: usize>(node_count: usize, boundary_len: u
 ///
 /// `points` are the undeformed mesh points (`N`). `translations` and `rotations` (`N`
 /// entries each) receive the propagated fields; `scratch` needs [`deform_idw_scratch_len`]
-/// entries. Errors: those of the steps, plus [`Error::DuplicateNode`] for a node listed twice.
+/// entries.
+///
+/// # Errors
+/// Those of the steps, plus [`Error::DuplicateNode`] for a node listed twice.
 /// On error `out` is unchanged (`translations`, `rotations` and `scratch` are workspaces and
 /// may have been written).
 pub fn deform_idw<T: Real, const D: usize>(
@@ -252,7 +255,10 @@ pub fn deform_idw<T: Real, const D: usize>(
 /// ([`propagate_idw_fast_index_len`](super::propagate_idw_fast_index_len),
 /// [`propagate_idw_fast_scratch_len`](super::propagate_idw_fast_scratch_len) for `B =
 /// motion.nodes.len()`); `scratch` as for [`deform_idw`]. Returns the origin and the
-/// propagation report. Errors: those of [`deform_idw`] and of the options and buffers; on
+/// propagation report.
+///
+/// # Errors
+/// Those of [`deform_idw`] and of the options and buffers; on
 /// error `out` is unchanged.
 #[allow(clippy::too_many_arguments)]
 pub fn deform_idw_fast<T: Real, const D: usize>(
@@ -315,6 +321,11 @@ pub fn deform_tfi_scratch_len<const D: usize>(block: &Block, boundary_len: usize
 /// `scratch` needs [`deform_tfi_scratch_len`] entries. On error `out` is unchanged; only a
 /// blended rotation that cancels to zero (see [`propagate_tfi`]) is detected after
 /// `translations` and `rotations` were written.
+///
+/// # Errors
+/// Those of [`deform_idw`] for the motion and points, the block's errors of [`propagate_tfi`]
+/// (inactive or degenerate directions, a face point missing from `motion.nodes`:
+/// [`Error::Unanchored`]), `scratch` too short ([`Error::BufferTooSmall`]).
 #[allow(clippy::too_many_arguments)]
 pub fn deform_tfi<T: Real, const D: usize>(
     block: &Block,
@@ -380,6 +391,12 @@ pub fn deform_spring_scratch_len<const D: usize>(node_count: usize, boundary_len
 /// [`propagate_spring_scratch_len`](super::propagate_spring_scratch_len) items, with `V = D + 4`. On error `out` is unchanged; solver
 /// errors are detected after the boundary entries of `translations` and `rotations` were
 /// written.
+///
+/// # Errors
+/// Those of [`deform_idw`] for the motion and points; `V != D + 4` or a system whose fixed mask
+/// differs from `motion.nodes` ([`Error::InvalidParameter`]); buffers too short
+/// ([`Error::BufferTooSmall`]); the solver's errors ([`Error::SingularSystem`],
+/// [`Error::Overflow`]).
 #[allow(clippy::too_many_arguments)]
 pub fn deform_spring<T: Real, const D: usize, const V: usize>(
     points: &[[T; D]],
@@ -411,6 +428,9 @@ pub fn deform_spring<T: Real, const D: usize, const V: usize>(
 /// ([`LinearSolver::Amg`], hierarchy built for `sys`); `values` needs
 /// [`propagate_spring_with_scratch_len`](super::propagate_spring_with_scratch_len) items.
 /// Otherwise identical.
+///
+/// # Errors
+/// Those of [`deform_spring`], and a hierarchy built for another system.
 #[allow(clippy::too_many_arguments)]
 pub fn deform_spring_with<T: Real, const D: usize, const V: usize>(
     points: &[[T; D]],

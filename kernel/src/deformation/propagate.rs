@@ -67,7 +67,8 @@ pub(super) fn check_boundary_entries<T: Real, const D: usize>(
 /// should subsample the boundary. `exponent` `p` must be finite and positive; 2–5 is typical
 /// (larger is more local).
 ///
-/// Errors: length mismatches (`translations`, `rotations` have one entry per point), an empty
+/// # Errors
+/// Length mismatches (`translations`, `rotations` have one entry per point), an empty
 /// boundary, out-of-range boundary indices, non-finite points or boundary values, zero
 /// boundary rotations, a bad exponent. On error nothing is written.
 pub fn propagate_idw<T: Real, const D: usize>(

@@ -30,7 +30,8 @@ pub fn reach_weight<T: Real>(distance: T, radius: T) -> T {
 /// identity and a zero translation; the update then computes `o + (p − o)`, which can differ
 /// from `p` in the last bit, so copy `p` for them if you need their bits unchanged.
 ///
-/// Errors (nothing written): length mismatches, `radius` not finite and positive
+/// # Errors
+/// Nothing is written on error: length mismatches, `radius` not finite and positive
 /// ([`Error::InvalidParameter`]), a distance that is negative or not finite, a rotation that
 /// is not finite or is zero ([`Error::NonFinite`] / [`Error::NonPositive`] /
 /// [`Error::ZeroLength`] from normalisation).

@@ -57,7 +57,8 @@ fn check_edges<T: Real, const D: usize>(points: Pts<'_, T, D>, elements: &Cells<
 /// in 2D, triangles/quadrilaterals in 3D, consistently ordered). `scratch` needs
 /// [`boundary_rotations_scratch_len`] entries (contents unspecified afterwards).
 ///
-/// Errors: length mismatches, non-finite points, wrong element kinds, [`Error::ZeroLengthEdge`]
+/// # Errors
+/// Length mismatches, non-finite points, wrong element kinds, [`Error::ZeroLengthEdge`]
 /// (in either shape), [`Error::IsolatedNode`] (a point in no element, or in 3D one whose
 /// twist is undetermined: the weighted sum cancels to below `ε Σ |p_u||p_d|`), [`Error::ZeroLength`] (`"normals"`, 3D: element normals cancel at a
 /// node). On error `rotations` is unchanged.
@@ -235,7 +236,10 @@ fn rotations_3d<T: Real, const D: usize>(
 }
 
 /// Fills `rotations` with one rigid rotation `q` (normalised here): for a marker whose motion
-/// the caller knows (a rigid body, a prescribed pitch). Errors: `q` non-finite or zero; on
+/// the caller knows (a rigid body, a prescribed pitch).
+///
+/// # Errors
+/// `q` non-finite or zero; on
 /// error `rotations` is unchanged.
 pub fn rigid_rotations<T: Real>(q: Quat<T>, rotations: &mut [Quat<T>]) -> Result<()> {
     let q = q.normalize()?;
@@ -284,7 +288,8 @@ pub(crate) fn rigid_node_rotation<T: Real, const D: usize>(
 /// displacements, and makes `Δ` itself large (losing relative precision). An origin at the
 /// moving body keeps the lever arms short.
 ///
-/// Errors: length mismatch, empty input, non-finite points.
+/// # Errors
+/// Length mismatch, empty input, non-finite points.
 pub fn boundary_origin<T: Real, const D: usize>(
     undeformed: &[[T; D]],
     deformed: &[[T; D]],
@@ -339,7 +344,8 @@ pub(crate) fn origin_core<T: Real, const D: usize>(
 /// `o + Δ_i + Q_i (r_i^u − o) Q_i*` is `r_i^d` up to rounding. Each rotation is normalised
 /// first (as [`update_points`](super::update_points) does).
 ///
-/// Errors: length mismatches, non-finite input, zero rotations. On error `translations` is
+/// # Errors
+/// Length mismatches, non-finite input, zero rotations. On error `translations` is
 /// unchanged.
 pub fn boundary_translations<T: Real, const D: usize>(
     origin: [T; D],

@@ -42,7 +42,8 @@ pub fn propagate_spring_with_scratch_len<T: Real>(
 /// `scratch` needs [`propagate_spring_scratch_len`] items. Returns the solver's report (check
 /// `converged`).
 ///
-/// Errors: `V != D + 4`, length mismatches, no fixed node, non-finite or zero boundary values,
+/// # Errors
+/// `V != D + 4`, length mismatches, no fixed node, non-finite or zero boundary values,
 /// the solver's errors, and [`Error::ZeroLength`] (`"rotations"`, position = node) if a solved
 /// quaternion cancels to zero. On error `translations` and `rotations` are unchanged.
 pub fn propagate_spring<T: Real, const D: usize, const V: usize>(
@@ -66,6 +67,9 @@ pub fn propagate_spring<T: Real, const D: usize, const V: usize>(
 /// [`propagate_spring`] with any linear-spring solver, e.g. the multigrid-preconditioned CG
 /// ([`LinearSolver::Amg`], hierarchy built for `sys`). `scratch` needs
 /// [`propagate_spring_with_scratch_len`] items; otherwise identical.
+///
+/// # Errors
+/// Those of [`propagate_spring`], and a hierarchy built for another system.
 pub fn propagate_spring_with<T: Real, const D: usize, const V: usize>(
     sys: &SpringSystem<'_, T>,
     solver: LinearSolver<'_, T>,

@@ -260,7 +260,8 @@ fn blend_quat<T: Real>(terms: &[(usize, T)], values: &[Quat<T>]) -> Result<Quat<
 /// `points` are the undeformed block points (`i` fastest), 2D blocks have `nk = 1`. `scratch`
 /// needs [`tfi_scratch_len`] entries (contents unspecified afterwards).
 ///
-/// Errors: bad dimensions or directions, length mismatches, non-finite points or face values,
+/// # Errors
+/// Bad dimensions or directions, length mismatches, non-finite points or face values,
 /// zero face rotations, or (rare) a blended rotation that cancels to zero
 /// ([`Error::ZeroLength`], `"rotations"`, position = point). On error the values are unchanged.
 pub fn propagate_tfi<T: Real, const D: usize>(
@@ -335,7 +336,8 @@ pub fn propagate_tfi<T: Real, const D: usize>(
 /// (Samareh eq. 1) given on the faces of the active directions. New points are
 /// `r^u + δ`. It reproduces translations but shears cells under rotation.
 ///
-/// Errors as for [`propagate_tfi`]; on error `displacements` is unchanged.
+/// # Errors
+/// As for [`propagate_tfi`]; on error `displacements` is unchanged.
 pub fn displacement_tfi<T: Real, const D: usize>(
     block: &Block,
     directions: [bool; 3],

@@ -14,7 +14,8 @@ use crate::vector::{add, sub};
 /// exactness; a node listed twice takes its last entry). Every entry of `out` is written; its
 /// previous contents are ignored.
 ///
-/// Errors: length mismatches (`translations`, `rotations` and `out` have one entry per point,
+/// # Errors
+/// Length mismatches (`translations`, `rotations` and `out` have one entry per point,
 /// `boundary_deformed` one per boundary node), out-of-range boundary indices, non-finite
 /// input, zero rotations. On error `out` is unchanged.
 pub fn update_points<T: Real, const D: usize>(

@@ -9,6 +9,8 @@ use crate::vector::{add, cross, dot, norm, sub};
 
 /// Signed measure and corner-Jacobian summary of one cell.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub struct CellQuality<T> {
     /// Signed area (2D) or volume (3D); positive for a correctly oriented cell.
     pub measure: T,

@@ -18,6 +18,9 @@ pub struct Wall<'a> {
 
 impl<'a> Wall<'a> {
     /// Wraps wall elements and the edge graph; both must describe the same number of nodes.
+    ///
+    /// # Errors
+    /// Node counts that differ ([`Error::LengthMismatch`] on `graph`).
     pub fn new(elements: Cells<'a>, graph: Graph<'a>) -> Result<Self> {
         check::len("graph", graph.node_count(), elements.node_count())?;
         Ok(Wall { elements, graph })
@@ -36,6 +39,8 @@ impl<'a> Wall<'a> {
 
 /// Result of [`wall_angle_change`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub struct WallAngleChange<T> {
     /// Largest `|θ_deformed − θ_undeformed|` over the measured wall nodes, in radians (0 when
     /// no node was measured).
@@ -165,8 +170,10 @@ pub(crate) fn check_wall<T: Real, const D: usize>(
 /// Coordinates are assumed small enough that element normals (products of coordinate
 /// differences) do not overflow; a wall node whose normal sum overflows is treated as off-wall.
 ///
-/// `scratch` needs [`wall_angle_scratch_len`] items and is overwritten. Errors (nothing
-/// written): point arrays not matching the wall's node count, non-finite
+/// `scratch` needs [`wall_angle_scratch_len`] items and is overwritten.
+///
+/// # Errors
+/// Nothing is written on error: point arrays not matching the wall's node count, non-finite
 /// coordinates, wall elements of the wrong kind ([`Error::CellDimension`]), scratch too small.
 pub fn wall_angle_change<T: Real, const D: usize>(
     wall: &Wall<'_>,

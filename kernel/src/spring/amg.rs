@@ -55,6 +55,7 @@ pub const AMG_MAX_DENSE: usize = 2048;
 
 /// Options of the multigrid hierarchy and its V-cycle.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct AmgOptions<T> {
     /// Strength-of-connection threshold θ in `[0, 1)` for the fine level: a spring `i–j` is
     /// strong when `k_ij ≥ θ √(A_ii A_jj)`. Default 0 (all springs strong, pyamg's default for
@@ -79,6 +80,7 @@ pub const AMG_MAX_SWEEPS: usize = 16;
 /// The V-cycle's smoother. Both are Richardson steps `x += ω_s D⁻¹ (b − A x)` (node-local,
 /// partition-independent) and differ in the weights.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum AmgSmoother {
     /// Damped Jacobi: `ω = (4/3) / ρ` every step, `ρ` the Gershgorin bound of `ρ(D⁻¹A)`.
     Jacobi,
@@ -289,7 +291,8 @@ impl<'a, T: Real> AmgHierarchy<'a, T> {
     /// The symbolic pass: aggregation and the sparsity of every prolongator and coarse
     /// operator, in `work`; returns the exact buffer sizes [`AmgHierarchy::setup`] needs.
     ///
-    /// Errors: invalid `options` ([`Error::InvalidParameter`]), `work` shorter than
+    /// # Errors
+    /// Invalid `options` ([`Error::InvalidParameter`]), `work` shorter than
     /// [`AmgHierarchy::setup_work_len`] ([`Error::BufferTooSmall`]), more than `2³¹ − 2`
     /// nodes ([`Error::TooLarge`]). Only `work` is written.
     pub fn setup_len(
@@ -311,7 +314,8 @@ impl<'a, T: Real> AmgHierarchy<'a, T> {
     /// [`AmgHierarchy::setup_len`] (larger buffers work; the tail is untouched). The hierarchy
     /// borrows the two buffers; they are reusable for the next setup.
     ///
-    /// Errors: those of [`AmgHierarchy::setup_len`]; `index` or `values` too short
+    /// # Errors
+    /// Those of [`AmgHierarchy::setup_len`]; `index` or `values` too short
     /// ([`Error::BufferTooSmall`], checked before either is written); a coarse operator that is
     /// not positive definite in floating point, e.g. from overflowing stiffness
     /// ([`Error::SingularSystem`] with `iteration: 0`; `index` and `values` then hold no

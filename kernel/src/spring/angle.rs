@@ -63,6 +63,7 @@ pub struct AngleSystem<'a, T: Real, const D: usize> {
 
 /// Solution method for the angle-inclusion springs ([`solve_angle`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum AngleMethod {
     /// Direct method (Yang & Özgen §2.2.1): each node's 2×2/3×3 system solved by Cramer's rule,
     /// in place, in node order (Gauss–Seidel). Converges: the operator is symmetric positive
@@ -137,7 +138,8 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
     /// Validates the coordinates and `epsilon` against `base` and checks every free node's
     /// block (see the [`AngleSystem`] documentation).
     ///
-    /// Errors: `points.len() != node_count` ([`Error::LengthMismatch`]); a non-finite coordinate
+    /// # Errors
+    /// `points.len() != node_count` ([`Error::LengthMismatch`]); a non-finite coordinate
     /// ([`Error::NonFinite`]); `epsilon` not finite or negative ([`Error::InvalidParameter`]);
     /// a zero-length edge ([`Error::ZeroLengthEdge`]); a free node whose block is singular
     /// ([`Error::SingularNode`], colinear edges in 2D, coplanar in 3D).
@@ -435,7 +437,8 @@ fn tally<T: Real, const D: usize>(
 /// are copied; `output` outside the range is untouched. Returns the range's maximum change and
 /// the residual of `input` there.
 ///
-/// Errors (nothing written): wrong lengths, non-finite `input`, `nodes.end > node_count`.
+/// # Errors
+/// Nothing is written on error: wrong lengths, non-finite `input`, `nodes.end > node_count`.
 pub fn angle_jacobi_sweep<T: Real, const D: usize>(
     sys: &AngleSystem<'_, T, D>,
     nodes: Range<usize>,
@@ -453,7 +456,8 @@ pub fn angle_jacobi_sweep<T: Real, const D: usize>(
 /// (Yang & Özgen §2.2.1): like [`angle_jacobi_sweep`] but each node uses its neighbours'
 /// newest values. Returns the range's maximum change and residual estimate.
 ///
-/// Errors (nothing written): wrong length, non-finite `values`, `nodes.end > node_count`.
+/// # Errors
+/// Nothing is written on error: wrong length, non-finite `values`, `nodes.end > node_count`.
 pub fn angle_gauss_seidel_sweep<T: Real, const D: usize>(
     sys: &AngleSystem<'_, T, D>,
     nodes: Range<usize>,
@@ -616,7 +620,8 @@ pub fn angle_probe_scratch_len<T: Real, const D: usize>(sys: &AngleSystem<'_, T,
 /// [`solve_angle`] runs it when `ε = 0` and rejects `s > `[`MAX_AMPLIFICATION`]. It is public
 /// so callers can check a system once and reuse it.
 ///
-/// Errors: `scratch` shorter than [`angle_probe_scratch_len`]; [`Error::SingularSystem`] when
+/// # Errors
+/// `scratch` shorter than [`angle_probe_scratch_len`]; [`Error::SingularSystem`] when
 /// CG meets non-positive curvature or does not reach a relative residual of
 /// `max(1e-6, 100 ε_mach)` within `max(options.max_iterations, 100)` iterations.
 pub fn angle_rigidity_probe<T: Real, const D: usize>(
@@ -735,7 +740,8 @@ impl<T: Real, const D: usize> Sweeps<T> for DirectSweeps<'_, '_, '_, T, D> {
 /// residual is the block operator's, relative to `‖b‖` as in [`SolveOptions`]. When
 /// `ε = 0` the rigidity probe runs first (see the [`AngleSystem`] documentation).
 ///
-/// Errors (values untouched): wrong length or non-finite values, bad options, `scratch`
+/// # Errors
+/// `values` is untouched on error: wrong length or non-finite values, bad options, `scratch`
 /// shorter than [`angle_scratch_len`], [`Error::SingularSystem`] from the probe (`iteration`
 /// = the probe's CG iteration, or 0 when the probe converged but its amplification exceeded
 /// [`MAX_AMPLIFICATION`]) or from CG (non-positive curvature); [`Error::Overflow`] when
@@ -762,7 +768,8 @@ pub fn solve_angle<T: Real, const D: usize>(
 /// [`solve_angle`]; `scratch` needs [`angle_scratch_len`] for
 /// [`AngleMethod::DirectGaussSeidel`] (none unless `ε = 0`).
 ///
-/// Errors: those of [`solve_angle`], and `omega` outside `(0, 2)` ([`Error::InvalidParameter`]).
+/// # Errors
+/// Those of [`solve_angle`], and `omega` outside `(0, 2)` ([`Error::InvalidParameter`]).
 pub fn solve_angle_sor<T: Real, const D: usize>(
     sys: &AngleSystem<'_, T, D>,
     values: &mut [[T; D]],
@@ -785,7 +792,8 @@ pub fn solve_angle_sor<T: Real, const D: usize>(
 /// [`solve_angle_sor`]): [`angle_gauss_seidel_sweep`] with every correction scaled by `omega`.
 /// Returns the range's maximum change and residual estimate.
 ///
-/// Errors (nothing written): wrong length, non-finite `values`, `nodes.end > node_count`,
+/// # Errors
+/// Nothing is written on error: wrong length, non-finite `values`, `nodes.end > node_count`,
 /// `omega` outside `(0, 2)`.
 pub fn angle_sor_sweep<T: Real, const D: usize>(
     sys: &AngleSystem<'_, T, D>,

@@ -99,7 +99,8 @@ pub(crate) fn jacobi_core<T: Real, const V: usize>(
 /// `input` and `output` hold one `[T; V]` per node (the whole field: neighbours outside the
 /// range are read, e.g. halo nodes in a distributed mesh).
 ///
-/// Errors (nothing written): wrong lengths, non-finite `input`, `nodes.end > node_count`.
+/// # Errors
+/// Nothing is written on error: wrong lengths, non-finite `input`, `nodes.end > node_count`.
 pub fn jacobi_sweep<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     nodes: Range<usize>,
@@ -151,7 +152,8 @@ pub(crate) fn sor_core<T: Real, const V: usize>(
 /// increasing node order: `x_i ← x_i + ω Σ_j k_ij (x_j − x_i) / Σ_j k_ij` using the newest
 /// values. Fixed nodes are skipped. Returns the range's maximum change and residual estimate.
 ///
-/// Errors (nothing written): wrong length, non-finite `values`, `nodes.end > node_count`,
+/// # Errors
+/// Nothing is written on error: wrong length, non-finite `values`, `nodes.end > node_count`,
 /// `omega` outside `(0, 2)`.
 pub fn sor_sweep<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
@@ -271,7 +273,8 @@ pub(crate) fn residual_norms_scaled<T: Real, const V: usize>(
 /// The relative residual `‖b − A x‖₂ / ‖b‖₂` of a value field for the linear springs (the
 /// measure [`SolveOptions::residual_tol`] and [`SolveReport::residual`] use).
 ///
-/// Errors: wrong length or non-finite `values`.
+/// # Errors
+/// Wrong length or non-finite `values`.
 pub fn relative_residual<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     values: &[[T; V]],
@@ -332,7 +335,8 @@ fn cg_scratch_len<const V: usize>(n: usize) -> usize {
 /// finite values are handled: the result at `2^k ·` values is exactly `2^k ·` the result
 /// (while no value is subnormal).
 ///
-/// Errors (values untouched): wrong lengths, non-finite values, bad options or `omega`,
+/// # Errors
+/// `values` is untouched on error: wrong lengths, non-finite values, bad options or `omega`,
 /// `scratch` shorter than [`solve_linear_scratch_len`] (CG needs exactly `4 n + ⌈n / V⌉`
 /// items of it), [`Error::SingularSystem`] if CG
 /// meets non-positive curvature (cannot happen for a validated system in exact arithmetic;

@@ -268,7 +268,8 @@ pub fn solve_linear_sliding_scratch_len<T: Real>(
 /// system. On `Ok` every sliding node's displacement lies in its plane or line to rounding,
 /// and the report's residual is `‖P(b − K d)‖ / ‖P b‖`.
 ///
-/// # Errors (values untouched)
+/// # Errors
+/// `values` is untouched on error:
 /// Wrong length or non-finite `values`; constraints of another length or whose fixed nodes
 /// differ from the system's mask ([`Error::InvalidParameter`] on `constraints`); bad options or
 /// `omega`; a hierarchy built for another system; `scratch` shorter than
@@ -352,7 +353,8 @@ pub fn solve_angle_sliding_scratch_len<T: Real, const D: usize>(
 /// when nodes are restricted further). Values, report and sliding guarantee as in
 /// [`solve_linear_sliding`].
 ///
-/// # Errors (values untouched)
+/// # Errors
+/// `values` is untouched on error:
 /// Those of [`solve_linear_sliding`] and of [`solve_angle`](super::solve_angle) (probe);
 /// `omega` outside `(0, 2)` for any method.
 pub fn solve_angle_sliding<T: Real, const D: usize>(

@@ -48,6 +48,9 @@ pub fn solve_linear_with_scratch_len<T: Real>(
 
 /// Solves the linear springs with `solver`: [`solve_linear`] or [`solve_linear_amg`] (same
 /// problem, same report, same errors).
+///
+/// # Errors
+/// Those of [`solve_linear`] or [`solve_linear_amg`], whichever `solver` selects.
 pub fn solve_linear_with<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     values: &mut [[T; V]],

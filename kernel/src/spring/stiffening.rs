@@ -30,7 +30,8 @@ use crate::vector;
 /// 2D mesh of 234k nodes and 1,024 wall nodes; for large 3D meshes compute the distances with a
 /// spatial search of your own and pass them to [`wall_distance_factors`].
 ///
-/// Errors (nothing written): `out.len() != points.len()` ([`Error::LengthMismatch`]), an
+/// # Errors
+/// Nothing is written on error: `out.len() != points.len()` ([`Error::LengthMismatch`]), an
 /// empty `wall` ([`Error::InvalidParameter`]), a wall index out of range
 /// ([`Error::IndexOutOfRange`]), a non-finite coordinate ([`Error::NonFinite`]).
 pub fn wall_distances<T: Real, const D: usize>(
@@ -75,7 +76,8 @@ pub fn wall_distances<T: Real, const D: usize>(
 /// with `d̄` the mean distance and `d_min = 1e-3·d̄` (so wall nodes get a large but finite
 /// factor). `q = 1` is SU2's `E = 1/d`; larger `q` concentrates the stiffening at the walls.
 ///
-/// Errors (nothing written): `exponent` not finite or negative ([`Error::InvalidParameter`]),
+/// # Errors
+/// Nothing is written on error: `exponent` not finite or negative ([`Error::InvalidParameter`]),
 /// a distance that is negative or not finite ([`Error::NonFinite`] / [`Error::NonPositive`]
 /// with its node), all distances 0 ([`Error::InvalidParameter`]).
 pub fn wall_distance_factors<T: Real>(distances: &mut [T], exponent: T) -> Result<()> {
@@ -87,7 +89,8 @@ pub fn wall_distance_factors<T: Real>(distances: &mut [T], exponent: T) -> Resul
 /// among its nodes, into `out` (`out.len() == points.len()`). `scratch` needs `cells.len()`
 /// items (the cell measures).
 ///
-/// Errors (nothing written): those of [`cell_measures`](crate::quality::cell_measures);
+/// # Errors
+/// Nothing is written on error: those of [`cell_measures`](crate::quality::cell_measures);
 /// `out` or `scratch` of the wrong length ([`Error::LengthMismatch`] /
 /// [`Error::BufferTooSmall`]).
 pub fn dual_volumes<T: Real, const D: usize>(
@@ -123,7 +126,8 @@ pub fn dual_volumes<T: Real, const D: usize>(
 /// Turns dual volumes into stiffness factors `f_i = (V̄ / max(V_i, V_min))^q` in place, with
 /// `V̄` the mean dual volume and `V_min = 1e-12·V̄`. `q = 1` is SU2's `E = 1/V`.
 ///
-/// Errors as [`wall_distance_factors`] (with `arg = "volumes"`).
+/// # Errors
+/// As [`wall_distance_factors`] (with `arg = "volumes"`).
 pub fn inverse_volume_factors<T: Real>(volumes: &mut [T], exponent: T) -> Result<()> {
     let mean = checked_mean(volumes, "volumes")?;
     positive_factors(volumes, exponent, mean, T::from_f64(1e-12))
@@ -132,7 +136,8 @@ pub fn inverse_volume_factors<T: Real>(volumes: &mut [T], exponent: T) -> Result
 /// Multiplies the stiffness of every directed edge by the mean factor of its two nodes:
 /// `k_ij ← k_ij (f_i + f_j) / 2`. Exactly symmetric stiffness stays exactly symmetric.
 ///
-/// Errors (nothing written): `factors.len() != graph.node_count()` or
+/// # Errors
+/// Nothing is written on error: `factors.len() != graph.node_count()` or
 /// `stiffness.len() != graph.edge_count()` ([`Error::LengthMismatch`]); a factor that is not
 /// finite and positive ([`Error::NonFinite`] / [`Error::NonPositive`]); a product that is not
 /// finite and positive ([`Error::NonPositive`] with `arg = "stiffness"` and the edge's node).

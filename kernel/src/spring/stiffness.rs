@@ -14,7 +14,8 @@ use crate::vector;
 /// `1 / powf(|d|, p)`. `|r_i − r_j|` and `|r_j − r_i|` are bit-identical, so the result is
 /// exactly symmetric, as [`SpringSystem`](super::SpringSystem) requires.
 ///
-/// Errors (nothing written): `points.len() != graph.node_count()` or
+/// # Errors
+/// Nothing is written on error: `points.len() != graph.node_count()` or
 /// `stiffness.len() != graph.edge_count()` ([`Error::LengthMismatch`]); a NaN/infinite
 /// coordinate ([`Error::NonFinite`]); `exponent` not finite or negative
 /// ([`Error::InvalidParameter`]); an edge of zero length, or so short that `k` overflows
@@ -39,7 +40,10 @@ pub fn batina_stiffness<T: Real, const D: usize>(
 /// [`FAST_INV_SQRT_F32_MAX_REL_ERROR`](crate::real::FAST_INV_SQRT_F32_MAX_REL_ERROR) (4.8e-6)
 /// relative of [`batina_stiffness`]'s (tested on host and on target); for `f64` the two are
 /// identical. Still exactly symmetric (`k_ij` and `k_ji` come from the same `d·d` bits), with
-/// the same validation and errors.
+/// the same validation.
+///
+/// # Errors
+/// Those of [`batina_stiffness`].
 #[cfg(feature = "micromath")]
 pub fn batina_stiffness_fast<T: Real, const D: usize>(
     graph: &Graph<'_>,

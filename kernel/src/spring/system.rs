@@ -40,7 +40,8 @@ impl<'a, T: Real> SpringSystem<'a, T> {
     /// Validates and wraps graph, stiffness and fixed mask (nonzero byte = fixed, see
     /// [`is_fixed`]).
     ///
-    /// Errors: `stiffness.len() != graph.edge_count()` or `fixed.len() != graph.node_count()`
+    /// # Errors
+    /// `stiffness.len() != graph.edge_count()` or `fixed.len() != graph.node_count()`
     /// ([`Error::LengthMismatch`]); a NaN/infinite stiffness ([`Error::NonFinite`]) or a zero or
     /// negative one ([`Error::NonPositive`]); an edge without its reverse, or
     /// `stiffness[i → j] != stiffness[j → i]` ([`Error::NotSymmetric`]); `scratch` shorter than
@@ -285,6 +286,7 @@ pub struct Sweep<T> {
 
 /// Stopping rules shared by every spring solver.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SolveOptions<T> {
     /// Iteration cap (sweeps, or CG iterations). Default 10 000.
     pub max_iterations: usize,
@@ -339,6 +341,8 @@ impl<T: Real> SolveOptions<T> {
 /// What a whole solve did. Non-convergence is reported here (`converged == false`), never
 /// hidden; the values then hold the last iterate.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub struct SolveReport<T> {
     /// Iterations performed (sweeps, or CG iterations).
     pub iterations: usize,
@@ -353,6 +357,7 @@ pub struct SolveReport<T> {
 
 /// Preconditioner for the linear-spring conjugate gradient.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Preconditioner<T> {
     /// None (plain CG).
     None,
@@ -368,6 +373,7 @@ pub enum Preconditioner<T> {
 
 /// Solution method for the linear springs ([`solve_linear`](super::solve_linear)).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum LinearMethod<T> {
     /// The paper's iteration (Yang & Özgen §2.1, Samareh eq. 2): every node from the previous
     /// field.

@@ -11,6 +11,7 @@ use super::TaubinParams;
 
 /// How the smoothed coarse field is brought back to the fine grid.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Prolongation {
     /// The fine field becomes the (multi)linear interpolation of the smoothed coarse field:
     /// Alter's "prolongation of the arclength functions". Removes all fine-scale content

@@ -58,6 +58,8 @@ impl<'a, T: Real> SmoothOptions<'a, T> {
 
 /// What [`smooth_arclength`] did.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub struct SmoothReport<T> {
     /// Iterations performed (fine + coarse).
     pub iterations: usize,

@@ -66,6 +66,8 @@ impl BlockRegion {
 
 /// What a whole filter run did.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub struct FilterReport<T> {
     /// Iterations performed (one iteration = λ pass + μ pass).
     pub iterations: usize,

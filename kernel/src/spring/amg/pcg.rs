@@ -37,7 +37,8 @@ pub fn amg_precondition_scratch_len<T: Real>(hierarchy: &AmgHierarchy<'_, T>) ->
 /// definite on the free nodes). Entries of `r` at fixed nodes are ignored and `z` is zero there.
 /// For callers with their own Krylov solver (e.g. a distributed CG).
 ///
-/// Errors (nothing written): a hierarchy for a system of another size, wrong lengths,
+/// # Errors
+/// Nothing is written on error: a hierarchy for a system of another size, wrong lengths,
 /// non-finite `r`, `scratch` shorter than [`amg_precondition_scratch_len`].
 pub fn amg_precondition<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
@@ -171,7 +172,8 @@ fn apply<T: Real, const V: usize>(
 /// itself; the hierarchy only preconditions, so a hierarchy built for other stiffness values of
 /// the same graph slows convergence down but cannot change the answer.
 ///
-/// Errors (values untouched): a hierarchy built for a system of another size
+/// # Errors
+/// `values` is untouched on error: a hierarchy built for a system of another size
 /// ([`Error::LengthMismatch`], `"hierarchy"`), wrong length or non-finite `values`, bad
 /// options, `scratch` shorter than [`solve_linear_amg_scratch_len`], and
 /// [`Error::SingularSystem`] if CG meets non-positive curvature, [`Error::Overflow`] if its
