@@ -13,8 +13,8 @@ use deform_kernel::deformation::{
     BoundaryMotion, RotationSource,
 };
 use deform_kernel::plan::{
-    Plan, PlanMethod, PlanMotion, PlanSizes, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
-    StepReport,
+    Plan, PlanCounts, PlanMethod, PlanMotion, PlanSizes, PlanSolver, PlanSpec, PlanStiffness,
+    PlanStorage, PlanWork, Start, StepReport,
 };
 use deform_kernel::slide::Constraints;
 use deform_kernel::spring::{
@@ -963,4 +963,275 @@ fn three_dimensional_plans_equal_the_stateless_calls() {
             .unwrap();
     }
     assert_eq!(bits(&out), bits(&again));
+}
+
+/// The one-level solvers a plan can use.
+fn one_level<T: Real>() -> [LinearMethod<T>; 6] {
+    let omega = T::from_f64(1.5);
+    [
+        LinearMethod::Jacobi,
+        LinearMethod::GaussSeidel,
+        LinearMethod::Sor { omega },
+        LinearMethod::Cg {
+            preconditioner: Preconditioner::None,
+        },
+        LinearMethod::Cg {
+            preconditioner: Preconditioner::Jacobi,
+        },
+        LinearMethod::Cg {
+            preconditioner: Preconditioner::Ssor { omega },
+        },
+    ]
+}
+
+/// `Plan::capacity` (counts only, `const`) is exactly `Plan::sizes` for every one-level
+/// solver and both methods, with and without elements, 2D and 3D, f32 and f64, and larger
+/// counts give sizes at least as large; `Plan::work_capacity` is `Plan::work_sizes`.
+fn capacity_equals_sizes<T: Real, const D: usize>(c: &Case<T, D>) {
+    for method in [PlanMethod::Spring, PlanMethod::QuaternionSpring] {
+        for with_elements in [false, true] {
+            for solver in one_level::<T>() {
+                let mut spec = c.spec(method, PlanSolver::Method(solver));
+                if !with_elements {
+                    spec.elements = None;
+                }
+                let counts = PlanCounts {
+                    nodes: c.points.len(),
+                    edges: c.targets.len(),
+                    boundary: c.nodes.len(),
+                    elements: with_elements.then_some((c.el_kinds.len(), c.el_nodes.len())),
+                };
+                let ws = Plan::<T, D>::work_sizes(&spec);
+                assert_eq!(Plan::<T, D>::work_capacity(&counts), ws);
+                let mut wr = vec![T::ZERO; ws.reals];
+                let mut wi = vec![0u32; ws.indices];
+                let mut wb = vec![0u8; ws.bytes];
+                let mut work = PlanWork {
+                    reals: &mut wr,
+                    indices: &mut wi,
+                    bytes: &mut wb,
+                };
+                let sizes = Plan::<T, D>::sizes(&spec, &mut work).unwrap();
+                let what = format!("{method:?} {solver:?} elements {with_elements} D {D}");
+                assert_eq!(
+                    Plan::<T, D>::capacity(&counts, method, &solver),
+                    Some(sizes),
+                    "{what}"
+                );
+                let more = PlanCounts {
+                    nodes: counts.nodes + 3,
+                    edges: counts.edges + 10,
+                    boundary: counts.boundary + 1,
+                    elements: Some((c.el_kinds.len() + 1, c.el_nodes.len() + 4)),
+                };
+                let bound = Plan::<T, D>::capacity(&more, method, &solver).unwrap();
+                assert!(
+                    bound.reals >= sizes.reals
+                        && bound.indices >= sizes.indices
+                        && bound.bytes >= sizes.bytes,
+                    "{what}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn capacity_from_counts_equals_the_exact_sizes() {
+    let m2 = mesh();
+    capacity_equals_sizes(&Case::<f64>::new(&m2));
+    capacity_equals_sizes(&Case::<f32>::new(&m2));
+    let m3 = extrude(&naca_triangulated(&AirfoilGrid::tiny()).unwrap(), 0.5, 3).unwrap();
+    capacity_equals_sizes(&Case::<f64, 3>::new(&m3));
+    capacity_equals_sizes(&Case::<f32, 3>::new(&m3));
+    // Sizes beyond usize or u32 are None, not a wrapped number.
+    let huge = PlanCounts {
+        nodes: usize::MAX / 2,
+        edges: 10,
+        boundary: 1,
+        elements: None,
+    };
+    let cg = LinearMethod::<f64>::Cg {
+        preconditioner: Preconditioner::Jacobi,
+    };
+    assert_eq!(
+        Plan::<f64, 3>::capacity(&huge, PlanMethod::Spring, &cg),
+        None
+    );
+    let beyond_u32 = PlanCounts {
+        nodes: 1 << 30,
+        ..huge
+    };
+    assert_eq!(
+        Plan::<f64, 3>::capacity(&beyond_u32, PlanMethod::Spring, &cg),
+        None
+    );
+}
+
+/// A structured grid of `GX × GY` nodes split into triangles (one diagonal per quad), its
+/// perimeter prescribed: counts known at compile time.
+const GX: usize = 7;
+const GY: usize = 5;
+const GRID: PlanCounts = PlanCounts {
+    nodes: GX * GY,
+    edges: 2 * ((GX - 1) * GY + GX * (GY - 1) + (GX - 1) * (GY - 1)),
+    boundary: 2 * (GX + GY) - 4,
+    elements: None,
+};
+const GRID_CG: LinearMethod<f64> = LinearMethod::Cg {
+    preconditioner: Preconditioner::Jacobi,
+};
+const GRID_POOLS: PlanSizes = match Plan::<f64, 2>::capacity(&GRID, PlanMethod::Spring, &GRID_CG) {
+    Some(s) => s,
+    None => panic!("too large"),
+};
+const GRID_WORK: PlanSizes = Plan::<f64, 2>::work_capacity(&GRID);
+type GridPools =
+    PlanStorage<f64, { GRID_POOLS.reals }, { GRID_POOLS.indices }, { GRID_POOLS.bytes }>;
+type GridWork = PlanStorage<f64, { GRID_WORK.reals }, { GRID_WORK.indices }, { GRID_WORK.bytes }>;
+/// One real short of what the plan needs.
+type ShortPools =
+    PlanStorage<f64, { GRID_POOLS.reals - 1 }, { GRID_POOLS.indices }, { GRID_POOLS.bytes }>;
+
+/// The grid: points (interior nudged), triangle cells, graph, perimeter.
+struct Grid {
+    points: Vec<[f64; 2]>,
+    offsets: Vec<u32>,
+    targets: Vec<u32>,
+    boundary: Vec<u32>,
+}
+
+impl Grid {
+    fn new() -> Self {
+        let id = |i: usize, j: usize| (i + GX * j) as u32;
+        let mut points = Vec::new();
+        let mut boundary = Vec::new();
+        for j in 0..GY {
+            for i in 0..GX {
+                let edge = i == 0 || j == 0 || i == GX - 1 || j == GY - 1;
+                let nudge = if edge {
+                    0.0
+                } else {
+                    0.01 * ((i * 7 + j * 3) % 5) as f64
+                };
+                points.push([i as f64 + nudge, j as f64 * 0.8 - nudge]);
+                if edge {
+                    boundary.push(id(i, j));
+                }
+            }
+        }
+        let (mut offs, mut nodes) = (vec![0u32], Vec::new());
+        for j in 0..GY - 1 {
+            for i in 0..GX - 1 {
+                for t in [
+                    [id(i, j), id(i + 1, j), id(i + 1, j + 1)],
+                    [id(i, j), id(i + 1, j + 1), id(i, j + 1)],
+                ] {
+                    nodes.extend(t);
+                    offs.push(nodes.len() as u32);
+                }
+            }
+        }
+        let kinds = vec![deform_kernel::CellKind::Triangle.vtk_code(); offs.len() - 1];
+        let cells = Cells::new(points.len(), &offs, &nodes, &kinds).unwrap();
+        let mut offsets = vec![0u32; points.len() + 1];
+        let mut targets = vec![0u32; graph_from_cells_len(&cells, true)];
+        let used = graph_from_cells(&cells, true, &mut offsets, &mut targets).unwrap();
+        targets.truncate(used);
+        Grid {
+            points,
+            offsets,
+            targets,
+            boundary,
+        }
+    }
+
+    fn spec(&self) -> PlanSpec<'_, f64, 2> {
+        PlanSpec {
+            points: &self.points,
+            graph: Graph::new(&self.offsets, &self.targets).unwrap(),
+            boundary: &self.boundary,
+            elements: None,
+            constraints: None,
+            method: PlanMethod::Spring,
+            stiffness: PlanStiffness::Batina { exponent: 1.0 },
+            solver: PlanSolver::Method(GRID_CG),
+            options: options(),
+        }
+    }
+}
+
+/// Storage declared from `Plan::capacity` at compile time holds the plan exactly
+/// (`used() == capacity()`), steps with the bits of heap pools, clones into a checkpoint that
+/// resumes bit for bit, and one entry less is `BufferTooSmall` with the length needed.
+#[test]
+fn static_storage_sized_at_compile_time_holds_the_plan() {
+    static WORK_TEMPLATE: GridWork = GridWork::new();
+    let g = Grid::new();
+    let spec = g.spec();
+    assert_eq!(g.targets.len(), GRID.edges);
+    assert_eq!(g.boundary.len(), GRID.boundary);
+    let mut work = WORK_TEMPLATE.clone();
+    let mut storage = Box::new(GridPools::new());
+    assert_eq!(
+        storage.init(&spec, &mut work.work()).unwrap().used(),
+        GRID_POOLS
+    );
+    assert_eq!(storage.capacity(), GRID_POOLS);
+    let (mut heap, _) = Pools::build(&spec);
+    let deformed = |s: usize| -> Vec<[f64; 2]> {
+        g.boundary
+            .iter()
+            .map(|&i| {
+                let p = g.points[i as usize];
+                if (i as usize) < GX {
+                    [p[0] + 0.05 * s as f64, p[1] + 0.1 * s as f64]
+                } else {
+                    p
+                }
+            })
+            .collect()
+    };
+    let n = g.points.len();
+    let (mut a, mut b) = (vec![[0.0; 2]; n], vec![[0.0; 2]; n]);
+    let mut checkpoint = None;
+    for s in 1..=4 {
+        let d = deformed(s);
+        let ra = storage
+            .open::<2>()
+            .unwrap()
+            .step(&PlanMotion::new(&d), &mut a)
+            .unwrap();
+        let rb = heap
+            .open()
+            .unwrap()
+            .step(&PlanMotion::new(&d), &mut b)
+            .unwrap();
+        assert_eq!(bits(&a), bits(&b), "step {s}");
+        assert_eq!(ra.solve.iterations, rb.solve.iterations);
+        if s == 2 {
+            checkpoint = Some(storage.clone());
+        }
+    }
+    let mut resumed = checkpoint.unwrap();
+    for s in 3..=4 {
+        let d = deformed(s);
+        resumed
+            .open::<2>()
+            .unwrap()
+            .step(&PlanMotion::new(&d), &mut b)
+            .unwrap();
+    }
+    assert_eq!(bits(&a), bits(&b));
+    let mut short = Box::new(ShortPools::new());
+    let untouched = short.clone();
+    assert_eq!(
+        short.init(&spec, &mut work.work()).unwrap_err(),
+        Error::BufferTooSmall {
+            arg: "reals",
+            needed: GRID_POOLS.reals,
+            actual: GRID_POOLS.reals - 1
+        }
+    );
+    assert_eq!(short.pools(), untouched.pools());
 }

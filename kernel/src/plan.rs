@@ -53,8 +53,12 @@
 mod build;
 mod layout;
 mod step;
+mod storage;
+
+pub use storage::PlanStorage;
 
 use crate::cells::Cells;
+use crate::check;
 use crate::deformation::RotationSource;
 use crate::error::Result;
 use crate::graph::Graph;
@@ -138,6 +142,23 @@ pub struct PlanSizes {
     pub indices: usize,
     /// `u8` entries.
     pub bytes: usize,
+}
+
+/// The mesh counts a plan's pool sizes depend on, for [`Plan::capacity`] and
+/// [`Plan::work_capacity`] (sizing storage at compile time).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PlanCounts {
+    /// Mesh nodes `N`.
+    pub nodes: usize,
+    /// Directed graph edges `E`: the graph's `targets` length, twice the mesh's edges.
+    pub edges: usize,
+    /// Boundary points `B`.
+    pub boundary: usize,
+    /// Boundary elements and their total node count (`cells.len()`, `cells.nodes().len()`)
+    /// when the quaternion method is given [`PlanSpec::elements`]; `None` otherwise (ignored
+    /// by [`PlanMethod::Spring`]).
+    pub elements: Option<(usize, usize)>,
 }
 
 /// Transient buffers of [`Plan::sizes`] and [`Plan::init`] (lengths from
@@ -241,6 +262,47 @@ impl<'a, T: Real, const D: usize> Plan<'a, T, D> {
     /// N)` indices, `N` bytes.
     pub fn work_sizes(spec: &PlanSpec<'_, T, D>) -> PlanSizes {
         build::work_sizes(spec)
+    }
+
+    /// The pool sizes of a plan with a one-level solver (`PlanSolver::Method(solver)`), from
+    /// the counts alone: exactly what [`Plan::sizes`] returns for a spec with these counts,
+    /// and, as every size grows with every count, an upper bound when the counts are upper
+    /// bounds. A `const fn`, so static storage can be declared from it ([`PlanStorage`]):
+    ///
+    /// ```
+    /// use deform_kernel::plan::{Plan, PlanCounts, PlanMethod, PlanSizes, PlanStorage};
+    /// use deform_kernel::spring::{LinearMethod, Preconditioner};
+    ///
+    /// const COUNTS: PlanCounts = PlanCounts { nodes: 30, edges: 138, boundary: 18, elements: None };
+    /// const CG: LinearMethod<f32> = LinearMethod::Cg { preconditioner: Preconditioner::Jacobi };
+    /// const POOLS: PlanSizes = match Plan::<f32, 2>::capacity(&COUNTS, PlanMethod::Spring, &CG) {
+    ///     Some(s) => s,
+    ///     None => panic!("the plan does not fit in memory"),
+    /// };
+    /// static PLAN: PlanStorage<f32, { POOLS.reals }, { POOLS.indices }, { POOLS.bytes }> =
+    ///     PlanStorage::new();
+    /// # assert_eq!(PLAN.capacity(), POOLS);
+    /// ```
+    ///
+    /// The multigrid solver's sizes depend on the hierarchy its setup finds: take them from
+    /// [`Plan::sizes`] once (on the host) and keep a margin; storage that is too small is
+    /// refused by [`Plan::init`] with [`Error::BufferTooSmall`](crate::Error::BufferTooSmall)
+    /// and the sizes it needs. `None` when a size overflows `usize` or a pool exceeds `u32`
+    /// entries.
+    pub const fn capacity(
+        counts: &PlanCounts,
+        method: PlanMethod,
+        solver: &LinearMethod<T>,
+    ) -> Option<PlanSizes> {
+        check::mesh_dim::<D>();
+        build::one_level_sizes(counts, D, method, solver)
+    }
+
+    /// The transient work sizes from the counts alone: what [`Plan::work_sizes`] returns for a
+    /// spec with `counts.nodes` nodes and `counts.edges` directed edges (`const`, as
+    /// [`Plan::capacity`]).
+    pub const fn work_capacity(counts: &PlanCounts) -> PlanSizes {
+        build::work_sizes_of(counts.nodes, counts.edges)
     }
 
     /// The exact pool sizes for `spec` (validates the spec and runs the hierarchy's symbolic

@@ -1,7 +1,7 @@
 //! Building a plan: validate the spec once, size the pools, fill them.
 
 use super::layout::{self, set_hw, w, word, Counts, Sections, SolverKind, HEADER};
-use super::{PlanMethod, PlanSizes, PlanSolver, PlanSpec, PlanStiffness, PlanWork};
+use super::{PlanCounts, PlanMethod, PlanSizes, PlanSolver, PlanSpec, PlanStiffness, PlanWork};
 use crate::check;
 use crate::deformation::check_elements;
 use crate::error::{Error, Result};
@@ -15,12 +15,17 @@ use crate::spring::{
 
 /// Transient work lengths.
 pub(super) fn work_sizes<T: Real, const D: usize>(spec: &PlanSpec<'_, T, D>) -> PlanSizes {
-    let n = spec.graph.node_count();
-    let e = spec.graph.edge_count();
+    work_sizes_of(spec.graph.node_count(), spec.graph.edge_count())
+}
+
+/// Transient work lengths for `n` nodes and `e` directed edges: `e` reals (the stiffness),
+/// `max(4 (n + e) + 64, n)` indices (anchoring search, the hierarchy's symbolic pass), `n`
+/// bytes (the fixed mask).
+pub(super) const fn work_sizes_of(n: usize, e: usize) -> PlanSizes {
     let amg = n.saturating_add(e).saturating_mul(4).saturating_add(64);
     PlanSizes {
         reals: e,
-        indices: amg.max(n),
+        indices: if amg > n { amg } else { n },
         bytes: n,
     }
 }
@@ -29,14 +34,49 @@ pub(super) fn work_sizes<T: Real, const D: usize>(spec: &PlanSpec<'_, T, D>) -> 
 fn solver_kind<T: Real>(s: &PlanSolver<T>) -> (SolverKind, T) {
     match *s {
         PlanSolver::Amg(_) => (SolverKind::Amg, T::ZERO),
-        PlanSolver::Method(LinearMethod::Jacobi) => (SolverKind::Jacobi, T::ZERO),
-        PlanSolver::Method(LinearMethod::GaussSeidel) => (SolverKind::GaussSeidel, T::ZERO),
-        PlanSolver::Method(LinearMethod::Sor { omega }) => (SolverKind::Sor, omega),
-        PlanSolver::Method(LinearMethod::Cg { preconditioner }) => match preconditioner {
-            Preconditioner::None => (SolverKind::CgNone, T::ZERO),
-            Preconditioner::Jacobi => (SolverKind::CgJacobi, T::ZERO),
-            Preconditioner::Ssor { omega } => (SolverKind::CgSsor, omega),
-        },
+        PlanSolver::Method(m) => (
+            SolverKind::of_method(&m),
+            match m {
+                LinearMethod::Sor { omega }
+                | LinearMethod::Cg {
+                    preconditioner: Preconditioner::Ssor { omega },
+                } => omega,
+                _ => T::ZERO,
+            },
+        ),
+    }
+}
+
+/// The pool sizes of a plan with a one-level solver, from counts alone (see
+/// [`Plan::capacity`](super::Plan::capacity)); the arithmetic of [`sizes`].
+pub(super) const fn one_level_sizes<T>(
+    counts: &PlanCounts,
+    d: usize,
+    method: PlanMethod,
+    solver: &LinearMethod<T>,
+) -> Option<PlanSizes> {
+    let quaternion = matches!(method, PlanMethod::QuaternionSpring);
+    let (has_elements, c, cn) = match counts.elements {
+        Some((c, cn)) if quaternion => (true, c, cn),
+        _ => (false, 0, 0),
+    };
+    let counts = Counts {
+        method,
+        solver: SolverKind::of_method(solver),
+        d,
+        n: counts.nodes,
+        e: counts.edges,
+        b: counts.boundary,
+        has_elements,
+        c,
+        cn,
+        amg_index: 0,
+        amg_values: 0,
+        scratch: solve_linear_scratch_len(solver, counts.nodes),
+    };
+    match Sections::layout(&counts) {
+        Ok(s) => Some(s.sizes),
+        Err(_) => None,
     }
 }
 

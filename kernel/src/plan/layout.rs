@@ -6,7 +6,7 @@ use core::ops::Range;
 use super::{PlanMethod, PlanSizes, AMG_LAYOUT_WORDS, AMG_WEIGHTS};
 use crate::error::{Error, Result};
 use crate::real::Real;
-use crate::spring::{Layout, Level, AMG_MAX_LEVELS, AMG_MAX_SWEEPS};
+use crate::spring::{Layout, Level, LinearMethod, Preconditioner, AMG_MAX_LEVELS, AMG_MAX_SWEEPS};
 
 /// `"DPLN"` (deform plan), little end first.
 pub(super) const MAGIC: u32 = 0x4E4C_5044;
@@ -70,6 +70,20 @@ pub(super) enum SolverKind {
 }
 
 impl SolverKind {
+    /// The stored code of a one-level method.
+    pub const fn of_method<T>(m: &LinearMethod<T>) -> Self {
+        match m {
+            LinearMethod::Jacobi => SolverKind::Jacobi,
+            LinearMethod::GaussSeidel => SolverKind::GaussSeidel,
+            LinearMethod::Sor { .. } => SolverKind::Sor,
+            LinearMethod::Cg { preconditioner } => match preconditioner {
+                Preconditioner::None => SolverKind::CgNone,
+                Preconditioner::Jacobi => SolverKind::CgJacobi,
+                Preconditioner::Ssor { .. } => SolverKind::CgSsor,
+            },
+        }
+    }
+
     fn from_code(c: u32) -> Option<Self> {
         Some(match c {
             1 => SolverKind::Jacobi,
@@ -104,15 +118,15 @@ pub(super) struct Counts {
 
 impl Counts {
     /// Values per node of the solve.
-    pub fn v(&self) -> usize {
+    pub const fn v(&self) -> usize {
         match self.method {
             PlanMethod::Spring => self.d,
-            PlanMethod::QuaternionSpring => self.d + 4,
+            PlanMethod::QuaternionSpring => self.d.saturating_add(4),
         }
     }
 
-    fn quaternion(&self) -> bool {
-        self.method == PlanMethod::QuaternionSpring
+    const fn quaternion(&self) -> bool {
+        matches!(self.method, PlanMethod::QuaternionSpring)
     }
 }
 
@@ -151,78 +165,116 @@ pub(super) struct Sections {
     pub sizes: PlanSizes,
 }
 
-/// A running cursor that hands out consecutive ranges with overflow checks.
-struct Cursor(usize);
-
-impl Cursor {
-    fn take(&mut self, len: Option<usize>) -> Result<Range<usize>> {
-        let end = len
-            .and_then(|l| self.0.checked_add(l))
-            .ok_or(Error::TooLarge {
-                arg: "plan",
-                value: usize::MAX,
-            })?;
-        let r = self.0..end;
-        self.0 = end;
-        Ok(r)
-    }
+/// Hands out the next `len` entries of a pool whose cursor is `$cur` (a `usize` variable):
+/// the range, or `Err(usize::MAX)` from the enclosing function on overflow. A macro, not a
+/// method, so [`Sections::layout`] stays a `const fn`.
+macro_rules! take {
+    ($cur:ident, $len:expr) => {{
+        let end = match $len {
+            Some(len) => $cur.checked_add(len),
+            None => None,
+        };
+        match end {
+            Some(end) => {
+                let r = $cur..end;
+                $cur = end;
+                r
+            }
+            None => return Err(usize::MAX),
+        }
+    }};
 }
 
 impl Sections {
     /// The layout for `c` (fails only on arithmetic overflow).
     pub fn new(c: &Counts) -> Result<Self> {
-        let amg = c.solver == SolverKind::Amg;
+        Sections::layout(c).map_err(|value| Error::TooLarge { arg: "plan", value })
+    }
+
+    /// The layout for `c`, or the first size that does not fit (`usize::MAX` on arithmetic
+    /// overflow, or a pool length beyond `u32`). `const`, so [`Plan::capacity`](super::Plan::capacity)
+    /// sizes static storage at compile time from the same arithmetic `init` uses.
+    pub const fn layout(c: &Counts) -> core::result::Result<Self, usize> {
+        let amg = matches!(c.solver, SolverKind::Amg);
         let q = c.quaternion();
         let v = c.v();
-        let mut s = Sections::default();
-        let mut i = Cursor(HEADER);
-        s.offs = i.take(c.n.checked_add(1))?;
-        s.targets = i.take(Some(c.e))?;
-        s.boundary = i.take(Some(c.b))?;
         let el = q && c.has_elements;
-        s.cell_offs = i.take(Some(if el { c.c + 1 } else { 0 }))?;
-        s.cell_nodes = i.take(Some(if el { c.cn } else { 0 }))?;
-        s.amg_words = i.take(Some(if amg { AMG_LAYOUT_WORDS } else { 0 }))?;
-        s.amg_index = i.take(Some(if amg { c.amg_index } else { 0 }))?;
-        let mut y = Cursor(0);
-        s.kinds = y.take(Some(c.n))?;
-        s.mask = y.take(Some(c.n))?;
-        s.cell_kinds = y.take(Some(if el { c.c } else { 0 }))?;
-        let mut r = Cursor(0);
-        s.points = r.take(c.n.checked_mul(c.d))?;
-        s.stiffness = r.take(Some(c.e))?;
-        s.params = r.take(Some(PARAMS))?;
-        s.directions = r.take(Some(0))?;
-        s.amg_weights = r.take(Some(if amg { AMG_WEIGHTS } else { 0 }))?;
-        s.amg_values = r.take(Some(if amg { c.amg_values } else { 0 }))?;
-        s.state = r.take(c.n.checked_mul(v))?;
-        s.state_ref = r.take(Some(4))?;
-        s.state2 = r.take(c.n.checked_mul(v))?;
-        s.state2_ref = r.take(Some(4))?;
-        s.work = r.take(c.n.checked_mul(v))?;
-        s.scratch = r.take(c.scratch.checked_mul(v))?;
-        let rot = if el {
-            c.b.checked_mul(if c.d == 2 { 3 } else { 13 })
-        } else {
-            Some(0)
-        };
-        s.rot = r.take(rot)?;
-        s.bq = r.take(if q { c.b.checked_mul(4) } else { Some(0) })?;
-        s.sizes = PlanSizes {
-            reals: r.0,
-            indices: i.0,
-            bytes: y.0,
-        };
-        // Every count is stored in one u32 header word.
-        for x in [s.sizes.reals, s.sizes.indices, s.sizes.bytes] {
-            if u32::try_from(x).is_err() {
-                return Err(Error::TooLarge {
-                    arg: "plan",
-                    value: x,
-                });
+        let mut i = HEADER;
+        let offs = take!(i, c.n.checked_add(1));
+        let targets = take!(i, Some(c.e));
+        let boundary = take!(i, Some(c.b));
+        let cell_offs = take!(i, if el { c.c.checked_add(1) } else { Some(0) });
+        let cell_nodes = take!(i, Some(if el { c.cn } else { 0 }));
+        let amg_words = take!(i, Some(if amg { AMG_LAYOUT_WORDS } else { 0 }));
+        let amg_index = take!(i, Some(if amg { c.amg_index } else { 0 }));
+        let mut y: usize = 0;
+        let kinds = take!(y, Some(c.n));
+        let mask = take!(y, Some(c.n));
+        let cell_kinds = take!(y, Some(if el { c.c } else { 0 }));
+        let mut r: usize = 0;
+        let points = take!(r, c.n.checked_mul(c.d));
+        let stiffness = take!(r, Some(c.e));
+        let params = take!(r, Some(PARAMS));
+        let directions = take!(r, Some(0));
+        let amg_weights = take!(r, Some(if amg { AMG_WEIGHTS } else { 0 }));
+        let amg_values = take!(r, Some(if amg { c.amg_values } else { 0 }));
+        let state = take!(r, c.n.checked_mul(v));
+        let state_ref = take!(r, Some(4));
+        let state2 = take!(r, c.n.checked_mul(v));
+        let state2_ref = take!(r, Some(4));
+        let work = take!(r, c.n.checked_mul(v));
+        let scratch = take!(r, c.scratch.checked_mul(v));
+        let rot = take!(
+            r,
+            if el {
+                c.b.checked_mul(if c.d == 2 { 3 } else { 13 })
+            } else {
+                Some(0)
             }
+        );
+        let bq = take!(r, if q { c.b.checked_mul(4) } else { Some(0) });
+        // Every count is stored in one u32 header word.
+        let sizes = PlanSizes {
+            reals: r,
+            indices: i,
+            bytes: y,
+        };
+        if r > u32::MAX as usize {
+            return Err(r);
         }
-        Ok(s)
+        if i > u32::MAX as usize {
+            return Err(i);
+        }
+        if y > u32::MAX as usize {
+            return Err(y);
+        }
+        Ok(Sections {
+            offs,
+            targets,
+            boundary,
+            cell_offs,
+            cell_nodes,
+            amg_words,
+            amg_index,
+            kinds,
+            mask,
+            cell_kinds,
+            points,
+            stiffness,
+            params,
+            directions,
+            amg_weights,
+            amg_values,
+            state,
+            state_ref,
+            state2,
+            state2_ref,
+            work,
+            scratch,
+            rot,
+            bq,
+            sizes,
+        })
     }
 
     /// End of the immutable real sections (checksummed).

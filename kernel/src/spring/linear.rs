@@ -309,7 +309,7 @@ pub(crate) fn check_sweep_range<T: Real, const V: usize>(
 /// field), 0 for Gauss–Seidel and SOR, `5 n` for CG: `4 n` vectors (iterate, residual,
 /// direction, and one shared by `A p` and the preconditioned residual) and the diagonal
 /// `Σ_j k_ij`, `n` scalars packed `V` to an item (`⌈n / V⌉` items; `n` covers every `V`).
-pub fn solve_linear_scratch_len<T>(method: &LinearMethod<T>, node_count: usize) -> usize {
+pub const fn solve_linear_scratch_len<T>(method: &LinearMethod<T>, node_count: usize) -> usize {
     match method {
         LinearMethod::Jacobi => node_count,
         LinearMethod::GaussSeidel | LinearMethod::Sor { .. } => 0,

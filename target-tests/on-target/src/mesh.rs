@@ -16,6 +16,8 @@ pub const NT: usize = 2 * (NX - 1) * (NY - 1);
 pub const NB: usize = 2 * (NX + NY) - 4;
 /// Upper bound of directed edges.
 pub const NE: usize = 6 * NT;
+/// Directed edges of the graph: rows, columns and one diagonal per quad, both ways.
+pub const EDGES: usize = 2 * ((NX - 1) * NY + NX * (NY - 1) + (NX - 1) * (NY - 1));
 /// Grid spacing in y (x spacing is 1).
 pub const DY: f64 = 0.8;
 

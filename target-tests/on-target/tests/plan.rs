@@ -1,8 +1,11 @@
 //! Prepared plans on target, in f32 and f64, on the small jittered triangle mesh (perimeter
 //! prescribed): a few time steps through a plan give the bits of the stateless calls with the
 //! same initial guesses (linear springs with the multigrid solver, warm: the previous solution,
-//! then the extrapolation of the last two; the quaternion method with rigid rotations, cold), copied pools resume bit for bit, and bad input or a corrupted
-//! header is a typed error with the output untouched.
+//! then the extrapolation of the last two; the quaternion method with rigid rotations, cold),
+//! copied pools resume bit for bit, and bad input or a corrupted header is a typed error with
+//! the output untouched. Storage is `PlanStorage`, sized at compile time by `Plan::capacity`
+//! where the solver is one-level (exactly what the plan uses, checked), one of them a
+//! `static`; storage one entry short is a typed refusal.
 #![no_std]
 #![no_main]
 
@@ -12,46 +15,56 @@ use deform_kernel::deformation::{
     deform_spring_scratch_len, deform_spring_with, BoundaryMotion, RotationSource,
 };
 use deform_kernel::plan::{
-    Plan, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
+    Plan, PlanCounts, PlanMethod, PlanMotion, PlanSizes, PlanSolver, PlanSpec, PlanStiffness,
+    PlanStorage, Start,
 };
 use deform_kernel::spring::{
     batina_stiffness, solve_linear_with, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions,
     LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::{Error, Quat, Real};
-use deform_on_target::mesh::{turned_bottom_row as deformed, Mesh, N, NB, NE};
+use deform_on_target::mesh::{turned_bottom_row as deformed, Mesh, EDGES, N, NB, NE};
 use deform_on_target::same_bits;
 
-/// Pool lengths (generous for the 30-node mesh; the exact sizes are checked against them).
-const REALS: usize = 3072;
-const INDICES: usize = 2048;
-const BYTES: usize = 128;
-/// Transient work (`4 (N + E) + 64` indices).
-const WORK: usize = 4 * (N + NE) + 64;
+/// Mesh counts, known at compile time.
+const COUNTS: PlanCounts = PlanCounts {
+    nodes: N,
+    edges: EDGES,
+    boundary: NB,
+    elements: None,
+};
+/// The one-level solver of the quaternion plans.
+const CG: LinearMethod<f32> = LinearMethod::Cg {
+    preconditioner: Preconditioner::Jacobi,
+};
+/// Exact pools of the quaternion plan with CG, from the counts alone (the sizes do not
+/// depend on the scalar type).
+const QUATERNION_CG: PlanSizes =
+    match Plan::<f32, 2>::capacity(&COUNTS, PlanMethod::QuaternionSpring, &CG) {
+        Some(s) => s,
+        None => panic!("the plan does not fit"),
+    };
+/// Exact pools of the spring plan with CG.
+const SPRING_CG: PlanSizes = match Plan::<f32, 2>::capacity(&COUNTS, PlanMethod::Spring, &CG) {
+    Some(s) => s,
+    None => panic!("the plan does not fit"),
+};
+/// Transient work, exact.
+const WORK: PlanSizes = Plan::<f32, 2>::work_capacity(&COUNTS);
 /// Steps per run.
 const STEPS: usize = 4;
 
-/// Owned pools.
-#[derive(Clone, Copy)]
-struct Pools<T> {
-    reals: [T; REALS],
-    indices: [u32; INDICES],
-    bytes: [u8; BYTES],
-}
-
-impl<T: Real> Pools<T> {
-    fn new() -> Self {
-        Pools {
-            reals: [T::ZERO; REALS],
-            indices: [0; INDICES],
-            bytes: [0; BYTES],
-        }
-    }
-
-    fn open(&mut self) -> deform_kernel::Result<Plan<'_, T, 2>> {
-        Plan::open(&mut self.reals, &mut self.indices, &mut self.bytes)
-    }
-}
+/// Pools for the multigrid plans: their sizes depend on the hierarchy the setup finds, so
+/// this is a bound (measured with `Plan::sizes`, which the test checks against it).
+type Pools<T> = PlanStorage<T, AMG_REALS, AMG_INDICES, 128>;
+/// The bound of the multigrid plans' real and index pools.
+const AMG_REALS: usize = 3072;
+const AMG_INDICES: usize = 2048;
+/// Pools of the quaternion plan with CG, exactly as large as `Plan::capacity` says.
+type QuaternionPools<T> =
+    PlanStorage<T, { QUATERNION_CG.reals }, { QUATERNION_CG.indices }, { QUATERNION_CG.bytes }>;
+/// The transient work.
+type Work<T> = PlanStorage<T, { WORK.reals }, { WORK.indices }, { WORK.bytes }>;
 
 fn amg<T: Real>() -> PlanSolver<T> {
     PlanSolver::Amg(AmgOptions {
@@ -60,9 +73,9 @@ fn amg<T: Real>() -> PlanSolver<T> {
     })
 }
 
-/// Builds a plan into `pools`.
-fn build<T: Real>(m: &Mesh<T>, method: PlanMethod, solver: PlanSolver<T>, pools: &mut Pools<T>) {
-    let spec = PlanSpec {
+/// The plan of `m` with its perimeter prescribed.
+fn spec<T: Real>(m: &Mesh<T>, method: PlanMethod, solver: PlanSolver<T>) -> PlanSpec<'_, T, 2> {
+    PlanSpec {
         points: &m.points,
         graph: m.graph(),
         boundary: &m.boundary,
@@ -72,28 +85,24 @@ fn build<T: Real>(m: &Mesh<T>, method: PlanMethod, solver: PlanSolver<T>, pools:
         stiffness: PlanStiffness::Batina { exponent: T::ONE },
         solver,
         options: SolveOptions::default(),
-    };
-    let mut wr = [T::ZERO; NE];
-    let mut wi = [0u32; WORK];
-    let mut wb = [0u8; N];
-    let ws = Plan::<T, 2>::work_sizes(&spec);
-    defmt::assert!(ws.reals <= NE && ws.indices <= WORK && ws.bytes <= N);
-    let mut work = PlanWork {
-        reals: &mut wr,
-        indices: &mut wi,
-        bytes: &mut wb,
-    };
-    let sizes = Plan::<T, 2>::sizes(&spec, &mut work).unwrap();
-    defmt::assert!(sizes.reals <= REALS && sizes.indices <= INDICES && sizes.bytes <= BYTES);
-    let p = Plan::init(
-        &spec,
-        &mut work,
-        &mut pools.reals,
-        &mut pools.indices,
-        &mut pools.bytes,
-    )
-    .unwrap();
+    }
+}
+
+/// Builds a plan into `pools`; returns the exact sizes (`Plan::sizes`).
+fn build<T: Real, const R: usize, const I: usize, const B: usize>(
+    m: &Mesh<T>,
+    method: PlanMethod,
+    solver: PlanSolver<T>,
+    pools: &mut PlanStorage<T, R, I, B>,
+) -> PlanSizes {
+    defmt::assert!(m.used == EDGES);
+    let spec = spec(m, method, solver);
+    let mut work = Work::<T>::new();
+    defmt::assert!(Plan::<T, 2>::work_sizes(&spec) == work.capacity());
+    let sizes = Plan::<T, 2>::sizes(&spec, &mut work.work()).unwrap();
+    let p = pools.init(&spec, &mut work.work()).unwrap();
     defmt::assert!(p.used() == sizes);
+    sizes
 }
 
 /// Linear springs with the multigrid solver: warm steps equal the stateless solve from the
@@ -113,9 +122,9 @@ fn spring_plan<T: Real>() {
     let PlanSolver::Amg(opts) = amg::<T>() else {
         return;
     };
-    let mut work = [0u32; WORK];
-    let mut index = [0u32; INDICES];
-    let mut values = [T::ZERO; REALS];
+    let mut work = [0u32; WORK.indices];
+    let mut index = [0u32; AMG_INDICES];
+    let mut values = [T::ZERO; AMG_REALS];
     let h = AmgHierarchy::setup(&sys, &opts, &mut work, &mut index, &mut values).unwrap();
     let solver = LinearSolver::Amg(&h);
     let mut scratch = [[T::ZERO; 2]; 8 * N];
@@ -167,7 +176,7 @@ fn spring_plan<T: Real>() {
         }
         defmt::assert!(same_bits(&out, &expect));
         if s == 2 {
-            copy = Some(pools);
+            copy = Some(pools.clone());
         }
     }
     // Resume the copy taken after step 2: steps 3 and 4 again, same bits.
@@ -193,13 +202,15 @@ fn quaternion_plan<T: Real>() {
     let cg = LinearMethod::Cg {
         preconditioner: Preconditioner::Jacobi,
     };
-    let mut pools = Pools::<T>::new();
-    build(
+    let mut pools = QuaternionPools::<T>::new();
+    let sizes = build(
         &m,
         PlanMethod::QuaternionSpring,
         PlanSolver::Method(cg),
         &mut pools,
     );
+    // Storage from `Plan::capacity` is exactly what the plan uses.
+    defmt::assert!(sizes == QUATERNION_CG && pools.capacity() == QUATERNION_CG);
     let g = m.graph();
     let mut k = [T::ZERO; NE];
     let k = &mut k[..m.used];
@@ -270,12 +281,60 @@ fn errors<T: Real>() {
         .step(&PlanMotion::new(&d[1..]), &mut out);
     defmt::assert!(matches!(e, Err(Error::LengthMismatch { .. })));
     defmt::assert!(out.iter().all(|p| p[0] == T::HALF && p[1] == T::HALF));
-    let mut bad = pools;
-    bad.indices[60] ^= 1;
-    defmt::assert!(matches!(bad.open(), Err(Error::BadPlan { .. })));
-    let mut bad = pools;
-    bad.indices[0] = 0;
-    defmt::assert!(matches!(bad.open(), Err(Error::BadPlan { .. })));
+    let mut bad = pools.clone();
+    bad.pools_mut().1[60] ^= 1;
+    defmt::assert!(matches!(bad.open::<2>(), Err(Error::BadPlan { .. })));
+    let mut bad = pools.clone();
+    bad.pools_mut().1[0] = 0;
+    defmt::assert!(matches!(bad.open::<2>(), Err(Error::BadPlan { .. })));
+    // Storage one index short: a typed refusal with the length needed, nothing written.
+    let mut short =
+        PlanStorage::<T, { SPRING_CG.reals }, { SPRING_CG.indices - 1 }, { SPRING_CG.bytes }>::new(
+        );
+    let cg = PlanSolver::Method(LinearMethod::Cg {
+        preconditioner: Preconditioner::Jacobi,
+    });
+    let spec_ok = spec(&m, PlanMethod::Spring, cg);
+    let mut work = Work::<T>::new();
+    let e = short.init(&spec_ok, &mut work.work());
+    defmt::assert!(matches!(
+        e,
+        Err(Error::BufferTooSmall { arg: "indices", needed, actual })
+            if needed == SPRING_CG.indices && actual == SPRING_CG.indices - 1
+    ));
+    defmt::assert!(short.pools().1.iter().all(|&w| w == 0));
+}
+
+/// A plan in a `static` (sized from the counts at compile time, nothing by hand) steps with
+/// the bits of the same plan on the stack.
+fn static_plan() {
+    type Storage =
+        PlanStorage<f32, { SPRING_CG.reals }, { SPRING_CG.indices }, { SPRING_CG.bytes }>;
+    let Some(fixed) = cortex_m::singleton!(: Storage = Storage::new()) else {
+        defmt::panic!("singleton taken twice");
+    };
+    let m = Mesh::<f32>::new(0.25);
+    let cg = PlanSolver::Method(CG);
+    defmt::assert!(build(&m, PlanMethod::Spring, cg, fixed) == SPRING_CG);
+    let mut local = Storage::new();
+    build(&m, PlanMethod::Spring, cg, &mut local);
+    let mut a = [[0.0f32; 2]; N];
+    let mut b = [[0.0f32; 2]; N];
+    for s in 1..=STEPS {
+        let d = deformed(&m, s);
+        let ra = fixed
+            .open()
+            .unwrap()
+            .step(&PlanMotion::new(&d), &mut a)
+            .unwrap();
+        let rb = local
+            .open()
+            .unwrap()
+            .step(&PlanMotion::new(&d), &mut b)
+            .unwrap();
+        defmt::assert!(same_bits(&a, &b) && ra.solve.iterations == rb.solve.iterations);
+        defmt::assert!(ra.solve.converged && ra.warm == (s > 1));
+    }
 }
 
 #[defmt_test::tests]
@@ -300,6 +359,11 @@ mod tests {
     #[test]
     fn quaternion_plan_f32() {
         quaternion_plan::<f32>();
+    }
+
+    #[test]
+    fn static_storage() {
+        static_plan();
     }
 
     #[test]

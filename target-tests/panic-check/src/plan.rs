@@ -1,7 +1,8 @@
 //! Panic-check calls for prepared plans (`deform_kernel::plan`): the work and pool size
 //! queries, `init`, `open`, `step` (warm and cold, every rotation source) and the accessors,
 //! for `f32` and `f64`, `D` = 2 and 3 (so `V` = 2, 3, 6 and 7), both methods, the multigrid
-//! and a one-level solver.
+//! and a one-level solver; the capacity queries from counts and the fixed-capacity
+//! `PlanStorage`.
 //!
 //! The mesh is an opaque 3 × 3 grid with diagonals (the ring of 8 nodes is the boundary, with
 //! segment elements in 2D); 3D uses the same graph with `z = 0` and no elements.
@@ -11,7 +12,8 @@ use core::hint::black_box;
 use deform_kernel::cells::Cells;
 use deform_kernel::deformation::RotationSource;
 use deform_kernel::plan::{
-    Plan, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
+    Plan, PlanCounts, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanStorage,
+    PlanWork, Start,
 };
 use deform_kernel::spring::{AmgOptions, LinearMethod, Preconditioner, SolveOptions};
 use deform_kernel::{Graph, Quat, Real};
@@ -98,6 +100,7 @@ fn run<T: Real, const D: usize>() {
                 options: SolveOptions::default(),
             });
             plan::<T, D>(&spec);
+            storage::<T, D>(&spec);
         }
     }
 }
@@ -157,4 +160,27 @@ fn plan<T: Real, const D: usize>(spec: &PlanSpec<'_, T, D>) {
         keep(p.step(&motion, bb(&mut out[..])));
         keep(&out);
     }
+}
+
+/// The capacity queries (run-time counts) and a plan in `PlanStorage`.
+#[inline(never)]
+fn storage<T: Real, const D: usize>(spec: &PlanSpec<'_, T, D>) {
+    let counts = bb(PlanCounts {
+        nodes: spec.graph.node_count(),
+        edges: spec.graph.edge_count(),
+        boundary: spec.boundary.len(),
+        elements: spec.elements.map(|c| (c.len(), c.nodes().len())),
+    });
+    keep(Plan::<T, D>::work_capacity(&counts));
+    if let PlanSolver::Method(m) = spec.solver {
+        keep(Plan::<T, D>::capacity(&counts, spec.method, &m));
+    }
+    let mut work = PlanStorage::<T, WORK, WORK, WORK>::new();
+    let mut pools = PlanStorage::<T, REALS, INDICES, BYTES>::new();
+    if let Ok(p) = pools.init(spec, &mut work.work()) {
+        keep(p.used());
+    }
+    keep(pools.open::<D>().map(|p| p.used()));
+    keep((pools.capacity(), pools.pools()));
+    keep(pools.pools_mut());
 }
