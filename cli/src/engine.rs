@@ -2,7 +2,7 @@
 //! deformation and smoothing runs. Everything here takes the file-level types (`[f64; 3]`
 //! points, [`CellList`]) and converts to the kernel's `[T; D]` views.
 
-use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph};
+use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Direction, Directions, Graph};
 use serde::Serialize;
 
 use crate::error::CliError;
@@ -1251,7 +1251,7 @@ pub fn smooth_block(
     dim: usize,
     dims: [usize; 3],
     points: &mut [[f64; 3]],
-    direction: usize,
+    direction: Direction,
     normalised: bool,
     iterations: usize,
     lambda: f64,
@@ -1274,7 +1274,7 @@ pub fn smooth_block(
 fn smooth_d<const D: usize>(
     dims: [usize; 3],
     points: &mut [[f64; 3]],
-    direction: usize,
+    direction: Direction,
     normalised: bool,
     iterations: usize,
     lambda: f64,
@@ -1295,7 +1295,7 @@ fn smooth_d<const D: usize>(
     options.pinned = pinned;
     if let Some(m) = coarse {
         let mut factor = [m; 3];
-        if let Some(f) = factor.get_mut(direction) {
+        if let Some(f) = factor.get_mut(direction.index()) {
             *f = 1;
         }
         if D == 2 {
@@ -1358,12 +1358,12 @@ pub fn max_arclength_laplacian(
     dim: usize,
     dims: [usize; 3],
     points: &[[f64; 3]],
-    direction: usize,
+    direction: Direction,
 ) -> Result<f64, CliError> {
     fn run<const D: usize>(
         dims: [usize; 3],
         points: &[[f64; 3]],
-        direction: usize,
+        direction: Direction,
     ) -> Result<f64, CliError> {
         let block = deform_kernel::Block::new(dims).map_err(kernel("block"))?;
         let pts = points_d::<D>(points);
@@ -1401,11 +1401,11 @@ pub fn max_arclength_laplacian(
     }
 }
 
-/// A block face: the direction (0 = i, 1 = j, 2 = k) and which end (`false` = min).
+/// A block face: the direction normal to it and which end (`false` = min).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Face {
-    /// 0 = i, 1 = j, 2 = k.
-    pub direction: usize,
+    /// The direction normal to the face.
+    pub direction: Direction,
     /// The `max` face (index `n − 1`) rather than the `min` face (index 0).
     pub max: bool,
 }
@@ -1460,13 +1460,13 @@ fn tfi_d<const D: usize>(
     let block = deform_kernel::Block::new(dims).map_err(kernel("block"))?;
     let pts = points_d::<D>(points);
     let n = pts.len();
-    let len = dims[wall.direction];
+    let len = dims[wall.direction.index()];
     let wall_t = if wall.max { len - 1 } else { 0 };
     let far_t = if wall.max { 0 } else { len - 1 };
     let mut wall_nodes = Vec::new();
     let mut far_nodes = Vec::new();
     for p in 0..n {
-        let t = block.ijk(p)[wall.direction];
+        let t = block.ijk(p)[wall.direction.index()];
         if t == wall_t {
             wall_nodes.push(p as u32);
         } else if t == far_t {
@@ -1528,8 +1528,7 @@ fn tfi_d<const D: usize>(
             rotations: RotationSource::PerNode(&rotations),
             origin: Some(core::array::from_fn(|k| center[k])),
         };
-        let mut directions = [false; 3];
-        directions[wall.direction] = true;
+        let directions = Directions::only(wall.direction);
         let mut tr = vec![[0.0; D]; n];
         let mut rot = vec![Quat::identity(); n];
         let mut scratch = vec![0.0; deform_tfi_scratch_len::<D>(&block, nodes.len())];
@@ -1550,8 +1549,7 @@ fn tfi_d<const D: usize>(
             let new = moved(points[p as usize]);
             disp[p as usize] = core::array::from_fn(|k| new[k] - pts[p as usize][k]);
         }
-        let mut directions = [false; 3];
-        directions[wall.direction] = true;
+        let directions = Directions::only(wall.direction);
         let mut scratch = vec![0.0; tfi_scratch_len::<D>(&block)];
         displacement_tfi(&block, directions, &pts, &mut disp, &mut scratch)
             .map_err(kernel("displacement TFI"))?;

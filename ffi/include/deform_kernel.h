@@ -3163,7 +3163,8 @@ dk_status dk_smooth_arclength_options_default(uint32_t direction, dk_smooth_arcl
 
 // Scratch length (in scalars of the precision used) for [`dk_taubin_smooth_arclength`] with
 // these dimensions, `dim` (2 or 3) and options (only `direction`, `use_coarse` and `coarse`
-// matter): `n + max(n, 2 n_coarse, (dim + 1) × points per line)`.
+// matter): `n + max(n, 2 n_coarse, (dim + 1) × points per line)`. A `direction` other than
+// 0, 1, 2 gives `DK_ERR_INVALID_PARAMETER`.
 //
 // # Safety
 // `options` points to one readable options struct; `len_out` to one writable `size_t`.

@@ -33,7 +33,7 @@ use deform_kernel::deformation::{
     BoundaryMotion, RotationSource,
 };
 use deform_kernel::spring::SpringSystem;
-use deform_kernel::{Block, Cells, Quat, Real};
+use deform_kernel::{Block, Cells, Directions, Quat, Real};
 
 use crate::args::{
     assert_layout, block, check_base, done, graph, index_need, mul_len, read_array, read_one,
@@ -380,19 +380,12 @@ fn tfi_setup(
     nj: usize,
     nk: usize,
     directions: u32,
-) -> Result<(Block, [bool; 3]), dk_status> {
+) -> Result<(Block, Directions), dk_status> {
     let block = block(ni, nj, nk)?;
-    if directions & !(DK_DIRECTION_I | DK_DIRECTION_J | DK_DIRECTION_K) != 0 {
-        return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-    }
-    Ok((
-        block,
-        [
-            directions & DK_DIRECTION_I != 0,
-            directions & DK_DIRECTION_J != 0,
-            directions & DK_DIRECTION_K != 0,
-        ],
-    ))
+    // `DK_DIRECTION_I | _J | _K` are the kernel's bits; any other bit is refused.
+    let directions =
+        Directions::from_bits(directions).ok_or(dk_status::DK_ERR_INVALID_PARAMETER)?;
+    Ok((block, directions))
 }
 
 /// Writes the size `v` to a `size_t` out-parameter, or returns the error that computing it

@@ -29,7 +29,7 @@ use deform_kernel::taubin::{
     FilterReport, GraphOptions, Prolongation, SmoothOptions, SmoothReport, StructuredOptions,
     TaubinParams,
 };
-use deform_kernel::{Block, Graph, Real};
+use deform_kernel::{Block, Direction, Directions, Graph, Real};
 
 use crate::args::{
     assert_layout, block, by_components, by_dim, done, graph, mul_len, optional, range, read_one,
@@ -128,11 +128,24 @@ fn read_with_pins<S: HasPins>(p: In<'_, S>) -> Result<(S, Option<&[u8]>), dk_sta
     Ok((s, optional(pins)?))
 }
 
+/// The grid direction 0 (i), 1 (j) or 2 (k); anything else is `DK_ERR_INVALID_PARAMETER`.
+pub(crate) fn to_direction(d: u32) -> Result<Direction, dk_status> {
+    usize::try_from(d)
+        .ok()
+        .and_then(Direction::from_index)
+        .ok_or(dk_status::DK_ERR_INVALID_PARAMETER)
+}
+
+/// The mirror faces of an options struct: nonzero per direction i, j, k.
+fn mirror(flags: [u8; 3]) -> Directions {
+    Directions::from_flags(flags.map(|m| m != 0))
+}
+
 impl dk_structured_options {
     fn to_kernel(self, pinned: Option<&[u8]>) -> Result<StructuredOptions<'_>, dk_status> {
         Ok(StructuredOptions {
             pinned,
-            mirror: self.mirror.map(|m| m != 0),
+            mirror: mirror(self.mirror),
         })
     }
 }
@@ -213,7 +226,7 @@ assert_layout!(
 impl dk_smooth_arclength_options {
     fn to_kernel<T: Real>(self, pinned: Option<&[u8]>) -> Result<SmoothOptions<'_, T>, dk_status> {
         Ok(SmoothOptions {
-            direction: self.direction as usize,
+            direction: to_direction(self.direction)?,
             params: TaubinParams {
                 lambda: T::from_f64(self.lambda),
                 mu: T::from_f64(self.mu),
@@ -221,7 +234,7 @@ impl dk_smooth_arclength_options {
             iterations: self.iterations,
             normalised: self.normalised != 0,
             pinned,
-            mirror: self.mirror.map(|m| m != 0),
+            mirror: mirror(self.mirror),
             coarse: if self.use_coarse != 0 {
                 Some(self.coarse.to_kernel()?)
             } else {
@@ -512,7 +525,7 @@ fn arclength_d<T: Real, const D: usize>(
 ) -> Result<(), dk_status> {
     let p = read_points::<T, D>(points)?;
     let o = output(out)?;
-    arclength(b, p, direction as usize, normalised, o).map_err(dk_status::from)
+    arclength(b, p, to_direction(direction)?, normalised, o).map_err(dk_status::from)
 }
 
 fn redistribute_d<T: Real, const D: usize>(
@@ -529,7 +542,7 @@ fn redistribute_d<T: Real, const D: usize>(
     let s = output(scratch)?;
     let m = out_one(max_displacement_out)?;
     // The kernel validates everything before it moves a point.
-    *m = redistribute(b, p, direction as usize, t, normalised, s).map_err(dk_status::from)?;
+    *m = redistribute(b, p, to_direction(direction)?, t, normalised, s).map_err(dk_status::from)?;
     Ok(())
 }
 
@@ -541,7 +554,7 @@ fn stretching_d<T: Real, const D: usize>(
 ) -> Result<(), dk_status> {
     let p = read_points::<T, D>(points)?;
     let o = output(out)?;
-    stretching(b, p, direction as usize, o).map_err(dk_status::from)
+    stretching(b, p, to_direction(direction)?, o).map_err(dk_status::from)
 }
 
 fn max_stretching_d<T: Real, const D: usize>(
@@ -554,7 +567,7 @@ fn max_stretching_d<T: Real, const D: usize>(
     let p = read_points::<T, D>(points)?;
     let v = out_one(value_out)?;
     let i = out_one(point_out)?;
-    let (r, at) = max_stretching(b, p, direction as usize).map_err(dk_status::from)?;
+    let (r, at) = max_stretching(b, p, to_direction(direction)?).map_err(dk_status::from)?;
     *v = r;
     *i = at;
     Ok(())
@@ -568,7 +581,8 @@ fn check_lines_d<T: Real, const D: usize>(
     points: In<'_, T>,
 ) -> Result<(), dk_status> {
     let p = read_optional_points::<T, D>(points)?;
-    check_lines_increasing(b, field, direction as usize, iteration, p).map_err(dk_status::from)
+    check_lines_increasing(b, field, to_direction(direction)?, iteration, p)
+        .map_err(dk_status::from)
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -10,6 +10,7 @@ use deform_kernel::taubin::{
     arclength, redistribute, redistribute_scratch_len, smooth_arclength,
     smooth_arclength_scratch_len, SmoothOptions,
 };
+use deform_kernel::Direction;
 use deform_kernel::{Block, Error};
 use libfuzzer_sys::fuzz_target;
 
@@ -26,7 +27,7 @@ struct Input {
 
 fn monotone_lines(block: &Block, pts: &[[f64; 2]], normalised: bool) -> bool {
     let mut s = vec![0.0; pts.len()];
-    arclength(block, pts, 0, normalised, &mut s).unwrap();
+    arclength(block, pts, Direction::I, normalised, &mut s).unwrap();
     let [ni, nj, _] = block.dims();
     (0..nj).all(|j| s[j * ni..(j + 1) * ni].windows(2).all(|w| w[1] >= w[0]) && s[j * ni] == 0.0)
 }
@@ -48,7 +49,7 @@ fuzz_target!(|inp: Input| {
         }
     }
     let mut s = vec![0.0; n];
-    arclength(&block, &points, 0, inp.normalised, &mut s).unwrap();
+    arclength(&block, &points, Direction::I, inp.normalised, &mut s).unwrap();
     for j in 0..nj {
         let line = &s[j * ni..(j + 1) * ni];
         assert_eq!(line[0], 0.0);
@@ -73,8 +74,15 @@ fuzz_target!(|inp: Input| {
         t[j * ni..(j + 1) * ni].copy_from_slice(&v);
     }
     let mut moved = points.clone();
-    let mut scratch = vec![0.0; redistribute_scratch_len::<2>(&block, 0)];
-    match redistribute(&block, &mut moved, 0, &t, inp.normalised, &mut scratch) {
+    let mut scratch = vec![0.0; redistribute_scratch_len::<2>(&block, Direction::I)];
+    match redistribute(
+        &block,
+        &mut moved,
+        Direction::I,
+        &t,
+        inp.normalised,
+        &mut scratch,
+    ) {
         Ok(d) => {
             assert!(d.is_finite());
             assert!(moved.iter().all(|p| p[0].is_finite() && p[1].is_finite()));
@@ -85,10 +93,10 @@ fuzz_target!(|inp: Input| {
 
     // Alter's driver: smooth the arclength functions and redistribute.
     let mut smoothed = points.clone();
-    let mut opts = SmoothOptions::new(0);
+    let mut opts = SmoothOptions::new(Direction::I);
     opts.normalised = inp.normalised;
     opts.iterations = (inp.iterations % 40) as usize;
-    let mut scratch = vec![0.0; smooth_arclength_scratch_len::<2>(&block, 0, None)];
+    let mut scratch = vec![0.0; smooth_arclength_scratch_len::<2>(&block, Direction::I, None)];
     match smooth_arclength(&block, &mut smoothed, &opts, &mut scratch) {
         Ok(r) => {
             assert!(r.max_displacement.is_finite());

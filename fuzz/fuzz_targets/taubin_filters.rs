@@ -9,6 +9,7 @@ use deform_kernel::taubin::{
     graph_scratch_len, smooth_graph, smooth_structured, structured_scratch_len, GraphOptions,
     StructuredOptions, TaubinParams,
 };
+use deform_kernel::Directions;
 use deform_kernel::{graph_from_edges, graph_from_edges_len, Block, Graph};
 use libfuzzer_sys::fuzz_target;
 
@@ -40,7 +41,7 @@ fuzz_target!(|inp: Input| {
     let block = Block::new(dims).unwrap();
     let opts = StructuredOptions {
         pinned: Some(&pinned),
-        mirror: inp.mirror,
+        mirror: Directions::from_flags(inp.mirror),
     };
     let mut got = field.clone();
     let mut scratch = vec![0.0; structured_scratch_len(&block)];

@@ -18,7 +18,9 @@ use deform_kernel::taubin::{
     smooth_arclength, smooth_arclength_scratch_len, smooth_structured, structured_scratch_len,
     SmoothOptions, StructuredOptions, TaubinParams,
 };
-use deform_kernel::{graph_from_cells, Block, CellKind, Cells, Graph, Quat, Real};
+use deform_kernel::{
+    graph_from_cells, Block, CellKind, Cells, Direction, Directions, Graph, Quat, Real,
+};
 
 use crate::{Fnv, XorShift};
 
@@ -411,9 +413,9 @@ pub fn taubin_smoothing<T: Real>() -> u64 {
             };
         *pt = [T::from_f64(x), T::from_f64(j as f64 * 0.5)];
     }
-    let opts = SmoothOptions::new(0);
+    let opts = SmoothOptions::new(Direction::I);
     let mut scratch = [T::ZERO; 8 * BI * BJ];
-    let len = smooth_arclength_scratch_len::<2>(&block, 0, None).min(scratch.len());
+    let len = smooth_arclength_scratch_len::<2>(&block, Direction::I, None).min(scratch.len());
     match smooth_arclength(
         &block,
         &mut points,
@@ -444,7 +446,7 @@ pub fn taubin_smoothing<T: Real>() -> u64 {
     let len = structured_scratch_len(&block3).min(scratch3.len());
     let sopts = StructuredOptions {
         pinned: None,
-        mirror: [false, true, false],
+        mirror: Directions::only(Direction::J),
     };
     match smooth_structured(
         &block3,

@@ -8,6 +8,8 @@
 mod common;
 
 use common::c_build::*;
+use deform_kernel::Direction;
+use deform_kernel::Directions;
 
 use deform_kernel::deformation::{
     deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len, deform_tfi,
@@ -186,7 +188,7 @@ fn pipelines<T: Real>(
     let mut tfi = vec![[T::ZERO; 2]; N];
     deform_tfi(
         &block,
-        [false, true, false],
+        Directions::from_flags([false, true, false]),
         &points,
         &motion,
         &mut t,
@@ -231,9 +233,9 @@ fn pipelines<T: Real>(
     let opts = SmoothOptions {
         normalised: true,
         iterations: 10,
-        ..SmoothOptions::new(1)
+        ..SmoothOptions::new(Direction::J)
     };
-    let mut scratch = vec![T::ZERO; smooth_arclength_scratch_len::<2>(&block, 1, None)];
+    let mut scratch = vec![T::ZERO; smooth_arclength_scratch_len::<2>(&block, Direction::J, None)];
     let rep = smooth_arclength(&block, &mut smoothed, &opts, &mut scratch).unwrap();
     (
         idw_origin,

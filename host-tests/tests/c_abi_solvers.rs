@@ -14,6 +14,7 @@
 mod common;
 
 use common::c_build::*;
+use deform_kernel::Direction;
 
 use deform_kernel::spring::{
     angle_scratch_len, batina_stiffness, solve_linear, AngleMethod, AngleSystem, LinearMethod,
@@ -142,9 +143,9 @@ fn expected_for<T: Real>(tag: &str, hex: fn(&str, &[T]) -> String) -> String {
             grid_pts[i + 6 * j] = [T::from_f64(x + 0.25 * j as f64), T::from_f64(j as f64)];
         }
     }
-    let mut opts = SmoothOptions::new(0);
+    let mut opts = SmoothOptions::new(Direction::I);
     opts.normalised = true;
-    let mut gs = vec![T::ZERO; smooth_arclength_scratch_len::<2>(&block, 0, None)];
+    let mut gs = vec![T::ZERO; smooth_arclength_scratch_len::<2>(&block, Direction::I, None)];
     smooth_arclength(&block, &mut grid_pts, &opts, &mut gs).unwrap();
     let flat: Vec<T> = grid_pts.iter().flatten().copied().collect();
     out += &hex(&format!("arclength_{tag}"), &flat);

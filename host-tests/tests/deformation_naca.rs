@@ -22,6 +22,7 @@ use deform_kernel::spring::{
     batina_stiffness, solve_linear, solve_linear_scratch_len, LinearMethod, Preconditioner,
     SolveOptions, SpringSystem,
 };
+use deform_kernel::Directions;
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Block, Cells, Graph, Quat};
 use deform_meshgen::{naca_hybrid, naca_ogrid, naca_triangulated, AirfoilGrid, Mesh2};
 
@@ -236,7 +237,7 @@ fn run_mesh(name: &'static str, mesh: &Mesh2, rows: &mut Vec<Row>) {
             let mut s = vec![0.0; deform_tfi_scratch_len::<2>(&block, bl)];
             deform_tfi(
                 &block,
-                dirs,
+                Directions::from_flags(dirs),
                 &mesh.points,
                 &motion,
                 &mut t,
@@ -259,7 +260,14 @@ fn run_mesh(name: &'static str, mesh: &Mesh2, rows: &mut Vec<Row>) {
                 disp[i as usize] = [deformed[k][0] - p[0], deformed[k][1] - p[1]];
             }
             let mut s = vec![0.0; tfi_scratch_len::<2>(&block)];
-            displacement_tfi(&block, dirs, &mesh.points, &mut disp, &mut s).unwrap();
+            displacement_tfi(
+                &block,
+                Directions::from_flags(dirs),
+                &mesh.points,
+                &mut disp,
+                &mut s,
+            )
+            .unwrap();
             let out_d: Vec<[f64; 2]> = mesh
                 .points
                 .iter()

@@ -14,6 +14,7 @@ use deform_kernel::quality::inverted_cells;
 use deform_kernel::spring::{
     batina_stiffness, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
 };
+use deform_kernel::Directions;
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Block, Error, Graph, Quat, Real};
 use deformation_support::{bits, block2, block3, to3, TestMesh};
 
@@ -113,9 +114,24 @@ fn tfi_parity<const D: usize>(m: &TestMesh<D>, dirs: [bool; 3]) {
     let mut t = t0.clone();
     let mut q = q0.clone();
     let mut s = vec![0.0; tfi_scratch_len::<D>(&block)];
-    propagate_tfi(&block, dirs, &m.points, &mut t, &mut q, &mut s).unwrap();
+    propagate_tfi(
+        &block,
+        Directions::from_flags(dirs),
+        &m.points,
+        &mut t,
+        &mut q,
+        &mut s,
+    )
+    .unwrap();
     let mut disp = t0.clone();
-    displacement_tfi(&block, dirs, &m.points, &mut disp, &mut s).unwrap();
+    displacement_tfi(
+        &block,
+        Directions::from_flags(dirs),
+        &m.points,
+        &mut disp,
+        &mut s,
+    )
+    .unwrap();
     let p3: Vec<[f64; 3]> = m.points.iter().map(|&x| to3(x)).collect();
     let mut f: Vec<Vec<f64>> = (0..n)
         .map(|i| {
@@ -168,7 +184,7 @@ fn tfi_reproduces_uniform_field() {
     let mut s = vec![0.0; tfi_scratch_len::<3>(&block)];
     propagate_tfi(
         &block,
-        [true, true, true],
+        Directions::from_flags([true, true, true]),
         &m.points,
         &mut t,
         &mut q,
@@ -260,7 +276,7 @@ fn arbitrary<T: Real, const D: usize, const V: usize>(m: &TestMesh<D>, amount: f
             1 => {
                 deform_tfi(
                     &block,
-                    [true, true, D == 3],
+                    Directions::from_flags([true, true, D == 3]),
                     &points,
                     &motion,
                     &mut t,
@@ -411,7 +427,14 @@ fn tfi_errors() {
     let before = bits(&t);
     for dirs in [[false, false, false], [true, true, true]] {
         assert!(matches!(
-            propagate_tfi(&block, dirs, &m.points, &mut t, &mut q, &mut s),
+            propagate_tfi(
+                &block,
+                Directions::from_flags(dirs),
+                &m.points,
+                &mut t,
+                &mut q,
+                &mut s
+            ),
             Err(Error::InvalidParameter {
                 arg: "directions",
                 ..
@@ -423,7 +446,7 @@ fn tfi_errors() {
     assert_eq!(
         propagate_tfi(
             &block,
-            [true, true, false],
+            Directions::from_flags([true, true, false]),
             &m.points,
             &mut t,
             &mut q,
@@ -435,7 +458,13 @@ fn tfi_errors() {
         })
     );
     assert_eq!(
-        displacement_tfi(&block, [true, true, false], &m.points, &mut t, &mut s),
+        displacement_tfi(
+            &block,
+            Directions::from_flags([true, true, false]),
+            &m.points,
+            &mut t,
+            &mut s
+        ),
         Err(Error::NonFinite {
             arg: "displacements",
             position: 2
@@ -448,7 +477,7 @@ fn tfi_errors() {
     assert_eq!(
         propagate_tfi(
             &block,
-            [true, true, false],
+            Directions::from_flags([true, true, false]),
             &m.points,
             &mut t,
             &mut q,
@@ -463,7 +492,7 @@ fn tfi_errors() {
     assert!(matches!(
         propagate_tfi(
             &block,
-            [true, true, false],
+            Directions::from_flags([true, true, false]),
             &m.points,
             &mut t,
             &mut q,
@@ -475,7 +504,7 @@ fn tfi_errors() {
     assert!(matches!(
         propagate_tfi(
             &wrong,
-            [true, true, false],
+            Directions::from_flags([true, true, false]),
             &m.points[..29],
             &mut t,
             &mut q,
@@ -616,7 +645,7 @@ fn pipeline_errors() {
     assert_eq!(
         deform_tfi(
             &m.block(),
-            [true, true, false],
+            Directions::from_flags([true, true, false]),
             &points,
             &motion,
             &mut t,
@@ -641,7 +670,7 @@ fn pipeline_errors() {
     assert!(matches!(
         deform_tfi(
             &m.block(),
-            [true, false, true],
+            Directions::from_flags([true, false, true]),
             &points,
             &motion,
             &mut t_s,

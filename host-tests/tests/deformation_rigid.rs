@@ -21,6 +21,7 @@ use deform_kernel::deformation::{
 use deform_kernel::spring::{
     batina_stiffness, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
 };
+use deform_kernel::Directions;
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Graph, Quat, Real};
 use deformation_support::{bits, block2, block3, max_err, scale, Rigid, TestMesh};
 
@@ -80,7 +81,14 @@ fn run<T: Real, const D: usize, const V: usize>(
             let mut s = vec![T::ZERO; deform_tfi_scratch_len::<D>(&block, b)];
             let dirs = [true, true, D == 3];
             deform_tfi(
-                &block, dirs, &points, &motion, &mut t, &mut r, &mut s, &mut out,
+                &block,
+                Directions::from_flags(dirs),
+                &points,
+                &motion,
+                &mut t,
+                &mut r,
+                &mut s,
+                &mut out,
             )
             .unwrap();
         }

@@ -8,6 +8,7 @@ use deform_kernel::spring::{
 };
 use deform_kernel::taubin::{redistribute, redistribute_scratch_len};
 use deform_kernel::vector::{norm, norm_robust};
+use deform_kernel::Direction;
 use deform_kernel::{Block, Error, Graph};
 
 /// `c_abi` fuzzing: `redistribute` reported a max displacement of +∞ for a finite move longer
@@ -17,8 +18,16 @@ fn redistribute_reports_a_finite_move_beyond_sqrt_max() {
     let block = Block::new([2, 1, 1]).unwrap();
     let mut points = [[0.0f64, 0.0], [1.0, 0.0]];
     let targets = [0.0, 1e300];
-    let mut scratch = vec![0.0; redistribute_scratch_len::<2>(&block, 0)];
-    let moved = redistribute(&block, &mut points, 0, &targets, false, &mut scratch).unwrap();
+    let mut scratch = vec![0.0; redistribute_scratch_len::<2>(&block, Direction::I)];
+    let moved = redistribute(
+        &block,
+        &mut points,
+        Direction::I,
+        &targets,
+        false,
+        &mut scratch,
+    )
+    .unwrap();
     assert_eq!(points[1], [1e300, 0.0]);
     assert!(moved.is_finite(), "max displacement {moved}");
     assert!((moved - 1e300).abs() <= 1e300 * f64::EPSILON);

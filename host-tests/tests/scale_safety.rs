@@ -13,6 +13,7 @@ use deform_kernel::spring::{
     LinearMethod, Preconditioner, SolveOptions, SolveReport, SpringSystem,
 };
 use deform_kernel::taubin::{arclength, stretching};
+use deform_kernel::Direction;
 use deform_kernel::{Block, Error, Graph, Quat, Real};
 use spring_common::*;
 
@@ -399,14 +400,14 @@ fn arclength_and_stretching_are_scale_invariant() {
         let n = points.len();
         let mut s1 = vec![T::ZERO; n];
         let mut r1 = vec![T::ZERO; n];
-        arclength(&block, &points, 0, false, &mut s1).unwrap();
-        stretching(&block, &points, 0, &mut r1).unwrap();
+        arclength(&block, &points, Direction::I, false, &mut s1).unwrap();
+        stretching(&block, &points, Direction::I, &mut r1).unwrap();
         for &s in scales {
             let sp = scaled(&points, s);
             let mut a = vec![T::ZERO; n];
             let mut r = vec![T::ZERO; n];
-            arclength(&block, &sp, 0, false, &mut a).unwrap();
-            stretching(&block, &sp, 0, &mut r).unwrap();
+            arclength(&block, &sp, Direction::I, false, &mut a).unwrap();
+            stretching(&block, &sp, Direction::I, &mut r).unwrap();
             for p in 0..n {
                 let want = s1[p].to_f64() * s;
                 let got = a[p].to_f64();

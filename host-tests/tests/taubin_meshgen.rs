@@ -6,6 +6,7 @@ use deform_kernel::taubin::{
     arclength, smooth_arclength, smooth_arclength_scratch_len, SmoothOptions,
 };
 use deform_kernel::Block;
+use deform_kernel::Direction;
 use deform_meshgen::{cavity2, cavity3, noisy_block3, BlockSpec};
 
 fn smooth<const D: usize>(
@@ -26,7 +27,7 @@ fn meshgen_cavity_stretching_3_25() {
     let m3 = cavity3(61, 9, 6, 3.25).unwrap();
     let mut rows = Vec::new();
     for its in [30usize, 90] {
-        let mut o = SmoothOptions::new(0);
+        let mut o = SmoothOptions::new(Direction::I);
         o.normalised = true;
         o.iterations = its;
         let mut p2 = m2.points.clone();
@@ -91,13 +92,13 @@ fn meshgen_noisy_block_k_arclength_roughness() {
     let block = Block::new(dims).unwrap();
     let s_of = |p: &[[f64; 3]]| {
         let mut s = vec![0.0; p.len()];
-        arclength(&block, p, 2, false, &mut s).unwrap();
+        arclength(&block, p, Direction::K, false, &mut s).unwrap();
         s
     };
     let r_clean = roughness(dims, &s_of(&clean.points));
     let r0 = roughness(dims, &s_of(&mesh.points));
     let mut p = mesh.points.clone();
-    let rep = smooth(dims, &mut p, &SmoothOptions::new(2));
+    let rep = smooth(dims, &mut p, &SmoothOptions::new(Direction::K));
     let r1 = roughness(dims, &s_of(&p));
     println!(
         "noisy 17x15x21 block, k-arclength roughness: clean grid {r_clean:.3e}, noisy {r0:.3e}, after 30 iterations {r1:.3e}; max move {:.3e}",

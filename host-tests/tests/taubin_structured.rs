@@ -7,6 +7,7 @@ use deform_kernel::taubin::{
     structured_coarse_scratch_len, structured_scratch_len, structured_sweep, BlockRegion, Coarse,
     Prolongation, StructuredOptions, TaubinParams,
 };
+use deform_kernel::Directions;
 use deform_kernel::{Block, Error};
 use proptest::prelude::*;
 
@@ -33,7 +34,7 @@ fn one_iteration(
     let mut scratch = vec![0.0; structured_scratch_len(&block)];
     let opts = StructuredOptions {
         pinned: None,
-        mirror,
+        mirror: Directions::from_flags(mirror),
     };
     smooth_structured(&block, field, params, 1, &opts, &mut scratch).unwrap();
 }
@@ -266,7 +267,7 @@ proptest! {
         let pins: Vec<u8> = (0..n).map(|_| u8::from(rng.next() > 0.6) * 7).collect();
         let pinned = use_pins.then_some(&pins[..]);
         let block = Block::new(dims).unwrap();
-        let opts = StructuredOptions { pinned, mirror };
+        let opts = StructuredOptions { pinned, mirror: Directions::from_flags(mirror) };
 
         let mut got = field.clone();
         let mut scratch = vec![0.0; n];
@@ -358,7 +359,7 @@ proptest! {
         let mut got = field.clone();
         let mut scratch = vec![0.0; structured_coarse_scratch_len(&block, &coarse)];
         smooth_structured_coarse(&block, &mut got, &coarse, TaubinParams::paper(), iterations,
-            &StructuredOptions { pinned, mirror: [false; 3] }, &mut scratch).unwrap();
+            &StructuredOptions { pinned, mirror: Directions::NONE }, &mut scratch).unwrap();
         let want = taubin_ref::coarse_filter(dims, &field, factor, 0.330, -0.334, iterations,
             pinned, correction);
         for (p, (a, b)) in got.iter().zip(&want).enumerate() {
@@ -464,7 +465,7 @@ fn stability_sup_norm_over_ten_thousand_iterations() {
         let mut field: Vec<f64> = (0..n).map(|_| rng.next()).collect();
         let opts = StructuredOptions {
             pinned: None,
-            mirror,
+            mirror: Directions::from_flags(mirror),
         };
         let sup0 = field.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let mut scratch = vec![0.0; n];
@@ -584,7 +585,7 @@ fn pinned_points_keep_their_bits() {
         10,
         &StructuredOptions {
             pinned: Some(&pins),
-            mirror: [true; 3],
+            mirror: Directions::ALL,
         },
         &mut scratch,
     )
@@ -686,7 +687,7 @@ fn bad_inputs_give_typed_errors_and_leave_buffers_unchanged() {
         p,
         &StructuredOptions {
             pinned: Some(&pins),
-            mirror: [false; 3],
+            mirror: Directions::NONE,
         },
         n,
         Error::LengthMismatch {

@@ -53,14 +53,14 @@ impl Block {
         i + self.dims[0] * (j + self.dims[1] * k)
     }
 
-    /// Distance in the linear numbering between neighbours along `direction` (0 = i, 1 = j,
-    /// 2 = k): 1, `ni`, or `ni · nj`.
+    /// Distance in the linear numbering between neighbours along `direction`: 1, `ni`, or
+    /// `ni · nj`.
     #[inline]
-    pub fn stride(&self, direction: usize) -> usize {
+    pub fn stride(&self, direction: Direction) -> usize {
         match direction {
-            0 => 1,
-            1 => self.dims[0],
-            _ => self.dims[0] * self.dims[1],
+            Direction::I => 1,
+            Direction::J => self.dims[0],
+            Direction::K => self.dims[0] * self.dims[1],
         }
     }
 
@@ -74,5 +74,137 @@ impl Block {
         let i = index % ni.max(1);
         let rest = index / ni.max(1);
         [i, rest % nj.max(1), rest / nj.max(1)]
+    }
+}
+
+/// A family of grid lines of a structured block: along `i`, `j` or `k`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Direction {
+    /// Along `i` (the fastest index).
+    I,
+    /// Along `j`.
+    J,
+    /// Along `k`.
+    K,
+}
+
+impl Direction {
+    /// `I`, `J`, `K`.
+    pub const ALL: [Direction; 3] = [Direction::I, Direction::J, Direction::K];
+
+    /// 0, 1 or 2 (the position in `[ni, nj, nk]`).
+    #[inline]
+    pub const fn index(self) -> usize {
+        match self {
+            Direction::I => 0,
+            Direction::J => 1,
+            Direction::K => 2,
+        }
+    }
+
+    /// The direction at position 0, 1 or 2; `None` otherwise.
+    #[inline]
+    pub const fn from_index(index: usize) -> Option<Self> {
+        match index {
+            0 => Some(Direction::I),
+            1 => Some(Direction::J),
+            2 => Some(Direction::K),
+            _ => None,
+        }
+    }
+}
+
+/// A set of [`Direction`]s: the directions a TFI interpolates along, the faces a smoothing
+/// mirrors.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Directions {
+    bits: u8,
+}
+
+impl Directions {
+    /// The empty set.
+    pub const NONE: Directions = Directions { bits: 0 };
+    /// `I`, `J` and `K`.
+    pub const ALL: Directions = Directions { bits: 0b111 };
+
+    /// The set holding only `d`.
+    #[inline]
+    pub const fn only(d: Direction) -> Self {
+        Directions {
+            bits: 1 << d.index(),
+        }
+    }
+
+    /// This set with `d` added.
+    #[inline]
+    #[must_use]
+    pub const fn with(self, d: Direction) -> Self {
+        Directions {
+            bits: self.bits | (1 << d.index()),
+        }
+    }
+
+    /// This set without `d`.
+    #[inline]
+    #[must_use]
+    pub const fn without(self, d: Direction) -> Self {
+        Directions {
+            bits: self.bits & !(1 << d.index()),
+        }
+    }
+
+    /// Whether `d` is in the set.
+    #[inline]
+    pub const fn contains(self, d: Direction) -> bool {
+        self.bits & (1 << d.index()) != 0
+    }
+
+    /// Whether the set is empty.
+    #[inline]
+    pub const fn is_empty(self) -> bool {
+        self.bits == 0
+    }
+
+    /// From a bit mask (bit 0 = `I`, bit 1 = `J`, bit 2 = `K`, as the C ABI's); `None` when
+    /// a higher bit is set.
+    #[inline]
+    pub const fn from_bits(bits: u32) -> Option<Self> {
+        if bits & !0b111 == 0 {
+            Some(Directions { bits: bits as u8 })
+        } else {
+            None
+        }
+    }
+
+    /// The bit mask (bit 0 = `I`, bit 1 = `J`, bit 2 = `K`).
+    #[inline]
+    pub const fn bits(self) -> u32 {
+        self.bits as u32
+    }
+
+    /// One flag per direction, `[i, j, k]`.
+    #[inline]
+    pub const fn flags(self) -> [bool; 3] {
+        [
+            self.contains(Direction::I),
+            self.contains(Direction::J),
+            self.contains(Direction::K),
+        ]
+    }
+
+    /// The set whose flags (`[i, j, k]`) are `flags`.
+    #[inline]
+    pub const fn from_flags(flags: [bool; 3]) -> Self {
+        Directions {
+            bits: flags[0] as u8 | (flags[1] as u8) << 1 | (flags[2] as u8) << 2,
+        }
+    }
+}
+
+impl From<Direction> for Directions {
+    fn from(d: Direction) -> Self {
+        Directions::only(d)
     }
 }

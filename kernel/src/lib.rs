@@ -46,7 +46,7 @@ pub mod spring;
 pub mod taubin;
 pub mod vector;
 
-pub use block::Block;
+pub use block::{Block, Direction, Directions};
 pub use cells::{CellKind, Cells};
 pub use error::{Error, Result};
 pub use graph::Graph;

@@ -39,13 +39,13 @@
 //!
 //! ```
 //! use deform_kernel::taubin::{smooth_arclength, smooth_arclength_scratch_len, SmoothOptions};
-//! use deform_kernel::Block;
+//! use deform_kernel::{Block, Direction};
 //! // One i-line of 6 points with an abrupt spacing jump (stretching 3 at point 3).
 //! let block = Block::new([6, 1, 1])?;
 //! let mut points = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0], [6.0, 0.0], [9.0, 0.0]];
-//! let mut options = SmoothOptions::new(0); // lines along i, λ = 0.330, μ = −0.334, 30 its
+//! let mut options = SmoothOptions::new(Direction::I); // lines along i, λ = 0.330, μ = −0.334, 30 its
 //! options.normalised = true; // filter s = S / S_total: both ends stay put
-//! let mut scratch = vec![0.0; smooth_arclength_scratch_len::<2>(&block, 0, None)];
+//! let mut scratch = vec![0.0; smooth_arclength_scratch_len::<2>(&block, Direction::I, None)];
 //! let report = smooth_arclength(&block, &mut points, &options, &mut scratch)?;
 //! assert!(report.stretching_after.0 < report.stretching_before.0);
 //! assert_eq!(points[5], [9.0, 0.0]);

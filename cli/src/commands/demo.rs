@@ -20,6 +20,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use deform_kernel::Direction;
 use serde::Serialize;
 
 use crate::args::DemoArgs;
@@ -99,7 +100,7 @@ type Compared<'a> = (&'a str, Vec<[f64; 3]>, Vec<bool>);
 type SmoothCase<'a> = (
     &'a str,
     &'a deform_meshgen::Mesh2,
-    usize,
+    Direction,
     bool,
     Option<usize>,
     &'a str,
@@ -545,7 +546,7 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
         (
             "noisy",
             &noisy,
-            1,
+            Direction::J,
             true,
             None,
             "j lines, normalized, 30 iterations",
@@ -553,7 +554,7 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
         (
             "noisy",
             &noisy,
-            0,
+            Direction::I,
             true,
             Some(4),
             "i lines, normalized, 30 + 15 coarse (factor 4) iterations",
@@ -561,7 +562,7 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
         (
             "cavity",
             &cavity,
-            0,
+            Direction::I,
             true,
             None,
             "i lines, normalized, 30 iterations",
@@ -599,15 +600,15 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
         let none = vec![false; cells.len()];
         let empty: [&CellList; 0] = [];
         let stem = format!("smooth{}_{gname}", k + 1);
-        let line = ["i", "j"].get(*direction).copied().unwrap_or("k");
+        let line = ["i", "j"].get(direction.index()).copied().unwrap_or("k");
         let label = format!("spacing ratio along {line} lines");
-        let ratios_before = cell_spacing_ratios(dims, &before, *direction);
+        let ratios_before = cell_spacing_ratios(dims, &before, direction.index());
         let top = ratios_before.iter().copied().fold(1.0, f64::max);
         for (tag, pts) in [("before", &before), ("after", &after)] {
             if k == 1 && tag == "before" {
                 continue; // same grid as case 1
             }
-            let ratios = cell_spacing_ratios(dims, pts, *direction);
+            let ratios = cell_spacing_ratios(dims, pts, direction.index());
             let title = format!("{gname} grid {tag}: {settings}; colour: {label}");
             let pic = Picture {
                 points: pts,

@@ -3,6 +3,7 @@
 
 use std::time::Instant;
 
+use deform_kernel::Direction;
 use serde_json::json;
 
 use crate::args::{Coords, FaceArg, Method, MoveArgs};
@@ -61,12 +62,12 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
     }
     let (mut grid, layout) = read_plot3d(&a.mesh, &Plot3dOptions::default())?;
     let (direction, max) = match face {
-        FaceArg::Imin => (0, false),
-        FaceArg::Imax => (0, true),
-        FaceArg::Jmin => (1, false),
-        FaceArg::Jmax => (1, true),
-        FaceArg::Kmin => (2, false),
-        FaceArg::Kmax => (2, true),
+        FaceArg::Imin => (Direction::I, false),
+        FaceArg::Imax => (Direction::I, true),
+        FaceArg::Jmin => (Direction::J, false),
+        FaceArg::Jmax => (Direction::J, true),
+        FaceArg::Kmin => (Direction::K, false),
+        FaceArg::Kmax => (Direction::K, true),
     };
     let coords = |c: &Option<Coords>, fill: f64| {
         c.as_ref().map(|Coords(v)| {
@@ -97,7 +98,7 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
     let mut max_displacement = 0.0f64;
     for (b, blk) in grid.blocks.iter_mut().enumerate() {
         let dim = cell_dim(grid.dim, blk);
-        if dim == 2 && direction == 2 {
+        if dim == 2 && direction == Direction::K {
             return Err(CliError::Invalid(format!(
                 "{}: block {}: --wall {} needs a 3D block",
                 a.mesh.display(),

@@ -124,9 +124,9 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
         )));
     }
     let direction = match a.direction {
-        Direction::I => 0,
-        Direction::J => 1,
-        Direction::K => 2,
+        Direction::I => deform_kernel::Direction::I,
+        Direction::J => deform_kernel::Direction::J,
+        Direction::K => deform_kernel::Direction::K,
     };
     let bar = crate::progress::bar(grid.blocks.len() as u64, "smoothing", quiet);
     let mut report = SmoothReport {

@@ -90,10 +90,7 @@ pub unsafe extern "C" fn dk_smooth_arclength_options_default(
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
     done((|| {
-        if direction > 2 {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        let k = SmoothOptions::<f64>::new(direction as usize);
+        let k = SmoothOptions::<f64>::new(crate::taubin::to_direction(direction)?);
         let v = dk_smooth_arclength_options {
             lambda: k.params.lambda,
             mu: k.params.mu,
@@ -108,7 +105,7 @@ pub unsafe extern "C" fn dk_smooth_arclength_options_default(
             direction,
             normalised: u8::from(k.normalised),
             use_coarse: 0,
-            mirror: k.mirror.map(u8::from),
+            mirror: k.mirror.flags().map(u8::from),
         };
         let o = out_one(out)?;
         *o = v;
@@ -118,7 +115,8 @@ pub unsafe extern "C" fn dk_smooth_arclength_options_default(
 
 /// Scratch length (in scalars of the precision used) for [`dk_taubin_smooth_arclength`] with
 /// these dimensions, `dim` (2 or 3) and options (only `direction`, `use_coarse` and `coarse`
-/// matter): `n + max(n, 2 n_coarse, (dim + 1) × points per line)`.
+/// matter): `n + max(n, 2 n_coarse, (dim + 1) × points per line)`. A `direction` other than
+/// 0, 1, 2 gives `DK_ERR_INVALID_PARAMETER`.
 ///
 /// # Safety
 /// `options` points to one readable options struct; `len_out` to one writable `size_t`.
@@ -142,7 +140,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength_scratch_len(
         } else {
             None
         };
-        let d = o.direction as usize;
+        let d = crate::taubin::to_direction(o.direction)?;
         let len = match dim {
             2 => smooth_arclength_scratch_len::<2>(&b, d, coarse.as_ref()),
             3 => smooth_arclength_scratch_len::<3>(&b, d, coarse.as_ref()),
@@ -904,12 +902,10 @@ pub unsafe extern "C" fn dk_taubin_redistribute_scratch_len(
     let len_out = unsafe { Out::new(len_out, 1) };
     done((|| {
         let b = block(ni, nj, nk)?;
-        if direction > 2 {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
+        let d = crate::taubin::to_direction(direction)?;
         let len = match dim {
-            2 => redistribute_scratch_len::<2>(&b, direction as usize),
-            3 => redistribute_scratch_len::<3>(&b, direction as usize),
+            2 => redistribute_scratch_len::<2>(&b, d),
+            3 => redistribute_scratch_len::<3>(&b, d),
             _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
         };
         write_len(len_out, len)

@@ -7,7 +7,7 @@ use super::{
     boundary_rotations_scratch_len, check_exponent, propagate_idw, propagate_idw_fast,
     propagate_tfi, tfi_scratch_len, update_points, IdwFastOptions, IdwFastReport, Pts,
 };
-use crate::block::Block;
+use crate::block::{Block, Directions};
 use crate::cells::Cells;
 use crate::check;
 use crate::error::{Error, Result};
@@ -329,7 +329,7 @@ pub fn deform_tfi_scratch_len<const D: usize>(block: &Block, boundary_len: usize
 #[allow(clippy::too_many_arguments)]
 pub fn deform_tfi<T: Real, const D: usize>(
     block: &Block,
-    directions: [bool; 3],
+    directions: Directions,
     points: &[[T; D]],
     motion: &BoundaryMotion<'_, T, D>,
     translations: &mut [[T; D]],
@@ -354,7 +354,7 @@ pub fn deform_tfi<T: Real, const D: usize>(
         let on_face = c
             .iter()
             .zip(dims.iter())
-            .zip(directions.iter())
+            .zip(directions.flags().iter())
             .any(|((&x, &nd), &on)| on && (x == 0 || x + 1 == nd));
         if on_face && *m == T::ZERO {
             return Err(Error::Unanchored { node: p });

@@ -1,6 +1,6 @@
 //! Transfinite interpolation (TFI) on structured blocks with arclength blending (Soni).
 
-use crate::block::Block;
+use crate::block::{Block, Directions};
 use crate::check;
 use crate::error::{Error, Result};
 use crate::quat::Quat;
@@ -25,8 +25,12 @@ struct Setup {
 }
 
 /// Checks the block shape and the active directions for `D` (no sizes).
-pub(super) fn check_directions<const D: usize>(block: &Block, directions: [bool; 3]) -> Result<()> {
+pub(super) fn check_directions<const D: usize>(
+    block: &Block,
+    directions: Directions,
+) -> Result<()> {
     check::mesh_dim::<D>();
+    let directions = directions.flags();
     let dims = block.dims();
     if D == 2 && dims[2] != 1 {
         return Err(Error::BadDimensions { arg: "block" });
@@ -55,13 +59,14 @@ pub(super) fn check_directions<const D: usize>(block: &Block, directions: [bool;
 /// Validates the block, the directions and the sizes common to both TFI routines.
 fn setup<T: Real, const D: usize>(
     block: &Block,
-    directions: [bool; 3],
+    directions: Directions,
     points: &[[T; D]],
     values_len: usize,
     values_arg: &'static str,
     scratch_len: usize,
 ) -> Result<Setup> {
     check_directions::<D>(block, directions)?;
+    let directions = directions.flags();
     let dims = block.dims();
     let n = block.point_count();
     let mut active = 0usize;
@@ -253,8 +258,8 @@ fn blend_quat<T: Real>(terms: &[(usize, T)], values: &[Quat<T>]) -> Result<Quat<
 ///
 /// Values are read on the faces of the active directions (index 0 or `n_d − 1` in an active
 /// direction) and written everywhere else. Activate only the directions whose faces carry
-/// known motion: for an O-grid, `[false, true, false]` interpolates between the wall (`j = 0`)
-/// and the far field along the radial lines and ignores the cut. Boundary values are
+/// known motion: for an O-grid, `Directions::only(Direction::J)` interpolates between the
+/// wall (`j = 0`) and the far field along the radial lines and ignores the cut. Boundary values are
 /// reproduced exactly (they are never written); a uniform `(Δ, Q)` is reproduced to rounding.
 ///
 /// `points` are the undeformed block points (`i` fastest), 2D blocks have `nk = 1`. `scratch`
@@ -266,7 +271,7 @@ fn blend_quat<T: Real>(terms: &[(usize, T)], values: &[Quat<T>]) -> Result<Quat<
 /// ([`Error::ZeroLength`], `"rotations"`, position = point). On error the values are unchanged.
 pub fn propagate_tfi<T: Real, const D: usize>(
     block: &Block,
-    directions: [bool; 3],
+    directions: Directions,
     points: &[[T; D]],
     translations: &mut [[T; D]],
     rotations: &mut [Quat<T>],
@@ -340,7 +345,7 @@ pub fn propagate_tfi<T: Real, const D: usize>(
 /// As for [`propagate_tfi`]; on error `displacements` is unchanged.
 pub fn displacement_tfi<T: Real, const D: usize>(
     block: &Block,
-    directions: [bool; 3],
+    directions: Directions,
     points: &[[T; D]],
     displacements: &mut [[T; D]],
     scratch: &mut [T],

@@ -71,7 +71,7 @@ pub(super) enum SolverKind {
 
 impl SolverKind {
     /// The stored code of a one-level method.
-    pub const fn of_method<T>(m: &LinearMethod<T>) -> Self {
+    pub(super) const fn of_method<T>(m: &LinearMethod<T>) -> Self {
         match m {
             LinearMethod::Jacobi => SolverKind::Jacobi,
             LinearMethod::GaussSeidel => SolverKind::GaussSeidel,
@@ -194,7 +194,7 @@ impl Sections {
     /// The layout for `c`, or the first size that does not fit (`usize::MAX` on arithmetic
     /// overflow, or a pool length beyond `u32`). `const`, so [`Plan::capacity`](super::Plan::capacity)
     /// sizes static storage at compile time from the same arithmetic `init` uses.
-    pub const fn layout(c: &Counts) -> core::result::Result<Self, usize> {
+    pub(super) const fn layout(c: &Counts) -> core::result::Result<Self, usize> {
         let amg = matches!(c.solver, SolverKind::Amg);
         let q = c.quaternion();
         let v = c.v();

@@ -298,7 +298,7 @@ pub fn smooth_structured_coarse<T: Real>(
         coarse,
         params,
         iterations,
-        options.mirror,
+        options.mirror.flags(),
         |p| is_pinned(pinned, p),
         scratch,
         |_, _| Ok(()),

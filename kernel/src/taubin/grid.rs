@@ -1,14 +1,14 @@
 //! The whole-grid driver: arclength functions → Taubin filter (fine, then optionally coarse)
 //! → fold guard → redistribution along the original lines.
 
-use crate::block::Block;
+use crate::block::{Block, Direction, Directions};
 use crate::error::{Error, Result};
 use crate::real::Real;
 
 use super::coarse::{coarse_core, coarse_dims, fine_of, Coarse};
 use super::lines::{
-    arclength_core, check_direction, check_increasing_core, line_collapsed, line_shape,
-    max_stretching_core, redistribute_core,
+    arclength_core, check_increasing_core, line_collapsed, line_shape, max_stretching_core,
+    redistribute_core,
 };
 use super::structured::{check_mask, is_pinned, sweep_core, BlockRegion};
 use super::TaubinParams;
@@ -17,8 +17,8 @@ use super::TaubinParams;
 /// and change fields as needed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SmoothOptions<'a, T> {
-    /// Direction of the grid lines whose arclength is smoothed: 0 = i, 1 = j, 2 = k.
-    pub direction: usize,
+    /// Direction of the grid lines whose arclength is smoothed.
+    pub direction: Direction,
     /// λ and μ (default: the paper's 0.330 and −0.334).
     pub params: TaubinParams<T>,
     /// Fine-grid iterations (default 30, as in the paper).
@@ -32,7 +32,7 @@ pub struct SmoothOptions<'a, T> {
     /// Mirror (Neumann) faces per direction. The entry for `direction` itself is ignored: the
     /// faces at the line ends always use the paper's in-plane rule, so `S = 0` on the first
     /// face stays exactly 0.
-    pub mirror: [bool; 3],
+    pub mirror: Directions,
     /// Optional coarse-grid pass after the fine iterations (Alter's multi-grid step).
     pub coarse: Option<Coarse>,
     /// Iterations on the coarse grid (default 15: Alter halved the count there).
@@ -42,14 +42,14 @@ pub struct SmoothOptions<'a, T> {
 impl<'a, T: Real> SmoothOptions<'a, T> {
     /// The paper's settings for lines along `direction`: λ = 0.330, μ = −0.334, 30
     /// iterations, dimensional arclength, no pins, no mirror faces, no coarse pass.
-    pub fn new(direction: usize) -> Self {
+    pub fn new(direction: Direction) -> Self {
         SmoothOptions {
             direction,
             params: TaubinParams::paper(),
             iterations: 30,
             normalised: false,
             pinned: None,
-            mirror: [false; 3],
+            mirror: Directions::NONE,
             coarse: None,
             coarse_iterations: 15,
         }
@@ -77,11 +77,11 @@ pub struct SmoothReport<T> {
 /// `n + max(n, 2 n_coarse, (D + 1) × points per line)`.
 pub fn smooth_arclength_scratch_len<const D: usize>(
     block: &Block,
-    direction: usize,
+    direction: Direction,
     coarse: Option<&Coarse>,
 ) -> usize {
     let n = block.point_count();
-    let (_, len, _) = line_shape(block.dims(), direction.min(2));
+    let (_, len, _) = line_shape(block.dims(), direction);
     let nc = match coarse {
         Some(c) => {
             let [a, b, d] = coarse_dims(block, c.factor);
@@ -93,12 +93,12 @@ pub fn smooth_arclength_scratch_len<const D: usize>(
 }
 
 /// True when point `p` is the first or last point of its line along `direction`.
-fn is_line_end(dims: [usize; 3], direction: usize, p: usize) -> bool {
+fn is_line_end(dims: [usize; 3], direction: Direction, p: usize) -> bool {
     let [ni, nj, _] = dims;
     let (stride, len) = match direction {
-        0 => (1, ni),
-        1 => (ni, nj),
-        _ => (ni.saturating_mul(nj), dims[2]),
+        Direction::I => (1, ni),
+        Direction::J => (ni, nj),
+        Direction::K => (ni.saturating_mul(nj), dims[2]),
     };
     let t = (p / stride.max(1)) % len.max(1);
     t == 0 || t + 1 == len
@@ -143,7 +143,6 @@ pub fn smooth_arclength<T: Real, const D: usize>(
     scratch: &mut [T],
 ) -> Result<SmoothReport<T>> {
     let direction = options.direction;
-    check_direction(direction)?;
     let n = block.point_count();
     if points.len() != n {
         return Err(Error::LengthMismatch {
@@ -172,10 +171,7 @@ pub fn smooth_arclength<T: Real, const D: usize>(
         });
     }
     let dims = block.dims();
-    let mut mirror = options.mirror;
-    if let Some(m) = mirror.get_mut(direction) {
-        *m = false;
-    }
+    let mirror = options.mirror.without(direction).flags();
     let pinned = options.pinned;
     let params = options.params;
     let stretching_before = max_stretching_core(dims, points, direction);

@@ -3,48 +3,36 @@
 
 use core::cmp::Ordering;
 
-use crate::block::Block;
+use crate::block::{Block, Direction};
 use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::vector;
 
 use super::structured::check_finite;
 
-/// Checks `direction < 3`.
-pub(crate) fn check_direction(direction: usize) -> Result<()> {
-    if direction < 3 {
-        Ok(())
-    } else {
-        Err(Error::InvalidParameter {
-            arg: "direction",
-            reason: "must be 0 (i), 1 (j) or 2 (k)",
-        })
-    }
-}
-
 /// The lines along `direction` of a block with dimensions `dims`: `(count, points per line,
 /// stride)`.
 #[inline]
-pub(crate) fn line_shape(dims: [usize; 3], direction: usize) -> (usize, usize, usize) {
+pub(crate) fn line_shape(dims: [usize; 3], direction: Direction) -> (usize, usize, usize) {
     let [ni, nj, nk] = dims;
     match direction {
-        0 => (nj * nk, ni, 1),
-        1 => (ni * nk, nj, ni),
-        _ => (ni * nj, nk, ni * nj),
+        Direction::I => (nj * nk, ni, 1),
+        Direction::J => (ni * nk, nj, ni),
+        Direction::K => (ni * nj, nk, ni * nj),
     }
 }
 
 /// Linear index of the first point of line `l` along `direction`.
 #[inline]
-pub(crate) fn line_base(dims: [usize; 3], direction: usize, l: usize) -> usize {
+pub(crate) fn line_base(dims: [usize; 3], direction: Direction, l: usize) -> usize {
     let [ni, nj, _] = dims;
     match direction {
-        0 => l * ni,
-        1 => {
+        Direction::I => l * ni,
+        Direction::J => {
             let ni1 = ni.max(1);
             (l % ni1) + ni * nj * (l / ni1)
         }
-        _ => l,
+        Direction::K => l,
     }
 }
 
@@ -71,7 +59,7 @@ fn check_points<T: Real, const D: usize>(block: &Block, points: &[[T; D]]) -> Re
 pub(crate) fn arclength_core<T: Real, const D: usize>(
     dims: [usize; 3],
     points: &[[T; D]],
-    direction: usize,
+    direction: Direction,
     normalised: bool,
     out: &mut [T],
 ) {
@@ -110,7 +98,7 @@ pub(crate) fn arclength_core<T: Real, const D: usize>(
     }
 }
 
-/// Arclength distribution functions along `direction` (0 = i, 1 = j, 2 = k): for every point
+/// Arclength distribution functions along `direction`: for every point
 /// `p_t` of a line `p_0 … p_{n−1}`
 ///
 /// ```text
@@ -124,16 +112,14 @@ pub(crate) fn arclength_core<T: Real, const D: usize>(
 /// stretching.
 ///
 /// # Errors
-/// `LengthMismatch` (`points`, `out`), `NonFinite` (`points`), `InvalidParameter`
-/// (`direction`).
+/// `LengthMismatch` (`points`, `out`), `NonFinite` (`points`).
 pub fn arclength<T: Real, const D: usize>(
     block: &Block,
     points: &[[T; D]],
-    direction: usize,
+    direction: Direction,
     normalised: bool,
     out: &mut [T],
 ) -> Result<()> {
-    check_direction(direction)?;
     check_points(block, points)?;
     if out.len() != block.point_count() {
         return Err(Error::LengthMismatch {
@@ -147,8 +133,8 @@ pub fn arclength<T: Real, const D: usize>(
 }
 
 /// Scratch length (in `T` values) for [`redistribute`]: `(D + 1) ×` points per line.
-pub fn redistribute_scratch_len<const D: usize>(block: &Block, direction: usize) -> usize {
-    let (_, len, _) = line_shape(block.dims(), direction.min(2));
+pub fn redistribute_scratch_len<const D: usize>(block: &Block, direction: Direction) -> usize {
+    let (_, len, _) = line_shape(block.dims(), direction);
     (D + 1) * len
 }
 
@@ -238,7 +224,7 @@ fn place<T: Real, const D: usize>(
 pub(crate) fn redistribute_core<T: Real, const D: usize, F: Fn(usize) -> bool>(
     dims: [usize; 3],
     points: &mut [[T; D]],
-    direction: usize,
+    direction: Direction,
     targets: &[T],
     normalised: bool,
     scratch: &mut [T],
@@ -323,16 +309,15 @@ pub(crate) fn redistribute_core<T: Real, const D: usize, F: Fn(usize) -> bool>(
 ///
 /// # Errors
 /// `LengthMismatch` (`points`, `targets`), `BufferTooSmall` (`scratch`), `NonFinite`
-/// (`points`, `targets`), `InvalidParameter` (`direction`).
+/// (`points`, `targets`).
 pub fn redistribute<T: Real, const D: usize>(
     block: &Block,
     points: &mut [[T; D]],
-    direction: usize,
+    direction: Direction,
     targets: &[T],
     normalised: bool,
     scratch: &mut [T],
 ) -> Result<T> {
-    check_direction(direction)?;
     check_points(block, points)?;
     let n = block.point_count();
     if targets.len() != n {
@@ -381,7 +366,7 @@ fn ratio<T: Real>(a: T, b: T) -> T {
 fn for_each_stretching<T: Real, const D: usize, F: FnMut(usize, T)>(
     dims: [usize; 3],
     points: &[[T; D]],
-    direction: usize,
+    direction: Direction,
     mut f: F,
 ) {
     let (count, len, stride) = line_shape(dims, direction);
@@ -419,15 +404,13 @@ fn for_each_stretching<T: Real, const D: usize, F: FnMut(usize, T)>(
 /// next to a non-zero one gives `+∞`.
 ///
 /// # Errors
-/// `LengthMismatch` (`points`, `out`), `NonFinite` (`points`), `InvalidParameter`
-/// (`direction`).
+/// `LengthMismatch` (`points`, `out`), `NonFinite` (`points`).
 pub fn stretching<T: Real, const D: usize>(
     block: &Block,
     points: &[[T; D]],
-    direction: usize,
+    direction: Direction,
     out: &mut [T],
 ) -> Result<()> {
-    check_direction(direction)?;
     check_points(block, points)?;
     if out.len() != block.point_count() {
         return Err(Error::LengthMismatch {
@@ -450,7 +433,7 @@ pub fn stretching<T: Real, const D: usize>(
 pub(crate) fn max_stretching_core<T: Real, const D: usize>(
     dims: [usize; 3],
     points: &[[T; D]],
-    direction: usize,
+    direction: Direction,
 ) -> (T, usize) {
     let mut best = (T::ONE, 0);
     for_each_stretching(dims, points, direction, |p, r| {
@@ -465,13 +448,12 @@ pub(crate) fn max_stretching_core<T: Real, const D: usize>(
 /// line; `(1, 0)` when no point has two adjacent cells).
 ///
 /// # Errors
-/// `LengthMismatch` (`points`), `NonFinite` (`points`), `InvalidParameter` (`direction`).
+/// `LengthMismatch` (`points`), `NonFinite` (`points`).
 pub fn max_stretching<T: Real, const D: usize>(
     block: &Block,
     points: &[[T; D]],
-    direction: usize,
+    direction: Direction,
 ) -> Result<(T, usize)> {
-    check_direction(direction)?;
     check_points(block, points)?;
     Ok(max_stretching_core(block.dims(), points, direction))
 }
@@ -480,7 +462,7 @@ pub fn max_stretching<T: Real, const D: usize>(
 pub(crate) fn check_increasing_core<T: Real, F: Fn(usize) -> bool>(
     dims: [usize; 3],
     field: &[T],
-    direction: usize,
+    direction: Direction,
     iteration: usize,
     collapsed: F,
 ) -> Result<()> {
@@ -514,16 +496,14 @@ pub(crate) fn check_increasing_core<T: Real, F: Fn(usize) -> bool>(
 /// axis) are exempt.
 ///
 /// # Errors
-/// `LengthMismatch` (`field`, `points`), `NonFinite` (`points`), `InvalidParameter`
-/// (`direction`), `FoldedLine`.
+/// `LengthMismatch` (`field`, `points`), `NonFinite` (`points`), `FoldedLine`.
 pub fn check_lines_increasing<T: Real, const D: usize>(
     block: &Block,
     field: &[T],
-    direction: usize,
+    direction: Direction,
     iteration: usize,
     points: Option<&[[T; D]]>,
 ) -> Result<()> {
-    check_direction(direction)?;
     let n = block.point_count();
     if field.len() != n {
         return Err(Error::LengthMismatch {
@@ -546,7 +526,7 @@ pub fn check_lines_increasing<T: Real, const D: usize>(
 pub(crate) fn line_collapsed<T: Real, const D: usize>(
     dims: [usize; 3],
     points: &[[T; D]],
-    direction: usize,
+    direction: Direction,
     base: usize,
 ) -> bool {
     let (_, len, stride) = line_shape(dims, direction);

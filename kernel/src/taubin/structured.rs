@@ -1,6 +1,6 @@
 //! The structured scalar filter: Alter's stencils on a 1D/2D/3D block.
 
-use crate::block::Block;
+use crate::block::{Block, Directions};
 use crate::error::{Error, Result};
 use crate::real::Real;
 
@@ -9,16 +9,16 @@ use super::TaubinParams;
 /// Options shared by the structured filter routines.
 ///
 /// `pinned` is one byte per point, nonzero = the point keeps its value (a `u8` rather than a
-/// `bool` so a C or Fortran caller can pass its own integer array). `mirror[d]` switches the
-/// faces normal to direction `d` from the paper's rule (drop the normal derivative: in-plane
+/// `bool` so a C or Fortran caller can pass its own integer array). A direction `d` in `mirror`
+/// switches the faces normal to `d` from the paper's rule (drop the normal derivative: in-plane
 /// average) to a mirror/Neumann rule (the missing neighbour is the mirror image of the one
 /// inside, so the face point averages `2 × inside` with its in-plane neighbours).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StructuredOptions<'a> {
     /// Optional pin mask (`point_count` bytes, nonzero = pinned).
     pub pinned: Option<&'a [u8]>,
-    /// Mirror (Neumann) faces per direction (i, j, k). All `false` is the paper's rule.
-    pub mirror: [bool; 3],
+    /// The directions whose faces mirror (Neumann). [`Directions::NONE`] is the paper's rule.
+    pub mirror: Directions,
 }
 
 /// A box of grid indices `lo[d] ≤ index[d] < hi[d]`: the points one [`structured_sweep`]
@@ -428,7 +428,7 @@ pub fn smooth_structured<T: Real>(
         scratch,
         params,
         iterations,
-        options.mirror,
+        options.mirror.flags(),
         |_, p| is_pinned(pinned, p),
     ))
 }
@@ -483,7 +483,7 @@ pub fn structured_sweep<T: Real>(
         src,
         dst,
         weight,
-        options.mirror,
+        options.mirror.flags(),
         region,
         |_, p| is_pinned(pinned, p),
     ))

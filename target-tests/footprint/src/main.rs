@@ -19,6 +19,8 @@
 #![allow(unsafe_code)]
 
 use core::hint::black_box;
+use deform_kernel::Direction;
+use deform_kernel::Directions;
 
 use cortex_m as _; // critical-section implementation
 use cortex_m_rt::entry;
@@ -622,7 +624,7 @@ fn main() -> ! {
         meter.measure("deform_tfi (1,000 nodes) f32", || {
             deform_tfi(
                 &block,
-                [true, true, false],
+                Directions::from_flags([true, true, false]),
                 &b.points,
                 &motion,
                 &mut b.translations,
@@ -648,7 +650,7 @@ fn main() -> ! {
         }
         let opts = StructuredOptions {
             pinned: None,
-            mirror: [false; 3],
+            mirror: Directions::NONE,
         };
         meter.measure("smooth_structured (1,000 points) f32", || {
             smooth_structured(&block, field, TaubinParams::paper(), 10, &opts, scratch)
@@ -659,8 +661,9 @@ fn main() -> ! {
     }
     let r = {
         let b = &mut *big;
-        let len = smooth_arclength_scratch_len::<2>(&block, 0, None).min(b.scratch.len());
-        let opts = SmoothOptions::new(0);
+        let len =
+            smooth_arclength_scratch_len::<2>(&block, Direction::I, None).min(b.scratch.len());
+        let opts = SmoothOptions::new(Direction::I);
         meter.measure("smooth_arclength (1,000 points) f32", || {
             smooth_arclength(
                 &block,

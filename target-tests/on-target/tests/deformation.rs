@@ -8,6 +8,7 @@
 #![no_std]
 #![no_main]
 
+use deform_kernel::Directions;
 use deform_on_target as _;
 
 use deform_kernel::deformation::{
@@ -62,7 +63,7 @@ fn run<T: Real>(
             let len = deform_tfi_scratch_len::<2>(&b, motion.nodes.len());
             deform_tfi(
                 &b,
-                [true, true, false],
+                Directions::from_flags([true, true, false]),
                 &m.points,
                 motion,
                 &mut translations,

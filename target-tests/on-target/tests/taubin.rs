@@ -6,6 +6,8 @@
 #![no_std]
 #![no_main]
 
+use deform_kernel::Direction;
+use deform_kernel::Directions;
 use deform_on_target as _;
 
 use deform_golden::XorShift;
@@ -52,7 +54,7 @@ fn structured<T: Real>() {
     let mut scratch = [T::ZERO; BN];
     let opts = StructuredOptions {
         pinned: None,
-        mirror: [false; 3],
+        mirror: Directions::NONE,
     };
     let len = structured_scratch_len(&b);
     let r = smooth_structured(&b, &mut f, params, 10, &opts, &mut scratch[..len]).unwrap();
@@ -100,7 +102,7 @@ fn structured<T: Real>() {
     pinned[42] = 1;
     let popts = StructuredOptions {
         pinned: Some(&pinned),
-        mirror: [false, true, false],
+        mirror: Directions::from_flags([false, true, false]),
     };
     smooth_structured(&b, &mut f, params, 20, &popts, &mut scratch[..BN]).unwrap();
     defmt::assert!(max1(&f) <= max1(&orig) * T::from_f64(1.05));
@@ -225,47 +227,55 @@ fn stretched<T: Real>() -> (Block, [[T; 2]; 18]) {
 fn lines<T: Real>() {
     let (b, p) = stretched::<T>();
     let mut s = [T::ZERO; 18];
-    arclength(&b, &p, 0, false, &mut s).unwrap();
+    arclength(&b, &p, Direction::I, false, &mut s).unwrap();
     for (n, &x) in s.iter().enumerate() {
         // Straight lines along x from x = 0: S = x up to rounding of the partial sums.
         defmt::assert!((x - p[n][0]).abs() <= T::from_f64(8.0) * T::EPSILON * T::from_f64(16.0));
     }
     let mut sn = [T::ZERO; 18];
-    arclength(&b, &p, 0, true, &mut sn).unwrap();
+    arclength(&b, &p, Direction::I, true, &mut sn).unwrap();
     defmt::assert!(sn[0] == T::ZERO && sn[5] == T::ONE && sn[17] == T::ONE);
-    check_lines_increasing::<T, 2>(&b, &sn, 0, 0, None).unwrap();
+    check_lines_increasing::<T, 2>(&b, &sn, Direction::I, 0, None).unwrap();
     // Stretching: 1.5 inside every line, 1 at the ends.
     let mut r = [T::ZERO; 18];
-    stretching(&b, &p, 0, &mut r).unwrap();
+    stretching(&b, &p, Direction::I, &mut r).unwrap();
     defmt::assert!(r[0] == T::ONE && r[5] == T::ONE);
     defmt::assert!((r[2] - T::from_f64(1.5)).abs() <= T::from_f64(8.0) * T::EPSILON);
-    let (worst, _) = max_stretching(&b, &p, 0).unwrap();
+    let (worst, _) = max_stretching(&b, &p, Direction::I).unwrap();
     defmt::assert!((worst - T::from_f64(1.5)).abs() <= T::from_f64(8.0) * T::EPSILON);
     // Redistribution to the line's own arclength returns every point bit for bit.
     let mut q = p;
     let mut scratch = [T::ZERO; 32];
-    let len = redistribute_scratch_len::<2>(&b, 0);
-    let moved = redistribute(&b, &mut q, 0, &sn, true, &mut scratch[..len]).unwrap();
+    let len = redistribute_scratch_len::<2>(&b, Direction::I);
+    let moved = redistribute(&b, &mut q, Direction::I, &sn, true, &mut scratch[..len]).unwrap();
     defmt::assert!(moved == T::ZERO && same_bits(&q, &p));
     // Uniform targets give uniform spacing on the same lines (y unchanged, x monotone).
     let mut uniform = [T::ZERO; 18];
     for (n, u) in uniform.iter_mut().enumerate() {
         *u = T::from_usize(n % 6) / T::from_f64(5.0);
     }
-    redistribute(&b, &mut q, 0, &uniform, true, &mut scratch[..len]).unwrap();
+    redistribute(
+        &b,
+        &mut q,
+        Direction::I,
+        &uniform,
+        true,
+        &mut scratch[..len],
+    )
+    .unwrap();
     let total = p[5][0];
     for (n, (a, o)) in q.iter().zip(&p).enumerate() {
         defmt::assert!(a[1].to_bits_u64() == o[1].to_bits_u64());
         let want = total * uniform[n];
         defmt::assert!((a[0] - want).abs() <= T::from_f64(16.0) * T::EPSILON * total);
     }
-    let (worst, _) = max_stretching(&b, &q, 0).unwrap();
+    let (worst, _) = max_stretching(&b, &q, Direction::I).unwrap();
     defmt::assert!(worst <= T::ONE + T::from_f64(64.0) * T::EPSILON);
     // A folded field is caught.
     let mut folded = sn;
     folded.swap(2, 3);
     defmt::assert!(matches!(
-        check_lines_increasing::<T, 2>(&b, &folded, 0, 7, None),
+        check_lines_increasing::<T, 2>(&b, &folded, Direction::I, 7, None),
         Err(Error::FoldedLine {
             line: 0,
             iteration: 7
@@ -294,10 +304,10 @@ fn arclength_smoothing<T: Real>() {
         ];
     }
     let orig = p;
-    let mut opts = SmoothOptions::new(0);
+    let mut opts = SmoothOptions::new(Direction::I);
     opts.normalised = true;
     let mut scratch = [T::ZERO; 8 * SI * SJ];
-    let len = smooth_arclength_scratch_len::<2>(&b, 0, None);
+    let len = smooth_arclength_scratch_len::<2>(&b, Direction::I, None);
     let r = smooth_arclength(&b, &mut p, &opts, &mut scratch[..len]).unwrap();
     defmt::info!(
         "{=str} smooth_arclength: stretching {=f64} -> {=f64}, max move {=f64}",
@@ -317,11 +327,13 @@ fn arclength_smoothing<T: Real>() {
         }
     }
     let mut s = [T::ZERO; SI * SJ];
-    arclength(&b, &p, 0, false, &mut s).unwrap();
-    check_lines_increasing(&b, &s, 0, 0, Some(&p)).unwrap();
+    arclength(&b, &p, Direction::I, false, &mut s).unwrap();
+    check_lines_increasing(&b, &s, Direction::I, 0, Some(&p)).unwrap();
+    let mut bad = SmoothOptions::new(Direction::I);
+    bad.params.mu = T::HALF;
     defmt::assert!(matches!(
-        smooth_arclength(&b, &mut p, &SmoothOptions::new(3), &mut scratch[..len]),
-        Err(Error::InvalidParameter { .. })
+        smooth_arclength(&b, &mut p, &bad, &mut scratch[..len]),
+        Err(Error::InvalidParameter { arg: "mu", .. })
     ));
 }
 

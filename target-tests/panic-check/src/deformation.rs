@@ -2,6 +2,7 @@
 //! for `f32` and `f64`, in 2D and 3D, with black-boxed inputs and outputs.
 
 use core::hint::black_box;
+use deform_kernel::Directions;
 
 use deform_kernel::deformation::{
     boundary_normals, boundary_normals_scratch_len, boundary_origin, boundary_rotations,
@@ -144,7 +145,7 @@ fn run<T: Real, const D: usize, const V: usize>() {
             let n = block.point_count().min(N);
             keep(deform_tfi(
                 &block,
-                bb([true, true, false]),
+                bb(Directions::from_flags([true, true, false])),
                 &points[..n],
                 &motion2,
                 bb(&mut trans[..n]),
@@ -154,7 +155,7 @@ fn run<T: Real, const D: usize, const V: usize>() {
             ));
             keep(propagate_tfi(
                 &block,
-                bb([true, false, D == 3]),
+                bb(Directions::from_flags([true, false, D == 3])),
                 &points[..n],
                 bb(&mut trans[..n]),
                 bb(&mut rot[..n]),
@@ -162,7 +163,7 @@ fn run<T: Real, const D: usize, const V: usize>() {
             ));
             keep(displacement_tfi(
                 &block,
-                bb([true, true, true]),
+                bb(Directions::from_flags([true, true, true])),
                 &points[..n],
                 bb(&mut trans[..n]),
                 bb(&mut scratch[..]),

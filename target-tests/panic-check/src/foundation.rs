@@ -13,6 +13,7 @@
 
 use core::fmt::Write;
 use core::hint::black_box;
+use deform_kernel::{Direction, Directions};
 
 use deform_kernel::real::{all_finite, first_non_finite};
 use deform_kernel::vector;
@@ -314,7 +315,7 @@ fn cells() {
 fn block() {
     let dims: [usize; 3] = bb([4, 3, 2]);
     let (i, j, k): (usize, usize, usize) = bb((1, 2, 1));
-    let direction: usize = bb(1);
+    let direction = bb(Direction::J);
     if let Ok(b) = bb(Block::new(dims)) {
         let b = bb(b);
         keep(b.dims());
@@ -322,6 +323,10 @@ fn block() {
         keep(b.rank());
         keep(b.index(i, j, k));
         keep(b.stride(direction));
+        keep(Direction::from_index(bb(2)).map(Direction::index));
+        let set = bb(Directions::only(direction).with(Direction::K));
+        keep((set.contains(direction), set.flags(), set.bits()));
+        keep(Directions::from_bits(bb(5)).map(|d| d.without(Direction::I)));
         keep(b.ijk(bb(17)));
         keep(b == b.clone());
     }

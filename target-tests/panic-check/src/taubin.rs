@@ -7,6 +7,8 @@
 //! and 4.
 
 use core::hint::black_box;
+use deform_kernel::Direction;
+use deform_kernel::Directions;
 
 use deform_kernel::taubin::{
     arclength, check_lines_increasing, coarse_dims, graph_scratch_len, graph_sweep,
@@ -108,7 +110,7 @@ fn structured<T: Real>() {
     let pins: &[u8] = bb(&[0u8; N]);
     let opts = bb(StructuredOptions {
         pinned: Some(pins),
-        mirror: bb([true, false, true]),
+        mirror: bb(Directions::from_flags([true, false, true])),
     });
     let params = bb(TaubinParams::<T>::paper());
     let iterations: usize = bb(3);
@@ -241,10 +243,16 @@ fn points<T: Real, const D: usize>() -> [[T; D]; N] {
 fn lines<T: Real, const D: usize>() {
     let Some(b) = block() else { return };
     let pts = points::<T, D>();
-    let dir: usize = bb(1);
+    let dir = bb(Direction::J);
     let mut out = bb([T::ZERO; N]);
     keep(arclength(&b, &pts[..], dir, bb(true), &mut out[..]));
-    keep(arclength(&b, &pts[..], bb(2), bb(false), &mut out[..]));
+    keep(arclength(
+        &b,
+        &pts[..],
+        bb(Direction::K),
+        bb(false),
+        &mut out[..],
+    ));
     keep(check_lines_increasing(
         &b,
         &out[..],
@@ -273,7 +281,7 @@ fn lines<T: Real, const D: usize>() {
     keep(redistribute(
         &b,
         &mut moved[..],
-        bb(0),
+        bb(Direction::I),
         &out[..],
         bb(true),
         &mut scratch[..],
@@ -282,7 +290,7 @@ fn lines<T: Real, const D: usize>() {
     let mut st = bb([T::ZERO; N]);
     keep(stretching(&b, &pts[..], dir, &mut st[..]));
     keep(&st);
-    keep(max_stretching(&b, &pts[..], bb(0)));
+    keep(max_stretching(&b, &pts[..], bb(Direction::I)));
 }
 
 #[inline(never)]
@@ -290,10 +298,10 @@ fn driver<T: Real, const D: usize>() {
     let Some(b) = block() else { return };
     let mut pts = points::<T, D>();
     let pins: &[u8] = bb(&[0u8; N]);
-    let mut opts = SmoothOptions::<T>::new(bb(2));
+    let mut opts = SmoothOptions::<T>::new(bb(Direction::K));
     opts.normalised = bb(true);
     opts.pinned = Some(pins);
-    opts.mirror = bb([true, true, false]);
+    opts.mirror = bb(Directions::from_flags([true, true, false]));
     opts.iterations = bb(3);
     opts.coarse = bb(Some(Coarse {
         factor: bb([2, 2, 1]),
@@ -311,7 +319,7 @@ fn driver<T: Real, const D: usize>() {
     keep(smooth_arclength(
         &b,
         &mut pts[..],
-        &bb(SmoothOptions::new(bb(0))),
+        &bb(SmoothOptions::new(bb(Direction::I))),
         &mut scratch[..],
     ));
     keep(&pts);
