@@ -54,6 +54,25 @@ pub(crate) fn finite_items<T: Real, const N: usize>(
     }
 }
 
+/// Every value finite ([`Error::NonFinite`] at the first that is not).
+#[inline]
+pub(crate) fn finite<T: Real>(arg: &'static str, values: &[T]) -> Result<()> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(position) => Err(Error::NonFinite { arg, position }),
+        None => Ok(()),
+    }
+}
+
+/// An optional per-node mask (pins, fixed nodes) has `n` entries when given
+/// ([`Error::LengthMismatch`]).
+#[inline]
+pub(crate) fn mask(arg: &'static str, mask: Option<&[u8]>, n: usize) -> Result<()> {
+    match mask {
+        Some(m) => len(arg, m.len(), n),
+        None => Ok(()),
+    }
+}
+
 /// A scalar is finite ([`Error::NonFinite`] at position 0).
 #[inline]
 pub(crate) fn scalar<T: Real>(arg: &'static str, x: T) -> Result<()> {

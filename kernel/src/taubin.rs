@@ -91,6 +91,7 @@ pub use structured::{
     StructuredOptions,
 };
 
+use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
 
@@ -134,18 +135,8 @@ impl<T: Real> TaubinParams<T> {
     /// A non-finite `λ` or `μ` ([`Error::NonFinite`]); `λ ≤ 0` or `μ > 0`
     /// ([`Error::InvalidParameter`]).
     pub fn validate(&self) -> Result<()> {
-        if !self.lambda.is_finite() {
-            return Err(Error::NonFinite {
-                arg: "lambda",
-                position: 0,
-            });
-        }
-        if !self.mu.is_finite() {
-            return Err(Error::NonFinite {
-                arg: "mu",
-                position: 0,
-            });
-        }
+        check::scalar("lambda", self.lambda)?;
+        check::scalar("mu", self.mu)?;
         if self.lambda <= T::ZERO {
             return Err(Error::InvalidParameter {
                 arg: "lambda",
@@ -195,18 +186,8 @@ impl<T: Real> Default for TaubinParams<T> {
 /// A non-finite `λ` or `k_PB` ([`Error::NonFinite`]); `λ ≤ 0`, or `k_PB` outside
 /// `(0, 1/λ)` ([`Error::InvalidParameter`]).
 pub fn mu_from_pass_band<T: Real>(lambda: T, pass_band: T) -> Result<T> {
-    if !lambda.is_finite() {
-        return Err(Error::NonFinite {
-            arg: "lambda",
-            position: 0,
-        });
-    }
-    if !pass_band.is_finite() {
-        return Err(Error::NonFinite {
-            arg: "pass_band",
-            position: 0,
-        });
-    }
+    check::scalar("lambda", lambda)?;
+    check::scalar("pass_band", pass_band)?;
     if lambda <= T::ZERO {
         return Err(Error::InvalidParameter {
             arg: "lambda",

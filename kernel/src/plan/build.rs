@@ -96,21 +96,9 @@ fn prepare<T: Real, const D: usize>(
         ("work.indices", work.indices.len(), need.indices),
         ("work.bytes", work.bytes.len(), need.bytes),
     ] {
-        if have < needed {
-            return Err(Error::BufferTooSmall {
-                arg,
-                needed,
-                actual: have,
-            });
-        }
+        check::buffer(arg, have, needed)?;
     }
-    if spec.points.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "points",
-            expected: n,
-            actual: spec.points.len(),
-        });
-    }
+    check::len("points", spec.points.len(), n)?;
     if let Some(p) = crate::real::first_non_finite(spec.points) {
         return Err(Error::NonFinite {
             arg: "points",
@@ -147,13 +135,7 @@ fn prepare<T: Real, const D: usize>(
         }
     }
     if let Some(c) = &spec.constraints {
-        if c.len() != n {
-            return Err(Error::LengthMismatch {
-                arg: "constraints",
-                expected: n,
-                actual: c.len(),
-            });
-        }
+        check::len("constraints", c.len(), n)?;
         for (&k, &m) in c.kinds().iter().zip(mask.iter()) {
             match NodeKind::from_code(k) {
                 Some(NodeKind::Free) | Some(NodeKind::Fixed) => {}
@@ -254,13 +236,7 @@ pub(super) fn init<T: Real, const D: usize>(
         ("indices", indices.len(), sizes.indices),
         ("bytes", bytes.len(), sizes.bytes),
     ] {
-        if have < needed {
-            return Err(Error::BufferTooSmall {
-                arg,
-                needed,
-                actual: have,
-            });
-        }
+        check::buffer(arg, have, needed)?;
     }
     let sec = Sections::new(&counts)?;
     let k_first = spec

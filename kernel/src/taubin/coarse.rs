@@ -1,12 +1,11 @@
 //! The coarse-grid (multi-grid) variant of the structured filter (Alter §III.B, fig. 9).
 
 use crate::block::Block;
+use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
 
-use super::structured::{
-    check_finite, check_mask, is_pinned, sweep_core, BlockRegion, FilterReport, StructuredOptions,
-};
+use super::structured::{is_pinned, sweep_core, BlockRegion, FilterReport, StructuredOptions};
 use super::TaubinParams;
 
 /// How the smoothed coarse field is brought back to the fine grid.
@@ -272,25 +271,13 @@ pub fn smooth_structured_coarse<T: Real>(
     scratch: &mut [T],
 ) -> Result<FilterReport<T>> {
     let n = block.point_count();
-    if field.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "field",
-            expected: n,
-            actual: field.len(),
-        });
-    }
-    check_mask(options.pinned, n, "options.pinned")?;
+    check::len("field", field.len(), n)?;
+    check::mask("options.pinned", options.pinned, n)?;
     coarse.validate()?;
     let need = structured_coarse_scratch_len(block, coarse);
-    if scratch.len() < need {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed: need,
-            actual: scratch.len(),
-        });
-    }
+    check::buffer("scratch", scratch.len(), need)?;
     params.validate()?;
-    check_finite(field, "field")?;
+    check::finite("field", field)?;
     let pinned = options.pinned;
     coarse_core(
         block.dims(),

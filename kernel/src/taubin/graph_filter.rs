@@ -2,12 +2,13 @@
 
 use core::ops::Range;
 
+use crate::check;
 use crate::error::{Error, Result};
 use crate::graph::Graph;
 use crate::real::Real;
 use crate::vector;
 
-use super::structured::{check_mask, FilterReport};
+use super::structured::FilterReport;
 use super::TaubinParams;
 
 /// Optional inputs of the graph filter.
@@ -38,26 +39,9 @@ pub fn inverse_distance_weights<T: Real, const D: usize>(
     weights: &mut [T],
 ) -> Result<()> {
     let n = graph.node_count();
-    if points.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "points",
-            expected: n,
-            actual: points.len(),
-        });
-    }
-    if weights.len() != graph.edge_count() {
-        return Err(Error::LengthMismatch {
-            arg: "weights",
-            expected: graph.edge_count(),
-            actual: weights.len(),
-        });
-    }
-    if let Some(position) = crate::real::first_non_finite(points) {
-        return Err(Error::NonFinite {
-            arg: "points",
-            position,
-        });
-    }
+    check::len("points", points.len(), n)?;
+    check::len("weights", weights.len(), graph.edge_count())?;
+    check::finite_items("points", points)?;
     // Validate every edge before writing.
     for (i, _, row) in graph.rows() {
         let Some(&xi) = points.get(i) else { continue };
@@ -91,13 +75,7 @@ pub fn inverse_distance_weights<T: Real, const D: usize>(
 /// Validates the options against the graph.
 fn check_options<T: Real>(graph: &Graph<'_>, options: &GraphOptions<'_, T>) -> Result<()> {
     if let Some(w) = options.weights {
-        if w.len() != graph.edge_count() {
-            return Err(Error::LengthMismatch {
-                arg: "options.weights",
-                expected: graph.edge_count(),
-                actual: w.len(),
-            });
-        }
+        check::len("options.weights", w.len(), graph.edge_count())?;
         for (position, &x) in w.iter().enumerate() {
             if !x.is_finite() {
                 return Err(Error::NonFinite {
@@ -113,7 +91,7 @@ fn check_options<T: Real>(graph: &Graph<'_>, options: &GraphOptions<'_, T>) -> R
             }
         }
     }
-    check_mask(options.fixed, graph.node_count(), "options.fixed")
+    check::mask("options.fixed", options.fixed, graph.node_count())
 }
 
 /// One Jacobi pass: the graph, the options, the pass weight (λ or μ) and whether the largest
@@ -495,28 +473,11 @@ pub fn smooth_graph<T: Real, const V: usize>(
     scratch: &mut [[T; V]],
 ) -> Result<FilterReport<T>> {
     let n = graph.node_count();
-    if values.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "values",
-            expected: n,
-            actual: values.len(),
-        });
-    }
-    if scratch.len() < n {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed: n,
-            actual: scratch.len(),
-        });
-    }
+    check::len("values", values.len(), n)?;
+    check::buffer("scratch", scratch.len(), n)?;
     check_options(graph, options)?;
     params.validate()?;
-    if let Some(position) = crate::real::first_non_finite(values) {
-        return Err(Error::NonFinite {
-            arg: "values",
-            position,
-        });
-    }
+    check::finite_items("values", values)?;
     let mut last_change = T::ZERO;
     let plan = if iterations >= 2 {
         plan_fused(graph)
@@ -565,20 +526,8 @@ pub fn graph_sweep<T: Real, const V: usize>(
     nodes: Range<usize>,
 ) -> Result<T> {
     let n = graph.node_count();
-    if src.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "src",
-            expected: n,
-            actual: src.len(),
-        });
-    }
-    if dst.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "dst",
-            expected: n,
-            actual: dst.len(),
-        });
-    }
+    check::len("src", src.len(), n)?;
+    check::len("dst", dst.len(), n)?;
     if nodes.end > n {
         return Err(Error::IndexOutOfRange {
             arg: "nodes.end",
@@ -596,18 +545,8 @@ pub fn graph_sweep<T: Real, const V: usize>(
         });
     }
     check_options(graph, options)?;
-    if !weight.is_finite() {
-        return Err(Error::NonFinite {
-            arg: "weight",
-            position: 0,
-        });
-    }
-    if let Some(position) = crate::real::first_non_finite(src) {
-        return Err(Error::NonFinite {
-            arg: "src",
-            position,
-        });
-    }
+    check::scalar("weight", weight)?;
+    check::finite_items("src", src)?;
     let pass = Pass {
         graph,
         options,

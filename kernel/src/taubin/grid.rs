@@ -2,6 +2,7 @@
 //! → fold guard → redistribution along the original lines.
 
 use crate::block::{Block, Direction, Directions};
+use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
 
@@ -10,7 +11,7 @@ use super::lines::{
     arclength_core, check_increasing_core, line_collapsed, line_shape, max_stretching_core,
     redistribute_core,
 };
-use super::structured::{check_mask, is_pinned, sweep_core, BlockRegion};
+use super::structured::{is_pinned, sweep_core, BlockRegion};
 use super::TaubinParams;
 
 /// Settings of [`smooth_arclength`]. Build with [`SmoothOptions::new`] (the paper's values)
@@ -144,32 +145,15 @@ pub fn smooth_arclength<T: Real, const D: usize>(
 ) -> Result<SmoothReport<T>> {
     let direction = options.direction;
     let n = block.point_count();
-    if points.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "points",
-            expected: n,
-            actual: points.len(),
-        });
-    }
-    check_mask(options.pinned, n, "options.pinned")?;
+    check::len("points", points.len(), n)?;
+    check::mask("options.pinned", options.pinned, n)?;
     options.params.validate()?;
     if let Some(c) = &options.coarse {
         c.validate()?;
     }
     let need = smooth_arclength_scratch_len::<D>(block, direction, options.coarse.as_ref());
-    if scratch.len() < need {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed: need,
-            actual: scratch.len(),
-        });
-    }
-    if let Some(position) = crate::real::first_non_finite(points) {
-        return Err(Error::NonFinite {
-            arg: "points",
-            position,
-        });
-    }
+    check::buffer("scratch", scratch.len(), need)?;
+    check::finite_items("points", points)?;
     let dims = block.dims();
     let mirror = options.mirror.without(direction).flags();
     let pinned = options.pinned;

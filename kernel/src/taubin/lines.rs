@@ -4,11 +4,10 @@
 use core::cmp::Ordering;
 
 use crate::block::{Block, Direction};
+use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::vector;
-
-use super::structured::check_finite;
 
 /// The lines along `direction` of a block with dimensions `dims`: `(count, points per line,
 /// stride)`.
@@ -39,19 +38,8 @@ pub(crate) fn line_base(dims: [usize; 3], direction: Direction, l: usize) -> usi
 /// Checks a points array against the block.
 fn check_points<T: Real, const D: usize>(block: &Block, points: &[[T; D]]) -> Result<()> {
     let n = block.point_count();
-    if points.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "points",
-            expected: n,
-            actual: points.len(),
-        });
-    }
-    if let Some(position) = crate::real::first_non_finite(points) {
-        return Err(Error::NonFinite {
-            arg: "points",
-            position,
-        });
-    }
+    check::len("points", points.len(), n)?;
+    check::finite_items("points", points)?;
     Ok(())
 }
 
@@ -121,13 +109,7 @@ pub fn arclength<T: Real, const D: usize>(
     out: &mut [T],
 ) -> Result<()> {
     check_points(block, points)?;
-    if out.len() != block.point_count() {
-        return Err(Error::LengthMismatch {
-            arg: "out",
-            expected: block.point_count(),
-            actual: out.len(),
-        });
-    }
+    check::len("out", out.len(), block.point_count())?;
     arclength_core(block.dims(), points, direction, normalised, out);
     Ok(())
 }
@@ -320,22 +302,10 @@ pub fn redistribute<T: Real, const D: usize>(
 ) -> Result<T> {
     check_points(block, points)?;
     let n = block.point_count();
-    if targets.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "targets",
-            expected: n,
-            actual: targets.len(),
-        });
-    }
+    check::len("targets", targets.len(), n)?;
     let need = redistribute_scratch_len::<D>(block, direction);
-    if scratch.len() < need {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed: need,
-            actual: scratch.len(),
-        });
-    }
-    check_finite(targets, "targets")?;
+    check::buffer("scratch", scratch.len(), need)?;
+    check::finite("targets", targets)?;
     Ok(redistribute_core(
         block.dims(),
         points,
@@ -412,13 +382,7 @@ pub fn stretching<T: Real, const D: usize>(
     out: &mut [T],
 ) -> Result<()> {
     check_points(block, points)?;
-    if out.len() != block.point_count() {
-        return Err(Error::LengthMismatch {
-            arg: "out",
-            expected: block.point_count(),
-            actual: out.len(),
-        });
-    }
+    check::len("out", out.len(), block.point_count())?;
     for_each_stretching(block.dims(), points, direction, |p, r| {
         if let Some(o) = out.get_mut(p) {
             *o = r;
@@ -505,13 +469,7 @@ pub fn check_lines_increasing<T: Real, const D: usize>(
     points: Option<&[[T; D]]>,
 ) -> Result<()> {
     let n = block.point_count();
-    if field.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "field",
-            expected: n,
-            actual: field.len(),
-        });
-    }
+    check::len("field", field.len(), n)?;
     if let Some(pts) = points {
         check_points(block, pts)?;
     }

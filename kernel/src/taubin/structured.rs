@@ -1,6 +1,7 @@
 //! The structured scalar filter: Alter's stencils on a 1D/2D/3D block.
 
 use crate::block::{Block, Directions};
+use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
 
@@ -79,26 +80,6 @@ pub struct FilterReport<T> {
 /// Scratch length (in `T` values) for [`smooth_structured`]: one field, `point_count`.
 pub fn structured_scratch_len(block: &Block) -> usize {
     block.point_count()
-}
-
-/// Index of the first non-finite value.
-pub(crate) fn check_finite<T: Real>(values: &[T], arg: &'static str) -> Result<()> {
-    match values.iter().position(|v| !v.is_finite()) {
-        Some(position) => Err(Error::NonFinite { arg, position }),
-        None => Ok(()),
-    }
-}
-
-/// Checks an optional per-point mask length.
-pub(crate) fn check_mask(mask: Option<&[u8]>, n: usize, arg: &'static str) -> Result<()> {
-    match mask {
-        Some(m) if m.len() != n => Err(Error::LengthMismatch {
-            arg,
-            expected: n,
-            actual: m.len(),
-        }),
-        _ => Ok(()),
-    }
 }
 
 /// Whether point `p` is pinned.
@@ -404,23 +385,11 @@ pub fn smooth_structured<T: Real>(
     scratch: &mut [T],
 ) -> Result<FilterReport<T>> {
     let n = block.point_count();
-    if field.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "field",
-            expected: n,
-            actual: field.len(),
-        });
-    }
-    check_mask(options.pinned, n, "options.pinned")?;
-    if scratch.len() < n {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed: n,
-            actual: scratch.len(),
-        });
-    }
+    check::len("field", field.len(), n)?;
+    check::mask("options.pinned", options.pinned, n)?;
+    check::buffer("scratch", scratch.len(), n)?;
     params.validate()?;
-    check_finite(field, "field")?;
+    check::finite("field", field)?;
     let pinned = options.pinned;
     Ok(filter_core(
         block.dims(),
@@ -454,29 +423,12 @@ pub fn structured_sweep<T: Real>(
     region: &BlockRegion,
 ) -> Result<T> {
     let n = block.point_count();
-    if src.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "src",
-            expected: n,
-            actual: src.len(),
-        });
-    }
-    if dst.len() != n {
-        return Err(Error::LengthMismatch {
-            arg: "dst",
-            expected: n,
-            actual: dst.len(),
-        });
-    }
-    check_mask(options.pinned, n, "options.pinned")?;
+    check::len("src", src.len(), n)?;
+    check::len("dst", dst.len(), n)?;
+    check::mask("options.pinned", options.pinned, n)?;
     region.validate(block.dims())?;
-    if !weight.is_finite() {
-        return Err(Error::NonFinite {
-            arg: "weight",
-            position: 0,
-        });
-    }
-    check_finite(src, "src")?;
+    check::scalar("weight", weight)?;
+    check::finite("src", src)?;
     let pinned = options.pinned;
     Ok(sweep_core(
         block.dims(),
