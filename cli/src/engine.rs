@@ -613,8 +613,8 @@ pub fn run_move_sliding(
     sliding: &[SlideMarker<'_>],
 ) -> Result<MoveResult, CliError> {
     match input.dim {
-        2 => move_d::<2, 6>(input, sliding),
-        3 => move_d::<3, 7>(input, sliding),
+        2 => move_d::<2>(input, sliding),
+        3 => move_d::<3>(input, sliding),
         d => Err(CliError::Invalid(format!("dimension {d} is not 2 or 3"))),
     }
 }
@@ -795,7 +795,7 @@ impl AmgStorage {
     }
 }
 
-fn move_d<const D: usize, const V: usize>(
+fn move_d<const D: usize>(
     input: &MoveInput<'_>,
     sliding: &[SlideMarker<'_>],
 ) -> Result<MoveResult, CliError> {
@@ -1135,8 +1135,8 @@ fn move_d<const D: usize, const V: usize>(
                     .map(|s| s.collective(input.points, g.offsets(), g.targets()));
                 let solver = split_solver(solver, collective.as_deref());
                 let mut scratch = vec![0.0; deform_spring_scratch_len::<D>(n, boundary.len())];
-                let mut values = vec![[0.0; V]; propagate_spring_with_scratch_len(&solver, n)];
-                let (o, report) = deform_spring_with::<f64, D, V>(
+                let mut values = vec![0.0; propagate_spring_with_scratch_len::<D>(&solver, n)];
+                let (o, report) = deform_spring_with::<f64, D>(
                     &pts,
                     &motion,
                     &sys,

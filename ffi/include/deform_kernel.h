@@ -1237,8 +1237,8 @@ dk_status dk_deform_localize_nodes(size_t node_count,
 
 // Sizes for [`dk_deform_spring`]: `*scratch_len_out` scalars of `scratch` (as
 // [`dk_deform_idw_scratch_len`]) and `*values_len_out` scalars of the packed `values`
-// workspace (the kernel's `propagate_spring_scratch_len` items of `dim + 4` scalars; depends
-// on `options->method`). The same for both precisions. Errors: `DK_ERR_INVALID_PARAMETER`
+// workspace (the kernel's `propagate_spring_scratch_len`: `dim + 4` scalars a node plus the
+// solver's; depends on `options->method`). The same for both precisions. Errors: `DK_ERR_INVALID_PARAMETER`
 // (`dim`, method, or the two outputs are one pointer), `DK_ERR_TOO_LARGE`; nothing is
 // written on error.
 //
@@ -1360,8 +1360,8 @@ dk_status dk_deform_spring_f32(const float *points,
                                dk_spring_solve_report *report);
 
 // Number of scalars the packed `values` workspace of [`dk_deform_propagate_spring`] needs:
-// the kernel's `propagate_spring_scratch_len(method, node_count)` items of `dim + 4`
-// scalars. Errors: `DK_ERR_INVALID_PARAMETER` (`dim`, method), `DK_ERR_TOO_LARGE`.
+// the kernel's `propagate_spring_scratch_len(method, node_count)` (`dim + 4` scalars a node
+// plus the solver's). Errors: `DK_ERR_INVALID_PARAMETER` (`dim`, method), `DK_ERR_TOO_LARGE`.
 //
 // # Safety
 // `options` points to one readable `dk_spring_solve_options`; `len_out` to one writable

@@ -36,13 +36,11 @@ use deform_kernel::spring::SpringSystem;
 use deform_kernel::{Block, Cells, Directions, Quat, Real};
 
 use crate::args::{
-    assert_layout, block, check_base, done, graph, index_need, mul_len, read_array, read_one,
-    read_points, rebase, write_len,
+    assert_layout, block, check_base, done, graph, index_need, read_array, read_one, read_points,
+    rebase, write_len,
 };
 use crate::graph::read_optional_cells;
-use crate::slice::{
-    chunks, chunks_mut, input, out_one, output, quats, quats_mut, whole_chunks_mut, In, Out,
-};
+use crate::slice::{chunks, chunks_mut, input, out_one, output, quats, quats_mut, In, Out};
 use crate::spring::{dk_spring_solve_options, dk_spring_solve_report};
 use crate::status::dk_status;
 
@@ -184,18 +182,17 @@ assert_layout!(
 // Private plumbing
 // ---------------------------------------------------------------------------------------------
 
-/// A piece of work generic over the point dimension `D` and the packed spring value width
-/// `V = D + 4` (unused by most jobs).
+/// A piece of work generic over the point dimension `D`.
 trait ByDim: Sized {
-    fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status>;
+    fn run<const D: usize>(self) -> Result<(), dk_status>;
 }
 
 /// Runs `job` for `dim` 2 or 3; any other `dim` is `DK_ERR_INVALID_PARAMETER` (as in the
 /// other modules of the ABI).
 fn by_dim(dim: u32, job: impl ByDim) -> dk_status {
     done(match dim {
-        2 => job.run::<2, 6>(),
-        3 => job.run::<3, 7>(),
+        2 => job.run::<2>(),
+        3 => job.run::<3>(),
         _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
     })
 }
@@ -461,7 +458,7 @@ struct Idw<'a, M: MotionC> {
 }
 
 impl<'a, M: MotionC> ByDim for Idw<'a, M> {
-    fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
+    fn run<const D: usize>(self) -> Result<(), dk_status> {
         let raw = read_raw(self.motion)?;
         let points = read_points::<M::T, D>(self.points)?;
         let b = self.bufs.borrow::<D>()?;
@@ -494,7 +491,7 @@ struct Tfi<'a, M: MotionC> {
 }
 
 impl<'a, M: MotionC> ByDim for Tfi<'a, M> {
-    fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
+    fn run<const D: usize>(self) -> Result<(), dk_status> {
         let [ni, nj, nk] = self.dims;
         let (block, directions) = tfi_setup(ni, nj, nk, self.directions)?;
         let raw = read_raw(self.motion)?;
@@ -554,7 +551,7 @@ struct Normals<'a, T> {
 }
 
 impl<'a, T: Real> ByDim for Normals<'a, T> {
-    fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
+    fn run<const D: usize>(self) -> Result<(), dk_status> {
         let points = read_points::<T, D>(self.points)?;
         let cells = self.elements.read(points.len())?;
         let scratch = output(self.scratch)?;
@@ -572,7 +569,7 @@ struct Rotations<'a, T> {
 }
 
 impl<'a, T: Real> ByDim for Rotations<'a, T> {
-    fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
+    fn run<const D: usize>(self) -> Result<(), dk_status> {
         let u = read_points::<T, D>(self.undeformed)?;
         let d = read_points::<T, D>(self.deformed)?;
         let cells = self.elements.read(u.len())?;
@@ -597,7 +594,7 @@ struct Origin<'a, T> {
 }
 
 impl<'a, T: Real> ByDim for Origin<'a, T> {
-    fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
+    fn run<const D: usize>(self) -> Result<(), dk_status> {
         let u = read_points::<T, D>(self.undeformed)?;
         let d = read_points::<T, D>(self.deformed)?;
         if self.origin_out.len() != D {
@@ -619,7 +616,7 @@ struct Translations<'a, T> {
 }
 
 impl<'a, T: Real> ByDim for Translations<'a, T> {
-    fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
+    fn run<const D: usize>(self) -> Result<(), dk_status> {
         let origin = read_array::<T, D>(self.origin)?;
         let u = read_points::<T, D>(self.undeformed)?;
         let d = read_points::<T, D>(self.deformed)?;
@@ -644,7 +641,7 @@ struct PropIdw<'a, T> {
 }
 
 impl<'a, T: Real> ByDim for PropIdw<'a, T> {
-    fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
+    fn run<const D: usize>(self) -> Result<(), dk_status> {
         let points = read_points::<T, D>(self.points)?;
         let boundary = input(self.boundary)?;
         let scratch = output(self.index_scratch)?;
@@ -667,7 +664,7 @@ struct PropTfi<'a, T> {
 }
 
 impl<'a, T: Real> ByDim for PropTfi<'a, T> {
-    fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
+    fn run<const D: usize>(self) -> Result<(), dk_status> {
         let [ni, nj, nk] = self.dims;
         let (block, directions) = tfi_setup(ni, nj, nk, self.directions)?;
         let points = read_points::<T, D>(self.points)?;
@@ -695,7 +692,7 @@ struct Update<'a, T> {
 }
 
 impl<'a, T: Real> ByDim for Update<'a, T> {
-    fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
+    fn run<const D: usize>(self) -> Result<(), dk_status> {
         let origin = read_array::<T, D>(self.origin)?;
         let points = read_points::<T, D>(self.points)?;
         let t = chunks::<T, D>(self.translations)?;
@@ -717,8 +714,8 @@ impl<'a, T: Real> ByDim for Update<'a, T> {
 // Springs (options and report types from the spring module)
 // ---------------------------------------------------------------------------------------------
 
-/// Number of scalars of the packed `values` workspace of the spring propagation:
-/// `propagate_spring_scratch_len` items of `dim + 4` scalars.
+/// Number of scalars of the packed `values` workspace of the spring propagation (the
+/// kernel's `propagate_spring_scratch_len`).
 fn spring_values_len(
     node_count: usize,
     dim: u32,
@@ -726,17 +723,16 @@ fn spring_values_len(
 ) -> Result<usize, dk_status> {
     let o = read_one(options)?;
     let method = o.method::<f64>()?;
-    let v = match dim {
-        2 => 6usize,
-        3 => 7,
+    let len = match dim {
+        2 => propagate_spring_scratch_len::<2>(&method, node_count),
+        3 => propagate_spring_scratch_len::<3>(&method, node_count),
         _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
     };
-    // The kernel's item count saturates; a saturated count is too large to allocate anyway.
-    let items = propagate_spring_scratch_len(&method, node_count);
-    if items == usize::MAX {
+    // The kernel's length saturates; a saturated length is too large to allocate anyway.
+    if len == usize::MAX {
         return Err(dk_status::DK_ERR_TOO_LARGE);
     }
-    mul_len(items, v)
+    Ok(len)
 }
 
 /// The arguments describing a spring system (0-based CSR graph, per-edge stiffness, fixed
@@ -786,15 +782,14 @@ struct Spring<'a, M: MotionC> {
 }
 
 impl<'a, M: MotionC> ByDim for Spring<'a, M> {
-    fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
+    fn run<const D: usize>(self) -> Result<(), dk_status> {
         let o = read_one(self.options)?;
         let method = o.method::<M::T>()?;
         let stop = o.stopping::<M::T>();
         let raw = read_raw(self.motion)?;
         let points = read_points::<M::T, D>(self.points)?;
         let b = self.bufs.borrow::<D>()?;
-        // Only whole items of the values workspace are used.
-        let values = whole_chunks_mut::<M::T, V>(self.values)?;
+        let values = output(self.values)?;
         let report = out_one(self.report)?;
         let (motion, rest) = raw.view::<D>(b.index_scratch)?;
         let sys = self.system.build(rest)?;
@@ -828,12 +823,12 @@ struct PropSpring<'a, T> {
 }
 
 impl<'a, T: Real> ByDim for PropSpring<'a, T> {
-    fn run<const D: usize, const V: usize>(self) -> Result<(), dk_status> {
+    fn run<const D: usize>(self) -> Result<(), dk_status> {
         let o = read_one(self.options)?;
         let method = o.method::<T>()?;
         let stop = o.stopping::<T>();
         let s = output(self.index_scratch)?;
-        let values = whole_chunks_mut::<T, V>(self.values)?;
+        let values = output(self.values)?;
         let t = chunks_mut::<T, D>(self.translations)?;
         let q = quats_mut(self.rotations)?;
         let report = out_one(self.report)?;

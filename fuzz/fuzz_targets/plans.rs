@@ -314,8 +314,8 @@ fuzz_target!(|inp: Input| {
                 let mut t = vec![[0.0; 2]; n];
                 let mut r = vec![Quat::identity(); n];
                 let mut sc = vec![0.0; deform_spring_scratch_len::<2>(n, boundary.len())];
-                let mut v = vec![[0.0; 6]; propagate_spring_with_scratch_len(&ls, n)];
-                deform_spring_with::<f64, 2, 6>(
+                let mut v = vec![0.0; propagate_spring_with_scratch_len::<2>(&ls, n)];
+                deform_spring_with::<f64, 2>(
                     &points,
                     &bm,
                     &sys,

@@ -335,8 +335,8 @@ fn deformation_hash<T: Real>(m: &Mesh<T>, sys: &SpringSystem<'_, T>) -> u64 {
     let method = LinearMethod::Cg {
         preconditioner: Preconditioner::Jacobi,
     };
-    let mut values = [[T::ZERO; 6]; 6 * N];
-    let vlen = propagate_spring_scratch_len(&method, N).min(values.len());
+    let mut values = [T::ZERO; 36 * N];
+    let vlen = propagate_spring_scratch_len::<2>(&method, N).min(values.len());
     let slen = deform_spring_scratch_len::<2>(N, NB).min(scratch.len());
     let mut out = [[T::ZERO; 2]; N];
     match deform_spring(

@@ -149,7 +149,7 @@ fn stateless(c: &Case, method: PlanMethod, period: usize) -> (Duration, Duration
     let mut t = vec![[0.0; 2]; n];
     let mut q = vec![Quat::identity(); n];
     let mut sc = vec![0.0; deform_spring_scratch_len::<2>(n, c.nodes.len())];
-    let mut v6: Vec<[f64; 6]> = Vec::new();
+    let mut packed: Vec<f64> = Vec::new();
     let mut v2: Vec<[f64; 2]> = Vec::new();
     let mut x = vec![[0.0; 2]; n];
     let mut out = vec![[0.0; 2]; n];
@@ -181,7 +181,7 @@ fn stateless(c: &Case, method: PlanMethod, period: usize) -> (Duration, Duration
                 r
             }
             PlanMethod::QuaternionSpring => {
-                v6.resize(propagate_spring_with_scratch_len(&ls, n), [0.0; 6]);
+                packed.resize(propagate_spring_with_scratch_len::<2>(&ls, n), 0.0);
                 let motion = BoundaryMotion {
                     nodes: &c.nodes,
                     deformed: &d,
@@ -189,7 +189,7 @@ fn stateless(c: &Case, method: PlanMethod, period: usize) -> (Duration, Duration
                     rotations: RotationSource::Shape,
                     origin: None,
                 };
-                deform_spring_with::<f64, 2, 6>(
+                deform_spring_with::<f64, 2>(
                     &c.points,
                     &motion,
                     &sys,
@@ -198,7 +198,7 @@ fn stateless(c: &Case, method: PlanMethod, period: usize) -> (Duration, Duration
                     &mut t,
                     &mut q,
                     &mut sc,
-                    &mut v6,
+                    &mut packed,
                     &mut out,
                 )
                 .unwrap()

@@ -213,7 +213,7 @@ fn pipelines<T: Real>(
         preconditioner: Preconditioner::Jacobi,
     };
     let mut scratch = vec![T::ZERO; deform_spring_scratch_len::<2>(N, NB)];
-    let mut values = vec![[T::ZERO; 6]; propagate_spring_scratch_len(&method, N)];
+    let mut values = vec![T::ZERO; propagate_spring_scratch_len::<2>(&method, N)];
     let mut spring = vec![[T::ZERO; 2]; N];
     let (spring_origin, report) = deform_spring(
         &points,

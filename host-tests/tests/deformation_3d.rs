@@ -131,7 +131,7 @@ fn deform_both(
     let cg = LinearMethod::Cg {
         preconditioner: Preconditioner::Jacobi,
     };
-    let mut values = vec![[0.0; 7]; propagate_spring_scratch_len(&cg, n)];
+    let mut values = vec![0.0; propagate_spring_scratch_len::<3>(&cg, n)];
     let mut s = vec![0.0; deform_spring_scratch_len::<3>(n, nodes.len())];
     let mut spring_run = |motion: &BoundaryMotion<'_, f64, 3>, out: &mut [[f64; 3]]| {
         let (_, rep) = deform_spring(

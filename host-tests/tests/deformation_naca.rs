@@ -183,7 +183,7 @@ fn run_mesh(name: &'static str, mesh: &Mesh2, rows: &mut Vec<Row>) {
         ));
 
         let mut s = vec![0.0; deform_spring_scratch_len::<2>(n, bl)];
-        let mut values = vec![[0.0; 6]; propagate_spring_scratch_len(&cg, n)];
+        let mut values = vec![0.0; propagate_spring_scratch_len::<2>(&cg, n)];
         let (_, rep) = deform_spring(
             &mesh.points,
             &motion,

@@ -247,7 +247,7 @@ fn cg<T: Real>() -> PlanSolver<T> {
 
 /// The stateless quaternion pipeline at step `s` (cold start: the mean of the boundary
 /// values), with the same hierarchy options.
-fn stateless_quaternion<T: Real, const D: usize, const V: usize>(
+fn stateless_quaternion<T: Real, const D: usize>(
     c: &Case<T, D>,
     solver: &PlanSolver<T>,
     s: usize,
@@ -282,9 +282,9 @@ fn stateless_quaternion<T: Real, const D: usize, const V: usize>(
     let mut t = vec![[T::ZERO; D]; n];
     let mut q = vec![Quat::identity(); n];
     let mut sc = vec![T::ZERO; deform_spring_scratch_len::<D>(n, c.nodes.len())];
-    let mut v = vec![[T::ZERO; V]; propagate_spring_with_scratch_len(&ls, n)];
+    let mut v = vec![T::ZERO; propagate_spring_with_scratch_len::<D>(&ls, n)];
     let mut out = vec![[T::ZERO; D]; n];
-    let (_, rep) = deform_spring_with::<T, D, V>(
+    let (_, rep) = deform_spring_with::<T, D>(
         &c.points,
         &motion,
         &sys,
@@ -313,7 +313,7 @@ fn quaternion_cold_equals_stateless<T: Real>(solver: PlanSolver<T>) {
             ..PlanMotion::new(&deformed)
         };
         let rep = plan.step(&motion, &mut out).unwrap();
-        let (expect, erep) = stateless_quaternion::<T, 2, 6>(&c, &solver, s, 20);
+        let (expect, erep) = stateless_quaternion::<T, 2>(&c, &solver, s, 20);
         assert_eq!(bits(&out), bits(&expect), "step {s}");
         assert_eq!(rep.solve.iterations, erep.iterations);
         assert!(!rep.warm && rep.solve.converged && rep.step == s as u64);
@@ -480,7 +480,7 @@ fn quaternion_warm<T: Real>(solver: PlanSolver<T>, name: &str, tol: f64, period:
         let deformed = c.pitched(s, period);
         let rep: StepReport<T, 2> = plan.step(&PlanMotion::new(&deformed), &mut out).unwrap();
         assert!(rep.solve.converged);
-        let (expect, erep) = stateless_quaternion::<T, 2, 6>(&c, &solver, s, period);
+        let (expect, erep) = stateless_quaternion::<T, 2>(&c, &solver, s, period);
         for (a, b) in out.iter().zip(&expect) {
             for (x, y) in a.iter().zip(b) {
                 max_diff = max_diff.max((x.to_f64() - y.to_f64()).abs());
@@ -930,7 +930,7 @@ fn three_dimensional_plans_equal_the_stateless_calls() {
             .unwrap()
             .step(&motion, &mut out)
             .unwrap();
-        let (expect, erep) = stateless_quaternion::<f64, 3, 7>(&c, &solver, s, 20);
+        let (expect, erep) = stateless_quaternion::<f64, 3>(&c, &solver, s, 20);
         assert_eq!(bits(&out), bits(&expect), "step {s}");
         assert_eq!(rep.solve.iterations, erep.iterations);
     }

@@ -307,7 +307,7 @@ fn spring_propagation_of_huge_translations() {
         let m = LinearMethod::Cg {
             preconditioner: Preconditioner::Jacobi,
         };
-        let mut scratch = vec![[T::ZERO; 6]; propagate_spring_scratch_len(&m, n)];
+        let mut scratch = vec![T::ZERO; propagate_spring_scratch_len::<2>(&m, n)];
         let rep = propagate_spring(
             &sys,
             m,

@@ -375,7 +375,7 @@ pub fn deform_tfi<T: Real, const D: usize>(
 }
 
 /// Length of the `scratch` slice [`deform_spring`] needs: `max(N, rotation scratch)` (its
-/// `values` workspace needs [`propagate_spring_scratch_len`](super::propagate_spring_scratch_len) items).
+/// `values` workspace needs [`propagate_spring_scratch_len`](super::propagate_spring_scratch_len) scalars).
 #[inline]
 pub fn deform_spring_scratch_len<const D: usize>(node_count: usize, boundary_len: usize) -> usize {
     deform_idw_scratch_len::<D>(node_count, boundary_len)
@@ -388,17 +388,17 @@ pub fn deform_spring_scratch_len<const D: usize>(node_count: usize, boundary_len
 /// solver did not converge (check the report).
 ///
 /// `scratch` needs [`deform_spring_scratch_len`] entries and `values`
-/// [`propagate_spring_scratch_len`](super::propagate_spring_scratch_len) items, with `V = D + 4`. On error `out` is unchanged; solver
-/// errors are detected after the boundary entries of `translations` and `rotations` were
-/// written.
+/// [`propagate_spring_scratch_len`](super::propagate_spring_scratch_len) scalars. On error
+/// `out` is unchanged; solver errors are detected after the boundary entries of
+/// `translations` and `rotations` were written.
 ///
 /// # Errors
-/// Those of [`deform_idw`] for the motion and points; `V != D + 4` or a system whose fixed mask
-/// differs from `motion.nodes` ([`Error::InvalidParameter`]); buffers too short
+/// Those of [`deform_idw`] for the motion and points; a system whose fixed mask differs from
+/// `motion.nodes` ([`Error::InvalidParameter`]); buffers too short
 /// ([`Error::BufferTooSmall`]); the solver's errors ([`Error::SingularSystem`],
 /// [`Error::Overflow`]).
 #[allow(clippy::too_many_arguments)]
-pub fn deform_spring<T: Real, const D: usize, const V: usize>(
+pub fn deform_spring<T: Real, const D: usize>(
     points: &[[T; D]],
     motion: &BoundaryMotion<'_, T, D>,
     sys: &SpringSystem<'_, T>,
@@ -407,7 +407,7 @@ pub fn deform_spring<T: Real, const D: usize, const V: usize>(
     translations: &mut [[T; D]],
     rotations: &mut [Quat<T>],
     scratch: &mut [T],
-    values: &mut [[T; V]],
+    values: &mut [T],
     out: &mut [[T; D]],
 ) -> Result<([T; D], SolveReport<T>)> {
     deform_spring_with(
@@ -426,13 +426,13 @@ pub fn deform_spring<T: Real, const D: usize, const V: usize>(
 
 /// [`deform_spring`] with any linear-spring solver, e.g. the multigrid-preconditioned CG
 /// ([`LinearSolver::Amg`], hierarchy built for `sys`); `values` needs
-/// [`propagate_spring_with_scratch_len`](super::propagate_spring_with_scratch_len) items.
+/// [`propagate_spring_with_scratch_len`](super::propagate_spring_with_scratch_len) scalars.
 /// Otherwise identical.
 ///
 /// # Errors
 /// Those of [`deform_spring`], and a hierarchy built for another system.
 #[allow(clippy::too_many_arguments)]
-pub fn deform_spring_with<T: Real, const D: usize, const V: usize>(
+pub fn deform_spring_with<T: Real, const D: usize>(
     points: &[[T; D]],
     motion: &BoundaryMotion<'_, T, D>,
     sys: &SpringSystem<'_, T>,
@@ -441,21 +441,15 @@ pub fn deform_spring_with<T: Real, const D: usize, const V: usize>(
     translations: &mut [[T; D]],
     rotations: &mut [Quat<T>],
     scratch: &mut [T],
-    values: &mut [[T; V]],
+    values: &mut [T],
     out: &mut [[T; D]],
 ) -> Result<([T; D], SolveReport<T>)> {
     validate_unstructured(points, motion, translations, rotations, scratch, out)?;
     check::len("sys", sys.node_count(), points.len())?;
-    if V != D + 4 {
-        return Err(Error::InvalidParameter {
-            arg: "V",
-            reason: "must be D + 4 (translation and quaternion components)",
-        });
-    }
     check::buffer(
         "values",
         values.len(),
-        propagate_spring_with_scratch_len(&solver, points.len()),
+        propagate_spring_with_scratch_len::<D>(&solver, points.len()),
     )?;
     for (m, &f) in scratch.iter().zip(sys.fixed()) {
         if (*m != T::ZERO) != crate::spring::is_fixed(f) {

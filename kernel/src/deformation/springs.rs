@@ -1,4 +1,5 @@
-//! Linear-spring propagation of `(Δ, Q)`: one solve with `V = D + 4` values per node.
+//! Linear-spring propagation of `(Δ, Q)`: one solve with `V = D + 4` values per node. `V` is
+//! internal: callers pass a flat scalar workspace, sized by the `_scratch_len` functions.
 
 use super::propagate::check_boundary_entries;
 use crate::check;
@@ -10,21 +11,29 @@ use crate::spring::{
     SolveReport, SpringSystem,
 };
 
-/// Number of `[T; V]` scratch items [`propagate_spring`] needs: `N` for the packed values plus
+/// Scalars of scratch [`propagate_spring`] needs in dimension `D`: `D + 4` per item, `N` items
+/// for the packed `(Δ, Q)` values plus
 /// [`solve_linear_scratch_len`](crate::spring::solve_linear_scratch_len) for the solver.
+/// Call as `propagate_spring_scratch_len::<2>(&method, n)`.
 #[inline]
-pub fn propagate_spring_scratch_len<T: Real>(method: &LinearMethod<T>, node_count: usize) -> usize {
-    propagate_spring_with_scratch_len(&LinearSolver::Method(*method), node_count)
-}
-
-/// Number of `[T; V]` scratch items [`propagate_spring_with`] needs: `N` for the packed values
-/// plus [`solve_linear_with_scratch_len`] for the solver.
-#[inline]
-pub fn propagate_spring_with_scratch_len<T: Real>(
-    solver: &LinearSolver<'_, T>,
+pub fn propagate_spring_scratch_len<const D: usize>(
+    method: &LinearMethod<impl Real>,
     node_count: usize,
 ) -> usize {
-    node_count.saturating_add(solve_linear_with_scratch_len(solver, node_count))
+    propagate_spring_with_scratch_len::<D>(&LinearSolver::Method(*method), node_count)
+}
+
+/// Scalars of scratch [`propagate_spring_with`] needs in dimension `D`: `D + 4` per item, `N`
+/// items for the packed values plus [`solve_linear_with_scratch_len`] for the solver.
+#[inline]
+pub fn propagate_spring_with_scratch_len<const D: usize>(
+    solver: &LinearSolver<'_, impl Real>,
+    node_count: usize,
+) -> usize {
+    check::mesh_dim::<D>();
+    node_count
+        .saturating_add(solve_linear_with_scratch_len(solver, node_count))
+        .saturating_mul(D + 4)
 }
 
 /// Propagates translations and rotations through a linear spring network (Samareh: "the
@@ -39,20 +48,20 @@ pub fn propagate_spring_with_scratch_len<T: Real>(
 /// the free nodes start from the mean of the fixed values, and after the solve every free
 /// node's quaternion is renormalised. Fixed entries are never written.
 ///
-/// `scratch` needs [`propagate_spring_scratch_len`] items. Returns the solver's report (check
-/// `converged`).
+/// `scratch` needs [`propagate_spring_scratch_len`] scalars. Returns the solver's report
+/// (check `converged`).
 ///
 /// # Errors
-/// `V != D + 4`, length mismatches, no fixed node, non-finite or zero boundary values,
+/// Length mismatches, a short `scratch`, no fixed node, non-finite or zero boundary values,
 /// the solver's errors, and [`Error::ZeroLength`] (`"rotations"`, position = node) if a solved
 /// quaternion cancels to zero. On error `translations` and `rotations` are unchanged.
-pub fn propagate_spring<T: Real, const D: usize, const V: usize>(
+pub fn propagate_spring<T: Real, const D: usize>(
     sys: &SpringSystem<'_, T>,
     method: LinearMethod<T>,
     options: &SolveOptions<T>,
     translations: &mut [[T; D]],
     rotations: &mut [Quat<T>],
-    scratch: &mut [[T; V]],
+    scratch: &mut [T],
 ) -> Result<SolveReport<T>> {
     propagate_spring_with(
         sys,
@@ -66,33 +75,46 @@ pub fn propagate_spring<T: Real, const D: usize, const V: usize>(
 
 /// [`propagate_spring`] with any linear-spring solver, e.g. the multigrid-preconditioned CG
 /// ([`LinearSolver::Amg`], hierarchy built for `sys`). `scratch` needs
-/// [`propagate_spring_with_scratch_len`] items; otherwise identical.
+/// [`propagate_spring_with_scratch_len`] scalars; otherwise identical.
 ///
 /// # Errors
 /// Those of [`propagate_spring`], and a hierarchy built for another system.
-pub fn propagate_spring_with<T: Real, const D: usize, const V: usize>(
+pub fn propagate_spring_with<T: Real, const D: usize>(
     sys: &SpringSystem<'_, T>,
     solver: LinearSolver<'_, T>,
     options: &SolveOptions<T>,
     translations: &mut [[T; D]],
     rotations: &mut [Quat<T>],
-    scratch: &mut [[T; V]],
+    scratch: &mut [T],
 ) -> Result<SolveReport<T>> {
     check::mesh_dim::<D>();
-    if V != D + 4 {
-        return Err(Error::InvalidParameter {
-            arg: "V",
-            reason: "must be D + 4 (translation and quaternion components)",
-        });
-    }
     let n = sys.node_count();
     check::len("translations", translations.len(), n)?;
     check::len("rotations", rotations.len(), n)?;
     check::buffer(
         "scratch",
         scratch.len(),
-        propagate_spring_with_scratch_len(&solver, n),
+        propagate_spring_with_scratch_len::<D>(&solver, n),
     )?;
+    // The packed solve has `V = D + 4` values per node: a compile-time choice per `D`.
+    if D == 2 {
+        propagate_packed::<T, D, 6>(sys, solver, options, translations, rotations, scratch)
+    } else {
+        propagate_packed::<T, D, 7>(sys, solver, options, translations, rotations, scratch)
+    }
+}
+
+/// [`propagate_spring_with`] on `V = D + 4` values per node, after its length checks.
+fn propagate_packed<T: Real, const D: usize, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    solver: LinearSolver<'_, T>,
+    options: &SolveOptions<T>,
+    translations: &mut [[T; D]],
+    rotations: &mut [Quat<T>],
+    scratch: &mut [T],
+) -> Result<SolveReport<T>> {
+    let n = sys.node_count();
+    let scratch = scratch.as_chunks_mut::<V>().0;
     // Validate the fixed entries.
     let mut first_fixed = None;
     for (i, &m) in sys.fixed().iter().enumerate() {

@@ -479,15 +479,15 @@ fn spring_deformation<T: Real>(meter: &mut Meter) {
             rotations: RotationSource::Rigid(Quat::identity()),
             origin: None,
         };
-        // Gauss–Seidel: no solver scratch, so `values` is only N items (CG would need 6 N).
+        // Gauss–Seidel: no solver scratch, so `values` is only N items of 6 scalars (CG needs 6 N items).
         let method = LinearMethod::GaussSeidel;
         let mut t = [[T::ZERO; 2]; SN];
         let mut q = [Quat::identity(); SN];
         let mut s = [T::ZERO; 3 * SB];
-        let mut v = [[T::ZERO; 6]; SN];
+        let mut v = [T::ZERO; 6 * SN];
         let mut out = [[T::ZERO; 2]; SN];
         let slen = deform_spring_scratch_len::<2>(SN, SB).min(s.len());
-        let vlen = propagate_spring_scratch_len(&method, SN).min(v.len());
+        let vlen = propagate_spring_scratch_len::<2>(&method, SN).min(v.len());
         let opts = SolveOptions::default();
         let name = tagged::<T>(
             "deform_spring (20 nodes) f32",

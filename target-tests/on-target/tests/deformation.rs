@@ -83,8 +83,8 @@ fn run<T: Real>(
             let method = LinearMethod::Cg {
                 preconditioner: Preconditioner::Jacobi,
             };
-            let mut values = [[T::ZERO; 6]; 6 * N];
-            let vlen = propagate_spring_scratch_len(&method, N);
+            let mut values = [T::ZERO; 36 * N];
+            let vlen = propagate_spring_scratch_len::<2>(&method, N);
             let len = deform_spring_scratch_len::<2>(N, motion.nodes.len());
             let (_, r) = deform_spring(
                 &m.points,

@@ -240,8 +240,8 @@ fn quaternion_plan<T: Real>() {
         let mut r = [Quat::identity(); N];
         let mut sc = [T::ZERO; 3 * NB + N];
         let sl = deform_spring_scratch_len::<2>(N, NB);
-        let mut v = [[T::ZERO; 6]; 6 * N];
-        let (_, erep) = deform_spring_with::<T, 2, 6>(
+        let mut v = [T::ZERO; 36 * N];
+        let (_, erep) = deform_spring_with::<T, 2>(
             &m.points,
             &bm,
             &sys,

@@ -203,14 +203,14 @@ fn run<T: Real, const D: usize, const V: usize>() {
                     LinearMethod::GaussSeidel
                 };
                 let options = bb(SolveOptions::default());
-                keep(propagate_spring_scratch_len(&method, bb(N)));
+                keep(propagate_spring_scratch_len::<D>(&method, bb(N)));
                 keep(propagate_spring(
                     &sys,
                     method,
                     &options,
                     bb(&mut trans[..]),
                     bb(&mut rot[..]),
-                    bb(&mut values[..]),
+                    bb(values.as_flattened_mut()),
                 ));
                 keep(deform_spring(
                     &points,
@@ -221,7 +221,7 @@ fn run<T: Real, const D: usize, const V: usize>() {
                     bb(&mut trans[..]),
                     bb(&mut rot[..]),
                     bb(&mut scratch[..]),
-                    bb(&mut values[..]),
+                    bb(values.as_flattened_mut()),
                     bb(&mut out[..]),
                 ));
                 // The same pipelines with the multigrid-preconditioned CG.
@@ -238,14 +238,14 @@ fn run<T: Real, const D: usize, const V: usize>() {
                 ) {
                     let solver = bb(LinearSolver::Amg(&h));
                     let mut big = [[T::ZERO; V]; 10 * N];
-                    keep(propagate_spring_with_scratch_len(&solver, bb(N)));
+                    keep(propagate_spring_with_scratch_len::<D>(&solver, bb(N)));
                     keep(propagate_spring_with(
                         &sys,
                         solver,
                         &options,
                         bb(&mut trans[..]),
                         bb(&mut rot[..]),
-                        bb(&mut big[..]),
+                        bb(big.as_flattened_mut()),
                     ));
                     keep(deform_spring_with(
                         &points,
@@ -256,7 +256,7 @@ fn run<T: Real, const D: usize, const V: usize>() {
                         bb(&mut trans[..]),
                         bb(&mut rot[..]),
                         bb(&mut scratch[..]),
-                        bb(&mut big[..]),
+                        bb(big.as_flattened_mut()),
                         bb(&mut out[..]),
                     ));
                 }
