@@ -15,7 +15,8 @@
 //! 2. [`boundary_rotations`] (from the boundary shape: normal alignment and twist in 3D, change
 //!    of edge direction in 2D), or [`rigid_rotations`] when the caller knows the rotation.
 //! 3. [`boundary_origin`] (default origin) and [`boundary_translations`]:
-//!    `Δ_i = (r_i^d − o) − Q_i (r_i^u − o) Q_i*` (the DESIGN.md erratum of Samareh's `Δ`).
+//!    `Δ_i = (r_i^d − o) − Q_i (r_i^u − o) Q_i*` (Samareh's `Δ` with the erratum in
+//!    ARCHITECTURE.md).
 //! 4. Propagation of `(Δ, Q)` into the field: [`propagate_idw`] (inverse distance),
 //!    [`propagate_tfi`] (transfinite interpolation of structured blocks, arclength blending),
 //!    [`propagate_spring`] (linear springs, one solve for `Δ` and `Q` together),

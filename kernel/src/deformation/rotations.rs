@@ -36,7 +36,7 @@ fn check_edges<T: Real, const D: usize>(points: Pts<'_, T, D>, elements: &Cells<
 
 /// Per-node rotations of a boundary from its undeformed and deformed shapes.
 ///
-/// **3D** (Samareh steps 2–3, with the DESIGN.md erratum): `Q1` turns the undeformed node
+/// **3D** (Samareh steps 2–3, with the erratum in ARCHITECTURE.md): `Q1` turns the undeformed node
 /// normal onto the deformed one ([`Quat::rotation_arc`]: half-way construction, antiparallel
 /// normals turn by 180° about a tangent axis, which the twist then completes). The twist `θ`
 /// about the deformed normal is the weighted circular mean
@@ -340,7 +340,7 @@ pub(crate) fn origin_core<T: Real, const D: usize>(
 }
 
 /// The translations `Δ_i = (r_i^d − o) − Q_i (r_i^u − o) Q_i*` (Samareh's `Δ` with the
-/// DESIGN.md erratum: the *undeformed* point is rotated), measured about `origin`, so that
+/// erratum in ARCHITECTURE.md: the *undeformed* point is rotated), measured about `origin`, so that
 /// `o + Δ_i + Q_i (r_i^u − o) Q_i*` is `r_i^d` up to rounding. Each rotation is normalised
 /// first (as [`update_points`](super::update_points) does).
 ///
