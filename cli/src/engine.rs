@@ -1292,7 +1292,7 @@ fn smooth_d<const D: usize>(
     options.params = TaubinParams { lambda, mu };
     options.iterations = iterations;
     options.normalised = normalised;
-    options.pinned = pinned;
+    options.fixed = pinned;
     if let Some(m) = coarse {
         let mut factor = [m; 3];
         if let Some(f) = factor.get_mut(direction.index()) {

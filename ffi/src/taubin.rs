@@ -144,7 +144,7 @@ fn mirror(flags: [u8; 3]) -> Directions {
 impl dk_structured_options {
     fn to_kernel(self, pinned: Option<&[u8]>) -> Result<StructuredOptions<'_>, dk_status> {
         Ok(StructuredOptions {
-            pinned,
+            fixed: pinned,
             mirror: mirror(self.mirror),
         })
     }
@@ -233,7 +233,7 @@ impl dk_smooth_arclength_options {
             },
             iterations: self.iterations,
             normalised: self.normalised != 0,
-            pinned,
+            fixed: pinned,
             mirror: mirror(self.mirror),
             coarse: if self.use_coarse != 0 {
                 Some(self.coarse.to_kernel()?)

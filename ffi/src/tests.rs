@@ -142,7 +142,7 @@ fn structured_smoothing_reads_the_pin_mask_through_the_options_struct() {
     let mut expected = field0.clone();
     let mut kscratch = vec![0.0; len];
     let kopts = StructuredOptions {
-        pinned: Some(&pinned),
+        fixed: Some(&pinned),
         mirror: deform_kernel::Directions::only(deform_kernel::Direction::I),
     };
     let block = Block::new([ni, nj, 1]).unwrap();

@@ -40,7 +40,7 @@ fuzz_target!(|inp: Input| {
     let p = TaubinParams::paper();
     let block = Block::new(dims).unwrap();
     let opts = StructuredOptions {
-        pinned: Some(&pinned),
+        fixed: Some(&pinned),
         mirror: Directions::from_flags(inp.mirror),
     };
     let mut got = field.clone();

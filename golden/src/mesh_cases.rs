@@ -445,7 +445,7 @@ pub fn taubin_smoothing<T: Real>() -> u64 {
     let mut scratch3 = [T::ZERO; 60];
     let len = structured_scratch_len(&block3).min(scratch3.len());
     let sopts = StructuredOptions {
-        pinned: None,
+        fixed: None,
         mirror: Directions::only(Direction::J),
     };
     match smooth_structured(

@@ -546,7 +546,7 @@ fn driver_pins_coarse_pass_and_f32() {
     let pins: Vec<u8> = (0..n).map(|p| u8::from(p % 7 == 3)).collect();
     let mut pinned = pts.clone();
     let mut o = SmoothOptions::new(Direction::K);
-    o.pinned = Some(&pins);
+    o.fixed = Some(&pins);
     o.coarse = Some(Coarse {
         factor: [4, 1, 1],
         prolongation: Prolongation::Correction,
@@ -619,9 +619,9 @@ fn point_matched_interfaces_stay_identical() {
         .collect();
     let (mut a, mut b) = (a0.clone(), b0.clone());
     let mut oa = SmoothOptions::new(Direction::I);
-    oa.pinned = Some(&pins_a);
+    oa.fixed = Some(&pins_a);
     let mut ob = SmoothOptions::new(Direction::I);
-    ob.pinned = Some(&pins_b);
+    ob.fixed = Some(&pins_b);
     run_smooth(dims, &mut a, &oa).unwrap();
     run_smooth(dims, &mut b, &ob).unwrap();
     println!(
@@ -681,11 +681,11 @@ fn bad_inputs_give_typed_errors_and_leave_the_grid_unchanged() {
     ));
     let pins = [0u8; 3];
     let mut bad = SmoothOptions::new(Direction::J);
-    bad.pinned = Some(&pins);
+    bad.fixed = Some(&pins);
     assert_eq!(
         try_smooth(&good, &bad, need),
         Error::LengthMismatch {
-            arg: "options.pinned",
+            arg: "options.fixed",
             expected: n,
             actual: 3
         }

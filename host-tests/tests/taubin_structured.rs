@@ -33,7 +33,7 @@ fn one_iteration(
     let block = Block::new(dims).unwrap();
     let mut scratch = vec![0.0; structured_scratch_len(&block)];
     let opts = StructuredOptions {
-        pinned: None,
+        fixed: None,
         mirror: Directions::from_flags(mirror),
     };
     smooth_structured(&block, field, params, 1, &opts, &mut scratch).unwrap();
@@ -267,7 +267,7 @@ proptest! {
         let pins: Vec<u8> = (0..n).map(|_| u8::from(rng.next() > 0.6) * 7).collect();
         let pinned = use_pins.then_some(&pins[..]);
         let block = Block::new(dims).unwrap();
-        let opts = StructuredOptions { pinned, mirror: Directions::from_flags(mirror) };
+        let opts = StructuredOptions { fixed: pinned, mirror: Directions::from_flags(mirror) };
 
         let mut got = field.clone();
         let mut scratch = vec![0.0; n];
@@ -359,7 +359,7 @@ proptest! {
         let mut got = field.clone();
         let mut scratch = vec![0.0; structured_coarse_scratch_len(&block, &coarse)];
         smooth_structured_coarse(&block, &mut got, &coarse, TaubinParams::paper(), iterations,
-            &StructuredOptions { pinned, mirror: Directions::NONE }, &mut scratch).unwrap();
+            &StructuredOptions { fixed: pinned, mirror: Directions::NONE }, &mut scratch).unwrap();
         let want = taubin_ref::coarse_filter(dims, &field, factor, 0.330, -0.334, iterations,
             pinned, correction);
         for (p, (a, b)) in got.iter().zip(&want).enumerate() {
@@ -464,7 +464,7 @@ fn stability_sup_norm_over_ten_thousand_iterations() {
         let mut rng = Rng(seed);
         let mut field: Vec<f64> = (0..n).map(|_| rng.next()).collect();
         let opts = StructuredOptions {
-            pinned: None,
+            fixed: None,
             mirror: Directions::from_flags(mirror),
         };
         let sup0 = field.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -584,7 +584,7 @@ fn pinned_points_keep_their_bits() {
         TaubinParams::paper(),
         10,
         &StructuredOptions {
-            pinned: Some(&pins),
+            fixed: Some(&pins),
             mirror: Directions::ALL,
         },
         &mut scratch,
@@ -686,12 +686,12 @@ fn bad_inputs_give_typed_errors_and_leave_buffers_unchanged() {
         &good,
         p,
         &StructuredOptions {
-            pinned: Some(&pins),
+            fixed: Some(&pins),
             mirror: Directions::NONE,
         },
         n,
         Error::LengthMismatch {
-            arg: "options.pinned",
+            arg: "options.fixed",
             expected: 24,
             actual: 5,
         },

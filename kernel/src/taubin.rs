@@ -26,7 +26,7 @@
 //! - [`TaubinParams`]: λ, μ, the transfer function and the pass-band helper
 //!   ([`mu_from_pass_band`]).
 //! - [`smooth_structured`] / [`structured_sweep`]: the scalar filter on a 1D/2D/3D [`Block`]
-//!   with a pin mask and an optional mirror (Neumann) face mode; the sweep updates one index box
+//!   with a fixed-point mask and an optional mirror (Neumann) face mode; the sweep updates one index box
 //!   so an MPI code can exchange halos between passes.
 //! - [`smooth_structured_coarse`]: the coarse-grid variant (every m-th point, last index always
 //!   kept; smoothing there; prolongation by interpolation).
@@ -64,7 +64,7 @@
 //! far face is filtered and the face points slide), (b) the mirror mode is on for the direction
 //! normal to the interface, or (c) the interface covers only part of a face or the index
 //! orientation differs (different summation order). In those cases pin the interface points
-//! (the `pinned` mask) in every block that touches the interface, or filter the interface face
+//! (the `fixed` mask) in every block that touches the interface, or filter the interface face
 //! once as its own 2D block, copy the result to every block and pin it there.
 //!
 //! [`Block`]: crate::Block

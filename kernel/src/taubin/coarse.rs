@@ -5,7 +5,7 @@ use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
 
-use super::structured::{is_pinned, sweep_core, BlockRegion, FilterReport, StructuredOptions};
+use super::structured::{is_fixed, sweep_core, BlockRegion, FilterReport, StructuredOptions};
 use super::TaubinParams;
 
 /// How the smoothed coarse field is brought back to the fine grid.
@@ -141,7 +141,7 @@ fn interpolate<T: Real>(
 }
 
 /// Restriction, coarse filtering and prolongation without validation. `check(coarse_field,
-/// iteration)` runs after every coarse iteration (the fold guard of the driver); `pinned(p)`
+/// iteration)` runs after every coarse iteration (the fold guard of the driver); `fixed(p)`
 /// takes a fine linear index. `scratch` holds at least two coarse fields.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn coarse_core<
@@ -155,7 +155,7 @@ pub(crate) fn coarse_core<
     params: TaubinParams<T>,
     iterations: usize,
     mirror: [bool; 3],
-    pinned: P,
+    fixed: P,
     scratch: &mut [T],
     mut check: C,
 ) -> Result<FilterReport<T>> {
@@ -191,15 +191,15 @@ pub(crate) fn coarse_core<
             }
         }
     }
-    let coarse_pinned = |idx: [usize; 3], _: usize| pinned(fine_of(dims, factor, idx));
+    let coarse_fixed = |idx: [usize; 3], _: usize| fixed(fine_of(dims, factor, idx));
     let region = BlockRegion {
         lo: [0; 3],
         hi: cdims,
     };
     let mut last_change = T::ZERO;
     for it in 1..=iterations {
-        let x = sweep_core(cdims, a, b, params.lambda, mirror, &region, coarse_pinned);
-        let y = sweep_core(cdims, b, a, params.mu, mirror, &region, coarse_pinned);
+        let x = sweep_core(cdims, a, b, params.lambda, mirror, &region, coarse_fixed);
+        let y = sweep_core(cdims, b, a, params.mu, mirror, &region, coarse_fixed);
         last_change = x.max(y);
         check(a, it)?;
     }
@@ -223,7 +223,7 @@ pub(crate) fn coarse_core<
         for j in 0..nj {
             for i in 0..ni {
                 let p = i + ni * (j + nj * k);
-                if pinned(p) {
+                if fixed(p) {
                     continue;
                 }
                 let v = interpolate(dims, cdims, factor, a, [i, j, k]);
@@ -255,7 +255,7 @@ pub(crate) fn coarse_core<
 ///
 /// Ripples several fine cells long are high frequencies on the coarse grid, so a few coarse
 /// iterations remove what many fine ones cannot; Alter smooths the fine grid first and the
-/// coarse grid second. Pinned fine points keep their value (and pin their coarse image).
+/// coarse grid second. Fixed fine points keep their value (and fix their coarse image).
 /// `scratch` needs [`structured_coarse_scratch_len`] values. On `Err` nothing is written.
 ///
 /// # Errors
@@ -272,13 +272,13 @@ pub fn smooth_structured_coarse<T: Real>(
 ) -> Result<FilterReport<T>> {
     let n = block.point_count();
     check::len("field", field.len(), n)?;
-    check::mask("options.pinned", options.pinned, n)?;
+    check::mask("options.fixed", options.fixed, n)?;
     coarse.validate()?;
     let need = structured_coarse_scratch_len(block, coarse);
     check::buffer("scratch", scratch.len(), need)?;
     params.validate()?;
     check::finite("field", field)?;
-    let pinned = options.pinned;
+    let fixed = options.fixed;
     coarse_core(
         block.dims(),
         field,
@@ -286,7 +286,7 @@ pub fn smooth_structured_coarse<T: Real>(
         params,
         iterations,
         options.mirror.flags(),
-        |p| is_pinned(pinned, p),
+        |p| is_fixed(fixed, p),
         scratch,
         |_, _| Ok(()),
     )

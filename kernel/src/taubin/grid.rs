@@ -11,7 +11,7 @@ use super::lines::{
     arclength_core, check_increasing_core, line_collapsed, line_shape, max_stretching_core,
     redistribute_core,
 };
-use super::structured::{is_pinned, sweep_core, BlockRegion};
+use super::structured::{is_fixed, sweep_core, BlockRegion};
 use super::TaubinParams;
 
 /// Settings of [`smooth_arclength`]. Build with [`SmoothOptions::new`] (the paper's values)
@@ -28,8 +28,8 @@ pub struct SmoothOptions<'a, T> {
     /// of the dimensional `S` (smooths the grid). In both modes the line ends stay where they
     /// are. Default `false`.
     pub normalised: bool,
-    /// Optional pin mask (`point_count` bytes, nonzero = the point does not move).
-    pub pinned: Option<&'a [u8]>,
+    /// Optional fixed-point mask (`point_count` bytes, nonzero = the point does not move).
+    pub fixed: Option<&'a [u8]>,
     /// Mirror (Neumann) faces per direction. The entry for `direction` itself is ignored: the
     /// faces at the line ends always use the paper's in-plane rule, so `S = 0` on the first
     /// face stays exactly 0.
@@ -42,14 +42,14 @@ pub struct SmoothOptions<'a, T> {
 
 impl<'a, T: Real> SmoothOptions<'a, T> {
     /// The paper's settings for lines along `direction`: λ = 0.330, μ = −0.334, 30
-    /// iterations, dimensional arclength, no pins, no mirror faces, no coarse pass.
+    /// iterations, dimensional arclength, no fixed points, no mirror faces, no coarse pass.
     pub fn new(direction: Direction) -> Self {
         SmoothOptions {
             direction,
             params: TaubinParams::paper(),
             iterations: 30,
             normalised: false,
-            pinned: None,
+            fixed: None,
             mirror: Directions::NONE,
             coarse: None,
             coarse_iterations: 15,
@@ -117,10 +117,10 @@ fn is_line_end(dims: [usize; 3], direction: Direction, p: usize) -> bool {
 ///    whose points do not all coincide, else `Err(FoldedLine { line, iteration })` (fine
 ///    iterations count 1…N, coarse ones N+1…N+M; the check after prolongation uses N+M);
 /// 4. every point moves along its original polyline to its filtered arclength
-///    ([`redistribute`]); pinned points are not touched.
+///    ([`redistribute`]); fixed points are not touched.
 ///
 /// In both modes the **first and last point of every line stay bitwise where they were**:
-/// they are held in the filter (like pinned points) and skipped by the redistribution, so the
+/// they are held in the filter (like fixed points) and skipped by the redistribution, so the
 /// grid's boundary faces at the line ends, and whatever meets them there (an O-grid seam, a
 /// block interface), do not move. Dimensional smoothing thus redistributes points between
 /// fixed ends.
@@ -135,7 +135,7 @@ fn is_line_end(dims: [usize; 3], direction: Direction, p: usize) -> bool {
 ///
 /// # Errors
 /// `InvalidParameter` (`direction`, `lambda`, `mu`, `coarse.factor`), `LengthMismatch`
-/// (`points`, `options.pinned`), `BufferTooSmall` (`scratch`), `NonFinite` (`points`,
+/// (`points`, `options.fixed`), `BufferTooSmall` (`scratch`), `NonFinite` (`points`,
 /// `lambda`, `mu`), `FoldedLine`.
 pub fn smooth_arclength<T: Real, const D: usize>(
     block: &Block,
@@ -146,7 +146,7 @@ pub fn smooth_arclength<T: Real, const D: usize>(
     let direction = options.direction;
     let n = block.point_count();
     check::len("points", points.len(), n)?;
-    check::mask("options.pinned", options.pinned, n)?;
+    check::mask("options.fixed", options.fixed, n)?;
     options.params.validate()?;
     if let Some(c) = &options.coarse {
         c.validate()?;
@@ -156,7 +156,7 @@ pub fn smooth_arclength<T: Real, const D: usize>(
     check::finite_items("points", points)?;
     let dims = block.dims();
     let mirror = options.mirror.without(direction).flags();
-    let pinned = options.pinned;
+    let fixed = options.fixed;
     let params = options.params;
     let stretching_before = max_stretching_core(dims, points, direction);
 
@@ -171,8 +171,8 @@ pub fn smooth_arclength<T: Real, const D: usize>(
 
     let pts: &[[T; D]] = points;
     let collapsed = |base: usize| line_collapsed(dims, pts, direction, base);
-    // Line ends never move: pinned in the filter and skipped by the redistribution.
-    let held = |p: usize| is_pinned(pinned, p) || is_line_end(dims, direction, p);
+    // Line ends never move: fixed in the filter and skipped by the redistribution.
+    let held = |p: usize| is_fixed(fixed, p) || is_line_end(dims, direction, p);
     let pin = |_: [usize; 3], p: usize| held(p);
     let region = BlockRegion {
         lo: [0; 3],

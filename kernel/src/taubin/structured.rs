@@ -9,15 +9,15 @@ use super::TaubinParams;
 
 /// Options shared by the structured filter routines.
 ///
-/// `pinned` is one byte per point, nonzero = the point keeps its value (a `u8` rather than a
+/// `fixed` is one byte per point, nonzero = the point keeps its value (a `u8` rather than a
 /// `bool` so a C or Fortran caller can pass its own integer array). A direction `d` in `mirror`
 /// switches the faces normal to `d` from the paper's rule (drop the normal derivative: in-plane
 /// average) to a mirror/Neumann rule (the missing neighbour is the mirror image of the one
 /// inside, so the face point averages `2 × inside` with its in-plane neighbours).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StructuredOptions<'a> {
-    /// Optional pin mask (`point_count` bytes, nonzero = pinned).
-    pub pinned: Option<&'a [u8]>,
+    /// Optional fixed-point mask (`point_count` bytes, nonzero = fixed).
+    pub fixed: Option<&'a [u8]>,
     /// The directions whose faces mirror (Neumann). [`Directions::NONE`] is the paper's rule.
     pub mirror: Directions,
 }
@@ -82,9 +82,9 @@ pub fn structured_scratch_len(block: &Block) -> usize {
     block.point_count()
 }
 
-/// Whether point `p` is pinned.
+/// Whether point `p` is fixed.
 #[inline]
-pub(crate) fn is_pinned(mask: Option<&[u8]>, p: usize) -> bool {
+pub(crate) fn is_fixed(mask: Option<&[u8]>, p: usize) -> bool {
     match mask {
         Some(m) => m.get(p).is_some_and(|&b| b != 0),
         None => false,
@@ -139,8 +139,8 @@ pub(crate) fn stencil_average<T: Real>(
 }
 
 /// One Jacobi pass over `region` of a field on a block with dimensions `dims`:
-/// `dst = src + w (avg(src) − src)` at every point in the region whose `pinned(idx, p)` is
-/// false, `dst = src` at pinned points. Returns the largest `|dst − src|`. No validation.
+/// `dst = src + w (avg(src) − src)` at every point in the region whose `fixed(idx, p)` is
+/// false, `dst = src` at fixed points. Returns the largest `|dst − src|`. No validation.
 ///
 /// Rows (lines along i) whose j and k are interior take a straight loop over their interior
 /// points ([`interior_run`]: row slices fetched once, no index tests); the boundary shell
@@ -153,7 +153,7 @@ pub(crate) fn sweep_core<T: Real, P: Fn([usize; 3], usize) -> bool>(
     weight: T,
     mirror: [bool; 3],
     region: &BlockRegion,
-    pinned: P,
+    fixed: P,
 ) -> T {
     let [ni, nj, nk] = dims;
     // The straight loop covers the blocks whose active directions are i, (i, j) or (i, j, k).
@@ -179,7 +179,7 @@ pub(crate) fn sweep_core<T: Real, P: Fn([usize; 3], usize) -> bool>(
         let p = i + ni * (j + nj * k);
         let Some(&x) = src.get(p) else { return };
         let idx = [i, j, k];
-        let new = if pinned(idx, p) {
+        let new = if fixed(idx, p) {
             x
         } else {
             match stencil_average(dims, src, idx, p, mirror) {
@@ -216,7 +216,7 @@ pub(crate) fn sweep_core<T: Real, P: Fn([usize; 3], usize) -> bool>(
                 [ni, ni * nj],
                 active,
                 weight,
-                |i, p| pinned([i, j, k], p),
+                |i, p| fixed([i, j, k], p),
             );
             if m > max_change {
                 max_change = m;
@@ -243,7 +243,7 @@ fn interior_run<T: Real, P: Fn(usize, usize) -> bool>(
     strides: [usize; 2],
     active: usize,
     weight: T,
-    pinned: P,
+    fixed: P,
 ) -> T {
     let len = hi - lo;
     let at = |offset: isize| -> &[T] {
@@ -262,7 +262,7 @@ fn interior_run<T: Real, P: Fn(usize, usize) -> bool>(
     };
     let mut max_change = T::ZERO;
     let mut finish = |t: usize, x: T, sum: T, o: &mut T| {
-        let new = if pinned(lo + t, row + lo + t) {
+        let new = if fixed(lo + t, row + lo + t) {
             x
         } else {
             x + weight * (sum / count - x)
@@ -337,7 +337,7 @@ pub(crate) fn filter_core<T: Real, P: Fn([usize; 3], usize) -> bool + Copy>(
     params: TaubinParams<T>,
     iterations: usize,
     mirror: [bool; 3],
-    pinned: P,
+    fixed: P,
 ) -> FilterReport<T> {
     let region = BlockRegion {
         lo: [0; 3],
@@ -345,8 +345,8 @@ pub(crate) fn filter_core<T: Real, P: Fn([usize; 3], usize) -> bool + Copy>(
     };
     let mut last_change = T::ZERO;
     for _ in 0..iterations {
-        let a = sweep_core(dims, field, scratch, params.lambda, mirror, &region, pinned);
-        let b = sweep_core(dims, scratch, field, params.mu, mirror, &region, pinned);
+        let a = sweep_core(dims, field, scratch, params.lambda, mirror, &region, fixed);
+        let b = sweep_core(dims, scratch, field, params.mu, mirror, &region, fixed);
         last_change = a.max(b);
     }
     FilterReport {
@@ -368,13 +368,13 @@ pub(crate) fn filter_core<T: Real, P: Fn([usize; 3], usize) -> bool + Copy>(
 /// ```
 ///
 /// Directions with a single point are ignored, so the same rule serves 1D (`[n, 1, 1]`:
-/// interior `(x₋ + x₊)/2`, ends fixed), 2D and 3D blocks. With `options.mirror[d]` the faces
+/// interior `(x₋ + x₊)/2`, ends fixed), 2D and 3D blocks. With ``d` in `options.mirror`` the faces
 /// normal to `d` use the mirror image as the missing neighbour instead. Pinned points keep
 /// their value. `scratch` needs [`structured_scratch_len`] values; its contents afterwards are
 /// unspecified. On `Err` nothing is written.
 ///
 /// # Errors
-/// `LengthMismatch` (`field`, `options.pinned`), `BufferTooSmall` (`scratch`), `NonFinite`
+/// `LengthMismatch` (`field`, `options.fixed`), `BufferTooSmall` (`scratch`), `NonFinite`
 /// (`field`, `lambda`, `mu`), `InvalidParameter` (`lambda ≤ 0`, `mu > 0`).
 pub fn smooth_structured<T: Real>(
     block: &Block,
@@ -386,11 +386,11 @@ pub fn smooth_structured<T: Real>(
 ) -> Result<FilterReport<T>> {
     let n = block.point_count();
     check::len("field", field.len(), n)?;
-    check::mask("options.pinned", options.pinned, n)?;
+    check::mask("options.fixed", options.fixed, n)?;
     check::buffer("scratch", scratch.len(), n)?;
     params.validate()?;
     check::finite("field", field)?;
-    let pinned = options.pinned;
+    let fixed = options.fixed;
     Ok(filter_core(
         block.dims(),
         field,
@@ -398,12 +398,12 @@ pub fn smooth_structured<T: Real>(
         params,
         iterations,
         options.mirror.flags(),
-        |_, p| is_pinned(pinned, p),
+        |_, p| is_fixed(fixed, p),
     ))
 }
 
 /// One Jacobi pass over `region` only: `dst = src + weight · (avg(src) − src)` at every free
-/// point of the region (`dst = src` at pinned points); `dst` outside the region is not
+/// point of the region (`dst = src` at fixed points); `dst` outside the region is not
 /// touched. Returns the largest `|dst − src|` in the region (the local max change).
 ///
 /// This is the building block for distributed runs: an iteration of [`smooth_structured`] is
@@ -412,7 +412,7 @@ pub fn smooth_structured<T: Real>(
 /// pass. `avg` is the stencil of [`smooth_structured`] evaluated on the whole `src`.
 ///
 /// # Errors
-/// `LengthMismatch` (`src`, `dst`, `options.pinned`), `IndexOutOfRange` (`region`),
+/// `LengthMismatch` (`src`, `dst`, `options.fixed`), `IndexOutOfRange` (`region`),
 /// `NonFinite` (`weight`, `src`).
 pub fn structured_sweep<T: Real>(
     block: &Block,
@@ -425,11 +425,11 @@ pub fn structured_sweep<T: Real>(
     let n = block.point_count();
     check::len("src", src.len(), n)?;
     check::len("dst", dst.len(), n)?;
-    check::mask("options.pinned", options.pinned, n)?;
+    check::mask("options.fixed", options.fixed, n)?;
     region.validate(block.dims())?;
     check::scalar("weight", weight)?;
     check::finite("src", src)?;
-    let pinned = options.pinned;
+    let fixed = options.fixed;
     Ok(sweep_core(
         block.dims(),
         src,
@@ -437,6 +437,6 @@ pub fn structured_sweep<T: Real>(
         weight,
         options.mirror.flags(),
         region,
-        |_, p| is_pinned(pinned, p),
+        |_, p| is_fixed(fixed, p),
     ))
 }

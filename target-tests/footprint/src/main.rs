@@ -649,7 +649,7 @@ fn main() -> ! {
             *f = p[0];
         }
         let opts = StructuredOptions {
-            pinned: None,
+            fixed: None,
             mirror: Directions::NONE,
         };
         meter.measure("smooth_structured (1,000 points) f32", || {

@@ -53,7 +53,7 @@ fn structured<T: Real>() {
     let mut f = lin;
     let mut scratch = [T::ZERO; BN];
     let opts = StructuredOptions {
-        pinned: None,
+        fixed: None,
         mirror: Directions::NONE,
     };
     let len = structured_scratch_len(&b);
@@ -101,7 +101,7 @@ fn structured<T: Real>() {
     pinned[17] = 1;
     pinned[42] = 1;
     let popts = StructuredOptions {
-        pinned: Some(&pinned),
+        fixed: Some(&pinned),
         mirror: Directions::from_flags([false, true, false]),
     };
     smooth_structured(&b, &mut f, params, 20, &popts, &mut scratch[..BN]).unwrap();

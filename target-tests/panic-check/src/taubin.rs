@@ -109,7 +109,7 @@ fn structured<T: Real>() {
     let mut scratch = bb([T::ZERO; S]);
     let pins: &[u8] = bb(&[0u8; N]);
     let opts = bb(StructuredOptions {
-        pinned: Some(pins),
+        fixed: Some(pins),
         mirror: bb(Directions::from_flags([true, false, true])),
     });
     let params = bb(TaubinParams::<T>::paper());
@@ -300,7 +300,7 @@ fn driver<T: Real, const D: usize>() {
     let pins: &[u8] = bb(&[0u8; N]);
     let mut opts = SmoothOptions::<T>::new(bb(Direction::K));
     opts.normalised = bb(true);
-    opts.pinned = Some(pins);
+    opts.fixed = Some(pins);
     opts.mirror = bb(Directions::from_flags([true, true, false]));
     opts.iterations = bb(3);
     opts.coarse = bb(Some(Coarse {
