@@ -1178,6 +1178,14 @@ fn static_storage_sized_at_compile_time_holds_the_plan() {
         GRID_POOLS
     );
     assert_eq!(storage.capacity(), GRID_POOLS);
+    // Debug shows the capacity, not the pools.
+    assert_eq!(
+        format!("{storage:?}"),
+        format!(
+            "PlanStorage {{ reals: {}, indices: {}, bytes: {} }}",
+            GRID_POOLS.reals, GRID_POOLS.indices, GRID_POOLS.bytes
+        )
+    );
     let (mut heap, _) = Pools::build(&spec);
     let deformed = |s: usize| -> Vec<[f64; 2]> {
         g.boundary

@@ -15,7 +15,7 @@ use crate::real::Real;
 /// measured once (the multigrid solver); larger storage works, smaller is refused with
 /// [`Error::BufferTooSmall`](crate::Error::BufferTooSmall). Cloning the storage copies the
 /// plan with its warm-start state (a checkpoint).
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct PlanStorage<T, const REALS: usize, const INDICES: usize, const BYTES: usize> {
     reals: [T; REALS],
     indices: [u32; INDICES],
@@ -90,6 +90,19 @@ impl<T: Real, const REALS: usize, const INDICES: usize, const BYTES: usize>
     /// checks it).
     pub fn pools_mut(&mut self) -> (&mut [T], &mut [u32], &mut [u8]) {
         (&mut self.reals, &mut self.indices, &mut self.bytes)
+    }
+}
+
+/// The capacity, not the pools (which can hold hundreds of megabytes).
+impl<T, const REALS: usize, const INDICES: usize, const BYTES: usize> core::fmt::Debug
+    for PlanStorage<T, REALS, INDICES, BYTES>
+{
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("PlanStorage")
+            .field("reals", &REALS)
+            .field("indices", &INDICES)
+            .field("bytes", &BYTES)
+            .finish()
     }
 }
 
