@@ -14,9 +14,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use deform_kernel::spring::{
-    batina_stiffness, solve_linear, solve_linear_amg, solve_linear_amg_scratch_len,
-    solve_linear_scratch_len, AmgHierarchy, AmgOptions, LinearMethod, Preconditioner, SolveOptions,
-    SpringSystem,
+    batina_stiffness, solve_linear_amg_scratch_len, solve_linear_scratch_len, AmgHierarchy,
+    AmgOptions, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::taubin::{
     smooth_graph, smooth_structured, GraphOptions, StructuredOptions, TaubinParams,
@@ -257,7 +256,9 @@ fn spring(sz: &Sizes, dir: &Path, fig: &mut Figures) {
         x.copy_from_slice(&x0);
         let mut scratch = vec![[0.0; 2]; solve_linear_amg_scratch_len(&h)];
         let t = Instant::now();
-        let rep = solve_linear_amg(&sys, &h, &mut x, &opts, &mut scratch).expect("amg solve");
+        let rep = sys
+            .solve_linear_amg(&h, &mut x, &opts, &mut scratch)
+            .expect("amg solve");
         t_amg_solve.push(t.elapsed().as_secs_f64());
         assert!(rep.converged, "AMG-CG did not converge");
         iterations = rep.iterations;
@@ -278,7 +279,9 @@ fn spring(sz: &Sizes, dir: &Path, fig: &mut Figures) {
     let mut y = x0.clone();
     let mut scratch = vec![[0.0f64; 2]; solve_linear_scratch_len(&m, n)];
     let t = Instant::now();
-    let rep = solve_linear(&sys, &mut y, m, &opts, &mut scratch).expect("cg");
+    let rep = sys
+        .solve_linear(&mut y, m, &opts, &mut scratch)
+        .expect("cg");
     fig.put("spring_cg_jacobi_iterations", rep.iterations);
     fig.put("spring_cg_jacobi_s", t.elapsed().as_secs_f64());
     // The free-node system for the peers: K_ff u_f = −K_fb u_b per component (CSR, sorted

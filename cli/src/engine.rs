@@ -805,10 +805,8 @@ fn move_d<const D: usize>(
     };
     use deform_kernel::slide::{slide_points, Constraints};
     use deform_kernel::spring::{
-        angle_scratch_len, solve_angle, solve_angle_sliding, solve_angle_sliding_scratch_len,
-        solve_angle_sor, solve_linear_sliding, solve_linear_sliding_scratch_len, solve_linear_with,
-        solve_linear_with_scratch_len, AngleMethod, AngleSystem, LinearSolver, SolveOptions,
-        SpringSystem, DEFAULT_ANGLE_EPSILON,
+        solve_linear_sliding_scratch_len, solve_linear_with_scratch_len, AngleMethod, AngleSystem,
+        LinearSolver, SolveOptions, SpringSystem, DEFAULT_ANGLE_EPSILON,
     };
     use deform_kernel::Quat;
 
@@ -953,12 +951,12 @@ fn move_d<const D: usize>(
                     Some(c) => {
                         let len = solve_linear_sliding_scratch_len(&solver, n);
                         let mut scratch = vec![[0.0; D]; len];
-                        solve_linear_sliding(&sys, c, &mut values, solver, &options, &mut scratch)
+                        sys.solve_linear_sliding(c, &mut values, solver, &options, &mut scratch)
                     }
                     None => {
                         let len = solve_linear_with_scratch_len(&solver, n);
                         let mut scratch = vec![[0.0; D]; len];
-                        solve_linear_with(&sys, &mut values, solver, &options, &mut scratch)
+                        sys.solve_linear_with(&mut values, solver, &options, &mut scratch)
                     }
                 }
                 .map_err(kernel("linear springs"))?
@@ -973,30 +971,21 @@ fn move_d<const D: usize>(
                 let sor = input.method == MoveMethod::AngleDirect
                     && !matches!(input.solver, MoveSolver::GaussSeidel | MoveSolver::Jacobi);
                 if let Some(c) = &constraints {
-                    let len = solve_angle_sliding_scratch_len(&asys, method);
+                    let len = asys.solve_angle_sliding_scratch_len(method);
                     let mut scratch = vec![[0.0; D]; len];
                     let omega = if sor { angle_direct_omega(n, D) } else { 1.0 };
-                    solve_angle_sliding(
-                        &asys,
-                        c,
-                        &mut values,
-                        method,
-                        omega,
-                        &options,
-                        &mut scratch,
-                    )
+                    asys.solve_angle_sliding(c, &mut values, method, omega, &options, &mut scratch)
                 } else if sor {
-                    let mut scratch = vec![[0.0; D]; angle_scratch_len(&asys, method)];
-                    solve_angle_sor(
-                        &asys,
+                    let mut scratch = vec![[0.0; D]; asys.angle_scratch_len(method)];
+                    asys.solve_angle_sor(
                         &mut values,
                         angle_direct_omega(n, D),
                         &options,
                         &mut scratch,
                     )
                 } else {
-                    let mut scratch = vec![[0.0; D]; angle_scratch_len(&asys, method)];
-                    solve_angle(&asys, &mut values, method, &options, &mut scratch)
+                    let mut scratch = vec![[0.0; D]; asys.angle_scratch_len(method)];
+                    asys.solve_angle(&mut values, method, &options, &mut scratch)
                 }
                 .map_err(kernel("angle springs"))?
             };

@@ -23,10 +23,8 @@
 
 use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
 use deform_kernel::spring::{
-    angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_rigidity_probe, batina_stiffness,
-    jacobi_sweep, relative_residual, solve_angle, solve_linear, solve_linear_scratch_len,
-    sor_sweep, AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions, SolveReport,
-    SpringSystem, Sweep, DEFAULT_ANGLE_EPSILON,
+    batina_stiffness, solve_linear_scratch_len, AngleMethod, AngleSystem, LinearMethod,
+    Preconditioner, SolveOptions, SolveReport, SpringSystem, Sweep, DEFAULT_ANGLE_EPSILON,
 };
 use deform_kernel::Real;
 
@@ -327,7 +325,9 @@ fn solve_linear_v<T: Real, const V: usize>(
     let system = sys.build()?;
     // The kernel validates before it writes, and CG works on a copy in the scratch: on any
     // error `values` is unchanged.
-    let rep = solve_linear(&system, v, method, &stop, s).map_err(dk_status::from)?;
+    let rep = system
+        .solve_linear(v, method, &stop, s)
+        .map_err(dk_status::from)?;
     *r = dk_spring_solve_report::of(rep);
     Ok(())
 }
@@ -362,7 +362,7 @@ fn jacobi_sweep_v<T: Real, const V: usize>(
     let w = out_one(sweep)?;
     let system = sys.build()?;
     let [a, b] = nodes;
-    *w = dk_spring_sweep::of(jacobi_sweep(&system, a..b, s, d).map_err(dk_status::from)?);
+    *w = dk_spring_sweep::of(system.jacobi_sweep(a..b, s, d).map_err(dk_status::from)?);
     Ok(())
 }
 
@@ -405,7 +405,7 @@ fn jacobi_sweep_exact_v<T: Real, const V: usize>(
     let words = output_n(residual_words, EXACT_SUM_WORDS)?;
     let system = sys.build()?;
     let [a, b] = nodes;
-    let result = jacobi_sweep(&system, a..b, s, d).map_err(dk_status::from)?;
+    let result = system.jacobi_sweep(a..b, s, d).map_err(dk_status::from)?;
     *w = dk_spring_sweep::of(result);
     words.copy_from_slice(&result.residual_sum.to_words());
     Ok(())
@@ -454,7 +454,7 @@ fn sor_sweep_v<T: Real, const V: usize>(
     let w = out_one(sweep)?;
     let system = sys.build()?;
     let [a, b] = nodes;
-    *w = dk_spring_sweep::of(sor_sweep(&system, a..b, v, omega).map_err(dk_status::from)?);
+    *w = dk_spring_sweep::of(system.sor_sweep(a..b, v, omega).map_err(dk_status::from)?);
     Ok(())
 }
 
@@ -487,7 +487,7 @@ fn relative_residual_v<T: Real, const V: usize>(
     let v = chunks::<T, V>(values)?;
     let r = out_one(residual_out)?;
     let system = sys.build()?;
-    *r = relative_residual(&system, v).map_err(dk_status::from)?;
+    *r = system.relative_residual(v).map_err(dk_status::from)?;
     Ok(())
 }
 
@@ -553,7 +553,9 @@ fn solve_angle_d<T: Real, const D: usize>(
     let base = sys.build()?;
     let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
     // Values are written only after the probe and only by a successful solve.
-    let rep = solve_angle(&system, v, method, &stop, s).map_err(dk_status::from)?;
+    let rep = system
+        .solve_angle(v, method, &stop, s)
+        .map_err(dk_status::from)?;
     *r = dk_spring_solve_report::of(rep);
     Ok(())
 }
@@ -591,7 +593,11 @@ fn angle_jacobi_d<T: Real, const D: usize>(
     let w = out_one(sweep)?;
     let system = pts.build::<D>(sys.build()?, epsilon)?;
     let [a, b] = nodes;
-    *w = dk_spring_sweep::of(angle_jacobi_sweep(&system, a..b, s, d).map_err(dk_status::from)?);
+    *w = dk_spring_sweep::of(
+        system
+            .angle_jacobi_sweep(a..b, s, d)
+            .map_err(dk_status::from)?,
+    );
     Ok(())
 }
 
@@ -630,7 +636,11 @@ fn angle_gs_d<T: Real, const D: usize>(
     let w = out_one(sweep)?;
     let system = pts.build::<D>(sys.build()?, epsilon)?;
     let [a, b] = nodes;
-    *w = dk_spring_sweep::of(angle_gauss_seidel_sweep(&system, a..b, v).map_err(dk_status::from)?);
+    *w = dk_spring_sweep::of(
+        system
+            .angle_gauss_seidel_sweep(a..b, v)
+            .map_err(dk_status::from)?,
+    );
     Ok(())
 }
 
@@ -667,7 +677,9 @@ fn probe_d<T: Real, const D: usize>(
     let s = whole_chunks_mut::<T, D>(scratch)?;
     let a = out_one(amplification_out)?;
     let system = pts.build::<D>(sys.build()?, T::from_f64(options.epsilon))?;
-    *a = angle_rigidity_probe(&system, &stop, s).map_err(dk_status::from)?;
+    *a = system
+        .angle_rigidity_probe(&stop, s)
+        .map_err(dk_status::from)?;
     Ok(())
 }
 

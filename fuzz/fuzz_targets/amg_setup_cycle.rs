@@ -8,8 +8,8 @@
 use arbitrary::Arbitrary;
 use deform_host_tests::spring_ref::{solve_linear_dense, Net};
 use deform_kernel::spring::{
-    amg_precondition, amg_precondition_scratch_len, solve_linear_amg, solve_linear_amg_scratch_len,
-    AmgHierarchy, AmgOptions, AmgSmoother, SolveOptions, SpringSystem,
+    amg_precondition_scratch_len, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions,
+    AmgSmoother, SolveOptions, SpringSystem,
 };
 use deform_kernel::{graph_from_edges, graph_from_edges_len, Error};
 use libfuzzer_sys::fuzz_target;
@@ -114,7 +114,7 @@ fuzz_target!(|inp: Input| {
     let mut scratch = vec![[0.0f64; 1]; amg_precondition_scratch_len(&h)];
     let apply = |r: &[[f64; 1]], scratch: &mut [[f64; 1]]| {
         let mut z = vec![[0.0f64; 1]; n];
-        amg_precondition(&sys, &h, r, &mut z, scratch).unwrap();
+        sys.amg_precondition(&h, r, &mut z, scratch).unwrap();
         z
     };
     let dot = |a: &[[f64; 1]], b: &[[f64; 1]]| free.iter().map(|&i| a[i][0] * b[i][0]).sum::<f64>();
@@ -158,7 +158,7 @@ fuzz_target!(|inp: Input| {
         residual_tol: 1e-8,
         update_tol: 0.0,
     };
-    let rep = solve_linear_amg(&sys, &h, &mut x, &stop, &mut ws).unwrap();
+    let rep = sys.solve_linear_amg(&h, &mut x, &stop, &mut ws).unwrap();
     assert!(rep.converged, "{rep:?}");
     let net = Net {
         offsets: offsets.clone(),
@@ -213,7 +213,7 @@ fuzz_target!(|inp: Input| {
     let first: Vec<u64> = x.iter().flatten().map(|v| v.to_bits()).collect();
     let h = AmgHierarchy::setup(&sys, &opts, &mut work, &mut index, &mut values).unwrap();
     let mut y = x0.clone();
-    solve_linear_amg(&sys, &h, &mut y, &stop, &mut ws).unwrap();
+    sys.solve_linear_amg(&h, &mut y, &stop, &mut ws).unwrap();
     assert_eq!(
         first,
         y.iter().flatten().map(|v| v.to_bits()).collect::<Vec<_>>()

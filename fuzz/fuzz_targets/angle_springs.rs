@@ -6,8 +6,7 @@
 
 use arbitrary::Arbitrary;
 use deform_kernel::spring::{
-    angle_scratch_len, batina_stiffness, solve_angle, AngleMethod, AngleSystem, SolveOptions,
-    SpringSystem,
+    batina_stiffness, AngleMethod, AngleSystem, SolveOptions, SpringSystem,
 };
 use deform_kernel::{graph_from_edges, graph_from_edges_len, Error, Graph};
 use libfuzzer_sys::fuzz_target;
@@ -80,8 +79,8 @@ fuzz_target!(|inp: Input| {
         max_iterations: 300,
         ..SolveOptions::default()
     };
-    let mut scratch = vec![[0.0f64; 2]; angle_scratch_len(&asys, method)];
-    match solve_angle(&asys, &mut values, method, &opts, &mut scratch) {
+    let mut scratch = vec![[0.0f64; 2]; asys.angle_scratch_len(method)];
+    match asys.solve_angle(&mut values, method, &opts, &mut scratch) {
         Ok(r) => {
             assert!(values.iter().all(|v| v[0].is_finite() && v[1].is_finite()));
             if r.converged {

@@ -17,8 +17,8 @@ use deform_kernel::plan::{
     Plan, PlanMethod, PlanMotion, PlanSizes, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
 };
 use deform_kernel::spring::{
-    batina_stiffness, solve_linear_with, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions,
-    LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
+    batina_stiffness, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, LinearMethod,
+    LinearSolver, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::{graph_from_edges, graph_from_edges_len, Error, Graph, Quat};
 use libfuzzer_sys::fuzz_target;
@@ -294,7 +294,9 @@ fuzz_target!(|inp: Input| {
                     x[b as usize] = [d[0] - p[0], d[1] - p[1]];
                 }
                 let mut sc = vec![[0.0; 2]; solve_linear_with_scratch_len(&ls, n)];
-                let r = solve_linear_with(&sys, &mut x, ls, &options, &mut sc).unwrap();
+                let r = sys
+                    .solve_linear_with(&mut x, ls, &options, &mut sc)
+                    .unwrap();
                 for ((e, p), v) in expect.iter_mut().zip(&points).zip(&x) {
                     *e = [p[0] + v[0], p[1] + v[1]];
                 }

@@ -10,7 +10,6 @@
 use arbitrary::Arbitrary;
 use deform_kernel::slide::{fit_plane, slide_points, Constraints, NodeKind};
 use deform_kernel::spring::{
-    solve_angle_sliding, solve_angle_sliding_scratch_len, solve_linear_sliding,
     solve_linear_sliding_scratch_len, AngleMethod, AngleSystem, LinearMethod, LinearSolver,
     Preconditioner, SolveOptions, SpringSystem,
 };
@@ -143,8 +142,8 @@ fuzz_target!(|inp: Input| {
             return;
         };
         let m = [AngleMethod::DirectGaussSeidel, AngleMethod::Cg][usize::from(inp.method / 5 % 2)];
-        let mut work = vec![[0.0; 2]; solve_angle_sliding_scratch_len(&a, m)];
-        solve_angle_sliding(&a, &c, &mut values, m, 1.2, &opts, &mut work)
+        let mut work = vec![[0.0; 2]; a.solve_angle_sliding_scratch_len(m)];
+        a.solve_angle_sliding(&c, &mut values, m, 1.2, &opts, &mut work)
     } else {
         let solver: LinearSolver<'_, f64> = [
             LinearMethod::Jacobi,
@@ -158,7 +157,7 @@ fuzz_target!(|inp: Input| {
         ][usize::from(inp.method % 4)]
         .into();
         let mut work = vec![[0.0; 2]; solve_linear_sliding_scratch_len(&solver, n)];
-        solve_linear_sliding(&sys, &c, &mut values, solver, &opts, &mut work)
+        sys.solve_linear_sliding(&c, &mut values, solver, &opts, &mut work)
     };
     match result {
         Ok(r) => {

@@ -6,7 +6,7 @@
 
 use arbitrary::Arbitrary;
 use deform_host_tests::spring_ref::{jacobi_sweep as ref_jacobi, Net};
-use deform_kernel::spring::{jacobi_sweep, solve_linear, LinearMethod, SolveOptions, SpringSystem};
+use deform_kernel::spring::{LinearMethod, SolveOptions, SpringSystem};
 use deform_kernel::{graph_from_edges, graph_from_edges_len};
 use libfuzzer_sys::fuzz_target;
 
@@ -67,7 +67,7 @@ fuzz_target!(|inp: Input| {
 
     // Jacobi sweep: bitwise parity with the reference.
     let mut out = vec![[0.0f64; 2]; n];
-    jacobi_sweep(&sys, 0..n, &values, &mut out).unwrap();
+    sys.jacobi_sweep(0..n, &values, &mut out).unwrap();
     let net = Net {
         offsets: offsets.clone(),
         targets: targets.clone(),
@@ -94,7 +94,9 @@ fuzz_target!(|inp: Input| {
         ..SolveOptions::default()
     };
     let mut ws = vec![[0.0f64; 2]; n];
-    let report = solve_linear(&sys, &mut v, LinearMethod::GaussSeidel, &opts, &mut ws).unwrap();
+    let report = sys
+        .solve_linear(&mut v, LinearMethod::GaussSeidel, &opts, &mut ws)
+        .unwrap();
     assert!(report.residual.is_finite());
     for c in 0..2 {
         let (lo, hi) = (0..n)

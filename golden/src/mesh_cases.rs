@@ -9,8 +9,7 @@ use deform_kernel::deformation::{
 };
 use deform_kernel::quality::compare;
 use deform_kernel::spring::{
-    amg_precondition, amg_precondition_scratch_len, angle_scratch_len, batina_stiffness,
-    solve_angle, solve_linear, solve_linear_amg, solve_linear_amg_scratch_len,
+    amg_precondition_scratch_len, batina_stiffness, solve_linear_amg_scratch_len,
     solve_linear_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother, AngleMethod, AngleSystem,
     LinearMethod, Preconditioner, SolveOptions, SolveReport, SpringSystem, DEFAULT_ANGLE_EPSILON,
 };
@@ -185,7 +184,7 @@ pub fn spring_linear<T: Real>() -> u64 {
                 ..SolveOptions::default()
             };
             let scratch = scratch.get_mut(..len).unwrap_or(&mut []);
-            match solve_linear(sys, &mut values, method, &opts, scratch) {
+            match sys.solve_linear(&mut values, method, &opts, scratch) {
                 Ok(r) => hash_report(&mut h, &r),
                 Err(e) => h.error(&e),
             }
@@ -232,13 +231,8 @@ pub fn spring_amg<T: Real>() -> u64 {
             let r = boundary_displacement(&m);
             let mut z = [[T::ZERO; 2]; N];
             let len = amg_precondition_scratch_len(&hier).min(scratch.len());
-            match amg_precondition(
-                sys,
-                &hier,
-                &r,
-                &mut z,
-                scratch.get_mut(..len).unwrap_or(&mut []),
-            ) {
+            match sys.amg_precondition(&hier, &r, &mut z, scratch.get_mut(..len).unwrap_or(&mut []))
+            {
                 Ok(()) => hash_points(&mut h, &z),
                 Err(e) => h.error(&e),
             }
@@ -249,7 +243,7 @@ pub fn spring_amg<T: Real>() -> u64 {
                 ..SolveOptions::default()
             };
             let sc = scratch.get_mut(..len).unwrap_or(&mut []);
-            match solve_linear_amg(sys, &hier, &mut values, &stop, sc) {
+            match sys.solve_linear_amg(&hier, &mut values, &stop, sc) {
                 Ok(r) => hash_report(&mut h, &r),
                 Err(e) => h.error(&e),
             }
@@ -278,13 +272,13 @@ pub fn spring_angle<T: Real>() -> u64 {
         {
             let mut values = boundary_displacement(&m);
             let mut scratch = [[T::ZERO; 2]; 4 * N];
-            let len = angle_scratch_len(&asys, method).min(scratch.len());
+            let len = asys.angle_scratch_len(method).min(scratch.len());
             let opts = SolveOptions {
                 max_iterations,
                 ..SolveOptions::default()
             };
             let scratch = scratch.get_mut(..len).unwrap_or(&mut []);
-            match solve_angle(&asys, &mut values, method, &opts, scratch) {
+            match asys.solve_angle(&mut values, method, &opts, scratch) {
                 Ok(r) => hash_report(&mut h, &r),
                 Err(e) => h.error(&e),
             }

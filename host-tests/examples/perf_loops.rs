@@ -9,9 +9,8 @@ use std::time::Instant;
 
 use deform_kernel::deformation::update_points;
 use deform_kernel::spring::{
-    angle_scratch_len, batina_stiffness, solve_angle, solve_angle_sor, solve_linear,
-    solve_linear_scratch_len, AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions,
-    SpringSystem, DEFAULT_ANGLE_EPSILON,
+    batina_stiffness, solve_linear_scratch_len, AngleMethod, AngleSystem, LinearMethod,
+    Preconditioner, SolveOptions, SpringSystem, DEFAULT_ANGLE_EPSILON,
 };
 use deform_kernel::taubin::{
     inverse_distance_weights, smooth_graph, smooth_structured, GraphOptions, StructuredOptions,
@@ -74,7 +73,7 @@ fn cg() {
         let mut its = 0;
         let t = best(3, || {
             let mut x = x0.clone();
-            let r = solve_linear(&sys, &mut x, m, &opts, &mut scratch).unwrap();
+            let r = sys.solve_linear(&mut x, m, &opts, &mut scratch).unwrap();
             its = r.iterations;
             black_box(&x);
         });
@@ -93,7 +92,7 @@ fn cg() {
         };
         let mut x = x0.clone();
         let s = Instant::now();
-        let r = solve_linear(&sys, &mut x, m, &opts, &mut scratch).unwrap();
+        let r = sys.solve_linear(&mut x, m, &opts, &mut scratch).unwrap();
         println!(
             "  cg+{name:9} to 1e-8: {} iterations, {:.3} s, converged {}",
             r.iterations,
@@ -290,10 +289,12 @@ fn angle_sor() {
             residual_tol: 1e-10,
             update_tol: 0.0,
         };
-        let mut scratch = vec![[0.0; 2]; angle_scratch_len(&asys, AngleMethod::Cg)];
+        let mut scratch = vec![[0.0; 2]; asys.angle_scratch_len(AngleMethod::Cg)];
         let mut x = x0.clone();
         let t = Instant::now();
-        let r = solve_angle(&asys, &mut x, AngleMethod::Cg, &opts, &mut scratch).unwrap();
+        let r = asys
+            .solve_angle(&mut x, AngleMethod::Cg, &opts, &mut scratch)
+            .unwrap();
         println!(
             "  cg (reference)  {:>6} iterations, residual {:.2e}, converged {} ({:.2} s)",
             r.iterations,
@@ -305,7 +306,9 @@ fn angle_sor() {
         for omega in [1.0, 1.7, 1.8, 1.85, 1.9, 1.95, 1.97, 1.98, 1.99] {
             let mut x = x0.clone();
             let t = Instant::now();
-            let r = solve_angle_sor(&asys, &mut x, omega, &opts, &mut scratch).unwrap();
+            let r = asys
+                .solve_angle_sor(&mut x, omega, &opts, &mut scratch)
+                .unwrap();
             let diff = x
                 .iter()
                 .flatten()

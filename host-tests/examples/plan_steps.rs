@@ -21,8 +21,8 @@ use deform_kernel::plan::{
     Plan, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanWork,
 };
 use deform_kernel::spring::{
-    batina_stiffness, solve_linear_with, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions,
-    LinearSolver, SolveOptions, SpringSystem,
+    batina_stiffness, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, LinearSolver,
+    SolveOptions, SpringSystem,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph, Quat};
 use deform_meshgen::{naca_triangulated, AirfoilGrid, Mesh2};
@@ -174,7 +174,9 @@ fn stateless(c: &Case, method: PlanMethod, period: usize) -> (Duration, Duration
                     let p = c.points[i as usize];
                     x[i as usize] = [di[0] - p[0], di[1] - p[1]];
                 }
-                let r = solve_linear_with(&sys, &mut x, ls, &options(), &mut v2).unwrap();
+                let r = sys
+                    .solve_linear_with(&mut x, ls, &options(), &mut v2)
+                    .unwrap();
                 for ((o, p), v) in out.iter_mut().zip(&c.points).zip(&x) {
                     *o = [p[0] + v[0], p[1] + v[1]];
                 }

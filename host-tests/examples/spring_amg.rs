@@ -11,9 +11,8 @@ use std::io::Write;
 use std::time::Instant;
 
 use deform_kernel::spring::{
-    batina_stiffness, solve_linear, solve_linear_amg, solve_linear_amg_scratch_len,
-    solve_linear_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother, LinearMethod, Preconditioner,
-    SolveOptions, SpringSystem,
+    batina_stiffness, solve_linear_amg_scratch_len, solve_linear_scratch_len, AmgHierarchy,
+    AmgOptions, AmgSmoother, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Graph};
 use deform_meshgen::{naca_triangulated, rotate_markers2, AirfoilGrid, Mesh2};
@@ -128,7 +127,9 @@ fn run(label: &str, mesh: &Mesh2, csr: Option<&str>) {
         let mut x = x0.clone();
         let mut scratch = vec![[0.0; 2]; solve_linear_amg_scratch_len(&h)];
         let t = Instant::now();
-        let rep = solve_linear_amg(&sys, &h, &mut x, &opts, &mut scratch).unwrap();
+        let rep = sys
+            .solve_linear_amg(&h, &mut x, &opts, &mut scratch)
+            .unwrap();
         let t_solve = t.elapsed().as_secs_f64();
         println!(
             "  AMG-CG {smoother:?} {sweeps} θ={theta}: iterations {:>5}  residual {:.2e}  converged {}  setup {:.3} s (sizes {:.3} s) solve {:.3} s  levels [{}]  index {} values {}",
@@ -149,7 +150,7 @@ fn run(label: &str, mesh: &Mesh2, csr: Option<&str>) {
     let mut x = x0.clone();
     let mut scratch = vec![[0.0; 2]; solve_linear_scratch_len(&m, n)];
     let t = Instant::now();
-    let rep = solve_linear(&sys, &mut x, m, &opts, &mut scratch).unwrap();
+    let rep = sys.solve_linear(&mut x, m, &opts, &mut scratch).unwrap();
     println!(
         "  CG+Jacobi: iterations {:>5}  residual {:.2e}  converged {}  ({:.3} s)",
         rep.iterations,

@@ -7,8 +7,7 @@
 use std::time::Instant;
 
 use deform_kernel::spring::{
-    angle_probe_scratch_len, angle_rigidity_probe, angle_scratch_len, batina_stiffness,
-    solve_angle, solve_linear, solve_linear_scratch_len, AngleMethod, AngleSystem, LinearMethod,
+    batina_stiffness, solve_linear_scratch_len, AngleMethod, AngleSystem, LinearMethod,
     Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Graph};
@@ -72,7 +71,7 @@ fn run(label: &str, mesh: &Mesh2, diagonals: bool, linear: bool, angle: bool, wh
         let mut x = x0.clone();
         let mut scratch = vec![[0.0; 2]; solve_linear_scratch_len(&m, n)];
         let t = Instant::now();
-        let rep = solve_linear(&sys, &mut x, m, &opts, &mut scratch).unwrap();
+        let rep = sys.solve_linear(&mut x, m, &opts, &mut scratch).unwrap();
         println!(
             "  {name:24} iterations {:>8}  residual {:.2e}  converged {}  ({:.2} s)",
             rep.iterations,
@@ -89,9 +88,9 @@ fn run(label: &str, mesh: &Mesh2, diagonals: bool, linear: bool, angle: bool, wh
                 continue;
             }
         };
-        let mut probe = vec![[0.0; 2]; angle_probe_scratch_len(&asys)];
+        let mut probe = vec![[0.0; 2]; asys.angle_probe_scratch_len()];
         let t = Instant::now();
-        match angle_rigidity_probe(&asys, &opts, &mut probe) {
+        match asys.angle_rigidity_probe(&opts, &mut probe) {
             Ok(s) => println!(
                 "  angle eps={eps:<5} rigidity probe amplification {s:.3e} ({:.2} s)",
                 t.elapsed().as_secs_f64()
@@ -110,7 +109,7 @@ fn run(label: &str, mesh: &Mesh2, diagonals: bool, linear: bool, angle: bool, wh
         .filter(|_| what != "probe")
         {
             let mut x = x0.clone();
-            let mut scratch = vec![[0.0; 2]; angle_scratch_len(&asys, m)];
+            let mut scratch = vec![[0.0; 2]; asys.angle_scratch_len(m)];
             let t = Instant::now();
             // The direct (node-wise) methods converge slowly on this mesh: capped at 20 000
             // sweeps to keep the run short (Gauss–Seidel needed 109 031 sweeps with ε = 0.01 on
@@ -123,7 +122,7 @@ fn run(label: &str, mesh: &Mesh2, diagonals: bool, linear: bool, angle: bool, wh
                 },
                 ..opts
             };
-            match solve_angle(&asys, &mut x, m, &o, &mut scratch) {
+            match asys.solve_angle(&mut x, m, &o, &mut scratch) {
                 Ok(rep) => println!(
                     "  angle eps={eps:<5} {m:?}: iterations {:>8}  residual {:.2e}  converged {}  ({:.2} s)",
                     rep.iterations, rep.residual, rep.converged, t.elapsed().as_secs_f64()

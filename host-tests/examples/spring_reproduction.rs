@@ -9,9 +9,8 @@ use std::fmt::Write as _;
 
 use deform_kernel::quality::{compare, wall_angle_scratch_len, Wall};
 use deform_kernel::spring::{
-    angle_scratch_len, batina_stiffness, solve_angle, solve_linear, solve_linear_scratch_len,
-    AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions, SolveReport,
-    SpringSystem,
+    batina_stiffness, solve_linear_scratch_len, AngleMethod, AngleSystem, LinearMethod,
+    Preconditioner, SolveOptions, SolveReport, SpringSystem,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Graph};
 use deform_meshgen::{naca_hybrid, naca_triangulated, AirfoilGrid, Mesh2};
@@ -56,7 +55,8 @@ fn solve(
                 update_tol: 0.0,
             };
             let mut scratch = vec![[0.0; 2]; solve_linear_scratch_len(&m, n)];
-            solve_linear(sys, x, m, &opts, &mut scratch).map_err(|e| e.to_string())
+            sys.solve_linear(x, m, &opts, &mut scratch)
+                .map_err(|e| e.to_string())
         }
         Method::Angle(m, eps) => {
             let a = AngleSystem::new(*sys, points, eps).map_err(|e| e.to_string())?;
@@ -70,8 +70,9 @@ fn solve(
                 max_iterations,
                 update_tol: 0.0,
             };
-            let mut scratch = vec![[0.0; 2]; angle_scratch_len(&a, m)];
-            solve_angle(&a, x, m, &opts, &mut scratch).map_err(|e| e.to_string())
+            let mut scratch = vec![[0.0; 2]; a.angle_scratch_len(m)];
+            a.solve_angle(x, m, &opts, &mut scratch)
+                .map_err(|e| e.to_string())
         }
     }
 }

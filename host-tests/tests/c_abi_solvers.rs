@@ -17,8 +17,8 @@ use common::c_build::*;
 use deform_kernel::Direction;
 
 use deform_kernel::spring::{
-    angle_scratch_len, batina_stiffness, solve_linear, AngleMethod, AngleSystem, LinearMethod,
-    Preconditioner, SolveOptions, SpringSystem,
+    batina_stiffness, AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions,
+    SpringSystem,
 };
 use deform_kernel::taubin::{
     smooth_arclength, smooth_arclength_scratch_len, smooth_graph, smooth_structured, GraphOptions,
@@ -113,7 +113,8 @@ fn expected_for<T: Real>(tag: &str, hex: fn(&str, &[T]) -> String) -> String {
     let method = LinearMethod::Cg {
         preconditioner: Preconditioner::Jacobi,
     };
-    solve_linear(&sys, &mut v, method, &SolveOptions::default(), &mut scratch).unwrap();
+    sys.solve_linear(&mut v, method, &SolveOptions::default(), &mut scratch)
+        .unwrap();
     let flat: Vec<T> = v.iter().map(|x| x[0]).collect();
     out += &hex(&format!("spring_{tag}"), &flat);
 
@@ -203,7 +204,7 @@ fn angle_len<T: Real>(grid: Graph<'_>, epsilon: f64, method: AngleMethod) -> usi
     let mut idx = vec![0u32; 16];
     let base = SpringSystem::new(grid, &k, &fixed, &mut idx).unwrap();
     let sys = AngleSystem::new(base, &pts, T::from_f64(epsilon)).unwrap();
-    angle_scratch_len(&sys, method) * 2
+    sys.angle_scratch_len(method) * 2
 }
 
 #[test]

@@ -19,8 +19,8 @@ use deform_kernel::deformation::{
 };
 use deform_kernel::quality::{compare, wall_angle_scratch_len, Wall};
 use deform_kernel::spring::{
-    batina_stiffness, solve_linear, solve_linear_scratch_len, LinearMethod, Preconditioner,
-    SolveOptions, SpringSystem,
+    batina_stiffness, solve_linear_scratch_len, LinearMethod, Preconditioner, SolveOptions,
+    SpringSystem,
 };
 use deform_kernel::Directions;
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Block, Cells, Graph, Quat};
@@ -214,7 +214,7 @@ fn run_mesh(name: &'static str, mesh: &Mesh2, rows: &mut Vec<Row>) {
             disp[i as usize] = [deformed[k][0] - p[0], deformed[k][1] - p[1]];
         }
         let mut sc = vec![[0.0; 2]; solve_linear_scratch_len(&cg, n)];
-        let rep = solve_linear(&sys, &mut disp, cg, &opts, &mut sc).unwrap();
+        let rep = sys.solve_linear(&mut disp, cg, &opts, &mut sc).unwrap();
         assert!(rep.converged);
         let out_d: Vec<[f64; 2]> = mesh
             .points

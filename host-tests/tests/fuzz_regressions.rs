@@ -3,8 +3,8 @@
 //! are kept in `fuzz/seeds/<target>/` so the CI smoke run replays them too.
 
 use deform_kernel::spring::{
-    batina_stiffness, solve_linear, solve_linear_scratch_len, LinearMethod, Preconditioner,
-    SolveOptions, SpringSystem,
+    batina_stiffness, solve_linear_scratch_len, LinearMethod, Preconditioner, SolveOptions,
+    SpringSystem,
 };
 use deform_kernel::taubin::{redistribute, redistribute_scratch_len};
 use deform_kernel::vector::{norm, norm_robust};
@@ -103,7 +103,8 @@ fn every_linear_method_keeps_fixed_values_bitwise() {
             residual_tol: 1e-14,
             ..SolveOptions::default()
         };
-        solve_linear(&sys, &mut values, method, &options, &mut scratch).unwrap();
+        sys.solve_linear(&mut values, method, &options, &mut scratch)
+            .unwrap();
         assert_eq!(values[0][0].to_bits(), (-0.0f64).to_bits(), "{method:?}");
         assert_eq!(values[2][0].to_bits(), 1.0f64.to_bits(), "{method:?}");
         assert!((values[1][0] - 0.5).abs() < 1e-12, "{method:?}");

@@ -18,8 +18,8 @@ use deform_kernel::plan::{
 };
 use deform_kernel::slide::Constraints;
 use deform_kernel::spring::{
-    batina_stiffness, solve_linear_with, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions,
-    LinearMethod, LinearSolver, Preconditioner, SolveOptions, SolveReport, SpringSystem,
+    batina_stiffness, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, LinearMethod,
+    LinearSolver, Preconditioner, SolveOptions, SolveReport, SpringSystem,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Error, Graph, Quat, Real};
 use deform_meshgen::{extrude, naca_hybrid, naca_triangulated, AirfoilGrid, Mesh, Mesh2};
@@ -367,7 +367,9 @@ fn stateless_spring<T: Real, const D: usize>(
         guess[i as usize] = std::array::from_fn(|j| d[j] - p[j]);
     }
     let mut scratch = vec![[T::ZERO; D]; solve_linear_with_scratch_len(&ls, n)];
-    let rep = solve_linear_with(&sys, guess, ls, &options(), &mut scratch).unwrap();
+    let rep = sys
+        .solve_linear_with(guess, ls, &options(), &mut scratch)
+        .unwrap();
     let mut out: Vec<[T; D]> = c
         .points
         .iter()

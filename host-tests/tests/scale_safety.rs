@@ -9,8 +9,8 @@ mod spring_common;
 
 use deform_kernel::deformation::{propagate_idw, propagate_spring, propagate_spring_scratch_len};
 use deform_kernel::spring::{
-    relative_residual, solve_angle, solve_linear, solve_linear_scratch_len, AngleMethod,
-    LinearMethod, Preconditioner, SolveOptions, SolveReport, SpringSystem,
+    solve_linear_scratch_len, AngleMethod, LinearMethod, Preconditioner, SolveOptions, SolveReport,
+    SpringSystem,
 };
 use deform_kernel::taubin::{arclength, stretching};
 use deform_kernel::Direction;
@@ -49,7 +49,7 @@ fn solve<T: Real, const V: usize>(
         max_iterations: 20_000,
         ..SolveOptions::default()
     };
-    solve_linear(sys, x, m, &opts, &mut scratch)
+    sys.solve_linear(x, m, &opts, &mut scratch)
 }
 
 fn scaled<T: Real, const V: usize>(x: &[[T; V]], s: f64) -> Vec<[T; V]> {
@@ -125,7 +125,7 @@ fn constant_fields<T: Real>(values: &[f64], tol: f64) {
             let want = vec![[T::from_f64(c).to_f64(), -T::from_f64(c).to_f64()]; case.n()];
             let err = rel_err(&x, &want);
             assert!(err <= tol, "{name} at {c:e}: relative error {err:e}");
-            let r = relative_residual(&sys, &x).unwrap();
+            let r = sys.relative_residual(&x).unwrap();
             assert!(
                 r.is_finite() && r <= T::from_f64(10.0) * SolveOptions::<T>::default().residual_tol,
                 "{name} at {c:e}: relative_residual {r:?}"
@@ -156,10 +156,10 @@ fn relative_residual_is_scale_invariant() {
         let case = annulus::<T>(5, 16);
         let sys = case.system();
         let x: Vec<[T; 3]> = field(&case, &mut Lcg(3), None);
-        let r1 = relative_residual(&sys, &x).unwrap();
-        let rs = relative_residual(&sys, &scaled(&x, pow2)).unwrap();
+        let r1 = sys.relative_residual(&x).unwrap();
+        let rs = sys.relative_residual(&scaled(&x, pow2)).unwrap();
         assert_eq!(rs.to_bits_u64(), r1.to_bits_u64(), "at {pow2:e}");
-        let ro = relative_residual(&sys, &scaled(&x, other)).unwrap();
+        let ro = sys.relative_residual(&scaled(&x, other)).unwrap();
         assert!(ro.is_finite(), "at {other:e}: {ro:?}");
         let d = (ro.to_f64() - r1.to_f64()).abs() / r1.to_f64();
         assert!(d < 1e-4, "at {other:e}: {ro:?} vs {r1:?}");
@@ -246,10 +246,10 @@ fn angle_solves_survive_extreme_scales() {
         ] {
             let mut scratch = vec![[T::ZERO; 2]; 4 * n];
             let mut base = x0.clone();
-            let rep = solve_angle(&sys, &mut base, m, &opts, &mut scratch).unwrap();
+            let rep = sys.solve_angle(&mut base, m, &opts, &mut scratch).unwrap();
             for &s in pow2 {
                 let mut x = scaled(&x0, s);
-                let got = solve_angle(&sys, &mut x, m, &opts, &mut scratch).unwrap();
+                let got = sys.solve_angle(&mut x, m, &opts, &mut scratch).unwrap();
                 assert_eq!(got.iterations, rep.iterations, "{m:?} at {s:e}");
                 assert_eq!(got.converged, rep.converged, "{m:?} at {s:e}");
                 assert_eq!(
@@ -269,7 +269,7 @@ fn angle_solves_survive_extreme_scales() {
                         [T::from_f64(v), T::from_f64(0.5 * v)]
                     })
                     .collect();
-                let rep = solve_angle(&sys, &mut x, m, &opts, &mut scratch).unwrap();
+                let rep = sys.solve_angle(&mut x, m, &opts, &mut scratch).unwrap();
                 assert!(
                     rep.converged && rep.iterations > 0,
                     "{m:?} at {c:e}: {rep:?}"

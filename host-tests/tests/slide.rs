@@ -8,9 +8,8 @@ use deform_kernel::deformation::{
 use deform_kernel::quality::compare;
 use deform_kernel::slide::{fit_plane, plane_intersection, slide_points, Constraints, NodeKind};
 use deform_kernel::spring::{
-    batina_stiffness, solve_angle_sliding, solve_angle_sliding_scratch_len, solve_linear_sliding,
-    solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AngleMethod, AngleSystem,
-    LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
+    batina_stiffness, solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AngleMethod,
+    AngleSystem, LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Error, Graph, Quat};
 use deform_meshgen::{annulus, box_with_inner_box3, Mesh};
@@ -168,7 +167,9 @@ impl<const D: usize> Half<D> {
             max_iterations: 200_000,
             ..SolveOptions::default()
         };
-        let r = solve_linear_sliding(&sys, &c, &mut d, solver, &opts, &mut work).unwrap();
+        let r = sys
+            .solve_linear_sliding(&c, &mut d, solver, &opts, &mut work)
+            .unwrap();
         assert!(r.converged, "{r:?}");
         d
     }
@@ -407,9 +408,10 @@ fn angle_matches_dense_reference() {
             (AngleMethod::DirectJacobi, 1.0),
         ] {
             let mut d = fixed.clone();
-            let mut work = vec![[0.0; D]; solve_angle_sliding_scratch_len(&asys, method)];
-            let r =
-                solve_angle_sliding(&asys, &c, &mut d, method, omega, &opts, &mut work).unwrap();
+            let mut work = vec![[0.0; D]; asys.solve_angle_sliding_scratch_len(method)];
+            let r = asys
+                .solve_angle_sliding(&c, &mut d, method, omega, &opts, &mut work)
+                .unwrap();
             if method == AngleMethod::DirectJacobi && !r.converged {
                 continue; // block Jacobi is not guaranteed to converge on this operator
             }
@@ -726,7 +728,9 @@ fn line_constraint_on_quarter_box() {
         residual_tol: 1e-12,
         ..SolveOptions::default()
     };
-    let r = solve_linear_sliding(&sys, &c, &mut d, solver, &opts, &mut work).unwrap();
+    let r = sys
+        .solve_linear_sliding(&c, &mut d, solver, &opts, &mut work)
+        .unwrap();
     assert!(r.converged);
     assert!(max_diff(&d, &reference) / max_abs(&reference) < 1e-8);
     for &i in &on_line {
@@ -801,7 +805,7 @@ fn bad_input_is_refused_untouched() {
     let mut d = vec![[0.25, -0.0]; kinds.len()];
     let before = d.clone();
     assert!(matches!(
-        solve_linear_sliding(&sys_wrong, &c, &mut d, solver, &opts, &mut work),
+        sys_wrong.solve_linear_sliding(&c, &mut d, solver, &opts, &mut work),
         Err(Error::InvalidParameter {
             arg: "constraints",
             ..
@@ -810,7 +814,7 @@ fn bad_input_is_refused_untouched() {
     d[5][1] = f64::NAN;
     let nan_before: Vec<[u64; 2]> = d.iter().map(|v| v.map(f64::to_bits)).collect();
     assert!(matches!(
-        solve_linear_sliding(&sys, &c, &mut d, solver, &opts, &mut work),
+        sys.solve_linear_sliding(&c, &mut d, solver, &opts, &mut work),
         Err(Error::NonFinite {
             arg: "values",
             position: 5
@@ -830,36 +834,31 @@ fn bad_input_is_refused_untouched() {
     );
     let mut short = vec![[0.0; 2]; 1];
     assert!(matches!(
-        solve_linear_sliding(
-            &sys,
-            &c,
-            &mut d,
-            LinearMethod::Jacobi.into(),
-            &opts,
-            &mut short
-        ),
+        sys.solve_linear_sliding(&c, &mut d, LinearMethod::Jacobi.into(), &opts, &mut short),
         Err(Error::BufferTooSmall { arg: "scratch", .. })
     ));
     let bad = SolveOptions {
         residual_tol: f64::NAN,
         ..SolveOptions::default()
     };
-    assert!(solve_linear_sliding(&sys, &c, &mut d, solver, &bad, &mut work).is_err());
-    assert!(solve_linear_sliding(
-        &sys,
-        &c,
-        &mut d,
-        LinearMethod::Sor { omega: 2.0 }.into(),
-        &opts,
-        &mut work
-    )
-    .is_err());
+    assert!(sys
+        .solve_linear_sliding(&c, &mut d, solver, &bad, &mut work)
+        .is_err());
+    assert!(sys
+        .solve_linear_sliding(
+            &c,
+            &mut d,
+            LinearMethod::Sor { omega: 2.0 }.into(),
+            &opts,
+            &mut work
+        )
+        .is_err());
     // Overflowing stiffness × values.
     let mut huge = vec![[1e300, 1e300]; kinds.len()];
     let k_big: Vec<f64> = h.k.iter().map(|k| k * 1e300).collect();
     let sys_big = SpringSystem::new(h.graph(), &k_big, &mask, &mut s).unwrap();
     let hb: Vec<[u64; 2]> = huge.iter().map(|v| v.map(f64::to_bits)).collect();
-    let r = solve_linear_sliding(&sys_big, &c, &mut huge, solver, &opts, &mut work);
+    let r = sys_big.solve_linear_sliding(&c, &mut huge, solver, &opts, &mut work);
     if r.is_err() {
         assert_eq!(
             hb,

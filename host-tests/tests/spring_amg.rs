@@ -8,10 +8,9 @@ mod spring_common;
 
 use deform_host_tests::spring_ref;
 use deform_kernel::spring::{
-    amg_precondition, amg_precondition_scratch_len, batina_stiffness, solve_linear,
-    solve_linear_amg, solve_linear_amg_scratch_len, solve_linear_scratch_len, AmgHierarchy,
-    AmgOptions, AmgSizes, AmgSmoother, LinearMethod, Preconditioner, SolveOptions, SolveReport,
-    SpringSystem,
+    amg_precondition_scratch_len, batina_stiffness, solve_linear_amg_scratch_len,
+    solve_linear_scratch_len, AmgHierarchy, AmgOptions, AmgSizes, AmgSmoother, LinearMethod,
+    Preconditioner, SolveOptions, SolveReport, SpringSystem,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Error, Graph, Real};
 use deform_meshgen::{naca_triangulated, rotate_markers2, AirfoilGrid};
@@ -46,7 +45,7 @@ fn amg_solve<T: Real, const V: usize>(
     let mut b = buffers(sys, opts);
     let h = AmgHierarchy::setup(sys, opts, &mut b.work, &mut b.index, &mut b.values)?;
     let mut scratch = vec![[T::ZERO; V]; solve_linear_amg_scratch_len(&h)];
-    solve_linear_amg(sys, &h, x, stop, &mut scratch)
+    sys.solve_linear_amg(&h, x, stop, &mut scratch)
 }
 
 /// A field with the given Dirichlet data on the fixed nodes (from a smooth function) and a
@@ -177,7 +176,9 @@ fn hierarchy_shape_and_all_level_counts() {
         let x0 = field::<f64, 2, 2>(&ann);
         let mut x = x0.clone();
         let mut scratch = vec![[0.0; 2]; solve_linear_amg_scratch_len(&h)];
-        let rep = solve_linear_amg(&sys, &h, &mut x, &tight(), &mut scratch).unwrap();
+        let rep = sys
+            .solve_linear_amg(&h, &mut x, &tight(), &mut scratch)
+            .unwrap();
         assert!(rep.converged, "levels {max_levels}: {rep:?}");
         assert!(max_diff_to_reference(&ann, &x0, &x) < 1e-9);
     }
@@ -236,7 +237,7 @@ fn far_fewer_iterations_than_cg_jacobi_on_a_naca_mesh() {
     };
     let mut y = m.x0.clone();
     let mut scratch = vec![[0.0; 2]; solve_linear_scratch_len(&cg, y.len())];
-    let jac = solve_linear(&sys, &mut y, cg, &stop, &mut scratch).unwrap();
+    let jac = sys.solve_linear(&mut y, cg, &stop, &mut scratch).unwrap();
     assert!(amg.converged && jac.converged);
     // Robustness, not speed: multigrid keeps the iteration count nearly mesh-independent.
     assert!(
@@ -349,7 +350,8 @@ fn solve_bits<const D: usize>(
 ) -> Vec<[u64; 2]> {
     let mut x = field::<f64, 2, D>(case);
     let mut scratch = vec![[0.0; 2]; solve_linear_amg_scratch_len(h)];
-    solve_linear_amg(sys, h, &mut x, &tight(), &mut scratch).unwrap();
+    sys.solve_linear_amg(h, &mut x, &tight(), &mut scratch)
+        .unwrap();
     x.iter().map(|v| v.map(f64::to_bits)).collect()
 }
 
@@ -402,7 +404,7 @@ fn preconditioner_is_symmetric_positive_definite() {
             let mut scratch = vec![[0.0; 1]; amg_precondition_scratch_len(&h)];
             let apply = |r: &[[f64; 1]], scratch: &mut Vec<[f64; 1]>| {
                 let mut z = vec![[0.0; 1]; n];
-                amg_precondition(&sys, &h, r, &mut z, scratch).unwrap();
+                sys.amg_precondition(&h, r, &mut z, scratch).unwrap();
                 z
             };
             let free_dot = |a: &[[f64; 1]], b: &[[f64; 1]]| -> f64 {
@@ -476,7 +478,7 @@ fn bad_inputs_are_typed() {
     let mut x = x0.clone();
     let mut scratch = vec![[0.0; 2]; need - 1];
     assert!(matches!(
-        solve_linear_amg(&sys, &h, &mut x, &tight(), &mut scratch),
+        sys.solve_linear_amg(&h, &mut x, &tight(), &mut scratch),
         Err(Error::BufferTooSmall { arg: "scratch", .. })
     ));
     assert_eq!(x, x0);
@@ -486,7 +488,7 @@ fn bad_inputs_are_typed() {
     x[40][1] = f64::NAN;
     let before: Vec<[u64; 2]> = x.iter().map(|v| v.map(f64::to_bits)).collect();
     assert!(matches!(
-        solve_linear_amg(&sys, &h, &mut x, &tight(), &mut scratch),
+        sys.solve_linear_amg(&h, &mut x, &tight(), &mut scratch),
         Err(Error::NonFinite { arg: "values", .. })
     ));
     assert_eq!(
@@ -500,7 +502,7 @@ fn bad_inputs_are_typed() {
         ..tight()
     };
     assert!(matches!(
-        solve_linear_amg(&sys, &h, &mut x, &o, &mut scratch),
+        sys.solve_linear_amg(&h, &mut x, &o, &mut scratch),
         Err(Error::InvalidParameter { .. })
     ));
     // A hierarchy of another system.
@@ -509,7 +511,7 @@ fn bad_inputs_are_typed() {
     let mut y = field::<f64, 2, 2>(&other);
     let mut big = vec![[0.0; 2]; 10 * other.n()];
     assert!(matches!(
-        solve_linear_amg(&osys, &h, &mut y, &tight(), &mut big),
+        osys.solve_linear_amg(&h, &mut y, &tight(), &mut big),
         Err(Error::LengthMismatch {
             arg: "hierarchy",
             ..
@@ -517,7 +519,7 @@ fn bad_inputs_are_typed() {
     ));
     let mut z = vec![[0.0; 2]; other.n()];
     assert!(matches!(
-        amg_precondition(&osys, &h, &y, &mut z, &mut big),
+        osys.amg_precondition(&h, &y, &mut z, &mut big),
         Err(Error::LengthMismatch {
             arg: "hierarchy",
             ..
@@ -554,7 +556,9 @@ fn hierarchy_of_other_stiffness_still_gives_the_exact_answer() {
     let x0 = field::<f64, 2, 2>(&ann);
     let mut x = x0.clone();
     let mut scratch = vec![[0.0; 2]; solve_linear_amg_scratch_len(&h)];
-    let rep = solve_linear_amg(&sys, &h, &mut x, &tight(), &mut scratch).unwrap();
+    let rep = sys
+        .solve_linear_amg(&h, &mut x, &tight(), &mut scratch)
+        .unwrap();
     assert!(rep.converged);
     assert!(max_diff_to_reference(&ann, &x0, &x) < 1e-9);
 }

@@ -7,9 +7,8 @@ mod spring_common;
 
 use deform_host_tests::spring_ref;
 use deform_kernel::spring::{
-    angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_probe_scratch_len, angle_rigidity_probe,
-    angle_scratch_len, angle_sor_sweep, solve_angle, solve_angle_sor, AngleMethod, AngleSystem,
-    SolveOptions, SolveReport, SpringSystem, DEFAULT_ANGLE_EPSILON, MAX_AMPLIFICATION,
+    AngleMethod, AngleSystem, SolveOptions, SolveReport, SpringSystem, DEFAULT_ANGLE_EPSILON,
+    MAX_AMPLIFICATION,
 };
 use deform_kernel::{Error, Real};
 use spring_common::*;
@@ -26,8 +25,8 @@ fn solve<T: Real, const D: usize>(
     m: AngleMethod,
     opts: &SolveOptions<T>,
 ) -> deform_kernel::Result<SolveReport<T>> {
-    let mut scratch = vec![[T::ZERO; D]; angle_scratch_len(sys, m)];
-    solve_angle(sys, x, m, opts, &mut scratch)
+    let mut scratch = vec![[T::ZERO; D]; sys.angle_scratch_len(m)];
+    sys.solve_angle(x, m, opts, &mut scratch)
 }
 
 /// The Jacobi-order direct sweep equals a naive sweep that solves each node block by dense
@@ -43,7 +42,7 @@ fn angle_jacobi_sweep_matches_reference() {
         let n = case.n();
         for range in [0..n, 7..n / 2] {
             let mut out = vec![[-5.0; D]; n];
-            angle_jacobi_sweep(&sys, range.clone(), &x, &mut out).unwrap();
+            sys.angle_jacobi_sweep(range.clone(), &x, &mut out).unwrap();
             for i in 0..n {
                 for c in 0..D {
                     if range.contains(&i) {
@@ -72,8 +71,8 @@ fn angle_sor_matches_gauss_seidel_at_one_and_converges_faster() {
         let n = case.n();
         let mut a = x0.clone();
         let mut b = x0.clone();
-        let sa = angle_gauss_seidel_sweep(&sys, 0..n, &mut a).unwrap();
-        let sb = angle_sor_sweep(&sys, 0..n, &mut b, 1.0).unwrap();
+        let sa = sys.angle_gauss_seidel_sweep(0..n, &mut a).unwrap();
+        let sb = sys.angle_sor_sweep(0..n, &mut b, 1.0).unwrap();
         assert_eq!(sa, sb);
         assert_eq!(bits(&a), bits(&b));
         let exact =
@@ -83,16 +82,20 @@ fn angle_sor_matches_gauss_seidel_at_one_and_converges_faster() {
             max_iterations: 200_000,
             ..Default::default()
         };
-        let mut scratch = vec![[0.0; D]; angle_scratch_len(&sys, AngleMethod::DirectGaussSeidel)];
+        let mut scratch = vec![[0.0; D]; sys.angle_scratch_len(AngleMethod::DirectGaussSeidel)];
         let mut gs = x0.clone();
         let rgs = solve(&sys, &mut gs, AngleMethod::DirectGaussSeidel, &opts).unwrap();
         let mut one = x0.clone();
-        let r1 = solve_angle_sor(&sys, &mut one, 1.0, &opts, &mut scratch).unwrap();
+        let r1 = sys
+            .solve_angle_sor(&mut one, 1.0, &opts, &mut scratch)
+            .unwrap();
         assert_eq!(r1, rgs);
         assert_eq!(bits(&one), bits(&gs));
         for omega in [1.2, 1.5, 1.8] {
             let mut x = x0.clone();
-            let r = solve_angle_sor(&sys, &mut x, omega, &opts, &mut scratch).unwrap();
+            let r = sys
+                .solve_angle_sor(&mut x, omega, &opts, &mut scratch)
+                .unwrap();
             assert!(r.converged, "omega {omega}: {r:?}");
             assert!(
                 omega != faster || r.iterations < rgs.iterations,
@@ -112,11 +115,11 @@ fn angle_sor_matches_gauss_seidel_at_one_and_converges_faster() {
         for omega in [0.0, 2.0, -1.0, f64::NAN] {
             let mut x = x0.clone();
             assert!(matches!(
-                solve_angle_sor(&sys, &mut x, omega, &opts, &mut scratch),
+                sys.solve_angle_sor(&mut x, omega, &opts, &mut scratch),
                 Err(Error::InvalidParameter { arg: "omega", .. })
             ));
             assert!(matches!(
-                angle_sor_sweep(&sys, 0..n, &mut x, omega),
+                sys.angle_sor_sweep(0..n, &mut x, omega),
                 Err(Error::InvalidParameter { arg: "omega", .. })
             ));
             assert_eq!(bits(&x), bits(&x0));
@@ -240,12 +243,12 @@ fn angle_uniform_translation_is_exact() {
         let sys = a.angle(eps);
         let x = vec![c; a.n()];
         let mut out = vec![[0.0; 2]; a.n()];
-        let s = angle_jacobi_sweep(&sys, 0..a.n(), &x, &mut out).unwrap();
+        let s = sys.angle_jacobi_sweep(0..a.n(), &x, &mut out).unwrap();
         assert_eq!((s.max_change, s.residual_sq), (0.0, 0.0));
         assert_eq!(bits(&out), bits(&x));
         let mut y = x.clone();
         assert_eq!(
-            angle_gauss_seidel_sweep(&sys, 0..a.n(), &mut y)
+            sys.angle_gauss_seidel_sweep(0..a.n(), &mut y)
                 .unwrap()
                 .max_change,
             0.0
@@ -423,7 +426,7 @@ fn angle_errors_are_typed_and_leave_buffers_unchanged() {
     let before = bits(&x);
     let mut out = vec![[1.0; 2]; n];
     assert_eq!(
-        angle_jacobi_sweep(&sys, 0..n, &x, &mut out),
+        sys.angle_jacobi_sweep(0..n, &x, &mut out),
         Err(Error::NonFinite {
             arg: "input",
             position: 30
@@ -431,7 +434,7 @@ fn angle_errors_are_typed_and_leave_buffers_unchanged() {
     );
     assert!(out.iter().all(|v| *v == [1.0; 2]));
     assert_eq!(
-        angle_gauss_seidel_sweep(&sys, 0..n, &mut x),
+        sys.angle_gauss_seidel_sweep(0..n, &mut x),
         Err(Error::NonFinite {
             arg: "values",
             position: 30
@@ -450,17 +453,16 @@ fn angle_errors_are_typed_and_leave_buffers_unchanged() {
     x[30][0] = 0.0;
     let before = bits(&x);
     assert!(matches!(
-        angle_jacobi_sweep(&sys, 2..n + 3, &x, &mut out),
+        sys.angle_jacobi_sweep(2..n + 3, &x, &mut out),
         Err(Error::IndexOutOfRange { arg: "nodes", .. })
     ));
     assert!(matches!(
-        angle_gauss_seidel_sweep(&sys, 0..n + 1, &mut x),
+        sys.angle_gauss_seidel_sweep(0..n + 1, &mut x),
         Err(Error::IndexOutOfRange { arg: "nodes", .. })
     ));
-    let mut small = vec![[0.0; 2]; angle_scratch_len(&sys, AngleMethod::Cg) - 1];
+    let mut small = vec![[0.0; 2]; sys.angle_scratch_len(AngleMethod::Cg) - 1];
     assert!(matches!(
-        solve_angle(
-            &sys,
+        sys.solve_angle(
             &mut x,
             AngleMethod::Cg,
             &SolveOptions::default(),
@@ -471,14 +473,13 @@ fn angle_errors_are_typed_and_leave_buffers_unchanged() {
     // ε = 0 needs probe scratch even for Gauss–Seidel.
     let sys0 = a.angle(0.0);
     assert_eq!(
-        angle_scratch_len(&sys0, AngleMethod::DirectGaussSeidel),
+        sys0.angle_scratch_len(AngleMethod::DirectGaussSeidel),
         4 * n
     );
-    assert_eq!(angle_scratch_len(&sys, AngleMethod::DirectGaussSeidel), 0);
+    assert_eq!(sys.angle_scratch_len(AngleMethod::DirectGaussSeidel), 0);
     let mut none: Vec<[f64; 2]> = vec![];
     assert!(matches!(
-        solve_angle(
-            &sys0,
+        sys0.solve_angle(
             &mut x,
             AngleMethod::DirectGaussSeidel,
             &SolveOptions::default(),
@@ -498,18 +499,18 @@ fn rigidity_probe_amplification() {
     let opts = SolveOptions::default();
     let tri = annulus::<f64>(8, 24);
     let sys = tri.angle(0.0);
-    let mut scratch = vec![[0.0; 2]; angle_probe_scratch_len(&sys)];
-    let s1 = angle_rigidity_probe(&sys, &opts, &mut scratch).unwrap();
-    let s2 = angle_rigidity_probe(&sys, &opts, &mut scratch).unwrap();
+    let mut scratch = vec![[0.0; 2]; sys.angle_probe_scratch_len()];
+    let s1 = sys.angle_rigidity_probe(&opts, &mut scratch).unwrap();
+    let s2 = sys.angle_rigidity_probe(&opts, &mut scratch).unwrap();
     assert_eq!(s1.to_bits(), s2.to_bits());
     assert!(s1 > 0.0 && s1 < 1e3, "{s1}");
     assert!(matches!(
-        angle_rigidity_probe(&sys, &opts, &mut scratch[1..]),
+        sys.angle_rigidity_probe(&opts, &mut scratch[1..]),
         Err(Error::BufferTooSmall { .. })
     ));
     let ring = quad_annulus(5, 16, false);
     let sys = ring.angle(0.0);
-    match angle_rigidity_probe(&sys, &opts, &mut scratch) {
+    match sys.angle_rigidity_probe(&opts, &mut scratch) {
         Err(Error::SingularSystem { .. }) => {}
         Ok(s) => assert!(s > MAX_AMPLIFICATION, "{s}"),
         Err(e) => panic!("{e}"),

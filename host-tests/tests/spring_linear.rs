@@ -6,8 +6,8 @@ mod spring_common;
 
 use deform_host_tests::spring_ref;
 use deform_kernel::spring::{
-    batina_stiffness, jacobi_sweep, relative_residual, solve_linear, solve_linear_scratch_len,
-    sor_sweep, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
+    batina_stiffness, solve_linear_scratch_len, LinearMethod, Preconditioner, SolveOptions,
+    SpringSystem,
 };
 use deform_kernel::{Error, Graph, Real};
 use spring_common::*;
@@ -53,7 +53,7 @@ fn solve<T: Real, const V: usize>(
     opts: &SolveOptions<T>,
 ) -> deform_kernel::Result<deform_kernel::spring::SolveReport<T>> {
     let mut scratch = vec![[T::ZERO; V]; solve_linear_scratch_len(&m, x.len())];
-    solve_linear(sys, x, m, opts, &mut scratch)
+    sys.solve_linear(x, m, opts, &mut scratch)
 }
 
 #[test]
@@ -147,7 +147,7 @@ fn jacobi_parity<T: Real + spring_ref::Float, const V: usize>() {
     for range in [0..n, 20..77, 0..0, n - 5..n] {
         let sentinel = T::from_f64(-123.0);
         let mut out = vec![[sentinel; V]; n];
-        jacobi_sweep(&sys, range.clone(), &x, &mut out).unwrap();
+        sys.jacobi_sweep(range.clone(), &x, &mut out).unwrap();
         let want = spring_ref::jacobi_sweep(&net, &to_ref::<T, T, V>(&x), range.clone());
         for i in 0..n {
             for c in 0..V {
@@ -168,7 +168,7 @@ fn jacobi_parity<T: Real + spring_ref::Float, const V: usize>() {
         let mut a = x.clone();
         let mut b = to_ref::<T, T, V>(&x);
         for _ in 0..3 {
-            sor_sweep(&sys, 0..n, &mut a, T::from_f64(omega)).unwrap();
+            sys.sor_sweep(0..n, &mut a, T::from_f64(omega)).unwrap();
             spring_ref::sor_sweep(&net, &mut b, <T as spring_ref::Float>::of(omega));
         }
         assert_eq!(
@@ -197,7 +197,7 @@ fn split_sweeps_merge_to_the_whole<T: Real, const V: usize>() {
     let x: Vec<[T; V]> = field(&case, &mut rng, None);
     let n = case.n();
     let mut out = vec![[T::ZERO; V]; n];
-    let whole = jacobi_sweep(&sys, 0..n, &x, &mut out).unwrap();
+    let whole = sys.jacobi_sweep(0..n, &x, &mut out).unwrap();
     assert!(whole.residual_sq > T::ZERO);
     assert_eq!(whole.residual_sq, whole.residual_sum.value::<T>());
     for cuts in [
@@ -213,7 +213,7 @@ fn split_sweeps_merge_to_the_whole<T: Real, const V: usize>() {
         let mut merged = deform_kernel::reduce::ExactSum::new();
         let mut max_change = T::ZERO;
         for w in bounds.windows(2).rev() {
-            let s = jacobi_sweep(&sys, w[0]..w[1], &x, &mut out).unwrap();
+            let s = sys.jacobi_sweep(w[0]..w[1], &x, &mut out).unwrap();
             merged.merge(&s.residual_sum);
             max_change = max_change.max(s.max_change);
         }
@@ -247,7 +247,7 @@ fn jacobi_sweep_3d_bitwise() {
     let net = case.net::<f64>();
     let x: Vec<[f64; 7]> = field(&case, &mut Lcg(9), None);
     let mut out = x.clone();
-    jacobi_sweep(&sys, 0..case.n(), &x, &mut out).unwrap();
+    sys.jacobi_sweep(0..case.n(), &x, &mut out).unwrap();
     let want = spring_ref::jacobi_sweep(&net, &to_ref::<f64, f64, 7>(&x), 0..case.n());
     for (a, b) in out.iter().zip(&want) {
         for (p, q) in a.iter().zip(b) {
@@ -276,7 +276,7 @@ fn converged_solutions_match_dense_solve() {
             let rep = solve(&sys, &mut x, m, &opts).unwrap();
             assert!(rep.converged, "{name}: {rep:?}");
             assert!(rep.residual <= 1e-13, "{name}");
-            let rr = relative_residual(&sys, &x).unwrap();
+            let rr = sys.relative_residual(&x).unwrap();
             assert_eq!(
                 rr, rep.residual,
                 "{name}: reported residual is the true one"
@@ -403,15 +403,13 @@ fn uniform_translation_is_reproduced() {
     let c = [0.3125f64, -1.7, 1e-3];
     let x: Vec<[f64; 3]> = vec![c; case.n()];
     let mut out = vec![[9.0; 3]; case.n()];
-    let s = jacobi_sweep(&sys, 0..case.n(), &x, &mut out).unwrap();
+    let s = sys.jacobi_sweep(0..case.n(), &x, &mut out).unwrap();
     assert_eq!(s.max_change, 0.0);
     assert_eq!(s.residual_sq, 0.0);
     assert_eq!(bits(&out), bits(&x));
     let mut y = x.clone();
     assert_eq!(
-        sor_sweep(&sys, 0..case.n(), &mut y, 1.5)
-            .unwrap()
-            .max_change,
+        sys.sor_sweep(0..case.n(), &mut y, 1.5).unwrap().max_change,
         0.0
     );
     assert_eq!(bits(&y), bits(&x));
@@ -457,7 +455,7 @@ fn non_convergence_is_reported() {
         assert!(!rep.converged, "{name}");
         assert_eq!(rep.iterations, 3);
         assert!(rep.residual > opts.residual_tol);
-        assert_eq!(rep.residual, relative_residual(&sys, &x).unwrap());
+        assert_eq!(rep.residual, sys.relative_residual(&x).unwrap());
         assert!(rep.max_update > 0.0);
     }
     // The update rule alone (residual rule off) stops a stationary method early and says so.
@@ -549,7 +547,7 @@ fn bad_values_give_typed_errors_and_leave_buffers_unchanged() {
     let before = bits(&x);
     let mut out = vec![[4.0; 2]; n];
     assert_eq!(
-        jacobi_sweep(&sys, 0..n, &x, &mut out),
+        sys.jacobi_sweep(0..n, &x, &mut out),
         Err(Error::NonFinite {
             arg: "input",
             position: 17
@@ -557,7 +555,7 @@ fn bad_values_give_typed_errors_and_leave_buffers_unchanged() {
     );
     assert!(out.iter().all(|v| *v == [4.0; 2]));
     assert_eq!(
-        sor_sweep(&sys, 0..n, &mut x, 1.0),
+        sys.sor_sweep(0..n, &mut x, 1.0),
         Err(Error::NonFinite {
             arg: "values",
             position: 17
@@ -565,7 +563,7 @@ fn bad_values_give_typed_errors_and_leave_buffers_unchanged() {
     );
     for (name, m) in methods::<f64>() {
         let mut scratch = vec![[0.5; 2]; solve_linear_scratch_len(&m, n)];
-        let e = solve_linear(&sys, &mut x, m, &SolveOptions::default(), &mut scratch);
+        let e = sys.solve_linear(&mut x, m, &SolveOptions::default(), &mut scratch);
         assert_eq!(
             e,
             Err(Error::NonFinite {
@@ -579,27 +577,27 @@ fn bad_values_give_typed_errors_and_leave_buffers_unchanged() {
     }
     x[17][1] = f64::INFINITY;
     assert!(matches!(
-        relative_residual(&sys, &x),
+        sys.relative_residual(&x),
         Err(Error::NonFinite { .. })
     ));
     x[17][1] = 0.0;
     let before = bits(&x);
     assert!(matches!(
-        jacobi_sweep(&sys, 0..n + 1, &x, &mut out),
+        sys.jacobi_sweep(0..n + 1, &x, &mut out),
         Err(Error::IndexOutOfRange { arg: "nodes", .. })
     ));
     assert!(matches!(
-        jacobi_sweep(&sys, 0..n, &x, &mut out[1..]),
+        sys.jacobi_sweep(0..n, &x, &mut out[1..]),
         Err(Error::LengthMismatch { arg: "output", .. })
     ));
     assert!(matches!(
-        jacobi_sweep(&sys, 0..n, &x[1..], &mut out),
+        sys.jacobi_sweep(0..n, &x[1..], &mut out),
         Err(Error::LengthMismatch { arg: "input", .. })
     ));
     assert!(out.iter().all(|v| *v == [4.0; 2]));
     for omega in [0.0, 2.0, -1.0, f64::NAN] {
         assert!(matches!(
-            sor_sweep(&sys, 0..n, &mut x, omega),
+            sys.sor_sweep(0..n, &mut x, omega),
             Err(Error::InvalidParameter { arg: "omega", .. })
         ));
         let m = LinearMethod::Cg {
@@ -607,7 +605,7 @@ fn bad_values_give_typed_errors_and_leave_buffers_unchanged() {
         };
         let mut scratch = vec![[0.0; 2]; 4 * n];
         assert!(matches!(
-            solve_linear(&sys, &mut x, m, &SolveOptions::default(), &mut scratch),
+            sys.solve_linear(&mut x, m, &SolveOptions::default(), &mut scratch),
             Err(Error::InvalidParameter { arg: "omega", .. })
         ));
     }
@@ -616,7 +614,7 @@ fn bad_values_give_typed_errors_and_leave_buffers_unchanged() {
     };
     let mut small = vec![[0.0; 2]; 4 * n - 1];
     assert!(matches!(
-        solve_linear(&sys, &mut x, m, &SolveOptions::default(), &mut small),
+        sys.solve_linear(&mut x, m, &SolveOptions::default(), &mut small),
         Err(Error::BufferTooSmall { arg: "scratch", .. })
     ));
     let bad = SolveOptions {

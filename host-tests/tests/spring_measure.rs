@@ -6,8 +6,8 @@
 //! `cargo run --release -p deform-host-tests --example spring_iterations`.
 
 use deform_kernel::spring::{
-    batina_stiffness, relative_residual, solve_linear, solve_linear_scratch_len, LinearMethod,
-    Preconditioner, SolveOptions, SpringSystem,
+    batina_stiffness, solve_linear_scratch_len, LinearMethod, Preconditioner, SolveOptions,
+    SpringSystem,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Graph};
 use deform_meshgen::{naca_triangulated, rotate_markers2, AirfoilGrid};
@@ -57,14 +57,14 @@ fn fast_solvers_converge_on_20k_airfoil_mesh() {
     ] {
         let mut x = x0.clone();
         let mut scratch = vec![[0.0; 2]; solve_linear_scratch_len(&m, n)];
-        let rep = solve_linear(&sys, &mut x, m, &opts, &mut scratch).unwrap();
+        let rep = sys.solve_linear(&mut x, m, &opts, &mut scratch).unwrap();
         println!(
             "{name:12} {:>6} iterations, relative residual {:.2e}",
             rep.iterations, rep.residual
         );
         assert!(rep.converged, "{name}: {rep:?}");
         assert!(rep.residual <= 1e-10);
-        assert_eq!(relative_residual(&sys, &x).unwrap(), rep.residual);
+        assert_eq!(sys.relative_residual(&x).unwrap(), rep.residual);
         counts.push(rep.iterations);
     }
     println!("iterations: {counts:?}");

@@ -5,7 +5,7 @@
 
 use deform_kernel::quality::inverted_cells;
 use deform_kernel::spring::{
-    batina_stiffness, dual_volumes, inverse_volume_factors, scale_stiffness, solve_linear,
+    batina_stiffness, dual_volumes, inverse_volume_factors, scale_stiffness,
     solve_linear_scratch_len, wall_distance_factors, wall_distances, LinearMethod, Preconditioner,
     SolveOptions, SpringSystem,
 };
@@ -221,7 +221,7 @@ fn inverted_after_pitch(
     };
     let mut sc = vec![[0.0; 2]; solve_linear_scratch_len(&m, n)];
     assert!(
-        solve_linear(&sys, &mut disp, m, &opts, &mut sc)
+        sys.solve_linear(&mut disp, m, &opts, &mut sc)
             .unwrap()
             .converged
     );

@@ -38,7 +38,7 @@
 //! node) and the quaternion method with linear-spring propagation (`V = D + 4`), each with any
 //! linear-spring solver ([`PlanSolver`]: the multigrid-preconditioned CG or a one-level
 //! method). A cold step gives exactly the bits of the stateless calls
-//! ([`solve_linear_with`](crate::spring::solve_linear_with) from zero free displacements,
+//! ([`solve_linear_with`](crate::spring::SpringSystem::solve_linear_with) from zero free displacements,
 //! [`deform_spring_with`](crate::deformation::deform_spring_with)); a warm step starts from
 //! the previous solution instead.
 //!

@@ -21,7 +21,8 @@
 //! plane through `x_old` to rounding of `|x|` (tested to 1e-12 of the mesh size).
 //!
 //! **Where constraints apply.** The linear and angle spring solvers take them directly
-//! ([`crate::spring::solve_linear_sliding`], [`crate::spring::solve_angle_sliding`]): the
+//! ([`SpringSystem::solve_linear_sliding`](crate::spring::SpringSystem::solve_linear_sliding),
+//! [`AngleSystem::solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding)): the
 //! constrained minimum-energy problem `P K P d = P b` is solved jointly over the components.
 //! The quaternion pipelines and IDW propagate a sliding node like any free node (it is *not* a
 //! boundary node, so not an interpolation source with a fixed value); [`slide_points`] then

@@ -12,16 +12,16 @@
 //!   quaternion components (`V = 4`) or both together (`V = D + 4`), all in one pass over the
 //!   matrix. Methods: the paper's Jacobi iteration, Gauss–Seidel, SOR, and preconditioned
 //!   conjugate gradients (no, Jacobi or SSOR preconditioner) with per-component `α`, `β`
-//!   ([`solve_linear`]), and CG preconditioned by smoothed-aggregation algebraic multigrid
-//!   ([`AmgHierarchy`], [`solve_linear_amg`]): the hierarchy is built once on the scalar
+//!   ([`solve_linear`](crate::spring::SpringSystem::solve_linear)), and CG preconditioned by smoothed-aggregation algebraic multigrid
+//!   ([`AmgHierarchy`], [`solve_linear_amg`](crate::spring::SpringSystem::solve_linear_amg)): the hierarchy is built once on the scalar
 //!   operator (caller buffers, exact size query) and applied to all `V` components;
 //!   [`LinearSolver`] names either kind for the deformation pipelines.
 //! - **Angle inclusion** (Yang & Özgen eq. 2; in 3D the block `k e eᵀ`): displacements couple
 //!   through the edge direction `e`. The direct method solves each node's 2×2 / 3×3 system by
 //!   Cramer's rule (Gauss–Seidel or Jacobi order); the indirect method is matrix-free CG on the
-//!   assembled block operator ([`solve_angle`]).
-//! - **Sweeps** over a node range ([`jacobi_sweep`], [`sor_sweep`], [`angle_jacobi_sweep`],
-//!   [`angle_gauss_seidel_sweep`]) return the local maximum change, so a distributed-memory
+//!   assembled block operator ([`solve_angle`](crate::spring::AngleSystem::solve_angle)).
+//! - **Sweeps** over a node range ([`jacobi_sweep`](crate::spring::SpringSystem::jacobi_sweep), [`sor_sweep`](crate::spring::SpringSystem::sor_sweep), [`angle_jacobi_sweep`](crate::spring::AngleSystem::angle_jacobi_sweep),
+//!   [`angle_gauss_seidel_sweep`](crate::spring::AngleSystem::angle_gauss_seidel_sweep)) return the local maximum change, so a distributed-memory
 //!   code can exchange halos between sweeps. The whole solves are built on the same sweeps.
 //!
 //! All updates are written in *delta form* (`x_i + Σ k (x_j − x_i) / Σ k`, algebraically the
@@ -29,7 +29,7 @@
 //! bit-exact fixed point, so a uniform translation of every boundary is reproduced exactly.
 //!
 //! - **Sliding nodes** ([`Constraints`](crate::slide::Constraints): a node slides on a plane
-//!   or a line): [`solve_linear_sliding`] and [`solve_angle_sliding`] solve the projected
+//!   or a line): [`solve_linear_sliding`](crate::spring::SpringSystem::solve_linear_sliding) and [`solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding) solve the projected
 //!   system `P K P d = P b` jointly over the components (see their module for why it stays
 //!   symmetric positive definite and how the multigrid hierarchy is used).
 //!
@@ -50,24 +50,15 @@ mod stiffness;
 mod system;
 
 pub use amg::{
-    amg_precondition, amg_precondition_scratch_len, solve_linear_amg, solve_linear_amg_scratch_len,
-    AmgHierarchy, AmgOptions, AmgSizes, AmgSmoother, AMG_MAX_DENSE, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
+    amg_precondition_scratch_len, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, AmgSizes,
+    AmgSmoother, AMG_MAX_DENSE, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
 };
 pub(crate) use amg::{Layout, Level};
-pub use angle::{
-    angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_probe_scratch_len, angle_rigidity_probe,
-    angle_scratch_len, angle_sor_sweep, solve_angle, solve_angle_sor, AngleMethod, AngleSystem,
-    DEFAULT_ANGLE_EPSILON, MAX_AMPLIFICATION,
-};
+pub use angle::{AngleMethod, AngleSystem, DEFAULT_ANGLE_EPSILON, MAX_AMPLIFICATION};
 pub use distributed::{Collective, Serial};
-pub use linear::{
-    jacobi_sweep, relative_residual, solve_linear, solve_linear_scratch_len, sor_sweep,
-};
-pub use sliding::{
-    solve_angle_sliding, solve_angle_sliding_scratch_len, solve_linear_sliding,
-    solve_linear_sliding_scratch_len,
-};
-pub use solver::{solve_linear_with, solve_linear_with_scratch_len, LinearSolver};
+pub use linear::solve_linear_scratch_len;
+pub use sliding::solve_linear_sliding_scratch_len;
+pub use solver::{solve_linear_with_scratch_len, LinearSolver};
 pub use stiffening::{
     dual_volumes, inverse_volume_factors, scale_stiffness, wall_distance_factors, wall_distances,
 };

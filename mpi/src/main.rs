@@ -18,8 +18,8 @@
 
 use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
 use deform_kernel::spring::{
-    batina_stiffness, jacobi_sweep, solve_linear_with, solve_linear_with_scratch_len, AmgHierarchy,
-    AmgOptions, LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
+    batina_stiffness, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, LinearMethod,
+    LinearSolver, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Graph};
 use deform_meshgen::{extrude, naca_triangulated, AirfoilGrid, Mesh};
@@ -71,7 +71,7 @@ fn check<const D: usize, C: Communicator>(world: &C, name: &str, mesh: &Mesh<D>)
     if rank == 0 {
         let mut next = serial.clone();
         for _ in 0..SWEEPS {
-            let s = jacobi_sweep(&sys, 0..n, &serial, &mut next).expect("sweep");
+            let s = sys.jacobi_sweep(0..n, &serial, &mut next).expect("sweep");
             serial_residuals.push((s.residual_sq.to_bits(), s.max_change.to_bits()));
             std::mem::swap(&mut serial, &mut next);
         }
@@ -100,7 +100,7 @@ fn check<const D: usize, C: Communicator>(world: &C, name: &str, mesh: &Mesh<D>)
         let mut plain = 0.0f64;
         let mut max_change = 0.0f64;
         for r in &my_runs {
-            let s = jacobi_sweep(&sys, r.clone(), &x, &mut out).expect("sweep");
+            let s = sys.jacobi_sweep(r.clone(), &x, &mut out).expect("sweep");
             sum.merge(&s.residual_sum);
             plain += s.residual_sq;
             max_change = max_change.max(s.max_change);
@@ -183,10 +183,12 @@ fn check<const D: usize, C: Communicator>(world: &C, name: &str, mesh: &Mesh<D>)
     ] {
         let mut a = x0.clone();
         let mut scratch = vec![[0.0; D]; solve_linear_with_scratch_len(&serial_solver, n)];
-        let ra = solve_linear_with(&sys, &mut a, serial_solver, &options, &mut scratch)
+        let ra = sys
+            .solve_linear_with(&mut a, serial_solver, &options, &mut scratch)
             .expect("serial solve");
         let mut b = x0.clone();
-        let rb = solve_linear_with(&sys, &mut b, split_solver, &options, &mut scratch)
+        let rb = sys
+            .solve_linear_with(&mut b, split_solver, &options, &mut scratch)
             .expect("split solve");
         let same = a
             .iter()
@@ -272,7 +274,9 @@ fn bench<C: Communicator>(world: &C) {
             let mut s = vec![[0.0; 2]; solve_linear_with_scratch_len(&solver, n)];
             world.barrier();
             let t = std::time::Instant::now();
-            let r = solve_linear_with(&sys, &mut x, solver, &options, &mut s).expect("solve");
+            let r = sys
+                .solve_linear_with(&mut x, solver, &options, &mut s)
+                .expect("solve");
             let mine = t.elapsed().as_secs_f64();
             let mut slowest = 0.0f64;
             world.all_reduce_into(&mine, &mut slowest, SystemOperation::max());

@@ -7,8 +7,8 @@ use crate::error::{Error, Result};
 use crate::quat::Quat;
 use crate::real::Real;
 use crate::spring::{
-    solve_linear_with, solve_linear_with_scratch_len, LinearMethod, LinearSolver, SolveOptions,
-    SolveReport, SpringSystem,
+    solve_linear_with_scratch_len, LinearMethod, LinearSolver, SolveOptions, SolveReport,
+    SpringSystem,
 };
 
 /// Scalars of scratch [`propagate_spring`] needs in dimension `D`: `D + 4` per item, `N` items
@@ -40,7 +40,7 @@ pub fn propagate_spring_with_scratch_len<const D: usize>(
 /// translation vectors and quaternions are propagated into the field mesh by … the spring
 /// analogy"; Batina's springs, Samareh eq. 2): `Δ` and the four quaternion components are
 /// packed into one `[T; V]` field (`V = D + 4`) and solved together by
-/// [`solve_linear`](crate::spring::solve_linear) with `method` and `options`.
+/// [`solve_linear`](crate::spring::SpringSystem::solve_linear) with `method` and `options`.
 ///
 /// On entry `translations` and `rotations` hold the boundary values at the *fixed* nodes of
 /// `sys` (other entries are ignored). The fixed quaternions are flipped into the hemisphere of
@@ -170,7 +170,7 @@ fn propagate_packed<T: Real, const D: usize, const V: usize>(
             *v = mean;
         }
     }
-    let report = solve_linear_with(sys, values, solver, options, solver_scratch)?;
+    let report = sys.solve_linear_with(values, solver, options, solver_scratch)?;
     // Every free quaternion must normalise before anything is written.
     for (i, v) in values.iter().enumerate() {
         if !sys.is_fixed(i) && unpack::<T, D, V>(v).1.normalize().is_err() {

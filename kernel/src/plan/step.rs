@@ -14,8 +14,8 @@ use crate::graph::Graph;
 use crate::quat::Quat;
 use crate::real::Real;
 use crate::spring::{
-    relative_residual, solve_linear_with, AmgHierarchy, LinearMethod, LinearSolver, Preconditioner,
-    SolveOptions, SolveReport, SpringSystem,
+    AmgHierarchy, LinearMethod, LinearSolver, Preconditioner, SolveOptions, SolveReport,
+    SpringSystem,
 };
 use crate::vector::{add, sub};
 
@@ -260,7 +260,9 @@ fn run_spring<T: Real, const D: usize>(
     } else {
         Guess::Cold
     };
-    let report = solve_linear_with(&f.sys, m.work, solver, &f.options, m.scratch)?;
+    let report = f
+        .sys
+        .solve_linear_with(m.work, solver, &f.options, m.scratch)?;
     if crate::real::first_non_finite(m.work).is_some() {
         return Err(Error::Overflow { arg: "values" });
     }
@@ -361,9 +363,9 @@ fn choose_start<T: Real, const D: usize, const V: usize>(
             }
         }
     };
-    let r_cold = relative_residual(sys, work)?;
+    let r_cold = sys.relative_residual(work)?;
     fill(work, Guess::Previous);
-    let r_prev = relative_residual(sys, work)?;
+    let r_prev = sys.relative_residual(work)?;
     let (mut best, r_best) = if r_prev < r_cold {
         (Guess::Previous, r_prev)
     } else {
@@ -371,7 +373,7 @@ fn choose_start<T: Real, const D: usize, const V: usize>(
     };
     if prev.before.is_some() {
         fill(work, Guess::Extrapolated);
-        if relative_residual(sys, work)? < r_best {
+        if sys.relative_residual(work)? < r_best {
             best = Guess::Extrapolated;
         }
     }
@@ -531,7 +533,9 @@ fn run_quaternion<T: Real, const D: usize, const V: usize>(
             Guess::Cold
         }
     };
-    let report = solve_linear_with(&f.sys, m.work, solver, &f.options, m.scratch)?;
+    let report = f
+        .sys
+        .solve_linear_with(m.work, solver, &f.options, m.scratch)?;
     for (i, v) in m.work.iter().enumerate() {
         if !f.sys.is_fixed(i) && unpack::<T, D, V>(v).1.normalize().is_err() {
             return Err(Error::ZeroLength {

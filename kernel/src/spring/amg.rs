@@ -30,16 +30,14 @@
 //! a `work` buffer of [`AmgHierarchy::setup_work_len`] entries and returns the exact
 //! [`AmgSizes`]; [`AmgHierarchy::setup`] fills an `index` (`u32`) and a `values` (`T`) buffer of
 //! those sizes. The buffers are reusable: a new setup (new stiffness, next time step) writes
-//! them again. [`solve_linear_amg`] then runs the preconditioned CG.
+//! them again. [`solve_linear_amg`](crate::spring::SpringSystem::solve_linear_amg) then runs the preconditioned CG.
 
 mod cycle;
 mod pcg;
 pub(crate) use pcg::solve_amg_on;
 mod setup;
 
-pub use pcg::{
-    amg_precondition, amg_precondition_scratch_len, solve_linear_amg, solve_linear_amg_scratch_len,
-};
+pub use pcg::{amg_precondition_scratch_len, solve_linear_amg_scratch_len};
 
 use crate::check;
 use crate::error::{Error, Result};
@@ -230,11 +228,11 @@ impl Layout {
 }
 
 /// A smoothed-aggregation multigrid hierarchy for one [`SpringSystem`], stored in caller
-/// buffers; the preconditioner of [`solve_linear_amg`].
+/// buffers; the preconditioner of [`solve_linear_amg`](crate::spring::SpringSystem::solve_linear_amg).
 ///
 /// ```
 /// use deform_kernel::spring::{
-///     solve_linear_amg, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, SolveOptions,
+///     solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, SolveOptions,
 ///     SpringSystem,
 /// };
 /// use deform_kernel::{graph_from_edges, graph_from_edges_len, Graph};
@@ -264,7 +262,7 @@ impl Layout {
 /// let mut x = vec![[0.0f64]; n];
 /// x[n - 1] = [1.0];
 /// let mut scratch = vec![[0.0f64]; solve_linear_amg_scratch_len(&h)];
-/// let report = solve_linear_amg(&sys, &h, &mut x, &SolveOptions::default(), &mut scratch)?;
+/// let report = sys.solve_linear_amg(&h, &mut x, &SolveOptions::default(), &mut scratch)?;
 /// assert!(report.converged);
 /// assert!((x[10][0] - 0.25).abs() < 1e-8); // linear between the fixed ends
 /// # Ok::<(), deform_kernel::Error>(())

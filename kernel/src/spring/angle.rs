@@ -15,7 +15,7 @@ use crate::vector;
 /// added to every edge block). See the [`AngleSystem`] documentation.
 pub const DEFAULT_ANGLE_EPSILON: f64 = 0.01;
 
-/// Largest rigidity-probe amplification ([`angle_rigidity_probe`]) [`solve_angle`] accepts
+/// Largest rigidity-probe amplification ([`angle_rigidity_probe`](crate::spring::AngleSystem::angle_rigidity_probe)) [`solve_angle`](crate::spring::AngleSystem::solve_angle) accepts
 /// when `ε = 0`; above it the system is reported as [`Error::SingularSystem`] (numerically a
 /// mechanism: its solution would be dominated by near-zero-energy modes).
 pub const MAX_AMPLIFICATION: f64 = 1e6;
@@ -48,7 +48,7 @@ pub const MAX_AMPLIFICATION: f64 = 1e6;
 /// side of a zero-energy mechanism is always orthogonal to the mechanism (fixed nodes push only
 /// along edges the mechanism does not stretch), so Krylov methods quietly converge to one of
 /// infinitely many answers; a *nearly* singular one converges to a garbage mesh. Therefore,
-/// when `ε = 0`, every solve first runs a **rigidity probe** ([`angle_rigidity_probe`]):
+/// when `ε = 0`, every solve first runs a **rigidity probe** ([`angle_rigidity_probe`](crate::spring::AngleSystem::angle_rigidity_probe)):
 /// block-Jacobi CG on a deterministic pseudo-random right-hand side, which has a component in
 /// any null space. It must reach a relative residual of `max(1e-6, 100 ε_mach)` within
 /// `max(max_iterations, 100)` iterations with positive curvature, and its amplification must
@@ -61,7 +61,7 @@ pub struct AngleSystem<'a, T: Real, const D: usize> {
     epsilon: T,
 }
 
-/// Solution method for the angle-inclusion springs ([`solve_angle`]).
+/// Solution method for the angle-inclusion springs ([`solve_angle`](crate::spring::AngleSystem::solve_angle)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum AngleMethod {
@@ -431,60 +431,66 @@ fn tally<T: Real, const D: usize>(
     }
 }
 
-/// One Jacobi-order sweep of the angle-inclusion direct method over `nodes`: each free node
-/// solves its own 2×2/3×3 system (Yang & Özgen §2.2.1, Cramer's rule) with its neighbours
-/// read from `input`, `output[i] = x_i + A_ii⁻¹ Σ_j B_ij (x_j − x_i)`. Fixed nodes in the range
-/// are copied; `output` outside the range is untouched. Returns the range's maximum change and
-/// the residual of `input` there.
-///
-/// # Errors
-/// Nothing is written on error: wrong lengths, non-finite `input`, `nodes.end > node_count`.
-pub fn angle_jacobi_sweep<T: Real, const D: usize>(
-    sys: &AngleSystem<'_, T, D>,
-    nodes: Range<usize>,
-    input: &[[T; D]],
-    output: &mut [[T; D]],
-) -> Result<Sweep<T>> {
-    let n = sys.base.node_count();
-    check_values("input", input, n)?;
-    check::len("output", output.len(), n)?;
-    sys.base.check_range(&nodes)?;
-    Ok(sys.jacobi_core(nodes, input, output, T::ONE))
+impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
+    /// One Jacobi-order sweep of the angle-inclusion direct method over `nodes`: each free node
+    /// solves its own 2×2/3×3 system (Yang & Özgen §2.2.1, Cramer's rule) with its neighbours
+    /// read from `input`, `output[i] = x_i + A_ii⁻¹ Σ_j B_ij (x_j − x_i)`. Fixed nodes in the range
+    /// are copied; `output` outside the range is untouched. Returns the range's maximum change and
+    /// the residual of `input` there.
+    ///
+    /// # Errors
+    /// Nothing is written on error: wrong lengths, non-finite `input`, `nodes.end > node_count`.
+    pub fn angle_jacobi_sweep(
+        &self,
+        nodes: Range<usize>,
+        input: &[[T; D]],
+        output: &mut [[T; D]],
+    ) -> Result<Sweep<T>> {
+        let sys = self;
+        let n = sys.base.node_count();
+        check_values("input", input, n)?;
+        check::len("output", output.len(), n)?;
+        sys.base.check_range(&nodes)?;
+        Ok(sys.jacobi_core(nodes, input, output, T::ONE))
+    }
 }
 
-/// One in-place Gauss–Seidel-order sweep of the angle-inclusion direct method over `nodes`
-/// (Yang & Özgen §2.2.1): like [`angle_jacobi_sweep`] but each node uses its neighbours'
-/// newest values. Returns the range's maximum change and residual estimate.
-///
-/// # Errors
-/// Nothing is written on error: wrong length, non-finite `values`, `nodes.end > node_count`.
-pub fn angle_gauss_seidel_sweep<T: Real, const D: usize>(
-    sys: &AngleSystem<'_, T, D>,
-    nodes: Range<usize>,
-    values: &mut [[T; D]],
-) -> Result<Sweep<T>> {
-    check_values("values", values, sys.base.node_count())?;
-    sys.base.check_range(&nodes)?;
-    Ok(sys.gauss_seidel_core(nodes, values, T::ONE, T::ONE))
+impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
+    /// One in-place Gauss–Seidel-order sweep of the angle-inclusion direct method over `nodes`
+    /// (Yang & Özgen §2.2.1): like [`angle_jacobi_sweep`](crate::spring::AngleSystem::angle_jacobi_sweep) but each node uses its neighbours'
+    /// newest values. Returns the range's maximum change and residual estimate.
+    ///
+    /// # Errors
+    /// Nothing is written on error: wrong length, non-finite `values`, `nodes.end > node_count`.
+    pub fn angle_gauss_seidel_sweep(
+        &self,
+        nodes: Range<usize>,
+        values: &mut [[T; D]],
+    ) -> Result<Sweep<T>> {
+        let sys = self;
+        check_values("values", values, sys.base.node_count())?;
+        sys.base.check_range(&nodes)?;
+        Ok(sys.gauss_seidel_core(nodes, values, T::ONE, T::ONE))
+    }
 }
 
-/// Number of `[T; D]` scratch items [`solve_angle`] needs: `n` for [`AngleMethod::DirectJacobi`]
-/// (second field), 0 for [`AngleMethod::DirectGaussSeidel`], `4 n` for [`AngleMethod::Cg`];
-/// at least `4 n` whenever `ε = 0` (the rigidity probe, [`angle_probe_scratch_len`]).
-pub fn angle_scratch_len<T: Real, const D: usize>(
-    sys: &AngleSystem<'_, T, D>,
-    method: AngleMethod,
-) -> usize {
-    let n = sys.base.node_count();
-    let solve = match method {
-        AngleMethod::DirectJacobi => n,
-        AngleMethod::DirectGaussSeidel => 0,
-        AngleMethod::Cg => n.saturating_mul(4),
-    };
-    if sys.epsilon == T::ZERO {
-        solve.max(angle_probe_scratch_len(sys))
-    } else {
-        solve
+impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
+    /// Number of `[T; D]` scratch items [`solve_angle`](crate::spring::AngleSystem::solve_angle) needs: `n` for [`AngleMethod::DirectJacobi`]
+    /// (second field), 0 for [`AngleMethod::DirectGaussSeidel`], `4 n` for [`AngleMethod::Cg`];
+    /// at least `4 n` whenever `ε = 0` (the rigidity probe, [`angle_probe_scratch_len`](crate::spring::AngleSystem::angle_probe_scratch_len)).
+    pub fn angle_scratch_len(&self, method: AngleMethod) -> usize {
+        let sys = self;
+        let n = sys.base.node_count();
+        let solve = match method {
+            AngleMethod::DirectJacobi => n,
+            AngleMethod::DirectGaussSeidel => 0,
+            AngleMethod::Cg => n.saturating_mul(4),
+        };
+        if sys.epsilon == T::ZERO {
+            solve.max(sys.angle_probe_scratch_len())
+        } else {
+            solve
+        }
     }
 }
 
@@ -602,96 +608,102 @@ fn dot_all<T: Real, const D: usize>(a: &[[T; D]], b: &[[T; D]]) -> T {
     s.value()
 }
 
-/// Number of `[T; D]` scratch items [`angle_rigidity_probe`] needs: `4 n`.
-pub fn angle_probe_scratch_len<T: Real, const D: usize>(sys: &AngleSystem<'_, T, D>) -> usize {
-    sys.base.node_count().saturating_mul(4)
+impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
+    /// Number of `[T; D]` scratch items [`angle_rigidity_probe`](crate::spring::AngleSystem::angle_rigidity_probe) needs: `4 n`.
+    pub fn angle_probe_scratch_len(&self) -> usize {
+        let sys = self;
+        sys.base.node_count().saturating_mul(4)
+    }
 }
 
-/// The rigidity probe (see the [`AngleSystem`] documentation): solves `A y = ρ` for a
-/// deterministic pseudo-random `ρ` on the free nodes by block-Jacobi CG and returns the
-/// *amplification* `s = √(yᵀ M y / ρᵀ M⁻¹ ρ)`, `M` = the node blocks. `s` lies between
-/// `1/λ_max` and `1/λ_min` of the block-scaled operator and is close to `1/λ_min` when the
-/// system is nearly singular (a random `ρ` excites every mode, so `s² ≈ mean(1/λ_i²)`): a
-/// condition estimate that needs no eigenvalue solver. Measured with `ε = 0`: 60–150 on the
-/// NACA 2412 triangle meshes and on the hybrid mesh with quad diagonals (9k–20k nodes);
-/// 5.4e13 on the hybrid mesh whose quad boundary layer has no diagonals (a near-mechanism,
-/// whose converged "solution" had cells blown up by a factor 1e9).
-///
-/// [`solve_angle`] runs it when `ε = 0` and rejects `s > `[`MAX_AMPLIFICATION`]. It is public
-/// so callers can check a system once and reuse it.
-///
-/// # Errors
-/// `scratch` shorter than [`angle_probe_scratch_len`]; [`Error::SingularSystem`] when
-/// CG meets non-positive curvature or does not reach a relative residual of
-/// `max(1e-6, 100 ε_mach)` within `max(options.max_iterations, 100)` iterations.
-pub fn angle_rigidity_probe<T: Real, const D: usize>(
-    sys: &AngleSystem<'_, T, D>,
-    options: &SolveOptions<T>,
-    scratch: &mut [[T; D]],
-) -> Result<T> {
-    let n = sys.base.node_count();
-    let needed = angle_probe_scratch_len(sys);
-    check::buffer("scratch", scratch.len(), needed)?;
-    options.check()?;
-    let (y, rest) = scratch
-        .split_at_mut_checked(n)
-        .unwrap_or((&mut [], &mut []));
-    let (r, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-    let (p, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-    let w = rest.get_mut(..n).unwrap_or(&mut []);
-    let mut bb = ExactSum::new();
-    for (i, (ri, yi)) in r.iter_mut().zip(y.iter_mut()).enumerate() {
-        *yi = [T::ZERO; D];
-        for (c, rc) in ri.iter_mut().enumerate() {
-            *rc = if sys.base.is_fixed(i) {
-                T::ZERO
-            } else {
-                probe_value((i as u64).wrapping_mul(D as u64).wrapping_add(c as u64))
-            };
-            bb.add(*rc * *rc);
-        }
-    }
-    let bb: T = bb.value();
-    if bb == T::ZERO {
-        return Ok(T::ZERO); // no free node
-    }
-    sys.precondition(r, w);
-    let rho_m_rho = dot_all(r, w);
-    let tol = T::from_f64(1e-6).max(T::from_f64(100.0) * T::EPSILON);
-    let probe_options = SolveOptions {
-        max_iterations: options.max_iterations.max(100),
-        residual_tol: tol,
-        update_tol: T::ZERO,
-    };
-    let (it, _, met) = block_cg(
-        sys,
-        Some(&mut *y),
-        r,
-        p,
-        w,
-        Norm::from_sum(bb, 0),
-        0,
-        &probe_options,
-        probe_options.max_iterations,
-    )?;
-    if !met {
-        return Err(Error::SingularSystem { iteration: it });
-    }
-    let mut ymy = ExactSum::new();
-    for (i, yi) in y.iter().enumerate() {
-        if !sys.base.is_fixed(i) {
-            let m = sys.node_block(i);
-            for (row, &a) in m.iter().zip(yi) {
-                ymy.add(a * vector::dot(*row, *yi));
+impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
+    /// The rigidity probe (see the [`AngleSystem`] documentation): solves `A y = ρ` for a
+    /// deterministic pseudo-random `ρ` on the free nodes by block-Jacobi CG and returns the
+    /// *amplification* `s = √(yᵀ M y / ρᵀ M⁻¹ ρ)`, `M` = the node blocks. `s` lies between
+    /// `1/λ_max` and `1/λ_min` of the block-scaled operator and is close to `1/λ_min` when the
+    /// system is nearly singular (a random `ρ` excites every mode, so `s² ≈ mean(1/λ_i²)`): a
+    /// condition estimate that needs no eigenvalue solver. Measured with `ε = 0`: 60–150 on the
+    /// NACA 2412 triangle meshes and on the hybrid mesh with quad diagonals (9k–20k nodes);
+    /// 5.4e13 on the hybrid mesh whose quad boundary layer has no diagonals (a near-mechanism,
+    /// whose converged "solution" had cells blown up by a factor 1e9).
+    ///
+    /// [`solve_angle`](crate::spring::AngleSystem::solve_angle) runs it when `ε = 0` and rejects `s > `[`MAX_AMPLIFICATION`]. It is public
+    /// so callers can check a system once and reuse it.
+    ///
+    /// # Errors
+    /// `scratch` shorter than [`angle_probe_scratch_len`](crate::spring::AngleSystem::angle_probe_scratch_len); [`Error::SingularSystem`] when
+    /// CG meets non-positive curvature or does not reach a relative residual of
+    /// `max(1e-6, 100 ε_mach)` within `max(options.max_iterations, 100)` iterations.
+    pub fn angle_rigidity_probe(
+        &self,
+        options: &SolveOptions<T>,
+        scratch: &mut [[T; D]],
+    ) -> Result<T> {
+        let sys = self;
+        let n = sys.base.node_count();
+        let needed = sys.angle_probe_scratch_len();
+        check::buffer("scratch", scratch.len(), needed)?;
+        options.check()?;
+        let (y, rest) = scratch
+            .split_at_mut_checked(n)
+            .unwrap_or((&mut [], &mut []));
+        let (r, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+        let (p, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+        let w = rest.get_mut(..n).unwrap_or(&mut []);
+        let mut bb = ExactSum::new();
+        for (i, (ri, yi)) in r.iter_mut().zip(y.iter_mut()).enumerate() {
+            *yi = [T::ZERO; D];
+            for (c, rc) in ri.iter_mut().enumerate() {
+                *rc = if sys.base.is_fixed(i) {
+                    T::ZERO
+                } else {
+                    probe_value((i as u64).wrapping_mul(D as u64).wrapping_add(c as u64))
+                };
+                bb.add(*rc * *rc);
             }
         }
-    }
-    let ymy: T = ymy.value();
-    let s = (ymy / rho_m_rho).sqrt();
-    if s.is_finite() {
-        Ok(s)
-    } else {
-        Err(Error::SingularSystem { iteration: it })
+        let bb: T = bb.value();
+        if bb == T::ZERO {
+            return Ok(T::ZERO); // no free node
+        }
+        sys.precondition(r, w);
+        let rho_m_rho = dot_all(r, w);
+        let tol = T::from_f64(1e-6).max(T::from_f64(100.0) * T::EPSILON);
+        let probe_options = SolveOptions {
+            max_iterations: options.max_iterations.max(100),
+            residual_tol: tol,
+            update_tol: T::ZERO,
+        };
+        let (it, _, met) = block_cg(
+            sys,
+            Some(&mut *y),
+            r,
+            p,
+            w,
+            Norm::from_sum(bb, 0),
+            0,
+            &probe_options,
+            probe_options.max_iterations,
+        )?;
+        if !met {
+            return Err(Error::SingularSystem { iteration: it });
+        }
+        let mut ymy = ExactSum::new();
+        for (i, yi) in y.iter().enumerate() {
+            if !sys.base.is_fixed(i) {
+                let m = sys.node_block(i);
+                for (row, &a) in m.iter().zip(yi) {
+                    ymy.add(a * vector::dot(*row, *yi));
+                }
+            }
+        }
+        let ymy: T = ymy.value();
+        let s = (ymy / rho_m_rho).sqrt();
+        if s.is_finite() {
+            Ok(s)
+        } else {
+            Err(Error::SingularSystem { iteration: it })
+        }
     }
 }
 
@@ -733,81 +745,90 @@ impl<T: Real, const D: usize> Sweeps<T> for DirectSweeps<'_, '_, '_, T, D> {
     }
 }
 
-/// Solves the angle-inclusion springs for the free nodes' displacements:
-/// `Σ_j B_ij (x_j − x_i) = 0` (Yang & Özgen eq. 3 = 0, eq. 4 `K_aa q_a = −K_ab q_b`).
-/// `values` holds the prescribed displacements at fixed nodes and the initial guess at free
-/// nodes; on `Ok` it holds the last iterate and the report says whether it converged. The
-/// residual is the block operator's, relative to `‖b‖` as in [`SolveOptions`]. When
-/// `ε = 0` the rigidity probe runs first (see the [`AngleSystem`] documentation).
-///
-/// # Errors
-/// `values` is untouched on error: wrong length or non-finite values, bad options, `scratch`
-/// shorter than [`angle_scratch_len`], [`Error::SingularSystem`] from the probe (`iteration`
-/// = the probe's CG iteration, or 0 when the probe converged but its amplification exceeded
-/// [`MAX_AMPLIFICATION`]) or from CG (non-positive curvature); [`Error::Overflow`] when
-/// stiffness and values together exceed the range (direct methods: `max_i Σ_j k_ij (1 + ε) ·
-/// 4 max |x|` overflows, `arg` = `"stiffness"`; CG: an inner product overflows even after
-/// power-of-two rescaling, `"values"`). Residuals use scaled norms and CG a rescaled copy, so
-/// the result at `2^k ·` values is exactly `2^k ·` the result (while no value is subnormal).
-pub fn solve_angle<T: Real, const D: usize>(
-    sys: &AngleSystem<'_, T, D>,
-    values: &mut [[T; D]],
-    method: AngleMethod,
-    options: &SolveOptions<T>,
-    scratch: &mut [[T; D]],
-) -> Result<SolveReport<T>> {
-    solve_angle_core(sys, values, method, T::ONE, options, scratch)
+impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
+    /// Solves the angle-inclusion springs for the free nodes' displacements:
+    /// `Σ_j B_ij (x_j − x_i) = 0` (Yang & Özgen eq. 3 = 0, eq. 4 `K_aa q_a = −K_ab q_b`).
+    /// `values` holds the prescribed displacements at fixed nodes and the initial guess at free
+    /// nodes; on `Ok` it holds the last iterate and the report says whether it converged. The
+    /// residual is the block operator's, relative to `‖b‖` as in [`SolveOptions`]. When
+    /// `ε = 0` the rigidity probe runs first (see the [`AngleSystem`] documentation).
+    ///
+    /// # Errors
+    /// `values` is untouched on error: wrong length or non-finite values, bad options, `scratch`
+    /// shorter than [`angle_scratch_len`](crate::spring::AngleSystem::angle_scratch_len), [`Error::SingularSystem`] from the probe (`iteration`
+    /// = the probe's CG iteration, or 0 when the probe converged but its amplification exceeded
+    /// [`MAX_AMPLIFICATION`]) or from CG (non-positive curvature); [`Error::Overflow`] when
+    /// stiffness and values together exceed the range (direct methods: `max_i Σ_j k_ij (1 + ε) ·
+    /// 4 max |x|` overflows, `arg` = `"stiffness"`; CG: an inner product overflows even after
+    /// power-of-two rescaling, `"values"`). Residuals use scaled norms and CG a rescaled copy, so
+    /// the result at `2^k ·` values is exactly `2^k ·` the result (while no value is subnormal).
+    pub fn solve_angle(
+        &self,
+        values: &mut [[T; D]],
+        method: AngleMethod,
+        options: &SolveOptions<T>,
+        scratch: &mut [[T; D]],
+    ) -> Result<SolveReport<T>> {
+        let sys = self;
+        solve_angle_core(sys, values, method, T::ONE, options, scratch)
+    }
 }
 
-/// The direct method with over-relaxation (block SOR, in node order): each free node moves by
-/// `ω` times its own 2×2/3×3 correction, `x_i ← x_i + ω A_ii⁻¹ Σ_j B_ij (x_j − x_i)`. For the
-/// symmetric positive definite operator every `0 < ω < 2` converges; `ω = 1` is
-/// [`AngleMethod::DirectGaussSeidel`] bit for bit. Plain Gauss–Seidel needs `O(h⁻²)` sweeps on
-/// a fine mesh (it hits any practical cap on 10⁴-node airfoil meshes); a good `ω` near 2 cuts
-/// that to `O(h⁻¹)`. Everything else (residual, probe when `ε = 0`, report, errors) is as in
-/// [`solve_angle`]; `scratch` needs [`angle_scratch_len`] for
-/// [`AngleMethod::DirectGaussSeidel`] (none unless `ε = 0`).
-///
-/// # Errors
-/// Those of [`solve_angle`], and `omega` outside `(0, 2)` ([`Error::InvalidParameter`]).
-pub fn solve_angle_sor<T: Real, const D: usize>(
-    sys: &AngleSystem<'_, T, D>,
-    values: &mut [[T; D]],
-    omega: T,
-    options: &SolveOptions<T>,
-    scratch: &mut [[T; D]],
-) -> Result<SolveReport<T>> {
-    check_omega(omega)?;
-    solve_angle_core(
-        sys,
-        values,
-        AngleMethod::DirectGaussSeidel,
-        omega,
-        options,
-        scratch,
-    )
+impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
+    /// The direct method with over-relaxation (block SOR, in node order): each free node moves by
+    /// `ω` times its own 2×2/3×3 correction, `x_i ← x_i + ω A_ii⁻¹ Σ_j B_ij (x_j − x_i)`. For the
+    /// symmetric positive definite operator every `0 < ω < 2` converges; `ω = 1` is
+    /// [`AngleMethod::DirectGaussSeidel`] bit for bit. Plain Gauss–Seidel needs `O(h⁻²)` sweeps on
+    /// a fine mesh (it hits any practical cap on 10⁴-node airfoil meshes); a good `ω` near 2 cuts
+    /// that to `O(h⁻¹)`. Everything else (residual, probe when `ε = 0`, report, errors) is as in
+    /// [`solve_angle`](crate::spring::AngleSystem::solve_angle); `scratch` needs [`angle_scratch_len`](crate::spring::AngleSystem::angle_scratch_len) for
+    /// [`AngleMethod::DirectGaussSeidel`] (none unless `ε = 0`).
+    ///
+    /// # Errors
+    /// Those of [`solve_angle`](crate::spring::AngleSystem::solve_angle), and `omega` outside `(0, 2)` ([`Error::InvalidParameter`]).
+    pub fn solve_angle_sor(
+        &self,
+        values: &mut [[T; D]],
+        omega: T,
+        options: &SolveOptions<T>,
+        scratch: &mut [[T; D]],
+    ) -> Result<SolveReport<T>> {
+        let sys = self;
+        check_omega(omega)?;
+        solve_angle_core(
+            sys,
+            values,
+            AngleMethod::DirectGaussSeidel,
+            omega,
+            options,
+            scratch,
+        )
+    }
 }
 
-/// One in-place over-relaxed sweep of the direct method over `nodes` (see
-/// [`solve_angle_sor`]): [`angle_gauss_seidel_sweep`] with every correction scaled by `omega`.
-/// Returns the range's maximum change and residual estimate.
-///
-/// # Errors
-/// Nothing is written on error: wrong length, non-finite `values`, `nodes.end > node_count`,
-/// `omega` outside `(0, 2)`.
-pub fn angle_sor_sweep<T: Real, const D: usize>(
-    sys: &AngleSystem<'_, T, D>,
-    nodes: Range<usize>,
-    values: &mut [[T; D]],
-    omega: T,
-) -> Result<Sweep<T>> {
-    check_values("values", values, sys.base.node_count())?;
-    sys.base.check_range(&nodes)?;
-    check_omega(omega)?;
-    Ok(sys.gauss_seidel_core(nodes, values, omega, T::ONE))
+impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
+    /// One in-place over-relaxed sweep of the direct method over `nodes` (see
+    /// [`solve_angle_sor`](crate::spring::AngleSystem::solve_angle_sor)): [`angle_gauss_seidel_sweep`](crate::spring::AngleSystem::angle_gauss_seidel_sweep) with every correction scaled by `omega`.
+    /// Returns the range's maximum change and residual estimate.
+    ///
+    /// # Errors
+    /// Nothing is written on error: wrong length, non-finite `values`, `nodes.end > node_count`,
+    /// `omega` outside `(0, 2)`.
+    pub fn angle_sor_sweep(
+        &self,
+        nodes: Range<usize>,
+        values: &mut [[T; D]],
+        omega: T,
+    ) -> Result<Sweep<T>> {
+        let sys = self;
+        check_values("values", values, sys.base.node_count())?;
+        sys.base.check_range(&nodes)?;
+        check_omega(omega)?;
+        Ok(sys.gauss_seidel_core(nodes, values, omega, T::ONE))
+    }
 }
 
-/// [`solve_angle`] with the over-relaxation factor of the Gauss–Seidel-order direct method
+/// [`solve_angle`](crate::spring::AngleSystem::solve_angle) with the over-relaxation factor of the Gauss–Seidel-order direct method
 /// (1 for the other methods).
 fn solve_angle_core<T: Real, const D: usize>(
     sys: &AngleSystem<'_, T, D>,
@@ -820,10 +841,10 @@ fn solve_angle_core<T: Real, const D: usize>(
     let n = sys.base.node_count();
     check_values("values", values, n)?;
     options.check()?;
-    let needed = angle_scratch_len(sys, method);
+    let needed = sys.angle_scratch_len(method);
     check::buffer("scratch", scratch.len(), needed)?;
     if sys.epsilon == T::ZERO {
-        let s = angle_rigidity_probe(sys, options, scratch)?;
+        let s = sys.angle_rigidity_probe(options, scratch)?;
         if s > T::from_f64(MAX_AMPLIFICATION) {
             return Err(Error::SingularSystem { iteration: 0 });
         }

@@ -91,27 +91,30 @@ pub(crate) fn jacobi_core<T: Real, const V: usize>(
     }
 }
 
-/// One Jacobi sweep of the linear springs over `nodes` (Yang & Özgen §2.1, Samareh eq. 2):
-/// for each free node `i` in the range, `output[i] = x_i + Σ_j k_ij (x_j − x_i) / Σ_j k_ij`
-/// with every `x` read from `input`; fixed nodes in the range are copied; `output` outside the
-/// range is not touched. Returns the range's maximum change and residual (of `input`).
-///
-/// `input` and `output` hold one `[T; V]` per node (the whole field: neighbours outside the
-/// range are read, e.g. halo nodes in a distributed mesh).
-///
-/// # Errors
-/// Nothing is written on error: wrong lengths, non-finite `input`, `nodes.end > node_count`.
-pub fn jacobi_sweep<T: Real, const V: usize>(
-    sys: &SpringSystem<'_, T>,
-    nodes: Range<usize>,
-    input: &[[T; V]],
-    output: &mut [[T; V]],
-) -> Result<Sweep<T>> {
-    let n = sys.node_count();
-    check_values("input", input, n)?;
-    check::len("output", output.len(), n)?;
-    sys.check_range(&nodes)?;
-    Ok(jacobi_core(sys, nodes, input, output, T::ONE))
+impl<T: Real> SpringSystem<'_, T> {
+    /// One Jacobi sweep of the linear springs over `nodes` (Yang & Özgen §2.1, Samareh eq. 2):
+    /// for each free node `i` in the range, `output[i] = x_i + Σ_j k_ij (x_j − x_i) / Σ_j k_ij`
+    /// with every `x` read from `input`; fixed nodes in the range are copied; `output` outside the
+    /// range is not touched. Returns the range's maximum change and residual (of `input`).
+    ///
+    /// `input` and `output` hold one `[T; V]` per node (the whole field: neighbours outside the
+    /// range are read, e.g. halo nodes in a distributed mesh).
+    ///
+    /// # Errors
+    /// Nothing is written on error: wrong lengths, non-finite `input`, `nodes.end > node_count`.
+    pub fn jacobi_sweep<const V: usize>(
+        &self,
+        nodes: Range<usize>,
+        input: &[[T; V]],
+        output: &mut [[T; V]],
+    ) -> Result<Sweep<T>> {
+        let sys = self;
+        let n = sys.node_count();
+        check_values("input", input, n)?;
+        check::len("output", output.len(), n)?;
+        sys.check_range(&nodes)?;
+        Ok(jacobi_core(sys, nodes, input, output, T::ONE))
+    }
 }
 
 /// SOR sweep without validation.
@@ -148,23 +151,26 @@ pub(crate) fn sor_core<T: Real, const V: usize>(
     }
 }
 
-/// One in-place Gauss–Seidel (`omega = 1`) or SOR sweep of the linear springs over `nodes`, in
-/// increasing node order: `x_i ← x_i + ω Σ_j k_ij (x_j − x_i) / Σ_j k_ij` using the newest
-/// values. Fixed nodes are skipped. Returns the range's maximum change and residual estimate.
-///
-/// # Errors
-/// Nothing is written on error: wrong length, non-finite `values`, `nodes.end > node_count`,
-/// `omega` outside `(0, 2)`.
-pub fn sor_sweep<T: Real, const V: usize>(
-    sys: &SpringSystem<'_, T>,
-    nodes: Range<usize>,
-    values: &mut [[T; V]],
-    omega: T,
-) -> Result<Sweep<T>> {
-    check_values("values", values, sys.node_count())?;
-    sys.check_range(&nodes)?;
-    check_omega(omega)?;
-    Ok(sor_core(sys, nodes, values, omega, T::ONE))
+impl<T: Real> SpringSystem<'_, T> {
+    /// One in-place Gauss–Seidel (`omega = 1`) or SOR sweep of the linear springs over `nodes`, in
+    /// increasing node order: `x_i ← x_i + ω Σ_j k_ij (x_j − x_i) / Σ_j k_ij` using the newest
+    /// values. Fixed nodes are skipped. Returns the range's maximum change and residual estimate.
+    ///
+    /// # Errors
+    /// Nothing is written on error: wrong length, non-finite `values`, `nodes.end > node_count`,
+    /// `omega` outside `(0, 2)`.
+    pub fn sor_sweep<const V: usize>(
+        &self,
+        nodes: Range<usize>,
+        values: &mut [[T; V]],
+        omega: T,
+    ) -> Result<Sweep<T>> {
+        let sys = self;
+        check_values("values", values, sys.node_count())?;
+        sys.check_range(&nodes)?;
+        check_omega(omega)?;
+        Ok(sor_core(sys, nodes, values, omega, T::ONE))
+    }
 }
 
 /// Calls `f(r_i, b_i)` for every free node `i` of the ranges, in node order: the residual
@@ -270,18 +276,18 @@ pub(crate) fn residual_norms_scaled<T: Real, const V: usize>(
     (r.shifted(top), b.shifted(top))
 }
 
-/// The relative residual `‖b − A x‖₂ / ‖b‖₂` of a value field for the linear springs (the
-/// measure [`SolveOptions::residual_tol`] and [`SolveReport::residual`] use).
-///
-/// # Errors
-/// Wrong length or non-finite `values`.
-pub fn relative_residual<T: Real, const V: usize>(
-    sys: &SpringSystem<'_, T>,
-    values: &[[T; V]],
-) -> Result<T> {
-    check_values("values", values, sys.node_count())?;
-    let (r, b) = residual_norms(sys, values);
-    Ok(r.relative_to(b))
+impl<T: Real> SpringSystem<'_, T> {
+    /// The relative residual `‖b − A x‖₂ / ‖b‖₂` of a value field for the linear springs (the
+    /// measure [`SolveOptions::residual_tol`] and [`SolveReport::residual`] use).
+    ///
+    /// # Errors
+    /// Wrong length or non-finite `values`.
+    pub fn relative_residual<const V: usize>(&self, values: &[[T; V]]) -> Result<T> {
+        let sys = self;
+        check_values("values", values, sys.node_count())?;
+        let (r, b) = residual_norms(sys, values);
+        Ok(r.relative_to(b))
+    }
 }
 
 /// The stationary sweeps form `Σ_j k_ij (x_j − x_i)` unscaled; it stays finite when
@@ -305,7 +311,7 @@ pub(crate) fn check_sweep_range<T: Real, const V: usize>(
     }
 }
 
-/// Number of `[T; V]` scratch items [`solve_linear`] needs: `n` for Jacobi (the second
+/// Number of `[T; V]` scratch items [`solve_linear`](crate::spring::SpringSystem::solve_linear) needs: `n` for Jacobi (the second
 /// field), 0 for Gauss–Seidel and SOR, `5 n` for CG: `4 n` vectors (iterate, residual,
 /// direction, and one shared by `A p` and the preconditioned residual) and the diagonal
 /// `Σ_j k_ij`, `n` scalars packed `V` to an item (`⌈n / V⌉` items; `n` covers every `V`).
@@ -322,39 +328,42 @@ fn cg_scratch_len<const V: usize>(n: usize) -> usize {
     n.saturating_mul(4).saturating_add(n.div_ceil(V.max(1)))
 }
 
-/// Solves the linear springs for every free node: `Σ_j k_ij (x_j − x_i) = 0` per component
-/// (Yang & Özgen eq. 1 = 0), with fixed nodes keeping their values. `values` holds the
-/// Dirichlet data at fixed nodes and the initial guess at free nodes; on `Ok` it holds the
-/// last iterate, and the report says whether it converged.
-///
-/// Stationary methods stop on the sweep's residual estimate and then confirm with the true
-/// residual; CG confirms its recurrence residual the same way and restarts from the true
-/// residual if they disagree. The reported residual is always recomputed from the values.
-///
-/// Residuals are measured with scaled norms and CG runs on a power-of-two-scaled copy, so any
-/// finite values are handled: the result at `2^k ·` values is exactly `2^k ·` the result
-/// (while no value is subnormal).
-///
-/// # Errors
-/// `values` is untouched on error: wrong lengths, non-finite values, bad options or `omega`,
-/// `scratch` shorter than [`solve_linear_scratch_len`] (CG needs exactly `4 n + ⌈n / V⌉`
-/// items of it), [`Error::SingularSystem`] if CG
-/// meets non-positive curvature (cannot happen for a validated system in exact arithmetic;
-/// reported rather than hidden if rounding causes it), [`Error::Overflow`] when stiffness and
-/// values together exceed the range: for Jacobi/Gauss–Seidel/SOR when `max_i Σ_j k_ij ·
-/// 2 max |x|` overflows (`arg` = `"stiffness"`), for CG when an inner product overflows even
-/// after rescaling (`"values"`; for example `k ≈ 1e308` without a preconditioner).
-pub fn solve_linear<T: Real, const V: usize>(
-    sys: &SpringSystem<'_, T>,
-    values: &mut [[T; V]],
-    method: LinearMethod<T>,
-    options: &SolveOptions<T>,
-    scratch: &mut [[T; V]],
-) -> Result<SolveReport<T>> {
-    solve_linear_on(sys, values, method, options, scratch, None)
+impl<T: Real> SpringSystem<'_, T> {
+    /// Solves the linear springs for every free node: `Σ_j k_ij (x_j − x_i) = 0` per component
+    /// (Yang & Özgen eq. 1 = 0), with fixed nodes keeping their values. `values` holds the
+    /// Dirichlet data at fixed nodes and the initial guess at free nodes; on `Ok` it holds the
+    /// last iterate, and the report says whether it converged.
+    ///
+    /// Stationary methods stop on the sweep's residual estimate and then confirm with the true
+    /// residual; CG confirms its recurrence residual the same way and restarts from the true
+    /// residual if they disagree. The reported residual is always recomputed from the values.
+    ///
+    /// Residuals are measured with scaled norms and CG runs on a power-of-two-scaled copy, so any
+    /// finite values are handled: the result at `2^k ·` values is exactly `2^k ·` the result
+    /// (while no value is subnormal).
+    ///
+    /// # Errors
+    /// `values` is untouched on error: wrong lengths, non-finite values, bad options or `omega`,
+    /// `scratch` shorter than [`solve_linear_scratch_len`] (CG needs exactly `4 n + ⌈n / V⌉`
+    /// items of it), [`Error::SingularSystem`] if CG
+    /// meets non-positive curvature (cannot happen for a validated system in exact arithmetic;
+    /// reported rather than hidden if rounding causes it), [`Error::Overflow`] when stiffness and
+    /// values together exceed the range: for Jacobi/Gauss–Seidel/SOR when `max_i Σ_j k_ij ·
+    /// 2 max |x|` overflows (`arg` = `"stiffness"`), for CG when an inner product overflows even
+    /// after rescaling (`"values"`; for example `k ≈ 1e308` without a preconditioner).
+    pub fn solve_linear<const V: usize>(
+        &self,
+        values: &mut [[T; V]],
+        method: LinearMethod<T>,
+        options: &SolveOptions<T>,
+        scratch: &mut [[T; V]],
+    ) -> Result<SolveReport<T>> {
+        let sys = self;
+        solve_linear_on(sys, values, method, options, scratch, None)
+    }
 }
 
-/// [`solve_linear`], with the rows split over the processes of `comm` when given (CG with a
+/// [`solve_linear`](crate::spring::SpringSystem::solve_linear), with the rows split over the processes of `comm` when given (CG with a
 /// Jacobi or no preconditioner only: the other methods visit the nodes in order).
 pub(crate) fn solve_linear_on<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,

@@ -30,11 +30,8 @@
 //! (exact), writes back only on success, and projects every sliding node's result once more,
 //! so `n · d` is at rounding level of `|d|`.
 
-use super::amg::{amg_precondition, amg_precondition_scratch_len, AmgHierarchy};
-use super::angle::{
-    angle_probe_scratch_len, angle_rigidity_probe, cramer, AngleMethod, AngleSystem,
-    MAX_AMPLIFICATION,
-};
+use super::amg::{amg_precondition_scratch_len, AmgHierarchy};
+use super::angle::{cramer, AngleMethod, AngleSystem, MAX_AMPLIFICATION};
 use super::linear::{diagonal, drive_sweeps, precondition, Sweeps};
 use super::norms::{scale_by, Norm, SumSq};
 use super::solver::LinearSolver;
@@ -234,7 +231,7 @@ enum Method<'h, T: Real> {
     Cg(Pre<'h, T>),
 }
 
-/// Number of `[T; D]` scratch items [`solve_linear_sliding`] needs for `node_count` nodes:
+/// Number of `[T; D]` scratch items [`solve_linear_sliding`](crate::spring::SpringSystem::solve_linear_sliding) needs for `node_count` nodes:
 /// `n` (the scaled copy) plus `n` for Jacobi, nothing more for Gauss–Seidel/SOR, `5 n` for
 /// CG (residual, direction, `A p`, preconditioned residual, diagonal) and, with a multigrid
 /// hierarchy, [`amg_precondition_scratch_len`] more.
@@ -254,145 +251,151 @@ pub fn solve_linear_sliding_scratch_len<T: Real>(
     }
 }
 
-/// Solves the linear springs with sliding nodes ([`Constraints`]): the displacements that
-/// minimise the spring energy over each node's allowed motions, i.e. `P K P d = P b` on
-/// `range(P)` (`P_i` = `I` free, `0` fixed, `I − n nᵀ` plane, `t tᵀ` line), solved jointly
-/// over the components. It is symmetric positive definite whenever the unconstrained system
-/// is (`vᵀ P K P v = vᵀ K v` on `range(P)`), and a preconditioner `M` of the unconstrained
-/// operator (Jacobi, SSOR, one V-cycle of the scalar [`AmgHierarchy`] built for the system
-/// with the sliding nodes free) is applied as `P M⁻¹ P`, which keeps CG's guarantees.
-/// `values` are displacements, prescribed at the fixed nodes, the initial guess elsewhere.
-/// `sys` must be built with the mask [`Constraints::fixed_mask`] writes (sliding nodes are
-/// free in it). Any [`LinearSolver`] works: Jacobi/Gauss–Seidel/SOR project each node's
-/// update, CG (with its preconditioner, or the multigrid hierarchy) runs on the projected
-/// system. On `Ok` every sliding node's displacement lies in its plane or line to rounding,
-/// and the report's residual is `‖P(b − K d)‖ / ‖P b‖`.
-///
-/// # Errors
-/// `values` is untouched on error:
-/// Wrong length or non-finite `values`; constraints of another length or whose fixed nodes
-/// differ from the system's mask ([`Error::InvalidParameter`] on `constraints`); bad options or
-/// `omega`; a hierarchy built for another system; `scratch` shorter than
-/// [`solve_linear_sliding_scratch_len`]; [`Error::SingularSystem`] when CG meets non-positive
-/// curvature; [`Error::Overflow`] when stiffness and values exceed the range.
-pub fn solve_linear_sliding<T: Real, const D: usize>(
-    sys: &SpringSystem<'_, T>,
-    constraints: &Constraints<'_, T, D>,
-    values: &mut [[T; D]],
-    solver: LinearSolver<'_, T>,
-    options: &SolveOptions<T>,
-    scratch: &mut [[T; D]],
-) -> Result<SolveReport<T>> {
-    let n = sys.node_count();
-    check_values("values", values, n)?;
-    constraints.check_mask(sys.fixed())?;
-    options.check()?;
-    let method = match solver {
-        LinearSolver::Method(LinearMethod::Jacobi) => Method::Jacobi,
-        LinearSolver::Method(LinearMethod::GaussSeidel) => Method::Sor(T::ONE),
-        LinearSolver::Method(LinearMethod::Sor { omega }) => {
-            check_omega(omega)?;
-            Method::Sor(omega)
-        }
-        LinearSolver::Method(LinearMethod::Cg { preconditioner }) => {
-            if let Preconditioner::Ssor { omega } = preconditioner {
+impl<T: Real> SpringSystem<'_, T> {
+    /// Solves the linear springs with sliding nodes ([`Constraints`]): the displacements that
+    /// minimise the spring energy over each node's allowed motions, i.e. `P K P d = P b` on
+    /// `range(P)` (`P_i` = `I` free, `0` fixed, `I − n nᵀ` plane, `t tᵀ` line), solved jointly
+    /// over the components. It is symmetric positive definite whenever the unconstrained system
+    /// is (`vᵀ P K P v = vᵀ K v` on `range(P)`), and a preconditioner `M` of the unconstrained
+    /// operator (Jacobi, SSOR, one V-cycle of the scalar [`AmgHierarchy`] built for the system
+    /// with the sliding nodes free) is applied as `P M⁻¹ P`, which keeps CG's guarantees.
+    /// `values` are displacements, prescribed at the fixed nodes, the initial guess elsewhere.
+    /// `sys` must be built with the mask [`Constraints::fixed_mask`] writes (sliding nodes are
+    /// free in it). Any [`LinearSolver`] works: Jacobi/Gauss–Seidel/SOR project each node's
+    /// update, CG (with its preconditioner, or the multigrid hierarchy) runs on the projected
+    /// system. On `Ok` every sliding node's displacement lies in its plane or line to rounding,
+    /// and the report's residual is `‖P(b − K d)‖ / ‖P b‖`.
+    ///
+    /// # Errors
+    /// `values` is untouched on error:
+    /// Wrong length or non-finite `values`; constraints of another length or whose fixed nodes
+    /// differ from the system's mask ([`Error::InvalidParameter`] on `constraints`); bad options or
+    /// `omega`; a hierarchy built for another system; `scratch` shorter than
+    /// [`solve_linear_sliding_scratch_len`]; [`Error::SingularSystem`] when CG meets non-positive
+    /// curvature; [`Error::Overflow`] when stiffness and values exceed the range.
+    pub fn solve_linear_sliding<const D: usize>(
+        &self,
+        constraints: &Constraints<'_, T, D>,
+        values: &mut [[T; D]],
+        solver: LinearSolver<'_, T>,
+        options: &SolveOptions<T>,
+        scratch: &mut [[T; D]],
+    ) -> Result<SolveReport<T>> {
+        let sys = self;
+        let n = sys.node_count();
+        check_values("values", values, n)?;
+        constraints.check_mask(sys.fixed())?;
+        options.check()?;
+        let method = match solver {
+            LinearSolver::Method(LinearMethod::Jacobi) => Method::Jacobi,
+            LinearSolver::Method(LinearMethod::GaussSeidel) => Method::Sor(T::ONE),
+            LinearSolver::Method(LinearMethod::Sor { omega }) => {
                 check_omega(omega)?;
+                Method::Sor(omega)
             }
-            Method::Cg(Pre::Linear(preconditioner))
-        }
-        LinearSolver::Distributed(..) | LinearSolver::DistributedAmg(..) => {
-            return Err(Error::InvalidParameter {
-                arg: "solver",
-                reason: "sliding solves are not split across processes yet",
-            })
-        }
-        LinearSolver::Amg(h) => {
-            h.check_system(sys)?;
-            Method::Cg(Pre::Amg(h))
-        }
-    };
-    let needed = solve_linear_sliding_scratch_len(&solver, n);
-    check::buffer("scratch", scratch.len(), needed)?;
-    solve(
-        &LinearOp(sys),
-        Some(sys),
-        constraints,
-        values,
-        method,
-        options,
-        scratch,
-    )
-}
-
-/// Number of `[T; D]` scratch items [`solve_angle_sliding`] needs: `n` (the scaled copy) plus
-/// `n` for [`AngleMethod::DirectJacobi`], nothing more for [`AngleMethod::DirectGaussSeidel`],
-/// `4 n` for [`AngleMethod::Cg`]; at least the rigidity probe's `4 n` when `ε = 0`.
-pub fn solve_angle_sliding_scratch_len<T: Real, const D: usize>(
-    sys: &AngleSystem<'_, T, D>,
-    method: AngleMethod,
-) -> usize {
-    let n = sys.base().node_count();
-    let solve = match method {
-        AngleMethod::DirectJacobi => n.saturating_mul(2),
-        AngleMethod::DirectGaussSeidel => n,
-        AngleMethod::Cg => n.saturating_mul(5),
-    };
-    if sys.epsilon() == T::ZERO {
-        solve.max(angle_probe_scratch_len(sys))
-    } else {
-        solve
+            LinearSolver::Method(LinearMethod::Cg { preconditioner }) => {
+                if let Preconditioner::Ssor { omega } = preconditioner {
+                    check_omega(omega)?;
+                }
+                Method::Cg(Pre::Linear(preconditioner))
+            }
+            LinearSolver::Distributed(..) | LinearSolver::DistributedAmg(..) => {
+                return Err(Error::InvalidParameter {
+                    arg: "solver",
+                    reason: "sliding solves are not split across processes yet",
+                })
+            }
+            LinearSolver::Amg(h) => {
+                h.check_system(sys)?;
+                Method::Cg(Pre::Amg(h))
+            }
+        };
+        let needed = solve_linear_sliding_scratch_len(&solver, n);
+        check::buffer("scratch", scratch.len(), needed)?;
+        solve(
+            &LinearOp(sys),
+            Some(sys),
+            constraints,
+            values,
+            method,
+            options,
+            scratch,
+        )
     }
 }
 
-/// Solves the angle-inclusion springs with sliding nodes (the problem of
-/// [`solve_linear_sliding`] with the angle springs' edge blocks): the direct method solves
-/// each node's projected block `(P A P + s (I − P)) δ = P r`, `s = tr A / D` (in
-/// Gauss–Seidel order over-relaxed by `omega`, 1 = plain, or in Jacobi order), CG runs on the
-/// projected system with the projected node blocks as preconditioner. With `ε = 0` the
-/// unconstrained system's rigidity probe runs first (a rigid unconstrained system stays rigid
-/// when nodes are restricted further). Values, report and sliding guarantee as in
-/// [`solve_linear_sliding`].
-///
-/// # Errors
-/// `values` is untouched on error:
-/// Those of [`solve_linear_sliding`] and of [`solve_angle`](super::solve_angle) (probe);
-/// `omega` outside `(0, 2)` for any method.
-pub fn solve_angle_sliding<T: Real, const D: usize>(
-    sys: &AngleSystem<'_, T, D>,
-    constraints: &Constraints<'_, T, D>,
-    values: &mut [[T; D]],
-    method: AngleMethod,
-    omega: T,
-    options: &SolveOptions<T>,
-    scratch: &mut [[T; D]],
-) -> Result<SolveReport<T>> {
-    let n = sys.base().node_count();
-    check_values("values", values, n)?;
-    constraints.check_mask(sys.base().fixed())?;
-    options.check()?;
-    check_omega(omega)?;
-    let needed = solve_angle_sliding_scratch_len(sys, method);
-    check::buffer("scratch", scratch.len(), needed)?;
-    if sys.epsilon() == T::ZERO {
-        let s = angle_rigidity_probe(sys, options, scratch)?;
-        if s > T::from_f64(MAX_AMPLIFICATION) {
-            return Err(Error::SingularSystem { iteration: 0 });
+impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
+    /// Number of `[T; D]` scratch items [`solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding) needs: `n` (the scaled copy) plus
+    /// `n` for [`AngleMethod::DirectJacobi`], nothing more for [`AngleMethod::DirectGaussSeidel`],
+    /// `4 n` for [`AngleMethod::Cg`]; at least the rigidity probe's `4 n` when `ε = 0`.
+    pub fn solve_angle_sliding_scratch_len(&self, method: AngleMethod) -> usize {
+        let sys = self;
+        let n = sys.base().node_count();
+        let solve = match method {
+            AngleMethod::DirectJacobi => n.saturating_mul(2),
+            AngleMethod::DirectGaussSeidel => n,
+            AngleMethod::Cg => n.saturating_mul(5),
+        };
+        if sys.epsilon() == T::ZERO {
+            solve.max(sys.angle_probe_scratch_len())
+        } else {
+            solve
         }
     }
-    let m = match method {
-        AngleMethod::DirectGaussSeidel => Method::Sor(omega),
-        AngleMethod::DirectJacobi => Method::Jacobi,
-        AngleMethod::Cg => Method::Cg(Pre::Blocks),
-    };
-    solve(
-        &AngleOp(sys),
-        None,
-        constraints,
-        values,
-        m,
-        options,
-        scratch,
-    )
+}
+
+impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
+    /// Solves the angle-inclusion springs with sliding nodes (the problem of
+    /// [`solve_linear_sliding`](crate::spring::SpringSystem::solve_linear_sliding) with the angle springs' edge blocks): the direct method solves
+    /// each node's projected block `(P A P + s (I − P)) δ = P r`, `s = tr A / D` (in
+    /// Gauss–Seidel order over-relaxed by `omega`, 1 = plain, or in Jacobi order), CG runs on the
+    /// projected system with the projected node blocks as preconditioner. With `ε = 0` the
+    /// unconstrained system's rigidity probe runs first (a rigid unconstrained system stays rigid
+    /// when nodes are restricted further). Values, report and sliding guarantee as in
+    /// [`solve_linear_sliding`](crate::spring::SpringSystem::solve_linear_sliding).
+    ///
+    /// # Errors
+    /// `values` is untouched on error:
+    /// Those of [`solve_linear_sliding`](crate::spring::SpringSystem::solve_linear_sliding) and of [`solve_angle`](crate::spring::AngleSystem::solve_angle) (probe);
+    /// `omega` outside `(0, 2)` for any method.
+    pub fn solve_angle_sliding(
+        &self,
+        constraints: &Constraints<'_, T, D>,
+        values: &mut [[T; D]],
+        method: AngleMethod,
+        omega: T,
+        options: &SolveOptions<T>,
+        scratch: &mut [[T; D]],
+    ) -> Result<SolveReport<T>> {
+        let sys = self;
+        let n = sys.base().node_count();
+        check_values("values", values, n)?;
+        constraints.check_mask(sys.base().fixed())?;
+        options.check()?;
+        check_omega(omega)?;
+        let needed = sys.solve_angle_sliding_scratch_len(method);
+        check::buffer("scratch", scratch.len(), needed)?;
+        if sys.epsilon() == T::ZERO {
+            let s = sys.angle_rigidity_probe(options, scratch)?;
+            if s > T::from_f64(MAX_AMPLIFICATION) {
+                return Err(Error::SingularSystem { iteration: 0 });
+            }
+        }
+        let m = match method {
+            AngleMethod::DirectGaussSeidel => Method::Sor(omega),
+            AngleMethod::DirectJacobi => Method::Jacobi,
+            AngleMethod::Cg => Method::Cg(Pre::Blocks),
+        };
+        solve(
+            &AngleOp(sys),
+            None,
+            constraints,
+            values,
+            m,
+            options,
+            scratch,
+        )
+    }
 }
 
 /// `(‖P (b − K x)‖, ‖P b‖)` over the non-fixed nodes, without overflow or underflow.
@@ -644,7 +647,7 @@ fn apply_pre<T: Real, const D: usize, O: BlockOp<T, D>>(
 ) -> Result<()> {
     match (pre, sys) {
         (Pre::Linear(p), Some(s)) => precondition(s, diag, p, r, z),
-        (Pre::Amg(h), Some(s)) => amg_precondition(s, h, r, z, work)?,
+        (Pre::Amg(h), Some(s)) => s.amg_precondition(h, r, z, work)?,
         _ => {
             for (i, (z, &r)) in z.iter_mut().zip(r).enumerate() {
                 *z = if op.fixed(i) {

@@ -371,7 +371,7 @@ pub enum Preconditioner<T> {
     },
 }
 
-/// Solution method for the linear springs ([`solve_linear`](super::solve_linear)).
+/// Solution method for the linear springs ([`solve_linear`](crate::spring::SpringSystem::solve_linear)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum LinearMethod<T> {

@@ -33,8 +33,7 @@ use deform_kernel::deformation::{
 #[cfg(not(feature = "micromath"))]
 use deform_kernel::spring::batina_stiffness;
 use deform_kernel::spring::{
-    solve_angle, solve_linear, AngleMethod, AngleSystem, LinearMethod, Preconditioner,
-    SolveOptions, SpringSystem,
+    AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::taubin::{
     smooth_arclength, smooth_arclength_scratch_len, smooth_graph, smooth_structured, GraphOptions,
@@ -413,7 +412,7 @@ fn linear_cg<T: Real>(meter: &mut Meter) {
         let opts = SolveOptions::default();
         let name = tagged::<T>("solve_linear CG-SSOR f32", "solve_linear CG-SSOR f64");
         let r = meter.measure(name, || {
-            solve_linear(sys, &mut values, method, &opts, &mut scratch)
+            sys.solve_linear(&mut values, method, &opts, &mut scratch)
         });
         if !r.is_ok_and(|r| r.converged) {
             fail(name);
@@ -432,7 +431,7 @@ fn linear_gs<T: Real>(meter: &mut Meter) {
             "solve_linear Gauss-Seidel f64",
         );
         let r = meter.measure(name, || {
-            solve_linear(sys, &mut values, LinearMethod::GaussSeidel, &opts, &mut [])
+            sys.solve_linear(&mut values, LinearMethod::GaussSeidel, &opts, &mut [])
         });
         if !r.is_ok_and(|r| r.converged) {
             fail(name);
@@ -453,7 +452,7 @@ fn angle_cg<T: Real>(meter: &mut Meter) {
         let opts = SolveOptions::default();
         let name = tagged::<T>("solve_angle CG f32", "solve_angle CG f64");
         let r = meter.measure(name, || {
-            solve_angle(&asys, &mut values, AngleMethod::Cg, &opts, &mut scratch)
+            asys.solve_angle(&mut values, AngleMethod::Cg, &opts, &mut scratch)
         });
         if !r.is_ok_and(|r| r.converged) {
             fail(name);

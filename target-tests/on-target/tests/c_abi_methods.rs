@@ -12,7 +12,7 @@ use deform_kernel::deformation::RotationSource;
 use deform_kernel::deformation::{deform_idw, deform_idw_scratch_len, BoundaryMotion};
 use deform_kernel::quality::cell_measures;
 use deform_kernel::spring::{
-    batina_stiffness, solve_linear, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
+    batina_stiffness, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::taubin::{smooth_graph, GraphOptions, TaubinParams};
 use deform_kernel::{Quat, Real};
@@ -199,7 +199,9 @@ macro_rules! abi_cases {
             let cg = LinearMethod::Cg {
                 preconditioner: Preconditioner::Jacobi,
             };
-            let report = solve_linear(&sys, &mut expect, cg, &options, &mut rs).unwrap();
+            let report = sys
+                .solve_linear(&mut expect, cg, &options, &mut rs)
+                .unwrap();
 
             let mut copts = core::mem::MaybeUninit::uninit();
             // SAFETY: one writable struct.

@@ -19,8 +19,8 @@ use deform_kernel::plan::{
     PlanStorage, Start,
 };
 use deform_kernel::spring::{
-    batina_stiffness, solve_linear_with, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions,
-    LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
+    batina_stiffness, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, LinearMethod,
+    LinearSolver, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::{Error, Quat, Real};
 use deform_on_target::mesh::{turned_bottom_row as deformed, Mesh, EDGES, N, NB, NE};
@@ -155,14 +155,14 @@ fn spring_plan<T: Real>() {
             let p = m.points[i as usize];
             guess[i as usize] = [di[0] - p[0], di[1] - p[1]];
         }
-        let r = solve_linear_with(
-            &sys,
-            &mut guess,
-            solver,
-            &SolveOptions::default(),
-            &mut scratch[..len],
-        )
-        .unwrap();
+        let r = sys
+            .solve_linear_with(
+                &mut guess,
+                solver,
+                &SolveOptions::default(),
+                &mut scratch[..len],
+            )
+            .unwrap();
         defmt::assert!(r.iterations == rep.solve.iterations && rep.warm == (s > 1));
         defmt::assert!(rep.extrapolated == (s > 2));
         before = last;

@@ -11,9 +11,8 @@ use deform_on_target as _;
 
 use deform_kernel::slide::{fit_plane, slide_points, Constraints, NodeKind};
 use deform_kernel::spring::{
-    batina_stiffness, solve_angle_sliding, solve_angle_sliding_scratch_len, solve_linear_sliding,
-    solve_linear_sliding_scratch_len, AngleMethod, AngleSystem, LinearMethod, LinearSolver,
-    Preconditioner, SolveOptions, SpringSystem,
+    batina_stiffness, solve_linear_sliding_scratch_len, AngleMethod, AngleSystem, LinearMethod,
+    LinearSolver, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::{Error, Real};
 use deform_on_target::mesh::{Mesh, N, NE, NX, NY};
@@ -114,7 +113,9 @@ fn all_methods<T: Real>() {
         let solver = LinearSolver::Method(method);
         let len = solve_linear_sliding_scratch_len(&solver, N);
         let mut d = given;
-        let r = solve_linear_sliding(&sys, &c, &mut d, solver, &opts, &mut scratch[..len]).unwrap();
+        let r = sys
+            .solve_linear_sliding(&c, &mut d, solver, &opts, &mut scratch[..len])
+            .unwrap();
         defmt::assert!(r.converged);
         check(&kinds, &d, &given);
         match &first {
@@ -125,9 +126,10 @@ fn all_methods<T: Real>() {
     let a = AngleSystem::new(sys, &m.points, T::from_f64(0.01)).unwrap();
     let mut first: Option<[[T; 2]; N]> = None;
     for method in [AngleMethod::Cg, AngleMethod::DirectGaussSeidel] {
-        let len = solve_angle_sliding_scratch_len(&a, method);
+        let len = a.solve_angle_sliding_scratch_len(method);
         let mut d = given;
-        let r = solve_angle_sliding(&a, &c, &mut d, method, T::ONE, &opts, &mut scratch[..len])
+        let r = a
+            .solve_angle_sliding(&c, &mut d, method, T::ONE, &opts, &mut scratch[..len])
             .unwrap();
         defmt::assert!(r.converged);
         check(&kinds, &d, &given);
@@ -183,8 +185,7 @@ fn projection_and_errors<T: Real>() {
     let before = d;
     let mut scratch = [[T::ZERO; 2]; SCRATCH];
     defmt::assert!(matches!(
-        solve_linear_sliding(
-            &sys,
+        sys.solve_linear_sliding(
             &c,
             &mut d,
             LinearMethod::GaussSeidel.into(),

@@ -9,10 +9,8 @@
 use deform_on_target as _;
 
 use deform_kernel::spring::{
-    angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_scratch_len, batina_stiffness,
-    jacobi_sweep, relative_residual, solve_angle, solve_linear, solve_linear_scratch_len,
-    sor_sweep, AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
-    DEFAULT_ANGLE_EPSILON,
+    batina_stiffness, solve_linear_scratch_len, AngleMethod, AngleSystem, LinearMethod,
+    Preconditioner, SolveOptions, SpringSystem, DEFAULT_ANGLE_EPSILON,
 };
 use deform_kernel::{Error, Quat, Real};
 use deform_on_target::mesh::{Mesh, N, NE, NX};
@@ -92,7 +90,9 @@ fn linear_methods<T: Real>() {
             let mut values = data;
             let mut scratch = [[T::ZERO; 2]; 5 * N];
             let len = solve_linear_scratch_len(&method, N);
-            let r = solve_linear(sys, &mut values, method, &opts, &mut scratch[..len]).unwrap();
+            let r = sys
+                .solve_linear(&mut values, method, &opts, &mut scratch[..len])
+                .unwrap();
             defmt::info!(
                 "{=str} linear method {=usize}: {=usize} iterations, residual {=f64}",
                 precision::<T>(),
@@ -102,7 +102,7 @@ fn linear_methods<T: Real>() {
             );
             defmt::assert!(r.converged);
             defmt::assert!(r.residual <= opts.residual_tol);
-            let true_res = relative_residual(sys, &values).unwrap();
+            let true_res = sys.relative_residual(&values).unwrap();
             defmt::assert!(true_res == r.residual);
             // Fixed nodes keep their bits; free nodes obey the maximum principle.
             for ((v, d), &f) in values.iter().zip(&data).zip(&m.fixed) {
@@ -134,7 +134,7 @@ fn sweeps<T: Real>() {
         let mut a = data;
         let mut b = [[T::ZERO; 2]; N];
         for _ in 0..K {
-            let s = jacobi_sweep(sys, 0..N, &a, &mut b).unwrap();
+            let s = sys.jacobi_sweep(0..N, &a, &mut b).unwrap();
             defmt::assert!(s.max_change >= T::ZERO && s.residual_sq >= T::ZERO);
             a = b;
         }
@@ -145,33 +145,29 @@ fn sweeps<T: Real>() {
             residual_tol: T::ZERO,
             update_tol: T::ZERO,
         };
-        let r = solve_linear(sys, &mut solved, LinearMethod::Jacobi, &opts, &mut scratch).unwrap();
+        let r = sys
+            .solve_linear(&mut solved, LinearMethod::Jacobi, &opts, &mut scratch)
+            .unwrap();
         defmt::assert_eq!(r.iterations, K);
         defmt::assert!(same_bits(&a, &solved));
         // A Jacobi sweep split into two ranges equals the whole-range sweep.
         let mut whole = [[T::ZERO; 2]; N];
         let mut split = [[T::ZERO; 2]; N];
-        jacobi_sweep(sys, 0..N, &data, &mut whole).unwrap();
-        jacobi_sweep(sys, 0..N / 2, &data, &mut split).unwrap();
-        jacobi_sweep(sys, N / 2..N, &data, &mut split).unwrap();
+        sys.jacobi_sweep(0..N, &data, &mut whole).unwrap();
+        sys.jacobi_sweep(0..N / 2, &data, &mut split).unwrap();
+        sys.jacobi_sweep(N / 2..N, &data, &mut split).unwrap();
         defmt::assert!(same_bits(&whole, &split));
         // K SOR sweeps (ω = 1.5) == the SOR solve capped at K iterations.
         let omega = T::from_f64(1.5);
         let mut a = data;
         let mut last = T::INFINITY;
         for _ in 0..K {
-            last = sor_sweep(sys, 0..N, &mut a, omega).unwrap().max_change;
+            last = sys.sor_sweep(0..N, &mut a, omega).unwrap().max_change;
         }
         defmt::assert!(last < T::from_f64(1e-3));
         let mut solved = data;
-        solve_linear(
-            sys,
-            &mut solved,
-            LinearMethod::Sor { omega },
-            &opts,
-            &mut [],
-        )
-        .unwrap();
+        sys.solve_linear(&mut solved, LinearMethod::Sor { omega }, &opts, &mut [])
+            .unwrap();
         defmt::assert!(same_bits(&a, &solved));
     });
 }
@@ -197,8 +193,10 @@ fn angle_methods<T: Real>() {
         {
             let mut values = data;
             let mut scratch = [[T::ZERO; 2]; 4 * N];
-            let len = angle_scratch_len(&asys, method);
-            let r = solve_angle(&asys, &mut values, method, &opts, &mut scratch[..len]).unwrap();
+            let len = asys.angle_scratch_len(method);
+            let r = asys
+                .solve_angle(&mut values, method, &opts, &mut scratch[..len])
+                .unwrap();
             defmt::info!(
                 "{=str} angle method {=usize}: {=usize} iterations, residual {=f64}, converged {=bool}",
                 precision::<T>(),
@@ -227,18 +225,20 @@ fn angle_methods<T: Real>() {
         }
         // The angle sweeps reduce the change from sweep to sweep.
         let mut a = data;
-        let first = angle_gauss_seidel_sweep(&asys, 0..N, &mut a)
+        let first = asys
+            .angle_gauss_seidel_sweep(0..N, &mut a)
             .unwrap()
             .max_change;
         let mut last = first;
         for _ in 0..30 {
-            last = angle_gauss_seidel_sweep(&asys, 0..N, &mut a)
+            last = asys
+                .angle_gauss_seidel_sweep(0..N, &mut a)
                 .unwrap()
                 .max_change;
         }
         defmt::assert!(first > T::ZERO && last < first);
         let mut b = [[T::ZERO; 2]; N];
-        let s = angle_jacobi_sweep(&asys, 0..N, &a, &mut b).unwrap();
+        let s = asys.angle_jacobi_sweep(0..N, &a, &mut b).unwrap();
         defmt::assert!(s.max_change <= first);
     });
 }
@@ -250,25 +250,25 @@ fn uniform_translation_is_exact<T: Real>() {
         let data = [t; N];
         let mut values = data;
         let mut scratch = [[T::ZERO; 2]; 5 * N];
-        let r = solve_linear(
-            sys,
-            &mut values,
-            LinearMethod::Jacobi,
-            &SolveOptions::default(),
-            &mut scratch[..N],
-        )
-        .unwrap();
+        let r = sys
+            .solve_linear(
+                &mut values,
+                LinearMethod::Jacobi,
+                &SolveOptions::default(),
+                &mut scratch[..N],
+            )
+            .unwrap();
         defmt::assert!(r.converged);
         defmt::assert!(same_bits(&values, &data));
         let asys = AngleSystem::new(*sys, &m.points, T::from_f64(DEFAULT_ANGLE_EPSILON)).unwrap();
-        let r = solve_angle(
-            &asys,
-            &mut values,
-            AngleMethod::DirectGaussSeidel,
-            &SolveOptions::default(),
-            &mut [],
-        )
-        .unwrap();
+        let r = asys
+            .solve_angle(
+                &mut values,
+                AngleMethod::DirectGaussSeidel,
+                &SolveOptions::default(),
+                &mut [],
+            )
+            .unwrap();
         defmt::assert!(r.converged);
         defmt::assert!(same_bits(&values, &data));
     });
@@ -312,8 +312,7 @@ fn typed_errors<T: Real>() {
     let mut values = [[T::ZERO; 2]; N];
     let opts = SolveOptions::default();
     defmt::assert!(matches!(
-        solve_linear(
-            &sys,
+        sys.solve_linear(
             &mut values,
             LinearMethod::Sor { omega: T::TWO },
             &opts,
@@ -322,12 +321,11 @@ fn typed_errors<T: Real>() {
         Err(Error::InvalidParameter { arg: "omega", .. })
     ));
     defmt::assert!(matches!(
-        solve_linear(&sys, &mut values, LinearMethod::Jacobi, &opts, &mut []),
+        sys.solve_linear(&mut values, LinearMethod::Jacobi, &opts, &mut []),
         Err(Error::BufferTooSmall { .. })
     ));
     defmt::assert!(matches!(
-        solve_linear(
-            &sys,
+        sys.solve_linear(
             &mut values[..N - 1],
             LinearMethod::GaussSeidel,
             &opts,
@@ -337,7 +335,7 @@ fn typed_errors<T: Real>() {
     ));
     values[3][1] = T::INFINITY;
     defmt::assert!(matches!(
-        solve_linear(&sys, &mut values, LinearMethod::GaussSeidel, &opts, &mut []),
+        sys.solve_linear(&mut values, LinearMethod::GaussSeidel, &opts, &mut []),
         Err(Error::NonFinite { position: 3, .. })
     ));
     defmt::assert!(matches!(

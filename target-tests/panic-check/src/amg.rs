@@ -8,9 +8,9 @@
 use core::hint::black_box;
 
 use deform_kernel::spring::{
-    amg_precondition, amg_precondition_scratch_len, solve_linear_amg, solve_linear_amg_scratch_len,
-    solve_linear_with, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother,
-    LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
+    amg_precondition_scratch_len, solve_linear_amg_scratch_len, solve_linear_with_scratch_len,
+    AmgHierarchy, AmgOptions, AmgSmoother, LinearMethod, LinearSolver, Preconditioner,
+    SolveOptions, SpringSystem,
 };
 use deform_kernel::{Graph, Real};
 
@@ -92,12 +92,12 @@ fn solve<T: Real, const V: usize>(sys: &SpringSystem<'_, T>, h: &AmgHierarchy<'_
     let mut y = x;
     let opts: SolveOptions<T> = bb(SolveOptions::default());
     let sc = scratch.get_mut(..len).unwrap_or(&mut []);
-    keep(solve_linear_amg(sys, h, bb(&mut y[..]), &opts, bb(sc)));
+    keep(sys.solve_linear_amg(h, bb(&mut y[..]), &opts, bb(sc)));
     keep(&y);
     let mut z = [[T::ZERO; V]; N];
     let len = amg_precondition_scratch_len(h);
     let sc = scratch.get_mut(..len).unwrap_or(&mut []);
-    keep(amg_precondition(sys, h, bb(&x[..]), bb(&mut z[..]), bb(sc)));
+    keep(sys.amg_precondition(h, bb(&x[..]), bb(&mut z[..]), bb(sc)));
     keep(&z);
     // Through the solver handle, every kind, split ones with opaque owned ranges.
     let split = Opaque([bb(0..N / 2), bb(N / 2..N)]);
@@ -114,13 +114,7 @@ fn solve<T: Real, const V: usize>(sys: &SpringSystem<'_, T>, h: &AmgHierarchy<'_
         let len = solve_linear_with_scratch_len(&solver, bb(N));
         let mut y = x;
         let sc = scratch.get_mut(..len).unwrap_or(&mut []);
-        keep(solve_linear_with(
-            sys,
-            bb(&mut y[..]),
-            solver,
-            &opts,
-            bb(sc),
-        ));
+        keep(sys.solve_linear_with(bb(&mut y[..]), solver, &opts, bb(sc)));
         keep(&y);
     }
 }

@@ -11,7 +11,6 @@ use deform_kernel::slide::{
     fit_plane, plane_intersection, slide_points, unit_tolerance, Constraints, NodeKind,
 };
 use deform_kernel::spring::{
-    solve_angle_sliding, solve_angle_sliding_scratch_len, solve_linear_sliding,
     solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AngleMethod, AngleSystem,
     LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
 };
@@ -123,14 +122,7 @@ fn run<T: Real, const D: usize>() {
         let len = solve_linear_sliding_scratch_len(&solver, bb(N));
         let mut y = x;
         let sc = scratch.get_mut(..len).unwrap_or(&mut []);
-        keep(solve_linear_sliding(
-            &sys,
-            &c,
-            bb(&mut y[..]),
-            solver,
-            &opts,
-            bb(sc),
-        ));
+        keep(sys.solve_linear_sliding(&c, bb(&mut y[..]), solver, &opts, bb(sc)));
         keep(&y);
     }
     let amg_opts = bb(AmgOptions {
@@ -152,14 +144,7 @@ fn run<T: Real, const D: usize>() {
         let len = solve_linear_sliding_scratch_len(&solver, bb(N));
         let mut y = x;
         let sc = scratch.get_mut(..len).unwrap_or(&mut []);
-        keep(solve_linear_sliding(
-            &sys,
-            &c,
-            bb(&mut y[..]),
-            solver,
-            &opts,
-            bb(sc),
-        ));
+        keep(sys.solve_linear_sliding(&c, bb(&mut y[..]), solver, &opts, bb(sc)));
         keep(&y);
     }
     for eps in [T::ZERO, T::from_f64(0.01)] {
@@ -172,18 +157,10 @@ fn run<T: Real, const D: usize>() {
             AngleMethod::DirectJacobi,
             AngleMethod::Cg,
         ]) {
-            let len = solve_angle_sliding_scratch_len(&a, m);
+            let len = a.solve_angle_sliding_scratch_len(m);
             let mut y = x;
             let sc = scratch.get_mut(..len).unwrap_or(&mut []);
-            keep(solve_angle_sliding(
-                &a,
-                &c,
-                bb(&mut y[..]),
-                m,
-                bb(T::from_f64(1.3)),
-                &opts,
-                bb(sc),
-            ));
+            keep(a.solve_angle_sliding(&c, bb(&mut y[..]), m, bb(T::from_f64(1.3)), &opts, bb(sc)));
             keep(&y);
         }
     }

@@ -9,11 +9,9 @@
 use core::hint::black_box;
 
 use deform_kernel::spring::{
-    angle_gauss_seidel_sweep, angle_jacobi_sweep, angle_probe_scratch_len, angle_rigidity_probe,
-    angle_scratch_len, angle_sor_sweep, batina_stiffness, dual_volumes, inverse_volume_factors,
-    is_fixed, jacobi_sweep, relative_residual, scale_stiffness, solve_angle, solve_angle_sor,
-    solve_linear, solve_linear_scratch_len, sor_sweep, wall_distance_factors, wall_distances,
-    AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions, SpringSystem, Sweep,
+    batina_stiffness, dual_volumes, inverse_volume_factors, is_fixed, scale_stiffness,
+    solve_linear_scratch_len, wall_distance_factors, wall_distances, AngleMethod, AngleSystem,
+    LinearMethod, Preconditioner, SolveOptions, SpringSystem, Sweep,
 };
 use deform_kernel::{Cells, Graph, Real};
 
@@ -158,12 +156,12 @@ fn linear<T: Real, const V: usize>(sys: &SpringSystem<'_, T>) {
     let mut out = [[T::ZERO; V]; N];
     let range = bb(1..3);
     let s: deform_kernel::Result<Sweep<T>> =
-        jacobi_sweep(sys, range.clone(), bb(&x[..]), bb(&mut out[..]));
+        sys.jacobi_sweep(range.clone(), bb(&x[..]), bb(&mut out[..]));
     keep(s);
     keep(&out);
     let mut y = x;
-    keep(sor_sweep(sys, range, bb(&mut y[..]), bb(T::from_f64(1.2))));
-    keep(relative_residual(sys, bb(&y[..])));
+    keep(sys.sor_sweep(range, bb(&mut y[..]), bb(T::from_f64(1.2))));
+    keep(sys.relative_residual(bb(&y[..])));
     keep(&y);
     let opts: SolveOptions<T> = bb(SolveOptions::default());
     for m in linear_methods::<T>() {
@@ -171,7 +169,7 @@ fn linear<T: Real, const V: usize>(sys: &SpringSystem<'_, T>) {
         let len = solve_linear_scratch_len(&m, bb(N));
         let mut z = x;
         let sc = scratch.get_mut(..len).unwrap_or(&mut []);
-        keep(solve_linear(sys, bb(&mut z[..]), m, &opts, bb(sc)));
+        keep(sys.solve_linear(bb(&mut z[..]), m, &opts, bb(sc)));
         keep(&z);
     }
 }
@@ -190,28 +188,18 @@ fn angle<T: Real, const D: usize>(sys: &SpringSystem<'_, T>, p: &[[T; D]; N]) {
         let x: [[T; D]; N] = bb([[T::HALF; D]; N]);
         let mut out = [[T::ZERO; D]; N];
         let range = bb(0..N);
-        keep(angle_jacobi_sweep(
-            &a,
-            range.clone(),
-            bb(&x[..]),
-            bb(&mut out[..]),
-        ));
+        keep(a.angle_jacobi_sweep(range.clone(), bb(&x[..]), bb(&mut out[..])));
         keep(&out);
         let mut y = x;
-        keep(angle_gauss_seidel_sweep(&a, range.clone(), bb(&mut y[..])));
+        keep(a.angle_gauss_seidel_sweep(range.clone(), bb(&mut y[..])));
         keep(&y);
-        keep(angle_sor_sweep(
-            &a,
-            range,
-            bb(&mut y[..]),
-            bb(T::from_f64(1.8)),
-        ));
+        keep(a.angle_sor_sweep(range, bb(&mut y[..]), bb(T::from_f64(1.8))));
         keep(&y);
         let opts: SolveOptions<T> = bb(SolveOptions::default());
         let mut probe = [[T::ZERO; D]; 4 * N];
-        let len = angle_probe_scratch_len(&a);
+        let len = a.angle_probe_scratch_len();
         let sc = probe.get_mut(..len).unwrap_or(&mut []);
-        keep(angle_rigidity_probe(&a, &opts, bb(sc)));
+        keep(a.angle_rigidity_probe(&opts, bb(sc)));
         keep(&probe);
         for m in bb([
             AngleMethod::DirectGaussSeidel,
@@ -219,23 +207,17 @@ fn angle<T: Real, const D: usize>(sys: &SpringSystem<'_, T>, p: &[[T; D]; N]) {
             AngleMethod::Cg,
         ]) {
             let mut scratch = [[T::ZERO; D]; 4 * N];
-            let len = angle_scratch_len(&a, m);
+            let len = a.angle_scratch_len(m);
             let mut z = x;
             let sc = scratch.get_mut(..len).unwrap_or(&mut []);
-            keep(solve_angle(&a, bb(&mut z[..]), m, &opts, bb(sc)));
+            keep(a.solve_angle(bb(&mut z[..]), m, &opts, bb(sc)));
             keep(&z);
         }
         let mut scratch = [[T::ZERO; D]; 4 * N];
-        let len = angle_scratch_len(&a, AngleMethod::DirectGaussSeidel);
+        let len = a.angle_scratch_len(AngleMethod::DirectGaussSeidel);
         let mut z = x;
         let sc = scratch.get_mut(..len).unwrap_or(&mut []);
-        keep(solve_angle_sor(
-            &a,
-            bb(&mut z[..]),
-            bb(T::from_f64(1.8)),
-            &opts,
-            bb(sc),
-        ));
+        keep(a.solve_angle_sor(bb(&mut z[..]), bb(T::from_f64(1.8)), &opts, bb(sc)));
         keep(&z);
     }
 }
@@ -256,8 +238,7 @@ fn values<T: Real, const D: usize, const V: usize>() {
         let x: [[T; V]; 3] = bb([[T::ONE; V]; 3]);
         let mut scratch = [[T::ZERO; V]; 12];
         let mut z = x;
-        keep(solve_linear(
-            &sys,
+        keep(sys.solve_linear(
             bb(&mut z[..]),
             LinearMethod::Cg {
                 preconditioner: Preconditioner::Ssor { omega: bb(T::ONE) },

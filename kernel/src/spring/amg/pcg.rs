@@ -13,7 +13,7 @@ use crate::spring::linear::{cg_exponents, residual_norms_scaled};
 use crate::spring::norms::{scale_by, Norm};
 use crate::spring::system::{check_values, SolveOptions, SolveReport, SpringSystem};
 
-/// Number of `[T; V]` scratch items [`solve_linear_amg`] needs: `5 N` for the CG vectors
+/// Number of `[T; V]` scratch items [`solve_linear_amg`](crate::spring::SpringSystem::solve_linear_amg) needs: `5 N` for the CG vectors
 /// (iterate, residual, direction, `A p`, preconditioned residual) plus three vectors per coarse
 /// level (`3 ×` [`AmgHierarchy::coarse_unknowns`]).
 pub fn solve_linear_amg_scratch_len<T: Real>(hierarchy: &AmgHierarchy<'_, T>) -> usize {
@@ -24,7 +24,7 @@ pub fn solve_linear_amg_scratch_len<T: Real>(hierarchy: &AmgHierarchy<'_, T>) ->
         .saturating_add(hierarchy.coarse_unknowns().saturating_mul(3))
 }
 
-/// Number of `[T; V]` scratch items [`amg_precondition`] needs: one fine vector plus three
+/// Number of `[T; V]` scratch items [`amg_precondition`](crate::spring::SpringSystem::amg_precondition) needs: one fine vector plus three
 /// per coarse unknown.
 pub fn amg_precondition_scratch_len<T: Real>(hierarchy: &AmgHierarchy<'_, T>) -> usize {
     hierarchy
@@ -33,38 +33,41 @@ pub fn amg_precondition_scratch_len<T: Real>(hierarchy: &AmgHierarchy<'_, T>) ->
         .saturating_add(hierarchy.coarse_unknowns().saturating_mul(3))
 }
 
-/// Applies the preconditioner once, `z = M⁻¹ r`: one V-cycle from zero (symmetric positive
-/// definite on the free nodes). Entries of `r` at fixed nodes are ignored and `z` is zero there.
-/// For callers with their own Krylov solver (e.g. a distributed CG).
-///
-/// # Errors
-/// Nothing is written on error: a hierarchy for a system of another size, wrong lengths,
-/// non-finite `r`, `scratch` shorter than [`amg_precondition_scratch_len`].
-pub fn amg_precondition<T: Real, const V: usize>(
-    sys: &SpringSystem<'_, T>,
-    hierarchy: &AmgHierarchy<'_, T>,
-    r: &[[T; V]],
-    z: &mut [[T; V]],
-    scratch: &mut [[T; V]],
-) -> Result<()> {
-    let n = sys.node_count();
-    hierarchy.check_system(sys)?;
-    check_values("r", r, n)?;
-    check::len("z", z.len(), n)?;
-    let needed = amg_precondition_scratch_len(hierarchy);
-    let Some((t, coarse)) = scratch
-        .get_mut(..needed)
-        .and_then(|s| s.split_at_mut_checked(n))
-    else {
-        return Err(Error::BufferTooSmall {
-            arg: "scratch",
-            needed,
-            actual: scratch.len(),
-        });
-    };
-    vcycle(sys, hierarchy, r, z, t, coarse, &Serial::new(n));
-    zero_fixed(sys, z);
-    Ok(())
+impl<T: Real> SpringSystem<'_, T> {
+    /// Applies the preconditioner once, `z = M⁻¹ r`: one V-cycle from zero (symmetric positive
+    /// definite on the free nodes). Entries of `r` at fixed nodes are ignored and `z` is zero there.
+    /// For callers with their own Krylov solver (e.g. a distributed CG).
+    ///
+    /// # Errors
+    /// Nothing is written on error: a hierarchy for a system of another size, wrong lengths,
+    /// non-finite `r`, `scratch` shorter than [`amg_precondition_scratch_len`].
+    pub fn amg_precondition<const V: usize>(
+        &self,
+        hierarchy: &AmgHierarchy<'_, T>,
+        r: &[[T; V]],
+        z: &mut [[T; V]],
+        scratch: &mut [[T; V]],
+    ) -> Result<()> {
+        let sys = self;
+        let n = sys.node_count();
+        hierarchy.check_system(sys)?;
+        check_values("r", r, n)?;
+        check::len("z", z.len(), n)?;
+        let needed = amg_precondition_scratch_len(hierarchy);
+        let Some((t, coarse)) = scratch
+            .get_mut(..needed)
+            .and_then(|s| s.split_at_mut_checked(n))
+        else {
+            return Err(Error::BufferTooSmall {
+                arg: "scratch",
+                needed,
+                actual: scratch.len(),
+            });
+        };
+        vcycle(sys, hierarchy, r, z, t, coarse, &Serial::new(n));
+        zero_fixed(sys, z);
+        Ok(())
+    }
 }
 
 /// `r = b − A x` at free nodes (`Σ_j k_ij (x_j − x_i)`, fixed values as Dirichlet data), zero at
@@ -164,38 +167,41 @@ fn apply<T: Real, const V: usize>(
     dpp
 }
 
-/// Solves the linear springs (the problem of [`solve_linear`](crate::spring::solve_linear)) by
-/// conjugate gradients preconditioned with one multigrid V-cycle per iteration, one `α`, `β`
-/// per value component. `values` holds the Dirichlet data at fixed nodes and the initial guess
-/// at free nodes; on `Ok` it holds the last iterate (fixed values untouched, bit for bit) and
-/// the report says whether it converged. The operator and every residual come from `sys`
-/// itself; the hierarchy only preconditions, so a hierarchy built for other stiffness values of
-/// the same graph slows convergence down but cannot change the answer.
-///
-/// # Errors
-/// `values` is untouched on error: a hierarchy built for a system of another size
-/// ([`Error::LengthMismatch`], `"hierarchy"`), wrong length or non-finite `values`, bad
-/// options, `scratch` shorter than [`solve_linear_amg_scratch_len`], and
-/// [`Error::SingularSystem`] if CG meets non-positive curvature, [`Error::Overflow`] if its
-/// inner products overflow even after the power-of-two rescaling the plain CG uses.
-pub fn solve_linear_amg<T: Real, const V: usize>(
-    sys: &SpringSystem<'_, T>,
-    hierarchy: &AmgHierarchy<'_, T>,
-    values: &mut [[T; V]],
-    options: &SolveOptions<T>,
-    scratch: &mut [[T; V]],
-) -> Result<SolveReport<T>> {
-    solve_amg_on(
-        sys,
-        hierarchy,
-        values,
-        options,
-        scratch,
-        &Serial::new(sys.node_count()),
-    )
+impl<T: Real> SpringSystem<'_, T> {
+    /// Solves the linear springs (the problem of [`solve_linear`](crate::spring::SpringSystem::solve_linear)) by
+    /// conjugate gradients preconditioned with one multigrid V-cycle per iteration, one `α`, `β`
+    /// per value component. `values` holds the Dirichlet data at fixed nodes and the initial guess
+    /// at free nodes; on `Ok` it holds the last iterate (fixed values untouched, bit for bit) and
+    /// the report says whether it converged. The operator and every residual come from `sys`
+    /// itself; the hierarchy only preconditions, so a hierarchy built for other stiffness values of
+    /// the same graph slows convergence down but cannot change the answer.
+    ///
+    /// # Errors
+    /// `values` is untouched on error: a hierarchy built for a system of another size
+    /// ([`Error::LengthMismatch`], `"hierarchy"`), wrong length or non-finite `values`, bad
+    /// options, `scratch` shorter than [`solve_linear_amg_scratch_len`], and
+    /// [`Error::SingularSystem`] if CG meets non-positive curvature, [`Error::Overflow`] if its
+    /// inner products overflow even after the power-of-two rescaling the plain CG uses.
+    pub fn solve_linear_amg<const V: usize>(
+        &self,
+        hierarchy: &AmgHierarchy<'_, T>,
+        values: &mut [[T; V]],
+        options: &SolveOptions<T>,
+        scratch: &mut [[T; V]],
+    ) -> Result<SolveReport<T>> {
+        let sys = self;
+        solve_amg_on(
+            sys,
+            hierarchy,
+            values,
+            options,
+            scratch,
+            &Serial::new(sys.node_count()),
+        )
+    }
 }
 
-/// [`solve_linear_amg`] with the rows split over the processes of `comm` (the V-cycle runs
+/// [`solve_linear_amg`](crate::spring::SpringSystem::solve_linear_amg) with the rows split over the processes of `comm` (the V-cycle runs
 /// whole on every process, on the shared residual; everything else on the owned rows).
 pub(crate) fn solve_amg_on<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
