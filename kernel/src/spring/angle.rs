@@ -446,12 +446,11 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         input: &[[T; D]],
         output: &mut [[T; D]],
     ) -> Result<Sweep<T>> {
-        let sys = self;
-        let n = sys.base.node_count();
+        let n = self.base.node_count();
         check_values("input", input, n)?;
         check::len("output", output.len(), n)?;
-        sys.base.check_range(&nodes)?;
-        Ok(sys.jacobi_core(nodes, input, output, T::ONE))
+        self.base.check_range(&nodes)?;
+        Ok(self.jacobi_core(nodes, input, output, T::ONE))
     }
 }
 
@@ -467,10 +466,9 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         nodes: Range<usize>,
         values: &mut [[T; D]],
     ) -> Result<Sweep<T>> {
-        let sys = self;
-        check_values("values", values, sys.base.node_count())?;
-        sys.base.check_range(&nodes)?;
-        Ok(sys.gauss_seidel_core(nodes, values, T::ONE, T::ONE))
+        check_values("values", values, self.base.node_count())?;
+        self.base.check_range(&nodes)?;
+        Ok(self.gauss_seidel_core(nodes, values, T::ONE, T::ONE))
     }
 }
 
@@ -479,15 +477,14 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
     /// (second field), 0 for [`AngleMethod::DirectGaussSeidel`], `4 n` for [`AngleMethod::Cg`];
     /// at least `4 n` whenever `ε = 0` (the rigidity probe, [`angle_probe_scratch_len`](crate::spring::AngleSystem::angle_probe_scratch_len)).
     pub fn angle_scratch_len(&self, method: AngleMethod) -> usize {
-        let sys = self;
-        let n = sys.base.node_count();
+        let n = self.base.node_count();
         let solve = match method {
             AngleMethod::DirectJacobi => n,
             AngleMethod::DirectGaussSeidel => 0,
             AngleMethod::Cg => n.saturating_mul(4),
         };
-        if sys.epsilon == T::ZERO {
-            solve.max(sys.angle_probe_scratch_len())
+        if self.epsilon == T::ZERO {
+            solve.max(self.angle_probe_scratch_len())
         } else {
             solve
         }
@@ -611,8 +608,7 @@ fn dot_all<T: Real, const D: usize>(a: &[[T; D]], b: &[[T; D]]) -> T {
 impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
     /// Number of `[T; D]` scratch items [`angle_rigidity_probe`](crate::spring::AngleSystem::angle_rigidity_probe) needs: `4 n`.
     pub fn angle_probe_scratch_len(&self) -> usize {
-        let sys = self;
-        sys.base.node_count().saturating_mul(4)
+        self.base.node_count().saturating_mul(4)
     }
 }
 
@@ -639,9 +635,8 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         options: &SolveOptions<T>,
         scratch: &mut [[T; D]],
     ) -> Result<T> {
-        let sys = self;
-        let n = sys.base.node_count();
-        let needed = sys.angle_probe_scratch_len();
+        let n = self.base.node_count();
+        let needed = self.angle_probe_scratch_len();
         check::buffer("scratch", scratch.len(), needed)?;
         options.check()?;
         let (y, rest) = scratch
@@ -654,7 +649,7 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         for (i, (ri, yi)) in r.iter_mut().zip(y.iter_mut()).enumerate() {
             *yi = [T::ZERO; D];
             for (c, rc) in ri.iter_mut().enumerate() {
-                *rc = if sys.base.is_fixed(i) {
+                *rc = if self.base.is_fixed(i) {
                     T::ZERO
                 } else {
                     probe_value((i as u64).wrapping_mul(D as u64).wrapping_add(c as u64))
@@ -666,7 +661,7 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         if bb == T::ZERO {
             return Ok(T::ZERO); // no free node
         }
-        sys.precondition(r, w);
+        self.precondition(r, w);
         let rho_m_rho = dot_all(r, w);
         let tol = T::from_f64(1e-6).max(T::from_f64(100.0) * T::EPSILON);
         let probe_options = SolveOptions {
@@ -675,7 +670,7 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
             update_tol: T::ZERO,
         };
         let (it, _, met) = block_cg(
-            sys,
+            self,
             Some(&mut *y),
             r,
             p,
@@ -690,8 +685,8 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         }
         let mut ymy = ExactSum::new();
         for (i, yi) in y.iter().enumerate() {
-            if !sys.base.is_fixed(i) {
-                let m = sys.node_block(i);
+            if !self.base.is_fixed(i) {
+                let m = self.node_block(i);
                 for (row, &a) in m.iter().zip(yi) {
                     ymy.add(a * vector::dot(*row, *yi));
                 }
@@ -769,8 +764,7 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         options: &SolveOptions<T>,
         scratch: &mut [[T; D]],
     ) -> Result<SolveReport<T>> {
-        let sys = self;
-        solve_angle_core(sys, values, method, T::ONE, options, scratch)
+        solve_angle_core(self, values, method, T::ONE, options, scratch)
     }
 }
 
@@ -793,10 +787,9 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         options: &SolveOptions<T>,
         scratch: &mut [[T; D]],
     ) -> Result<SolveReport<T>> {
-        let sys = self;
         check_omega(omega)?;
         solve_angle_core(
-            sys,
+            self,
             values,
             AngleMethod::DirectGaussSeidel,
             omega,
@@ -820,11 +813,10 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         values: &mut [[T; D]],
         omega: T,
     ) -> Result<Sweep<T>> {
-        let sys = self;
-        check_values("values", values, sys.base.node_count())?;
-        sys.base.check_range(&nodes)?;
+        check_values("values", values, self.base.node_count())?;
+        self.base.check_range(&nodes)?;
         check_omega(omega)?;
-        Ok(sys.gauss_seidel_core(nodes, values, omega, T::ONE))
+        Ok(self.gauss_seidel_core(nodes, values, omega, T::ONE))
     }
 }
 

@@ -108,12 +108,11 @@ impl<T: Real> SpringSystem<'_, T> {
         input: &[[T; V]],
         output: &mut [[T; V]],
     ) -> Result<Sweep<T>> {
-        let sys = self;
-        let n = sys.node_count();
+        let n = self.node_count();
         check_values("input", input, n)?;
         check::len("output", output.len(), n)?;
-        sys.check_range(&nodes)?;
-        Ok(jacobi_core(sys, nodes, input, output, T::ONE))
+        self.check_range(&nodes)?;
+        Ok(jacobi_core(self, nodes, input, output, T::ONE))
     }
 }
 
@@ -165,11 +164,10 @@ impl<T: Real> SpringSystem<'_, T> {
         values: &mut [[T; V]],
         omega: T,
     ) -> Result<Sweep<T>> {
-        let sys = self;
-        check_values("values", values, sys.node_count())?;
-        sys.check_range(&nodes)?;
+        check_values("values", values, self.node_count())?;
+        self.check_range(&nodes)?;
         check_omega(omega)?;
-        Ok(sor_core(sys, nodes, values, omega, T::ONE))
+        Ok(sor_core(self, nodes, values, omega, T::ONE))
     }
 }
 
@@ -283,9 +281,8 @@ impl<T: Real> SpringSystem<'_, T> {
     /// # Errors
     /// Wrong length or non-finite `values`.
     pub fn relative_residual<const V: usize>(&self, values: &[[T; V]]) -> Result<T> {
-        let sys = self;
-        check_values("values", values, sys.node_count())?;
-        let (r, b) = residual_norms(sys, values);
+        check_values("values", values, self.node_count())?;
+        let (r, b) = residual_norms(self, values);
         Ok(r.relative_to(b))
     }
 }
@@ -358,8 +355,7 @@ impl<T: Real> SpringSystem<'_, T> {
         options: &SolveOptions<T>,
         scratch: &mut [[T; V]],
     ) -> Result<SolveReport<T>> {
-        let sys = self;
-        solve_linear_on(sys, values, method, options, scratch, None)
+        solve_linear_on(self, values, method, options, scratch, None)
     }
 }
 

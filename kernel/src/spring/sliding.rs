@@ -281,10 +281,9 @@ impl<T: Real> SpringSystem<'_, T> {
         options: &SolveOptions<T>,
         scratch: &mut [[T; D]],
     ) -> Result<SolveReport<T>> {
-        let sys = self;
-        let n = sys.node_count();
+        let n = self.node_count();
         check_values("values", values, n)?;
-        constraints.check_mask(sys.fixed())?;
+        constraints.check_mask(self.fixed())?;
         options.check()?;
         let method = match solver {
             LinearSolver::Method(LinearMethod::Jacobi) => Method::Jacobi,
@@ -306,15 +305,15 @@ impl<T: Real> SpringSystem<'_, T> {
                 })
             }
             LinearSolver::Amg(h) => {
-                h.check_system(sys)?;
+                h.check_system(self)?;
                 Method::Cg(Pre::Amg(h))
             }
         };
         let needed = solve_linear_sliding_scratch_len(&solver, n);
         check::buffer("scratch", scratch.len(), needed)?;
         solve(
-            &LinearOp(sys),
-            Some(sys),
+            &LinearOp(self),
+            Some(self),
             constraints,
             values,
             method,
@@ -329,15 +328,14 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
     /// `n` for [`AngleMethod::DirectJacobi`], nothing more for [`AngleMethod::DirectGaussSeidel`],
     /// `4 n` for [`AngleMethod::Cg`]; at least the rigidity probe's `4 n` when `ε = 0`.
     pub fn solve_angle_sliding_scratch_len(&self, method: AngleMethod) -> usize {
-        let sys = self;
-        let n = sys.base().node_count();
+        let n = self.base().node_count();
         let solve = match method {
             AngleMethod::DirectJacobi => n.saturating_mul(2),
             AngleMethod::DirectGaussSeidel => n,
             AngleMethod::Cg => n.saturating_mul(5),
         };
-        if sys.epsilon() == T::ZERO {
-            solve.max(sys.angle_probe_scratch_len())
+        if self.epsilon() == T::ZERO {
+            solve.max(self.angle_probe_scratch_len())
         } else {
             solve
         }
@@ -367,16 +365,15 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         options: &SolveOptions<T>,
         scratch: &mut [[T; D]],
     ) -> Result<SolveReport<T>> {
-        let sys = self;
-        let n = sys.base().node_count();
+        let n = self.base().node_count();
         check_values("values", values, n)?;
-        constraints.check_mask(sys.base().fixed())?;
+        constraints.check_mask(self.base().fixed())?;
         options.check()?;
         check_omega(omega)?;
-        let needed = sys.solve_angle_sliding_scratch_len(method);
+        let needed = self.solve_angle_sliding_scratch_len(method);
         check::buffer("scratch", scratch.len(), needed)?;
-        if sys.epsilon() == T::ZERO {
-            let s = sys.angle_rigidity_probe(options, scratch)?;
+        if self.epsilon() == T::ZERO {
+            let s = self.angle_rigidity_probe(options, scratch)?;
             if s > T::from_f64(MAX_AMPLIFICATION) {
                 return Err(Error::SingularSystem { iteration: 0 });
             }
@@ -387,7 +384,7 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
             AngleMethod::Cg => Method::Cg(Pre::Blocks),
         };
         solve(
-            &AngleOp(sys),
+            &AngleOp(self),
             None,
             constraints,
             values,

@@ -59,14 +59,15 @@ impl<T: Real> SpringSystem<'_, T> {
         options: &SolveOptions<T>,
         scratch: &mut [[T; V]],
     ) -> Result<SolveReport<T>> {
-        let sys = self;
         match solver {
-            LinearSolver::Method(m) => sys.solve_linear(values, m, options, scratch),
-            LinearSolver::Amg(h) => sys.solve_linear_amg(h, values, options, scratch),
+            LinearSolver::Method(m) => self.solve_linear(values, m, options, scratch),
+            LinearSolver::Amg(h) => self.solve_linear_amg(h, values, options, scratch),
             LinearSolver::Distributed(m, c) => {
-                solve_linear_on(sys, values, m, options, scratch, Some(c))
+                solve_linear_on(self, values, m, options, scratch, Some(c))
             }
-            LinearSolver::DistributedAmg(h, c) => solve_amg_on(sys, h, values, options, scratch, c),
+            LinearSolver::DistributedAmg(h, c) => {
+                solve_amg_on(self, h, values, options, scratch, c)
+            }
         }
     }
 }

@@ -48,9 +48,8 @@ impl<T: Real> SpringSystem<'_, T> {
         z: &mut [[T; V]],
         scratch: &mut [[T; V]],
     ) -> Result<()> {
-        let sys = self;
-        let n = sys.node_count();
-        hierarchy.check_system(sys)?;
+        let n = self.node_count();
+        hierarchy.check_system(self)?;
         check_values("r", r, n)?;
         check::len("z", z.len(), n)?;
         let needed = amg_precondition_scratch_len(hierarchy);
@@ -64,8 +63,8 @@ impl<T: Real> SpringSystem<'_, T> {
                 actual: scratch.len(),
             });
         };
-        vcycle(sys, hierarchy, r, z, t, coarse, &Serial::new(n));
-        zero_fixed(sys, z);
+        vcycle(self, hierarchy, r, z, t, coarse, &Serial::new(n));
+        zero_fixed(self, z);
         Ok(())
     }
 }
@@ -189,14 +188,13 @@ impl<T: Real> SpringSystem<'_, T> {
         options: &SolveOptions<T>,
         scratch: &mut [[T; V]],
     ) -> Result<SolveReport<T>> {
-        let sys = self;
         solve_amg_on(
-            sys,
+            self,
             hierarchy,
             values,
             options,
             scratch,
-            &Serial::new(sys.node_count()),
+            &Serial::new(self.node_count()),
         )
     }
 }
