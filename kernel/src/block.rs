@@ -208,3 +208,49 @@ impl From<Direction> for Directions {
         Directions::only(d)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn directions_round_trip_through_indices_bits_and_flags() {
+        for (k, d) in Direction::ALL.into_iter().enumerate() {
+            assert_eq!(d.index(), k);
+            assert_eq!(Direction::from_index(k), Some(d));
+        }
+        assert_eq!(Direction::from_index(3), None);
+        for bits in 0..8u32 {
+            let set = Directions::from_bits(bits).unwrap();
+            assert_eq!(set.bits(), bits);
+            assert_eq!(Directions::from_flags(set.flags()), set);
+            for d in Direction::ALL {
+                let on = bits & (1 << d.index()) != 0;
+                assert_eq!(set.contains(d), on);
+                assert!(set.with(d).contains(d) && !set.without(d).contains(d));
+            }
+            assert_eq!(set.is_empty(), bits == 0);
+        }
+        assert_eq!(Directions::from_bits(8), None);
+        assert_eq!(Directions::from_bits(u32::MAX), None);
+        assert_eq!(
+            Directions::ALL,
+            Directions::only(Direction::I)
+                .with(Direction::J)
+                .with(Direction::K)
+        );
+        assert_eq!(Directions::default(), Directions::NONE);
+    }
+
+    #[test]
+    fn strides_follow_the_i_fastest_numbering() {
+        let b = Block::new([4, 3, 2]).unwrap();
+        assert_eq!(b.stride(Direction::I), 1);
+        assert_eq!(b.stride(Direction::J), 4);
+        assert_eq!(b.stride(Direction::K), 12);
+        let p = b.index(1, 2, 1);
+        assert_eq!(b.ijk(p + b.stride(Direction::I)), [2, 2, 1]);
+        assert_eq!(b.ijk(p - b.stride(Direction::J)), [1, 1, 1]);
+        assert_eq!(b.ijk(p - b.stride(Direction::K)), [1, 2, 0]);
+    }
+}
