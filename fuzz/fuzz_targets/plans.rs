@@ -14,7 +14,8 @@ use deform_kernel::deformation::{
     BoundaryMotion, RotationSource,
 };
 use deform_kernel::plan::{
-    Plan, PlanMethod, PlanMotion, PlanSizes, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
+    Plan, PlanCounts, PlanMethod, PlanMotion, PlanSizes, PlanSolver, PlanSpec, PlanStiffness,
+    PlanWork, Start,
 };
 use deform_kernel::spring::{
     batina_stiffness, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, LinearMethod,
@@ -153,6 +154,17 @@ fuzz_target!(|inp: Input| {
         Ok(s) => s,
         Err(_) => return, // duplicate or empty boundary, unanchored node, zero-length edge
     };
+    // The compile-time capacity from the counts alone is exactly what the plan uses.
+    let counts = PlanCounts {
+        nodes: n,
+        edges: spec.graph.edge_count(),
+        boundary: boundary.len(),
+        elements: None,
+    };
+    assert_eq!(Plan::<f64, 2>::work_capacity(&counts), ws);
+    if let PlanSolver::Method(m) = solver {
+        assert_eq!(Plan::<f64, 2>::capacity(&counts, method, &m), Some(sizes));
+    }
     // One entry short: typed error, nothing written.
     for short in 0..3 {
         let mut s = sizes;

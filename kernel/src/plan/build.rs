@@ -55,25 +55,14 @@ pub(super) const fn one_level_sizes<T>(
     method: PlanMethod,
     solver: &LinearMethod<T>,
 ) -> Option<PlanSizes> {
-    let quaternion = matches!(method, PlanMethod::QuaternionSpring);
-    let (has_elements, c, cn) = match counts.elements {
-        Some((c, cn)) if quaternion => (true, c, cn),
-        _ => (false, 0, 0),
-    };
-    let counts = Counts {
-        method,
-        solver: SolverKind::of_method(solver),
+    let counts = Counts::of(
+        counts,
         d,
-        n: counts.nodes,
-        e: counts.edges,
-        b: counts.boundary,
-        has_elements,
-        c,
-        cn,
-        amg_index: 0,
-        amg_values: 0,
-        scratch: solve_linear_scratch_len(solver, counts.nodes),
-    };
+        method,
+        SolverKind::of_method(solver),
+        (0, 0),
+        solve_linear_scratch_len(solver, counts.nodes),
+    );
     match Sections::layout(&counts) {
         Ok(s) => Some(s.sizes),
         Err(_) => None,
@@ -154,14 +143,9 @@ fn prepare<T: Real, const D: usize>(
             }
         }
     }
-    let quaternion = spec.method == PlanMethod::QuaternionSpring;
-    let (has_elements, c, cn) = match (&spec.elements, quaternion) {
-        (Some(el), true) => {
-            check_elements::<D>(el, b)?;
-            (true, el.len(), el.nodes().len())
-        }
-        _ => (false, 0, 0),
-    };
+    if let (Some(el), PlanMethod::QuaternionSpring) = (&spec.elements, spec.method) {
+        check_elements::<D>(el, b)?;
+    }
     spec.options.check()?;
     let (kind, omega) = solver_kind(&spec.solver);
     if matches!(kind, SolverKind::Sor | SolverKind::CgSsor) {
@@ -187,20 +171,20 @@ fn prepare<T: Real, const D: usize>(
         }
         PlanSolver::Method(m) => (0, 0, solve_linear_scratch_len(m, n)),
     };
-    Ok(Counts {
-        method: spec.method,
-        solver: kind,
-        d: D,
-        n,
-        e,
-        b,
-        has_elements,
-        c,
-        cn,
-        amg_index,
-        amg_values,
+    let mesh = PlanCounts {
+        nodes: n,
+        edges: e,
+        boundary: b,
+        elements: spec.elements.map(|el| (el.len(), el.nodes().len())),
+    };
+    Ok(Counts::of(
+        &mesh,
+        D,
+        spec.method,
+        kind,
+        (amg_index, amg_values),
         scratch,
-    })
+    ))
 }
 
 /// The exact pool sizes.

@@ -3,7 +3,7 @@
 
 use core::ops::Range;
 
-use super::{PlanMethod, PlanSizes, AMG_LAYOUT_WORDS, AMG_WEIGHTS};
+use super::{PlanCounts, PlanMethod, PlanSizes, AMG_LAYOUT_WORDS, AMG_WEIGHTS};
 use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::spring::{Layout, Level, LinearMethod, Preconditioner, AMG_MAX_LEVELS, AMG_MAX_SWEEPS};
@@ -117,6 +117,38 @@ pub(super) struct Counts {
 }
 
 impl Counts {
+    /// The counts of a plan over `mesh`: its elements count only for the quaternion method
+    /// (the one rule both [`Plan::sizes`](super::Plan::sizes) and
+    /// [`Plan::capacity`](super::Plan::capacity) size by). `amg` is the hierarchy's (index,
+    /// values) lengths, `scratch` the solver's scratch items.
+    pub(super) const fn of(
+        mesh: &PlanCounts,
+        d: usize,
+        method: PlanMethod,
+        solver: SolverKind,
+        amg: (usize, usize),
+        scratch: usize,
+    ) -> Self {
+        let (has_elements, c, cn) = match (mesh.elements, method) {
+            (Some((c, cn)), PlanMethod::QuaternionSpring) => (true, c, cn),
+            _ => (false, 0, 0),
+        };
+        Counts {
+            method,
+            solver,
+            d,
+            n: mesh.nodes,
+            e: mesh.edges,
+            b: mesh.boundary,
+            has_elements,
+            c,
+            cn,
+            amg_index: amg.0,
+            amg_values: amg.1,
+            scratch,
+        }
+    }
+
     /// Values per node of the solve.
     pub const fn v(&self) -> usize {
         match self.method {
