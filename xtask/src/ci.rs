@@ -15,6 +15,9 @@ use std::time::Instant;
 /// Kernel features that only make sense on embedded targets: left out of the host test run.
 pub(crate) const EMBEDDED_ONLY_FEATURES: &[&str] = &["defmt"];
 
+/// Host tests with `required-features` (a kernel feature): run by `test-all-features`.
+pub(crate) const FEATURE_TESTS: &[&str] = &["micromath"];
+
 /// The C library crate (`libdeform_kernel`): its own workspace, so built by manifest path.
 pub(crate) const CAPI_MANIFEST: &str = "ffi/capi/Cargo.toml";
 
@@ -120,11 +123,13 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
         }),
         Step::new(
             "test-all-features",
-            "cargo test --workspace with every kernel feature that runs on a host (not defmt)",
+            "kernel tests with every host feature (glam, micromath), and the tests that need one",
             || {
-                // Not `--all-features`: the kernel's `defmt` feature is for embedded targets
-                // (in a cdylib its JSON-named symbols break the linker's version script); it
-                // is clippy-checked, cross-built and linked by the panic check instead.
+                // The features only add items (glam conversions, micromath fast paths): the
+                // kernel's own tests and the host tests that require a feature are what they
+                // change; `clippy-all-features` already compiles everything with all features.
+                // Not `defmt`: it is for embedded targets (in a cdylib its JSON-named symbols
+                // break the linker's version script); the panic check links it instead.
                 let features: Vec<String> = ctx
                     .kernel_features
                     .iter()
@@ -132,7 +137,13 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
                     .map(|f| format!("deform-kernel/{f}"))
                     .collect();
                 let features = features.join(",");
-                run(&mut ctx.cargo(&["test", "--workspace", "--features", &features]))
+                let kernel = ["test", "-p", "deform-kernel", "--features", &features];
+                let mut ok = run(&mut ctx.cargo(&kernel));
+                for test in FEATURE_TESTS {
+                    let args = ["test", "-p", "deform-host-tests", "--features", &features];
+                    ok &= run(ctx.cargo(&args).args(["--test", test]));
+                }
+                ok
             },
         ),
         Step::new(
@@ -188,7 +199,7 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
         ),
         Step::new(
             "fuzz-smoke",
-            "build every cargo-fuzz target and run each for 30 s from its committed seeds",
+            "build every cargo-fuzz target and run each for 15 s from its committed seeds",
             || fuzz(ctx, FUZZ_SMOKE_SECONDS, None),
         ),
         Step::new(

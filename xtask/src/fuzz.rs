@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use std::process::{Command, ExitCode};
 
 /// Seconds each fuzz target runs in `cargo xtask ci` (the smoke run).
-pub(crate) const FUZZ_SMOKE_SECONDS: u64 = 30;
+pub(crate) const FUZZ_SMOKE_SECONDS: u64 = 15;
 
 /// `cargo xtask fuzz [--seconds N] [--target NAME]`.
 pub(crate) fn fuzz_command(ctx: &Ctx, args: &[String]) -> ExitCode {
