@@ -38,6 +38,7 @@ mod codegen;
 mod ctx;
 mod embedded;
 mod fuzz;
+mod header;
 mod install;
 mod mpi;
 mod panic;
