@@ -270,20 +270,6 @@ fn batina_d<T: Real, const D: usize>(
     batina_stiffness(g, p, exponent, k).map_err(dk_status::from)
 }
 
-fn batina_t<T: Real>(
-    offsets: In<'_, u32>,
-    targets: In<'_, u32>,
-    points: In<'_, T>,
-    dim: u32,
-    exponent: T,
-    stiffness: Out<'_, T>,
-) -> dk_status {
-    done((|| {
-        let g = graph(offsets, targets)?;
-        by_dim!(dim, batina_d::<T>, (&g, points, exponent, stiffness))
-    })())
-}
-
 fn solve_options_default<T: Real>(out: Out<'_, dk_spring_solve_options>) -> dk_status {
     let k = SolveOptions::<T>::default();
     let v = dk_spring_solve_options {
@@ -332,24 +318,6 @@ fn solve_linear_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn solve_linear_t<T: Real>(
-    sys: SysArgs<T>,
-    options: In<'_, dk_spring_solve_options>,
-    components: u32,
-    values: Out<'_, T>,
-    scratch: Out<'_, T>,
-    report: Out<'_, dk_spring_solve_report>,
-) -> dk_status {
-    done((|| {
-        let o = read_one(options)?;
-        by_components!(
-            components,
-            solve_linear_v::<T>,
-            (sys, &o, values, scratch, report)
-        )
-    })())
-}
-
 fn jacobi_sweep_v<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     nodes: [usize; 2],
@@ -364,27 +332,6 @@ fn jacobi_sweep_v<T: Real, const V: usize>(
     let [a, b] = nodes;
     *w = dk_spring_sweep::of(system.jacobi_sweep(a..b, s, d).map_err(dk_status::from)?);
     Ok(())
-}
-
-#[allow(clippy::too_many_arguments)]
-fn jacobi_sweep_t<T: Real>(
-    sys: SysArgs<T>,
-    nodes_start: usize,
-    nodes_end: usize,
-    index_base: u32,
-    components: u32,
-    src: In<'_, T>,
-    dst: Out<'_, T>,
-    sweep: Out<'_, dk_spring_sweep>,
-) -> dk_status {
-    done((|| {
-        let nodes = range(nodes_start, nodes_end, index_base)?;
-        by_components!(
-            components,
-            jacobi_sweep_v::<T>,
-            (sys, nodes, src, dst, sweep)
-        )
-    })())
 }
 
 /// Words of an exact sum ([`ExactSum::to_words`]): the C ABI's merge protocol.
@@ -411,27 +358,6 @@ fn jacobi_sweep_exact_v<T: Real, const V: usize>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
-fn jacobi_sweep_exact_t<T: Real>(
-    sys: SysArgs<T>,
-    nodes: [usize; 2],
-    index_base: u32,
-    components: u32,
-    src: In<'_, T>,
-    dst: Out<'_, T>,
-    sweep: Out<'_, dk_spring_sweep>,
-    residual_words: Out<'_, i64>,
-) -> dk_status {
-    done((|| {
-        let nodes = range(nodes[0], nodes[1], index_base)?;
-        by_components!(
-            components,
-            jacobi_sweep_exact_v::<T>,
-            (sys, nodes, src, dst, sweep, residual_words)
-        )
-    })())
-}
-
 fn exact_sum_value(words: In<'_, i64>, value_out: Out<'_, f64>) -> dk_status {
     done((|| {
         let w: &[i64] = input_n(words, EXACT_SUM_WORDS)?;
@@ -456,27 +382,6 @@ fn sor_sweep_v<T: Real, const V: usize>(
     let [a, b] = nodes;
     *w = dk_spring_sweep::of(system.sor_sweep(a..b, v, omega).map_err(dk_status::from)?);
     Ok(())
-}
-
-#[allow(clippy::too_many_arguments)]
-fn sor_sweep_t<T: Real>(
-    sys: SysArgs<T>,
-    nodes_start: usize,
-    nodes_end: usize,
-    index_base: u32,
-    omega: T,
-    components: u32,
-    values: Out<'_, T>,
-    sweep: Out<'_, dk_spring_sweep>,
-) -> dk_status {
-    done((|| {
-        let nodes = range(nodes_start, nodes_end, index_base)?;
-        by_components!(
-            components,
-            sor_sweep_v::<T>,
-            (sys, nodes, omega, values, sweep)
-        )
-    })())
 }
 
 fn relative_residual_v<T: Real, const V: usize>(
@@ -560,25 +465,6 @@ fn solve_angle_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn solve_angle_t<T: Real>(
-    sys: SysArgs<T>,
-    pts: AngleArgs<T>,
-    dim: u32,
-    options: In<'_, dk_spring_angle_options>,
-    values: Out<'_, T>,
-    scratch: Out<'_, T>,
-    report: Out<'_, dk_spring_solve_report>,
-) -> dk_status {
-    done((|| {
-        let o = read_one(options)?;
-        by_dim!(
-            dim,
-            solve_angle_d::<T>,
-            (sys, &pts, &o, values, scratch, report)
-        )
-    })())
-}
-
 fn angle_jacobi_d<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
@@ -601,29 +487,6 @@ fn angle_jacobi_d<T: Real, const D: usize>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
-fn angle_jacobi_t<T: Real>(
-    sys: SysArgs<T>,
-    pts: AngleArgs<T>,
-    dim: u32,
-    epsilon: T,
-    nodes_start: usize,
-    nodes_end: usize,
-    index_base: u32,
-    src: In<'_, T>,
-    dst: Out<'_, T>,
-    sweep: Out<'_, dk_spring_sweep>,
-) -> dk_status {
-    done((|| {
-        let nodes = range(nodes_start, nodes_end, index_base)?;
-        by_dim!(
-            dim,
-            angle_jacobi_d::<T>,
-            (sys, &pts, epsilon, nodes, src, dst, sweep)
-        )
-    })())
-}
-
 fn angle_gs_d<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
@@ -644,28 +507,6 @@ fn angle_gs_d<T: Real, const D: usize>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
-fn angle_gs_t<T: Real>(
-    sys: SysArgs<T>,
-    pts: AngleArgs<T>,
-    dim: u32,
-    epsilon: T,
-    nodes_start: usize,
-    nodes_end: usize,
-    index_base: u32,
-    values: Out<'_, T>,
-    sweep: Out<'_, dk_spring_sweep>,
-) -> dk_status {
-    done((|| {
-        let nodes = range(nodes_start, nodes_end, index_base)?;
-        by_dim!(
-            dim,
-            angle_gs_d::<T>,
-            (sys, &pts, epsilon, nodes, values, sweep)
-        )
-    })())
-}
-
 fn probe_d<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
@@ -682,36 +523,6 @@ fn probe_d<T: Real, const D: usize>(
         .map_err(dk_status::from)?;
     Ok(())
 }
-
-fn probe_t<T: Real>(
-    sys: SysArgs<T>,
-    pts: AngleArgs<T>,
-    dim: u32,
-    options: In<'_, dk_spring_angle_options>,
-    scratch: Out<'_, T>,
-    amplification_out: Out<'_, T>,
-) -> dk_status {
-    done((|| {
-        let o = read_one(options)?;
-        by_dim!(
-            dim,
-            probe_d::<T>,
-            (sys, &pts, &o, scratch, amplification_out)
-        )
-    })())
-}
-
-// ---------------------------------------------------------------------------------------------
-// Stiffness and sizes.
-// ---------------------------------------------------------------------------------------------
-
-// ---------------------------------------------------------------------------------------------
-// Linear springs.
-// ---------------------------------------------------------------------------------------------
-
-// ---------------------------------------------------------------------------------------------
-// Angle-inclusion springs.
-// ---------------------------------------------------------------------------------------------
 
 mod abi;
 pub use abi::*;

@@ -42,7 +42,10 @@ pub unsafe extern "C" fn dk_spring_batina_stiffness(
             Out::new(stiffness, stiffness_len),
         )
     };
-    batina_t(offsets, targets, points, dim, exponent, stiffness)
+    done(
+        graph(offsets, targets)
+            .and_then(|g| by_dim!(dim, batina_d::<f64>, (&g, points, exponent, stiffness))),
+    )
 }
 
 /// `f32` twin of [`dk_spring_batina_stiffness`].
@@ -72,7 +75,10 @@ pub unsafe extern "C" fn dk_spring_batina_stiffness_f32(
             Out::new(stiffness, stiffness_len),
         )
     };
-    batina_t(offsets, targets, points, dim, exponent, stiffness)
+    done(
+        graph(offsets, targets)
+            .and_then(|g| by_dim!(dim, batina_d::<f32>, (&g, points, exponent, stiffness))),
+    )
 }
 
 /// Length of the `uint32_t` `index_scratch` every spring solver and sweep needs to validate
@@ -215,7 +221,13 @@ pub unsafe extern "C" fn dk_spring_solve_linear(
         fixed,
         index_scratch,
     };
-    solve_linear_t(sys, options, components, values, scratch, report)
+    done(read_one(options).and_then(|o| {
+        by_components!(
+            components,
+            solve_linear_v::<f64>,
+            (sys, &o, values, scratch, report)
+        )
+    }))
 }
 
 /// `f32` twin of [`dk_spring_solve_linear`].
@@ -264,7 +276,13 @@ pub unsafe extern "C" fn dk_spring_solve_linear_f32(
         fixed,
         index_scratch,
     };
-    solve_linear_t(sys, options, components, values, scratch, report)
+    done(read_one(options).and_then(|o| {
+        by_components!(
+            components,
+            solve_linear_v::<f32>,
+            (sys, &o, values, scratch, report)
+        )
+    }))
 }
 
 /// One Jacobi sweep of the linear springs over the nodes `nodes_start..nodes_end` (read with
@@ -321,16 +339,13 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep(
         fixed,
         index_scratch,
     };
-    jacobi_sweep_t(
-        sys,
-        nodes_start,
-        nodes_end,
-        index_base,
-        components,
-        src,
-        dst,
-        sweep,
-    )
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_components!(
+            components,
+            jacobi_sweep_v::<f64>,
+            (sys, nodes, src, dst, sweep)
+        )
+    }))
 }
 
 /// `f32` twin of [`dk_spring_jacobi_sweep`].
@@ -380,16 +395,13 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_f32(
         fixed,
         index_scratch,
     };
-    jacobi_sweep_t(
-        sys,
-        nodes_start,
-        nodes_end,
-        index_base,
-        components,
-        src,
-        dst,
-        sweep,
-    )
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_components!(
+            components,
+            jacobi_sweep_v::<f32>,
+            (sys, nodes, src, dst, sweep)
+        )
+    }))
 }
 
 /// [`dk_spring_jacobi_sweep`], and the range's `Σ |r_i|²` as the words of an exact sum:
@@ -445,16 +457,13 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact(
         fixed,
         index_scratch,
     };
-    jacobi_sweep_exact_t(
-        sys,
-        [nodes_start, nodes_end],
-        index_base,
-        components,
-        src,
-        dst,
-        sweep,
-        residual_words,
-    )
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_components!(
+            components,
+            jacobi_sweep_exact_v::<f64>,
+            (sys, nodes, src, dst, sweep, residual_words)
+        )
+    }))
 }
 
 /// `f32` twin of [`dk_spring_jacobi_sweep_exact`].
@@ -506,16 +515,13 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact_f32(
         fixed,
         index_scratch,
     };
-    jacobi_sweep_exact_t(
-        sys,
-        [nodes_start, nodes_end],
-        index_base,
-        components,
-        src,
-        dst,
-        sweep,
-        residual_words,
-    )
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_components!(
+            components,
+            jacobi_sweep_exact_v::<f32>,
+            (sys, nodes, src, dst, sweep, residual_words)
+        )
+    }))
 }
 
 /// Rounds an exact sum given by its words (from [`dk_spring_jacobi_sweep_exact`], or the
@@ -584,16 +590,13 @@ pub unsafe extern "C" fn dk_spring_sor_sweep(
         fixed,
         index_scratch,
     };
-    sor_sweep_t(
-        sys,
-        nodes_start,
-        nodes_end,
-        index_base,
-        omega,
-        components,
-        values,
-        sweep,
-    )
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_components!(
+            components,
+            sor_sweep_v::<f64>,
+            (sys, nodes, omega, values, sweep)
+        )
+    }))
 }
 
 /// `f32` twin of [`dk_spring_sor_sweep`].
@@ -641,16 +644,13 @@ pub unsafe extern "C" fn dk_spring_sor_sweep_f32(
         fixed,
         index_scratch,
     };
-    sor_sweep_t(
-        sys,
-        nodes_start,
-        nodes_end,
-        index_base,
-        omega,
-        components,
-        values,
-        sweep,
-    )
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_components!(
+            components,
+            sor_sweep_v::<f32>,
+            (sys, nodes, omega, values, sweep)
+        )
+    }))
 }
 
 /// The relative residual `‖b − A x‖₂ / ‖b‖₂` of a value field for the linear springs (the
@@ -911,7 +911,13 @@ pub unsafe extern "C" fn dk_spring_solve_angle(
         index_scratch,
     };
     let pts = AngleArgs { points };
-    solve_angle_t(sys, pts, dim, options, values, scratch, report)
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_angle_d::<f64>,
+            (sys, &pts, &o, values, scratch, report)
+        )
+    }))
 }
 
 /// `f32` twin of [`dk_spring_solve_angle`].
@@ -975,7 +981,13 @@ pub unsafe extern "C" fn dk_spring_solve_angle_f32(
         index_scratch,
     };
     let pts = AngleArgs { points };
-    solve_angle_t(sys, pts, dim, options, values, scratch, report)
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_angle_d::<f32>,
+            (sys, &pts, &o, values, scratch, report)
+        )
+    }))
 }
 
 /// One Jacobi-order sweep of the angle-spring direct method over the nodes
@@ -1036,18 +1048,13 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep(
         index_scratch,
     };
     let pts = AngleArgs { points };
-    angle_jacobi_t(
-        sys,
-        pts,
-        dim,
-        epsilon,
-        nodes_start,
-        nodes_end,
-        index_base,
-        src,
-        dst,
-        sweep,
-    )
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_dim!(
+            dim,
+            angle_jacobi_d::<f64>,
+            (sys, &pts, epsilon, nodes, src, dst, sweep)
+        )
+    }))
 }
 
 /// `f32` twin of [`dk_spring_angle_jacobi_sweep`].
@@ -1102,18 +1109,13 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep_f32(
         index_scratch,
     };
     let pts = AngleArgs { points };
-    angle_jacobi_t(
-        sys,
-        pts,
-        dim,
-        epsilon,
-        nodes_start,
-        nodes_end,
-        index_base,
-        src,
-        dst,
-        sweep,
-    )
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_dim!(
+            dim,
+            angle_jacobi_d::<f32>,
+            (sys, &pts, epsilon, nodes, src, dst, sweep)
+        )
+    }))
 }
 
 /// One in-place Gauss–Seidel-order sweep of the angle-spring direct method over the nodes
@@ -1169,17 +1171,13 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep(
         index_scratch,
     };
     let pts = AngleArgs { points };
-    angle_gs_t(
-        sys,
-        pts,
-        dim,
-        epsilon,
-        nodes_start,
-        nodes_end,
-        index_base,
-        values,
-        sweep,
-    )
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_dim!(
+            dim,
+            angle_gs_d::<f64>,
+            (sys, &pts, epsilon, nodes, values, sweep)
+        )
+    }))
 }
 
 /// `f32` twin of [`dk_spring_angle_gauss_seidel_sweep`].
@@ -1231,17 +1229,13 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep_f32(
         index_scratch,
     };
     let pts = AngleArgs { points };
-    angle_gs_t(
-        sys,
-        pts,
-        dim,
-        epsilon,
-        nodes_start,
-        nodes_end,
-        index_base,
-        values,
-        sweep,
-    )
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_dim!(
+            dim,
+            angle_gs_d::<f32>,
+            (sys, &pts, epsilon, nodes, values, sweep)
+        )
+    }))
 }
 
 /// The rigidity probe of the angle springs: block-Jacobi CG on a deterministic pseudo-random
@@ -1307,7 +1301,13 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe(
         index_scratch,
     };
     let pts = AngleArgs { points };
-    probe_t(sys, pts, dim, options, scratch, amplification_out)
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            probe_d::<f64>,
+            (sys, &pts, &o, scratch, amplification_out)
+        )
+    }))
 }
 
 /// `f32` twin of [`dk_spring_angle_rigidity_probe`].
@@ -1367,5 +1367,11 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_f32(
         index_scratch,
     };
     let pts = AngleArgs { points };
-    probe_t(sys, pts, dim, options, scratch, amplification_out)
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            probe_d::<f32>,
+            (sys, &pts, &o, scratch, amplification_out)
+        )
+    }))
 }

@@ -189,7 +189,15 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength(
             Out::new(report, 1),
         )
     };
-    smooth_arclength_t(ni, nj, nk, options, points, dim, scratch, report)
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        let (o, pinned) = read_with_pins(options)?;
+        by_dim!(
+            dim,
+            smooth_arclength_d::<f64>,
+            (&b, &o, pinned, points, scratch, report)
+        )
+    })())
 }
 
 /// `f32` twin of [`dk_taubin_smooth_arclength`] (`options->lambda`, `mu` are rounded to
@@ -220,7 +228,15 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength_f32(
             Out::new(report, 1),
         )
     };
-    smooth_arclength_t(ni, nj, nk, options, points, dim, scratch, report)
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        let (o, pinned) = read_with_pins(options)?;
+        by_dim!(
+            dim,
+            smooth_arclength_d::<f32>,
+            (&b, &o, pinned, points, scratch, report)
+        )
+    })())
 }
 
 /// Scratch length (in scalars) for [`dk_taubin_smooth_structured`]: the point count.
@@ -597,9 +613,12 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph(
         weights,
         fixed,
     };
-    smooth_graph_t(
-        args, lambda, mu, iterations, components, values, scratch, report,
-    )
+    let params = TaubinParams { lambda, mu };
+    done(by_components!(
+        components,
+        smooth_graph_v::<f64>,
+        (&args, params, iterations, values, scratch, report)
+    ))
 }
 
 /// `f32` twin of [`dk_taubin_smooth_graph`].
@@ -645,9 +664,12 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph_f32(
         weights,
         fixed,
     };
-    smooth_graph_t(
-        args, lambda, mu, iterations, components, values, scratch, report,
-    )
+    let params = TaubinParams { lambda, mu };
+    done(by_components!(
+        components,
+        smooth_graph_v::<f32>,
+        (&args, params, iterations, values, scratch, report)
+    ))
 }
 
 /// One Jacobi pass of the graph filter over the nodes `nodes_start..nodes_end` only:
@@ -701,17 +723,13 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep(
         weights,
         fixed,
     };
-    graph_sweep_t(
-        args,
-        src,
-        components,
-        weight,
-        nodes_start,
-        nodes_end,
-        index_base,
-        dst,
-        max_change_out,
-    )
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_components!(
+            components,
+            graph_sweep_v::<f64>,
+            (&args, src, weight, nodes, dst, max_change_out)
+        )
+    }))
 }
 
 /// `f32` twin of [`dk_taubin_graph_sweep`].
@@ -758,17 +776,13 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep_f32(
         weights,
         fixed,
     };
-    graph_sweep_t(
-        args,
-        src,
-        components,
-        weight,
-        nodes_start,
-        nodes_end,
-        index_base,
-        dst,
-        max_change_out,
-    )
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_components!(
+            components,
+            graph_sweep_v::<f32>,
+            (&args, src, weight, nodes, dst, max_change_out)
+        )
+    }))
 }
 
 /// Fujiwara's inverse-distance weights `weights[e] = 1 / |x_i − x_j|` for every directed edge
@@ -802,7 +816,13 @@ pub unsafe extern "C" fn dk_taubin_inverse_distance_weights(
             Out::new(weights, weights_len),
         )
     };
-    inverse_distance_weights_t(offsets, targets, points, dim, weights)
+    done(graph(offsets, targets).and_then(|g| {
+        by_dim!(
+            dim,
+            inverse_distance_weights_d::<f64>,
+            (&g, points, weights)
+        )
+    }))
 }
 
 /// `f32` twin of [`dk_taubin_inverse_distance_weights`].
@@ -831,7 +851,13 @@ pub unsafe extern "C" fn dk_taubin_inverse_distance_weights_f32(
             Out::new(weights, weights_len),
         )
     };
-    inverse_distance_weights_t(offsets, targets, points, dim, weights)
+    done(graph(offsets, targets).and_then(|g| {
+        by_dim!(
+            dim,
+            inverse_distance_weights_d::<f32>,
+            (&g, points, weights)
+        )
+    }))
 }
 
 /// Arclength along grid lines in `direction` (0 = i, 1 = j, 2 = k) at every point:
@@ -857,7 +883,13 @@ pub unsafe extern "C" fn dk_taubin_arclength(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
-    arclength_t(ni, nj, nk, points, dim, direction, normalised, out)
+    done(block(ni, nj, nk).and_then(|b| {
+        by_dim!(
+            dim,
+            arclength_d::<f64>,
+            (&b, points, direction, normalised, out)
+        )
+    }))
 }
 
 /// `f32` twin of [`dk_taubin_arclength`].
@@ -880,7 +912,13 @@ pub unsafe extern "C" fn dk_taubin_arclength_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
-    arclength_t(ni, nj, nk, points, dim, direction, normalised, out)
+    done(block(ni, nj, nk).and_then(|b| {
+        by_dim!(
+            dim,
+            arclength_d::<f32>,
+            (&b, points, direction, normalised, out)
+        )
+    }))
 }
 
 /// Scratch length (in scalars) for [`dk_taubin_redistribute`]: `(dim + 1) ×` points per line
@@ -949,18 +987,21 @@ pub unsafe extern "C" fn dk_taubin_redistribute(
             Out::new(max_displacement_out, 1),
         )
     };
-    redistribute_t(
-        ni,
-        nj,
-        nk,
-        direction,
-        targets,
-        normalised,
-        points,
-        dim,
-        scratch,
-        max_displacement_out,
-    )
+    done(block(ni, nj, nk).and_then(|b| {
+        by_dim!(
+            dim,
+            redistribute_d::<f64>,
+            (
+                &b,
+                direction,
+                targets,
+                normalised,
+                points,
+                scratch,
+                max_displacement_out
+            )
+        )
+    }))
 }
 
 /// `f32` twin of [`dk_taubin_redistribute`].
@@ -993,18 +1034,21 @@ pub unsafe extern "C" fn dk_taubin_redistribute_f32(
             Out::new(max_displacement_out, 1),
         )
     };
-    redistribute_t(
-        ni,
-        nj,
-        nk,
-        direction,
-        targets,
-        normalised,
-        points,
-        dim,
-        scratch,
-        max_displacement_out,
-    )
+    done(block(ni, nj, nk).and_then(|b| {
+        by_dim!(
+            dim,
+            redistribute_d::<f32>,
+            (
+                &b,
+                direction,
+                targets,
+                normalised,
+                points,
+                scratch,
+                max_displacement_out
+            )
+        )
+    }))
 }
 
 /// Grid stretching along `direction` at every point: the ratio of the larger to the smaller
@@ -1028,7 +1072,10 @@ pub unsafe extern "C" fn dk_taubin_stretching(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
-    stretching_t(ni, nj, nk, points, dim, direction, out)
+    done(
+        block(ni, nj, nk)
+            .and_then(|b| by_dim!(dim, stretching_d::<f64>, (&b, points, direction, out))),
+    )
 }
 
 /// `f32` twin of [`dk_taubin_stretching`].
@@ -1050,7 +1097,10 @@ pub unsafe extern "C" fn dk_taubin_stretching_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
-    stretching_t(ni, nj, nk, points, dim, direction, out)
+    done(
+        block(ni, nj, nk)
+            .and_then(|b| by_dim!(dim, stretching_d::<f32>, (&b, points, direction, out))),
+    )
 }
 
 /// The largest stretching along `direction` (see [`dk_taubin_stretching`]) into
@@ -1082,7 +1132,13 @@ pub unsafe extern "C" fn dk_taubin_max_stretching(
             Out::new(point_out, 1),
         )
     };
-    max_stretching_t(ni, nj, nk, points, dim, direction, value_out, point_out)
+    done(block(ni, nj, nk).and_then(|b| {
+        by_dim!(
+            dim,
+            max_stretching_d::<f64>,
+            (&b, points, direction, value_out, point_out)
+        )
+    }))
 }
 
 /// `f32` twin of [`dk_taubin_max_stretching`].
@@ -1110,7 +1166,13 @@ pub unsafe extern "C" fn dk_taubin_max_stretching_f32(
             Out::new(point_out, 1),
         )
     };
-    max_stretching_t(ni, nj, nk, points, dim, direction, value_out, point_out)
+    done(block(ni, nj, nk).and_then(|b| {
+        by_dim!(
+            dim,
+            max_stretching_d::<f32>,
+            (&b, points, direction, value_out, point_out)
+        )
+    }))
 }
 
 /// The fold guard: `DK_OK` when `field` (an arclength function, `ni·nj·nk` scalars) increases
