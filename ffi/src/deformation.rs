@@ -36,8 +36,8 @@ use deform_kernel::spring::SpringSystem;
 use deform_kernel::{Block, Cells, Directions, Quat, Real};
 
 use crate::args::{
-    assert_layout, block, check_base, done, graph, index_need, read_array, read_one, read_points,
-    rebase, write_len,
+    assert_layout, block, by_dim, check_base, done, graph, index_need, read_array, read_one,
+    read_points, rebase, write_len,
 };
 use crate::graph::read_optional_cells;
 use crate::slice::{chunks, chunks_mut, input, out_one, output, quats, quats_mut, In, Out};
@@ -181,21 +181,6 @@ assert_layout!(
 // ---------------------------------------------------------------------------------------------
 // Private plumbing
 // ---------------------------------------------------------------------------------------------
-
-/// A piece of work generic over the point dimension `D`.
-trait ByDim: Sized {
-    fn run<const D: usize>(self) -> Result<(), dk_status>;
-}
-
-/// Runs `job` for `dim` 2 or 3; any other `dim` is `DK_ERR_INVALID_PARAMETER` (as in the
-/// other modules of the ABI).
-fn by_dim(dim: u32, job: impl ByDim) -> dk_status {
-    done(match dim {
-        2 => job.run::<2>(),
-        3 => job.run::<3>(),
-        _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
-    })
-}
 
 /// Reads a required element list (absent elements are a length mismatch).
 fn read_required_elements<'a>(
@@ -450,68 +435,59 @@ impl<'a, T: Real> PipelineOut<'a, T> {
     }
 }
 
-struct Idw<'a, M: MotionC> {
-    points: In<'a, M::T>,
-    motion: In<'a, M>,
+fn idw_d<M: MotionC, const D: usize>(
+    points: In<'_, M::T>,
+    motion: In<'_, M>,
     exponent: M::T,
-    bufs: PipelineOut<'a, M::T>,
-}
-
-impl<'a, M: MotionC> ByDim for Idw<'a, M> {
-    fn run<const D: usize>(self) -> Result<(), dk_status> {
-        let raw = read_raw(self.motion)?;
-        let points = read_points::<M::T, D>(self.points)?;
-        let b = self.bufs.borrow::<D>()?;
-        let (motion, _) = raw.view::<D>(b.index_scratch)?;
-        let origin = deform_idw(
-            points,
-            &motion,
-            self.exponent,
-            b.translations,
-            b.rotations,
-            b.scratch,
-            b.out,
-        )
-        .map_err(dk_status::from)?;
-        write_optional(b.origin_out, origin);
-        Ok(())
-    }
+    bufs: PipelineOut<'_, M::T>,
+) -> Result<(), dk_status> {
+    let raw = read_raw(motion)?;
+    let points = read_points::<M::T, D>(points)?;
+    let b = bufs.borrow::<D>()?;
+    let (motion, _) = raw.view::<D>(b.index_scratch)?;
+    let origin = deform_idw(
+        points,
+        &motion,
+        exponent,
+        b.translations,
+        b.rotations,
+        b.scratch,
+        b.out,
+    )
+    .map_err(dk_status::from)?;
+    write_optional(b.origin_out, origin);
+    Ok(())
 }
 
 // ---------------------------------------------------------------------------------------------
 // Pipelines: TFI
 // ---------------------------------------------------------------------------------------------
 
-struct Tfi<'a, M: MotionC> {
-    dims: [usize; 3],
+fn tfi_d<M: MotionC, const D: usize>(
+    [ni, nj, nk]: [usize; 3],
     directions: u32,
-    points: In<'a, M::T>,
-    motion: In<'a, M>,
-    bufs: PipelineOut<'a, M::T>,
-}
-
-impl<'a, M: MotionC> ByDim for Tfi<'a, M> {
-    fn run<const D: usize>(self) -> Result<(), dk_status> {
-        let [ni, nj, nk] = self.dims;
-        let (block, directions) = tfi_setup(ni, nj, nk, self.directions)?;
-        let raw = read_raw(self.motion)?;
-        let points = read_points::<M::T, D>(self.points)?;
-        let b = self.bufs.borrow::<D>()?;
-        let (motion, _) = raw.view::<D>(b.index_scratch)?;
-        let origin = deform_tfi(
-            &block,
-            directions,
-            points,
-            &motion,
-            b.translations,
-            b.rotations,
-            b.scratch,
-            b.out,
-        )
-        .map_err(dk_status::from)?;
-        write_optional(b.origin_out, origin);
-        Ok(())
-    }
+    points: In<'_, M::T>,
+    motion: In<'_, M>,
+    bufs: PipelineOut<'_, M::T>,
+) -> Result<(), dk_status> {
+    let (block, directions) = tfi_setup(ni, nj, nk, directions)?;
+    let raw = read_raw(motion)?;
+    let points = read_points::<M::T, D>(points)?;
+    let b = bufs.borrow::<D>()?;
+    let (motion, _) = raw.view::<D>(b.index_scratch)?;
+    let origin = deform_tfi(
+        &block,
+        directions,
+        points,
+        &motion,
+        b.translations,
+        b.rotations,
+        b.scratch,
+        b.out,
+    )
+    .map_err(dk_status::from)?;
+    write_optional(b.origin_out, origin);
+    Ok(())
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -543,40 +519,32 @@ impl<'a> ElementsIn<'a> {
     }
 }
 
-struct Normals<'a, T> {
-    points: In<'a, T>,
-    elements: ElementsIn<'a>,
-    scratch: Out<'a, T>,
-    normals: Out<'a, T>,
+fn normals_d<T: Real, const D: usize>(
+    points: In<'_, T>,
+    elements: ElementsIn<'_>,
+    scratch: Out<'_, T>,
+    normals: Out<'_, T>,
+) -> Result<(), dk_status> {
+    let points = read_points::<T, D>(points)?;
+    let cells = elements.read(points.len())?;
+    let scratch = output(scratch)?;
+    let normals = chunks_mut::<T, D>(normals)?;
+    boundary_normals(points, &cells, scratch, normals).map_err(dk_status::from)
 }
 
-impl<'a, T: Real> ByDim for Normals<'a, T> {
-    fn run<const D: usize>(self) -> Result<(), dk_status> {
-        let points = read_points::<T, D>(self.points)?;
-        let cells = self.elements.read(points.len())?;
-        let scratch = output(self.scratch)?;
-        let normals = chunks_mut::<T, D>(self.normals)?;
-        boundary_normals(points, &cells, scratch, normals).map_err(dk_status::from)
-    }
-}
-
-struct Rotations<'a, T> {
-    undeformed: In<'a, T>,
-    deformed: In<'a, T>,
-    elements: ElementsIn<'a>,
-    scratch: Out<'a, T>,
-    rotations: Out<'a, T>,
-}
-
-impl<'a, T: Real> ByDim for Rotations<'a, T> {
-    fn run<const D: usize>(self) -> Result<(), dk_status> {
-        let u = read_points::<T, D>(self.undeformed)?;
-        let d = read_points::<T, D>(self.deformed)?;
-        let cells = self.elements.read(u.len())?;
-        let scratch = output(self.scratch)?;
-        let rotations = quats_mut(self.rotations)?;
-        boundary_rotations(u, d, &cells, scratch, rotations).map_err(dk_status::from)
-    }
+fn rotations_d<T: Real, const D: usize>(
+    undeformed: In<'_, T>,
+    deformed: In<'_, T>,
+    elements: ElementsIn<'_>,
+    scratch: Out<'_, T>,
+    rotations: Out<'_, T>,
+) -> Result<(), dk_status> {
+    let u = read_points::<T, D>(undeformed)?;
+    let d = read_points::<T, D>(deformed)?;
+    let cells = elements.read(u.len())?;
+    let scratch = output(scratch)?;
+    let rotations = quats_mut(rotations)?;
+    boundary_rotations(u, d, &cells, scratch, rotations).map_err(dk_status::from)
 }
 
 fn rigid<T: Real>(q: In<'_, T>, rotations: Out<'_, T>) -> dk_status {
@@ -587,128 +555,104 @@ fn rigid<T: Real>(q: In<'_, T>, rotations: Out<'_, T>) -> dk_status {
     })())
 }
 
-struct Origin<'a, T> {
-    undeformed: In<'a, T>,
-    deformed: In<'a, T>,
-    origin_out: Out<'a, T>,
-}
-
-impl<'a, T: Real> ByDim for Origin<'a, T> {
-    fn run<const D: usize>(self) -> Result<(), dk_status> {
-        let u = read_points::<T, D>(self.undeformed)?;
-        let d = read_points::<T, D>(self.deformed)?;
-        if self.origin_out.len() != D {
-            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
-        }
-        let o = output(self.origin_out)?;
-        let origin = boundary_origin(u, d).map_err(dk_status::from)?;
-        write_optional(Some(o), origin);
-        Ok(())
+fn origin_d<T: Real, const D: usize>(
+    undeformed: In<'_, T>,
+    deformed: In<'_, T>,
+    origin_out: Out<'_, T>,
+) -> Result<(), dk_status> {
+    let u = read_points::<T, D>(undeformed)?;
+    let d = read_points::<T, D>(deformed)?;
+    if origin_out.len() != D {
+        return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
     }
+    let o = output(origin_out)?;
+    let origin = boundary_origin(u, d).map_err(dk_status::from)?;
+    write_optional(Some(o), origin);
+    Ok(())
 }
 
-struct Translations<'a, T> {
-    origin: In<'a, T>,
-    undeformed: In<'a, T>,
-    deformed: In<'a, T>,
-    rotations: In<'a, T>,
-    translations: Out<'a, T>,
-}
-
-impl<'a, T: Real> ByDim for Translations<'a, T> {
-    fn run<const D: usize>(self) -> Result<(), dk_status> {
-        let origin = read_array::<T, D>(self.origin)?;
-        let u = read_points::<T, D>(self.undeformed)?;
-        let d = read_points::<T, D>(self.deformed)?;
-        let q = quats(self.rotations)?;
-        let t = chunks_mut::<T, D>(self.translations)?;
-        boundary_translations(origin, u, d, q, t).map_err(dk_status::from)
-    }
+fn translations_d<T: Real, const D: usize>(
+    origin: In<'_, T>,
+    undeformed: In<'_, T>,
+    deformed: In<'_, T>,
+    rotations: In<'_, T>,
+    translations: Out<'_, T>,
+) -> Result<(), dk_status> {
+    let origin = read_array::<T, D>(origin)?;
+    let u = read_points::<T, D>(undeformed)?;
+    let d = read_points::<T, D>(deformed)?;
+    let q = quats(rotations)?;
+    let t = chunks_mut::<T, D>(translations)?;
+    boundary_translations(origin, u, d, q, t).map_err(dk_status::from)
 }
 
 // ---------------------------------------------------------------------------------------------
 // Building blocks: field level
 // ---------------------------------------------------------------------------------------------
 
-struct PropIdw<'a, T> {
-    points: In<'a, T>,
-    boundary: In<'a, u32>,
+fn propagate_idw_d<T: Real, const D: usize>(
+    points: In<'_, T>,
+    boundary: In<'_, u32>,
     index_base: u32,
     exponent: T,
-    index_scratch: Out<'a, u32>,
-    translations: Out<'a, T>,
-    rotations: Out<'a, T>,
+    index_scratch: Out<'_, u32>,
+    translations: Out<'_, T>,
+    rotations: Out<'_, T>,
+) -> Result<(), dk_status> {
+    let points = read_points::<T, D>(points)?;
+    let boundary = input(boundary)?;
+    let scratch = output(index_scratch)?;
+    let (boundary, _) = rebase(boundary, index_base, scratch)?;
+    let t = chunks_mut::<T, D>(translations)?;
+    let q = quats_mut(rotations)?;
+    propagate_idw(points, boundary, exponent, t, q).map_err(dk_status::from)
 }
 
-impl<'a, T: Real> ByDim for PropIdw<'a, T> {
-    fn run<const D: usize>(self) -> Result<(), dk_status> {
-        let points = read_points::<T, D>(self.points)?;
-        let boundary = input(self.boundary)?;
-        let scratch = output(self.index_scratch)?;
-        let (boundary, _) = rebase(boundary, self.index_base, scratch)?;
-        let t = chunks_mut::<T, D>(self.translations)?;
-        let q = quats_mut(self.rotations)?;
-        propagate_idw(points, boundary, self.exponent, t, q).map_err(dk_status::from)
-    }
-}
-
-struct PropTfi<'a, T> {
-    dims: [usize; 3],
+/// `rotations` NULL with length 0 and `displacement` set: plain displacement TFI.
+#[allow(clippy::too_many_arguments)]
+fn propagate_tfi_d<T: Real, const D: usize>(
+    [ni, nj, nk]: [usize; 3],
     directions: u32,
-    points: In<'a, T>,
-    scratch: Out<'a, T>,
-    translations: Out<'a, T>,
-    /// NULL with 0 and `displacement` set: plain displacement TFI.
-    rotations: Out<'a, T>,
+    points: In<'_, T>,
+    scratch: Out<'_, T>,
+    translations: Out<'_, T>,
+    rotations: Out<'_, T>,
     displacement: bool,
-}
-
-impl<'a, T: Real> ByDim for PropTfi<'a, T> {
-    fn run<const D: usize>(self) -> Result<(), dk_status> {
-        let [ni, nj, nk] = self.dims;
-        let (block, directions) = tfi_setup(ni, nj, nk, self.directions)?;
-        let points = read_points::<T, D>(self.points)?;
-        let scratch = output(self.scratch)?;
-        let t = chunks_mut::<T, D>(self.translations)?;
-        if self.displacement {
-            return displacement_tfi(&block, directions, points, t, scratch)
-                .map_err(dk_status::from);
-        }
-        let q = quats_mut(self.rotations)?;
-        propagate_tfi(&block, directions, points, t, q, scratch).map_err(dk_status::from)
+) -> Result<(), dk_status> {
+    let (block, directions) = tfi_setup(ni, nj, nk, directions)?;
+    let points = read_points::<T, D>(points)?;
+    let scratch = output(scratch)?;
+    let t = chunks_mut::<T, D>(translations)?;
+    if displacement {
+        return displacement_tfi(&block, directions, points, t, scratch).map_err(dk_status::from);
     }
+    let q = quats_mut(rotations)?;
+    propagate_tfi(&block, directions, points, t, q, scratch).map_err(dk_status::from)
 }
 
-struct Update<'a, T> {
-    origin: In<'a, T>,
-    points: In<'a, T>,
-    translations: In<'a, T>,
-    rotations: In<'a, T>,
-    boundary: In<'a, u32>,
+#[allow(clippy::too_many_arguments)]
+fn update_d<T: Real, const D: usize>(
+    origin: In<'_, T>,
+    points: In<'_, T>,
+    translations: In<'_, T>,
+    rotations: In<'_, T>,
+    boundary: In<'_, u32>,
     index_base: u32,
-    boundary_deformed: In<'a, T>,
-    index_scratch: Out<'a, u32>,
-    out: Out<'a, T>,
+    boundary_deformed: In<'_, T>,
+    index_scratch: Out<'_, u32>,
+    out: Out<'_, T>,
+) -> Result<(), dk_status> {
+    let origin = read_array::<T, D>(origin)?;
+    let points = read_points::<T, D>(points)?;
+    let t = chunks::<T, D>(translations)?;
+    let q = quats(rotations)?;
+    let boundary = input(boundary)?;
+    let bd = read_points::<T, D>(boundary_deformed)?;
+    let scratch = output(index_scratch)?;
+    let (boundary, _) = rebase(boundary, index_base, scratch)?;
+    let out = chunks_mut::<T, D>(out)?;
+    update_points(origin, points, t, q, boundary, bd, out).map_err(dk_status::from)
 }
-
-impl<'a, T: Real> ByDim for Update<'a, T> {
-    fn run<const D: usize>(self) -> Result<(), dk_status> {
-        let origin = read_array::<T, D>(self.origin)?;
-        let points = read_points::<T, D>(self.points)?;
-        let t = chunks::<T, D>(self.translations)?;
-        let q = quats(self.rotations)?;
-        let boundary = input(self.boundary)?;
-        let bd = read_points::<T, D>(self.boundary_deformed)?;
-        let scratch = output(self.index_scratch)?;
-        let (boundary, _) = rebase(boundary, self.index_base, scratch)?;
-        let out = chunks_mut::<T, D>(self.out)?;
-        update_points(origin, points, t, q, boundary, bd, out).map_err(dk_status::from)
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Renumbering
-// ---------------------------------------------------------------------------------------------
 
 // ---------------------------------------------------------------------------------------------
 // Springs (options and report types from the spring module)
@@ -771,72 +715,66 @@ fn spring_index_len<M: MotionC>(
     )
 }
 
-struct Spring<'a, M: MotionC> {
-    points: In<'a, M::T>,
-    motion: In<'a, M>,
-    system: SystemIn<'a, M::T>,
-    options: In<'a, dk_spring_solve_options>,
-    values: Out<'a, M::T>,
-    bufs: PipelineOut<'a, M::T>,
-    report: Out<'a, dk_spring_solve_report>,
+#[allow(clippy::too_many_arguments)]
+fn spring_d<M: MotionC, const D: usize>(
+    points: In<'_, M::T>,
+    motion: In<'_, M>,
+    system: SystemIn<'_, M::T>,
+    options: In<'_, dk_spring_solve_options>,
+    values: Out<'_, M::T>,
+    bufs: PipelineOut<'_, M::T>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> Result<(), dk_status> {
+    let o = read_one(options)?;
+    let method = o.method::<M::T>()?;
+    let stop = o.stopping::<M::T>();
+    let raw = read_raw(motion)?;
+    let points = read_points::<M::T, D>(points)?;
+    let b = bufs.borrow::<D>()?;
+    let values = output(values)?;
+    let report = out_one(report)?;
+    let (motion, rest) = raw.view::<D>(b.index_scratch)?;
+    let sys = system.build(rest)?;
+    let (origin, rep) = deform_spring(
+        points,
+        &motion,
+        &sys,
+        method,
+        &stop,
+        b.translations,
+        b.rotations,
+        b.scratch,
+        values,
+        b.out,
+    )
+    .map_err(dk_status::from)?;
+    write_optional(b.origin_out, origin);
+    *report = dk_spring_solve_report::of(rep);
+    Ok(())
 }
 
-impl<'a, M: MotionC> ByDim for Spring<'a, M> {
-    fn run<const D: usize>(self) -> Result<(), dk_status> {
-        let o = read_one(self.options)?;
-        let method = o.method::<M::T>()?;
-        let stop = o.stopping::<M::T>();
-        let raw = read_raw(self.motion)?;
-        let points = read_points::<M::T, D>(self.points)?;
-        let b = self.bufs.borrow::<D>()?;
-        let values = output(self.values)?;
-        let report = out_one(self.report)?;
-        let (motion, rest) = raw.view::<D>(b.index_scratch)?;
-        let sys = self.system.build(rest)?;
-        let (origin, rep) = deform_spring(
-            points,
-            &motion,
-            &sys,
-            method,
-            &stop,
-            b.translations,
-            b.rotations,
-            b.scratch,
-            values,
-            b.out,
-        )
-        .map_err(dk_status::from)?;
-        write_optional(b.origin_out, origin);
-        *report = dk_spring_solve_report::of(rep);
-        Ok(())
-    }
-}
-
-struct PropSpring<'a, T> {
-    system: SystemIn<'a, T>,
-    options: In<'a, dk_spring_solve_options>,
-    index_scratch: Out<'a, u32>,
-    values: Out<'a, T>,
-    translations: Out<'a, T>,
-    rotations: Out<'a, T>,
-    report: Out<'a, dk_spring_solve_report>,
-}
-
-impl<'a, T: Real> ByDim for PropSpring<'a, T> {
-    fn run<const D: usize>(self) -> Result<(), dk_status> {
-        let o = read_one(self.options)?;
-        let method = o.method::<T>()?;
-        let stop = o.stopping::<T>();
-        let s = output(self.index_scratch)?;
-        let values = output(self.values)?;
-        let t = chunks_mut::<T, D>(self.translations)?;
-        let q = quats_mut(self.rotations)?;
-        let report = out_one(self.report)?;
-        let sys = self.system.build(s)?;
-        let rep = propagate_spring(&sys, method, &stop, t, q, values).map_err(dk_status::from)?;
-        *report = dk_spring_solve_report::of(rep);
-        Ok(())
-    }
+#[allow(clippy::too_many_arguments)]
+fn propagate_spring_d<T: Real, const D: usize>(
+    system: SystemIn<'_, T>,
+    options: In<'_, dk_spring_solve_options>,
+    index_scratch: Out<'_, u32>,
+    values: Out<'_, T>,
+    translations: Out<'_, T>,
+    rotations: Out<'_, T>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> Result<(), dk_status> {
+    let o = read_one(options)?;
+    let method = o.method::<T>()?;
+    let stop = o.stopping::<T>();
+    let s = output(index_scratch)?;
+    let values = output(values)?;
+    let t = chunks_mut::<T, D>(translations)?;
+    let q = quats_mut(rotations)?;
+    let report = out_one(report)?;
+    let sys = system.build(s)?;
+    let rep = propagate_spring(&sys, method, &stop, t, q, values).map_err(dk_status::from)?;
+    *report = dk_spring_solve_report::of(rep);
+    Ok(())
 }
 
 mod abi;

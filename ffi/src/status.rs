@@ -149,12 +149,3 @@ pub extern "C" fn dk_status_str(status: i32) -> *const core::ffi::c_char {
     };
     s.as_ptr()
 }
-
-/// Converts a kernel result into a status.
-#[allow(dead_code)] // used by the solver entry points as they are exposed
-pub(crate) fn status_of<T>(r: Result<T, Error>) -> dk_status {
-    match r {
-        Ok(_) => dk_status::DK_OK,
-        Err(e) => e.into(),
-    }
-}

@@ -161,22 +161,19 @@ pub unsafe extern "C" fn dk_deform_idw(
             Out::new(origin_out, origin_out_len),
         )
     };
-    by_dim(
+    let bufs = PipelineOut {
+        scratch,
+        index_scratch,
+        translations,
+        rotations,
+        out,
+        origin_out,
+    };
+    done(by_dim!(
         dim,
-        Idw {
-            points,
-            motion,
-            exponent,
-            bufs: PipelineOut {
-                scratch,
-                index_scratch,
-                translations,
-                rotations,
-                out,
-                origin_out,
-            },
-        },
-    )
+        idw_d::<dk_boundary_motion>,
+        (points, motion, exponent, bufs)
+    ))
 }
 
 /// `f32` twin of [`dk_deform_idw`].
@@ -217,22 +214,19 @@ pub unsafe extern "C" fn dk_deform_idw_f32(
             Out::new(origin_out, origin_out_len),
         )
     };
-    by_dim(
+    let bufs = PipelineOut {
+        scratch,
+        index_scratch,
+        translations,
+        rotations,
+        out,
+        origin_out,
+    };
+    done(by_dim!(
         dim,
-        Idw {
-            points,
-            motion,
-            exponent,
-            bufs: PipelineOut {
-                scratch,
-                index_scratch,
-                translations,
-                rotations,
-                out,
-                origin_out,
-            },
-        },
-    )
+        idw_d::<dk_boundary_motion_f32>,
+        (points, motion, exponent, bufs)
+    ))
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_tfi`] needs for a `ni × nj × nk` block with
@@ -317,23 +311,19 @@ pub unsafe extern "C" fn dk_deform_tfi(
             Out::new(origin_out, origin_out_len),
         )
     };
-    by_dim(
+    let bufs = PipelineOut {
+        scratch,
+        index_scratch,
+        translations,
+        rotations,
+        out,
+        origin_out,
+    };
+    done(by_dim!(
         dim,
-        Tfi {
-            dims: [ni, nj, nk],
-            directions,
-            points,
-            motion,
-            bufs: PipelineOut {
-                scratch,
-                index_scratch,
-                translations,
-                rotations,
-                out,
-                origin_out,
-            },
-        },
-    )
+        tfi_d::<dk_boundary_motion>,
+        ([ni, nj, nk], directions, points, motion, bufs)
+    ))
 }
 
 /// `f32` twin of [`dk_deform_tfi`].
@@ -377,23 +367,19 @@ pub unsafe extern "C" fn dk_deform_tfi_f32(
             Out::new(origin_out, origin_out_len),
         )
     };
-    by_dim(
+    let bufs = PipelineOut {
+        scratch,
+        index_scratch,
+        translations,
+        rotations,
+        out,
+        origin_out,
+    };
+    done(by_dim!(
         dim,
-        Tfi {
-            dims: [ni, nj, nk],
-            directions,
-            points,
-            motion,
-            bufs: PipelineOut {
-                scratch,
-                index_scratch,
-                translations,
-                rotations,
-                out,
-                origin_out,
-            },
-        },
-    )
+        tfi_d::<dk_boundary_motion_f32>,
+        ([ni, nj, nk], directions, points, motion, bufs)
+    ))
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_boundary_normals`] needs:
@@ -464,21 +450,18 @@ pub unsafe extern "C" fn dk_deform_boundary_normals(
             Out::new(normals, normals_len),
         )
     };
-    by_dim(
+    let elements = ElementsIn {
+        offsets: element_offsets,
+        nodes: element_nodes,
+        kinds: element_kinds,
+        index_base,
+        index_scratch,
+    };
+    done(by_dim!(
         dim,
-        Normals {
-            points,
-            elements: ElementsIn {
-                offsets: element_offsets,
-                nodes: element_nodes,
-                kinds: element_kinds,
-                index_base,
-                index_scratch,
-            },
-            scratch,
-            normals,
-        },
-    )
+        normals_d::<f64>,
+        (points, elements, scratch, normals)
+    ))
 }
 
 /// `f32` twin of [`dk_deform_boundary_normals`].
@@ -517,21 +500,18 @@ pub unsafe extern "C" fn dk_deform_boundary_normals_f32(
             Out::new(normals, normals_len),
         )
     };
-    by_dim(
+    let elements = ElementsIn {
+        offsets: element_offsets,
+        nodes: element_nodes,
+        kinds: element_kinds,
+        index_base,
+        index_scratch,
+    };
+    done(by_dim!(
         dim,
-        Normals {
-            points,
-            elements: ElementsIn {
-                offsets: element_offsets,
-                nodes: element_nodes,
-                kinds: element_kinds,
-                index_base,
-                index_scratch,
-            },
-            scratch,
-            normals,
-        },
-    )
+        normals_d::<f32>,
+        (points, elements, scratch, normals)
+    ))
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_boundary_rotations`] needs: `3 B` in 2D,
@@ -619,22 +599,18 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations(
             Out::new(rotations, rotations_len),
         )
     };
-    by_dim(
+    let elements = ElementsIn {
+        offsets: element_offsets,
+        nodes: element_nodes,
+        kinds: element_kinds,
+        index_base,
+        index_scratch,
+    };
+    done(by_dim!(
         dim,
-        Rotations {
-            undeformed,
-            deformed,
-            elements: ElementsIn {
-                offsets: element_offsets,
-                nodes: element_nodes,
-                kinds: element_kinds,
-                index_base,
-                index_scratch,
-            },
-            scratch,
-            rotations,
-        },
-    )
+        rotations_d::<f64>,
+        (undeformed, deformed, elements, scratch, rotations)
+    ))
 }
 
 /// `f32` twin of [`dk_deform_boundary_rotations`].
@@ -685,22 +661,18 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations_f32(
             Out::new(rotations, rotations_len),
         )
     };
-    by_dim(
+    let elements = ElementsIn {
+        offsets: element_offsets,
+        nodes: element_nodes,
+        kinds: element_kinds,
+        index_base,
+        index_scratch,
+    };
+    done(by_dim!(
         dim,
-        Rotations {
-            undeformed,
-            deformed,
-            elements: ElementsIn {
-                offsets: element_offsets,
-                nodes: element_nodes,
-                kinds: element_kinds,
-                index_base,
-                index_scratch,
-            },
-            scratch,
-            rotations,
-        },
-    )
+        rotations_d::<f32>,
+        (undeformed, deformed, elements, scratch, rotations)
+    ))
 }
 
 /// Fills `rotations` (`rotations_len` scalars, a multiple of 4) with copies of the rigid
@@ -771,14 +743,11 @@ pub unsafe extern "C" fn dk_deform_boundary_origin(
             Out::new(origin_out, origin_out_len),
         )
     };
-    by_dim(
+    done(by_dim!(
         dim,
-        Origin {
-            undeformed,
-            deformed,
-            origin_out,
-        },
-    )
+        origin_d::<f64>,
+        (undeformed, deformed, origin_out)
+    ))
 }
 
 /// `f32` twin of [`dk_deform_boundary_origin`].
@@ -804,14 +773,11 @@ pub unsafe extern "C" fn dk_deform_boundary_origin_f32(
             Out::new(origin_out, origin_out_len),
         )
     };
-    by_dim(
+    done(by_dim!(
         dim,
-        Origin {
-            undeformed,
-            deformed,
-            origin_out,
-        },
-    )
+        origin_d::<f32>,
+        (undeformed, deformed, origin_out)
+    ))
 }
 
 /// The boundary translations `Δ_i = (r_i^d − o) − Q_i (r_i^u − o) Q_i*` about `origin` (the
@@ -852,16 +818,11 @@ pub unsafe extern "C" fn dk_deform_boundary_translations(
             Out::new(translations, translations_len),
         )
     };
-    by_dim(
+    done(by_dim!(
         dim,
-        Translations {
-            origin,
-            undeformed,
-            deformed,
-            rotations,
-            translations,
-        },
-    )
+        translations_d::<f64>,
+        (origin, undeformed, deformed, rotations, translations)
+    ))
 }
 
 /// `f32` twin of [`dk_deform_boundary_translations`].
@@ -893,16 +854,11 @@ pub unsafe extern "C" fn dk_deform_boundary_translations_f32(
             Out::new(translations, translations_len),
         )
     };
-    by_dim(
+    done(by_dim!(
         dim,
-        Translations {
-            origin,
-            undeformed,
-            deformed,
-            rotations,
-            translations,
-        },
-    )
+        translations_d::<f32>,
+        (origin, undeformed, deformed, rotations, translations)
+    ))
 }
 
 /// Inverse-distance weighting of boundary translations and rotations into the rest of the
@@ -949,18 +905,19 @@ pub unsafe extern "C" fn dk_deform_propagate_idw(
             Out::new(rotations, rotations_len),
         )
     };
-    by_dim(
+    done(by_dim!(
         dim,
-        PropIdw {
+        propagate_idw_d::<f64>,
+        (
             points,
             boundary,
             index_base,
             exponent,
             index_scratch,
             translations,
-            rotations,
-        },
-    )
+            rotations
+        )
+    ))
 }
 
 /// `f32` twin of [`dk_deform_propagate_idw`].
@@ -994,18 +951,19 @@ pub unsafe extern "C" fn dk_deform_propagate_idw_f32(
             Out::new(rotations, rotations_len),
         )
     };
-    by_dim(
+    done(by_dim!(
         dim,
-        PropIdw {
+        propagate_idw_d::<f32>,
+        (
             points,
             boundary,
             index_base,
             exponent,
             index_scratch,
             translations,
-            rotations,
-        },
-    )
+            rotations
+        )
+    ))
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_propagate_tfi`] and
@@ -1078,18 +1036,19 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi(
             Out::new(rotations, rotations_len),
         )
     };
-    by_dim(
+    done(by_dim!(
         dim,
-        PropTfi {
-            dims: [ni, nj, nk],
+        propagate_tfi_d::<f64>,
+        (
+            [ni, nj, nk],
             directions,
             points,
             scratch,
             translations,
             rotations,
-            displacement: false,
-        },
-    )
+            false
+        )
+    ))
 }
 
 /// `f32` twin of [`dk_deform_propagate_tfi`].
@@ -1122,18 +1081,19 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi_f32(
             Out::new(rotations, rotations_len),
         )
     };
-    by_dim(
+    done(by_dim!(
         dim,
-        PropTfi {
-            dims: [ni, nj, nk],
+        propagate_tfi_d::<f32>,
+        (
+            [ni, nj, nk],
             directions,
             points,
             scratch,
             translations,
             rotations,
-            displacement: false,
-        },
-    )
+            false
+        )
+    ))
 }
 
 /// Plain displacement TFI (the kernel's `displacement_tfi`, Samareh eq. 1; for comparison
@@ -1169,18 +1129,19 @@ pub unsafe extern "C" fn dk_deform_displacement_tfi(
             Out::new(displacements, displacements_len),
         )
     };
-    by_dim(
+    done(by_dim!(
         dim,
-        PropTfi {
-            dims: [ni, nj, nk],
+        propagate_tfi_d::<f64>,
+        (
+            [ni, nj, nk],
             directions,
             points,
             scratch,
-            translations: displacements,
-            rotations: Out::null(),
-            displacement: true,
-        },
-    )
+            displacements,
+            Out::null(),
+            true
+        )
+    ))
 }
 
 /// `f32` twin of [`dk_deform_displacement_tfi`].
@@ -1210,18 +1171,19 @@ pub unsafe extern "C" fn dk_deform_displacement_tfi_f32(
             Out::new(displacements, displacements_len),
         )
     };
-    by_dim(
+    done(by_dim!(
         dim,
-        PropTfi {
-            dims: [ni, nj, nk],
+        propagate_tfi_d::<f32>,
+        (
+            [ni, nj, nk],
             directions,
             points,
             scratch,
-            translations: displacements,
-            rotations: Out::null(),
-            displacement: true,
-        },
-    )
+            displacements,
+            Out::null(),
+            true
+        )
+    ))
 }
 
 /// Moves every mesh point by its translation and rotation (the kernel's `update_points`,
@@ -1272,9 +1234,10 @@ pub unsafe extern "C" fn dk_deform_update_points(
             Out::new(out, out_len),
         )
     };
-    by_dim(
+    done(by_dim!(
         dim,
-        Update {
+        update_d::<f64>,
+        (
             origin,
             points,
             translations,
@@ -1283,9 +1246,9 @@ pub unsafe extern "C" fn dk_deform_update_points(
             index_base,
             boundary_deformed,
             index_scratch,
-            out,
-        },
-    )
+            out
+        )
+    ))
 }
 
 /// `f32` twin of [`dk_deform_update_points`].
@@ -1327,9 +1290,10 @@ pub unsafe extern "C" fn dk_deform_update_points_f32(
             Out::new(out, out_len),
         )
     };
-    by_dim(
+    done(by_dim!(
         dim,
-        Update {
+        update_d::<f32>,
+        (
             origin,
             points,
             translations,
@@ -1338,9 +1302,9 @@ pub unsafe extern "C" fn dk_deform_update_points_f32(
             index_base,
             boundary_deformed,
             index_scratch,
-            out,
-        },
-    )
+            out
+        )
+    ))
 }
 
 /// Number of `uint32_t` entries the `scratch` of [`dk_deform_localize_nodes`] needs:
@@ -1603,30 +1567,25 @@ pub unsafe extern "C" fn dk_deform_spring(
             Out::new(report, 1),
         )
     };
-    by_dim(
+    let system = SystemIn {
+        offsets,
+        targets,
+        stiffness,
+        fixed,
+    };
+    let bufs = PipelineOut {
+        scratch,
+        index_scratch,
+        translations,
+        rotations,
+        out,
+        origin_out,
+    };
+    done(by_dim!(
         dim,
-        Spring {
-            points,
-            motion,
-            system: SystemIn {
-                offsets,
-                targets,
-                stiffness,
-                fixed,
-            },
-            options,
-            values,
-            bufs: PipelineOut {
-                scratch,
-                index_scratch,
-                translations,
-                rotations,
-                out,
-                origin_out,
-            },
-            report,
-        },
-    )
+        spring_d::<dk_boundary_motion>,
+        (points, motion, system, options, values, bufs, report)
+    ))
 }
 
 /// `f32` twin of [`dk_deform_spring`] (the options' tolerances and `omega` are rounded to
@@ -1702,30 +1661,25 @@ pub unsafe extern "C" fn dk_deform_spring_f32(
             Out::new(report, 1),
         )
     };
-    by_dim(
+    let system = SystemIn {
+        offsets,
+        targets,
+        stiffness,
+        fixed,
+    };
+    let bufs = PipelineOut {
+        scratch,
+        index_scratch,
+        translations,
+        rotations,
+        out,
+        origin_out,
+    };
+    done(by_dim!(
         dim,
-        Spring {
-            points,
-            motion,
-            system: SystemIn {
-                offsets,
-                targets,
-                stiffness,
-                fixed,
-            },
-            options,
-            values,
-            bufs: PipelineOut {
-                scratch,
-                index_scratch,
-                translations,
-                rotations,
-                out,
-                origin_out,
-            },
-            report,
-        },
-    )
+        spring_d::<dk_boundary_motion_f32>,
+        (points, motion, system, options, values, bufs, report)
+    ))
 }
 
 /// Number of scalars the packed `values` workspace of [`dk_deform_propagate_spring`] needs:
@@ -1818,23 +1772,25 @@ pub unsafe extern "C" fn dk_deform_propagate_spring(
             Out::new(report, 1),
         )
     };
-    by_dim(
+    let system = SystemIn {
+        offsets,
+        targets,
+        stiffness,
+        fixed,
+    };
+    done(by_dim!(
         dim,
-        PropSpring {
-            system: SystemIn {
-                offsets,
-                targets,
-                stiffness,
-                fixed,
-            },
+        propagate_spring_d::<f64>,
+        (
+            system,
             options,
             index_scratch,
             values,
             translations,
             rotations,
-            report,
-        },
-    )
+            report
+        )
+    ))
 }
 
 /// `f32` twin of [`dk_deform_propagate_spring`].
@@ -1890,21 +1846,23 @@ pub unsafe extern "C" fn dk_deform_propagate_spring_f32(
             Out::new(report, 1),
         )
     };
-    by_dim(
+    let system = SystemIn {
+        offsets,
+        targets,
+        stiffness,
+        fixed,
+    };
+    done(by_dim!(
         dim,
-        PropSpring {
-            system: SystemIn {
-                offsets,
-                targets,
-                stiffness,
-                fixed,
-            },
+        propagate_spring_d::<f32>,
+        (
+            system,
             options,
             index_scratch,
             values,
             translations,
             rotations,
-            report,
-        },
-    )
+            report
+        )
+    ))
 }
