@@ -59,7 +59,7 @@ pub(crate) fn write_array<T, const N: usize>(ptr: Out<'_, T>, v: [T; N]) -> Resu
 /// An optional input array: `None` when `ptr` is NULL with length 0, else the borrowed
 /// slice (so a non-NULL pointer with length 0 is an empty array, checked by the kernel).
 pub(crate) fn optional<T>(ptr: In<'_, T>) -> Result<Option<&[T]>, dk_status> {
-    if ptr.is_null() && ptr.len() == 0 {
+    if ptr.is_absent() {
         return Ok(None);
     }
     input(ptr).map(Some)
@@ -74,7 +74,7 @@ pub(crate) fn read_points<T, const D: usize>(p: In<'_, T>) -> Result<&[[T; D]], 
 pub(crate) fn read_optional_points<T, const D: usize>(
     p: In<'_, T>,
 ) -> Result<Option<&[[T; D]]>, dk_status> {
-    if p.is_null() && p.len() == 0 {
+    if p.is_absent() {
         return Ok(None);
     }
     read_points::<T, D>(p).map(Some)

@@ -334,15 +334,8 @@ impl<'a, T: Real> RawMotion<'a, T> {
             }
             _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
         };
-        let origin = if self.has_origin != 0 {
-            let mut o = [T::ZERO; D];
-            for (d, &s) in o.iter_mut().zip(self.origin.iter()) {
-                *d = s;
-            }
-            Some(o)
-        } else {
-            None
-        };
+        let origin = (self.has_origin != 0)
+            .then(|| core::array::from_fn(|d| self.origin.get(d).copied().unwrap_or(T::ZERO)));
         Ok((
             BoundaryMotion {
                 nodes,

@@ -215,25 +215,13 @@ fn info<T: Real, const D: usize>(p: &Plan<'_, T, D>) -> dk_plan_info {
 }
 
 pub(crate) fn options_default<T: Real>(out: Out<'_, dk_plan_options>) -> dk_status {
-    let mut linear = dk_spring_solve_options {
-        max_iterations: 0,
-        residual_tol: 0.0,
-        update_tol: 0.0,
-        omega: 1.0,
-        method: crate::spring::DK_LINEAR_CG,
-        preconditioner: crate::spring::DK_PRECONDITIONER_JACOBI,
-    };
-    let k = deform_kernel::spring::SolveOptions::<T>::default();
-    linear.max_iterations = k.max_iterations;
-    linear.residual_tol = k.residual_tol.to_f64();
-    linear.update_tol = k.update_tol.to_f64();
     done(write_one(
         out,
         dk_plan_options {
             method: DK_PLAN_QUATERNION,
             solver: DK_PLAN_SOLVER_AMG,
             stiffness_exponent: 1.0,
-            linear,
+            linear: dk_spring_solve_options::default_for::<T>(),
             amg: dk_amg_options::of(AmgOptions::<T>::default()),
         },
     ))
@@ -253,35 +241,36 @@ pub(crate) struct SpecArgs<'a, T> {
     pub(crate) options: In<'a, dk_plan_options>,
 }
 
-/// The transient work buffers, as the C caller passed them.
-pub(crate) struct WorkArgs<'a, T> {
-    pub(crate) reals: Out<'a, T>,
-    pub(crate) indices: Out<'a, u32>,
-    pub(crate) bytes: Out<'a, u8>,
-}
-
-impl<'a, T> WorkArgs<'a, T> {
-    fn borrow(self) -> Result<PlanWork<'a, T>, dk_status> {
-        Ok(PlanWork {
-            reals: output(self.reals)?,
-            indices: output(self.indices)?,
-            bytes: output(self.bytes)?,
-        })
-    }
-}
-
-/// The three plan pools, as the C caller passed them.
+/// Three caller buffers (a plan's pools, or its transient work), as the C caller passed them.
 pub(crate) struct PoolArgs<'a, T> {
     pub(crate) reals: Out<'a, T>,
     pub(crate) indices: Out<'a, u32>,
     pub(crate) bytes: Out<'a, u8>,
 }
 
+/// The borrowed buffers of a [`PoolArgs`].
+type Pools<'a, T> = (&'a mut [T], &'a mut [u32], &'a mut [u8]);
+
 impl<'a, T: Real> PoolArgs<'a, T> {
+    fn borrow(self) -> Result<Pools<'a, T>, dk_status> {
+        Ok((
+            output(self.reals)?,
+            output(self.indices)?,
+            output(self.bytes)?,
+        ))
+    }
+
+    fn work(self) -> Result<PlanWork<'a, T>, dk_status> {
+        let (reals, indices, bytes) = self.borrow()?;
+        Ok(PlanWork {
+            reals,
+            indices,
+            bytes,
+        })
+    }
+
     fn open<const D: usize>(self) -> Result<Plan<'a, T, D>, dk_status> {
-        let reals = output(self.reals)?;
-        let indices = output(self.indices)?;
-        let bytes = output(self.bytes)?;
+        let (reals, indices, bytes) = self.borrow()?;
         Plan::open(reals, indices, bytes).map_err(dk_status::from)
     }
 }
@@ -318,7 +307,7 @@ impl<'a, T: Real> SpecArgs<'a, T> {
             elements,
             constraints: None,
             method,
-            stiffness: if self.stiffness.is_null() && self.stiffness.len() == 0 {
+            stiffness: if self.stiffness.is_absent() {
                 PlanStiffness::Batina {
                     exponent: T::from_f64(o.stiffness_exponent),
                 }
@@ -341,27 +330,25 @@ fn work_sizes_d<T: Real, const D: usize>(
 
 fn sizes_d<T: Real, const D: usize>(
     spec: &SpecArgs<'_, T>,
-    work: WorkArgs<'_, T>,
+    work: PoolArgs<'_, T>,
     out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
     let s = spec.spec::<D>()?;
-    let mut work = work.borrow()?;
+    let mut work = work.work()?;
     let sizes = Plan::<T, D>::sizes(&s, &mut work).map_err(dk_status::from)?;
     write_one(out, sizes.into())
 }
 
 fn init_d<T: Real, const D: usize>(
     spec: &SpecArgs<'_, T>,
-    work: WorkArgs<'_, T>,
+    work: PoolArgs<'_, T>,
     pools: PoolArgs<'_, T>,
     info_out: Out<'_, dk_plan_info>,
 ) -> Result<(), dk_status> {
     let s = spec.spec::<D>()?;
-    let mut work = work.borrow()?;
+    let mut work = work.work()?;
     let info_slot = crate::slice::out_one(info_out)?;
-    let reals = output(pools.reals)?;
-    let indices = output(pools.indices)?;
-    let bytes = output(pools.bytes)?;
+    let (reals, indices, bytes) = pools.borrow()?;
     let plan = Plan::<T, D>::init(&s, &mut work, reals, indices, bytes).map_err(dk_status::from)?;
     *info_slot = info(&plan);
     Ok(())

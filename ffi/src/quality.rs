@@ -268,16 +268,11 @@ impl<'a> WallArgs<'a> {
     /// `true` when no wall was given (every wall pointer NULL, every length 0).
     fn absent(&self) -> bool {
         let e = &self.elements;
-        e.offsets.is_null()
-            && e.offsets.len() == 0
-            && e.nodes.is_null()
-            && e.nodes.len() == 0
-            && e.kinds.is_null()
-            && e.kinds.len() == 0
-            && self.graph_offsets.is_null()
-            && self.graph_offsets.len() == 0
-            && self.graph_targets.is_null()
-            && self.graph_targets.len() == 0
+        e.offsets.is_absent()
+            && e.nodes.is_absent()
+            && e.kinds.is_absent()
+            && self.graph_offsets.is_absent()
+            && self.graph_targets.is_absent()
     }
 }
 
@@ -327,10 +322,6 @@ fn wall_angle_d<T: Real, const D: usize>(
     *o = dk_wall_angle_change::of(r, wall.elements.index_base);
     Ok(())
 }
-
-// ---------------------------------------------------------------------------------------------
-// Public functions.
-// ---------------------------------------------------------------------------------------------
 
 mod abi;
 pub use abi::*;

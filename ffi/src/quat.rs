@@ -7,7 +7,7 @@
 use deform_kernel::{Quat, QuatAverage, Real};
 
 use crate::args::{done, optional, read_array, write_array};
-use crate::slice::{input, out_one, output, output_n, In, Out};
+use crate::slice::{chunks, chunks_mut, out_one, output_n, In, Out};
 use crate::status::dk_status;
 
 fn read4<T: Real>(p: In<'_, T>) -> Result<Quat<T>, dk_status> {
@@ -79,24 +79,15 @@ fn rotation_arc<T: Real>(from: In<'_, T>, to: In<'_, T>, out: Out<'_, T>) -> dk_
 fn rotate_points<T: Real>(q: In<'_, T>, points: In<'_, T>, out: Out<'_, T>) -> dk_status {
     done((|| {
         let q = read4(q)?.normalize()?;
-        let p = input(points)?;
-        if p.len() % 3 != 0 {
+        let p = chunks::<T, 3>(points)?;
+        if out.len() != points.len() {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
-        if out.len() != p.len() {
-            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
-        }
-        if p.iter().any(|x| !x.is_finite()) {
+        if p.iter().flatten().any(|x| !x.is_finite()) {
             return Err(dk_status::DK_ERR_NON_FINITE);
         }
-        let o = output(out)?;
-        for (src, dst) in p.chunks_exact(3).zip(o.chunks_exact_mut(3)) {
-            if let ([x, y, z], [a, b, c]) = (src, dst) {
-                let r = q.rotate([*x, *y, *z]);
-                *a = r[0];
-                *b = r[1];
-                *c = r[2];
-            }
+        for (src, dst) in p.iter().zip(chunks_mut::<T, 3>(out)?) {
+            *dst = q.rotate(*src);
         }
         Ok(())
     })())
@@ -126,27 +117,19 @@ fn interpolate<T: Real>(
 
 fn average<T: Real>(quats: In<'_, T>, weights: In<'_, T>, out: Out<'_, T>) -> dk_status {
     done((|| {
-        let qs = input(quats)?;
-        if qs.len() % 4 != 0 {
-            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
-        }
+        let qs = chunks::<T, 4>(quats)?;
         let w = optional(weights)?;
-        if w.is_some_and(|w| w.len() != qs.len() / 4) {
+        if w.is_some_and(|w| w.len() != qs.len()) {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
-        if qs
-            .iter()
-            .chain(w.unwrap_or(&[]).iter())
-            .any(|x| !x.is_finite())
-        {
+        let mut all = qs.iter().flatten().chain(w.unwrap_or(&[]));
+        if all.any(|x| !x.is_finite()) {
             return Err(dk_status::DK_ERR_NON_FINITE);
         }
         let mut acc = QuatAverage::new();
-        for (k, c) in qs.chunks_exact(4).enumerate() {
-            if let [qw, qx, qy, qz] = *c {
-                let wk = w.and_then(|w| w.get(k).copied()).unwrap_or(T::ONE);
-                acc.add(Quat::new(qw, qx, qy, qz), wk);
-            }
+        for (k, &c) in qs.iter().enumerate() {
+            let wk = w.and_then(|w| w.get(k).copied()).unwrap_or(T::ONE);
+            acc.add(Quat::from_array(c), wk);
         }
         write_array(out, acc.result()?.to_array())
     })())

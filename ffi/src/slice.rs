@@ -47,9 +47,9 @@ impl<'a, T> In<'a, T> {
         }
     }
 
-    /// Whether the caller passed NULL.
-    pub(crate) fn is_null(&self) -> bool {
-        self.ptr.is_null()
+    /// Whether the caller left this optional array out: NULL with length 0.
+    pub(crate) fn is_absent(&self) -> bool {
+        self.ptr.is_null() && self.cap == 0
     }
 
     /// The number of elements the caller promised (its `_len` argument).

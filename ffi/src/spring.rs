@@ -120,6 +120,20 @@ impl dk_spring_solve_options {
         })
     }
 
+    /// The defaults for precision `T`: CG with the Jacobi preconditioner and the kernel's
+    /// stopping rules, `omega` 1.
+    pub(crate) fn default_for<T: Real>() -> Self {
+        let k = SolveOptions::<T>::default();
+        dk_spring_solve_options {
+            max_iterations: k.max_iterations,
+            residual_tol: k.residual_tol.to_f64(),
+            update_tol: k.update_tol.to_f64(),
+            omega: 1.0,
+            method: DK_LINEAR_CG,
+            preconditioner: DK_PRECONDITIONER_JACOBI,
+        }
+    }
+
     /// The kernel's stopping rules (tolerances rounded to `T`).
     pub(crate) fn stopping<T: Real>(&self) -> SolveOptions<T> {
         stopping(self.max_iterations, self.residual_tol, self.update_tol)
@@ -271,16 +285,7 @@ fn batina_d<T: Real, const D: usize>(
 }
 
 fn solve_options_default<T: Real>(out: Out<'_, dk_spring_solve_options>) -> dk_status {
-    let k = SolveOptions::<T>::default();
-    let v = dk_spring_solve_options {
-        max_iterations: k.max_iterations,
-        residual_tol: k.residual_tol.to_f64(),
-        update_tol: k.update_tol.to_f64(),
-        omega: 1.0,
-        method: DK_LINEAR_CG,
-        preconditioner: DK_PRECONDITIONER_JACOBI,
-    };
-    done(write_one(out, v))
+    done(write_one(out, dk_spring_solve_options::default_for::<T>()))
 }
 
 fn angle_options_default<T: Real>(out: Out<'_, dk_spring_angle_options>) -> dk_status {

@@ -142,11 +142,11 @@ fn mirror(flags: [u8; 3]) -> Directions {
 }
 
 impl dk_structured_options {
-    fn to_kernel(self, pinned: Option<&[u8]>) -> Result<StructuredOptions<'_>, dk_status> {
-        Ok(StructuredOptions {
+    fn to_kernel(self, pinned: Option<&[u8]>) -> StructuredOptions<'_> {
+        StructuredOptions {
             fixed: pinned,
             mirror: mirror(self.mirror),
-        })
+        }
     }
 }
 
@@ -334,11 +334,11 @@ fn smooth_arclength_d<T: Real, const D: usize>(
     Ok(())
 }
 
+/// The structured filter, on the fine grid only (`coarse` None) or with a coarse-grid pass.
 #[allow(clippy::too_many_arguments)]
 fn smooth_structured_t<T: Real>(
-    ni: usize,
-    nj: usize,
-    nk: usize,
+    [ni, nj, nk]: [usize; 3],
+    coarse: Option<In<'_, dk_taubin_coarse>>,
     lambda: T,
     mu: T,
     iterations: usize,
@@ -349,13 +349,21 @@ fn smooth_structured_t<T: Real>(
 ) -> dk_status {
     done((|| {
         let b = block(ni, nj, nk)?;
+        let c = match coarse {
+            Some(c) => Some(read_one(c)?.to_kernel()?),
+            None => None,
+        };
         let (o, pinned) = read_with_pins(options)?;
-        let o = o.to_kernel(pinned)?;
+        let o = o.to_kernel(pinned);
         let f = output(field)?;
         let s = output(scratch)?;
         let r = out_one(report)?;
-        let rep = smooth_structured(&b, f, TaubinParams { lambda, mu }, iterations, &o, s)
-            .map_err(dk_status::from)?;
+        let p = TaubinParams { lambda, mu };
+        let rep = match c {
+            None => smooth_structured(&b, f, p, iterations, &o, s),
+            Some(c) => smooth_structured_coarse(&b, f, &c, p, iterations, &o, s),
+        }
+        .map_err(dk_status::from)?;
         *r = dk_filter_report::of(rep);
         Ok(())
     })())
@@ -377,7 +385,7 @@ fn structured_sweep_t<T: Real>(
     done((|| {
         let b = block(ni, nj, nk)?;
         let (o, pinned) = read_with_pins(options)?;
-        let o = o.to_kernel(pinned)?;
+        let o = o.to_kernel(pinned);
         let reg = read_one(region)?;
         let mut lo = [0usize; 3];
         let mut hi = [0usize; 3];
@@ -396,36 +404,6 @@ fn structured_sweep_t<T: Real>(
         let change = structured_sweep(&b, s, d, weight, &o, &BlockRegion { lo, hi })
             .map_err(dk_status::from)?;
         *m = change;
-        Ok(())
-    })())
-}
-
-#[allow(clippy::too_many_arguments)]
-fn smooth_structured_coarse_t<T: Real>(
-    ni: usize,
-    nj: usize,
-    nk: usize,
-    coarse: In<'_, dk_taubin_coarse>,
-    lambda: T,
-    mu: T,
-    iterations: usize,
-    options: In<'_, dk_structured_options>,
-    field: Out<'_, T>,
-    scratch: Out<'_, T>,
-    report: Out<'_, dk_filter_report>,
-) -> dk_status {
-    done((|| {
-        let b = block(ni, nj, nk)?;
-        let c = read_one(coarse)?.to_kernel()?;
-        let (o, pinned) = read_with_pins(options)?;
-        let o = o.to_kernel(pinned)?;
-        let f = output(field)?;
-        let s = output(scratch)?;
-        let r = out_one(report)?;
-        let rep =
-            smooth_structured_coarse(&b, f, &c, TaubinParams { lambda, mu }, iterations, &o, s)
-                .map_err(dk_status::from)?;
-        *r = dk_filter_report::of(rep);
         Ok(())
     })())
 }
@@ -577,7 +555,7 @@ fn check_lines_t<T: Real>(
     done((|| {
         let b = block(ni, nj, nk)?;
         let f = input(field)?;
-        if points.is_null() && points.len() == 0 {
+        if points.is_absent() {
             // No points: `dim` is not used.
             return check_lines_d::<T, 3>(&b, f, direction, iteration, points);
         }

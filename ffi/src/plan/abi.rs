@@ -270,7 +270,7 @@ pub unsafe extern "C" fn dk_plan_pool_sizes(
         stiffness,
         options,
     };
-    let work = WorkArgs {
+    let work = PoolArgs {
         reals: work_reals,
         indices: work_indices,
         bytes: work_bytes,
@@ -354,7 +354,7 @@ pub unsafe extern "C" fn dk_plan_pool_sizes_f32(
         stiffness,
         options,
     };
-    let work = WorkArgs {
+    let work = PoolArgs {
         reals: work_reals,
         indices: work_indices,
         bytes: work_bytes,
@@ -461,7 +461,7 @@ pub unsafe extern "C" fn dk_plan_init(
         stiffness,
         options,
     };
-    let work = WorkArgs {
+    let work = PoolArgs {
         reals: work_reals,
         indices: work_indices,
         bytes: work_bytes,
@@ -562,7 +562,7 @@ pub unsafe extern "C" fn dk_plan_init_f32(
         stiffness,
         options,
     };
-    let work = WorkArgs {
+    let work = PoolArgs {
         reals: work_reals,
         indices: work_indices,
         bytes: work_bytes,

@@ -297,8 +297,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured(
             Out::new(report, 1),
         )
     };
+    let dims = [ni, nj, nk];
     smooth_structured_t(
-        ni, nj, nk, lambda, mu, iterations, options, field, scratch, report,
+        dims, None, lambda, mu, iterations, options, field, scratch, report,
     )
 }
 
@@ -331,8 +332,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_f32(
             Out::new(report, 1),
         )
     };
+    let dims = [ni, nj, nk];
     smooth_structured_t(
-        ni, nj, nk, lambda, mu, iterations, options, field, scratch, report,
+        dims, None, lambda, mu, iterations, options, field, scratch, report,
     )
 }
 
@@ -493,8 +495,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse(
             Out::new(report, 1),
         )
     };
-    smooth_structured_coarse_t(
-        ni, nj, nk, coarse, lambda, mu, iterations, options, field, scratch, report,
+    let (dims, c) = ([ni, nj, nk], Some(coarse));
+    smooth_structured_t(
+        dims, c, lambda, mu, iterations, options, field, scratch, report,
     )
 }
 
@@ -529,8 +532,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse_f32(
             Out::new(report, 1),
         )
     };
-    smooth_structured_coarse_t(
-        ni, nj, nk, coarse, lambda, mu, iterations, options, field, scratch, report,
+    let (dims, c) = ([ni, nj, nk], Some(coarse));
+    smooth_structured_t(
+        dims, c, lambda, mu, iterations, options, field, scratch, report,
     )
 }
 
