@@ -99,7 +99,7 @@ int main(void) {
     dk_spring_solve_report spring_report;
     uint32_t nodes[NB], element_offsets[NB + 1], element_nodes[2 * NB];
     uint8_t element_kinds[NB];
-    double axis[3] = {0.0, 0.0, 1.0}, q[4], wall3[3 * NI], turned3[3 * NI], origin[2];
+    double axis[3] = {0.0, 0.0, 1.0}, q[4], wall[2 * NI], turned[2 * NI], origin[2];
     const double pivot[2] = {0.25, 0.0}, shift[2] = {0.05, 0.1};
     size_t len, k;
     dk_boundary_motion motion;
@@ -152,15 +152,11 @@ int main(void) {
     /* The motion: the wall pitches by 0.15 rad about the pivot and plunges by the shift; the far
      * field stays put. */
     CHECK(dk_quat_from_axis_angle(axis, 0.15, q));
+    for (k = 0; k < 2 * NI; k++) wall[k] = points[k] - pivot[k % 2];
+    CHECK(dk_quat_rotate_points_2d(q, wall, 2 * NI, turned, 2 * NI));
     for (k = 0; k < NI; k++) {
-        wall3[3 * k] = points[2 * k] - pivot[0];
-        wall3[3 * k + 1] = points[2 * k + 1] - pivot[1];
-        wall3[3 * k + 2] = 0.0;
-    }
-    CHECK(dk_quat_rotate_points(q, wall3, 3 * NI, turned3, 3 * NI));
-    for (k = 0; k < NI; k++) {
-        deformed[2 * k] = (turned3[3 * k] + pivot[0]) + shift[0];
-        deformed[2 * k + 1] = (turned3[3 * k + 1] + pivot[1]) + shift[1];
+        deformed[2 * k] = (turned[2 * k] + pivot[0]) + shift[0];
+        deformed[2 * k + 1] = (turned[2 * k + 1] + pivot[1]) + shift[1];
         deformed[2 * (NI + k)] = points[2 * nodes[NI + k]];
         deformed[2 * (NI + k) + 1] = points[2 * nodes[NI + k] + 1];
         memcpy(&node_rot[4 * k], q, sizeof q);

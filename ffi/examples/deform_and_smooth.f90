@@ -14,7 +14,7 @@ program deform_and_smooth
   integer, parameter :: MAXSCR = 40 * N, MAXEDGE = 8 * NC
   real(c_double) :: points(2, N), out(2, N), tfi(2, N), translations(2, N), rotations(4, N)
   real(c_double) :: deformed(2, NB), node_rot(4, NB), scratch(MAXSCR), values(MAXSCR)
-  real(c_double) :: stiffness(MAXEDGE), wall3(3, NI), turned3(3, NI), q(4), origin(2)
+  real(c_double) :: stiffness(MAXEDGE), wall(2, NI), turned(2, NI), q(4), origin(2)
   real(c_double) :: axis(3) = [0.0_c_double, 0.0_c_double, 1.0_c_double]
   real(c_double) :: pivot(2) = [0.25_c_double, 0.0_c_double]
   real(c_double) :: shift(2) = [0.05_c_double, 0.1_c_double]
@@ -88,13 +88,12 @@ program deform_and_smooth
   ! The motion: the wall pitches by 0.15 rad about the pivot and plunges; the far field stays.
   call check(dk_quat_from_axis_angle(axis, 0.15_c_double, q), "from_axis_angle")
   do k = 1, NI
-    wall3(:, k) = [points(1, k) - pivot(1), points(2, k) - pivot(2), 0.0_c_double]
+    wall(:, k) = points(:, k) - pivot
   end do
-  call check(dk_quat_rotate_points(q, wall3, int(3 * NI, c_size_t), turned3, &
-                                   int(3 * NI, c_size_t)), "rotate_points")
+  call check(dkf_rotate_points(q, wall, turned), "rotate_points")
   do k = 1, NI
-    deformed(1, k) = (turned3(1, k) + pivot(1)) + shift(1)
-    deformed(2, k) = (turned3(2, k) + pivot(2)) + shift(2)
+    deformed(1, k) = (turned(1, k) + pivot(1)) + shift(1)
+    deformed(2, k) = (turned(2, k) + pivot(2)) + shift(2)
     deformed(:, NI + k) = points(:, nodes(NI + k))
     node_rot(:, k) = q
     node_rot(:, NI + k) = [1.0_c_double, 0.0_c_double, 0.0_c_double, 0.0_c_double]

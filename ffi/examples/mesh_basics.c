@@ -52,7 +52,7 @@ int main(void) {
     size_t targets_len = 0, used = 0, i;
     double axis[3] = {0.0, 0.0, 1.0}, q[4], rotated[27], arc[4], mid[4], avg[4];
     const double from[3] = {1.0, 0.0, 0.0}, to[3] = {0.0, 1.0, 0.5};
-    float axis32[3] = {0.0f, 0.0f, 1.0f}, q32[4], rotated32[27];
+    float axis32[3] = {0.0f, 0.0f, 1.0f}, q32[4], rotated32[27], plane32[18], turned32[18];
 
     for (i = 0; i < 9; i++) {
         points[3 * i] = (double)(i % 3) * 0.5;
@@ -81,6 +81,13 @@ int main(void) {
     CHECK(dk_quat_from_axis_angle_f32(axis32, 0.3f, q32));
     CHECK(dk_quat_rotate_points_f32(q32, points32, 27, rotated32, 27));
     print_f32("rotated_f32", rotated32, 27);
+    /* A 2D mesh needs no z: the same rotation (about z) on (x, y) pairs. */
+    for (i = 0; i < 9; i++) {
+        plane32[2 * i] = points32[3 * i];
+        plane32[2 * i + 1] = points32[3 * i + 1];
+    }
+    CHECK(dk_quat_rotate_points_2d_f32(q32, plane32, 18, turned32, 18));
+    print_f32("rotated_2d_f32", turned32, 18);
 
     CHECK(dk_quat_rotation_arc(from, to, arc));
     print_f64("arc", arc, 4);

@@ -12,7 +12,7 @@ program mesh_basics
   real(c_double) :: from(3) = [1.0_c_double, 0.0_c_double, 0.0_c_double]
   real(c_double) :: to(3) = [0.0_c_double, 1.0_c_double, 0.5_c_double]
   real(c_double) :: weights(3) = [1.0_c_double, 2.0_c_double, 0.5_c_double]
-  real(c_float) :: points32(3, 9), rotated32(3, 9), q32(4)
+  real(c_float) :: points32(3, 9), rotated32(3, 9), q32(4), turned32(2, 9)
   real(c_float) :: axis32(3) = [0.0_c_float, 0.0_c_float, 1.0_c_float]
   integer(c_int32_t) :: cell_offsets(5) = [1, 5, 9, 13, 17]
   integer(c_int32_t) :: cell_nodes(16) = [1, 2, 5, 4, 2, 3, 6, 5, 4, 5, 8, 7, 5, 6, 9, 8]
@@ -44,6 +44,10 @@ program mesh_basics
   call check(dk_quat_rotate_points_f32(q32, points32, 27_c_size_t, rotated32, 27_c_size_t), &
              "rotate_points_f32")
   call print_f32("rotated_f32", reshape(rotated32, [27]))
+  ! A 2D mesh needs no z: the same rotation (about z) on (x, y) pairs.
+  call check(dk_quat_rotate_points_2d_f32(q32, points32(1:2, :), 18_c_size_t, turned32, &
+                                          18_c_size_t), "rotate_points_2d_f32")
+  call print_f32("rotated_2d_f32", reshape(turned32, [18]))
 
   call check(dk_quat_rotation_arc(from, to, arc), "rotation_arc")
   call print_f64("arc", arc)

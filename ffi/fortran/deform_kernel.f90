@@ -570,7 +570,8 @@ module deform_kernel
             dk_quat_inverse_f32, dk_quat_from_axis_angle, dk_quat_from_axis_angle_f32, &
             dk_quat_to_axis_angle, dk_quat_to_axis_angle_f32, dk_quat_rotation_arc, &
             dk_quat_rotation_arc_f32, dk_quat_rotate_points, dk_quat_rotate_points_f32, &
-            dk_quat_slerp, dk_quat_slerp_f32, dk_quat_nlerp, dk_quat_nlerp_f32, dk_quat_average, &
+            dk_quat_rotate_points_2d, dk_quat_rotate_points_2d_f32, dk_quat_slerp, &
+            dk_quat_slerp_f32, dk_quat_nlerp, dk_quat_nlerp_f32, dk_quat_average, &
             dk_quat_average_f32, dk_spring_batina_stiffness, dk_spring_batina_stiffness_f32, &
             dk_spring_index_scratch_len, dk_spring_solve_options_default, &
             dk_spring_solve_options_default_f32, dk_spring_solve_linear_scratch_len, &
@@ -2103,6 +2104,26 @@ module deform_kernel
       integer(c_size_t), value :: out_len
       integer(c_int32_t) :: s
     end function
+    function dk_quat_rotate_points_2d(q, points, points_len, out, out_len) bind(C, &
+        name="dk_quat_rotate_points_2d") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: q(4)
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_quat_rotate_points_2d_f32(q, points, points_len, out, out_len) bind(C, &
+        name="dk_quat_rotate_points_2d_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: q(4)
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
     function dk_quat_slerp(a, b, t, out) bind(C, name="dk_quat_slerp") result(s)
       import :: c_double, c_int32_t
       real(c_double), intent(in) :: a(4)
@@ -3391,14 +3412,20 @@ contains
     end do
   end function
 
-  !> Rotates points(3, n) by q into out(3, n).
+  !> Rotates points(3, n) by q into out(3, n), or points(2, n) of the plane z = 0 (q a rotation
+  !> about z) into out(2, n).
   function dkf_rotate_points(q, points, out) result(s)
     real(c_double), intent(in) :: q(4)
     real(c_double), intent(in), contiguous :: points(:, :)
     real(c_double), intent(inout), contiguous :: out(:, :)
     integer(c_int32_t) :: s
-    s = dk_quat_rotate_points(q, points, int(size(points), c_size_t), out, &
-                              int(size(out), c_size_t))
+    integer(c_size_t) :: n, m
+    n = size(points, kind=c_size_t)
+    m = size(out, kind=c_size_t)
+    s = DK_ERR_LENGTH_MISMATCH
+    if (size(out, 1) /= size(points, 1)) return
+    if (size(points, 1) == 3) s = dk_quat_rotate_points(q, points, n, out, m)
+    if (size(points, 1) == 2) s = dk_quat_rotate_points_2d(q, points, n, out, m)
   end function
 
   !> Graph of an edge list edges(2, m) with 1-based node numbers; offsets(node_count + 1).

@@ -2309,6 +2309,30 @@ dk_status dk_quat_rotate_points_f32(const float *q,
                                     float *out,
                                     size_t out_len);
 
+// Rotates `points_len / 2` points `(x, y)` of the plane z = 0 by `q` (normalised here) into
+// `out`: the bits of [`dk_quat_rotate_points`] on `(x, y, 0)`, without padding. `q` must be
+// a rotation about z (x and y components zero, as in every product of rotations about z);
+// any other `q` is `DK_ERR_INVALID_PARAMETER`, since it would move points out of the plane.
+// `out_len` must equal `points_len`, a multiple of 2.
+//
+// # Safety
+// As [`dk_quat_rotate_points`].
+dk_status dk_quat_rotate_points_2d(const double *q,
+                                   const double *points,
+                                   size_t points_len,
+                                   double *out,
+                                   size_t out_len);
+
+// `f32` twin of [`dk_quat_rotate_points_2d`].
+//
+// # Safety
+// As [`dk_quat_rotate_points_2d`].
+dk_status dk_quat_rotate_points_2d_f32(const float *q,
+                                       const float *points,
+                                       size_t points_len,
+                                       float *out,
+                                       size_t out_len);
+
 // Spherical linear interpolation on the shorter arc (`t` = 0 gives `a`, 1 gives `b`).
 //
 // # Safety

@@ -37,7 +37,7 @@ use deform_kernel::{Block, Cells, Directions, Quat, Real};
 
 use crate::args::{
     assert_layout, block, by_dim, check_base, done, graph, index_need, read_array, read_one,
-    read_points, rebase, write_len,
+    read_points, rebase, write_len, write_one,
 };
 use crate::graph::read_optional_cells;
 use crate::slice::{chunks, chunks_mut, input, out_one, output, quats, quats_mut, In, Out};
@@ -374,11 +374,7 @@ fn len_status(len_out: Out<'_, usize>, v: Result<usize, dk_status>) -> dk_status
 // ---------------------------------------------------------------------------------------------
 
 fn motion_default<M: MotionC>(out: Out<'_, M>) -> dk_status {
-    done((|| {
-        let o = out_one(out)?;
-        *o = M::default_value();
-        Ok(())
-    })())
+    done(write_one(out, M::default_value()))
 }
 
 fn motion_index_len<M: MotionC>(motion: In<'_, M>, len_out: Out<'_, usize>) -> dk_status {

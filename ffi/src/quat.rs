@@ -4,7 +4,7 @@
 //! kernel's `Quat` (`#[repr(C)]`). Vectors are 3 scalars.
 #![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
 
-use deform_kernel::{Quat, QuatAverage, Real};
+use deform_kernel::{Quat, QuatAverage, Real, Result as KernelResult};
 
 use crate::args::{done, optional, read_array, write_array};
 use crate::slice::{chunks, chunks_mut, out_one, output_n, In, Out};
@@ -12,10 +12,6 @@ use crate::status::dk_status;
 
 fn read4<T: Real>(p: In<'_, T>) -> Result<Quat<T>, dk_status> {
     read_array::<T, 4>(p).map(Quat::from_array)
-}
-
-fn read3<T: Real>(p: In<'_, T>) -> Result<[T; 3], dk_status> {
-    read_array::<T, 3>(p)
 }
 
 fn finite_quat<T: Real>(q: Quat<T>) -> Result<Quat<T>, dk_status> {
@@ -33,23 +29,18 @@ fn mul<T: Real>(a: In<'_, T>, b: In<'_, T>, out: Out<'_, T>) -> dk_status {
     })())
 }
 
-fn normalize<T: Real>(q: In<'_, T>, out: Out<'_, T>) -> dk_status {
-    done((|| {
-        let n = read4(q)?.normalize()?;
-        write_array(out, n.to_array())
-    })())
-}
-
-fn inverse<T: Real>(q: In<'_, T>, out: Out<'_, T>) -> dk_status {
-    done((|| {
-        let n = read4(q)?.inverse()?;
-        write_array(out, n.to_array())
-    })())
+/// `f(q)` into `out` (`f` is `Quat::normalize` or `Quat::inverse`).
+fn map<T: Real>(
+    q: In<'_, T>,
+    out: Out<'_, T>,
+    f: fn(Quat<T>) -> KernelResult<Quat<T>>,
+) -> dk_status {
+    done((|| write_array(out, f(read4(q)?)?.to_array()))())
 }
 
 fn from_axis_angle<T: Real>(axis: In<'_, T>, angle: T, out: Out<'_, T>) -> dk_status {
     done((|| {
-        let q = Quat::from_axis_angle(read3(axis)?, angle)?;
+        let q = Quat::from_axis_angle(read_array(axis)?, angle)?;
         write_array(out, q.to_array())
     })())
 }
@@ -71,23 +62,34 @@ fn to_axis_angle<T: Real>(q: In<'_, T>, axis_out: Out<'_, T>, angle_out: Out<'_,
 
 fn rotation_arc<T: Real>(from: In<'_, T>, to: In<'_, T>, out: Out<'_, T>) -> dk_status {
     done((|| {
-        let q = Quat::rotation_arc(read3(from)?, read3(to)?)?;
+        let q = Quat::rotation_arc(read_array(from)?, read_array(to)?)?;
         write_array(out, q.to_array())
     })())
 }
 
-fn rotate_points<T: Real>(q: In<'_, T>, points: In<'_, T>, out: Out<'_, T>) -> dk_status {
+/// Rotates `D`-vectors (2D points taken at z = 0, so `q` must turn about z: its x and y
+/// components zero, else `DK_ERR_INVALID_PARAMETER`, as a tilted `q` would leave the plane).
+fn rotate_points<T: Real, const D: usize>(
+    q: In<'_, T>,
+    points: In<'_, T>,
+    out: Out<'_, T>,
+) -> dk_status {
     done((|| {
         let q = read4(q)?.normalize()?;
-        let p = chunks::<T, 3>(points)?;
+        if D == 2 && (q.x != T::ZERO || q.y != T::ZERO) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        let p = chunks::<T, D>(points)?;
         if out.len() != points.len() {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
         if p.iter().flatten().any(|x| !x.is_finite()) {
             return Err(dk_status::DK_ERR_NON_FINITE);
         }
-        for (src, dst) in p.iter().zip(chunks_mut::<T, 3>(out)?) {
-            *dst = q.rotate(*src);
+        let pick = |v: &[T], i: usize| v.get(i).copied().unwrap_or(T::ZERO);
+        for (src, dst) in p.iter().zip(chunks_mut::<T, D>(out)?) {
+            let r = q.rotate(core::array::from_fn(|i| pick(src, i)));
+            *dst = core::array::from_fn(|i| pick(&r, i));
         }
         Ok(())
     })())

@@ -33,6 +33,7 @@ int main(void) {
     const double sentinel = 12345.0;
     double out[4] = {sentinel, sentinel, sentinel, sentinel};
     double q[4] = {1.0, 0.0, 0.0, 0.0}, zero[4] = {0.0, 0.0, 0.0, 0.0};
+    double tilted[4] = {0.9, 0.1, 0.0, 0.3};
     double nanq[4] = {NAN, 0.0, 0.0, 0.0}, axis0[3] = {0.0, 0.0, 0.0};
     double pts[6] = {1, 2, 3, 4, 5, 6}, pout[6];
     const uint32_t edges[4] = {0, 1, 1, 5};
@@ -62,8 +63,11 @@ int main(void) {
     EXPECT(dk_quat_rotate_points(q, pts, 5, pout, 5), DK_ERR_LENGTH_MISMATCH);
     EXPECT(dk_quat_rotate_points(q, pts, 6, pout, 3), DK_ERR_LENGTH_MISMATCH);
     EXPECT(dk_quat_rotate_points(q, NULL, 6, pout, 6), DK_ERR_NULL_POINTER);
+    EXPECT(dk_quat_rotate_points_2d(q, pts, 5, pout, 5), DK_ERR_LENGTH_MISMATCH);
+    EXPECT(dk_quat_rotate_points_2d(tilted, pts, 6, pout, 6), DK_ERR_INVALID_PARAMETER);
     pts[4] = INFINITY;
     EXPECT(dk_quat_rotate_points(q, pts, 6, pout, 6), DK_ERR_NON_FINITE);
+    EXPECT(dk_quat_rotate_points_2d(q, pts, 6, pout, 6), DK_ERR_NON_FINITE);
     UNTOUCHED(pout, 6);
 
     EXPECT(dk_graph_from_edges(3, edges, 4, 0, NULL, 0, offsets, 4, targets, 4, &used),

@@ -24,7 +24,9 @@ use deform_kernel_ffi::plan::{
     self as pl, dk_plan_info, dk_plan_options, dk_plan_sizes, dk_plan_step_report,
 };
 use deform_kernel_ffi::quality::{self as qu, dk_cell_quality, dk_quality_report};
-use deform_kernel_ffi::quat::{dk_quat_average, dk_quat_mul, dk_quat_rotate_points};
+use deform_kernel_ffi::quat::{
+    dk_quat_average, dk_quat_mul, dk_quat_rotate_points, dk_quat_rotate_points_2d,
+};
 use deform_kernel_ffi::spring::{
     self as sp, dk_spring_angle_options, dk_spring_solve_options, dk_spring_solve_report,
     dk_spring_sweep,
@@ -3046,5 +3048,35 @@ fn legacy(inp: &Input) {
     };
     if s != dk_status::DK_OK {
         assert!(rotated.iter().all(|x| x.to_bits() == (-0.0f64).to_bits()));
+    }
+    // The plane variant: the bits of the 3D rotation of (x, y, 0), or nothing written. With
+    // `nulls & 32` the quaternion is made a rotation about z, so both outcomes are reached.
+    let mut qz = [q4[0], q4[1], q4[2], q4[3]];
+    if inp.nulls & 32 != 0 {
+        qz[1] = 0.0;
+        qz[2] = 0.0;
+    }
+    let mut plane = vec![-0.0f64; inp.points.len()];
+    // SAFETY: both buffers have `points.len()` elements.
+    let s = unsafe {
+        dk_quat_rotate_points_2d(
+            qz.as_ptr(),
+            inp.points.as_ptr(),
+            inp.points.len(),
+            plane.as_mut_ptr(),
+            plane.len(),
+        )
+    };
+    if s == dk_status::DK_OK {
+        let q = Quat::from_array(qz).normalize().unwrap();
+        for (p, o) in inp.points.chunks_exact(2).zip(plane.chunks_exact(2)) {
+            let r = q.rotate([p[0], p[1], 0.0]);
+            assert_eq!(
+                [o[0].to_bits(), o[1].to_bits()],
+                [r[0].to_bits(), r[1].to_bits()]
+            );
+        }
+    } else {
+        assert!(plane.iter().all(|x| x.to_bits() == (-0.0f64).to_bits()));
     }
 }

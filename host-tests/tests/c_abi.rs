@@ -41,6 +41,11 @@ fn expected_mesh_basics() -> String {
         .flat_map(|p| q32.rotate([p[0] as f32, p[1] as f32, 0.0]))
         .collect();
     out += &hex32("rotated_f32", &rotated32);
+    let plane32: Vec<f32> = points
+        .iter()
+        .flat_map(|p| q32.rotate_2d([p[0] as f32, p[1] as f32]))
+        .collect();
+    out += &hex32("rotated_2d_f32", &plane32);
     let arc = Quat::rotation_arc([1.0, 0.0, 0.0], [0.0, 1.0, 0.5]).unwrap();
     out += &hex64("arc", &arc.to_array());
     let mid = Quat::slerp(q, arc, 0.25).unwrap();

@@ -41,7 +41,7 @@ pub unsafe extern "C" fn dk_quat_normalize(q: *const f64, out: *mut f64) -> dk_s
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (q, out) = unsafe { (In::new(q, 4), Out::new(out, 4)) };
-    normalize(q, out)
+    map(q, out, Quat::normalize)
 }
 
 /// `f32` twin of [`dk_quat_normalize`].
@@ -53,7 +53,7 @@ pub unsafe extern "C" fn dk_quat_normalize_f32(q: *const f32, out: *mut f32) -> 
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (q, out) = unsafe { (In::new(q, 4), Out::new(out, 4)) };
-    normalize(q, out)
+    map(q, out, Quat::normalize)
 }
 
 /// `out = q⁻¹ = q* / |q|²`.
@@ -65,7 +65,7 @@ pub unsafe extern "C" fn dk_quat_inverse(q: *const f64, out: *mut f64) -> dk_sta
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (q, out) = unsafe { (In::new(q, 4), Out::new(out, 4)) };
-    inverse(q, out)
+    map(q, out, Quat::inverse)
 }
 
 /// `f32` twin of [`dk_quat_inverse`].
@@ -77,7 +77,7 @@ pub unsafe extern "C" fn dk_quat_inverse_f32(q: *const f32, out: *mut f32) -> dk
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (q, out) = unsafe { (In::new(q, 4), Out::new(out, 4)) };
-    inverse(q, out)
+    map(q, out, Quat::inverse)
 }
 
 /// Rotation by `angle` radians about `axis` (3 scalars, normalised here).
@@ -201,7 +201,7 @@ pub unsafe extern "C" fn dk_quat_rotate_points(
             Out::new(out, out_len),
         )
     };
-    rotate_points(q, points, out)
+    rotate_points::<f64, 3>(q, points, out)
 }
 
 /// `f32` twin of [`dk_quat_rotate_points`].
@@ -225,7 +225,59 @@ pub unsafe extern "C" fn dk_quat_rotate_points_f32(
             Out::new(out, out_len),
         )
     };
-    rotate_points(q, points, out)
+    rotate_points::<f32, 3>(q, points, out)
+}
+
+/// Rotates `points_len / 2` points `(x, y)` of the plane z = 0 by `q` (normalised here) into
+/// `out`: the bits of [`dk_quat_rotate_points`] on `(x, y, 0)`, without padding. `q` must be
+/// a rotation about z (x and y components zero, as in every product of rotations about z);
+/// any other `q` is `DK_ERR_INVALID_PARAMETER`, since it would move points out of the plane.
+/// `out_len` must equal `points_len`, a multiple of 2.
+///
+/// # Safety
+/// As [`dk_quat_rotate_points`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_quat_rotate_points_2d(
+    q: *const f64,
+    points: *const f64,
+    points_len: usize,
+    out: *mut f64,
+    out_len: usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (q, points, out) = unsafe {
+        (
+            In::new(q, 4),
+            In::new(points, points_len),
+            Out::new(out, out_len),
+        )
+    };
+    rotate_points::<f64, 2>(q, points, out)
+}
+
+/// `f32` twin of [`dk_quat_rotate_points_2d`].
+///
+/// # Safety
+/// As [`dk_quat_rotate_points_2d`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_quat_rotate_points_2d_f32(
+    q: *const f32,
+    points: *const f32,
+    points_len: usize,
+    out: *mut f32,
+    out_len: usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (q, points, out) = unsafe {
+        (
+            In::new(q, 4),
+            In::new(points, points_len),
+            Out::new(out, out_len),
+        )
+    };
+    rotate_points::<f32, 2>(q, points, out)
 }
 
 /// Spherical linear interpolation on the shorter arc (`t` = 0 gives `a`, 1 gives `b`).

@@ -41,10 +41,11 @@ const SENTINEL: f64 = 7.25;
 /// One family's test for f64 (`$t = f64`, `$m` = the f64 ABI functions) or f32.
 macro_rules! abi_cases {
     ($t:ty, [$quat:ident, $quality:ident, $taubin:ident, $spring:ident, $deform:ident],
-     [$quat_fn:path, $quality_fn:path, $taubin_fn:path, $spring_fn:path, $deform_fn:path],
+     [$quat_fn:path, $quat2_fn:path, $quality_fn:path, $taubin_fn:path, $spring_fn:path, $deform_fn:path],
      $motion_default:path, $motion_ty:ty, $options_default:path) => {
         /// `dk_quat_rotate_points`: `q` normalised, then `Quat::rotate` of every point; an
-        /// `out` of the wrong length is `DK_ERR_LENGTH_MISMATCH`, `out` untouched.
+        /// `out` of the wrong length is `DK_ERR_LENGTH_MISMATCH`, `out` untouched. Then
+        /// `dk_quat_rotate_points_2d`.
         fn $quat() {
             let q: [$t; 4] = [0.9, 0.1, -0.3, 0.2];
             let points: [[$t; 3]; 4] = [
@@ -74,6 +75,37 @@ macro_rules! abi_cases {
             let s = unsafe { $quat_fn(q.as_ptr(), p.as_ptr(), p.len(), o.as_mut_ptr(), o.len()) };
             defmt::assert!(s == dk_status::DK_OK);
             defmt::assert!(same(flat(&out), flat(&expect)));
+
+            // `dk_quat_rotate_points_2d`: the 3D bits on (x, y, 0) for a rotation about z; a
+            // tilted `q` is `DK_ERR_INVALID_PARAMETER`, `out` untouched.
+            let about_z: [$t; 4] = [0.9, 0.0, 0.0, -0.4];
+            let rz = Quat::from_array(about_z).normalize().unwrap();
+            let plane: [[$t; 2]; 3] = [[1.0, 0.0], [0.25, -2.0], [-1e3, 2e-3]];
+            let expect2: [[$t; 2]; 3] = core::array::from_fn(|i| {
+                let r = rz.rotate([plane[i][0], plane[i][1], 0.0]);
+                [r[0], r[1]]
+            });
+            let mut out2 = [[SENTINEL as $t; 2]; 3];
+            let p2 = flat(&plane);
+            let o2 = flat_mut(&mut out2);
+            // SAFETY: `q` holds 4 scalars; every array is valid for the length passed.
+            let s =
+                unsafe { $quat2_fn(q.as_ptr(), p2.as_ptr(), p2.len(), o2.as_mut_ptr(), o2.len()) };
+            defmt::assert!(s == dk_status::DK_ERR_INVALID_PARAMETER);
+            defmt::assert!(flat(&out2).iter().all(|&x| x == SENTINEL as $t));
+            let o2 = flat_mut(&mut out2);
+            // SAFETY: as above.
+            let s = unsafe {
+                $quat2_fn(
+                    about_z.as_ptr(),
+                    p2.as_ptr(),
+                    p2.len(),
+                    o2.as_mut_ptr(),
+                    o2.len(),
+                )
+            };
+            defmt::assert!(s == dk_status::DK_OK);
+            defmt::assert!(same(flat(&out2), flat(&expect2)));
         }
 
         /// `dk_quality_cell_measures` with 1-based cells: the kernel's signed areas; a
@@ -357,6 +389,7 @@ abi_cases!(
     [quat_f64, quality_f64, taubin_f64, spring_f64, deform_f64],
     [
         deform_kernel_ffi::quat::dk_quat_rotate_points,
+        deform_kernel_ffi::quat::dk_quat_rotate_points_2d,
         deform_kernel_ffi::quality::dk_quality_cell_measures,
         deform_kernel_ffi::taubin::dk_taubin_smooth_graph,
         deform_kernel_ffi::spring::dk_spring_solve_linear,
@@ -371,6 +404,7 @@ abi_cases!(
     [quat_f32, quality_f32, taubin_f32, spring_f32, deform_f32],
     [
         deform_kernel_ffi::quat::dk_quat_rotate_points_f32,
+        deform_kernel_ffi::quat::dk_quat_rotate_points_2d_f32,
         deform_kernel_ffi::quality::dk_quality_cell_measures_f32,
         deform_kernel_ffi::taubin::dk_taubin_smooth_graph_f32,
         deform_kernel_ffi::spring::dk_spring_solve_linear_f32,
