@@ -4,7 +4,10 @@ use crate::ctx::Ctx;
 use crate::install::FUZZ_TOOLCHAIN;
 use crate::process::{capture, run, show};
 use std::fmt::Write as _;
+use std::path::Path;
 use std::process::{Command, ExitCode};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
 
 /// Seconds each fuzz target runs in `cargo xtask ci` (the smoke run).
 pub(crate) const FUZZ_SMOKE_SECONDS: u64 = 15;
@@ -67,40 +70,37 @@ pub(crate) fn fuzz(ctx: &Ctx, seconds: u64, only: Option<&str>) -> bool {
         println!("xtask: no fuzz target matches");
         return false;
     }
+    // Each fuzzer is single-threaded: run one per core, results printed in target order.
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<(bool, String)>>> = Mutex::new(vec![None; targets.len()]);
+    std::thread::scope(|scope| {
+        for _ in 0..workers.min(targets.len()) {
+            scope.spawn(|| loop {
+                let k = next.fetch_add(1, Ordering::Relaxed);
+                let Some(t) = targets.get(k) else { break };
+                let r = run_target(&dir, &fuzz_cmd, t, seconds);
+                let mut all = results.lock().unwrap_or_else(|e| e.into_inner());
+                if let Some(slot) = all.get_mut(k) {
+                    *slot = Some(r);
+                }
+            });
+        }
+    });
     let mut all_ok = true;
     let mut summary = String::new();
-    for t in &targets {
-        let corpus = dir.join("corpus").join(t);
-        let seeds = dir.join("seeds").join(t);
-        let _ = std::fs::create_dir_all(&corpus);
-        let mut args: Vec<String> = vec![
-            "run".into(),
-            "-O".into(),
-            (*t).into(),
-            corpus.display().to_string(),
-        ];
-        if seeds.is_dir() {
-            args.push(seeds.display().to_string());
+    for (t, r) in targets
+        .iter()
+        .zip(results.into_inner().unwrap_or_else(|e| e.into_inner()))
+    {
+        let (ok, text) = r.unwrap_or((false, format!("fuzz {t}: did not run\n")));
+        if !ok {
+            print!("{text}");
         }
-        args.push("--".into());
-        args.push(format!("-max_total_time={seconds}"));
-        args.push("-print_final_stats=1".into());
-        let dict = dir.join("dicts").join(format!("{t}.dict"));
-        if dict.is_file() {
-            args.push(format!("-dict={}", dict.display()));
-        }
-        let argv: Vec<&str> = args.iter().map(String::as_str).collect();
-        let mut cmd = fuzz_cmd(&argv);
-        println!("$ {}", show(&cmd));
-        let (ok, stdout, stderr) = capture(&mut cmd);
-        let text = format!("{stdout}{stderr}");
         let execs = text
             .lines()
             .find_map(|l| l.strip_prefix("stat::number_of_executed_units:"))
             .map_or("?".to_string(), |v| v.trim().to_string());
-        if !ok {
-            print!("{text}");
-        }
         let _ = writeln!(
             summary,
             "fuzz {t}: {} after {execs} executions in {seconds} s",
@@ -114,4 +114,39 @@ pub(crate) fn fuzz(ctx: &Ctx, seconds: u64, only: Option<&str>) -> bool {
     }
     print!("{summary}");
     all_ok
+}
+
+/// Runs one fuzz target for `seconds` from its corpus, seeds and dictionary: `(no crash,
+/// the command line and its output)`.
+fn run_target(
+    dir: &Path,
+    fuzz_cmd: &dyn Fn(&[&str]) -> Command,
+    t: &str,
+    seconds: u64,
+) -> (bool, String) {
+    let corpus = dir.join("corpus").join(t);
+    let seeds = dir.join("seeds").join(t);
+    let _ = std::fs::create_dir_all(&corpus);
+    let mut args: Vec<String> = vec![
+        "run".into(),
+        "-O".into(),
+        t.into(),
+        corpus.display().to_string(),
+    ];
+    if seeds.is_dir() {
+        args.push(seeds.display().to_string());
+    }
+    args.push("--".into());
+    args.push(format!("-max_total_time={seconds}"));
+    args.push("-print_final_stats=1".into());
+    let dict = dir.join("dicts").join(format!("{t}.dict"));
+    if dict.is_file() {
+        args.push(format!("-dict={}", dict.display()));
+    }
+    let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+    let mut cmd = fuzz_cmd(&argv);
+    let line = show(&cmd);
+    println!("$ {line}");
+    let (ok, stdout, stderr) = capture(&mut cmd);
+    (ok, format!("$ {line}\n{stdout}{stderr}"))
 }
