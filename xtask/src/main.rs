@@ -7,7 +7,7 @@
 //! cargo xtask ci --list               list the step names
 //! cargo xtask install                 only install what is missing
 //! cargo xtask bench [--quick]        kernel vs peers on the same inputs (docs/performance.md)
-//! cargo xtask codegen [--check]       the C ABI's extern fns and Fortran interfaces from ffi/abi
+//! cargo xtask codegen [--check]       C ABI extern fns, Fortran interfaces and types (ffi/abi, header)
 //! cargo xtask panic-locate [ARGS]     show which functions still reach the panic handler
 //! cargo xtask help                    this text
 //! ```
@@ -22,12 +22,13 @@
 //!   it to the lists at the top of `install.rs`;
 //! - a kernel feature: nothing to do, the feature list is read from `kernel/Cargo.toml` (every
 //!   feature alone is clippy-checked and cross-built, and every feature not listed in
-//!   `EMBEDDED_ONLY_FEATURES` is switched on for the second host test run);
+//!   `EMBEDDED_ONLY_FEATURES` is switched on for the kernel's tests in `test-all-features`; a
+//!   host test that needs a feature gets `required-features` and a place in `FEATURE_TESTS`);
 //! - a kernel entry point: call it from `target-tests/panic-check/src/<module>.rs`;
 //! - a step: add it to `ci::steps`.
 //!
-//! One file a concern: `ci` (steps and runner), `codegen` (C ABI from its table), `install`,
-//! `panic` (panic-freedom proof),
+//! One file a concern: `ci` (steps and runner), `codegen` (C ABI from its table), `header`
+//! (Fortran declarations from the C header), `install`, `panic` (panic-freedom proof),
 //! `embedded` (cross builds, QEMU, footprint), `fuzz`, `process` (running commands), `ctx`.
 //!
 //! Only std is used, so the tool builds in a second.
@@ -109,8 +110,8 @@ pub(crate) fn help() -> String {
          \x20                 failure. This is the project's single test command (.ci/run runs it).\n\
          \x20   install       Only the install part.\n\
          \x20   fuzz          Build the cargo-fuzz targets (fuzz/, nightly) and run each for N\n\
-         \x20                 seconds (default 600) from fuzz/seeds/<target>, growing the corpus\n\
-         \x20                 in fuzz/corpus/<target>; prints executions and findings per target.\n\
+         \x20                 seconds (default 600), one per core, from fuzz/seeds/<target>, growing\n\
+         \x20                 the corpus in fuzz/corpus/<target>; prints executions and findings.\n\
          \x20   bench         The kernel against numpy/scipy, scipy.ndimage, trimesh, pyamg and\n\
          \x20                 nalgebra on the same generated inputs (bench/, bench/peers/), and\n\
          \x20                 `deform move` on the 234k NACA 2412 mesh; ratios and load to stdout\n\
