@@ -252,3 +252,81 @@ fn every_exported_function_is_called_from_c() {
         "not called from any C program: {missing:?}"
     );
 }
+
+/// The structs of the C header: `(name, field names)`, in header order.
+fn header_structs() -> Vec<(String, Vec<String>)> {
+    let header = std::fs::read_to_string(workspace().join("ffi/include/deform_kernel.h")).unwrap();
+    let mut structs = Vec::new();
+    let mut fields: Option<Vec<String>> = None;
+    for line in header.lines().map(str::trim) {
+        if line == "typedef struct {" {
+            fields = Some(Vec::new());
+        } else if let Some(f) = fields.as_mut().filter(|_| !line.starts_with("//")) {
+            if let Some(name) = line.strip_prefix("} ") {
+                let name = name.trim_end_matches(';').to_string();
+                structs.push((name, fields.take().unwrap()));
+            } else if let Some(decl) = line.strip_suffix(';') {
+                let field = decl.rsplit([' ', '*']).next().unwrap();
+                f.push(field.split('[').next().unwrap().to_string());
+            }
+        }
+    }
+    structs
+}
+
+/// The Fortran `bind(C)` types (generated from the header by `cargo xtask codegen`) have the
+/// C structs' layout as gfortran and gcc see it: every size and field offset, printed by a C
+/// program (`sizeof`, `offsetof`) and a Fortran one (`c_sizeof`, `c_loc` differences).
+#[test]
+fn fortran_types_have_the_c_layouts() {
+    let structs = header_structs();
+    assert!(
+        structs.len() >= 20,
+        "{} structs in the header",
+        structs.len()
+    );
+    let mut c = String::from(
+        "#include <stddef.h>\n#include <stdio.h>\n#include \"deform_kernel.h\"\nint main(void) {\n",
+    );
+    let mut f = String::from(
+        "program layouts\n  use, intrinsic :: iso_c_binding\n  use deform_kernel\n  implicit none\n",
+    );
+    let mut body = String::new();
+    for (k, (name, fields)) in structs.iter().enumerate() {
+        c += &format!("    printf(\"{name} %zu\\n\", sizeof({name}));\n");
+        f += &format!("  type({name}), target :: v{k}\n");
+        body += &format!("  print '(a,1x,i0)', '{name}', c_sizeof(v{k})\n");
+        for field in fields {
+            c += &format!("    printf(\"{name}.{field} %zu\\n\", offsetof({name}, {field}));\n");
+            body += &format!(
+                "  print '(a,1x,i0)', '{name}.{field}', at(c_loc(v{k}%{field})) - at(c_loc(v{k}))\n"
+            );
+        }
+    }
+    c += "    return 0;\n}\n";
+    f += &body;
+    f += "contains\n  integer(c_intptr_t) function at(p)\n    type(c_ptr), intent(in) :: p\n";
+    f += "    at = transfer(p, 0_c_intptr_t)\n  end function\nend program\n";
+    let (c_src, f_src) = (tmp("layouts.c"), tmp("layouts.f90"));
+    std::fs::write(&c_src, c).unwrap();
+    std::fs::write(&f_src, f).unwrap();
+    let flags = c_flags();
+    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
+    let c_exe = tmp("layouts_c");
+    compile("gcc", &[c_src], &flags, Link::Static, &c_exe);
+    let moddir = tmp("layouts_f_mod");
+    std::fs::create_dir_all(&moddir).unwrap();
+    let jflag = format!("-J{}", moddir.display());
+    let f_exe = tmp("layouts_f");
+    let module = workspace().join("ffi/fortran/deform_kernel.f90");
+    compile(
+        "gfortran",
+        &[module, f_src],
+        &["-std=f2008", &jflag],
+        Link::Static,
+        &f_exe,
+    );
+    let (from_c, from_f) = (run(&c_exe), run(&f_exe));
+    assert!(from_c.lines().count() > 100, "{from_c}");
+    assert_eq!(from_f, from_c);
+}
