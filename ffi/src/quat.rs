@@ -68,12 +68,14 @@ fn rotation_arc<T: Real>(from: In<'_, T>, to: In<'_, T>, out: Out<'_, T>) -> dk_
     })())
 }
 
-/// Rotates `D`-vectors (2D points taken at z = 0, so `q` must turn about z: its x and y
-/// components zero, else `DK_ERR_INVALID_PARAMETER`, as a tilted `q` would leave the plane).
+/// Rotates `D`-vectors with the kernel's `rotate` (`Quat::rotate`, or `Quat::rotate_2d` for
+/// points at z = 0: then `q` must turn about z, its x and y components zero, else
+/// `DK_ERR_INVALID_PARAMETER`, as a tilted `q` would leave the plane).
 fn rotate_points<T: Real, const D: usize>(
     q: In<'_, T>,
     points: In<'_, T>,
     out: Out<'_, T>,
+    rotate: impl Fn(Quat<T>, [T; D]) -> [T; D],
 ) -> dk_status {
     done((|| {
         let q = read4(q)?.normalize()?;
@@ -87,10 +89,8 @@ fn rotate_points<T: Real, const D: usize>(
         if p.iter().flatten().any(|x| !x.is_finite()) {
             return Err(dk_status::DK_ERR_NON_FINITE);
         }
-        let pick = |v: &[T], i: usize| v.get(i).copied().unwrap_or(T::ZERO);
         for (src, dst) in p.iter().zip(chunks_mut::<T, D>(out)?) {
-            let r = q.rotate(core::array::from_fn(|i| pick(src, i)));
-            *dst = core::array::from_fn(|i| pick(&r, i));
+            *dst = rotate(q, *src);
         }
         Ok(())
     })())

@@ -201,7 +201,7 @@ pub unsafe extern "C" fn dk_quat_rotate_points(
             Out::new(out, out_len),
         )
     };
-    rotate_points::<f64, 3>(q, points, out)
+    rotate_points(q, points, out, Quat::rotate)
 }
 
 /// `f32` twin of [`dk_quat_rotate_points`].
@@ -225,7 +225,7 @@ pub unsafe extern "C" fn dk_quat_rotate_points_f32(
             Out::new(out, out_len),
         )
     };
-    rotate_points::<f32, 3>(q, points, out)
+    rotate_points(q, points, out, Quat::rotate)
 }
 
 /// Rotates `points_len / 2` points `(x, y)` of the plane z = 0 by `q` (normalised here) into
@@ -253,7 +253,7 @@ pub unsafe extern "C" fn dk_quat_rotate_points_2d(
             Out::new(out, out_len),
         )
     };
-    rotate_points::<f64, 2>(q, points, out)
+    rotate_points(q, points, out, Quat::rotate_2d)
 }
 
 /// `f32` twin of [`dk_quat_rotate_points_2d`].
@@ -277,7 +277,7 @@ pub unsafe extern "C" fn dk_quat_rotate_points_2d_f32(
             Out::new(out, out_len),
         )
     };
-    rotate_points::<f32, 2>(q, points, out)
+    rotate_points(q, points, out, Quat::rotate_2d)
 }
 
 /// Spherical linear interpolation on the shorter arc (`t` = 0 gives `a`, 1 gives `b`).
