@@ -15,9 +15,6 @@ use std::time::Instant;
 /// Kernel features that only make sense on embedded targets: left out of the host test run.
 pub(crate) const EMBEDDED_ONLY_FEATURES: &[&str] = &["defmt"];
 
-/// Host tests with `required-features` (a kernel feature): run by `test-all-features`.
-pub(crate) const FEATURE_TESTS: &[&str] = &["micromath"];
-
 /// The C library crate (`libdeform_kernel`): its own workspace, so built by manifest path.
 pub(crate) const CAPI_MANIFEST: &str = "ffi/capi/Cargo.toml";
 
@@ -139,7 +136,7 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
                 let features = features.join(",");
                 let kernel = ["test", "-p", "deform-kernel", "--features", &features];
                 let mut ok = run(&mut ctx.cargo(&kernel));
-                for test in FEATURE_TESTS {
+                for test in &ctx.feature_tests {
                     let args = ["test", "-p", "deform-host-tests", "--features", &features];
                     ok &= run(ctx.cargo(&args).args(["--test", test]));
                 }

@@ -14,6 +14,9 @@ pub(crate) struct Ctx {
     pub(crate) cargo: String,
     /// Kernel features (from `kernel/Cargo.toml`, without `default`).
     pub(crate) kernel_features: Vec<String>,
+    /// Host tests that need a feature (`[[test]]` entries with `required-features` in
+    /// `host-tests/Cargo.toml`): the normal test run skips them.
+    pub(crate) feature_tests: Vec<String>,
 }
 
 impl Ctx {
@@ -22,11 +25,13 @@ impl Ctx {
             .parent()
             .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
         let kernel_features = kernel_features(&root.join("kernel").join("Cargo.toml"));
+        let feature_tests = feature_tests(&root.join("host-tests").join("Cargo.toml"));
         Ctx {
             target_tests: root.join("target-tests"),
             root,
             cargo: env::var("CARGO").unwrap_or_else(|_| "cargo".into()),
             kernel_features,
+            feature_tests,
         }
     }
 
@@ -64,6 +69,28 @@ pub(crate) fn kernel_features(manifest: &Path) -> Vec<String> {
             let name = name.trim().trim_matches('"');
             if !name.is_empty() && name != "default" {
                 out.push(name.to_string());
+            }
+        }
+    }
+    out
+}
+
+/// Names of the `[[test]]` entries of a Cargo.toml that have `required-features`. The same
+/// line-based reading as [`kernel_features`].
+pub(crate) fn feature_tests(manifest: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(manifest).unwrap_or_default();
+    let mut out = Vec::new();
+    let mut in_test = false;
+    let mut name = None;
+    for line in text.lines().map(str::trim) {
+        if line.starts_with('[') {
+            in_test = line == "[[test]]";
+            name = None;
+        } else if let Some((key, value)) = line.split_once('=').filter(|_| in_test) {
+            match key.trim() {
+                "name" => name = Some(value.trim().trim_matches('"').to_string()),
+                "required-features" => out.extend(name.clone()),
+                _ => {}
             }
         }
     }

@@ -23,7 +23,7 @@
 //! - a kernel feature: nothing to do, the feature list is read from `kernel/Cargo.toml` (every
 //!   feature alone is clippy-checked and cross-built, and every feature not listed in
 //!   `EMBEDDED_ONLY_FEATURES` is switched on for the kernel's tests in `test-all-features`; a
-//!   host test that needs a feature gets `required-features` and a place in `FEATURE_TESTS`);
+//!   host test that needs a feature gets `required-features`, and `test-all-features` runs it);
 //! - a kernel entry point: call it from `target-tests/panic-check/src/<module>.rs`;
 //! - a step: add it to `ci::steps`.
 //!
