@@ -94,6 +94,13 @@ int main(void) {
     static uint32_t cell_offsets[NC + 1], cell_nodes[4 * NC], offsets[N + 1], targets[EDGES];
     static uint32_t index_scratch[N + 5 * NB];
     static uint8_t cell_kinds[NC], fixed[N];
+    /* The cells, as the graph builder takes them (filled below; the struct only borrows). */
+    const dk_cells cells = {.offsets = cell_offsets,
+                            .offsets_len = NC + 1,
+                            .nodes = cell_nodes,
+                            .nodes_len = 4 * NC,
+                            .kinds = cell_kinds,
+                            .kinds_len = NC};
     size_t targets_len, values_len;
     dk_spring_solve_options options;
     dk_spring_solve_report spring_report;
@@ -137,15 +144,29 @@ int main(void) {
         cell_kinds[k] = 9; /* VTK quad */
     }
     cell_offsets[NC] = 4 * NC;
-    CHECK(dk_graph_from_cells_len(N, cell_offsets, NC + 1, cell_nodes, 4 * NC, cell_kinds, NC, 0,
-                                  NULL, 0, false, &len));
+    CHECK(dk_graph_from_cells_len(N, &cells, 0, NULL, 0, false, &len));
     if (len > EDGES) return EXIT_FAILURE;
-    CHECK(dk_graph_from_cells(N, cell_offsets, NC + 1, cell_nodes, 4 * NC, cell_kinds, NC, 0, NULL,
-                              0, false, offsets, N + 1, targets, len, &targets_len));
-    CHECK(dk_spring_batina_stiffness(offsets, N + 1, targets, targets_len, points, 2 * N, 2, 1.0,
-                                     stiffness, targets_len));
-    CHECK(dk_spring_batina_stiffness_f32(offsets, N + 1, targets, targets_len, points32, 2 * N,
-                                         2, 1.0f, stiffness32, targets_len));
+    CHECK(dk_graph_from_cells(N, &cells, 0, NULL, 0, false, offsets, N + 1, targets, len,
+                              &targets_len));
+    /* The graph, and the spring system of each precision built on it: declared once, passed to
+     * every call that needs them. */
+    const dk_graph graph = {.offsets = offsets,
+                            .offsets_len = N + 1,
+                            .targets = targets,
+                            .targets_len = targets_len};
+    const dk_spring_system system = {.graph = graph,
+                                     .stiffness = stiffness,
+                                     .stiffness_len = targets_len,
+                                     .fixed = fixed,
+                                     .fixed_len = N};
+    const dk_spring_system_f32 system32 = {.graph = graph,
+                                           .stiffness = stiffness32,
+                                           .stiffness_len = targets_len,
+                                           .fixed = fixed,
+                                           .fixed_len = N};
+    CHECK(dk_spring_batina_stiffness(&graph, points, 2 * N, 2, 1.0, stiffness, targets_len));
+    CHECK(dk_spring_batina_stiffness_f32(&graph, points32, 2 * N, 2, 1.0f, stiffness32,
+                                         targets_len));
     for (k = 0; k < N; k++) fixed[k] = 0;
     for (k = 0; k < NB; k++) fixed[nodes[k]] = 1;
 
@@ -207,8 +228,7 @@ int main(void) {
     CHECK(dk_spring_solve_options_default(&options));
     CHECK(dk_deform_spring_scratch_len(N, NB, 2, &options, &len, &values_len));
     if (len > SCRATCH || values_len > SCRATCH) return EXIT_FAILURE;
-    CHECK(dk_deform_spring(points, 2 * N, 2, &motion, offsets, N + 1, targets, targets_len,
-                           stiffness, targets_len, fixed, N, &options, scratch, len, values,
+    CHECK(dk_deform_spring(points, 2 * N, 2, &motion, &system, &options, scratch, len, values,
                            values_len, index_scratch, N, translations, 2 * N, rotations, 4 * N,
                            out, 2 * N, origin, 2, &spring_report));
     print_f64("spring_origin", origin, 2);
@@ -264,11 +284,9 @@ int main(void) {
     motion32.has_origin = 0;
     CHECK(dk_spring_solve_options_default_f32(&options));
     CHECK(dk_deform_spring_scratch_len(N, NB, 2, &options, &len, &values_len));
-    CHECK(dk_deform_spring_f32(points32, 2 * N, 2, &motion32, offsets, N + 1, targets,
-                               targets_len, stiffness32, targets_len, fixed, N, &options,
-                               scratch32, len, values32, values_len, index_scratch, N,
-                               translations32, 2 * N, rotations32, 4 * N, out32, 2 * N, NULL, 0,
-                               &spring_report));
+    CHECK(dk_deform_spring_f32(points32, 2 * N, 2, &motion32, &system32, &options, scratch32,
+                               len, values32, values_len, index_scratch, N, translations32, 2 * N,
+                               rotations32, 4 * N, out32, 2 * N, NULL, 0, &spring_report));
     print_f32("spring_f32", out32, 2 * N);
     return EXIT_SUCCESS;
 }

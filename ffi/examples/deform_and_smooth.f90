@@ -22,10 +22,14 @@ program deform_and_smooth
   real(c_float) :: deformed32(2, NB), node_rot32(4, NB), scratch32(MAXSCR), values32(MAXSCR)
   real(c_float) :: stiffness32(MAXEDGE)
   integer(c_int32_t) :: nodes(NB), element_offsets(NB + 1), element_nodes(2 * NB)
-  integer(c_int32_t) :: cell_offsets(NC + 1), cell_nodes(4 * NC), offsets(N + 1)
-  integer(c_int32_t) :: targets(MAXEDGE), index_scratch(5 * NB + N)
+  integer(c_int32_t), target :: cell_offsets(NC + 1), cell_nodes(4 * NC), offsets(N + 1)
+  integer(c_int32_t), target :: targets(MAXEDGE)
+  integer(c_int32_t) :: index_scratch(5 * NB + N)
   integer(c_int32_t) :: cell_scratch(5 * NC + 1) ! 0-based copies of the 1-based cell arrays
-  integer(c_int8_t) :: element_kinds(NB), cell_kinds(NC), fixed(N)
+  integer(c_int8_t) :: element_kinds(NB), fixed(N)
+  integer(c_int8_t), target :: cell_kinds(NC)
+  type(dk_cells) :: cells ! the C structs hold the addresses of the target arrays above
+  type(dk_graph) :: graph
   integer(c_size_t) :: dims(3) = [int(NI, c_size_t), int(NJ, c_size_t), 1_c_size_t]
   integer(c_size_t) :: length, targets_len, values_len
   type(dk_spring_solve_options) :: options
@@ -63,23 +67,19 @@ program deform_and_smooth
   end do
   cell_offsets(NC + 1) = 4 * NC + 1
   cell_kinds = DK_QUAD
-  call check(dk_graph_from_cells_len(int(N, c_size_t), cell_offsets, int(NC + 1, c_size_t), &
-                                     cell_nodes, int(4 * NC, c_size_t), cell_kinds, &
-                                     int(NC, c_size_t), 1_c_int32_t, cell_scratch, &
+  cells = dkf_cells(cell_offsets, cell_nodes, cell_kinds)
+  call check(dk_graph_from_cells_len(int(N, c_size_t), cells, 1_c_int32_t, cell_scratch, &
                                      int(5 * NC + 1, c_size_t), .false._c_bool, length), &
              "graph_from_cells_len")
   if (length > MAXEDGE) stop 1
-  call check(dk_graph_from_cells(int(N, c_size_t), cell_offsets, int(NC + 1, c_size_t), &
-                                 cell_nodes, int(4 * NC, c_size_t), cell_kinds, &
-                                 int(NC, c_size_t), 1_c_int32_t, cell_scratch, &
+  call check(dk_graph_from_cells(int(N, c_size_t), cells, 1_c_int32_t, cell_scratch, &
                                  int(5 * NC + 1, c_size_t), .false._c_bool, offsets, &
                                  int(N + 1, c_size_t), targets, length, targets_len), &
              "graph_from_cells")
-  call check(dk_spring_batina_stiffness(offsets, int(N + 1, c_size_t), targets, targets_len, &
-                                        points, int(2 * N, c_size_t), 2_c_int32_t, &
+  graph = dkf_graph(offsets, targets(1:targets_len))
+  call check(dk_spring_batina_stiffness(graph, points, int(2 * N, c_size_t), 2_c_int32_t, &
                                         1.0_c_double, stiffness, targets_len), "stiffness")
-  call check(dk_spring_batina_stiffness_f32(offsets, int(N + 1, c_size_t), targets, &
-                                            targets_len, points32, int(2 * N, c_size_t), &
+  call check(dk_spring_batina_stiffness_f32(graph, points32, int(2 * N, c_size_t), &
                                             2_c_int32_t, 1.0_c_float, stiffness32, &
                                             targets_len), "stiffness_f32")
   fixed = 0

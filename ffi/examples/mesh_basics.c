@@ -47,6 +47,13 @@ int main(void) {
     const uint32_t cell_offsets[5] = {0, 4, 8, 12, 16};
     const uint32_t cell_nodes[16] = {0, 1, 4, 3, 1, 2, 5, 4, 3, 4, 7, 6, 4, 5, 8, 7};
     const uint8_t cell_kinds[4] = {9, 9, 9, 9};
+    /* The cells as the kernel takes them: each array with its length, in one struct. */
+    const dk_cells cells = {.offsets = cell_offsets,
+                            .offsets_len = 5,
+                            .nodes = cell_nodes,
+                            .nodes_len = 16,
+                            .kinds = cell_kinds,
+                            .kinds_len = 4};
     uint32_t offsets[10];
     uint32_t targets[64];
     size_t targets_len = 0, used = 0, i;
@@ -63,11 +70,10 @@ int main(void) {
         points32[3 * i + 2] = 0.0f;
     }
 
-    CHECK(dk_graph_from_cells_len(9, cell_offsets, 5, cell_nodes, 16, cell_kinds, 4, 0, NULL, 0,
-                                  true, &targets_len));
+    CHECK(dk_graph_from_cells_len(9, &cells, 0, NULL, 0, true, &targets_len));
     if (targets_len > sizeof targets / sizeof targets[0]) return EXIT_FAILURE;
-    CHECK(dk_graph_from_cells(9, cell_offsets, 5, cell_nodes, 16, cell_kinds, 4, 0, NULL, 0, true,
-                              offsets, 10, targets, targets_len, &used));
+    CHECK(dk_graph_from_cells(9, &cells, 0, NULL, 0, true, offsets, 10, targets, targets_len,
+                              &used));
     printf("offsets");
     for (i = 0; i < 10; i++) printf(" %u", (unsigned)offsets[i]);
     printf("\ntargets");

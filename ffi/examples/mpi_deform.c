@@ -42,13 +42,10 @@ enum { NX = 41, NY = 29, COMPONENTS = 2, MAX_SWEEPS = 5000 };
 
 static size_t node(int i, int j) { return (size_t)j * NX + (size_t)i; }
 
-/* The spring system every rank builds identically. */
+/* The problem every rank builds identically. */
 typedef struct {
     size_t n;
-    uint32_t *offsets, *targets;
-    size_t targets_len;
-    double *stiffness;
-    uint8_t *fixed;
+    dk_spring_system system; /* graph, stiffness, fixed mask: built once, used by every sweep */
     uint32_t *scratch;
     double *x0;
 } problem;
@@ -68,12 +65,15 @@ static void build(problem *p) {
     size_t tlen = 0;
     CHECK(dk_graph_from_edges_len(e, &tlen));
     p->n = n;
-    p->offsets = malloc((n + 1) * sizeof *p->offsets);
-    p->targets = malloc(tlen * sizeof *p->targets);
+    uint32_t *offsets = malloc((n + 1) * sizeof *offsets);
+    uint32_t *targets = malloc(tlen * sizeof *targets);
     size_t used = 0;
-    CHECK(dk_graph_from_edges(n, edges, e, 0, NULL, 0, p->offsets, n + 1, p->targets, tlen, &used));
-    p->targets_len = used;
+    CHECK(dk_graph_from_edges(n, edges, e, 0, NULL, 0, offsets, n + 1, targets, tlen, &used));
     free(edges);
+    const dk_graph graph = {.offsets = offsets,
+                            .offsets_len = n + 1,
+                            .targets = targets,
+                            .targets_len = used};
     /* A slightly irregular grid, so the stiffness varies from edge to edge. */
     double *points = malloc(2 * n * sizeof *points);
     for (int j = 0; j < NY; j++)
@@ -82,17 +82,21 @@ static void build(problem *p) {
             points[2 * node(i, j)] = x + 0.01 * x * (1 - x) * y;
             points[2 * node(i, j) + 1] = y * (1 + 0.3 * x * x);
         }
-    p->stiffness = malloc(used * sizeof *p->stiffness);
-    CHECK(dk_spring_batina_stiffness(p->offsets, n + 1, p->targets, used, points, 2 * n, 2, 1.0,
-                                     p->stiffness, used));
-    p->fixed = calloc(n, 1);
+    double *stiffness = malloc(used * sizeof *stiffness);
+    CHECK(dk_spring_batina_stiffness(&graph, points, 2 * n, 2, 1.0, stiffness, used));
+    uint8_t *fixed = calloc(n, 1);
+    p->system = (dk_spring_system){.graph = graph,
+                                   .stiffness = stiffness,
+                                   .stiffness_len = used,
+                                   .fixed = fixed,
+                                   .fixed_len = n};
     p->x0 = calloc(COMPONENTS * n, sizeof *p->x0);
     for (int j = 0; j < NY; j++)
         for (int i = 0; i < NX; i++) {
             size_t k = node(i, j);
             int edge = i == 0 || i == NX - 1 || j == 0 || j == NY - 1;
             if (!edge) continue;
-            p->fixed[k] = 1;
+            fixed[k] = 1;
             double x = points[2 * k], y = points[2 * k + 1];
             if (j == 0 || j == NY - 1) { /* sheared bottom and top */
                 p->x0[COMPONENTS * k] = 0.05 * y * x * (1 - x);
@@ -115,10 +119,9 @@ static void sweep_rows(const problem *p, const int *rows, int nrows, const doubl
         size_t start = node(0, rows[r]), end = start + NX;
         dk_spring_sweep s;
         int64_t w[DK_EXACT_SUM_WORDS];
-        CHECK(dk_spring_jacobi_sweep_exact(p->offsets, p->n + 1, p->targets, p->targets_len,
-                                           p->stiffness, p->targets_len, p->fixed, p->n,
-                                           start, end, 0, COMPONENTS, src, COMPONENTS * p->n,
-                                           dst, COMPONENTS * p->n, p->scratch, slen, &s, w));
+        CHECK(dk_spring_jacobi_sweep_exact(&p->system, start, end, 0, COMPONENTS, src,
+                                           COMPONENTS * p->n, dst, COMPONENTS * p->n, p->scratch,
+                                           slen, &s, w));
         for (int k = 0; k < DK_EXACT_SUM_WORDS; k++) words[k] += w[k];
         if (s.max_change > *max_change) *max_change = s.max_change;
     }
@@ -187,10 +190,8 @@ int main(int argc, char **argv) {
             double residual_sq;
             /* One call over all nodes (not row by row): the split is only the other side's. */
             dk_spring_sweep sw;
-            CHECK(dk_spring_jacobi_sweep_exact(p.offsets, n + 1, p.targets, p.targets_len,
-                                               p.stiffness, p.targets_len, p.fixed, n, 0, n, 0,
-                                               COMPONENTS, a, len, b, len, p.scratch, n, &sw,
-                                               words));
+            CHECK(dk_spring_jacobi_sweep_exact(&p.system, 0, n, 0, COMPONENTS, a, len, b, len,
+                                               p.scratch, n, &sw, words));
             CHECK(dk_exact_sum_value(words, &residual_sq));
             same_residuals &= memcmp(&residual_sq, &residuals[s], sizeof residual_sq) == 0;
             /* The rounded per-call residual equals the exact sum's value. */

@@ -69,20 +69,18 @@ static void boundary_at(int n, const double *points, const uint32_t *boundary, d
     }
 }
 
-/* Steps a plan through steps `from..=to`; returns the total iterations; the mesh of the last
- * step is in `out`. */
-static size_t steps(double *reals, uint32_t *indices, uint8_t *bytes, const dk_plan_sizes *used,
-                    const double *points, const uint32_t *boundary, uint32_t start, int from,
-                    int to, int print, double *out) {
+/* Steps the plan in `plan` through steps `from..=to`; returns the total iterations; the mesh
+ * of the last step is in `out`. */
+static size_t steps(const dk_plan_pools *plan, const double *points, const uint32_t *boundary,
+                    uint32_t start, int from, int to, int print, double *out) {
     static double deformed[2 * B];
     size_t total = 0;
     int n;
     for (n = from; n <= to; n++) {
         dk_plan_step_report r;
         boundary_at(n, points, boundary, deformed);
-        CHECK(dk_plan_step(reals, used->reals, indices, used->indices, bytes, used->bytes, 2,
-                           deformed, 2 * B, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0, start, out,
-                           2 * N, &r));
+        CHECK(dk_plan_step(plan, 2, deformed, 2 * B, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0, start,
+                           out, 2 * N, &r));
         if (!r.converged || r.step != (uint64_t)n) {
             fprintf(stderr, "step %d did not converge\n", n);
             exit(EXIT_FAILURE);
@@ -106,6 +104,13 @@ int main(void) {
     static uint32_t offsets[N + 1], *targets;
     static uint32_t boundary[B], element_offsets[B + 1], element_nodes[2 * B];
     static uint8_t element_kinds[B];
+    /* The cells, as the graph builder takes them (filled below; the struct only borrows). */
+    const dk_cells cells = {.offsets = cell_offsets,
+                            .offsets_len = NI * (NJ - 1) + 1,
+                            .nodes = cell_nodes,
+                            .nodes_len = 4 * NI * (NJ - 1),
+                            .kinds = cell_kinds,
+                            .kinds_len = NI * (NJ - 1)};
     size_t targets_len, used_targets, total_warm, total_cold;
     dk_plan_options options;
     dk_plan_sizes work, pools;
@@ -140,13 +145,11 @@ int main(void) {
         }
     }
     cell_offsets[c] = (uint32_t)(4 * c);
-    CHECK(dk_graph_from_cells_len(N, cell_offsets, (size_t)c + 1, cell_nodes, 4 * (size_t)c,
-                                  cell_kinds, (size_t)c, 0, NULL, 0, true, &targets_len));
+    CHECK(dk_graph_from_cells_len(N, &cells, 0, NULL, 0, true, &targets_len));
     targets = malloc(targets_len * sizeof *targets);
     if (!targets) return EXIT_FAILURE;
-    CHECK(dk_graph_from_cells(N, cell_offsets, (size_t)c + 1, cell_nodes, 4 * (size_t)c,
-                              cell_kinds, (size_t)c, 0, NULL, 0, true, offsets, N + 1, targets,
-                              targets_len, &used_targets));
+    CHECK(dk_graph_from_cells(N, &cells, 0, NULL, 0, true, offsets, N + 1, targets, targets_len,
+                              &used_targets));
 
     /* Boundary: the wall ring, then the far-field ring; segments over 0..B on each. */
     for (i = 0; i < NI; i++) {
@@ -163,55 +166,80 @@ int main(void) {
     element_offsets[B] = 2 * B;
     print_hex("points", points, 2 * N);
 
+    /* The mesh a plan is built from: points, spring graph, boundary nodes and their segments
+     * (the quaternion method takes the rotations from their shape); no stiffness given, so
+     * Batina's from the options. */
+    const dk_plan_mesh mesh = {.points = points,
+                               .points_len = 2 * N,
+                               .graph = {.offsets = offsets,
+                                         .offsets_len = N + 1,
+                                         .targets = targets,
+                                         .targets_len = used_targets},
+                               .boundary = boundary,
+                               .boundary_len = B,
+                               .elements = {.offsets = element_offsets,
+                                            .offsets_len = B + 1,
+                                            .nodes = element_nodes,
+                                            .nodes_len = 2 * B,
+                                            .kinds = element_kinds,
+                                            .kinds_len = B}};
+
     /* Set up once: work sizes, pool sizes, init (the work buffers are freed after). */
     CHECK(dk_plan_options_default(&options));
-    CHECK(dk_plan_work_sizes(points, 2 * N, offsets, N + 1, targets, used_targets, boundary, B,
-                             element_offsets, B + 1, element_nodes, 2 * B, element_kinds, B,
-                             NULL, 0, 2, &options, &work));
+    CHECK(dk_plan_work_sizes(&mesh, 2, &options, &work));
     work_reals = malloc((work.reals + 1) * sizeof *work_reals);
     work_indices = malloc((work.indices + 1) * sizeof *work_indices);
     work_bytes = malloc(work.bytes + 1);
     if (!work_reals || !work_indices || !work_bytes) return EXIT_FAILURE;
-    CHECK(dk_plan_pool_sizes(points, 2 * N, offsets, N + 1, targets, used_targets, boundary, B,
-                             element_offsets, B + 1, element_nodes, 2 * B, element_kinds, B,
-                             NULL, 0, 2, &options, work_reals, work.reals, work_indices,
-                             work.indices, work_bytes, work.bytes, &pools));
+    const dk_plan_pools scratch = {.reals = work_reals,
+                                   .reals_len = work.reals,
+                                   .indices = work_indices,
+                                   .indices_len = work.indices,
+                                   .bytes = work_bytes,
+                                   .bytes_len = work.bytes};
+    CHECK(dk_plan_pool_sizes(&mesh, 2, &options, &scratch, &pools));
     reals = malloc(pools.reals * sizeof *reals);
     indices = malloc(pools.indices * sizeof *indices);
     bytes = malloc(pools.bytes);
     if (!reals || !indices || !bytes) return EXIT_FAILURE;
-    CHECK(dk_plan_init(points, 2 * N, offsets, N + 1, targets, used_targets, boundary, B,
-                       element_offsets, B + 1, element_nodes, 2 * B, element_kinds, B, NULL, 0, 2,
-                       &options, work_reals, work.reals, work_indices, work.indices, work_bytes,
-                       work.bytes, reals, pools.reals, indices, pools.indices, bytes,
-                       pools.bytes, &info));
+    /* The plan's three pools: init writes them, every step reads and updates them. */
+    const dk_plan_pools plan = {.reals = reals,
+                                .reals_len = pools.reals,
+                                .indices = indices,
+                                .indices_len = pools.indices,
+                                .bytes = bytes,
+                                .bytes_len = pools.bytes};
+    CHECK(dk_plan_init(&mesh, 2, &options, &scratch, &plan, &info));
     printf("plan: %zu nodes, %zu boundary points, %zu multigrid levels, pools %zu + %zu + %zu\n",
            info.nodes, info.boundary, info.amg_levels, info.used.reals, info.used.indices,
            info.used.bytes);
 
-    total_warm = steps(reals, indices, bytes, &info.used, points, boundary, DK_PLAN_WARM, 1,
-                       STEPS / 2, 1, out);
+    total_warm = steps(&plan, points, boundary, DK_PLAN_WARM, 1, STEPS / 2, 1, out);
     {
         /* A checkpoint halfway: the pools hold no pointers, so a copy is a plan. */
         double *r2 = malloc(info.used.reals * sizeof *r2);
         uint32_t *i2 = malloc(info.used.indices * sizeof *i2);
         uint8_t *b2 = malloc(info.used.bytes);
+        const dk_plan_pools checkpoint = {.reals = r2,
+                                          .reals_len = info.used.reals,
+                                          .indices = i2,
+                                          .indices_len = info.used.indices,
+                                          .bytes = b2,
+                                          .bytes_len = info.used.bytes};
         dk_plan_info copy;
         if (!r2 || !i2 || !b2) return EXIT_FAILURE;
         memcpy(r2, reals, info.used.reals * sizeof *r2);
         memcpy(i2, indices, info.used.indices * sizeof *i2);
         memcpy(b2, bytes, info.used.bytes);
         memset(reals, 0xff, info.used.reals * sizeof *reals); /* the original is gone */
-        if (dk_plan_open(reals, info.used.reals, indices, info.used.indices, bytes,
-                         info.used.bytes, 2, &copy) != DK_ERR_BAD_PLAN) {
+        if (dk_plan_open(&plan, 2, &copy) != DK_ERR_BAD_PLAN) {
             fprintf(stderr, "an overwritten plan was accepted\n");
             return EXIT_FAILURE;
         }
-        CHECK(dk_plan_open(r2, info.used.reals, i2, info.used.indices, b2, info.used.bytes, 2,
-                           &copy));
+        CHECK(dk_plan_open(&checkpoint, 2, &copy));
         if (copy.steps != STEPS / 2) return EXIT_FAILURE;
-        total_warm += steps(r2, i2, b2, &copy.used, points, boundary, DK_PLAN_WARM,
-                            STEPS / 2 + 1, STEPS, 1, out);
+        total_warm += steps(&checkpoint, points, boundary, DK_PLAN_WARM, STEPS / 2 + 1, STEPS, 1,
+                            out);
         free(r2);
         free(i2);
         free(b2);
@@ -219,13 +247,8 @@ int main(void) {
     print_hex("final", out, 2 * N);
 
     /* The same steps from cold starts, in a fresh plan. */
-    CHECK(dk_plan_init(points, 2 * N, offsets, N + 1, targets, used_targets, boundary, B,
-                       element_offsets, B + 1, element_nodes, 2 * B, element_kinds, B, NULL, 0, 2,
-                       &options, work_reals, work.reals, work_indices, work.indices, work_bytes,
-                       work.bytes, reals, pools.reals, indices, pools.indices, bytes,
-                       pools.bytes, &info));
-    total_cold = steps(reals, indices, bytes, &info.used, points, boundary, DK_PLAN_COLD, 1, STEPS,
-                       0, out);
+    CHECK(dk_plan_init(&mesh, 2, &options, &scratch, &plan, &info));
+    total_cold = steps(&plan, points, boundary, DK_PLAN_COLD, 1, STEPS, 0, out);
     printf("iterations: warm %zu, cold %zu\n", total_warm, total_cold);
 
     free(targets);

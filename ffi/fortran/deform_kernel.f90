@@ -175,42 +175,72 @@ module deform_kernel
     integer(c_int32_t) :: has_origin
   end type
 
-  !> Single-precision twin of `dk_boundary_motion` (same fields, `float` scalars).
+  !> Single-precision twin of `dk_boundary_motion` (`float` scalars).
   type, bind(C), public :: dk_boundary_motion_f32
-    !> Mesh node of each boundary point, in `index_base`, all distinct.
+    !> Mesh node of each of the `B` boundary points, in `index_base`, all distinct. Include
+    !! fixed boundaries (far field) with `deformed` equal to their position: they anchor the
+    !! propagation.
     type(c_ptr) :: nodes
     !> Number of entries of `nodes` (`B`, at least 1).
     integer(c_size_t) :: nodes_len
-    !> Deformed position of each boundary point (`B * dim` scalars).
+    !> Deformed position of each boundary point (`B * dim` scalars); reproduced exactly in
+    !! the output.
     type(c_ptr) :: deformed
-    !> Number of scalars in `deformed`.
+    !> Number of scalars in `deformed` (`B * dim`).
     integer(c_size_t) :: deformed_len
-    !> Boundary element offsets (in `index_base`), or NULL with length 0 for no elements.
+    !> Boundary element offsets into `element_nodes` (one per element plus one, in
+    !! `index_base` like graph.rs cell offsets), or NULL with length 0 for no elements.
     type(c_ptr) :: element_offsets
     !> Number of entries of `element_offsets` (0: no elements).
     integer(c_size_t) :: element_offsets_len
-    !> Element nodes as positions `0..B` in `nodes`, in `index_base`.
+    !> Element nodes as positions `0..B` in `nodes` (not mesh nodes; see
+    !! `dk_deform_localize_nodes`), in `index_base`: segments (VTK 3) in 2D,
+    !! triangles/quadrilaterals (5, 9) in 3D, consistently ordered.
     type(c_ptr) :: element_nodes
     !> Number of entries of `element_nodes`.
     integer(c_size_t) :: element_nodes_len
     !> VTK kind code of each element.
     type(c_ptr) :: element_kinds
-    !> Number of entries of `element_kinds`.
+    !> Number of entries of `element_kinds` (elements).
     integer(c_size_t) :: element_kinds_len
-    !> With `DK_ROTATIONS_PER_NODE`: `4 * B` quaternion scalars. Ignored otherwise.
+    !> With `DK_ROTATIONS_PER_NODE`: one quaternion `(w, x, y, z)` per boundary node, in
+    !! `nodes` order (`4 * B` scalars). Ignored otherwise.
     type(c_ptr) :: node_rotations
     !> Number of scalars in `node_rotations`.
     integer(c_size_t) :: node_rotations_len
-    !> With `DK_ROTATIONS_RIGID`: the rotation of the moving boundary. Ignored otherwise.
+    !> With `DK_ROTATIONS_RIGID`: the rotation `(w, x, y, z)` of the moving boundary nodes
+    !! (normalised by the library). Ignored otherwise.
     real(c_float) :: rigid_rotation(4)
-    !> The rotation origin, used when `has_origin` is nonzero.
+    !> The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
     real(c_float) :: origin(3)
-    !> 0 or 1: the base of `nodes`, `element_offsets` and `element_nodes`.
+    !> 0 (C) or 1 (Fortran): the base of `nodes`, `element_offsets` and `element_nodes`.
     integer(c_int32_t) :: index_base
-    !> `DK_ROTATIONS_SHAPE`, `DK_ROTATIONS_RIGID` or `DK_ROTATIONS_PER_NODE`.
+    !> Where the rotations come from: `DK_ROTATIONS_SHAPE`, `DK_ROTATIONS_RIGID` or
+    !! `DK_ROTATIONS_PER_NODE`.
     integer(c_int32_t) :: rotation_source
-    !> Nonzero: rotate about `origin`; 0: about the default origin.
+    !> Nonzero: rotate about `origin`; 0: about the default origin (the centroid of the
+    !! moving boundary points, see `dk_deform_boundary_origin`).
     integer(c_int32_t) :: has_origin
+  end type
+
+  !> Cells or boundary elements in VTK node order: `offsets` (cell count + 1 entries into
+  !! `nodes`), `nodes` and one VTK code per cell in `kinds`. Offsets and node indices are read in
+  !! the `index_base` of the function that takes the struct. Borrowed for the call, as
+  !! `dk_graph`; all three arrays empty (NULL with length 0) means "no cells" where a function
+  !! says they are optional.
+  type, bind(C), public :: dk_cells
+    !> Start of each cell in `nodes`, and the end (cell count + 1 entries).
+    type(c_ptr) :: offsets
+    !> Entries of `offsets`.
+    integer(c_size_t) :: offsets_len
+    !> The cells' nodes.
+    type(c_ptr) :: nodes
+    !> Entries of `nodes`.
+    integer(c_size_t) :: nodes_len
+    !> VTK cell type of each cell.
+    type(c_ptr) :: kinds
+    !> Entries of `kinds` (the cell count).
+    integer(c_size_t) :: kinds_len
   end type
 
   !> Method and stopping rules of `dk_spring_solve_linear`. Fill with
@@ -235,6 +265,38 @@ module deform_kernel
     integer(c_int32_t) :: preconditioner
   end type
 
+  !> A CSR graph for the functions that take one: `offsets` (`node_count + 1` row starts into
+  !! `targets`) and `targets` (the neighbour of each directed edge), both 0-based, as
+  !! `dk_graph_from_edges` / `dk_graph_from_cells` write them. The arrays are borrowed for the
+  !! call that receives the struct; the library never keeps the pointers.
+  type, bind(C), public :: dk_graph
+    !> Row starts, `node_count + 1` entries.
+    type(c_ptr) :: offsets
+    !> Entries of `offsets`.
+    integer(c_size_t) :: offsets_len
+    !> Neighbour of each directed edge.
+    type(c_ptr) :: targets
+    !> Entries of `targets` (directed edges).
+    integer(c_size_t) :: targets_len
+  end type
+
+  !> A spring system for the solvers and sweeps: the graph, one stiffness per directed edge
+  !! (symmetric, finite, positive) and the fixed mask (one byte per node, nonzero = fixed).
+  !! Borrowed for the call that receives it, as `dk_graph`. The ABI's one struct for "the
+  !! system", so a caller builds it once and hands it to every solver.
+  type, bind(C), public :: dk_spring_system
+    !> The 0-based CSR graph.
+    type(dk_graph) :: graph
+    !> Stiffness of each directed edge (`graph.targets_len` entries).
+    type(c_ptr) :: stiffness
+    !> Entries of `stiffness`.
+    integer(c_size_t) :: stiffness_len
+    !> One byte per node, nonzero = fixed (Dirichlet).
+    type(c_ptr) :: fixed
+    !> Entries of `fixed` (the node count).
+    integer(c_size_t) :: fixed_len
+  end type
+
   !> What a whole spring solve did. Non-convergence is reported here (`converged` false, status
   !! `DK_OK`), never hidden; the values then hold the last iterate.
   type, bind(C), public :: dk_spring_solve_report
@@ -246,6 +308,20 @@ module deform_kernel
     real(c_double) :: max_update
     !> Whether a stopping rule was met.
     logical(c_bool) :: converged
+  end type
+
+  !> Single-precision twin of `dk_spring_system` (`float` scalars).
+  type, bind(C), public :: dk_spring_system_f32
+    !> The 0-based CSR graph.
+    type(dk_graph) :: graph
+    !> Stiffness of each directed edge (`graph.targets_len` entries).
+    type(c_ptr) :: stiffness
+    !> Entries of `stiffness`.
+    integer(c_size_t) :: stiffness_len
+    !> One byte per node, nonzero = fixed (Dirichlet).
+    type(c_ptr) :: fixed
+    !> Entries of `fixed` (the node count).
+    integer(c_size_t) :: fixed_len
   end type
 
   !> The multigrid preconditioner of `DK_PLAN_SOLVER_AMG` (the kernel's `AmgOptions`; see
@@ -280,6 +356,29 @@ module deform_kernel
     type(dk_amg_options) :: amg
   end type
 
+  !> The mesh a plan is built from (`dk_plan_work_sizes`, `dk_plan_pool_sizes`,
+  !! `dk_plan_init`); borrowed for the call and copied into the plan.
+  type, bind(C), public :: dk_plan_mesh
+    !> Undeformed node positions, `node_count * dim` scalars.
+    type(c_ptr) :: points
+    !> Entries of `points`.
+    integer(c_size_t) :: points_len
+    !> The 0-based CSR graph of the springs.
+    type(dk_graph) :: graph
+    !> The 0-based boundary node list (`B` nodes, distinct): the nodes a step moves.
+    type(c_ptr) :: boundary
+    !> Entries of `boundary`.
+    integer(c_size_t) :: boundary_len
+    !> Optional boundary elements over the boundary points `0..B` (0-based; all empty for
+    !! none): with them the quaternion method derives rotations from the shape.
+    type(dk_cells) :: elements
+    !> Optional stiffness per directed edge (NULL with length 0: Batina's with
+    !! `dk_plan_options.stiffness_exponent`).
+    type(c_ptr) :: stiffness
+    !> Entries of `stiffness`.
+    integer(c_size_t) :: stiffness_len
+  end type
+
   !> Lengths of the three plan pools, or of the transient work buffers.
   type, bind(C), public :: dk_plan_sizes
     !> Scalars (`double` for the f64 functions, `float` for the `_f32` ones).
@@ -288,6 +387,62 @@ module deform_kernel
     integer(c_size_t) :: indices
     !> `uint8_t` entries.
     integer(c_size_t) :: bytes
+  end type
+
+  !> Single-precision twin of `dk_plan_mesh` (`float` scalars).
+  type, bind(C), public :: dk_plan_mesh_f32
+    !> Undeformed node positions, `node_count * dim` scalars.
+    type(c_ptr) :: points
+    !> Entries of `points`.
+    integer(c_size_t) :: points_len
+    !> The 0-based CSR graph of the springs.
+    type(dk_graph) :: graph
+    !> The 0-based boundary node list (`B` nodes, distinct): the nodes a step moves.
+    type(c_ptr) :: boundary
+    !> Entries of `boundary`.
+    integer(c_size_t) :: boundary_len
+    !> Optional boundary elements over the boundary points `0..B` (0-based; all empty for
+    !! none): with them the quaternion method derives rotations from the shape.
+    type(dk_cells) :: elements
+    !> Optional stiffness per directed edge (NULL with length 0: Batina's with
+    !! `dk_plan_options.stiffness_exponent`).
+    type(c_ptr) :: stiffness
+    !> Entries of `stiffness`.
+    integer(c_size_t) :: stiffness_len
+  end type
+
+  !> Three caller buffers: a plan's pools (sized by `dk_plan_pool_sizes`, written by
+  !! `dk_plan_init`, read and updated by every step), or the transient work of init (sized by
+  !! `dk_plan_work_sizes`). Each buffer is used only by the call that receives the struct.
+  type, bind(C), public :: dk_plan_pools
+    !> Scalars.
+    type(c_ptr) :: reals
+    !> Entries of `reals`.
+    integer(c_size_t) :: reals_len
+    !> Indices.
+    type(c_ptr) :: indices
+    !> Entries of `indices`.
+    integer(c_size_t) :: indices_len
+    !> Bytes.
+    type(c_ptr) :: bytes
+    !> Entries of `bytes`.
+    integer(c_size_t) :: bytes_len
+  end type
+
+  !> Single-precision twin of `dk_plan_pools` (`float` scalars).
+  type, bind(C), public :: dk_plan_pools_f32
+    !> Scalars.
+    type(c_ptr) :: reals
+    !> Entries of `reals`.
+    integer(c_size_t) :: reals_len
+    !> Indices.
+    type(c_ptr) :: indices
+    !> Entries of `indices`.
+    integer(c_size_t) :: indices_len
+    !> Bytes.
+    type(c_ptr) :: bytes
+    !> Entries of `bytes`.
+    integer(c_size_t) :: bytes_len
   end type
 
   !> What a plan holds (from `dk_plan_init` or `dk_plan_open`).
@@ -511,6 +666,8 @@ module deform_kernel
        DK_PRISM = 13_c_int8_t, DK_PYRAMID = 14_c_int8_t
 
   public :: dk_status_str, dk_status_message
+  public :: dkf_graph, dkf_cells, dkf_spring_system, dkf_spring_system_f32, dkf_plan_pools, &
+            dkf_plan_pools_f32
   public :: dkf_rotate_points, dkf_graph_from_edges, dkf_graph_from_cells_len, &
             dkf_graph_from_cells
   public :: dkf_quality_cell_measures, dkf_quality_cell_measures_f32, &
@@ -761,20 +918,14 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_deform_boundary_normals(points, points_len, dim, element_offsets, &
-        element_offsets_len, element_nodes, element_nodes_len, element_kinds, element_kinds_len, &
-        index_base, scratch, scratch_len, index_scratch, index_scratch_len, normals, normals_len) &
-        bind(C, name="dk_deform_boundary_normals") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t
+    function dk_deform_boundary_normals(points, points_len, dim, elements, index_base, scratch, &
+        scratch_len, index_scratch, index_scratch_len, normals, normals_len) bind(C, &
+        name="dk_deform_boundary_normals") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_cells
       real(c_double), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
-      integer(c_int32_t), intent(in) :: element_offsets(*)
-      integer(c_size_t), value :: element_offsets_len
-      integer(c_int32_t), intent(in) :: element_nodes(*)
-      integer(c_size_t), value :: element_nodes_len
-      integer(c_int8_t), intent(in) :: element_kinds(*)
-      integer(c_size_t), value :: element_kinds_len
+      type(dk_cells), intent(in) :: elements
       integer(c_int32_t), value :: index_base
       real(c_double), intent(inout) :: scratch(*)
       integer(c_size_t), value :: scratch_len
@@ -784,20 +935,14 @@ module deform_kernel
       integer(c_size_t), value :: normals_len
       integer(c_int32_t) :: s
     end function
-    function dk_deform_boundary_normals_f32(points, points_len, dim, element_offsets, &
-        element_offsets_len, element_nodes, element_nodes_len, element_kinds, element_kinds_len, &
-        index_base, scratch, scratch_len, index_scratch, index_scratch_len, normals, normals_len) &
-        bind(C, name="dk_deform_boundary_normals_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t
+    function dk_deform_boundary_normals_f32(points, points_len, dim, elements, index_base, &
+        scratch, scratch_len, index_scratch, index_scratch_len, normals, normals_len) bind(C, &
+        name="dk_deform_boundary_normals_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_cells
       real(c_float), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
-      integer(c_int32_t), intent(in) :: element_offsets(*)
-      integer(c_size_t), value :: element_offsets_len
-      integer(c_int32_t), intent(in) :: element_nodes(*)
-      integer(c_size_t), value :: element_nodes_len
-      integer(c_int8_t), intent(in) :: element_kinds(*)
-      integer(c_size_t), value :: element_kinds_len
+      type(dk_cells), intent(in) :: elements
       integer(c_int32_t), value :: index_base
       real(c_float), intent(inout) :: scratch(*)
       integer(c_size_t), value :: scratch_len
@@ -816,21 +961,15 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_deform_boundary_rotations(undeformed, undeformed_len, deformed, deformed_len, dim, &
-        element_offsets, element_offsets_len, element_nodes, element_nodes_len, element_kinds, &
-        element_kinds_len, index_base, scratch, scratch_len, index_scratch, index_scratch_len, &
-        rotations, rotations_len) bind(C, name="dk_deform_boundary_rotations") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t
+        elements, index_base, scratch, scratch_len, index_scratch, index_scratch_len, rotations, &
+        rotations_len) bind(C, name="dk_deform_boundary_rotations") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_cells
       real(c_double), intent(in) :: undeformed(*)
       integer(c_size_t), value :: undeformed_len
       real(c_double), intent(in) :: deformed(*)
       integer(c_size_t), value :: deformed_len
       integer(c_int32_t), value :: dim
-      integer(c_int32_t), intent(in) :: element_offsets(*)
-      integer(c_size_t), value :: element_offsets_len
-      integer(c_int32_t), intent(in) :: element_nodes(*)
-      integer(c_size_t), value :: element_nodes_len
-      integer(c_int8_t), intent(in) :: element_kinds(*)
-      integer(c_size_t), value :: element_kinds_len
+      type(dk_cells), intent(in) :: elements
       integer(c_int32_t), value :: index_base
       real(c_double), intent(inout) :: scratch(*)
       integer(c_size_t), value :: scratch_len
@@ -841,22 +980,15 @@ module deform_kernel
       integer(c_int32_t) :: s
     end function
     function dk_deform_boundary_rotations_f32(undeformed, undeformed_len, deformed, deformed_len, &
-        dim, element_offsets, element_offsets_len, element_nodes, element_nodes_len, &
-        element_kinds, element_kinds_len, index_base, scratch, scratch_len, index_scratch, &
-        index_scratch_len, rotations, rotations_len) bind(C, &
-        name="dk_deform_boundary_rotations_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t
+        dim, elements, index_base, scratch, scratch_len, index_scratch, index_scratch_len, &
+        rotations, rotations_len) bind(C, name="dk_deform_boundary_rotations_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_cells
       real(c_float), intent(in) :: undeformed(*)
       integer(c_size_t), value :: undeformed_len
       real(c_float), intent(in) :: deformed(*)
       integer(c_size_t), value :: deformed_len
       integer(c_int32_t), value :: dim
-      integer(c_int32_t), intent(in) :: element_offsets(*)
-      integer(c_size_t), value :: element_offsets_len
-      integer(c_int32_t), intent(in) :: element_nodes(*)
-      integer(c_size_t), value :: element_nodes_len
-      integer(c_int8_t), intent(in) :: element_kinds(*)
-      integer(c_size_t), value :: element_kinds_len
+      type(dk_cells), intent(in) :: elements
       integer(c_int32_t), value :: index_base
       real(c_float), intent(inout) :: scratch(*)
       integer(c_size_t), value :: scratch_len
@@ -1163,25 +1295,17 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_deform_spring(points, points_len, dim, motion, offsets, offsets_len, targets, &
-        targets_len, stiffness, stiffness_len, fixed, fixed_len, options, scratch, scratch_len, &
-        values, values_len, index_scratch, index_scratch_len, translations, translations_len, &
-        rotations, rotations_len, out, out_len, origin_out, origin_out_len, report) bind(C, &
-        name="dk_deform_spring") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_boundary_motion, &
-          dk_spring_solve_options, dk_spring_solve_report
+    function dk_deform_spring(points, points_len, dim, motion, system, options, scratch, &
+        scratch_len, values, values_len, index_scratch, index_scratch_len, translations, &
+        translations_len, rotations, rotations_len, out, out_len, origin_out, origin_out_len, &
+        report) bind(C, name="dk_deform_spring") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_boundary_motion, dk_spring_solve_options, &
+          dk_spring_solve_report, dk_spring_system
       real(c_double), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
       type(dk_boundary_motion), intent(in) :: motion
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_double), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+      type(dk_spring_system), intent(in) :: system
       type(dk_spring_solve_options), intent(in) :: options
       real(c_double), intent(inout) :: scratch(*)
       integer(c_size_t), value :: scratch_len
@@ -1200,25 +1324,17 @@ module deform_kernel
       type(dk_spring_solve_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_deform_spring_f32(points, points_len, dim, motion, offsets, offsets_len, targets, &
-        targets_len, stiffness, stiffness_len, fixed, fixed_len, options, scratch, scratch_len, &
-        values, values_len, index_scratch, index_scratch_len, translations, translations_len, &
-        rotations, rotations_len, out, out_len, origin_out, origin_out_len, report) bind(C, &
-        name="dk_deform_spring_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_boundary_motion_f32, &
-          dk_spring_solve_options, dk_spring_solve_report
+    function dk_deform_spring_f32(points, points_len, dim, motion, system, options, scratch, &
+        scratch_len, values, values_len, index_scratch, index_scratch_len, translations, &
+        translations_len, rotations, rotations_len, out, out_len, origin_out, origin_out_len, &
+        report) bind(C, name="dk_deform_spring_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_boundary_motion_f32, dk_spring_solve_options, &
+          dk_spring_solve_report, dk_spring_system_f32
       real(c_float), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
       type(dk_boundary_motion_f32), intent(in) :: motion
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_float), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+      type(dk_spring_system_f32), intent(in) :: system
       type(dk_spring_solve_options), intent(in) :: options
       real(c_float), intent(inout) :: scratch(*)
       integer(c_size_t), value :: scratch_len
@@ -1246,20 +1362,12 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_deform_propagate_spring(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, options, dim, index_scratch, index_scratch_len, values, &
-        values_len, translations, translations_len, rotations, rotations_len, report) bind(C, &
-        name="dk_deform_propagate_spring") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_solve_options, &
-          dk_spring_solve_report
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_double), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+    function dk_deform_propagate_spring(system, options, dim, index_scratch, index_scratch_len, &
+        values, values_len, translations, translations_len, rotations, rotations_len, report) &
+        bind(C, name="dk_deform_propagate_spring") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_spring_solve_options, dk_spring_solve_report, &
+          dk_spring_system
+      type(dk_spring_system), intent(in) :: system
       type(dk_spring_solve_options), intent(in) :: options
       integer(c_int32_t), value :: dim
       integer(c_int32_t), intent(inout) :: index_scratch(*)
@@ -1273,20 +1381,12 @@ module deform_kernel
       type(dk_spring_solve_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_deform_propagate_spring_f32(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, options, dim, index_scratch, index_scratch_len, values, &
-        values_len, translations, translations_len, rotations, rotations_len, report) bind(C, &
-        name="dk_deform_propagate_spring_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_solve_options, &
-          dk_spring_solve_report
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_float), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+    function dk_deform_propagate_spring_f32(system, options, dim, index_scratch, &
+        index_scratch_len, values, values_len, translations, translations_len, rotations, &
+        rotations_len, report) bind(C, name="dk_deform_propagate_spring_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_spring_solve_options, dk_spring_solve_report, &
+          dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
       type(dk_spring_solve_options), intent(in) :: options
       integer(c_int32_t), value :: dim
       integer(c_int32_t), intent(inout) :: index_scratch(*)
@@ -1324,33 +1424,22 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: used_out
       integer(c_int32_t) :: s
     end function
-    function dk_cells_check(node_count, cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len) &
+    function dk_cells_check(node_count, cells, index_base, index_scratch, index_scratch_len) &
         bind(C, name="dk_cells_check") result(s)
-      import :: c_int32_t, c_int8_t, c_size_t
+      import :: c_int32_t, c_size_t, dk_cells
       integer(c_size_t), value :: node_count
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
+      type(dk_cells), intent(in) :: cells
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
       integer(c_int32_t) :: s
     end function
-    function dk_graph_from_cells_len(node_count, cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
-        face_diagonals, len_out) bind(C, name="dk_graph_from_cells_len") result(s)
-      import :: c_bool, c_int32_t, c_int8_t, c_size_t
+    function dk_graph_from_cells_len(node_count, cells, index_base, index_scratch, &
+        index_scratch_len, face_diagonals, len_out) bind(C, name="dk_graph_from_cells_len") &
+        result(s)
+      import :: c_bool, c_int32_t, c_size_t, dk_cells
       integer(c_size_t), value :: node_count
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
+      type(dk_cells), intent(in) :: cells
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
@@ -1358,18 +1447,12 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_graph_from_cells(node_count, cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
+    function dk_graph_from_cells(node_count, cells, index_base, index_scratch, index_scratch_len, &
         face_diagonals, offsets, offsets_len, targets, targets_len, used_out) bind(C, &
         name="dk_graph_from_cells") result(s)
-      import :: c_bool, c_int32_t, c_int8_t, c_size_t
+      import :: c_bool, c_int32_t, c_size_t, dk_cells
       integer(c_size_t), value :: node_count
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
+      type(dk_cells), intent(in) :: cells
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
@@ -1381,13 +1464,9 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: used_out
       integer(c_int32_t) :: s
     end function
-    function dk_graph_check(offsets, offsets_len, targets, targets_len, require_symmetric) bind(C, &
-        name="dk_graph_check") result(s)
-      import :: c_bool, c_int32_t, c_size_t
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
+    function dk_graph_check(graph, require_symmetric) bind(C, name="dk_graph_check") result(s)
+      import :: c_bool, c_int32_t, dk_graph
+      type(dk_graph), intent(in) :: graph
       logical(c_bool), value :: require_symmetric
       integer(c_int32_t) :: s
     end function
@@ -1402,240 +1481,85 @@ module deform_kernel
       type(dk_plan_options), intent(inout) :: out
       integer(c_int32_t) :: s
     end function
-    function dk_plan_work_sizes(points, points_len, offsets, offsets_len, targets, targets_len, &
-        boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
-        element_nodes_len, element_kinds, element_kinds_len, stiffness, stiffness_len, dim, &
-        options, sizes_out) bind(C, name="dk_plan_work_sizes") result(s)
-      import :: c_double, c_int32_t, c_ptr, c_size_t, dk_plan_options, dk_plan_sizes
-      real(c_double), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      integer(c_int32_t), intent(in) :: boundary(*)
-      integer(c_size_t), value :: boundary_len
-      type(c_ptr), value :: element_offsets
-      integer(c_size_t), value :: element_offsets_len
-      type(c_ptr), value :: element_nodes
-      integer(c_size_t), value :: element_nodes_len
-      type(c_ptr), value :: element_kinds
-      integer(c_size_t), value :: element_kinds_len
-      type(c_ptr), value :: stiffness
-      integer(c_size_t), value :: stiffness_len
+    function dk_plan_work_sizes(mesh, dim, options, sizes_out) bind(C, name="dk_plan_work_sizes") &
+        result(s)
+      import :: c_int32_t, dk_plan_mesh, dk_plan_options, dk_plan_sizes
+      type(dk_plan_mesh), intent(in) :: mesh
       integer(c_int32_t), value :: dim
       type(dk_plan_options), intent(in) :: options
       type(dk_plan_sizes), intent(inout) :: sizes_out
       integer(c_int32_t) :: s
     end function
-    function dk_plan_work_sizes_f32(points, points_len, offsets, offsets_len, targets, &
-        targets_len, boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
-        element_nodes_len, element_kinds, element_kinds_len, stiffness, stiffness_len, dim, &
-        options, sizes_out) bind(C, name="dk_plan_work_sizes_f32") result(s)
-      import :: c_float, c_int32_t, c_ptr, c_size_t, dk_plan_options, dk_plan_sizes
-      real(c_float), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      integer(c_int32_t), intent(in) :: boundary(*)
-      integer(c_size_t), value :: boundary_len
-      type(c_ptr), value :: element_offsets
-      integer(c_size_t), value :: element_offsets_len
-      type(c_ptr), value :: element_nodes
-      integer(c_size_t), value :: element_nodes_len
-      type(c_ptr), value :: element_kinds
-      integer(c_size_t), value :: element_kinds_len
-      type(c_ptr), value :: stiffness
-      integer(c_size_t), value :: stiffness_len
+    function dk_plan_work_sizes_f32(mesh, dim, options, sizes_out) bind(C, &
+        name="dk_plan_work_sizes_f32") result(s)
+      import :: c_int32_t, dk_plan_mesh_f32, dk_plan_options, dk_plan_sizes
+      type(dk_plan_mesh_f32), intent(in) :: mesh
       integer(c_int32_t), value :: dim
       type(dk_plan_options), intent(in) :: options
       type(dk_plan_sizes), intent(inout) :: sizes_out
       integer(c_int32_t) :: s
     end function
-    function dk_plan_pool_sizes(points, points_len, offsets, offsets_len, targets, targets_len, &
-        boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
-        element_nodes_len, element_kinds, element_kinds_len, stiffness, stiffness_len, dim, &
-        options, work_reals, work_reals_len, work_indices, work_indices_len, work_bytes, &
-        work_bytes_len, sizes_out) bind(C, name="dk_plan_pool_sizes") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_options, dk_plan_sizes
-      real(c_double), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      integer(c_int32_t), intent(in) :: boundary(*)
-      integer(c_size_t), value :: boundary_len
-      type(c_ptr), value :: element_offsets
-      integer(c_size_t), value :: element_offsets_len
-      type(c_ptr), value :: element_nodes
-      integer(c_size_t), value :: element_nodes_len
-      type(c_ptr), value :: element_kinds
-      integer(c_size_t), value :: element_kinds_len
-      type(c_ptr), value :: stiffness
-      integer(c_size_t), value :: stiffness_len
+    function dk_plan_pool_sizes(mesh, dim, options, work, sizes_out) bind(C, &
+        name="dk_plan_pool_sizes") result(s)
+      import :: c_int32_t, dk_plan_mesh, dk_plan_options, dk_plan_pools, dk_plan_sizes
+      type(dk_plan_mesh), intent(in) :: mesh
       integer(c_int32_t), value :: dim
       type(dk_plan_options), intent(in) :: options
-      real(c_double), intent(inout) :: work_reals(*)
-      integer(c_size_t), value :: work_reals_len
-      integer(c_int32_t), intent(inout) :: work_indices(*)
-      integer(c_size_t), value :: work_indices_len
-      integer(c_int8_t), intent(inout) :: work_bytes(*)
-      integer(c_size_t), value :: work_bytes_len
+      type(dk_plan_pools), intent(in) :: work
       type(dk_plan_sizes), intent(inout) :: sizes_out
       integer(c_int32_t) :: s
     end function
-    function dk_plan_pool_sizes_f32(points, points_len, offsets, offsets_len, targets, &
-        targets_len, boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
-        element_nodes_len, element_kinds, element_kinds_len, stiffness, stiffness_len, dim, &
-        options, work_reals, work_reals_len, work_indices, work_indices_len, work_bytes, &
-        work_bytes_len, sizes_out) bind(C, name="dk_plan_pool_sizes_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_options, dk_plan_sizes
-      real(c_float), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      integer(c_int32_t), intent(in) :: boundary(*)
-      integer(c_size_t), value :: boundary_len
-      type(c_ptr), value :: element_offsets
-      integer(c_size_t), value :: element_offsets_len
-      type(c_ptr), value :: element_nodes
-      integer(c_size_t), value :: element_nodes_len
-      type(c_ptr), value :: element_kinds
-      integer(c_size_t), value :: element_kinds_len
-      type(c_ptr), value :: stiffness
-      integer(c_size_t), value :: stiffness_len
+    function dk_plan_pool_sizes_f32(mesh, dim, options, work, sizes_out) bind(C, &
+        name="dk_plan_pool_sizes_f32") result(s)
+      import :: c_int32_t, dk_plan_mesh_f32, dk_plan_options, dk_plan_pools_f32, dk_plan_sizes
+      type(dk_plan_mesh_f32), intent(in) :: mesh
       integer(c_int32_t), value :: dim
       type(dk_plan_options), intent(in) :: options
-      real(c_float), intent(inout) :: work_reals(*)
-      integer(c_size_t), value :: work_reals_len
-      integer(c_int32_t), intent(inout) :: work_indices(*)
-      integer(c_size_t), value :: work_indices_len
-      integer(c_int8_t), intent(inout) :: work_bytes(*)
-      integer(c_size_t), value :: work_bytes_len
+      type(dk_plan_pools_f32), intent(in) :: work
       type(dk_plan_sizes), intent(inout) :: sizes_out
       integer(c_int32_t) :: s
     end function
-    function dk_plan_init(points, points_len, offsets, offsets_len, targets, targets_len, &
-        boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
-        element_nodes_len, element_kinds, element_kinds_len, stiffness, stiffness_len, dim, &
-        options, work_reals, work_reals_len, work_indices, work_indices_len, work_bytes, &
-        work_bytes_len, reals, reals_len, indices, indices_len, bytes, bytes_len, info_out) &
-        bind(C, name="dk_plan_init") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_info, dk_plan_options
-      real(c_double), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      integer(c_int32_t), intent(in) :: boundary(*)
-      integer(c_size_t), value :: boundary_len
-      type(c_ptr), value :: element_offsets
-      integer(c_size_t), value :: element_offsets_len
-      type(c_ptr), value :: element_nodes
-      integer(c_size_t), value :: element_nodes_len
-      type(c_ptr), value :: element_kinds
-      integer(c_size_t), value :: element_kinds_len
-      type(c_ptr), value :: stiffness
-      integer(c_size_t), value :: stiffness_len
+    function dk_plan_init(mesh, dim, options, work, pools, info_out) bind(C, name="dk_plan_init") &
+        result(s)
+      import :: c_int32_t, dk_plan_info, dk_plan_mesh, dk_plan_options, dk_plan_pools
+      type(dk_plan_mesh), intent(in) :: mesh
       integer(c_int32_t), value :: dim
       type(dk_plan_options), intent(in) :: options
-      real(c_double), intent(inout) :: work_reals(*)
-      integer(c_size_t), value :: work_reals_len
-      integer(c_int32_t), intent(inout) :: work_indices(*)
-      integer(c_size_t), value :: work_indices_len
-      integer(c_int8_t), intent(inout) :: work_bytes(*)
-      integer(c_size_t), value :: work_bytes_len
-      real(c_double), intent(inout) :: reals(*)
-      integer(c_size_t), value :: reals_len
-      integer(c_int32_t), intent(inout) :: indices(*)
-      integer(c_size_t), value :: indices_len
-      integer(c_int8_t), intent(inout) :: bytes(*)
-      integer(c_size_t), value :: bytes_len
+      type(dk_plan_pools), intent(in) :: work
+      type(dk_plan_pools), intent(in) :: pools
       type(dk_plan_info), intent(inout) :: info_out
       integer(c_int32_t) :: s
     end function
-    function dk_plan_init_f32(points, points_len, offsets, offsets_len, targets, targets_len, &
-        boundary, boundary_len, element_offsets, element_offsets_len, element_nodes, &
-        element_nodes_len, element_kinds, element_kinds_len, stiffness, stiffness_len, dim, &
-        options, work_reals, work_reals_len, work_indices, work_indices_len, work_bytes, &
-        work_bytes_len, reals, reals_len, indices, indices_len, bytes, bytes_len, info_out) &
-        bind(C, name="dk_plan_init_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_info, dk_plan_options
-      real(c_float), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      integer(c_int32_t), intent(in) :: boundary(*)
-      integer(c_size_t), value :: boundary_len
-      type(c_ptr), value :: element_offsets
-      integer(c_size_t), value :: element_offsets_len
-      type(c_ptr), value :: element_nodes
-      integer(c_size_t), value :: element_nodes_len
-      type(c_ptr), value :: element_kinds
-      integer(c_size_t), value :: element_kinds_len
-      type(c_ptr), value :: stiffness
-      integer(c_size_t), value :: stiffness_len
+    function dk_plan_init_f32(mesh, dim, options, work, pools, info_out) bind(C, &
+        name="dk_plan_init_f32") result(s)
+      import :: c_int32_t, dk_plan_info, dk_plan_mesh_f32, dk_plan_options, dk_plan_pools_f32
+      type(dk_plan_mesh_f32), intent(in) :: mesh
       integer(c_int32_t), value :: dim
       type(dk_plan_options), intent(in) :: options
-      real(c_float), intent(inout) :: work_reals(*)
-      integer(c_size_t), value :: work_reals_len
-      integer(c_int32_t), intent(inout) :: work_indices(*)
-      integer(c_size_t), value :: work_indices_len
-      integer(c_int8_t), intent(inout) :: work_bytes(*)
-      integer(c_size_t), value :: work_bytes_len
-      real(c_float), intent(inout) :: reals(*)
-      integer(c_size_t), value :: reals_len
-      integer(c_int32_t), intent(inout) :: indices(*)
-      integer(c_size_t), value :: indices_len
-      integer(c_int8_t), intent(inout) :: bytes(*)
-      integer(c_size_t), value :: bytes_len
+      type(dk_plan_pools_f32), intent(in) :: work
+      type(dk_plan_pools_f32), intent(in) :: pools
       type(dk_plan_info), intent(inout) :: info_out
       integer(c_int32_t) :: s
     end function
-    function dk_plan_open(reals, reals_len, indices, indices_len, bytes, bytes_len, dim, info_out) &
-        bind(C, name="dk_plan_open") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_plan_info
-      real(c_double), intent(inout) :: reals(*)
-      integer(c_size_t), value :: reals_len
-      integer(c_int32_t), intent(inout) :: indices(*)
-      integer(c_size_t), value :: indices_len
-      integer(c_int8_t), intent(inout) :: bytes(*)
-      integer(c_size_t), value :: bytes_len
+    function dk_plan_open(pools, dim, info_out) bind(C, name="dk_plan_open") result(s)
+      import :: c_int32_t, dk_plan_info, dk_plan_pools
+      type(dk_plan_pools), intent(in) :: pools
       integer(c_int32_t), value :: dim
       type(dk_plan_info), intent(inout) :: info_out
       integer(c_int32_t) :: s
     end function
-    function dk_plan_open_f32(reals, reals_len, indices, indices_len, bytes, bytes_len, dim, &
-        info_out) bind(C, name="dk_plan_open_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_plan_info
-      real(c_float), intent(inout) :: reals(*)
-      integer(c_size_t), value :: reals_len
-      integer(c_int32_t), intent(inout) :: indices(*)
-      integer(c_size_t), value :: indices_len
-      integer(c_int8_t), intent(inout) :: bytes(*)
-      integer(c_size_t), value :: bytes_len
+    function dk_plan_open_f32(pools, dim, info_out) bind(C, name="dk_plan_open_f32") result(s)
+      import :: c_int32_t, dk_plan_info, dk_plan_pools_f32
+      type(dk_plan_pools_f32), intent(in) :: pools
       integer(c_int32_t), value :: dim
       type(dk_plan_info), intent(inout) :: info_out
       integer(c_int32_t) :: s
     end function
-    function dk_plan_step(reals, reals_len, indices, indices_len, bytes, bytes_len, dim, deformed, &
-        deformed_len, rotation_source, rotations, rotations_len, origin, origin_len, start, out, &
-        out_len, report_out) bind(C, name="dk_plan_step") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_step_report
-      real(c_double), intent(inout) :: reals(*)
-      integer(c_size_t), value :: reals_len
-      integer(c_int32_t), intent(inout) :: indices(*)
-      integer(c_size_t), value :: indices_len
-      integer(c_int8_t), intent(inout) :: bytes(*)
-      integer(c_size_t), value :: bytes_len
+    function dk_plan_step(pools, dim, deformed, deformed_len, rotation_source, rotations, &
+        rotations_len, origin, origin_len, start, out, out_len, report_out) bind(C, &
+        name="dk_plan_step") result(s)
+      import :: c_double, c_int32_t, c_ptr, c_size_t, dk_plan_pools, dk_plan_step_report
+      type(dk_plan_pools), intent(in) :: pools
       integer(c_int32_t), value :: dim
       real(c_double), intent(in) :: deformed(*)
       integer(c_size_t), value :: deformed_len
@@ -1650,16 +1574,11 @@ module deform_kernel
       type(dk_plan_step_report), intent(inout) :: report_out
       integer(c_int32_t) :: s
     end function
-    function dk_plan_step_f32(reals, reals_len, indices, indices_len, bytes, bytes_len, dim, &
-        deformed, deformed_len, rotation_source, rotations, rotations_len, origin, origin_len, &
-        start, out, out_len, report_out) bind(C, name="dk_plan_step_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_plan_step_report
-      real(c_float), intent(inout) :: reals(*)
-      integer(c_size_t), value :: reals_len
-      integer(c_int32_t), intent(inout) :: indices(*)
-      integer(c_size_t), value :: indices_len
-      integer(c_int8_t), intent(inout) :: bytes(*)
-      integer(c_size_t), value :: bytes_len
+    function dk_plan_step_f32(pools, dim, deformed, deformed_len, rotation_source, rotations, &
+        rotations_len, origin, origin_len, start, out, out_len, report_out) bind(C, &
+        name="dk_plan_step_f32") result(s)
+      import :: c_float, c_int32_t, c_ptr, c_size_t, dk_plan_pools_f32, dk_plan_step_report
+      type(dk_plan_pools_f32), intent(in) :: pools
       integer(c_int32_t), value :: dim
       real(c_float), intent(in) :: deformed(*)
       integer(c_size_t), value :: deformed_len
@@ -1694,16 +1613,10 @@ module deform_kernel
       type(dk_cell_quality), intent(inout) :: out
       integer(c_int32_t) :: s
     end function
-    function dk_quality_cell_measures(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
-        cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, points, &
+    function dk_quality_cell_measures(cells, index_base, index_scratch, index_scratch_len, points, &
         points_len, dim, out, out_len) bind(C, name="dk_quality_cell_measures") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
+      import :: c_double, c_int32_t, c_size_t, dk_cells
+      type(dk_cells), intent(in) :: cells
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
@@ -1714,17 +1627,11 @@ module deform_kernel
       integer(c_size_t), value :: out_len
       integer(c_int32_t) :: s
     end function
-    function dk_quality_cell_measures_f32(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
+    function dk_quality_cell_measures_f32(cells, index_base, index_scratch, index_scratch_len, &
         points, points_len, dim, out, out_len) bind(C, name="dk_quality_cell_measures_f32") &
         result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
+      import :: c_float, c_int32_t, c_size_t, dk_cells
+      type(dk_cells), intent(in) :: cells
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
@@ -1735,17 +1642,11 @@ module deform_kernel
       integer(c_size_t), value :: out_len
       integer(c_int32_t) :: s
     end function
-    function dk_quality_min_corner_jacobians(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
+    function dk_quality_min_corner_jacobians(cells, index_base, index_scratch, index_scratch_len, &
         points, points_len, dim, scaled, out, out_len) bind(C, &
         name="dk_quality_min_corner_jacobians") result(s)
-      import :: c_bool, c_double, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
+      import :: c_bool, c_double, c_int32_t, c_size_t, dk_cells
+      type(dk_cells), intent(in) :: cells
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
@@ -1757,17 +1658,11 @@ module deform_kernel
       integer(c_size_t), value :: out_len
       integer(c_int32_t) :: s
     end function
-    function dk_quality_min_corner_jacobians_f32(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
-        points, points_len, dim, scaled, out, out_len) bind(C, &
+    function dk_quality_min_corner_jacobians_f32(cells, index_base, index_scratch, &
+        index_scratch_len, points, points_len, dim, scaled, out, out_len) bind(C, &
         name="dk_quality_min_corner_jacobians_f32") result(s)
-      import :: c_bool, c_float, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
+      import :: c_bool, c_float, c_int32_t, c_size_t, dk_cells
+      type(dk_cells), intent(in) :: cells
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
@@ -1779,17 +1674,11 @@ module deform_kernel
       integer(c_size_t), value :: out_len
       integer(c_int32_t) :: s
     end function
-    function dk_quality_inverted_cells(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
-        cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, undeformed, &
-        undeformed_len, deformed, deformed_len, dim, count_out) bind(C, &
+    function dk_quality_inverted_cells(cells, index_base, index_scratch, index_scratch_len, &
+        undeformed, undeformed_len, deformed, deformed_len, dim, count_out) bind(C, &
         name="dk_quality_inverted_cells") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
+      import :: c_double, c_int32_t, c_size_t, dk_cells
+      type(dk_cells), intent(in) :: cells
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
@@ -1801,17 +1690,11 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: count_out
       integer(c_int32_t) :: s
     end function
-    function dk_quality_inverted_cells_f32(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
+    function dk_quality_inverted_cells_f32(cells, index_base, index_scratch, index_scratch_len, &
         undeformed, undeformed_len, deformed, deformed_len, dim, count_out) bind(C, &
         name="dk_quality_inverted_cells_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
+      import :: c_float, c_int32_t, c_size_t, dk_cells
+      type(dk_cells), intent(in) :: cells
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
@@ -1823,16 +1706,10 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: count_out
       integer(c_int32_t) :: s
     end function
-    function dk_quality_folded_cells(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
-        cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, points, &
+    function dk_quality_folded_cells(cells, index_base, index_scratch, index_scratch_len, points, &
         points_len, dim, count_out) bind(C, name="dk_quality_folded_cells") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
+      import :: c_double, c_int32_t, c_size_t, dk_cells
+      type(dk_cells), intent(in) :: cells
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
@@ -1842,16 +1719,10 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: count_out
       integer(c_int32_t) :: s
     end function
-    function dk_quality_folded_cells_f32(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
+    function dk_quality_folded_cells_f32(cells, index_base, index_scratch, index_scratch_len, &
         points, points_len, dim, count_out) bind(C, name="dk_quality_folded_cells_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
+      import :: c_float, c_int32_t, c_size_t, dk_cells
+      type(dk_cells), intent(in) :: cells
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
@@ -1869,32 +1740,16 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_quality_compare(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
-        cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, wall_offsets, &
-        wall_offsets_len, wall_nodes, wall_nodes_len, wall_kinds, wall_kinds_len, graph_offsets, &
-        graph_offsets_len, graph_targets, graph_targets_len, undeformed, undeformed_len, deformed, &
-        deformed_len, dim, scratch, scratch_len, report) bind(C, name="dk_quality_compare") &
-        result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_quality_report
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
+    function dk_quality_compare(cells, index_base, index_scratch, index_scratch_len, wall, graph, &
+        undeformed, undeformed_len, deformed, deformed_len, dim, scratch, scratch_len, report) &
+        bind(C, name="dk_quality_compare") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_cells, dk_graph, dk_quality_report
+      type(dk_cells), intent(in) :: cells
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
-      type(c_ptr), value :: wall_offsets
-      integer(c_size_t), value :: wall_offsets_len
-      type(c_ptr), value :: wall_nodes
-      integer(c_size_t), value :: wall_nodes_len
-      type(c_ptr), value :: wall_kinds
-      integer(c_size_t), value :: wall_kinds_len
-      type(c_ptr), value :: graph_offsets
-      integer(c_size_t), value :: graph_offsets_len
-      type(c_ptr), value :: graph_targets
-      integer(c_size_t), value :: graph_targets_len
+      type(dk_cells), intent(in) :: wall
+      type(dk_graph), intent(in) :: graph
       real(c_double), intent(in) :: undeformed(*)
       integer(c_size_t), value :: undeformed_len
       real(c_double), intent(in) :: deformed(*)
@@ -1905,32 +1760,16 @@ module deform_kernel
       type(dk_quality_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_quality_compare_f32(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
-        cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, wall_offsets, &
-        wall_offsets_len, wall_nodes, wall_nodes_len, wall_kinds, wall_kinds_len, graph_offsets, &
-        graph_offsets_len, graph_targets, graph_targets_len, undeformed, undeformed_len, deformed, &
-        deformed_len, dim, scratch, scratch_len, report) bind(C, name="dk_quality_compare_f32") &
-        result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_ptr, c_size_t, dk_quality_report
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
+    function dk_quality_compare_f32(cells, index_base, index_scratch, index_scratch_len, wall, &
+        graph, undeformed, undeformed_len, deformed, deformed_len, dim, scratch, scratch_len, &
+        report) bind(C, name="dk_quality_compare_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_cells, dk_graph, dk_quality_report
+      type(dk_cells), intent(in) :: cells
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
-      type(c_ptr), value :: wall_offsets
-      integer(c_size_t), value :: wall_offsets_len
-      type(c_ptr), value :: wall_nodes
-      integer(c_size_t), value :: wall_nodes_len
-      type(c_ptr), value :: wall_kinds
-      integer(c_size_t), value :: wall_kinds_len
-      type(c_ptr), value :: graph_offsets
-      integer(c_size_t), value :: graph_offsets_len
-      type(c_ptr), value :: graph_targets
-      integer(c_size_t), value :: graph_targets_len
+      type(dk_cells), intent(in) :: wall
+      type(dk_graph), intent(in) :: graph
       real(c_float), intent(in) :: undeformed(*)
       integer(c_size_t), value :: undeformed_len
       real(c_float), intent(in) :: deformed(*)
@@ -1941,25 +1780,15 @@ module deform_kernel
       type(dk_quality_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_quality_wall_angle_change(wall_offsets, wall_offsets_len, wall_nodes, &
-        wall_nodes_len, wall_kinds, wall_kinds_len, index_base, index_scratch, index_scratch_len, &
-        graph_offsets, graph_offsets_len, graph_targets, graph_targets_len, undeformed, &
-        undeformed_len, deformed, deformed_len, dim, scratch, scratch_len, out) bind(C, &
-        name="dk_quality_wall_angle_change") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_wall_angle_change
-      integer(c_int32_t), intent(in) :: wall_offsets(*)
-      integer(c_size_t), value :: wall_offsets_len
-      integer(c_int32_t), intent(in) :: wall_nodes(*)
-      integer(c_size_t), value :: wall_nodes_len
-      integer(c_int8_t), intent(in) :: wall_kinds(*)
-      integer(c_size_t), value :: wall_kinds_len
+    function dk_quality_wall_angle_change(wall, index_base, index_scratch, index_scratch_len, &
+        graph, undeformed, undeformed_len, deformed, deformed_len, dim, scratch, scratch_len, out) &
+        bind(C, name="dk_quality_wall_angle_change") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_cells, dk_graph, dk_wall_angle_change
+      type(dk_cells), intent(in) :: wall
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
-      integer(c_int32_t), intent(in) :: graph_offsets(*)
-      integer(c_size_t), value :: graph_offsets_len
-      integer(c_int32_t), intent(in) :: graph_targets(*)
-      integer(c_size_t), value :: graph_targets_len
+      type(dk_graph), intent(in) :: graph
       real(c_double), intent(in) :: undeformed(*)
       integer(c_size_t), value :: undeformed_len
       real(c_double), intent(in) :: deformed(*)
@@ -1970,25 +1799,15 @@ module deform_kernel
       type(dk_wall_angle_change), intent(inout) :: out
       integer(c_int32_t) :: s
     end function
-    function dk_quality_wall_angle_change_f32(wall_offsets, wall_offsets_len, wall_nodes, &
-        wall_nodes_len, wall_kinds, wall_kinds_len, index_base, index_scratch, index_scratch_len, &
-        graph_offsets, graph_offsets_len, graph_targets, graph_targets_len, undeformed, &
-        undeformed_len, deformed, deformed_len, dim, scratch, scratch_len, out) bind(C, &
-        name="dk_quality_wall_angle_change_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_wall_angle_change
-      integer(c_int32_t), intent(in) :: wall_offsets(*)
-      integer(c_size_t), value :: wall_offsets_len
-      integer(c_int32_t), intent(in) :: wall_nodes(*)
-      integer(c_size_t), value :: wall_nodes_len
-      integer(c_int8_t), intent(in) :: wall_kinds(*)
-      integer(c_size_t), value :: wall_kinds_len
+    function dk_quality_wall_angle_change_f32(wall, index_base, index_scratch, index_scratch_len, &
+        graph, undeformed, undeformed_len, deformed, deformed_len, dim, scratch, scratch_len, out) &
+        bind(C, name="dk_quality_wall_angle_change_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_cells, dk_graph, dk_wall_angle_change
+      type(dk_cells), intent(in) :: wall
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
-      integer(c_int32_t), intent(in) :: graph_offsets(*)
-      integer(c_size_t), value :: graph_offsets_len
-      integer(c_int32_t), intent(in) :: graph_targets(*)
-      integer(c_size_t), value :: graph_targets_len
+      type(dk_graph), intent(in) :: graph
       real(c_float), intent(in) :: undeformed(*)
       integer(c_size_t), value :: undeformed_len
       real(c_float), intent(in) :: deformed(*)
@@ -2176,14 +1995,10 @@ module deform_kernel
       real(c_float), intent(inout) :: out(4)
       integer(c_int32_t) :: s
     end function
-    function dk_spring_batina_stiffness(offsets, offsets_len, targets, targets_len, points, &
-        points_len, dim, exponent, stiffness, stiffness_len) bind(C, &
-        name="dk_spring_batina_stiffness") result(s)
-      import :: c_double, c_int32_t, c_size_t
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
+    function dk_spring_batina_stiffness(graph, points, points_len, dim, exponent, stiffness, &
+        stiffness_len) bind(C, name="dk_spring_batina_stiffness") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_graph
+      type(dk_graph), intent(in) :: graph
       real(c_double), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
@@ -2192,14 +2007,10 @@ module deform_kernel
       integer(c_size_t), value :: stiffness_len
       integer(c_int32_t) :: s
     end function
-    function dk_spring_batina_stiffness_f32(offsets, offsets_len, targets, targets_len, points, &
-        points_len, dim, exponent, stiffness, stiffness_len) bind(C, &
-        name="dk_spring_batina_stiffness_f32") result(s)
-      import :: c_float, c_int32_t, c_size_t
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
+    function dk_spring_batina_stiffness_f32(graph, points, points_len, dim, exponent, stiffness, &
+        stiffness_len) bind(C, name="dk_spring_batina_stiffness_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_graph
+      type(dk_graph), intent(in) :: graph
       real(c_float), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
@@ -2236,20 +2047,12 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_spring_solve_linear(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, options, components, values, values_len, scratch, &
+    function dk_spring_solve_linear(system, options, components, values, values_len, scratch, &
         scratch_len, index_scratch, index_scratch_len, report) bind(C, &
         name="dk_spring_solve_linear") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_solve_options, &
-          dk_spring_solve_report
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_double), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+      import :: c_double, c_int32_t, c_size_t, dk_spring_solve_options, dk_spring_solve_report, &
+          dk_spring_system
+      type(dk_spring_system), intent(in) :: system
       type(dk_spring_solve_options), intent(in) :: options
       integer(c_int32_t), value :: components
       real(c_double), intent(inout) :: values(*)
@@ -2261,20 +2064,12 @@ module deform_kernel
       type(dk_spring_solve_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_spring_solve_linear_f32(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, options, components, values, values_len, scratch, &
+    function dk_spring_solve_linear_f32(system, options, components, values, values_len, scratch, &
         scratch_len, index_scratch, index_scratch_len, report) bind(C, &
         name="dk_spring_solve_linear_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_solve_options, &
-          dk_spring_solve_report
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_float), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+      import :: c_float, c_int32_t, c_size_t, dk_spring_solve_options, dk_spring_solve_report, &
+          dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
       type(dk_spring_solve_options), intent(in) :: options
       integer(c_int32_t), value :: components
       real(c_float), intent(inout) :: values(*)
@@ -2286,19 +2081,11 @@ module deform_kernel
       type(dk_spring_solve_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_spring_jacobi_sweep(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, components, src, &
+    function dk_spring_jacobi_sweep(system, nodes_start, nodes_end, index_base, components, src, &
         src_len, dst, dst_len, index_scratch, index_scratch_len, sweep) bind(C, &
         name="dk_spring_jacobi_sweep") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_double), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+      import :: c_double, c_int32_t, c_size_t, dk_spring_sweep, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
       integer(c_size_t), value :: nodes_start
       integer(c_size_t), value :: nodes_end
       integer(c_int32_t), value :: index_base
@@ -2312,19 +2099,11 @@ module deform_kernel
       type(dk_spring_sweep), intent(inout) :: sweep
       integer(c_int32_t) :: s
     end function
-    function dk_spring_jacobi_sweep_f32(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, components, src, &
-        src_len, dst, dst_len, index_scratch, index_scratch_len, sweep) bind(C, &
+    function dk_spring_jacobi_sweep_f32(system, nodes_start, nodes_end, index_base, components, &
+        src, src_len, dst, dst_len, index_scratch, index_scratch_len, sweep) bind(C, &
         name="dk_spring_jacobi_sweep_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_float), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+      import :: c_float, c_int32_t, c_size_t, dk_spring_sweep, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
       integer(c_size_t), value :: nodes_start
       integer(c_size_t), value :: nodes_end
       integer(c_int32_t), value :: index_base
@@ -2338,19 +2117,11 @@ module deform_kernel
       type(dk_spring_sweep), intent(inout) :: sweep
       integer(c_int32_t) :: s
     end function
-    function dk_spring_jacobi_sweep_exact(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, components, src, &
-        src_len, dst, dst_len, index_scratch, index_scratch_len, sweep, residual_words) bind(C, &
-        name="dk_spring_jacobi_sweep_exact") result(s)
-      import :: c_double, c_int32_t, c_int64_t, c_int8_t, c_size_t, dk_spring_sweep
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_double), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+    function dk_spring_jacobi_sweep_exact(system, nodes_start, nodes_end, index_base, components, &
+        src, src_len, dst, dst_len, index_scratch, index_scratch_len, sweep, residual_words) &
+        bind(C, name="dk_spring_jacobi_sweep_exact") result(s)
+      import :: c_double, c_int32_t, c_int64_t, c_size_t, dk_spring_sweep, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
       integer(c_size_t), value :: nodes_start
       integer(c_size_t), value :: nodes_end
       integer(c_int32_t), value :: index_base
@@ -2365,19 +2136,11 @@ module deform_kernel
       integer(c_int64_t), intent(inout) :: residual_words(72)
       integer(c_int32_t) :: s
     end function
-    function dk_spring_jacobi_sweep_exact_f32(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, &
+    function dk_spring_jacobi_sweep_exact_f32(system, nodes_start, nodes_end, index_base, &
         components, src, src_len, dst, dst_len, index_scratch, index_scratch_len, sweep, &
         residual_words) bind(C, name="dk_spring_jacobi_sweep_exact_f32") result(s)
-      import :: c_float, c_int32_t, c_int64_t, c_int8_t, c_size_t, dk_spring_sweep
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_float), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+      import :: c_float, c_int32_t, c_int64_t, c_size_t, dk_spring_sweep, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
       integer(c_size_t), value :: nodes_start
       integer(c_size_t), value :: nodes_end
       integer(c_int32_t), value :: index_base
@@ -2398,19 +2161,11 @@ module deform_kernel
       real(c_double), intent(inout) :: value_out
       integer(c_int32_t) :: s
     end function
-    function dk_spring_sor_sweep(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, omega, components, &
+    function dk_spring_sor_sweep(system, nodes_start, nodes_end, index_base, omega, components, &
         values, values_len, index_scratch, index_scratch_len, sweep) bind(C, &
         name="dk_spring_sor_sweep") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_double), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+      import :: c_double, c_int32_t, c_size_t, dk_spring_sweep, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
       integer(c_size_t), value :: nodes_start
       integer(c_size_t), value :: nodes_end
       integer(c_int32_t), value :: index_base
@@ -2423,19 +2178,11 @@ module deform_kernel
       type(dk_spring_sweep), intent(inout) :: sweep
       integer(c_int32_t) :: s
     end function
-    function dk_spring_sor_sweep_f32(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, nodes_start, nodes_end, index_base, omega, components, &
-        values, values_len, index_scratch, index_scratch_len, sweep) bind(C, &
+    function dk_spring_sor_sweep_f32(system, nodes_start, nodes_end, index_base, omega, &
+        components, values, values_len, index_scratch, index_scratch_len, sweep) bind(C, &
         name="dk_spring_sor_sweep_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_float), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+      import :: c_float, c_int32_t, c_size_t, dk_spring_sweep, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
       integer(c_size_t), value :: nodes_start
       integer(c_size_t), value :: nodes_end
       integer(c_int32_t), value :: index_base
@@ -2448,18 +2195,10 @@ module deform_kernel
       type(dk_spring_sweep), intent(inout) :: sweep
       integer(c_int32_t) :: s
     end function
-    function dk_spring_relative_residual(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, components, values, values_len, index_scratch, &
+    function dk_spring_relative_residual(system, components, values, values_len, index_scratch, &
         index_scratch_len, residual_out) bind(C, name="dk_spring_relative_residual") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_double), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+      import :: c_double, c_int32_t, c_size_t, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
       integer(c_int32_t), value :: components
       real(c_double), intent(in) :: values(*)
       integer(c_size_t), value :: values_len
@@ -2468,18 +2207,11 @@ module deform_kernel
       real(c_double), intent(inout) :: residual_out
       integer(c_int32_t) :: s
     end function
-    function dk_spring_relative_residual_f32(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, components, values, values_len, index_scratch, &
-        index_scratch_len, residual_out) bind(C, name="dk_spring_relative_residual_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_float), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+    function dk_spring_relative_residual_f32(system, components, values, values_len, &
+        index_scratch, index_scratch_len, residual_out) bind(C, &
+        name="dk_spring_relative_residual_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
       integer(c_int32_t), value :: components
       real(c_float), intent(in) :: values(*)
       integer(c_size_t), value :: values_len
@@ -2526,20 +2258,12 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_spring_solve_angle(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, points, points_len, dim, options, values, values_len, &
+    function dk_spring_solve_angle(system, points, points_len, dim, options, values, values_len, &
         scratch, scratch_len, index_scratch, index_scratch_len, report) bind(C, &
         name="dk_spring_solve_angle") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_angle_options, &
-          dk_spring_solve_report
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_double), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+      import :: c_double, c_int32_t, c_size_t, dk_spring_angle_options, dk_spring_solve_report, &
+          dk_spring_system
+      type(dk_spring_system), intent(in) :: system
       real(c_double), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
@@ -2553,20 +2277,12 @@ module deform_kernel
       type(dk_spring_solve_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_spring_solve_angle_f32(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, points, points_len, dim, options, values, values_len, &
-        scratch, scratch_len, index_scratch, index_scratch_len, report) bind(C, &
+    function dk_spring_solve_angle_f32(system, points, points_len, dim, options, values, &
+        values_len, scratch, scratch_len, index_scratch, index_scratch_len, report) bind(C, &
         name="dk_spring_solve_angle_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_angle_options, &
-          dk_spring_solve_report
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_float), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+      import :: c_float, c_int32_t, c_size_t, dk_spring_angle_options, dk_spring_solve_report, &
+          dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
       real(c_float), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
@@ -2580,19 +2296,11 @@ module deform_kernel
       type(dk_spring_solve_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_spring_angle_jacobi_sweep(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, points, points_len, dim, epsilon, nodes_start, nodes_end, &
-        index_base, src, src_len, dst, dst_len, index_scratch, index_scratch_len, sweep) bind(C, &
-        name="dk_spring_angle_jacobi_sweep") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_double), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+    function dk_spring_angle_jacobi_sweep(system, points, points_len, dim, epsilon, nodes_start, &
+        nodes_end, index_base, src, src_len, dst, dst_len, index_scratch, index_scratch_len, &
+        sweep) bind(C, name="dk_spring_angle_jacobi_sweep") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_spring_sweep, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
       real(c_double), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
@@ -2609,19 +2317,11 @@ module deform_kernel
       type(dk_spring_sweep), intent(inout) :: sweep
       integer(c_int32_t) :: s
     end function
-    function dk_spring_angle_jacobi_sweep_f32(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, epsilon, nodes_start, &
-        nodes_end, index_base, src, src_len, dst, dst_len, index_scratch, index_scratch_len, &
-        sweep) bind(C, name="dk_spring_angle_jacobi_sweep_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_float), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+    function dk_spring_angle_jacobi_sweep_f32(system, points, points_len, dim, epsilon, &
+        nodes_start, nodes_end, index_base, src, src_len, dst, dst_len, index_scratch, &
+        index_scratch_len, sweep) bind(C, name="dk_spring_angle_jacobi_sweep_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_spring_sweep, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
       real(c_float), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
@@ -2638,19 +2338,11 @@ module deform_kernel
       type(dk_spring_sweep), intent(inout) :: sweep
       integer(c_int32_t) :: s
     end function
-    function dk_spring_angle_gauss_seidel_sweep(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, epsilon, nodes_start, &
-        nodes_end, index_base, values, values_len, index_scratch, index_scratch_len, sweep) &
-        bind(C, name="dk_spring_angle_gauss_seidel_sweep") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_double), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+    function dk_spring_angle_gauss_seidel_sweep(system, points, points_len, dim, epsilon, &
+        nodes_start, nodes_end, index_base, values, values_len, index_scratch, index_scratch_len, &
+        sweep) bind(C, name="dk_spring_angle_gauss_seidel_sweep") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_spring_sweep, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
       real(c_double), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
@@ -2665,19 +2357,11 @@ module deform_kernel
       type(dk_spring_sweep), intent(inout) :: sweep
       integer(c_int32_t) :: s
     end function
-    function dk_spring_angle_gauss_seidel_sweep_f32(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, epsilon, nodes_start, &
-        nodes_end, index_base, values, values_len, index_scratch, index_scratch_len, sweep) &
-        bind(C, name="dk_spring_angle_gauss_seidel_sweep_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_sweep
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_float), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+    function dk_spring_angle_gauss_seidel_sweep_f32(system, points, points_len, dim, epsilon, &
+        nodes_start, nodes_end, index_base, values, values_len, index_scratch, index_scratch_len, &
+        sweep) bind(C, name="dk_spring_angle_gauss_seidel_sweep_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_spring_sweep, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
       real(c_float), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
@@ -2692,19 +2376,11 @@ module deform_kernel
       type(dk_spring_sweep), intent(inout) :: sweep
       integer(c_int32_t) :: s
     end function
-    function dk_spring_angle_rigidity_probe(offsets, offsets_len, targets, targets_len, stiffness, &
-        stiffness_len, fixed, fixed_len, points, points_len, dim, options, scratch, scratch_len, &
-        index_scratch, index_scratch_len, amplification_out) bind(C, &
+    function dk_spring_angle_rigidity_probe(system, points, points_len, dim, options, scratch, &
+        scratch_len, index_scratch, index_scratch_len, amplification_out) bind(C, &
         name="dk_spring_angle_rigidity_probe") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_spring_angle_options
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_double), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+      import :: c_double, c_int32_t, c_size_t, dk_spring_angle_options, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
       real(c_double), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
@@ -2716,19 +2392,11 @@ module deform_kernel
       real(c_double), intent(inout) :: amplification_out
       integer(c_int32_t) :: s
     end function
-    function dk_spring_angle_rigidity_probe_f32(offsets, offsets_len, targets, targets_len, &
-        stiffness, stiffness_len, fixed, fixed_len, points, points_len, dim, options, scratch, &
+    function dk_spring_angle_rigidity_probe_f32(system, points, points_len, dim, options, scratch, &
         scratch_len, index_scratch, index_scratch_len, amplification_out) bind(C, &
         name="dk_spring_angle_rigidity_probe_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_spring_angle_options
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
-      real(c_float), intent(in) :: stiffness(*)
-      integer(c_size_t), value :: stiffness_len
-      integer(c_int8_t), intent(in) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
+      import :: c_float, c_int32_t, c_size_t, dk_spring_angle_options, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
       real(c_float), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
@@ -2788,17 +2456,11 @@ module deform_kernel
       real(c_float), value :: exponent
       integer(c_int32_t) :: s
     end function
-    function dk_spring_dual_volumes(cell_offsets, cell_offsets_len, cell_nodes, cell_nodes_len, &
-        cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, points, &
+    function dk_spring_dual_volumes(cells, index_base, index_scratch, index_scratch_len, points, &
         points_len, dim, out, out_len, scratch, scratch_len) bind(C, &
         name="dk_spring_dual_volumes") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
+      import :: c_double, c_int32_t, c_size_t, dk_cells
+      type(dk_cells), intent(in) :: cells
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
@@ -2811,17 +2473,11 @@ module deform_kernel
       integer(c_size_t), value :: scratch_len
       integer(c_int32_t) :: s
     end function
-    function dk_spring_dual_volumes_f32(cell_offsets, cell_offsets_len, cell_nodes, &
-        cell_nodes_len, cell_kinds, cell_kinds_len, index_base, index_scratch, index_scratch_len, &
+    function dk_spring_dual_volumes_f32(cells, index_base, index_scratch, index_scratch_len, &
         points, points_len, dim, out, out_len, scratch, scratch_len) bind(C, &
         name="dk_spring_dual_volumes_f32") result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t
-      integer(c_int32_t), intent(in) :: cell_offsets(*)
-      integer(c_size_t), value :: cell_offsets_len
-      integer(c_int32_t), intent(in) :: cell_nodes(*)
-      integer(c_size_t), value :: cell_nodes_len
-      integer(c_int8_t), intent(in) :: cell_kinds(*)
-      integer(c_size_t), value :: cell_kinds_len
+      import :: c_float, c_int32_t, c_size_t, dk_cells
+      type(dk_cells), intent(in) :: cells
       integer(c_int32_t), value :: index_base
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
@@ -2850,27 +2506,20 @@ module deform_kernel
       real(c_float), value :: exponent
       integer(c_int32_t) :: s
     end function
-    function dk_spring_scale_stiffness(offsets, offsets_len, targets, targets_len, factors, &
-        factors_len, stiffness, stiffness_len) bind(C, name="dk_spring_scale_stiffness") result(s)
-      import :: c_double, c_int32_t, c_size_t
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
+    function dk_spring_scale_stiffness(graph, factors, factors_len, stiffness, stiffness_len) &
+        bind(C, name="dk_spring_scale_stiffness") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_graph
+      type(dk_graph), intent(in) :: graph
       real(c_double), intent(in) :: factors(*)
       integer(c_size_t), value :: factors_len
       real(c_double), intent(inout) :: stiffness(*)
       integer(c_size_t), value :: stiffness_len
       integer(c_int32_t) :: s
     end function
-    function dk_spring_scale_stiffness_f32(offsets, offsets_len, targets, targets_len, factors, &
-        factors_len, stiffness, stiffness_len) bind(C, name="dk_spring_scale_stiffness_f32") &
-        result(s)
-      import :: c_float, c_int32_t, c_size_t
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
+    function dk_spring_scale_stiffness_f32(graph, factors, factors_len, stiffness, stiffness_len) &
+        bind(C, name="dk_spring_scale_stiffness_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_graph
+      type(dk_graph), intent(in) :: graph
       real(c_float), intent(in) :: factors(*)
       integer(c_size_t), value :: factors_len
       real(c_float), intent(inout) :: stiffness(*)
@@ -3096,14 +2745,11 @@ module deform_kernel
       integer(c_size_t), intent(inout) :: len_out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_smooth_graph(offsets, offsets_len, targets, targets_len, weights, &
-        weights_len, fixed, fixed_len, lambda, mu, iterations, components, values, values_len, &
-        scratch, scratch_len, report) bind(C, name="dk_taubin_smooth_graph") result(s)
-      import :: c_double, c_int32_t, c_ptr, c_size_t, dk_filter_report
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
+    function dk_taubin_smooth_graph(graph, weights, weights_len, fixed, fixed_len, lambda, mu, &
+        iterations, components, values, values_len, scratch, scratch_len, report) bind(C, &
+        name="dk_taubin_smooth_graph") result(s)
+      import :: c_double, c_int32_t, c_ptr, c_size_t, dk_filter_report, dk_graph
+      type(dk_graph), intent(in) :: graph
       type(c_ptr), value :: weights
       integer(c_size_t), value :: weights_len
       type(c_ptr), value :: fixed
@@ -3119,14 +2765,11 @@ module deform_kernel
       type(dk_filter_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_smooth_graph_f32(offsets, offsets_len, targets, targets_len, weights, &
-        weights_len, fixed, fixed_len, lambda, mu, iterations, components, values, values_len, &
-        scratch, scratch_len, report) bind(C, name="dk_taubin_smooth_graph_f32") result(s)
-      import :: c_float, c_int32_t, c_ptr, c_size_t, dk_filter_report
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
+    function dk_taubin_smooth_graph_f32(graph, weights, weights_len, fixed, fixed_len, lambda, mu, &
+        iterations, components, values, values_len, scratch, scratch_len, report) bind(C, &
+        name="dk_taubin_smooth_graph_f32") result(s)
+      import :: c_float, c_int32_t, c_ptr, c_size_t, dk_filter_report, dk_graph
+      type(dk_graph), intent(in) :: graph
       type(c_ptr), value :: weights
       integer(c_size_t), value :: weights_len
       type(c_ptr), value :: fixed
@@ -3142,14 +2785,11 @@ module deform_kernel
       type(dk_filter_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_graph_sweep(offsets, offsets_len, targets, targets_len, weights, &
-        weights_len, fixed, fixed_len, src, src_len, components, weight, nodes_start, nodes_end, &
-        index_base, dst, dst_len, max_change_out) bind(C, name="dk_taubin_graph_sweep") result(s)
-      import :: c_double, c_int32_t, c_ptr, c_size_t
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
+    function dk_taubin_graph_sweep(graph, weights, weights_len, fixed, fixed_len, src, src_len, &
+        components, weight, nodes_start, nodes_end, index_base, dst, dst_len, max_change_out) &
+        bind(C, name="dk_taubin_graph_sweep") result(s)
+      import :: c_double, c_int32_t, c_ptr, c_size_t, dk_graph
+      type(dk_graph), intent(in) :: graph
       type(c_ptr), value :: weights
       integer(c_size_t), value :: weights_len
       type(c_ptr), value :: fixed
@@ -3166,15 +2806,11 @@ module deform_kernel
       real(c_double), intent(inout) :: max_change_out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_graph_sweep_f32(offsets, offsets_len, targets, targets_len, weights, &
-        weights_len, fixed, fixed_len, src, src_len, components, weight, nodes_start, nodes_end, &
-        index_base, dst, dst_len, max_change_out) bind(C, name="dk_taubin_graph_sweep_f32") &
-        result(s)
-      import :: c_float, c_int32_t, c_ptr, c_size_t
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
+    function dk_taubin_graph_sweep_f32(graph, weights, weights_len, fixed, fixed_len, src, &
+        src_len, components, weight, nodes_start, nodes_end, index_base, dst, dst_len, &
+        max_change_out) bind(C, name="dk_taubin_graph_sweep_f32") result(s)
+      import :: c_float, c_int32_t, c_ptr, c_size_t, dk_graph
+      type(dk_graph), intent(in) :: graph
       type(c_ptr), value :: weights
       integer(c_size_t), value :: weights_len
       type(c_ptr), value :: fixed
@@ -3191,14 +2827,10 @@ module deform_kernel
       real(c_float), intent(inout) :: max_change_out
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_inverse_distance_weights(offsets, offsets_len, targets, targets_len, &
-        points, points_len, dim, weights, weights_len) bind(C, &
-        name="dk_taubin_inverse_distance_weights") result(s)
-      import :: c_double, c_int32_t, c_ptr, c_size_t
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
+    function dk_taubin_inverse_distance_weights(graph, points, points_len, dim, weights, &
+        weights_len) bind(C, name="dk_taubin_inverse_distance_weights") result(s)
+      import :: c_double, c_int32_t, c_ptr, c_size_t, dk_graph
+      type(dk_graph), intent(in) :: graph
       real(c_double), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
@@ -3206,14 +2838,10 @@ module deform_kernel
       integer(c_size_t), value :: weights_len
       integer(c_int32_t) :: s
     end function
-    function dk_taubin_inverse_distance_weights_f32(offsets, offsets_len, targets, targets_len, &
-        points, points_len, dim, weights, weights_len) bind(C, &
-        name="dk_taubin_inverse_distance_weights_f32") result(s)
-      import :: c_float, c_int32_t, c_ptr, c_size_t
-      integer(c_int32_t), intent(in) :: offsets(*)
-      integer(c_size_t), value :: offsets_len
-      integer(c_int32_t), intent(in) :: targets(*)
-      integer(c_size_t), value :: targets_len
+    function dk_taubin_inverse_distance_weights_f32(graph, points, points_len, dim, weights, &
+        weights_len) bind(C, name="dk_taubin_inverse_distance_weights_f32") result(s)
+      import :: c_float, c_int32_t, c_ptr, c_size_t, dk_graph
+      type(dk_graph), intent(in) :: graph
       real(c_float), intent(in) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
@@ -3447,17 +3075,15 @@ contains
   function dkf_graph_from_cells_len(node_count, cell_offsets, cell_nodes, cell_kinds, &
                                     face_diagonals, len) result(s)
     integer(c_size_t), intent(in) :: node_count
-    integer(c_int32_t), intent(in), contiguous :: cell_offsets(:), cell_nodes(:)
-    integer(c_int8_t), intent(in), contiguous :: cell_kinds(:)
+    integer(c_int32_t), intent(in), target, contiguous :: cell_offsets(:), cell_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous :: cell_kinds(:)
     logical, intent(in) :: face_diagonals
     integer(c_size_t), intent(inout) :: len
     integer(c_int32_t) :: s
     integer(c_int32_t), allocatable :: index_scratch(:)
     allocate(index_scratch(size(cell_offsets) + size(cell_nodes)))
-    s = dk_graph_from_cells_len(node_count, cell_offsets, int(size(cell_offsets), c_size_t), &
-                                cell_nodes, int(size(cell_nodes), c_size_t), cell_kinds, &
-                                int(size(cell_kinds), c_size_t), 1_c_int32_t, index_scratch, &
-                                int(size(index_scratch), c_size_t), &
+    s = dk_graph_from_cells_len(node_count, dkf_cells(cell_offsets, cell_nodes, cell_kinds), &
+                                1_c_int32_t, index_scratch, size(index_scratch, kind=c_size_t), &
                                 logical(face_diagonals, c_bool), len)
   end function
 
@@ -3465,18 +3091,16 @@ contains
   function dkf_graph_from_cells(node_count, cell_offsets, cell_nodes, cell_kinds, &
                                 face_diagonals, offsets, targets, used) result(s)
     integer(c_size_t), intent(in) :: node_count
-    integer(c_int32_t), intent(in), contiguous :: cell_offsets(:), cell_nodes(:)
-    integer(c_int8_t), intent(in), contiguous :: cell_kinds(:)
+    integer(c_int32_t), intent(in), target, contiguous :: cell_offsets(:), cell_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous :: cell_kinds(:)
     logical, intent(in) :: face_diagonals
     integer(c_int32_t), intent(inout), contiguous :: offsets(:), targets(:)
     integer(c_size_t), intent(inout) :: used
     integer(c_int32_t) :: s
     integer(c_int32_t), allocatable :: index_scratch(:)
     allocate(index_scratch(size(cell_offsets) + size(cell_nodes)))
-    s = dk_graph_from_cells(node_count, cell_offsets, int(size(cell_offsets), c_size_t), &
-                            cell_nodes, int(size(cell_nodes), c_size_t), cell_kinds, &
-                            int(size(cell_kinds), c_size_t), 1_c_int32_t, index_scratch, &
-                            int(size(index_scratch), c_size_t), &
+    s = dk_graph_from_cells(node_count, dkf_cells(cell_offsets, cell_nodes, cell_kinds), &
+                            1_c_int32_t, index_scratch, size(index_scratch, kind=c_size_t), &
                             logical(face_diagonals, c_bool), offsets, &
                             int(size(offsets), c_size_t), targets, int(size(targets), c_size_t), &
                             used)
@@ -3488,18 +3112,16 @@ contains
   !> (may be empty for Gauss-Seidel and SOR), index_scratch node_count entries.
   function dkf_spring_solve_linear(offsets, targets, stiffness, fixed, options, values, &
                                    scratch, index_scratch, report) result(s)
-    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:)
-    real(c_double), intent(in), contiguous :: stiffness(:)
-    integer(c_int8_t), intent(in), contiguous :: fixed(:)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:)
+    real(c_double), intent(in), target, contiguous :: stiffness(:)
+    integer(c_int8_t), intent(in), target, contiguous :: fixed(:)
     type(dk_spring_solve_options), intent(in) :: options
     real(c_double), intent(inout), contiguous :: values(:, :)
     real(c_double), intent(inout), contiguous :: scratch(:)
     integer(c_int32_t), intent(inout), contiguous :: index_scratch(:)
     type(dk_spring_solve_report), intent(inout) :: report
     integer(c_int32_t) :: s
-    s = dk_spring_solve_linear(offsets, int(size(offsets), c_size_t), targets, &
-                               int(size(targets), c_size_t), stiffness, &
-                               int(size(stiffness), c_size_t), fixed, int(size(fixed), c_size_t), &
+    s = dk_spring_solve_linear(dkf_spring_system(dkf_graph(offsets, targets), stiffness, fixed), &
                                options, int(size(values, 1), c_int32_t), values, &
                                int(size(values), c_size_t), scratch, int(size(scratch), c_size_t), &
                                index_scratch, int(size(index_scratch), c_size_t), report)
@@ -3541,7 +3163,7 @@ contains
   function dkf_taubin_smooth_graph(offsets, targets, lambda, mu, iterations, values, scratch, &
                                    report, weights, fixed) result(s)
     use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
-    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:)
     real(c_double), intent(in) :: lambda, mu
     integer(c_size_t), intent(in) :: iterations
     real(c_double), intent(inout), contiguous :: values(:, :)
@@ -3564,8 +3186,7 @@ contains
       fl = size(fixed, kind=c_size_t)
       if (fl > 0) f = c_loc(fixed)
     end if
-    s = dk_taubin_smooth_graph(offsets, int(size(offsets), c_size_t), targets, &
-                               int(size(targets), c_size_t), w, wl, f, fl, lambda, mu, &
+    s = dk_taubin_smooth_graph(dkf_graph(offsets, targets), w, wl, f, fl, lambda, mu, &
                                iterations, int(size(values, 1), c_int32_t), values, &
                                int(size(values), c_size_t), scratch, int(size(scratch), c_size_t), &
                                report)
@@ -3721,9 +3342,9 @@ contains
     real(c_double), intent(in), contiguous :: points(:, :)
     integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
     real(c_double), intent(in), target, contiguous :: deformed(:, :)
-    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:)
-    real(c_double), intent(in), contiguous :: stiffness(:)
-    integer(c_int8_t), intent(in), contiguous :: fixed(:)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:)
+    real(c_double), intent(in), target, contiguous :: stiffness(:)
+    integer(c_int8_t), intent(in), target, contiguous :: fixed(:)
     type(dk_spring_solve_options), intent(in) :: options
     real(c_double), intent(inout), contiguous :: scratch(:), values(:), translations(:, :), &
                                                  rotations(:, :), out(:, :)
@@ -3738,15 +3359,14 @@ contains
     real(c_double), intent(inout), contiguous, optional :: origin_out(:)
     integer(c_int32_t) :: s
     type(dk_boundary_motion) :: m
+    type(dk_spring_system) :: sys
     real(c_double) :: none(1)
     call dkf_fill_motion(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
                          rigid_rotation, node_rotations, origin)
+    sys = dkf_spring_system(dkf_graph(offsets, targets), stiffness, fixed)
     if (present(origin_out)) then
       s = dk_deform_spring(points, size(points, kind=c_size_t), &
-                           int(size(points, 1), c_int32_t), m, offsets, &
-                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           stiffness, size(stiffness, kind=c_size_t), fixed, &
-                           size(fixed, kind=c_size_t), options, scratch, &
+                           int(size(points, 1), c_int32_t), m, sys, options, scratch, &
                            size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
                            index_scratch, size(index_scratch, kind=c_size_t), translations, &
                            size(translations, kind=c_size_t), rotations, &
@@ -3754,10 +3374,7 @@ contains
                            origin_out, size(origin_out, kind=c_size_t), report)
     else
       s = dk_deform_spring(points, size(points, kind=c_size_t), &
-                           int(size(points, 1), c_int32_t), m, offsets, &
-                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           stiffness, size(stiffness, kind=c_size_t), fixed, &
-                           size(fixed, kind=c_size_t), options, scratch, &
+                           int(size(points, 1), c_int32_t), m, sys, options, scratch, &
                            size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
                            index_scratch, size(index_scratch, kind=c_size_t), translations, &
                            size(translations, kind=c_size_t), rotations, &
@@ -3775,45 +3392,24 @@ contains
   !> lists are allocated here and freed on return; pools receives the three pool lengths.
   function dkf_plan_pool_sizes(points, offsets, targets, boundary, options, pools, &
                                element_offsets, element_nodes, element_kinds, stiffness) result(s)
-    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
-    real(c_double), intent(in), contiguous :: points(:, :)
-    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:), boundary(:)
+    real(c_double), intent(in), target, contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:), boundary(:)
     type(dk_plan_options), intent(in) :: options
     type(dk_plan_sizes), intent(out) :: pools
     integer(c_int32_t), intent(in), contiguous, optional :: element_offsets(:), element_nodes(:)
     integer(c_int8_t), intent(in), contiguous, optional :: element_kinds(:)
     real(c_double), intent(in), target, contiguous, optional :: stiffness(:)
     integer(c_int32_t) :: s
-    type(dk_plan_sizes) :: work
-    real(c_double), allocatable :: wr(:)
-    integer(c_int32_t), allocatable :: wi(:)
-    integer(c_int8_t), allocatable :: wb(:)
-    type(c_ptr) :: eo, en, ek, k
-    integer(c_size_t) :: neo, nen, nek, nk
-    integer(c_int32_t), allocatable, target :: b0(:), eo0(:), en0(:)
-    integer(c_int8_t), allocatable, target :: ek0(:)
-    allocate(b0(size(boundary)))
-    b0 = boundary - 1
-    call dkf_plan_elements(element_offsets, element_nodes, element_kinds, eo0, en0, ek0, eo, neo, &
-                           en, nen, ek, nek)
-    k = c_null_ptr
-    nk = 0
-    if (present(stiffness)) then
-      k = c_loc(stiffness)
-      nk = size(stiffness, kind=c_size_t)
-    end if
-    s = dk_plan_work_sizes(points, size(points, kind=c_size_t), offsets, &
-                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, k, nk, &
-                           int(size(points, 1), c_int32_t), options, work)
+    type(dk_plan_mesh) :: mesh
+    type(dk_plan_pools) :: work
+    real(c_double), allocatable, target :: wr(:)
+    integer(c_int32_t), allocatable, target :: wi(:), b0(:), eo0(:), en0(:)
+    integer(c_int8_t), allocatable, target :: wb(:), ek0(:)
+    call dkf_plan_mesh(mesh, points, offsets, targets, boundary, b0, eo0, en0, ek0, &
+                       element_offsets, element_nodes, element_kinds, stiffness)
+    s = dkf_plan_work(mesh, int(size(points, 1), c_int32_t), options, work, wr, wi, wb)
     if (s /= DK_OK) return
-    allocate(wr(max(work%reals, 1_c_size_t)), wi(max(work%indices, 1_c_size_t)), &
-             wb(max(work%bytes, 1_c_size_t)))
-    s = dk_plan_pool_sizes(points, size(points, kind=c_size_t), offsets, &
-                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, k, nk, &
-                           int(size(points, 1), c_int32_t), options, wr, work%reals, wi, &
-                           work%indices, wb, work%bytes, pools)
+    s = dk_plan_pool_sizes(mesh, int(size(points, 1), c_int32_t), options, work, pools)
   end function
 
   !> dk_plan_init with Fortran arrays (arguments as dkf_plan_pool_sizes; the work buffers are
@@ -3821,49 +3417,28 @@ contains
   !> dkf_plan_pool_sizes gave); info receives what the plan holds.
   function dkf_plan_init(points, offsets, targets, boundary, options, reals, indices, bytes, &
                          info, element_offsets, element_nodes, element_kinds, stiffness) result(s)
-    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
-    real(c_double), intent(in), contiguous :: points(:, :)
-    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:), boundary(:)
+    real(c_double), intent(in), target, contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:), boundary(:)
     type(dk_plan_options), intent(in) :: options
-    real(c_double), intent(inout), contiguous :: reals(:)
-    integer(c_int32_t), intent(inout), contiguous :: indices(:)
-    integer(c_int8_t), intent(inout), contiguous :: bytes(:)
+    real(c_double), intent(inout), target, contiguous :: reals(:)
+    integer(c_int32_t), intent(inout), target, contiguous :: indices(:)
+    integer(c_int8_t), intent(inout), target, contiguous :: bytes(:)
     type(dk_plan_info), intent(inout) :: info
     integer(c_int32_t), intent(in), contiguous, optional :: element_offsets(:), element_nodes(:)
     integer(c_int8_t), intent(in), contiguous, optional :: element_kinds(:)
     real(c_double), intent(in), target, contiguous, optional :: stiffness(:)
     integer(c_int32_t) :: s
-    type(dk_plan_sizes) :: work
-    real(c_double), allocatable :: wr(:)
-    integer(c_int32_t), allocatable :: wi(:)
-    integer(c_int8_t), allocatable :: wb(:)
-    type(c_ptr) :: eo, en, ek, k
-    integer(c_size_t) :: neo, nen, nek, nk
-    integer(c_int32_t), allocatable, target :: b0(:), eo0(:), en0(:)
-    integer(c_int8_t), allocatable, target :: ek0(:)
-    allocate(b0(size(boundary)))
-    b0 = boundary - 1
-    call dkf_plan_elements(element_offsets, element_nodes, element_kinds, eo0, en0, ek0, eo, neo, &
-                           en, nen, ek, nek)
-    k = c_null_ptr
-    nk = 0
-    if (present(stiffness)) then
-      k = c_loc(stiffness)
-      nk = size(stiffness, kind=c_size_t)
-    end if
-    s = dk_plan_work_sizes(points, size(points, kind=c_size_t), offsets, &
-                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, k, nk, &
-                           int(size(points, 1), c_int32_t), options, work)
+    type(dk_plan_mesh) :: mesh
+    type(dk_plan_pools) :: work
+    real(c_double), allocatable, target :: wr(:)
+    integer(c_int32_t), allocatable, target :: wi(:), b0(:), eo0(:), en0(:)
+    integer(c_int8_t), allocatable, target :: wb(:), ek0(:)
+    call dkf_plan_mesh(mesh, points, offsets, targets, boundary, b0, eo0, en0, ek0, &
+                       element_offsets, element_nodes, element_kinds, stiffness)
+    s = dkf_plan_work(mesh, int(size(points, 1), c_int32_t), options, work, wr, wi, wb)
     if (s /= DK_OK) return
-    allocate(wr(max(work%reals, 1_c_size_t)), wi(max(work%indices, 1_c_size_t)), &
-             wb(max(work%bytes, 1_c_size_t)))
-    s = dk_plan_init(points, size(points, kind=c_size_t), offsets, size(offsets, kind=c_size_t), &
-                     targets, size(targets, kind=c_size_t), b0, size(b0, kind=c_size_t), eo, &
-                     neo, en, nen, ek, nek, k, nk, &
-                     int(size(points, 1), c_int32_t), options, wr, work%reals, wi, work%indices, &
-                     wb, work%bytes, reals, size(reals, kind=c_size_t), indices, &
-                     size(indices, kind=c_size_t), bytes, size(bytes, kind=c_size_t), info)
+    s = dk_plan_init(mesh, int(size(points, 1), c_int32_t), options, work, &
+                     dkf_plan_pools(reals, indices, bytes), info)
   end function
 
   !> dk_plan_step with Fortran arrays: deformed(dim, size(boundary)) in, out(dim, n) out;
@@ -3872,9 +3447,9 @@ contains
   function dkf_plan_step(reals, indices, bytes, deformed, out, report, start, rigid_rotation, &
                          node_rotations, origin) result(s)
     use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
-    real(c_double), intent(inout), contiguous :: reals(:)
-    integer(c_int32_t), intent(inout), contiguous :: indices(:)
-    integer(c_int8_t), intent(inout), contiguous :: bytes(:)
+    real(c_double), intent(inout), target, contiguous :: reals(:)
+    integer(c_int32_t), intent(inout), target, contiguous :: indices(:)
+    integer(c_int8_t), intent(inout), target, contiguous :: bytes(:)
     real(c_double), intent(in), contiguous :: deformed(:, :)
     real(c_double), intent(inout), contiguous :: out(:, :)
     type(dk_plan_step_report), intent(inout) :: report
@@ -3905,75 +3480,95 @@ contains
       org = c_loc(origin)
       norg = size(origin, kind=c_size_t)
     end if
-    s = dk_plan_step(reals, size(reals, kind=c_size_t), indices, size(indices, kind=c_size_t), &
-                     bytes, size(bytes, kind=c_size_t), int(size(deformed, 1), c_int32_t), &
+    s = dk_plan_step(dkf_plan_pools(reals, indices, bytes), int(size(deformed, 1), c_int32_t), &
                      deformed, size(deformed, kind=c_size_t), source, rot, nrot, org, norg, st, &
                      out, size(out, kind=c_size_t), report)
   end function
 
   !> dk_plan_open with Fortran arrays (dim 2 or 3).
   function dkf_plan_open(reals, indices, bytes, dim, info) result(s)
-    real(c_double), intent(inout), contiguous :: reals(:)
-    integer(c_int32_t), intent(inout), contiguous :: indices(:)
-    integer(c_int8_t), intent(inout), contiguous :: bytes(:)
+    real(c_double), intent(inout), target, contiguous :: reals(:)
+    integer(c_int32_t), intent(inout), target, contiguous :: indices(:)
+    integer(c_int8_t), intent(inout), target, contiguous :: bytes(:)
     integer(c_int32_t), intent(in) :: dim
     type(dk_plan_info), intent(inout) :: info
     integer(c_int32_t) :: s
-    s = dk_plan_open(reals, size(reals, kind=c_size_t), indices, size(indices, kind=c_size_t), &
-                     bytes, size(bytes, kind=c_size_t), dim, info)
+    s = dk_plan_open(dkf_plan_pools(reals, indices, bytes), dim, info)
   end function
 
-  !> The optional 1-based element arrays of the plan wrappers as 0-based copies (eo0, en0,
-  !> ek0, declared target by the caller) and C pointers to them with their lengths.
-  subroutine dkf_plan_elements(element_offsets, element_nodes, element_kinds, eo0, en0, ek0, eo, &
-                               neo, en, nen, ek, nek)
+  !> A dk_plan_pools over reals(:), indices(:), bytes(:) (the arrays need the target attribute
+  !> and must outlive every call the struct is passed to, as for dkf_graph).
+  function dkf_plan_pools(reals, indices, bytes) result(p)
+    use, intrinsic :: iso_c_binding, only: c_loc
+    real(c_double), intent(inout), target, contiguous :: reals(:)
+    integer(c_int32_t), intent(inout), target, contiguous :: indices(:)
+    integer(c_int8_t), intent(inout), target, contiguous :: bytes(:)
+    type(dk_plan_pools) :: p
+    p = dk_plan_pools(c_loc(reals), size(reals, kind=c_size_t), c_loc(indices), &
+                      size(indices, kind=c_size_t), c_loc(bytes), size(bytes, kind=c_size_t))
+  end function
+
+  !> The dk_plan_mesh of the plan wrappers: the 1-based boundary and optional element arrays
+  !> as 0-based copies in b0, eo0, en0, ek0 (declared target by the caller).
+  subroutine dkf_plan_mesh(mesh, points, offsets, targets, boundary, b0, eo0, en0, ek0, &
+                           element_offsets, element_nodes, element_kinds, stiffness)
     use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
+    type(dk_plan_mesh), intent(out) :: mesh
+    real(c_double), intent(in), target, contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:), boundary(:)
+    integer(c_int32_t), allocatable, target, intent(inout) :: b0(:), eo0(:), en0(:)
+    integer(c_int8_t), allocatable, target, intent(inout) :: ek0(:)
     integer(c_int32_t), intent(in), contiguous, optional :: element_offsets(:), element_nodes(:)
     integer(c_int8_t), intent(in), contiguous, optional :: element_kinds(:)
-    integer(c_int32_t), allocatable, target, intent(inout) :: eo0(:), en0(:)
-    integer(c_int8_t), allocatable, target, intent(inout) :: ek0(:)
-    type(c_ptr), intent(out) :: eo, en, ek
-    integer(c_size_t), intent(out) :: neo, nen, nek
-    eo = c_null_ptr
-    en = c_null_ptr
-    ek = c_null_ptr
-    neo = 0
-    nen = 0
-    nek = 0
-    if (present(element_offsets)) then
-      allocate(eo0(size(element_offsets)))
+    real(c_double), intent(in), target, contiguous, optional :: stiffness(:)
+    b0 = boundary - 1
+    mesh = dk_plan_mesh(c_loc(points), size(points, kind=c_size_t), dkf_graph(offsets, targets), &
+                        c_loc(b0), size(b0, kind=c_size_t), &
+                        dk_cells(c_null_ptr, 0, c_null_ptr, 0, c_null_ptr, 0), c_null_ptr, 0)
+    if (present(element_offsets) .and. present(element_nodes) .and. present(element_kinds)) then
       eo0 = element_offsets - 1
-      eo = c_loc(eo0)
-      neo = size(eo0, kind=c_size_t)
-    end if
-    if (present(element_nodes)) then
-      allocate(en0(size(element_nodes)))
       en0 = element_nodes - 1
-      en = c_loc(en0)
-      nen = size(en0, kind=c_size_t)
-    end if
-    if (present(element_kinds)) then
-      allocate(ek0(size(element_kinds)))
       ek0 = element_kinds
-      ek = c_loc(ek0)
-      nek = size(ek0, kind=c_size_t)
+      mesh%elements = dkf_cells(eo0, en0, ek0)
+    end if
+    if (present(stiffness)) then
+      mesh%stiffness = c_loc(stiffness)
+      mesh%stiffness_len = size(stiffness, kind=c_size_t)
     end if
   end subroutine
+
+  !> The transient work of dk_plan_init for mesh: sized by dk_plan_work_sizes, allocated in
+  !> wr, wi, wb (declared target by the caller) and described by work.
+  function dkf_plan_work(mesh, dim, options, work, wr, wi, wb) result(s)
+    type(dk_plan_mesh), intent(in) :: mesh
+    integer(c_int32_t), intent(in) :: dim
+    type(dk_plan_options), intent(in) :: options
+    type(dk_plan_pools), intent(out) :: work
+    real(c_double), allocatable, target, intent(inout) :: wr(:)
+    integer(c_int32_t), allocatable, target, intent(inout) :: wi(:)
+    integer(c_int8_t), allocatable, target, intent(inout) :: wb(:)
+    integer(c_int32_t) :: s
+    type(dk_plan_sizes) :: n
+    s = dk_plan_work_sizes(mesh, dim, options, n)
+    if (s /= DK_OK) return
+    allocate(wr(max(n%reals, 1_c_size_t)), wi(max(n%indices, 1_c_size_t)), &
+             wb(max(n%bytes, 1_c_size_t)))
+    work = dkf_plan_pools(wr, wi, wb)
+  end function
 
   !> dk_quality_cell_measures with Fortran arrays and 1-based cells (cell_offsets(ncells + 1),
   !> cell_nodes(:), cell_kinds(ncells), as dkf_graph_from_cells takes them): the signed area
   !> (2D) or volume (3D) of every cell of points(dim, n) into out(ncells).
   function dkf_quality_cell_measures(cell_offsets, cell_nodes, cell_kinds, points, out) result(s)
-    integer(c_int32_t), intent(in), contiguous :: cell_offsets(:), cell_nodes(:)
-    integer(c_int8_t), intent(in), contiguous :: cell_kinds(:)
+    integer(c_int32_t), intent(in), target, contiguous :: cell_offsets(:), cell_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous :: cell_kinds(:)
     real(c_double), intent(in), contiguous :: points(:, :)
     real(c_double), intent(inout), contiguous :: out(:)
     integer(c_int32_t) :: s
     integer(c_int32_t), allocatable :: index_scratch(:)
     allocate(index_scratch(size(cell_offsets) + size(cell_nodes)))
-    s = dk_quality_cell_measures(cell_offsets, size(cell_offsets, kind=c_size_t), cell_nodes, &
-                                 size(cell_nodes, kind=c_size_t), cell_kinds, &
-                                 size(cell_kinds, kind=c_size_t), 1_c_int32_t, index_scratch, &
+    s = dk_quality_cell_measures(dkf_cells(cell_offsets, cell_nodes, cell_kinds), 1_c_int32_t, &
+                                 index_scratch, &
                                  size(index_scratch, kind=c_size_t), points, &
                                  size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
                                  out, size(out, kind=c_size_t))
@@ -3983,18 +3578,16 @@ contains
   !> the smallest corner Jacobian of every cell, divided by its edge lengths when scaled.
   function dkf_quality_min_corner_jacobians(cell_offsets, cell_nodes, cell_kinds, points, &
                                             scaled, out) result(s)
-    integer(c_int32_t), intent(in), contiguous :: cell_offsets(:), cell_nodes(:)
-    integer(c_int8_t), intent(in), contiguous :: cell_kinds(:)
+    integer(c_int32_t), intent(in), target, contiguous :: cell_offsets(:), cell_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous :: cell_kinds(:)
     real(c_double), intent(in), contiguous :: points(:, :)
     logical, intent(in) :: scaled
     real(c_double), intent(inout), contiguous :: out(:)
     integer(c_int32_t) :: s
     integer(c_int32_t), allocatable :: index_scratch(:)
     allocate(index_scratch(size(cell_offsets) + size(cell_nodes)))
-    s = dk_quality_min_corner_jacobians(cell_offsets, size(cell_offsets, kind=c_size_t), &
-                                        cell_nodes, size(cell_nodes, kind=c_size_t), cell_kinds, &
-                                        size(cell_kinds, kind=c_size_t), 1_c_int32_t, &
-                                        index_scratch, size(index_scratch, kind=c_size_t), points, &
+    s = dk_quality_min_corner_jacobians(dkf_cells(cell_offsets, cell_nodes, cell_kinds), &
+                                        1_c_int32_t, index_scratch, size(index_scratch, kind=c_size_t), points, &
                                         size(points, kind=c_size_t), &
                                         int(size(points, 1), c_int32_t), &
                                         logical(scaled, c_bool), out, size(out, kind=c_size_t))
@@ -4008,9 +3601,9 @@ contains
   function dkf_quality_compare(cell_offsets, cell_nodes, cell_kinds, undeformed, deformed, &
                                report, wall_offsets, wall_nodes, wall_kinds, graph_offsets, &
                                graph_targets) result(s)
-    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
-    integer(c_int32_t), intent(in), contiguous :: cell_offsets(:), cell_nodes(:)
-    integer(c_int8_t), intent(in), contiguous :: cell_kinds(:)
+    use, intrinsic :: iso_c_binding, only: c_null_ptr
+    integer(c_int32_t), intent(in), target, contiguous :: cell_offsets(:), cell_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous :: cell_kinds(:)
     real(c_double), intent(in), contiguous :: undeformed(:, :), deformed(:, :)
     type(dk_quality_report), intent(inout) :: report
     integer(c_int32_t), intent(in), target, contiguous, optional :: wall_offsets(:), &
@@ -4020,31 +3613,15 @@ contains
     real(c_double), allocatable :: scratch(:)
     integer(c_int32_t), allocatable :: index_scratch(:)
     integer(c_size_t) :: need
-    type(c_ptr) :: wo, wn, wk, go, gt
-    integer(c_size_t) :: nwo, nwn, nwk, ngo, ngt
-    wo = c_null_ptr
-    wn = c_null_ptr
-    wk = c_null_ptr
-    go = c_null_ptr
-    gt = c_null_ptr
-    nwo = 0
-    nwn = 0
-    nwk = 0
-    ngo = 0
-    ngt = 0
+    type(dk_cells) :: wall
+    type(dk_graph) :: graph
     need = 0
+    wall = dk_cells(c_null_ptr, 0, c_null_ptr, 0, c_null_ptr, 0)
+    graph = dk_graph(c_null_ptr, 0, c_null_ptr, 0)
     if (present(wall_offsets) .and. present(wall_nodes) .and. present(wall_kinds) .and. &
         present(graph_offsets) .and. present(graph_targets)) then
-      wo = c_loc(wall_offsets)
-      wn = c_loc(wall_nodes)
-      wk = c_loc(wall_kinds)
-      go = c_loc(graph_offsets)
-      gt = c_loc(graph_targets)
-      nwo = size(wall_offsets, kind=c_size_t)
-      nwn = size(wall_nodes, kind=c_size_t)
-      nwk = size(wall_kinds, kind=c_size_t)
-      ngo = size(graph_offsets, kind=c_size_t)
-      ngt = size(graph_targets, kind=c_size_t)
+      wall = dkf_cells(wall_offsets, wall_nodes, wall_kinds)
+      graph = dkf_graph(graph_offsets, graph_targets)
       s = dk_quality_wall_angle_scratch_len(size(undeformed, 2, kind=c_size_t), &
                                             int(size(undeformed, 1), c_int32_t), need)
       if (s /= DK_OK) return
@@ -4054,14 +3631,47 @@ contains
       return
     end if
     allocate(scratch(max(need, 1_c_size_t)))
-    allocate(index_scratch(size(cell_offsets) + size(cell_nodes) + nwo + nwn))
-    s = dk_quality_compare(cell_offsets, size(cell_offsets, kind=c_size_t), cell_nodes, &
-                           size(cell_nodes, kind=c_size_t), cell_kinds, &
-                           size(cell_kinds, kind=c_size_t), 1_c_int32_t, index_scratch, &
-                           size(index_scratch, kind=c_size_t), wo, nwo, wn, nwn, wk, &
-                           nwk, go, ngo, gt, ngt, undeformed, size(undeformed, kind=c_size_t), &
+    allocate(index_scratch(size(cell_offsets) + size(cell_nodes) + wall%offsets_len + &
+                           wall%nodes_len))
+    s = dk_quality_compare(dkf_cells(cell_offsets, cell_nodes, cell_kinds), 1_c_int32_t, &
+                           index_scratch, size(index_scratch, kind=c_size_t), wall, graph, &
+                           undeformed, size(undeformed, kind=c_size_t), &
                            deformed, size(deformed, kind=c_size_t), &
                            int(size(undeformed, 1), c_int32_t), scratch, need, report)
+  end function
+
+  !> A dk_graph over the 0-based CSR arrays offsets(:) and targets(:) from dkf_graph_from_*.
+  !> The arrays need the target attribute and must outlive every call the struct is passed to
+  !> (the struct holds their C addresses).
+  function dkf_graph(offsets, targets) result(g)
+    use, intrinsic :: iso_c_binding, only: c_loc
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:)
+    type(dk_graph) :: g
+    g = dk_graph(c_loc(offsets), size(offsets, kind=c_size_t), c_loc(targets), &
+                 size(targets, kind=c_size_t))
+  end function
+
+  !> A dk_cells over offsets(ncells + 1), nodes(:) and kinds(ncells) (read in the index_base
+  !> of the call, 1 for the dkf_ wrappers); arrays as for dkf_graph.
+  function dkf_cells(offsets, nodes, kinds) result(c)
+    use, intrinsic :: iso_c_binding, only: c_loc
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous :: kinds(:)
+    type(dk_cells) :: c
+    c = dk_cells(c_loc(offsets), size(offsets, kind=c_size_t), c_loc(nodes), &
+                 size(nodes, kind=c_size_t), c_loc(kinds), size(kinds, kind=c_size_t))
+  end function
+
+  !> A dk_spring_system: the graph (dkf_graph), stiffness(size(targets)) per directed edge and
+  !> fixed(n) (nonzero = fixed); arrays as for dkf_graph.
+  function dkf_spring_system(graph, stiffness, fixed) result(sys)
+    use, intrinsic :: iso_c_binding, only: c_loc
+    type(dk_graph), intent(in) :: graph
+    real(c_double), intent(in), target, contiguous :: stiffness(:)
+    integer(c_int8_t), intent(in), target, contiguous :: fixed(:)
+    type(dk_spring_system) :: sys
+    sys = dk_spring_system(graph, c_loc(stiffness), size(stiffness, kind=c_size_t), &
+                           c_loc(fixed), size(fixed, kind=c_size_t))
   end function
 
   ! <<< generated by `cargo xtask codegen`: the _f32 twins of the dkf_ wrappers above >>>
@@ -4220,9 +3830,9 @@ contains
     real(c_float), intent(in), contiguous :: points(:, :)
     integer(c_int32_t), intent(in), target, contiguous :: nodes(:)
     real(c_float), intent(in), target, contiguous :: deformed(:, :)
-    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:)
-    real(c_float), intent(in), contiguous :: stiffness(:)
-    integer(c_int8_t), intent(in), contiguous :: fixed(:)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:)
+    real(c_float), intent(in), target, contiguous :: stiffness(:)
+    integer(c_int8_t), intent(in), target, contiguous :: fixed(:)
     type(dk_spring_solve_options), intent(in) :: options
     real(c_float), intent(inout), contiguous :: scratch(:), values(:), translations(:, :), &
                                                  rotations(:, :), out(:, :)
@@ -4237,15 +3847,14 @@ contains
     real(c_float), intent(inout), contiguous, optional :: origin_out(:)
     integer(c_int32_t) :: s
     type(dk_boundary_motion_f32) :: m
+    type(dk_spring_system_f32) :: sys
     real(c_float) :: none(1)
     call dkf_fill_motion_f32(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
                          rigid_rotation, node_rotations, origin)
+    sys = dkf_spring_system_f32(dkf_graph(offsets, targets), stiffness, fixed)
     if (present(origin_out)) then
       s = dk_deform_spring_f32(points, size(points, kind=c_size_t), &
-                           int(size(points, 1), c_int32_t), m, offsets, &
-                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           stiffness, size(stiffness, kind=c_size_t), fixed, &
-                           size(fixed, kind=c_size_t), options, scratch, &
+                           int(size(points, 1), c_int32_t), m, sys, options, scratch, &
                            size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
                            index_scratch, size(index_scratch, kind=c_size_t), translations, &
                            size(translations, kind=c_size_t), rotations, &
@@ -4253,10 +3862,7 @@ contains
                            origin_out, size(origin_out, kind=c_size_t), report)
     else
       s = dk_deform_spring_f32(points, size(points, kind=c_size_t), &
-                           int(size(points, 1), c_int32_t), m, offsets, &
-                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           stiffness, size(stiffness, kind=c_size_t), fixed, &
-                           size(fixed, kind=c_size_t), options, scratch, &
+                           int(size(points, 1), c_int32_t), m, sys, options, scratch, &
                            size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
                            index_scratch, size(index_scratch, kind=c_size_t), translations, &
                            size(translations, kind=c_size_t), rotations, &
@@ -4275,45 +3881,24 @@ contains
   !> lists are allocated here and freed on return; pools receives the three pool lengths.
   function dkf_plan_pool_sizes_f32(points, offsets, targets, boundary, options, pools, &
                                element_offsets, element_nodes, element_kinds, stiffness) result(s)
-    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
-    real(c_float), intent(in), contiguous :: points(:, :)
-    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:), boundary(:)
+    real(c_float), intent(in), target, contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:), boundary(:)
     type(dk_plan_options), intent(in) :: options
     type(dk_plan_sizes), intent(out) :: pools
     integer(c_int32_t), intent(in), contiguous, optional :: element_offsets(:), element_nodes(:)
     integer(c_int8_t), intent(in), contiguous, optional :: element_kinds(:)
     real(c_float), intent(in), target, contiguous, optional :: stiffness(:)
     integer(c_int32_t) :: s
-    type(dk_plan_sizes) :: work
-    real(c_float), allocatable :: wr(:)
-    integer(c_int32_t), allocatable :: wi(:)
-    integer(c_int8_t), allocatable :: wb(:)
-    type(c_ptr) :: eo, en, ek, k
-    integer(c_size_t) :: neo, nen, nek, nk
-    integer(c_int32_t), allocatable, target :: b0(:), eo0(:), en0(:)
-    integer(c_int8_t), allocatable, target :: ek0(:)
-    allocate(b0(size(boundary)))
-    b0 = boundary - 1
-    call dkf_plan_elements(element_offsets, element_nodes, element_kinds, eo0, en0, ek0, eo, neo, &
-                           en, nen, ek, nek)
-    k = c_null_ptr
-    nk = 0
-    if (present(stiffness)) then
-      k = c_loc(stiffness)
-      nk = size(stiffness, kind=c_size_t)
-    end if
-    s = dk_plan_work_sizes_f32(points, size(points, kind=c_size_t), offsets, &
-                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, k, nk, &
-                           int(size(points, 1), c_int32_t), options, work)
+    type(dk_plan_mesh_f32) :: mesh
+    type(dk_plan_pools_f32) :: work
+    real(c_float), allocatable, target :: wr(:)
+    integer(c_int32_t), allocatable, target :: wi(:), b0(:), eo0(:), en0(:)
+    integer(c_int8_t), allocatable, target :: wb(:), ek0(:)
+    call dkf_plan_mesh_f32(mesh, points, offsets, targets, boundary, b0, eo0, en0, ek0, &
+                       element_offsets, element_nodes, element_kinds, stiffness)
+    s = dkf_plan_work_f32(mesh, int(size(points, 1), c_int32_t), options, work, wr, wi, wb)
     if (s /= DK_OK) return
-    allocate(wr(max(work%reals, 1_c_size_t)), wi(max(work%indices, 1_c_size_t)), &
-             wb(max(work%bytes, 1_c_size_t)))
-    s = dk_plan_pool_sizes_f32(points, size(points, kind=c_size_t), offsets, &
-                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, k, nk, &
-                           int(size(points, 1), c_int32_t), options, wr, work%reals, wi, &
-                           work%indices, wb, work%bytes, pools)
+    s = dk_plan_pool_sizes_f32(mesh, int(size(points, 1), c_int32_t), options, work, pools)
   end function
 
   !> Single-precision twin of dkf_plan_init.
@@ -4322,49 +3907,28 @@ contains
   !> dkf_plan_pool_sizes_f32 gave); info receives what the plan holds.
   function dkf_plan_init_f32(points, offsets, targets, boundary, options, reals, indices, bytes, &
                          info, element_offsets, element_nodes, element_kinds, stiffness) result(s)
-    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
-    real(c_float), intent(in), contiguous :: points(:, :)
-    integer(c_int32_t), intent(in), contiguous :: offsets(:), targets(:), boundary(:)
+    real(c_float), intent(in), target, contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:), boundary(:)
     type(dk_plan_options), intent(in) :: options
-    real(c_float), intent(inout), contiguous :: reals(:)
-    integer(c_int32_t), intent(inout), contiguous :: indices(:)
-    integer(c_int8_t), intent(inout), contiguous :: bytes(:)
+    real(c_float), intent(inout), target, contiguous :: reals(:)
+    integer(c_int32_t), intent(inout), target, contiguous :: indices(:)
+    integer(c_int8_t), intent(inout), target, contiguous :: bytes(:)
     type(dk_plan_info), intent(inout) :: info
     integer(c_int32_t), intent(in), contiguous, optional :: element_offsets(:), element_nodes(:)
     integer(c_int8_t), intent(in), contiguous, optional :: element_kinds(:)
     real(c_float), intent(in), target, contiguous, optional :: stiffness(:)
     integer(c_int32_t) :: s
-    type(dk_plan_sizes) :: work
-    real(c_float), allocatable :: wr(:)
-    integer(c_int32_t), allocatable :: wi(:)
-    integer(c_int8_t), allocatable :: wb(:)
-    type(c_ptr) :: eo, en, ek, k
-    integer(c_size_t) :: neo, nen, nek, nk
-    integer(c_int32_t), allocatable, target :: b0(:), eo0(:), en0(:)
-    integer(c_int8_t), allocatable, target :: ek0(:)
-    allocate(b0(size(boundary)))
-    b0 = boundary - 1
-    call dkf_plan_elements(element_offsets, element_nodes, element_kinds, eo0, en0, ek0, eo, neo, &
-                           en, nen, ek, nek)
-    k = c_null_ptr
-    nk = 0
-    if (present(stiffness)) then
-      k = c_loc(stiffness)
-      nk = size(stiffness, kind=c_size_t)
-    end if
-    s = dk_plan_work_sizes_f32(points, size(points, kind=c_size_t), offsets, &
-                           size(offsets, kind=c_size_t), targets, size(targets, kind=c_size_t), &
-                           b0, size(b0, kind=c_size_t), eo, neo, en, nen, ek, nek, k, nk, &
-                           int(size(points, 1), c_int32_t), options, work)
+    type(dk_plan_mesh_f32) :: mesh
+    type(dk_plan_pools_f32) :: work
+    real(c_float), allocatable, target :: wr(:)
+    integer(c_int32_t), allocatable, target :: wi(:), b0(:), eo0(:), en0(:)
+    integer(c_int8_t), allocatable, target :: wb(:), ek0(:)
+    call dkf_plan_mesh_f32(mesh, points, offsets, targets, boundary, b0, eo0, en0, ek0, &
+                       element_offsets, element_nodes, element_kinds, stiffness)
+    s = dkf_plan_work_f32(mesh, int(size(points, 1), c_int32_t), options, work, wr, wi, wb)
     if (s /= DK_OK) return
-    allocate(wr(max(work%reals, 1_c_size_t)), wi(max(work%indices, 1_c_size_t)), &
-             wb(max(work%bytes, 1_c_size_t)))
-    s = dk_plan_init_f32(points, size(points, kind=c_size_t), offsets, size(offsets, kind=c_size_t), &
-                     targets, size(targets, kind=c_size_t), b0, size(b0, kind=c_size_t), eo, &
-                     neo, en, nen, ek, nek, k, nk, &
-                     int(size(points, 1), c_int32_t), options, wr, work%reals, wi, work%indices, &
-                     wb, work%bytes, reals, size(reals, kind=c_size_t), indices, &
-                     size(indices, kind=c_size_t), bytes, size(bytes, kind=c_size_t), info)
+    s = dk_plan_init_f32(mesh, int(size(points, 1), c_int32_t), options, work, &
+                     dkf_plan_pools_f32(reals, indices, bytes), info)
   end function
 
   !> Single-precision twin of dkf_plan_step.
@@ -4374,9 +3938,9 @@ contains
   function dkf_plan_step_f32(reals, indices, bytes, deformed, out, report, start, rigid_rotation, &
                          node_rotations, origin) result(s)
     use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
-    real(c_float), intent(inout), contiguous :: reals(:)
-    integer(c_int32_t), intent(inout), contiguous :: indices(:)
-    integer(c_int8_t), intent(inout), contiguous :: bytes(:)
+    real(c_float), intent(inout), target, contiguous :: reals(:)
+    integer(c_int32_t), intent(inout), target, contiguous :: indices(:)
+    integer(c_int8_t), intent(inout), target, contiguous :: bytes(:)
     real(c_float), intent(in), contiguous :: deformed(:, :)
     real(c_float), intent(inout), contiguous :: out(:, :)
     type(dk_plan_step_report), intent(inout) :: report
@@ -4407,8 +3971,7 @@ contains
       org = c_loc(origin)
       norg = size(origin, kind=c_size_t)
     end if
-    s = dk_plan_step_f32(reals, size(reals, kind=c_size_t), indices, size(indices, kind=c_size_t), &
-                     bytes, size(bytes, kind=c_size_t), int(size(deformed, 1), c_int32_t), &
+    s = dk_plan_step_f32(dkf_plan_pools_f32(reals, indices, bytes), int(size(deformed, 1), c_int32_t), &
                      deformed, size(deformed, kind=c_size_t), source, rot, nrot, org, norg, st, &
                      out, size(out, kind=c_size_t), report)
   end function
@@ -4416,14 +3979,13 @@ contains
   !> Single-precision twin of dkf_plan_open.
   !> dk_plan_open_f32 with Fortran arrays (dim 2 or 3).
   function dkf_plan_open_f32(reals, indices, bytes, dim, info) result(s)
-    real(c_float), intent(inout), contiguous :: reals(:)
-    integer(c_int32_t), intent(inout), contiguous :: indices(:)
-    integer(c_int8_t), intent(inout), contiguous :: bytes(:)
+    real(c_float), intent(inout), target, contiguous :: reals(:)
+    integer(c_int32_t), intent(inout), target, contiguous :: indices(:)
+    integer(c_int8_t), intent(inout), target, contiguous :: bytes(:)
     integer(c_int32_t), intent(in) :: dim
     type(dk_plan_info), intent(inout) :: info
     integer(c_int32_t) :: s
-    s = dk_plan_open_f32(reals, size(reals, kind=c_size_t), indices, size(indices, kind=c_size_t), &
-                     bytes, size(bytes, kind=c_size_t), dim, info)
+    s = dk_plan_open_f32(dkf_plan_pools_f32(reals, indices, bytes), dim, info)
   end function
 
   !> Single-precision twin of dkf_quality_cell_measures.
@@ -4431,16 +3993,15 @@ contains
   !> cell_nodes(:), cell_kinds(ncells), as dkf_graph_from_cells takes them): the signed area
   !> (2D) or volume (3D) of every cell of points(dim, n) into out(ncells).
   function dkf_quality_cell_measures_f32(cell_offsets, cell_nodes, cell_kinds, points, out) result(s)
-    integer(c_int32_t), intent(in), contiguous :: cell_offsets(:), cell_nodes(:)
-    integer(c_int8_t), intent(in), contiguous :: cell_kinds(:)
+    integer(c_int32_t), intent(in), target, contiguous :: cell_offsets(:), cell_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous :: cell_kinds(:)
     real(c_float), intent(in), contiguous :: points(:, :)
     real(c_float), intent(inout), contiguous :: out(:)
     integer(c_int32_t) :: s
     integer(c_int32_t), allocatable :: index_scratch(:)
     allocate(index_scratch(size(cell_offsets) + size(cell_nodes)))
-    s = dk_quality_cell_measures_f32(cell_offsets, size(cell_offsets, kind=c_size_t), cell_nodes, &
-                                 size(cell_nodes, kind=c_size_t), cell_kinds, &
-                                 size(cell_kinds, kind=c_size_t), 1_c_int32_t, index_scratch, &
+    s = dk_quality_cell_measures_f32(dkf_cells(cell_offsets, cell_nodes, cell_kinds), 1_c_int32_t, &
+                                 index_scratch, &
                                  size(index_scratch, kind=c_size_t), points, &
                                  size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
                                  out, size(out, kind=c_size_t))
@@ -4451,18 +4012,16 @@ contains
   !> the smallest corner Jacobian of every cell, divided by its edge lengths when scaled.
   function dkf_quality_min_corner_jacobians_f32(cell_offsets, cell_nodes, cell_kinds, points, &
                                             scaled, out) result(s)
-    integer(c_int32_t), intent(in), contiguous :: cell_offsets(:), cell_nodes(:)
-    integer(c_int8_t), intent(in), contiguous :: cell_kinds(:)
+    integer(c_int32_t), intent(in), target, contiguous :: cell_offsets(:), cell_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous :: cell_kinds(:)
     real(c_float), intent(in), contiguous :: points(:, :)
     logical, intent(in) :: scaled
     real(c_float), intent(inout), contiguous :: out(:)
     integer(c_int32_t) :: s
     integer(c_int32_t), allocatable :: index_scratch(:)
     allocate(index_scratch(size(cell_offsets) + size(cell_nodes)))
-    s = dk_quality_min_corner_jacobians_f32(cell_offsets, size(cell_offsets, kind=c_size_t), &
-                                        cell_nodes, size(cell_nodes, kind=c_size_t), cell_kinds, &
-                                        size(cell_kinds, kind=c_size_t), 1_c_int32_t, &
-                                        index_scratch, size(index_scratch, kind=c_size_t), points, &
+    s = dk_quality_min_corner_jacobians_f32(dkf_cells(cell_offsets, cell_nodes, cell_kinds), &
+                                        1_c_int32_t, index_scratch, size(index_scratch, kind=c_size_t), points, &
                                         size(points, kind=c_size_t), &
                                         int(size(points, 1), c_int32_t), &
                                         logical(scaled, c_bool), out, size(out, kind=c_size_t))
@@ -4477,9 +4036,9 @@ contains
   function dkf_quality_compare_f32(cell_offsets, cell_nodes, cell_kinds, undeformed, deformed, &
                                report, wall_offsets, wall_nodes, wall_kinds, graph_offsets, &
                                graph_targets) result(s)
-    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
-    integer(c_int32_t), intent(in), contiguous :: cell_offsets(:), cell_nodes(:)
-    integer(c_int8_t), intent(in), contiguous :: cell_kinds(:)
+    use, intrinsic :: iso_c_binding, only: c_null_ptr
+    integer(c_int32_t), intent(in), target, contiguous :: cell_offsets(:), cell_nodes(:)
+    integer(c_int8_t), intent(in), target, contiguous :: cell_kinds(:)
     real(c_float), intent(in), contiguous :: undeformed(:, :), deformed(:, :)
     type(dk_quality_report), intent(inout) :: report
     integer(c_int32_t), intent(in), target, contiguous, optional :: wall_offsets(:), &
@@ -4489,31 +4048,15 @@ contains
     real(c_float), allocatable :: scratch(:)
     integer(c_int32_t), allocatable :: index_scratch(:)
     integer(c_size_t) :: need
-    type(c_ptr) :: wo, wn, wk, go, gt
-    integer(c_size_t) :: nwo, nwn, nwk, ngo, ngt
-    wo = c_null_ptr
-    wn = c_null_ptr
-    wk = c_null_ptr
-    go = c_null_ptr
-    gt = c_null_ptr
-    nwo = 0
-    nwn = 0
-    nwk = 0
-    ngo = 0
-    ngt = 0
+    type(dk_cells) :: wall
+    type(dk_graph) :: graph
     need = 0
+    wall = dk_cells(c_null_ptr, 0, c_null_ptr, 0, c_null_ptr, 0)
+    graph = dk_graph(c_null_ptr, 0, c_null_ptr, 0)
     if (present(wall_offsets) .and. present(wall_nodes) .and. present(wall_kinds) .and. &
         present(graph_offsets) .and. present(graph_targets)) then
-      wo = c_loc(wall_offsets)
-      wn = c_loc(wall_nodes)
-      wk = c_loc(wall_kinds)
-      go = c_loc(graph_offsets)
-      gt = c_loc(graph_targets)
-      nwo = size(wall_offsets, kind=c_size_t)
-      nwn = size(wall_nodes, kind=c_size_t)
-      nwk = size(wall_kinds, kind=c_size_t)
-      ngo = size(graph_offsets, kind=c_size_t)
-      ngt = size(graph_targets, kind=c_size_t)
+      wall = dkf_cells(wall_offsets, wall_nodes, wall_kinds)
+      graph = dkf_graph(graph_offsets, graph_targets)
       s = dk_quality_wall_angle_scratch_len(size(undeformed, 2, kind=c_size_t), &
                                             int(size(undeformed, 1), c_int32_t), need)
       if (s /= DK_OK) return
@@ -4523,14 +4066,89 @@ contains
       return
     end if
     allocate(scratch(max(need, 1_c_size_t)))
-    allocate(index_scratch(size(cell_offsets) + size(cell_nodes) + nwo + nwn))
-    s = dk_quality_compare_f32(cell_offsets, size(cell_offsets, kind=c_size_t), cell_nodes, &
-                           size(cell_nodes, kind=c_size_t), cell_kinds, &
-                           size(cell_kinds, kind=c_size_t), 1_c_int32_t, index_scratch, &
-                           size(index_scratch, kind=c_size_t), wo, nwo, wn, nwn, wk, &
-                           nwk, go, ngo, gt, ngt, undeformed, size(undeformed, kind=c_size_t), &
+    allocate(index_scratch(size(cell_offsets) + size(cell_nodes) + wall%offsets_len + &
+                           wall%nodes_len))
+    s = dk_quality_compare_f32(dkf_cells(cell_offsets, cell_nodes, cell_kinds), 1_c_int32_t, &
+                           index_scratch, size(index_scratch, kind=c_size_t), wall, graph, &
+                           undeformed, size(undeformed, kind=c_size_t), &
                            deformed, size(deformed, kind=c_size_t), &
                            int(size(undeformed, 1), c_int32_t), scratch, need, report)
+  end function
+
+  !> Single-precision twin of dkf_spring_system.
+  !> A dk_spring_system_f32: the graph (dkf_graph), stiffness(size(targets)) per directed edge and
+  !> fixed(n) (nonzero = fixed); arrays as for dkf_graph.
+  function dkf_spring_system_f32(graph, stiffness, fixed) result(sys)
+    use, intrinsic :: iso_c_binding, only: c_loc
+    type(dk_graph), intent(in) :: graph
+    real(c_float), intent(in), target, contiguous :: stiffness(:)
+    integer(c_int8_t), intent(in), target, contiguous :: fixed(:)
+    type(dk_spring_system_f32) :: sys
+    sys = dk_spring_system_f32(graph, c_loc(stiffness), size(stiffness, kind=c_size_t), &
+                           c_loc(fixed), size(fixed, kind=c_size_t))
+  end function
+
+  !> Single-precision twin of dkf_plan_pools.
+  !> A dk_plan_pools_f32 over reals(:), indices(:), bytes(:) (the arrays need the target attribute
+  !> and must outlive every call the struct is passed to, as for dkf_graph).
+  function dkf_plan_pools_f32(reals, indices, bytes) result(p)
+    use, intrinsic :: iso_c_binding, only: c_loc
+    real(c_float), intent(inout), target, contiguous :: reals(:)
+    integer(c_int32_t), intent(inout), target, contiguous :: indices(:)
+    integer(c_int8_t), intent(inout), target, contiguous :: bytes(:)
+    type(dk_plan_pools_f32) :: p
+    p = dk_plan_pools_f32(c_loc(reals), size(reals, kind=c_size_t), c_loc(indices), &
+                      size(indices, kind=c_size_t), c_loc(bytes), size(bytes, kind=c_size_t))
+  end function
+
+  !> Single-precision twin of dkf_plan_mesh.
+  !> The dk_plan_mesh_f32 of the plan wrappers: the 1-based boundary and optional element arrays
+  !> as 0-based copies in b0, eo0, en0, ek0 (declared target by the caller).
+  subroutine dkf_plan_mesh_f32(mesh, points, offsets, targets, boundary, b0, eo0, en0, ek0, &
+                           element_offsets, element_nodes, element_kinds, stiffness)
+    use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr
+    type(dk_plan_mesh_f32), intent(out) :: mesh
+    real(c_float), intent(in), target, contiguous :: points(:, :)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:), boundary(:)
+    integer(c_int32_t), allocatable, target, intent(inout) :: b0(:), eo0(:), en0(:)
+    integer(c_int8_t), allocatable, target, intent(inout) :: ek0(:)
+    integer(c_int32_t), intent(in), contiguous, optional :: element_offsets(:), element_nodes(:)
+    integer(c_int8_t), intent(in), contiguous, optional :: element_kinds(:)
+    real(c_float), intent(in), target, contiguous, optional :: stiffness(:)
+    b0 = boundary - 1
+    mesh = dk_plan_mesh_f32(c_loc(points), size(points, kind=c_size_t), dkf_graph(offsets, targets), &
+                        c_loc(b0), size(b0, kind=c_size_t), &
+                        dk_cells(c_null_ptr, 0, c_null_ptr, 0, c_null_ptr, 0), c_null_ptr, 0)
+    if (present(element_offsets) .and. present(element_nodes) .and. present(element_kinds)) then
+      eo0 = element_offsets - 1
+      en0 = element_nodes - 1
+      ek0 = element_kinds
+      mesh%elements = dkf_cells(eo0, en0, ek0)
+    end if
+    if (present(stiffness)) then
+      mesh%stiffness = c_loc(stiffness)
+      mesh%stiffness_len = size(stiffness, kind=c_size_t)
+    end if
+  end subroutine
+
+  !> Single-precision twin of dkf_plan_work.
+  !> The transient work of dk_plan_init_f32 for mesh: sized by dk_plan_work_sizes_f32, allocated in
+  !> wr, wi, wb (declared target by the caller) and described by work.
+  function dkf_plan_work_f32(mesh, dim, options, work, wr, wi, wb) result(s)
+    type(dk_plan_mesh_f32), intent(in) :: mesh
+    integer(c_int32_t), intent(in) :: dim
+    type(dk_plan_options), intent(in) :: options
+    type(dk_plan_pools_f32), intent(out) :: work
+    real(c_float), allocatable, target, intent(inout) :: wr(:)
+    integer(c_int32_t), allocatable, target, intent(inout) :: wi(:)
+    integer(c_int8_t), allocatable, target, intent(inout) :: wb(:)
+    integer(c_int32_t) :: s
+    type(dk_plan_sizes) :: n
+    s = dk_plan_work_sizes_f32(mesh, dim, options, n)
+    if (s /= DK_OK) return
+    allocate(wr(max(n%reals, 1_c_size_t)), wi(max(n%indices, 1_c_size_t)), &
+             wb(max(n%bytes, 1_c_size_t)))
+    work = dkf_plan_pools_f32(wr, wi, wb)
   end function
   ! <<< end generated twins >>>
 

@@ -247,43 +247,73 @@ typedef struct {
   uint32_t has_origin;
 } dk_boundary_motion;
 
-// Single-precision twin of [`dk_boundary_motion`] (same fields, `float` scalars).
+// Single-precision twin of [`dk_boundary_motion`] (`float` scalars).
 typedef struct {
-  // Mesh node of each boundary point, in `index_base`, all distinct.
+  // Mesh node of each of the `B` boundary points, in `index_base`, all distinct. Include
+  // fixed boundaries (far field) with `deformed` equal to their position: they anchor the
+  // propagation.
   const uint32_t *nodes;
   // Number of entries of `nodes` (`B`, at least 1).
   size_t nodes_len;
-  // Deformed position of each boundary point (`B * dim` scalars).
+  // Deformed position of each boundary point (`B * dim` scalars); reproduced exactly in
+  // the output.
   const float *deformed;
-  // Number of scalars in `deformed`.
+  // Number of scalars in `deformed` (`B * dim`).
   size_t deformed_len;
-  // Boundary element offsets (in `index_base`), or NULL with length 0 for no elements.
+  // Boundary element offsets into `element_nodes` (one per element plus one, in
+  // `index_base` like graph.rs cell offsets), or NULL with length 0 for no elements.
   const uint32_t *element_offsets;
   // Number of entries of `element_offsets` (0: no elements).
   size_t element_offsets_len;
-  // Element nodes as positions `0..B` in `nodes`, in `index_base`.
+  // Element nodes as positions `0..B` in `nodes` (not mesh nodes; see
+  // [`dk_deform_localize_nodes`]), in `index_base`: segments (VTK 3) in 2D,
+  // triangles/quadrilaterals (5, 9) in 3D, consistently ordered.
   const uint32_t *element_nodes;
   // Number of entries of `element_nodes`.
   size_t element_nodes_len;
   // VTK kind code of each element.
   const uint8_t *element_kinds;
-  // Number of entries of `element_kinds`.
+  // Number of entries of `element_kinds` (elements).
   size_t element_kinds_len;
-  // With [`DK_ROTATIONS_PER_NODE`]: `4 * B` quaternion scalars. Ignored otherwise.
+  // With [`DK_ROTATIONS_PER_NODE`]: one quaternion `(w, x, y, z)` per boundary node, in
+  // `nodes` order (`4 * B` scalars). Ignored otherwise.
   const float *node_rotations;
   // Number of scalars in `node_rotations`.
   size_t node_rotations_len;
-  // With [`DK_ROTATIONS_RIGID`]: the rotation of the moving boundary. Ignored otherwise.
+  // With [`DK_ROTATIONS_RIGID`]: the rotation `(w, x, y, z)` of the moving boundary nodes
+  // (normalised by the library). Ignored otherwise.
   float rigid_rotation[4];
-  // The rotation origin, used when `has_origin` is nonzero.
+  // The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
   float origin[3];
-  // 0 or 1: the base of `nodes`, `element_offsets` and `element_nodes`.
+  // 0 (C) or 1 (Fortran): the base of `nodes`, `element_offsets` and `element_nodes`.
   uint32_t index_base;
-  // [`DK_ROTATIONS_SHAPE`], [`DK_ROTATIONS_RIGID`] or [`DK_ROTATIONS_PER_NODE`].
+  // Where the rotations come from: [`DK_ROTATIONS_SHAPE`], [`DK_ROTATIONS_RIGID`] or
+  // [`DK_ROTATIONS_PER_NODE`].
   uint32_t rotation_source;
-  // Nonzero: rotate about `origin`; 0: about the default origin.
+  // Nonzero: rotate about `origin`; 0: about the default origin (the centroid of the
+  // moving boundary points, see [`dk_deform_boundary_origin`]).
   uint32_t has_origin;
 } dk_boundary_motion_f32;
+
+// Cells or boundary elements in VTK node order: `offsets` (cell count + 1 entries into
+// `nodes`), `nodes` and one VTK code per cell in `kinds`. Offsets and node indices are read in
+// the `index_base` of the function that takes the struct. Borrowed for the call, as
+// [`dk_graph`]; all three arrays empty (NULL with length 0) means "no cells" where a function
+// says they are optional.
+typedef struct {
+  // Start of each cell in `nodes`, and the end (cell count + 1 entries).
+  const uint32_t *offsets;
+  // Entries of `offsets`.
+  size_t offsets_len;
+  // The cells' nodes.
+  const uint32_t *nodes;
+  // Entries of `nodes`.
+  size_t nodes_len;
+  // VTK cell type of each cell.
+  const uint8_t *kinds;
+  // Entries of `kinds` (the cell count).
+  size_t kinds_len;
+} dk_cells;
 
 // Method and stopping rules of `dk_spring_solve_linear`. Fill with
 // `dk_spring_solve_options_default` (or `_f32`) and change fields as needed.
@@ -307,6 +337,38 @@ typedef struct {
   uint32_t preconditioner;
 } dk_spring_solve_options;
 
+// A CSR graph for the functions that take one: `offsets` (`node_count + 1` row starts into
+// `targets`) and `targets` (the neighbour of each directed edge), both 0-based, as
+// `dk_graph_from_edges` / `dk_graph_from_cells` write them. The arrays are borrowed for the
+// call that receives the struct; the library never keeps the pointers.
+typedef struct {
+  // Row starts, `node_count + 1` entries.
+  const uint32_t *offsets;
+  // Entries of `offsets`.
+  size_t offsets_len;
+  // Neighbour of each directed edge.
+  const uint32_t *targets;
+  // Entries of `targets` (directed edges).
+  size_t targets_len;
+} dk_graph;
+
+// A spring system for the solvers and sweeps: the graph, one stiffness per directed edge
+// (symmetric, finite, positive) and the fixed mask (one byte per node, nonzero = fixed).
+// Borrowed for the call that receives it, as [`dk_graph`]. The ABI's one struct for "the
+// system", so a caller builds it once and hands it to every solver.
+typedef struct {
+  // The 0-based CSR graph.
+  dk_graph graph;
+  // Stiffness of each directed edge (`graph.targets_len` entries).
+  const double *stiffness;
+  // Entries of `stiffness`.
+  size_t stiffness_len;
+  // One byte per node, nonzero = fixed (Dirichlet).
+  const uint8_t *fixed;
+  // Entries of `fixed` (the node count).
+  size_t fixed_len;
+} dk_spring_system;
+
 // What a whole spring solve did. Non-convergence is reported here (`converged` false, status
 // `DK_OK`), never hidden; the values then hold the last iterate.
 typedef struct {
@@ -319,6 +381,20 @@ typedef struct {
   // Whether a stopping rule was met.
   bool converged;
 } dk_spring_solve_report;
+
+// Single-precision twin of [`dk_spring_system`] (`float` scalars).
+typedef struct {
+  // The 0-based CSR graph.
+  dk_graph graph;
+  // Stiffness of each directed edge (`graph.targets_len` entries).
+  const float *stiffness;
+  // Entries of `stiffness`.
+  size_t stiffness_len;
+  // One byte per node, nonzero = fixed (Dirichlet).
+  const uint8_t *fixed;
+  // Entries of `fixed` (the node count).
+  size_t fixed_len;
+} dk_spring_system_f32;
 
 // The multigrid preconditioner of `DK_PLAN_SOLVER_AMG` (the kernel's `AmgOptions`; see
 // docs/amg.md). [`dk_plan_options_default`] fills pyamg-like defaults.
@@ -352,6 +428,29 @@ typedef struct {
   dk_amg_options amg;
 } dk_plan_options;
 
+// The mesh a plan is built from ([`dk_plan_work_sizes`], [`dk_plan_pool_sizes`],
+// [`dk_plan_init`]); borrowed for the call and copied into the plan.
+typedef struct {
+  // Undeformed node positions, `node_count * dim` scalars.
+  const double *points;
+  // Entries of `points`.
+  size_t points_len;
+  // The 0-based CSR graph of the springs.
+  dk_graph graph;
+  // The 0-based boundary node list (`B` nodes, distinct): the nodes a step moves.
+  const uint32_t *boundary;
+  // Entries of `boundary`.
+  size_t boundary_len;
+  // Optional boundary elements over the boundary points `0..B` (0-based; all empty for
+  // none): with them the quaternion method derives rotations from the shape.
+  dk_cells elements;
+  // Optional stiffness per directed edge (NULL with length 0: Batina's with
+  // `dk_plan_options.stiffness_exponent`).
+  const double *stiffness;
+  // Entries of `stiffness`.
+  size_t stiffness_len;
+} dk_plan_mesh;
+
 // Lengths of the three plan pools, or of the transient work buffers.
 typedef struct {
   // Scalars (`double` for the f64 functions, `float` for the `_f32` ones).
@@ -361,6 +460,62 @@ typedef struct {
   // `uint8_t` entries.
   size_t bytes;
 } dk_plan_sizes;
+
+// Single-precision twin of [`dk_plan_mesh`] (`float` scalars).
+typedef struct {
+  // Undeformed node positions, `node_count * dim` scalars.
+  const float *points;
+  // Entries of `points`.
+  size_t points_len;
+  // The 0-based CSR graph of the springs.
+  dk_graph graph;
+  // The 0-based boundary node list (`B` nodes, distinct): the nodes a step moves.
+  const uint32_t *boundary;
+  // Entries of `boundary`.
+  size_t boundary_len;
+  // Optional boundary elements over the boundary points `0..B` (0-based; all empty for
+  // none): with them the quaternion method derives rotations from the shape.
+  dk_cells elements;
+  // Optional stiffness per directed edge (NULL with length 0: Batina's with
+  // `dk_plan_options.stiffness_exponent`).
+  const float *stiffness;
+  // Entries of `stiffness`.
+  size_t stiffness_len;
+} dk_plan_mesh_f32;
+
+// Three caller buffers: a plan's pools (sized by [`dk_plan_pool_sizes`], written by
+// [`dk_plan_init`], read and updated by every step), or the transient work of init (sized by
+// [`dk_plan_work_sizes`]). Each buffer is used only by the call that receives the struct.
+typedef struct {
+  // Scalars.
+  double *reals;
+  // Entries of `reals`.
+  size_t reals_len;
+  // Indices.
+  uint32_t *indices;
+  // Entries of `indices`.
+  size_t indices_len;
+  // Bytes.
+  uint8_t *bytes;
+  // Entries of `bytes`.
+  size_t bytes_len;
+} dk_plan_pools;
+
+// Single-precision twin of [`dk_plan_pools`] (`float` scalars).
+typedef struct {
+  // Scalars.
+  float *reals;
+  // Entries of `reals`.
+  size_t reals_len;
+  // Indices.
+  uint32_t *indices;
+  // Entries of `indices`.
+  size_t indices_len;
+  // Bytes.
+  uint8_t *bytes;
+  // Entries of `bytes`.
+  size_t bytes_len;
+} dk_plan_pools_f32;
 
 // What a plan holds (from `dk_plan_init` or `dk_plan_open`).
 typedef struct {
@@ -799,12 +954,7 @@ dk_status dk_deform_boundary_normals_scratch_len(size_t boundary_len, size_t *le
 dk_status dk_deform_boundary_normals(const double *points,
                                      size_t points_len,
                                      uint32_t dim,
-                                     const uint32_t *element_offsets,
-                                     size_t element_offsets_len,
-                                     const uint32_t *element_nodes,
-                                     size_t element_nodes_len,
-                                     const uint8_t *element_kinds,
-                                     size_t element_kinds_len,
+                                     const dk_cells *elements,
                                      uint32_t index_base,
                                      double *scratch,
                                      size_t scratch_len,
@@ -820,12 +970,7 @@ dk_status dk_deform_boundary_normals(const double *points,
 dk_status dk_deform_boundary_normals_f32(const float *points,
                                          size_t points_len,
                                          uint32_t dim,
-                                         const uint32_t *element_offsets,
-                                         size_t element_offsets_len,
-                                         const uint32_t *element_nodes,
-                                         size_t element_nodes_len,
-                                         const uint8_t *element_kinds,
-                                         size_t element_kinds_len,
+                                         const dk_cells *elements,
                                          uint32_t index_base,
                                          float *scratch,
                                          size_t scratch_len,
@@ -865,12 +1010,7 @@ dk_status dk_deform_boundary_rotations(const double *undeformed,
                                        const double *deformed,
                                        size_t deformed_len,
                                        uint32_t dim,
-                                       const uint32_t *element_offsets,
-                                       size_t element_offsets_len,
-                                       const uint32_t *element_nodes,
-                                       size_t element_nodes_len,
-                                       const uint8_t *element_kinds,
-                                       size_t element_kinds_len,
+                                       const dk_cells *elements,
                                        uint32_t index_base,
                                        double *scratch,
                                        size_t scratch_len,
@@ -888,12 +1028,7 @@ dk_status dk_deform_boundary_rotations_f32(const float *undeformed,
                                            const float *deformed,
                                            size_t deformed_len,
                                            uint32_t dim,
-                                           const uint32_t *element_offsets,
-                                           size_t element_offsets_len,
-                                           const uint32_t *element_nodes,
-                                           size_t element_nodes_len,
-                                           const uint8_t *element_kinds,
-                                           size_t element_kinds_len,
+                                           const dk_cells *elements,
                                            uint32_t index_base,
                                            float *scratch,
                                            size_t scratch_len,
@@ -1276,10 +1411,10 @@ dk_status dk_deform_spring_index_scratch_len_f32(const dk_boundary_motion_f32 *m
 // together (`dim + 4` values per node) with `options` (see `dk_spring_solve_options`; the
 // f32 twin rounds its tolerances to `float`), then the update.
 //
-// The spring system is a 0-based CSR graph (`offsets`, `targets` from `dk_graph_from_*`),
-// one positive stiffness per directed edge (symmetric, e.g. from
-// `dk_spring_batina_stiffness`) and a fixed mask (one byte per node, nonzero = fixed) that
-// must mark exactly the nodes of `motion->nodes`. `scratch`: the first length of
+// The spring system (`*system`) is a 0-based CSR graph (from `dk_graph_from_*`), one
+// positive stiffness per directed edge (symmetric, e.g. from `dk_spring_batina_stiffness`)
+// and a fixed mask (one byte per node, nonzero = fixed) that must mark exactly the nodes of
+// `motion->nodes`. `scratch`: the first length of
 // [`dk_deform_spring_scratch_len`]; `values`: the second (a workspace); `index_scratch`:
 // [`dk_deform_spring_index_scratch_len`] entries. `*report` receives the solver's report:
 // `out` is written even when the solver did not converge (status `DK_OK`, `converged` false).
@@ -1300,14 +1435,7 @@ dk_status dk_deform_spring(const double *points,
                            size_t points_len,
                            uint32_t dim,
                            const dk_boundary_motion *motion,
-                           const uint32_t *offsets,
-                           size_t offsets_len,
-                           const uint32_t *targets,
-                           size_t targets_len,
-                           const double *stiffness,
-                           size_t stiffness_len,
-                           const uint8_t *fixed,
-                           size_t fixed_len,
+                           const dk_spring_system *system,
                            const dk_spring_solve_options *options,
                            double *scratch,
                            size_t scratch_len,
@@ -1334,14 +1462,7 @@ dk_status dk_deform_spring_f32(const float *points,
                                size_t points_len,
                                uint32_t dim,
                                const dk_boundary_motion_f32 *motion,
-                               const uint32_t *offsets,
-                               size_t offsets_len,
-                               const uint32_t *targets,
-                               size_t targets_len,
-                               const float *stiffness,
-                               size_t stiffness_len,
-                               const uint8_t *fixed,
-                               size_t fixed_len,
+                               const dk_spring_system_f32 *system,
                                const dk_spring_solve_options *options,
                                float *scratch,
                                size_t scratch_len,
@@ -1392,14 +1513,7 @@ dk_status dk_deform_propagate_spring_scratch_len(size_t node_count,
 // Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
 // `options` points to one readable struct and `report` to one writable report; the writable
 // buffers overlap nothing else.
-dk_status dk_deform_propagate_spring(const uint32_t *offsets,
-                                     size_t offsets_len,
-                                     const uint32_t *targets,
-                                     size_t targets_len,
-                                     const double *stiffness,
-                                     size_t stiffness_len,
-                                     const uint8_t *fixed,
-                                     size_t fixed_len,
+dk_status dk_deform_propagate_spring(const dk_spring_system *system,
                                      const dk_spring_solve_options *options,
                                      uint32_t dim,
                                      uint32_t *index_scratch,
@@ -1416,14 +1530,7 @@ dk_status dk_deform_propagate_spring(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_deform_propagate_spring`].
-dk_status dk_deform_propagate_spring_f32(const uint32_t *offsets,
-                                         size_t offsets_len,
-                                         const uint32_t *targets,
-                                         size_t targets_len,
-                                         const float *stiffness,
-                                         size_t stiffness_len,
-                                         const uint8_t *fixed,
-                                         size_t fixed_len,
+dk_status dk_deform_propagate_spring_f32(const dk_spring_system_f32 *system,
                                          const dk_spring_solve_options *options,
                                          uint32_t dim,
                                          uint32_t *index_scratch,
@@ -1467,22 +1574,17 @@ dk_status dk_graph_from_edges(size_t node_count,
                               size_t targets_len,
                               size_t *used_out);
 
-// Validates a mixed-element cell list: `cell_offsets` has one entry per cell plus one,
-// `cell_kinds` holds VTK codes (3 line, 5 tri, 9 quad, 10 tet, 12 hex, 13 prism, 14 pyramid),
+// Validates a mixed-element cell list (`*cells`): `offsets` has one entry per cell plus one,
+// `kinds` holds VTK codes (3 line, 5 tri, 9 quad, 10 tet, 12 hex, 13 prism, 14 pyramid),
 // node indices are below `node_count`. With `index_base` 1, offsets and node indices are
-// 1-based (Fortran), and `index_scratch` needs `cell_offsets_len + cell_nodes_len` entries
+// 1-based (Fortran), and `index_scratch` needs `cells->offsets_len + cells->nodes_len` entries
 // (their 0-based copies); with 0 it may be NULL with length 0.
 //
 // # Safety
 // Every pointer is valid for reading its length; `index_scratch` for writing its length,
 // overlapping nothing else.
 dk_status dk_cells_check(size_t node_count,
-                         const uint32_t *cell_offsets,
-                         size_t cell_offsets_len,
-                         const uint32_t *cell_nodes,
-                         size_t cell_nodes_len,
-                         const uint8_t *cell_kinds,
-                         size_t cell_kinds_len,
+                         const dk_cells *cells,
                          uint32_t index_base,
                          uint32_t *index_scratch,
                          size_t index_scratch_len);
@@ -1493,12 +1595,7 @@ dk_status dk_cells_check(size_t node_count,
 // # Safety
 // Every pointer is valid for its length; `len_out` points to one writable `size_t`.
 dk_status dk_graph_from_cells_len(size_t node_count,
-                                  const uint32_t *cell_offsets,
-                                  size_t cell_offsets_len,
-                                  const uint32_t *cell_nodes,
-                                  size_t cell_nodes_len,
-                                  const uint8_t *cell_kinds,
-                                  size_t cell_kinds_len,
+                                  const dk_cells *cells,
                                   uint32_t index_base,
                                   uint32_t *index_scratch,
                                   size_t index_scratch_len,
@@ -1516,12 +1613,7 @@ dk_status dk_graph_from_cells_len(size_t node_count,
 // `index_scratch`, `offsets`, `targets`, `used_out`), and the writable buffers do not overlap
 // each other or the inputs.
 dk_status dk_graph_from_cells(size_t node_count,
-                              const uint32_t *cell_offsets,
-                              size_t cell_offsets_len,
-                              const uint32_t *cell_nodes,
-                              size_t cell_nodes_len,
-                              const uint8_t *cell_kinds,
-                              size_t cell_kinds_len,
+                              const dk_cells *cells,
                               uint32_t index_base,
                               uint32_t *index_scratch,
                               size_t index_scratch_len,
@@ -1532,16 +1624,12 @@ dk_status dk_graph_from_cells(size_t node_count,
                               size_t targets_len,
                               size_t *used_out);
 
-// Validates a 0-based CSR graph (`offsets`: node count + 1 entries; `targets`); with
+// Validates a 0-based CSR graph (`graph->offsets`: node count + 1 entries; `targets`); with
 // `require_symmetric` also checks that every edge has its reverse.
 //
 // # Safety
-// `offsets` and `targets` are valid for reading their lengths.
-dk_status dk_graph_check(const uint32_t *offsets,
-                         size_t offsets_len,
-                         const uint32_t *targets,
-                         size_t targets_len,
-                         bool require_symmetric);
+// `graph` points to one readable struct whose arrays are readable for their lengths.
+dk_status dk_graph_check(const dk_graph *graph, bool require_symmetric);
 
 // Fills `*out` with the default plan options for f64: the quaternion method, multigrid-
 // preconditioned CG, Batina stiffness (exponent 1), the default stopping rules of
@@ -1560,16 +1648,15 @@ dk_status dk_plan_options_default_f32(dk_plan_options *out);
 // Lengths of the transient work buffers [`dk_plan_pool_sizes`] and [`dk_plan_init`] need for this
 // mesh (free them after init).
 //
-// The mesh, shared by the three set-up calls (all indices 0-based):
+// The mesh (`*mesh`, a [`dk_plan_mesh`] shared by the three set-up calls; all indices
+// 0-based):
 // - `points`: the reference mesh, `N * dim` scalars, `dim` 2 or 3; every step deforms it;
-// - `offsets`, `targets`: the symmetric CSR graph of the mesh edges (as
-//   `dk_graph_from_cells` builds it);
+// - `graph`: the symmetric CSR graph of the mesh edges (as `dk_graph_from_cells` builds it);
 // - `boundary`: the mesh node of each of the `B` prescribed points (moving walls and fixed
 //   far field alike), distinct; exactly these nodes are held by the springs;
-// - `element_offsets`, `element_nodes`, `element_kinds`: boundary elements over `0..B`
-//   (segments in 2D, triangles/quadrilaterals in 3D) for shape rotations, or all NULL with
-//   length 0;
-// - `stiffness`: one spring stiffness per directed edge (`targets_len` scalars, exactly
+// - `elements`: boundary elements over `0..B` (segments in 2D, triangles/quadrilaterals in
+//   3D) for shape rotations, or all three arrays NULL with length 0;
+// - `stiffness`: one spring stiffness per directed edge (`graph.targets_len` scalars, exactly
 //   symmetric, finite and positive; for example Batina's scaled by
 //   `dk_spring_wall_distance_factors` or `dk_spring_inverse_volume_factors` with
 //   `dk_spring_scale_stiffness`), copied into the plan; or NULL with length 0 for Batina's
@@ -1582,22 +1669,7 @@ dk_status dk_plan_options_default_f32(dk_plan_options *out);
 //
 // # Safety
 // Inputs readable for their lengths; `options` and `sizes_out` point to one struct each.
-dk_status dk_plan_work_sizes(const double *points,
-                             size_t points_len,
-                             const uint32_t *offsets,
-                             size_t offsets_len,
-                             const uint32_t *targets,
-                             size_t targets_len,
-                             const uint32_t *boundary,
-                             size_t boundary_len,
-                             const uint32_t *element_offsets,
-                             size_t element_offsets_len,
-                             const uint32_t *element_nodes,
-                             size_t element_nodes_len,
-                             const uint8_t *element_kinds,
-                             size_t element_kinds_len,
-                             const double *stiffness,
-                             size_t stiffness_len,
+dk_status dk_plan_work_sizes(const dk_plan_mesh *mesh,
                              uint32_t dim,
                              const dk_plan_options *options,
                              dk_plan_sizes *sizes_out);
@@ -1606,22 +1678,7 @@ dk_status dk_plan_work_sizes(const double *points,
 //
 // # Safety
 // As [`dk_plan_work_sizes`].
-dk_status dk_plan_work_sizes_f32(const float *points,
-                                 size_t points_len,
-                                 const uint32_t *offsets,
-                                 size_t offsets_len,
-                                 const uint32_t *targets,
-                                 size_t targets_len,
-                                 const uint32_t *boundary,
-                                 size_t boundary_len,
-                                 const uint32_t *element_offsets,
-                                 size_t element_offsets_len,
-                                 const uint32_t *element_nodes,
-                                 size_t element_nodes_len,
-                                 const uint8_t *element_kinds,
-                                 size_t element_kinds_len,
-                                 const float *stiffness,
-                                 size_t stiffness_len,
+dk_status dk_plan_work_sizes_f32(const dk_plan_mesh_f32 *mesh,
                                  uint32_t dim,
                                  const dk_plan_options *options,
                                  dk_plan_sizes *sizes_out);
@@ -1635,60 +1692,20 @@ dk_status dk_plan_work_sizes_f32(const float *points,
 // # Safety
 // Inputs readable for their lengths; the work buffers writable for theirs and not
 // overlapping anything else; `options` and `sizes_out` point to one struct each.
-dk_status dk_plan_pool_sizes(const double *points,
-                             size_t points_len,
-                             const uint32_t *offsets,
-                             size_t offsets_len,
-                             const uint32_t *targets,
-                             size_t targets_len,
-                             const uint32_t *boundary,
-                             size_t boundary_len,
-                             const uint32_t *element_offsets,
-                             size_t element_offsets_len,
-                             const uint32_t *element_nodes,
-                             size_t element_nodes_len,
-                             const uint8_t *element_kinds,
-                             size_t element_kinds_len,
-                             const double *stiffness,
-                             size_t stiffness_len,
+dk_status dk_plan_pool_sizes(const dk_plan_mesh *mesh,
                              uint32_t dim,
                              const dk_plan_options *options,
-                             double *work_reals,
-                             size_t work_reals_len,
-                             uint32_t *work_indices,
-                             size_t work_indices_len,
-                             uint8_t *work_bytes,
-                             size_t work_bytes_len,
+                             const dk_plan_pools *work,
                              dk_plan_sizes *sizes_out);
 
 // `f32` twin of [`dk_plan_pool_sizes`].
 //
 // # Safety
 // As [`dk_plan_pool_sizes`].
-dk_status dk_plan_pool_sizes_f32(const float *points,
-                                 size_t points_len,
-                                 const uint32_t *offsets,
-                                 size_t offsets_len,
-                                 const uint32_t *targets,
-                                 size_t targets_len,
-                                 const uint32_t *boundary,
-                                 size_t boundary_len,
-                                 const uint32_t *element_offsets,
-                                 size_t element_offsets_len,
-                                 const uint32_t *element_nodes,
-                                 size_t element_nodes_len,
-                                 const uint8_t *element_kinds,
-                                 size_t element_kinds_len,
-                                 const float *stiffness,
-                                 size_t stiffness_len,
+dk_status dk_plan_pool_sizes_f32(const dk_plan_mesh_f32 *mesh,
                                  uint32_t dim,
                                  const dk_plan_options *options,
-                                 float *work_reals,
-                                 size_t work_reals_len,
-                                 uint32_t *work_indices,
-                                 size_t work_indices_len,
-                                 uint8_t *work_bytes,
-                                 size_t work_bytes_len,
+                                 const dk_plan_pools_f32 *work,
                                  dk_plan_sizes *sizes_out);
 
 // Builds a plan in the pools `reals`, `indices`, `bytes` (each at least the length
@@ -1706,72 +1723,22 @@ dk_status dk_plan_pool_sizes_f32(const float *points,
 // # Safety
 // As [`dk_plan_pool_sizes`]; the pools writable for their lengths, not overlapping anything else;
 // `info_out` points to one writable struct.
-dk_status dk_plan_init(const double *points,
-                       size_t points_len,
-                       const uint32_t *offsets,
-                       size_t offsets_len,
-                       const uint32_t *targets,
-                       size_t targets_len,
-                       const uint32_t *boundary,
-                       size_t boundary_len,
-                       const uint32_t *element_offsets,
-                       size_t element_offsets_len,
-                       const uint32_t *element_nodes,
-                       size_t element_nodes_len,
-                       const uint8_t *element_kinds,
-                       size_t element_kinds_len,
-                       const double *stiffness,
-                       size_t stiffness_len,
+dk_status dk_plan_init(const dk_plan_mesh *mesh,
                        uint32_t dim,
                        const dk_plan_options *options,
-                       double *work_reals,
-                       size_t work_reals_len,
-                       uint32_t *work_indices,
-                       size_t work_indices_len,
-                       uint8_t *work_bytes,
-                       size_t work_bytes_len,
-                       double *reals,
-                       size_t reals_len,
-                       uint32_t *indices,
-                       size_t indices_len,
-                       uint8_t *bytes,
-                       size_t bytes_len,
+                       const dk_plan_pools *work,
+                       const dk_plan_pools *pools,
                        dk_plan_info *info_out);
 
 // `f32` twin of [`dk_plan_init`].
 //
 // # Safety
 // As [`dk_plan_init`].
-dk_status dk_plan_init_f32(const float *points,
-                           size_t points_len,
-                           const uint32_t *offsets,
-                           size_t offsets_len,
-                           const uint32_t *targets,
-                           size_t targets_len,
-                           const uint32_t *boundary,
-                           size_t boundary_len,
-                           const uint32_t *element_offsets,
-                           size_t element_offsets_len,
-                           const uint32_t *element_nodes,
-                           size_t element_nodes_len,
-                           const uint8_t *element_kinds,
-                           size_t element_kinds_len,
-                           const float *stiffness,
-                           size_t stiffness_len,
+dk_status dk_plan_init_f32(const dk_plan_mesh_f32 *mesh,
                            uint32_t dim,
                            const dk_plan_options *options,
-                           float *work_reals,
-                           size_t work_reals_len,
-                           uint32_t *work_indices,
-                           size_t work_indices_len,
-                           uint8_t *work_bytes,
-                           size_t work_bytes_len,
-                           float *reals,
-                           size_t reals_len,
-                           uint32_t *indices,
-                           size_t indices_len,
-                           uint8_t *bytes,
-                           size_t bytes_len,
+                           const dk_plan_pools_f32 *work,
+                           const dk_plan_pools_f32 *pools,
                            dk_plan_info *info_out);
 
 // Checks that the pools hold a plan for this precision and `dim` (magic, version, counts,
@@ -1783,27 +1750,13 @@ dk_status dk_plan_init_f32(const float *points,
 // # Safety
 // The pools readable and writable for their lengths; `info_out` points to one writable
 // struct.
-dk_status dk_plan_open(double *reals,
-                       size_t reals_len,
-                       uint32_t *indices,
-                       size_t indices_len,
-                       uint8_t *bytes,
-                       size_t bytes_len,
-                       uint32_t dim,
-                       dk_plan_info *info_out);
+dk_status dk_plan_open(const dk_plan_pools *pools, uint32_t dim, dk_plan_info *info_out);
 
 // `f32` twin of [`dk_plan_open`].
 //
 // # Safety
 // As [`dk_plan_open`].
-dk_status dk_plan_open_f32(float *reals,
-                           size_t reals_len,
-                           uint32_t *indices,
-                           size_t indices_len,
-                           uint8_t *bytes,
-                           size_t bytes_len,
-                           uint32_t dim,
-                           dk_plan_info *info_out);
+dk_status dk_plan_open_f32(const dk_plan_pools_f32 *pools, uint32_t dim, dk_plan_info *info_out);
 
 // One time step: the new boundary positions in, the deformed mesh out (`out`: `N * dim`
 // scalars). Each step deforms the reference mesh; the stored solutions of the previous
@@ -1833,12 +1786,7 @@ dk_status dk_plan_open_f32(float *reals,
 // The pools readable and writable for their lengths; inputs readable for theirs; `out`
 // writable for `out_len` scalars; no writable buffer overlaps another buffer or an input;
 // `report_out` points to one writable struct.
-dk_status dk_plan_step(double *reals,
-                       size_t reals_len,
-                       uint32_t *indices,
-                       size_t indices_len,
-                       uint8_t *bytes,
-                       size_t bytes_len,
+dk_status dk_plan_step(const dk_plan_pools *pools,
                        uint32_t dim,
                        const double *deformed,
                        size_t deformed_len,
@@ -1856,12 +1804,7 @@ dk_status dk_plan_step(double *reals,
 //
 // # Safety
 // As [`dk_plan_step`].
-dk_status dk_plan_step_f32(float *reals,
-                           size_t reals_len,
-                           uint32_t *indices,
-                           size_t indices_len,
-                           uint8_t *bytes,
-                           size_t bytes_len,
+dk_status dk_plan_step_f32(const dk_plan_pools_f32 *pools,
                            uint32_t dim,
                            const float *deformed,
                            size_t deformed_len,
@@ -1904,18 +1847,13 @@ dk_status dk_quality_cell_quality_f32(uint8_t kind,
 // written): cell errors as `dk_cells_check`, `DK_ERR_CELL_DIMENSION` (a kind that does not
 // fit `dim`), `DK_ERR_NON_FINITE`, length and pointer errors. With `index_base` 1,
 // `index_scratch` receives the 0-based copies of the cell arrays and needs
-// `cell_offsets_len + cell_nodes_len` entries (else `DK_ERR_BUFFER_TOO_SMALL`); with 0 it
+// `cells->offsets_len + cells->nodes_len` entries (else `DK_ERR_BUFFER_TOO_SMALL`); with 0 it
 // may be NULL with length 0.
 //
 // # Safety
 // The cell arrays and `points` are readable for their lengths; `out` and `index_scratch`
 // writable for their lengths, not overlapping the inputs or each other.
-dk_status dk_quality_cell_measures(const uint32_t *cell_offsets,
-                                   size_t cell_offsets_len,
-                                   const uint32_t *cell_nodes,
-                                   size_t cell_nodes_len,
-                                   const uint8_t *cell_kinds,
-                                   size_t cell_kinds_len,
+dk_status dk_quality_cell_measures(const dk_cells *cells,
                                    uint32_t index_base,
                                    uint32_t *index_scratch,
                                    size_t index_scratch_len,
@@ -1929,12 +1867,7 @@ dk_status dk_quality_cell_measures(const uint32_t *cell_offsets,
 //
 // # Safety
 // As [`dk_quality_cell_measures`].
-dk_status dk_quality_cell_measures_f32(const uint32_t *cell_offsets,
-                                       size_t cell_offsets_len,
-                                       const uint32_t *cell_nodes,
-                                       size_t cell_nodes_len,
-                                       const uint8_t *cell_kinds,
-                                       size_t cell_kinds_len,
+dk_status dk_quality_cell_measures_f32(const dk_cells *cells,
                                        uint32_t index_base,
                                        uint32_t *index_scratch,
                                        size_t index_scratch_len,
@@ -1950,12 +1883,7 @@ dk_status dk_quality_cell_measures_f32(const uint32_t *cell_offsets,
 //
 // # Safety
 // As [`dk_quality_cell_measures`].
-dk_status dk_quality_min_corner_jacobians(const uint32_t *cell_offsets,
-                                          size_t cell_offsets_len,
-                                          const uint32_t *cell_nodes,
-                                          size_t cell_nodes_len,
-                                          const uint8_t *cell_kinds,
-                                          size_t cell_kinds_len,
+dk_status dk_quality_min_corner_jacobians(const dk_cells *cells,
                                           uint32_t index_base,
                                           uint32_t *index_scratch,
                                           size_t index_scratch_len,
@@ -1970,12 +1898,7 @@ dk_status dk_quality_min_corner_jacobians(const uint32_t *cell_offsets,
 //
 // # Safety
 // As [`dk_quality_min_corner_jacobians`].
-dk_status dk_quality_min_corner_jacobians_f32(const uint32_t *cell_offsets,
-                                              size_t cell_offsets_len,
-                                              const uint32_t *cell_nodes,
-                                              size_t cell_nodes_len,
-                                              const uint8_t *cell_kinds,
-                                              size_t cell_kinds_len,
+dk_status dk_quality_min_corner_jacobians_f32(const dk_cells *cells,
                                               uint32_t index_base,
                                               uint32_t *index_scratch,
                                               size_t index_scratch_len,
@@ -1993,12 +1916,7 @@ dk_status dk_quality_min_corner_jacobians_f32(const uint32_t *cell_offsets,
 // # Safety
 // The cell arrays and point arrays are readable for their lengths; `count_out` points to one
 // writable `size_t`.
-dk_status dk_quality_inverted_cells(const uint32_t *cell_offsets,
-                                    size_t cell_offsets_len,
-                                    const uint32_t *cell_nodes,
-                                    size_t cell_nodes_len,
-                                    const uint8_t *cell_kinds,
-                                    size_t cell_kinds_len,
+dk_status dk_quality_inverted_cells(const dk_cells *cells,
                                     uint32_t index_base,
                                     uint32_t *index_scratch,
                                     size_t index_scratch_len,
@@ -2013,12 +1931,7 @@ dk_status dk_quality_inverted_cells(const uint32_t *cell_offsets,
 //
 // # Safety
 // As [`dk_quality_inverted_cells`].
-dk_status dk_quality_inverted_cells_f32(const uint32_t *cell_offsets,
-                                        size_t cell_offsets_len,
-                                        const uint32_t *cell_nodes,
-                                        size_t cell_nodes_len,
-                                        const uint8_t *cell_kinds,
-                                        size_t cell_kinds_len,
+dk_status dk_quality_inverted_cells_f32(const dk_cells *cells,
                                         uint32_t index_base,
                                         uint32_t *index_scratch,
                                         size_t index_scratch_len,
@@ -2036,12 +1949,7 @@ dk_status dk_quality_inverted_cells_f32(const uint32_t *cell_offsets,
 // # Safety
 // The cell arrays and `points` are readable for their lengths; `count_out` points to one
 // writable `size_t`.
-dk_status dk_quality_folded_cells(const uint32_t *cell_offsets,
-                                  size_t cell_offsets_len,
-                                  const uint32_t *cell_nodes,
-                                  size_t cell_nodes_len,
-                                  const uint8_t *cell_kinds,
-                                  size_t cell_kinds_len,
+dk_status dk_quality_folded_cells(const dk_cells *cells,
                                   uint32_t index_base,
                                   uint32_t *index_scratch,
                                   size_t index_scratch_len,
@@ -2054,12 +1962,7 @@ dk_status dk_quality_folded_cells(const uint32_t *cell_offsets,
 //
 // # Safety
 // As [`dk_quality_folded_cells`].
-dk_status dk_quality_folded_cells_f32(const uint32_t *cell_offsets,
-                                      size_t cell_offsets_len,
-                                      const uint32_t *cell_nodes,
-                                      size_t cell_nodes_len,
-                                      const uint8_t *cell_kinds,
-                                      size_t cell_kinds_len,
+dk_status dk_quality_folded_cells_f32(const dk_cells *cells,
                                       uint32_t index_base,
                                       uint32_t *index_scratch,
                                       size_t index_scratch_len,
@@ -2078,13 +1981,12 @@ dk_status dk_quality_wall_angle_scratch_len(size_t node_count, uint32_t dim, siz
 // Compares `deformed` against `undeformed` over the cells in one call: inverted and folded
 // cells, measure ratios, smallest measure and scaled Jacobian, and, when a wall is given,
 // the wall-angle change (as [`dk_quality_wall_angle_change`]). The wall is its elements
-// (`wall_offsets`/`wall_nodes`/`wall_kinds`, lines for `dim` 2, triangles or quads for
-// `dim` 3, in the same `index_base` as the cells) and the mesh's 0-based CSR edge graph
-// (`graph_offsets`/`graph_targets`); pass all six wall pointers NULL with length 0 for no
-// wall (then `scratch` may be NULL with `scratch_len` 0; with a wall it needs
-// [`dk_quality_wall_angle_scratch_len`] scalars). `index_scratch` as in
-// [`dk_quality_cell_measures`], with `wall_offsets_len + wall_nodes_len` more entries for a
-// wall. Errors (nothing written): as
+// (`*wall`: lines for `dim` 2, triangles or quads for `dim` 3, in the same `index_base` as
+// the cells) and the mesh's 0-based CSR edge graph (`*graph`); pass both structs with every
+// array NULL with length 0 for no wall (then `scratch` may be NULL with `scratch_len` 0; with
+// a wall it needs [`dk_quality_wall_angle_scratch_len`] scalars). `index_scratch` as in
+// [`dk_quality_cell_measures`], with `wall->offsets_len + wall->nodes_len` more entries for
+// a wall. Errors (nothing written): as
 // [`dk_quality_cell_measures`] for both point arrays and as
 // [`dk_quality_wall_angle_change`] for the wall.
 //
@@ -2092,25 +1994,12 @@ dk_status dk_quality_wall_angle_scratch_len(size_t node_count, uint32_t dim, siz
 // Every input array is NULL with length 0 or readable for its length; `scratch` writable for
 // `scratch_len` scalars; `report` points to one writable report; writable buffers overlap
 // nothing else.
-dk_status dk_quality_compare(const uint32_t *cell_offsets,
-                             size_t cell_offsets_len,
-                             const uint32_t *cell_nodes,
-                             size_t cell_nodes_len,
-                             const uint8_t *cell_kinds,
-                             size_t cell_kinds_len,
+dk_status dk_quality_compare(const dk_cells *cells,
                              uint32_t index_base,
                              uint32_t *index_scratch,
                              size_t index_scratch_len,
-                             const uint32_t *wall_offsets,
-                             size_t wall_offsets_len,
-                             const uint32_t *wall_nodes,
-                             size_t wall_nodes_len,
-                             const uint8_t *wall_kinds,
-                             size_t wall_kinds_len,
-                             const uint32_t *graph_offsets,
-                             size_t graph_offsets_len,
-                             const uint32_t *graph_targets,
-                             size_t graph_targets_len,
+                             const dk_cells *wall,
+                             const dk_graph *graph,
                              const double *undeformed,
                              size_t undeformed_len,
                              const double *deformed,
@@ -2124,25 +2013,12 @@ dk_status dk_quality_compare(const uint32_t *cell_offsets,
 //
 // # Safety
 // As [`dk_quality_compare`].
-dk_status dk_quality_compare_f32(const uint32_t *cell_offsets,
-                                 size_t cell_offsets_len,
-                                 const uint32_t *cell_nodes,
-                                 size_t cell_nodes_len,
-                                 const uint8_t *cell_kinds,
-                                 size_t cell_kinds_len,
+dk_status dk_quality_compare_f32(const dk_cells *cells,
                                  uint32_t index_base,
                                  uint32_t *index_scratch,
                                  size_t index_scratch_len,
-                                 const uint32_t *wall_offsets,
-                                 size_t wall_offsets_len,
-                                 const uint32_t *wall_nodes,
-                                 size_t wall_nodes_len,
-                                 const uint8_t *wall_kinds,
-                                 size_t wall_kinds_len,
-                                 const uint32_t *graph_offsets,
-                                 size_t graph_offsets_len,
-                                 const uint32_t *graph_targets,
-                                 size_t graph_targets_len,
+                                 const dk_cells *wall,
+                                 const dk_graph *graph,
                                  const float *undeformed,
                                  size_t undeformed_len,
                                  const float *deformed,
@@ -2155,31 +2031,22 @@ dk_status dk_quality_compare_f32(const uint32_t *cell_offsets,
 // Change of the first grid-line angle at a wall, in radians (boundary-layer orthogonality):
 // for every wall node, the angle between the wall normal and its most normal off-wall edge,
 // undeformed vs deformed; `*out` receives the maximum change, its node (in `index_base`) and
-// the counts of measured and skipped wall nodes. The wall elements (`wall_offsets`,
-// `wall_nodes`, `wall_kinds`, read with `index_base`: lines for `dim` 2, triangles or quads
-// for `dim` 3, consistently oriented) index the mesh nodes; `graph_offsets`/`graph_targets`
-// is the mesh's 0-based CSR edge graph. `scratch` needs
+// the counts of measured and skipped wall nodes. The wall elements (`*wall`, read with
+// `index_base`: lines for `dim` 2, triangles or quads for `dim` 3, consistently oriented)
+// index the mesh nodes; `*graph` is the mesh's 0-based CSR edge graph. `scratch` needs
 // [`dk_quality_wall_angle_scratch_len`] scalars; with `index_base` 1, `index_scratch` needs
-// `wall_offsets_len + wall_nodes_len` entries (NULL with 0 for `index_base` 0). Errors (nothing written): cell and graph
+// `wall->offsets_len + wall->nodes_len` entries (NULL with 0 for `index_base` 0). Errors (nothing written): cell and graph
 // errors, `DK_ERR_CELL_DIMENSION` (wrong element kind), `DK_ERR_NON_FINITE`, length and
 // pointer errors.
 //
 // # Safety
 // Every input array is readable for its length; `scratch` writable for `scratch_len`
 // scalars; `out` points to one writable struct; writable buffers overlap nothing else.
-dk_status dk_quality_wall_angle_change(const uint32_t *wall_offsets,
-                                       size_t wall_offsets_len,
-                                       const uint32_t *wall_nodes,
-                                       size_t wall_nodes_len,
-                                       const uint8_t *wall_kinds,
-                                       size_t wall_kinds_len,
+dk_status dk_quality_wall_angle_change(const dk_cells *wall,
                                        uint32_t index_base,
                                        uint32_t *index_scratch,
                                        size_t index_scratch_len,
-                                       const uint32_t *graph_offsets,
-                                       size_t graph_offsets_len,
-                                       const uint32_t *graph_targets,
-                                       size_t graph_targets_len,
+                                       const dk_graph *graph,
                                        const double *undeformed,
                                        size_t undeformed_len,
                                        const double *deformed,
@@ -2193,19 +2060,11 @@ dk_status dk_quality_wall_angle_change(const uint32_t *wall_offsets,
 //
 // # Safety
 // As [`dk_quality_wall_angle_change`].
-dk_status dk_quality_wall_angle_change_f32(const uint32_t *wall_offsets,
-                                           size_t wall_offsets_len,
-                                           const uint32_t *wall_nodes,
-                                           size_t wall_nodes_len,
-                                           const uint8_t *wall_kinds,
-                                           size_t wall_kinds_len,
+dk_status dk_quality_wall_angle_change_f32(const dk_cells *wall,
                                            uint32_t index_base,
                                            uint32_t *index_scratch,
                                            size_t index_scratch_len,
-                                           const uint32_t *graph_offsets,
-                                           size_t graph_offsets_len,
-                                           const uint32_t *graph_targets,
-                                           size_t graph_targets_len,
+                                           const dk_graph *graph,
                                            const float *undeformed,
                                            size_t undeformed_len,
                                            const float *deformed,
@@ -2381,7 +2240,7 @@ dk_status dk_quat_average_f32(const float *quats,
                               float *out);
 
 // Batina's stiffness `k_ij = 1 / |r_i − r_j|^exponent` for every directed edge of the 0-based
-// CSR graph into `stiffness` (`stiffness_len` = `targets_len`). `exponent` 1 is the papers'
+// CSR graph into `stiffness` (`stiffness_len` = `graph->targets_len`). `exponent` 1 is the papers'
 // choice (computed as `1/|d|`), 2 is `1/(d·d)`, 0 the uniform Laplacian. The result is
 // exactly symmetric, as the solvers require. `points`: `node_count * dim` scalars, `dim` 2
 // or 3. Errors (nothing written): `DK_ERR_ZERO_LENGTH_EDGE`, `DK_ERR_NON_FINITE`,
@@ -2391,10 +2250,7 @@ dk_status dk_quat_average_f32(const float *quats,
 // # Safety
 // Inputs readable for their lengths; `stiffness` writable for `stiffness_len` scalars, not
 // overlapping the inputs.
-dk_status dk_spring_batina_stiffness(const uint32_t *offsets,
-                                     size_t offsets_len,
-                                     const uint32_t *targets,
-                                     size_t targets_len,
+dk_status dk_spring_batina_stiffness(const dk_graph *graph,
                                      const double *points,
                                      size_t points_len,
                                      uint32_t dim,
@@ -2406,10 +2262,7 @@ dk_status dk_spring_batina_stiffness(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_spring_batina_stiffness`].
-dk_status dk_spring_batina_stiffness_f32(const uint32_t *offsets,
-                                         size_t offsets_len,
-                                         const uint32_t *targets,
-                                         size_t targets_len,
+dk_status dk_spring_batina_stiffness_f32(const dk_graph *graph,
                                          const float *points,
                                          size_t points_len,
                                          uint32_t dim,
@@ -2464,18 +2317,11 @@ dk_status dk_spring_solve_linear_scratch_len(size_t node_count,
 // length and pointer errors.
 //
 // # Safety
-// Every input pointer is readable for its length; `options` points to one readable struct;
-// `values` is readable and writable for `values_len` scalars; `scratch` and `index_scratch`
+// `system` points to one readable struct whose arrays are readable for their lengths;
+// `options` points to one readable struct; `values` is readable and writable for `values_len` scalars; `scratch` and `index_scratch`
 // writable for their lengths; `report` points to one writable report; writable buffers
 // overlap nothing else.
-dk_status dk_spring_solve_linear(const uint32_t *offsets,
-                                 size_t offsets_len,
-                                 const uint32_t *targets,
-                                 size_t targets_len,
-                                 const double *stiffness,
-                                 size_t stiffness_len,
-                                 const uint8_t *fixed,
-                                 size_t fixed_len,
+dk_status dk_spring_solve_linear(const dk_spring_system *system,
                                  const dk_spring_solve_options *options,
                                  uint32_t components,
                                  double *values,
@@ -2490,14 +2336,7 @@ dk_status dk_spring_solve_linear(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_spring_solve_linear`].
-dk_status dk_spring_solve_linear_f32(const uint32_t *offsets,
-                                     size_t offsets_len,
-                                     const uint32_t *targets,
-                                     size_t targets_len,
-                                     const float *stiffness,
-                                     size_t stiffness_len,
-                                     const uint8_t *fixed,
-                                     size_t fixed_len,
+dk_status dk_spring_solve_linear_f32(const dk_spring_system_f32 *system,
                                      const dk_spring_solve_options *options,
                                      uint32_t components,
                                      float *values,
@@ -2519,14 +2358,7 @@ dk_status dk_spring_solve_linear_f32(const uint32_t *offsets,
 // # Safety
 // As [`dk_spring_solve_linear`]; `src` readable for `src_len` scalars, `dst` writable for
 // `dst_len` and not overlapping `src`; `sweep` points to one writable struct.
-dk_status dk_spring_jacobi_sweep(const uint32_t *offsets,
-                                 size_t offsets_len,
-                                 const uint32_t *targets,
-                                 size_t targets_len,
-                                 const double *stiffness,
-                                 size_t stiffness_len,
-                                 const uint8_t *fixed,
-                                 size_t fixed_len,
+dk_status dk_spring_jacobi_sweep(const dk_spring_system *system,
                                  size_t nodes_start,
                                  size_t nodes_end,
                                  uint32_t index_base,
@@ -2543,14 +2375,7 @@ dk_status dk_spring_jacobi_sweep(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_spring_jacobi_sweep`].
-dk_status dk_spring_jacobi_sweep_f32(const uint32_t *offsets,
-                                     size_t offsets_len,
-                                     const uint32_t *targets,
-                                     size_t targets_len,
-                                     const float *stiffness,
-                                     size_t stiffness_len,
-                                     const uint8_t *fixed,
-                                     size_t fixed_len,
+dk_status dk_spring_jacobi_sweep_f32(const dk_spring_system_f32 *system,
                                      size_t nodes_start,
                                      size_t nodes_end,
                                      uint32_t index_base,
@@ -2571,14 +2396,7 @@ dk_status dk_spring_jacobi_sweep_f32(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_spring_jacobi_sweep`]; `residual_words` writable for `DK_EXACT_SUM_WORDS` values.
-dk_status dk_spring_jacobi_sweep_exact(const uint32_t *offsets,
-                                       size_t offsets_len,
-                                       const uint32_t *targets,
-                                       size_t targets_len,
-                                       const double *stiffness,
-                                       size_t stiffness_len,
-                                       const uint8_t *fixed,
-                                       size_t fixed_len,
+dk_status dk_spring_jacobi_sweep_exact(const dk_spring_system *system,
                                        size_t nodes_start,
                                        size_t nodes_end,
                                        uint32_t index_base,
@@ -2596,14 +2414,7 @@ dk_status dk_spring_jacobi_sweep_exact(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_spring_jacobi_sweep_exact`].
-dk_status dk_spring_jacobi_sweep_exact_f32(const uint32_t *offsets,
-                                           size_t offsets_len,
-                                           const uint32_t *targets,
-                                           size_t targets_len,
-                                           const float *stiffness,
-                                           size_t stiffness_len,
-                                           const uint8_t *fixed,
-                                           size_t fixed_len,
+dk_status dk_spring_jacobi_sweep_exact_f32(const dk_spring_system_f32 *system,
                                            size_t nodes_start,
                                            size_t nodes_end,
                                            uint32_t index_base,
@@ -2636,14 +2447,7 @@ dk_status dk_exact_sum_value(const int64_t *words, double *value_out);
 // # Safety
 // As [`dk_spring_solve_linear`]; `values` readable and writable for `values_len` scalars;
 // `sweep` points to one writable struct.
-dk_status dk_spring_sor_sweep(const uint32_t *offsets,
-                              size_t offsets_len,
-                              const uint32_t *targets,
-                              size_t targets_len,
-                              const double *stiffness,
-                              size_t stiffness_len,
-                              const uint8_t *fixed,
-                              size_t fixed_len,
+dk_status dk_spring_sor_sweep(const dk_spring_system *system,
                               size_t nodes_start,
                               size_t nodes_end,
                               uint32_t index_base,
@@ -2659,14 +2463,7 @@ dk_status dk_spring_sor_sweep(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_spring_sor_sweep`].
-dk_status dk_spring_sor_sweep_f32(const uint32_t *offsets,
-                                  size_t offsets_len,
-                                  const uint32_t *targets,
-                                  size_t targets_len,
-                                  const float *stiffness,
-                                  size_t stiffness_len,
-                                  const uint8_t *fixed,
-                                  size_t fixed_len,
+dk_status dk_spring_sor_sweep_f32(const dk_spring_system_f32 *system,
                                   size_t nodes_start,
                                   size_t nodes_end,
                                   uint32_t index_base,
@@ -2685,14 +2482,7 @@ dk_status dk_spring_sor_sweep_f32(const uint32_t *offsets,
 // # Safety
 // As [`dk_spring_solve_linear`]; `values` readable for `values_len` scalars; `residual_out`
 // writable for one scalar.
-dk_status dk_spring_relative_residual(const uint32_t *offsets,
-                                      size_t offsets_len,
-                                      const uint32_t *targets,
-                                      size_t targets_len,
-                                      const double *stiffness,
-                                      size_t stiffness_len,
-                                      const uint8_t *fixed,
-                                      size_t fixed_len,
+dk_status dk_spring_relative_residual(const dk_spring_system *system,
                                       uint32_t components,
                                       const double *values,
                                       size_t values_len,
@@ -2704,14 +2494,7 @@ dk_status dk_spring_relative_residual(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_spring_relative_residual`].
-dk_status dk_spring_relative_residual_f32(const uint32_t *offsets,
-                                          size_t offsets_len,
-                                          const uint32_t *targets,
-                                          size_t targets_len,
-                                          const float *stiffness,
-                                          size_t stiffness_len,
-                                          const uint8_t *fixed,
-                                          size_t fixed_len,
+dk_status dk_spring_relative_residual_f32(const dk_spring_system_f32 *system,
                                           uint32_t components,
                                           const float *values,
                                           size_t values_len,
@@ -2775,14 +2558,7 @@ dk_status dk_spring_angle_rigidity_probe_scratch_len(size_t node_count,
 //
 // # Safety
 // As [`dk_spring_solve_linear`]; `points` readable for `points_len` scalars.
-dk_status dk_spring_solve_angle(const uint32_t *offsets,
-                                size_t offsets_len,
-                                const uint32_t *targets,
-                                size_t targets_len,
-                                const double *stiffness,
-                                size_t stiffness_len,
-                                const uint8_t *fixed,
-                                size_t fixed_len,
+dk_status dk_spring_solve_angle(const dk_spring_system *system,
                                 const double *points,
                                 size_t points_len,
                                 uint32_t dim,
@@ -2799,14 +2575,7 @@ dk_status dk_spring_solve_angle(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_spring_solve_angle`].
-dk_status dk_spring_solve_angle_f32(const uint32_t *offsets,
-                                    size_t offsets_len,
-                                    const uint32_t *targets,
-                                    size_t targets_len,
-                                    const float *stiffness,
-                                    size_t stiffness_len,
-                                    const uint8_t *fixed,
-                                    size_t fixed_len,
+dk_status dk_spring_solve_angle_f32(const dk_spring_system_f32 *system,
                                     const float *points,
                                     size_t points_len,
                                     uint32_t dim,
@@ -2829,14 +2598,7 @@ dk_status dk_spring_solve_angle_f32(const uint32_t *offsets,
 // # Safety
 // As [`dk_spring_solve_angle`]; `src` readable for `src_len` scalars; `dst` writable for
 // `dst_len`, not overlapping `src`; `sweep` points to one writable struct.
-dk_status dk_spring_angle_jacobi_sweep(const uint32_t *offsets,
-                                       size_t offsets_len,
-                                       const uint32_t *targets,
-                                       size_t targets_len,
-                                       const double *stiffness,
-                                       size_t stiffness_len,
-                                       const uint8_t *fixed,
-                                       size_t fixed_len,
+dk_status dk_spring_angle_jacobi_sweep(const dk_spring_system *system,
                                        const double *points,
                                        size_t points_len,
                                        uint32_t dim,
@@ -2856,14 +2618,7 @@ dk_status dk_spring_angle_jacobi_sweep(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_spring_angle_jacobi_sweep`].
-dk_status dk_spring_angle_jacobi_sweep_f32(const uint32_t *offsets,
-                                           size_t offsets_len,
-                                           const uint32_t *targets,
-                                           size_t targets_len,
-                                           const float *stiffness,
-                                           size_t stiffness_len,
-                                           const uint8_t *fixed,
-                                           size_t fixed_len,
+dk_status dk_spring_angle_jacobi_sweep_f32(const dk_spring_system_f32 *system,
                                            const float *points,
                                            size_t points_len,
                                            uint32_t dim,
@@ -2887,14 +2642,7 @@ dk_status dk_spring_angle_jacobi_sweep_f32(const uint32_t *offsets,
 // # Safety
 // As [`dk_spring_solve_angle`]; `values` readable and writable for `values_len` scalars;
 // `sweep` points to one writable struct.
-dk_status dk_spring_angle_gauss_seidel_sweep(const uint32_t *offsets,
-                                             size_t offsets_len,
-                                             const uint32_t *targets,
-                                             size_t targets_len,
-                                             const double *stiffness,
-                                             size_t stiffness_len,
-                                             const uint8_t *fixed,
-                                             size_t fixed_len,
+dk_status dk_spring_angle_gauss_seidel_sweep(const dk_spring_system *system,
                                              const double *points,
                                              size_t points_len,
                                              uint32_t dim,
@@ -2912,14 +2660,7 @@ dk_status dk_spring_angle_gauss_seidel_sweep(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_spring_angle_gauss_seidel_sweep`].
-dk_status dk_spring_angle_gauss_seidel_sweep_f32(const uint32_t *offsets,
-                                                 size_t offsets_len,
-                                                 const uint32_t *targets,
-                                                 size_t targets_len,
-                                                 const float *stiffness,
-                                                 size_t stiffness_len,
-                                                 const uint8_t *fixed,
-                                                 size_t fixed_len,
+dk_status dk_spring_angle_gauss_seidel_sweep_f32(const dk_spring_system_f32 *system,
                                                  const float *points,
                                                  size_t points_len,
                                                  uint32_t dim,
@@ -2943,14 +2684,7 @@ dk_status dk_spring_angle_gauss_seidel_sweep_f32(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_spring_solve_angle`]; `amplification_out` writable for one scalar.
-dk_status dk_spring_angle_rigidity_probe(const uint32_t *offsets,
-                                         size_t offsets_len,
-                                         const uint32_t *targets,
-                                         size_t targets_len,
-                                         const double *stiffness,
-                                         size_t stiffness_len,
-                                         const uint8_t *fixed,
-                                         size_t fixed_len,
+dk_status dk_spring_angle_rigidity_probe(const dk_spring_system *system,
                                          const double *points,
                                          size_t points_len,
                                          uint32_t dim,
@@ -2965,14 +2699,7 @@ dk_status dk_spring_angle_rigidity_probe(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_spring_angle_rigidity_probe`].
-dk_status dk_spring_angle_rigidity_probe_f32(const uint32_t *offsets,
-                                             size_t offsets_len,
-                                             const uint32_t *targets,
-                                             size_t targets_len,
-                                             const float *stiffness,
-                                             size_t stiffness_len,
-                                             const uint8_t *fixed,
-                                             size_t fixed_len,
+dk_status dk_spring_angle_rigidity_probe_f32(const dk_spring_system_f32 *system,
                                              const float *points,
                                              size_t points_len,
                                              uint32_t dim,
@@ -3050,20 +2777,15 @@ dk_status dk_spring_wall_distance_factors_f32(float *distances,
 
 // The dual volume of every node (each cell's absolute area or volume shared equally among
 // its nodes) into `out` (one scalar per node). Cells as `dk_graph_from_cells` takes them;
-// with `index_base` 1, `index_scratch` needs `cell_offsets_len + cell_nodes_len` entries
-// (NULL with length 0 for base 0). `scratch` needs one scalar per cell (`cell_kinds_len`).
+// with `index_base` 1, `index_scratch` needs `cells->offsets_len + cells->nodes_len` entries
+// (NULL with length 0 for base 0). `scratch` needs one scalar per cell (`cells->kinds_len`).
 // Errors (nothing written to `out`): cell errors, `DK_ERR_CELL_DIMENSION`,
 // `DK_ERR_NON_FINITE`, `DK_ERR_INVALID_PARAMETER` (`dim`), length and pointer errors.
 //
 // # Safety
 // Inputs readable for their lengths; `index_scratch`, `out` and `scratch` writable for
 // theirs, overlapping nothing else.
-dk_status dk_spring_dual_volumes(const uint32_t *cell_offsets,
-                                 size_t cell_offsets_len,
-                                 const uint32_t *cell_nodes,
-                                 size_t cell_nodes_len,
-                                 const uint8_t *cell_kinds,
-                                 size_t cell_kinds_len,
+dk_status dk_spring_dual_volumes(const dk_cells *cells,
                                  uint32_t index_base,
                                  uint32_t *index_scratch,
                                  size_t index_scratch_len,
@@ -3079,12 +2801,7 @@ dk_status dk_spring_dual_volumes(const uint32_t *cell_offsets,
 //
 // # Safety
 // As [`dk_spring_dual_volumes`].
-dk_status dk_spring_dual_volumes_f32(const uint32_t *cell_offsets,
-                                     size_t cell_offsets_len,
-                                     const uint32_t *cell_nodes,
-                                     size_t cell_nodes_len,
-                                     const uint8_t *cell_kinds,
-                                     size_t cell_kinds_len,
+dk_status dk_spring_dual_volumes_f32(const dk_cells *cells,
                                      uint32_t index_base,
                                      uint32_t *index_scratch,
                                      size_t index_scratch_len,
@@ -3122,10 +2839,7 @@ dk_status dk_spring_inverse_volume_factors_f32(float *volumes, size_t volumes_le
 // # Safety
 // Inputs readable for their lengths; `stiffness` readable and writable for
 // `stiffness_len` scalars, overlapping nothing else.
-dk_status dk_spring_scale_stiffness(const uint32_t *offsets,
-                                    size_t offsets_len,
-                                    const uint32_t *targets,
-                                    size_t targets_len,
+dk_status dk_spring_scale_stiffness(const dk_graph *graph,
                                     const double *factors,
                                     size_t factors_len,
                                     double *stiffness,
@@ -3135,10 +2849,7 @@ dk_status dk_spring_scale_stiffness(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_spring_scale_stiffness`].
-dk_status dk_spring_scale_stiffness_f32(const uint32_t *offsets,
-                                        size_t offsets_len,
-                                        const uint32_t *targets,
-                                        size_t targets_len,
+dk_status dk_spring_scale_stiffness_f32(const dk_graph *graph,
                                         const float *factors,
                                         size_t factors_len,
                                         float *stiffness,
@@ -3400,8 +3111,8 @@ dk_status dk_taubin_smooth_graph_scratch_len(size_t node_count,
 // `iterations` λ|μ iterations, each two Jacobi passes
 // `x_i ← x_i + w (Σ_j w_ij x_j / Σ_j w_ij − x_i)` with `w = λ`, then `w = μ`.
 //
-// - `offsets`/`targets`: a 0-based CSR graph (from `dk_graph_from_*`);
-// - `weights`: per directed edge (`targets_len` values, each finite and `> 0`), or NULL with
+// - `graph`: a 0-based CSR graph (from `dk_graph_from_*`);
+// - `weights`: per directed edge (`graph->targets_len` values, each finite and `> 0`), or NULL with
 //   `weights_len` 0 for uniform weights (see [`dk_taubin_inverse_distance_weights`]);
 // - `fixed`: one byte per node (nonzero = keeps its value), or NULL with `fixed_len` 0;
 // - `values`: `node_count * components` scalars (`components` 1 to 7), updated in place;
@@ -3414,10 +3125,7 @@ dk_status dk_taubin_smooth_graph_scratch_len(size_t node_count,
 // Every input pointer is NULL (with length 0) or readable for its length; `values` is
 // readable and writable for `values_len` scalars, `scratch` writable for `scratch_len`,
 // `report` points to one writable report; writable buffers overlap nothing else.
-dk_status dk_taubin_smooth_graph(const uint32_t *offsets,
-                                 size_t offsets_len,
-                                 const uint32_t *targets,
-                                 size_t targets_len,
+dk_status dk_taubin_smooth_graph(const dk_graph *graph,
                                  const double *weights,
                                  size_t weights_len,
                                  const uint8_t *fixed,
@@ -3436,10 +3144,7 @@ dk_status dk_taubin_smooth_graph(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_taubin_smooth_graph`].
-dk_status dk_taubin_smooth_graph_f32(const uint32_t *offsets,
-                                     size_t offsets_len,
-                                     const uint32_t *targets,
-                                     size_t targets_len,
+dk_status dk_taubin_smooth_graph_f32(const dk_graph *graph,
                                      const float *weights,
                                      size_t weights_len,
                                      const uint8_t *fixed,
@@ -3465,10 +3170,7 @@ dk_status dk_taubin_smooth_graph_f32(const uint32_t *offsets,
 // # Safety
 // Every input pointer is NULL (with length 0) or readable for its length; `dst` is writable
 // for `dst_len` scalars and `max_change_out` for one; `dst` overlaps no input.
-dk_status dk_taubin_graph_sweep(const uint32_t *offsets,
-                                size_t offsets_len,
-                                const uint32_t *targets,
-                                size_t targets_len,
+dk_status dk_taubin_graph_sweep(const dk_graph *graph,
                                 const double *weights,
                                 size_t weights_len,
                                 const uint8_t *fixed,
@@ -3488,10 +3190,7 @@ dk_status dk_taubin_graph_sweep(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_taubin_graph_sweep`].
-dk_status dk_taubin_graph_sweep_f32(const uint32_t *offsets,
-                                    size_t offsets_len,
-                                    const uint32_t *targets,
-                                    size_t targets_len,
+dk_status dk_taubin_graph_sweep_f32(const dk_graph *graph,
                                     const float *weights,
                                     size_t weights_len,
                                     const uint8_t *fixed,
@@ -3508,7 +3207,7 @@ dk_status dk_taubin_graph_sweep_f32(const uint32_t *offsets,
                                     float *max_change_out);
 
 // Fujiwara's inverse-distance weights `weights[e] = 1 / |x_i − x_j|` for every directed edge
-// `e = i → j` of the 0-based CSR graph (`weights_len` = `targets_len`), for
+// `e = i → j` of the 0-based CSR graph (`weights_len` = `graph->targets_len`), for
 // [`dk_taubin_smooth_graph`] on meshes with uneven edge lengths. `points`: `node_count *
 // dim` scalars, `dim` 2 or 3. Errors (nothing written): `DK_ERR_ZERO_LENGTH_EDGE` (two
 // neighbours coincide), `DK_ERR_NON_FINITE`, length and pointer errors.
@@ -3516,10 +3215,7 @@ dk_status dk_taubin_graph_sweep_f32(const uint32_t *offsets,
 // # Safety
 // Inputs readable for their lengths; `weights` writable for `weights_len` scalars, not
 // overlapping the inputs.
-dk_status dk_taubin_inverse_distance_weights(const uint32_t *offsets,
-                                             size_t offsets_len,
-                                             const uint32_t *targets,
-                                             size_t targets_len,
+dk_status dk_taubin_inverse_distance_weights(const dk_graph *graph,
                                              const double *points,
                                              size_t points_len,
                                              uint32_t dim,
@@ -3530,10 +3226,7 @@ dk_status dk_taubin_inverse_distance_weights(const uint32_t *offsets,
 //
 // # Safety
 // As [`dk_taubin_inverse_distance_weights`].
-dk_status dk_taubin_inverse_distance_weights_f32(const uint32_t *offsets,
-                                                 size_t offsets_len,
-                                                 const uint32_t *targets,
-                                                 size_t targets_len,
+dk_status dk_taubin_inverse_distance_weights_f32(const dk_graph *graph,
                                                  const float *points,
                                                  size_t points_len,
                                                  uint32_t dim,

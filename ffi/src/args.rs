@@ -6,7 +6,7 @@
 //! forward the contract of the public function that received the pointer.
 #![allow(unsafe_code)] // calls into crate::slice; no pointer is dereferenced here.
 
-use deform_kernel::{Block, Graph};
+use deform_kernel::Block;
 
 use crate::slice::{chunks, input, input_n, out_one, output_n, In, Out};
 use crate::status::dk_status;
@@ -146,16 +146,6 @@ pub(crate) fn range(start: usize, end: usize, index_base: u32) -> Result<[usize;
 /// Validates the dimensions of a structured block.
 pub(crate) fn block(ni: usize, nj: usize, nk: usize) -> Result<Block, dk_status> {
     Block::new([ni, nj, nk]).map_err(dk_status::from)
-}
-
-/// Borrows and validates a 0-based CSR graph.
-pub(crate) fn graph<'a>(
-    offsets: In<'a, u32>,
-    targets: In<'a, u32>,
-) -> Result<Graph<'a>, dk_status> {
-    let o = input(offsets)?;
-    let t = input(targets)?;
-    Graph::new(o, t).map_err(dk_status::from)
 }
 
 /// Asserts at compile time the size of a `#[repr(C)]` type and the offsets of its fields (the

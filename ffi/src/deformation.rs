@@ -36,12 +36,15 @@ use deform_kernel::spring::SpringSystem;
 use deform_kernel::{Block, Cells, Directions, Quat, Real};
 
 use crate::args::{
-    assert_layout, block, by_dim, check_base, done, graph, index_need, read_array, read_one,
-    read_points, rebase, write_len, write_one,
+    assert_layout, block, by_dim, check_base, done, index_need, read_array, read_one, read_points,
+    rebase, write_len, write_one,
 };
-use crate::graph::read_optional_cells;
+use crate::graph::{dk_cells, CellsIn};
 use crate::slice::{chunks, chunks_mut, input, out_one, output, quats, quats_mut, In, Out};
-use crate::spring::{dk_spring_solve_options, dk_spring_solve_report};
+use crate::spring::{
+    dk_spring_solve_options, dk_spring_solve_report, dk_spring_system, dk_spring_system_f32,
+    SystemC, SystemIn,
+};
 use crate::status::dk_status;
 
 // ---------------------------------------------------------------------------------------------
@@ -68,6 +71,7 @@ pub const DK_DIRECTION_J: u32 = 2;
 /// Bit of a TFI `directions` mask: interpolate along `k` (3D blocks only).
 pub const DK_DIRECTION_K: u32 = 4;
 
+// codegen: f32 twin
 /// The prescribed motion of a mesh boundary, double precision (the kernel's
 /// `BoundaryMotion`): which mesh nodes move where, how they turn, and about which origin.
 /// Fill it with [`dk_boundary_motion_default`] first, then set the fields you need.
@@ -124,58 +128,11 @@ pub struct dk_boundary_motion {
     pub has_origin: u32,
 }
 
-/// Single-precision twin of [`dk_boundary_motion`] (same fields, `float` scalars).
-#[repr(C)]
-#[derive(Clone, Copy, Debug)]
-#[allow(non_camel_case_types)]
-pub struct dk_boundary_motion_f32 {
-    /// Mesh node of each boundary point, in `index_base`, all distinct.
-    pub nodes: *const u32,
-    /// Number of entries of `nodes` (`B`, at least 1).
-    pub nodes_len: usize,
-    /// Deformed position of each boundary point (`B * dim` scalars).
-    pub deformed: *const f32,
-    /// Number of scalars in `deformed`.
-    pub deformed_len: usize,
-    /// Boundary element offsets (in `index_base`), or NULL with length 0 for no elements.
-    pub element_offsets: *const u32,
-    /// Number of entries of `element_offsets` (0: no elements).
-    pub element_offsets_len: usize,
-    /// Element nodes as positions `0..B` in `nodes`, in `index_base`.
-    pub element_nodes: *const u32,
-    /// Number of entries of `element_nodes`.
-    pub element_nodes_len: usize,
-    /// VTK kind code of each element.
-    pub element_kinds: *const u8,
-    /// Number of entries of `element_kinds`.
-    pub element_kinds_len: usize,
-    /// With [`DK_ROTATIONS_PER_NODE`]: `4 * B` quaternion scalars. Ignored otherwise.
-    pub node_rotations: *const f32,
-    /// Number of scalars in `node_rotations`.
-    pub node_rotations_len: usize,
-    /// With [`DK_ROTATIONS_RIGID`]: the rotation of the moving boundary. Ignored otherwise.
-    pub rigid_rotation: [f32; 4],
-    /// The rotation origin, used when `has_origin` is nonzero.
-    pub origin: [f32; 3],
-    /// 0 or 1: the base of `nodes`, `element_offsets` and `element_nodes`.
-    pub index_base: u32,
-    /// [`DK_ROTATIONS_SHAPE`], [`DK_ROTATIONS_RIGID`] or [`DK_ROTATIONS_PER_NODE`].
-    pub rotation_source: u32,
-    /// Nonzero: rotate about `origin`; 0: about the default origin.
-    pub has_origin: u32,
-}
-
 assert_layout!(
     dk_boundary_motion, 168;
     nodes_len = 8, deformed = 16, element_offsets = 32, element_nodes = 48, element_kinds = 64,
     node_rotations = 80, rigid_rotation = 96, origin = 128, index_base = 152, rotation_source = 156,
     has_origin = 160,
-);
-
-assert_layout!(
-    dk_boundary_motion_f32, 136;
-    node_rotations = 80, rigid_rotation = 96, origin = 112, index_base = 124, rotation_source = 128,
-    has_origin = 132,
 );
 
 // ---------------------------------------------------------------------------------------------
@@ -185,13 +142,11 @@ assert_layout!(
 /// Reads a required element list (absent elements are a length mismatch).
 fn read_required_elements<'a>(
     boundary_len: usize,
-    offsets: In<'a, u32>,
-    nodes: In<'a, u32>,
-    kinds: In<'a, u8>,
+    elements: CellsIn<'a>,
     index_base: u32,
     scratch: &'a mut [u32],
 ) -> Result<Cells<'a>, dk_status> {
-    let (cells, _) = read_optional_cells(boundary_len, offsets, nodes, kinds, index_base, scratch)?;
+    let (cells, _) = elements.optional_cells(boundary_len, index_base, scratch)?;
     cells.ok_or(dk_status::DK_ERR_LENGTH_MISMATCH)
 }
 
@@ -316,14 +271,12 @@ impl<'a, T: Real> RawMotion<'a, T> {
         check_base(self.index_base)?;
         let nodes = input(self.nodes)?;
         let (nodes, scratch) = rebase(nodes, self.index_base, scratch)?;
-        let (elements, scratch) = read_optional_cells(
-            nodes.len(),
-            self.element_offsets,
-            self.element_nodes,
-            self.element_kinds,
-            self.index_base,
-            scratch,
-        )?;
+        let elements = CellsIn {
+            offsets: self.element_offsets,
+            nodes: self.element_nodes,
+            kinds: self.element_kinds,
+        };
+        let (elements, scratch) = elements.optional_cells(nodes.len(), self.index_base, scratch)?;
         let deformed = read_points::<T, D>(self.deformed)?;
         let rotations = match self.rotation_source {
             DK_ROTATIONS_SHAPE => RotationSource::Shape,
@@ -485,9 +438,7 @@ fn tfi_d<M: MotionC, const D: usize>(
 
 /// A boundary element list as it crosses the ABI (offsets and nodes in `index_base`).
 struct ElementsIn<'a> {
-    offsets: In<'a, u32>,
-    nodes: In<'a, u32>,
-    kinds: In<'a, u8>,
+    elements: In<'a, dk_cells>,
     index_base: u32,
     index_scratch: Out<'a, u32>,
 }
@@ -497,14 +448,8 @@ impl<'a> ElementsIn<'a> {
     /// mismatch).
     fn read(self, boundary_len: usize) -> Result<Cells<'a>, dk_status> {
         let scratch = output(self.index_scratch)?;
-        read_required_elements(
-            boundary_len,
-            self.offsets,
-            self.nodes,
-            self.kinds,
-            self.index_base,
-            scratch,
-        )
+        let elements = CellsIn::read(self.elements)?;
+        read_required_elements(boundary_len, elements, self.index_base, scratch)
     }
 }
 
@@ -668,27 +613,6 @@ fn spring_values_len(
     Ok(len)
 }
 
-/// The arguments describing a spring system (0-based CSR graph, per-edge stiffness, fixed
-/// mask); validated into a `SpringSystem` with a `node_count` slice of index scratch.
-#[derive(Clone, Copy)]
-struct SystemIn<'a, T> {
-    offsets: In<'a, u32>,
-    targets: In<'a, u32>,
-    stiffness: In<'a, T>,
-    fixed: In<'a, u8>,
-}
-
-impl<'a, T: Real> SystemIn<'a, T> {
-    fn build(&self, scratch: &mut [u32]) -> Result<SpringSystem<'a, T>, dk_status> {
-        let k = input(self.stiffness)?;
-        let f = input(self.fixed)?;
-        // All four arrays are NULL-checked before the graph is validated (unlike
-        // `dk_spring_*`, which validate the graph first).
-        let g = graph(self.offsets, self.targets)?;
-        SpringSystem::new(g, k, f, scratch).map_err(dk_status::from)
-    }
-}
-
 fn spring_index_len<M: MotionC>(
     motion: In<'_, M>,
     node_count: usize,
@@ -708,7 +632,7 @@ fn spring_index_len<M: MotionC>(
 fn spring_d<M: MotionC, const D: usize>(
     points: In<'_, M::T>,
     motion: In<'_, M>,
-    system: SystemIn<'_, M::T>,
+    system: Result<SystemIn<'_, M::T>, dk_status>,
     options: In<'_, dk_spring_solve_options>,
     values: Out<'_, M::T>,
     bufs: PipelineOut<'_, M::T>,
@@ -723,7 +647,7 @@ fn spring_d<M: MotionC, const D: usize>(
     let values = output(values)?;
     let report = out_one(report)?;
     let (motion, rest) = raw.view::<D>(b.index_scratch)?;
-    let sys = system.build(rest)?;
+    let sys = system?.build(rest)?;
     let (origin, rep) = deform_spring(
         points,
         &motion,
@@ -744,7 +668,7 @@ fn spring_d<M: MotionC, const D: usize>(
 
 #[allow(clippy::too_many_arguments)]
 fn propagate_spring_d<T: Real, const D: usize>(
-    system: SystemIn<'_, T>,
+    system: Result<SystemIn<'_, T>, dk_status>,
     options: In<'_, dk_spring_solve_options>,
     index_scratch: Out<'_, u32>,
     values: Out<'_, T>,
@@ -760,7 +684,7 @@ fn propagate_spring_d<T: Real, const D: usize>(
     let t = chunks_mut::<T, D>(translations)?;
     let q = quats_mut(rotations)?;
     let report = out_one(report)?;
-    let sys = system.build(s)?;
+    let sys = system?.build(s)?;
     let rep = propagate_spring(&sys, method, &stop, t, q, values).map_err(dk_status::from)?;
     *report = dk_spring_solve_report::of(rep);
     Ok(())

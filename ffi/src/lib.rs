@@ -7,6 +7,11 @@
 //! Conventions (every `dk_*` function):
 //! - returns a [`dk_status`]; `DK_OK` is 0; [`dk_status_str`] describes any value;
 //! - inputs first, outputs last; every buffer is followed by its length in elements;
+//! - arrays that belong together travel in one `#[repr(C)]` parameter struct: a CSR graph
+//!   ([`graph::dk_graph`]), cells ([`graph::dk_cells`]), a spring system
+//!   ([`spring::dk_spring_system`]), a plan's mesh and pools ([`plan::dk_plan_mesh`],
+//!   [`plan::dk_plan_pools`]), a boundary motion; their arrays follow the rules of
+//!   arguments and are borrowed only for the call;
 //! - outputs are written only on success: on any error the caller's buffers are unchanged;
 //! - NULL pointers are checked (a NULL buffer is allowed only with length 0);
 //! - f64 functions have an `_f32` twin with the same bits as the Rust API;
@@ -39,6 +44,3 @@ pub mod stiffening;
 pub mod taubin;
 
 pub use status::{dk_status, dk_status_str};
-
-#[cfg(test)]
-mod tests;

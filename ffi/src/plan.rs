@@ -8,6 +8,7 @@
 //! `Plan::open` (header, layout and a checksum of every immutable part: one pass over the
 //! pools, 11 ms against a warm 234k-node step of 231–328 ms), so pools that were overwritten
 //! by mistake are a `DK_ERR_BAD_PLAN`, never a wrong mesh. Indices are 0-based.
+#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
 
 use deform_kernel::deformation::RotationSource;
 use deform_kernel::plan::{
@@ -16,10 +17,8 @@ use deform_kernel::plan::{
 use deform_kernel::spring::{AmgOptions, AmgSmoother};
 use deform_kernel::{Quat, Real};
 
-use crate::args::{
-    assert_layout, by_dim, done, graph, read_array, read_one, read_points, write_one,
-};
-use crate::graph::read_optional_cells;
+use crate::args::{assert_layout, by_dim, done, read_array, read_one, read_points, write_one};
+use crate::graph::{dk_cells, dk_graph, CellsIn, GraphIn};
 use crate::slice::{chunks_mut, input, output, quats, In, Out};
 use crate::spring::dk_spring_solve_options;
 use crate::status::dk_status;
@@ -227,26 +226,132 @@ pub(crate) fn options_default<T: Real>(out: Out<'_, dk_plan_options>) -> dk_stat
     ))
 }
 
-/// The mesh and options a plan is built from, as the C caller passed them.
+// codegen: f32 twin
+/// The mesh a plan is built from ([`dk_plan_work_sizes`], [`dk_plan_pool_sizes`],
+/// [`dk_plan_init`]); borrowed for the call and copied into the plan.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+#[allow(non_camel_case_types)]
+pub struct dk_plan_mesh {
+    /// Undeformed node positions, `node_count * dim` scalars.
+    pub points: *const f64,
+    /// Entries of `points`.
+    pub points_len: usize,
+    /// The 0-based CSR graph of the springs.
+    pub graph: dk_graph,
+    /// The 0-based boundary node list (`B` nodes, distinct): the nodes a step moves.
+    pub boundary: *const u32,
+    /// Entries of `boundary`.
+    pub boundary_len: usize,
+    /// Optional boundary elements over the boundary points `0..B` (0-based; all empty for
+    /// none): with them the quaternion method derives rotations from the shape.
+    pub elements: dk_cells,
+    /// Optional stiffness per directed edge (NULL with length 0: Batina's with
+    /// `dk_plan_options.stiffness_exponent`).
+    pub stiffness: *const f64,
+    /// Entries of `stiffness`.
+    pub stiffness_len: usize,
+}
+assert_layout!(
+    dk_plan_mesh, 128;
+    points = 0, graph = 16, boundary = 48, elements = 64, stiffness = 112,
+);
+
+// codegen: f32 twin
+/// Three caller buffers: a plan's pools (sized by [`dk_plan_pool_sizes`], written by
+/// [`dk_plan_init`], read and updated by every step), or the transient work of init (sized by
+/// [`dk_plan_work_sizes`]). Each buffer is used only by the call that receives the struct.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+#[allow(non_camel_case_types)]
+pub struct dk_plan_pools {
+    /// Scalars.
+    pub reals: *mut f64,
+    /// Entries of `reals`.
+    pub reals_len: usize,
+    /// Indices.
+    pub indices: *mut u32,
+    /// Entries of `indices`.
+    pub indices_len: usize,
+    /// Bytes.
+    pub bytes: *mut u8,
+    /// Entries of `bytes`.
+    pub bytes_len: usize,
+}
+assert_layout!(dk_plan_pools, 48; reals = 0, indices = 16, bytes = 32, bytes_len = 40);
+
+/// The mesh a plan is built from, its arrays as tokens, and the caller's options.
 pub(crate) struct SpecArgs<'a, T> {
-    pub(crate) points: In<'a, T>,
-    pub(crate) offsets: In<'a, u32>,
-    pub(crate) targets: In<'a, u32>,
-    pub(crate) boundary: In<'a, u32>,
-    pub(crate) element_offsets: In<'a, u32>,
-    pub(crate) element_nodes: In<'a, u32>,
-    pub(crate) element_kinds: In<'a, u8>,
+    points: In<'a, T>,
+    graph: GraphIn<'a>,
+    boundary: In<'a, u32>,
+    elements: CellsIn<'a>,
     /// Per directed edge, or NULL with length 0 for Batina's with `stiffness_exponent`.
-    pub(crate) stiffness: In<'a, T>,
-    pub(crate) options: In<'a, dk_plan_options>,
+    stiffness: In<'a, T>,
+    options: In<'a, dk_plan_options>,
 }
 
-/// Three caller buffers (a plan's pools, or its transient work), as the C caller passed them.
+/// Three caller buffers (a plan's pools, or its transient work) as tokens.
 pub(crate) struct PoolArgs<'a, T> {
-    pub(crate) reals: Out<'a, T>,
-    pub(crate) indices: Out<'a, u32>,
-    pub(crate) bytes: Out<'a, u8>,
+    reals: Out<'a, T>,
+    indices: Out<'a, u32>,
+    bytes: Out<'a, u8>,
 }
+
+/// The precision twins of the plan structs, seen through [`SpecArgs`] and [`PoolArgs`].
+pub(crate) trait PlanC: Copy {
+    type T: Real;
+    type Pools: Copy;
+    /// Reads the mesh and wraps its arrays in tokens of the struct's lifetime.
+    fn spec<'a>(
+        mesh: In<'a, Self>,
+        options: In<'a, dk_plan_options>,
+    ) -> Result<SpecArgs<'a, Self::T>, dk_status>;
+    /// Reads a pools struct and wraps its buffers in tokens of the struct's lifetime.
+    fn pools(p: In<'_, Self::Pools>) -> Result<PoolArgs<'_, Self::T>, dk_status>;
+}
+
+macro_rules! plan_c {
+    ($mesh:ty, $pools:ty, $t:ty) => {
+        impl PlanC for $mesh {
+            type T = $t;
+            type Pools = $pools;
+            fn spec<'a>(
+                mesh: In<'a, Self>,
+                options: In<'a, dk_plan_options>,
+            ) -> Result<SpecArgs<'a, $t>, dk_status> {
+                let m = read_one(mesh)?;
+                // SAFETY: a token for a mesh struct carries the contract of the functions
+                // that take one: its arrays are readable for their lengths while it is.
+                Ok(unsafe {
+                    SpecArgs {
+                        points: In::new(m.points, m.points_len),
+                        graph: m.graph.tokens(),
+                        boundary: In::new(m.boundary, m.boundary_len),
+                        elements: m.elements.tokens(),
+                        stiffness: In::new(m.stiffness, m.stiffness_len),
+                        options,
+                    }
+                })
+            }
+            fn pools(p: In<'_, $pools>) -> Result<PoolArgs<'_, $t>, dk_status> {
+                let b = read_one(p)?;
+                // SAFETY: a token for a pools struct carries the contract of the functions
+                // that take one: its buffers are writable for their lengths, exclusively,
+                // while it is.
+                Ok(unsafe {
+                    PoolArgs {
+                        reals: Out::new(b.reals, b.reals_len),
+                        indices: Out::new(b.indices, b.indices_len),
+                        bytes: Out::new(b.bytes, b.bytes_len),
+                    }
+                })
+            }
+        }
+    };
+}
+plan_c!(dk_plan_mesh, dk_plan_pools, f64);
+plan_c!(dk_plan_mesh_f32, dk_plan_pools_f32, f32);
 
 /// The borrowed buffers of a [`PoolArgs`].
 type Pools<'a, T> = (&'a mut [T], &'a mut [u32], &'a mut [u8]);
@@ -280,16 +385,9 @@ impl<'a, T: Real> SpecArgs<'a, T> {
     fn spec<const D: usize>(&self) -> Result<PlanSpec<'a, T, D>, dk_status> {
         let o = read_one(self.options)?;
         let points = read_points::<T, D>(self.points)?;
-        let graph = graph(self.offsets, self.targets)?;
+        let graph = self.graph.graph()?;
         let boundary = input(self.boundary)?;
-        let (elements, _) = read_optional_cells(
-            boundary.len(),
-            self.element_offsets,
-            self.element_nodes,
-            self.element_kinds,
-            0,
-            &mut [],
-        )?;
+        let (elements, _) = self.elements.optional_cells(boundary.len(), 0, &mut [])?;
         let method = match o.method {
             DK_PLAN_SPRING => PlanMethod::Spring,
             DK_PLAN_QUATERNION => PlanMethod::QuaternionSpring,
@@ -410,12 +508,12 @@ impl<'a, T: Real> MotionArgs<'a, T> {
 }
 
 fn step_d<T: Real, const D: usize>(
-    pools: PoolArgs<'_, T>,
+    pools: Result<PoolArgs<'_, T>, dk_status>,
     motion: MotionArgs<'_, T>,
     out: Out<'_, T>,
     report_out: Out<'_, dk_plan_step_report>,
 ) -> Result<(), dk_status> {
-    let mut plan = pools.open::<D>()?;
+    let mut plan = pools?.open::<D>()?;
     let motion = motion.motion::<D>()?;
     let out = chunks_mut::<T, D>(out)?;
     let report_slot = crate::slice::out_one(report_out)?;

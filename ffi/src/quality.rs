@@ -4,11 +4,11 @@
 //! wall-angle change, for 2D points (triangles, quads) and 3D points (tetrahedra, hexahedra,
 //! prisms, pyramids) in VTK node order.
 //!
-//! Cells cross the ABI exactly as in `dk_graph_from_cells`: `cell_offsets` (cell count + 1
-//! entries), `cell_nodes`, `cell_kinds` (VTK codes), with offsets and node indices read in
+//! Cells cross the ABI as a `dk_cells`, as in `dk_graph_from_cells`: `offsets` (cell count + 1
+//! entries), `nodes`, `kinds` (VTK codes), with offsets and node indices read in
 //! `index_base` (0 or 1); with `index_base` 1 their 0-based copies go to the caller's
-//! `uint32_t` `index_scratch` (`cell_offsets_len + cell_nodes_len` entries, plus
-//! `wall_offsets_len + wall_nodes_len` for a wall; NULL with length 0 for `index_base` 0; no
+//! `uint32_t` `index_scratch` (`offsets_len + nodes_len` entries of the cells, plus those
+//! of a wall; NULL with length 0 for `index_base` 0; no
 //! allocation). Points are flat arrays of `node_count * dim` scalars (`dim` 2 or 3);
 //! the node count is `points_len / dim`. Cell and node indices *returned* (in
 //! `dk_quality_report`, `dk_wall_angle_change`) are in the same `index_base`, or
@@ -22,8 +22,8 @@ use deform_kernel::quality::{
 };
 use deform_kernel::{CellKind, Cells, Real};
 
-use crate::args::{assert_layout, by_dim, done, graph, mul_len, read_points, write_len};
-use crate::graph::read_cells;
+use crate::args::{assert_layout, by_dim, done, mul_len, read_points, write_len};
+use crate::graph::{dk_cells, dk_graph, read_graph, CellsIn, GraphIn};
 use crate::slice::{out_one, output, whole_chunks_mut, In, Out};
 use crate::status::dk_status;
 
@@ -165,12 +165,10 @@ impl dk_quality_report {
 // Argument handling.
 // ---------------------------------------------------------------------------------------------
 
-/// A caller's cell arrays (as `dk_graph_from_cells` takes them).
+/// A caller's cells and the `index_base` they are read in.
 #[derive(Clone, Copy)]
 struct CellArgs<'a> {
-    offsets: In<'a, u32>,
-    nodes: In<'a, u32>,
-    kinds: In<'a, u8>,
+    cells: In<'a, dk_cells>,
     index_base: u32,
 }
 
@@ -182,14 +180,7 @@ impl<'a> CellArgs<'a> {
         node_count: usize,
         scratch: &'a mut [u32],
     ) -> Result<(Cells<'a>, &'a mut [u32]), dk_status> {
-        read_cells(
-            node_count,
-            self.offsets,
-            self.nodes,
-            self.kinds,
-            self.index_base,
-            scratch,
-        )
+        CellsIn::read(self.cells)?.cells(node_count, self.index_base, scratch)
     }
 }
 
@@ -256,23 +247,17 @@ fn folded_d<T: Real, const D: usize>(
 }
 
 /// The arguments describing a wall: its elements (cells, in the mesh's `index_base`) and the
-/// mesh's 0-based CSR edge graph.
-#[derive(Clone, Copy)]
+/// mesh graph.
 struct WallArgs<'a> {
     elements: CellArgs<'a>,
-    graph_offsets: In<'a, u32>,
-    graph_targets: In<'a, u32>,
+    graph: In<'a, dk_graph>,
 }
 
-impl<'a> WallArgs<'a> {
-    /// `true` when no wall was given (every wall pointer NULL, every length 0).
-    fn absent(&self) -> bool {
-        let e = &self.elements;
-        e.offsets.is_absent()
-            && e.nodes.is_absent()
-            && e.kinds.is_absent()
-            && self.graph_offsets.is_absent()
-            && self.graph_targets.is_absent()
+impl WallArgs<'_> {
+    /// `true` when no wall was given (every wall and graph array NULL with length 0).
+    fn absent(&self) -> Result<bool, dk_status> {
+        let e = CellsIn::read(self.elements.cells)?;
+        Ok(e.is_absent() && GraphIn::read(self.graph)?.is_absent())
     }
 }
 
@@ -290,11 +275,11 @@ fn compare_d<T: Real, const D: usize>(
     let (c, index_rest) = cells.read(u.len(), output(index_scratch)?)?;
     let s = whole_chunks_mut::<T, D>(scratch)?;
     let r = out_one(report)?;
-    let rep = if wall.absent() {
+    let rep = if wall.absent()? {
         compare(&c, u, d, None, s)
     } else {
         let (we, _) = wall.elements.read(u.len(), index_rest)?;
-        let g = graph(wall.graph_offsets, wall.graph_targets)?;
+        let g = read_graph(wall.graph)?;
         let w = Wall::new(we, g).map_err(dk_status::from)?;
         compare(&c, u, d, Some(&w), s)
     }
@@ -314,7 +299,7 @@ fn wall_angle_d<T: Real, const D: usize>(
     let u = read_points::<T, D>(undeformed)?;
     let d = read_points::<T, D>(deformed)?;
     let (we, _) = wall.elements.read(u.len(), output(index_scratch)?)?;
-    let g = graph(wall.graph_offsets, wall.graph_targets)?;
+    let g = read_graph(wall.graph)?;
     let w = Wall::new(we, g).map_err(dk_status::from)?;
     let s = whole_chunks_mut::<T, D>(scratch)?;
     let o = out_one(out)?;

@@ -29,9 +29,10 @@ use deform_kernel::spring::{
 use deform_kernel::Real;
 
 use crate::args::{
-    assert_layout, by_components, by_dim, done, graph, mul_len, range, read_one, read_points,
-    write_len, write_one,
+    assert_layout, by_components, by_dim, done, mul_len, range, read_one, read_points, write_len,
+    write_one,
 };
+use crate::graph::{dk_graph, read_graph, GraphIn};
 use crate::slice::{
     chunks, chunks_mut, input, input_n, out_one, output, output_n, whole_chunks_mut, In, Out,
 };
@@ -245,27 +246,90 @@ impl dk_spring_sweep {
     }
 }
 
+// codegen: f32 twin
+/// A spring system for the solvers and sweeps: the graph, one stiffness per directed edge
+/// (symmetric, finite, positive) and the fixed mask (one byte per node, nonzero = fixed).
+/// Borrowed for the call that receives it, as [`dk_graph`]. The ABI's one struct for "the
+/// system", so a caller builds it once and hands it to every solver.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+#[allow(non_camel_case_types)]
+pub struct dk_spring_system {
+    /// The 0-based CSR graph.
+    pub graph: dk_graph,
+    /// Stiffness of each directed edge (`graph.targets_len` entries).
+    pub stiffness: *const f64,
+    /// Entries of `stiffness`.
+    pub stiffness_len: usize,
+    /// One byte per node, nonzero = fixed (Dirichlet).
+    pub fixed: *const u8,
+    /// Entries of `fixed` (the node count).
+    pub fixed_len: usize,
+}
+assert_layout!(dk_spring_system, 64; graph = 0, stiffness = 32, fixed = 48, fixed_len = 56);
+
+/// The arrays of a spring-system struct as tokens.
+#[derive(Clone, Copy)]
+pub(crate) struct SystemIn<'a, T> {
+    graph: GraphIn<'a>,
+    stiffness: In<'a, T>,
+    fixed: In<'a, u8>,
+}
+
+/// The two C spring-system structs, seen through [`SystemIn`].
+pub(crate) trait SystemC: Copy {
+    type T: Real;
+    /// Reads the struct and wraps its arrays in tokens of the struct's lifetime.
+    fn read(p: In<'_, Self>) -> Result<SystemIn<'_, Self::T>, dk_status>;
+}
+
+macro_rules! system_c {
+    ($ty:ty, $t:ty) => {
+        impl SystemC for $ty {
+            type T = $t;
+            fn read(p: In<'_, Self>) -> Result<SystemIn<'_, $t>, dk_status> {
+                let s = read_one(p)?;
+                // SAFETY: a token for a system struct carries the contract of the functions
+                // that take one: its arrays are readable for their lengths while it is.
+                Ok(unsafe {
+                    SystemIn {
+                        graph: s.graph.tokens(),
+                        stiffness: In::new(s.stiffness, s.stiffness_len),
+                        fixed: In::new(s.fixed, s.fixed_len),
+                    }
+                })
+            }
+        }
+    };
+}
+system_c!(dk_spring_system, f64);
+system_c!(dk_spring_system_f32, f32);
+
+impl<'a, T: Real> SystemIn<'a, T> {
+    /// Borrows and validates the system, with `node_count` entries of `scratch`.
+    pub(crate) fn build(self, scratch: &mut [u32]) -> Result<SpringSystem<'a, T>, dk_status> {
+        let g = self.graph.graph()?;
+        let k = input(self.stiffness)?;
+        let f = input(self.fixed)?;
+        SpringSystem::new(g, k, f, scratch).map_err(dk_status::from)
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Shared argument handling.
 // ---------------------------------------------------------------------------------------------
 
-/// The arguments that describe a spring system.
+/// The arguments that describe a spring system: the caller's struct (read, not yet borrowed)
+/// and the index scratch its validation needs.
 struct SysArgs<'a, T> {
-    offsets: In<'a, u32>,
-    targets: In<'a, u32>,
-    stiffness: In<'a, T>,
-    fixed: In<'a, u8>,
+    system: Result<SystemIn<'a, T>, dk_status>,
     index_scratch: Out<'a, u32>,
 }
 
 impl<'a, T: Real> SysArgs<'a, T> {
     /// Borrows and validates the system (writes only `index_scratch`).
     fn build(self) -> Result<SpringSystem<'a, T>, dk_status> {
-        let g = graph(self.offsets, self.targets)?;
-        let k = input(self.stiffness)?;
-        let f = input(self.fixed)?;
-        let s = output(self.index_scratch)?;
-        SpringSystem::new(g, k, f, s).map_err(dk_status::from)
+        self.system?.build(output(self.index_scratch)?)
     }
 }
 

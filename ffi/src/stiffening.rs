@@ -6,7 +6,7 @@
 //! or a plan (`dk_plan_init`'s `stiffness`).
 //!
 //! Wall nodes and cells are read in `index_base` 0 or 1; with 1 the 0-based copies go to the
-//! caller's `uint32_t` `index_scratch` (`wall_len`, or `cell_offsets_len + cell_nodes_len`
+//! caller's `uint32_t` `index_scratch` (`wall_len`, or `cells->offsets_len + cells->nodes_len`
 //! entries).
 #![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
 
@@ -15,8 +15,8 @@ use deform_kernel::spring::{
 };
 use deform_kernel::Real;
 
-use crate::args::{by_dim, done, graph, read_points, rebase};
-use crate::graph::read_cells;
+use crate::args::{by_dim, done, read_points, rebase};
+use crate::graph::{dk_cells, dk_graph, read_graph, CellsIn};
 use crate::slice::{input, output, In, Out};
 use crate::status::dk_status;
 
@@ -32,11 +32,8 @@ fn wall_distances_d<T: Real, const D: usize>(
     wall_distances(p, w, output(out)?).map_err(dk_status::from)
 }
 
-#[allow(clippy::too_many_arguments)]
 fn dual_volumes_d<T: Real, const D: usize>(
-    offsets: In<'_, u32>,
-    nodes: In<'_, u32>,
-    kinds: In<'_, u8>,
+    cells: In<'_, dk_cells>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
     points: In<'_, T>,
@@ -45,7 +42,7 @@ fn dual_volumes_d<T: Real, const D: usize>(
 ) -> Result<(), dk_status> {
     let p = read_points::<T, D>(points)?;
     let s = output(index_scratch)?;
-    let (c, _) = read_cells(p.len(), offsets, nodes, kinds, index_base, s)?;
+    let (c, _) = CellsIn::read(cells)?.cells(p.len(), index_base, s)?;
     dual_volumes(&c, p, output(out)?, output(scratch)?).map_err(dk_status::from)
 }
 

@@ -32,9 +32,10 @@ use deform_kernel::taubin::{
 use deform_kernel::{Block, Direction, Directions, Graph, Real};
 
 use crate::args::{
-    assert_layout, block, by_components, by_dim, done, graph, mul_len, optional, range, read_one,
+    assert_layout, block, by_components, by_dim, done, mul_len, optional, range, read_one,
     read_optional_points, read_points, write_len,
 };
+use crate::graph::{dk_graph, read_graph};
 use crate::slice::{chunks, chunks_mut, input, out_one, output, whole_chunks_mut, In, Out};
 use crate::status::dk_status;
 
@@ -410,15 +411,14 @@ fn structured_sweep_t<T: Real>(
 
 /// Graph arguments shared by the graph filter functions.
 struct GraphArgs<'a, T> {
-    offsets: In<'a, u32>,
-    targets: In<'a, u32>,
+    graph: In<'a, dk_graph>,
     weights: In<'a, T>,
     fixed: In<'a, u8>,
 }
 
 impl<'a, T> GraphArgs<'a, T> {
     fn read(&self) -> Result<(Graph<'a>, GraphOptions<'a, T>), dk_status> {
-        let g = graph(self.offsets, self.targets)?;
+        let g = read_graph(self.graph)?;
         let o = GraphOptions {
             weights: optional(self.weights)?,
             fixed: optional(self.fixed)?,

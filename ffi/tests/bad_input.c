@@ -45,6 +45,15 @@ int main(void) {
     const uint32_t co[2] = {0, 4}, cn[4] = {0, 1, 2, 3};
     const uint8_t bad_kind[1] = {42};
     const uint8_t quad[1] = {9};
+    const dk_cells one_quad = {co, 2, cn, 4, quad, 1};
+    dk_cells cells;
+    const dk_graph no_edges = {offsets, 4, targets, 0};
+    double values[3] = {0.0, 1.0, 2.0}, residual = sentinel;
+    float values32[3] = {0.0f, 1.0f, 2.0f}, residual32 = 12345.0f;
+    dk_plan_options plan_options;
+    dk_plan_sizes sizes = {99, 99, 99};
+    dk_plan_info info, info0;
+    dk_plan_step_report step_report, step_report0;
 
     EXPECT(dk_quat_mul(NULL, q, out), DK_ERR_NULL_POINTER);
     EXPECT(dk_quat_mul(q, q, NULL), DK_ERR_NULL_POINTER);
@@ -103,15 +112,53 @@ int main(void) {
         failures++;
     }
 
-    EXPECT(dk_cells_check(4, co, 2, cn, 4, bad_kind, 1, 0, NULL, 0), DK_ERR_UNKNOWN_CELL_KIND);
-    EXPECT(dk_cells_check(3, co, 2, cn, 4, quad, 1, 0, NULL, 0), DK_ERR_INDEX_OUT_OF_RANGE);
-    EXPECT(dk_cells_check(4, co, 2, cn, 3, quad, 1, 0, NULL, 0), DK_ERR_BAD_OFFSETS);
-    EXPECT(dk_cells_check(4, co, 2, cn, 4, quad, 1, 1, iscr, 8),
+    cells = one_quad;
+    cells.kinds = bad_kind;
+    EXPECT(dk_cells_check(4, &cells, 0, NULL, 0), DK_ERR_UNKNOWN_CELL_KIND);
+    EXPECT(dk_cells_check(3, &one_quad, 0, NULL, 0), DK_ERR_INDEX_OUT_OF_RANGE);
+    cells = one_quad;
+    cells.nodes_len = 3;
+    EXPECT(dk_cells_check(4, &cells, 0, NULL, 0), DK_ERR_BAD_OFFSETS);
+    EXPECT(dk_cells_check(4, &one_quad, 1, iscr, 8),
            DK_ERR_BAD_OFFSETS); /* 0 is not 1-based */
-    EXPECT(dk_cells_check(4, co, 2, cn, 4, quad, 1, 1, iscr, 5),
+    EXPECT(dk_cells_check(4, &one_quad, 1, iscr, 5),
            DK_ERR_BUFFER_TOO_SMALL); /* 1-based needs offsets + nodes = 6 entries */
-    EXPECT(dk_cells_check(4, co, 2, cn, 4, quad, 1, 0, NULL, 0), DK_OK);
-    EXPECT(dk_graph_check(offsets, 4, targets, 0, false), DK_ERR_BAD_OFFSETS);
+    EXPECT(dk_cells_check(4, &one_quad, 0, NULL, 0), DK_OK);
+    EXPECT(dk_graph_check(&no_edges, false), DK_ERR_BAD_OFFSETS);
+
+    /* A NULL parameter struct, of every kind, is DK_ERR_NULL_POINTER and writes nothing. */
+    EXPECT(dk_graph_check(NULL, false), DK_ERR_NULL_POINTER);
+    EXPECT(dk_cells_check(4, NULL, 0, NULL, 0), DK_ERR_NULL_POINTER);
+    EXPECT(dk_spring_relative_residual(NULL, 1, values, 3, NULL, 0, &residual),
+           DK_ERR_NULL_POINTER);
+    EXPECT(dk_spring_relative_residual_f32(NULL, 1, values32, 3, NULL, 0, &residual32),
+           DK_ERR_NULL_POINTER);
+    if (residual != sentinel || residual32 != 12345.0f) {
+        printf("FAIL residual_out was written\n");
+        failures++;
+    }
+    EXPECT(dk_plan_options_default(&plan_options), DK_OK);
+    EXPECT(dk_plan_work_sizes(NULL, 2, &plan_options, &sizes), DK_ERR_NULL_POINTER);
+    EXPECT(dk_plan_work_sizes_f32(NULL, 2, &plan_options, &sizes), DK_ERR_NULL_POINTER);
+    if (sizes.reals != 99 || sizes.indices != 99 || sizes.bytes != 99) {
+        printf("FAIL sizes_out was written\n");
+        failures++;
+    }
+    memset(&info, 0x5a, sizeof info);
+    memcpy(&info0, &info, sizeof info);
+    memset(&step_report, 0x5a, sizeof step_report);
+    memcpy(&step_report0, &step_report, sizeof step_report);
+    EXPECT(dk_plan_open(NULL, 2, &info), DK_ERR_NULL_POINTER);
+    EXPECT(dk_plan_open_f32(NULL, 2, &info), DK_ERR_NULL_POINTER);
+    EXPECT(dk_plan_step(NULL, 2, zero, 2, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0, DK_PLAN_WARM,
+                        pout, 6, &step_report),
+           DK_ERR_NULL_POINTER);
+    if (memcmp(&info, &info0, sizeof info) != 0 ||
+        memcmp(&step_report, &step_report0, sizeof step_report) != 0) {
+        printf("FAIL a plan output was written\n");
+        failures++;
+    }
+    UNTOUCHED(pout, 6);
 
     if (strcmp(dk_status_str(DK_OK), "success") != 0 || dk_status_str(-7) == NULL) {
         printf("FAIL dk_status_str\n");

@@ -77,6 +77,7 @@ static uint8_t seg_kinds[B2];
 static uint32_t graph_offsets[N2 + 1];   /* edge graph of the 2D grid's quads */
 static uint32_t graph_targets[8 * NC2];
 static size_t graph_len;
+static dk_graph grid_graph;              /* the two above, as the ABI takes them */
 static uint8_t fixed2[N2];
 static uint32_t boundary3[N3];
 static size_t nb3;
@@ -85,6 +86,7 @@ static void setup(void) {
     size_t k = 0, i, j, c;
     uint32_t co[NC2 + 1], cn[4 * NC2];
     uint8_t ck[NC2];
+    const dk_cells quads = {co, NC2 + 1, cn, 4 * NC2, ck, NC2};
     size_t len = 0;
     for (i = 0; i < NX; i++) perimeter[k++] = (uint32_t)i;
     for (j = 1; j < NY; j++) perimeter[k++] = (uint32_t)(NX - 1 + NX * j);
@@ -107,9 +109,10 @@ static void setup(void) {
         ck[c] = 9;
     }
     co[NC2] = 4 * NC2;
-    OK(dk_graph_from_cells_len(N2, co, NC2 + 1, cn, 4 * NC2, ck, NC2, 0, NULL, 0, false, &len));
-    OK(dk_graph_from_cells(N2, co, NC2 + 1, cn, 4 * NC2, ck, NC2, 0, NULL, 0, false, graph_offsets,
-                           N2 + 1, graph_targets, len, &graph_len));
+    OK(dk_graph_from_cells_len(N2, &quads, 0, NULL, 0, false, &len));
+    OK(dk_graph_from_cells(N2, &quads, 0, NULL, 0, false, graph_offsets, N2 + 1, graph_targets,
+                           len, &graph_len));
+    grid_graph = (dk_graph){graph_offsets, N2 + 1, graph_targets, graph_len};
     memset(fixed2, 0, sizeof fixed2);
     for (k = 0; k < B2; k++) fixed2[perimeter[k]] = 1;
     nb3 = 0;
@@ -324,6 +327,7 @@ static void SFX(pipelines_rigid)(void) {
     static REAL def[2 * B2], nodeq[4 * B2], p3[3 * N3], out3[3 * N3], t3[3 * N3], r3[4 * N3];
     static REAL def3[3 * N3], k2[8 * NC2];
     static uint32_t idx[WORK], nodes1[B2], offs1[B2 + 1], segs1[2 * B2];
+    const SFX(dk_spring_system) sys = {grid_graph, k2, graph_len, fixed2, N2};
     REAL q[4], origin[3];
     size_t i, len, vlen;
     SFX(dk_boundary_motion) m;
@@ -399,9 +403,8 @@ static void SFX(pipelines_rigid)(void) {
     TRUE_(len <= WORK && vlen <= WORK, "work buffers large enough");
     OK(SFX(dk_deform_spring_index_scratch_len)(&m, N2, &i));
     TRUE_(i == B2 + B2 + 1 + 2 * B2 + N2, "spring index scratch len");
-    OK(SFX(dk_deform_spring)(p, 2 * N2, 2, &m, graph_offsets, N2 + 1, graph_targets, graph_len,
-                             k2, graph_len, fixed2, N2, &o, scratch, len, values, vlen, idx, i,
-                             t, 2 * N2, r, 4 * N2, out, 2 * N2, origin, 2, &rep));
+    OK(SFX(dk_deform_spring)(p, 2 * N2, 2, &m, &sys, &o, scratch, len, values, vlen, idx, i, t,
+                             2 * N2, r, 4 * N2, out, 2 * N2, origin, 2, &rep));
     TRUE_(rep.converged, "spring converged");
     SFX(check_rigid)(p, out, N2, 2, perimeter, def, B2, "spring, rigid rotation");
 
@@ -443,6 +446,7 @@ static void SFX(pipelines_bad)(void) {
     static REAL p[2 * N2], out[2 * N2], t[2 * N2], r[4 * N2], scratch[WORK], values[WORK];
     static REAL def[2 * B2], k2[8 * NC2];
     static uint32_t idx[WORK], nodes[B2];
+    const SFX(dk_spring_system) sys = {grid_graph, k2, graph_len, fixed2, N2};
     REAL origin[2] = {SENTINEL, SENTINEL}, zeroq[4] = {0, 0, 0, 0};
     size_t i, len;
     SFX(dk_boundary_motion) m, bad;
@@ -596,41 +600,29 @@ static void SFX(pipelines_bad)(void) {
     for (i = 0; i < graph_len; i++) k2[i] = 1;
     OK(SFX(dk_spring_solve_options_default)(&o));
     fixed2[NX + 1] = 1; /* an interior node */
-    EXPECT(SFX(dk_deform_spring)(p, 2 * N2, 2, &m, graph_offsets, N2 + 1, graph_targets,
-                                 graph_len, k2, graph_len, fixed2, N2, &o, scratch, WORK, values,
-                                 WORK, idx, WORK, t, 2 * N2, r, 4 * N2, out, 2 * N2, origin, 2,
-                                 &rep),
+    EXPECT(SFX(dk_deform_spring)(p, 2 * N2, 2, &m, &sys, &o, scratch, WORK, values, WORK, idx,
+                                 WORK, t, 2 * N2, r, 4 * N2, out, 2 * N2, origin, 2, &rep),
            DK_ERR_INVALID_PARAMETER);
     fixed2[NX + 1] = 0;
     o.omega = 3;
     o.preconditioner = DK_PRECONDITIONER_SSOR;
-    EXPECT(SFX(dk_deform_spring)(p, 2 * N2, 2, &m, graph_offsets, N2 + 1, graph_targets,
-                                 graph_len, k2, graph_len, fixed2, N2, &o, scratch, WORK, values,
-                                 WORK, idx, WORK, t, 2 * N2, r, 4 * N2, out, 2 * N2, origin, 2,
-                                 &rep),
+    EXPECT(SFX(dk_deform_spring)(p, 2 * N2, 2, &m, &sys, &o, scratch, WORK, values, WORK, idx,
+                                 WORK, t, 2 * N2, r, 4 * N2, out, 2 * N2, origin, 2, &rep),
            DK_ERR_INVALID_PARAMETER);
     OK(SFX(dk_spring_solve_options_default)(&o));
     k2[0] = 2;
-    EXPECT(SFX(dk_deform_spring)(p, 2 * N2, 2, &m, graph_offsets, N2 + 1, graph_targets,
-                                 graph_len, k2, graph_len, fixed2, N2, &o, scratch, WORK, values,
-                                 WORK, idx, WORK, t, 2 * N2, r, 4 * N2, out, 2 * N2, origin, 2,
-                                 &rep),
+    EXPECT(SFX(dk_deform_spring)(p, 2 * N2, 2, &m, &sys, &o, scratch, WORK, values, WORK, idx,
+                                 WORK, t, 2 * N2, r, 4 * N2, out, 2 * N2, origin, 2, &rep),
            DK_ERR_NOT_SYMMETRIC);
     k2[0] = 1;
-    EXPECT(SFX(dk_deform_spring)(p, 2 * N2, 2, &m, graph_offsets, N2 + 1, graph_targets,
-                                 graph_len, k2, graph_len, fixed2, N2, &o, scratch, WORK, values,
-                                 WORK, idx, N2 - 1, t, 2 * N2, r, 4 * N2, out, 2 * N2, origin, 2,
-                                 &rep),
+    EXPECT(SFX(dk_deform_spring)(p, 2 * N2, 2, &m, &sys, &o, scratch, WORK, values, WORK, idx,
+                                 N2 - 1, t, 2 * N2, r, 4 * N2, out, 2 * N2, origin, 2, &rep),
            DK_ERR_BUFFER_TOO_SMALL);
-    EXPECT(SFX(dk_deform_spring)(p, 2 * N2, 2, &m, graph_offsets, N2 + 1, graph_targets,
-                                 graph_len, k2, graph_len, fixed2, N2, &o, scratch, WORK, values,
-                                 10, idx, WORK, t, 2 * N2, r, 4 * N2, out, 2 * N2, origin, 2,
-                                 &rep),
+    EXPECT(SFX(dk_deform_spring)(p, 2 * N2, 2, &m, &sys, &o, scratch, WORK, values, 10, idx,
+                                 WORK, t, 2 * N2, r, 4 * N2, out, 2 * N2, origin, 2, &rep),
            DK_ERR_BUFFER_TOO_SMALL);
-    EXPECT(SFX(dk_deform_spring)(p, 2 * N2, 2, &m, graph_offsets, N2 + 1, graph_targets,
-                                 graph_len, k2, graph_len, fixed2, N2, &o, scratch, WORK, values,
-                                 WORK, idx, WORK, t, 2 * N2, r, 4 * N2, out, 2 * N2, origin, 2,
-                                 NULL),
+    EXPECT(SFX(dk_deform_spring)(p, 2 * N2, 2, &m, &sys, &o, scratch, WORK, values, WORK, idx,
+                                 WORK, t, 2 * N2, r, 4 * N2, out, 2 * N2, origin, 2, NULL),
            DK_ERR_NULL_POINTER);
     UNTOUCHED(out, 2 * N2);
     UNTOUCHED(origin, 2);
@@ -645,6 +637,9 @@ static void SFX(blocks)(void) {
     uint32_t so[5] = {0, 2, 4, 6, 8}, sn[8] = {0, 1, 1, 2, 2, 3, 3, 0}, idx[64];
     uint32_t so1[5] = {1, 3, 5, 7, 9}, sn1[8] = {1, 2, 2, 3, 3, 4, 4, 1};
     uint8_t sk[4] = {3, 3, 3, 3};
+    /* The square's boundary loop as four segments, 0- and 1-based; `bad` for broken copies. */
+    const dk_cells loop = {so, 5, sn, 8, sk, 4}, loop1 = {so1, 5, sn1, 8, sk, 4};
+    dk_cells bad;
     static REAL p[2 * N2], t[2 * N2], r[4 * N2], out[2 * N2], scratch[WORK], values[WORK];
     static REAL def[2 * B2], k2[8 * NC2];
     static uint32_t nodes1[B2], sidx[N2];
@@ -652,6 +647,8 @@ static void SFX(blocks)(void) {
     uint32_t co[7] = {0, 4, 8, 12, 16, 20, 24};
     uint32_t cn[24] = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 2, 3, 7, 6, 1, 2, 6, 5, 0, 4, 7, 3};
     uint8_t ck[6] = {9, 9, 9, 9, 9, 9};
+    const dk_cells faces = {co, 7, cn, 24, ck, 6}; /* the cube's six quads */
+    const SFX(dk_spring_system) sys = {grid_graph, k2, graph_len, fixed2, N2};
     const double h = sqrt(0.5);
     size_t i, len;
     int k;
@@ -659,8 +656,7 @@ static void SFX(blocks)(void) {
     dk_spring_solve_report rep;
 
     /* Normals: corners (+-1, +-1)/sqrt(2), outward. */
-    OK(SFX(dk_deform_boundary_normals)(sq, 8, 2, so, 5, sn, 8, sk, 4, 0, sc, 12, NULL, 0,
-                                       normals, 8));
+    OK(SFX(dk_deform_boundary_normals)(sq, 8, 2, &loop, 0, sc, 12, NULL, 0, normals, 8));
     NEAR(normals[0], -h, "normal 0 x");
     NEAR(normals[1], -h, "normal 0 y");
     NEAR(normals[4], h, "normal 2 x");
@@ -668,36 +664,29 @@ static void SFX(blocks)(void) {
     NEAR(normals[6], -h, "normal 3 x");
     NEAR(normals[7], h, "normal 3 y");
     FILL(normals, 8);
-    OK(SFX(dk_deform_boundary_normals)(sq, 8, 2, so1, 5, sn1, 8, sk, 4, 1, sc, 12, idx, 13,
-                                       normals, 8));
+    OK(SFX(dk_deform_boundary_normals)(sq, 8, 2, &loop1, 1, sc, 12, idx, 13, normals, 8));
     NEAR(normals[2], h, "normal 1 x, 1-based elements");
     NEAR(normals[3], -h, "normal 1 y, 1-based elements");
     FILL(normals, 8);
-    EXPECT(SFX(dk_deform_boundary_normals)(sq, 8, 2, so1, 5, sn1, 8, sk, 4, 1, sc, 12, idx, 12,
-                                           normals, 8),
+    EXPECT(SFX(dk_deform_boundary_normals)(sq, 8, 2, &loop1, 1, sc, 12, idx, 12, normals, 8),
            DK_ERR_BUFFER_TOO_SMALL);
-    EXPECT(SFX(dk_deform_boundary_normals)(sq, 8, 2, so, 5, sn, 8, sk, 4, 0, sc, 11, NULL, 0,
-                                           normals, 8),
+    EXPECT(SFX(dk_deform_boundary_normals)(sq, 8, 2, &loop, 0, sc, 11, NULL, 0, normals, 8),
            DK_ERR_BUFFER_TOO_SMALL);
-    EXPECT(SFX(dk_deform_boundary_normals)(sq, 8, 2, so, 5, sn, 8, sk, 4, 0, sc, 12, NULL, 0,
-                                           normals, 6),
+    EXPECT(SFX(dk_deform_boundary_normals)(sq, 8, 2, &loop, 0, sc, 12, NULL, 0, normals, 6),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(SFX(dk_deform_boundary_normals)(sq, 8, 2, so, 3, sn, 4, sk, 2, 0, sc, 12, NULL, 0,
-                                           normals, 8),
+    bad = (dk_cells){so, 3, sn, 4, sk, 2}; /* two segments: node 3 on none */
+    EXPECT(SFX(dk_deform_boundary_normals)(sq, 8, 2, &bad, 0, sc, 12, NULL, 0, normals, 8),
            DK_ERR_ISOLATED_NODE);
-    EXPECT(SFX(dk_deform_boundary_normals)(sq, 8, 2, so, 0, NULL, 0, NULL, 0, 0, sc, 12, NULL, 0,
-                                           normals, 8),
+    bad = (dk_cells){so, 0, NULL, 0, NULL, 0};
+    EXPECT(SFX(dk_deform_boundary_normals)(sq, 8, 2, &bad, 0, sc, 12, NULL, 0, normals, 8),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(SFX(dk_deform_boundary_normals)(sq, 8, 3, so, 5, sn, 8, sk, 4, 0, sc, 12, NULL, 0,
-                                           normals, 8),
+    EXPECT(SFX(dk_deform_boundary_normals)(sq, 8, 3, &loop, 0, sc, 12, NULL, 0, normals, 8),
            DK_ERR_LENGTH_MISMATCH); /* 8 scalars are not 3D points */
     memcpy(nanp, sq, sizeof sq);
     nanp[3] = (REAL)NAN;
-    EXPECT(SFX(dk_deform_boundary_normals)(nanp, 8, 2, so, 5, sn, 8, sk, 4, 0, sc, 12, NULL, 0,
-                                           normals, 8),
+    EXPECT(SFX(dk_deform_boundary_normals)(nanp, 8, 2, &loop, 0, sc, 12, NULL, 0, normals, 8),
            DK_ERR_NON_FINITE);
-    EXPECT(SFX(dk_deform_boundary_normals)(sq, 8, 2, so, 5, sn, 8, sk, 4, 2, sc, 12, NULL, 0,
-                                           normals, 8),
+    EXPECT(SFX(dk_deform_boundary_normals)(sq, 8, 2, &loop, 2, sc, 12, NULL, 0, normals, 8),
            DK_ERR_BAD_INDEX_BASE);
     UNTOUCHED(normals, 8);
 
@@ -709,25 +698,25 @@ static void SFX(blocks)(void) {
         moved[2 * i + 1] = (REAL)y[1];
     }
     SFX(q2)(q);
-    OK(SFX(dk_deform_boundary_rotations)(sq, 8, moved, 8, 2, so, 5, sn, 8, sk, 4, 0, sc, 12, NULL,
-                                         0, rot, 16));
+    OK(SFX(dk_deform_boundary_rotations)(sq, 8, moved, 8, 2, &loop, 0, sc, 12, NULL, 0, rot, 16));
     for (i = 0; i < 4; i++)
         for (k = 0; k < 4; k++) NEAR(rot[4 * i + k], q[k], "2D shape rotation");
     FILL(rot, 16);
-    EXPECT(SFX(dk_deform_boundary_rotations)(sq, 8, sq, 6, 2, so, 5, sn, 8, sk, 4, 0, sc, 12,
-                                             NULL, 0, rot, 16),
+    EXPECT(SFX(dk_deform_boundary_rotations)(sq, 8, sq, 6, 2, &loop, 0, sc, 12, NULL, 0, rot, 16),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(SFX(dk_deform_boundary_rotations)(sq, 8, moved, 8, 2, so, 5, sn, 8, sk, 4, 0, sc, 11,
-                                             NULL, 0, rot, 16),
+    EXPECT(SFX(dk_deform_boundary_rotations)(sq, 8, moved, 8, 2, &loop, 0, sc, 11, NULL, 0, rot,
+                                             16),
            DK_ERR_BUFFER_TOO_SMALL);
     memcpy(nanp, moved, sizeof moved);
     nanp[2] = nanp[0];
     nanp[3] = nanp[1]; /* node 1 on node 0: a zero-length segment */
-    EXPECT(SFX(dk_deform_boundary_rotations)(sq, 8, nanp, 8, 2, so, 5, sn, 8, sk, 4, 0, sc, 12,
-                                             NULL, 0, rot, 16),
+    EXPECT(SFX(dk_deform_boundary_rotations)(sq, 8, nanp, 8, 2, &loop, 0, sc, 12, NULL, 0, rot,
+                                             16),
            DK_ERR_ZERO_LENGTH_EDGE);
-    EXPECT(SFX(dk_deform_boundary_rotations)(sq, 8, moved, 8, 2, so, 5, sn, 8, ck, 4, 0, sc, 12,
-                                             NULL, 0, rot, 16),
+    bad = loop;
+    bad.kinds = ck;
+    EXPECT(SFX(dk_deform_boundary_rotations)(sq, 8, moved, 8, 2, &bad, 0, sc, 12, NULL, 0, rot,
+                                             16),
            DK_ERR_WRONG_NODE_COUNT); /* quads with two nodes each */
     UNTOUCHED(rot, 16);
 
@@ -745,14 +734,13 @@ static void SFX(blocks)(void) {
     }
     SFX(q3)(q);
     OK(dk_deform_boundary_rotations_scratch_len(8, 3, &len));
-    OK(SFX(dk_deform_boundary_rotations)(cube, 24, cubed, 24, 3, co, 7, cn, 24, ck, 6, 0, csc,
-                                         len, NULL, 0, crot, 32));
+    OK(SFX(dk_deform_boundary_rotations)(cube, 24, cubed, 24, 3, &faces, 0, csc, len, NULL, 0,
+                                         crot, 32));
     for (i = 0; i < 8; i++) {
         double sgn = crot[4 * i] * q[0] < 0 ? -1.0 : 1.0;
         for (k = 0; k < 4; k++) NEAR(sgn * crot[4 * i + k], q[k], "3D shape rotation");
     }
-    EXPECT(SFX(dk_deform_boundary_normals)(cube, 24, 3, so, 5, sn, 8, sk, 4, 0, csc, 24, NULL, 0,
-                                           crot, 24),
+    EXPECT(SFX(dk_deform_boundary_normals)(cube, 24, 3, &loop, 0, csc, 24, NULL, 0, crot, 24),
            DK_ERR_CELL_DIMENSION); /* segments are not 3D boundary elements */
 
     /* Rigid rotations: normalised copies. */
@@ -843,9 +831,8 @@ static void SFX(blocks)(void) {
     for (i = 0; i < graph_len; i++) k2[i] = 1;
     OK(SFX(dk_spring_solve_options_default)(&o));
     OK(dk_deform_propagate_spring_scratch_len(N2, 2, &o, &len));
-    OK(SFX(dk_deform_propagate_spring)(graph_offsets, N2 + 1, graph_targets, graph_len, k2,
-                                       graph_len, fixed2, N2, &o, 2, sidx, N2, values, len, t,
-                                       2 * N2, r, 4 * N2, &rep));
+    OK(SFX(dk_deform_propagate_spring)(&sys, &o, 2, sidx, N2, values, len, t, 2 * N2, r, 4 * N2,
+                                       &rep));
     TRUE_(rep.converged, "propagate spring converged");
     for (i = 0; i < N2; i++) {
         NEAR(t[2 * i + 1], -0.5, "spring uniform translation");
@@ -896,20 +883,17 @@ static void SFX(blocks)(void) {
     UNTOUCHED(r + 4, 4 * N2 - 4);
     r[0] = SENTINEL;
     memset(r + 4, 0, 4 * sizeof(REAL)); /* a zero rotation at fixed node 1 */
-    EXPECT(SFX(dk_deform_propagate_spring)(graph_offsets, N2 + 1, graph_targets, graph_len, k2,
-                                           graph_len, fixed2, N2, &o, 2, sidx, N2, values, len, t,
-                                           2 * N2, r, 4 * N2, &rep),
+    EXPECT(SFX(dk_deform_propagate_spring)(&sys, &o, 2, sidx, N2, values, len, t, 2 * N2, r,
+                                           4 * N2, &rep),
            DK_ERR_ZERO_LENGTH);
     FILL(r, 4 * N2);
     k2[3] = 0;
-    EXPECT(SFX(dk_deform_propagate_spring)(graph_offsets, N2 + 1, graph_targets, graph_len, k2,
-                                           graph_len, fixed2, N2, &o, 2, sidx, N2, values, len, t,
-                                           2 * N2, r, 4 * N2, &rep),
+    EXPECT(SFX(dk_deform_propagate_spring)(&sys, &o, 2, sidx, N2, values, len, t, 2 * N2, r,
+                                           4 * N2, &rep),
            DK_ERR_NON_POSITIVE);
     k2[3] = 1;
-    EXPECT(SFX(dk_deform_propagate_spring)(graph_offsets, N2 + 1, graph_targets, graph_len, k2,
-                                           graph_len, fixed2, N2, &o, 4, sidx, N2, values, len, t,
-                                           2 * N2, r, 4 * N2, &rep),
+    EXPECT(SFX(dk_deform_propagate_spring)(&sys, &o, 4, sidx, N2, values, len, t, 2 * N2, r,
+                                           4 * N2, &rep),
            DK_ERR_INVALID_PARAMETER);
     UNTOUCHED(t, 2 * N2);
     UNTOUCHED(r, 4 * N2);

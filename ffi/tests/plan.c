@@ -30,6 +30,10 @@ int main(void) {
     dk_plan_sizes work, pools;
     dk_plan_info info, info2;
     dk_plan_step_report report, untouched;
+    dk_cells cells;
+    dk_plan_mesh_f32 mesh;            /* the mesh the plan is built from */
+    dk_plan_pools_f32 scratch, plan;  /* init's work buffers; the plan's pools */
+    dk_plan_pools_f32 short_plan;     /* the pools with one scalar too few */
     float *wr, *reals;
     uint32_t *wi, *indices;
     uint8_t *wb, *bytes;
@@ -51,11 +55,11 @@ int main(void) {
             c++;
         }
     cell_offsets[c] = (uint32_t)(4 * c);
-    if (dk_graph_from_cells_len(N, cell_offsets, (size_t)c + 1, cell_nodes, 4 * (size_t)c,
-                                cell_kinds, (size_t)c, 0, NULL, 0, true, &targets_len) != DK_OK ||
+    cells = (dk_cells){cell_offsets, (size_t)c + 1, cell_nodes, 4 * (size_t)c, cell_kinds,
+                       (size_t)c};
+    if (dk_graph_from_cells_len(N, &cells, 0, NULL, 0, true, &targets_len) != DK_OK ||
         targets_len > sizeof targets / sizeof targets[0] ||
-        dk_graph_from_cells(N, cell_offsets, (size_t)c + 1, cell_nodes, 4 * (size_t)c, cell_kinds,
-                            (size_t)c, 0, NULL, 0, true, offsets, N + 1, targets, targets_len,
+        dk_graph_from_cells(N, &cells, 0, NULL, 0, true, offsets, N + 1, targets, targets_len,
                             &used) != DK_OK)
         return EXIT_FAILURE;
     /* The perimeter is the boundary; the top row moves up by 0.5. */
@@ -68,53 +72,49 @@ int main(void) {
                 deformed[2 * b + 1] = points[2 * n + 1] + (j == NX - 1 ? 0.5f : 0.0f);
                 b++;
             }
+    /* No boundary elements, no stiffness (Batina's from the options). */
+    mesh = (dk_plan_mesh_f32){.points = points,
+                              .points_len = 2 * N,
+                              .graph = {offsets, N + 1, targets, used},
+                              .boundary = boundary,
+                              .boundary_len = B};
 
     /* f32 spring plan with a one-level solver. */
     EXPECT(dk_plan_options_default_f32(&options) == DK_OK);
     EXPECT(options.method == DK_PLAN_QUATERNION && options.solver == DK_PLAN_SOLVER_AMG);
     options.method = DK_PLAN_SPRING;
     options.solver = DK_PLAN_SOLVER_LINEAR;
-    EXPECT(dk_plan_work_sizes_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL,
-                                  0, NULL, 0, NULL, 0, NULL, 0, 2, &options, &work) == DK_OK);
+    EXPECT(dk_plan_work_sizes_f32(&mesh, 2, &options, &work) == DK_OK);
     wr = malloc((work.reals + 1) * sizeof *wr);
     wi = malloc((work.indices + 1) * sizeof *wi);
     wb = malloc(work.bytes + 1);
     if (!wr || !wi || !wb) return EXIT_FAILURE;
-    EXPECT(dk_plan_pool_sizes_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL,
-                                  0, NULL, 0, NULL, 0, NULL, 0, 2, &options, wr, work.reals, wi,
-                                  work.indices, wb, work.bytes, &pools) == DK_OK);
+    scratch = (dk_plan_pools_f32){wr, work.reals, wi, work.indices, wb, work.bytes};
+    EXPECT(dk_plan_pool_sizes_f32(&mesh, 2, &options, &scratch, &pools) == DK_OK);
     reals = malloc(pools.reals * sizeof *reals);
     indices = malloc(pools.indices * sizeof *indices);
     bytes = malloc(pools.bytes);
     if (!reals || !indices || !bytes) return EXIT_FAILURE;
+    plan = (dk_plan_pools_f32){reals, pools.reals, indices, pools.indices, bytes, pools.bytes};
+    short_plan = plan;
+    short_plan.reals_len--;
 
     /* Bad input at init: dimension, a repeated boundary node, a short pool; nothing written. */
     memset(&info, 0x5a, sizeof info);
     memcpy(&info2, &info, sizeof info);
-    EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL, 0,
-                            NULL, 0, NULL, 0, NULL, 0, 4, &options, wr, work.reals, wi, work.indices,
-                            wb, work.bytes, reals, pools.reals, indices, pools.indices, bytes,
-                            pools.bytes, &info) == DK_ERR_INVALID_PARAMETER);
+    EXPECT(dk_plan_init_f32(&mesh, 4, &options, &scratch, &plan, &info) ==
+           DK_ERR_INVALID_PARAMETER);
     boundary[1] = boundary[0];
-    EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL, 0,
-                            NULL, 0, NULL, 0, NULL, 0, 2, &options, wr, work.reals, wi, work.indices,
-                            wb, work.bytes, reals, pools.reals, indices, pools.indices, bytes,
-                            pools.bytes, &info) == DK_ERR_DUPLICATE_NODE);
+    EXPECT(dk_plan_init_f32(&mesh, 2, &options, &scratch, &plan, &info) == DK_ERR_DUPLICATE_NODE);
     boundary[1] = 1;
-    EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL, 0,
-                            NULL, 0, NULL, 0, NULL, 0, 2, &options, wr, work.reals, wi, work.indices,
-                            wb, work.bytes, reals, pools.reals - 1, indices, pools.indices, bytes,
-                            pools.bytes, &info) == DK_ERR_BUFFER_TOO_SMALL);
+    EXPECT(dk_plan_init_f32(&mesh, 2, &options, &scratch, &short_plan, &info) ==
+           DK_ERR_BUFFER_TOO_SMALL);
     EXPECT(memcmp(&info, &info2, sizeof info) == 0);
 
-    EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL, 0,
-                            NULL, 0, NULL, 0, NULL, 0, 2, &options, wr, work.reals, wi, work.indices,
-                            wb, work.bytes, reals, pools.reals, indices, pools.indices, bytes,
-                            pools.bytes, &info) == DK_OK);
+    EXPECT(dk_plan_init_f32(&mesh, 2, &options, &scratch, &plan, &info) == DK_OK);
     EXPECT(info.nodes == N && info.boundary == B && info.steps == 0 && info.amg_levels == 0 &&
            info.method == DK_PLAN_SPRING);
-    EXPECT(dk_plan_open_f32(reals, pools.reals, indices, pools.indices, bytes, pools.bytes, 2,
-                            &info2) == DK_OK);
+    EXPECT(dk_plan_open_f32(&plan, 2, &info2) == DK_OK);
     EXPECT(memcmp(&info, &info2, sizeof info) == 0);
 
     /* Bad input at a step: wrong lengths, start code, dimension; out and the plan unchanged. */
@@ -122,24 +122,21 @@ int main(void) {
     memcpy(before, out, sizeof out);
     memset(&untouched, 0x5a, sizeof untouched);
     memcpy(&report, &untouched, sizeof report);
-    EXPECT(dk_plan_step_f32(reals, pools.reals, indices, pools.indices, bytes, pools.bytes, 2,
-                            deformed, 2 * B - 2, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0,
+    EXPECT(dk_plan_step_f32(&plan, 2, deformed, 2 * B - 2, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0,
                             DK_PLAN_WARM, out, 2 * N, &report) == DK_ERR_LENGTH_MISMATCH);
-    EXPECT(dk_plan_step_f32(reals, pools.reals, indices, pools.indices, bytes, pools.bytes, 2,
-                            deformed, 2 * B, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0, 7, out,
-                            2 * N, &report) == DK_ERR_INVALID_PARAMETER);
-    EXPECT(dk_plan_step_f32(reals, pools.reals, indices, pools.indices, bytes, pools.bytes, 3,
-                            deformed, 2 * B, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0, DK_PLAN_WARM,
-                            out, 2 * N, &report) == DK_ERR_BAD_PLAN);
-    EXPECT(dk_plan_step(NULL, 0, NULL, 0, NULL, 0, 2, NULL, 0, DK_ROTATIONS_SHAPE, NULL, 0, NULL,
-                        0, DK_PLAN_WARM, NULL, 0, &report) == DK_ERR_BAD_PLAN);
+    EXPECT(dk_plan_step_f32(&plan, 2, deformed, 2 * B, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0, 7,
+                            out, 2 * N, &report) == DK_ERR_INVALID_PARAMETER);
+    EXPECT(dk_plan_step_f32(&plan, 3, deformed, 2 * B, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0,
+                            DK_PLAN_WARM, out, 2 * N, &report) == DK_ERR_BAD_PLAN);
+    /* Empty pools (every array NULL, length 0) hold no plan. */
+    EXPECT(dk_plan_step(&(dk_plan_pools){0}, 2, NULL, 0, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0,
+                        DK_PLAN_WARM, NULL, 0, &report) == DK_ERR_BAD_PLAN);
     EXPECT(memcmp(out, before, sizeof out) == 0);
     EXPECT(memcmp(&report, &untouched, sizeof report) == 0);
 
     /* A good step: converged, the boundary exactly where it was put, interior moved up. */
-    EXPECT(dk_plan_step_f32(reals, pools.reals, indices, pools.indices, bytes, pools.bytes, 2,
-                            deformed, 2 * B, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0, DK_PLAN_WARM,
-                            out, 2 * N, &report) == DK_OK);
+    EXPECT(dk_plan_step_f32(&plan, 2, deformed, 2 * B, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0,
+                            DK_PLAN_WARM, out, 2 * N, &report) == DK_OK);
     EXPECT(report.converged && report.step == 1 && !report.warm);
     for (k = 0; k < B; k++) {
         EXPECT(out[2 * boundary[k]] == deformed[2 * k]);
@@ -153,48 +150,39 @@ int main(void) {
         static float k[8 * N], out2[2 * N];
         dk_plan_sizes pools2;
         dk_plan_info info3;
+        dk_plan_mesh_f32 stiff_mesh = mesh; /* the same mesh with the stiffness k */
+        dk_plan_pools_f32 plan2;
         float *r2;
         uint32_t *i2;
         uint8_t *b2;
-        EXPECT(dk_spring_batina_stiffness_f32(offsets, N + 1, targets, used, points, 2 * N, 2,
-                                              1.0f, k, used) == DK_OK);
-        EXPECT(dk_plan_pool_sizes_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B,
-                                      NULL, 0, NULL, 0, NULL, 0, k, used, 2, &options, wr,
-                                      work.reals, wi, work.indices, wb, work.bytes,
-                                      &pools2) == DK_OK);
+        EXPECT(dk_spring_batina_stiffness_f32(&mesh.graph, points, 2 * N, 2, 1.0f, k, used) ==
+               DK_OK);
+        stiff_mesh.stiffness = k;
+        stiff_mesh.stiffness_len = used;
+        EXPECT(dk_plan_pool_sizes_f32(&stiff_mesh, 2, &options, &scratch, &pools2) == DK_OK);
         r2 = malloc(pools2.reals * sizeof *r2);
         i2 = malloc(pools2.indices * sizeof *i2);
         b2 = malloc(pools2.bytes);
         if (!r2 || !i2 || !b2) return EXIT_FAILURE;
+        plan2 = (dk_plan_pools_f32){r2, pools2.reals, i2, pools2.indices, b2, pools2.bytes};
         memset(&info3, 0x5a, sizeof info3);
         memcpy(&info2, &info3, sizeof info3);
-        EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL,
-                                0, NULL, 0, NULL, 0, k, used - 1, 2, &options, wr, work.reals,
-                                wi, work.indices, wb, work.bytes, r2, pools2.reals, i2,
-                                pools2.indices, b2, pools2.bytes,
-                                &info3) == DK_ERR_LENGTH_MISMATCH);
+        stiff_mesh.stiffness_len = used - 1;
+        EXPECT(dk_plan_init_f32(&stiff_mesh, 2, &options, &scratch, &plan2, &info3) ==
+               DK_ERR_LENGTH_MISMATCH);
+        stiff_mesh.stiffness_len = used;
         options.solver = DK_PLAN_SOLVER_AMG;
         options.amg.smoother = 7;
-        EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL,
-                                0, NULL, 0, NULL, 0, k, used, 2, &options, wr, work.reals, wi,
-                                work.indices, wb, work.bytes, r2, pools2.reals, i2,
-                                pools2.indices, b2, pools2.bytes,
-                                &info3) == DK_ERR_INVALID_PARAMETER);
+        EXPECT(dk_plan_init_f32(&stiff_mesh, 2, &options, &scratch, &plan2, &info3) ==
+               DK_ERR_INVALID_PARAMETER);
         options.amg.smoother = DK_AMG_CHEBYSHEV;
         options.amg.max_coarse = 0;
-        EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL,
-                                0, NULL, 0, NULL, 0, k, used, 2, &options, wr, work.reals, wi,
-                                work.indices, wb, work.bytes, r2, pools2.reals, i2,
-                                pools2.indices, b2, pools2.bytes,
-                                &info3) == DK_ERR_INVALID_PARAMETER);
+        EXPECT(dk_plan_init_f32(&stiff_mesh, 2, &options, &scratch, &plan2, &info3) ==
+               DK_ERR_INVALID_PARAMETER);
         EXPECT(memcmp(&info3, &info2, sizeof info3) == 0);
         options.solver = DK_PLAN_SOLVER_LINEAR;
-        EXPECT(dk_plan_init_f32(points, 2 * N, offsets, N + 1, targets, used, boundary, B, NULL,
-                                0, NULL, 0, NULL, 0, k, used, 2, &options, wr, work.reals, wi,
-                                work.indices, wb, work.bytes, r2, pools2.reals, i2,
-                                pools2.indices, b2, pools2.bytes, &info3) == DK_OK);
-        EXPECT(dk_plan_step_f32(r2, pools2.reals, i2, pools2.indices, b2, pools2.bytes, 2,
-                                deformed, 2 * B, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0,
+        EXPECT(dk_plan_init_f32(&stiff_mesh, 2, &options, &scratch, &plan2, &info3) == DK_OK);
+        EXPECT(dk_plan_step_f32(&plan2, 2, deformed, 2 * B, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0,
                                 DK_PLAN_WARM, out2, 2 * N, &report) == DK_OK);
         EXPECT(memcmp(out, out2, sizeof out) == 0);
         free(r2);
@@ -205,15 +193,12 @@ int main(void) {
     /* An overwritten immutable part is refused, and the stored state is not touched. */
     reals[0] += 1.0f;
     memcpy(before, out, sizeof out);
-    EXPECT(dk_plan_step_f32(reals, pools.reals, indices, pools.indices, bytes, pools.bytes, 2,
-                            deformed, 2 * B, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0, DK_PLAN_WARM,
-                            out, 2 * N, &report) == DK_ERR_BAD_PLAN);
+    EXPECT(dk_plan_step_f32(&plan, 2, deformed, 2 * B, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0,
+                            DK_PLAN_WARM, out, 2 * N, &report) == DK_ERR_BAD_PLAN);
     EXPECT(memcmp(out, before, sizeof out) == 0);
-    EXPECT(dk_plan_open_f32(reals, pools.reals, indices, pools.indices, bytes, pools.bytes, 2,
-                            &info2) == DK_ERR_BAD_PLAN);
+    EXPECT(dk_plan_open_f32(&plan, 2, &info2) == DK_ERR_BAD_PLAN);
     reals[0] -= 1.0f;
-    EXPECT(dk_plan_open_f32(reals, pools.reals, indices, pools.indices, bytes, pools.bytes, 2,
-                            &info2) == DK_OK);
+    EXPECT(dk_plan_open_f32(&plan, 2, &info2) == DK_OK);
     EXPECT(info2.steps == 1);
 
     free(wr);

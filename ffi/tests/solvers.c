@@ -51,6 +51,16 @@ static int failures = 0;
         }                                                                                 \
     } while (0)
 
+/* Pointers to C99 compound literals of the ABI's parameter structs, for the calls whose arrays
+ * differ from a named struct's (mostly bad input). SYSTEM takes a dk_graph pointer and builds
+ * the spring system of the precision being compiled (FN, set around each include of
+ * solvers_body.c). */
+#define GRAPH(off, off_len, tgt, tgt_len) (&(dk_graph){(off), (off_len), (tgt), (tgt_len)})
+#define CELLS(off, off_len, nodes, nodes_len, kinds, kinds_len)                             \
+    (&(dk_cells){(off), (off_len), (nodes), (nodes_len), (kinds), (kinds_len)})
+#define SYSTEM(graph, k, k_len, fixed, fixed_len)                                           \
+    (&(FN(dk_spring_system)){*(graph), (k), (k_len), (fixed), (fixed_len)})
+
 /* Bit-for-bit comparison of two objects of the same size. */
 #define SAME(a, b, size) CHECK(memcmp((a), (b), (size)) == 0)
 
@@ -78,6 +88,12 @@ static size_t fan_e;
 /* 3 x 3 nodes of a 2 x 2 quad mesh (node i + 3 j), with its edge graph. */
 static uint32_t q9_off[10], q9_tgt[24];
 static size_t q9_e;
+
+/* The four graphs as the ABI takes them (every array at its full length). */
+static const dk_graph chain_graph = {chain_off, CHAIN_N + 1, chain_tgt, 2 * (CHAIN_N - 1)};
+static const dk_graph grid_graph = {grid_off, GRID_N + 1, grid_tgt, 48};
+static const dk_graph fan_graph = {fan_off, FAN_N + 1, fan_tgt, 16};
+static const dk_graph q9_graph = {q9_off, 10, q9_tgt, 24};
 
 static void build_graphs(void) {
     uint32_t edges[64];

@@ -383,8 +383,8 @@ static void CAT(taubin_graph_, SUF)(void) {
         pts[2 * i] = (REAL)(i * i);
         pts[2 * i + 1] = 0;
     }
-    OK(FN(dk_taubin_smooth_graph)(chain_off, 6, chain_tgt, 8, NULL, 0, fixed, 5, lambda, mu, 10,
-                                  2, v, 10, s, 10, &r));
+    OK(FN(dk_taubin_smooth_graph)(&chain_graph, NULL, 0, fixed, 5, lambda, mu, 10, 2, v, 10, s,
+                                  10, &r));
     CHECK(r.iterations == 10);
     for (i = 0; i < 5; i++) {
         CLOSE(v[2 * i], 3.0 * (double)i, LOOSE);
@@ -392,32 +392,32 @@ static void CAT(taubin_graph_, SUF)(void) {
     }
     /* Inverse-distance weights of nodes at x = 0, 1, 4, 9, 16: edges in CSR order
      * 0→1, 1→0, 1→2, 2→1, 2→3, 3→2, 3→4, 4→3. */
-    OK(FN(dk_taubin_inverse_distance_weights)(chain_off, 6, chain_tgt, 8, pts, 10, 2, wts, 8));
+    OK(FN(dk_taubin_inverse_distance_weights)(&chain_graph, pts, 10, 2, wts, 8));
     CHECK(wts[0] == 1 && wts[1] == 1 && wts[2] == (REAL)1 / 3 && wts[3] == (REAL)1 / 3);
     CHECK(wts[4] == (REAL)1 / 5 && wts[6] == (REAL)1 / 7 && wts[7] == (REAL)1 / 7);
     /* With these weights, values equal to the x coordinate are the arclength-linear field:
      * a fixed point again. */
     for (i = 0; i < 5; i++) v[i] = pts[2 * i];
-    OK(FN(dk_taubin_smooth_graph)(chain_off, 6, chain_tgt, 8, wts, 8, fixed, 5, lambda, mu, 10,
-                                  1, v, 5, s, 5, &r));
+    OK(FN(dk_taubin_smooth_graph)(&chain_graph, wts, 8, fixed, 5, lambda, mu, 10, 1, v, 5, s, 5,
+                                  &r));
     for (i = 0; i < 5; i++) CLOSE(v[i], (double)(i * i), LOOSE);
 
     /* One iteration == a λ sweep then a μ sweep (bit for bit); the sweep's node range is
      * read 1-based with index_base 1. */
     for (i = 0; i < 10; i++) v[i] = w[i] = (REAL)((i * 37) % 11);
-    OK(FN(dk_taubin_smooth_graph)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, lambda, mu, 1,
-                                  2, v, 10, s, 10, &r));
-    OK(FN(dk_taubin_graph_sweep)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, w, 10, 2, lambda,
-                                 0, 5, 0, s, 10, &change));
+    OK(FN(dk_taubin_smooth_graph)(&chain_graph, NULL, 0, NULL, 0, lambda, mu, 1, 2, v, 10, s, 10,
+                                  &r));
+    OK(FN(dk_taubin_graph_sweep)(&chain_graph, NULL, 0, NULL, 0, w, 10, 2, lambda, 0, 5, 0, s,
+                                 10, &change));
     c0 = change;
-    OK(FN(dk_taubin_graph_sweep)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, s, 10, 2, mu, 1,
-                                 5, 1, w, 10, &change));
+    OK(FN(dk_taubin_graph_sweep)(&chain_graph, NULL, 0, NULL, 0, s, 10, 2, mu, 1, 5, 1, w, 10,
+                                 &change));
     SAME(v, w, sizeof v);
     CHECK((double)(c0 > change ? c0 : change) == r.last_change);
     /* A partial range writes only its nodes (1-based 2..3 = nodes 1, 2). */
     for (i = 0; i < 10; i++) s[i] = 12345;
-    OK(FN(dk_taubin_graph_sweep)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, w, 10, 2, lambda,
-                                 2, 3, 1, s, 10, &change));
+    OK(FN(dk_taubin_graph_sweep)(&chain_graph, NULL, 0, NULL, 0, w, 10, 2, lambda, 2, 3, 1, s,
+                                 10, &change));
     for (i = 0; i < 10; i++) CHECK((i >= 2 && i < 6) ? s[i] != 12345 : s[i] == 12345);
 
     /* Bad input. */
@@ -427,102 +427,96 @@ static void CAT(taubin_graph_, SUF)(void) {
     POISON(r);
     r0 = r;
     change = c0 = 77;
-    EXPECT(FN(dk_taubin_smooth_graph)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, lambda, mu,
-                                      1, 2, v, 9, s, 10, &r),
+    EXPECT(FN(dk_taubin_smooth_graph)(&chain_graph, NULL, 0, NULL, 0, lambda, mu, 1, 2, v, 9, s,
+                                      10, &r),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_taubin_smooth_graph)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, lambda, mu,
-                                      1, 2, v, 8, s, 10, &r),
+    EXPECT(FN(dk_taubin_smooth_graph)(&chain_graph, NULL, 0, NULL, 0, lambda, mu, 1, 2, v, 8, s,
+                                      10, &r),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_taubin_smooth_graph)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, lambda, mu,
-                                      1, 8, v, 10, s, 10, &r),
+    EXPECT(FN(dk_taubin_smooth_graph)(&chain_graph, NULL, 0, NULL, 0, lambda, mu, 1, 8, v, 10, s,
+                                      10, &r),
            DK_ERR_INVALID_PARAMETER);
-    EXPECT(FN(dk_taubin_smooth_graph)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, lambda, mu,
-                                      1, 2, v, 10, s, 9, &r),
+    EXPECT(FN(dk_taubin_smooth_graph)(&chain_graph, NULL, 0, NULL, 0, lambda, mu, 1, 2, v, 10, s,
+                                      9, &r),
            DK_ERR_BUFFER_TOO_SMALL);
-    EXPECT(FN(dk_taubin_smooth_graph)(chain_off, 6, chain_tgt, 8, wts, 7, NULL, 0, lambda, mu,
-                                      1, 2, v, 10, s, 10, &r),
+    EXPECT(FN(dk_taubin_smooth_graph)(&chain_graph, wts, 7, NULL, 0, lambda, mu, 1, 2, v, 10, s,
+                                      10, &r),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_taubin_smooth_graph)(chain_off, 6, chain_tgt, 8, NULL, 8, NULL, 0, lambda, mu,
-                                      1, 2, v, 10, s, 10, &r),
+    EXPECT(FN(dk_taubin_smooth_graph)(&chain_graph, NULL, 8, NULL, 0, lambda, mu, 1, 2, v, 10, s,
+                                      10, &r),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_taubin_smooth_graph)(chain_off, 6, chain_tgt, 8, NULL, 0, fixed, 4, lambda, mu,
-                                      1, 2, v, 10, s, 10, &r),
+    EXPECT(FN(dk_taubin_smooth_graph)(&chain_graph, NULL, 0, fixed, 4, lambda, mu, 1, 2, v, 10,
+                                      s, 10, &r),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_taubin_smooth_graph)(chain_off, 5, chain_tgt, 8, NULL, 0, NULL, 0, lambda, mu,
-                                      1, 2, v, 10, s, 10, &r),
+    EXPECT(FN(dk_taubin_smooth_graph)(GRAPH(chain_off, 5, chain_tgt, 8), NULL, 0, NULL, 0,
+                                      lambda, mu, 1, 2, v, 10, s, 10, &r),
            DK_ERR_BAD_OFFSETS);
     {
         uint32_t bad_tgt[8];
         memcpy(bad_tgt, chain_tgt, sizeof bad_tgt);
         bad_tgt[3] = 9;
-        EXPECT(FN(dk_taubin_smooth_graph)(chain_off, 6, bad_tgt, 8, NULL, 0, NULL, 0, lambda,
-                                          mu, 1, 2, v, 10, s, 10, &r),
+        EXPECT(FN(dk_taubin_smooth_graph)(GRAPH(chain_off, 6, bad_tgt, 8), NULL, 0, NULL, 0,
+                                          lambda, mu, 1, 2, v, 10, s, 10, &r),
                DK_ERR_INDEX_OUT_OF_RANGE);
     }
     wts[3] = -1;
-    EXPECT(FN(dk_taubin_smooth_graph)(chain_off, 6, chain_tgt, 8, wts, 8, NULL, 0, lambda, mu,
-                                      1, 2, v, 10, s, 10, &r),
+    EXPECT(FN(dk_taubin_smooth_graph)(&chain_graph, wts, 8, NULL, 0, lambda, mu, 1, 2, v, 10, s,
+                                      10, &r),
            DK_ERR_NON_POSITIVE);
     wts[3] = (REAL)NAN;
-    EXPECT(FN(dk_taubin_smooth_graph)(chain_off, 6, chain_tgt, 8, wts, 8, NULL, 0, lambda, mu,
-                                      1, 2, v, 10, s, 10, &r),
+    EXPECT(FN(dk_taubin_smooth_graph)(&chain_graph, wts, 8, NULL, 0, lambda, mu, 1, 2, v, 10, s,
+                                      10, &r),
            DK_ERR_NON_FINITE);
-    EXPECT(FN(dk_taubin_smooth_graph)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, lambda, mu,
-                                      1, 2, v, 10, s, 10, NULL),
+    EXPECT(FN(dk_taubin_smooth_graph)(&chain_graph, NULL, 0, NULL, 0, lambda, mu, 1, 2, v, 10, s,
+                                      10, NULL),
            DK_ERR_NULL_POINTER);
     v[3] = (REAL)NAN;
     memcpy(v0, v, sizeof v);
-    EXPECT(FN(dk_taubin_smooth_graph)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, lambda, mu,
-                                      1, 2, v, 10, s, 10, &r),
+    EXPECT(FN(dk_taubin_smooth_graph)(&chain_graph, NULL, 0, NULL, 0, lambda, mu, 1, 2, v, 10, s,
+                                      10, &r),
            DK_ERR_NON_FINITE);
     SAME(v, v0, sizeof v);
     SAME(&r, &r0, sizeof r);
-    EXPECT(FN(dk_taubin_graph_sweep)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, v, 10, 2,
-                                     lambda, 0, 5, 0, w, 10, &change),
+    EXPECT(FN(dk_taubin_graph_sweep)(&chain_graph, NULL, 0, NULL, 0, v, 10, 2, lambda, 0, 5, 0,
+                                     w, 10, &change),
            DK_ERR_NON_FINITE);
     v[3] = 3;
-    EXPECT(FN(dk_taubin_graph_sweep)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, v, 10, 2,
-                                     lambda, 0, 6, 0, w, 10, &change),
+    EXPECT(FN(dk_taubin_graph_sweep)(&chain_graph, NULL, 0, NULL, 0, v, 10, 2, lambda, 0, 6, 0,
+                                     w, 10, &change),
            DK_ERR_INDEX_OUT_OF_RANGE);
-    EXPECT(FN(dk_taubin_graph_sweep)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, v, 10, 2,
-                                     lambda, 0, 5, 1, w, 10, &change),
+    EXPECT(FN(dk_taubin_graph_sweep)(&chain_graph, NULL, 0, NULL, 0, v, 10, 2, lambda, 0, 5, 1,
+                                     w, 10, &change),
            DK_ERR_INDEX_OUT_OF_RANGE);
-    EXPECT(FN(dk_taubin_graph_sweep)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, v, 10, 2,
-                                     lambda, 0, 5, 2, w, 10, &change),
+    EXPECT(FN(dk_taubin_graph_sweep)(&chain_graph, NULL, 0, NULL, 0, v, 10, 2, lambda, 0, 5, 2,
+                                     w, 10, &change),
            DK_ERR_BAD_INDEX_BASE);
-    EXPECT(FN(dk_taubin_graph_sweep)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, v, 10, 2,
-                                     (REAL)NAN, 0, 5, 0, w, 10, &change),
+    EXPECT(FN(dk_taubin_graph_sweep)(&chain_graph, NULL, 0, NULL, 0, v, 10, 2, (REAL)NAN, 0, 5,
+                                     0, w, 10, &change),
            DK_ERR_NON_FINITE);
-    EXPECT(FN(dk_taubin_graph_sweep)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, v, 10, 2,
-                                     lambda, 0, 5, 0, w, 10, NULL),
+    EXPECT(FN(dk_taubin_graph_sweep)(&chain_graph, NULL, 0, NULL, 0, v, 10, 2, lambda, 0, 5, 0,
+                                     w, 10, NULL),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_taubin_graph_sweep)(chain_off, 6, chain_tgt, 8, NULL, 0, NULL, 0, v, 10, 2,
-                                     lambda, 0, 5, 0, NULL, 10, &change),
+    EXPECT(FN(dk_taubin_graph_sweep)(&chain_graph, NULL, 0, NULL, 0, v, 10, 2, lambda, 0, 5, 0,
+                                     NULL, 10, &change),
            DK_ERR_NULL_POINTER);
     for (i = 0; i < 10; i++) CHECK(w[i] == 12345);
     CHECK(change == c0);
     for (i = 0; i < 8; i++) wts[i] = 12345;
     pts[2] = pts[0]; /* node 1 on node 0: a zero-length edge */
     pts[3] = pts[1];
-    EXPECT(FN(dk_taubin_inverse_distance_weights)(chain_off, 6, chain_tgt, 8, pts, 10, 2, wts,
-                                                  8),
+    EXPECT(FN(dk_taubin_inverse_distance_weights)(&chain_graph, pts, 10, 2, wts, 8),
            DK_ERR_ZERO_LENGTH_EDGE);
     pts[2] = (REAL)NAN;
-    EXPECT(FN(dk_taubin_inverse_distance_weights)(chain_off, 6, chain_tgt, 8, pts, 10, 2, wts,
-                                                  8),
+    EXPECT(FN(dk_taubin_inverse_distance_weights)(&chain_graph, pts, 10, 2, wts, 8),
            DK_ERR_NON_FINITE);
     pts[2] = 1;
-    EXPECT(FN(dk_taubin_inverse_distance_weights)(chain_off, 6, chain_tgt, 8, pts, 10, 2, wts,
-                                                  7),
+    EXPECT(FN(dk_taubin_inverse_distance_weights)(&chain_graph, pts, 10, 2, wts, 7),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_taubin_inverse_distance_weights)(chain_off, 6, chain_tgt, 8, pts, 10, 3, wts,
-                                                  8),
+    EXPECT(FN(dk_taubin_inverse_distance_weights)(&chain_graph, pts, 10, 3, wts, 8),
            DK_ERR_LENGTH_MISMATCH); /* 10 scalars are not whole 3D points */
-    EXPECT(FN(dk_taubin_inverse_distance_weights)(chain_off, 6, chain_tgt, 8, pts, 10, 1, wts,
-                                                  8),
+    EXPECT(FN(dk_taubin_inverse_distance_weights)(&chain_graph, pts, 10, 1, wts, 8),
            DK_ERR_INVALID_PARAMETER);
-    EXPECT(FN(dk_taubin_inverse_distance_weights)(chain_off, 6, chain_tgt, 8, NULL, 10, 2, wts,
-                                                  8),
+    EXPECT(FN(dk_taubin_inverse_distance_weights)(&chain_graph, NULL, 10, 2, wts, 8),
            DK_ERR_NULL_POINTER);
     for (i = 0; i < 8; i++) CHECK(wts[i] == 12345);
 }
@@ -638,6 +632,9 @@ static void CAT(springs_linear_, SUF)(void) {
     REAL gv[GRID_N], gv0[GRID_N], gx[2 * GRID_N];
     uint32_t idx[GRID_N];
     uint8_t fixed[5] = {1, 0, 0, 0, 1}, gfixed[GRID_N];
+    /* The chain's and the grid's spring systems; the arrays are filled below. */
+    const FN(dk_spring_system) sys = {chain_graph, k, 8, fixed, 5};
+    const FN(dk_spring_system) grid_sys = {grid_graph, kg, 48, gfixed, 16};
     dk_spring_solve_options o;
     dk_spring_solve_report r, r0;
     dk_spring_sweep sw, sw0;
@@ -652,10 +649,10 @@ static void CAT(springs_linear_, SUF)(void) {
         pts[2 * i] = (REAL)(i * (i + 1) / 2);
         pts[2 * i + 1] = 0;
     }
-    OK(FN(dk_spring_batina_stiffness)(chain_off, 6, chain_tgt, 8, pts, 10, 2, 1, k, 8));
+    OK(FN(dk_spring_batina_stiffness)(&chain_graph, pts, 10, 2, 1, k, 8));
     CHECK(k[0] == 1 && k[1] == 1 && k[2] == (REAL)0.5 && k[3] == (REAL)0.5);
     CHECK(k[4] == (REAL)1 / 3 && k[6] == (REAL)0.25 && k[7] == (REAL)0.25);
-    OK(FN(dk_spring_batina_stiffness)(chain_off, 6, chain_tgt, 8, pts, 10, 2, 2, k, 8));
+    OK(FN(dk_spring_batina_stiffness)(&chain_graph, pts, 10, 2, 2, k, 8));
     CHECK(k[2] == (REAL)0.25 && k[7] == (REAL)1 / 16);
 
     OK(FN(dk_spring_solve_options_default)(&o));
@@ -666,7 +663,7 @@ static void CAT(springs_linear_, SUF)(void) {
     /* Chain with the stiffness 1/|d| at x = 0, 1, 3, 6, 10: the solution of the springs is
      * linear in x (equal force k |d| = 1 ... per unit value jump): values = x / 10 for
      * boundary values 0 and 1; component 2 is constant 7. Every method must find it. */
-    OK(FN(dk_spring_batina_stiffness)(chain_off, 6, chain_tgt, 8, pts, 10, 2, 1, k, 8));
+    OK(FN(dk_spring_batina_stiffness)(&chain_graph, pts, 10, 2, 1, k, 8));
     for (m = 0; m < 6; m++) {
         o.method = methods[m][0];
         o.preconditioner = methods[m][1];
@@ -678,15 +675,13 @@ static void CAT(springs_linear_, SUF)(void) {
         v[8] = 1;
         OK(dk_spring_solve_linear_scratch_len(5, 2, &o, &need));
         CHECK(need <= sizeof s / sizeof s[0]);
-        OK(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, &o, 2, v, 10,
-                                      need ? s : NULL, need, idx, 5, &r));
+        OK(FN(dk_spring_solve_linear)(&sys, &o, 2, v, 10, need ? s : NULL, need, idx, 5, &r));
         CHECK(r.converged && r.iterations > 0 && r.residual <= o.residual_tol);
         for (i = 0; i < 5; i++) {
             CLOSE(v[2 * i], pts[2 * i] / 10, LOOSE);
             CLOSE(v[2 * i + 1], 7, LOOSE);
         }
-        OK(FN(dk_spring_relative_residual)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 2, v, 10,
-                                           idx, 5, &res));
+        OK(FN(dk_spring_relative_residual)(&sys, 2, v, 10, idx, 5, &res));
         CLOSE(res, r.residual, TOL);
     }
 
@@ -706,21 +701,18 @@ static void CAT(springs_linear_, SUF)(void) {
     o.method = DK_LINEAR_CG;
     o.preconditioner = DK_PRECONDITIONER_SSOR;
     o.omega = 1.2;
-    OK(FN(dk_spring_solve_linear)(grid_off, 17, grid_tgt, 48, kg, 48, gfixed, 16, &o, 1, gv, 16,
-                                  s, 80, idx, 16, &r));
+    OK(FN(dk_spring_solve_linear)(&grid_sys, &o, 1, gv, 16, s, 80, idx, 16, &r));
     CHECK(r.converged);
     for (i = 0; i < 16; i++)
         if (!gfixed[i]) CHECK(gv[i] > -2 && gv[i] < 3);
     /* Linear boundary data x + 2y reproduce the linear field inside. */
     for (i = 0; i < 16; i++) gv[i] = gfixed[i] ? gx[2 * i] + 2 * gx[2 * i + 1] : 0;
-    OK(FN(dk_spring_solve_linear)(grid_off, 17, grid_tgt, 48, kg, 48, gfixed, 16, &o, 1, gv, 16,
-                                  s, 80, idx, 16, &r));
+    OK(FN(dk_spring_solve_linear)(&grid_sys, &o, 1, gv, 16, s, 80, idx, 16, &r));
     for (i = 0; i < 16; i++) CLOSE(gv[i], gx[2 * i] + 2 * gx[2 * i + 1], LOOSE);
 
     /* Relative residual of the zero interior guess is exactly 1 (r = b). */
     for (i = 0; i < 16; i++) gv[i] = gfixed[i] ? (REAL)(i % 3) + 1 : 0;
-    OK(FN(dk_spring_relative_residual)(grid_off, 17, grid_tgt, 48, kg, 48, gfixed, 16, 1, gv,
-                                       16, idx, 16, &res));
+    OK(FN(dk_spring_relative_residual)(&grid_sys, 1, gv, 16, idx, 16, &res));
     CHECK(res == 1);
 
     /* Sweeps: a Jacobi sweep sets each free node to the mean of its neighbours in src; the
@@ -728,12 +720,10 @@ static void CAT(springs_linear_, SUF)(void) {
     for (i = 0; i < 8; i++) k[i] = 1;
     for (i = 0; i < 5; i++) v[i] = (REAL)(i * i); /* 0 1 4 9 16 */
     for (i = 0; i < 5; i++) v0[i] = 12345;
-    OK(FN(dk_spring_jacobi_sweep)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 2, 3, 1, 1, v, 5,
-                                  v0, 5, idx, 5, &sw));
+    OK(FN(dk_spring_jacobi_sweep)(&sys, 2, 3, 1, 1, v, 5, v0, 5, idx, 5, &sw));
     CHECK(v0[0] == 12345 && v0[1] == 2 && v0[2] == 5 && v0[3] == 12345 && v0[4] == 12345);
     CHECK(sw.max_change == 1 && sw.residual_sq == 8); /* residuals 2 and 2 */
-    OK(FN(dk_spring_jacobi_sweep)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 0, 5, 0, 1, v, 5,
-                                  v0, 5, idx, 5, &sw));
+    OK(FN(dk_spring_jacobi_sweep)(&sys, 0, 5, 0, 1, v, 5, v0, 5, idx, 5, &sw));
     CHECK(v0[0] == 0 && v0[1] == 2 && v0[2] == 5 && v0[3] == 10 && v0[4] == 16);
     {
         /* The same sweep in two ranges with exact residual words: their element-wise sum,
@@ -742,18 +732,15 @@ static void CAT(springs_linear_, SUF)(void) {
         double total = -1;
         dk_spring_sweep sw1, sw2;
         int k2;
-        OK(FN(dk_spring_jacobi_sweep_exact)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 0, 2, 0,
-                                            1, v, 5, v0, 5, idx, 5, &sw1, w1));
-        OK(FN(dk_spring_jacobi_sweep_exact)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 2, 5, 0,
-                                            1, v, 5, v0, 5, idx, 5, &sw2, w2));
+        OK(FN(dk_spring_jacobi_sweep_exact)(&sys, 0, 2, 0, 1, v, 5, v0, 5, idx, 5, &sw1, w1));
+        OK(FN(dk_spring_jacobi_sweep_exact)(&sys, 2, 5, 0, 1, v, 5, v0, 5, idx, 5, &sw2, w2));
         for (k2 = 0; k2 < DK_EXACT_SUM_WORDS; k2++) w1[k2] += w2[k2];
         OK(dk_exact_sum_value(w1, &total));
         CHECK(total == sw.residual_sq && total == 12);
         CHECK(v0[0] == 0 && v0[1] == 2 && v0[2] == 5 && v0[3] == 10 && v0[4] == 16);
         EXPECT(dk_exact_sum_value(NULL, &total), DK_ERR_NULL_POINTER);
     }
-    OK(FN(dk_spring_sor_sweep)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 0, 5, 0, 1, 1, v, 5,
-                               idx, 5, &sw));
+    OK(FN(dk_spring_sor_sweep)(&sys, 0, 5, 0, 1, 1, v, 5, idx, 5, &sw));
     /* Gauss–Seidel: v1 = (0 + 4)/2 = 2, v2 = (2 + 9)/2 = 5.5, v3 = (5.5 + 16)/2 = 10.75. */
     CHECK(v[0] == 0 && v[1] == 2 && v[2] == (REAL)5.5 && v[3] == (REAL)10.75 && v[4] == 16);
     CHECK(sw.max_change == (REAL)1.75);
@@ -767,144 +754,117 @@ static void CAT(springs_linear_, SUF)(void) {
     POISON(sw);
     sw0 = sw;
     OK(FN(dk_spring_solve_options_default)(&o));
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, NULL, 2, v,
-                                      10, s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_linear)(&sys, NULL, 2, v, 10, s, 40, idx, 5, &r),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, &o, 2, v, 10,
-                                      s, 39, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_linear)(&sys, &o, 2, v, 10, s, 39, idx, 5, &r),
            DK_ERR_BUFFER_TOO_SMALL);
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, &o, 2, v, 10,
-                                      s, 40, idx, 4, &r),
+    EXPECT(FN(dk_spring_solve_linear)(&sys, &o, 2, v, 10, s, 40, idx, 4, &r),
            DK_ERR_BUFFER_TOO_SMALL);
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, &o, 2, v, 10,
-                                      s, 40, NULL, 5, &r),
+    EXPECT(FN(dk_spring_solve_linear)(&sys, &o, 2, v, 10, s, 40, NULL, 5, &r),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, &o, 2, v, 9, s,
-                                      40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_linear)(&sys, &o, 2, v, 9, s, 40, idx, 5, &r),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 4, &o, 2, v, 10,
-                                      s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_linear)(SYSTEM(&chain_graph, k, 8, fixed, 4), &o, 2, v, 10, s, 40,
+                                      idx, 5, &r),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 7, fixed, 5, &o, 2, v, 10,
-                                      s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_linear)(SYSTEM(&chain_graph, k, 7, fixed, 5), &o, 2, v, 10, s, 40,
+                                      idx, 5, &r),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, &o, 0, v, 10,
-                                      s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_linear)(&sys, &o, 0, v, 10, s, 40, idx, 5, &r),
            DK_ERR_INVALID_PARAMETER);
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, &o, 2, v, 10,
-                                      s, 40, idx, 5, NULL),
+    EXPECT(FN(dk_spring_solve_linear)(&sys, &o, 2, v, 10, s, 40, idx, 5, NULL),
            DK_ERR_NULL_POINTER);
     {
         uint8_t none[5] = {0, 0, 0, 0, 0};
-        EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, none, 5, &o, 2, v,
-                                          10, s, 40, idx, 5, &r),
+        EXPECT(FN(dk_spring_solve_linear)(SYSTEM(&chain_graph, k, 8, none, 5), &o, 2, v, 10, s,
+                                          40, idx, 5, &r),
                DK_ERR_UNANCHORED);
     }
     k[2] = 2; /* k(1→2) != k(2→1) */
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, &o, 2, v, 10,
-                                      s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_linear)(&sys, &o, 2, v, 10, s, 40, idx, 5, &r),
            DK_ERR_NOT_SYMMETRIC);
     k[2] = 1;
     k[5] = k[4] = 0;
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, &o, 2, v, 10,
-                                      s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_linear)(&sys, &o, 2, v, 10, s, 40, idx, 5, &r),
            DK_ERR_NON_POSITIVE);
     k[5] = k[4] = (REAL)NAN;
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, &o, 2, v, 10,
-                                      s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_linear)(&sys, &o, 2, v, 10, s, 40, idx, 5, &r),
            DK_ERR_NON_FINITE);
     k[5] = k[4] = 1;
     o.method = DK_LINEAR_SOR;
     o.omega = 2;
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, &o, 2, v, 10,
-                                      s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_linear)(&sys, &o, 2, v, 10, s, 40, idx, 5, &r),
            DK_ERR_INVALID_PARAMETER);
     o.method = 17;
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, &o, 2, v, 10,
-                                      s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_linear)(&sys, &o, 2, v, 10, s, 40, idx, 5, &r),
            DK_ERR_INVALID_PARAMETER);
     o.method = DK_LINEAR_CG;
     o.preconditioner = 17;
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, &o, 2, v, 10,
-                                      s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_linear)(&sys, &o, 2, v, 10, s, 40, idx, 5, &r),
            DK_ERR_INVALID_PARAMETER);
     o.preconditioner = DK_PRECONDITIONER_JACOBI;
     o.residual_tol = -1;
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, &o, 2, v, 10,
-                                      s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_linear)(&sys, &o, 2, v, 10, s, 40, idx, 5, &r),
            DK_ERR_INVALID_PARAMETER);
     o.residual_tol = 1e-5;
     v[5] = (REAL)NAN;
     memcpy(v0, v, sizeof v);
-    EXPECT(FN(dk_spring_solve_linear)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, &o, 2, v, 10,
-                                      s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_linear)(&sys, &o, 2, v, 10, s, 40, idx, 5, &r),
            DK_ERR_NON_FINITE);
     SAME(v, v0, sizeof v);
     SAME(&r, &r0, sizeof r);
     v[5] = 5;
     memcpy(v0, v, sizeof v);
     for (i = 0; i < 5; i++) gv0[i] = gv[i] = 12345;
-    EXPECT(FN(dk_spring_jacobi_sweep)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 0, 6, 0, 1, v,
-                                      5, gv, 5, idx, 5, &sw),
+    EXPECT(FN(dk_spring_jacobi_sweep)(&sys, 0, 6, 0, 1, v, 5, gv, 5, idx, 5, &sw),
            DK_ERR_INDEX_OUT_OF_RANGE);
-    EXPECT(FN(dk_spring_jacobi_sweep)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 0, 5, 1, 1, v,
-                                      5, gv, 5, idx, 5, &sw),
+    EXPECT(FN(dk_spring_jacobi_sweep)(&sys, 0, 5, 1, 1, v, 5, gv, 5, idx, 5, &sw),
            DK_ERR_INDEX_OUT_OF_RANGE);
-    EXPECT(FN(dk_spring_jacobi_sweep)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 1, 5, 2, 1, v,
-                                      5, gv, 5, idx, 5, &sw),
+    EXPECT(FN(dk_spring_jacobi_sweep)(&sys, 1, 5, 2, 1, v, 5, gv, 5, idx, 5, &sw),
            DK_ERR_BAD_INDEX_BASE);
-    EXPECT(FN(dk_spring_jacobi_sweep)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 0, 5, 0, 1, v,
-                                      5, gv, 4, idx, 5, &sw),
+    EXPECT(FN(dk_spring_jacobi_sweep)(&sys, 0, 5, 0, 1, v, 5, gv, 4, idx, 5, &sw),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_spring_jacobi_sweep)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 0, 5, 0, 1, v,
-                                      5, gv, 5, idx, 5, NULL),
+    EXPECT(FN(dk_spring_jacobi_sweep)(&sys, 0, 5, 0, 1, v, 5, gv, 5, idx, 5, NULL),
            DK_ERR_NULL_POINTER);
     SAME(gv, gv0, 5 * sizeof gv[0]);
-    EXPECT(FN(dk_spring_sor_sweep)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 0, 5, 0, 0, 1, v,
-                                   5, idx, 5, &sw),
+    EXPECT(FN(dk_spring_sor_sweep)(&sys, 0, 5, 0, 0, 1, v, 5, idx, 5, &sw),
            DK_ERR_INVALID_PARAMETER);
-    EXPECT(FN(dk_spring_sor_sweep)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 0, 9, 0, 1, 1, v,
-                                   5, idx, 5, &sw),
+    EXPECT(FN(dk_spring_sor_sweep)(&sys, 0, 9, 0, 1, 1, v, 5, idx, 5, &sw),
            DK_ERR_INDEX_OUT_OF_RANGE);
-    EXPECT(FN(dk_spring_sor_sweep)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 0, 5, 0, 1, 9, v,
-                                   5, idx, 5, &sw),
+    EXPECT(FN(dk_spring_sor_sweep)(&sys, 0, 5, 0, 1, 9, v, 5, idx, 5, &sw),
            DK_ERR_INVALID_PARAMETER);
     v[2] = (REAL)INFINITY;
     memcpy(v0, v, sizeof v);
-    EXPECT(FN(dk_spring_sor_sweep)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 0, 5, 0, 1, 1, v,
-                                   5, idx, 5, &sw),
+    EXPECT(FN(dk_spring_sor_sweep)(&sys, 0, 5, 0, 1, 1, v, 5, idx, 5, &sw),
            DK_ERR_NON_FINITE);
     SAME(v, v0, sizeof v);
     SAME(&sw, &sw0, sizeof sw);
     res = 12345;
-    EXPECT(FN(dk_spring_relative_residual)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 1, v, 5,
-                                           idx, 5, &res),
+    EXPECT(FN(dk_spring_relative_residual)(&sys, 1, v, 5, idx, 5, &res),
            DK_ERR_NON_FINITE);
     v[2] = 2;
-    EXPECT(FN(dk_spring_relative_residual)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 1, v, 4,
-                                           idx, 5, &res),
+    EXPECT(FN(dk_spring_relative_residual)(&sys, 1, v, 4, idx, 5, &res),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_spring_relative_residual)(chain_off, 6, chain_tgt, 8, k, 8, fixed, 5, 1, v, 5,
-                                           idx, 5, NULL),
+    EXPECT(FN(dk_spring_relative_residual)(&sys, 1, v, 5, idx, 5, NULL),
            DK_ERR_NULL_POINTER);
     CHECK(res == 12345);
     for (i = 0; i < 8; i++) k[i] = 12345;
     pts[2] = pts[0];
-    EXPECT(FN(dk_spring_batina_stiffness)(chain_off, 6, chain_tgt, 8, pts, 10, 2, 1, k, 8),
+    EXPECT(FN(dk_spring_batina_stiffness)(&chain_graph, pts, 10, 2, 1, k, 8),
            DK_ERR_ZERO_LENGTH_EDGE);
-    EXPECT(FN(dk_spring_batina_stiffness)(chain_off, 6, chain_tgt, 8, pts, 10, 2, -1, k, 8),
+    EXPECT(FN(dk_spring_batina_stiffness)(&chain_graph, pts, 10, 2, -1, k, 8),
            DK_ERR_INVALID_PARAMETER);
     pts[2] = (REAL)NAN;
-    EXPECT(FN(dk_spring_batina_stiffness)(chain_off, 6, chain_tgt, 8, pts, 10, 2, 1, k, 8),
+    EXPECT(FN(dk_spring_batina_stiffness)(&chain_graph, pts, 10, 2, 1, k, 8),
            DK_ERR_NON_FINITE);
     pts[2] = 1;
-    EXPECT(FN(dk_spring_batina_stiffness)(chain_off, 6, chain_tgt, 8, pts, 10, 2, 1, k, 7),
+    EXPECT(FN(dk_spring_batina_stiffness)(&chain_graph, pts, 10, 2, 1, k, 7),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_spring_batina_stiffness)(chain_off, 6, chain_tgt, 8, pts, 10, 0, 1, k, 8),
+    EXPECT(FN(dk_spring_batina_stiffness)(&chain_graph, pts, 10, 0, 1, k, 8),
            DK_ERR_INVALID_PARAMETER);
-    EXPECT(FN(dk_spring_batina_stiffness)(chain_off, 6, chain_tgt, 8, pts, 10, 2, 1, NULL, 8),
+    EXPECT(FN(dk_spring_batina_stiffness)(&chain_graph, pts, 10, 2, 1, NULL, 8),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_spring_batina_stiffness)(NULL, 6, chain_tgt, 8, pts, 10, 2, 1, k, 8),
+    EXPECT(FN(dk_spring_batina_stiffness)(GRAPH(NULL, 6, chain_tgt, 8), pts, 10, 2, 1, k, 8),
            DK_ERR_NULL_POINTER);
     for (i = 0; i < 8; i++) CHECK(k[i] == 12345);
     (void)gv0;
@@ -917,6 +877,7 @@ static void CAT(springs_angle_, SUF)(void) {
     REAL k[16], v[10], v0[10], w[10], s[4 * FAN_N * 2], amp = 0, amp0;
     uint32_t idx[FAN_N];
     uint8_t fixed[FAN_N] = {1, 1, 1, 1, 0};
+    const FN(dk_spring_system) sys = {fan_graph, k, 16, fixed, 5};
     dk_spring_angle_options o;
     dk_spring_solve_report r, r0;
     dk_spring_sweep sw, sw0;
@@ -924,7 +885,7 @@ static void CAT(springs_angle_, SUF)(void) {
     const uint32_t methods[3] = {DK_ANGLE_DIRECT_GAUSS_SEIDEL, DK_ANGLE_DIRECT_JACOBI,
                                  DK_ANGLE_CG};
 
-    OK(FN(dk_spring_batina_stiffness)(fan_off, 6, fan_tgt, 16, pts, 10, 2, 1, k, 16));
+    OK(FN(dk_spring_batina_stiffness)(&fan_graph, pts, 10, 2, 1, k, 16));
     OK(FN(dk_spring_angle_options_default)(&o));
     CHECK(o.epsilon == 0.01 && o.method == DK_ANGLE_DIRECT_GAUSS_SEIDEL);
     CHECK(o.max_iterations == 10000 && o.residual_tol > 0 && o.residual_tol <= 2e-5);
@@ -938,8 +899,8 @@ static void CAT(springs_angle_, SUF)(void) {
             v[2 * i + 1] = (REAL)-0.5;
         }
         v[8] = v[9] = 0;
-        OK(FN(dk_spring_solve_angle)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 2, &o, v,
-                                     10, need ? s : NULL, need, idx, 5, &r));
+        OK(FN(dk_spring_solve_angle)(&sys, pts, 10, 2, &o, v, 10, need ? s : NULL, need, idx, 5,
+                                     &r));
         CHECK(r.converged);
         CLOSE(v[8], 0.25, LOOSE);
         CLOSE(v[9], -0.5, LOOSE);
@@ -951,21 +912,19 @@ static void CAT(springs_angle_, SUF)(void) {
     }
     v[8] = v[9] = 0;
     for (i = 0; i < 10; i++) w[i] = 12345;
-    OK(FN(dk_spring_angle_jacobi_sweep)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 2,
-                                        (REAL)0.01, 5, 5, 1, v, 10, w, 10, idx, 5, &sw));
+    OK(FN(dk_spring_angle_jacobi_sweep)(&sys, pts, 10, 2, (REAL)0.01, 5, 5, 1, v, 10, w, 10, idx,
+                                        5, &sw));
     CLOSE(w[8], 0.25, TOL);
     CLOSE(w[9], -0.5, TOL);
     for (i = 0; i < 8; i++) CHECK(w[i] == 12345); /* the range was node 5 (1-based) only */
     CLOSE(sw.max_change, 0.5, TOL);
-    OK(FN(dk_spring_angle_gauss_seidel_sweep)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10,
-                                              2, 0, 0, 5, 0, v, 10, idx, 5, &sw));
+    OK(FN(dk_spring_angle_gauss_seidel_sweep)(&sys, pts, 10, 2, 0, 0, 5, 0, v, 10, idx, 5, &sw));
     CLOSE(v[8], 0.25, TOL);
     CLOSE(v[9], -0.5, TOL);
     OK(dk_spring_angle_rigidity_probe_scratch_len(FAN_N, 2, &need));
     CHECK(need == 40);
     o.epsilon = 0;
-    OK(FN(dk_spring_angle_rigidity_probe)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 2,
-                                          &o, s, need, idx, 5, &amp));
+    OK(FN(dk_spring_angle_rigidity_probe)(&sys, pts, 10, 2, &o, s, need, idx, 5, &amp));
     CHECK(amp > 0 && amp < 1e3);
 
     /* Bad input. A collinear neighbourhood makes the free node's block singular. */
@@ -983,94 +942,77 @@ static void CAT(springs_angle_, SUF)(void) {
         /* Chain along x with the middle node free, ε = 0: its block is singular. */
         REAL cp[10] = {0, 0, 1, 0, 2, 0, 3, 0, 4, 0}, ck[8];
         uint8_t cf[5] = {1, 1, 0, 1, 1};
+        const FN(dk_spring_system) chain_sys = {chain_graph, ck, 8, cf, 5};
         for (i = 0; i < 8; i++) ck[i] = 1;
-        EXPECT(FN(dk_spring_solve_angle)(chain_off, 6, chain_tgt, 8, ck, 8, cf, 5, cp, 10, 2, &o,
-                                         v, 10, s, 40, idx, 5, &r),
+        EXPECT(FN(dk_spring_solve_angle)(&chain_sys, cp, 10, 2, &o, v, 10, s, 40, idx, 5, &r),
                DK_ERR_SINGULAR_NODE);
-        EXPECT(FN(dk_spring_angle_rigidity_probe)(chain_off, 6, chain_tgt, 8, ck, 8, cf, 5, cp,
-                                                  10, 2, &o, s, 40, idx, 5, &amp),
+        EXPECT(FN(dk_spring_angle_rigidity_probe)(&chain_sys, cp, 10, 2, &o, s, 40, idx, 5, &amp),
                DK_ERR_SINGULAR_NODE);
-        EXPECT(FN(dk_spring_angle_gauss_seidel_sweep)(chain_off, 6, chain_tgt, 8, ck, 8, cf, 5,
-                                                      cp, 10, 2, 0, 0, 5, 0, v, 10, idx, 5,
-                                                      &sw),
+        EXPECT(FN(dk_spring_angle_gauss_seidel_sweep)(&chain_sys, cp, 10, 2, 0, 0, 5, 0, v, 10,
+                                                      idx, 5, &sw),
                DK_ERR_SINGULAR_NODE);
     }
     o.epsilon = 0.01;
-    EXPECT(FN(dk_spring_solve_angle)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 3, &o, v,
-                                     10, s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_angle)(&sys, pts, 10, 3, &o, v, 10, s, 40, idx, 5, &r),
            DK_ERR_LENGTH_MISMATCH); /* 10 scalars are not whole 3D points */
-    EXPECT(FN(dk_spring_solve_angle)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 1, &o, v,
-                                     10, s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_angle)(&sys, pts, 10, 1, &o, v, 10, s, 40, idx, 5, &r),
            DK_ERR_INVALID_PARAMETER);
-    EXPECT(FN(dk_spring_solve_angle)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 8, 2, &o, v,
-                                     10, s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_angle)(&sys, pts, 8, 2, &o, v, 10, s, 40, idx, 5, &r),
            DK_ERR_LENGTH_MISMATCH);
     o.method = DK_ANGLE_CG;
-    EXPECT(FN(dk_spring_solve_angle)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 2, &o, v,
-                                     10, s, 39, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_angle)(&sys, pts, 10, 2, &o, v, 10, s, 39, idx, 5, &r),
            DK_ERR_BUFFER_TOO_SMALL);
     o.method = 3;
-    EXPECT(FN(dk_spring_solve_angle)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 2, &o, v,
-                                     10, s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_angle)(&sys, pts, 10, 2, &o, v, 10, s, 40, idx, 5, &r),
            DK_ERR_INVALID_PARAMETER);
     o.method = DK_ANGLE_DIRECT_GAUSS_SEIDEL;
     o.epsilon = -1;
-    EXPECT(FN(dk_spring_solve_angle)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 2, &o, v,
-                                     10, s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_angle)(&sys, pts, 10, 2, &o, v, 10, s, 40, idx, 5, &r),
            DK_ERR_INVALID_PARAMETER);
     o.epsilon = 0.01;
-    EXPECT(FN(dk_spring_solve_angle)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 2, NULL,
-                                     v, 10, s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_angle)(&sys, pts, 10, 2, NULL, v, 10, s, 40, idx, 5, &r),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_spring_solve_angle)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 2, &o, v,
-                                     10, s, 40, idx, 5, NULL),
+    EXPECT(FN(dk_spring_solve_angle)(&sys, pts, 10, 2, &o, v, 10, s, 40, idx, 5, NULL),
            DK_ERR_NULL_POINTER);
     pts[3] = (REAL)NAN;
-    EXPECT(FN(dk_spring_solve_angle)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 2, &o, v,
-                                     10, s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_angle)(&sys, pts, 10, 2, &o, v, 10, s, 40, idx, 5, &r),
            DK_ERR_NON_FINITE);
     pts[3] = 0;
     v[9] = (REAL)NAN;
     memcpy(v0, v, sizeof v);
-    EXPECT(FN(dk_spring_solve_angle)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 2, &o, v,
-                                     10, s, 40, idx, 5, &r),
+    EXPECT(FN(dk_spring_solve_angle)(&sys, pts, 10, 2, &o, v, 10, s, 40, idx, 5, &r),
            DK_ERR_NON_FINITE);
-    EXPECT(FN(dk_spring_angle_gauss_seidel_sweep)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts,
-                                                  10, 2, (REAL)0.01, 0, 5, 0, v, 10, idx, 5,
-                                                  &sw),
+    EXPECT(FN(dk_spring_angle_gauss_seidel_sweep)(&sys, pts, 10, 2, (REAL)0.01, 0, 5, 0, v, 10,
+                                                  idx, 5, &sw),
            DK_ERR_NON_FINITE);
     SAME(v, v0, sizeof v);
     SAME(&r, &r0, sizeof r);
     v[9] = 0;
-    EXPECT(FN(dk_spring_angle_jacobi_sweep)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 2,
-                                            (REAL)0.01, 0, 6, 0, v, 10, w, 10, idx, 5, &sw),
+    EXPECT(FN(dk_spring_angle_jacobi_sweep)(&sys, pts, 10, 2, (REAL)0.01, 0, 6, 0, v, 10, w, 10,
+                                            idx, 5, &sw),
            DK_ERR_INDEX_OUT_OF_RANGE);
-    EXPECT(FN(dk_spring_angle_jacobi_sweep)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 2,
-                                            (REAL)0.01, 0, 5, 2, v, 10, w, 10, idx, 5, &sw),
+    EXPECT(FN(dk_spring_angle_jacobi_sweep)(&sys, pts, 10, 2, (REAL)0.01, 0, 5, 2, v, 10, w, 10,
+                                            idx, 5, &sw),
            DK_ERR_BAD_INDEX_BASE);
-    EXPECT(FN(dk_spring_angle_jacobi_sweep)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 2,
-                                            (REAL)NAN, 0, 5, 0, v, 10, w, 10, idx, 5, &sw),
+    EXPECT(FN(dk_spring_angle_jacobi_sweep)(&sys, pts, 10, 2, (REAL)NAN, 0, 5, 0, v, 10, w, 10,
+                                            idx, 5, &sw),
            DK_ERR_INVALID_PARAMETER);
-    EXPECT(FN(dk_spring_angle_jacobi_sweep)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 2,
-                                            (REAL)0.01, 0, 5, 0, v, 10, w, 9, idx, 5, &sw),
+    EXPECT(FN(dk_spring_angle_jacobi_sweep)(&sys, pts, 10, 2, (REAL)0.01, 0, 5, 0, v, 10, w, 9,
+                                            idx, 5, &sw),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_spring_angle_jacobi_sweep)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10, 2,
-                                            (REAL)0.01, 0, 5, 0, v, 10, w, 10, idx, 5, NULL),
+    EXPECT(FN(dk_spring_angle_jacobi_sweep)(&sys, pts, 10, 2, (REAL)0.01, 0, 5, 0, v, 10, w, 10,
+                                            idx, 5, NULL),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_spring_angle_gauss_seidel_sweep)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts,
-                                                  10, 2, (REAL)0.01, 1, 5, 1, v, 10, idx, 4,
-                                                  &sw),
+    EXPECT(FN(dk_spring_angle_gauss_seidel_sweep)(&sys, pts, 10, 2, (REAL)0.01, 1, 5, 1, v, 10,
+                                                  idx, 4, &sw),
            DK_ERR_BUFFER_TOO_SMALL);
     for (i = 0; i < 10; i++) CHECK(w[i] == 12345);
     SAME(&sw, &sw0, sizeof sw);
-    EXPECT(FN(dk_spring_angle_rigidity_probe)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10,
-                                              2, &o, s, 39, idx, 5, &amp),
+    EXPECT(FN(dk_spring_angle_rigidity_probe)(&sys, pts, 10, 2, &o, s, 39, idx, 5, &amp),
            DK_ERR_BUFFER_TOO_SMALL);
-    EXPECT(FN(dk_spring_angle_rigidity_probe)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10,
-                                              2, &o, s, 40, idx, 5, NULL),
+    EXPECT(FN(dk_spring_angle_rigidity_probe)(&sys, pts, 10, 2, &o, s, 40, idx, 5, NULL),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_spring_angle_rigidity_probe)(fan_off, 6, fan_tgt, 16, k, 16, fixed, 5, pts, 10,
-                                              2, NULL, s, 40, idx, 5, &amp),
+    EXPECT(FN(dk_spring_angle_rigidity_probe)(&sys, pts, 10, 2, NULL, s, 40, idx, 5, &amp),
            DK_ERR_NULL_POINTER);
     CHECK(amp == amp0);
     need = 777;
@@ -1092,6 +1034,7 @@ static void CAT(quality_, SUF)(void) {
     const uint32_t co1[3] = {1, 4, 7}, cn1[6] = {1, 2, 3, 1, 3, 4}; /* the same, 1-based */
     const uint32_t cn_bad[6] = {0, 1, 2, 0, 2, 99};
     const uint8_t ck[2] = {5, 5}, ck_bad[2] = {5, 42}, ck_3d[2] = {5, 10};
+    const dk_cells tris = {co, 3, cn, 6, ck, 2}, tris1 = {co1, 3, cn1, 6, ck, 2};
     REAL before[8] = {0, 0, 1, 0, 1, 1, 0, 1};
     REAL after[8] = {0, 0, 1, 0, (REAL)0.5, (REAL)-0.5, 0, 1};
     REAL out[2], out0[2], s[4 * 9];
@@ -1133,29 +1076,30 @@ static void CAT(quality_, SUF)(void) {
         SAME(&q, &q0, sizeof q);
     }
 
-    OK(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 2, out, 2));
+    OK(FN(dk_quality_cell_measures)(&tris, 0, NULL, 0, before, 8, 2, out, 2));
     CHECK(out[0] == 0.5 && out[1] == 0.5);
-    OK(FN(dk_quality_cell_measures)(co1, 3, cn1, 6, ck, 2, 1, iscr, ISCR_LEN, after, 8, 2, out, 2));
+    OK(FN(dk_quality_cell_measures)(&tris1, 1, iscr, ISCR_LEN, after, 8, 2, out, 2));
     CHECK(out[0] == (REAL)-0.25 && out[1] == (REAL)0.25);
-    OK(FN(dk_quality_min_corner_jacobians)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 2, false, out, 2));
+    OK(FN(dk_quality_min_corner_jacobians)(&tris, 0, NULL, 0, before, 8, 2, false, out, 2));
     CHECK(out[0] == 1 && out[1] == 1);
-    OK(FN(dk_quality_min_corner_jacobians)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 2, true, out, 2));
+    OK(FN(dk_quality_min_corner_jacobians)(&tris, 0, NULL, 0, before, 8, 2, true, out, 2));
     CLOSE(out[0], sqrt(0.5), TOL);
-    OK(FN(dk_quality_inverted_cells)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, after, 8, 2, &count));
+    OK(FN(dk_quality_inverted_cells)(&tris, 0, NULL, 0, before, 8, after, 8, 2, &count));
     CHECK(count == 1);
-    OK(FN(dk_quality_folded_cells)(co1, 3, cn1, 6, ck, 2, 1, iscr, ISCR_LEN, after, 8, 2, &count));
+    OK(FN(dk_quality_folded_cells)(&tris1, 1, iscr, ISCR_LEN, after, 8, 2, &count));
     CHECK(count == 1);
-    OK(FN(dk_quality_folded_cells)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 2, &count));
+    OK(FN(dk_quality_folded_cells)(&tris, 0, NULL, 0, before, 8, 2, &count));
     CHECK(count == 0);
-    OK(FN(dk_quality_compare)(co, 3, cn, 6, ck, 2, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0,
-                              before, 8, after, 8, 2, NULL, 0, &r));
+    /* No wall: empty wall cells and graph (every array NULL, length 0). */
+    OK(FN(dk_quality_compare)(&tris, 0, NULL, 0, &(dk_cells){0}, &(dk_graph){0}, before, 8,
+                              after, 8, 2, NULL, 0, &r));
     CHECK(r.cells == 2 && r.inverted_cells == 1 && r.folded_cells == 1);
     CHECK(r.folded_cells_undeformed == 0 && r.degenerate_cells == 0);
     CHECK(r.min_measure_ratio == -0.5 && r.max_measure_ratio == 0.5);
     CHECK(r.min_ratio_cell == 0 && r.max_ratio_cell == 1);
     CHECK(r.min_measure == -0.25 && !r.has_wall && r.wall_node == DK_NO_INDEX);
-    OK(FN(dk_quality_compare)(co1, 3, cn1, 6, ck, 2, 1, iscr, ISCR_LEN, NULL, 0, NULL, 0, NULL, 0, NULL, 0, NULL,
-                              0, before, 8, after, 8, 2, NULL, 0, &r));
+    OK(FN(dk_quality_compare)(&tris1, 1, iscr, ISCR_LEN, &(dk_cells){0}, &(dk_graph){0}, before,
+                              8, after, 8, 2, NULL, 0, &r));
     CHECK(r.min_ratio_cell == 1 && r.max_ratio_cell == 2); /* reported 1-based */
 
     /* Wall-angle change: a 2 x 2 quad mesh sheared by x += 0.1 y. The wall is the bottom row
@@ -1169,6 +1113,8 @@ static void CAT(quality_, SUF)(void) {
         const uint32_t qo[5] = {0, 4, 8, 12, 16};
         const uint32_t qn[16] = {0, 1, 4, 3, 1, 2, 5, 4, 3, 4, 7, 6, 4, 5, 8, 7};
         const uint8_t qk[4] = {9, 9, 9, 9};
+        const dk_cells segs = {wo, 3, wn, 4, wk, 2}, segs1 = {wo1, 3, wn1, 4, wk, 2};
+        const dk_cells quads = {qo, 5, qn, 16, qk, 4};
         size_t j;
         for (j = 0; j < 3; j++)
             for (i = 0; i < 3; i++) {
@@ -1179,15 +1125,15 @@ static void CAT(quality_, SUF)(void) {
             }
         OK(dk_quality_wall_angle_scratch_len(9, 2, &count));
         CHECK(count == 36);
-        OK(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, q9_off, 10, q9_tgt, 24, u, 18,
-                                            d, 18, 2, s, 36, &wa));
+        OK(FN(dk_quality_wall_angle_change)(&segs, 0, NULL, 0, &q9_graph, u, 18, d, 18, 2, s, 36,
+                                            &wa));
         CLOSE(wa.max_change, atan(0.1), LOOSE);
         CHECK(wa.measured == 3 && wa.skipped == 0 && wa.node < 3);
-        OK(FN(dk_quality_wall_angle_change)(wo1, 3, wn1, 4, wk, 2, 1, iscr, ISCR_LEN, q9_off, 10, q9_tgt, 24, u,
-                                            18, d, 18, 2, s, 36, &wa));
+        OK(FN(dk_quality_wall_angle_change)(&segs1, 1, iscr, ISCR_LEN, &q9_graph, u, 18, d, 18,
+                                            2, s, 36, &wa));
         CHECK(wa.node >= 1 && wa.node <= 3); /* 1-based */
-        OK(FN(dk_quality_compare)(qo, 5, qn, 16, qk, 4, 0, NULL, 0, wo, 3, wn, 4, wk, 2, q9_off, 10,
-                                  q9_tgt, 24, u, 18, d, 18, 2, s, 36, &r));
+        OK(FN(dk_quality_compare)(&quads, 0, NULL, 0, &segs, &q9_graph, u, 18, d, 18, 2, s, 36,
+                                  &r));
         CHECK(r.has_wall && r.wall_measured == 3 && r.wall_node < 3);
         CLOSE(r.wall_max_change, atan(0.1), LOOSE);
         CHECK(r.inverted_cells == 0 && r.folded_cells == 0);
@@ -1198,43 +1144,43 @@ static void CAT(quality_, SUF)(void) {
         wa0 = wa;
         POISON(r);
         r0 = r;
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, q9_off, 10, q9_tgt, 24,
-                                                u, 18, d, 18, 2, s, 35, &wa),
+        EXPECT(FN(dk_quality_wall_angle_change)(&segs, 0, NULL, 0, &q9_graph, u, 18, d, 18, 2, s,
+                                                35, &wa),
                DK_ERR_BUFFER_TOO_SMALL);
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 2, iscr, ISCR_LEN, q9_off, 10, q9_tgt, 24,
-                                                u, 18, d, 18, 2, s, 36, &wa),
+        EXPECT(FN(dk_quality_wall_angle_change)(&segs, 2, iscr, ISCR_LEN, &q9_graph, u, 18, d,
+                                                18, 2, s, 36, &wa),
                DK_ERR_BAD_INDEX_BASE);
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, qk, 2, 0, NULL, 0, q9_off, 10, q9_tgt, 24,
-                                                u, 18, d, 18, 2, s, 36, &wa),
+        EXPECT(FN(dk_quality_wall_angle_change)(CELLS(wo, 3, wn, 4, qk, 2), 0, NULL, 0,
+                                                &q9_graph, u, 18, d, 18, 2, s, 36, &wa),
                DK_ERR_WRONG_NODE_COUNT);
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, q9_off, 9, q9_tgt, 24,
+        EXPECT(FN(dk_quality_wall_angle_change)(&segs, 0, NULL, 0, GRAPH(q9_off, 9, q9_tgt, 24),
                                                 u, 18, d, 18, 2, s, 36, &wa),
                DK_ERR_BAD_OFFSETS);
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, chain_off, 6, chain_tgt,
-                                                8, u, 18, d, 18, 2, s, 36, &wa),
+        EXPECT(FN(dk_quality_wall_angle_change)(&segs, 0, NULL, 0, &chain_graph, u, 18, d, 18, 2,
+                                                s, 36, &wa),
                DK_ERR_LENGTH_MISMATCH); /* a 5-node graph for a 9-node mesh */
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, q9_off, 10, q9_tgt, 24,
-                                                u, 18, d, 16, 2, s, 36, &wa),
+        EXPECT(FN(dk_quality_wall_angle_change)(&segs, 0, NULL, 0, &q9_graph, u, 18, d, 16, 2, s,
+                                                36, &wa),
                DK_ERR_LENGTH_MISMATCH);
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, q9_off, 10, q9_tgt, 24,
-                                                u, 18, d, 18, 2, s, 36, NULL),
+        EXPECT(FN(dk_quality_wall_angle_change)(&segs, 0, NULL, 0, &q9_graph, u, 18, d, 18, 2, s,
+                                                36, NULL),
                DK_ERR_NULL_POINTER);
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, q9_off, 10, q9_tgt, 24,
-                                                u, 18, d, 18, 3, s, 36, &wa),
+        EXPECT(FN(dk_quality_wall_angle_change)(&segs, 0, NULL, 0, &q9_graph, u, 18, d, 18, 3, s,
+                                                36, &wa),
                DK_ERR_LENGTH_MISMATCH);
         d[5] = (REAL)NAN;
-        EXPECT(FN(dk_quality_wall_angle_change)(wo, 3, wn, 4, wk, 2, 0, NULL, 0, q9_off, 10, q9_tgt, 24,
-                                                u, 18, d, 18, 2, s, 36, &wa),
+        EXPECT(FN(dk_quality_wall_angle_change)(&segs, 0, NULL, 0, &q9_graph, u, 18, d, 18, 2, s,
+                                                36, &wa),
                DK_ERR_NON_FINITE);
-        EXPECT(FN(dk_quality_compare)(qo, 5, qn, 16, qk, 4, 0, NULL, 0, wo, 3, wn, 4, wk, 2, q9_off, 10,
-                                      q9_tgt, 24, u, 18, d, 18, 2, s, 36, &r),
+        EXPECT(FN(dk_quality_compare)(&quads, 0, NULL, 0, &segs, &q9_graph, u, 18, d, 18, 2, s,
+                                      36, &r),
                DK_ERR_NON_FINITE);
         d[5] = 0;
-        EXPECT(FN(dk_quality_compare)(qo, 5, qn, 16, qk, 4, 0, NULL, 0, wo, 3, wn, 4, wk, 2, q9_off, 10,
-                                      q9_tgt, 24, u, 18, d, 18, 2, s, 35, &r),
+        EXPECT(FN(dk_quality_compare)(&quads, 0, NULL, 0, &segs, &q9_graph, u, 18, d, 18, 2, s,
+                                      35, &r),
                DK_ERR_BUFFER_TOO_SMALL);
-        EXPECT(FN(dk_quality_compare)(qo, 5, qn, 16, qk, 4, 0, NULL, 0, wo, 3, wn, 4, wk, 2, NULL, 10,
-                                      q9_tgt, 24, u, 18, d, 18, 2, s, 36, &r),
+        EXPECT(FN(dk_quality_compare)(&quads, 0, NULL, 0, &segs, GRAPH(NULL, 10, q9_tgt, 24), u,
+                                      18, d, 18, 2, s, 36, &r),
                DK_ERR_NULL_POINTER);
         SAME(&wa, &wa0, sizeof wa);
         SAME(&r, &r0, sizeof r);
@@ -1246,67 +1192,72 @@ static void CAT(quality_, SUF)(void) {
     count0 = count = 12345;
     POISON(r);
     r0 = r;
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn_bad, 6, ck, 2, 0, NULL, 0, before, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(CELLS(co, 3, cn_bad, 6, ck, 2), 0, NULL, 0, before, 8, 2,
+                                        out, 2),
            DK_ERR_INDEX_OUT_OF_RANGE);
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck_bad, 2, 0, NULL, 0, before, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(CELLS(co, 3, cn, 6, ck_bad, 2), 0, NULL, 0, before, 8, 2,
+                                        out, 2),
            DK_ERR_UNKNOWN_CELL_KIND);
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck_3d, 2, 0, NULL, 0, before, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(CELLS(co, 3, cn, 6, ck_3d, 2), 0, NULL, 0, before, 8, 2,
+                                        out, 2),
            DK_ERR_WRONG_NODE_COUNT);
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 2, iscr, ISCR_LEN, before, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(&tris, 2, iscr, ISCR_LEN, before, 8, 2, out, 2),
            DK_ERR_BAD_INDEX_BASE);
-    EXPECT(FN(dk_quality_cell_measures)(co1, 3, cn, 6, ck, 2, 1, iscr, ISCR_LEN, before, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(CELLS(co1, 3, cn, 6, ck, 2), 1, iscr, ISCR_LEN, before,
+                                        8, 2, out, 2),
            DK_ERR_INDEX_OUT_OF_RANGE); /* 0-based nodes read 1-based */
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn1, 6, ck, 2, 1, iscr, ISCR_LEN, before, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(CELLS(co, 3, cn1, 6, ck, 2), 1, iscr, ISCR_LEN, before,
+                                        8, 2, out, 2),
            DK_ERR_BAD_OFFSETS); /* 0-based offsets read 1-based */
-    EXPECT(FN(dk_quality_cell_measures)(co1, 3, cn1, 6, ck, 2, 1, iscr, 8, after, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(&tris1, 1, iscr, 8, after, 8, 2, out, 2),
            DK_ERR_BUFFER_TOO_SMALL); /* 1-based needs 3 + 6 index_scratch entries */
-    EXPECT(FN(dk_quality_cell_measures)(co1, 3, cn1, 6, ck, 2, 1, NULL, 0, after, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(&tris1, 1, NULL, 0, after, 8, 2, out, 2),
            DK_ERR_BUFFER_TOO_SMALL);
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 2, out, 1),
+    EXPECT(FN(dk_quality_cell_measures)(&tris, 0, NULL, 0, before, 8, 2, out, 1),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 3, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(&tris, 0, NULL, 0, before, 8, 3, out, 2),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 6, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(&tris, 0, NULL, 0, before, 6, 2, out, 2),
            DK_ERR_INDEX_OUT_OF_RANGE); /* 3 points: node 3 does not exist */
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, NULL, 6, ck, 2, 0, NULL, 0, before, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(CELLS(co, 3, NULL, 6, ck, 2), 0, NULL, 0, before, 8, 2,
+                                        out, 2),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 2, NULL, 2),
+    EXPECT(FN(dk_quality_cell_measures)(&tris, 0, NULL, 0, before, 8, 2, NULL, 2),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_quality_min_corner_jacobians)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, 3, true, out,
-                                               2),
+    EXPECT(FN(dk_quality_min_corner_jacobians)(&tris, 0, NULL, 0, before, 8, 3, true, out, 2),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_quality_min_corner_jacobians)(co, 3, cn, 6, ck, 2, 2, iscr, ISCR_LEN, before, 8, 2, true, out,
+    EXPECT(FN(dk_quality_min_corner_jacobians)(&tris, 2, iscr, ISCR_LEN, before, 8, 2, true, out,
                                                2),
            DK_ERR_BAD_INDEX_BASE);
-    EXPECT(FN(dk_quality_inverted_cells)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, after, 6, 2, &count),
+    EXPECT(FN(dk_quality_inverted_cells)(&tris, 0, NULL, 0, before, 8, after, 6, 2, &count),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_quality_inverted_cells)(co, 3, cn_bad, 6, ck, 2, 0, NULL, 0, before, 8, after, 8, 2,
-                                         &count),
+    EXPECT(FN(dk_quality_inverted_cells)(CELLS(co, 3, cn_bad, 6, ck, 2), 0, NULL, 0, before, 8,
+                                         after, 8, 2, &count),
            DK_ERR_INDEX_OUT_OF_RANGE);
-    EXPECT(FN(dk_quality_inverted_cells)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, after, 8, 2, NULL),
+    EXPECT(FN(dk_quality_inverted_cells)(&tris, 0, NULL, 0, before, 8, after, 8, 2, NULL),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_quality_folded_cells)(co, 3, cn, 6, ck, 2, 7, iscr, ISCR_LEN, before, 8, 2, &count),
+    EXPECT(FN(dk_quality_folded_cells)(&tris, 7, iscr, ISCR_LEN, before, 8, 2, &count),
            DK_ERR_BAD_INDEX_BASE);
-    EXPECT(FN(dk_quality_folded_cells)(co, 2, cn, 6, ck, 2, 0, NULL, 0, before, 8, 2, &count),
+    EXPECT(FN(dk_quality_folded_cells)(CELLS(co, 2, cn, 6, ck, 2), 0, NULL, 0, before, 8, 2,
+                                       &count),
            DK_ERR_LENGTH_MISMATCH);
-    EXPECT(FN(dk_quality_compare)(co, 3, cn, 6, ck, 2, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0,
-                                  NULL, 0, before, 8, after, 8, 2, NULL, 0, NULL),
+    EXPECT(FN(dk_quality_compare)(&tris, 0, NULL, 0, &(dk_cells){0}, &(dk_graph){0}, before, 8,
+                                  after, 8, 2, NULL, 0, NULL),
            DK_ERR_NULL_POINTER);
-    EXPECT(FN(dk_quality_compare)(co, 3, cn_bad, 6, ck, 2, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0,
-                                  NULL, 0, before, 8, after, 8, 2, NULL, 0, &r),
+    EXPECT(FN(dk_quality_compare)(CELLS(co, 3, cn_bad, 6, ck, 2), 0, NULL, 0, &(dk_cells){0},
+                                  &(dk_graph){0}, before, 8, after, 8, 2, NULL, 0, &r),
            DK_ERR_INDEX_OUT_OF_RANGE);
     after[3] = (REAL)NAN;
-    EXPECT(FN(dk_quality_inverted_cells)(co, 3, cn, 6, ck, 2, 0, NULL, 0, before, 8, after, 8, 2, &count),
+    EXPECT(FN(dk_quality_inverted_cells)(&tris, 0, NULL, 0, before, 8, after, 8, 2, &count),
            DK_ERR_NON_FINITE);
-    EXPECT(FN(dk_quality_folded_cells)(co, 3, cn, 6, ck, 2, 0, NULL, 0, after, 8, 2, &count),
+    EXPECT(FN(dk_quality_folded_cells)(&tris, 0, NULL, 0, after, 8, 2, &count),
            DK_ERR_NON_FINITE);
-    EXPECT(FN(dk_quality_cell_measures)(co, 3, cn, 6, ck, 2, 0, NULL, 0, after, 8, 2, out, 2),
+    EXPECT(FN(dk_quality_cell_measures)(&tris, 0, NULL, 0, after, 8, 2, out, 2),
            DK_ERR_NON_FINITE);
-    EXPECT(FN(dk_quality_min_corner_jacobians)(co, 3, cn, 6, ck, 2, 0, NULL, 0, after, 8, 2, false, out,
-                                               2),
+    EXPECT(FN(dk_quality_min_corner_jacobians)(&tris, 0, NULL, 0, after, 8, 2, false, out, 2),
            DK_ERR_NON_FINITE);
-    EXPECT(FN(dk_quality_compare)(co, 3, cn, 6, ck, 2, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0, NULL, 0,
-                                  NULL, 0, before, 8, after, 8, 2, NULL, 0, &r),
+    EXPECT(FN(dk_quality_compare)(&tris, 0, NULL, 0, &(dk_cells){0}, &(dk_graph){0}, before, 8,
+                                  after, 8, 2, NULL, 0, &r),
            DK_ERR_NON_FINITE);
     SAME(out, out0, sizeof out);
     CHECK(count == count0);
@@ -1320,6 +1271,7 @@ static void CAT(stiffening_, SUF)(void) {
     const uint32_t co[3] = {0, 3, 6}, cn[6] = {0, 1, 2, 0, 2, 3};
     const uint32_t co1[3] = {1, 4, 7}, cn1[6] = {1, 2, 3, 1, 3, 4};
     const uint8_t ck[2] = {5, 5};
+    const dk_cells tris = {co, 3, cn, 6, ck, 2}, tris1 = {co1, 3, cn1, 6, ck, 2};
     const REAL square[8] = {0, 0, 1, 0, 1, 1, 0, 1};
     const REAL f_wall[5] = {1000, 4, (REAL)4 / 3, (REAL)2 / 3, (REAL)0.4};
     size_t i;
@@ -1347,31 +1299,29 @@ static void CAT(stiffening_, SUF)(void) {
     EXPECT(FN(dk_spring_wall_distance_factors)(d, 5, -1), DK_ERR_INVALID_PARAMETER);
     SAME(d, d0, sizeof d);
     /* Scaled Batina springs: k_ij (f_i + f_j) / 2, still exactly symmetric. */
-    OK(FN(dk_spring_batina_stiffness)(chain_off, 6, chain_tgt, 8, pts, 10, 2, 1, k, 8));
+    OK(FN(dk_spring_batina_stiffness)(&chain_graph, pts, 10, 2, 1, k, 8));
     memcpy(k0, k, sizeof k);
-    OK(FN(dk_spring_scale_stiffness)(chain_off, 6, chain_tgt, 8, d, 5, k, 8));
+    OK(FN(dk_spring_scale_stiffness)(&chain_graph, d, 5, k, 8));
     CLOSE(k[0], k0[0] * (f_wall[0] + f_wall[1]) / 2, 1e-5 * k[0]);
     CLOSE(k[7], k0[7] * (f_wall[3] + f_wall[4]) / 2, 1e-5 * k[7]);
     CHECK(k[0] == k[1] && k[2] == k[3] && k[4] == k[5] && k[6] == k[7]);
     memcpy(k0, k, sizeof k);
     d[2] = 0;
-    EXPECT(FN(dk_spring_scale_stiffness)(chain_off, 6, chain_tgt, 8, d, 5, k, 8),
+    EXPECT(FN(dk_spring_scale_stiffness)(&chain_graph, d, 5, k, 8),
            DK_ERR_NON_POSITIVE);
-    EXPECT(FN(dk_spring_scale_stiffness)(chain_off, 6, chain_tgt, 8, d, 4, k, 8),
+    EXPECT(FN(dk_spring_scale_stiffness)(&chain_graph, d, 4, k, 8),
            DK_ERR_LENGTH_MISMATCH);
     SAME(k, k0, sizeof k);
 
     /* Dual volumes of two triangles of the unit square: 1/3 at the shared corners, 1/6 else. */
-    OK(FN(dk_spring_dual_volumes)(co, 3, cn, 6, ck, 2, 0, NULL, 0, square, 8, 2, v, 4, cs, 2));
+    OK(FN(dk_spring_dual_volumes)(&tris, 0, NULL, 0, square, 8, 2, v, 4, cs, 2));
     CLOSE(v[0], 1.0 / 3, 1e-6);
     CLOSE(v[1], 1.0 / 6, 1e-6);
     CLOSE(v[2], 1.0 / 3, 1e-6);
     CLOSE(v[3], 1.0 / 6, 1e-6);
-    OK(FN(dk_spring_dual_volumes)(co1, 3, cn1, 6, ck, 2, 1, iscr, ISCR_LEN, square, 8, 2, d0, 4,
-                                  cs, 2));
+    OK(FN(dk_spring_dual_volumes)(&tris1, 1, iscr, ISCR_LEN, square, 8, 2, d0, 4, cs, 2));
     SAME(v, d0, sizeof v);
-    EXPECT(FN(dk_spring_dual_volumes)(co, 3, cn, 6, ck, 2, 0, NULL, 0, square, 8, 2, d0, 4, cs,
-                                      1),
+    EXPECT(FN(dk_spring_dual_volumes)(&tris, 0, NULL, 0, square, 8, 2, d0, 4, cs, 1),
            DK_ERR_BUFFER_TOO_SMALL);
     /* Inverse-volume factors mean / v, mean 1/4: 3/4 and 3/2. */
     OK(FN(dk_spring_inverse_volume_factors)(v, 4, 1));

@@ -41,8 +41,10 @@ static void hex32(const char *name, const float *v, size_t n) {
 
 /* 4 x 4 grid graph, node i + 4 j. */
 static uint32_t goff[17], gtgt[48];
+static const dk_graph grid_graph = {goff, 17, gtgt, 48};
 /* chain 0 - 1 - 2 - 3 - 4 */
 static uint32_t coff[6], ctgt[8];
+static const dk_graph chain_graph = {coff, 6, ctgt, 8};
 
 static void graphs(void) {
     uint32_t e[64];
@@ -72,6 +74,7 @@ static void graphs(void) {
         REAL lambda, mu, cs[10];                                                          \
         uint8_t fixed[16];                                                                \
         uint32_t idx[16];                                                                 \
+        const FN(dk_spring_system) sys = {grid_graph, k, 48, fixed, 16};                  \
         dk_spring_solve_options so;                                                       \
         dk_spring_solve_report sr;                                                        \
         dk_structured_options st;                                                         \
@@ -88,11 +91,10 @@ static void graphs(void) {
                 fixed[n] = (uint8_t)(i == 0 || j == 0 || i == 3 || j == 3);              \
                 v[n] = fixed[n] ? (REAL)((double)((n * 5) % 7) / 7.0) : 0;                \
             }                                                                             \
-        check(FN(dk_spring_batina_stiffness)(goff, 17, gtgt, 48, pts, 32, 2, 1, k, 48),   \
+        check(FN(dk_spring_batina_stiffness)(&grid_graph, pts, 32, 2, 1, k, 48),          \
               "batina");                                                                  \
         check(FN(dk_spring_solve_options_default)(&so), "options");                       \
-        check(FN(dk_spring_solve_linear)(goff, 17, gtgt, 48, k, 48, fixed, 16, &so, 1, v, \
-                                         16, s, 80, idx, 16, &sr),                        \
+        check(FN(dk_spring_solve_linear)(&sys, &so, 1, v, 16, s, 80, idx, 16, &sr),       \
               "solve");                                                                   \
         HEX("spring_" TAG, v, 16);                                                        \
         check(FN(dk_taubin_params_paper)(&lambda, &mu), "paper");                         \
@@ -114,8 +116,8 @@ static void graphs(void) {
               "arclength");                                                               \
         HEX("arclength_" TAG, grid, 36);                                                  \
         for (i = 0; i < 10; i++) gv[i] = (REAL)((double)((i * 37) % 11) / 11.0);          \
-        check(FN(dk_taubin_smooth_graph)(coff, 6, ctgt, 8, NULL, 0, NULL, 0, lambda, mu,  \
-                                         3, 2, gv, 10, cs, 10, &fr),                      \
+        check(FN(dk_taubin_smooth_graph)(&chain_graph, NULL, 0, NULL, 0, lambda, mu, 3,   \
+                                         2, gv, 10, cs, 10, &fr),                         \
               "graph");                                                                   \
         HEX("graph_" TAG, gv, 10);                                                        \
     } while (0)

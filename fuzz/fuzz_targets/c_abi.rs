@@ -7,8 +7,10 @@
 //! entry points (springs, quality, Taubin, deformation; f64 or `_f32`) on a small structured
 //! grid (at most 64 nodes, at most 50 iterations). A stream of "knob" bytes decides, buffer by
 //! buffer, whether the pointer is NULL and whether the length passed is the real one, shorter
-//! (a lie downwards), or a longer allocation passed in full; a stream of `i16` codes gives the
-//! values (including NaN, ±Inf, 1e300, −0 and subnormals).
+//! (a lie downwards), or a longer allocation passed in full (arrays carried by a parameter
+//! struct, `dk_graph`, `dk_cells`, `dk_spring_system`, `dk_plan_mesh`, `dk_plan_pools`, are
+//! shaped the same way in its fields, and the struct pointer itself may be NULL); a stream of
+//! `i16` codes gives the values (including NaN, ±Inf, 1e300, −0 and subnormals).
 #![no_main]
 
 use std::fmt::Debug;
@@ -19,9 +21,10 @@ use arbitrary::Arbitrary;
 use deform_kernel::{graph_from_edges, Quat};
 use deform_kernel_ffi::deformation::{self as de, dk_boundary_motion, dk_boundary_motion_f32};
 use deform_kernel_ffi::dk_status;
-use deform_kernel_ffi::graph::dk_graph_from_edges;
+use deform_kernel_ffi::graph::{dk_cells, dk_graph, dk_graph_from_edges};
 use deform_kernel_ffi::plan::{
-    self as pl, dk_plan_info, dk_plan_options, dk_plan_sizes, dk_plan_step_report,
+    self as pl, dk_plan_info, dk_plan_mesh, dk_plan_mesh_f32, dk_plan_options, dk_plan_pools,
+    dk_plan_pools_f32, dk_plan_sizes, dk_plan_step_report,
 };
 use deform_kernel_ffi::quality::{self as qu, dk_cell_quality, dk_quality_report};
 use deform_kernel_ffi::quat::{
@@ -29,7 +32,7 @@ use deform_kernel_ffi::quat::{
 };
 use deform_kernel_ffi::spring::{
     self as sp, dk_spring_angle_options, dk_spring_solve_options, dk_spring_solve_report,
-    dk_spring_sweep,
+    dk_spring_sweep, dk_spring_system, dk_spring_system_f32,
 };
 use deform_kernel_ffi::stiffening as st;
 use deform_kernel_ffi::taubin::{
@@ -219,12 +222,7 @@ type WallDistancesFn<T> = unsafe extern "C" fn(
 ) -> dk_status;
 type FactorsFn<T> = unsafe extern "C" fn(*mut T, usize, T) -> dk_status;
 type DualVolumesFn<T> = unsafe extern "C" fn(
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u8,
-    usize,
+    *const dk_cells,
     u32,
     *mut u32,
     usize,
@@ -236,37 +234,12 @@ type DualVolumesFn<T> = unsafe extern "C" fn(
     *mut T,
     usize,
 ) -> dk_status;
-type ScaleFn<T> = unsafe extern "C" fn(
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const T,
-    usize,
-    *mut T,
-    usize,
-) -> dk_status;
-type BatinaFn<T> = unsafe extern "C" fn(
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const T,
-    usize,
-    u32,
-    T,
-    *mut T,
-    usize,
-) -> dk_status;
-type SolveLinearFn<T> = unsafe extern "C" fn(
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const T,
-    usize,
-    *const u8,
-    usize,
+type ScaleFn<T> =
+    unsafe extern "C" fn(*const dk_graph, *const T, usize, *mut T, usize) -> dk_status;
+type BatinaFn<T> =
+    unsafe extern "C" fn(*const dk_graph, *const T, usize, u32, T, *mut T, usize) -> dk_status;
+type SolveLinearFn<T, S> = unsafe extern "C" fn(
+    *const S,
     *const dk_spring_solve_options,
     u32,
     *mut T,
@@ -277,15 +250,8 @@ type SolveLinearFn<T> = unsafe extern "C" fn(
     usize,
     *mut dk_spring_solve_report,
 ) -> dk_status;
-type JacobiFn<T> = unsafe extern "C" fn(
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const T,
-    usize,
-    *const u8,
-    usize,
+type JacobiFn<T, S> = unsafe extern "C" fn(
+    *const S,
     usize,
     usize,
     u32,
@@ -298,15 +264,8 @@ type JacobiFn<T> = unsafe extern "C" fn(
     usize,
     *mut dk_spring_sweep,
 ) -> dk_status;
-type SolveAngleFn<T> = unsafe extern "C" fn(
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const T,
-    usize,
-    *const u8,
-    usize,
+type SolveAngleFn<T, S> = unsafe extern "C" fn(
+    *const S,
     *const T,
     usize,
     u32,
@@ -324,25 +283,12 @@ type AngleLenFn =
 type CellQualityFn<T> =
     unsafe extern "C" fn(u8, *const T, usize, u32, *mut dk_cell_quality) -> dk_status;
 type CompareFn<T> = unsafe extern "C" fn(
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u8,
-    usize,
+    *const dk_cells,
     u32,
     *mut u32,
     usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u8,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
+    *const dk_cells,
+    *const dk_graph,
     *const T,
     usize,
     *const T,
@@ -379,10 +325,7 @@ type ArclengthSmoothFn<T> = unsafe extern "C" fn(
     *mut dk_smooth_report,
 ) -> dk_status;
 type GraphSmoothFn<T> = unsafe extern "C" fn(
-    *const u32,
-    usize,
-    *const u32,
-    usize,
+    *const dk_graph,
     *const T,
     usize,
     *const u8,
@@ -465,19 +408,12 @@ type TfiFn<T, M> = unsafe extern "C" fn(
     *mut T,
     usize,
 ) -> dk_status;
-type SpringFn<T, M> = unsafe extern "C" fn(
+type SpringFn<T, M, S> = unsafe extern "C" fn(
     *const T,
     usize,
     u32,
     *const M,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const T,
-    usize,
-    *const u8,
-    usize,
+    *const S,
     *const dk_spring_solve_options,
     *mut T,
     usize,
@@ -515,21 +451,30 @@ struct MotionParts<T> {
 
 trait Sc: Copy + Debug + Default + 'static {
     type Motion: Copy;
+    /// `dk_spring_system` or `dk_spring_system_f32`.
+    type System: Copy;
     const SENT: Self;
     fn of(x: f64) -> Self;
     fn bits(self) -> u64;
     fn fin(self) -> bool;
     fn motion(p: &MotionParts<Self>) -> Self::Motion;
+    /// The spring system of a graph, a stiffness and a fixed mask (pointers and lengths as
+    /// passed).
+    fn system(
+        graph: dk_graph,
+        stiffness: (*const Self, usize),
+        fixed: (*const u8, usize),
+    ) -> Self::System;
     const BATINA: BatinaFn<Self>;
     const WALL_DISTANCES: WallDistancesFn<Self>;
     const WALL_FACTORS: FactorsFn<Self>;
     const DUAL_VOLUMES: DualVolumesFn<Self>;
     const VOLUME_FACTORS: FactorsFn<Self>;
     const SCALE: ScaleFn<Self>;
-    const SOLVE_LINEAR: SolveLinearFn<Self>;
+    const SOLVE_LINEAR: SolveLinearFn<Self, Self::System>;
     const LINEAR_DEFAULT: unsafe extern "C" fn(*mut dk_spring_solve_options) -> dk_status;
-    const JACOBI: JacobiFn<Self>;
-    const SOLVE_ANGLE: SolveAngleFn<Self>;
+    const JACOBI: JacobiFn<Self, Self::System>;
+    const SOLVE_ANGLE: SolveAngleFn<Self, Self::System>;
     const ANGLE_DEFAULT: unsafe extern "C" fn(*mut dk_spring_angle_options) -> dk_status;
     const ANGLE_LEN: AngleLenFn;
     const CELL_QUALITY: CellQualityFn<Self>;
@@ -541,7 +486,7 @@ trait Sc: Copy + Debug + Default + 'static {
     const REDISTRIBUTE: RedistributeFn<Self>;
     const IDW: IdwFn<Self, Self::Motion>;
     const TFI: TfiFn<Self, Self::Motion>;
-    const SPRING: SpringFn<Self, Self::Motion>;
+    const SPRING: SpringFn<Self, Self::Motion, Self::System>;
     const MOTION_LEN: MotionLenFn<Self::Motion>;
     const SPRING_INDEX_LEN: SpringIndexLenFn<Self::Motion>;
 }
@@ -575,8 +520,24 @@ macro_rules! motion_of {
     }};
 }
 
+/// A `dk_spring_system(_f32)` from its parts.
+macro_rules! system_of {
+    ($s:ident, $graph:expr, $stiffness:expr, $fixed:expr) => {{
+        let (stiffness, stiffness_len) = $stiffness;
+        let (fixed, fixed_len) = $fixed;
+        $s {
+            graph: $graph,
+            stiffness,
+            stiffness_len,
+            fixed,
+            fixed_len,
+        }
+    }};
+}
+
 impl Sc for f64 {
     type Motion = dk_boundary_motion;
+    type System = dk_spring_system;
     const SENT: f64 = f64::from_bits(0x7ff0_dead_0000_0001);
     fn of(x: f64) -> f64 {
         x
@@ -590,17 +551,24 @@ impl Sc for f64 {
     fn motion(p: &MotionParts<f64>) -> dk_boundary_motion {
         motion_of!(dk_boundary_motion, de::dk_boundary_motion_default, f64, p)
     }
+    fn system(
+        graph: dk_graph,
+        stiffness: (*const f64, usize),
+        fixed: (*const u8, usize),
+    ) -> dk_spring_system {
+        system_of!(dk_spring_system, graph, stiffness, fixed)
+    }
     const BATINA: BatinaFn<f64> = sp::dk_spring_batina_stiffness;
     const WALL_DISTANCES: WallDistancesFn<f64> = st::dk_spring_wall_distances;
     const WALL_FACTORS: FactorsFn<f64> = st::dk_spring_wall_distance_factors;
     const DUAL_VOLUMES: DualVolumesFn<f64> = st::dk_spring_dual_volumes;
     const VOLUME_FACTORS: FactorsFn<f64> = st::dk_spring_inverse_volume_factors;
     const SCALE: ScaleFn<f64> = st::dk_spring_scale_stiffness;
-    const SOLVE_LINEAR: SolveLinearFn<f64> = sp::dk_spring_solve_linear;
+    const SOLVE_LINEAR: SolveLinearFn<f64, dk_spring_system> = sp::dk_spring_solve_linear;
     const LINEAR_DEFAULT: unsafe extern "C" fn(*mut dk_spring_solve_options) -> dk_status =
         sp::dk_spring_solve_options_default;
-    const JACOBI: JacobiFn<f64> = sp::dk_spring_jacobi_sweep;
-    const SOLVE_ANGLE: SolveAngleFn<f64> = sp::dk_spring_solve_angle;
+    const JACOBI: JacobiFn<f64, dk_spring_system> = sp::dk_spring_jacobi_sweep;
+    const SOLVE_ANGLE: SolveAngleFn<f64, dk_spring_system> = sp::dk_spring_solve_angle;
     const ANGLE_DEFAULT: unsafe extern "C" fn(*mut dk_spring_angle_options) -> dk_status =
         sp::dk_spring_angle_options_default;
     const ANGLE_LEN: AngleLenFn = sp::dk_spring_solve_angle_scratch_len;
@@ -613,7 +581,7 @@ impl Sc for f64 {
     const REDISTRIBUTE: RedistributeFn<f64> = ta::dk_taubin_redistribute;
     const IDW: IdwFn<f64, dk_boundary_motion> = de::dk_deform_idw;
     const TFI: TfiFn<f64, dk_boundary_motion> = de::dk_deform_tfi;
-    const SPRING: SpringFn<f64, dk_boundary_motion> = de::dk_deform_spring;
+    const SPRING: SpringFn<f64, dk_boundary_motion, dk_spring_system> = de::dk_deform_spring;
     const MOTION_LEN: MotionLenFn<dk_boundary_motion> = de::dk_boundary_motion_index_scratch_len;
     const SPRING_INDEX_LEN: SpringIndexLenFn<dk_boundary_motion> =
         de::dk_deform_spring_index_scratch_len;
@@ -621,6 +589,7 @@ impl Sc for f64 {
 
 impl Sc for f32 {
     type Motion = dk_boundary_motion_f32;
+    type System = dk_spring_system_f32;
     const SENT: f32 = f32::from_bits(0x7fa0_dead);
     fn of(x: f64) -> f32 {
         x as f32
@@ -639,17 +608,24 @@ impl Sc for f32 {
             p
         )
     }
+    fn system(
+        graph: dk_graph,
+        stiffness: (*const f32, usize),
+        fixed: (*const u8, usize),
+    ) -> dk_spring_system_f32 {
+        system_of!(dk_spring_system_f32, graph, stiffness, fixed)
+    }
     const BATINA: BatinaFn<f32> = sp::dk_spring_batina_stiffness_f32;
     const WALL_DISTANCES: WallDistancesFn<f32> = st::dk_spring_wall_distances_f32;
     const WALL_FACTORS: FactorsFn<f32> = st::dk_spring_wall_distance_factors_f32;
     const DUAL_VOLUMES: DualVolumesFn<f32> = st::dk_spring_dual_volumes_f32;
     const VOLUME_FACTORS: FactorsFn<f32> = st::dk_spring_inverse_volume_factors_f32;
     const SCALE: ScaleFn<f32> = st::dk_spring_scale_stiffness_f32;
-    const SOLVE_LINEAR: SolveLinearFn<f32> = sp::dk_spring_solve_linear_f32;
+    const SOLVE_LINEAR: SolveLinearFn<f32, dk_spring_system_f32> = sp::dk_spring_solve_linear_f32;
     const LINEAR_DEFAULT: unsafe extern "C" fn(*mut dk_spring_solve_options) -> dk_status =
         sp::dk_spring_solve_options_default_f32;
-    const JACOBI: JacobiFn<f32> = sp::dk_spring_jacobi_sweep_f32;
-    const SOLVE_ANGLE: SolveAngleFn<f32> = sp::dk_spring_solve_angle_f32;
+    const JACOBI: JacobiFn<f32, dk_spring_system_f32> = sp::dk_spring_jacobi_sweep_f32;
+    const SOLVE_ANGLE: SolveAngleFn<f32, dk_spring_system_f32> = sp::dk_spring_solve_angle_f32;
     const ANGLE_DEFAULT: unsafe extern "C" fn(*mut dk_spring_angle_options) -> dk_status =
         sp::dk_spring_angle_options_default_f32;
     const ANGLE_LEN: AngleLenFn = sp::dk_spring_solve_angle_scratch_len_f32;
@@ -662,7 +638,8 @@ impl Sc for f32 {
     const REDISTRIBUTE: RedistributeFn<f32> = ta::dk_taubin_redistribute_f32;
     const IDW: IdwFn<f32, dk_boundary_motion_f32> = de::dk_deform_idw_f32;
     const TFI: TfiFn<f32, dk_boundary_motion_f32> = de::dk_deform_tfi_f32;
-    const SPRING: SpringFn<f32, dk_boundary_motion_f32> = de::dk_deform_spring_f32;
+    const SPRING: SpringFn<f32, dk_boundary_motion_f32, dk_spring_system_f32> =
+        de::dk_deform_spring_f32;
     const MOTION_LEN: MotionLenFn<dk_boundary_motion_f32> =
         de::dk_boundary_motion_index_scratch_len_f32;
     const SPRING_INDEX_LEN: SpringIndexLenFn<dk_boundary_motion_f32> =
@@ -867,6 +844,43 @@ fn opt_ptr<R>(kn: &mut Knobs, r: &R) -> *const R {
     }
 }
 
+/// A `dk_graph` of two buffers, each pointer and length as the knobs shaped them.
+fn graph_of(offsets: &Buf<u32>, targets: &Buf<u32>) -> dk_graph {
+    dk_graph {
+        offsets: offsets.p(),
+        offsets_len: offsets.n(),
+        targets: targets.p(),
+        targets_len: targets.n(),
+    }
+}
+
+/// A `dk_graph` borrowing two slices whole.
+fn graph_exact(offsets: &[u32], targets: &[u32]) -> dk_graph {
+    dk_graph {
+        offsets: offsets.as_ptr(),
+        offsets_len: offsets.len(),
+        targets: targets.as_ptr(),
+        targets_len: targets.len(),
+    }
+}
+
+/// A `dk_cells` of three buffers, each pointer and length as the knobs shaped them.
+fn cells_of(offsets: &Buf<u32>, nodes: &Buf<u32>, kinds: &Buf<u8>) -> dk_cells {
+    dk_cells {
+        offsets: offsets.p(),
+        offsets_len: offsets.n(),
+        nodes: nodes.p(),
+        nodes_len: nodes.n(),
+        kinds: kinds.p(),
+        kinds_len: kinds.n(),
+    }
+}
+
+/// The spring system of four knob-shaped buffers.
+fn system_of<T: Sc>(o: &Buf<u32>, t: &Buf<u32>, k: &Buf<T>, f: &Buf<u8>) -> T::System {
+    T::system(graph_of(o, t), k.pn(), f.pn())
+}
+
 // ---------------------------------------------------------------------------------------------
 // The mesh: a jittered structured grid, its edge graph, cells and boundary.
 // ---------------------------------------------------------------------------------------------
@@ -1063,13 +1077,11 @@ fn system<T: Sc>(m: &Mesh, sel: SysSel, vals: &mut Vals, bits: &[u8]) -> (Vec<T>
         0 | 1 => {
             let mut k = vec![T::default(); e];
             let p = m.pts::<T>();
+            let g = graph_exact(&m.offsets, &m.targets);
             // SAFETY: every buffer is exactly as long as passed.
             let s = unsafe {
                 (T::BATINA)(
-                    m.offsets.as_ptr(),
-                    m.offsets.len(),
-                    m.targets.as_ptr(),
-                    m.targets.len(),
+                    &g,
                     p.as_ptr(),
                     p.len(),
                     m.d as u32,
@@ -1169,23 +1181,13 @@ fn batina<T: Sc>(c: &mut Ctx, exponent: i16) {
     let e = c.vals.note(real(exponent));
     let o = Buf::input(&mut c.kn, &m.offsets, 0);
     let t = Buf::input(&mut c.kn, &m.targets, 0);
+    let g = graph_of(&o, &t);
+    let gp = opt_ptr(&mut c.kn, &g);
     let p = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
     let mut k = Buf::output(&mut c.kn, m.targets.len(), T::SENT);
-    // SAFETY: every pointer is NULL or valid for the length passed with it.
-    let s = unsafe {
-        (T::BATINA)(
-            o.p(),
-            o.n(),
-            t.p(),
-            t.n(),
-            p.p(),
-            p.n(),
-            m.dim,
-            T::of(e),
-            k.m(),
-            k.n(),
-        )
-    };
+    // SAFETY: every pointer is NULL or valid for the length passed with it (the struct's
+    // arrays too).
+    let s = unsafe { (T::BATINA)(gp, p.p(), p.n(), m.dim, T::of(e), k.m(), k.n()) };
     check_out("batina stiffness", s, &k, m.finite && !c.vals.nonfinite);
 }
 
@@ -1203,17 +1205,15 @@ fn stiffening<T: Sc>(c: &mut Ctx, wall_node: u8, exponent: i16, volumes: bool) {
         let cob = Buf::input(&mut c.kn, &m.based(&co), 0);
         let cnb = Buf::input(&mut c.kn, &m.based(&cn), 0);
         let ckb = Buf::input(&mut c.kn, &ck, 9);
+        let cells = cells_of(&cob, &cnb, &ckb);
+        let cp = opt_ptr(&mut c.kn, &cells);
         let mut iscr = Buf::output(&mut c.kn, index_need, 0u32);
         let mut cs = Buf::output(&mut c.kn, ck.len(), T::SENT);
-        // SAFETY: every pointer is NULL or valid for the length passed with it.
+        // SAFETY: every pointer is NULL or valid for the length passed with it (the struct's
+        // arrays too).
         unsafe {
             (T::DUAL_VOLUMES)(
-                cob.p(),
-                cob.n(),
-                cnb.p(),
-                cnb.n(),
-                ckb.p(),
-                ckb.n(),
+                cp,
                 m.base,
                 iscr.m(),
                 iscr.n(),
@@ -1263,11 +1263,14 @@ fn stiffening<T: Sc>(c: &mut Ctx, wall_node: u8, exponent: i16, volumes: bool) {
     }
     let o = Buf::input(&mut c.kn, &m.offsets, 0);
     let t = Buf::input(&mut c.kn, &m.targets, 0);
+    let g = graph_of(&o, &t);
+    let gp = opt_ptr(&mut c.kn, &g);
     let fb = Buf::input(&mut c.kn, &f.v[..f.n().min(f.v.len())], T::of(1.0));
     let mut k = Buf::input(&mut c.kn, &vec![T::of(1.0); m.targets.len()], T::of(1.0));
     let before = bits(&k.v);
-    // SAFETY: every pointer is NULL or valid for the length passed with it.
-    let s = unsafe { (T::SCALE)(o.p(), o.n(), t.p(), t.n(), fb.p(), fb.n(), k.m(), k.n()) };
+    // SAFETY: every pointer is NULL or valid for the length passed with it (the struct's
+    // arrays too).
+    let s = unsafe { (T::SCALE)(gp, fb.p(), fb.n(), k.m(), k.n()) };
     check_inplace("scale stiffness", s, &k, &before, true);
     if s == dk_status::DK_OK {
         for i in 0..m.n {
@@ -1345,23 +1348,19 @@ fn solve_linear<T: Sc>(
     let t = Buf::input(&mut c.kn, &m.targets, 0);
     let kb = Buf::input(&mut c.kn, &k, T::of(1.0));
     let fb = Buf::input(&mut c.kn, &fixed, 1);
+    let sys = system_of(&o, &t, &kb, &fb);
+    let sysp = opt_ptr(&mut c.kn, &sys);
     let optp = opt_ptr(&mut c.kn, &opts);
     let mut v = Buf::input(&mut c.kn, &values, T::of(0.25));
     let before = bits(&v.v);
     let mut scratch = Buf::output(&mut c.kn, need, T::SENT);
     let mut idx = Buf::output(&mut c.kn, m.n, 0u32);
     let mut rep = Slot::<dk_spring_solve_report>::new(&mut c.kn);
-    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    // SAFETY: every pointer is NULL or valid for the length passed with it (the struct's
+    // arrays too).
     let s = unsafe {
         (T::SOLVE_LINEAR)(
-            o.p(),
-            o.n(),
-            t.p(),
-            t.n(),
-            kb.p(),
-            kb.n(),
-            fb.p(),
-            fb.n(),
+            sysp,
             optp,
             comps,
             v.m(),
@@ -1408,21 +1407,17 @@ fn jacobi<T: Sc>(c: &mut Ctx, start: u8, end: u8, comps: u8, sel: SysSel) {
     let t = Buf::input(&mut c.kn, &m.targets, 0);
     let kb = Buf::input(&mut c.kn, &k, T::of(1.0));
     let fb = Buf::input(&mut c.kn, &fixed, 1);
+    let sys = system_of(&o, &t, &kb, &fb);
+    let sysp = opt_ptr(&mut c.kn, &sys);
     let sb = Buf::input(&mut c.kn, &src, T::of(0.0));
     let mut dst = Buf::output(&mut c.kn, nv, T::SENT);
     let mut idx = Buf::output(&mut c.kn, m.n, 0u32);
     let mut sw = Slot::<dk_spring_sweep>::new(&mut c.kn);
-    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    // SAFETY: every pointer is NULL or valid for the length passed with it (the struct's
+    // arrays too).
     let s = unsafe {
         (T::JACOBI)(
-            o.p(),
-            o.n(),
-            t.p(),
-            t.n(),
-            kb.p(),
-            kb.n(),
-            fb.p(),
-            fb.n(),
+            sysp,
             start,
             end,
             m.base,
@@ -1492,6 +1487,8 @@ fn solve_angle<T: Sc>(c: &mut Ctx, method: u8, epsilon: i16, max_iter: u8, sel: 
     let t = Buf::input(&mut c.kn, &m.targets, 0);
     let kb = Buf::input(&mut c.kn, &k, T::of(1.0));
     let fb = Buf::input(&mut c.kn, &fixed, 1);
+    let sys = system_of(&o, &t, &kb, &fb);
+    let sysp = opt_ptr(&mut c.kn, &sys);
     let p = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
     let optp = opt_ptr(&mut c.kn, &opts);
     let mut v = Buf::input(&mut c.kn, &values, T::of(0.25));
@@ -1499,17 +1496,11 @@ fn solve_angle<T: Sc>(c: &mut Ctx, method: u8, epsilon: i16, max_iter: u8, sel: 
     let mut scratch = Buf::output(&mut c.kn, need, T::SENT);
     let mut idx = Buf::output(&mut c.kn, m.n, 0u32);
     let mut rep = Slot::<dk_spring_solve_report>::new(&mut c.kn);
-    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    // SAFETY: every pointer is NULL or valid for the length passed with it (the struct's
+    // arrays too).
     let s = unsafe {
         (T::SOLVE_ANGLE)(
-            o.p(),
-            o.n(),
-            t.p(),
-            t.n(),
-            kb.p(),
-            kb.n(),
-            fb.p(),
-            fb.n(),
+            sysp,
             p.p(),
             p.n(),
             m.dim,
@@ -1611,6 +1602,8 @@ fn compare<T: Sc>(c: &mut Ctx, wall: bool, scale: i16) {
     let cob = Buf::input(&mut c.kn, &m.based(&co), 0);
     let cnb = Buf::input(&mut c.kn, &m.based(&cn), 0);
     let ckb = Buf::input(&mut c.kn, &ck, 9);
+    let cells = cells_of(&cob, &cnb, &ckb);
+    let cp = opt_ptr(&mut c.kn, &cells);
     let (wob, wnb, wkb, go, gt) = if wall {
         (
             Buf::input(&mut c.kn, &m.based(&wo), 0),
@@ -1628,6 +1621,11 @@ fn compare<T: Sc>(c: &mut Ctx, wall: bool, scale: i16) {
             Buf::absent(),
         )
     };
+    // Without a wall every array is NULL with length 0; the structs are still passed.
+    let wall_cells = cells_of(&wob, &wnb, &wkb);
+    let wp = opt_ptr(&mut c.kn, &wall_cells);
+    let wall_graph = graph_of(&go, &gt);
+    let wgp = opt_ptr(&mut c.kn, &wall_graph);
     let u = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
     let d = Buf::input(&mut c.kn, &deformed, T::of(0.5));
     let mut scratch = Buf::output(&mut c.kn, need, T::SENT);
@@ -1639,28 +1637,16 @@ fn compare<T: Sc>(c: &mut Ctx, wall: bool, scale: i16) {
     };
     let mut index_scratch = Buf::output(&mut c.kn, index_need, 0u32);
     let mut rep = Slot::<dk_quality_report>::new(&mut c.kn);
-    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    // SAFETY: every pointer is NULL or valid for the length passed with it (the structs'
+    // arrays too).
     let s = unsafe {
         (T::COMPARE)(
-            cob.p(),
-            cob.n(),
-            cnb.p(),
-            cnb.n(),
-            ckb.p(),
-            ckb.n(),
+            cp,
             m.base,
             index_scratch.m(),
             index_scratch.n(),
-            wob.p(),
-            wob.n(),
-            wnb.p(),
-            wnb.n(),
-            wkb.p(),
-            wkb.n(),
-            go.p(),
-            go.n(),
-            gt.p(),
-            gt.n(),
+            wp,
+            wgp,
             u.p(),
             u.n(),
             d.p(),
@@ -1956,17 +1942,17 @@ fn smooth_graph<T: Sc>(
         Some(f) => Buf::input(&mut c.kn, f, 0),
         None => Buf::absent(),
     };
+    let g = graph_of(&o, &t);
+    let gp = opt_ptr(&mut c.kn, &g);
     let mut v = Buf::input(&mut c.kn, &values, T::of(0.0));
     let before = bits(&v.v);
     let mut scratch = Buf::output(&mut c.kn, need, T::SENT);
     let mut rep = Slot::<dk_filter_report>::new(&mut c.kn);
-    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    // SAFETY: every pointer is NULL or valid for the length passed with it (the struct's
+    // arrays too).
     let s = unsafe {
         (T::SMOOTH_GRAPH)(
-            o.p(),
-            o.n(),
-            t.p(),
-            t.n(),
+            gp,
             wb.p(),
             wb.n(),
             fb.p(),
@@ -2322,6 +2308,8 @@ fn deform<T: Sc>(c: &mut Ctx, sp_: &DeformSpec) {
                 let t = Buf::input(&mut c.kn, &m.targets, 0);
                 let kb = Buf::input(&mut c.kn, &k, T::of(1.0));
                 let fb = Buf::input(&mut c.kn, &fixed, 1);
+                let sys = system_of(&o, &t, &kb, &fb);
+                let sysp = opt_ptr(&mut c.kn, &sys);
                 let optp = opt_ptr(&mut c.kn, &opts);
                 let mut vals = Buf::output(&mut c.kn, vneed, T::SENT);
                 s = (T::SPRING)(
@@ -2329,14 +2317,7 @@ fn deform<T: Sc>(c: &mut Ctx, sp_: &DeformSpec) {
                     p.n(),
                     m.dim,
                     mp,
-                    o.p(),
-                    o.n(),
-                    t.p(),
-                    t.n(),
-                    kb.p(),
-                    kb.n(),
-                    fb.p(),
-                    fb.n(),
+                    sysp,
                     optp,
                     scratch.m(),
                     scratch.n(),
@@ -2383,94 +2364,25 @@ fn deform<T: Sc>(c: &mut Ctx, sp_: &DeformSpec) {
 // Prepared plans.
 // ---------------------------------------------------------------------------------------------
 
-type PlanSizesFn<T> = unsafe extern "C" fn(
-    *const T,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u8,
-    usize,
-    *const T,
-    usize,
+type PlanSizesFn<M> =
+    unsafe extern "C" fn(*const M, u32, *const dk_plan_options, *mut dk_plan_sizes) -> dk_status;
+type PlanPoolsFn<M, P> = unsafe extern "C" fn(
+    *const M,
     u32,
     *const dk_plan_options,
+    *const P,
     *mut dk_plan_sizes,
 ) -> dk_status;
-type PlanPoolsFn<T> = unsafe extern "C" fn(
-    *const T,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u8,
-    usize,
-    *const T,
-    usize,
+type PlanInitFn<M, P> = unsafe extern "C" fn(
+    *const M,
     u32,
     *const dk_plan_options,
-    *mut T,
-    usize,
-    *mut u32,
-    usize,
-    *mut u8,
-    usize,
-    *mut dk_plan_sizes,
-) -> dk_status;
-type PlanInitFn<T> = unsafe extern "C" fn(
-    *const T,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u8,
-    usize,
-    *const T,
-    usize,
-    u32,
-    *const dk_plan_options,
-    *mut T,
-    usize,
-    *mut u32,
-    usize,
-    *mut u8,
-    usize,
-    *mut T,
-    usize,
-    *mut u32,
-    usize,
-    *mut u8,
-    usize,
+    *const P,
+    *const P,
     *mut dk_plan_info,
 ) -> dk_status;
-type PlanStepFn<T> = unsafe extern "C" fn(
-    *mut T,
-    usize,
-    *mut u32,
-    usize,
-    *mut u8,
-    usize,
+type PlanStepFn<T, P> = unsafe extern "C" fn(
+    *const P,
     u32,
     *const T,
     usize,
@@ -2485,32 +2397,92 @@ type PlanStepFn<T> = unsafe extern "C" fn(
     *mut dk_plan_step_report,
 ) -> dk_status;
 
-/// The plan entry points of one precision.
+/// The plan arrays, before they become a `dk_plan_mesh(_f32)`.
+struct PlanMeshParts<T> {
+    points: (*const T, usize),
+    graph: dk_graph,
+    boundary: (*const u32, usize),
+    elements: dk_cells,
+    stiffness: (*const T, usize),
+}
+
+/// The plan entry points and structs of one precision.
 trait PlanSc: Sc {
+    /// `dk_plan_mesh` or `dk_plan_mesh_f32`.
+    type Mesh: Copy;
+    /// `dk_plan_pools` or `dk_plan_pools_f32`.
+    type Pools: Copy;
     const DEFAULT: unsafe extern "C" fn(*mut dk_plan_options) -> dk_status;
-    const WORK: PlanSizesFn<Self>;
-    const POOLS: PlanPoolsFn<Self>;
-    const INIT: PlanInitFn<Self>;
-    const STEP: PlanStepFn<Self>;
+    const WORK: PlanSizesFn<Self::Mesh>;
+    const POOLS: PlanPoolsFn<Self::Mesh, Self::Pools>;
+    const INIT: PlanInitFn<Self::Mesh, Self::Pools>;
+    const STEP: PlanStepFn<Self, Self::Pools>;
+    fn mesh(p: &PlanMeshParts<Self>) -> Self::Mesh;
+    /// Three knob-shaped buffers as one pools struct.
+    fn pools(reals: &mut Buf<Self>, indices: &mut Buf<u32>, bytes: &mut Buf<u8>) -> Self::Pools;
 }
 
-impl PlanSc for f64 {
-    const DEFAULT: unsafe extern "C" fn(*mut dk_plan_options) -> dk_status =
-        pl::dk_plan_options_default;
-    const WORK: PlanSizesFn<f64> = pl::dk_plan_work_sizes;
-    const POOLS: PlanPoolsFn<f64> = pl::dk_plan_pool_sizes;
-    const INIT: PlanInitFn<f64> = pl::dk_plan_init;
-    const STEP: PlanStepFn<f64> = pl::dk_plan_step;
+macro_rules! plan_sc {
+    ($t:ty, $mesh:ident, $pools:ident,
+     [$default:path, $work:path, $sizes:path, $init:path, $step:path]) => {
+        impl PlanSc for $t {
+            type Mesh = $mesh;
+            type Pools = $pools;
+            const DEFAULT: unsafe extern "C" fn(*mut dk_plan_options) -> dk_status = $default;
+            const WORK: PlanSizesFn<$mesh> = $work;
+            const POOLS: PlanPoolsFn<$mesh, $pools> = $sizes;
+            const INIT: PlanInitFn<$mesh, $pools> = $init;
+            const STEP: PlanStepFn<$t, $pools> = $step;
+            fn mesh(p: &PlanMeshParts<$t>) -> $mesh {
+                $mesh {
+                    points: p.points.0,
+                    points_len: p.points.1,
+                    graph: p.graph,
+                    boundary: p.boundary.0,
+                    boundary_len: p.boundary.1,
+                    elements: p.elements,
+                    stiffness: p.stiffness.0,
+                    stiffness_len: p.stiffness.1,
+                }
+            }
+            fn pools(reals: &mut Buf<$t>, indices: &mut Buf<u32>, bytes: &mut Buf<u8>) -> $pools {
+                $pools {
+                    reals: reals.m(),
+                    reals_len: reals.n(),
+                    indices: indices.m(),
+                    indices_len: indices.n(),
+                    bytes: bytes.m(),
+                    bytes_len: bytes.n(),
+                }
+            }
+        }
+    };
 }
 
-impl PlanSc for f32 {
-    const DEFAULT: unsafe extern "C" fn(*mut dk_plan_options) -> dk_status =
-        pl::dk_plan_options_default_f32;
-    const WORK: PlanSizesFn<f32> = pl::dk_plan_work_sizes_f32;
-    const POOLS: PlanPoolsFn<f32> = pl::dk_plan_pool_sizes_f32;
-    const INIT: PlanInitFn<f32> = pl::dk_plan_init_f32;
-    const STEP: PlanStepFn<f32> = pl::dk_plan_step_f32;
-}
+plan_sc!(
+    f64,
+    dk_plan_mesh,
+    dk_plan_pools,
+    [
+        pl::dk_plan_options_default,
+        pl::dk_plan_work_sizes,
+        pl::dk_plan_pool_sizes,
+        pl::dk_plan_init,
+        pl::dk_plan_step
+    ]
+);
+plan_sc!(
+    f32,
+    dk_plan_mesh_f32,
+    dk_plan_pools_f32,
+    [
+        pl::dk_plan_options_default_f32,
+        pl::dk_plan_work_sizes_f32,
+        pl::dk_plan_pool_sizes_f32,
+        pl::dk_plan_init_f32,
+        pl::dk_plan_step_f32
+    ]
+);
 
 /// A plan on the grid (boundary fixed, 2D boundary loops as segment elements): sizes, init
 /// and up to three steps with arbitrary boundary positions, every buffer shaped by the knobs;
@@ -2573,32 +2545,19 @@ fn plan<T: PlanSc>(c: &mut Ctx, quaternion: bool, amg: bool, steps: u8, corrupt:
     } else {
         Buf::absent()
     };
+    let mesh = T::mesh(&PlanMeshParts {
+        points: p.pn(),
+        graph: graph_of(&o, &t),
+        boundary: bn.pn(),
+        elements: cells_of(&eo, &en, &ek),
+        stiffness: k.pn(),
+    });
+    let meshp = opt_ptr(&mut c.kn, &mesh);
     let op = opt_ptr(&mut c.kn, &opts);
     let mut work = Slot::<dk_plan_sizes>::new(&mut c.kn);
-    // SAFETY: every pointer is NULL or valid for the length passed with it.
-    let s = unsafe {
-        (T::WORK)(
-            p.p(),
-            p.n(),
-            o.p(),
-            o.n(),
-            t.p(),
-            t.n(),
-            bn.p(),
-            bn.n(),
-            eo.p(),
-            eo.n(),
-            en.p(),
-            en.n(),
-            ek.p(),
-            ek.n(),
-            k.p(),
-            k.n(),
-            m.dim,
-            op,
-            work.p(),
-        )
-    };
+    // SAFETY: every pointer is NULL or valid for the length passed with it (the struct's
+    // arrays too).
+    let s = unsafe { (T::WORK)(meshp, m.dim, op, work.p()) };
     check_slot("plan work sizes", s, &work);
     if s != dk_status::DK_OK {
         return;
@@ -2607,37 +2566,11 @@ fn plan<T: PlanSc>(c: &mut Ctx, quaternion: bool, amg: bool, steps: u8, corrupt:
     let mut wr = Buf::output(&mut c.kn, ws.reals, T::SENT);
     let mut wi = Buf::output(&mut c.kn, ws.indices, 0u32);
     let mut wb = Buf::output(&mut c.kn, ws.bytes, 0u8);
+    let work_pools = T::pools(&mut wr, &mut wi, &mut wb);
+    let wp = opt_ptr(&mut c.kn, &work_pools);
     let mut sizes = Slot::<dk_plan_sizes>::new(&mut c.kn);
     // SAFETY: as above.
-    let s = unsafe {
-        (T::POOLS)(
-            p.p(),
-            p.n(),
-            o.p(),
-            o.n(),
-            t.p(),
-            t.n(),
-            bn.p(),
-            bn.n(),
-            eo.p(),
-            eo.n(),
-            en.p(),
-            en.n(),
-            ek.p(),
-            ek.n(),
-            k.p(),
-            k.n(),
-            m.dim,
-            op,
-            wr.m(),
-            wr.n(),
-            wi.m(),
-            wi.n(),
-            wb.m(),
-            wb.n(),
-            sizes.p(),
-        )
-    };
+    let s = unsafe { (T::POOLS)(meshp, m.dim, op, wp, sizes.p()) };
     check_slot("plan pool sizes", s, &sizes);
     if s != dk_status::DK_OK {
         return;
@@ -2646,43 +2579,11 @@ fn plan<T: PlanSc>(c: &mut Ctx, quaternion: bool, amg: bool, steps: u8, corrupt:
     let mut reals = Buf::output(&mut c.kn, ps.reals, T::SENT);
     let mut indices = Buf::output(&mut c.kn, ps.indices, 0u32);
     let mut bytes = Buf::output(&mut c.kn, ps.bytes, 0u8);
+    let plan_pools = T::pools(&mut reals, &mut indices, &mut bytes);
+    let pp = opt_ptr(&mut c.kn, &plan_pools);
     let mut info = Slot::<dk_plan_info>::new(&mut c.kn);
     // SAFETY: as above.
-    let s = unsafe {
-        (T::INIT)(
-            p.p(),
-            p.n(),
-            o.p(),
-            o.n(),
-            t.p(),
-            t.n(),
-            bn.p(),
-            bn.n(),
-            eo.p(),
-            eo.n(),
-            en.p(),
-            en.n(),
-            ek.p(),
-            ek.n(),
-            k.p(),
-            k.n(),
-            m.dim,
-            op,
-            wr.m(),
-            wr.n(),
-            wi.m(),
-            wi.n(),
-            wb.m(),
-            wb.n(),
-            reals.m(),
-            reals.n(),
-            indices.m(),
-            indices.n(),
-            bytes.m(),
-            bytes.n(),
-            info.p(),
-        )
-    };
+    let s = unsafe { (T::INIT)(meshp, m.dim, op, wp, pp, info.p()) };
     check_slot("plan init", s, &info);
     if s != dk_status::DK_OK {
         return;
@@ -2718,15 +2619,12 @@ fn plan<T: PlanSc>(c: &mut Ctx, quaternion: bool, amg: bool, steps: u8, corrupt:
         } else {
             pl::DK_PLAN_WARM
         };
+        let step_pools = T::pools(&mut reals, &mut indices, &mut bytes);
+        let sp = opt_ptr(&mut c.kn, &step_pools);
         // SAFETY: as above.
         let s = unsafe {
             (T::STEP)(
-                reals.m(),
-                reals.n(),
-                indices.m(),
-                indices.n(),
-                bytes.m(),
-                bytes.n(),
+                sp,
                 m.dim,
                 df.p(),
                 df.n(),
@@ -2742,7 +2640,7 @@ fn plan<T: PlanSc>(c: &mut Ctx, quaternion: bool, amg: bool, steps: u8, corrupt:
             )
         };
         check_slot("plan step", s, &report);
-        if corrupt % 4 == step && !indices.null && indices.n() > 0 {
+        if corrupt % 4 == step && !sp.is_null() && !indices.null && indices.n() > 0 {
             assert_eq!(
                 s,
                 dk_status::DK_ERR_BAD_PLAN,

@@ -11,10 +11,11 @@ use deform_kernel_ffi::deformation::{
     dk_boundary_motion, dk_boundary_motion_default, dk_deform_idw, dk_deform_idw_scratch_len,
     DK_ROTATIONS_RIGID,
 };
-use deform_kernel_ffi::graph::dk_graph_from_edges;
+use deform_kernel_ffi::graph::{dk_graph, dk_graph_from_edges};
 use deform_kernel_ffi::spring::{
     dk_spring_index_scratch_len, dk_spring_solve_linear, dk_spring_solve_linear_scratch_len,
     dk_spring_solve_options, dk_spring_solve_options_default, dk_spring_solve_report,
+    dk_spring_system,
 };
 use deform_kernel_ffi::status::dk_status;
 use deform_kernel_ffi::taubin::{
@@ -38,6 +39,28 @@ type Case = (
 
 fn bits(v: &[f64]) -> Vec<u64> {
     v.iter().map(|x| x.to_bits()).collect()
+}
+
+/// The spring system over the CSR graph `offsets`/`targets`, borrowing the slices (each
+/// length the slice's own).
+fn spring_system(
+    offsets: &[u32],
+    targets: &[u32],
+    stiffness: &[f64],
+    fixed: &[u8],
+) -> dk_spring_system {
+    dk_spring_system {
+        graph: dk_graph {
+            offsets: offsets.as_ptr(),
+            offsets_len: offsets.len(),
+            targets: targets.as_ptr(),
+            targets_len: targets.len(),
+        },
+        stiffness: stiffness.as_ptr(),
+        stiffness_len: stiffness.len(),
+        fixed: fixed.as_ptr(),
+        fixed_len: fixed.len(),
+    }
 }
 
 #[test]
@@ -218,7 +241,8 @@ fn taubin_smooth_structured_rejects_bad_input_and_keeps_the_field() {
 }
 
 /// A chain 0–1–2–3–4 with both ends fixed: the CG solve interpolates linearly; a fixed mask of
-/// the wrong length, a NaN value or an unanchored system fail and leave `values` unchanged.
+/// the wrong length, a NaN value, an unanchored system or a NULL system fail and leave `values`
+/// unchanged.
 #[test]
 fn spring_solve_linear_rejects_bad_input_and_keeps_values() {
     let offsets = [0u32, 1, 3, 5, 7, 8];
@@ -247,7 +271,8 @@ fn spring_solve_linear_rejects_bad_input_and_keeps_values() {
         );
         assert_eq!(dk_spring_index_scratch_len(n, &mut ilen), dk_status::DK_OK);
     }
-    let solve = |fixed: &[u8], values: &mut [f64]| {
+    // `system` is NULL or points to a system whose arrays are valid for their lengths.
+    let solve_system = |system: *const dk_spring_system, values: &mut [f64]| {
         let mut scratch = vec![0.0; len];
         let mut index = vec![0u32; ilen];
         let mut report = dk_spring_solve_report {
@@ -256,17 +281,10 @@ fn spring_solve_linear_rejects_bad_input_and_keeps_values() {
             max_update: SENTINEL,
             converged: false,
         };
-        // SAFETY: every buffer is valid for the length passed with it.
+        // SAFETY: every buffer is valid for the length passed with it; `system` as above.
         let s = unsafe {
             dk_spring_solve_linear(
-                offsets.as_ptr(),
-                offsets.len(),
-                targets.as_ptr(),
-                targets.len(),
-                stiffness.as_ptr(),
-                stiffness.len(),
-                fixed.as_ptr(),
-                fixed.len(),
+                system,
                 &opts,
                 1,
                 values.as_mut_ptr(),
@@ -279,6 +297,12 @@ fn spring_solve_linear_rejects_bad_input_and_keeps_values() {
             )
         };
         (s, report.iterations)
+    };
+    let solve = |fixed: &[u8], values: &mut [f64]| {
+        solve_system(
+            &spring_system(&offsets, &targets, &stiffness, fixed),
+            values,
+        )
     };
     let fixed = [1u8, 0, 0, 0, 1];
     let mut values = [0.0, 0.0, 0.0, 0.0, 4.0];
@@ -304,6 +328,13 @@ fn spring_solve_linear_rejects_bad_input_and_keeps_values() {
     assert_eq!(
         solve(&[0u8; 5], &mut v),
         (dk_status::DK_ERR_UNANCHORED, 777)
+    );
+    assert_eq!(bits(&v), bits(&start));
+    let mut v = start;
+    assert_eq!(
+        solve_system(null(), &mut v),
+        (dk_status::DK_ERR_NULL_POINTER, 777),
+        "NULL system"
     );
     assert_eq!(bits(&v), bits(&start));
 }

@@ -8,6 +8,57 @@ use super::*;
 use crate::slice::{In, Out};
 use crate::status::dk_status;
 
+/// Single-precision twin of [`dk_boundary_motion`] (`float` scalars).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+#[allow(non_camel_case_types)]
+pub struct dk_boundary_motion_f32 {
+    /// Mesh node of each of the `B` boundary points, in `index_base`, all distinct. Include
+    /// fixed boundaries (far field) with `deformed` equal to their position: they anchor the
+    /// propagation.
+    pub nodes: *const u32,
+    /// Number of entries of `nodes` (`B`, at least 1).
+    pub nodes_len: usize,
+    /// Deformed position of each boundary point (`B * dim` scalars); reproduced exactly in
+    /// the output.
+    pub deformed: *const f32,
+    /// Number of scalars in `deformed` (`B * dim`).
+    pub deformed_len: usize,
+    /// Boundary element offsets into `element_nodes` (one per element plus one, in
+    /// `index_base` like graph.rs cell offsets), or NULL with length 0 for no elements.
+    pub element_offsets: *const u32,
+    /// Number of entries of `element_offsets` (0: no elements).
+    pub element_offsets_len: usize,
+    /// Element nodes as positions `0..B` in `nodes` (not mesh nodes; see
+    /// [`dk_deform_localize_nodes`]), in `index_base`: segments (VTK 3) in 2D,
+    /// triangles/quadrilaterals (5, 9) in 3D, consistently ordered.
+    pub element_nodes: *const u32,
+    /// Number of entries of `element_nodes`.
+    pub element_nodes_len: usize,
+    /// VTK kind code of each element.
+    pub element_kinds: *const u8,
+    /// Number of entries of `element_kinds` (elements).
+    pub element_kinds_len: usize,
+    /// With [`DK_ROTATIONS_PER_NODE`]: one quaternion `(w, x, y, z)` per boundary node, in
+    /// `nodes` order (`4 * B` scalars). Ignored otherwise.
+    pub node_rotations: *const f32,
+    /// Number of scalars in `node_rotations`.
+    pub node_rotations_len: usize,
+    /// With [`DK_ROTATIONS_RIGID`]: the rotation `(w, x, y, z)` of the moving boundary nodes
+    /// (normalised by the library). Ignored otherwise.
+    pub rigid_rotation: [f32; 4],
+    /// The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
+    pub origin: [f32; 3],
+    /// 0 (C) or 1 (Fortran): the base of `nodes`, `element_offsets` and `element_nodes`.
+    pub index_base: u32,
+    /// Where the rotations come from: [`DK_ROTATIONS_SHAPE`], [`DK_ROTATIONS_RIGID`] or
+    /// [`DK_ROTATIONS_PER_NODE`].
+    pub rotation_source: u32,
+    /// Nonzero: rotate about `origin`; 0: about the default origin (the centroid of the
+    /// moving boundary points, see [`dk_deform_boundary_origin`]).
+    pub has_origin: u32,
+}
+
 /// Fills `*out` with an empty motion: no nodes, no elements, `rotation_source`
 /// [`DK_ROTATIONS_SHAPE`], identity `rigid_rotation` `(1, 0, 0, 0)`, zero `origin` with
 /// `has_origin` 0 (default origin), `index_base` 0. Set the fields you need afterwards.
@@ -423,12 +474,7 @@ pub unsafe extern "C" fn dk_deform_boundary_normals(
     points: *const f64,
     points_len: usize,
     dim: u32,
-    element_offsets: *const u32,
-    element_offsets_len: usize,
-    element_nodes: *const u32,
-    element_nodes_len: usize,
-    element_kinds: *const u8,
-    element_kinds_len: usize,
+    elements: *const dk_cells,
     index_base: u32,
     scratch: *mut f64,
     scratch_len: usize,
@@ -439,21 +485,17 @@ pub unsafe extern "C" fn dk_deform_boundary_normals(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (points, element_offsets, element_nodes, element_kinds, scratch, index_scratch, normals) = unsafe {
+    let (points, elements, scratch, index_scratch, normals) = unsafe {
         (
             In::new(points, points_len),
-            In::new(element_offsets, element_offsets_len),
-            In::new(element_nodes, element_nodes_len),
-            In::new(element_kinds, element_kinds_len),
+            In::new(elements, 1),
             Out::new(scratch, scratch_len),
             Out::new(index_scratch, index_scratch_len),
             Out::new(normals, normals_len),
         )
     };
     let elements = ElementsIn {
-        offsets: element_offsets,
-        nodes: element_nodes,
-        kinds: element_kinds,
+        elements,
         index_base,
         index_scratch,
     };
@@ -473,12 +515,7 @@ pub unsafe extern "C" fn dk_deform_boundary_normals_f32(
     points: *const f32,
     points_len: usize,
     dim: u32,
-    element_offsets: *const u32,
-    element_offsets_len: usize,
-    element_nodes: *const u32,
-    element_nodes_len: usize,
-    element_kinds: *const u8,
-    element_kinds_len: usize,
+    elements: *const dk_cells,
     index_base: u32,
     scratch: *mut f32,
     scratch_len: usize,
@@ -489,21 +526,17 @@ pub unsafe extern "C" fn dk_deform_boundary_normals_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (points, element_offsets, element_nodes, element_kinds, scratch, index_scratch, normals) = unsafe {
+    let (points, elements, scratch, index_scratch, normals) = unsafe {
         (
             In::new(points, points_len),
-            In::new(element_offsets, element_offsets_len),
-            In::new(element_nodes, element_nodes_len),
-            In::new(element_kinds, element_kinds_len),
+            In::new(elements, 1),
             Out::new(scratch, scratch_len),
             Out::new(index_scratch, index_scratch_len),
             Out::new(normals, normals_len),
         )
     };
     let elements = ElementsIn {
-        offsets: element_offsets,
-        nodes: element_nodes,
-        kinds: element_kinds,
+        elements,
         index_base,
         index_scratch,
     };
@@ -562,12 +595,7 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations(
     deformed: *const f64,
     deformed_len: usize,
     dim: u32,
-    element_offsets: *const u32,
-    element_offsets_len: usize,
-    element_nodes: *const u32,
-    element_nodes_len: usize,
-    element_kinds: *const u8,
-    element_kinds_len: usize,
+    elements: *const dk_cells,
     index_base: u32,
     scratch: *mut f64,
     scratch_len: usize,
@@ -578,31 +606,18 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        undeformed,
-        deformed,
-        element_offsets,
-        element_nodes,
-        element_kinds,
-        scratch,
-        index_scratch,
-        rotations,
-    ) = unsafe {
+    let (undeformed, deformed, elements, scratch, index_scratch, rotations) = unsafe {
         (
             In::new(undeformed, undeformed_len),
             In::new(deformed, deformed_len),
-            In::new(element_offsets, element_offsets_len),
-            In::new(element_nodes, element_nodes_len),
-            In::new(element_kinds, element_kinds_len),
+            In::new(elements, 1),
             Out::new(scratch, scratch_len),
             Out::new(index_scratch, index_scratch_len),
             Out::new(rotations, rotations_len),
         )
     };
     let elements = ElementsIn {
-        offsets: element_offsets,
-        nodes: element_nodes,
-        kinds: element_kinds,
+        elements,
         index_base,
         index_scratch,
     };
@@ -624,12 +639,7 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations_f32(
     deformed: *const f32,
     deformed_len: usize,
     dim: u32,
-    element_offsets: *const u32,
-    element_offsets_len: usize,
-    element_nodes: *const u32,
-    element_nodes_len: usize,
-    element_kinds: *const u8,
-    element_kinds_len: usize,
+    elements: *const dk_cells,
     index_base: u32,
     scratch: *mut f32,
     scratch_len: usize,
@@ -640,31 +650,18 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        undeformed,
-        deformed,
-        element_offsets,
-        element_nodes,
-        element_kinds,
-        scratch,
-        index_scratch,
-        rotations,
-    ) = unsafe {
+    let (undeformed, deformed, elements, scratch, index_scratch, rotations) = unsafe {
         (
             In::new(undeformed, undeformed_len),
             In::new(deformed, deformed_len),
-            In::new(element_offsets, element_offsets_len),
-            In::new(element_nodes, element_nodes_len),
-            In::new(element_kinds, element_kinds_len),
+            In::new(elements, 1),
             Out::new(scratch, scratch_len),
             Out::new(index_scratch, index_scratch_len),
             Out::new(rotations, rotations_len),
         )
     };
     let elements = ElementsIn {
-        offsets: element_offsets,
-        nodes: element_nodes,
-        kinds: element_kinds,
+        elements,
         index_base,
         index_scratch,
     };
@@ -1479,10 +1476,10 @@ pub unsafe extern "C" fn dk_deform_spring_index_scratch_len_f32(
 /// together (`dim + 4` values per node) with `options` (see `dk_spring_solve_options`; the
 /// f32 twin rounds its tolerances to `float`), then the update.
 ///
-/// The spring system is a 0-based CSR graph (`offsets`, `targets` from `dk_graph_from_*`),
-/// one positive stiffness per directed edge (symmetric, e.g. from
-/// `dk_spring_batina_stiffness`) and a fixed mask (one byte per node, nonzero = fixed) that
-/// must mark exactly the nodes of `motion->nodes`. `scratch`: the first length of
+/// The spring system (`*system`) is a 0-based CSR graph (from `dk_graph_from_*`), one
+/// positive stiffness per directed edge (symmetric, e.g. from `dk_spring_batina_stiffness`)
+/// and a fixed mask (one byte per node, nonzero = fixed) that must mark exactly the nodes of
+/// `motion->nodes`. `scratch`: the first length of
 /// [`dk_deform_spring_scratch_len`]; `values`: the second (a workspace); `index_scratch`:
 /// [`dk_deform_spring_index_scratch_len`] entries. `*report` receives the solver's report:
 /// `out` is written even when the solver did not converge (status `DK_OK`, `converged` false).
@@ -1505,14 +1502,7 @@ pub unsafe extern "C" fn dk_deform_spring(
     points_len: usize,
     dim: u32,
     motion: *const dk_boundary_motion,
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f64,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system,
     options: *const dk_spring_solve_options,
     scratch: *mut f64,
     scratch_len: usize,
@@ -1535,10 +1525,7 @@ pub unsafe extern "C" fn dk_deform_spring(
     let (
         points,
         motion,
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system,
         options,
         scratch,
         values,
@@ -1552,10 +1539,7 @@ pub unsafe extern "C" fn dk_deform_spring(
         (
             In::new(points, points_len),
             In::new(motion, 1),
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(options, 1),
             Out::new(scratch, scratch_len),
             Out::new(values, values_len),
@@ -1567,12 +1551,7 @@ pub unsafe extern "C" fn dk_deform_spring(
             Out::new(report, 1),
         )
     };
-    let system = SystemIn {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
-    };
+    let system = SystemC::read(system);
     let bufs = PipelineOut {
         scratch,
         index_scratch,
@@ -1599,14 +1578,7 @@ pub unsafe extern "C" fn dk_deform_spring_f32(
     points_len: usize,
     dim: u32,
     motion: *const dk_boundary_motion_f32,
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f32,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system_f32,
     options: *const dk_spring_solve_options,
     scratch: *mut f32,
     scratch_len: usize,
@@ -1629,10 +1601,7 @@ pub unsafe extern "C" fn dk_deform_spring_f32(
     let (
         points,
         motion,
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system,
         options,
         scratch,
         values,
@@ -1646,10 +1615,7 @@ pub unsafe extern "C" fn dk_deform_spring_f32(
         (
             In::new(points, points_len),
             In::new(motion, 1),
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(options, 1),
             Out::new(scratch, scratch_len),
             Out::new(values, values_len),
@@ -1661,12 +1627,7 @@ pub unsafe extern "C" fn dk_deform_spring_f32(
             Out::new(report, 1),
         )
     };
-    let system = SystemIn {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
-    };
+    let system = SystemC::read(system);
     let bufs = PipelineOut {
         scratch,
         index_scratch,
@@ -1725,14 +1686,7 @@ pub unsafe extern "C" fn dk_deform_propagate_spring_scratch_len(
 /// buffers overlap nothing else.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_propagate_spring(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f64,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system,
     options: *const dk_spring_solve_options,
     dim: u32,
     index_scratch: *mut u32,
@@ -1747,23 +1701,9 @@ pub unsafe extern "C" fn dk_deform_propagate_spring(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        offsets,
-        targets,
-        stiffness,
-        fixed,
-        options,
-        index_scratch,
-        values,
-        translations,
-        rotations,
-        report,
-    ) = unsafe {
+    let (system, options, index_scratch, values, translations, rotations, report) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(options, 1),
             Out::new(index_scratch, index_scratch_len),
             Out::new(values, values_len),
@@ -1772,12 +1712,7 @@ pub unsafe extern "C" fn dk_deform_propagate_spring(
             Out::new(report, 1),
         )
     };
-    let system = SystemIn {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
-    };
+    let system = SystemC::read(system);
     done(by_dim!(
         dim,
         propagate_spring_d::<f64>,
@@ -1799,14 +1734,7 @@ pub unsafe extern "C" fn dk_deform_propagate_spring(
 /// As [`dk_deform_propagate_spring`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_propagate_spring_f32(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f32,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system_f32,
     options: *const dk_spring_solve_options,
     dim: u32,
     index_scratch: *mut u32,
@@ -1821,23 +1749,9 @@ pub unsafe extern "C" fn dk_deform_propagate_spring_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        offsets,
-        targets,
-        stiffness,
-        fixed,
-        options,
-        index_scratch,
-        values,
-        translations,
-        rotations,
-        report,
-    ) = unsafe {
+    let (system, options, index_scratch, values, translations, rotations, report) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(options, 1),
             Out::new(index_scratch, index_scratch_len),
             Out::new(values, values_len),
@@ -1846,12 +1760,7 @@ pub unsafe extern "C" fn dk_deform_propagate_spring_f32(
             Out::new(report, 1),
         )
     };
-    let system = SystemIn {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
-    };
+    let system = SystemC::read(system);
     done(by_dim!(
         dim,
         propagate_spring_d::<f32>,

@@ -84,10 +84,10 @@ pub unsafe extern "C" fn dk_graph_from_edges(
     })())
 }
 
-/// Validates a mixed-element cell list: `cell_offsets` has one entry per cell plus one,
-/// `cell_kinds` holds VTK codes (3 line, 5 tri, 9 quad, 10 tet, 12 hex, 13 prism, 14 pyramid),
+/// Validates a mixed-element cell list (`*cells`): `offsets` has one entry per cell plus one,
+/// `kinds` holds VTK codes (3 line, 5 tri, 9 quad, 10 tet, 12 hex, 13 prism, 14 pyramid),
 /// node indices are below `node_count`. With `index_base` 1, offsets and node indices are
-/// 1-based (Fortran), and `index_scratch` needs `cell_offsets_len + cell_nodes_len` entries
+/// 1-based (Fortran), and `index_scratch` needs `cells->offsets_len + cells->nodes_len` entries
 /// (their 0-based copies); with 0 it may be NULL with length 0.
 ///
 /// # Safety
@@ -96,36 +96,22 @@ pub unsafe extern "C" fn dk_graph_from_edges(
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_cells_check(
     node_count: usize,
-    cell_offsets: *const u32,
-    cell_offsets_len: usize,
-    cell_nodes: *const u32,
-    cell_nodes_len: usize,
-    cell_kinds: *const u8,
-    cell_kinds_len: usize,
+    cells: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, index_scratch) = unsafe {
+    let (cells, index_scratch) = unsafe {
         (
-            In::new(cell_offsets, cell_offsets_len),
-            In::new(cell_nodes, cell_nodes_len),
-            In::new(cell_kinds, cell_kinds_len),
+            In::new(cells, 1),
             Out::new(index_scratch, index_scratch_len),
         )
     };
     done((|| {
         let scratch = output(index_scratch)?;
-        read_cells(
-            node_count,
-            cell_offsets,
-            cell_nodes,
-            cell_kinds,
-            index_base,
-            scratch,
-        )?;
+        CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
         Ok(())
     })())
 }
@@ -138,12 +124,7 @@ pub unsafe extern "C" fn dk_cells_check(
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_graph_from_cells_len(
     node_count: usize,
-    cell_offsets: *const u32,
-    cell_offsets_len: usize,
-    cell_nodes: *const u32,
-    cell_nodes_len: usize,
-    cell_kinds: *const u8,
-    cell_kinds_len: usize,
+    cells: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
@@ -152,24 +133,16 @@ pub unsafe extern "C" fn dk_graph_from_cells_len(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, len_out) = unsafe {
+    let (cells, index_scratch, len_out) = unsafe {
         (
-            In::new(cell_offsets, cell_offsets_len),
-            In::new(cell_nodes, cell_nodes_len),
-            In::new(cell_kinds, cell_kinds_len),
+            In::new(cells, 1),
             Out::new(index_scratch, index_scratch_len),
             Out::new(len_out, 1),
         )
     };
     done((|| {
-        let (cells, _) = read_cells(
-            node_count,
-            cell_offsets,
-            cell_nodes,
-            cell_kinds,
-            index_base,
-            output(index_scratch)?,
-        )?;
+        let scratch = output(index_scratch)?;
+        let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
         write_len(len_out, graph_from_cells_len(&cells, face_diagonals))
     })())
 }
@@ -187,12 +160,7 @@ pub unsafe extern "C" fn dk_graph_from_cells_len(
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_graph_from_cells(
     node_count: usize,
-    cell_offsets: *const u32,
-    cell_offsets_len: usize,
-    cell_nodes: *const u32,
-    cell_nodes_len: usize,
-    cell_kinds: *const u8,
-    cell_kinds_len: usize,
+    cells: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
@@ -205,11 +173,9 @@ pub unsafe extern "C" fn dk_graph_from_cells(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, offsets, targets, used_out) = unsafe {
+    let (cells, index_scratch, offsets, targets, used_out) = unsafe {
         (
-            In::new(cell_offsets, cell_offsets_len),
-            In::new(cell_nodes, cell_nodes_len),
-            In::new(cell_kinds, cell_kinds_len),
+            In::new(cells, 1),
             Out::new(index_scratch, index_scratch_len),
             Out::new(offsets, offsets_len),
             Out::new(targets, targets_len),
@@ -217,14 +183,8 @@ pub unsafe extern "C" fn dk_graph_from_cells(
         )
     };
     done((|| {
-        let (cells, _) = read_cells(
-            node_count,
-            cell_offsets,
-            cell_nodes,
-            cell_kinds,
-            index_base,
-            output(index_scratch)?,
-        )?;
+        let scratch = output(index_scratch)?;
+        let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
         let o = output(offsets)?;
         let t = output(targets)?;
         let used = out_one(used_out)?;
@@ -233,27 +193,21 @@ pub unsafe extern "C" fn dk_graph_from_cells(
     })())
 }
 
-/// Validates a 0-based CSR graph (`offsets`: node count + 1 entries; `targets`); with
+/// Validates a 0-based CSR graph (`graph->offsets`: node count + 1 entries; `targets`); with
 /// `require_symmetric` also checks that every edge has its reverse.
 ///
 /// # Safety
-/// `offsets` and `targets` are valid for reading their lengths.
+/// `graph` points to one readable struct whose arrays are readable for their lengths.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_graph_check(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
+    graph: *const dk_graph,
     require_symmetric: bool,
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets) =
-        unsafe { (In::new(offsets, offsets_len), In::new(targets, targets_len)) };
+    let graph = unsafe { In::new(graph, 1) };
     done((|| {
-        let o = input(offsets)?;
-        let t = input(targets)?;
-        let g = Graph::new(o, t).map_err(dk_status::from)?;
+        let g = read_graph(graph)?;
         if require_symmetric {
             g.check_symmetric().map_err(dk_status::from)?;
         }

@@ -8,6 +8,50 @@ use super::*;
 use crate::slice::{In, Out};
 use crate::status::dk_status;
 
+/// Single-precision twin of [`dk_plan_mesh`] (`float` scalars).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+#[allow(non_camel_case_types)]
+pub struct dk_plan_mesh_f32 {
+    /// Undeformed node positions, `node_count * dim` scalars.
+    pub points: *const f32,
+    /// Entries of `points`.
+    pub points_len: usize,
+    /// The 0-based CSR graph of the springs.
+    pub graph: dk_graph,
+    /// The 0-based boundary node list (`B` nodes, distinct): the nodes a step moves.
+    pub boundary: *const u32,
+    /// Entries of `boundary`.
+    pub boundary_len: usize,
+    /// Optional boundary elements over the boundary points `0..B` (0-based; all empty for
+    /// none): with them the quaternion method derives rotations from the shape.
+    pub elements: dk_cells,
+    /// Optional stiffness per directed edge (NULL with length 0: Batina's with
+    /// `dk_plan_options.stiffness_exponent`).
+    pub stiffness: *const f32,
+    /// Entries of `stiffness`.
+    pub stiffness_len: usize,
+}
+
+/// Single-precision twin of [`dk_plan_pools`] (`float` scalars).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+#[allow(non_camel_case_types)]
+pub struct dk_plan_pools_f32 {
+    /// Scalars.
+    pub reals: *mut f32,
+    /// Entries of `reals`.
+    pub reals_len: usize,
+    /// Indices.
+    pub indices: *mut u32,
+    /// Entries of `indices`.
+    pub indices_len: usize,
+    /// Bytes.
+    pub bytes: *mut u8,
+    /// Entries of `bytes`.
+    pub bytes_len: usize,
+}
+
 /// Fills `*out` with the default plan options for f64: the quaternion method, multigrid-
 /// preconditioned CG, Batina stiffness (exponent 1), the default stopping rules of
 /// `dk_spring_solve_options_default` (10 000 iterations, residual tolerance 1e-10).
@@ -37,16 +81,15 @@ pub unsafe extern "C" fn dk_plan_options_default_f32(out: *mut dk_plan_options) 
 /// Lengths of the transient work buffers [`dk_plan_pool_sizes`] and [`dk_plan_init`] need for this
 /// mesh (free them after init).
 ///
-/// The mesh, shared by the three set-up calls (all indices 0-based):
+/// The mesh (`*mesh`, a [`dk_plan_mesh`] shared by the three set-up calls; all indices
+/// 0-based):
 /// - `points`: the reference mesh, `N * dim` scalars, `dim` 2 or 3; every step deforms it;
-/// - `offsets`, `targets`: the symmetric CSR graph of the mesh edges (as
-///   `dk_graph_from_cells` builds it);
+/// - `graph`: the symmetric CSR graph of the mesh edges (as `dk_graph_from_cells` builds it);
 /// - `boundary`: the mesh node of each of the `B` prescribed points (moving walls and fixed
 ///   far field alike), distinct; exactly these nodes are held by the springs;
-/// - `element_offsets`, `element_nodes`, `element_kinds`: boundary elements over `0..B`
-///   (segments in 2D, triangles/quadrilaterals in 3D) for shape rotations, or all NULL with
-///   length 0;
-/// - `stiffness`: one spring stiffness per directed edge (`targets_len` scalars, exactly
+/// - `elements`: boundary elements over `0..B` (segments in 2D, triangles/quadrilaterals in
+///   3D) for shape rotations, or all three arrays NULL with length 0;
+/// - `stiffness`: one spring stiffness per directed edge (`graph.targets_len` scalars, exactly
 ///   symmetric, finite and positive; for example Batina's scaled by
 ///   `dk_spring_wall_distance_factors` or `dk_spring_inverse_volume_factors` with
 ///   `dk_spring_scale_stiffness`), copied into the plan; or NULL with length 0 for Batina's
@@ -61,65 +104,24 @@ pub unsafe extern "C" fn dk_plan_options_default_f32(out: *mut dk_plan_options) 
 /// Inputs readable for their lengths; `options` and `sizes_out` point to one struct each.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_work_sizes(
-    points: *const f64,
-    points_len: usize,
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    boundary: *const u32,
-    boundary_len: usize,
-    element_offsets: *const u32,
-    element_offsets_len: usize,
-    element_nodes: *const u32,
-    element_nodes_len: usize,
-    element_kinds: *const u8,
-    element_kinds_len: usize,
-    stiffness: *const f64,
-    stiffness_len: usize,
+    mesh: *const dk_plan_mesh,
     dim: u32,
     options: *const dk_plan_options,
     sizes_out: *mut dk_plan_sizes,
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        points,
-        offsets,
-        targets,
-        boundary,
-        element_offsets,
-        element_nodes,
-        element_kinds,
-        stiffness,
-        options,
-        sizes_out,
-    ) = unsafe {
+    let (mesh, options, sizes_out) = unsafe {
         (
-            In::new(points, points_len),
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(boundary, boundary_len),
-            In::new(element_offsets, element_offsets_len),
-            In::new(element_nodes, element_nodes_len),
-            In::new(element_kinds, element_kinds_len),
-            In::new(stiffness, stiffness_len),
+            In::new(mesh, 1),
             In::new(options, 1),
             Out::new(sizes_out, 1),
         )
     };
-    let spec = SpecArgs {
-        points,
-        offsets,
-        targets,
-        boundary,
-        element_offsets,
-        element_nodes,
-        element_kinds,
-        stiffness,
-        options,
-    };
-    done(by_dim!(dim, work_sizes_d::<f64>, (&spec, sizes_out)))
+    done(
+        PlanC::spec(mesh, options)
+            .and_then(|spec| by_dim!(dim, work_sizes_d::<f64>, (&spec, sizes_out))),
+    )
 }
 
 /// `f32` twin of [`dk_plan_work_sizes`].
@@ -128,65 +130,24 @@ pub unsafe extern "C" fn dk_plan_work_sizes(
 /// As [`dk_plan_work_sizes`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_work_sizes_f32(
-    points: *const f32,
-    points_len: usize,
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    boundary: *const u32,
-    boundary_len: usize,
-    element_offsets: *const u32,
-    element_offsets_len: usize,
-    element_nodes: *const u32,
-    element_nodes_len: usize,
-    element_kinds: *const u8,
-    element_kinds_len: usize,
-    stiffness: *const f32,
-    stiffness_len: usize,
+    mesh: *const dk_plan_mesh_f32,
     dim: u32,
     options: *const dk_plan_options,
     sizes_out: *mut dk_plan_sizes,
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        points,
-        offsets,
-        targets,
-        boundary,
-        element_offsets,
-        element_nodes,
-        element_kinds,
-        stiffness,
-        options,
-        sizes_out,
-    ) = unsafe {
+    let (mesh, options, sizes_out) = unsafe {
         (
-            In::new(points, points_len),
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(boundary, boundary_len),
-            In::new(element_offsets, element_offsets_len),
-            In::new(element_nodes, element_nodes_len),
-            In::new(element_kinds, element_kinds_len),
-            In::new(stiffness, stiffness_len),
+            In::new(mesh, 1),
             In::new(options, 1),
             Out::new(sizes_out, 1),
         )
     };
-    let spec = SpecArgs {
-        points,
-        offsets,
-        targets,
-        boundary,
-        element_offsets,
-        element_nodes,
-        element_kinds,
-        stiffness,
-        options,
-    };
-    done(by_dim!(dim, work_sizes_d::<f32>, (&spec, sizes_out)))
+    done(
+        PlanC::spec(mesh, options)
+            .and_then(|spec| by_dim!(dim, work_sizes_d::<f32>, (&spec, sizes_out))),
+    )
 }
 
 /// The exact lengths of the three plan pools for this mesh: validates the mesh and options
@@ -200,82 +161,27 @@ pub unsafe extern "C" fn dk_plan_work_sizes_f32(
 /// overlapping anything else; `options` and `sizes_out` point to one struct each.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_pool_sizes(
-    points: *const f64,
-    points_len: usize,
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    boundary: *const u32,
-    boundary_len: usize,
-    element_offsets: *const u32,
-    element_offsets_len: usize,
-    element_nodes: *const u32,
-    element_nodes_len: usize,
-    element_kinds: *const u8,
-    element_kinds_len: usize,
-    stiffness: *const f64,
-    stiffness_len: usize,
+    mesh: *const dk_plan_mesh,
     dim: u32,
     options: *const dk_plan_options,
-    work_reals: *mut f64,
-    work_reals_len: usize,
-    work_indices: *mut u32,
-    work_indices_len: usize,
-    work_bytes: *mut u8,
-    work_bytes_len: usize,
+    work: *const dk_plan_pools,
     sizes_out: *mut dk_plan_sizes,
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        points,
-        offsets,
-        targets,
-        boundary,
-        element_offsets,
-        element_nodes,
-        element_kinds,
-        stiffness,
-        options,
-        work_reals,
-        work_indices,
-        work_bytes,
-        sizes_out,
-    ) = unsafe {
+    let (mesh, options, work, sizes_out) = unsafe {
         (
-            In::new(points, points_len),
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(boundary, boundary_len),
-            In::new(element_offsets, element_offsets_len),
-            In::new(element_nodes, element_nodes_len),
-            In::new(element_kinds, element_kinds_len),
-            In::new(stiffness, stiffness_len),
+            In::new(mesh, 1),
             In::new(options, 1),
-            Out::new(work_reals, work_reals_len),
-            Out::new(work_indices, work_indices_len),
-            Out::new(work_bytes, work_bytes_len),
+            In::new(work, 1),
             Out::new(sizes_out, 1),
         )
     };
-    let spec = SpecArgs {
-        points,
-        offsets,
-        targets,
-        boundary,
-        element_offsets,
-        element_nodes,
-        element_kinds,
-        stiffness,
-        options,
-    };
-    let work = PoolArgs {
-        reals: work_reals,
-        indices: work_indices,
-        bytes: work_bytes,
-    };
-    done(by_dim!(dim, sizes_d::<f64>, (&spec, work, sizes_out)))
+    done((|| {
+        let spec = PlanC::spec(mesh, options)?;
+        let work = <dk_plan_mesh as PlanC>::pools(work)?;
+        by_dim!(dim, sizes_d::<f64>, (&spec, work, sizes_out))
+    })())
 }
 
 /// `f32` twin of [`dk_plan_pool_sizes`].
@@ -284,82 +190,27 @@ pub unsafe extern "C" fn dk_plan_pool_sizes(
 /// As [`dk_plan_pool_sizes`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_pool_sizes_f32(
-    points: *const f32,
-    points_len: usize,
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    boundary: *const u32,
-    boundary_len: usize,
-    element_offsets: *const u32,
-    element_offsets_len: usize,
-    element_nodes: *const u32,
-    element_nodes_len: usize,
-    element_kinds: *const u8,
-    element_kinds_len: usize,
-    stiffness: *const f32,
-    stiffness_len: usize,
+    mesh: *const dk_plan_mesh_f32,
     dim: u32,
     options: *const dk_plan_options,
-    work_reals: *mut f32,
-    work_reals_len: usize,
-    work_indices: *mut u32,
-    work_indices_len: usize,
-    work_bytes: *mut u8,
-    work_bytes_len: usize,
+    work: *const dk_plan_pools_f32,
     sizes_out: *mut dk_plan_sizes,
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        points,
-        offsets,
-        targets,
-        boundary,
-        element_offsets,
-        element_nodes,
-        element_kinds,
-        stiffness,
-        options,
-        work_reals,
-        work_indices,
-        work_bytes,
-        sizes_out,
-    ) = unsafe {
+    let (mesh, options, work, sizes_out) = unsafe {
         (
-            In::new(points, points_len),
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(boundary, boundary_len),
-            In::new(element_offsets, element_offsets_len),
-            In::new(element_nodes, element_nodes_len),
-            In::new(element_kinds, element_kinds_len),
-            In::new(stiffness, stiffness_len),
+            In::new(mesh, 1),
             In::new(options, 1),
-            Out::new(work_reals, work_reals_len),
-            Out::new(work_indices, work_indices_len),
-            Out::new(work_bytes, work_bytes_len),
+            In::new(work, 1),
             Out::new(sizes_out, 1),
         )
     };
-    let spec = SpecArgs {
-        points,
-        offsets,
-        targets,
-        boundary,
-        element_offsets,
-        element_nodes,
-        element_kinds,
-        stiffness,
-        options,
-    };
-    let work = PoolArgs {
-        reals: work_reals,
-        indices: work_indices,
-        bytes: work_bytes,
-    };
-    done(by_dim!(dim, sizes_d::<f32>, (&spec, work, sizes_out)))
+    done((|| {
+        let spec = PlanC::spec(mesh, options)?;
+        let work = <dk_plan_mesh_f32 as PlanC>::pools(work)?;
+        by_dim!(dim, sizes_d::<f32>, (&spec, work, sizes_out))
+    })())
 }
 
 /// Builds a plan in the pools `reals`, `indices`, `bytes` (each at least the length
@@ -379,99 +230,30 @@ pub unsafe extern "C" fn dk_plan_pool_sizes_f32(
 /// `info_out` points to one writable struct.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_init(
-    points: *const f64,
-    points_len: usize,
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    boundary: *const u32,
-    boundary_len: usize,
-    element_offsets: *const u32,
-    element_offsets_len: usize,
-    element_nodes: *const u32,
-    element_nodes_len: usize,
-    element_kinds: *const u8,
-    element_kinds_len: usize,
-    stiffness: *const f64,
-    stiffness_len: usize,
+    mesh: *const dk_plan_mesh,
     dim: u32,
     options: *const dk_plan_options,
-    work_reals: *mut f64,
-    work_reals_len: usize,
-    work_indices: *mut u32,
-    work_indices_len: usize,
-    work_bytes: *mut u8,
-    work_bytes_len: usize,
-    reals: *mut f64,
-    reals_len: usize,
-    indices: *mut u32,
-    indices_len: usize,
-    bytes: *mut u8,
-    bytes_len: usize,
+    work: *const dk_plan_pools,
+    pools: *const dk_plan_pools,
     info_out: *mut dk_plan_info,
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        points,
-        offsets,
-        targets,
-        boundary,
-        element_offsets,
-        element_nodes,
-        element_kinds,
-        stiffness,
-        options,
-        work_reals,
-        work_indices,
-        work_bytes,
-        reals,
-        indices,
-        bytes,
-        info_out,
-    ) = unsafe {
+    let (mesh, options, work, pools, info_out) = unsafe {
         (
-            In::new(points, points_len),
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(boundary, boundary_len),
-            In::new(element_offsets, element_offsets_len),
-            In::new(element_nodes, element_nodes_len),
-            In::new(element_kinds, element_kinds_len),
-            In::new(stiffness, stiffness_len),
+            In::new(mesh, 1),
             In::new(options, 1),
-            Out::new(work_reals, work_reals_len),
-            Out::new(work_indices, work_indices_len),
-            Out::new(work_bytes, work_bytes_len),
-            Out::new(reals, reals_len),
-            Out::new(indices, indices_len),
-            Out::new(bytes, bytes_len),
+            In::new(work, 1),
+            In::new(pools, 1),
             Out::new(info_out, 1),
         )
     };
-    let spec = SpecArgs {
-        points,
-        offsets,
-        targets,
-        boundary,
-        element_offsets,
-        element_nodes,
-        element_kinds,
-        stiffness,
-        options,
-    };
-    let work = PoolArgs {
-        reals: work_reals,
-        indices: work_indices,
-        bytes: work_bytes,
-    };
-    let pools = PoolArgs {
-        reals,
-        indices,
-        bytes,
-    };
-    done(by_dim!(dim, init_d::<f64>, (&spec, work, pools, info_out)))
+    done((|| {
+        let spec = PlanC::spec(mesh, options)?;
+        let work = <dk_plan_mesh as PlanC>::pools(work)?;
+        let pools = <dk_plan_mesh as PlanC>::pools(pools)?;
+        by_dim!(dim, init_d::<f64>, (&spec, work, pools, info_out))
+    })())
 }
 
 /// `f32` twin of [`dk_plan_init`].
@@ -480,99 +262,30 @@ pub unsafe extern "C" fn dk_plan_init(
 /// As [`dk_plan_init`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_init_f32(
-    points: *const f32,
-    points_len: usize,
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    boundary: *const u32,
-    boundary_len: usize,
-    element_offsets: *const u32,
-    element_offsets_len: usize,
-    element_nodes: *const u32,
-    element_nodes_len: usize,
-    element_kinds: *const u8,
-    element_kinds_len: usize,
-    stiffness: *const f32,
-    stiffness_len: usize,
+    mesh: *const dk_plan_mesh_f32,
     dim: u32,
     options: *const dk_plan_options,
-    work_reals: *mut f32,
-    work_reals_len: usize,
-    work_indices: *mut u32,
-    work_indices_len: usize,
-    work_bytes: *mut u8,
-    work_bytes_len: usize,
-    reals: *mut f32,
-    reals_len: usize,
-    indices: *mut u32,
-    indices_len: usize,
-    bytes: *mut u8,
-    bytes_len: usize,
+    work: *const dk_plan_pools_f32,
+    pools: *const dk_plan_pools_f32,
     info_out: *mut dk_plan_info,
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        points,
-        offsets,
-        targets,
-        boundary,
-        element_offsets,
-        element_nodes,
-        element_kinds,
-        stiffness,
-        options,
-        work_reals,
-        work_indices,
-        work_bytes,
-        reals,
-        indices,
-        bytes,
-        info_out,
-    ) = unsafe {
+    let (mesh, options, work, pools, info_out) = unsafe {
         (
-            In::new(points, points_len),
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(boundary, boundary_len),
-            In::new(element_offsets, element_offsets_len),
-            In::new(element_nodes, element_nodes_len),
-            In::new(element_kinds, element_kinds_len),
-            In::new(stiffness, stiffness_len),
+            In::new(mesh, 1),
             In::new(options, 1),
-            Out::new(work_reals, work_reals_len),
-            Out::new(work_indices, work_indices_len),
-            Out::new(work_bytes, work_bytes_len),
-            Out::new(reals, reals_len),
-            Out::new(indices, indices_len),
-            Out::new(bytes, bytes_len),
+            In::new(work, 1),
+            In::new(pools, 1),
             Out::new(info_out, 1),
         )
     };
-    let spec = SpecArgs {
-        points,
-        offsets,
-        targets,
-        boundary,
-        element_offsets,
-        element_nodes,
-        element_kinds,
-        stiffness,
-        options,
-    };
-    let work = PoolArgs {
-        reals: work_reals,
-        indices: work_indices,
-        bytes: work_bytes,
-    };
-    let pools = PoolArgs {
-        reals,
-        indices,
-        bytes,
-    };
-    done(by_dim!(dim, init_d::<f32>, (&spec, work, pools, info_out)))
+    done((|| {
+        let spec = PlanC::spec(mesh, options)?;
+        let work = <dk_plan_mesh_f32 as PlanC>::pools(work)?;
+        let pools = <dk_plan_mesh_f32 as PlanC>::pools(pools)?;
+        by_dim!(dim, init_d::<f32>, (&spec, work, pools, info_out))
+    })())
 }
 
 /// Checks that the pools hold a plan for this precision and `dim` (magic, version, counts,
@@ -586,31 +299,17 @@ pub unsafe extern "C" fn dk_plan_init_f32(
 /// struct.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_open(
-    reals: *mut f64,
-    reals_len: usize,
-    indices: *mut u32,
-    indices_len: usize,
-    bytes: *mut u8,
-    bytes_len: usize,
+    pools: *const dk_plan_pools,
     dim: u32,
     info_out: *mut dk_plan_info,
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (reals, indices, bytes, info_out) = unsafe {
-        (
-            Out::new(reals, reals_len),
-            Out::new(indices, indices_len),
-            Out::new(bytes, bytes_len),
-            Out::new(info_out, 1),
-        )
-    };
-    let pools = PoolArgs {
-        reals,
-        indices,
-        bytes,
-    };
-    done(by_dim!(dim, open_d::<f64>, (pools, info_out)))
+    let (pools, info_out) = unsafe { (In::new(pools, 1), Out::new(info_out, 1)) };
+    done(
+        <dk_plan_mesh as PlanC>::pools(pools)
+            .and_then(|pools| by_dim!(dim, open_d::<f64>, (pools, info_out))),
+    )
 }
 
 /// `f32` twin of [`dk_plan_open`].
@@ -619,31 +318,17 @@ pub unsafe extern "C" fn dk_plan_open(
 /// As [`dk_plan_open`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_open_f32(
-    reals: *mut f32,
-    reals_len: usize,
-    indices: *mut u32,
-    indices_len: usize,
-    bytes: *mut u8,
-    bytes_len: usize,
+    pools: *const dk_plan_pools_f32,
     dim: u32,
     info_out: *mut dk_plan_info,
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (reals, indices, bytes, info_out) = unsafe {
-        (
-            Out::new(reals, reals_len),
-            Out::new(indices, indices_len),
-            Out::new(bytes, bytes_len),
-            Out::new(info_out, 1),
-        )
-    };
-    let pools = PoolArgs {
-        reals,
-        indices,
-        bytes,
-    };
-    done(by_dim!(dim, open_d::<f32>, (pools, info_out)))
+    let (pools, info_out) = unsafe { (In::new(pools, 1), Out::new(info_out, 1)) };
+    done(
+        <dk_plan_mesh_f32 as PlanC>::pools(pools)
+            .and_then(|pools| by_dim!(dim, open_d::<f32>, (pools, info_out))),
+    )
 }
 
 /// One time step: the new boundary positions in, the deformed mesh out (`out`: `N * dim`
@@ -676,12 +361,7 @@ pub unsafe extern "C" fn dk_plan_open_f32(
 /// `report_out` points to one writable struct.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_step(
-    reals: *mut f64,
-    reals_len: usize,
-    indices: *mut u32,
-    indices_len: usize,
-    bytes: *mut u8,
-    bytes_len: usize,
+    pools: *const dk_plan_pools,
     dim: u32,
     deformed: *const f64,
     deformed_len: usize,
@@ -697,11 +377,9 @@ pub unsafe extern "C" fn dk_plan_step(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (reals, indices, bytes, deformed, rotations, origin, out, report_out) = unsafe {
+    let (pools, deformed, rotations, origin, out, report_out) = unsafe {
         (
-            Out::new(reals, reals_len),
-            Out::new(indices, indices_len),
-            Out::new(bytes, bytes_len),
+            In::new(pools, 1),
             In::new(deformed, deformed_len),
             In::new(rotations, rotations_len),
             In::new(origin, origin_len),
@@ -709,11 +387,7 @@ pub unsafe extern "C" fn dk_plan_step(
             Out::new(report_out, 1),
         )
     };
-    let pools = PoolArgs {
-        reals,
-        indices,
-        bytes,
-    };
+    let pools = <dk_plan_mesh as PlanC>::pools(pools);
     let motion = MotionArgs {
         deformed,
         rotation_source,
@@ -734,12 +408,7 @@ pub unsafe extern "C" fn dk_plan_step(
 /// As [`dk_plan_step`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_step_f32(
-    reals: *mut f32,
-    reals_len: usize,
-    indices: *mut u32,
-    indices_len: usize,
-    bytes: *mut u8,
-    bytes_len: usize,
+    pools: *const dk_plan_pools_f32,
     dim: u32,
     deformed: *const f32,
     deformed_len: usize,
@@ -755,11 +424,9 @@ pub unsafe extern "C" fn dk_plan_step_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (reals, indices, bytes, deformed, rotations, origin, out, report_out) = unsafe {
+    let (pools, deformed, rotations, origin, out, report_out) = unsafe {
         (
-            Out::new(reals, reals_len),
-            Out::new(indices, indices_len),
-            Out::new(bytes, bytes_len),
+            In::new(pools, 1),
             In::new(deformed, deformed_len),
             In::new(rotations, rotations_len),
             In::new(origin, origin_len),
@@ -767,11 +434,7 @@ pub unsafe extern "C" fn dk_plan_step_f32(
             Out::new(report_out, 1),
         )
     };
-    let pools = PoolArgs {
-        reals,
-        indices,
-        bytes,
-    };
+    let pools = <dk_plan_mesh_f32 as PlanC>::pools(pools);
     let motion = MotionArgs {
         deformed,
         rotation_source,

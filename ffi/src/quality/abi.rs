@@ -53,7 +53,7 @@ pub unsafe extern "C" fn dk_quality_cell_quality_f32(
 /// written): cell errors as `dk_cells_check`, `DK_ERR_CELL_DIMENSION` (a kind that does not
 /// fit `dim`), `DK_ERR_NON_FINITE`, length and pointer errors. With `index_base` 1,
 /// `index_scratch` receives the 0-based copies of the cell arrays and needs
-/// `cell_offsets_len + cell_nodes_len` entries (else `DK_ERR_BUFFER_TOO_SMALL`); with 0 it
+/// `cells->offsets_len + cells->nodes_len` entries (else `DK_ERR_BUFFER_TOO_SMALL`); with 0 it
 /// may be NULL with length 0.
 ///
 /// # Safety
@@ -61,12 +61,7 @@ pub unsafe extern "C" fn dk_quality_cell_quality_f32(
 /// writable for their lengths, not overlapping the inputs or each other.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_cell_measures(
-    cell_offsets: *const u32,
-    cell_offsets_len: usize,
-    cell_nodes: *const u32,
-    cell_nodes_len: usize,
-    cell_kinds: *const u8,
-    cell_kinds_len: usize,
+    cells: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
@@ -78,22 +73,15 @@ pub unsafe extern "C" fn dk_quality_cell_measures(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, points, out) = unsafe {
+    let (cells, index_scratch, points, out) = unsafe {
         (
-            In::new(cell_offsets, cell_offsets_len),
-            In::new(cell_nodes, cell_nodes_len),
-            In::new(cell_kinds, cell_kinds_len),
+            In::new(cells, 1),
             Out::new(index_scratch, index_scratch_len),
             In::new(points, points_len),
             Out::new(out, out_len),
         )
     };
-    let cells = CellArgs {
-        offsets: cell_offsets,
-        nodes: cell_nodes,
-        kinds: cell_kinds,
-        index_base,
-    };
+    let cells = CellArgs { cells, index_base };
     done(by_dim!(
         dim,
         per_cell_d::<f64>,
@@ -107,12 +95,7 @@ pub unsafe extern "C" fn dk_quality_cell_measures(
 /// As [`dk_quality_cell_measures`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_cell_measures_f32(
-    cell_offsets: *const u32,
-    cell_offsets_len: usize,
-    cell_nodes: *const u32,
-    cell_nodes_len: usize,
-    cell_kinds: *const u8,
-    cell_kinds_len: usize,
+    cells: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
@@ -124,22 +107,15 @@ pub unsafe extern "C" fn dk_quality_cell_measures_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, points, out) = unsafe {
+    let (cells, index_scratch, points, out) = unsafe {
         (
-            In::new(cell_offsets, cell_offsets_len),
-            In::new(cell_nodes, cell_nodes_len),
-            In::new(cell_kinds, cell_kinds_len),
+            In::new(cells, 1),
             Out::new(index_scratch, index_scratch_len),
             In::new(points, points_len),
             Out::new(out, out_len),
         )
     };
-    let cells = CellArgs {
-        offsets: cell_offsets,
-        nodes: cell_nodes,
-        kinds: cell_kinds,
-        index_base,
-    };
+    let cells = CellArgs { cells, index_base };
     done(by_dim!(
         dim,
         per_cell_d::<f32>,
@@ -155,12 +131,7 @@ pub unsafe extern "C" fn dk_quality_cell_measures_f32(
 /// As [`dk_quality_cell_measures`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_min_corner_jacobians(
-    cell_offsets: *const u32,
-    cell_offsets_len: usize,
-    cell_nodes: *const u32,
-    cell_nodes_len: usize,
-    cell_kinds: *const u8,
-    cell_kinds_len: usize,
+    cells: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
@@ -173,22 +144,15 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, points, out) = unsafe {
+    let (cells, index_scratch, points, out) = unsafe {
         (
-            In::new(cell_offsets, cell_offsets_len),
-            In::new(cell_nodes, cell_nodes_len),
-            In::new(cell_kinds, cell_kinds_len),
+            In::new(cells, 1),
             Out::new(index_scratch, index_scratch_len),
             In::new(points, points_len),
             Out::new(out, out_len),
         )
     };
-    let cells = CellArgs {
-        offsets: cell_offsets,
-        nodes: cell_nodes,
-        kinds: cell_kinds,
-        index_base,
-    };
+    let cells = CellArgs { cells, index_base };
     done(by_dim!(
         dim,
         per_cell_d::<f64>,
@@ -202,12 +166,7 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians(
 /// As [`dk_quality_min_corner_jacobians`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_min_corner_jacobians_f32(
-    cell_offsets: *const u32,
-    cell_offsets_len: usize,
-    cell_nodes: *const u32,
-    cell_nodes_len: usize,
-    cell_kinds: *const u8,
-    cell_kinds_len: usize,
+    cells: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
@@ -220,22 +179,15 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, points, out) = unsafe {
+    let (cells, index_scratch, points, out) = unsafe {
         (
-            In::new(cell_offsets, cell_offsets_len),
-            In::new(cell_nodes, cell_nodes_len),
-            In::new(cell_kinds, cell_kinds_len),
+            In::new(cells, 1),
             Out::new(index_scratch, index_scratch_len),
             In::new(points, points_len),
             Out::new(out, out_len),
         )
     };
-    let cells = CellArgs {
-        offsets: cell_offsets,
-        nodes: cell_nodes,
-        kinds: cell_kinds,
-        index_base,
-    };
+    let cells = CellArgs { cells, index_base };
     done(by_dim!(
         dim,
         per_cell_d::<f32>,
@@ -252,12 +204,7 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians_f32(
 /// writable `size_t`.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_inverted_cells(
-    cell_offsets: *const u32,
-    cell_offsets_len: usize,
-    cell_nodes: *const u32,
-    cell_nodes_len: usize,
-    cell_kinds: *const u8,
-    cell_kinds_len: usize,
+    cells: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
@@ -270,23 +217,16 @@ pub unsafe extern "C" fn dk_quality_inverted_cells(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, undeformed, deformed, count_out) = unsafe {
+    let (cells, index_scratch, undeformed, deformed, count_out) = unsafe {
         (
-            In::new(cell_offsets, cell_offsets_len),
-            In::new(cell_nodes, cell_nodes_len),
-            In::new(cell_kinds, cell_kinds_len),
+            In::new(cells, 1),
             Out::new(index_scratch, index_scratch_len),
             In::new(undeformed, undeformed_len),
             In::new(deformed, deformed_len),
             Out::new(count_out, 1),
         )
     };
-    let cells = CellArgs {
-        offsets: cell_offsets,
-        nodes: cell_nodes,
-        kinds: cell_kinds,
-        index_base,
-    };
+    let cells = CellArgs { cells, index_base };
     done(by_dim!(
         dim,
         inverted_d::<f64>,
@@ -300,12 +240,7 @@ pub unsafe extern "C" fn dk_quality_inverted_cells(
 /// As [`dk_quality_inverted_cells`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_inverted_cells_f32(
-    cell_offsets: *const u32,
-    cell_offsets_len: usize,
-    cell_nodes: *const u32,
-    cell_nodes_len: usize,
-    cell_kinds: *const u8,
-    cell_kinds_len: usize,
+    cells: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
@@ -318,23 +253,16 @@ pub unsafe extern "C" fn dk_quality_inverted_cells_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, undeformed, deformed, count_out) = unsafe {
+    let (cells, index_scratch, undeformed, deformed, count_out) = unsafe {
         (
-            In::new(cell_offsets, cell_offsets_len),
-            In::new(cell_nodes, cell_nodes_len),
-            In::new(cell_kinds, cell_kinds_len),
+            In::new(cells, 1),
             Out::new(index_scratch, index_scratch_len),
             In::new(undeformed, undeformed_len),
             In::new(deformed, deformed_len),
             Out::new(count_out, 1),
         )
     };
-    let cells = CellArgs {
-        offsets: cell_offsets,
-        nodes: cell_nodes,
-        kinds: cell_kinds,
-        index_base,
-    };
+    let cells = CellArgs { cells, index_base };
     done(by_dim!(
         dim,
         inverted_d::<f32>,
@@ -351,12 +279,7 @@ pub unsafe extern "C" fn dk_quality_inverted_cells_f32(
 /// writable `size_t`.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_folded_cells(
-    cell_offsets: *const u32,
-    cell_offsets_len: usize,
-    cell_nodes: *const u32,
-    cell_nodes_len: usize,
-    cell_kinds: *const u8,
-    cell_kinds_len: usize,
+    cells: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
@@ -367,22 +290,15 @@ pub unsafe extern "C" fn dk_quality_folded_cells(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, points, count_out) = unsafe {
+    let (cells, index_scratch, points, count_out) = unsafe {
         (
-            In::new(cell_offsets, cell_offsets_len),
-            In::new(cell_nodes, cell_nodes_len),
-            In::new(cell_kinds, cell_kinds_len),
+            In::new(cells, 1),
             Out::new(index_scratch, index_scratch_len),
             In::new(points, points_len),
             Out::new(count_out, 1),
         )
     };
-    let cells = CellArgs {
-        offsets: cell_offsets,
-        nodes: cell_nodes,
-        kinds: cell_kinds,
-        index_base,
-    };
+    let cells = CellArgs { cells, index_base };
     done(by_dim!(
         dim,
         folded_d::<f64>,
@@ -396,12 +312,7 @@ pub unsafe extern "C" fn dk_quality_folded_cells(
 /// As [`dk_quality_folded_cells`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_folded_cells_f32(
-    cell_offsets: *const u32,
-    cell_offsets_len: usize,
-    cell_nodes: *const u32,
-    cell_nodes_len: usize,
-    cell_kinds: *const u8,
-    cell_kinds_len: usize,
+    cells: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
@@ -412,22 +323,15 @@ pub unsafe extern "C" fn dk_quality_folded_cells_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, points, count_out) = unsafe {
+    let (cells, index_scratch, points, count_out) = unsafe {
         (
-            In::new(cell_offsets, cell_offsets_len),
-            In::new(cell_nodes, cell_nodes_len),
-            In::new(cell_kinds, cell_kinds_len),
+            In::new(cells, 1),
             Out::new(index_scratch, index_scratch_len),
             In::new(points, points_len),
             Out::new(count_out, 1),
         )
     };
-    let cells = CellArgs {
-        offsets: cell_offsets,
-        nodes: cell_nodes,
-        kinds: cell_kinds,
-        index_base,
-    };
+    let cells = CellArgs { cells, index_base };
     done(by_dim!(
         dim,
         folded_d::<f32>,
@@ -466,13 +370,12 @@ pub unsafe extern "C" fn dk_quality_wall_angle_scratch_len(
 /// Compares `deformed` against `undeformed` over the cells in one call: inverted and folded
 /// cells, measure ratios, smallest measure and scaled Jacobian, and, when a wall is given,
 /// the wall-angle change (as [`dk_quality_wall_angle_change`]). The wall is its elements
-/// (`wall_offsets`/`wall_nodes`/`wall_kinds`, lines for `dim` 2, triangles or quads for
-/// `dim` 3, in the same `index_base` as the cells) and the mesh's 0-based CSR edge graph
-/// (`graph_offsets`/`graph_targets`); pass all six wall pointers NULL with length 0 for no
-/// wall (then `scratch` may be NULL with `scratch_len` 0; with a wall it needs
-/// [`dk_quality_wall_angle_scratch_len`] scalars). `index_scratch` as in
-/// [`dk_quality_cell_measures`], with `wall_offsets_len + wall_nodes_len` more entries for a
-/// wall. Errors (nothing written): as
+/// (`*wall`: lines for `dim` 2, triangles or quads for `dim` 3, in the same `index_base` as
+/// the cells) and the mesh's 0-based CSR edge graph (`*graph`); pass both structs with every
+/// array NULL with length 0 for no wall (then `scratch` may be NULL with `scratch_len` 0; with
+/// a wall it needs [`dk_quality_wall_angle_scratch_len`] scalars). `index_scratch` as in
+/// [`dk_quality_cell_measures`], with `wall->offsets_len + wall->nodes_len` more entries for
+/// a wall. Errors (nothing written): as
 /// [`dk_quality_cell_measures`] for both point arrays and as
 /// [`dk_quality_wall_angle_change`] for the wall.
 ///
@@ -482,25 +385,12 @@ pub unsafe extern "C" fn dk_quality_wall_angle_scratch_len(
 /// nothing else.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_compare(
-    cell_offsets: *const u32,
-    cell_offsets_len: usize,
-    cell_nodes: *const u32,
-    cell_nodes_len: usize,
-    cell_kinds: *const u8,
-    cell_kinds_len: usize,
+    cells: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
-    wall_offsets: *const u32,
-    wall_offsets_len: usize,
-    wall_nodes: *const u32,
-    wall_nodes_len: usize,
-    wall_kinds: *const u8,
-    wall_kinds_len: usize,
-    graph_offsets: *const u32,
-    graph_offsets_len: usize,
-    graph_targets: *const u32,
-    graph_targets_len: usize,
+    wall: *const dk_cells,
+    graph: *const dk_graph,
     undeformed: *const f64,
     undeformed_len: usize,
     deformed: *const f64,
@@ -512,52 +402,25 @@ pub unsafe extern "C" fn dk_quality_compare(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        cell_offsets,
-        cell_nodes,
-        cell_kinds,
-        index_scratch,
-        wall_offsets,
-        wall_nodes,
-        wall_kinds,
-        graph_offsets,
-        graph_targets,
-        undeformed,
-        deformed,
-        scratch,
-        report,
-    ) = unsafe {
+    let (cells, index_scratch, wall, graph, undeformed, deformed, scratch, report) = unsafe {
         (
-            In::new(cell_offsets, cell_offsets_len),
-            In::new(cell_nodes, cell_nodes_len),
-            In::new(cell_kinds, cell_kinds_len),
+            In::new(cells, 1),
             Out::new(index_scratch, index_scratch_len),
-            In::new(wall_offsets, wall_offsets_len),
-            In::new(wall_nodes, wall_nodes_len),
-            In::new(wall_kinds, wall_kinds_len),
-            In::new(graph_offsets, graph_offsets_len),
-            In::new(graph_targets, graph_targets_len),
+            In::new(wall, 1),
+            In::new(graph, 1),
             In::new(undeformed, undeformed_len),
             In::new(deformed, deformed_len),
             Out::new(scratch, scratch_len),
             Out::new(report, 1),
         )
     };
-    let cells = CellArgs {
-        offsets: cell_offsets,
-        nodes: cell_nodes,
-        kinds: cell_kinds,
-        index_base,
-    };
+    let cells = CellArgs { cells, index_base };
     let wall = WallArgs {
         elements: CellArgs {
-            offsets: wall_offsets,
-            nodes: wall_nodes,
-            kinds: wall_kinds,
+            cells: wall,
             index_base,
         },
-        graph_offsets,
-        graph_targets,
+        graph,
     };
     done(by_dim!(
         dim,
@@ -580,25 +443,12 @@ pub unsafe extern "C" fn dk_quality_compare(
 /// As [`dk_quality_compare`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_compare_f32(
-    cell_offsets: *const u32,
-    cell_offsets_len: usize,
-    cell_nodes: *const u32,
-    cell_nodes_len: usize,
-    cell_kinds: *const u8,
-    cell_kinds_len: usize,
+    cells: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
-    wall_offsets: *const u32,
-    wall_offsets_len: usize,
-    wall_nodes: *const u32,
-    wall_nodes_len: usize,
-    wall_kinds: *const u8,
-    wall_kinds_len: usize,
-    graph_offsets: *const u32,
-    graph_offsets_len: usize,
-    graph_targets: *const u32,
-    graph_targets_len: usize,
+    wall: *const dk_cells,
+    graph: *const dk_graph,
     undeformed: *const f32,
     undeformed_len: usize,
     deformed: *const f32,
@@ -610,52 +460,25 @@ pub unsafe extern "C" fn dk_quality_compare_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        cell_offsets,
-        cell_nodes,
-        cell_kinds,
-        index_scratch,
-        wall_offsets,
-        wall_nodes,
-        wall_kinds,
-        graph_offsets,
-        graph_targets,
-        undeformed,
-        deformed,
-        scratch,
-        report,
-    ) = unsafe {
+    let (cells, index_scratch, wall, graph, undeformed, deformed, scratch, report) = unsafe {
         (
-            In::new(cell_offsets, cell_offsets_len),
-            In::new(cell_nodes, cell_nodes_len),
-            In::new(cell_kinds, cell_kinds_len),
+            In::new(cells, 1),
             Out::new(index_scratch, index_scratch_len),
-            In::new(wall_offsets, wall_offsets_len),
-            In::new(wall_nodes, wall_nodes_len),
-            In::new(wall_kinds, wall_kinds_len),
-            In::new(graph_offsets, graph_offsets_len),
-            In::new(graph_targets, graph_targets_len),
+            In::new(wall, 1),
+            In::new(graph, 1),
             In::new(undeformed, undeformed_len),
             In::new(deformed, deformed_len),
             Out::new(scratch, scratch_len),
             Out::new(report, 1),
         )
     };
-    let cells = CellArgs {
-        offsets: cell_offsets,
-        nodes: cell_nodes,
-        kinds: cell_kinds,
-        index_base,
-    };
+    let cells = CellArgs { cells, index_base };
     let wall = WallArgs {
         elements: CellArgs {
-            offsets: wall_offsets,
-            nodes: wall_nodes,
-            kinds: wall_kinds,
+            cells: wall,
             index_base,
         },
-        graph_offsets,
-        graph_targets,
+        graph,
     };
     done(by_dim!(
         dim,
@@ -675,12 +498,11 @@ pub unsafe extern "C" fn dk_quality_compare_f32(
 /// Change of the first grid-line angle at a wall, in radians (boundary-layer orthogonality):
 /// for every wall node, the angle between the wall normal and its most normal off-wall edge,
 /// undeformed vs deformed; `*out` receives the maximum change, its node (in `index_base`) and
-/// the counts of measured and skipped wall nodes. The wall elements (`wall_offsets`,
-/// `wall_nodes`, `wall_kinds`, read with `index_base`: lines for `dim` 2, triangles or quads
-/// for `dim` 3, consistently oriented) index the mesh nodes; `graph_offsets`/`graph_targets`
-/// is the mesh's 0-based CSR edge graph. `scratch` needs
+/// the counts of measured and skipped wall nodes. The wall elements (`*wall`, read with
+/// `index_base`: lines for `dim` 2, triangles or quads for `dim` 3, consistently oriented)
+/// index the mesh nodes; `*graph` is the mesh's 0-based CSR edge graph. `scratch` needs
 /// [`dk_quality_wall_angle_scratch_len`] scalars; with `index_base` 1, `index_scratch` needs
-/// `wall_offsets_len + wall_nodes_len` entries (NULL with 0 for `index_base` 0). Errors (nothing written): cell and graph
+/// `wall->offsets_len + wall->nodes_len` entries (NULL with 0 for `index_base` 0). Errors (nothing written): cell and graph
 /// errors, `DK_ERR_CELL_DIMENSION` (wrong element kind), `DK_ERR_NON_FINITE`, length and
 /// pointer errors.
 ///
@@ -689,19 +511,11 @@ pub unsafe extern "C" fn dk_quality_compare_f32(
 /// scalars; `out` points to one writable struct; writable buffers overlap nothing else.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_wall_angle_change(
-    wall_offsets: *const u32,
-    wall_offsets_len: usize,
-    wall_nodes: *const u32,
-    wall_nodes_len: usize,
-    wall_kinds: *const u8,
-    wall_kinds_len: usize,
+    wall: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
-    graph_offsets: *const u32,
-    graph_offsets_len: usize,
-    graph_targets: *const u32,
-    graph_targets_len: usize,
+    graph: *const dk_graph,
     undeformed: *const f64,
     undeformed_len: usize,
     deformed: *const f64,
@@ -713,25 +527,11 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        wall_offsets,
-        wall_nodes,
-        wall_kinds,
-        index_scratch,
-        graph_offsets,
-        graph_targets,
-        undeformed,
-        deformed,
-        scratch,
-        out,
-    ) = unsafe {
+    let (wall, index_scratch, graph, undeformed, deformed, scratch, out) = unsafe {
         (
-            In::new(wall_offsets, wall_offsets_len),
-            In::new(wall_nodes, wall_nodes_len),
-            In::new(wall_kinds, wall_kinds_len),
+            In::new(wall, 1),
             Out::new(index_scratch, index_scratch_len),
-            In::new(graph_offsets, graph_offsets_len),
-            In::new(graph_targets, graph_targets_len),
+            In::new(graph, 1),
             In::new(undeformed, undeformed_len),
             In::new(deformed, deformed_len),
             Out::new(scratch, scratch_len),
@@ -740,13 +540,10 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change(
     };
     let wall = WallArgs {
         elements: CellArgs {
-            offsets: wall_offsets,
-            nodes: wall_nodes,
-            kinds: wall_kinds,
+            cells: wall,
             index_base,
         },
-        graph_offsets,
-        graph_targets,
+        graph,
     };
     done(by_dim!(
         dim,
@@ -761,19 +558,11 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change(
 /// As [`dk_quality_wall_angle_change`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_wall_angle_change_f32(
-    wall_offsets: *const u32,
-    wall_offsets_len: usize,
-    wall_nodes: *const u32,
-    wall_nodes_len: usize,
-    wall_kinds: *const u8,
-    wall_kinds_len: usize,
+    wall: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
-    graph_offsets: *const u32,
-    graph_offsets_len: usize,
-    graph_targets: *const u32,
-    graph_targets_len: usize,
+    graph: *const dk_graph,
     undeformed: *const f32,
     undeformed_len: usize,
     deformed: *const f32,
@@ -785,25 +574,11 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        wall_offsets,
-        wall_nodes,
-        wall_kinds,
-        index_scratch,
-        graph_offsets,
-        graph_targets,
-        undeformed,
-        deformed,
-        scratch,
-        out,
-    ) = unsafe {
+    let (wall, index_scratch, graph, undeformed, deformed, scratch, out) = unsafe {
         (
-            In::new(wall_offsets, wall_offsets_len),
-            In::new(wall_nodes, wall_nodes_len),
-            In::new(wall_kinds, wall_kinds_len),
+            In::new(wall, 1),
             Out::new(index_scratch, index_scratch_len),
-            In::new(graph_offsets, graph_offsets_len),
-            In::new(graph_targets, graph_targets_len),
+            In::new(graph, 1),
             In::new(undeformed, undeformed_len),
             In::new(deformed, deformed_len),
             Out::new(scratch, scratch_len),
@@ -812,13 +587,10 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change_f32(
     };
     let wall = WallArgs {
         elements: CellArgs {
-            offsets: wall_offsets,
-            nodes: wall_nodes,
-            kinds: wall_kinds,
+            cells: wall,
             index_base,
         },
-        graph_offsets,
-        graph_targets,
+        graph,
     };
     done(by_dim!(
         dim,

@@ -8,8 +8,25 @@ use super::*;
 use crate::slice::{In, Out};
 use crate::status::dk_status;
 
+/// Single-precision twin of [`dk_spring_system`] (`float` scalars).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+#[allow(non_camel_case_types)]
+pub struct dk_spring_system_f32 {
+    /// The 0-based CSR graph.
+    pub graph: dk_graph,
+    /// Stiffness of each directed edge (`graph.targets_len` entries).
+    pub stiffness: *const f32,
+    /// Entries of `stiffness`.
+    pub stiffness_len: usize,
+    /// One byte per node, nonzero = fixed (Dirichlet).
+    pub fixed: *const u8,
+    /// Entries of `fixed` (the node count).
+    pub fixed_len: usize,
+}
+
 /// Batina's stiffness `k_ij = 1 / |r_i − r_j|^exponent` for every directed edge of the 0-based
-/// CSR graph into `stiffness` (`stiffness_len` = `targets_len`). `exponent` 1 is the papers'
+/// CSR graph into `stiffness` (`stiffness_len` = `graph->targets_len`). `exponent` 1 is the papers'
 /// choice (computed as `1/|d|`), 2 is `1/(d·d)`, 0 the uniform Laplacian. The result is
 /// exactly symmetric, as the solvers require. `points`: `node_count * dim` scalars, `dim` 2
 /// or 3. Errors (nothing written): `DK_ERR_ZERO_LENGTH_EDGE`, `DK_ERR_NON_FINITE`,
@@ -21,10 +38,7 @@ use crate::status::dk_status;
 /// overlapping the inputs.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_batina_stiffness(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
+    graph: *const dk_graph,
     points: *const f64,
     points_len: usize,
     dim: u32,
@@ -34,16 +48,15 @@ pub unsafe extern "C" fn dk_spring_batina_stiffness(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, points, stiffness) = unsafe {
+    let (graph, points, stiffness) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
+            In::new(graph, 1),
             In::new(points, points_len),
             Out::new(stiffness, stiffness_len),
         )
     };
     done(
-        graph(offsets, targets)
+        read_graph(graph)
             .and_then(|g| by_dim!(dim, batina_d::<f64>, (&g, points, exponent, stiffness))),
     )
 }
@@ -54,10 +67,7 @@ pub unsafe extern "C" fn dk_spring_batina_stiffness(
 /// As [`dk_spring_batina_stiffness`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_batina_stiffness_f32(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
+    graph: *const dk_graph,
     points: *const f32,
     points_len: usize,
     dim: u32,
@@ -67,16 +77,15 @@ pub unsafe extern "C" fn dk_spring_batina_stiffness_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, points, stiffness) = unsafe {
+    let (graph, points, stiffness) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
+            In::new(graph, 1),
             In::new(points, points_len),
             Out::new(stiffness, stiffness_len),
         )
     };
     done(
-        graph(offsets, targets)
+        read_graph(graph)
             .and_then(|g| by_dim!(dim, batina_d::<f32>, (&g, points, exponent, stiffness))),
     )
 }
@@ -175,20 +184,13 @@ pub unsafe extern "C" fn dk_spring_solve_linear_scratch_len(
 /// length and pointer errors.
 ///
 /// # Safety
-/// Every input pointer is readable for its length; `options` points to one readable struct;
-/// `values` is readable and writable for `values_len` scalars; `scratch` and `index_scratch`
+/// `system` points to one readable struct whose arrays are readable for their lengths;
+/// `options` points to one readable struct; `values` is readable and writable for `values_len` scalars; `scratch` and `index_scratch`
 /// writable for their lengths; `report` points to one writable report; writable buffers
 /// overlap nothing else.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_linear(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f64,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system,
     options: *const dk_spring_solve_options,
     components: u32,
     values: *mut f64,
@@ -201,12 +203,9 @@ pub unsafe extern "C" fn dk_spring_solve_linear(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, stiffness, fixed, options, values, scratch, index_scratch, report) = unsafe {
+    let (system, options, values, scratch, index_scratch, report) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(options, 1),
             Out::new(values, values_len),
             Out::new(scratch, scratch_len),
@@ -215,10 +214,7 @@ pub unsafe extern "C" fn dk_spring_solve_linear(
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     done(read_one(options).and_then(|o| {
@@ -236,14 +232,7 @@ pub unsafe extern "C" fn dk_spring_solve_linear(
 /// As [`dk_spring_solve_linear`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_linear_f32(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f32,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system_f32,
     options: *const dk_spring_solve_options,
     components: u32,
     values: *mut f32,
@@ -256,12 +245,9 @@ pub unsafe extern "C" fn dk_spring_solve_linear_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, stiffness, fixed, options, values, scratch, index_scratch, report) = unsafe {
+    let (system, options, values, scratch, index_scratch, report) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(options, 1),
             Out::new(values, values_len),
             Out::new(scratch, scratch_len),
@@ -270,10 +256,7 @@ pub unsafe extern "C" fn dk_spring_solve_linear_f32(
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     done(read_one(options).and_then(|o| {
@@ -298,14 +281,7 @@ pub unsafe extern "C" fn dk_spring_solve_linear_f32(
 /// `dst_len` and not overlapping `src`; `sweep` points to one writable struct.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_jacobi_sweep(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f64,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system,
     nodes_start: usize,
     nodes_end: usize,
     index_base: u32,
@@ -320,12 +296,9 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, stiffness, fixed, src, dst, index_scratch, sweep) = unsafe {
+    let (system, src, dst, index_scratch, sweep) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(src, src_len),
             Out::new(dst, dst_len),
             Out::new(index_scratch, index_scratch_len),
@@ -333,10 +306,7 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep(
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
@@ -354,14 +324,7 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep(
 /// As [`dk_spring_jacobi_sweep`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_jacobi_sweep_f32(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f32,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system_f32,
     nodes_start: usize,
     nodes_end: usize,
     index_base: u32,
@@ -376,12 +339,9 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, stiffness, fixed, src, dst, index_scratch, sweep) = unsafe {
+    let (system, src, dst, index_scratch, sweep) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(src, src_len),
             Out::new(dst, dst_len),
             Out::new(index_scratch, index_scratch_len),
@@ -389,10 +349,7 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_f32(
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
@@ -414,14 +371,7 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_f32(
 /// As [`dk_spring_jacobi_sweep`]; `residual_words` writable for `DK_EXACT_SUM_WORDS` values.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f64,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system,
     nodes_start: usize,
     nodes_end: usize,
     index_base: u32,
@@ -437,12 +387,9 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, stiffness, fixed, src, dst, index_scratch, sweep, residual_words) = unsafe {
+    let (system, src, dst, index_scratch, sweep, residual_words) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(src, src_len),
             Out::new(dst, dst_len),
             Out::new(index_scratch, index_scratch_len),
@@ -451,10 +398,7 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact(
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
@@ -472,14 +416,7 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact(
 /// As [`dk_spring_jacobi_sweep_exact`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact_f32(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f32,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system_f32,
     nodes_start: usize,
     nodes_end: usize,
     index_base: u32,
@@ -495,12 +432,9 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, stiffness, fixed, src, dst, index_scratch, sweep, residual_words) = unsafe {
+    let (system, src, dst, index_scratch, sweep, residual_words) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(src, src_len),
             Out::new(dst, dst_len),
             Out::new(index_scratch, index_scratch_len),
@@ -509,10 +443,7 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact_f32(
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
@@ -551,14 +482,7 @@ pub unsafe extern "C" fn dk_exact_sum_value(words: *const i64, value_out: *mut f
 /// `sweep` points to one writable struct.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_sor_sweep(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f64,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system,
     nodes_start: usize,
     nodes_end: usize,
     index_base: u32,
@@ -572,22 +496,16 @@ pub unsafe extern "C" fn dk_spring_sor_sweep(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, stiffness, fixed, values, index_scratch, sweep) = unsafe {
+    let (system, values, index_scratch, sweep) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             Out::new(values, values_len),
             Out::new(index_scratch, index_scratch_len),
             Out::new(sweep, 1),
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
@@ -605,14 +523,7 @@ pub unsafe extern "C" fn dk_spring_sor_sweep(
 /// As [`dk_spring_sor_sweep`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_sor_sweep_f32(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f32,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system_f32,
     nodes_start: usize,
     nodes_end: usize,
     index_base: u32,
@@ -626,22 +537,16 @@ pub unsafe extern "C" fn dk_spring_sor_sweep_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, stiffness, fixed, values, index_scratch, sweep) = unsafe {
+    let (system, values, index_scratch, sweep) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             Out::new(values, values_len),
             Out::new(index_scratch, index_scratch_len),
             Out::new(sweep, 1),
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
@@ -662,14 +567,7 @@ pub unsafe extern "C" fn dk_spring_sor_sweep_f32(
 /// writable for one scalar.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_relative_residual(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f64,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system,
     components: u32,
     values: *const f64,
     values_len: usize,
@@ -679,22 +577,16 @@ pub unsafe extern "C" fn dk_spring_relative_residual(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, stiffness, fixed, values, index_scratch, residual_out) = unsafe {
+    let (system, values, index_scratch, residual_out) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(values, values_len),
             Out::new(index_scratch, index_scratch_len),
             Out::new(residual_out, 1),
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     done(by_components!(
@@ -710,14 +602,7 @@ pub unsafe extern "C" fn dk_spring_relative_residual(
 /// As [`dk_spring_relative_residual`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_relative_residual_f32(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f32,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system_f32,
     components: u32,
     values: *const f32,
     values_len: usize,
@@ -727,22 +612,16 @@ pub unsafe extern "C" fn dk_spring_relative_residual_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, stiffness, fixed, values, index_scratch, residual_out) = unsafe {
+    let (system, values, index_scratch, residual_out) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(values, values_len),
             Out::new(index_scratch, index_scratch_len),
             Out::new(residual_out, 1),
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     done(by_components!(
@@ -856,14 +735,7 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_scratch_len(
 /// As [`dk_spring_solve_linear`]; `points` readable for `points_len` scalars.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_angle(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f64,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system,
     points: *const f64,
     points_len: usize,
     dim: u32,
@@ -878,23 +750,9 @@ pub unsafe extern "C" fn dk_spring_solve_angle(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        offsets,
-        targets,
-        stiffness,
-        fixed,
-        points,
-        options,
-        values,
-        scratch,
-        index_scratch,
-        report,
-    ) = unsafe {
+    let (system, points, options, values, scratch, index_scratch, report) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(points, points_len),
             In::new(options, 1),
             Out::new(values, values_len),
@@ -904,10 +762,7 @@ pub unsafe extern "C" fn dk_spring_solve_angle(
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     let pts = AngleArgs { points };
@@ -926,14 +781,7 @@ pub unsafe extern "C" fn dk_spring_solve_angle(
 /// As [`dk_spring_solve_angle`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_angle_f32(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f32,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system_f32,
     points: *const f32,
     points_len: usize,
     dim: u32,
@@ -948,23 +796,9 @@ pub unsafe extern "C" fn dk_spring_solve_angle_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        offsets,
-        targets,
-        stiffness,
-        fixed,
-        points,
-        options,
-        values,
-        scratch,
-        index_scratch,
-        report,
-    ) = unsafe {
+    let (system, points, options, values, scratch, index_scratch, report) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(points, points_len),
             In::new(options, 1),
             Out::new(values, values_len),
@@ -974,10 +808,7 @@ pub unsafe extern "C" fn dk_spring_solve_angle_f32(
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     let pts = AngleArgs { points };
@@ -1002,14 +833,7 @@ pub unsafe extern "C" fn dk_spring_solve_angle_f32(
 /// `dst_len`, not overlapping `src`; `sweep` points to one writable struct.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f64,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system,
     points: *const f64,
     points_len: usize,
     dim: u32,
@@ -1027,12 +851,9 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, stiffness, fixed, points, src, dst, index_scratch, sweep) = unsafe {
+    let (system, points, src, dst, index_scratch, sweep) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(points, points_len),
             In::new(src, src_len),
             Out::new(dst, dst_len),
@@ -1041,10 +862,7 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep(
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     let pts = AngleArgs { points };
@@ -1063,14 +881,7 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep(
 /// As [`dk_spring_angle_jacobi_sweep`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep_f32(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f32,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system_f32,
     points: *const f32,
     points_len: usize,
     dim: u32,
@@ -1088,12 +899,9 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, stiffness, fixed, points, src, dst, index_scratch, sweep) = unsafe {
+    let (system, points, src, dst, index_scratch, sweep) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(points, points_len),
             In::new(src, src_len),
             Out::new(dst, dst_len),
@@ -1102,10 +910,7 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep_f32(
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     let pts = AngleArgs { points };
@@ -1128,14 +933,7 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep_f32(
 /// `sweep` points to one writable struct.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f64,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system,
     points: *const f64,
     points_len: usize,
     dim: u32,
@@ -1151,12 +949,9 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, stiffness, fixed, points, values, index_scratch, sweep) = unsafe {
+    let (system, points, values, index_scratch, sweep) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(points, points_len),
             Out::new(values, values_len),
             Out::new(index_scratch, index_scratch_len),
@@ -1164,10 +959,7 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep(
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     let pts = AngleArgs { points };
@@ -1186,14 +978,7 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep(
 /// As [`dk_spring_angle_gauss_seidel_sweep`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep_f32(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f32,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system_f32,
     points: *const f32,
     points_len: usize,
     dim: u32,
@@ -1209,12 +994,9 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, stiffness, fixed, points, values, index_scratch, sweep) = unsafe {
+    let (system, points, values, index_scratch, sweep) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(points, points_len),
             Out::new(values, values_len),
             Out::new(index_scratch, index_scratch_len),
@@ -1222,10 +1004,7 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep_f32(
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     let pts = AngleArgs { points };
@@ -1250,14 +1029,7 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep_f32(
 /// As [`dk_spring_solve_angle`]; `amplification_out` writable for one scalar.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_rigidity_probe(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f64,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system,
     points: *const f64,
     points_len: usize,
     dim: u32,
@@ -1270,22 +1042,9 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        offsets,
-        targets,
-        stiffness,
-        fixed,
-        points,
-        options,
-        scratch,
-        index_scratch,
-        amplification_out,
-    ) = unsafe {
+    let (system, points, options, scratch, index_scratch, amplification_out) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(points, points_len),
             In::new(options, 1),
             Out::new(scratch, scratch_len),
@@ -1294,10 +1053,7 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe(
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     let pts = AngleArgs { points };
@@ -1316,14 +1072,7 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe(
 /// As [`dk_spring_angle_rigidity_probe`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_f32(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
-    stiffness: *const f32,
-    stiffness_len: usize,
-    fixed: *const u8,
-    fixed_len: usize,
+    system: *const dk_spring_system_f32,
     points: *const f32,
     points_len: usize,
     dim: u32,
@@ -1336,22 +1085,9 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (
-        offsets,
-        targets,
-        stiffness,
-        fixed,
-        points,
-        options,
-        scratch,
-        index_scratch,
-        amplification_out,
-    ) = unsafe {
+    let (system, points, options, scratch, index_scratch, amplification_out) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
-            In::new(stiffness, stiffness_len),
-            In::new(fixed, fixed_len),
+            In::new(system, 1),
             In::new(points, points_len),
             In::new(options, 1),
             Out::new(scratch, scratch_len),
@@ -1360,10 +1096,7 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_f32(
         )
     };
     let sys = SysArgs {
-        offsets,
-        targets,
-        stiffness,
-        fixed,
+        system: SystemC::read(system),
         index_scratch,
     };
     let pts = AngleArgs { points };

@@ -125,8 +125,8 @@ pub unsafe extern "C" fn dk_spring_wall_distance_factors_f32(
 
 /// The dual volume of every node (each cell's absolute area or volume shared equally among
 /// its nodes) into `out` (one scalar per node). Cells as `dk_graph_from_cells` takes them;
-/// with `index_base` 1, `index_scratch` needs `cell_offsets_len + cell_nodes_len` entries
-/// (NULL with length 0 for base 0). `scratch` needs one scalar per cell (`cell_kinds_len`).
+/// with `index_base` 1, `index_scratch` needs `cells->offsets_len + cells->nodes_len` entries
+/// (NULL with length 0 for base 0). `scratch` needs one scalar per cell (`cells->kinds_len`).
 /// Errors (nothing written to `out`): cell errors, `DK_ERR_CELL_DIMENSION`,
 /// `DK_ERR_NON_FINITE`, `DK_ERR_INVALID_PARAMETER` (`dim`), length and pointer errors.
 ///
@@ -135,12 +135,7 @@ pub unsafe extern "C" fn dk_spring_wall_distance_factors_f32(
 /// theirs, overlapping nothing else.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_dual_volumes(
-    cell_offsets: *const u32,
-    cell_offsets_len: usize,
-    cell_nodes: *const u32,
-    cell_nodes_len: usize,
-    cell_kinds: *const u8,
-    cell_kinds_len: usize,
+    cells: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
@@ -154,11 +149,9 @@ pub unsafe extern "C" fn dk_spring_dual_volumes(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, points, out, scratch) = unsafe {
+    let (cells, index_scratch, points, out, scratch) = unsafe {
         (
-            In::new(cell_offsets, cell_offsets_len),
-            In::new(cell_nodes, cell_nodes_len),
-            In::new(cell_kinds, cell_kinds_len),
+            In::new(cells, 1),
             Out::new(index_scratch, index_scratch_len),
             In::new(points, points_len),
             Out::new(out, out_len),
@@ -168,16 +161,7 @@ pub unsafe extern "C" fn dk_spring_dual_volumes(
     done(by_dim!(
         dim,
         dual_volumes_d::<f64>,
-        (
-            cell_offsets,
-            cell_nodes,
-            cell_kinds,
-            index_base,
-            index_scratch,
-            points,
-            out,
-            scratch
-        )
+        (cells, index_base, index_scratch, points, out, scratch)
     ))
 }
 
@@ -187,12 +171,7 @@ pub unsafe extern "C" fn dk_spring_dual_volumes(
 /// As [`dk_spring_dual_volumes`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_dual_volumes_f32(
-    cell_offsets: *const u32,
-    cell_offsets_len: usize,
-    cell_nodes: *const u32,
-    cell_nodes_len: usize,
-    cell_kinds: *const u8,
-    cell_kinds_len: usize,
+    cells: *const dk_cells,
     index_base: u32,
     index_scratch: *mut u32,
     index_scratch_len: usize,
@@ -206,11 +185,9 @@ pub unsafe extern "C" fn dk_spring_dual_volumes_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (cell_offsets, cell_nodes, cell_kinds, index_scratch, points, out, scratch) = unsafe {
+    let (cells, index_scratch, points, out, scratch) = unsafe {
         (
-            In::new(cell_offsets, cell_offsets_len),
-            In::new(cell_nodes, cell_nodes_len),
-            In::new(cell_kinds, cell_kinds_len),
+            In::new(cells, 1),
             Out::new(index_scratch, index_scratch_len),
             In::new(points, points_len),
             Out::new(out, out_len),
@@ -220,16 +197,7 @@ pub unsafe extern "C" fn dk_spring_dual_volumes_f32(
     done(by_dim!(
         dim,
         dual_volumes_d::<f32>,
-        (
-            cell_offsets,
-            cell_nodes,
-            cell_kinds,
-            index_base,
-            index_scratch,
-            points,
-            out,
-            scratch
-        )
+        (cells, index_base, index_scratch, points, out, scratch)
     ))
 }
 
@@ -279,10 +247,7 @@ pub unsafe extern "C" fn dk_spring_inverse_volume_factors_f32(
 /// `stiffness_len` scalars, overlapping nothing else.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_scale_stiffness(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
+    graph: *const dk_graph,
     factors: *const f64,
     factors_len: usize,
     stiffness: *mut f64,
@@ -290,16 +255,15 @@ pub unsafe extern "C" fn dk_spring_scale_stiffness(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, factors, stiffness) = unsafe {
+    let (graph, factors, stiffness) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
+            In::new(graph, 1),
             In::new(factors, factors_len),
             Out::new(stiffness, stiffness_len),
         )
     };
     done((|| {
-        let g = graph(offsets, targets)?;
+        let g = read_graph(graph)?;
         let f = input(factors)?;
         scale_stiffness(&g, f, output(stiffness)?).map_err(dk_status::from)
     })())
@@ -311,10 +275,7 @@ pub unsafe extern "C" fn dk_spring_scale_stiffness(
 /// As [`dk_spring_scale_stiffness`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_scale_stiffness_f32(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
+    graph: *const dk_graph,
     factors: *const f32,
     factors_len: usize,
     stiffness: *mut f32,
@@ -322,16 +283,15 @@ pub unsafe extern "C" fn dk_spring_scale_stiffness_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, factors, stiffness) = unsafe {
+    let (graph, factors, stiffness) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
+            In::new(graph, 1),
             In::new(factors, factors_len),
             Out::new(stiffness, stiffness_len),
         )
     };
     done((|| {
-        let g = graph(offsets, targets)?;
+        let g = read_graph(graph)?;
         let f = input(factors)?;
         scale_stiffness(&g, f, output(stiffness)?).map_err(dk_status::from)
     })())

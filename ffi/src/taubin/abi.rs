@@ -564,8 +564,8 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph_scratch_len(
 /// `iterations` λ|μ iterations, each two Jacobi passes
 /// `x_i ← x_i + w (Σ_j w_ij x_j / Σ_j w_ij − x_i)` with `w = λ`, then `w = μ`.
 ///
-/// - `offsets`/`targets`: a 0-based CSR graph (from `dk_graph_from_*`);
-/// - `weights`: per directed edge (`targets_len` values, each finite and `> 0`), or NULL with
+/// - `graph`: a 0-based CSR graph (from `dk_graph_from_*`);
+/// - `weights`: per directed edge (`graph->targets_len` values, each finite and `> 0`), or NULL with
 ///   `weights_len` 0 for uniform weights (see [`dk_taubin_inverse_distance_weights`]);
 /// - `fixed`: one byte per node (nonzero = keeps its value), or NULL with `fixed_len` 0;
 /// - `values`: `node_count * components` scalars (`components` 1 to 7), updated in place;
@@ -580,10 +580,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph_scratch_len(
 /// `report` points to one writable report; writable buffers overlap nothing else.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_graph(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
+    graph: *const dk_graph,
     weights: *const f64,
     weights_len: usize,
     fixed: *const u8,
@@ -600,10 +597,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, weights, fixed, values, scratch, report) = unsafe {
+    let (graph, weights, fixed, values, scratch, report) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
+            In::new(graph, 1),
             In::new(weights, weights_len),
             In::new(fixed, fixed_len),
             Out::new(values, values_len),
@@ -612,8 +608,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph(
         )
     };
     let args = GraphArgs {
-        offsets,
-        targets,
+        graph,
         weights,
         fixed,
     };
@@ -631,10 +626,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph(
 /// As [`dk_taubin_smooth_graph`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_graph_f32(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
+    graph: *const dk_graph,
     weights: *const f32,
     weights_len: usize,
     fixed: *const u8,
@@ -651,10 +643,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, weights, fixed, values, scratch, report) = unsafe {
+    let (graph, weights, fixed, values, scratch, report) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
+            In::new(graph, 1),
             In::new(weights, weights_len),
             In::new(fixed, fixed_len),
             Out::new(values, values_len),
@@ -663,8 +654,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph_f32(
         )
     };
     let args = GraphArgs {
-        offsets,
-        targets,
+        graph,
         weights,
         fixed,
     };
@@ -689,10 +679,7 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph_f32(
 /// for `dst_len` scalars and `max_change_out` for one; `dst` overlaps no input.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_graph_sweep(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
+    graph: *const dk_graph,
     weights: *const f64,
     weights_len: usize,
     fixed: *const u8,
@@ -710,10 +697,9 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, weights, fixed, src, dst, max_change_out) = unsafe {
+    let (graph, weights, fixed, src, dst, max_change_out) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
+            In::new(graph, 1),
             In::new(weights, weights_len),
             In::new(fixed, fixed_len),
             In::new(src, src_len),
@@ -722,8 +708,7 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep(
         )
     };
     let args = GraphArgs {
-        offsets,
-        targets,
+        graph,
         weights,
         fixed,
     };
@@ -742,10 +727,7 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep(
 /// As [`dk_taubin_graph_sweep`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_graph_sweep_f32(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
+    graph: *const dk_graph,
     weights: *const f32,
     weights_len: usize,
     fixed: *const u8,
@@ -763,10 +745,9 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, weights, fixed, src, dst, max_change_out) = unsafe {
+    let (graph, weights, fixed, src, dst, max_change_out) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
+            In::new(graph, 1),
             In::new(weights, weights_len),
             In::new(fixed, fixed_len),
             In::new(src, src_len),
@@ -775,8 +756,7 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep_f32(
         )
     };
     let args = GraphArgs {
-        offsets,
-        targets,
+        graph,
         weights,
         fixed,
     };
@@ -790,7 +770,7 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep_f32(
 }
 
 /// Fujiwara's inverse-distance weights `weights[e] = 1 / |x_i − x_j|` for every directed edge
-/// `e = i → j` of the 0-based CSR graph (`weights_len` = `targets_len`), for
+/// `e = i → j` of the 0-based CSR graph (`weights_len` = `graph->targets_len`), for
 /// [`dk_taubin_smooth_graph`] on meshes with uneven edge lengths. `points`: `node_count *
 /// dim` scalars, `dim` 2 or 3. Errors (nothing written): `DK_ERR_ZERO_LENGTH_EDGE` (two
 /// neighbours coincide), `DK_ERR_NON_FINITE`, length and pointer errors.
@@ -800,10 +780,7 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep_f32(
 /// overlapping the inputs.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_inverse_distance_weights(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
+    graph: *const dk_graph,
     points: *const f64,
     points_len: usize,
     dim: u32,
@@ -812,15 +789,14 @@ pub unsafe extern "C" fn dk_taubin_inverse_distance_weights(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, points, weights) = unsafe {
+    let (graph, points, weights) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
+            In::new(graph, 1),
             In::new(points, points_len),
             Out::new(weights, weights_len),
         )
     };
-    done(graph(offsets, targets).and_then(|g| {
+    done(read_graph(graph).and_then(|g| {
         by_dim!(
             dim,
             inverse_distance_weights_d::<f64>,
@@ -835,10 +811,7 @@ pub unsafe extern "C" fn dk_taubin_inverse_distance_weights(
 /// As [`dk_taubin_inverse_distance_weights`].
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_inverse_distance_weights_f32(
-    offsets: *const u32,
-    offsets_len: usize,
-    targets: *const u32,
-    targets_len: usize,
+    graph: *const dk_graph,
     points: *const f32,
     points_len: usize,
     dim: u32,
@@ -847,15 +820,14 @@ pub unsafe extern "C" fn dk_taubin_inverse_distance_weights_f32(
 ) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
-    let (offsets, targets, points, weights) = unsafe {
+    let (graph, points, weights) = unsafe {
         (
-            In::new(offsets, offsets_len),
-            In::new(targets, targets_len),
+            In::new(graph, 1),
             In::new(points, points_len),
             Out::new(weights, weights_len),
         )
     };
-    done(graph(offsets, targets).and_then(|g| {
+    done(read_graph(graph).and_then(|g| {
         by_dim!(
             dim,
             inverse_distance_weights_d::<f32>,

@@ -19,8 +19,10 @@ use deform_kernel::plan::{
 };
 use deform_kernel::spring::{AmgOptions, SolveOptions};
 use deform_kernel::Real;
+use deform_kernel_ffi::graph::{dk_cells, dk_graph};
 use deform_kernel_ffi::plan::{
-    dk_plan_info, dk_plan_options, dk_plan_sizes, dk_plan_step_report, DK_PLAN_SPRING, DK_PLAN_WARM,
+    dk_plan_info, dk_plan_mesh, dk_plan_mesh_f32, dk_plan_options, dk_plan_pools,
+    dk_plan_pools_f32, dk_plan_sizes, dk_plan_step_report, DK_PLAN_SPRING, DK_PLAN_WARM,
 };
 use deform_kernel_ffi::status::dk_status;
 use deform_on_target::mesh::{turned_bottom_row as deformed, Mesh, N, NB, NE, NT, NX};
@@ -36,94 +38,25 @@ const STEPS: usize = 4;
 const MAX_ITERATIONS: usize = 500;
 
 type OptionsFn = unsafe extern "C" fn(*mut dk_plan_options) -> dk_status;
-type SizesFn<T> = unsafe extern "C" fn(
-    *const T,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u8,
-    usize,
-    *const T,
-    usize,
+type SizesFn<M> =
+    unsafe extern "C" fn(*const M, u32, *const dk_plan_options, *mut dk_plan_sizes) -> dk_status;
+type PoolSizesFn<M, P> = unsafe extern "C" fn(
+    *const M,
     u32,
     *const dk_plan_options,
+    *const P,
     *mut dk_plan_sizes,
 ) -> dk_status;
-type PoolSizesFn<T> = unsafe extern "C" fn(
-    *const T,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u8,
-    usize,
-    *const T,
-    usize,
+type InitFn<M, P> = unsafe extern "C" fn(
+    *const M,
     u32,
     *const dk_plan_options,
-    *mut T,
-    usize,
-    *mut u32,
-    usize,
-    *mut u8,
-    usize,
-    *mut dk_plan_sizes,
-) -> dk_status;
-type InitFn<T> = unsafe extern "C" fn(
-    *const T,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u32,
-    usize,
-    *const u8,
-    usize,
-    *const T,
-    usize,
-    u32,
-    *const dk_plan_options,
-    *mut T,
-    usize,
-    *mut u32,
-    usize,
-    *mut u8,
-    usize,
-    *mut T,
-    usize,
-    *mut u32,
-    usize,
-    *mut u8,
-    usize,
+    *const P,
+    *const P,
     *mut dk_plan_info,
 ) -> dk_status;
-type StepFn<T> = unsafe extern "C" fn(
-    *mut T,
-    usize,
-    *mut u32,
-    usize,
-    *mut u8,
-    usize,
+type StepFn<T, P> = unsafe extern "C" fn(
+    *const P,
     u32,
     *const T,
     usize,
@@ -138,33 +71,116 @@ type StepFn<T> = unsafe extern "C" fn(
     *mut dk_plan_step_report,
 ) -> dk_status;
 
-/// The f64 or `_f32` plan functions, and the residual tolerance used with them.
+/// A `dk_graph` borrowing `offsets` and `targets` (each passed with its own length).
+fn graph(offsets: &[u32], targets: &[u32]) -> dk_graph {
+    dk_graph {
+        offsets: offsets.as_ptr(),
+        offsets_len: offsets.len(),
+        targets: targets.as_ptr(),
+        targets_len: targets.len(),
+    }
+}
+
+/// A `dk_cells` borrowing the three arrays (each passed with its own length).
+fn cells(offsets: &[u32], nodes: &[u32], kinds: &[u8]) -> dk_cells {
+    dk_cells {
+        offsets: offsets.as_ptr(),
+        offsets_len: offsets.len(),
+        nodes: nodes.as_ptr(),
+        nodes_len: nodes.len(),
+        kinds: kinds.as_ptr(),
+        kinds_len: kinds.len(),
+    }
+}
+
+/// No cells: every array NULL with length 0.
+fn no_cells() -> dk_cells {
+    cells(&[], &[], &[])
+}
+
+/// The f64 or `_f32` plan functions and structs, and the residual tolerance used with them.
 trait Abi: Real {
+    /// `dk_plan_mesh` or `dk_plan_mesh_f32`.
+    type Mesh;
+    /// `dk_plan_pools` or `dk_plan_pools_f32`.
+    type Pools;
     const OPTIONS: OptionsFn;
-    const WORK_SIZES: SizesFn<Self>;
-    const POOL_SIZES: PoolSizesFn<Self>;
-    const INIT: InitFn<Self>;
-    const STEP: StepFn<Self>;
+    const WORK_SIZES: SizesFn<Self::Mesh>;
+    const POOL_SIZES: PoolSizesFn<Self::Mesh, Self::Pools>;
+    const INIT: InitFn<Self::Mesh, Self::Pools>;
+    const STEP: StepFn<Self, Self::Pools>;
     const TOL: f64;
+    /// The plan mesh borrowing `points`, `graph`'s arrays and `boundary`, without elements and
+    /// with Batina's stiffness (NULL with length 0).
+    fn mesh(points: &[Self], graph: dk_graph, boundary: &[u32]) -> Self::Mesh;
+    /// Three pools (or work buffers) borrowing the slices, each with its own length.
+    fn pools(reals: &mut [Self], indices: &mut [u32], bytes: &mut [u8]) -> Self::Pools;
 }
 
-impl Abi for f64 {
-    const OPTIONS: OptionsFn = deform_kernel_ffi::plan::dk_plan_options_default;
-    const WORK_SIZES: SizesFn<f64> = deform_kernel_ffi::plan::dk_plan_work_sizes;
-    const POOL_SIZES: PoolSizesFn<f64> = deform_kernel_ffi::plan::dk_plan_pool_sizes;
-    const INIT: InitFn<f64> = deform_kernel_ffi::plan::dk_plan_init;
-    const STEP: StepFn<f64> = deform_kernel_ffi::plan::dk_plan_step;
-    const TOL: f64 = 1e-9;
+macro_rules! abi_impl {
+    ($t:ty, $mesh:ident, $pools:ident, $tol:expr,
+     [$options:path, $work:path, $pool:path, $init:path, $step:path]) => {
+        impl Abi for $t {
+            type Mesh = $mesh;
+            type Pools = $pools;
+            const OPTIONS: OptionsFn = $options;
+            const WORK_SIZES: SizesFn<$mesh> = $work;
+            const POOL_SIZES: PoolSizesFn<$mesh, $pools> = $pool;
+            const INIT: InitFn<$mesh, $pools> = $init;
+            const STEP: StepFn<$t, $pools> = $step;
+            const TOL: f64 = $tol;
+            fn mesh(points: &[$t], graph: dk_graph, boundary: &[u32]) -> $mesh {
+                $mesh {
+                    points: points.as_ptr(),
+                    points_len: points.len(),
+                    graph,
+                    boundary: boundary.as_ptr(),
+                    boundary_len: boundary.len(),
+                    elements: no_cells(),
+                    stiffness: core::ptr::null(),
+                    stiffness_len: 0,
+                }
+            }
+            fn pools(reals: &mut [$t], indices: &mut [u32], bytes: &mut [u8]) -> $pools {
+                $pools {
+                    reals: reals.as_mut_ptr(),
+                    reals_len: reals.len(),
+                    indices: indices.as_mut_ptr(),
+                    indices_len: indices.len(),
+                    bytes: bytes.as_mut_ptr(),
+                    bytes_len: bytes.len(),
+                }
+            }
+        }
+    };
 }
 
-impl Abi for f32 {
-    const OPTIONS: OptionsFn = deform_kernel_ffi::plan::dk_plan_options_default_f32;
-    const WORK_SIZES: SizesFn<f32> = deform_kernel_ffi::plan::dk_plan_work_sizes_f32;
-    const POOL_SIZES: PoolSizesFn<f32> = deform_kernel_ffi::plan::dk_plan_pool_sizes_f32;
-    const INIT: InitFn<f32> = deform_kernel_ffi::plan::dk_plan_init_f32;
-    const STEP: StepFn<f32> = deform_kernel_ffi::plan::dk_plan_step_f32;
-    const TOL: f64 = 1e-4;
-}
+abi_impl!(
+    f64,
+    dk_plan_mesh,
+    dk_plan_pools,
+    1e-9,
+    [
+        deform_kernel_ffi::plan::dk_plan_options_default,
+        deform_kernel_ffi::plan::dk_plan_work_sizes,
+        deform_kernel_ffi::plan::dk_plan_pool_sizes,
+        deform_kernel_ffi::plan::dk_plan_init,
+        deform_kernel_ffi::plan::dk_plan_step
+    ]
+);
+abi_impl!(
+    f32,
+    dk_plan_mesh_f32,
+    dk_plan_pools_f32,
+    1e-4,
+    [
+        deform_kernel_ffi::plan::dk_plan_options_default_f32,
+        deform_kernel_ffi::plan::dk_plan_work_sizes_f32,
+        deform_kernel_ffi::plan::dk_plan_pool_sizes_f32,
+        deform_kernel_ffi::plan::dk_plan_init_f32,
+        deform_kernel_ffi::plan::dk_plan_step_f32
+    ]
+);
 
 /// The Rust side: the same plan, built with the kernel API.
 fn rust_plan<T: Abi>(
@@ -218,16 +234,12 @@ fn step_abi<T: Abi>(
     out: &mut [[T; 2]; N],
     rep: &mut dk_plan_step_report,
 ) -> dk_status {
+    let pools = T::pools(reals, indices, bytes);
     // SAFETY: the pools and `out` writable for their lengths, `d` readable, no rotations or
     // origin (NULL with length 0), `rep` one struct.
     unsafe {
         T::STEP(
-            reals.as_mut_ptr(),
-            REALS,
-            indices.as_mut_ptr(),
-            INDICES,
-            bytes.as_mut_ptr(),
-            BYTES,
+            &pools,
             2,
             flat(d).as_ptr(),
             2 * NB,
@@ -257,109 +269,28 @@ fn plan_through_the_abi<T: Abi>() {
     o.linear.max_iterations = MAX_ITERATIONS;
     o.linear.residual_tol = T::TOL;
     let g = &m.targets[..m.used];
+    let mesh = T::mesh(flat(&m.points), graph(&m.graph_offsets, g), &m.boundary);
     let mut ws = dk_plan_sizes::default();
-    // SAFETY: every array is valid for the length passed with it; the elements are NULL with
-    // length 0; `o` and `ws` are one struct each.
-    let s = unsafe {
-        T::WORK_SIZES(
-            flat(&m.points).as_ptr(),
-            2 * N,
-            m.graph_offsets.as_ptr(),
-            N + 1,
-            g.as_ptr(),
-            g.len(),
-            m.boundary.as_ptr(),
-            NB,
-            core::ptr::null(),
-            0,
-            core::ptr::null(),
-            0,
-            core::ptr::null(),
-            0,
-            core::ptr::null(),
-            0,
-            2,
-            &o,
-            &mut ws,
-        )
-    };
+    // SAFETY: every array of `mesh` is valid for its length; the elements and the stiffness
+    // are NULL with length 0; `mesh`, `o` and `ws` are one struct each.
+    let s = unsafe { T::WORK_SIZES(&mesh, 2, &o, &mut ws) };
     defmt::assert!(s == dk_status::DK_OK && ws.reals <= NE && ws.indices <= WORK && ws.bytes <= N);
     let mut wr = [T::ZERO; NE];
     let mut wi = [0u32; WORK];
     let mut wb = [0u8; N];
     let mut sizes = dk_plan_sizes::default();
+    let work = T::pools(&mut wr, &mut wi, &mut wb);
     // SAFETY: as above, plus the work buffers writable for their lengths.
-    let s = unsafe {
-        T::POOL_SIZES(
-            flat(&m.points).as_ptr(),
-            2 * N,
-            m.graph_offsets.as_ptr(),
-            N + 1,
-            g.as_ptr(),
-            g.len(),
-            m.boundary.as_ptr(),
-            NB,
-            core::ptr::null(),
-            0,
-            core::ptr::null(),
-            0,
-            core::ptr::null(),
-            0,
-            core::ptr::null(),
-            0,
-            2,
-            &o,
-            wr.as_mut_ptr(),
-            NE,
-            wi.as_mut_ptr(),
-            WORK,
-            wb.as_mut_ptr(),
-            N,
-            &mut sizes,
-        )
-    };
+    let s = unsafe { T::POOL_SIZES(&mesh, 2, &o, &work, &mut sizes) };
     defmt::assert!(s == dk_status::DK_OK);
     defmt::assert!(sizes.reals <= REALS && sizes.indices <= INDICES && sizes.bytes <= BYTES);
     let mut reals = [T::ZERO; REALS];
     let mut indices = [0u32; INDICES];
     let mut bytes = [0u8; BYTES];
     let mut info = dk_plan_info::default();
+    let pools = T::pools(&mut reals, &mut indices, &mut bytes);
     // SAFETY: as above, plus the pools writable for their lengths and `info` one struct.
-    let s = unsafe {
-        T::INIT(
-            flat(&m.points).as_ptr(),
-            2 * N,
-            m.graph_offsets.as_ptr(),
-            N + 1,
-            g.as_ptr(),
-            g.len(),
-            m.boundary.as_ptr(),
-            NB,
-            core::ptr::null(),
-            0,
-            core::ptr::null(),
-            0,
-            core::ptr::null(),
-            0,
-            core::ptr::null(),
-            0,
-            2,
-            &o,
-            wr.as_mut_ptr(),
-            NE,
-            wi.as_mut_ptr(),
-            WORK,
-            wb.as_mut_ptr(),
-            N,
-            reals.as_mut_ptr(),
-            REALS,
-            indices.as_mut_ptr(),
-            INDICES,
-            bytes.as_mut_ptr(),
-            BYTES,
-            &mut info,
-        )
-    };
+    let s = unsafe { T::INIT(&mesh, 2, &o, &work, &pools, &mut info) };
     defmt::assert!(s == dk_status::DK_OK && info.nodes == N && info.boundary == NB);
     defmt::assert!(info.used == sizes && info.amg_levels >= 1);
 
@@ -421,16 +352,13 @@ fn graph_from_1_based_cells() {
                 offsets: &mut [u32; N + 1],
                 targets: &mut [u32; NE],
                 used: &mut usize| {
-        // SAFETY: every array is valid for the length passed with it; `used` is one size_t.
+        let c = cells(&offsets1, &nodes1, &m.kinds);
+        // SAFETY: every array (the cells' too) is valid for the length passed with it; `used`
+        // is one size_t.
         unsafe {
             deform_kernel_ffi::graph::dk_graph_from_cells(
                 N,
-                offsets1.as_ptr(),
-                offsets1.len(),
-                nodes1.as_ptr(),
-                nodes1.len(),
-                m.kinds.as_ptr(),
-                m.kinds.len(),
+                &c,
                 1,
                 scratch.as_mut_ptr(),
                 scratch.len(),
@@ -486,7 +414,10 @@ macro_rules! stiffening_case {
             let kc = &mut kc[..m.used];
             kc.copy_from_slice(k);
             let g = &m.targets[..m.used];
-            // SAFETY: every array is valid for the length passed with it.
+            let mg = graph(&m.graph_offsets, g);
+            let mc = cells(&m.offsets, &m.nodes, &m.kinds);
+            // SAFETY: every array (the graph's and the cells' too) is valid for the length
+            // passed with it.
             let s = unsafe {
                 [
                     paste_sfx!(st, dk_spring_wall_distances, $sfx)(
@@ -503,12 +434,7 @@ macro_rules! stiffening_case {
                     ),
                     paste_sfx!(st, dk_spring_wall_distance_factors, $sfx)(d.as_mut_ptr(), N, 1.0),
                     paste_sfx!(st, dk_spring_dual_volumes, $sfx)(
-                        m.offsets.as_ptr(),
-                        NT + 1,
-                        m.nodes.as_ptr(),
-                        3 * NT,
-                        m.kinds.as_ptr(),
-                        NT,
+                        &mc,
                         0,
                         core::ptr::null_mut(),
                         0,
@@ -522,10 +448,7 @@ macro_rules! stiffening_case {
                     ),
                     paste_sfx!(st, dk_spring_inverse_volume_factors, $sfx)(v.as_mut_ptr(), N, 1.0),
                     paste_sfx!(st, dk_spring_scale_stiffness, $sfx)(
-                        m.graph_offsets.as_ptr(),
-                        N + 1,
-                        g.as_ptr(),
-                        g.len(),
+                        &mg,
                         d.as_ptr(),
                         N,
                         kc.as_mut_ptr(),

@@ -16,6 +16,8 @@ use deform_kernel::spring::{
 };
 use deform_kernel::taubin::{smooth_graph, GraphOptions, TaubinParams};
 use deform_kernel::{Quat, Real};
+use deform_kernel_ffi::graph::{dk_cells, dk_graph};
+use deform_kernel_ffi::spring::{dk_spring_system, dk_spring_system_f32};
 use deform_kernel_ffi::status::dk_status;
 use deform_on_target::mesh::{turned_bottom_row, Mesh, N, NB, NE, NT};
 
@@ -35,6 +37,28 @@ fn flat_mut<T, const D: usize>(a: &mut [[T; D]]) -> &mut [T] {
     a.as_flattened_mut()
 }
 
+/// A `dk_graph` borrowing `offsets` and `targets` (each passed with its own length).
+fn graph(offsets: &[u32], targets: &[u32]) -> dk_graph {
+    dk_graph {
+        offsets: offsets.as_ptr(),
+        offsets_len: offsets.len(),
+        targets: targets.as_ptr(),
+        targets_len: targets.len(),
+    }
+}
+
+/// A `dk_cells` borrowing the three arrays (each passed with its own length).
+fn cells(offsets: &[u32], nodes: &[u32], kinds: &[u8]) -> dk_cells {
+    dk_cells {
+        offsets: offsets.as_ptr(),
+        offsets_len: offsets.len(),
+        nodes: nodes.as_ptr(),
+        nodes_len: nodes.len(),
+        kinds: kinds.as_ptr(),
+        kinds_len: kinds.len(),
+    }
+}
+
 /// A sentinel no call writes by accident.
 const SENTINEL: f64 = 7.25;
 
@@ -42,7 +66,8 @@ const SENTINEL: f64 = 7.25;
 macro_rules! abi_cases {
     ($t:ty, [$quat:ident, $quality:ident, $taubin:ident, $spring:ident, $deform:ident],
      [$quat_fn:path, $quat2_fn:path, $quality_fn:path, $taubin_fn:path, $spring_fn:path, $deform_fn:path],
-     $motion_default:path, $motion_ty:ty, $options_default:path) => {
+     $motion_default:path, $motion_ty:ty, $options_default:path,
+     $system_ty:ident) => {
         /// `dk_quat_rotate_points`: `q` normalised, then `Quat::rotate` of every point; an
         /// `out` of the wrong length is `DK_ERR_LENGTH_MISMATCH`, `out` untouched. Then
         /// `dk_quat_rotate_points_2d`.
@@ -122,16 +147,12 @@ macro_rules! abi_cases {
             let mut scratch = [0u32; NT + 1 + 3 * NT];
             let mut out = [SENTINEL as $t; NT];
             let p = flat(&m.points);
+            let c = cells(&offsets1, &nodes1, &m.kinds);
             let mut call = |dim: u32, out: &mut [$t; NT]| {
-                // SAFETY: every array is valid for the length passed with it.
+                // SAFETY: every array (the cells' too) is valid for the length passed with it.
                 unsafe {
                     $quality_fn(
-                        offsets1.as_ptr(),
-                        offsets1.len(),
-                        nodes1.as_ptr(),
-                        nodes1.len(),
-                        m.kinds.as_ptr(),
-                        m.kinds.len(),
+                        &c,
                         1,
                         scratch.as_mut_ptr(),
                         scratch.len(),
@@ -169,19 +190,17 @@ macro_rules! abi_cases {
                 iterations: 99,
                 last_change: SENTINEL,
             };
-            let g = &m.targets[..m.used];
+            let g = graph(&m.graph_offsets, &m.targets[..m.used]);
             let mut call =
                 |len: usize,
                  values: &mut [[$t; 2]; N],
                  report: &mut deform_kernel_ffi::taubin::dk_filter_report| {
                     let v = flat_mut(values);
-                    // SAFETY: every array is valid for the length passed with it.
+                    // SAFETY: every array (the graph's too) is valid for the length passed with
+                    // it.
                     unsafe {
                         $taubin_fn(
-                            m.graph_offsets.as_ptr(),
-                            N + 1,
-                            g.as_ptr(),
-                            g.len(),
+                            &g,
                             core::ptr::null(),
                             0,
                             m.fixed.as_ptr(),
@@ -242,22 +261,22 @@ macro_rules! abi_cases {
             let copts = unsafe { copts.assume_init() };
             let mut scratch = [0.0 as $t; 10 * N];
             let mut index = [0u32; N];
-            let g = &m.targets[..m.used];
+            let system = $system_ty {
+                graph: graph(&m.graph_offsets, &m.targets[..m.used]),
+                stiffness: k.as_ptr(),
+                stiffness_len: k.len(),
+                fixed: m.fixed.as_ptr(),
+                fixed_len: N,
+            };
             let mut run =
                 |values: &mut [[$t; 2]; N],
                  out: &mut deform_kernel_ffi::spring::dk_spring_solve_report| {
                     let v = flat_mut(values);
-                    // SAFETY: every array is valid for the length passed with it.
+                    // SAFETY: every array (the system's too) is valid for the length passed
+                    // with it.
                     unsafe {
                         $spring_fn(
-                            m.graph_offsets.as_ptr(),
-                            N + 1,
-                            g.as_ptr(),
-                            g.len(),
-                            k.as_ptr(),
-                            k.len(),
-                            m.fixed.as_ptr(),
-                            N,
+                            &system,
                             &copts,
                             2,
                             v.as_mut_ptr(),
@@ -397,7 +416,8 @@ abi_cases!(
     ],
     deform_kernel_ffi::deformation::dk_boundary_motion_default,
     deform_kernel_ffi::deformation::dk_boundary_motion,
-    deform_kernel_ffi::spring::dk_spring_solve_options_default
+    deform_kernel_ffi::spring::dk_spring_solve_options_default,
+    dk_spring_system
 );
 abi_cases!(
     f32,
@@ -412,7 +432,8 @@ abi_cases!(
     ],
     deform_kernel_ffi::deformation::dk_boundary_motion_default_f32,
     deform_kernel_ffi::deformation::dk_boundary_motion_f32,
-    deform_kernel_ffi::spring::dk_spring_solve_options_default_f32
+    deform_kernel_ffi::spring::dk_spring_solve_options_default_f32,
+    dk_spring_system_f32
 );
 
 #[defmt_test::tests]

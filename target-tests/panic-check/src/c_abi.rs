@@ -169,11 +169,6 @@ pub fn exercise() {
             black_box(0),
             black_box(Default::default()),
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -191,11 +186,6 @@ pub fn exercise() {
             black_box(0),
             black_box(Default::default()),
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -224,11 +214,6 @@ pub fn exercise() {
             black_box(0),
             black_box(Default::default()),
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -248,11 +233,6 @@ pub fn exercise() {
             black_box(0),
             black_box(Default::default()),
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -575,13 +555,6 @@ pub fn exercise() {
             black_box(Default::default()),
             black_box(null()),
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(null_mut()),
             black_box(0),
@@ -609,13 +582,6 @@ pub fn exercise() {
             black_box(Default::default()),
             black_box(null()),
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(null_mut()),
             black_box(0),
@@ -649,13 +615,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::deformation::dk_deform_propagate_spring(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(Default::default()),
             black_box(null_mut()),
@@ -674,13 +633,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::deformation::dk_deform_propagate_spring_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(Default::default()),
             black_box(null_mut()),
@@ -725,11 +677,6 @@ pub fn exercise() {
         deform_kernel_ffi::graph::dk_cells_check(
             black_box(Default::default()),
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -741,11 +688,6 @@ pub fn exercise() {
         deform_kernel_ffi::graph::dk_graph_from_cells_len(
             black_box(Default::default()),
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -759,11 +701,6 @@ pub fn exercise() {
         deform_kernel_ffi::graph::dk_graph_from_cells(
             black_box(Default::default()),
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -778,13 +715,7 @@ pub fn exercise() {
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.
     black_box(unsafe {
-        deform_kernel_ffi::graph::dk_graph_check(
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(Default::default()),
-        )
+        deform_kernel_ffi::graph::dk_graph_check(black_box(null()), black_box(Default::default()))
     });
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.
@@ -799,21 +730,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::plan::dk_plan_work_sizes(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null()),
             black_box(null_mut()),
@@ -824,21 +740,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::plan::dk_plan_work_sizes_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null()),
             black_box(null_mut()),
@@ -849,29 +750,9 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::plan::dk_plan_pool_sizes(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null()),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
+            black_box(null()),
             black_box(null_mut()),
         )
     });
@@ -880,29 +761,9 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::plan::dk_plan_pool_sizes_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null()),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
+            black_box(null()),
             black_box(null_mut()),
         )
     });
@@ -911,35 +772,10 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::plan::dk_plan_init(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null()),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
+            black_box(null()),
+            black_box(null()),
             black_box(null_mut()),
         )
     });
@@ -948,35 +784,10 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::plan::dk_plan_init_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null()),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
+            black_box(null()),
+            black_box(null()),
             black_box(null_mut()),
         )
     });
@@ -984,12 +795,7 @@ pub fn exercise() {
     // keep every path of the function.
     black_box(unsafe {
         deform_kernel_ffi::plan::dk_plan_open(
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
+            black_box(null()),
             black_box(Default::default()),
             black_box(null_mut()),
         )
@@ -998,12 +804,7 @@ pub fn exercise() {
     // keep every path of the function.
     black_box(unsafe {
         deform_kernel_ffi::plan::dk_plan_open_f32(
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
+            black_box(null()),
             black_box(Default::default()),
             black_box(null_mut()),
         )
@@ -1012,12 +813,7 @@ pub fn exercise() {
     // keep every path of the function.
     black_box(unsafe {
         deform_kernel_ffi::plan::dk_plan_step(
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
+            black_box(null()),
             black_box(Default::default()),
             black_box(null()),
             black_box(0),
@@ -1036,12 +832,7 @@ pub fn exercise() {
     // keep every path of the function.
     black_box(unsafe {
         deform_kernel_ffi::plan::dk_plan_step_f32(
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
-            black_box(null_mut()),
-            black_box(0),
+            black_box(null()),
             black_box(Default::default()),
             black_box(null()),
             black_box(0),
@@ -1083,11 +874,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::quality::dk_quality_cell_measures(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -1103,11 +889,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::quality::dk_quality_cell_measures_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -1123,11 +904,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::quality::dk_quality_min_corner_jacobians(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -1144,11 +920,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::quality::dk_quality_min_corner_jacobians_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -1165,11 +936,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::quality::dk_quality_inverted_cells(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -1186,11 +952,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::quality::dk_quality_inverted_cells_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -1207,11 +968,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::quality::dk_quality_folded_cells(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -1226,11 +982,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::quality::dk_quality_folded_cells_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -1254,24 +1005,11 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::quality::dk_quality_compare(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
             black_box(null()),
-            black_box(0),
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(null()),
@@ -1287,24 +1025,11 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::quality::dk_quality_compare_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
             black_box(null()),
-            black_box(0),
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(null()),
@@ -1320,18 +1045,10 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::quality::dk_quality_wall_angle_change(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(null()),
@@ -1347,18 +1064,10 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::quality::dk_quality_wall_angle_change_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(null()),
@@ -1572,9 +1281,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_batina_stiffness(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(Default::default()),
@@ -1588,9 +1294,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_batina_stiffness_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(Default::default()),
@@ -1632,13 +1335,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_solve_linear(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(Default::default()),
             black_box(null_mut()),
@@ -1655,13 +1351,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_solve_linear_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(Default::default()),
             black_box(null_mut()),
@@ -1678,13 +1367,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_jacobi_sweep(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(Default::default()),
             black_box(Default::default()),
@@ -1703,13 +1385,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_jacobi_sweep_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(Default::default()),
             black_box(Default::default()),
@@ -1728,13 +1403,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_jacobi_sweep_exact(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(Default::default()),
             black_box(Default::default()),
@@ -1754,13 +1422,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_jacobi_sweep_exact_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(Default::default()),
             black_box(Default::default()),
@@ -1785,13 +1446,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_sor_sweep(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(Default::default()),
             black_box(Default::default()),
@@ -1809,13 +1463,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_sor_sweep_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(Default::default()),
             black_box(Default::default()),
@@ -1833,13 +1480,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_relative_residual(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null()),
             black_box(0),
@@ -1853,13 +1493,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_relative_residual_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null()),
             black_box(0),
@@ -1912,13 +1545,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_solve_angle(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(Default::default()),
@@ -1937,13 +1563,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_solve_angle_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(Default::default()),
@@ -1962,13 +1581,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_angle_jacobi_sweep(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(Default::default()),
@@ -1990,13 +1602,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_angle_jacobi_sweep_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(Default::default()),
@@ -2018,13 +1623,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_angle_gauss_seidel_sweep(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(Default::default()),
@@ -2044,13 +1642,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_angle_gauss_seidel_sweep_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(Default::default()),
@@ -2070,13 +1661,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_angle_rigidity_probe(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(Default::default()),
@@ -2093,13 +1677,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_angle_rigidity_probe_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(Default::default()),
@@ -2166,11 +1743,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::stiffening::dk_spring_dual_volumes(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -2188,11 +1760,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::stiffening::dk_spring_dual_volumes_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(Default::default()),
             black_box(null_mut()),
             black_box(0),
@@ -2228,9 +1795,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::stiffening::dk_spring_scale_stiffness(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(null_mut()),
@@ -2242,9 +1806,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::stiffening::dk_spring_scale_stiffness_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(null_mut()),
@@ -2484,9 +2045,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::taubin::dk_taubin_smooth_graph(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(null()),
@@ -2507,9 +2065,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::taubin::dk_taubin_smooth_graph_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(null()),
@@ -2530,9 +2085,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::taubin::dk_taubin_graph_sweep(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(null()),
@@ -2554,9 +2106,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::taubin::dk_taubin_graph_sweep_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(null()),
@@ -2578,9 +2127,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::taubin::dk_taubin_inverse_distance_weights(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(Default::default()),
@@ -2593,9 +2139,6 @@ pub fn exercise() {
     black_box(unsafe {
         deform_kernel_ffi::taubin::dk_taubin_inverse_distance_weights_f32(
             black_box(null()),
-            black_box(0),
-            black_box(null()),
-            black_box(0),
             black_box(null()),
             black_box(0),
             black_box(Default::default()),

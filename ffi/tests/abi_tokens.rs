@@ -12,14 +12,19 @@ use deform_kernel::deformation::{
 use deform_kernel::taubin::{smooth_structured, StructuredOptions, TaubinParams};
 use deform_kernel::{graph_from_edges, graph_from_edges_len, Block, Quat};
 
-use crate::deformation::{
+use deform_kernel::spring::{LinearMethod, SolveOptions, SpringSystem};
+use deform_kernel_ffi::deformation::{
     dk_boundary_motion, dk_boundary_motion_default, dk_deform_idw, dk_deform_idw_scratch_len,
     DK_ROTATIONS_RIGID,
 };
-use crate::graph::{dk_graph_from_edges, dk_graph_from_edges_len};
-use crate::quat::{dk_quat_mul, dk_quat_rotate_points};
-use crate::status::dk_status;
-use crate::taubin::{
+use deform_kernel_ffi::graph::{dk_graph, dk_graph_from_edges, dk_graph_from_edges_len};
+use deform_kernel_ffi::quat::{dk_quat_mul, dk_quat_rotate_points};
+use deform_kernel_ffi::spring::{
+    dk_spring_solve_linear, dk_spring_solve_options, dk_spring_solve_options_default,
+    dk_spring_solve_report, dk_spring_system,
+};
+use deform_kernel_ffi::status::dk_status;
+use deform_kernel_ffi::taubin::{
     dk_filter_report, dk_structured_options, dk_taubin_smooth_structured,
     dk_taubin_smooth_structured_scratch_len,
 };
@@ -241,4 +246,79 @@ fn idw_deformation_reads_the_motion_struct_arrays() {
     assert_eq!(bits(&out), bits(&kout));
     assert_eq!(bits(&origin), bits(&ko));
     assert_ne!(bits(&out), bits(&points), "nothing moved");
+}
+
+#[test]
+fn spring_solve_reads_the_graph_inside_the_system_struct() {
+    // A chain 0 - 1 - 2 - 3 - 4 with both ends fixed; two components.
+    let offsets = [0u32, 1, 3, 5, 7, 8];
+    let targets = [1u32, 0, 2, 1, 3, 2, 4, 3];
+    let stiffness = [1.0, 1.0, 2.0, 2.0, 0.5, 0.5, 1.0, 1.0];
+    let fixed = [1u8, 0, 0, 0, 1];
+    let values0 = [0.0, 1.0, 0.3, 0.0, 0.0, 0.7, 0.2, 0.0, 4.0, -2.0];
+    let mut o = core::mem::MaybeUninit::<dk_spring_solve_options>::uninit();
+    assert_eq!(
+        // SAFETY: `o` is one writable struct.
+        unsafe { dk_spring_solve_options_default(o.as_mut_ptr()) },
+        dk_status::DK_OK
+    );
+    // SAFETY: written by the call above (DK_OK).
+    let o = unsafe { o.assume_init() };
+    let mut system = dk_spring_system {
+        graph: dk_graph {
+            offsets: offsets.as_ptr(),
+            offsets_len: offsets.len(),
+            targets: targets.as_ptr(),
+            targets_len: targets.len(),
+        },
+        stiffness: stiffness.as_ptr(),
+        stiffness_len: stiffness.len(),
+        fixed: fixed.as_ptr(),
+        fixed_len: fixed.len(),
+    };
+    let (mut scratch, mut index_scratch) = ([0.0; 50], [0u32; 5]);
+    let mut report = dk_spring_solve_report {
+        iterations: 0,
+        residual: 0.0,
+        max_update: 0.0,
+        converged: false,
+    };
+    let mut solve = |system: &dk_spring_system, values: &mut [f64]| {
+        // SAFETY: every buffer is as long as its length argument; the struct's arrays too.
+        unsafe {
+            dk_spring_solve_linear(
+                system,
+                &o,
+                2,
+                values.as_mut_ptr(),
+                values.len(),
+                scratch.as_mut_ptr(),
+                scratch.len(),
+                index_scratch.as_mut_ptr(),
+                index_scratch.len(),
+                &mut report,
+            )
+        }
+    };
+    let mut values = values0;
+    assert_eq!(solve(&system, &mut values), dk_status::DK_OK);
+    let g = deform_kernel::Graph::new(&offsets, &targets).unwrap();
+    let mut ks = [0u32; 5];
+    let sys = SpringSystem::new(g, &stiffness, &fixed, &mut ks).unwrap();
+    let mut kv: Vec<[f64; 2]> = values0.chunks_exact(2).map(|v| [v[0], v[1]]).collect();
+    let mut kscratch = vec![[0.0; 2]; 25];
+    // The C defaults are the kernel's.
+    let stop = SolveOptions::default();
+    let method = LinearMethod::Cg {
+        preconditioner: deform_kernel::spring::Preconditioner::Jacobi,
+    };
+    sys.solve_linear(&mut kv, method, &stop, &mut kscratch)
+        .unwrap();
+    assert_eq!(bits(&values), bits(&kv.concat()));
+    assert_ne!(bits(&values), bits(&values0), "the solve moved nothing");
+    // A NULL array inside the struct is refused and nothing is written.
+    system.stiffness = null();
+    let mut values = values0;
+    assert_eq!(solve(&system, &mut values), dk_status::DK_ERR_NULL_POINTER);
+    assert_eq!(bits(&values), bits(&values0));
 }
