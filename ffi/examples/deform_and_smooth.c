@@ -106,6 +106,13 @@ int main(void) {
     dk_spring_solve_report spring_report;
     uint32_t nodes[NB], element_offsets[NB + 1], element_nodes[2 * NB];
     uint8_t element_kinds[NB];
+    /* The boundary segments (filled below), as the motions take them. */
+    const dk_cells segments = {.offsets = element_offsets,
+                               .offsets_len = NB + 1,
+                               .nodes = element_nodes,
+                               .nodes_len = 2 * NB,
+                               .kinds = element_kinds,
+                               .kinds_len = NB};
     double axis[3] = {0.0, 0.0, 1.0}, q[4], wall[2 * NI], turned[2 * NI], origin[2];
     const double pivot[2] = {0.25, 0.0}, shift[2] = {0.05, 0.1};
     size_t len, k;
@@ -197,12 +204,7 @@ int main(void) {
     motion.nodes_len = NB;
     motion.deformed = deformed;
     motion.deformed_len = 2 * NB;
-    motion.element_offsets = element_offsets;
-    motion.element_offsets_len = NB + 1;
-    motion.element_nodes = element_nodes;
-    motion.element_nodes_len = 2 * NB;
-    motion.element_kinds = element_kinds;
-    motion.element_kinds_len = NB;
+    motion.elements = segments;
     motion.rotation_source = DK_ROTATIONS_SHAPE;
     CHECK(dk_deform_idw(points, 2 * N, 2, &motion, 3.0, scratch, len, NULL, 0, translations,
                         2 * N, rotations, 4 * N, out, 2 * N, origin, 2));
@@ -253,12 +255,7 @@ int main(void) {
     motion32.nodes_len = NB;
     motion32.deformed = deformed32;
     motion32.deformed_len = 2 * NB;
-    motion32.element_offsets = element_offsets;
-    motion32.element_offsets_len = NB + 1;
-    motion32.element_nodes = element_nodes;
-    motion32.element_nodes_len = 2 * NB;
-    motion32.element_kinds = element_kinds;
-    motion32.element_kinds_len = NB;
+    motion32.elements = segments;
     CHECK(dk_deform_idw_f32(points32, 2 * N, 2, &motion32, 3.0f, scratch32, len, NULL, 0,
                             translations32, 2 * N, rotations32, 4 * N, out32, 2 * N, NULL, 0));
     print_f32("idw_f32", out32, 2 * N);

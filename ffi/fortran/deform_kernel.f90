@@ -122,6 +122,26 @@ module deform_kernel
   !! field (keeps fine-scale content the coarse grid cannot see).
   integer(c_int32_t), parameter, public :: DK_PROLONGATION_CORRECTION = 1
 
+  !> Cells or boundary elements in VTK node order: `offsets` (cell count + 1 entries into
+  !! `nodes`), `nodes` and one VTK code per cell in `kinds`. Offsets and node indices are read in
+  !! the `index_base` of the function that takes the struct. Borrowed for the call, as
+  !! `dk_graph`; all three arrays empty (NULL with length 0) means "no cells" where a function
+  !! says they are optional.
+  type, bind(C), public :: dk_cells
+    !> Start of each cell in `nodes`, and the end (cell count + 1 entries).
+    type(c_ptr) :: offsets
+    !> Entries of `offsets`.
+    integer(c_size_t) :: offsets_len
+    !> The cells' nodes.
+    type(c_ptr) :: nodes
+    !> Entries of `nodes`.
+    integer(c_size_t) :: nodes_len
+    !> VTK cell type of each cell.
+    type(c_ptr) :: kinds
+    !> Entries of `kinds` (the cell count).
+    integer(c_size_t) :: kinds_len
+  end type
+
   !> The prescribed motion of a mesh boundary, double precision (the kernel's
   !! `BoundaryMotion`): which mesh nodes move where, how they turn, and about which origin.
   !! Fill it with `dk_boundary_motion_default` first, then set the fields you need.
@@ -140,21 +160,11 @@ module deform_kernel
     type(c_ptr) :: deformed
     !> Number of scalars in `deformed` (`B * dim`).
     integer(c_size_t) :: deformed_len
-    !> Boundary element offsets into `element_nodes` (one per element plus one, in
-    !! `index_base` like graph.rs cell offsets), or NULL with length 0 for no elements.
-    type(c_ptr) :: element_offsets
-    !> Number of entries of `element_offsets` (0: no elements).
-    integer(c_size_t) :: element_offsets_len
-    !> Element nodes as positions `0..B` in `nodes` (not mesh nodes; see
-    !! `dk_deform_localize_nodes`), in `index_base`: segments (VTK 3) in 2D,
-    !! triangles/quadrilaterals (5, 9) in 3D, consistently ordered.
-    type(c_ptr) :: element_nodes
-    !> Number of entries of `element_nodes`.
-    integer(c_size_t) :: element_nodes_len
-    !> VTK kind code of each element.
-    type(c_ptr) :: element_kinds
-    !> Number of entries of `element_kinds` (elements).
-    integer(c_size_t) :: element_kinds_len
+    !> Optional boundary elements (every array NULL with length 0 for none), in `index_base`,
+    !! their nodes as positions `0..B` in `nodes` (not mesh nodes; see
+    !! `dk_deform_localize_nodes`): segments (VTK 3) in 2D, triangles/quadrilaterals (5, 9)
+    !! in 3D, consistently ordered.
+    type(dk_cells) :: elements
     !> With `DK_ROTATIONS_PER_NODE`: one quaternion `(w, x, y, z)` per boundary node, in
     !! `nodes` order (`4 * B` scalars). Ignored otherwise.
     type(c_ptr) :: node_rotations
@@ -165,7 +175,7 @@ module deform_kernel
     real(c_double) :: rigid_rotation(4)
     !> The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
     real(c_double) :: origin(3)
-    !> 0 (C) or 1 (Fortran): the base of `nodes`, `element_offsets` and `element_nodes`.
+    !> 0 (C) or 1 (Fortran): the base of `nodes` and of the elements' offsets and nodes.
     integer(c_int32_t) :: index_base
     !> Where the rotations come from: `DK_ROTATIONS_SHAPE`, `DK_ROTATIONS_RIGID` or
     !! `DK_ROTATIONS_PER_NODE`.
@@ -188,21 +198,11 @@ module deform_kernel
     type(c_ptr) :: deformed
     !> Number of scalars in `deformed` (`B * dim`).
     integer(c_size_t) :: deformed_len
-    !> Boundary element offsets into `element_nodes` (one per element plus one, in
-    !! `index_base` like graph.rs cell offsets), or NULL with length 0 for no elements.
-    type(c_ptr) :: element_offsets
-    !> Number of entries of `element_offsets` (0: no elements).
-    integer(c_size_t) :: element_offsets_len
-    !> Element nodes as positions `0..B` in `nodes` (not mesh nodes; see
-    !! `dk_deform_localize_nodes`), in `index_base`: segments (VTK 3) in 2D,
-    !! triangles/quadrilaterals (5, 9) in 3D, consistently ordered.
-    type(c_ptr) :: element_nodes
-    !> Number of entries of `element_nodes`.
-    integer(c_size_t) :: element_nodes_len
-    !> VTK kind code of each element.
-    type(c_ptr) :: element_kinds
-    !> Number of entries of `element_kinds` (elements).
-    integer(c_size_t) :: element_kinds_len
+    !> Optional boundary elements (every array NULL with length 0 for none), in `index_base`,
+    !! their nodes as positions `0..B` in `nodes` (not mesh nodes; see
+    !! `dk_deform_localize_nodes`): segments (VTK 3) in 2D, triangles/quadrilaterals (5, 9)
+    !! in 3D, consistently ordered.
+    type(dk_cells) :: elements
     !> With `DK_ROTATIONS_PER_NODE`: one quaternion `(w, x, y, z)` per boundary node, in
     !! `nodes` order (`4 * B` scalars). Ignored otherwise.
     type(c_ptr) :: node_rotations
@@ -213,7 +213,7 @@ module deform_kernel
     real(c_float) :: rigid_rotation(4)
     !> The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
     real(c_float) :: origin(3)
-    !> 0 (C) or 1 (Fortran): the base of `nodes`, `element_offsets` and `element_nodes`.
+    !> 0 (C) or 1 (Fortran): the base of `nodes` and of the elements' offsets and nodes.
     integer(c_int32_t) :: index_base
     !> Where the rotations come from: `DK_ROTATIONS_SHAPE`, `DK_ROTATIONS_RIGID` or
     !! `DK_ROTATIONS_PER_NODE`.
@@ -221,26 +221,6 @@ module deform_kernel
     !> Nonzero: rotate about `origin`; 0: about the default origin (the centroid of the
     !! moving boundary points, see `dk_deform_boundary_origin`).
     integer(c_int32_t) :: has_origin
-  end type
-
-  !> Cells or boundary elements in VTK node order: `offsets` (cell count + 1 entries into
-  !! `nodes`), `nodes` and one VTK code per cell in `kinds`. Offsets and node indices are read in
-  !! the `index_base` of the function that takes the struct. Borrowed for the call, as
-  !! `dk_graph`; all three arrays empty (NULL with length 0) means "no cells" where a function
-  !! says they are optional.
-  type, bind(C), public :: dk_cells
-    !> Start of each cell in `nodes`, and the end (cell count + 1 entries).
-    type(c_ptr) :: offsets
-    !> Entries of `offsets`.
-    integer(c_size_t) :: offsets_len
-    !> The cells' nodes.
-    type(c_ptr) :: nodes
-    !> Entries of `nodes`.
-    integer(c_size_t) :: nodes_len
-    !> VTK cell type of each cell.
-    type(c_ptr) :: kinds
-    !> Entries of `kinds` (the cell count).
-    integer(c_size_t) :: kinds_len
   end type
 
   !> Method and stopping rules of `dk_spring_solve_linear`. Fill with
@@ -3216,12 +3196,7 @@ contains
     m%deformed = c_loc(deformed)
     m%deformed_len = size(deformed, kind=c_size_t)
     if (present(element_offsets) .and. present(element_nodes) .and. present(element_kinds)) then
-      m%element_offsets = c_loc(element_offsets)
-      m%element_offsets_len = size(element_offsets, kind=c_size_t)
-      m%element_nodes = c_loc(element_nodes)
-      m%element_nodes_len = size(element_nodes, kind=c_size_t)
-      m%element_kinds = c_loc(element_kinds)
-      m%element_kinds_len = size(element_kinds, kind=c_size_t)
+      m%elements = dkf_cells(element_offsets, element_nodes, element_kinds)
     end if
     if (present(rigid_rotation)) then
       m%rotation_source = DK_ROTATIONS_RIGID
@@ -3701,12 +3676,7 @@ contains
     m%deformed = c_loc(deformed)
     m%deformed_len = size(deformed, kind=c_size_t)
     if (present(element_offsets) .and. present(element_nodes) .and. present(element_kinds)) then
-      m%element_offsets = c_loc(element_offsets)
-      m%element_offsets_len = size(element_offsets, kind=c_size_t)
-      m%element_nodes = c_loc(element_nodes)
-      m%element_nodes_len = size(element_nodes, kind=c_size_t)
-      m%element_kinds = c_loc(element_kinds)
-      m%element_kinds_len = size(element_kinds, kind=c_size_t)
+      m%elements = dkf_cells(element_offsets, element_nodes, element_kinds)
     end if
     if (present(rigid_rotation)) then
       m%rotation_source = DK_ROTATIONS_RIGID

@@ -194,6 +194,26 @@ typedef int32_t dk_status;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// Cells or boundary elements in VTK node order: `offsets` (cell count + 1 entries into
+// `nodes`), `nodes` and one VTK code per cell in `kinds`. Offsets and node indices are read in
+// the `index_base` of the function that takes the struct. Borrowed for the call, as
+// [`dk_graph`]; all three arrays empty (NULL with length 0) means "no cells" where a function
+// says they are optional.
+typedef struct {
+  // Start of each cell in `nodes`, and the end (cell count + 1 entries).
+  const uint32_t *offsets;
+  // Entries of `offsets`.
+  size_t offsets_len;
+  // The cells' nodes.
+  const uint32_t *nodes;
+  // Entries of `nodes`.
+  size_t nodes_len;
+  // VTK cell type of each cell.
+  const uint8_t *kinds;
+  // Entries of `kinds` (the cell count).
+  size_t kinds_len;
+} dk_cells;
+
 // The prescribed motion of a mesh boundary, double precision (the kernel's
 // `BoundaryMotion`): which mesh nodes move where, how they turn, and about which origin.
 // Fill it with [`dk_boundary_motion_default`] first, then set the fields you need.
@@ -212,21 +232,11 @@ typedef struct {
   const double *deformed;
   // Number of scalars in `deformed` (`B * dim`).
   size_t deformed_len;
-  // Boundary element offsets into `element_nodes` (one per element plus one, in
-  // `index_base` like graph.rs cell offsets), or NULL with length 0 for no elements.
-  const uint32_t *element_offsets;
-  // Number of entries of `element_offsets` (0: no elements).
-  size_t element_offsets_len;
-  // Element nodes as positions `0..B` in `nodes` (not mesh nodes; see
-  // [`dk_deform_localize_nodes`]), in `index_base`: segments (VTK 3) in 2D,
-  // triangles/quadrilaterals (5, 9) in 3D, consistently ordered.
-  const uint32_t *element_nodes;
-  // Number of entries of `element_nodes`.
-  size_t element_nodes_len;
-  // VTK kind code of each element.
-  const uint8_t *element_kinds;
-  // Number of entries of `element_kinds` (elements).
-  size_t element_kinds_len;
+  // Optional boundary elements (every array NULL with length 0 for none), in `index_base`,
+  // their nodes as positions `0..B` in `nodes` (not mesh nodes; see
+  // [`dk_deform_localize_nodes`]): segments (VTK 3) in 2D, triangles/quadrilaterals (5, 9)
+  // in 3D, consistently ordered.
+  dk_cells elements;
   // With [`DK_ROTATIONS_PER_NODE`]: one quaternion `(w, x, y, z)` per boundary node, in
   // `nodes` order (`4 * B` scalars). Ignored otherwise.
   const double *node_rotations;
@@ -237,7 +247,7 @@ typedef struct {
   double rigid_rotation[4];
   // The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
   double origin[3];
-  // 0 (C) or 1 (Fortran): the base of `nodes`, `element_offsets` and `element_nodes`.
+  // 0 (C) or 1 (Fortran): the base of `nodes` and of the elements' offsets and nodes.
   uint32_t index_base;
   // Where the rotations come from: [`DK_ROTATIONS_SHAPE`], [`DK_ROTATIONS_RIGID`] or
   // [`DK_ROTATIONS_PER_NODE`].
@@ -260,21 +270,11 @@ typedef struct {
   const float *deformed;
   // Number of scalars in `deformed` (`B * dim`).
   size_t deformed_len;
-  // Boundary element offsets into `element_nodes` (one per element plus one, in
-  // `index_base` like graph.rs cell offsets), or NULL with length 0 for no elements.
-  const uint32_t *element_offsets;
-  // Number of entries of `element_offsets` (0: no elements).
-  size_t element_offsets_len;
-  // Element nodes as positions `0..B` in `nodes` (not mesh nodes; see
-  // [`dk_deform_localize_nodes`]), in `index_base`: segments (VTK 3) in 2D,
-  // triangles/quadrilaterals (5, 9) in 3D, consistently ordered.
-  const uint32_t *element_nodes;
-  // Number of entries of `element_nodes`.
-  size_t element_nodes_len;
-  // VTK kind code of each element.
-  const uint8_t *element_kinds;
-  // Number of entries of `element_kinds` (elements).
-  size_t element_kinds_len;
+  // Optional boundary elements (every array NULL with length 0 for none), in `index_base`,
+  // their nodes as positions `0..B` in `nodes` (not mesh nodes; see
+  // [`dk_deform_localize_nodes`]): segments (VTK 3) in 2D, triangles/quadrilaterals (5, 9)
+  // in 3D, consistently ordered.
+  dk_cells elements;
   // With [`DK_ROTATIONS_PER_NODE`]: one quaternion `(w, x, y, z)` per boundary node, in
   // `nodes` order (`4 * B` scalars). Ignored otherwise.
   const float *node_rotations;
@@ -285,7 +285,7 @@ typedef struct {
   float rigid_rotation[4];
   // The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
   float origin[3];
-  // 0 (C) or 1 (Fortran): the base of `nodes`, `element_offsets` and `element_nodes`.
+  // 0 (C) or 1 (Fortran): the base of `nodes` and of the elements' offsets and nodes.
   uint32_t index_base;
   // Where the rotations come from: [`DK_ROTATIONS_SHAPE`], [`DK_ROTATIONS_RIGID`] or
   // [`DK_ROTATIONS_PER_NODE`].
@@ -294,26 +294,6 @@ typedef struct {
   // moving boundary points, see [`dk_deform_boundary_origin`]).
   uint32_t has_origin;
 } dk_boundary_motion_f32;
-
-// Cells or boundary elements in VTK node order: `offsets` (cell count + 1 entries into
-// `nodes`), `nodes` and one VTK code per cell in `kinds`. Offsets and node indices are read in
-// the `index_base` of the function that takes the struct. Borrowed for the call, as
-// [`dk_graph`]; all three arrays empty (NULL with length 0) means "no cells" where a function
-// says they are optional.
-typedef struct {
-  // Start of each cell in `nodes`, and the end (cell count + 1 entries).
-  const uint32_t *offsets;
-  // Entries of `offsets`.
-  size_t offsets_len;
-  // The cells' nodes.
-  const uint32_t *nodes;
-  // Entries of `nodes`.
-  size_t nodes_len;
-  // VTK cell type of each cell.
-  const uint8_t *kinds;
-  // Entries of `kinds` (the cell count).
-  size_t kinds_len;
-} dk_cells;
 
 // Method and stopping rules of `dk_spring_solve_linear`. Fill with
 // `dk_spring_solve_options_default` (or `_f32`) and change fields as needed.
@@ -750,7 +730,7 @@ dk_status dk_boundary_motion_default(dk_boundary_motion *out);
 dk_status dk_boundary_motion_default_f32(dk_boundary_motion_f32 *out);
 
 // Number of `uint32_t` entries the `index_scratch` of a pipeline needs for `*motion`:
-// `nodes_len + element_offsets_len + element_nodes_len` with `index_base` 1, 0 with
+// `nodes_len + elements.offsets_len + elements.nodes_len` with `index_base` 1, 0 with
 // `index_base` 0 (then `index_scratch` may be NULL). [`dk_deform_spring`] needs `node_count`
 // more (see [`dk_deform_spring_index_scratch_len`]). Errors: `DK_ERR_BAD_INDEX_BASE`,
 // `DK_ERR_TOO_LARGE` (the sum overflows).
@@ -939,7 +919,7 @@ dk_status dk_deform_boundary_normals_scratch_len(size_t boundary_len, size_t *le
 // `points` holds the `B` boundary points (`B * dim` scalars, `dim` 2 or 3); the elements
 // (offsets, nodes as positions `0..B`, VTK kinds: segments in 2D, triangles/quads in 3D) are
 // read in `index_base`, converted into `index_scratch` with `index_base` 1
-// (`element_offsets_len + element_nodes_len` entries; NULL with 0 for `index_base` 0).
+// (`elements->offsets_len + elements->nodes_len` entries; NULL with 0 for `index_base` 0).
 // `scratch` needs [`dk_deform_boundary_normals_scratch_len`] scalars; `normals` receives
 // `B * dim` scalars.
 //
@@ -1345,7 +1325,7 @@ dk_status dk_deform_localize_nodes_scratch_len(size_t node_count,
 // Rewrites mesh node numbers as positions in `boundary` (the kernel's `localize_nodes`):
 // `local[e] = k` where `boundary[k] == global[e]`. Boundary elements usually come in mesh
 // numbering (a marker's faces); the boundary-level functions and
-// [`dk_boundary_motion::element_nodes`] want positions in the boundary list. Pass a marker's
+// [`dk_boundary_motion::elements`] want positions in the boundary list. Pass a marker's
 // element node array as `global`; use `local` with the same offsets and kinds.
 //
 // `boundary` (`B` distinct mesh nodes) and `global` are read in `index_base` (0 or 1), and

@@ -93,21 +93,11 @@ pub struct dk_boundary_motion {
     pub deformed: *const f64,
     /// Number of scalars in `deformed` (`B * dim`).
     pub deformed_len: usize,
-    /// Boundary element offsets into `element_nodes` (one per element plus one, in
-    /// `index_base` like graph.rs cell offsets), or NULL with length 0 for no elements.
-    pub element_offsets: *const u32,
-    /// Number of entries of `element_offsets` (0: no elements).
-    pub element_offsets_len: usize,
-    /// Element nodes as positions `0..B` in `nodes` (not mesh nodes; see
-    /// [`dk_deform_localize_nodes`]), in `index_base`: segments (VTK 3) in 2D,
-    /// triangles/quadrilaterals (5, 9) in 3D, consistently ordered.
-    pub element_nodes: *const u32,
-    /// Number of entries of `element_nodes`.
-    pub element_nodes_len: usize,
-    /// VTK kind code of each element.
-    pub element_kinds: *const u8,
-    /// Number of entries of `element_kinds` (elements).
-    pub element_kinds_len: usize,
+    /// Optional boundary elements (every array NULL with length 0 for none), in `index_base`,
+    /// their nodes as positions `0..B` in `nodes` (not mesh nodes; see
+    /// [`dk_deform_localize_nodes`]): segments (VTK 3) in 2D, triangles/quadrilaterals (5, 9)
+    /// in 3D, consistently ordered.
+    pub elements: dk_cells,
     /// With [`DK_ROTATIONS_PER_NODE`]: one quaternion `(w, x, y, z)` per boundary node, in
     /// `nodes` order (`4 * B` scalars). Ignored otherwise.
     pub node_rotations: *const f64,
@@ -118,7 +108,7 @@ pub struct dk_boundary_motion {
     pub rigid_rotation: [f64; 4],
     /// The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
     pub origin: [f64; 3],
-    /// 0 (C) or 1 (Fortran): the base of `nodes`, `element_offsets` and `element_nodes`.
+    /// 0 (C) or 1 (Fortran): the base of `nodes` and of the elements' offsets and nodes.
     pub index_base: u32,
     /// Where the rotations come from: [`DK_ROTATIONS_SHAPE`], [`DK_ROTATIONS_RIGID`] or
     /// [`DK_ROTATIONS_PER_NODE`].
@@ -130,7 +120,7 @@ pub struct dk_boundary_motion {
 
 assert_layout!(
     dk_boundary_motion, 168;
-    nodes_len = 8, deformed = 16, element_offsets = 32, element_nodes = 48, element_kinds = 64,
+    nodes_len = 8, deformed = 16, elements = 32,
     node_rotations = 80, rigid_rotation = 96, origin = 128, index_base = 152, rotation_source = 156,
     has_origin = 160,
 );
@@ -173,9 +163,7 @@ fn write_optional<T: Real, const D: usize>(slot: Option<&mut [T]>, v: [T; D]) {
 struct RawMotion<'a, T> {
     nodes: In<'a, u32>,
     deformed: In<'a, T>,
-    element_offsets: In<'a, u32>,
-    element_nodes: In<'a, u32>,
-    element_kinds: In<'a, u8>,
+    elements: CellsIn<'a>,
     node_rotations: In<'a, T>,
     rigid_rotation: [T; 4],
     origin: [T; 3],
@@ -204,9 +192,7 @@ macro_rules! motion_c {
                     RawMotion {
                         nodes: In::new(m.nodes, m.nodes_len),
                         deformed: In::new(m.deformed, m.deformed_len),
-                        element_offsets: In::new(m.element_offsets, m.element_offsets_len),
-                        element_nodes: In::new(m.element_nodes, m.element_nodes_len),
-                        element_kinds: In::new(m.element_kinds, m.element_kinds_len),
+                        elements: m.elements.tokens(),
                         node_rotations: In::new(m.node_rotations, m.node_rotations_len),
                         rigid_rotation: m.rigid_rotation,
                         origin: m.origin,
@@ -223,12 +209,7 @@ macro_rules! motion_c {
                     nodes_len: 0,
                     deformed: core::ptr::null(),
                     deformed_len: 0,
-                    element_offsets: core::ptr::null(),
-                    element_offsets_len: 0,
-                    element_nodes: core::ptr::null(),
-                    element_nodes_len: 0,
-                    element_kinds: core::ptr::null(),
-                    element_kinds_len: 0,
+                    elements: dk_cells::NONE,
                     node_rotations: core::ptr::null(),
                     node_rotations_len: 0,
                     rigid_rotation: [1.0, 0.0, 0.0, 0.0],
@@ -256,8 +237,8 @@ impl<'a, T: Real> RawMotion<'a, T> {
             self.index_base,
             &[
                 self.nodes.len(),
-                self.element_offsets.len(),
-                self.element_nodes.len(),
+                self.elements.offsets.len(),
+                self.elements.nodes.len(),
             ],
         )
     }
@@ -271,12 +252,9 @@ impl<'a, T: Real> RawMotion<'a, T> {
         check_base(self.index_base)?;
         let nodes = input(self.nodes)?;
         let (nodes, scratch) = rebase(nodes, self.index_base, scratch)?;
-        let elements = CellsIn {
-            offsets: self.element_offsets,
-            nodes: self.element_nodes,
-            kinds: self.element_kinds,
-        };
-        let (elements, scratch) = elements.optional_cells(nodes.len(), self.index_base, scratch)?;
+        let (elements, scratch) =
+            self.elements
+                .optional_cells(nodes.len(), self.index_base, scratch)?;
         let deformed = read_points::<T, D>(self.deformed)?;
         let rotations = match self.rotation_source {
             DK_ROTATIONS_SHAPE => RotationSource::Shape,

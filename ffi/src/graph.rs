@@ -72,7 +72,7 @@ pub(crate) struct GraphIn<'a> {
 pub(crate) struct CellsIn<'a> {
     pub(crate) offsets: In<'a, u32>,
     pub(crate) nodes: In<'a, u32>,
-    pub(crate) kinds: In<'a, u8>,
+    kinds: In<'a, u8>,
 }
 
 impl dk_graph {
@@ -93,6 +93,16 @@ impl dk_graph {
 }
 
 impl dk_cells {
+    /// No cells: every array NULL with length 0.
+    pub(crate) const NONE: dk_cells = dk_cells {
+        offsets: core::ptr::null(),
+        offsets_len: 0,
+        nodes: core::ptr::null(),
+        nodes_len: 0,
+        kinds: core::ptr::null(),
+        kinds_len: 0,
+    };
+
     /// The arrays as tokens.
     ///
     /// # Safety

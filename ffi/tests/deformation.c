@@ -353,12 +353,12 @@ static void SFX(pipelines_rigid)(void) {
     m.nodes_len = B2;
     m.deformed = def;
     m.deformed_len = 2 * B2;
-    m.element_offsets = seg_offsets;
-    m.element_offsets_len = B2 + 1;
-    m.element_nodes = seg_nodes;
-    m.element_nodes_len = 2 * B2;
-    m.element_kinds = seg_kinds;
-    m.element_kinds_len = B2;
+    m.elements.offsets = seg_offsets;
+    m.elements.offsets_len = B2 + 1;
+    m.elements.nodes = seg_nodes;
+    m.elements.nodes_len = 2 * B2;
+    m.elements.kinds = seg_kinds;
+    m.elements.kinds_len = B2;
     OK(SFX(dk_boundary_motion_index_scratch_len)(&m, &len));
     TRUE_(len == 0, "index scratch len, base 0");
     OK(dk_deform_idw_scratch_len(N2, B2, 2, &len));
@@ -371,8 +371,8 @@ static void SFX(pipelines_rigid)(void) {
     for (i = 0; i <= B2; i++) offs1[i] = seg_offsets[i] + 1;
     for (i = 0; i < 2 * B2; i++) segs1[i] = seg_nodes[i] + 1;
     m.nodes = nodes1;
-    m.element_offsets = offs1;
-    m.element_nodes = segs1;
+    m.elements.offsets = offs1;
+    m.elements.nodes = segs1;
     m.index_base = 1;
     OK(SFX(dk_boundary_motion_index_scratch_len)(&m, &len));
     TRUE_(len == B2 + B2 + 1 + 2 * B2, "index scratch len, base 1");
@@ -465,12 +465,12 @@ static void SFX(pipelines_bad)(void) {
     m.nodes_len = B2;
     m.deformed = def;
     m.deformed_len = 2 * B2;
-    m.element_offsets = seg_offsets;
-    m.element_offsets_len = B2 + 1;
-    m.element_nodes = seg_nodes;
-    m.element_nodes_len = 2 * B2;
-    m.element_kinds = seg_kinds;
-    m.element_kinds_len = B2;
+    m.elements.offsets = seg_offsets;
+    m.elements.offsets_len = B2 + 1;
+    m.elements.nodes = seg_nodes;
+    m.elements.nodes_len = 2 * B2;
+    m.elements.kinds = seg_kinds;
+    m.elements.kinds_len = B2;
     len = WORK;
 
 #define IDW(motion, exp, olen) \
@@ -514,9 +514,9 @@ static void SFX(pipelines_bad)(void) {
     /* Without elements (one rigid rotation): node 0 is not 1-based; a boundary whose
      * deformed positions do not match its length. */
     bad = m;
-    bad.element_offsets_len = 0;
-    bad.element_nodes_len = 0;
-    bad.element_kinds_len = 0;
+    bad.elements.offsets_len = 0;
+    bad.elements.nodes_len = 0;
+    bad.elements.kinds_len = 0;
     bad.rotation_source = DK_ROTATIONS_RIGID;
     bad.index_base = 1;
     EXPECT(IDW(&bad, 2, 2 * N2), DK_ERR_INDEX_OUT_OF_RANGE);
@@ -528,18 +528,18 @@ static void SFX(pipelines_bad)(void) {
     EXPECT(IDW(&bad, 2, 2 * N2), DK_ERR_NULL_POINTER);
     bad.nodes_len = 0;
     bad.deformed_len = 0;
-    bad.element_offsets_len = 0;
-    bad.element_nodes_len = 0;
-    bad.element_kinds_len = 0;
+    bad.elements.offsets_len = 0;
+    bad.elements.nodes_len = 0;
+    bad.elements.kinds_len = 0;
     bad.rotation_source = DK_ROTATIONS_RIGID;
     EXPECT(IDW(&bad, 2, 2 * N2), DK_ERR_INVALID_PARAMETER); /* empty boundary */
     bad = m;
     bad.rotation_source = 7;
     EXPECT(IDW(&bad, 2, 2 * N2), DK_ERR_INVALID_PARAMETER);
     bad.rotation_source = DK_ROTATIONS_SHAPE;
-    bad.element_offsets_len = 0;
-    bad.element_nodes_len = 0;
-    bad.element_kinds_len = 0;
+    bad.elements.offsets_len = 0;
+    bad.elements.nodes_len = 0;
+    bad.elements.kinds_len = 0;
     EXPECT(IDW(&bad, 2, 2 * N2), DK_ERR_INVALID_PARAMETER); /* shape without elements */
     bad = m;
     bad.rotation_source = DK_ROTATIONS_RIGID;
@@ -557,7 +557,7 @@ static void SFX(pipelines_bad)(void) {
     bad.origin[1] = (REAL)INFINITY;
     EXPECT(IDW(&bad, 2, 2 * N2), DK_ERR_NON_FINITE);
     bad = m;
-    bad.element_kinds_len = B2 - 1;
+    bad.elements.kinds_len = B2 - 1;
     EXPECT(IDW(&bad, 2, 2 * N2), DK_ERR_LENGTH_MISMATCH);
     def[5] = (REAL)NAN;
     EXPECT(IDW(&m, 2, 2 * N2), DK_ERR_NON_FINITE);
@@ -571,9 +571,9 @@ static void SFX(pipelines_bad)(void) {
 
     /* TFI: an unlisted face point, bad directions, bad block. */
     bad = m;
-    bad.element_offsets_len = 0;
-    bad.element_nodes_len = 0;
-    bad.element_kinds_len = 0;
+    bad.elements.offsets_len = 0;
+    bad.elements.nodes_len = 0;
+    bad.elements.kinds_len = 0;
     bad.rotation_source = DK_ROTATIONS_RIGID;
     bad.nodes_len = B2 - 1;
     bad.deformed_len = 2 * (B2 - 1);

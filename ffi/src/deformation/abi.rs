@@ -24,21 +24,11 @@ pub struct dk_boundary_motion_f32 {
     pub deformed: *const f32,
     /// Number of scalars in `deformed` (`B * dim`).
     pub deformed_len: usize,
-    /// Boundary element offsets into `element_nodes` (one per element plus one, in
-    /// `index_base` like graph.rs cell offsets), or NULL with length 0 for no elements.
-    pub element_offsets: *const u32,
-    /// Number of entries of `element_offsets` (0: no elements).
-    pub element_offsets_len: usize,
-    /// Element nodes as positions `0..B` in `nodes` (not mesh nodes; see
-    /// [`dk_deform_localize_nodes`]), in `index_base`: segments (VTK 3) in 2D,
-    /// triangles/quadrilaterals (5, 9) in 3D, consistently ordered.
-    pub element_nodes: *const u32,
-    /// Number of entries of `element_nodes`.
-    pub element_nodes_len: usize,
-    /// VTK kind code of each element.
-    pub element_kinds: *const u8,
-    /// Number of entries of `element_kinds` (elements).
-    pub element_kinds_len: usize,
+    /// Optional boundary elements (every array NULL with length 0 for none), in `index_base`,
+    /// their nodes as positions `0..B` in `nodes` (not mesh nodes; see
+    /// [`dk_deform_localize_nodes`]): segments (VTK 3) in 2D, triangles/quadrilaterals (5, 9)
+    /// in 3D, consistently ordered.
+    pub elements: dk_cells,
     /// With [`DK_ROTATIONS_PER_NODE`]: one quaternion `(w, x, y, z)` per boundary node, in
     /// `nodes` order (`4 * B` scalars). Ignored otherwise.
     pub node_rotations: *const f32,
@@ -49,7 +39,7 @@ pub struct dk_boundary_motion_f32 {
     pub rigid_rotation: [f32; 4],
     /// The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
     pub origin: [f32; 3],
-    /// 0 (C) or 1 (Fortran): the base of `nodes`, `element_offsets` and `element_nodes`.
+    /// 0 (C) or 1 (Fortran): the base of `nodes` and of the elements' offsets and nodes.
     pub index_base: u32,
     /// Where the rotations come from: [`DK_ROTATIONS_SHAPE`], [`DK_ROTATIONS_RIGID`] or
     /// [`DK_ROTATIONS_PER_NODE`].
@@ -88,7 +78,7 @@ pub unsafe extern "C" fn dk_boundary_motion_default_f32(
 }
 
 /// Number of `uint32_t` entries the `index_scratch` of a pipeline needs for `*motion`:
-/// `nodes_len + element_offsets_len + element_nodes_len` with `index_base` 1, 0 with
+/// `nodes_len + elements.offsets_len + elements.nodes_len` with `index_base` 1, 0 with
 /// `index_base` 0 (then `index_scratch` may be NULL). [`dk_deform_spring`] needs `node_count`
 /// more (see [`dk_deform_spring_index_scratch_len`]). Errors: `DK_ERR_BAD_INDEX_BASE`,
 /// `DK_ERR_TOO_LARGE` (the sum overflows).
@@ -457,7 +447,7 @@ pub unsafe extern "C" fn dk_deform_boundary_normals_scratch_len(
 /// `points` holds the `B` boundary points (`B * dim` scalars, `dim` 2 or 3); the elements
 /// (offsets, nodes as positions `0..B`, VTK kinds: segments in 2D, triangles/quads in 3D) are
 /// read in `index_base`, converted into `index_scratch` with `index_base` 1
-/// (`element_offsets_len + element_nodes_len` entries; NULL with 0 for `index_base` 0).
+/// (`elements->offsets_len + elements->nodes_len` entries; NULL with 0 for `index_base` 0).
 /// `scratch` needs [`dk_deform_boundary_normals_scratch_len`] scalars; `normals` receives
 /// `B * dim` scalars.
 ///
@@ -1333,7 +1323,7 @@ pub unsafe extern "C" fn dk_deform_localize_nodes_scratch_len(
 /// Rewrites mesh node numbers as positions in `boundary` (the kernel's `localize_nodes`):
 /// `local[e] = k` where `boundary[k] == global[e]`. Boundary elements usually come in mesh
 /// numbering (a marker's faces); the boundary-level functions and
-/// [`dk_boundary_motion::element_nodes`] want positions in the boundary list. Pass a marker's
+/// [`dk_boundary_motion::elements`] want positions in the boundary list. Pass a marker's
 /// element node array as `global`; use `local` with the same offsets and kinds.
 ///
 /// `boundary` (`B` distinct mesh nodes) and `global` are read in `index_base` (0 or 1), and
