@@ -34,7 +34,7 @@
 
 mod cycle;
 mod pcg;
-pub(crate) use pcg::solve_amg_on;
+pub(crate) use pcg::{amg_vcycle, solve_amg_on};
 mod setup;
 
 pub use pcg::{amg_precondition_scratch_len, solve_linear_amg_scratch_len};
