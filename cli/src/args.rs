@@ -265,7 +265,9 @@ pub struct MoveArgs {
     pub method: Method,
     /// Linear solver (quaternion and spring). angle-direct: over-relaxed node-wise sweeps
     /// (SOR, omega from the mesh size, about 1.97 at 10k nodes) unless gs (plain
-    /// Gauss–Seidel) or jacobi (Jacobi order) is asked for.
+    /// Gauss–Seidel) or jacobi (Jacobi order) is asked for. angle-cg: amg preconditions CG
+    /// with the linear springs' multigrid (not with --slide), any other choice with the node
+    /// blocks.
     #[arg(long, value_enum, default_value = "amg")]
     pub solver: Solver,
     /// Spring stiffness of the spring, angle-spring and quaternion methods (IDW and TFI have

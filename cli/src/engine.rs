@@ -983,6 +983,12 @@ fn move_d<const D: usize>(
                         &options,
                         &mut scratch,
                     )
+                } else if input.method == MoveMethod::AngleCg && input.solver == MoveSolver::Amg {
+                    // CG preconditioned by the linear springs' multigrid V-cycle per component.
+                    let mut storage = AmgStorage::default();
+                    let hierarchy = storage.build(&sys)?;
+                    let mut scratch = vec![[0.0; D]; asys.angle_amg_scratch_len(&hierarchy)];
+                    asys.solve_angle_amg(&hierarchy, &mut values, &options, &mut scratch)
                 } else {
                     let mut scratch = vec![[0.0; D]; asys.angle_scratch_len(method)];
                     asys.solve_angle(&mut values, method, &options, &mut scratch)

@@ -566,7 +566,8 @@ fn angle_direct_reports_non_convergence() {
 
 /// angle-direct over-relaxes its node-wise sweeps by default (issue 14 item 8): on the tiny
 /// viscous mesh it converges within a sweep budget in which plain Gauss–Seidel (`--solver gs`)
-/// does not, to the angle-cg answer.
+/// does not, to the angle-cg answer (multigrid-preconditioned CG by default, fewer iterations
+/// than the block-Jacobi CG of `--solver cg`).
 #[test]
 fn angle_direct_over_relaxation_converges_where_gauss_seidel_does_not() {
     let d = tmp_dir("angle-direct-sor");
@@ -604,6 +605,16 @@ fn angle_direct_over_relaxation_converges_where_gauss_seidel_does_not() {
     assert!(sor["iterations"].as_u64() < gs["iterations"].as_u64());
     let cg = run(&["--method", "angle-cg"], "cg.su2");
     assert_eq!(cg["converged"], true);
+    // angle-cg's default solver is the multigrid-preconditioned CG; --solver cg is block
+    // Jacobi: both converge, the multigrid one in fewer iterations.
+    assert_eq!(cg["solver"], "amg");
+    let bj = run(&["--method", "angle-cg", "--solver", "cg"], "bj.su2");
+    assert_eq!(bj["solver"], "cg");
+    assert_eq!(bj["converged"], true, "{bj}");
+    assert!(
+        cg["iterations"].as_u64() < bj["iterations"].as_u64(),
+        "{cg} {bj}"
+    );
     let a = std::fs::read_to_string(d.join("sor.su2")).unwrap();
     let b = std::fs::read_to_string(d.join("cg.su2")).unwrap();
     let nums = |s: &str| -> Vec<f64> {

@@ -204,4 +204,11 @@ pub const CASES: &[Case] = &[
         expected_f64: 0x2605_83a7_0531_884c,
         expected_f32: 0xdd8b_e5f1_9ea3_e6e8,
     },
+    Case {
+        name: "spring_angle_amg",
+        run_f64: mesh_cases::spring_angle_amg::<f64>,
+        run_f32: mesh_cases::spring_angle_amg::<f32>,
+        expected_f64: 0xaa05_af4d_ec6d_75fe,
+        expected_f32: 0x8137_6c2f_1da4_cd36,
+    },
 ];

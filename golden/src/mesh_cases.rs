@@ -1,7 +1,7 @@
 //! Golden cases for the solvers on a small jittered triangle mesh and a small noisy structured
-//! block: linear springs (CG and Jacobi), angle-inclusion springs (direct and CG), the
-//! quaternion deformation (springs and IDW), mesh quality, and Taubin smoothing. The hashes
-//! cover every output value and every report field.
+//! block: linear springs (CG and Jacobi, AMG-CG), angle-inclusion springs (direct, CG and
+//! AMG-CG), the quaternion deformation (springs and IDW), mesh quality, and Taubin smoothing.
+//! The hashes cover every output value and every report field.
 
 use deform_kernel::deformation::{
     deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len,
@@ -283,6 +283,67 @@ pub fn spring_angle<T: Real>() -> u64 {
                 Err(e) => h.error(&e),
             }
             hash_points(&mut h, &values);
+        }
+        h.finish()
+    })
+    .unwrap_or(0)
+}
+
+/// Angle-inclusion springs by the multigrid-preconditioned CG (`solve_angle_amg`): the scalar
+/// hierarchy of the base system (coarse levels down to 4 unknowns), the scratch size, a short
+/// scratch's error and the whole solve, for both smoothers and `ε` = 0.01 and 0 (the rigidity
+/// probe first).
+pub fn spring_angle_amg<T: Real>() -> u64 {
+    let m = mesh::<T>();
+    with_system(&m, |sys, _| {
+        let mut h = Fnv::new();
+        for smoother in [AmgSmoother::Jacobi, AmgSmoother::Chebyshev] {
+            let opts = AmgOptions {
+                smoother,
+                max_coarse: 4,
+                ..AmgOptions::default()
+            };
+            let mut work = [0u32; 4 * (N + NE) + 64];
+            let mut index = [0u32; 2048];
+            let mut vals = [T::ZERO; 1024];
+            let hier = match AmgHierarchy::setup(sys, &opts, &mut work, &mut index, &mut vals) {
+                Ok(x) => x,
+                Err(e) => {
+                    h.error(&e);
+                    continue;
+                }
+            };
+            h.usize(hier.levels());
+            h.usize(hier.coarse_unknowns());
+            for eps in [T::from_f64(DEFAULT_ANGLE_EPSILON), T::ZERO] {
+                let asys = match AngleSystem::new(*sys, &m.points, eps) {
+                    Ok(a) => a,
+                    Err(e) => {
+                        h.error(&e);
+                        continue;
+                    }
+                };
+                let len = asys.angle_amg_scratch_len(&hier);
+                h.usize(len);
+                let mut scratch = [[T::ZERO; 2]; 8 * N];
+                let len = len.min(scratch.len());
+                let stop = SolveOptions {
+                    max_iterations: 100,
+                    ..SolveOptions::default()
+                };
+                let mut values = boundary_displacement(&m);
+                let short = scratch.get_mut(..len.saturating_sub(1)).unwrap_or(&mut []);
+                match asys.solve_angle_amg(&hier, &mut values, &stop, short) {
+                    Ok(r) => hash_report(&mut h, &r),
+                    Err(e) => h.error(&e),
+                }
+                let sc = scratch.get_mut(..len).unwrap_or(&mut []);
+                match asys.solve_angle_amg(&hier, &mut values, &stop, sc) {
+                    Ok(r) => hash_report(&mut h, &r),
+                    Err(e) => h.error(&e),
+                }
+                hash_points(&mut h, &values);
+            }
         }
         h.finish()
     })

@@ -9,8 +9,8 @@ mod spring_common;
 
 use deform_kernel::deformation::{propagate_idw, propagate_spring, propagate_spring_scratch_len};
 use deform_kernel::spring::{
-    solve_linear_scratch_len, AngleMethod, LinearMethod, Preconditioner, SolveOptions, SolveReport,
-    SpringSystem,
+    solve_linear_scratch_len, AmgHierarchy, AmgOptions, AngleMethod, LinearMethod, Preconditioner,
+    SolveOptions, SolveReport, SpringSystem,
 };
 use deform_kernel::taubin::{arclength, stretching};
 use deform_kernel::Direction;
@@ -226,8 +226,8 @@ fn huge_stiffness_overflow_is_typed_and_other_methods_solve() {
     check::<f32>(1e37, 1e-2);
 }
 
-/// The angle-inclusion springs (direct Gauss–Seidel and Jacobi, CG): bit-for-bit scaling by
-/// powers of two and constant fields at 1e154 / 1e-300 (f64), 1.5e19 / 1e-30 (f32).
+/// The angle-inclusion springs (direct Gauss–Seidel and Jacobi, CG, AMG-CG): bit-for-bit
+/// scaling by powers of two and constant fields at 1e154 / 1e-300 (f64), 1.5e19 / 1e-30 (f32).
 #[test]
 fn angle_solves_survive_extreme_scales() {
     fn check<T: Real>(pow2: &[f64], constants: &[f64], tol: f64) {
@@ -279,6 +279,51 @@ fn angle_solves_survive_extreme_scales() {
                 let err = rel_err(&x, &vec![[cv, hv]; n]);
                 assert!(err <= tol, "{m:?} at {c:e}: relative error {err:e}");
             }
+        }
+        // The multigrid-preconditioned CG (hierarchy of the base system).
+        let amg_opts = AmgOptions {
+            max_coarse: 8,
+            ..AmgOptions::default()
+        };
+        let mut work = vec![0u32; AmgHierarchy::setup_work_len(sys.base())];
+        let sizes = AmgHierarchy::setup_len(sys.base(), &amg_opts, &mut work).unwrap();
+        let (mut index, mut values) = (vec![0u32; sizes.index], vec![T::ZERO; sizes.values]);
+        let h =
+            AmgHierarchy::setup(sys.base(), &amg_opts, &mut work, &mut index, &mut values).unwrap();
+        let mut scratch = vec![[T::ZERO; 2]; sys.angle_amg_scratch_len(&h)];
+        let mut base = x0.clone();
+        let rep = sys
+            .solve_angle_amg(&h, &mut base, &opts, &mut scratch)
+            .unwrap();
+        for &s in pow2 {
+            let mut x = scaled(&x0, s);
+            let got = sys
+                .solve_angle_amg(&h, &mut x, &opts, &mut scratch)
+                .unwrap();
+            assert_eq!(got.iterations, rep.iterations, "AMG at {s:e}");
+            assert_eq!(got.converged, rep.converged, "AMG at {s:e}");
+            assert_eq!(
+                got.residual.to_bits_u64(),
+                rep.residual.to_bits_u64(),
+                "AMG at {s:e}"
+            );
+            assert_eq!(bits(&x), bits(&scaled(&base, s)), "AMG at {s:e}");
+        }
+        for &c in constants {
+            let mut x: Vec<[T; 2]> = (0..n)
+                .map(|i| {
+                    let v = if case.fixed[i] != 0 { c } else { 0.0 };
+                    [T::from_f64(v), T::from_f64(0.5 * v)]
+                })
+                .collect();
+            let rep = sys
+                .solve_angle_amg(&h, &mut x, &opts, &mut scratch)
+                .unwrap();
+            assert!(rep.converged && rep.iterations > 0, "AMG at {c:e}: {rep:?}");
+            let cv = T::from_f64(c).to_f64();
+            let hv = T::from_f64(0.5 * c).to_f64();
+            let err = rel_err(&x, &vec![[cv, hv]; n]);
+            assert!(err <= tol, "AMG at {c:e}: relative error {err:e}");
         }
     }
     check::<f64>(&[2f64.powi(512), 2f64.powi(-960)], &[1e154, 1e-300], 1e-7);

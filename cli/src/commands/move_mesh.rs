@@ -511,6 +511,7 @@ pub(crate) fn move_mesh(
         method: value_name(&a.method),
         solver: match a.method {
             Method::Idw | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
+            Method::AngleCg if a.solver == Solver::Amg && a.slide.is_empty() => "amg".to_string(),
             Method::AngleCg => "cg".to_string(),
             Method::AngleDirect if a.solver == Solver::Jacobi => "jacobi".to_string(),
             Method::AngleDirect if a.solver == Solver::Gs => "gs".to_string(),

@@ -31,10 +31,14 @@
 //! [`AmgSizes`]; [`AmgHierarchy::setup`] fills an `index` (`u32`) and a `values` (`T`) buffer of
 //! those sizes. The buffers are reusable: a new setup (new stiffness, next time step) writes
 //! them again. [`solve_linear_amg`](crate::spring::SpringSystem::solve_linear_amg) then runs the preconditioned CG.
+//!
+//! The angle-inclusion springs use the same scalar hierarchy: [`solve_angle_amg`](crate::spring::AngleSystem::solve_angle_amg)
+//! applies its V-cycle to each displacement component as the preconditioner of the
+//! angle-inclusion CG (SPD, and spectrally equivalent to the angle operator for `ε > 0`).
 
 mod cycle;
 mod pcg;
-pub(crate) use pcg::solve_amg_on;
+pub(crate) use pcg::{amg_vcycle, solve_amg_on};
 mod setup;
 
 pub use pcg::{amg_precondition_scratch_len, solve_linear_amg_scratch_len};

@@ -2,6 +2,7 @@
 
 use core::ops::Range;
 
+use super::amg::{amg_vcycle, AmgHierarchy};
 use super::linear::{drive_sweeps, Sweeps};
 use super::norms::{scale_by, Norm, SumSq};
 use super::system::{check_omega, check_values, SolveOptions, SolveReport, SpringSystem, Sweep};
@@ -74,6 +75,8 @@ pub enum AngleMethod {
     DirectJacobi,
     /// Indirect method (§2.2.2): conjugate gradients on the assembled block operator
     /// (`q_a = −K_aa⁻¹ K_ab q_b`, eq. 4), matrix-free, with the node blocks as preconditioner.
+    /// [`solve_angle_amg`](crate::spring::AngleSystem::solve_angle_amg) is the same CG with a multigrid preconditioner (far fewer
+    /// iterations on large meshes).
     Cg,
 }
 
@@ -500,15 +503,17 @@ fn probe_value<T: Real>(i: u64) -> T {
     T::from_f64((z >> 11) as f64 / (1u64 << 52) as f64 - 1.0)
 }
 
-/// Conjugate gradients with the block-Jacobi preconditioner, `x` updated in place (`x` may be
-/// `None` for the probe, which only needs the residual). `r` must hold `b − A x` on entry.
-/// `x` and `r` may be stored scaled by `2^−exp` (`bnorm` is unscaled). Returns
-/// `(iterations, last max update (unscaled), met)`.
+/// Conjugate gradients with a symmetric positive definite preconditioner `z = M⁻¹ r`
+/// (`precondition(r, z)`: the block Jacobi [`AngleSystem::precondition`] or the scalar
+/// multigrid V-cycle per component), `x` updated in place (`x` may be `None` for the probe,
+/// which only needs the residual). `r` must hold `b − A x` on entry. `x` and `r` may be stored
+/// scaled by `2^−exp` (`bnorm` is unscaled). Returns `(iterations, last max update
+/// (unscaled), met)`.
 ///
 /// Errors: [`Error::SingularSystem`] on non-positive curvature, [`Error::Overflow`] when an
 /// inner product leaves the floating-point range.
 #[allow(clippy::too_many_arguments)]
-fn block_cg<T: Real, const D: usize>(
+fn block_cg<T: Real, const D: usize, P: FnMut(&[[T; D]], &mut [[T; D]])>(
     sys: &AngleSystem<'_, T, D>,
     mut x: Option<&mut [[T; D]]>,
     r: &mut [[T; D]],
@@ -518,8 +523,9 @@ fn block_cg<T: Real, const D: usize>(
     exp: i32,
     options: &SolveOptions<T>,
     max_iterations: usize,
+    precondition: &mut P,
 ) -> Result<(usize, T, bool)> {
-    sys.precondition(r, w);
+    precondition(r, w);
     for (p, &z) in p.iter_mut().zip(w.iter()) {
         *p = z;
     }
@@ -567,7 +573,7 @@ fn block_cg<T: Real, const D: usize>(
         if options.met(Norm::from_sum(rr, exp).relative_to(bnorm), update) {
             return Ok((it, update, true));
         }
-        sys.precondition(r, w);
+        precondition(r, w);
         let rz_new = dot_all(r, w);
         let beta = rz_new / rz;
         for (p, &z) in p.iter_mut().zip(w.iter()) {
@@ -679,6 +685,7 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
             0,
             &probe_options,
             probe_options.max_iterations,
+            &mut |r, z| self.precondition(r, z),
         )?;
         if !met {
             return Err(Error::SingularSystem { iteration: it });
@@ -820,6 +827,35 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
     }
 }
 
+/// The checks every angle solve makes before touching `values` (length and finiteness,
+/// options, `scratch` of at least `needed` items, the rigidity probe when `ε = 0`), then the
+/// initial residual: the report of the initial guess, its residual norm and `‖b‖`.
+fn start_solve<T: Real, const D: usize>(
+    sys: &AngleSystem<'_, T, D>,
+    values: &[[T; D]],
+    options: &SolveOptions<T>,
+    scratch: &mut [[T; D]],
+    needed: usize,
+) -> Result<(SolveReport<T>, Norm<T>, Norm<T>)> {
+    check_values("values", values, sys.base.node_count())?;
+    options.check()?;
+    check::buffer("scratch", scratch.len(), needed)?;
+    if sys.epsilon == T::ZERO {
+        let s = sys.angle_rigidity_probe(options, scratch)?;
+        if s > T::from_f64(MAX_AMPLIFICATION) {
+            return Err(Error::SingularSystem { iteration: 0 });
+        }
+    }
+    let (r0, bnorm) = sys.residual_norms(values, 0);
+    let report = SolveReport {
+        iterations: 0,
+        residual: r0.relative_to(bnorm),
+        max_update: T::ZERO,
+        converged: false,
+    };
+    Ok((report, r0, bnorm))
+}
+
 /// [`solve_angle`](crate::spring::AngleSystem::solve_angle) with the over-relaxation factor of the Gauss–Seidel-order direct method
 /// (1 for the other methods).
 fn solve_angle_core<T: Real, const D: usize>(
@@ -831,16 +867,8 @@ fn solve_angle_core<T: Real, const D: usize>(
     scratch: &mut [[T; D]],
 ) -> Result<SolveReport<T>> {
     let n = sys.base.node_count();
-    check_values("values", values, n)?;
-    options.check()?;
     let needed = sys.angle_scratch_len(method);
-    check::buffer("scratch", scratch.len(), needed)?;
-    if sys.epsilon == T::ZERO {
-        let s = sys.angle_rigidity_probe(options, scratch)?;
-        if s > T::from_f64(MAX_AMPLIFICATION) {
-            return Err(Error::SingularSystem { iteration: 0 });
-        }
-    }
+    let (mut report, r0, bnorm) = start_solve(sys, values, options, scratch, needed)?;
     if method != AngleMethod::Cg {
         // The direct sweeps form `Σ_j B_ij (x_j − x_i)` unscaled (|B_ij v| ≤ (1 + ε) k |v|).
         let vmax = values
@@ -855,13 +883,6 @@ fn solve_angle_core<T: Real, const D: usize>(
             return Err(Error::Overflow { arg: "stiffness" });
         }
     }
-    let (r0, bnorm) = sys.residual_norms(values, 0);
-    let mut report = SolveReport {
-        iterations: 0,
-        residual: r0.relative_to(bnorm),
-        max_update: T::ZERO,
-        converged: false,
-    };
     if report.residual <= options.residual_tol {
         report.converged = true;
         return Ok(report);
@@ -885,51 +906,142 @@ fn solve_angle_core<T: Real, const D: usize>(
             }
             Ok(report)
         }
-        AngleMethod::Cg => {
-            let (x, rest) = scratch
-                .split_at_mut_checked(n)
-                .unwrap_or((&mut [], &mut []));
-            let (r, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-            let (p, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-            let w = rest.get_mut(..n).unwrap_or(&mut []);
-            // CG runs on the field scaled by a power of two (exact): `max |x|` near
-            // `1/√k_max`, so `rᵀz` and `pᵀAp` stay in range at any scale of values and stiffness.
-            let exp = cg_exponent(sys, values);
-            let down = T::pow2(-exp);
-            for (x, &v) in x.iter_mut().zip(values.iter()) {
-                *x = vector::scale(v, down);
-            }
-            while report.iterations < options.max_iterations {
-                // (Re)start from the true residual.
-                for (i, ri) in r.iter_mut().enumerate() {
-                    let xi = x.get(i).copied().unwrap_or([T::ZERO; D]);
-                    *ri = if sys.base.is_fixed(i) {
-                        [T::ZERO; D]
-                    } else {
-                        sys.node_residual(i, xi, x).0
-                    };
-                }
-                let budget = options.max_iterations.saturating_sub(report.iterations);
-                let (it, max_update, met) =
-                    block_cg(sys, Some(&mut *x), r, p, w, bnorm, exp, options, budget)?;
-                report.iterations += it;
-                report.max_update = max_update;
-                report.residual = sys.residual_norms(x, exp).0.relative_to(bnorm);
-                if met && options.met(report.residual, max_update) {
-                    report.converged = true;
-                    break;
-                }
-                if it == 0 {
-                    break;
-                }
-            }
-            let up = T::pow2(exp);
-            for (i, (v, &x)) in values.iter_mut().zip(x.iter()).enumerate() {
-                if !sys.base.is_fixed(i) {
-                    *v = vector::scale(x, up);
-                }
-            }
-            Ok(report)
+        AngleMethod::Cg => cg_solve(sys, values, report, bnorm, options, scratch, &mut |r, z| {
+            sys.precondition(r, z)
+        }),
+    }
+}
+
+/// The preconditioned CG of the angle solves from the initial `report` (not converged): runs
+/// [`block_cg`] on a power-of-two-scaled copy of `values` in the first `4 n` items of `work`
+/// (iterate, residual, direction, `A p` / `M⁻¹ r`), restarting from the true residual until
+/// it confirms convergence or the iterations run out, then writes the free nodes back. On
+/// error `values` is untouched.
+fn cg_solve<T: Real, const D: usize, P: FnMut(&[[T; D]], &mut [[T; D]])>(
+    sys: &AngleSystem<'_, T, D>,
+    values: &mut [[T; D]],
+    mut report: SolveReport<T>,
+    bnorm: Norm<T>,
+    options: &SolveOptions<T>,
+    work: &mut [[T; D]],
+    precondition: &mut P,
+) -> Result<SolveReport<T>> {
+    let n = sys.base.node_count();
+    let (x, rest) = work.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+    let (r, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+    let (p, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+    let w = rest.get_mut(..n).unwrap_or(&mut []);
+    // CG runs on the field scaled by a power of two (exact): `max |x|` near `1/√k_max`, so `rᵀz`
+    // and `pᵀAp` stay in range at any scale of values and stiffness.
+    let exp = cg_exponent(sys, values);
+    let down = T::pow2(-exp);
+    for (x, &v) in x.iter_mut().zip(values.iter()) {
+        *x = vector::scale(v, down);
+    }
+    while report.iterations < options.max_iterations {
+        // (Re)start from the true residual.
+        for (i, ri) in r.iter_mut().enumerate() {
+            let xi = x.get(i).copied().unwrap_or([T::ZERO; D]);
+            *ri = if sys.base.is_fixed(i) {
+                [T::ZERO; D]
+            } else {
+                sys.node_residual(i, xi, x).0
+            };
         }
+        let budget = options.max_iterations.saturating_sub(report.iterations);
+        let (it, max_update, met) = block_cg(
+            sys,
+            Some(&mut *x),
+            r,
+            p,
+            w,
+            bnorm,
+            exp,
+            options,
+            budget,
+            precondition,
+        )?;
+        report.iterations += it;
+        report.max_update = max_update;
+        report.residual = sys.residual_norms(x, exp).0.relative_to(bnorm);
+        if met && options.met(report.residual, max_update) {
+            report.converged = true;
+            break;
+        }
+        if it == 0 {
+            break;
+        }
+    }
+    let up = T::pow2(exp);
+    for (i, (v, &x)) in values.iter_mut().zip(x.iter()).enumerate() {
+        if !sys.base.is_fixed(i) {
+            *v = vector::scale(x, up);
+        }
+    }
+    Ok(report)
+}
+
+impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
+    /// Number of `[T; D]` scratch items [`solve_angle_amg`](crate::spring::AngleSystem::solve_angle_amg) needs with `hierarchy`: `5 n` for the
+    /// CG vectors (iterate, residual, direction, `A p` / preconditioned residual, the V-cycle's
+    /// fine temporary) plus three vectors per coarse level (`3 ×`
+    /// [`AmgHierarchy::coarse_unknowns`]); this covers the rigidity probe's `4 n` when `ε = 0`.
+    /// The same count as [`solve_linear_amg_scratch_len`](crate::spring::solve_linear_amg_scratch_len) for `V = D`.
+    pub fn angle_amg_scratch_len(&self, hierarchy: &AmgHierarchy<'_, T>) -> usize {
+        self.base
+            .node_count()
+            .saturating_mul(5)
+            .saturating_add(hierarchy.coarse_unknowns().saturating_mul(3))
+    }
+
+    /// Solves the angle-inclusion springs (the problem of [`solve_angle`](crate::spring::AngleSystem::solve_angle)) by conjugate
+    /// gradients preconditioned with one V-cycle of the *scalar* linear-spring multigrid
+    /// hierarchy per iteration, applied to each displacement component (issue 14 item 8).
+    /// `hierarchy` is an [`AmgHierarchy`] built on [`base`](crate::spring::AngleSystem::base) (the same graph, stiffness and
+    /// fixed mask; the one [`solve_linear_amg`](crate::spring::SpringSystem::solve_linear_amg) uses). The V-cycle is symmetric positive
+    /// definite, and for `ε > 0` the angle operator lies between `ε` and `1 + ε` times the
+    /// linear-spring operator it approximates, so CG's iteration count is bounded independently
+    /// of the mesh size up to the factor `(1 + ε)/ε`; measured 8–19× fewer iterations than
+    /// block-Jacobi [`AngleMethod::Cg`] on NACA 2412 meshes of 6k–98k nodes (docs/amg.md).
+    /// For `ε = 0` nothing bounds it, but it stays a valid SPD preconditioner (and the rigidity
+    /// probe runs first, as in [`solve_angle`](crate::spring::AngleSystem::solve_angle)).
+    ///
+    /// Everything else is [`AngleMethod::Cg`]'s: the block operator and every residual come
+    /// from `self` (the hierarchy only preconditions: one built for other stiffness values of
+    /// the same graph slows convergence down but cannot change the answer), the iterate is
+    /// scaled by a power of two, the true residual confirms convergence, fixed values come back
+    /// bit for bit and a field that is already a solution (a uniform translation) is returned
+    /// untouched after 0 iterations.
+    ///
+    /// # Errors
+    /// `values` is untouched on error: a hierarchy built for a system of another size
+    /// ([`Error::LengthMismatch`], `"hierarchy"`), wrong length or non-finite `values`, bad
+    /// options, `scratch` shorter than [`angle_amg_scratch_len`](crate::spring::AngleSystem::angle_amg_scratch_len), and the rigidity
+    /// probe's and CG's errors of [`solve_angle`](crate::spring::AngleSystem::solve_angle) ([`Error::SingularSystem`],
+    /// [`Error::Overflow`]).
+    pub fn solve_angle_amg(
+        &self,
+        hierarchy: &AmgHierarchy<'_, T>,
+        values: &mut [[T; D]],
+        options: &SolveOptions<T>,
+        scratch: &mut [[T; D]],
+    ) -> Result<SolveReport<T>> {
+        hierarchy.check_system(&self.base)?;
+        let n = self.base.node_count();
+        let needed = self.angle_amg_scratch_len(hierarchy);
+        let (mut report, _, bnorm) = start_solve(self, values, options, scratch, needed)?;
+        if report.residual <= options.residual_tol {
+            report.converged = true;
+            return Ok(report);
+        }
+        let split = n.saturating_mul(4);
+        let (cg, rest) = scratch
+            .split_at_mut_checked(split)
+            .unwrap_or((&mut [], &mut []));
+        let (t, coarse) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
+        let base = &self.base;
+        cg_solve(self, values, report, bnorm, options, cg, &mut |r, z| {
+            amg_vcycle(base, hierarchy, r, z, t, coarse)
+        })
     }
 }

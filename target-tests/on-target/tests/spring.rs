@@ -1,16 +1,17 @@
 //! The spring analogy on target, in f32 and f64, on a small jittered triangle mesh (30 nodes,
 //! perimeter fixed): every linear method (Jacobi, Gauss–Seidel, SOR, CG with each
-//! preconditioner) and every angle method (direct Gauss–Seidel, direct Jacobi, CG) converges,
-//! obeys the maximum principle (linear springs), agrees with the others within the solver
-//! tolerance, and the sweeps compose into the whole solves. Bad input gives typed errors.
+//! preconditioner) and every angle method (direct Gauss–Seidel, direct Jacobi, CG, and the
+//! multigrid-preconditioned CG, with golden bits) converges, obeys the maximum principle
+//! (linear springs), agrees with the others within the solver tolerance, and the sweeps
+//! compose into the whole solves. Bad input gives typed errors.
 #![no_std]
 #![no_main]
 
 use deform_on_target as _;
 
 use deform_kernel::spring::{
-    batina_stiffness, solve_linear_scratch_len, AngleMethod, AngleSystem, LinearMethod,
-    Preconditioner, SolveOptions, SpringSystem, DEFAULT_ANGLE_EPSILON,
+    batina_stiffness, solve_linear_scratch_len, AmgHierarchy, AmgOptions, AngleMethod, AngleSystem,
+    LinearMethod, Preconditioner, SolveOptions, SpringSystem, DEFAULT_ANGLE_EPSILON,
 };
 use deform_kernel::{Error, Quat, Real};
 use deform_on_target::mesh::{Mesh, N, NE, NX};
@@ -243,6 +244,121 @@ fn angle_methods<T: Real>() {
     });
 }
 
+/// The angle-inclusion CG preconditioned by the scalar multigrid V-cycle
+/// (`solve_angle_amg`): converges, keeps the fixed bits, agrees with the block-Jacobi CG, needs
+/// no more iterations than it; a short scratch or a hierarchy of another system is a typed
+/// error that leaves the values alone; a uniform translation comes back bit for bit.
+fn angle_amg<T: Real>() {
+    let m = Mesh::<T>::new(0.25);
+    with_system(&m, |sys| {
+        let opts = AmgOptions {
+            max_coarse: 4,
+            ..AmgOptions::default()
+        };
+        let mut work = [0u32; 4 * (N + NE) + 64];
+        let mut index = [0u32; 2048];
+        let mut vals = [T::ZERO; 1024];
+        let h = AmgHierarchy::setup(sys, &opts, &mut work, &mut index, &mut vals).unwrap();
+        defmt::assert!(h.levels() >= 2);
+        let asys = AngleSystem::new(*sys, &m.points, T::from_f64(DEFAULT_ANGLE_EPSILON)).unwrap();
+        let data = boundary_values(&m);
+        let scale = max_abs(&data);
+        let stop = SolveOptions {
+            max_iterations: 500,
+            ..SolveOptions::default()
+        };
+        let len = asys.angle_amg_scratch_len(&h);
+        defmt::assert_eq!(len, 5 * N + 3 * h.coarse_unknowns());
+        let mut scratch = [[T::ZERO; 2]; 8 * N];
+        let mut values = data;
+        defmt::assert!(matches!(
+            asys.solve_angle_amg(&h, &mut values, &stop, &mut scratch[..len - 1]),
+            Err(Error::BufferTooSmall { .. })
+        ));
+        defmt::assert!(same_bits(&values, &data));
+        let r = asys
+            .solve_angle_amg(&h, &mut values, &stop, &mut scratch[..len])
+            .unwrap();
+        let mut cg = data;
+        let rc = asys
+            .solve_angle(&mut cg, AngleMethod::Cg, &stop, &mut scratch[..4 * N])
+            .unwrap();
+        defmt::info!(
+            "{=str} angle AMG-CG: {=usize} iterations (block-Jacobi CG {=usize}), residual {=f64}",
+            precision::<T>(),
+            r.iterations,
+            rc.iterations,
+            r.residual.to_f64()
+        );
+        defmt::assert!(r.converged && rc.converged);
+        defmt::assert!(r.iterations <= rc.iterations);
+        for ((v, d), &f) in values.iter().zip(&data).zip(&m.fixed) {
+            if f != 0 {
+                defmt::assert!(same_bits(&[*v], &[*d]));
+            }
+        }
+        defmt::assert!(max_diff(&values, &cg) <= agree_tol::<T>() * scale);
+        // A uniform translation is a solution: 0 iterations, the same bits.
+        let t = [T::from_f64(0.3125), T::from_f64(-1.75)];
+        let mut tv = [t; N];
+        let r = asys
+            .solve_angle_amg(&h, &mut tv, &stop, &mut scratch[..len])
+            .unwrap();
+        defmt::assert!(r.converged && r.iterations == 0);
+        defmt::assert!(same_bits(&tv, &[t; N]));
+    });
+    // A hierarchy of another system (a 3-node path) is refused.
+    let offsets: [u32; 4] = [0, 1, 3, 4];
+    let targets: [u32; 4] = [1, 0, 2, 1];
+    let g = deform_kernel::Graph::new(&offsets, &targets).unwrap();
+    let k = [T::ONE; 4];
+    let fixed = [1u8, 0, 1];
+    let mut seen = [0u32; 3];
+    let small = SpringSystem::new(g, &k, &fixed, &mut seen).unwrap();
+    let mut work = [0u32; 4 * (3 + 4) + 64];
+    let mut index = [0u32; 64];
+    let mut vals = [T::ZERO; 64];
+    let other = AmgHierarchy::setup(
+        &small,
+        &AmgOptions::default(),
+        &mut work,
+        &mut index,
+        &mut vals,
+    )
+    .unwrap();
+    with_system(&m, |sys| {
+        let asys = AngleSystem::new(*sys, &m.points, T::from_f64(DEFAULT_ANGLE_EPSILON)).unwrap();
+        let data = boundary_values(&m);
+        let mut values = data;
+        let mut scratch = [[T::ZERO; 2]; 8 * N];
+        defmt::assert!(matches!(
+            asys.solve_angle_amg(&other, &mut values, &SolveOptions::default(), &mut scratch),
+            Err(Error::LengthMismatch {
+                arg: "hierarchy",
+                ..
+            })
+        ));
+        defmt::assert!(same_bits(&values, &data));
+    });
+}
+
+/// The golden case of the AMG angle solve (`deform-golden`'s `spring_angle_amg`, on the golden
+/// crate's 42-node mesh) has the host's bits here too (also checked with every other case by
+/// the `golden` test binary).
+fn angle_amg_golden_bits() {
+    let case = deform_golden::CASES
+        .iter()
+        .find(|c| c.name == "spring_angle_amg")
+        .unwrap();
+    let got = case.run();
+    defmt::info!(
+        "golden spring_angle_amg: f64 {=u64:#x}, f32 {=u64:#x}",
+        got.got_f64,
+        got.got_f32
+    );
+    defmt::assert!(case.matches(&got));
+}
+
 fn uniform_translation_is_exact<T: Real>() {
     let m = Mesh::<T>::new(0.25);
     with_system(&m, |sys| {
@@ -376,6 +492,21 @@ mod tests {
     #[test]
     fn angle_methods_f32() {
         angle_methods::<f32>();
+    }
+
+    #[test]
+    fn angle_amg_f64() {
+        angle_amg::<f64>();
+    }
+
+    #[test]
+    fn angle_amg_f32() {
+        angle_amg::<f32>();
+    }
+
+    #[test]
+    fn angle_amg_has_the_golden_bits() {
+        angle_amg_golden_bits();
     }
 
     #[test]

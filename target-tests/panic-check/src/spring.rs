@@ -1,7 +1,7 @@
 //! Panic-check calls for the kernel's spring entry points (`deform_kernel::spring`): stiffness,
 //! the validated systems, every sweep and every whole solve (all linear methods and
-//! preconditioners, all angle methods), for `f32` and `f64`, `D` = 2 and 3, and value widths
-//! `V` = 1, `D`, 4 and `D + 4`.
+//! preconditioners, all angle methods and the multigrid-preconditioned angle CG), for `f32`
+//! and `f64`, `D` = 2 and 3, and value widths `V` = 1, `D`, 4 and `D + 4`.
 //!
 //! Inputs are black-boxed (a four-node complete graph, so every buffer fits on the stack) and
 //! every output is black-boxed.
@@ -10,8 +10,9 @@ use core::hint::black_box;
 
 use deform_kernel::spring::{
     batina_stiffness, dual_volumes, inverse_volume_factors, is_fixed, scale_stiffness,
-    solve_linear_scratch_len, wall_distance_factors, wall_distances, AngleMethod, AngleSystem,
-    LinearMethod, Preconditioner, SolveOptions, SpringSystem, Sweep,
+    solve_linear_scratch_len, wall_distance_factors, wall_distances, AmgHierarchy, AmgOptions,
+    AmgSmoother, AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions,
+    SpringSystem, Sweep,
 };
 use deform_kernel::{Cells, Graph, Real};
 
@@ -218,6 +219,42 @@ fn angle<T: Real, const D: usize>(sys: &SpringSystem<'_, T>, p: &[[T; D]; N]) {
         let mut z = x;
         let sc = scratch.get_mut(..len).unwrap_or(&mut []);
         keep(a.solve_angle_sor(bb(&mut z[..]), bb(T::from_f64(1.8)), &opts, bb(sc)));
+        keep(&z);
+        angle_amg(&a, &x);
+    }
+}
+
+/// The multigrid-preconditioned angle CG with a hierarchy of the base system (both
+/// smoothers, one coarse unknown at most so the 4-node system coarsens).
+#[inline(never)]
+fn angle_amg<T: Real, const D: usize>(a: &AngleSystem<'_, T, D>, x: &[[T; D]; N]) {
+    /// `u32` work entries (`4 (N + E) + 64` with `E = 12`) and hierarchy buffers.
+    const WORK: usize = 4 * (N + 12) + 64;
+    for smoother in bb([AmgSmoother::Jacobi, AmgSmoother::Chebyshev]) {
+        let opts = bb(AmgOptions {
+            smoother,
+            max_coarse: 1,
+            ..AmgOptions::<T>::default()
+        });
+        let mut work = [0u32; WORK];
+        let mut index = [0u32; 256];
+        let mut values = [T::ZERO; 256];
+        let Ok(h) = AmgHierarchy::setup(
+            a.base(),
+            &opts,
+            bb(&mut work[..]),
+            bb(&mut index[..]),
+            bb(&mut values[..]),
+        ) else {
+            continue;
+        };
+        let h = bb(h);
+        let mut scratch = [[T::ZERO; D]; 8 * N];
+        let len = a.angle_amg_scratch_len(&h);
+        let mut z = *x;
+        let sc = scratch.get_mut(..len).unwrap_or(&mut []);
+        let stop: SolveOptions<T> = bb(SolveOptions::default());
+        keep(a.solve_angle_amg(&h, bb(&mut z[..]), &stop, bb(sc)));
         keep(&z);
     }
 }

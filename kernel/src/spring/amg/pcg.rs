@@ -63,10 +63,34 @@ impl<T: Real> SpringSystem<'_, T> {
                 actual: scratch.len(),
             });
         };
-        vcycle(self, hierarchy, r, z, t, coarse, &Serial::new(n));
-        zero_fixed(self, z);
+        amg_vcycle(self, hierarchy, r, z, t, coarse);
         Ok(())
     }
+}
+
+/// `z = M⁻¹ r` without checks: one serial V-cycle from zero, then `z` zeroed at fixed nodes.
+/// `t` is one fine vector, `coarse` three per coarse unknown (the callers check the sizes;
+/// short slices cannot panic, every access is checked). Applied to each of the `V`
+/// components alike: [`amg_precondition`](crate::spring::SpringSystem::amg_precondition) and the angle-inclusion CG
+/// ([`solve_angle_amg`](crate::spring::AngleSystem::solve_angle_amg), `V = D`).
+pub(crate) fn amg_vcycle<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    hierarchy: &AmgHierarchy<'_, T>,
+    r: &[[T; V]],
+    z: &mut [[T; V]],
+    t: &mut [[T; V]],
+    coarse: &mut [[T; V]],
+) {
+    vcycle(
+        sys,
+        hierarchy,
+        r,
+        z,
+        t,
+        coarse,
+        &Serial::new(sys.node_count()),
+    );
+    zero_fixed(sys, z);
 }
 
 /// `r = b − A x` at free nodes (`Σ_j k_ij (x_j − x_i)`, fixed values as Dirichlet data), zero at
