@@ -145,6 +145,28 @@ fn fortran_quality_wrappers() {
     assert_eq!(run(&exe), "quality: every check held\n");
 }
 
+/// The Fortran spring and graph-Taubin wrappers and the parameter-struct constructors
+/// (`ffi/tests/solvers.f90`): a fixed-end chain solved exactly, the residual through a
+/// `dk_spring_system` built by `dkf_spring_system`, a NULL array in it refused, a linear field
+/// kept by the λ|μ filter and a spike damped.
+#[test]
+fn fortran_solver_wrappers_and_structs() {
+    let module = workspace().join("ffi/fortran/deform_kernel.f90");
+    let src = workspace().join("ffi/tests/solvers.f90");
+    let moddir = tmp("solvers_f_mod");
+    std::fs::create_dir_all(&moddir).unwrap();
+    let jflag = format!("-J{}", moddir.display());
+    let exe = tmp("solvers_f");
+    compile(
+        "gfortran",
+        &[module, src],
+        &["-std=f2008", "-Wall", "-Werror", &jflag],
+        Link::Static,
+        &exe,
+    );
+    assert_eq!(run(&exe), "solvers: every check held\n");
+}
+
 #[test]
 fn bad_input_from_c_returns_documented_status_and_writes_nothing() {
     let src = workspace().join("ffi/tests/bad_input.c");
