@@ -138,6 +138,7 @@ fn vectors<T: Real, const D: usize>() {
     keep(vector::dot(a, b));
     keep(vector::norm_sq(a));
     keep(vector::norm(a));
+    keep(vector::norm_robust(a));
     keep(vector::distance(a, b));
     keep(vector::normalize(a));
     keep(vector::lerp(a, b, s));
@@ -374,7 +375,7 @@ fn errors() {
 }
 
 /// `reduce::ExactSum`: adds of any `f32`/`f64` (non-finite included), merges, the word
-/// protocol and the rounding to either type.
+/// protocol, the in-place exchange and the rounding to either type.
 fn reduce() {
     use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
     let mut a = ExactSum::new();
@@ -390,4 +391,8 @@ fn reduce() {
     black_box(c.value::<f32>());
     black_box(c.value::<f64>());
     black_box(c == a);
+    // The all-reduce protocol, with opaque words from "the other processes".
+    let mut d = black_box(c);
+    d.exchange(|w| *w = black_box(*w));
+    black_box(d.value::<f64>());
 }
