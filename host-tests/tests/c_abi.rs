@@ -129,20 +129,7 @@ fn fortran_example_matches_rust_bit_for_bit() {
 /// rigid motion and a fold compared, a partial wall refused.
 #[test]
 fn fortran_quality_wrappers() {
-    let module = workspace().join("ffi/fortran/deform_kernel.f90");
-    let src = workspace().join("ffi/tests/quality.f90");
-    let moddir = tmp("quality_f_mod");
-    std::fs::create_dir_all(&moddir).unwrap();
-    let jflag = format!("-J{}", moddir.display());
-    let exe = tmp("quality_f");
-    compile(
-        "gfortran",
-        &[module, src],
-        &["-std=f2008", "-Wall", "-Werror", &jflag],
-        Link::Static,
-        &exe,
-    );
-    assert_eq!(run(&exe), "quality: every check held\n");
+    assert_eq!(fortran_test("quality"), "quality: every check held\n");
 }
 
 /// The Fortran spring and graph-Taubin wrappers and the parameter-struct constructors
@@ -151,12 +138,18 @@ fn fortran_quality_wrappers() {
 /// kept by the λ|μ filter and a spike damped.
 #[test]
 fn fortran_solver_wrappers_and_structs() {
+    assert_eq!(fortran_test("solvers"), "solvers: every check held\n");
+}
+
+/// Builds `ffi/tests/<name>.f90` with the Fortran module (strict: f2008, `-Wall -Werror`),
+/// links the static library and returns what it prints.
+fn fortran_test(name: &str) -> String {
     let module = workspace().join("ffi/fortran/deform_kernel.f90");
-    let src = workspace().join("ffi/tests/solvers.f90");
-    let moddir = tmp("solvers_f_mod");
+    let src = workspace().join(format!("ffi/tests/{name}.f90"));
+    let moddir = tmp(&format!("{name}_f_mod"));
     std::fs::create_dir_all(&moddir).unwrap();
     let jflag = format!("-J{}", moddir.display());
-    let exe = tmp("solvers_f");
+    let exe = tmp(&format!("{name}_f"));
     compile(
         "gfortran",
         &[module, src],
@@ -164,7 +157,7 @@ fn fortran_solver_wrappers_and_structs() {
         Link::Static,
         &exe,
     );
-    assert_eq!(run(&exe), "solvers: every check held\n");
+    run(&exe)
 }
 
 #[test]

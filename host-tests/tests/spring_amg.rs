@@ -8,32 +8,13 @@ mod spring_common;
 
 use deform_host_tests::spring_ref;
 use deform_kernel::spring::{
-    amg_precondition_scratch_len, batina_stiffness, solve_linear_amg_scratch_len,
-    solve_linear_scratch_len, AmgHierarchy, AmgOptions, AmgSizes, AmgSmoother, LinearMethod,
-    Preconditioner, SolveOptions, SolveReport, SpringSystem,
+    amg_precondition_scratch_len, solve_linear_amg_scratch_len, solve_linear_scratch_len,
+    AmgHierarchy, AmgOptions, AmgSizes, AmgSmoother, LinearMethod, Preconditioner, SolveOptions,
+    SolveReport, SpringSystem,
 };
-use deform_kernel::{graph_from_cells, graph_from_cells_len, Error, Graph, Real};
-use deform_meshgen::{naca_triangulated, rotate_markers2, AirfoilGrid};
+use deform_kernel::{Error, Graph, Real};
+use deform_meshgen::AirfoilGrid;
 use spring_common::*;
-
-/// Owned hierarchy buffers.
-struct Buffers<T> {
-    work: Vec<u32>,
-    index: Vec<u32>,
-    values: Vec<T>,
-    sizes: AmgSizes,
-}
-
-fn buffers<T: Real>(sys: &SpringSystem<'_, T>, opts: &AmgOptions<T>) -> Buffers<T> {
-    let mut work = vec![0u32; AmgHierarchy::setup_work_len(sys)];
-    let sizes = AmgHierarchy::setup_len(sys, opts, &mut work).unwrap();
-    Buffers {
-        work,
-        index: vec![0; sizes.index],
-        values: vec![T::ZERO; sizes.values],
-        sizes,
-    }
-}
 
 /// Builds the hierarchy and solves with AMG-CG.
 fn amg_solve<T: Real, const V: usize>(
@@ -42,7 +23,7 @@ fn amg_solve<T: Real, const V: usize>(
     x: &mut [[T; V]],
     stop: &SolveOptions<T>,
 ) -> deform_kernel::Result<SolveReport<T>> {
-    let mut b = buffers(sys, opts);
+    let mut b = AmgBuffers::new(sys, opts);
     let h = AmgHierarchy::setup(sys, opts, &mut b.work, &mut b.index, &mut b.values)?;
     let mut scratch = vec![[T::ZERO; V]; solve_linear_amg_scratch_len(&h)];
     sys.solve_linear_amg(&h, x, stop, &mut scratch)
@@ -160,7 +141,7 @@ fn hierarchy_shape_and_all_level_counts() {
             max_coarse: 4,
             ..AmgOptions::default()
         };
-        let mut b = buffers(&sys, &opts);
+        let mut b = AmgBuffers::new(&sys, &opts);
         let h = AmgHierarchy::setup(&sys, &opts, &mut b.work, &mut b.index, &mut b.values).unwrap();
         assert!(h.levels() <= max_levels);
         assert_eq!(h.levels(), b.sizes.levels);
@@ -181,41 +162,6 @@ fn hierarchy_shape_and_all_level_counts() {
             .unwrap();
         assert!(rep.converged, "levels {max_levels}: {rep:?}");
         assert!(max_diff_to_reference(&ann, &x0, &x) < 1e-9);
-    }
-}
-
-/// Kernel system of a meshgen NACA 2412 mesh, with the airfoil rotated 10°.
-struct Naca {
-    offsets: Vec<u32>,
-    targets: Vec<u32>,
-    k: Vec<f64>,
-    fixed: Vec<u8>,
-    x0: Vec<[f64; 2]>,
-}
-
-fn naca(grid: &AirfoilGrid) -> Naca {
-    let mesh = naca_triangulated(grid).unwrap();
-    let n = mesh.node_count();
-    let cells = mesh.cells().unwrap();
-    let mut offsets = vec![0u32; n + 1];
-    let mut targets = vec![0u32; graph_from_cells_len(&cells, false)];
-    let used = graph_from_cells(&cells, false, &mut offsets, &mut targets).unwrap();
-    targets.truncate(used);
-    let mut k = vec![0.0; used];
-    batina_stiffness(
-        &Graph::new(&offsets, &targets).unwrap(),
-        &mesh.points,
-        1.0,
-        &mut k,
-    )
-    .unwrap();
-    let rot = rotate_markers2(&mesh, &["airfoil"], AirfoilGrid::quarter_chord(), 10.0).unwrap();
-    Naca {
-        offsets,
-        targets,
-        k,
-        fixed: mesh.boundary_mask(),
-        x0: rot.to_field(n),
     }
 }
 
@@ -279,7 +225,7 @@ fn size_query_is_exact_and_short_buffers_are_refused_untouched() {
             ..AmgOptions::default()
         },
     ] {
-        let mut b = buffers(&sys, &opts);
+        let mut b = AmgBuffers::new(&sys, &opts);
         let AmgSizes { index, values, .. } = b.sizes;
         // One less index entry: typed error, both buffers untouched.
         let mut short_index = vec![7u32; index.saturating_sub(1)];
@@ -363,7 +309,7 @@ fn bits_repeat_across_runs_and_reused_buffers() {
         max_coarse: 8,
         ..AmgOptions::default()
     };
-    let mut b = buffers(&sys, &opts);
+    let mut b = AmgBuffers::new(&sys, &opts);
     let first = {
         let h = AmgHierarchy::setup(&sys, &opts, &mut b.work, &mut b.index, &mut b.values).unwrap();
         let a = solve_bits(&sys, &h, &ann);
@@ -391,7 +337,7 @@ fn preconditioner_is_symmetric_positive_definite() {
                 max_coarse: 8,
                 ..AmgOptions::default()
             };
-            let mut b = buffers(&sys, &opts);
+            let mut b = AmgBuffers::new(&sys, &opts);
             let h =
                 AmgHierarchy::setup(&sys, &opts, &mut b.work, &mut b.index, &mut b.values).unwrap();
             assert!(h.levels() >= 2);
@@ -470,7 +416,7 @@ fn bad_inputs_are_typed() {
         bad(AmgOptions { sweeps, ..d }, "sweeps", &mut work);
     }
 
-    let mut b = buffers(&sys, &d);
+    let mut b = AmgBuffers::new(&sys, &d);
     let h = AmgHierarchy::setup(&sys, &d, &mut b.work, &mut b.index, &mut b.values).unwrap();
     let x0 = field::<f64, 2, 2>(&ann);
     let need = solve_linear_amg_scratch_len(&h);
@@ -550,7 +496,7 @@ fn hierarchy_of_other_stiffness_still_gives_the_exact_answer() {
         max_coarse: 8,
         ..AmgOptions::default()
     };
-    let mut b = buffers(&stale_sys, &opts);
+    let mut b = AmgBuffers::new(&stale_sys, &opts);
     let h =
         AmgHierarchy::setup(&stale_sys, &opts, &mut b.work, &mut b.index, &mut b.values).unwrap();
     let x0 = field::<f64, 2, 2>(&ann);

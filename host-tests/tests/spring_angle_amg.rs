@@ -9,39 +9,12 @@ mod spring_common;
 
 use deform_host_tests::spring_ref;
 use deform_kernel::spring::{
-    batina_stiffness, AmgHierarchy, AmgOptions, AngleMethod, AngleSystem, SolveOptions,
-    SolveReport, SpringSystem, DEFAULT_ANGLE_EPSILON,
+    AmgOptions, AngleMethod, AngleSystem, SolveOptions, SolveReport, SpringSystem,
+    DEFAULT_ANGLE_EPSILON,
 };
-use deform_kernel::{graph_from_cells, graph_from_cells_len, Error, Graph, Real};
-use deform_meshgen::{naca_triangulated, rotate_markers2, AirfoilGrid};
+use deform_kernel::{Error, Graph, Real};
+use deform_meshgen::AirfoilGrid;
 use spring_common::*;
-
-/// An owned hierarchy for `sys` (built with `opts`).
-struct Hier<T> {
-    work: Vec<u32>,
-    index: Vec<u32>,
-    values: Vec<T>,
-}
-
-impl<T: Real> Hier<T> {
-    fn new(sys: &SpringSystem<'_, T>, opts: &AmgOptions<T>) -> Self {
-        let mut work = vec![0u32; AmgHierarchy::setup_work_len(sys)];
-        let sizes = AmgHierarchy::setup_len(sys, opts, &mut work).unwrap();
-        Hier {
-            work,
-            index: vec![0; sizes.index],
-            values: vec![T::ZERO; sizes.values],
-        }
-    }
-
-    fn build<'h>(
-        &'h mut self,
-        sys: &SpringSystem<'_, T>,
-        opts: &AmgOptions<T>,
-    ) -> AmgHierarchy<'h, T> {
-        AmgHierarchy::setup(sys, opts, &mut self.work, &mut self.index, &mut self.values).unwrap()
-    }
-}
 
 /// Small coarse levels, so the small test meshes have a real hierarchy.
 fn small_coarse<T: Real>() -> AmgOptions<T> {
@@ -59,7 +32,7 @@ fn amg<T: Real, const D: usize>(
     opts: &SolveOptions<T>,
 ) -> deform_kernel::Result<SolveReport<T>> {
     let amg_opts = small_coarse();
-    let mut b = Hier::new(sys.base(), &amg_opts);
+    let mut b = AmgBuffers::new(sys.base(), &amg_opts);
     let h = b.build(sys.base(), &amg_opts);
     let mut scratch = vec![[T::ZERO; D]; sys.angle_amg_scratch_len(&h)];
     sys.solve_angle_amg(&h, x, opts, &mut scratch)
@@ -144,46 +117,13 @@ fn f32_converges_to_the_dense_solve() {
     assert!(err <= 1e-3, "{err:e}");
 }
 
-/// Kernel system of a meshgen NACA 2412 mesh (6,144 nodes) with the airfoil turned 10°.
-struct Naca {
-    offsets: Vec<u32>,
-    targets: Vec<u32>,
-    k: Vec<f64>,
-    fixed: Vec<u8>,
-    points: Vec<[f64; 2]>,
-    x0: Vec<[f64; 2]>,
-}
-
-fn naca() -> Naca {
-    let grid = AirfoilGrid {
+/// The 6,144-node NACA 2412 mesh of the iteration comparison.
+fn naca_6144() -> Naca {
+    naca(&AirfoilGrid {
         surface_points: 128,
         radial_points: 48,
         ..AirfoilGrid::default()
-    };
-    let mesh = naca_triangulated(&grid).unwrap();
-    let n = mesh.node_count();
-    let cells = mesh.cells().unwrap();
-    let mut offsets = vec![0u32; n + 1];
-    let mut targets = vec![0u32; graph_from_cells_len(&cells, false)];
-    let used = graph_from_cells(&cells, false, &mut offsets, &mut targets).unwrap();
-    targets.truncate(used);
-    let mut k = vec![0.0; used];
-    batina_stiffness(
-        &Graph::new(&offsets, &targets).unwrap(),
-        &mesh.points,
-        1.0,
-        &mut k,
-    )
-    .unwrap();
-    let rot = rotate_markers2(&mesh, &["airfoil"], AirfoilGrid::quarter_chord(), 10.0).unwrap();
-    Naca {
-        offsets,
-        targets,
-        k,
-        fixed: mesh.boundary_mask(),
-        points: mesh.points.clone(),
-        x0: rot.to_field(n),
-    }
+    })
 }
 
 /// On a 6,144-node NACA 2412 mesh both CGs converge to the same displacements; the multigrid
@@ -191,7 +131,7 @@ fn naca() -> Naca {
 /// ε = 0.1 in the example `angle_amg`; asserted loosely, and no time is measured).
 #[test]
 fn far_fewer_iterations_than_block_jacobi_on_a_naca_mesh() {
-    let m = naca();
+    let m = naca_6144();
     assert!(m.fixed.len() > 5000);
     let g = Graph::new(&m.offsets, &m.targets).unwrap();
     let mut s = vec![0u32; m.fixed.len()];
@@ -202,7 +142,7 @@ fn far_fewer_iterations_than_block_jacobi_on_a_naca_mesh() {
         update_tol: 0.0,
     };
     let opts = AmgOptions::default();
-    let mut b = Hier::new(&sys, &opts);
+    let mut b = AmgBuffers::new(&sys, &opts);
     let h = b.build(&sys, &opts);
     let scale = m.x0.iter().flatten().fold(0.0f64, |a, &v| a.max(v.abs()));
     for eps in [DEFAULT_ANGLE_EPSILON, 0.1] {
@@ -289,7 +229,7 @@ fn translation_scaling_and_repeatable_bits() {
     let x0 = inner_rotation(&a, 20.0);
     let opts = SolveOptions::default();
     let amg_opts = small_coarse();
-    let mut b = Hier::new(sys.base(), &amg_opts);
+    let mut b = AmgBuffers::new(sys.base(), &amg_opts);
     let h = b.build(sys.base(), &amg_opts);
     let mut scratch = vec![[0.0; 2]; sys.angle_amg_scratch_len(&h)];
     let mut x = x0.clone();
@@ -325,7 +265,7 @@ fn hierarchy_of_other_stiffness_gives_the_same_answer() {
     let mut s = vec![0u32; a.n()];
     let other = SpringSystem::new(a.graph(), &k2, &a.fixed, &mut s).unwrap();
     let amg_opts = small_coarse();
-    let mut b = Hier::new(&other, &amg_opts);
+    let mut b = AmgBuffers::new(&other, &amg_opts);
     let h = b.build(&other, &amg_opts);
     let opts = SolveOptions {
         residual_tol: 1e-12,
@@ -352,7 +292,7 @@ fn bad_inputs_are_typed_and_leave_values_untouched() {
     let sys = a.angle(DEFAULT_ANGLE_EPSILON);
     let n = a.n();
     let amg_opts = small_coarse();
-    let mut b = Hier::new(sys.base(), &amg_opts);
+    let mut b = AmgBuffers::new(sys.base(), &amg_opts);
     let h = b.build(sys.base(), &amg_opts);
     let need = sys.angle_amg_scratch_len(&h);
     assert_eq!(need, 5 * n + 3 * h.coarse_unknowns());
@@ -417,7 +357,7 @@ fn bad_inputs_are_typed_and_leave_values_untouched() {
     // A hierarchy of a system of another size.
     let other = annulus::<f64>(9, 24);
     let osys = other.angle(DEFAULT_ANGLE_EPSILON);
-    let mut ob = Hier::new(osys.base(), &amg_opts);
+    let mut ob = AmgBuffers::new(osys.base(), &amg_opts);
     let oh = ob.build(osys.base(), &amg_opts);
     let mut big = vec![[0.0; 2]; 10 * other.n()];
     assert!(matches!(
@@ -440,7 +380,7 @@ fn bad_inputs_are_typed_and_leave_values_untouched() {
     // refuses it, values untouched.
     let ring = quad_ring();
     let rsys = ring.angle(0.0);
-    let mut rb = Hier::new(rsys.base(), &amg_opts);
+    let mut rb = AmgBuffers::new(rsys.base(), &amg_opts);
     let rh = rb.build(rsys.base(), &amg_opts);
     let r0 = inner_rotation(&ring, 10.0);
     let mut r = r0.clone();

@@ -3,8 +3,11 @@
 #![allow(dead_code)]
 
 use deform_host_tests::spring_ref::{self, Net};
-use deform_kernel::spring::{batina_stiffness, AngleSystem, SpringSystem};
-use deform_kernel::{Graph, Real};
+use deform_kernel::spring::{
+    batina_stiffness, AmgHierarchy, AmgOptions, AmgSizes, AngleSystem, SpringSystem,
+};
+use deform_kernel::{graph_from_cells, graph_from_cells_len, Graph, Real};
+use deform_meshgen::{naca_triangulated, rotate_markers2, AirfoilGrid};
 
 /// Mesh data owned by a test: CSR graph, stiffness, fixed mask, points.
 pub struct Case<T, const D: usize> {
@@ -141,4 +144,72 @@ pub fn bits<T: Real, const V: usize>(x: &[[T; V]]) -> Vec<u64> {
     x.iter()
         .flat_map(|v| v.iter().map(|c| c.to_bits_u64()))
         .collect()
+}
+
+/// Owned buffers of a multigrid hierarchy for a system, sized by the two-phase query.
+pub struct AmgBuffers<T> {
+    pub work: Vec<u32>,
+    pub index: Vec<u32>,
+    pub values: Vec<T>,
+    pub sizes: AmgSizes,
+}
+
+impl<T: Real> AmgBuffers<T> {
+    pub fn new(sys: &SpringSystem<'_, T>, opts: &AmgOptions<T>) -> Self {
+        let mut work = vec![0u32; AmgHierarchy::setup_work_len(sys)];
+        let sizes = AmgHierarchy::setup_len(sys, opts, &mut work).unwrap();
+        AmgBuffers {
+            work,
+            index: vec![0; sizes.index],
+            values: vec![T::ZERO; sizes.values],
+            sizes,
+        }
+    }
+
+    /// The hierarchy of `sys` in these buffers.
+    pub fn build<'h>(
+        &'h mut self,
+        sys: &SpringSystem<'_, T>,
+        opts: &AmgOptions<T>,
+    ) -> AmgHierarchy<'h, T> {
+        AmgHierarchy::setup(sys, opts, &mut self.work, &mut self.index, &mut self.values).unwrap()
+    }
+}
+
+/// Kernel system of a meshgen NACA 2412 mesh, with the airfoil rotated 10° (`x0`: the wall
+/// displacements on the fixed nodes, zero elsewhere).
+pub struct Naca {
+    pub offsets: Vec<u32>,
+    pub targets: Vec<u32>,
+    pub k: Vec<f64>,
+    pub fixed: Vec<u8>,
+    pub points: Vec<[f64; 2]>,
+    pub x0: Vec<[f64; 2]>,
+}
+
+pub fn naca(grid: &AirfoilGrid) -> Naca {
+    let mesh = naca_triangulated(grid).unwrap();
+    let n = mesh.node_count();
+    let cells = mesh.cells().unwrap();
+    let mut offsets = vec![0u32; n + 1];
+    let mut targets = vec![0u32; graph_from_cells_len(&cells, false)];
+    let used = graph_from_cells(&cells, false, &mut offsets, &mut targets).unwrap();
+    targets.truncate(used);
+    let mut k = vec![0.0; used];
+    batina_stiffness(
+        &Graph::new(&offsets, &targets).unwrap(),
+        &mesh.points,
+        1.0,
+        &mut k,
+    )
+    .unwrap();
+    let rot = rotate_markers2(&mesh, &["airfoil"], AirfoilGrid::quarter_chord(), 10.0).unwrap();
+    Naca {
+        offsets,
+        targets,
+        k,
+        fixed: mesh.boundary_mask(),
+        points: mesh.points.clone(),
+        x0: rot.to_field(n),
+    }
 }

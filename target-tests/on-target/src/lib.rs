@@ -22,6 +22,33 @@ fn defmt_panic() -> ! {
 
 pub mod mesh;
 
+/// Parameter structs of the C ABI over borrowed slices, for the `c_abi*` tests.
+pub mod abi {
+    use deform_kernel_ffi::graph::{dk_cells, dk_graph};
+
+    /// A `dk_graph` borrowing `offsets` and `targets` (each passed with its own length).
+    pub fn graph(offsets: &[u32], targets: &[u32]) -> dk_graph {
+        dk_graph {
+            offsets: offsets.as_ptr(),
+            offsets_len: offsets.len(),
+            targets: targets.as_ptr(),
+            targets_len: targets.len(),
+        }
+    }
+
+    /// A `dk_cells` borrowing the three arrays (each passed with its own length).
+    pub fn cells(offsets: &[u32], nodes: &[u32], kinds: &[u8]) -> dk_cells {
+        dk_cells {
+            offsets: offsets.as_ptr(),
+            offsets_len: offsets.len(),
+            nodes: nodes.as_ptr(),
+            nodes_len: nodes.len(),
+            kinds: kinds.as_ptr(),
+            kinds_len: kinds.len(),
+        }
+    }
+}
+
 use deform_kernel::Real;
 
 /// Largest `|a − b|` over all components of two point/value lists (∞ on a length mismatch).

@@ -25,6 +25,7 @@ use deform_kernel_ffi::plan::{
     dk_plan_pools_f32, dk_plan_sizes, dk_plan_step_report, DK_PLAN_SPRING, DK_PLAN_WARM,
 };
 use deform_kernel_ffi::status::dk_status;
+use deform_on_target::abi::{cells, graph};
 use deform_on_target::mesh::{turned_bottom_row as deformed, Mesh, N, NB, NE, NT, NX};
 
 /// Pool and work lengths (generous for the 30-node mesh; the queried sizes must fit).
@@ -70,28 +71,6 @@ type StepFn<T, P> = unsafe extern "C" fn(
     usize,
     *mut dk_plan_step_report,
 ) -> dk_status;
-
-/// A `dk_graph` borrowing `offsets` and `targets` (each passed with its own length).
-fn graph(offsets: &[u32], targets: &[u32]) -> dk_graph {
-    dk_graph {
-        offsets: offsets.as_ptr(),
-        offsets_len: offsets.len(),
-        targets: targets.as_ptr(),
-        targets_len: targets.len(),
-    }
-}
-
-/// A `dk_cells` borrowing the three arrays (each passed with its own length).
-fn cells(offsets: &[u32], nodes: &[u32], kinds: &[u8]) -> dk_cells {
-    dk_cells {
-        offsets: offsets.as_ptr(),
-        offsets_len: offsets.len(),
-        nodes: nodes.as_ptr(),
-        nodes_len: nodes.len(),
-        kinds: kinds.as_ptr(),
-        kinds_len: kinds.len(),
-    }
-}
 
 /// No cells: every array NULL with length 0.
 fn no_cells() -> dk_cells {

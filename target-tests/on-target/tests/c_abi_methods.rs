@@ -16,9 +16,9 @@ use deform_kernel::spring::{
 };
 use deform_kernel::taubin::{smooth_graph, GraphOptions, TaubinParams};
 use deform_kernel::{Quat, Real};
-use deform_kernel_ffi::graph::{dk_cells, dk_graph};
 use deform_kernel_ffi::spring::{dk_spring_system, dk_spring_system_f32};
 use deform_kernel_ffi::status::dk_status;
+use deform_on_target::abi::{cells, graph};
 use deform_on_target::mesh::{turned_bottom_row, Mesh, N, NB, NE, NT};
 
 /// The same bits, element by element.
@@ -35,28 +35,6 @@ fn flat<T, const D: usize>(a: &[[T; D]]) -> &[T] {
 
 fn flat_mut<T, const D: usize>(a: &mut [[T; D]]) -> &mut [T] {
     a.as_flattened_mut()
-}
-
-/// A `dk_graph` borrowing `offsets` and `targets` (each passed with its own length).
-fn graph(offsets: &[u32], targets: &[u32]) -> dk_graph {
-    dk_graph {
-        offsets: offsets.as_ptr(),
-        offsets_len: offsets.len(),
-        targets: targets.as_ptr(),
-        targets_len: targets.len(),
-    }
-}
-
-/// A `dk_cells` borrowing the three arrays (each passed with its own length).
-fn cells(offsets: &[u32], nodes: &[u32], kinds: &[u8]) -> dk_cells {
-    dk_cells {
-        offsets: offsets.as_ptr(),
-        offsets_len: offsets.len(),
-        nodes: nodes.as_ptr(),
-        nodes_len: nodes.len(),
-        kinds: kinds.as_ptr(),
-        kinds_len: kinds.len(),
-    }
 }
 
 /// A sentinel no call writes by accident.
