@@ -618,7 +618,7 @@ fn generate(root: &Path) -> Result<Vec<(PathBuf, String)>, String> {
         &f90[b..]
     );
     let mut renamed: Vec<String> = F32_WRAPPERS.iter().map(|s| s.to_string()).collect();
-    renamed.extend(twin_structs(&header));
+    renamed.extend(twin_struct_names(&header));
     renamed.extend(all.iter().filter(|e| e.twin).map(|e| e.name.clone()));
     let (Some(a), Some(b)) = (new.find(W_BEGIN), new.find(W_END)) else {
         return Err(format!("{FORTRAN}: wrapper-twin markers not found"));
@@ -641,7 +641,7 @@ fn generate(root: &Path) -> Result<Vec<(PathBuf, String)>, String> {
 
 /// The structs of the header with an `_f32` twin (`dk_spring_system` for
 /// `dk_spring_system_f32`).
-fn twin_structs(header: &str) -> Vec<String> {
+fn twin_struct_names(header: &str) -> Vec<String> {
     header
         .lines()
         .filter_map(|l| l.strip_prefix("} ")?.strip_suffix("_f32;"))
