@@ -266,7 +266,7 @@ pub struct MoveArgs {
     /// Linear solver (quaternion and spring). angle-direct: over-relaxed node-wise sweeps
     /// (SOR, omega from the mesh size, about 1.97 at 10k nodes) unless gs (plain
     /// Gauss–Seidel) or jacobi (Jacobi order) is asked for. angle-cg: amg preconditions CG
-    /// with the linear springs' multigrid (not with --slide), any other choice with the node
+    /// with the linear springs' multigrid (with --slide too), any other choice with the node
     /// blocks.
     #[arg(long, value_enum, default_value = "amg")]
     pub solver: Solver,

@@ -970,7 +970,15 @@ fn move_d<const D: usize>(
                 };
                 let sor = input.method == MoveMethod::AngleDirect
                     && !matches!(input.solver, MoveSolver::GaussSeidel | MoveSolver::Jacobi);
-                if let Some(c) = &constraints {
+                // CG preconditioned by the linear springs' multigrid V-cycle per component.
+                let amg = input.method == MoveMethod::AngleCg && input.solver == MoveSolver::Amg;
+                if let (Some(c), true) = (&constraints, amg) {
+                    let mut storage = AmgStorage::default();
+                    let hierarchy = storage.build(&sys)?;
+                    let len = asys.solve_angle_sliding_amg_scratch_len(&hierarchy);
+                    let mut scratch = vec![[0.0; D]; len];
+                    asys.solve_angle_sliding_amg(c, &mut values, &hierarchy, &options, &mut scratch)
+                } else if let Some(c) = &constraints {
                     let len = asys.solve_angle_sliding_scratch_len(method);
                     let mut scratch = vec![[0.0; D]; len];
                     let omega = if sor { angle_direct_omega(n, D) } else { 1.0 };
@@ -983,8 +991,7 @@ fn move_d<const D: usize>(
                         &options,
                         &mut scratch,
                     )
-                } else if input.method == MoveMethod::AngleCg && input.solver == MoveSolver::Amg {
-                    // CG preconditioned by the linear springs' multigrid V-cycle per component.
+                } else if amg {
                     let mut storage = AmgStorage::default();
                     let hierarchy = storage.build(&sys)?;
                     let mut scratch = vec![[0.0; D]; asys.angle_amg_scratch_len(&hierarchy)];

@@ -159,6 +159,37 @@ fn sphere_slice_slides_and_beats_pinned_planes() {
     }
 }
 
+/// `--method angle-cg --slide`: the default multigrid-preconditioned CG and the node-block CG
+/// (`--solver cg`) solve the same projected system, so they agree to the tolerance, and the
+/// multigrid run needs fewer iterations.
+#[test]
+fn angle_cg_sliding_multigrid_matches_node_blocks() {
+    let mesh = sphere();
+    let amg = run_move_sliding(&input(&mesh, MoveMethod::AngleCg, false), &slide(&mesh)).unwrap();
+    let blocks = run_move_sliding(
+        &MoveInput {
+            solver: MoveSolver::Cg,
+            ..input(&mesh, MoveMethod::AngleCg, false)
+        },
+        &slide(&mesh),
+    )
+    .unwrap();
+    assert!(amg.converged && blocks.converged);
+    let diff = amg
+        .deformed
+        .iter()
+        .zip(&blocks.deformed)
+        .flat_map(|(a, b)| (0..3).map(move |k| (a[k] - b[k]).abs()))
+        .fold(0.0f64, f64::max);
+    eprintln!(
+        "angle-cg --slide: multigrid {} iterations, node blocks {}, max difference {diff:.1e}",
+        amg.iterations, blocks.iterations
+    );
+    // Relative residual 1e-10 of a 0.1 translation.
+    assert!(diff < 1e-7, "{diff:e}");
+    assert!(amg.iterations < blocks.iterations);
+}
+
 /// A marker that is not planar is refused with a clear message, naming the marker.
 #[test]
 fn curved_marker_is_refused() {

@@ -4,14 +4,15 @@
 //! sliding nodes moved only along their lines (`|n · d| ≤ 1e-12` of the larger of
 //! `|d|` and the input values; positions: of `16 |x|` plus the
 //! unprojected move); `fit_plane` and
-//! `slide_points` keep their promises.
+//! `slide_points` keep their promises. The angle springs run the direct method, the node-block
+//! CG and the multigrid-preconditioned CG.
 #![no_main]
 
 use arbitrary::Arbitrary;
 use deform_kernel::slide::{fit_plane, slide_points, Constraints, NodeKind};
 use deform_kernel::spring::{
-    solve_linear_sliding_scratch_len, AngleMethod, AngleSystem, LinearMethod, LinearSolver,
-    Preconditioner, SolveOptions, SpringSystem,
+    solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AngleMethod, AngleSystem,
+    LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::{graph_from_edges, graph_from_edges_len, Graph};
 use libfuzzer_sys::fuzz_target;
@@ -141,9 +142,28 @@ fuzz_target!(|inp: Input| {
         let Ok(a) = AngleSystem::new(sys, &points, 0.05) else {
             return;
         };
-        let m = [AngleMethod::DirectGaussSeidel, AngleMethod::Cg][usize::from(inp.method / 5 % 2)];
-        let mut work = vec![[0.0; 2]; a.solve_angle_sliding_scratch_len(m)];
-        a.solve_angle_sliding(&c, &mut values, m, 1.2, &opts, &mut work)
+        match inp.method / 5 % 3 {
+            2 => {
+                // CG preconditioned by the scalar multigrid V-cycle per component.
+                let amg_opts = AmgOptions::default();
+                let mut setup = vec![0u32; AmgHierarchy::setup_work_len(&sys)];
+                let Ok(sizes) = AmgHierarchy::setup_len(&sys, &amg_opts, &mut setup) else {
+                    return;
+                };
+                let mut index = vec![0u32; sizes.index];
+                let mut weights = vec![0.0f64; sizes.values];
+                // The sizes query promised these lengths: setup must succeed.
+                let h = AmgHierarchy::setup(&sys, &amg_opts, &mut setup, &mut index, &mut weights)
+                    .unwrap();
+                let mut work = vec![[0.0; 2]; a.solve_angle_sliding_amg_scratch_len(&h)];
+                a.solve_angle_sliding_amg(&c, &mut values, &h, &opts, &mut work)
+            }
+            m => {
+                let m = [AngleMethod::DirectGaussSeidel, AngleMethod::Cg][usize::from(m)];
+                let mut work = vec![[0.0; 2]; a.solve_angle_sliding_scratch_len(m)];
+                a.solve_angle_sliding(&c, &mut values, m, 1.2, &opts, &mut work)
+            }
+        }
     } else {
         let solver: LinearSolver<'_, f64> = [
             LinearMethod::Jacobi,

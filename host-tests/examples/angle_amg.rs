@@ -19,11 +19,21 @@
 //! | 24,576 | 1,326 → 102 | 908 → 63 |
 //! | 98,304 | 2,726 → 144 | 1,885 → 89 |
 //!
+//! With the far-field nodes sliding along the far-field circle (`solve_angle_sliding` with the
+//! node blocks → `solve_angle_sliding_amg`), measured 2026-11-27:
+//!
+//! | nodes | ε = 0.01 | ε = 0.1 |
+//! |---|---|---|
+//! | 6,144 | 709 → 118 | 456 → 61 |
+//! | 24,576 | 1,475 → 174 | 952 → 100 |
+//! | 98,304 | 3,057 → 298 (21.5 s → 0.08 s setup + 3.1 s) | 1,968 → 174 |
+//!
 //! Run: `cargo run --release -p deform-host-tests --example angle_amg`.
 #![allow(clippy::needless_range_loop)]
 
 use std::time::Instant;
 
+use deform_kernel::slide::{Constraints, NodeKind};
 use deform_kernel::spring::{
     amg_precondition_scratch_len, batina_stiffness, AmgHierarchy, AmgOptions, AngleMethod,
     AngleSystem, SolveOptions, SpringSystem,
@@ -266,6 +276,78 @@ fn main() {
                 "n {n:>7} eps {eps:<5} block-Jacobi CG: independent {it_bj:>5} kernel {:>5} ({t_cg:.2} s) | AMG CG: independent {it_amg:>4} kernel {:>4} (setup {t_setup:.2} s, solve {t_amg:.2} s) | max |difference| {diff:.1e}",
                 rep.iterations, rep_amg.iterations
             );
+            sliding(&mesh, &g, &k, &disp, eps);
         }
     }
+}
+
+/// The same pitch with the far-field nodes sliding along the far-field circle (a plane
+/// constraint with the radial normal) instead of fixed: the kernel's projected angle CG with
+/// the node blocks (`solve_angle_sliding`, `AngleMethod::Cg`) against the multigrid V-cycle
+/// (`solve_angle_sliding_amg`).
+fn sliding(mesh: &deform_meshgen::Mesh<D>, g: &Graph<'_>, k: &[f64], disp: &[[f64; D]], eps: f64) {
+    let n = mesh.node_count();
+    let far = mesh.marker("farfield").expect("the far-field marker");
+    let wall = mesh.marker("airfoil").expect("the airfoil marker");
+    let mut centre = [0.0; D];
+    for &v in &far.node_list {
+        for c in 0..D {
+            centre[c] += mesh.points[v as usize][c] / far.node_list.len() as f64;
+        }
+    }
+    let mut kinds = vec![NodeKind::Free.code(); n];
+    let mut dirs = vec![[0.0; D]; n];
+    for &v in &wall.node_list {
+        kinds[v as usize] = NodeKind::Fixed.code();
+    }
+    for &v in &far.node_list {
+        let p = mesh.points[v as usize];
+        let r = [p[0] - centre[0], p[1] - centre[1]];
+        let len = r[0].hypot(r[1]);
+        kinds[v as usize] = NodeKind::Plane.code();
+        dirs[v as usize] = [r[0] / len, r[1] / len];
+    }
+    let c = Constraints::new(&kinds, &dirs).unwrap();
+    let mut mask = vec![0u8; n];
+    c.fixed_mask(&mut mask).unwrap();
+    let mut scratch = vec![0u32; n];
+    let sys = SpringSystem::new(*g, k, &mask, &mut scratch).unwrap();
+    let opts = AmgOptions::<f64>::default();
+    let t0 = Instant::now();
+    let mut work = vec![0u32; AmgHierarchy::setup_work_len(&sys)];
+    let sizes = AmgHierarchy::setup_len(&sys, &opts, &mut work).unwrap();
+    let mut index = vec![0u32; sizes.index];
+    let mut values = vec![0.0f64; sizes.values];
+    let h = AmgHierarchy::setup(&sys, &opts, &mut work, &mut index, &mut values).unwrap();
+    let t_setup = t0.elapsed().as_secs_f64();
+    let asys = AngleSystem::<f64, D>::new(sys, &mesh.points, eps).unwrap();
+    let stop = SolveOptions {
+        max_iterations: 20000,
+        residual_tol: 1e-8,
+        update_tol: 0.0,
+    };
+    let mut x = disp.to_vec();
+    let mut s1 = vec![[0.0; D]; asys.solve_angle_sliding_scratch_len(AngleMethod::Cg)];
+    let t0 = Instant::now();
+    let rep = asys
+        .solve_angle_sliding(&c, &mut x, AngleMethod::Cg, 1.0, &stop, &mut s1)
+        .unwrap();
+    let t_cg = t0.elapsed().as_secs_f64();
+    let mut y = disp.to_vec();
+    let mut s2 = vec![[0.0; D]; asys.solve_angle_sliding_amg_scratch_len(&h)];
+    let t0 = Instant::now();
+    let rep_amg = asys
+        .solve_angle_sliding_amg(&c, &mut y, &h, &stop, &mut s2)
+        .unwrap();
+    let t_amg = t0.elapsed().as_secs_f64();
+    assert!(rep.converged && rep_amg.converged);
+    let diff = x
+        .iter()
+        .zip(&y)
+        .flat_map(|(a, b)| [(a[0] - b[0]).abs(), (a[1] - b[1]).abs()])
+        .fold(0.0f64, f64::max);
+    println!(
+        "  far field sliding: node-block CG {:>5} ({t_cg:.2} s) | AMG CG {:>4} (setup {t_setup:.2} s, solve {t_amg:.2} s) | max |difference| {diff:.1e}",
+        rep.iterations, rep_amg.iterations
+    );
 }

@@ -23,7 +23,8 @@
 //!   definite preconditioner of the unconstrained operator applied component-wise (Jacobi,
 //!   SSOR, or the [`AmgHierarchy`] V-cycle of the scalar operator, built for the system with
 //!   the sliding nodes free); `P M⁻¹ P` is SPD on `range(P)`, so CG's guarantees hold. The
-//!   angle springs' CG uses the projected node blocks `(P A_ii P)⁺`.
+//!   angle springs' CG uses the projected node blocks `(P A_ii P)⁺`, or the scalar V-cycle per
+//!   component ([`solve_angle_sliding_amg`](crate::spring::AngleSystem::solve_angle_sliding_amg)).
 //!
 //! **Values** are displacements: prescribed at fixed nodes, an initial guess elsewhere (the
 //! guess at sliding nodes is projected first). Every method runs on a power-of-two-scaled copy
@@ -389,6 +390,71 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
             constraints,
             values,
             m,
+            options,
+            scratch,
+        )
+    }
+}
+
+impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
+    /// Number of `[T; D]` scratch items [`solve_angle_sliding_amg`](crate::spring::AngleSystem::solve_angle_sliding_amg) needs: `5 n` (the
+    /// scaled copy and the CG vectors) plus [`amg_precondition_scratch_len`]; at least the
+    /// rigidity probe's `4 n` when `ε = 0`.
+    pub fn solve_angle_sliding_amg_scratch_len(&self, hierarchy: &AmgHierarchy<'_, T>) -> usize {
+        let solve = self
+            .base()
+            .node_count()
+            .saturating_mul(5)
+            .saturating_add(amg_precondition_scratch_len(hierarchy));
+        if self.epsilon() == T::ZERO {
+            solve.max(self.angle_probe_scratch_len())
+        } else {
+            solve
+        }
+    }
+
+    /// [`solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding)'s projected CG preconditioned by one V-cycle of the
+    /// *scalar* linear-spring [`AmgHierarchy`] per component, applied as `P M⁻¹ P` (symmetric
+    /// positive definite on `range(P)`, so CG's guarantees hold): the sliding counterpart of
+    /// [`solve_angle_amg`](crate::spring::AngleSystem::solve_angle_amg). `hierarchy` is built on [`base`](crate::spring::AngleSystem::base), i.e. with the mask
+    /// [`Constraints::fixed_mask`] writes (sliding nodes free), the hierarchy
+    /// [`solve_linear_sliding`](crate::spring::SpringSystem::solve_linear_sliding) takes. The operator, every residual, the scaling, the
+    /// report and the sliding guarantee are those of [`solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding) with
+    /// [`AngleMethod::Cg`]; only the preconditioner differs, so a hierarchy of other stiffness
+    /// values on the same graph slows convergence but cannot change the answer.
+    ///
+    /// # Errors
+    /// `values` is untouched on error: those of [`solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding), a hierarchy built for
+    /// a system of another size ([`Error::LengthMismatch`], `"hierarchy"`), `scratch` shorter
+    /// than [`solve_angle_sliding_amg_scratch_len`](crate::spring::AngleSystem::solve_angle_sliding_amg_scratch_len).
+    pub fn solve_angle_sliding_amg(
+        &self,
+        constraints: &Constraints<'_, T, D>,
+        values: &mut [[T; D]],
+        hierarchy: &AmgHierarchy<'_, T>,
+        options: &SolveOptions<T>,
+        scratch: &mut [[T; D]],
+    ) -> Result<SolveReport<T>> {
+        let base = self.base();
+        let n = base.node_count();
+        check_values("values", values, n)?;
+        constraints.check_mask(base.fixed())?;
+        options.check()?;
+        hierarchy.check_system(base)?;
+        let needed = self.solve_angle_sliding_amg_scratch_len(hierarchy);
+        check::buffer("scratch", scratch.len(), needed)?;
+        if self.epsilon() == T::ZERO {
+            let s = self.angle_rigidity_probe(options, scratch)?;
+            if s > T::from_f64(MAX_AMPLIFICATION) {
+                return Err(Error::SingularSystem { iteration: 0 });
+            }
+        }
+        solve(
+            &AngleOp(self),
+            Some(base),
+            constraints,
+            values,
+            Method::Cg(Pre::Amg(hierarchy)),
             options,
             scratch,
         )

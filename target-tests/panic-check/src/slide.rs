@@ -1,7 +1,8 @@
 //! Panic-check calls for sliding boundaries (`deform_kernel::slide` and the constrained spring
 //! solves): the constraint table, projections, plane fit, plane intersection, `slide_points`,
 //! and `solve_linear_sliding` (every linear method and AMG) / `solve_angle_sliding` (every
-//! angle method, `ε` 0 and 0.01), for `f32` and `f64`, `D` = 2 and 3.
+//! angle method, `ε` 0 and 0.01) / `solve_angle_sliding_amg`, for `f32` and `f64`, `D` = 2
+//! and 3.
 //!
 //! The system is an opaque 8-node path (both ends fixed, one node on a plane, one on a line).
 
@@ -146,6 +147,17 @@ fn run<T: Real, const D: usize>() {
         let sc = scratch.get_mut(..len).unwrap_or(&mut []);
         keep(sys.solve_linear_sliding(&c, bb(&mut y[..]), solver, &opts, bb(sc)));
         keep(&y);
+        for eps in [T::ZERO, T::from_f64(0.01)] {
+            let Ok(a) = AngleSystem::new(sys, bb(&p[..]), bb(eps)) else {
+                continue;
+            };
+            let a = bb(a);
+            let len = a.solve_angle_sliding_amg_scratch_len(&h);
+            let mut y = x;
+            let sc = scratch.get_mut(..len).unwrap_or(&mut []);
+            keep(a.solve_angle_sliding_amg(&c, bb(&mut y[..]), &h, &opts, bb(sc)));
+            keep(&y);
+        }
     }
     for eps in [T::ZERO, T::from_f64(0.01)] {
         let Ok(a) = AngleSystem::new(sys, bb(&p[..]), bb(eps)) else {
