@@ -54,8 +54,8 @@ fuzz_target!(|inp: Input| {
     };
     let mut k = Vec::with_capacity(used);
     for i in 0..n {
-        for e in offsets[i] as usize..offsets[i + 1] as usize {
-            k.push(weight(i as u32, targets[e]));
+        for &t in &targets[offsets[i] as usize..offsets[i + 1] as usize] {
+            k.push(weight(i as u32, t));
         }
     }
     let fixed: Vec<u8> = (0..n)
@@ -170,6 +170,8 @@ fuzz_target!(|inp: Input| {
     // reference net, is within the tolerance (up to rounding of the recomputation).
     let (mut rr, mut bb) = (0.0f64, 0.0f64);
     for i in (0..n).filter(|&i| fixed[i] == 0) {
+        // `c` is a component index into two rows, `x[i]` and `x[j]`.
+        #[allow(clippy::needless_range_loop)]
         for c in 0..2 {
             let (mut r, mut b) = (0.0, 0.0);
             for (j, kij) in net.row(i) {

@@ -717,7 +717,7 @@ impl Vals<'_> {
     /// (a known overflow of the kernel's distances, reported separately) and which are not
     /// `float`s at all.
     fn note(&mut self, x: f64) -> f64 {
-        if !(x.abs() <= 1e30) {
+        if x.is_nan() || x.abs() > 1e30 {
             self.nonfinite = true;
         }
         x
@@ -2090,7 +2090,7 @@ fn deform<T: Sc>(c: &mut Ctx, sp_: &DeformSpec) {
             .boundary
             .iter()
             .enumerate()
-            .filter(|(i, _)| c.bits.get(i / 8).map_or(true, |b| (b >> (i % 8)) & 1 == 0))
+            .filter(|(i, _)| c.bits.get(i / 8).is_none_or(|b| (b >> (i % 8)) & 1 == 0))
             .map(|(_, &x)| x)
             .collect(),
         6 => sp_
@@ -2111,9 +2111,9 @@ fn deform<T: Sc>(c: &mut Ctx, sp_: &DeformSpec) {
     let t = sp_.translation.map(|x| c.vals.note(real(x) / 64.0));
     let mut deformed = Vec::with_capacity(bl * d);
     for &node in &nodes {
-        for k in 0..d {
+        for (k, &tk) in t.iter().enumerate().take(d) {
             let base = m.pts.get(node as usize * d + k).copied().unwrap_or(0.0);
-            deformed.push(T::of(base + t[k] + c.vals.next() / 512.0));
+            deformed.push(T::of(base + tk + c.vals.next() / 512.0));
         }
     }
     // Boundary elements, numbered by position in `nodes`.
@@ -2877,7 +2877,7 @@ fn legacy(inp: &Input) {
         )
     };
     if s == dk_status::DK_OK {
-        assert!(base <= 1 && edges_len % 2 == 0);
+        assert!(base <= 1 && edges_len.is_multiple_of(2));
         assert!(base == 0 || index_scratch.len() >= edges_len);
         let pairs: Vec<[u32; 2]> = inp.edges[..edges_len]
             .chunks_exact(2)

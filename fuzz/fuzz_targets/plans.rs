@@ -352,7 +352,7 @@ fuzz_target!(|inp: Input| {
     // A flipped bit in the header or an immutable index section is refused.
     let (pos, bit) = inp.flip;
     let pos = pos as usize % pools.indices.len();
-    if pos < 40 || pos >= 48 {
+    if !(40..48).contains(&pos) {
         let mut bad = pools.clone();
         bad.indices[pos] ^= 1 << (bit % 32);
         let before = bad.clone();

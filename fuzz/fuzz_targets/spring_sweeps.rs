@@ -45,8 +45,8 @@ fuzz_target!(|inp: Input| {
     };
     let mut k = Vec::with_capacity(used);
     for i in 0..n {
-        for e in offsets[i] as usize..offsets[i + 1] as usize {
-            k.push(weight(i as u32, targets[e]));
+        for &t in &targets[offsets[i] as usize..offsets[i + 1] as usize] {
+            k.push(weight(i as u32, t));
         }
     }
     let fixed: Vec<u8> = (0..n)

@@ -186,7 +186,7 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
         ),
         Step::new(
             "footprint",
-            "1,000-node deformation in 64 KiB RAM + stack per entry point (QEMU); llvm-size per feature set",
+            "960-node deformation in 64 KiB RAM + stack per entry point (QEMU); llvm-size per feature set",
             || footprint(ctx),
         ),
         Step::new(

@@ -93,7 +93,7 @@ pub(crate) const FOOTPRINT_FEATURE_SETS: &[(&str, &str)] = &[
 ];
 
 /// Builds `target-tests/footprint` once per kernel feature set and prints its `llvm-size`
-/// (flash = text + data, RAM = data + bss), then runs the default build under QEMU: a 1,000-node
+/// (flash = text + data, RAM = data + bss), then runs the default build under QEMU: a 960-node
 /// deformation inside 64 KiB of RAM, with the painted-stack peak of each main entry point.
 /// Fails when a build fails, llvm-size is missing, or the run fails (does not fit, a check
 /// fails, a stack overflow is detected).
@@ -166,7 +166,7 @@ pub(crate) fn footprint(ctx: &Ctx) -> bool {
             data + bss
         );
     }
-    println!("  (bss holds the caller's buffers of the 1,000-node run; the stack is on top)");
+    println!("  (bss holds the caller's buffers of the 960-node run; the stack is on top)");
     println!();
     let mut cmd = ctx.cargo_tt(&["run", "--release", "-p", "deform-footprint"]);
     ok &= run(&mut cmd);
