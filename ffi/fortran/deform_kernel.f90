@@ -660,6 +660,7 @@ module deform_kernel
             dkf_quality_compare, dkf_quality_compare_f32
   public :: dkf_plan_pool_sizes, dkf_plan_pool_sizes_f32, dkf_plan_init, dkf_plan_init_f32, &
             dkf_plan_step, dkf_plan_step_f32, dkf_plan_open, dkf_plan_open_f32
+  public :: dkf_spring_solve_linear_amg, dkf_spring_solve_linear_amg_f32
   public :: dkf_spring_solve_linear, dkf_taubin_smooth_arclength, dkf_taubin_smooth_structured, &
             dkf_taubin_smooth_graph
   public :: dkf_deform_idw, dkf_deform_idw_f32, dkf_deform_tfi, dkf_deform_tfi_f32
@@ -3233,6 +3234,44 @@ contains
                                index_scratch, int(size(index_scratch), c_size_t), report)
   end function
 
+  !> dk_spring_solve_linear_amg with assumed-shape arrays: values(components, node_count) is
+  !> updated in place (components = size(values, 1), 1 to 7); offsets/targets are the 0-based
+  !> CSR graph from dk_graph_from_*; options gives the stopping rules, amg the multigrid options
+  !> (dk_amg_options_default). The hierarchy's pools are sized (dk_spring_amg_work_len,
+  !> dk_spring_solve_linear_amg_pool_sizes) and allocated here, and the hierarchy is rebuilt on
+  !> every call; a plan (dkf_plan_*) keeps it across time steps.
+  function dkf_spring_solve_linear_amg(offsets, targets, stiffness, fixed, options, amg, values, &
+                                       report) result(s)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:)
+    real(c_double), intent(in), target, contiguous :: stiffness(:)
+    integer(c_int8_t), intent(in), target, contiguous :: fixed(:)
+    type(dk_spring_solve_options), intent(in) :: options
+    type(dk_amg_options), intent(in) :: amg
+    real(c_double), intent(inout), contiguous :: values(:, :)
+    type(dk_spring_solve_report), intent(inout) :: report
+    integer(c_int32_t) :: s
+    type(dk_spring_system) :: sys
+    type(dk_plan_sizes) :: sizes
+    integer(c_size_t) :: work_len
+    real(c_double), allocatable, target :: reals(:)
+    integer(c_int32_t), allocatable, target :: indices(:)
+    integer(c_int8_t), allocatable, target :: bytes(:)
+    sys = dkf_spring_system(dkf_graph(offsets, targets), stiffness, fixed)
+    s = dk_spring_amg_work_len(max(size(offsets, kind=c_size_t) - 1, 0_c_size_t), &
+                               size(targets, kind=c_size_t), work_len)
+    if (s /= DK_OK) return
+    allocate(indices(max(work_len, 1_c_size_t)))
+    s = dk_spring_solve_linear_amg_pool_sizes(sys, int(size(values, 1), c_int32_t), amg, indices, &
+                                              work_len, sizes)
+    if (s /= DK_OK) return
+    deallocate(indices)
+    allocate(reals(max(sizes%reals, 1_c_size_t)), indices(max(sizes%indices, 1_c_size_t)), &
+             bytes(1))
+    s = dk_spring_solve_linear_amg(sys, options, amg, int(size(values, 1), c_int32_t), values, &
+                                   size(values, kind=c_size_t), dkf_plan_pools(reals, indices, bytes), &
+                                   report)
+  end function
+
   !> dk_taubin_smooth_arclength with assumed-shape arrays: points(dim, ni*nj*nk) (dim 2 or 3)
   !> is updated in place; scratch needs dk_taubin_smooth_arclength_scratch_len values.
   function dkf_taubin_smooth_arclength(ni, nj, nk, options, points, scratch, report) result(s)
@@ -3965,6 +4004,45 @@ contains
                            size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
                            none, 0_c_size_t, report)
     end if
+  end function
+
+  !> Single-precision twin of dkf_spring_solve_linear_amg.
+  !> dk_spring_solve_linear_amg_f32 with assumed-shape arrays: values(components, node_count) is
+  !> updated in place (components = size(values, 1), 1 to 7); offsets/targets are the 0-based
+  !> CSR graph from dk_graph_from_*; options gives the stopping rules, amg the multigrid options
+  !> (dk_amg_options_default). The hierarchy's pools are sized (dk_spring_amg_work_len,
+  !> dk_spring_solve_linear_amg_pool_sizes_f32) and allocated here, and the hierarchy is rebuilt on
+  !> every call; a plan (dkf_plan_*) keeps it across time steps.
+  function dkf_spring_solve_linear_amg_f32(offsets, targets, stiffness, fixed, options, amg, values, &
+                                       report) result(s)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:)
+    real(c_float), intent(in), target, contiguous :: stiffness(:)
+    integer(c_int8_t), intent(in), target, contiguous :: fixed(:)
+    type(dk_spring_solve_options), intent(in) :: options
+    type(dk_amg_options), intent(in) :: amg
+    real(c_float), intent(inout), contiguous :: values(:, :)
+    type(dk_spring_solve_report), intent(inout) :: report
+    integer(c_int32_t) :: s
+    type(dk_spring_system_f32) :: sys
+    type(dk_plan_sizes) :: sizes
+    integer(c_size_t) :: work_len
+    real(c_float), allocatable, target :: reals(:)
+    integer(c_int32_t), allocatable, target :: indices(:)
+    integer(c_int8_t), allocatable, target :: bytes(:)
+    sys = dkf_spring_system_f32(dkf_graph(offsets, targets), stiffness, fixed)
+    s = dk_spring_amg_work_len(max(size(offsets, kind=c_size_t) - 1, 0_c_size_t), &
+                               size(targets, kind=c_size_t), work_len)
+    if (s /= DK_OK) return
+    allocate(indices(max(work_len, 1_c_size_t)))
+    s = dk_spring_solve_linear_amg_pool_sizes_f32(sys, int(size(values, 1), c_int32_t), amg, indices, &
+                                              work_len, sizes)
+    if (s /= DK_OK) return
+    deallocate(indices)
+    allocate(reals(max(sizes%reals, 1_c_size_t)), indices(max(sizes%indices, 1_c_size_t)), &
+             bytes(1))
+    s = dk_spring_solve_linear_amg_f32(sys, options, amg, int(size(values, 1), c_int32_t), values, &
+                                   size(values, kind=c_size_t), dkf_plan_pools_f32(reals, indices, bytes), &
+                                   report)
   end function
 
   !> Single-precision twin of dkf_plan_pool_sizes.

@@ -34,7 +34,7 @@ use crate::args::{
     write_one,
 };
 use crate::graph::{dk_graph, read_graph, GraphIn};
-use crate::plan::{dk_plan_pools, dk_plan_pools_f32, dk_plan_sizes, PoolArgs, Pools, PoolsC};
+use crate::plan::{dk_plan_pools, dk_plan_pools_f32, dk_plan_sizes, PoolArgs, PoolsC};
 use crate::slice::{
     chunks, chunks_mut, input, input_n, out_one, output, output_n, whole_chunks_mut, In, Out,
 };
@@ -769,14 +769,28 @@ fn amg_setup<'p, T: Real, const V: usize>(
     Ok((h, scratch))
 }
 
+/// An [`AmgArgs`] opened: the multigrid options, the pools' `reals` and `indices` (`bytes`
+/// is not used) and the validated system.
+struct AmgOpen<'a, T: Real> {
+    options: AmgOptions<T>,
+    reals: &'a mut [T],
+    indices: &'a mut [u32],
+    system: SpringSystem<'a, T>,
+}
+
 impl<'a, T: Real> AmgArgs<'a, T> {
-    /// The multigrid options, the pools and the validated system (its `index_scratch` the
-    /// front of `indices`).
-    fn open(self) -> Result<(AmgOptions<T>, Pools<'a, T>, SpringSystem<'a, T>), dk_status> {
+    /// Reads the options, borrows the pools (each NULL only with length 0) and validates the
+    /// system with the front of `indices` as its `index_scratch`.
+    fn open(self) -> Result<AmgOpen<'a, T>, dk_status> {
         let options = read_one(self.amg)?.to_kernel::<T>()?;
-        let (reals, indices, bytes) = self.pools?.borrow()?;
-        let sys = self.system?.build(indices)?;
-        Ok((options, (reals, indices, bytes), sys))
+        let (reals, indices, _bytes) = self.pools?.borrow()?;
+        let system = self.system?.build(indices)?;
+        Ok(AmgOpen {
+            options,
+            reals,
+            indices,
+            system,
+        })
     }
 }
 
@@ -813,7 +827,12 @@ fn solve_linear_amg_v<T: Real, const V: usize>(
     let stop = options.stopping::<T>();
     let v = chunks_mut::<T, V>(values)?;
     let r = out_one(report)?;
-    let (amg, (reals, indices, _), sys) = args.open()?;
+    let AmgOpen {
+        options: amg,
+        reals,
+        indices,
+        system: sys,
+    } = args.open()?;
     let plan = AmgPlan::of(&sys, &amg, indices)?;
     let (h, scratch) = amg_setup::<T, V>(&sys, &amg, &plan, reals, indices)?;
     // The kernel validates before it writes and iterates on a copy in the scratch: on any
@@ -835,7 +854,12 @@ fn solve_angle_amg_d<T: Real, const D: usize>(
     let stop = options.stopping::<T>();
     let v = chunks_mut::<T, D>(values)?;
     let r = out_one(report)?;
-    let (amg, (reals, indices, _), base) = args.open()?;
+    let AmgOpen {
+        options: amg,
+        reals,
+        indices,
+        system: base,
+    } = args.open()?;
     let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
     let plan = AmgPlan::of(system.base(), &amg, indices)?;
     let (h, scratch) = amg_setup::<T, D>(system.base(), &amg, &plan, reals, indices)?;
