@@ -380,8 +380,8 @@ fn multigrid_solve_writes_only_through_the_pools_struct() {
         fixed_len: fixed.len(),
     };
     let mut work_len = 0usize;
-    // SAFETY: one writable value.
     assert_eq!(
+        // SAFETY: one writable value.
         unsafe { dk_spring_amg_work_len(N, used, &mut work_len) },
         dk_status::DK_OK
     );

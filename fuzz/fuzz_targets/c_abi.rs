@@ -32,8 +32,8 @@ use deform_kernel_ffi::quat::{
     dk_quat_average, dk_quat_mul, dk_quat_rotate_points, dk_quat_rotate_points_2d,
 };
 use deform_kernel_ffi::spring::{
-    self as sp, dk_amg_options, dk_spring_angle_options, dk_spring_solve_options, dk_spring_solve_report,
-    dk_spring_sweep, dk_spring_system, dk_spring_system_f32,
+    self as sp, dk_amg_options, dk_spring_angle_options, dk_spring_solve_options,
+    dk_spring_solve_report, dk_spring_sweep, dk_spring_system, dk_spring_system_f32,
 };
 use deform_kernel_ffi::stiffening as st;
 use deform_kernel_ffi::taubin::{
@@ -2653,7 +2653,11 @@ fn solve_amg<T: AmgSc>(
         indices: 0,
         bytes: 0,
     };
-    let sizes = if angle { T::ANGLE_SIZES } else { T::LINEAR_SIZES };
+    let sizes = if angle {
+        T::ANGLE_SIZES
+    } else {
+        T::LINEAR_SIZES
+    };
     // SAFETY: valid structs and buffers of the lengths passed.
     let s = unsafe { sizes(&exact, comps, &amg, work.as_mut_ptr(), work_len, &mut need) };
     if s == dk_status::DK_OK {
@@ -2715,10 +2719,17 @@ fn solve_amg<T: AmgSc>(
             (T::LINEAR)(sysp, optp, amgp, comps, v.m(), v.n(), poolsp, rep.p())
         }
     };
-    let what = if angle { "solve_angle_amg" } else { "solve_linear_amg" };
+    let what = if angle {
+        "solve_angle_amg"
+    } else {
+        "solve_linear_amg"
+    };
     check_inplace(what, s, &v, &before, m.finite && !c.vals.nonfinite);
     check_slot(what, s, &rep);
-    assert!(bytes.v.iter().all(|&b| b == 0xa5), "{what}: wrote the unused bytes pool");
+    assert!(
+        bytes.v.iter().all(|&b| b == 0xa5),
+        "{what}: wrote the unused bytes pool"
+    );
     if s == dk_status::DK_OK {
         let r = rep.get();
         assert!(r.iterations <= lopts.max_iterations, "{what}: {r:?}");
