@@ -82,10 +82,6 @@ module deform_kernel
   integer(c_int32_t), parameter, public :: DK_PLAN_WARM = 0
   !> `dk_plan_step` `start`: as the stateless calls (the same bits as `dk_deform_spring`).
   integer(c_int32_t), parameter, public :: DK_PLAN_COLD = 1
-  !> `dk_amg_options::smoother`: damped Jacobi.
-  integer(c_int32_t), parameter, public :: DK_AMG_JACOBI = 0
-  !> `dk_amg_options::smoother`: Chebyshev polynomial smoothing (default).
-  integer(c_int32_t), parameter, public :: DK_AMG_CHEBYSHEV = 1
   !> "No such index" in the quality reports: `SIZE_MAX`.
   integer(c_size_t), parameter, public :: DK_NO_INDEX = -1_c_size_t
   !> `dk_spring_solve_options::method`: the paper's Jacobi iteration (every node from the
@@ -113,6 +109,10 @@ module deform_kernel
   !> `dk_spring_angle_options::method`: matrix-free conjugate gradients with the node blocks as
   !! preconditioner.
   integer(c_int32_t), parameter, public :: DK_ANGLE_CG = 2
+  !> `dk_amg_options::smoother`: damped Jacobi.
+  integer(c_int32_t), parameter, public :: DK_AMG_JACOBI = 0
+  !> `dk_amg_options::smoother`: Chebyshev polynomial smoothing (default).
+  integer(c_int32_t), parameter, public :: DK_AMG_CHEBYSHEV = 1
   !> Words of an exact sum (`ExactSum::to_words`): the C ABI's merge protocol.
   integer(c_int32_t), parameter, public :: DK_EXACT_SUM_WORDS = 72
   !> `dk_taubin_coarse::prolongation`: the fine field becomes the interpolated coarse field
@@ -304,15 +304,18 @@ module deform_kernel
     integer(c_size_t) :: fixed_len
   end type
 
-  !> The multigrid preconditioner of `DK_PLAN_SOLVER_AMG` (the kernel's `AmgOptions`; see
-  !! docs/amg.md). `dk_plan_options_default` fills pyamg-like defaults.
+  !> The smoothed-aggregation multigrid preconditioner (the kernel's `AmgOptions`; see
+  !! docs/amg.md) of `dk_spring_solve_linear_amg`, `dk_spring_solve_angle_amg` and of plans
+  !! with `DK_PLAN_SOLVER_AMG`. `dk_amg_options_default` (and `dk_plan_options_default`) fill
+  !! pyamg-like defaults. The same struct serves both precisions (the `_f32` functions round
+  !! `strength_theta` to `float`).
   type, bind(C), public :: dk_amg_options
     !> Strength-of-connection threshold θ in `[0, 1)` (default 0: every spring strong).
     real(c_double) :: strength_theta
     !> Most levels, 1 to 16 (default 10).
     integer(c_size_t) :: max_levels
     !> Coarsening stops at a level with at most this many unknowns, solved by dense Cholesky;
-    !! 1 to 1024 (default 256).
+    !! 1 to 2048 (default 256).
     integer(c_size_t) :: max_coarse
     !> Smoothing steps before and after the coarse correction, 1 to 16 (default 2).
     integer(c_size_t) :: sweeps
@@ -392,8 +395,10 @@ module deform_kernel
   end type
 
   !> Three caller buffers: a plan's pools (sized by `dk_plan_pool_sizes`, written by
-  !! `dk_plan_init`, read and updated by every step), or the transient work of init (sized by
-  !! `dk_plan_work_sizes`). Each buffer is used only by the call that receives the struct.
+  !! `dk_plan_init`, read and updated by every step), the transient work of init (sized by
+  !! `dk_plan_work_sizes`), or the multigrid hierarchy and scratch of a stateless solve
+  !! (`dk_spring_solve_linear_amg`, `dk_spring_solve_angle_amg`; sized by their `_pool_sizes`
+  !! queries, `bytes` unused). Each buffer is used only by the call that receives the struct.
   type, bind(C), public :: dk_plan_pools
     !> Scalars.
     type(c_ptr) :: reals
@@ -655,6 +660,7 @@ module deform_kernel
             dkf_quality_compare, dkf_quality_compare_f32
   public :: dkf_plan_pool_sizes, dkf_plan_pool_sizes_f32, dkf_plan_init, dkf_plan_init_f32, &
             dkf_plan_step, dkf_plan_step_f32, dkf_plan_open, dkf_plan_open_f32
+  public :: dkf_spring_solve_linear_amg, dkf_spring_solve_linear_amg_f32
   public :: dkf_spring_solve_linear, dkf_taubin_smooth_arclength, dkf_taubin_smooth_structured, &
             dkf_taubin_smooth_graph
   public :: dkf_deform_idw, dkf_deform_idw_f32, dkf_deform_tfi, dkf_deform_tfi_f32
@@ -722,7 +728,11 @@ module deform_kernel
             dk_spring_solve_angle_f32, dk_spring_angle_jacobi_sweep, &
             dk_spring_angle_jacobi_sweep_f32, dk_spring_angle_gauss_seidel_sweep, &
             dk_spring_angle_gauss_seidel_sweep_f32, dk_spring_angle_rigidity_probe, &
-            dk_spring_angle_rigidity_probe_f32, dk_spring_wall_distances, &
+            dk_spring_angle_rigidity_probe_f32, dk_amg_options_default, dk_spring_amg_work_len, &
+            dk_spring_solve_linear_amg_pool_sizes, dk_spring_solve_linear_amg_pool_sizes_f32, &
+            dk_spring_solve_linear_amg, dk_spring_solve_linear_amg_f32, &
+            dk_spring_solve_angle_amg_pool_sizes, dk_spring_solve_angle_amg_pool_sizes_f32, &
+            dk_spring_solve_angle_amg, dk_spring_solve_angle_amg_f32, dk_spring_wall_distances, &
             dk_spring_wall_distances_f32, dk_spring_wall_distance_factors, &
             dk_spring_wall_distance_factors_f32, dk_spring_dual_volumes, &
             dk_spring_dual_volumes_f32, dk_spring_inverse_volume_factors, &
@@ -2388,6 +2398,123 @@ module deform_kernel
       real(c_float), intent(inout) :: amplification_out
       integer(c_int32_t) :: s
     end function
+    function dk_amg_options_default(out) bind(C, name="dk_amg_options_default") result(s)
+      import :: c_int32_t, dk_amg_options
+      type(dk_amg_options), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_amg_work_len(node_count, directed_edges, len_out) bind(C, &
+        name="dk_spring_amg_work_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_size_t), value :: directed_edges
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_linear_amg_pool_sizes(system, components, amg, work, work_len, &
+        sizes_out) bind(C, name="dk_spring_solve_linear_amg_pool_sizes") result(s)
+      import :: c_int32_t, c_size_t, dk_amg_options, dk_plan_sizes, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
+      integer(c_int32_t), value :: components
+      type(dk_amg_options), intent(in) :: amg
+      integer(c_int32_t), intent(inout) :: work(*)
+      integer(c_size_t), value :: work_len
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_linear_amg_pool_sizes_f32(system, components, amg, work, work_len, &
+        sizes_out) bind(C, name="dk_spring_solve_linear_amg_pool_sizes_f32") result(s)
+      import :: c_int32_t, c_size_t, dk_amg_options, dk_plan_sizes, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
+      integer(c_int32_t), value :: components
+      type(dk_amg_options), intent(in) :: amg
+      integer(c_int32_t), intent(inout) :: work(*)
+      integer(c_size_t), value :: work_len
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_linear_amg(system, options, amg, components, values, values_len, &
+        pools, report) bind(C, name="dk_spring_solve_linear_amg") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_amg_options, dk_plan_pools, &
+          dk_spring_solve_options, dk_spring_solve_report, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
+      type(dk_spring_solve_options), intent(in) :: options
+      type(dk_amg_options), intent(in) :: amg
+      integer(c_int32_t), value :: components
+      real(c_double), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      type(dk_plan_pools), intent(in) :: pools
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_linear_amg_f32(system, options, amg, components, values, values_len, &
+        pools, report) bind(C, name="dk_spring_solve_linear_amg_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_amg_options, dk_plan_pools_f32, &
+          dk_spring_solve_options, dk_spring_solve_report, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
+      type(dk_spring_solve_options), intent(in) :: options
+      type(dk_amg_options), intent(in) :: amg
+      integer(c_int32_t), value :: components
+      real(c_float), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      type(dk_plan_pools_f32), intent(in) :: pools
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle_amg_pool_sizes(system, dim, amg, work, work_len, sizes_out) &
+        bind(C, name="dk_spring_solve_angle_amg_pool_sizes") result(s)
+      import :: c_int32_t, c_size_t, dk_amg_options, dk_plan_sizes, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
+      integer(c_int32_t), value :: dim
+      type(dk_amg_options), intent(in) :: amg
+      integer(c_int32_t), intent(inout) :: work(*)
+      integer(c_size_t), value :: work_len
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle_amg_pool_sizes_f32(system, dim, amg, work, work_len, sizes_out) &
+        bind(C, name="dk_spring_solve_angle_amg_pool_sizes_f32") result(s)
+      import :: c_int32_t, c_size_t, dk_amg_options, dk_plan_sizes, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
+      integer(c_int32_t), value :: dim
+      type(dk_amg_options), intent(in) :: amg
+      integer(c_int32_t), intent(inout) :: work(*)
+      integer(c_size_t), value :: work_len
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle_amg(system, points, points_len, dim, options, amg, values, &
+        values_len, pools, report) bind(C, name="dk_spring_solve_angle_amg") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_amg_options, dk_plan_pools, &
+          dk_spring_angle_options, dk_spring_solve_report, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_spring_angle_options), intent(in) :: options
+      type(dk_amg_options), intent(in) :: amg
+      real(c_double), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      type(dk_plan_pools), intent(in) :: pools
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle_amg_f32(system, points, points_len, dim, options, amg, values, &
+        values_len, pools, report) bind(C, name="dk_spring_solve_angle_amg_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_amg_options, dk_plan_pools_f32, &
+          dk_spring_angle_options, dk_spring_solve_report, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_spring_angle_options), intent(in) :: options
+      type(dk_amg_options), intent(in) :: amg
+      real(c_float), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      type(dk_plan_pools_f32), intent(in) :: pools
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
     function dk_spring_wall_distances(points, points_len, dim, wall, wall_len, index_base, &
         index_scratch, index_scratch_len, out, out_len) bind(C, name="dk_spring_wall_distances") &
         result(s)
@@ -3105,6 +3232,44 @@ contains
                                options, int(size(values, 1), c_int32_t), values, &
                                int(size(values), c_size_t), scratch, int(size(scratch), c_size_t), &
                                index_scratch, int(size(index_scratch), c_size_t), report)
+  end function
+
+  !> dk_spring_solve_linear_amg with assumed-shape arrays: values(components, node_count) is
+  !> updated in place (components = size(values, 1), 1 to 7); offsets/targets are the 0-based
+  !> CSR graph from dk_graph_from_*; options gives the stopping rules, amg the multigrid options
+  !> (dk_amg_options_default). The hierarchy's pools are sized (dk_spring_amg_work_len,
+  !> dk_spring_solve_linear_amg_pool_sizes) and allocated here, and the hierarchy is rebuilt on
+  !> every call; a plan (dkf_plan_*) keeps it across time steps.
+  function dkf_spring_solve_linear_amg(offsets, targets, stiffness, fixed, options, amg, values, &
+                                       report) result(s)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:)
+    real(c_double), intent(in), target, contiguous :: stiffness(:)
+    integer(c_int8_t), intent(in), target, contiguous :: fixed(:)
+    type(dk_spring_solve_options), intent(in) :: options
+    type(dk_amg_options), intent(in) :: amg
+    real(c_double), intent(inout), contiguous :: values(:, :)
+    type(dk_spring_solve_report), intent(inout) :: report
+    integer(c_int32_t) :: s
+    type(dk_spring_system) :: sys
+    type(dk_plan_sizes) :: sizes
+    integer(c_size_t) :: work_len
+    real(c_double), allocatable, target :: reals(:)
+    integer(c_int32_t), allocatable, target :: indices(:)
+    integer(c_int8_t), allocatable, target :: bytes(:)
+    sys = dkf_spring_system(dkf_graph(offsets, targets), stiffness, fixed)
+    s = dk_spring_amg_work_len(max(size(offsets, kind=c_size_t) - 1, 0_c_size_t), &
+                               size(targets, kind=c_size_t), work_len)
+    if (s /= DK_OK) return
+    allocate(indices(max(work_len, 1_c_size_t)))
+    s = dk_spring_solve_linear_amg_pool_sizes(sys, int(size(values, 1), c_int32_t), amg, indices, &
+                                              work_len, sizes)
+    if (s /= DK_OK) return
+    deallocate(indices)
+    allocate(reals(max(sizes%reals, 1_c_size_t)), indices(max(sizes%indices, 1_c_size_t)), &
+             bytes(1))
+    s = dk_spring_solve_linear_amg(sys, options, amg, int(size(values, 1), c_int32_t), values, &
+                                   size(values, kind=c_size_t), dkf_plan_pools(reals, indices, bytes), &
+                                   report)
   end function
 
   !> dk_taubin_smooth_arclength with assumed-shape arrays: points(dim, ni*nj*nk) (dim 2 or 3)
@@ -3839,6 +4004,45 @@ contains
                            size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
                            none, 0_c_size_t, report)
     end if
+  end function
+
+  !> Single-precision twin of dkf_spring_solve_linear_amg.
+  !> dk_spring_solve_linear_amg_f32 with assumed-shape arrays: values(components, node_count) is
+  !> updated in place (components = size(values, 1), 1 to 7); offsets/targets are the 0-based
+  !> CSR graph from dk_graph_from_*; options gives the stopping rules, amg the multigrid options
+  !> (dk_amg_options_default). The hierarchy's pools are sized (dk_spring_amg_work_len,
+  !> dk_spring_solve_linear_amg_pool_sizes_f32) and allocated here, and the hierarchy is rebuilt on
+  !> every call; a plan (dkf_plan_*) keeps it across time steps.
+  function dkf_spring_solve_linear_amg_f32(offsets, targets, stiffness, fixed, options, amg, values, &
+                                       report) result(s)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:)
+    real(c_float), intent(in), target, contiguous :: stiffness(:)
+    integer(c_int8_t), intent(in), target, contiguous :: fixed(:)
+    type(dk_spring_solve_options), intent(in) :: options
+    type(dk_amg_options), intent(in) :: amg
+    real(c_float), intent(inout), contiguous :: values(:, :)
+    type(dk_spring_solve_report), intent(inout) :: report
+    integer(c_int32_t) :: s
+    type(dk_spring_system_f32) :: sys
+    type(dk_plan_sizes) :: sizes
+    integer(c_size_t) :: work_len
+    real(c_float), allocatable, target :: reals(:)
+    integer(c_int32_t), allocatable, target :: indices(:)
+    integer(c_int8_t), allocatable, target :: bytes(:)
+    sys = dkf_spring_system_f32(dkf_graph(offsets, targets), stiffness, fixed)
+    s = dk_spring_amg_work_len(max(size(offsets, kind=c_size_t) - 1, 0_c_size_t), &
+                               size(targets, kind=c_size_t), work_len)
+    if (s /= DK_OK) return
+    allocate(indices(max(work_len, 1_c_size_t)))
+    s = dk_spring_solve_linear_amg_pool_sizes_f32(sys, int(size(values, 1), c_int32_t), amg, indices, &
+                                              work_len, sizes)
+    if (s /= DK_OK) return
+    deallocate(indices)
+    allocate(reals(max(sizes%reals, 1_c_size_t)), indices(max(sizes%indices, 1_c_size_t)), &
+             bytes(1))
+    s = dk_spring_solve_linear_amg_f32(sys, options, amg, int(size(values, 1), c_int32_t), values, &
+                                   size(values, kind=c_size_t), dkf_plan_pools_f32(reals, indices, bytes), &
+                                   report)
   end function
 
   !> Single-precision twin of dkf_plan_pool_sizes.

@@ -14,13 +14,13 @@ use deform_kernel::deformation::RotationSource;
 use deform_kernel::plan::{
     Plan, PlanMethod, PlanMotion, PlanSizes, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
 };
-use deform_kernel::spring::{AmgOptions, AmgSmoother};
+use deform_kernel::spring::AmgOptions;
 use deform_kernel::{Quat, Real};
 
 use crate::args::{assert_layout, by_dim, done, read_array, read_one, read_points, write_one};
 use crate::graph::{dk_cells, dk_graph, CellsIn, GraphIn};
 use crate::slice::{chunks_mut, input, output, quats, In, Out};
-use crate::spring::dk_spring_solve_options;
+use crate::spring::{dk_amg_options, dk_spring_solve_options};
 use crate::status::dk_status;
 
 mod abi;
@@ -40,64 +40,6 @@ pub const DK_PLAN_SOLVER_LINEAR: u32 = 1;
 pub const DK_PLAN_WARM: u32 = 0;
 /// `dk_plan_step` `start`: as the stateless calls (the same bits as `dk_deform_spring`).
 pub const DK_PLAN_COLD: u32 = 1;
-
-/// [`dk_amg_options::smoother`]: damped Jacobi.
-pub const DK_AMG_JACOBI: u32 = 0;
-/// [`dk_amg_options::smoother`]: Chebyshev polynomial smoothing (default).
-pub const DK_AMG_CHEBYSHEV: u32 = 1;
-
-/// The multigrid preconditioner of `DK_PLAN_SOLVER_AMG` (the kernel's `AmgOptions`; see
-/// docs/amg.md). [`dk_plan_options_default`] fills pyamg-like defaults.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[allow(non_camel_case_types)]
-pub struct dk_amg_options {
-    /// Strength-of-connection threshold θ in `[0, 1)` (default 0: every spring strong).
-    pub strength_theta: f64,
-    /// Most levels, 1 to 16 (default 10).
-    pub max_levels: usize,
-    /// Coarsening stops at a level with at most this many unknowns, solved by dense Cholesky;
-    /// 1 to 1024 (default 256).
-    pub max_coarse: usize,
-    /// Smoothing steps before and after the coarse correction, 1 to 16 (default 2).
-    pub sweeps: usize,
-    /// [`DK_AMG_CHEBYSHEV`] (default) or [`DK_AMG_JACOBI`].
-    pub smoother: u32,
-}
-assert_layout!(
-    dk_amg_options, 40;
-    strength_theta = 0, max_levels = 8, max_coarse = 16, sweeps = 24, smoother = 32,
-);
-
-impl dk_amg_options {
-    fn of<T: Real>(a: AmgOptions<T>) -> Self {
-        dk_amg_options {
-            strength_theta: a.strength_theta.to_f64(),
-            max_levels: a.max_levels,
-            max_coarse: a.max_coarse,
-            sweeps: a.sweeps,
-            smoother: match a.smoother {
-                AmgSmoother::Jacobi => DK_AMG_JACOBI,
-                AmgSmoother::Chebyshev => DK_AMG_CHEBYSHEV,
-            },
-        }
-    }
-
-    /// The kernel's options (checked by the kernel when the hierarchy is set up).
-    fn to_kernel<T: Real>(self) -> Result<AmgOptions<T>, dk_status> {
-        Ok(AmgOptions {
-            strength_theta: T::from_f64(self.strength_theta),
-            max_levels: self.max_levels,
-            max_coarse: self.max_coarse,
-            sweeps: self.sweeps,
-            smoother: match self.smoother {
-                DK_AMG_JACOBI => AmgSmoother::Jacobi,
-                DK_AMG_CHEBYSHEV => AmgSmoother::Chebyshev,
-                _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
-            },
-        })
-    }
-}
 
 /// How a plan is built ([`dk_plan_options_default`] fills the defaults). The same struct
 /// serves both precisions.
@@ -259,8 +201,10 @@ assert_layout!(
 
 // codegen: f32 twin
 /// Three caller buffers: a plan's pools (sized by [`dk_plan_pool_sizes`], written by
-/// [`dk_plan_init`], read and updated by every step), or the transient work of init (sized by
-/// [`dk_plan_work_sizes`]). Each buffer is used only by the call that receives the struct.
+/// [`dk_plan_init`], read and updated by every step), the transient work of init (sized by
+/// [`dk_plan_work_sizes`]), or the multigrid hierarchy and scratch of a stateless solve
+/// (`dk_spring_solve_linear_amg`, `dk_spring_solve_angle_amg`; sized by their `_pool_sizes`
+/// queries, `bytes` unused). Each buffer is used only by the call that receives the struct.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 #[allow(non_camel_case_types)]
@@ -311,6 +255,14 @@ pub(crate) trait PlanC: Copy {
     fn pools(p: In<'_, Self::Pools>) -> Result<PoolArgs<'_, Self::T>, dk_status>;
 }
 
+/// The precision twins of [`dk_plan_pools`], seen through [`PoolArgs`] (the plans and the
+/// stateless multigrid solves of `crate::spring` take them).
+pub(crate) trait PoolsC: Copy {
+    type T: Real;
+    /// Reads a pools struct and wraps its buffers in tokens of the struct's lifetime.
+    fn read(p: In<'_, Self>) -> Result<PoolArgs<'_, Self::T>, dk_status>;
+}
+
 macro_rules! plan_c {
     ($mesh:ty, $pools:ty, $t:ty) => {
         impl PlanC for $mesh {
@@ -335,6 +287,12 @@ macro_rules! plan_c {
                 })
             }
             fn pools(p: In<'_, $pools>) -> Result<PoolArgs<'_, $t>, dk_status> {
+                PoolsC::read(p)
+            }
+        }
+        impl PoolsC for $pools {
+            type T = $t;
+            fn read(p: In<'_, Self>) -> Result<PoolArgs<'_, $t>, dk_status> {
                 let b = read_one(p)?;
                 // SAFETY: a token for a pools struct carries the contract of the functions
                 // that take one: its buffers are writable for their lengths, exclusively,
@@ -354,10 +312,11 @@ plan_c!(dk_plan_mesh, dk_plan_pools, f64);
 plan_c!(dk_plan_mesh_f32, dk_plan_pools_f32, f32);
 
 /// The borrowed buffers of a [`PoolArgs`].
-type Pools<'a, T> = (&'a mut [T], &'a mut [u32], &'a mut [u8]);
+pub(crate) type Pools<'a, T> = (&'a mut [T], &'a mut [u32], &'a mut [u8]);
 
 impl<'a, T: Real> PoolArgs<'a, T> {
-    fn borrow(self) -> Result<Pools<'a, T>, dk_status> {
+    /// The three buffers (each NULL only with length 0).
+    pub(crate) fn borrow(self) -> Result<Pools<'a, T>, dk_status> {
         Ok((
             output(self.reals)?,
             output(self.indices)?,

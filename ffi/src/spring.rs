@@ -23,8 +23,9 @@
 
 use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
 use deform_kernel::spring::{
-    batina_stiffness, solve_linear_scratch_len, AngleMethod, AngleSystem, LinearMethod,
-    Preconditioner, SolveOptions, SolveReport, SpringSystem, Sweep, DEFAULT_ANGLE_EPSILON,
+    batina_stiffness, solve_linear_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother, AngleMethod,
+    AngleSystem, LinearMethod, Preconditioner, SolveOptions, SolveReport, SpringSystem, Sweep,
+    DEFAULT_ANGLE_EPSILON,
 };
 use deform_kernel::Real;
 
@@ -33,6 +34,7 @@ use crate::args::{
     write_one,
 };
 use crate::graph::{dk_graph, read_graph, GraphIn};
+use crate::plan::{dk_plan_pools, dk_plan_pools_f32, dk_plan_sizes, PoolArgs, PoolsC};
 use crate::slice::{
     chunks, chunks_mut, input, input_n, out_one, output, output_n, whole_chunks_mut, In, Out,
 };
@@ -219,6 +221,68 @@ impl dk_spring_solve_report {
             max_update: r.max_update.to_f64(),
             converged: r.converged,
         }
+    }
+}
+
+/// [`dk_amg_options::smoother`]: damped Jacobi.
+pub const DK_AMG_JACOBI: u32 = 0;
+/// [`dk_amg_options::smoother`]: Chebyshev polynomial smoothing (default).
+pub const DK_AMG_CHEBYSHEV: u32 = 1;
+
+/// The smoothed-aggregation multigrid preconditioner (the kernel's `AmgOptions`; see
+/// docs/amg.md) of [`dk_spring_solve_linear_amg`], [`dk_spring_solve_angle_amg`] and of plans
+/// with `DK_PLAN_SOLVER_AMG`. [`dk_amg_options_default`] (and `dk_plan_options_default`) fill
+/// pyamg-like defaults. The same struct serves both precisions (the `_f32` functions round
+/// `strength_theta` to `float`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(non_camel_case_types)]
+pub struct dk_amg_options {
+    /// Strength-of-connection threshold θ in `[0, 1)` (default 0: every spring strong).
+    pub strength_theta: f64,
+    /// Most levels, 1 to 16 (default 10).
+    pub max_levels: usize,
+    /// Coarsening stops at a level with at most this many unknowns, solved by dense Cholesky;
+    /// 1 to 2048 (default 256).
+    pub max_coarse: usize,
+    /// Smoothing steps before and after the coarse correction, 1 to 16 (default 2).
+    pub sweeps: usize,
+    /// [`DK_AMG_CHEBYSHEV`] (default) or [`DK_AMG_JACOBI`].
+    pub smoother: u32,
+}
+assert_layout!(
+    dk_amg_options, 40;
+    strength_theta = 0, max_levels = 8, max_coarse = 16, sweeps = 24, smoother = 32,
+);
+
+impl dk_amg_options {
+    /// The C struct of the kernel's options.
+    pub(crate) fn of<T: Real>(a: AmgOptions<T>) -> Self {
+        dk_amg_options {
+            strength_theta: a.strength_theta.to_f64(),
+            max_levels: a.max_levels,
+            max_coarse: a.max_coarse,
+            sweeps: a.sweeps,
+            smoother: match a.smoother {
+                AmgSmoother::Jacobi => DK_AMG_JACOBI,
+                AmgSmoother::Chebyshev => DK_AMG_CHEBYSHEV,
+            },
+        }
+    }
+
+    /// The kernel's options (checked by the kernel when the hierarchy is set up).
+    pub(crate) fn to_kernel<T: Real>(self) -> Result<AmgOptions<T>, dk_status> {
+        Ok(AmgOptions {
+            strength_theta: T::from_f64(self.strength_theta),
+            max_levels: self.max_levels,
+            max_coarse: self.max_coarse,
+            sweeps: self.sweeps,
+            smoother: match self.smoother {
+                DK_AMG_JACOBI => AmgSmoother::Jacobi,
+                DK_AMG_CHEBYSHEV => AmgSmoother::Chebyshev,
+                _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
+            },
+        })
     }
 }
 
@@ -590,6 +654,220 @@ fn probe_d<T: Real, const D: usize>(
     *a = system
         .angle_rigidity_probe(&stop, s)
         .map_err(dk_status::from)?;
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Stateless multigrid solves: the hierarchy set up in the caller's pools every call.
+// ---------------------------------------------------------------------------------------------
+
+fn amg_options_default(out: Out<'_, dk_amg_options>) -> dk_status {
+    done(write_one(
+        out,
+        dk_amg_options::of(AmgOptions::<f64>::default()),
+    ))
+}
+
+/// Entries of the `uint32_t` work of the hierarchy's symbolic pass: the kernel's
+/// `AmgHierarchy::setup_work_len`, `4 (N + E) + 64` (at least `N`, so the system's
+/// validation scratch fits in it too).
+fn amg_work_len(node_count: usize, directed_edges: usize, len_out: Out<'_, usize>) -> dk_status {
+    done((|| {
+        let len = node_count
+            .checked_add(directed_edges)
+            .and_then(|x| x.checked_mul(4))
+            .and_then(|x| x.checked_add(64))
+            .ok_or(dk_status::DK_ERR_TOO_LARGE)?;
+        write_len(len_out, len)
+    })())
+}
+
+/// The arguments of a stateless multigrid solve beyond the values: the system, the multigrid
+/// options and the pools (read, not yet borrowed).
+struct AmgArgs<'a, T> {
+    system: Result<SystemIn<'a, T>, dk_status>,
+    amg: In<'a, dk_amg_options>,
+    pools: Result<PoolArgs<'a, T>, dk_status>,
+}
+
+/// The multigrid pools of one solve, in the order the caller laid them out: `work` (the
+/// symbolic pass, `setup_work_len` entries, whose front also validates the system) and the
+/// hierarchy's `index` in `indices`; the hierarchy's `values` and the solve's scratch in
+/// `reals`.
+struct AmgPlan {
+    work: usize,
+    index: usize,
+    values: usize,
+    /// Scratch items (`[T; V]`) of the solve: `5 N + 3 × coarse unknowns`, the kernel's
+    /// `solve_linear_amg_scratch_len` and `angle_amg_scratch_len`.
+    items: usize,
+}
+
+impl AmgPlan {
+    /// Validated system in hand, runs the symbolic pass in the front of `indices` and says
+    /// where everything goes.
+    fn of<T: Real>(
+        sys: &SpringSystem<'_, T>,
+        options: &AmgOptions<T>,
+        indices: &mut [u32],
+    ) -> Result<Self, dk_status> {
+        let work = AmgHierarchy::setup_work_len(sys);
+        let front = indices
+            .get_mut(..work)
+            .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
+        let sizes = AmgHierarchy::setup_len(sys, options, front).map_err(dk_status::from)?;
+        let items = mul_len(sys.node_count(), 5)?
+            .checked_add(mul_len(sizes.coarse_unknowns, 3)?)
+            .ok_or(dk_status::DK_ERR_TOO_LARGE)?;
+        Ok(AmgPlan {
+            work,
+            index: sizes.index,
+            values: sizes.values,
+            items,
+        })
+    }
+
+    /// The exact pool lengths for `V` value components.
+    fn sizes(&self, components: usize) -> Result<dk_plan_sizes, dk_status> {
+        let scalars = mul_len(self.items, components)?;
+        Ok(dk_plan_sizes {
+            reals: self
+                .values
+                .checked_add(scalars)
+                .ok_or(dk_status::DK_ERR_TOO_LARGE)?,
+            indices: self
+                .work
+                .checked_add(self.index)
+                .ok_or(dk_status::DK_ERR_TOO_LARGE)?,
+            bytes: 0,
+        })
+    }
+}
+
+/// Sets the hierarchy up in the pools (after [`AmgPlan::of`] ran the symbolic pass in the
+/// front of `indices`) and returns it with the solve's scratch. Every length is checked
+/// before the numeric pass writes: a pool too short is `DK_ERR_BUFFER_TOO_SMALL`.
+fn amg_setup<'p, T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    options: &AmgOptions<T>,
+    plan: &AmgPlan,
+    reals: &'p mut [T],
+    indices: &'p mut [u32],
+) -> Result<(AmgHierarchy<'p, T>, &'p mut [[T; V]]), dk_status> {
+    let need = plan.sizes(V)?;
+    if reals.len() < need.reals || indices.len() < need.indices {
+        return Err(dk_status::DK_ERR_BUFFER_TOO_SMALL);
+    }
+    let (work, index) = indices
+        .split_at_mut_checked(plan.work)
+        .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
+    let (values, rest) = reals
+        .split_at_mut_checked(plan.values)
+        .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
+    let scratch = rest.as_chunks_mut::<V>().0;
+    let h = AmgHierarchy::setup(sys, options, work, index, values).map_err(dk_status::from)?;
+    Ok((h, scratch))
+}
+
+/// An [`AmgArgs`] opened: the multigrid options, the pools' `reals` and `indices` (`bytes`
+/// is not used) and the validated system.
+struct AmgOpen<'a, T: Real> {
+    options: AmgOptions<T>,
+    reals: &'a mut [T],
+    indices: &'a mut [u32],
+    system: SpringSystem<'a, T>,
+}
+
+impl<'a, T: Real> AmgArgs<'a, T> {
+    /// Reads the options, borrows the pools (each NULL only with length 0) and validates the
+    /// system with the front of `indices` as its `index_scratch`.
+    fn open(self) -> Result<AmgOpen<'a, T>, dk_status> {
+        let options = read_one(self.amg)?.to_kernel::<T>()?;
+        let (reals, indices, _bytes) = self.pools?.borrow()?;
+        let system = self.system?.build(indices)?;
+        Ok(AmgOpen {
+            options,
+            reals,
+            indices,
+            system,
+        })
+    }
+}
+
+fn amg_pool_sizes_v<T: Real, const V: usize>(
+    system: Result<SystemIn<'_, T>, dk_status>,
+    amg: In<'_, dk_amg_options>,
+    work: Out<'_, u32>,
+    sizes_out: Out<'_, dk_plan_sizes>,
+) -> Result<(), dk_status> {
+    let options = read_one(amg)?.to_kernel::<T>()?;
+    let work = output(work)?;
+    let out = out_one(sizes_out)?;
+    let sys = system?.build(work)?;
+    let plan = AmgPlan::of(&sys, &options, work)?;
+    *out = plan.sizes(V)?;
+    Ok(())
+}
+
+fn angle_amg_pool_sizes_d<T: Real, const D: usize>(
+    system: Result<SystemIn<'_, T>, dk_status>,
+    amg: In<'_, dk_amg_options>,
+    work: Out<'_, u32>,
+    sizes_out: Out<'_, dk_plan_sizes>,
+) -> Result<(), dk_status> {
+    amg_pool_sizes_v::<T, D>(system, amg, work, sizes_out)
+}
+
+fn solve_linear_amg_v<T: Real, const V: usize>(
+    args: AmgArgs<'_, T>,
+    options: &dk_spring_solve_options,
+    values: Out<'_, T>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> Result<(), dk_status> {
+    let stop = options.stopping::<T>();
+    let v = chunks_mut::<T, V>(values)?;
+    let r = out_one(report)?;
+    let AmgOpen {
+        options: amg,
+        reals,
+        indices,
+        system: sys,
+    } = args.open()?;
+    let plan = AmgPlan::of(&sys, &amg, indices)?;
+    let (h, scratch) = amg_setup::<T, V>(&sys, &amg, &plan, reals, indices)?;
+    // The kernel validates before it writes and iterates on a copy in the scratch: on any
+    // error `values` is unchanged.
+    let rep = sys
+        .solve_linear_amg(&h, v, &stop, scratch)
+        .map_err(dk_status::from)?;
+    *r = dk_spring_solve_report::of(rep);
+    Ok(())
+}
+
+fn solve_angle_amg_d<T: Real, const D: usize>(
+    args: AmgArgs<'_, T>,
+    pts: &AngleArgs<T>,
+    options: &dk_spring_angle_options,
+    values: Out<'_, T>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> Result<(), dk_status> {
+    let stop = options.stopping::<T>();
+    let v = chunks_mut::<T, D>(values)?;
+    let r = out_one(report)?;
+    let AmgOpen {
+        options: amg,
+        reals,
+        indices,
+        system: base,
+    } = args.open()?;
+    let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
+    let plan = AmgPlan::of(system.base(), &amg, indices)?;
+    let (h, scratch) = amg_setup::<T, D>(system.base(), &amg, &plan, reals, indices)?;
+    // Values are written only after the probe and only by a successful solve.
+    let rep = system
+        .solve_angle_amg(&h, v, &stop, scratch)
+        .map_err(dk_status::from)?;
+    *r = dk_spring_solve_report::of(rep);
     Ok(())
 }
 

@@ -12,16 +12,21 @@ use deform_kernel::deformation::{
 use deform_kernel::taubin::{smooth_structured, StructuredOptions, TaubinParams};
 use deform_kernel::{graph_from_edges, graph_from_edges_len, Block, Quat};
 
-use deform_kernel::spring::{LinearMethod, SolveOptions, SpringSystem};
+use deform_kernel::spring::{
+    solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, LinearMethod, SolveOptions,
+    SpringSystem,
+};
 use deform_kernel_ffi::deformation::{
     dk_boundary_motion, dk_boundary_motion_default, dk_deform_idw, dk_deform_idw_scratch_len,
     DK_ROTATIONS_RIGID,
 };
 use deform_kernel_ffi::graph::{dk_graph, dk_graph_from_edges, dk_graph_from_edges_len};
+use deform_kernel_ffi::plan::{dk_plan_pools, dk_plan_sizes};
 use deform_kernel_ffi::quat::{dk_quat_mul, dk_quat_rotate_points};
 use deform_kernel_ffi::spring::{
-    dk_spring_solve_linear, dk_spring_solve_options, dk_spring_solve_options_default,
-    dk_spring_solve_report, dk_spring_system,
+    dk_amg_options, dk_amg_options_default, dk_spring_amg_work_len, dk_spring_solve_linear,
+    dk_spring_solve_linear_amg, dk_spring_solve_linear_amg_pool_sizes, dk_spring_solve_options,
+    dk_spring_solve_options_default, dk_spring_solve_report, dk_spring_system,
 };
 use deform_kernel_ffi::status::dk_status;
 use deform_kernel_ffi::taubin::{
@@ -321,4 +326,146 @@ fn spring_solve_reads_the_graph_inside_the_system_struct() {
     let mut values = values0;
     assert_eq!(solve(&system, &mut values), dk_status::DK_ERR_NULL_POINTER);
     assert_eq!(bits(&values), bits(&values0));
+}
+
+#[test]
+fn multigrid_solve_writes_only_through_the_pools_struct() {
+    // A chain of 12 nodes, both ends fixed, coarsened to at most 2 unknowns (two levels or
+    // more); one component.
+    const N: usize = 12;
+    let edges: Vec<[u32; 2]> = (0..N as u32 - 1).map(|i| [i, i + 1]).collect();
+    let mut offsets = vec![0u32; N + 1];
+    let mut targets = vec![0u32; graph_from_edges_len(&edges)];
+    let used = graph_from_edges(N, &edges, &mut offsets, &mut targets).unwrap();
+    targets.truncate(used);
+    let g = deform_kernel::Graph::new(&offsets, &targets).unwrap();
+    // Symmetric: k depends on the pair.
+    let mut k = vec![0.0; used];
+    for i in 0..N {
+        for e in offsets[i] as usize..offsets[i + 1] as usize {
+            let j = targets[e] as usize;
+            k[e] = 1.0 + ((i.min(j) * 7) % 5) as f64;
+        }
+    }
+    let mut fixed = [0u8; N];
+    fixed[0] = 1;
+    fixed[N - 1] = 1;
+    let mut values0 = [0.0f64; N];
+    values0[N - 1] = 1.0;
+    values0[3] = 0.25;
+
+    let mut amg = core::mem::MaybeUninit::<dk_amg_options>::uninit();
+    let mut o = core::mem::MaybeUninit::<dk_spring_solve_options>::uninit();
+    // SAFETY: one writable struct each.
+    unsafe {
+        assert_eq!(dk_amg_options_default(amg.as_mut_ptr()), dk_status::DK_OK);
+        assert_eq!(
+            dk_spring_solve_options_default(o.as_mut_ptr()),
+            dk_status::DK_OK
+        );
+    }
+    // SAFETY: written by the calls above (DK_OK).
+    let (mut amg, o) = unsafe { (amg.assume_init(), o.assume_init()) };
+    amg.max_coarse = 2;
+    let system = dk_spring_system {
+        graph: dk_graph {
+            offsets: offsets.as_ptr(),
+            offsets_len: offsets.len(),
+            targets: targets.as_ptr(),
+            targets_len: targets.len(),
+        },
+        stiffness: k.as_ptr(),
+        stiffness_len: k.len(),
+        fixed: fixed.as_ptr(),
+        fixed_len: fixed.len(),
+    };
+    let mut work_len = 0usize;
+    assert_eq!(
+        // SAFETY: one writable value.
+        unsafe { dk_spring_amg_work_len(N, used, &mut work_len) },
+        dk_status::DK_OK
+    );
+    let mut work = vec![0u32; work_len];
+    let mut sizes = dk_plan_sizes {
+        reals: 0,
+        indices: 0,
+        bytes: 0,
+    };
+    // SAFETY: the struct's arrays and `work` are as long as their lengths.
+    let s = unsafe {
+        dk_spring_solve_linear_amg_pool_sizes(
+            &system,
+            1,
+            &amg,
+            work.as_mut_ptr(),
+            work.len(),
+            &mut sizes,
+        )
+    };
+    assert_eq!(s, dk_status::DK_OK);
+    let mut reals = vec![0.0f64; sizes.reals];
+    let mut indices = vec![0u32; sizes.indices];
+    let mut report = dk_spring_solve_report {
+        iterations: 0,
+        residual: 0.0,
+        max_update: 0.0,
+        converged: false,
+    };
+    let mut solve = |reals_len: usize, values: &mut [f64]| {
+        let pools = dk_plan_pools {
+            reals: reals.as_mut_ptr(),
+            reals_len,
+            indices: indices.as_mut_ptr(),
+            indices_len: indices.len(),
+            bytes: core::ptr::null_mut(),
+            bytes_len: 0,
+        };
+        // SAFETY: every buffer is as long as its length argument; the structs' too.
+        unsafe {
+            dk_spring_solve_linear_amg(
+                &system,
+                &o,
+                &amg,
+                1,
+                values.as_mut_ptr(),
+                values.len(),
+                &pools,
+                &mut report,
+            )
+        }
+    };
+    // One scalar short: refused, nothing written.
+    let mut values = values0;
+    assert_eq!(
+        solve(sizes.reals - 1, &mut values),
+        dk_status::DK_ERR_BUFFER_TOO_SMALL
+    );
+    assert_eq!(bits(&values), bits(&values0));
+    let mut values = values0;
+    assert_eq!(solve(sizes.reals, &mut values), dk_status::DK_OK);
+
+    // The kernel directly: the same sizes and the same bits.
+    let mut ks = [0u32; N];
+    let sys = SpringSystem::new(g, &k, &fixed, &mut ks).unwrap();
+    let opts = AmgOptions {
+        max_coarse: 2,
+        ..AmgOptions::default()
+    };
+    let mut kwork = vec![0u32; AmgHierarchy::setup_work_len(&sys)];
+    assert_eq!(kwork.len(), work_len);
+    let ksizes = AmgHierarchy::setup_len(&sys, &opts, &mut kwork).unwrap();
+    assert!(ksizes.levels >= 2, "{ksizes:?}");
+    let (mut ki, mut kv) = (vec![0u32; ksizes.index], vec![0.0; ksizes.values]);
+    let h = AmgHierarchy::setup(&sys, &opts, &mut kwork, &mut ki, &mut kv).unwrap();
+    let items = solve_linear_amg_scratch_len(&h);
+    assert_eq!(sizes.reals, ksizes.values + items);
+    assert_eq!(sizes.indices, work_len + ksizes.index);
+    let mut x: Vec<[f64; 1]> = values0.iter().map(|&v| [v]).collect();
+    let mut scratch = vec![[0.0]; items];
+    let r = sys
+        .solve_linear_amg(&h, &mut x, &SolveOptions::default(), &mut scratch)
+        .unwrap();
+    assert_eq!(bits(&values), bits(&x.concat()));
+    assert_eq!(report.iterations, r.iterations);
+    assert!(report.converged);
 }

@@ -2,10 +2,13 @@
 ! dkf_graph / dkf_spring_system, on a 5-node chain with both ends fixed: the linear springs
 ! reproduce the linear interpolation, the residual through the raw dk_spring_relative_residual
 ! is tiny, a NULL array inside the struct is refused with the values untouched, and the
-! λ|μ filter keeps a linear field exactly and damps a spike. Prints "solvers: every check held"
-! when every check holds.
+! λ|μ filter keeps a linear field exactly and damps a spike. The multigrid wrapper
+! dkf_spring_solve_linear_amg (and _f32) gives the same interpolation; the raw
+! dk_spring_solve_linear_amg with pools one element short refuses and leaves the values
+! untouched. Prints "solvers: every check held" when every check holds.
 program solvers
-  use, intrinsic :: iso_c_binding, only: c_double, c_int32_t, c_int8_t, c_size_t, c_null_ptr
+  use, intrinsic :: iso_c_binding, only: c_double, c_float, c_int32_t, c_int8_t, c_size_t, &
+                                         c_null_ptr, c_loc
   use deform_kernel
   implicit none
 
@@ -22,6 +25,13 @@ program solvers
   type(dk_spring_solve_report) :: report
   type(dk_filter_report) :: filter
   type(dk_spring_system) :: sys
+  type(dk_amg_options) :: amg
+  type(dk_plan_sizes) :: sizes
+  real(c_double), allocatable, target :: reals(:)
+  integer(c_int32_t), allocatable, target :: indices(:), work(:)
+  integer(c_int8_t), target :: no_bytes(1)
+  real(c_float), target :: stiffness32(2 * (N - 1))
+  real(c_float) :: values32(2, N)
   integer :: i, failures
 
   failures = 0
@@ -66,6 +76,59 @@ program solvers
                                           index_scratch, size(index_scratch, kind=c_size_t), &
                                           residual) == DK_ERR_NULL_POINTER, 'NULL stiffness')
   call expect(all(values == before), 'values untouched')
+
+  ! The multigrid solve through the wrapper (pools allocated inside), f64 and f32.
+  call expect(dk_amg_options_default(amg) == DK_OK, 'amg options')
+  call expect(amg%max_levels == 10 .and. amg%smoother == DK_AMG_CHEBYSHEV, 'amg defaults')
+  values = 0
+  values(:, 1) = exact(:, 1)
+  values(:, N) = exact(:, N)
+  call expect(dkf_spring_solve_linear_amg(offsets, targets, stiffness, fixed, options, amg, &
+                                          values, report) == DK_OK, 'amg solve status')
+  call expect(logical(report%converged), 'amg solve converged')
+  call expect(maxval(abs(values - exact)) <= 1e-12_c_double, 'amg linear interpolation')
+  stiffness32 = 1
+  values32 = 0
+  values32(:, 1) = real(exact(:, 1), c_float)
+  values32(:, N) = real(exact(:, N), c_float)
+  call expect(dk_spring_solve_options_default_f32(options) == DK_OK, 'options f32')
+  call expect(dkf_spring_solve_linear_amg_f32(offsets, targets, stiffness32, fixed, options, &
+                                              amg, values32, report) == DK_OK, 'amg f32 status')
+  call expect(maxval(abs(values32 - real(exact, c_float))) <= 1e-5, 'amg f32 interpolation')
+  call expect(dk_spring_solve_options_default(options) == DK_OK, 'options again')
+
+  ! The raw interfaces: exact pool sizes, then pools one element short are refused.
+  sys = dkf_spring_system(dkf_graph(offsets, targets), stiffness, fixed)
+  call expect(dk_spring_amg_work_len(int(N, c_size_t), size(targets, kind=c_size_t), len) &
+              == DK_OK, 'amg work length')
+  allocate(work(len))
+  call expect(dk_spring_solve_linear_amg_pool_sizes(sys, 2_c_int32_t, amg, work, len, sizes) &
+              == DK_OK, 'amg pool sizes')
+  call expect(sizes%bytes == 0 .and. sizes%indices > len, 'amg pool layout')
+  allocate(reals(sizes%reals), indices(sizes%indices))
+  values = 0
+  values(:, 1) = exact(:, 1)
+  values(:, N) = exact(:, N)
+  before = values
+  call expect(dk_spring_solve_linear_amg(sys, options, amg, 2_c_int32_t, values, &
+                                         size(values, kind=c_size_t), &
+                                         dk_plan_pools(c_loc(reals), sizes%reals - 1, &
+                                                       c_loc(indices), sizes%indices, &
+                                                       c_loc(no_bytes), 0_c_size_t), report) &
+              == DK_ERR_BUFFER_TOO_SMALL, 'reals one short')
+  call expect(all(values == before), 'values untouched (reals)')
+  call expect(dk_spring_solve_linear_amg(sys, options, amg, 2_c_int32_t, values, &
+                                         size(values, kind=c_size_t), &
+                                         dk_plan_pools(c_loc(reals), sizes%reals, &
+                                                       c_loc(indices), sizes%indices - 1, &
+                                                       c_loc(no_bytes), 0_c_size_t), report) &
+              == DK_ERR_BUFFER_TOO_SMALL, 'indices one short')
+  call expect(all(values == before), 'values untouched (indices)')
+  call expect(dk_spring_solve_linear_amg(sys, options, amg, 2_c_int32_t, values, &
+                                         size(values, kind=c_size_t), &
+                                         dkf_plan_pools(reals, indices, no_bytes), report) &
+              == DK_OK, 'exact pools')
+  call expect(maxval(abs(values - exact)) <= 1e-12_c_double, 'raw amg interpolation')
 
   ! Graph Taubin: a linear field on the uniform chain is a fixed point, exactly; a spike at
   ! the middle node is damped, the fixed ends stay.

@@ -4,13 +4,14 @@
 //! inputs, and, for the deformation pipelines, boundary nodes reproduced bitwise.
 //!
 //! Beyond the quaternion and graph-builder calls, every input drives up to four of the solver
-//! entry points (springs, quality, Taubin, deformation; f64 or `_f32`) on a small structured
-//! grid (at most 64 nodes, at most 50 iterations). A stream of "knob" bytes decides, buffer by
-//! buffer, whether the pointer is NULL and whether the length passed is the real one, shorter
-//! (a lie downwards), or a longer allocation passed in full (arrays carried by a parameter
-//! struct, `dk_graph`, `dk_cells`, `dk_spring_system`, `dk_plan_mesh`, `dk_plan_pools`, are
-//! shaped the same way in its fields, and the struct pointer itself may be NULL); a stream of
-//! `i16` codes gives the values (including NaN, ±Inf, 1e300, −0 and subnormals).
+//! entry points (springs, the stateless multigrid solves, quality, Taubin, deformation, plans;
+//! f64 or `_f32`) on a small structured grid (at most 64 nodes, at most 50 iterations). A
+//! stream of "knob" bytes decides, buffer by buffer, whether the pointer is NULL and whether the
+//! length passed is the real one, shorter (a lie downwards), or a longer allocation passed in
+//! full (arrays carried by a parameter struct, `dk_graph`, `dk_cells`, `dk_spring_system`,
+//! `dk_plan_mesh`, `dk_plan_pools`, are shaped the same way in its fields, and the struct
+//! pointer itself may be NULL); a stream of `i16` codes gives the values (including NaN, ±Inf,
+//! 1e300, −0 and subnormals).
 #![no_main]
 
 use std::fmt::Debug;
@@ -31,8 +32,8 @@ use deform_kernel_ffi::quat::{
     dk_quat_average, dk_quat_mul, dk_quat_rotate_points, dk_quat_rotate_points_2d,
 };
 use deform_kernel_ffi::spring::{
-    self as sp, dk_spring_angle_options, dk_spring_solve_options, dk_spring_solve_report,
-    dk_spring_sweep, dk_spring_system, dk_spring_system_f32,
+    self as sp, dk_amg_options, dk_spring_angle_options, dk_spring_solve_options,
+    dk_spring_solve_report, dk_spring_sweep, dk_spring_system, dk_spring_system_f32,
 };
 use deform_kernel_ffi::stiffening as st;
 use deform_kernel_ffi::taubin::{
@@ -108,6 +109,21 @@ enum Op {
         method: u8,
         epsilon: i16,
         max_iter: u8,
+        sys: SysSel,
+        f32: bool,
+    },
+    /// `dk_spring_solve_linear_amg` or `dk_spring_solve_angle_amg` with their pool-size
+    /// queries.
+    SolveAmg {
+        angle: bool,
+        comps: u8,
+        max_iter: u8,
+        epsilon: i16,
+        theta: i16,
+        max_levels: u8,
+        max_coarse: u8,
+        sweeps: u8,
+        smoother: u8,
         sys: SysSel,
         f32: bool,
     },
@@ -2484,6 +2500,253 @@ plan_sc!(
     ]
 );
 
+type AmgSizesFn<S> = unsafe extern "C" fn(
+    *const S,
+    u32,
+    *const dk_amg_options,
+    *mut u32,
+    usize,
+    *mut dk_plan_sizes,
+) -> dk_status;
+type SolveLinearAmgFn<T, S, P> = unsafe extern "C" fn(
+    *const S,
+    *const dk_spring_solve_options,
+    *const dk_amg_options,
+    u32,
+    *mut T,
+    usize,
+    *const P,
+    *mut dk_spring_solve_report,
+) -> dk_status;
+type SolveAngleAmgFn<T, S, P> = unsafe extern "C" fn(
+    *const S,
+    *const T,
+    usize,
+    u32,
+    *const dk_spring_angle_options,
+    *const dk_amg_options,
+    *mut T,
+    usize,
+    *const P,
+    *mut dk_spring_solve_report,
+) -> dk_status;
+
+/// The stateless multigrid solves of one precision.
+trait AmgSc: PlanSc {
+    const LINEAR_SIZES: AmgSizesFn<Self::System>;
+    const LINEAR: SolveLinearAmgFn<Self, Self::System, Self::Pools>;
+    const ANGLE_SIZES: AmgSizesFn<Self::System>;
+    const ANGLE: SolveAngleAmgFn<Self, Self::System, Self::Pools>;
+}
+
+impl AmgSc for f64 {
+    const LINEAR_SIZES: AmgSizesFn<dk_spring_system> = sp::dk_spring_solve_linear_amg_pool_sizes;
+    const LINEAR: SolveLinearAmgFn<f64, dk_spring_system, dk_plan_pools> =
+        sp::dk_spring_solve_linear_amg;
+    const ANGLE_SIZES: AmgSizesFn<dk_spring_system> = sp::dk_spring_solve_angle_amg_pool_sizes;
+    const ANGLE: SolveAngleAmgFn<f64, dk_spring_system, dk_plan_pools> =
+        sp::dk_spring_solve_angle_amg;
+}
+
+impl AmgSc for f32 {
+    const LINEAR_SIZES: AmgSizesFn<dk_spring_system_f32> =
+        sp::dk_spring_solve_linear_amg_pool_sizes_f32;
+    const LINEAR: SolveLinearAmgFn<f32, dk_spring_system_f32, dk_plan_pools_f32> =
+        sp::dk_spring_solve_linear_amg_f32;
+    const ANGLE_SIZES: AmgSizesFn<dk_spring_system_f32> =
+        sp::dk_spring_solve_angle_amg_pool_sizes_f32;
+    const ANGLE: SolveAngleAmgFn<f32, dk_spring_system_f32, dk_plan_pools_f32> =
+        sp::dk_spring_solve_angle_amg_f32;
+}
+
+/// A stateless multigrid solve (linear springs with 1 to 7 components, or the angle springs):
+/// the pool sizes from the exact system, then the size query and the solve with every buffer
+/// and struct shaped by the knobs (pools too short, NULL, longer), arbitrary multigrid options.
+/// No crash, a documented status, values and report untouched unless `DK_OK`, fixed nodes kept
+/// bit for bit, finite results for finite input, no more iterations than allowed.
+#[allow(clippy::too_many_arguments)]
+fn solve_amg<T: AmgSc>(
+    c: &mut Ctx,
+    angle: bool,
+    comps: u8,
+    max_iter: u8,
+    epsilon: i16,
+    theta: i16,
+    levels: u8,
+    coarse: u8,
+    sweeps: u8,
+    smoother: u8,
+    sel: SysSel,
+) {
+    let m = c.m;
+    let (k, fixed) = system::<T>(m, sel, &mut c.vals, c.bits);
+    let mut amg = dk_amg_options {
+        strength_theta: 0.0,
+        max_levels: 0,
+        max_coarse: 0,
+        sweeps: 0,
+        smoother: 0,
+    };
+    // SAFETY: one writable struct.
+    assert_eq!(
+        unsafe { sp::dk_amg_options_default(&mut amg) },
+        dk_status::DK_OK
+    );
+    if theta != 0 {
+        amg.strength_theta = c.vals.note(real(theta) / 4096.0);
+    }
+    amg.max_levels = usize::from(levels % 18);
+    amg.max_coarse = match coarse {
+        0..=63 => usize::from(coarse) + 1,
+        64..=127 => usize::from(coarse) * 40,
+        _ => 256,
+    };
+    amg.sweeps = usize::from(sweeps % 18);
+    amg.smoother = if smoother < 250 {
+        u32::from(smoother % 2)
+    } else {
+        u32::from(smoother)
+    };
+    let mut lopts = dk_spring_solve_options {
+        max_iterations: 0,
+        residual_tol: 0.0,
+        update_tol: 0.0,
+        omega: 0.0,
+        method: 0,
+        preconditioner: 0,
+    };
+    let mut aopts = dk_spring_angle_options {
+        max_iterations: 0,
+        residual_tol: 0.0,
+        update_tol: 0.0,
+        epsilon: 0.0,
+        method: 0,
+    };
+    // SAFETY: one writable struct each.
+    unsafe {
+        assert_eq!((T::LINEAR_DEFAULT)(&mut lopts), dk_status::DK_OK);
+        assert_eq!((T::ANGLE_DEFAULT)(&mut aopts), dk_status::DK_OK);
+    }
+    lopts.max_iterations = iterations(max_iter);
+    aopts.max_iterations = iterations(max_iter);
+    if epsilon != 0 {
+        aopts.epsilon = c.vals.note(real(epsilon) / 256.0);
+    }
+    let comps = if angle { m.dim } else { components(comps) };
+    let nv = m.n * comps as usize;
+    let values: Vec<T> = (0..nv).map(|_| T::of(c.vals.next() / 16.0)).collect();
+
+    // The exact sizes, from the exact system (or a guess when the query refuses).
+    let mut work_len = 0usize;
+    // SAFETY: one writable value.
+    let s = unsafe { sp::dk_spring_amg_work_len(m.n, m.targets.len(), &mut work_len) };
+    assert_eq!(s, dk_status::DK_OK);
+    assert_eq!(work_len, 4 * (m.n + m.targets.len()) + 64);
+    let exact = T::system(
+        graph_exact(&m.offsets, &m.targets),
+        (k.as_ptr(), k.len()),
+        (fixed.as_ptr(), fixed.len()),
+    );
+    let mut work = vec![0u32; work_len];
+    let mut need = dk_plan_sizes {
+        reals: 0,
+        indices: 0,
+        bytes: 0,
+    };
+    let sizes = if angle {
+        T::ANGLE_SIZES
+    } else {
+        T::LINEAR_SIZES
+    };
+    // SAFETY: valid structs and buffers of the lengths passed.
+    let s = unsafe { sizes(&exact, comps, &amg, work.as_mut_ptr(), work_len, &mut need) };
+    if s == dk_status::DK_OK {
+        assert_eq!(need.bytes, 0);
+        // The hierarchy's index entries may be none (a single level without coarse
+        // unknowns on a tiny mesh).
+        assert!(need.indices >= work_len && need.reals >= 5 * nv, "{need:?}");
+    } else {
+        need = dk_plan_sizes {
+            reals: 6 * nv + 64,
+            indices: work_len + 64,
+            bytes: 0,
+        };
+    }
+
+    let o = Buf::input(&mut c.kn, &m.offsets, 0);
+    let t = Buf::input(&mut c.kn, &m.targets, 0);
+    let kb = Buf::input(&mut c.kn, &k, T::of(1.0));
+    let fb = Buf::input(&mut c.kn, &fixed, 1);
+    let sys = system_of(&o, &t, &kb, &fb);
+    let sysp = opt_ptr(&mut c.kn, &sys);
+    let amgp = opt_ptr(&mut c.kn, &amg);
+
+    // The size query, knob-shaped.
+    let mut wb = Buf::output(&mut c.kn, work_len, 0u32);
+    let mut got = Slot::<dk_plan_sizes>::new(&mut c.kn);
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    let s = unsafe { sizes(sysp, comps, amgp, wb.m(), wb.n(), got.p()) };
+    check_slot("amg pool sizes", s, &got);
+
+    let mut reals = Buf::output(&mut c.kn, need.reals, T::SENT);
+    let mut indices = Buf::output(&mut c.kn, need.indices, 0u32);
+    let mut bytes = Buf::output(&mut c.kn, 0, 0xa5u8);
+    let pools = T::pools(&mut reals, &mut indices, &mut bytes);
+    let poolsp = opt_ptr(&mut c.kn, &pools);
+    let p = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
+    let mut v = Buf::input(&mut c.kn, &values, T::of(0.25));
+    let before = bits(&v.v);
+    let mut rep = Slot::<dk_spring_solve_report>::new(&mut c.kn);
+    // SAFETY: every pointer is NULL or valid for the length passed with it (the structs'
+    // arrays and buffers too).
+    let s = unsafe {
+        if angle {
+            let optp = opt_ptr(&mut c.kn, &aopts);
+            (T::ANGLE)(
+                sysp,
+                p.p(),
+                p.n(),
+                m.dim,
+                optp,
+                amgp,
+                v.m(),
+                v.n(),
+                poolsp,
+                rep.p(),
+            )
+        } else {
+            let optp = opt_ptr(&mut c.kn, &lopts);
+            (T::LINEAR)(sysp, optp, amgp, comps, v.m(), v.n(), poolsp, rep.p())
+        }
+    };
+    let what = if angle {
+        "solve_angle_amg"
+    } else {
+        "solve_linear_amg"
+    };
+    check_inplace(what, s, &v, &before, m.finite && !c.vals.nonfinite);
+    check_slot(what, s, &rep);
+    assert!(
+        bytes.v.iter().all(|&b| b == 0xa5),
+        "{what}: wrote the unused bytes pool"
+    );
+    if s == dk_status::DK_OK {
+        let r = rep.get();
+        assert!(r.iterations <= lopts.max_iterations, "{what}: {r:?}");
+        let cs = comps as usize;
+        for (i, &f) in fb.v.iter().take(fb.n()).enumerate() {
+            if f != 0 {
+                let now = &v.v[i * cs..(i + 1) * cs];
+                let was = &before[i * cs..(i + 1) * cs];
+                assert!(
+                    now.iter().zip(was).all(|(&x, &b)| x.bits() == b),
+                    "{what}: fixed node {i} changed"
+                );
+            }
+        }
+    }
+}
+
 /// A plan on the grid (boundary fixed, 2D boundary loops as segment elements): sizes, init
 /// and up to three steps with arbitrary boundary positions, every buffer shaped by the knobs;
 /// `corrupt` overwrites the plan's magic before one step. Statuses documented, outputs
@@ -2706,6 +2969,27 @@ fn run_op(c: &mut Ctx, op: &Op) {
             f32,
         } => {
             prec!(f32, solve_angle(method, epsilon, max_iter, sys))
+        }
+        Op::SolveAmg {
+            angle,
+            comps,
+            max_iter,
+            epsilon,
+            theta,
+            max_levels,
+            max_coarse,
+            sweeps,
+            smoother,
+            sys,
+            f32,
+        } => {
+            prec!(
+                f32,
+                solve_amg(
+                    angle, comps, max_iter, epsilon, theta, max_levels, max_coarse, sweeps,
+                    smoother, sys
+                )
+            )
         }
         Op::CellQuality {
             kind,

@@ -135,7 +135,9 @@ fn fortran_quality_wrappers() {
 /// The Fortran spring and graph-Taubin wrappers and the parameter-struct constructors
 /// (`ffi/tests/solvers.f90`): a fixed-end chain solved exactly, the residual through a
 /// `dk_spring_system` built by `dkf_spring_system`, a NULL array in it refused, a linear field
-/// kept by the λ|μ filter and a spike damped.
+/// kept by the λ|μ filter and a spike damped; the multigrid wrapper
+/// `dkf_spring_solve_linear_amg` (and `_f32`) solving the chain, and the raw
+/// `dk_spring_solve_linear_amg` refusing pools one element short with the values untouched.
 #[test]
 fn fortran_solver_wrappers_and_structs() {
     assert_eq!(fortran_test("solvers"), "solvers: every check held\n");

@@ -3,8 +3,12 @@
 //! function in f64 and f32 on cases with known answers, plus bad input that must return the
 //! documented status and write nothing) and `ffi/tests/solvers_parity.c` (bit patterns of a
 //! spring solve, a structured Taubin smoothing, an arclength smoothing and a graph smoothing),
-//! runs them, and compares the parity program's output with the Rust API on the same inputs.
-//! Needs `gcc` on PATH.
+//! runs them, and compares the parity program's output with the Rust API on the same inputs;
+//! and `ffi/tests/solvers_amg.c` (the stateless multigrid solves `dk_spring_solve_linear_amg`
+//! and `dk_spring_solve_angle_amg` with their pool-size queries, f64 and f32, on a graded
+//! 3,072-node grid, plus their bad input), whose sizes, reports and values must equal the
+//! kernel's `AmgHierarchy::setup_len` / `setup` / `solve_linear_amg` / `solve_angle_amg` on the
+//! same inputs. Needs `gcc` on PATH.
 //!
 //! The header's layout of the `#[repr(C)]` option and report structs is checked at compile
 //! time in the ffi crate; here the tests compare what C sees. (Calling the `extern "C"`
@@ -17,8 +21,8 @@ use common::c_build::*;
 use deform_kernel::Direction;
 
 use deform_kernel::spring::{
-    batina_stiffness, AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions,
-    SpringSystem,
+    batina_stiffness, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, AngleMethod,
+    AngleSystem, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::taubin::{
     smooth_arclength, smooth_arclength_scratch_len, smooth_graph, smooth_structured, GraphOptions,
@@ -223,4 +227,218 @@ fn solver_abi_matches_rust_bit_for_bit() {
         compile("gcc", std::slice::from_ref(&src), &flags, link, &exe);
         assert_eq!(run(&exe), expected, "{name}");
     }
+}
+
+/// The grid of solvers_amg.c: 64 x 48 nodes (node i + 64 j), edges along i, along j and one
+/// diagonal per cell, in the C program's order; the fixed mask (the outer boundary).
+fn amg_mesh() -> (Csr, Vec<u8>) {
+    const NI: usize = 64;
+    const NJ: usize = 48;
+    let mut e = Vec::new();
+    let mut fixed = vec![0u8; NI * NJ];
+    for j in 0..NJ {
+        for i in 0..NI {
+            let n = (i + NI * j) as u32;
+            fixed[i + NI * j] = u8::from(i == 0 || j == 0 || i == NI - 1 || j == NJ - 1);
+            if i + 1 < NI {
+                e.push([n, n + 1]);
+            }
+            if j + 1 < NJ {
+                e.push([n, n + NI as u32]);
+            }
+            if i + 1 < NI && j + 1 < NJ {
+                e.push([n, n + NI as u32 + 1]);
+            }
+        }
+    }
+    (csr(NI * NJ, &e), fixed)
+}
+
+fn parse_hex64(line: &str, name: &str) -> Vec<f64> {
+    let rest = line
+        .strip_prefix(name)
+        .unwrap_or_else(|| panic!("expected {name}: {}", &line[..line.len().min(80)]));
+    rest.split_whitespace()
+        .map(|h| f64::from_bits(u64::from_str_radix(h, 16).expect("hex")))
+        .collect()
+}
+
+/// What solvers_amg.c prints for one precision, from the kernel called directly: the pool
+/// sizes (`setup_work_len`, then the hierarchy's sizes and the solve scratch, for 2 and 1
+/// components), the linear and the angle (ε = 0.1) multigrid solves with the default options.
+fn amg_expected<T: Real>(
+    tag: &str,
+    points: &[f64],
+    values0: &[f64],
+    hex: fn(&str, &[T]) -> String,
+) -> Vec<String> {
+    let ((offsets, targets), fixed) = amg_mesh();
+    let g = Graph::new(&offsets, &targets).unwrap();
+    let n = g.node_count();
+    let pts: Vec<[T; 2]> = points
+        .chunks_exact(2)
+        .map(|p| [T::from_f64(p[0]), T::from_f64(p[1])])
+        .collect();
+    let v0: Vec<[T; 2]> = values0
+        .chunks_exact(2)
+        .map(|p| [T::from_f64(p[0]), T::from_f64(p[1])])
+        .collect();
+    assert_eq!(pts.len(), n);
+    let mut k = vec![T::ZERO; g.edge_count()];
+    batina_stiffness(&g, &pts, T::ONE, &mut k).unwrap();
+    let mut idx = vec![0u32; n];
+    let sys = SpringSystem::new(g, &k, &fixed, &mut idx).unwrap();
+    let opts = AmgOptions::<T>::default();
+    let stop = SolveOptions::<T>::default();
+    let mut out = Vec::new();
+
+    let mut work = vec![0u32; AmgHierarchy::setup_work_len(&sys)];
+    let sizes = AmgHierarchy::setup_len(&sys, &opts, &mut work).unwrap();
+    let mut index = vec![0u32; sizes.index];
+    let mut hv = vec![T::ZERO; sizes.values];
+    let h = AmgHierarchy::setup(&sys, &opts, &mut work, &mut index, &mut hv).unwrap();
+    let items = solve_linear_amg_scratch_len(&h);
+    out.push(format!(
+        "sizes_{tag} {} {} {} 0 {}",
+        work.len(),
+        sizes.values + 2 * items,
+        work.len() + sizes.index,
+        sizes.values + items
+    ));
+
+    let mut v = v0.clone();
+    let mut scratch = vec![[T::ZERO; 2]; items];
+    let r = sys
+        .solve_linear_amg(&h, &mut v, &stop, &mut scratch)
+        .unwrap();
+    out.push(format!(
+        "linear_{tag} {} {}",
+        r.iterations,
+        u8::from(r.converged)
+    ));
+    out.push(hex64(
+        &format!("linear_report_{tag}"),
+        &[r.residual.to_f64(), r.max_update.to_f64()],
+    ));
+    let flat: Vec<T> = v.iter().flatten().copied().collect();
+    out.push(hex(&format!("linear_values_{tag}"), &flat));
+
+    let asys = AngleSystem::new(sys, &pts, T::from_f64(0.1)).unwrap();
+    // A hierarchy set up again on the angle system's base, as the C entry does.
+    let mut work = vec![0u32; AmgHierarchy::setup_work_len(asys.base())];
+    let mut index = vec![0u32; sizes.index];
+    let mut hv = vec![T::ZERO; sizes.values];
+    let h = AmgHierarchy::setup(asys.base(), &opts, &mut work, &mut index, &mut hv).unwrap();
+    assert_eq!(asys.angle_amg_scratch_len(&h), items);
+    let mut v = v0.clone();
+    let mut scratch = vec![[T::ZERO; 2]; items];
+    let r = asys
+        .solve_angle_amg(&h, &mut v, &stop, &mut scratch)
+        .unwrap();
+    out.push(format!(
+        "angle_{tag} {} {}",
+        r.iterations,
+        u8::from(r.converged)
+    ));
+    out.push(hex64(
+        &format!("angle_report_{tag}"),
+        &[r.residual.to_f64(), r.max_update.to_f64()],
+    ));
+    let flat: Vec<T> = v.iter().flatten().copied().collect();
+    out.push(hex(&format!("angle_values_{tag}"), &flat));
+    out.into_iter().map(|l| l.trim_end().to_string()).collect()
+}
+
+#[test]
+fn multigrid_solves_from_c_equal_the_kernel_bit_for_bit() {
+    let src = workspace().join("ffi/tests/solvers_amg.c");
+    let flags = flags();
+    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
+    for (link, name) in [
+        (Link::Static, "solvers_amg_static"),
+        (Link::Shared, "solvers_amg_shared"),
+    ] {
+        let exe = tmp(name);
+        compile("gcc", std::slice::from_ref(&src), &flags, link, &exe);
+        let printed = run(&exe);
+        let lines: Vec<&str> = printed.lines().collect();
+        assert_eq!(
+            lines.last(),
+            Some(&"solvers_amg: every check held"),
+            "{name}"
+        );
+        let points = parse_hex64(lines[0], "points");
+        let values0 = parse_hex64(lines[1], "values0");
+        let mut expected = amg_expected::<f64>("f64", &points, &values0, hex64);
+        expected.extend(amg_expected::<f32>("f32", &points, &values0, hex32));
+        let got: Vec<&str> = lines
+            .iter()
+            .copied()
+            .filter(|l| {
+                !["points", "values0", "cg_", "solvers_amg"]
+                    .iter()
+                    .any(|p| l.starts_with(p))
+            })
+            .collect();
+        assert_eq!(got.len(), expected.len(), "{name}: lines");
+        for (g, e) in got.iter().zip(&expected) {
+            let head = |s: &str| s.split(' ').next().unwrap_or("").to_string();
+            assert!(
+                g == e,
+                "{name}: {} differs from the kernel's {}",
+                head(g),
+                head(e)
+            );
+        }
+        // The one-level solves on the same problems take at least 4 times as many iterations.
+        for (amg, one_level) in [
+            ("linear_f64", "cg_linear_f64"),
+            ("angle_f64", "cg_angle_f64"),
+            ("linear_f32", "cg_linear_f32"),
+            ("angle_f32", "cg_angle_f32"),
+        ] {
+            let count = |prefix: &str| -> usize {
+                let l = lines
+                    .iter()
+                    .find(|l| l.starts_with(&format!("{prefix} ")))
+                    .unwrap_or_else(|| panic!("{name}: no {prefix} line"));
+                l.split(' ').nth(1).unwrap().parse().unwrap()
+            };
+            let (a, c) = (count(amg), count(one_level));
+            assert!(
+                a > 0 && 4 * a <= c,
+                "{name}: {amg} {a} against {one_level} {c}"
+            );
+        }
+    }
+}
+
+/// `ffi/examples/spring_amg_timing.c` (the timing program of docs/amg.md) builds with the
+/// strict flags and runs at its default size (3,072 nodes): every solve converges and the
+/// multigrid ones take fewer iterations than the one-level ones.
+#[test]
+fn multigrid_timing_example_runs() {
+    let src = workspace().join("ffi/examples/spring_amg_timing.c");
+    let flags = flags();
+    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
+    let exe = tmp("spring_amg_timing");
+    compile(
+        "gcc",
+        std::slice::from_ref(&src),
+        &flags,
+        Link::Static,
+        &exe,
+    );
+    let printed = run(&exe);
+    let iterations = |prefix: &str| -> usize {
+        let l = printed
+            .lines()
+            .find(|l| l.starts_with(prefix))
+            .unwrap_or_else(|| panic!("no line {prefix}:\n{printed}"));
+        assert!(l.contains("converged 1"), "{l}");
+        let it = l.split(": ").nth(1).unwrap().split(' ').next().unwrap();
+        it.parse().unwrap()
+    };
+    assert!(iterations("linear, multigrid") < iterations("linear, CG + Jacobi"));
+    assert!(iterations("angle, multigrid") < iterations("angle, block-Jacobi CG"));
 }

@@ -73,6 +73,7 @@ const F32_WRAPPERS: &[&str] = &[
     "dkf_deform_idw",
     "dkf_deform_tfi",
     "dkf_deform_spring",
+    "dkf_spring_solve_linear_amg",
     "dkf_plan_pool_sizes",
     "dkf_plan_init",
     "dkf_plan_step",

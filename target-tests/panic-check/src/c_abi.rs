@@ -1690,6 +1690,126 @@ pub fn exercise() {
     });
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.
+    black_box(unsafe { deform_kernel_ffi::spring::dk_amg_options_default(black_box(null_mut())) });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::spring::dk_spring_amg_work_len(
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::spring::dk_spring_solve_linear_amg_pool_sizes(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::spring::dk_spring_solve_linear_amg_pool_sizes_f32(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::spring::dk_spring_solve_linear_amg(
+            black_box(null()),
+            black_box(null()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::spring::dk_spring_solve_linear_amg_f32(
+            black_box(null()),
+            black_box(null()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::spring::dk_spring_solve_angle_amg_pool_sizes(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::spring::dk_spring_solve_angle_amg_pool_sizes_f32(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::spring::dk_spring_solve_angle_amg(
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::spring::dk_spring_solve_angle_amg_f32(
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
     black_box(unsafe {
         deform_kernel_ffi::stiffening::dk_spring_wall_distances(
             black_box(null()),
