@@ -23,9 +23,9 @@
 
 use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
 use deform_kernel::spring::{
-    batina_stiffness, solve_linear_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother, AngleMethod,
-    AngleSystem, LinearMethod, Preconditioner, SolveOptions, SolveReport, SpringSystem, Sweep,
-    DEFAULT_ANGLE_EPSILON,
+    amg_setup_work_len, batina_stiffness, solve_linear_scratch_len, AmgHierarchy, AmgOptions,
+    AmgSmoother, AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions, SolveReport,
+    SpringSystem, Sweep, DEFAULT_ANGLE_EPSILON,
 };
 use deform_kernel::Real;
 
@@ -669,17 +669,13 @@ fn amg_options_default(out: Out<'_, dk_amg_options>) -> dk_status {
 }
 
 /// Entries of the `uint32_t` work of the hierarchy's symbolic pass: the kernel's
-/// `AmgHierarchy::setup_work_len`, `4 (N + E) + 64` (at least `N`, so the system's
-/// validation scratch fits in it too).
+/// `amg_setup_work_len`, `4 (N + E) + 64` (at least `N`, so the system's validation scratch
+/// fits in it too); `DK_ERR_TOO_LARGE` where it saturates (it is a multiple of 4 otherwise).
 fn amg_work_len(node_count: usize, directed_edges: usize, len_out: Out<'_, usize>) -> dk_status {
-    done((|| {
-        let len = node_count
-            .checked_add(directed_edges)
-            .and_then(|x| x.checked_mul(4))
-            .and_then(|x| x.checked_add(64))
-            .ok_or(dk_status::DK_ERR_TOO_LARGE)?;
-        write_len(len_out, len)
-    })())
+    done(match amg_setup_work_len(node_count, directed_edges) {
+        usize::MAX => Err(dk_status::DK_ERR_TOO_LARGE),
+        len => write_len(len_out, len),
+    })
 }
 
 /// The arguments of a stateless multigrid solve beyond the values: the system, the multigrid

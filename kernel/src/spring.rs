@@ -52,8 +52,8 @@ mod stiffness;
 mod system;
 
 pub use amg::{
-    amg_precondition_scratch_len, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, AmgSizes,
-    AmgSmoother, AMG_MAX_DENSE, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
+    amg_precondition_scratch_len, amg_setup_work_len, solve_linear_amg_scratch_len, AmgHierarchy,
+    AmgOptions, AmgSizes, AmgSmoother, AMG_MAX_DENSE, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
 };
 pub(crate) use amg::{Layout, Level};
 pub use angle::{AngleMethod, AngleSystem, DEFAULT_ANGLE_EPSILON, MAX_AMPLIFICATION};

@@ -9,8 +9,8 @@ use crate::graph::Graph;
 use crate::real::Real;
 use crate::slide::NodeKind;
 use crate::spring::{
-    batina_stiffness, check_omega, solve_linear_scratch_len, AmgHierarchy, LinearMethod,
-    Preconditioner, SpringSystem,
+    amg_setup_work_len, batina_stiffness, check_omega, solve_linear_scratch_len, AmgHierarchy,
+    LinearMethod, Preconditioner, SpringSystem,
 };
 
 /// Transient work lengths.
@@ -22,7 +22,7 @@ pub(super) fn work_sizes<T: Real, const D: usize>(spec: &PlanSpec<'_, T, D>) -> 
 /// `max(4 (n + e) + 64, n)` indices (anchoring search, the hierarchy's symbolic pass), `n`
 /// bytes (the fixed mask).
 pub(super) const fn work_sizes_of(n: usize, e: usize) -> PlanSizes {
-    let amg = n.saturating_add(e).saturating_mul(4).saturating_add(64);
+    let amg = amg_setup_work_len(n, e);
     PlanSizes {
         reals: e,
         indices: if amg > n { amg } else { n },

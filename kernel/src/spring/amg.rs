@@ -281,6 +281,14 @@ pub struct AmgHierarchy<'a, T: Real> {
     sweeps: usize,
 }
 
+/// `u32` entries of the `work` buffer of the hierarchy's symbolic pass for a system of
+/// `node_count` nodes and `edge_count` directed edges: `4 (N + E) + 64`, saturating (what
+/// [`AmgHierarchy::setup_work_len`] returns), for callers that size buffers before they have a
+/// validated system (plans, the C ABI).
+pub const fn amg_setup_work_len(node_count: usize, edge_count: usize) -> usize {
+    setup::budget(node_count, edge_count)
+}
+
 impl<'a, T: Real> AmgHierarchy<'a, T> {
     /// `u32` entries of the `work` buffer [`AmgHierarchy::setup_len`] and
     /// [`AmgHierarchy::setup`] need for their symbolic pass: `4 (N + E) + 64` for `N` nodes

@@ -8,7 +8,7 @@
 use core::hint::black_box;
 
 use deform_kernel::spring::{
-    amg_precondition_scratch_len, solve_linear_amg_scratch_len, solve_linear_with_scratch_len,
+    amg_precondition_scratch_len, amg_setup_work_len, solve_linear_amg_scratch_len, solve_linear_with_scratch_len,
     AmgHierarchy, AmgOptions, AmgSmoother, LinearMethod, LinearSolver, Preconditioner,
     SolveOptions, SpringSystem,
 };
@@ -62,6 +62,7 @@ fn run<T: Real, const V: usize, const W: usize>() {
         });
         let mut work = [0u32; WORK];
         keep(AmgHierarchy::setup_work_len(&sys));
+        keep(amg_setup_work_len(bb(N), bb(usize::MAX - 3)));
         keep(AmgHierarchy::setup_len(&sys, &opts, bb(&mut work[..])));
         let mut index = [0u32; INDEX];
         let mut values = [T::ZERO; VALUES];

@@ -17,7 +17,7 @@ const FREE: u32 = u32::MAX - 1;
 const JOINED: u32 = 1 << 31;
 
 /// Symbolic work budget: `4 (N + E) + 64`.
-pub(crate) fn budget(n: usize, e: usize) -> usize {
+pub(crate) const fn budget(n: usize, e: usize) -> usize {
     n.saturating_add(e).saturating_mul(4).saturating_add(64)
 }
 
