@@ -230,7 +230,10 @@ fn sliding_from_c_equals_the_kernel_bit_for_bit() {
     // would not override (see c_abi_solvers.rs).
     flags.push("-Wl,--disable-new-dtags".to_string());
     let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
-    for (link, name) in [(Link::Static, "slide_static"), (Link::Shared, "slide_shared")] {
+    for (link, name) in [
+        (Link::Static, "slide_static"),
+        (Link::Shared, "slide_shared"),
+    ] {
         let exe = tmp(name);
         compile("gcc", std::slice::from_ref(&src), &flags, link, &exe);
         let printed = run(&exe);
