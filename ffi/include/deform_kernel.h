@@ -2932,7 +2932,7 @@ dk_status dk_constraints_fixed_mask_f32(const dk_constraints_f32 *constraints,
 // `slide::slide_points`): `points[i] = original[i] + P_i (points[i] − original[i])` for
 // kinds 2 and 3 (`P` = `I − n nᵀ` for a plane, `t tᵀ` for a line); free and fixed nodes are
 // left as they are. Call it after a propagation in which the sliding nodes were ordinary
-// field nodes (e.g. [`dk_deform_idw`]). `original` and `points`: `dim` scalars per node,
+// field nodes (e.g. `dk_deform_idw`). `original` and `points`: `dim` scalars per node,
 // `kinds_len` nodes.
 //
 // Errors (`points` unchanged): `DK_ERR_LENGTH_MISMATCH`, `DK_ERR_NON_FINITE` (`original`,

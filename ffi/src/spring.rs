@@ -1101,6 +1101,7 @@ fn solve_linear_sliding_d<T: Real, const D: usize>(
     Ok(())
 }
 
+#[allow(clippy::too_many_arguments)] // the C function's arguments, one to one
 fn solve_angle_sliding_d<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,

@@ -536,8 +536,8 @@ fn sliding_solve_reads_the_constraints_struct() {
         .all(|(&m, &k)| m == u8::from(k == 1)));
 
     let mut o = core::mem::MaybeUninit::<dk_spring_solve_options>::uninit();
-    // SAFETY: one writable struct.
     assert_eq!(
+        // SAFETY: one writable struct.
         unsafe { dk_spring_solve_options_default(o.as_mut_ptr()) },
         dk_status::DK_OK
     );

@@ -1558,7 +1558,7 @@ pub unsafe extern "C" fn dk_constraints_fixed_mask_f32(
 /// `slide::slide_points`): `points[i] = original[i] + P_i (points[i] − original[i])` for
 /// kinds 2 and 3 (`P` = `I − n nᵀ` for a plane, `t tᵀ` for a line); free and fixed nodes are
 /// left as they are. Call it after a propagation in which the sliding nodes were ordinary
-/// field nodes (e.g. [`dk_deform_idw`]). `original` and `points`: `dim` scalars per node,
+/// field nodes (e.g. `dk_deform_idw`). `original` and `points`: `dim` scalars per node,
 /// `kinds_len` nodes.
 ///
 /// Errors (`points` unchanged): `DK_ERR_LENGTH_MISMATCH`, `DK_ERR_NON_FINITE` (`original`,
