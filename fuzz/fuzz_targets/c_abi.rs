@@ -3056,8 +3056,9 @@ fn solve_sliding<T: SlideSc>(
     let s = unsafe { query(&exact, m.dim, &amg, work.as_mut_ptr(), work_len, &mut sizes) };
     if s == dk_status::DK_OK {
         assert_eq!(sizes.bytes, 0);
+        // Per component of the `dim` passed (which may differ from the storage dimension).
         assert!(
-            sizes.indices >= work_len && sizes.reals >= 6 * nv,
+            sizes.indices >= work_len && sizes.reals >= 6 * m.n * m.dim as usize,
             "{sizes:?}"
         );
     } else {
