@@ -695,7 +695,7 @@ module deform_kernel
             dkf_plan_step, dkf_plan_step_f32, dkf_plan_open, dkf_plan_open_f32
   public :: dkf_spring_solve_linear_amg, dkf_spring_solve_linear_amg_f32
   public :: dkf_spring_solve_linear, dkf_taubin_smooth_arclength, dkf_taubin_smooth_structured, &
-            dkf_taubin_smooth_graph
+            dkf_taubin_smooth_graph, dkf_spring_solve_linear_sliding
   public :: dkf_deform_idw, dkf_deform_idw_f32, dkf_deform_tfi, dkf_deform_tfi_f32
   public :: dkf_deform_spring, dkf_deform_spring_f32
 
@@ -3573,6 +3573,33 @@ contains
                                options, int(size(values, 1), c_int32_t), values, &
                                int(size(values), c_size_t), scratch, int(size(scratch), c_size_t), &
                                index_scratch, int(size(index_scratch), c_size_t), report)
+  end function
+
+  !> dk_spring_solve_linear_sliding with assumed-shape arrays: values(dim, node_count)
+  !> (displacements, dim = size(values, 1), 2 or 3) is updated in place; kinds(node_count) and
+  !> directions(dim, node_count) as for dkf_constraints, fixed the mask
+  !> dk_constraints_fixed_mask writes; scratch needs dk_spring_solve_linear_sliding_scratch_len
+  !> values, index_scratch node_count entries; the rest as dkf_spring_solve_linear.
+  function dkf_spring_solve_linear_sliding(offsets, targets, stiffness, fixed, kinds, &
+                                           directions, options, values, scratch, &
+                                           index_scratch, report) result(s)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:)
+    real(c_double), intent(in), target, contiguous :: stiffness(:)
+    integer(c_int8_t), intent(in), target, contiguous :: fixed(:), kinds(:)
+    real(c_double), intent(in), target, contiguous :: directions(:, :)
+    type(dk_spring_solve_options), intent(in) :: options
+    real(c_double), intent(inout), contiguous :: values(:, :)
+    real(c_double), intent(inout), contiguous :: scratch(:)
+    integer(c_int32_t), intent(inout), contiguous :: index_scratch(:)
+    type(dk_spring_solve_report), intent(inout) :: report
+    integer(c_int32_t) :: s
+    s = dk_spring_solve_linear_sliding(dkf_spring_system(dkf_graph(offsets, targets), &
+                                                         stiffness, fixed), &
+                                       dkf_constraints(kinds, directions), options, &
+                                       int(size(values, 1), c_int32_t), values, &
+                                       int(size(values), c_size_t), scratch, &
+                                       int(size(scratch), c_size_t), index_scratch, &
+                                       int(size(index_scratch), c_size_t), report)
   end function
 
   !> dk_spring_solve_linear_amg with assumed-shape arrays: values(components, node_count) is

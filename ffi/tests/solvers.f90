@@ -7,7 +7,8 @@
 ! dk_spring_solve_linear_amg with pools one element short refuses and leaves the values
 ! untouched. The sliding solve dk_spring_solve_linear_sliding with a dk_constraints built by
 ! dkf_constraints (and _f32): the middle node slides along x (normal (0, 1)), so x keeps the
-! interpolation and y is 0 there; directions one short are refused with the values untouched.
+! interpolation and y is 0 there; directions one short are refused with the values untouched;
+! the wrapper dkf_spring_solve_linear_sliding gives the same values.
 ! Prints "solvers: every check held" when every check holds.
 program solvers
   use, intrinsic :: iso_c_binding, only: c_double, c_float, c_int32_t, c_int8_t, c_size_t, &
@@ -177,6 +178,16 @@ program solvers
   call expect(maxval(abs(slid(1, :) - exact(1, :))) <= 1e-12_c_double, 'sliding x interpolated')
   call expect(maxval(abs(slid(2, :) - [0, 0, 0, 4, 8])) <= 1e-12_c_double, 'sliding y')
   call expect(slid(2, 3) == 0, 'sliding node on its line')
+  ! The same through the wrapper.
+  before = slid
+  slid = 0
+  slid(:, 1) = exact(:, 1)
+  slid(:, N) = exact(:, N)
+  call expect(dkf_spring_solve_linear_sliding(offsets, targets, stiffness, mask, kinds, &
+                                              directions, options, slid, scratch, &
+                                              index_scratch, report) == DK_OK, &
+              'sliding wrapper status')
+  call expect(all(slid == before), 'sliding wrapper: the same values')
   allocate(scratch32(len))
   values32 = 0
   values32(:, 1) = real(exact(:, 1), c_float)
