@@ -553,6 +553,39 @@ module deform_kernel
     integer(c_int32_t) :: method
   end type
 
+  !> What every node of a sliding (symmetry-plane) solve may do: the kernel's
+  !! `slide::Constraints`, for `dk_spring_solve_linear_sliding`,
+  !! `dk_spring_solve_angle_sliding`, their multigrid variants, `dk_slide_points` and
+  !! `dk_constraints_fixed_mask`. `kinds` holds one code per node: 0 free, 1 fixed
+  !! (Dirichlet), 2 slides on the plane (a line in 2D) through its position, 3 slides on the
+  !! line through its position. `directions` holds `dim` scalars per node: the unit normal of a
+  !! kind-2 node, the unit tangent of a kind-3 node (`| |n|² − 1 |` at most `√ε`: 1.5e-8 in
+  !! double, 3.5e-4 in float), ignored (any bits) for kinds 0 and 1. These functions require
+  !! the struct: there is no "absent" value, and an all-NULL struct (zero nodes) matches only a
+  !! zero-node system. Borrowed for the call that receives it, as `dk_graph`.
+  type, bind(C), public :: dk_constraints
+    !> One kind code (0 to 3) per node.
+    type(c_ptr) :: kinds
+    !> Entries of `kinds` (the node count).
+    integer(c_size_t) :: kinds_len
+    !> `dim` scalars per node (`x, y[, z]`): normals (kind 2) and tangents (kind 3).
+    type(c_ptr) :: directions
+    !> Entries of `directions` (`kinds_len * dim`).
+    integer(c_size_t) :: directions_len
+  end type
+
+  !> Single-precision twin of `dk_constraints` (`float` scalars).
+  type, bind(C), public :: dk_constraints_f32
+    !> One kind code (0 to 3) per node.
+    type(c_ptr) :: kinds
+    !> Entries of `kinds` (the node count).
+    integer(c_size_t) :: kinds_len
+    !> `dim` scalars per node (`x, y[, z]`): normals (kind 2) and tangents (kind 3).
+    type(c_ptr) :: directions
+    !> Entries of `directions` (`kinds_len * dim`).
+    integer(c_size_t) :: directions_len
+  end type
+
   !> Coarse-grid (multi-grid) settings: keep every `factor[d]`-th index in direction `d` (1 = do
   !! not coarsen; the last index is always kept) and the prolongation rule
   !! (`DK_PROLONGATION_VALUES` or `DK_PROLONGATION_CORRECTION`). Alter used `{4, 4, 1}` for
@@ -652,7 +685,7 @@ module deform_kernel
 
   public :: dk_status_str, dk_status_message
   public :: dkf_graph, dkf_cells, dkf_spring_system, dkf_spring_system_f32, dkf_plan_pools, &
-            dkf_plan_pools_f32
+            dkf_plan_pools_f32, dkf_constraints, dkf_constraints_f32
   public :: dkf_rotate_points, dkf_graph_from_edges, dkf_graph_from_cells_len, &
             dkf_graph_from_cells
   public :: dkf_quality_cell_measures, dkf_quality_cell_measures_f32, &
@@ -662,7 +695,7 @@ module deform_kernel
             dkf_plan_step, dkf_plan_step_f32, dkf_plan_open, dkf_plan_open_f32
   public :: dkf_spring_solve_linear_amg, dkf_spring_solve_linear_amg_f32
   public :: dkf_spring_solve_linear, dkf_taubin_smooth_arclength, dkf_taubin_smooth_structured, &
-            dkf_taubin_smooth_graph
+            dkf_taubin_smooth_graph, dkf_spring_solve_linear_sliding
   public :: dkf_deform_idw, dkf_deform_idw_f32, dkf_deform_tfi, dkf_deform_tfi_f32
   public :: dkf_deform_spring, dkf_deform_spring_f32
 
@@ -732,7 +765,17 @@ module deform_kernel
             dk_spring_solve_linear_amg_pool_sizes, dk_spring_solve_linear_amg_pool_sizes_f32, &
             dk_spring_solve_linear_amg, dk_spring_solve_linear_amg_f32, &
             dk_spring_solve_angle_amg_pool_sizes, dk_spring_solve_angle_amg_pool_sizes_f32, &
-            dk_spring_solve_angle_amg, dk_spring_solve_angle_amg_f32, dk_spring_wall_distances, &
+            dk_spring_solve_angle_amg, dk_spring_solve_angle_amg_f32, dk_constraints_fixed_mask, &
+            dk_constraints_fixed_mask_f32, dk_slide_points, dk_slide_points_f32, dk_fit_plane, &
+            dk_fit_plane_f32, dk_spring_solve_linear_sliding_scratch_len, &
+            dk_spring_solve_linear_sliding, dk_spring_solve_linear_sliding_f32, &
+            dk_spring_solve_angle_sliding_scratch_len, &
+            dk_spring_solve_angle_sliding_scratch_len_f32, dk_spring_solve_angle_sliding, &
+            dk_spring_solve_angle_sliding_f32, dk_spring_solve_linear_sliding_amg_pool_sizes, &
+            dk_spring_solve_linear_sliding_amg_pool_sizes_f32, dk_spring_solve_linear_sliding_amg, &
+            dk_spring_solve_linear_sliding_amg_f32, dk_spring_solve_angle_sliding_amg_pool_sizes, &
+            dk_spring_solve_angle_sliding_amg_pool_sizes_f32, dk_spring_solve_angle_sliding_amg, &
+            dk_spring_solve_angle_sliding_amg_f32, dk_spring_wall_distances, &
             dk_spring_wall_distances_f32, dk_spring_wall_distance_factors, &
             dk_spring_wall_distance_factors_f32, dk_spring_dual_volumes, &
             dk_spring_dual_volumes_f32, dk_spring_inverse_volume_factors, &
@@ -2515,6 +2558,304 @@ module deform_kernel
       type(dk_spring_solve_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
+    function dk_constraints_fixed_mask(constraints, dim, mask, mask_len) bind(C, &
+        name="dk_constraints_fixed_mask") result(s)
+      import :: c_int32_t, c_int8_t, c_size_t, dk_constraints
+      type(dk_constraints), intent(in) :: constraints
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(inout) :: mask(*)
+      integer(c_size_t), value :: mask_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_constraints_fixed_mask_f32(constraints, dim, mask, mask_len) bind(C, &
+        name="dk_constraints_fixed_mask_f32") result(s)
+      import :: c_int32_t, c_int8_t, c_size_t, dk_constraints_f32
+      type(dk_constraints_f32), intent(in) :: constraints
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(inout) :: mask(*)
+      integer(c_size_t), value :: mask_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_slide_points(constraints, dim, original, original_len, points, points_len) bind(C, &
+        name="dk_slide_points") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_constraints
+      type(dk_constraints), intent(in) :: constraints
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(in) :: original(*)
+      integer(c_size_t), value :: original_len
+      real(c_double), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_slide_points_f32(constraints, dim, original, original_len, points, points_len) &
+        bind(C, name="dk_slide_points_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_constraints_f32
+      type(dk_constraints_f32), intent(in) :: constraints
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(in) :: original(*)
+      integer(c_size_t), value :: original_len
+      real(c_float), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_fit_plane(points, points_len, dim, nodes, nodes_len, index_base, tolerance, &
+        index_scratch, index_scratch_len, normal_out, normal_out_len, point_out, point_out_len, &
+        residual_out, extent_out) bind(C, name="dk_fit_plane") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: nodes(*)
+      integer(c_size_t), value :: nodes_len
+      integer(c_int32_t), value :: index_base
+      real(c_double), value :: tolerance
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: normal_out(*)
+      integer(c_size_t), value :: normal_out_len
+      real(c_double), intent(inout) :: point_out(*)
+      integer(c_size_t), value :: point_out_len
+      real(c_double), intent(inout) :: residual_out
+      real(c_double), intent(inout) :: extent_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_fit_plane_f32(points, points_len, dim, nodes, nodes_len, index_base, tolerance, &
+        index_scratch, index_scratch_len, normal_out, normal_out_len, point_out, point_out_len, &
+        residual_out, extent_out) bind(C, name="dk_fit_plane_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: nodes(*)
+      integer(c_size_t), value :: nodes_len
+      integer(c_int32_t), value :: index_base
+      real(c_float), value :: tolerance
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: normal_out(*)
+      integer(c_size_t), value :: normal_out_len
+      real(c_float), intent(inout) :: point_out(*)
+      integer(c_size_t), value :: point_out_len
+      real(c_float), intent(inout) :: residual_out
+      real(c_float), intent(inout) :: extent_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_linear_sliding_scratch_len(node_count, dim, options, len_out) bind(C, &
+        name="dk_spring_solve_linear_sliding_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_spring_solve_options
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), value :: dim
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_linear_sliding(system, constraints, options, dim, values, values_len, &
+        scratch, scratch_len, index_scratch, index_scratch_len, report) bind(C, &
+        name="dk_spring_solve_linear_sliding") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_constraints, dk_spring_solve_options, &
+          dk_spring_solve_report, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
+      type(dk_constraints), intent(in) :: constraints
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_linear_sliding_f32(system, constraints, options, dim, values, &
+        values_len, scratch, scratch_len, index_scratch, index_scratch_len, report) bind(C, &
+        name="dk_spring_solve_linear_sliding_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_constraints_f32, dk_spring_solve_options, &
+          dk_spring_solve_report, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
+      type(dk_constraints_f32), intent(in) :: constraints
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle_sliding_scratch_len(node_count, dim, options, len_out) bind(C, &
+        name="dk_spring_solve_angle_sliding_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_spring_angle_options
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), value :: dim
+      type(dk_spring_angle_options), intent(in) :: options
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle_sliding_scratch_len_f32(node_count, dim, options, len_out) &
+        bind(C, name="dk_spring_solve_angle_sliding_scratch_len_f32") result(s)
+      import :: c_int32_t, c_size_t, dk_spring_angle_options
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), value :: dim
+      type(dk_spring_angle_options), intent(in) :: options
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle_sliding(system, points, points_len, dim, constraints, options, &
+        omega, values, values_len, scratch, scratch_len, index_scratch, index_scratch_len, report) &
+        bind(C, name="dk_spring_solve_angle_sliding") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_constraints, dk_spring_angle_options, &
+          dk_spring_solve_report, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_constraints), intent(in) :: constraints
+      type(dk_spring_angle_options), intent(in) :: options
+      real(c_double), value :: omega
+      real(c_double), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle_sliding_f32(system, points, points_len, dim, constraints, &
+        options, omega, values, values_len, scratch, scratch_len, index_scratch, &
+        index_scratch_len, report) bind(C, name="dk_spring_solve_angle_sliding_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_constraints_f32, dk_spring_angle_options, &
+          dk_spring_solve_report, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_constraints_f32), intent(in) :: constraints
+      type(dk_spring_angle_options), intent(in) :: options
+      real(c_float), value :: omega
+      real(c_float), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_linear_sliding_amg_pool_sizes(system, dim, amg, work, work_len, &
+        sizes_out) bind(C, name="dk_spring_solve_linear_sliding_amg_pool_sizes") result(s)
+      import :: c_int32_t, c_size_t, dk_amg_options, dk_plan_sizes, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
+      integer(c_int32_t), value :: dim
+      type(dk_amg_options), intent(in) :: amg
+      integer(c_int32_t), intent(inout) :: work(*)
+      integer(c_size_t), value :: work_len
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_linear_sliding_amg_pool_sizes_f32(system, dim, amg, work, work_len, &
+        sizes_out) bind(C, name="dk_spring_solve_linear_sliding_amg_pool_sizes_f32") result(s)
+      import :: c_int32_t, c_size_t, dk_amg_options, dk_plan_sizes, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
+      integer(c_int32_t), value :: dim
+      type(dk_amg_options), intent(in) :: amg
+      integer(c_int32_t), intent(inout) :: work(*)
+      integer(c_size_t), value :: work_len
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_linear_sliding_amg(system, constraints, options, amg, dim, values, &
+        values_len, pools, report) bind(C, name="dk_spring_solve_linear_sliding_amg") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_amg_options, dk_constraints, dk_plan_pools, &
+          dk_spring_solve_options, dk_spring_solve_report, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
+      type(dk_constraints), intent(in) :: constraints
+      type(dk_spring_solve_options), intent(in) :: options
+      type(dk_amg_options), intent(in) :: amg
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      type(dk_plan_pools), intent(in) :: pools
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_linear_sliding_amg_f32(system, constraints, options, amg, dim, &
+        values, values_len, pools, report) bind(C, name="dk_spring_solve_linear_sliding_amg_f32") &
+        result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_amg_options, dk_constraints_f32, &
+          dk_plan_pools_f32, dk_spring_solve_options, dk_spring_solve_report, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
+      type(dk_constraints_f32), intent(in) :: constraints
+      type(dk_spring_solve_options), intent(in) :: options
+      type(dk_amg_options), intent(in) :: amg
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      type(dk_plan_pools_f32), intent(in) :: pools
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle_sliding_amg_pool_sizes(system, dim, amg, work, work_len, &
+        sizes_out) bind(C, name="dk_spring_solve_angle_sliding_amg_pool_sizes") result(s)
+      import :: c_int32_t, c_size_t, dk_amg_options, dk_plan_sizes, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
+      integer(c_int32_t), value :: dim
+      type(dk_amg_options), intent(in) :: amg
+      integer(c_int32_t), intent(inout) :: work(*)
+      integer(c_size_t), value :: work_len
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle_sliding_amg_pool_sizes_f32(system, dim, amg, work, work_len, &
+        sizes_out) bind(C, name="dk_spring_solve_angle_sliding_amg_pool_sizes_f32") result(s)
+      import :: c_int32_t, c_size_t, dk_amg_options, dk_plan_sizes, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
+      integer(c_int32_t), value :: dim
+      type(dk_amg_options), intent(in) :: amg
+      integer(c_int32_t), intent(inout) :: work(*)
+      integer(c_size_t), value :: work_len
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle_sliding_amg(system, points, points_len, dim, constraints, &
+        options, amg, values, values_len, pools, report) bind(C, &
+        name="dk_spring_solve_angle_sliding_amg") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_amg_options, dk_constraints, dk_plan_pools, &
+          dk_spring_angle_options, dk_spring_solve_report, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_constraints), intent(in) :: constraints
+      type(dk_spring_angle_options), intent(in) :: options
+      type(dk_amg_options), intent(in) :: amg
+      real(c_double), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      type(dk_plan_pools), intent(in) :: pools
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_spring_solve_angle_sliding_amg_f32(system, points, points_len, dim, constraints, &
+        options, amg, values, values_len, pools, report) bind(C, &
+        name="dk_spring_solve_angle_sliding_amg_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_amg_options, dk_constraints_f32, &
+          dk_plan_pools_f32, dk_spring_angle_options, dk_spring_solve_report, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_constraints_f32), intent(in) :: constraints
+      type(dk_spring_angle_options), intent(in) :: options
+      type(dk_amg_options), intent(in) :: amg
+      real(c_float), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      type(dk_plan_pools_f32), intent(in) :: pools
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
     function dk_spring_wall_distances(points, points_len, dim, wall, wall_len, index_base, &
         index_scratch, index_scratch_len, out, out_len) bind(C, name="dk_spring_wall_distances") &
         result(s)
@@ -3234,6 +3575,33 @@ contains
                                index_scratch, int(size(index_scratch), c_size_t), report)
   end function
 
+  !> dk_spring_solve_linear_sliding with assumed-shape arrays: values(dim, node_count)
+  !> (displacements, dim = size(values, 1), 2 or 3) is updated in place; kinds(node_count) and
+  !> directions(dim, node_count) as for dkf_constraints, fixed the mask
+  !> dk_constraints_fixed_mask writes; scratch needs dk_spring_solve_linear_sliding_scratch_len
+  !> values, index_scratch node_count entries; the rest as dkf_spring_solve_linear.
+  function dkf_spring_solve_linear_sliding(offsets, targets, stiffness, fixed, kinds, &
+                                           directions, options, values, scratch, &
+                                           index_scratch, report) result(s)
+    integer(c_int32_t), intent(in), target, contiguous :: offsets(:), targets(:)
+    real(c_double), intent(in), target, contiguous :: stiffness(:)
+    integer(c_int8_t), intent(in), target, contiguous :: fixed(:), kinds(:)
+    real(c_double), intent(in), target, contiguous :: directions(:, :)
+    type(dk_spring_solve_options), intent(in) :: options
+    real(c_double), intent(inout), contiguous :: values(:, :)
+    real(c_double), intent(inout), contiguous :: scratch(:)
+    integer(c_int32_t), intent(inout), contiguous :: index_scratch(:)
+    type(dk_spring_solve_report), intent(inout) :: report
+    integer(c_int32_t) :: s
+    s = dk_spring_solve_linear_sliding(dkf_spring_system(dkf_graph(offsets, targets), &
+                                                         stiffness, fixed), &
+                                       dkf_constraints(kinds, directions), options, &
+                                       int(size(values, 1), c_int32_t), values, &
+                                       int(size(values), c_size_t), scratch, &
+                                       int(size(scratch), c_size_t), index_scratch, &
+                                       int(size(index_scratch), c_size_t), report)
+  end function
+
   !> dk_spring_solve_linear_amg with assumed-shape arrays: values(components, node_count) is
   !> updated in place (components = size(values, 1), 1 to 7); offsets/targets are the 0-based
   !> CSR graph from dk_graph_from_*; options gives the stopping rules, amg the multigrid options
@@ -3814,6 +4182,18 @@ contains
                            c_loc(fixed), size(fixed, kind=c_size_t))
   end function
 
+  !> A dk_constraints for the sliding functions: kinds(n) (0 free, 1 fixed, 2 plane, 3 line)
+  !> and directions(dim, n) (unit normals of kind 2, unit tangents of kind 3, ignored
+  !> otherwise); arrays as for dkf_graph.
+  function dkf_constraints(kinds, directions) result(c)
+    use, intrinsic :: iso_c_binding, only: c_loc
+    integer(c_int8_t), intent(in), target, contiguous :: kinds(:)
+    real(c_double), intent(in), target, contiguous :: directions(:, :)
+    type(dk_constraints) :: c
+    c = dk_constraints(c_loc(kinds), size(kinds, kind=c_size_t), c_loc(directions), &
+                       size(directions, kind=c_size_t))
+  end function
+
   ! <<< generated by `cargo xtask codegen`: the _f32 twins of the dkf_ wrappers above >>>
   !> Single-precision twin of dkf_fill_motion.
   !> Fills m for the dkf_deform_* wrappers: 1-based nodes(b) and deformed(dim, b); optional
@@ -4260,6 +4640,19 @@ contains
     type(dk_spring_system_f32) :: sys
     sys = dk_spring_system_f32(graph, c_loc(stiffness), size(stiffness, kind=c_size_t), &
                            c_loc(fixed), size(fixed, kind=c_size_t))
+  end function
+
+  !> Single-precision twin of dkf_constraints.
+  !> A dk_constraints_f32 for the sliding functions: kinds(n) (0 free, 1 fixed, 2 plane, 3 line)
+  !> and directions(dim, n) (unit normals of kind 2, unit tangents of kind 3, ignored
+  !> otherwise); arrays as for dkf_graph.
+  function dkf_constraints_f32(kinds, directions) result(c)
+    use, intrinsic :: iso_c_binding, only: c_loc
+    integer(c_int8_t), intent(in), target, contiguous :: kinds(:)
+    real(c_float), intent(in), target, contiguous :: directions(:, :)
+    type(dk_constraints_f32) :: c
+    c = dk_constraints_f32(c_loc(kinds), size(kinds, kind=c_size_t), c_loc(directions), &
+                       size(directions, kind=c_size_t))
   end function
 
   !> Single-precision twin of dkf_plan_pools.

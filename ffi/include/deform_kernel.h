@@ -625,6 +625,39 @@ typedef struct {
   uint32_t method;
 } dk_spring_angle_options;
 
+// What every node of a sliding (symmetry-plane) solve may do: the kernel's
+// `slide::Constraints`, for [`dk_spring_solve_linear_sliding`],
+// [`dk_spring_solve_angle_sliding`], their multigrid variants, [`dk_slide_points`] and
+// [`dk_constraints_fixed_mask`]. `kinds` holds one code per node: 0 free, 1 fixed
+// (Dirichlet), 2 slides on the plane (a line in 2D) through its position, 3 slides on the
+// line through its position. `directions` holds `dim` scalars per node: the unit normal of a
+// kind-2 node, the unit tangent of a kind-3 node (`| |n|² − 1 |` at most `√ε`: 1.5e-8 in
+// double, 3.5e-4 in float), ignored (any bits) for kinds 0 and 1. These functions require
+// the struct: there is no "absent" value, and an all-NULL struct (zero nodes) matches only a
+// zero-node system. Borrowed for the call that receives it, as [`dk_graph`].
+typedef struct {
+  // One kind code (0 to 3) per node.
+  const uint8_t *kinds;
+  // Entries of `kinds` (the node count).
+  size_t kinds_len;
+  // `dim` scalars per node (`x, y[, z]`): normals (kind 2) and tangents (kind 3).
+  const double *directions;
+  // Entries of `directions` (`kinds_len * dim`).
+  size_t directions_len;
+} dk_constraints;
+
+// Single-precision twin of [`dk_constraints`] (`float` scalars).
+typedef struct {
+  // One kind code (0 to 3) per node.
+  const uint8_t *kinds;
+  // Entries of `kinds` (the node count).
+  size_t kinds_len;
+  // `dim` scalars per node (`x, y[, z]`): normals (kind 2) and tangents (kind 3).
+  const float *directions;
+  // Entries of `directions` (`kinds_len * dim`).
+  size_t directions_len;
+} dk_constraints_f32;
+
 // Coarse-grid (multi-grid) settings: keep every `factor[d]`-th index in direction `d` (1 = do
 // not coarsen; the last index is always kept) and the prolongation rule
 // (`DK_PROLONGATION_VALUES` or `DK_PROLONGATION_CORRECTION`). Alter used `{4, 4, 1}` for
@@ -2866,6 +2899,393 @@ dk_status dk_spring_solve_angle_amg_f32(const dk_spring_system_f32 *system,
                                         size_t values_len,
                                         const dk_plan_pools_f32 *pools,
                                         dk_spring_solve_report *report);
+
+// Writes the fixed mask of the spring system a sliding solve needs: `mask[i]` = 1 where
+// `constraints->kinds[i]` is 1 (fixed), else 0 (free and sliding nodes are unknowns of the
+// system). Build the [`dk_spring_system`] of [`dk_spring_solve_linear_sliding`] and its
+// siblings with it: they refuse a mask that differs (`DK_ERR_INVALID_PARAMETER`).
+// `mask_len` = `constraints->kinds_len`; `dim` (2 or 3) says how the directions are read.
+//
+// Errors (nothing written): `DK_ERR_LENGTH_MISMATCH` (`mask_len`, `directions_len` not
+// `dim * kinds_len`), `DK_ERR_INDEX_OUT_OF_RANGE` (a kind above 3), `DK_ERR_NON_FINITE`,
+// `DK_ERR_NOT_UNIT` (a sliding node's direction), `DK_ERR_INVALID_PARAMETER` (`dim`),
+// pointer errors.
+//
+// # Safety
+// `constraints` points to one readable struct whose arrays are readable for their lengths;
+// `mask` is writable for `mask_len` bytes and overlaps nothing else.
+dk_status dk_constraints_fixed_mask(const dk_constraints *constraints,
+                                    uint32_t dim,
+                                    uint8_t *mask,
+                                    size_t mask_len);
+
+// `f32` twin of [`dk_constraints_fixed_mask`].
+//
+// # Safety
+// As [`dk_constraints_fixed_mask`].
+dk_status dk_constraints_fixed_mask_f32(const dk_constraints_f32 *constraints,
+                                        uint32_t dim,
+                                        uint8_t *mask,
+                                        size_t mask_len);
+
+// Projects the motion of every sliding node onto its plane or line (the kernel's
+// `slide::slide_points`): `points[i] = original[i] + P_i (points[i] − original[i])` for
+// kinds 2 and 3 (`P` = `I − n nᵀ` for a plane, `t tᵀ` for a line); free and fixed nodes are
+// left as they are. Call it after a propagation in which the sliding nodes were ordinary
+// field nodes (e.g. `dk_deform_idw`). `original` and `points`: `dim` scalars per node,
+// `kinds_len` nodes.
+//
+// Errors (`points` unchanged): `DK_ERR_LENGTH_MISMATCH`, `DK_ERR_NON_FINITE` (`original`,
+// `points`), `DK_ERR_OVERFLOW` (a projected position not finite), the constraints' errors
+// of [`dk_constraints_fixed_mask`], pointer errors.
+//
+// # Safety
+// `constraints` points to one readable struct whose arrays are readable for their lengths;
+// `original` readable for `original_len` scalars; `points` readable and writable for
+// `points_len` scalars, overlapping nothing else.
+dk_status dk_slide_points(const dk_constraints *constraints,
+                          uint32_t dim,
+                          const double *original,
+                          size_t original_len,
+                          double *points,
+                          size_t points_len);
+
+// `f32` twin of [`dk_slide_points`].
+//
+// # Safety
+// As [`dk_slide_points`].
+dk_status dk_slide_points_f32(const dk_constraints_f32 *constraints,
+                              uint32_t dim,
+                              const float *original,
+                              size_t original_len,
+                              float *points,
+                              size_t points_len);
+
+// Fits a plane (3D) or line (2D) to the nodes `nodes` (read with `index_base`) of `points`
+// by least squares (the kernel's `slide::fit_plane`): the unit normal (its largest-magnitude
+// component positive) into `normal_out`, the centroid into `point_out` (`dim` scalars each,
+// `normal_out_len` = `point_out_len` = `dim`), the residual `max |n · (x − c)|` into
+// `*residual_out` and the largest distance of a node from the centroid into `*extent_out`.
+// A set farther from its plane than `tolerance * extent` is refused (`DK_ERR_NOT_PLANAR`;
+// pass `INFINITY` to never refuse and read the residual). Use the normal as a kind-2
+// direction of [`dk_constraints`]. `index_scratch`: `nodes_len` entries for `index_base` 1,
+// NULL with length 0 for 0.
+//
+// Errors (outputs unchanged): `DK_ERR_INVALID_PARAMETER` (fewer than `dim` nodes, nodes that
+// do not span a plane, `tolerance` NaN or negative, `dim`), `DK_ERR_INDEX_OUT_OF_RANGE`,
+// `DK_ERR_NON_FINITE`, `DK_ERR_OVERFLOW`, `DK_ERR_NOT_PLANAR`, `DK_ERR_BAD_INDEX_BASE`,
+// `DK_ERR_BUFFER_TOO_SMALL` (`index_scratch`), length and pointer errors.
+//
+// # Safety
+// `points` readable for `points_len` scalars, `nodes` for `nodes_len` entries;
+// `index_scratch`, `normal_out` and `point_out` writable for their lengths; `residual_out`
+// and `extent_out` writable for one scalar each; writable buffers overlap nothing else.
+dk_status dk_fit_plane(const double *points,
+                       size_t points_len,
+                       uint32_t dim,
+                       const uint32_t *nodes,
+                       size_t nodes_len,
+                       uint32_t index_base,
+                       double tolerance,
+                       uint32_t *index_scratch,
+                       size_t index_scratch_len,
+                       double *normal_out,
+                       size_t normal_out_len,
+                       double *point_out,
+                       size_t point_out_len,
+                       double *residual_out,
+                       double *extent_out);
+
+// `f32` twin of [`dk_fit_plane`].
+//
+// # Safety
+// As [`dk_fit_plane`].
+dk_status dk_fit_plane_f32(const float *points,
+                           size_t points_len,
+                           uint32_t dim,
+                           const uint32_t *nodes,
+                           size_t nodes_len,
+                           uint32_t index_base,
+                           float tolerance,
+                           uint32_t *index_scratch,
+                           size_t index_scratch_len,
+                           float *normal_out,
+                           size_t normal_out_len,
+                           float *point_out,
+                           size_t point_out_len,
+                           float *residual_out,
+                           float *extent_out);
+
+// Scalars of `scratch` [`dk_spring_solve_linear_sliding`] needs for `options->method`:
+// `2 * node_count * dim` for Jacobi, `node_count * dim` for Gauss–Seidel and SOR, `6 *
+// node_count * dim` for CG (a scaled copy of the values, the CG vectors and the diagonal;
+// same count for both precisions).
+//
+// # Safety
+// `options` points to one readable struct; `len_out` to one writable `size_t`.
+dk_status dk_spring_solve_linear_sliding_scratch_len(size_t node_count,
+                                                     uint32_t dim,
+                                                     const dk_spring_solve_options *options,
+                                                     size_t *len_out);
+
+// [`dk_spring_solve_linear`] with sliding nodes (symmetry planes; the kernel's
+// `SpringSystem::solve_linear_sliding`, with the same bits): the displacements minimise the
+// spring energy over each node's allowed motions, `P K P d = P b` on `range(P)` with `P_i` =
+// `I` (free), 0 (fixed), `I − n nᵀ` (plane), `t tᵀ` (line), solved jointly over the `dim`
+// components (2 or 3, as the directions). `values` holds `node_count * dim` displacements:
+// prescribed at fixed nodes, the initial guess elsewhere; on `DK_OK` the last iterate, every
+// sliding node's displacement in its plane or line to rounding, and `*report` (residual
+// `‖P (b − K d)‖ / ‖P b‖`) says whether it converged. The one-level methods of `options`
+// (Jacobi, Gauss–Seidel, SOR project each node's update; CG with its preconditioner applied
+// as `P M⁻¹ P`). `system` must be built with the mask [`dk_constraints_fixed_mask`] writes.
+// `scratch` needs [`dk_spring_solve_linear_sliding_scratch_len`] scalars, `index_scratch`
+// [`dk_spring_index_scratch_len`] entries.
+//
+// Errors (values and report unchanged): `DK_ERR_INVALID_PARAMETER` (a fixed mask that
+// differs from the constraints' kind 1, `dim`, and as [`dk_spring_solve_linear`]), the
+// constraints' errors of [`dk_constraints_fixed_mask`] (`DK_ERR_LENGTH_MISMATCH` when they
+// do not have `node_count` nodes), `DK_ERR_OVERFLOW`, and those of
+// [`dk_spring_solve_linear`].
+//
+// # Safety
+// As [`dk_spring_solve_linear`]; `constraints` points to one readable struct whose arrays
+// are readable for their lengths.
+dk_status dk_spring_solve_linear_sliding(const dk_spring_system *system,
+                                         const dk_constraints *constraints,
+                                         const dk_spring_solve_options *options,
+                                         uint32_t dim,
+                                         double *values,
+                                         size_t values_len,
+                                         double *scratch,
+                                         size_t scratch_len,
+                                         uint32_t *index_scratch,
+                                         size_t index_scratch_len,
+                                         dk_spring_solve_report *report);
+
+// `f32` twin of [`dk_spring_solve_linear_sliding`].
+//
+// # Safety
+// As [`dk_spring_solve_linear_sliding`].
+dk_status dk_spring_solve_linear_sliding_f32(const dk_spring_system_f32 *system,
+                                             const dk_constraints_f32 *constraints,
+                                             const dk_spring_solve_options *options,
+                                             uint32_t dim,
+                                             float *values,
+                                             size_t values_len,
+                                             float *scratch,
+                                             size_t scratch_len,
+                                             uint32_t *index_scratch,
+                                             size_t index_scratch_len,
+                                             dk_spring_solve_report *report);
+
+// Scalars of `scratch` [`dk_spring_solve_angle_sliding`] needs: per node and coordinate, 2
+// for direct Jacobi, 1 for direct Gauss–Seidel, 5 for CG, and at least 4 whenever
+// `options->epsilon` is 0 (the rigidity probe).
+//
+// # Safety
+// `options` points to one readable struct; `len_out` to one writable `size_t`.
+dk_status dk_spring_solve_angle_sliding_scratch_len(size_t node_count,
+                                                    uint32_t dim,
+                                                    const dk_spring_angle_options *options,
+                                                    size_t *len_out);
+
+// `f32` twin of [`dk_spring_solve_angle_sliding_scratch_len`] (differs only when `epsilon`
+// rounds to 0 in `float`).
+//
+// # Safety
+// As [`dk_spring_solve_angle_sliding_scratch_len`].
+dk_status dk_spring_solve_angle_sliding_scratch_len_f32(size_t node_count,
+                                                        uint32_t dim,
+                                                        const dk_spring_angle_options *options,
+                                                        size_t *len_out);
+
+// [`dk_spring_solve_angle`] with sliding nodes (the kernel's
+// `AngleSystem::solve_angle_sliding`, with the same bits): the problem of
+// [`dk_spring_solve_linear_sliding`] with the angle springs' edge blocks. The direct methods
+// solve each node's projected block `(P A P + s (I − P)) δ = P r` (`s = tr A / dim`), in
+// Gauss–Seidel order over-relaxed by `omega` (1 = plain) or in Jacobi order; `DK_ANGLE_CG`
+// runs on the projected system with the projected node blocks as preconditioner. `omega`
+// must be in (0, 2) for every method. With `options->epsilon` 0 the unconstrained rigidity
+// probe runs first. `scratch` needs [`dk_spring_solve_angle_sliding_scratch_len`] scalars.
+// Values, report and the sliding guarantee as [`dk_spring_solve_linear_sliding`].
+//
+// Errors (values and report unchanged): those of [`dk_spring_solve_angle`] and of
+// [`dk_spring_solve_linear_sliding`]; `DK_ERR_INVALID_PARAMETER` for `omega`.
+//
+// # Safety
+// As [`dk_spring_solve_linear_sliding`]; `points` readable for `points_len` scalars.
+dk_status dk_spring_solve_angle_sliding(const dk_spring_system *system,
+                                        const double *points,
+                                        size_t points_len,
+                                        uint32_t dim,
+                                        const dk_constraints *constraints,
+                                        const dk_spring_angle_options *options,
+                                        double omega,
+                                        double *values,
+                                        size_t values_len,
+                                        double *scratch,
+                                        size_t scratch_len,
+                                        uint32_t *index_scratch,
+                                        size_t index_scratch_len,
+                                        dk_spring_solve_report *report);
+
+// `f32` twin of [`dk_spring_solve_angle_sliding`].
+//
+// # Safety
+// As [`dk_spring_solve_angle_sliding`].
+dk_status dk_spring_solve_angle_sliding_f32(const dk_spring_system_f32 *system,
+                                            const float *points,
+                                            size_t points_len,
+                                            uint32_t dim,
+                                            const dk_constraints_f32 *constraints,
+                                            const dk_spring_angle_options *options,
+                                            float omega,
+                                            float *values,
+                                            size_t values_len,
+                                            float *scratch,
+                                            size_t scratch_len,
+                                            uint32_t *index_scratch,
+                                            size_t index_scratch_len,
+                                            dk_spring_solve_report *report);
+
+// The exact pool lengths [`dk_spring_solve_linear_sliding_amg`] needs for this system (built
+// with [`dk_constraints_fixed_mask`]), `dim` (2 or 3) and multigrid options, as
+// [`dk_spring_solve_linear_amg_pool_sizes`] (the same `work`, from
+// [`dk_spring_amg_work_len`]) but with `(6 N + 3 × coarse unknowns) * dim` scratch scalars
+// (the sliding solve also keeps a scaled copy of the values). The sizes do not depend on the
+// constraints. Errors as [`dk_spring_solve_linear_amg_pool_sizes`] (`dim` instead of
+// `components`).
+//
+// # Safety
+// As [`dk_spring_solve_linear_amg_pool_sizes`].
+dk_status dk_spring_solve_linear_sliding_amg_pool_sizes(const dk_spring_system *system,
+                                                        uint32_t dim,
+                                                        const dk_amg_options *amg,
+                                                        uint32_t *work,
+                                                        size_t work_len,
+                                                        dk_plan_sizes *sizes_out);
+
+// `f32` twin of [`dk_spring_solve_linear_sliding_amg_pool_sizes`].
+//
+// # Safety
+// As [`dk_spring_solve_linear_sliding_amg_pool_sizes`].
+dk_status dk_spring_solve_linear_sliding_amg_pool_sizes_f32(const dk_spring_system_f32 *system,
+                                                            uint32_t dim,
+                                                            const dk_amg_options *amg,
+                                                            uint32_t *work,
+                                                            size_t work_len,
+                                                            dk_plan_sizes *sizes_out);
+
+// [`dk_spring_solve_linear_sliding`]'s problem solved by its projected CG preconditioned
+// with one smoothed-aggregation multigrid V-cycle per iteration, applied as `P M⁻¹ P` (the
+// kernel's `AmgHierarchy::setup` on the system, sliding nodes free, then
+// `solve_linear_sliding` with `LinearSolver::Amg`, with the same bits). The hierarchy is
+// rebuilt in `pools` on every call (lengths from
+// [`dk_spring_solve_linear_sliding_amg_pool_sizes`]; `bytes` unused); plans do not take
+// sliding kinds yet.
+//
+// Arguments as [`dk_spring_solve_linear_sliding`] (`options` gives only the stopping rules),
+// plus `amg` and `pools` as for [`dk_spring_solve_linear_amg`].
+//
+// Errors (values and report unchanged): those of [`dk_spring_solve_linear_sliding`] and of
+// [`dk_spring_solve_linear_amg`].
+//
+// # Safety
+// As [`dk_spring_solve_linear_amg`]; `constraints` points to one readable struct whose
+// arrays are readable for their lengths.
+dk_status dk_spring_solve_linear_sliding_amg(const dk_spring_system *system,
+                                             const dk_constraints *constraints,
+                                             const dk_spring_solve_options *options,
+                                             const dk_amg_options *amg,
+                                             uint32_t dim,
+                                             double *values,
+                                             size_t values_len,
+                                             const dk_plan_pools *pools,
+                                             dk_spring_solve_report *report);
+
+// `f32` twin of [`dk_spring_solve_linear_sliding_amg`].
+//
+// # Safety
+// As [`dk_spring_solve_linear_sliding_amg`].
+dk_status dk_spring_solve_linear_sliding_amg_f32(const dk_spring_system_f32 *system,
+                                                 const dk_constraints_f32 *constraints,
+                                                 const dk_spring_solve_options *options,
+                                                 const dk_amg_options *amg,
+                                                 uint32_t dim,
+                                                 float *values,
+                                                 size_t values_len,
+                                                 const dk_plan_pools_f32 *pools,
+                                                 dk_spring_solve_report *report);
+
+// The exact pool lengths [`dk_spring_solve_angle_sliding_amg`] needs: the same as
+// [`dk_spring_solve_linear_sliding_amg_pool_sizes`] with the same `dim` (the angle solve
+// applies the scalar linear-spring hierarchy to each displacement component; its scratch
+// also covers the rigidity probe when `epsilon` is 0). Errors as
+// [`dk_spring_solve_linear_sliding_amg_pool_sizes`].
+//
+// # Safety
+// As [`dk_spring_solve_linear_amg_pool_sizes`].
+dk_status dk_spring_solve_angle_sliding_amg_pool_sizes(const dk_spring_system *system,
+                                                       uint32_t dim,
+                                                       const dk_amg_options *amg,
+                                                       uint32_t *work,
+                                                       size_t work_len,
+                                                       dk_plan_sizes *sizes_out);
+
+// `f32` twin of [`dk_spring_solve_angle_sliding_amg_pool_sizes`].
+//
+// # Safety
+// As [`dk_spring_solve_angle_sliding_amg_pool_sizes`].
+dk_status dk_spring_solve_angle_sliding_amg_pool_sizes_f32(const dk_spring_system_f32 *system,
+                                                           uint32_t dim,
+                                                           const dk_amg_options *amg,
+                                                           uint32_t *work,
+                                                           size_t work_len,
+                                                           dk_plan_sizes *sizes_out);
+
+// [`dk_spring_solve_angle_sliding`]'s projected CG preconditioned by one V-cycle of the
+// scalar linear-spring multigrid hierarchy per displacement component, applied as `P M⁻¹ P`
+// (the kernel's `AmgHierarchy::setup` on the system, then
+// `AngleSystem::solve_angle_sliding_amg`, with the same bits). The hierarchy is rebuilt in
+// `pools` on every call (lengths from [`dk_spring_solve_angle_sliding_amg_pool_sizes`]).
+//
+// Arguments as [`dk_spring_solve_angle_sliding`] without `omega` and the scratch buffers,
+// `options->method` ignored (`epsilon` and the stopping rules are used; with `epsilon` 0 the
+// rigidity probe runs first), plus `amg` and `pools` as for [`dk_spring_solve_angle_amg`].
+//
+// Errors (values and report unchanged): those of [`dk_spring_solve_angle_sliding`] and of
+// [`dk_spring_solve_angle_amg`].
+//
+// # Safety
+// As [`dk_spring_solve_angle_amg`]; `constraints` points to one readable struct whose
+// arrays are readable for their lengths.
+dk_status dk_spring_solve_angle_sliding_amg(const dk_spring_system *system,
+                                            const double *points,
+                                            size_t points_len,
+                                            uint32_t dim,
+                                            const dk_constraints *constraints,
+                                            const dk_spring_angle_options *options,
+                                            const dk_amg_options *amg,
+                                            double *values,
+                                            size_t values_len,
+                                            const dk_plan_pools *pools,
+                                            dk_spring_solve_report *report);
+
+// `f32` twin of [`dk_spring_solve_angle_sliding_amg`].
+//
+// # Safety
+// As [`dk_spring_solve_angle_sliding_amg`].
+dk_status dk_spring_solve_angle_sliding_amg_f32(const dk_spring_system_f32 *system,
+                                                const float *points,
+                                                size_t points_len,
+                                                uint32_t dim,
+                                                const dk_constraints_f32 *constraints,
+                                                const dk_spring_angle_options *options,
+                                                const dk_amg_options *amg,
+                                                float *values,
+                                                size_t values_len,
+                                                const dk_plan_pools_f32 *pools,
+                                                dk_spring_solve_report *report);
 
 // A static, NUL-terminated English description of `status`. Never NULL; unknown values give
 // "unknown status".

@@ -22,16 +22,18 @@
 #![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
 
 use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
+use deform_kernel::slide::{fit_plane, slide_points, Constraints};
 use deform_kernel::spring::{
-    amg_setup_work_len, batina_stiffness, solve_linear_scratch_len, AmgHierarchy, AmgOptions,
-    AmgSmoother, AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions, SolveReport,
+    amg_setup_work_len, batina_stiffness, solve_linear_scratch_len,
+    solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother, AngleMethod,
+    AngleSystem, LinearMethod, LinearSolver, Preconditioner, SolveOptions, SolveReport,
     SpringSystem, Sweep, DEFAULT_ANGLE_EPSILON,
 };
 use deform_kernel::Real;
 
 use crate::args::{
-    assert_layout, by_components, by_dim, done, mul_len, range, read_one, read_points, write_len,
-    write_one,
+    assert_layout, by_components, by_dim, done, mul_len, range, read_one, read_points, rebase,
+    write_len, write_one,
 };
 use crate::graph::{dk_graph, read_graph, GraphIn};
 use crate::plan::{dk_plan_pools, dk_plan_pools_f32, dk_plan_sizes, PoolArgs, PoolsC};
@@ -379,6 +381,80 @@ impl<'a, T: Real> SystemIn<'a, T> {
     }
 }
 
+// codegen: f32 twin
+/// What every node of a sliding (symmetry-plane) solve may do: the kernel's
+/// `slide::Constraints`, for [`dk_spring_solve_linear_sliding`],
+/// [`dk_spring_solve_angle_sliding`], their multigrid variants, [`dk_slide_points`] and
+/// [`dk_constraints_fixed_mask`]. `kinds` holds one code per node: 0 free, 1 fixed
+/// (Dirichlet), 2 slides on the plane (a line in 2D) through its position, 3 slides on the
+/// line through its position. `directions` holds `dim` scalars per node: the unit normal of a
+/// kind-2 node, the unit tangent of a kind-3 node (`| |n|² − 1 |` at most `√ε`: 1.5e-8 in
+/// double, 3.5e-4 in float), ignored (any bits) for kinds 0 and 1. These functions require
+/// the struct: there is no "absent" value, and an all-NULL struct (zero nodes) matches only a
+/// zero-node system. Borrowed for the call that receives it, as [`dk_graph`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+#[allow(non_camel_case_types)]
+pub struct dk_constraints {
+    /// One kind code (0 to 3) per node.
+    pub kinds: *const u8,
+    /// Entries of `kinds` (the node count).
+    pub kinds_len: usize,
+    /// `dim` scalars per node (`x, y[, z]`): normals (kind 2) and tangents (kind 3).
+    pub directions: *const f64,
+    /// Entries of `directions` (`kinds_len * dim`).
+    pub directions_len: usize,
+}
+assert_layout!(dk_constraints, 32; kinds = 0, kinds_len = 8, directions = 16, directions_len = 24);
+
+/// The arrays of a constraints struct as tokens.
+#[derive(Clone, Copy)]
+pub(crate) struct ConstraintsIn<'a, T> {
+    kinds: In<'a, u8>,
+    directions: In<'a, T>,
+}
+
+/// The two C constraints structs, seen through [`ConstraintsIn`].
+pub(crate) trait ConstraintsC: Copy {
+    type T: Real;
+    /// Reads the struct and wraps its arrays in tokens of the struct's lifetime.
+    fn read(p: In<'_, Self>) -> Result<ConstraintsIn<'_, Self::T>, dk_status>;
+}
+
+macro_rules! constraints_c {
+    ($ty:ty, $t:ty) => {
+        impl ConstraintsC for $ty {
+            type T = $t;
+            fn read(p: In<'_, Self>) -> Result<ConstraintsIn<'_, $t>, dk_status> {
+                let c = read_one(p)?;
+                // SAFETY: a token for a constraints struct carries the contract of the
+                // functions that take one: its arrays are readable for their lengths while it
+                // is.
+                Ok(unsafe {
+                    ConstraintsIn {
+                        kinds: In::new(c.kinds, c.kinds_len),
+                        directions: In::new(c.directions, c.directions_len),
+                    }
+                })
+            }
+        }
+    };
+}
+constraints_c!(dk_constraints, f64);
+constraints_c!(dk_constraints_f32, f32);
+
+impl<'a, T: Real> ConstraintsIn<'a, T> {
+    /// Borrows and validates the table (the kernel's `Constraints::new`): `directions_len`
+    /// not a multiple of `D` or not `D * kinds_len` is `DK_ERR_LENGTH_MISMATCH`, a code above
+    /// 3 `DK_ERR_INDEX_OUT_OF_RANGE`, a sliding node's direction `DK_ERR_NON_FINITE` /
+    /// `DK_ERR_NOT_UNIT`.
+    pub(crate) fn build<const D: usize>(self) -> Result<Constraints<'a, T, D>, dk_status> {
+        let kinds = input(self.kinds)?;
+        let directions = chunks::<T, D>(self.directions)?;
+        Constraints::new(kinds, directions).map_err(dk_status::from)
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Shared argument handling.
 // ---------------------------------------------------------------------------------------------
@@ -694,25 +770,28 @@ struct AmgPlan {
     work: usize,
     index: usize,
     values: usize,
-    /// Scratch items (`[T; V]`) of the solve: `5 N + 3 × coarse unknowns`, the kernel's
-    /// `solve_linear_amg_scratch_len` and `angle_amg_scratch_len`.
+    /// Scratch items (`[T; V]`) of the solve: `fine N + 3 × coarse unknowns`, with `fine` =
+    /// [`AMG_FINE`] (the kernel's `solve_linear_amg_scratch_len` and `angle_amg_scratch_len`)
+    /// or [`SLIDING_AMG_FINE`] (`solve_linear_sliding_scratch_len` with a hierarchy and
+    /// `solve_angle_sliding_amg_scratch_len`).
     items: usize,
 }
 
 impl AmgPlan {
     /// Validated system in hand, runs the symbolic pass in the front of `indices` and says
-    /// where everything goes.
+    /// where everything goes, for a solve of `fine` vectors of the fine level.
     fn of<T: Real>(
         sys: &SpringSystem<'_, T>,
         options: &AmgOptions<T>,
         indices: &mut [u32],
+        fine: usize,
     ) -> Result<Self, dk_status> {
         let work = AmgHierarchy::setup_work_len(sys);
         let front = indices
             .get_mut(..work)
             .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
         let sizes = AmgHierarchy::setup_len(sys, options, front).map_err(dk_status::from)?;
-        let items = mul_len(sys.node_count(), 5)?
+        let items = mul_len(sys.node_count(), fine)?
             .checked_add(mul_len(sizes.coarse_unknowns, 3)?)
             .ok_or(dk_status::DK_ERR_TOO_LARGE)?;
         Ok(AmgPlan {
@@ -739,6 +818,13 @@ impl AmgPlan {
         })
     }
 }
+
+/// Fine-level vectors of the multigrid CG: iterate, residual, direction, `A p`, preconditioned
+/// residual.
+const AMG_FINE: usize = 5;
+/// Fine-level vectors of the sliding multigrid CG: the scaled copy, the four CG vectors and the
+/// preconditioner's fine vector (the kernel's `5 n + amg_precondition_scratch_len`).
+const SLIDING_AMG_FINE: usize = 6;
 
 /// Sets the hierarchy up in the pools (after [`AmgPlan::of`] ran the symbolic pass in the
 /// front of `indices`) and returns it with the solve's scratch. Every length is checked
@@ -796,11 +882,22 @@ fn amg_pool_sizes_v<T: Real, const V: usize>(
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
+    pool_sizes_v::<T, V>(system, amg, work, sizes_out, AMG_FINE)
+}
+
+/// The pool lengths of a multigrid solve of `V` components with `fine` fine-level vectors.
+fn pool_sizes_v<T: Real, const V: usize>(
+    system: Result<SystemIn<'_, T>, dk_status>,
+    amg: In<'_, dk_amg_options>,
+    work: Out<'_, u32>,
+    sizes_out: Out<'_, dk_plan_sizes>,
+    fine: usize,
+) -> Result<(), dk_status> {
     let options = read_one(amg)?.to_kernel::<T>()?;
     let work = output(work)?;
     let out = out_one(sizes_out)?;
     let sys = system?.build(work)?;
-    let plan = AmgPlan::of(&sys, &options, work)?;
+    let plan = AmgPlan::of(&sys, &options, work, fine)?;
     *out = plan.sizes(V)?;
     Ok(())
 }
@@ -829,7 +926,7 @@ fn solve_linear_amg_v<T: Real, const V: usize>(
         indices,
         system: sys,
     } = args.open()?;
-    let plan = AmgPlan::of(&sys, &amg, indices)?;
+    let plan = AmgPlan::of(&sys, &amg, indices, AMG_FINE)?;
     let (h, scratch) = amg_setup::<T, V>(&sys, &amg, &plan, reals, indices)?;
     // The kernel validates before it writes and iterates on a copy in the scratch: on any
     // error `values` is unchanged.
@@ -857,11 +954,238 @@ fn solve_angle_amg_d<T: Real, const D: usize>(
         system: base,
     } = args.open()?;
     let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
-    let plan = AmgPlan::of(system.base(), &amg, indices)?;
+    let plan = AmgPlan::of(system.base(), &amg, indices, AMG_FINE)?;
     let (h, scratch) = amg_setup::<T, D>(system.base(), &amg, &plan, reals, indices)?;
     // Values are written only after the probe and only by a successful solve.
     let rep = system
         .solve_angle_amg(&h, v, &stop, scratch)
+        .map_err(dk_status::from)?;
+    *r = dk_spring_solve_report::of(rep);
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sliding nodes (symmetry planes): deform_kernel::slide and the constrained solves.
+// ---------------------------------------------------------------------------------------------
+
+fn constraints_fixed_mask_d<T: Real, const D: usize>(
+    constraints: Result<ConstraintsIn<'_, T>, dk_status>,
+    mask: Out<'_, u8>,
+) -> Result<(), dk_status> {
+    let c = constraints?.build::<D>()?;
+    let m = output(mask)?;
+    // The kernel checks the length before it writes.
+    c.fixed_mask(m).map_err(dk_status::from)
+}
+
+fn slide_points_d<T: Real, const D: usize>(
+    constraints: Result<ConstraintsIn<'_, T>, dk_status>,
+    original: In<'_, T>,
+    points: Out<'_, T>,
+) -> Result<(), dk_status> {
+    let c = constraints?.build::<D>()?;
+    let o = chunks::<T, D>(original)?;
+    let p = chunks_mut::<T, D>(points)?;
+    // The kernel checks every node before it writes any.
+    slide_points(&c, o, p).map_err(dk_status::from)
+}
+
+/// The outputs of [`dk_fit_plane`].
+struct FitOut<'a, T> {
+    normal: Out<'a, T>,
+    point: Out<'a, T>,
+    residual: Out<'a, T>,
+    extent: Out<'a, T>,
+}
+
+fn fit_plane_d<T: Real, const D: usize>(
+    points: In<'_, T>,
+    nodes: In<'_, u32>,
+    index_base: u32,
+    tolerance: T,
+    index_scratch: Out<'_, u32>,
+    out: FitOut<'_, T>,
+) -> Result<(), dk_status> {
+    let p = read_points::<T, D>(points)?;
+    let nodes = input(nodes)?;
+    if out.normal.len() != D || out.point.len() != D {
+        return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+    }
+    let normal = output_n(out.normal, D)?;
+    let point = output_n(out.point, D)?;
+    let residual = out_one(out.residual)?;
+    let extent = out_one(out.extent)?;
+    let (nodes, _) = rebase(nodes, index_base, output(index_scratch)?)?;
+    let fit = fit_plane(p, nodes, tolerance).map_err(dk_status::from)?;
+    normal.copy_from_slice(&fit.normal);
+    point.copy_from_slice(&fit.point);
+    *residual = fit.residual;
+    *extent = fit.extent;
+    Ok(())
+}
+
+/// Scalars of scratch [`dk_spring_solve_linear_sliding`] needs (the kernel's
+/// `solve_linear_sliding_scratch_len` items times `dim`).
+fn linear_sliding_scratch_scalars(
+    node_count: usize,
+    dim: u32,
+    options: In<'_, dk_spring_solve_options>,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        let o = read_one(options)?;
+        let method = o.method::<f64>()?;
+        if !(2..=3).contains(&dim) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        // The kernel's count saturates; the largest is 6 n.
+        mul_len(node_count, 6)?;
+        let items = solve_linear_sliding_scratch_len(&LinearSolver::Method(method), node_count);
+        write_len(len_out, mul_len(items, dim as usize)?)
+    })())
+}
+
+/// Scalars of scratch [`dk_spring_solve_angle_sliding`] needs for precision `T`.
+fn angle_sliding_scratch_scalars<T: Real>(
+    node_count: usize,
+    dim: u32,
+    options: In<'_, dk_spring_angle_options>,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        let o = read_one(options)?;
+        let method = o.method()?;
+        if !(2..=3).contains(&dim) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        // Mirrors AngleSystem::solve_angle_sliding_scratch_len (items of [T; D]).
+        let n = node_count;
+        let solve = match method {
+            AngleMethod::DirectJacobi => mul_len(n, 2)?,
+            AngleMethod::DirectGaussSeidel => n,
+            AngleMethod::Cg => mul_len(n, 5)?,
+        };
+        let items = if T::from_f64(o.epsilon) == T::ZERO {
+            solve.max(mul_len(n, 4)?)
+        } else {
+            solve
+        };
+        write_len(len_out, mul_len(items, dim as usize)?)
+    })())
+}
+
+fn solve_linear_sliding_d<T: Real, const D: usize>(
+    sys: SysArgs<'_, T>,
+    constraints: Result<ConstraintsIn<'_, T>, dk_status>,
+    options: &dk_spring_solve_options,
+    values: Out<'_, T>,
+    scratch: Out<'_, T>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> Result<(), dk_status> {
+    let method = options.method::<T>()?;
+    let stop = options.stopping::<T>();
+    let c = constraints?.build::<D>()?;
+    let v = chunks_mut::<T, D>(values)?;
+    let s = whole_chunks_mut::<T, D>(scratch)?;
+    let r = out_one(report)?;
+    let system = sys.build()?;
+    // The kernel validates (the mask against the constraints too) before it writes and
+    // iterates on a scaled copy in the scratch: on any error `values` is unchanged.
+    let rep = system
+        .solve_linear_sliding(&c, v, LinearSolver::Method(method), &stop, s)
+        .map_err(dk_status::from)?;
+    *r = dk_spring_solve_report::of(rep);
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)] // the C function's arguments, one to one
+fn solve_angle_sliding_d<T: Real, const D: usize>(
+    sys: SysArgs<'_, T>,
+    pts: &AngleArgs<T>,
+    constraints: Result<ConstraintsIn<'_, T>, dk_status>,
+    options: &dk_spring_angle_options,
+    omega: T,
+    values: Out<'_, T>,
+    scratch: Out<'_, T>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> Result<(), dk_status> {
+    let method = options.method()?;
+    let stop = options.stopping::<T>();
+    let c = constraints?.build::<D>()?;
+    let v = chunks_mut::<T, D>(values)?;
+    let s = whole_chunks_mut::<T, D>(scratch)?;
+    let r = out_one(report)?;
+    let base = sys.build()?;
+    let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
+    // Values are written only after the probe and only by a successful solve.
+    let rep = system
+        .solve_angle_sliding(&c, v, method, omega, &stop, s)
+        .map_err(dk_status::from)?;
+    *r = dk_spring_solve_report::of(rep);
+    Ok(())
+}
+
+fn sliding_amg_pool_sizes_d<T: Real, const D: usize>(
+    system: Result<SystemIn<'_, T>, dk_status>,
+    amg: In<'_, dk_amg_options>,
+    work: Out<'_, u32>,
+    sizes_out: Out<'_, dk_plan_sizes>,
+) -> Result<(), dk_status> {
+    pool_sizes_v::<T, D>(system, amg, work, sizes_out, SLIDING_AMG_FINE)
+}
+
+fn solve_linear_sliding_amg_d<T: Real, const D: usize>(
+    args: AmgArgs<'_, T>,
+    constraints: Result<ConstraintsIn<'_, T>, dk_status>,
+    options: &dk_spring_solve_options,
+    values: Out<'_, T>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> Result<(), dk_status> {
+    let stop = options.stopping::<T>();
+    let c = constraints?.build::<D>()?;
+    let v = chunks_mut::<T, D>(values)?;
+    let r = out_one(report)?;
+    let AmgOpen {
+        options: amg,
+        reals,
+        indices,
+        system: sys,
+    } = args.open()?;
+    let plan = AmgPlan::of(&sys, &amg, indices, SLIDING_AMG_FINE)?;
+    let (h, scratch) = amg_setup::<T, D>(&sys, &amg, &plan, reals, indices)?;
+    // The kernel validates before it writes and iterates on a copy in the scratch: on any
+    // error `values` is unchanged.
+    let rep = sys
+        .solve_linear_sliding(&c, v, LinearSolver::Amg(&h), &stop, scratch)
+        .map_err(dk_status::from)?;
+    *r = dk_spring_solve_report::of(rep);
+    Ok(())
+}
+
+fn solve_angle_sliding_amg_d<T: Real, const D: usize>(
+    args: AmgArgs<'_, T>,
+    pts: &AngleArgs<T>,
+    constraints: Result<ConstraintsIn<'_, T>, dk_status>,
+    options: &dk_spring_angle_options,
+    values: Out<'_, T>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> Result<(), dk_status> {
+    let stop = options.stopping::<T>();
+    let c = constraints?.build::<D>()?;
+    let v = chunks_mut::<T, D>(values)?;
+    let r = out_one(report)?;
+    let AmgOpen {
+        options: amg,
+        reals,
+        indices,
+        system: base,
+    } = args.open()?;
+    let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
+    let plan = AmgPlan::of(system.base(), &amg, indices, SLIDING_AMG_FINE)?;
+    let (h, scratch) = amg_setup::<T, D>(system.base(), &amg, &plan, reals, indices)?;
+    // Values are written only after the probe and only by a successful solve.
+    let rep = system
+        .solve_angle_sliding_amg(&c, v, &h, &stop, scratch)
         .map_err(dk_status::from)?;
     *r = dk_spring_solve_report::of(rep);
     Ok(())

@@ -12,9 +12,10 @@ use deform_kernel::deformation::{
 use deform_kernel::taubin::{smooth_structured, StructuredOptions, TaubinParams};
 use deform_kernel::{graph_from_edges, graph_from_edges_len, Block, Quat};
 
+use deform_kernel::slide::{slide_points, Constraints};
 use deform_kernel::spring::{
-    solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, LinearMethod, SolveOptions,
-    SpringSystem,
+    solve_linear_amg_scratch_len, solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions,
+    LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel_ffi::deformation::{
     dk_boundary_motion, dk_boundary_motion_default, dk_deform_idw, dk_deform_idw_scratch_len,
@@ -24,8 +25,10 @@ use deform_kernel_ffi::graph::{dk_graph, dk_graph_from_edges, dk_graph_from_edge
 use deform_kernel_ffi::plan::{dk_plan_pools, dk_plan_sizes};
 use deform_kernel_ffi::quat::{dk_quat_mul, dk_quat_rotate_points};
 use deform_kernel_ffi::spring::{
-    dk_amg_options, dk_amg_options_default, dk_spring_amg_work_len, dk_spring_solve_linear,
-    dk_spring_solve_linear_amg, dk_spring_solve_linear_amg_pool_sizes, dk_spring_solve_options,
+    dk_amg_options, dk_amg_options_default, dk_constraints, dk_constraints_fixed_mask,
+    dk_slide_points, dk_spring_amg_work_len, dk_spring_solve_linear, dk_spring_solve_linear_amg,
+    dk_spring_solve_linear_amg_pool_sizes, dk_spring_solve_linear_sliding,
+    dk_spring_solve_linear_sliding_scratch_len, dk_spring_solve_options,
     dk_spring_solve_options_default, dk_spring_solve_report, dk_spring_system,
 };
 use deform_kernel_ffi::status::dk_status;
@@ -468,4 +471,189 @@ fn multigrid_solve_writes_only_through_the_pools_struct() {
     assert_eq!(bits(&values), bits(&x.concat()));
     assert_eq!(report.iterations, r.iterations);
     assert!(report.converged);
+}
+
+#[test]
+fn sliding_solve_reads_the_constraints_struct() {
+    // A 3 x 4 grid (node i + 3 j), bottom and top rows fixed (the top one moved), the left
+    // column's middle nodes sliding on x = 0 (plane, normal (1, 0)), the right column's on a
+    // line with tangent (0, 1); one free node in the middle.
+    const NI: usize = 3;
+    const N: usize = NI * 4;
+    let mut edges = Vec::new();
+    for n in 0..N as u32 {
+        if (n as usize) % NI + 1 < NI {
+            edges.push([n, n + 1]);
+        }
+        if (n as usize) + NI < N {
+            edges.push([n, n + NI as u32]);
+        }
+    }
+    let mut offsets = vec![0u32; N + 1];
+    let mut targets = vec![0u32; graph_from_edges_len(&edges)];
+    let used = graph_from_edges(N, &edges, &mut offsets, &mut targets).unwrap();
+    targets.truncate(used);
+    let g = deform_kernel::Graph::new(&offsets, &targets).unwrap();
+    let k = vec![1.0f64; used];
+    let mut kinds = [0u8; N];
+    let mut dirs = [0.0f64; 2 * N];
+    let mut values0 = [0.0f64; 2 * N];
+    for j in 0..4 {
+        for i in 0..NI {
+            let n = i + NI * j;
+            kinds[n] = match (i, j) {
+                (_, 0) | (_, 3) => 1,
+                (0, _) => 2,
+                (2, _) => 3,
+                _ => 0,
+            };
+            if kinds[n] == 2 {
+                dirs[2 * n] = 1.0;
+            } else if kinds[n] == 3 {
+                dirs[2 * n + 1] = 1.0;
+            } else {
+                dirs[2 * n] = f64::NAN; // never read
+            }
+            if j == 3 {
+                values0[2 * n] = 0.1;
+                values0[2 * n + 1] = 0.05;
+            }
+        }
+    }
+    let con = |directions_len: usize| dk_constraints {
+        kinds: kinds.as_ptr(),
+        kinds_len: N,
+        directions: dirs.as_ptr(),
+        directions_len,
+    };
+    let mut mask = [9u8; N];
+    // SAFETY: the struct's arrays and `mask` are as long as their lengths.
+    let s = unsafe { dk_constraints_fixed_mask(&con(2 * N), 2, mask.as_mut_ptr(), N) };
+    assert_eq!(s, dk_status::DK_OK);
+    assert!(mask
+        .iter()
+        .zip(&kinds)
+        .all(|(&m, &k)| m == u8::from(k == 1)));
+
+    let mut o = core::mem::MaybeUninit::<dk_spring_solve_options>::uninit();
+    assert_eq!(
+        // SAFETY: one writable struct.
+        unsafe { dk_spring_solve_options_default(o.as_mut_ptr()) },
+        dk_status::DK_OK
+    );
+    // SAFETY: written by the call above (DK_OK).
+    let o = unsafe { o.assume_init() };
+    let system = dk_spring_system {
+        graph: dk_graph {
+            offsets: offsets.as_ptr(),
+            offsets_len: offsets.len(),
+            targets: targets.as_ptr(),
+            targets_len: targets.len(),
+        },
+        stiffness: k.as_ptr(),
+        stiffness_len: k.len(),
+        fixed: mask.as_ptr(),
+        fixed_len: N,
+    };
+    let mut need = 0usize;
+    // SAFETY: one readable struct, one writable value.
+    let s = unsafe { dk_spring_solve_linear_sliding_scratch_len(N, 2, &o, &mut need) };
+    assert_eq!(s, dk_status::DK_OK);
+    let mut scratch = vec![0.0f64; need];
+    let mut index = [0u32; N];
+    let mut report = dk_spring_solve_report {
+        iterations: 0,
+        residual: 0.0,
+        max_update: 0.0,
+        converged: false,
+    };
+    let mut solve = |directions_len: usize, values: &mut [f64]| {
+        // SAFETY: every buffer is as long as its length argument; the structs' arrays too
+        // (`directions_len` at most 2 N).
+        unsafe {
+            dk_spring_solve_linear_sliding(
+                &system,
+                &con(directions_len),
+                &o,
+                2,
+                values.as_mut_ptr(),
+                values.len(),
+                scratch.as_mut_ptr(),
+                scratch.len(),
+                index.as_mut_ptr(),
+                index.len(),
+                &mut report,
+            )
+        }
+    };
+    // One direction short: refused, nothing written.
+    let mut values = values0;
+    assert_eq!(
+        solve(2 * N - 2, &mut values),
+        dk_status::DK_ERR_LENGTH_MISMATCH
+    );
+    assert_eq!(bits(&values), bits(&values0));
+    let mut values = values0;
+    assert_eq!(solve(2 * N, &mut values), dk_status::DK_OK);
+    assert!(report.converged);
+
+    // The kernel directly: the same bits; the sliding nodes stayed on x = 0 / moved along y.
+    let kdirs: Vec<[f64; 2]> = dirs.chunks_exact(2).map(|d| [d[0], d[1]]).collect();
+    let c = Constraints::new(&kinds, &kdirs).unwrap();
+    let mut ks = [0u32; N];
+    let sys = SpringSystem::new(g, &k, &mask, &mut ks).unwrap();
+    let solver = LinearSolver::Method(LinearMethod::Cg {
+        preconditioner: Preconditioner::Jacobi,
+    });
+    let mut x: Vec<[f64; 2]> = values0.chunks_exact(2).map(|v| [v[0], v[1]]).collect();
+    let mut kscratch = vec![[0.0; 2]; solve_linear_sliding_scratch_len(&solver, N)];
+    let r = sys
+        .solve_linear_sliding(&c, &mut x, solver, &SolveOptions::default(), &mut kscratch)
+        .unwrap();
+    assert_eq!(bits(&values), bits(&x.concat()));
+    assert_eq!(report.iterations, r.iterations);
+    for (n, &kind) in kinds.iter().enumerate() {
+        match kind {
+            2 => assert_eq!(values[2 * n], 0.0),
+            3 => assert_eq!(values[2 * n], 0.0),
+            _ => {}
+        }
+    }
+    assert!(values[2 * NI + 1] != 0.0);
+
+    // dk_slide_points: the kernel's bits; a NULL constraints struct writes nothing.
+    let points: Vec<f64> = (0..2 * N)
+        .map(|i| (i / 2) as f64 * 0.5 + (i % 2) as f64)
+        .collect();
+    let moved0: Vec<f64> = points.iter().map(|p| p + 0.125).collect();
+    let mut moved = moved0.clone();
+    // SAFETY: NULL constraints; the arrays are as long as their lengths.
+    let s = unsafe {
+        dk_slide_points(
+            null(),
+            2,
+            points.as_ptr(),
+            points.len(),
+            moved.as_mut_ptr(),
+            moved.len(),
+        )
+    };
+    assert_eq!(s, dk_status::DK_ERR_NULL_POINTER);
+    assert_eq!(bits(&moved), bits(&moved0));
+    // SAFETY: as above, with the struct.
+    let s = unsafe {
+        dk_slide_points(
+            &con(2 * N),
+            2,
+            points.as_ptr(),
+            points.len(),
+            moved.as_mut_ptr(),
+            moved.len(),
+        )
+    };
+    assert_eq!(s, dk_status::DK_OK);
+    let kp: Vec<[f64; 2]> = points.chunks_exact(2).map(|v| [v[0], v[1]]).collect();
+    let mut km: Vec<[f64; 2]> = moved0.chunks_exact(2).map(|v| [v[0], v[1]]).collect();
+    slide_points(&c, &kp, &mut km).unwrap();
+    assert_eq!(bits(&moved), bits(&km.concat()));
 }

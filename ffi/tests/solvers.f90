@@ -5,7 +5,11 @@
 ! λ|μ filter keeps a linear field exactly and damps a spike. The multigrid wrapper
 ! dkf_spring_solve_linear_amg (and _f32) gives the same interpolation; the raw
 ! dk_spring_solve_linear_amg with pools one element short refuses and leaves the values
-! untouched. Prints "solvers: every check held" when every check holds.
+! untouched. The sliding solve dk_spring_solve_linear_sliding with a dk_constraints built by
+! dkf_constraints (and _f32): the middle node slides along x (normal (0, 1)), so x keeps the
+! interpolation and y is 0 there; directions one short are refused with the values untouched;
+! the wrapper dkf_spring_solve_linear_sliding gives the same values.
+! Prints "solvers: every check held" when every check holds.
 program solvers
   use, intrinsic :: iso_c_binding, only: c_double, c_float, c_int32_t, c_int8_t, c_size_t, &
                                          c_null_ptr, c_loc
@@ -32,6 +36,11 @@ program solvers
   integer(c_int8_t), target :: no_bytes(1)
   real(c_float), target :: stiffness32(2 * (N - 1))
   real(c_float) :: values32(2, N)
+  integer(c_int8_t), target :: kinds(N), mask(N)
+  real(c_double), target :: directions(2, N), slid(2, N)
+  real(c_float), target :: directions32(2, N)
+  real(c_float), allocatable :: scratch32(:)
+  type(dk_constraints) :: con
   integer :: i, failures
 
   failures = 0
@@ -129,6 +138,69 @@ program solvers
                                          dkf_plan_pools(reals, indices, no_bytes), report) &
               == DK_OK, 'exact pools')
   call expect(maxval(abs(values - exact)) <= 1e-12_c_double, 'raw amg interpolation')
+
+  ! Sliding: node 3 slides along x (the system's mask from the constraints).
+  kinds = 0
+  kinds(1) = 1
+  kinds(N) = 1
+  kinds(3) = 2
+  directions = 0
+  directions(2, 3) = 1
+  directions32 = real(directions, c_float)
+  mask = 7
+  con = dkf_constraints(kinds, directions)
+  call expect(dk_constraints_fixed_mask(con, 2_c_int32_t, mask, int(N, c_size_t)) == DK_OK, &
+              'fixed mask status')
+  call expect(all(mask == fixed), 'fixed mask')
+  call expect(dk_spring_solve_linear_sliding_scratch_len(int(N, c_size_t), 2_c_int32_t, &
+                                                         options, len) == DK_OK, &
+              'sliding scratch length')
+  deallocate(scratch)
+  allocate(scratch(len))
+  sys = dkf_spring_system(dkf_graph(offsets, targets), stiffness, mask)
+  slid = 0
+  slid(:, 1) = exact(:, 1)
+  slid(:, N) = exact(:, N)
+  before = slid
+  con%directions_len = con%directions_len - 1
+  call expect(dk_spring_solve_linear_sliding(sys, con, options, 2_c_int32_t, slid, &
+                                             size(slid, kind=c_size_t), scratch, len, &
+                                             index_scratch, size(index_scratch, kind=c_size_t), &
+                                             report) == DK_ERR_LENGTH_MISMATCH, &
+              'directions one short')
+  call expect(all(slid == before), 'values untouched (directions)')
+  con = dkf_constraints(kinds, directions)
+  call expect(dk_spring_solve_linear_sliding(sys, con, options, 2_c_int32_t, slid, &
+                                             size(slid, kind=c_size_t), scratch, len, &
+                                             index_scratch, size(index_scratch, kind=c_size_t), &
+                                             report) == DK_OK, 'sliding status')
+  call expect(logical(report%converged), 'sliding converged')
+  call expect(maxval(abs(slid(1, :) - exact(1, :))) <= 1e-12_c_double, 'sliding x interpolated')
+  call expect(maxval(abs(slid(2, :) - [0, 0, 0, 4, 8])) <= 1e-12_c_double, 'sliding y')
+  call expect(slid(2, 3) == 0, 'sliding node on its line')
+  ! The same through the wrapper.
+  before = slid
+  slid = 0
+  slid(:, 1) = exact(:, 1)
+  slid(:, N) = exact(:, N)
+  call expect(dkf_spring_solve_linear_sliding(offsets, targets, stiffness, mask, kinds, &
+                                              directions, options, slid, scratch, &
+                                              index_scratch, report) == DK_OK, &
+              'sliding wrapper status')
+  call expect(all(slid == before), 'sliding wrapper: the same values')
+  allocate(scratch32(len))
+  values32 = 0
+  values32(:, 1) = real(exact(:, 1), c_float)
+  values32(:, N) = real(exact(:, N), c_float)
+  call expect(dk_spring_solve_linear_sliding_f32(dkf_spring_system_f32(dkf_graph(offsets, &
+                                                 targets), stiffness32, mask), &
+                                                 dkf_constraints_f32(kinds, directions32), &
+                                                 options, 2_c_int32_t, values32, &
+                                                 size(values32, kind=c_size_t), scratch32, &
+                                                 size(scratch32, kind=c_size_t), index_scratch, &
+                                                 size(index_scratch, kind=c_size_t), report) &
+              == DK_OK, 'sliding f32 status')
+  call expect(maxval(abs(values32 - real(slid, c_float))) <= 1e-5, 'sliding f32')
 
   ! Graph Taubin: a linear field on the uniform chain is a fixed point, exactly; a spike at
   ! the middle node is damped, the fixed ends stay.

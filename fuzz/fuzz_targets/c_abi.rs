@@ -32,8 +32,9 @@ use deform_kernel_ffi::quat::{
     dk_quat_average, dk_quat_mul, dk_quat_rotate_points, dk_quat_rotate_points_2d,
 };
 use deform_kernel_ffi::spring::{
-    self as sp, dk_amg_options, dk_spring_angle_options, dk_spring_solve_options,
-    dk_spring_solve_report, dk_spring_sweep, dk_spring_system, dk_spring_system_f32,
+    self as sp, dk_amg_options, dk_constraints, dk_constraints_f32, dk_spring_angle_options,
+    dk_spring_solve_options, dk_spring_solve_report, dk_spring_sweep, dk_spring_system,
+    dk_spring_system_f32,
 };
 use deform_kernel_ffi::stiffening as st;
 use deform_kernel_ffi::taubin::{
@@ -124,6 +125,18 @@ enum Op {
         max_coarse: u8,
         sweeps: u8,
         smoother: u8,
+        sys: SysSel,
+        f32: bool,
+    },
+    /// The sliding solves (`dk_spring_solve_{linear,angle}_sliding` and their multigrid
+    /// variants) with a knob-shaped `dk_constraints`.
+    SolveSliding {
+        which: u8,
+        method: u8,
+        omega: i16,
+        max_iter: u8,
+        epsilon: i16,
+        kinds: u8,
         sys: SysSel,
         f32: bool,
     },
@@ -2747,6 +2760,435 @@ fn solve_amg<T: AmgSc>(
     }
 }
 
+type LinearSlidingFn<T, S, C> = unsafe extern "C" fn(
+    *const S,
+    *const C,
+    *const dk_spring_solve_options,
+    u32,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut dk_spring_solve_report,
+) -> dk_status;
+type AngleSlidingFn<T, S, C> = unsafe extern "C" fn(
+    *const S,
+    *const T,
+    usize,
+    u32,
+    *const C,
+    *const dk_spring_angle_options,
+    T,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut dk_spring_solve_report,
+) -> dk_status;
+type LinearSlidingAmgFn<T, S, C, P> = unsafe extern "C" fn(
+    *const S,
+    *const C,
+    *const dk_spring_solve_options,
+    *const dk_amg_options,
+    u32,
+    *mut T,
+    usize,
+    *const P,
+    *mut dk_spring_solve_report,
+) -> dk_status;
+type AngleSlidingAmgFn<T, S, C, P> = unsafe extern "C" fn(
+    *const S,
+    *const T,
+    usize,
+    u32,
+    *const C,
+    *const dk_spring_angle_options,
+    *const dk_amg_options,
+    *mut T,
+    usize,
+    *const P,
+    *mut dk_spring_solve_report,
+) -> dk_status;
+
+/// The sliding solves of one precision.
+trait SlideSc: AmgSc {
+    /// `dk_constraints` or `dk_constraints_f32`.
+    type Con: Copy;
+    fn con(kinds: (*const u8, usize), directions: (*const Self, usize)) -> Self::Con;
+    const LINEAR_SLIDING: LinearSlidingFn<Self, Self::System, Self::Con>;
+    const ANGLE_SLIDING: AngleSlidingFn<Self, Self::System, Self::Con>;
+    const ANGLE_SLIDING_LEN: AngleLenFn;
+    const LINEAR_SLIDING_SIZES: AmgSizesFn<Self::System>;
+    const LINEAR_SLIDING_AMG: LinearSlidingAmgFn<Self, Self::System, Self::Con, Self::Pools>;
+    const ANGLE_SLIDING_SIZES: AmgSizesFn<Self::System>;
+    const ANGLE_SLIDING_AMG: AngleSlidingAmgFn<Self, Self::System, Self::Con, Self::Pools>;
+}
+
+macro_rules! slide_sc {
+    ($t:ty, $con:ident, $sys:ty, $pools:ty, $($f:ident = $path:path),+ $(,)?) => {
+        impl SlideSc for $t {
+            type Con = $con;
+            fn con(kinds: (*const u8, usize), directions: (*const $t, usize)) -> $con {
+                $con {
+                    kinds: kinds.0,
+                    kinds_len: kinds.1,
+                    directions: directions.0,
+                    directions_len: directions.1,
+                }
+            }
+            $(slide_sc!(@c $f, $t, $con, $sys, $pools, $path);)+
+        }
+    };
+    (@c LINEAR_SLIDING, $t:ty, $con:ty, $sys:ty, $pools:ty, $path:path) => {
+        const LINEAR_SLIDING: LinearSlidingFn<$t, $sys, $con> = $path;
+    };
+    (@c ANGLE_SLIDING, $t:ty, $con:ty, $sys:ty, $pools:ty, $path:path) => {
+        const ANGLE_SLIDING: AngleSlidingFn<$t, $sys, $con> = $path;
+    };
+    (@c ANGLE_SLIDING_LEN, $t:ty, $con:ty, $sys:ty, $pools:ty, $path:path) => {
+        const ANGLE_SLIDING_LEN: AngleLenFn = $path;
+    };
+    (@c LINEAR_SLIDING_SIZES, $t:ty, $con:ty, $sys:ty, $pools:ty, $path:path) => {
+        const LINEAR_SLIDING_SIZES: AmgSizesFn<$sys> = $path;
+    };
+    (@c LINEAR_SLIDING_AMG, $t:ty, $con:ty, $sys:ty, $pools:ty, $path:path) => {
+        const LINEAR_SLIDING_AMG: LinearSlidingAmgFn<$t, $sys, $con, $pools> = $path;
+    };
+    (@c ANGLE_SLIDING_SIZES, $t:ty, $con:ty, $sys:ty, $pools:ty, $path:path) => {
+        const ANGLE_SLIDING_SIZES: AmgSizesFn<$sys> = $path;
+    };
+    (@c ANGLE_SLIDING_AMG, $t:ty, $con:ty, $sys:ty, $pools:ty, $path:path) => {
+        const ANGLE_SLIDING_AMG: AngleSlidingAmgFn<$t, $sys, $con, $pools> = $path;
+    };
+}
+
+slide_sc!(
+    f64,
+    dk_constraints,
+    dk_spring_system,
+    dk_plan_pools,
+    LINEAR_SLIDING = sp::dk_spring_solve_linear_sliding,
+    ANGLE_SLIDING = sp::dk_spring_solve_angle_sliding,
+    ANGLE_SLIDING_LEN = sp::dk_spring_solve_angle_sliding_scratch_len,
+    LINEAR_SLIDING_SIZES = sp::dk_spring_solve_linear_sliding_amg_pool_sizes,
+    LINEAR_SLIDING_AMG = sp::dk_spring_solve_linear_sliding_amg,
+    ANGLE_SLIDING_SIZES = sp::dk_spring_solve_angle_sliding_amg_pool_sizes,
+    ANGLE_SLIDING_AMG = sp::dk_spring_solve_angle_sliding_amg,
+);
+slide_sc!(
+    f32,
+    dk_constraints_f32,
+    dk_spring_system_f32,
+    dk_plan_pools_f32,
+    LINEAR_SLIDING = sp::dk_spring_solve_linear_sliding_f32,
+    ANGLE_SLIDING = sp::dk_spring_solve_angle_sliding_f32,
+    ANGLE_SLIDING_LEN = sp::dk_spring_solve_angle_sliding_scratch_len_f32,
+    LINEAR_SLIDING_SIZES = sp::dk_spring_solve_linear_sliding_amg_pool_sizes_f32,
+    LINEAR_SLIDING_AMG = sp::dk_spring_solve_linear_sliding_amg_f32,
+    ANGLE_SLIDING_SIZES = sp::dk_spring_solve_angle_sliding_amg_pool_sizes_f32,
+    ANGLE_SLIDING_AMG = sp::dk_spring_solve_angle_sliding_amg_f32,
+);
+
+/// A sliding solve (`which` % 4: linear one-level, angle one-level, linear multigrid, angle
+/// multigrid) on the grid: kinds from the bits (fixed nodes of the system's mask are kind 1,
+/// the others free, plane or line, now and then an invalid code or a kind that contradicts the
+/// mask), directions mostly unit (an angle, or a normalised triple), now and then raw values;
+/// every buffer and struct shaped by the knobs. No crash, a documented status, values and
+/// report untouched unless `DK_OK`, fixed nodes kept bit for bit, finite results for finite
+/// input, no more iterations than allowed, and plane nodes' displacements in their plane.
+#[allow(clippy::too_many_arguments)]
+fn solve_sliding<T: SlideSc>(
+    c: &mut Ctx,
+    which: u8,
+    method: u8,
+    omega: i16,
+    max_iter: u8,
+    epsilon: i16,
+    kinds_sel: u8,
+    sel: SysSel,
+) {
+    let m = c.m;
+    let (k, fixed) = system::<T>(m, sel, &mut c.vals, c.bits);
+    let d = m.d;
+    // Kinds and directions.
+    let mut kinds = Vec::with_capacity(m.n);
+    let mut dirs: Vec<T> = Vec::with_capacity(m.n * d);
+    for (i, &f) in fixed.iter().enumerate() {
+        let b = c.bits.get(i % c.bits.len().max(1)).copied().unwrap_or(0);
+        let kind = if f != 0 {
+            if kinds_sel == 255 && i == 0 {
+                0
+            } else {
+                1
+            }
+        } else {
+            match (b >> (kinds_sel % 6)) % 4 {
+                0 | 1 => 0,
+                2 => 2,
+                _ => {
+                    if kinds_sel >= 250 && i == 0 {
+                        4 + (b % 8)
+                    } else {
+                        3
+                    }
+                }
+            }
+        };
+        kinds.push(kind);
+        let raw = kinds_sel == 249 && i % 3 == 0;
+        if raw {
+            for _ in 0..d {
+                dirs.push(T::of(c.vals.next()));
+            }
+        } else if d == 2 {
+            let a = c.vals.next();
+            let a = if a.is_finite() { a } else { 0.0 };
+            dirs.push(T::of(a.cos()));
+            dirs.push(T::of(a.sin()));
+        } else {
+            let v = [c.vals.next(), c.vals.next(), c.vals.next()];
+            let v = if v.iter().all(|x| x.is_finite() && x.abs() < 1e30) {
+                v
+            } else {
+                [0.0, 0.0, 1.0]
+            };
+            let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            let v = if len > 1e-3 {
+                v.map(|x| x / len)
+            } else {
+                [1.0, 0.0, 0.0]
+            };
+            dirs.extend(v.map(T::of));
+        }
+    }
+    let mut lopts = dk_spring_solve_options {
+        max_iterations: 0,
+        residual_tol: 0.0,
+        update_tol: 0.0,
+        omega: 0.0,
+        method: 0,
+        preconditioner: 0,
+    };
+    let mut aopts = dk_spring_angle_options {
+        max_iterations: 0,
+        residual_tol: 0.0,
+        update_tol: 0.0,
+        epsilon: 0.0,
+        method: 0,
+    };
+    let mut amg = dk_amg_options {
+        strength_theta: 0.0,
+        max_levels: 0,
+        max_coarse: 0,
+        sweeps: 0,
+        smoother: 0,
+    };
+    // SAFETY: one writable struct each.
+    unsafe {
+        assert_eq!((T::LINEAR_DEFAULT)(&mut lopts), dk_status::DK_OK);
+        assert_eq!((T::ANGLE_DEFAULT)(&mut aopts), dk_status::DK_OK);
+        assert_eq!(sp::dk_amg_options_default(&mut amg), dk_status::DK_OK);
+    }
+    lopts.max_iterations = iterations(max_iter);
+    aopts.max_iterations = iterations(max_iter);
+    lopts.method = if method < 250 {
+        u32::from(method % 4)
+    } else {
+        u32::from(method)
+    };
+    lopts.preconditioner = u32::from(method / 4 % 3);
+    aopts.method = if method < 250 {
+        u32::from(method % 3)
+    } else {
+        u32::from(method)
+    };
+    let omega = if omega != 0 {
+        c.vals.note(real(omega) / 64.0)
+    } else {
+        1.0
+    };
+    lopts.omega = omega;
+    if epsilon != 0 {
+        aopts.epsilon = c.vals.note(real(epsilon) / 256.0);
+    }
+    let nv = m.n * d;
+    let values: Vec<T> = (0..nv).map(|_| T::of(c.vals.next() / 16.0)).collect();
+    let which = which % 4;
+
+    // Scratch and pool lengths from the exact arguments (or a guess when a query refuses).
+    let mut need = 0usize;
+    // SAFETY: valid options and output.
+    let s = unsafe {
+        if which == 0 {
+            sp::dk_spring_solve_linear_sliding_scratch_len(m.n, m.dim, &lopts, &mut need)
+        } else {
+            (T::ANGLE_SLIDING_LEN)(m.n, m.dim, &aopts, &mut need)
+        }
+    };
+    if s != dk_status::DK_OK {
+        need = 6 * nv;
+    }
+    let mut work_len = 0usize;
+    // SAFETY: one writable value.
+    let s = unsafe { sp::dk_spring_amg_work_len(m.n, m.targets.len(), &mut work_len) };
+    assert_eq!(s, dk_status::DK_OK);
+    let exact = T::system(
+        graph_exact(&m.offsets, &m.targets),
+        (k.as_ptr(), k.len()),
+        (fixed.as_ptr(), fixed.len()),
+    );
+    let mut work = vec![0u32; work_len];
+    let mut sizes = dk_plan_sizes {
+        reals: 0,
+        indices: 0,
+        bytes: 0,
+    };
+    let query = if which == 3 {
+        T::ANGLE_SLIDING_SIZES
+    } else {
+        T::LINEAR_SLIDING_SIZES
+    };
+    // SAFETY: valid structs and buffers of the lengths passed.
+    let s = unsafe { query(&exact, m.dim, &amg, work.as_mut_ptr(), work_len, &mut sizes) };
+    if s == dk_status::DK_OK {
+        assert_eq!(sizes.bytes, 0);
+        // Per component of the `dim` passed (which may differ from the storage dimension).
+        assert!(
+            sizes.indices >= work_len && sizes.reals >= 6 * m.n * m.dim as usize,
+            "{sizes:?}"
+        );
+    } else {
+        sizes = dk_plan_sizes {
+            reals: 7 * nv + 64,
+            indices: work_len + 64,
+            bytes: 0,
+        };
+    }
+
+    let o = Buf::input(&mut c.kn, &m.offsets, 0);
+    let t = Buf::input(&mut c.kn, &m.targets, 0);
+    let kb = Buf::input(&mut c.kn, &k, T::of(1.0));
+    let fb = Buf::input(&mut c.kn, &fixed, 1);
+    let sys = system_of(&o, &t, &kb, &fb);
+    let sysp = opt_ptr(&mut c.kn, &sys);
+    let kin = Buf::input(&mut c.kn, &kinds, 0u8);
+    let dir = Buf::input(&mut c.kn, &dirs, T::of(0.0));
+    let con = T::con(kin.pn(), dir.pn());
+    let conp = opt_ptr(&mut c.kn, &con);
+    let p = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
+    let mut v = Buf::input(&mut c.kn, &values, T::of(0.25));
+    let before = bits(&v.v);
+    let mut rep = Slot::<dk_spring_solve_report>::new(&mut c.kn);
+    let mut scratch = Buf::output(&mut c.kn, need, T::SENT);
+    let mut idx = Buf::output(&mut c.kn, m.n, 0u32);
+    let mut reals = Buf::output(&mut c.kn, sizes.reals, T::SENT);
+    let mut indices = Buf::output(&mut c.kn, sizes.indices, 0u32);
+    let mut bytes = Buf::output(&mut c.kn, 0, 0xa5u8);
+    let pools = T::pools(&mut reals, &mut indices, &mut bytes);
+    let poolsp = opt_ptr(&mut c.kn, &pools);
+    let amgp = opt_ptr(&mut c.kn, &amg);
+    let lp = opt_ptr(&mut c.kn, &lopts);
+    let ap = opt_ptr(&mut c.kn, &aopts);
+    // SAFETY: every pointer is NULL or valid for the length passed with it (the structs'
+    // arrays and buffers too).
+    let s = unsafe {
+        match which {
+            0 => (T::LINEAR_SLIDING)(
+                sysp,
+                conp,
+                lp,
+                m.dim,
+                v.m(),
+                v.n(),
+                scratch.m(),
+                scratch.n(),
+                idx.m(),
+                idx.n(),
+                rep.p(),
+            ),
+            1 => (T::ANGLE_SLIDING)(
+                sysp,
+                p.p(),
+                p.n(),
+                m.dim,
+                conp,
+                ap,
+                T::of(omega),
+                v.m(),
+                v.n(),
+                scratch.m(),
+                scratch.n(),
+                idx.m(),
+                idx.n(),
+                rep.p(),
+            ),
+            2 => {
+                (T::LINEAR_SLIDING_AMG)(sysp, conp, lp, amgp, m.dim, v.m(), v.n(), poolsp, rep.p())
+            }
+            _ => (T::ANGLE_SLIDING_AMG)(
+                sysp,
+                p.p(),
+                p.n(),
+                m.dim,
+                conp,
+                ap,
+                amgp,
+                v.m(),
+                v.n(),
+                poolsp,
+                rep.p(),
+            ),
+        }
+    };
+    let what = [
+        "linear_sliding",
+        "angle_sliding",
+        "linear_sliding_amg",
+        "angle_sliding_amg",
+    ][usize::from(which)];
+    check_inplace(what, s, &v, &before, m.finite && !c.vals.nonfinite);
+    check_slot(what, s, &rep);
+    assert!(
+        bytes.v.iter().all(|&b| b == 0xa5),
+        "{what}: wrote the unused bytes pool"
+    );
+    if s == dk_status::DK_OK {
+        let r = rep.get();
+        let cap = if which.is_multiple_of(2) {
+            lopts.max_iterations
+        } else {
+            aopts.max_iterations
+        };
+        assert!(r.iterations <= cap, "{what}: {r:?}");
+        for i in 0..m.n.min(kin.n()) {
+            let now = &v.v[i * d..(i + 1) * d];
+            let was = &before[i * d..(i + 1) * d];
+            if kin.v[i] == 1 {
+                assert!(
+                    now.iter().zip(was).all(|(&x, &b)| x.bits() == b),
+                    "{what}: fixed node {i} changed"
+                );
+            } else if kin.v[i] == 2 {
+                // The displacement lies in the plane, to rounding.
+                let n: Vec<f64> = dir.v[i * d..(i + 1) * d]
+                    .iter()
+                    .map(|&x| to_f64(x))
+                    .collect();
+                let x: Vec<f64> = now.iter().map(|&x| to_f64(x)).collect();
+                let len = x.iter().map(|a| a * a).sum::<f64>().sqrt();
+                let dot: f64 = n.iter().zip(&x).map(|(a, b)| a * b).sum();
+                if len.is_finite() && len > 1e-30 {
+                    assert!(dot.abs() <= 1e-3 * len, "{what}: node {i} left its plane");
+                }
+            }
+        }
+    }
+}
+
 /// A plan on the grid (boundary fixed, 2D boundary loops as segment elements): sizes, init
 /// and up to three steps with arbitrary boundary positions, every buffer shaped by the knobs;
 /// `corrupt` overwrites the plan's magic before one step. Statuses documented, outputs
@@ -2989,6 +3431,21 @@ fn run_op(c: &mut Ctx, op: &Op) {
                     angle, comps, max_iter, epsilon, theta, max_levels, max_coarse, sweeps,
                     smoother, sys
                 )
+            )
+        }
+        Op::SolveSliding {
+            which,
+            method,
+            omega,
+            max_iter,
+            epsilon,
+            kinds,
+            sys,
+            f32,
+        } => {
+            prec!(
+                f32,
+                solve_sliding(which, method, omega, max_iter, epsilon, kinds, sys)
             )
         }
         Op::CellQuality {

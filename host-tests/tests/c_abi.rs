@@ -137,7 +137,9 @@ fn fortran_quality_wrappers() {
 /// `dk_spring_system` built by `dkf_spring_system`, a NULL array in it refused, a linear field
 /// kept by the λ|μ filter and a spike damped; the multigrid wrapper
 /// `dkf_spring_solve_linear_amg` (and `_f32`) solving the chain, and the raw
-/// `dk_spring_solve_linear_amg` refusing pools one element short with the values untouched.
+/// `dk_spring_solve_linear_amg` refusing pools one element short with the values untouched;
+/// `dk_spring_solve_linear_sliding` (and `_f32`) with a `dk_constraints` built by
+/// `dkf_constraints`, a node sliding along the chain, and directions one short refused.
 #[test]
 fn fortran_solver_wrappers_and_structs() {
     assert_eq!(fortran_test("solvers"), "solvers: every check held\n");

@@ -82,6 +82,7 @@ const F32_WRAPPERS: &[&str] = &[
     "dkf_quality_min_corner_jacobians",
     "dkf_quality_compare",
     "dkf_spring_system",
+    "dkf_constraints",
     "dkf_plan_pools",
     "dkf_plan_mesh",
     "dkf_plan_work",

@@ -25,6 +25,21 @@ pub struct dk_spring_system_f32 {
     pub fixed_len: usize,
 }
 
+/// Single-precision twin of [`dk_constraints`] (`float` scalars).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+#[allow(non_camel_case_types)]
+pub struct dk_constraints_f32 {
+    /// One kind code (0 to 3) per node.
+    pub kinds: *const u8,
+    /// Entries of `kinds` (the node count).
+    pub kinds_len: usize,
+    /// `dim` scalars per node (`x, y[, z]`): normals (kind 2) and tangents (kind 3).
+    pub directions: *const f32,
+    /// Entries of `directions` (`kinds_len * dim`).
+    pub directions_len: usize,
+}
+
 /// Batina's stiffness `k_ij = 1 / |r_i − r_j|^exponent` for every directed edge of the 0-based
 /// CSR graph into `stiffness` (`stiffness_len` = `graph->targets_len`). `exponent` 1 is the papers'
 /// choice (computed as `1/|d|`), 2 is `1/(d·d)`, 0 the uniform Laplacian. The result is
@@ -1489,6 +1504,845 @@ pub unsafe extern "C" fn dk_spring_solve_angle_amg_f32(
             dim,
             solve_angle_amg_d::<f32>,
             (args, &pts, &o, values, report)
+        )
+    }))
+}
+
+/// Writes the fixed mask of the spring system a sliding solve needs: `mask[i]` = 1 where
+/// `constraints->kinds[i]` is 1 (fixed), else 0 (free and sliding nodes are unknowns of the
+/// system). Build the [`dk_spring_system`] of [`dk_spring_solve_linear_sliding`] and its
+/// siblings with it: they refuse a mask that differs (`DK_ERR_INVALID_PARAMETER`).
+/// `mask_len` = `constraints->kinds_len`; `dim` (2 or 3) says how the directions are read.
+///
+/// Errors (nothing written): `DK_ERR_LENGTH_MISMATCH` (`mask_len`, `directions_len` not
+/// `dim * kinds_len`), `DK_ERR_INDEX_OUT_OF_RANGE` (a kind above 3), `DK_ERR_NON_FINITE`,
+/// `DK_ERR_NOT_UNIT` (a sliding node's direction), `DK_ERR_INVALID_PARAMETER` (`dim`),
+/// pointer errors.
+///
+/// # Safety
+/// `constraints` points to one readable struct whose arrays are readable for their lengths;
+/// `mask` is writable for `mask_len` bytes and overlaps nothing else.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_constraints_fixed_mask(
+    constraints: *const dk_constraints,
+    dim: u32,
+    mask: *mut u8,
+    mask_len: usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (constraints, mask) = unsafe { (In::new(constraints, 1), Out::new(mask, mask_len)) };
+    let c = ConstraintsC::read(constraints);
+    done(by_dim!(dim, constraints_fixed_mask_d::<f64>, (c, mask)))
+}
+
+/// `f32` twin of [`dk_constraints_fixed_mask`].
+///
+/// # Safety
+/// As [`dk_constraints_fixed_mask`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_constraints_fixed_mask_f32(
+    constraints: *const dk_constraints_f32,
+    dim: u32,
+    mask: *mut u8,
+    mask_len: usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (constraints, mask) = unsafe { (In::new(constraints, 1), Out::new(mask, mask_len)) };
+    let c = ConstraintsC::read(constraints);
+    done(by_dim!(dim, constraints_fixed_mask_d::<f32>, (c, mask)))
+}
+
+/// Projects the motion of every sliding node onto its plane or line (the kernel's
+/// `slide::slide_points`): `points[i] = original[i] + P_i (points[i] − original[i])` for
+/// kinds 2 and 3 (`P` = `I − n nᵀ` for a plane, `t tᵀ` for a line); free and fixed nodes are
+/// left as they are. Call it after a propagation in which the sliding nodes were ordinary
+/// field nodes (e.g. `dk_deform_idw`). `original` and `points`: `dim` scalars per node,
+/// `kinds_len` nodes.
+///
+/// Errors (`points` unchanged): `DK_ERR_LENGTH_MISMATCH`, `DK_ERR_NON_FINITE` (`original`,
+/// `points`), `DK_ERR_OVERFLOW` (a projected position not finite), the constraints' errors
+/// of [`dk_constraints_fixed_mask`], pointer errors.
+///
+/// # Safety
+/// `constraints` points to one readable struct whose arrays are readable for their lengths;
+/// `original` readable for `original_len` scalars; `points` readable and writable for
+/// `points_len` scalars, overlapping nothing else.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_slide_points(
+    constraints: *const dk_constraints,
+    dim: u32,
+    original: *const f64,
+    original_len: usize,
+    points: *mut f64,
+    points_len: usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (constraints, original, points) = unsafe {
+        (
+            In::new(constraints, 1),
+            In::new(original, original_len),
+            Out::new(points, points_len),
+        )
+    };
+    let c = ConstraintsC::read(constraints);
+    done(by_dim!(dim, slide_points_d::<f64>, (c, original, points)))
+}
+
+/// `f32` twin of [`dk_slide_points`].
+///
+/// # Safety
+/// As [`dk_slide_points`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_slide_points_f32(
+    constraints: *const dk_constraints_f32,
+    dim: u32,
+    original: *const f32,
+    original_len: usize,
+    points: *mut f32,
+    points_len: usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (constraints, original, points) = unsafe {
+        (
+            In::new(constraints, 1),
+            In::new(original, original_len),
+            Out::new(points, points_len),
+        )
+    };
+    let c = ConstraintsC::read(constraints);
+    done(by_dim!(dim, slide_points_d::<f32>, (c, original, points)))
+}
+
+/// Fits a plane (3D) or line (2D) to the nodes `nodes` (read with `index_base`) of `points`
+/// by least squares (the kernel's `slide::fit_plane`): the unit normal (its largest-magnitude
+/// component positive) into `normal_out`, the centroid into `point_out` (`dim` scalars each,
+/// `normal_out_len` = `point_out_len` = `dim`), the residual `max |n · (x − c)|` into
+/// `*residual_out` and the largest distance of a node from the centroid into `*extent_out`.
+/// A set farther from its plane than `tolerance * extent` is refused (`DK_ERR_NOT_PLANAR`;
+/// pass `INFINITY` to never refuse and read the residual). Use the normal as a kind-2
+/// direction of [`dk_constraints`]. `index_scratch`: `nodes_len` entries for `index_base` 1,
+/// NULL with length 0 for 0.
+///
+/// Errors (outputs unchanged): `DK_ERR_INVALID_PARAMETER` (fewer than `dim` nodes, nodes that
+/// do not span a plane, `tolerance` NaN or negative, `dim`), `DK_ERR_INDEX_OUT_OF_RANGE`,
+/// `DK_ERR_NON_FINITE`, `DK_ERR_OVERFLOW`, `DK_ERR_NOT_PLANAR`, `DK_ERR_BAD_INDEX_BASE`,
+/// `DK_ERR_BUFFER_TOO_SMALL` (`index_scratch`), length and pointer errors.
+///
+/// # Safety
+/// `points` readable for `points_len` scalars, `nodes` for `nodes_len` entries;
+/// `index_scratch`, `normal_out` and `point_out` writable for their lengths; `residual_out`
+/// and `extent_out` writable for one scalar each; writable buffers overlap nothing else.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_fit_plane(
+    points: *const f64,
+    points_len: usize,
+    dim: u32,
+    nodes: *const u32,
+    nodes_len: usize,
+    index_base: u32,
+    tolerance: f64,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    normal_out: *mut f64,
+    normal_out_len: usize,
+    point_out: *mut f64,
+    point_out_len: usize,
+    residual_out: *mut f64,
+    extent_out: *mut f64,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, nodes, index_scratch, normal_out, point_out, residual_out, extent_out) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(nodes, nodes_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(normal_out, normal_out_len),
+            Out::new(point_out, point_out_len),
+            Out::new(residual_out, 1),
+            Out::new(extent_out, 1),
+        )
+    };
+    let out = FitOut {
+        normal: normal_out,
+        point: point_out,
+        residual: residual_out,
+        extent: extent_out,
+    };
+    done(by_dim!(
+        dim,
+        fit_plane_d::<f64>,
+        (points, nodes, index_base, tolerance, index_scratch, out)
+    ))
+}
+
+/// `f32` twin of [`dk_fit_plane`].
+///
+/// # Safety
+/// As [`dk_fit_plane`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_fit_plane_f32(
+    points: *const f32,
+    points_len: usize,
+    dim: u32,
+    nodes: *const u32,
+    nodes_len: usize,
+    index_base: u32,
+    tolerance: f32,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    normal_out: *mut f32,
+    normal_out_len: usize,
+    point_out: *mut f32,
+    point_out_len: usize,
+    residual_out: *mut f32,
+    extent_out: *mut f32,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, nodes, index_scratch, normal_out, point_out, residual_out, extent_out) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(nodes, nodes_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(normal_out, normal_out_len),
+            Out::new(point_out, point_out_len),
+            Out::new(residual_out, 1),
+            Out::new(extent_out, 1),
+        )
+    };
+    let out = FitOut {
+        normal: normal_out,
+        point: point_out,
+        residual: residual_out,
+        extent: extent_out,
+    };
+    done(by_dim!(
+        dim,
+        fit_plane_d::<f32>,
+        (points, nodes, index_base, tolerance, index_scratch, out)
+    ))
+}
+
+/// Scalars of `scratch` [`dk_spring_solve_linear_sliding`] needs for `options->method`:
+/// `2 * node_count * dim` for Jacobi, `node_count * dim` for Gauss–Seidel and SOR, `6 *
+/// node_count * dim` for CG (a scaled copy of the values, the CG vectors and the diagonal;
+/// same count for both precisions).
+///
+/// # Safety
+/// `options` points to one readable struct; `len_out` to one writable `size_t`.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_solve_linear_sliding_scratch_len(
+    node_count: usize,
+    dim: u32,
+    options: *const dk_spring_solve_options,
+    len_out: *mut usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
+    linear_sliding_scratch_scalars(node_count, dim, options, len_out)
+}
+
+/// [`dk_spring_solve_linear`] with sliding nodes (symmetry planes; the kernel's
+/// `SpringSystem::solve_linear_sliding`, with the same bits): the displacements minimise the
+/// spring energy over each node's allowed motions, `P K P d = P b` on `range(P)` with `P_i` =
+/// `I` (free), 0 (fixed), `I − n nᵀ` (plane), `t tᵀ` (line), solved jointly over the `dim`
+/// components (2 or 3, as the directions). `values` holds `node_count * dim` displacements:
+/// prescribed at fixed nodes, the initial guess elsewhere; on `DK_OK` the last iterate, every
+/// sliding node's displacement in its plane or line to rounding, and `*report` (residual
+/// `‖P (b − K d)‖ / ‖P b‖`) says whether it converged. The one-level methods of `options`
+/// (Jacobi, Gauss–Seidel, SOR project each node's update; CG with its preconditioner applied
+/// as `P M⁻¹ P`). `system` must be built with the mask [`dk_constraints_fixed_mask`] writes.
+/// `scratch` needs [`dk_spring_solve_linear_sliding_scratch_len`] scalars, `index_scratch`
+/// [`dk_spring_index_scratch_len`] entries.
+///
+/// Errors (values and report unchanged): `DK_ERR_INVALID_PARAMETER` (a fixed mask that
+/// differs from the constraints' kind 1, `dim`, and as [`dk_spring_solve_linear`]), the
+/// constraints' errors of [`dk_constraints_fixed_mask`] (`DK_ERR_LENGTH_MISMATCH` when they
+/// do not have `node_count` nodes), `DK_ERR_OVERFLOW`, and those of
+/// [`dk_spring_solve_linear`].
+///
+/// # Safety
+/// As [`dk_spring_solve_linear`]; `constraints` points to one readable struct whose arrays
+/// are readable for their lengths.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_solve_linear_sliding(
+    system: *const dk_spring_system,
+    constraints: *const dk_constraints,
+    options: *const dk_spring_solve_options,
+    dim: u32,
+    values: *mut f64,
+    values_len: usize,
+    scratch: *mut f64,
+    scratch_len: usize,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    report: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (system, constraints, options, values, scratch, index_scratch, report) = unsafe {
+        (
+            In::new(system, 1),
+            In::new(constraints, 1),
+            In::new(options, 1),
+            Out::new(values, values_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(report, 1),
+        )
+    };
+    let sys = SysArgs {
+        system: SystemC::read(system),
+        index_scratch,
+    };
+    let c = ConstraintsC::read(constraints);
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_linear_sliding_d::<f64>,
+            (sys, c, &o, values, scratch, report)
+        )
+    }))
+}
+
+/// `f32` twin of [`dk_spring_solve_linear_sliding`].
+///
+/// # Safety
+/// As [`dk_spring_solve_linear_sliding`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_solve_linear_sliding_f32(
+    system: *const dk_spring_system_f32,
+    constraints: *const dk_constraints_f32,
+    options: *const dk_spring_solve_options,
+    dim: u32,
+    values: *mut f32,
+    values_len: usize,
+    scratch: *mut f32,
+    scratch_len: usize,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    report: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (system, constraints, options, values, scratch, index_scratch, report) = unsafe {
+        (
+            In::new(system, 1),
+            In::new(constraints, 1),
+            In::new(options, 1),
+            Out::new(values, values_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(report, 1),
+        )
+    };
+    let sys = SysArgs {
+        system: SystemC::read(system),
+        index_scratch,
+    };
+    let c = ConstraintsC::read(constraints);
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_linear_sliding_d::<f32>,
+            (sys, c, &o, values, scratch, report)
+        )
+    }))
+}
+
+/// Scalars of `scratch` [`dk_spring_solve_angle_sliding`] needs: per node and coordinate, 2
+/// for direct Jacobi, 1 for direct Gauss–Seidel, 5 for CG, and at least 4 whenever
+/// `options->epsilon` is 0 (the rigidity probe).
+///
+/// # Safety
+/// `options` points to one readable struct; `len_out` to one writable `size_t`.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_solve_angle_sliding_scratch_len(
+    node_count: usize,
+    dim: u32,
+    options: *const dk_spring_angle_options,
+    len_out: *mut usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
+    angle_sliding_scratch_scalars::<f64>(node_count, dim, options, len_out)
+}
+
+/// `f32` twin of [`dk_spring_solve_angle_sliding_scratch_len`] (differs only when `epsilon`
+/// rounds to 0 in `float`).
+///
+/// # Safety
+/// As [`dk_spring_solve_angle_sliding_scratch_len`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_solve_angle_sliding_scratch_len_f32(
+    node_count: usize,
+    dim: u32,
+    options: *const dk_spring_angle_options,
+    len_out: *mut usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
+    angle_sliding_scratch_scalars::<f32>(node_count, dim, options, len_out)
+}
+
+/// [`dk_spring_solve_angle`] with sliding nodes (the kernel's
+/// `AngleSystem::solve_angle_sliding`, with the same bits): the problem of
+/// [`dk_spring_solve_linear_sliding`] with the angle springs' edge blocks. The direct methods
+/// solve each node's projected block `(P A P + s (I − P)) δ = P r` (`s = tr A / dim`), in
+/// Gauss–Seidel order over-relaxed by `omega` (1 = plain) or in Jacobi order; `DK_ANGLE_CG`
+/// runs on the projected system with the projected node blocks as preconditioner. `omega`
+/// must be in (0, 2) for every method. With `options->epsilon` 0 the unconstrained rigidity
+/// probe runs first. `scratch` needs [`dk_spring_solve_angle_sliding_scratch_len`] scalars.
+/// Values, report and the sliding guarantee as [`dk_spring_solve_linear_sliding`].
+///
+/// Errors (values and report unchanged): those of [`dk_spring_solve_angle`] and of
+/// [`dk_spring_solve_linear_sliding`]; `DK_ERR_INVALID_PARAMETER` for `omega`.
+///
+/// # Safety
+/// As [`dk_spring_solve_linear_sliding`]; `points` readable for `points_len` scalars.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_solve_angle_sliding(
+    system: *const dk_spring_system,
+    points: *const f64,
+    points_len: usize,
+    dim: u32,
+    constraints: *const dk_constraints,
+    options: *const dk_spring_angle_options,
+    omega: f64,
+    values: *mut f64,
+    values_len: usize,
+    scratch: *mut f64,
+    scratch_len: usize,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    report: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (system, points, constraints, options, values, scratch, index_scratch, report) = unsafe {
+        (
+            In::new(system, 1),
+            In::new(points, points_len),
+            In::new(constraints, 1),
+            In::new(options, 1),
+            Out::new(values, values_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(report, 1),
+        )
+    };
+    let sys = SysArgs {
+        system: SystemC::read(system),
+        index_scratch,
+    };
+    let pts = AngleArgs { points };
+    let c = ConstraintsC::read(constraints);
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_angle_sliding_d::<f64>,
+            (sys, &pts, c, &o, omega, values, scratch, report)
+        )
+    }))
+}
+
+/// `f32` twin of [`dk_spring_solve_angle_sliding`].
+///
+/// # Safety
+/// As [`dk_spring_solve_angle_sliding`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_solve_angle_sliding_f32(
+    system: *const dk_spring_system_f32,
+    points: *const f32,
+    points_len: usize,
+    dim: u32,
+    constraints: *const dk_constraints_f32,
+    options: *const dk_spring_angle_options,
+    omega: f32,
+    values: *mut f32,
+    values_len: usize,
+    scratch: *mut f32,
+    scratch_len: usize,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    report: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (system, points, constraints, options, values, scratch, index_scratch, report) = unsafe {
+        (
+            In::new(system, 1),
+            In::new(points, points_len),
+            In::new(constraints, 1),
+            In::new(options, 1),
+            Out::new(values, values_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(report, 1),
+        )
+    };
+    let sys = SysArgs {
+        system: SystemC::read(system),
+        index_scratch,
+    };
+    let pts = AngleArgs { points };
+    let c = ConstraintsC::read(constraints);
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_angle_sliding_d::<f32>,
+            (sys, &pts, c, &o, omega, values, scratch, report)
+        )
+    }))
+}
+
+/// The exact pool lengths [`dk_spring_solve_linear_sliding_amg`] needs for this system (built
+/// with [`dk_constraints_fixed_mask`]), `dim` (2 or 3) and multigrid options, as
+/// [`dk_spring_solve_linear_amg_pool_sizes`] (the same `work`, from
+/// [`dk_spring_amg_work_len`]) but with `(6 N + 3 × coarse unknowns) * dim` scratch scalars
+/// (the sliding solve also keeps a scaled copy of the values). The sizes do not depend on the
+/// constraints. Errors as [`dk_spring_solve_linear_amg_pool_sizes`] (`dim` instead of
+/// `components`).
+///
+/// # Safety
+/// As [`dk_spring_solve_linear_amg_pool_sizes`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_solve_linear_sliding_amg_pool_sizes(
+    system: *const dk_spring_system,
+    dim: u32,
+    amg: *const dk_amg_options,
+    work: *mut u32,
+    work_len: usize,
+    sizes_out: *mut dk_plan_sizes,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (system, amg, work, sizes_out) = unsafe {
+        (
+            In::new(system, 1),
+            In::new(amg, 1),
+            Out::new(work, work_len),
+            Out::new(sizes_out, 1),
+        )
+    };
+    let system = SystemC::read(system);
+    done(by_dim!(
+        dim,
+        sliding_amg_pool_sizes_d::<f64>,
+        (system, amg, work, sizes_out)
+    ))
+}
+
+/// `f32` twin of [`dk_spring_solve_linear_sliding_amg_pool_sizes`].
+///
+/// # Safety
+/// As [`dk_spring_solve_linear_sliding_amg_pool_sizes`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_solve_linear_sliding_amg_pool_sizes_f32(
+    system: *const dk_spring_system_f32,
+    dim: u32,
+    amg: *const dk_amg_options,
+    work: *mut u32,
+    work_len: usize,
+    sizes_out: *mut dk_plan_sizes,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (system, amg, work, sizes_out) = unsafe {
+        (
+            In::new(system, 1),
+            In::new(amg, 1),
+            Out::new(work, work_len),
+            Out::new(sizes_out, 1),
+        )
+    };
+    let system = SystemC::read(system);
+    done(by_dim!(
+        dim,
+        sliding_amg_pool_sizes_d::<f32>,
+        (system, amg, work, sizes_out)
+    ))
+}
+
+/// [`dk_spring_solve_linear_sliding`]'s problem solved by its projected CG preconditioned
+/// with one smoothed-aggregation multigrid V-cycle per iteration, applied as `P M⁻¹ P` (the
+/// kernel's `AmgHierarchy::setup` on the system, sliding nodes free, then
+/// `solve_linear_sliding` with `LinearSolver::Amg`, with the same bits). The hierarchy is
+/// rebuilt in `pools` on every call (lengths from
+/// [`dk_spring_solve_linear_sliding_amg_pool_sizes`]; `bytes` unused); plans do not take
+/// sliding kinds yet.
+///
+/// Arguments as [`dk_spring_solve_linear_sliding`] (`options` gives only the stopping rules),
+/// plus `amg` and `pools` as for [`dk_spring_solve_linear_amg`].
+///
+/// Errors (values and report unchanged): those of [`dk_spring_solve_linear_sliding`] and of
+/// [`dk_spring_solve_linear_amg`].
+///
+/// # Safety
+/// As [`dk_spring_solve_linear_amg`]; `constraints` points to one readable struct whose
+/// arrays are readable for their lengths.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_solve_linear_sliding_amg(
+    system: *const dk_spring_system,
+    constraints: *const dk_constraints,
+    options: *const dk_spring_solve_options,
+    amg: *const dk_amg_options,
+    dim: u32,
+    values: *mut f64,
+    values_len: usize,
+    pools: *const dk_plan_pools,
+    report: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (system, constraints, options, amg, values, pools, report) = unsafe {
+        (
+            In::new(system, 1),
+            In::new(constraints, 1),
+            In::new(options, 1),
+            In::new(amg, 1),
+            Out::new(values, values_len),
+            In::new(pools, 1),
+            Out::new(report, 1),
+        )
+    };
+    let args = AmgArgs {
+        system: SystemC::read(system),
+        amg,
+        pools: PoolsC::read(pools),
+    };
+    let c = ConstraintsC::read(constraints);
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_linear_sliding_amg_d::<f64>,
+            (args, c, &o, values, report)
+        )
+    }))
+}
+
+/// `f32` twin of [`dk_spring_solve_linear_sliding_amg`].
+///
+/// # Safety
+/// As [`dk_spring_solve_linear_sliding_amg`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_solve_linear_sliding_amg_f32(
+    system: *const dk_spring_system_f32,
+    constraints: *const dk_constraints_f32,
+    options: *const dk_spring_solve_options,
+    amg: *const dk_amg_options,
+    dim: u32,
+    values: *mut f32,
+    values_len: usize,
+    pools: *const dk_plan_pools_f32,
+    report: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (system, constraints, options, amg, values, pools, report) = unsafe {
+        (
+            In::new(system, 1),
+            In::new(constraints, 1),
+            In::new(options, 1),
+            In::new(amg, 1),
+            Out::new(values, values_len),
+            In::new(pools, 1),
+            Out::new(report, 1),
+        )
+    };
+    let args = AmgArgs {
+        system: SystemC::read(system),
+        amg,
+        pools: PoolsC::read(pools),
+    };
+    let c = ConstraintsC::read(constraints);
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_linear_sliding_amg_d::<f32>,
+            (args, c, &o, values, report)
+        )
+    }))
+}
+
+/// The exact pool lengths [`dk_spring_solve_angle_sliding_amg`] needs: the same as
+/// [`dk_spring_solve_linear_sliding_amg_pool_sizes`] with the same `dim` (the angle solve
+/// applies the scalar linear-spring hierarchy to each displacement component; its scratch
+/// also covers the rigidity probe when `epsilon` is 0). Errors as
+/// [`dk_spring_solve_linear_sliding_amg_pool_sizes`].
+///
+/// # Safety
+/// As [`dk_spring_solve_linear_amg_pool_sizes`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_solve_angle_sliding_amg_pool_sizes(
+    system: *const dk_spring_system,
+    dim: u32,
+    amg: *const dk_amg_options,
+    work: *mut u32,
+    work_len: usize,
+    sizes_out: *mut dk_plan_sizes,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (system, amg, work, sizes_out) = unsafe {
+        (
+            In::new(system, 1),
+            In::new(amg, 1),
+            Out::new(work, work_len),
+            Out::new(sizes_out, 1),
+        )
+    };
+    let system = SystemC::read(system);
+    done(by_dim!(
+        dim,
+        sliding_amg_pool_sizes_d::<f64>,
+        (system, amg, work, sizes_out)
+    ))
+}
+
+/// `f32` twin of [`dk_spring_solve_angle_sliding_amg_pool_sizes`].
+///
+/// # Safety
+/// As [`dk_spring_solve_angle_sliding_amg_pool_sizes`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_solve_angle_sliding_amg_pool_sizes_f32(
+    system: *const dk_spring_system_f32,
+    dim: u32,
+    amg: *const dk_amg_options,
+    work: *mut u32,
+    work_len: usize,
+    sizes_out: *mut dk_plan_sizes,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (system, amg, work, sizes_out) = unsafe {
+        (
+            In::new(system, 1),
+            In::new(amg, 1),
+            Out::new(work, work_len),
+            Out::new(sizes_out, 1),
+        )
+    };
+    let system = SystemC::read(system);
+    done(by_dim!(
+        dim,
+        sliding_amg_pool_sizes_d::<f32>,
+        (system, amg, work, sizes_out)
+    ))
+}
+
+/// [`dk_spring_solve_angle_sliding`]'s projected CG preconditioned by one V-cycle of the
+/// scalar linear-spring multigrid hierarchy per displacement component, applied as `P M⁻¹ P`
+/// (the kernel's `AmgHierarchy::setup` on the system, then
+/// `AngleSystem::solve_angle_sliding_amg`, with the same bits). The hierarchy is rebuilt in
+/// `pools` on every call (lengths from [`dk_spring_solve_angle_sliding_amg_pool_sizes`]).
+///
+/// Arguments as [`dk_spring_solve_angle_sliding`] without `omega` and the scratch buffers,
+/// `options->method` ignored (`epsilon` and the stopping rules are used; with `epsilon` 0 the
+/// rigidity probe runs first), plus `amg` and `pools` as for [`dk_spring_solve_angle_amg`].
+///
+/// Errors (values and report unchanged): those of [`dk_spring_solve_angle_sliding`] and of
+/// [`dk_spring_solve_angle_amg`].
+///
+/// # Safety
+/// As [`dk_spring_solve_angle_amg`]; `constraints` points to one readable struct whose
+/// arrays are readable for their lengths.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_solve_angle_sliding_amg(
+    system: *const dk_spring_system,
+    points: *const f64,
+    points_len: usize,
+    dim: u32,
+    constraints: *const dk_constraints,
+    options: *const dk_spring_angle_options,
+    amg: *const dk_amg_options,
+    values: *mut f64,
+    values_len: usize,
+    pools: *const dk_plan_pools,
+    report: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (system, points, constraints, options, amg, values, pools, report) = unsafe {
+        (
+            In::new(system, 1),
+            In::new(points, points_len),
+            In::new(constraints, 1),
+            In::new(options, 1),
+            In::new(amg, 1),
+            Out::new(values, values_len),
+            In::new(pools, 1),
+            Out::new(report, 1),
+        )
+    };
+    let args = AmgArgs {
+        system: SystemC::read(system),
+        amg,
+        pools: PoolsC::read(pools),
+    };
+    let pts = AngleArgs { points };
+    let c = ConstraintsC::read(constraints);
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_angle_sliding_amg_d::<f64>,
+            (args, &pts, c, &o, values, report)
+        )
+    }))
+}
+
+/// `f32` twin of [`dk_spring_solve_angle_sliding_amg`].
+///
+/// # Safety
+/// As [`dk_spring_solve_angle_sliding_amg`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_spring_solve_angle_sliding_amg_f32(
+    system: *const dk_spring_system_f32,
+    points: *const f32,
+    points_len: usize,
+    dim: u32,
+    constraints: *const dk_constraints_f32,
+    options: *const dk_spring_angle_options,
+    amg: *const dk_amg_options,
+    values: *mut f32,
+    values_len: usize,
+    pools: *const dk_plan_pools_f32,
+    report: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (system, points, constraints, options, amg, values, pools, report) = unsafe {
+        (
+            In::new(system, 1),
+            In::new(points, points_len),
+            In::new(constraints, 1),
+            In::new(options, 1),
+            In::new(amg, 1),
+            Out::new(values, values_len),
+            In::new(pools, 1),
+            Out::new(report, 1),
+        )
+    };
+    let args = AmgArgs {
+        system: SystemC::read(system),
+        amg,
+        pools: PoolsC::read(pools),
+    };
+    let pts = AngleArgs { points };
+    let c = ConstraintsC::read(constraints);
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_angle_sliding_amg_d::<f32>,
+            (args, &pts, c, &o, values, report)
         )
     }))
 }
