@@ -8,9 +8,9 @@
 use core::hint::black_box;
 
 use deform_kernel::spring::{
-    amg_precondition_scratch_len, amg_setup_work_len, solve_linear_amg_scratch_len, solve_linear_with_scratch_len,
-    AmgHierarchy, AmgOptions, AmgSmoother, LinearMethod, LinearSolver, Preconditioner,
-    SolveOptions, SpringSystem,
+    amg_precondition_scratch_len, amg_setup_work_len, solve_linear_amg_scratch_len,
+    solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother, LinearMethod,
+    LinearSolver, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::{Graph, Real};
 
