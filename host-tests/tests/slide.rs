@@ -133,6 +133,33 @@ impl<const D: usize> Half<D> {
         (kinds, dirs, fit.normal)
     }
 
+    /// The wall nodes at `t`, every other node at zero.
+    fn wall_at(&self, t: [f64; D]) -> Vec<[f64; D]> {
+        let mut v = vec![[0.0; D]; self.points.len()];
+        for &i in &self.wall {
+            v[i as usize] = t;
+        }
+        v
+    }
+
+    /// The angle springs' dense projected solution (edge blocks `k (e eᵀ/|e|² + ε I)`).
+    fn angle_reference(
+        &self,
+        kinds: &[u8],
+        dirs: &[[f64; D]],
+        fixed: &[[f64; D]],
+        eps: f64,
+    ) -> Vec<[f64; D]> {
+        let p = &self.points;
+        dense_reference(&self.graph(), &self.k, kinds, dirs, fixed, |i, j, k| {
+            let e: [f64; D] = std::array::from_fn(|c| p[j][c] - p[i][c]);
+            let e2: f64 = e.iter().map(|x| x * x).sum();
+            std::array::from_fn(|r| {
+                std::array::from_fn(|c| k * (e[r] * e[c] / e2 + if r == c { eps } else { 0.0 }))
+            })
+        })
+    }
+
     /// Mesh size: the largest coordinate extent.
     fn size(&self) -> f64 {
         (0..D)
@@ -380,19 +407,9 @@ fn angle_matches_dense_reference() {
     fn check<const D: usize>(h: &Half<D>, t: [f64; D]) {
         let eps = 0.05;
         let (kinds, dirs, _) = h.constraints(false);
-        let mut fixed = vec![[0.0; D]; kinds.len()];
-        for &i in &h.wall {
-            fixed[i as usize] = t;
-        }
+        let fixed = h.wall_at(t);
         let g = h.graph();
-        let p = &h.points;
-        let reference = dense_reference(&g, &h.k, &kinds, &dirs, &fixed, |i, j, k| {
-            let e: [f64; D] = std::array::from_fn(|c| p[j][c] - p[i][c]);
-            let e2: f64 = e.iter().map(|x| x * x).sum();
-            std::array::from_fn(|r| {
-                std::array::from_fn(|c| k * (e[r] * e[c] / e2 + if r == c { eps } else { 0.0 }))
-            })
-        });
+        let reference = h.angle_reference(&kinds, &dirs, &fixed, eps);
         let c = Constraints::new(&kinds, &dirs).unwrap();
         let mut mask = vec![0u8; kinds.len()];
         c.fixed_mask(&mut mask).unwrap();
@@ -436,19 +453,9 @@ fn angle_matches_dense_reference() {
 fn angle_amg_matches_dense_reference_and_slides() {
     fn check<const D: usize>(h: &Half<D>, t: [f64; D], eps: f64) {
         let (kinds, dirs, normal) = h.constraints(false);
-        let mut fixed = vec![[0.0; D]; kinds.len()];
-        for &i in &h.wall {
-            fixed[i as usize] = t;
-        }
+        let fixed = h.wall_at(t);
         let g = h.graph();
-        let p = &h.points;
-        let reference = dense_reference(&g, &h.k, &kinds, &dirs, &fixed, |i, j, k| {
-            let e: [f64; D] = std::array::from_fn(|c| p[j][c] - p[i][c]);
-            let e2: f64 = e.iter().map(|x| x * x).sum();
-            std::array::from_fn(|r| {
-                std::array::from_fn(|c| k * (e[r] * e[c] / e2 + if r == c { eps } else { 0.0 }))
-            })
-        });
+        let reference = h.angle_reference(&kinds, &dirs, &fixed, eps);
         let c = Constraints::new(&kinds, &dirs).unwrap();
         let mut mask = vec![0u8; kinds.len()];
         c.fixed_mask(&mut mask).unwrap();
