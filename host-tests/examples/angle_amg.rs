@@ -157,6 +157,30 @@ fn pcg(op: &Op, b: &[[f64; D]], prec: &mut Precondition, tol: f64) -> usize {
     20000
 }
 
+/// Relative residual 1e-8, as in the tables.
+const STOP: SolveOptions<f64> = SolveOptions {
+    max_iterations: 20000,
+    residual_tol: 1e-8,
+    update_tol: 0.0,
+};
+
+/// The default multigrid hierarchy of `sys` in `index` / `values` (resized to the exact
+/// sizes), with the setup time in seconds.
+fn setup<'h>(
+    sys: &SpringSystem<'_, f64>,
+    index: &'h mut Vec<u32>,
+    values: &'h mut Vec<f64>,
+) -> (AmgHierarchy<'h, f64>, f64) {
+    let opts = AmgOptions::<f64>::default();
+    let t0 = Instant::now();
+    let mut work = vec![0u32; AmgHierarchy::setup_work_len(sys)];
+    let sizes = AmgHierarchy::setup_len(sys, &opts, &mut work).unwrap();
+    index.resize(sizes.index, 0);
+    values.resize(sizes.values, 0.0);
+    let h = AmgHierarchy::setup(sys, &opts, &mut work, index, values).unwrap();
+    (h, t0.elapsed().as_secs_f64())
+}
+
 fn main() {
     for (ni, nj) in [(128, 48), (256, 96), (512, 192)] {
         let grid = AirfoilGrid {
@@ -232,14 +256,8 @@ fn main() {
                 }
             }
             let it_bj = pcg(&op, &b, &mut |r, z| op.diag_solve(r, z), 1e-8);
-            let opts = AmgOptions::<f64>::default();
-            let t0 = Instant::now();
-            let mut work = vec![0u32; AmgHierarchy::setup_work_len(&sys)];
-            let sizes = AmgHierarchy::setup_len(&sys, &opts, &mut work).unwrap();
-            let mut index = vec![0u32; sizes.index];
-            let mut values = vec![0.0f64; sizes.values];
-            let h = AmgHierarchy::setup(&sys, &opts, &mut work, &mut index, &mut values).unwrap();
-            let t_setup = t0.elapsed().as_secs_f64();
+            let (mut index, mut values) = (Vec::new(), Vec::new());
+            let (h, t_setup) = setup(&sys, &mut index, &mut values);
             let mut sc = vec![[0.0f64; D]; amg_precondition_scratch_len(&h)];
             let it_amg = pcg(
                 &op,
@@ -249,11 +267,7 @@ fn main() {
             );
             // The kernel's angle CGs: block Jacobi and multigrid.
             let asys = AngleSystem::<f64, D>::new(sys, &mesh.points, eps).unwrap();
-            let stop = SolveOptions {
-                max_iterations: 20000,
-                residual_tol: 1e-8,
-                update_tol: 0.0,
-            };
+            let stop = STOP;
             let mut x = disp.clone();
             let mut s2 = vec![[0.0; D]; asys.angle_scratch_len(AngleMethod::Cg)];
             let t0 = Instant::now();
@@ -312,20 +326,10 @@ fn sliding(mesh: &deform_meshgen::Mesh<D>, g: &Graph<'_>, k: &[f64], disp: &[[f6
     c.fixed_mask(&mut mask).unwrap();
     let mut scratch = vec![0u32; n];
     let sys = SpringSystem::new(*g, k, &mask, &mut scratch).unwrap();
-    let opts = AmgOptions::<f64>::default();
-    let t0 = Instant::now();
-    let mut work = vec![0u32; AmgHierarchy::setup_work_len(&sys)];
-    let sizes = AmgHierarchy::setup_len(&sys, &opts, &mut work).unwrap();
-    let mut index = vec![0u32; sizes.index];
-    let mut values = vec![0.0f64; sizes.values];
-    let h = AmgHierarchy::setup(&sys, &opts, &mut work, &mut index, &mut values).unwrap();
-    let t_setup = t0.elapsed().as_secs_f64();
+    let (mut index, mut values) = (Vec::new(), Vec::new());
+    let (h, t_setup) = setup(&sys, &mut index, &mut values);
     let asys = AngleSystem::<f64, D>::new(sys, &mesh.points, eps).unwrap();
-    let stop = SolveOptions {
-        max_iterations: 20000,
-        residual_tol: 1e-8,
-        update_tol: 0.0,
-    };
+    let stop = STOP;
     let mut x = disp.to_vec();
     let mut s1 = vec![[0.0; D]; asys.solve_angle_sliding_scratch_len(AngleMethod::Cg)];
     let t0 = Instant::now();
