@@ -24,61 +24,7 @@
 
 #include "deform_kernel.h"
 
-static int failures = 0;
-
-#define EXPECT(call, status)                                                              \
-    do {                                                                                  \
-        dk_status s_ = (call);                                                            \
-        if (s_ != (status)) {                                                             \
-            printf("FAIL line %d: %s: got %d (%s), expected %d\n", __LINE__, #call,       \
-                   (int)s_, dk_status_str((int32_t)s_), (int)(status));                   \
-            failures++;                                                                   \
-        }                                                                                 \
-    } while (0)
-
-#define OK(call) EXPECT(call, DK_OK)
-
-#define CHECK(cond)                                                                       \
-    do {                                                                                  \
-        if (!(cond)) {                                                                    \
-            printf("FAIL line %d: %s\n", __LINE__, #cond);                                \
-            failures++;                                                                   \
-        }                                                                                 \
-    } while (0)
-
-#define SAME(a, b, size) CHECK(memcmp((a), (b), (size)) == 0)
-#define POISON(obj) memset(&(obj), 0xA5, sizeof(obj))
-
-static void *xmalloc(size_t bytes) {
-    void *p = malloc(bytes ? bytes : 1);
-    if (!p) {
-        printf("out of memory\n");
-        exit(2);
-    }
-    return p;
-}
-
-static void hex64(const char *name, const double *v, size_t n) {
-    size_t i;
-    printf("%s", name);
-    for (i = 0; i < n; i++) {
-        uint64_t b;
-        memcpy(&b, &v[i], sizeof b);
-        printf(" %016llX", (unsigned long long)b);
-    }
-    printf("\n");
-}
-
-static void hex32(const char *name, const float *v, size_t n) {
-    size_t i;
-    printf("%s", name);
-    for (i = 0; i < n; i++) {
-        uint32_t b;
-        memcpy(&b, &v[i], sizeof b);
-        printf(" %08lX", (unsigned long)b);
-    }
-    printf("\n");
-}
+#include "check.h"
 
 /* ---- The mesh (shared by both precisions). ---- */
 

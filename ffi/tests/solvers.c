@@ -19,27 +19,7 @@
 #define ISCR_LEN 64
 static uint32_t iscr[ISCR_LEN];
 
-static int failures = 0;
-
-#define EXPECT(call, status)                                                              \
-    do {                                                                                  \
-        dk_status s_ = (call);                                                            \
-        if (s_ != (status)) {                                                             \
-            printf("FAIL line %d: %s: got %d (%s), expected %d\n", __LINE__, #call,       \
-                   (int)s_, dk_status_str((int32_t)s_), (int)(status));                   \
-            failures++;                                                                   \
-        }                                                                                 \
-    } while (0)
-
-#define OK(call) EXPECT(call, DK_OK)
-
-#define CHECK(cond)                                                                       \
-    do {                                                                                  \
-        if (!(cond)) {                                                                    \
-            printf("FAIL line %d: %s\n", __LINE__, #cond);                                \
-            failures++;                                                                   \
-        }                                                                                 \
-    } while (0)
+#include "check.h"
 
 #define CLOSE(a, b, tol)                                                                  \
     do {                                                                                  \
@@ -60,12 +40,6 @@ static int failures = 0;
     (&(dk_cells){(off), (off_len), (nodes), (nodes_len), (kinds), (kinds_len)})
 #define SYSTEM(graph, k, k_len, fixed, fixed_len)                                           \
     (&(FN(dk_spring_system)){*(graph), (k), (k_len), (fixed), (fixed_len)})
-
-/* Bit-for-bit comparison of two objects of the same size. */
-#define SAME(a, b, size) CHECK(memcmp((a), (b), (size)) == 0)
-
-/* A structure filled with a byte pattern (so "untouched" is visible in every byte). */
-#define POISON(obj) memset(&(obj), 0xA5, sizeof(obj))
 
 /* ---- Graphs shared by both precisions (built with dk_graph_from_edges). ---- */
 

@@ -8,6 +8,10 @@
 
 #include "deform_kernel.h"
 
+/* hex64, hex32 */
+#define DK_TEST_PRINTERS_ONLY
+#include "check.h"
+
 static int failed = 0;
 
 static void check(dk_status s, const char *what) {
@@ -17,27 +21,6 @@ static void check(dk_status s, const char *what) {
     }
 }
 
-static void hex64(const char *name, const double *v, size_t n) {
-    size_t i;
-    printf("%s", name);
-    for (i = 0; i < n; i++) {
-        uint64_t b;
-        memcpy(&b, &v[i], sizeof b);
-        printf(" %016llX", (unsigned long long)b);
-    }
-    printf("\n");
-}
-
-static void hex32(const char *name, const float *v, size_t n) {
-    size_t i;
-    printf("%s", name);
-    for (i = 0; i < n; i++) {
-        uint32_t b;
-        memcpy(&b, &v[i], sizeof b);
-        printf(" %08lX", (unsigned long)b);
-    }
-    printf("\n");
-}
 
 /* 4 x 4 grid graph, node i + 4 j. */
 static uint32_t goff[17], gtgt[48];
