@@ -970,14 +970,24 @@ fn move_d<const D: usize>(
                 };
                 let sor = input.method == MoveMethod::AngleDirect
                     && !matches!(input.solver, MoveSolver::GaussSeidel | MoveSolver::Jacobi);
-                // CG preconditioned by the linear springs' multigrid V-cycle per component.
-                let amg = input.method == MoveMethod::AngleCg && input.solver == MoveSolver::Amg;
-                if let (Some(c), true) = (&constraints, amg) {
+                if input.method == MoveMethod::AngleCg && input.solver == MoveSolver::Amg {
+                    // CG preconditioned by the linear springs' multigrid V-cycle per component.
                     let mut storage = AmgStorage::default();
                     let hierarchy = storage.build(&sys)?;
-                    let len = asys.solve_angle_sliding_amg_scratch_len(&hierarchy);
-                    let mut scratch = vec![[0.0; D]; len];
-                    asys.solve_angle_sliding_amg(c, &mut values, &hierarchy, &options, &mut scratch)
+                    if let Some(c) = &constraints {
+                        let len = asys.solve_angle_sliding_amg_scratch_len(&hierarchy);
+                        let mut scratch = vec![[0.0; D]; len];
+                        asys.solve_angle_sliding_amg(
+                            c,
+                            &mut values,
+                            &hierarchy,
+                            &options,
+                            &mut scratch,
+                        )
+                    } else {
+                        let mut scratch = vec![[0.0; D]; asys.angle_amg_scratch_len(&hierarchy)];
+                        asys.solve_angle_amg(&hierarchy, &mut values, &options, &mut scratch)
+                    }
                 } else if let Some(c) = &constraints {
                     let len = asys.solve_angle_sliding_scratch_len(method);
                     let mut scratch = vec![[0.0; D]; len];
@@ -991,11 +1001,6 @@ fn move_d<const D: usize>(
                         &options,
                         &mut scratch,
                     )
-                } else if amg {
-                    let mut storage = AmgStorage::default();
-                    let hierarchy = storage.build(&sys)?;
-                    let mut scratch = vec![[0.0; D]; asys.angle_amg_scratch_len(&hierarchy)];
-                    asys.solve_angle_amg(&hierarchy, &mut values, &options, &mut scratch)
                 } else {
                     let mut scratch = vec![[0.0; D]; asys.angle_scratch_len(method)];
                     asys.solve_angle(&mut values, method, &options, &mut scratch)

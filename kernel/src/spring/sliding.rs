@@ -335,11 +335,48 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
             AngleMethod::DirectGaussSeidel => n,
             AngleMethod::Cg => n.saturating_mul(5),
         };
+        self.with_probe(solve)
+    }
+
+    /// `solve` scratch items, raised to the rigidity probe's when `ε = 0` (it runs first, in
+    /// the same scratch).
+    fn with_probe(&self, solve: usize) -> usize {
         if self.epsilon() == T::ZERO {
             solve.max(self.angle_probe_scratch_len())
         } else {
             solve
         }
+    }
+
+    /// The checks every sliding angle solve starts with: `values`, the constraints against
+    /// the system's mask, the options.
+    fn check_sliding(
+        &self,
+        constraints: &Constraints<'_, T, D>,
+        values: &[[T; D]],
+        options: &SolveOptions<T>,
+    ) -> Result<()> {
+        check_values("values", values, self.base().node_count())?;
+        constraints.check_mask(self.base().fixed())?;
+        options.check()
+    }
+
+    /// `scratch` of at least `needed` items, then (for `ε = 0`) the unconstrained rigidity
+    /// probe in it: a rigid unconstrained system stays rigid when nodes are restricted further.
+    fn probe_rigidity(
+        &self,
+        options: &SolveOptions<T>,
+        scratch: &mut [[T; D]],
+        needed: usize,
+    ) -> Result<()> {
+        check::buffer("scratch", scratch.len(), needed)?;
+        if self.epsilon() == T::ZERO {
+            let s = self.angle_rigidity_probe(options, scratch)?;
+            if s > T::from_f64(MAX_AMPLIFICATION) {
+                return Err(Error::SingularSystem { iteration: 0 });
+            }
+        }
+        Ok(())
     }
 }
 
@@ -366,19 +403,13 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         options: &SolveOptions<T>,
         scratch: &mut [[T; D]],
     ) -> Result<SolveReport<T>> {
-        let n = self.base().node_count();
-        check_values("values", values, n)?;
-        constraints.check_mask(self.base().fixed())?;
-        options.check()?;
+        self.check_sliding(constraints, values, options)?;
         check_omega(omega)?;
-        let needed = self.solve_angle_sliding_scratch_len(method);
-        check::buffer("scratch", scratch.len(), needed)?;
-        if self.epsilon() == T::ZERO {
-            let s = self.angle_rigidity_probe(options, scratch)?;
-            if s > T::from_f64(MAX_AMPLIFICATION) {
-                return Err(Error::SingularSystem { iteration: 0 });
-            }
-        }
+        self.probe_rigidity(
+            options,
+            scratch,
+            self.solve_angle_sliding_scratch_len(method),
+        )?;
         let m = match method {
             AngleMethod::DirectGaussSeidel => Method::Sor(omega),
             AngleMethod::DirectJacobi => Method::Jacobi,
@@ -401,16 +432,12 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
     /// scaled copy and the CG vectors) plus [`amg_precondition_scratch_len`]; at least the
     /// rigidity probe's `4 n` when `ε = 0`.
     pub fn solve_angle_sliding_amg_scratch_len(&self, hierarchy: &AmgHierarchy<'_, T>) -> usize {
-        let solve = self
-            .base()
-            .node_count()
-            .saturating_mul(5)
-            .saturating_add(amg_precondition_scratch_len(hierarchy));
-        if self.epsilon() == T::ZERO {
-            solve.max(self.angle_probe_scratch_len())
-        } else {
-            solve
-        }
+        self.with_probe(
+            self.base()
+                .node_count()
+                .saturating_mul(5)
+                .saturating_add(amg_precondition_scratch_len(hierarchy)),
+        )
     }
 
     /// [`solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding)'s projected CG preconditioned by one V-cycle of the
@@ -436,19 +463,10 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         scratch: &mut [[T; D]],
     ) -> Result<SolveReport<T>> {
         let base = self.base();
-        let n = base.node_count();
-        check_values("values", values, n)?;
-        constraints.check_mask(base.fixed())?;
-        options.check()?;
+        self.check_sliding(constraints, values, options)?;
         hierarchy.check_system(base)?;
         let needed = self.solve_angle_sliding_amg_scratch_len(hierarchy);
-        check::buffer("scratch", scratch.len(), needed)?;
-        if self.epsilon() == T::ZERO {
-            let s = self.angle_rigidity_probe(options, scratch)?;
-            if s > T::from_f64(MAX_AMPLIFICATION) {
-                return Err(Error::SingularSystem { iteration: 0 });
-            }
-        }
+        self.probe_rigidity(options, scratch, needed)?;
         solve(
             &AngleOp(self),
             Some(base),
