@@ -343,8 +343,13 @@ impl<'a, T: Real> SpecArgs<'a, T> {
     /// The kernel's spec (borrowing the caller's arrays; everything is copied at init).
     fn spec<const D: usize>(&self) -> Result<PlanSpec<'a, T, D>, dk_status> {
         let o = read_one(self.options)?;
-        let points = read_points::<T, D>(self.points)?;
         let graph = self.graph.graph()?;
+        // The length first: a points length that no graph of this size can have is refused
+        // before the pointer is borrowed for it.
+        if Some(self.points.len()) != graph.node_count().checked_mul(D) {
+            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+        }
+        let points = read_points::<T, D>(self.points)?;
         let boundary = input(self.boundary)?;
         let (elements, _) = self.elements.optional_cells(boundary.len(), 0, &mut [])?;
         let method = match o.method {
@@ -382,7 +387,8 @@ fn work_sizes_d<T: Real, const D: usize>(
     out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
     let s = spec.spec::<D>()?;
-    write_one(out, Plan::<T, D>::work_sizes(&s).into())
+    let sizes = Plan::<T, D>::work_sizes(&s).map_err(dk_status::from)?;
+    write_one(out, sizes.into())
 }
 
 fn sizes_d<T: Real, const D: usize>(
@@ -431,11 +437,17 @@ pub(crate) struct MotionArgs<'a, T> {
 }
 
 impl<'a, T: Real> MotionArgs<'a, T> {
-    fn motion<const D: usize>(self) -> Result<PlanMotion<'a, T, D>, dk_status> {
+    /// The kernel's motion; `rotation_source` and `rotations` are read only for the
+    /// quaternion method (the spring method ignores them, as documented).
+    fn motion<const D: usize>(self, method: PlanMethod) -> Result<PlanMotion<'a, T, D>, dk_status> {
         let deformed = read_points::<T, D>(self.deformed)?;
-        let rotations = match self.rotation_source {
+        let source = match method {
+            PlanMethod::Spring => crate::deformation::DK_ROTATIONS_SHAPE,
+            PlanMethod::QuaternionSpring => self.rotation_source,
+        };
+        let rotations = match source {
             crate::deformation::DK_ROTATIONS_SHAPE => {
-                if self.rotations.len() != 0 {
+                if method == PlanMethod::QuaternionSpring && self.rotations.len() != 0 {
                     return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
                 }
                 RotationSource::Shape
@@ -473,7 +485,7 @@ fn step_d<T: Real, const D: usize>(
     report_out: Out<'_, dk_plan_step_report>,
 ) -> Result<(), dk_status> {
     let mut plan = pools?.open::<D>()?;
-    let motion = motion.motion::<D>()?;
+    let motion = motion.motion::<D>(plan.method())?;
     let out = chunks_mut::<T, D>(out)?;
     let report_slot = crate::slice::out_one(report_out)?;
     let r = plan.step(&motion, out).map_err(dk_status::from)?;

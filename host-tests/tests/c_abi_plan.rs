@@ -112,7 +112,7 @@ fn c_plan_steps_equal_the_rust_plan_bit_for_bit() {
         solver: PlanSolver::Amg(AmgOptions::default()),
         options: SolveOptions::default(),
     };
-    let ws = Plan::<f64, 2>::work_sizes(&spec);
+    let ws = Plan::<f64, 2>::work_sizes(&spec).unwrap();
     let (mut wr, mut wi, mut wb) = (
         vec![0.0; ws.reals],
         vec![0u32; ws.indices],
@@ -186,4 +186,22 @@ fn c_plan_f32_twins_and_bad_input() {
         compile("gcc", std::slice::from_ref(&src), &flags, link, &exe);
         assert_eq!(run(&exe), "plan: every check held\n", "{name}");
     }
+}
+
+/// The plans' edge cases from C (`ffi/tests/plan_edges.c`): one-level hierarchies, the work
+/// sizes' validation, the spring method ignoring `rotation_source`.
+#[test]
+fn c_plan_edge_cases() {
+    let src = workspace().join("ffi/tests/plan_edges.c");
+    let flags = c_flags();
+    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
+    let exe = tmp("plan_edges_c");
+    compile(
+        "gcc",
+        std::slice::from_ref(&src),
+        &flags,
+        Link::Static,
+        &exe,
+    );
+    assert_eq!(run(&exe), "plan_edges: every check held\n");
 }
