@@ -192,16 +192,8 @@ fn c_plan_f32_twins_and_bad_input() {
 /// sizes' validation, the spring method ignoring `rotation_source`.
 #[test]
 fn c_plan_edge_cases() {
-    let src = workspace().join("ffi/tests/plan_edges.c");
-    let flags = c_flags();
-    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
-    let exe = tmp("plan_edges_c");
-    compile(
-        "gcc",
-        std::slice::from_ref(&src),
-        &flags,
-        Link::Static,
-        &exe,
+    assert_eq!(
+        run_c_test("plan_edges", "plan_edges_c", Link::Static),
+        "plan_edges: every check held\n"
     );
-    assert_eq!(run(&exe), "plan_edges: every check held\n");
 }

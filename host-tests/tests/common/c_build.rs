@@ -84,6 +84,17 @@ pub fn tmp(name: &str) -> PathBuf {
     Path::new(env!("CARGO_TARGET_TMPDIR")).join(name)
 }
 
+/// Compiles the C program `ffi/tests/<name>.c` with [`c_flags`], links it as `link` into a
+/// temporary executable called `exe` and returns what it printed.
+pub fn run_c_test(name: &str, exe: &str, link: Link) -> String {
+    let src = workspace().join(format!("ffi/tests/{name}.c"));
+    let flags = c_flags();
+    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
+    let exe = tmp(exe);
+    compile("gcc", std::slice::from_ref(&src), &flags, link, &exe);
+    run(&exe)
+}
+
 pub fn c_flags() -> Vec<String> {
     let inc = workspace().join("ffi/include");
     ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"]
