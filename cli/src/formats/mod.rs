@@ -7,6 +7,7 @@
 pub mod base64;
 pub mod displacements;
 pub mod error;
+pub mod listdirected;
 pub mod motions;
 pub mod plot3d;
 pub mod su2;
