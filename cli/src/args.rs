@@ -528,4 +528,6 @@ pub enum InputFormat {
     Plot3d,
     /// VTK XML (.vtu/.vts): written by the tool, not read.
     Vtk,
+    /// CGNS (HDF5 or ADF; builds with the cgns feature): unstructured as SU2, structured as Plot3D.
+    Cgns,
 }
