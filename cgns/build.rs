@@ -17,7 +17,9 @@ fn main() {
         .map(|d| d.join("cgnstypes.h"))
         .find(|p| p.exists());
     let Some(header) = header else {
-        panic!("cgnstypes.h not found (install libcgns-dev, or set CGNS_INCLUDE_DIR)");
+        // Without the library nothing that calls it links; the workspace still builds.
+        println!("cargo:warning=cgnstypes.h not found: install libcgns-dev (or set CGNS_INCLUDE_DIR) to link deform-cgns");
+        return;
     };
     println!("cargo:rerun-if-changed={}", header.display());
     let text = std::fs::read_to_string(&header).expect("read cgnstypes.h");

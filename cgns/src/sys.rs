@@ -22,6 +22,12 @@ pub const MODE_WRITE: c_int = 1;
 pub const FILE_HDF5: c_int = 2;
 /// `RealDouble` (DataType_t).
 pub const REAL_DOUBLE: c_int = 4;
+/// `Vertex` (GridLocation_t).
+pub const VERTEX: c_int = 2;
+/// `ElementRange` (PointSetType_t).
+pub const ELEMENT_RANGE: c_int = 6;
+/// `ElementList` (PointSetType_t).
+pub const ELEMENT_LIST: c_int = 7;
 /// `MIXED` (ElementType_t).
 pub const MIXED: c_int = 20;
 /// `Structured` (ZoneType_t).
@@ -107,6 +113,20 @@ extern "C" {
         offsets: *mut CgSize,
         parent: *mut CgSize,
     ) -> c_int;
+    fn cg_npe(t: c_int, npe: *mut c_int) -> c_int;
+    fn cg_poly_section_write(
+        fn_: c_int,
+        b: c_int,
+        z: c_int,
+        name: *const c_char,
+        t: c_int,
+        start: CgSize,
+        end: CgSize,
+        nbndry: c_int,
+        elements: *const CgSize,
+        offsets: *const CgSize,
+        s: *mut c_int,
+    ) -> c_int;
     fn cg_section_write(
         fn_: c_int,
         b: c_int,
@@ -161,6 +181,31 @@ extern "C" {
         bc: *mut c_int,
     ) -> c_int;
     fn cg_boco_gridlocation_write(fn_: c_int, b: c_int, z: c_int, bc: c_int, loc: c_int) -> c_int;
+}
+
+/// The offsets of a `MIXED` connectivity (type code, then that type's nodes, per element):
+/// one per element of `range`, plus the end, which must be the connectivity's length.
+fn mixed_offsets(conn: &[CgSize], range: (CgSize, CgSize)) -> Result<Vec<CgSize>, Error> {
+    let bad = |m: &str| Error {
+        call: "cg_poly_section_write",
+        message: m.to_string(),
+    };
+    let n = usize::try_from(range.1 - range.0 + 1).map_err(|_| bad("empty range"))?;
+    let mut offsets: Vec<CgSize> = Vec::with_capacity(n + 1);
+    let mut at = 0usize;
+    for _ in 0..n {
+        offsets.push(CgSize::try_from(at).map_err(|_| bad("too long"))?);
+        let t = *conn.get(at).ok_or_else(|| bad("connectivity ends early"))?;
+        let mut npe: c_int = 0;
+        // SAFETY: plain integer argument and a valid out pointer.
+        check(unsafe { cg_npe(t as c_int, &mut npe) }, "cg_npe")?;
+        at += 1 + usize::try_from(npe).map_err(|_| bad("element type without fixed size"))?;
+    }
+    if at != conn.len() {
+        return Err(bad("connectivity length does not match its elements"));
+    }
+    offsets.push(CgSize::try_from(at).map_err(|_| bad("too long"))?);
+    Ok(offsets)
 }
 
 /// The library's message for the last failed call.
@@ -242,8 +287,8 @@ impl File {
     pub fn base(&self, b: c_int) -> Result<(String, c_int, c_int), Error> {
         let mut name: NameBuf = [0; 64];
         let (mut cd, mut pd) = (0, 0);
-        // SAFETY: the name buffer holds 64 > 33 bytes; out pointers are valid.
         check(
+            // SAFETY: the name buffer holds 64 > 33 bytes; out pointers are valid.
             unsafe { cg_base_read(self.0, b, name.as_mut_ptr(), &mut cd, &mut pd) },
             "cg_base_read",
         )?;
@@ -261,21 +306,21 @@ impl File {
     /// Zone `z`: (name, type, index dimension, size array of 3 × index dimension).
     pub fn zone(&self, b: c_int, z: c_int) -> Result<(String, c_int, usize, Vec<CgSize>), Error> {
         let (mut t, mut idim) = (0, 0);
-        // SAFETY: valid out pointers.
         check(
+            // SAFETY: valid out pointers.
             unsafe { cg_zone_type(self.0, b, z, &mut t) },
             "cg_zone_type",
         )?;
-        // SAFETY: valid out pointer.
         check(
+            // SAFETY: valid out pointer.
             unsafe { cg_index_dim(self.0, b, z, &mut idim) },
             "cg_index_dim",
         )?;
         let idim = usize::try_from(idim).unwrap_or(0).min(3);
         let mut size: [CgSize; 9] = [0; 9];
         let mut name: NameBuf = [0; 64];
-        // SAFETY: `size` holds 9 = 3 × the largest index dimension; the name buffer 64 bytes.
         check(
+            // SAFETY: `size` holds 9 = 3 × the largest index dimension; the name buffer 64 bytes.
             unsafe { cg_zone_read(self.0, b, z, name.as_mut_ptr(), size.as_mut_ptr()) },
             "cg_zone_read",
         )?;
@@ -294,9 +339,9 @@ impl File {
         let c = c_string(name, "cg_coord_read")?;
         let rmin: Vec<CgSize> = vec![1; rmax.len()];
         let mut out = vec![0.0f64; n];
-        // SAFETY: `out` holds the n = product of `rmax` values the range asks for; the range
-        // arrays have the zone's index dimension; `c` is NUL-terminated.
         check(
+            // SAFETY: `out` holds the n = product of `rmax` values the range asks for; the range
+            // arrays have the zone's index dimension; `c` is NUL-terminated.
             unsafe {
                 cg_coord_read(
                     self.0,
@@ -317,8 +362,8 @@ impl File {
     /// Number of element sections of zone `z`.
     pub fn nsections(&self, b: c_int, z: c_int) -> Result<c_int, Error> {
         let mut n = 0;
-        // SAFETY: valid out pointer.
         check(
+            // SAFETY: valid out pointer.
             unsafe { cg_nsections(self.0, b, z, &mut n) },
             "cg_nsections",
         )?;
@@ -334,8 +379,8 @@ impl File {
     ) -> Result<(String, c_int, CgSize, CgSize, Vec<CgSize>), Error> {
         let mut name: NameBuf = [0; 64];
         let (mut t, mut start, mut end, mut nb, mut pf) = (0, 0, 0, 0, 0);
-        // SAFETY: name buffer of 64 bytes; valid out pointers.
         check(
+            // SAFETY: name buffer of 64 bytes; valid out pointers.
             unsafe {
                 cg_section_read(
                     self.0,
@@ -353,8 +398,8 @@ impl File {
             "cg_section_read",
         )?;
         let mut len: CgSize = 0;
-        // SAFETY: valid out pointer.
         check(
+            // SAFETY: valid out pointer.
             unsafe { cg_ElementDataSize(self.0, b, z, s, &mut len) },
             "cg_ElementDataSize",
         )?;
@@ -367,9 +412,9 @@ impl File {
             // Variable-size elements: the library wants room for the offsets too.
             let n = usize::try_from(end - start + 1).unwrap_or(0);
             let mut offsets: Vec<CgSize> = vec![0; n + 1];
-            // SAFETY: `conn` holds ElementDataSize values and `offsets` one more than the
-            // section's element count, as the library requires; no parent data (NULL).
             check(
+                // SAFETY: `conn` holds ElementDataSize values and `offsets` one more than the
+                // section's element count, as the library requires; no parent data (NULL).
                 unsafe {
                     cg_poly_elements_read(
                         self.0,
@@ -385,9 +430,9 @@ impl File {
             )?;
             return Ok((name_of(&name), t, start, end, conn));
         }
-        // SAFETY: `conn` holds ElementDataSize values, as the library requires; parent data
-        // is not requested (NULL is allowed).
         check(
+            // SAFETY: `conn` holds ElementDataSize values, as the library requires; parent data
+            // is not requested (NULL is allowed).
             unsafe { cg_elements_read(self.0, b, z, s, conn.as_mut_ptr(), std::ptr::null_mut()) },
             "cg_elements_read",
         )?;
@@ -414,8 +459,8 @@ impl File {
         let mut name: NameBuf = [0; 64];
         let (mut bctype, mut ptset, mut ni, mut nt, mut nds) = (0, 0, 0, 0, 0);
         let (mut npnts, mut nls): (CgSize, CgSize) = (0, 0);
-        // SAFETY: name buffer of 64 bytes; valid out pointers.
         check(
+            // SAFETY: name buffer of 64 bytes; valid out pointers.
             unsafe {
                 cg_boco_info(
                     self.0,
@@ -438,14 +483,14 @@ impl File {
             .unwrap_or(0)
             .saturating_mul(idim.max(1));
         let mut pts: Vec<CgSize> = vec![0; n];
-        // SAFETY: `pts` holds npnts × index dimension values; normals are not requested.
         check(
+            // SAFETY: `pts` holds npnts × index dimension values; normals are not requested.
             unsafe { cg_boco_read(self.0, b, z, bc, pts.as_mut_ptr(), std::ptr::null_mut()) },
             "cg_boco_read",
         )?;
         let mut loc = 0;
-        // SAFETY: valid out pointer.
         check(
+            // SAFETY: valid out pointer.
             unsafe { cg_boco_gridlocation_read(self.0, b, z, bc, &mut loc) },
             "cg_boco_gridlocation_read",
         )?;
@@ -456,8 +501,8 @@ impl File {
     pub fn write_base(&self, name: &str, cell_dim: c_int, phys_dim: c_int) -> Result<c_int, Error> {
         let c = c_string(name, "cg_base_write")?;
         let mut b = 0;
-        // SAFETY: `c` is NUL-terminated; valid out pointer.
         check(
+            // SAFETY: `c` is NUL-terminated; valid out pointer.
             unsafe { cg_base_write(self.0, c.as_ptr(), cell_dim, phys_dim, &mut b) },
             "cg_base_write",
         )?;
@@ -474,9 +519,9 @@ impl File {
     ) -> Result<c_int, Error> {
         let c = c_string(name, "cg_zone_write")?;
         let mut z = 0;
-        // SAFETY: `size` has 3 × the index dimension the base's cell dimension implies
-        // (the caller builds it so); `c` is NUL-terminated.
         check(
+            // SAFETY: `size` has 3 × the index dimension the base's cell dimension implies
+            // (the caller builds it so); `c` is NUL-terminated.
             unsafe { cg_zone_write(self.0, b, c.as_ptr(), size.as_ptr(), t, &mut z) },
             "cg_zone_write",
         )?;
@@ -487,8 +532,8 @@ impl File {
     pub fn write_coord(&self, b: c_int, z: c_int, name: &str, data: &[f64]) -> Result<(), Error> {
         let c = c_string(name, "cg_coord_write")?;
         let mut i = 0;
-        // SAFETY: `data` holds the zone's vertex count of f64 values (the caller's zone size).
         check(
+            // SAFETY: `data` holds the zone's vertex count of f64 values (the caller's zone size).
             unsafe {
                 cg_coord_write(
                     self.0,
@@ -516,9 +561,32 @@ impl File {
     ) -> Result<(), Error> {
         let c = c_string(name, "cg_section_write")?;
         let mut s = 0;
-        // SAFETY: `conn` holds the connectivity of the `range` elements of type `t` (built by
-        // the caller from the same counts); `c` is NUL-terminated.
+        if t == MIXED {
+            let offsets = mixed_offsets(conn, range)?;
+            return check(
+                // SAFETY: `offsets` has one entry per element plus one, each within `conn` (checked
+                // by mixed_offsets); `c` is NUL-terminated.
+                unsafe {
+                    cg_poly_section_write(
+                        self.0,
+                        b,
+                        z,
+                        c.as_ptr(),
+                        t,
+                        range.0,
+                        range.1,
+                        0,
+                        conn.as_ptr(),
+                        offsets.as_ptr(),
+                        &mut s,
+                    )
+                },
+                "cg_poly_section_write",
+            );
+        }
         check(
+            // SAFETY: `conn` holds the connectivity of the `range` elements of type `t` (built by
+            // the caller from the same counts); `c` is NUL-terminated.
             unsafe {
                 cg_section_write(
                     self.0,
@@ -553,8 +621,8 @@ impl File {
             message: "too many points".into(),
         })?;
         let mut bc = 0;
-        // SAFETY: `pts` holds n × idim values; `c` is NUL-terminated.
         check(
+            // SAFETY: `pts` holds n × idim values; `c` is NUL-terminated.
             unsafe {
                 cg_boco_write(
                     self.0,
@@ -570,8 +638,13 @@ impl File {
             },
             "cg_boco_write",
         )?;
-        // SAFETY: plain integer arguments.
+        // The library writes the location of element ranges and lists itself; Vertex is the
+        // default.
+        if kind.2 == VERTEX || kind.1 == ELEMENT_RANGE || kind.1 == ELEMENT_LIST {
+            return Ok(());
+        }
         check(
+            // SAFETY: plain integer arguments.
             unsafe { cg_boco_gridlocation_write(self.0, b, z, bc, kind.2) },
             "cg_boco_gridlocation_write",
         )

@@ -224,6 +224,9 @@ pub fn read_su2_zone(
     names: &[&[String]],
     motions: Option<&Path>,
 ) -> Result<(Su2Mesh, Option<ZonedSu2>), CliError> {
+    if sniff(path)? == Some(InputFormat::Cgns) {
+        return Ok((read_su2(path)?, None));
+    }
     let bytes = read_bytes(path)?;
     let read_err = |p: &Path| {
         let p = p.to_path_buf();
