@@ -69,9 +69,20 @@ fn cgns_missing() -> CliError {
     }
 }
 
+/// A CGNS problem: valid CGNS that the tool does not support exits 3, anything else 1.
 #[cfg(feature = "cgns")]
 fn cgns_err(path: &Path) -> impl FnOnce(String) -> CliError + '_ {
-    move |m| CliError::Invalid(format!("{}: {m}", path.display()))
+    use crate::formats::{cgns::UNSUPPORTED, FormatError, FormatErrorKind, Location};
+    move |m| match m.strip_prefix(UNSUPPORTED) {
+        Some(what) => CliError::Read {
+            path: path.to_path_buf(),
+            source: FormatError::new(
+                Location::File,
+                FormatErrorKind::Unsupported { what: what.into() },
+            ),
+        },
+        None => CliError::Invalid(format!("{}: {m}", path.display())),
+    }
 }
 
 /// A CGNS file is read as SU2 (unstructured zone) or Plot3D (structured zones).

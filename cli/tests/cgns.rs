@@ -20,12 +20,10 @@ fn data(name: &str) -> PathBuf {
         .join(name)
 }
 
+/// Runs `deform`, asserting success.
 #[cfg(feature = "cgns")]
-fn ok(dir: &Path, args: &[&str]) -> String {
-    let o = deform(dir, args);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(0), "{args:?}: {err}");
-    String::from_utf8_lossy(&o.stdout).into_owned()
+fn ok(dir: &Path, args: &[&str]) {
+    common::deform_ok(dir, args);
 }
 
 #[cfg(not(feature = "cgns"))]

@@ -10,7 +10,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::{deform, tmp_dir};
+use common::{deform, deform_json, deform_ok, tmp_dir};
 use serde_json::Value;
 
 fn data(name: &str) -> PathBuf {
@@ -129,27 +129,12 @@ fn deform_binary(dir: &Path, input: &Path, out: &str) -> Vec<u8> {
         "--out-records",
         "no",
     ];
-    let o = deform(dir, &args);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    deform_ok(dir, &args);
     std::fs::read(dir.join(out)).unwrap()
 }
 
 fn json(dir: &Path, args: &[&str]) -> Value {
-    let mut v = vec!["--json"];
-    v.extend_from_slice(args);
-    let o = deform(dir, &v);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).unwrap()
+    deform_json(dir, &[&["--json"][..], args].concat())
 }
 
 /// The committed CFL3D grids: (file, multi-block header, blocks, points).

@@ -14,6 +14,9 @@ use super::plot3d::{Plot3dBlock, Plot3dGrid};
 use super::su2::{Su2Marker, Su2Mesh};
 use super::CellList;
 
+/// The start of the messages about valid CGNS that the tool does not support (exit 3).
+pub const UNSUPPORTED: &str = "not supported: ";
+
 /// Reads every base of a CGNS file.
 pub fn read(path: &Path) -> Result<Vec<Base>, String> {
     deform_cgns::read(path).map_err(|e| e.to_string())
@@ -34,7 +37,9 @@ pub fn is_structured(bases: &[Base]) -> Result<bool, String> {
     match s {
         0 => Ok(false),
         n if n == b.zones.len() => Ok(true),
-        _ => Err("a base with structured and unstructured zones".into()),
+        _ => Err(format!(
+            "{UNSUPPORTED}a base with structured and unstructured zones"
+        )),
     }
 }
 
@@ -76,7 +81,7 @@ fn elements(s: &Section, nvert: usize) -> Result<Vec<(i64, CellKind, Vec<u32>)>,
             i64::from(s.etype)
         };
         let kind = kind_of(t).ok_or_else(|| {
-            format!("section {}: element type {t} is not supported (linear elements only: BAR_2, TRI_3, QUAD_4, TETRA_4, PYRA_5, PENTA_6, HEXA_8)", s.name)
+            format!("{UNSUPPORTED}section {}: element type {t} (linear elements only: BAR_2, TRI_3, QUAD_4, TETRA_4, PYRA_5, PENTA_6, HEXA_8)", s.name)
         })?;
         let mut nodes = Vec::with_capacity(kind.node_count());
         for _ in 0..kind.node_count() {
@@ -101,13 +106,13 @@ pub fn to_su2(bases: &[Base]) -> Result<Su2Mesh, String> {
     let base = first_base(bases)?;
     let [zone] = base.zones.as_slice() else {
         return Err(format!(
-            "{} unstructured zones in one base (one is supported)",
+            "{UNSUPPORTED}{} unstructured zones in one base (one is supported)",
             base.zones.len()
         ));
     };
     let dim = base.cell_dim;
     if dim != 2 && dim != 3 {
-        return Err(format!("cell dimension {dim}"));
+        return Err(format!("{UNSUPPORTED}cell dimension {dim}"));
     }
     let nvert = zone.coords.len();
     let mut cells = CellList::new();
@@ -200,7 +205,7 @@ pub fn to_plot3d(bases: &[Base]) -> Result<Plot3dGrid, String> {
     let base = first_base(bases)?;
     let dim = base.cell_dim;
     if dim != 2 && dim != 3 {
-        return Err(format!("cell dimension {dim}"));
+        return Err(format!("{UNSUPPORTED}cell dimension {dim}"));
     }
     let mut blocks = Vec::new();
     for z in &base.zones {
