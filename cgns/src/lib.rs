@@ -212,7 +212,7 @@ fn read_zone(f: &sys::File, b: i32, z: i32, phys_dim: usize) -> Result<Zone, Err
 
 /// Reads every base of the CGNS file `path`.
 pub fn read(path: &Path) -> Result<Vec<Base>, Error> {
-    let f = sys::File::open(path_str(path, "cg_open")?, false)?;
+    let f = sys::File::open(path_str(path, "cg_open")?, sys::MODE_READ)?;
     let mut bases = Vec::new();
     for b in 1..=f.nbases()? {
         let (name, cd, pd) = f.base(b)?;
@@ -315,11 +315,63 @@ pub fn section_dim(s: &Section) -> Option<usize> {
 
 /// Writes `bases` to a new HDF5 CGNS file at `path` (an existing file is replaced).
 pub fn write(path: &Path, bases: &[Base]) -> Result<(), Error> {
-    let f = sys::File::open(path_str(path, "cg_open")?, true)?;
+    let f = sys::File::open(path_str(path, "cg_open")?, sys::MODE_WRITE)?;
     for base in bases {
         let b = f.write_base(&base.name, base.cell_dim as i32, base.phys_dim as i32)?;
         for zone in &base.zones {
             write_zone(&f, b, base, zone)?;
+        }
+    }
+    f.close()
+}
+
+/// Copies the CGNS file `input` to `output` and replaces, in the copy, the coordinates of the
+/// zones of the first base that has zones (`coords[k]` for zone k + 1, as many points as the
+/// zone has vertices) with doubles. Everything else in the file (families, connectivity,
+/// solutions, the HDF5 or ADF format) stays as it was.
+pub fn rewrite_coords(input: &Path, output: &Path, coords: &[&[[f64; 3]]]) -> Result<(), Error> {
+    let copy_err = |e: std::io::Error| Error {
+        call: "copy",
+        message: e.to_string(),
+    };
+    std::fs::copy(input, output).map_err(copy_err)?;
+    let f = sys::File::open(path_str(output, "cg_open")?, sys::MODE_MODIFY)?;
+    let mut b = 0;
+    for k in 1..=f.nbases()? {
+        if f.nzones(k)? > 0 {
+            b = k;
+            break;
+        }
+    }
+    let (_, _, pd) = f.base(b)?;
+    let nz = usize::try_from(f.nzones(b)?).unwrap_or(0);
+    if nz != coords.len() {
+        return Err(Error {
+            call: "cg_nzones",
+            message: format!("{nz} zones, {} coordinate sets", coords.len()),
+        });
+    }
+    for (z, pts) in (1..).zip(coords) {
+        let (name, t, idim, size) = f.zone(b, z)?;
+        let n: i64 = if t == sys::STRUCTURED {
+            size[..idim].iter().map(|&v| i64::from(v)).product()
+        } else {
+            size.first().map_or(0, |&v| i64::from(v))
+        };
+        if n != pts.len() as i64 {
+            return Err(Error {
+                call: "cg_zone_read",
+                message: format!("zone {name}: {n} vertices, {} points", pts.len()),
+            });
+        }
+        let axes = ["CoordinateX", "CoordinateY", "CoordinateZ"];
+        for (k, axis) in axes
+            .iter()
+            .enumerate()
+            .take(usize::try_from(pd).unwrap_or(0))
+        {
+            let v: Vec<f64> = pts.iter().map(|p| p[k]).collect();
+            f.write_coord(b, z, axis, &v)?;
         }
     }
     f.close()

@@ -18,6 +18,8 @@ pub type CgSize = i64;
 pub const MODE_READ: c_int = 0;
 /// `CG_MODE_WRITE`.
 pub const MODE_WRITE: c_int = 1;
+/// `CG_MODE_MODIFY`.
+pub const MODE_MODIFY: c_int = 2;
 /// `CG_FILE_HDF5`.
 pub const FILE_HDF5: c_int = 2;
 /// `RealDouble` (DataType_t).
@@ -253,15 +255,15 @@ fn c_string(s: &str, call: &'static str) -> Result<CString, Error> {
 pub struct File(c_int);
 
 impl File {
-    /// Opens `path` for reading or (with `write`) creates it as HDF5.
-    pub fn open(path: &str, write: bool) -> Result<File, Error> {
+    /// Opens `path` for reading (`MODE_READ`), changing (`MODE_MODIFY`), or creates it as HDF5
+    /// (`MODE_WRITE`).
+    pub fn open(path: &str, mode: c_int) -> Result<File, Error> {
         let c = c_string(path, "cg_open")?;
         let mut f: c_int = 0;
-        if write {
+        if mode == MODE_WRITE {
             // SAFETY: plain integer argument.
             check(unsafe { cg_set_file_type(FILE_HDF5) }, "cg_set_file_type")?;
         }
-        let mode = if write { MODE_WRITE } else { MODE_READ };
         // SAFETY: `c` is NUL-terminated and outlives the call; `f` is a valid out pointer.
         check(unsafe { cg_open(c.as_ptr(), mode, &mut f) }, "cg_open")?;
         Ok(File(f))

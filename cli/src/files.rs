@@ -111,17 +111,29 @@ fn cgns_input(path: &Path) -> Result<Option<Vec<deform_cgns::Base>>, CliError> {
         .map_err(cgns_err(path))
 }
 
-/// Writes through the CGNS library into `w`: the library writes a file, whose bytes are
-/// copied (the staged output is an open file, the library wants a name).
+/// Writes CGNS through the library into `w`: a CGNS input copied with the new `coords`, else
+/// the file `fresh` builds. The library writes a file, whose bytes are copied (the staged
+/// output is an open file, the library wants a name).
 #[cfg(feature = "cgns")]
-fn write_cgns<W: io::Write>(out: &Path, bases: &[deform_cgns::Base], w: &mut W) -> io::Result<()> {
+fn write_cgns<W: io::Write>(
+    input: &Path,
+    out: &Path,
+    coords: &[&[[f64; 3]]],
+    fresh: impl FnOnce() -> Result<Vec<deform_cgns::Base>, String>,
+    w: &mut W,
+) -> io::Result<()> {
+    use crate::formats::cgns;
     let tmp = std::env::temp_dir().join(format!(
         "deform-{}-{}.cgns",
         std::process::id(),
         out.file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
     ));
-    let result = crate::formats::cgns::write(&tmp, bases)
+    let written = match sniff(input) {
+        Ok(Some(InputFormat::Cgns)) => cgns::rewrite_coords(input, &tmp, coords),
+        _ => fresh().and_then(|bases| cgns::write(&tmp, &bases)),
+    };
+    let result = written
         .map_err(io::Error::other)
         .and_then(|()| std::fs::read(&tmp))
         .and_then(|bytes| w.write_all(&bytes));
@@ -176,12 +188,8 @@ fn write_mesh_cgns<W: io::Write>(
     mesh: &Su2Mesh,
     w: &mut W,
 ) -> io::Result<()> {
-    use crate::formats::cgns;
-    let bases = match cgns_input(input) {
-        Ok(Some(b)) => cgns::with_coords(b, &[&mesh.points]),
-        _ => cgns::from_su2(mesh),
-    };
-    write_cgns(output, &bases.map_err(io::Error::other)?, w)
+    let fresh = || crate::formats::cgns::from_su2(mesh);
+    write_cgns(input, output, &[&mesh.points], fresh, w)
 }
 
 #[cfg(not(feature = "cgns"))]
@@ -203,13 +211,9 @@ pub fn write_grid<W: io::Write>(
     }
     #[cfg(feature = "cgns")]
     {
-        use crate::formats::cgns;
         let coords: Vec<&[[f64; 3]]> = grid.blocks.iter().map(|b| b.points.as_slice()).collect();
-        let bases = match cgns_input(input) {
-            Ok(Some(b)) => cgns::with_coords(b, &coords).map_err(io::Error::other)?,
-            _ => cgns::from_plot3d(grid),
-        };
-        write_cgns(output, &bases, w)
+        let fresh = || Ok(crate::formats::cgns::from_plot3d(grid));
+        write_cgns(input, output, &coords, fresh, w)
     }
     #[cfg(not(feature = "cgns"))]
     {

@@ -1,8 +1,8 @@
 //! CGNS meshes (`--features cgns`, through the CGNS library: crate deform-cgns) as the tool's
 //! meshes: the unstructured zone of the first base as an SU2 mesh (element sections as cells,
 //! boundary conditions as markers), or the structured zones as the blocks of a Plot3D grid.
-//! Writing replaces the coordinates of the file the mesh came from (sections, boundary
-//! conditions and names kept), or builds a new file from an SU2 mesh or a Plot3D grid.
+//! Writing copies the file the mesh came from with new coordinates (everything else kept), or
+//! builds a new file from an SU2 mesh or a Plot3D grid.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -222,22 +222,10 @@ pub fn to_plot3d(bases: &[Base]) -> Result<Plot3dGrid, String> {
     Ok(Plot3dGrid { dim, blocks })
 }
 
-/// The file `bases` with the first base's zone coordinates replaced by `coords`, zone by zone.
-pub fn with_coords(mut bases: Vec<Base>, coords: &[&[[f64; 3]]]) -> Result<Vec<Base>, String> {
-    let base = bases
-        .iter_mut()
-        .find(|b| !b.zones.is_empty())
-        .ok_or("the file has no zone")?;
-    if base.zones.len() != coords.len() {
-        return Err("the zones changed".into());
-    }
-    for (z, c) in base.zones.iter_mut().zip(coords) {
-        if z.coords.len() != c.len() {
-            return Err(format!("zone {}: the vertex count changed", z.name));
-        }
-        z.coords = c.to_vec();
-    }
-    Ok(bases)
+/// Copies the CGNS file `input` to `output` with new coordinates for the zones of its first
+/// base, everything else kept.
+pub fn rewrite_coords(input: &Path, output: &Path, coords: &[&[[f64; 3]]]) -> Result<(), String> {
+    deform_cgns::rewrite_coords(input, output, coords).map_err(|e| e.to_string())
 }
 
 /// A new CGNS file for an SU2 mesh: one zone, the cells in one section (`MIXED` when of
