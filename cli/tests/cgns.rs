@@ -303,3 +303,89 @@ fn unstructured_3d_adf_reads_and_round_trips() {
     ok(&d, &["convert", "r.cgns", "r.su2"]);
     assert!(std::fs::read(d.join("r.su2")).unwrap() == std::fs::read(d.join("c.su2")).unwrap());
 }
+
+/// Mixed hexahedra, prisms, pyramids and tetrahedra in one `MIXED` section (ADF, SU2's bend
+/// case): each cell has the nodes h5dump decodes, and every prism turns the way the hexahedra
+/// do in SU2's convention (CGNS lists a `PENTA_6` base towards its top; SU2 away from it),
+/// checked with the geometry here; SU2 → CGNS (`MIXED`, written with offsets) → SU2 is exact.
+#[cfg(feature = "cgns")]
+#[test]
+fn mixed_sections_and_prism_orientation() {
+    let d = tmp_dir("cgns-bend");
+    std::fs::copy(data("su2_bend_mixed.cgns"), d.join("b.cgns")).unwrap();
+    tool(&d, "adf2hdf", &["b.cgns", "h.cgns"]);
+    let mixed = i32s(&h5(
+        &d,
+        "h.cgns",
+        "/BASE#1/box/SOLID_1_1_SOLID/ElementConnectivity/ data",
+    ));
+    ok(&d, &["convert", "b.cgns", "b.su2"]);
+    let (pts, cells, _) = su2(&d.join("b.su2"));
+    // CGNS MIXED: type code, then its nodes (npe by type: TETRA_4 10, PYRA_5 12, PENTA_6 14,
+    // HEXA_8 17).
+    let (mut at, mut theirs) = (0, Vec::new());
+    while at < mixed.len() {
+        let n = match mixed[at] {
+            10 => 4,
+            12 => 5,
+            14 => 6,
+            17 => 8,
+            t => panic!("type {t}"),
+        };
+        let mut set: Vec<i64> = mixed[at + 1..at + 1 + n].iter().map(|v| v - 1).collect();
+        set.sort_unstable();
+        theirs.push(set);
+        at += 1 + n;
+    }
+    let ours: Vec<Vec<i64>> = cells
+        .iter()
+        .map(|c| {
+            let mut s = c.clone();
+            s.sort_unstable();
+            s
+        })
+        .collect();
+    assert_eq!(ours, theirs);
+    // Sign of (base normal) · (top centroid − base centroid), base = the first 4 (hexahedron)
+    // or 3 (prism) nodes: SU2 wants hexahedra positive and prisms negative.
+    let sign = |c: &[i64], k: usize| {
+        let p = |i: usize| pts[c[i] as usize];
+        let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+        let (u, v) = (sub(p(1), p(0)), sub(p(2), p(0)));
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        let centroid = |r: std::ops::Range<usize>| {
+            let m = r.len() as f64;
+            r.fold([0.0; 3], |s, i| {
+                [s[0] + p(i)[0] / m, s[1] + p(i)[1] / m, s[2] + p(i)[2] / m]
+            })
+        };
+        let h = sub(centroid(k..2 * k), centroid(0..k));
+        (n[0] * h[0] + n[1] * h[1] + n[2] * h[2]).signum()
+    };
+    let hexes: Vec<f64> = cells
+        .iter()
+        .filter(|c| c.len() == 8)
+        .map(|c| sign(c, 4))
+        .collect();
+    let prisms: Vec<f64> = cells
+        .iter()
+        .filter(|c| c.len() == 6)
+        .map(|c| sign(c, 3))
+        .collect();
+    assert!(
+        !hexes.is_empty() && hexes.iter().all(|&s| s == 1.0),
+        "{hexes:?}"
+    );
+    assert!(
+        !prisms.is_empty() && prisms.iter().all(|&s| s == -1.0),
+        "{prisms:?}"
+    );
+    ok(&d, &["convert", "b.su2", "r.cgns"]);
+    tool(&d, "cgnscheck", &["r.cgns"]);
+    ok(&d, &["convert", "r.cgns", "r.su2"]);
+    assert!(std::fs::read(d.join("r.su2")).unwrap() == std::fs::read(d.join("b.su2")).unwrap());
+}

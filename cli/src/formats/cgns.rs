@@ -70,6 +70,16 @@ fn cgns_of(kind: CellKind) -> i32 {
     }
 }
 
+/// CGNS lists a `PENTA_6` with its base `1,2,3` turning towards the top `4,5,6` (the face
+/// `1,3,2` points out of the cell); SU2 and the kernel call a prism positive when its base
+/// turns away from the top. Swapping nodes 1 ↔ 2 and 4 ↔ 5 (0-based) converts either way.
+fn swap_prism<T>(nodes: &mut [T]) {
+    if nodes.len() == 6 {
+        nodes.swap(1, 2);
+        nodes.swap(4, 5);
+    }
+}
+
 /// The elements of a section: (element number, kind, 0-based nodes).
 fn elements(s: &Section, nvert: usize) -> Result<Vec<(i64, CellKind, Vec<u32>)>, String> {
     let mut out = Vec::new();
@@ -95,6 +105,9 @@ fn elements(s: &Section, nvert: usize) -> Result<Vec<(i64, CellKind, Vec<u32>)>,
                 ));
             }
             nodes.push((v - 1) as u32);
+        }
+        if kind == CellKind::Prism {
+            swap_prism(&mut nodes);
         }
         out.push((number, kind, nodes));
     }
@@ -249,7 +262,11 @@ pub fn from_su2(m: &Su2Mesh) -> Result<Vec<Base>, String> {
             if mixed {
                 conn.push(i64::from(cgns_of(*kind)));
             }
-            conn.extend(nodes.iter().map(|&n| i64::from(n) + 1));
+            let mut one: Vec<i64> = nodes.iter().map(|&n| i64::from(n) + 1).collect();
+            if *kind == CellKind::Prism {
+                swap_prism(&mut one);
+            }
+            conn.extend(one);
         }
         let t = if mixed {
             etype::MIXED
