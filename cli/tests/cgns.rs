@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 #[cfg(feature = "cgns")]
 use std::process::Command;
 
-use common::{deform, tmp_dir};
+use common::tmp_dir;
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -33,7 +33,7 @@ fn without_the_feature_cgns_is_refused_with_the_way_to_enable_it() {
     for f in ["su2_wedge_inv.cgns", "cfl3d_n4412_structured.cgns"] {
         // Under a name that says nothing: recognised by the signature (HDF5, ADF).
         std::fs::copy(data(f), d.join("mesh.dat")).unwrap();
-        let o = deform(&d, &["quality", "mesh.dat"]);
+        let o = common::deform(&d, &["quality", "mesh.dat"]);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(3), "{f}: {err}");
         assert!(
