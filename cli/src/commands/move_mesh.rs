@@ -62,7 +62,7 @@ pub(crate) fn move_mesh(
     }
     if file_kind(&a.out) != Some(FileKind::Su2) && !is_cgns_path(&a.out) {
         return Err(CliError::Invalid(format!(
-            "{}: --out must be a .su2 file",
+            "{}: --out must be a .su2 file (or .cgns)",
             a.out.display()
         )));
     }
