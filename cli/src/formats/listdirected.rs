@@ -319,4 +319,38 @@ mod tests {
             assert_eq!(parse_real(s.as_bytes()), None, "{s}");
         }
     }
+
+    /// Random edits in list-directed text (repeat counts, commas, slashes, nulls) never make
+    /// the Plot3D reader panic, and what it accepts has the values it says.
+    #[test]
+    fn random_list_directed_text_never_panics() {
+        let base = b"2 / blocks\n 3,2, 2\n 2\n0.0, 0.5,1.0D0 0.0 0.5\n1.0 3*0.0, 3*1.5d0\n 6*1\n -1.,1.5-1\n 2*2.0 1.0\n 3.,4., 5.5\n  2*0 , -2 1\n";
+        let alphabet = b"0123456789*,/ .-+eEdD\n";
+        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        for _ in 0..3000 {
+            let mut b = base.to_vec();
+            for _ in 0..1 + next() % 4 {
+                let i = (next() % b.len() as u64) as usize;
+                let c = alphabet[(next() % alphabet.len() as u64) as usize];
+                match next() % 3 {
+                    0 => b[i] = c,
+                    1 => b.insert(i, c),
+                    _ => {
+                        b.remove(i);
+                    }
+                }
+            }
+            let opts = super::super::plot3d::Plot3dOptions::default();
+            if let Ok((g, _)) = super::super::plot3d::parse_plot3d(&b, &opts) {
+                let n: usize = g.blocks.iter().map(|blk| blk.points.len()).sum();
+                assert!(n > 0);
+            }
+        }
+    }
 }

@@ -280,4 +280,33 @@ mod tests {
             None
         );
     }
+
+    /// Random edits of a two-zone file never panic the reader.
+    #[test]
+    fn random_edits_never_panic() {
+        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        let alphabet = b"0123456789 =\nIZONENDIME%";
+        for _ in 0..2000 {
+            let mut b = TWO.as_bytes().to_vec();
+            for _ in 0..1 + next() % 3 {
+                if b.is_empty() {
+                    break;
+                }
+                let i = (next() % b.len() as u64) as usize;
+                let c = alphabet[(next() % alphabet.len() as u64) as usize];
+                match next() % 3 {
+                    0 => b[i] = c,
+                    1 => b.insert(i, c),
+                    _ => b.truncate(i),
+                }
+            }
+            let _ = parse_su2_zones(&b);
+        }
+    }
 }
