@@ -162,6 +162,21 @@ pub fn read_su2(path: &Path) -> Result<Su2Mesh, CliError> {
     }
 }
 
+/// Refuses (exit 3) to write a multi-zone SU2 file as CGNS: the tool reads one unstructured
+/// zone per CGNS file, so the zones would not come back.
+pub(crate) fn check_su2_output(input: &Path, output: &Path) -> Result<(), CliError> {
+    if is_cgns_path(output) && sniff(input)? == Some(InputFormat::Su2) {
+        let bytes = read_bytes(input)?;
+        if matches!(parse_su2_zones(&bytes), Ok(Some(_))) {
+            return Err(CliError::NotAvailable {
+                feature: "a multi-zone SU2 file written as CGNS",
+                needs: "one zone per CGNS file (convert to .su2 or .vtu instead)",
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Writes `mesh` (read by [`read_su2`] from `input`) as SU2: a multi-zone input keeps its
 /// zones, each written anew, instead of becoming one zone.
 pub fn write_su2_like<W: io::Write>(

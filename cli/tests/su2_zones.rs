@@ -216,6 +216,10 @@ fn convert_keeps_the_zones_and_round_trips() {
     assert_eq!(code, Some(0), "{err}");
     let (code, err, _) = run(&d, &["convert", "a.su2", "b.su2"]);
     assert_eq!(code, Some(0), "{err}");
+    // As CGNS the zones would not come back (one unstructured zone per file): exit 3.
+    let (code, err, _) = run(&d, &["convert", file.to_str().unwrap(), "a.cgns"]);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(!d.join("a.cgns").exists());
     let a = std::fs::read(d.join("a.su2")).unwrap();
     assert!(a == std::fs::read(d.join("b.su2")).unwrap());
     let after = zones(&String::from_utf8(a).unwrap());

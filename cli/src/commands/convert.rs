@@ -12,8 +12,8 @@ use crate::output::Staged;
 
 use crate::error::CliError;
 use crate::files::{
-    block_vts_path, file_kind, input_kind, io_err, is_cgns_path, plot3d_options, read_plot3d,
-    read_su2, write_grid, write_su2_like, yes, FileKind,
+    block_vts_path, check_su2_output, file_kind, input_kind, io_err, is_cgns_path, plot3d_options,
+    read_plot3d, read_su2, write_grid, write_su2_like, yes, FileKind,
 };
 use crate::report::{seconds, Outcome};
 
@@ -48,6 +48,7 @@ pub(crate) fn convert(a: &ConvertArgs) -> Result<Outcome, CliError> {
     let report = match (kin, kout) {
         (FileKind::Su2, Some(k @ (FileKind::Su2 | FileKind::Vtu))) => {
             let m = read_su2(&a.input)?;
+            check_su2_output(&a.input, &a.output)?;
             staged
                 .write(&a.output, |f| {
                     if k == FileKind::Su2 {

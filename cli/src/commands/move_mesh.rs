@@ -79,6 +79,7 @@ pub(crate) fn move_mesh(
     }
     // A multi-zone file: the zone of the named markers (the others are written back unchanged).
     let names: [&[String]; 2] = [&a.markers, &a.slide];
+    crate::files::check_su2_output(&a.mesh, &a.out)?;
     let (mesh, zoned) = read_su2_zone(&a.mesh, &names, a.motions.as_deref())?;
     crate::guard::check_memory(
         &a.mesh,
