@@ -456,10 +456,12 @@ pub struct QualityArgs {
 /// `deform convert`.
 #[derive(Debug, Args)]
 pub struct ConvertArgs {
-    /// Input: .su2, or a Plot3D grid (.x, .xyz, .p3d, .g, .grd, .xy).
+    /// Input: .su2 (one or several zones), a Plot3D grid (.x, .xyz, .p3d, .g, .grd, .xy, or any
+    /// name), or CGNS (builds with the cgns feature; unstructured reads as SU2, structured as
+    /// Plot3D).
     pub input: PathBuf,
-    /// Output: .su2 or .vtu from SU2; Plot3D or .vts from Plot3D (one .vts per block, named
-    /// OUT_bN.vts, when there are several blocks).
+    /// Output: .su2, .vtu or .cgns from SU2; Plot3D, .vts or .cgns from Plot3D (one .vts per
+    /// block, named OUT_bN.vts, when there are several blocks).
     pub output: PathBuf,
     /// Input layout overrides (Plot3D).
     #[command(flatten)]
@@ -528,4 +530,6 @@ pub enum InputFormat {
     Plot3d,
     /// VTK XML (.vtu/.vts): written by the tool, not read.
     Vtk,
+    /// CGNS (HDF5 or ADF; builds with the cgns feature): unstructured as SU2, structured as Plot3D.
+    Cgns,
 }

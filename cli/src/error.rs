@@ -74,11 +74,21 @@ impl CliError {
         }
     }
 
-    /// The process exit status: 3 for [`CliError::NotAvailable`], 1 otherwise (clap uses 2 for
+    /// The process exit status: 3 for [`CliError::NotAvailable`] and for a file format feature the
+    /// reader does not support, 1 otherwise (clap uses 2 for
     /// a bad command line).
     pub fn exit_code(&self) -> i32 {
         match self {
             CliError::NotAvailable { .. } => 3,
+            // A valid feature of the file format that the reader does not support.
+            CliError::Read { source, .. }
+                if matches!(
+                    source.kind,
+                    crate::formats::FormatErrorKind::Unsupported { .. }
+                ) =>
+            {
+                3
+            }
             _ => 1,
         }
     }

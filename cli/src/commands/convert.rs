@@ -6,15 +6,14 @@ use serde::Serialize;
 use serde_json::json;
 
 use crate::args::{ConvertArgs, EncodingArg, EndianArg, PrecisionArg};
-use crate::formats::plot3d::{write_plot3d, Encoding, Endian, Plot3dLayout, Precision};
-use crate::formats::su2::write_su2;
+use crate::formats::plot3d::{Encoding, Endian, Plot3dLayout, Precision};
 use crate::formats::vtk::{write_vts, write_vtu, VtkEncoding};
 use crate::output::Staged;
 
 use crate::error::CliError;
 use crate::files::{
-    block_vts_path, file_kind, input_kind, io_err, plot3d_options, read_plot3d, read_su2, yes,
-    FileKind,
+    block_vts_path, check_su2_output, file_kind, input_kind, io_err, is_cgns_path, plot3d_options,
+    read_plot3d, read_su2, write_grid, write_su2_like, yes, FileKind,
 };
 use crate::report::{seconds, Outcome};
 
@@ -36,6 +35,7 @@ pub(crate) fn convert(a: &ConvertArgs) -> Result<Outcome, CliError> {
     // A Plot3D input may be written to any name that is not SU2 or VTK.
     let kout = match (kin, file_kind(&a.output)) {
         (FileKind::Plot3d, None) => Some(FileKind::Plot3d),
+        (FileKind::Su2, None) if is_cgns_path(&a.output) => Some(FileKind::Su2),
         (_, k) => k,
     };
     let enc = if a.vtk_ascii {
@@ -48,10 +48,11 @@ pub(crate) fn convert(a: &ConvertArgs) -> Result<Outcome, CliError> {
     let report = match (kin, kout) {
         (FileKind::Su2, Some(k @ (FileKind::Su2 | FileKind::Vtu))) => {
             let m = read_su2(&a.input)?;
+            check_su2_output(&a.input, &a.output)?;
             staged
                 .write(&a.output, |f| {
                     if k == FileKind::Su2 {
-                        write_su2(&m, f)
+                        write_su2_like(&a.input, &a.output, &m, f)
                     } else {
                         write_vtu(f, &m.points, &m.elements, &[], &[], enc)
                     }
@@ -74,7 +75,9 @@ pub(crate) fn convert(a: &ConvertArgs) -> Result<Outcome, CliError> {
             if k == FileKind::Plot3d {
                 let out_layout = output_layout(&layout, a);
                 staged
-                    .write(&a.output, |f| write_plot3d(&g, &out_layout, f))
+                    .write(&a.output, |f| {
+                        write_grid(&a.input, &a.output, &g, &out_layout, f)
+                    })
                     .map_err(io_err(&a.output))?;
                 outputs.push(a.output.display().to_string());
             } else {

@@ -8,11 +8,11 @@ use serde_json::json;
 
 use crate::args::{Coords, FaceArg, Method, MoveArgs};
 use crate::engine::QualitySummary;
-use crate::formats::plot3d::{write_plot3d, Plot3dOptions};
+use crate::formats::plot3d::Plot3dOptions;
 use crate::output::Staged;
 
 use crate::error::CliError;
-use crate::files::{cell_dim, file_kind, io_err, read_plot3d, FileKind};
+use crate::files::{cell_dim, file_kind, io_err, read_plot3d, write_grid, FileKind};
 use crate::report::{add_summary, fmt_opt, seconds, value_name, Outcome};
 
 /// `deform move` on a Plot3D grid: the `--wall` face of every block moves rigidly, the opposite
@@ -136,7 +136,7 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
     };
     let mut staged = Staged::new();
     staged
-        .write(&a.out, |f| write_plot3d(&grid, &layout, f))
+        .write(&a.out, |f| write_grid(&a.mesh, &a.out, &grid, &layout, f))
         .map_err(io_err(&a.out))?;
     staged.commit().map_err(io_err(&a.out))?;
     let json = json!({

@@ -12,7 +12,7 @@ use crate::engine::{
 };
 use crate::formats::displacements::{parse_displacements, parse_surface_positions};
 use crate::formats::motions::{parse_motions, MarkerMotionSpec, RigidMotion};
-use crate::formats::su2::{write_su2, Su2Mesh};
+use crate::formats::su2::Su2Mesh;
 use crate::formats::vtk::{write_vtu, VtkEncoding, VtkField};
 use crate::formats::CellList;
 use crate::output::Staged;
@@ -21,7 +21,8 @@ use crate::plot::{bounding_window, has_volume_cells, slice_z, zoom, Picture, Win
 use super::move_grid::move_grid;
 use crate::error::CliError;
 use crate::files::{
-    file_kind, input_kind, io_err, marker_nodes, marker_union, read_bytes, read_su2, FileKind,
+    file_kind, input_kind, io_err, is_cgns_path, marker_nodes, marker_union, read_bytes,
+    read_su2_zone, write_su2_zone, FileKind,
 };
 use crate::report::{fmt_opt, seconds, value_name, write_picture, Outcome};
 
@@ -59,9 +60,9 @@ pub(crate) fn move_mesh(
                 .into(),
         ));
     }
-    if file_kind(&a.out) != Some(FileKind::Su2) {
+    if file_kind(&a.out) != Some(FileKind::Su2) && !is_cgns_path(&a.out) {
         return Err(CliError::Invalid(format!(
-            "{}: --out must be a .su2 file",
+            "{}: --out must be a .su2 file (or .cgns)",
             a.out.display()
         )));
     }
@@ -76,7 +77,10 @@ pub(crate) fn move_mesh(
     if !(a.tol.is_finite() && a.tol > 0.0) {
         return Err(CliError::Invalid("--tol must be a positive number".into()));
     }
-    let mesh = read_su2(&a.mesh)?;
+    // A multi-zone file: the zone of the named markers (the others are written back unchanged).
+    let names: [&[String]; 2] = [&a.markers, &a.slide];
+    crate::files::check_su2_output(&a.mesh, &a.out)?;
+    let (mesh, zoned) = read_su2_zone(&a.mesh, &names, a.motions.as_deref())?;
     crate::guard::check_memory(
         &a.mesh,
         "deform move on this mesh",
@@ -356,7 +360,9 @@ pub(crate) fn move_mesh(
     let mut staged = Staged::new();
     let mut outputs = vec![a.out.display().to_string()];
     staged
-        .write(&a.out, |f| write_su2(&out_mesh, f))
+        .write(&a.out, |f| {
+            write_su2_zone((&a.mesh, &a.out), zoned.as_ref(), &out_mesh, f)
+        })
         .map_err(io_err(&a.out))?;
     if let Some(v) = &a.vtk {
         let disp: Vec<f64> = result.displacement.iter().flatten().copied().collect();

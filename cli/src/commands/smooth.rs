@@ -7,12 +7,12 @@ use serde::Serialize;
 use serde_json::json;
 
 use crate::args::{Direction, SmoothArgs};
-use crate::formats::plot3d::{write_plot3d, Plot3dGrid};
+use crate::formats::plot3d::Plot3dGrid;
 use crate::output::Staged;
 
 use crate::error::CliError;
 use crate::files::{
-    cell_dim, file_kind, input_kind, io_err, plot3d_options, read_plot3d, FileKind,
+    cell_dim, file_kind, input_kind, io_err, plot3d_options, read_plot3d, write_grid, FileKind,
 };
 use crate::report::{seconds, value_name, Outcome};
 
@@ -237,7 +237,7 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
     bar.finish_and_clear();
     let mut staged = Staged::new();
     staged
-        .write(&a.out, |f| write_plot3d(&grid, &layout, f))
+        .write(&a.out, |f| write_grid(&a.grid, &a.out, &grid, &layout, f))
         .map_err(io_err(&a.out))?;
     staged.commit().map_err(io_err(&a.out))?;
     report.seconds = seconds(t0);
