@@ -9,9 +9,10 @@
 //! `AmgHierarchy::setup` + `solve_linear_sliding` / `solve_angle_sliding_amg`, `slide_points`)
 //! on the same inputs, bit for bit. Needs `gcc` on PATH.
 
-mod common;
+#[path = "../support/mod.rs"]
+mod support;
 
-use common::c_build::*;
+use support::c_build::*;
 
 use deform_kernel::slide::{fit_plane, slide_points, Constraints};
 use deform_kernel::spring::{

@@ -4,7 +4,8 @@
 //! repeatable bits, f32 and f64.
 #![allow(clippy::needless_range_loop)]
 
-mod spring_common;
+#[path = "../support/mod.rs"]
+mod support;
 
 use deform_host_tests::spring_ref;
 use deform_kernel::spring::{
@@ -14,7 +15,7 @@ use deform_kernel::spring::{
 };
 use deform_kernel::{Error, Graph, Real};
 use deform_meshgen::AirfoilGrid;
-use spring_common::*;
+use support::spring::*;
 
 /// Builds the hierarchy and solves with AMG-CG.
 fn amg_solve<T: Real, const V: usize>(

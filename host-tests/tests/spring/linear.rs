@@ -2,7 +2,8 @@
 //! solve, the maximum principle, monotone energy, exact translation, typed errors.
 #![allow(clippy::needless_range_loop)]
 
-mod spring_common;
+#[path = "../support/mod.rs"]
+mod support;
 
 use deform_host_tests::spring_ref;
 use deform_kernel::spring::{
@@ -10,7 +11,7 @@ use deform_kernel::spring::{
     SpringSystem,
 };
 use deform_kernel::{Error, Graph, Real};
-use spring_common::*;
+use support::spring::*;
 
 /// Every whole-solve method, with its name.
 fn methods<T: Real>() -> Vec<(&'static str, LinearMethod<T>)> {

@@ -4,9 +4,10 @@
 //! iterations, warm/extrapolated choices and final mesh, bit for bit. The examples fail
 //! unless warm starts take fewer iterations than cold ones. Needs `gcc` and `gfortran`.
 
-mod common;
+#[path = "../support/mod.rs"]
+mod support;
 
-use common::c_build::*;
+use support::c_build::*;
 
 use deform_kernel::plan::{
     Plan, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanWork,

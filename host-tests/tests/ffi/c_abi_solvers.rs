@@ -15,10 +15,11 @@
 //! functions directly from Rust would need `unsafe`, which the workspace lints forbid in this
 //! crate.)
 
-mod common;
+#[path = "../support/mod.rs"]
+mod support;
 
-use common::c_build::*;
 use deform_kernel::Direction;
+use support::c_build::*;
 
 use deform_kernel::spring::{
     batina_stiffness, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, AngleMethod,

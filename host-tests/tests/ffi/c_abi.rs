@@ -3,11 +3,12 @@
 //! both, runs them, and compares their printed bit patterns with the Rust API on the same
 //! inputs. Needs `gcc`, `g++`, `gfortran` and `nm` on PATH (`cargo xtask ci` installs gfortran).
 
-mod common;
+#[path = "../support/mod.rs"]
+mod support;
 
 use std::process::Command;
 
-use common::c_build::*;
+use support::c_build::*;
 
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Quat, QuatAverage};
 

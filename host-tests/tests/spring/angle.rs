@@ -3,7 +3,8 @@
 //! typed errors.
 #![allow(clippy::needless_range_loop)]
 
-mod spring_common;
+#[path = "../support/mod.rs"]
+mod support;
 
 use deform_host_tests::spring_ref;
 use deform_kernel::spring::{
@@ -11,7 +12,7 @@ use deform_kernel::spring::{
     MAX_AMPLIFICATION,
 };
 use deform_kernel::{Error, Real};
-use spring_common::*;
+use support::spring::*;
 
 const METHODS: [AngleMethod; 3] = [
     AngleMethod::DirectGaussSeidel,

@@ -12,7 +12,8 @@
 //!   directions), whose rounding is amplified by the short boundary edges relative to the
 //!   coordinates; the bound is 64 ε L (measured worst: about 8 ε L).
 
-mod deformation_support;
+#[path = "../support/mod.rs"]
+mod support;
 
 use deform_kernel::deformation::{
     deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len, deform_tfi,
@@ -23,7 +24,7 @@ use deform_kernel::spring::{
 };
 use deform_kernel::Directions;
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Graph, Quat, Real};
-use deformation_support::{bits, block2, block3, max_err, scale, Rigid, TestMesh};
+use support::deformation::{bits, block2, block3, max_err, scale, Rigid, TestMesh};
 
 #[derive(Clone, Copy, Debug)]
 enum Method {

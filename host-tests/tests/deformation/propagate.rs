@@ -2,7 +2,8 @@
 //! reference, the arbitrary-deformation property (boundary points reproduced bit for bit by
 //! every pipeline, in `f32` and `f64`, 2D and 3D), and typed errors with outputs unchanged.
 
-mod deformation_support;
+#[path = "../support/mod.rs"]
+mod support;
 
 use deform_host_tests::deformation_ref as r;
 use deform_kernel::deformation::{
@@ -16,7 +17,7 @@ use deform_kernel::spring::{
 };
 use deform_kernel::Directions;
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Block, Error, Graph, Quat, Real};
-use deformation_support::{bits, block2, block3, to3, TestMesh};
+use support::deformation::{bits, block2, block3, to3, TestMesh};
 
 /// A deterministic pseudo-random value in `[-1, 1)` (splitmix64).
 fn rnd(seed: &mut u64) -> f64 {

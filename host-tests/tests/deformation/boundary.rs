@@ -2,7 +2,8 @@
 //! reference in `deform_host_tests::deformation_ref`, plus the degenerate inputs that must give
 //! typed errors with every output left bit-for-bit unchanged.
 
-mod deformation_support;
+#[path = "../support/mod.rs"]
+mod support;
 
 use deform_host_tests::deformation_ref as r;
 use deform_kernel::deformation::{
@@ -10,7 +11,7 @@ use deform_kernel::deformation::{
     boundary_rotations_scratch_len, boundary_translations, rigid_rotations,
 };
 use deform_kernel::{Cells, Error, Quat};
-use deformation_support::{bits, block2, block3, to3, TestMesh};
+use support::deformation::{bits, block2, block3, to3, TestMesh};
 
 /// A smooth, non-rigid deformation (bending, stretching, twisting); `amount` 0 is the identity.
 fn warp<const D: usize>(p: [f64; D], amount: f64) -> [f64; D] {

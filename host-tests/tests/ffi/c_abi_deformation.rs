@@ -5,11 +5,12 @@
 //! `deformation.c`: this crate forbids `unsafe`, so it cannot call the extern functions itself.
 //! Needs `gcc` and `gfortran` on PATH.
 
-mod common;
+#[path = "../support/mod.rs"]
+mod support;
 
-use common::c_build::*;
 use deform_kernel::Direction;
 use deform_kernel::Directions;
+use support::c_build::*;
 
 use deform_kernel::deformation::{
     deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len, deform_tfi,

@@ -5,7 +5,8 @@
 //! scaling, repeatable bits, f32 and f64, 2D and 3D.
 #![allow(clippy::needless_range_loop)]
 
-mod spring_common;
+#[path = "../support/mod.rs"]
+mod support;
 
 use deform_host_tests::spring_ref;
 use deform_kernel::spring::{
@@ -14,7 +15,7 @@ use deform_kernel::spring::{
 };
 use deform_kernel::{Error, Graph, Real};
 use deform_meshgen::AirfoilGrid;
-use spring_common::*;
+use support::spring::*;
 
 /// Small coarse levels, so the small test meshes have a real hierarchy.
 fn small_coarse<T: Real>() -> AmgOptions<T> {
