@@ -90,6 +90,13 @@ pub(crate) fn add_summary(total: &mut Option<QualitySummary>, s: QualitySummary)
     t.orientation.positive_regions += s.orientation.positive_regions;
     t.orientation.negative_regions += s.orientation.negative_regions;
     t.orientation.cells_against_region += s.orientation.cells_against_region;
+    t.orientation.cells_listed_reversed += s.orientation.cells_listed_reversed;
+    t.measure.extend(&s.measure);
+    t.scaled_jacobian.extend(&s.scaled_jacobian);
+    t.ratio.extend(&s.ratio);
+    t.inverted.extend(&s.inverted);
+    t.folded.extend(&s.folded);
+    t.reference_folded.extend(&s.reference_folded);
     t.min_measure = t.min_measure.min(s.min_measure);
     t.min_scaled_jacobian = t.min_scaled_jacobian.min(s.min_scaled_jacobian);
     t.min_area_ratio = min_opt(t.min_area_ratio, s.min_area_ratio);

@@ -93,7 +93,7 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
                     .into(),
             )),
         };
-    let quaternion = a.method == Method::Tfi;
+    let quaternion = a.method() == Method::Tfi;
     let mut total: Option<QualitySummary> = None;
     let mut max_displacement = 0.0f64;
     for (b, blk) in grid.blocks.iter_mut().enumerate() {
@@ -134,22 +134,25 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
     let Some(q) = total else {
         return Err(CliError::Invalid("the grid has no blocks".into()));
     };
+    super::move_mesh::check_new_folds(&q, a.allow_folds, &a.mesh)?;
     let mut staged = Staged::new();
     staged
         .write(&a.out, |f| write_plot3d(&grid, &layout, f))
         .map_err(io_err(&a.out))?;
     staged.commit().map_err(io_err(&a.out))?;
+    super::move_mesh::warn_new_folds(&q);
     let json = json!({
         "command": "move",
         "mesh": a.mesh.display().to_string(),
         "outputs": [a.out.display().to_string()],
         "format": format!("Plot3D {layout}"),
         "blocks": grid.blocks.len(),
-        "method": value_name(&a.method),
+        "method": value_name(&a.method()),
         "wall": value_name(&face),
         "max_displacement": max_displacement,
         "inverted_cells": q.inverted_cells.unwrap_or(0),
         "folded_cells": q.folded_cells,
+        "new_invalid_cells": q.new_failures(),
         "degenerate_cells": q.degenerate_cells,
         "orientation": q.orientation,
         "min_area_ratio": q.min_area_ratio,
@@ -162,7 +165,7 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
         a.mesh.display(),
         a.out.display(),
         grid.blocks.len(),
-        value_name(&a.method),
+        value_name(&a.method()),
         value_name(&face),
         max_displacement,
         q.inverted_cells.unwrap_or(0),

@@ -8,7 +8,8 @@ use serde_json::json;
 
 use crate::args::{Coords, Method, MoveArgs, Solver, StiffnessArg};
 use crate::engine::{
-    run_move_in_steps, Motion, MoveInput, MoveMethod, MoveSolver, SlideMarker, Stiffness,
+    run_move_in_steps, Motion, MoveInput, MoveMethod, MoveSolver, QualitySummary, SlideMarker,
+    Stiffness,
 };
 use crate::formats::displacements::{parse_displacements, parse_surface_positions};
 use crate::formats::motions::{parse_motions, MarkerMotionSpec, RigidMotion};
@@ -30,15 +31,27 @@ pub(crate) fn move_mesh(
     quiet: bool,
     split: Option<&dyn crate::split::Splitter>,
 ) -> Result<Outcome, CliError> {
-    let tfi = matches!(a.method, Method::Tfi | Method::TfiDisplacement);
-    if a.stiffness != StiffnessArg::Batina && (tfi || a.method == Method::Idw) {
+    let su2 = input_kind(&a.mesh)? == FileKind::Su2;
+    // Without --method: quaternion TFI on a Plot3D grid (`a.method()` gives quaternion else).
+    let resolved;
+    let a = if !su2 && a.method.is_none() {
+        resolved = MoveArgs {
+            method: Some(Method::Tfi),
+            ..a.clone()
+        };
+        &resolved
+    } else {
+        a
+    };
+    let tfi = matches!(a.method(), Method::Tfi | Method::TfiDisplacement);
+    if a.stiffness != StiffnessArg::Batina && (tfi || a.method() == Method::Idw) {
         return Err(CliError::Invalid(format!(
             "--stiffness {} applies to the spring, angle-spring and quaternion methods; --method {} has no springs",
             value_name(&a.stiffness),
-            value_name(&a.method)
+            value_name(&a.method())
         )));
     }
-    if input_kind(&a.mesh)? != FileKind::Su2 {
+    if !su2 {
         if !tfi {
             return Err(CliError::NotAvailable {
                 feature: "this method on Plot3D grids",
@@ -232,10 +245,10 @@ pub(crate) fn move_mesh(
         }
     }
     if let Some(r) = a.reach {
-        if !matches!(a.method, Method::Quaternion | Method::Idw) {
+        if !matches!(a.method(), Method::Quaternion | Method::Idw) {
             return Err(CliError::Invalid(format!(
                 "--reach applies to the quaternion and idw methods, not {}",
-                value_name(&a.method)
+                value_name(&a.method())
             )));
         }
         if !(r.is_finite() && r > 0.0) {
@@ -245,10 +258,10 @@ pub(crate) fn move_mesh(
         }
     }
     if let Some(theta) = a.idw_theta {
-        if a.method != Method::Idw {
+        if a.method() != Method::Idw {
             return Err(CliError::Invalid(format!(
                 "--idw-theta applies to --method idw, not {}",
-                value_name(&a.method)
+                value_name(&a.method())
             )));
         }
         if !(0.0..1.0).contains(&theta) {
@@ -285,7 +298,7 @@ pub(crate) fn move_mesh(
             elements: &m.elements,
         })
         .collect();
-    let method = match a.method {
+    let method = match a.method() {
         Method::Quaternion => MoveMethod::Quaternion,
         Method::Idw => MoveMethod::Idw,
         Method::Spring => MoveMethod::Spring,
@@ -328,6 +341,17 @@ pub(crate) fn move_mesh(
     let result = run_move_in_steps(&input, &slide_markers, a.steps as usize);
     spinner.finish_and_clear();
     let mut result = result.map_err(|e| e.in_file(&a.mesh))?;
+    if !result.converged && !a.allow_unconverged {
+        return Err(CliError::Unconverged(format!(
+            "{}: the {} solve did not converge: relative residual {:.3e} after {} iterations (--tol {:e}, --max-iter {}); nothing was written (--allow-unconverged writes it anyway)",
+            a.mesh.display(),
+            value_name(&a.method()),
+            result.residual,
+            result.iterations,
+            a.tol,
+            a.max_iter
+        )));
+    }
     if split.is_some_and(|s| !s.is_root()) {
         // The other processes helped with the solves; the first one writes and reports.
         return Ok(Outcome {
@@ -349,6 +373,7 @@ pub(crate) fn move_mesh(
         Some(&wall),
     )
     .map_err(|e| e.in_file(&a.mesh))?;
+    check_new_folds(&q, a.allow_folds, &a.mesh)?;
     let out_mesh = Su2Mesh {
         points: result.deformed.clone(),
         ..mesh.clone()
@@ -403,7 +428,7 @@ pub(crate) fn move_mesh(
         let title = format!(
             "{} {}: {} inverted, {} folded",
             a.mesh.display(),
-            value_name(&a.method),
+            value_name(&a.method()),
             q.inverted_cells.unwrap_or(0),
             q.folded_cells
         );
@@ -508,8 +533,8 @@ pub(crate) fn move_mesh(
         outputs,
         nodes: mesh.points.len(),
         cells: mesh.elements.len(),
-        method: value_name(&a.method),
-        solver: match a.method {
+        method: value_name(&a.method()),
+        solver: match a.method() {
             Method::Idw | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
             Method::AngleCg if a.solver == Solver::Amg && a.slide.is_empty() => "amg".to_string(),
             Method::AngleCg => "cg".to_string(),
@@ -521,7 +546,7 @@ pub(crate) fn move_mesh(
             ),
             _ => value_name(&a.solver),
         },
-        stiffness: match a.method {
+        stiffness: match a.method() {
             Method::Idw | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
             _ => value_name(&a.stiffness),
         },
@@ -542,6 +567,8 @@ pub(crate) fn move_mesh(
         orientation: q.orientation.describe(mesh.dim),
         inverted_cells: q.inverted_cells.unwrap_or(0),
         folded_cells: q.folded_cells,
+        new_invalid_cells: q.new_failures(),
+        listed_reversed_cells: q.orientation.cells_listed_reversed,
         degenerate_cells: q.degenerate_cells,
         min_area_ratio: q.min_area_ratio,
         max_area_ratio: q.max_area_ratio,
@@ -551,10 +578,11 @@ pub(crate) fn move_mesh(
     };
     if !report.converged {
         eprintln!(
-            "deform: warning: the solver did not converge in {} iterations (residual {:.3e})",
+            "deform: warning: the solver did not converge in {} iterations (residual {:.3e}); written because of --allow-unconverged",
             report.iterations, report.residual
         );
     }
+    warn_new_folds(&q);
     let text = format!(
         "{} -> {}: {} nodes ({} moved, {} fixed), method {}{}, {} iterations, residual {:.3e}{}\n  {} mesh; inverted cells {}, folded cells {}, degenerate cells {}, {} ratio min {} max {}, max wall angle change {} deg, {:.2} s",
         report.mesh,
@@ -640,12 +668,45 @@ pub(crate) struct MoveReport {
     orientation: String,
     inverted_cells: usize,
     folded_cells: usize,
+    /// Cells inverted or folded here that were valid in the input (the failure policy).
+    new_invalid_cells: usize,
+    /// Valid cells listed clockwise / mirrored in the input (SU2 reorders them).
+    listed_reversed_cells: usize,
     degenerate_cells: usize,
     min_area_ratio: Option<f64>,
     max_area_ratio: Option<f64>,
     min_scaled_jacobian: f64,
     max_wall_angle_change_deg: Option<f64>,
     seconds: f64,
+}
+
+/// The failure policy `move` and `smooth` share: a result with cells that the input did not
+/// have inverted or folded is refused (nothing written) unless `allow` (`--allow-folds`).
+pub(crate) fn check_new_folds(
+    q: &QualitySummary,
+    allow: bool,
+    mesh: &std::path::Path,
+) -> Result<(), CliError> {
+    let bad = q.new_failures();
+    if bad == 0 || allow {
+        return Ok(());
+    }
+    Err(CliError::Folded(format!(
+        "{}: the result has {bad} cell(s) inverted or folded that were valid in the input ({} inverted, {} folded in all); nothing was written (--allow-folds writes it anyway)",
+        mesh.display(),
+        q.inverted_cells.unwrap_or(0),
+        q.folded_cells
+    )))
+}
+
+/// With `--allow-folds`: says on stderr how many cells the written result spoiled.
+pub(crate) fn warn_new_folds(q: &QualitySummary) {
+    let bad = q.new_failures();
+    if bad > 0 {
+        eprintln!(
+            "deform: warning: {bad} cell(s) inverted or folded that were valid in the input; written because of --allow-folds"
+        );
+    }
 }
 
 /// TFI never reaches the unstructured path (checked at the top of `move_mesh`).

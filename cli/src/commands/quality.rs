@@ -46,10 +46,18 @@ pub(crate) fn quality_text(r: &QualityReport) -> String {
         ));
     }
     let measure = if r.dim == 3 { "volume" } else { "area" };
-    let rows: [(String, String); 12] = [
+    let reversed = match s.orientation.cells_listed_reversed {
+        0 => "0".to_string(),
+        k => format!("{k} (valid; SU2 reorders them, `deform convert --reorient` rewrites them)"),
+    };
+    let rows: [(String, String); 13] = [
         ("nodes".into(), r.nodes.to_string()),
         ("cells".into(), s.cells.to_string()),
         ("orientation".into(), s.orientation.describe(r.dim)),
+        (
+            crate::orientation::OrientationSummary::reversed_words(r.dim).into(),
+            reversed,
+        ),
         (
             "inverted cells".into(),
             s.inverted_cells.map_or("-".into(), |v| v.to_string()),

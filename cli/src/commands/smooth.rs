@@ -217,7 +217,7 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
                 } else {
                     "in the coarse-grid pass".to_string()
                 };
-                return Err(CliError::Invalid(format!(
+                return Err(CliError::Folded(format!(
                     "{}: block {}: smoothing flips {} cell(s) (first: cell {}, {when}); nothing was written (--allow-folds writes them anyway)",
                     a.grid.display(),
                     b + 1,
