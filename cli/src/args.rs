@@ -505,6 +505,11 @@ pub struct ConvertArgs {
     /// Write VTK data arrays as ASCII text instead of base64 binary.
     #[arg(long)]
     pub vtk_ascii: bool,
+    /// SU2 input: rewrite the valid cells listed clockwise (2D) or mirrored (3D) in the
+    /// SU2/VTK convention (counter-clockwise, right-handed; SU2 does the same when it reads
+    /// them). Folded cells are left as they are.
+    #[arg(long)]
+    pub reorient: bool,
 }
 
 /// A comma-separated list of 2 or 3 finite numbers from the command line.

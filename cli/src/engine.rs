@@ -233,6 +233,27 @@ fn reference_cells<const D: usize>(
     })
 }
 
+/// Per cell: valid but listed clockwise (2D) or mirrored (3D), against the SU2/VTK convention
+/// (what `deform convert --reorient` rewrites).
+pub fn reversed_cells(
+    dim: usize,
+    cells: &CellList,
+    points: &[[f64; 3]],
+) -> Result<Vec<bool>, CliError> {
+    fn run<const D: usize>(cells: &CellList, points: &[[f64; 3]]) -> Result<Vec<bool>, CliError> {
+        let view = cells_view(cells, points.len())?;
+        let r = reference_cells(cells, &view, &points_d::<D>(points))?;
+        Ok((0..view.len())
+            .map(|c| r.negative[c] && !(r.rel.corner[c] < 0.0 || r.overlap[c]))
+            .collect())
+    }
+    match dim {
+        2 => run::<2>(cells, points),
+        3 => run::<3>(cells, points),
+        _ => Err(CliError::Invalid(format!("dimension {dim} is not 2 or 3"))),
+    }
+}
+
 fn quality_d<const D: usize>(
     cells: &CellList,
     points: &[[f64; 3]],

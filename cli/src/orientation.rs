@@ -61,11 +61,11 @@ impl OrientationSummary {
         }
     }
 
-    /// `"listed clockwise"` (2D) or `"listed mirrored (left-handed)"` (3D): the words for
+    /// `"listed clockwise"` (2D) or `"listed left-handed"` (3D, mirrored): the words for
     /// [`OrientationSummary::cells_listed_reversed`].
     pub fn reversed_words(dim: usize) -> &'static str {
         if dim == 3 {
-            "listed mirrored (left-handed)"
+            "listed left-handed"
         } else {
             "listed clockwise"
         }

@@ -10,7 +10,7 @@
 //!
 //! Which of two overlapping cells is folded cannot be told from the pair alone; the cell whose
 //! listing disagrees with the majority of its connected region ([`crate::orientation`]) is
-//! blamed, both when neither or both do.
+//! blamed, else the one with the larger share of such faces, else both.
 
 use crate::formats::CellList;
 
@@ -119,25 +119,50 @@ pub fn cell_faces(cells: &CellList, sense: &[i8]) -> Vec<CellFace> {
 
 /// Per cell: overlaps a neighbour across a shared face (both on the same side of it), and is
 /// the one to blame (see the module doc). `sense` as in [`cell_faces`]; `against[c]`: the
-/// cell's listing disagrees with its region's majority. Faces shared by more than two cells
-/// are not judged.
+/// cell's listing disagrees with its region's majority. When that does not tell the two cells
+/// apart, the one with the larger share of such faces among its judged faces is blamed (a
+/// triangle flipped over its neighbours: all of its faces, one of each neighbour's), both on a
+/// tie. Faces shared by more than two cells are not judged.
 pub fn overlapping(cells: &CellList, sense: &[i8], against: &[bool]) -> Vec<bool> {
     let faces = cell_faces(cells, sense);
-    let mut out = vec![false; cells.len()];
+    // The judged pairs (both directions known) and, per cell, (bad faces, judged faces).
+    let mut bad_pairs = Vec::new();
+    let mut share = vec![(0u32, 0u32); cells.len()];
     for group in faces.chunk_by(|a, b| a.key == b.key) {
         let [a, b] = group else { continue };
-        if a.side == 0 || b.side == 0 || a.side != b.side {
+        if a.side == 0 || b.side == 0 {
             continue;
         }
-        let against_of = |f: &CellFace| against.get(f.cell as usize).copied().unwrap_or(false);
-        let (ga, gb) = (against_of(a), against_of(b));
-        for (f, blamed) in [(a, ga || ga == gb), (b, gb || ga == gb)] {
-            if blamed {
-                if let Some(slot) = out.get_mut(f.cell as usize) {
-                    *slot = true;
-                }
+        let bad = a.side == b.side;
+        for f in [a, b] {
+            if let Some(s) = share.get_mut(f.cell as usize) {
+                s.0 += u32::from(bad);
+                s.1 += 1;
             }
         }
+        if bad {
+            bad_pairs.push((a.cell as usize, b.cell as usize));
+        }
+    }
+    let against_of = |c: usize| against.get(c).copied().unwrap_or(false);
+    // a's share of bad faces compared with b's (exact: cross-multiplied counts).
+    let compare = |a: usize, b: usize| {
+        let ((ba, ja), (bb, jb)) = (share[a], share[b]);
+        (u64::from(ba) * u64::from(jb)).cmp(&(u64::from(bb) * u64::from(ja)))
+    };
+    let mut out = vec![false; cells.len()];
+    for (a, b) in bad_pairs {
+        let (blame_a, blame_b) = match (against_of(a), against_of(b)) {
+            (true, false) => (true, false),
+            (false, true) => (false, true),
+            _ => match compare(a, b) {
+                std::cmp::Ordering::Greater => (true, false),
+                std::cmp::Ordering::Less => (false, true),
+                std::cmp::Ordering::Equal => (true, true),
+            },
+        };
+        out[a] |= blame_a;
+        out[b] |= blame_b;
     }
     out
 }
@@ -279,6 +304,14 @@ mod tests {
         // the cell against its region is blamed.
         assert_eq!(overlapping(&cells, &[1, 1], &[false, true]), [false, true]);
         assert_eq!(overlapping(&cells, &[1, 1], &[false, false]), [true, true]);
+        // A third cell with a good face tips the share: cell 1 has 1 bad of 2 judged faces,
+        // cell 0 1 of 1.
+        let mut three = cells.clone();
+        three.push(deform_kernel::CellKind::Triangle, &[1, 4, 3]);
+        assert_eq!(
+            overlapping(&three, &[1, 1, -1], &[false, false, false]),
+            [true, false, false]
+        );
         // Unknown outward direction: not judged.
         assert_eq!(
             overlapping(&cells, &[1, 0], &[false, false]),
