@@ -193,6 +193,45 @@ pub enum FaceArg {
     Kmax,
 }
 
+/// Which blocks `--wall` moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WallBlocks {
+    /// A bare face: the only block of a single-block grid (refused on several blocks).
+    Unnamed,
+    /// Block N (1-based).
+    One(usize),
+    /// `all:FACE`: every block.
+    All,
+}
+
+/// `--wall [BLOCK:]FACE`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WallArg {
+    /// Which blocks.
+    pub blocks: WallBlocks,
+    /// Which face of them.
+    pub face: FaceArg,
+}
+
+fn parse_wall(s: &str) -> Result<WallArg, String> {
+    let (block, face) = match s.split_once(':') {
+        Some((b, f)) => (Some(b.trim()), f.trim()),
+        None => (None, s.trim()),
+    };
+    let face = FaceArg::from_str(face, true).map_err(|_| {
+        format!("{face:?} is not a face (imin, imax, jmin, jmax, kmin, kmax), in {s:?}")
+    })?;
+    let blocks = match block {
+        None => WallBlocks::Unnamed,
+        Some(b) if b.eq_ignore_ascii_case("all") => WallBlocks::All,
+        Some(b) => match b.parse::<usize>() {
+            Ok(n) if n >= 1 => WallBlocks::One(n),
+            _ => return Err(format!("{b:?} is not a block number (1, 2, …) or all")),
+        },
+    };
+    Ok(WallArg { blocks, face })
+}
+
 /// Spring stiffness (`--stiffness`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum StiffnessArg {
@@ -237,10 +276,13 @@ pub struct MoveArgs {
     /// marker.
     #[arg(long = "slide", value_name = "MARKER")]
     pub slide: Vec<String>,
-    /// Plot3D grids: the block face that moves (in every block); the opposite face stays and
-    /// the points in between follow by transfinite interpolation along that direction.
-    #[arg(long, value_enum, value_name = "FACE")]
-    pub wall: Option<FaceArg>,
+    /// Plot3D grids: the block face that moves (imin, imax, jmin, jmax, kmin, kmax); the
+    /// opposite face stays and the points in between follow by transfinite interpolation along
+    /// that direction. A grid of several blocks needs the block, 1-based: `2:jmin` moves block
+    /// 2's jmin face and leaves the other blocks as they are (`all:jmin`: that face of every
+    /// block); a bare face is refused there rather than guessed.
+    #[arg(long, value_name = "[BLOCK:]FACE", value_parser = parse_wall)]
+    pub wall: Option<WallArg>,
     /// Rotate the markers by DEG degrees, counter-clockwise about the axis (right-hand rule).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     pub rotate: Option<f64>,

@@ -62,6 +62,25 @@ pub(crate) fn write_picture(
         .map_err(io_err(path))
 }
 
+/// In 3D the measure ratios of a JSON report are volume ratios: renames its top-level
+/// `min_area_ratio`/`max_area_ratio` to `min_volume_ratio`/`max_volume_ratio` (the 2D names
+/// stay; the 3D report does not keep the old ones).
+pub(crate) fn volume_words(mut json: serde_json::Value, dim: usize) -> serde_json::Value {
+    if dim == 3 {
+        if let Some(map) = json.as_object_mut() {
+            for (old, new) in [
+                ("min_area_ratio", "min_volume_ratio"),
+                ("max_area_ratio", "max_volume_ratio"),
+            ] {
+                if let Some(v) = map.remove(old) {
+                    map.insert(new.to_string(), v);
+                }
+            }
+        }
+    }
+    json
+}
+
 pub(crate) fn add_summary(total: &mut Option<QualitySummary>, s: QualitySummary) {
     let Some(t) = total.as_mut() else {
         *total = Some(s);

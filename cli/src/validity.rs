@@ -188,6 +188,52 @@ pub fn boundary_faces(cells: &CellList) -> Vec<Vec<u32>> {
     out
 }
 
+/// The boundary faces of a mesh that belong to no marker.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Unmarked {
+    /// How many.
+    pub faces: usize,
+    /// The centroid of the first one (in key order), to find them.
+    pub sample: Option<[f64; 3]>,
+    /// Their nodes that are on no marker either (sorted): these move as field nodes.
+    pub free_nodes: Vec<u32>,
+}
+
+/// The boundary faces of `cells` (edges in 2D) that are elements of none of `markers`: a wall
+/// left out of the marker list is moved like the field around it, so it is worth a warning.
+pub fn unmarked_boundary(cells: &CellList, markers: &[&CellList], points: &[[f64; 3]]) -> Unmarked {
+    let mut marked: Vec<[u32; 4]> = markers
+        .iter()
+        .flat_map(|m| m.iter().map(|(_, nodes)| face_key(nodes)))
+        .collect();
+    marked.sort_unstable();
+    let mut on_marker: Vec<u32> = markers
+        .iter()
+        .flat_map(|m| m.nodes.iter().copied())
+        .collect();
+    on_marker.sort_unstable();
+    let mut out = Unmarked::default();
+    for face in boundary_faces(cells) {
+        if marked.binary_search(&face_key(&face)).is_ok() {
+            continue;
+        }
+        out.faces += 1;
+        if out.sample.is_none() {
+            let n = face.len().max(1) as f64;
+            let sum = face.iter().fold([0.0; 3], |s, &v| {
+                let p = points.get(v as usize).copied().unwrap_or([0.0; 3]);
+                [s[0] + p[0], s[1] + p[1], s[2] + p[2]]
+            });
+            out.sample = Some(sum.map(|x| x / n));
+        }
+        out.free_nodes
+            .extend(face.iter().filter(|v| on_marker.binary_search(v).is_err()));
+    }
+    out.free_nodes.sort_unstable();
+    out.free_nodes.dedup();
+    out
+}
+
 /// The sorted node key of a face (or boundary element) given as a node list.
 pub fn face_key(nodes: &[u32]) -> [u32; 4] {
     key_and_direction(nodes).0

@@ -24,7 +24,7 @@ use crate::error::CliError;
 use crate::files::{
     file_kind, input_kind, io_err, marker_nodes, marker_union, read_bytes, read_su2, FileKind,
 };
-use crate::report::{fmt_opt, seconds, value_name, write_picture, Outcome};
+use crate::report::{fmt_opt, seconds, value_name, volume_words, write_picture, Outcome};
 
 pub(crate) fn move_mesh(
     a: &MoveArgs,
@@ -527,6 +527,23 @@ pub(crate) fn move_mesh(
         })
         .collect();
     let max_displacement = result.displacement.iter().map(norm).fold(0.0, f64::max);
+    let all_markers: Vec<&CellList> = mesh.markers.iter().map(|m| &m.elements).collect();
+    let unmarked = crate::validity::unmarked_boundary(&mesh.elements, &all_markers, &mesh.points);
+    let unmarked_moved = unmarked
+        .free_nodes
+        .iter()
+        .filter_map(|&n| result.displacement.get(n as usize))
+        .map(norm)
+        .fold(0.0, f64::max);
+    if unmarked_moved > 0.0 {
+        eprintln!(
+            "deform: warning: {} boundary face(s) belong to no marker (one at {}) and moved like the field, up to {unmarked_moved:.3e}; put them in a marker to hold them",
+            unmarked.faces,
+            unmarked
+                .sample
+                .map_or_else(|| "-".to_string(), |p| super::quality::point_text(p, mesh.dim))
+        );
+    }
     let report = MoveReport {
         command: "move",
         mesh: a.mesh.display().to_string(),
@@ -564,6 +581,9 @@ pub(crate) fn move_mesh(
         converged: result.converged,
         markers: marker_motions,
         max_displacement,
+        unmarked_boundary_faces: unmarked.faces,
+        unmarked_boundary_sample: unmarked.sample,
+        unmarked_boundary_max_displacement: unmarked_moved,
         orientation: q.orientation.describe(mesh.dim),
         inverted_cells: q.inverted_cells.unwrap_or(0),
         folded_cells: q.folded_cells,
@@ -637,7 +657,10 @@ pub(crate) fn move_mesh(
     }
     Ok(Outcome {
         text,
-        json: serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
+        json: volume_words(
+            serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
+            mesh.dim,
+        ),
     })
 }
 
@@ -665,6 +688,10 @@ pub(crate) struct MoveReport {
     converged: bool,
     markers: Vec<MarkerMotion>,
     max_displacement: f64,
+    /// Boundary faces in no marker, one's centroid, and how far their field nodes moved.
+    unmarked_boundary_faces: usize,
+    unmarked_boundary_sample: Option<[f64; 3]>,
+    unmarked_boundary_max_displacement: f64,
     orientation: String,
     inverted_cells: usize,
     folded_cells: usize,
