@@ -254,13 +254,45 @@ pub fn reversed_cells(
     }
 }
 
+/// Per cell: the measure ratio after/before (0/0 gives NaN) and whether the sign changed.
+fn ratios_and_inversions(before: &[f64], after: &[f64]) -> (Vec<f64>, Vec<bool>) {
+    before
+        .iter()
+        .zip(after)
+        .map(|(&b, &a)| (a / b, (b > 0.0 && a <= 0.0) || (b < 0.0 && a >= 0.0)))
+        .unzip()
+}
+
+/// The kernel's comparison, with the wall-angle change when `wall` is given.
+fn compare_with_wall<const D: usize>(
+    view: &Cells<'_>,
+    undeformed: &[[f64; D]],
+    deformed: &[[f64; D]],
+    wall: Option<&CellList>,
+) -> Result<deform_kernel::quality::QualityReport<f64>, CliError> {
+    use deform_kernel::quality::{compare, wall_angle_scratch_len, Wall};
+    let n = undeformed.len();
+    let graph;
+    let wall_view;
+    let wall_obj = match wall {
+        Some(w) => {
+            graph = edge_graph(view, false)?;
+            wall_view = cells_view(w, n)?;
+            Some(Wall::new(wall_view, graph.view()?).map_err(kernel("wall"))?)
+        }
+        None => None,
+    };
+    let scratch_len = wall_obj.as_ref().map_or(0, |_| wall_angle_scratch_len(n));
+    let mut scratch = vec![[0.0; D]; scratch_len];
+    compare(view, undeformed, deformed, wall_obj.as_ref(), &mut scratch).map_err(kernel("quality"))
+}
+
 fn quality_d<const D: usize>(
     cells: &CellList,
     points: &[[f64; 3]],
     reference: Option<&[[f64; 3]]>,
     wall: Option<&CellList>,
 ) -> Result<QualitySummary, CliError> {
-    use deform_kernel::quality::{compare, wall_angle_scratch_len, Wall};
     let n = points.len();
     let view = cells_view(cells, n)?;
     if let Some(r) = reference.filter(|r| r.len() != n) {
@@ -277,20 +309,8 @@ fn quality_d<const D: usize>(
     // the same numbers as on the input's, angles measured the same way in every region.
     let undeformed = base.orientation.canonical(&input_undeformed);
     let pts = base.orientation.canonical(&input_deformed);
-    let graph;
-    let wall_view;
-    let wall_obj = match (reference, wall) {
-        (Some(_), Some(w)) if !w.is_empty() => {
-            graph = edge_graph(&view, false)?;
-            wall_view = cells_view(w, n)?;
-            Some(Wall::new(wall_view, graph.view()?).map_err(kernel("wall"))?)
-        }
-        _ => None,
-    };
-    let scratch_len = wall_obj.as_ref().map_or(0, |_| wall_angle_scratch_len(n));
-    let mut scratch = vec![[0.0; D]; scratch_len];
-    let r = compare(&view, &undeformed, &pts, wall_obj.as_ref(), &mut scratch)
-        .map_err(kernel("quality"))?;
+    let wall = wall.filter(|w| reference.is_some() && !w.is_empty());
+    let r = compare_with_wall(&view, &undeformed, &pts, wall)?;
     let has_ref = reference.is_some();
     let folded_in = |corner: &[f64]| -> Vec<bool> {
         corner
@@ -309,21 +329,7 @@ fn quality_d<const D: usize>(
         .filter(|(&neg, &f)| neg && !f)
         .count();
     let (ratio, inverted) = if has_ref {
-        let ratio = base
-            .rel
-            .measure
-            .iter()
-            .zip(&rel.measure)
-            .map(|(b, a)| a / b)
-            .collect();
-        let inv = base
-            .rel
-            .measure
-            .iter()
-            .zip(&rel.measure)
-            .map(|(&b, &a)| (b > 0.0 && a <= 0.0) || (b < 0.0 && a >= 0.0))
-            .collect();
-        (ratio, inv)
+        ratios_and_inversions(&base.rel.measure, &rel.measure)
     } else {
         (Vec::new(), Vec::new())
     };
