@@ -126,6 +126,7 @@ fn cells_listed_mirrored_are_not_folded_3d_and_move_keeps_them_valid() {
     assert_eq!(r["folded_cells"], 0, "{r}");
     assert_eq!(r["inverted_cells"], 0);
     assert_eq!(r["new_invalid_cells"], 0);
+    assert_eq!(r["listed_reversed_cells"], 6304);
     let moved = Su2Mesh {
         points: read_su2(&d.join("moved.su2")).points,
         ..input.clone()

@@ -637,6 +637,13 @@ pub(crate) fn move_mesh(
         report.seconds
     );
     let mut text = text;
+    if report.listed_reversed_cells > 0 {
+        text.push_str(&format!(
+            "\n  {} cells {} in the input (valid: measured against their own orientation; SU2 reorders them)",
+            report.listed_reversed_cells,
+            crate::orientation::OrientationSummary::reversed_words(mesh.dim)
+        ));
+    }
     text.push_str(&format!(
         "\n  max displacement {:.6e}",
         report.max_displacement
