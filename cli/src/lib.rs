@@ -26,6 +26,7 @@ pub mod plot;
 pub mod progress;
 pub mod report;
 pub mod split;
+pub mod validity;
 
 pub use formats::plot3d::parse_plot3d;
 pub use formats::su2::parse_su2;
