@@ -430,24 +430,7 @@ pub fn structured_cells(dims: [usize; 3], points: &[[f64; 3]], dim: usize) -> Ce
     cells
 }
 
-/// How the moved markers move.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Motion {
-    /// Rigid rotation by `degrees` (counter-clockwise, right-hand rule) about `axis` through
-    /// `center` (default: centroid of the moved nodes).
-    Rotate {
-        /// Angle in degrees.
-        degrees: f64,
-        /// Axis (need not be unit length).
-        axis: [f64; 3],
-        /// Centre of rotation.
-        center: Option<[f64; 3]>,
-    },
-    /// Rigid translation.
-    Translate([f64; 3]),
-    /// Prescribed displacement per node (other moved nodes stay put).
-    Field(Vec<(u32, [f64; 3])>),
-}
+pub use crate::motion::Motion;
 
 /// The propagation method.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -1558,22 +1541,6 @@ pub struct Face {
     pub max: bool,
 }
 
-/// A rigid motion of a wall face.
-#[derive(Clone, Copy, Debug)]
-pub enum RigidMotion {
-    /// Rotate by `degrees` about `axis` through `center` (default: the wall's centroid).
-    Rotate {
-        /// Angle, degrees, right-hand rule.
-        degrees: f64,
-        /// Axis (z in 2D).
-        axis: [f64; 3],
-        /// Centre.
-        center: Option<[f64; 3]>,
-    },
-    /// Translate by this vector.
-    Translate([f64; 3]),
-}
-
 /// Transfinite interpolation on a structured block: the `wall` face moves rigidly, the
 /// opposite face stays, and the interior follows along the wall's direction, either with
 /// Samareh's quaternion TFI (`quaternion`: rotations blended, rigid motion reproduced) or
@@ -1583,7 +1550,7 @@ pub fn tfi_block(
     dims: [usize; 3],
     points: &[[f64; 3]],
     wall: Face,
-    motion: RigidMotion,
+    motion: &Motion,
     quaternion: bool,
 ) -> Result<Vec<[f64; 3]>, CliError> {
     match dim {
@@ -1597,7 +1564,7 @@ fn tfi_d<const D: usize>(
     dims: [usize; 3],
     points: &[[f64; 3]],
     wall: Face,
-    motion: RigidMotion,
+    motion: &Motion,
     quaternion: bool,
 ) -> Result<Vec<[f64; 3]>, CliError> {
     use deform_kernel::deformation::{
@@ -1631,7 +1598,7 @@ fn tfi_d<const D: usize>(
         c.map(|s| s / wall_nodes.len().max(1) as f64)
     };
     let (q, shift, center) = match motion {
-        RigidMotion::Rotate {
+        &Motion::Rotate {
             degrees,
             axis,
             center,
@@ -1640,7 +1607,12 @@ fn tfi_d<const D: usize>(
                 Quat::from_axis_angle(axis, degrees.to_radians()).map_err(kernel("rotation"))?;
             (q, [0.0; 3], center.unwrap_or(centroid))
         }
-        RigidMotion::Translate(t) => (Quat::identity(), t, centroid),
+        &Motion::Translate(t) => (Quat::identity(), t, centroid),
+        Motion::Field(_) => {
+            return Err(CliError::Invalid(
+                "a Plot3D wall moves rigidly: --rotate DEG or --translate DX,DY[,DZ]".into(),
+            ))
+        }
     };
     let moved = |p: [f64; 3]| -> [f64; D] {
         let r = q.rotate([p[0] - center[0], p[1] - center[1], p[2] - center[2]]);

@@ -20,6 +20,7 @@ pub mod error;
 pub mod files;
 pub mod formats;
 pub mod guard;
+pub mod motion;
 pub mod orientation;
 pub mod output;
 pub mod plot;

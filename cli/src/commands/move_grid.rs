@@ -101,21 +101,20 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
             ]
         })
     };
-    let motion =
-        match (a.rotate, coords(&a.translate, 0.0)) {
-            (Some(deg), None) if deg.is_finite() => crate::engine::RigidMotion::Rotate {
-                degrees: deg,
-                axis: coords(&a.axis, 0.0).unwrap_or([0.0, 0.0, 1.0]),
-                center: coords(&a.center, 0.0),
-            },
-            (None, Some(t)) if t.iter().all(|x| x.is_finite()) => {
-                crate::engine::RigidMotion::Translate(t)
-            }
-            _ => return Err(CliError::Invalid(
+    let motion = match (a.rotate, coords(&a.translate, 0.0)) {
+        (Some(deg), None) if deg.is_finite() => crate::motion::Motion::Rotate {
+            degrees: deg,
+            axis: coords(&a.axis, 0.0).unwrap_or([0.0, 0.0, 1.0]),
+            center: coords(&a.center, 0.0),
+        },
+        (None, Some(t)) if t.iter().all(|x| x.is_finite()) => crate::motion::Motion::Translate(t),
+        _ => {
+            return Err(CliError::Invalid(
                 "--rotate DEG or --translate DX,DY[,DZ] (finite) moves the wall of a Plot3D grid"
                     .into(),
-            )),
-        };
+            ))
+        }
+    };
     let quaternion = a.method() == Method::Tfi;
     let mut total: Option<QualitySummary> = None;
     let mut max_displacement = 0.0f64;
@@ -145,7 +144,7 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
             blk.dims,
             &blk.points,
             crate::engine::Face { direction, max },
-            motion,
+            &motion,
             quaternion,
         )
         .map_err(|e| e.within(&format!("block {}", b + 1)).in_file(&a.mesh))?;

@@ -12,7 +12,7 @@ use crate::engine::{
     Stiffness,
 };
 use crate::formats::displacements::{parse_displacements, parse_surface_positions};
-use crate::formats::motions::{parse_motions, MarkerMotionSpec, RigidMotion};
+use crate::formats::motions::{parse_motions, MarkerMotionSpec};
 use crate::formats::su2::Su2Mesh;
 use crate::formats::vtk::{write_vtu, VtkEncoding, VtkField};
 use crate::formats::CellList;
@@ -783,15 +783,16 @@ pub(crate) fn marker_window(points: &[[f64; 3]], lists: &[&CellList]) -> Window 
 type NodeDisplacements = Vec<(u32, [f64; 3])>;
 
 /// A marker's rigid motion in words, for the report.
-fn describe(m: &RigidMotion, dim: usize) -> String {
+fn describe(m: &Motion, dim: usize) -> String {
     match m {
-        RigidMotion::Rotate {
+        Motion::Rotate {
             degrees, center, ..
         } => match center {
             Some(c) => format!("rotate {degrees} deg about {:?}", &c[..dim]),
             None => format!("rotate {degrees} deg about its centroid"),
         },
-        RigidMotion::Translate(t) => format!("translate {:?}", &t[..dim]),
+        Motion::Translate(t) => format!("translate {:?}", &t[..dim]),
+        Motion::Field(list) => format!("displacements of {} nodes", list.len()),
     }
 }
 
@@ -813,7 +814,7 @@ fn marker_motions_field(
     if steps > 1
         && specs
             .iter()
-            .any(|m| matches!(m.motion, RigidMotion::Rotate { .. }))
+            .any(|m| matches!(m.motion, Motion::Rotate { .. }))
     {
         return Err(CliError::NotAvailable {
             feature: "--steps with per-marker rotations from --motions",
@@ -826,11 +827,11 @@ fn marker_motions_field(
         let nodes = marker_nodes(mesh, std::slice::from_ref(&spec.marker), path)?;
         let point = |n: u32| mesh.points.get(n as usize).copied().unwrap_or([0.0; 3]);
         let displacement: Box<dyn Fn([f64; 3]) -> [f64; 3]> = match &spec.motion {
-            RigidMotion::Translate(t) => {
+            Motion::Translate(t) => {
                 let t = *t;
                 Box::new(move |_| t)
             }
-            RigidMotion::Rotate {
+            Motion::Rotate {
                 degrees,
                 axis,
                 center,
@@ -858,6 +859,14 @@ fn marker_motions_field(
                     }
                     d
                 })
+            }
+            // parse_motions gives rigid motions only.
+            Motion::Field(_) => {
+                return Err(CliError::Invalid(format!(
+                    "{}: line {}: a motion file gives rigid motions only",
+                    path.display(),
+                    spec.line
+                )))
             }
         };
         for &n in &nodes {
