@@ -538,6 +538,7 @@ pub(crate) fn su2_from_parts(
             })
             .collect(),
         passthrough: Vec::new(),
+        text: Default::default(),
     }
 }
 

@@ -118,6 +118,7 @@ fn block_3d(n: usize) -> Su2Mesh {
             },
         ],
         passthrough: Vec::new(),
+        text: Default::default(),
     }
 }
 

@@ -223,6 +223,7 @@ fn hex_box() -> Su2Mesh {
         elements,
         markers: Vec::new(),
         passthrough: Vec::new(),
+        text: Default::default(),
     }
 }
 

@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{mesh_2d, mesh_3d, su2_bytes, Rng};
+use common::{deform_ok, mesh_2d, mesh_3d, su2_bytes, tmp_dir, Rng};
 use deform_cli::formats::su2::parse_su2;
 use deform_cli::formats::{FormatErrorKind, Location};
 
@@ -258,4 +258,58 @@ fn random_mutations_never_panic() {
         let b: Vec<u8> = (0..n).map(|_| rng.next() as u8).collect();
         let _ = parse_su2(&b);
     }
+}
+
+/// The input's comment lines and line ends survive `convert` and `move` (issue 31: outputs
+/// dropped them): every comment-only line of the input is in the output, in order, and every
+/// output line ends in `\r\n` as the input's did. Checked on the bytes, not by our reader.
+#[test]
+fn comments_and_crlf_are_kept_by_convert_and_move() {
+    let d = tmp_dir("su2-comments");
+    let body = String::from_utf8(su2_bytes(&mesh_2d(4, 3))).unwrap();
+    let mut text = String::new();
+    for line in body.lines().filter(|l| !l.starts_with('%')) {
+        for key in ["NDIME=", "NELEM=", "NPOIN=", "NMARK=", "MARKER_TAG= wall"] {
+            if line.starts_with(key) {
+                text.push_str(&format!("%\r\n% before {key}\r\n%\r\n"));
+            }
+        }
+        text.push_str(line);
+        text.push_str("\r\n");
+    }
+    text.push_str("% the end\r\n");
+    std::fs::write(d.join("in.su2"), &text).unwrap();
+    let comments = |t: &str| -> Vec<String> {
+        t.split("\r\n")
+            .filter(|l| l.trim_start().starts_with('%'))
+            .map(str::to_string)
+            .collect()
+    };
+    let want = comments(&text);
+    assert_eq!(want.len(), 16);
+    deform_ok(&d, &["convert", "in.su2", "out.su2"]);
+    deform_ok(
+        &d,
+        &[
+            "move",
+            "in.su2",
+            "--marker",
+            "wall",
+            "--translate",
+            "0,0.01",
+            "--out",
+            "moved.su2",
+        ],
+    );
+    for out in ["out.su2", "moved.su2"] {
+        let got = std::fs::read_to_string(d.join(out)).unwrap();
+        assert_eq!(comments(&got), want, "{out}");
+        assert!(got.ends_with("\r\n"), "{out}");
+        assert_eq!(
+            got.matches('\n').count(),
+            got.matches("\r\n").count(),
+            "{out}"
+        );
+    }
+    assert_eq!(std::fs::read_to_string(d.join("out.su2")).unwrap(), text);
 }

@@ -164,6 +164,7 @@ pub fn to_su2(bases: &[Base]) -> Result<Su2Mesh, String> {
         elements: cells,
         markers,
         passthrough: Vec::new(),
+        text: Default::default(),
     })
 }
 

@@ -40,6 +40,46 @@ pub struct Su2Mesh {
     /// blocks, `FFD_*` free-form deformation boxes), byte for byte as they were in the file,
     /// comments and line endings included; [`write_su2`] writes them back after the markers.
     pub passthrough: Vec<u8>,
+    /// The input's comment lines and line ends, written back by [`write_su2`].
+    pub text: Su2Text,
+}
+
+/// The first line [`write_su2`] writes when the mesh has no comments of its own.
+const BANNER: &[u8] = b"% SU2 mesh written by deform\n";
+
+/// What an SU2 file says besides the mesh: its comment-only lines (`%…`), each kept before
+/// the section keyword it preceded, and its line ends, so that a mesh read and written again
+/// keeps them. Comments after data on the same line are not kept.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Su2Text {
+    /// Comment lines (each ending in `\n`) before a section, keyed by the section: `NDIME`,
+    /// `NELEM`, `NPOIN`, `NMARK`, `MARKER_TAG=name`, `passthrough` (before the first
+    /// passed-through section), `end` (after the last line of the mesh).
+    pub comments: Vec<(String, Vec<u8>)>,
+    /// Lines end in `\r\n` (as the input's first line did).
+    pub crlf: bool,
+}
+
+impl Su2Text {
+    /// Keeps `lines` (possibly empty) as the comments before `key`.
+    fn note(&mut self, key: &str, mut lines: Vec<u8>) {
+        // The writer's own mark is not the user's comment: reading it back and writing
+        // again gives the same file either way, and the mesh compares equal.
+        if let Some(rest) = lines.strip_prefix(BANNER) {
+            lines = rest.to_vec();
+        }
+        if !lines.is_empty() {
+            self.comments.push((key.to_string(), lines));
+        }
+    }
+
+    /// The comment lines kept before `key` (empty when none).
+    fn before(&self, key: &str) -> &[u8] {
+        self.comments
+            .iter()
+            .find(|(k, _)| k == key)
+            .map_or(&[][..], |(_, c)| c.as_slice())
+    }
 }
 
 impl Su2Mesh {
@@ -56,6 +96,10 @@ pub(super) struct Lines<'a> {
     pub(super) line: usize,
     /// Byte offset where the line last returned by `next_content` starts.
     pub(super) start: usize,
+    /// Comment-only lines read since the last [`Lines::take_comments`] (each ending in `\n`).
+    comments: Vec<u8>,
+    /// Whether the first line ended in `\r\n` (`None` before the first line end).
+    pub(super) crlf: Option<bool>,
 }
 
 impl<'a> Lines<'a> {
@@ -65,7 +109,14 @@ impl<'a> Lines<'a> {
             pos: 0,
             line: 0,
             start: 0,
+            comments: Vec::new(),
+            crlf: None,
         }
+    }
+
+    /// The comment-only lines read since the last call.
+    pub(super) fn take_comments(&mut self) -> Vec<u8> {
+        std::mem::take(&mut self.comments)
     }
 
     /// Next non-empty line: (1-based number, trimmed content without comment).
@@ -74,16 +125,23 @@ impl<'a> Lines<'a> {
             let rest = self.data.get(self.pos..).unwrap_or(&[]);
             let len = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
             let raw = rest.get(..len).unwrap_or(&[]);
+            if self.crlf.is_none() && len < rest.len() {
+                self.crlf = Some(raw.ends_with(b"\r"));
+            }
             self.start = self.pos;
             self.pos += len + 1;
             self.line += 1;
-            let raw = match raw.iter().position(|&b| b == b'%') {
-                Some(p) => raw.get(..p).unwrap_or(&[]),
-                None => raw,
+            let (data, comment) = match raw.iter().position(|&b| b == b'%') {
+                Some(p) => (raw.get(..p).unwrap_or(&[]), raw.get(p..).unwrap_or(&[])),
+                None => (raw, &[][..]),
             };
-            let t = raw.trim_ascii();
+            let t = data.trim_ascii();
             if !t.is_empty() {
                 return Some((self.line, t));
+            }
+            if !comment.is_empty() {
+                self.comments.extend_from_slice(comment.trim_ascii_end());
+                self.comments.push(b'\n');
             }
         }
         None
@@ -290,6 +348,7 @@ pub fn parse_su2(bytes: &[u8]) -> Result<Su2Mesh, FormatError> {
     let mut points: Option<Vec<[f64; 3]>> = None;
     let mut markers: Option<Vec<(Su2Marker, Vec<usize>)>> = None;
     let mut passthrough: Vec<u8> = Vec::new();
+    let mut text = Su2Text::default();
 
     while let Some((line, content)) = lines.next_content() {
         let Some((key, value)) = key_value(content) else {
@@ -299,7 +358,11 @@ pub fn parse_su2(bytes: &[u8]) -> Result<Su2Mesh, FormatError> {
                 content,
             ));
         };
-        match key.to_ascii_uppercase().as_slice() {
+        let upper = key.to_ascii_uppercase();
+        if is_mesh_keyword(&upper) {
+            text.note(&String::from_utf8_lossy(&upper), lines.take_comments());
+        }
+        match upper.as_slice() {
             b"NDIME" => {
                 if dim.is_some() {
                     return Err(FormatError::new(
@@ -452,6 +515,7 @@ pub fn parse_su2(bytes: &[u8]) -> Result<Su2Mesh, FormatError> {
                         }
                         _ => return Err(FormatError::expected_at_line(l, what, c)),
                     };
+                    text.note(&format!("MARKER_TAG={name}"), lines.take_comments());
                     if list
                         .iter()
                         .any(|(mk, _): &(Su2Marker, Vec<usize>)| mk.name == name)
@@ -500,7 +564,11 @@ pub fn parse_su2(bytes: &[u8]) -> Result<Su2Mesh, FormatError> {
                 markers = Some(list);
             }
             k if is_passthrough_keyword(k) => {
-                // Keep this line and everything up to the next mesh keyword, byte for byte.
+                // Keep this line and everything up to the next mesh keyword, byte for byte
+                // (comments inside included: they are not kept apart).
+                if passthrough.is_empty() {
+                    text.note("passthrough", lines.take_comments());
+                }
                 let from = lines.start;
                 let mut to = bytes.len();
                 loop {
@@ -517,6 +585,7 @@ pub fn parse_su2(bytes: &[u8]) -> Result<Su2Mesh, FormatError> {
                         }
                     }
                 }
+                lines.take_comments();
                 let chunk = bytes.get(from..to).unwrap_or(&[]);
                 if !passthrough.is_empty() && !passthrough.ends_with(b"\n") {
                     passthrough.push(b'\n');
@@ -533,6 +602,8 @@ pub fn parse_su2(bytes: &[u8]) -> Result<Su2Mesh, FormatError> {
         }
     }
 
+    text.note("end", lines.take_comments());
+    text.crlf = lines.crlf == Some(true);
     let end = lines.eof_line();
     let missing = |k: &str| {
         FormatError::new(
@@ -557,6 +628,7 @@ pub fn parse_su2(bytes: &[u8]) -> Result<Su2Mesh, FormatError> {
         elements,
         markers: out,
         passthrough,
+        text,
     })
 }
 
@@ -582,35 +654,55 @@ pub fn write_su2<W: Write>(mesh: &Su2Mesh, w: &mut W) -> io::Result<()> {
         }
     }
     let mut w = io::BufWriter::new(w);
-    writeln!(w, "% SU2 mesh written by deform")?;
-    writeln!(w, "NDIME= {}", mesh.dim)?;
-    writeln!(w, "NELEM= {}", mesh.elements.len())?;
+    let t = &mesh.text;
+    let nl = if t.crlf { "\r\n" } else { "\n" };
+    let comments = |w: &mut io::BufWriter<&mut W>, key: &str| -> io::Result<()> {
+        for line in t.before(key).split_inclusive(|&b| b == b'\n') {
+            w.write_all(line.strip_suffix(b"\n").unwrap_or(line))?;
+            w.write_all(nl.as_bytes())?;
+        }
+        Ok(())
+    };
+    if t.comments.is_empty() {
+        let banner = BANNER.strip_suffix(b"\n").unwrap_or(BANNER);
+        w.write_all(banner)?;
+        w.write_all(nl.as_bytes())?;
+    }
+    comments(&mut w, "NDIME")?;
+    write!(w, "NDIME= {}{nl}", mesh.dim)?;
+    comments(&mut w, "NELEM")?;
+    write!(w, "NELEM= {}{nl}", mesh.elements.len())?;
     for (c, (code, nodes)) in mesh.elements.iter().enumerate() {
         write!(w, "{code}")?;
         for n in nodes {
             write!(w, " {n}")?;
         }
-        writeln!(w, " {c}")?;
+        write!(w, " {c}{nl}")?;
     }
-    writeln!(w, "NPOIN= {}", mesh.points.len())?;
+    comments(&mut w, "NPOIN")?;
+    write!(w, "NPOIN= {}{nl}", mesh.points.len())?;
     for (i, p) in mesh.points.iter().enumerate() {
         for x in p.iter().take(mesh.dim) {
             write!(w, "{x:e} ")?;
         }
-        writeln!(w, "{i}")?;
+        write!(w, "{i}{nl}")?;
     }
-    writeln!(w, "NMARK= {}", mesh.markers.len())?;
+    comments(&mut w, "NMARK")?;
+    write!(w, "NMARK= {}{nl}", mesh.markers.len())?;
     for m in &mesh.markers {
-        writeln!(w, "MARKER_TAG= {}", m.name)?;
-        writeln!(w, "MARKER_ELEMS= {}", m.elements.len())?;
+        comments(&mut w, &format!("MARKER_TAG={}", m.name))?;
+        write!(w, "MARKER_TAG= {}{nl}", m.name)?;
+        write!(w, "MARKER_ELEMS= {}{nl}", m.elements.len())?;
         for (code, nodes) in m.elements.iter() {
             write!(w, "{code}")?;
             for n in nodes {
                 write!(w, " {n}")?;
             }
-            writeln!(w)?;
+            write!(w, "{nl}")?;
         }
     }
+    comments(&mut w, "passthrough")?;
     w.write_all(&mesh.passthrough)?;
+    comments(&mut w, "end")?;
     w.flush()
 }

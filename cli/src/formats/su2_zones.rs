@@ -151,6 +151,7 @@ impl Su2Zones {
             elements: super::CellList::new(),
             markers: Vec::new(),
             passthrough: Vec::new(),
+            text: Default::default(),
         };
         for z in &self.zones {
             if z.mesh.dim != dim {

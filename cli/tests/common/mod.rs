@@ -84,6 +84,7 @@ pub fn mesh_2d(nx: usize, ny: usize) -> Su2Mesh {
             },
         ],
         passthrough: Vec::new(),
+        text: Default::default(),
     }
 }
 
@@ -130,6 +131,7 @@ pub fn mesh_3d() -> Su2Mesh {
             },
         ],
         passthrough: Vec::new(),
+        text: Default::default(),
     }
 }
 
