@@ -401,6 +401,64 @@ fn collapsed_lines_and_zero_length_segments_are_handled() {
     assert_eq!(got, vec![-1.0, 0.0, 0.5, 1.0, 1.5, 3.0, 4.0, 6.0]);
 }
 
+/// Lines that already have a segment of zero length (two consecutive points coincide, the
+/// line not collapsed) are smoothed with that segment held: its two points keep their bits,
+/// the rest of the line is filtered and stays strictly increasing (issue 31: the fold guard
+/// refused them at iteration 1), in both modes and with the coarse pass.
+#[test]
+fn zero_length_segments_are_held_not_folds() {
+    let dims = [12, 5, 3];
+    // Rough spacing along i; on every line, points i = 4 and 5 coincide.
+    let pts = grid(dims, |i, j, k| {
+        let x = |i: usize| i as f64 + 0.3 * ((i * 5 + j + 2 * k) % 4) as f64;
+        let xi = if i == 5 { x(4) } else { x(i) };
+        [xi, j as f64, k as f64]
+    });
+    let block = Block::new(dims).unwrap();
+    for (normalised, coarse) in [(false, false), (true, false), (false, true)] {
+        let mut p = pts.clone();
+        let mut o = SmoothOptions::new(Direction::I);
+        o.normalised = normalised;
+        if coarse {
+            o.coarse = Some(Coarse {
+                factor: [1, 2, 2],
+                prolongation: Prolongation::Correction,
+            });
+        }
+        let r = run_smooth(dims, &mut p, &o).expect("a zero-length segment is not a fold");
+        assert!(
+            r.max_displacement > 0.01,
+            "the rest of the line was smoothed"
+        );
+        let mut s = vec![0.0; pts.len()];
+        arclength(&block, &p, Direction::I, false, &mut s).unwrap();
+        for k in 0..dims[2] {
+            for j in 0..dims[1] {
+                for i in [4, 5] {
+                    let q = block.index(i, j, k);
+                    assert_eq!(bits(&p[q..q + 1]), bits(&pts[q..q + 1]), "held point moved");
+                }
+                for i in 1..dims[0] {
+                    let (a, b) = (s[block.index(i - 1, j, k)], s[block.index(i, j, k)]);
+                    assert!(
+                        b > a || i == 5 && b == a,
+                        "line ({j}, {k}) at {i}: {a} -> {b}"
+                    );
+                }
+            }
+        }
+    }
+    // The public fold guard exempts an equal value across such a segment only when the
+    // points are given.
+    let mut s = vec![0.0; pts.len()];
+    arclength(&block, &pts, Direction::I, false, &mut s).unwrap();
+    check_lines_increasing(&block, &s, Direction::I, 0, Some(&pts)).unwrap();
+    assert!(matches!(
+        check_lines_increasing::<f64, 3>(&block, &s, Direction::I, 0, None),
+        Err(Error::FoldedLine { iteration: 0, .. })
+    ));
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
 

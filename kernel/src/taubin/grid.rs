@@ -9,7 +9,7 @@ use crate::real::Real;
 use super::coarse::{coarse_core, coarse_dims, fine_of, Coarse};
 use super::lines::{
     arclength_core, check_increasing_core, line_collapsed, line_shape, max_stretching_core,
-    redistribute_core,
+    on_zero_segment, redistribute_core, same_point,
 };
 use super::structured::{is_fixed, sweep_core, BlockRegion};
 use super::TaubinParams;
@@ -123,7 +123,9 @@ fn is_line_end(dims: [usize; 3], direction: Direction, p: usize) -> bool {
 /// they are held in the filter (like fixed points) and skipped by the redistribution, so the
 /// grid's boundary faces at the line ends, and whatever meets them there (an O-grid seam, a
 /// block interface), do not move. Dimensional smoothing thus redistributes points between
-/// fixed ends.
+/// fixed ends. Segments that already have zero length (two consecutive points coincide, e.g.
+/// a duplicated point) are held the same way: their arclength stays equal, which the fold
+/// guard accepts there and only there.
 ///
 /// The grid is only written in step 4, so on **any** `Err` (including `FoldedLine`) `points`
 /// is unchanged; `scratch` ([`smooth_arclength_scratch_len`] values) is then unspecified.
@@ -171,8 +173,11 @@ pub fn smooth_arclength<T: Real, const D: usize>(
 
     let pts: &[[T; D]] = points;
     let collapsed = |base: usize| line_collapsed(dims, pts, direction, base);
-    // Line ends never move: fixed in the filter and skipped by the redistribution.
-    let held = |p: usize| is_fixed(fixed, p) || is_line_end(dims, direction, p);
+    // Line ends never move: fixed in the filter and skipped by the redistribution; nor do
+    // the ends of segments that already have zero length (their arclength stays equal).
+    let held_ends = |p: usize| is_fixed(fixed, p) || is_line_end(dims, direction, p);
+    let held = |p: usize| held_ends(p) || on_zero_segment(dims, pts, direction, p);
+    let zero_segment = |p: usize, q: usize| same_point(pts, p, q);
     let pin = |_: [usize; 3], p: usize| held(p);
     let region = BlockRegion {
         lo: [0; 3],
@@ -191,21 +196,23 @@ pub fn smooth_arclength<T: Real, const D: usize>(
             let a = sweep_core(dims, field, tmp, params.lambda, mirror, &region, pin);
             let b = sweep_core(dims, tmp, field, params.mu, mirror, &region, pin);
             last_change = a.max(b);
-            check_increasing_core(dims, field, direction, it, collapsed)?;
+            check_increasing_core(dims, field, direction, it, collapsed, zero_segment)?;
         }
     }
     let mut iterations = options.iterations;
     if let Some(coarse) = &options.coarse {
         let factor = coarse.factor;
         let cdims = coarse_dims(block, factor);
-        let coarse_collapsed = |cbase: usize| {
-            // Map the coarse line's first point to the fine line through it.
-            let ci = cbase % cdims[0].max(1);
-            let rest = cbase / cdims[0].max(1);
+        // The fine point under a coarse point.
+        let fine = |c: usize| {
+            let ci = c % cdims[0].max(1);
+            let rest = c / cdims[0].max(1);
             let cj = rest % cdims[1].max(1);
             let ck = rest / cdims[1].max(1);
-            line_collapsed(dims, pts, direction, fine_of(dims, factor, [ci, cj, ck]))
+            fine_of(dims, factor, [ci, cj, ck])
         };
+        let coarse_collapsed = |cbase: usize| line_collapsed(dims, pts, direction, fine(cbase));
+        let coarse_zero = |p: usize, q: usize| same_point(pts, fine(p), fine(q));
         let report = coarse_core(
             dims,
             field,
@@ -222,6 +229,7 @@ pub fn smooth_arclength<T: Real, const D: usize>(
                     direction,
                     options.iterations + it,
                     coarse_collapsed,
+                    coarse_zero,
                 )
             },
         )?;
@@ -229,7 +237,7 @@ pub fn smooth_arclength<T: Real, const D: usize>(
         if options.coarse_iterations > 0 {
             last_change = report.last_change;
         }
-        check_increasing_core(dims, field, direction, iterations, collapsed)?;
+        check_increasing_core(dims, field, direction, iterations, collapsed, zero_segment)?;
     }
 
     let max_displacement = redistribute_core(
@@ -239,7 +247,7 @@ pub fn smooth_arclength<T: Real, const D: usize>(
         field,
         options.normalised,
         rest,
-        held,
+        |p, zero| zero || held_ends(p),
     );
     let stretching_after = max_stretching_core(dims, points, direction);
     Ok(SmoothReport {

@@ -202,8 +202,9 @@ fn place<T: Real, const D: usize>(
 }
 
 /// Redistributes lines (no validation); returns the largest point displacement.
-/// `skip(p)` leaves point `p` untouched.
-pub(crate) fn redistribute_core<T: Real, const D: usize, F: Fn(usize) -> bool>(
+/// `skip(p, zero)` leaves point `p` untouched; `zero` says whether `p` ends a segment of zero
+/// length of the original line.
+pub(crate) fn redistribute_core<T: Real, const D: usize, F: Fn(usize, bool) -> bool>(
     dims: [usize; 3],
     points: &mut [[T; D]],
     direction: Direction,
@@ -247,7 +248,11 @@ pub(crate) fn redistribute_core<T: Real, const D: usize, F: Fn(usize) -> bool>(
         let mut seg = 0;
         for t in 0..len {
             let p = base + t * stride;
-            if skip(p) {
+            let x: [T; D] = line_point(coords, t);
+            let coincides =
+                |u: usize| vector::distance(line_point::<T, D>(coords, u), x) == T::ZERO;
+            let zero = (t > 0 && coincides(t - 1)) || (t + 1 < len && coincides(t + 1));
+            if skip(p, zero) {
                 continue;
             }
             let Some(&raw) = targets.get(p) else { continue };
@@ -313,7 +318,7 @@ pub fn redistribute<T: Real, const D: usize>(
         targets,
         normalised,
         scratch,
-        |_| false,
+        |_, _| false,
     ))
 }
 
@@ -423,41 +428,71 @@ pub fn max_stretching<T: Real, const D: usize>(
 }
 
 /// Fold check without validation; `collapsed(line_base)` exempts a line.
-pub(crate) fn check_increasing_core<T: Real, F: Fn(usize) -> bool>(
+pub(crate) fn check_increasing_core<T: Real, F: Fn(usize) -> bool, Z: Fn(usize, usize) -> bool>(
     dims: [usize; 3],
     field: &[T],
     direction: Direction,
     iteration: usize,
     collapsed: F,
+    zero_segment: Z,
 ) -> Result<()> {
     let (count, len, stride) = line_shape(dims, direction);
     for l in 0..count {
         let base = line_base(dims, direction, l);
-        let mut prev: Option<T> = None;
+        let mut prev: Option<(usize, T)> = None;
         for t in 0..len {
-            let Some(&v) = field.get(base + t * stride) else {
+            let p = base + t * stride;
+            let Some(&v) = field.get(p) else {
                 continue;
             };
-            // Anything but "greater" (equal, smaller, NaN) is a fold.
-            if prev.is_some_and(|q| v.partial_cmp(&q) != Some(Ordering::Greater))
-                && !collapsed(base)
-            {
-                return Err(Error::FoldedLine {
-                    line: base,
-                    iteration,
-                });
+            if let Some((q, w)) = prev {
+                // Anything but "greater" (equal, smaller, NaN) is a fold, but for an equal
+                // value across a segment of zero length (held, so it stays equal).
+                let ok = match v.partial_cmp(&w) {
+                    Some(Ordering::Greater) => true,
+                    Some(Ordering::Equal) => zero_segment(q, p),
+                    _ => false,
+                };
+                if !ok && !collapsed(base) {
+                    return Err(Error::FoldedLine {
+                        line: base,
+                        iteration,
+                    });
+                }
             }
-            prev = Some(v);
+            prev = Some((p, v));
         }
     }
     Ok(())
+}
+
+/// Whether points `p` and `q` coincide (a segment of zero length).
+pub(crate) fn same_point<T: Real, const D: usize>(points: &[[T; D]], p: usize, q: usize) -> bool {
+    match (points.get(p), points.get(q)) {
+        (Some(&a), Some(&b)) => vector::distance(a, b) == T::ZERO,
+        _ => false,
+    }
+}
+
+/// Whether point `p` ends a segment of zero length along `direction` (it coincides with its
+/// predecessor or successor on its line).
+pub(crate) fn on_zero_segment<T: Real, const D: usize>(
+    dims: [usize; 3],
+    points: &[[T; D]],
+    direction: Direction,
+    p: usize,
+) -> bool {
+    let (_, len, stride) = line_shape(dims, direction);
+    let t = (p / stride.max(1)) % len.max(1);
+    (t > 0 && same_point(points, p - stride, p))
+        || (t + 1 < len && same_point(points, p, p + stride))
 }
 
 /// The fold guard: checks that `field` (an arclength function) increases strictly along every
 /// line in `direction`, `field_{t+1} > field_t`, else returns `FoldedLine { line, iteration }`
 /// with `line` = the linear index of the line's first point and the caller's `iteration`.
 /// When `points` is given, lines whose points all coincide (collapsed lines, e.g. a polar
-/// axis) are exempt.
+/// axis) are exempt, and so is an equal value across a segment of zero length in `points`.
 ///
 /// # Errors
 /// `LengthMismatch` (`field`, `points`), `NonFinite` (`points`), `FoldedLine`.
@@ -474,10 +509,14 @@ pub fn check_lines_increasing<T: Real, const D: usize>(
         check_points(block, pts)?;
     }
     let dims = block.dims();
-    check_increasing_core(dims, field, direction, iteration, |base| match points {
-        Some(pts) => line_collapsed(dims, pts, direction, base),
-        None => false,
-    })
+    check_increasing_core(
+        dims,
+        field,
+        direction,
+        iteration,
+        |base| points.is_some_and(|pts| line_collapsed(dims, pts, direction, base)),
+        |p, q| points.is_some_and(|pts| same_point(pts, p, q)),
+    )
 }
 
 /// Whether every point of the line starting at `base` equals its first point.
