@@ -85,7 +85,7 @@ pub fn tmp(name: &str) -> PathBuf {
 }
 
 pub fn c_flags() -> Vec<String> {
-    let inc = workspace().join("ffi/include");
+    let inc = workspace().join("ffi/generated");
     ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"]
         .iter()
         .map(|s| s.to_string())
