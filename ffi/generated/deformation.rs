@@ -33,24 +33,11 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
-#[allow(unused_imports)]
-use crate::graph::*;
-#[allow(unused_imports)]
-use crate::plan::*;
-#[allow(unused_imports)]
-use crate::quality::*;
-#[allow(unused_imports)]
-use crate::quat::*;
+use crate::graph::dk_cells;
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
-#[allow(unused_imports)]
-use crate::spring::*;
-#[allow(unused_imports)]
-use crate::status::*;
-#[allow(unused_imports)]
-use crate::stiffening::*;
-#[allow(unused_imports)]
-use crate::taubin::*;
+use crate::spring::{dk_spring_solve_options, dk_spring_solve_report, DkSpringSystem};
+use crate::status::dk_status;
 
 /// [`DkBoundaryMotion`] in double precision.
 #[allow(non_camel_case_types)]

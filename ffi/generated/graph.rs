@@ -19,23 +19,8 @@ mod imp;
 pub use imp::*;
 
 #[allow(unused_imports)]
-use crate::deformation::*;
-#[allow(unused_imports)]
-use crate::plan::*;
-#[allow(unused_imports)]
-use crate::quality::*;
-#[allow(unused_imports)]
-use crate::quat::*;
-#[allow(unused_imports)]
 use crate::slice::{In, Out};
-#[allow(unused_imports)]
-use crate::spring::*;
-#[allow(unused_imports)]
-use crate::status::*;
-#[allow(unused_imports)]
-use crate::stiffening::*;
-#[allow(unused_imports)]
-use crate::taubin::*;
+use crate::status::dk_status;
 
 /// Length `targets` needs for [`dk_graph_from_edges`]: `edges_len` (two entries per edge).
 ///

@@ -20,23 +20,8 @@ mod imp;
 pub use imp::*;
 
 #[allow(unused_imports)]
-use crate::deformation::*;
-#[allow(unused_imports)]
-use crate::graph::*;
-#[allow(unused_imports)]
-use crate::quality::*;
-#[allow(unused_imports)]
-use crate::quat::*;
-#[allow(unused_imports)]
 use crate::slice::{In, Out};
-#[allow(unused_imports)]
-use crate::spring::*;
-#[allow(unused_imports)]
-use crate::status::*;
-#[allow(unused_imports)]
-use crate::stiffening::*;
-#[allow(unused_imports)]
-use crate::taubin::*;
+use crate::status::dk_status;
 
 /// [`DkPlanMesh`] in double precision.
 #[allow(non_camel_case_types)]
@@ -45,14 +30,6 @@ pub type dk_plan_mesh = DkPlanMesh<f64>;
 /// Single-precision twin of [`dk_plan_mesh`] (`float` scalars).
 #[allow(non_camel_case_types)]
 pub type dk_plan_mesh_f32 = DkPlanMesh<f32>;
-
-/// [`DkPlanPools`] in double precision.
-#[allow(non_camel_case_types)]
-pub type dk_plan_pools = DkPlanPools<f64>;
-
-/// Single-precision twin of [`dk_plan_pools`] (`float` scalars).
-#[allow(non_camel_case_types)]
-pub type dk_plan_pools_f32 = DkPlanPools<f32>;
 
 /// Fills `*out` with the default plan options for f64: the quaternion method, multigrid-
 /// preconditioned CG, Batina stiffness (exponent 1), the default stopping rules of

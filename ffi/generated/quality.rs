@@ -25,24 +25,10 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
-#[allow(unused_imports)]
-use crate::deformation::*;
-#[allow(unused_imports)]
-use crate::graph::*;
-#[allow(unused_imports)]
-use crate::plan::*;
-#[allow(unused_imports)]
-use crate::quat::*;
+use crate::graph::{dk_cells, dk_graph};
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
-#[allow(unused_imports)]
-use crate::spring::*;
-#[allow(unused_imports)]
-use crate::status::*;
-#[allow(unused_imports)]
-use crate::stiffening::*;
-#[allow(unused_imports)]
-use crate::taubin::*;
+use crate::status::dk_status;
 
 /// Quality of one cell of VTK kind `kind` from its corner coordinates (`corners_len` =
 /// node count of the kind × `dim`, VTK order): signed measure, smallest corner Jacobian,

@@ -15,23 +15,8 @@ mod imp;
 pub use imp::*;
 
 #[allow(unused_imports)]
-use crate::deformation::*;
-#[allow(unused_imports)]
-use crate::graph::*;
-#[allow(unused_imports)]
-use crate::plan::*;
-#[allow(unused_imports)]
-use crate::quality::*;
-#[allow(unused_imports)]
 use crate::slice::{In, Out};
-#[allow(unused_imports)]
-use crate::spring::*;
-#[allow(unused_imports)]
-use crate::status::*;
-#[allow(unused_imports)]
-use crate::stiffening::*;
-#[allow(unused_imports)]
-use crate::taubin::*;
+use crate::status::dk_status;
 
 /// Hamilton product `out = a b` (each 4 scalars, scalar first). `out` may alias `a` or `b`.
 ///

@@ -30,24 +30,11 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
-#[allow(unused_imports)]
-use crate::deformation::*;
-#[allow(unused_imports)]
-use crate::graph::*;
-#[allow(unused_imports)]
-use crate::plan::*;
-#[allow(unused_imports)]
-use crate::quality::*;
-#[allow(unused_imports)]
-use crate::quat::*;
+use crate::graph::dk_graph;
+use crate::pools::{dk_plan_sizes, DkPlanPools};
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
-#[allow(unused_imports)]
-use crate::status::*;
-#[allow(unused_imports)]
-use crate::stiffening::*;
-#[allow(unused_imports)]
-use crate::taubin::*;
+use crate::status::dk_status;
 
 /// [`DkSpringSystem`] in double precision.
 #[allow(non_camel_case_types)]

@@ -11,23 +11,7 @@ mod imp;
 pub use imp::*;
 
 #[allow(unused_imports)]
-use crate::deformation::*;
-#[allow(unused_imports)]
-use crate::graph::*;
-#[allow(unused_imports)]
-use crate::plan::*;
-#[allow(unused_imports)]
-use crate::quality::*;
-#[allow(unused_imports)]
-use crate::quat::*;
-#[allow(unused_imports)]
 use crate::slice::{In, Out};
-#[allow(unused_imports)]
-use crate::spring::*;
-#[allow(unused_imports)]
-use crate::stiffening::*;
-#[allow(unused_imports)]
-use crate::taubin::*;
 
 /// A static, NUL-terminated English description of `status`. Never NULL; unknown values give
 /// "unknown status".

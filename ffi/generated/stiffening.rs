@@ -19,24 +19,10 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
-#[allow(unused_imports)]
-use crate::deformation::*;
-#[allow(unused_imports)]
-use crate::graph::*;
-#[allow(unused_imports)]
-use crate::plan::*;
-#[allow(unused_imports)]
-use crate::quality::*;
-#[allow(unused_imports)]
-use crate::quat::*;
+use crate::graph::{dk_cells, dk_graph};
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
-#[allow(unused_imports)]
-use crate::spring::*;
-#[allow(unused_imports)]
-use crate::status::*;
-#[allow(unused_imports)]
-use crate::taubin::*;
+use crate::status::dk_status;
 
 /// The distance from every node to the nearest node of `wall` (node indices in `index_base`)
 /// into `out` (one scalar per node; wall nodes get 0): exact distances to the wall nodes, an

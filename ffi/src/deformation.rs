@@ -349,7 +349,7 @@ impl<'a, T: Real> PipelineOut<'a, T> {
     }
 }
 
-fn idw_d<M: MotionC, const D: usize>(
+fn idw_for_dim<M: MotionC, const D: usize>(
     points: In<'_, M::T>,
     motion: In<'_, M>,
     exponent: M::T,
@@ -377,7 +377,7 @@ fn idw_d<M: MotionC, const D: usize>(
 // Pipelines: TFI
 // ---------------------------------------------------------------------------------------------
 
-fn tfi_d<M: MotionC, const D: usize>(
+fn tfi_for_dim<M: MotionC, const D: usize>(
     [ni, nj, nk]: [usize; 3],
     directions: u32,
     points: In<'_, M::T>,
@@ -425,7 +425,7 @@ impl<'a> ElementsIn<'a> {
     }
 }
 
-fn normals_d<T: Real, const D: usize>(
+fn normals_for_dim<T: Real, const D: usize>(
     points: In<'_, T>,
     elements: ElementsIn<'_>,
     scratch: Out<'_, T>,
@@ -438,7 +438,7 @@ fn normals_d<T: Real, const D: usize>(
     boundary_normals(points, &cells, scratch, normals).map_err(dk_status::from)
 }
 
-fn rotations_d<T: Real, const D: usize>(
+fn rotations_for_dim<T: Real, const D: usize>(
     undeformed: In<'_, T>,
     deformed: In<'_, T>,
     elements: ElementsIn<'_>,
@@ -453,15 +453,7 @@ fn rotations_d<T: Real, const D: usize>(
     boundary_rotations(u, d, &cells, scratch, rotations).map_err(dk_status::from)
 }
 
-fn rigid<T: Real>(q: In<'_, T>, rotations: Out<'_, T>) -> dk_status {
-    done((|| {
-        let q = read_array::<T, 4>(q).map(Quat::from_array)?;
-        let r = quats_mut(rotations)?;
-        rigid_rotations(q, r).map_err(dk_status::from)
-    })())
-}
-
-fn origin_d<T: Real, const D: usize>(
+fn origin_for_dim<T: Real, const D: usize>(
     undeformed: In<'_, T>,
     deformed: In<'_, T>,
     origin_out: Out<'_, T>,
@@ -477,7 +469,7 @@ fn origin_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn translations_d<T: Real, const D: usize>(
+fn translations_for_dim<T: Real, const D: usize>(
     origin: In<'_, T>,
     undeformed: In<'_, T>,
     deformed: In<'_, T>,
@@ -496,7 +488,7 @@ fn translations_d<T: Real, const D: usize>(
 // Building blocks: field level
 // ---------------------------------------------------------------------------------------------
 
-fn propagate_idw_d<T: Real, const D: usize>(
+fn propagate_idw_for_dim<T: Real, const D: usize>(
     points: In<'_, T>,
     boundary: In<'_, u32>,
     index_base: u32,
@@ -516,7 +508,7 @@ fn propagate_idw_d<T: Real, const D: usize>(
 
 /// `rotations` NULL with length 0 and `displacement` set: plain displacement TFI.
 #[allow(clippy::too_many_arguments)]
-fn propagate_tfi_d<T: Real, const D: usize>(
+fn propagate_tfi_for_dim<T: Real, const D: usize>(
     [ni, nj, nk]: [usize; 3],
     directions: u32,
     points: In<'_, T>,
@@ -537,7 +529,7 @@ fn propagate_tfi_d<T: Real, const D: usize>(
 }
 
 #[allow(clippy::too_many_arguments)]
-fn update_d<T: Real, const D: usize>(
+fn update_for_dim<T: Real, const D: usize>(
     origin: In<'_, T>,
     points: In<'_, T>,
     translations: In<'_, T>,
@@ -601,7 +593,7 @@ fn spring_index_len<M: MotionC>(
 }
 
 #[allow(clippy::too_many_arguments)]
-fn spring_d<M: MotionC, const D: usize>(
+fn spring_for_dim<M: MotionC, const D: usize>(
     points: In<'_, M::T>,
     motion: In<'_, M>,
     system: Result<SystemIn<'_, M::T>, dk_status>,
@@ -639,7 +631,7 @@ fn spring_d<M: MotionC, const D: usize>(
 }
 
 #[allow(clippy::too_many_arguments)]
-fn propagate_spring_d<T: Real, const D: usize>(
+fn propagate_spring_for_dim<T: Real, const D: usize>(
     system: Result<SystemIn<'_, T>, dk_status>,
     options: In<'_, dk_spring_solve_options>,
     index_scratch: Out<'_, u32>,
@@ -770,7 +762,7 @@ pub(crate) fn dk_deform_idw<T: Real>(
     };
     done(by_dim!(
         dim,
-        idw_d::<DkBoundaryMotion<T>>,
+        idw_for_dim::<DkBoundaryMotion<T>>,
         (points, motion, exponent, bufs)
     ))
 }
@@ -843,7 +835,7 @@ pub(crate) fn dk_deform_tfi<T: Real>(
     };
     done(by_dim!(
         dim,
-        tfi_d::<DkBoundaryMotion<T>>,
+        tfi_for_dim::<DkBoundaryMotion<T>>,
         ([ni, nj, nk], directions, points, motion, bufs)
     ))
 }
@@ -898,7 +890,7 @@ pub(crate) fn dk_deform_boundary_normals<T: Real>(
     };
     done(by_dim!(
         dim,
-        normals_d::<T>,
+        normals_for_dim::<T>,
         (points, elements, scratch, normals)
     ))
 }
@@ -959,7 +951,7 @@ pub(crate) fn dk_deform_boundary_rotations<T: Real>(
     };
     done(by_dim!(
         dim,
-        rotations_d::<T>,
+        rotations_for_dim::<T>,
         (undeformed, deformed, elements, scratch, rotations)
     ))
 }
@@ -974,7 +966,11 @@ pub(crate) fn dk_deform_boundary_rotations<T: Real>(
 /// does not overlap `q`.
 #[export(twin, q[4])]
 pub(crate) fn dk_deform_rigid_rotations<T: Real>(q: In<'_, T>, rotations: Out<'_, T>) -> dk_status {
-    rigid(q, rotations)
+    done((|| {
+        let q = read_array::<T, 4>(q).map(Quat::from_array)?;
+        let r = quats_mut(rotations)?;
+        rigid_rotations(q, r).map_err(dk_status::from)
+    })())
 }
 
 /// The default rotation origin (the kernel's `boundary_origin`): the centroid of the
@@ -999,7 +995,7 @@ pub(crate) fn dk_deform_boundary_origin<T: Real>(
 ) -> dk_status {
     done(by_dim!(
         dim,
-        origin_d::<T>,
+        origin_for_dim::<T>,
         (undeformed, deformed, origin_out)
     ))
 }
@@ -1028,7 +1024,7 @@ pub(crate) fn dk_deform_boundary_translations<T: Real>(
 ) -> dk_status {
     done(by_dim!(
         dim,
-        translations_d::<T>,
+        translations_for_dim::<T>,
         (origin, undeformed, deformed, rotations, translations)
     ))
 }
@@ -1063,7 +1059,7 @@ pub(crate) fn dk_deform_propagate_idw<T: Real>(
 ) -> dk_status {
     done(by_dim!(
         dim,
-        propagate_idw_d::<T>,
+        propagate_idw_for_dim::<T>,
         (
             points,
             boundary,
@@ -1131,7 +1127,7 @@ pub(crate) fn dk_deform_propagate_tfi<T: Real>(
 ) -> dk_status {
     done(by_dim!(
         dim,
-        propagate_tfi_d::<T>,
+        propagate_tfi_for_dim::<T>,
         (
             [ni, nj, nk],
             directions,
@@ -1167,7 +1163,7 @@ pub(crate) fn dk_deform_displacement_tfi<T: Real>(
 ) -> dk_status {
     done(by_dim!(
         dim,
-        propagate_tfi_d::<T>,
+        propagate_tfi_for_dim::<T>,
         (
             [ni, nj, nk],
             directions,
@@ -1208,7 +1204,7 @@ pub(crate) fn dk_deform_update_points<T: Real>(
 ) -> dk_status {
     done(by_dim!(
         dim,
-        update_d::<T>,
+        update_for_dim::<T>,
         (
             origin,
             points,
@@ -1401,7 +1397,7 @@ pub(crate) fn dk_deform_spring<T: Real>(
     };
     done(by_dim!(
         dim,
-        spring_d::<DkBoundaryMotion<T>>,
+        spring_for_dim::<DkBoundaryMotion<T>>,
         (points, motion, system, options, values, bufs, report)
     ))
 }
@@ -1458,7 +1454,7 @@ pub(crate) fn dk_deform_propagate_spring<T: Real>(
     let system = SystemC::read(system);
     done(by_dim!(
         dim,
-        propagate_spring_d::<T>,
+        propagate_spring_for_dim::<T>,
         (
             system,
             options,

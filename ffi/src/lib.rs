@@ -42,6 +42,8 @@ pub mod deformation;
 pub mod graph;
 #[path = "../generated/plan.rs"]
 pub mod plan;
+#[path = "../generated/pools.rs"]
+pub mod pools;
 #[path = "../generated/quality.rs"]
 pub mod quality;
 #[path = "../generated/quat.rs"]

@@ -12,7 +12,7 @@
 
 use deform_kernel::deformation::RotationSource;
 use deform_kernel::plan::{
-    Plan, PlanMethod, PlanMotion, PlanSizes, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
+    Plan, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
 };
 use deform_kernel::spring::AmgOptions;
 use deform_kernel::{Quat, Real};
@@ -20,7 +20,9 @@ use deform_kernel_ffi_export::export;
 
 use crate::args::{assert_layout, by_dim, done, read_array, read_one, read_points, write_one};
 use crate::graph::{dk_cells, dk_graph, CellsIn, GraphIn};
-use crate::slice::{chunks_mut, input, output, quats, In, Out};
+pub use crate::pools::{dk_plan_pools, dk_plan_pools_f32, dk_plan_sizes, DkPlanPools};
+use crate::pools::{PoolArgs, PoolsC};
+use crate::slice::{chunks_mut, input, quats, In, Out};
 use crate::spring::{dk_amg_options, dk_spring_solve_options};
 use crate::status::dk_status;
 
@@ -61,30 +63,6 @@ assert_layout!(
     dk_plan_options, 96;
     method = 0, solver = 4, stiffness_exponent = 8, linear = 16, amg = 56,
 );
-
-/// Lengths of the three plan pools, or of the transient work buffers.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[allow(non_camel_case_types)]
-pub struct dk_plan_sizes {
-    /// Scalars (`double` for the f64 functions, `float` for the `_f32` ones).
-    pub reals: usize,
-    /// `uint32_t` entries.
-    pub indices: usize,
-    /// `uint8_t` entries.
-    pub bytes: usize,
-}
-assert_layout!(dk_plan_sizes, 24; reals = 0, indices = 8, bytes = 16);
-
-impl From<PlanSizes> for dk_plan_sizes {
-    fn from(s: PlanSizes) -> Self {
-        dk_plan_sizes {
-            reals: s.reals,
-            indices: s.indices,
-            bytes: s.bytes,
-        }
-    }
-}
 
 /// What a plan holds (from `dk_plan_init` or `dk_plan_open`).
 #[repr(C)]
@@ -197,31 +175,6 @@ assert_layout!(
     points = 0, graph = 16, boundary = 48, elements = 64, stiffness = 112,
 );
 
-/// Three caller buffers: a plan's pools (sized by [`dk_plan_pool_sizes`], written by
-/// [`dk_plan_init`], read and updated by every step), the transient work of init (sized by
-/// [`dk_plan_work_sizes`]), or the multigrid hierarchy and scratch of a stateless solve
-/// (`dk_spring_solve_linear_amg`, `dk_spring_solve_angle_amg`; sized by their `_pool_sizes`
-/// queries, `bytes` unused). Each buffer is used only by the call that receives the struct.
-#[export(twin = dk_plan_pools)]
-#[repr(C)]
-#[derive(Clone, Copy, Debug)]
-#[allow(non_camel_case_types)]
-pub struct DkPlanPools<T> {
-    /// Scalars.
-    pub reals: *mut T,
-    /// Entries of `reals`.
-    pub reals_len: usize,
-    /// Indices.
-    pub indices: *mut u32,
-    /// Entries of `indices`.
-    pub indices_len: usize,
-    /// Bytes.
-    pub bytes: *mut u8,
-    /// Entries of `bytes`.
-    pub bytes_len: usize,
-}
-assert_layout!(DkPlanPools<f64>, 48; reals = 0, indices = 16, bytes = 32, bytes_len = 40);
-
 /// The mesh a plan is built from, its arrays as tokens, and the caller's options.
 pub(crate) struct SpecArgs<'a, T> {
     points: In<'a, T>,
@@ -231,13 +184,6 @@ pub(crate) struct SpecArgs<'a, T> {
     /// Per directed edge, or NULL with length 0 for Batina's with `stiffness_exponent`.
     stiffness: In<'a, T>,
     options: In<'a, dk_plan_options>,
-}
-
-/// Three caller buffers (a plan's pools, or its transient work) as tokens.
-pub(crate) struct PoolArgs<'a, T> {
-    reals: Out<'a, T>,
-    indices: Out<'a, u32>,
-    bytes: Out<'a, u8>,
 }
 
 /// The precision twins of the plan structs, seen through [`SpecArgs`] and [`PoolArgs`].
@@ -251,14 +197,6 @@ pub(crate) trait PlanC: Copy {
     ) -> Result<SpecArgs<'a, Self::T>, dk_status>;
     /// Reads a pools struct and wraps its buffers in tokens of the struct's lifetime.
     fn pools(p: In<'_, Self::Pools>) -> Result<PoolArgs<'_, Self::T>, dk_status>;
-}
-
-/// The precision twins of [`dk_plan_pools`], seen through [`PoolArgs`] (the plans and the
-/// stateless multigrid solves of `crate::spring` take them).
-pub(crate) trait PoolsC: Copy {
-    type T: Real;
-    /// Reads a pools struct and wraps its buffers in tokens of the struct's lifetime.
-    fn read(p: In<'_, Self>) -> Result<PoolArgs<'_, Self::T>, dk_status>;
 }
 
 impl<T: Real> PlanC for DkPlanMesh<T> {
@@ -286,36 +224,7 @@ impl<T: Real> PlanC for DkPlanMesh<T> {
         PoolsC::read(p)
     }
 }
-impl<T: Real> PoolsC for DkPlanPools<T> {
-    type T = T;
-    fn read(p: In<'_, Self>) -> Result<PoolArgs<'_, T>, dk_status> {
-        let b = read_one(p)?;
-        // SAFETY: a token for a pools struct carries the contract of the functions
-        // that take one: its buffers are writable for their lengths, exclusively,
-        // while it is.
-        Ok(unsafe {
-            PoolArgs {
-                reals: Out::new(b.reals, b.reals_len),
-                indices: Out::new(b.indices, b.indices_len),
-                bytes: Out::new(b.bytes, b.bytes_len),
-            }
-        })
-    }
-}
-
-/// The borrowed buffers of a [`PoolArgs`].
-pub(crate) type Pools<'a, T> = (&'a mut [T], &'a mut [u32], &'a mut [u8]);
-
 impl<'a, T: Real> PoolArgs<'a, T> {
-    /// The three buffers (each NULL only with length 0).
-    pub(crate) fn borrow(self) -> Result<Pools<'a, T>, dk_status> {
-        Ok((
-            output(self.reals)?,
-            output(self.indices)?,
-            output(self.bytes)?,
-        ))
-    }
-
     fn work(self) -> Result<PlanWork<'a, T>, dk_status> {
         let (reals, indices, bytes) = self.borrow()?;
         Ok(PlanWork {
@@ -369,7 +278,7 @@ impl<'a, T: Real> SpecArgs<'a, T> {
     }
 }
 
-fn work_sizes_d<T: Real, const D: usize>(
+fn work_sizes_for_dim<T: Real, const D: usize>(
     spec: &SpecArgs<'_, T>,
     out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
@@ -377,7 +286,7 @@ fn work_sizes_d<T: Real, const D: usize>(
     write_one(out, Plan::<T, D>::work_sizes(&s).into())
 }
 
-fn sizes_d<T: Real, const D: usize>(
+fn sizes_for_dim<T: Real, const D: usize>(
     spec: &SpecArgs<'_, T>,
     work: PoolArgs<'_, T>,
     out: Out<'_, dk_plan_sizes>,
@@ -388,7 +297,7 @@ fn sizes_d<T: Real, const D: usize>(
     write_one(out, sizes.into())
 }
 
-fn init_d<T: Real, const D: usize>(
+fn init_for_dim<T: Real, const D: usize>(
     spec: &SpecArgs<'_, T>,
     work: PoolArgs<'_, T>,
     pools: PoolArgs<'_, T>,
@@ -403,7 +312,7 @@ fn init_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn open_d<T: Real, const D: usize>(
+fn open_for_dim<T: Real, const D: usize>(
     pools: PoolArgs<'_, T>,
     info_out: Out<'_, dk_plan_info>,
 ) -> Result<(), dk_status> {
@@ -458,7 +367,7 @@ impl<'a, T: Real> MotionArgs<'a, T> {
     }
 }
 
-fn step_d<T: Real, const D: usize>(
+fn step_for_dim<T: Real, const D: usize>(
     pools: Result<PoolArgs<'_, T>, dk_status>,
     motion: MotionArgs<'_, T>,
     out: Out<'_, T>,
@@ -532,7 +441,7 @@ pub(crate) fn dk_plan_work_sizes<T: Real>(
 ) -> dk_status {
     done(
         PlanC::spec(mesh, options)
-            .and_then(|spec| by_dim!(dim, work_sizes_d::<T>, (&spec, sizes_out))),
+            .and_then(|spec| by_dim!(dim, work_sizes_for_dim::<T>, (&spec, sizes_out))),
     )
 }
 
@@ -556,7 +465,7 @@ pub(crate) fn dk_plan_pool_sizes<T: Real>(
     done((|| {
         let spec = PlanC::spec(mesh, options)?;
         let work = <DkPlanMesh<T> as PlanC>::pools(work)?;
-        by_dim!(dim, sizes_d::<T>, (&spec, work, sizes_out))
+        by_dim!(dim, sizes_for_dim::<T>, (&spec, work, sizes_out))
     })())
 }
 
@@ -588,7 +497,7 @@ pub(crate) fn dk_plan_init<T: Real>(
         let spec = PlanC::spec(mesh, options)?;
         let work = <DkPlanMesh<T> as PlanC>::pools(work)?;
         let pools = <DkPlanMesh<T> as PlanC>::pools(pools)?;
-        by_dim!(dim, init_d::<T>, (&spec, work, pools, info_out))
+        by_dim!(dim, init_for_dim::<T>, (&spec, work, pools, info_out))
     })())
 }
 
@@ -609,7 +518,7 @@ pub(crate) fn dk_plan_open<T: Real>(
 ) -> dk_status {
     done(
         <DkPlanMesh<T> as PlanC>::pools(pools)
-            .and_then(|pools| by_dim!(dim, open_d::<T>, (pools, info_out))),
+            .and_then(|pools| by_dim!(dim, open_for_dim::<T>, (pools, info_out))),
     )
 }
 
@@ -661,5 +570,9 @@ pub(crate) fn dk_plan_step<T: Real>(
         origin,
         start,
     };
-    done(by_dim!(dim, step_d::<T>, (pools, motion, out, report_out)))
+    done(by_dim!(
+        dim,
+        step_for_dim::<T>,
+        (pools, motion, out, report_out)
+    ))
 }

@@ -189,7 +189,7 @@ impl<'a> CellArgs<'a> {
 // Generic inner functions.
 // ---------------------------------------------------------------------------------------------
 
-fn cell_quality_d<T: Real, const D: usize>(
+fn cell_quality_for_dim<T: Real, const D: usize>(
     kind: u8,
     corners: In<'_, T>,
     out: Out<'_, dk_cell_quality>,
@@ -202,7 +202,7 @@ fn cell_quality_d<T: Real, const D: usize>(
 }
 
 /// Per-cell output: measures (`jacobians` None) or minimum corner Jacobians.
-fn per_cell_d<T: Real, const D: usize>(
+fn per_cell_for_dim<T: Real, const D: usize>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
     pts: In<'_, T>,
@@ -219,7 +219,7 @@ fn per_cell_d<T: Real, const D: usize>(
     .map_err(dk_status::from)
 }
 
-fn inverted_d<T: Real, const D: usize>(
+fn inverted_for_dim<T: Real, const D: usize>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
     undeformed: In<'_, T>,
@@ -234,7 +234,7 @@ fn inverted_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn folded_d<T: Real, const D: usize>(
+fn folded_for_dim<T: Real, const D: usize>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
     pts: In<'_, T>,
@@ -262,7 +262,7 @@ impl WallArgs<'_> {
     }
 }
 
-fn compare_d<T: Real, const D: usize>(
+fn compare_for_dim<T: Real, const D: usize>(
     cells: CellArgs,
     wall: WallArgs,
     index_scratch: Out<'_, u32>,
@@ -289,7 +289,7 @@ fn compare_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn wall_angle_d<T: Real, const D: usize>(
+fn wall_angle_for_dim<T: Real, const D: usize>(
     wall: WallArgs,
     index_scratch: Out<'_, u32>,
     undeformed: In<'_, T>,
@@ -328,7 +328,11 @@ pub(crate) fn dk_quality_cell_quality<T: Real>(
     dim: u32,
     out: Out<'_, dk_cell_quality>,
 ) -> dk_status {
-    done(by_dim!(dim, cell_quality_d::<T>, (kind, corners, out)))
+    done(by_dim!(
+        dim,
+        cell_quality_for_dim::<T>,
+        (kind, corners, out)
+    ))
 }
 
 /// Signed area (`dim` 2) or volume (`dim` 3) of every cell into `out` (one scalar per cell).
@@ -354,7 +358,7 @@ pub(crate) fn dk_quality_cell_measures<T: Real>(
     let cells = CellArgs { cells, index_base };
     done(by_dim!(
         dim,
-        per_cell_d::<T>,
+        per_cell_for_dim::<T>,
         (cells, index_scratch, points, None, out)
     ))
 }
@@ -378,7 +382,7 @@ pub(crate) fn dk_quality_min_corner_jacobians<T: Real>(
     let cells = CellArgs { cells, index_base };
     done(by_dim!(
         dim,
-        per_cell_d::<T>,
+        per_cell_for_dim::<T>,
         (cells, index_scratch, points, Some(scaled), out)
     ))
 }
@@ -403,7 +407,7 @@ pub(crate) fn dk_quality_inverted_cells<T: Real>(
     let cells = CellArgs { cells, index_base };
     done(by_dim!(
         dim,
-        inverted_d::<T>,
+        inverted_for_dim::<T>,
         (cells, index_scratch, undeformed, deformed, count_out)
     ))
 }
@@ -427,7 +431,7 @@ pub(crate) fn dk_quality_folded_cells<T: Real>(
     let cells = CellArgs { cells, index_base };
     done(by_dim!(
         dim,
-        folded_d::<T>,
+        folded_for_dim::<T>,
         (cells, index_scratch, points, count_out)
     ))
 }
@@ -496,7 +500,7 @@ pub(crate) fn dk_quality_compare<T: Real>(
     };
     done(by_dim!(
         dim,
-        compare_d::<T>,
+        compare_for_dim::<T>,
         (
             cells,
             wall,
@@ -544,7 +548,7 @@ pub(crate) fn dk_quality_wall_angle_change<T: Real>(
     };
     done(by_dim!(
         dim,
-        wall_angle_d::<T>,
+        wall_angle_for_dim::<T>,
         (wall, index_scratch, undeformed, deformed, scratch, out)
     ))
 }

@@ -37,7 +37,7 @@ use crate::args::{
     write_len, write_one,
 };
 use crate::graph::{dk_graph, read_graph, GraphIn};
-use crate::plan::{dk_plan_sizes, DkPlanPools, PoolArgs, PoolsC};
+use crate::pools::{dk_plan_sizes, DkPlanPools, PoolArgs, PoolsC};
 use crate::slice::{
     chunks, chunks_mut, input, input_n, out_one, output, output_n, whole_chunks_mut, In, Out,
 };
@@ -465,7 +465,7 @@ impl<'a, T: Real> SysArgs<'a, T> {
 // Generic inner functions.
 // ---------------------------------------------------------------------------------------------
 
-fn batina_d<T: Real, const D: usize>(
+fn batina_for_dim<T: Real, const D: usize>(
     g: &deform_kernel::Graph<'_>,
     points: In<'_, T>,
     exponent: T,
@@ -476,23 +476,7 @@ fn batina_d<T: Real, const D: usize>(
     batina_stiffness(g, p, exponent, k).map_err(dk_status::from)
 }
 
-fn solve_options_default<T: Real>(out: Out<'_, dk_spring_solve_options>) -> dk_status {
-    done(write_one(out, dk_spring_solve_options::default_for::<T>()))
-}
-
-fn angle_options_default<T: Real>(out: Out<'_, dk_spring_angle_options>) -> dk_status {
-    let k = SolveOptions::<T>::default();
-    let v = dk_spring_angle_options {
-        max_iterations: k.max_iterations,
-        residual_tol: k.residual_tol.to_f64(),
-        update_tol: k.update_tol.to_f64(),
-        epsilon: DEFAULT_ANGLE_EPSILON,
-        method: DK_ANGLE_DIRECT_GAUSS_SEIDEL,
-    };
-    done(write_one(out, v))
-}
-
-fn solve_linear_v<T: Real, const V: usize>(
+fn solve_linear_for_components<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     options: &dk_spring_solve_options,
     values: Out<'_, T>,
@@ -515,7 +499,7 @@ fn solve_linear_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn jacobi_sweep_v<T: Real, const V: usize>(
+fn jacobi_sweep_for_components<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     nodes: [usize; 2],
     src: In<'_, T>,
@@ -535,7 +519,7 @@ fn jacobi_sweep_v<T: Real, const V: usize>(
 pub const DK_EXACT_SUM_WORDS: usize = 72;
 const _: () = assert!(DK_EXACT_SUM_WORDS == EXACT_SUM_WORDS);
 
-fn jacobi_sweep_exact_v<T: Real, const V: usize>(
+fn jacobi_sweep_exact_for_components<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     nodes: [usize; 2],
     src: In<'_, T>,
@@ -555,18 +539,7 @@ fn jacobi_sweep_exact_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn exact_sum_value(words: In<'_, i64>, value_out: Out<'_, f64>) -> dk_status {
-    done((|| {
-        let w: &[i64] = input_n(words, EXACT_SUM_WORDS)?;
-        let out = out_one(value_out)?;
-        let mut a = [0i64; EXACT_SUM_WORDS];
-        a.copy_from_slice(w);
-        *out = ExactSum::from_words(a).value();
-        Ok(())
-    })())
-}
-
-fn sor_sweep_v<T: Real, const V: usize>(
+fn sor_sweep_for_components<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     nodes: [usize; 2],
     omega: T,
@@ -581,7 +554,7 @@ fn sor_sweep_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn relative_residual_v<T: Real, const V: usize>(
+fn relative_residual_for_components<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     values: In<'_, T>,
     residual_out: Out<'_, T>,
@@ -591,36 +564,6 @@ fn relative_residual_v<T: Real, const V: usize>(
     let system = sys.build()?;
     *r = system.relative_residual(v).map_err(dk_status::from)?;
     Ok(())
-}
-
-/// Scalars of scratch `dk_spring_solve_angle` needs for precision `T`.
-fn angle_scratch_scalars<T: Real>(
-    node_count: usize,
-    dim: u32,
-    options: In<'_, dk_spring_angle_options>,
-    len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let o = read_one(options)?;
-        let method = o.method()?;
-        if !(2..=3).contains(&dim) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        // Mirrors deform_kernel::spring::angle_scratch_len (items of [T; D]).
-        let four = mul_len(node_count, 4)?;
-        let solve = match method {
-            AngleMethod::DirectJacobi => node_count,
-            AngleMethod::DirectGaussSeidel => 0,
-            AngleMethod::Cg => four,
-        };
-        let items = if T::from_f64(o.epsilon) == T::ZERO {
-            solve.max(four)
-        } else {
-            solve
-        };
-        let len = mul_len(items, dim as usize)?;
-        write_len(len_out, len)
-    })())
 }
 
 /// The angle system's arguments beyond the spring system.
@@ -639,7 +582,7 @@ impl<'a, T: Real> AngleArgs<'a, T> {
     }
 }
 
-fn solve_angle_d<T: Real, const D: usize>(
+fn solve_angle_for_dim<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
     options: &dk_spring_angle_options,
@@ -662,7 +605,7 @@ fn solve_angle_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn angle_jacobi_d<T: Real, const D: usize>(
+fn angle_jacobi_for_dim<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
     epsilon: T,
@@ -684,7 +627,7 @@ fn angle_jacobi_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn angle_gs_d<T: Real, const D: usize>(
+fn angle_gs_for_dim<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
     epsilon: T,
@@ -704,7 +647,7 @@ fn angle_gs_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn probe_d<T: Real, const D: usize>(
+fn probe_for_dim<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
     options: &dk_spring_angle_options,
@@ -724,23 +667,6 @@ fn probe_d<T: Real, const D: usize>(
 // ---------------------------------------------------------------------------------------------
 // Stateless multigrid solves: the hierarchy set up in the caller's pools every call.
 // ---------------------------------------------------------------------------------------------
-
-fn amg_options_default(out: Out<'_, dk_amg_options>) -> dk_status {
-    done(write_one(
-        out,
-        dk_amg_options::of(AmgOptions::<f64>::default()),
-    ))
-}
-
-/// Entries of the `uint32_t` work of the hierarchy's symbolic pass: the kernel's
-/// `amg_setup_work_len`, `4 (N + E) + 64` (at least `N`, so the system's validation scratch
-/// fits in it too); `DK_ERR_TOO_LARGE` where it saturates (it is a multiple of 4 otherwise).
-fn amg_work_len(node_count: usize, directed_edges: usize, len_out: Out<'_, usize>) -> dk_status {
-    done(match amg_setup_work_len(node_count, directed_edges) {
-        usize::MAX => Err(dk_status::DK_ERR_TOO_LARGE),
-        len => write_len(len_out, len),
-    })
-}
 
 /// The arguments of a stateless multigrid solve beyond the values: the system, the multigrid
 /// options and the pools (read, not yet borrowed).
@@ -864,17 +790,17 @@ impl<'a, T: Real> AmgArgs<'a, T> {
     }
 }
 
-fn amg_pool_sizes_v<T: Real, const V: usize>(
+fn amg_pool_sizes_for_components<T: Real, const V: usize>(
     system: Result<SystemIn<'_, T>, dk_status>,
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
-    pool_sizes_v::<T, V>(system, amg, work, sizes_out, AMG_FINE)
+    pool_sizes_for_components::<T, V>(system, amg, work, sizes_out, AMG_FINE)
 }
 
 /// The pool lengths of a multigrid solve of `V` components with `fine` fine-level vectors.
-fn pool_sizes_v<T: Real, const V: usize>(
+fn pool_sizes_for_components<T: Real, const V: usize>(
     system: Result<SystemIn<'_, T>, dk_status>,
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
@@ -890,16 +816,16 @@ fn pool_sizes_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn angle_amg_pool_sizes_d<T: Real, const D: usize>(
+fn angle_amg_pool_sizes_for_dim<T: Real, const D: usize>(
     system: Result<SystemIn<'_, T>, dk_status>,
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
-    amg_pool_sizes_v::<T, D>(system, amg, work, sizes_out)
+    amg_pool_sizes_for_components::<T, D>(system, amg, work, sizes_out)
 }
 
-fn solve_linear_amg_v<T: Real, const V: usize>(
+fn solve_linear_amg_for_components<T: Real, const V: usize>(
     args: AmgArgs<'_, T>,
     options: &dk_spring_solve_options,
     values: Out<'_, T>,
@@ -925,7 +851,7 @@ fn solve_linear_amg_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn solve_angle_amg_d<T: Real, const D: usize>(
+fn solve_angle_amg_for_dim<T: Real, const D: usize>(
     args: AmgArgs<'_, T>,
     pts: &AngleArgs<T>,
     options: &dk_spring_angle_options,
@@ -956,7 +882,7 @@ fn solve_angle_amg_d<T: Real, const D: usize>(
 // Sliding nodes (symmetry planes): deform_kernel::slide and the constrained solves.
 // ---------------------------------------------------------------------------------------------
 
-fn constraints_fixed_mask_d<T: Real, const D: usize>(
+fn constraints_fixed_mask_for_dim<T: Real, const D: usize>(
     constraints: Result<ConstraintsIn<'_, T>, dk_status>,
     mask: Out<'_, u8>,
 ) -> Result<(), dk_status> {
@@ -966,7 +892,7 @@ fn constraints_fixed_mask_d<T: Real, const D: usize>(
     c.fixed_mask(m).map_err(dk_status::from)
 }
 
-fn slide_points_d<T: Real, const D: usize>(
+fn slide_points_for_dim<T: Real, const D: usize>(
     constraints: Result<ConstraintsIn<'_, T>, dk_status>,
     original: In<'_, T>,
     points: Out<'_, T>,
@@ -986,7 +912,7 @@ struct FitOut<'a, T> {
     extent: Out<'a, T>,
 }
 
-fn fit_plane_d<T: Real, const D: usize>(
+fn fit_plane_for_dim<T: Real, const D: usize>(
     points: In<'_, T>,
     nodes: In<'_, u32>,
     index_base: u32,
@@ -1012,57 +938,7 @@ fn fit_plane_d<T: Real, const D: usize>(
     Ok(())
 }
 
-/// Scalars of scratch [`dk_spring_solve_linear_sliding`] needs (the kernel's
-/// `solve_linear_sliding_scratch_len` items times `dim`).
-fn linear_sliding_scratch_scalars(
-    node_count: usize,
-    dim: u32,
-    options: In<'_, dk_spring_solve_options>,
-    len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let o = read_one(options)?;
-        let method = o.method::<f64>()?;
-        if !(2..=3).contains(&dim) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        // The kernel's count saturates; the largest is 6 n.
-        mul_len(node_count, 6)?;
-        let items = solve_linear_sliding_scratch_len(&LinearSolver::Method(method), node_count);
-        write_len(len_out, mul_len(items, dim as usize)?)
-    })())
-}
-
-/// Scalars of scratch [`dk_spring_solve_angle_sliding`] needs for precision `T`.
-fn angle_sliding_scratch_scalars<T: Real>(
-    node_count: usize,
-    dim: u32,
-    options: In<'_, dk_spring_angle_options>,
-    len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let o = read_one(options)?;
-        let method = o.method()?;
-        if !(2..=3).contains(&dim) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        // Mirrors AngleSystem::solve_angle_sliding_scratch_len (items of [T; D]).
-        let n = node_count;
-        let solve = match method {
-            AngleMethod::DirectJacobi => mul_len(n, 2)?,
-            AngleMethod::DirectGaussSeidel => n,
-            AngleMethod::Cg => mul_len(n, 5)?,
-        };
-        let items = if T::from_f64(o.epsilon) == T::ZERO {
-            solve.max(mul_len(n, 4)?)
-        } else {
-            solve
-        };
-        write_len(len_out, mul_len(items, dim as usize)?)
-    })())
-}
-
-fn solve_linear_sliding_d<T: Real, const D: usize>(
+fn solve_linear_sliding_for_dim<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     constraints: Result<ConstraintsIn<'_, T>, dk_status>,
     options: &dk_spring_solve_options,
@@ -1087,7 +963,7 @@ fn solve_linear_sliding_d<T: Real, const D: usize>(
 }
 
 #[allow(clippy::too_many_arguments)] // the C function's arguments, one to one
-fn solve_angle_sliding_d<T: Real, const D: usize>(
+fn solve_angle_sliding_for_dim<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
     constraints: Result<ConstraintsIn<'_, T>, dk_status>,
@@ -1113,16 +989,16 @@ fn solve_angle_sliding_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn sliding_amg_pool_sizes_d<T: Real, const D: usize>(
+fn sliding_amg_pool_sizes_for_dim<T: Real, const D: usize>(
     system: Result<SystemIn<'_, T>, dk_status>,
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
-    pool_sizes_v::<T, D>(system, amg, work, sizes_out, SLIDING_AMG_FINE)
+    pool_sizes_for_components::<T, D>(system, amg, work, sizes_out, SLIDING_AMG_FINE)
 }
 
-fn solve_linear_sliding_amg_d<T: Real, const D: usize>(
+fn solve_linear_sliding_amg_for_dim<T: Real, const D: usize>(
     args: AmgArgs<'_, T>,
     constraints: Result<ConstraintsIn<'_, T>, dk_status>,
     options: &dk_spring_solve_options,
@@ -1150,7 +1026,7 @@ fn solve_linear_sliding_amg_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn solve_angle_sliding_amg_d<T: Real, const D: usize>(
+fn solve_angle_sliding_amg_for_dim<T: Real, const D: usize>(
     args: AmgArgs<'_, T>,
     pts: &AngleArgs<T>,
     constraints: Result<ConstraintsIn<'_, T>, dk_status>,
@@ -1204,7 +1080,7 @@ pub(crate) fn dk_spring_batina_stiffness<T: Real>(
 ) -> dk_status {
     done(
         read_graph(graph)
-            .and_then(|g| by_dim!(dim, batina_d::<T>, (&g, points, exponent, stiffness))),
+            .and_then(|g| by_dim!(dim, batina_for_dim::<T>, (&g, points, exponent, stiffness))),
     )
 }
 
@@ -1235,7 +1111,7 @@ pub(crate) fn dk_spring_index_scratch_len(node_count: usize, len_out: Out<'_, us
 pub(crate) fn dk_spring_solve_options_default<T: Real>(
     out: Out<'_, dk_spring_solve_options>,
 ) -> dk_status {
-    solve_options_default::<T>(out)
+    done(write_one(out, dk_spring_solve_options::default_for::<T>()))
 }
 
 /// Scalars of `scratch` [`dk_spring_solve_linear`] needs for `options->method`:
@@ -1300,7 +1176,7 @@ pub(crate) fn dk_spring_solve_linear<T: Real>(
     done(read_one(options).and_then(|o| {
         by_components!(
             components,
-            solve_linear_v::<T>,
+            solve_linear_for_components::<T>,
             (sys, &o, values, scratch, report)
         )
     }))
@@ -1336,7 +1212,7 @@ pub(crate) fn dk_spring_jacobi_sweep<T: Real>(
     done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
         by_components!(
             components,
-            jacobi_sweep_v::<T>,
+            jacobi_sweep_for_components::<T>,
             (sys, nodes, src, dst, sweep)
         )
     }))
@@ -1370,7 +1246,7 @@ pub(crate) fn dk_spring_jacobi_sweep_exact<T: Real>(
     done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
         by_components!(
             components,
-            jacobi_sweep_exact_v::<T>,
+            jacobi_sweep_exact_for_components::<T>,
             (sys, nodes, src, dst, sweep, residual_words)
         )
     }))
@@ -1385,7 +1261,14 @@ pub(crate) fn dk_spring_jacobi_sweep_exact<T: Real>(
 /// `double`.
 #[export(words[72], value_out[1])]
 pub(crate) fn dk_exact_sum_value(words: In<'_, i64>, value_out: Out<'_, f64>) -> dk_status {
-    exact_sum_value(words, value_out)
+    done((|| {
+        let w: &[i64] = input_n(words, EXACT_SUM_WORDS)?;
+        let out = out_one(value_out)?;
+        let mut a = [0i64; EXACT_SUM_WORDS];
+        a.copy_from_slice(w);
+        *out = ExactSum::from_words(a).value();
+        Ok(())
+    })())
 }
 
 /// One in-place Gauss–Seidel (`omega` = 1) or SOR sweep of the linear springs over the nodes
@@ -1417,7 +1300,7 @@ pub(crate) fn dk_spring_sor_sweep<T: Real>(
     done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
         by_components!(
             components,
-            sor_sweep_v::<T>,
+            sor_sweep_for_components::<T>,
             (sys, nodes, omega, values, sweep)
         )
     }))
@@ -1444,7 +1327,7 @@ pub(crate) fn dk_spring_relative_residual<T: Real>(
     };
     done(by_components!(
         components,
-        relative_residual_v::<T>,
+        relative_residual_for_components::<T>,
         (sys, values, residual_out)
     ))
 }
@@ -1461,7 +1344,15 @@ pub(crate) fn dk_spring_relative_residual<T: Real>(
 pub(crate) fn dk_spring_angle_options_default<T: Real>(
     out: Out<'_, dk_spring_angle_options>,
 ) -> dk_status {
-    angle_options_default::<T>(out)
+    let k = SolveOptions::<T>::default();
+    let v = dk_spring_angle_options {
+        max_iterations: k.max_iterations,
+        residual_tol: k.residual_tol.to_f64(),
+        update_tol: k.update_tol.to_f64(),
+        epsilon: DEFAULT_ANGLE_EPSILON,
+        method: DK_ANGLE_DIRECT_GAUSS_SEIDEL,
+    };
+    done(write_one(out, v))
 }
 
 /// Scalars of `scratch` [`dk_spring_solve_angle`] needs: per node and coordinate, 1 for
@@ -1481,7 +1372,27 @@ pub(crate) fn dk_spring_solve_angle_scratch_len<T: Real>(
     options: In<'_, dk_spring_angle_options>,
     len_out: Out<'_, usize>,
 ) -> dk_status {
-    angle_scratch_scalars::<T>(node_count, dim, options, len_out)
+    done((|| {
+        let o = read_one(options)?;
+        let method = o.method()?;
+        if !(2..=3).contains(&dim) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        // Mirrors deform_kernel::spring::angle_scratch_len (items of [T; D]).
+        let four = mul_len(node_count, 4)?;
+        let solve = match method {
+            AngleMethod::DirectJacobi => node_count,
+            AngleMethod::DirectGaussSeidel => 0,
+            AngleMethod::Cg => four,
+        };
+        let items = if T::from_f64(o.epsilon) == T::ZERO {
+            solve.max(four)
+        } else {
+            solve
+        };
+        let len = mul_len(items, dim as usize)?;
+        write_len(len_out, len)
+    })())
 }
 
 /// Scalars of `scratch` [`dk_spring_angle_rigidity_probe`] needs: `4 * node_count * dim`.
@@ -1536,7 +1447,7 @@ pub(crate) fn dk_spring_solve_angle<T: Real>(
     done(read_one(options).and_then(|o| {
         by_dim!(
             dim,
-            solve_angle_d::<T>,
+            solve_angle_for_dim::<T>,
             (sys, &pts, &o, values, scratch, report)
         )
     }))
@@ -1574,7 +1485,7 @@ pub(crate) fn dk_spring_angle_jacobi_sweep<T: Real>(
     done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
         by_dim!(
             dim,
-            angle_jacobi_d::<T>,
+            angle_jacobi_for_dim::<T>,
             (sys, &pts, epsilon, nodes, src, dst, sweep)
         )
     }))
@@ -1609,7 +1520,7 @@ pub(crate) fn dk_spring_angle_gauss_seidel_sweep<T: Real>(
     done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
         by_dim!(
             dim,
-            angle_gs_d::<T>,
+            angle_gs_for_dim::<T>,
             (sys, &pts, epsilon, nodes, values, sweep)
         )
     }))
@@ -1643,7 +1554,7 @@ pub(crate) fn dk_spring_angle_rigidity_probe<T: Real>(
     done(read_one(options).and_then(|o| {
         by_dim!(
             dim,
-            probe_d::<T>,
+            probe_for_dim::<T>,
             (sys, &pts, &o, scratch, amplification_out)
         )
     }))
@@ -1657,7 +1568,10 @@ pub(crate) fn dk_spring_angle_rigidity_probe<T: Real>(
 /// `out` points to one writable options struct.
 #[export(out[1])]
 pub(crate) fn dk_amg_options_default(out: Out<'_, dk_amg_options>) -> dk_status {
-    amg_options_default(out)
+    done(write_one(
+        out,
+        dk_amg_options::of(AmgOptions::<f64>::default()),
+    ))
 }
 
 /// Length of the `uint32_t` `work` buffer [`dk_spring_solve_linear_amg_pool_sizes`] and
@@ -1674,7 +1588,10 @@ pub(crate) fn dk_spring_amg_work_len(
     directed_edges: usize,
     len_out: Out<'_, usize>,
 ) -> dk_status {
-    amg_work_len(node_count, directed_edges, len_out)
+    done(match amg_setup_work_len(node_count, directed_edges) {
+        usize::MAX => Err(dk_status::DK_ERR_TOO_LARGE),
+        len => write_len(len_out, len),
+    })
 }
 
 /// The exact pool lengths [`dk_spring_solve_linear_amg`] needs for this system, `components`
@@ -1705,7 +1622,7 @@ pub(crate) fn dk_spring_solve_linear_amg_pool_sizes<T: Real>(
     let system = SystemC::read(system);
     done(by_components!(
         components,
-        amg_pool_sizes_v::<T>,
+        amg_pool_sizes_for_components::<T>,
         (system, amg, work, sizes_out)
     ))
 }
@@ -1754,7 +1671,7 @@ pub(crate) fn dk_spring_solve_linear_amg<T: Real>(
     done(read_one(options).and_then(|o| {
         by_components!(
             components,
-            solve_linear_amg_v::<T>,
+            solve_linear_amg_for_components::<T>,
             (args, &o, values, report)
         )
     }))
@@ -1780,7 +1697,7 @@ pub(crate) fn dk_spring_solve_angle_amg_pool_sizes<T: Real>(
     let system = SystemC::read(system);
     done(by_dim!(
         dim,
-        angle_amg_pool_sizes_d::<T>,
+        angle_amg_pool_sizes_for_dim::<T>,
         (system, amg, work, sizes_out)
     ))
 }
@@ -1823,7 +1740,7 @@ pub(crate) fn dk_spring_solve_angle_amg<T: Real>(
     done(read_one(options).and_then(|o| {
         by_dim!(
             dim,
-            solve_angle_amg_d::<T>,
+            solve_angle_amg_for_dim::<T>,
             (args, &pts, &o, values, report)
         )
     }))
@@ -1850,7 +1767,7 @@ pub(crate) fn dk_constraints_fixed_mask<T: Real>(
     mask: Out<'_, u8>,
 ) -> dk_status {
     let c = ConstraintsC::read(constraints);
-    done(by_dim!(dim, constraints_fixed_mask_d::<T>, (c, mask)))
+    done(by_dim!(dim, constraints_fixed_mask_for_dim::<T>, (c, mask)))
 }
 
 /// Projects the motion of every sliding node onto its plane or line (the kernel's
@@ -1876,7 +1793,11 @@ pub(crate) fn dk_slide_points<T: Real>(
     points: Out<'_, T>,
 ) -> dk_status {
     let c = ConstraintsC::read(constraints);
-    done(by_dim!(dim, slide_points_d::<T>, (c, original, points)))
+    done(by_dim!(
+        dim,
+        slide_points_for_dim::<T>,
+        (c, original, points)
+    ))
 }
 
 /// Fits a plane (3D) or line (2D) to the nodes `nodes` (read with `index_base`) of `points`
@@ -1919,7 +1840,7 @@ pub(crate) fn dk_fit_plane<T: Real>(
     };
     done(by_dim!(
         dim,
-        fit_plane_d::<T>,
+        fit_plane_for_dim::<T>,
         (points, nodes, index_base, tolerance, index_scratch, out)
     ))
 }
@@ -1938,7 +1859,17 @@ pub(crate) fn dk_spring_solve_linear_sliding_scratch_len(
     options: In<'_, dk_spring_solve_options>,
     len_out: Out<'_, usize>,
 ) -> dk_status {
-    linear_sliding_scratch_scalars(node_count, dim, options, len_out)
+    done((|| {
+        let o = read_one(options)?;
+        let method = o.method::<f64>()?;
+        if !(2..=3).contains(&dim) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        // The kernel's count saturates; the largest is 6 n.
+        mul_len(node_count, 6)?;
+        let items = solve_linear_sliding_scratch_len(&LinearSolver::Method(method), node_count);
+        write_len(len_out, mul_len(items, dim as usize)?)
+    })())
 }
 
 /// [`dk_spring_solve_linear`] with sliding nodes (symmetry planes; the kernel's
@@ -1982,7 +1913,7 @@ pub(crate) fn dk_spring_solve_linear_sliding<T: Real>(
     done(read_one(options).and_then(|o| {
         by_dim!(
             dim,
-            solve_linear_sliding_d::<T>,
+            solve_linear_sliding_for_dim::<T>,
             (sys, c, &o, values, scratch, report)
         )
     }))
@@ -2005,7 +1936,26 @@ pub(crate) fn dk_spring_solve_angle_sliding_scratch_len<T: Real>(
     options: In<'_, dk_spring_angle_options>,
     len_out: Out<'_, usize>,
 ) -> dk_status {
-    angle_sliding_scratch_scalars::<T>(node_count, dim, options, len_out)
+    done((|| {
+        let o = read_one(options)?;
+        let method = o.method()?;
+        if !(2..=3).contains(&dim) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        // Mirrors AngleSystem::solve_angle_sliding_scratch_len (items of [T; D]).
+        let n = node_count;
+        let solve = match method {
+            AngleMethod::DirectJacobi => mul_len(n, 2)?,
+            AngleMethod::DirectGaussSeidel => n,
+            AngleMethod::Cg => mul_len(n, 5)?,
+        };
+        let items = if T::from_f64(o.epsilon) == T::ZERO {
+            solve.max(mul_len(n, 4)?)
+        } else {
+            solve
+        };
+        write_len(len_out, mul_len(items, dim as usize)?)
+    })())
 }
 
 /// [`dk_spring_solve_angle`] with sliding nodes (the kernel's
@@ -2045,7 +1995,7 @@ pub(crate) fn dk_spring_solve_angle_sliding<T: Real>(
     done(read_one(options).and_then(|o| {
         by_dim!(
             dim,
-            solve_angle_sliding_d::<T>,
+            solve_angle_sliding_for_dim::<T>,
             (sys, &pts, c, &o, omega, values, scratch, report)
         )
     }))
@@ -2072,7 +2022,7 @@ pub(crate) fn dk_spring_solve_linear_sliding_amg_pool_sizes<T: Real>(
     let system = SystemC::read(system);
     done(by_dim!(
         dim,
-        sliding_amg_pool_sizes_d::<T>,
+        sliding_amg_pool_sizes_for_dim::<T>,
         (system, amg, work, sizes_out)
     ))
 }
@@ -2114,7 +2064,7 @@ pub(crate) fn dk_spring_solve_linear_sliding_amg<T: Real>(
     done(read_one(options).and_then(|o| {
         by_dim!(
             dim,
-            solve_linear_sliding_amg_d::<T>,
+            solve_linear_sliding_amg_for_dim::<T>,
             (args, c, &o, values, report)
         )
     }))
@@ -2139,7 +2089,7 @@ pub(crate) fn dk_spring_solve_angle_sliding_amg_pool_sizes<T: Real>(
     let system = SystemC::read(system);
     done(by_dim!(
         dim,
-        sliding_amg_pool_sizes_d::<T>,
+        sliding_amg_pool_sizes_for_dim::<T>,
         (system, amg, work, sizes_out)
     ))
 }
@@ -2182,7 +2132,7 @@ pub(crate) fn dk_spring_solve_angle_sliding_amg<T: Real>(
     done(read_one(options).and_then(|o| {
         by_dim!(
             dim,
-            solve_angle_sliding_amg_d::<T>,
+            solve_angle_sliding_amg_for_dim::<T>,
             (args, &pts, c, &o, values, report)
         )
     }))

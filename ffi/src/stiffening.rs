@@ -21,7 +21,7 @@ use crate::graph::{dk_cells, dk_graph, read_graph, CellsIn};
 use crate::slice::{input, output, In, Out};
 use crate::status::dk_status;
 
-fn wall_distances_d<T: Real, const D: usize>(
+fn wall_distances_for_dim<T: Real, const D: usize>(
     points: In<'_, T>,
     wall: In<'_, u32>,
     index_base: u32,
@@ -33,7 +33,7 @@ fn wall_distances_d<T: Real, const D: usize>(
     wall_distances(p, w, output(out)?).map_err(dk_status::from)
 }
 
-fn dual_volumes_d<T: Real, const D: usize>(
+fn dual_volumes_for_dim<T: Real, const D: usize>(
     cells: In<'_, dk_cells>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
@@ -85,7 +85,7 @@ pub(crate) fn dk_spring_wall_distances<T: Real>(
 ) -> dk_status {
     done(by_dim!(
         dim,
-        wall_distances_d::<T>,
+        wall_distances_for_dim::<T>,
         (points, wall, index_base, index_scratch, out)
     ))
 }
@@ -129,7 +129,7 @@ pub(crate) fn dk_spring_dual_volumes<T: Real>(
 ) -> dk_status {
     done(by_dim!(
         dim,
-        dual_volumes_d::<T>,
+        dual_volumes_for_dim::<T>,
         (cells, index_base, index_scratch, points, out, scratch)
     ))
 }

@@ -291,34 +291,7 @@ impl dk_smooth_report {
 // Generic inner functions.
 // ---------------------------------------------------------------------------------------------
 
-fn params_paper<T: Real>(lambda_out: Out<'_, T>, mu_out: Out<'_, T>) -> dk_status {
-    done((|| {
-        let p = TaubinParams::<T>::paper();
-        let l = out_one(lambda_out)?;
-        let m = out_one(mu_out)?;
-        *l = p.lambda;
-        *m = p.mu;
-        Ok(())
-    })())
-}
-
-fn params_from_pass_band<T: Real>(
-    lambda: T,
-    pass_band: T,
-    lambda_out: Out<'_, T>,
-    mu_out: Out<'_, T>,
-) -> dk_status {
-    done((|| {
-        let p = TaubinParams::from_pass_band(lambda, pass_band).map_err(dk_status::from)?;
-        let l = out_one(lambda_out)?;
-        let m = out_one(mu_out)?;
-        *l = p.lambda;
-        *m = p.mu;
-        Ok(())
-    })())
-}
-
-fn smooth_arclength_d<T: Real, const D: usize>(
+fn smooth_arclength_for_dim<T: Real, const D: usize>(
     block: &Block,
     options: &dk_smooth_arclength_options,
     pinned: Option<&[u8]>,
@@ -428,7 +401,7 @@ impl<'a, T> GraphArgs<'a, T> {
     }
 }
 
-fn smooth_graph_v<T: Real, const V: usize>(
+fn smooth_graph_for_components<T: Real, const V: usize>(
     args: &GraphArgs<T>,
     params: TaubinParams<T>,
     iterations: usize,
@@ -446,7 +419,7 @@ fn smooth_graph_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn graph_sweep_v<T: Real, const V: usize>(
+fn graph_sweep_for_components<T: Real, const V: usize>(
     args: &GraphArgs<T>,
     src: In<'_, T>,
     weight: T,
@@ -463,7 +436,7 @@ fn graph_sweep_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn inverse_distance_weights_d<T: Real, const D: usize>(
+fn inverse_distance_weights_for_dim<T: Real, const D: usize>(
     g: &Graph<'_>,
     points: In<'_, T>,
     weights: Out<'_, T>,
@@ -473,7 +446,7 @@ fn inverse_distance_weights_d<T: Real, const D: usize>(
     inverse_distance_weights(g, p, w).map_err(dk_status::from)
 }
 
-fn arclength_d<T: Real, const D: usize>(
+fn arclength_for_dim<T: Real, const D: usize>(
     b: &Block,
     points: In<'_, T>,
     direction: u32,
@@ -485,7 +458,7 @@ fn arclength_d<T: Real, const D: usize>(
     arclength(b, p, to_direction(direction)?, normalised, o).map_err(dk_status::from)
 }
 
-fn redistribute_d<T: Real, const D: usize>(
+fn redistribute_for_dim<T: Real, const D: usize>(
     b: &Block,
     direction: u32,
     targets: In<'_, T>,
@@ -503,7 +476,7 @@ fn redistribute_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn stretching_d<T: Real, const D: usize>(
+fn stretching_for_dim<T: Real, const D: usize>(
     b: &Block,
     points: In<'_, T>,
     direction: u32,
@@ -514,7 +487,7 @@ fn stretching_d<T: Real, const D: usize>(
     stretching(b, p, to_direction(direction)?, o).map_err(dk_status::from)
 }
 
-fn max_stretching_d<T: Real, const D: usize>(
+fn max_stretching_for_dim<T: Real, const D: usize>(
     b: &Block,
     points: In<'_, T>,
     direction: u32,
@@ -530,7 +503,7 @@ fn max_stretching_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn check_lines_d<T: Real, const D: usize>(
+fn check_lines_for_dim<T: Real, const D: usize>(
     b: &Block,
     field: &[T],
     direction: u32,
@@ -543,31 +516,6 @@ fn check_lines_d<T: Real, const D: usize>(
 }
 
 #[allow(clippy::too_many_arguments)]
-fn check_lines_t<T: Real>(
-    ni: usize,
-    nj: usize,
-    nk: usize,
-    field: In<'_, T>,
-    direction: u32,
-    iteration: usize,
-    points: In<'_, T>,
-    dim: u32,
-) -> dk_status {
-    done((|| {
-        let b = block(ni, nj, nk)?;
-        let f = input(field)?;
-        if points.is_absent() {
-            // No points: `dim` is not used.
-            return check_lines_d::<T, 3>(&b, f, direction, iteration, points);
-        }
-        by_dim!(
-            dim,
-            check_lines_d::<T>,
-            (&b, f, direction, iteration, points)
-        )
-    })())
-}
-
 // ---------------------------------------------------------------------------------------------
 // The C functions (`cargo xtask codegen` exports each, see ffi/README.md).
 // ---------------------------------------------------------------------------------------------
@@ -581,7 +529,14 @@ pub(crate) fn dk_taubin_params_paper<T: Real>(
     lambda_out: Out<'_, T>,
     mu_out: Out<'_, T>,
 ) -> dk_status {
-    params_paper(lambda_out, mu_out)
+    done((|| {
+        let p = TaubinParams::<T>::paper();
+        let l = out_one(lambda_out)?;
+        let m = out_one(mu_out)?;
+        *l = p.lambda;
+        *m = p.mu;
+        Ok(())
+    })())
 }
 
 /// `λ` with `μ` from Taubin's pass-band relation `1/λ + 1/μ = pass_band`. Needs `λ > 0` and
@@ -597,7 +552,14 @@ pub(crate) fn dk_taubin_params_from_pass_band<T: Real>(
     lambda_out: Out<'_, T>,
     mu_out: Out<'_, T>,
 ) -> dk_status {
-    params_from_pass_band(lambda, pass_band, lambda_out, mu_out)
+    done((|| {
+        let p = TaubinParams::from_pass_band(lambda, pass_band).map_err(dk_status::from)?;
+        let l = out_one(lambda_out)?;
+        let m = out_one(mu_out)?;
+        *l = p.lambda;
+        *m = p.mu;
+        Ok(())
+    })())
 }
 
 /// Fills `*out` with the paper's settings for lines along `direction` (0 = i, 1 = j, 2 = k):
@@ -706,7 +668,7 @@ pub(crate) fn dk_taubin_smooth_arclength<T: Real>(
         let (o, pinned) = read_with_pins(options)?;
         by_dim!(
             dim,
-            smooth_arclength_d::<T>,
+            smooth_arclength_for_dim::<T>,
             (&b, &o, pinned, points, scratch, report)
         )
     })())
@@ -909,7 +871,7 @@ pub(crate) fn dk_taubin_smooth_graph<T: Real>(
     let params = TaubinParams { lambda, mu };
     done(by_components!(
         components,
-        smooth_graph_v::<T>,
+        smooth_graph_for_components::<T>,
         (&args, params, iterations, values, scratch, report)
     ))
 }
@@ -947,7 +909,7 @@ pub(crate) fn dk_taubin_graph_sweep<T: Real>(
     done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
         by_components!(
             components,
-            graph_sweep_v::<T>,
+            graph_sweep_for_components::<T>,
             (&args, src, weight, nodes, dst, max_change_out)
         )
     }))
@@ -969,10 +931,13 @@ pub(crate) fn dk_taubin_inverse_distance_weights<T: Real>(
     dim: u32,
     weights: Out<'_, T>,
 ) -> dk_status {
-    done(
-        read_graph(graph)
-            .and_then(|g| by_dim!(dim, inverse_distance_weights_d::<T>, (&g, points, weights))),
-    )
+    done(read_graph(graph).and_then(|g| {
+        by_dim!(
+            dim,
+            inverse_distance_weights_for_dim::<T>,
+            (&g, points, weights)
+        )
+    }))
 }
 
 /// Arclength along grid lines in `direction` (0 = i, 1 = j, 2 = k) at every point:
@@ -996,7 +961,7 @@ pub(crate) fn dk_taubin_arclength<T: Real>(
     done(block(ni, nj, nk).and_then(|b| {
         by_dim!(
             dim,
-            arclength_d::<T>,
+            arclength_for_dim::<T>,
             (&b, points, direction, normalised, out)
         )
     }))
@@ -1055,7 +1020,7 @@ pub(crate) fn dk_taubin_redistribute<T: Real>(
     done(block(ni, nj, nk).and_then(|b| {
         by_dim!(
             dim,
-            redistribute_d::<T>,
+            redistribute_for_dim::<T>,
             (
                 &b,
                 direction,
@@ -1087,7 +1052,7 @@ pub(crate) fn dk_taubin_stretching<T: Real>(
 ) -> dk_status {
     done(
         block(ni, nj, nk)
-            .and_then(|b| by_dim!(dim, stretching_d::<T>, (&b, points, direction, out))),
+            .and_then(|b| by_dim!(dim, stretching_for_dim::<T>, (&b, points, direction, out))),
     )
 }
 
@@ -1113,7 +1078,7 @@ pub(crate) fn dk_taubin_max_stretching<T: Real>(
     done(block(ni, nj, nk).and_then(|b| {
         by_dim!(
             dim,
-            max_stretching_d::<T>,
+            max_stretching_for_dim::<T>,
             (&b, points, direction, value_out, point_out)
         )
     }))
@@ -1138,5 +1103,17 @@ pub(crate) fn dk_taubin_check_lines_increasing<T: Real>(
     points: In<'_, T>,
     dim: u32,
 ) -> dk_status {
-    check_lines_t(ni, nj, nk, field, direction, iteration, points, dim)
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        let f = input(field)?;
+        if points.is_absent() {
+            // No points: `dim` is not used.
+            return check_lines_for_dim::<T, 3>(&b, f, direction, iteration, points);
+        }
+        by_dim!(
+            dim,
+            check_lines_for_dim::<T>,
+            (&b, f, direction, iteration, points)
+        )
+    })())
 }

@@ -42,8 +42,8 @@ pub(crate) fn module(m: &Module, all: &[Module], symbols: Symbols) -> String {
         m.name,
         m.doc.join("\n"),
     );
-    for other in all.iter().filter(|o| o.name != m.name) {
-        let _ = writeln!(s, "#[allow(unused_imports)]\nuse crate::{}::*;", other.name);
+    for (other, names) in imports(m, all) {
+        let _ = writeln!(s, "use crate::{other}::{{{}}};", names.join(", "));
     }
     for t in &m.structs {
         aliases(&mut s, t);
@@ -54,6 +54,40 @@ pub(crate) fn module(m: &Module, all: &[Module], symbols: Symbols) -> String {
         }
     }
     s
+}
+
+/// The types of other modules that the functions of `m` name, by module.
+fn imports<'a>(m: &Module, all: &'a [Module]) -> Vec<(&'a str, Vec<String>)> {
+    let mut out: Vec<(&str, Vec<String>)> = Vec::new();
+    let words = m
+        .funcs
+        .iter()
+        .flat_map(|f| &f.params)
+        .flat_map(|p| p.ty.split(' ').map(str::to_string))
+        .chain(
+            m.funcs
+                .iter()
+                .any(|f| f.ret == Ret::Status)
+                .then(|| "dk_status".to_string()),
+        );
+    for word in words {
+        let Some(owner) = all.iter().find(|o| o.types.contains(&word)) else {
+            continue;
+        };
+        if owner.name == m.name || m.reexports.contains(&word) {
+            continue;
+        }
+        match out.iter_mut().find(|(n, _)| *n == owner.name) {
+            Some((_, names)) if names.contains(&word) => {}
+            Some((_, names)) => names.push(word),
+            None => out.push((&owner.name, vec![word])),
+        }
+    }
+    for (_, names) in &mut out {
+        names.sort();
+    }
+    out.sort();
+    out
 }
 
 fn aliases(s: &mut String, t: &TwinStruct) {

@@ -90,6 +90,10 @@ pub(crate) struct Module {
     pub(crate) doc: Vec<String>,
     pub(crate) funcs: Vec<Func>,
     pub(crate) structs: Vec<TwinStruct>,
+    /// The public types the module defines (structs, enums, type aliases).
+    pub(crate) types: Vec<String>,
+    /// The names it re-exports (`pub use`), visible here through `imp`.
+    pub(crate) reexports: Vec<String>,
 }
 
 /// A precision: the real type and the C name suffix.
@@ -154,6 +158,8 @@ fn module(name: &str, text: &str) -> Result<Module, String> {
             .collect(),
         funcs: Vec::new(),
         structs: Vec::new(),
+        types: Vec::new(),
+        reexports: Vec::new(),
     };
     for item in &file.items {
         match item {
@@ -162,7 +168,21 @@ fn module(name: &str, text: &str) -> Result<Module, String> {
                     m.funcs.push(func(f, &marks)?);
                 }
             }
+            syn::Item::Use(u) if matches!(u.vis, syn::Visibility::Public(_)) => {
+                let text = u.tree.to_token_stream().to_string();
+                m.reexports.extend(
+                    text.split([' ', ',', '{', '}', ':'])
+                        .filter(|w| !w.is_empty())
+                        .map(str::to_string),
+                );
+            }
+            syn::Item::Enum(e) if matches!(e.vis, syn::Visibility::Public(_)) => {
+                m.types.push(e.ident.to_string());
+            }
             syn::Item::Struct(s) => {
+                if matches!(s.vis, syn::Visibility::Public(_)) {
+                    m.types.push(s.ident.to_string());
+                }
                 if let Some(marks) = marker(&s.attrs)? {
                     let c = marks
                         .iter()
