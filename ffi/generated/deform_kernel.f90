@@ -796,9 +796,9 @@ module deform_kernel
             dk_spring_solve_angle_amg_pool_sizes, dk_spring_solve_angle_amg_pool_sizes_f32, &
             dk_spring_solve_angle_amg, dk_spring_solve_angle_amg_f32, dk_constraints_fixed_mask, &
             dk_constraints_fixed_mask_f32, dk_slide_points, dk_slide_points_f32, dk_fit_plane, &
-            dk_fit_plane_f32, dk_spring_solve_linear_sliding_scratch_len, &
-            dk_spring_solve_linear_sliding, dk_spring_solve_linear_sliding_f32, &
-            dk_spring_solve_angle_sliding_scratch_len, &
+            dk_fit_plane_f32, dk_plane_intersection, dk_plane_intersection_f32, &
+            dk_spring_solve_linear_sliding_scratch_len, dk_spring_solve_linear_sliding, &
+            dk_spring_solve_linear_sliding_f32, dk_spring_solve_angle_sliding_scratch_len, &
             dk_spring_solve_angle_sliding_scratch_len_f32, dk_spring_solve_angle_sliding, &
             dk_spring_solve_angle_sliding_f32, dk_spring_solve_linear_sliding_amg_pool_sizes, &
             dk_spring_solve_linear_sliding_amg_pool_sizes_f32, dk_spring_solve_linear_sliding_amg, &
@@ -2667,6 +2667,21 @@ module deform_kernel
       integer(c_size_t), value :: point_out_len
       real(c_float), intent(inout) :: residual_out
       real(c_float), intent(inout) :: extent_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plane_intersection(a, b, out) bind(C, name="dk_plane_intersection") result(s)
+      import :: c_double, c_int32_t
+      real(c_double), intent(in) :: a(3)
+      real(c_double), intent(in) :: b(3)
+      real(c_double), intent(inout) :: out(3)
+      integer(c_int32_t) :: s
+    end function
+    function dk_plane_intersection_f32(a, b, out) bind(C, name="dk_plane_intersection_f32") &
+        result(s)
+      import :: c_float, c_int32_t
+      real(c_float), intent(in) :: a(3)
+      real(c_float), intent(in) :: b(3)
+      real(c_float), intent(inout) :: out(3)
       integer(c_int32_t) :: s
     end function
     function dk_spring_solve_linear_sliding_scratch_len(node_count, dim, options, len_out) bind(C, &

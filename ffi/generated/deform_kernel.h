@@ -3038,6 +3038,21 @@ dk_status dk_fit_plane_f32(const float *points,
                            float *residual_out,
                            float *extent_out);
 
+// The unit tangent `(a × b) / |a × b|` of the line where two planes with normals `a` and `b`
+// (3 scalars each) meet (the kernel's `slide::plane_intersection`). Errors (nothing
+// written): `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero normal, or planes parallel to
+// within `√ε`), pointer errors.
+//
+// # Safety
+// `a`, `b` point to 3 readable scalars, `out` to 3 writable scalars.
+dk_status dk_plane_intersection(const double *a, const double *b, double *out);
+
+// `f32` twin of [`dk_plane_intersection`].
+//
+// # Safety
+// As [`dk_plane_intersection`].
+dk_status dk_plane_intersection_f32(const float *a, const float *b, float *out);
+
 // Scalars of `scratch` [`dk_spring_solve_linear_sliding`] needs for `options->method`:
 // `2 * node_count * dim` for Jacobi, `node_count * dim` for Gauss–Seidel and SOR, `6 *
 // node_count * dim` for CG (a scaled copy of the values, the CG vectors and the diagonal;

@@ -1620,6 +1620,41 @@ pub unsafe extern "C" fn dk_fit_plane_f32(
     )
 }
 
+/// The unit tangent `(a × b) / |a × b|` of the line where two planes with normals `a` and `b`
+/// (3 scalars each) meet (the kernel's `slide::plane_intersection`). Errors (nothing
+/// written): `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero normal, or planes parallel to
+/// within `√ε`), pointer errors.
+///
+/// # Safety
+/// `a`, `b` point to 3 readable scalars, `out` to 3 writable scalars.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_plane_intersection(
+    a: *const f64,
+    b: *const f64,
+    out: *mut f64,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (a, b, out) = unsafe { (In::new(a, 3), In::new(b, 3), Out::new(out, 3)) };
+    imp::dk_plane_intersection::<f64>(a, b, out)
+}
+
+/// `f32` twin of [`dk_plane_intersection`].
+///
+/// # Safety
+/// As [`dk_plane_intersection`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_plane_intersection_f32(
+    a: *const f32,
+    b: *const f32,
+    out: *mut f32,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (a, b, out) = unsafe { (In::new(a, 3), In::new(b, 3), Out::new(out, 3)) };
+    imp::dk_plane_intersection::<f32>(a, b, out)
+}
+
 /// Scalars of `scratch` [`dk_spring_solve_linear_sliding`] needs for `options->method`:
 /// `2 * node_count * dim` for Jacobi, `node_count * dim` for Gauss–Seidel and SOR, `6 *
 /// node_count * dim` for CG (a scaled copy of the values, the CG vectors and the diagonal;

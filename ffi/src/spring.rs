@@ -22,7 +22,7 @@
 #![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
 
 use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
-use deform_kernel::slide::{fit_plane, slide_points, Constraints};
+use deform_kernel::slide::{fit_plane, plane_intersection, slide_points, Constraints};
 use deform_kernel::spring::{
     amg_setup_work_len, batina_stiffness, solve_linear_scratch_len,
     solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother, AngleMethod,
@@ -33,8 +33,8 @@ use deform_kernel::Real;
 use deform_kernel_ffi_export::export;
 
 use crate::args::{
-    assert_layout, by_components, by_dim, done, mul_len, range, read_one, read_points, rebase,
-    write_len, write_one,
+    assert_layout, by_components, by_dim, done, mul_len, range, read_array, read_one, read_points,
+    rebase, write_array, write_len, write_one,
 };
 use crate::graph::{dk_graph, read_graph, GraphIn};
 use crate::pools::{dk_plan_sizes, DkPlanPools, PoolArgs, PoolsC};
@@ -1843,6 +1843,24 @@ pub(crate) fn dk_fit_plane<T: Real>(
         fit_plane_for_dim::<T>,
         (points, nodes, index_base, tolerance, index_scratch, out)
     ))
+}
+
+/// The unit tangent `(a × b) / |a × b|` of the line where two planes with normals `a` and `b`
+/// (3 scalars each) meet (the kernel's `slide::plane_intersection`). Errors (nothing
+/// written): `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero normal, or planes parallel to
+/// within `√ε`), pointer errors.
+///
+/// # Safety
+/// `a`, `b` point to 3 readable scalars, `out` to 3 writable scalars.
+#[export(twin, a[3], b[3], out[3])]
+pub(crate) fn dk_plane_intersection<T: Real>(
+    a: In<'_, T>,
+    b: In<'_, T>,
+    out: Out<'_, T>,
+) -> dk_status {
+    done((|| {
+        write_array(out, plane_intersection(read_array(a)?, read_array(b)?)?)
+    })())
 }
 
 /// Scalars of `scratch` [`dk_spring_solve_linear_sliding`] needs for `options->method`:
