@@ -13,6 +13,8 @@
 #![allow(unsafe_code)] // the ABI boundary: raw pointers become `In`/`Out` tokens here
 
 // Its docs link C names: the safe functions there (private), the aliases here.
+// It opts in to `unsafe` itself, as the crate's lints ask.
+#[deny(unsafe_code)]
 #[allow(rustdoc::private_intra_doc_links, rustdoc::broken_intra_doc_links)]
 #[path = "../src/plan.rs"]
 mod imp;

@@ -22,7 +22,7 @@
 //! mesh node) that receive the propagated fields on success. They are workspaces: on an error
 //! detected after validation (a solver error, a rotation that cancels) they may have been
 //! written. `out` and `origin_out` are written only on success.
-#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
+#![allow(unsafe_code)] // a parameter struct's arrays become `In`/`Out` tokens (`In::new`) here.
 
 use deform_kernel::deformation::{
     boundary_normals, boundary_normals_scratch_len, boundary_origin, boundary_rotations,
@@ -507,7 +507,6 @@ fn propagate_idw_for_dim<T: Real, const D: usize>(
 }
 
 /// `rotations` NULL with length 0 and `displacement` set: plain displacement TFI.
-#[allow(clippy::too_many_arguments)]
 fn propagate_tfi_for_dim<T: Real, const D: usize>(
     [ni, nj, nk]: [usize; 3],
     directions: u32,
@@ -528,7 +527,6 @@ fn propagate_tfi_for_dim<T: Real, const D: usize>(
     propagate_tfi(&block, directions, points, t, q, scratch).map_err(dk_status::from)
 }
 
-#[allow(clippy::too_many_arguments)]
 fn update_for_dim<T: Real, const D: usize>(
     origin: In<'_, T>,
     points: In<'_, T>,
@@ -592,7 +590,6 @@ fn spring_index_len<M: MotionC>(
     )
 }
 
-#[allow(clippy::too_many_arguments)]
 fn spring_for_dim<M: MotionC, const D: usize>(
     points: In<'_, M::T>,
     motion: In<'_, M>,
@@ -630,7 +627,6 @@ fn spring_for_dim<M: MotionC, const D: usize>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn propagate_spring_for_dim<T: Real, const D: usize>(
     system: Result<SystemIn<'_, T>, dk_status>,
     options: In<'_, dk_spring_solve_options>,

@@ -7,7 +7,7 @@
 //! allocation); the CSR graph the kernel writes
 //! (`offsets`, `targets`) is always 0-based, because callers hand it back to other `dk_`
 //! functions unchanged and never index it themselves.
-#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
+#![allow(unsafe_code)] // a parameter struct's arrays become `In`/`Out` tokens (`In::new`) here.
 
 use deform_kernel::{
     graph_from_cells, graph_from_cells_len, graph_from_edges, graph_from_edges_len, Cells, Graph,

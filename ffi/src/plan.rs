@@ -8,7 +8,7 @@
 //! `Plan::open` (header, layout and a checksum of every immutable part: one pass over the
 //! pools, 11 ms against a warm 234k-node step of 231–328 ms), so pools that were overwritten
 //! by mistake are a `DK_ERR_BAD_PLAN`, never a wrong mesh. Indices are 0-based.
-#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
+#![allow(unsafe_code)] // a parameter struct's arrays become `In`/`Out` tokens (`In::new`) here.
 
 use deform_kernel::deformation::RotationSource;
 use deform_kernel::plan::{

@@ -14,7 +14,6 @@
 //! `dk_quality_report`, `dk_wall_angle_change`) are in the same `index_base`, or
 //! `DK_NO_INDEX` (`SIZE_MAX`; Fortran reads −1) when there is none. Reports have `double`
 //! fields for both precisions (the `_f32` results are widened exactly).
-#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
 
 use deform_kernel::quality::{
     cell_measures, cell_quality, compare, folded_cells, inverted_cells, min_corner_jacobians,

@@ -3,7 +3,6 @@
 //! Quaternions are 4 scalars, scalar first `(w, x, y, z)`, as in Samareh's paper and in the
 //! kernel's `Quat` (`#[repr(C)]`). Vectors are 3 scalars, the plane points of
 //! `dk_quat_rotate_points_2d` 2.
-#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
 
 use deform_kernel::{Quat, QuatAverage, Real, Result as KernelResult};
 use deform_kernel_ffi_export::export;

@@ -19,7 +19,7 @@
 //! `_f32` functions round the options to `float` and widen the results exactly); the
 //! `*_options_default` functions have `_f32` twins because the default tolerance depends on
 //! the precision. Values updated in place are unchanged on any error.
-#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
+#![allow(unsafe_code)] // a parameter struct's arrays become `In`/`Out` tokens (`In::new`) here.
 
 use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
 use deform_kernel::slide::{fit_plane, plane_intersection, slide_points, Constraints};
@@ -962,7 +962,6 @@ fn solve_linear_sliding_for_dim<T: Real, const D: usize>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)] // the C function's arguments, one to one
 fn solve_angle_sliding_for_dim<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,

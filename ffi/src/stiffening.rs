@@ -8,7 +8,6 @@
 //! Wall nodes and cells are read in `index_base` 0 or 1; with 1 the 0-based copies go to the
 //! caller's `uint32_t` `index_scratch` (`wall_len`, or `cells->offsets_len + cells->nodes_len`
 //! entries).
-#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
 
 use deform_kernel::spring::{
     dual_volumes, inverse_volume_factors, scale_stiffness, wall_distance_factors, wall_distances,

@@ -19,7 +19,7 @@
 //! - Routines that update a caller buffer in place (`points`, `field`, `values`) validate
 //!   everything first: on any error the buffer and every output are unchanged. Scratch buffers
 //!   are work space: their contents after any call are unspecified.
-#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
+#![allow(unsafe_code)] // a parameter struct's arrays become `In`/`Out` tokens (`In::new`) here.
 
 use deform_kernel::taubin::{
     arclength, check_lines_increasing, graph_sweep, inverse_distance_weights, max_stretching,
@@ -310,7 +310,6 @@ fn smooth_arclength_for_dim<T: Real, const D: usize>(
 }
 
 /// The structured filter, on the fine grid only (`coarse` None) or with a coarse-grid pass.
-#[allow(clippy::too_many_arguments)]
 fn smooth_structured_t<T: Real>(
     [ni, nj, nk]: [usize; 3],
     coarse: Option<In<'_, dk_taubin_coarse>>,
@@ -344,7 +343,6 @@ fn smooth_structured_t<T: Real>(
     })())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn structured_sweep_t<T: Real>(
     ni: usize,
     nj: usize,
@@ -515,7 +513,6 @@ fn check_lines_for_dim<T: Real, const D: usize>(
         .map_err(dk_status::from)
 }
 
-#[allow(clippy::too_many_arguments)]
 // ---------------------------------------------------------------------------------------------
 // The C functions (`cargo xtask codegen` exports each, see ffi/README.md).
 // ---------------------------------------------------------------------------------------------

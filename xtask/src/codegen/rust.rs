@@ -31,6 +31,8 @@ pub(crate) fn module(m: &Module, all: &[Module], symbols: Symbols) -> String {
          #![allow(unsafe_code)] // the ABI boundary: raw pointers become `In`/`Out` tokens here\n\
          \n\
          // Its docs link C names: the safe functions there (private), the aliases here.\n\
+         // It opts in to `unsafe` itself, as the crate's lints ask.\n\
+         #[deny(unsafe_code)]\n\
          #[allow(rustdoc::private_intra_doc_links, rustdoc::broken_intra_doc_links)]\n\
          #[path = \"../src/{0}.rs\"]\n\
          mod imp;\n\
