@@ -7,7 +7,9 @@ use clap::{ArgGroup, Args, Parser, Subcommand, ValueEnum};
 /// Deform, smooth and check real mesh files (SU2, Plot3D, VTK) with deform-kernel.
 ///
 /// Exit status: 0 success, 1 bad input or failed run (nothing written), 2 bad command line,
-/// 3 feature not available yet in this build.
+/// 3 feature not available yet in this build, 4 the result would have cells that the input
+/// did not have inverted or folded (nothing written; `--allow-folds` writes it), 5 a solve did
+/// not converge (nothing written; `--allow-unconverged` writes it), 128 + N killed by signal N.
 #[derive(Debug, Parser)]
 #[command(name = "deform", version)]
 pub struct Cli {
@@ -35,6 +37,11 @@ pub enum Command {
     #[command(subcommand)]
     Mesh(MeshCommand),
     /// Move boundary markers of an SU2 mesh and deform the volume mesh to follow.
+    ///
+    /// Failure policy (the same as `smooth`): a result with cells that the input did not have
+    /// inverted or folded is not written (exit 4) unless --allow-folds, and a solve that stops
+    /// before converging is an error (exit 5) unless --allow-unconverged; with the flag the
+    /// output is written and the count or residual is reported (and warned about on stderr).
     Move(MoveArgs),
     /// Smooth a Plot3D grid along one grid direction (Alter's arclength Taubin smoothing).
     ///
@@ -46,8 +53,8 @@ pub enum Command {
     /// the arclength divided by each line's length is filtered (this reduces stretching).
     /// If a line folds (arclength stops increasing) or a cell flips (a corner Jacobian that
     /// was positive becomes ≤ 0) the run stops with an error naming the block, the line or
-    /// cell and the iteration, and nothing is written (--allow-folds writes flipped cells
-    /// anyway and reports them). Reports the largest stretching ratio and Alter's stretching
+    /// cell and the iteration, and nothing is written (exit 4, the policy `move` shares;
+    /// --allow-folds writes flipped cells anyway and reports them). Reports the largest stretching ratio and Alter's stretching
     /// measure ∇²S before and after.
     Smooth(SmoothArgs),
     /// Report mesh quality (signed measures, inverted and folded cells, area ratios).
@@ -186,6 +193,45 @@ pub enum FaceArg {
     Kmax,
 }
 
+/// Which blocks `--wall` moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WallBlocks {
+    /// A bare face: the only block of a single-block grid (refused on several blocks).
+    Unnamed,
+    /// Block N (1-based).
+    One(usize),
+    /// `all:FACE`: every block.
+    All,
+}
+
+/// `--wall [BLOCK:]FACE`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WallArg {
+    /// Which blocks.
+    pub blocks: WallBlocks,
+    /// Which face of them.
+    pub face: FaceArg,
+}
+
+fn parse_wall(s: &str) -> Result<WallArg, String> {
+    let (block, face) = match s.split_once(':') {
+        Some((b, f)) => (Some(b.trim()), f.trim()),
+        None => (None, s.trim()),
+    };
+    let face = FaceArg::from_str(face, true).map_err(|_| {
+        format!("{face:?} is not a face (imin, imax, jmin, jmax, kmin, kmax), in {s:?}")
+    })?;
+    let blocks = match block {
+        None => WallBlocks::Unnamed,
+        Some(b) if b.eq_ignore_ascii_case("all") => WallBlocks::All,
+        Some(b) => match b.parse::<usize>() {
+            Ok(n) if n >= 1 => WallBlocks::One(n),
+            _ => return Err(format!("{b:?} is not a block number (1, 2, …) or all")),
+        },
+    };
+    Ok(WallArg { blocks, face })
+}
+
 /// Spring stiffness (`--stiffness`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum StiffnessArg {
@@ -215,7 +261,7 @@ pub enum Solver {
 }
 
 /// `deform move`.
-#[derive(Debug, Args)]
+#[derive(Clone, Debug, Args)]
 #[command(group(ArgGroup::new("motion").required(true).args(["rotate", "translate", "displacements", "surface_positions", "motions"])))]
 pub struct MoveArgs {
     /// The SU2 mesh, or a Plot3D grid (with --method tfi|tfi-displacement and --wall).
@@ -230,10 +276,13 @@ pub struct MoveArgs {
     /// marker.
     #[arg(long = "slide", value_name = "MARKER")]
     pub slide: Vec<String>,
-    /// Plot3D grids: the block face that moves (in every block); the opposite face stays and
-    /// the points in between follow by transfinite interpolation along that direction.
-    #[arg(long, value_enum, value_name = "FACE")]
-    pub wall: Option<FaceArg>,
+    /// Plot3D grids: the block face that moves (imin, imax, jmin, jmax, kmin, kmax); the
+    /// opposite face stays and the points in between follow by transfinite interpolation along
+    /// that direction. A grid of several blocks needs the block, 1-based: `2:jmin` moves block
+    /// 2's jmin face and leaves the other blocks as they are (`all:jmin`: that face of every
+    /// block); a bare face is refused there rather than guessed.
+    #[arg(long, value_name = "[BLOCK:]FACE", value_parser = parse_wall)]
+    pub wall: Option<WallArg>,
     /// Rotate the markers by DEG degrees, counter-clockwise about the axis (right-hand rule).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     pub rotate: Option<f64>,
@@ -260,9 +309,11 @@ pub struct MoveArgs {
     /// move (no --marker); a node on two markers must get the same motion from both.
     #[arg(long, value_name = "FILE", conflicts_with = "markers")]
     pub motions: Option<PathBuf>,
-    /// Deformation method.
+    /// Deformation method. Default: the most robust one for a rigid motion, `quaternion` on
+    /// SU2 meshes (Samareh's quaternion method: a rotating wall keeps its boundary layer;
+    /// linear springs fold cells at a few degrees) and `tfi` (quaternion TFI) on Plot3D grids.
     #[arg(long, value_enum)]
-    pub method: Method,
+    pub method: Option<Method>,
     /// Linear solver (quaternion and spring). angle-direct: over-relaxed node-wise sweeps
     /// (SOR, omega from the mesh size, about 1.97 at 10k nodes) unless gs (plain
     /// Gauss–Seidel) or jacobi (Jacobi order) is asked for. angle-cg: amg preconditions CG
@@ -310,6 +361,14 @@ pub struct MoveArgs {
     /// small interpolated rotation turns far nodes about the rotation origin).
     #[arg(long, value_name = "DISTANCE")]
     pub reach: Option<f64>,
+    /// Write the result even if it has cells that the input did not have inverted or
+    /// folded, and report them (default: refuse with exit status 4, write nothing).
+    #[arg(long)]
+    pub allow_folds: bool,
+    /// Write the result even if a solve stopped before reaching --tol within --max-iter,
+    /// and report it (default: refuse with exit status 5, write nothing).
+    #[arg(long)]
+    pub allow_unconverged: bool,
     /// Output SU2 mesh.
     #[arg(long)]
     pub out: PathBuf,
@@ -321,6 +380,14 @@ pub struct MoveArgs {
     /// middle of the moved markers.
     #[arg(long)]
     pub plot: Option<PathBuf>,
+}
+
+impl MoveArgs {
+    /// `--method`, or the default for an SU2 mesh: the quaternion method (`deform move` on a
+    /// Plot3D grid fills in `tfi` before anything reads it).
+    pub fn method(&self) -> Method {
+        self.method.unwrap_or(Method::Quaternion)
+    }
 }
 
 /// Grid directions.
@@ -408,7 +475,8 @@ pub struct SmoothArgs {
     /// arclength S (smooths the grid). Line ends stay fixed in both modes.
     #[arg(long)]
     pub normalized: bool,
-    /// Write the result even if cells flip, and report them (default: refuse, write nothing).
+    /// Write the result even if cells flip, and report them (default: refuse with exit status
+    /// 4, write nothing).
     #[arg(long)]
     pub allow_folds: bool,
     /// Number of λ|μ iterations.
@@ -456,10 +524,12 @@ pub struct QualityArgs {
 /// `deform convert`.
 #[derive(Debug, Args)]
 pub struct ConvertArgs {
-    /// Input: .su2, or a Plot3D grid (.x, .xyz, .p3d, .g, .grd, .xy).
+    /// Input: .su2 (one or several zones), a Plot3D grid (.x, .xyz, .p3d, .g, .grd, .xy, or any
+    /// name), or CGNS (builds with the cgns feature; unstructured reads as SU2, structured as
+    /// Plot3D).
     pub input: PathBuf,
-    /// Output: .su2 or .vtu from SU2; Plot3D or .vts from Plot3D (one .vts per block, named
-    /// OUT_bN.vts, when there are several blocks).
+    /// Output: .su2, .vtu or .cgns from SU2; Plot3D, .vts or .cgns from Plot3D (one .vts per
+    /// block, named OUT_bN.vts, when there are several blocks).
     pub output: PathBuf,
     /// Input layout overrides (Plot3D).
     #[command(flatten)]
@@ -479,6 +549,11 @@ pub struct ConvertArgs {
     /// Write VTK data arrays as ASCII text instead of base64 binary.
     #[arg(long)]
     pub vtk_ascii: bool,
+    /// SU2 input: rewrite the valid cells listed clockwise (2D) or mirrored (3D) in the
+    /// SU2/VTK convention (counter-clockwise, right-handed; SU2 does the same when it reads
+    /// them). Folded cells are left as they are.
+    #[arg(long)]
+    pub reorient: bool,
 }
 
 /// A comma-separated list of 2 or 3 finite numbers from the command line.
@@ -528,4 +603,6 @@ pub enum InputFormat {
     Plot3d,
     /// VTK XML (.vtu/.vts): written by the tool, not read.
     Vtk,
+    /// CGNS (HDF5 or ADF; builds with the cgns feature): unstructured as SU2, structured as Plot3D.
+    Cgns,
 }

@@ -102,6 +102,26 @@ pub struct QualitySummary {
     /// Per cell: the signed measure changed sign against the reference.
     #[serde(skip)]
     pub inverted: Vec<bool>,
+    /// Per cell: folded (a corner against the cell's own reference orientation, or overlapping
+    /// a neighbour; see [`crate::validity`]).
+    #[serde(skip)]
+    pub folded: Vec<bool>,
+    /// Per cell: folded already in the reference mesh.
+    #[serde(skip)]
+    pub reference_folded: Vec<bool>,
+}
+
+impl QualitySummary {
+    /// Cells inverted or folded in this mesh that were valid in the reference: what the
+    /// failure policy of `move` and `smooth` refuses without `--allow-folds`.
+    pub fn new_failures(&self) -> usize {
+        (0..self.folded.len())
+            .filter(|&c| {
+                let bad = self.folded[c] || self.inverted.get(c).copied().unwrap_or(false);
+                bad && !self.reference_folded.get(c).copied().unwrap_or(false)
+            })
+            .count()
+    }
 }
 
 /// Computes the quality table. `wall` (boundary elements) is used only with a reference.
@@ -119,103 +139,224 @@ pub fn quality(
     }
 }
 
+/// Per-cell measure, smallest scaled and unscaled corner Jacobian, each relative to the cell's
+/// own orientation in the reference mesh (`negative[c]`: negated, exactly, by evaluating the
+/// cell on the points mirrored in `x`).
+struct Relative {
+    measure: Vec<f64>,
+    scaled: Vec<f64>,
+    corner: Vec<f64>,
+}
+
+fn relative<const D: usize>(
+    view: &Cells<'_>,
+    pts: &[[f64; D]],
+    negative: &[bool],
+) -> Result<Relative, CliError> {
+    use deform_kernel::quality::{cell_measures, min_corner_jacobians};
+    let eval = |p: &[[f64; D]]| -> Result<Relative, CliError> {
+        let mut r = Relative {
+            measure: vec![0.0; view.len()],
+            scaled: vec![0.0; view.len()],
+            corner: vec![0.0; view.len()],
+        };
+        cell_measures(view, p, &mut r.measure).map_err(kernel("quality"))?;
+        min_corner_jacobians(view, p, true, &mut r.scaled).map_err(kernel("quality"))?;
+        min_corner_jacobians(view, p, false, &mut r.corner).map_err(kernel("quality"))?;
+        Ok(r)
+    };
+    let mut out = eval(pts)?;
+    if negative.iter().any(|&n| n) {
+        let mirrored: Vec<[f64; D]> = pts
+            .iter()
+            .map(|p| {
+                let mut q = *p;
+                q[0] = -q[0];
+                q
+            })
+            .collect();
+        let m = eval(&mirrored)?;
+        for (c, _) in negative.iter().enumerate().filter(|(_, &n)| n) {
+            out.measure[c] = m.measure[c];
+            out.scaled[c] = m.scaled[c];
+            out.corner[c] = m.corner[c];
+        }
+    }
+    Ok(out)
+}
+
+/// The reference mesh seen cell by cell: each cell's own orientation, the cells that overlap a
+/// neighbour (see [`crate::validity`]), and the regions' orientation.
+struct Reference {
+    /// Per cell: negative signed measure in the reference (listed clockwise / mirrored).
+    negative: Vec<bool>,
+    /// Per cell: overlaps a neighbour and is blamed for it.
+    overlap: Vec<bool>,
+    /// The reference measured relative to each cell's own orientation.
+    rel: Relative,
+    orientation: Orientation,
+}
+
+fn reference_cells<const D: usize>(
+    cells: &CellList,
+    view: &Cells<'_>,
+    undeformed: &[[f64; D]],
+) -> Result<Reference, CliError> {
+    let mut measure = vec![0.0; view.len()];
+    deform_kernel::quality::cell_measures(view, undeformed, &mut measure)
+        .map_err(kernel("quality"))?;
+    let negative: Vec<bool> = measure.iter().map(|&m| m < 0.0).collect();
+    let orientation = Orientation::of(cells, undeformed.len(), &measure);
+    let rel = relative(view, undeformed, &negative)?;
+    // The outward direction is known only for cells whose corners agree and whose measure is
+    // not 0.
+    let sense: Vec<i8> = measure
+        .iter()
+        .zip(&rel.corner)
+        .map(|(&m, &j)| {
+            if j < 0.0 || m == 0.0 {
+                0
+            } else if m > 0.0 {
+                1
+            } else {
+                -1
+            }
+        })
+        .collect();
+    let against = orientation.against(cells, &measure);
+    let overlap = crate::validity::overlapping(cells, &sense, &against);
+    Ok(Reference {
+        negative,
+        overlap,
+        rel,
+        orientation,
+    })
+}
+
+/// Per cell: valid but listed clockwise (2D) or mirrored (3D), against the SU2/VTK convention
+/// (what `deform convert --reorient` rewrites).
+pub fn reversed_cells(
+    dim: usize,
+    cells: &CellList,
+    points: &[[f64; 3]],
+) -> Result<Vec<bool>, CliError> {
+    fn run<const D: usize>(cells: &CellList, points: &[[f64; 3]]) -> Result<Vec<bool>, CliError> {
+        let view = cells_view(cells, points.len())?;
+        let r = reference_cells(cells, &view, &points_d::<D>(points))?;
+        Ok((0..view.len())
+            .map(|c| r.negative[c] && !(r.rel.corner[c] < 0.0 || r.overlap[c]))
+            .collect())
+    }
+    match dim {
+        2 => run::<2>(cells, points),
+        3 => run::<3>(cells, points),
+        _ => Err(CliError::Invalid(format!("dimension {dim} is not 2 or 3"))),
+    }
+}
+
+/// Per cell: the measure ratio after/before (0/0 gives NaN) and whether the sign changed.
+fn ratios_and_inversions(before: &[f64], after: &[f64]) -> (Vec<f64>, Vec<bool>) {
+    before
+        .iter()
+        .zip(after)
+        .map(|(&b, &a)| (a / b, (b > 0.0 && a <= 0.0) || (b < 0.0 && a >= 0.0)))
+        .unzip()
+}
+
+/// The kernel's comparison, with the wall-angle change when `wall` is given.
+fn compare_with_wall<const D: usize>(
+    view: &Cells<'_>,
+    undeformed: &[[f64; D]],
+    deformed: &[[f64; D]],
+    wall: Option<&CellList>,
+) -> Result<deform_kernel::quality::QualityReport<f64>, CliError> {
+    use deform_kernel::quality::{compare, wall_angle_scratch_len, Wall};
+    let n = undeformed.len();
+    let graph;
+    let wall_view;
+    let wall_obj = match wall {
+        Some(w) => {
+            graph = edge_graph(view, false)?;
+            wall_view = cells_view(w, n)?;
+            Some(Wall::new(wall_view, graph.view()?).map_err(kernel("wall"))?)
+        }
+        None => None,
+    };
+    let scratch_len = wall_obj.as_ref().map_or(0, |_| wall_angle_scratch_len(n));
+    let mut scratch = vec![[0.0; D]; scratch_len];
+    compare(view, undeformed, deformed, wall_obj.as_ref(), &mut scratch).map_err(kernel("quality"))
+}
+
 fn quality_d<const D: usize>(
     cells: &CellList,
     points: &[[f64; 3]],
     reference: Option<&[[f64; 3]]>,
     wall: Option<&CellList>,
 ) -> Result<QualitySummary, CliError> {
-    use deform_kernel::quality::{
-        cell_measures, compare, min_corner_jacobians, wall_angle_scratch_len, Wall,
-    };
     let n = points.len();
     let view = cells_view(cells, n)?;
-    let input_undeformed = match reference {
-        Some(r) => {
-            if r.len() != n {
-                return Err(CliError::Invalid(format!(
-                    "the reference has {} points, the mesh {n}",
-                    r.len()
-                )));
-            }
-            points_d::<D>(r)
-        }
-        None => points_d::<D>(points),
-    };
-    // Orientation from the reference mesh; everything below is measured on canonical
-    // coordinates (negative regions mirrored exactly), i.e. relative to each region.
-    let mut reference_measure = vec![0.0; view.len()];
-    cell_measures(&view, &input_undeformed, &mut reference_measure).map_err(kernel("quality"))?;
-    let orientation = Orientation::of(cells, n, &reference_measure);
-    let undeformed = orientation.canonical(&input_undeformed);
-    let pts = orientation.canonical(&points_d::<D>(points));
-    let mut measure = vec![0.0; view.len()];
-    cell_measures(&view, &pts, &mut measure).map_err(kernel("quality"))?;
-    let mut scaled = vec![0.0; view.len()];
-    min_corner_jacobians(&view, &pts, true, &mut scaled).map_err(kernel("quality"))?;
-    let mut corner = vec![0.0; view.len()];
-    min_corner_jacobians(&view, &pts, false, &mut corner).map_err(kernel("quality"))?;
-    let folded_cells = corner.iter().filter(|&&j| j < 0.0).count();
-    let degenerate_cells = corner.iter().filter(|&&j| j == 0.0).count();
-    let graph;
-    let wall_view;
-    let wall_obj = match (reference, wall) {
-        (Some(_), Some(w)) if !w.is_empty() => {
-            graph = edge_graph(&view, false)?;
-            wall_view = cells_view(w, n)?;
-            Some(Wall::new(wall_view, graph.view()?).map_err(kernel("wall"))?)
-        }
-        _ => None,
-    };
-    let mut scratch = vec![
-        [0.0; D];
-        if wall_obj.is_some() {
-            wall_angle_scratch_len(n)
-        } else {
-            0
-        }
-    ];
-    let r = compare(&view, &undeformed, &pts, wall_obj.as_ref(), &mut scratch)
-        .map_err(kernel("quality"))?;
+    if let Some(r) = reference.filter(|r| r.len() != n) {
+        return Err(CliError::Invalid(format!(
+            "the reference has {} points, the mesh {n}",
+            r.len()
+        )));
+    }
+    let input_undeformed = points_d::<D>(reference.unwrap_or(points));
+    let input_deformed = points_d::<D>(points);
+    let base = reference_cells(cells, &view, &input_undeformed)?;
+    let rel = relative(&view, &input_deformed, &base.negative)?;
+    // Ratios, inversions and wall angles on canonical coordinates (negative regions mirrored):
+    // the same numbers as on the input's, angles measured the same way in every region.
+    let undeformed = base.orientation.canonical(&input_undeformed);
+    let pts = base.orientation.canonical(&input_deformed);
+    let wall = wall.filter(|w| reference.is_some() && !w.is_empty());
+    let r = compare_with_wall(&view, &undeformed, &pts, wall)?;
     let has_ref = reference.is_some();
-    let (ratio, inverted) = if has_ref {
-        let mut before = vec![0.0; view.len()];
-        cell_measures(&view, &undeformed, &mut before).map_err(kernel("quality"))?;
-        let ratio = before.iter().zip(&measure).map(|(b, a)| a / b).collect();
-        let inv = before
+    let folded_in = |corner: &[f64]| -> Vec<bool> {
+        corner
             .iter()
-            .zip(&measure)
-            .map(|(&b, &a)| (b > 0.0 && a <= 0.0) || (b < 0.0 && a >= 0.0))
-            .collect();
-        (ratio, inv)
+            .zip(&base.overlap)
+            .map(|(&j, &o)| j < 0.0 || o)
+            .collect()
+    };
+    let reference_folded = folded_in(&base.rel.corner);
+    let folded = folded_in(&rel.corner);
+    let mut orientation = base.orientation.summary.clone();
+    orientation.cells_listed_reversed = base
+        .negative
+        .iter()
+        .zip(&reference_folded)
+        .filter(|(&neg, &f)| neg && !f)
+        .count();
+    let (ratio, inverted) = if has_ref {
+        ratios_and_inversions(&base.rel.measure, &rel.measure)
     } else {
         (Vec::new(), Vec::new())
     };
-    let finite = |x: f64| if x.is_finite() { Some(x) } else { None };
+    let finite = |x: f64| has_ref.then_some(x).filter(|x| x.is_finite());
+    let min = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
     Ok(QualitySummary {
         cells: r.cells,
         inverted_cells: has_ref.then_some(r.inverted_cells),
-        folded_cells,
-        degenerate_cells,
-        orientation: orientation.summary,
-        nonpositive_cells: measure.iter().filter(|&&m| m <= 0.0).count(),
-        min_measure: r.min_measure,
-        min_scaled_jacobian: r.min_scaled_jacobian,
-        min_area_ratio: if has_ref {
-            finite(r.min_measure_ratio)
-        } else {
-            None
-        },
-        max_area_ratio: if has_ref {
-            finite(r.max_measure_ratio)
-        } else {
-            None
-        },
+        folded_cells: folded.iter().filter(|&&f| f).count(),
+        degenerate_cells: folded
+            .iter()
+            .zip(&rel.corner)
+            .filter(|(&f, &j)| !f && j == 0.0)
+            .count(),
+        orientation,
+        nonpositive_cells: rel.measure.iter().filter(|&&m| m <= 0.0).count(),
+        min_measure: min(&rel.measure),
+        min_scaled_jacobian: min(&rel.scaled),
+        min_area_ratio: finite(r.min_measure_ratio),
+        max_area_ratio: finite(r.max_measure_ratio),
         max_wall_angle_change_deg: r.wall.map(|w| w.max_change.to_degrees()),
-        measure,
-        scaled_jacobian: scaled,
+        measure: rel.measure,
+        scaled_jacobian: rel.scaled,
         ratio,
         inverted,
+        folded,
+        reference_folded,
     })
 }
 
@@ -289,24 +430,7 @@ pub fn structured_cells(dims: [usize; 3], points: &[[f64; 3]], dim: usize) -> Ce
     cells
 }
 
-/// How the moved markers move.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Motion {
-    /// Rigid rotation by `degrees` (counter-clockwise, right-hand rule) about `axis` through
-    /// `center` (default: centroid of the moved nodes).
-    Rotate {
-        /// Angle in degrees.
-        degrees: f64,
-        /// Axis (need not be unit length).
-        axis: [f64; 3],
-        /// Centre of rotation.
-        center: Option<[f64; 3]>,
-    },
-    /// Rigid translation.
-    Translate([f64; 3]),
-    /// Prescribed displacement per node (other moved nodes stay put).
-    Field(Vec<(u32, [f64; 3])>),
-}
+pub use crate::motion::Motion;
 
 /// The propagation method.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -1417,22 +1541,6 @@ pub struct Face {
     pub max: bool,
 }
 
-/// A rigid motion of a wall face.
-#[derive(Clone, Copy, Debug)]
-pub enum RigidMotion {
-    /// Rotate by `degrees` about `axis` through `center` (default: the wall's centroid).
-    Rotate {
-        /// Angle, degrees, right-hand rule.
-        degrees: f64,
-        /// Axis (z in 2D).
-        axis: [f64; 3],
-        /// Centre.
-        center: Option<[f64; 3]>,
-    },
-    /// Translate by this vector.
-    Translate([f64; 3]),
-}
-
 /// Transfinite interpolation on a structured block: the `wall` face moves rigidly, the
 /// opposite face stays, and the interior follows along the wall's direction, either with
 /// Samareh's quaternion TFI (`quaternion`: rotations blended, rigid motion reproduced) or
@@ -1442,7 +1550,7 @@ pub fn tfi_block(
     dims: [usize; 3],
     points: &[[f64; 3]],
     wall: Face,
-    motion: RigidMotion,
+    motion: &Motion,
     quaternion: bool,
 ) -> Result<Vec<[f64; 3]>, CliError> {
     match dim {
@@ -1456,7 +1564,7 @@ fn tfi_d<const D: usize>(
     dims: [usize; 3],
     points: &[[f64; 3]],
     wall: Face,
-    motion: RigidMotion,
+    motion: &Motion,
     quaternion: bool,
 ) -> Result<Vec<[f64; 3]>, CliError> {
     use deform_kernel::deformation::{
@@ -1490,7 +1598,7 @@ fn tfi_d<const D: usize>(
         c.map(|s| s / wall_nodes.len().max(1) as f64)
     };
     let (q, shift, center) = match motion {
-        RigidMotion::Rotate {
+        &Motion::Rotate {
             degrees,
             axis,
             center,
@@ -1499,7 +1607,12 @@ fn tfi_d<const D: usize>(
                 Quat::from_axis_angle(axis, degrees.to_radians()).map_err(kernel("rotation"))?;
             (q, [0.0; 3], center.unwrap_or(centroid))
         }
-        RigidMotion::Translate(t) => (Quat::identity(), t, centroid),
+        &Motion::Translate(t) => (Quat::identity(), t, centroid),
+        Motion::Field(_) => {
+            return Err(CliError::Invalid(
+                "a Plot3D wall moves rigidly: --rotate DEG or --translate DX,DY[,DZ]".into(),
+            ))
+        }
     };
     let moved = |p: [f64; 3]| -> [f64; D] {
         let r = q.rotate([p[0] - center[0], p[1] - center[1], p[2] - center[2]]);

@@ -42,6 +42,12 @@ pub enum CliError {
         /// How much is needed and available.
         message: String,
     },
+    /// The output would have cells that the input did not have inverted or folded; nothing
+    /// was written (`--allow-folds` writes it and reports them). Exit status 4.
+    Folded(String),
+    /// A solve stopped before it converged; nothing was written (`--allow-unconverged` writes
+    /// the result and reports it). Exit status 5.
+    Unconverged(String),
     /// This build does not have what the command needs yet.
     NotAvailable {
         /// The command or option.
@@ -74,11 +80,24 @@ impl CliError {
         }
     }
 
-    /// The process exit status: 3 for [`CliError::NotAvailable`], 1 otherwise (clap uses 2 for
-    /// a bad command line).
+    /// The process exit status: 3 for [`CliError::NotAvailable`] and for a file format feature
+    /// the reader does not support, 4 for [`CliError::Folded`], 5 for
+    /// [`CliError::Unconverged`], 1 otherwise (clap uses 2 for a bad command line, signals
+    /// 128 + the signal number).
     pub fn exit_code(&self) -> i32 {
         match self {
             CliError::NotAvailable { .. } => 3,
+            // A valid feature of the file format that the reader does not support.
+            CliError::Read { source, .. }
+                if matches!(
+                    source.kind,
+                    crate::formats::FormatErrorKind::Unsupported { .. }
+                ) =>
+            {
+                3
+            }
+            CliError::Folded(_) => 4,
+            CliError::Unconverged(_) => 5,
             _ => 1,
         }
     }
@@ -89,7 +108,9 @@ impl fmt::Display for CliError {
         match self {
             CliError::Read { path, source } => write!(f, "{}: {source}", path.display()),
             CliError::Io { path, source } => write!(f, "{}: {source}", path.display()),
-            CliError::Invalid(m) => write!(f, "{m}"),
+            CliError::Invalid(m) | CliError::Folded(m) | CliError::Unconverged(m) => {
+                write!(f, "{m}")
+            }
             CliError::Kernel { context, source } => write!(f, "kernel: {context}: {source}"),
             CliError::TooLarge { path, message } => write!(f, "{}: {message}", path.display()),
             CliError::NotAvailable { feature, needs } => {

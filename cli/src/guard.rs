@@ -177,3 +177,13 @@ pub fn move_estimate(nodes: usize, cell_nodes: usize) -> u64 {
         .saturating_mul(800)
         .saturating_add((cell_nodes as u64).saturating_mul(48))
 }
+
+/// Estimated peak bytes of `deform mesh` for `nodes` points (the product of the requested
+/// sizes, saturating): the generator's points and cells, the SU2 copy and the output buffer
+/// take under 400 bytes a node on the hexahedral blocks (3D, 8 cell nodes a node).
+pub fn mesh_estimate(sizes: &[usize]) -> u64 {
+    sizes
+        .iter()
+        .fold(1u64, |n, &s| n.saturating_mul(s as u64))
+        .saturating_mul(400)
+}

@@ -20,12 +20,14 @@ pub mod error;
 pub mod files;
 pub mod formats;
 pub mod guard;
+pub mod motion;
 pub mod orientation;
 pub mod output;
 pub mod plot;
 pub mod progress;
 pub mod report;
 pub mod split;
+pub mod validity;
 
 pub use formats::plot3d::parse_plot3d;
 pub use formats::su2::parse_su2;

@@ -1,17 +1,18 @@
-//! Mesh orientation: which way each connected region of a mesh turns, so that folds are counted
-//! relative to it.
+//! Mesh orientation: which way each connected region of a mesh turns.
 //!
 //! A mesh whose cells are all clockwise (2D) or left-handed (3D) is as valid as a
-//! counter-clockwise one: SU2 accepts both. A cell is *folded* only when it turns against the
-//! orientation of its own region, never merely because the whole region turns the other way.
+//! counter-clockwise one, and so is a mesh with some cells listed the other way: SU2 accepts
+//! both and reorders such cells one by one. Folds are decided per cell from the geometry
+//! ([`crate::validity`]), and every cell is measured relative to its own orientation in the
+//! reference mesh; the regions found here say which way a mesh turns (for reports) and which of
+//! two overlapping cells to blame.
 //!
 //! Regions are the connected components of the cells (two cells are connected when they share a
 //! node). A region's orientation is the sign that most of its cells' signed measures have in the
-//! reference mesh (ties and all-zero regions count as positive). Quality is then measured on
-//! *canonical* coordinates: the points of negative regions mirrored in `x` (`x → −x`).
-//! Mirroring is exact in floating point (every signed area, volume and corner Jacobian is negated
-//! bit for bit, every length and angle is unchanged), so counting on canonical coordinates is
-//! the same as counting relative to each region's orientation.
+//! reference mesh (ties and all-zero regions count as positive). *Canonical* coordinates mirror
+//! the points of negative regions in `x` (`x → −x`); mirroring is exact in floating point (every
+//! signed area, volume and corner Jacobian is negated bit for bit, every length and angle is
+//! unchanged).
 
 use serde::Serialize;
 
@@ -36,9 +37,12 @@ pub struct OrientationSummary {
     pub positive_regions: usize,
     /// Regions whose cells are clockwise / left-handed.
     pub negative_regions: usize,
-    /// Cells whose reference measure has the sign opposite to their region's (folded already in
-    /// the reference mesh).
+    /// Cells whose reference measure has the sign opposite to their region's majority (listed
+    /// the other way; folded only if their geometry is, see [`crate::validity`]).
     pub cells_against_region: usize,
+    /// Valid cells listed clockwise (2D) or mirrored (3D), i.e. against the SU2/VTK convention:
+    /// SU2 reorders them, `deform convert --reorient` rewrites them.
+    pub cells_listed_reversed: usize,
 }
 
 impl OrientationSummary {
@@ -54,6 +58,16 @@ impl OrientationSummary {
             (_, 0) => pos.to_string(),
             (0, _) => neg.to_string(),
             (p, n) => format!("mixed ({p} regions {pos}, {n} {neg})"),
+        }
+    }
+
+    /// `"listed clockwise"` (2D) or `"listed left-handed"` (3D, mirrored): the words for
+    /// [`OrientationSummary::cells_listed_reversed`].
+    pub fn reversed_words(dim: usize) -> &'static str {
+        if dim == 3 {
+            "listed left-handed"
+        } else {
+            "listed clockwise"
         }
     }
 }
@@ -122,6 +136,20 @@ impl Orientation {
             *m = n > p;
         }
         Orientation { mirrored, summary }
+    }
+
+    /// Per cell: its reference `measures[c]` has the sign opposite to its region's majority.
+    pub fn against(&self, cells: &CellList, measures: &[f64]) -> Vec<bool> {
+        (0..cells.len())
+            .map(|c| {
+                let m = measures.get(c).copied().unwrap_or(0.0);
+                match cell_nodes(cells, c).first() {
+                    Some(&n) if self.sense(n as usize) == Sense::Negative => m > 0.0,
+                    Some(_) => m < 0.0,
+                    None => false,
+                }
+            })
+            .collect()
     }
 
     /// The orientation of the region that `point` lies in.

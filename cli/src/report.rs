@@ -62,6 +62,25 @@ pub(crate) fn write_picture(
         .map_err(io_err(path))
 }
 
+/// In 3D the measure ratios of a JSON report are volume ratios: renames its top-level
+/// `min_area_ratio`/`max_area_ratio` to `min_volume_ratio`/`max_volume_ratio` (the 2D names
+/// stay; the 3D report does not keep the old ones).
+pub(crate) fn volume_words(mut json: serde_json::Value, dim: usize) -> serde_json::Value {
+    if dim == 3 {
+        if let Some(map) = json.as_object_mut() {
+            for (old, new) in [
+                ("min_area_ratio", "min_volume_ratio"),
+                ("max_area_ratio", "max_volume_ratio"),
+            ] {
+                if let Some(v) = map.remove(old) {
+                    map.insert(new.to_string(), v);
+                }
+            }
+        }
+    }
+    json
+}
+
 pub(crate) fn add_summary(total: &mut Option<QualitySummary>, s: QualitySummary) {
     let Some(t) = total.as_mut() else {
         *total = Some(s);
@@ -90,6 +109,13 @@ pub(crate) fn add_summary(total: &mut Option<QualitySummary>, s: QualitySummary)
     t.orientation.positive_regions += s.orientation.positive_regions;
     t.orientation.negative_regions += s.orientation.negative_regions;
     t.orientation.cells_against_region += s.orientation.cells_against_region;
+    t.orientation.cells_listed_reversed += s.orientation.cells_listed_reversed;
+    t.measure.extend(&s.measure);
+    t.scaled_jacobian.extend(&s.scaled_jacobian);
+    t.ratio.extend(&s.ratio);
+    t.inverted.extend(&s.inverted);
+    t.folded.extend(&s.folded);
+    t.reference_folded.extend(&s.reference_folded);
     t.min_measure = t.min_measure.min(s.min_measure);
     t.min_scaled_jacobian = t.min_scaled_jacobian.min(s.min_scaled_jacobian);
     t.min_area_ratio = min_opt(t.min_area_ratio, s.min_area_ratio);

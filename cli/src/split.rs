@@ -39,13 +39,13 @@ pub trait Splitter: std::fmt::Debug {
                 self.size()
             )))
         };
-        if matches!(a.method, Method::AngleDirect | Method::AngleCg) {
+        if matches!(a.method(), Method::AngleDirect | Method::AngleCg) {
             return refuse("the angle-spring methods are not split across processes yet");
         }
         if !a.slide.is_empty() {
             return refuse("--slide solves are not split across processes yet");
         }
-        let springs = matches!(a.method, Method::Spring | Method::Quaternion);
+        let springs = matches!(a.method(), Method::Spring | Method::Quaternion);
         if springs && matches!(a.solver, Solver::Gs | Solver::CgSsor | Solver::Jacobi) {
             return refuse(
                 "--solver gs, cg-ssor and jacobi are not split across processes (use amg or cg)",

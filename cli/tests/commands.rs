@@ -164,8 +164,19 @@ fn move_every_method() {
         let r = json(
             &d,
             &[
-                "move", "m.su2", "--marker", "airfoil", "--rotate", "5", "--center", "0.25,0",
-                "--method", method, "--out", &out,
+                "move",
+                "m.su2",
+                "--marker",
+                "airfoil",
+                "--rotate",
+                "5",
+                "--center",
+                "0.25,0",
+                "--method",
+                method,
+                "--out",
+                &out,
+                "--allow-folds",
             ],
         );
         for key in [
@@ -224,8 +235,21 @@ fn move_every_method() {
     let s = json(
         &d,
         &[
-            "move", "m.su2", "--marker", "airfoil", "--rotate", "20", "--center", "0.25,0",
-            "--method", "spring", "--out", "s20.su2", "--plot", "s20.png",
+            "move",
+            "m.su2",
+            "--marker",
+            "airfoil",
+            "--rotate",
+            "20",
+            "--center",
+            "0.25,0",
+            "--method",
+            "spring",
+            "--out",
+            "s20.su2",
+            "--plot",
+            "s20.png",
+            "--allow-folds",
         ],
     );
     let qa = q["max_wall_angle_change_deg"].as_f64().expect("angle");
@@ -280,30 +304,33 @@ fn move_translate_displacements_and_non_convergence() {
             "quaternion",
             "--out",
             "d.su2",
+            "--allow-folds",
         ],
     );
     assert_eq!(r["converged"], true);
-    // Not converging is reported (JSON and a warning), and the result is still written.
-    let o = deform(
-        &d,
-        &[
-            "--json",
-            "move",
-            "m.su2",
-            "--marker",
-            "airfoil",
-            "--rotate",
-            "5",
-            "--method",
-            "spring",
-            "--solver",
-            "jacobi",
-            "--max-iter",
-            "3",
-            "--out",
-            "j.su2",
-        ],
-    );
+    // Not converging is an error (exit 5, nothing written) …
+    let unconverged = [
+        "--json",
+        "move",
+        "m.su2",
+        "--marker",
+        "airfoil",
+        "--rotate",
+        "5",
+        "--method",
+        "spring",
+        "--solver",
+        "jacobi",
+        "--max-iter",
+        "3",
+        "--out",
+        "j.su2",
+    ];
+    common::deform_refused(&d, &unconverged, 5, "did not converge", "j.su2");
+    // … unless --allow-unconverged: reported (JSON and a warning), and the result written.
+    let mut allowed = unconverged.to_vec();
+    allowed.extend(["--allow-unconverged", "--allow-folds"]);
+    let o = deform(&d, &allowed);
     assert_eq!(o.status.code(), Some(0));
     let v: Value = serde_json::from_slice(&o.stdout).expect("JSON");
     assert_eq!(v["converged"], false);
@@ -554,6 +581,7 @@ fn angle_direct_reports_non_convergence() {
             "20",
             "--out",
             "a.su2",
+            "--allow-unconverged",
         ],
     );
     assert_eq!(o.status.code(), Some(0));
@@ -599,7 +627,16 @@ fn angle_direct_over_relaxation_converges_where_gauss_seidel_does_not() {
     let sor = run(&["--method", "angle-direct"], "sor.su2");
     assert_eq!(sor["solver"], "sor 1.858"); // 2 / (1 + 1.5 / √384)
     assert_eq!(sor["converged"], true, "{sor}");
-    let gs = run(&["--method", "angle-direct", "--solver", "gs"], "gs.su2");
+    let gs = run(
+        &[
+            "--method",
+            "angle-direct",
+            "--solver",
+            "gs",
+            "--allow-unconverged",
+        ],
+        "gs.su2",
+    );
     assert_eq!(gs["solver"], "gs");
     assert_eq!(gs["converged"], false, "{gs}");
     assert!(sor["iterations"].as_u64() < gs["iterations"].as_u64());

@@ -199,3 +199,38 @@ fn a_mesh_too_large_for_the_memory_is_refused_with_what_it_needs() {
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(err.contains("reading this file needs about"), "{err}");
 }
+
+/// `deform mesh` with sizes that do not fit in the memory available is refused with what it
+/// needs before anything is allocated (it aborted with a backtrace when an allocation
+/// failed), and writes nothing. The limit is set low so that the unfixed tool would just
+/// generate these meshes (and fail the test) instead of exhausting the machine.
+#[test]
+fn a_generated_mesh_too_large_for_the_memory_is_refused() {
+    let d = tmp_dir("safety-mesh-memory");
+    for args in [
+        &["mesh", "block", "--dims", "100,100,20", "--out", "b.vts"][..],
+        &[
+            "mesh",
+            "naca",
+            "--kind",
+            "viscous",
+            "--surface-points",
+            "400",
+            "--radial-points",
+            "400",
+            "--out",
+            "b.su2",
+        ][..],
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_deform"))
+            .current_dir(&d)
+            .env("DEFORM_MEMORY_LIMIT", "10000000")
+            .args(args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
+        assert!(err.contains("generating this mesh needs about"), "{err}");
+    }
+    assert_eq!(std::fs::read_dir(&d).unwrap().count(), 0);
+}

@@ -314,8 +314,8 @@ fn cli_slide_on_the_sphere_slice() {
     );
     assert_eq!(code, Some(0), "{err}");
     let (rp, rs) = (
-        pinned["min_area_ratio"].as_f64().unwrap(),
-        slid["min_area_ratio"].as_f64().unwrap(),
+        pinned["min_volume_ratio"].as_f64().unwrap(),
+        slid["min_volume_ratio"].as_f64().unwrap(),
     );
     eprintln!("deform move --method spring: min volume ratio pinned {rp:.4}, sliding {rs:.4}");
     assert!(rs > rp + 0.3, "sliding {rs}, pinned {rp}");

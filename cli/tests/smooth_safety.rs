@@ -129,7 +129,8 @@ fn flipped_cells_are_refused_or_written_and_counted() {
     refuse.extend(["--out", "out.xy"]);
     let o = deform(&d, &refuse);
     let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
+    // Exit 4: the failure policy `move` shares (issue 31 item 5).
+    assert_eq!(o.status.code(), Some(4), "{err}");
     for needle in [
         "block 1",
         "flips",

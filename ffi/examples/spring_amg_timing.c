@@ -10,7 +10,7 @@
  * 1e-8. Prints the pool-size query's time (the multigrid symbolic pass), then iterations and
  * wall time of dk_spring_solve_linear_amg (hierarchy setup included) against
  * dk_spring_solve_linear (CG + Jacobi), and of dk_spring_solve_angle_amg against
- * dk_spring_solve_angle (block-Jacobi CG), epsilon 0.1. host-tests/tests/c_abi_solvers.rs
+ * dk_spring_solve_angle (block-Jacobi CG), epsilon 0.1. host-tests/tests/ffi/c_abi_solvers.rs
  * builds and runs it at the default size. */
 #define _POSIX_C_SOURCE 199309L
 #include <stdint.h>

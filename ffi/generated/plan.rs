@@ -79,7 +79,9 @@ pub unsafe extern "C" fn dk_plan_options_default_f32(out: *mut dk_plan_options) 
 ///   options).
 ///
 /// Errors (nothing written): `DK_ERR_INVALID_PARAMETER` (`dim`, an unknown method or solver
-/// code), graph, cell, length and pointer errors.
+/// code, an empty boundary), graph, cell, length (`points` not `N * dim` scalars, a given
+/// `stiffness` not one per directed edge) and pointer errors, as [`dk_plan_pool_sizes`]
+/// reports them.
 ///
 /// # Safety
 /// Inputs readable for their lengths; `options` and `sizes_out` point to one struct each.
@@ -291,7 +293,7 @@ pub unsafe extern "C" fn dk_plan_open_f32(
 ///
 /// - `deformed`: the new position of each of the `B` boundary points, in the plan's boundary
 ///   order (`B * dim` scalars), reproduced exactly in `out`;
-/// - `rotation_source` (quaternion method; ignored by the spring method):
+/// - `rotation_source` (quaternion method; the spring method ignores it and `rotations`):
 ///   `DK_ROTATIONS_SHAPE` (from the plan's elements; `rotations` NULL with length 0),
 ///   `DK_ROTATIONS_RIGID` (`rotations`: one quaternion, 4 scalars `w x y z`) or
 ///   `DK_ROTATIONS_PER_NODE` (`rotations`: `4 B` scalars);
@@ -302,8 +304,8 @@ pub unsafe extern "C" fn dk_plan_open_f32(
 ///
 /// Errors (checked before `out` or the plan is written): `DK_ERR_BAD_PLAN`, length and
 /// pointer errors, `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero rotation),
-/// `DK_ERR_INVALID_PARAMETER` (`dim`, `rotation_source`, `start`, shape rotations without
-/// elements), the boundary rotations' and the solver's errors. On error `out`, the stored
+/// `DK_ERR_INVALID_PARAMETER` (`dim`, `rotation_source` of a quaternion plan, `start`, shape
+/// rotations without elements), the boundary rotations' and the solver's errors. On error `out`, the stored
 /// solutions and the step count are unchanged.
 ///
 /// # Safety

@@ -244,8 +244,13 @@ impl<'a, T: Real> SpecArgs<'a, T> {
     /// The kernel's spec (borrowing the caller's arrays; everything is copied at init).
     fn spec<const D: usize>(&self) -> Result<PlanSpec<'a, T, D>, dk_status> {
         let o = read_one(self.options)?;
-        let points = read_points::<T, D>(self.points)?;
         let graph = self.graph.graph()?;
+        // The length first: a points length that no graph of this size can have is refused
+        // before the pointer is borrowed for it.
+        if Some(self.points.len()) != graph.node_count().checked_mul(D) {
+            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+        }
+        let points = read_points::<T, D>(self.points)?;
         let boundary = input(self.boundary)?;
         let (elements, _) = self.elements.optional_cells(boundary.len(), 0, &mut [])?;
         let method = match o.method {
@@ -283,7 +288,8 @@ fn work_sizes_for_dim<T: Real, const D: usize>(
     out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
     let s = spec.spec::<D>()?;
-    write_one(out, Plan::<T, D>::work_sizes(&s).into())
+    let sizes = Plan::<T, D>::work_sizes(&s).map_err(dk_status::from)?;
+    write_one(out, sizes.into())
 }
 
 fn sizes_for_dim<T: Real, const D: usize>(
@@ -332,11 +338,17 @@ pub(crate) struct MotionArgs<'a, T> {
 }
 
 impl<'a, T: Real> MotionArgs<'a, T> {
-    fn motion<const D: usize>(self) -> Result<PlanMotion<'a, T, D>, dk_status> {
+    /// The kernel's motion; `rotation_source` and `rotations` are read only for the
+    /// quaternion method (the spring method ignores them, as documented).
+    fn motion<const D: usize>(self, method: PlanMethod) -> Result<PlanMotion<'a, T, D>, dk_status> {
         let deformed = read_points::<T, D>(self.deformed)?;
-        let rotations = match self.rotation_source {
+        let source = match method {
+            PlanMethod::Spring => crate::deformation::DK_ROTATIONS_SHAPE,
+            PlanMethod::QuaternionSpring => self.rotation_source,
+        };
+        let rotations = match source {
             crate::deformation::DK_ROTATIONS_SHAPE => {
-                if self.rotations.len() != 0 {
+                if method == PlanMethod::QuaternionSpring && self.rotations.len() != 0 {
                     return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
                 }
                 RotationSource::Shape
@@ -374,7 +386,7 @@ fn step_for_dim<T: Real, const D: usize>(
     report_out: Out<'_, dk_plan_step_report>,
 ) -> Result<(), dk_status> {
     let mut plan = pools?.open::<D>()?;
-    let motion = motion.motion::<D>()?;
+    let motion = motion.motion::<D>(plan.method())?;
     let out = chunks_mut::<T, D>(out)?;
     let report_slot = crate::slice::out_one(report_out)?;
     let r = plan.step(&motion, out).map_err(dk_status::from)?;
@@ -428,7 +440,9 @@ pub(crate) fn dk_plan_options_default<T: Real>(out: Out<'_, dk_plan_options>) ->
 ///   options).
 ///
 /// Errors (nothing written): `DK_ERR_INVALID_PARAMETER` (`dim`, an unknown method or solver
-/// code), graph, cell, length and pointer errors.
+/// code, an empty boundary), graph, cell, length (`points` not `N * dim` scalars, a given
+/// `stiffness` not one per directed edge) and pointer errors, as [`dk_plan_pool_sizes`]
+/// reports them.
 ///
 /// # Safety
 /// Inputs readable for their lengths; `options` and `sizes_out` point to one struct each.
@@ -531,7 +545,7 @@ pub(crate) fn dk_plan_open<T: Real>(
 ///
 /// - `deformed`: the new position of each of the `B` boundary points, in the plan's boundary
 ///   order (`B * dim` scalars), reproduced exactly in `out`;
-/// - `rotation_source` (quaternion method; ignored by the spring method):
+/// - `rotation_source` (quaternion method; the spring method ignores it and `rotations`):
 ///   `DK_ROTATIONS_SHAPE` (from the plan's elements; `rotations` NULL with length 0),
 ///   `DK_ROTATIONS_RIGID` (`rotations`: one quaternion, 4 scalars `w x y z`) or
 ///   `DK_ROTATIONS_PER_NODE` (`rotations`: `4 B` scalars);
@@ -542,8 +556,8 @@ pub(crate) fn dk_plan_open<T: Real>(
 ///
 /// Errors (checked before `out` or the plan is written): `DK_ERR_BAD_PLAN`, length and
 /// pointer errors, `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero rotation),
-/// `DK_ERR_INVALID_PARAMETER` (`dim`, `rotation_source`, `start`, shape rotations without
-/// elements), the boundary rotations' and the solver's errors. On error `out`, the stored
+/// `DK_ERR_INVALID_PARAMETER` (`dim`, `rotation_source` of a quaternion plan, `start`, shape
+/// rotations without elements), the boundary rotations' and the solver's errors. On error `out`, the stored
 /// solutions and the step count are unchanged.
 ///
 /// # Safety

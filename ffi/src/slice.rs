@@ -102,13 +102,17 @@ impl<'a, T> Out<'a, T> {
     }
 }
 
-/// NULL (unless `len` is 0), misalignment and a length beyond the promised one are errors.
+/// NULL (unless `len` is 0), misalignment, a length beyond the promised one and a length no
+/// object can have (over `isize::MAX` bytes: no slice may be that long) are errors.
 fn check<T>(ptr: *const T, cap: usize, len: usize) -> Result<(), dk_status> {
     if ptr.is_null() || !ptr.is_aligned() {
         return Err(dk_status::DK_ERR_NULL_POINTER);
     }
     if len > cap {
         return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+    }
+    if len > isize::MAX as usize / core::mem::size_of::<T>().max(1) {
+        return Err(dk_status::DK_ERR_TOO_LARGE);
     }
     Ok(())
 }

@@ -6,7 +6,7 @@
  * outer circle is fixed.
  *
  * Prints the mesh's points and boundary data, the fitted line, and the bits and reports of
- * every solve and of dk_slide_points, so host-tests/tests/c_abi_slide.rs can compute the same
+ * every solve and of dk_slide_points, so host-tests/tests/ffi/c_abi_slide.rs can compute the same
  * with the kernel (slide::fit_plane, Constraints, solve_linear_sliding, solve_angle_sliding,
  * AmgHierarchy::setup + the multigrid variants, slide_points) and compare the text. Checks
  * here: every sliding node's displacement stays on the line (|n.d| <= 1e-12 |d| in double,

@@ -4,7 +4,7 @@
  * near the "wall" j = 0, where the one-level methods crawl).
  *
  * Prints the mesh's points and boundary data, the pool sizes, and the bits and reports of the
- * multigrid solves, so host-tests/tests/c_abi_solvers.rs can compute the same with the
+ * multigrid solves, so host-tests/tests/ffi/c_abi_solvers.rs can compute the same with the
  * kernel's AmgHierarchy::setup + solve_linear_amg / solve_angle_amg and compare the text;
  * prints the iteration counts of the one-level solves on the same problems (CG + Jacobi,
  * block-Jacobi angle CG), which must be at least 4 times higher. Bad input (NULL structs,

@@ -1,6 +1,6 @@
 /* Bit parity of the solver ABI with the Rust API: prints the bits of a linear spring solve,
  * a structured Taubin smoothing, an Alter arclength smoothing and a graph smoothing, in f64
- * and f32. host-tests/tests/c_abi_solvers.rs computes the same with deform_kernel and
+ * and f32. host-tests/tests/ffi/c_abi_solvers.rs computes the same with deform_kernel and
  * compares the text. */
 #include <stdio.h>
 #include <stdint.h>

@@ -240,7 +240,7 @@ fn run(label: &str, period: usize) {
             options: options(),
         };
         let t0 = Instant::now();
-        let ws = Plan::<f64, 2>::work_sizes(&spec);
+        let ws = Plan::<f64, 2>::work_sizes(&spec).unwrap();
         let (mut wr, mut wi, mut wb) = (
             vec![0.0; ws.reals],
             vec![0u32; ws.indices],

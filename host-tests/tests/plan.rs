@@ -187,7 +187,7 @@ struct Pools<T> {
 
 impl<T: Real> Pools<T> {
     fn build<const D: usize>(spec: &PlanSpec<'_, T, D>) -> (Self, PlanSizes) {
-        let ws = Plan::<T, D>::work_sizes(spec);
+        let ws = Plan::<T, D>::work_sizes(spec).unwrap();
         let mut wr = vec![T::ZERO; ws.reals];
         let mut wi = vec![0u32; ws.indices];
         let mut wb = vec![0u8; ws.bytes];
@@ -426,6 +426,22 @@ fn spring_equals_stateless<T: Real>(solver: PlanSolver<T>) -> (usize, usize) {
     assert_eq!(warm_steps, STEPS - 3);
     assert!(extrapolated > 0);
     (warm_it, cold_it)
+}
+
+/// A one-level multigrid hierarchy (`max_levels` 1: the coarse factor is the whole system)
+/// is a plan like any other, with the stateless solve's bits (issue 26: it was refused as a
+/// bad plan after the pools were written).
+#[test]
+fn one_level_multigrid_plans_equal_stateless() {
+    let one = PlanSolver::Amg(AmgOptions {
+        max_levels: 1,
+        max_coarse: 32,
+        ..AmgOptions::default()
+    });
+    let c = Case::<f64>::new(&mesh());
+    let (mut pools, _) = Pools::build(&c.spec(PlanMethod::Spring, one));
+    assert_eq!(pools.open().unwrap().amg_levels(), 1);
+    spring_equals_stateless::<f64>(one);
 }
 
 /// The last two stateless solutions, to rebuild the plan's initial guess.
@@ -788,7 +804,7 @@ fn init_errors_are_typed() {
     let c = Case::<f64>::new(&mesh());
     let n = c.points.len();
     let try_sizes = |spec: &PlanSpec<'_, f64, 2>| {
-        let ws = Plan::<f64, 2>::work_sizes(spec);
+        let ws = Plan::<f64, 2>::work_sizes(spec)?;
         let mut wr = vec![0.0; ws.reals];
         let mut wi = vec![0u32; ws.indices];
         let mut wb = vec![0u8; ws.bytes];
@@ -867,7 +883,7 @@ fn init_errors_are_typed() {
     ));
     // Pools one entry short.
     let (pools, sizes) = Pools::build(&good);
-    let ws = Plan::<f64, 2>::work_sizes(&good);
+    let ws = Plan::<f64, 2>::work_sizes(&good).unwrap();
     let mut wr = vec![0.0; ws.reals];
     let mut wi = vec![0u32; ws.indices];
     let mut wb = vec![0u8; ws.bytes];
@@ -1003,7 +1019,7 @@ fn capacity_equals_sizes<T: Real, const D: usize>(c: &Case<T, D>) {
                     boundary: c.nodes.len(),
                     elements: with_elements.then_some((c.el_kinds.len(), c.el_nodes.len())),
                 };
-                let ws = Plan::<T, D>::work_sizes(&spec);
+                let ws = Plan::<T, D>::work_sizes(&spec).unwrap();
                 assert_eq!(Plan::<T, D>::work_capacity(&counts), ws);
                 let mut wr = vec![T::ZERO; ws.reals];
                 let mut wi = vec![0u32; ws.indices];

@@ -5,7 +5,7 @@
 //! extreme scales (1e154, 1e-300, 1.5e19, …) the answers must match to the solver tolerance.
 #![allow(clippy::needless_range_loop)]
 
-mod spring_common;
+mod support;
 
 use deform_kernel::deformation::{propagate_idw, propagate_spring, propagate_spring_scratch_len};
 use deform_kernel::spring::{
@@ -15,7 +15,7 @@ use deform_kernel::spring::{
 use deform_kernel::taubin::{arclength, stretching};
 use deform_kernel::Direction;
 use deform_kernel::{Block, Error, Graph, Quat, Real};
-use spring_common::*;
+use support::spring::*;
 
 fn methods<T: Real>() -> Vec<(&'static str, LinearMethod<T>)> {
     let cg = |preconditioner| LinearMethod::Cg { preconditioner };

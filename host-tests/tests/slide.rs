@@ -15,8 +15,8 @@ use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Error, Graph,
 use deform_meshgen::{annulus, box_with_inner_box3, Mesh};
 use nalgebra::{DMatrix, DVector};
 
-mod spring_common;
-use spring_common::AmgBuffers;
+mod support;
+use support::spring::AmgBuffers;
 
 /// A half-model: the cells of a meshgen mesh on one side of a symmetry plane.
 struct Half<const D: usize> {

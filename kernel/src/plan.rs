@@ -260,8 +260,16 @@ impl<T: Real, const D: usize> core::fmt::Debug for Plan<'_, T, D> {
 impl<'a, T: Real, const D: usize> Plan<'a, T, D> {
     /// Lengths of the transient [`PlanWork`] for this spec: `E` reals, `max(4 (N + E) + 64,
     /// N)` indices, `N` bytes.
-    pub fn work_sizes(spec: &PlanSpec<'_, T, D>) -> PlanSizes {
-        build::work_sizes(spec)
+    ///
+    /// # Errors
+    /// The length checks of [`Plan::sizes`] that need no work buffers: `points` not `N`
+    /// long, a given stiffness not `E` long, constraints not `N` long
+    /// ([`Error::LengthMismatch`](crate::Error::LengthMismatch)), an empty boundary
+    /// ([`Error::InvalidParameter`](crate::Error::InvalidParameter)). So a spec that
+    /// [`Plan::sizes`] would refuse for its lengths is refused here already.
+    pub fn work_sizes(spec: &PlanSpec<'_, T, D>) -> Result<PlanSizes> {
+        build::check_lengths(spec)?;
+        Ok(build::work_sizes(spec))
     }
 
     /// The pool sizes of a plan with a one-level solver (`PlanSolver::Method(solver)`), from

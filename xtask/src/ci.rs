@@ -119,6 +119,14 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
             run(&mut ctx.cargo(&["test", "--workspace"]))
         }),
         Step::new(
+            "test-cgns",
+            "deform-cli with --features cgns: CGNS files against the CGNS library's and HDF5's tools",
+            || {
+                let args = ["test", "-p", "deform-cli", "--features", "cgns", "--test", "cgns"];
+                run(&mut ctx.cargo(&args))
+            },
+        ),
+        Step::new(
             "test-all-features",
             "kernel tests with every host feature (glam, micromath), and the tests that need one",
             || {

@@ -24,7 +24,9 @@ pub(crate) const RUSTUP_COMPONENTS: &[&str] = &["rustfmt", "clippy", "rust-src",
 /// Debian packages, installed with `apt-get install` when running as root (e.g. `gfortran`,
 /// `qemu-system-arm`). Checked with `dpkg -s`.
 /// `libssl-dev` and `pkg-config` are needed to build cargo-c, and `pkg-config` by the
-/// `cinstall` step; OpenMPI and libclang (for the `mpi` crate's bindings) by the `mpi` step.
+/// `cinstall` step; OpenMPI and libclang (for the `mpi` crate's bindings) by the `mpi` step;
+/// the CGNS library by deform-cli's `cgns` feature, and the CGNS and HDF5 tools
+/// (`cgns_to_plot3d`, `adf2hdf`, `cgnscheck`, `h5dump`) by its tests.
 pub(crate) const APT_PACKAGES: &[&str] = &[
     "gfortran",
     "qemu-system-arm",
@@ -33,6 +35,9 @@ pub(crate) const APT_PACKAGES: &[&str] = &[
     "openmpi-bin",
     "libopenmpi-dev",
     "libclang-dev",
+    "libcgns-dev",
+    "cgns-convert",
+    "hdf5-tools",
 ];
 
 /// A cargo tool installed with `cargo install --locked NAME --version VERSION`.

@@ -6,15 +6,14 @@ use serde::Serialize;
 use serde_json::json;
 
 use crate::args::{ConvertArgs, EncodingArg, EndianArg, PrecisionArg};
-use crate::formats::plot3d::{write_plot3d, Encoding, Endian, Plot3dLayout, Precision};
-use crate::formats::su2::write_su2;
+use crate::formats::plot3d::{Encoding, Endian, Plot3dLayout, Precision};
 use crate::formats::vtk::{write_vts, write_vtu, VtkEncoding};
 use crate::output::Staged;
 
 use crate::error::CliError;
 use crate::files::{
-    block_vts_path, file_kind, input_kind, io_err, plot3d_options, read_plot3d, read_su2, yes,
-    FileKind,
+    block_vts_path, check_su2_output, file_kind, input_kind, io_err, is_cgns_path, plot3d_options,
+    read_plot3d, read_su2, write_grid, write_su2_like, yes, FileKind,
 };
 use crate::report::{seconds, Outcome};
 
@@ -27,6 +26,8 @@ pub(crate) struct ConvertReport {
     points: usize,
     cells: usize,
     blocks: usize,
+    /// Cells rewritten in the SU2/VTK convention (`--reorient`).
+    reoriented_cells: usize,
     seconds: f64,
 }
 
@@ -36,6 +37,7 @@ pub(crate) fn convert(a: &ConvertArgs) -> Result<Outcome, CliError> {
     // A Plot3D input may be written to any name that is not SU2 or VTK.
     let kout = match (kin, file_kind(&a.output)) {
         (FileKind::Plot3d, None) => Some(FileKind::Plot3d),
+        (FileKind::Su2, None) if is_cgns_path(&a.output) => Some(FileKind::Su2),
         (_, k) => k,
     };
     let enc = if a.vtk_ascii {
@@ -47,11 +49,17 @@ pub(crate) fn convert(a: &ConvertArgs) -> Result<Outcome, CliError> {
     let mut outputs = Vec::new();
     let report = match (kin, kout) {
         (FileKind::Su2, Some(k @ (FileKind::Su2 | FileKind::Vtu))) => {
-            let m = read_su2(&a.input)?;
+            let mut m = read_su2(&a.input)?;
+            check_su2_output(&a.input, &a.output)?;
+            let reoriented = if a.reorient {
+                reorient(&mut m).map_err(|e| e.in_file(&a.input))?
+            } else {
+                0
+            };
             staged
                 .write(&a.output, |f| {
                     if k == FileKind::Su2 {
-                        write_su2(&m, f)
+                        write_su2_like(&a.input, &a.output, &m, f)
                     } else {
                         write_vtu(f, &m.points, &m.elements, &[], &[], enc)
                     }
@@ -66,15 +74,24 @@ pub(crate) fn convert(a: &ConvertArgs) -> Result<Outcome, CliError> {
                 points: m.points.len(),
                 cells: m.elements.len(),
                 blocks: 0,
+                reoriented_cells: reoriented,
                 seconds: 0.0,
             }
+        }
+        (FileKind::Plot3d, Some(_)) if a.reorient => {
+            return Err(CliError::Invalid(format!(
+                "{}: --reorient applies to SU2 meshes (a structured block's cells all turn the way its i, j, k axes do)",
+                a.input.display()
+            )))
         }
         (FileKind::Plot3d, Some(k @ (FileKind::Plot3d | FileKind::Vts))) => {
             let (g, layout) = read_plot3d(&a.input, &plot3d_options(&a.layout))?;
             if k == FileKind::Plot3d {
                 let out_layout = output_layout(&layout, a);
                 staged
-                    .write(&a.output, |f| write_plot3d(&g, &out_layout, f))
+                    .write(&a.output, |f| {
+                        write_grid(&a.input, &a.output, &g, &out_layout, f)
+                    })
                     .map_err(io_err(&a.output))?;
                 outputs.push(a.output.display().to_string());
             } else {
@@ -103,6 +120,7 @@ pub(crate) fn convert(a: &ConvertArgs) -> Result<Outcome, CliError> {
                     })
                     .sum(),
                 blocks: g.blocks.len(),
+                reoriented_cells: 0,
                 seconds: 0.0,
             }
         }
@@ -132,6 +150,19 @@ pub(crate) fn convert(a: &ConvertArgs) -> Result<Outcome, CliError> {
         json: serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
         text,
     })
+}
+
+/// Rewrites the valid cells listed clockwise (2D) or mirrored (3D) in the SU2/VTK convention,
+/// in place; returns how many. Folded cells are left as they are (no order makes them valid).
+fn reorient(m: &mut crate::formats::su2::Su2Mesh) -> Result<usize, CliError> {
+    let reversed = crate::engine::reversed_cells(m.dim, &m.elements, &m.points)?;
+    let offsets = m.elements.offsets.clone();
+    for (c, _) in reversed.iter().enumerate().filter(|(_, &r)| r) {
+        let kind = m.elements.kinds[c];
+        let (lo, hi) = (offsets[c] as usize, offsets[c + 1] as usize);
+        crate::validity::reverse_cell(kind, &mut m.elements.nodes[lo..hi]);
+    }
+    Ok(reversed.iter().filter(|&&r| r).count())
 }
 
 pub(crate) fn output_layout(input: &Plot3dLayout, a: &ConvertArgs) -> Plot3dLayout {

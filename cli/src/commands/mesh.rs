@@ -58,6 +58,11 @@ pub(crate) fn mesh_naca(a: &NacaArgs) -> Result<Outcome, CliError> {
     if let Some(v) = a.boundary_layers {
         opts.boundary_layers = v;
     }
+    crate::guard::check_memory(
+        &a.out,
+        "generating this mesh",
+        crate::guard::mesh_estimate(&[opts.surface_points, opts.radial_points]),
+    )?;
     let mesh = match a.kind {
         NacaKind::Inviscid => deform_meshgen::naca_triangulated(&opts),
         NacaKind::Viscous => deform_meshgen::naca_hybrid(&opts),
@@ -109,6 +114,11 @@ pub(crate) fn mesh_block(a: &BlockArgs) -> Result<Outcome, CliError> {
         d.get(1).copied().unwrap_or(2),
         d.get(2).copied().unwrap_or(1),
     ];
+    crate::guard::check_memory(
+        &a.out,
+        "generating this mesh",
+        crate::guard::mesh_estimate(&dims),
+    )?;
     let spec = deform_meshgen::BlockSpec {
         dims,
         lengths: [1.0; 3],

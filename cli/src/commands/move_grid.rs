@@ -6,20 +6,20 @@ use std::time::Instant;
 use deform_kernel::Direction;
 use serde_json::json;
 
-use crate::args::{Coords, FaceArg, Method, MoveArgs};
+use crate::args::{Coords, FaceArg, Method, MoveArgs, WallArg, WallBlocks};
 use crate::engine::QualitySummary;
-use crate::formats::plot3d::{write_plot3d, Plot3dOptions};
+use crate::formats::plot3d::Plot3dOptions;
 use crate::output::Staged;
 
 use crate::error::CliError;
-use crate::files::{cell_dim, file_kind, io_err, read_plot3d, FileKind};
-use crate::report::{add_summary, fmt_opt, seconds, value_name, Outcome};
+use crate::files::{cell_dim, file_kind, io_err, read_plot3d, write_grid, FileKind};
+use crate::report::{add_summary, fmt_opt, seconds, value_name, volume_words, Outcome};
 
 /// `deform move` on a Plot3D grid: the `--wall` face of every block moves rigidly, the opposite
 /// face stays, transfinite interpolation (quaternion or displacement) in between.
 pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
     let t0 = Instant::now();
-    let Some(face) = a.wall else {
+    let Some(WallArg { blocks, face }) = a.wall else {
         return Err(CliError::Invalid(
             "--wall FACE (imin, imax, jmin, jmax, kmin, kmax) is required for a Plot3D grid".into(),
         ));
@@ -61,6 +61,29 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
         });
     }
     let (mut grid, layout) = read_plot3d(&a.mesh, &Plot3dOptions::default())?;
+    let count = grid.blocks.len();
+    let moves = |b: usize| match blocks {
+        WallBlocks::All => true,
+        WallBlocks::One(n) => n == b + 1,
+        WallBlocks::Unnamed => count == 1,
+    };
+    match blocks {
+        WallBlocks::Unnamed if count > 1 => {
+            return Err(CliError::Invalid(format!(
+                "{}: the grid has {count} blocks: say whose {} face moves, e.g. --wall 1:{1} (blocks 1 to {count}), or --wall all:{1} for every block",
+                a.mesh.display(),
+                value_name(&face)
+            )))
+        }
+        WallBlocks::One(n) if n > count => {
+            return Err(CliError::Invalid(format!(
+                "{}: --wall {n}:{}: the grid has {count} block(s)",
+                a.mesh.display(),
+                value_name(&face)
+            )))
+        }
+        _ => {}
+    }
     let (direction, max) = match face {
         FaceArg::Imin => (Direction::I, false),
         FaceArg::Imax => (Direction::I, true),
@@ -78,26 +101,30 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
             ]
         })
     };
-    let motion =
-        match (a.rotate, coords(&a.translate, 0.0)) {
-            (Some(deg), None) if deg.is_finite() => crate::engine::RigidMotion::Rotate {
-                degrees: deg,
-                axis: coords(&a.axis, 0.0).unwrap_or([0.0, 0.0, 1.0]),
-                center: coords(&a.center, 0.0),
-            },
-            (None, Some(t)) if t.iter().all(|x| x.is_finite()) => {
-                crate::engine::RigidMotion::Translate(t)
-            }
-            _ => return Err(CliError::Invalid(
+    let motion = match (a.rotate, coords(&a.translate, 0.0)) {
+        (Some(deg), None) if deg.is_finite() => crate::motion::Motion::Rotate {
+            degrees: deg,
+            axis: coords(&a.axis, 0.0).unwrap_or([0.0, 0.0, 1.0]),
+            center: coords(&a.center, 0.0),
+        },
+        (None, Some(t)) if t.iter().all(|x| x.is_finite()) => crate::motion::Motion::Translate(t),
+        _ => {
+            return Err(CliError::Invalid(
                 "--rotate DEG or --translate DX,DY[,DZ] (finite) moves the wall of a Plot3D grid"
                     .into(),
-            )),
-        };
-    let quaternion = a.method == Method::Tfi;
+            ))
+        }
+    };
+    let quaternion = a.method() == Method::Tfi;
     let mut total: Option<QualitySummary> = None;
     let mut max_displacement = 0.0f64;
+    let mut measured_dim = 2;
     for (b, blk) in grid.blocks.iter_mut().enumerate() {
+        if !moves(b) {
+            continue;
+        }
         let dim = cell_dim(grid.dim, blk);
+        measured_dim = measured_dim.max(dim);
         if dim == 2 && direction == Direction::K {
             return Err(CliError::Invalid(format!(
                 "{}: block {}: --wall {} needs a 3D block",
@@ -117,7 +144,7 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
             blk.dims,
             &blk.points,
             crate::engine::Face { direction, max },
-            motion,
+            &motion,
             quaternion,
         )
         .map_err(|e| e.within(&format!("block {}", b + 1)).in_file(&a.mesh))?;
@@ -134,22 +161,32 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
     let Some(q) = total else {
         return Err(CliError::Invalid("the grid has no blocks".into()));
     };
+    super::move_mesh::check_new_folds(&q, a.allow_folds, &a.mesh)?;
     let mut staged = Staged::new();
     staged
-        .write(&a.out, |f| write_plot3d(&grid, &layout, f))
+        .write(&a.out, |f| write_grid(&a.mesh, &a.out, &grid, &layout, f))
         .map_err(io_err(&a.out))?;
     staged.commit().map_err(io_err(&a.out))?;
+    super::move_mesh::warn_new_folds(&q);
+    let moved_blocks: Vec<usize> = (0..count).filter(|&b| moves(b)).map(|b| b + 1).collect();
+    let wall = match blocks {
+        WallBlocks::Unnamed => value_name(&face),
+        WallBlocks::One(n) => format!("{n}:{}", value_name(&face)),
+        WallBlocks::All => format!("all:{}", value_name(&face)),
+    };
     let json = json!({
         "command": "move",
         "mesh": a.mesh.display().to_string(),
         "outputs": [a.out.display().to_string()],
         "format": format!("Plot3D {layout}"),
         "blocks": grid.blocks.len(),
-        "method": value_name(&a.method),
-        "wall": value_name(&face),
+        "method": value_name(&a.method()),
+        "wall": wall,
+        "moved_blocks": moved_blocks,
         "max_displacement": max_displacement,
         "inverted_cells": q.inverted_cells.unwrap_or(0),
         "folded_cells": q.folded_cells,
+        "new_invalid_cells": q.new_failures(),
         "degenerate_cells": q.degenerate_cells,
         "orientation": q.orientation,
         "min_area_ratio": q.min_area_ratio,
@@ -157,13 +194,14 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
         "min_scaled_jacobian": q.min_scaled_jacobian,
         "seconds": seconds(t0),
     });
+    let json = volume_words(json, measured_dim);
     let text = format!(
         "{} -> {}: {} block(s), method {}, wall {}: max displacement {:.6e}, inverted cells {}, folded cells {}, degenerate cells {}, ratio min {} max {}",
         a.mesh.display(),
         a.out.display(),
         grid.blocks.len(),
-        value_name(&a.method),
-        value_name(&face),
+        value_name(&a.method()),
+        wall,
         max_displacement,
         q.inverted_cells.unwrap_or(0),
         q.folded_cells,

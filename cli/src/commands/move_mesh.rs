@@ -8,11 +8,12 @@ use serde_json::json;
 
 use crate::args::{Coords, Method, MoveArgs, Solver, StiffnessArg};
 use crate::engine::{
-    run_move_in_steps, Motion, MoveInput, MoveMethod, MoveSolver, SlideMarker, Stiffness,
+    run_move_in_steps, Motion, MoveInput, MoveMethod, MoveSolver, QualitySummary, SlideMarker,
+    Stiffness,
 };
 use crate::formats::displacements::{parse_displacements, parse_surface_positions};
-use crate::formats::motions::{parse_motions, MarkerMotionSpec, RigidMotion};
-use crate::formats::su2::{write_su2, Su2Mesh};
+use crate::formats::motions::{parse_motions, MarkerMotionSpec};
+use crate::formats::su2::Su2Mesh;
 use crate::formats::vtk::{write_vtu, VtkEncoding, VtkField};
 use crate::formats::CellList;
 use crate::output::Staged;
@@ -21,24 +22,37 @@ use crate::plot::{bounding_window, has_volume_cells, slice_z, zoom, Picture, Win
 use super::move_grid::move_grid;
 use crate::error::CliError;
 use crate::files::{
-    file_kind, input_kind, io_err, marker_nodes, marker_union, read_bytes, read_su2, FileKind,
+    file_kind, input_kind, io_err, is_cgns_path, marker_nodes, marker_union, read_bytes,
+    read_su2_zone, write_su2_zone, FileKind,
 };
-use crate::report::{fmt_opt, seconds, value_name, write_picture, Outcome};
+use crate::report::{fmt_opt, seconds, value_name, volume_words, write_picture, Outcome};
 
 pub(crate) fn move_mesh(
     a: &MoveArgs,
     quiet: bool,
     split: Option<&dyn crate::split::Splitter>,
 ) -> Result<Outcome, CliError> {
-    let tfi = matches!(a.method, Method::Tfi | Method::TfiDisplacement);
-    if a.stiffness != StiffnessArg::Batina && (tfi || a.method == Method::Idw) {
+    let su2 = input_kind(&a.mesh)? == FileKind::Su2;
+    // Without --method: quaternion TFI on a Plot3D grid (`a.method()` gives quaternion else).
+    let resolved;
+    let a = if !su2 && a.method.is_none() {
+        resolved = MoveArgs {
+            method: Some(Method::Tfi),
+            ..a.clone()
+        };
+        &resolved
+    } else {
+        a
+    };
+    let tfi = matches!(a.method(), Method::Tfi | Method::TfiDisplacement);
+    if a.stiffness != StiffnessArg::Batina && (tfi || a.method() == Method::Idw) {
         return Err(CliError::Invalid(format!(
             "--stiffness {} applies to the spring, angle-spring and quaternion methods; --method {} has no springs",
             value_name(&a.stiffness),
-            value_name(&a.method)
+            value_name(&a.method())
         )));
     }
-    if input_kind(&a.mesh)? != FileKind::Su2 {
+    if !su2 {
         if !tfi {
             return Err(CliError::NotAvailable {
                 feature: "this method on Plot3D grids",
@@ -59,9 +73,9 @@ pub(crate) fn move_mesh(
                 .into(),
         ));
     }
-    if file_kind(&a.out) != Some(FileKind::Su2) {
+    if file_kind(&a.out) != Some(FileKind::Su2) && !is_cgns_path(&a.out) {
         return Err(CliError::Invalid(format!(
-            "{}: --out must be a .su2 file",
+            "{}: --out must be a .su2 file (or .cgns)",
             a.out.display()
         )));
     }
@@ -76,7 +90,10 @@ pub(crate) fn move_mesh(
     if !(a.tol.is_finite() && a.tol > 0.0) {
         return Err(CliError::Invalid("--tol must be a positive number".into()));
     }
-    let mesh = read_su2(&a.mesh)?;
+    // A multi-zone file: the zone of the named markers (the others are written back unchanged).
+    let names: [&[String]; 2] = [&a.markers, &a.slide];
+    crate::files::check_su2_output(&a.mesh, &a.out)?;
+    let (mesh, zoned) = read_su2_zone(&a.mesh, &names, a.motions.as_deref())?;
     crate::guard::check_memory(
         &a.mesh,
         "deform move on this mesh",
@@ -232,10 +249,10 @@ pub(crate) fn move_mesh(
         }
     }
     if let Some(r) = a.reach {
-        if !matches!(a.method, Method::Quaternion | Method::Idw) {
+        if !matches!(a.method(), Method::Quaternion | Method::Idw) {
             return Err(CliError::Invalid(format!(
                 "--reach applies to the quaternion and idw methods, not {}",
-                value_name(&a.method)
+                value_name(&a.method())
             )));
         }
         if !(r.is_finite() && r > 0.0) {
@@ -245,10 +262,10 @@ pub(crate) fn move_mesh(
         }
     }
     if let Some(theta) = a.idw_theta {
-        if a.method != Method::Idw {
+        if a.method() != Method::Idw {
             return Err(CliError::Invalid(format!(
                 "--idw-theta applies to --method idw, not {}",
-                value_name(&a.method)
+                value_name(&a.method())
             )));
         }
         if !(0.0..1.0).contains(&theta) {
@@ -285,7 +302,7 @@ pub(crate) fn move_mesh(
             elements: &m.elements,
         })
         .collect();
-    let method = match a.method {
+    let method = match a.method() {
         Method::Quaternion => MoveMethod::Quaternion,
         Method::Idw => MoveMethod::Idw,
         Method::Spring => MoveMethod::Spring,
@@ -328,6 +345,17 @@ pub(crate) fn move_mesh(
     let result = run_move_in_steps(&input, &slide_markers, a.steps as usize);
     spinner.finish_and_clear();
     let mut result = result.map_err(|e| e.in_file(&a.mesh))?;
+    if !result.converged && !a.allow_unconverged {
+        return Err(CliError::Unconverged(format!(
+            "{}: the {} solve did not converge: relative residual {:.3e} after {} iterations (--tol {:e}, --max-iter {}); nothing was written (--allow-unconverged writes it anyway)",
+            a.mesh.display(),
+            value_name(&a.method()),
+            result.residual,
+            result.iterations,
+            a.tol,
+            a.max_iter
+        )));
+    }
     if split.is_some_and(|s| !s.is_root()) {
         // The other processes helped with the solves; the first one writes and reports.
         return Ok(Outcome {
@@ -349,6 +377,7 @@ pub(crate) fn move_mesh(
         Some(&wall),
     )
     .map_err(|e| e.in_file(&a.mesh))?;
+    check_new_folds(&q, a.allow_folds, &a.mesh)?;
     let out_mesh = Su2Mesh {
         points: result.deformed.clone(),
         ..mesh.clone()
@@ -356,7 +385,9 @@ pub(crate) fn move_mesh(
     let mut staged = Staged::new();
     let mut outputs = vec![a.out.display().to_string()];
     staged
-        .write(&a.out, |f| write_su2(&out_mesh, f))
+        .write(&a.out, |f| {
+            write_su2_zone((&a.mesh, &a.out), zoned.as_ref(), &out_mesh, f)
+        })
         .map_err(io_err(&a.out))?;
     if let Some(v) = &a.vtk {
         let disp: Vec<f64> = result.displacement.iter().flatten().copied().collect();
@@ -403,7 +434,7 @@ pub(crate) fn move_mesh(
         let title = format!(
             "{} {}: {} inverted, {} folded",
             a.mesh.display(),
-            value_name(&a.method),
+            value_name(&a.method()),
             q.inverted_cells.unwrap_or(0),
             q.folded_cells
         );
@@ -502,14 +533,31 @@ pub(crate) fn move_mesh(
         })
         .collect();
     let max_displacement = result.displacement.iter().map(norm).fold(0.0, f64::max);
+    let all_markers: Vec<&CellList> = mesh.markers.iter().map(|m| &m.elements).collect();
+    let unmarked = crate::validity::unmarked_boundary(&mesh.elements, &all_markers, &mesh.points);
+    let unmarked_moved = unmarked
+        .free_nodes
+        .iter()
+        .filter_map(|&n| result.displacement.get(n as usize))
+        .map(norm)
+        .fold(0.0, f64::max);
+    if unmarked_moved > 0.0 {
+        eprintln!(
+            "deform: warning: {} boundary face(s) belong to no marker (one at {}) and moved like the field, up to {unmarked_moved:.3e}; put them in a marker to hold them",
+            unmarked.faces,
+            unmarked
+                .sample
+                .map_or_else(|| "-".to_string(), |p| super::quality::point_text(p, mesh.dim))
+        );
+    }
     let report = MoveReport {
         command: "move",
         mesh: a.mesh.display().to_string(),
         outputs,
         nodes: mesh.points.len(),
         cells: mesh.elements.len(),
-        method: value_name(&a.method),
-        solver: match a.method {
+        method: value_name(&a.method()),
+        solver: match a.method() {
             Method::Idw | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
             Method::AngleCg if a.solver == Solver::Amg && a.slide.is_empty() => "amg".to_string(),
             Method::AngleCg => "cg".to_string(),
@@ -521,7 +569,7 @@ pub(crate) fn move_mesh(
             ),
             _ => value_name(&a.solver),
         },
-        stiffness: match a.method {
+        stiffness: match a.method() {
             Method::Idw | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
             _ => value_name(&a.stiffness),
         },
@@ -539,9 +587,14 @@ pub(crate) fn move_mesh(
         converged: result.converged,
         markers: marker_motions,
         max_displacement,
+        unmarked_boundary_faces: unmarked.faces,
+        unmarked_boundary_sample: unmarked.sample,
+        unmarked_boundary_max_displacement: unmarked_moved,
         orientation: q.orientation.describe(mesh.dim),
         inverted_cells: q.inverted_cells.unwrap_or(0),
         folded_cells: q.folded_cells,
+        new_invalid_cells: q.new_failures(),
+        listed_reversed_cells: q.orientation.cells_listed_reversed,
         degenerate_cells: q.degenerate_cells,
         min_area_ratio: q.min_area_ratio,
         max_area_ratio: q.max_area_ratio,
@@ -551,10 +604,11 @@ pub(crate) fn move_mesh(
     };
     if !report.converged {
         eprintln!(
-            "deform: warning: the solver did not converge in {} iterations (residual {:.3e})",
+            "deform: warning: the solver did not converge in {} iterations (residual {:.3e}); written because of --allow-unconverged",
             report.iterations, report.residual
         );
     }
+    warn_new_folds(&q);
     let text = format!(
         "{} -> {}: {} nodes ({} moved, {} fixed), method {}{}, {} iterations, residual {:.3e}{}\n  {} mesh; inverted cells {}, folded cells {}, degenerate cells {}, {} ratio min {} max {}, max wall angle change {} deg, {:.2} s",
         report.mesh,
@@ -589,6 +643,13 @@ pub(crate) fn move_mesh(
         report.seconds
     );
     let mut text = text;
+    if report.listed_reversed_cells > 0 {
+        text.push_str(&format!(
+            "\n  {} cells {} in the input (valid: measured against their own orientation; SU2 reorders them)",
+            report.listed_reversed_cells,
+            crate::orientation::OrientationSummary::reversed_words(mesh.dim)
+        ));
+    }
     text.push_str(&format!(
         "\n  max displacement {:.6e}",
         report.max_displacement
@@ -609,7 +670,10 @@ pub(crate) fn move_mesh(
     }
     Ok(Outcome {
         text,
-        json: serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
+        json: volume_words(
+            serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
+            mesh.dim,
+        ),
     })
 }
 
@@ -637,15 +701,52 @@ pub(crate) struct MoveReport {
     converged: bool,
     markers: Vec<MarkerMotion>,
     max_displacement: f64,
+    /// Boundary faces in no marker, one's centroid, and how far their field nodes moved.
+    unmarked_boundary_faces: usize,
+    unmarked_boundary_sample: Option<[f64; 3]>,
+    unmarked_boundary_max_displacement: f64,
     orientation: String,
     inverted_cells: usize,
     folded_cells: usize,
+    /// Cells inverted or folded here that were valid in the input (the failure policy).
+    new_invalid_cells: usize,
+    /// Valid cells listed clockwise / mirrored in the input (SU2 reorders them).
+    listed_reversed_cells: usize,
     degenerate_cells: usize,
     min_area_ratio: Option<f64>,
     max_area_ratio: Option<f64>,
     min_scaled_jacobian: f64,
     max_wall_angle_change_deg: Option<f64>,
     seconds: f64,
+}
+
+/// The failure policy `move` and `smooth` share: a result with cells that the input did not
+/// have inverted or folded is refused (nothing written) unless `allow` (`--allow-folds`).
+pub(crate) fn check_new_folds(
+    q: &QualitySummary,
+    allow: bool,
+    mesh: &std::path::Path,
+) -> Result<(), CliError> {
+    let bad = q.new_failures();
+    if bad == 0 || allow {
+        return Ok(());
+    }
+    Err(CliError::Folded(format!(
+        "{}: the result has {bad} cell(s) inverted or folded that were valid in the input ({} inverted, {} folded in all); nothing was written (--allow-folds writes it anyway)",
+        mesh.display(),
+        q.inverted_cells.unwrap_or(0),
+        q.folded_cells
+    )))
+}
+
+/// With `--allow-folds`: says on stderr how many cells the written result spoiled.
+pub(crate) fn warn_new_folds(q: &QualitySummary) {
+    let bad = q.new_failures();
+    if bad > 0 {
+        eprintln!(
+            "deform: warning: {bad} cell(s) inverted or folded that were valid in the input; written because of --allow-folds"
+        );
+    }
 }
 
 /// TFI never reaches the unstructured path (checked at the top of `move_mesh`).
@@ -682,15 +783,16 @@ pub(crate) fn marker_window(points: &[[f64; 3]], lists: &[&CellList]) -> Window 
 type NodeDisplacements = Vec<(u32, [f64; 3])>;
 
 /// A marker's rigid motion in words, for the report.
-fn describe(m: &RigidMotion, dim: usize) -> String {
+fn describe(m: &Motion, dim: usize) -> String {
     match m {
-        RigidMotion::Rotate {
+        Motion::Rotate {
             degrees, center, ..
         } => match center {
             Some(c) => format!("rotate {degrees} deg about {:?}", &c[..dim]),
             None => format!("rotate {degrees} deg about its centroid"),
         },
-        RigidMotion::Translate(t) => format!("translate {:?}", &t[..dim]),
+        Motion::Translate(t) => format!("translate {:?}", &t[..dim]),
+        Motion::Field(list) => format!("displacements of {} nodes", list.len()),
     }
 }
 
@@ -712,7 +814,7 @@ fn marker_motions_field(
     if steps > 1
         && specs
             .iter()
-            .any(|m| matches!(m.motion, RigidMotion::Rotate { .. }))
+            .any(|m| matches!(m.motion, Motion::Rotate { .. }))
     {
         return Err(CliError::NotAvailable {
             feature: "--steps with per-marker rotations from --motions",
@@ -725,11 +827,11 @@ fn marker_motions_field(
         let nodes = marker_nodes(mesh, std::slice::from_ref(&spec.marker), path)?;
         let point = |n: u32| mesh.points.get(n as usize).copied().unwrap_or([0.0; 3]);
         let displacement: Box<dyn Fn([f64; 3]) -> [f64; 3]> = match &spec.motion {
-            RigidMotion::Translate(t) => {
+            Motion::Translate(t) => {
                 let t = *t;
                 Box::new(move |_| t)
             }
-            RigidMotion::Rotate {
+            Motion::Rotate {
                 degrees,
                 axis,
                 center,
@@ -757,6 +859,14 @@ fn marker_motions_field(
                     }
                     d
                 })
+            }
+            // parse_motions gives rigid motions only.
+            Motion::Field(_) => {
+                return Err(CliError::Invalid(format!(
+                    "{}: line {}: a motion file gives rigid motions only",
+                    path.display(),
+                    spec.line
+                )))
             }
         };
         for &n in &nodes {

@@ -16,7 +16,7 @@ use crate::files::{
     block_vts_path, cell_dim, file_kind, input_kind, io_err, marker_union, plot3d_options,
     read_plot3d, read_su2, FileKind,
 };
-use crate::report::{add_summary, fmt_opt, seconds, Outcome};
+use crate::report::{add_summary, fmt_opt, seconds, volume_words, Outcome};
 
 #[derive(Serialize)]
 pub(crate) struct QualityReport {
@@ -27,6 +27,12 @@ pub(crate) struct QualityReport {
     dim: usize,
     nodes: usize,
     blocks: usize,
+    /// SU2: boundary faces (edges in 2D) that belong to no marker.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    unmarked_boundary_faces: Option<usize>,
+    /// SU2: the centroid of one of them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    unmarked_boundary_sample: Option<[f64; 3]>,
     #[serde(flatten)]
     summary: QualitySummary,
     seconds: f64,
@@ -46,10 +52,18 @@ pub(crate) fn quality_text(r: &QualityReport) -> String {
         ));
     }
     let measure = if r.dim == 3 { "volume" } else { "area" };
-    let rows: [(String, String); 12] = [
+    let reversed = match s.orientation.cells_listed_reversed {
+        0 => "0".to_string(),
+        k => format!("{k} (valid; SU2 reorders them, `deform convert --reorient` rewrites them)"),
+    };
+    let rows: [(String, String); 13] = [
         ("nodes".into(), r.nodes.to_string()),
         ("cells".into(), s.cells.to_string()),
         ("orientation".into(), s.orientation.describe(r.dim)),
+        (
+            crate::orientation::OrientationSummary::reversed_words(r.dim).into(),
+            reversed,
+        ),
         (
             "inverted cells".into(),
             s.inverted_cells.map_or("-".into(), |v| v.to_string()),
@@ -75,7 +89,23 @@ pub(crate) fn quality_text(r: &QualityReport) -> String {
     for (k, v) in rows {
         t.push_str(&format!("  {k:<28}{v}\n"));
     }
+    if let (Some(n @ 1..), Some(p)) = (r.unmarked_boundary_faces, r.unmarked_boundary_sample) {
+        t.push_str(&format!(
+            "  {:<28}{n} (one at {}): they move like the field in deform move\n",
+            "boundary faces in no marker",
+            point_text(p, r.dim)
+        ));
+    }
     t.trim_end().to_string()
+}
+
+/// `(x, y)` or `(x, y, z)`.
+pub(crate) fn point_text(p: [f64; 3], dim: usize) -> String {
+    let v: Vec<String> = p[..dim.clamp(1, 3)]
+        .iter()
+        .map(|x| format!("{x:.6}"))
+        .collect();
+    format!("({})", v.join(", "))
 }
 
 pub(crate) fn quality(a: &QualityArgs) -> Result<Outcome, CliError> {
@@ -123,6 +153,8 @@ pub(crate) fn quality(a: &QualityArgs) -> Result<Outcome, CliError> {
                 reference.as_ref().map(|r| r.points.as_slice()),
                 wall.as_ref(),
             )?;
+            let markers: Vec<_> = m.markers.iter().map(|k| &k.elements).collect();
+            let unmarked = crate::validity::unmarked_boundary(&m.elements, &markers, &m.points);
             if let Some(v) = &a.vtk {
                 staged
                     .write(v, |f| {
@@ -156,6 +188,8 @@ pub(crate) fn quality(a: &QualityArgs) -> Result<Outcome, CliError> {
                 dim: m.dim,
                 nodes: m.points.len(),
                 blocks: 0,
+                unmarked_boundary_faces: Some(unmarked.faces),
+                unmarked_boundary_sample: unmarked.sample,
                 summary,
                 seconds: 0.0,
             }
@@ -254,6 +288,8 @@ pub(crate) fn quality(a: &QualityArgs) -> Result<Outcome, CliError> {
                     .unwrap_or(g.dim),
                 nodes: g.blocks.iter().map(|b| b.points.len()).sum(),
                 blocks: g.blocks.len(),
+                unmarked_boundary_faces: None,
+                unmarked_boundary_sample: None,
                 summary,
                 seconds: 0.0,
             }
@@ -266,6 +302,9 @@ pub(crate) fn quality(a: &QualityArgs) -> Result<Outcome, CliError> {
     };
     Ok(Outcome {
         text: quality_text(&report),
-        json: serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
+        json: volume_words(
+            serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
+            report.dim,
+        ),
     })
 }

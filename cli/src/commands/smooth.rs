@@ -7,12 +7,12 @@ use serde::Serialize;
 use serde_json::json;
 
 use crate::args::{Direction, SmoothArgs};
-use crate::formats::plot3d::{write_plot3d, Plot3dGrid};
+use crate::formats::plot3d::Plot3dGrid;
 use crate::output::Staged;
 
 use crate::error::CliError;
 use crate::files::{
-    cell_dim, file_kind, input_kind, io_err, plot3d_options, read_plot3d, FileKind,
+    cell_dim, file_kind, input_kind, io_err, plot3d_options, read_plot3d, write_grid, FileKind,
 };
 use crate::report::{seconds, value_name, Outcome};
 
@@ -77,6 +77,66 @@ pub(crate) fn flipped(before: &[f64], after: &[f64]) -> Vec<usize> {
         .filter(|(_, (&b, &a))| b > 0.0 && a <= 0.0)
         .map(|(c, _)| c)
         .collect()
+}
+
+/// Checks that no grid line along `direction` has a segment of zero length unless all of its
+/// points coincide (a collapsed line, which the kernel exempts). Err: the 1-based `i, j[, k]`
+/// of the segment's first point.
+fn zero_length_segments(
+    dims: [usize; 3],
+    points: &[[f64; 3]],
+    direction: Direction,
+    dim: usize,
+) -> Result<(), String> {
+    let [ni, nj, nk] = dims;
+    let id = |i: usize, j: usize, k: usize| i + ni * (j + nj * k);
+    let (axis, len) = match direction {
+        Direction::I => (0, ni),
+        Direction::J => (1, nj),
+        Direction::K => (2, nk),
+    };
+    let mut across = [ni, nj, nk];
+    across[axis] = 1;
+    for k in 0..across[2] {
+        for j in 0..across[1] {
+            for i in 0..across[0] {
+                let at = |t: usize| {
+                    let mut c = [i, j, k];
+                    c[axis] = t;
+                    c
+                };
+                let p = |t: usize| {
+                    let c = at(t);
+                    points
+                        .get(id(c[0], c[1], c[2]))
+                        .copied()
+                        .unwrap_or([0.0; 3])
+                };
+                let zero = (1..len).find(|&t| p(t) == p(t - 1));
+                let collapsed = (1..len).all(|t| p(t) == p(0));
+                if let (Some(t), false) = (zero, collapsed) {
+                    let c = at(t - 1);
+                    let names = ["i", "j", "k"];
+                    let parts: Vec<String> = (0..dim.max(2))
+                        .map(|d| format!("{}={}", names[d], c[d] + 1))
+                        .collect();
+                    return Err(parts.join(", "));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A line with a zero-length segment in the input: the kernel's fold guard needs the
+/// arclength to increase strictly, so such a line cannot be smoothed yet (issue 31 item 6);
+/// said before smoothing instead of "folded at iteration 1".
+fn zero_length_error(grid: &std::path::Path, block: usize, at: &str) -> CliError {
+    CliError::Invalid(format!(
+        "{}: block {}: the grid line through {at} has a segment of zero length before smoothing (two of its points coincide); the smoothing's fold guard cannot hold such a segment yet, nothing was written (smooth along another direction, or remove the duplicate point)",
+        grid.display(),
+        block + 1
+    ))
 }
 
 /// `i=…, j=…[, k=…]` (1-based, as Plot3D users count) of cell `c` of a block.
@@ -153,6 +213,10 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
     report.pinned_coincident_points = shared;
     let dim = grid.dim;
     let in_block = |b: usize| move |e: CliError| e.within(&format!("block {}", b + 1));
+    for (b, blk) in grid.blocks.iter().enumerate() {
+        zero_length_segments(blk.dims, &blk.points, a.direction, dim)
+            .map_err(|at| zero_length_error(&a.grid, b, &at))?;
+    }
     for (b, (blk, pin)) in grid.blocks.iter_mut().zip(&pins).enumerate() {
         let original = blk.points.clone();
         let smooth_copy = |iterations: usize, coarse: Option<usize>| {
@@ -217,7 +281,7 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
                 } else {
                     "in the coarse-grid pass".to_string()
                 };
-                return Err(CliError::Invalid(format!(
+                return Err(CliError::Folded(format!(
                     "{}: block {}: smoothing flips {} cell(s) (first: cell {}, {when}); nothing was written (--allow-folds writes them anyway)",
                     a.grid.display(),
                     b + 1,
@@ -237,7 +301,7 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
     bar.finish_and_clear();
     let mut staged = Staged::new();
     staged
-        .write(&a.out, |f| write_plot3d(&grid, &layout, f))
+        .write(&a.out, |f| write_grid(&a.grid, &a.out, &grid, &layout, f))
         .map_err(io_err(&a.out))?;
     staged.commit().map_err(io_err(&a.out))?;
     report.seconds = seconds(t0);

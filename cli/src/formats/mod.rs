@@ -1,15 +1,20 @@
-//! Mesh and grid file formats: SU2 native ASCII, Plot3D whole grids, VTK XML output.
+//! Mesh and grid file formats: SU2 native ASCII (one or several zones), Plot3D whole grids,
+//! CGNS (`--features cgns`), VTK XML output.
 //!
 //! Readers take the whole file as bytes and never panic, whatever the bytes: every problem is a
 //! [`FormatError`] naming the line (text) or byte offset (binary) and what was expected.
 //! Writers take any [`std::io::Write`].
 
 pub mod base64;
+#[cfg(feature = "cgns")]
+pub mod cgns;
 pub mod displacements;
 pub mod error;
+pub mod listdirected;
 pub mod motions;
 pub mod plot3d;
 pub mod su2;
+pub mod su2_zones;
 pub mod vtk;
 
 pub use error::{FormatError, FormatErrorKind, Location};

@@ -14,29 +14,15 @@
 
 use super::error::{FormatError, FormatErrorKind, Location};
 
-/// One marker's rigid motion.
-#[derive(Clone, Debug, PartialEq)]
-pub enum RigidMotion {
-    /// Rotation by `degrees` about `axis` through `center` (`None`: the marker's centroid).
-    Rotate {
-        /// Angle, degrees.
-        degrees: f64,
-        /// Axis (not necessarily unit; never zero).
-        axis: [f64; 3],
-        /// Centre of rotation.
-        center: Option<[f64; 3]>,
-    },
-    /// Translation.
-    Translate([f64; 3]),
-}
+pub use crate::motion::Motion;
 
 /// A line of a motion file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MarkerMotionSpec {
     /// Marker name.
     pub marker: String,
-    /// Its motion.
-    pub motion: RigidMotion,
+    /// Its motion (rigid: a rotation or a translation).
+    pub motion: Motion,
     /// The 1-based line it came from (for messages).
     pub line: usize,
 }
@@ -163,7 +149,7 @@ pub fn parse_motions(bytes: &[u8], dim: usize) -> Result<Vec<MarkerMotionSpec>, 
                         content,
                     ));
                 }
-                RigidMotion::Rotate {
+                Motion::Rotate {
                     degrees,
                     axis,
                     center,
@@ -177,7 +163,7 @@ pub fn parse_motions(bytes: &[u8], dim: usize) -> Result<Vec<MarkerMotionSpec>, 
                         toks[3],
                     ));
                 }
-                RigidMotion::Translate(vector(value, "translation", point_lens)?)
+                Motion::Translate(vector(value, "translation", point_lens)?)
             }
             _ => {
                 return Err(FormatError::expected_at_line(

@@ -5,7 +5,9 @@
 //! Layout of a whole grid: `[nblocks]`, the dimensions of every block (`ni nj` or `ni nj nk`),
 //! then per block all `x`, all `y`, [all `z`], [all iblank], i fastest. Binary files written
 //! by Fortran `unformatted` I/O wrap each of these groups in 4-byte record markers
-//! (`[nblocks]`, `[all dims]`, then one record per block).
+//! (`[nblocks]`, `[all dims]`, then one record per block). Text files are read as Fortran
+//! list-directed input ([`super::listdirected`]): `2*0.5` repeat counts, commas, `/` and line
+//! breaks anywhere, as Fortran codes such as CFL3D write them.
 //!
 //! The reader detects the layout by trying every combination the [`Plot3dOptions`] allow and
 //! keeping the ones whose headers, record markers and total size fit the file exactly. One fit
@@ -16,6 +18,7 @@ use std::fmt;
 use std::io::{self, Write};
 
 use super::error::{show, FormatError, FormatErrorKind, Location};
+use super::listdirected::{parse_int, parse_real, Item, Values};
 
 /// Byte order of a binary file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -245,18 +248,18 @@ pub fn parse_plot3d(
     let text = bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes);
     let ascii = opts.ascii.unwrap_or_else(|| looks_ascii(text));
     if ascii {
-        let toks = ascii_tokens(text);
+        let vals = Values::parse(text)?;
         let mut fits = Vec::new();
         let mut best: Option<(u64, FormatError, Plot3dLayout)> = None;
         for layout in candidates(opts, true) {
-            match ascii_plan(&toks, &layout) {
+            match ascii_plan(&vals, &layout) {
                 Ok(dims) => fits.push((layout, dims)),
                 Err((progress, e)) => keep_best(&mut best, progress, e, layout),
             }
         }
         choose(fits, best, |layout, dims| {
-            let grid = ascii_read(&toks, layout, dims)?;
-            Ok((grid, line_rule_violations(&toks, layout, dims)))
+            let grid = ascii_read(&vals, layout, dims)?;
+            Ok((grid, line_rule_violations(&vals, layout, dims)))
         })
     } else {
         let mut fits = Vec::new();
@@ -306,8 +309,8 @@ fn weirdness(grid: &Plot3dGrid) -> u64 {
 
 /// ASCII tie-breaker: the number-of-blocks header alone on its line, each block's dimensions
 /// on one line, and the data starting on a new line (as every writer we know does).
-fn line_rule_violations(toks: &[Tok<'_>], layout: &Plot3dLayout, dims: &Dims) -> u64 {
-    let line = |i: usize| toks.get(i).map_or(0, |t| t.line);
+fn line_rule_violations(vals: &Values<'_>, layout: &Plot3dLayout, dims: &Dims) -> u64 {
+    let line = |i: usize| vals.get(i as u64).map_or(0, |t| t.line);
     let mut v = 0;
     let mut i = 0;
     if layout.multi_block {
@@ -707,61 +710,38 @@ fn binary_read(
 
 // ----------------------------------------------------------------------------------- ascii
 
-struct Tok<'a> {
-    line: usize,
-    text: &'a [u8],
-}
-
-fn ascii_tokens(bytes: &[u8]) -> Vec<Tok<'_>> {
-    let mut out = Vec::new();
-    for (l, line) in bytes.split(|&b| b == b'\n').enumerate() {
-        for t in line
-            .split(|b| b.is_ascii_whitespace())
-            .filter(|t| !t.is_empty())
-        {
-            out.push(Tok {
-                line: l + 1,
-                text: t,
-            });
-        }
-    }
-    out
-}
-
-fn last_line(toks: &[Tok<'_>]) -> usize {
-    toks.last().map_or(1, |t| t.line)
-}
-
-fn tok_positive(toks: &[Tok<'_>], i: usize, what: &str) -> Result<usize, (u64, FormatError)> {
-    let Some(t) = toks.get(i) else {
+/// Value `i` as a positive integer (a block count or dimension).
+fn value_positive(vals: &Values<'_>, i: u64, what: &str) -> Result<usize, (u64, FormatError)> {
+    let Some(t) = vals.get(i) else {
         return Err((
-            i as u64,
-            FormatError::eof_at_line(last_line(toks), what.to_string()),
+            i,
+            FormatError::eof_at_line(vals.last_line(), what.to_string()),
         ));
     };
-    let v = std::str::from_utf8(t.text)
-        .ok()
-        .and_then(|s| s.parse::<i32>().ok())
-        .filter(|&v| v >= 1);
+    let v = t
+        .value
+        .and_then(parse_int)
+        .filter(|&v| v >= 1)
+        .and_then(|v| i32::try_from(v).ok());
     match v {
         Some(v) => Ok(v as usize),
         None => Err((
-            i as u64,
-            FormatError::expected_at_line(t.line, format!("{what} (a positive integer)"), t.text),
+            i,
+            FormatError::expected_at_line(t.line, format!("{what} (a positive integer)"), t.token),
         )),
     }
 }
 
-fn ascii_plan(toks: &[Tok<'_>], layout: &Plot3dLayout) -> Result<Dims, (u64, FormatError)> {
-    let mut i = 0usize;
+fn ascii_plan(vals: &Values<'_>, layout: &Plot3dLayout) -> Result<Dims, (u64, FormatError)> {
+    let mut i = 0u64;
     let nb = if layout.multi_block {
         i += 1;
-        tok_positive(toks, 0, "the number of blocks")?
+        value_positive(vals, 0, "the number of blocks")?
     } else {
         1
     };
-    if nb.saturating_mul(layout.dim) > toks.len() {
-        let line = toks.first().map_or(1, |t| t.line);
+    if (nb as u64).saturating_mul(layout.dim as u64) > vals.len() {
+        let line = vals.get(0).map_or(1, |t| t.line);
         return Err((
             0,
             too_large(Location::Line(line), "number of blocks", nb as u64),
@@ -772,7 +752,7 @@ fn ascii_plan(toks: &[Tok<'_>], layout: &Plot3dLayout) -> Result<Dims, (u64, For
         let mut d = [1usize; 3];
         for (k, slot) in d.iter_mut().take(layout.dim).enumerate() {
             let name = ["ni", "nj", "nk"].get(k).copied().unwrap_or("n");
-            *slot = tok_positive(toks, i, &format!("{name} of block {}", b + 1))?;
+            *slot = value_positive(vals, i, &format!("{name} of block {}", b + 1))?;
             i += 1;
         }
         dims.push(d);
@@ -785,18 +765,16 @@ fn ascii_plan(toks: &[Tok<'_>], layout: &Plot3dLayout) -> Result<Dims, (u64, For
             .and_then(|n| n.checked_add(need))
             .unwrap_or(u64::MAX);
     }
-    let have = (toks.len() - i) as u64;
+    let have = vals.len() - i;
     if need != have {
         let (line, found) = if have < need {
-            (last_line(toks), format!("{have} (the file ends early)"))
+            (vals.last_line(), format!("{have} (the file ends early)"))
         } else {
-            let extra = toks
-                .get(i + need as usize)
-                .map_or(last_line(toks), |t| t.line);
+            let extra = vals.get(i + need).map_or(vals.last_line(), |t| t.line);
             (extra, format!("{have} (extra values start here)"))
         };
         return Err((
-            i as u64 + need.min(have),
+            i + need.min(have),
             FormatError::new(
                 Location::Line(line),
                 FormatErrorKind::Expected {
@@ -809,41 +787,56 @@ fn ascii_plan(toks: &[Tok<'_>], layout: &Plot3dLayout) -> Result<Dims, (u64, For
     Ok(dims)
 }
 
-fn parse_ascii_real(t: &Tok<'_>, what: &dyn Fn() -> String) -> Result<f64, FormatError> {
-    let s = std::str::from_utf8(t.text).ok();
-    let v = s.and_then(|s| {
-        s.parse::<f64>().ok().or_else(|| {
-            // Fortran writes 1.0D+00 for double precision.
-            let fixed: String = s
-                .chars()
-                .map(|c| if c == 'd' || c == 'D' { 'e' } else { c })
-                .collect();
-            fixed.parse::<f64>().ok()
-        })
-    });
-    match v {
+/// The refusal of a null value (`,,` or `r*`) where a number is needed.
+fn null_value(t: &Item<'_>, what: &str) -> FormatError {
+    FormatError::expected_at_line(
+        t.line,
+        format!("{what} (a null value leaves it undefined)"),
+        t.token,
+    )
+}
+
+fn parse_ascii_real(t: &Item<'_>, what: &dyn Fn() -> String) -> Result<f64, FormatError> {
+    let Some(text) = t.value else {
+        return Err(null_value(t, &what()));
+    };
+    match parse_real(text) {
         Some(v) if v.is_finite() => Ok(v),
         Some(_) => Err(FormatError::new(
             Location::Line(t.line),
             FormatErrorKind::NotFinite {
                 what: what(),
-                found: show(t.text),
+                found: show(t.token),
             },
         )),
         None => Err(FormatError::expected_at_line(
             t.line,
             format!("{} (a number)", what()),
-            t.text,
+            t.token,
         )),
     }
 }
 
+fn parse_ascii_iblank(t: &Item<'_>, p: usize, b: usize) -> Result<i32, FormatError> {
+    let what = format!("iblank of point {p} of block {} (an integer)", b + 1);
+    let Some(text) = t.value else {
+        return Err(null_value(t, &what));
+    };
+    let v = parse_int(text)
+        .and_then(|v| i32::try_from(v).ok())
+        .ok_or_else(|| FormatError::expected_at_line(t.line, what, t.token))?;
+    check_iblank(v, p, b, Location::Line(t.line))?;
+    Ok(v)
+}
+
 fn ascii_read(
-    toks: &[Tok<'_>],
+    vals: &Values<'_>,
     layout: &Plot3dLayout,
     dims: &Dims,
 ) -> Result<Plot3dGrid, FormatError> {
-    let mut i = usize::from(layout.multi_block) + dims.len() * layout.dim;
+    let start = (usize::from(layout.multi_block) + dims.len() * layout.dim) as u64;
+    let mut it = vals.from(start);
+    let eof = |what: &str| FormatError::eof_at_line(vals.last_line(), what.to_string());
     let mut blocks = Vec::new();
     for (b, d) in dims.iter().enumerate() {
         let n = d[0] * d[1] * d[2];
@@ -851,35 +844,18 @@ fn ascii_read(
         for k in 0..layout.dim {
             let axis = ["x", "y", "z"].get(k).copied().unwrap_or("?");
             for (p, pt) in points.iter_mut().enumerate() {
-                let Some(t) = toks.get(i) else {
-                    return Err(FormatError::eof_at_line(last_line(toks), "a coordinate"));
-                };
+                let t = it.next().ok_or_else(|| eof("a coordinate"))?;
                 let v = parse_ascii_real(t, &|| format!("{axis} of point {p} of block {}", b + 1))?;
                 if let Some(slot) = pt.get_mut(k) {
                     *slot = v;
                 }
-                i += 1;
             }
         }
         let iblank = if layout.iblank {
             let mut ib = Vec::with_capacity(n);
             for p in 0..n {
-                let Some(t) = toks.get(i) else {
-                    return Err(FormatError::eof_at_line(last_line(toks), "an iblank value"));
-                };
-                let v = std::str::from_utf8(t.text)
-                    .ok()
-                    .and_then(|s| s.parse::<i32>().ok())
-                    .ok_or_else(|| {
-                        FormatError::expected_at_line(
-                            t.line,
-                            format!("iblank of point {p} of block {} (an integer)", b + 1),
-                            t.text,
-                        )
-                    })?;
-                check_iblank(v, p, b, Location::Line(t.line))?;
-                ib.push(v);
-                i += 1;
+                let t = it.next().ok_or_else(|| eof("an iblank value"))?;
+                ib.push(parse_ascii_iblank(t, p, b)?);
             }
             Some(ib)
         } else {

@@ -50,16 +50,16 @@ impl Su2Mesh {
 }
 
 /// Reads lines, skipping blank and comment-only lines; strips `%` comments and `\r`.
-struct Lines<'a> {
+pub(super) struct Lines<'a> {
     data: &'a [u8],
-    pos: usize,
-    line: usize,
+    pub(super) pos: usize,
+    pub(super) line: usize,
     /// Byte offset where the line last returned by `next_content` starts.
-    start: usize,
+    pub(super) start: usize,
 }
 
 impl<'a> Lines<'a> {
-    fn new(data: &'a [u8]) -> Self {
+    pub(super) fn new(data: &'a [u8]) -> Self {
         Lines {
             data,
             pos: 0,
@@ -69,7 +69,7 @@ impl<'a> Lines<'a> {
     }
 
     /// Next non-empty line: (1-based number, trimmed content without comment).
-    fn next_content(&mut self) -> Option<(usize, &'a [u8])> {
+    pub(super) fn next_content(&mut self) -> Option<(usize, &'a [u8])> {
         while self.pos < self.data.len() {
             let rest = self.data.get(self.pos..).unwrap_or(&[]);
             let len = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
@@ -121,7 +121,7 @@ fn tokens(line: &[u8]) -> impl Iterator<Item = &[u8]> {
 }
 
 /// Splits `KEY= value` into (key, value) if the line has that shape.
-fn key_value(line: &[u8]) -> Option<(&[u8], &[u8])> {
+pub(super) fn key_value(line: &[u8]) -> Option<(&[u8], &[u8])> {
     let eq = line.iter().position(|&b| b == b'=')?;
     let key = line.get(..eq)?.trim_ascii();
     let value = line.get(eq + 1..)?.trim_ascii();
@@ -138,7 +138,7 @@ fn parse_uint(tok: &[u8]) -> Option<u64> {
     std::str::from_utf8(tok).ok()?.parse().ok()
 }
 
-fn parse_count(line: usize, value: &[u8], keyword: &str) -> Result<usize, FormatError> {
+pub(super) fn parse_count(line: usize, value: &[u8], keyword: &str) -> Result<usize, FormatError> {
     let first = tokens(value).next().unwrap_or(&[]);
     let n = parse_uint(first).ok_or_else(|| {
         FormatError::expected_at_line(line, format!("a count after {keyword}="), value)
@@ -327,7 +327,7 @@ pub fn parse_su2(bytes: &[u8]) -> Result<Su2Mesh, FormatError> {
                     return Err(FormatError::new(
                         Location::Line(line),
                         FormatErrorKind::Unsupported {
-                            what: "multi-zone SU2 meshes (NZONE/IZONE other than 1)".into(),
+                            what: "several zones (NZONE/IZONE other than 1) in one mesh: read the file with su2_zones::parse_su2_zones".into(),
                         },
                     ));
                 }

@@ -18,6 +18,26 @@ pub(super) fn work_sizes<T: Real, const D: usize>(spec: &PlanSpec<'_, T, D>) -> 
     work_sizes_of(spec.graph.node_count(), spec.graph.edge_count())
 }
 
+/// The length checks on a spec that need no work buffers (see
+/// [`Plan::work_sizes`](super::Plan::work_sizes)).
+pub(super) fn check_lengths<T: Real, const D: usize>(spec: &PlanSpec<'_, T, D>) -> Result<()> {
+    let n = spec.graph.node_count();
+    check::len("points", spec.points.len(), n)?;
+    if spec.boundary.is_empty() {
+        return Err(Error::InvalidParameter {
+            arg: "boundary",
+            reason: "must not be empty",
+        });
+    }
+    if let PlanStiffness::Given(k) = spec.stiffness {
+        check::len("stiffness", k.len(), spec.graph.edge_count())?;
+    }
+    if let Some(c) = &spec.constraints {
+        check::len("constraints", c.len(), n)?;
+    }
+    Ok(())
+}
+
 /// Transient work lengths for `n` nodes and `e` directed edges: `e` reals (the stiffness),
 /// `max(4 (n + e) + 64, n)` indices (anchoring search, the hierarchy's symbolic pass), `n`
 /// bytes (the fixed mask).
@@ -87,17 +107,11 @@ fn prepare<T: Real, const D: usize>(
     ] {
         check::buffer(arg, have, needed)?;
     }
-    check::len("points", spec.points.len(), n)?;
+    check_lengths(spec)?;
     if let Some(p) = crate::real::first_non_finite(spec.points) {
         return Err(Error::NonFinite {
             arg: "points",
             position: p,
-        });
-    }
-    if b == 0 {
-        return Err(Error::InvalidParameter {
-            arg: "boundary",
-            reason: "must not be empty",
         });
     }
     // The fixed mask, with the duplicate and range checks of the boundary list.
@@ -124,7 +138,6 @@ fn prepare<T: Real, const D: usize>(
         }
     }
     if let Some(c) = &spec.constraints {
-        check::len("constraints", c.len(), n)?;
         for (&k, &m) in c.kinds().iter().zip(mask.iter()) {
             match NodeKind::from_code(k) {
                 Some(NodeKind::Free) | Some(NodeKind::Fixed) => {}

@@ -516,17 +516,22 @@ fn check_amg(layout: &Layout, sweeps: usize, c: &Counts) -> Result<()> {
     }
     let vi = layout.index_len;
     let vv = layout.values_len;
-    for l in layout.levels.iter().take(layout.count) {
+    for (i, l) in layout.levels.iter().take(layout.count).enumerate() {
         let n1 = l.n.saturating_add(1);
+        // Every level has a diagonal and off-diagonal entries (level 0 reads its operator
+        // from the system: a_nnz 0); all but the coarsest an aggregate map and a
+        // prolongator (the coarsest has none: a one-level hierarchy is its fine level).
+        let coarsest = i + 1 == layout.count;
         let ok = within(l.diag, l.n, vv)
             && within(l.a_vals, l.a_nnz, vv)
-            && within(l.p_vals, l.p_nnz, vv)
             && within(l.a_cols, l.a_nnz, vi)
-            && within(l.agg, l.n, vi)
-            && within(l.p_offs, n1, vi)
-            && within(l.p_cols, l.p_nnz, vi)
-            && within(l.pt_rows, l.p_nnz, vi)
-            && within(l.pt_pos, l.p_nnz, vi);
+            && (coarsest
+                || within(l.p_vals, l.p_nnz, vv)
+                    && within(l.agg, l.n, vi)
+                    && within(l.p_offs, n1, vi)
+                    && within(l.p_cols, l.p_nnz, vi)
+                    && within(l.pt_rows, l.p_nnz, vi)
+                    && within(l.pt_pos, l.p_nnz, vi));
         if !ok {
             return Err(bad("multigrid level outside its buffers"));
         }

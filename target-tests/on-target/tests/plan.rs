@@ -98,7 +98,7 @@ fn build<T: Real, const R: usize, const I: usize, const B: usize>(
     defmt::assert!(m.used == EDGES);
     let spec = spec(m, method, solver);
     let mut work = Work::<T>::new();
-    defmt::assert!(Plan::<T, 2>::work_sizes(&spec) == work.capacity());
+    defmt::assert!(Plan::<T, 2>::work_sizes(&spec) == Ok(work.capacity()));
     let sizes = Plan::<T, 2>::sizes(&spec, &mut work.work()).unwrap();
     let p = pools.init(&spec, &mut work.work()).unwrap();
     defmt::assert!(p.used() == sizes);
