@@ -7,7 +7,7 @@
  * The grid is built with + - * / only (a rational parametrisation of the circle), so C,
  * Fortran and Rust generate the same bits.
  *
- * Build: cc -std=c99 -I ffi/include deform_and_smooth.c ffi/capi/target/release/libdeform_kernel.a -lm */
+ * Build: cc -std=c99 -I ffi/generated deform_and_smooth.c ffi/capi/target/release/libdeform_kernel.a -lm */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

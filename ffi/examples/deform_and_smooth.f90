@@ -4,7 +4,7 @@
 ! the dkf_deform_* wrappers. Prints every result's bit pattern for the bit-parity test: the
 ! output is identical to the C program's.
 !
-! Build: gfortran -std=f2008 ffi/fortran/deform_kernel.f90 deform_and_smooth.f90 \
+! Build: gfortran -std=f2008 ffi/generated/deform_kernel.f90 deform_and_smooth.f90 \
 !        ffi/capi/target/release/libdeform_kernel.a -lm
 program deform_and_smooth
   use, intrinsic :: iso_c_binding

@@ -2,7 +2,7 @@
  * quaternion tools. Prints every result's bit pattern so the test harness can compare it with
  * the Rust API and with the Fortran example, bit for bit.
  *
- * Build: cc -std=c99 -I ffi/include mesh_basics.c ffi/capi/target/release/libdeform_kernel.a -lm */
+ * Build: cc -std=c99 -I ffi/generated mesh_basics.c ffi/capi/target/release/libdeform_kernel.a -lm */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

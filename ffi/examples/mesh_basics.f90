@@ -1,7 +1,7 @@
 ! deform-kernel from Fortran: the same steps as mesh_basics.c, with 1-based mesh numbering as
 ! a Fortran code stores it. Prints every result's bit pattern for the bit-parity test.
 !
-! Build: gfortran -std=f2008 ffi/fortran/deform_kernel.f90 mesh_basics.f90 \
+! Build: gfortran -std=f2008 ffi/generated/deform_kernel.f90 mesh_basics.f90 \
 !        ffi/capi/target/release/libdeform_kernel.a -lm
 program mesh_basics
   use, intrinsic :: iso_c_binding

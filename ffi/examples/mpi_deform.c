@@ -1,7 +1,7 @@
 /* A C solver that owns part of a mesh and moves it with the kernel under MPI, with the
  * serial bits for any number of processes (issue 16, the protocol in ffi/README.md).
  *
- *   mpicc -std=c11 -O2 -Iffi/include ffi/examples/mpi_deform.c libdeform_kernel.a -lm -lpthread -ldl
+ *   mpicc -std=c11 -O2 -Iffi/generated ffi/examples/mpi_deform.c libdeform_kernel.a -lm -lpthread -ldl
  *   mpirun -np 3 ./a.out
  *
  * The mesh: an nx × ny grid of quads (graph edges along both grid directions and one

@@ -12,7 +12,7 @@
  * the same input in Rust), each step's iterations, the final mesh (bit patterns), and the
  * warm and cold iteration totals.
  *
- * Build: cc -std=c99 -I ffi/include ffi/examples/plan_pitching.c libdeform_kernel.a -lm
+ * Build: cc -std=c99 -I ffi/generated ffi/examples/plan_pitching.c libdeform_kernel.a -lm
  */
 #include <math.h>
 #include <stdint.h>

@@ -5,7 +5,7 @@
 ! fewer iterations than cold ones. Node numbers (cells, boundary, elements) are 1-based here;
 ! the wrappers pass 0-based copies to the C functions.
 !
-! Build: gfortran -std=f2008 ffi/fortran/deform_kernel.f90 ffi/examples/plan_pitching.f90 \
+! Build: gfortran -std=f2008 ffi/generated/deform_kernel.f90 ffi/examples/plan_pitching.f90 \
 !        libdeform_kernel.a -lm -lpthread -ldl
 program plan_pitching
   use, intrinsic :: iso_c_binding, only: c_double, c_int32_t, c_int64_t, c_int8_t, c_size_t

@@ -1,6 +1,6 @@
 /* The stateless multigrid spring solves against the one-level ones, timed from C.
  *
- *   cc -O2 -std=c99 -I ffi/include ffi/examples/spring_amg_timing.c \
+ *   cc -O2 -std=c99 -I ffi/generated ffi/examples/spring_amg_timing.c \
  *      ffi/capi/target/release/libdeform_kernel.a -lm -lpthread -ldl -o amg_timing
  *   ./amg_timing 256 192      # NI x NJ nodes (default 64 x 48)
  *

@@ -4,7 +4,6 @@
 //!
 //! Every raw pointer is turned into a reference by [`crate::slice`]; the helpers here only
 //! forward the contract of the public function that received the pointer.
-#![allow(unsafe_code)] // calls into crate::slice; no pointer is dereferenced here.
 
 use deform_kernel::Block;
 

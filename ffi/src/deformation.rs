@@ -22,7 +22,7 @@
 //! mesh node) that receive the propagated fields on success. They are workspaces: on an error
 //! detected after validation (a solver error, a rotation that cancels) they may have been
 //! written. `out` and `origin_out` are written only on success.
-#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
+#![allow(unsafe_code)] // a parameter struct's arrays become `In`/`Out` tokens (`In::new`) here.
 
 use deform_kernel::deformation::{
     boundary_normals, boundary_normals_scratch_len, boundary_origin, boundary_rotations,
@@ -34,6 +34,7 @@ use deform_kernel::deformation::{
 };
 use deform_kernel::spring::SpringSystem;
 use deform_kernel::{Block, Cells, Directions, Quat, Real};
+use deform_kernel_ffi_export::export;
 
 use crate::args::{
     assert_layout, block, by_dim, check_base, done, index_need, read_array, read_one, read_points,
@@ -42,8 +43,7 @@ use crate::args::{
 use crate::graph::{dk_cells, CellsIn};
 use crate::slice::{chunks, chunks_mut, input, out_one, output, quats, quats_mut, In, Out};
 use crate::spring::{
-    dk_spring_solve_options, dk_spring_solve_report, dk_spring_system, dk_spring_system_f32,
-    SystemC, SystemIn,
+    dk_spring_solve_options, dk_spring_solve_report, DkSpringSystem, SystemC, SystemIn,
 };
 use crate::status::dk_status;
 
@@ -71,17 +71,17 @@ pub const DK_DIRECTION_J: u32 = 2;
 /// Bit of a TFI `directions` mask: interpolate along `k` (3D blocks only).
 pub const DK_DIRECTION_K: u32 = 4;
 
-// codegen: f32 twin
 /// The prescribed motion of a mesh boundary, double precision (the kernel's
 /// `BoundaryMotion`): which mesh nodes move where, how they turn, and about which origin.
 /// Fill it with [`dk_boundary_motion_default`] first, then set the fields you need.
 ///
 /// The arrays are borrowed for the duration of the call that receives the struct; the library
 /// never keeps the pointers.
+#[export(twin = dk_boundary_motion)]
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 #[allow(non_camel_case_types)]
-pub struct dk_boundary_motion {
+pub struct DkBoundaryMotion<T> {
     /// Mesh node of each of the `B` boundary points, in `index_base`, all distinct. Include
     /// fixed boundaries (far field) with `deformed` equal to their position: they anchor the
     /// propagation.
@@ -90,7 +90,7 @@ pub struct dk_boundary_motion {
     pub nodes_len: usize,
     /// Deformed position of each boundary point (`B * dim` scalars); reproduced exactly in
     /// the output.
-    pub deformed: *const f64,
+    pub deformed: *const T,
     /// Number of scalars in `deformed` (`B * dim`).
     pub deformed_len: usize,
     /// Optional boundary elements (every array NULL with length 0 for none), in `index_base`,
@@ -100,14 +100,14 @@ pub struct dk_boundary_motion {
     pub elements: dk_cells,
     /// With [`DK_ROTATIONS_PER_NODE`]: one quaternion `(w, x, y, z)` per boundary node, in
     /// `nodes` order (`4 * B` scalars). Ignored otherwise.
-    pub node_rotations: *const f64,
+    pub node_rotations: *const T,
     /// Number of scalars in `node_rotations`.
     pub node_rotations_len: usize,
     /// With [`DK_ROTATIONS_RIGID`]: the rotation `(w, x, y, z)` of the moving boundary nodes
     /// (normalised by the library). Ignored otherwise.
-    pub rigid_rotation: [f64; 4],
+    pub rigid_rotation: [T; 4],
     /// The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
-    pub origin: [f64; 3],
+    pub origin: [T; 3],
     /// 0 (C) or 1 (Fortran): the base of `nodes` and of the elements' offsets and nodes.
     pub index_base: u32,
     /// Where the rotations come from: [`DK_ROTATIONS_SHAPE`], [`DK_ROTATIONS_RIGID`] or
@@ -119,7 +119,7 @@ pub struct dk_boundary_motion {
 }
 
 assert_layout!(
-    dk_boundary_motion, 168;
+    DkBoundaryMotion<f64>, 168;
     nodes_len = 8, deformed = 16, elements = 32,
     node_rotations = 80, rigid_rotation = 96, origin = 128, index_base = 152, rotation_source = 156,
     has_origin = 160,
@@ -180,50 +180,44 @@ trait MotionC: Copy {
     fn default_value() -> Self;
 }
 
-macro_rules! motion_c {
-    ($ty:ty, $t:ty) => {
-        impl MotionC for $ty {
-            type T = $t;
-            fn raw(p: In<'_, Self>) -> Result<RawMotion<'_, $t>, dk_status> {
-                let m = read_one(p)?;
-                // SAFETY: a token for a motion struct carries the contract of the functions
-                // that take one: its arrays are readable for their lengths while it is.
-                let raw = unsafe {
-                    RawMotion {
-                        nodes: In::new(m.nodes, m.nodes_len),
-                        deformed: In::new(m.deformed, m.deformed_len),
-                        elements: m.elements.tokens(),
-                        node_rotations: In::new(m.node_rotations, m.node_rotations_len),
-                        rigid_rotation: m.rigid_rotation,
-                        origin: m.origin,
-                        index_base: m.index_base,
-                        rotation_source: m.rotation_source,
-                        has_origin: m.has_origin,
-                    }
-                };
-                Ok(raw)
+impl<T: Real> MotionC for DkBoundaryMotion<T> {
+    type T = T;
+    fn raw(p: In<'_, Self>) -> Result<RawMotion<'_, T>, dk_status> {
+        let m = read_one(p)?;
+        // SAFETY: a token for a motion struct carries the contract of the functions
+        // that take one: its arrays are readable for their lengths while it is.
+        let raw = unsafe {
+            RawMotion {
+                nodes: In::new(m.nodes, m.nodes_len),
+                deformed: In::new(m.deformed, m.deformed_len),
+                elements: m.elements.tokens(),
+                node_rotations: In::new(m.node_rotations, m.node_rotations_len),
+                rigid_rotation: m.rigid_rotation,
+                origin: m.origin,
+                index_base: m.index_base,
+                rotation_source: m.rotation_source,
+                has_origin: m.has_origin,
             }
-            fn default_value() -> Self {
-                Self {
-                    nodes: core::ptr::null(),
-                    nodes_len: 0,
-                    deformed: core::ptr::null(),
-                    deformed_len: 0,
-                    elements: dk_cells::NONE,
-                    node_rotations: core::ptr::null(),
-                    node_rotations_len: 0,
-                    rigid_rotation: [1.0, 0.0, 0.0, 0.0],
-                    origin: [0.0; 3],
-                    index_base: 0,
-                    rotation_source: DK_ROTATIONS_SHAPE,
-                    has_origin: 0,
-                }
-            }
+        };
+        Ok(raw)
+    }
+    fn default_value() -> Self {
+        Self {
+            nodes: core::ptr::null(),
+            nodes_len: 0,
+            deformed: core::ptr::null(),
+            deformed_len: 0,
+            elements: dk_cells::NONE,
+            node_rotations: core::ptr::null(),
+            node_rotations_len: 0,
+            rigid_rotation: [T::ONE, T::ZERO, T::ZERO, T::ZERO],
+            origin: [T::ZERO; 3],
+            index_base: 0,
+            rotation_source: DK_ROTATIONS_SHAPE,
+            has_origin: 0,
         }
-    };
+    }
 }
-motion_c!(dk_boundary_motion, f64);
-motion_c!(dk_boundary_motion_f32, f32);
 
 /// Reads the caller's motion struct.
 fn read_raw<M: MotionC>(motion: In<'_, M>) -> Result<RawMotion<'_, M::T>, dk_status> {
@@ -355,7 +349,7 @@ impl<'a, T: Real> PipelineOut<'a, T> {
     }
 }
 
-fn idw_d<M: MotionC, const D: usize>(
+fn idw_for_dim<M: MotionC, const D: usize>(
     points: In<'_, M::T>,
     motion: In<'_, M>,
     exponent: M::T,
@@ -383,7 +377,7 @@ fn idw_d<M: MotionC, const D: usize>(
 // Pipelines: TFI
 // ---------------------------------------------------------------------------------------------
 
-fn tfi_d<M: MotionC, const D: usize>(
+fn tfi_for_dim<M: MotionC, const D: usize>(
     [ni, nj, nk]: [usize; 3],
     directions: u32,
     points: In<'_, M::T>,
@@ -431,7 +425,7 @@ impl<'a> ElementsIn<'a> {
     }
 }
 
-fn normals_d<T: Real, const D: usize>(
+fn normals_for_dim<T: Real, const D: usize>(
     points: In<'_, T>,
     elements: ElementsIn<'_>,
     scratch: Out<'_, T>,
@@ -444,7 +438,7 @@ fn normals_d<T: Real, const D: usize>(
     boundary_normals(points, &cells, scratch, normals).map_err(dk_status::from)
 }
 
-fn rotations_d<T: Real, const D: usize>(
+fn rotations_for_dim<T: Real, const D: usize>(
     undeformed: In<'_, T>,
     deformed: In<'_, T>,
     elements: ElementsIn<'_>,
@@ -459,15 +453,7 @@ fn rotations_d<T: Real, const D: usize>(
     boundary_rotations(u, d, &cells, scratch, rotations).map_err(dk_status::from)
 }
 
-fn rigid<T: Real>(q: In<'_, T>, rotations: Out<'_, T>) -> dk_status {
-    done((|| {
-        let q = read_array::<T, 4>(q).map(Quat::from_array)?;
-        let r = quats_mut(rotations)?;
-        rigid_rotations(q, r).map_err(dk_status::from)
-    })())
-}
-
-fn origin_d<T: Real, const D: usize>(
+fn origin_for_dim<T: Real, const D: usize>(
     undeformed: In<'_, T>,
     deformed: In<'_, T>,
     origin_out: Out<'_, T>,
@@ -483,7 +469,7 @@ fn origin_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn translations_d<T: Real, const D: usize>(
+fn translations_for_dim<T: Real, const D: usize>(
     origin: In<'_, T>,
     undeformed: In<'_, T>,
     deformed: In<'_, T>,
@@ -502,7 +488,7 @@ fn translations_d<T: Real, const D: usize>(
 // Building blocks: field level
 // ---------------------------------------------------------------------------------------------
 
-fn propagate_idw_d<T: Real, const D: usize>(
+fn propagate_idw_for_dim<T: Real, const D: usize>(
     points: In<'_, T>,
     boundary: In<'_, u32>,
     index_base: u32,
@@ -521,8 +507,7 @@ fn propagate_idw_d<T: Real, const D: usize>(
 }
 
 /// `rotations` NULL with length 0 and `displacement` set: plain displacement TFI.
-#[allow(clippy::too_many_arguments)]
-fn propagate_tfi_d<T: Real, const D: usize>(
+fn propagate_tfi_for_dim<T: Real, const D: usize>(
     [ni, nj, nk]: [usize; 3],
     directions: u32,
     points: In<'_, T>,
@@ -542,8 +527,7 @@ fn propagate_tfi_d<T: Real, const D: usize>(
     propagate_tfi(&block, directions, points, t, q, scratch).map_err(dk_status::from)
 }
 
-#[allow(clippy::too_many_arguments)]
-fn update_d<T: Real, const D: usize>(
+fn update_for_dim<T: Real, const D: usize>(
     origin: In<'_, T>,
     points: In<'_, T>,
     translations: In<'_, T>,
@@ -606,8 +590,7 @@ fn spring_index_len<M: MotionC>(
     )
 }
 
-#[allow(clippy::too_many_arguments)]
-fn spring_d<M: MotionC, const D: usize>(
+fn spring_for_dim<M: MotionC, const D: usize>(
     points: In<'_, M::T>,
     motion: In<'_, M>,
     system: Result<SystemIn<'_, M::T>, dk_status>,
@@ -644,8 +627,7 @@ fn spring_d<M: MotionC, const D: usize>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
-fn propagate_spring_d<T: Real, const D: usize>(
+fn propagate_spring_for_dim<T: Real, const D: usize>(
     system: Result<SystemIn<'_, T>, dk_status>,
     options: In<'_, dk_spring_solve_options>,
     index_scratch: Out<'_, u32>,
@@ -668,5 +650,815 @@ fn propagate_spring_d<T: Real, const D: usize>(
     Ok(())
 }
 
-mod abi;
-pub use abi::*;
+// ---------------------------------------------------------------------------------------------
+// The C functions (`cargo xtask codegen` exports each, see ffi/README.md).
+// ---------------------------------------------------------------------------------------------
+
+/// Fills `*out` with an empty motion: no nodes, no elements, `rotation_source`
+/// [`DK_ROTATIONS_SHAPE`], identity `rigid_rotation` `(1, 0, 0, 0)`, zero `origin` with
+/// `has_origin` 0 (default origin), `index_base` 0. Set the fields you need afterwards.
+///
+/// # Safety
+/// `out` points to one writable `dk_boundary_motion` (or is NULL: `DK_ERR_NULL_POINTER`).
+#[export(twin, out[1])]
+pub(crate) fn dk_boundary_motion_default<T: Real>(out: Out<'_, DkBoundaryMotion<T>>) -> dk_status {
+    motion_default(out)
+}
+
+/// Number of `uint32_t` entries the `index_scratch` of a pipeline needs for `*motion`:
+/// `nodes_len + elements.offsets_len + elements.nodes_len` with `index_base` 1, 0 with
+/// `index_base` 0 (then `index_scratch` may be NULL). [`dk_deform_spring`] needs `node_count`
+/// more (see [`dk_deform_spring_index_scratch_len`]). Errors: `DK_ERR_BAD_INDEX_BASE`,
+/// `DK_ERR_TOO_LARGE` (the sum overflows).
+///
+/// # Safety
+/// `motion` points to one readable `dk_boundary_motion`; `len_out` to one writable `size_t`.
+#[export(twin, motion[1], len_out[1])]
+pub(crate) fn dk_boundary_motion_index_scratch_len<T: Real>(
+    motion: In<'_, DkBoundaryMotion<T>>,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    motion_index_len(motion, len_out)
+}
+
+/// Number of scalars the `scratch` of [`dk_deform_idw`] (and [`dk_deform_spring`]) needs for
+/// `node_count` mesh nodes and `boundary_len` boundary nodes in dimension `dim` (2 or 3):
+/// `max(node_count, 3 boundary_len)` in 2D, `max(node_count, 13 boundary_len)` in 3D (the
+/// kernel's `deform_idw_scratch_len`). The same for both precisions.
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[export(len_out[1])]
+pub(crate) fn dk_deform_idw_scratch_len(
+    node_count: usize,
+    boundary_len: usize,
+    dim: u32,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    len_status(
+        len_out,
+        match dim {
+            2 => Ok(deform_idw_scratch_len::<2>(node_count, boundary_len)),
+            3 => Ok(deform_idw_scratch_len::<3>(node_count, boundary_len)),
+            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        },
+    )
+}
+
+/// The whole quaternion deformation with inverse-distance propagation (the kernel's
+/// `deform_idw`): boundary rotations from `motion->rotation_source`, the origin (given, or the
+/// centroid of the moving boundary points), translations `Δ_i = (r_i^d − o) − Q_i (r_i^u − o)
+/// Q_i*`, inverse-distance weighting of `(Δ, Q)` with weights `(d_min / d)^exponent`, and the
+/// update `out = o + Δ + Q (points − o) Q*`; boundary nodes are set to `motion->deformed`
+/// exactly.
+///
+/// - `points`: the undeformed mesh, `points_len = N * dim` scalars, `dim` 2 or 3.
+/// - `motion`: the boundary motion (see [`dk_boundary_motion`]).
+/// - `exponent`: finite and positive (2–5 is typical; larger is more local).
+/// - `scratch`: [`dk_deform_idw_scratch_len`] scalars; `index_scratch`:
+///   [`dk_boundary_motion_index_scratch_len`] entries (NULL with 0 for `index_base` 0).
+/// - `translations` (`N * dim`), `rotations` (`4 N`): workspaces that receive the propagated
+///   fields on success (and may have been written on error).
+/// - `out` (`N * dim`): the deformed mesh; `origin_out`: the origin used (`dim` scalars), or
+///   NULL with length 0.
+///
+/// Errors: pointer and length errors, `DK_ERR_BAD_INDEX_BASE`,
+/// `DK_ERR_INDEX_OUT_OF_RANGE` (a boundary node or element node), `DK_ERR_DUPLICATE_NODE`,
+/// `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero rotation), `DK_ERR_INVALID_PARAMETER` (no
+/// boundary node, bad exponent, unknown rotation source, shape rotations without elements),
+/// the cell errors of the elements and the errors of the shape rotations
+/// (`DK_ERR_ISOLATED_NODE`, `DK_ERR_ZERO_LENGTH_EDGE`, `DK_ERR_CELL_DIMENSION` for an element
+/// kind that does not fit `dim`). On error
+/// `out` and `origin_out` are unchanged.
+///
+/// # Safety
+/// `points` is readable for `points_len` scalars; `motion` points to one readable struct
+/// whose arrays are readable for their lengths; every writable buffer is valid for its length;
+/// no writable buffer overlaps another buffer or an input.
+#[export(twin, motion[1])]
+pub(crate) fn dk_deform_idw<T: Real>(
+    points: In<'_, T>,
+    dim: u32,
+    motion: In<'_, DkBoundaryMotion<T>>,
+    exponent: T,
+    scratch: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    translations: Out<'_, T>,
+    rotations: Out<'_, T>,
+    out: Out<'_, T>,
+    origin_out: Out<'_, T>,
+) -> dk_status {
+    let bufs = PipelineOut {
+        scratch,
+        index_scratch,
+        translations,
+        rotations,
+        out,
+        origin_out,
+    };
+    done(by_dim!(
+        dim,
+        idw_for_dim::<DkBoundaryMotion<T>>,
+        (points, motion, exponent, bufs)
+    ))
+}
+
+/// Number of scalars the `scratch` of [`dk_deform_tfi`] needs for a `ni × nj × nk` block with
+/// `boundary_len` boundary nodes in dimension `dim`: `max(dim · ni nj nk, boundary rotation
+/// scratch)` (the kernel's `deform_tfi_scratch_len`). Errors: `DK_ERR_BAD_DIMENSIONS` (a zero
+/// dimension, too many points), `DK_ERR_INVALID_PARAMETER` (`dim` not 2 or 3).
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[export(len_out[1])]
+pub(crate) fn dk_deform_tfi_scratch_len(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    boundary_len: usize,
+    dim: u32,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    len_status(
+        len_out,
+        block(ni, nj, nk).and_then(|b| match dim {
+            2 => Ok(deform_tfi_scratch_len::<2>(&b, boundary_len)),
+            3 => Ok(deform_tfi_scratch_len::<3>(&b, boundary_len)),
+            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        }),
+    )
+}
+
+/// The whole quaternion deformation of a structured block with transfinite interpolation (the
+/// kernel's `deform_tfi`): as [`dk_deform_idw`], with the arclength-blended TFI of `(Δ, Q)`
+/// over the active `directions` (a mask of [`DK_DIRECTION_I`], [`DK_DIRECTION_J`],
+/// [`DK_DIRECTION_K`]) instead of inverse-distance weighting.
+///
+/// The block has `ni × nj × nk` points (`nk = 1` in 2D), numbered `i + ni (j + nj k)`;
+/// `points_len = ni nj nk · dim`. Every point on a face of an active direction must be listed
+/// in `motion->nodes` (else `DK_ERR_UNANCHORED`); for an O-grid activate only
+/// `DK_DIRECTION_J` (wall `j = 0`, far field `j = nj − 1`). `scratch` needs
+/// [`dk_deform_tfi_scratch_len`] scalars. Further errors: `DK_ERR_BAD_DIMENSIONS` (block),
+/// `DK_ERR_INVALID_PARAMETER` (no or unknown direction bits, a direction with one point).
+/// On error `out` and `origin_out` are unchanged (`translations`, `rotations` are
+/// workspaces).
+///
+/// # Safety
+/// As [`dk_deform_idw`].
+#[export(twin, motion[1])]
+pub(crate) fn dk_deform_tfi<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    directions: u32,
+    points: In<'_, T>,
+    dim: u32,
+    motion: In<'_, DkBoundaryMotion<T>>,
+    scratch: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    translations: Out<'_, T>,
+    rotations: Out<'_, T>,
+    out: Out<'_, T>,
+    origin_out: Out<'_, T>,
+) -> dk_status {
+    let bufs = PipelineOut {
+        scratch,
+        index_scratch,
+        translations,
+        rotations,
+        out,
+        origin_out,
+    };
+    done(by_dim!(
+        dim,
+        tfi_for_dim::<DkBoundaryMotion<T>>,
+        ([ni, nj, nk], directions, points, motion, bufs)
+    ))
+}
+
+/// Number of scalars the `scratch` of [`dk_deform_boundary_normals`] needs:
+/// `3 * boundary_len` (saturating).
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[export(len_out[1])]
+pub(crate) fn dk_deform_boundary_normals_scratch_len(
+    boundary_len: usize,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    len_status(len_out, Ok(boundary_normals_scratch_len(boundary_len)))
+}
+
+/// Area-weighted unit normals of a boundary at its nodes (the kernel's `boundary_normals`;
+/// Samareh's `n`, eq. 5): each node's normal is the normalised sum of the raw normals of its
+/// elements (segment length in 2D, twice the face area in 3D). In 2D the normal of a segment
+/// `a → b` is `(t_y, −t_x)` (outward for a counter-clockwise loop); in 3D the right-hand rule.
+///
+/// `points` holds the `B` boundary points (`B * dim` scalars, `dim` 2 or 3); the elements
+/// (offsets, nodes as positions `0..B`, VTK kinds: segments in 2D, triangles/quads in 3D) are
+/// read in `index_base`, converted into `index_scratch` with `index_base` 1
+/// (`elements->offsets_len + elements->nodes_len` entries; NULL with 0 for `index_base` 0).
+/// `scratch` needs [`dk_deform_boundary_normals_scratch_len`] scalars; `normals` receives
+/// `B * dim` scalars.
+///
+/// Errors: pointer and length errors (no elements: `DK_ERR_LENGTH_MISMATCH`), the cell errors,
+/// `DK_ERR_CELL_DIMENSION` (an element kind that does not fit `dim`), `DK_ERR_NON_FINITE`,
+/// `DK_ERR_ISOLATED_NODE` (a point in no element), `DK_ERR_ZERO_LENGTH` (the element normals
+/// cancel at a node). On error `normals` is unchanged.
+///
+/// # Safety
+/// Every pointer is valid for its length (reads for inputs, writes for `scratch`,
+/// `index_scratch`, `normals`); the writable buffers overlap nothing else.
+#[export(twin, elements[1])]
+pub(crate) fn dk_deform_boundary_normals<T: Real>(
+    points: In<'_, T>,
+    dim: u32,
+    elements: In<'_, dk_cells>,
+    index_base: u32,
+    scratch: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    normals: Out<'_, T>,
+) -> dk_status {
+    let elements = ElementsIn {
+        elements,
+        index_base,
+        index_scratch,
+    };
+    done(by_dim!(
+        dim,
+        normals_for_dim::<T>,
+        (points, elements, scratch, normals)
+    ))
+}
+
+/// Number of scalars the `scratch` of [`dk_deform_boundary_rotations`] needs: `3 B` in 2D,
+/// `13 B` in 3D (saturating). `DK_ERR_INVALID_PARAMETER` unless `dim` is 2 or 3.
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[export(len_out[1])]
+pub(crate) fn dk_deform_boundary_rotations_scratch_len(
+    boundary_len: usize,
+    dim: u32,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    len_status(
+        len_out,
+        match dim {
+            2 => Ok(boundary_rotations_scratch_len::<2>(boundary_len)),
+            3 => Ok(boundary_rotations_scratch_len::<3>(boundary_len)),
+            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        },
+    )
+}
+
+/// Per-node rotations of a boundary from its undeformed and deformed shapes (the kernel's
+/// `boundary_rotations`). 3D: `Q1` turns the undeformed node normal onto the deformed one,
+/// then a twist about the deformed normal (weighted circular mean over the element edges at
+/// the node), `Q = Q2 Q1`. 2D: a rotation about z by the mean change of direction of the
+/// node's segments.
+///
+/// `undeformed`, `deformed`: the `B` boundary points (`B * dim` scalars each); elements as for
+/// [`dk_deform_boundary_normals`] (same `index_base` and `index_scratch` rules). `scratch`:
+/// [`dk_deform_boundary_rotations_scratch_len`] scalars; `rotations` receives `4 B` scalars
+/// (unit quaternions `(w, x, y, z)`).
+///
+/// Errors: as [`dk_deform_boundary_normals`], plus `DK_ERR_ZERO_LENGTH_EDGE` (in either
+/// shape) and `DK_ERR_ISOLATED_NODE` (in 3D also a node whose twist is undetermined). On error
+/// `rotations` is unchanged.
+///
+/// # Safety
+/// As [`dk_deform_boundary_normals`].
+#[export(twin, elements[1])]
+pub(crate) fn dk_deform_boundary_rotations<T: Real>(
+    undeformed: In<'_, T>,
+    deformed: In<'_, T>,
+    dim: u32,
+    elements: In<'_, dk_cells>,
+    index_base: u32,
+    scratch: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    rotations: Out<'_, T>,
+) -> dk_status {
+    let elements = ElementsIn {
+        elements,
+        index_base,
+        index_scratch,
+    };
+    done(by_dim!(
+        dim,
+        rotations_for_dim::<T>,
+        (undeformed, deformed, elements, scratch, rotations)
+    ))
+}
+
+/// Fills `rotations` (`rotations_len` scalars, a multiple of 4) with copies of the rigid
+/// rotation `q` (4 scalars, normalised here): for a marker whose motion is known (the kernel's
+/// `rigid_rotations`). Errors: `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (`q`),
+/// `DK_ERR_LENGTH_MISMATCH`; on error `rotations` is unchanged.
+///
+/// # Safety
+/// `q` points to 4 readable scalars; `rotations` is writable for `rotations_len` scalars and
+/// does not overlap `q`.
+#[export(twin, q[4])]
+pub(crate) fn dk_deform_rigid_rotations<T: Real>(q: In<'_, T>, rotations: Out<'_, T>) -> dk_status {
+    done((|| {
+        let q = read_array::<T, 4>(q).map(Quat::from_array)?;
+        let r = quats_mut(rotations)?;
+        rigid_rotations(q, r).map_err(dk_status::from)
+    })())
+}
+
+/// The default rotation origin (the kernel's `boundary_origin`): the centroid of the
+/// undeformed positions of the boundary points that move (`deformed != undeformed`), or of all
+/// points when none moves. A far origin turns small rotation differences into large spurious
+/// displacements; this one keeps the lever arms short.
+///
+/// `undeformed`, `deformed`: `B * dim` scalars each; `origin_out` receives `dim` scalars
+/// (`origin_out_len` must be `dim`). Errors: length and pointer errors,
+/// `DK_ERR_INVALID_PARAMETER` (no points), `DK_ERR_NON_FINITE`. On error `origin_out` is
+/// unchanged.
+///
+/// # Safety
+/// The inputs are readable for their lengths; `origin_out` is writable for `origin_out_len`
+/// scalars and overlaps no input.
+#[export(twin)]
+pub(crate) fn dk_deform_boundary_origin<T: Real>(
+    undeformed: In<'_, T>,
+    deformed: In<'_, T>,
+    dim: u32,
+    origin_out: Out<'_, T>,
+) -> dk_status {
+    done(by_dim!(
+        dim,
+        origin_for_dim::<T>,
+        (undeformed, deformed, origin_out)
+    ))
+}
+
+/// The boundary translations `Δ_i = (r_i^d − o) − Q_i (r_i^u − o) Q_i*` about `origin` (the
+/// kernel's `boundary_translations`; Samareh's `Δ` with the undeformed point rotated), so
+/// that `o + Δ_i + Q_i (r_i^u − o) Q_i*` is `r_i^d` up to rounding. Each rotation is
+/// normalised first.
+///
+/// `origin`: `dim` scalars (`origin_len == dim`); `undeformed`, `deformed`: `B * dim`
+/// scalars; `rotations`: `4 B`; `translations` receives `B * dim`. Errors: length and pointer
+/// errors, `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero rotation). On error
+/// `translations` is unchanged.
+///
+/// # Safety
+/// The inputs are readable for their lengths; `translations` is writable for its length and
+/// overlaps no input.
+#[export(twin)]
+pub(crate) fn dk_deform_boundary_translations<T: Real>(
+    origin: In<'_, T>,
+    undeformed: In<'_, T>,
+    deformed: In<'_, T>,
+    dim: u32,
+    rotations: In<'_, T>,
+    translations: Out<'_, T>,
+) -> dk_status {
+    done(by_dim!(
+        dim,
+        translations_for_dim::<T>,
+        (origin, undeformed, deformed, rotations, translations)
+    ))
+}
+
+/// Inverse-distance weighting of boundary translations and rotations into the rest of the
+/// mesh (the kernel's `propagate_idw`). On entry `translations` (`N * dim`) and `rotations`
+/// (`4 N`) hold the boundary values at the nodes listed in `boundary`; on success every other
+/// node holds `Δ = Σ w_k Δ_k / Σ w_k`, `Q = normalise(Σ w_k ±Q_k)` with `w_k = (d_min /
+/// d_k)^exponent` (quaternions hemisphere-aligned to the nearest boundary node's). Boundary
+/// entries are never written. Cost `O(N · B)`.
+///
+/// `boundary` lists `B` mesh nodes in `index_base` (0 or 1; with 1 they are converted into
+/// `index_scratch`, `boundary_len` entries; NULL with 0 for `index_base` 0). `exponent` is
+/// finite and positive. Errors: pointer and length errors, `DK_ERR_BAD_INDEX_BASE`,
+/// `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_INVALID_PARAMETER` (empty boundary, bad exponent),
+/// `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero boundary rotation). On error nothing is
+/// written.
+///
+/// # Safety
+/// Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
+/// the writable buffers overlap nothing else.
+#[export(twin)]
+pub(crate) fn dk_deform_propagate_idw<T: Real>(
+    points: In<'_, T>,
+    dim: u32,
+    boundary: In<'_, u32>,
+    index_base: u32,
+    exponent: T,
+    index_scratch: Out<'_, u32>,
+    translations: Out<'_, T>,
+    rotations: Out<'_, T>,
+) -> dk_status {
+    done(by_dim!(
+        dim,
+        propagate_idw_for_dim::<T>,
+        (
+            points,
+            boundary,
+            index_base,
+            exponent,
+            index_scratch,
+            translations,
+            rotations
+        )
+    ))
+}
+
+/// Number of scalars the `scratch` of [`dk_deform_propagate_tfi`] and
+/// [`dk_deform_displacement_tfi`] needs: `dim · ni nj nk` (the kernel's `tfi_scratch_len`).
+/// Errors: `DK_ERR_BAD_DIMENSIONS` (block), `DK_ERR_INVALID_PARAMETER` (`dim`).
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[export(len_out[1])]
+pub(crate) fn dk_deform_propagate_tfi_scratch_len(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    dim: u32,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    len_status(
+        len_out,
+        block(ni, nj, nk).and_then(|b| match dim {
+            2 => Ok(tfi_scratch_len::<2>(&b)),
+            3 => Ok(tfi_scratch_len::<3>(&b)),
+            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        }),
+    )
+}
+
+/// Transfinite interpolation of translations and rotations from the faces of a structured
+/// block into its interior (the kernel's `propagate_tfi`): the boolean sum of the linear
+/// projectors of the active `directions` (mask of [`DK_DIRECTION_I`], [`DK_DIRECTION_J`],
+/// [`DK_DIRECTION_K`]) with Soni's arclength blending along the undeformed grid lines;
+/// quaternions hemisphere-aligned before blending and renormalised after.
+///
+/// Values are read on the faces of the active directions and written everywhere else.
+/// `points`: `ni nj nk · dim` scalars (`i` fastest, `nk = 1` in 2D); `translations`
+/// (`N * dim`) and `rotations` (`4 N`) are updated in place; `scratch`:
+/// [`dk_deform_propagate_tfi_scratch_len`] scalars. Errors: `DK_ERR_BAD_DIMENSIONS` (block),
+/// `DK_ERR_INVALID_PARAMETER` (directions), length and pointer errors, `DK_ERR_NON_FINITE`,
+/// `DK_ERR_ZERO_LENGTH` (a zero face rotation, or a blended rotation that cancels). On error
+/// the values are unchanged.
+///
+/// # Safety
+/// Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
+/// the writable buffers overlap nothing else.
+#[export(twin)]
+pub(crate) fn dk_deform_propagate_tfi<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    directions: u32,
+    points: In<'_, T>,
+    dim: u32,
+    scratch: Out<'_, T>,
+    translations: Out<'_, T>,
+    rotations: Out<'_, T>,
+) -> dk_status {
+    done(by_dim!(
+        dim,
+        propagate_tfi_for_dim::<T>,
+        (
+            [ni, nj, nk],
+            directions,
+            points,
+            scratch,
+            translations,
+            rotations,
+            false
+        )
+    ))
+}
+
+/// Plain displacement TFI (the kernel's `displacement_tfi`, Samareh eq. 1; for comparison
+/// with [`dk_deform_propagate_tfi`]): the same arclength-blended boolean sum applied to
+/// displacements `δ = r^d − r^u` given on the faces of the active directions; `displacements`
+/// (`N * dim`) is updated in place everywhere else. New points are `points + δ`. It reproduces
+/// translations but shears cells under rotation. Errors as [`dk_deform_propagate_tfi`]; on
+/// error `displacements` is unchanged.
+///
+/// # Safety
+/// Every pointer is valid for its length (`displacements` for reads and writes); the writable
+/// buffers overlap nothing else.
+#[export(twin)]
+pub(crate) fn dk_deform_displacement_tfi<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    directions: u32,
+    points: In<'_, T>,
+    dim: u32,
+    scratch: Out<'_, T>,
+    displacements: Out<'_, T>,
+) -> dk_status {
+    done(by_dim!(
+        dim,
+        propagate_tfi_for_dim::<T>,
+        (
+            [ni, nj, nk],
+            directions,
+            points,
+            scratch,
+            displacements,
+            Out::null(),
+            true
+        )
+    ))
+}
+
+/// Moves every mesh point by its translation and rotation (the kernel's `update_points`,
+/// Samareh eq. 6 about `origin`): `out_i = o + (Δ_i + Q_i (points_i − o) Q_i*)`, each `Q_i`
+/// normalised first; then every node listed in `boundary` is set to its `boundary_deformed`
+/// position exactly (a node listed twice takes its last entry).
+///
+/// `origin`: `dim` scalars; `points`, `translations`, `out`: `N * dim`; `rotations`: `4 N`;
+/// `boundary`: `B` mesh nodes in `index_base` (with 1 converted into `index_scratch`,
+/// `boundary_len` entries); `boundary_deformed`: `B * dim`. Errors: length and pointer errors,
+/// `DK_ERR_BAD_INDEX_BASE`, `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_NON_FINITE`,
+/// `DK_ERR_ZERO_LENGTH` (a zero rotation). On error `out` is unchanged.
+///
+/// # Safety
+/// Every pointer is valid for its length; `out` and `index_scratch` overlap nothing else.
+#[export(twin)]
+pub(crate) fn dk_deform_update_points<T: Real>(
+    origin: In<'_, T>,
+    points: In<'_, T>,
+    dim: u32,
+    translations: In<'_, T>,
+    rotations: In<'_, T>,
+    boundary: In<'_, u32>,
+    index_base: u32,
+    boundary_deformed: In<'_, T>,
+    index_scratch: Out<'_, u32>,
+    out: Out<'_, T>,
+) -> dk_status {
+    done(by_dim!(
+        dim,
+        update_for_dim::<T>,
+        (
+            origin,
+            points,
+            translations,
+            rotations,
+            boundary,
+            index_base,
+            boundary_deformed,
+            index_scratch,
+            out
+        )
+    ))
+}
+
+/// Number of `uint32_t` entries the `scratch` of [`dk_deform_localize_nodes`] needs:
+/// `node_count` with `index_base` 0, `node_count + boundary_len + global_len` with 1.
+/// Errors: `DK_ERR_BAD_INDEX_BASE`, `DK_ERR_TOO_LARGE` (overflow).
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[export(len_out[1])]
+pub(crate) fn dk_deform_localize_nodes_scratch_len(
+    node_count: usize,
+    boundary_len: usize,
+    global_len: usize,
+    index_base: u32,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    len_status(
+        len_out,
+        index_need(index_base, &[boundary_len, global_len]).and_then(|n| {
+            n.checked_add(localize_nodes_scratch_len(node_count))
+                .ok_or(dk_status::DK_ERR_TOO_LARGE)
+        }),
+    )
+}
+
+/// Rewrites mesh node numbers as positions in `boundary` (the kernel's `localize_nodes`):
+/// `local[e] = k` where `boundary[k] == global[e]`. Boundary elements usually come in mesh
+/// numbering (a marker's faces); the boundary-level functions and
+/// [`dk_boundary_motion::elements`] want positions in the boundary list. Pass a marker's
+/// element node array as `global`; use `local` with the same offsets and kinds.
+///
+/// `boundary` (`B` distinct mesh nodes) and `global` are read in `index_base` (0 or 1), and
+/// `local` is written in the same base (positions `index_base .. B − 1 + index_base`), so a
+/// Fortran caller passes and gets 1-based arrays. `scratch` needs
+/// [`dk_deform_localize_nodes_scratch_len`] entries. Errors: `DK_ERR_BAD_INDEX_BASE`,
+/// `DK_ERR_INDEX_OUT_OF_RANGE` (an entry `>= node_count`, or an element node not in
+/// `boundary`), `DK_ERR_DUPLICATE_NODE`, `DK_ERR_LENGTH_MISMATCH` (`local_len != global_len`),
+/// `DK_ERR_BUFFER_TOO_SMALL`, `DK_ERR_TOO_LARGE`. On error `local` is unchanged.
+///
+/// # Safety
+/// `boundary`, `global` are readable for their lengths; `scratch`, `local` are writable for
+/// theirs; the writable buffers overlap nothing else.
+#[export]
+pub(crate) fn dk_deform_localize_nodes(
+    node_count: usize,
+    boundary: In<'_, u32>,
+    global: In<'_, u32>,
+    index_base: u32,
+    scratch: Out<'_, u32>,
+    local: Out<'_, u32>,
+) -> dk_status {
+    done((|| {
+        check_base(index_base)?;
+        let b = input(boundary)?;
+        let g = input(global)?;
+        let s = output(scratch)?;
+        let l = output(local)?;
+        if u32::try_from(b.len()).is_err() {
+            return Err(dk_status::DK_ERR_TOO_LARGE);
+        }
+        let (b, s) = rebase(b, index_base, s)?;
+        let (g, s) = rebase(g, index_base, s)?;
+        localize_nodes(node_count, b, g, s, l).map_err(dk_status::from)?;
+        // Positions are < B <= u32::MAX (checked above), so adding a base of 0 or 1 cannot
+        // overflow; wrapping_add keeps the arithmetic visibly panic-free.
+        for x in l.iter_mut() {
+            *x = x.wrapping_add(index_base);
+        }
+        Ok(())
+    })())
+}
+
+/// Sizes for [`dk_deform_spring`]: `*scratch_len_out` scalars of `scratch` (as
+/// [`dk_deform_idw_scratch_len`]) and `*values_len_out` scalars of the packed `values`
+/// workspace (the kernel's `propagate_spring_scratch_len`: `dim + 4` scalars a node plus the
+/// solver's; depends on `options->method`). The same for both precisions. Errors: `DK_ERR_INVALID_PARAMETER`
+/// (`dim`, method, or the two outputs are one pointer), `DK_ERR_TOO_LARGE`; nothing is
+/// written on error.
+///
+/// # Safety
+/// `options` points to one readable `dk_spring_solve_options`; `scratch_len_out` and
+/// `values_len_out` each to one writable `size_t`.
+#[export(options[1], scratch_len_out[1], values_len_out[1])]
+pub(crate) fn dk_deform_spring_scratch_len(
+    node_count: usize,
+    boundary_len: usize,
+    dim: u32,
+    options: In<'_, dk_spring_solve_options>,
+    scratch_len_out: Out<'_, usize>,
+    values_len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        let values = spring_values_len(node_count, dim, options)?;
+        if scratch_len_out.same_address(&values_len_out) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        let scratch = match dim {
+            2 => deform_spring_scratch_len::<2>(node_count, boundary_len),
+            _ => deform_spring_scratch_len::<3>(node_count, boundary_len),
+        };
+        let a = out_one(scratch_len_out)?;
+        let b = out_one(values_len_out)?;
+        *a = scratch;
+        *b = values;
+        Ok(())
+    })())
+}
+
+/// Number of `uint32_t` entries the `index_scratch` of [`dk_deform_spring`] needs:
+/// [`dk_boundary_motion_index_scratch_len`] plus `node_count` (the spring system's anchoring
+/// check).
+///
+/// # Safety
+/// `motion` points to one readable `dk_boundary_motion`; `len_out` to one writable `size_t`.
+#[export(twin, motion[1], len_out[1])]
+pub(crate) fn dk_deform_spring_index_scratch_len<T: Real>(
+    motion: In<'_, DkBoundaryMotion<T>>,
+    node_count: usize,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    spring_index_len(motion, node_count, len_out)
+}
+
+/// The whole quaternion deformation with linear-spring propagation (the kernel's
+/// `deform_spring`, Samareh's unstructured variant): boundary rotations and translations as in
+/// [`dk_deform_idw`], then one linear-spring solve for `Δ` and the quaternion components
+/// together (`dim + 4` values per node) with `options` (see `dk_spring_solve_options`; the
+/// f32 twin rounds its tolerances to `float`), then the update.
+///
+/// The spring system (`*system`) is a 0-based CSR graph (from `dk_graph_from_*`), one
+/// positive stiffness per directed edge (symmetric, e.g. from `dk_spring_batina_stiffness`)
+/// and a fixed mask (one byte per node, nonzero = fixed) that must mark exactly the nodes of
+/// `motion->nodes`. `scratch`: the first length of
+/// [`dk_deform_spring_scratch_len`]; `values`: the second (a workspace); `index_scratch`:
+/// [`dk_deform_spring_index_scratch_len`] entries. `*report` receives the solver's report:
+/// `out` is written even when the solver did not converge (status `DK_OK`, `converged` false).
+///
+/// Errors: those of [`dk_deform_idw`] (but not the exponent), the spring system's
+/// (`DK_ERR_NOT_SYMMETRIC`, `DK_ERR_NON_POSITIVE`, `DK_ERR_UNANCHORED`, graph errors),
+/// `DK_ERR_INVALID_PARAMETER` (method, preconditioner, `omega`, tolerances, a fixed mask that
+/// differs from the boundary), `DK_ERR_SINGULAR_SYSTEM` (CG breakdown), `DK_ERR_ZERO_LENGTH`
+/// (a solved quaternion cancels). On error `out`, `origin_out` and `*report` are unchanged;
+/// `translations`, `rotations`, `scratch`, `values` are workspaces (solver errors are
+/// detected after the boundary entries of `translations` and `rotations` were written).
+///
+/// # Safety
+/// As [`dk_deform_idw`]; also the graph, stiffness and fixed arrays are readable for their
+/// lengths, `options` points to one readable struct, `values` is writable for `values_len`
+/// scalars and `report` points to one writable report, none overlapping another buffer.
+///
+/// # f32 twin
+/// `f32` twin of [`dk_deform_spring`] (the options' tolerances and `omega` are rounded to
+/// `float`; the report's values are widened exactly).
+#[export(twin, motion[1], system[1], options[1], report[1])]
+pub(crate) fn dk_deform_spring<T: Real>(
+    points: In<'_, T>,
+    dim: u32,
+    motion: In<'_, DkBoundaryMotion<T>>,
+    system: In<'_, DkSpringSystem<T>>,
+    options: In<'_, dk_spring_solve_options>,
+    scratch: Out<'_, T>,
+    values: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    translations: Out<'_, T>,
+    rotations: Out<'_, T>,
+    out: Out<'_, T>,
+    origin_out: Out<'_, T>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> dk_status {
+    let system = SystemC::read(system);
+    let bufs = PipelineOut {
+        scratch,
+        index_scratch,
+        translations,
+        rotations,
+        out,
+        origin_out,
+    };
+    done(by_dim!(
+        dim,
+        spring_for_dim::<DkBoundaryMotion<T>>,
+        (points, motion, system, options, values, bufs, report)
+    ))
+}
+
+/// Number of scalars the packed `values` workspace of [`dk_deform_propagate_spring`] needs:
+/// the kernel's `propagate_spring_scratch_len(method, node_count)` (`dim + 4` scalars a node
+/// plus the solver's). Errors: `DK_ERR_INVALID_PARAMETER` (`dim`, method), `DK_ERR_TOO_LARGE`.
+///
+/// # Safety
+/// `options` points to one readable `dk_spring_solve_options`; `len_out` to one writable
+/// `size_t`.
+#[export(options[1], len_out[1])]
+pub(crate) fn dk_deform_propagate_spring_scratch_len(
+    node_count: usize,
+    dim: u32,
+    options: In<'_, dk_spring_solve_options>,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    len_status(len_out, spring_values_len(node_count, dim, options))
+}
+
+/// Propagates translations and rotations through a linear spring network (the kernel's
+/// `propagate_spring`): `Δ` and the four quaternion components are packed into one field of
+/// `dim + 4` values per node and solved together with `options`. On entry `translations`
+/// (`N * dim`) and `rotations` (`4 N`) hold the boundary values at the fixed nodes (nonzero
+/// bytes of `fixed`); fixed quaternions are hemisphere-aligned to the first fixed node's,
+/// free nodes start from the mean of the fixed values, and every free quaternion is
+/// renormalised after the solve. Fixed entries are never written.
+///
+/// The system is as for [`dk_deform_spring`] (any fixed mask with at least one fixed node);
+/// `index_scratch` needs `node_count` entries (`dk_spring_index_scratch_len`); `values`:
+/// [`dk_deform_propagate_spring_scratch_len`] scalars (a workspace). `*report` receives the
+/// solver report (non-convergence is `DK_OK` with `converged` false).
+///
+/// Errors: the system's and solver's errors (as [`dk_deform_spring`]), length and pointer
+/// errors, `DK_ERR_INVALID_PARAMETER` (no fixed node, options), `DK_ERR_NON_FINITE`,
+/// `DK_ERR_ZERO_LENGTH`. On error `translations`, `rotations` and `*report` are unchanged.
+///
+/// # Safety
+/// Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
+/// `options` points to one readable struct and `report` to one writable report; the writable
+/// buffers overlap nothing else.
+#[export(twin, system[1], options[1], report[1])]
+pub(crate) fn dk_deform_propagate_spring<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    options: In<'_, dk_spring_solve_options>,
+    dim: u32,
+    index_scratch: Out<'_, u32>,
+    values: Out<'_, T>,
+    translations: Out<'_, T>,
+    rotations: Out<'_, T>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> dk_status {
+    let system = SystemC::read(system);
+    done(by_dim!(
+        dim,
+        propagate_spring_for_dim::<T>,
+        (
+            system,
+            options,
+            index_scratch,
+            values,
+            translations,
+            rotations,
+            report
+        )
+    ))
+}

@@ -7,14 +7,15 @@
 //! allocation); the CSR graph the kernel writes
 //! (`offsets`, `targets`) is always 0-based, because callers hand it back to other `dk_`
 //! functions unchanged and never index it themselves.
-#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
+#![allow(unsafe_code)] // a parameter struct's arrays become `In`/`Out` tokens (`In::new`) here.
 
 use deform_kernel::{
     graph_from_cells, graph_from_cells_len, graph_from_edges, graph_from_edges_len, Cells, Graph,
 };
+use deform_kernel_ffi_export::export;
 
 use crate::args::{assert_layout, check_base, done, read_one, rebase, write_len};
-use crate::slice::{input, out_one, output, In};
+use crate::slice::{input, out_one, output, In, Out};
 use crate::status::dk_status;
 
 /// A CSR graph for the functions that take one: `offsets` (`node_count + 1` row starts into
@@ -199,5 +200,154 @@ impl<'a> CellsIn<'a> {
     }
 }
 
-mod abi;
-pub use abi::*;
+// ---------------------------------------------------------------------------------------------
+// The C functions (`cargo xtask codegen` exports each, see ffi/README.md).
+// ---------------------------------------------------------------------------------------------
+
+/// Length `targets` needs for [`dk_graph_from_edges`]: `edges_len` (two entries per edge).
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[export(len_out[1])]
+pub(crate) fn dk_graph_from_edges_len(edges_len: usize, len_out: Out<'_, usize>) -> dk_status {
+    done((|| {
+        if edges_len % 2 != 0 {
+            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+        }
+        write_len(len_out, edges_len)
+    })())
+}
+
+/// Builds the symmetric, sorted, deduplicated CSR graph of an undirected edge list.
+///
+/// `edges` holds `edges_len / 2` pairs `(a, b)` of node indices in `index_base` (0 or 1);
+/// with `index_base` 1, `index_scratch` needs `edges_len` entries (it receives the 0-based
+/// copy; with 0 it may be NULL with length 0). `offsets` must have `node_count + 1` entries;
+/// `targets` at least `edges_len` entries. On success `*used_out` is the number of `targets`
+/// entries used (entries past it are unspecified). Nothing but `index_scratch` is written on
+/// failure.
+///
+/// # Safety
+/// Every pointer is valid for its length (`edges`: `edges_len` reads; `index_scratch`,
+/// `offsets`, `targets`: their lengths in writes; `used_out`: one write), and the writable
+/// buffers do not overlap each other or the inputs.
+#[export(used_out[1])]
+pub(crate) fn dk_graph_from_edges(
+    node_count: usize,
+    edges: In<'_, u32>,
+    index_base: u32,
+    index_scratch: Out<'_, u32>,
+    offsets: Out<'_, u32>,
+    targets: Out<'_, u32>,
+    used_out: Out<'_, usize>,
+) -> dk_status {
+    let edges_len = edges.len();
+    done((|| {
+        if edges_len % 2 != 0 {
+            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+        }
+        let e = input(edges)?;
+        let (e, _) = rebase(e, index_base, output(index_scratch)?)?;
+        let pairs = e.as_chunks::<2>().0;
+        let o = output(offsets)?;
+        let t = output(targets)?;
+        let used = out_one(used_out)?;
+        if graph_from_edges_len(pairs) != edges_len {
+            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+        }
+        *used = graph_from_edges(node_count, pairs, o, t).map_err(dk_status::from)?;
+        Ok(())
+    })())
+}
+
+/// Validates a mixed-element cell list (`*cells`): `offsets` has one entry per cell plus one,
+/// `kinds` holds VTK codes (3 line, 5 tri, 9 quad, 10 tet, 12 hex, 13 prism, 14 pyramid),
+/// node indices are below `node_count`. With `index_base` 1, offsets and node indices are
+/// 1-based (Fortran), and `index_scratch` needs `cells->offsets_len + cells->nodes_len` entries
+/// (their 0-based copies); with 0 it may be NULL with length 0.
+///
+/// # Safety
+/// Every pointer is valid for reading its length; `index_scratch` for writing its length,
+/// overlapping nothing else.
+#[export(cells[1])]
+pub(crate) fn dk_cells_check(
+    node_count: usize,
+    cells: In<'_, dk_cells>,
+    index_base: u32,
+    index_scratch: Out<'_, u32>,
+) -> dk_status {
+    done((|| {
+        let scratch = output(index_scratch)?;
+        CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
+        Ok(())
+    })())
+}
+
+/// Length `targets` needs for [`dk_graph_from_cells`] (validates the cells first;
+/// `index_scratch` as in [`dk_cells_check`]).
+///
+/// # Safety
+/// Every pointer is valid for its length; `len_out` points to one writable `size_t`.
+#[export(cells[1], len_out[1])]
+pub(crate) fn dk_graph_from_cells_len(
+    node_count: usize,
+    cells: In<'_, dk_cells>,
+    index_base: u32,
+    index_scratch: Out<'_, u32>,
+    face_diagonals: bool,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        let scratch = output(index_scratch)?;
+        let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
+        write_len(len_out, graph_from_cells_len(&cells, face_diagonals))
+    })())
+}
+
+/// Builds the edge graph of a mixed-element mesh (cell edges, plus quadrilateral-face
+/// diagonals when `face_diagonals` is true) as a symmetric, sorted, deduplicated CSR graph.
+/// `offsets` must have `node_count + 1` entries, `targets` at least the length from
+/// [`dk_graph_from_cells_len`]; `*used_out` receives the number of `targets` entries used.
+/// `index_scratch` as in [`dk_cells_check`].
+///
+/// # Safety
+/// Every pointer is valid for its length (reads for the cell arrays, writes for
+/// `index_scratch`, `offsets`, `targets`, `used_out`), and the writable buffers do not overlap
+/// each other or the inputs.
+#[export(cells[1], used_out[1])]
+pub(crate) fn dk_graph_from_cells(
+    node_count: usize,
+    cells: In<'_, dk_cells>,
+    index_base: u32,
+    index_scratch: Out<'_, u32>,
+    face_diagonals: bool,
+    offsets: Out<'_, u32>,
+    targets: Out<'_, u32>,
+    used_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        let scratch = output(index_scratch)?;
+        let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
+        let o = output(offsets)?;
+        let t = output(targets)?;
+        let used = out_one(used_out)?;
+        *used = graph_from_cells(&cells, face_diagonals, o, t).map_err(dk_status::from)?;
+        Ok(())
+    })())
+}
+
+/// Validates a 0-based CSR graph (`graph->offsets`: node count + 1 entries; `targets`); with
+/// `require_symmetric` also checks that every edge has its reverse.
+///
+/// # Safety
+/// `graph` points to one readable struct whose arrays are readable for their lengths.
+#[export(graph[1])]
+pub(crate) fn dk_graph_check(graph: In<'_, dk_graph>, require_symmetric: bool) -> dk_status {
+    done((|| {
+        let g = read_graph(graph)?;
+        if require_symmetric {
+            g.check_symmetric().map_err(dk_status::from)?;
+        }
+        Ok(())
+    })())
+}

@@ -1,8 +1,11 @@
 //! # deform-kernel-ffi
 //!
-//! The C ABI of deform-kernel, for solvers written in C, C++ and Fortran. The header
-//! `include/deform_kernel.h` is generated from this crate by cbindgen and checked in; the
-//! Fortran module `fortran/deform_kernel.f90` binds the same functions with `iso_c_binding`.
+//! The C ABI of deform-kernel, for solvers written in C, C++ and Fortran. Each C function is
+//! written once, in `src/<module>.rs`, as a safe function marked `#[export]`; `cargo xtask
+//! codegen` writes `generated/` from them: the `extern "C"` functions (each module here is
+//! `generated/<module>.rs`, whose child `imp` is `src/<module>.rs`), the header
+//! `generated/deform_kernel.h` (cbindgen) and the Fortran module `generated/deform_kernel.f90`
+//! (`iso_c_binding`). See ffi/README.md, "Adding a C function".
 //!
 //! Conventions (every `dk_*` function):
 //! - returns a [`dk_status`]; `DK_OK` is 0; [`dk_status_str`] describes any value;
@@ -33,14 +36,25 @@
 pub(crate) mod args;
 mod slice;
 
+#[path = "../generated/deformation.rs"]
 pub mod deformation;
+#[path = "../generated/graph.rs"]
 pub mod graph;
+#[path = "../generated/plan.rs"]
 pub mod plan;
+#[path = "../generated/pools.rs"]
+pub mod pools;
+#[path = "../generated/quality.rs"]
 pub mod quality;
+#[path = "../generated/quat.rs"]
 pub mod quat;
+#[path = "../generated/spring.rs"]
 pub mod spring;
+#[path = "../generated/status.rs"]
 pub mod status;
+#[path = "../generated/stiffening.rs"]
 pub mod stiffening;
+#[path = "../generated/taubin.rs"]
 pub mod taubin;
 
 pub use status::{dk_status, dk_status_str};

@@ -8,23 +8,23 @@
 //! `Plan::open` (header, layout and a checksum of every immutable part: one pass over the
 //! pools, 11 ms against a warm 234k-node step of 231–328 ms), so pools that were overwritten
 //! by mistake are a `DK_ERR_BAD_PLAN`, never a wrong mesh. Indices are 0-based.
-#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
+#![allow(unsafe_code)] // a parameter struct's arrays become `In`/`Out` tokens (`In::new`) here.
 
 use deform_kernel::deformation::RotationSource;
 use deform_kernel::plan::{
-    Plan, PlanMethod, PlanMotion, PlanSizes, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
+    Plan, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
 };
 use deform_kernel::spring::AmgOptions;
 use deform_kernel::{Quat, Real};
+use deform_kernel_ffi_export::export;
 
 use crate::args::{assert_layout, by_dim, done, read_array, read_one, read_points, write_one};
 use crate::graph::{dk_cells, dk_graph, CellsIn, GraphIn};
-use crate::slice::{chunks_mut, input, output, quats, In, Out};
+pub use crate::pools::{dk_plan_pools, dk_plan_pools_f32, dk_plan_sizes, DkPlanPools};
+use crate::pools::{PoolArgs, PoolsC};
+use crate::slice::{chunks_mut, input, quats, In, Out};
 use crate::spring::{dk_amg_options, dk_spring_solve_options};
 use crate::status::dk_status;
-
-mod abi;
-pub use abi::*;
 
 /// `dk_plan_options.method`: linear (Batina) springs on the displacements.
 pub const DK_PLAN_SPRING: u32 = 1;
@@ -63,30 +63,6 @@ assert_layout!(
     dk_plan_options, 96;
     method = 0, solver = 4, stiffness_exponent = 8, linear = 16, amg = 56,
 );
-
-/// Lengths of the three plan pools, or of the transient work buffers.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[allow(non_camel_case_types)]
-pub struct dk_plan_sizes {
-    /// Scalars (`double` for the f64 functions, `float` for the `_f32` ones).
-    pub reals: usize,
-    /// `uint32_t` entries.
-    pub indices: usize,
-    /// `uint8_t` entries.
-    pub bytes: usize,
-}
-assert_layout!(dk_plan_sizes, 24; reals = 0, indices = 8, bytes = 16);
-
-impl From<PlanSizes> for dk_plan_sizes {
-    fn from(s: PlanSizes) -> Self {
-        dk_plan_sizes {
-            reals: s.reals,
-            indices: s.indices,
-            bytes: s.bytes,
-        }
-    }
-}
 
 /// What a plan holds (from `dk_plan_init` or `dk_plan_open`).
 #[repr(C)]
@@ -168,15 +144,15 @@ pub(crate) fn options_default<T: Real>(out: Out<'_, dk_plan_options>) -> dk_stat
     ))
 }
 
-// codegen: f32 twin
 /// The mesh a plan is built from ([`dk_plan_work_sizes`], [`dk_plan_pool_sizes`],
 /// [`dk_plan_init`]); borrowed for the call and copied into the plan.
+#[export(twin = dk_plan_mesh)]
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 #[allow(non_camel_case_types)]
-pub struct dk_plan_mesh {
+pub struct DkPlanMesh<T> {
     /// Undeformed node positions, `node_count * dim` scalars.
-    pub points: *const f64,
+    pub points: *const T,
     /// Entries of `points`.
     pub points_len: usize,
     /// The 0-based CSR graph of the springs.
@@ -190,39 +166,14 @@ pub struct dk_plan_mesh {
     pub elements: dk_cells,
     /// Optional stiffness per directed edge (NULL with length 0: Batina's with
     /// `dk_plan_options.stiffness_exponent`).
-    pub stiffness: *const f64,
+    pub stiffness: *const T,
     /// Entries of `stiffness`.
     pub stiffness_len: usize,
 }
 assert_layout!(
-    dk_plan_mesh, 128;
+    DkPlanMesh<f64>, 128;
     points = 0, graph = 16, boundary = 48, elements = 64, stiffness = 112,
 );
-
-// codegen: f32 twin
-/// Three caller buffers: a plan's pools (sized by [`dk_plan_pool_sizes`], written by
-/// [`dk_plan_init`], read and updated by every step), the transient work of init (sized by
-/// [`dk_plan_work_sizes`]), or the multigrid hierarchy and scratch of a stateless solve
-/// (`dk_spring_solve_linear_amg`, `dk_spring_solve_angle_amg`; sized by their `_pool_sizes`
-/// queries, `bytes` unused). Each buffer is used only by the call that receives the struct.
-#[repr(C)]
-#[derive(Clone, Copy, Debug)]
-#[allow(non_camel_case_types)]
-pub struct dk_plan_pools {
-    /// Scalars.
-    pub reals: *mut f64,
-    /// Entries of `reals`.
-    pub reals_len: usize,
-    /// Indices.
-    pub indices: *mut u32,
-    /// Entries of `indices`.
-    pub indices_len: usize,
-    /// Bytes.
-    pub bytes: *mut u8,
-    /// Entries of `bytes`.
-    pub bytes_len: usize,
-}
-assert_layout!(dk_plan_pools, 48; reals = 0, indices = 16, bytes = 32, bytes_len = 40);
 
 /// The mesh a plan is built from, its arrays as tokens, and the caller's options.
 pub(crate) struct SpecArgs<'a, T> {
@@ -233,13 +184,6 @@ pub(crate) struct SpecArgs<'a, T> {
     /// Per directed edge, or NULL with length 0 for Batina's with `stiffness_exponent`.
     stiffness: In<'a, T>,
     options: In<'a, dk_plan_options>,
-}
-
-/// Three caller buffers (a plan's pools, or its transient work) as tokens.
-pub(crate) struct PoolArgs<'a, T> {
-    reals: Out<'a, T>,
-    indices: Out<'a, u32>,
-    bytes: Out<'a, u8>,
 }
 
 /// The precision twins of the plan structs, seen through [`SpecArgs`] and [`PoolArgs`].
@@ -255,75 +199,32 @@ pub(crate) trait PlanC: Copy {
     fn pools(p: In<'_, Self::Pools>) -> Result<PoolArgs<'_, Self::T>, dk_status>;
 }
 
-/// The precision twins of [`dk_plan_pools`], seen through [`PoolArgs`] (the plans and the
-/// stateless multigrid solves of `crate::spring` take them).
-pub(crate) trait PoolsC: Copy {
-    type T: Real;
-    /// Reads a pools struct and wraps its buffers in tokens of the struct's lifetime.
-    fn read(p: In<'_, Self>) -> Result<PoolArgs<'_, Self::T>, dk_status>;
-}
-
-macro_rules! plan_c {
-    ($mesh:ty, $pools:ty, $t:ty) => {
-        impl PlanC for $mesh {
-            type T = $t;
-            type Pools = $pools;
-            fn spec<'a>(
-                mesh: In<'a, Self>,
-                options: In<'a, dk_plan_options>,
-            ) -> Result<SpecArgs<'a, $t>, dk_status> {
-                let m = read_one(mesh)?;
-                // SAFETY: a token for a mesh struct carries the contract of the functions
-                // that take one: its arrays are readable for their lengths while it is.
-                Ok(unsafe {
-                    SpecArgs {
-                        points: In::new(m.points, m.points_len),
-                        graph: m.graph.tokens(),
-                        boundary: In::new(m.boundary, m.boundary_len),
-                        elements: m.elements.tokens(),
-                        stiffness: In::new(m.stiffness, m.stiffness_len),
-                        options,
-                    }
-                })
+impl<T: Real> PlanC for DkPlanMesh<T> {
+    type T = T;
+    type Pools = DkPlanPools<T>;
+    fn spec<'a>(
+        mesh: In<'a, Self>,
+        options: In<'a, dk_plan_options>,
+    ) -> Result<SpecArgs<'a, T>, dk_status> {
+        let m = read_one(mesh)?;
+        // SAFETY: a token for a mesh struct carries the contract of the functions
+        // that take one: its arrays are readable for their lengths while it is.
+        Ok(unsafe {
+            SpecArgs {
+                points: In::new(m.points, m.points_len),
+                graph: m.graph.tokens(),
+                boundary: In::new(m.boundary, m.boundary_len),
+                elements: m.elements.tokens(),
+                stiffness: In::new(m.stiffness, m.stiffness_len),
+                options,
             }
-            fn pools(p: In<'_, $pools>) -> Result<PoolArgs<'_, $t>, dk_status> {
-                PoolsC::read(p)
-            }
-        }
-        impl PoolsC for $pools {
-            type T = $t;
-            fn read(p: In<'_, Self>) -> Result<PoolArgs<'_, $t>, dk_status> {
-                let b = read_one(p)?;
-                // SAFETY: a token for a pools struct carries the contract of the functions
-                // that take one: its buffers are writable for their lengths, exclusively,
-                // while it is.
-                Ok(unsafe {
-                    PoolArgs {
-                        reals: Out::new(b.reals, b.reals_len),
-                        indices: Out::new(b.indices, b.indices_len),
-                        bytes: Out::new(b.bytes, b.bytes_len),
-                    }
-                })
-            }
-        }
-    };
-}
-plan_c!(dk_plan_mesh, dk_plan_pools, f64);
-plan_c!(dk_plan_mesh_f32, dk_plan_pools_f32, f32);
-
-/// The borrowed buffers of a [`PoolArgs`].
-pub(crate) type Pools<'a, T> = (&'a mut [T], &'a mut [u32], &'a mut [u8]);
-
-impl<'a, T: Real> PoolArgs<'a, T> {
-    /// The three buffers (each NULL only with length 0).
-    pub(crate) fn borrow(self) -> Result<Pools<'a, T>, dk_status> {
-        Ok((
-            output(self.reals)?,
-            output(self.indices)?,
-            output(self.bytes)?,
-        ))
+        })
     }
-
+    fn pools(p: In<'_, DkPlanPools<T>>) -> Result<PoolArgs<'_, T>, dk_status> {
+        PoolsC::read(p)
+    }
+}
+impl<'a, T: Real> PoolArgs<'a, T> {
     fn work(self) -> Result<PlanWork<'a, T>, dk_status> {
         let (reals, indices, bytes) = self.borrow()?;
         Ok(PlanWork {
@@ -382,7 +283,7 @@ impl<'a, T: Real> SpecArgs<'a, T> {
     }
 }
 
-fn work_sizes_d<T: Real, const D: usize>(
+fn work_sizes_for_dim<T: Real, const D: usize>(
     spec: &SpecArgs<'_, T>,
     out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
@@ -391,7 +292,7 @@ fn work_sizes_d<T: Real, const D: usize>(
     write_one(out, sizes.into())
 }
 
-fn sizes_d<T: Real, const D: usize>(
+fn sizes_for_dim<T: Real, const D: usize>(
     spec: &SpecArgs<'_, T>,
     work: PoolArgs<'_, T>,
     out: Out<'_, dk_plan_sizes>,
@@ -402,7 +303,7 @@ fn sizes_d<T: Real, const D: usize>(
     write_one(out, sizes.into())
 }
 
-fn init_d<T: Real, const D: usize>(
+fn init_for_dim<T: Real, const D: usize>(
     spec: &SpecArgs<'_, T>,
     work: PoolArgs<'_, T>,
     pools: PoolArgs<'_, T>,
@@ -417,7 +318,7 @@ fn init_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn open_d<T: Real, const D: usize>(
+fn open_for_dim<T: Real, const D: usize>(
     pools: PoolArgs<'_, T>,
     info_out: Out<'_, dk_plan_info>,
 ) -> Result<(), dk_status> {
@@ -478,7 +379,7 @@ impl<'a, T: Real> MotionArgs<'a, T> {
     }
 }
 
-fn step_d<T: Real, const D: usize>(
+fn step_for_dim<T: Real, const D: usize>(
     pools: Result<PoolArgs<'_, T>, dk_status>,
     motion: MotionArgs<'_, T>,
     out: Out<'_, T>,
@@ -499,4 +400,193 @@ fn step_d<T: Real, const D: usize>(
         extrapolated: r.extrapolated,
     };
     Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// The C functions (`cargo xtask codegen` exports each, see ffi/README.md).
+// ---------------------------------------------------------------------------------------------
+
+/// Fills `*out` with the default plan options for f64: the quaternion method, multigrid-
+/// preconditioned CG, Batina stiffness (exponent 1), the default stopping rules of
+/// `dk_spring_solve_options_default` (10 000 iterations, residual tolerance 1e-10).
+///
+/// # Safety
+/// `out` points to one writable options struct.
+///
+/// # f32 twin
+/// As [`dk_plan_options_default`] with the f32 default residual tolerance (`100 ε_f32`).
+#[export(twin, out[1])]
+pub(crate) fn dk_plan_options_default<T: Real>(out: Out<'_, dk_plan_options>) -> dk_status {
+    options_default::<T>(out)
+}
+
+/// Lengths of the transient work buffers [`dk_plan_pool_sizes`] and [`dk_plan_init`] need for this
+/// mesh (free them after init).
+///
+/// The mesh (`*mesh`, a [`dk_plan_mesh`] shared by the three set-up calls; all indices
+/// 0-based):
+/// - `points`: the reference mesh, `N * dim` scalars, `dim` 2 or 3; every step deforms it;
+/// - `graph`: the symmetric CSR graph of the mesh edges (as `dk_graph_from_cells` builds it);
+/// - `boundary`: the mesh node of each of the `B` prescribed points (moving walls and fixed
+///   far field alike), distinct; exactly these nodes are held by the springs;
+/// - `elements`: boundary elements over `0..B` (segments in 2D, triangles/quadrilaterals in
+///   3D) for shape rotations, or all three arrays NULL with length 0;
+/// - `stiffness`: one spring stiffness per directed edge (`graph.targets_len` scalars, exactly
+///   symmetric, finite and positive; for example Batina's scaled by
+///   `dk_spring_wall_distance_factors` or `dk_spring_inverse_volume_factors` with
+///   `dk_spring_scale_stiffness`), copied into the plan; or NULL with length 0 for Batina's
+///   `1 / L^p` with `options->stiffness_exponent`;
+/// - `options`: see [`dk_plan_options`] (the solver, its stopping rules and the multigrid
+///   options).
+///
+/// Errors (nothing written): `DK_ERR_INVALID_PARAMETER` (`dim`, an unknown method or solver
+/// code, an empty boundary), graph, cell, length (`points` not `N * dim` scalars, a given
+/// `stiffness` not one per directed edge) and pointer errors, as [`dk_plan_pool_sizes`]
+/// reports them.
+///
+/// # Safety
+/// Inputs readable for their lengths; `options` and `sizes_out` point to one struct each.
+#[export(twin, mesh[1], options[1], sizes_out[1])]
+pub(crate) fn dk_plan_work_sizes<T: Real>(
+    mesh: In<'_, DkPlanMesh<T>>,
+    dim: u32,
+    options: In<'_, dk_plan_options>,
+    sizes_out: Out<'_, dk_plan_sizes>,
+) -> dk_status {
+    done(
+        PlanC::spec(mesh, options)
+            .and_then(|spec| by_dim!(dim, work_sizes_for_dim::<T>, (&spec, sizes_out))),
+    )
+}
+
+/// The exact lengths of the three plan pools for this mesh: validates the mesh and options
+/// (as [`dk_plan_init`] does) and runs the multigrid hierarchy's symbolic pass in the work
+/// buffers (lengths from [`dk_plan_work_sizes`]). Arguments as [`dk_plan_work_sizes`], plus
+/// the work buffers. Errors: those of [`dk_plan_init`]'s validation; only the work buffers
+/// are written.
+///
+/// # Safety
+/// Inputs readable for their lengths; the work buffers writable for theirs and not
+/// overlapping anything else; `options` and `sizes_out` point to one struct each.
+#[export(twin, mesh[1], options[1], work[1], sizes_out[1])]
+pub(crate) fn dk_plan_pool_sizes<T: Real>(
+    mesh: In<'_, DkPlanMesh<T>>,
+    dim: u32,
+    options: In<'_, dk_plan_options>,
+    work: In<'_, DkPlanPools<T>>,
+    sizes_out: Out<'_, dk_plan_sizes>,
+) -> dk_status {
+    done((|| {
+        let spec = PlanC::spec(mesh, options)?;
+        let work = <DkPlanMesh<T> as PlanC>::pools(work)?;
+        by_dim!(dim, sizes_for_dim::<T>, (&spec, work, sizes_out))
+    })())
+}
+
+/// Builds a plan in the pools `reals`, `indices`, `bytes` (each at least the length
+/// [`dk_plan_pool_sizes`] gave; the tail of a longer pool is untouched): validates the mesh once
+/// (points finite, boundary distinct and in range, graph symmetric, every free node
+/// anchored, elements of the right kinds, options), copies the mesh in, computes the
+/// stiffness and sets up the multigrid hierarchy. Arguments as [`dk_plan_pool_sizes`], plus the
+/// pools and `info_out` (what the plan holds). The pools hold no pointers: copy or
+/// checkpoint them freely, and reopen a copy with [`dk_plan_open`].
+///
+/// Errors: those of the validation (checked before any pool is written), `DK_ERR_BUFFER_TOO_SMALL`,
+/// `DK_ERR_TOO_LARGE`; a hierarchy set-up that breaks down in floating point fails after
+/// writing, and then the pools hold no plan.
+///
+/// # Safety
+/// As [`dk_plan_pool_sizes`]; the pools writable for their lengths, not overlapping anything else;
+/// `info_out` points to one writable struct.
+#[export(twin, mesh[1], options[1], work[1], pools[1], info_out[1])]
+pub(crate) fn dk_plan_init<T: Real>(
+    mesh: In<'_, DkPlanMesh<T>>,
+    dim: u32,
+    options: In<'_, dk_plan_options>,
+    work: In<'_, DkPlanPools<T>>,
+    pools: In<'_, DkPlanPools<T>>,
+    info_out: Out<'_, dk_plan_info>,
+) -> dk_status {
+    done((|| {
+        let spec = PlanC::spec(mesh, options)?;
+        let work = <DkPlanMesh<T> as PlanC>::pools(work)?;
+        let pools = <DkPlanMesh<T> as PlanC>::pools(pools)?;
+        by_dim!(dim, init_for_dim::<T>, (&spec, work, pools, info_out))
+    })())
+}
+
+/// Checks that the pools hold a plan for this precision and `dim` (magic, version, counts,
+/// pool lengths, the hierarchy's layout, a checksum of every immutable part, finite stored
+/// solutions) and says what it holds. Use it after restoring a checkpoint. Errors:
+/// `DK_ERR_BAD_PLAN`, `DK_ERR_INVALID_PARAMETER` (`dim`), pointer errors; nothing is written
+/// but `info_out`.
+///
+/// # Safety
+/// The pools readable and writable for their lengths; `info_out` points to one writable
+/// struct.
+#[export(twin, pools[1], info_out[1])]
+pub(crate) fn dk_plan_open<T: Real>(
+    pools: In<'_, DkPlanPools<T>>,
+    dim: u32,
+    info_out: Out<'_, dk_plan_info>,
+) -> dk_status {
+    done(
+        <DkPlanMesh<T> as PlanC>::pools(pools)
+            .and_then(|pools| by_dim!(dim, open_for_dim::<T>, (pools, info_out))),
+    )
+}
+
+/// One time step: the new boundary positions in, the deformed mesh out (`out`: `N * dim`
+/// scalars). Each step deforms the reference mesh; the stored solutions of the previous
+/// steps give the initial guess (`start` `DK_PLAN_WARM`), or the stateless calls' guess
+/// (`DK_PLAN_COLD`, then the bits of `dk_deform_spring`). The pools are checked as
+/// [`dk_plan_open`] checks them (one pass, a few percent of a step), so a plan overwritten by
+/// mistake is an error, not a wrong mesh.
+///
+/// - `deformed`: the new position of each of the `B` boundary points, in the plan's boundary
+///   order (`B * dim` scalars), reproduced exactly in `out`;
+/// - `rotation_source` (quaternion method; the spring method ignores it and `rotations`):
+///   `DK_ROTATIONS_SHAPE` (from the plan's elements; `rotations` NULL with length 0),
+///   `DK_ROTATIONS_RIGID` (`rotations`: one quaternion, 4 scalars `w x y z`) or
+///   `DK_ROTATIONS_PER_NODE` (`rotations`: `4 B` scalars);
+/// - `origin`: the rotation origin (`dim` scalars), or NULL with length 0 for the centroid
+///   of the moving points;
+/// - `report_out`: iterations, residual, whether the solve converged (the mesh is written
+///   either way), warm, extrapolated, the step count.
+///
+/// Errors (checked before `out` or the plan is written): `DK_ERR_BAD_PLAN`, length and
+/// pointer errors, `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero rotation),
+/// `DK_ERR_INVALID_PARAMETER` (`dim`, `rotation_source` of a quaternion plan, `start`, shape
+/// rotations without elements), the boundary rotations' and the solver's errors. On error `out`, the stored
+/// solutions and the step count are unchanged.
+///
+/// # Safety
+/// The pools readable and writable for their lengths; inputs readable for theirs; `out`
+/// writable for `out_len` scalars; no writable buffer overlaps another buffer or an input;
+/// `report_out` points to one writable struct.
+#[export(twin, pools[1], rotations?, origin?, report_out[1])]
+pub(crate) fn dk_plan_step<T: Real>(
+    pools: In<'_, DkPlanPools<T>>,
+    dim: u32,
+    deformed: In<'_, T>,
+    rotation_source: u32,
+    rotations: In<'_, T>,
+    origin: In<'_, T>,
+    start: u32,
+    out: Out<'_, T>,
+    report_out: Out<'_, dk_plan_step_report>,
+) -> dk_status {
+    let pools = <DkPlanMesh<T> as PlanC>::pools(pools);
+    let motion = MotionArgs {
+        deformed,
+        rotation_source,
+        rotations,
+        origin,
+        start,
+    };
+    done(by_dim!(
+        dim,
+        step_for_dim::<T>,
+        (pools, motion, out, report_out)
+    ))
 }

@@ -14,13 +14,13 @@
 //! `dk_quality_report`, `dk_wall_angle_change`) are in the same `index_base`, or
 //! `DK_NO_INDEX` (`SIZE_MAX`; Fortran reads −1) when there is none. Reports have `double`
 //! fields for both precisions (the `_f32` results are widened exactly).
-#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
 
 use deform_kernel::quality::{
     cell_measures, cell_quality, compare, folded_cells, inverted_cells, min_corner_jacobians,
     wall_angle_change, wall_angle_scratch_len, CellQuality, QualityReport, Wall, WallAngleChange,
 };
 use deform_kernel::{CellKind, Cells, Real};
+use deform_kernel_ffi_export::export;
 
 use crate::args::{assert_layout, by_dim, done, mul_len, read_points, write_len};
 use crate::graph::{dk_cells, dk_graph, read_graph, CellsIn, GraphIn};
@@ -188,7 +188,7 @@ impl<'a> CellArgs<'a> {
 // Generic inner functions.
 // ---------------------------------------------------------------------------------------------
 
-fn cell_quality_d<T: Real, const D: usize>(
+fn cell_quality_for_dim<T: Real, const D: usize>(
     kind: u8,
     corners: In<'_, T>,
     out: Out<'_, dk_cell_quality>,
@@ -201,7 +201,7 @@ fn cell_quality_d<T: Real, const D: usize>(
 }
 
 /// Per-cell output: measures (`jacobians` None) or minimum corner Jacobians.
-fn per_cell_d<T: Real, const D: usize>(
+fn per_cell_for_dim<T: Real, const D: usize>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
     pts: In<'_, T>,
@@ -218,7 +218,7 @@ fn per_cell_d<T: Real, const D: usize>(
     .map_err(dk_status::from)
 }
 
-fn inverted_d<T: Real, const D: usize>(
+fn inverted_for_dim<T: Real, const D: usize>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
     undeformed: In<'_, T>,
@@ -233,7 +233,7 @@ fn inverted_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn folded_d<T: Real, const D: usize>(
+fn folded_for_dim<T: Real, const D: usize>(
     cells: CellArgs,
     index_scratch: Out<'_, u32>,
     pts: In<'_, T>,
@@ -261,7 +261,7 @@ impl WallArgs<'_> {
     }
 }
 
-fn compare_d<T: Real, const D: usize>(
+fn compare_for_dim<T: Real, const D: usize>(
     cells: CellArgs,
     wall: WallArgs,
     index_scratch: Out<'_, u32>,
@@ -288,7 +288,7 @@ fn compare_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn wall_angle_d<T: Real, const D: usize>(
+fn wall_angle_for_dim<T: Real, const D: usize>(
     wall: WallArgs,
     index_scratch: Out<'_, u32>,
     undeformed: In<'_, T>,
@@ -308,5 +308,246 @@ fn wall_angle_d<T: Real, const D: usize>(
     Ok(())
 }
 
-mod abi;
-pub use abi::*;
+// ---------------------------------------------------------------------------------------------
+// The C functions (`cargo xtask codegen` exports each, see ffi/README.md).
+// ---------------------------------------------------------------------------------------------
+
+/// Quality of one cell of VTK kind `kind` from its corner coordinates (`corners_len` =
+/// node count of the kind × `dim`, VTK order): signed measure, smallest corner Jacobian,
+/// smallest scaled corner Jacobian. Errors (nothing written): `DK_ERR_UNKNOWN_CELL_KIND`,
+/// `DK_ERR_CELL_DIMENSION` (kind does not fit `dim`), `DK_ERR_LENGTH_MISMATCH`,
+/// `DK_ERR_NON_FINITE`, `DK_ERR_INVALID_PARAMETER` (`dim`), `DK_ERR_NULL_POINTER`.
+///
+/// # Safety
+/// `corners` readable for `corners_len` scalars; `out` points to one writable struct.
+#[export(twin, out[1])]
+pub(crate) fn dk_quality_cell_quality<T: Real>(
+    kind: u8,
+    corners: In<'_, T>,
+    dim: u32,
+    out: Out<'_, dk_cell_quality>,
+) -> dk_status {
+    done(by_dim!(
+        dim,
+        cell_quality_for_dim::<T>,
+        (kind, corners, out)
+    ))
+}
+
+/// Signed area (`dim` 2) or volume (`dim` 3) of every cell into `out` (one scalar per cell).
+/// Positive for counter-clockwise 2D cells and VTK-positive 3D cells. Errors (nothing
+/// written): cell errors as `dk_cells_check`, `DK_ERR_CELL_DIMENSION` (a kind that does not
+/// fit `dim`), `DK_ERR_NON_FINITE`, length and pointer errors. With `index_base` 1,
+/// `index_scratch` receives the 0-based copies of the cell arrays and needs
+/// `cells->offsets_len + cells->nodes_len` entries (else `DK_ERR_BUFFER_TOO_SMALL`); with 0 it
+/// may be NULL with length 0.
+///
+/// # Safety
+/// The cell arrays and `points` are readable for their lengths; `out` and `index_scratch`
+/// writable for their lengths, not overlapping the inputs or each other.
+#[export(twin, cells[1])]
+pub(crate) fn dk_quality_cell_measures<T: Real>(
+    cells: In<'_, dk_cells>,
+    index_base: u32,
+    index_scratch: Out<'_, u32>,
+    points: In<'_, T>,
+    dim: u32,
+    out: Out<'_, T>,
+) -> dk_status {
+    let cells = CellArgs { cells, index_base };
+    done(by_dim!(
+        dim,
+        per_cell_for_dim::<T>,
+        (cells, index_scratch, points, None, out)
+    ))
+}
+
+/// Smallest corner Jacobian of every cell into `out` (one scalar per cell), divided by the
+/// product of the corner's edge lengths when `scaled`. Errors as
+/// [`dk_quality_cell_measures`].
+///
+/// # Safety
+/// As [`dk_quality_cell_measures`].
+#[export(twin, cells[1])]
+pub(crate) fn dk_quality_min_corner_jacobians<T: Real>(
+    cells: In<'_, dk_cells>,
+    index_base: u32,
+    index_scratch: Out<'_, u32>,
+    points: In<'_, T>,
+    dim: u32,
+    scaled: bool,
+    out: Out<'_, T>,
+) -> dk_status {
+    let cells = CellArgs { cells, index_base };
+    done(by_dim!(
+        dim,
+        per_cell_for_dim::<T>,
+        (cells, index_scratch, points, Some(scaled), out)
+    ))
+}
+
+/// Number of cells whose signed measure changed sign between `undeformed` and `deformed`
+/// (cells with zero undeformed measure never count) into `*count_out`. Errors as
+/// [`dk_quality_cell_measures`] for both point arrays.
+///
+/// # Safety
+/// The cell arrays and point arrays are readable for their lengths; `count_out` points to one
+/// writable `size_t`.
+#[export(twin, cells[1], count_out[1])]
+pub(crate) fn dk_quality_inverted_cells<T: Real>(
+    cells: In<'_, dk_cells>,
+    index_base: u32,
+    index_scratch: Out<'_, u32>,
+    undeformed: In<'_, T>,
+    deformed: In<'_, T>,
+    dim: u32,
+    count_out: Out<'_, usize>,
+) -> dk_status {
+    let cells = CellArgs { cells, index_base };
+    done(by_dim!(
+        dim,
+        inverted_for_dim::<T>,
+        (cells, index_scratch, undeformed, deformed, count_out)
+    ))
+}
+
+/// Number of cells with some corner Jacobian `≤ 0` (folded or inverted at a corner; also
+/// catches a bow-tie quad whose net area is positive) into `*count_out`. Errors as
+/// [`dk_quality_cell_measures`].
+///
+/// # Safety
+/// The cell arrays and `points` are readable for their lengths; `count_out` points to one
+/// writable `size_t`.
+#[export(twin, cells[1], count_out[1])]
+pub(crate) fn dk_quality_folded_cells<T: Real>(
+    cells: In<'_, dk_cells>,
+    index_base: u32,
+    index_scratch: Out<'_, u32>,
+    points: In<'_, T>,
+    dim: u32,
+    count_out: Out<'_, usize>,
+) -> dk_status {
+    let cells = CellArgs { cells, index_base };
+    done(by_dim!(
+        dim,
+        folded_for_dim::<T>,
+        (cells, index_scratch, points, count_out)
+    ))
+}
+
+/// Scalars of `scratch` [`dk_quality_wall_angle_change`] (and [`dk_quality_compare`] with a
+/// wall) needs: `2 * node_count * dim`.
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[export(len_out[1])]
+pub(crate) fn dk_quality_wall_angle_scratch_len(
+    node_count: usize,
+    dim: u32,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        if !(2..=3).contains(&dim) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        if node_count > usize::MAX / 2 {
+            return Err(dk_status::DK_ERR_TOO_LARGE);
+        }
+        write_len(
+            len_out,
+            mul_len(wall_angle_scratch_len(node_count), dim as usize)?,
+        )
+    })())
+}
+
+/// Compares `deformed` against `undeformed` over the cells in one call: inverted and folded
+/// cells, measure ratios, smallest measure and scaled Jacobian, and, when a wall is given,
+/// the wall-angle change (as [`dk_quality_wall_angle_change`]). The wall is its elements
+/// (`*wall`: lines for `dim` 2, triangles or quads for `dim` 3, in the same `index_base` as
+/// the cells) and the mesh's 0-based CSR edge graph (`*graph`); pass both structs with every
+/// array NULL with length 0 for no wall (then `scratch` may be NULL with `scratch_len` 0; with
+/// a wall it needs [`dk_quality_wall_angle_scratch_len`] scalars). `index_scratch` as in
+/// [`dk_quality_cell_measures`], with `wall->offsets_len + wall->nodes_len` more entries for
+/// a wall. Errors (nothing written): as
+/// [`dk_quality_cell_measures`] for both point arrays and as
+/// [`dk_quality_wall_angle_change`] for the wall.
+///
+/// # Safety
+/// Every input array is NULL with length 0 or readable for its length; `scratch` writable for
+/// `scratch_len` scalars; `report` points to one writable report; writable buffers overlap
+/// nothing else.
+#[export(twin, cells[1], wall[1], graph[1], report[1])]
+pub(crate) fn dk_quality_compare<T: Real>(
+    cells: In<'_, dk_cells>,
+    index_base: u32,
+    index_scratch: Out<'_, u32>,
+    wall: In<'_, dk_cells>,
+    graph: In<'_, dk_graph>,
+    undeformed: In<'_, T>,
+    deformed: In<'_, T>,
+    dim: u32,
+    scratch: Out<'_, T>,
+    report: Out<'_, dk_quality_report>,
+) -> dk_status {
+    let cells = CellArgs { cells, index_base };
+    let wall = WallArgs {
+        elements: CellArgs {
+            cells: wall,
+            index_base,
+        },
+        graph,
+    };
+    done(by_dim!(
+        dim,
+        compare_for_dim::<T>,
+        (
+            cells,
+            wall,
+            index_scratch,
+            undeformed,
+            deformed,
+            scratch,
+            report
+        )
+    ))
+}
+
+/// Change of the first grid-line angle at a wall, in radians (boundary-layer orthogonality):
+/// for every wall node, the angle between the wall normal and its most normal off-wall edge,
+/// undeformed vs deformed; `*out` receives the maximum change, its node (in `index_base`) and
+/// the counts of measured and skipped wall nodes. The wall elements (`*wall`, read with
+/// `index_base`: lines for `dim` 2, triangles or quads for `dim` 3, consistently oriented)
+/// index the mesh nodes; `*graph` is the mesh's 0-based CSR edge graph. `scratch` needs
+/// [`dk_quality_wall_angle_scratch_len`] scalars; with `index_base` 1, `index_scratch` needs
+/// `wall->offsets_len + wall->nodes_len` entries (NULL with 0 for `index_base` 0). Errors (nothing written): cell and graph
+/// errors, `DK_ERR_CELL_DIMENSION` (wrong element kind), `DK_ERR_NON_FINITE`, length and
+/// pointer errors.
+///
+/// # Safety
+/// Every input array is readable for its length; `scratch` writable for `scratch_len`
+/// scalars; `out` points to one writable struct; writable buffers overlap nothing else.
+#[export(twin, wall[1], graph[1], out[1])]
+pub(crate) fn dk_quality_wall_angle_change<T: Real>(
+    wall: In<'_, dk_cells>,
+    index_base: u32,
+    index_scratch: Out<'_, u32>,
+    graph: In<'_, dk_graph>,
+    undeformed: In<'_, T>,
+    deformed: In<'_, T>,
+    dim: u32,
+    scratch: Out<'_, T>,
+    out: Out<'_, dk_wall_angle_change>,
+) -> dk_status {
+    let wall = WallArgs {
+        elements: CellArgs {
+            cells: wall,
+            index_base,
+        },
+        graph,
+    };
+    done(by_dim!(
+        dim,
+        wall_angle_for_dim::<T>,
+        (wall, index_scratch, undeformed, deformed, scratch, out)
+    ))
+}

@@ -3,9 +3,9 @@
 //! Quaternions are 4 scalars, scalar first `(w, x, y, z)`, as in Samareh's paper and in the
 //! kernel's `Quat` (`#[repr(C)]`). Vectors are 3 scalars, the plane points of
 //! `dk_quat_rotate_points_2d` 2.
-#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
 
 use deform_kernel::{Quat, QuatAverage, Real, Result as KernelResult};
+use deform_kernel_ffi_export::export;
 
 use crate::args::{done, optional, read_array, write_array};
 use crate::slice::{chunks, chunks_mut, out_one, output_n, In, Out};
@@ -23,13 +23,6 @@ fn finite_quat<T: Real>(q: Quat<T>) -> Result<Quat<T>, dk_status> {
     }
 }
 
-fn mul<T: Real>(a: In<'_, T>, b: In<'_, T>, out: Out<'_, T>) -> dk_status {
-    done((|| {
-        let q = finite_quat(read4(a)?)? * finite_quat(read4(b)?)?;
-        write_array(out, q.to_array())
-    })())
-}
-
 /// `f(q)` into `out` (`f` is `Quat::normalize` or `Quat::inverse`).
 fn map<T: Real>(
     q: In<'_, T>,
@@ -37,35 +30,6 @@ fn map<T: Real>(
     f: fn(Quat<T>) -> KernelResult<Quat<T>>,
 ) -> dk_status {
     done((|| write_array(out, f(read4(q)?)?.to_array()))())
-}
-
-fn from_axis_angle<T: Real>(axis: In<'_, T>, angle: T, out: Out<'_, T>) -> dk_status {
-    done((|| {
-        let q = Quat::from_axis_angle(read_array(axis)?, angle)?;
-        write_array(out, q.to_array())
-    })())
-}
-
-fn to_axis_angle<T: Real>(q: In<'_, T>, axis_out: Out<'_, T>, angle_out: Out<'_, T>) -> dk_status {
-    done((|| {
-        let q = read4(q)?.normalize()?;
-        let (axis, angle) = q.to_axis_angle();
-        // Check both outputs before writing either.
-        let angle_slot = out_one(angle_out)?;
-        let axis_slot = output_n(axis_out, 3)?;
-        for (d, x) in axis_slot.iter_mut().zip(axis) {
-            *d = x;
-        }
-        *angle_slot = angle;
-        Ok(())
-    })())
-}
-
-fn rotation_arc<T: Real>(from: In<'_, T>, to: In<'_, T>, out: Out<'_, T>) -> dk_status {
-    done((|| {
-        let q = Quat::rotation_arc(read_array(from)?, read_array(to)?)?;
-        write_array(out, q.to_array())
-    })())
 }
 
 /// Rotates `D`-vectors with the kernel's `rotate` (`Quat::rotate`, or `Quat::rotate_2d` for
@@ -118,7 +82,169 @@ fn interpolate<T: Real>(
     })())
 }
 
-fn average<T: Real>(quats: In<'_, T>, weights: In<'_, T>, out: Out<'_, T>) -> dk_status {
+// ---------------------------------------------------------------------------------------------
+// The C functions (`cargo xtask codegen` exports each, see ffi/README.md).
+// ---------------------------------------------------------------------------------------------
+
+/// Hamilton product `out = a b` (each 4 scalars, scalar first). `out` may alias `a` or `b`.
+///
+/// # Safety
+/// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars (or NULL: error).
+#[export(twin, a[4], b[4], out[4])]
+pub(crate) fn dk_quat_mul<T: Real>(a: In<'_, T>, b: In<'_, T>, out: Out<'_, T>) -> dk_status {
+    done((|| {
+        let q = finite_quat(read4(a)?)? * finite_quat(read4(b)?)?;
+        write_array(out, q.to_array())
+    })())
+}
+
+/// `out = q / |q|`; a zero quaternion gives `DK_ERR_ZERO_LENGTH`, never NaN.
+///
+/// # Safety
+/// `q` points to 4 readable scalars, `out` to 4 writable scalars.
+#[export(twin, q[4], out[4])]
+pub(crate) fn dk_quat_normalize<T: Real>(q: In<'_, T>, out: Out<'_, T>) -> dk_status {
+    map(q, out, Quat::normalize)
+}
+
+/// `out = q⁻¹ = q* / |q|²`.
+///
+/// # Safety
+/// `q` points to 4 readable scalars, `out` to 4 writable scalars.
+#[export(twin, q[4], out[4])]
+pub(crate) fn dk_quat_inverse<T: Real>(q: In<'_, T>, out: Out<'_, T>) -> dk_status {
+    map(q, out, Quat::inverse)
+}
+
+/// Rotation by `angle` radians about `axis` (3 scalars, normalised here).
+///
+/// # Safety
+/// `axis` points to 3 readable scalars, `out` to 4 writable scalars.
+#[export(twin, axis[3], out[4])]
+pub(crate) fn dk_quat_from_axis_angle<T: Real>(
+    axis: In<'_, T>,
+    angle: T,
+    out: Out<'_, T>,
+) -> dk_status {
+    done((|| {
+        let q = Quat::from_axis_angle(read_array(axis)?, angle)?;
+        write_array(out, q.to_array())
+    })())
+}
+
+/// Axis (3 scalars, unit) and angle in `[0, π]` of the rotation `q` (normalised here).
+///
+/// # Safety
+/// `q` points to 4 readable scalars, `axis_out` to 3 and `angle_out` to 1 writable scalar.
+#[export(twin, q[4], axis_out[3], angle_out[1])]
+pub(crate) fn dk_quat_to_axis_angle<T: Real>(
+    q: In<'_, T>,
+    axis_out: Out<'_, T>,
+    angle_out: Out<'_, T>,
+) -> dk_status {
+    done((|| {
+        let q = read4(q)?.normalize()?;
+        let (axis, angle) = q.to_axis_angle();
+        // Check both outputs before writing either.
+        let angle_slot = out_one(angle_out)?;
+        let axis_slot = output_n(axis_out, 3)?;
+        for (d, x) in axis_slot.iter_mut().zip(axis) {
+            *d = x;
+        }
+        *angle_slot = angle;
+        Ok(())
+    })())
+}
+
+/// Shortest rotation taking direction `from` to direction `to` (3 scalars each).
+///
+/// # Safety
+/// `from`, `to` point to 3 readable scalars, `out` to 4 writable scalars.
+#[export(twin, from[3], to[3], out[4])]
+pub(crate) fn dk_quat_rotation_arc<T: Real>(
+    from: In<'_, T>,
+    to: In<'_, T>,
+    out: Out<'_, T>,
+) -> dk_status {
+    done((|| {
+        let q = Quat::rotation_arc(read_array(from)?, read_array(to)?)?;
+        write_array(out, q.to_array())
+    })())
+}
+
+/// Rotates `points_len / 3` points `(x, y, z)` by `q` (normalised here) into `out`.
+/// `out_len` must equal `points_len`, a multiple of 3.
+///
+/// # Safety
+/// `q` points to 4 readable scalars; `points` to `points_len` readable scalars; `out`
+/// to `out_len` writable scalars not overlapping `points`.
+#[export(twin, q[4])]
+pub(crate) fn dk_quat_rotate_points<T: Real>(
+    q: In<'_, T>,
+    points: In<'_, T>,
+    out: Out<'_, T>,
+) -> dk_status {
+    rotate_points(q, points, out, Quat::rotate)
+}
+
+/// Rotates `points_len / 2` points `(x, y)` of the plane z = 0 by `q` (normalised here) into
+/// `out`: the bits of [`dk_quat_rotate_points`] on `(x, y, 0)`, without padding. `q` must be
+/// a rotation about z (x and y components zero, as in every product of rotations about z);
+/// any other `q` is `DK_ERR_INVALID_PARAMETER`, since it would move points out of the plane.
+/// `out_len` must equal `points_len`, a multiple of 2.
+///
+/// # Safety
+/// As [`dk_quat_rotate_points`].
+#[export(twin, q[4])]
+pub(crate) fn dk_quat_rotate_points_2d<T: Real>(
+    q: In<'_, T>,
+    points: In<'_, T>,
+    out: Out<'_, T>,
+) -> dk_status {
+    rotate_points(q, points, out, Quat::rotate_2d)
+}
+
+/// Spherical linear interpolation on the shorter arc (`t` = 0 gives `a`, 1 gives `b`).
+///
+/// # Safety
+/// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
+#[export(twin, a[4], b[4], out[4])]
+pub(crate) fn dk_quat_slerp<T: Real>(
+    a: In<'_, T>,
+    b: In<'_, T>,
+    t: T,
+    out: Out<'_, T>,
+) -> dk_status {
+    interpolate(a, b, t, out, true)
+}
+
+/// Normalised linear interpolation on the shorter arc.
+///
+/// # Safety
+/// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
+#[export(twin, a[4], b[4], out[4])]
+pub(crate) fn dk_quat_nlerp<T: Real>(
+    a: In<'_, T>,
+    b: In<'_, T>,
+    t: T,
+    out: Out<'_, T>,
+) -> dk_status {
+    interpolate(a, b, t, out, false)
+}
+
+/// Hemisphere-aligned weighted average of `quats_len / 4` quaternions (`q` and `−q` are
+/// one rotation), renormalised. `weights` may be NULL with `weights_len` 0 (all 1);
+/// otherwise `weights_len == quats_len / 4`.
+///
+/// # Safety
+/// `quats` points to `quats_len` readable scalars, `weights` to `weights_len` (or is
+/// NULL with 0), `out` to 4 writable scalars.
+#[export(twin, out[4])]
+pub(crate) fn dk_quat_average<T: Real>(
+    quats: In<'_, T>,
+    weights: In<'_, T>,
+    out: Out<'_, T>,
+) -> dk_status {
     done((|| {
         let qs = chunks::<T, 4>(quats)?;
         let w = optional(weights)?;
@@ -137,6 +263,3 @@ fn average<T: Real>(quats: In<'_, T>, weights: In<'_, T>, out: Out<'_, T>) -> dk
         write_array(out, acc.result()?.to_array())
     })())
 }
-
-mod abi;
-pub use abi::*;

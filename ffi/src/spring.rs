@@ -19,10 +19,10 @@
 //! `_f32` functions round the options to `float` and widen the results exactly); the
 //! `*_options_default` functions have `_f32` twins because the default tolerance depends on
 //! the precision. Values updated in place are unchanged on any error.
-#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
+#![allow(unsafe_code)] // a parameter struct's arrays become `In`/`Out` tokens (`In::new`) here.
 
 use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
-use deform_kernel::slide::{fit_plane, slide_points, Constraints};
+use deform_kernel::slide::{fit_plane, plane_intersection, slide_points, Constraints};
 use deform_kernel::spring::{
     amg_setup_work_len, batina_stiffness, solve_linear_scratch_len,
     solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother, AngleMethod,
@@ -30,13 +30,14 @@ use deform_kernel::spring::{
     SpringSystem, Sweep, DEFAULT_ANGLE_EPSILON,
 };
 use deform_kernel::Real;
+use deform_kernel_ffi_export::export;
 
 use crate::args::{
-    assert_layout, by_components, by_dim, done, mul_len, range, read_one, read_points, rebase,
-    write_len, write_one,
+    assert_layout, by_components, by_dim, done, mul_len, range, read_array, read_one, read_points,
+    rebase, write_array, write_len, write_one,
 };
 use crate::graph::{dk_graph, read_graph, GraphIn};
-use crate::plan::{dk_plan_pools, dk_plan_pools_f32, dk_plan_sizes, PoolArgs, PoolsC};
+use crate::pools::{dk_plan_sizes, DkPlanPools, PoolArgs, PoolsC};
 use crate::slice::{
     chunks, chunks_mut, input, input_n, out_one, output, output_n, whole_chunks_mut, In, Out,
 };
@@ -312,19 +313,19 @@ impl dk_spring_sweep {
     }
 }
 
-// codegen: f32 twin
 /// A spring system for the solvers and sweeps: the graph, one stiffness per directed edge
 /// (symmetric, finite, positive) and the fixed mask (one byte per node, nonzero = fixed).
 /// Borrowed for the call that receives it, as [`dk_graph`]. The ABI's one struct for "the
 /// system", so a caller builds it once and hands it to every solver.
+#[export(twin = dk_spring_system)]
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 #[allow(non_camel_case_types)]
-pub struct dk_spring_system {
+pub struct DkSpringSystem<T> {
     /// The 0-based CSR graph.
     pub graph: dk_graph,
     /// Stiffness of each directed edge (`graph.targets_len` entries).
-    pub stiffness: *const f64,
+    pub stiffness: *const T,
     /// Entries of `stiffness`.
     pub stiffness_len: usize,
     /// One byte per node, nonzero = fixed (Dirichlet).
@@ -332,7 +333,7 @@ pub struct dk_spring_system {
     /// Entries of `fixed` (the node count).
     pub fixed_len: usize,
 }
-assert_layout!(dk_spring_system, 64; graph = 0, stiffness = 32, fixed = 48, fixed_len = 56);
+assert_layout!(DkSpringSystem<f64>, 64; graph = 0, stiffness = 32, fixed = 48, fixed_len = 56);
 
 /// The arrays of a spring-system struct as tokens.
 #[derive(Clone, Copy)]
@@ -349,27 +350,21 @@ pub(crate) trait SystemC: Copy {
     fn read(p: In<'_, Self>) -> Result<SystemIn<'_, Self::T>, dk_status>;
 }
 
-macro_rules! system_c {
-    ($ty:ty, $t:ty) => {
-        impl SystemC for $ty {
-            type T = $t;
-            fn read(p: In<'_, Self>) -> Result<SystemIn<'_, $t>, dk_status> {
-                let s = read_one(p)?;
-                // SAFETY: a token for a system struct carries the contract of the functions
-                // that take one: its arrays are readable for their lengths while it is.
-                Ok(unsafe {
-                    SystemIn {
-                        graph: s.graph.tokens(),
-                        stiffness: In::new(s.stiffness, s.stiffness_len),
-                        fixed: In::new(s.fixed, s.fixed_len),
-                    }
-                })
+impl<T: Real> SystemC for DkSpringSystem<T> {
+    type T = T;
+    fn read(p: In<'_, Self>) -> Result<SystemIn<'_, T>, dk_status> {
+        let s = read_one(p)?;
+        // SAFETY: a token for a system struct carries the contract of the functions that take
+        // one: its arrays are readable for their lengths while it is.
+        Ok(unsafe {
+            SystemIn {
+                graph: s.graph.tokens(),
+                stiffness: In::new(s.stiffness, s.stiffness_len),
+                fixed: In::new(s.fixed, s.fixed_len),
             }
-        }
-    };
+        })
+    }
 }
-system_c!(dk_spring_system, f64);
-system_c!(dk_spring_system_f32, f32);
 
 impl<'a, T: Real> SystemIn<'a, T> {
     /// Borrows and validates the system, with `node_count` entries of `scratch`.
@@ -381,7 +376,6 @@ impl<'a, T: Real> SystemIn<'a, T> {
     }
 }
 
-// codegen: f32 twin
 /// What every node of a sliding (symmetry-plane) solve may do: the kernel's
 /// `slide::Constraints`, for [`dk_spring_solve_linear_sliding`],
 /// [`dk_spring_solve_angle_sliding`], their multigrid variants, [`dk_slide_points`] and
@@ -392,20 +386,21 @@ impl<'a, T: Real> SystemIn<'a, T> {
 /// double, 3.5e-4 in float), ignored (any bits) for kinds 0 and 1. These functions require
 /// the struct: there is no "absent" value, and an all-NULL struct (zero nodes) matches only a
 /// zero-node system. Borrowed for the call that receives it, as [`dk_graph`].
+#[export(twin = dk_constraints)]
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 #[allow(non_camel_case_types)]
-pub struct dk_constraints {
+pub struct DkConstraints<T> {
     /// One kind code (0 to 3) per node.
     pub kinds: *const u8,
     /// Entries of `kinds` (the node count).
     pub kinds_len: usize,
     /// `dim` scalars per node (`x, y[, z]`): normals (kind 2) and tangents (kind 3).
-    pub directions: *const f64,
+    pub directions: *const T,
     /// Entries of `directions` (`kinds_len * dim`).
     pub directions_len: usize,
 }
-assert_layout!(dk_constraints, 32; kinds = 0, kinds_len = 8, directions = 16, directions_len = 24);
+assert_layout!(DkConstraints<f64>, 32; kinds = 0, kinds_len = 8, directions = 16, directions_len = 24);
 
 /// The arrays of a constraints struct as tokens.
 #[derive(Clone, Copy)]
@@ -421,27 +416,20 @@ pub(crate) trait ConstraintsC: Copy {
     fn read(p: In<'_, Self>) -> Result<ConstraintsIn<'_, Self::T>, dk_status>;
 }
 
-macro_rules! constraints_c {
-    ($ty:ty, $t:ty) => {
-        impl ConstraintsC for $ty {
-            type T = $t;
-            fn read(p: In<'_, Self>) -> Result<ConstraintsIn<'_, $t>, dk_status> {
-                let c = read_one(p)?;
-                // SAFETY: a token for a constraints struct carries the contract of the
-                // functions that take one: its arrays are readable for their lengths while it
-                // is.
-                Ok(unsafe {
-                    ConstraintsIn {
-                        kinds: In::new(c.kinds, c.kinds_len),
-                        directions: In::new(c.directions, c.directions_len),
-                    }
-                })
+impl<T: Real> ConstraintsC for DkConstraints<T> {
+    type T = T;
+    fn read(p: In<'_, Self>) -> Result<ConstraintsIn<'_, T>, dk_status> {
+        let c = read_one(p)?;
+        // SAFETY: a token for a constraints struct carries the contract of the functions that
+        // take one: its arrays are readable for their lengths while it is.
+        Ok(unsafe {
+            ConstraintsIn {
+                kinds: In::new(c.kinds, c.kinds_len),
+                directions: In::new(c.directions, c.directions_len),
             }
-        }
-    };
+        })
+    }
 }
-constraints_c!(dk_constraints, f64);
-constraints_c!(dk_constraints_f32, f32);
 
 impl<'a, T: Real> ConstraintsIn<'a, T> {
     /// Borrows and validates the table (the kernel's `Constraints::new`): `directions_len`
@@ -477,7 +465,7 @@ impl<'a, T: Real> SysArgs<'a, T> {
 // Generic inner functions.
 // ---------------------------------------------------------------------------------------------
 
-fn batina_d<T: Real, const D: usize>(
+fn batina_for_dim<T: Real, const D: usize>(
     g: &deform_kernel::Graph<'_>,
     points: In<'_, T>,
     exponent: T,
@@ -488,23 +476,7 @@ fn batina_d<T: Real, const D: usize>(
     batina_stiffness(g, p, exponent, k).map_err(dk_status::from)
 }
 
-fn solve_options_default<T: Real>(out: Out<'_, dk_spring_solve_options>) -> dk_status {
-    done(write_one(out, dk_spring_solve_options::default_for::<T>()))
-}
-
-fn angle_options_default<T: Real>(out: Out<'_, dk_spring_angle_options>) -> dk_status {
-    let k = SolveOptions::<T>::default();
-    let v = dk_spring_angle_options {
-        max_iterations: k.max_iterations,
-        residual_tol: k.residual_tol.to_f64(),
-        update_tol: k.update_tol.to_f64(),
-        epsilon: DEFAULT_ANGLE_EPSILON,
-        method: DK_ANGLE_DIRECT_GAUSS_SEIDEL,
-    };
-    done(write_one(out, v))
-}
-
-fn solve_linear_v<T: Real, const V: usize>(
+fn solve_linear_for_components<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     options: &dk_spring_solve_options,
     values: Out<'_, T>,
@@ -527,7 +499,7 @@ fn solve_linear_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn jacobi_sweep_v<T: Real, const V: usize>(
+fn jacobi_sweep_for_components<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     nodes: [usize; 2],
     src: In<'_, T>,
@@ -547,7 +519,7 @@ fn jacobi_sweep_v<T: Real, const V: usize>(
 pub const DK_EXACT_SUM_WORDS: usize = 72;
 const _: () = assert!(DK_EXACT_SUM_WORDS == EXACT_SUM_WORDS);
 
-fn jacobi_sweep_exact_v<T: Real, const V: usize>(
+fn jacobi_sweep_exact_for_components<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     nodes: [usize; 2],
     src: In<'_, T>,
@@ -567,18 +539,7 @@ fn jacobi_sweep_exact_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn exact_sum_value(words: In<'_, i64>, value_out: Out<'_, f64>) -> dk_status {
-    done((|| {
-        let w: &[i64] = input_n(words, EXACT_SUM_WORDS)?;
-        let out = out_one(value_out)?;
-        let mut a = [0i64; EXACT_SUM_WORDS];
-        a.copy_from_slice(w);
-        *out = ExactSum::from_words(a).value();
-        Ok(())
-    })())
-}
-
-fn sor_sweep_v<T: Real, const V: usize>(
+fn sor_sweep_for_components<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     nodes: [usize; 2],
     omega: T,
@@ -593,7 +554,7 @@ fn sor_sweep_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn relative_residual_v<T: Real, const V: usize>(
+fn relative_residual_for_components<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     values: In<'_, T>,
     residual_out: Out<'_, T>,
@@ -603,36 +564,6 @@ fn relative_residual_v<T: Real, const V: usize>(
     let system = sys.build()?;
     *r = system.relative_residual(v).map_err(dk_status::from)?;
     Ok(())
-}
-
-/// Scalars of scratch `dk_spring_solve_angle` needs for precision `T`.
-fn angle_scratch_scalars<T: Real>(
-    node_count: usize,
-    dim: u32,
-    options: In<'_, dk_spring_angle_options>,
-    len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let o = read_one(options)?;
-        let method = o.method()?;
-        if !(2..=3).contains(&dim) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        // Mirrors deform_kernel::spring::angle_scratch_len (items of [T; D]).
-        let four = mul_len(node_count, 4)?;
-        let solve = match method {
-            AngleMethod::DirectJacobi => node_count,
-            AngleMethod::DirectGaussSeidel => 0,
-            AngleMethod::Cg => four,
-        };
-        let items = if T::from_f64(o.epsilon) == T::ZERO {
-            solve.max(four)
-        } else {
-            solve
-        };
-        let len = mul_len(items, dim as usize)?;
-        write_len(len_out, len)
-    })())
 }
 
 /// The angle system's arguments beyond the spring system.
@@ -651,7 +582,7 @@ impl<'a, T: Real> AngleArgs<'a, T> {
     }
 }
 
-fn solve_angle_d<T: Real, const D: usize>(
+fn solve_angle_for_dim<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
     options: &dk_spring_angle_options,
@@ -674,7 +605,7 @@ fn solve_angle_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn angle_jacobi_d<T: Real, const D: usize>(
+fn angle_jacobi_for_dim<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
     epsilon: T,
@@ -696,7 +627,7 @@ fn angle_jacobi_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn angle_gs_d<T: Real, const D: usize>(
+fn angle_gs_for_dim<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
     epsilon: T,
@@ -716,7 +647,7 @@ fn angle_gs_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn probe_d<T: Real, const D: usize>(
+fn probe_for_dim<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
     options: &dk_spring_angle_options,
@@ -736,23 +667,6 @@ fn probe_d<T: Real, const D: usize>(
 // ---------------------------------------------------------------------------------------------
 // Stateless multigrid solves: the hierarchy set up in the caller's pools every call.
 // ---------------------------------------------------------------------------------------------
-
-fn amg_options_default(out: Out<'_, dk_amg_options>) -> dk_status {
-    done(write_one(
-        out,
-        dk_amg_options::of(AmgOptions::<f64>::default()),
-    ))
-}
-
-/// Entries of the `uint32_t` work of the hierarchy's symbolic pass: the kernel's
-/// `amg_setup_work_len`, `4 (N + E) + 64` (at least `N`, so the system's validation scratch
-/// fits in it too); `DK_ERR_TOO_LARGE` where it saturates (it is a multiple of 4 otherwise).
-fn amg_work_len(node_count: usize, directed_edges: usize, len_out: Out<'_, usize>) -> dk_status {
-    done(match amg_setup_work_len(node_count, directed_edges) {
-        usize::MAX => Err(dk_status::DK_ERR_TOO_LARGE),
-        len => write_len(len_out, len),
-    })
-}
 
 /// The arguments of a stateless multigrid solve beyond the values: the system, the multigrid
 /// options and the pools (read, not yet borrowed).
@@ -876,17 +790,17 @@ impl<'a, T: Real> AmgArgs<'a, T> {
     }
 }
 
-fn amg_pool_sizes_v<T: Real, const V: usize>(
+fn amg_pool_sizes_for_components<T: Real, const V: usize>(
     system: Result<SystemIn<'_, T>, dk_status>,
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
-    pool_sizes_v::<T, V>(system, amg, work, sizes_out, AMG_FINE)
+    pool_sizes_for_components::<T, V>(system, amg, work, sizes_out, AMG_FINE)
 }
 
 /// The pool lengths of a multigrid solve of `V` components with `fine` fine-level vectors.
-fn pool_sizes_v<T: Real, const V: usize>(
+fn pool_sizes_for_components<T: Real, const V: usize>(
     system: Result<SystemIn<'_, T>, dk_status>,
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
@@ -902,16 +816,16 @@ fn pool_sizes_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn angle_amg_pool_sizes_d<T: Real, const D: usize>(
+fn angle_amg_pool_sizes_for_dim<T: Real, const D: usize>(
     system: Result<SystemIn<'_, T>, dk_status>,
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
-    amg_pool_sizes_v::<T, D>(system, amg, work, sizes_out)
+    amg_pool_sizes_for_components::<T, D>(system, amg, work, sizes_out)
 }
 
-fn solve_linear_amg_v<T: Real, const V: usize>(
+fn solve_linear_amg_for_components<T: Real, const V: usize>(
     args: AmgArgs<'_, T>,
     options: &dk_spring_solve_options,
     values: Out<'_, T>,
@@ -937,7 +851,7 @@ fn solve_linear_amg_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn solve_angle_amg_d<T: Real, const D: usize>(
+fn solve_angle_amg_for_dim<T: Real, const D: usize>(
     args: AmgArgs<'_, T>,
     pts: &AngleArgs<T>,
     options: &dk_spring_angle_options,
@@ -968,7 +882,7 @@ fn solve_angle_amg_d<T: Real, const D: usize>(
 // Sliding nodes (symmetry planes): deform_kernel::slide and the constrained solves.
 // ---------------------------------------------------------------------------------------------
 
-fn constraints_fixed_mask_d<T: Real, const D: usize>(
+fn constraints_fixed_mask_for_dim<T: Real, const D: usize>(
     constraints: Result<ConstraintsIn<'_, T>, dk_status>,
     mask: Out<'_, u8>,
 ) -> Result<(), dk_status> {
@@ -978,7 +892,7 @@ fn constraints_fixed_mask_d<T: Real, const D: usize>(
     c.fixed_mask(m).map_err(dk_status::from)
 }
 
-fn slide_points_d<T: Real, const D: usize>(
+fn slide_points_for_dim<T: Real, const D: usize>(
     constraints: Result<ConstraintsIn<'_, T>, dk_status>,
     original: In<'_, T>,
     points: Out<'_, T>,
@@ -998,7 +912,7 @@ struct FitOut<'a, T> {
     extent: Out<'a, T>,
 }
 
-fn fit_plane_d<T: Real, const D: usize>(
+fn fit_plane_for_dim<T: Real, const D: usize>(
     points: In<'_, T>,
     nodes: In<'_, u32>,
     index_base: u32,
@@ -1024,57 +938,7 @@ fn fit_plane_d<T: Real, const D: usize>(
     Ok(())
 }
 
-/// Scalars of scratch [`dk_spring_solve_linear_sliding`] needs (the kernel's
-/// `solve_linear_sliding_scratch_len` items times `dim`).
-fn linear_sliding_scratch_scalars(
-    node_count: usize,
-    dim: u32,
-    options: In<'_, dk_spring_solve_options>,
-    len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let o = read_one(options)?;
-        let method = o.method::<f64>()?;
-        if !(2..=3).contains(&dim) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        // The kernel's count saturates; the largest is 6 n.
-        mul_len(node_count, 6)?;
-        let items = solve_linear_sliding_scratch_len(&LinearSolver::Method(method), node_count);
-        write_len(len_out, mul_len(items, dim as usize)?)
-    })())
-}
-
-/// Scalars of scratch [`dk_spring_solve_angle_sliding`] needs for precision `T`.
-fn angle_sliding_scratch_scalars<T: Real>(
-    node_count: usize,
-    dim: u32,
-    options: In<'_, dk_spring_angle_options>,
-    len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let o = read_one(options)?;
-        let method = o.method()?;
-        if !(2..=3).contains(&dim) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        // Mirrors AngleSystem::solve_angle_sliding_scratch_len (items of [T; D]).
-        let n = node_count;
-        let solve = match method {
-            AngleMethod::DirectJacobi => mul_len(n, 2)?,
-            AngleMethod::DirectGaussSeidel => n,
-            AngleMethod::Cg => mul_len(n, 5)?,
-        };
-        let items = if T::from_f64(o.epsilon) == T::ZERO {
-            solve.max(mul_len(n, 4)?)
-        } else {
-            solve
-        };
-        write_len(len_out, mul_len(items, dim as usize)?)
-    })())
-}
-
-fn solve_linear_sliding_d<T: Real, const D: usize>(
+fn solve_linear_sliding_for_dim<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     constraints: Result<ConstraintsIn<'_, T>, dk_status>,
     options: &dk_spring_solve_options,
@@ -1098,8 +962,7 @@ fn solve_linear_sliding_d<T: Real, const D: usize>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)] // the C function's arguments, one to one
-fn solve_angle_sliding_d<T: Real, const D: usize>(
+fn solve_angle_sliding_for_dim<T: Real, const D: usize>(
     sys: SysArgs<'_, T>,
     pts: &AngleArgs<T>,
     constraints: Result<ConstraintsIn<'_, T>, dk_status>,
@@ -1125,16 +988,16 @@ fn solve_angle_sliding_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn sliding_amg_pool_sizes_d<T: Real, const D: usize>(
+fn sliding_amg_pool_sizes_for_dim<T: Real, const D: usize>(
     system: Result<SystemIn<'_, T>, dk_status>,
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
-    pool_sizes_v::<T, D>(system, amg, work, sizes_out, SLIDING_AMG_FINE)
+    pool_sizes_for_components::<T, D>(system, amg, work, sizes_out, SLIDING_AMG_FINE)
 }
 
-fn solve_linear_sliding_amg_d<T: Real, const D: usize>(
+fn solve_linear_sliding_amg_for_dim<T: Real, const D: usize>(
     args: AmgArgs<'_, T>,
     constraints: Result<ConstraintsIn<'_, T>, dk_status>,
     options: &dk_spring_solve_options,
@@ -1162,7 +1025,7 @@ fn solve_linear_sliding_amg_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn solve_angle_sliding_amg_d<T: Real, const D: usize>(
+fn solve_angle_sliding_amg_for_dim<T: Real, const D: usize>(
     args: AmgArgs<'_, T>,
     pts: &AngleArgs<T>,
     constraints: Result<ConstraintsIn<'_, T>, dk_status>,
@@ -1191,5 +1054,1103 @@ fn solve_angle_sliding_amg_d<T: Real, const D: usize>(
     Ok(())
 }
 
-mod abi;
-pub use abi::*;
+// ---------------------------------------------------------------------------------------------
+// The C functions (`cargo xtask codegen` exports each, see ffi/README.md).
+// ---------------------------------------------------------------------------------------------
+
+/// Batina's stiffness `k_ij = 1 / |r_i − r_j|^exponent` for every directed edge of the 0-based
+/// CSR graph into `stiffness` (`stiffness_len` = `graph->targets_len`). `exponent` 1 is the papers'
+/// choice (computed as `1/|d|`), 2 is `1/(d·d)`, 0 the uniform Laplacian. The result is
+/// exactly symmetric, as the solvers require. `points`: `node_count * dim` scalars, `dim` 2
+/// or 3. Errors (nothing written): `DK_ERR_ZERO_LENGTH_EDGE`, `DK_ERR_NON_FINITE`,
+/// `DK_ERR_INVALID_PARAMETER` (`exponent` negative or not finite, `dim`), graph, length and
+/// pointer errors.
+///
+/// # Safety
+/// Inputs readable for their lengths; `stiffness` writable for `stiffness_len` scalars, not
+/// overlapping the inputs.
+#[export(twin, graph[1])]
+pub(crate) fn dk_spring_batina_stiffness<T: Real>(
+    graph: In<'_, dk_graph>,
+    points: In<'_, T>,
+    dim: u32,
+    exponent: T,
+    stiffness: Out<'_, T>,
+) -> dk_status {
+    done(
+        read_graph(graph)
+            .and_then(|g| by_dim!(dim, batina_for_dim::<T>, (&g, points, exponent, stiffness))),
+    )
+}
+
+/// Length of the `uint32_t` `index_scratch` every spring solver and sweep needs to validate
+/// its system (the anchoring search): `node_count`.
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[export(len_out[1])]
+pub(crate) fn dk_spring_index_scratch_len(node_count: usize, len_out: Out<'_, usize>) -> dk_status {
+    done(write_len(
+        len_out,
+        SpringSystem::<f64>::scratch_len(node_count),
+    ))
+}
+
+/// Fills `*out` with the default linear-spring settings for f64: CG with the Jacobi
+/// preconditioner, 10 000 iterations, residual tolerance 1e-10, update tolerance off,
+/// `omega` 1.
+///
+/// # Safety
+/// `out` points to one writable options struct.
+///
+/// # f32 twin
+/// As [`dk_spring_solve_options_default`] with the f32 default residual tolerance
+/// (`100 ε_f32` ≈ 1.19e-5).
+#[export(twin, out[1])]
+pub(crate) fn dk_spring_solve_options_default<T: Real>(
+    out: Out<'_, dk_spring_solve_options>,
+) -> dk_status {
+    done(write_one(out, dk_spring_solve_options::default_for::<T>()))
+}
+
+/// Scalars of `scratch` [`dk_spring_solve_linear`] needs for `options->method`:
+/// `node_count * components` for Jacobi, 0 for Gauss–Seidel and SOR, `5 * node_count *
+/// components` for CG (four vectors and the diagonal; same count for both precisions).
+///
+/// # Safety
+/// `options` points to one readable struct; `len_out` to one writable `size_t`.
+#[export(options[1], len_out[1])]
+pub(crate) fn dk_spring_solve_linear_scratch_len(
+    node_count: usize,
+    components: u32,
+    options: In<'_, dk_spring_solve_options>,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        let o = read_one(options)?;
+        let method = o.method::<f64>()?;
+        if !(1..=7).contains(&components) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        if node_count > usize::MAX / 4 {
+            return Err(dk_status::DK_ERR_TOO_LARGE);
+        }
+        let items = solve_linear_scratch_len(&method, node_count);
+        write_len(len_out, mul_len(items, components as usize)?)
+    })())
+}
+
+/// Solves the linear springs for every free node, `Σ_j k_ij (x_j − x_i) = 0` per component
+/// (Batina; Yang & Özgen eq. 1), fixed nodes keeping their values. `values` holds
+/// `node_count * components` scalars: Dirichlet data at fixed nodes and the initial guess at
+/// free nodes; on `DK_OK` the last iterate, and `*report` says whether it converged
+/// (non-convergence is not an error). `scratch` needs [`dk_spring_solve_linear_scratch_len`]
+/// scalars, `index_scratch` [`dk_spring_index_scratch_len`] entries.
+///
+/// Errors (values and report unchanged): `DK_ERR_NOT_SYMMETRIC`, `DK_ERR_NON_POSITIVE`,
+/// `DK_ERR_UNANCHORED` (system), `DK_ERR_NON_FINITE` (values, stiffness),
+/// `DK_ERR_INVALID_PARAMETER` (method, preconditioner, `omega` outside (0, 2), tolerances,
+/// `components`), `DK_ERR_BUFFER_TOO_SMALL`, `DK_ERR_SINGULAR_SYSTEM` (CG breakdown), graph,
+/// length and pointer errors.
+///
+/// # Safety
+/// `system` points to one readable struct whose arrays are readable for their lengths;
+/// `options` points to one readable struct; `values` is readable and writable for `values_len` scalars; `scratch` and `index_scratch`
+/// writable for their lengths; `report` points to one writable report; writable buffers
+/// overlap nothing else.
+#[export(twin, system[1], options[1], report[1])]
+pub(crate) fn dk_spring_solve_linear<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    options: In<'_, dk_spring_solve_options>,
+    components: u32,
+    values: Out<'_, T>,
+    scratch: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> dk_status {
+    let sys = SysArgs {
+        system: SystemC::read(system),
+        index_scratch,
+    };
+    done(read_one(options).and_then(|o| {
+        by_components!(
+            components,
+            solve_linear_for_components::<T>,
+            (sys, &o, values, scratch, report)
+        )
+    }))
+}
+
+/// One Jacobi sweep of the linear springs over the nodes `nodes_start..nodes_end` (read with
+/// `index_base`): each free node in the range gets
+/// `dst_i = src_i + Σ_j k_ij (src_j − src_i) / Σ_j k_ij`, fixed nodes in the range are copied,
+/// `dst` outside the range is untouched. `src` and `dst` hold the whole field
+/// (`node_count * components` scalars; neighbours outside the range, e.g. halo nodes, are
+/// read). `*sweep` receives the range's maximum change and residual. Nothing is written on
+/// error.
+///
+/// # Safety
+/// As [`dk_spring_solve_linear`]; `src` readable for `src_len` scalars, `dst` writable for
+/// `dst_len` and not overlapping `src`; `sweep` points to one writable struct.
+#[export(twin, system[1], sweep[1])]
+pub(crate) fn dk_spring_jacobi_sweep<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    nodes_start: usize,
+    nodes_end: usize,
+    index_base: u32,
+    components: u32,
+    src: In<'_, T>,
+    dst: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    sweep: Out<'_, dk_spring_sweep>,
+) -> dk_status {
+    let sys = SysArgs {
+        system: SystemC::read(system),
+        index_scratch,
+    };
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_components!(
+            components,
+            jacobi_sweep_for_components::<T>,
+            (sys, nodes, src, dst, sweep)
+        )
+    }))
+}
+
+/// [`dk_spring_jacobi_sweep`], and the range's `Σ |r_i|²` as the words of an exact sum:
+/// `residual_words` receives [`DK_EXACT_SUM_WORDS`] `int64_t`. Words of several ranges or
+/// processes add element-wise (`MPI_Allreduce` with `MPI_SUM` on `MPI_INT64_T`); rounded
+/// with [`dk_exact_sum_value`] they give the bits of one sweep over all their nodes, however
+/// the nodes were split (docs/reductions.md). Nothing is written on error.
+///
+/// # Safety
+/// As [`dk_spring_jacobi_sweep`]; `residual_words` writable for `DK_EXACT_SUM_WORDS` values.
+#[export(twin, system[1], sweep[1], residual_words[72])]
+pub(crate) fn dk_spring_jacobi_sweep_exact<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    nodes_start: usize,
+    nodes_end: usize,
+    index_base: u32,
+    components: u32,
+    src: In<'_, T>,
+    dst: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    sweep: Out<'_, dk_spring_sweep>,
+    residual_words: Out<'_, i64>,
+) -> dk_status {
+    let sys = SysArgs {
+        system: SystemC::read(system),
+        index_scratch,
+    };
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_components!(
+            components,
+            jacobi_sweep_exact_for_components::<T>,
+            (sys, nodes, src, dst, sweep, residual_words)
+        )
+    }))
+}
+
+/// Rounds an exact sum given by its words (from [`dk_spring_jacobi_sweep_exact`], or the
+/// element-wise sum of such word arrays) to the nearest `double`, ties to even. Errors:
+/// pointer errors.
+///
+/// # Safety
+/// `words` readable for [`DK_EXACT_SUM_WORDS`] values; `value_out` points to one writable
+/// `double`.
+#[export(words[72], value_out[1])]
+pub(crate) fn dk_exact_sum_value(words: In<'_, i64>, value_out: Out<'_, f64>) -> dk_status {
+    done((|| {
+        let w: &[i64] = input_n(words, EXACT_SUM_WORDS)?;
+        let out = out_one(value_out)?;
+        let mut a = [0i64; EXACT_SUM_WORDS];
+        a.copy_from_slice(w);
+        *out = ExactSum::from_words(a).value();
+        Ok(())
+    })())
+}
+
+/// One in-place Gauss–Seidel (`omega` = 1) or SOR sweep of the linear springs over the nodes
+/// `nodes_start..nodes_end` (read with `index_base`), in increasing node order:
+/// `x_i ← x_i + ω Σ_j k_ij (x_j − x_i) / Σ_j k_ij` with the newest values; fixed nodes are
+/// skipped. `*sweep` receives the range's maximum change and residual estimate. Errors
+/// (nothing written): as [`dk_spring_jacobi_sweep`], plus `DK_ERR_INVALID_PARAMETER` for
+/// `omega` outside (0, 2).
+///
+/// # Safety
+/// As [`dk_spring_solve_linear`]; `values` readable and writable for `values_len` scalars;
+/// `sweep` points to one writable struct.
+#[export(twin, system[1], sweep[1])]
+pub(crate) fn dk_spring_sor_sweep<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    nodes_start: usize,
+    nodes_end: usize,
+    index_base: u32,
+    omega: T,
+    components: u32,
+    values: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    sweep: Out<'_, dk_spring_sweep>,
+) -> dk_status {
+    let sys = SysArgs {
+        system: SystemC::read(system),
+        index_scratch,
+    };
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_components!(
+            components,
+            sor_sweep_for_components::<T>,
+            (sys, nodes, omega, values, sweep)
+        )
+    }))
+}
+
+/// The relative residual `‖b − A x‖₂ / ‖b‖₂` of a value field for the linear springs (the
+/// measure of `residual_tol` and of the solve report; `b` = the fixed nodes' pull on the free
+/// nodes, plain `‖b − A x‖₂` when `b = 0`) into `*residual_out`.
+///
+/// # Safety
+/// As [`dk_spring_solve_linear`]; `values` readable for `values_len` scalars; `residual_out`
+/// writable for one scalar.
+#[export(twin, system[1], residual_out[1])]
+pub(crate) fn dk_spring_relative_residual<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    components: u32,
+    values: In<'_, T>,
+    index_scratch: Out<'_, u32>,
+    residual_out: Out<'_, T>,
+) -> dk_status {
+    let sys = SysArgs {
+        system: SystemC::read(system),
+        index_scratch,
+    };
+    done(by_components!(
+        components,
+        relative_residual_for_components::<T>,
+        (sys, values, residual_out)
+    ))
+}
+
+/// Fills `*out` with the default angle-spring settings for f64: direct Gauss–Seidel,
+/// `ε` = 0.01, 10 000 iterations, residual tolerance 1e-10, update tolerance off.
+///
+/// # Safety
+/// `out` points to one writable options struct.
+///
+/// # f32 twin
+/// As [`dk_spring_angle_options_default`] with the f32 default residual tolerance.
+#[export(twin, out[1])]
+pub(crate) fn dk_spring_angle_options_default<T: Real>(
+    out: Out<'_, dk_spring_angle_options>,
+) -> dk_status {
+    let k = SolveOptions::<T>::default();
+    let v = dk_spring_angle_options {
+        max_iterations: k.max_iterations,
+        residual_tol: k.residual_tol.to_f64(),
+        update_tol: k.update_tol.to_f64(),
+        epsilon: DEFAULT_ANGLE_EPSILON,
+        method: DK_ANGLE_DIRECT_GAUSS_SEIDEL,
+    };
+    done(write_one(out, v))
+}
+
+/// Scalars of `scratch` [`dk_spring_solve_angle`] needs: per node and coordinate, 1 for
+/// direct Jacobi, 0 for direct Gauss–Seidel, 4 for CG, and at least 4 whenever
+/// `options->epsilon` is 0 (the rigidity probe).
+///
+/// # Safety
+/// `options` points to one readable struct; `len_out` to one writable `size_t`.
+///
+/// # f32 twin
+/// `f32` twin of [`dk_spring_solve_angle_scratch_len`] (differs only when `epsilon` rounds to
+/// 0 in `float`).
+#[export(twin, options[1], len_out[1])]
+pub(crate) fn dk_spring_solve_angle_scratch_len<T: Real>(
+    node_count: usize,
+    dim: u32,
+    options: In<'_, dk_spring_angle_options>,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        let o = read_one(options)?;
+        let method = o.method()?;
+        if !(2..=3).contains(&dim) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        // Mirrors deform_kernel::spring::angle_scratch_len (items of [T; D]).
+        let four = mul_len(node_count, 4)?;
+        let solve = match method {
+            AngleMethod::DirectJacobi => node_count,
+            AngleMethod::DirectGaussSeidel => 0,
+            AngleMethod::Cg => four,
+        };
+        let items = if T::from_f64(o.epsilon) == T::ZERO {
+            solve.max(four)
+        } else {
+            solve
+        };
+        let len = mul_len(items, dim as usize)?;
+        write_len(len_out, len)
+    })())
+}
+
+/// Scalars of `scratch` [`dk_spring_angle_rigidity_probe`] needs: `4 * node_count * dim`.
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[export(len_out[1])]
+pub(crate) fn dk_spring_angle_rigidity_probe_scratch_len(
+    node_count: usize,
+    dim: u32,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        if !(2..=3).contains(&dim) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        let items = mul_len(node_count, 4)?;
+        write_len(len_out, mul_len(items, dim as usize)?)
+    })())
+}
+
+/// Solves the angle-inclusion springs (Yang & Özgen §2.2) for the free nodes' displacements:
+/// `Σ_j B_ij (x_j − x_i) = 0` with the edge blocks `B_ij = k_ij (d dᵀ/|d|² + ε I)`, `d` the
+/// edge in the (undeformed) `points`. `values` holds `node_count * dim` scalars: prescribed
+/// displacements at fixed nodes, the initial guess at free ones; on `DK_OK` the last iterate,
+/// and `*report` says whether it converged. Method and `ε` come from `options`; with `ε` = 0
+/// the rigidity probe runs first. `scratch` needs [`dk_spring_solve_angle_scratch_len`]
+/// scalars.
+///
+/// Errors (values and report unchanged): `DK_ERR_SINGULAR_NODE` (a free node with colinear /
+/// coplanar edges), `DK_ERR_SINGULAR_SYSTEM` (probe or CG breakdown),
+/// `DK_ERR_ZERO_LENGTH_EDGE`, the errors of [`dk_spring_solve_linear`].
+///
+/// # Safety
+/// As [`dk_spring_solve_linear`]; `points` readable for `points_len` scalars.
+#[export(twin, system[1], options[1], report[1])]
+pub(crate) fn dk_spring_solve_angle<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    points: In<'_, T>,
+    dim: u32,
+    options: In<'_, dk_spring_angle_options>,
+    values: Out<'_, T>,
+    scratch: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> dk_status {
+    let sys = SysArgs {
+        system: SystemC::read(system),
+        index_scratch,
+    };
+    let pts = AngleArgs { points };
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_angle_for_dim::<T>,
+            (sys, &pts, &o, values, scratch, report)
+        )
+    }))
+}
+
+/// One Jacobi-order sweep of the angle-spring direct method over the nodes
+/// `nodes_start..nodes_end` (read with `index_base`): each free node solves its own 2×2/3×3
+/// system with neighbours read from `src`, `dst_i = src_i + A_ii⁻¹ Σ_j B_ij (src_j − src_i)`;
+/// fixed nodes in the range are copied, `dst` outside the range is untouched. `*sweep`
+/// receives the range's maximum change and the residual of `src`. Nothing is written on
+/// error.
+///
+/// # Safety
+/// As [`dk_spring_solve_angle`]; `src` readable for `src_len` scalars; `dst` writable for
+/// `dst_len`, not overlapping `src`; `sweep` points to one writable struct.
+#[export(twin, system[1], sweep[1])]
+pub(crate) fn dk_spring_angle_jacobi_sweep<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    points: In<'_, T>,
+    dim: u32,
+    epsilon: T,
+    nodes_start: usize,
+    nodes_end: usize,
+    index_base: u32,
+    src: In<'_, T>,
+    dst: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    sweep: Out<'_, dk_spring_sweep>,
+) -> dk_status {
+    let sys = SysArgs {
+        system: SystemC::read(system),
+        index_scratch,
+    };
+    let pts = AngleArgs { points };
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_dim!(
+            dim,
+            angle_jacobi_for_dim::<T>,
+            (sys, &pts, epsilon, nodes, src, dst, sweep)
+        )
+    }))
+}
+
+/// One in-place Gauss–Seidel-order sweep of the angle-spring direct method over the nodes
+/// `nodes_start..nodes_end` (read with `index_base`): like
+/// [`dk_spring_angle_jacobi_sweep`] but each node uses its neighbours' newest values.
+/// Nothing is written on error.
+///
+/// # Safety
+/// As [`dk_spring_solve_angle`]; `values` readable and writable for `values_len` scalars;
+/// `sweep` points to one writable struct.
+#[export(twin, system[1], sweep[1])]
+pub(crate) fn dk_spring_angle_gauss_seidel_sweep<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    points: In<'_, T>,
+    dim: u32,
+    epsilon: T,
+    nodes_start: usize,
+    nodes_end: usize,
+    index_base: u32,
+    values: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    sweep: Out<'_, dk_spring_sweep>,
+) -> dk_status {
+    let sys = SysArgs {
+        system: SystemC::read(system),
+        index_scratch,
+    };
+    let pts = AngleArgs { points };
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_dim!(
+            dim,
+            angle_gs_for_dim::<T>,
+            (sys, &pts, epsilon, nodes, values, sweep)
+        )
+    }))
+}
+
+/// The rigidity probe of the angle springs: block-Jacobi CG on a deterministic pseudo-random
+/// right-hand side; `*amplification_out` receives the amplification (a condition estimate:
+/// tens to hundreds for healthy meshes, huge for a near-mechanism; `dk_spring_solve_angle`
+/// rejects more than 1e6 when `ε` = 0). Uses `options->epsilon` and the stopping rules
+/// (`method` is ignored). `scratch` needs [`dk_spring_angle_rigidity_probe_scratch_len`]
+/// scalars. Errors: `DK_ERR_SINGULAR_SYSTEM` (no convergence or non-positive curvature), and
+/// those of [`dk_spring_solve_angle`]; nothing is written on error.
+///
+/// # Safety
+/// As [`dk_spring_solve_angle`]; `amplification_out` writable for one scalar.
+#[export(twin, system[1], options[1], amplification_out[1])]
+pub(crate) fn dk_spring_angle_rigidity_probe<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    points: In<'_, T>,
+    dim: u32,
+    options: In<'_, dk_spring_angle_options>,
+    scratch: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    amplification_out: Out<'_, T>,
+) -> dk_status {
+    let sys = SysArgs {
+        system: SystemC::read(system),
+        index_scratch,
+    };
+    let pts = AngleArgs { points };
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            probe_for_dim::<T>,
+            (sys, &pts, &o, scratch, amplification_out)
+        )
+    }))
+}
+
+/// Fills `*out` with the default multigrid options (the same for both precisions): θ = 0
+/// (every spring strong), at most 10 levels, a dense coarsest level of at most 256 unknowns,
+/// Chebyshev smoothing of degree 2 (docs/amg.md).
+///
+/// # Safety
+/// `out` points to one writable options struct.
+#[export(out[1])]
+pub(crate) fn dk_amg_options_default(out: Out<'_, dk_amg_options>) -> dk_status {
+    done(write_one(
+        out,
+        dk_amg_options::of(AmgOptions::<f64>::default()),
+    ))
+}
+
+/// Length of the `uint32_t` `work` buffer [`dk_spring_solve_linear_amg_pool_sizes`] and
+/// [`dk_spring_solve_angle_amg_pool_sizes`] need (the multigrid hierarchy's symbolic pass, and
+/// the system's validation in its front): `4 * (node_count + directed_edges) + 64`, with
+/// `directed_edges` the graph's `targets_len`. The same count is the front of the `indices`
+/// pool of the solves. Errors: `DK_ERR_TOO_LARGE`, pointer errors.
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[export(len_out[1])]
+pub(crate) fn dk_spring_amg_work_len(
+    node_count: usize,
+    directed_edges: usize,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done(match amg_setup_work_len(node_count, directed_edges) {
+        usize::MAX => Err(dk_status::DK_ERR_TOO_LARGE),
+        len => write_len(len_out, len),
+    })
+}
+
+/// The exact pool lengths [`dk_spring_solve_linear_amg`] needs for this system, `components`
+/// (1 to 7) and multigrid options: validates the system and the options and runs the
+/// hierarchy's symbolic pass (aggregation and the sparsity of every level) in `work`
+/// ([`dk_spring_amg_work_len`] entries). `sizes_out->reals` = the hierarchy's values + `(5 N +
+/// 3 × coarse unknowns) * components` scratch scalars; `sizes_out->indices` = the work length +
+/// the hierarchy's index entries; `sizes_out->bytes` = 0. The sizes depend on the graph and
+/// the fixed mask (and on the stiffness only when `strength_theta` > 0), so a time loop on one
+/// mesh queries once.
+///
+/// Errors (only `work` is written): `DK_ERR_INVALID_PARAMETER` (`components`, multigrid
+/// options), `DK_ERR_BUFFER_TOO_SMALL` (`work`), the system's errors (as
+/// [`dk_spring_solve_linear`]), `DK_ERR_TOO_LARGE`, pointer errors.
+///
+/// # Safety
+/// `system` points to one readable struct whose arrays are readable for their lengths;
+/// `amg` points to one readable struct; `work` is writable for `work_len` entries and overlaps
+/// nothing else; `sizes_out` points to one writable struct.
+#[export(twin, system[1], amg[1], sizes_out[1])]
+pub(crate) fn dk_spring_solve_linear_amg_pool_sizes<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    components: u32,
+    amg: In<'_, dk_amg_options>,
+    work: Out<'_, u32>,
+    sizes_out: Out<'_, dk_plan_sizes>,
+) -> dk_status {
+    let system = SystemC::read(system);
+    done(by_components!(
+        components,
+        amg_pool_sizes_for_components::<T>,
+        (system, amg, work, sizes_out)
+    ))
+}
+
+/// [`dk_spring_solve_linear`]'s problem solved by conjugate gradients preconditioned with one
+/// smoothed-aggregation multigrid V-cycle per iteration (the kernel's `AmgHierarchy::setup`
+/// then `solve_linear_amg`, with the same bits): 15–25× fewer iterations than CG+Jacobi on
+/// the 20k–234k-node meshes of docs/amg.md. The hierarchy is rebuilt in `pools` on every
+/// call; a prepared plan (`dk_plan_*`) builds it once and keeps it across time steps.
+///
+/// `values` holds `node_count * components` scalars as for [`dk_spring_solve_linear`]; on
+/// `DK_OK` the last iterate, and `*report` says whether it converged. `options` gives the
+/// stopping rules (`max_iterations`, `residual_tol`, `update_tol`; `method`, `preconditioner`
+/// and `omega` are ignored), `amg` the hierarchy ([`dk_amg_options_default`]). `pools`: the
+/// `reals` and `indices` buffers of at least the lengths
+/// [`dk_spring_solve_linear_amg_pool_sizes`] gave (longer ones give the same bits; `bytes`
+/// is not used and may be NULL with length 0); their contents afterwards are unspecified.
+///
+/// Errors (values and report unchanged): `DK_ERR_BUFFER_TOO_SMALL` (a pool shorter than the
+/// query's length), `DK_ERR_INVALID_PARAMETER` (multigrid options, tolerances,
+/// `components`), `DK_ERR_SINGULAR_SYSTEM` (a coarse level not positive definite in floating
+/// point, or a CG breakdown), `DK_ERR_OVERFLOW`, and the system's, length and pointer errors
+/// of [`dk_spring_solve_linear`].
+///
+/// # Safety
+/// `system` points to one readable struct whose arrays are readable for their lengths;
+/// `options` and `amg` point to one readable struct each; `values` is readable and writable
+/// for `values_len` scalars; `pools` points to one readable struct whose buffers are writable
+/// for their lengths; `report` points to one writable report; writable buffers overlap
+/// nothing else.
+#[export(twin, system[1], options[1], amg[1], pools[1], report[1])]
+pub(crate) fn dk_spring_solve_linear_amg<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    options: In<'_, dk_spring_solve_options>,
+    amg: In<'_, dk_amg_options>,
+    components: u32,
+    values: Out<'_, T>,
+    pools: In<'_, DkPlanPools<T>>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> dk_status {
+    let args = AmgArgs {
+        system: SystemC::read(system),
+        amg,
+        pools: PoolsC::read(pools),
+    };
+    done(read_one(options).and_then(|o| {
+        by_components!(
+            components,
+            solve_linear_amg_for_components::<T>,
+            (args, &o, values, report)
+        )
+    }))
+}
+
+/// The exact pool lengths [`dk_spring_solve_angle_amg`] needs for this system, `dim` (2 or 3)
+/// and multigrid options: [`dk_spring_solve_linear_amg_pool_sizes`] with `components` =
+/// `dim` (the angle solve uses the scalar linear-spring hierarchy of the same system, applied
+/// to each displacement component; its `5 N + 3 × coarse unknowns` scratch items also cover
+/// the rigidity probe when `epsilon` is 0). Errors as
+/// [`dk_spring_solve_linear_amg_pool_sizes`] (`dim` instead of `components`).
+///
+/// # Safety
+/// As [`dk_spring_solve_linear_amg_pool_sizes`].
+#[export(twin, system[1], amg[1], sizes_out[1])]
+pub(crate) fn dk_spring_solve_angle_amg_pool_sizes<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    dim: u32,
+    amg: In<'_, dk_amg_options>,
+    work: Out<'_, u32>,
+    sizes_out: Out<'_, dk_plan_sizes>,
+) -> dk_status {
+    let system = SystemC::read(system);
+    done(by_dim!(
+        dim,
+        angle_amg_pool_sizes_for_dim::<T>,
+        (system, amg, work, sizes_out)
+    ))
+}
+
+/// [`dk_spring_solve_angle`]'s problem (angle-inclusion springs) solved by its CG with one
+/// V-cycle of the scalar linear-spring multigrid hierarchy per displacement component as the
+/// preconditioner, in place of the node blocks (the kernel's `AmgHierarchy::setup` on the
+/// system, then `AngleSystem::solve_angle_amg`, with the same bits): 8–19× fewer iterations
+/// than `DK_ANGLE_CG` on meshes of 6k–98k nodes (docs/amg.md). The hierarchy is rebuilt in
+/// `pools` on every call; a prepared plan keeps a hierarchy across time steps (plans run the
+/// linear and quaternion methods, not the angle springs).
+///
+/// Arguments as [`dk_spring_solve_angle`], with `options->method` ignored (`epsilon` and the
+/// stopping rules are used; with `epsilon` 0 the rigidity probe runs first), plus `amg` and
+/// `pools` as for [`dk_spring_solve_linear_amg`] (lengths from
+/// [`dk_spring_solve_angle_amg_pool_sizes`]).
+///
+/// Errors (values and report unchanged): those of [`dk_spring_solve_angle`] and of
+/// [`dk_spring_solve_linear_amg`].
+///
+/// # Safety
+/// As [`dk_spring_solve_linear_amg`]; `points` readable for `points_len` scalars.
+#[export(twin, system[1], options[1], amg[1], pools[1], report[1])]
+pub(crate) fn dk_spring_solve_angle_amg<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    points: In<'_, T>,
+    dim: u32,
+    options: In<'_, dk_spring_angle_options>,
+    amg: In<'_, dk_amg_options>,
+    values: Out<'_, T>,
+    pools: In<'_, DkPlanPools<T>>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> dk_status {
+    let args = AmgArgs {
+        system: SystemC::read(system),
+        amg,
+        pools: PoolsC::read(pools),
+    };
+    let pts = AngleArgs { points };
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_angle_amg_for_dim::<T>,
+            (args, &pts, &o, values, report)
+        )
+    }))
+}
+
+/// Writes the fixed mask of the spring system a sliding solve needs: `mask[i]` = 1 where
+/// `constraints->kinds[i]` is 1 (fixed), else 0 (free and sliding nodes are unknowns of the
+/// system). Build the [`dk_spring_system`] of [`dk_spring_solve_linear_sliding`] and its
+/// siblings with it: they refuse a mask that differs (`DK_ERR_INVALID_PARAMETER`).
+/// `mask_len` = `constraints->kinds_len`; `dim` (2 or 3) says how the directions are read.
+///
+/// Errors (nothing written): `DK_ERR_LENGTH_MISMATCH` (`mask_len`, `directions_len` not
+/// `dim * kinds_len`), `DK_ERR_INDEX_OUT_OF_RANGE` (a kind above 3), `DK_ERR_NON_FINITE`,
+/// `DK_ERR_NOT_UNIT` (a sliding node's direction), `DK_ERR_INVALID_PARAMETER` (`dim`),
+/// pointer errors.
+///
+/// # Safety
+/// `constraints` points to one readable struct whose arrays are readable for their lengths;
+/// `mask` is writable for `mask_len` bytes and overlaps nothing else.
+#[export(twin, constraints[1])]
+pub(crate) fn dk_constraints_fixed_mask<T: Real>(
+    constraints: In<'_, DkConstraints<T>>,
+    dim: u32,
+    mask: Out<'_, u8>,
+) -> dk_status {
+    let c = ConstraintsC::read(constraints);
+    done(by_dim!(dim, constraints_fixed_mask_for_dim::<T>, (c, mask)))
+}
+
+/// Projects the motion of every sliding node onto its plane or line (the kernel's
+/// `slide::slide_points`): `points[i] = original[i] + P_i (points[i] − original[i])` for
+/// kinds 2 and 3 (`P` = `I − n nᵀ` for a plane, `t tᵀ` for a line); free and fixed nodes are
+/// left as they are. Call it after a propagation in which the sliding nodes were ordinary
+/// field nodes (e.g. `dk_deform_idw`). `original` and `points`: `dim` scalars per node,
+/// `kinds_len` nodes.
+///
+/// Errors (`points` unchanged): `DK_ERR_LENGTH_MISMATCH`, `DK_ERR_NON_FINITE` (`original`,
+/// `points`), `DK_ERR_OVERFLOW` (a projected position not finite), the constraints' errors
+/// of [`dk_constraints_fixed_mask`], pointer errors.
+///
+/// # Safety
+/// `constraints` points to one readable struct whose arrays are readable for their lengths;
+/// `original` readable for `original_len` scalars; `points` readable and writable for
+/// `points_len` scalars, overlapping nothing else.
+#[export(twin, constraints[1])]
+pub(crate) fn dk_slide_points<T: Real>(
+    constraints: In<'_, DkConstraints<T>>,
+    dim: u32,
+    original: In<'_, T>,
+    points: Out<'_, T>,
+) -> dk_status {
+    let c = ConstraintsC::read(constraints);
+    done(by_dim!(
+        dim,
+        slide_points_for_dim::<T>,
+        (c, original, points)
+    ))
+}
+
+/// Fits a plane (3D) or line (2D) to the nodes `nodes` (read with `index_base`) of `points`
+/// by least squares (the kernel's `slide::fit_plane`): the unit normal (its largest-magnitude
+/// component positive) into `normal_out`, the centroid into `point_out` (`dim` scalars each,
+/// `normal_out_len` = `point_out_len` = `dim`), the residual `max |n · (x − c)|` into
+/// `*residual_out` and the largest distance of a node from the centroid into `*extent_out`.
+/// A set farther from its plane than `tolerance * extent` is refused (`DK_ERR_NOT_PLANAR`;
+/// pass `INFINITY` to never refuse and read the residual). Use the normal as a kind-2
+/// direction of [`dk_constraints`]. `index_scratch`: `nodes_len` entries for `index_base` 1,
+/// NULL with length 0 for 0.
+///
+/// Errors (outputs unchanged): `DK_ERR_INVALID_PARAMETER` (fewer than `dim` nodes, nodes that
+/// do not span a plane, `tolerance` NaN or negative, `dim`), `DK_ERR_INDEX_OUT_OF_RANGE`,
+/// `DK_ERR_NON_FINITE`, `DK_ERR_OVERFLOW`, `DK_ERR_NOT_PLANAR`, `DK_ERR_BAD_INDEX_BASE`,
+/// `DK_ERR_BUFFER_TOO_SMALL` (`index_scratch`), length and pointer errors.
+///
+/// # Safety
+/// `points` readable for `points_len` scalars, `nodes` for `nodes_len` entries;
+/// `index_scratch`, `normal_out` and `point_out` writable for their lengths; `residual_out`
+/// and `extent_out` writable for one scalar each; writable buffers overlap nothing else.
+#[export(twin, residual_out[1], extent_out[1])]
+pub(crate) fn dk_fit_plane<T: Real>(
+    points: In<'_, T>,
+    dim: u32,
+    nodes: In<'_, u32>,
+    index_base: u32,
+    tolerance: T,
+    index_scratch: Out<'_, u32>,
+    normal_out: Out<'_, T>,
+    point_out: Out<'_, T>,
+    residual_out: Out<'_, T>,
+    extent_out: Out<'_, T>,
+) -> dk_status {
+    let out = FitOut {
+        normal: normal_out,
+        point: point_out,
+        residual: residual_out,
+        extent: extent_out,
+    };
+    done(by_dim!(
+        dim,
+        fit_plane_for_dim::<T>,
+        (points, nodes, index_base, tolerance, index_scratch, out)
+    ))
+}
+
+/// The unit tangent `(a × b) / |a × b|` of the line where two planes with normals `a` and `b`
+/// (3 scalars each) meet (the kernel's `slide::plane_intersection`). Errors (nothing
+/// written): `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero normal, or planes parallel to
+/// within `√ε`), pointer errors.
+///
+/// # Safety
+/// `a`, `b` point to 3 readable scalars, `out` to 3 writable scalars.
+#[export(twin, a[3], b[3], out[3])]
+pub(crate) fn dk_plane_intersection<T: Real>(
+    a: In<'_, T>,
+    b: In<'_, T>,
+    out: Out<'_, T>,
+) -> dk_status {
+    done((|| {
+        write_array(out, plane_intersection(read_array(a)?, read_array(b)?)?)
+    })())
+}
+
+/// Scalars of `scratch` [`dk_spring_solve_linear_sliding`] needs for `options->method`:
+/// `2 * node_count * dim` for Jacobi, `node_count * dim` for Gauss–Seidel and SOR, `6 *
+/// node_count * dim` for CG (a scaled copy of the values, the CG vectors and the diagonal;
+/// same count for both precisions).
+///
+/// # Safety
+/// `options` points to one readable struct; `len_out` to one writable `size_t`.
+#[export(options[1], len_out[1])]
+pub(crate) fn dk_spring_solve_linear_sliding_scratch_len(
+    node_count: usize,
+    dim: u32,
+    options: In<'_, dk_spring_solve_options>,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        let o = read_one(options)?;
+        let method = o.method::<f64>()?;
+        if !(2..=3).contains(&dim) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        // The kernel's count saturates; the largest is 6 n.
+        mul_len(node_count, 6)?;
+        let items = solve_linear_sliding_scratch_len(&LinearSolver::Method(method), node_count);
+        write_len(len_out, mul_len(items, dim as usize)?)
+    })())
+}
+
+/// [`dk_spring_solve_linear`] with sliding nodes (symmetry planes; the kernel's
+/// `SpringSystem::solve_linear_sliding`, with the same bits): the displacements minimise the
+/// spring energy over each node's allowed motions, `P K P d = P b` on `range(P)` with `P_i` =
+/// `I` (free), 0 (fixed), `I − n nᵀ` (plane), `t tᵀ` (line), solved jointly over the `dim`
+/// components (2 or 3, as the directions). `values` holds `node_count * dim` displacements:
+/// prescribed at fixed nodes, the initial guess elsewhere; on `DK_OK` the last iterate, every
+/// sliding node's displacement in its plane or line to rounding, and `*report` (residual
+/// `‖P (b − K d)‖ / ‖P b‖`) says whether it converged. The one-level methods of `options`
+/// (Jacobi, Gauss–Seidel, SOR project each node's update; CG with its preconditioner applied
+/// as `P M⁻¹ P`). `system` must be built with the mask [`dk_constraints_fixed_mask`] writes.
+/// `scratch` needs [`dk_spring_solve_linear_sliding_scratch_len`] scalars, `index_scratch`
+/// [`dk_spring_index_scratch_len`] entries.
+///
+/// Errors (values and report unchanged): `DK_ERR_INVALID_PARAMETER` (a fixed mask that
+/// differs from the constraints' kind 1, `dim`, and as [`dk_spring_solve_linear`]), the
+/// constraints' errors of [`dk_constraints_fixed_mask`] (`DK_ERR_LENGTH_MISMATCH` when they
+/// do not have `node_count` nodes), `DK_ERR_OVERFLOW`, and those of
+/// [`dk_spring_solve_linear`].
+///
+/// # Safety
+/// As [`dk_spring_solve_linear`]; `constraints` points to one readable struct whose arrays
+/// are readable for their lengths.
+#[export(twin, system[1], constraints[1], options[1], report[1])]
+pub(crate) fn dk_spring_solve_linear_sliding<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    constraints: In<'_, DkConstraints<T>>,
+    options: In<'_, dk_spring_solve_options>,
+    dim: u32,
+    values: Out<'_, T>,
+    scratch: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> dk_status {
+    let sys = SysArgs {
+        system: SystemC::read(system),
+        index_scratch,
+    };
+    let c = ConstraintsC::read(constraints);
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_linear_sliding_for_dim::<T>,
+            (sys, c, &o, values, scratch, report)
+        )
+    }))
+}
+
+/// Scalars of `scratch` [`dk_spring_solve_angle_sliding`] needs: per node and coordinate, 2
+/// for direct Jacobi, 1 for direct Gauss–Seidel, 5 for CG, and at least 4 whenever
+/// `options->epsilon` is 0 (the rigidity probe).
+///
+/// # Safety
+/// `options` points to one readable struct; `len_out` to one writable `size_t`.
+///
+/// # f32 twin
+/// `f32` twin of [`dk_spring_solve_angle_sliding_scratch_len`] (differs only when `epsilon`
+/// rounds to 0 in `float`).
+#[export(twin, options[1], len_out[1])]
+pub(crate) fn dk_spring_solve_angle_sliding_scratch_len<T: Real>(
+    node_count: usize,
+    dim: u32,
+    options: In<'_, dk_spring_angle_options>,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        let o = read_one(options)?;
+        let method = o.method()?;
+        if !(2..=3).contains(&dim) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        // Mirrors AngleSystem::solve_angle_sliding_scratch_len (items of [T; D]).
+        let n = node_count;
+        let solve = match method {
+            AngleMethod::DirectJacobi => mul_len(n, 2)?,
+            AngleMethod::DirectGaussSeidel => n,
+            AngleMethod::Cg => mul_len(n, 5)?,
+        };
+        let items = if T::from_f64(o.epsilon) == T::ZERO {
+            solve.max(mul_len(n, 4)?)
+        } else {
+            solve
+        };
+        write_len(len_out, mul_len(items, dim as usize)?)
+    })())
+}
+
+/// [`dk_spring_solve_angle`] with sliding nodes (the kernel's
+/// `AngleSystem::solve_angle_sliding`, with the same bits): the problem of
+/// [`dk_spring_solve_linear_sliding`] with the angle springs' edge blocks. The direct methods
+/// solve each node's projected block `(P A P + s (I − P)) δ = P r` (`s = tr A / dim`), in
+/// Gauss–Seidel order over-relaxed by `omega` (1 = plain) or in Jacobi order; `DK_ANGLE_CG`
+/// runs on the projected system with the projected node blocks as preconditioner. `omega`
+/// must be in (0, 2) for every method. With `options->epsilon` 0 the unconstrained rigidity
+/// probe runs first. `scratch` needs [`dk_spring_solve_angle_sliding_scratch_len`] scalars.
+/// Values, report and the sliding guarantee as [`dk_spring_solve_linear_sliding`].
+///
+/// Errors (values and report unchanged): those of [`dk_spring_solve_angle`] and of
+/// [`dk_spring_solve_linear_sliding`]; `DK_ERR_INVALID_PARAMETER` for `omega`.
+///
+/// # Safety
+/// As [`dk_spring_solve_linear_sliding`]; `points` readable for `points_len` scalars.
+#[export(twin, system[1], constraints[1], options[1], report[1])]
+pub(crate) fn dk_spring_solve_angle_sliding<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    points: In<'_, T>,
+    dim: u32,
+    constraints: In<'_, DkConstraints<T>>,
+    options: In<'_, dk_spring_angle_options>,
+    omega: T,
+    values: Out<'_, T>,
+    scratch: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> dk_status {
+    let sys = SysArgs {
+        system: SystemC::read(system),
+        index_scratch,
+    };
+    let pts = AngleArgs { points };
+    let c = ConstraintsC::read(constraints);
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_angle_sliding_for_dim::<T>,
+            (sys, &pts, c, &o, omega, values, scratch, report)
+        )
+    }))
+}
+
+/// The exact pool lengths [`dk_spring_solve_linear_sliding_amg`] needs for this system (built
+/// with [`dk_constraints_fixed_mask`]), `dim` (2 or 3) and multigrid options, as
+/// [`dk_spring_solve_linear_amg_pool_sizes`] (the same `work`, from
+/// [`dk_spring_amg_work_len`]) but with `(6 N + 3 × coarse unknowns) * dim` scratch scalars
+/// (the sliding solve also keeps a scaled copy of the values). The sizes do not depend on the
+/// constraints. Errors as [`dk_spring_solve_linear_amg_pool_sizes`] (`dim` instead of
+/// `components`).
+///
+/// # Safety
+/// As [`dk_spring_solve_linear_amg_pool_sizes`].
+#[export(twin, system[1], amg[1], sizes_out[1])]
+pub(crate) fn dk_spring_solve_linear_sliding_amg_pool_sizes<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    dim: u32,
+    amg: In<'_, dk_amg_options>,
+    work: Out<'_, u32>,
+    sizes_out: Out<'_, dk_plan_sizes>,
+) -> dk_status {
+    let system = SystemC::read(system);
+    done(by_dim!(
+        dim,
+        sliding_amg_pool_sizes_for_dim::<T>,
+        (system, amg, work, sizes_out)
+    ))
+}
+
+/// [`dk_spring_solve_linear_sliding`]'s problem solved by its projected CG preconditioned
+/// with one smoothed-aggregation multigrid V-cycle per iteration, applied as `P M⁻¹ P` (the
+/// kernel's `AmgHierarchy::setup` on the system, sliding nodes free, then
+/// `solve_linear_sliding` with `LinearSolver::Amg`, with the same bits). The hierarchy is
+/// rebuilt in `pools` on every call (lengths from
+/// [`dk_spring_solve_linear_sliding_amg_pool_sizes`]; `bytes` unused); plans do not take
+/// sliding kinds yet.
+///
+/// Arguments as [`dk_spring_solve_linear_sliding`] (`options` gives only the stopping rules),
+/// plus `amg` and `pools` as for [`dk_spring_solve_linear_amg`].
+///
+/// Errors (values and report unchanged): those of [`dk_spring_solve_linear_sliding`] and of
+/// [`dk_spring_solve_linear_amg`].
+///
+/// # Safety
+/// As [`dk_spring_solve_linear_amg`]; `constraints` points to one readable struct whose
+/// arrays are readable for their lengths.
+#[export(twin, system[1], constraints[1], options[1], amg[1], pools[1], report[1])]
+pub(crate) fn dk_spring_solve_linear_sliding_amg<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    constraints: In<'_, DkConstraints<T>>,
+    options: In<'_, dk_spring_solve_options>,
+    amg: In<'_, dk_amg_options>,
+    dim: u32,
+    values: Out<'_, T>,
+    pools: In<'_, DkPlanPools<T>>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> dk_status {
+    let args = AmgArgs {
+        system: SystemC::read(system),
+        amg,
+        pools: PoolsC::read(pools),
+    };
+    let c = ConstraintsC::read(constraints);
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_linear_sliding_amg_for_dim::<T>,
+            (args, c, &o, values, report)
+        )
+    }))
+}
+
+/// The exact pool lengths [`dk_spring_solve_angle_sliding_amg`] needs: the same as
+/// [`dk_spring_solve_linear_sliding_amg_pool_sizes`] with the same `dim` (the angle solve
+/// applies the scalar linear-spring hierarchy to each displacement component; its scratch
+/// also covers the rigidity probe when `epsilon` is 0). Errors as
+/// [`dk_spring_solve_linear_sliding_amg_pool_sizes`].
+///
+/// # Safety
+/// As [`dk_spring_solve_linear_amg_pool_sizes`].
+#[export(twin, system[1], amg[1], sizes_out[1])]
+pub(crate) fn dk_spring_solve_angle_sliding_amg_pool_sizes<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    dim: u32,
+    amg: In<'_, dk_amg_options>,
+    work: Out<'_, u32>,
+    sizes_out: Out<'_, dk_plan_sizes>,
+) -> dk_status {
+    let system = SystemC::read(system);
+    done(by_dim!(
+        dim,
+        sliding_amg_pool_sizes_for_dim::<T>,
+        (system, amg, work, sizes_out)
+    ))
+}
+
+/// [`dk_spring_solve_angle_sliding`]'s projected CG preconditioned by one V-cycle of the
+/// scalar linear-spring multigrid hierarchy per displacement component, applied as `P M⁻¹ P`
+/// (the kernel's `AmgHierarchy::setup` on the system, then
+/// `AngleSystem::solve_angle_sliding_amg`, with the same bits). The hierarchy is rebuilt in
+/// `pools` on every call (lengths from [`dk_spring_solve_angle_sliding_amg_pool_sizes`]).
+///
+/// Arguments as [`dk_spring_solve_angle_sliding`] without `omega` and the scratch buffers,
+/// `options->method` ignored (`epsilon` and the stopping rules are used; with `epsilon` 0 the
+/// rigidity probe runs first), plus `amg` and `pools` as for [`dk_spring_solve_angle_amg`].
+///
+/// Errors (values and report unchanged): those of [`dk_spring_solve_angle_sliding`] and of
+/// [`dk_spring_solve_angle_amg`].
+///
+/// # Safety
+/// As [`dk_spring_solve_angle_amg`]; `constraints` points to one readable struct whose
+/// arrays are readable for their lengths.
+#[export(twin, system[1], constraints[1], options[1], amg[1], pools[1], report[1])]
+pub(crate) fn dk_spring_solve_angle_sliding_amg<T: Real>(
+    system: In<'_, DkSpringSystem<T>>,
+    points: In<'_, T>,
+    dim: u32,
+    constraints: In<'_, DkConstraints<T>>,
+    options: In<'_, dk_spring_angle_options>,
+    amg: In<'_, dk_amg_options>,
+    values: Out<'_, T>,
+    pools: In<'_, DkPlanPools<T>>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> dk_status {
+    let args = AmgArgs {
+        system: SystemC::read(system),
+        amg,
+        pools: PoolsC::read(pools),
+    };
+    let pts = AngleArgs { points };
+    let c = ConstraintsC::read(constraints);
+    done(read_one(options).and_then(|o| {
+        by_dim!(
+            dim,
+            solve_angle_sliding_amg_for_dim::<T>,
+            (args, &pts, c, &o, values, report)
+        )
+    }))
+}

@@ -1,7 +1,7 @@
 //! `dk_status`: the return code of every `dk_*` function, and its message.
-#![allow(unsafe_code)] // `#[no_mangle]` on dk_status_str; no raw pointer is read here.
 
 use deform_kernel::Error;
+use deform_kernel_ffi_export::export;
 
 /// Return code of every `dk_*` function. `DK_OK` (0) is success; every other value names the
 /// kind of failure, and on failure no output was written.
@@ -111,9 +111,9 @@ impl From<Error> for dk_status {
 
 /// A static, NUL-terminated English description of `status`. Never NULL; unknown values give
 /// "unknown status".
-#[cfg_attr(feature = "export-symbols", no_mangle)]
-pub extern "C" fn dk_status_str(status: i32) -> *const core::ffi::c_char {
-    let s: &'static core::ffi::CStr = match status {
+#[export]
+pub(crate) fn dk_status_str(status: i32) -> &'static core::ffi::CStr {
+    match status {
         0 => c"success",
         1 => c"a required pointer argument is NULL or misaligned",
         2 => c"two arguments that must have the same length disagree",
@@ -146,6 +146,5 @@ pub extern "C" fn dk_status_str(status: i32) -> *const core::ffi::c_char {
         29 => c"the plan pools do not hold a valid plan (none, another type, or overwritten)",
         99 => c"an error unknown to this header version",
         _ => c"unknown status",
-    };
-    s.as_ptr()
+    }
 }

@@ -19,7 +19,7 @@
 //! - Routines that update a caller buffer in place (`points`, `field`, `values`) validate
 //!   everything first: on any error the buffer and every output are unchanged. Scratch buffers
 //!   are work space: their contents after any call are unspecified.
-#![allow(unsafe_code)] // `#[no_mangle] unsafe extern "C"`; raw pointers are only read via crate::slice.
+#![allow(unsafe_code)] // a parameter struct's arrays become `In`/`Out` tokens (`In::new`) here.
 
 use deform_kernel::taubin::{
     arclength, check_lines_increasing, graph_sweep, inverse_distance_weights, max_stretching,
@@ -30,6 +30,7 @@ use deform_kernel::taubin::{
     TaubinParams,
 };
 use deform_kernel::{Block, Direction, Directions, Graph, Real};
+use deform_kernel_ffi_export::export;
 
 use crate::args::{
     assert_layout, block, by_components, by_dim, done, mul_len, optional, range, read_one,
@@ -290,34 +291,7 @@ impl dk_smooth_report {
 // Generic inner functions.
 // ---------------------------------------------------------------------------------------------
 
-fn params_paper<T: Real>(lambda_out: Out<'_, T>, mu_out: Out<'_, T>) -> dk_status {
-    done((|| {
-        let p = TaubinParams::<T>::paper();
-        let l = out_one(lambda_out)?;
-        let m = out_one(mu_out)?;
-        *l = p.lambda;
-        *m = p.mu;
-        Ok(())
-    })())
-}
-
-fn params_from_pass_band<T: Real>(
-    lambda: T,
-    pass_band: T,
-    lambda_out: Out<'_, T>,
-    mu_out: Out<'_, T>,
-) -> dk_status {
-    done((|| {
-        let p = TaubinParams::from_pass_band(lambda, pass_band).map_err(dk_status::from)?;
-        let l = out_one(lambda_out)?;
-        let m = out_one(mu_out)?;
-        *l = p.lambda;
-        *m = p.mu;
-        Ok(())
-    })())
-}
-
-fn smooth_arclength_d<T: Real, const D: usize>(
+fn smooth_arclength_for_dim<T: Real, const D: usize>(
     block: &Block,
     options: &dk_smooth_arclength_options,
     pinned: Option<&[u8]>,
@@ -336,7 +310,6 @@ fn smooth_arclength_d<T: Real, const D: usize>(
 }
 
 /// The structured filter, on the fine grid only (`coarse` None) or with a coarse-grid pass.
-#[allow(clippy::too_many_arguments)]
 fn smooth_structured_t<T: Real>(
     [ni, nj, nk]: [usize; 3],
     coarse: Option<In<'_, dk_taubin_coarse>>,
@@ -370,7 +343,6 @@ fn smooth_structured_t<T: Real>(
     })())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn structured_sweep_t<T: Real>(
     ni: usize,
     nj: usize,
@@ -427,7 +399,7 @@ impl<'a, T> GraphArgs<'a, T> {
     }
 }
 
-fn smooth_graph_v<T: Real, const V: usize>(
+fn smooth_graph_for_components<T: Real, const V: usize>(
     args: &GraphArgs<T>,
     params: TaubinParams<T>,
     iterations: usize,
@@ -445,7 +417,7 @@ fn smooth_graph_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn graph_sweep_v<T: Real, const V: usize>(
+fn graph_sweep_for_components<T: Real, const V: usize>(
     args: &GraphArgs<T>,
     src: In<'_, T>,
     weight: T,
@@ -462,7 +434,7 @@ fn graph_sweep_v<T: Real, const V: usize>(
     Ok(())
 }
 
-fn inverse_distance_weights_d<T: Real, const D: usize>(
+fn inverse_distance_weights_for_dim<T: Real, const D: usize>(
     g: &Graph<'_>,
     points: In<'_, T>,
     weights: Out<'_, T>,
@@ -472,7 +444,7 @@ fn inverse_distance_weights_d<T: Real, const D: usize>(
     inverse_distance_weights(g, p, w).map_err(dk_status::from)
 }
 
-fn arclength_d<T: Real, const D: usize>(
+fn arclength_for_dim<T: Real, const D: usize>(
     b: &Block,
     points: In<'_, T>,
     direction: u32,
@@ -484,7 +456,7 @@ fn arclength_d<T: Real, const D: usize>(
     arclength(b, p, to_direction(direction)?, normalised, o).map_err(dk_status::from)
 }
 
-fn redistribute_d<T: Real, const D: usize>(
+fn redistribute_for_dim<T: Real, const D: usize>(
     b: &Block,
     direction: u32,
     targets: In<'_, T>,
@@ -502,7 +474,7 @@ fn redistribute_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn stretching_d<T: Real, const D: usize>(
+fn stretching_for_dim<T: Real, const D: usize>(
     b: &Block,
     points: In<'_, T>,
     direction: u32,
@@ -513,7 +485,7 @@ fn stretching_d<T: Real, const D: usize>(
     stretching(b, p, to_direction(direction)?, o).map_err(dk_status::from)
 }
 
-fn max_stretching_d<T: Real, const D: usize>(
+fn max_stretching_for_dim<T: Real, const D: usize>(
     b: &Block,
     points: In<'_, T>,
     direction: u32,
@@ -529,7 +501,7 @@ fn max_stretching_d<T: Real, const D: usize>(
     Ok(())
 }
 
-fn check_lines_d<T: Real, const D: usize>(
+fn check_lines_for_dim<T: Real, const D: usize>(
     b: &Block,
     field: &[T],
     direction: u32,
@@ -541,8 +513,584 @@ fn check_lines_d<T: Real, const D: usize>(
         .map_err(dk_status::from)
 }
 
-#[allow(clippy::too_many_arguments)]
-fn check_lines_t<T: Real>(
+// ---------------------------------------------------------------------------------------------
+// The C functions (`cargo xtask codegen` exports each, see ffi/README.md).
+// ---------------------------------------------------------------------------------------------
+
+/// The λ|μ values Alter took from Taubin: `λ = 0.330`, `μ = −0.334` (pass band ≈ 0.0363).
+///
+/// # Safety
+/// `lambda_out` and `mu_out` each point to one writable scalar.
+#[export(twin, lambda_out[1], mu_out[1])]
+pub(crate) fn dk_taubin_params_paper<T: Real>(
+    lambda_out: Out<'_, T>,
+    mu_out: Out<'_, T>,
+) -> dk_status {
+    done((|| {
+        let p = TaubinParams::<T>::paper();
+        let l = out_one(lambda_out)?;
+        let m = out_one(mu_out)?;
+        *l = p.lambda;
+        *m = p.mu;
+        Ok(())
+    })())
+}
+
+/// `λ` with `μ` from Taubin's pass-band relation `1/λ + 1/μ = pass_band`. Needs `λ > 0` and
+/// `0 < pass_band < 1/λ` (`DK_ERR_INVALID_PARAMETER`; NaN/∞: `DK_ERR_NON_FINITE`). Writes `λ`
+/// unchanged to `*lambda_out` and `μ` to `*mu_out`.
+///
+/// # Safety
+/// `lambda_out` and `mu_out` each point to one writable scalar.
+#[export(twin, lambda_out[1], mu_out[1])]
+pub(crate) fn dk_taubin_params_from_pass_band<T: Real>(
+    lambda: T,
+    pass_band: T,
+    lambda_out: Out<'_, T>,
+    mu_out: Out<'_, T>,
+) -> dk_status {
+    done((|| {
+        let p = TaubinParams::from_pass_band(lambda, pass_band).map_err(dk_status::from)?;
+        let l = out_one(lambda_out)?;
+        let m = out_one(mu_out)?;
+        *l = p.lambda;
+        *m = p.mu;
+        Ok(())
+    })())
+}
+
+/// Fills `*out` with the paper's settings for lines along `direction` (0 = i, 1 = j, 2 = k):
+/// λ = 0.330, μ = −0.334, 30 iterations, dimensional arclength, no pins, no mirror faces, no
+/// coarse pass (coarse factor `{1, 1, 1}`, values prolongation, 15 coarse iterations).
+/// `direction > 2` gives `DK_ERR_INVALID_PARAMETER`.
+///
+/// # Safety
+/// `out` points to one writable `dk_smooth_arclength_options`.
+#[export(out[1])]
+pub(crate) fn dk_smooth_arclength_options_default(
+    direction: u32,
+    out: Out<'_, dk_smooth_arclength_options>,
+) -> dk_status {
+    done((|| {
+        let k = SmoothOptions::<f64>::new(crate::taubin::to_direction(direction)?);
+        let v = dk_smooth_arclength_options {
+            lambda: k.params.lambda,
+            mu: k.params.mu,
+            iterations: k.iterations,
+            coarse_iterations: k.coarse_iterations,
+            pinned: core::ptr::null(),
+            pinned_len: 0,
+            coarse: dk_taubin_coarse {
+                factor: [1, 1, 1],
+                prolongation: DK_PROLONGATION_VALUES,
+            },
+            direction,
+            normalised: u8::from(k.normalised),
+            use_coarse: 0,
+            mirror: k.mirror.flags().map(u8::from),
+        };
+        let o = out_one(out)?;
+        *o = v;
+        Ok(())
+    })())
+}
+
+/// Scratch length (in scalars of the precision used) for [`dk_taubin_smooth_arclength`] with
+/// these dimensions, `dim` (2 or 3) and options (only `direction`, `use_coarse` and `coarse`
+/// matter): `n + max(n, 2 n_coarse, (dim + 1) × points per line)`. A `direction` other than
+/// 0, 1, 2 gives `DK_ERR_INVALID_PARAMETER`.
+///
+/// # Safety
+/// `options` points to one readable options struct; `len_out` to one writable `size_t`.
+#[export(options[1], len_out[1])]
+pub(crate) fn dk_taubin_smooth_arclength_scratch_len(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    options: In<'_, dk_smooth_arclength_options>,
+    dim: u32,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        let o = read_one(options)?;
+        let coarse = if o.use_coarse != 0 {
+            Some(o.coarse.to_kernel()?)
+        } else {
+            None
+        };
+        let d = crate::taubin::to_direction(o.direction)?;
+        let len = match dim {
+            2 => smooth_arclength_scratch_len::<2>(&b, d, coarse.as_ref()),
+            3 => smooth_arclength_scratch_len::<3>(&b, d, coarse.as_ref()),
+            _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        };
+        write_len(len_out, len)
+    })())
+}
+
+/// Smooths a structured grid along one family of lines, Alter's way: arclength along
+/// `options->direction` → `options->iterations` Taubin λ|μ iterations on that scalar field
+/// (then the optional coarse pass) → fold guard (`DK_ERR_FOLDED_LINE` if the filtered
+/// arclength stops increasing along any line) → every point slides along its original grid
+/// line to its filtered arclength. Pinned points do not move.
+///
+/// `points` holds `ni·nj·nk` points of `dim` (2 or 3) scalars, updated in place; `scratch`
+/// needs [`dk_taubin_smooth_arclength_scratch_len`] scalars; `*report` receives what was done.
+/// On any error (including `DK_ERR_FOLDED_LINE`) `points` and `*report` are unchanged; the
+/// scratch contents are unspecified afterwards.
+///
+/// # Safety
+/// `options` points to one readable options struct whose `pinned` is NULL or readable for
+/// `pinned_len` bytes; `points` is readable and writable for `points_len` scalars; `scratch`
+/// writable for `scratch_len` scalars; `report` points to one writable report; the writable
+/// buffers overlap neither each other nor the inputs.
+///
+/// # f32 twin
+/// `f32` twin of [`dk_taubin_smooth_arclength`] (`options->lambda`, `mu` are rounded to
+/// `float`; the report's values are widened exactly).
+#[export(twin, options[1], report[1])]
+pub(crate) fn dk_taubin_smooth_arclength<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    options: In<'_, dk_smooth_arclength_options>,
+    points: Out<'_, T>,
+    dim: u32,
+    scratch: Out<'_, T>,
+    report: Out<'_, dk_smooth_report>,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        let (o, pinned) = read_with_pins(options)?;
+        by_dim!(
+            dim,
+            smooth_arclength_for_dim::<T>,
+            (&b, &o, pinned, points, scratch, report)
+        )
+    })())
+}
+
+/// Scratch length (in scalars) for [`dk_taubin_smooth_structured`]: the point count.
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[export(len_out[1])]
+pub(crate) fn dk_taubin_smooth_structured_scratch_len(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        write_len(len_out, structured_scratch_len(&b))
+    })())
+}
+
+/// Smooths a scalar field on a structured block (`ni·nj·nk` values, in place) with
+/// `iterations` Taubin λ|μ iterations, Alter's stencils: the average of the 6 neighbours
+/// inside, the 4 in-plane ones on a face, the 2 along an edge; corners and pinned points keep
+/// their value (see `dk_structured_options` for pins and mirror faces). `scratch` needs
+/// [`dk_taubin_smooth_structured_scratch_len`] scalars. Errors: `DK_ERR_INVALID_PARAMETER`
+/// (`λ ≤ 0`, `μ > 0`), `DK_ERR_NON_FINITE` (`λ`, `μ`, field), length and pointer errors. On
+/// error `field` and `*report` are unchanged.
+///
+/// # Safety
+/// `options` points to one readable struct whose `pinned` is NULL or readable for
+/// `pinned_len` bytes; `field` is readable and writable for `field_len` scalars; `scratch`
+/// writable for `scratch_len` scalars; `report` points to one writable report; the writable
+/// buffers overlap neither each other nor the inputs.
+#[export(twin, options[1], report[1])]
+pub(crate) fn dk_taubin_smooth_structured<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    lambda: T,
+    mu: T,
+    iterations: usize,
+    options: In<'_, dk_structured_options>,
+    field: Out<'_, T>,
+    scratch: Out<'_, T>,
+    report: Out<'_, dk_filter_report>,
+) -> dk_status {
+    let dims = [ni, nj, nk];
+    smooth_structured_t(
+        dims, None, lambda, mu, iterations, options, field, scratch, report,
+    )
+}
+
+/// One Jacobi pass of the structured filter over `region` only: `dst = src + weight ·
+/// (avg(src) − src)` at every free point of the region (`dst = src` at pinned points); `dst`
+/// outside the region is not touched. `*max_change_out` receives the largest `|dst − src|` in
+/// the region. One iteration of [`dk_taubin_smooth_structured`] is a sweep `field → tmp` with
+/// `λ` then `tmp → field` with `μ` over the whole block; an MPI code sweeps its own box and
+/// exchanges halo values of `src` between passes. `region` is read with `index_base` (0: C's
+/// half-open `lo <= i < hi`; 1: Fortran's inclusive 1-based `lo <= i <= hi`). Errors
+/// (nothing written): `DK_ERR_INDEX_OUT_OF_RANGE` (region), `DK_ERR_NON_FINITE` (`weight`,
+/// `src`), `DK_ERR_BAD_INDEX_BASE`, length and pointer errors.
+///
+/// # Safety
+/// `src` is readable for `src_len` scalars; `options` and `region` point to one readable
+/// struct each (`options->pinned` NULL or readable for `pinned_len` bytes); `dst` is writable
+/// for `dst_len` scalars and `max_change_out` for one; `dst` overlaps no input.
+#[export(twin, options[1], region[1], max_change_out[1])]
+pub(crate) fn dk_taubin_structured_sweep<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    src: In<'_, T>,
+    weight: T,
+    options: In<'_, dk_structured_options>,
+    region: In<'_, dk_block_region>,
+    index_base: u32,
+    dst: Out<'_, T>,
+    max_change_out: Out<'_, T>,
+) -> dk_status {
+    structured_sweep_t(
+        ni,
+        nj,
+        nk,
+        src,
+        weight,
+        options,
+        region,
+        index_base,
+        dst,
+        max_change_out,
+    )
+}
+
+/// Scratch length (in scalars) for [`dk_taubin_smooth_structured_coarse`]: two coarse fields.
+///
+/// # Safety
+/// `coarse` points to one readable struct; `len_out` to one writable `size_t`.
+#[export(coarse[1], len_out[1])]
+pub(crate) fn dk_taubin_smooth_structured_coarse_scratch_len(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    coarse: In<'_, dk_taubin_coarse>,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        let c = read_one(coarse)?.to_kernel()?;
+        write_len(len_out, structured_coarse_scratch_len(&b, &c))
+    })())
+}
+
+/// The coarse-grid variant of [`dk_taubin_smooth_structured`] (Alter's multi-grid step):
+/// restrict the field to every `coarse->factor[d]`-th index (the last index always kept), run
+/// `iterations` λ|μ iterations there, prolong back by multilinear interpolation
+/// (`coarse->prolongation`). Pinned fine points keep their value. `scratch` needs
+/// [`dk_taubin_smooth_structured_coarse_scratch_len`] scalars. Errors as
+/// [`dk_taubin_smooth_structured`], plus `DK_ERR_INVALID_PARAMETER` for a zero factor or an
+/// unknown prolongation. On error `field` and `*report` are unchanged.
+///
+/// # Safety
+/// As [`dk_taubin_smooth_structured`]; `coarse` points to one readable struct.
+#[export(twin, coarse[1], options[1], report[1])]
+pub(crate) fn dk_taubin_smooth_structured_coarse<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    coarse: In<'_, dk_taubin_coarse>,
+    lambda: T,
+    mu: T,
+    iterations: usize,
+    options: In<'_, dk_structured_options>,
+    field: Out<'_, T>,
+    scratch: Out<'_, T>,
+    report: Out<'_, dk_filter_report>,
+) -> dk_status {
+    let (dims, c) = ([ni, nj, nk], Some(coarse));
+    smooth_structured_t(
+        dims, c, lambda, mu, iterations, options, field, scratch, report,
+    )
+}
+
+/// Scratch length (in scalars) for [`dk_taubin_smooth_graph`]: `node_count * components`
+/// (`DK_ERR_TOO_LARGE` if that overflows `size_t`).
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[export(len_out[1])]
+pub(crate) fn dk_taubin_smooth_graph_scratch_len(
+    node_count: usize,
+    components: u32,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        if !(1..=7).contains(&components) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        write_len(len_out, mul_len(node_count, components as usize)?)
+    })())
+}
+
+/// Taubin fairing of per-node values on a CSR graph (the classic unstructured variant):
+/// `iterations` λ|μ iterations, each two Jacobi passes
+/// `x_i ← x_i + w (Σ_j w_ij x_j / Σ_j w_ij − x_i)` with `w = λ`, then `w = μ`.
+///
+/// - `graph`: a 0-based CSR graph (from `dk_graph_from_*`);
+/// - `weights`: per directed edge (`graph->targets_len` values, each finite and `> 0`), or NULL with
+///   `weights_len` 0 for uniform weights (see [`dk_taubin_inverse_distance_weights`]);
+/// - `fixed`: one byte per node (nonzero = keeps its value), or NULL with `fixed_len` 0;
+/// - `values`: `node_count * components` scalars (`components` 1 to 7), updated in place;
+/// - `scratch`: at least [`dk_taubin_smooth_graph_scratch_len`] scalars.
+///
+/// Fixed nodes and nodes without neighbours keep their values. On error `values` and
+/// `*report` are unchanged.
+///
+/// # Safety
+/// Every input pointer is NULL (with length 0) or readable for its length; `values` is
+/// readable and writable for `values_len` scalars, `scratch` writable for `scratch_len`,
+/// `report` points to one writable report; writable buffers overlap nothing else.
+#[export(twin, graph[1], weights?, fixed?, report[1])]
+pub(crate) fn dk_taubin_smooth_graph<T: Real>(
+    graph: In<'_, dk_graph>,
+    weights: In<'_, T>,
+    fixed: In<'_, u8>,
+    lambda: T,
+    mu: T,
+    iterations: usize,
+    components: u32,
+    values: Out<'_, T>,
+    scratch: Out<'_, T>,
+    report: Out<'_, dk_filter_report>,
+) -> dk_status {
+    let args = GraphArgs {
+        graph,
+        weights,
+        fixed,
+    };
+    let params = TaubinParams { lambda, mu };
+    done(by_components!(
+        components,
+        smooth_graph_for_components::<T>,
+        (&args, params, iterations, values, scratch, report)
+    ))
+}
+
+/// One Jacobi pass of the graph filter over the nodes `nodes_start..nodes_end` only:
+/// `dst_i = src_i + weight · (avg_i(src) − src_i)` for every free node in the range
+/// (`dst_i = src_i` for fixed ones); `dst` outside the range is not touched.
+/// `*max_change_out` receives the largest component change in the range. The range is read
+/// with `index_base` (0: `start <= i < end`; 1: 1-based inclusive `start <= i <= end`).
+/// Graph, weights, fixed mask and `components` as in [`dk_taubin_smooth_graph`]. Nothing is
+/// written on error.
+///
+/// # Safety
+/// Every input pointer is NULL (with length 0) or readable for its length; `dst` is writable
+/// for `dst_len` scalars and `max_change_out` for one; `dst` overlaps no input.
+#[export(twin, graph[1], weights?, fixed?, max_change_out[1])]
+pub(crate) fn dk_taubin_graph_sweep<T: Real>(
+    graph: In<'_, dk_graph>,
+    weights: In<'_, T>,
+    fixed: In<'_, u8>,
+    src: In<'_, T>,
+    components: u32,
+    weight: T,
+    nodes_start: usize,
+    nodes_end: usize,
+    index_base: u32,
+    dst: Out<'_, T>,
+    max_change_out: Out<'_, T>,
+) -> dk_status {
+    let args = GraphArgs {
+        graph,
+        weights,
+        fixed,
+    };
+    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
+        by_components!(
+            components,
+            graph_sweep_for_components::<T>,
+            (&args, src, weight, nodes, dst, max_change_out)
+        )
+    }))
+}
+
+/// Fujiwara's inverse-distance weights `weights[e] = 1 / |x_i − x_j|` for every directed edge
+/// `e = i → j` of the 0-based CSR graph (`weights_len` = `graph->targets_len`), for
+/// [`dk_taubin_smooth_graph`] on meshes with uneven edge lengths. `points`: `node_count *
+/// dim` scalars, `dim` 2 or 3. Errors (nothing written): `DK_ERR_ZERO_LENGTH_EDGE` (two
+/// neighbours coincide), `DK_ERR_NON_FINITE`, length and pointer errors.
+///
+/// # Safety
+/// Inputs readable for their lengths; `weights` writable for `weights_len` scalars, not
+/// overlapping the inputs.
+#[export(twin, graph[1], weights?)]
+pub(crate) fn dk_taubin_inverse_distance_weights<T: Real>(
+    graph: In<'_, dk_graph>,
+    points: In<'_, T>,
+    dim: u32,
+    weights: Out<'_, T>,
+) -> dk_status {
+    done(read_graph(graph).and_then(|g| {
+        by_dim!(
+            dim,
+            inverse_distance_weights_for_dim::<T>,
+            (&g, points, weights)
+        )
+    }))
+}
+
+/// Arclength along grid lines in `direction` (0 = i, 1 = j, 2 = k) at every point:
+/// `S_0 = 0`, `S_t = S_{t−1} + |p_t − p_{t−1}|`, or with `normalised` `s_t = S_t / S_{n−1}`
+/// (a zero-length line gives the uniform `t / (n − 1)`). `points`: `ni·nj·nk·dim` scalars;
+/// `out`: `ni·nj·nk` scalars. Nothing is written on error.
+///
+/// # Safety
+/// `points` readable for `points_len` scalars; `out` writable for `out_len`, not overlapping.
+#[export(twin)]
+pub(crate) fn dk_taubin_arclength<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    points: In<'_, T>,
+    dim: u32,
+    direction: u32,
+    normalised: bool,
+    out: Out<'_, T>,
+) -> dk_status {
+    done(block(ni, nj, nk).and_then(|b| {
+        by_dim!(
+            dim,
+            arclength_for_dim::<T>,
+            (&b, points, direction, normalised, out)
+        )
+    }))
+}
+
+/// Scratch length (in scalars) for [`dk_taubin_redistribute`]: `(dim + 1) ×` points per line
+/// in `direction` (`DK_ERR_INVALID_PARAMETER` for `dim` not 2 or 3 or `direction > 2`).
+///
+/// # Safety
+/// `len_out` points to one writable `size_t`.
+#[export(len_out[1])]
+pub(crate) fn dk_taubin_redistribute_scratch_len(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    dim: u32,
+    direction: u32,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        let b = block(ni, nj, nk)?;
+        let d = crate::taubin::to_direction(direction)?;
+        let len = match dim {
+            2 => redistribute_scratch_len::<2>(&b, d),
+            3 => redistribute_scratch_len::<3>(&b, d),
+            _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        };
+        write_len(len_out, len)
+    })())
+}
+
+/// Alter's reverse transformation: moves every point of every line in `direction` (in place)
+/// to the arclength `targets[p]` measured on the line's *original* polyline (with
+/// `normalised`, targets are fractions of the line length). Targets beyond an end extrapolate
+/// along the last non-zero segment; zero-length lines are left as they are.
+/// `*max_displacement_out` receives the largest point displacement. `scratch` needs
+/// [`dk_taubin_redistribute_scratch_len`] scalars. On error `points` is unchanged.
+///
+/// # Safety
+/// `targets` readable for `targets_len` scalars; `points` readable and writable for
+/// `points_len`; `scratch` writable for `scratch_len`; `max_displacement_out` writable for
+/// one; writable buffers overlap nothing else.
+#[export(twin, max_displacement_out[1])]
+pub(crate) fn dk_taubin_redistribute<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    direction: u32,
+    targets: In<'_, T>,
+    normalised: bool,
+    points: Out<'_, T>,
+    dim: u32,
+    scratch: Out<'_, T>,
+    max_displacement_out: Out<'_, T>,
+) -> dk_status {
+    done(block(ni, nj, nk).and_then(|b| {
+        by_dim!(
+            dim,
+            redistribute_for_dim::<T>,
+            (
+                &b,
+                direction,
+                targets,
+                normalised,
+                points,
+                scratch,
+                max_displacement_out
+            )
+        )
+    }))
+}
+
+/// Grid stretching along `direction` at every point: the ratio of the larger to the smaller
+/// of the two cells meeting there (1 at line ends and for uniform spacing, `+∞` where one of
+/// the two cells has zero length). `out`: `ni·nj·nk` scalars. Nothing is written on error.
+///
+/// # Safety
+/// `points` readable for `points_len` scalars; `out` writable for `out_len`, not overlapping.
+#[export(twin)]
+pub(crate) fn dk_taubin_stretching<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    points: In<'_, T>,
+    dim: u32,
+    direction: u32,
+    out: Out<'_, T>,
+) -> dk_status {
+    done(
+        block(ni, nj, nk)
+            .and_then(|b| by_dim!(dim, stretching_for_dim::<T>, (&b, points, direction, out))),
+    )
+}
+
+/// The largest stretching along `direction` (see [`dk_taubin_stretching`]) into
+/// `*value_out`, and the 0-based linear index of the first point where it occurs into
+/// `*point_out` (`1` and `0` when no point has two adjacent cells). Nothing is written on
+/// error.
+///
+/// # Safety
+/// `points` readable for `points_len` scalars; `value_out` and `point_out` writable for one
+/// item each.
+#[export(twin, value_out[1], point_out[1])]
+pub(crate) fn dk_taubin_max_stretching<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    points: In<'_, T>,
+    dim: u32,
+    direction: u32,
+    value_out: Out<'_, T>,
+    point_out: Out<'_, usize>,
+) -> dk_status {
+    done(block(ni, nj, nk).and_then(|b| {
+        by_dim!(
+            dim,
+            max_stretching_for_dim::<T>,
+            (&b, points, direction, value_out, point_out)
+        )
+    }))
+}
+
+/// The fold guard: `DK_OK` when `field` (an arclength function, `ni·nj·nk` scalars) increases
+/// strictly along every line in `direction`, else `DK_ERR_FOLDED_LINE` (`iteration` is only
+/// carried into the Rust error). With `points` (`ni·nj·nk·dim` scalars; NULL with
+/// `points_len` 0 for none, then `dim` is ignored), lines whose points all coincide are
+/// exempt. Writes nothing.
+///
+/// # Safety
+/// `field` and `points` readable for their lengths (or NULL with length 0).
+#[export(twin, points?)]
+pub(crate) fn dk_taubin_check_lines_increasing<T: Real>(
     ni: usize,
     nj: usize,
     nk: usize,
@@ -557,15 +1105,12 @@ fn check_lines_t<T: Real>(
         let f = input(field)?;
         if points.is_absent() {
             // No points: `dim` is not used.
-            return check_lines_d::<T, 3>(&b, f, direction, iteration, points);
+            return check_lines_for_dim::<T, 3>(&b, f, direction, iteration, points);
         }
         by_dim!(
             dim,
-            check_lines_d::<T>,
+            check_lines_for_dim::<T>,
             (&b, f, direction, iteration, points)
         )
     })())
 }
-
-mod abi;
-pub use abi::*;

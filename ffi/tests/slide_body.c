@@ -128,6 +128,26 @@ static void CAT(run_, SUF)(void) {
     BAD_FIT(FN(dk_fit_plane)(pts, 2 * N, 2, sym, NSYM, 0, tol, NULL, 0, fb.normal, 2, fb.centre,
                              1, &fb.residual, &fb.extent),
             DK_ERR_LENGTH_MISMATCH);
+
+    /* ---- Plane intersection: the unit tangent (a x b) / |a x b|, whatever the normals'
+     * lengths; parallel, zero or non-finite normals fail and leave the output untouched. ---- */
+    {
+        const REAL z[3] = {0, 0, 2}, x[3] = {3, 0, 0}, mz[3] = {0, 0, -5}, zero[3] = {0, 0, 0};
+        const REAL d[3] = {1, 1, 0}, bad[3] = {0, (REAL)NAN, 1};
+        REAL t[3], t0[3];
+        OK(FN(dk_plane_intersection)(z, x, t)); /* z x x = y */
+        CHECK(t[0] == 0 && t[1] == 1 && t[2] == 0);
+        OK(FN(dk_plane_intersection)(d, z, t)); /* (1, 1, 0) / sqrt 2 x z = (1, -1, 0) / sqrt 2 */
+        CHECK(fabs(t[0] - sqrt(0.5)) < TOL && fabs(t[1] + sqrt(0.5)) < TOL && t[2] == 0);
+        POISON(t);
+        memcpy(t0, t, sizeof t);
+        EXPECT(FN(dk_plane_intersection)(z, mz, t), DK_ERR_ZERO_LENGTH);
+        EXPECT(FN(dk_plane_intersection)(zero, x, t), DK_ERR_ZERO_LENGTH);
+        EXPECT(FN(dk_plane_intersection)(bad, x, t), DK_ERR_NON_FINITE);
+        EXPECT(FN(dk_plane_intersection)(z, NULL, t), DK_ERR_NULL_POINTER);
+        EXPECT(FN(dk_plane_intersection)(z, x, NULL), DK_ERR_NULL_POINTER);
+        SAME(t, t0, sizeof t);
+    }
     BAD_FIT(FN(dk_fit_plane)(pts, 2 * N, 2, sym, NSYM, 0, tol, NULL, 0, fb.normal, 2, fb.centre,
                              2, NULL, &fb.extent),
             DK_ERR_NULL_POINTER);

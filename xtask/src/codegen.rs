@@ -1,508 +1,44 @@
-//! `cargo xtask codegen [--check]`: the C ABI's `extern "C"` functions and their Fortran
-//! interfaces, generated from one table (`ffi/abi/<module>.abi`) and checked in.
+//! `cargo xtask codegen [--check]`: everything of the C ABI that follows from the ffi crate's
+//! source, written into `ffi/generated/` and checked in.
 //!
-//! Each table entry is one C function; `twin` makes it two, the double-precision one and its
-//! `_f32` twin, with `$R` = `f64` / `f32` and `$S` = `` / `_f32` (for `dk_boundary_motion$S`)
-//! in argument types and body:
+//! Each C function is written once, in `ffi/src/<module>.rs`, as a safe function that takes
+//! `In`/`Out` tokens (`crate::slice`) and returns a `dk_status`, marked with the inert
+//! `#[export(...)]` attribute (`ffi/export-macro`): `fn quat_mul` exports `dk_quat_mul`;
+//! `twin` also exports `dk_quat_mul_f32` (the function is generic over `T: Real`); `name[N]`
+//! reads the pointer `name` for `N` elements without a `name_len` argument; `name?` lets it be
+//! NULL (Fortran `type(c_ptr)`). A doc section `# f32 twin` is the twin's first paragraph.
+//! A `#[repr(C)]` struct generic over the real type marked `#[export(twin = dk_name)]` is
+//! the C structs `dk_name` and `dk_name_f32` (type aliases of its two instances).
 //!
-//! ```text
-//! fn dk_quat_mul twin           name, and `twin` for an `_f32` twin
-//! /// Hamilton product ...      doc of the f64 function (cbindgen copies it into the header)
-//! 32/// ...                     doc of the twin, when not the default "`f32` twin of [..]"
-//! arg a: *const $R [4]          a pointer read for 4 elements (no length argument)
-//! arg points: *const $R         a pointer with a `points_len: usize` argument after it
-//! arg wall_offsets: *const u32 ?  as above; `?` = may be NULL: Fortran passes `type(c_ptr)`
-//! arg len_out: *mut usize [1]   a pointer to one value or struct (a Fortran scalar)
-//! arg dim: u32                  a value
-//! call mul                      the body: `mul(a, b, out)`, every argument in order (the
-//!                               pointers already tokens, which carry their lengths)
-//! ```
+//! Written from them (see [`generate`]):
+//! - `ffi/generated/<module>.rs`: the `extern "C"` functions (doc, C symbol name behind the
+//!   `export-symbols` feature, the pointers wrapped in tokens with their promised lengths under
+//!   one `// SAFETY:` note, the call), and the twin structs' type aliases;
+//! - `ffi/generated/deform_kernel.h`: cbindgen (as a library, `ffi/cbindgen.toml`) on a copy of
+//!   the crate whose generated functions carry a plain `#[no_mangle]`;
+//! - `ffi/generated/deform_kernel.f90`: the hand-kept module `ffi/fortran/deform_kernel.in.f90`
+//!   with the header's constants and types, the `bind(C)` interfaces and the `_f32` twins of
+//!   the tagged wrappers (see [`fortran`]);
+//! - `ffi/generated/panic_check.rs`: a call of every function with opaque arguments, so the
+//!   link-time panic proof (target-tests/panic-check) covers the whole C ABI;
+//! - `ffi/generated/symbols.txt`: the exported symbols.
 //!
-//! or, instead of `call`, any body: `body`, lines indented by 4, `end`.
-//!
-//! Written from it: `ffi/src/<module>/abi.rs` (every function: doc, C symbol name behind the
-//! `export-symbols` feature, the pointers wrapped in `In`/`Out` tokens with their promised
-//! lengths under one `// SAFETY:` note, then the body; formatted by rustfmt; before them the
-//! `_f32` twin of every struct of `ffi/src/<module>.rs` marked `// codegen: f32 twin`) and the region
-//! between the `<<< generated` markers of `ffi/fortran/deform_kernel.f90` (the `public`
-//! statement and one `bind(C)` interface per function), and
-//! the region between the `<<< generated … from ffi/include/deform_kernel.h` markers (the
-//! status codes, constants and `bind(C)` types, read from the cbindgen header: see
-//! [`crate::header`]; after changing a `#[repr(C)]` struct, bless the header first), and
-//! `target-tests/panic-check/src/c_abi.rs` (a call of every function with opaque arguments, so
-//! the link-time panic proof covers the whole C ABI). `--check` writes nothing and fails
-//! when a checked-in file differs from what the table gives (a CI step).
+//! `--check` writes nothing and fails when a checked-in file differs (a CI step).
 
-use std::fmt::Write as _;
+mod fortran;
+mod rust;
+mod table;
+
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
 
 use crate::ctx::Ctx;
-use crate::header::{fortran_declarations, HEADER};
+use rust::Symbols;
+use table::{read_text, Module};
 
-/// The ffi modules with a table, in the order of `ffi/src/lib.rs`.
-const MODULES: &[&str] = &[
-    "deformation",
-    "graph",
-    "plan",
-    "quality",
-    "quat",
-    "spring",
-    "stiffening",
-    "taubin",
-];
-
-const FORTRAN: &str = "ffi/fortran/deform_kernel.f90";
-/// The panic-check's calls of every C entry point (see [`panic_check_module`]).
-const PANIC_CHECK: &str = "target-tests/panic-check/src/c_abi.rs";
-const D_BEGIN: &str = "  ! <<< generated by `cargo xtask codegen` from ffi/include/deform_kernel.h: do not edit >>>\n";
-const D_END: &str = "  ! <<< end generated declarations >>>\n";
-const F_BEGIN: &str =
-    "  ! <<< generated by `cargo xtask codegen` from ffi/abi/*.abi: do not edit >>>\n";
-const F_END: &str = "  ! <<< end generated >>>\n";
-const W_BEGIN: &str =
-    "  ! <<< generated by `cargo xtask codegen`: the _f32 twins of the dkf_ wrappers above >>>\n";
-const W_END: &str = "  ! <<< end generated twins >>>\n";
-
-/// Hand-written Fortran wrappers whose `_f32` twins are generated: the same text with
-/// `c_double` → `c_float` and `_f32` appended to these names, the twin C functions and the
-/// structs with an `_f32` twin in the header.
-const F32_WRAPPERS: &[&str] = &[
-    "dkf_fill_motion",
-    "dkf_deform_idw",
-    "dkf_deform_tfi",
-    "dkf_deform_spring",
-    "dkf_spring_solve_linear_amg",
-    "dkf_plan_pool_sizes",
-    "dkf_plan_init",
-    "dkf_plan_step",
-    "dkf_plan_open",
-    "dkf_quality_cell_measures",
-    "dkf_quality_min_corner_jacobians",
-    "dkf_quality_compare",
-    "dkf_spring_system",
-    "dkf_constraints",
-    "dkf_plan_pools",
-    "dkf_plan_mesh",
-    "dkf_plan_work",
-];
-
-/// One argument of a table entry.
-struct Arg {
-    name: String,
-    /// Rust type with `$R` / `$S` placeholders.
-    ty: String,
-    /// Elements promised at a pointer without a length argument (`[N]`; `[1]` is one value).
-    cap: Option<String>,
-    /// May be NULL (Fortran: `type(c_ptr), value`).
-    nullable: bool,
-}
-
-/// One table entry (one C function, or a function and its `_f32` twin).
-struct Entry {
-    name: String,
-    twin: bool,
-    doc: Vec<String>,
-    doc32: Vec<String>,
-    args: Vec<Arg>,
-    body: Vec<String>,
-}
-
-/// A precision: the values of `$R` and `$S` and the suffix of the function name.
-#[derive(Clone, Copy)]
-struct Prec {
-    real: &'static str,
-    suffix: &'static str,
-}
-
-const F64: Prec = Prec {
-    real: "f64",
-    suffix: "",
-};
-const F32: Prec = Prec {
-    real: "f32",
-    suffix: "_f32",
-};
-
-impl Prec {
-    fn expand(self, s: &str) -> String {
-        s.replace("$R", self.real).replace("$S", self.suffix)
-    }
-}
-
-fn parse(path: &Path) -> Result<Vec<Entry>, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut entries = Vec::new();
-    let mut lines = text.lines().enumerate();
-    let err = |n: usize, what: &str| format!("{}:{}: {what}", path.display(), n + 1);
-    while let Some((n, line)) = lines.next() {
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let head = line
-            .strip_prefix("fn ")
-            .ok_or_else(|| err(n, "expected `fn NAME [twin]`"))?;
-        let mut words = head.split_whitespace();
-        let name = words.next().ok_or_else(|| err(n, "no name"))?.to_string();
-        let twin = match words.next() {
-            None => false,
-            Some("twin") => true,
-            Some(w) => return Err(err(n, &format!("unknown flag `{w}`"))),
-        };
-        let mut e = Entry {
-            name,
-            twin,
-            doc: Vec::new(),
-            doc32: Vec::new(),
-            args: Vec::new(),
-            body: Vec::new(),
-        };
-        loop {
-            let (n, line) = lines.next().ok_or_else(|| err(n, "entry without `end`"))?;
-            if line.starts_with("///") {
-                e.doc.push(line.to_string());
-            } else if let Some(d) = line.strip_prefix("32") {
-                e.doc32.push(d.to_string());
-            } else if let Some(a) = line.strip_prefix("arg ") {
-                e.args
-                    .push(parse_arg(a).ok_or_else(|| err(n, "bad `arg`"))?);
-            } else if let Some(adapter) = line.strip_prefix("call ") {
-                let mut call = format!("{adapter}(");
-                for a in &e.args {
-                    call += &format!("{}, ", a.name);
-                }
-                e.body.push(format!("{})", call.trim_end_matches(", ")));
-                break;
-            } else if line == "body" {
-                for (n, line) in lines.by_ref() {
-                    if line == "end" {
-                        break;
-                    }
-                    if !line.is_empty() && !line.starts_with("    ") {
-                        return Err(err(n, "body lines are indented by 4 (or `end`)"));
-                    }
-                    e.body.push(line.get(4..).unwrap_or("").to_string());
-                }
-                break;
-            } else {
-                return Err(err(n, "expected `///`, `32///`, `arg`, `call` or `body`"));
-            }
-        }
-        entries.push(e);
-    }
-    Ok(entries)
-}
-
-/// `name: TYPE [N] ?`
-fn parse_arg(s: &str) -> Option<Arg> {
-    let (name, rest) = s.split_once(": ")?;
-    let mut rest = rest.trim();
-    let nullable = rest.ends_with(" ?");
-    if nullable {
-        rest = rest.strip_suffix(" ?")?;
-    }
-    let (ty, cap) = match rest.strip_suffix(']') {
-        Some(r) => {
-            let (ty, n) = r.rsplit_once(" [")?;
-            (ty, Some(n.to_string()))
-        }
-        None => (rest, None),
-    };
-    Some(Arg {
-        name: name.to_string(),
-        ty: ty.to_string(),
-        cap,
-        nullable,
-    })
-}
-
-impl Arg {
-    fn pointer(&self) -> Option<(&'static str, &str)> {
-        if let Some(t) = self.ty.strip_prefix("*const ") {
-            Some(("In", t))
-        } else {
-            self.ty.strip_prefix("*mut ").map(|t| ("Out", t))
-        }
-    }
-
-    /// A pointer followed by its `_len` argument (no `[N]`).
-    fn has_len(&self) -> bool {
-        self.pointer().is_some() && self.cap.is_none()
-    }
-}
-
-/// The comment that marks a `#[repr(C)]` struct of `ffi/src/<module>.rs` whose `_f32` twin is
-/// generated into the module's `abi.rs`.
-const TWIN_MARK: &str = "// codegen: f32 twin\n";
-
-/// The `_f32` twins of the marked structs of a module's source: each struct after
-/// [`TWIN_MARK`] up to its closing `}` line, renamed, with `f64` → `f32` in the field types
-/// and a doc line pointing at the original.
-fn twin_structs_rust(src: &str) -> Result<String, String> {
-    let mut out = String::new();
-    for (at, _) in src.match_indices(TWIN_MARK) {
-        let item = &src[at + TWIN_MARK.len()..];
-        let end = item.find("\n}\n").ok_or("unterminated twin struct")? + 3;
-        let item = &item[..end];
-        let name = item
-            .split("pub struct ")
-            .nth(1)
-            .and_then(|r| r.split_whitespace().next())
-            .ok_or("no `pub struct` after the twin mark")?;
-        let _ = writeln!(
-            out,
-            "\n/// Single-precision twin of [`{name}`] (`float` scalars)."
-        );
-        let mut in_body = false;
-        for line in item.lines() {
-            if line.starts_with("pub struct ") {
-                in_body = true;
-                let _ = writeln!(out, "pub struct {name}_f32 {{");
-            } else if in_body && line.trim_start().starts_with("pub ") {
-                let _ = writeln!(out, "{}", line.replace("f64", "f32"));
-            } else if in_body || line.starts_with("#[") {
-                let _ = writeln!(out, "{line}");
-            }
-        }
-    }
-    Ok(out)
-}
-
-fn rust_module(entries: &[Entry], module: &str, twins: &str) -> String {
-    let mut s = format!(
-        "//! The `extern \"C\"` functions of `{module}`: generated by `cargo xtask codegen` from\n\
-         //! `ffi/abi/{module}.abi`; do not edit.\n\
-         #![allow(unsafe_code)] // the ABI boundary: raw pointers become `In`/`Out` tokens here\n\
-         \n\
-         #[allow(unused_imports)]\n\
-         use super::*;\n\
-         #[allow(unused_imports)]\n\
-         use crate::slice::{{In, Out}};\n\
-         use crate::status::dk_status;\n"
-    );
-    s.push_str(twins);
-    for e in entries {
-        for prec in [F64, F32].into_iter().take(if e.twin { 2 } else { 1 }) {
-            rust_function(&mut s, e, prec);
-        }
-    }
-    s
-}
-
-fn rust_function(s: &mut String, e: &Entry, prec: Prec) {
-    let name = format!("{}{}", e.name, prec.suffix);
-    s.push('\n');
-    if prec.suffix.is_empty() {
-        for d in &e.doc {
-            let _ = writeln!(s, "{d}");
-        }
-    } else if e.doc32.is_empty() {
-        let _ = writeln!(
-            s,
-            "/// `f32` twin of [`{0}`].\n///\n/// # Safety\n/// As [`{0}`].",
-            e.name
-        );
-    } else {
-        for d in &e.doc32 {
-            let _ = writeln!(s, "{d}");
-        }
-    }
-    let mut params = Vec::new();
-    let mut tokens = Vec::new();
-    for a in &e.args {
-        params.push(format!("{}: {}", a.name, prec.expand(&a.ty)));
-        if let Some((kind, _)) = a.pointer() {
-            let cap = if a.has_len() {
-                params.push(format!("{}_len: usize", a.name));
-                format!("{}_len", a.name)
-            } else {
-                a.cap.clone().unwrap_or_default()
-            };
-            tokens.push((a.name.as_str(), kind, cap));
-        }
-    }
-    let _ = writeln!(
-        s,
-        "#[cfg_attr(feature = \"export-symbols\", no_mangle)]\n\
-         pub unsafe extern \"C\" fn {name}({}) -> dk_status {{",
-        params.join(", ")
-    );
-    if !tokens.is_empty() {
-        s.push_str(
-            "// SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the\n\
-             // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).\n",
-        );
-        let names: Vec<&str> = tokens.iter().map(|t| t.0).collect();
-        let news: Vec<String> = tokens
-            .iter()
-            .map(|(n, k, c)| format!("{k}::new({n}, {c})"))
-            .collect();
-        if tokens.len() == 1 {
-            let _ = writeln!(s, "let {} = unsafe {{ {} }};", names[0], news[0]);
-        } else {
-            let _ = writeln!(
-                s,
-                "let ({}) = unsafe {{ ({}) }};",
-                names.join(", "),
-                news.join(", ")
-            );
-        }
-    }
-    for l in &e.body {
-        let _ = writeln!(s, "{}", prec.expand(l));
-    }
-    s.push_str("}\n");
-}
-
-/// Fortran kind of a Rust scalar type (after expansion).
-fn fortran_type(t: &str) -> Result<(String, Option<&'static str>), String> {
-    Ok(match t {
-        "f64" => ("real(c_double)".into(), Some("c_double")),
-        "f32" => ("real(c_float)".into(), Some("c_float")),
-        "u32" | "i32" => ("integer(c_int32_t)".into(), Some("c_int32_t")),
-        "i64" => ("integer(c_int64_t)".into(), Some("c_int64_t")),
-        "usize" => ("integer(c_size_t)".into(), Some("c_size_t")),
-        "u8" => ("integer(c_int8_t)".into(), Some("c_int8_t")),
-        "bool" => ("logical(c_bool)".into(), Some("c_bool")),
-        t if t.starts_with("dk_") => (format!("type({t})"), None),
-        t => return Err(format!("no Fortran type for `{t}`")),
-    })
-}
-
-fn fortran_interfaces(all: &[Entry]) -> Result<String, String> {
-    let mut names = Vec::new();
-    let mut body = String::new();
-    for e in all {
-        for prec in [F64, F32].into_iter().take(if e.twin { 2 } else { 1 }) {
-            let name = format!("{}{}", e.name, prec.suffix);
-            let mut params = Vec::new();
-            let mut decls = Vec::new();
-            let mut imports = vec!["c_int32_t".to_string()];
-            for a in &e.args {
-                let ty = prec.expand(&a.ty);
-                params.push(a.name.clone());
-                let (scalar, intent) = match a.pointer() {
-                    Some(("In", t)) => (prec.expand(t), "intent(in)"),
-                    Some((_, t)) => (prec.expand(t), "intent(inout)"),
-                    None => (ty.clone(), "value"),
-                };
-                if a.nullable {
-                    imports.push("c_ptr".into());
-                    decls.push(format!("type(c_ptr), value :: {}", a.name));
-                } else {
-                    let (ft, kind) = fortran_type(&scalar)?;
-                    imports.push(kind.map_or_else(|| scalar.clone(), str::to_string));
-                    let shape = if a.has_len() {
-                        "(*)".to_string()
-                    } else if let Some(n) = a.cap.as_deref().filter(|&n| n != "1") {
-                        format!("({n})")
-                    } else {
-                        String::new()
-                    };
-                    decls.push(format!("{ft}, {intent} :: {}{shape}", a.name));
-                }
-                if a.has_len() {
-                    params.push(format!("{}_len", a.name));
-                    imports.push("c_size_t".into());
-                    decls.push(format!("integer(c_size_t), value :: {}_len", a.name));
-                }
-            }
-            imports.sort();
-            imports.dedup();
-            let head = format!(
-                "function {name}({}) bind(C, name=\"{name}\") result(s)",
-                params.join(", ")
-            );
-            body += &wrap(&head, "    ", "        ");
-            body += &wrap(
-                &format!("import :: {}", imports.join(", ")),
-                "      ",
-                "          ",
-            );
-            for d in decls {
-                body += &wrap(&d, "      ", "          ");
-            }
-            body += "      integer(c_int32_t) :: s\n    end function\n";
-            names.push(name);
-        }
-    }
-    let public = wrap(
-        &format!("public :: {}", names.join(", ")),
-        "  ",
-        "            ",
-    );
-    Ok(format!("{public}\n  interface\n{body}  end interface\n"))
-}
-
-/// Free-form Fortran lines of at most 100 columns, broken after commas/spaces with `&`.
-fn wrap(text: &str, first: &str, cont: &str) -> String {
-    let mut out = String::new();
-    let mut line = first.to_string();
-    for (i, word) in text.split(' ').enumerate() {
-        if i > 0 && line.len() + 1 + word.len() + 2 > 100 {
-            out += &line;
-            out += " &\n";
-            line = format!("{cont}{word}");
-        } else {
-            if i > 0 {
-                line.push(' ');
-            }
-            line += word;
-        }
-    }
-    out + &line + "\n"
-}
-
-/// The text of Fortran procedure `name` with its `!>` comment lines, or `None`.
-fn procedure<'a>(text: &'a str, name: &str) -> Option<&'a str> {
-    let head = ["  function ", "  subroutine "]
-        .iter()
-        .find_map(|k| text.find(&format!("\n{k}{name}(")))?
-        + 1;
-    let mut start = head;
-    while let Some(prev) = text[..start - 1].rfind('\n') {
-        if !text[prev + 1..start].starts_with("  !>") {
-            break;
-        }
-        start = prev + 1;
-    }
-    let end = text[head..]
-        .find("\n  end function\n")
-        .into_iter()
-        .chain(text[head..].find("\n  end subroutine\n"))
-        .min()?;
-    let end = head + end + 1;
-    let end = end + text[end..].find('\n')? + 1;
-    Some(&text[start..end])
-}
-
-/// `c_double` → `c_float` and `_f32` appended to every identifier in `names`.
-fn rename_f32(text: &str, names: &[String]) -> String {
-    let mut out = String::new();
-    let mut word = String::new();
-    let flush = |word: &mut String, out: &mut String| {
-        if word == "c_double" {
-            out.push_str("c_float");
-        } else {
-            out.push_str(word);
-            if names.iter().any(|n| n == word) {
-                out.push_str("_f32");
-            }
-        }
-        word.clear();
-    };
-    for c in text.chars() {
-        if c.is_ascii_alphanumeric() || c == '_' {
-            word.push(c);
-        } else {
-            flush(&mut word, &mut out);
-            out.push(c);
-        }
-    }
-    flush(&mut word, &mut out);
-    out
-}
+/// The folder of every generated file.
+const GENERATED: &str = "ffi/generated";
 
 fn rustfmt(src: &str) -> Result<String, String> {
     let mut child = Command::new("rustfmt")
@@ -528,127 +64,82 @@ fn rustfmt(src: &str) -> Result<String, String> {
     String::from_utf8(out.stdout).map_err(|e| e.to_string())
 }
 
-/// The panic-check's call of every C entry point: each `dk_*` function of every table, f64
-/// and `_f32`, called with opaque (`black_box`) arguments, so no path of it (and no `dim` or
-/// component-count instantiation) can be optimised away. The binary is linked, never run.
-fn panic_check_module(modules: &[(&str, Vec<Entry>)]) -> String {
-    let mut s = String::from(
-        "//! Every C entry point of deform-kernel-ffi, as the C library exports it: generated by\n\
-         //! `cargo xtask codegen` from `ffi/abi/*.abi`; do not edit.\n\
-         \n\
-         use core::hint::black_box;\n\
-         use core::ptr::{null, null_mut};\n\
-         \n\
-         /// Calls each function (f64 and `_f32` twins) with opaque arguments and keeps its status.\n\
-         pub fn exercise() {\n\
-         black_box(deform_kernel_ffi::dk_status_str(black_box(0)));\n",
-    );
-    for (m, entries) in modules {
-        for e in entries {
-            for prec in [F64, F32].into_iter().take(if e.twin { 2 } else { 1 }) {
-                let mut args = Vec::new();
-                for a in &e.args {
-                    args.push(match a.pointer() {
-                        Some(("In", _)) => "black_box(null())",
-                        Some(_) => "black_box(null_mut())",
-                        None => "black_box(Default::default())",
-                    });
-                    if a.has_len() {
-                        args.push("black_box(0)");
-                    }
-                }
-                let _ = writeln!(
-                    s,
-                    "// SAFETY: never executed (the binary is only linked); the opaque arguments\n\
-                     // keep every path of the function.\n\
-                     black_box(unsafe {{ deform_kernel_ffi::{m}::{}{}({}) }});",
-                    e.name,
-                    prec.suffix,
-                    args.join(", ")
-                );
+/// The C header: cbindgen on a copy of the crate with the generated functions written with
+/// a plain `#[no_mangle]`; each twin struct's instances (`DkName_f64`, `DkName_f32` to
+/// cbindgen) are named `dk_name` and `dk_name_f32`. cbindgen looks for a module at its default
+/// path before a `#[path]` attribute, so the copy puts each generated module at
+/// `src/<module>.rs` and its hand-kept child at `src/<module>/imp.rs`.
+fn header(ffi: &Path, modules: &[Module]) -> Result<String, String> {
+    let tmp = std::env::temp_dir().join(format!("deform-codegen-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&tmp);
+    let io = |e: std::io::Error| format!("{}: {e}", tmp.display());
+    std::fs::create_dir_all(tmp.join("src")).map_err(io)?;
+    for entry in std::fs::read_dir(ffi.join("src")).map_err(io)? {
+        let path = entry.map_err(io)?.path();
+        let Some(name) = path.file_name().and_then(|n| n.to_str()) else {
+            continue;
+        };
+        let Some(stem) = name.strip_suffix(".rs") else {
+            continue;
+        };
+        let dest = match modules.iter().find(|m| m.name == stem) {
+            Some(m) => {
+                let dir = tmp.join("src").join(stem);
+                std::fs::create_dir_all(&dir).map_err(io)?;
+                let generated = rust::module(m, modules, Symbols::Plain);
+                std::fs::write(tmp.join("src").join(name), generated).map_err(io)?;
+                dir.join("imp.rs")
             }
-        }
+            None => tmp.join("src").join(name),
+        };
+        std::fs::copy(&path, dest).map_err(io)?;
     }
-    s.push_str("}\n");
-    s
+    let mut config = cbindgen::Config::from_file(ffi.join("cbindgen.toml"))?;
+    for t in modules.iter().flat_map(|m| &m.structs) {
+        let rename = &mut config.export.rename;
+        rename.insert(format!("{}_f64", t.rust), t.c.clone());
+        rename.insert(format!("{}_f32", t.rust), format!("{}_f32", t.c));
+    }
+    let bindings = cbindgen::Builder::new()
+        .with_src(tmp.join("src/lib.rs"))
+        .with_config(config)
+        .generate()
+        .map_err(|e| format!("cbindgen: {e}"))?;
+    let mut out = Vec::new();
+    bindings.write(&mut out);
+    if std::env::var_os("DEFORM_CODEGEN_KEEP").is_some() {
+        let _ = std::fs::write(tmp.join("header.h"), &out);
+    } else {
+        let _ = std::fs::remove_dir_all(&tmp);
+    }
+    String::from_utf8(out).map_err(|e| e.to_string())
 }
 
 /// Every generated file with its content.
 fn generate(root: &Path) -> Result<Vec<(PathBuf, String)>, String> {
+    let ffi = root.join("ffi");
+    let out = root.join(GENERATED);
+    let modules = table::read(&ffi)?;
     let mut files = Vec::new();
-    let mut all = Vec::new();
-    let mut by_module = Vec::new();
-    for m in MODULES {
-        let entries = parse(&root.join(format!("ffi/abi/{m}.abi")))?;
-        let src = root.join(format!("ffi/src/{m}.rs"));
-        let src = std::fs::read_to_string(&src).map_err(|e| format!("{}: {e}", src.display()))?;
-        let twins = twin_structs_rust(&src).map_err(|e| format!("ffi/src/{m}.rs: {e}"))?;
+    for m in &modules {
         files.push((
-            root.join(format!("ffi/src/{m}/abi.rs")),
-            rustfmt(&rust_module(&entries, m, &twins))?,
+            out.join(format!("{}.rs", m.name)),
+            rustfmt(&rust::module(m, &modules, Symbols::Feature))?,
         ));
-        by_module.push((*m, entries));
     }
+    let header = header(&ffi, &modules)?;
+    let hand = read_text(&ffi.join("fortran/deform_kernel.in.f90"))?;
     files.push((
-        root.join(PANIC_CHECK),
-        rustfmt(&panic_check_module(&by_module))?,
+        out.join("deform_kernel.f90"),
+        fortran::module(&hand, &header, &modules)?,
     ));
-    for (_, entries) in by_module {
-        all.extend(entries);
-    }
-    let path = root.join(FORTRAN);
-    let f90 = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let header = root.join(HEADER);
-    let header =
-        std::fs::read_to_string(&header).map_err(|e| format!("{}: {e}", header.display()))?;
-    let (Some(a), Some(b)) = (f90.find(D_BEGIN), f90.find(D_END)) else {
-        return Err(format!("{FORTRAN}: declaration-region markers not found"));
-    };
-    let f90 = format!(
-        "{}{D_BEGIN}{}{}",
-        &f90[..a],
-        fortran_declarations(&header)?,
-        &f90[b..]
-    );
-    let (Some(a), Some(b)) = (f90.find(F_BEGIN), f90.find(F_END)) else {
-        return Err(format!("{FORTRAN}: generated-region markers not found"));
-    };
-    let new = format!(
-        "{}{F_BEGIN}{}{}",
-        &f90[..a],
-        fortran_interfaces(&all)?,
-        &f90[b..]
-    );
-    let mut renamed: Vec<String> = F32_WRAPPERS.iter().map(|s| s.to_string()).collect();
-    renamed.extend(twin_struct_names(&header));
-    renamed.extend(all.iter().filter(|e| e.twin).map(|e| e.name.clone()));
-    let (Some(a), Some(b)) = (new.find(W_BEGIN), new.find(W_END)) else {
-        return Err(format!("{FORTRAN}: wrapper-twin markers not found"));
-    };
-    let mut twins = String::new();
-    for w in F32_WRAPPERS {
-        let p = procedure(&new[..a], w).ok_or_else(|| format!("{FORTRAN}: no procedure {w}"))?;
-        twins += &format!("\n  !> Single-precision twin of {w}.\n");
-        twins += &rename_f32(p, &renamed);
-    }
-    let new = format!(
-        "{}{W_BEGIN}{}{}",
-        &new[..a],
-        twins.trim_start_matches('\n'),
-        &new[b..]
-    );
-    files.push((path, new));
+    files.push((out.join("deform_kernel.h"), header));
+    files.push((
+        out.join("panic_check.rs"),
+        rustfmt(&rust::panic_check(&modules))?,
+    ));
+    files.push((out.join("symbols.txt"), rust::symbols(&modules)));
     Ok(files)
-}
-
-/// The structs of the header with an `_f32` twin (`dk_spring_system` for
-/// `dk_spring_system_f32`).
-fn twin_struct_names(header: &str) -> Vec<String> {
-    header
-        .lines()
-        .filter_map(|l| l.strip_prefix("} ")?.strip_suffix("_f32;"))
-        .map(str::to_string)
-        .collect()
 }
 
 /// `cargo xtask codegen [--check]`.
@@ -687,7 +178,9 @@ pub(crate) fn codegen(ctx: &Ctx, check: bool) -> bool {
         if check {
             println!("xtask codegen: {shown} is stale: run `cargo xtask codegen`");
             ok = false;
-        } else if let Err(e) = std::fs::write(&path, content) {
+        } else if let Err(e) = std::fs::create_dir_all(path.parent().unwrap_or(&ctx.root))
+            .and_then(|()| std::fs::write(&path, content))
+        {
             println!("xtask codegen: cannot write {shown}: {e}");
             ok = false;
         } else {
@@ -695,7 +188,9 @@ pub(crate) fn codegen(ctx: &Ctx, check: bool) -> bool {
         }
     }
     if check && ok {
-        println!("xtask codegen: every generated file matches ffi/abi/*.abi and the C header");
+        println!(
+            "xtask codegen: every file of {GENERATED} matches the `#[export]` items of ffi/src"
+        );
     }
     ok
 }

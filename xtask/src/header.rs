@@ -1,14 +1,14 @@
 //! The Fortran module's constants and `bind(C)` types, generated from the C header.
 //!
-//! `ffi/include/deform_kernel.h` is cbindgen's rendering of the ffi crate's `#[repr(C)]`
-//! structs and constants (checked by the `c_header` host test), so the Fortran declarations
+//! `ffi/generated/deform_kernel.h` is cbindgen's rendering of the ffi crate's `#[repr(C)]`
+//! structs and constants (written by `cargo xtask codegen` just before), so the Fortran declarations
 //! are read from it rather than kept by hand: a field added, moved or retyped in Rust reaches
 //! Fortran with the next `cargo xtask codegen`, and a stale Fortran layout fails
 //! `cargo xtask codegen --check`. Reads only what cbindgen writes: `//` doc lines, `#define
 //! NAME VALUE`, the `dk_status` enum and `typedef struct { TYPE name[N]; … } dk_name;`.
 
 /// The checked-in C header.
-pub(crate) const HEADER: &str = "ffi/include/deform_kernel.h";
+pub(crate) const HEADER: &str = "ffi/generated/deform_kernel.h";
 
 /// A C declaration with the `//` doc lines above it.
 struct Doc(Vec<String>);

@@ -242,8 +242,8 @@ pub(crate) fn cinstall(ctx: &Ctx) -> bool {
     }
     let module = root.join("usr/include/deform_kernel.f90");
     for (installed, checked_in) in [
-        (&header, "ffi/include/deform_kernel.h"),
-        (&module, "ffi/fortran/deform_kernel.f90"),
+        (&header, "ffi/generated/deform_kernel.h"),
+        (&module, "ffi/generated/deform_kernel.f90"),
     ] {
         if std::fs::read(installed).ok() != std::fs::read(ctx.root.join(checked_in)).ok() {
             println!(

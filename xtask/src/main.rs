@@ -116,9 +116,9 @@ pub(crate) fn help() -> String {
          \x20                 nalgebra on the same generated inputs (bench/, bench/peers/), and\n\
          \x20                 `deform move` on the 234k NACA 2412 mesh; ratios and load to stdout\n\
          \x20                 and target/bench/report.md (see docs/performance.md).\n\
-         \x20   codegen       Write ffi/src/<module>/abi.rs (the extern \"C\" functions, f64 and _f32)\n\
-         \x20                 and the Fortran interfaces of ffi/fortran/deform_kernel.f90 from the\n\
-         \x20                 table ffi/abi/<module>.abi; --check only compares (a CI step).\n\
+         \x20   codegen       Write ffi/generated/ from the #[export] items of ffi/src: the extern \"C\"\n\
+         \x20                 functions (f64 and _f32), the C header (cbindgen), the Fortran module,\n\
+         \x20                 the panic-check calls and symbols.txt; --check only compares (CI).\n\
          \x20   panic-locate  Build target-tests/panic-check with its `locate` feature (the panic\n\
          \x20                 handler defined, so it links) and list the functions that still reach\n\
          \x20                 it, with the source lines of the calls. Run it when `panic-check` fails;\n\

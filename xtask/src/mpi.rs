@@ -63,7 +63,7 @@ fn c_example(ctx: &Ctx) -> bool {
         "-Wall",
         "-Wextra",
         "-Werror",
-        "-Iffi/include",
+        "-Iffi/generated",
     ])
     .arg("ffi/examples/mpi_deform.c")
     .arg(target.join("release/libdeform_kernel.a"))

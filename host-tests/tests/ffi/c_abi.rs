@@ -83,7 +83,7 @@ fn header_compiles_as_cpp() {
         "#include \"deform_kernel.h\"\nint main() { return dk_status_str(DK_OK)[0] == 0; }\n",
     )
     .unwrap();
-    let inc = format!("-I{}", workspace().join("ffi/include").display());
+    let inc = format!("-I{}", workspace().join("ffi/generated").display());
     let exe = tmp("header_check_cpp");
     compile(
         "g++",
@@ -104,7 +104,7 @@ fn header_compiles_as_cpp() {
 
 #[test]
 fn fortran_example_matches_rust_bit_for_bit() {
-    let module = workspace().join("ffi/fortran/deform_kernel.f90");
+    let module = workspace().join("ffi/generated/deform_kernel.f90");
     let src = workspace().join("ffi/examples/mesh_basics.f90");
     let expected = expected_mesh_basics();
     for (link, name) in [
@@ -149,7 +149,7 @@ fn fortran_solver_wrappers_and_structs() {
 /// Builds `ffi/tests/<name>.f90` with the Fortran module (strict: f2008, `-Wall -Werror`),
 /// links the static library and returns what it prints.
 fn fortran_test(name: &str) -> String {
-    let module = workspace().join("ffi/fortran/deform_kernel.f90");
+    let module = workspace().join("ffi/generated/deform_kernel.f90");
     let src = workspace().join(format!("ffi/tests/{name}.f90"));
     let moddir = tmp(&format!("{name}_f_mod"));
     std::fs::create_dir_all(&moddir).unwrap();
@@ -193,11 +193,11 @@ fn dk_symbols(args: &[&str], file: &std::path::Path) -> Vec<String> {
     symbols
 }
 
-/// Both libraries export exactly `ffi/symbols.txt`; for the static one this also shows that
+/// Both libraries export exactly `ffi/generated/symbols.txt`; for the static one this also shows that
 /// binutils sees its symbols (an archive of embedded LLVM bitcode shows none).
 #[test]
 fn exported_symbols_match_the_checked_in_list() {
-    let listed = std::fs::read_to_string(workspace().join("ffi/symbols.txt")).unwrap();
+    let listed = std::fs::read_to_string(workspace().join("ffi/generated/symbols.txt")).unwrap();
     let listed: Vec<&str> = listed
         .lines()
         .filter(|l| !l.is_empty() && !l.starts_with('#'))
@@ -206,13 +206,13 @@ fn exported_symbols_match_the_checked_in_list() {
     assert_eq!(
         dk_symbols(&["-D", "--defined-only"], &so),
         listed,
-        "the exported dk_ symbols changed: update ffi/symbols.txt deliberately"
+        "the exported dk_ symbols changed: update ffi/generated/symbols.txt deliberately"
     );
     let a = library_dir().join("libdeform_kernel.a");
     assert_eq!(
         dk_symbols(&["-g", "--defined-only"], &a),
         listed,
-        "nm does not list the static library's dk_ symbols as ffi/symbols.txt has them"
+        "nm does not list the static library's dk_ symbols as ffi/generated/symbols.txt has them"
     );
 }
 
@@ -256,7 +256,7 @@ fn every_exported_function_is_called_from_c() {
             !before.is_some_and(is_word_char) && !after.is_some_and(is_word_char)
         })
     };
-    let listed = std::fs::read_to_string(workspace().join("ffi/symbols.txt")).unwrap();
+    let listed = std::fs::read_to_string(workspace().join("ffi/generated/symbols.txt")).unwrap();
     let missing: Vec<&str> = listed
         .lines()
         .filter(|l| !l.is_empty() && !l.starts_with('#'))
@@ -275,7 +275,8 @@ fn every_exported_function_is_called_from_c() {
 
 /// The structs of the C header: `(name, field names)`, in header order.
 fn header_structs() -> Vec<(String, Vec<String>)> {
-    let header = std::fs::read_to_string(workspace().join("ffi/include/deform_kernel.h")).unwrap();
+    let header =
+        std::fs::read_to_string(workspace().join("ffi/generated/deform_kernel.h")).unwrap();
     let mut structs = Vec::new();
     let mut fields: Option<Vec<String>> = None;
     for line in header.lines().map(str::trim) {
@@ -338,7 +339,7 @@ fn fortran_types_have_the_c_layouts() {
     std::fs::create_dir_all(&moddir).unwrap();
     let jflag = format!("-J{}", moddir.display());
     let f_exe = tmp("layouts_f");
-    let module = workspace().join("ffi/fortran/deform_kernel.f90");
+    let module = workspace().join("ffi/generated/deform_kernel.f90");
     compile(
         "gfortran",
         &[module, f_src],

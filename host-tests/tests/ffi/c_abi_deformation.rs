@@ -299,7 +299,7 @@ fn c_example_matches_rust_bit_for_bit() {
 
 #[test]
 fn fortran_example_matches_rust_bit_for_bit() {
-    let module = workspace().join("ffi/fortran/deform_kernel.f90");
+    let module = workspace().join("ffi/generated/deform_kernel.f90");
     let src = workspace().join("ffi/examples/deform_and_smooth.f90");
     let expected = expected_deform_and_smooth();
     for (link, name) in [

@@ -49,7 +49,7 @@ fn c_plan_steps_equal_the_rust_plan_bit_for_bit() {
     );
     let printed = run(&exe);
 
-    let module = workspace().join("ffi/fortran/deform_kernel.f90");
+    let module = workspace().join("ffi/generated/deform_kernel.f90");
     let fsrc = workspace().join("ffi/examples/plan_pitching.f90");
     let moddir = tmp("plan_pitching_f_mod");
     std::fs::create_dir_all(&moddir).unwrap();

@@ -96,7 +96,7 @@ pub fn run_c_test(name: &str, exe: &str, link: Link) -> String {
 }
 
 pub fn c_flags() -> Vec<String> {
-    let inc = workspace().join("ffi/include");
+    let inc = workspace().join("ffi/generated");
     ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"]
         .iter()
         .map(|s| s.to_string())
