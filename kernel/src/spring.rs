@@ -43,6 +43,7 @@
 mod amg;
 mod angle;
 mod distributed;
+mod krylov;
 mod linear;
 mod norms;
 mod sliding;
@@ -52,8 +53,9 @@ mod stiffness;
 mod system;
 
 pub use amg::{
-    amg_precondition_scratch_len, amg_setup_work_len, solve_linear_amg_scratch_len, AmgHierarchy,
-    AmgOptions, AmgSizes, AmgSmoother, AMG_MAX_DENSE, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
+    amg_cg_scratch_len, amg_precondition_scratch_len, amg_setup_work_len,
+    amg_sliding_cg_scratch_len, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, AmgSizes,
+    AmgSmoother, AMG_MAX_DENSE, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
 };
 pub(crate) use amg::{Layout, Level};
 pub use angle::{AngleMethod, AngleSystem, DEFAULT_ANGLE_EPSILON, MAX_AMPLIFICATION};

@@ -31,10 +31,16 @@
 //! (exact), writes back only on success, and projects every sliding node's result once more,
 //! so `n · d` is at rounding level of `|d|`.
 
-use super::amg::{amg_precondition_scratch_len, AmgHierarchy};
+use core::ops::Range;
+
+use super::amg::{amg_precondition_scratch_len, AmgHierarchy, Vcycle};
 use super::angle::{cramer, AngleMethod, AngleSystem, MAX_AMPLIFICATION};
-use super::linear::{diagonal, drive_sweeps, precondition, Sweeps};
-use super::norms::{scale_by, Norm, SumSq};
+use super::distributed::{Collective, Serial};
+use super::krylov::{
+    apply_local, cg_len, exponents, pcg, Identity, Operator, Precondition, Vectors,
+};
+use super::linear::{diagonal, drive_sweeps, Jacobi, Ssor, Sweeps};
+use super::norms::{pair_norms, scale_by, Norm, Pairs};
 use super::solver::LinearSolver;
 use super::system::{
     check_omega, check_values, LinearMethod, Preconditioner, SolveOptions, SolveReport,
@@ -65,8 +71,8 @@ trait BlockOp<T: Real, const D: usize> {
         m: &[[T; D]; D],
         pr: [T; D],
     ) -> [T; D];
-    /// Largest edge stiffness (sets the scale of the CG copy).
-    fn kmax(&self) -> T;
+    /// The edge stiffness (its largest sets the scale of the scaled copy).
+    fn stiffness(&self) -> &[T];
     /// Largest row sum `Σ_j k_ij (1 + ε)`: bounds every `|B v|` per unit `|v|`.
     fn row_max(&self) -> T;
 }
@@ -122,8 +128,8 @@ impl<T: Real, const D: usize> BlockOp<T, D> for LinearOp<'_, '_, T> {
         let d = m.first().and_then(|r| r.first()).copied().unwrap_or(T::ONE);
         pr.map(|v| v / d)
     }
-    fn kmax(&self) -> T {
-        self.0.stiffness().iter().fold(T::ZERO, |m, &k| m.max(k))
+    fn stiffness(&self) -> &[T] {
+        self.0.stiffness()
     }
     fn row_max(&self) -> T {
         self.0.rows().fold(T::ZERO, |m, (_, _, row)| {
@@ -198,12 +204,8 @@ impl<T: Real, const D: usize> BlockOp<T, D> for AngleOp<'_, '_, T, D> {
         }
         c.project(i, cramer(&mm, &pr).unwrap_or([T::ZERO; D]))
     }
-    fn kmax(&self) -> T {
-        self.0
-            .base()
-            .stiffness()
-            .iter()
-            .fold(T::ZERO, |m, &k| m.max(k))
+    fn stiffness(&self) -> &[T] {
+        self.0.base().stiffness()
     }
     fn row_max(&self) -> T {
         let e1 = T::ONE + self.0.epsilon();
@@ -479,55 +481,39 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
     }
 }
 
+/// The projected residual pairs `(P (b − K x), P b)` of the non-fixed nodes.
+struct ProjectedPairs<'o, 'c, 'x, T: Real, const D: usize, O: BlockOp<T, D>> {
+    op: &'o O,
+    c: &'o Constraints<'c, T, D>,
+    x: &'x [[T; D]],
+}
+
+impl<T: Real, const D: usize, O: BlockOp<T, D>> Pairs<T, D>
+    for ProjectedPairs<'_, '_, '_, T, D, O>
+{
+    fn each<F: FnMut(&[T; D], &[T; D])>(&self, mut f: F) {
+        for i in 0..self.op.n() {
+            if !self.op.fixed(i) {
+                let r = self.c.project(i, self.op.node(i, self.x).0);
+                let b = self.c.project(i, self.op.pull(i, self.x));
+                f(&r, &b);
+            }
+        }
+    }
+}
+
 /// `(‖P (b − K x)‖, ‖P b‖)` over the non-fixed nodes, without overflow or underflow.
 fn norms<T: Real, const D: usize, O: BlockOp<T, D>>(
     op: &O,
     c: &Constraints<'_, T, D>,
     x: &[[T; D]],
 ) -> (Norm<T>, Norm<T>) {
-    let each = |f: &mut dyn FnMut(&[T; D], &[T; D])| {
-        for i in 0..op.n() {
-            if !op.fixed(i) {
-                let r = c.project(i, op.node(i, x).0);
-                let b = c.project(i, op.pull(i, x));
-                f(&r, &b);
-            }
-        }
-    };
-    let mut rs = SumSq::new();
-    let mut bs = SumSq::new();
-    each(&mut |r, b| {
-        for (&r, &b) in r.iter().zip(b) {
-            rs.add(r);
-            bs.add(b);
-        }
-    });
-    let (pr, pb) = (rs.plain(), bs.plain());
-    match (pr, pb) {
-        (Ok(r), Ok(b)) => (r, b),
-        _ => {
-            let er = pr.err().unwrap_or(0);
-            let eb = pb.err().unwrap_or(0);
-            let (qr, qb) = (T::pow2(-er), T::pow2(-eb));
-            // The first pass's accumulators are reused (fewer sums on the stack).
-            let (sr, sb) = (&mut rs.sum, &mut bs.sum);
-            (*sr, *sb) = (ExactSum::new(), ExactSum::new());
-            each(&mut |r, b| {
-                for (&r, &b) in r.iter().zip(b) {
-                    let (r, b) = (r * qr, b * qb);
-                    sr.add(r * r);
-                    sb.add(b * b);
-                }
-            });
-            (
-                pr.unwrap_or_else(|_| Norm::from_sum(sr.value(), er)),
-                pb.unwrap_or_else(|_| Norm::from_sum(sb.value(), eb)),
-            )
-        }
-    }
+    let pairs = ProjectedPairs { op, c, x };
+    pair_norms(&pairs, &[T::ONE; D], false, &Serial::new(op.n()))
 }
 
-/// Runs `method` on a scaled copy in `scratch` and writes the result back on success.
+/// Runs `method` on a scaled copy in the front of `scratch` and writes the result back on
+/// success.
 fn solve<T: Real, const D: usize, O: BlockOp<T, D>>(
     op: &O,
     sys: Option<&SpringSystem<'_, T>>,
@@ -539,43 +525,42 @@ fn solve<T: Real, const D: usize, O: BlockOp<T, D>>(
 ) -> Result<SolveReport<T>> {
     let n = op.n();
     // Scale: values to about 1/√k_max, so k x² and the residuals stay near 1.
-    let kmax = op.kmax();
+    let e = exponents(op.stiffness(), values, true)
+        .first()
+        .copied()
+        .unwrap_or(0);
     let vmax = values
         .iter()
         .flatten()
         .fold(T::ZERO, |m, &v| m.max(v.abs()));
-    let limit = T::MAX.exponent() - 1;
-    let ev = if vmax > T::ZERO { vmax.exponent() } else { 0 };
-    let ek = if kmax > T::ZERO {
-        kmax.exponent() / 2
-    } else {
-        0
-    };
-    let e = (ev + ek).clamp(-limit, limit);
     let down = T::pow2(-e);
     if !(op.row_max() * T::from_f64(4.0) * (vmax * down)).is_finite() {
         return Err(Error::Overflow { arg: "stiffness" });
     }
-    let (x, rest) = scratch
-        .split_at_mut_checked(n)
-        .unwrap_or((&mut [], &mut []));
-    if x.len() != n {
+    let Some((x, rest)) = scratch.split_at_mut_checked(n) else {
         return Err(Error::BufferTooSmall {
             arg: "scratch",
             needed: n,
             actual: 0,
         });
-    }
+    };
     for (i, (x, &v)) in x.iter_mut().zip(values.iter()).enumerate() {
         let s = vector::scale(v, down);
         *x = if op.fixed(i) { s } else { c.project(i, s) };
     }
-    let mut report = match method {
-        Method::Jacobi => stationary(op, c, x, rest, None, options, e),
-        Method::Sor(omega) => stationary(op, c, x, rest, Some(omega), options, e),
-        Method::Cg(pre) => cg(op, sys, c, x, rest, pre, options, e)?,
+    let report = match method {
+        Method::Jacobi | Method::Sor(_) => {
+            let omega = match method {
+                Method::Sor(w) => Some(w),
+                _ => None,
+            };
+            let mut report = stationary(op, c, x, rest, omega, options, e);
+            report.max_update = scale_by(report.max_update, e);
+            report
+        }
+        Method::Cg(pre) => cg(op, sys, c, scratch, pre, options, e)?,
     };
-    report.max_update = scale_by(report.max_update, e);
+    let x = scratch.get(..n).unwrap_or(&[]);
     let up = T::pow2(e);
     for (i, xi) in x.iter().enumerate() {
         if !op.fixed(i)
@@ -704,181 +689,183 @@ fn stationary<T: Real, const D: usize, O: BlockOp<T, D>>(
     report
 }
 
-/// `Σ aᵀ b` over all nodes: each node's `aᵀ b` in component order, the nodes' terms summed
-/// exactly.
-fn dot_all<T: Real, const D: usize>(a: &[[T; D]], b: &[[T; D]]) -> T {
-    let mut s = ExactSum::new();
-    for (x, y) in a.iter().zip(b) {
-        s.add(vector::dot(*x, *y));
+/// `pᵀ M p` of a node block.
+fn quad_form<T: Real, const D: usize>(m: &[[T; D]; D], p: &[T; D]) -> T {
+    let mut s = T::ZERO;
+    for (row, &pr) in m.iter().zip(p) {
+        s += pr * vector::dot(*row, *p);
     }
-    s.value()
+    s
 }
 
-/// `z = P M⁻¹ r` (zero at fixed nodes).
-#[allow(clippy::too_many_arguments)]
-fn apply_pre<T: Real, const D: usize, O: BlockOp<T, D>>(
-    op: &O,
-    sys: Option<&SpringSystem<'_, T>>,
-    c: &Constraints<'_, T, D>,
-    pre: Pre<'_, T>,
-    diag: &[T],
-    r: &[[T; D]],
-    z: &mut [[T; D]],
-    work: &mut [[T; D]],
-) -> Result<()> {
-    match (pre, sys) {
-        (Pre::Linear(p), Some(s)) => precondition(s, diag, p, r, z),
-        (Pre::Amg(h), Some(s)) => s.amg_precondition(h, r, z, work)?,
-        _ => {
-            for (i, (z, &r)) in z.iter_mut().zip(r).enumerate() {
-                *z = if op.fixed(i) {
-                    [T::ZERO; D]
-                } else {
-                    let (_, m) = op.node(i, &[]);
-                    op.block_solve(c, i, &m, r)
-                };
-            }
-        }
-    }
-    for (i, z) in z.iter_mut().enumerate() {
-        *z = if op.fixed(i) {
+/// The projected operator `P K P` for [`pcg`] on the scaled copy: one lane (`P` couples the
+/// components), the curvature scale `max_i pᵢᵀ Aᵢᵢ pᵢ` from the node blocks.
+struct Projected<'o, 'c, T: Real, const D: usize, O: BlockOp<T, D>> {
+    op: &'o O,
+    c: &'o Constraints<'c, T, D>,
+}
+
+impl<T: Real, const D: usize, O: BlockOp<T, D>> Operator<T, D, 1> for Projected<'_, '_, T, D, O> {
+    #[inline]
+    fn residual(&self, i: usize, x: &[[T; D]]) -> [T; D] {
+        if self.op.fixed(i) {
             [T::ZERO; D]
         } else {
-            c.project(i, *z)
-        };
+            self.c.project(i, self.op.node(i, x).0)
+        }
     }
-    Ok(())
+
+    /// `q = P K p` (`p` is zero at fixed nodes: `node()` gives `−(K p)_i`).
+    fn apply(
+        &self,
+        rows: Range<usize>,
+        p: &[[T; D]],
+        q: &mut [[T; D]],
+        pq: &mut [ExactSum; 1],
+        dpp: &mut [T; 1],
+    ) {
+        let ([pq], [dpp]) = (pq, dpp);
+        for i in rows {
+            let Some(qi) = q.get_mut(i) else { continue };
+            if self.op.fixed(i) {
+                *qi = [T::ZERO; D];
+                continue;
+            }
+            let (r, m) = self.op.node(i, p);
+            *qi = self.c.project(i, vector::scale(r, -T::ONE));
+            let pi = p.get(i).copied().unwrap_or([T::ZERO; D]);
+            pq.add(vector::dot(pi, *qi));
+            *dpp = dpp.max(quad_form(&m, &pi));
+        }
+    }
+
+    fn norms<C: Collective<T> + ?Sized>(
+        &self,
+        x: &[[T; D]],
+        exps: &[i32; D],
+        _: &C,
+    ) -> (Norm<T>, Norm<T>) {
+        let top = exps.iter().copied().max().unwrap_or(0);
+        let (r, b) = norms(self.op, self.c, x);
+        (r.shifted(top), b.shifted(top))
+    }
 }
 
-/// Projected preconditioned CG on the scaled copy `x`.
-#[allow(clippy::too_many_arguments)]
+/// `z = P M⁻¹ r` (zero at fixed nodes) for a preconditioner `M` of the unconstrained operator.
+struct ProjectedPre<'o, 'c, T: Real, const D: usize, O: BlockOp<T, D>, M> {
+    op: &'o O,
+    c: &'o Constraints<'c, T, D>,
+    inner: M,
+}
+
+impl<T: Real, const D: usize, O: BlockOp<T, D>, M: Precondition<T, D>> Precondition<T, D>
+    for ProjectedPre<'_, '_, T, D, O, M>
+{
+    const LOCAL: bool = M::LOCAL;
+    #[inline]
+    fn node(&self, i: usize, r: [T; D]) -> [T; D] {
+        if self.op.fixed(i) {
+            [T::ZERO; D]
+        } else {
+            self.c.project(i, self.inner.node(i, r))
+        }
+    }
+    fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; D]], z: &mut [[T; D]], comm: &C) {
+        self.inner.apply(r, z, comm);
+        for (i, z) in z.iter_mut().enumerate() {
+            *z = if self.op.fixed(i) {
+                [T::ZERO; D]
+            } else {
+                self.c.project(i, *z)
+            };
+        }
+    }
+}
+
+/// The projected node blocks `(P A_ii P)⁺` (before the projection of [`ProjectedPre`]).
+struct Blocks<'o, 'c, T: Real, const D: usize, O: BlockOp<T, D>> {
+    op: &'o O,
+    c: &'o Constraints<'c, T, D>,
+}
+
+impl<T: Real, const D: usize, O: BlockOp<T, D>> Precondition<T, D> for Blocks<'_, '_, T, D, O> {
+    const LOCAL: bool = true;
+    #[inline]
+    fn node(&self, i: usize, r: [T; D]) -> [T; D] {
+        if self.op.fixed(i) {
+            [T::ZERO; D]
+        } else {
+            let (_, m) = self.op.node(i, &[]);
+            self.op.block_solve(self.c, i, &m, r)
+        }
+    }
+    fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; D]], z: &mut [[T; D]], comm: &C) {
+        apply_local(self, r, z, comm);
+    }
+}
+
+/// Projected preconditioned CG ([`pcg`]) on the scaled copy in the front of `scratch`
+/// (scaled by `2^−e`), the CG vectors after it, then the preconditioner's (the diagonal, or
+/// the V-cycle's vectors).
 fn cg<T: Real, const D: usize, O: BlockOp<T, D>>(
     op: &O,
     sys: Option<&SpringSystem<'_, T>>,
     c: &Constraints<'_, T, D>,
-    x: &mut [[T; D]],
-    rest: &mut [[T; D]],
+    scratch: &mut [[T; D]],
     pre: Pre<'_, T>,
     options: &SolveOptions<T>,
     e: i32,
 ) -> Result<SolveReport<T>> {
     let n = op.n();
-    let (r, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-    let (p, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-    let (q, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-    let (z, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-    let (diag_items, work) = match pre {
-        Pre::Linear(_) => rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut [])),
-        _ => (&mut [][..], rest),
+    let Some((mut v, rest)) = Vectors::split(scratch, n) else {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed: cg_len(n).unwrap_or(usize::MAX),
+            actual: 0,
+        });
     };
-    let diag = diag_items
-        .as_flattened_mut()
-        .get_mut(..n)
-        .unwrap_or(&mut []);
-    if let (Pre::Linear(_), Some(s)) = (pre, sys) {
-        diagonal(s, diag);
-    }
-    let diag: &[T] = diag;
-    let (r0, bnorm) = norms(op, c, x);
-    let mut report = SolveReport {
-        iterations: 0,
-        residual: r0.relative_to(bnorm),
-        max_update: T::ZERO,
-        converged: false,
-    };
-    if report.residual <= options.residual_tol {
-        report.converged = true;
-        return Ok(report);
-    }
-    // (Re)start: r = P (b − K x), z = P M⁻¹ r, p = z.
-    let restart = |x: &[[T; D]],
-                   r: &mut [[T; D]],
-                   p: &mut [[T; D]],
-                   z: &mut [[T; D]],
-                   work: &mut [[T; D]]|
-     -> Result<T> {
-        for (i, ri) in r.iter_mut().enumerate() {
-            *ri = if op.fixed(i) {
-                [T::ZERO; D]
-            } else {
-                c.project(i, op.node(i, x).0)
-            };
-        }
-        apply_pre(op, sys, c, pre, diag, r, z, work)?;
-        for (p, &zi) in p.iter_mut().zip(z.iter()) {
-            *p = zi;
-        }
-        Ok(dot_all(r, z))
-    };
-    let mut rz = restart(x, r, p, z, work)?;
-    let mut checked = true;
-    while report.iterations < options.max_iterations {
-        report.iterations += 1;
-        // q = P K p (p is zero at fixed nodes: node() gives −(K p)_i).
-        for (i, qi) in q.iter_mut().enumerate() {
-            *qi = if op.fixed(i) {
-                [T::ZERO; D]
-            } else {
-                c.project(i, vector::scale(op.node(i, p).0, -T::ONE))
-            };
-        }
-        let pq = dot_all(p, q);
-        if !(pq.is_finite() && rz.is_finite()) {
-            return Err(Error::Overflow { arg: "values" });
-        }
-        if rz == T::ZERO {
-            report.converged = true;
-            break;
-        }
-        if pq <= T::ZERO {
-            return Err(Error::SingularSystem {
-                iteration: report.iterations,
-            });
-        }
-        let alpha = rz / pq;
-        let mut max_update = T::ZERO;
-        let mut rr = ExactSum::new();
-        for (((xi, ri), &pi), &qi) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter()) {
-            for (((xc, rc), &pc), &qc) in xi.iter_mut().zip(ri.iter_mut()).zip(&pi).zip(&qi) {
-                let dx = alpha * pc;
-                *xc += dx;
-                *rc -= alpha * qc;
-                max_update = max_update.max(dx.abs());
-                rr.add(*rc * *rc);
+    let proj = Projected { op, c };
+    let exps = [e; D];
+    let serial = Serial::new(n);
+    match (pre, sys) {
+        (Pre::Linear(p), Some(sys)) => {
+            let diag = rest.as_flattened_mut().get_mut(..n).unwrap_or(&mut []);
+            diagonal(sys, diag);
+            let diag: &[T] = diag;
+            match p {
+                Preconditioner::None => {
+                    let mut m = ProjectedPre {
+                        op,
+                        c,
+                        inner: Identity,
+                    };
+                    pcg(&proj, &mut m, &mut v, &exps, options, &serial)
+                }
+                Preconditioner::Jacobi => {
+                    let fixed = sys.fixed();
+                    let mut m = ProjectedPre {
+                        op,
+                        c,
+                        inner: Jacobi { diag, fixed },
+                    };
+                    pcg(&proj, &mut m, &mut v, &exps, options, &serial)
+                }
+                Preconditioner::Ssor { omega } => {
+                    let inner = Ssor { sys, diag, omega };
+                    let mut m = ProjectedPre { op, c, inner };
+                    pcg(&proj, &mut m, &mut v, &exps, options, &serial)
+                }
             }
         }
-        let rr: T = rr.value();
-        report.max_update = max_update;
-        let unscaled_update = scale_by(max_update, e);
-        checked = false;
-        let estimate_ok = rr.is_finite();
-        let estimate = Norm::from_sum(rr, 0).relative_to(bnorm);
-        if !estimate_ok || options.met(estimate, unscaled_update) {
-            let (rt, _) = norms(op, c, x);
-            report.residual = rt.relative_to(bnorm);
-            checked = true;
-            if options.met(report.residual, unscaled_update) {
-                report.converged = true;
-                break;
-            }
-            if estimate_ok {
-                rz = restart(x, r, p, z, work)?;
-                continue;
-            }
+        (Pre::Amg(h), Some(sys)) => {
+            let inner = Vcycle::new(sys, h, rest);
+            let mut m = ProjectedPre { op, c, inner };
+            pcg(&proj, &mut m, &mut v, &exps, options, &serial)
         }
-        apply_pre(op, sys, c, pre, diag, r, z, work)?;
-        let rz_new = dot_all(r, z);
-        let beta = if rz == T::ZERO { T::ZERO } else { rz_new / rz };
-        for (pi, &zi) in p.iter_mut().zip(z.iter()) {
-            for (pc, &zc) in pi.iter_mut().zip(&zi) {
-                *pc = zc + beta * *pc;
-            }
+        _ => {
+            let inner = Blocks { op, c };
+            let mut m = ProjectedPre { op, c, inner };
+            pcg(&proj, &mut m, &mut v, &exps, options, &serial)
         }
-        rz = rz_new;
     }
-    if !checked {
-        let (rt, _) = norms(op, c, x);
-        report.residual = rt.relative_to(bnorm);
-    }
-    Ok(report)
 }
