@@ -38,7 +38,7 @@
 
 mod cycle;
 mod pcg;
-pub(crate) use pcg::{amg_vcycle, solve_amg_on, Vcycle};
+pub(crate) use pcg::{solve_amg_on, Vcycle};
 mod setup;
 
 pub use pcg::{
