@@ -30,6 +30,11 @@
 //! paper's `Σ k x_j / Σ k`): a field that is uniform over a node's neighbourhood is then a
 //! bit-exact fixed point, so a uniform translation of every boundary is reproduced exactly.
 //!
+//! - **One Krylov core**: every conjugate-gradient solve above (and the rigidity probe) is
+//!   the one loop of `krylov.rs` over an operator (linear springs, angle springs, the
+//!   sliding projection `P K P`) and a preconditioner (none, Jacobi, node blocks, SSOR, the
+//!   V-cycle), with one stopping rule; every CG scratch length comes from its CG vectors
+//!   and [`amg_cg_scratch_len`].
 //! - **Sliding nodes** ([`Constraints`](crate::slide::Constraints): a node slides on a plane
 //!   or a line): [`solve_linear_sliding`](crate::spring::SpringSystem::solve_linear_sliding) and [`solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding) solve the projected
 //!   system `P K P d = P b` jointly over the components (see their module for why it stays

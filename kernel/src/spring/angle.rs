@@ -7,7 +7,7 @@ use super::distributed::{Collective, Serial};
 use super::krylov::{
     apply_local, cg_len, exponents, pcg, solve_scaled, Operator, Precondition, Vectors,
 };
-use super::linear::{drive_sweeps, Sweeps};
+use super::linear::{drive_sweeps, tally, Sweeps};
 use super::norms::{pair_norms, scale_by, Norm, Pairs};
 use super::system::{check_omega, check_values, SolveOptions, SolveReport, SpringSystem, Sweep};
 use crate::check;
@@ -366,23 +366,6 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
     }
 }
 
-/// `max(|δ|)` and `Σ (σ r)²` bookkeeping for one node (`σ` a power of two: 1 in the public
-/// sweeps, chosen by the whole solves so the sum stays in range); the sum is exact.
-#[inline]
-fn tally<T: Real, const D: usize>(
-    max_change: &mut T,
-    residual_sq: &mut ExactSum,
-    change: &[T; D],
-    r: &[T; D],
-    sigma: T,
-) {
-    for (&c, &r) in change.iter().zip(r) {
-        *max_change = max_change.max(c.abs());
-        let r = r * sigma;
-        residual_sq.add(r * r);
-    }
-}
-
 impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
     /// One Jacobi-order sweep of the angle-inclusion direct method over `nodes`: each free node
     /// solves its own 2×2/3×3 system (Yang & Özgen §2.2.1, Cramer's rule) with its neighbours
@@ -429,16 +412,45 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
     /// (second field), 0 for [`AngleMethod::DirectGaussSeidel`], `4 n` for [`AngleMethod::Cg`];
     /// at least `4 n` whenever `ε = 0` (the rigidity probe, [`angle_probe_scratch_len`](crate::spring::AngleSystem::angle_probe_scratch_len)).
     pub fn angle_scratch_len(&self, method: AngleMethod) -> usize {
-        let n = self.base.node_count();
-        let solve = match method {
-            AngleMethod::DirectJacobi => n,
-            AngleMethod::DirectGaussSeidel => 0,
-            AngleMethod::Cg => cg_len(n).unwrap_or(usize::MAX),
-        };
-        if self.epsilon == T::ZERO {
+        self.with_probe(self.angle_solve_len(method))
+    }
+
+    /// `solve` scratch items, raised to the rigidity probe's when `ε = 0` (it runs first, in
+    /// the same scratch).
+    /// `scratch` of at least `needed` items, then (for `ε = 0`) the unconstrained rigidity
+    /// probe in it: a rigid unconstrained system stays rigid when nodes are restricted further.
+    pub(super) fn probe_rigidity(
+        &self,
+        options: &SolveOptions<T>,
+        scratch: &mut [[T; D]],
+        needed: usize,
+    ) -> Result<()> {
+        check::buffer("scratch", scratch.len(), needed)?;
+        if self.epsilon() == T::ZERO {
+            let s = self.angle_rigidity_probe(options, scratch)?;
+            if s > T::from_f64(MAX_AMPLIFICATION) {
+                return Err(Error::SingularSystem { iteration: 0 });
+            }
+        }
+        Ok(())
+    }
+
+    pub(super) fn with_probe(&self, solve: usize) -> usize {
+        if self.epsilon() == T::ZERO {
             solve.max(self.angle_probe_scratch_len())
         } else {
             solve
+        }
+    }
+
+    /// The scratch items of `method` itself (without the rigidity probe's): `n` for the
+    /// Jacobi-order direct method, 0 for Gauss–Seidel order, the CG vectors for CG.
+    pub(super) fn angle_solve_len(&self, method: AngleMethod) -> usize {
+        let n = self.base.node_count();
+        match method {
+            AngleMethod::DirectJacobi => n,
+            AngleMethod::DirectGaussSeidel => 0,
+            AngleMethod::Cg => cg_len(n).unwrap_or(usize::MAX),
         }
     }
 }
@@ -672,7 +684,14 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         };
         let serial = Serial::new(n);
         let mut blocks = blocks;
-        let report = pcg(&probe, &mut blocks, &mut v, &[0; D], &probe_options, &serial)?;
+        let report = pcg(
+            &probe,
+            &mut blocks,
+            &mut v,
+            &[0; D],
+            &probe_options,
+            &serial,
+        )?;
         let it = report.iterations;
         if !report.converged {
             return Err(Error::SingularSystem { iteration: it });
@@ -827,21 +846,9 @@ fn start_solve<T: Real, const D: usize>(
 ) -> Result<(SolveReport<T>, Norm<T>, Norm<T>)> {
     check_values("values", values, sys.base.node_count())?;
     options.check()?;
-    check::buffer("scratch", scratch.len(), needed)?;
-    if sys.epsilon == T::ZERO {
-        let s = sys.angle_rigidity_probe(options, scratch)?;
-        if s > T::from_f64(MAX_AMPLIFICATION) {
-            return Err(Error::SingularSystem { iteration: 0 });
-        }
-    }
+    sys.probe_rigidity(options, scratch, needed)?;
     let (r0, bnorm) = sys.residual_norms(values);
-    let report = SolveReport {
-        iterations: 0,
-        residual: r0.relative_to(bnorm),
-        max_update: T::ZERO,
-        converged: false,
-    };
-    Ok((report, r0, bnorm))
+    Ok((SolveReport::start(r0, bnorm, options), r0, bnorm))
 }
 
 /// [`solve_angle`](crate::spring::AngleSystem::solve_angle) with the over-relaxation factor of the Gauss–Seidel-order direct method
@@ -856,7 +863,7 @@ fn solve_angle_core<T: Real, const D: usize>(
 ) -> Result<SolveReport<T>> {
     let n = sys.base.node_count();
     let needed = sys.angle_scratch_len(method);
-    let (mut report, r0, bnorm) = start_solve(sys, values, options, scratch, needed)?;
+    let (report, r0, bnorm) = start_solve(sys, values, options, scratch, needed)?;
     if method != AngleMethod::Cg {
         // The direct sweeps form `Σ_j B_ij (x_j − x_i)` unscaled (|B_ij v| ≤ (1 + ε) k |v|).
         let vmax = values
@@ -871,8 +878,7 @@ fn solve_angle_core<T: Real, const D: usize>(
             return Err(Error::Overflow { arg: "stiffness" });
         }
     }
-    if report.residual <= options.residual_tol {
-        report.converged = true;
+    if report.converged {
         return Ok(report);
     }
     match method {
@@ -968,9 +974,8 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         hierarchy.check_system(&self.base)?;
         let n = self.base.node_count();
         let needed = self.angle_amg_scratch_len(hierarchy);
-        let (mut report, _, _) = start_solve(self, values, options, scratch, needed)?;
-        if report.residual <= options.residual_tol {
-            report.converged = true;
+        let (report, _, _) = start_solve(self, values, options, scratch, needed)?;
+        if report.converged {
             return Ok(report);
         }
         let (v, rest) = Vectors::split(scratch, n).ok_or(Error::BufferTooSmall {
@@ -978,6 +983,12 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
             needed,
             actual: 0,
         })?;
-        cg_solve(self, &mut Vcycle::new(&self.base, hierarchy, rest), v, values, options)
+        cg_solve(
+            self,
+            &mut Vcycle::new(&self.base, hierarchy, rest),
+            v,
+            values,
+            options,
+        )
     }
 }

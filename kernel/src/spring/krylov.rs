@@ -121,7 +121,7 @@ pub(crate) fn apply_local<T, const V: usize, M, C>(
 
 /// Adds a node's `aᵢ · bᵢ` to the lanes' sums: per component (`L = V`) or the node's dot
 /// product in component order, rounded (`L = 1`).
-#[inline]
+#[inline(always)]
 pub(crate) fn lane_dot<T: Real, const V: usize, const L: usize>(
     s: &mut [ExactSum; L],
     a: &[T; V],
@@ -222,25 +222,29 @@ where
     M: Precondition<T, V>,
     C: Collective<T> + ?Sized,
 {
-    let down = exps.map(|e| T::pow2(-e));
-    for (x, v) in v.x.iter_mut().zip(values.iter()) {
-        for ((x, &v), &f) in x.iter_mut().zip(v).zip(&down) {
-            *x = v * f;
-        }
-    }
+    scale_into(v.x, values, &exps.map(|e| T::pow2(-e)), |_| true);
     let report = pcg(op, pre, &mut v, &exps, options, comm)?;
     if report.converged && report.iterations == 0 {
         return Ok(report); // a solution already: untouched (no rounding of subnormals)
     }
-    let up = exps.map(|e| T::pow2(e));
-    for (i, (v, x)) in values.iter_mut().zip(v.x.iter()).enumerate() {
-        if !fixed(i) {
-            for ((v, &x), &f) in v.iter_mut().zip(x).zip(&up) {
-                *v = x * f;
+    scale_into(values, v.x, &exps.map(|e| T::pow2(e)), |i| !fixed(i));
+    Ok(report)
+}
+
+/// `out_i = from_i ⊙ f` at every node `i` where `at(i)`.
+fn scale_into<T: Real, const V: usize>(
+    out: &mut [[T; V]],
+    from: &[[T; V]],
+    f: &[T; V],
+    at: impl Fn(usize) -> bool,
+) {
+    for (i, (o, v)) in out.iter_mut().zip(from).enumerate() {
+        if at(i) {
+            for ((o, &v), &f) in o.iter_mut().zip(v).zip(f) {
+                *o = v * f;
             }
         }
     }
-    Ok(report)
 }
 
 /// Preconditioned conjugate gradients on the scaled iterate `v.x` (component `c` stored as
@@ -269,14 +273,8 @@ where
     let top = exps.iter().copied().max().unwrap_or(0);
     let to_top = exps.map(|e| scale_by(T::ONE, e - top));
     let (r0, bnorm) = op.norms(v.x, exps, comm);
-    let mut report = SolveReport {
-        iterations: 0,
-        residual: r0.relative_to(bnorm),
-        max_update: T::ZERO,
-        converged: false,
-    };
-    if report.residual <= options.residual_tol {
-        report.converged = true;
+    let mut report = SolveReport::start(r0, bnorm, options);
+    if report.converged {
         return Ok(report);
     }
     // One set of per-lane accumulators for every per-lane sum of an iteration (each is
@@ -455,7 +453,9 @@ where
     }
     let mut max_update = [T::ZERO; V];
     let mut rr = ExactSum::new();
-    sums.iter_mut().for_each(|s| *s = ExactSum::new());
+    if M::LOCAL {
+        sums.iter_mut().for_each(|s| *s = ExactSum::new());
+    }
     for range in comm.owned() {
         let rows = range.clone();
         let (Some(x), Some(r), Some(p), Some(w)) = (

@@ -42,7 +42,7 @@ fn node_residual<T: Real, const V: usize>(
 /// sweeps; the whole solves pick it so the sum neither overflows nor underflows). The sum is
 /// exact ([`ExactSum`]): a sweep split into ranges sums to the same bits.
 #[inline]
-fn tally<T: Real, const V: usize>(
+pub(crate) fn tally<T: Real, const V: usize>(
     max_change: &mut T,
     residual_sq: &mut ExactSum,
     change: &[T; V],
@@ -432,14 +432,8 @@ pub(crate) fn drive_sweeps<T: Real, S: Sweeps<T>>(
 ) -> SolveReport<T> {
     let est_exp = sweep_exponent(&r0, &bnorm);
     let sigma = T::pow2(-est_exp);
-    let mut report = SolveReport {
-        iterations: 0,
-        residual: r0.relative_to(bnorm),
-        max_update: T::ZERO,
-        converged: false,
-    };
-    if report.residual <= options.residual_tol {
-        report.converged = true;
+    let mut report = SolveReport::start(r0, bnorm, options);
+    if report.converged {
         return report;
     }
     let mut checked = false;

@@ -33,13 +33,13 @@
 
 use core::ops::Range;
 
-use super::amg::{amg_precondition_scratch_len, AmgHierarchy, Vcycle};
-use super::angle::{cramer, AngleMethod, AngleSystem, MAX_AMPLIFICATION};
+use super::amg::{amg_sliding_cg_scratch_len, AmgHierarchy, Vcycle};
+use super::angle::{cramer, AngleMethod, AngleSystem};
 use super::distributed::{Collective, Serial};
 use super::krylov::{
     apply_local, cg_len, exponents, pcg, Identity, Operator, Precondition, Vectors,
 };
-use super::linear::{diagonal, drive_sweeps, Jacobi, Ssor, Sweeps};
+use super::linear::{diagonal, drive_sweeps, solve_linear_scratch_len, Jacobi, Ssor, Sweeps};
 use super::norms::{pair_norms, scale_by, Norm, Pairs};
 use super::solver::LinearSolver;
 use super::system::{
@@ -235,21 +235,23 @@ enum Method<'h, T: Real> {
 }
 
 /// Number of `[T; D]` scratch items [`solve_linear_sliding`](crate::spring::SpringSystem::solve_linear_sliding) needs for `node_count` nodes:
-/// `n` (the scaled copy) plus `n` for Jacobi, nothing more for Gauss–Seidel/SOR, `5 n` for
-/// CG (residual, direction, `A p`, preconditioned residual, diagonal) and, with a multigrid
-/// hierarchy, [`amg_precondition_scratch_len`] more.
+/// `n` more than the unconstrained solve
+/// ([`solve_linear_scratch_len`](crate::spring::solve_linear_scratch_len): `2 n` for Jacobi,
+/// `n` for Gauss–Seidel/SOR, `6 n` for CG; with a multigrid hierarchy
+/// [`amg_sliding_cg_scratch_len`](crate::spring::amg_sliding_cg_scratch_len), `6 n + 3 coarse`).
+/// The stationary methods keep a scaled copy there; CG runs in the unconstrained CG's layout
+/// (the copy is its iterate) and leaves the last `n` unused, kept so that sizes computed from
+/// these counts (the C ABI's among them) stay exact.
 pub fn solve_linear_sliding_scratch_len<T: Real>(
     solver: &LinearSolver<'_, T>,
     node_count: usize,
 ) -> usize {
     let n = node_count;
     match solver {
-        LinearSolver::Method(LinearMethod::Jacobi) => n.saturating_mul(2),
-        LinearSolver::Method(LinearMethod::GaussSeidel | LinearMethod::Sor { .. }) => n,
-        LinearSolver::Method(LinearMethod::Cg { .. }) => n.saturating_mul(6),
-        LinearSolver::Amg(h) => n
-            .saturating_mul(5)
-            .saturating_add(amg_precondition_scratch_len(h)),
+        LinearSolver::Method(m) => n.saturating_add(solve_linear_scratch_len(m, n)),
+        LinearSolver::Amg(h) => {
+            amg_sliding_cg_scratch_len(n, h.coarse_unknowns()).unwrap_or(usize::MAX)
+        }
         LinearSolver::Distributed(..) | LinearSolver::DistributedAmg(..) => 0,
     }
 }
@@ -327,27 +329,13 @@ impl<T: Real> SpringSystem<'_, T> {
 }
 
 impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
-    /// Number of `[T; D]` scratch items [`solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding) needs: `n` (the scaled copy) plus
-    /// `n` for [`AngleMethod::DirectJacobi`], nothing more for [`AngleMethod::DirectGaussSeidel`],
-    /// `4 n` for [`AngleMethod::Cg`]; at least the rigidity probe's `4 n` when `ε = 0`.
+    /// Number of `[T; D]` scratch items [`solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding) needs: `n` more than the
+    /// unconstrained method itself (`2 n` for [`AngleMethod::DirectJacobi`], `n` for
+    /// [`AngleMethod::DirectGaussSeidel`], `5 n` for [`AngleMethod::Cg`], of which CG leaves
+    /// the last `n` unused); at least the rigidity probe's `4 n` when `ε = 0`.
     pub fn solve_angle_sliding_scratch_len(&self, method: AngleMethod) -> usize {
         let n = self.base().node_count();
-        let solve = match method {
-            AngleMethod::DirectJacobi => n.saturating_mul(2),
-            AngleMethod::DirectGaussSeidel => n,
-            AngleMethod::Cg => n.saturating_mul(5),
-        };
-        self.with_probe(solve)
-    }
-
-    /// `solve` scratch items, raised to the rigidity probe's when `ε = 0` (it runs first, in
-    /// the same scratch).
-    fn with_probe(&self, solve: usize) -> usize {
-        if self.epsilon() == T::ZERO {
-            solve.max(self.angle_probe_scratch_len())
-        } else {
-            solve
-        }
+        self.with_probe(n.saturating_add(self.angle_solve_len(method)))
     }
 
     /// The checks every sliding angle solve starts with: `values`, the constraints against
@@ -361,24 +349,6 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         check_values("values", values, self.base().node_count())?;
         constraints.check_mask(self.base().fixed())?;
         options.check()
-    }
-
-    /// `scratch` of at least `needed` items, then (for `ε = 0`) the unconstrained rigidity
-    /// probe in it: a rigid unconstrained system stays rigid when nodes are restricted further.
-    fn probe_rigidity(
-        &self,
-        options: &SolveOptions<T>,
-        scratch: &mut [[T; D]],
-        needed: usize,
-    ) -> Result<()> {
-        check::buffer("scratch", scratch.len(), needed)?;
-        if self.epsilon() == T::ZERO {
-            let s = self.angle_rigidity_probe(options, scratch)?;
-            if s > T::from_f64(MAX_AMPLIFICATION) {
-                return Err(Error::SingularSystem { iteration: 0 });
-            }
-        }
-        Ok(())
     }
 }
 
@@ -430,15 +400,13 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
 }
 
 impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
-    /// Number of `[T; D]` scratch items [`solve_angle_sliding_amg`](crate::spring::AngleSystem::solve_angle_sliding_amg) needs: `5 n` (the
-    /// scaled copy and the CG vectors) plus [`amg_precondition_scratch_len`]; at least the
-    /// rigidity probe's `4 n` when `ε = 0`.
+    /// Number of `[T; D]` scratch items [`solve_angle_sliding_amg`](crate::spring::AngleSystem::solve_angle_sliding_amg) needs:
+    /// [`amg_sliding_cg_scratch_len`](crate::spring::amg_sliding_cg_scratch_len) (`6 n + 3 coarse`); at least the rigidity
+    /// probe's `4 n` when `ε = 0`.
     pub fn solve_angle_sliding_amg_scratch_len(&self, hierarchy: &AmgHierarchy<'_, T>) -> usize {
+        let n = self.base().node_count();
         self.with_probe(
-            self.base()
-                .node_count()
-                .saturating_mul(5)
-                .saturating_add(amg_precondition_scratch_len(hierarchy)),
+            amg_sliding_cg_scratch_len(n, hierarchy.coarse_unknowns()).unwrap_or(usize::MAX),
         )
     }
 
