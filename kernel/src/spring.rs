@@ -63,7 +63,10 @@ pub use amg::{
     AmgSmoother, AMG_MAX_DENSE, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
 };
 pub(crate) use amg::{Layout, Level};
-pub use angle::{AngleMethod, AngleSystem, DEFAULT_ANGLE_EPSILON, MAX_AMPLIFICATION};
+pub use angle::{
+    angle_scratch_items, angle_sliding_scratch_items, AngleMethod, AngleSystem,
+    DEFAULT_ANGLE_EPSILON, MAX_AMPLIFICATION,
+};
 pub use distributed::{Collective, Serial};
 pub use linear::solve_linear_scratch_len;
 pub use sliding::solve_linear_sliding_scratch_len;

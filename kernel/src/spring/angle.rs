@@ -7,7 +7,7 @@ use super::distributed::{Collective, Serial};
 use super::krylov::{
     apply_local, cg_len, exponents, pcg, solve_scaled, Operator, Precondition, Vectors,
 };
-use super::linear::{drive_sweeps, tally, Sweeps};
+use super::linear::{drive_sweeps, gauss_seidel_order, jacobi_order, Sweeps};
 use super::norms::{pair_norms, scale_by, Norm, Pairs};
 use super::system::{check_omega, check_values, SolveOptions, SolveReport, SpringSystem, Sweep};
 use crate::check;
@@ -312,27 +312,11 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
         output: &mut [[T; D]],
         sigma: T,
     ) -> Sweep<T> {
-        let mut max_change = T::ZERO;
-        let mut residual_sq = ExactSum::new();
-        for i in nodes {
-            let Some(&xi) = input.get(i) else { continue };
-            let new = if self.base.is_fixed(i) {
-                xi
-            } else {
-                let (r, m) = self.node_residual(i, xi, input);
-                let dx = cramer(&m, &r).unwrap_or([T::ZERO; D]);
-                tally(&mut max_change, &mut residual_sq, &dx, &r, sigma);
-                vector::add(xi, dx)
-            };
-            if let Some(o) = output.get_mut(i) {
-                *o = new;
-            }
-        }
-        Sweep {
-            max_change,
-            residual_sq: residual_sq.value(),
-            residual_sum: residual_sq,
-        }
+        let fixed = |i| self.base.is_fixed(i);
+        jacobi_order(fixed, nodes, input, output, sigma, |i, xi, x| {
+            let (r, m) = self.node_residual(i, xi, x);
+            (cramer(&m, &r).unwrap_or([T::ZERO; D]), r)
+        })
     }
 
     /// Gauss–Seidel-order sweep without validation, over-relaxed by `omega` (1 = plain
@@ -344,25 +328,12 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
         omega: T,
         sigma: T,
     ) -> Sweep<T> {
-        let mut max_change = T::ZERO;
-        let mut residual_sq = ExactSum::new();
-        for i in nodes {
-            if self.base.is_fixed(i) {
-                continue;
-            }
-            let Some(&xi) = values.get(i) else { continue };
-            let (r, m) = self.node_residual(i, xi, values);
-            let dx = vector::scale(cramer(&m, &r).unwrap_or([T::ZERO; D]), omega);
-            tally(&mut max_change, &mut residual_sq, &dx, &r, sigma);
-            if let Some(o) = values.get_mut(i) {
-                *o = vector::add(xi, dx);
-            }
-        }
-        Sweep {
-            max_change,
-            residual_sq: residual_sq.value(),
-            residual_sum: residual_sq,
-        }
+        let fixed = |i| self.base.is_fixed(i);
+        gauss_seidel_order(fixed, nodes, values, sigma, |i, xi, x| {
+            let (r, m) = self.node_residual(i, xi, x);
+            let dx = cramer(&m, &r).unwrap_or([T::ZERO; D]);
+            (vector::scale(dx, omega), r)
+        })
     }
 }
 
@@ -412,11 +383,10 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
     /// (second field), 0 for [`AngleMethod::DirectGaussSeidel`], `4 n` for [`AngleMethod::Cg`];
     /// at least `4 n` whenever `ε = 0` (the rigidity probe, [`angle_probe_scratch_len`](crate::spring::AngleSystem::angle_probe_scratch_len)).
     pub fn angle_scratch_len(&self, method: AngleMethod) -> usize {
-        self.with_probe(self.angle_solve_len(method))
+        let n = self.base.node_count();
+        angle_scratch_items(n, method, self.epsilon == T::ZERO).unwrap_or(usize::MAX)
     }
 
-    /// `solve` scratch items, raised to the rigidity probe's when `ε = 0` (it runs first, in
-    /// the same scratch).
     /// `scratch` of at least `needed` items, then (for `ε = 0`) the unconstrained rigidity
     /// probe in it: a rigid unconstrained system stays rigid when nodes are restricted further.
     pub(super) fn probe_rigidity(
@@ -435,23 +405,11 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         Ok(())
     }
 
+    /// `solve` scratch items, raised to the rigidity probe's when `ε = 0` (it runs first, in
+    /// the same scratch).
     pub(super) fn with_probe(&self, solve: usize) -> usize {
-        if self.epsilon() == T::ZERO {
-            solve.max(self.angle_probe_scratch_len())
-        } else {
-            solve
-        }
-    }
-
-    /// The scratch items of `method` itself (without the rigidity probe's): `n` for the
-    /// Jacobi-order direct method, 0 for Gauss–Seidel order, the CG vectors for CG.
-    pub(super) fn angle_solve_len(&self, method: AngleMethod) -> usize {
         let n = self.base.node_count();
-        match method {
-            AngleMethod::DirectJacobi => n,
-            AngleMethod::DirectGaussSeidel => 0,
-            AngleMethod::Cg => cg_len(n).unwrap_or(usize::MAX),
-        }
+        with_probe_items(Some(solve), n, self.epsilon == T::ZERO).unwrap_or(usize::MAX)
     }
 }
 
@@ -547,6 +505,56 @@ impl<T: Real, const D: usize> Precondition<T, D> for NodeBlocks<'_, '_, T, D> {
     }
     fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; D]], z: &mut [[T; D]], comm: &C) {
         apply_local(self, r, z, comm);
+    }
+}
+
+/// `[T; D]` scratch items [`solve_angle`](crate::spring::AngleSystem::solve_angle) needs
+/// for `node_count` nodes with `method` (`n` for [`AngleMethod::DirectJacobi`], 0 for
+/// [`AngleMethod::DirectGaussSeidel`], the four CG vectors `4 n` for [`AngleMethod::Cg`]),
+/// raised to the rigidity probe's `4 n` when `rigidity_probe` (`ε = 0`); `None` when the
+/// count overflows. The formula of
+/// [`angle_scratch_len`](crate::spring::AngleSystem::angle_scratch_len), for callers without
+/// a system (a size query).
+pub const fn angle_scratch_items(
+    node_count: usize,
+    method: AngleMethod,
+    rigidity_probe: bool,
+) -> Option<usize> {
+    let solve = match method {
+        AngleMethod::DirectJacobi => Some(node_count),
+        AngleMethod::DirectGaussSeidel => Some(0),
+        AngleMethod::Cg => cg_len(node_count),
+    };
+    with_probe_items(solve, node_count, rigidity_probe)
+}
+
+/// `[T; D]` scratch items
+/// [`solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding) needs: `n` more
+/// than the method itself (see [`angle_scratch_items`]), then raised to the rigidity probe's
+/// `4 n` when `rigidity_probe`; `None` on overflow. The formula of
+/// [`solve_angle_sliding_scratch_len`](crate::spring::AngleSystem::solve_angle_sliding_scratch_len).
+pub const fn angle_sliding_scratch_items(
+    node_count: usize,
+    method: AngleMethod,
+    rigidity_probe: bool,
+) -> Option<usize> {
+    let solve = match angle_scratch_items(node_count, method, false) {
+        Some(s) => s.checked_add(node_count),
+        None => None,
+    };
+    with_probe_items(solve, node_count, rigidity_probe)
+}
+
+/// `solve` raised to the rigidity probe's CG vectors when `probe`.
+const fn with_probe_items(solve: Option<usize>, n: usize, probe: bool) -> Option<usize> {
+    match (solve, probe) {
+        (Some(s), false) => Some(s),
+        (Some(s), true) => match cg_len(n) {
+            Some(p) if p > s => Some(p),
+            Some(_) => Some(s),
+            None => None,
+        },
+        (None, _) => None,
     }
 }
 

@@ -42,7 +42,7 @@ fn node_residual<T: Real, const V: usize>(
 /// sweeps; the whole solves pick it so the sum neither overflows nor underflows). The sum is
 /// exact ([`ExactSum`]): a sweep split into ranges sums to the same bits.
 #[inline]
-pub(crate) fn tally<T: Real, const V: usize>(
+fn tally<T: Real, const V: usize>(
     max_change: &mut T,
     residual_sq: &mut ExactSum,
     change: &[T; V],
@@ -56,30 +56,31 @@ pub(crate) fn tally<T: Real, const V: usize>(
     }
 }
 
-/// Jacobi sweep without validation (the solve validates once).
-pub(crate) fn jacobi_core<T: Real, const V: usize>(
-    sys: &SpringSystem<'_, T>,
+/// One Jacobi-order sweep of a node-wise method over `nodes`: `step(i, x_i, input)` gives a
+/// free node's correction `δ` and residual `r`, `output[i] = x_i + δ`; fixed nodes are
+/// copied, `output` outside the range is not touched. The linear springs' and the angle
+/// springs' direct method share it.
+pub(crate) fn jacobi_order<T: Real, const V: usize, F>(
+    fixed: impl Fn(usize) -> bool,
     nodes: Range<usize>,
     input: &[[T; V]],
     output: &mut [[T; V]],
     sigma: T,
-) -> Sweep<T> {
+    mut step: F,
+) -> Sweep<T>
+where
+    F: FnMut(usize, [T; V], &[[T; V]]) -> ([T; V], [T; V]),
+{
     let mut max_change = T::ZERO;
     let mut residual_sq = ExactSum::new();
     for i in nodes {
         let Some(&xi) = input.get(i) else { continue };
-        let new = if sys.is_fixed(i) {
+        let new = if fixed(i) {
             xi
         } else {
-            let (r, d) = node_residual(sys, i, xi, input);
-            let mut new = xi;
-            let mut change = [T::ZERO; V];
-            for ((n, c), &r) in new.iter_mut().zip(change.iter_mut()).zip(&r) {
-                *c = r / d;
-                *n += *c;
-            }
-            tally(&mut max_change, &mut residual_sq, &change, &r, sigma);
-            new
+            let (dx, r) = step(i, xi, input);
+            tally(&mut max_change, &mut residual_sq, &dx, &r, sigma);
+            crate::vector::add(xi, dx)
         };
         if let Some(o) = output.get_mut(i) {
             *o = new;
@@ -90,6 +91,54 @@ pub(crate) fn jacobi_core<T: Real, const V: usize>(
         residual_sq: residual_sq.value(),
         residual_sum: residual_sq,
     }
+}
+
+/// One in-place Gauss–Seidel-order sweep of a node-wise method over `nodes`, in increasing
+/// node order: `step(i, x_i, values)` gives a free node's (over-relaxed) correction `δ` and
+/// residual `r` from the newest values, `values[i] = x_i + δ`; fixed nodes are skipped.
+pub(crate) fn gauss_seidel_order<T: Real, const V: usize, F>(
+    fixed: impl Fn(usize) -> bool,
+    nodes: Range<usize>,
+    values: &mut [[T; V]],
+    sigma: T,
+    mut step: F,
+) -> Sweep<T>
+where
+    F: FnMut(usize, [T; V], &[[T; V]]) -> ([T; V], [T; V]),
+{
+    let mut max_change = T::ZERO;
+    let mut residual_sq = ExactSum::new();
+    for i in nodes {
+        if fixed(i) {
+            continue;
+        }
+        let Some(&xi) = values.get(i) else { continue };
+        let (dx, r) = step(i, xi, values);
+        tally(&mut max_change, &mut residual_sq, &dx, &r, sigma);
+        if let Some(o) = values.get_mut(i) {
+            *o = crate::vector::add(xi, dx);
+        }
+    }
+    Sweep {
+        max_change,
+        residual_sq: residual_sq.value(),
+        residual_sum: residual_sq,
+    }
+}
+
+/// Jacobi sweep without validation (the solve validates once).
+pub(crate) fn jacobi_core<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    nodes: Range<usize>,
+    input: &[[T; V]],
+    output: &mut [[T; V]],
+    sigma: T,
+) -> Sweep<T> {
+    let fixed = |i| sys.is_fixed(i);
+    jacobi_order(fixed, nodes, input, output, sigma, |i, xi, x| {
+        let (r, d) = node_residual(sys, i, xi, x);
+        (r.map(|r| r / d), r)
+    })
 }
 
 impl<T: Real> SpringSystem<'_, T> {
@@ -125,30 +174,11 @@ pub(crate) fn sor_core<T: Real, const V: usize>(
     omega: T,
     sigma: T,
 ) -> Sweep<T> {
-    let mut max_change = T::ZERO;
-    let mut residual_sq = ExactSum::new();
-    for i in nodes {
-        if sys.is_fixed(i) {
-            continue;
-        }
-        let Some(&xi) = values.get(i) else { continue };
-        let (r, d) = node_residual(sys, i, xi, values);
-        let mut new = xi;
-        let mut change = [T::ZERO; V];
-        for ((n, c), &r) in new.iter_mut().zip(change.iter_mut()).zip(&r) {
-            *c = omega * (r / d);
-            *n += *c;
-        }
-        tally(&mut max_change, &mut residual_sq, &change, &r, sigma);
-        if let Some(o) = values.get_mut(i) {
-            *o = new;
-        }
-    }
-    Sweep {
-        max_change,
-        residual_sq: residual_sq.value(),
-        residual_sum: residual_sq,
-    }
+    let fixed = |i| sys.is_fixed(i);
+    gauss_seidel_order(fixed, nodes, values, sigma, |i, xi, x| {
+        let (r, d) = node_residual(sys, i, xi, x);
+        (r.map(|r| omega * (r / d)), r)
+    })
 }
 
 impl<T: Real> SpringSystem<'_, T> {

@@ -34,7 +34,7 @@
 use core::ops::Range;
 
 use super::amg::{amg_sliding_cg_scratch_len, AmgHierarchy, Vcycle};
-use super::angle::{cramer, AngleMethod, AngleSystem};
+use super::angle::{angle_sliding_scratch_items, cramer, AngleMethod, AngleSystem};
 use super::distributed::{Collective, Serial};
 use super::krylov::{
     apply_local, cg_len, exponents, pcg, Identity, Operator, Precondition, Vectors,
@@ -334,8 +334,8 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
     /// [`AngleMethod::DirectGaussSeidel`], `5 n` for [`AngleMethod::Cg`], of which CG leaves
     /// the last `n` unused); at least the rigidity probe's `4 n` when `ε = 0`.
     pub fn solve_angle_sliding_scratch_len(&self, method: AngleMethod) -> usize {
-        let n = self.base().node_count();
-        self.with_probe(n.saturating_add(self.angle_solve_len(method)))
+        let probe = self.epsilon() == T::ZERO;
+        angle_sliding_scratch_items(self.base().node_count(), method, probe).unwrap_or(usize::MAX)
     }
 
     /// The checks every sliding angle solve starts with: `values`, the constraints against
