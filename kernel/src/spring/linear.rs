@@ -20,7 +20,7 @@ use crate::reduce::ExactSum;
 /// Node `i`'s residual `r_i = Σ_j k_ij (x_j − x_i)` (= `b − A x` at a free node, Yang & Özgen
 /// eq. 1 with the sign flipped) and diagonal `d_i = Σ_j k_ij`, summed in CSR order.
 #[inline]
-fn node_residual<T: Real, const V: usize>(
+pub(crate) fn node_residual<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     i: usize,
     xi: [T; V],

@@ -39,7 +39,9 @@ use super::distributed::{Collective, Serial};
 use super::krylov::{
     apply_local, cg_len, exponents, pcg, Identity, Operator, Precondition, Vectors,
 };
-use super::linear::{diagonal, drive_sweeps, solve_linear_scratch_len, Jacobi, Ssor, Sweeps};
+use super::linear::{
+    diagonal, drive_sweeps, node_residual, solve_linear_scratch_len, Jacobi, Ssor, Sweeps,
+};
 use super::norms::{pair_norms, scale_by, Norm, Pairs};
 use super::solver::LinearSolver;
 use super::system::{
@@ -89,15 +91,7 @@ impl<T: Real, const D: usize> BlockOp<T, D> for LinearOp<'_, '_, T> {
     }
     fn node(&self, i: usize, x: &[[T; D]]) -> ([T; D], [[T; D]; D]) {
         let xi = x.get(i).copied().unwrap_or([T::ZERO; D]);
-        let mut r = [T::ZERO; D];
-        let mut d = T::ZERO;
-        for (j, k) in self.0.row(i) {
-            let xj = x.get(j).copied().unwrap_or(xi);
-            for ((a, &b), &c) in r.iter_mut().zip(&xj).zip(&xi) {
-                *a += k * (b - c);
-            }
-            d += k;
-        }
+        let (r, d) = node_residual(self.0, i, xi, x);
         let mut m = [[T::ZERO; D]; D];
         for (c, row) in m.iter_mut().enumerate() {
             if let Some(e) = row.get_mut(c) {
