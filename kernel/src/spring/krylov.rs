@@ -26,11 +26,17 @@
 //!
 //! **Scratch.** [`CG_VECTORS`] vectors of `n` items (iterate, residual, direction, and one
 //! shared by `A p` and `M⁻¹ r`) in front of whatever the preconditioner keeps.
+//!
+//! **Adding a solve.** A new operator (elasticity, a distributed one) implements [`Operator`]
+//! with its lanes; a new preconditioner [`Precondition`]; the solve calls [`solve_scaled`]
+//! (or [`pcg`] on its own scaled copy, as the sliding solves do). All is monomorphised: no
+//! `dyn`, no allocation, every access checked.
 
 use core::ops::Range;
 
-use super::distributed::Collective;
-use super::distributed::{merged, merged_max, merged_one, merged_with, share_field, share_halo};
+use super::distributed::{
+    merged, merged_max, merged_one, merged_with, share_field, share_halo, Collective,
+};
 use super::norms::{scale_by, Norm};
 use super::system::{SolveOptions, SolveReport};
 use crate::error::{Error, Result};
