@@ -613,10 +613,9 @@ impl<T: Real, const V: usize, const STORED: bool> Operator<T, V, V>
     ) {
         if STORED {
             let ds = self.diag.get(rows.clone()).unwrap_or(&[]);
-            laplacian_rows::<T, V, true, _>(self.sys, rows, ds.iter().copied(), p, q, pq, dpp);
+            laplacian_rows::<T, V, true>(self.sys, rows, ds, p, q, pq, dpp);
         } else {
-            let ds = core::iter::repeat(T::ZERO);
-            laplacian_rows::<T, V, false, _>(self.sys, rows, ds, p, q, pq, dpp);
+            laplacian_rows::<T, V, false>(self.sys, rows, &[], p, q, pq, dpp);
         }
     }
 
@@ -631,12 +630,13 @@ impl<T: Real, const V: usize, const STORED: bool> Operator<T, V, V>
 }
 
 /// [`Laplacian::apply`] over `rows`, with the diagonal from `diag` (one per row) when
-/// `STORED`, else summed from each row (`diag` ignored).
+/// `STORED`, else summed from each row (`diag` ignored). The two iterations differ only in
+/// the zip (a slice zip keeps the loop free of per-row checks).
 #[inline]
-fn laplacian_rows<T: Real, const V: usize, const STORED: bool, I: Iterator<Item = T>>(
+fn laplacian_rows<T: Real, const V: usize, const STORED: bool>(
     sys: &SpringSystem<'_, T>,
     rows: Range<usize>,
-    diag: I,
+    diag: &[T],
     p: &[[T; V]],
     q: &mut [[T; V]],
     pq: &mut [ExactSum; V],
@@ -645,30 +645,50 @@ fn laplacian_rows<T: Real, const V: usize, const STORED: bool, I: Iterator<Item 
     let (Some(qs), Some(ps)) = (q.get_mut(rows.clone()), p.get(rows.clone())) else {
         return;
     };
-    for ((_, fixed, row), ((qi, &pi), d)) in sys.rows_in(rows).zip(qs.iter_mut().zip(ps).zip(diag))
-    {
-        if fixed {
-            *qi = [T::ZERO; V];
-            continue;
+    let rows = sys.rows_in(rows);
+    if STORED {
+        for ((_, fixed, row), ((qi, &pi), &d)) in rows.zip(qs.iter_mut().zip(ps).zip(diag)) {
+            *qi = laplacian_row::<T, V, true>(fixed, row, pi, d, p, pq, dpp);
         }
-        let mut acc = [T::ZERO; V];
-        let mut sum = T::ZERO;
-        for (j, k) in row {
-            let pj = p.get(j).copied().unwrap_or([T::ZERO; V]);
-            for ((a, &x), &y) in acc.iter_mut().zip(&pi).zip(&pj) {
-                *a += k * (x - y);
-            }
-            if !STORED {
-                sum += k;
-            }
+    } else {
+        for ((_, fixed, row), (qi, &pi)) in rows.zip(qs.iter_mut().zip(ps)) {
+            *qi = laplacian_row::<T, V, false>(fixed, row, pi, T::ZERO, p, pq, dpp);
         }
-        let d = if STORED { d } else { sum };
-        for (((s, t), &x), &a) in dpp.iter_mut().zip(pq.iter_mut()).zip(&pi).zip(&acc) {
-            *s = s.max(d * x * x);
-            t.add(x * a);
-        }
-        *qi = acc;
     }
+}
+
+/// One row of [`laplacian_rows`]: `(A p)_i` (zero at a fixed node), adding `p_i (A p)_i` to
+/// `pq` and raising `dpp` by `d_i p_i²` (`d_i` given when `STORED`, else summed here).
+#[inline(always)]
+fn laplacian_row<T: Real, const V: usize, const STORED: bool>(
+    fixed: bool,
+    row: impl Iterator<Item = (usize, T)>,
+    pi: [T; V],
+    d: T,
+    p: &[[T; V]],
+    pq: &mut [ExactSum; V],
+    dpp: &mut [T; V],
+) -> [T; V] {
+    if fixed {
+        return [T::ZERO; V];
+    }
+    let mut acc = [T::ZERO; V];
+    let mut sum = T::ZERO;
+    for (j, k) in row {
+        let pj = p.get(j).copied().unwrap_or([T::ZERO; V]);
+        for ((a, &x), &y) in acc.iter_mut().zip(&pi).zip(&pj) {
+            *a += k * (x - y);
+        }
+        if !STORED {
+            sum += k;
+        }
+    }
+    let d = if STORED { d } else { sum };
+    for (((s, t), &x), &a) in dpp.iter_mut().zip(pq.iter_mut()).zip(&pi).zip(&acc) {
+        *s = s.max(d * x * x);
+        t.add(x * a);
+    }
+    acc
 }
 
 /// The Jacobi preconditioner `z_i = r_i / d_i` (zero at fixed nodes): node-local.
