@@ -494,7 +494,9 @@ impl<T: Real, const D: usize> Operator<T, D, 1> for AngleSystem<'_, T, D> {
 struct NodeBlocks<'s, 'a, T: Real, const D: usize>(&'s AngleSystem<'a, T, D>);
 
 impl<T: Real, const D: usize> Precondition<T, D> for NodeBlocks<'_, '_, T, D> {
-    const LOCAL: bool = true;
+    fn local(&self) -> bool {
+        true
+    }
     #[inline]
     fn node(&self, i: usize, r: [T; D]) -> [T; D] {
         if self.0.base.is_fixed(i) {

@@ -81,27 +81,11 @@ pub(crate) trait Operator<T: Real, const V: usize, const L: usize> {
 /// A symmetric positive definite preconditioner `z = M⁻¹ r`, zero at fixed nodes.
 pub(crate) trait Precondition<T: Real, const V: usize> {
     /// `z_i` depends on `r_i` alone ([`node`](Self::node)): fused into the update pass.
-    const LOCAL: bool;
-    /// `z_i` of a node-local preconditioner (unused when not [`LOCAL`](Self::LOCAL)).
+    fn local(&self) -> bool;
+    /// `z_i` of a node-local preconditioner (unused when not [`local`](Self::local)).
     fn node(&self, i: usize, r: [T; V]) -> [T; V];
     /// `z = M⁻¹ r` on (at least) the owned rows of `comm`; `r` current on them.
     fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; V]], z: &mut [[T; V]], comm: &C);
-}
-
-/// No preconditioner: `z = r` (the residual is already zero at fixed nodes).
-pub(crate) struct Identity;
-
-impl<T: Real, const V: usize> Precondition<T, V> for Identity {
-    const LOCAL: bool = true;
-    #[inline]
-    fn node(&self, _: usize, r: [T; V]) -> [T; V] {
-        r
-    }
-    fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; V]], z: &mut [[T; V]], _: &C) {
-        for (z, &r) in z.iter_mut().zip(r) {
-            *z = r;
-        }
-    }
 }
 
 /// Applies a node-local preconditioner over the owned rows.
@@ -286,6 +270,7 @@ where
     // One set of per-lane accumulators for every per-lane sum of an iteration (each is
     // rounded before the next begins): 584 bytes a lane matter on a small stack.
     let mut sums = [ExactSum::new(); L];
+    let local = pre.local();
     let mut rz = restart(op, pre, v, &mut sums, comm);
     let mut checked = true;
     while report.iterations < options.max_iterations {
@@ -296,7 +281,7 @@ where
             .iter()
             .zip(exps)
             .fold(T::ZERO, |m, (&u, &e)| m.max(scale_by(u, e)));
-        let (rr, mut rz_new) = if M::LOCAL {
+        let (rr, mut rz_new) = if local {
             merged_with(comm, &mut rr, &mut sums)
         } else {
             (merged_one(comm, &mut rr), [T::ZERO; L])
@@ -320,7 +305,7 @@ where
                 continue;
             }
         }
-        if !M::LOCAL {
+        if !local {
             pre.apply(v.r, v.w, comm);
             rz_new = owned_dots(v.r, v.w, &mut sums, comm);
         }
@@ -356,7 +341,7 @@ where
             *r = op.residual(i, x);
         }
     }
-    if M::LOCAL {
+    if pre.local() {
         apply_local(pre, v.r, v.w, comm);
     } else {
         pre.apply(v.r, v.w, comm);
@@ -459,7 +444,8 @@ where
     }
     let mut max_update = [T::ZERO; V];
     let mut rr = ExactSum::new();
-    if M::LOCAL {
+    let local = pre.local();
+    if local {
         sums.iter_mut().for_each(|s| *s = ExactSum::new());
     }
     for range in comm.owned() {
@@ -489,7 +475,7 @@ where
                 let rg = *r * g;
                 rr.add(rg * rg);
             }
-            if M::LOCAL {
+            if local {
                 *w = pre.node(i, *r);
                 lane_dot(sums, r, w);
             }

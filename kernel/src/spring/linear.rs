@@ -5,7 +5,7 @@ use core::ops::Range;
 
 use super::distributed::{check_owned, Collective, Serial};
 use super::krylov::{
-    apply_local, cg_len, exponents, solve_scaled, Identity, Operator, Precondition, Vectors,
+    apply_local, cg_len, exponents, solve_scaled, Operator, Precondition, Vectors,
 };
 use super::norms::{pair_norms, scale_by, sweep_exponent, Norm, Pairs};
 use super::system::{
@@ -433,7 +433,7 @@ pub(crate) fn solve_linear_on<T: Real, const V: usize>(
                 options,
                 preconditioner,
                 scratch,
-                &Serial::new(n),
+                &Serial::new(n) as &dyn Collective<T>,
             ),
         },
     }
@@ -691,23 +691,35 @@ fn laplacian_row<T: Real, const V: usize, const STORED: bool>(
     acc
 }
 
-/// The Jacobi preconditioner `z_i = r_i / d_i` (zero at fixed nodes): node-local.
-pub(crate) struct Jacobi<'s, T> {
+/// The linear springs' one-level preconditioners ([`Preconditioner`]: none, Jacobi `z_i =
+/// r_i / d_i`, SSOR), chosen at run time so that one CG serves all three; zero at fixed
+/// nodes. None and Jacobi are node-local (fused into the update pass), SSOR sweeps every node
+/// in order (serial only).
+pub(crate) struct OneLevel<'s, 'a, T: Real> {
+    pub(crate) sys: &'s SpringSystem<'a, T>,
     pub(crate) diag: &'s [T],
-    pub(crate) fixed: &'s [u8],
+    pub(crate) pre: Preconditioner<T>,
 }
 
-impl<T: Real, const V: usize> Precondition<T, V> for Jacobi<'_, T> {
-    const LOCAL: bool = true;
+impl<T: Real, const V: usize> Precondition<T, V> for OneLevel<'_, '_, T> {
+    fn local(&self) -> bool {
+        !matches!(self.pre, Preconditioner::Ssor { .. })
+    }
     #[inline]
     fn node(&self, i: usize, r: [T; V]) -> [T; V] {
-        match (self.diag.get(i), self.fixed.get(i)) {
-            (Some(&d), Some(&m)) => jacobi_node(r, d, is_fixed(m)),
-            _ => [T::ZERO; V],
+        match self.pre {
+            Preconditioner::Jacobi => match (self.diag.get(i), self.sys.fixed().get(i)) {
+                (Some(&d), Some(&m)) => jacobi_node(r, d, is_fixed(m)),
+                _ => [T::ZERO; V],
+            },
+            _ => r,
         }
     }
     fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; V]], z: &mut [[T; V]], comm: &C) {
-        apply_local(self, r, z, comm);
+        match self.pre {
+            Preconditioner::Ssor { omega } => ssor(self.sys, self.diag, omega, r, z),
+            _ => apply_local(self, r, z, comm),
+        }
     }
 }
 
@@ -721,24 +733,7 @@ fn jacobi_node<T: Real, const V: usize>(r: [T; V], d: T, fixed: bool) -> [T; V] 
     }
 }
 
-/// The SSOR preconditioner, `M = (D + ωL) D⁻¹ (D + ωU) / (ω (2 − ω))`: one forward and one
-/// backward sweep over every node in order (serial only).
-pub(crate) struct Ssor<'s, 'a, T: Real> {
-    pub(crate) sys: &'s SpringSystem<'a, T>,
-    pub(crate) diag: &'s [T],
-    pub(crate) omega: T,
-}
-
-impl<T: Real, const V: usize> Precondition<T, V> for Ssor<'_, '_, T> {
-    const LOCAL: bool = false;
-    fn node(&self, _: usize, r: [T; V]) -> [T; V] {
-        r
-    }
-    fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; V]], z: &mut [[T; V]], _: &C) {
-        ssor(self.sys, self.diag, self.omega, r, z);
-    }
-}
-
+/// The SSOR preconditioner `M = (D + ωL) D⁻¹ (D + ωU) / (ω (2 − ω))`, `z = M⁻¹ r`.
 /// The two SSOR sweeps. No per-edge fixed-mask test: `z` is zero at fixed nodes (set by the
 /// forward sweep before any later row reads it), so their terms add nothing.
 fn ssor<T: Real, const V: usize>(
@@ -817,20 +812,6 @@ fn solve_cg<T: Real, const V: usize, C: Collective<T> + ?Sized>(
     let op = Laplacian::<T, true> { sys, diag };
     let exps = exponents(sys.stiffness(), values, false);
     let fixed = |i| sys.is_fixed(i);
-    match pre {
-        Preconditioner::None => {
-            solve_scaled(&op, &mut Identity, v, values, exps, fixed, options, comm)
-        }
-        Preconditioner::Jacobi => {
-            let mut jacobi = Jacobi {
-                diag,
-                fixed: sys.fixed(),
-            };
-            solve_scaled(&op, &mut jacobi, v, values, exps, fixed, options, comm)
-        }
-        Preconditioner::Ssor { omega } => {
-            let mut ssor = Ssor { sys, diag, omega };
-            solve_scaled(&op, &mut ssor, v, values, exps, fixed, options, comm)
-        }
-    }
+    let mut pre = OneLevel { sys, diag, pre };
+    solve_scaled(&op, &mut pre, v, values, exps, fixed, options, comm)
 }

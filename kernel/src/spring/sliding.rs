@@ -36,11 +36,9 @@ use core::ops::Range;
 use super::amg::{amg_sliding_cg_scratch_len, AmgHierarchy, Vcycle};
 use super::angle::{angle_sliding_scratch_items, cramer, AngleMethod, AngleSystem};
 use super::distributed::{Collective, Serial};
-use super::krylov::{
-    apply_local, cg_len, exponents, pcg, Identity, Operator, Precondition, Vectors,
-};
+use super::krylov::{apply_local, cg_len, exponents, pcg, Operator, Precondition, Vectors};
 use super::linear::{
-    diagonal, drive_sweeps, node_residual, solve_linear_scratch_len, Jacobi, Ssor, Sweeps,
+    diagonal, drive_sweeps, node_residual, solve_linear_scratch_len, OneLevel, Sweeps,
 };
 use super::norms::{pair_norms, scale_by, Norm, Pairs};
 use super::solver::LinearSolver;
@@ -723,7 +721,9 @@ struct ProjectedPre<'o, 'c, T: Real, const D: usize, O: BlockOp<T, D>, M> {
 impl<T: Real, const D: usize, O: BlockOp<T, D>, M: Precondition<T, D>> Precondition<T, D>
     for ProjectedPre<'_, '_, T, D, O, M>
 {
-    const LOCAL: bool = M::LOCAL;
+    fn local(&self) -> bool {
+        self.inner.local()
+    }
     #[inline]
     fn node(&self, i: usize, r: [T; D]) -> [T; D] {
         if self.op.fixed(i) {
@@ -751,7 +751,9 @@ struct Blocks<'o, 'c, T: Real, const D: usize, O: BlockOp<T, D>> {
 }
 
 impl<T: Real, const D: usize, O: BlockOp<T, D>> Precondition<T, D> for Blocks<'_, '_, T, D, O> {
-    const LOCAL: bool = true;
+    fn local(&self) -> bool {
+        true
+    }
     #[inline]
     fn node(&self, i: usize, r: [T; D]) -> [T; D] {
         if self.op.fixed(i) {
@@ -790,34 +792,12 @@ fn cg<T: Real, const D: usize, O: BlockOp<T, D>>(
     let exps = [e; D];
     let serial = Serial::new(n);
     match (pre, sys) {
-        (Pre::Linear(p), Some(sys)) => {
+        (Pre::Linear(pre), Some(sys)) => {
             let diag = rest.as_flattened_mut().get_mut(..n).unwrap_or(&mut []);
             diagonal(sys, diag);
-            let diag: &[T] = diag;
-            match p {
-                Preconditioner::None => {
-                    let mut m = ProjectedPre {
-                        op,
-                        c,
-                        inner: Identity,
-                    };
-                    pcg(&proj, &mut m, &mut v, &exps, options, &serial)
-                }
-                Preconditioner::Jacobi => {
-                    let fixed = sys.fixed();
-                    let mut m = ProjectedPre {
-                        op,
-                        c,
-                        inner: Jacobi { diag, fixed },
-                    };
-                    pcg(&proj, &mut m, &mut v, &exps, options, &serial)
-                }
-                Preconditioner::Ssor { omega } => {
-                    let inner = Ssor { sys, diag, omega };
-                    let mut m = ProjectedPre { op, c, inner };
-                    pcg(&proj, &mut m, &mut v, &exps, options, &serial)
-                }
-            }
+            let inner = OneLevel { sys, diag, pre };
+            let mut m = ProjectedPre { op, c, inner };
+            pcg(&proj, &mut m, &mut v, &exps, options, &serial)
         }
         (Pre::Amg(h), Some(sys)) => {
             let inner = Vcycle::new(sys, h, rest);

@@ -149,7 +149,9 @@ impl<'s, 'a, 'h, T: Real, const V: usize> Vcycle<'s, 'a, 'h, T, V> {
 }
 
 impl<T: Real, const V: usize> Precondition<T, V> for Vcycle<'_, '_, '_, T, V> {
-    const LOCAL: bool = false;
+    fn local(&self) -> bool {
+        false
+    }
     fn node(&self, _: usize, r: [T; V]) -> [T; V] {
         r
     }
@@ -193,7 +195,7 @@ impl<T: Real> SpringSystem<'_, T> {
             values,
             options,
             scratch,
-            &Serial::new(self.node_count()),
+            &Serial::new(self.node_count()) as &dyn Collective<T>,
         )
     }
 }
