@@ -123,7 +123,7 @@ fn main() {
     }
     // Sliding: the far field slides along its circle (a line with the radial normal).
     let far = &mesh.marker("farfield").unwrap().node_list;
-    let mut kinds: Vec<u8> = fixed.iter().map(|&f| f).collect();
+    let mut kinds: Vec<u8> = fixed.clone();
     let mut dirs = vec![[0.0f64; 2]; n];
     for &i in far {
         let i = i as usize;
