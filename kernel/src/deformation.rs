@@ -59,7 +59,7 @@ mod pipeline;
 mod propagate;
 mod reach;
 mod rotations;
-mod springs;
+pub(crate) mod springs;
 mod tfi;
 mod update;
 

@@ -30,6 +30,11 @@
 //! paper's `Σ k x_j / Σ k`): a field that is uniform over a node's neighbourhood is then a
 //! bit-exact fixed point, so a uniform translation of every boundary is reproduced exactly.
 //!
+//! - **One Krylov core**: every conjugate-gradient solve above (and the rigidity probe) is
+//!   the one loop of `krylov.rs` over an operator (linear springs, angle springs, the
+//!   sliding projection `P K P`) and a preconditioner (none, Jacobi, node blocks, SSOR, the
+//!   V-cycle), with one stopping rule; every CG scratch length comes from its CG vectors
+//!   and [`amg_cg_scratch_len`].
 //! - **Sliding nodes** ([`Constraints`](crate::slide::Constraints): a node slides on a plane
 //!   or a line): [`solve_linear_sliding`](crate::spring::SpringSystem::solve_linear_sliding) and [`solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding) solve the projected
 //!   system `P K P d = P b` jointly over the components (see their module for why it stays
@@ -43,6 +48,7 @@
 mod amg;
 mod angle;
 mod distributed;
+mod krylov;
 mod linear;
 mod norms;
 mod sliding;
@@ -52,11 +58,15 @@ mod stiffness;
 mod system;
 
 pub use amg::{
-    amg_precondition_scratch_len, amg_setup_work_len, solve_linear_amg_scratch_len, AmgHierarchy,
-    AmgOptions, AmgSizes, AmgSmoother, AMG_MAX_DENSE, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
+    amg_cg_scratch_len, amg_precondition_scratch_len, amg_setup_work_len,
+    amg_sliding_cg_scratch_len, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, AmgSizes,
+    AmgSmoother, AMG_MAX_DENSE, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
 };
 pub(crate) use amg::{Layout, Level};
-pub use angle::{AngleMethod, AngleSystem, DEFAULT_ANGLE_EPSILON, MAX_AMPLIFICATION};
+pub use angle::{
+    angle_scratch_items, angle_sliding_scratch_items, AngleMethod, AngleSystem,
+    DEFAULT_ANGLE_EPSILON, MAX_AMPLIFICATION,
+};
 pub use distributed::{Collective, Serial};
 pub use linear::solve_linear_scratch_len;
 pub use sliding::solve_linear_sliding_scratch_len;

@@ -145,9 +145,7 @@ fn propagate_packed<T: Real, const D: usize, const V: usize>(
             })
         }
     };
-    // Pack the fixed values (hemisphere-aligned) and their mean.
-    let mut mean = [T::ZERO; V];
-    let mut count = 0usize;
+    // Pack the fixed values (hemisphere-aligned); the free nodes start at their mean.
     for (i, v) in values.iter_mut().enumerate() {
         if !sys.is_fixed(i) {
             continue;
@@ -156,30 +154,10 @@ fn propagate_packed<T: Real, const D: usize, const V: usize>(
         let q = rotations.get(i).copied().unwrap_or(reference);
         let q = if q.dot(reference) < T::ZERO { -q } else { q };
         *v = pack(t, q);
-        for (m, x) in mean.iter_mut().zip(v.iter()) {
-            *m += *x;
-        }
-        count += 1;
     }
-    let c = T::from_usize(count.max(1));
-    for m in mean.iter_mut() {
-        *m /= c;
-    }
-    for (i, v) in values.iter_mut().enumerate() {
-        if !sys.is_fixed(i) {
-            *v = mean;
-        }
-    }
+    start_at_fixed_mean(sys, values);
     let report = sys.solve_linear_with(values, solver, options, solver_scratch)?;
-    // Every free quaternion must normalise before anything is written.
-    for (i, v) in values.iter().enumerate() {
-        if !sys.is_fixed(i) && unpack::<T, D, V>(v).1.normalize().is_err() {
-            return Err(Error::ZeroLength {
-                arg: "rotations",
-                position: i,
-            });
-        }
-    }
+    check_rotations::<T, D, V>(sys, values)?;
     for (i, ((v, t), r)) in values
         .iter()
         .zip(translations.iter_mut())
@@ -198,7 +176,7 @@ fn propagate_packed<T: Real, const D: usize, const V: usize>(
 
 /// `[Δ, w, x, y, z]`.
 #[inline]
-fn pack<T: Real, const D: usize, const V: usize>(t: [T; D], q: Quat<T>) -> [T; V] {
+pub(crate) fn pack<T: Real, const D: usize, const V: usize>(t: [T; D], q: Quat<T>) -> [T; V] {
     let mut v = [T::ZERO; V];
     for (a, b) in v.iter_mut().zip(t.iter().chain(q.to_array().iter())) {
         *a = *b;
@@ -208,7 +186,7 @@ fn pack<T: Real, const D: usize, const V: usize>(t: [T; D], q: Quat<T>) -> [T; V
 
 /// Inverse of [`pack`].
 #[inline]
-fn unpack<T: Real, const D: usize, const V: usize>(v: &[T; V]) -> ([T; D], Quat<T>) {
+pub(crate) fn unpack<T: Real, const D: usize, const V: usize>(v: &[T; V]) -> ([T; D], Quat<T>) {
     let mut t = [T::ZERO; D];
     for (a, b) in t.iter_mut().zip(v.iter()) {
         *a = *b;
@@ -218,4 +196,51 @@ fn unpack<T: Real, const D: usize, const V: usize>(v: &[T; V]) -> ([T; D], Quat<
         *a = *b;
     }
     (t, Quat::from_array(q))
+}
+
+/// The cold start of a packed solve: every free node gets the mean of the fixed nodes'
+/// values (summed in node order), which is returned.
+pub(crate) fn start_at_fixed_mean<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    values: &mut [[T; V]],
+) -> [T; V] {
+    let mut mean = [T::ZERO; V];
+    let mut count = 0usize;
+    for (i, v) in values.iter().enumerate() {
+        if sys.is_fixed(i) {
+            for (m, x) in mean.iter_mut().zip(v.iter()) {
+                *m += *x;
+            }
+            count += 1;
+        }
+    }
+    let c = T::from_usize(count.max(1));
+    for m in mean.iter_mut() {
+        *m /= c;
+    }
+    for (i, v) in values.iter_mut().enumerate() {
+        if !sys.is_fixed(i) {
+            *v = mean;
+        }
+    }
+    mean
+}
+
+/// Checks that every free node's solved quaternion normalises, before anything is written.
+///
+/// # Errors
+/// [`Error::ZeroLength`] on `rotations` at the first node whose quaternion does not.
+pub(crate) fn check_rotations<T: Real, const D: usize, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    values: &[[T; V]],
+) -> Result<()> {
+    for (i, v) in values.iter().enumerate() {
+        if !sys.is_fixed(i) && unpack::<T, D, V>(v).1.normalize().is_err() {
+            return Err(Error::ZeroLength {
+                arg: "rotations",
+                position: i,
+            });
+        }
+    }
+    Ok(())
 }

@@ -9,8 +9,8 @@ use crate::graph::Graph;
 use crate::real::Real;
 use crate::slide::NodeKind;
 use crate::spring::{
-    amg_setup_work_len, batina_stiffness, check_omega, solve_linear_scratch_len, AmgHierarchy,
-    LinearMethod, Preconditioner, SpringSystem,
+    amg_cg_scratch_len, amg_setup_work_len, batina_stiffness, check_omega,
+    solve_linear_scratch_len, AmgHierarchy, LinearMethod, Preconditioner, SpringSystem,
 };
 
 /// Transient work lengths.
@@ -177,9 +177,7 @@ fn prepare<T: Real, const D: usize>(
     let (amg_index, amg_values, scratch) = match &spec.solver {
         PlanSolver::Amg(opts) => {
             let s = AmgHierarchy::setup_len(&sys, opts, work.indices)?;
-            let scratch = n
-                .saturating_mul(5)
-                .saturating_add(s.coarse_unknowns.saturating_mul(3));
+            let scratch = amg_cg_scratch_len(n, s.coarse_unknowns).unwrap_or(usize::MAX);
             (s.index, s.values, scratch)
         }
         PlanSolver::Method(m) => (0, 0, solve_linear_scratch_len(m, n)),

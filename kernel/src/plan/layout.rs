@@ -6,7 +6,9 @@ use core::ops::Range;
 use super::{PlanCounts, PlanMethod, PlanSizes, AMG_LAYOUT_WORDS, AMG_WEIGHTS};
 use crate::error::{Error, Result};
 use crate::real::Real;
-use crate::spring::{Layout, Level, LinearMethod, Preconditioner, AMG_MAX_LEVELS, AMG_MAX_SWEEPS};
+use crate::spring::{
+    amg_cg_scratch_len, Layout, Level, LinearMethod, Preconditioner, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
+};
 
 /// `"DPLN"` (deform plan), little end first.
 pub(super) const MAGIC: u32 = 0x4E4C_5044;
@@ -545,11 +547,7 @@ fn check_amg(layout: &Layout, sweeps: usize, c: &Counts) -> Result<()> {
         return Err(bad("multigrid coarse factor outside its buffers"));
     }
     let coarse = layout.coarse_unknowns();
-    if c.scratch
-        != c.n
-            .saturating_mul(5)
-            .saturating_add(coarse.saturating_mul(3))
-    {
+    if c.scratch != amg_cg_scratch_len(c.n, coarse).unwrap_or(usize::MAX) {
         return Err(bad("solver scratch size disagrees with the hierarchy"));
     }
     Ok(())

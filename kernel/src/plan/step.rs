@@ -6,6 +6,7 @@ use super::layout::{self, set_hw, w, AmgParts, Meta, SolverKind};
 use super::{Plan, PlanMethod, PlanMotion, Start, StepReport};
 use crate::cells::Cells;
 use crate::check;
+use crate::deformation::springs::{check_rotations, pack, start_at_fixed_mean, unpack};
 use crate::deformation::{
     apply, origin_core, rigid_node_rotation, rotations_core, translation, Pts, RotationSource,
 };
@@ -388,30 +389,6 @@ fn choose_start<T: Real, const D: usize, const V: usize>(
     Ok(best)
 }
 
-/// `[Δ, w, x, y, z]`.
-#[inline]
-fn pack<T: Real, const D: usize, const V: usize>(t: [T; D], q: Quat<T>) -> [T; V] {
-    let mut v = [T::ZERO; V];
-    for (a, b) in v.iter_mut().zip(t.iter().chain(q.to_array().iter())) {
-        *a = *b;
-    }
-    v
-}
-
-/// Inverse of [`pack`].
-#[inline]
-fn unpack<T: Real, const D: usize, const V: usize>(v: &[T; V]) -> ([T; D], Quat<T>) {
-    let mut t = [T::ZERO; D];
-    for (a, b) in t.iter_mut().zip(v.iter()) {
-        *a = *b;
-    }
-    let mut q = [T::ZERO; 4];
-    for (a, b) in q.iter_mut().zip(v.iter().skip(D)) {
-        *a = *b;
-    }
-    (t, Quat::from_array(q))
-}
-
 /// The quaternion method with spring propagation (`V = D + 4`): the steps of
 /// [`deform_spring_with`](crate::deformation::deform_spring_with) on the plan's data.
 fn run_quaternion<T: Real, const D: usize, const V: usize>(
@@ -494,25 +471,7 @@ fn run_quaternion<T: Real, const D: usize, const V: usize>(
     // Initial guess at the free nodes: the cold one (as the stateless pipeline), then the
     // stored solutions if their residual is smaller.
     let guess = {
-        let mut mean = [T::ZERO; V];
-        let mut count = 0usize;
-        for (i, v) in m.work.iter().enumerate() {
-            if f.sys.is_fixed(i) {
-                for (a, x) in mean.iter_mut().zip(v.iter()) {
-                    *a += *x;
-                }
-                count += 1;
-            }
-        }
-        let c = T::from_usize(count.max(1));
-        for a in mean.iter_mut() {
-            *a /= c;
-        }
-        for (i, v) in m.work.iter_mut().enumerate() {
-            if !f.sys.is_fixed(i) {
-                *v = mean;
-            }
-        }
+        let mean = start_at_fixed_mean(&f.sys, m.work);
         let flip = |r: &[T]| {
             let q = r
                 .as_chunks::<4>()
@@ -536,14 +495,7 @@ fn run_quaternion<T: Real, const D: usize, const V: usize>(
     let report = f
         .sys
         .solve_linear_with(m.work, solver, &f.options, m.scratch)?;
-    for (i, v) in m.work.iter().enumerate() {
-        if !f.sys.is_fixed(i) && unpack::<T, D, V>(v).1.normalize().is_err() {
-            return Err(Error::ZeroLength {
-                arg: "rotations",
-                position: i,
-            });
-        }
-    }
+    check_rotations::<T, D, V>(&f.sys, m.work)?;
     if crate::real::first_non_finite(m.work).is_some() {
         return Err(Error::Overflow { arg: "values" });
     }

@@ -38,10 +38,13 @@
 
 mod cycle;
 mod pcg;
-pub(crate) use pcg::{amg_vcycle, solve_amg_on};
+pub(crate) use pcg::{solve_amg_on, Vcycle};
 mod setup;
 
-pub use pcg::{amg_precondition_scratch_len, solve_linear_amg_scratch_len};
+pub use pcg::{
+    amg_cg_scratch_len, amg_precondition_scratch_len, amg_sliding_cg_scratch_len,
+    solve_linear_amg_scratch_len,
+};
 
 use crate::check;
 use crate::error::{Error, Result};

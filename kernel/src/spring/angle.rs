@@ -2,9 +2,13 @@
 
 use core::ops::Range;
 
-use super::amg::{amg_vcycle, AmgHierarchy};
-use super::linear::{drive_sweeps, Sweeps};
-use super::norms::{scale_by, Norm, SumSq};
+use super::amg::{amg_cg_scratch_len, AmgHierarchy, Vcycle};
+use super::distributed::{Collective, Serial};
+use super::krylov::{
+    apply_local, cg_len, exponents, pcg, solve_scaled, Operator, Precondition, Vectors,
+};
+use super::linear::{drive_sweeps, gauss_seidel_order, jacobi_order, Sweeps};
+use super::norms::{pair_norms, scale_by, Norm, Pairs};
 use super::system::{check_omega, check_values, SolveOptions, SolveReport, SpringSystem, Sweep};
 use crate::check;
 use crate::error::{Error, Result};
@@ -265,10 +269,16 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
         (r, m)
     }
 
-    /// Calls `f(r_i, b_i)` for every free node in node order: the residual
+    /// Calls `f(r_i, b_i)` for every free node of `rows` in node order: the residual
     /// `r_i = Σ_j B_ij (x_j − x_i)` and the fixed nodes' pull `b_i = Σ_{j fixed} B_ij x_j`.
-    fn for_each_free_residual<F: FnMut(&[T; D], &[T; D])>(&self, x: &[[T; D]], mut f: F) {
-        for (i, &xi) in x.iter().enumerate() {
+    fn for_each_free_residual<F: FnMut(&[T; D], &[T; D])>(
+        &self,
+        rows: &[Range<usize>],
+        x: &[[T; D]],
+        mut f: F,
+    ) {
+        for i in rows.iter().flat_map(|r| r.clone()) {
+            let Some(&xi) = x.get(i) else { continue };
             if self.base.is_fixed(i) {
                 continue;
             }
@@ -289,70 +299,9 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
     }
 
     /// `(‖b − A x‖₂, ‖b‖₂)` over the free nodes, `b_i = Σ_{j fixed} B_ij x_j`, without
-    /// overflow or underflow (see [`super::norms`]); `x` may be stored scaled by `2^−exp`.
-    fn residual_norms(&self, x: &[[T; D]], exp: i32) -> (Norm<T>, Norm<T>) {
-        let mut rs = SumSq::new();
-        let mut bs = SumSq::new();
-        self.for_each_free_residual(x, |r, b| {
-            rs.add_vector(r);
-            bs.add_vector(b);
-        });
-        let (pr, pb) = (rs.plain(), bs.plain());
-        let (r, b) = match (pr, pb) {
-            (Ok(r), Ok(b)) => (r, b),
-            _ => {
-                let qr = T::pow2(-pr.err().unwrap_or(0));
-                let qb = T::pow2(-pb.err().unwrap_or(0));
-                // The first pass's accumulators are reused (fewer sums on the stack).
-                let (sr, sb) = (&mut rs.sum, &mut bs.sum);
-                (*sr, *sb) = (ExactSum::new(), ExactSum::new());
-                self.for_each_free_residual(x, |r, b| {
-                    sr.add(vector::norm_sq(vector::scale(*r, qr)));
-                    sb.add(vector::norm_sq(vector::scale(*b, qb)));
-                });
-                (
-                    pr.unwrap_or_else(|e| Norm::from_sum(sr.value(), e)),
-                    pb.unwrap_or_else(|e| Norm::from_sum(sb.value(), e)),
-                )
-            }
-        };
-        (r.shifted(exp), b.shifted(exp))
-    }
-
-    /// `q = A p` on free nodes (`p` zero on fixed nodes) and the curvature scale
-    /// `max_i p_iᵀ A_ii p_i` (a maximum: exact and order-independent).
-    fn apply(&self, p: &[[T; D]], q: &mut [[T; D]]) -> T {
-        let mut dpp = T::ZERO;
-        for (i, (qi, &pi)) in q.iter_mut().zip(p).enumerate() {
-            if self.base.is_fixed(i) {
-                *qi = [T::ZERO; D];
-                continue;
-            }
-            let mut acc = [T::ZERO; D];
-            let mut diag = [T::ZERO; D];
-            for (j, k) in self.base.row(i) {
-                let Some((d, d2)) = self.direction(i, j) else {
-                    continue;
-                };
-                let pj = p.get(j).copied().unwrap_or([T::ZERO; D]);
-                acc = vector::add(acc, self.edge_apply(k, &d, d2, &vector::sub(pi, pj)));
-                diag = vector::add(diag, self.edge_apply(k, &d, d2, &pi));
-            }
-            dpp = dpp.max(vector::dot(pi, diag));
-            *qi = acc;
-        }
-        dpp
-    }
-
-    /// Block-Jacobi preconditioner `z_i = A_ii⁻¹ r_i` (zero on fixed nodes).
-    fn precondition(&self, r: &[[T; D]], z: &mut [[T; D]]) {
-        for (i, (z, r)) in z.iter_mut().zip(r).enumerate() {
-            *z = if self.base.is_fixed(i) {
-                [T::ZERO; D]
-            } else {
-                cramer(&self.node_block(i), r).unwrap_or([T::ZERO; D])
-            };
-        }
+    /// overflow or underflow (see [`super::norms`]; each node's `|v|²` one term).
+    fn residual_norms(&self, x: &[[T; D]]) -> (Norm<T>, Norm<T>) {
+        self.norms(x, &[0; D], &Serial::new(self.base.node_count()))
     }
 
     /// Jacobi-order sweep without validation.
@@ -363,27 +312,11 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
         output: &mut [[T; D]],
         sigma: T,
     ) -> Sweep<T> {
-        let mut max_change = T::ZERO;
-        let mut residual_sq = ExactSum::new();
-        for i in nodes {
-            let Some(&xi) = input.get(i) else { continue };
-            let new = if self.base.is_fixed(i) {
-                xi
-            } else {
-                let (r, m) = self.node_residual(i, xi, input);
-                let dx = cramer(&m, &r).unwrap_or([T::ZERO; D]);
-                tally(&mut max_change, &mut residual_sq, &dx, &r, sigma);
-                vector::add(xi, dx)
-            };
-            if let Some(o) = output.get_mut(i) {
-                *o = new;
-            }
-        }
-        Sweep {
-            max_change,
-            residual_sq: residual_sq.value(),
-            residual_sum: residual_sq,
-        }
+        let fixed = |i| self.base.is_fixed(i);
+        jacobi_order(fixed, nodes, input, output, sigma, |i, xi, x| {
+            let (r, m) = self.node_residual(i, xi, x);
+            (cramer(&m, &r).unwrap_or([T::ZERO; D]), r)
+        })
     }
 
     /// Gauss–Seidel-order sweep without validation, over-relaxed by `omega` (1 = plain
@@ -395,42 +328,12 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
         omega: T,
         sigma: T,
     ) -> Sweep<T> {
-        let mut max_change = T::ZERO;
-        let mut residual_sq = ExactSum::new();
-        for i in nodes {
-            if self.base.is_fixed(i) {
-                continue;
-            }
-            let Some(&xi) = values.get(i) else { continue };
-            let (r, m) = self.node_residual(i, xi, values);
-            let dx = vector::scale(cramer(&m, &r).unwrap_or([T::ZERO; D]), omega);
-            tally(&mut max_change, &mut residual_sq, &dx, &r, sigma);
-            if let Some(o) = values.get_mut(i) {
-                *o = vector::add(xi, dx);
-            }
-        }
-        Sweep {
-            max_change,
-            residual_sq: residual_sq.value(),
-            residual_sum: residual_sq,
-        }
-    }
-}
-
-/// `max(|δ|)` and `Σ (σ r)²` bookkeeping for one node (`σ` a power of two: 1 in the public
-/// sweeps, chosen by the whole solves so the sum stays in range); the sum is exact.
-#[inline]
-fn tally<T: Real, const D: usize>(
-    max_change: &mut T,
-    residual_sq: &mut ExactSum,
-    change: &[T; D],
-    r: &[T; D],
-    sigma: T,
-) {
-    for (&c, &r) in change.iter().zip(r) {
-        *max_change = max_change.max(c.abs());
-        let r = r * sigma;
-        residual_sq.add(r * r);
+        let fixed = |i| self.base.is_fixed(i);
+        gauss_seidel_order(fixed, nodes, values, sigma, |i, xi, x| {
+            let (r, m) = self.node_residual(i, xi, x);
+            let dx = cramer(&m, &r).unwrap_or([T::ZERO; D]);
+            (vector::scale(dx, omega), r)
+        })
     }
 }
 
@@ -481,16 +384,179 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
     /// at least `4 n` whenever `ε = 0` (the rigidity probe, [`angle_probe_scratch_len`](crate::spring::AngleSystem::angle_probe_scratch_len)).
     pub fn angle_scratch_len(&self, method: AngleMethod) -> usize {
         let n = self.base.node_count();
-        let solve = match method {
-            AngleMethod::DirectJacobi => n,
-            AngleMethod::DirectGaussSeidel => 0,
-            AngleMethod::Cg => n.saturating_mul(4),
-        };
-        if self.epsilon == T::ZERO {
-            solve.max(self.angle_probe_scratch_len())
-        } else {
-            solve
+        angle_scratch_items(n, method, self.epsilon == T::ZERO).unwrap_or(usize::MAX)
+    }
+
+    /// `scratch` of at least `needed` items, then (for `ε = 0`) the unconstrained rigidity
+    /// probe in it: a rigid unconstrained system stays rigid when nodes are restricted further.
+    pub(super) fn probe_rigidity(
+        &self,
+        options: &SolveOptions<T>,
+        scratch: &mut [[T; D]],
+        needed: usize,
+    ) -> Result<()> {
+        check::buffer("scratch", scratch.len(), needed)?;
+        if self.epsilon() == T::ZERO {
+            let s = self.angle_rigidity_probe(options, scratch)?;
+            if s > T::from_f64(MAX_AMPLIFICATION) {
+                return Err(Error::SingularSystem { iteration: 0 });
+            }
         }
+        Ok(())
+    }
+
+    /// `solve` scratch items, raised to the rigidity probe's when `ε = 0` (it runs first, in
+    /// the same scratch).
+    pub(super) fn with_probe(&self, solve: usize) -> usize {
+        let n = self.base.node_count();
+        with_probe_items(Some(solve), n, self.epsilon == T::ZERO).unwrap_or(usize::MAX)
+    }
+}
+
+/// The angle springs' residual pairs ([`Pairs`]) of a field over some rows.
+struct AnglePairs<'s, 'a, 'x, T: Real, const D: usize> {
+    sys: &'s AngleSystem<'a, T, D>,
+    rows: &'s [Range<usize>],
+    x: &'x [[T; D]],
+}
+
+impl<T: Real, const D: usize> Pairs<T, D> for AnglePairs<'_, '_, '_, T, D> {
+    fn each<F: FnMut(&[T; D], &[T; D])>(&self, f: F) {
+        self.sys.for_each_free_residual(self.rows, self.x, f);
+    }
+}
+
+/// The assembled block operator for [`pcg`]: one lane (the edge blocks couple the
+/// components).
+impl<T: Real, const D: usize> Operator<T, D, 1> for AngleSystem<'_, T, D> {
+    #[inline]
+    fn residual(&self, i: usize, x: &[[T; D]]) -> [T; D] {
+        if self.base.is_fixed(i) {
+            return [T::ZERO; D];
+        }
+        let xi = x.get(i).copied().unwrap_or([T::ZERO; D]);
+        self.node_residual(i, xi, x).0
+    }
+
+    /// `q = A p` with `pᵀq` and the curvature scale `max_i pᵢᵀ Aᵢᵢ pᵢ`.
+    fn apply(
+        &self,
+        rows: Range<usize>,
+        p: &[[T; D]],
+        q: &mut [[T; D]],
+        pq: &mut [ExactSum; 1],
+        dpp: &mut [T; 1],
+    ) {
+        let ([pq], [dpp]) = (pq, dpp);
+        let (Some(qs), Some(ps)) = (q.get_mut(rows.clone()), p.get(rows.clone())) else {
+            return;
+        };
+        for (i, (qi, &pi)) in rows.zip(qs.iter_mut().zip(ps)) {
+            if self.base.is_fixed(i) {
+                *qi = [T::ZERO; D];
+                continue;
+            }
+            let mut acc = [T::ZERO; D];
+            let mut diag = [T::ZERO; D];
+            for (j, k) in self.base.row(i) {
+                let Some((d, d2)) = self.direction(i, j) else {
+                    continue;
+                };
+                let pj = p.get(j).copied().unwrap_or([T::ZERO; D]);
+                acc = vector::add(acc, self.edge_apply(k, &d, d2, &vector::sub(pi, pj)));
+                diag = vector::add(diag, self.edge_apply(k, &d, d2, &pi));
+            }
+            *dpp = dpp.max(vector::dot(pi, diag));
+            pq.add(vector::dot(pi, acc));
+            *qi = acc;
+        }
+    }
+
+    fn norms<C: Collective<T> + ?Sized>(
+        &self,
+        x: &[[T; D]],
+        exps: &[i32; D],
+        comm: &C,
+    ) -> (Norm<T>, Norm<T>) {
+        let top = exps.iter().copied().max().unwrap_or(0);
+        let g = exps.map(|e| scale_by(T::ONE, e - top));
+        let pairs = AnglePairs {
+            sys: self,
+            rows: comm.owned(),
+            x,
+        };
+        let (r, b) = pair_norms(&pairs, &g, true, comm);
+        (r.shifted(top), b.shifted(top))
+    }
+}
+
+/// The block-Jacobi preconditioner `z_i = A_ii⁻¹ r_i` (zero on fixed nodes): node-local.
+struct NodeBlocks<'s, 'a, T: Real, const D: usize>(&'s AngleSystem<'a, T, D>);
+
+impl<T: Real, const D: usize> Precondition<T, D> for NodeBlocks<'_, '_, T, D> {
+    fn local(&self) -> bool {
+        true
+    }
+    #[inline]
+    fn node(&self, i: usize, r: [T; D]) -> [T; D] {
+        if self.0.base.is_fixed(i) {
+            [T::ZERO; D]
+        } else {
+            cramer(&self.0.node_block(i), &r).unwrap_or([T::ZERO; D])
+        }
+    }
+    fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; D]], z: &mut [[T; D]], comm: &C) {
+        apply_local(self, r, z, comm);
+    }
+}
+
+/// `[T; D]` scratch items [`solve_angle`](crate::spring::AngleSystem::solve_angle) needs
+/// for `node_count` nodes with `method` (`n` for [`AngleMethod::DirectJacobi`], 0 for
+/// [`AngleMethod::DirectGaussSeidel`], the four CG vectors `4 n` for [`AngleMethod::Cg`]),
+/// raised to the rigidity probe's `4 n` when `rigidity_probe` (`ε = 0`); `None` when the
+/// count overflows. The formula of
+/// [`angle_scratch_len`](crate::spring::AngleSystem::angle_scratch_len), for callers without
+/// a system (a size query).
+pub const fn angle_scratch_items(
+    node_count: usize,
+    method: AngleMethod,
+    rigidity_probe: bool,
+) -> Option<usize> {
+    let solve = match method {
+        AngleMethod::DirectJacobi => Some(node_count),
+        AngleMethod::DirectGaussSeidel => Some(0),
+        AngleMethod::Cg => cg_len(node_count),
+    };
+    with_probe_items(solve, node_count, rigidity_probe)
+}
+
+/// `[T; D]` scratch items
+/// [`solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding) needs: `n` more
+/// than the method itself (see [`angle_scratch_items`]), then raised to the rigidity probe's
+/// `4 n` when `rigidity_probe`; `None` on overflow. The formula of
+/// [`solve_angle_sliding_scratch_len`](crate::spring::AngleSystem::solve_angle_sliding_scratch_len).
+pub const fn angle_sliding_scratch_items(
+    node_count: usize,
+    method: AngleMethod,
+    rigidity_probe: bool,
+) -> Option<usize> {
+    let solve = match angle_scratch_items(node_count, method, false) {
+        Some(s) => s.checked_add(node_count),
+        None => None,
+    };
+    with_probe_items(solve, node_count, rigidity_probe)
+}
+
+/// `solve` raised to the rigidity probe's CG vectors when `probe`.
+const fn with_probe_items(solve: Option<usize>, n: usize, probe: bool) -> Option<usize> {
+    match (solve, probe) {
+        (Some(s), false) => Some(s),
+        (Some(s), true) => match cg_len(n) {
+            Some(p) if p > s => Some(p),
+            Some(_) => Some(s),
+            None => None,
+        },
+        (None, _) => None,
     }
 }
 
@@ -503,118 +569,70 @@ fn probe_value<T: Real>(i: u64) -> T {
     T::from_f64((z >> 11) as f64 / (1u64 << 52) as f64 - 1.0)
 }
 
-/// Conjugate gradients with a symmetric positive definite preconditioner `z = M⁻¹ r`
-/// (`precondition(r, z)`: the block Jacobi [`AngleSystem::precondition`] or the scalar
-/// multigrid V-cycle per component), `x` updated in place (`x` may be `None` for the probe,
-/// which only needs the residual). `r` must hold `b − A x` on entry. `x` and `r` may be stored
-/// scaled by `2^−exp` (`bnorm` is unscaled). Returns `(iterations, last max update
-/// (unscaled), met)`.
-///
-/// Errors: [`Error::SingularSystem`] on non-positive curvature, [`Error::Overflow`] when an
-/// inner product leaves the floating-point range.
-#[allow(clippy::too_many_arguments)]
-fn block_cg<T: Real, const D: usize, P: FnMut(&[[T; D]], &mut [[T; D]])>(
-    sys: &AngleSystem<'_, T, D>,
-    mut x: Option<&mut [[T; D]]>,
-    r: &mut [[T; D]],
-    p: &mut [[T; D]],
-    w: &mut [[T; D]],
-    bnorm: Norm<T>,
-    exp: i32,
-    options: &SolveOptions<T>,
-    max_iterations: usize,
-    precondition: &mut P,
-) -> Result<(usize, T, bool)> {
-    precondition(r, w);
-    for (p, &z) in p.iter_mut().zip(w.iter()) {
-        *p = z;
+/// The rigidity probe's problem `A y = ρ` for [`pcg`]: the block operator with the
+/// pseudo-random right-hand side `ρ` on the free nodes (zero at fixed ones), generated on the
+/// fly.
+struct Probe<'s, 'a, T: Real, const D: usize>(&'s AngleSystem<'a, T, D>);
+
+impl<T: Real, const D: usize> Probe<'_, '_, T, D> {
+    /// `ρ_i` (zero at a fixed node).
+    fn rho(&self, i: usize) -> [T; D] {
+        let mut r = [T::ZERO; D];
+        if !self.0.base.is_fixed(i) {
+            for (c, rc) in r.iter_mut().enumerate() {
+                *rc = probe_value((i as u64).wrapping_mul(D as u64).wrapping_add(c as u64));
+            }
+        }
+        r
     }
-    let mut rz = dot_all(r, w);
-    let mut it = 0;
-    let mut max_update = T::ZERO;
-    while it < max_iterations {
-        if !rz.is_finite() {
-            return Err(Error::Overflow { arg: "values" });
-        }
-        if rz == T::ZERO {
-            return Ok((it, scale_by(max_update, exp), true));
-        }
-        it += 1;
-        let dpp = sys.apply(p, w);
-        let pq = dot_all(p, w);
-        if !(pq.is_finite() && dpp.is_finite()) {
-            return Err(Error::Overflow { arg: "values" });
-        }
-        if pq <= T::EPSILON * dpp {
-            return Err(Error::SingularSystem { iteration: it });
-        }
-        let alpha = rz / pq;
-        max_update = T::ZERO;
-        let mut rr = ExactSum::new();
-        for (i, ((r, &p), &q)) in r.iter_mut().zip(p.iter()).zip(w.iter()).enumerate() {
-            for (rc, &qc) in r.iter_mut().zip(&q) {
-                *rc -= alpha * qc;
-                rr.add(*rc * *rc);
-            }
-            for &pc in &p {
-                max_update = max_update.max((alpha * pc).abs());
-            }
-            if let Some(xi) = x.as_deref_mut().and_then(|x| x.get_mut(i)) {
-                for (xc, &pc) in xi.iter_mut().zip(&p) {
-                    *xc += alpha * pc;
-                }
-            }
-        }
-        let rr: T = rr.value();
-        if !rr.is_finite() {
-            return Err(Error::Overflow { arg: "values" });
-        }
-        let update = scale_by(max_update, exp);
-        if options.met(Norm::from_sum(rr, exp).relative_to(bnorm), update) {
-            return Ok((it, update, true));
-        }
-        precondition(r, w);
-        let rz_new = dot_all(r, w);
-        let beta = rz_new / rz;
-        for (p, &z) in p.iter_mut().zip(w.iter()) {
-            for (pc, &zc) in p.iter_mut().zip(&z) {
-                *pc = zc + beta * *pc;
-            }
-        }
-        rz = rz_new;
-    }
-    Ok((it, scale_by(max_update, exp), false))
 }
 
-/// The power-of-two exponent `e` of the scaled CG iterate `x · 2^−e`: brings `max |x|` to
-/// about `1/√k_max`, so every product CG forms is near 1 (one exponent for all components:
-/// the edge blocks couple them).
-fn cg_exponent<T: Real, const D: usize>(sys: &AngleSystem<'_, T, D>, x: &[[T; D]]) -> i32 {
-    let kmax = sys.base.stiffness().iter().fold(T::ZERO, |m, &k| m.max(k));
-    let vmax = x.iter().flatten().fold(T::ZERO, |m, &v| m.max(v.abs()));
-    let ek = if kmax > T::ZERO {
-        kmax.exponent() / 2
-    } else {
-        0
-    };
-    let ev = if vmax > T::ZERO { vmax.exponent() } else { 0 };
-    let limit = T::MAX.exponent() - 1;
-    (ev + ek).clamp(-limit, limit)
+impl<T: Real, const D: usize> Operator<T, D, 1> for Probe<'_, '_, T, D> {
+    #[inline]
+    fn residual(&self, i: usize, y: &[[T; D]]) -> [T; D] {
+        vector::add(self.rho(i), self.0.residual(i, y))
+    }
+    #[inline]
+    fn apply(
+        &self,
+        rows: Range<usize>,
+        p: &[[T; D]],
+        q: &mut [[T; D]],
+        pq: &mut [ExactSum; 1],
+        dpp: &mut [T; 1],
+    ) {
+        self.0.apply(rows, p, q, pq, dpp);
+    }
+    fn norms<C: Collective<T> + ?Sized>(
+        &self,
+        y: &[[T; D]],
+        _: &[i32; D],
+        comm: &C,
+    ) -> (Norm<T>, Norm<T>) {
+        pair_norms(&ProbePairs { probe: self, y }, &[T::ONE; D], false, comm)
+    }
 }
 
-/// `Σ_i a_i · b_i`: each node's `a_i · b_i` in component order, the nodes' terms summed exactly.
-fn dot_all<T: Real, const D: usize>(a: &[[T; D]], b: &[[T; D]]) -> T {
-    let mut s = ExactSum::new();
-    for (x, y) in a.iter().zip(b) {
-        s.add(vector::dot(*x, *y));
+/// The probe's `(ρ − A y, ρ)` pairs of the free nodes (serial).
+struct ProbePairs<'p, 's, 'a, 'y, T: Real, const D: usize> {
+    probe: &'p Probe<'s, 'a, T, D>,
+    y: &'y [[T; D]],
+}
+
+impl<T: Real, const D: usize> Pairs<T, D> for ProbePairs<'_, '_, '_, '_, T, D> {
+    fn each<F: FnMut(&[T; D], &[T; D])>(&self, mut f: F) {
+        for i in 0..self.probe.0.base.node_count() {
+            if !self.probe.0.base.is_fixed(i) {
+                f(&self.probe.residual(i, self.y), &self.probe.rho(i));
+            }
+        }
     }
-    s.value()
 }
 
 impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
     /// Number of `[T; D]` scratch items [`angle_rigidity_probe`](crate::spring::AngleSystem::angle_rigidity_probe) needs: `4 n`.
     pub fn angle_probe_scratch_len(&self) -> usize {
-        self.base.node_count().saturating_mul(4)
+        cg_len(self.base.node_count()).unwrap_or(usize::MAX)
     }
 }
 
@@ -645,51 +663,50 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         let needed = self.angle_probe_scratch_len();
         check::buffer("scratch", scratch.len(), needed)?;
         options.check()?;
-        let (y, rest) = scratch
-            .split_at_mut_checked(n)
-            .unwrap_or((&mut [], &mut []));
-        let (r, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-        let (p, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-        let w = rest.get_mut(..n).unwrap_or(&mut []);
+        let Some((mut v, _)) = Vectors::split(scratch, n) else {
+            return Ok(T::ZERO); // unreachable: the length was checked
+        };
+        let probe = Probe(self);
+        let blocks = NodeBlocks(self);
+        // ‖ρ‖² and ρᵀ M⁻¹ ρ.
         let mut bb = ExactSum::new();
-        for (i, (ri, yi)) in r.iter_mut().zip(y.iter_mut()).enumerate() {
-            *yi = [T::ZERO; D];
-            for (c, rc) in ri.iter_mut().enumerate() {
-                *rc = if self.base.is_fixed(i) {
-                    T::ZERO
-                } else {
-                    probe_value((i as u64).wrapping_mul(D as u64).wrapping_add(c as u64))
-                };
-                bb.add(*rc * *rc);
+        let mut rmr = ExactSum::new();
+        for i in 0..n {
+            let rho = probe.rho(i);
+            for &r in &rho {
+                bb.add(r * r);
             }
+            rmr.add(vector::dot(rho, blocks.node(i, rho)));
         }
         let bb: T = bb.value();
         if bb == T::ZERO {
             return Ok(T::ZERO); // no free node
         }
-        self.precondition(r, w);
-        let rho_m_rho = dot_all(r, w);
+        let rho_m_rho: T = rmr.value();
+        for y in v.x.iter_mut() {
+            *y = [T::ZERO; D];
+        }
         let tol = T::from_f64(1e-6).max(T::from_f64(100.0) * T::EPSILON);
         let probe_options = SolveOptions {
             max_iterations: options.max_iterations.max(100),
             residual_tol: tol,
             update_tol: T::ZERO,
         };
-        let (it, _, met) = block_cg(
-            self,
-            Some(&mut *y),
-            r,
-            p,
-            w,
-            Norm::from_sum(bb, 0),
-            0,
+        let serial = Serial::new(n);
+        let mut blocks = blocks;
+        let report = pcg(
+            &probe,
+            &mut blocks,
+            &mut v,
+            &[0; D],
             &probe_options,
-            probe_options.max_iterations,
-            &mut |r, z| self.precondition(r, z),
+            &serial,
         )?;
-        if !met {
+        let it = report.iterations;
+        if !report.converged {
             return Err(Error::SingularSystem { iteration: it });
         }
+        let y: &[[T; D]] = v.x;
         let mut ymy = ExactSum::new();
         for (i, yi) in y.iter().enumerate() {
             if !self.base.is_fixed(i) {
@@ -743,7 +760,7 @@ impl<T: Real, const D: usize> Sweeps<T> for DirectSweeps<'_, '_, '_, T, D> {
         } else {
             self.values
         };
-        self.sys.residual_norms(current, 0).0
+        self.sys.residual_norms(current).0
     }
 }
 
@@ -839,21 +856,9 @@ fn start_solve<T: Real, const D: usize>(
 ) -> Result<(SolveReport<T>, Norm<T>, Norm<T>)> {
     check_values("values", values, sys.base.node_count())?;
     options.check()?;
-    check::buffer("scratch", scratch.len(), needed)?;
-    if sys.epsilon == T::ZERO {
-        let s = sys.angle_rigidity_probe(options, scratch)?;
-        if s > T::from_f64(MAX_AMPLIFICATION) {
-            return Err(Error::SingularSystem { iteration: 0 });
-        }
-    }
-    let (r0, bnorm) = sys.residual_norms(values, 0);
-    let report = SolveReport {
-        iterations: 0,
-        residual: r0.relative_to(bnorm),
-        max_update: T::ZERO,
-        converged: false,
-    };
-    Ok((report, r0, bnorm))
+    sys.probe_rigidity(options, scratch, needed)?;
+    let (r0, bnorm) = sys.residual_norms(values);
+    Ok((SolveReport::start(r0, bnorm, options), r0, bnorm))
 }
 
 /// [`solve_angle`](crate::spring::AngleSystem::solve_angle) with the over-relaxation factor of the Gauss–Seidel-order direct method
@@ -868,7 +873,7 @@ fn solve_angle_core<T: Real, const D: usize>(
 ) -> Result<SolveReport<T>> {
     let n = sys.base.node_count();
     let needed = sys.angle_scratch_len(method);
-    let (mut report, r0, bnorm) = start_solve(sys, values, options, scratch, needed)?;
+    let (report, r0, bnorm) = start_solve(sys, values, options, scratch, needed)?;
     if method != AngleMethod::Cg {
         // The direct sweeps form `Σ_j B_ij (x_j − x_i)` unscaled (|B_ij v| ≤ (1 + ε) k |v|).
         let vmax = values
@@ -883,8 +888,7 @@ fn solve_angle_core<T: Real, const D: usize>(
             return Err(Error::Overflow { arg: "stiffness" });
         }
     }
-    if report.residual <= options.residual_tol {
-        report.converged = true;
+    if report.converged {
         return Ok(report);
     }
     match method {
@@ -906,79 +910,32 @@ fn solve_angle_core<T: Real, const D: usize>(
             }
             Ok(report)
         }
-        AngleMethod::Cg => cg_solve(sys, values, report, bnorm, options, scratch, &mut |r, z| {
-            sys.precondition(r, z)
-        }),
+        AngleMethod::Cg => {
+            let (v, _) = Vectors::split(scratch, n).ok_or(Error::BufferTooSmall {
+                arg: "scratch",
+                needed,
+                actual: 0,
+            })?;
+            cg_solve(sys, &mut NodeBlocks(sys), v, values, options)
+        }
     }
 }
 
-/// The preconditioned CG of the angle solves from the initial `report` (not converged): runs
-/// [`block_cg`] on a power-of-two-scaled copy of `values` in the first `4 n` items of `work`
-/// (iterate, residual, direction, `A p` / `M⁻¹ r`), restarting from the true residual until
-/// it confirms convergence or the iterations run out, then writes the free nodes back. On
-/// error `values` is untouched.
-fn cg_solve<T: Real, const D: usize, P: FnMut(&[[T; D]], &mut [[T; D]])>(
+/// The preconditioned CG of the angle solves ([`pcg`] with the block operator) on a
+/// power-of-two-scaled copy of `values` (one exponent: the edge blocks couple the
+/// components), the free nodes written back on success.
+fn cg_solve<T: Real, const D: usize, M: Precondition<T, D>>(
     sys: &AngleSystem<'_, T, D>,
+    pre: &mut M,
+    v: Vectors<'_, T, D>,
     values: &mut [[T; D]],
-    mut report: SolveReport<T>,
-    bnorm: Norm<T>,
     options: &SolveOptions<T>,
-    work: &mut [[T; D]],
-    precondition: &mut P,
 ) -> Result<SolveReport<T>> {
-    let n = sys.base.node_count();
-    let (x, rest) = work.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-    let (r, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-    let (p, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-    let w = rest.get_mut(..n).unwrap_or(&mut []);
-    // CG runs on the field scaled by a power of two (exact): `max |x|` near `1/√k_max`, so `rᵀz`
-    // and `pᵀAp` stay in range at any scale of values and stiffness.
-    let exp = cg_exponent(sys, values);
-    let down = T::pow2(-exp);
-    for (x, &v) in x.iter_mut().zip(values.iter()) {
-        *x = vector::scale(v, down);
-    }
-    while report.iterations < options.max_iterations {
-        // (Re)start from the true residual.
-        for (i, ri) in r.iter_mut().enumerate() {
-            let xi = x.get(i).copied().unwrap_or([T::ZERO; D]);
-            *ri = if sys.base.is_fixed(i) {
-                [T::ZERO; D]
-            } else {
-                sys.node_residual(i, xi, x).0
-            };
-        }
-        let budget = options.max_iterations.saturating_sub(report.iterations);
-        let (it, max_update, met) = block_cg(
-            sys,
-            Some(&mut *x),
-            r,
-            p,
-            w,
-            bnorm,
-            exp,
-            options,
-            budget,
-            precondition,
-        )?;
-        report.iterations += it;
-        report.max_update = max_update;
-        report.residual = sys.residual_norms(x, exp).0.relative_to(bnorm);
-        if met && options.met(report.residual, max_update) {
-            report.converged = true;
-            break;
-        }
-        if it == 0 {
-            break;
-        }
-    }
-    let up = T::pow2(exp);
-    for (i, (v, &x)) in values.iter_mut().zip(x.iter()).enumerate() {
-        if !sys.base.is_fixed(i) {
-            *v = vector::scale(x, up);
-        }
-    }
-    Ok(report)
+    let base = &sys.base;
+    let exps = exponents(base.stiffness(), values, true);
+    let serial = Serial::new(base.node_count());
+    let fixed = |i| base.is_fixed(i);
+    solve_scaled(sys, pre, v, values, exps, fixed, options, &serial)
 }
 
 impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
@@ -988,10 +945,8 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
     /// [`AmgHierarchy::coarse_unknowns`]); this covers the rigidity probe's `4 n` when `ε = 0`.
     /// The same count as [`solve_linear_amg_scratch_len`](crate::spring::solve_linear_amg_scratch_len) for `V = D`.
     pub fn angle_amg_scratch_len(&self, hierarchy: &AmgHierarchy<'_, T>) -> usize {
-        self.base
-            .node_count()
-            .saturating_mul(5)
-            .saturating_add(hierarchy.coarse_unknowns().saturating_mul(3))
+        amg_cg_scratch_len(self.base.node_count(), hierarchy.coarse_unknowns())
+            .unwrap_or(usize::MAX)
     }
 
     /// Solves the angle-inclusion springs (the problem of [`solve_angle`](crate::spring::AngleSystem::solve_angle)) by conjugate
@@ -1029,19 +984,21 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         hierarchy.check_system(&self.base)?;
         let n = self.base.node_count();
         let needed = self.angle_amg_scratch_len(hierarchy);
-        let (mut report, _, bnorm) = start_solve(self, values, options, scratch, needed)?;
-        if report.residual <= options.residual_tol {
-            report.converged = true;
+        let (report, _, _) = start_solve(self, values, options, scratch, needed)?;
+        if report.converged {
             return Ok(report);
         }
-        let split = n.saturating_mul(4);
-        let (cg, rest) = scratch
-            .split_at_mut_checked(split)
-            .unwrap_or((&mut [], &mut []));
-        let (t, coarse) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-        let base = &self.base;
-        cg_solve(self, values, report, bnorm, options, cg, &mut |r, z| {
-            amg_vcycle(base, hierarchy, r, z, t, coarse)
-        })
+        let (v, rest) = Vectors::split(scratch, n).ok_or(Error::BufferTooSmall {
+            arg: "scratch",
+            needed,
+            actual: 0,
+        })?;
+        cg_solve(
+            self,
+            &mut Vcycle::new(&self.base, hierarchy, rest),
+            v,
+            values,
+            options,
+        )
     }
 }

@@ -71,8 +71,8 @@ impl<T: Real> Collective<T> for Serial {
 }
 
 /// Merges per-component exact sums over all processes (one exchange) and rounds them.
-pub(crate) fn merged<T: Real, const V: usize>(
-    comm: &dyn Collective<T>,
+pub(crate) fn merged<T: Real, const V: usize, C: Collective<T> + ?Sized>(
+    comm: &C,
     sums: &mut [ExactSum; V],
 ) -> [T; V] {
     comm.sum_exact(&mut [sums]);
@@ -80,14 +80,14 @@ pub(crate) fn merged<T: Real, const V: usize>(
 }
 
 /// Merges one exact sum over all processes and rounds it.
-pub(crate) fn merged_one<T: Real>(comm: &dyn Collective<T>, sum: &mut ExactSum) -> T {
+pub(crate) fn merged_one<T: Real, C: Collective<T> + ?Sized>(comm: &C, sum: &mut ExactSum) -> T {
     comm.sum_exact(&mut [core::slice::from_mut(sum)]);
     sum.value()
 }
 
 /// Merges `first` and `rest` over all processes in one exchange and rounds them.
-pub(crate) fn merged_with<T: Real, const V: usize>(
-    comm: &dyn Collective<T>,
+pub(crate) fn merged_with<T: Real, const V: usize, C: Collective<T> + ?Sized>(
+    comm: &C,
     first: &mut ExactSum,
     rest: &mut [ExactSum; V],
 ) -> (T, [T; V]) {
@@ -96,8 +96,8 @@ pub(crate) fn merged_with<T: Real, const V: usize>(
 }
 
 /// Element-wise maximum over all processes.
-pub(crate) fn merged_max<T: Real, const V: usize>(
-    comm: &dyn Collective<T>,
+pub(crate) fn merged_max<T: Real, const V: usize, C: Collective<T> + ?Sized>(
+    comm: &C,
     mut v: [T; V],
 ) -> [T; V] {
     comm.max(&mut v);
@@ -105,12 +105,18 @@ pub(crate) fn merged_max<T: Real, const V: usize>(
 }
 
 /// Shares a `[T; V]` field's owned rows with every process.
-pub(crate) fn share_field<T: Real, const V: usize>(comm: &dyn Collective<T>, field: &mut [[T; V]]) {
+pub(crate) fn share_field<T: Real, const V: usize, C: Collective<T> + ?Sized>(
+    comm: &C,
+    field: &mut [[T; V]],
+) {
     comm.share(field.as_flattened_mut(), V);
 }
 
 /// Checks a process's owned ranges: each within `0..n`, sorted and disjoint.
-pub(crate) fn check_owned<T: Real>(comm: &dyn Collective<T>, n: usize) -> crate::error::Result<()> {
+pub(crate) fn check_owned<T: Real, C: Collective<T> + ?Sized>(
+    comm: &C,
+    n: usize,
+) -> crate::error::Result<()> {
     let mut end = 0;
     for r in comm.owned() {
         if r.start < end || r.start > r.end || r.end > n {
@@ -125,6 +131,9 @@ pub(crate) fn check_owned<T: Real>(comm: &dyn Collective<T>, n: usize) -> crate:
 }
 
 /// Shares the halo of a `[T; V]` field's owned rows.
-pub(crate) fn share_halo<T: Real, const V: usize>(comm: &dyn Collective<T>, field: &mut [[T; V]]) {
+pub(crate) fn share_halo<T: Real, const V: usize, C: Collective<T> + ?Sized>(
+    comm: &C,
+    field: &mut [[T; V]],
+) {
     comm.share_halo(field.as_flattened_mut(), V);
 }

@@ -3,10 +3,11 @@
 
 use core::ops::Range;
 
-use super::distributed::{
-    check_owned, merged, merged_max, merged_with, share_field, share_halo, Collective, Serial,
+use super::distributed::{check_owned, Collective, Serial};
+use super::krylov::{
+    apply_local, cg_len, exponents, solve_scaled, Operator, Precondition, Vectors,
 };
-use super::norms::{scale_by, sweep_exponent, Norm, SumSq};
+use super::norms::{pair_norms, scale_by, sweep_exponent, Norm, Pairs};
 use super::system::{
     check_omega, check_values, is_fixed, LinearMethod, Preconditioner, SolveOptions, SolveReport,
     SpringSystem, Sweep,
@@ -19,7 +20,7 @@ use crate::reduce::ExactSum;
 /// Node `i`'s residual `r_i = Σ_j k_ij (x_j − x_i)` (= `b − A x` at a free node, Yang & Özgen
 /// eq. 1 with the sign flipped) and diagonal `d_i = Σ_j k_ij`, summed in CSR order.
 #[inline]
-fn node_residual<T: Real, const V: usize>(
+pub(crate) fn node_residual<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     i: usize,
     xi: [T; V],
@@ -55,30 +56,31 @@ fn tally<T: Real, const V: usize>(
     }
 }
 
-/// Jacobi sweep without validation (the solve validates once).
-pub(crate) fn jacobi_core<T: Real, const V: usize>(
-    sys: &SpringSystem<'_, T>,
+/// One Jacobi-order sweep of a node-wise method over `nodes`: `step(i, x_i, input)` gives a
+/// free node's correction `δ` and residual `r`, `output[i] = x_i + δ`; fixed nodes are
+/// copied, `output` outside the range is not touched. The linear springs' and the angle
+/// springs' direct method share it.
+pub(crate) fn jacobi_order<T: Real, const V: usize, F>(
+    fixed: impl Fn(usize) -> bool,
     nodes: Range<usize>,
     input: &[[T; V]],
     output: &mut [[T; V]],
     sigma: T,
-) -> Sweep<T> {
+    mut step: F,
+) -> Sweep<T>
+where
+    F: FnMut(usize, [T; V], &[[T; V]]) -> ([T; V], [T; V]),
+{
     let mut max_change = T::ZERO;
     let mut residual_sq = ExactSum::new();
     for i in nodes {
         let Some(&xi) = input.get(i) else { continue };
-        let new = if sys.is_fixed(i) {
+        let new = if fixed(i) {
             xi
         } else {
-            let (r, d) = node_residual(sys, i, xi, input);
-            let mut new = xi;
-            let mut change = [T::ZERO; V];
-            for ((n, c), &r) in new.iter_mut().zip(change.iter_mut()).zip(&r) {
-                *c = r / d;
-                *n += *c;
-            }
-            tally(&mut max_change, &mut residual_sq, &change, &r, sigma);
-            new
+            let (dx, r) = step(i, xi, input);
+            tally(&mut max_change, &mut residual_sq, &dx, &r, sigma);
+            crate::vector::add(xi, dx)
         };
         if let Some(o) = output.get_mut(i) {
             *o = new;
@@ -89,6 +91,54 @@ pub(crate) fn jacobi_core<T: Real, const V: usize>(
         residual_sq: residual_sq.value(),
         residual_sum: residual_sq,
     }
+}
+
+/// One in-place Gauss–Seidel-order sweep of a node-wise method over `nodes`, in increasing
+/// node order: `step(i, x_i, values)` gives a free node's (over-relaxed) correction `δ` and
+/// residual `r` from the newest values, `values[i] = x_i + δ`; fixed nodes are skipped.
+pub(crate) fn gauss_seidel_order<T: Real, const V: usize, F>(
+    fixed: impl Fn(usize) -> bool,
+    nodes: Range<usize>,
+    values: &mut [[T; V]],
+    sigma: T,
+    mut step: F,
+) -> Sweep<T>
+where
+    F: FnMut(usize, [T; V], &[[T; V]]) -> ([T; V], [T; V]),
+{
+    let mut max_change = T::ZERO;
+    let mut residual_sq = ExactSum::new();
+    for i in nodes {
+        if fixed(i) {
+            continue;
+        }
+        let Some(&xi) = values.get(i) else { continue };
+        let (dx, r) = step(i, xi, values);
+        tally(&mut max_change, &mut residual_sq, &dx, &r, sigma);
+        if let Some(o) = values.get_mut(i) {
+            *o = crate::vector::add(xi, dx);
+        }
+    }
+    Sweep {
+        max_change,
+        residual_sq: residual_sq.value(),
+        residual_sum: residual_sq,
+    }
+}
+
+/// Jacobi sweep without validation (the solve validates once).
+pub(crate) fn jacobi_core<T: Real, const V: usize>(
+    sys: &SpringSystem<'_, T>,
+    nodes: Range<usize>,
+    input: &[[T; V]],
+    output: &mut [[T; V]],
+    sigma: T,
+) -> Sweep<T> {
+    let fixed = |i| sys.is_fixed(i);
+    jacobi_order(fixed, nodes, input, output, sigma, |i, xi, x| {
+        let (r, d) = node_residual(sys, i, xi, x);
+        (r.map(|r| r / d), r)
+    })
 }
 
 impl<T: Real> SpringSystem<'_, T> {
@@ -124,30 +174,11 @@ pub(crate) fn sor_core<T: Real, const V: usize>(
     omega: T,
     sigma: T,
 ) -> Sweep<T> {
-    let mut max_change = T::ZERO;
-    let mut residual_sq = ExactSum::new();
-    for i in nodes {
-        if sys.is_fixed(i) {
-            continue;
-        }
-        let Some(&xi) = values.get(i) else { continue };
-        let (r, d) = node_residual(sys, i, xi, values);
-        let mut new = xi;
-        let mut change = [T::ZERO; V];
-        for ((n, c), &r) in new.iter_mut().zip(change.iter_mut()).zip(&r) {
-            *c = omega * (r / d);
-            *n += *c;
-        }
-        tally(&mut max_change, &mut residual_sq, &change, &r, sigma);
-        if let Some(o) = values.get_mut(i) {
-            *o = new;
-        }
-    }
-    Sweep {
-        max_change,
-        residual_sq: residual_sq.value(),
-        residual_sum: residual_sq,
-    }
+    let fixed = |i| sys.is_fixed(i);
+    gauss_seidel_order(fixed, nodes, values, sigma, |i, xi, x| {
+        let (r, d) = node_residual(sys, i, xi, x);
+        (r.map(|r| omega * (r / d)), r)
+    })
 }
 
 impl<T: Real> SpringSystem<'_, T> {
@@ -214,6 +245,20 @@ fn for_each_free_residual_in<T: Real, const V: usize, F: FnMut(&[T; V], &[T; V])
     }
 }
 
+/// The linear springs' residual pairs ([`Pairs`]) of a field over some rows.
+struct LinearPairs<'s, 'a, 'x, T: Real, const V: usize> {
+    sys: &'s SpringSystem<'a, T>,
+    rows: &'s [Range<usize>],
+    x: &'x [[T; V]],
+}
+
+impl<T: Real, const V: usize> Pairs<T, V> for LinearPairs<'_, '_, '_, T, V> {
+    #[inline]
+    fn each<F: FnMut(&[T; V], &[T; V])>(&self, f: F) {
+        for_each_free_residual(self.sys, self.rows, self.x, f);
+    }
+}
+
 /// `(‖b − A x‖₂, ‖b‖₂)` over free nodes and all components, `b_i = Σ_{j fixed} k_ij x_j`,
 /// without overflow or underflow (see [`super::norms`]).
 pub(crate) fn residual_norms<T: Real, const V: usize>(
@@ -226,51 +271,21 @@ pub(crate) fn residual_norms<T: Real, const V: usize>(
 /// [`residual_norms`] of a field whose component `c` is stored as `x_c · 2^−exps[c]` (the
 /// scaled CG iterate): the norms of the unscaled field. Each process sums its owned rows; the
 /// sums and maxima are merged (`x` must be current on every node).
-pub(crate) fn residual_norms_scaled<T: Real, const V: usize>(
+pub(crate) fn residual_norms_scaled<T: Real, const V: usize, C: Collective<T> + ?Sized>(
     sys: &SpringSystem<'_, T>,
     x: &[[T; V]],
     exps: &[i32; V],
-    comm: &dyn Collective<T>,
+    comm: &C,
 ) -> (Norm<T>, Norm<T>) {
-    let owned = comm.owned();
     // Bring every component to the largest component's scale (factors are 1 when unscaled).
     let top = exps.iter().copied().max().unwrap_or(0);
     let g = exps.map(|e| scale_by(T::ONE, e - top));
-    let mut rs = SumSq::new();
-    let mut bs = SumSq::new();
-    for_each_free_residual(sys, owned, x, |r, b| {
-        for ((&r, &b), &g) in r.iter().zip(b).zip(&g) {
-            rs.add(r * g);
-            bs.add(b * g);
-        }
-    });
-    rs.merge_over(comm);
-    bs.merge_over(comm);
-    let (pr, pb) = (rs.plain(), bs.plain());
-    let (r, b) = match (pr, pb) {
-        (Ok(r), Ok(b)) => (r, b),
-        _ => {
-            // Second pass, each sum scaled by its own power of two.
-            let qr = T::pow2(-pr.err().unwrap_or(0));
-            let qb = T::pow2(-pb.err().unwrap_or(0));
-            // The first pass's accumulators are reused (no more sums on the stack).
-            let (sr, sb) = (&mut rs.sum, &mut bs.sum);
-            (*sr, *sb) = (ExactSum::new(), ExactSum::new());
-            for_each_free_residual(sys, owned, x, |r, b| {
-                for ((&r, &b), &g) in r.iter().zip(b).zip(&g) {
-                    let (r, b) = (r * g * qr, b * g * qb);
-                    sr.add(r * r);
-                    sb.add(b * b);
-                }
-            });
-            comm.sum_exact(&mut [core::slice::from_mut(sr), core::slice::from_mut(sb)]);
-            let (sr, sb) = (sr.value(), sb.value());
-            (
-                pr.unwrap_or_else(|e| Norm::from_sum(sr, e)),
-                pb.unwrap_or_else(|e| Norm::from_sum(sb, e)),
-            )
-        }
+    let pairs = LinearPairs {
+        sys,
+        rows: comm.owned(),
+        x,
     };
+    let (r, b) = pair_norms(&pairs, &g, false, comm);
     (r.shifted(top), b.shifted(top))
 }
 
@@ -316,13 +331,17 @@ pub const fn solve_linear_scratch_len<T>(method: &LinearMethod<T>, node_count: u
     match method {
         LinearMethod::Jacobi => node_count,
         LinearMethod::GaussSeidel | LinearMethod::Sor { .. } => 0,
-        LinearMethod::Cg { .. } => node_count.saturating_mul(5),
+        LinearMethod::Cg { .. } => match cg_len(node_count) {
+            Some(cg) => cg.saturating_add(node_count),
+            None => usize::MAX,
+        },
     }
 }
 
-/// The exact CG scratch need for `V` components: `4 n + ⌈n / V⌉` items.
+/// The exact CG scratch need for `V` components: the CG vectors and the diagonal packed `V`
+/// scalars to an item, `4 n + ⌈n / V⌉` items.
 fn cg_scratch_len<const V: usize>(n: usize) -> usize {
-    n.saturating_mul(4).saturating_add(n.div_ceil(V.max(1)))
+    cg_len(n).map_or(usize::MAX, |cg| cg.saturating_add(n.div_ceil(V.max(1))))
 }
 
 impl<T: Real> SpringSystem<'_, T> {
@@ -414,7 +433,7 @@ pub(crate) fn solve_linear_on<T: Real, const V: usize>(
                 options,
                 preconditioner,
                 scratch,
-                &Serial::new(n),
+                &Serial::new(n) as &dyn Collective<T>,
             ),
         },
     }
@@ -443,14 +462,8 @@ pub(crate) fn drive_sweeps<T: Real, S: Sweeps<T>>(
 ) -> SolveReport<T> {
     let est_exp = sweep_exponent(&r0, &bnorm);
     let sigma = T::pow2(-est_exp);
-    let mut report = SolveReport {
-        iterations: 0,
-        residual: r0.relative_to(bnorm),
-        max_update: T::ZERO,
-        converged: false,
-    };
-    if report.residual <= options.residual_tol {
-        report.converged = true;
+    let mut report = SolveReport::start(r0, bnorm, options);
+    if report.converged {
         return report;
     }
     let mut checked = false;
@@ -566,73 +579,147 @@ pub(crate) fn diagonal<T: Real>(sys: &SpringSystem<'_, T>, diag: &mut [T]) {
     }
 }
 
-/// `q = A p` on free nodes (`A` = weighted Laplacian restricted to free nodes; `p` is zero on
-/// fixed nodes), with per component the curvature scale `max_i d_i p_i²` (a maximum: exact and
-/// order-independent) and `pᵀq` (summed exactly; the fixed nodes' zero terms are skipped).
-/// The curvature test compares `pᵀq = Σ d_i p_i² − Σ_j k_ij p_i p_j` with this scale.
-fn laplacian_apply<T: Real, const V: usize>(
+/// The linear springs' operator for [`pcg`](super::krylov::pcg): the weighted graph
+/// Laplacian on the free nodes, one lane per component. With `STORED` the diagonal comes
+/// from `diag` (computed once per solve by [`diagonal`]), else each row sums its own (no
+/// scratch for it: the multigrid CG).
+pub(crate) struct Laplacian<'s, 'a, T: Real, const STORED: bool> {
+    pub(crate) sys: &'s SpringSystem<'a, T>,
+    pub(crate) diag: &'s [T],
+}
+
+impl<T: Real, const V: usize, const STORED: bool> Operator<T, V, V>
+    for Laplacian<'_, '_, T, STORED>
+{
+    #[inline]
+    fn residual(&self, i: usize, x: &[[T; V]]) -> [T; V] {
+        if self.sys.is_fixed(i) {
+            return [T::ZERO; V];
+        }
+        let xi = x.get(i).copied().unwrap_or([T::ZERO; V]);
+        node_residual(self.sys, i, xi, x).0
+    }
+
+    /// `q = A p` with the curvature scale `max_i d_i p_i²` per component (`pᵀq = Σ d_i p_i² −
+    /// Σ_j k_ij p_i p_j` is compared with it); the fixed nodes' zero terms are skipped.
+    #[inline]
+    fn apply(
+        &self,
+        rows: Range<usize>,
+        p: &[[T; V]],
+        q: &mut [[T; V]],
+        pq: &mut [ExactSum; V],
+        dpp: &mut [T; V],
+    ) {
+        if STORED {
+            let ds = self.diag.get(rows.clone()).unwrap_or(&[]);
+            laplacian_rows::<T, V, true>(self.sys, rows, ds, p, q, pq, dpp);
+        } else {
+            laplacian_rows::<T, V, false>(self.sys, rows, &[], p, q, pq, dpp);
+        }
+    }
+
+    fn norms<C: Collective<T> + ?Sized>(
+        &self,
+        x: &[[T; V]],
+        exps: &[i32; V],
+        comm: &C,
+    ) -> (Norm<T>, Norm<T>) {
+        residual_norms_scaled(self.sys, x, exps, comm)
+    }
+}
+
+/// [`Laplacian::apply`] over `rows`, with the diagonal from `diag` (one per row) when
+/// `STORED`, else summed from each row (`diag` ignored). The two iterations differ only in
+/// the zip (a slice zip keeps the loop free of per-row checks).
+#[inline]
+fn laplacian_rows<T: Real, const V: usize, const STORED: bool>(
     sys: &SpringSystem<'_, T>,
-    owned: &[Range<usize>],
+    rows: Range<usize>,
     diag: &[T],
     p: &[[T; V]],
     q: &mut [[T; V]],
     pq: &mut [ExactSum; V],
-) -> [T; V] {
-    let mut dpp = [T::ZERO; V];
-    pq.iter_mut().for_each(|s| *s = ExactSum::new());
-    for range in owned {
-        let (Some(qs), Some(ps), Some(ds)) = (
-            q.get_mut(range.clone()),
-            p.get(range.clone()),
-            diag.get(range.clone()),
-        ) else {
-            continue;
-        };
-        for ((_, fixed, row), ((qi, &pi), &d)) in sys
-            .rows_in(range.clone())
-            .zip(qs.iter_mut().zip(ps).zip(ds))
-        {
-            if fixed {
-                *qi = [T::ZERO; V];
-                continue;
-            }
-            let mut acc = [T::ZERO; V];
-            for (j, k) in row {
-                let pj = p.get(j).copied().unwrap_or([T::ZERO; V]);
-                for ((a, &x), &y) in acc.iter_mut().zip(&pi).zip(&pj) {
-                    *a += k * (x - y);
-                }
-            }
-            for (((s, t), &x), &a) in dpp.iter_mut().zip(pq.iter_mut()).zip(&pi).zip(&acc) {
-                *s = s.max(d * x * x);
-                t.add(x * a);
-            }
-            *qi = acc;
+    dpp: &mut [T; V],
+) {
+    let (Some(qs), Some(ps)) = (q.get_mut(rows.clone()), p.get(rows.clone())) else {
+        return;
+    };
+    let rows = sys.rows_in(rows);
+    if STORED {
+        for ((_, fixed, row), ((qi, &pi), &d)) in rows.zip(qs.iter_mut().zip(ps).zip(diag)) {
+            *qi = laplacian_row::<T, V, true>(fixed, row, pi, d, p, pq, dpp);
+        }
+    } else {
+        for ((_, fixed, row), (qi, &pi)) in rows.zip(qs.iter_mut().zip(ps)) {
+            *qi = laplacian_row::<T, V, false>(fixed, row, pi, T::ZERO, p, pq, dpp);
         }
     }
-    dpp
 }
 
-/// `z = M⁻¹ r` for the chosen preconditioner (zero on fixed nodes), `diag` from [`diagonal`].
-pub(crate) fn precondition<T: Real, const V: usize>(
-    sys: &SpringSystem<'_, T>,
-    diag: &[T],
-    pre: Preconditioner<T>,
-    r: &[[T; V]],
-    z: &mut [[T; V]],
-) {
-    match pre {
-        Preconditioner::None => {
-            for (z, &r) in z.iter_mut().zip(r) {
-                *z = r;
-            }
+/// One row of [`laplacian_rows`]: `(A p)_i` (zero at a fixed node), adding `p_i (A p)_i` to
+/// `pq` and raising `dpp` by `d_i p_i²` (`d_i` given when `STORED`, else summed here).
+#[inline(always)]
+fn laplacian_row<T: Real, const V: usize, const STORED: bool>(
+    fixed: bool,
+    row: impl Iterator<Item = (usize, T)>,
+    pi: [T; V],
+    d: T,
+    p: &[[T; V]],
+    pq: &mut [ExactSum; V],
+    dpp: &mut [T; V],
+) -> [T; V] {
+    if fixed {
+        return [T::ZERO; V];
+    }
+    let mut acc = [T::ZERO; V];
+    let mut sum = T::ZERO;
+    for (j, k) in row {
+        let pj = p.get(j).copied().unwrap_or([T::ZERO; V]);
+        for ((a, &x), &y) in acc.iter_mut().zip(&pi).zip(&pj) {
+            *a += k * (x - y);
         }
-        Preconditioner::Jacobi => {
-            for (((z, &r), &d), &m) in z.iter_mut().zip(r).zip(diag).zip(sys.fixed()) {
-                *z = jacobi_node(r, d, is_fixed(m));
-            }
+        if !STORED {
+            sum += k;
         }
-        Preconditioner::Ssor { omega } => ssor(sys, diag, omega, r, z),
+    }
+    let d = if STORED { d } else { sum };
+    for (((s, t), &x), &a) in dpp.iter_mut().zip(pq.iter_mut()).zip(&pi).zip(&acc) {
+        *s = s.max(d * x * x);
+        t.add(x * a);
+    }
+    acc
+}
+
+/// The linear springs' one-level preconditioners ([`Preconditioner`]: none, Jacobi `z_i =
+/// r_i / d_i`, SSOR), chosen at run time so that one CG serves all three; zero at fixed
+/// nodes. None and Jacobi are node-local (fused into the update pass), SSOR sweeps every node
+/// in order (serial only).
+pub(crate) struct OneLevel<'s, 'a, T: Real> {
+    pub(crate) sys: &'s SpringSystem<'a, T>,
+    pub(crate) diag: &'s [T],
+    pub(crate) pre: Preconditioner<T>,
+}
+
+impl<T: Real, const V: usize> Precondition<T, V> for OneLevel<'_, '_, T> {
+    fn local(&self) -> bool {
+        !matches!(self.pre, Preconditioner::Ssor { .. })
+    }
+    #[inline]
+    fn node(&self, i: usize, r: [T; V]) -> [T; V] {
+        match self.pre {
+            Preconditioner::Jacobi => match (self.diag.get(i), self.sys.fixed().get(i)) {
+                (Some(&d), Some(&m)) => jacobi_node(r, d, is_fixed(m)),
+                _ => [T::ZERO; V],
+            },
+            _ => r,
+        }
+    }
+    fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; V]], z: &mut [[T; V]], comm: &C) {
+        match self.pre {
+            Preconditioner::Ssor { omega } => ssor(self.sys, self.diag, omega, r, z),
+            _ => apply_local(self, r, z, comm),
+        }
     }
 }
 
@@ -646,9 +733,9 @@ fn jacobi_node<T: Real, const V: usize>(r: [T; V], d: T, fixed: bool) -> [T; V] 
     }
 }
 
-/// The SSOR preconditioner, `M = (D + ωL) D⁻¹ (D + ωU) / (ω (2 − ω))`: one forward and one
-/// backward sweep. No per-edge fixed-mask test: `z` is zero at fixed nodes (set by the forward
-/// sweep before any later row reads it), so their terms add nothing.
+/// The SSOR preconditioner `M = (D + ωL) D⁻¹ (D + ωU) / (ω (2 − ω))`, `z = M⁻¹ r`.
+/// The two SSOR sweeps. No per-edge fixed-mask test: `z` is zero at fixed nodes (set by the
+/// forward sweep before any later row reads it), so their terms add nothing.
 fn ssor<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     diag: &[T],
@@ -699,305 +786,32 @@ fn ssor<T: Real, const V: usize>(
     }
 }
 
-/// Per-component `Σ a·b` over all nodes, summed exactly ([`ExactSum`]: any split of the nodes
-/// gives the same bits), accumulated in `s`.
-#[inline]
-pub(crate) fn dots<T: Real, const V: usize>(
-    a: &[[T; V]],
-    b: &[[T; V]],
-    s: &mut [ExactSum; V],
-) -> [T; V] {
-    s.iter_mut().for_each(|s| *s = ExactSum::new());
-    for (x, y) in a.iter().zip(b) {
-        for ((s, &x), &y) in s.iter_mut().zip(x).zip(y) {
-            s.add(x * y);
-        }
-    }
-    s.each_ref().map(|s| s.value())
-}
-
-/// Per-component power-of-two exponents `e_c` for the scaled CG iterate `x_c · 2^−e_c`:
-/// brings `max_i |x_ic|` to about `1/√k_max`, so every product CG forms (`k x²` in `rᵀz`,
-/// `pᵀAp`) is near 1 whatever the scale of the values or the stiffness. Powers of two scale
-/// exactly: the iterates are the unscaled ones times `2^−e_c`, bit for bit.
-pub(crate) fn cg_exponents<T: Real, const V: usize>(
-    sys: &SpringSystem<'_, T>,
-    x: &[[T; V]],
-) -> [i32; V] {
-    let kmax = sys.stiffness().iter().fold(T::ZERO, |m, &k| m.max(k));
-    let ek = if kmax > T::ZERO {
-        kmax.exponent() / 2
-    } else {
-        0
-    };
-    let mut vmax = [T::ZERO; V];
-    for xi in x {
-        for (m, &v) in vmax.iter_mut().zip(xi) {
-            *m = m.max(v.abs());
-        }
-    }
-    let limit = T::MAX.exponent() - 1;
-    vmax.map(|m| {
-        let ev = if m > T::ZERO { m.exponent() } else { 0 };
-        (ev + ek).clamp(-limit, limit)
-    })
-}
-
-fn solve_cg<T: Real, const V: usize>(
+/// CG on the linear springs ([`pcg`](super::krylov::pcg)) with a one-level preconditioner:
+/// the four CG vectors and the diagonal (`n` scalars packed `V` to an item) in `scratch`.
+fn solve_cg<T: Real, const V: usize, C: Collective<T> + ?Sized>(
     sys: &SpringSystem<'_, T>,
     values: &mut [[T; V]],
     options: &SolveOptions<T>,
     pre: Preconditioner<T>,
     scratch: &mut [[T; V]],
-    comm: &dyn Collective<T>,
+    comm: &C,
 ) -> Result<SolveReport<T>> {
     let n = sys.node_count();
-    let too_small = Error::BufferTooSmall {
-        arg: "scratch",
-        needed: cg_scratch_len::<V>(n),
-        actual: scratch.len(),
-    };
-    let Some((x, rest)) = scratch.split_at_mut_checked(n) else {
-        return Err(too_small);
-    };
-    let Some((r, rest)) = rest.split_at_mut_checked(n) else {
-        return Err(too_small);
-    };
-    let Some((p, rest)) = rest.split_at_mut_checked(n) else {
-        return Err(too_small);
-    };
-    let Some((w, rest)) = rest.split_at_mut_checked(n) else {
-        return Err(too_small);
+    let needed = cg_scratch_len::<V>(n);
+    let actual = scratch.len();
+    let Some((v, rest)) = Vectors::split(scratch, n) else {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed,
+            actual,
+        });
     };
     let diag = rest.as_flattened_mut().get_mut(..n).unwrap_or(&mut []);
     diagonal(sys, diag);
     let diag: &[T] = diag;
-    let owned = comm.owned();
-    // SSOR sweeps the nodes in order: only whole (serial) solves may use it.
-    let local = !matches!(pre, Preconditioner::Ssor { .. });
-    // CG runs on the scaled field x_c · 2^−e_c (see `cg_exponents`).
-    let exps = cg_exponents(sys, values);
-    let down = exps.map(|e| T::pow2(-e));
-    for (x, v) in x.iter_mut().zip(values.iter()) {
-        for ((x, &v), &f) in x.iter_mut().zip(v).zip(&down) {
-            *x = v * f;
-        }
-    }
-    // The recurrence residual summed at the largest component's scale.
-    let top = exps.iter().copied().max().unwrap_or(0);
-    let to_top = exps.map(|e| scale_by(T::ONE, e - top));
-    let (r0, bnorm) = residual_norms_scaled(sys, x, &exps, comm);
-    let mut report = SolveReport {
-        iterations: 0,
-        residual: r0.relative_to(bnorm),
-        max_update: T::ZERO,
-        converged: false,
-    };
-    if report.residual <= options.residual_tol {
-        report.converged = true;
-        return Ok(report);
-    }
-    // (Re)start: r = b − A x, z = M⁻¹ r, p = z on the owned rows (x current everywhere),
-    // then p shared; returns rᵀz.
-    let restart = |x: &[[T; V]],
-                   r: &mut [[T; V]],
-                   p: &mut [[T; V]],
-                   w: &mut [[T; V]],
-                   rz: &mut [ExactSum; V]| {
-        rz.iter_mut().for_each(|s| *s = ExactSum::new());
-        if local {
-            for range in owned {
-                for i in range.clone() {
-                    let xi = x.get(i).copied().unwrap_or([T::ZERO; V]);
-                    let ri = if sys.is_fixed(i) {
-                        [T::ZERO; V]
-                    } else {
-                        node_residual(sys, i, xi, x).0
-                    };
-                    let d = diag.get(i).copied().unwrap_or(T::ONE);
-                    let zi = match pre {
-                        Preconditioner::Jacobi => jacobi_node(ri, d, sys.is_fixed(i)),
-                        _ => ri,
-                    };
-                    for ((s, &a), &b) in rz.iter_mut().zip(&ri).zip(&zi) {
-                        s.add(a * b);
-                    }
-                    if let (Some(r), Some(w), Some(p)) = (r.get_mut(i), w.get_mut(i), p.get_mut(i))
-                    {
-                        (*r, *w, *p) = (ri, zi, zi);
-                    }
-                }
-            }
-            share_halo(comm, p);
-        } else {
-            for (i, ri) in r.iter_mut().enumerate() {
-                let xi = x.get(i).copied().unwrap_or([T::ZERO; V]);
-                *ri = if sys.is_fixed(i) {
-                    [T::ZERO; V]
-                } else {
-                    node_residual(sys, i, xi, x).0
-                };
-            }
-            precondition(sys, diag, pre, r, w);
-            for (p, &z) in p.iter_mut().zip(w.iter()) {
-                *p = z;
-            }
-            for (ri, zi) in r.iter().zip(w.iter()) {
-                for ((s, &a), &b) in rz.iter_mut().zip(ri).zip(zi) {
-                    s.add(a * b);
-                }
-            }
-        }
-        merged(comm, rz)
-    };
-    if !local && owned.len() != 1 {
-        return Err(Error::InvalidParameter {
-            arg: "solver",
-            reason: "SSOR sweeps the nodes in order: not with nodes split across processes",
-        });
-    }
-    // One set of per-component accumulators for every per-component sum of an iteration
-    // (each is rounded before the next begins): 584 bytes a component matter on a small stack.
-    let mut sums = [ExactSum::new(); V];
-    let mut rz = restart(x, r, p, w, &mut sums);
-    let mut checked = true;
-    let tiny = T::EPSILON;
-    while report.iterations < options.max_iterations {
-        report.iterations += 1;
-        let dpp = laplacian_apply(sys, owned, diag, p, w, &mut sums);
-        let dpp = merged_max(comm, dpp);
-        let pq = merged(comm, &mut sums);
-        let mut alpha = [T::ZERO; V];
-        for (((a, &pq), &dpp), &rz) in alpha.iter_mut().zip(&pq).zip(&dpp).zip(&rz) {
-            if !(pq.is_finite() && rz.is_finite() && dpp.is_finite()) {
-                return Err(Error::Overflow { arg: "values" });
-            }
-            if dpp == T::ZERO || rz == T::ZERO {
-                continue; // this component has converged exactly
-            }
-            if pq <= tiny * dpp {
-                return Err(Error::SingularSystem {
-                    iteration: report.iterations,
-                });
-            }
-            *a = rz / pq;
-        }
-        // One pass over the owned rows: x += α p, r −= α q, the recurrence residual, and
-        // (Jacobi or none) the preconditioned residual z (into w, over q) with rᵀz.
-        let mut max_update = [T::ZERO; V];
-        let mut rr = ExactSum::new();
-        let rz_exact = &mut sums;
-        rz_exact.iter_mut().for_each(|s| *s = ExactSum::new());
-        for range in owned {
-            let rows = range.clone();
-            let (Some(x), Some(r), Some(p), Some(w), Some(d), Some(m)) = (
-                x.get_mut(rows.clone()),
-                r.get_mut(rows.clone()),
-                p.get(rows.clone()),
-                w.get_mut(rows.clone()),
-                diag.get(rows.clone()),
-                sys.fixed().get(rows),
-            ) else {
-                continue;
-            };
-            for ((((x, r), &p), w), (&d, &m)) in x
-                .iter_mut()
-                .zip(r.iter_mut())
-                .zip(p.iter())
-                .zip(w.iter_mut())
-                .zip(d.iter().zip(m))
-            {
-                for ((((((x, r), &p), &q), &a), m), &g) in x
-                    .iter_mut()
-                    .zip(r.iter_mut())
-                    .zip(&p)
-                    .zip(w.iter())
-                    .zip(&alpha)
-                    .zip(max_update.iter_mut())
-                    .zip(&to_top)
-                {
-                    let dx = a * p;
-                    *x += dx;
-                    *r -= a * q;
-                    *m = m.max(dx.abs());
-                    let rg = *r * g;
-                    rr.add(rg * rg);
-                }
-                if local {
-                    *w = match pre {
-                        Preconditioner::Jacobi => jacobi_node(*r, d, is_fixed(m)),
-                        _ => *r,
-                    };
-                    for ((s, &r), &z) in rz_exact.iter_mut().zip(r.iter()).zip(w.iter()) {
-                        s.add(r * z);
-                    }
-                }
-            }
-        }
-        let max_update = merged_max(comm, max_update);
-        report.max_update = max_update
-            .iter()
-            .zip(&exps)
-            .fold(T::ZERO, |m, (&u, &e)| m.max(scale_by(u, e)));
-        // rr and rᵀz in one exchange.
-        let (rr, mut rz_new) = merged_with(comm, &mut rr, rz_exact);
-        checked = false;
-        // An overflowing recurrence sum cannot say "converged": ask the true residual.
-        let estimate_ok = rr.is_finite();
-        let estimate = Norm::from_sum(rr, top).relative_to(bnorm);
-        if !estimate_ok || options.met(estimate, report.max_update) {
-            share_halo(comm, x);
-            let (rt, _) = residual_norms_scaled(sys, x, &exps, comm);
-            report.residual = rt.relative_to(bnorm);
-            checked = true;
-            if options.met(report.residual, report.max_update) {
-                report.converged = true;
-                break;
-            }
-            if estimate_ok {
-                // Recurrence and true residual disagree: restart from the true residual.
-                rz = restart(x, r, p, w, &mut sums);
-                continue;
-            }
-        }
-        if !local {
-            precondition(sys, diag, pre, r, w);
-            rz_new = dots(r, w, &mut sums);
-        }
-        let mut beta = [T::ZERO; V];
-        for ((b, &new), &old) in beta.iter_mut().zip(&rz_new).zip(&rz) {
-            if old != T::ZERO {
-                *b = new / old;
-            }
-        }
-        for range in owned {
-            let (Some(p), Some(w)) = (p.get_mut(range.clone()), w.get(range.clone())) else {
-                continue;
-            };
-            for (p, &z) in p.iter_mut().zip(w.iter()) {
-                for ((p, &z), &b) in p.iter_mut().zip(&z).zip(&beta) {
-                    *p = z + b * *p;
-                }
-            }
-        }
-        share_halo(comm, p);
-        rz = rz_new;
-    }
-    share_field(comm, x);
-    if !checked {
-        let (rt, _) = residual_norms_scaled(sys, x, &exps, comm);
-        report.residual = rt.relative_to(bnorm);
-    }
-    // Free nodes only: CG adds `α·p` with `p = 0` at fixed nodes, which would turn a fixed
-    // −0.0 into +0.0 (and scaling could round a fixed subnormal); fixed values must come back
-    // bit for bit.
-    let up = exps.map(|e| T::pow2(e));
-    for (i, (v, x)) in values.iter_mut().zip(x.iter()).enumerate() {
-        if !sys.is_fixed(i) {
-            for ((v, &x), &f) in v.iter_mut().zip(x).zip(&up) {
-                *v = x * f;
-            }
-        }
-    }
-    Ok(report)
+    let op = Laplacian::<T, true> { sys, diag };
+    let exps = exponents(sys.stiffness(), values, false);
+    let fixed = |i| sys.is_fixed(i);
+    let mut pre = OneLevel { sys, diag, pre };
+    solve_scaled(&op, &mut pre, v, values, exps, fixed, options, comm)
 }

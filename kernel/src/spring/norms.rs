@@ -53,7 +53,7 @@ impl<T: Real> SumSq<T> {
     }
 
     /// Merges the sum and maximum over all processes of `comm`.
-    pub(crate) fn merge_over(&mut self, comm: &dyn crate::spring::Collective<T>) {
+    pub(crate) fn merge_over<C: crate::spring::Collective<T> + ?Sized>(&mut self, comm: &C) {
         comm.sum_exact(&mut [core::slice::from_mut(&mut self.sum)]);
         let mut m = [self.max];
         comm.max(&mut m);
@@ -164,4 +164,85 @@ pub(crate) fn sweep_exponent<T: Real>(r0: &Norm<T>, b: &Norm<T>) -> i32 {
         (er, _) if r0.value > T::ZERO => er,
         (_, eb) => eb,
     }
+}
+
+/// A field's residual and right-hand side, node by node: what [`pair_norms`] measures.
+pub(crate) trait Pairs<T: Real, const V: usize> {
+    /// Calls `f(r_i, b_i)` for every node that counts (the free nodes of this process's
+    /// rows, in node order): the residual `r_i = (b − A x)_i` and the right-hand side `b_i`.
+    fn each<F: FnMut(&[T; V], &[T; V])>(&self, f: F);
+}
+
+/// `(‖r‖₂, ‖b‖₂)` over every pair of `pairs`, merged over the processes of `comm`, without
+/// overflow or underflow: summed plainly, and once more with every term multiplied by a power
+/// of two when a plain sum is out of range (see the module documentation). Component `c` is
+/// multiplied by `g[c]` first (a power of two: the scaled CG iterate's components brought to
+/// one scale; 1 otherwise). `per_node` adds each node's `|v|²`, rounded, as one term (the
+/// angle springs' order); otherwise every component's square is a term.
+pub(crate) fn pair_norms<T, const V: usize, P, C>(
+    pairs: &P,
+    g: &[T; V],
+    per_node: bool,
+    comm: &C,
+) -> (Norm<T>, Norm<T>)
+where
+    T: Real,
+    P: Pairs<T, V>,
+    C: crate::spring::Collective<T> + ?Sized,
+{
+    let mut rs = SumSq::new();
+    let mut bs = SumSq::new();
+    pairs.each(|r, b| {
+        let (r, b) = (mul(r, g), mul(b, g));
+        if per_node {
+            rs.add_vector(&r);
+            bs.add_vector(&b);
+        } else {
+            for (&r, &b) in r.iter().zip(&b) {
+                rs.add(r);
+                bs.add(b);
+            }
+        }
+    });
+    rs.merge_over(comm);
+    bs.merge_over(comm);
+    let (pr, pb) = (rs.plain(), bs.plain());
+    if let (Ok(r), Ok(b)) = (pr, pb) {
+        return (r, b);
+    }
+    // Second pass, each sum scaled by its own power of two; the first pass's accumulators
+    // are reused (no more sums on the stack).
+    let qr = T::pow2(-pr.err().unwrap_or(0));
+    let qb = T::pow2(-pb.err().unwrap_or(0));
+    let (sr, sb) = (&mut rs.sum, &mut bs.sum);
+    (*sr, *sb) = (ExactSum::new(), ExactSum::new());
+    pairs.each(|r, b| {
+        let r = mul(r, g).map(|x| x * qr);
+        let b = mul(b, g).map(|x| x * qb);
+        if per_node {
+            sr.add(crate::vector::norm_sq(r));
+            sb.add(crate::vector::norm_sq(b));
+        } else {
+            for (&r, &b) in r.iter().zip(&b) {
+                sr.add(r * r);
+                sb.add(b * b);
+            }
+        }
+    });
+    comm.sum_exact(&mut [core::slice::from_mut(sr), core::slice::from_mut(sb)]);
+    let (sr, sb) = (sr.value(), sb.value());
+    (
+        pr.unwrap_or_else(|e| Norm::from_sum(sr, e)),
+        pb.unwrap_or_else(|e| Norm::from_sum(sb, e)),
+    )
+}
+
+/// `a ⊙ g`, component by component.
+#[inline]
+fn mul<T: Real, const V: usize>(a: &[T; V], g: &[T; V]) -> [T; V] {
+    let mut out = *a;
+    for (o, &g) in out.iter_mut().zip(g) {
+        *o *= g;
+    }
+    out
 }

@@ -31,10 +31,16 @@
 //! (exact), writes back only on success, and projects every sliding node's result once more,
 //! so `n · d` is at rounding level of `|d|`.
 
-use super::amg::{amg_precondition_scratch_len, AmgHierarchy};
-use super::angle::{cramer, AngleMethod, AngleSystem, MAX_AMPLIFICATION};
-use super::linear::{diagonal, drive_sweeps, precondition, Sweeps};
-use super::norms::{scale_by, Norm, SumSq};
+use core::ops::Range;
+
+use super::amg::{amg_sliding_cg_scratch_len, AmgHierarchy, Vcycle};
+use super::angle::{angle_sliding_scratch_items, cramer, AngleMethod, AngleSystem};
+use super::distributed::{Collective, Serial};
+use super::krylov::{apply_local, cg_len, exponents, pcg, Operator, Precondition, Vectors};
+use super::linear::{
+    diagonal, drive_sweeps, node_residual, solve_linear_scratch_len, OneLevel, Sweeps,
+};
+use super::norms::{pair_norms, scale_by, Norm, Pairs};
 use super::solver::LinearSolver;
 use super::system::{
     check_omega, check_values, LinearMethod, Preconditioner, SolveOptions, SolveReport,
@@ -65,8 +71,8 @@ trait BlockOp<T: Real, const D: usize> {
         m: &[[T; D]; D],
         pr: [T; D],
     ) -> [T; D];
-    /// Largest edge stiffness (sets the scale of the CG copy).
-    fn kmax(&self) -> T;
+    /// The edge stiffness (its largest sets the scale of the scaled copy).
+    fn stiffness(&self) -> &[T];
     /// Largest row sum `Σ_j k_ij (1 + ε)`: bounds every `|B v|` per unit `|v|`.
     fn row_max(&self) -> T;
 }
@@ -83,15 +89,7 @@ impl<T: Real, const D: usize> BlockOp<T, D> for LinearOp<'_, '_, T> {
     }
     fn node(&self, i: usize, x: &[[T; D]]) -> ([T; D], [[T; D]; D]) {
         let xi = x.get(i).copied().unwrap_or([T::ZERO; D]);
-        let mut r = [T::ZERO; D];
-        let mut d = T::ZERO;
-        for (j, k) in self.0.row(i) {
-            let xj = x.get(j).copied().unwrap_or(xi);
-            for ((a, &b), &c) in r.iter_mut().zip(&xj).zip(&xi) {
-                *a += k * (b - c);
-            }
-            d += k;
-        }
+        let (r, d) = node_residual(self.0, i, xi, x);
         let mut m = [[T::ZERO; D]; D];
         for (c, row) in m.iter_mut().enumerate() {
             if let Some(e) = row.get_mut(c) {
@@ -122,8 +120,8 @@ impl<T: Real, const D: usize> BlockOp<T, D> for LinearOp<'_, '_, T> {
         let d = m.first().and_then(|r| r.first()).copied().unwrap_or(T::ONE);
         pr.map(|v| v / d)
     }
-    fn kmax(&self) -> T {
-        self.0.stiffness().iter().fold(T::ZERO, |m, &k| m.max(k))
+    fn stiffness(&self) -> &[T] {
+        self.0.stiffness()
     }
     fn row_max(&self) -> T {
         self.0.rows().fold(T::ZERO, |m, (_, _, row)| {
@@ -198,12 +196,8 @@ impl<T: Real, const D: usize> BlockOp<T, D> for AngleOp<'_, '_, T, D> {
         }
         c.project(i, cramer(&mm, &pr).unwrap_or([T::ZERO; D]))
     }
-    fn kmax(&self) -> T {
-        self.0
-            .base()
-            .stiffness()
-            .iter()
-            .fold(T::ZERO, |m, &k| m.max(k))
+    fn stiffness(&self) -> &[T] {
+        self.0.base().stiffness()
     }
     fn row_max(&self) -> T {
         let e1 = T::ONE + self.0.epsilon();
@@ -233,21 +227,23 @@ enum Method<'h, T: Real> {
 }
 
 /// Number of `[T; D]` scratch items [`solve_linear_sliding`](crate::spring::SpringSystem::solve_linear_sliding) needs for `node_count` nodes:
-/// `n` (the scaled copy) plus `n` for Jacobi, nothing more for Gauss–Seidel/SOR, `5 n` for
-/// CG (residual, direction, `A p`, preconditioned residual, diagonal) and, with a multigrid
-/// hierarchy, [`amg_precondition_scratch_len`] more.
+/// `n` more than the unconstrained solve
+/// ([`solve_linear_scratch_len`](crate::spring::solve_linear_scratch_len): `2 n` for Jacobi,
+/// `n` for Gauss–Seidel/SOR, `6 n` for CG; with a multigrid hierarchy
+/// [`amg_sliding_cg_scratch_len`](crate::spring::amg_sliding_cg_scratch_len), `6 n + 3 coarse`).
+/// The stationary methods keep a scaled copy there; CG runs in the unconstrained CG's layout
+/// (the copy is its iterate) and leaves the last `n` unused, kept so that sizes computed from
+/// these counts (the C ABI's among them) stay exact.
 pub fn solve_linear_sliding_scratch_len<T: Real>(
     solver: &LinearSolver<'_, T>,
     node_count: usize,
 ) -> usize {
     let n = node_count;
     match solver {
-        LinearSolver::Method(LinearMethod::Jacobi) => n.saturating_mul(2),
-        LinearSolver::Method(LinearMethod::GaussSeidel | LinearMethod::Sor { .. }) => n,
-        LinearSolver::Method(LinearMethod::Cg { .. }) => n.saturating_mul(6),
-        LinearSolver::Amg(h) => n
-            .saturating_mul(5)
-            .saturating_add(amg_precondition_scratch_len(h)),
+        LinearSolver::Method(m) => n.saturating_add(solve_linear_scratch_len(m, n)),
+        LinearSolver::Amg(h) => {
+            amg_sliding_cg_scratch_len(n, h.coarse_unknowns()).unwrap_or(usize::MAX)
+        }
         LinearSolver::Distributed(..) | LinearSolver::DistributedAmg(..) => 0,
     }
 }
@@ -325,27 +321,13 @@ impl<T: Real> SpringSystem<'_, T> {
 }
 
 impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
-    /// Number of `[T; D]` scratch items [`solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding) needs: `n` (the scaled copy) plus
-    /// `n` for [`AngleMethod::DirectJacobi`], nothing more for [`AngleMethod::DirectGaussSeidel`],
-    /// `4 n` for [`AngleMethod::Cg`]; at least the rigidity probe's `4 n` when `ε = 0`.
+    /// Number of `[T; D]` scratch items [`solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding) needs: `n` more than the
+    /// unconstrained method itself (`2 n` for [`AngleMethod::DirectJacobi`], `n` for
+    /// [`AngleMethod::DirectGaussSeidel`], `5 n` for [`AngleMethod::Cg`], of which CG leaves
+    /// the last `n` unused); at least the rigidity probe's `4 n` when `ε = 0`.
     pub fn solve_angle_sliding_scratch_len(&self, method: AngleMethod) -> usize {
-        let n = self.base().node_count();
-        let solve = match method {
-            AngleMethod::DirectJacobi => n.saturating_mul(2),
-            AngleMethod::DirectGaussSeidel => n,
-            AngleMethod::Cg => n.saturating_mul(5),
-        };
-        self.with_probe(solve)
-    }
-
-    /// `solve` scratch items, raised to the rigidity probe's when `ε = 0` (it runs first, in
-    /// the same scratch).
-    fn with_probe(&self, solve: usize) -> usize {
-        if self.epsilon() == T::ZERO {
-            solve.max(self.angle_probe_scratch_len())
-        } else {
-            solve
-        }
+        let probe = self.epsilon() == T::ZERO;
+        angle_sliding_scratch_items(self.base().node_count(), method, probe).unwrap_or(usize::MAX)
     }
 
     /// The checks every sliding angle solve starts with: `values`, the constraints against
@@ -359,24 +341,6 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
         check_values("values", values, self.base().node_count())?;
         constraints.check_mask(self.base().fixed())?;
         options.check()
-    }
-
-    /// `scratch` of at least `needed` items, then (for `ε = 0`) the unconstrained rigidity
-    /// probe in it: a rigid unconstrained system stays rigid when nodes are restricted further.
-    fn probe_rigidity(
-        &self,
-        options: &SolveOptions<T>,
-        scratch: &mut [[T; D]],
-        needed: usize,
-    ) -> Result<()> {
-        check::buffer("scratch", scratch.len(), needed)?;
-        if self.epsilon() == T::ZERO {
-            let s = self.angle_rigidity_probe(options, scratch)?;
-            if s > T::from_f64(MAX_AMPLIFICATION) {
-                return Err(Error::SingularSystem { iteration: 0 });
-            }
-        }
-        Ok(())
     }
 }
 
@@ -428,15 +392,13 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
 }
 
 impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
-    /// Number of `[T; D]` scratch items [`solve_angle_sliding_amg`](crate::spring::AngleSystem::solve_angle_sliding_amg) needs: `5 n` (the
-    /// scaled copy and the CG vectors) plus [`amg_precondition_scratch_len`]; at least the
-    /// rigidity probe's `4 n` when `ε = 0`.
+    /// Number of `[T; D]` scratch items [`solve_angle_sliding_amg`](crate::spring::AngleSystem::solve_angle_sliding_amg) needs:
+    /// [`amg_sliding_cg_scratch_len`](crate::spring::amg_sliding_cg_scratch_len) (`6 n + 3 coarse`); at least the rigidity
+    /// probe's `4 n` when `ε = 0`.
     pub fn solve_angle_sliding_amg_scratch_len(&self, hierarchy: &AmgHierarchy<'_, T>) -> usize {
+        let n = self.base().node_count();
         self.with_probe(
-            self.base()
-                .node_count()
-                .saturating_mul(5)
-                .saturating_add(amg_precondition_scratch_len(hierarchy)),
+            amg_sliding_cg_scratch_len(n, hierarchy.coarse_unknowns()).unwrap_or(usize::MAX),
         )
     }
 
@@ -479,55 +441,39 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
     }
 }
 
+/// The projected residual pairs `(P (b − K x), P b)` of the non-fixed nodes.
+struct ProjectedPairs<'o, 'c, 'x, T: Real, const D: usize, O: BlockOp<T, D>> {
+    op: &'o O,
+    c: &'o Constraints<'c, T, D>,
+    x: &'x [[T; D]],
+}
+
+impl<T: Real, const D: usize, O: BlockOp<T, D>> Pairs<T, D>
+    for ProjectedPairs<'_, '_, '_, T, D, O>
+{
+    fn each<F: FnMut(&[T; D], &[T; D])>(&self, mut f: F) {
+        for i in 0..self.op.n() {
+            if !self.op.fixed(i) {
+                let r = self.c.project(i, self.op.node(i, self.x).0);
+                let b = self.c.project(i, self.op.pull(i, self.x));
+                f(&r, &b);
+            }
+        }
+    }
+}
+
 /// `(‖P (b − K x)‖, ‖P b‖)` over the non-fixed nodes, without overflow or underflow.
 fn norms<T: Real, const D: usize, O: BlockOp<T, D>>(
     op: &O,
     c: &Constraints<'_, T, D>,
     x: &[[T; D]],
 ) -> (Norm<T>, Norm<T>) {
-    let each = |f: &mut dyn FnMut(&[T; D], &[T; D])| {
-        for i in 0..op.n() {
-            if !op.fixed(i) {
-                let r = c.project(i, op.node(i, x).0);
-                let b = c.project(i, op.pull(i, x));
-                f(&r, &b);
-            }
-        }
-    };
-    let mut rs = SumSq::new();
-    let mut bs = SumSq::new();
-    each(&mut |r, b| {
-        for (&r, &b) in r.iter().zip(b) {
-            rs.add(r);
-            bs.add(b);
-        }
-    });
-    let (pr, pb) = (rs.plain(), bs.plain());
-    match (pr, pb) {
-        (Ok(r), Ok(b)) => (r, b),
-        _ => {
-            let er = pr.err().unwrap_or(0);
-            let eb = pb.err().unwrap_or(0);
-            let (qr, qb) = (T::pow2(-er), T::pow2(-eb));
-            // The first pass's accumulators are reused (fewer sums on the stack).
-            let (sr, sb) = (&mut rs.sum, &mut bs.sum);
-            (*sr, *sb) = (ExactSum::new(), ExactSum::new());
-            each(&mut |r, b| {
-                for (&r, &b) in r.iter().zip(b) {
-                    let (r, b) = (r * qr, b * qb);
-                    sr.add(r * r);
-                    sb.add(b * b);
-                }
-            });
-            (
-                pr.unwrap_or_else(|_| Norm::from_sum(sr.value(), er)),
-                pb.unwrap_or_else(|_| Norm::from_sum(sb.value(), eb)),
-            )
-        }
-    }
+    let pairs = ProjectedPairs { op, c, x };
+    pair_norms(&pairs, &[T::ONE; D], false, &Serial::new(op.n()))
 }
 
-/// Runs `method` on a scaled copy in `scratch` and writes the result back on success.
+/// Runs `method` on a scaled copy in the front of `scratch` and writes the result back on
+/// success.
 fn solve<T: Real, const D: usize, O: BlockOp<T, D>>(
     op: &O,
     sys: Option<&SpringSystem<'_, T>>,
@@ -539,43 +485,42 @@ fn solve<T: Real, const D: usize, O: BlockOp<T, D>>(
 ) -> Result<SolveReport<T>> {
     let n = op.n();
     // Scale: values to about 1/√k_max, so k x² and the residuals stay near 1.
-    let kmax = op.kmax();
+    let e = exponents(op.stiffness(), values, true)
+        .first()
+        .copied()
+        .unwrap_or(0);
     let vmax = values
         .iter()
         .flatten()
         .fold(T::ZERO, |m, &v| m.max(v.abs()));
-    let limit = T::MAX.exponent() - 1;
-    let ev = if vmax > T::ZERO { vmax.exponent() } else { 0 };
-    let ek = if kmax > T::ZERO {
-        kmax.exponent() / 2
-    } else {
-        0
-    };
-    let e = (ev + ek).clamp(-limit, limit);
     let down = T::pow2(-e);
     if !(op.row_max() * T::from_f64(4.0) * (vmax * down)).is_finite() {
         return Err(Error::Overflow { arg: "stiffness" });
     }
-    let (x, rest) = scratch
-        .split_at_mut_checked(n)
-        .unwrap_or((&mut [], &mut []));
-    if x.len() != n {
+    let Some((x, rest)) = scratch.split_at_mut_checked(n) else {
         return Err(Error::BufferTooSmall {
             arg: "scratch",
             needed: n,
             actual: 0,
         });
-    }
+    };
     for (i, (x, &v)) in x.iter_mut().zip(values.iter()).enumerate() {
         let s = vector::scale(v, down);
         *x = if op.fixed(i) { s } else { c.project(i, s) };
     }
-    let mut report = match method {
-        Method::Jacobi => stationary(op, c, x, rest, None, options, e),
-        Method::Sor(omega) => stationary(op, c, x, rest, Some(omega), options, e),
-        Method::Cg(pre) => cg(op, sys, c, x, rest, pre, options, e)?,
+    let report = match method {
+        Method::Jacobi | Method::Sor(_) => {
+            let omega = match method {
+                Method::Sor(w) => Some(w),
+                _ => None,
+            };
+            let mut report = stationary(op, c, x, rest, omega, options, e);
+            report.max_update = scale_by(report.max_update, e);
+            report
+        }
+        Method::Cg(pre) => cg(op, sys, c, scratch, pre, options, e)?,
     };
-    report.max_update = scale_by(report.max_update, e);
+    let x = scratch.get(..n).unwrap_or(&[]);
     let up = T::pow2(e);
     for (i, xi) in x.iter().enumerate() {
         if !op.fixed(i)
@@ -704,181 +649,165 @@ fn stationary<T: Real, const D: usize, O: BlockOp<T, D>>(
     report
 }
 
-/// `Σ aᵀ b` over all nodes: each node's `aᵀ b` in component order, the nodes' terms summed
-/// exactly.
-fn dot_all<T: Real, const D: usize>(a: &[[T; D]], b: &[[T; D]]) -> T {
-    let mut s = ExactSum::new();
-    for (x, y) in a.iter().zip(b) {
-        s.add(vector::dot(*x, *y));
+/// `pᵀ M p` of a node block.
+fn quad_form<T: Real, const D: usize>(m: &[[T; D]; D], p: &[T; D]) -> T {
+    let mut s = T::ZERO;
+    for (row, &pr) in m.iter().zip(p) {
+        s += pr * vector::dot(*row, *p);
     }
-    s.value()
+    s
 }
 
-/// `z = P M⁻¹ r` (zero at fixed nodes).
-#[allow(clippy::too_many_arguments)]
-fn apply_pre<T: Real, const D: usize, O: BlockOp<T, D>>(
-    op: &O,
-    sys: Option<&SpringSystem<'_, T>>,
-    c: &Constraints<'_, T, D>,
-    pre: Pre<'_, T>,
-    diag: &[T],
-    r: &[[T; D]],
-    z: &mut [[T; D]],
-    work: &mut [[T; D]],
-) -> Result<()> {
-    match (pre, sys) {
-        (Pre::Linear(p), Some(s)) => precondition(s, diag, p, r, z),
-        (Pre::Amg(h), Some(s)) => s.amg_precondition(h, r, z, work)?,
-        _ => {
-            for (i, (z, &r)) in z.iter_mut().zip(r).enumerate() {
-                *z = if op.fixed(i) {
-                    [T::ZERO; D]
-                } else {
-                    let (_, m) = op.node(i, &[]);
-                    op.block_solve(c, i, &m, r)
-                };
-            }
-        }
-    }
-    for (i, z) in z.iter_mut().enumerate() {
-        *z = if op.fixed(i) {
+/// The projected operator `P K P` for [`pcg`] on the scaled copy: one lane (`P` couples the
+/// components), the curvature scale `max_i pᵢᵀ Aᵢᵢ pᵢ` from the node blocks.
+struct Projected<'o, 'c, T: Real, const D: usize, O: BlockOp<T, D>> {
+    op: &'o O,
+    c: &'o Constraints<'c, T, D>,
+}
+
+impl<T: Real, const D: usize, O: BlockOp<T, D>> Operator<T, D, 1> for Projected<'_, '_, T, D, O> {
+    #[inline]
+    fn residual(&self, i: usize, x: &[[T; D]]) -> [T; D] {
+        if self.op.fixed(i) {
             [T::ZERO; D]
         } else {
-            c.project(i, *z)
-        };
+            self.c.project(i, self.op.node(i, x).0)
+        }
     }
-    Ok(())
+
+    /// `q = P K p` (`p` is zero at fixed nodes: `node()` gives `−(K p)_i`).
+    fn apply(
+        &self,
+        rows: Range<usize>,
+        p: &[[T; D]],
+        q: &mut [[T; D]],
+        pq: &mut [ExactSum; 1],
+        dpp: &mut [T; 1],
+    ) {
+        let ([pq], [dpp]) = (pq, dpp);
+        for i in rows {
+            let Some(qi) = q.get_mut(i) else { continue };
+            if self.op.fixed(i) {
+                *qi = [T::ZERO; D];
+                continue;
+            }
+            let (r, m) = self.op.node(i, p);
+            *qi = self.c.project(i, vector::scale(r, -T::ONE));
+            let pi = p.get(i).copied().unwrap_or([T::ZERO; D]);
+            pq.add(vector::dot(pi, *qi));
+            *dpp = dpp.max(quad_form(&m, &pi));
+        }
+    }
+
+    fn norms<C: Collective<T> + ?Sized>(
+        &self,
+        x: &[[T; D]],
+        exps: &[i32; D],
+        _: &C,
+    ) -> (Norm<T>, Norm<T>) {
+        let top = exps.iter().copied().max().unwrap_or(0);
+        let (r, b) = norms(self.op, self.c, x);
+        (r.shifted(top), b.shifted(top))
+    }
 }
 
-/// Projected preconditioned CG on the scaled copy `x`.
-#[allow(clippy::too_many_arguments)]
+/// `z = P M⁻¹ r` (zero at fixed nodes) for a preconditioner `M` of the unconstrained operator.
+struct ProjectedPre<'o, 'c, T: Real, const D: usize, O: BlockOp<T, D>, M> {
+    op: &'o O,
+    c: &'o Constraints<'c, T, D>,
+    inner: M,
+}
+
+impl<T: Real, const D: usize, O: BlockOp<T, D>, M: Precondition<T, D>> Precondition<T, D>
+    for ProjectedPre<'_, '_, T, D, O, M>
+{
+    fn local(&self) -> bool {
+        self.inner.local()
+    }
+    #[inline]
+    fn node(&self, i: usize, r: [T; D]) -> [T; D] {
+        if self.op.fixed(i) {
+            [T::ZERO; D]
+        } else {
+            self.c.project(i, self.inner.node(i, r))
+        }
+    }
+    fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; D]], z: &mut [[T; D]], comm: &C) {
+        self.inner.apply(r, z, comm);
+        for (i, z) in z.iter_mut().enumerate() {
+            *z = if self.op.fixed(i) {
+                [T::ZERO; D]
+            } else {
+                self.c.project(i, *z)
+            };
+        }
+    }
+}
+
+/// The projected node blocks `(P A_ii P)⁺` (before the projection of [`ProjectedPre`]).
+struct Blocks<'o, 'c, T: Real, const D: usize, O: BlockOp<T, D>> {
+    op: &'o O,
+    c: &'o Constraints<'c, T, D>,
+}
+
+impl<T: Real, const D: usize, O: BlockOp<T, D>> Precondition<T, D> for Blocks<'_, '_, T, D, O> {
+    fn local(&self) -> bool {
+        true
+    }
+    #[inline]
+    fn node(&self, i: usize, r: [T; D]) -> [T; D] {
+        if self.op.fixed(i) {
+            [T::ZERO; D]
+        } else {
+            let (_, m) = self.op.node(i, &[]);
+            self.op.block_solve(self.c, i, &m, r)
+        }
+    }
+    fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; D]], z: &mut [[T; D]], comm: &C) {
+        apply_local(self, r, z, comm);
+    }
+}
+
+/// Projected preconditioned CG ([`pcg`]) on the scaled copy in the front of `scratch`
+/// (scaled by `2^−e`), the CG vectors after it, then the preconditioner's (the diagonal, or
+/// the V-cycle's vectors).
 fn cg<T: Real, const D: usize, O: BlockOp<T, D>>(
     op: &O,
     sys: Option<&SpringSystem<'_, T>>,
     c: &Constraints<'_, T, D>,
-    x: &mut [[T; D]],
-    rest: &mut [[T; D]],
+    scratch: &mut [[T; D]],
     pre: Pre<'_, T>,
     options: &SolveOptions<T>,
     e: i32,
 ) -> Result<SolveReport<T>> {
     let n = op.n();
-    let (r, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-    let (p, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-    let (q, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-    let (z, rest) = rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut []));
-    let (diag_items, work) = match pre {
-        Pre::Linear(_) => rest.split_at_mut_checked(n).unwrap_or((&mut [], &mut [])),
-        _ => (&mut [][..], rest),
+    let Some((mut v, rest)) = Vectors::split(scratch, n) else {
+        return Err(Error::BufferTooSmall {
+            arg: "scratch",
+            needed: cg_len(n).unwrap_or(usize::MAX),
+            actual: 0,
+        });
     };
-    let diag = diag_items
-        .as_flattened_mut()
-        .get_mut(..n)
-        .unwrap_or(&mut []);
-    if let (Pre::Linear(_), Some(s)) = (pre, sys) {
-        diagonal(s, diag);
+    let proj = Projected { op, c };
+    let exps = [e; D];
+    let serial = Serial::new(n);
+    match (pre, sys) {
+        (Pre::Linear(pre), Some(sys)) => {
+            let diag = rest.as_flattened_mut().get_mut(..n).unwrap_or(&mut []);
+            diagonal(sys, diag);
+            let inner = OneLevel { sys, diag, pre };
+            let mut m = ProjectedPre { op, c, inner };
+            pcg(&proj, &mut m, &mut v, &exps, options, &serial)
+        }
+        (Pre::Amg(h), Some(sys)) => {
+            let inner = Vcycle::new(sys, h, rest);
+            let mut m = ProjectedPre { op, c, inner };
+            pcg(&proj, &mut m, &mut v, &exps, options, &serial)
+        }
+        _ => {
+            let inner = Blocks { op, c };
+            let mut m = ProjectedPre { op, c, inner };
+            pcg(&proj, &mut m, &mut v, &exps, options, &serial)
+        }
     }
-    let diag: &[T] = diag;
-    let (r0, bnorm) = norms(op, c, x);
-    let mut report = SolveReport {
-        iterations: 0,
-        residual: r0.relative_to(bnorm),
-        max_update: T::ZERO,
-        converged: false,
-    };
-    if report.residual <= options.residual_tol {
-        report.converged = true;
-        return Ok(report);
-    }
-    // (Re)start: r = P (b − K x), z = P M⁻¹ r, p = z.
-    let restart = |x: &[[T; D]],
-                   r: &mut [[T; D]],
-                   p: &mut [[T; D]],
-                   z: &mut [[T; D]],
-                   work: &mut [[T; D]]|
-     -> Result<T> {
-        for (i, ri) in r.iter_mut().enumerate() {
-            *ri = if op.fixed(i) {
-                [T::ZERO; D]
-            } else {
-                c.project(i, op.node(i, x).0)
-            };
-        }
-        apply_pre(op, sys, c, pre, diag, r, z, work)?;
-        for (p, &zi) in p.iter_mut().zip(z.iter()) {
-            *p = zi;
-        }
-        Ok(dot_all(r, z))
-    };
-    let mut rz = restart(x, r, p, z, work)?;
-    let mut checked = true;
-    while report.iterations < options.max_iterations {
-        report.iterations += 1;
-        // q = P K p (p is zero at fixed nodes: node() gives −(K p)_i).
-        for (i, qi) in q.iter_mut().enumerate() {
-            *qi = if op.fixed(i) {
-                [T::ZERO; D]
-            } else {
-                c.project(i, vector::scale(op.node(i, p).0, -T::ONE))
-            };
-        }
-        let pq = dot_all(p, q);
-        if !(pq.is_finite() && rz.is_finite()) {
-            return Err(Error::Overflow { arg: "values" });
-        }
-        if rz == T::ZERO {
-            report.converged = true;
-            break;
-        }
-        if pq <= T::ZERO {
-            return Err(Error::SingularSystem {
-                iteration: report.iterations,
-            });
-        }
-        let alpha = rz / pq;
-        let mut max_update = T::ZERO;
-        let mut rr = ExactSum::new();
-        for (((xi, ri), &pi), &qi) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter()) {
-            for (((xc, rc), &pc), &qc) in xi.iter_mut().zip(ri.iter_mut()).zip(&pi).zip(&qi) {
-                let dx = alpha * pc;
-                *xc += dx;
-                *rc -= alpha * qc;
-                max_update = max_update.max(dx.abs());
-                rr.add(*rc * *rc);
-            }
-        }
-        let rr: T = rr.value();
-        report.max_update = max_update;
-        let unscaled_update = scale_by(max_update, e);
-        checked = false;
-        let estimate_ok = rr.is_finite();
-        let estimate = Norm::from_sum(rr, 0).relative_to(bnorm);
-        if !estimate_ok || options.met(estimate, unscaled_update) {
-            let (rt, _) = norms(op, c, x);
-            report.residual = rt.relative_to(bnorm);
-            checked = true;
-            if options.met(report.residual, unscaled_update) {
-                report.converged = true;
-                break;
-            }
-            if estimate_ok {
-                rz = restart(x, r, p, z, work)?;
-                continue;
-            }
-        }
-        apply_pre(op, sys, c, pre, diag, r, z, work)?;
-        let rz_new = dot_all(r, z);
-        let beta = if rz == T::ZERO { T::ZERO } else { rz_new / rz };
-        for (pi, &zi) in p.iter_mut().zip(z.iter()) {
-            for (pc, &zc) in pi.iter_mut().zip(&zi) {
-                *pc = zc + beta * *pc;
-            }
-        }
-        rz = rz_new;
-    }
-    if !checked {
-        let (rt, _) = norms(op, c, x);
-        report.residual = rt.relative_to(bnorm);
-    }
-    Ok(report)
 }

@@ -3,6 +3,7 @@
 
 use core::ops::Range;
 
+use super::norms::Norm;
 use crate::check;
 use crate::error::{Error, Result};
 use crate::graph::Graph;
@@ -353,6 +354,21 @@ pub struct SolveReport<T> {
     pub max_update: T,
     /// Whether a stopping rule of [`SolveOptions`] was met.
     pub converged: bool,
+}
+
+impl<T: Real> SolveReport<T> {
+    /// The report before the first iteration: the initial relative residual `‖r₀‖ / ‖b‖`,
+    /// converged when it already meets [`SolveOptions::residual_tol`] (every solve's first
+    /// stopping test).
+    pub(crate) fn start(r0: Norm<T>, bnorm: Norm<T>, options: &SolveOptions<T>) -> Self {
+        let residual = r0.relative_to(bnorm);
+        SolveReport {
+            iterations: 0,
+            residual,
+            max_update: T::ZERO,
+            converged: residual <= options.residual_tol,
+        }
+    }
 }
 
 /// Preconditioner for the linear-spring conjugate gradient.

@@ -9,9 +9,10 @@
 use core::hint::black_box;
 
 use deform_kernel::spring::{
-    batina_stiffness, dual_volumes, inverse_volume_factors, is_fixed, scale_stiffness,
-    solve_linear_scratch_len, wall_distance_factors, wall_distances, AmgHierarchy, AmgOptions,
-    AmgSmoother, AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions,
+    amg_cg_scratch_len, amg_sliding_cg_scratch_len, angle_scratch_items,
+    angle_sliding_scratch_items, batina_stiffness, dual_volumes, inverse_volume_factors, is_fixed,
+    scale_stiffness, solve_linear_scratch_len, wall_distance_factors, wall_distances, AmgHierarchy,
+    AmgOptions, AmgSmoother, AngleMethod, AngleSystem, LinearMethod, Preconditioner, SolveOptions,
     SpringSystem, Sweep,
 };
 use deform_kernel::{Cells, Graph, Real};
@@ -22,6 +23,16 @@ const N: usize = 4;
 /// Calls every spring entry point with opaque inputs.
 pub fn exercise() {
     keep(is_fixed(bb(3)));
+    keep(amg_cg_scratch_len(bb(N), bb(3)));
+    keep(amg_sliding_cg_scratch_len(bb(N), bb(3)));
+    for m in [
+        AngleMethod::DirectGaussSeidel,
+        AngleMethod::DirectJacobi,
+        AngleMethod::Cg,
+    ] {
+        keep(angle_scratch_items(bb(N), bb(m), bb(true)));
+        keep(angle_sliding_scratch_items(bb(N), bb(m), bb(false)));
+    }
     run::<f32, 2, 2, 6>();
     run::<f32, 3, 3, 7>();
     run::<f64, 2, 2, 6>();

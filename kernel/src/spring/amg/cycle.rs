@@ -128,7 +128,7 @@ fn jacobi_update<T: Real, const V: usize>(
 /// The smoother's steps on `A x = b`; from `x = 0` when `from_zero`. On level 0 only the
 /// `rows` are computed, and `x`'s halo is shared before every residual.
 #[allow(clippy::too_many_arguments)]
-fn smooth<T: Real, const V: usize>(
+fn smooth<T: Real, const V: usize, C: Collective<T> + ?Sized>(
     sys: &SpringSystem<'_, T>,
     h: &AmgHierarchy<'_, T>,
     l: usize,
@@ -137,7 +137,7 @@ fn smooth<T: Real, const V: usize>(
     t: &mut [[T; V]],
     from_zero: bool,
     rows: &[Range<usize>],
-    comm: &dyn Collective<T>,
+    comm: &C,
 ) {
     let mut first = 0;
     if from_zero {
@@ -289,14 +289,14 @@ fn parts<X>(buf: &mut [X], off: usize, n: usize) -> (&mut [X], &mut [X], &mut [X
 /// (`r` needed there; `z` comes back right there), with `z`'s halo shared before each fine
 /// residual and the fine residual shared whole before the restriction; the coarse levels run
 /// whole on every process. Every row is computed as in one process, so `z` has the same bits.
-pub(crate) fn vcycle<T: Real, const V: usize>(
+pub(crate) fn vcycle<T: Real, const V: usize, C: Collective<T> + ?Sized>(
     sys: &SpringSystem<'_, T>,
     h: &AmgHierarchy<'_, T>,
     r: &[[T; V]],
     z: &mut [[T; V]],
     t: &mut [[T; V]],
     coarse: &mut [[T; V]],
-    comm: &dyn Collective<T>,
+    comm: &C,
 ) {
     let rows = comm.owned();
     let last = h.layout.count.saturating_sub(1);

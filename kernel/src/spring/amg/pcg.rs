@@ -5,32 +5,60 @@ use super::AmgHierarchy;
 use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
-use crate::reduce::ExactSum;
-use crate::spring::distributed::{
-    check_owned, merged, merged_max, merged_one, share_field, share_halo, Collective, Serial,
-};
-use crate::spring::linear::{cg_exponents, residual_norms_scaled};
-use crate::spring::norms::{scale_by, Norm};
+use crate::spring::distributed::{check_owned, Collective, Serial};
+use crate::spring::krylov::{cg_len, exponents, solve_scaled, Precondition, Vectors};
+use crate::spring::linear::Laplacian;
 use crate::spring::system::{check_values, SolveOptions, SolveReport, SpringSystem};
+
+/// `[T; V]` scratch items of a multigrid-preconditioned CG over `node_count` nodes whose
+/// hierarchy has `coarse_unknowns` ([`AmgSizes::coarse_unknowns`](super::AmgSizes)), or
+/// `None` when the count overflows: the four CG vectors, the V-cycle's fine vector and three
+/// vectors per coarse unknown (`5 N + 3 coarse`). The one formula of every multigrid scratch
+/// length ([`solve_linear_amg_scratch_len`], [`angle_amg_scratch_len`](crate::spring::AngleSystem::angle_amg_scratch_len),
+/// the prepared plans, the C ABI).
+pub const fn amg_cg_scratch_len(node_count: usize, coarse_unknowns: usize) -> Option<usize> {
+    match (
+        cg_len(node_count),
+        vcycle_scratch_len(node_count, coarse_unknowns),
+    ) {
+        (Some(cg), Some(v)) => cg.checked_add(v),
+        _ => None,
+    }
+}
+
+/// `[T; V]` scratch items of a sliding multigrid-preconditioned CG
+/// ([`solve_linear_sliding`](crate::spring::SpringSystem::solve_linear_sliding) with a
+/// hierarchy, [`solve_angle_sliding_amg`](crate::spring::AngleSystem::solve_angle_sliding_amg)),
+/// or `None` on overflow: [`amg_cg_scratch_len`] and `N` more (`6 N + 3 coarse`).
+pub const fn amg_sliding_cg_scratch_len(
+    node_count: usize,
+    coarse_unknowns: usize,
+) -> Option<usize> {
+    match amg_cg_scratch_len(node_count, coarse_unknowns) {
+        Some(s) => s.checked_add(node_count),
+        None => None,
+    }
+}
+
+/// One V-cycle's scratch: one fine vector and three per coarse unknown, `None` on overflow.
+const fn vcycle_scratch_len(node_count: usize, coarse_unknowns: usize) -> Option<usize> {
+    match coarse_unknowns.checked_mul(3) {
+        Some(c) => node_count.checked_add(c),
+        None => None,
+    }
+}
 
 /// Number of `[T; V]` scratch items [`solve_linear_amg`](crate::spring::SpringSystem::solve_linear_amg) needs: `5 N` for the CG vectors
 /// (iterate, residual, direction, `A p`, preconditioned residual) plus three vectors per coarse
 /// level (`3 ×` [`AmgHierarchy::coarse_unknowns`]).
 pub fn solve_linear_amg_scratch_len<T: Real>(hierarchy: &AmgHierarchy<'_, T>) -> usize {
-    hierarchy
-        .layout
-        .nodes
-        .saturating_mul(5)
-        .saturating_add(hierarchy.coarse_unknowns().saturating_mul(3))
+    amg_cg_scratch_len(hierarchy.layout.nodes, hierarchy.coarse_unknowns()).unwrap_or(usize::MAX)
 }
 
 /// Number of `[T; V]` scratch items [`amg_precondition`](crate::spring::SpringSystem::amg_precondition) needs: one fine vector plus three
 /// per coarse unknown.
 pub fn amg_precondition_scratch_len<T: Real>(hierarchy: &AmgHierarchy<'_, T>) -> usize {
-    hierarchy
-        .layout
-        .nodes
-        .saturating_add(hierarchy.coarse_unknowns().saturating_mul(3))
+    vcycle_scratch_len(hierarchy.layout.nodes, hierarchy.coarse_unknowns()).unwrap_or(usize::MAX)
 }
 
 impl<T: Real> SpringSystem<'_, T> {
@@ -71,8 +99,7 @@ impl<T: Real> SpringSystem<'_, T> {
 /// `z = M⁻¹ r` without checks: one serial V-cycle from zero, then `z` zeroed at fixed nodes.
 /// `t` is one fine vector, `coarse` three per coarse unknown (the callers check the sizes;
 /// short slices cannot panic, every access is checked). Applied to each of the `V`
-/// components alike: [`amg_precondition`](crate::spring::SpringSystem::amg_precondition) and the angle-inclusion CG
-/// ([`solve_angle_amg`](crate::spring::AngleSystem::solve_angle_amg), `V = D`).
+/// components alike.
 pub(crate) fn amg_vcycle<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     hierarchy: &AmgHierarchy<'_, T>,
@@ -81,113 +108,63 @@ pub(crate) fn amg_vcycle<T: Real, const V: usize>(
     t: &mut [[T; V]],
     coarse: &mut [[T; V]],
 ) {
-    vcycle(
+    let mut pre = Vcycle {
         sys,
         hierarchy,
-        r,
-        z,
         t,
         coarse,
-        &Serial::new(sys.node_count()),
-    );
-    zero_fixed(sys, z);
+    };
+    pre.apply(r, z, &Serial::new(sys.node_count()));
 }
 
-/// `r = b − A x` at free nodes (`Σ_j k_ij (x_j − x_i)`, fixed values as Dirichlet data), zero at
-/// fixed nodes.
-fn fine_residual<T: Real, const V: usize>(
-    sys: &SpringSystem<'_, T>,
-    owned: &[core::ops::Range<usize>],
-    x: &[[T; V]],
-    r: &mut [[T; V]],
-) {
-    for range in owned {
-        let (Some(rs), Some(xs)) = (r.get_mut(range.clone()), x.get(range.clone())) else {
-            continue;
-        };
-        for ((_, fixed, row), (ri, &xi)) in sys.rows_in(range.clone()).zip(rs.iter_mut().zip(xs)) {
-            let mut acc = [T::ZERO; V];
-            if !fixed {
-                for (j, k) in row {
-                    let xj = x.get(j).copied().unwrap_or(xi);
-                    for ((a, &b), &c) in acc.iter_mut().zip(&xj).zip(&xi) {
-                        *a += k * (b - c);
-                    }
-                }
-            }
-            *ri = acc;
+/// The multigrid V-cycle as a CG preconditioner (one cycle from zero, `z` zeroed at fixed
+/// nodes): [`solve_linear_amg`](crate::spring::SpringSystem::solve_linear_amg), the angle and
+/// sliding multigrid solves. `t` is one fine vector, `coarse` three per coarse unknown.
+pub(crate) struct Vcycle<'s, 'a, 'h, T: Real, const V: usize> {
+    pub(crate) sys: &'s SpringSystem<'a, T>,
+    pub(crate) hierarchy: &'s AmgHierarchy<'h, T>,
+    pub(crate) t: &'s mut [[T; V]],
+    pub(crate) coarse: &'s mut [[T; V]],
+}
+
+impl<'s, 'a, 'h, T: Real, const V: usize> Vcycle<'s, 'a, 'h, T, V> {
+    /// The V-cycle's vectors from `scratch` (one fine vector, then the rest for the coarse
+    /// levels).
+    pub(crate) fn new(
+        sys: &'s SpringSystem<'a, T>,
+        hierarchy: &'s AmgHierarchy<'h, T>,
+        scratch: &'s mut [[T; V]],
+    ) -> Self {
+        let n = sys.node_count();
+        let (t, coarse) = scratch
+            .split_at_mut_checked(n)
+            .unwrap_or((&mut [], &mut []));
+        Vcycle {
+            sys,
+            hierarchy,
+            t,
+            coarse,
         }
     }
 }
 
-/// Per-component exact `Σ a·b` over the owned rows into `s` (merged by the caller).
-fn dots_in<'s, T: Real, const V: usize>(
-    owned: &[core::ops::Range<usize>],
-    a: &[[T; V]],
-    b: &[[T; V]],
-    s: &'s mut [ExactSum; V],
-) -> &'s mut [ExactSum; V] {
-    s.iter_mut().for_each(|s| *s = ExactSum::new());
-    for range in owned {
-        let (Some(a), Some(b)) = (a.get(range.clone()), b.get(range.clone())) else {
-            continue;
-        };
-        for (x, y) in a.iter().zip(b) {
-            for ((s, &x), &y) in s.iter_mut().zip(x).zip(y) {
-                s.add(x * y);
+impl<T: Real, const V: usize> Precondition<T, V> for Vcycle<'_, '_, '_, T, V> {
+    fn local(&self) -> bool {
+        false
+    }
+    fn node(&self, _: usize, r: [T; V]) -> [T; V] {
+        r
+    }
+    fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; V]], z: &mut [[T; V]], comm: &C) {
+        vcycle(self.sys, self.hierarchy, r, z, self.t, self.coarse, comm);
+        // The V-cycle already does unless the hierarchy was built for another fixed mask;
+        // the search direction must never move a fixed node.
+        for (z, &m) in z.iter_mut().zip(self.sys.fixed()) {
+            if crate::spring::is_fixed(m) {
+                *z = [T::ZERO; V];
             }
         }
     }
-    s
-}
-
-/// Zeroes `z` at fixed nodes (the V-cycle already does unless the hierarchy was built for
-/// another fixed mask; the search direction must never move a fixed node).
-fn zero_fixed<T: Real, const V: usize>(sys: &SpringSystem<'_, T>, z: &mut [[T; V]]) {
-    for (z, &m) in z.iter_mut().zip(sys.fixed()) {
-        if crate::spring::is_fixed(m) {
-            *z = [T::ZERO; V];
-        }
-    }
-}
-
-/// `q = A p` at free nodes (`p` is zero at fixed nodes), and per component the curvature
-/// scale `max_i d_i p_i²` (exact and order-independent) and `pᵀq` (summed exactly into `pq`).
-fn apply<T: Real, const V: usize>(
-    sys: &SpringSystem<'_, T>,
-    owned: &[core::ops::Range<usize>],
-    p: &[[T; V]],
-    q: &mut [[T; V]],
-    pq: &mut [ExactSum; V],
-) -> [T; V] {
-    let mut dpp = [T::ZERO; V];
-    pq.iter_mut().for_each(|s| *s = ExactSum::new());
-    for range in owned {
-        let (Some(qs), Some(ps)) = (q.get_mut(range.clone()), p.get(range.clone())) else {
-            continue;
-        };
-        for ((_, fixed, row), (qi, &pi)) in sys.rows_in(range.clone()).zip(qs.iter_mut().zip(ps)) {
-            if fixed {
-                *qi = [T::ZERO; V];
-                continue;
-            }
-            let mut acc = [T::ZERO; V];
-            let mut d = T::ZERO;
-            for (j, k) in row {
-                let pj = p.get(j).copied().unwrap_or([T::ZERO; V]);
-                for ((a, &x), &y) in acc.iter_mut().zip(&pi).zip(&pj) {
-                    *a += k * (x - y);
-                }
-                d += k;
-            }
-            for (((s, t), &x), &a) in dpp.iter_mut().zip(pq.iter_mut()).zip(&pi).zip(&acc) {
-                *s = s.max(d * x * x);
-                t.add(x * a);
-            }
-            *qi = acc;
-        }
-    }
-    dpp
 }
 
 impl<T: Real> SpringSystem<'_, T> {
@@ -218,194 +195,39 @@ impl<T: Real> SpringSystem<'_, T> {
             values,
             options,
             scratch,
-            &Serial::new(self.node_count()),
+            &Serial::new(self.node_count()) as &dyn Collective<T>,
         )
     }
 }
 
 /// [`solve_linear_amg`](crate::spring::SpringSystem::solve_linear_amg) with the rows split over the processes of `comm` (the V-cycle runs
 /// whole on every process, on the shared residual; everything else on the owned rows).
-pub(crate) fn solve_amg_on<T: Real, const V: usize>(
+pub(crate) fn solve_amg_on<T: Real, const V: usize, C: Collective<T> + ?Sized>(
     sys: &SpringSystem<'_, T>,
     hierarchy: &AmgHierarchy<'_, T>,
     values: &mut [[T; V]],
     options: &SolveOptions<T>,
     scratch: &mut [[T; V]],
-    comm: &dyn Collective<T>,
+    comm: &C,
 ) -> Result<SolveReport<T>> {
     let n = sys.node_count();
-    let owned = comm.owned();
     hierarchy.check_system(sys)?;
     check_owned(comm, n)?;
     check_values("values", values, n)?;
     options.check()?;
     let needed = solve_linear_amg_scratch_len(hierarchy);
     check::buffer("scratch", scratch.len(), needed)?;
-    let too_small = Error::BufferTooSmall {
+    let actual = scratch.len();
+    let (v, rest) = Vectors::split(scratch, n).ok_or(Error::BufferTooSmall {
         arg: "scratch",
         needed,
-        actual: scratch.len(),
-    };
-    let (x, rest) = scratch.split_at_mut_checked(n).ok_or(too_small)?;
-    let (r, rest) = rest.split_at_mut_checked(n).ok_or(too_small)?;
-    let (p, rest) = rest.split_at_mut_checked(n).ok_or(too_small)?;
-    let (q, rest) = rest.split_at_mut_checked(n).ok_or(too_small)?;
-    let (z, coarse) = rest.split_at_mut_checked(n).ok_or(too_small)?;
+        actual,
+    })?;
+    let op = Laplacian::<T, false> { sys, diag: &[] };
+    let mut pre = Vcycle::new(sys, hierarchy, rest);
     // CG runs on the scaled field x_c · 2^−e_c, as the plain CG does (the preconditioner is
     // linear, so it commutes with the scaling).
-    let exps = cg_exponents(sys, values);
-    let down = exps.map(|e| T::pow2(-e));
-    for (x, v) in x.iter_mut().zip(values.iter()) {
-        for ((x, &v), &f) in x.iter_mut().zip(v).zip(&down) {
-            *x = v * f;
-        }
-    }
-    let top = exps.iter().copied().max().unwrap_or(0);
-    let to_top = exps.map(|e| scale_by(T::ONE, e - top));
-    let (r0, bnorm) = residual_norms_scaled(sys, x, &exps, comm);
-    let mut report = SolveReport {
-        iterations: 0,
-        residual: r0.relative_to(bnorm),
-        max_update: T::ZERO,
-        converged: false,
-    };
-    if report.residual <= options.residual_tol {
-        report.converged = true;
-        return Ok(report);
-    }
-    // (Re)start: r = b − A x, z = M⁻¹ r, p = z; returns r·z per component.
-    let restart = |x: &[[T; V]],
-                   r: &mut [[T; V]],
-                   p: &mut [[T; V]],
-                   q: &mut [[T; V]],
-                   z: &mut [[T; V]],
-                   coarse: &mut [[T; V]],
-                   sums: &mut [ExactSum; V]| {
-        fine_residual(sys, owned, x, r);
-        vcycle(sys, hierarchy, r, z, q, coarse, comm);
-        zero_fixed(sys, z);
-        for (p, &z) in p.iter_mut().zip(z.iter()) {
-            *p = z;
-        }
-        share_halo(comm, p);
-        merged(comm, dots_in(owned, r, z, sums))
-    };
-    // One set of per-component accumulators for every sum of an iteration (each is rounded
-    // before the next begins): 584 bytes a component matter on a small stack.
-    let mut sums = [ExactSum::new(); V];
-    let mut rz = restart(x, r, p, q, z, coarse, &mut sums);
-    let mut checked = true;
-    let tiny = T::EPSILON;
-    while report.iterations < options.max_iterations {
-        report.iterations += 1;
-        let dpp = apply(sys, owned, p, q, &mut sums);
-        let dpp = merged_max(comm, dpp);
-        let pq = merged(comm, &mut sums);
-        let mut alpha = [T::ZERO; V];
-        for (((a, &pq), &dpp), &rz) in alpha.iter_mut().zip(&pq).zip(&dpp).zip(&rz) {
-            if !(pq.is_finite() && rz.is_finite() && dpp.is_finite()) {
-                return Err(Error::Overflow { arg: "values" });
-            }
-            if dpp == T::ZERO || rz == T::ZERO {
-                continue; // this component has converged exactly
-            }
-            if pq <= tiny * dpp {
-                return Err(Error::SingularSystem {
-                    iteration: report.iterations,
-                });
-            }
-            *a = rz / pq;
-        }
-        let mut max_update = [T::ZERO; V];
-        let mut rr = ExactSum::new();
-        for range in owned {
-            let (Some(x), Some(r), Some(p), Some(q)) = (
-                x.get_mut(range.clone()),
-                r.get_mut(range.clone()),
-                p.get(range.clone()),
-                q.get(range.clone()),
-            ) else {
-                continue;
-            };
-            for (((x, r), &p), &q) in x.iter_mut().zip(r.iter_mut()).zip(p.iter()).zip(q.iter()) {
-                for ((((((x, r), &p), &q), &a), m), &g) in x
-                    .iter_mut()
-                    .zip(r.iter_mut())
-                    .zip(&p)
-                    .zip(&q)
-                    .zip(&alpha)
-                    .zip(max_update.iter_mut())
-                    .zip(&to_top)
-                {
-                    let dx = a * p;
-                    *x += dx;
-                    *r -= a * q;
-                    *m = m.max(dx.abs());
-                    let rg = *r * g;
-                    rr.add(rg * rg);
-                }
-            }
-        }
-        let max_update = merged_max(comm, max_update);
-        report.max_update = max_update
-            .iter()
-            .zip(&exps)
-            .fold(T::ZERO, |m, (&u, &e)| m.max(scale_by(u, e)));
-        let rr = merged_one(comm, &mut rr);
-        checked = false;
-        // An overflowing recurrence sum cannot say "converged": ask the true residual.
-        let estimate_ok = rr.is_finite();
-        let estimate = Norm::from_sum(rr, top).relative_to(bnorm);
-        if !estimate_ok || options.met(estimate, report.max_update) {
-            share_halo(comm, x);
-            let (rt, _) = residual_norms_scaled(sys, x, &exps, comm);
-            report.residual = rt.relative_to(bnorm);
-            checked = true;
-            if options.met(report.residual, report.max_update) {
-                report.converged = true;
-                break;
-            }
-            if estimate_ok {
-                // Recurrence and true residual disagree: restart from the true residual.
-                rz = restart(x, r, p, q, z, coarse, &mut sums);
-                continue;
-            }
-        }
-        vcycle(sys, hierarchy, r, z, q, coarse, comm);
-        zero_fixed(sys, z);
-        let rz_new = merged(comm, dots_in(owned, r, z, &mut sums));
-        let mut beta = [T::ZERO; V];
-        for ((b, &new), &old) in beta.iter_mut().zip(&rz_new).zip(&rz) {
-            if old != T::ZERO {
-                *b = new / old;
-            }
-        }
-        for range in owned {
-            let (Some(p), Some(z)) = (p.get_mut(range.clone()), z.get(range.clone())) else {
-                continue;
-            };
-            for (p, &z) in p.iter_mut().zip(z.iter()) {
-                for ((p, &z), &b) in p.iter_mut().zip(&z).zip(&beta) {
-                    *p = z + b * *p;
-                }
-            }
-        }
-        share_halo(comm, p);
-        rz = rz_new;
-    }
-    share_field(comm, x);
-    if !checked {
-        let (rt, _) = residual_norms_scaled(sys, x, &exps, comm);
-        report.residual = rt.relative_to(bnorm);
-    }
-    // Free nodes only: fixed values come back bit for bit.
-    let up = exps.map(|e| T::pow2(e));
-    for (i, (v, x)) in values.iter_mut().zip(x.iter()).enumerate() {
-        if !sys.is_fixed(i) {
-            for ((v, &x), &f) in v.iter_mut().zip(x).zip(&up) {
-                *v = x * f;
-            }
-        }
-    }
-    Ok(report)
+    let exps = exponents(sys.stiffness(), values, false);
+    let fixed = |i| sys.is_fixed(i);
+    solve_scaled(&op, &mut pre, v, values, exps, fixed, options, comm)
 }
