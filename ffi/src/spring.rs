@@ -24,7 +24,8 @@
 use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
 use deform_kernel::slide::{fit_plane, plane_intersection, slide_points, Constraints};
 use deform_kernel::spring::{
-    amg_setup_work_len, batina_stiffness, solve_linear_scratch_len,
+    amg_cg_scratch_len, amg_setup_work_len, amg_sliding_cg_scratch_len, angle_scratch_items,
+    angle_sliding_scratch_items, batina_stiffness, solve_linear_scratch_len,
     solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother, AngleMethod,
     AngleSystem, LinearMethod, LinearSolver, Preconditioner, SolveOptions, SolveReport,
     SpringSystem, Sweep, DEFAULT_ANGLE_EPSILON,
@@ -684,30 +685,28 @@ struct AmgPlan {
     work: usize,
     index: usize,
     values: usize,
-    /// Scratch items (`[T; V]`) of the solve: `fine N + 3 × coarse unknowns`, with `fine` =
-    /// [`AMG_FINE`] (the kernel's `solve_linear_amg_scratch_len` and `angle_amg_scratch_len`)
-    /// or [`SLIDING_AMG_FINE`] (`solve_linear_sliding_scratch_len` with a hierarchy and
-    /// `solve_angle_sliding_amg_scratch_len`).
+    /// Scratch items (`[T; V]`) of the solve, from the kernel's formula ([`AMG_CG`] or
+    /// [`SLIDING_AMG_CG`]).
     items: usize,
 }
 
 impl AmgPlan {
     /// Validated system in hand, runs the symbolic pass in the front of `indices` and says
-    /// where everything goes, for a solve of `fine` vectors of the fine level.
+    /// where everything goes, for a solve whose scratch items `scratch(N, coarse unknowns)`
+    /// gives.
     fn of<T: Real>(
         sys: &SpringSystem<'_, T>,
         options: &AmgOptions<T>,
         indices: &mut [u32],
-        fine: usize,
+        scratch: ScratchItems,
     ) -> Result<Self, dk_status> {
         let work = AmgHierarchy::setup_work_len(sys);
         let front = indices
             .get_mut(..work)
             .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
         let sizes = AmgHierarchy::setup_len(sys, options, front).map_err(dk_status::from)?;
-        let items = mul_len(sys.node_count(), fine)?
-            .checked_add(mul_len(sizes.coarse_unknowns, 3)?)
-            .ok_or(dk_status::DK_ERR_TOO_LARGE)?;
+        let items =
+            scratch(sys.node_count(), sizes.coarse_unknowns).ok_or(dk_status::DK_ERR_TOO_LARGE)?;
         Ok(AmgPlan {
             work,
             index: sizes.index,
@@ -733,12 +732,12 @@ impl AmgPlan {
     }
 }
 
-/// Fine-level vectors of the multigrid CG: iterate, residual, direction, `A p`, preconditioned
-/// residual.
-const AMG_FINE: usize = 5;
-/// Fine-level vectors of the sliding multigrid CG: the scaled copy, the four CG vectors and the
-/// preconditioner's fine vector (the kernel's `5 n + amg_precondition_scratch_len`).
-const SLIDING_AMG_FINE: usize = 6;
+/// A multigrid solve's scratch items from the node count and the coarse unknowns.
+type ScratchItems = fn(usize, usize) -> Option<usize>;
+/// The multigrid CG's scratch (linear and angle springs): the kernel's formula.
+const AMG_CG: ScratchItems = amg_cg_scratch_len;
+/// The sliding multigrid CG's scratch: the kernel's formula.
+const SLIDING_AMG_CG: ScratchItems = amg_sliding_cg_scratch_len;
 
 /// Sets the hierarchy up in the pools (after [`AmgPlan::of`] ran the symbolic pass in the
 /// front of `indices`) and returns it with the solve's scratch. Every length is checked
@@ -796,7 +795,7 @@ fn amg_pool_sizes_for_components<T: Real, const V: usize>(
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
-    pool_sizes_for_components::<T, V>(system, amg, work, sizes_out, AMG_FINE)
+    pool_sizes_for_components::<T, V>(system, amg, work, sizes_out, AMG_CG)
 }
 
 /// The pool lengths of a multigrid solve of `V` components with `fine` fine-level vectors.
@@ -805,13 +804,13 @@ fn pool_sizes_for_components<T: Real, const V: usize>(
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
-    fine: usize,
+    scratch: ScratchItems,
 ) -> Result<(), dk_status> {
     let options = read_one(amg)?.to_kernel::<T>()?;
     let work = output(work)?;
     let out = out_one(sizes_out)?;
     let sys = system?.build(work)?;
-    let plan = AmgPlan::of(&sys, &options, work, fine)?;
+    let plan = AmgPlan::of(&sys, &options, work, scratch)?;
     *out = plan.sizes(V)?;
     Ok(())
 }
@@ -840,7 +839,7 @@ fn solve_linear_amg_for_components<T: Real, const V: usize>(
         indices,
         system: sys,
     } = args.open()?;
-    let plan = AmgPlan::of(&sys, &amg, indices, AMG_FINE)?;
+    let plan = AmgPlan::of(&sys, &amg, indices, AMG_CG)?;
     let (h, scratch) = amg_setup::<T, V>(&sys, &amg, &plan, reals, indices)?;
     // The kernel validates before it writes and iterates on a copy in the scratch: on any
     // error `values` is unchanged.
@@ -868,7 +867,7 @@ fn solve_angle_amg_for_dim<T: Real, const D: usize>(
         system: base,
     } = args.open()?;
     let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
-    let plan = AmgPlan::of(system.base(), &amg, indices, AMG_FINE)?;
+    let plan = AmgPlan::of(system.base(), &amg, indices, AMG_CG)?;
     let (h, scratch) = amg_setup::<T, D>(system.base(), &amg, &plan, reals, indices)?;
     // Values are written only after the probe and only by a successful solve.
     let rep = system
@@ -994,7 +993,7 @@ fn sliding_amg_pool_sizes_for_dim<T: Real, const D: usize>(
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
-    pool_sizes_for_components::<T, D>(system, amg, work, sizes_out, SLIDING_AMG_FINE)
+    pool_sizes_for_components::<T, D>(system, amg, work, sizes_out, SLIDING_AMG_CG)
 }
 
 fn solve_linear_sliding_amg_for_dim<T: Real, const D: usize>(
@@ -1014,7 +1013,7 @@ fn solve_linear_sliding_amg_for_dim<T: Real, const D: usize>(
         indices,
         system: sys,
     } = args.open()?;
-    let plan = AmgPlan::of(&sys, &amg, indices, SLIDING_AMG_FINE)?;
+    let plan = AmgPlan::of(&sys, &amg, indices, SLIDING_AMG_CG)?;
     let (h, scratch) = amg_setup::<T, D>(&sys, &amg, &plan, reals, indices)?;
     // The kernel validates before it writes and iterates on a copy in the scratch: on any
     // error `values` is unchanged.
@@ -1044,7 +1043,7 @@ fn solve_angle_sliding_amg_for_dim<T: Real, const D: usize>(
         system: base,
     } = args.open()?;
     let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
-    let plan = AmgPlan::of(system.base(), &amg, indices, SLIDING_AMG_FINE)?;
+    let plan = AmgPlan::of(system.base(), &amg, indices, SLIDING_AMG_CG)?;
     let (h, scratch) = amg_setup::<T, D>(system.base(), &amg, &plan, reals, indices)?;
     // Values are written only after the probe and only by a successful solve.
     let rep = system
@@ -1377,18 +1376,9 @@ pub(crate) fn dk_spring_solve_angle_scratch_len<T: Real>(
         if !(2..=3).contains(&dim) {
             return Err(dk_status::DK_ERR_INVALID_PARAMETER);
         }
-        // Mirrors deform_kernel::spring::angle_scratch_len (items of [T; D]).
-        let four = mul_len(node_count, 4)?;
-        let solve = match method {
-            AngleMethod::DirectJacobi => node_count,
-            AngleMethod::DirectGaussSeidel => 0,
-            AngleMethod::Cg => four,
-        };
-        let items = if T::from_f64(o.epsilon) == T::ZERO {
-            solve.max(four)
-        } else {
-            solve
-        };
+        let probe = T::from_f64(o.epsilon) == T::ZERO;
+        let items =
+            angle_scratch_items(node_count, method, probe).ok_or(dk_status::DK_ERR_TOO_LARGE)?;
         let len = mul_len(items, dim as usize)?;
         write_len(len_out, len)
     })())
@@ -1959,18 +1949,9 @@ pub(crate) fn dk_spring_solve_angle_sliding_scratch_len<T: Real>(
         if !(2..=3).contains(&dim) {
             return Err(dk_status::DK_ERR_INVALID_PARAMETER);
         }
-        // Mirrors AngleSystem::solve_angle_sliding_scratch_len (items of [T; D]).
-        let n = node_count;
-        let solve = match method {
-            AngleMethod::DirectJacobi => mul_len(n, 2)?,
-            AngleMethod::DirectGaussSeidel => n,
-            AngleMethod::Cg => mul_len(n, 5)?,
-        };
-        let items = if T::from_f64(o.epsilon) == T::ZERO {
-            solve.max(mul_len(n, 4)?)
-        } else {
-            solve
-        };
+        let probe = T::from_f64(o.epsilon) == T::ZERO;
+        let items = angle_sliding_scratch_items(node_count, method, probe)
+            .ok_or(dk_status::DK_ERR_TOO_LARGE)?;
         write_len(len_out, mul_len(items, dim as usize)?)
     })())
 }
