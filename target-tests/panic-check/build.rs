@@ -1,5 +1,6 @@
-//! Puts the shared `target-tests/link/memory.x` on the linker search path (cortex-m-rt's
-//! `link.x` includes it) and adds defmt's linker script for this binary only.
+//! Puts `target-tests/link/panic-check-memory.x` on the linker search path as `memory.x`
+//! (cortex-m-rt's `link.x` includes it; a larger FLASH than the shared map, since this binary
+//! is only linked, never run) and adds defmt's linker script for this binary only.
 
 use std::path::PathBuf;
 use std::{env, fs};
@@ -9,8 +10,8 @@ fn main() {
     let memory = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("set by cargo"))
         .join("..")
         .join("link")
-        .join("memory.x");
-    fs::copy(&memory, out.join("memory.x")).expect("copy target-tests/link/memory.x");
+        .join("panic-check-memory.x");
+    fs::copy(&memory, out.join("memory.x")).expect("copy target-tests/link/panic-check-memory.x");
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
     println!("cargo:rerun-if-changed={}", memory.display());
