@@ -249,8 +249,7 @@ pub(crate) fn redistribute_core<T: Real, const D: usize, F: Fn(usize, bool) -> b
         for t in 0..len {
             let p = base + t * stride;
             let x: [T; D] = line_point(coords, t);
-            let coincides =
-                |u: usize| vector::distance(line_point::<T, D>(coords, u), x) == T::ZERO;
+            let coincides = |u: usize| line_point::<T, D>(coords, u) == x;
             let zero = (t > 0 && coincides(t - 1)) || (t + 1 < len && coincides(t + 1));
             if skip(p, zero) {
                 continue;
@@ -466,10 +465,12 @@ pub(crate) fn check_increasing_core<T: Real, F: Fn(usize) -> bool, Z: Fn(usize, 
     Ok(())
 }
 
-/// Whether points `p` and `q` coincide (a segment of zero length).
+/// Whether points `p` and `q` coincide (a segment of zero length). For finite points,
+/// coordinate equality is `distance == 0` without the square root: this runs for every point
+/// in every filter sweep.
 pub(crate) fn same_point<T: Real, const D: usize>(points: &[[T; D]], p: usize, q: usize) -> bool {
     match (points.get(p), points.get(q)) {
-        (Some(&a), Some(&b)) => vector::distance(a, b) == T::ZERO,
+        (Some(a), Some(b)) => a == b,
         _ => false,
     }
 }
