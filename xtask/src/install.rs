@@ -26,7 +26,8 @@ pub(crate) const RUSTUP_COMPONENTS: &[&str] = &["rustfmt", "clippy", "rust-src",
 /// `libssl-dev` and `pkg-config` are needed to build cargo-c, and `pkg-config` by the
 /// `cinstall` step; OpenMPI and libclang (for the `mpi` crate's bindings) by the `mpi` step;
 /// the CGNS library by deform-cli's `cgns` feature, and the CGNS and HDF5 tools
-/// (`cgns_to_plot3d`, `adf2hdf`, `cgnscheck`, `h5dump`) by its tests.
+/// (`cgns_to_plot3d`, `adf2hdf`, `cgnscheck`, `h5dump`) by its tests; `python3-venv` by the
+/// tests' reference venv.
 pub(crate) const APT_PACKAGES: &[&str] = &[
     "gfortran",
     "qemu-system-arm",
@@ -38,6 +39,7 @@ pub(crate) const APT_PACKAGES: &[&str] = &[
     "libcgns-dev",
     "cgns-convert",
     "hdf5-tools",
+    "python3-venv",
 ];
 
 /// A cargo tool installed with `cargo install --locked NAME --version VERSION`.
@@ -198,7 +200,23 @@ pub(crate) fn install(ctx: &Ctx) -> bool {
         args.extend(missing);
         ok &= run(&mut rustup(&args));
     }
-    ok
+    ok & test_venv(ctx)
+}
+
+/// The venv `target/test-venv` with the Python packages the tests use as independent
+/// references, pinned in `xtask/python-test-requirements.txt`.
+fn test_venv(ctx: &Ctx) -> bool {
+    let venv = ctx.root.join("target").join("test-venv");
+    let python = venv.join("bin").join("python");
+    let requirements = ctx.root.join("xtask").join("python-test-requirements.txt");
+    if !python.exists() && !run(Command::new("python3").args(["-m", "venv"]).arg(&venv)) {
+        println!("xtask: `python3 -m venv` failed (Debian: apt-get install python3-venv)");
+        return false;
+    }
+    let mut pip = Command::new(&python);
+    pip.args(["-m", "pip", "install", "-q", "-r"])
+        .arg(&requirements);
+    run(&mut pip)
 }
 
 /// `cargo cinstall` (cargo-c) of the C library into `target/cinstall/root` with prefix `/usr`:

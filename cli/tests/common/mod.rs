@@ -2,6 +2,10 @@
 //! the `deform` binary (exit codes, JSON reports, NACA meshes, SU2 files read back).
 #![allow(dead_code)]
 
+/// The interpreter of the independent Python references (shared with host-tests).
+#[path = "../../../host-tests/tests/support/python.rs"]
+pub mod python;
+
 use std::path::Path;
 use std::process::{Command, Output};
 
