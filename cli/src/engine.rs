@@ -630,7 +630,7 @@ fn slide_table<const D: usize>(
     boundary: &[u32],
     sliding: &[SlideMarker<'_>],
 ) -> Result<SlideTable<D>, CliError> {
-    use deform_kernel::slide::{fit_plane, plane_intersection, NodeKind};
+    use deform_kernel::spring::constraints::{fit_plane, plane_intersection, NodeKind};
     let n = pts.len();
     let mut normals: Vec<Vec<[f64; D]>> = vec![Vec::new(); n];
     for m in sliding {
@@ -923,11 +923,11 @@ fn move_d<const D: usize>(
     input: &MoveInput<'_>,
     sliding: &[SlideMarker<'_>],
 ) -> Result<MoveResult, CliError> {
-    use deform_kernel::deformation::{
+    use deform_kernel::quaternion::{
         deform_idw, deform_idw_scratch_len, deform_spring_scratch_len, deform_spring_with,
         propagate_spring_with_scratch_len, BoundaryMotion, RotationSource,
     };
-    use deform_kernel::slide::{slide_points, Constraints};
+    use deform_kernel::spring::constraints::{slide_points, Constraints};
     use deform_kernel::spring::{
         solve_linear_sliding_scratch_len, solve_linear_with_scratch_len, AngleMethod, AngleSystem,
         LinearSolver, SolveOptions, SpringSystem, DEFAULT_ANGLE_EPSILON,
@@ -1222,7 +1222,7 @@ fn move_d<const D: usize>(
                         .map_err(kernel("quaternion IDW"))?;
                     }
                     Some((theta, tolerance)) => {
-                        use deform_kernel::deformation::{
+                        use deform_kernel::quaternion::{
                             deform_idw_fast, propagate_idw_fast_index_len,
                             propagate_idw_fast_scratch_len, IdwFastOptions,
                         };
@@ -1286,7 +1286,7 @@ fn move_d<const D: usize>(
             if let Some(radius) = input.reach {
                 // Fade (Δ, Q) to no motion beyond `radius` from the moving markers, then redo
                 // the field update.
-                use deform_kernel::deformation::{limit_reach, update_points};
+                use deform_kernel::quaternion::{limit_reach, update_points};
                 let mut distances = vec![0.0; n];
                 deform_kernel::spring::wall_distances(&pts, &moved, &mut distances)
                     .map_err(kernel("reach"))?;
@@ -1567,7 +1567,7 @@ fn tfi_d<const D: usize>(
     motion: &Motion,
     quaternion: bool,
 ) -> Result<Vec<[f64; 3]>, CliError> {
-    use deform_kernel::deformation::{
+    use deform_kernel::quaternion::{
         deform_tfi, deform_tfi_scratch_len, displacement_tfi, tfi_scratch_len, BoundaryMotion,
         RotationSource,
     };

@@ -6,7 +6,7 @@
 //! the prescribed boundary motion as a [`dk_boundary_motion`] (f64) or
 //! [`dk_boundary_motion_f32`]; the building blocks (`dk_deform_boundary_normals`, …,
 //! `dk_deform_update_points`, `dk_deform_localize_nodes`) expose each step of the kernel's
-//! `deform_kernel::deformation` module on its own, for callers who mix them.
+//! `deform_kernel::quaternion` module on its own, for callers who mix them.
 //!
 //! Points cross the ABI as flat arrays of `dim` (2 or 3) scalars per point, `*_len` counting
 //! scalars; quaternions are 4 scalars `(w, x, y, z)` per node. Translations are `dim` scalars

@@ -4,7 +4,7 @@
 //! the prescribed boundary motion as a [`dk_boundary_motion`] (f64) or
 //! [`dk_boundary_motion_f32`]; the building blocks (`dk_deform_boundary_normals`, …,
 //! `dk_deform_update_points`, `dk_deform_localize_nodes`) expose each step of the kernel's
-//! `deform_kernel::deformation` module on its own, for callers who mix them.
+//! `deform_kernel::quaternion` module on its own, for callers who mix them.
 //!
 //! Points cross the ABI as flat arrays of `dim` (2 or 3) scalars per point, `*_len` counting
 //! scalars; quaternions are 4 scalars `(w, x, y, z)` per node. Translations are `dim` scalars
@@ -24,7 +24,7 @@
 //! written. `out` and `origin_out` are written only on success.
 #![allow(unsafe_code)] // a parameter struct's arrays become `In`/`Out` tokens (`In::new`) here.
 
-use deform_kernel::deformation::{
+use deform_kernel::quaternion::{
     boundary_normals, boundary_normals_scratch_len, boundary_origin, boundary_rotations,
     boundary_rotations_scratch_len, boundary_translations, deform_idw, deform_idw_scratch_len,
     deform_spring, deform_spring_scratch_len, deform_tfi, deform_tfi_scratch_len, displacement_tfi,

@@ -10,10 +10,10 @@
 //! by mistake are a `DK_ERR_BAD_PLAN`, never a wrong mesh. Indices are 0-based.
 #![allow(unsafe_code)] // a parameter struct's arrays become `In`/`Out` tokens (`In::new`) here.
 
-use deform_kernel::deformation::RotationSource;
 use deform_kernel::plan::{
     Plan, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
 };
+use deform_kernel::quaternion::RotationSource;
 use deform_kernel::spring::AmgOptions;
 use deform_kernel::{Quat, Real};
 use deform_kernel_ffi_export::export;

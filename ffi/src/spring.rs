@@ -21,8 +21,10 @@
 //! the precision. Values updated in place are unchanged on any error.
 #![allow(unsafe_code)] // a parameter struct's arrays become `In`/`Out` tokens (`In::new`) here.
 
-use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
-use deform_kernel::slide::{fit_plane, plane_intersection, slide_points, Constraints};
+use deform_kernel::exact_sum::{ExactSum, EXACT_SUM_WORDS};
+use deform_kernel::spring::constraints::{
+    fit_plane, plane_intersection, slide_points, Constraints,
+};
 use deform_kernel::spring::{
     amg_cg_scratch_len, amg_setup_work_len, amg_sliding_cg_scratch_len, angle_scratch_items,
     angle_sliding_scratch_items, batina_stiffness, solve_linear_scratch_len,
@@ -878,7 +880,7 @@ fn solve_angle_amg_for_dim<T: Real, const D: usize>(
 }
 
 // ---------------------------------------------------------------------------------------------
-// Sliding nodes (symmetry planes): deform_kernel::slide and the constrained solves.
+// Sliding nodes (symmetry planes): deform_kernel::spring::constraints and the constrained solves.
 // ---------------------------------------------------------------------------------------------
 
 fn constraints_fixed_mask_for_dim<T: Real, const D: usize>(

@@ -6,13 +6,13 @@
 
 use core::ptr::null;
 
-use deform_kernel::deformation::{
+use deform_kernel::quaternion::{
     deform_idw, deform_idw_scratch_len, BoundaryMotion, RotationSource,
 };
 use deform_kernel::taubin::{smooth_structured, StructuredOptions, TaubinParams};
 use deform_kernel::{graph_from_edges, graph_from_edges_len, Block, Quat};
 
-use deform_kernel::slide::{slide_points, Constraints};
+use deform_kernel::spring::constraints::{slide_points, Constraints};
 use deform_kernel::spring::{
     solve_linear_amg_scratch_len, solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions,
     LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,

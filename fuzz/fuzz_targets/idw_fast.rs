@@ -8,7 +8,7 @@
 
 use arbitrary::Arbitrary;
 use deform_host_tests::idw_ref::idw_with_spread;
-use deform_kernel::deformation::{
+use deform_kernel::quaternion::{
     propagate_idw_fast, propagate_idw_fast_index_len, propagate_idw_fast_scratch_len,
     IdwFastOptions,
 };

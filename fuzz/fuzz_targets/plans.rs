@@ -9,7 +9,7 @@
 #![no_main]
 
 use arbitrary::Arbitrary;
-use deform_kernel::deformation::{
+use deform_kernel::quaternion::{
     deform_spring_scratch_len, deform_spring_with, propagate_spring_with_scratch_len,
     BoundaryMotion, RotationSource,
 };

@@ -4,7 +4,7 @@
 #![no_main]
 
 use arbitrary::Arbitrary;
-use deform_kernel::deformation::{
+use deform_kernel::quaternion::{
     deform_idw, deform_idw_scratch_len, BoundaryMotion, RotationSource,
 };
 use deform_kernel::Quat;

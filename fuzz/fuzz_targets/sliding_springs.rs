@@ -9,7 +9,7 @@
 #![no_main]
 
 use arbitrary::Arbitrary;
-use deform_kernel::slide::{fit_plane, slide_points, Constraints, NodeKind};
+use deform_kernel::spring::constraints::{fit_plane, slide_points, Constraints, NodeKind};
 use deform_kernel::spring::{
     solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AngleMethod, AngleSystem,
     LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,

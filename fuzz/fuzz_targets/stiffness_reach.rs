@@ -7,7 +7,7 @@
 #![no_main]
 
 use arbitrary::Arbitrary;
-use deform_kernel::deformation::limit_reach;
+use deform_kernel::quaternion::limit_reach;
 use deform_kernel::spring::{
     batina_stiffness, inverse_volume_factors, scale_stiffness, wall_distance_factors,
     wall_distances,

@@ -3,11 +3,11 @@
 //! AMG-CG), the quaternion deformation (springs and IDW), mesh quality, and Taubin smoothing.
 //! The hashes cover every output value and every report field.
 
-use deform_kernel::deformation::{
+use deform_kernel::quality::compare;
+use deform_kernel::quaternion::{
     deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len,
     propagate_spring_scratch_len, BoundaryMotion, RotationSource,
 };
-use deform_kernel::quality::compare;
 use deform_kernel::spring::{
     amg_precondition_scratch_len, batina_stiffness, solve_linear_amg_scratch_len,
     solve_linear_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother, AngleMethod, AngleSystem,

@@ -33,7 +33,7 @@
 
 use std::time::Instant;
 
-use deform_kernel::slide::{Constraints, NodeKind};
+use deform_kernel::spring::constraints::{Constraints, NodeKind};
 use deform_kernel::spring::{
     amg_precondition_scratch_len, batina_stiffness, AmgHierarchy, AmgOptions, AngleMethod,
     AngleSystem, SolveOptions, SpringSystem,

@@ -11,7 +11,7 @@
 
 use std::time::Instant;
 
-use deform_kernel::deformation::{
+use deform_kernel::quaternion::{
     propagate_idw, propagate_idw_fast, propagate_idw_fast_index_len,
     propagate_idw_fast_scratch_len, IdwFastOptions,
 };

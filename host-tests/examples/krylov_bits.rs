@@ -4,7 +4,7 @@
 //!
 //! `cargo run --release -p deform-host-tests --example krylov_bits [-- cg|amg|all]`
 
-use deform_kernel::slide::{Constraints, NodeKind};
+use deform_kernel::spring::constraints::{Constraints, NodeKind};
 use deform_kernel::spring::{
     batina_stiffness, solve_linear_amg_scratch_len, solve_linear_scratch_len,
     solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AngleMethod, AngleSystem,

@@ -7,7 +7,7 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use deform_kernel::deformation::update_points;
+use deform_kernel::quaternion::update_points;
 use deform_kernel::spring::{
     batina_stiffness, solve_linear_scratch_len, AngleMethod, AngleSystem, LinearMethod,
     Preconditioner, SolveOptions, SpringSystem, DEFAULT_ANGLE_EPSILON,

@@ -13,12 +13,12 @@
 
 use std::time::{Duration, Instant};
 
-use deform_kernel::deformation::{
-    deform_spring_scratch_len, deform_spring_with, propagate_spring_with_scratch_len,
-    BoundaryMotion, RotationSource,
-};
 use deform_kernel::plan::{
     Plan, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanWork,
+};
+use deform_kernel::quaternion::{
+    deform_spring_scratch_len, deform_spring_with, propagate_spring_with_scratch_len,
+    BoundaryMotion, RotationSource,
 };
 use deform_kernel::spring::{
     batina_stiffness, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, LinearSolver,

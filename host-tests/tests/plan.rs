@@ -8,15 +8,15 @@
 //!
 //! `cargo test -p deform-host-tests --test plan -- --nocapture` prints the iteration counts.
 
-use deform_kernel::deformation::{
-    deform_spring_scratch_len, deform_spring_with, propagate_spring_with_scratch_len,
-    BoundaryMotion, RotationSource,
-};
 use deform_kernel::plan::{
     Plan, PlanCounts, PlanMethod, PlanMotion, PlanSizes, PlanSolver, PlanSpec, PlanStiffness,
     PlanStorage, PlanWork, Start, StepReport,
 };
-use deform_kernel::slide::Constraints;
+use deform_kernel::quaternion::{
+    deform_spring_scratch_len, deform_spring_with, propagate_spring_with_scratch_len,
+    BoundaryMotion, RotationSource,
+};
+use deform_kernel::spring::constraints::Constraints;
 use deform_kernel::spring::{
     batina_stiffness, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, LinearMethod,
     LinearSolver, Preconditioner, SolveOptions, SolveReport, SpringSystem,

@@ -7,7 +7,7 @@
 
 mod support;
 
-use deform_kernel::deformation::{propagate_idw, propagate_spring, propagate_spring_scratch_len};
+use deform_kernel::quaternion::{propagate_idw, propagate_spring, propagate_spring_scratch_len};
 use deform_kernel::spring::{
     solve_linear_scratch_len, AmgHierarchy, AmgOptions, AngleMethod, LinearMethod, Preconditioner,
     SolveOptions, SolveReport, SpringSystem,

@@ -196,7 +196,7 @@ pub enum Error {
         arg: &'static str,
     },
     /// A direction that must be a unit vector (a sliding node's plane normal or line tangent)
-    /// is not one within the tolerance ([`crate::slide::unit_tolerance`]).
+    /// is not one within the tolerance ([`crate::spring::constraints::unit_tolerance`]).
     NotUnit {
         /// The argument.
         arg: &'static str,

@@ -32,16 +32,15 @@
 pub mod block;
 pub mod cells;
 mod check;
-pub mod deformation;
 pub mod error;
+pub mod exact_sum;
 pub mod graph;
 pub mod graph_builder;
 pub mod plan;
 pub mod quality;
 pub mod quat;
+pub mod quaternion;
 pub mod real;
-pub mod reduce;
-pub mod slide;
 pub mod spring;
 pub mod taubin;
 pub mod vector;

@@ -11,7 +11,7 @@
 //!   mesh graph (copied in), the boundary node list and elements, the hierarchy's layout and
 //!   index arrays;
 //! - `bytes: &mut [u8]`: the per-node constraint table (kind codes as in
-//!   [`crate::slide`]: 0 free, 1 fixed) and the fixed mask of the spring system.
+//!   [`crate::spring::constraints`]: 0 free, 1 fixed) and the fixed mask of the spring system.
 //!
 //! [`Plan::sizes`] returns their exact lengths ([`PlanSizes`]); both need a transient
 //! [`PlanWork`] (sizes from [`Plan::work_sizes`]), which can be freed after `init`. Then
@@ -39,7 +39,7 @@
 //! linear-spring solver ([`PlanSolver`]: the multigrid-preconditioned CG or a one-level
 //! method). A cold step gives exactly the bits of the stateless calls
 //! ([`solve_linear_with`](crate::spring::SpringSystem::solve_linear_with) from zero free displacements,
-//! [`deform_spring_with`](crate::deformation::deform_spring_with)); a warm step starts from
+//! [`deform_spring_with`](crate::quaternion::deform_spring_with)); a warm step starts from
 //! the previous solution instead.
 //!
 //! **Constraints.** The pools already hold a per-node kind table and a reserved section for
@@ -59,11 +59,11 @@ pub use storage::PlanStorage;
 
 use crate::cells::Cells;
 use crate::check;
-use crate::deformation::RotationSource;
 use crate::error::Result;
 use crate::graph::Graph;
+use crate::quaternion::RotationSource;
 use crate::real::Real;
-use crate::slide::Constraints;
+use crate::spring::constraints::Constraints;
 use crate::spring::{
     AmgOptions, LinearMethod, SolveOptions, SolveReport, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
 };

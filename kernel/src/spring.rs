@@ -35,7 +35,7 @@
 //!   sliding projection `P K P`) and a preconditioner (none, Jacobi, node blocks, SSOR, the
 //!   V-cycle), with one stopping rule; every CG scratch length comes from its CG vectors
 //!   and [`amg_cg_scratch_len`].
-//! - **Sliding nodes** ([`Constraints`](crate::slide::Constraints): a node slides on a plane
+//! - **Sliding nodes** ([`Constraints`](crate::spring::constraints::Constraints): a node slides on a plane
 //!   or a line): [`solve_linear_sliding`](crate::spring::SpringSystem::solve_linear_sliding) and [`solve_angle_sliding`](crate::spring::AngleSystem::solve_angle_sliding) solve the projected
 //!   system `P K P d = P b` jointly over the components (see their module for why it stays
 //!   symmetric positive definite and how the multigrid hierarchy is used).
@@ -47,6 +47,7 @@
 
 mod amg;
 mod angle;
+pub mod constraints;
 mod distributed;
 mod krylov;
 mod linear;

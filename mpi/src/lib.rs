@@ -8,7 +8,7 @@
 
 use std::ops::Range;
 
-use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
+use deform_kernel::exact_sum::{ExactSum, EXACT_SUM_WORDS};
 use deform_kernel::spring::Collective;
 use mpi::collective::SystemOperation;
 use mpi::datatype::{Partition, PartitionMut};

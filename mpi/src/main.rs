@@ -16,7 +16,7 @@
 //!
 //! Exit status 0 only if everything matches on every rank.
 
-use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
+use deform_kernel::exact_sum::{ExactSum, EXACT_SUM_WORDS};
 use deform_kernel::spring::{
     batina_stiffness, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, LinearMethod,
     LinearSolver, Preconditioner, SolveOptions, SpringSystem,

@@ -12,7 +12,7 @@ use deform_kernel::Direction;
 use deform_kernel::Directions;
 use support::c_build::*;
 
-use deform_kernel::deformation::{
+use deform_kernel::quaternion::{
     deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len, deform_tfi,
     deform_tfi_scratch_len, propagate_spring_scratch_len, BoundaryMotion, RotationSource,
 };

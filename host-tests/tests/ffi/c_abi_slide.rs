@@ -14,7 +14,7 @@ mod support;
 
 use support::c_build::*;
 
-use deform_kernel::slide::{fit_plane, slide_points, Constraints};
+use deform_kernel::spring::constraints::{fit_plane, slide_points, Constraints};
 use deform_kernel::spring::{
     batina_stiffness, solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AngleMethod,
     AngleSystem, LinearMethod, LinearSolver, Preconditioner, SolveOptions, SolveReport,

@@ -211,7 +211,7 @@ fn split_sweeps_merge_to_the_whole<T: Real, const V: usize>() {
         bounds.extend(cuts);
         bounds.push(n);
         // Merge in reverse order too: the result may not depend on it.
-        let mut merged = deform_kernel::reduce::ExactSum::new();
+        let mut merged = deform_kernel::exact_sum::ExactSum::new();
         let mut max_change = T::ZERO;
         for w in bounds.windows(2).rev() {
             let s = sys.jacobi_sweep(w[0]..w[1], &x, &mut out).unwrap();

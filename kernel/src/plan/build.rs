@@ -3,11 +3,11 @@
 use super::layout::{self, set_hw, w, word, Counts, Sections, SolverKind, HEADER};
 use super::{PlanCounts, PlanMethod, PlanSizes, PlanSolver, PlanSpec, PlanStiffness, PlanWork};
 use crate::check;
-use crate::deformation::check_elements;
 use crate::error::{Error, Result};
 use crate::graph::Graph;
+use crate::quaternion::check_elements;
 use crate::real::Real;
-use crate::slide::NodeKind;
+use crate::spring::constraints::NodeKind;
 use crate::spring::{
     amg_cg_scratch_len, amg_setup_work_len, batina_stiffness, check_omega,
     solve_linear_scratch_len, AmgHierarchy, LinearMethod, Preconditioner, SpringSystem,

@@ -6,13 +6,13 @@ use super::layout::{self, set_hw, w, AmgParts, Meta, SolverKind};
 use super::{Plan, PlanMethod, PlanMotion, Start, StepReport};
 use crate::cells::Cells;
 use crate::check;
-use crate::deformation::springs::{check_rotations, pack, start_at_fixed_mean, unpack};
-use crate::deformation::{
-    apply, origin_core, rigid_node_rotation, rotations_core, translation, Pts, RotationSource,
-};
 use crate::error::{Error, Result};
 use crate::graph::Graph;
 use crate::quat::Quat;
+use crate::quaternion::springs::{check_rotations, pack, start_at_fixed_mean, unpack};
+use crate::quaternion::{
+    apply, origin_core, rigid_node_rotation, rotations_core, translation, Pts, RotationSource,
+};
 use crate::real::Real;
 use crate::spring::{
     AmgHierarchy, LinearMethod, LinearSolver, Preconditioner, SolveOptions, SolveReport,
@@ -390,7 +390,7 @@ fn choose_start<T: Real, const D: usize, const V: usize>(
 }
 
 /// The quaternion method with spring propagation (`V = D + 4`): the steps of
-/// [`deform_spring_with`](crate::deformation::deform_spring_with) on the plan's data.
+/// [`deform_spring_with`](crate::quaternion::deform_spring_with) on the plan's data.
 fn run_quaternion<T: Real, const D: usize, const V: usize>(
     plan: &mut Plan<'_, T, D>,
     motion: &PlanMotion<'_, T, D>,

@@ -12,8 +12,8 @@ use super::norms::{pair_norms, scale_by, Norm, Pairs};
 use super::system::{check_omega, check_values, SolveOptions, SolveReport, SpringSystem, Sweep};
 use crate::check;
 use crate::error::{Error, Result};
+use crate::exact_sum::ExactSum;
 use crate::real::Real;
-use crate::reduce::ExactSum;
 use crate::vector;
 
 /// Default regularisation `ε` of the angle-inclusion springs (fraction of the linear spring

@@ -12,8 +12,8 @@
 
 use core::ops::Range;
 
+use crate::exact_sum::ExactSum;
 use crate::real::Real;
-use crate::reduce::ExactSum;
 
 /// The message passing a distributed solve needs (one implementation per process; methods
 /// take `&self`, as an MPI communicator does).

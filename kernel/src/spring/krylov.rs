@@ -40,8 +40,8 @@ use super::distributed::{
 use super::norms::{scale_by, Norm};
 use super::system::{SolveOptions, SolveReport};
 use crate::error::{Error, Result};
+use crate::exact_sum::ExactSum;
 use crate::real::Real;
-use crate::reduce::ExactSum;
 use crate::vector;
 
 /// Vectors of `n` `[T; V]` items the CG loop itself needs: iterate, residual, direction, and

@@ -14,8 +14,8 @@ use super::system::{
 };
 use crate::check;
 use crate::error::{Error, Result};
+use crate::exact_sum::ExactSum;
 use crate::real::Real;
-use crate::reduce::ExactSum;
 
 /// Node `i`'s residual `r_i = Σ_j k_ij (x_j − x_i)` (= `b − A x` at a free node, Yang & Özgen
 /// eq. 1 with the sign flipped) and diagonal `d_i = Σ_j k_ij`, summed in CSR order.

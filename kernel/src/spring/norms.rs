@@ -14,8 +14,8 @@
 //! The sums are exact ([`ExactSum`]) and the maximum is order-independent, so a norm does not
 //! depend on the order of its terms or on how a caller splits the nodes.
 
+use crate::exact_sum::ExactSum;
 use crate::real::Real;
-use crate::reduce::ExactSum;
 
 /// An exact running `Σ x²` (each `x²` rounded once) and `max |x|`.
 #[derive(Clone, Copy, Debug)]

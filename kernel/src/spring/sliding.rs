@@ -48,9 +48,9 @@ use super::system::{
 };
 use crate::check;
 use crate::error::{Error, Result};
+use crate::exact_sum::ExactSum;
 use crate::real::Real;
-use crate::reduce::ExactSum;
-use crate::slide::{Constraints, NodeKind};
+use crate::spring::constraints::{Constraints, NodeKind};
 use crate::vector;
 
 /// The operator a constrained solve needs: node residuals and blocks.

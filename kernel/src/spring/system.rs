@@ -6,9 +6,9 @@ use core::ops::Range;
 use super::norms::Norm;
 use crate::check;
 use crate::error::{Error, Result};
+use crate::exact_sum::ExactSum;
 use crate::graph::Graph;
 use crate::real::Real;
-use crate::reduce::ExactSum;
 
 /// `true` when mask byte `m` marks a fixed (Dirichlet) node: any nonzero byte.
 #[inline]

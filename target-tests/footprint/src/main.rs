@@ -29,7 +29,7 @@ use cortex_m as _; // critical-section implementation
 use cortex_m_rt::entry;
 use defmt_semihosting as _; // global defmt logger
 
-use deform_kernel::deformation::{
+use deform_kernel::quaternion::{
     deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len, deform_tfi,
     deform_tfi_scratch_len, propagate_spring_scratch_len, BoundaryMotion, RotationSource,
 };

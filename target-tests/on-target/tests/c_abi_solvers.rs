@@ -11,7 +11,7 @@
 
 use deform_on_target as _;
 
-use deform_kernel::slide::{fit_plane, slide_points, Constraints, NodeKind};
+use deform_kernel::spring::constraints::{fit_plane, slide_points, Constraints, NodeKind};
 use deform_kernel::spring::{
     batina_stiffness, solve_linear_amg_scratch_len, solve_linear_sliding_scratch_len, AmgHierarchy,
     AmgOptions, AngleMethod, AngleSystem, LinearMethod, LinearSolver, Preconditioner, SolveOptions,

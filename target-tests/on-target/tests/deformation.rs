@@ -11,7 +11,7 @@
 use deform_kernel::Directions;
 use deform_on_target as _;
 
-use deform_kernel::deformation::{
+use deform_kernel::quaternion::{
     deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len, deform_tfi,
     deform_tfi_scratch_len, propagate_idw, propagate_idw_fast, propagate_idw_fast_index_len,
     propagate_idw_fast_scratch_len, propagate_spring_scratch_len, BoundaryMotion, IdwFastOptions,

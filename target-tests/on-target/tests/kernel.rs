@@ -84,7 +84,7 @@ mod tests {
     /// independence, and the word protocol ranks merge with.
     #[test]
     fn exact_sums_are_order_independent() {
-        use deform_kernel::reduce::ExactSum;
+        use deform_kernel::exact_sum::ExactSum;
         let terms = [1e300, 1.0, -1e300, 0.1, 1e-300, -0.3, 2.5e-320, 0.2];
         let mut a = ExactSum::new();
         a.add_all(&terms);

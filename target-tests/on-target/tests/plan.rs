@@ -11,7 +11,7 @@
 
 use deform_on_target as _;
 
-use deform_kernel::deformation::{
+use deform_kernel::quaternion::{
     deform_spring_scratch_len, deform_spring_with, BoundaryMotion, RotationSource,
 };
 use deform_kernel::plan::{

@@ -7,7 +7,7 @@
 
 use deform_on_target as _;
 
-use deform_kernel::deformation::{limit_reach, reach_weight};
+use deform_kernel::quaternion::{limit_reach, reach_weight};
 use deform_kernel::spring::{
     batina_stiffness, dual_volumes, inverse_volume_factors, scale_stiffness, wall_distance_factors,
     wall_distances,

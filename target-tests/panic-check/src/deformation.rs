@@ -1,10 +1,10 @@
-//! Panic-check calls for the kernel's deformation entry points (`deform_kernel::deformation`),
+//! Panic-check calls for the kernel's deformation entry points (`deform_kernel::quaternion`),
 //! for `f32` and `f64`, in 2D and 3D, with black-boxed inputs and outputs.
 
 use core::hint::black_box;
 use deform_kernel::Directions;
 
-use deform_kernel::deformation::{
+use deform_kernel::quaternion::{
     boundary_normals, boundary_normals_scratch_len, boundary_origin, boundary_rotations,
     boundary_rotations_scratch_len, boundary_translations, deform_idw, deform_idw_fast,
     deform_idw_scratch_len, deform_spring, deform_spring_scratch_len, deform_spring_with,

@@ -377,7 +377,7 @@ fn errors() {
 /// `reduce::ExactSum`: adds of any `f32`/`f64` (non-finite included), merges, the word
 /// protocol, the in-place exchange and the rounding to either type.
 fn reduce() {
-    use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
+    use deform_kernel::exact_sum::{ExactSum, EXACT_SUM_WORDS};
     let mut a = ExactSum::new();
     a.add(black_box(1.5f64));
     a.add(black_box(-2.5f32));

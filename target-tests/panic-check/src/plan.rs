@@ -10,7 +10,7 @@
 use core::hint::black_box;
 
 use deform_kernel::cells::Cells;
-use deform_kernel::deformation::RotationSource;
+use deform_kernel::quaternion::RotationSource;
 use deform_kernel::plan::{
     Plan, PlanCounts, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanStorage,
     PlanWork, Start,

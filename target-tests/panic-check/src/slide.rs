@@ -1,4 +1,4 @@
-//! Panic-check calls for sliding boundaries (`deform_kernel::slide` and the constrained spring
+//! Panic-check calls for sliding boundaries (`deform_kernel::spring::constraints` and the constrained spring
 //! solves): the constraint table, projections, plane fit, plane intersection, `slide_points`,
 //! and `solve_linear_sliding` (every linear method and AMG) / `solve_angle_sliding` (every
 //! angle method, `ε` 0 and 0.01) / `solve_angle_sliding_amg`, for `f32` and `f64`, `D` = 2
@@ -8,7 +8,7 @@
 
 use core::hint::black_box;
 
-use deform_kernel::slide::{
+use deform_kernel::spring::constraints::{
     fit_plane, plane_intersection, slide_points, unit_tolerance, Constraints, NodeKind,
 };
 use deform_kernel::spring::{

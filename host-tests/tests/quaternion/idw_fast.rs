@@ -6,7 +6,7 @@
 //! gives typed errors with the outputs unchanged.
 
 use deform_host_tests::idw_ref::{a_priori_bound, idw_with_spread, IdwPoint};
-use deform_kernel::deformation::{
+use deform_kernel::quaternion::{
     propagate_idw, propagate_idw_fast, propagate_idw_fast_index_len,
     propagate_idw_fast_scratch_len, IdwFastOptions, IdwFastReport,
 };
@@ -730,10 +730,10 @@ fn deterministic() {
 /// folds no cell the exact one does not, and keeps the boundary layer turning rigidly.
 #[test]
 fn fast_idw_keeps_the_naca_boundary_layer() {
-    use deform_kernel::deformation::{
+    use deform_kernel::quality::{compare, wall_angle_scratch_len, Wall};
+    use deform_kernel::quaternion::{
         deform_idw, deform_idw_scratch_len, update_points, BoundaryMotion, RotationSource,
     };
-    use deform_kernel::quality::{compare, wall_angle_scratch_len, Wall};
     use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph};
 
     let mesh = naca_ogrid(&AirfoilGrid::viscous()).unwrap();
@@ -854,7 +854,7 @@ fn fast_idw_keeps_the_naca_boundary_layer() {
 /// buffer is a typed error with `out` unchanged.
 #[test]
 fn deform_idw_fast_pipeline() {
-    use deform_kernel::deformation::{
+    use deform_kernel::quaternion::{
         deform_idw, deform_idw_fast, deform_idw_scratch_len, BoundaryMotion, RotationSource,
     };
     let case = naca2d(&AirfoilGrid::tiny());

@@ -1,7 +1,7 @@
 //! `ExactSum` against an independent exact reference (Shewchuk's partials, the algorithm of
 //! Python's `math.fsum`, correctly rounded), and its order and split independence.
 
-use deform_kernel::reduce::{ExactSum, EXACT_SUM_WORDS};
+use deform_kernel::exact_sum::{ExactSum, EXACT_SUM_WORDS};
 use proptest::prelude::*;
 
 /// Correctly rounded sum by Shewchuk's non-overlapping partials (`math.fsum`), for finite

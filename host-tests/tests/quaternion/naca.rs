@@ -12,12 +12,12 @@
 //! displacement TFI changes it by the whole pitch). 90° and the displacement baselines are
 //! reported. `DK_IDW_P` overrides the IDW exponent for experiments (the assertions assume 2).
 
-use deform_kernel::deformation::{
+use deform_kernel::quality::{compare, wall_angle_scratch_len, Wall};
+use deform_kernel::quaternion::{
     deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len, deform_tfi,
     deform_tfi_scratch_len, displacement_tfi, propagate_spring_scratch_len, tfi_scratch_len,
     BoundaryMotion, RotationSource,
 };
-use deform_kernel::quality::{compare, wall_angle_scratch_len, Wall};
 use deform_kernel::spring::{
     batina_stiffness, solve_linear_scratch_len, LinearMethod, Preconditioner, SolveOptions,
     SpringSystem,

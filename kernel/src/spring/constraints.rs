@@ -31,7 +31,7 @@
 //! [`fit_plane`], which refuses node sets that are not planar within a tolerance.
 //!
 //! ```
-//! use deform_kernel::slide::{fit_plane, slide_points, Constraints, NodeKind};
+//! use deform_kernel::spring::constraints::{fit_plane, slide_points, Constraints, NodeKind};
 //! // Nodes 1 and 2 lie on the symmetry plane z = 0; node 0 is fixed, node 3 free.
 //! let points = [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [3.0, 1.0, 0.0]];
 //! let fit = fit_plane(&points, &[1, 2, 3], 1e-12)?;
@@ -239,7 +239,7 @@ impl<'a, T: Real, const D: usize> Constraints<'a, T, D> {
 
 /// Projects the motion of every sliding node onto its plane or line:
 /// `points[i] = original[i] + P_i (points[i] − original[i])` for kinds 2 and 3; free and fixed
-/// nodes are left as they are. Call it after a propagation ([`crate::deformation`]'s IDW, TFI
+/// nodes are left as they are. Call it after a propagation ([`crate::quaternion`]'s IDW, TFI
 /// or spring pipelines) in which the sliding nodes were ordinary field nodes.
 ///
 /// # Errors

@@ -15,7 +15,7 @@
 #[path = "../support/mod.rs"]
 mod support;
 
-use deform_kernel::deformation::{
+use deform_kernel::quaternion::{
     deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len, deform_tfi,
     deform_tfi_scratch_len, propagate_spring_scratch_len, BoundaryMotion, RotationSource,
 };
@@ -24,7 +24,7 @@ use deform_kernel::spring::{
 };
 use deform_kernel::Directions;
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Graph, Quat, Real};
-use support::deformation::{bits, block2, block3, max_err, scale, Rigid, TestMesh};
+use support::quaternion::{bits, block2, block3, max_err, scale, Rigid, TestMesh};
 
 #[derive(Clone, Copy, Debug)]
 enum Method {

@@ -6,18 +6,18 @@
 mod support;
 
 use deform_host_tests::deformation_ref as r;
-use deform_kernel::deformation::{
+use deform_kernel::quality::inverted_cells;
+use deform_kernel::quaternion::{
     deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len, deform_tfi,
     deform_tfi_scratch_len, displacement_tfi, propagate_idw, propagate_spring_scratch_len,
     propagate_tfi, tfi_scratch_len, update_points, BoundaryMotion, RotationSource,
 };
-use deform_kernel::quality::inverted_cells;
 use deform_kernel::spring::{
     batina_stiffness, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::Directions;
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Block, Error, Graph, Quat, Real};
-use support::deformation::{bits, block2, block3, to3, TestMesh};
+use support::quaternion::{bits, block2, block3, to3, TestMesh};
 
 /// A deterministic pseudo-random value in `[-1, 1)` (splitmix64).
 fn rnd(seed: &mut u64) -> f64 {
@@ -737,7 +737,7 @@ fn pipeline_errors() {
 
 #[test]
 fn spring_errors() {
-    use deform_kernel::deformation::propagate_spring;
+    use deform_kernel::quaternion::propagate_spring;
     let m = block2(6, 5);
     let n = m.points.len();
     let cells = m.cells();

@@ -2,7 +2,7 @@
 //! falls smoothly to 0 at the radius and stays 0 beyond; translations are scaled by it and
 //! rotations slerped toward the identity; bad input changes nothing.
 
-use deform_kernel::deformation::{limit_reach, reach_weight};
+use deform_kernel::quaternion::{limit_reach, reach_weight};
 use deform_kernel::{Error, Quat};
 
 #[test]

@@ -11,11 +11,11 @@
 //! none. The inner cube turned by 40° in its tight gap folds 3 corners with IDW (none with
 //! quaternion springs, 3 with displacement springs).
 
-use deform_kernel::deformation::{
+use deform_kernel::quality::compare;
+use deform_kernel::quaternion::{
     deform_idw, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len,
     propagate_spring_scratch_len, BoundaryMotion, RotationSource,
 };
-use deform_kernel::quality::compare;
 use deform_kernel::spring::{
     batina_stiffness, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
 };

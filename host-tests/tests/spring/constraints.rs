@@ -2,11 +2,13 @@
 //! dense reference, and half-models (2D annulus, 3D box with an inner box) whose symmetry
 //! plane slides instead of being pinned.
 
-use deform_kernel::deformation::{
+use deform_kernel::quality::compare;
+use deform_kernel::quaternion::{
     deform_idw, deform_idw_scratch_len, BoundaryMotion, RotationSource,
 };
-use deform_kernel::quality::compare;
-use deform_kernel::slide::{fit_plane, plane_intersection, slide_points, Constraints, NodeKind};
+use deform_kernel::spring::constraints::{
+    fit_plane, plane_intersection, slide_points, Constraints, NodeKind,
+};
 use deform_kernel::spring::{
     batina_stiffness, solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AngleMethod,
     AngleSystem, LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
@@ -15,6 +17,7 @@ use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Error, Graph,
 use deform_meshgen::{annulus, box_with_inner_box3, Mesh};
 use nalgebra::{DMatrix, DVector};
 
+#[path = "../support/mod.rs"]
 mod support;
 use support::spring::AmgBuffers;
 

@@ -7,7 +7,7 @@
 //! Nodes that stay in place because they are on the rotation axis (or at the origin) are part
 //! of the body and keep the rotation.
 
-use deform_kernel::deformation::{
+use deform_kernel::quaternion::{
     deform_idw, deform_idw_scratch_len, BoundaryMotion, RotationSource,
 };
 use deform_kernel::{Quat, Real};

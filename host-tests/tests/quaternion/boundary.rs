@@ -6,12 +6,12 @@
 mod support;
 
 use deform_host_tests::deformation_ref as r;
-use deform_kernel::deformation::{
+use deform_kernel::quaternion::{
     boundary_normals, boundary_normals_scratch_len, boundary_origin, boundary_rotations,
     boundary_rotations_scratch_len, boundary_translations, rigid_rotations,
 };
 use deform_kernel::{Cells, Error, Quat};
-use support::deformation::{bits, block2, block3, to3, TestMesh};
+use support::quaternion::{bits, block2, block3, to3, TestMesh};
 
 /// A smooth, non-rigid deformation (bending, stretching, twisting); `amount` 0 is the identity.
 fn warp<const D: usize>(p: [f64; D], amount: f64) -> [f64; D] {
@@ -437,7 +437,7 @@ fn bad_sizes_and_kinds_are_errors() {
 
 #[test]
 fn localize_nodes_renumbers_and_validates() {
-    use deform_kernel::deformation::{localize_nodes, localize_nodes_scratch_len};
+    use deform_kernel::quaternion::{localize_nodes, localize_nodes_scratch_len};
     let boundary = [7u32, 3, 9, 0];
     let global = [3u32, 9, 9, 0, 7, 3];
     let mut scratch = vec![0u32; localize_nodes_scratch_len(10)];
