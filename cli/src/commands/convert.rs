@@ -40,43 +40,11 @@ pub(crate) fn convert(a: &ConvertArgs) -> Result<Outcome, CliError> {
         (FileKind::Su2, None) if is_cgns_path(&a.output) => Some(FileKind::Su2),
         (_, k) => k,
     };
-    let enc = if a.vtk_ascii {
-        VtkEncoding::Ascii
-    } else {
-        VtkEncoding::Base64
-    };
     let mut staged = Staged::new();
     let mut outputs = Vec::new();
     let report = match (kin, kout) {
         (FileKind::Su2, Some(k @ (FileKind::Su2 | FileKind::Vtu))) => {
-            let mut m = read_su2(&a.input)?;
-            check_su2_output(&a.input, &a.output)?;
-            let reoriented = if a.reorient {
-                reorient(&mut m).map_err(|e| e.in_file(&a.input))?
-            } else {
-                0
-            };
-            staged
-                .write(&a.output, |f| {
-                    if k == FileKind::Su2 {
-                        write_su2_like(&a.input, &a.output, &m, f)
-                    } else {
-                        write_vtu(f, &m.points, &m.elements, &[], &[], enc)
-                    }
-                })
-                .map_err(io_err(&a.output))?;
-            outputs.push(a.output.display().to_string());
-            ConvertReport {
-                command: "convert",
-                input: a.input.display().to_string(),
-                outputs: Vec::new(),
-                input_format: format!("SU2 {}D, {} markers", m.dim, m.markers.len()),
-                points: m.points.len(),
-                cells: m.elements.len(),
-                blocks: 0,
-                reoriented_cells: reoriented,
-                seconds: 0.0,
-            }
+            convert_su2(a, k, &mut staged, &mut outputs)?
         }
         (FileKind::Plot3d, Some(_)) if a.reorient => {
             return Err(CliError::Invalid(format!(
@@ -85,44 +53,7 @@ pub(crate) fn convert(a: &ConvertArgs) -> Result<Outcome, CliError> {
             )))
         }
         (FileKind::Plot3d, Some(k @ (FileKind::Plot3d | FileKind::Vts))) => {
-            let (g, layout) = read_plot3d(&a.input, &plot3d_options(&a.layout))?;
-            if k == FileKind::Plot3d {
-                let out_layout = output_layout(&layout, a);
-                staged
-                    .write(&a.output, |f| {
-                        write_grid(&a.input, &a.output, &g, &out_layout, f)
-                    })
-                    .map_err(io_err(&a.output))?;
-                outputs.push(a.output.display().to_string());
-            } else {
-                for (b, blk) in g.blocks.iter().enumerate() {
-                    let p = block_vts_path(&a.output, b, g.blocks.len());
-                    staged
-                        .write(&p, |f| write_vts(f, blk.dims, &blk.points, &[], &[], enc))
-                        .map_err(io_err(&p))?;
-                    outputs.push(p.display().to_string());
-                }
-            }
-            ConvertReport {
-                command: "convert",
-                input: a.input.display().to_string(),
-                outputs: Vec::new(),
-                input_format: format!("Plot3D {layout}"),
-                points: g.blocks.iter().map(|b| b.points.len()).sum(),
-                cells: g
-                    .blocks
-                    .iter()
-                    .map(|b| {
-                        b.dims
-                            .iter()
-                            .map(|&d| d.saturating_sub(1).max(1))
-                            .product::<usize>()
-                    })
-                    .sum(),
-                blocks: g.blocks.len(),
-                reoriented_cells: 0,
-                seconds: 0.0,
-            }
+            convert_plot3d(a, k, &mut staged, &mut outputs)?
         }
         _ => {
             return Err(CliError::Invalid(format!(
@@ -149,6 +80,97 @@ pub(crate) fn convert(a: &ConvertArgs) -> Result<Outcome, CliError> {
     Ok(Outcome {
         json: serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
         text,
+    })
+}
+
+/// The VTK encoding `--vtk-ascii` asks for.
+fn encoding(a: &ConvertArgs) -> VtkEncoding {
+    if a.vtk_ascii {
+        VtkEncoding::Ascii
+    } else {
+        VtkEncoding::Base64
+    }
+}
+
+/// An SU2 mesh (or CGNS file) to SU2/CGNS or `.vtu` (`k`), `--reorient` first.
+fn convert_su2(
+    a: &ConvertArgs,
+    k: FileKind,
+    staged: &mut Staged,
+    outputs: &mut Vec<String>,
+) -> Result<ConvertReport, CliError> {
+    let mut m = read_su2(&a.input)?;
+    check_su2_output(&a.input, &a.output)?;
+    let reoriented = if a.reorient {
+        reorient(&mut m).map_err(|e| e.in_file(&a.input))?
+    } else {
+        0
+    };
+    let enc = encoding(a);
+    staged
+        .write(&a.output, |f| {
+            if k == FileKind::Su2 {
+                write_su2_like(&a.input, &a.output, &m, f)
+            } else {
+                write_vtu(f, &m.points, &m.elements, &[], &[], enc)
+            }
+        })
+        .map_err(io_err(&a.output))?;
+    outputs.push(a.output.display().to_string());
+    Ok(ConvertReport {
+        command: "convert",
+        input: a.input.display().to_string(),
+        outputs: Vec::new(),
+        input_format: format!("SU2 {}D, {} markers", m.dim, m.markers.len()),
+        points: m.points.len(),
+        cells: m.elements.len(),
+        blocks: 0,
+        reoriented_cells: reoriented,
+        seconds: 0.0,
+    })
+}
+
+/// A Plot3D grid to Plot3D (in `--layout`'s output options) or one `.vts` per block (`k`).
+fn convert_plot3d(
+    a: &ConvertArgs,
+    k: FileKind,
+    staged: &mut Staged,
+    outputs: &mut Vec<String>,
+) -> Result<ConvertReport, CliError> {
+    let (g, layout) = read_plot3d(&a.input, &plot3d_options(&a.layout))?;
+    if k == FileKind::Plot3d {
+        let out_layout = output_layout(&layout, a);
+        staged
+            .write(&a.output, |f| {
+                write_grid(&a.input, &a.output, &g, &out_layout, f)
+            })
+            .map_err(io_err(&a.output))?;
+        outputs.push(a.output.display().to_string());
+    } else {
+        let enc = encoding(a);
+        for (b, blk) in g.blocks.iter().enumerate() {
+            let p = block_vts_path(&a.output, b, g.blocks.len());
+            staged
+                .write(&p, |f| write_vts(f, blk.dims, &blk.points, &[], &[], enc))
+                .map_err(io_err(&p))?;
+            outputs.push(p.display().to_string());
+        }
+    }
+    let cells_of = |d: &[usize; 3]| {
+        d.iter()
+            .map(|&d| d.saturating_sub(1).max(1))
+            .product::<usize>()
+    };
+    Ok(ConvertReport {
+        command: "convert",
+        input: a.input.display().to_string(),
+        outputs: Vec::new(),
+        input_format: format!("Plot3D {layout}"),
+        points: g.blocks.iter().map(|b| b.points.len()).sum(),
+        cells: g.blocks.iter().map(|b| cells_of(&b.dims)).sum(),
+        blocks: g.blocks.len(),
+        reoriented_cells: 0,
+        seconds: 0.0,
     })
 }
 

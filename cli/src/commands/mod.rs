@@ -8,8 +8,7 @@
 mod convert;
 mod demo;
 mod mesh;
-mod move_grid;
-mod move_mesh;
+mod r#move;
 mod quality;
 mod smooth;
 
@@ -21,8 +20,8 @@ pub use crate::error::CliError;
 use crate::report::Outcome;
 use convert::convert;
 use mesh::{mesh_block, mesh_naca};
-use move_mesh::move_mesh;
 use quality::quality;
+use r#move::move_mesh;
 use smooth::smooth;
 
 /// Runs the parsed command line.

@@ -342,294 +342,328 @@ const SURFACE_3D: [CellKind; 2] = [CellKind::Triangle, CellKind::Quad];
 
 /// Parses an SU2 native ASCII mesh. Never panics; errors name the line.
 pub fn parse_su2(bytes: &[u8]) -> Result<Su2Mesh, FormatError> {
-    let mut lines = Lines::new(bytes);
-    let mut dim: Option<usize> = None;
-    let mut elements: Option<(CellList, Vec<usize>)> = None;
-    let mut points: Option<Vec<[f64; 3]>> = None;
-    let mut markers: Option<Vec<(Su2Marker, Vec<usize>)>> = None;
-    let mut passthrough: Vec<u8> = Vec::new();
-    let mut text = Su2Text::default();
+    let mut p = Su2Parser {
+        bytes,
+        lines: Lines::new(bytes),
+        dim: None,
+        elements: None,
+        points: None,
+        markers: None,
+        passthrough: Vec::new(),
+        text: Su2Text::default(),
+    };
+    while let Some((line, content)) = p.lines.next_content() {
+        p.section(line, content)?;
+    }
+    p.finish()
+}
 
-    while let Some((line, content)) = lines.next_content() {
+/// Cells (or marker elements) and the line each was read from.
+type LinedCells = (CellList, Vec<usize>);
+
+/// The state of [`parse_su2`]: the sections read so far.
+struct Su2Parser<'b> {
+    bytes: &'b [u8],
+    lines: Lines<'b>,
+    dim: Option<usize>,
+    elements: Option<LinedCells>,
+    points: Option<Vec<[f64; 3]>>,
+    markers: Option<Vec<(Su2Marker, Vec<usize>)>>,
+    passthrough: Vec<u8>,
+    text: Su2Text,
+}
+
+/// A keyword given twice.
+fn duplicate(line: usize, keyword: String) -> FormatError {
+    FormatError::new(Location::Line(line), FormatErrorKind::Duplicate { keyword })
+}
+
+/// What a line that should start a section says instead.
+fn not_a_keyword(line: usize, content: &[u8]) -> FormatError {
+    FormatError::expected_at_line(
+        line,
+        "a keyword line (NDIME=, NELEM=, NPOIN= or NMARK=)",
+        content,
+    )
+}
+
+impl<'b> Su2Parser<'b> {
+    /// One section, from its keyword line (`content`, at `line`).
+    fn section(&mut self, line: usize, content: &'b [u8]) -> Result<(), FormatError> {
         let Some((key, value)) = key_value(content) else {
-            return Err(FormatError::expected_at_line(
-                line,
-                "a keyword line (NDIME=, NELEM=, NPOIN= or NMARK=)",
-                content,
-            ));
+            return Err(not_a_keyword(line, content));
         };
         let upper = key.to_ascii_uppercase();
         if is_mesh_keyword(&upper) {
-            text.note(&String::from_utf8_lossy(&upper), lines.take_comments());
+            let comments = self.lines.take_comments();
+            self.text.note(&String::from_utf8_lossy(&upper), comments);
         }
         match upper.as_slice() {
-            b"NDIME" => {
-                if dim.is_some() {
-                    return Err(FormatError::new(
-                        Location::Line(line),
-                        FormatErrorKind::Duplicate {
-                            keyword: "NDIME".into(),
-                        },
-                    ));
-                }
-                let d = parse_uint(tokens(value).next().unwrap_or(&[]));
-                match d {
-                    Some(2) => dim = Some(2),
-                    Some(3) => dim = Some(3),
-                    _ => {
-                        return Err(FormatError::expected_at_line(
-                            line,
-                            "NDIME= 2 or NDIME= 3",
-                            content,
-                        ))
-                    }
-                }
-            }
+            b"NDIME" => self.ndime(line, value, content),
             b"NZONE" | b"IZONE" => {
-                if parse_uint(tokens(value).next().unwrap_or(&[])) != Some(1) {
-                    return Err(FormatError::new(
-                        Location::Line(line),
-                        FormatErrorKind::Unsupported {
-                            what: "several zones (NZONE/IZONE other than 1) in one mesh: read the file with su2_zones::parse_su2_zones".into(),
-                        },
-                    ));
+                if parse_uint(tokens(value).next().unwrap_or(&[])) == Some(1) {
+                    return Ok(());
                 }
-            }
-            b"NELEM" => {
-                let d = dim.ok_or_else(|| {
-                    FormatError::expected_at_line(line, "NDIME= before NELEM=", content)
-                })?;
-                if elements.is_some() {
-                    return Err(FormatError::new(
-                        Location::Line(line),
-                        FormatErrorKind::Duplicate {
-                            keyword: "NELEM".into(),
-                        },
-                    ));
-                }
-                let n = parse_count(line, value, "NELEM")?;
-                let allowed: &[CellKind] = if d == 2 { &VOLUME_2D } else { &VOLUME_3D };
-                let mut cells = CellList::new();
-                let mut where_ = Vec::new();
-                for e in 0..n {
-                    let (l, c) = lines.next_content().ok_or_else(|| {
-                        FormatError::eof_at_line(
-                            lines.eof_line(),
-                            format!("element {} of {n} (NELEM= {n})", e + 1),
-                        )
-                    })?;
-                    if key_value(c).is_some() {
-                        return Err(FormatError::expected_at_line(
-                            l,
-                            format!("element {} of {n} (NELEM= {n} at line {line})", e + 1),
-                            c,
-                        ));
-                    }
-                    parse_element(l, c, allowed, &mut cells)?;
-                    where_.push(l);
-                }
-                elements = Some((cells, where_));
-            }
-            b"NPOIN" => {
-                let d = dim.ok_or_else(|| {
-                    FormatError::expected_at_line(line, "NDIME= before NPOIN=", content)
-                })?;
-                if points.is_some() {
-                    return Err(FormatError::new(
-                        Location::Line(line),
-                        FormatErrorKind::Duplicate {
-                            keyword: "NPOIN".into(),
-                        },
-                    ));
-                }
-                let n = parse_count(line, value, "NPOIN")?;
-                let mut pts = Vec::new();
-                for p in 0..n {
-                    let (l, c) = lines.next_content().ok_or_else(|| {
-                        FormatError::eof_at_line(
-                            lines.eof_line(),
-                            format!("point {} of {n} (NPOIN= {n})", p + 1),
-                        )
-                    })?;
-                    let mut it = tokens(c);
-                    let mut xyz = [0.0f64; 3];
-                    for (k, slot) in xyz.iter_mut().take(d).enumerate() {
-                        let name = ["x", "y", "z"].get(k).copied().unwrap_or("coordinate");
-                        let tok = it.next().ok_or_else(|| {
-                            FormatError::expected_at_line(
-                                l,
-                                format!(
-                                    "{d} coordinates for point {} of {n} (NPOIN= {n} at line {line})",
-                                    p + 1
-                                ),
-                                c,
-                            )
-                        })?;
-                        *slot = parse_real(l, tok, &format!("{name} of point {p}"))?;
-                    }
-                    pts.push(xyz);
-                }
-                points = Some(pts);
-            }
-            b"NMARK" => {
-                let d = dim.ok_or_else(|| {
-                    FormatError::expected_at_line(line, "NDIME= before NMARK=", content)
-                })?;
-                if elements.is_none() || points.is_none() {
-                    return Err(FormatError::expected_at_line(
-                        line,
-                        "NELEM= and NPOIN= sections before NMARK=",
-                        content,
-                    ));
-                }
-                if markers.is_some() {
-                    return Err(FormatError::new(
-                        Location::Line(line),
-                        FormatErrorKind::Duplicate {
-                            keyword: "NMARK".into(),
-                        },
-                    ));
-                }
-                let m = parse_count(line, value, "NMARK")?;
-                let allowed: &[CellKind] = if d == 2 { &SURFACE_2D } else { &SURFACE_3D };
-                let mut list = Vec::new();
-                for k in 0..m {
-                    let what = format!(
-                        "MARKER_TAG= (marker {} of {m}, NMARK= {m} at line {line})",
-                        k + 1
-                    );
-                    let (l, c) = lines
-                        .next_content()
-                        .ok_or_else(|| FormatError::eof_at_line(lines.eof_line(), what.clone()))?;
-                    let name = match key_value(c) {
-                        Some((kk, v))
-                            if (kk.eq_ignore_ascii_case(b"MARKER_TAG")
-                                || kk.eq_ignore_ascii_case(b"MARKERTAG"))
-                                && !v.is_empty() =>
-                        {
-                            std::str::from_utf8(v)
-                                .map_err(|_| {
-                                    FormatError::expected_at_line(l, "a UTF-8 marker name", v)
-                                })?
-                                .to_string()
-                        }
-                        _ => return Err(FormatError::expected_at_line(l, what, c)),
-                    };
-                    text.note(&format!("MARKER_TAG={name}"), lines.take_comments());
-                    if list
-                        .iter()
-                        .any(|(mk, _): &(Su2Marker, Vec<usize>)| mk.name == name)
-                    {
-                        return Err(FormatError::new(
-                            Location::Line(l),
-                            FormatErrorKind::Duplicate {
-                                keyword: format!("MARKER_TAG= {name}"),
-                            },
-                        ));
-                    }
-                    let what = format!("MARKER_ELEMS= for marker {name}");
-                    let (l2, c2) = lines
-                        .next_content()
-                        .ok_or_else(|| FormatError::eof_at_line(lines.eof_line(), what.clone()))?;
-                    let count = match key_value(c2) {
-                        Some((kk, v)) if kk.eq_ignore_ascii_case(b"MARKER_ELEMS") => {
-                            parse_count(l2, v, "MARKER_ELEMS")?
-                        }
-                        _ => return Err(FormatError::expected_at_line(l2, what, c2)),
-                    };
-                    let mut cells = CellList::new();
-                    let mut where_ = Vec::new();
-                    for e in 0..count {
-                        let expected = format!(
-                            "element {} of {count} of marker {name} (MARKER_ELEMS= {count} at line {l2})",
-                            e + 1
-                        );
-                        let (l3, c3) = lines.next_content().ok_or_else(|| {
-                            FormatError::eof_at_line(lines.eof_line(), expected.clone())
-                        })?;
-                        if key_value(c3).is_some() {
-                            return Err(FormatError::expected_at_line(l3, expected, c3));
-                        }
-                        parse_element(l3, c3, allowed, &mut cells)?;
-                        where_.push(l3);
-                    }
-                    list.push((
-                        Su2Marker {
-                            name,
-                            elements: cells,
-                        },
-                        where_,
-                    ));
-                }
-                markers = Some(list);
-            }
-            k if is_passthrough_keyword(k) => {
-                // Keep this line and everything up to the next mesh keyword, byte for byte
-                // (comments inside included: they are not kept apart).
-                if passthrough.is_empty() {
-                    text.note("passthrough", lines.take_comments());
-                }
-                let from = lines.start;
-                let mut to = bytes.len();
-                loop {
-                    let (pos, count) = (lines.pos, lines.line);
-                    match lines.next_content() {
-                        None => break,
-                        Some((_, c)) => {
-                            if key_value(c).is_some_and(|(k, _)| is_mesh_keyword(k)) {
-                                to = lines.start;
-                                lines.pos = pos;
-                                lines.line = count;
-                                break;
-                            }
-                        }
-                    }
-                }
-                lines.take_comments();
-                let chunk = bytes.get(from..to).unwrap_or(&[]);
-                if !passthrough.is_empty() && !passthrough.ends_with(b"\n") {
-                    passthrough.push(b'\n');
-                }
-                passthrough.extend_from_slice(chunk);
-            }
-            _ => {
-                return Err(FormatError::expected_at_line(
-                    line,
-                    "a keyword line (NDIME=, NELEM=, NPOIN= or NMARK=)",
-                    content,
+                Err(FormatError::new(
+                    Location::Line(line),
+                    FormatErrorKind::Unsupported {
+                        what: "several zones (NZONE/IZONE other than 1) in one mesh: read the file with su2_zones::parse_su2_zones".into(),
+                    },
                 ))
             }
+            b"NELEM" => self.nelem(line, value, content),
+            b"NPOIN" => self.npoin(line, value, content),
+            b"NMARK" => self.nmark(line, value, content),
+            k if is_passthrough_keyword(k) => {
+                self.passthrough_section();
+                Ok(())
+            }
+            _ => Err(not_a_keyword(line, content)),
         }
     }
 
-    text.note("end", lines.take_comments());
-    text.crlf = lines.crlf == Some(true);
-    let end = lines.eof_line();
-    let missing = |k: &str| {
-        FormatError::new(
-            Location::Line(end),
-            FormatErrorKind::Missing {
-                keyword: format!("{k} section (end of file reached)"),
-            },
-        )
-    };
-    let dim = dim.ok_or_else(|| missing("NDIME="))?;
-    let (elements, elem_lines) = elements.ok_or_else(|| missing("NELEM="))?;
-    let points = points.ok_or_else(|| missing("NPOIN="))?;
-    check_indices(&elements, &elem_lines, points.len())?;
-    let mut out = Vec::new();
-    for (m, where_) in markers.unwrap_or_default() {
-        check_indices(&m.elements, &where_, points.len())?;
-        out.push(m);
+    fn ndime(&mut self, line: usize, value: &[u8], content: &[u8]) -> Result<(), FormatError> {
+        if self.dim.is_some() {
+            return Err(duplicate(line, "NDIME".into()));
+        }
+        match parse_uint(tokens(value).next().unwrap_or(&[])) {
+            Some(d @ (2 | 3)) => {
+                self.dim = Some(d as usize);
+                Ok(())
+            }
+            _ => Err(FormatError::expected_at_line(
+                line,
+                "NDIME= 2 or NDIME= 3",
+                content,
+            )),
+        }
     }
-    Ok(Su2Mesh {
-        dim,
-        points,
-        elements,
-        markers: out,
-        passthrough,
-        text,
-    })
+
+    /// The dimension, which `keyword` needs to come first.
+    fn dim_before(&self, line: usize, keyword: &str, content: &[u8]) -> Result<usize, FormatError> {
+        self.dim.ok_or_else(|| {
+            FormatError::expected_at_line(line, format!("NDIME= before {keyword}="), content)
+        })
+    }
+
+    fn nelem(&mut self, line: usize, value: &[u8], content: &[u8]) -> Result<(), FormatError> {
+        let d = self.dim_before(line, "NELEM", content)?;
+        if self.elements.is_some() {
+            return Err(duplicate(line, "NELEM".into()));
+        }
+        let n = parse_count(line, value, "NELEM")?;
+        let allowed: &[CellKind] = if d == 2 { &VOLUME_2D } else { &VOLUME_3D };
+        let cells = self.cells(n, allowed, |e, eof| match eof {
+            true => format!("element {} of {n} (NELEM= {n})", e + 1),
+            false => format!("element {} of {n} (NELEM= {n} at line {line})", e + 1),
+        })?;
+        self.elements = Some(cells);
+        Ok(())
+    }
+
+    /// `n` element lines of the `allowed` kinds (`what(e, at_end_of_file)` names element `e`
+    /// in errors).
+    fn cells(
+        &mut self,
+        n: usize,
+        allowed: &[CellKind],
+        what: impl Fn(usize, bool) -> String,
+    ) -> Result<LinedCells, FormatError> {
+        let mut cells = CellList::new();
+        let mut where_ = Vec::new();
+        for e in 0..n {
+            let (l, c) = self
+                .lines
+                .next_content()
+                .ok_or_else(|| FormatError::eof_at_line(self.lines.eof_line(), what(e, true)))?;
+            if key_value(c).is_some() {
+                return Err(FormatError::expected_at_line(l, what(e, false), c));
+            }
+            parse_element(l, c, allowed, &mut cells)?;
+            where_.push(l);
+        }
+        Ok((cells, where_))
+    }
+
+    fn npoin(&mut self, line: usize, value: &[u8], content: &[u8]) -> Result<(), FormatError> {
+        let d = self.dim_before(line, "NPOIN", content)?;
+        if self.points.is_some() {
+            return Err(duplicate(line, "NPOIN".into()));
+        }
+        let n = parse_count(line, value, "NPOIN")?;
+        let mut pts = Vec::new();
+        for p in 0..n {
+            let (l, c) = self.lines.next_content().ok_or_else(|| {
+                FormatError::eof_at_line(
+                    self.lines.eof_line(),
+                    format!("point {} of {n} (NPOIN= {n})", p + 1),
+                )
+            })?;
+            let mut it = tokens(c);
+            let mut xyz = [0.0f64; 3];
+            for (k, slot) in xyz.iter_mut().take(d).enumerate() {
+                let name = ["x", "y", "z"].get(k).copied().unwrap_or("coordinate");
+                let tok = it.next().ok_or_else(|| {
+                    FormatError::expected_at_line(
+                        l,
+                        format!(
+                            "{d} coordinates for point {} of {n} (NPOIN= {n} at line {line})",
+                            p + 1
+                        ),
+                        c,
+                    )
+                })?;
+                *slot = parse_real(l, tok, &format!("{name} of point {p}"))?;
+            }
+            pts.push(xyz);
+        }
+        self.points = Some(pts);
+        Ok(())
+    }
+
+    fn nmark(&mut self, line: usize, value: &[u8], content: &[u8]) -> Result<(), FormatError> {
+        let d = self.dim_before(line, "NMARK", content)?;
+        if self.elements.is_none() || self.points.is_none() {
+            return Err(FormatError::expected_at_line(
+                line,
+                "NELEM= and NPOIN= sections before NMARK=",
+                content,
+            ));
+        }
+        if self.markers.is_some() {
+            return Err(duplicate(line, "NMARK".into()));
+        }
+        let m = parse_count(line, value, "NMARK")?;
+        let allowed: &[CellKind] = if d == 2 { &SURFACE_2D } else { &SURFACE_3D };
+        let mut list = Vec::new();
+        for k in 0..m {
+            let what = format!(
+                "MARKER_TAG= (marker {} of {m}, NMARK= {m} at line {line})",
+                k + 1
+            );
+            let marker = self.marker(what, allowed, &list)?;
+            list.push(marker);
+        }
+        self.markers = Some(list);
+        Ok(())
+    }
+
+    /// One marker: its `MARKER_TAG=` (`what` in errors; not one of `earlier`), its
+    /// `MARKER_ELEMS=` and elements.
+    fn marker(
+        &mut self,
+        what: String,
+        allowed: &[CellKind],
+        earlier: &[(Su2Marker, Vec<usize>)],
+    ) -> Result<(Su2Marker, Vec<usize>), FormatError> {
+        let (l, c) = self
+            .lines
+            .next_content()
+            .ok_or_else(|| FormatError::eof_at_line(self.lines.eof_line(), what.clone()))?;
+        let name = match key_value(c) {
+            Some((kk, v))
+                if (kk.eq_ignore_ascii_case(b"MARKER_TAG")
+                    || kk.eq_ignore_ascii_case(b"MARKERTAG"))
+                    && !v.is_empty() =>
+            {
+                std::str::from_utf8(v)
+                    .map_err(|_| FormatError::expected_at_line(l, "a UTF-8 marker name", v))?
+                    .to_string()
+            }
+            _ => return Err(FormatError::expected_at_line(l, what, c)),
+        };
+        let comments = self.lines.take_comments();
+        self.text.note(&format!("MARKER_TAG={name}"), comments);
+        if earlier.iter().any(|(mk, _)| mk.name == name) {
+            return Err(duplicate(l, format!("MARKER_TAG= {name}")));
+        }
+        let what = format!("MARKER_ELEMS= for marker {name}");
+        let (l2, c2) = self
+            .lines
+            .next_content()
+            .ok_or_else(|| FormatError::eof_at_line(self.lines.eof_line(), what.clone()))?;
+        let count = match key_value(c2) {
+            Some((kk, v)) if kk.eq_ignore_ascii_case(b"MARKER_ELEMS") => {
+                parse_count(l2, v, "MARKER_ELEMS")?
+            }
+            _ => return Err(FormatError::expected_at_line(l2, what, c2)),
+        };
+        let (cells, where_) = self.cells(count, allowed, |e, _| {
+            format!(
+                "element {} of {count} of marker {name} (MARKER_ELEMS= {count} at line {l2})",
+                e + 1
+            )
+        })?;
+        let marker = Su2Marker {
+            name,
+            elements: cells,
+        };
+        Ok((marker, where_))
+    }
+
+    /// Keeps the line just read and everything up to the next mesh keyword, byte for byte
+    /// (comments inside included: they are not kept apart).
+    fn passthrough_section(&mut self) {
+        if self.passthrough.is_empty() {
+            let comments = self.lines.take_comments();
+            self.text.note("passthrough", comments);
+        }
+        let from = self.lines.start;
+        let mut to = self.bytes.len();
+        loop {
+            let (pos, count) = (self.lines.pos, self.lines.line);
+            match self.lines.next_content() {
+                None => break,
+                Some((_, c)) => {
+                    if key_value(c).is_some_and(|(k, _)| is_mesh_keyword(k)) {
+                        to = self.lines.start;
+                        self.lines.pos = pos;
+                        self.lines.line = count;
+                        break;
+                    }
+                }
+            }
+        }
+        self.lines.take_comments();
+        let chunk = self.bytes.get(from..to).unwrap_or(&[]);
+        if !self.passthrough.is_empty() && !self.passthrough.ends_with(b"\n") {
+            self.passthrough.push(b'\n');
+        }
+        self.passthrough.extend_from_slice(chunk);
+    }
+
+    /// The mesh, once every required section was read and every index is in range.
+    fn finish(mut self) -> Result<Su2Mesh, FormatError> {
+        let comments = self.lines.take_comments();
+        self.text.note("end", comments);
+        self.text.crlf = self.lines.crlf == Some(true);
+        let end = self.lines.eof_line();
+        let missing = |k: &str| {
+            FormatError::new(
+                Location::Line(end),
+                FormatErrorKind::Missing {
+                    keyword: format!("{k} section (end of file reached)"),
+                },
+            )
+        };
+        let dim = self.dim.ok_or_else(|| missing("NDIME="))?;
+        let (elements, elem_lines) = self.elements.ok_or_else(|| missing("NELEM="))?;
+        let points = self.points.ok_or_else(|| missing("NPOIN="))?;
+        check_indices(&elements, &elem_lines, points.len())?;
+        let mut out = Vec::new();
+        for (m, where_) in self.markers.unwrap_or_default() {
+            check_indices(&m.elements, &where_, points.len())?;
+            out.push(m);
+        }
+        Ok(Su2Mesh {
+            dim,
+            points,
+            elements,
+            markers: out,
+            passthrough: self.passthrough,
+            text: self.text,
+        })
+    }
 }
 
 fn invalid(msg: String) -> io::Error {
