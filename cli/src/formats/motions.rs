@@ -82,79 +82,9 @@ pub fn parse_motions(bytes: &[u8], dim: usize) -> Result<Vec<MarkerMotionSpec>, 
                 name,
             ));
         }
-        let vector = |tok: &[u8], what: &str, lens: &[usize]| -> Result<[f64; 3], FormatError> {
-            let v = numbers(tok, line, what)?;
-            if !lens.contains(&v.len()) {
-                return Err(FormatError::expected_at_line(
-                    line,
-                    format!(
-                        "{what} with {} numbers",
-                        if lens == [3] {
-                            "3"
-                        } else if dim == 2 {
-                            "2"
-                        } else {
-                            "3"
-                        }
-                    ),
-                    tok,
-                ));
-            }
-            Ok([
-                v.first().copied().unwrap_or(0.0),
-                v.get(1).copied().unwrap_or(0.0),
-                v.get(2).copied().unwrap_or(0.0),
-            ])
-        };
-        let point_lens: &[usize] = if dim == 2 { &[2] } else { &[3] };
+        let at = At { line, dim };
         let motion = match *kind {
-            b"rotate" => {
-                let degrees = numbers(value, line, "an angle in degrees")?;
-                let [degrees] = degrees[..] else {
-                    return Err(FormatError::expected_at_line(
-                        line,
-                        "one angle in degrees",
-                        value,
-                    ));
-                };
-                let (mut axis, mut center) = ([0.0, 0.0, 1.0], None);
-                let mut rest = toks.get(3..).unwrap_or(&[]).iter();
-                while let Some(key) = rest.next() {
-                    let Some(v) = rest.next() else {
-                        return Err(FormatError::expected_at_line(line, "a value after it", key));
-                    };
-                    match *key {
-                        b"center" => center = Some(vector(v, "center", point_lens)?),
-                        b"axis" => axis = vector(v, "axis", &[3])?,
-                        _ => {
-                            return Err(FormatError::expected_at_line(
-                                line,
-                                "`center X,Y[,Z]` or `axis X,Y,Z`",
-                                key,
-                            ))
-                        }
-                    }
-                }
-                if axis == [0.0; 3] {
-                    return Err(FormatError::expected_at_line(
-                        line,
-                        "a non-zero axis",
-                        content,
-                    ));
-                }
-                if dim == 2 && (axis[0] != 0.0 || axis[1] != 0.0) {
-                    return Err(FormatError::expected_at_line(
-                        line,
-                        "the z axis (a 2D mesh rotates in its plane)",
-                        content,
-                    ));
-                }
-                Motion::Rotate {
-                    degrees,
-                    axis,
-                    center,
-                }
-            }
+            b"rotate" => at.rotate(value, toks.get(3..).unwrap_or(&[]), content)?,
             b"translate" => {
                 if toks.len() > 3 {
                     return Err(FormatError::expected_at_line(
@@ -163,7 +93,7 @@ pub fn parse_motions(bytes: &[u8], dim: usize) -> Result<Vec<MarkerMotionSpec>, 
                         toks[3],
                     ));
                 }
-                Motion::Translate(vector(value, "translation", point_lens)?)
+                Motion::Translate(at.vector(value, "translation", at.point_lens())?)
             }
             _ => {
                 return Err(FormatError::expected_at_line(
@@ -187,4 +117,93 @@ pub fn parse_motions(bytes: &[u8], dim: usize) -> Result<Vec<MarkerMotionSpec>, 
         ));
     }
     Ok(out)
+}
+
+/// Where a motion line is (for errors) and the mesh's dimension.
+struct At {
+    line: usize,
+    dim: usize,
+}
+
+impl At {
+    /// How many numbers a point or translation has.
+    fn point_lens(&self) -> &'static [usize] {
+        if self.dim == 2 {
+            &[2]
+        } else {
+            &[3]
+        }
+    }
+
+    /// A comma-separated vector of one of the lengths `lens` (missing components 0).
+    fn vector(&self, tok: &[u8], what: &str, lens: &[usize]) -> Result<[f64; 3], FormatError> {
+        let v = numbers(tok, self.line, what)?;
+        if !lens.contains(&v.len()) {
+            let n = if lens == [3] || self.dim != 2 {
+                "3"
+            } else {
+                "2"
+            };
+            return Err(FormatError::expected_at_line(
+                self.line,
+                format!("{what} with {n} numbers"),
+                tok,
+            ));
+        }
+        Ok([
+            v.first().copied().unwrap_or(0.0),
+            v.get(1).copied().unwrap_or(0.0),
+            v.get(2).copied().unwrap_or(0.0),
+        ])
+    }
+
+    /// `rotate DEG [center X,Y[,Z]] [axis X,Y,Z]` (`rest`: the tokens after the angle).
+    fn rotate(&self, value: &[u8], rest: &[&[u8]], content: &[u8]) -> Result<Motion, FormatError> {
+        let line = self.line;
+        let degrees = numbers(value, line, "an angle in degrees")?;
+        let [degrees] = degrees[..] else {
+            return Err(FormatError::expected_at_line(
+                line,
+                "one angle in degrees",
+                value,
+            ));
+        };
+        let (mut axis, mut center) = ([0.0, 0.0, 1.0], None);
+        let mut rest = rest.iter();
+        while let Some(key) = rest.next() {
+            let Some(v) = rest.next() else {
+                return Err(FormatError::expected_at_line(line, "a value after it", key));
+            };
+            match *key {
+                b"center" => center = Some(self.vector(v, "center", self.point_lens())?),
+                b"axis" => axis = self.vector(v, "axis", &[3])?,
+                _ => {
+                    return Err(FormatError::expected_at_line(
+                        line,
+                        "`center X,Y[,Z]` or `axis X,Y,Z`",
+                        key,
+                    ))
+                }
+            }
+        }
+        if axis == [0.0; 3] {
+            return Err(FormatError::expected_at_line(
+                line,
+                "a non-zero axis",
+                content,
+            ));
+        }
+        if self.dim == 2 && (axis[0] != 0.0 || axis[1] != 0.0) {
+            return Err(FormatError::expected_at_line(
+                line,
+                "the z axis (a 2D mesh rotates in its plane)",
+                content,
+            ));
+        }
+        Ok(Motion::Rotate {
+            degrees,
+            axis,
+            center,
+        })
+    }
 }

@@ -631,53 +631,9 @@ fn binary_read(
         let n = d[0] * d[1] * d[2];
         let mut points = vec![[0.0f64; 3]; n];
         for k in 0..layout.dim {
-            let axis = ["x", "y", "z"].get(k).copied().unwrap_or("?");
             for (i, p) in points.iter_mut().enumerate() {
-                let loc = c.at();
-                let s = c.take(prec.bytes(), "a coordinate")?;
-                let v = match (prec, endian) {
-                    (Precision::Single, Endian::Little) => {
-                        f32::from_le_bytes(s.try_into().unwrap_or([0; 4])) as f64
-                    }
-                    (Precision::Single, Endian::Big) => {
-                        f32::from_be_bytes(s.try_into().unwrap_or([0; 4])) as f64
-                    }
-                    (Precision::Double, Endian::Little) => {
-                        f64::from_le_bytes(s.try_into().unwrap_or([0; 8]))
-                    }
-                    (Precision::Double, Endian::Big) => {
-                        f64::from_be_bytes(s.try_into().unwrap_or([0; 8]))
-                    }
-                };
-                if !v.is_finite() {
-                    return Err(FormatError::new(
-                        loc,
-                        FormatErrorKind::NotFinite {
-                            what: format!("{axis} of point {i} of block {}", b + 1),
-                            found: v.to_string(),
-                        },
-                    ));
-                }
-                // A subnormal coordinate is what reals read in the wrong byte order (or at
-                // the wrong offset) look like; no grid generator writes them.
-                let subnormal = match prec {
-                    Precision::Single => (v as f32).is_subnormal(),
-                    Precision::Double => v.is_subnormal(),
-                };
-                if subnormal {
-                    return Err(FormatError::new(
-                        loc,
-                        FormatErrorKind::Expected {
-                            expected: format!(
-                                "a plausible {axis} of point {i} of block {} ({endian:?}-endian {prec:?}; a subnormal value means the reals are in another byte order than the integers, or the layout is wrong)",
-                                b + 1
-                            ),
-                            found: format!("{v:e}"),
-                        },
-                    ));
-                }
                 if let Some(slot) = p.get_mut(k) {
-                    *slot = v;
+                    *slot = c.coordinate(prec, (k, i, b))?;
                 }
             }
         }
@@ -706,6 +662,60 @@ fn binary_read(
         dim: layout.dim,
         blocks,
     })
+}
+
+impl Cursor<'_> {
+    /// One binary coordinate: `axis` of point `i` of block `b` (0-based, for errors). Not
+    /// finite, or subnormal (what reals read in the wrong byte order or at the wrong offset
+    /// look like; no grid generator writes them), is an error.
+    fn coordinate(
+        &mut self,
+        prec: Precision,
+        (axis, i, b): (usize, usize, usize),
+    ) -> Result<f64, FormatError> {
+        let endian = self.endian;
+        let axis = ["x", "y", "z"].get(axis).copied().unwrap_or("?");
+        let loc = self.at();
+        let s = self.take(prec.bytes(), "a coordinate")?;
+        let v = match (prec, endian) {
+            (Precision::Single, Endian::Little) => {
+                f32::from_le_bytes(s.try_into().unwrap_or([0; 4])) as f64
+            }
+            (Precision::Single, Endian::Big) => {
+                f32::from_be_bytes(s.try_into().unwrap_or([0; 4])) as f64
+            }
+            (Precision::Double, Endian::Little) => {
+                f64::from_le_bytes(s.try_into().unwrap_or([0; 8]))
+            }
+            (Precision::Double, Endian::Big) => f64::from_be_bytes(s.try_into().unwrap_or([0; 8])),
+        };
+        if !v.is_finite() {
+            return Err(FormatError::new(
+                loc,
+                FormatErrorKind::NotFinite {
+                    what: format!("{axis} of point {i} of block {}", b + 1),
+                    found: v.to_string(),
+                },
+            ));
+        }
+        let subnormal = match prec {
+            Precision::Single => (v as f32).is_subnormal(),
+            Precision::Double => v.is_subnormal(),
+        };
+        if subnormal {
+            return Err(FormatError::new(
+                loc,
+                FormatErrorKind::Expected {
+                    expected: format!(
+                        "a plausible {axis} of point {i} of block {} ({endian:?}-endian {prec:?}; a subnormal value means the reals are in another byte order than the integers, or the layout is wrong)",
+                        b + 1
+                    ),
+                    found: format!("{v:e}"),
+                },
+            ));
+        }
+        Ok(v)
+    }
 }
 
 // ----------------------------------------------------------------------------------- ascii
@@ -960,105 +970,108 @@ pub fn write_plot3d<W: Write>(
     check_grid(grid, layout)?;
     let mut w = io::BufWriter::new(w);
     match layout.encoding {
-        Encoding::Ascii => {
-            if layout.multi_block {
-                writeln!(w, "{}", grid.blocks.len())?;
-            }
-            for blk in &grid.blocks {
-                let d: Vec<String> = blk
-                    .dims
-                    .iter()
-                    .take(layout.dim)
-                    .map(|d| d.to_string())
-                    .collect();
-                writeln!(w, "{}", d.join(" "))?;
-            }
-            for blk in &grid.blocks {
-                for k in 0..layout.dim {
-                    for (i, p) in blk.points.iter().enumerate() {
-                        let v = p.get(k).copied().unwrap_or(0.0);
-                        let sep = if i % 5 == 4 || i + 1 == blk.points.len() {
-                            "\n"
-                        } else {
-                            " "
-                        };
-                        write!(w, "{v:e}{sep}")?;
-                    }
-                }
-                if layout.iblank {
-                    let n = blk.points.len();
-                    for i in 0..n {
-                        let v = blk
-                            .iblank
-                            .as_ref()
-                            .and_then(|ib| ib.get(i).copied())
-                            .unwrap_or(1);
-                        let sep = if i % 10 == 9 || i + 1 == n { "\n" } else { " " };
-                        write!(w, "{v}{sep}")?;
-                    }
-                }
-            }
-        }
+        Encoding::Ascii => write_ascii(grid, layout, &mut w)?,
         Encoding::Binary {
             endian,
             precision,
             records,
-        } => {
-            let int = |v: i32| match endian {
-                Endian::Little => v.to_le_bytes(),
-                Endian::Big => v.to_be_bytes(),
-            };
-            let marker = |w: &mut io::BufWriter<&mut W>, len: u64| -> io::Result<()> {
-                if records {
-                    w.write_all(&int(len as i32))?;
-                }
-                Ok(())
-            };
-            if layout.multi_block {
-                marker(&mut w, 4)?;
-                w.write_all(&int(grid.blocks.len() as i32))?;
-                marker(&mut w, 4)?;
+        } => write_binary(grid, layout, (endian, precision, records), &mut w)?,
+    }
+    w.flush()
+}
+
+/// A block's IBLANK value at point `i` (1 when the block has none).
+fn iblank_at(blk: &Plot3dBlock, i: usize) -> i32 {
+    blk.iblank
+        .as_ref()
+        .and_then(|ib| ib.get(i).copied())
+        .unwrap_or(1)
+}
+
+/// Plot3D text: dimensions, then each block's coordinates (five to a line) and IBLANK (ten).
+fn write_ascii<W: Write>(grid: &Plot3dGrid, layout: &Plot3dLayout, w: &mut W) -> io::Result<()> {
+    if layout.multi_block {
+        writeln!(w, "{}", grid.blocks.len())?;
+    }
+    for blk in &grid.blocks {
+        let d: Vec<String> = (blk.dims.iter().take(layout.dim))
+            .map(|d| d.to_string())
+            .collect();
+        writeln!(w, "{}", d.join(" "))?;
+    }
+    for blk in &grid.blocks {
+        for k in 0..layout.dim {
+            for (i, p) in blk.points.iter().enumerate() {
+                let v = p.get(k).copied().unwrap_or(0.0);
+                let last = i % 5 == 4 || i + 1 == blk.points.len();
+                write!(w, "{v:e}{}", if last { "\n" } else { " " })?;
             }
-            let dims_len = (grid.blocks.len() * layout.dim * 4) as u64;
-            marker(&mut w, dims_len)?;
-            for blk in &grid.blocks {
-                for d in blk.dims.iter().take(layout.dim) {
-                    w.write_all(&int(*d as i32))?;
-                }
-            }
-            marker(&mut w, dims_len)?;
-            for blk in &grid.blocks {
-                let n = blk.points.len() as u64;
-                let len = block_bytes(layout, n, precision).unwrap_or(0);
-                marker(&mut w, len)?;
-                for k in 0..layout.dim {
-                    for p in &blk.points {
-                        let v = p.get(k).copied().unwrap_or(0.0);
-                        match (precision, endian) {
-                            (Precision::Single, Endian::Little) => {
-                                w.write_all(&(v as f32).to_le_bytes())?
-                            }
-                            (Precision::Single, Endian::Big) => {
-                                w.write_all(&(v as f32).to_be_bytes())?
-                            }
-                            (Precision::Double, Endian::Little) => w.write_all(&v.to_le_bytes())?,
-                            (Precision::Double, Endian::Big) => w.write_all(&v.to_be_bytes())?,
-                        }
-                    }
-                }
-                if layout.iblank {
-                    for i in 0..blk.points.len() {
-                        let v = blk
-                            .iblank
-                            .as_ref()
-                            .and_then(|ib| ib.get(i).copied())
-                            .unwrap_or(1);
-                        w.write_all(&int(v))?;
-                    }
-                }
-                marker(&mut w, len)?;
+        }
+        if layout.iblank {
+            let n = blk.points.len();
+            for i in 0..n {
+                let last = i % 10 == 9 || i + 1 == n;
+                write!(w, "{}{}", iblank_at(blk, i), if last { "\n" } else { " " })?;
             }
         }
     }
-    w.flush()
+    Ok(())
+}
+
+/// Plot3D binary in the given byte order and precision, with Fortran record markers when
+/// `records`.
+fn write_binary<W: Write>(
+    grid: &Plot3dGrid,
+    layout: &Plot3dLayout,
+    (endian, precision, records): (Endian, Precision, bool),
+    w: &mut W,
+) -> io::Result<()> {
+    let int = |v: i32| match endian {
+        Endian::Little => v.to_le_bytes(),
+        Endian::Big => v.to_be_bytes(),
+    };
+    let marker = |w: &mut W, len: u64| -> io::Result<()> {
+        if records {
+            w.write_all(&int(len as i32))?;
+        }
+        Ok(())
+    };
+    if layout.multi_block {
+        marker(w, 4)?;
+        w.write_all(&int(grid.blocks.len() as i32))?;
+        marker(w, 4)?;
+    }
+    let dims_len = (grid.blocks.len() * layout.dim * 4) as u64;
+    marker(w, dims_len)?;
+    for blk in &grid.blocks {
+        for d in blk.dims.iter().take(layout.dim) {
+            w.write_all(&int(*d as i32))?;
+        }
+    }
+    marker(w, dims_len)?;
+    for blk in &grid.blocks {
+        let n = blk.points.len() as u64;
+        let len = block_bytes(layout, n, precision).unwrap_or(0);
+        marker(w, len)?;
+        for k in 0..layout.dim {
+            for p in &blk.points {
+                let v = p.get(k).copied().unwrap_or(0.0);
+                match (precision, endian) {
+                    (Precision::Single, Endian::Little) => {
+                        w.write_all(&(v as f32).to_le_bytes())?
+                    }
+                    (Precision::Single, Endian::Big) => w.write_all(&(v as f32).to_be_bytes())?,
+                    (Precision::Double, Endian::Little) => w.write_all(&v.to_le_bytes())?,
+                    (Precision::Double, Endian::Big) => w.write_all(&v.to_be_bytes())?,
+                }
+            }
+        }
+        if layout.iblank {
+            for i in 0..blk.points.len() {
+                w.write_all(&int(iblank_at(blk, i)))?;
+            }
+        }
+        marker(w, len)?;
+    }
+    Ok(())
 }
