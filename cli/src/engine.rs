@@ -630,7 +630,7 @@ fn slide_table<const D: usize>(
     boundary: &[u32],
     sliding: &[SlideMarker<'_>],
 ) -> Result<SlideTable<D>, CliError> {
-    use deform_kernel::spring::constraints::{fit_plane, plane_intersection, NodeKind};
+    use deform_kernel::spring::constraints::{fit_plane, NodeKind};
     let n = pts.len();
     let mut normals: Vec<Vec<[f64; D]>> = vec![Vec::new(); n];
     for m in sliding {
@@ -677,30 +677,7 @@ fn slide_table<const D: usize>(
         if list.is_empty() || t.kinds.get(i) == Some(&NodeKind::Fixed.code()) {
             continue;
         }
-        // Distinct planes only (two markers on one plane count once).
-        let mut distinct: Vec<[f64; D]> = Vec::new();
-        for nv in list {
-            let parallel = distinct
-                .iter()
-                .any(|d| d.iter().zip(nv).map(|(a, b)| a * b).sum::<f64>().abs() >= 1.0 - 1e-9);
-            if !parallel {
-                distinct.push(*nv);
-            }
-        }
-        let (kind, dir) = match distinct.as_slice() {
-            [a] => (NodeKind::Plane, *a),
-            [a, b] if D == 3 => {
-                let lift = |v: &[f64; D]| [v[0], v[1], v.get(2).copied().unwrap_or(0.0)];
-                let tan = plane_intersection(lift(a), lift(b))
-                    .map_err(|e| CliError::Invalid(format!("--slide: {e}")))?;
-                let mut d = [0.0; D];
-                for (x, y) in d.iter_mut().zip(tan) {
-                    *x = y;
-                }
-                (NodeKind::Line, d)
-            }
-            _ => (NodeKind::Fixed, [0.0; D]),
-        };
+        let (kind, dir, distinct) = node_constraint(list)?;
         t.kinds[i] = kind.code();
         t.directions[i] = dir;
         if kind == NodeKind::Fixed {
@@ -713,6 +690,44 @@ fn slide_table<const D: usize>(
         }
     }
     Ok(t)
+}
+
+/// A sliding node's kind, its direction (normal or line), and its distinct plane normals.
+type NodeConstraint<const D: usize> = (
+    deform_kernel::spring::constraints::NodeKind,
+    [f64; D],
+    Vec<[f64; D]>,
+);
+
+/// What a node on the sliding planes with these normals may do: slide on one plane (its
+/// normal), on the line where two meet (3D; its direction), or nothing (more planes, or two in
+/// 2D). Parallel normals count once; the distinct ones come back too.
+fn node_constraint<const D: usize>(normals: &[[f64; D]]) -> Result<NodeConstraint<D>, CliError> {
+    use deform_kernel::spring::constraints::{plane_intersection, NodeKind};
+    let mut distinct: Vec<[f64; D]> = Vec::new();
+    for nv in normals {
+        let parallel = distinct
+            .iter()
+            .any(|d| d.iter().zip(nv).map(|(a, b)| a * b).sum::<f64>().abs() >= 1.0 - 1e-9);
+        if !parallel {
+            distinct.push(*nv);
+        }
+    }
+    let (kind, dir) = match distinct.as_slice() {
+        [a] => (NodeKind::Plane, *a),
+        [a, b] if D == 3 => {
+            let lift = |v: &[f64; D]| [v[0], v[1], v.get(2).copied().unwrap_or(0.0)];
+            let tan = plane_intersection(lift(a), lift(b))
+                .map_err(|e| CliError::Invalid(format!("--slide: {e}")))?;
+            let mut d = [0.0; D];
+            for (x, y) in d.iter_mut().zip(tan) {
+                *x = y;
+            }
+            (NodeKind::Line, d)
+        }
+        _ => (NodeKind::Fixed, [0.0; D]),
+    };
+    Ok((kind, dir, distinct))
 }
 
 fn sorted_nodes(lists: &[&CellList]) -> Vec<u32> {
@@ -758,63 +773,32 @@ pub fn run_move_in_steps(
     if steps <= 1 {
         return run_move_sliding(input, sliding);
     }
-    let mut moved: Vec<u32> = input
-        .moved
-        .iter()
-        .flat_map(|l| l.nodes.iter().copied())
-        .collect();
-    moved.sort_unstable();
-    moved.dedup();
     let original = input.points;
-    let mut current = original.to_vec();
-    let field: std::collections::BTreeMap<u32, [f64; 3]> = match &input.motion {
-        Motion::Field(list) => list.iter().copied().collect(),
-        _ => std::collections::BTreeMap::new(),
+    let mut plan = Steps {
+        input,
+        steps,
+        moved: sorted_nodes(&input.moved),
+        field: match &input.motion {
+            Motion::Field(list) => list.iter().copied().collect(),
+            _ => std::collections::BTreeMap::new(),
+        },
+        center: None,
     };
+    let mut current = original.to_vec();
     let (mut iterations, mut residual, mut converged) = (0, 0.0f64, true);
-    let mut center = None;
     let mut last = None;
     let mut idw_bound: Option<f64> = None;
     for s in 1..=steps {
-        let fraction = |x: f64| {
-            if s == steps {
-                x
-            } else {
-                x * s as f64 / steps as f64
-            }
-        };
-        let motion = match &input.motion {
-            Motion::Rotate {
-                degrees,
-                axis,
-                center: c,
-            } => Motion::Rotate {
-                degrees: degrees / steps as f64,
-                axis: *axis,
-                center: c.or(center),
-            },
-            Motion::Translate(t) => Motion::Translate(t.map(|x| x / steps as f64)),
-            Motion::Field(list) => Motion::Field(
-                list.iter()
-                    .map(|(n, d)| {
-                        let p = original.get(*n as usize).copied().unwrap_or([0.0; 3]);
-                        let q = current.get(*n as usize).copied().unwrap_or([0.0; 3]);
-                        let target = [0, 1, 2].map(|c| p[c] + fraction(d[c]));
-                        (*n, [0, 1, 2].map(|c| target[c] - q[c]))
-                    })
-                    .collect(),
-            ),
-        };
         let step_input = MoveInput {
             points: &current,
             moved: input.moved.clone(),
             fixed: input.fixed.clone(),
-            motion,
+            motion: plan.motion(s, &current),
             ..*input
         };
         let r = run_move_sliding(&step_input, sliding)?;
-        if center.is_none() {
-            center = r.center;
+        if plan.center.is_none() {
+            plan.center = r.center;
         }
         iterations += r.iterations;
         residual = residual.max(r.residual);
@@ -824,39 +808,7 @@ pub fn run_move_in_steps(
         };
         converged &= r.converged;
         current = r.deformed.clone();
-        // The prescribed positions of the moved nodes after this step, exactly.
-        let rotation = match &input.motion {
-            Motion::Rotate { degrees, axis, .. } => Some(
-                deform_kernel::Quat::from_axis_angle(*axis, fraction(*degrees).to_radians())
-                    .map_err(kernel("rotation"))?,
-            ),
-            _ => None,
-        };
-        for &m in &moved {
-            let Some(p) = original.get(m as usize).copied() else {
-                continue;
-            };
-            let target = match (&input.motion, rotation, center) {
-                (Motion::Rotate { .. }, Some(q), Some(c)) => {
-                    // The same arithmetic as a single step: p + ((c + r) − p).
-                    let r = q.rotate([p[0] - c[0], p[1] - c[1], p[2] - c[2]]);
-                    let mut d = [0, 1, 2].map(|k| c[k] + r[k] - p[k]);
-                    if input.dim == 2 {
-                        d[2] = 0.0;
-                    }
-                    [0, 1, 2].map(|k| p[k] + d[k])
-                }
-                (Motion::Translate(t), _, _) => [0, 1, 2].map(|c| p[c] + fraction(t[c])),
-                (Motion::Field(_), _, _) => match field.get(&m) {
-                    Some(d) => [0, 1, 2].map(|c| p[c] + fraction(d[c])),
-                    None => p,
-                },
-                _ => continue,
-            };
-            if let Some(x) = current.get_mut(m as usize) {
-                *x = target;
-            }
-        }
+        plan.place_moved(s, &mut current)?;
         last = Some(r);
     }
     let Some(mut result) = last else {
@@ -871,9 +823,100 @@ pub fn run_move_in_steps(
     result.iterations = iterations;
     result.residual = residual;
     result.converged = converged;
-    result.center = center;
+    result.center = plan.center;
     result.idw_max_bound = idw_bound;
     Ok(result)
+}
+
+/// A motion split into equal steps: each step's motion, and where the moved nodes must be
+/// after it, exactly.
+struct Steps<'i, 'a> {
+    input: &'i MoveInput<'a>,
+    steps: usize,
+    /// The moved markers' nodes, ascending.
+    moved: Vec<u32>,
+    /// A displacement field's values by node (empty for rigid motions).
+    field: std::collections::BTreeMap<u32, [f64; 3]>,
+    /// The rotation centre the first step used.
+    center: Option<[f64; 3]>,
+}
+
+impl Steps<'_, '_> {
+    /// The part `s / steps` of `x` (all of it in the last step).
+    fn fraction(&self, s: usize, x: f64) -> f64 {
+        if s == self.steps {
+            x
+        } else {
+            x * s as f64 / self.steps as f64
+        }
+    }
+
+    /// Step `s`'s motion from the `current` points.
+    fn motion(&self, s: usize, current: &[[f64; 3]]) -> Motion {
+        let steps = self.steps as f64;
+        match &self.input.motion {
+            Motion::Rotate {
+                degrees,
+                axis,
+                center: c,
+            } => Motion::Rotate {
+                degrees: degrees / steps,
+                axis: *axis,
+                center: c.or(self.center),
+            },
+            Motion::Translate(t) => Motion::Translate(t.map(|x| x / steps)),
+            Motion::Field(list) => Motion::Field(
+                list.iter()
+                    .map(|(n, d)| {
+                        let p = (self.input.points.get(*n as usize).copied()).unwrap_or([0.0; 3]);
+                        let q = current.get(*n as usize).copied().unwrap_or([0.0; 3]);
+                        let target = [0, 1, 2].map(|c| p[c] + self.fraction(s, d[c]));
+                        (*n, [0, 1, 2].map(|c| target[c] - q[c]))
+                    })
+                    .collect(),
+            ),
+        }
+    }
+
+    /// Puts the moved nodes where `s` steps of the motion take them, exactly.
+    fn place_moved(&self, s: usize, current: &mut [[f64; 3]]) -> Result<(), CliError> {
+        let rotation = match &self.input.motion {
+            Motion::Rotate { degrees, axis, .. } => Some(
+                deform_kernel::Quat::from_axis_angle(
+                    *axis,
+                    self.fraction(s, *degrees).to_radians(),
+                )
+                .map_err(kernel("rotation"))?,
+            ),
+            _ => None,
+        };
+        for &m in &self.moved {
+            let Some(p) = self.input.points.get(m as usize).copied() else {
+                continue;
+            };
+            let target = match (&self.input.motion, rotation, self.center) {
+                (Motion::Rotate { .. }, Some(q), Some(c)) => {
+                    // The same arithmetic as a single step: p + ((c + r) − p).
+                    let r = q.rotate([p[0] - c[0], p[1] - c[1], p[2] - c[2]]);
+                    let mut d = [0, 1, 2].map(|k| c[k] + r[k] - p[k]);
+                    if self.input.dim == 2 {
+                        d[2] = 0.0;
+                    }
+                    [0, 1, 2].map(|k| p[k] + d[k])
+                }
+                (Motion::Translate(t), _, _) => [0, 1, 2].map(|c| p[c] + self.fraction(s, t[c])),
+                (Motion::Field(_), _, _) => match self.field.get(&m) {
+                    Some(d) => [0, 1, 2].map(|c| p[c] + self.fraction(s, d[c])),
+                    None => p,
+                },
+                _ => continue,
+            };
+            if let Some(x) = current.get_mut(m as usize) {
+                *x = target;
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The one-level method of a solver choice (`None` for multigrid).
@@ -923,17 +966,80 @@ fn move_d<const D: usize>(
     input: &MoveInput<'_>,
     sliding: &[SlideMarker<'_>],
 ) -> Result<MoveResult, CliError> {
-    use deform_kernel::quaternion::{
-        deform_idw, deform_idw_scratch_len, deform_spring_scratch_len, deform_spring_with,
-        propagate_spring_with_scratch_len, BoundaryMotion, RotationSource,
-    };
     use deform_kernel::spring::constraints::{slide_points, Constraints};
-    use deform_kernel::spring::{
-        solve_linear_sliding_scratch_len, solve_linear_with_scratch_len, AngleMethod, AngleSystem,
-        LinearSolver, SolveOptions, SpringSystem, DEFAULT_ANGLE_EPSILON,
+    use deform_kernel::spring::SolveOptions;
+    let n = input.points.len();
+    let mut pre = prescribe::<D>(input)?;
+    let view = cells_view(input.cells, n)?;
+    let pts = points_d::<D>(input.points);
+    let table = if sliding.is_empty() {
+        None
+    } else {
+        let t = slide_table(&pts, &pre.boundary, sliding)?;
+        // Nodes on too many sliding planes are held where they are.
+        pre.boundary.extend(&t.pinned);
+        pre.boundary.sort_unstable();
+        Some(t)
     };
-    use deform_kernel::Quat;
+    let constraints = match &table {
+        Some(t) => {
+            Some(Constraints::new(&t.kinds, &t.directions).map_err(kernel("sliding constraints"))?)
+        }
+        None => None,
+    };
+    let mut fixed = vec![0u8; n];
+    for &b in &pre.boundary {
+        if let Some(f) = fixed.get_mut(b as usize) {
+            *f = 1;
+        }
+    }
+    let diagonals = matches!(input.method, MoveMethod::AngleDirect | MoveMethod::AngleCg);
+    let graph = edge_graph(&view, diagonals)?;
+    let run = MoveRun {
+        input,
+        pre: &pre,
+        pts: &pts,
+        view: &view,
+        g: graph.view()?,
+        fixed: &fixed,
+        constraints: constraints.as_ref(),
+        options: SolveOptions {
+            max_iterations: input.max_iter,
+            residual_tol: input.tol,
+            update_tol: 0.0,
+        },
+    };
+    let mut out = pts.clone();
+    let solved = match input.method {
+        MoveMethod::Spring | MoveMethod::AngleDirect | MoveMethod::AngleCg => {
+            run.springs(&mut out)?
+        }
+        MoveMethod::Quaternion | MoveMethod::Idw => run.quaternion(&mut out)?,
+    };
+    if let Some(c) = &constraints {
+        // Spring solves already moved the sliding nodes along their planes; the quaternion
+        // methods and IDW moved them as field nodes: project their motion (exact for springs
+        // up to rounding, so done for every method).
+        slide_points(c, &pts, &mut out).map_err(kernel("sliding"))?;
+    }
+    Ok(move_result(input, &pre, table.as_ref(), &pts, &out, solved))
+}
 
+/// The boundary of a motion: the moved markers' nodes, every boundary node (moved and
+/// fixed), the prescribed displacement of each, and the rigid motion when there is one.
+struct Prescribed {
+    moved: Vec<u32>,
+    boundary: Vec<u32>,
+    disp: Vec<[f64; 3]>,
+    /// The rotation centre used (rotations only).
+    center: Option<[f64; 3]>,
+    /// The rigid rotation of the moved nodes (identity for a translation; `None` for a field).
+    rigid_q: Option<deform_kernel::Quat<f64>>,
+}
+
+/// What the motion prescribes on the boundary, checked against the mesh.
+fn prescribe<const D: usize>(input: &MoveInput<'_>) -> Result<Prescribed, CliError> {
+    use deform_kernel::Quat;
     let n = input.points.len();
     let moved = sorted_nodes(&input.moved);
     if moved.is_empty() {
@@ -948,11 +1054,14 @@ fn move_d<const D: usize>(
             "marker node {bad} is not a mesh node"
         )));
     }
-
-    // Prescribed displacement of every boundary node.
-    let mut disp = vec![[0.0f64; 3]; n];
-    let mut center_used = None;
-    let mut rigid_q = None;
+    let point = |m: u32| input.points.get(m as usize).copied().unwrap_or([0.0; 3]);
+    let mut pre = Prescribed {
+        disp: vec![[0.0f64; 3]; n],
+        center: None,
+        rigid_q: None,
+        moved,
+        boundary,
+    };
     match &input.motion {
         Motion::Rotate {
             degrees,
@@ -961,365 +1070,404 @@ fn move_d<const D: usize>(
         } => {
             let c = center.unwrap_or_else(|| {
                 let mut c = [0.0; 3];
-                for &m in &moved {
-                    let p = input.points.get(m as usize).copied().unwrap_or([0.0; 3]);
+                for &m in &pre.moved {
+                    let p = point(m);
                     for k in 0..3 {
                         c[k] += p[k];
                     }
                 }
-                c.map(|x| x / moved.len() as f64)
+                c.map(|x| x / pre.moved.len() as f64)
             });
             let c = if D == 2 { [c[0], c[1], 0.0] } else { c };
             let q =
                 Quat::from_axis_angle(*axis, degrees.to_radians()).map_err(kernel("rotation"))?;
-            for &m in &moved {
-                let p = input.points.get(m as usize).copied().unwrap_or([0.0; 3]);
+            for &m in &pre.moved {
+                let p = point(m);
                 let r = q.rotate([p[0] - c[0], p[1] - c[1], p[2] - c[2]]);
-                if let Some(d) = disp.get_mut(m as usize) {
+                if let Some(d) = pre.disp.get_mut(m as usize) {
                     *d = [c[0] + r[0] - p[0], c[1] + r[1] - p[1], c[2] + r[2] - p[2]];
                     if D == 2 {
                         d[2] = 0.0;
                     }
                 }
             }
-            center_used = Some(c);
-            rigid_q = Some(q);
+            pre.center = Some(c);
+            pre.rigid_q = Some(q);
         }
         Motion::Translate(t) => {
-            for &m in &moved {
-                if let Some(d) = disp.get_mut(m as usize) {
+            for &m in &pre.moved {
+                if let Some(d) = pre.disp.get_mut(m as usize) {
                     *d = *t;
                 }
             }
-            rigid_q = Some(Quat::identity());
+            pre.rigid_q = Some(Quat::identity());
         }
         Motion::Field(list) => {
             for (node, d) in list {
-                if moved.binary_search(node).is_err() {
+                if pre.moved.binary_search(node).is_err() {
                     return Err(CliError::Invalid(format!(
                         "node {node} is not on the moved markers"
                     )));
                 }
-                if let Some(slot) = disp.get_mut(*node as usize) {
+                if let Some(slot) = pre.disp.get_mut(*node as usize) {
                     *slot = *d;
                 }
             }
         }
     }
+    Ok(pre)
+}
 
-    let view = cells_view(input.cells, n)?;
-    let pts = points_d::<D>(input.points);
-    let table = if sliding.is_empty() {
-        None
-    } else {
-        let t = slide_table(&pts, &boundary, sliding)?;
-        // Nodes on too many sliding planes are held where they are.
-        boundary.extend(&t.pinned);
-        boundary.sort_unstable();
-        Some(t)
-    };
-    let fixed_nodes = boundary.len() - moved.len();
-    let constraints = match &table {
-        Some(t) => {
-            Some(Constraints::new(&t.kinds, &t.directions).map_err(kernel("sliding constraints"))?)
-        }
-        None => None,
-    };
-    let mut fixed = vec![0u8; n];
-    for &b in &boundary {
-        if let Some(f) = fixed.get_mut(b as usize) {
-            *f = 1;
-        }
+/// `(iterations, residual, converged)` of a solve, and the fast IDW's error bound.
+type Solved = (usize, f64, bool, Option<f64>);
+
+/// One motion, set up: the mesh in `D` coordinates, its graph and boundary, and the options.
+struct MoveRun<'r, const D: usize> {
+    input: &'r MoveInput<'r>,
+    pre: &'r Prescribed,
+    pts: &'r [[f64; D]],
+    view: &'r Cells<'r>,
+    g: Graph<'r>,
+    fixed: &'r [u8],
+    constraints: Option<&'r deform_kernel::spring::constraints::Constraints<'r, f64, D>>,
+    options: deform_kernel::spring::SolveOptions<f64>,
+}
+
+impl<const D: usize> MoveRun<'_, D> {
+    /// The spring system on the boundary's mask, with the stiffness the input asks for.
+    fn spring_system<'s>(
+        &'s self,
+        k: &'s [f64],
+        scratch: &'s mut [u32],
+    ) -> Result<deform_kernel::spring::SpringSystem<'s, f64>, CliError> {
+        deform_kernel::spring::SpringSystem::new(self.g, k, self.fixed, scratch)
+            .map_err(kernel("springs"))
     }
-    let options = SolveOptions {
-        max_iterations: input.max_iter,
-        residual_tol: input.tol,
-        update_tol: 0.0,
-    };
-    let diagonals = matches!(input.method, MoveMethod::AngleDirect | MoveMethod::AngleCg);
-    let graph = edge_graph(&view, diagonals)?;
-    let g = graph.view()?;
 
-    let mut out = pts.clone();
-    let mut idw_max_bound = None;
-    let (iterations, residual, converged) = match input.method {
-        MoveMethod::Spring | MoveMethod::AngleDirect | MoveMethod::AngleCg => {
-            let k = spring_stiffness(&g, &view, &pts, &moved, input.stiffness)?;
-            let mut sscratch = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
-            let sys = SpringSystem::new(g, &k, &fixed, &mut sscratch).map_err(kernel("springs"))?;
-            let mut values: Vec<[f64; D]> = disp
-                .iter()
-                .map(|d| {
-                    let mut v = [0.0; D];
-                    for (s, &x) in v.iter_mut().zip(d) {
-                        *s = x;
-                    }
-                    v
-                })
-                .collect();
-            let report = if input.method == MoveMethod::Spring {
-                let mut storage = AmgStorage::default();
-                let hierarchy;
-                let solver = match linear_method(input.solver) {
-                    Some(m) => LinearSolver::Method(m),
-                    None => {
-                        hierarchy = storage.build(&sys)?;
-                        LinearSolver::Amg(&hierarchy)
-                    }
-                };
-                let collective = input
-                    .split
-                    .map(|s| s.collective(input.points, g.offsets(), g.targets()));
-                let solver = split_solver(solver, collective.as_deref());
-                match &constraints {
-                    Some(c) => {
-                        let len = solve_linear_sliding_scratch_len(&solver, n);
-                        let mut scratch = vec![[0.0; D]; len];
-                        sys.solve_linear_sliding(c, &mut values, solver, &options, &mut scratch)
-                    }
-                    None => {
-                        let len = solve_linear_with_scratch_len(&solver, n);
-                        let mut scratch = vec![[0.0; D]; len];
-                        sys.solve_linear_with(&mut values, solver, &options, &mut scratch)
-                    }
-                }
-                .map_err(kernel("linear springs"))?
-            } else {
-                let asys = AngleSystem::new(sys, &pts, DEFAULT_ANGLE_EPSILON)
-                    .map_err(kernel("angle springs"))?;
-                let method = match (input.method, input.solver) {
-                    (MoveMethod::AngleCg, _) => AngleMethod::Cg,
-                    (_, MoveSolver::Jacobi) => AngleMethod::DirectJacobi,
-                    _ => AngleMethod::DirectGaussSeidel,
-                };
-                let sor = input.method == MoveMethod::AngleDirect
-                    && !matches!(input.solver, MoveSolver::GaussSeidel | MoveSolver::Jacobi);
-                if input.method == MoveMethod::AngleCg && input.solver == MoveSolver::Amg {
-                    // CG preconditioned by the linear springs' multigrid V-cycle per component.
-                    let mut storage = AmgStorage::default();
-                    let hierarchy = storage.build(&sys)?;
-                    if let Some(c) = &constraints {
-                        let len = asys.solve_angle_sliding_amg_scratch_len(&hierarchy);
-                        let mut scratch = vec![[0.0; D]; len];
-                        asys.solve_angle_sliding_amg(
-                            c,
-                            &mut values,
-                            &hierarchy,
-                            &options,
-                            &mut scratch,
-                        )
-                    } else {
-                        let mut scratch = vec![[0.0; D]; asys.angle_amg_scratch_len(&hierarchy)];
-                        asys.solve_angle_amg(&hierarchy, &mut values, &options, &mut scratch)
-                    }
-                } else if let Some(c) = &constraints {
-                    let len = asys.solve_angle_sliding_scratch_len(method);
-                    let mut scratch = vec![[0.0; D]; len];
-                    let omega = if sor { angle_direct_omega(n, D) } else { 1.0 };
-                    asys.solve_angle_sliding(c, &mut values, method, omega, &options, &mut scratch)
-                } else if sor {
-                    let mut scratch = vec![[0.0; D]; asys.angle_scratch_len(method)];
-                    asys.solve_angle_sor(
-                        &mut values,
-                        angle_direct_omega(n, D),
-                        &options,
-                        &mut scratch,
-                    )
+    /// The stiffness of every edge ([`Stiffness`] of the input).
+    fn stiffness(&self) -> Result<Vec<f64>, CliError> {
+        let (pts, moved) = (self.pts, &self.pre.moved);
+        spring_stiffness(&self.g, self.view, pts, moved, self.input.stiffness)
+    }
+
+    /// The linear solver the input asks for (one-level, or multigrid built in `storage`),
+    /// split over the processes when there are several.
+    fn linear_solve(
+        &self,
+        sys: &deform_kernel::spring::SpringSystem<'_, f64>,
+        values: &mut [[f64; D]],
+    ) -> Result<deform_kernel::spring::SolveReport<f64>, CliError> {
+        use deform_kernel::spring::{
+            solve_linear_sliding_scratch_len, solve_linear_with_scratch_len, LinearSolver,
+        };
+        let n = values.len();
+        let mut storage = AmgStorage::default();
+        let hierarchy;
+        let solver = match linear_method(self.input.solver) {
+            Some(m) => LinearSolver::Method(m),
+            None => {
+                hierarchy = storage.build(sys)?;
+                LinearSolver::Amg(&hierarchy)
+            }
+        };
+        let collective = (self.input.split)
+            .map(|s| s.collective(self.input.points, self.g.offsets(), self.g.targets()));
+        let solver = split_solver(solver, collective.as_deref());
+        match self.constraints {
+            Some(c) => {
+                let mut scratch = vec![[0.0; D]; solve_linear_sliding_scratch_len(&solver, n)];
+                sys.solve_linear_sliding(c, values, solver, &self.options, &mut scratch)
+            }
+            None => {
+                let mut scratch = vec![[0.0; D]; solve_linear_with_scratch_len(&solver, n)];
+                sys.solve_linear_with(values, solver, &self.options, &mut scratch)
+            }
+        }
+        .map_err(kernel("linear springs"))
+    }
+
+    /// Linear or angle springs on the displacement; `out` = points + displacement.
+    fn springs(&self, out: &mut [[f64; D]]) -> Result<Solved, CliError> {
+        let n = self.pts.len();
+        let k = self.stiffness()?;
+        let mut sscratch = vec![0u32; deform_kernel::spring::SpringSystem::<f64>::scratch_len(n)];
+        let sys = self.spring_system(&k, &mut sscratch)?;
+        let mut values: Vec<[f64; D]> = (self.pre.disp.iter())
+            .map(|d| core::array::from_fn(|c| d[c]))
+            .collect();
+        let report = if self.input.method == MoveMethod::Spring {
+            self.linear_solve(&sys, &mut values)?
+        } else {
+            self.angle_solve(sys, &mut values)?
+        };
+        for ((o, p), v) in out.iter_mut().zip(self.pts).zip(&values) {
+            for k in 0..D {
+                o[k] = p[k] + v[k];
+            }
+        }
+        Ok((report.iterations, report.residual, report.converged, None))
+    }
+
+    /// The angle springs by the method and solver the input asks for.
+    fn angle_solve(
+        &self,
+        sys: deform_kernel::spring::SpringSystem<'_, f64>,
+        values: &mut [[f64; D]],
+    ) -> Result<deform_kernel::spring::SolveReport<f64>, CliError> {
+        use deform_kernel::spring::{AngleMethod, AngleSystem, DEFAULT_ANGLE_EPSILON};
+        let (input, n, options) = (self.input, self.pts.len(), &self.options);
+        let mut storage = AmgStorage::default();
+        let amg = input.method == MoveMethod::AngleCg && input.solver == MoveSolver::Amg;
+        // CG preconditioned by the linear springs' multigrid V-cycle per component.
+        let hierarchy = if amg {
+            Some(storage.build(&sys)?)
+        } else {
+            None
+        };
+        let asys = AngleSystem::new(sys, self.pts, DEFAULT_ANGLE_EPSILON)
+            .map_err(kernel("angle springs"))?;
+        let method = match (input.method, input.solver) {
+            (MoveMethod::AngleCg, _) => AngleMethod::Cg,
+            (_, MoveSolver::Jacobi) => AngleMethod::DirectJacobi,
+            _ => AngleMethod::DirectGaussSeidel,
+        };
+        let sor = input.method == MoveMethod::AngleDirect
+            && !matches!(input.solver, MoveSolver::GaussSeidel | MoveSolver::Jacobi);
+        let omega = if sor { angle_direct_omega(n, D) } else { 1.0 };
+        match (&hierarchy, self.constraints) {
+            (Some(h), Some(c)) => {
+                let mut scratch = vec![[0.0; D]; asys.solve_angle_sliding_amg_scratch_len(h)];
+                asys.solve_angle_sliding_amg(c, values, h, options, &mut scratch)
+            }
+            (Some(h), None) => {
+                let mut scratch = vec![[0.0; D]; asys.angle_amg_scratch_len(h)];
+                asys.solve_angle_amg(h, values, options, &mut scratch)
+            }
+            (None, Some(c)) => {
+                let mut scratch = vec![[0.0; D]; asys.solve_angle_sliding_scratch_len(method)];
+                asys.solve_angle_sliding(c, values, method, omega, options, &mut scratch)
+            }
+            (None, None) => {
+                let mut scratch = vec![[0.0; D]; asys.angle_scratch_len(method)];
+                if sor {
+                    asys.solve_angle_sor(values, omega, options, &mut scratch)
                 } else {
-                    let mut scratch = vec![[0.0; D]; asys.angle_scratch_len(method)];
-                    asys.solve_angle(&mut values, method, &options, &mut scratch)
-                }
-                .map_err(kernel("angle springs"))?
-            };
-            for ((o, p), v) in out.iter_mut().zip(&pts).zip(&values) {
-                for k in 0..D {
-                    o[k] = p[k] + v[k];
+                    asys.solve_angle(values, method, options, &mut scratch)
                 }
             }
-            (report.iterations, report.residual, report.converged)
         }
-        MoveMethod::Quaternion | MoveMethod::Idw => {
-            let deformed: Vec<[f64; D]> = boundary
-                .iter()
-                .map(|&b| {
-                    let p = pts.get(b as usize).copied().unwrap_or([0.0; D]);
-                    let d = disp.get(b as usize).copied().unwrap_or([0.0; 3]);
-                    let mut q = p;
-                    for k in 0..D {
-                        q[k] += d[k];
-                    }
-                    q
-                })
-                .collect();
-            // Boundary elements renumbered into 0..B (for rotations from the shape).
-            let mut local = vec![u32::MAX; n];
-            for (k, &b) in boundary.iter().enumerate() {
-                if let Some(l) = local.get_mut(b as usize) {
-                    *l = k as u32;
-                }
-            }
-            let mut elems = CellList::new();
-            for list in input.moved.iter().chain(&input.fixed) {
-                for (code, nodes) in list.iter() {
-                    let ln: Vec<u32> = nodes
-                        .iter()
-                        .map(|&v| local.get(v as usize).copied().unwrap_or(u32::MAX))
-                        .collect();
-                    if let Some(kind) = deform_kernel::CellKind::from_vtk(code) {
-                        elems.push(kind, &ln);
-                    }
-                }
-            }
-            let evw = cells_view(&elems, boundary.len())?;
-            let per_node: Vec<Quat<f64>> = match rigid_q {
-                Some(q) => boundary
-                    .iter()
-                    .map(|b| {
-                        if moved.binary_search(b).is_ok() {
-                            q
-                        } else {
-                            Quat::identity()
-                        }
-                    })
-                    .collect(),
-                None => Vec::new(),
-            };
-            let rotations_src = if rigid_q.is_some() {
-                RotationSource::PerNode(&per_node)
-            } else {
-                RotationSource::Shape
-            };
-            let origin = center_used.map(|c| {
-                let mut o = [0.0; D];
-                for (s, &x) in o.iter_mut().zip(&c) {
-                    *s = x;
-                }
-                o
-            });
-            let motion = BoundaryMotion {
-                nodes: &boundary,
-                deformed: &deformed,
-                elements: Some(evw),
-                rotations: rotations_src,
-                origin,
-            };
-            let mut translations = vec![[0.0; D]; n];
-            let mut rotations = vec![Quat::identity(); n];
-            let origin_used: [f64; D];
-            let solved = if input.method == MoveMethod::Idw {
-                let mut scratch = vec![0.0; deform_idw_scratch_len::<D>(n, boundary.len())];
-                match input.idw_fast {
-                    None => {
-                        origin_used = deform_idw(
-                            &pts,
-                            &motion,
-                            input.idw_exponent,
-                            &mut translations,
-                            &mut rotations,
-                            &mut scratch,
-                            &mut out,
-                        )
-                        .map_err(kernel("quaternion IDW"))?;
-                    }
-                    Some((theta, tolerance)) => {
-                        use deform_kernel::quaternion::{
-                            deform_idw_fast, propagate_idw_fast_index_len,
-                            propagate_idw_fast_scratch_len, IdwFastOptions,
-                        };
-                        let b = boundary.len();
-                        let mut index = vec![0u32; propagate_idw_fast_index_len(b)];
-                        let mut tree = vec![0.0; propagate_idw_fast_scratch_len::<D>(b)];
-                        let (o, report) = deform_idw_fast(
-                            &pts,
-                            &motion,
-                            input.idw_exponent,
-                            &IdwFastOptions { theta, tolerance },
-                            &mut translations,
-                            &mut rotations,
-                            &mut scratch,
-                            &mut index,
-                            &mut tree,
-                            &mut out,
-                        )
-                        .map_err(kernel("fast quaternion IDW"))?;
-                        idw_max_bound = Some(report.max_bound);
-                        origin_used = o;
-                    }
-                }
-                (0, 0.0, true)
-            } else {
-                let k = spring_stiffness(&g, &view, &pts, &moved, input.stiffness)?;
-                let mut sscratch = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
-                let sys =
-                    SpringSystem::new(g, &k, &fixed, &mut sscratch).map_err(kernel("springs"))?;
-                let mut storage = AmgStorage::default();
-                let hierarchy;
-                let solver = match linear_method(input.solver) {
-                    Some(m) => LinearSolver::Method(m),
-                    None => {
-                        hierarchy = storage.build(&sys)?;
-                        LinearSolver::Amg(&hierarchy)
-                    }
-                };
-                let collective = input
-                    .split
-                    .map(|s| s.collective(input.points, g.offsets(), g.targets()));
-                let solver = split_solver(solver, collective.as_deref());
-                let mut scratch = vec![0.0; deform_spring_scratch_len::<D>(n, boundary.len())];
-                let mut values = vec![0.0; propagate_spring_with_scratch_len::<D>(&solver, n)];
-                let (o, report) = deform_spring_with::<f64, D>(
-                    &pts,
-                    &motion,
-                    &sys,
-                    solver,
-                    &options,
-                    &mut translations,
-                    &mut rotations,
-                    &mut scratch,
-                    &mut values,
-                    &mut out,
-                )
-                .map_err(kernel("quaternion springs"))?;
-                origin_used = o;
-                (report.iterations, report.residual, report.converged)
-            };
-            if let Some(radius) = input.reach {
-                // Fade (Δ, Q) to no motion beyond `radius` from the moving markers, then redo
-                // the field update.
-                use deform_kernel::quaternion::{limit_reach, update_points};
-                let mut distances = vec![0.0; n];
-                deform_kernel::spring::wall_distances(&pts, &moved, &mut distances)
-                    .map_err(kernel("reach"))?;
-                limit_reach(&distances, radius, &mut translations, &mut rotations)
-                    .map_err(kernel("reach"))?;
-                update_points(
-                    origin_used,
-                    &pts,
-                    &translations,
-                    &rotations,
-                    &boundary,
-                    &deformed,
-                    &mut out,
-                )
-                .map_err(kernel("reach"))?;
-                // Beyond the reach the update is o + (p − o), which can differ from p in the
-                // last bit: those nodes keep their coordinates exactly.
-                for ((o, p), &d) in out.iter_mut().zip(&pts).zip(&distances) {
-                    if d >= radius {
-                        *o = *p;
-                    }
-                }
-            }
-            solved
-        }
-    };
-    if let Some(c) = &constraints {
-        // Spring solves already moved the sliding nodes along their planes; the quaternion
-        // methods and IDW moved them as field nodes: project their motion (exact for springs
-        // up to rounding, so done for every method).
-        slide_points(c, &pts, &mut out).map_err(kernel("sliding"))?;
+        .map_err(kernel("angle springs"))
     }
-    let max_slide_offset = table.as_ref().map_or(0.0, |t| {
+}
+
+impl<const D: usize> MoveRun<'_, D> {
+    /// The boundary elements renumbered into `0..B` (for rotations from the shape).
+    fn boundary_elements(&self) -> CellList {
+        let boundary = &self.pre.boundary;
+        let mut local = vec![u32::MAX; self.pts.len()];
+        for (k, &b) in boundary.iter().enumerate() {
+            if let Some(l) = local.get_mut(b as usize) {
+                *l = k as u32;
+            }
+        }
+        let mut elems = CellList::new();
+        for list in self.input.moved.iter().chain(&self.input.fixed) {
+            for (code, nodes) in list.iter() {
+                let ln: Vec<u32> = nodes
+                    .iter()
+                    .map(|&v| local.get(v as usize).copied().unwrap_or(u32::MAX))
+                    .collect();
+                if let Some(kind) = deform_kernel::CellKind::from_vtk(code) {
+                    elems.push(kind, &ln);
+                }
+            }
+        }
+        elems
+    }
+
+    /// Samareh's quaternion method (spring propagation) or IDW, then `--reach`.
+    fn quaternion(&self, out: &mut [[f64; D]]) -> Result<Solved, CliError> {
+        use deform_kernel::quaternion::{BoundaryMotion, RotationSource};
+        use deform_kernel::Quat;
+        let (pre, pts, n) = (self.pre, self.pts, self.pts.len());
+        let deformed: Vec<[f64; D]> = (pre.boundary.iter())
+            .map(|&b| {
+                let p = pts.get(b as usize).copied().unwrap_or([0.0; D]);
+                let d = pre.disp.get(b as usize).copied().unwrap_or([0.0; 3]);
+                core::array::from_fn(|k| p[k] + d[k])
+            })
+            .collect();
+        let elems = self.boundary_elements();
+        let evw = cells_view(&elems, pre.boundary.len())?;
+        let per_node: Vec<Quat<f64>> = match pre.rigid_q {
+            Some(q) => (pre.boundary.iter())
+                .map(|b| match pre.moved.binary_search(b) {
+                    Ok(_) => q,
+                    Err(_) => Quat::identity(),
+                })
+                .collect(),
+            None => Vec::new(),
+        };
+        let motion = BoundaryMotion {
+            nodes: &pre.boundary,
+            deformed: &deformed,
+            elements: Some(evw),
+            rotations: match pre.rigid_q {
+                Some(_) => RotationSource::PerNode(&per_node),
+                None => RotationSource::Shape,
+            },
+            origin: pre.center.map(|c| core::array::from_fn(|k| c[k])),
+        };
+        let mut field = Field {
+            translations: vec![[0.0; D]; n],
+            rotations: vec![Quat::identity(); n],
+        };
+        let (origin, solved) = if self.input.method == MoveMethod::Idw {
+            self.idw(&motion, &mut field, out)?
+        } else {
+            self.quaternion_springs(&motion, &mut field, out)?
+        };
+        if let Some(radius) = self.input.reach {
+            self.reach(radius, origin, &deformed, &mut field, out)?;
+        }
+        Ok(solved)
+    }
+
+    /// IDW (exact, or fast with `--idw-theta`); returns the origin used.
+    fn idw(
+        &self,
+        motion: &deform_kernel::quaternion::BoundaryMotion<'_, f64, D>,
+        field: &mut Field<D>,
+        out: &mut [[f64; D]],
+    ) -> Result<([f64; D], Solved), CliError> {
+        use deform_kernel::quaternion::{
+            deform_idw, deform_idw_fast, deform_idw_scratch_len, propagate_idw_fast_index_len,
+            propagate_idw_fast_scratch_len, IdwFastOptions,
+        };
+        let (n, b, exponent) = (
+            self.pts.len(),
+            self.pre.boundary.len(),
+            self.input.idw_exponent,
+        );
+        let mut scratch = vec![0.0; deform_idw_scratch_len::<D>(n, b)];
+        let (tr, rot) = (&mut field.translations, &mut field.rotations);
+        let Some((theta, tolerance)) = self.input.idw_fast else {
+            let origin = deform_idw(self.pts, motion, exponent, tr, rot, &mut scratch, out)
+                .map_err(kernel("quaternion IDW"))?;
+            return Ok((origin, (0, 0.0, true, None)));
+        };
+        let mut index = vec![0u32; propagate_idw_fast_index_len(b)];
+        let mut tree = vec![0.0; propagate_idw_fast_scratch_len::<D>(b)];
+        let options = IdwFastOptions { theta, tolerance };
+        let (origin, report) = deform_idw_fast(
+            self.pts,
+            motion,
+            exponent,
+            &options,
+            tr,
+            rot,
+            &mut scratch,
+            &mut index,
+            &mut tree,
+            out,
+        )
+        .map_err(kernel("fast quaternion IDW"))?;
+        Ok((origin, (0, 0.0, true, Some(report.max_bound))))
+    }
+
+    /// The quaternion method with spring propagation; returns the origin used.
+    fn quaternion_springs(
+        &self,
+        motion: &deform_kernel::quaternion::BoundaryMotion<'_, f64, D>,
+        field: &mut Field<D>,
+        out: &mut [[f64; D]],
+    ) -> Result<([f64; D], Solved), CliError> {
+        use deform_kernel::quaternion::{
+            deform_spring_scratch_len, deform_spring_with, propagate_spring_with_scratch_len,
+        };
+        use deform_kernel::spring::{LinearSolver, SpringSystem};
+        let (n, b) = (self.pts.len(), self.pre.boundary.len());
+        let k = self.stiffness()?;
+        let mut sscratch = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
+        let sys = self.spring_system(&k, &mut sscratch)?;
+        let mut storage = AmgStorage::default();
+        let hierarchy;
+        let solver = match linear_method(self.input.solver) {
+            Some(m) => LinearSolver::Method(m),
+            None => {
+                hierarchy = storage.build(&sys)?;
+                LinearSolver::Amg(&hierarchy)
+            }
+        };
+        let collective = (self.input.split)
+            .map(|s| s.collective(self.input.points, self.g.offsets(), self.g.targets()));
+        let solver = split_solver(solver, collective.as_deref());
+        let mut scratch = vec![0.0; deform_spring_scratch_len::<D>(n, b)];
+        let mut values = vec![0.0; propagate_spring_with_scratch_len::<D>(&solver, n)];
+        let (origin, report) = deform_spring_with::<f64, D>(
+            self.pts,
+            motion,
+            &sys,
+            solver,
+            &self.options,
+            &mut field.translations,
+            &mut field.rotations,
+            &mut scratch,
+            &mut values,
+            out,
+        )
+        .map_err(kernel("quaternion springs"))?;
+        let solved = (report.iterations, report.residual, report.converged, None);
+        Ok((origin, solved))
+    }
+
+    /// `--reach`: fades (Δ, Q) to no motion beyond `radius` from the moving markers, then
+    /// redoes the field update.
+    fn reach(
+        &self,
+        radius: f64,
+        origin: [f64; D],
+        deformed: &[[f64; D]],
+        field: &mut Field<D>,
+        out: &mut [[f64; D]],
+    ) -> Result<(), CliError> {
+        use deform_kernel::quaternion::{limit_reach, update_points};
+        let pts = self.pts;
+        let mut distances = vec![0.0; pts.len()];
+        deform_kernel::spring::wall_distances(pts, &self.pre.moved, &mut distances)
+            .map_err(kernel("reach"))?;
+        let (tr, rot) = (&mut field.translations, &mut field.rotations);
+        limit_reach(&distances, radius, tr, rot).map_err(kernel("reach"))?;
+        update_points(origin, pts, tr, rot, &self.pre.boundary, deformed, out)
+            .map_err(kernel("reach"))?;
+        // Beyond the reach the update is o + (p − o), which can differ from p in the last
+        // bit: those nodes keep their coordinates exactly.
+        for ((o, p), &d) in out.iter_mut().zip(pts).zip(&distances) {
+            if d >= radius {
+                *o = *p;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The quaternion method's per-node field: translations Δ and rotations Q.
+struct Field<const D: usize> {
+    translations: Vec<[f64; D]>,
+    rotations: Vec<deform_kernel::Quat<f64>>,
+}
+
+/// The result of a motion: the points back in 3 coordinates, their displacement, the
+/// solve's figures, and the sliding nodes' largest distance from their planes.
+fn move_result<const D: usize>(
+    input: &MoveInput<'_>,
+    pre: &Prescribed,
+    table: Option<&SlideTable<D>>,
+    pts: &[[f64; D]],
+    out: &[[f64; D]],
+    (iterations, residual, converged, idw_max_bound): Solved,
+) -> MoveResult {
+    let max_slide_offset = table.map_or(0.0, |t| {
         t.planes.iter().fold(0.0f64, |m, &(i, nv)| {
             let (a, b) = (
                 out.get(i as usize).copied().unwrap_or([0.0; D]),
@@ -1335,32 +1483,26 @@ fn move_d<const D: usize>(
     });
     let deformed: Vec<[f64; 3]> = out
         .iter()
-        .map(|p| {
-            let mut q = [0.0; 3];
-            for (s, &x) in q.iter_mut().zip(p) {
-                *s = x;
-            }
-            q
-        })
+        .map(|p| core::array::from_fn(|k| p.get(k).copied().unwrap_or(0.0)))
         .collect();
     let displacement = deformed
         .iter()
         .zip(input.points)
         .map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]])
         .collect();
-    Ok(MoveResult {
+    MoveResult {
         idw_max_bound,
         deformed,
         displacement,
         iterations,
         residual,
         converged,
-        moved_nodes: moved.len(),
-        fixed_nodes,
-        center: center_used,
-        sliding_nodes: table.as_ref().map_or(0, |t| t.sliding),
+        moved_nodes: pre.moved.len(),
+        fixed_nodes: pre.boundary.len() - pre.moved.len(),
+        center: pre.center,
+        sliding_nodes: table.map_or(0, |t| t.sliding),
         max_slide_offset,
-    })
+    }
 }
 
 /// What smoothing one block did.
@@ -1567,120 +1709,30 @@ fn tfi_d<const D: usize>(
     motion: &Motion,
     quaternion: bool,
 ) -> Result<Vec<[f64; 3]>, CliError> {
-    use deform_kernel::quaternion::{
-        deform_tfi, deform_tfi_scratch_len, displacement_tfi, tfi_scratch_len, BoundaryMotion,
-        RotationSource,
-    };
-    use deform_kernel::Quat;
     let block = deform_kernel::Block::new(dims).map_err(kernel("block"))?;
     let pts = points_d::<D>(points);
     let n = pts.len();
     let len = dims[wall.direction.index()];
     let wall_t = if wall.max { len - 1 } else { 0 };
     let far_t = if wall.max { 0 } else { len - 1 };
-    let mut wall_nodes = Vec::new();
-    let mut far_nodes = Vec::new();
+    let mut faces = TfiFaces {
+        wall: Vec::new(),
+        far: Vec::new(),
+    };
     for p in 0..n {
         let t = block.ijk(p)[wall.direction.index()];
         if t == wall_t {
-            wall_nodes.push(p as u32);
+            faces.wall.push(p as u32);
         } else if t == far_t {
-            far_nodes.push(p as u32);
+            faces.far.push(p as u32);
         }
     }
-    let centroid = {
-        let mut c = [0.0; 3];
-        for &p in &wall_nodes {
-            for (s, x) in c.iter_mut().zip(points[p as usize]) {
-                *s += x;
-            }
-        }
-        c.map(|s| s / wall_nodes.len().max(1) as f64)
-    };
-    let (q, shift, center) = match motion {
-        &Motion::Rotate {
-            degrees,
-            axis,
-            center,
-        } => {
-            let q =
-                Quat::from_axis_angle(axis, degrees.to_radians()).map_err(kernel("rotation"))?;
-            (q, [0.0; 3], center.unwrap_or(centroid))
-        }
-        &Motion::Translate(t) => (Quat::identity(), t, centroid),
-        Motion::Field(_) => {
-            return Err(CliError::Invalid(
-                "a Plot3D wall moves rigidly: --rotate DEG or --translate DX,DY[,DZ]".into(),
-            ))
-        }
-    };
-    let moved = |p: [f64; 3]| -> [f64; D] {
-        let r = q.rotate([p[0] - center[0], p[1] - center[1], p[2] - center[2]]);
-        core::array::from_fn(|k| r[k] + center[k] + shift[k])
-    };
-    let mut out = vec![[0.0; D]; n];
-    if quaternion {
-        let nodes: Vec<u32> = wall_nodes.iter().chain(&far_nodes).copied().collect();
-        let deformed: Vec<[f64; D]> = nodes
-            .iter()
-            .enumerate()
-            .map(|(k, &p)| {
-                if k < wall_nodes.len() {
-                    moved(points[p as usize])
-                } else {
-                    pts[p as usize]
-                }
-            })
-            .collect();
-        let rotations: Vec<Quat<f64>> = (0..nodes.len())
-            .map(|k| {
-                if k < wall_nodes.len() {
-                    q
-                } else {
-                    Quat::identity()
-                }
-            })
-            .collect();
-        let m = BoundaryMotion {
-            nodes: &nodes,
-            deformed: &deformed,
-            elements: None,
-            rotations: RotationSource::PerNode(&rotations),
-            origin: Some(core::array::from_fn(|k| center[k])),
-        };
-        let directions = Directions::only(wall.direction);
-        let mut tr = vec![[0.0; D]; n];
-        let mut rot = vec![Quat::identity(); n];
-        let mut scratch = vec![0.0; deform_tfi_scratch_len::<D>(&block, nodes.len())];
-        deform_tfi(
-            &block,
-            directions,
-            &pts,
-            &m,
-            &mut tr,
-            &mut rot,
-            &mut scratch,
-            &mut out,
-        )
-        .map_err(kernel("quaternion TFI"))?;
+    let rigid = WallMotion::new(motion, points, &faces.wall)?;
+    let out = if quaternion {
+        quaternion_tfi(&block, wall, (points, &pts), &faces, &rigid)?
     } else {
-        let mut disp = vec![[0.0; D]; n];
-        for &p in &wall_nodes {
-            let new = moved(points[p as usize]);
-            disp[p as usize] = core::array::from_fn(|k| new[k] - pts[p as usize][k]);
-        }
-        let directions = Directions::only(wall.direction);
-        let mut scratch = vec![0.0; tfi_scratch_len::<D>(&block)];
-        displacement_tfi(&block, directions, &pts, &mut disp, &mut scratch)
-            .map_err(kernel("displacement TFI"))?;
-        for ((o, p), d) in out.iter_mut().zip(&pts).zip(&disp) {
-            *o = core::array::from_fn(|k| p[k] + d[k]);
-        }
-        // The wall is placed exactly (p + (new − p) may differ from new in the last bit).
-        for &p in &wall_nodes {
-            out[p as usize] = moved(points[p as usize]);
-        }
-    }
+        displacement_tfi_d(&block, wall, (points, &pts), &faces.wall, &rigid)?
+    };
     Ok(out
         .iter()
         .zip(points)
@@ -1690,4 +1742,143 @@ fn tfi_d<const D: usize>(
             r
         })
         .collect())
+}
+
+/// The nodes of a block's moving wall face and of the opposite face, which stays.
+struct TfiFaces {
+    wall: Vec<u32>,
+    far: Vec<u32>,
+}
+
+/// A wall's rigid motion: `p ↦ Q (p − c) + c + shift`.
+struct WallMotion {
+    q: deform_kernel::Quat<f64>,
+    shift: [f64; 3],
+    center: [f64; 3],
+}
+
+impl WallMotion {
+    /// From a rotation (about its centre, or the wall's centroid) or a translation.
+    fn new(motion: &Motion, points: &[[f64; 3]], wall: &[u32]) -> Result<Self, CliError> {
+        use deform_kernel::Quat;
+        let mut centroid = [0.0; 3];
+        for &p in wall {
+            for (s, x) in centroid.iter_mut().zip(points[p as usize]) {
+                *s += x;
+            }
+        }
+        let centroid = centroid.map(|s| s / wall.len().max(1) as f64);
+        match motion {
+            &Motion::Rotate {
+                degrees,
+                axis,
+                center,
+            } => Ok(WallMotion {
+                q: Quat::from_axis_angle(axis, degrees.to_radians()).map_err(kernel("rotation"))?,
+                shift: [0.0; 3],
+                center: center.unwrap_or(centroid),
+            }),
+            &Motion::Translate(t) => Ok(WallMotion {
+                q: Quat::identity(),
+                shift: t,
+                center: centroid,
+            }),
+            Motion::Field(_) => Err(CliError::Invalid(
+                "a Plot3D wall moves rigidly: --rotate DEG or --translate DX,DY[,DZ]".into(),
+            )),
+        }
+    }
+
+    /// Where the motion takes `p`.
+    fn apply<const D: usize>(&self, p: [f64; 3]) -> [f64; D] {
+        let c = self.center;
+        let r = self.q.rotate([p[0] - c[0], p[1] - c[1], p[2] - c[2]]);
+        core::array::from_fn(|k| r[k] + c[k] + self.shift[k])
+    }
+}
+
+/// Samareh's quaternion TFI along the wall's direction: the wall's nodes move and turn by the
+/// rigid motion, the far face's stay (`points`: the grid's, and in `D` coordinates).
+fn quaternion_tfi<const D: usize>(
+    block: &deform_kernel::Block,
+    wall: Face,
+    (points, pts): (&[[f64; 3]], &[[f64; D]]),
+    faces: &TfiFaces,
+    rigid: &WallMotion,
+) -> Result<Vec<[f64; D]>, CliError> {
+    use deform_kernel::quaternion::{
+        deform_tfi, deform_tfi_scratch_len, BoundaryMotion, RotationSource,
+    };
+    use deform_kernel::Quat;
+    let n = pts.len();
+    let nodes: Vec<u32> = faces.wall.iter().chain(&faces.far).copied().collect();
+    let on_wall = |k: usize| k < faces.wall.len();
+    let deformed: Vec<[f64; D]> = (nodes.iter().enumerate())
+        .map(|(k, &p)| match on_wall(k) {
+            true => rigid.apply(points[p as usize]),
+            false => pts[p as usize],
+        })
+        .collect();
+    let rotations: Vec<Quat<f64>> = (0..nodes.len())
+        .map(|k| {
+            if on_wall(k) {
+                rigid.q
+            } else {
+                Quat::identity()
+            }
+        })
+        .collect();
+    let m = BoundaryMotion {
+        nodes: &nodes,
+        deformed: &deformed,
+        elements: None,
+        rotations: RotationSource::PerNode(&rotations),
+        origin: Some(core::array::from_fn(|k| rigid.center[k])),
+    };
+    let directions = Directions::only(wall.direction);
+    let mut tr = vec![[0.0; D]; n];
+    let mut rot = vec![Quat::identity(); n];
+    let mut scratch = vec![0.0; deform_tfi_scratch_len::<D>(block, nodes.len())];
+    let mut out = vec![[0.0; D]; n];
+    deform_tfi(
+        block,
+        directions,
+        pts,
+        &m,
+        &mut tr,
+        &mut rot,
+        &mut scratch,
+        &mut out,
+    )
+    .map_err(kernel("quaternion TFI"))?;
+    Ok(out)
+}
+
+/// Displacement TFI along the wall's direction; the wall is placed exactly afterwards
+/// (p + (new − p) may differ from new in the last bit).
+fn displacement_tfi_d<const D: usize>(
+    block: &deform_kernel::Block,
+    wall: Face,
+    (points, pts): (&[[f64; 3]], &[[f64; D]]),
+    wall_nodes: &[u32],
+    rigid: &WallMotion,
+) -> Result<Vec<[f64; D]>, CliError> {
+    use deform_kernel::quaternion::{displacement_tfi, tfi_scratch_len};
+    let n = pts.len();
+    let mut disp = vec![[0.0; D]; n];
+    for &p in wall_nodes {
+        let new: [f64; D] = rigid.apply(points[p as usize]);
+        disp[p as usize] = core::array::from_fn(|k| new[k] - pts[p as usize][k]);
+    }
+    let directions = Directions::only(wall.direction);
+    let mut scratch = vec![0.0; tfi_scratch_len::<D>(block)];
+    displacement_tfi(block, directions, pts, &mut disp, &mut scratch)
+        .map_err(kernel("displacement TFI"))?;
+    let mut out: Vec<[f64; D]> = (pts.iter().zip(&disp))
+        .map(|(p, d)| core::array::from_fn(|k| p[k] + d[k]))
+        .collect();
+    for &p in wall_nodes {
+        out[p as usize] = rigid.apply(points[p as usize]);
+    }
+    Ok(out)
 }

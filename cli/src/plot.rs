@@ -396,29 +396,6 @@ fn render(pic: &Picture<'_>, window: Window, width: u32) -> Result<Pixmap, Strin
     let mut pixmap = Pixmap::new(f.width as u32, f.height as u32)
         .ok_or_else(|| "cannot allocate the picture".to_string())?;
     pixmap.fill(Color::WHITE);
-    let fill_poly = |pixmap: &mut Pixmap, poly: &[(f64, f64)], rgba: [u8; 4]| {
-        let mut pb = PathBuilder::new();
-        for (k, (x, y)) in poly.iter().enumerate() {
-            if k == 0 {
-                pb.move_to(*x as f32, *y as f32);
-            } else {
-                pb.line_to(*x as f32, *y as f32);
-            }
-        }
-        pb.close();
-        if let Some(path) = pb.finish() {
-            let mut paint = Paint::default();
-            paint.set_color_rgba8(rgba[0], rgba[1], rgba[2], rgba[3]);
-            paint.anti_alias = false;
-            pixmap.fill_path(
-                &path,
-                &paint,
-                FillRule::EvenOdd,
-                Transform::identity(),
-                None,
-            );
-        }
-    };
     for (col, poly) in shaded(pic, &f) {
         fill_poly(&mut pixmap, &poly, [col[0], col[1], col[2], 255]);
     }
@@ -426,16 +403,7 @@ fn render(pic: &Picture<'_>, window: Window, width: u32) -> Result<Pixmap, Strin
     red.set_color_rgba8(224, 32, 32, 200);
     red.anti_alias = true;
     for poly in highlighted(pic, &f) {
-        let mut pb = PathBuilder::new();
-        for (k, (x, y)) in poly.iter().enumerate() {
-            if k == 0 {
-                pb.move_to(*x as f32, *y as f32);
-            } else {
-                pb.line_to(*x as f32, *y as f32);
-            }
-        }
-        pb.close();
-        if let Some(path) = pb.finish() {
+        if let Some(path) = polygon_path(&poly) {
             pixmap.fill_path(&path, &red, FillRule::EvenOdd, Transform::identity(), None);
             let stroke = Stroke {
                 width: 1.5,
@@ -444,32 +412,9 @@ fn render(pic: &Picture<'_>, window: Window, width: u32) -> Result<Pixmap, Strin
             pixmap.stroke_path(&path, &red, &stroke, Transform::identity(), None);
         }
     }
-    let mut draw = |cells: &CellList, rgba: [u8; 4], width: f32| {
-        let mut pb = PathBuilder::new();
-        for (a, b) in unique_edges(cells) {
-            let (Some(pa), Some(pb_)) = (point(pic.points, a), point(pic.points, b)) else {
-                continue;
-            };
-            let (pa, pb2) = (f.map(pa), f.map(pb_));
-            if f.visible(pa, pb2) {
-                pb.move_to(pa.0 as f32, pa.1 as f32);
-                pb.line_to(pb2.0 as f32, pb2.1 as f32);
-            }
-        }
-        if let Some(path) = pb.finish() {
-            let mut paint = Paint::default();
-            paint.set_color_rgba8(rgba[0], rgba[1], rgba[2], rgba[3]);
-            paint.anti_alias = true;
-            let stroke = Stroke {
-                width,
-                ..Stroke::default()
-            };
-            pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
-        }
-    };
-    draw(pic.cells, [64, 64, 64, 255], 0.0);
+    draw_edges(&mut pixmap, pic, &f, pic.cells, [64, 64, 64, 255], 0.0);
     for b in pic.boundaries {
-        draw(b, [31, 79, 208, 255], 2.0);
+        draw_edges(&mut pixmap, pic, &f, b, [31, 79, 208, 255], 2.0);
     }
     if pic.shading.is_some() {
         let (x, y, w, h) = colour_bar(&f);
@@ -487,6 +432,68 @@ fn render(pic: &Picture<'_>, window: Window, width: u32) -> Result<Pixmap, Strin
         }
     }
     Ok(pixmap)
+}
+
+/// A closed polygon in pixel coordinates (`None` when it has no area to draw).
+fn polygon_path(poly: &[(f64, f64)]) -> Option<tiny_skia::Path> {
+    let mut pb = PathBuilder::new();
+    for (k, (x, y)) in poly.iter().enumerate() {
+        if k == 0 {
+            pb.move_to(*x as f32, *y as f32);
+        } else {
+            pb.line_to(*x as f32, *y as f32);
+        }
+    }
+    pb.close();
+    pb.finish()
+}
+
+/// Fills a polygon in one colour, without anti-aliasing (shaded cells tile without seams).
+fn fill_poly(pixmap: &mut Pixmap, poly: &[(f64, f64)], rgba: [u8; 4]) {
+    if let Some(path) = polygon_path(poly) {
+        let mut paint = Paint::default();
+        paint.set_color_rgba8(rgba[0], rgba[1], rgba[2], rgba[3]);
+        paint.anti_alias = false;
+        pixmap.fill_path(
+            &path,
+            &paint,
+            FillRule::EvenOdd,
+            Transform::identity(),
+            None,
+        );
+    }
+}
+
+/// Strokes every edge of `cells` once that is visible in the frame.
+fn draw_edges(
+    pixmap: &mut Pixmap,
+    pic: &Picture<'_>,
+    f: &Frame,
+    cells: &CellList,
+    rgba: [u8; 4],
+    width: f32,
+) {
+    let mut pb = PathBuilder::new();
+    for (a, b) in unique_edges(cells) {
+        let (Some(pa), Some(pb_)) = (point(pic.points, a), point(pic.points, b)) else {
+            continue;
+        };
+        let (pa, pb2) = (f.map(pa), f.map(pb_));
+        if f.visible(pa, pb2) {
+            pb.move_to(pa.0 as f32, pa.1 as f32);
+            pb.line_to(pb2.0 as f32, pb2.1 as f32);
+        }
+    }
+    if let Some(path) = pb.finish() {
+        let mut paint = Paint::default();
+        paint.set_color_rgba8(rgba[0], rgba[1], rgba[2], rgba[3]);
+        paint.anti_alias = true;
+        let stroke = Stroke {
+            width,
+            ..Stroke::default()
+        };
+        pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
+    }
 }
 
 /// A 3D mesh cut by the plane `z = z0`: each cell the plane crosses becomes the polygon of
@@ -513,42 +520,12 @@ pub fn slice_z(
     boundaries: &[&CellList],
     z0: f64,
 ) -> Section {
-    let mut index: BTreeMap<(u32, u32), u32> = BTreeMap::new();
+    let mut cutter = Cutter {
+        points,
+        z0,
+        index: BTreeMap::new(),
+    };
     let mut out = Section::default();
-    let mut cut = |a: u32, b: u32, out: &mut Section| -> Option<u32> {
-        let (pa, pb) = (point(points, a)?, point(points, b)?);
-        let (da, db) = (pa[2] - z0, pb[2] - z0);
-        // Half-open rule: a node exactly on the plane counts as above, so each crossing
-        // edge is found once and a face lying in the plane produces nothing degenerate.
-        if (da >= 0.0) == (db >= 0.0) {
-            return None;
-        }
-        let key = (a.min(b), a.max(b));
-        if let Some(&k) = index.get(&key) {
-            return Some(k);
-        }
-        let t = da / (da - db);
-        let p = [pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1]), z0];
-        let k = u32::try_from(out.points.len()).ok()?;
-        out.points.push(p);
-        index.insert(key, k);
-        Some(k)
-    };
-    let ring = |ids: &mut Vec<u32>, pts: &[[f64; 3]]| {
-        ids.sort_unstable();
-        ids.dedup();
-        let n = ids.len() as f64;
-        let (cx, cy) = ids.iter().fold((0.0, 0.0), |(x, y), &k| {
-            let p = pts[k as usize];
-            (x + p[0] / n, y + p[1] / n)
-        });
-        ids.sort_by(|&a, &b| {
-            let (pa, pb) = (pts[a as usize], pts[b as usize]);
-            let ta = (pa[1] - cy).atan2(pa[0] - cx);
-            let tb = (pb[1] - cy).atan2(pb[0] - cx);
-            ta.total_cmp(&tb)
-        });
-    };
     for (c, (code, nodes)) in cells.iter().enumerate() {
         let Some(kind) = CellKind::from_vtk(code) else {
             continue;
@@ -556,15 +533,7 @@ pub fn slice_z(
         if kind.dimension() < 3 {
             continue;
         }
-        let mut ids = Vec::new();
-        for e in kind.edges() {
-            let (Some(&a), Some(&b)) = (nodes.get(e[0] as usize), nodes.get(e[1] as usize)) else {
-                continue;
-            };
-            if let Some(k) = cut(a, b, &mut out) {
-                ids.push(k);
-            }
-        }
+        let mut ids = cutter.cut_cell(kind, nodes, &mut out);
         ring(&mut ids, &out.points);
         if ids.len() >= 3 {
             out.cells.push_code(VTK_POLYGON, &ids);
@@ -577,16 +546,7 @@ pub fn slice_z(
             let Some(kind) = CellKind::from_vtk(code) else {
                 continue;
             };
-            let mut ids = Vec::new();
-            for e in kind.edges() {
-                let (Some(&a), Some(&b)) = (nodes.get(e[0] as usize), nodes.get(e[1] as usize))
-                else {
-                    continue;
-                };
-                if let Some(k) = cut(a, b, &mut out) {
-                    ids.push(k);
-                }
-            }
+            let mut ids = cutter.cut_cell(kind, nodes, &mut out);
             ids.sort_unstable();
             ids.dedup();
             if let [a, b] = ids[..] {
@@ -596,6 +556,71 @@ pub fn slice_z(
         out.boundaries.push(segs);
     }
     out
+}
+
+/// The edge–plane intersections of [`slice_z`], one point per cut edge.
+struct Cutter<'p> {
+    points: &'p [[f64; 3]],
+    z0: f64,
+    index: BTreeMap<(u32, u32), u32>,
+}
+
+impl Cutter<'_> {
+    /// The section point of edge `a`–`b` (added to `out` the first time), if the plane cuts it.
+    fn cut(&mut self, a: u32, b: u32, out: &mut Section) -> Option<u32> {
+        let (pa, pb) = (point(self.points, a)?, point(self.points, b)?);
+        let (da, db) = (pa[2] - self.z0, pb[2] - self.z0);
+        // Half-open rule: a node exactly on the plane counts as above, so each crossing
+        // edge is found once and a face lying in the plane produces nothing degenerate.
+        if (da >= 0.0) == (db >= 0.0) {
+            return None;
+        }
+        let key = (a.min(b), a.max(b));
+        if let Some(&k) = self.index.get(&key) {
+            return Some(k);
+        }
+        let t = da / (da - db);
+        let p = [
+            pa[0] + t * (pb[0] - pa[0]),
+            pa[1] + t * (pb[1] - pa[1]),
+            self.z0,
+        ];
+        let k = u32::try_from(out.points.len()).ok()?;
+        out.points.push(p);
+        self.index.insert(key, k);
+        Some(k)
+    }
+
+    /// The section points of every cut edge of one cell (or face).
+    fn cut_cell(&mut self, kind: CellKind, nodes: &[u32], out: &mut Section) -> Vec<u32> {
+        let mut ids = Vec::new();
+        for e in kind.edges() {
+            let (Some(&a), Some(&b)) = (nodes.get(e[0] as usize), nodes.get(e[1] as usize)) else {
+                continue;
+            };
+            if let Some(k) = self.cut(a, b, out) {
+                ids.push(k);
+            }
+        }
+        ids
+    }
+}
+
+/// Orders a cell's section points (once each) around their centroid, into a polygon.
+fn ring(ids: &mut Vec<u32>, pts: &[[f64; 3]]) {
+    ids.sort_unstable();
+    ids.dedup();
+    let n = ids.len() as f64;
+    let (cx, cy) = ids.iter().fold((0.0, 0.0), |(x, y), &k| {
+        let p = pts[k as usize];
+        (x + p[0] / n, y + p[1] / n)
+    });
+    ids.sort_by(|&a, &b| {
+        let (pa, pb) = (pts[a as usize], pts[b as usize]);
+        let ta = (pa[1] - cy).atan2(pa[0] - cx);
+        let tb = (pb[1] - cy).atan2(pb[0] - cx);
+        ta.total_cmp(&tb)
+    });
 }
 
 /// True when any cell of `cells` is a volume cell, so pictures show a section.

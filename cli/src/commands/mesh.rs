@@ -99,6 +99,46 @@ pub(crate) fn mesh_outcome(report: &MeshReport) -> Outcome {
     }
 }
 
+/// One block as Plot3D: text for `.xyz`/`.p3d`, else little-endian double binary with
+/// records.
+fn write_block_plot3d(
+    staged: &mut Staged,
+    out: &std::path::Path,
+    dim: usize,
+    dims: [usize; 3],
+    points: &[[f64; 3]],
+) -> Result<(), CliError> {
+    let grid = Plot3dGrid {
+        dim,
+        blocks: vec![Plot3dBlock {
+            dims,
+            points: points.to_vec(),
+            iblank: None,
+        }],
+    };
+    let ext = (out.extension().and_then(|e| e.to_str()))
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    let encoding = if ext == "xyz" || ext == "p3d" {
+        Encoding::Ascii
+    } else {
+        Encoding::Binary {
+            endian: Endian::Little,
+            precision: Precision::Double,
+            records: true,
+        }
+    };
+    let layout = Plot3dLayout {
+        encoding,
+        dim,
+        multi_block: true,
+        iblank: false,
+    };
+    staged
+        .write(out, |f| write_plot3d(&grid, &layout, f))
+        .map_err(io_err(out))
+}
+
 pub(crate) fn mesh_block(a: &BlockArgs) -> Result<Outcome, CliError> {
     let t0 = Instant::now();
     let kind = file_kind(&a.out);
@@ -139,40 +179,7 @@ pub(crate) fn mesh_block(a: &BlockArgs) -> Result<Outcome, CliError> {
                 write_vts(f, dims, &su2.points, &[], &[], VtkEncoding::Base64)
             })
             .map_err(io_err(&a.out))?,
-        _ => {
-            let grid = Plot3dGrid {
-                dim,
-                blocks: vec![Plot3dBlock {
-                    dims,
-                    points: su2.points.clone(),
-                    iblank: None,
-                }],
-            };
-            let ext = a
-                .out
-                .extension()
-                .and_then(|e| e.to_str())
-                .unwrap_or("")
-                .to_ascii_lowercase();
-            let encoding = if ext == "xyz" || ext == "p3d" {
-                Encoding::Ascii
-            } else {
-                Encoding::Binary {
-                    endian: Endian::Little,
-                    precision: Precision::Double,
-                    records: true,
-                }
-            };
-            let layout = Plot3dLayout {
-                encoding,
-                dim,
-                multi_block: true,
-                iblank: false,
-            };
-            staged
-                .write(&a.out, |f| write_plot3d(&grid, &layout, f))
-                .map_err(io_err(&a.out))?
-        }
+        _ => write_block_plot3d(&mut staged, &a.out, dim, dims, &su2.points)?,
     }
     staged.commit().map_err(io_err(&a.out))?;
     let report = MeshReport {
