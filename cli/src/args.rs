@@ -43,6 +43,14 @@ pub enum Command {
     /// before converging is an error (exit 5) unless --allow-unconverged; with the flag the
     /// output is written and the count or residual is reported (and warned about on stderr).
     Move(MoveArgs),
+    /// Do SU2_DEF's job from its own configuration file: read MESH_FILENAME, apply the design
+    /// variables (DV_KIND, DV_MARKER, DV_PARAM, DV_VALUE) to the surface, deform the volume and
+    /// write MESH_OUT_FILENAME.
+    ///
+    /// File names are relative to the current directory, as for SU2_DEF. Options that mesh
+    /// deformation does not use are listed once on stderr (and in the JSON report) as ignored;
+    /// an option it cannot honour is an error naming it. The failure policy is `move`'s.
+    Su2(Su2Args),
     /// Smooth a Plot3D grid along one grid direction (Alter's arclength Taubin smoothing).
     ///
     /// Points slide along their own grid lines to the filtered arclength; the first and last
@@ -461,6 +469,22 @@ pub enum EncodingArg {
     Ascii,
     /// Binary.
     Binary,
+}
+
+/// `deform su2`.
+#[derive(Clone, Debug, Args)]
+pub struct Su2Args {
+    /// The SU2 configuration file (as given to SU2_DEF).
+    pub config: PathBuf,
+    /// Deform the volume by this method instead of SU2's finite-element elasticity.
+    #[arg(long, value_enum)]
+    pub method: Option<Method>,
+    /// Write the result even if cells fold or invert (see `deform move`).
+    #[arg(long)]
+    pub allow_folds: bool,
+    /// Write the result even if the solver does not converge (see `deform move`).
+    #[arg(long)]
+    pub allow_unconverged: bool,
 }
 
 /// `deform smooth`.

@@ -11,6 +11,7 @@ mod mesh;
 mod r#move;
 mod quality;
 mod smooth;
+mod su2;
 
 use std::path::{Path, PathBuf};
 
@@ -51,6 +52,7 @@ pub fn run_split(
         Command::Mesh(MeshCommand::Block(a)) => mesh_block(a),
         Command::Move(a) => move_mesh(a, quiet, split),
         Command::Smooth(a) => smooth(a, quiet),
+        Command::Su2(a) => su2::su2(a, quiet),
         Command::Quality(a) => quality(a),
         Command::Convert(a) => convert(a),
     }
@@ -81,6 +83,8 @@ pub(crate) fn files_of(command: &Command) -> (Vec<&Path>, Vec<&Path>) {
                 .collect(),
         ),
         Command::Smooth(a) => (vec![&a.grid], vec![&a.out]),
+        // The mesh and output named in the configuration are checked when it is read.
+        Command::Su2(a) => (vec![&a.config], vec![]),
         Command::Quality(a) => (
             [Some(a.file.as_path()), opt(&a.reference)]
                 .into_iter()

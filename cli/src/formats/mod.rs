@@ -14,6 +14,7 @@ pub mod listdirected;
 pub mod motions;
 pub mod plot3d;
 pub mod su2;
+pub mod su2_config;
 pub mod su2_zones;
 pub mod vtk;
 
