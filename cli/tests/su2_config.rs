@@ -236,7 +236,11 @@ fn errors_name_the_option_or_the_line() {
         "DEFORM_CONSOLE_OUTPUT",
     );
     refuse(rotation, "this line has no equals sign", "line 13");
-    refuse(rotation, "DV_VALUE= 4", "line 13: DV_VALUE (first set at line 10) appears twice");
+    refuse(
+        rotation,
+        "DV_VALUE= 4",
+        "line 13: DV_VALUE (first set at line 10) appears twice",
+    );
     std::fs::write(
         d.join("nomarker.cfg"),
         "MESH_FILENAME= m.su2\nDV_KIND= ROTATION\n",

@@ -15,6 +15,7 @@ pub mod motions;
 pub mod plot3d;
 pub mod su2;
 pub mod su2_config;
+pub mod su2_ffd;
 pub mod su2_zones;
 pub mod vtk;
 
