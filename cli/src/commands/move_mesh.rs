@@ -8,8 +8,7 @@ use serde_json::json;
 
 use crate::args::{Coords, Method, MoveArgs, Solver, StiffnessArg};
 use crate::engine::{
-    run_move_in_steps, Motion, MoveInput, MoveMethod, MoveSolver, QualitySummary, SlideMarker,
-    Stiffness,
+    Motion, MoveInput, MoveMethod, MoveSolver, QualitySummary, SlideMarker, Stiffness,
 };
 use crate::formats::displacements::{parse_displacements, parse_surface_positions};
 use crate::formats::motions::{parse_motions, MarkerMotionSpec};
@@ -342,9 +341,17 @@ pub(crate) fn move_mesh(
         },
     };
     let spinner = crate::progress::spinner("deforming", quiet);
-    let result = run_move_in_steps(&input, &slide_markers, a.steps as usize);
+    let how = match a.method() {
+        // No graph solve to speed up.
+        Method::Idw if a.renumber == crate::renumber::Renumber::Auto => {
+            crate::renumber::Renumber::Off
+        }
+        _ => a.renumber,
+    };
+    let result =
+        crate::renumber::run_move_renumbered(&input, &slide_markers, a.steps as usize, how);
     spinner.finish_and_clear();
-    let mut result = result.map_err(|e| e.in_file(&a.mesh))?;
+    let (mut result, renumbered) = result.map_err(|e| e.in_file(&a.mesh))?;
     if !result.converged && !a.allow_unconverged {
         return Err(CliError::Unconverged(format!(
             "{}: the {} solve did not converge: relative residual {:.3e} after {} iterations (--tol {:e}, --max-iter {}); nothing was written (--allow-unconverged writes it anyway)",
@@ -600,6 +607,7 @@ pub(crate) fn move_mesh(
         max_area_ratio: q.max_area_ratio,
         min_scaled_jacobian: q.min_scaled_jacobian,
         max_wall_angle_change_deg: q.max_wall_angle_change_deg,
+        renumber: renumbered,
         seconds: seconds(t0),
     };
     if !report.converged {
@@ -717,6 +725,7 @@ pub(crate) struct MoveReport {
     max_area_ratio: Option<f64>,
     min_scaled_jacobian: f64,
     max_wall_angle_change_deg: Option<f64>,
+    renumber: crate::renumber::RenumberReport,
     seconds: f64,
 }
 
