@@ -231,11 +231,12 @@ def case(deform, d, fig, table, tag, mesh_file, mesh, moved, degrees, center, ti
                 got = Su2(os.path.join(d, out)).points - mesh.points
                 scale = np.abs(u).max()
                 fig.put(f"{key}_max_relative_difference_to_pyamg", f"{np.abs(got - u).max() / scale:e}")
-            band = ""
+            what = "input numbering"
             if r["mean_distance_before"] is not None:
-                band = f"mean index distance {r['mean_distance_before']:.0f} → {r['mean_distance_after']:.0f}"
+                what = (f"{r['method']}: mean index distance {r['mean_distance_before']:.0f} → "
+                        f"{r['mean_distance_after']:.0f}, {r['seconds']:.3f} s")
             table.append(
-                f"| {title}: `deform move --method {method} --renumber {renumber}` ({r['method']}; {band}) "
+                f"| {title}: `deform move --method {method} --renumber {renumber}` ({what}) "
                 f"| {wall:.2f} s, {rep['iterations']} it. | pyamg setup + solve {peer:.2f} s "
                 f"({fig.get(tag + '_pyamg_iterations')} it.) | {wall / peer:.2f} | ≤ 0.5 |"
             )

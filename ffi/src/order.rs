@@ -13,8 +13,10 @@ use deform_kernel::order::{
 use deform_kernel::Real;
 use deform_kernel_ffi_export::export;
 
-use crate::args::{assert_layout, by_components, by_dim, check_base, done, read_one, read_points, zero_based};
-use crate::graph::{read_graph, dk_graph};
+use crate::args::{
+    assert_layout, by_components, by_dim, check_base, done, read_one, read_points, zero_based,
+};
+use crate::graph::{dk_graph, read_graph};
 use crate::slice::{chunks, chunks_mut, input, out_one, output, In, Out};
 use crate::status::dk_status;
 
@@ -41,7 +43,12 @@ fn read_perm(p: In<'_, dk_permutation>) -> Result<Option<Permutation<'_>>, dk_st
     let s = read_one(p)?;
     // SAFETY: a token for a `dk_permutation` carries the contract of the functions that take
     // one: its arrays are readable for their lengths while the token is.
-    let (order, inverse) = unsafe { (In::new(s.order, s.order_len), In::new(s.inverse, s.inverse_len)) };
+    let (order, inverse) = unsafe {
+        (
+            In::new(s.order, s.order_len),
+            In::new(s.inverse, s.inverse_len),
+        )
+    };
     if order.is_absent() && inverse.is_absent() {
         return Ok(None);
     }
@@ -185,11 +192,17 @@ pub(crate) fn dk_order_renumber(
         check_base(index_base)?;
         let p = required_perm(perm)?;
         let idx = output(indices)?;
-        if idx.iter().any(|&i| zero_based(i, index_base) as usize >= p.len()) {
+        if idx
+            .iter()
+            .any(|&i| zero_based(i, index_base) as usize >= p.len())
+        {
             return Err(dk_status::DK_ERR_INDEX_OUT_OF_RANGE);
         }
         for i in idx.iter_mut() {
-            let new = p.inverse().get(zero_based(*i, index_base) as usize).copied();
+            let new = p
+                .inverse()
+                .get(zero_based(*i, index_base) as usize)
+                .copied();
             *i = new.unwrap_or(0).wrapping_add(index_base);
         }
         Ok(())
@@ -230,6 +243,12 @@ pub(crate) fn dk_order_permute_graph(
 /// `map` and `src` readable for their lengths; `dst` writable for its length, not
 /// overlapping them.
 #[export(twin)]
-pub(crate) fn dk_order_gather<T: Real>(map: In<'_, u32>, src: In<'_, T>, dst: Out<'_, T>) -> dk_status {
-    done((|| gather(input(map)?, input(src)?, output(dst)?).map_err(dk_status::from))())
+pub(crate) fn dk_order_gather<T: Real>(
+    map: In<'_, u32>,
+    src: In<'_, T>,
+    dst: Out<'_, T>,
+) -> dk_status {
+    done((|| {
+        gather(input(map)?, input(src)?, output(dst)?).map_err(dk_status::from)
+    })())
 }

@@ -175,12 +175,10 @@ pub(crate) fn bench_command(ctx: &Ctx, args: &[String]) -> ExitCode {
     let quick = args.iter().any(|a| a == "--quick");
     let no_peers = args.iter().any(|a| a == "--no-peers");
     let unordered_only = args.iter().any(|a| a == "--unordered-only");
-    if let Some(bad) = args.iter().find(|a| {
-        !matches!(
-            a.as_str(),
-            "--quick" | "--no-peers" | "--unordered-only"
-        )
-    }) {
+    if let Some(bad) = args
+        .iter()
+        .find(|a| !matches!(a.as_str(), "--quick" | "--no-peers" | "--unordered-only"))
+    {
         eprintln!(
             "xtask bench: unknown option `{bad}` (options: --quick, --no-peers, --unordered-only)"
         );
@@ -257,11 +255,14 @@ pub(crate) fn bench_command(ctx: &Ctx, args: &[String]) -> ExitCode {
     ExitCode::SUCCESS
 }
 
+/// A `deform move`'s median wall time and peak memory (kB), when it ran.
+type MoveFigures = Option<(f64, u64)>;
+
 /// The Markdown report: machine, load, figures and ratios against the targets.
 fn report(
     k: &BTreeMap<String, String>,
     p: &BTreeMap<String, String>,
-    (spring, quaternion): (Option<(f64, u64)>, Option<(f64, u64)>),
+    (spring, quaternion): (MoveFigures, MoveFigures),
     unordered_rows: &str,
     quick: bool,
     load_before: &str,

@@ -62,7 +62,10 @@ fn expected(edges: &[u32], points: &[f64]) -> String {
     let p = Permutation::new(&order, &inverse).unwrap();
     let d0 = index_distance(&g, None).unwrap();
     let d1 = index_distance(&g, Some(p)).unwrap();
-    out += &format!("distance {} {}\ndistance_rcm {} {}\n", d0.max, d0.sum, d1.max, d1.sum);
+    out += &format!(
+        "distance {} {}\ndistance_rcm {} {}\n",
+        d0.max, d0.sum, d1.max, d1.sum
+    );
     let mut moved = vec![[0.0; 2]; n];
     permute(p, &pts, &mut moved).unwrap();
     out += &hex64("moved", moved.as_flattened());
@@ -87,22 +90,40 @@ fn orders_from_c_equal_the_kernel_bit_for_bit() {
     let mut flags = c_flags();
     flags.push("-Wl,--disable-new-dtags".to_string());
     let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
-    for (link, name) in [(Link::Static, "order_static"), (Link::Shared, "order_shared")] {
+    for (link, name) in [
+        (Link::Static, "order_static"),
+        (Link::Shared, "order_shared"),
+    ] {
         let exe = tmp(name);
         compile("gcc", std::slice::from_ref(&src), &flags, link, &exe);
         let printed = run(&exe);
         let lines: Vec<&str> = printed.lines().collect();
-        assert_eq!(lines.last(), Some(&"order: every check held"), "{name}: {printed}");
-        let edges: Vec<u32> = field(&lines, "edges").iter().map(|x| x.parse().unwrap()).collect();
+        assert_eq!(
+            lines.last(),
+            Some(&"order: every check held"),
+            "{name}: {printed}"
+        );
+        let edges: Vec<u32> = field(&lines, "edges")
+            .iter()
+            .map(|x| x.parse().unwrap())
+            .collect();
         let points: Vec<f64> = field(&lines, "points")
             .iter()
             .map(|h| f64::from_bits(u64::from_str_radix(h, 16).unwrap()))
             .collect();
         let want = expected(&edges, &points);
-        let got: String = lines[2..lines.len() - 1].iter().map(|l| format!("{l}\n")).collect();
+        let got: String = lines[2..lines.len() - 1]
+            .iter()
+            .map(|l| format!("{l}\n"))
+            .collect();
         for (g, e) in got.lines().zip(want.lines()) {
             let head = |s: &str| s.split(' ').next().unwrap_or("").to_string();
-            assert!(g == e, "{name}: {} differs from the kernel's {}", head(g), head(e));
+            assert!(
+                g == e,
+                "{name}: {} differs from the kernel's {}",
+                head(g),
+                head(e)
+            );
         }
         assert_eq!(got.lines().count(), want.lines().count(), "{name}: lines");
         // The grid was numbered at random; RCM's band is about a grid row.
