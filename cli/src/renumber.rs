@@ -17,7 +17,8 @@
 use std::time::Instant;
 
 use clap::ValueEnum;
-use deform_kernel::order::{hilbert_order, index_distance, permute, rcm_order, Permutation};
+use deform_kernel::order::{hilbert_order, permute, rcm_order, IndexDistance, Permutation};
+use deform_kernel::CellKind;
 use serde::Serialize;
 
 use crate::engine::SlideMarker;
@@ -51,8 +52,8 @@ pub const AUTO_SPREAD: f64 = 8.0;
 pub struct RenumberReport {
     /// `off`, `rcm` or `hilbert`: what ran.
     pub method: &'static str,
-    /// Mean index distance across the cell edges before (`None`: `--renumber off`, not
-    /// measured).
+    /// Mean index distance across the cells' edges before (each cell's edges; `None`:
+    /// `--renumber off`, not measured).
     pub mean_distance_before: Option<f64>,
     /// After (equal to before when nothing was renumbered).
     pub mean_distance_after: Option<f64>,
@@ -84,7 +85,7 @@ fn kernel(source: deform_kernel::Error) -> CliError {
 }
 
 /// The mean of an index distance (0 without edges).
-fn mean(d: &deform_kernel::order::IndexDistance) -> f64 {
+fn mean(d: &IndexDistance) -> f64 {
     if d.edges == 0 {
         0.0
     } else {
@@ -99,16 +100,36 @@ pub fn auto_renumbers(n: usize, dim: usize, mean: f64) -> bool {
     n >= AUTO_MIN_NODES && mean > AUTO_SPREAD * scale
 }
 
+/// Index distance across the cells' edges (each cell's own edges, so an edge shared by two
+/// cells counts twice): no graph to build, so `auto` costs one pass over the cells on a mesh
+/// it leaves alone. `inverse`: the numbering to measure in (`None`: the input's).
+fn cell_distance(cells: &CellList, inverse: Option<&[u32]>) -> IndexDistance {
+    let new = |v: u32| inverse.map_or(Some(v), |i| i.get(v as usize).copied());
+    let mut d = IndexDistance::default();
+    for (code, nodes) in cells.iter() {
+        let Some(kind) = CellKind::from_vtk(code) else {
+            continue;
+        };
+        for &[a, b] in kind.edges() {
+            let pair = nodes.get(a as usize).copied().and_then(new);
+            if let (Some(x), Some(y)) = (pair, nodes.get(b as usize).copied().and_then(new)) {
+                let gap = x.abs_diff(y);
+                d.max = d.max.max(gap);
+                d.sum = d.sum.saturating_add(u64::from(gap));
+                d.edges += 1;
+            }
+        }
+    }
+    d
+}
+
 /// The permutation `how` asks for on this mesh (`None`: as given), and the report.
 fn choose(
     how: Renumber,
     input: &MoveInput<'_>,
 ) -> Result<(Option<Order>, RenumberReport), CliError> {
     let n = input.points.len();
-    let cells = cells_view(input.cells, n)?;
-    let graph = edge_graph(&cells, false)?;
-    let g = graph.view()?;
-    let before = index_distance(&g, None).map_err(kernel)?;
+    let before = cell_distance(input.cells, None);
     let method = match how {
         Renumber::Auto if auto_renumbers(n, input.dim, mean(&before)) => Renumber::Rcm,
         Renumber::Auto => Renumber::Off,
@@ -118,11 +139,14 @@ fn choose(
         order: vec![0; n],
         inverse: vec![0; n],
     };
+    let (o, i) = (&mut order.order, &mut order.inverse);
     match method {
-        Renumber::Rcm => rcm_order(&g, &mut order.order, &mut order.inverse).map_err(kernel)?,
+        Renumber::Rcm => {
+            let graph = edge_graph(&cells_view(input.cells, n)?, false)?;
+            rcm_order(&graph.view()?, o, i).map_err(kernel)?;
+        }
         Renumber::Hilbert => {
             let mut keys = vec![0u64; n];
-            let (o, i) = (&mut order.order, &mut order.inverse);
             if input.dim == 2 {
                 hilbert_order(&points_d::<2>(input.points), o, i, &mut keys)
             } else {
@@ -135,7 +159,7 @@ fn choose(
     let after = if method == Renumber::Off {
         before
     } else {
-        index_distance(&g, Some(order.view()?)).map_err(kernel)?
+        cell_distance(input.cells, Some(&order.inverse))
     };
     let report = RenumberReport {
         method: match method {
