@@ -122,27 +122,26 @@ fn public_su2_meshes_get_scipys_band() {
     }
 }
 
+/// A mesh's cell offsets, nodes and kinds.
+type MeshArrays<'a> = (&'a [u32], &'a [u32], &'a [u8]);
+
 #[test]
 fn generated_meshes_numbered_at_random_get_a_narrow_band() {
     let naca = naca_triangulated(&AirfoilGrid::default()).unwrap();
     let boxed = box_with_inner_box3(14, 4).unwrap();
-    let cases: [(&str, usize, &[u32], &[u32], &[u8]); 2] = [
+    let cases: [(&str, usize, MeshArrays<'_>); 2] = [
         (
             "naca",
             naca.node_count(),
-            &naca.offsets,
-            &naca.nodes,
-            &naca.kinds,
+            (&naca.offsets, &naca.nodes, &naca.kinds),
         ),
         (
             "box",
             boxed.node_count(),
-            &boxed.offsets,
-            &boxed.nodes,
-            &boxed.kinds,
+            (&boxed.offsets, &boxed.nodes, &boxed.kinds),
         ),
     ];
-    for (name, n, offsets, nodes, kinds) in cases {
+    for (name, n, (offsets, nodes, kinds)) in cases {
         let ordered = Cells::new(n, offsets, nodes, kinds).unwrap();
         let g0 = OwnedGraph::from_cells(&ordered);
         let generator_band = index_distance(&g0.graph(), None).unwrap().max;
