@@ -7,8 +7,7 @@
 
 use arbitrary::Arbitrary;
 use deform_kernel::order::{
-    gather, hilbert_order, index_distance, permute, permute_graph, rcm_order, renumber,
-    Permutation,
+    gather, hilbert_order, index_distance, permute, permute_graph, rcm_order, renumber, Permutation,
 };
 use deform_kernel::{graph_from_edges, Graph};
 use libfuzzer_sys::fuzz_target;

@@ -9,8 +9,7 @@
 use deform_on_target as _;
 
 use deform_kernel::order::{
-    gather, hilbert_order, index_distance, permute, permute_graph, rcm_order, renumber,
-    Permutation,
+    gather, hilbert_order, index_distance, permute, permute_graph, rcm_order, renumber, Permutation,
 };
 use deform_kernel::{Error, Graph, Real};
 use deform_on_target::mesh::{Mesh, N, NE, NT, NX};
@@ -63,7 +62,14 @@ fn orders_and_round_trips<T: Real>() {
     let mut k2 = [[T::ZERO; 1]; NE];
     gather(&map[..e], &k[..e], &mut k2[..e]).unwrap();
     let (mut off2, mut tgt2, mut map2) = ([0u32; N + 1], [0u32; NE], [0u32; NE]);
-    permute_graph(s.inverted(), &h, &mut off2, &mut tgt2[..e], Some(&mut map2[..e])).unwrap();
+    permute_graph(
+        s.inverted(),
+        &h,
+        &mut off2,
+        &mut tgt2[..e],
+        Some(&mut map2[..e]),
+    )
+    .unwrap();
     defmt::assert!(off2 == m.graph_offsets && tgt2[..e] == m.targets[..e]);
     let mut k3 = [[T::ZERO; 1]; NE];
     gather(&map2[..e], &k2[..e], &mut k3[..e]).unwrap();
@@ -98,7 +104,10 @@ fn typed_errors<T: Real>() {
     let mut keys = [7u64; N];
     defmt::assert!(matches!(
         hilbert_order(&pts, &mut o, &mut i, &mut keys),
-        Err(Error::NonFinite { arg: "points", position: 3 })
+        Err(Error::NonFinite {
+            arg: "points",
+            position: 3
+        })
     ));
     defmt::assert!(o == [9; N] && keys == [7; N]);
     let bad = [0u32; N];

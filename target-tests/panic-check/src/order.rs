@@ -6,8 +6,7 @@
 use core::hint::black_box;
 
 use deform_kernel::order::{
-    gather, hilbert_order, index_distance, permute, permute_graph, rcm_order, renumber,
-    Permutation,
+    gather, hilbert_order, index_distance, permute, permute_graph, rcm_order, renumber, Permutation,
 };
 use deform_kernel::{Graph, Real};
 
@@ -36,7 +35,13 @@ pub fn exercise() {
             keep(p.is_identity());
             keep(p.inverted().len());
             let (mut o2, mut t2, mut map) = ([0u32; N + 1], [0u32; 10], [0u32; 10]);
-            keep(permute_graph(p, &g, bb(&mut o2), bb(&mut t2), Some(bb(&mut map))));
+            keep(permute_graph(
+                p,
+                &g,
+                bb(&mut o2),
+                bb(&mut t2),
+                Some(bb(&mut map)),
+            ));
             keep(permute_graph(p, &g, bb(&mut o2), bb(&mut t2), None));
             let mut idx = bb([5u32, 0, 3]);
             keep(renumber(p, &mut idx));
@@ -67,5 +72,10 @@ fn run<T: Real>(p: Permutation<'_>, map: &[u32]) {
 fn hilbert<T: Real, const D: usize>() {
     let pts = bb([[T::ONE; D]; N]);
     let (mut order, mut inverse, mut keys) = ([0u32; N], [0u32; N], [0u64; N]);
-    keep(hilbert_order(&pts, bb(&mut order), bb(&mut inverse), bb(&mut keys)));
+    keep(hilbert_order(
+        &pts,
+        bb(&mut order),
+        bb(&mut inverse),
+        bb(&mut keys),
+    ));
 }
