@@ -377,6 +377,12 @@ pub struct MoveArgs {
     /// and report it (default: refuse with exit status 5, write nothing).
     #[arg(long)]
     pub allow_unconverged: bool,
+    /// Node numbering for the solve (SU2 meshes): the output is always in the input's
+    /// numbering. auto: reverse Cuthill–McKee when the mesh has at least 20 000 nodes and its
+    /// numbering scatters neighbours (as mesh generators write them), else as given; rcm or
+    /// hilbert: always; off: never (a mesh a solver already ordered).
+    #[arg(long, value_enum, default_value = "auto")]
+    pub renumber: crate::renumber::Renumber,
     /// Output SU2 mesh.
     #[arg(long)]
     pub out: PathBuf,

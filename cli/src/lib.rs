@@ -25,6 +25,7 @@ pub mod orientation;
 pub mod output;
 pub mod plot;
 pub mod progress;
+pub mod renumber;
 pub mod report;
 pub mod split;
 pub mod validity;

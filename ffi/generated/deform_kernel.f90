@@ -355,6 +355,19 @@ module deform_kernel
     integer(c_size_t) :: fixed_len
   end type
 
+  !> A permutation of `n` nodes: `order[new] = old` and `inverse[old] = new`, `n` entries
+  !! each, 0-based, as `dk_order_rcm` and `dk_order_hilbert` write them. Borrowed for the call.
+  type, bind(C), public :: dk_permutation
+    !> Old index of each new position.
+    type(c_ptr) :: order
+    !> Entries of `order`.
+    integer(c_size_t) :: order_len
+    !> New position of each old index.
+    type(c_ptr) :: inverse
+    !> Entries of `inverse`.
+    integer(c_size_t) :: inverse_len
+  end type
+
   !> The smoothed-aggregation multigrid preconditioner (the kernel's `AmgOptions`; see
   !! docs/amg.md) of `dk_spring_solve_linear_amg`, `dk_spring_solve_angle_amg` and of plans
   !! with `DK_PLAN_SOLVER_AMG`. `dk_amg_options_default` (and `dk_plan_options_default`) fill
@@ -762,9 +775,12 @@ module deform_kernel
             dk_deform_propagate_spring_scratch_len, dk_deform_propagate_spring, &
             dk_deform_propagate_spring_f32, dk_graph_from_edges_len, dk_graph_from_edges, &
             dk_cells_check, dk_graph_from_cells_len, dk_graph_from_cells, dk_graph_check, &
-            dk_plan_options_default, dk_plan_options_default_f32, dk_plan_work_sizes, &
-            dk_plan_work_sizes_f32, dk_plan_pool_sizes, dk_plan_pool_sizes_f32, dk_plan_init, &
-            dk_plan_init_f32, dk_plan_open, dk_plan_open_f32, dk_plan_step, dk_plan_step_f32, &
+            dk_order_rcm, dk_order_hilbert, dk_order_hilbert_f32, dk_order_index_distance, &
+            dk_order_permute, dk_order_permute_f32, dk_order_renumber, dk_order_permute_graph, &
+            dk_order_gather, dk_order_gather_f32, dk_plan_options_default, &
+            dk_plan_options_default_f32, dk_plan_work_sizes, dk_plan_work_sizes_f32, &
+            dk_plan_pool_sizes, dk_plan_pool_sizes_f32, dk_plan_init, dk_plan_init_f32, &
+            dk_plan_open, dk_plan_open_f32, dk_plan_step, dk_plan_step_f32, &
             dk_quality_cell_quality, dk_quality_cell_quality_f32, dk_quality_cell_measures, &
             dk_quality_cell_measures_f32, dk_quality_min_corner_jacobians, &
             dk_quality_min_corner_jacobians_f32, dk_quality_inverted_cells, &
@@ -1530,6 +1546,119 @@ module deform_kernel
       import :: c_bool, c_int32_t, dk_graph
       type(dk_graph), intent(in) :: graph
       logical(c_bool), value :: require_symmetric
+      integer(c_int32_t) :: s
+    end function
+    function dk_order_rcm(graph, order, order_len, inverse, inverse_len) bind(C, &
+        name="dk_order_rcm") result(s)
+      import :: c_int32_t, c_size_t, dk_graph
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), intent(inout) :: order(*)
+      integer(c_size_t), value :: order_len
+      integer(c_int32_t), intent(inout) :: inverse(*)
+      integer(c_size_t), value :: inverse_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_order_hilbert(points, points_len, dim, order, order_len, inverse, inverse_len, &
+        keys, keys_len) bind(C, name="dk_order_hilbert") result(s)
+      import :: c_double, c_int32_t, c_int64_t, c_size_t
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(inout) :: order(*)
+      integer(c_size_t), value :: order_len
+      integer(c_int32_t), intent(inout) :: inverse(*)
+      integer(c_size_t), value :: inverse_len
+      integer(c_int64_t), intent(inout) :: keys(*)
+      integer(c_size_t), value :: keys_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_order_hilbert_f32(points, points_len, dim, order, order_len, inverse, inverse_len, &
+        keys, keys_len) bind(C, name="dk_order_hilbert_f32") result(s)
+      import :: c_float, c_int32_t, c_int64_t, c_size_t
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(inout) :: order(*)
+      integer(c_size_t), value :: order_len
+      integer(c_int32_t), intent(inout) :: inverse(*)
+      integer(c_size_t), value :: inverse_len
+      integer(c_int64_t), intent(inout) :: keys(*)
+      integer(c_size_t), value :: keys_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_order_index_distance(graph, perm, max_out, sum_out) bind(C, &
+        name="dk_order_index_distance") result(s)
+      import :: c_int32_t, c_int64_t, dk_graph, dk_permutation
+      type(dk_graph), intent(in) :: graph
+      type(dk_permutation), intent(in) :: perm
+      integer(c_int32_t), intent(inout) :: max_out
+      integer(c_int64_t), intent(inout) :: sum_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_order_permute(perm, width, src, src_len, dst, dst_len) bind(C, &
+        name="dk_order_permute") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_permutation
+      type(dk_permutation), intent(in) :: perm
+      integer(c_int32_t), value :: width
+      real(c_double), intent(in) :: src(*)
+      integer(c_size_t), value :: src_len
+      real(c_double), intent(inout) :: dst(*)
+      integer(c_size_t), value :: dst_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_order_permute_f32(perm, width, src, src_len, dst, dst_len) bind(C, &
+        name="dk_order_permute_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_permutation
+      type(dk_permutation), intent(in) :: perm
+      integer(c_int32_t), value :: width
+      real(c_float), intent(in) :: src(*)
+      integer(c_size_t), value :: src_len
+      real(c_float), intent(inout) :: dst(*)
+      integer(c_size_t), value :: dst_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_order_renumber(perm, index_base, indices, indices_len) bind(C, &
+        name="dk_order_renumber") result(s)
+      import :: c_int32_t, c_size_t, dk_permutation
+      type(dk_permutation), intent(in) :: perm
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: indices(*)
+      integer(c_size_t), value :: indices_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_order_permute_graph(perm, graph, offsets, offsets_len, targets, targets_len, &
+        edge_map, edge_map_len) bind(C, name="dk_order_permute_graph") result(s)
+      import :: c_int32_t, c_size_t, dk_graph, dk_permutation
+      type(dk_permutation), intent(in) :: perm
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), intent(inout) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(inout) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      integer(c_int32_t), intent(inout) :: edge_map(*)
+      integer(c_size_t), value :: edge_map_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_order_gather(map, map_len, src, src_len, dst, dst_len) bind(C, &
+        name="dk_order_gather") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: map(*)
+      integer(c_size_t), value :: map_len
+      real(c_double), intent(in) :: src(*)
+      integer(c_size_t), value :: src_len
+      real(c_double), intent(inout) :: dst(*)
+      integer(c_size_t), value :: dst_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_order_gather_f32(map, map_len, src, src_len, dst, dst_len) bind(C, &
+        name="dk_order_gather_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: map(*)
+      integer(c_size_t), value :: map_len
+      real(c_float), intent(in) :: src(*)
+      integer(c_size_t), value :: src_len
+      real(c_float), intent(inout) :: dst(*)
+      integer(c_size_t), value :: dst_len
       integer(c_int32_t) :: s
     end function
     function dk_plan_options_default(out) bind(C, name="dk_plan_options_default") result(s)

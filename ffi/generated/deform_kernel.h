@@ -384,6 +384,19 @@ typedef struct {
   size_t fixed_len;
 } dk_spring_system_f32;
 
+// A permutation of `n` nodes: `order[new] = old` and `inverse[old] = new`, `n` entries
+// each, 0-based, as `dk_order_rcm` and `dk_order_hilbert` write them. Borrowed for the call.
+typedef struct {
+  // Old index of each new position.
+  const uint32_t *order;
+  // Entries of `order`.
+  size_t order_len;
+  // New position of each old index.
+  const uint32_t *inverse;
+  // Entries of `inverse`.
+  size_t inverse_len;
+} dk_permutation;
+
 // The smoothed-aggregation multigrid preconditioner (the kernel's `AmgOptions`; see
 // docs/amg.md) of [`dk_spring_solve_linear_amg`], [`dk_spring_solve_angle_amg`] and of plans
 // with `DK_PLAN_SOLVER_AMG`. [`dk_amg_options_default`] (and `dk_plan_options_default`) fill
@@ -1670,6 +1683,150 @@ dk_status dk_graph_from_cells(size_t node_count,
 // # Safety
 // `graph` points to one readable struct whose arrays are readable for their lengths.
 dk_status dk_graph_check(const dk_graph *graph, bool require_symmetric);
+
+// Reverse Cuthill–McKee order of the graph's nodes into `order` and `inverse` (`node_count`
+// entries each): every connected component breadth-first from a pseudo-peripheral node,
+// neighbours by increasing degree (ties: lower index), the whole order reversed. Errors
+// (nothing written): graph errors, `DK_ERR_LENGTH_MISMATCH`, pointer errors.
+//
+// # Safety
+// The graph's arrays readable for their lengths; `order` and `inverse` writable for theirs,
+// not overlapping each other or the graph.
+dk_status dk_order_rcm(const dk_graph *graph,
+                       uint32_t *order,
+                       size_t order_len,
+                       uint32_t *inverse,
+                       size_t inverse_len);
+
+// Hilbert-curve order of `points` (`node_count * dim` scalars, `dim` 2 or 3) into `order`
+// and `inverse` (`node_count` entries each); `keys` is scratch of at least `node_count`
+// entries (on return `keys[old]` is node `old`'s curve key). Integer keys on the bounding
+// box (32 bits an axis in 2D, 21 in 3D), ties by index. Errors (nothing written):
+// `DK_ERR_NON_FINITE`, `DK_ERR_INVALID_PARAMETER` (`dim`), `DK_ERR_BUFFER_TOO_SMALL`
+// (`keys`), length and pointer errors.
+//
+// # Safety
+// `points` readable for its length; `order`, `inverse` and `keys` writable for theirs, not
+// overlapping each other or `points`.
+dk_status dk_order_hilbert(const double *points,
+                           size_t points_len,
+                           uint32_t dim,
+                           uint32_t *order,
+                           size_t order_len,
+                           uint32_t *inverse,
+                           size_t inverse_len,
+                           uint64_t *keys,
+                           size_t keys_len);
+
+// `f32` twin of [`dk_order_hilbert`].
+//
+// # Safety
+// As [`dk_order_hilbert`].
+dk_status dk_order_hilbert_f32(const float *points,
+                               size_t points_len,
+                               uint32_t dim,
+                               uint32_t *order,
+                               size_t order_len,
+                               uint32_t *inverse,
+                               size_t inverse_len,
+                               uint64_t *keys,
+                               size_t keys_len);
+
+// Index distance across the graph's directed edges: the largest `|i - j|` (the bandwidth)
+// into `*max_out` and their sum into `*sum_out` (divide by `targets_len` for the mean), in
+// the graph's numbering (`perm` with both arrays NULL, lengths 0) or in the numbering `perm`
+// gives. Errors (nothing written): graph and permutation errors, `DK_ERR_LENGTH_MISMATCH`,
+// pointer errors.
+//
+// # Safety
+// The graph's and the permutation's arrays readable for their lengths; `max_out` and
+// `sum_out` point to one writable value each.
+dk_status dk_order_index_distance(const dk_graph *graph,
+                                  const dk_permutation *perm,
+                                  uint32_t *max_out,
+                                  uint64_t *sum_out);
+
+// Per-node values in the new numbering: `dst[new] = src[order[new]]`, `width` scalars a node
+// (1 to 7: a field, 2D or 3D points, ...), `src` and `dst` `node_count * width` scalars each.
+// With `order` and `inverse` swapped it puts them back. Errors (nothing written): permutation
+// errors, `DK_ERR_INVALID_PARAMETER` (`width`), length and pointer errors.
+//
+// # Safety
+// The permutation's arrays and `src` readable for their lengths; `dst` writable for its
+// length, not overlapping `src` or the permutation.
+dk_status dk_order_permute(const dk_permutation *perm,
+                           uint32_t width,
+                           const double *src,
+                           size_t src_len,
+                           double *dst,
+                           size_t dst_len);
+
+// `f32` twin of [`dk_order_permute`].
+//
+// # Safety
+// As [`dk_order_permute`].
+dk_status dk_order_permute_f32(const dk_permutation *perm,
+                               uint32_t width,
+                               const float *src,
+                               size_t src_len,
+                               float *dst,
+                               size_t dst_len);
+
+// Node indices in the new numbering, in place: `i` becomes `inverse[i]` (cell node lists,
+// marker lists), read and written in `index_base` (0 or 1). With `order` and `inverse`
+// swapped it puts them back. Errors (nothing written): permutation errors,
+// `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_BAD_INDEX_BASE`, pointer errors.
+//
+// # Safety
+// The permutation's arrays readable for their lengths; `indices` readable and writable for
+// its length, not overlapping the permutation.
+dk_status dk_order_renumber(const dk_permutation *perm,
+                            uint32_t index_base,
+                            uint32_t *indices,
+                            size_t indices_len);
+
+// The graph in the new numbering into `offsets` (`node_count + 1` entries) and `targets`
+// (`targets_len` of the graph): row `new` is old row `order[new]`, targets renumbered and
+// sorted. `edge_map` (NULL with length 0, or `targets_len` entries) receives the old
+// directed-edge index of each new one, for `dk_order_gather` of per-edge data. Errors
+// (nothing written): graph and permutation errors, length and pointer errors.
+//
+// # Safety
+// Inputs readable for their lengths; `offsets`, `targets` and `edge_map` writable for
+// theirs, not overlapping each other or the inputs.
+dk_status dk_order_permute_graph(const dk_permutation *perm,
+                                 const dk_graph *graph,
+                                 uint32_t *offsets,
+                                 size_t offsets_len,
+                                 uint32_t *targets,
+                                 size_t targets_len,
+                                 uint32_t *edge_map,
+                                 size_t edge_map_len);
+
+// `dst[k] = src[map[k]]` (per-edge data such as stiffness after `dk_order_permute_graph`,
+// with its `edge_map`); `dst` has `map_len` entries. Errors (nothing written):
+// `DK_ERR_INDEX_OUT_OF_RANGE`, length and pointer errors.
+//
+// # Safety
+// `map` and `src` readable for their lengths; `dst` writable for its length, not
+// overlapping them.
+dk_status dk_order_gather(const uint32_t *map,
+                          size_t map_len,
+                          const double *src,
+                          size_t src_len,
+                          double *dst,
+                          size_t dst_len);
+
+// `f32` twin of [`dk_order_gather`].
+//
+// # Safety
+// As [`dk_order_gather`].
+dk_status dk_order_gather_f32(const uint32_t *map,
+                              size_t map_len,
+                              const float *src,
+                              size_t src_len,
+                              float *dst,
+                              size_t dst_len);
 
 // Fills `*out` with the default plan options for f64: the quaternion method, multigrid-
 // preconditioned CG, Batina stiffness (exponent 1), the default stopping rules of

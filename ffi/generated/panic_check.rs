@@ -719,6 +719,129 @@ pub fn exercise() {
     });
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::order::dk_order_rcm(
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::order::dk_order_hilbert(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::order::dk_order_hilbert_f32(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::order::dk_order_index_distance(
+            black_box(null()),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::order::dk_order_permute(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::order::dk_order_permute_f32(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::order::dk_order_renumber(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::order::dk_order_permute_graph(
+            black_box(null()),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::order::dk_order_gather(
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::order::dk_order_gather_f32(
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
     black_box(unsafe { deform_kernel_ffi::plan::dk_plan_options_default(black_box(null_mut())) });
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.

@@ -40,6 +40,8 @@ mod slice;
 pub mod deformation;
 #[path = "../generated/graph.rs"]
 pub mod graph;
+#[path = "../generated/order.rs"]
+pub mod order;
 #[path = "../generated/plan.rs"]
 pub mod plan;
 #[path = "../generated/pools.rs"]

@@ -23,6 +23,7 @@ use deform_kernel::{graph_from_edges, Quat};
 use deform_kernel_ffi::deformation::{self as de, dk_boundary_motion, dk_boundary_motion_f32};
 use deform_kernel_ffi::dk_status;
 use deform_kernel_ffi::graph::{dk_cells, dk_graph, dk_graph_from_edges};
+use deform_kernel_ffi::order::{self as or, dk_permutation};
 use deform_kernel_ffi::plan::{
     self as pl, dk_plan_info, dk_plan_mesh, dk_plan_mesh_f32, dk_plan_options, dk_plan_pools,
     dk_plan_pools_f32, dk_plan_sizes, dk_plan_step_report,
@@ -193,6 +194,10 @@ enum Op {
         f32: bool,
     },
     Deform(DeformSpec),
+    /// Node orders: `dk_order_rcm`, `dk_order_hilbert` and `dk_order_permute` there and back.
+    Order {
+        f32: bool,
+    },
     Plan {
         quaternion: bool,
         amg: bool,
@@ -1218,6 +1223,117 @@ fn batina<T: Sc>(c: &mut Ctx, exponent: i16) {
     // arrays too).
     let s = unsafe { (T::BATINA)(gp, p.p(), p.n(), m.dim, T::of(e), k.m(), k.n()) };
     check_out("batina stiffness", s, &k, m.finite && !c.vals.nonfinite);
+}
+
+/// `dk_order_hilbert` or its `_f32` twin.
+type HilbertFn<T> = unsafe extern "C" fn(
+    *const T,
+    usize,
+    u32,
+    *mut u32,
+    usize,
+    *mut u32,
+    usize,
+    *mut u64,
+    usize,
+) -> dk_status;
+/// `dk_order_permute` or its `_f32` twin.
+type PermuteFn<T> =
+    unsafe extern "C" fn(*const dk_permutation, u32, *const T, usize, *mut T, usize) -> dk_status;
+
+/// An order's two outputs: untouched on error; on success a permutation (as the kernel's
+/// `Permutation::new` accepts) in the lengths passed, nothing written past them.
+fn check_perm(what: &str, s: dk_status, order: &Buf<u32>, inverse: &Buf<u32>) {
+    let untouched =
+        |b: &Buf<u32>, from: usize| b.v[from.min(b.v.len())..].iter().all(|&x| x == u32::MAX);
+    if s != dk_status::DK_OK {
+        assert!(
+            untouched(order, 0) && untouched(inverse, 0),
+            "{what}: written on {s:?}"
+        );
+        return;
+    }
+    let (o, i) = (&order.v[..order.n()], &inverse.v[..inverse.n()]);
+    assert!(
+        deform_kernel::order::Permutation::new(o, i).is_ok(),
+        "{what}: not a permutation"
+    );
+    assert!(
+        untouched(order, order.n()) && untouched(inverse, inverse.n()),
+        "{what}: past its length"
+    );
+}
+
+/// Node orders of the grid: RCM of its graph, the Hilbert order of its points, and the points
+/// permuted by that order and back (bit for bit when both calls succeed).
+fn orders<T: Sc>(c: &mut Ctx, hilbert: HilbertFn<T>, permute: PermuteFn<T>) {
+    let m = c.m;
+    let o = Buf::input(&mut c.kn, &m.offsets, 0);
+    let t = Buf::input(&mut c.kn, &m.targets, 0);
+    let g = graph_of(&o, &t);
+    let gp = opt_ptr(&mut c.kn, &g);
+    let (mut ro, mut ri) = (
+        Buf::output(&mut c.kn, m.n, u32::MAX),
+        Buf::output(&mut c.kn, m.n, u32::MAX),
+    );
+    // SAFETY: every pointer is NULL or valid for the length passed with it (the struct's
+    // arrays too).
+    let s = unsafe { or::dk_order_rcm(gp, ro.m(), ro.n(), ri.m(), ri.n()) };
+    check_perm("rcm", s, &ro, &ri);
+    let p = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
+    let (mut ho, mut hi) = (
+        Buf::output(&mut c.kn, m.n, u32::MAX),
+        Buf::output(&mut c.kn, m.n, u32::MAX),
+    );
+    let mut keys = Buf::output(&mut c.kn, m.n, u64::MAX);
+    // SAFETY: as above.
+    let s = unsafe {
+        hilbert(
+            p.p(),
+            p.n(),
+            m.dim,
+            ho.m(),
+            ho.n(),
+            hi.m(),
+            hi.n(),
+            keys.m(),
+            keys.n(),
+        )
+    };
+    check_perm("hilbert", s, &ho, &hi);
+    if s != dk_status::DK_OK {
+        assert!(
+            keys.v.iter().all(|&k| k == u64::MAX),
+            "hilbert keys written on {s:?}"
+        );
+        return;
+    }
+    let perm = dk_permutation {
+        order: ho.v.as_ptr(),
+        order_len: ho.n(),
+        inverse: hi.v.as_ptr(),
+        inverse_len: hi.n(),
+    };
+    let back = dk_permutation {
+        order: perm.inverse,
+        order_len: perm.inverse_len,
+        inverse: perm.order,
+        inverse_len: perm.order_len,
+    };
+    let mut mid = Buf::output(&mut c.kn, p.n(), T::SENT);
+    // SAFETY: as above; the permutation's arrays are `ho` and `hi`, alive here.
+    let s = unsafe { permute(&perm, m.dim, p.p(), p.n(), mid.m(), mid.n()) };
+    check_out("order permute", s, &mid, false);
+    if s == dk_status::DK_OK {
+        let mut out = vec![T::SENT; mid.n()];
+        // SAFETY: as above.
+        let s = unsafe { permute(&back, m.dim, mid.p(), mid.n(), out.as_mut_ptr(), out.len()) };
+        assert_eq!(s, dk_status::DK_OK, "permuting back");
+        assert!(
+            bits(&out) == bits(&p.v[..out.len()]),
+            "permuted there and back differs"
+        );
+    }
 }
 
 /// Wall distances or dual volumes, their stiffness factors, and a stiffness of ones scaled
@@ -3521,6 +3637,13 @@ fn run_op(c: &mut Ctx, op: &Op) {
             f32,
         } => {
             prec!(f32, redistribute(direction, normalised, perturb))
+        }
+        Op::Order { f32 } => {
+            if f32 {
+                orders::<f32>(c, or::dk_order_hilbert_f32, or::dk_order_permute_f32)
+            } else {
+                orders::<f64>(c, or::dk_order_hilbert, or::dk_order_permute)
+            }
         }
         Op::Plan {
             quaternion,

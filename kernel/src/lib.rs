@@ -36,6 +36,7 @@ pub mod error;
 pub mod exact_sum;
 pub mod graph;
 pub mod graph_builder;
+pub mod order;
 pub mod plan;
 pub mod quality;
 pub mod quat;

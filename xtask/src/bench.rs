@@ -9,8 +9,14 @@
 //!    answers agree with the kernel's;
 //! 3. the release `deform` tool moves the 234k-node NACA 2412 mesh with the spring and the
 //!    quaternion method (wall time, peak resident memory);
-//! 4. the figures and ratios (kernel ÷ peer, below 1 = kernel faster) go to stdout and to
+//! 4. `bench/peers/unordered.py` writes meshes numbered as users have them (the NACA mesh
+//!    randomly permuted; a gmsh tetrahedral mesh in gmsh's numbering) and times the whole
+//!    `deform move` (`--renumber off` and `auto`) against pyamg setup + solve of the same
+//!    spring system (issue 34);
+//! 5. the figures and ratios (kernel ÷ peer, below 1 = kernel faster) go to stdout and to
 //!    `target/bench/report.md`, with the machine, the date and the load.
+//!
+//! `--unordered-only` runs step 4 alone (with the NACA mesh it needs).
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -119,15 +125,63 @@ fn num(m: &BTreeMap<String, String>, k: &str) -> Option<f64> {
     m.get(k).and_then(|v| v.parse().ok())
 }
 
-/// `cargo xtask bench [--quick] [--no-peers]`.
+/// The bench venv's Python with the pinned peers installed (created on first use).
+fn peers_python(ctx: &Ctx) -> Option<std::path::PathBuf> {
+    let venv = ctx.root.join("target").join("bench-venv");
+    let python = venv.join("bin").join("python");
+    if !python.exists() && !run(Command::new("python3").args(["-m", "venv"]).arg(&venv)) {
+        return None;
+    }
+    let reqs = ctx
+        .root
+        .join("bench")
+        .join("peers")
+        .join("requirements.txt");
+    run(Command::new(&python)
+        .args(["-m", "pip", "install", "--quiet", "-r"])
+        .arg(&reqs))
+    .then_some(python)
+}
+
+/// A peers script run single-threaded: one thread for BLAS/OpenMP, as the kernel has (on a
+/// shared 2-core machine idle-spinning BLAS threads slowed pyamg 40×: 20k mesh, 3.85 s
+/// against 0.11 s single-threaded).
+fn peers_command(python: &Path, script: &Path) -> Command {
+    let mut c = Command::new(python);
+    c.arg(script);
+    for var in ["OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"] {
+        c.env(var, "1");
+    }
+    c
+}
+
+/// Step 4: the unordered meshes (`bench/peers/unordered.py`); the report's rows, or `None`
+/// when it failed.
+fn unordered(ctx: &Ctx, python: &Path, dir: &Path, deform: &Path, quick: bool) -> Option<String> {
+    let script = ctx.root.join("bench").join("peers").join("unordered.py");
+    let mut c = peers_command(python, &script);
+    c.arg(dir).arg(deform);
+    if quick {
+        c.arg("--quick");
+    }
+    if !run(&mut c) {
+        return None;
+    }
+    std::fs::read_to_string(dir.join("unordered.md")).ok()
+}
+
+/// `cargo xtask bench [--quick] [--no-peers] [--unordered-only]`.
 pub(crate) fn bench_command(ctx: &Ctx, args: &[String]) -> ExitCode {
     let quick = args.iter().any(|a| a == "--quick");
     let no_peers = args.iter().any(|a| a == "--no-peers");
+    let unordered_only = args.iter().any(|a| a == "--unordered-only");
     if let Some(bad) = args
         .iter()
-        .find(|a| !matches!(a.as_str(), "--quick" | "--no-peers"))
+        .find(|a| !matches!(a.as_str(), "--quick" | "--no-peers" | "--unordered-only"))
     {
-        eprintln!("xtask bench: unknown option `{bad}` (options: --quick, --no-peers)");
+        eprintln!(
+            "xtask bench: unknown option `{bad}` (options: --quick, --no-peers, --unordered-only)"
+        );
         return ExitCode::from(2);
     }
     let dir = ctx.root.join("target").join("bench");
@@ -137,6 +191,10 @@ pub(crate) fn bench_command(ctx: &Ctx, args: &[String]) -> ExitCode {
     }
     let load_before = load_average();
     let started = Instant::now();
+
+    if unordered_only {
+        return unordered_alone(ctx, &dir, quick, &load_before);
+    }
 
     // 1. The kernel.
     let manifest = ctx.root.join("bench").join("Cargo.toml");
@@ -150,68 +208,39 @@ pub(crate) fn bench_command(ctx: &Ctx, args: &[String]) -> ExitCode {
     }
 
     // 2. The peers.
-    if !no_peers {
-        let venv = ctx.root.join("target").join("bench-venv");
-        let python = venv.join("bin").join("python");
-        if !python.exists() && !run(Command::new("python3").args(["-m", "venv"]).arg(&venv)) {
+    let python = if no_peers {
+        None
+    } else {
+        let Some(python) = peers_python(ctx) else {
             return ExitCode::FAILURE;
-        }
-        let reqs = ctx
-            .root
-            .join("bench")
-            .join("peers")
-            .join("requirements.txt");
-        if !run(Command::new(&python)
-            .args(["-m", "pip", "install", "--quiet", "-r"])
-            .arg(&reqs))
-        {
-            return ExitCode::FAILURE;
-        }
+        };
         let script = ctx.root.join("bench").join("peers").join("peers.py");
-        // One thread for BLAS/OpenMP, as the kernel has: on a shared 2-core machine idle-spinning
-        // BLAS threads slowed pyamg 40× (20k mesh: 3.85 s against 0.11 s single-threaded).
-        let mut peers = Command::new(&python);
-        peers.arg(&script).arg(&dir);
-        for var in ["OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"] {
-            peers.env(var, "1");
-        }
-        if !run(&mut peers) {
+        if !run(peers_command(&python, &script).arg(&dir)) {
             return ExitCode::FAILURE;
         }
-    }
+        Some(python)
+    };
 
     // 3. The deform tool on the NACA 2412 mesh.
-    if !run(&mut ctx.cargo(&["build", "--release", "-p", "deform-cli"])) {
+    let Some((deform, mesh)) = deform_and_naca(ctx, &dir, quick) else {
         return ExitCode::FAILURE;
-    }
-    let deform = ctx.root.join("target").join("release").join("deform");
-    let mesh = dir.join("naca2412.su2");
-    let (surface, radial) = if quick {
-        ("256", "80")
-    } else {
-        ("1024", "229")
     };
-    if !run(Command::new(&deform)
-        .args([
-            "mesh",
-            "naca",
-            "--kind",
-            "inviscid",
-            "--surface-points",
-            surface,
-        ])
-        .args(["--radial-points", radial, "--first-layer", "1e-5", "--out"])
-        .arg(&mesh))
-    {
-        return ExitCode::FAILURE;
-    }
     let reps = if quick { 1 } else { 3 };
     let spring = move_figures(&deform, &dir, &mesh, "spring", reps);
     let quaternion = move_figures(&deform, &dir, &mesh, "quaternion", reps);
 
+    // 4. The unordered meshes.
+    let rows = match &python {
+        Some(python) => match unordered(ctx, python, &dir, &deform, quick) {
+            Some(rows) => rows,
+            None => return ExitCode::FAILURE,
+        },
+        None => String::new(),
+    };
+
     let k = read_figures(&dir.join("kernel.txt"));
     let p = read_figures(&dir.join("peers.txt"));
-    let report = report(&k, &p, spring, quaternion, quick, &load_before);
+    let report = report(&k, &p, (spring, quaternion), &rows, quick, &load_before);
     print!("\n{report}");
     let path = dir.join("report.md");
     if std::fs::write(&path, &report).is_err() {
@@ -226,12 +255,15 @@ pub(crate) fn bench_command(ctx: &Ctx, args: &[String]) -> ExitCode {
     ExitCode::SUCCESS
 }
 
+/// A `deform move`'s median wall time and peak memory (kB), when it ran.
+type MoveFigures = Option<(f64, u64)>;
+
 /// The Markdown report: machine, load, figures and ratios against the issue's targets.
 fn report(
     k: &BTreeMap<String, String>,
     p: &BTreeMap<String, String>,
-    spring: Option<(f64, u64)>,
-    quaternion: Option<(f64, u64)>,
+    (spring, quaternion): (MoveFigures, MoveFigures),
+    unordered_rows: &str,
     quick: bool,
     load_before: &str,
 ) -> String {
@@ -353,6 +385,7 @@ fn report(
         f(total(ps), "s"),
         ratio(quaternion.map(|v| v.0), total(ps))
     );
+    s.push_str(unordered_rows);
     let _ = writeln!(s);
     let _ = writeln!(
         s,
@@ -366,4 +399,61 @@ fn report(
         p.get("spring_pyamg_levels").map_or("—", String::as_str),
     );
     s
+}
+
+/// The release `deform` and the generated NACA 2412 mesh (line by line numbering).
+fn deform_and_naca(
+    ctx: &Ctx,
+    dir: &Path,
+    quick: bool,
+) -> Option<(std::path::PathBuf, std::path::PathBuf)> {
+    if !run(&mut ctx.cargo(&["build", "--release", "-p", "deform-cli"])) {
+        return None;
+    }
+    let deform = ctx.root.join("target").join("release").join("deform");
+    let mesh = dir.join("naca2412.su2");
+    let (surface, radial) = if quick {
+        ("256", "80")
+    } else {
+        ("1024", "229")
+    };
+    run(Command::new(&deform)
+        .args([
+            "mesh",
+            "naca",
+            "--kind",
+            "inviscid",
+            "--surface-points",
+            surface,
+        ])
+        .args(["--radial-points", radial, "--first-layer", "1e-5", "--out"])
+        .arg(&mesh))
+    .then_some((deform, mesh))
+}
+
+/// `--unordered-only`: step 4 alone, its rows as the report.
+fn unordered_alone(ctx: &Ctx, dir: &Path, quick: bool, load_before: &str) -> ExitCode {
+    let Some(python) = peers_python(ctx) else {
+        return ExitCode::FAILURE;
+    };
+    let Some((deform, _)) = deform_and_naca(ctx, dir, quick) else {
+        return ExitCode::FAILURE;
+    };
+    let Some(rows) = unordered(ctx, &python, dir, &deform, quick) else {
+        return ExitCode::FAILURE;
+    };
+    let report = format!(
+        "## `cargo xtask bench --unordered-only{}`\n\n{}; load average before {load_before}, after {}.\n\n\
+         | work | kernel | peer | ratio | target |\n|---|---|---|---|---|\n{rows}",
+        if quick { " --quick" } else { "" },
+        cpu_model(),
+        load_average()
+    );
+    print!("\n{report}");
+    let path = dir.join("report_unordered.md");
+    if std::fs::write(&path, &report).is_err() {
+        eprintln!("xtask bench: cannot write {}", path.display());
+        return ExitCode::FAILURE;
+    }
+    ExitCode::SUCCESS
 }

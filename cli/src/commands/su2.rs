@@ -182,6 +182,7 @@ fn move_args(a: &Su2Args, config: &Su2Config) -> Result<(MoveArgs, bool), CliErr
         reach: None,
         allow_folds: a.allow_folds,
         allow_unconverged: a.allow_unconverged,
+        renumber: crate::renumber::Renumber::Auto,
         out: PathBuf::from(text("MESH_OUT_FILENAME", "mesh_out.su2")),
         vtk: None,
         plot: None,

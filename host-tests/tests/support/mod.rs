@@ -7,6 +7,7 @@
 #![allow(dead_code)]
 
 pub mod c_build;
+pub mod order;
 pub mod python;
 pub mod quaternion;
 pub mod spring;

@@ -39,6 +39,7 @@ mod amg;
 mod c_abi;
 mod deformation;
 mod foundation;
+mod order;
 mod plan;
 mod quality;
 mod slide;
@@ -55,6 +56,7 @@ fn main() -> ! {
     deformation::exercise();
     slide::exercise();
     plan::exercise();
+    order::exercise();
     c_abi::exercise();
     #[cfg(feature = "deliberate-panic")]
     deliberate_panic();

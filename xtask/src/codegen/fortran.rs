@@ -77,7 +77,7 @@ fn fortran_type(t: &str, modules: &[Module]) -> Result<(String, String), String>
         "f64" => ("real(c_double)", "c_double"),
         "f32" => ("real(c_float)", "c_float"),
         "u32" | "i32" => ("integer(c_int32_t)", "c_int32_t"),
-        "i64" => ("integer(c_int64_t)", "c_int64_t"),
+        "i64" | "u64" => ("integer(c_int64_t)", "c_int64_t"),
         "usize" => ("integer(c_size_t)", "c_size_t"),
         "u8" => ("integer(c_int8_t)", "c_int8_t"),
         "bool" => ("logical(c_bool)", "c_bool"),

@@ -17,8 +17,7 @@ use serde_json::json;
 
 use crate::args::{Method, MoveArgs, Solver, StiffnessArg};
 use crate::engine::{
-    run_move_in_steps, MoveInput, MoveMethod, MoveResult, MoveSolver, QualitySummary, SlideMarker,
-    Stiffness,
+    MoveInput, MoveMethod, MoveResult, MoveSolver, QualitySummary, SlideMarker, Stiffness,
 };
 use crate::error::CliError;
 use crate::files::{input_kind, marker_nodes, marker_union, read_su2_zone, FileKind};
@@ -116,10 +115,11 @@ fn move_su2(a: &MoveArgs, quiet: bool, split: Option<&dyn Splitter>) -> Result<O
         s.check_move(a)?;
     }
     let input = move_input(a, &mesh, &roles, motion, split)?;
+    let how = renumbering(a);
     let spinner = crate::progress::spinner("deforming", quiet);
-    let result = run_move_in_steps(&input, &roles.slide, a.steps as usize);
+    let result = crate::renumber::run_move_renumbered(&input, &roles.slide, a.steps as usize, how);
     spinner.finish_and_clear();
-    let mut result = result.map_err(|e| e.in_file(&a.mesh))?;
+    let (mut result, renumbered) = result.map_err(|e| e.in_file(&a.mesh))?;
     check_converged(a, &result)?;
     if split.is_some_and(|s| !s.is_root()) {
         // The other processes helped with the solves; the first one writes and reports.
@@ -155,10 +155,21 @@ fn move_su2(a: &MoveArgs, quiet: bool, split: Option<&dyn Splitter>) -> Result<O
         result: &result,
         quality: &q,
         outputs,
+        renumbered,
         started,
     };
     let report = report::move_report(a, run);
     finish(a, report, &q, mesh.dim)
+}
+
+/// `--renumber`, except that `auto` leaves IDW alone (no graph solve to speed up).
+fn renumbering(a: &MoveArgs) -> crate::renumber::Renumber {
+    match a.method() {
+        Method::Idw if a.renumber == crate::renumber::Renumber::Auto => {
+            crate::renumber::Renumber::Off
+        }
+        _ => a.renumber,
+    }
 }
 
 /// The engine's input: the mesh, the markers by role, the motion and the method's options.

@@ -53,6 +53,7 @@ pub(crate) struct MoveReport {
     max_area_ratio: Option<f64>,
     min_scaled_jacobian: f64,
     max_wall_angle_change_deg: Option<f64>,
+    renumber: crate::renumber::RenumberReport,
     seconds: f64,
 }
 
@@ -74,6 +75,8 @@ pub(super) struct Run<'a> {
     pub result: &'a MoveResult,
     pub quality: &'a QualitySummary,
     pub outputs: Vec<String>,
+    /// What `--renumber` did.
+    pub renumbered: crate::renumber::RenumberReport,
     pub started: Instant,
 }
 
@@ -145,6 +148,7 @@ pub(super) fn move_report(a: &MoveArgs, run: Run<'_>) -> MoveReport {
         max_area_ratio: q.max_area_ratio,
         min_scaled_jacobian: q.min_scaled_jacobian,
         max_wall_angle_change_deg: q.max_wall_angle_change_deg,
+        renumber: run.renumbered,
         seconds: seconds(run.started),
     }
 }
