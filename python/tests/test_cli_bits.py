@@ -1,0 +1,58 @@
+"""Bit-equality with the `deform move` tool of this repository on the same SU2 mesh.
+
+The tool is found through $DEFORM_BIN, else target/{release,debug}/deform of the repository;
+`cargo xtask ci --step python` builds it and sets DEFORM_REQUIRE_CLI=1 so that a missing tool
+fails instead of skipping.
+"""
+
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import deform_kernel as dk
+from meshes import holed_square, read_su2_points, write_su2
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def deform_bin():
+    candidates = [os.environ.get("DEFORM_BIN")] + [
+        ROOT / "target" / p / "deform" for p in ("release", "debug")
+    ]
+    for c in candidates:
+        if c and pathlib.Path(c).is_file():
+            return str(c)
+    if os.environ.get("DEFORM_REQUIRE_CLI"):
+        pytest.fail("the deform tool was not found (set DEFORM_BIN)")
+    pytest.skip("the deform tool is not built (cargo build -p deform-cli)")
+
+
+CASES = [
+    ("quaternion", ["--rotate", "12.5"], dk.Rotation(12.5)),
+    ("quaternion", ["--rotate", "-8", "--center", "0.2,0.1"], dk.Rotation(-8.0, (0.2, 0.1))),
+    ("spring", ["--rotate", "6"], dk.Rotation(6.0)),
+    ("spring", ["--translate", "0.1,-0.05", "--solver", "cg"], dk.Translation((0.1, -0.05))),
+    ("idw", ["--rotate", "15"], dk.Rotation(15.0)),
+]
+
+
+@pytest.mark.parametrize("method,flags,motion", CASES)
+def test_same_bits_as_deform_move(tmp_path, method, flags, motion):
+    tool = deform_bin()
+    pts, tris, hole, outer, hole_edges, outer_edges = holed_square(n=11, half=2.0, hole=0.6)
+    # Irregular coordinates, so that every digit matters.
+    pts = pts + 0.01 * np.sin(7.0 * pts[:, ::-1]) * (np.abs(pts).max(axis=1) < 1.9)[:, None]
+    src, dst = tmp_path / "in.su2", tmp_path / "out.su2"
+    write_su2(src, pts, tris, {"body": hole_edges, "farfield": outer_edges})
+    solver = flags[flags.index("--solver") + 1] if "--solver" in flags else "amg"
+    cmd = [tool, "move", str(src), "--marker", "body", "--method", method, *flags,
+           "--out", str(dst)]
+    subprocess.run(cmd, check=True, capture_output=True)
+    ours = dk.deform(pts, [("triangle", tris)], np.unique(hole_edges), motion,
+                     np.unique(outer_edges), method=method, solver=solver)
+    theirs = read_su2_points(dst)
+    assert np.max(np.abs(ours - pts)) > 1e-3
+    assert ours.tobytes() == theirs.tobytes()
