@@ -1,4 +1,4 @@
-from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union, overload
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -37,7 +37,6 @@ class Displacement:
 
 Motion = Union[Rotation, Translation, Displacement]
 
-@overload
 def deform(
     points: npt.NDArray[np.float64],
     cells: Cells,
@@ -50,24 +49,11 @@ def deform(
     max_iter: int = 10000,
     idw_exponent: float = 2.0,
     allow_unconverged: bool = False,
-    return_info: Literal[False] = False,
-) -> npt.NDArray[np.float64]: ...
-@overload
-def deform(
-    points: npt.NDArray[np.float64],
-    cells: Cells,
-    moved: npt.ArrayLike,
-    motion: Motion,
-    fixed: Optional[npt.ArrayLike] = None,
-    method: Method = "quaternion",
-    solver: Solver = "amg",
-    tol: float = 1e-10,
-    max_iter: int = 10000,
-    idw_exponent: float = 2.0,
-    allow_unconverged: bool = False,
-    *,
-    return_info: Literal[True],
-) -> Tuple[npt.NDArray[np.float64], Dict[str, Any]]: ...
+    return_info: bool = False,
+) -> Union[npt.NDArray[np.float64], Tuple[npt.NDArray[np.float64], Dict[str, Any]]]:
+    """New points; with ``return_info``, ``(points, {"iterations", "residual", "converged"})``."""
+    ...
+
 def quality(points: npt.NDArray[np.float64], cells: Cells) -> Dict[str, npt.NDArray[np.float64]]: ...
 def cells_from_blocks(
     blocks: BlockCells, node_count: int

@@ -188,6 +188,23 @@ impl AmgStorage {
     }
 }
 
+/// Runs `f` with the linear solver named `name` on `sys` (a multigrid hierarchy is built for
+/// "amg" and lives for the call).
+fn with_solver<R>(
+    name: &str,
+    sys: &SpringSystem<'_, f64>,
+    f: impl FnOnce(LinearSolver<'_, f64>) -> Result<R, Fail>,
+) -> Result<R, Fail> {
+    match linear_method(name)? {
+        Some(m) => f(LinearSolver::Method(m)),
+        None => {
+            let mut storage = AmgStorage::default();
+            let hierarchy = storage.build(sys)?;
+            f(LinearSolver::Amg(&hierarchy))
+        }
+    }
+}
+
 /// The mesh in the kernel's terms: points, cells, edge graph, Batina stiffness and the mask
 /// of boundary nodes.
 struct Mesh<'a, const D: usize> {
@@ -252,19 +269,11 @@ fn springs<const D: usize>(
     let sys = SpringSystem::new(mesh.graph, &mesh.k, &mesh.fixed, &mut sscratch)
         .map_err(step("springs"))?;
     let mut values = pre.disp.clone();
-    let mut storage = AmgStorage::default();
-    let hierarchy;
-    let solver = match linear_method(&job.solver)? {
-        Some(m) => LinearSolver::Method(m),
-        None => {
-            hierarchy = storage.build(&sys)?;
-            LinearSolver::Amg(&hierarchy)
-        }
-    };
-    let mut scratch = vec![[0.0; D]; solve_linear_with_scratch_len(&solver, n)];
-    let r = sys
-        .solve_linear_with(&mut values, solver, &job.options, &mut scratch)
-        .map_err(step("linear springs"))?;
+    let r = with_solver(&job.solver, &sys, |solver| {
+        let mut scratch = vec![[0.0; D]; solve_linear_with_scratch_len(&solver, n)];
+        sys.solve_linear_with(&mut values, solver, &job.options, &mut scratch)
+            .map_err(step("linear springs"))
+    })?;
     for ((o, p), v) in out.iter_mut().zip(mesh.pts).zip(&values) {
         for k in 0..D {
             o[k] = p[k] + v[k];
@@ -334,31 +343,15 @@ fn quaternion_springs<const D: usize>(
     let mut sscratch = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
     let sys = SpringSystem::new(mesh.graph, &mesh.k, &mesh.fixed, &mut sscratch)
         .map_err(step("springs"))?;
-    let mut storage = AmgStorage::default();
-    let hierarchy;
-    let solver = match linear_method(&job.solver)? {
-        Some(m) => LinearSolver::Method(m),
-        None => {
-            hierarchy = storage.build(&sys)?;
-            LinearSolver::Amg(&hierarchy)
-        }
-    };
-    let mut scratch = vec![0.0; deform_spring_scratch_len::<D>(n, b)];
-    let mut values = vec![0.0; propagate_spring_with_scratch_len::<D>(&solver, n)];
-    let (_, r) = deform_spring_with::<f64, D>(
-        mesh.pts,
-        motion,
-        &sys,
-        solver,
-        &job.options,
-        tr,
-        rot,
-        &mut scratch,
-        &mut values,
-        out,
-    )
-    .map_err(step("quaternion springs"))?;
-    Ok(report(r))
+    let r = with_solver(&job.solver, &sys, |solver| {
+        let mut scratch = vec![0.0; deform_spring_scratch_len::<D>(n, b)];
+        let mut values = vec![0.0; propagate_spring_with_scratch_len::<D>(&solver, n)];
+        let o = &job.options;
+        let (sc, v) = (&mut scratch, &mut values);
+        deform_spring_with::<f64, D>(mesh.pts, motion, &sys, solver, o, tr, rot, sc, v, out)
+            .map_err(step("quaternion springs"))
+    })?;
+    Ok(report(r.1))
 }
 
 /// The motion from the Python arguments.

@@ -9,6 +9,9 @@ use pyo3::prelude::*;
 
 use crate::{kernel_error, rows, CellArrays};
 
+/// Two new float64 arrays.
+type Pair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
 /// `(measures, min_scaled_jacobians)` of `D`-dimensional points.
 fn run<const D: usize>(
     flat: &[f64],
@@ -32,7 +35,7 @@ pub fn cell_quality<'py>(
     offsets: PyReadonlyArray1<'py, u32>,
     nodes: PyReadonlyArray1<'py, u32>,
     kinds: PyReadonlyArray1<'py, u8>,
-) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+) -> PyResult<Pair<'py>> {
     let cells = CellArrays {
         offsets,
         nodes,

@@ -30,6 +30,8 @@ pub(crate) fn python_venv(ctx: &Ctx) -> bool {
 
 /// `cargo xtask ci --step python`: rustfmt and clippy on the crate, the `deform` tool (for the
 /// bit-equality tests), the wheel built by maturin and installed into the venv, then pytest.
+/// The wheel is built in the dev profile (it shares the proc macros and build scripts that
+/// clippy compiled; the bits are the same as release, which `pip install ./python` builds).
 pub(crate) fn python_step(ctx: &Ctx) -> bool {
     let venv = venv(ctx);
     if !venv.join("bin").join("maturin").exists() && !python_venv(ctx) {
@@ -48,7 +50,9 @@ pub(crate) fn python_step(ctx: &Ctx) -> bool {
     ok &= run(&mut ctx.cargo(&["build", "-p", "deform-cli", "--bin", "deform"]));
     let _ = std::fs::remove_dir_all(&wheels);
     ok &= run(Command::new(venv.join("bin").join("maturin"))
-        .args(["build", "--release", "-m", "python/Cargo.toml", "--out"])
+        .args(["build", "-m", "python/Cargo.toml", "--interpreter"])
+        .arg(venv.join("bin").join("python"))
+        .arg("--out")
         .arg(&wheels)
         .current_dir(&ctx.root)
         .env("CARGO_TARGET_DIR", &target));
