@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import deform_kernel as dk
-from meshes import holed_square, read_su2_points, write_su2
+from meshes import hex_box, holed_square, read_su2_points, write_su2
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
@@ -56,3 +56,21 @@ def test_same_bits_as_deform_move(tmp_path, method, flags, motion):
     theirs = read_su2_points(dst)
     assert np.max(np.abs(ours - pts)) > 1e-3
     assert ours.tobytes() == theirs.tobytes()
+
+
+@pytest.mark.parametrize("method", ["quaternion", "spring"])
+def test_same_bits_as_deform_move_3d(tmp_path, method):
+    tool = deform_bin()
+    pts, hexes, bottom, others = hex_box(5)
+    inner = np.all((pts > 0) & (pts < 1), axis=1)
+    pts = pts + 0.02 * np.sin(5.0 * pts[:, [1, 2, 0]]) * inner[:, None]
+    src, dst = tmp_path / "in.su2", tmp_path / "out.su2"
+    write_su2(src, pts, hexes, {"floor": bottom, "walls": others})
+    cmd = [tool, "move", str(src), "--marker", "floor", "--method", method, "--rotate", "3",
+           "--axis", "0,1,0.5", "--out", str(dst)]
+    subprocess.run(cmd, check=True, capture_output=True)
+    fixed = np.setdiff1d(np.unique(others), np.unique(bottom))
+    ours = dk.deform(pts, [("hexahedron", hexes)], np.unique(bottom),
+                     dk.Rotation(3.0, axis=(0, 1, 0.5)), fixed, method=method)
+    assert np.max(np.abs(ours - pts)) > 1e-3
+    assert ours.tobytes() == read_su2_points(dst, 3).tobytes()

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import deform_kernel as dk
-from meshes import batina_dense_solve, holed_square
+from meshes import HEX_EDGES, batina_dense_solve, hex_box, holed_square
 
 
 @pytest.fixture()
@@ -97,3 +97,38 @@ def test_unconverged_solve_raises(mesh):
         dk.deform(*args, max_iter=2)
     out, info = dk.deform(*args, max_iter=2, allow_unconverged=True, return_info=True)
     assert not info["converged"] and info["iterations"] == 2
+
+
+def rotation_matrix(axis, degrees):
+    """Rodrigues' rotation matrix (independent of the kernel's quaternions)."""
+    k = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    t = np.radians(degrees)
+    kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + np.sin(t) * kx + (1 - np.cos(t)) * kx @ kx
+
+
+def test_3d_rigid_rotation_about_any_axis_is_exact():
+    pts, hexes, bottom, others = hex_box()
+    everything = np.unique(np.concatenate([bottom.ravel(), others.ravel()]))
+    c = np.array([0.2, 0.4, 0.1])
+    ref = (pts - c) @ rotation_matrix((1.0, 2.0, 3.0), 40.0).T + c
+    for method in ("quaternion", "idw"):
+        out = dk.deform(pts, [("hexahedron", hexes)], everything,
+                        dk.Rotation(40.0, center=c, axis=(1.0, 2.0, 3.0)), method=method)
+        assert np.max(np.abs(out - ref)) < 1e-14, method
+
+
+def test_3d_springs_match_dense_solve():
+    pts, hexes, bottom, others = hex_box(5)
+    moved, fixed = np.unique(bottom), np.unique(others)
+    fixed = np.setdiff1d(fixed, moved)
+    r = rotation_matrix((0.0, 1.0, 0.0), 4.0)
+    out = dk.deform(pts, [(12, hexes)], moved, dk.Rotation(4.0, (0.5, 0.5, 0.0), (0, 1, 0)),
+                    fixed, method="spring", tol=1e-14)
+    disp = np.zeros_like(pts)
+    c = np.array([0.5, 0.5, 0.0])
+    disp[moved] = (pts[moved] - c) @ r.T + c - pts[moved]
+    ref = pts + batina_dense_solve(pts, hexes, np.concatenate([moved, fixed]), disp, HEX_EDGES)
+    assert np.max(np.abs(out - ref)) < 1e-12
+    assert np.max(np.abs(out - pts)[np.setdiff1d(np.arange(len(pts)), np.concatenate(
+        [moved, fixed]))]) > 1e-4
