@@ -64,3 +64,14 @@ def normalise_cells(
 def from_meshio(mesh: Any, dim: Optional[int] = None) -> Tuple[npt.NDArray[np.float64], List[Tuple[str, npt.NDArray[Any]]]]: ...
 def to_meshio(points: npt.ArrayLike, cells: BlockCells) -> Any: ...
 def boundary_nodes(mesh: Any, cell_type: str, tag: int, key: str) -> npt.NDArray[np.int64]: ...
+def smooth_structured(
+    points: npt.NDArray[np.float64],
+    direction: Literal["i", "j", "k"],
+    iterations: int = 30,
+    lam: float = 0.33,
+    mu: float = -0.334,
+    normalised: bool = False,
+    fixed: Optional[npt.NDArray[np.bool_]] = None,
+    coarse: Optional[int] = None,
+    return_info: bool = False,
+) -> Union[npt.NDArray[np.float64], Tuple[npt.NDArray[np.float64], Dict[str, Any]]]: ...

@@ -8,6 +8,7 @@
 
 mod motion;
 mod quality;
+mod smooth;
 
 use numpy::prelude::*;
 use numpy::{PyArray1, PyReadonlyArray1};
@@ -110,5 +111,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("KernelError", m.py().get_type::<KernelError>())?;
     m.add_function(wrap_pyfunction!(motion::move_points, m)?)?;
     m.add_function(wrap_pyfunction!(quality::cell_quality, m)?)?;
+    m.add_function(wrap_pyfunction!(smooth::smooth_block, m)?)?;
     Ok(())
 }
