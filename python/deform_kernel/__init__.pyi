@@ -8,6 +8,7 @@ BlockCells = Sequence[Union[Tuple[Union[str, int], npt.ArrayLike], Any]]
 Cells = Union[CsrCells, BlockCells]
 Method = Literal["quaternion", "spring", "idw"]
 Solver = Literal["amg", "cg", "cg-ssor", "gauss-seidel", "jacobi"]
+Stiffness = Literal["batina", "wall-distance", "inverse-volume"]
 
 class KernelError(ValueError):
     """A typed deform-kernel error (or an unconverged solve)."""
@@ -45,6 +46,7 @@ def deform(
     fixed: Optional[npt.ArrayLike] = None,
     method: Method = "quaternion",
     solver: Solver = "amg",
+    stiffness: Stiffness = "batina",
     tol: float = 1e-10,
     max_iter: int = 10000,
     idw_exponent: float = 2.0,

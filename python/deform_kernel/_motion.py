@@ -12,6 +12,7 @@ from ._native import KernelError
 
 METHODS = ("quaternion", "spring", "idw")
 SOLVERS = ("amg", "cg", "cg-ssor", "gauss-seidel", "jacobi")
+STIFFNESS = ("batina", "wall-distance", "inverse-volume")
 
 
 @dataclass(frozen=True)
@@ -76,6 +77,7 @@ def deform(
     fixed=None,
     method="quaternion",
     solver="amg",
+    stiffness="batina",
     tol=1e-10,
     max_iter=10000,
     idw_exponent=2.0,
@@ -90,9 +92,11 @@ def deform(
     ``points``: ``(N, 2|3)`` C-contiguous float64. ``cells``: a tuple of numpy arrays
     ``(offsets, nodes, kinds)`` (VTK codes) or meshio-style blocks ``[("triangle", conn), ...]``.
     ``moved``/``fixed``: node indices. ``solver`` (spring and quaternion): "amg" (default),
-    "cg", "cg-ssor", "gauss-seidel", "jacobi". A solve that stops before ``tol`` within
+    "cg", "cg-ssor", "gauss-seidel", "jacobi". ``stiffness`` (spring and quaternion): "batina"
+    (1/L), "wall-distance" (times d̄/d, d the distance to the moved nodes), "inverse-volume"
+    (times V̄/V, V the dual volume), as SU2's options. A solve that stops before ``tol`` within
     ``max_iter`` raises ``KernelError`` unless ``allow_unconverged``. The same call on the same
-    input gives the same bits as ``deform move`` (Batina stiffness, one step).
+    input gives the same bits as ``deform move`` (one step).
     """
     points = points_array(points)
     n, dim = points.shape
@@ -105,6 +109,8 @@ def deform(
         raise ValueError(f"method: {method!r} is not one of {METHODS}")
     if solver not in SOLVERS:
         raise ValueError(f"solver: {solver!r} is not one of {SOLVERS}")
+    if stiffness not in STIFFNESS:
+        raise ValueError(f"stiffness: {stiffness!r} is not one of {STIFFNESS}")
     if method != "spring" and isinstance(motion, Displacement):
         raise ValueError(f"method {method!r} needs a Rotation or Translation in this version")
     if not (tol > 0 and np.isfinite(tol)) or int(max_iter) < 1:
@@ -112,7 +118,7 @@ def deform(
     kind, deg, axis, center, vec, field = _motion_args(motion, dim, moved)
     out, iterations, residual, converged = _native.move_points(
         points, *cells, moved, fixed, kind, deg, axis, center, vec, field,
-        method, solver, float(tol), int(max_iter), float(idw_exponent),
+        method, solver, stiffness, float(tol), int(max_iter), float(idw_exponent),
     )
     if not converged and not allow_unconverged:
         raise KernelError(

@@ -59,6 +59,7 @@ struct Job {
     motion: Motion,
     method: String,
     solver: String,
+    stiffness: String,
     options: SolveOptions<f64>,
     idw_exponent: f64,
 }
@@ -221,6 +222,40 @@ fn report(r: SolveReport<f64>) -> Solved {
     (r.iterations, r.residual, r.converged)
 }
 
+/// The stiffness of every directed edge: Batina's `1 / L`, times the mean of the two nodes'
+/// `d̄ / d` (distance to the moved nodes `walls`, "wall-distance") or `V̄ / V` (dual volume,
+/// "inverse-volume"), as `deform move --stiffness`.
+fn stiffness<const D: usize>(
+    g: &Graph<'_>,
+    cells: &Cells<'_>,
+    pts: &[[f64; D]],
+    walls: &[u32],
+    choice: &str,
+) -> Result<Vec<f64>, Fail> {
+    use deform_kernel::spring::{
+        batina_stiffness, dual_volumes, inverse_volume_factors, scale_stiffness,
+        wall_distance_factors, wall_distances,
+    };
+    let mut k = vec![0.0; g.edge_count()];
+    batina_stiffness(g, pts, 1.0, &mut k).map_err(step("stiffness"))?;
+    let mut factors = vec![0.0; pts.len()];
+    match choice {
+        "batina" => return Ok(k),
+        "wall-distance" => {
+            wall_distances(pts, walls, &mut factors).map_err(step("wall distances"))?;
+            wall_distance_factors(&mut factors, 1.0).map_err(step("wall distances"))?;
+        }
+        "inverse-volume" => {
+            let mut measures = vec![0.0; cells.len()];
+            dual_volumes(cells, pts, &mut factors, &mut measures).map_err(step("dual volumes"))?;
+            inverse_volume_factors(&mut factors, 1.0).map_err(step("dual volumes"))?;
+        }
+        other => return Err(Fail::Invalid(format!("stiffness: unknown {other:?}"))),
+    }
+    scale_stiffness(g, &factors, &mut k).map_err(step("stiffness"))?;
+    Ok(k)
+}
+
 /// Runs `job` in `D` dimensions: the deformed points and the solve's figures.
 fn run<const D: usize>(job: &Job) -> Result<(Vec<[f64; D]>, Solved), Fail> {
     let pts = rows::<D>(&job.points);
@@ -234,9 +269,7 @@ fn run<const D: usize>(job: &Job) -> Result<(Vec<[f64; D]>, Solved), Fail> {
         .map_err(step("graph"))?;
     g_targets.truncate(used);
     let graph = Graph::new(&g_offsets, &g_targets).map_err(step("graph"))?;
-    let mut k = vec![0.0; graph.edge_count()];
-    deform_kernel::spring::batina_stiffness(&graph, &pts, 1.0, &mut k)
-        .map_err(step("stiffness"))?;
+    let k = stiffness(&graph, &cells, &pts, &pre.moved, &job.stiffness)?;
     let mut fixed = vec![0u8; n];
     for &b in &pre.boundary {
         fixed[b as usize] = 1;
@@ -382,7 +415,7 @@ fn motion_of(
 /// returns `(new_points, iterations, residual, converged)`.
 #[pyfunction]
 #[pyo3(signature = (points, offsets, nodes, kinds, moved, fixed, motion, degrees, axis, center,
-    vector, field, method, solver, tol, max_iter, idw_exponent))]
+    vector, field, method, solver, stiffness, tol, max_iter, idw_exponent))]
 #[allow(clippy::too_many_arguments)]
 pub fn move_points<'py>(
     py: Python<'py>,
@@ -400,6 +433,7 @@ pub fn move_points<'py>(
     field: Option<PyReadonlyArray2<'py, f64>>,
     method: &str,
     solver: &str,
+    stiffness: &str,
     tol: f64,
     max_iter: usize,
     idw_exponent: f64,
@@ -418,6 +452,7 @@ pub fn move_points<'py>(
         motion: motion_of(motion, degrees, axis, center, vector, field)?,
         method: method.to_string(),
         solver: solver.to_string(),
+        stiffness: stiffness.to_string(),
         options: SolveOptions {
             max_iterations: max_iter,
             residual_tol: tol,

@@ -36,6 +36,9 @@ CASES = [
     ("spring", ["--rotate", "6"], dk.Rotation(6.0)),
     ("spring", ["--translate", "0.1,-0.05", "--solver", "cg"], dk.Translation((0.1, -0.05))),
     ("idw", ["--rotate", "15"], dk.Rotation(15.0)),
+    ("spring", ["--rotate", "6", "--stiffness", "wall-distance"], dk.Rotation(6.0)),
+    ("spring", ["--rotate", "6", "--stiffness", "inverse-volume"], dk.Rotation(6.0)),
+    ("quaternion", ["--rotate", "9", "--stiffness", "inverse-volume"], dk.Rotation(9.0)),
 ]
 
 
@@ -47,12 +50,13 @@ def test_same_bits_as_deform_move(tmp_path, method, flags, motion):
     pts = pts + 0.01 * np.sin(7.0 * pts[:, ::-1]) * (np.abs(pts).max(axis=1) < 1.9)[:, None]
     src, dst = tmp_path / "in.su2", tmp_path / "out.su2"
     write_su2(src, pts, tris, {"body": hole_edges, "farfield": outer_edges})
-    solver = flags[flags.index("--solver") + 1] if "--solver" in flags else "amg"
+    option = lambda name, default: flags[flags.index(name) + 1] if name in flags else default  # noqa: E731
+    solver, stiffness = option("--solver", "amg"), option("--stiffness", "batina")
     cmd = [tool, "move", str(src), "--marker", "body", "--method", method, *flags,
            "--out", str(dst)]
     subprocess.run(cmd, check=True, capture_output=True)
     ours = dk.deform(pts, [("triangle", tris)], np.unique(hole_edges), motion,
-                     np.unique(outer_edges), method=method, solver=solver)
+                     np.unique(outer_edges), method=method, solver=solver, stiffness=stiffness)
     theirs = read_su2_points(dst)
     assert np.max(np.abs(ours - pts)) > 1e-3
     assert ours.tobytes() == theirs.tobytes()

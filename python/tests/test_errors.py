@@ -58,6 +58,7 @@ def test_bad_input_raises_and_touches_nothing(name):
 @pytest.mark.parametrize("kw,message", [
     ({"method": "magic"}, "method"),
     ({"solver": "lu"}, "solver"),
+    ({"stiffness": "soft"}, "stiffness"),
     ({"tol": -1.0}, "tol"),
     ({"motion": dk.Rotation(5.0, axis=(1, 0, 0))}, "about z"),
     ({"motion": dk.Rotation(float("nan"))}, "degrees"),
