@@ -15,7 +15,7 @@ def holed_square(n=9, half=2.0, hole=0.5):
         for i in range(n - 1):
             a, b, c, d = j * n + i, j * n + i + 1, (j + 1) * n + i + 1, (j + 1) * n + i
             centre = pts[[a, b, c, d]].mean(axis=0)
-            if np.all(np.abs(centre) < hole):
+            if np.all(np.abs(centre) < hole - 1e-9):
                 continue
             tris += [[a, b, c], [a, c, d]]
     tris = np.array(tris)

@@ -29,7 +29,8 @@ pub(crate) fn python_venv(ctx: &Ctx) -> bool {
 }
 
 /// `cargo xtask ci --step python`: rustfmt and clippy on the crate, the `deform` tool (for the
-/// bit-equality tests), the wheel built by maturin and installed into the venv, then pytest.
+/// bit-equality tests), the wheel built by maturin and installed into the venv, the example,
+/// then pytest.
 /// The wheel is built in the dev profile (it shares the proc macros and build scripts that
 /// clippy compiled; the bits are the same as release, which `pip install ./python` builds).
 pub(crate) fn python_step(ctx: &Ctx) -> bool {
@@ -68,8 +69,12 @@ pub(crate) fn python_step(ctx: &Ctx) -> bool {
         .args(["--no-index", "--find-links"])
         .arg(&wheels)
         .arg("deform-kernel"));
-    ok && run(Command::new(venv.join("bin").join("python"))
-        .args(["-m", "pytest", "-q", "python/tests"])
+    let python = venv.join("bin").join("python");
+    ok && run(Command::new(&python)
+        .arg("python/examples/pitch_body.py")
+        .current_dir(&ctx.root))
+        && run(Command::new(&python)
+            .args(["-m", "pytest", "-q", "python/tests"])
         .current_dir(&ctx.root)
         .env(
             "DEFORM_BIN",
