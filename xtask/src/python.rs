@@ -31,8 +31,9 @@ pub(crate) fn python_venv(ctx: &Ctx) -> bool {
 /// `cargo xtask ci --step python`: rustfmt and clippy on the crate, the `deform` tool (for the
 /// bit-equality tests), the wheel built by maturin and installed into the venv, the example,
 /// then pytest.
-/// The wheel is built in the dev profile (it shares the proc macros and build scripts that
-/// clippy compiled; the bits are the same as release, which `pip install ./python` builds).
+/// The wheel is built in the dev profile (quicker to compile; the bits are the same as release,
+/// which `pip install ./python` builds). Clippy has its own target directory: maturin sets
+/// PyO3's environment differently, and in a shared one each would rebuild PyO3 for the other.
 pub(crate) fn python_step(ctx: &Ctx) -> bool {
     let venv = venv(ctx);
     if !venv.join("bin").join("maturin").exists() && !python_venv(ctx) {
@@ -46,7 +47,7 @@ pub(crate) fn python_step(ctx: &Ctx) -> bool {
         .cargo(&["clippy", "--all-targets"])
         .args(manifest)
         .args(["--", "-D", "warnings"])
-        .env("CARGO_TARGET_DIR", &target)
+        .env("CARGO_TARGET_DIR", ctx.root.join("target").join("python-clippy"))
         .env("PYO3_PYTHON", venv.join("bin").join("python")));
     ok &= run(&mut ctx.cargo(&["build", "-p", "deform-cli", "--bin", "deform"]));
     let _ = std::fs::remove_dir_all(&wheels);
