@@ -47,7 +47,10 @@ pub(crate) fn python_step(ctx: &Ctx) -> bool {
         .cargo(&["clippy", "--all-targets"])
         .args(manifest)
         .args(["--", "-D", "warnings"])
-        .env("CARGO_TARGET_DIR", ctx.root.join("target").join("python-clippy"))
+        .env(
+            "CARGO_TARGET_DIR",
+            ctx.root.join("target").join("python-clippy"),
+        )
         .env("PYO3_PYTHON", venv.join("bin").join("python")));
     ok &= run(&mut ctx.cargo(&["build", "-p", "deform-cli", "--bin", "deform"]));
     let _ = std::fs::remove_dir_all(&wheels);
@@ -76,10 +79,10 @@ pub(crate) fn python_step(ctx: &Ctx) -> bool {
         .current_dir(&ctx.root))
         && run(Command::new(&python)
             .args(["-m", "pytest", "-q", "python/tests"])
-        .current_dir(&ctx.root)
-        .env(
-            "DEFORM_BIN",
-            ctx.root.join("target").join("debug").join("deform"),
-        )
-        .env("DEFORM_REQUIRE_CLI", "1"))
+            .current_dir(&ctx.root)
+            .env(
+                "DEFORM_BIN",
+                ctx.root.join("target").join("debug").join("deform"),
+            )
+            .env("DEFORM_REQUIRE_CLI", "1"))
 }
