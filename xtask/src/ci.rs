@@ -9,6 +9,7 @@ use crate::install::{cinstall, install, CROSS_TARGETS, FUZZ_TOOLCHAIN};
 use crate::mpi::mpi_check;
 use crate::panic::{panic_check, panic_check_deliberate};
 use crate::process::run;
+use crate::python::python_step;
 use std::process::{Command, ExitCode};
 use std::time::Instant;
 
@@ -118,6 +119,11 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
         Step::new("test", "cargo test --workspace", || {
             run(&mut ctx.cargo(&["test", "--workspace"]))
         }),
+        Step::new(
+            "python",
+            "the Python package (python/): maturin wheel in target/python-venv, pytest",
+            || python_step(ctx),
+        ),
         Step::new(
             "test-cgns",
             "deform-cli with --features cgns: CGNS files against the CGNS library's and HDF5's tools",

@@ -200,7 +200,7 @@ pub(crate) fn install(ctx: &Ctx) -> bool {
         args.extend(missing);
         ok &= run(&mut rustup(&args));
     }
-    ok & test_venv(ctx)
+    ok & test_venv(ctx) & crate::python::python_venv(ctx)
 }
 
 /// The venv `target/test-venv` with the Python packages the tests use as independent

@@ -44,6 +44,7 @@ mod install;
 mod mpi;
 mod panic;
 mod process;
+mod python;
 
 use crate::ci::{ci, name_width, steps};
 use crate::ctx::Ctx;
