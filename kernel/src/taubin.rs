@@ -70,6 +70,7 @@
 //! [`Block`]: crate::Block
 
 mod coarse;
+mod ends;
 mod graph_filter;
 mod grid;
 mod lines;
@@ -78,6 +79,7 @@ mod structured;
 pub use coarse::{
     coarse_dims, smooth_structured_coarse, structured_coarse_scratch_len, Coarse, Prolongation,
 };
+pub use ends::LineEnd;
 pub use graph_filter::{
     graph_scratch_len, graph_sweep, inverse_distance_weights, smooth_graph, GraphOptions,
 };

@@ -521,6 +521,11 @@ fn every_kernel_error_has_its_own_status_and_description() {
             dk_status::DK_ERR_BAD_PLAN,
             29,
         ),
+        (
+            Error::SharedFreeEnd { point: 7, other: 3 },
+            dk_status::DK_ERR_SHARED_FREE_END,
+            30,
+        ),
     ];
     for (error, status, code) in cases {
         assert_eq!(dk_status::from(error), status);
