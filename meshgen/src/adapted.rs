@@ -91,8 +91,7 @@ pub fn adapted_block(spec: &AdaptedSpec) -> Result<Vec<[f64; 3]>> {
                 let (n, t) = wall(theta, phi);
                 let d = lengths[i + ni * j];
                 let (a, b) = (d * u, 0.15 * d * u * u);
-                points[i + ni * (j + nj * k)] =
-                    [0, 1, 2].map(|c| (1.0 + a) * n[c] + b * t[c]);
+                points[i + ni * (j + nj * k)] = [0, 1, 2].map(|c| (1.0 + a) * n[c] + b * t[c]);
             }
         }
     }

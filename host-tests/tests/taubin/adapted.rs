@@ -14,7 +14,12 @@ use deform_meshgen::{adapted_block, AdaptedSpec};
 type P3 = [f64; 3];
 
 /// Smooths along k with the paper's settings and the given last end.
-fn smooth(dims: [usize; 3], points: &mut [P3], last: LineEnd, fixed: Option<&[u8]>) -> Result<(), Error> {
+fn smooth(
+    dims: [usize; 3],
+    points: &mut [P3],
+    last: LineEnd,
+    fixed: Option<&[u8]>,
+) -> Result<(), Error> {
     let block = Block::new(dims).unwrap();
     let mut o = SmoothOptions::new(Direction::K);
     o.ends = [LineEnd::Fixed, last];
@@ -105,10 +110,16 @@ fn write_grid(path: &std::path::Path, dims: [usize; 3], points: &[P3]) {
 /// Runs ref_alter.py (30 iterations, the paper's λ, μ) on `points`; its smoothed points.
 fn numpy_reference(name: &str, dims: [usize; 3], points: &[P3]) -> Vec<P3> {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
-    let (src, dst) = (dir.join(format!("{name}.in")), dir.join(format!("{name}.out")));
+    let (src, dst) = (
+        dir.join(format!("{name}.in")),
+        dir.join(format!("{name}.out")),
+    );
     write_grid(&src, dims, points);
     let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/taubin/ref_alter.py");
-    python::run_script(&script, &[src.to_str().unwrap(), dst.to_str().unwrap(), "30"]);
+    python::run_script(
+        &script,
+        &[src.to_str().unwrap(), dst.to_str().unwrap(), "30"],
+    );
     let bytes = std::fs::read(&dst).unwrap();
     let v: Vec<f64> = bytes
         .chunks_exact(8)
@@ -167,7 +178,10 @@ fn free_outer_end_reproduces_alters_filter_on_adapted_grids() {
         assert!(worst <= 1e-12, "{dims:?}: kernel vs numpy {worst:e}");
         // The wall never moves; the outer boundary does.
         assert_eq!(smoothed[..face], grid[..face]);
-        assert_ne!(smoothed[face * (dims[2] - 1)..], grid[face * (dims[2] - 1)..]);
+        assert_ne!(
+            smoothed[face * (dims[2] - 1)..],
+            grid[face * (dims[2] - 1)..]
+        );
         let before = roughness(&outer_arclength(dims, &grid), dims[0], dims[1]);
         let after = roughness(&outer_arclength(dims, &smoothed), dims[0], dims[1]);
         let dv = (volume(dims, &smoothed) / volume(dims, &grid) - 1.0).abs();
@@ -210,4 +224,100 @@ fn fixed_ends_keep_monotone_what_the_free_filter_keeps_monotone() {
         assert!(lines_increasing(dims, &fixed) && no_flipped_cell(dims, &fixed));
         assert_ne!(fixed, grid);
     }
+}
+
+/// An O-grid shell around the z axis: i around (i = 0 and i = ni − 1 coincide bit for bit:
+/// the seam), j along the axis, k outward over rough line lengths.
+fn o_grid(dims: [usize; 3]) -> Vec<P3> {
+    let [ni, nj, nk] = dims;
+    let mut rng = deform_meshgen::rng::XorShift64::new(5);
+    let rough: Vec<f64> = (0..(ni - 1) * nj).map(|_| 0.01 * rng.symmetric()).collect();
+    let mut p = vec![[0.0; 3]; ni * nj * nk];
+    for k in 0..nk {
+        let u = (k as f64 / (nk - 1) as f64).powf(1.5);
+        for j in 0..nj {
+            for i in 0..ni {
+                let a = i % (ni - 1);
+                let phi = 2.0 * std::f64::consts::PI * a as f64 / (ni - 1) as f64;
+                let r = 1.0 + u * (1.0 + rough[a + (ni - 1) * j]);
+                p[i + ni * (j + nj * k)] = [r * phi.cos(), r * phi.sin(), 0.2 * j as f64];
+            }
+        }
+    }
+    p
+}
+
+#[test]
+fn free_ends_on_a_seam_are_refused_and_fixed_ends_keep_seams_and_faces_in_place() {
+    let dims = [33, 9, 17];
+    let [ni, nj, nk] = dims;
+    let grid = o_grid(dims);
+    let mut p = grid.clone();
+    let err = smooth(dims, &mut p, LineEnd::Free, None).unwrap_err();
+    // The first rim pair found: line (0, 0) and line (ni − 1, 0) of the outer face.
+    let outer = ni * nj * (nk - 1);
+    assert_eq!(
+        err,
+        Error::SharedFreeEnd {
+            point: outer,
+            other: outer + ni - 1
+        }
+    );
+    assert!(err.to_string().contains("keep that end fixed"), "{err}");
+    assert_eq!(p, grid, "nothing written");
+
+    smooth(dims, &mut p, LineEnd::Fixed, None).unwrap();
+    assert_ne!(p, grid);
+    for k in 0..nk {
+        for j in 0..nj {
+            let row = ni * (j + nj * k);
+            assert_eq!(p[row], p[row + ni - 1], "seam open at j = {j}, k = {k}");
+        }
+    }
+    assert_eq!(p[..ni * nj], grid[..ni * nj], "wall");
+    assert_eq!(p[outer..], grid[outer..], "outer face");
+    assert!(lines_increasing(dims, &p));
+}
+
+#[test]
+fn end_modes_that_cannot_hold_are_typed_errors() {
+    let spec = AdaptedSpec {
+        dims: [9, 7, 11],
+        ..AdaptedSpec::default()
+    };
+    let grid = adapted_block(&spec).unwrap();
+    let block = Block::new(spec.dims).unwrap();
+    let mut scratch = vec![0.0; smooth_arclength_scratch_len::<3>(&block, Direction::K, None)];
+    let mut bad = |ends: [LineEnd; 2], normalised: bool| {
+        let mut o = SmoothOptions::new(Direction::K);
+        o.ends = ends;
+        o.normalised = normalised;
+        let mut p = grid.clone();
+        let err = smooth_arclength(&block, &mut p, &o, &mut scratch).unwrap_err();
+        assert_eq!(p, grid, "nothing written");
+        err
+    };
+    for (ends, normalised) in [
+        ([LineEnd::Free, LineEnd::Fixed], false),
+        ([LineEnd::Free, LineEnd::Free], false),
+        ([LineEnd::Fixed, LineEnd::Free], true),
+    ] {
+        let err = bad(ends, normalised);
+        assert!(
+            matches!(
+                err,
+                Error::InvalidParameter {
+                    arg: "options.ends",
+                    ..
+                }
+            ),
+            "{ends:?} {normalised}: {err}"
+        );
+    }
+    // Normalised with fixed ends is accepted, and the free end accepts this grid.
+    let mut p = grid.clone();
+    let mut o = SmoothOptions::new(Direction::K);
+    o.normalised = true;
+    smooth_arclength(&block, &mut p, &o, &mut scratch).unwrap();
+    smooth(spec.dims, &mut grid.clone(), LineEnd::Free, None).unwrap();
 }

@@ -271,7 +271,8 @@ pub fn smooth_arclength<T: Real, const D: usize>(
         check_increasing_core(dims, field, direction, iterations, collapsed, zero_segment)?;
     }
     if !normalised && !free_end {
-        let interior_held = |p: usize| is_fixed(fixed, p) || on_zero_segment(dims, pts, direction, p);
+        let interior_held =
+            |p: usize| is_fixed(fixed, p) || on_zero_segment(dims, pts, direction, p);
         map_onto_fixed_ends(dims, pts, direction, field, interior_held);
         check_increasing_core(dims, field, direction, iterations, collapsed, zero_segment)?;
     }
