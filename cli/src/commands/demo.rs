@@ -579,7 +579,7 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
             dims,
             &mut after,
             *direction,
-            *normalized,
+            (*normalized, false),
             30,
             0.330,
             -0.334,
