@@ -16,7 +16,7 @@ use deform_kernel::taubin::{
     redistribute_scratch_len, smooth_arclength, smooth_arclength_scratch_len, smooth_graph,
     smooth_structured, smooth_structured_coarse, stretching, structured_coarse_scratch_len,
     structured_scratch_len, structured_sweep, BlockRegion, Coarse, GraphOptions, Prolongation,
-    SmoothOptions, StructuredOptions, TaubinParams,
+    LineEnd, SmoothOptions, StructuredOptions, TaubinParams,
 };
 use deform_kernel::{Block, Graph, Real};
 
@@ -308,6 +308,7 @@ fn driver<T: Real, const D: usize>() {
         prolongation: bb(Prolongation::Values),
     }));
     opts.coarse_iterations = bb(2);
+    opts.ends = bb([LineEnd::Fixed, LineEnd::Free]);
     let opts = bb(opts);
     let mut scratch = bb([T::ZERO; S]);
     keep(smooth_arclength_scratch_len::<D>(
