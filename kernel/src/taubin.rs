@@ -35,7 +35,8 @@
 //! - [`arclength`], [`redistribute`], [`stretching`], [`max_stretching`],
 //!   [`check_lines_increasing`]: the line tools.
 //! - [`smooth_arclength`]: the whole-grid driver (arclength → filter → fold guard →
-//!   redistribution) behind `deform smooth`.
+//!   redistribution) behind `deform smooth`; [`LineEnd`] says whether the last point of each
+//!   line stays (default) or slides along the line (Alter's rough outer boundary).
 //!
 //! ```
 //! use deform_kernel::taubin::{smooth_arclength, smooth_arclength_scratch_len, SmoothOptions};
