@@ -693,15 +693,7 @@ pub(crate) fn dk_taubin_smooth_arclength<T: Real>(
     scratch: Out<'_, T>,
     report: Out<'_, dk_smooth_report>,
 ) -> dk_status {
-    done((|| {
-        let b = block(ni, nj, nk)?;
-        let (o, pinned) = read_with_pins(options)?;
-        by_dim!(
-            dim,
-            smooth_arclength_for_dim::<T>,
-            (&b, &o, (pinned, 0), points, scratch, report)
-        )
-    })())
+    dk_taubin_smooth_arclength_ends(ni, nj, nk, options, 0, points, dim, scratch, report)
 }
 
 /// [`dk_taubin_smooth_arclength`] with a choice of line ends: `free_faces` is a mask of
