@@ -412,7 +412,10 @@ fn free_end_smoothing<T: Real>() {
     let mut n = orig;
     defmt::assert!(matches!(
         smooth_k(&mut n, LineEnd::Free, true),
-        Err(Error::InvalidParameter { arg: "options.ends", .. })
+        Err(Error::InvalidParameter {
+            arg: "options.ends",
+            ..
+        })
     ));
     defmt::assert!((0..FN).all(|q| bits(&seam[q], &before[q]) && bits(&n[q], &orig[q])));
 }

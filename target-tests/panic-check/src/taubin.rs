@@ -15,8 +15,8 @@ use deform_kernel::taubin::{
     inverse_distance_weights, max_stretching, mu_from_pass_band, redistribute,
     redistribute_scratch_len, smooth_arclength, smooth_arclength_scratch_len, smooth_graph,
     smooth_structured, smooth_structured_coarse, stretching, structured_coarse_scratch_len,
-    structured_scratch_len, structured_sweep, BlockRegion, Coarse, GraphOptions, Prolongation,
-    LineEnd, SmoothOptions, StructuredOptions, TaubinParams,
+    structured_scratch_len, structured_sweep, BlockRegion, Coarse, GraphOptions, LineEnd,
+    Prolongation, SmoothOptions, StructuredOptions, TaubinParams,
 };
 use deform_kernel::{Block, Graph, Real};
 
