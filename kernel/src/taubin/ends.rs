@@ -23,7 +23,9 @@ pub enum LineEnd {
     /// beyond its end along the extension of its last segment of non-zero length (Alter's
     /// extrapolation at the outer boundary). Only the last end of a line can be free, only
     /// with dimensional arclength, and only where no end point coincides with another grid
-    /// point of its face (a seam or a collapsed axis).
+    /// point of its face (a seam or a collapsed axis; the face's rim is compared). The kernel
+    /// sees one block: a face shared with another block is the caller's to check (`deform
+    /// smooth` refuses a free face with any point shared with another grid point).
     Free,
 }
 
