@@ -59,6 +59,8 @@ pub enum Command {
     /// interfaces stay closed. Without --normalized the physical arclength is filtered (this
     /// smooths the grid: points are redistributed between the fixed ends); with --normalized
     /// the arclength divided by each line's length is filtered (this reduces stretching).
+    /// --free-end kmax lets the last points of the k-lines slide too (Alter's rough outer
+    /// boundary of a solution-adapted grid), in every block or per block (--free-end 2:kmax).
     /// If a line folds (arclength stops increasing) or a cell flips (a corner Jacobian that
     /// was positive becomes ≤ 0) the run stops with an error naming the block, the line or
     /// cell and the iteration, and nothing is written (exit 4, the policy `move` shares;
@@ -502,9 +504,16 @@ pub struct SmoothArgs {
     #[arg(long, value_enum)]
     pub direction: Direction,
     /// Filter the normalised arclength S/S_line (reduces stretching) instead of the physical
-    /// arclength S (smooths the grid). Line ends stay fixed in both modes.
+    /// arclength S (smooths the grid). Line ends stay fixed unless --free-end frees them.
     #[arg(long)]
     pub normalized: bool,
+    /// Let the last points of the lines slide along their lines (past the end along the last
+    /// segment): the face at the end of the smoothing direction (imax, jmax or kmax), in
+    /// every block or in block B (1-based) with B:FACE; repeatable. Needs the physical
+    /// arclength; a face point that coincides with another grid point (a seam, an interface)
+    /// is refused.
+    #[arg(long, value_name = "[B:]FACE")]
+    pub free_end: Vec<String>,
     /// Write the result even if cells flip, and report them (default: refuse with exit status
     /// 4, write nothing).
     #[arg(long)]

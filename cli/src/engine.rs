@@ -1525,19 +1525,20 @@ pub fn smooth_block(
     dims: [usize; 3],
     points: &mut [[f64; 3]],
     direction: Direction,
-    normalised: bool,
+    (normalised, free_end): (bool, bool),
     iterations: usize,
     lambda: f64,
     mu: f64,
     coarse: Option<usize>,
     pinned: Option<&[u8]>,
 ) -> Result<BlockSmoothing, CliError> {
+    let modes = (normalised, free_end);
     match dim {
         2 => smooth_d::<2>(
-            dims, points, direction, normalised, iterations, lambda, mu, coarse, pinned,
+            dims, points, direction, modes, iterations, lambda, mu, coarse, pinned,
         ),
         3 => smooth_d::<3>(
-            dims, points, direction, normalised, iterations, lambda, mu, coarse, pinned,
+            dims, points, direction, modes, iterations, lambda, mu, coarse, pinned,
         ),
         d => Err(CliError::Invalid(format!("dimension {d} is not 2 or 3"))),
     }
@@ -1548,7 +1549,7 @@ fn smooth_d<const D: usize>(
     dims: [usize; 3],
     points: &mut [[f64; 3]],
     direction: Direction,
-    normalised: bool,
+    (normalised, free_end): (bool, bool),
     iterations: usize,
     lambda: f64,
     mu: f64,
@@ -1556,8 +1557,8 @@ fn smooth_d<const D: usize>(
     pinned: Option<&[u8]>,
 ) -> Result<BlockSmoothing, CliError> {
     use deform_kernel::taubin::{
-        smooth_arclength, smooth_arclength_scratch_len, Coarse, Prolongation, SmoothOptions,
-        TaubinParams,
+        smooth_arclength, smooth_arclength_scratch_len, Coarse, LineEnd, Prolongation,
+        SmoothOptions, TaubinParams,
     };
     let block = deform_kernel::Block::new(dims).map_err(kernel("block"))?;
     let mut pts = points_d::<D>(points);
@@ -1565,6 +1566,9 @@ fn smooth_d<const D: usize>(
     options.params = TaubinParams { lambda, mu };
     options.iterations = iterations;
     options.normalised = normalised;
+    if free_end {
+        options.ends[1] = LineEnd::Free;
+    }
     options.fixed = pinned;
     if let Some(m) = coarse {
         let mut factor = [m; 3];

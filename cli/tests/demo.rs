@@ -42,8 +42,19 @@ fn quick_demo_writes_everything() {
         assert!(get("quaternion") < get("spring"), "{mesh}");
     }
     let smooth = v["smoothing"].as_array().expect("smoothing rows");
-    assert_eq!(smooth.len(), 3);
-    for r in smooth {
+    assert_eq!(smooth.len(), 4);
+    // Alter's adapted grid, free outer end: no fold, and the outer boundary much smoother.
+    let adapted = &smooth[3];
+    assert_eq!(adapted["folded_cells"], 0);
+    let settings = adapted["settings"].as_str().expect("text");
+    assert!(settings.contains("free outer end"), "{settings}");
+    let cut: f64 = settings
+        .rsplit_once('(')
+        .and_then(|(_, t)| t.split('×').next())
+        .and_then(|t| t.parse().ok())
+        .expect("roughness factor");
+    assert!(cut >= 5.0, "{settings}");
+    for r in &smooth[..3] {
         let before = r["max_stretching_before"].as_f64().expect("number");
         let after = r["max_stretching_after"].as_f64().expect("number");
         assert!(after < before, "{r}");
@@ -60,6 +71,10 @@ fn quick_demo_writes_everything() {
         "viscous_angle-cg_20.vtu",
         "smooth1_noisy_before.png",
         "smooth3_cavity_after.vts",
+        "smooth4_adapted_outer_arclength_before.png",
+        "smooth4_adapted_outer_arclength_after.svg",
+        "smooth4_adapted_grid_after.png",
+        "smooth4_adapted_before.vts",
         "compare_viscous_20_te.png",
         "compare_viscous_20_airfoil.svg",
     ] {

@@ -91,6 +91,7 @@ module deform_kernel
   integer(c_int32_t), parameter, public :: DK_ERR_NOT_UNIT = 27
   integer(c_int32_t), parameter, public :: DK_ERR_NOT_PLANAR = 28
   integer(c_int32_t), parameter, public :: DK_ERR_BAD_PLAN = 29
+  integer(c_int32_t), parameter, public :: DK_ERR_SHARED_FREE_END = 30
   integer(c_int32_t), parameter, public :: DK_ERR_OTHER = 99
 
   !> `dk_boundary_motion::rotation_source`: rotations from the undeformed and deformed boundary
@@ -164,6 +165,18 @@ module deform_kernel
   !> `dk_taubin_coarse::prolongation`: the interpolated coarse *change* is added to the fine
   !! field (keeps fine-scale content the coarse grid cannot see).
   integer(c_int32_t), parameter, public :: DK_PROLONGATION_CORRECTION = 1
+  !> Bits of the `free_faces` mask of `dk_taubin_smooth_arclength_ends`: the face `i = 0`.
+  integer(c_int32_t), parameter, public :: DK_FACE_IMIN = 1
+  !> The face `i = ni − 1`.
+  integer(c_int32_t), parameter, public :: DK_FACE_IMAX = 2
+  !> The face `j = 0`.
+  integer(c_int32_t), parameter, public :: DK_FACE_JMIN = 4
+  !> The face `j = nj − 1`.
+  integer(c_int32_t), parameter, public :: DK_FACE_JMAX = 8
+  !> The face `k = 0`.
+  integer(c_int32_t), parameter, public :: DK_FACE_KMIN = 16
+  !> The face `k = nk − 1`.
+  integer(c_int32_t), parameter, public :: DK_FACE_KMAX = 32
 
   !> Cells or boundary elements in VTK node order: `offsets` (cell count + 1 entries into
   !! `nodes`), `nodes` and one VTK code per cell in `kinds`. Offsets and node indices are read in
@@ -829,6 +842,7 @@ module deform_kernel
             dk_taubin_params_from_pass_band, dk_taubin_params_from_pass_band_f32, &
             dk_smooth_arclength_options_default, dk_taubin_smooth_arclength_scratch_len, &
             dk_taubin_smooth_arclength, dk_taubin_smooth_arclength_f32, &
+            dk_taubin_smooth_arclength_ends, dk_taubin_smooth_arclength_ends_f32, &
             dk_taubin_smooth_structured_scratch_len, dk_taubin_smooth_structured, &
             dk_taubin_smooth_structured_f32, dk_taubin_structured_sweep, &
             dk_taubin_structured_sweep_f32, dk_taubin_smooth_structured_coarse_scratch_len, &
@@ -3219,6 +3233,40 @@ module deform_kernel
       integer(c_size_t), value :: nj
       integer(c_size_t), value :: nk
       type(dk_smooth_arclength_options), intent(in) :: options
+      real(c_float), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_smooth_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_smooth_arclength_ends(ni, nj, nk, options, free_faces, points, points_len, &
+        dim, scratch, scratch_len, report) bind(C, name="dk_taubin_smooth_arclength_ends") &
+        result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_smooth_arclength_options, dk_smooth_report
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      type(dk_smooth_arclength_options), intent(in) :: options
+      integer(c_int32_t), value :: free_faces
+      real(c_double), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_smooth_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_taubin_smooth_arclength_ends_f32(ni, nj, nk, options, free_faces, points, &
+        points_len, dim, scratch, scratch_len, report) bind(C, &
+        name="dk_taubin_smooth_arclength_ends_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_smooth_arclength_options, dk_smooth_report
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      type(dk_smooth_arclength_options), intent(in) :: options
+      integer(c_int32_t), value :: free_faces
       real(c_float), intent(inout) :: points(*)
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim

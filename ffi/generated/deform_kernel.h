@@ -115,6 +115,24 @@
 // field (keeps fine-scale content the coarse grid cannot see).
 #define DK_PROLONGATION_CORRECTION 1
 
+// Bits of the `free_faces` mask of `dk_taubin_smooth_arclength_ends`: the face `i = 0`.
+#define DK_FACE_IMIN 1
+
+// The face `i = ni − 1`.
+#define DK_FACE_IMAX 2
+
+// The face `j = 0`.
+#define DK_FACE_JMIN 4
+
+// The face `j = nj − 1`.
+#define DK_FACE_JMAX 8
+
+// The face `k = 0`.
+#define DK_FACE_KMIN 16
+
+// The face `k = nk − 1`.
+#define DK_FACE_KMAX 32
+
 // Return code of every `dk_*` function. `DK_OK` (0) is success; every other value names the
 // kind of failure, and on failure no output was written.
 enum dk_status
@@ -183,6 +201,9 @@ enum dk_status
   // Plan pools do not hold a valid plan (no plan, another scalar type or dimension, or an
   // immutable part overwritten: checksum mismatch).
   DK_ERR_BAD_PLAN = 29,
+  // A line end that must be free to slide coincides with another grid point (a seam, an
+  // axis or an interface).
+  DK_ERR_SHARED_FREE_END = 30,
   // An error this version of the header does not know (a newer kernel).
   DK_ERR_OTHER = 99,
 };
@@ -3725,6 +3746,47 @@ dk_status dk_taubin_smooth_arclength_f32(size_t ni,
                                          float *scratch,
                                          size_t scratch_len,
                                          dk_smooth_report *report);
+
+// [`dk_taubin_smooth_arclength`] with a choice of line ends: `free_faces` is a mask of
+// `DK_FACE_*` bits naming the faces whose points may slide (0 = every end fixed, the same as
+// `dk_taubin_smooth_arclength`). Only the last face of the smoothing direction can be free
+// (`DK_FACE_KMAX` for k-lines: Alter's rough outer boundary), and only with dimensional
+// arclength; there every line's last point slides along its line to its filtered arclength,
+// past the end along the line's last segment of non-zero length. Errors as
+// [`dk_taubin_smooth_arclength`], and `DK_ERR_INVALID_PARAMETER` for a face that is not a line
+// end of `options->direction`, a free first face or a free face with `normalised`,
+// `DK_ERR_SHARED_FREE_END` when a free end coincides with another line's end (a seam or an
+// axis: keep that face fixed). On any error `points` and `*report` are unchanged.
+//
+// # Safety
+// As [`dk_taubin_smooth_arclength`].
+dk_status dk_taubin_smooth_arclength_ends(size_t ni,
+                                          size_t nj,
+                                          size_t nk,
+                                          const dk_smooth_arclength_options *options,
+                                          uint32_t free_faces,
+                                          double *points,
+                                          size_t points_len,
+                                          uint32_t dim,
+                                          double *scratch,
+                                          size_t scratch_len,
+                                          dk_smooth_report *report);
+
+// `f32` twin of [`dk_taubin_smooth_arclength_ends`].
+//
+// # Safety
+// As [`dk_taubin_smooth_arclength_ends`].
+dk_status dk_taubin_smooth_arclength_ends_f32(size_t ni,
+                                              size_t nj,
+                                              size_t nk,
+                                              const dk_smooth_arclength_options *options,
+                                              uint32_t free_faces,
+                                              float *points,
+                                              size_t points_len,
+                                              uint32_t dim,
+                                              float *scratch,
+                                              size_t scratch_len,
+                                              dk_smooth_report *report);
 
 // Scratch length (in scalars) for [`dk_taubin_smooth_structured`]: the point count.
 //

@@ -2469,6 +2469,40 @@ pub fn exercise() {
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.
     black_box(unsafe {
+        deform_kernel_ffi::taubin::dk_taubin_smooth_arclength_ends(
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::taubin::dk_taubin_smooth_arclength_ends_f32(
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
         deform_kernel_ffi::taubin::dk_taubin_smooth_structured_scratch_len(
             black_box(Default::default()),
             black_box(Default::default()),

@@ -216,6 +216,81 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength_f32(
     imp::dk_taubin_smooth_arclength::<f32>(ni, nj, nk, options, points, dim, scratch, report)
 }
 
+/// [`dk_taubin_smooth_arclength`] with a choice of line ends: `free_faces` is a mask of
+/// `DK_FACE_*` bits naming the faces whose points may slide (0 = every end fixed, the same as
+/// `dk_taubin_smooth_arclength`). Only the last face of the smoothing direction can be free
+/// (`DK_FACE_KMAX` for k-lines: Alter's rough outer boundary), and only with dimensional
+/// arclength; there every line's last point slides along its line to its filtered arclength,
+/// past the end along the line's last segment of non-zero length. Errors as
+/// [`dk_taubin_smooth_arclength`], and `DK_ERR_INVALID_PARAMETER` for a face that is not a line
+/// end of `options->direction`, a free first face or a free face with `normalised`,
+/// `DK_ERR_SHARED_FREE_END` when a free end coincides with another line's end (a seam or an
+/// axis: keep that face fixed). On any error `points` and `*report` are unchanged.
+///
+/// # Safety
+/// As [`dk_taubin_smooth_arclength`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_taubin_smooth_arclength_ends(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    options: *const dk_smooth_arclength_options,
+    free_faces: u32,
+    points: *mut f64,
+    points_len: usize,
+    dim: u32,
+    scratch: *mut f64,
+    scratch_len: usize,
+    report: *mut dk_smooth_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, points, scratch, report) = unsafe {
+        (
+            In::new(options, 1),
+            Out::new(points, points_len),
+            Out::new(scratch, scratch_len),
+            Out::new(report, 1),
+        )
+    };
+    imp::dk_taubin_smooth_arclength_ends::<f64>(
+        ni, nj, nk, options, free_faces, points, dim, scratch, report,
+    )
+}
+
+/// `f32` twin of [`dk_taubin_smooth_arclength_ends`].
+///
+/// # Safety
+/// As [`dk_taubin_smooth_arclength_ends`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_taubin_smooth_arclength_ends_f32(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    options: *const dk_smooth_arclength_options,
+    free_faces: u32,
+    points: *mut f32,
+    points_len: usize,
+    dim: u32,
+    scratch: *mut f32,
+    scratch_len: usize,
+    report: *mut dk_smooth_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, points, scratch, report) = unsafe {
+        (
+            In::new(options, 1),
+            Out::new(points, points_len),
+            Out::new(scratch, scratch_len),
+            Out::new(report, 1),
+        )
+    };
+    imp::dk_taubin_smooth_arclength_ends::<f32>(
+        ni, nj, nk, options, free_faces, points, dim, scratch, report,
+    )
+}
+
 /// Scratch length (in scalars) for [`dk_taubin_smooth_structured`]: the point count.
 ///
 /// # Safety

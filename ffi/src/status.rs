@@ -70,6 +70,9 @@ pub enum dk_status {
     /// Plan pools do not hold a valid plan (no plan, another scalar type or dimension, or an
     /// immutable part overwritten: checksum mismatch).
     DK_ERR_BAD_PLAN = 29,
+    /// A line end that must be free to slide coincides with another grid point (a seam, an
+    /// axis or an interface).
+    DK_ERR_SHARED_FREE_END = 30,
     /// An error this version of the header does not know (a newer kernel).
     DK_ERR_OTHER = 99,
 }
@@ -104,6 +107,7 @@ impl From<Error> for dk_status {
             Error::NotUnit { .. } => dk_status::DK_ERR_NOT_UNIT,
             Error::NotPlanar { .. } => dk_status::DK_ERR_NOT_PLANAR,
             Error::BadPlan { .. } => dk_status::DK_ERR_BAD_PLAN,
+            Error::SharedFreeEnd { .. } => dk_status::DK_ERR_SHARED_FREE_END,
             _ => dk_status::DK_ERR_OTHER,
         }
     }
@@ -144,6 +148,7 @@ pub(crate) fn dk_status_str(status: i32) -> &'static core::ffi::CStr {
         27 => c"a direction that must be a unit vector is not",
         28 => c"a node set that must be planar deviates from its fitted plane",
         29 => c"the plan pools do not hold a valid plan (none, another type, or overwritten)",
+        30 => c"a free line end coincides with another grid point (seam, axis or interface)",
         99 => c"an error unknown to this header version",
         _ => c"unknown status",
     }

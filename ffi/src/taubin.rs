@@ -26,8 +26,8 @@ use deform_kernel::taubin::{
     redistribute, redistribute_scratch_len, smooth_arclength, smooth_arclength_scratch_len,
     smooth_graph, smooth_structured, smooth_structured_coarse, stretching,
     structured_coarse_scratch_len, structured_scratch_len, structured_sweep, BlockRegion, Coarse,
-    FilterReport, GraphOptions, Prolongation, SmoothOptions, SmoothReport, StructuredOptions,
-    TaubinParams,
+    FilterReport, GraphOptions, LineEnd, Prolongation, SmoothOptions, SmoothReport,
+    StructuredOptions, TaubinParams,
 };
 use deform_kernel::{Block, Direction, Directions, Graph, Real};
 use deform_kernel_ffi_export::export;
@@ -138,6 +138,37 @@ pub(crate) fn to_direction(d: u32) -> Result<Direction, dk_status> {
         .ok_or(dk_status::DK_ERR_INVALID_PARAMETER)
 }
 
+/// Bits of the `free_faces` mask of `dk_taubin_smooth_arclength_ends`: the face `i = 0`.
+pub const DK_FACE_IMIN: u32 = 1;
+/// The face `i = ni − 1`.
+pub const DK_FACE_IMAX: u32 = 2;
+/// The face `j = 0`.
+pub const DK_FACE_JMIN: u32 = 4;
+/// The face `j = nj − 1`.
+pub const DK_FACE_JMAX: u32 = 8;
+/// The face `k = 0`.
+pub const DK_FACE_KMIN: u32 = 16;
+/// The face `k = nk − 1`.
+pub const DK_FACE_KMAX: u32 = 32;
+
+/// The line ends of a `free_faces` mask for lines along `direction`: only the two faces at
+/// the line ends may be named (bit `2d` the first, `2d + 1` the last); any other bit is
+/// `DK_ERR_INVALID_PARAMETER`.
+fn line_ends(direction: Direction, free_faces: u32) -> Result<[LineEnd; 2], dk_status> {
+    let shift = 2 * direction.index() as u32;
+    if free_faces & !(0b11 << shift) != 0 {
+        return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+    }
+    let end = |bit: u32| {
+        if free_faces & (1 << (shift + bit)) != 0 {
+            LineEnd::Free
+        } else {
+            LineEnd::Fixed
+        }
+    };
+    Ok([end(0), end(1)])
+}
+
 /// The mirror faces of an options struct: nonzero per direction i, j, k.
 fn mirror(flags: [u8; 3]) -> Directions {
     Directions::from_flags(flags.map(|m| m != 0))
@@ -235,6 +266,7 @@ impl dk_smooth_arclength_options {
             },
             iterations: self.iterations,
             normalised: self.normalised != 0,
+            ends: [LineEnd::Fixed; 2],
             fixed: pinned,
             mirror: mirror(self.mirror),
             coarse: if self.use_coarse != 0 {
@@ -294,12 +326,13 @@ impl dk_smooth_report {
 fn smooth_arclength_for_dim<T: Real, const D: usize>(
     block: &Block,
     options: &dk_smooth_arclength_options,
-    pinned: Option<&[u8]>,
+    (pinned, free_faces): (Option<&[u8]>, u32),
     points: Out<'_, T>,
     scratch: Out<'_, T>,
     report: Out<'_, dk_smooth_report>,
 ) -> Result<(), dk_status> {
-    let opts = options.to_kernel::<T>(pinned)?;
+    let mut opts = options.to_kernel::<T>(pinned)?;
+    opts.ends = line_ends(opts.direction, free_faces)?;
     let p = chunks_mut::<T, D>(points)?;
     let s = output(scratch)?;
     let r = out_one(report)?;
@@ -660,13 +693,45 @@ pub(crate) fn dk_taubin_smooth_arclength<T: Real>(
     scratch: Out<'_, T>,
     report: Out<'_, dk_smooth_report>,
 ) -> dk_status {
+    dk_taubin_smooth_arclength_ends(ni, nj, nk, options, 0, points, dim, scratch, report)
+}
+
+/// [`dk_taubin_smooth_arclength`] with a choice of line ends: `free_faces` is a mask of
+/// `DK_FACE_*` bits naming the faces whose points may slide (0 = every end fixed, the same as
+/// `dk_taubin_smooth_arclength`). Only the last face of the smoothing direction can be free
+/// (`DK_FACE_KMAX` for k-lines: Alter's rough outer boundary), and only with dimensional
+/// arclength; there every line's last point slides along its line to its filtered arclength,
+/// past the end along the line's last segment of non-zero length. Errors as
+/// [`dk_taubin_smooth_arclength`], and `DK_ERR_INVALID_PARAMETER` for a face that is not a line
+/// end of `options->direction`, a free first face or a free face with `normalised`,
+/// `DK_ERR_SHARED_FREE_END` when a free end coincides with another line's end (a seam or an
+/// axis: keep that face fixed). On any error `points` and `*report` are unchanged.
+///
+/// # Safety
+/// As [`dk_taubin_smooth_arclength`].
+///
+/// # f32 twin
+/// `f32` twin of [`dk_taubin_smooth_arclength_ends`].
+#[allow(clippy::too_many_arguments)]
+#[export(twin, options[1], report[1])]
+pub(crate) fn dk_taubin_smooth_arclength_ends<T: Real>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    options: In<'_, dk_smooth_arclength_options>,
+    free_faces: u32,
+    points: Out<'_, T>,
+    dim: u32,
+    scratch: Out<'_, T>,
+    report: Out<'_, dk_smooth_report>,
+) -> dk_status {
     done((|| {
         let b = block(ni, nj, nk)?;
         let (o, pinned) = read_with_pins(options)?;
         by_dim!(
             dim,
             smooth_arclength_for_dim::<T>,
-            (&b, &o, pinned, points, scratch, report)
+            (&b, &o, (pinned, free_faces), points, scratch, report)
         )
     })())
 }

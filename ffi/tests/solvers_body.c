@@ -148,6 +148,49 @@ static void CAT(taubin_smooth_arclength_, SUF)(void) {
     EXPECT(FN(dk_taubin_smooth_arclength)(6, 3, 1, &o, p, 36, 2, scratch, 64, &r),
            DK_ERR_NON_FINITE);
     SAME(p, p0, sizeof p);
+
+    /* Line ends (dk_taubin_smooth_arclength_ends), dimensional: line j = 1 is longer (its end
+     * at 9.5), so the face i = 5 is rough. Free: that end slides back along its line, the
+     * first points and every y stay; fixed (no face): the ends stay. Faces that cannot be
+     * free, normalised, and a seam (two ends at one point) are refused, points unchanged. */
+    {
+        REAL f[36], f0[36];
+        CAT(arclength_grid_, SUF)(f);
+        f[2 * (5 + 6 * 1)] = (REAL)9.5;
+        memcpy(f0, f, sizeof f);
+        o.normalised = 0;
+        OK(FN(dk_taubin_smooth_arclength_ends)(6, 3, 1, &o, DK_FACE_IMAX, f, 36, 2, scratch,
+                                               64, &r));
+        CHECK(f[2 * (5 + 6 * 1)] < (REAL)9.5 && f[2 * (5 + 6 * 1)] > (REAL)9);
+        for (j = 0; j < 3; j++) {
+            CHECK(f[2 * (6 * j)] == 0);
+            for (i = 0; i < 6; i++) CHECK(f[2 * (i + 6 * j) + 1] == (REAL)j);
+        }
+        memcpy(f, f0, sizeof f);
+        OK(FN(dk_taubin_smooth_arclength_ends)(6, 3, 1, &o, 0, f, 36, 2, scratch, 64, &r));
+        for (j = 0; j < 3; j++) CHECK(f[2 * (5 + 6 * j)] == f0[2 * (5 + 6 * j)]);
+        memcpy(f, f0, sizeof f);
+        EXPECT(FN(dk_taubin_smooth_arclength_ends)(6, 3, 1, &o, DK_FACE_IMIN, f, 36, 2, scratch,
+                                                   64, &r),
+               DK_ERR_INVALID_PARAMETER);
+        EXPECT(FN(dk_taubin_smooth_arclength_ends)(6, 3, 1, &o, DK_FACE_JMAX, f, 36, 2, scratch,
+                                                   64, &r),
+               DK_ERR_INVALID_PARAMETER);
+        o.normalised = 1;
+        EXPECT(FN(dk_taubin_smooth_arclength_ends)(6, 3, 1, &o, DK_FACE_IMAX, f, 36, 2, scratch,
+                                                   64, &r),
+               DK_ERR_INVALID_PARAMETER);
+        o.normalised = 0;
+        SAME(f, f0, sizeof f);
+        f[2 * (5 + 6 * 1)] = f[2 * 5];
+        f[2 * (5 + 6 * 1) + 1] = f[2 * 5 + 1];
+        memcpy(f0, f, sizeof f);
+        EXPECT(FN(dk_taubin_smooth_arclength_ends)(6, 3, 1, &o, DK_FACE_IMAX, f, 36, 2, scratch,
+                                                   64, &r),
+               DK_ERR_SHARED_FREE_END);
+        SAME(f, f0, sizeof f);
+        r = r0; /* the successful calls above wrote it; the checks below compare with r0 */
+    }
     CAT(arclength_grid_, SUF)(p);
     memcpy(p0, p, sizeof p);
     /* An unstable λ (1.9, μ = 0) on the dimensional arclength: the fold guard fires after

@@ -1,14 +1,14 @@
 //! Target 7: arclength functions, redistribution and Alter's smoothing driver on arbitrary
 //! small 2D blocks with monotone i-lines (zero-length segments included): arclength is
 //! non-decreasing from 0 (and ends at 1 when normalised); after redistribution to monotone
-//! targets, and after smoothing, lines stay monotone; otherwise a typed error leaves the
-//! points unchanged.
+//! targets, and after smoothing (last line ends fixed or free), lines stay monotone and first
+//! ends stay; otherwise a typed error leaves the points unchanged.
 #![no_main]
 
 use arbitrary::Arbitrary;
 use deform_kernel::taubin::{
     arclength, redistribute, redistribute_scratch_len, smooth_arclength,
-    smooth_arclength_scratch_len, SmoothOptions,
+    smooth_arclength_scratch_len, LineEnd, SmoothOptions,
 };
 use deform_kernel::Direction;
 use deform_kernel::{Block, Error};
@@ -23,6 +23,7 @@ struct Input {
     targets: Vec<u8>,
     normalised: bool,
     iterations: u8,
+    free_end: bool,
 }
 
 fn monotone_lines(block: &Block, pts: &[[f64; 2]], normalised: bool) -> bool {
@@ -96,11 +97,20 @@ fuzz_target!(|inp: Input| {
     let mut opts = SmoothOptions::new(Direction::I);
     opts.normalised = inp.normalised;
     opts.iterations = (inp.iterations % 40) as usize;
+    if inp.free_end {
+        opts.ends[1] = LineEnd::Free;
+    }
     let mut scratch = vec![0.0; smooth_arclength_scratch_len::<2>(&block, Direction::I, None)];
     match smooth_arclength(&block, &mut smoothed, &opts, &mut scratch) {
         Ok(r) => {
             assert!(r.max_displacement.is_finite());
             assert!(monotone_lines(&block, &smoothed, false));
+            for j in 0..nj {
+                assert_eq!(smoothed[j * ni], points[j * ni]);
+                if !inp.free_end {
+                    assert_eq!(smoothed[j * ni + ni - 1], points[j * ni + ni - 1]);
+                }
+            }
         }
         Err(
             Error::FoldedLine { .. } | Error::InvalidParameter { .. } | Error::ZeroLength { .. },

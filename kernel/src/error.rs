@@ -150,6 +150,15 @@ pub enum Error {
         /// The iteration at which the fold appeared (0 = in the input).
         iteration: usize,
     },
+    /// A line end that must be free to slide coincides with another grid point's end (an
+    /// O-grid seam, a wake cut, a collapsed axis, a block interface): freeing it would open
+    /// what is closed.
+    SharedFreeEnd {
+        /// The free end point (linear index).
+        point: usize,
+        /// The grid point it coincides with.
+        other: usize,
+    },
     /// A structured block's dimensions are invalid (zero, or a product that overflows).
     BadDimensions {
         /// The dimensions argument.
@@ -273,6 +282,10 @@ impl fmt::Display for Error {
                 f,
                 "the grid line starting at point {line} folded (arclength not increasing) at iteration {iteration}"
             ),
+            Error::SharedFreeEnd { point, other } => write!(
+                f,
+                "the free line end at point {point} coincides with grid point {other} (a seam, axis or interface): keep that end fixed"
+            ),
             Error::BadDimensions { arg } => {
                 write!(f, "`{arg}` has a zero dimension or too many points")
             }
@@ -385,6 +398,9 @@ impl defmt::Format for Error {
             Error::Unanchored { node } => defmt::write!(f, "Unanchored({})", node),
             Error::FoldedLine { line, iteration } => {
                 defmt::write!(f, "FoldedLine(line {} iteration {})", line, iteration)
+            }
+            Error::SharedFreeEnd { point, other } => {
+                defmt::write!(f, "SharedFreeEnd({} = {})", point, other)
             }
             Error::BadDimensions { arg } => defmt::write!(f, "BadDimensions({=str})", arg),
             Error::IsolatedNode { node } => defmt::write!(f, "IsolatedNode({})", node),

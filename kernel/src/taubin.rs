@@ -35,7 +35,8 @@
 //! - [`arclength`], [`redistribute`], [`stretching`], [`max_stretching`],
 //!   [`check_lines_increasing`]: the line tools.
 //! - [`smooth_arclength`]: the whole-grid driver (arclength → filter → fold guard →
-//!   redistribution) behind `deform smooth`.
+//!   redistribution) behind `deform smooth`; [`LineEnd`] says whether the last point of each
+//!   line stays (default) or slides along the line (Alter's rough outer boundary).
 //!
 //! ```
 //! use deform_kernel::taubin::{smooth_arclength, smooth_arclength_scratch_len, SmoothOptions};
@@ -70,6 +71,7 @@
 //! [`Block`]: crate::Block
 
 mod coarse;
+mod ends;
 mod graph_filter;
 mod grid;
 mod lines;
@@ -78,6 +80,7 @@ mod structured;
 pub use coarse::{
     coarse_dims, smooth_structured_coarse, structured_coarse_scratch_len, Coarse, Prolongation,
 };
+pub use ends::LineEnd;
 pub use graph_filter::{
     graph_scratch_len, graph_sweep, inverse_distance_weights, smooth_graph, GraphOptions,
 };

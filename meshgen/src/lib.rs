@@ -23,6 +23,7 @@
 
 use std::fmt;
 
+pub mod adapted;
 pub mod airfoil;
 pub mod blocks;
 pub mod extrude;
@@ -31,6 +32,7 @@ pub mod naca;
 pub mod rng;
 pub mod shapes;
 
+pub use adapted::{adapted_block, AdaptedSpec};
 pub use airfoil::{naca_hybrid, naca_ogrid, naca_triangulated, AirfoilGrid};
 pub use blocks::{block2, block3, cavity2, cavity3, noisy_block2, noisy_block3, BlockSpec};
 pub use extrude::{extrude, twist_bend, TwistBend};

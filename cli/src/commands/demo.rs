@@ -9,11 +9,16 @@
 //!   with abrupt stretching jumps; the table gives the largest stretching ratio before and
 //!   after, and the pictures colour every cell by its spacing ratio along the smoothed lines
 //!   (before and after on one scale, so the difference shows).
+//! - Alter's own case ([`adapted`]): a solution-adapted volume grid with a rough outer
+//!   boundary, smoothed along k with the outer end free (pictures of the outer-boundary
+//!   arclength, his figures 6 and 7, and of a cut through the grid).
 //! - Wall close-ups are sized to the first-layer height at mid-chord, so the first grid line's
 //!   angle at the wall (kept by the quaternion method, sheared by springs) is visible.
 //!
 //! Every file is staged and renamed into the output directory only when the whole demo
 //! succeeded.
+
+mod adapted;
 
 use std::fmt::Write as _;
 use std::fs;
@@ -579,7 +584,7 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
             dims,
             &mut after,
             *direction,
-            *normalized,
+            (*normalized, false),
             30,
             0.330,
             -0.334,
@@ -633,6 +638,7 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
         }
         bar.inc(1);
     }
+    smooth_rows.push(adapted::adapted_case(a.quick, &mut files)?);
     bar.finish_and_clear();
 
     let table = deform_table(&rows);

@@ -1,6 +1,7 @@
 //! `deform smooth`: Alter's Taubin arclength smoothing of Plot3D grids, with every line end,
 //! seam and interface held and every cell checked against the input for flips.
 
+use std::path::Path;
 use std::time::Instant;
 
 use serde::Serialize;
@@ -32,6 +33,7 @@ pub(crate) struct SmoothReport {
     max_laplacian_s_before: f64,
     max_laplacian_s_after: f64,
     pinned_coincident_points: usize,
+    free_ends: Vec<String>,
     flipped_cells: usize,
     unchecked_blocks: usize,
     folded_lines: usize,
@@ -66,6 +68,84 @@ pub(crate) fn coincident_points(grid: &Plot3dGrid) -> (Vec<Vec<u8>>, usize) {
         })
         .collect();
     (masks, total)
+}
+
+/// Per block, whether the last face of `direction` is free, from the `--free-end [B:]FACE`
+/// values: only that face can be named (the first face is where arclength is measured from),
+/// blocks are 1-based.
+fn free_blocks(
+    specs: &[String],
+    direction: Direction,
+    blocks: usize,
+    normalized: bool,
+) -> Result<Vec<bool>, CliError> {
+    let mut free = vec![false; blocks];
+    let last = format!("{}max", value_name(&direction));
+    for spec in specs {
+        let (block, face) = match spec.split_once(':') {
+            Some((b, f)) => {
+                let b: usize = b.trim().parse().map_err(|_| {
+                    CliError::Invalid(format!("--free-end {spec}: `{b}` is not a block number"))
+                })?;
+                if b == 0 || b > blocks {
+                    return Err(CliError::Invalid(format!(
+                        "--free-end {spec}: the grid has blocks 1 to {blocks}"
+                    )));
+                }
+                (Some(b - 1), f.trim())
+            }
+            None => (None, spec.trim()),
+        };
+        if face != last {
+            return Err(CliError::Invalid(format!(
+                "--free-end {spec}: only the face at the end of the smoothing direction ({last}) can be free; the first face is where arclength is measured from and the others are not line ends"
+            )));
+        }
+        match block {
+            Some(b) => free[b] = true,
+            None => free.fill(true),
+        }
+    }
+    if normalized && free.contains(&true) {
+        return Err(CliError::Invalid(
+            "--free-end needs the physical arclength (with --normalized the line ends never move)"
+                .into(),
+        ));
+    }
+    Ok(free)
+}
+
+/// Refuses a free face with a point that coincides with another grid point (`pins`: the
+/// coincident points of the block), naming the first.
+fn check_free_face(
+    grid: &Path,
+    b: usize,
+    dims: [usize; 3],
+    direction: Direction,
+    pins: &[u8],
+) -> Result<(), CliError> {
+    let [ni, nj, nk] = dims;
+    let last = match direction {
+        Direction::I => ni - 1,
+        Direction::J => nj - 1,
+        Direction::K => nk - 1,
+    };
+    let on_face = |p: usize| {
+        let (i, j, k) = (p % ni, (p / ni) % nj, p / (ni * nj));
+        [i, j, k][direction as usize] == last
+    };
+    match (0..pins.len()).find(|&p| pins[p] != 0 && on_face(p)) {
+        Some(p) => Err(CliError::Invalid(format!(
+            "{}: block {}: the free face {}max has point i={}, j={}, k={} that coincides with another grid point (a seam or an interface); keep that face fixed",
+            grid.display(),
+            b + 1,
+            value_name(&direction),
+            p % ni + 1,
+            (p / ni) % nj + 1,
+            p / (ni * nj) + 1
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// The cells (0-based, i-fastest) whose smallest corner Jacobian was > 0 and is ≤ 0.
@@ -123,6 +203,7 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
             a.grid.display()
         )));
     }
+    let free = free_blocks(&a.free_end, a.direction, grid.blocks.len(), a.normalized)?;
     let direction = match a.direction {
         Direction::I => deform_kernel::Direction::I,
         Direction::J => deform_kernel::Direction::J,
@@ -144,6 +225,12 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
         max_laplacian_s_before: 0.0,
         max_laplacian_s_after: 0.0,
         pinned_coincident_points: 0,
+        free_ends: free
+            .iter()
+            .enumerate()
+            .filter(|(_, &f)| f)
+            .map(|(b, _)| format!("block {}: {}max", b + 1, value_name(&a.direction)))
+            .collect(),
         flipped_cells: 0,
         unchecked_blocks: 0,
         folded_lines: 0,
@@ -151,10 +238,16 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
     };
     let (pins, shared) = coincident_points(&grid);
     report.pinned_coincident_points = shared;
+    for (b, (blk, pin)) in grid.blocks.iter().zip(&pins).enumerate() {
+        if free[b] {
+            check_free_face(&a.grid, b, blk.dims, a.direction, pin)?;
+        }
+    }
     let dim = grid.dim;
     let in_block = |b: usize| move |e: CliError| e.within(&format!("block {}", b + 1));
     for (b, (blk, pin)) in grid.blocks.iter_mut().zip(&pins).enumerate() {
         let original = blk.points.clone();
+        let modes = (a.normalized, free[b]);
         let smooth_copy = |iterations: usize, coarse: Option<usize>| {
             let mut pts = original.clone();
             crate::engine::smooth_block(
@@ -162,7 +255,7 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
                 blk.dims,
                 &mut pts,
                 direction,
-                a.normalized,
+                modes,
                 iterations,
                 a.lambda,
                 a.mu,
@@ -242,13 +335,18 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
     staged.commit().map_err(io_err(&a.out))?;
     report.seconds = seconds(t0);
     let mut text = format!(
-        "{} -> {}: {} block(s), {} iterations along {}{}, max stretching {:.4} -> {:.4}, max |∇²S| {:.4e} -> {:.4e}, max point move {:.3e}, {} coincident points held",
+        "{} -> {}: {} block(s), {} iterations along {}{}{}, max stretching {:.4} -> {:.4}, max |∇²S| {:.4e} -> {:.4e}, max point move {:.3e}, {} coincident points held",
         report.grid,
         report.output,
         report.blocks,
         report.iterations,
         report.direction,
         if report.normalized { " (normalized)" } else { "" },
+        if report.free_ends.is_empty() {
+            String::new()
+        } else {
+            format!(" (free ends: {})", report.free_ends.join(", "))
+        },
         report.max_stretching_before,
         report.max_stretching_after,
         report.max_laplacian_s_before,

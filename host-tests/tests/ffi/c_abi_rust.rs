@@ -521,6 +521,11 @@ fn every_kernel_error_has_its_own_status_and_description() {
             dk_status::DK_ERR_BAD_PLAN,
             29,
         ),
+        (
+            Error::SharedFreeEnd { point: 7, other: 3 },
+            dk_status::DK_ERR_SHARED_FREE_END,
+            30,
+        ),
     ];
     for (error, status, code) in cases {
         assert_eq!(dk_status::from(error), status);
@@ -530,4 +535,93 @@ fn every_kernel_error_has_its_own_status_and_description() {
         let text = text.to_str().expect("UTF-8");
         assert!(!text.contains("unknown"), "{code}: {text}");
     }
+}
+
+/// `dk_taubin_smooth_arclength_ends`: a free outer face gives the kernel's bits; faces that
+/// cannot be free and free ends on a seam are refused with `points` unchanged.
+#[test]
+fn taubin_smooth_arclength_ends_frees_the_outer_face_and_refuses_the_rest() {
+    use deform_kernel::taubin::{
+        smooth_arclength, smooth_arclength_scratch_len, LineEnd, SmoothOptions,
+    };
+    use deform_kernel::{Block, Direction};
+    use deform_kernel_ffi::taubin::{
+        dk_smooth_arclength_options, dk_smooth_arclength_options_default, dk_smooth_report,
+        dk_taubin_smooth_arclength_ends, DK_FACE_IMAX, DK_FACE_KMAX, DK_FACE_KMIN,
+    };
+    let dims = [5usize, 4, 6];
+    let n = dims.iter().product::<usize>();
+    let grid: Vec<[f64; 3]> = (0..n)
+        .map(|p| {
+            let (l, k) = (p % 20, p / 20);
+            let len = 1.0 + 0.01 * ((l * 7) % 5) as f64;
+            [
+                (l % 5) as f64,
+                (l / 5) as f64,
+                len * (k as f64 / 5.0).powf(1.3),
+            ]
+        })
+        .collect();
+    let block = Block::new(dims).unwrap();
+    let len = smooth_arclength_scratch_len::<3>(&block, Direction::K, None);
+    let mut want = grid.clone();
+    let mut o = SmoothOptions::new(Direction::K);
+    o.ends[1] = LineEnd::Free;
+    smooth_arclength(&block, &mut want, &o, &mut vec![0.0; len]).unwrap();
+
+    let mut options = std::mem::MaybeUninit::<dk_smooth_arclength_options>::uninit();
+    // SAFETY: `options` is one writable options struct.
+    let s = unsafe { dk_smooth_arclength_options_default(2, options.as_mut_ptr()) };
+    assert_eq!(s, dk_status::DK_OK);
+    // SAFETY: written by the call above.
+    let mut options = unsafe { options.assume_init() };
+    let run = |pts: &mut Vec<[f64; 3]>, faces: u32, options: &dk_smooth_arclength_options| {
+        let mut scratch = vec![0.0; len];
+        let mut report = std::mem::MaybeUninit::<dk_smooth_report>::zeroed();
+        // SAFETY: `pts` holds 3 n scalars, `scratch` `len`, `report` is one report.
+        unsafe {
+            dk_taubin_smooth_arclength_ends(
+                dims[0],
+                dims[1],
+                dims[2],
+                options,
+                faces,
+                pts.as_mut_ptr().cast(),
+                3 * n,
+                3,
+                scratch.as_mut_ptr(),
+                len,
+                report.as_mut_ptr(),
+            )
+        }
+    };
+    let mut got = grid.clone();
+    assert_eq!(run(&mut got, DK_FACE_KMAX, &options), dk_status::DK_OK);
+    assert_eq!(got, want);
+    let mut fixed = grid.clone();
+    assert_eq!(run(&mut fixed, 0, &options), dk_status::DK_OK);
+    assert_eq!(fixed[n - 20..], grid[n - 20..]);
+    for faces in [DK_FACE_KMIN, DK_FACE_IMAX | DK_FACE_KMAX, 64] {
+        let mut p = grid.clone();
+        assert_eq!(
+            run(&mut p, faces, &options),
+            dk_status::DK_ERR_INVALID_PARAMETER
+        );
+        assert_eq!(p, grid);
+    }
+    let mut seam = grid.clone();
+    seam[n - 19] = seam[n - 20];
+    let before = seam.clone();
+    assert_eq!(
+        run(&mut seam, DK_FACE_KMAX, &options),
+        dk_status::DK_ERR_SHARED_FREE_END
+    );
+    assert_eq!(seam, before);
+    options.normalised = 1;
+    let mut p = grid.clone();
+    assert_eq!(
+        run(&mut p, DK_FACE_KMAX, &options),
+        dk_status::DK_ERR_INVALID_PARAMETER
+    );
+    assert_eq!(p, grid);
 }

@@ -5,7 +5,7 @@
 use deform_host_tests::taubin_ref;
 use deform_kernel::taubin::{
     arclength, check_lines_increasing, max_stretching, redistribute, redistribute_scratch_len,
-    smooth_arclength, smooth_arclength_scratch_len, smooth_structured, stretching, Coarse,
+    smooth_arclength, smooth_arclength_scratch_len, smooth_structured, stretching, Coarse, LineEnd,
     Prolongation, SmoothOptions, SmoothReport, StructuredOptions, TaubinParams,
 };
 use deform_kernel::Direction;
@@ -560,15 +560,15 @@ proptest! {
 
 #[test]
 fn driver_pins_coarse_pass_and_f32() {
-    // Straight k-lines whose lengths ripple along i with wavelength 8: fine smoothing keeps
-    // most of the ripple of the outer face; the coarse pass (every 4th i) removes it.
+    // Straight k-lines whose lengths ripple along i with wavelength 8: with a free outer end
+    // (Alter's case) fine smoothing keeps most of the ripple; the coarse pass (every 4th i)
+    // removes it. With fixed ends every line keeps its length and the interior follows it.
     let dims = [65, 3, 12];
     let len = |i: usize| 1.0 + 0.05 * (2.0 * std::f64::consts::PI * i as f64 / 8.0).sin();
     let pts = grid(dims, |i, j, k| {
         [i as f64 * 0.1, j as f64 * 0.1, len(i) * k as f64 / 11.0]
     });
-    // The outer face (k = 11) is a line end and stays put; the ripple that smoothing removes
-    // is the one inside: the deviation of the k = 6 points from the mean across i.
+    // The ripple: the deviation of the k = 6 points from the mean across i.
     let ripple = |p: &[P3]| {
         let block = Block::new(dims).unwrap();
         let mean = (8..57).map(|i| p[block.index(i, 1, 6)][2]).sum::<f64>() / 49.0;
@@ -577,23 +577,29 @@ fn driver_pins_coarse_pass_and_f32() {
             .fold(0.0, f64::max)
     };
     let mut fine = pts.clone();
-    run_smooth(dims, &mut fine, &SmoothOptions::new(Direction::K)).unwrap();
-    let mut coarse = pts.clone();
     let mut o = SmoothOptions::new(Direction::K);
+    o.ends[1] = LineEnd::Free;
+    run_smooth(dims, &mut fine, &o).unwrap();
+    let mut coarse = pts.clone();
     o.coarse = Some(Coarse {
         factor: [4, 4, 1],
         prolongation: Prolongation::Values,
     });
     let r = run_smooth(dims, &mut coarse, &o).unwrap();
     assert_eq!(r.iterations, 45);
+    let mut fixed = pts.clone();
+    o.ends[1] = LineEnd::Fixed;
+    run_smooth(dims, &mut fixed, &o).unwrap();
     println!(
-        "interior (k = 6) ripple: input {:.3e}, fine 30 iterations {:.3e}, fine 30 + coarse 15 {:.3e}",
+        "interior (k = 6) ripple: input {:.3e}, free end: fine 30 iterations {:.3e}, fine 30 + coarse 15 {:.3e}; fixed ends, fine + coarse {:.3e}",
         ripple(&pts),
         ripple(&fine),
-        ripple(&coarse)
+        ripple(&coarse),
+        ripple(&fixed)
     );
     assert!(ripple(&fine) > 0.5 * ripple(&pts));
     assert!(ripple(&coarse) < 0.1 * ripple(&pts));
+    assert!((ripple(&fixed) - ripple(&pts)).abs() < 0.1 * ripple(&pts));
     // Points still lie on their original vertical lines.
     for (a, b) in coarse.iter().zip(&pts) {
         assert_eq!((a[0], a[1]), (b[0], b[1]));

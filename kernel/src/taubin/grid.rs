@@ -7,6 +7,7 @@ use crate::error::{Error, Result};
 use crate::real::Real;
 
 use super::coarse::{coarse_core, coarse_dims, fine_of, Coarse};
+use super::ends::{check_free_face, map_onto_fixed_ends, validate_ends, LineEnd};
 use super::lines::{
     arclength_core, check_increasing_core, line_collapsed, line_shape, max_stretching_core,
     on_zero_segment, redistribute_core, same_point,
@@ -25,9 +26,13 @@ pub struct SmoothOptions<'a, T> {
     /// Fine-grid iterations (default 30, as in the paper).
     pub iterations: usize,
     /// Filter the normalised arclength `s = S / S_total` (Alter: reduces stretching) instead
-    /// of the dimensional `S` (smooths the grid). In both modes the line ends stay where they
-    /// are. Default `false`.
+    /// of the dimensional `S` (smooths the grid). Normalised, both line ends always stay
+    /// where they are. Default `false`.
     pub normalised: bool,
+    /// What the first and the last point of every line do: [`LineEnd::Fixed`] (default,
+    /// both) or, for the last end with dimensional arclength, [`LineEnd::Free`] (Alter's
+    /// outer boundary slides along its lines).
+    pub ends: [LineEnd; 2],
     /// Optional fixed-point mask (`point_count` bytes, nonzero = the point does not move).
     pub fixed: Option<&'a [u8]>,
     /// Mirror (Neumann) faces per direction. The entry for `direction` itself is ignored: the
@@ -49,6 +54,7 @@ impl<'a, T: Real> SmoothOptions<'a, T> {
             params: TaubinParams::paper(),
             iterations: 30,
             normalised: false,
+            ends: [LineEnd::Fixed; 2],
             fixed: None,
             mirror: Directions::NONE,
             coarse: None,
@@ -93,8 +99,9 @@ pub fn smooth_arclength_scratch_len<const D: usize>(
     n + n.max(nc).max((D + 1) * len)
 }
 
-/// True when point `p` is the first or last point of its line along `direction`.
-fn is_line_end(dims: [usize; 3], direction: Direction, p: usize) -> bool {
+/// Whether point `p` is the first (`[true, _]`) or the last (`[_, true]`) point of its line
+/// along `direction`.
+fn line_end(dims: [usize; 3], direction: Direction, p: usize) -> [bool; 2] {
     let [ni, nj, _] = dims;
     let (stride, len) = match direction {
         Direction::I => (1, ni),
@@ -102,7 +109,7 @@ fn is_line_end(dims: [usize; 3], direction: Direction, p: usize) -> bool {
         Direction::K => (ni.saturating_mul(nj), dims[2]),
     };
     let t = (p / stride.max(1)) % len.max(1);
-    t == 0 || t + 1 == len
+    [t == 0, t + 1 == len]
 }
 
 /// Smooths a structured grid along one family of lines, Alter's way:
@@ -119,13 +126,24 @@ fn is_line_end(dims: [usize; 3], direction: Direction, p: usize) -> bool {
 /// 4. every point moves along its original polyline to its filtered arclength
 ///    ([`redistribute`]); fixed points are not touched.
 ///
-/// In both modes the **first and last point of every line stay bitwise where they were**:
-/// they are held in the filter (like fixed points) and skipped by the redistribution, so the
-/// grid's boundary faces at the line ends, and whatever meets them there (an O-grid seam, a
-/// block interface), do not move. Dimensional smoothing thus redistributes points between
-/// fixed ends. Segments that already have zero length (two consecutive points coincide, e.g.
-/// a duplicated point) are held the same way: their arclength stays equal, which the fold
-/// guard accepts there and only there.
+/// **Line ends** (`options.ends`). The first point of every line never moves (`S = 0`
+/// there). With [`LineEnd::Fixed`] (the default) the last point stays bitwise where it was
+/// too, so the boundary faces at the line ends, and whatever meets them there (an O-grid
+/// seam, a block interface), do not move. Normalised, both ends are held in the filter
+/// (`s = 0` and `1`). Dimensional, the far face is filtered in-plane like every face (the
+/// paper's rule) and, for fixed ends, each line's filtered field is then mapped onto its
+/// original end value, `S ← (S / S_end) · S_end⁰`, before the fold guard's last check and
+/// the redistribution: a line the free-end filter keeps increasing stays increasing.
+/// (Holding the far face in the filter instead pins its roughness while the points below
+/// it are averaged across lines; where the last cells are shorter than that roughness, as
+/// under a bow shock, the lines fold.) With [`LineEnd::Free`] the last points slide along
+/// their lines to the filtered arclength, past the end along the last segment of non-zero
+/// length (Alter's outer boundary, his figures 6 and 7); a free end that coincides with
+/// another line's end ([`SharedFreeEnd`](Error::SharedFreeEnd)) is refused.
+///
+/// Segments that already have zero length (two consecutive points coincide, e.g. a
+/// duplicated point) are held: their arclength stays equal, which the fold guard accepts
+/// there and only there.
 ///
 /// The grid is only written in step 4, so on **any** `Err` (including `FoldedLine`) `points`
 /// is unchanged; `scratch` ([`smooth_arclength_scratch_len`] values) is then unspecified.
@@ -136,9 +154,10 @@ fn is_line_end(dims: [usize; 3], direction: Direction, p: usize) -> bool {
 /// [`smooth_structured_coarse`]: super::smooth_structured_coarse
 ///
 /// # Errors
-/// `InvalidParameter` (`direction`, `lambda`, `mu`, `coarse.factor`), `LengthMismatch`
-/// (`points`, `options.fixed`), `BufferTooSmall` (`scratch`), `NonFinite` (`points`,
-/// `lambda`, `mu`), `FoldedLine`.
+/// `InvalidParameter` (`direction`, `lambda`, `mu`, `coarse.factor`, `options.ends`: a free
+/// first end, or a free end with normalised arclength), `LengthMismatch` (`points`,
+/// `options.fixed`), `BufferTooSmall` (`scratch`), `NonFinite` (`points`, `lambda`, `mu`),
+/// `SharedFreeEnd` (a free end on a seam), `FoldedLine`.
 pub fn smooth_arclength<T: Real, const D: usize>(
     block: &Block,
     points: &mut [[T; D]],
@@ -150,6 +169,7 @@ pub fn smooth_arclength<T: Real, const D: usize>(
     check::len("points", points.len(), n)?;
     check::mask("options.fixed", options.fixed, n)?;
     options.params.validate()?;
+    validate_ends(options.ends, options.normalised)?;
     if let Some(c) = &options.coarse {
         c.validate()?;
     }
@@ -157,6 +177,10 @@ pub fn smooth_arclength<T: Real, const D: usize>(
     check::buffer("scratch", scratch.len(), need)?;
     check::finite_items("points", points)?;
     let dims = block.dims();
+    let free_end = options.ends[1] == LineEnd::Free;
+    if free_end {
+        check_free_face(dims, points, direction)?;
+    }
     let mirror = options.mirror.without(direction).flags();
     let fixed = options.fixed;
     let params = options.params;
@@ -173,10 +197,17 @@ pub fn smooth_arclength<T: Real, const D: usize>(
 
     let pts: &[[T; D]] = points;
     let collapsed = |base: usize| line_collapsed(dims, pts, direction, base);
-    // Line ends never move: fixed in the filter and skipped by the redistribution; nor do
-    // the ends of segments that already have zero length (their arclength stays equal).
-    let held_ends = |p: usize| is_fixed(fixed, p) || is_line_end(dims, direction, p);
+    // Held in the filter: fixed points, first ends (S = 0), last ends when normalised
+    // (s = 1), the ends of segments that already have zero length (their arclength stays
+    // equal). Dimensional last ends are filtered in-plane, fixed or free.
+    let normalised = options.normalised;
+    let held_ends = |p: usize| {
+        let [first, last] = line_end(dims, direction, p);
+        is_fixed(fixed, p) || first || (last && normalised)
+    };
     let held = |p: usize| held_ends(p) || on_zero_segment(dims, pts, direction, p);
+    // Not moved by the redistribution: the held points and the fixed last ends.
+    let stays = |p: usize| held_ends(p) || (!free_end && line_end(dims, direction, p)[1]);
     let zero_segment = |p: usize, q: usize| same_point(pts, p, q);
     let pin = |_: [usize; 3], p: usize| held(p);
     let region = BlockRegion {
@@ -239,6 +270,12 @@ pub fn smooth_arclength<T: Real, const D: usize>(
         }
         check_increasing_core(dims, field, direction, iterations, collapsed, zero_segment)?;
     }
+    if !normalised && !free_end {
+        let interior_held =
+            |p: usize| is_fixed(fixed, p) || on_zero_segment(dims, pts, direction, p);
+        map_onto_fixed_ends(dims, pts, direction, field, interior_held);
+        check_increasing_core(dims, field, direction, iterations, collapsed, zero_segment)?;
+    }
 
     let max_displacement = redistribute_core(
         dims,
@@ -247,7 +284,7 @@ pub fn smooth_arclength<T: Real, const D: usize>(
         field,
         options.normalised,
         rest,
-        |p, zero| zero || held_ends(p),
+        |p, zero| zero || stays(p),
     );
     let stretching_after = max_stretching_core(dims, points, direction);
     Ok(SmoothReport {

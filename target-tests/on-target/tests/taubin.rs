@@ -2,7 +2,9 @@
 //! coarse-grid variant keep linear fields and damp checkerboard noise with bounded growth, the
 //! graph filter keeps constant fields and fixed nodes, the line tools (arclength,
 //! redistribution, stretching) are exact where the algebra is, and `smooth_arclength` reduces
-//! stretching while every point stays on its line and every line stays monotone.
+//! stretching while every point stays on its line and every line stays monotone; with a free
+//! outer end (Alter's adapted grid) the outer points slide along their lines and the wall
+//! stays, with fixed ends both faces stay, and a free end on a seam is refused.
 #![no_std]
 #![no_main]
 
@@ -16,7 +18,7 @@ use deform_kernel::taubin::{
     redistribute, redistribute_scratch_len, smooth_arclength, smooth_arclength_scratch_len,
     smooth_graph, smooth_structured, smooth_structured_coarse, stretching,
     structured_coarse_scratch_len, structured_scratch_len, structured_sweep, BlockRegion, Coarse,
-    GraphOptions, Prolongation, SmoothOptions, StructuredOptions, TaubinParams,
+    GraphOptions, LineEnd, Prolongation, SmoothOptions, StructuredOptions, TaubinParams,
 };
 use deform_kernel::{Block, Error, Real};
 use deform_on_target::mesh::{Mesh, N, NE};
@@ -337,9 +339,100 @@ fn arclength_smoothing<T: Real>() {
     ));
 }
 
+const FI: usize = 6;
+const FJ: usize = 5;
+const FK: usize = 7;
+const FN: usize = FI * FJ * FK;
+
+/// Straight k-lines (x, y fixed) whose lengths are rough by ±1 %, clustered at both ends.
+fn rough_lines<T: Real>() -> [[T; 3]; FN] {
+    let mut rng = XorShift::new(0x7A0B_0033);
+    let mut len = [0.0f64; FI * FJ];
+    for l in len.iter_mut() {
+        *l = 1.0 + 0.02 * (rng.unit_f64() - 0.5);
+    }
+    let mut p = [[T::ZERO; 3]; FN];
+    for (n, pt) in p.iter_mut().enumerate() {
+        let (l, k) = (n % (FI * FJ), n / (FI * FJ));
+        let u = k as f64 / (FK - 1) as f64;
+        let z = len[l] * (3.0 * u * u - 2.0 * u * u * u + 0.5 * u) / 1.5;
+        *pt = [
+            T::from_f64((l % FI) as f64 * 0.3),
+            T::from_f64((l / FI) as f64 * 0.3),
+            T::from_f64(z),
+        ];
+    }
+    p
+}
+
+/// Smooths along k with the given last end; the result or the error.
+fn smooth_k<T: Real>(p: &mut [[T; 3]; FN], last: LineEnd, normalised: bool) -> Result<(), Error> {
+    let b = Block::new([FI, FJ, FK]).unwrap();
+    let mut opts = SmoothOptions::new(Direction::K);
+    opts.ends = [LineEnd::Fixed, last];
+    opts.normalised = normalised;
+    let mut scratch = [T::ZERO; 2 * FN];
+    let len = smooth_arclength_scratch_len::<3>(&b, Direction::K, None);
+    smooth_arclength(&b, p, &opts, &mut scratch[..len]).map(|_| ())
+}
+
+fn free_end_smoothing<T: Real>() {
+    let b = Block::new([FI, FJ, FK]).unwrap();
+    let orig = rough_lines::<T>();
+    let outer = FI * FJ * (FK - 1);
+    let bits = |a: &[T; 3], o: &[T; 3]| (0..3).all(|c| a[c].to_bits_u64() == o[c].to_bits_u64());
+    let mut p = orig;
+    smooth_k(&mut p, LineEnd::Free, false).unwrap();
+    for (n, (a, o)) in p.iter().zip(&orig).enumerate() {
+        // On its own vertical line; the wall stays.
+        defmt::assert!(a[0].to_bits_u64() == o[0].to_bits_u64());
+        defmt::assert!(a[1].to_bits_u64() == o[1].to_bits_u64());
+        if n < FI * FJ {
+            defmt::assert!(bits(a, o));
+        }
+    }
+    defmt::assert!((outer..FN).any(|n| !bits(&p[n], &orig[n])));
+    let mut s = [T::ZERO; FN];
+    arclength(&b, &p, Direction::K, false, &mut s).unwrap();
+    check_lines_increasing(&b, &s, Direction::K, 0, Some(&p)).unwrap();
+    // Fixed ends: both faces bit for bit.
+    let mut f = orig;
+    smooth_k(&mut f, LineEnd::Fixed, false).unwrap();
+    for n in (0..FI * FJ).chain(outer..FN) {
+        defmt::assert!(bits(&f[n], &orig[n]));
+    }
+    // A free end on a seam, and a free end with normalised arclength: refused, unchanged.
+    let mut seam = orig;
+    seam[outer + 1] = seam[outer];
+    let before = seam;
+    defmt::assert!(matches!(
+        smooth_k(&mut seam, LineEnd::Free, false),
+        Err(Error::SharedFreeEnd { point, other }) if point == outer && other == outer + 1
+    ));
+    let mut n = orig;
+    defmt::assert!(matches!(
+        smooth_k(&mut n, LineEnd::Free, true),
+        Err(Error::InvalidParameter {
+            arg: "options.ends",
+            ..
+        })
+    ));
+    defmt::assert!((0..FN).all(|q| bits(&seam[q], &before[q]) && bits(&n[q], &orig[q])));
+}
+
 #[defmt_test::tests]
 mod tests {
     use super::*;
+
+    #[test]
+    fn free_end_smoothing_f64() {
+        free_end_smoothing::<f64>();
+    }
+
+    #[test]
+    fn free_end_smoothing_f32() {
+        free_end_smoothing::<f32>();
+    }
 
     #[test]
     fn structured_and_coarse_f64() {

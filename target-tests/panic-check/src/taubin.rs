@@ -15,8 +15,8 @@ use deform_kernel::taubin::{
     inverse_distance_weights, max_stretching, mu_from_pass_band, redistribute,
     redistribute_scratch_len, smooth_arclength, smooth_arclength_scratch_len, smooth_graph,
     smooth_structured, smooth_structured_coarse, stretching, structured_coarse_scratch_len,
-    structured_scratch_len, structured_sweep, BlockRegion, Coarse, GraphOptions, Prolongation,
-    SmoothOptions, StructuredOptions, TaubinParams,
+    structured_scratch_len, structured_sweep, BlockRegion, Coarse, GraphOptions, LineEnd,
+    Prolongation, SmoothOptions, StructuredOptions, TaubinParams,
 };
 use deform_kernel::{Block, Graph, Real};
 
@@ -308,6 +308,7 @@ fn driver<T: Real, const D: usize>() {
         prolongation: bb(Prolongation::Values),
     }));
     opts.coarse_iterations = bb(2);
+    opts.ends = bb([LineEnd::Fixed, LineEnd::Free]);
     let opts = bb(opts);
     let mut scratch = bb([T::ZERO; S]);
     keep(smooth_arclength_scratch_len::<D>(
