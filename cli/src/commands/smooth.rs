@@ -8,7 +8,7 @@ use serde::Serialize;
 use serde_json::json;
 
 use crate::args::{Direction, SmoothArgs};
-use crate::formats::plot3d::Plot3dGrid;
+use crate::formats::plot3d::{Plot3dBlock, Plot3dGrid};
 use crate::output::Staged;
 
 use crate::error::CliError;
@@ -173,6 +173,51 @@ pub(crate) fn cell_name(dims: [usize; 3], dim: usize, c: usize) -> String {
 
 pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
     let t0 = Instant::now();
+    check_smooth_args(a)?;
+    let (mut grid, layout) = read_plot3d(&a.grid, &plot3d_options(&a.layout))?;
+    if grid.dim == 2 && a.direction == Direction::K {
+        return Err(CliError::Invalid(format!(
+            "{}: --direction k needs a 3D grid, this one is 2D",
+            a.grid.display()
+        )));
+    }
+    let free = free_blocks(&a.free_end, a.direction, grid.blocks.len(), a.normalized)?;
+    let bar = crate::progress::bar(grid.blocks.len() as u64, "smoothing", quiet);
+    let mut report = new_report(a, &layout, grid.blocks.len(), &free);
+    let (pins, shared) = coincident_points(&grid);
+    report.pinned_coincident_points = shared;
+    for (b, (blk, pin)) in grid.blocks.iter().zip(&pins).enumerate() {
+        if free[b] {
+            check_free_face(&a.grid, b, blk.dims, a.direction, pin)?;
+        }
+    }
+    let dim = grid.dim;
+    for (b, (blk, pin)) in grid.blocks.iter_mut().zip(&pins).enumerate() {
+        let job = BlockJob {
+            a,
+            dim,
+            b,
+            pin,
+            free: free[b],
+        };
+        job.run(blk, &mut report)?;
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let mut staged = Staged::new();
+    staged
+        .write(&a.out, |f| write_grid(&a.grid, &a.out, &grid, &layout, f))
+        .map_err(io_err(&a.out))?;
+    staged.commit().map_err(io_err(&a.out))?;
+    report.seconds = seconds(t0);
+    Ok(Outcome {
+        text: smooth_text(&report),
+        json: serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
+    })
+}
+
+/// What `smooth` checks before reading the grid.
+fn check_smooth_args(a: &SmoothArgs) -> Result<(), CliError> {
     if matches!(
         file_kind(&a.out),
         Some(FileKind::Su2 | FileKind::Vtu | FileKind::Vts)
@@ -196,26 +241,22 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
     if a.coarse == Some(0) {
         return Err(CliError::Invalid("--coarse must be at least 1".into()));
     }
-    let (mut grid, layout) = read_plot3d(&a.grid, &plot3d_options(&a.layout))?;
-    if grid.dim == 2 && a.direction == Direction::K {
-        return Err(CliError::Invalid(format!(
-            "{}: --direction k needs a 3D grid, this one is 2D",
-            a.grid.display()
-        )));
-    }
-    let free = free_blocks(&a.free_end, a.direction, grid.blocks.len(), a.normalized)?;
-    let direction = match a.direction {
-        Direction::I => deform_kernel::Direction::I,
-        Direction::J => deform_kernel::Direction::J,
-        Direction::K => deform_kernel::Direction::K,
-    };
-    let bar = crate::progress::bar(grid.blocks.len() as u64, "smoothing", quiet);
-    let mut report = SmoothReport {
+    Ok(())
+}
+
+/// The report before any block is smoothed.
+fn new_report(
+    a: &SmoothArgs,
+    layout: &impl std::fmt::Display,
+    blocks: usize,
+    free: &[bool],
+) -> SmoothReport {
+    SmoothReport {
         command: "smooth",
         grid: a.grid.display().to_string(),
         output: a.out.display().to_string(),
         format: format!("Plot3D {layout}"),
-        blocks: grid.blocks.len(),
+        blocks,
         direction: value_name(&a.direction),
         normalized: a.normalized,
         iterations: 0,
@@ -225,9 +266,7 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
         max_laplacian_s_before: 0.0,
         max_laplacian_s_after: 0.0,
         pinned_coincident_points: 0,
-        free_ends: free
-            .iter()
-            .enumerate()
+        free_ends: (free.iter().enumerate())
             .filter(|(_, &f)| f)
             .map(|(b, _)| format!("block {}: {}max", b + 1, value_name(&a.direction)))
             .collect(),
@@ -235,50 +274,52 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
         unchecked_blocks: 0,
         folded_lines: 0,
         seconds: 0.0,
-    };
-    let (pins, shared) = coincident_points(&grid);
-    report.pinned_coincident_points = shared;
-    for (b, (blk, pin)) in grid.blocks.iter().zip(&pins).enumerate() {
-        if free[b] {
-            check_free_face(&a.grid, b, blk.dims, a.direction, pin)?;
-        }
     }
-    let dim = grid.dim;
-    let in_block = |b: usize| move |e: CliError| e.within(&format!("block {}", b + 1));
-    for (b, (blk, pin)) in grid.blocks.iter_mut().zip(&pins).enumerate() {
+}
+
+/// Smoothing one block: the arguments, the grid's dimension, the block's index, its held
+/// points and whether its last face is free.
+struct BlockJob<'j> {
+    a: &'j SmoothArgs,
+    dim: usize,
+    b: usize,
+    pin: &'j [u8],
+    free: bool,
+}
+
+impl BlockJob<'_> {
+    /// `iterations` (and the coarse pass) on a copy of `original`.
+    fn smoothed(
+        &self,
+        blk: &Plot3dBlock,
+        original: &[[f64; 3]],
+        iterations: usize,
+        coarse: Option<usize>,
+    ) -> Result<(Vec<[f64; 3]>, crate::engine::BlockSmoothing), CliError> {
+        let mut pts = original.to_vec();
+        let direction = kernel_direction(self.a.direction);
+        let modes = (self.a.normalized, self.free);
+        let (a, pin) = (self.a, Some(self.pin));
+        crate::engine::smooth_block(
+            self.dim, blk.dims, &mut pts, direction, modes, iterations, a.lambda, a.mu, coarse, pin,
+        )
+        .map(|r| (pts, r))
+        .map_err(|e| e.within(&format!("block {}", self.b + 1)))
+    }
+
+    /// Smooths the block in place and adds what it did to `report`; a flipped cell is an
+    /// error naming it and the first iteration after which it is flipped (unless
+    /// `--allow-folds`).
+    fn run(&self, blk: &mut Plot3dBlock, report: &mut SmoothReport) -> Result<(), CliError> {
+        let (a, dim) = (self.a, self.dim);
+        let direction = kernel_direction(a.direction);
         let original = blk.points.clone();
-        let modes = (a.normalized, free[b]);
-        let smooth_copy = |iterations: usize, coarse: Option<usize>| {
-            let mut pts = original.clone();
-            crate::engine::smooth_block(
-                dim,
-                blk.dims,
-                &mut pts,
-                direction,
-                modes,
-                iterations,
-                a.lambda,
-                a.mu,
-                coarse,
-                Some(pin),
-            )
-            .map(|r| (pts, r))
-        };
-        let (smoothed, r) = smooth_copy(a.iterations, a.coarse)
-            .map_err(in_block(b))
+        let (smoothed, r) = (self.smoothed(blk, &original, a.iterations, a.coarse))
             .map_err(|e| e.in_file(&a.grid))?;
-        report.max_laplacian_s_before =
-            report
-                .max_laplacian_s_before
-                .max(crate::engine::max_arclength_laplacian(
-                    dim, blk.dims, &original, direction,
-                )?);
-        report.max_laplacian_s_after =
-            report
-                .max_laplacian_s_after
-                .max(crate::engine::max_arclength_laplacian(
-                    dim, blk.dims, &smoothed, direction,
-                )?);
+        let laplacian =
+            |p: &[[f64; 3]]| crate::engine::max_arclength_laplacian(dim, blk.dims, p, direction);
+        report.max_laplacian_s_before = report.max_laplacian_s_before.max(laplacian(&original)?);
+        report.max_laplacian_s_after = report.max_laplacian_s_after.max(laplacian(&smoothed)?);
         // The cell check: every corner Jacobian against the input's.
         let cdim = cell_dim(dim, blk);
         if cdim == 3 && blk.dims.contains(&1) {
@@ -289,31 +330,16 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
             let after = crate::engine::corner_jacobians(cdim, &cells, &smoothed)?;
             let bad = flipped(&before, &after);
             if !bad.is_empty() && !a.allow_folds {
-                // Name the first iteration after which a cell is flipped (fine iterations
-                // 1..N by bisection, assuming a flip persists; else the coarse pass).
                 let flips_after = |k: usize| -> Result<bool, CliError> {
-                    let (p, _) = smooth_copy(k, None).map_err(in_block(b))?;
+                    let (p, _) = self.smoothed(blk, &original, k, None)?;
                     let after = crate::engine::corner_jacobians(cdim, &cells, &p)?;
                     Ok(!flipped(&before, &after).is_empty())
                 };
-                let when = if a.iterations > 0 && flips_after(a.iterations)? {
-                    let (mut lo, mut hi) = (1, a.iterations);
-                    while lo < hi {
-                        let mid = lo + (hi - lo) / 2;
-                        if flips_after(mid)? {
-                            hi = mid;
-                        } else {
-                            lo = mid + 1;
-                        }
-                    }
-                    format!("after iteration {lo}")
-                } else {
-                    "in the coarse-grid pass".to_string()
-                };
+                let when = first_flip(a.iterations, flips_after)?;
                 return Err(CliError::Folded(format!(
                     "{}: block {}: smoothing flips {} cell(s) (first: cell {}, {when}); nothing was written (--allow-folds writes them anyway)",
                     a.grid.display(),
-                    b + 1,
+                    self.b + 1,
                     bad.len(),
                     cell_name(blk.dims, dim, bad[0]),
                 )));
@@ -325,15 +351,43 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
         report.max_stretching_before = report.max_stretching_before.max(r.max_stretching_before);
         report.max_stretching_after = report.max_stretching_after.max(r.max_stretching_after);
         report.max_point_move = report.max_point_move.max(r.max_point_move);
-        bar.inc(1);
+        Ok(())
     }
-    bar.finish_and_clear();
-    let mut staged = Staged::new();
-    staged
-        .write(&a.out, |f| write_grid(&a.grid, &a.out, &grid, &layout, f))
-        .map_err(io_err(&a.out))?;
-    staged.commit().map_err(io_err(&a.out))?;
-    report.seconds = seconds(t0);
+}
+
+/// The kernel's direction of `--direction`.
+fn kernel_direction(d: Direction) -> deform_kernel::Direction {
+    match d {
+        Direction::I => deform_kernel::Direction::I,
+        Direction::J => deform_kernel::Direction::J,
+        Direction::K => deform_kernel::Direction::K,
+    }
+}
+
+/// The first iteration after which a cell is flipped (fine iterations 1..=`iterations` by
+/// bisection, assuming a flip persists), or the coarse-grid pass when the fine iterations
+/// alone flip nothing.
+fn first_flip(
+    iterations: usize,
+    flips_after: impl Fn(usize) -> Result<bool, CliError>,
+) -> Result<String, CliError> {
+    if iterations == 0 || !flips_after(iterations)? {
+        return Ok("in the coarse-grid pass".to_string());
+    }
+    let (mut lo, mut hi) = (1, iterations);
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if flips_after(mid)? {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    Ok(format!("after iteration {lo}"))
+}
+
+/// The text form of the report.
+fn smooth_text(report: &SmoothReport) -> String {
     let mut text = format!(
         "{} -> {}: {} block(s), {} iterations along {}{}{}, max stretching {:.4} -> {:.4}, max |∇²S| {:.4e} -> {:.4e}, max point move {:.3e}, {} coincident points held",
         report.grid,
@@ -366,8 +420,5 @@ pub(crate) fn smooth(a: &SmoothArgs, quiet: bool) -> Result<Outcome, CliError> {
             report.unchecked_blocks
         ));
     }
-    Ok(Outcome {
-        text,
-        json: serde_json::to_value(&report).unwrap_or_else(|e| json!({ "error": e.to_string() })),
-    })
+    text
 }
