@@ -289,11 +289,37 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
         dir,
         names: Vec::new(),
     };
-    // Meshes.
+    let angles: &[f64] = if a.quick { &[20.0] } else { &[5.0, 15.0, 30.0] };
+    let methods: Vec<(MoveMethod, &str)> = METHODS
+        .iter()
+        .copied()
+        .filter(|(m, _)| !(a.quick && *m == MoveMethod::AngleDirect))
+        .collect();
+    let meshes = demo_meshes(a.quick)?;
+    let runs = meshes.len() * angles.len() * methods.len();
+    let bar = crate::progress::bar(runs as u64 + 2, "demo", quiet);
+    let mut rows = Vec::new();
+    for (name, mesh) in &meshes {
+        let cases = MeshCases {
+            name,
+            mesh,
+            angles,
+            methods: &methods,
+            bar: &bar,
+        };
+        cases.run(&mut files, &mut rows)?;
+    }
+    let mut smooth_rows = smoothing_cases(a.quick, &mut files, &bar)?;
+    smooth_rows.push(adapted::adapted_case(a.quick, &mut files)?);
+    bar.finish_and_clear();
+    finish(dir, files, rows, smooth_rows, angles, t0)
+}
+
+/// The three NACA 2412 meshes of the deformation cases (smaller with `--quick`).
+fn demo_meshes(quick: bool) -> Result<Vec<(&'static str, Su2Mesh)>, CliError> {
     let mut opts_inv = deform_meshgen::AirfoilGrid::inviscid();
     let mut opts_visc = deform_meshgen::AirfoilGrid::viscous();
-    let angles: &[f64] = if a.quick { &[20.0] } else { &[5.0, 15.0, 30.0] };
-    if a.quick {
+    if quick {
         for o in [&mut opts_inv, &mut opts_visc] {
             o.surface_points = 32;
             o.radial_points = 12;
@@ -301,13 +327,8 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
             o.boundary_layers = o.boundary_layers.min(4);
         }
     }
-    let methods: Vec<(MoveMethod, &str)> = METHODS
-        .iter()
-        .copied()
-        .filter(|(m, _)| !(a.quick && *m == MoveMethod::AngleDirect))
-        .collect();
     let err = |e: deform_meshgen::MeshError| CliError::Invalid(e.to_string());
-    let meshes: Vec<(&str, Su2Mesh)> = vec![
+    Ok(vec![
         (
             "inviscid",
             su2_from_mesh2(&deform_meshgen::naca_triangulated(&opts_inv).map_err(err)?),
@@ -320,15 +341,61 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
             "ogrid",
             su2_from_mesh2(&deform_meshgen::naca_ogrid(&opts_visc).map_err(err)?),
         ),
-    ];
-    let centre = deform_meshgen::AirfoilGrid::quarter_chord();
-    let max_angle = angles.iter().copied().fold(0.0, f64::max);
-    let runs = meshes.len() * angles.len() * methods.len();
-    let bar = crate::progress::bar(runs as u64 + 2, "demo", quiet);
-    let mut rows = Vec::new();
-    let mut compare: Vec<Compared<'_>> = Vec::new();
+    ])
+}
 
-    for (name, mesh) in &meshes {
+/// The report, the tables and the files of a finished demo.
+fn finish(
+    dir: &Path,
+    mut files: Files<'_>,
+    rows: Vec<DeformRow>,
+    smooth_rows: Vec<SmoothRow>,
+    angles: &[f64],
+    t0: Instant,
+) -> Result<Outcome, CliError> {
+    let table = deform_table(&rows);
+    let stable = smooth_table(&smooth_rows);
+    let seconds = t0.elapsed().as_secs_f64();
+    let md = markdown(&rows, &smooth_rows, angles, &files.names, seconds);
+    files.put("report.md", md.as_bytes())?;
+    let names = files.names.clone();
+    files.staged.commit().map_err(|source| CliError::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let report = DemoReport {
+        command: "demo",
+        out: dir.display().to_string(),
+        deformation: rows,
+        smoothing: smooth_rows,
+        files: names,
+        seconds,
+    };
+    Ok(Outcome {
+        text: format!(
+            "{table}\n{stable}\nwrote {} files to {} ({:.1} s); see {}",
+            report.files.len(),
+            report.out,
+            seconds,
+            dir.join("report.md").display()
+        ),
+        json: serde_json::to_value(&report)
+            .unwrap_or_else(|e| serde_json::json!({ "error": e.to_string() })),
+    })
+}
+
+/// One mesh's deformation cases: every angle × method, the pictures of the viscous mesh.
+struct MeshCases<'c> {
+    name: &'c str,
+    mesh: &'c Su2Mesh,
+    angles: &'c [f64],
+    methods: &'c [(MoveMethod, &'c str)],
+    bar: &'c indicatif::ProgressBar,
+}
+
+impl MeshCases<'_> {
+    fn run(&self, files: &mut Files<'_>, rows: &mut Vec<DeformRow>) -> Result<(), CliError> {
+        let (name, mesh) = (self.name, self.mesh);
         let mut buf = Vec::new();
         write_su2(mesh, &mut buf).map_err(|e| CliError::Invalid(e.to_string()))?;
         files.put(&format!("naca2412_{name}.su2"), &buf)?;
@@ -337,201 +404,275 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
         let (Some(airfoil), Some(farfield)) = (airfoil, farfield) else {
             return Err(CliError::Invalid("generated mesh lacks its markers".into()));
         };
-        let none = vec![false; mesh.elements.len()];
-        let original = Picture {
-            points: &mesh.points,
-            cells: &mesh.elements,
-            boundaries: &[airfoil],
-            highlight: &none,
-            title: &format!("NACA 2412 {name}: {} nodes", mesh.points.len()),
-            shading: None,
-        };
-        if *name == "viscous" {
-            files.picture(
-                &format!("{name}_original_whole"),
-                &original,
-                bounding_window(&mesh.points),
-            )?;
-            files.picture(
-                &format!("{name}_original_airfoil"),
-                &original,
-                [-0.2, -0.6, 1.2, 0.6],
-            )?;
-            files.picture(
-                &format!("{name}_original_te"),
-                &original,
-                zoom([1.0, 0.0], 0.04),
-            )?;
+        if name == "viscous" {
+            original_pictures(files, name, mesh, airfoil)?;
         }
-        for &angle in angles {
-            for &(method, mname) in &methods {
-                let input = MoveInput {
-                    split: None,
-                    dim: 2,
-                    points: &mesh.points,
-                    cells: &mesh.elements,
-                    moved: vec![airfoil],
-                    fixed: vec![farfield],
-                    motion: Motion::Rotate {
-                        degrees: angle,
-                        axis: [0.0, 0.0, 1.0],
-                        center: Some([centre[0], centre[1], 0.0]),
-                    },
-                    method,
-                    solver: MoveSolver::Cg,
-                    tol: 1e-10,
-                    max_iter: if method == MoveMethod::AngleDirect {
-                        ANGLE_DIRECT_SWEEPS
-                    } else {
-                        20_000
-                    },
-                    idw_exponent: 2.0,
-                    stiffness: Stiffness::Batina,
-                    idw_fast: None,
-                    reach: None,
-                };
-                let t = Instant::now();
-                let r = run_move(&input)?;
-                let secs = t.elapsed().as_secs_f64();
-                let q = quality(
-                    2,
-                    &mesh.elements,
-                    &r.deformed,
-                    Some(&mesh.points),
-                    Some(airfoil),
-                )?;
+        let max_angle = self.angles.iter().copied().fold(0.0, f64::max);
+        let mut compare: Vec<Compared<'_>> = Vec::new();
+        for &angle in self.angles {
+            for &(method, mname) in self.methods {
+                let (row, r, q) = one_case(mesh, airfoil, farfield, angle, method, mname)?;
                 rows.push(DeformRow {
                     mesh: name.to_string(),
-                    method: mname.to_string(),
-                    angle_deg: angle,
-                    iterations: r.iterations,
-                    converged: r.converged,
-                    inverted_cells: q.inverted_cells.unwrap_or(0),
-                    folded_cells: q.folded_cells,
-                    min_area_ratio: q.min_area_ratio,
-                    max_wall_angle_change_deg: q.max_wall_angle_change_deg,
-                    seconds: secs,
+                    ..row
                 });
-                if *name == "viscous" && angle == max_angle {
-                    let bad: Vec<bool> = q
-                        .inverted
-                        .iter()
-                        .zip(&q.scaled_jacobian)
-                        .map(|(&i, &j)| i || j <= 0.0)
-                        .collect();
-                    let title = format!(
-                        "{name}, {mname}, {angle} deg: {} inverted, {} folded (red)",
-                        q.inverted_cells.unwrap_or(0),
-                        q.folded_cells
-                    );
-                    let pic = Picture {
-                        points: &r.deformed,
-                        cells: &mesh.elements,
-                        boundaries: &[airfoil],
-                        highlight: &bad,
-                        title: &title,
-                        shading: None,
-                    };
-                    let te = rotate_about([1.0, 0.0], centre, angle);
-                    let stem = format!("{name}_{mname}_{angle}");
-                    files.picture(&format!("{stem}_whole"), &pic, bounding_window(&r.deformed))?;
-                    files.picture(&format!("{stem}_airfoil"), &pic, [-0.2, -0.6, 1.2, 0.6])?;
-                    files.picture(&format!("{stem}_te"), &pic, zoom(te, 0.04))?;
-                    let (wall, first) = wall_node_near(
-                        &r.deformed,
-                        &mesh.elements,
-                        airfoil,
-                        rotate_about([0.5, 0.07], centre, angle),
-                    );
-                    let wall_title = format!(
-                        "{title}; first cells at the upper wall, x/c = 0.5 (first layer {first:.1e})"
-                    );
-                    let wall_pic = Picture {
-                        title: &wall_title,
-                        ..pic
-                    };
-                    files.picture(&format!("{stem}_wall"), &wall_pic, zoom(wall, 8.0 * first))?;
-                    let disp: Vec<f64> = r.displacement.iter().flatten().copied().collect();
-                    let inverted: Vec<f64> =
-                        q.inverted.iter().map(|&b| f64::from(u8::from(b))).collect();
-                    let vtu = vtu_bytes(
-                        mesh,
-                        &r.deformed,
-                        &disp,
-                        &[
-                            VtkField {
-                                name: "scaled_jacobian",
-                                components: 1,
-                                values: &q.scaled_jacobian,
-                            },
-                            VtkField {
-                                name: "area_ratio",
-                                components: 1,
-                                values: &q.ratio,
-                            },
-                            VtkField {
-                                name: "inverted",
-                                components: 1,
-                                values: &inverted,
-                            },
-                        ],
-                    )?;
-                    files.put(&format!("{stem}.vtu"), &vtu)?;
+                if name == "viscous" && angle == max_angle {
+                    let case = (mname, angle);
+                    let bad = worst_case_files(files, name, case, mesh, airfoil, &r, &q)?;
                     if matches!(mname, "quaternion" | "spring" | "angle-cg") {
                         compare.push((mname, r.deformed, bad));
                     }
                 }
-                bar.inc(1);
+                self.bar.inc(1);
             }
         }
-        if *name == "viscous" {
-            // Side by side: undeformed, then each method at the largest angle.
-            let none = vec![false; mesh.elements.len()];
-            let walls = [airfoil];
-            let te = rotate_about([1.0, 0.0], centre, max_angle);
-            let mut panels = vec![(
-                Picture {
-                    points: &mesh.points,
-                    cells: &mesh.elements,
-                    boundaries: &walls,
-                    highlight: &none,
-                    title: "undeformed",
-                    shading: None,
-                },
-                zoom([1.0, 0.0], 0.04),
-            )];
-            let mut airfoil_panels = vec![(panels[0].0, [-0.2, -0.6, 1.2, 0.6])];
-            for (m, pts, bad) in &compare {
-                let pic = Picture {
-                    points: pts,
-                    cells: &mesh.elements,
-                    boundaries: &walls,
-                    highlight: bad,
-                    title: m,
-                    shading: None,
-                };
-                panels.push((pic, zoom(te, 0.04)));
-                airfoil_panels.push((pic, [-0.2, -0.6, 1.2, 0.6]));
-            }
-            let stem = format!("compare_{name}_{max_angle}");
-            files.put(
-                &format!("{stem}_te.svg"),
-                svg_panels(&panels, 480).as_bytes(),
-            )?;
-            let bytes = png_panels(&panels, 480).map_err(CliError::Invalid)?;
-            files.put(&format!("{stem}_te.png"), &bytes)?;
-            files.put(
-                &format!("{stem}_airfoil.svg"),
-                svg_panels(&airfoil_panels, 480).as_bytes(),
-            )?;
-            let bytes = png_panels(&airfoil_panels, 480).map_err(CliError::Invalid)?;
-            files.put(&format!("{stem}_airfoil.png"), &bytes)?;
+        if name == "viscous" {
+            compare_panels(files, name, mesh, airfoil, &compare, max_angle)?;
         }
+        Ok(())
     }
+}
 
-    // Alter: Taubin arclength smoothing.
-    let mut smooth_rows = Vec::new();
-    let (nb, cav) = if a.quick {
+/// The undeformed viscous mesh: whole, airfoil, trailing edge.
+fn original_pictures(
+    files: &mut Files<'_>,
+    name: &str,
+    mesh: &Su2Mesh,
+    airfoil: &CellList,
+) -> Result<(), CliError> {
+    let none = vec![false; mesh.elements.len()];
+    let original = Picture {
+        points: &mesh.points,
+        cells: &mesh.elements,
+        boundaries: &[airfoil],
+        highlight: &none,
+        title: &format!("NACA 2412 {name}: {} nodes", mesh.points.len()),
+        shading: None,
+    };
+    files.picture(
+        &format!("{name}_original_whole"),
+        &original,
+        bounding_window(&mesh.points),
+    )?;
+    files.picture(
+        &format!("{name}_original_airfoil"),
+        &original,
+        [-0.2, -0.6, 1.2, 0.6],
+    )?;
+    files.picture(
+        &format!("{name}_original_te"),
+        &original,
+        zoom([1.0, 0.0], 0.04),
+    )
+}
+
+/// One method at one angle: the row (mesh name left empty), the result and its quality.
+fn one_case(
+    mesh: &Su2Mesh,
+    airfoil: &CellList,
+    farfield: &CellList,
+    angle: f64,
+    method: MoveMethod,
+    mname: &str,
+) -> Result<
+    (
+        DeformRow,
+        crate::engine::MoveResult,
+        crate::engine::QualitySummary,
+    ),
+    CliError,
+> {
+    let centre = deform_meshgen::AirfoilGrid::quarter_chord();
+    let input = MoveInput {
+        split: None,
+        dim: 2,
+        points: &mesh.points,
+        cells: &mesh.elements,
+        moved: vec![airfoil],
+        fixed: vec![farfield],
+        motion: Motion::Rotate {
+            degrees: angle,
+            axis: [0.0, 0.0, 1.0],
+            center: Some([centre[0], centre[1], 0.0]),
+        },
+        method,
+        solver: MoveSolver::Cg,
+        tol: 1e-10,
+        max_iter: if method == MoveMethod::AngleDirect {
+            ANGLE_DIRECT_SWEEPS
+        } else {
+            20_000
+        },
+        idw_exponent: 2.0,
+        stiffness: Stiffness::Batina,
+        idw_fast: None,
+        reach: None,
+    };
+    let t = Instant::now();
+    let r = run_move(&input)?;
+    let secs = t.elapsed().as_secs_f64();
+    let q = quality(
+        2,
+        &mesh.elements,
+        &r.deformed,
+        Some(&mesh.points),
+        Some(airfoil),
+    )?;
+    let row = DeformRow {
+        mesh: String::new(),
+        method: mname.to_string(),
+        angle_deg: angle,
+        iterations: r.iterations,
+        converged: r.converged,
+        inverted_cells: q.inverted_cells.unwrap_or(0),
+        folded_cells: q.folded_cells,
+        min_area_ratio: q.min_area_ratio,
+        max_wall_angle_change_deg: q.max_wall_angle_change_deg,
+        seconds: secs,
+    };
+    Ok((row, r, q))
+}
+
+/// The viscous mesh at the largest angle: pictures (whole, airfoil, trailing edge, wall) and
+/// the `.vtu`; returns the inverted-or-folded flags.
+fn worst_case_files(
+    files: &mut Files<'_>,
+    name: &str,
+    (mname, angle): (&str, f64),
+    mesh: &Su2Mesh,
+    airfoil: &CellList,
+    r: &crate::engine::MoveResult,
+    q: &crate::engine::QualitySummary,
+) -> Result<Vec<bool>, CliError> {
+    let centre = deform_meshgen::AirfoilGrid::quarter_chord();
+    let bad: Vec<bool> = q
+        .inverted
+        .iter()
+        .zip(&q.scaled_jacobian)
+        .map(|(&i, &j)| i || j <= 0.0)
+        .collect();
+    let title = format!(
+        "{name}, {mname}, {angle} deg: {} inverted, {} folded (red)",
+        q.inverted_cells.unwrap_or(0),
+        q.folded_cells
+    );
+    let pic = Picture {
+        points: &r.deformed,
+        cells: &mesh.elements,
+        boundaries: &[airfoil],
+        highlight: &bad,
+        title: &title,
+        shading: None,
+    };
+    let te = rotate_about([1.0, 0.0], centre, angle);
+    let stem = format!("{name}_{mname}_{angle}");
+    files.picture(&format!("{stem}_whole"), &pic, bounding_window(&r.deformed))?;
+    files.picture(&format!("{stem}_airfoil"), &pic, [-0.2, -0.6, 1.2, 0.6])?;
+    files.picture(&format!("{stem}_te"), &pic, zoom(te, 0.04))?;
+    let (wall, first) = wall_node_near(
+        &r.deformed,
+        &mesh.elements,
+        airfoil,
+        rotate_about([0.5, 0.07], centre, angle),
+    );
+    let wall_title =
+        format!("{title}; first cells at the upper wall, x/c = 0.5 (first layer {first:.1e})");
+    let wall_pic = Picture {
+        title: &wall_title,
+        ..pic
+    };
+    files.picture(&format!("{stem}_wall"), &wall_pic, zoom(wall, 8.0 * first))?;
+    let disp: Vec<f64> = r.displacement.iter().flatten().copied().collect();
+    let inverted: Vec<f64> = q.inverted.iter().map(|&b| f64::from(u8::from(b))).collect();
+    let vtu = vtu_bytes(
+        mesh,
+        &r.deformed,
+        &disp,
+        &[
+            VtkField {
+                name: "scaled_jacobian",
+                components: 1,
+                values: &q.scaled_jacobian,
+            },
+            VtkField {
+                name: "area_ratio",
+                components: 1,
+                values: &q.ratio,
+            },
+            VtkField {
+                name: "inverted",
+                components: 1,
+                values: &inverted,
+            },
+        ],
+    )?;
+    files.put(&format!("{stem}.vtu"), &vtu)?;
+    Ok(bad)
+}
+
+/// Side by side: the undeformed viscous mesh, then each compared method at the largest angle
+/// (trailing edge and airfoil, SVG and PNG).
+fn compare_panels(
+    files: &mut Files<'_>,
+    name: &str,
+    mesh: &Su2Mesh,
+    airfoil: &CellList,
+    compare: &[Compared<'_>],
+    max_angle: f64,
+) -> Result<(), CliError> {
+    let centre = deform_meshgen::AirfoilGrid::quarter_chord();
+    let none = vec![false; mesh.elements.len()];
+    let walls = [airfoil];
+    let te = rotate_about([1.0, 0.0], centre, max_angle);
+    let mut panels = vec![(
+        Picture {
+            points: &mesh.points,
+            cells: &mesh.elements,
+            boundaries: &walls,
+            highlight: &none,
+            title: "undeformed",
+            shading: None,
+        },
+        zoom([1.0, 0.0], 0.04),
+    )];
+    let mut airfoil_panels = vec![(panels[0].0, [-0.2, -0.6, 1.2, 0.6])];
+    for (m, pts, bad) in compare {
+        let pic = Picture {
+            points: pts,
+            cells: &mesh.elements,
+            boundaries: &walls,
+            highlight: bad,
+            title: m,
+            shading: None,
+        };
+        panels.push((pic, zoom(te, 0.04)));
+        airfoil_panels.push((pic, [-0.2, -0.6, 1.2, 0.6]));
+    }
+    let stem = format!("compare_{name}_{max_angle}");
+    files.put(
+        &format!("{stem}_te.svg"),
+        svg_panels(&panels, 480).as_bytes(),
+    )?;
+    let bytes = png_panels(&panels, 480).map_err(CliError::Invalid)?;
+    files.put(&format!("{stem}_te.png"), &bytes)?;
+    files.put(
+        &format!("{stem}_airfoil.svg"),
+        svg_panels(&airfoil_panels, 480).as_bytes(),
+    )?;
+    let bytes = png_panels(&airfoil_panels, 480).map_err(CliError::Invalid)?;
+    files.put(&format!("{stem}_airfoil.png"), &bytes)?;
+    Ok(())
+}
+
+/// Alter's Taubin arclength smoothing on a noisy block and a cavity grid: the table rows,
+/// pictures coloured by the spacing ratio (before and after on one scale) and `.vts` files.
+fn smoothing_cases(
+    quick: bool,
+    files: &mut Files<'_>,
+    bar: &indicatif::ProgressBar,
+) -> Result<Vec<SmoothRow>, CliError> {
+    let err = |e: deform_meshgen::MeshError| CliError::Invalid(e.to_string());
+    let (nb, cav) = if quick {
         ([25, 13], [24, 9])
     } else {
         ([97, 49], [145, 61])
@@ -573,103 +714,84 @@ fn run(a: &DemoArgs, dir: &Path, quiet: bool, t0: Instant) -> Result<Outcome, Cl
             "i lines, normalized, 30 iterations",
         ),
     ];
-    for (k, (gname, m, direction, normalized, coarse, settings)) in cases.iter().enumerate() {
-        let Some(dims) = m.dims else {
-            return Err(CliError::Invalid("generated grid is not structured".into()));
-        };
-        let before: Vec<[f64; 3]> = m.points.iter().map(|p| [p[0], p[1], 0.0]).collect();
-        let mut after = before.clone();
-        let r = smooth_block(
-            2,
-            dims,
-            &mut after,
-            *direction,
-            (*normalized, false),
-            30,
-            0.330,
-            -0.334,
-            *coarse,
-            None,
-        )?;
-        let cells = structured_cells(dims, &after, 2);
-        let q = quality(2, &cells, &after, Some(&before), None)?;
-        smooth_rows.push(SmoothRow {
-            grid: gname.to_string(),
-            settings: settings.to_string(),
-            iterations: r.iterations,
-            max_stretching_before: r.max_stretching_before,
-            max_stretching_after: r.max_stretching_after,
-            max_point_move: r.max_point_move,
-            folded_cells: q.folded_cells,
-        });
-        let none = vec![false; cells.len()];
-        let empty: [&CellList; 0] = [];
-        let stem = format!("smooth{}_{gname}", k + 1);
-        let line = ["i", "j"].get(direction.index()).copied().unwrap_or("k");
-        let label = format!("spacing ratio along {line} lines");
-        let ratios_before = cell_spacing_ratios(dims, &before, direction.index());
-        let top = ratios_before.iter().copied().fold(1.0, f64::max);
-        for (tag, pts) in [("before", &before), ("after", &after)] {
-            if k == 1 && tag == "before" {
-                continue; // same grid as case 1
-            }
-            let ratios = cell_spacing_ratios(dims, pts, direction.index());
-            let title = format!("{gname} grid {tag}: {settings}; colour: {label}");
-            let pic = Picture {
-                points: pts,
-                cells: &cells,
-                boundaries: &empty,
-                highlight: &none,
-                title: &title,
-                shading: Some(Shading {
-                    values: &ratios,
-                    range: [1.0, top],
-                    label: &label,
-                }),
-            };
-            // Room below the grid for the colour bar.
-            let mut window = bounding_window(pts);
-            window[1] -= 0.25 * (window[3] - window[1]);
-            files.picture(&format!("{stem}_{tag}"), &pic, window)?;
-            let mut v = Vec::new();
-            write_vts(&mut v, dims, pts, &[], &[], VtkEncoding::Base64)
-                .map_err(|e| CliError::Invalid(e.to_string()))?;
-            files.put(&format!("{stem}_{tag}.vts"), &v)?;
-        }
+    let mut smooth_rows = Vec::new();
+    for (k, case) in cases.iter().enumerate() {
+        smooth_rows.push(smooth_case(files, k, case)?);
         bar.inc(1);
     }
-    smooth_rows.push(adapted::adapted_case(a.quick, &mut files)?);
-    bar.finish_and_clear();
+    Ok(smooth_rows)
+}
 
-    let table = deform_table(&rows);
-    let stable = smooth_table(&smooth_rows);
-    let seconds = t0.elapsed().as_secs_f64();
-    let md = markdown(&rows, &smooth_rows, angles, &files.names, seconds);
-    files.put("report.md", md.as_bytes())?;
-    let names = files.names.clone();
-    files.staged.commit().map_err(|source| CliError::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    let report = DemoReport {
-        command: "demo",
-        out: dir.display().to_string(),
-        deformation: rows,
-        smoothing: smooth_rows,
-        files: names,
-        seconds,
+/// One smoothing case (`k`: its index; the second repeats the first's grid).
+fn smooth_case(
+    files: &mut Files<'_>,
+    k: usize,
+    case: &SmoothCase<'_>,
+) -> Result<SmoothRow, CliError> {
+    let (gname, m, direction, normalized, coarse, settings) = case;
+    let Some(dims) = m.dims else {
+        return Err(CliError::Invalid("generated grid is not structured".into()));
     };
-    Ok(Outcome {
-        text: format!(
-            "{table}\n{stable}\nwrote {} files to {} ({:.1} s); see {}",
-            report.files.len(),
-            report.out,
-            seconds,
-            dir.join("report.md").display()
-        ),
-        json: serde_json::to_value(&report)
-            .unwrap_or_else(|e| serde_json::json!({ "error": e.to_string() })),
-    })
+    let before: Vec<[f64; 3]> = m.points.iter().map(|p| [p[0], p[1], 0.0]).collect();
+    let mut after = before.clone();
+    let r = smooth_block(
+        2,
+        dims,
+        &mut after,
+        *direction,
+        (*normalized, false),
+        30,
+        0.330,
+        -0.334,
+        *coarse,
+        None,
+    )?;
+    let cells = structured_cells(dims, &after, 2);
+    let q = quality(2, &cells, &after, Some(&before), None)?;
+    let row = SmoothRow {
+        grid: gname.to_string(),
+        settings: settings.to_string(),
+        iterations: r.iterations,
+        max_stretching_before: r.max_stretching_before,
+        max_stretching_after: r.max_stretching_after,
+        max_point_move: r.max_point_move,
+        folded_cells: q.folded_cells,
+    };
+    let none = vec![false; cells.len()];
+    let empty: [&CellList; 0] = [];
+    let stem = format!("smooth{}_{gname}", k + 1);
+    let line = ["i", "j"].get(direction.index()).copied().unwrap_or("k");
+    let label = format!("spacing ratio along {line} lines");
+    let ratios_before = cell_spacing_ratios(dims, &before, direction.index());
+    let top = ratios_before.iter().copied().fold(1.0, f64::max);
+    for (tag, pts) in [("before", &before), ("after", &after)] {
+        if k == 1 && tag == "before" {
+            continue; // same grid as case 1
+        }
+        let ratios = cell_spacing_ratios(dims, pts, direction.index());
+        let title = format!("{gname} grid {tag}: {settings}; colour: {label}");
+        let pic = Picture {
+            points: pts,
+            cells: &cells,
+            boundaries: &empty,
+            highlight: &none,
+            title: &title,
+            shading: Some(Shading {
+                values: &ratios,
+                range: [1.0, top],
+                label: &label,
+            }),
+        };
+        // Room below the grid for the colour bar.
+        let mut window = bounding_window(pts);
+        window[1] -= 0.25 * (window[3] - window[1]);
+        files.picture(&format!("{stem}_{tag}"), &pic, window)?;
+        let mut v = Vec::new();
+        write_vts(&mut v, dims, pts, &[], &[], VtkEncoding::Base64)
+            .map_err(|e| CliError::Invalid(e.to_string()))?;
+        files.put(&format!("{stem}_{tag}.vts"), &v)?;
+    }
+    Ok(row)
 }
 
 fn opt(v: Option<f64>, prec: usize) -> String {
