@@ -39,6 +39,7 @@ pub mod graph_builder;
 pub mod plan;
 pub mod quality;
 pub mod quat;
+pub mod rbf;
 pub mod real;
 pub mod reduce;
 pub mod slide;
