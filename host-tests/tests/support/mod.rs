@@ -1,12 +1,13 @@
 //! Code shared by several test binaries, one module a concern: `c_build` builds the C library
 //! and compiles C/Fortran programs against it, `deformation` the structured test meshes and
 //! rigid motions of the deformation tests, `spring` the spring systems, reference nets and
-//! multigrid buffers of the spring tests, `python` the interpreter of the independent Python
-//! references. A binary at the top of `tests/` declares
+//! multigrid buffers of the spring tests, `rbf` the point clouds of the RBF tests, `python`
+//! the interpreter of the independent Python references. A binary at the top of `tests/` declares
 //! `mod support;`, one in a subdirectory `#[path = "../support/mod.rs"] mod support;`.
 #![allow(dead_code)]
 
 pub mod c_build;
 pub mod deformation;
 pub mod python;
+pub mod rbf;
 pub mod spring;
