@@ -9,6 +9,9 @@ use crate::error::CliError;
 use crate::formats::CellList;
 use crate::orientation::{Orientation, OrientationSummary};
 
+mod rbf;
+pub use rbf::{RbfFunction, RbfInfo, RbfSettings};
+
 fn kernel(context: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {
     move |source| CliError::Kernel {
         context: context.to_string(),
@@ -445,6 +448,8 @@ pub enum MoveMethod {
     AngleDirect,
     /// Yang & Özgen angle-inclusion springs, conjugate gradients.
     AngleCg,
+    /// Radial basis functions on the displacements (`engine/rbf.rs`).
+    Rbf(RbfSettings),
 }
 
 /// Over-relaxation factor of `--method angle-direct` (default solver, block SOR over the
@@ -577,6 +582,8 @@ pub struct MoveResult {
     /// The largest per-point error bound of the fast IDW (relative to the spread of the
     /// boundary motion; `None` when the exact propagation ran).
     pub idw_max_bound: Option<f64>,
+    /// What the RBF fit did (`--method rbf`; the last step's with `--steps`).
+    pub rbf: Option<RbfInfo>,
     /// Deformed points.
     pub deformed: Vec<[f64; 3]>,
     /// Displacement of every point.
@@ -1042,7 +1049,14 @@ fn move_d<const D: usize>(
 
     let mut out = pts.clone();
     let mut idw_max_bound = None;
+    let mut rbf_info = None;
     let (iterations, residual, converged) = match input.method {
+        MoveMethod::Rbf(settings) => {
+            let (moved_out, info) = rbf::move_rbf(&settings, &pts, &boundary, &moved, &disp)?;
+            out = moved_out;
+            rbf_info = Some(info);
+            (0, 0.0, true)
+        }
         MoveMethod::Spring | MoveMethod::AngleDirect | MoveMethod::AngleCg => {
             let k = spring_stiffness(&g, &view, &pts, &moved, input.stiffness)?;
             let mut sscratch = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
@@ -1350,6 +1364,7 @@ fn move_d<const D: usize>(
         .collect();
     Ok(MoveResult {
         idw_max_bound,
+        rbf: rbf_info,
         deformed,
         displacement,
         iterations,

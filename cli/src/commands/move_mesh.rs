@@ -45,7 +45,10 @@ pub(crate) fn move_mesh(
         a
     };
     let tfi = matches!(a.method(), Method::Tfi | Method::TfiDisplacement);
-    if a.stiffness != StiffnessArg::Batina && (tfi || a.method() == Method::Idw) {
+    crate::args::check_rbf_args(&a.rbf, a.method() == Method::Rbf)?;
+    if a.stiffness != StiffnessArg::Batina
+        && (tfi || matches!(a.method(), Method::Idw | Method::Rbf))
+    {
         return Err(CliError::Invalid(format!(
             "--stiffness {} applies to the spring, angle-spring and quaternion methods; --method {} has no springs",
             value_name(&a.stiffness),
@@ -308,6 +311,7 @@ pub(crate) fn move_mesh(
         Method::Spring => MoveMethod::Spring,
         Method::AngleDirect => MoveMethod::AngleDirect,
         Method::AngleCg => MoveMethod::AngleCg,
+        Method::Rbf => MoveMethod::Rbf(rbf_settings(&a.rbf)),
         Method::Tfi | Method::TfiDisplacement => unreachable_tfi()?,
     };
     let solver = match a.solver {
@@ -558,7 +562,7 @@ pub(crate) fn move_mesh(
         cells: mesh.elements.len(),
         method: value_name(&a.method()),
         solver: match a.method() {
-            Method::Idw | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
+            Method::Idw | Method::Rbf | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
             Method::AngleCg if a.solver == Solver::Amg && a.slide.is_empty() => "amg".to_string(),
             Method::AngleCg => "cg".to_string(),
             Method::AngleDirect if a.solver == Solver::Jacobi => "jacobi".to_string(),
@@ -570,12 +574,13 @@ pub(crate) fn move_mesh(
             _ => value_name(&a.solver),
         },
         stiffness: match a.method() {
-            Method::Idw | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
+            Method::Idw | Method::Rbf | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
             _ => value_name(&a.stiffness),
         },
         steps: a.steps,
         reach: a.reach,
         idw_max_bound: result.idw_max_bound,
+        rbf: result.rbf,
         moved_nodes: result.moved_nodes,
         fixed_nodes: result.fixed_nodes,
         sliding_markers: a.slide.clone(),
@@ -628,7 +633,7 @@ pub(crate) fn move_mesh(
         } + &a.reach.map_or_else(String::new, |r| format!(" (reach {r})"))
             + &report.idw_max_bound.map_or_else(String::new, |b| {
             format!(" (fast, θ {}, error bound {b:.2e} of the motion's spread)", a.idw_theta.unwrap_or(0.0))
-        }),
+        }) + &report.rbf.map_or_else(String::new, |r| rbf_words(&r)),
         report.iterations,
         report.residual,
         if report.converged { "" } else { " (NOT converged)" },
@@ -690,6 +695,8 @@ pub(crate) struct MoveReport {
     steps: u32,
     reach: Option<f64>,
     idw_max_bound: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rbf: Option<crate::engine::RbfInfo>,
     moved_nodes: usize,
     fixed_nodes: usize,
     sliding_markers: Vec<String>,
@@ -889,4 +896,35 @@ fn marker_motions_field(
         }
     }
     Ok((specs, field.into_iter().map(|(n, (d, _))| (n, d)).collect()))
+}
+
+/// The engine's settings of `--method rbf`.
+fn rbf_settings(r: &crate::args::RbfArgs) -> crate::engine::RbfSettings {
+    crate::engine::RbfSettings {
+        function: match r.rbf_kernel {
+            crate::args::RbfKernelArg::Wendland => crate::engine::RbfFunction::Wendland,
+            crate::args::RbfKernelArg::Tps => crate::engine::RbfFunction::Tps,
+        },
+        radius: r.rbf_radius,
+        tolerance: r.rbf_tolerance,
+        max_centres: r.rbf_max_centres,
+        correction: r.rbf_correction,
+    }
+}
+
+/// ` (wendland R 12, 80 of 460 centres, boundary error 1.2e-4 corrected over 1.0)`.
+fn rbf_words(r: &crate::engine::RbfInfo) -> String {
+    format!(
+        " ({}{}, {} of {} centres, boundary error {:.2e} corrected over {})",
+        match r.kernel {
+            crate::engine::RbfFunction::Wendland => "wendland",
+            crate::engine::RbfFunction::Tps => "tps",
+        },
+        r.radius
+            .map_or_else(String::new, |x| format!(" radius {x}")),
+        r.centres,
+        r.boundary_nodes,
+        r.max_error,
+        r.correction_radius
+    )
 }
