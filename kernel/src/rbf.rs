@@ -254,13 +254,14 @@ pub fn rbf_deform<T: Real, const D: usize>(
         let node = boundary.get(k).copied().unwrap_or(0) as usize;
         points.get(node).copied().unwrap_or([T::ZERO; D])
     };
-    let (centres, rest) = index.split_at_mut(m);
-    let (piv, rest) = rest.split_at_mut(a);
-    let (flags, rest) = rest.split_at_mut(b);
-    let (grid_c_buf, rest) = rest.split_at_mut(grid_len(m));
+    // The sizes were checked above; the checked splits only keep panic paths out.
+    let (centres, rest) = index.split_at_mut_checked(m).unwrap_or_default();
+    let (piv, rest) = rest.split_at_mut_checked(a).unwrap_or_default();
+    let (flags, rest) = rest.split_at_mut_checked(b).unwrap_or_default();
+    let (grid_c_buf, rest) = rest.split_at_mut_checked(grid_len(m)).unwrap_or_default();
     let grid_b_buf = rest.get_mut(..grid_len(b)).unwrap_or(&mut []);
-    let (matrix, rest) = scratch.split_at_mut(a * a);
-    let (coeffs, rest) = rest.split_at_mut(a * D);
+    let (matrix, rest) = scratch.split_at_mut_checked(a * a).unwrap_or_default();
+    let (coeffs, rest) = rest.split_at_mut_checked(a * D).unwrap_or_default();
     let residual = rest.get_mut(..b * D).unwrap_or(&mut []);
 
     let rc = options.correction_radius;

@@ -12,6 +12,19 @@ pub(super) fn min_pivot<T: Real>() -> T {
     T::EPSILON * T::from_f64(16.0)
 }
 
+/// Swaps `v[i]` and `v[j]` (nothing when either is out of range; no panic path).
+#[inline]
+fn swap_at<T: Copy>(v: &mut [T], i: usize, j: usize) {
+    if let (Some(&a), Some(&b)) = (v.get(i), v.get(j)) {
+        if let Some(x) = v.get_mut(i) {
+            *x = b;
+        }
+        if let Some(x) = v.get_mut(j) {
+            *x = a;
+        }
+    }
+}
+
 /// `Σ_{i<n} x[i] y[i]` in index order.
 #[inline]
 fn dot_prefix<T: Real>(x: &[T], y: &[T], n: usize) -> T {
@@ -37,7 +50,9 @@ pub(super) fn cholesky_row<T: Real>(m: &mut [T], a: usize, k: usize) -> bool {
         } else {
             &[]
         };
-        let (done, rest) = row.split_at_mut(j);
+        let Some((done, rest)) = row.split_at_mut_checked(j) else {
+            return false;
+        };
         let s = match rest.first() {
             Some(&v) => {
                 v - if j < k {
@@ -116,7 +131,7 @@ pub(super) fn lu_factor<T: Real>(m: &mut [T], a: usize, n: usize, piv: &mut [u32
         }
         if p != k {
             for j in 0..n {
-                m.swap(k * a + j, p * a + j);
+                swap_at(m, k * a + j, p * a + j);
             }
         }
         let pivot = m.get(k * a + k).copied().unwrap_or(T::ONE);
@@ -151,7 +166,7 @@ pub(super) fn lu_solve<T: Real>(
     for k in 0..n {
         let p = piv.get(k).copied().unwrap_or(0) as usize;
         if p != k {
-            b.swap(k * stride + c, p * stride + c);
+            swap_at(b, k * stride + c, p * stride + c);
         }
     }
     let get = |b: &[T], i: usize| b.get(i * stride + c).copied().unwrap_or(T::ZERO);

@@ -65,7 +65,10 @@ impl<'a, T: Real, const D: usize> Grid<'a, T, D> {
             }
             h *= T::TWO;
         };
-        let cells = dims.iter().product::<usize>().min(n.max(1));
+        let cells = dims
+            .iter()
+            .fold(1usize, |c, &d| c.saturating_mul(d))
+            .min(n.max(1));
         let (offsets, rest) = buf.split_at_mut((cells + 1).min(buf.len()));
         let items = rest.get_mut(..n).unwrap_or(&mut []);
         let mut g = Grid {
