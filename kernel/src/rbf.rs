@@ -210,6 +210,51 @@ fn check_duplicates<T: Real, const D: usize>(
     Ok(())
 }
 
+/// An upper bound of `|s(x)|` over the points' bounding box (`k` centres), times 4: `Σ |λ|`
+/// times the largest `|φ|` there plus the polynomial's largest term sum. When it is finite no
+/// evaluation can overflow, so the output is checked before anything is written.
+fn output_bound<T: Real, const D: usize>(
+    points: &[[T; D]],
+    kernel: RbfKernel<T>,
+    k: usize,
+    coeffs: &[T],
+    frame: ([T; D], T),
+) -> T {
+    let (mut lo, mut hi) = ([T::INFINITY; D], [-T::INFINITY; D]);
+    for p in points {
+        for a in 0..D {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    let mut diag2 = T::ZERO;
+    let mut xi = T::ZERO;
+    for a in 0..D {
+        diag2 += (hi[a] - lo[a]) * (hi[a] - lo[a]);
+        let far = (hi[a] - frame.0[a]).abs().max((lo[a] - frame.0[a]).abs());
+        xi = xi.max(far * frame.1);
+    }
+    let phi_max = match kernel {
+        RbfKernel::Wendland { .. } => T::ONE,
+        // r² ln r: its minimum −1/(2e) at r = e^(−1/2), its maximum at the diameter.
+        RbfKernel::ThinPlate => T::from_f64(0.19).max(model::phi(kernel, diag2)),
+    };
+    let mut bound = T::ZERO;
+    for c in 0..D {
+        let mut sum = T::ZERO;
+        for (j, row) in coeffs.chunks_exact(D).enumerate() {
+            let v = row.get(c).copied().unwrap_or(T::ZERO).abs();
+            sum += if j < k {
+                v * phi_max
+            } else {
+                v * xi.max(T::ONE)
+            };
+        }
+        bound = bound.max(sum);
+    }
+    bound * T::from_f64(4.0)
+}
+
 /// RBF deformation: fits the boundary motion (`motion[k]` for mesh node `boundary[k]`) and
 /// writes the displacement of every mesh node into `displacements` (see the [module
 /// documentation](self) for the kernels, the greedy selection and the wall correction).
@@ -221,7 +266,8 @@ fn check_duplicates<T: Real, const D: usize>(
 /// points or motion; invalid options ([`Error::InvalidParameter`]); buffers too small;
 /// an interpolation matrix that is singular or not positive definite to working precision
 /// (coincident boundary nodes, or a Wendland support so wide that `f32` cannot resolve the
-/// nodes: [`Error::SingularSystem`]); coefficients that overflow ([`Error::Overflow`]).
+/// nodes: [`Error::SingularSystem`]); coefficients or values that could overflow
+/// ([`Error::Overflow`]).
 /// On error `displacements` is unchanged.
 pub fn rbf_deform<T: Real, const D: usize>(
     points: &[[T; D]],
@@ -294,11 +340,8 @@ pub fn rbf_deform<T: Real, const D: usize>(
     };
     let k = fitted.centres;
     let used = (k + if k > 0 { p } else { 0 }) * D;
-    if work
-        .coeffs
-        .get(..used)
-        .is_some_and(|c| c.iter().any(|v| !v.is_finite()))
-    {
+    let coeffs = work.coeffs.get(..used).unwrap_or(&[]);
+    if !output_bound::<T, D>(points, options.kernel, k, coeffs, problem.frame).is_finite() {
         return Err(Error::Overflow { arg: "motion" });
     }
     let centres = work.centres.get(..k).unwrap_or(&[]);
