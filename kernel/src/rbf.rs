@@ -185,6 +185,29 @@ fn check_options<T: Real, const D: usize>(b: usize, options: &RbfOptions<T>) -> 
     Ok(())
 }
 
+/// Squared distances between the points (and the support radius squared) must be finite:
+/// otherwise `φ` would read an overflowed distance as "outside the support"
+/// ([`Error::Overflow`] on `points`, or on `options.kernel.radius`).
+fn check_extent<T: Real, const D: usize>(points: &[[T; D]], options: &RbfOptions<T>) -> Result<()> {
+    let (lo, hi) = model::bounds(points.iter().copied());
+    let mut diag2 = T::ZERO;
+    for a in 0..D {
+        let e = hi[a] - lo[a];
+        diag2 += if e > T::ZERO { e * e } else { T::ZERO };
+    }
+    if !diag2.is_finite() {
+        return Err(Error::Overflow { arg: "points" });
+    }
+    if let RbfKernel::Wendland { radius } = options.kernel {
+        if !(radius * radius).is_finite() {
+            return Err(Error::Overflow {
+                arg: "options.kernel.radius",
+            });
+        }
+    }
+    Ok(())
+}
+
 /// A boundary node listed twice ([`Error::DuplicateNode`]): equal nodes share a position, so
 /// they meet in one bucket of the grid.
 fn check_duplicates<T: Real, const D: usize>(
@@ -220,13 +243,7 @@ fn output_bound<T: Real, const D: usize>(
     coeffs: &[T],
     frame: ([T; D], T),
 ) -> T {
-    let (mut lo, mut hi) = ([T::INFINITY; D], [-T::INFINITY; D]);
-    for p in points {
-        for a in 0..D {
-            lo[a] = lo[a].min(p[a]);
-            hi[a] = hi[a].max(p[a]);
-        }
-    }
+    let (lo, hi) = model::bounds(points.iter().copied());
     let mut diag2 = T::ZERO;
     let mut xi = T::ZERO;
     for a in 0..D {
@@ -293,6 +310,8 @@ pub fn rbf_deform<T: Real, const D: usize>(
     check::indices("boundary", boundary, n)?;
     check::finite_items("points", points)?;
     check::finite_items("motion", motion)?;
+
+    check_extent(points, options)?;
 
     let (m, p) = sizes::<T, D>(b, options);
     let a = m + p;

@@ -279,3 +279,35 @@ fn greedy_stops_at_a_numerically_dependent_node() {
     assert!(out.iter().flatten().all(|v| v.is_finite()));
     assert_eq!(out[3], motion[3]);
 }
+
+/// Scaling every length by a power of two scales the result bit for bit (Wendland: `φ` reads
+/// `r / R`; greedy and correction likewise), up to where squared distances leave the range:
+/// there the call refuses (`Error::Overflow`) instead of reading them as "outside the
+/// support".
+#[test]
+fn power_of_two_scaling_is_exact_and_overflow_is_refused() {
+    let c = case::<2>(120, 30, 200);
+    let motion = pitch_motion(&c, 30.0, 0.01);
+    let tol = 1e-3 * max_norm(&motion);
+    let opts = |s: f64| {
+        greedy(
+            RbfKernel::Wendland { radius: 8.0 * s },
+            tol * s,
+            150,
+            0.5 * s,
+        )
+    };
+    let (base, report) = run(&c.points, &c.boundary, &motion, &opts(1.0)).unwrap();
+    assert!(report.centres < 150);
+    for k in [-300, 200, 400] {
+        let s = 2f64.powi(k);
+        let scale = |v: &[[f64; 2]]| v.iter().map(|p| p.map(|x| x * s)).collect::<Vec<_>>();
+        let (out, r) = run(&scale(&c.points), &c.boundary, &scale(&motion), &opts(s)).unwrap();
+        assert_eq!(r.centres, report.centres, "2^{k}");
+        assert_eq!(out, scale(&base), "2^{k}");
+    }
+    let s = 2f64.powi(600);
+    let big: Vec<[f64; 2]> = c.points.iter().map(|p| p.map(|x| x * s)).collect();
+    let e = run(&big, &c.boundary, &motion, &opts(1.0)).unwrap_err();
+    assert_eq!(e, Error::Overflow { arg: "points" });
+}

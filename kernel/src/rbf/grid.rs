@@ -38,17 +38,13 @@ impl<'a, T: Real, const D: usize> Grid<'a, T, D> {
         pos: impl Fn(usize) -> [T; D],
         buf: &'a mut [u32],
     ) -> Self {
-        let mut lo = [T::INFINITY; D];
-        let mut hi = [-T::INFINITY; D];
-        for i in 0..n {
-            let p = pos(i);
-            for a in 0..D {
-                lo[a] = lo[a].min(p[a]);
-                hi[a] = hi[a].max(p[a]);
-            }
-        }
+        let (lo, hi) = super::model::bounds((0..n).map(&pos));
         let mut h = radius;
         let dims = loop {
+            if !h.is_finite() {
+                // Coordinates beyond the floating-point range of a cell side: one cell.
+                break [1usize; D];
+            }
             let mut dims = [1usize; D];
             let mut cells = 1usize;
             for a in 0..D {
@@ -60,7 +56,7 @@ impl<'a, T: Real, const D: usize> Grid<'a, T, D> {
                 };
                 cells = cells.saturating_mul(dims[a]);
             }
-            if cells <= n.max(1) || !h.is_finite() {
+            if cells <= n.max(1) {
                 break dims;
             }
             h *= T::TWO;
@@ -129,6 +125,11 @@ impl<'a, T: Real, const D: usize> Grid<'a, T, D> {
     /// Calls `f` with every point (subset position) in the cells that meet the ball of
     /// radius `r` about `x` (a superset of the points within `r`; the caller tests distance).
     pub(super) fn for_near(&self, x: [T; D], r: T, mut f: impl FnMut(usize)) {
+        if self.dims.iter().all(|&d| d == 1) {
+            // One cell: every point (no cell arithmetic that could round or overflow).
+            self.items.iter().for_each(|&i| f(i as usize));
+            return;
+        }
         let mut from = [0usize; D];
         let mut to = [0usize; D];
         for a in 0..D {

@@ -125,15 +125,7 @@ pub(super) fn frame_of<T: Real, const D: usize>(
     n: usize,
     pos: impl Fn(usize) -> [T; D],
 ) -> ([T; D], T) {
-    let mut lo = [T::INFINITY; D];
-    let mut hi = [-T::INFINITY; D];
-    for i in 0..n {
-        let p = pos(i);
-        for a in 0..D {
-            lo[a] = lo[a].min(p[a]);
-            hi[a] = hi[a].max(p[a]);
-        }
-    }
+    let (lo, hi) = bounds((0..n).map(pos));
     let mut c = [T::ZERO; D];
     let mut half = T::ZERO;
     for a in 0..D {
@@ -146,4 +138,19 @@ pub(super) fn frame_of<T: Real, const D: usize>(
         T::ONE
     };
     (c, s)
+}
+
+/// The bounding box `(lo, hi)` of `points` (`(+∞, −∞)` when empty); order-independent.
+pub(super) fn bounds<T: Real, const D: usize>(
+    points: impl Iterator<Item = [T; D]>,
+) -> ([T; D], [T; D]) {
+    let mut lo = [T::INFINITY; D];
+    let mut hi = [-T::INFINITY; D];
+    for p in points {
+        for a in 0..D {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    (lo, hi)
 }
