@@ -72,3 +72,11 @@ fn c_rbf_equals_the_rust_api_bit_for_bit() {
         assert!(r32.centres < boundary.len());
     }
 }
+
+/// The generated Fortran interfaces (`ffi/tests/rbf.f90`): thin-plate splines rigid, the
+/// greedy Wendland fit's wall exact in `_f32` with a 1-based boundary, a bad kernel refused
+/// with the output untouched. Needs `gfortran`.
+#[test]
+fn fortran_rbf_interfaces() {
+    assert_eq!(fortran_test("rbf"), "rbf: every check held\n");
+}
