@@ -4,37 +4,14 @@
  * bits for host-tests/tests/ffi/c_abi_rbf.rs, which compares them with the Rust API bit for
  * bit; then bad input (documented status, nothing written). */
 #include <math.h>
-#include <stdint.h>
-#include <stdio.h>
-#include <string.h>
 
-#include "deform_kernel.h"
+#include "check.h"
 
 #define NW 24         /* wall nodes */
 #define NF 16         /* far-field nodes */
 #define NB (NW + NF)
 #define NV 40         /* volume points */
 #define N (NB + NV)
-
-static int failures = 0;
-#define EXPECT(cond)                                                                 \
-    do {                                                                             \
-        if (!(cond)) {                                                               \
-            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond); \
-            failures++;                                                              \
-        }                                                                            \
-    } while (0)
-
-static void print_hex(const char *name, const double *v, size_t n) {
-    size_t i;
-    uint64_t u;
-    printf("%s", name);
-    for (i = 0; i < n; i++) {
-        memcpy(&u, &v[i], 8);
-        printf(" %016llx", (unsigned long long)u);
-    }
-    printf("\n");
-}
 
 int main(void) {
     static double points[2 * N], motion[2 * NB], disp[2 * N], scratch[20000];
@@ -65,64 +42,68 @@ int main(void) {
     }
     for (k = 0; k < 2 * N; k++) points32[k] = (float)points[k];
     for (k = 0; k < 2 * NB; k++) motion32[k] = (float)motion[k];
-    print_hex("points", points, 2 * N);
-    print_hex("motion", motion, 2 * NB);
+    hex64("points", points, 2 * N);
+    hex64("motion", motion, 2 * NB);
 
     /* Wendland C2, f64, every boundary node a centre, no correction. */
-    EXPECT(dk_rbf_options_default(&o) == DK_OK);
-    EXPECT(o.kernel == DK_RBF_WENDLAND && o.max_centres == SIZE_MAX);
+    OK(dk_rbf_options_default(&o));
+    CHECK(o.kernel == DK_RBF_WENDLAND && o.max_centres == SIZE_MAX);
     o.radius = 3.0;
-    EXPECT(dk_rbf_scratch_len(NB, 2, &o, &len) == DK_OK && len <= 20000);
-    EXPECT(dk_rbf_index_scratch_len(NB, 2, 0, &o, &ilen) == DK_OK && ilen <= 20000);
+    OK(dk_rbf_scratch_len(NB, 2, &o, &len));
+    CHECK(len <= 20000);
+    OK(dk_rbf_index_scratch_len(NB, 2, 0, &o, &ilen));
+    CHECK(ilen <= 20000);
     st = dk_rbf_deform(points, 2 * N, 2, boundary, NB, 0, motion, 2 * NB, &o, index, ilen,
                        scratch, len, disp, 2 * N, &report);
-    EXPECT(st == DK_OK);
-    EXPECT(report.centres == NB && report.dependent == 0);
-    print_hex("wendland", disp, 2 * N);
-    print_hex("wendland_error", &report.max_error, 1);
+    CHECK(st == DK_OK);
+    CHECK(report.centres == NB && report.dependent == 0);
+    hex64("wendland", disp, 2 * N);
+    hex64("wendland_error", &report.max_error, 1);
 
     /* Thin-plate splines, f32, greedy with the wall correction, 1-based boundary. */
     o.kernel = DK_RBF_THIN_PLATE;
     o.tolerance = 1e-3;
     o.max_centres = 30;
     o.correction_radius = 1.0;
-    EXPECT(dk_rbf_scratch_len(NB, 2, &o, &len) == DK_OK && len <= 20000);
-    EXPECT(dk_rbf_index_scratch_len(NB, 2, 1, &o, &ilen) == DK_OK && ilen <= 20000);
+    OK(dk_rbf_scratch_len(NB, 2, &o, &len));
+    CHECK(len <= 20000);
+    OK(dk_rbf_index_scratch_len(NB, 2, 1, &o, &ilen));
+    CHECK(ilen <= 20000);
     st = dk_rbf_deform_f32(points32, 2 * N, 2, boundary1, NB, 1, motion32, 2 * NB, &o, index,
                            ilen, scratch32, len, disp32, 2 * N, &report);
-    EXPECT(st == DK_OK);
-    EXPECT(report.centres < NB);
-    for (k = 0; k < 2 * NB; k++) EXPECT(disp32[k] == motion32[k]); /* the wall is exact */
+    CHECK(st == DK_OK);
+    CHECK(report.centres < NB);
+    for (k = 0; k < 2 * NB; k++) CHECK(disp32[k] == motion32[k]); /* the wall is exact */
     for (k = 0; k < 2 * N; k++) wide[k] = (double)disp32[k];
-    print_hex("tps32", wide, 2 * N);
+    hex64("tps32", wide, 2 * N);
     printf("tps32_centres %zu\n", report.centres);
 
     /* Bad input: nothing written. */
-    memset(&untouched, 0x5a, sizeof untouched);
+    POISON(untouched);
     report = untouched;
     for (k = 0; k < 2 * N; k++) disp[k] = 7.0;
     o.kernel = 9;
     EXPECT(dk_rbf_deform(points, 2 * N, 2, boundary, NB, 0, motion, 2 * NB, &o, index, 20000,
-                         scratch, 20000, disp, 2 * N, &report) == DK_ERR_INVALID_PARAMETER);
+                         scratch, 20000, disp, 2 * N, &report), DK_ERR_INVALID_PARAMETER);
     o.kernel = DK_RBF_WENDLAND;
     o.radius = -1.0;
     EXPECT(dk_rbf_deform(points, 2 * N, 2, boundary, NB, 0, motion, 2 * NB, &o, index, 20000,
-                         scratch, 20000, disp, 2 * N, &report) == DK_ERR_INVALID_PARAMETER);
+                         scratch, 20000, disp, 2 * N, &report), DK_ERR_INVALID_PARAMETER);
     o.radius = 3.0;
     EXPECT(dk_rbf_deform(points, 2 * N, 2, boundary, NB, 0, motion, 2 * NB, &o, index, 20000,
-                         scratch, 20000, disp, 2 * N, NULL) == DK_ERR_NULL_POINTER);
+                         scratch, 20000, disp, 2 * N, NULL), DK_ERR_NULL_POINTER);
     EXPECT(dk_rbf_deform(points, 2 * N, 2, boundary, NB, 0, motion, 2 * NB, &o, index, 3,
-                         scratch, 20000, disp, 2 * N, &report) == DK_ERR_BUFFER_TOO_SMALL);
+                         scratch, 20000, disp, 2 * N, &report), DK_ERR_BUFFER_TOO_SMALL);
     boundary[3] = N;
     EXPECT(dk_rbf_deform(points, 2 * N, 2, boundary, NB, 0, motion, 2 * NB, &o, index, 20000,
-                         scratch, 20000, disp, 2 * N, &report) == DK_ERR_INDEX_OUT_OF_RANGE);
+                         scratch, 20000, disp, 2 * N, &report), DK_ERR_INDEX_OUT_OF_RANGE);
     boundary[3] = 3;
     EXPECT(dk_rbf_deform(points, 2 * N, 4, boundary, NB, 0, motion, 2 * NB, &o, index, 20000,
-                         scratch, 20000, disp, 2 * N, &report) == DK_ERR_INVALID_PARAMETER);
-    EXPECT(dk_rbf_scratch_len(NB, 2, NULL, &len) == DK_ERR_NULL_POINTER);
-    EXPECT(dk_rbf_index_scratch_len(NB, 2, 2, &o, &len) == DK_ERR_BAD_INDEX_BASE);
-    for (k = 0; k < 2 * N; k++) EXPECT(disp[k] == 7.0);
-    EXPECT(memcmp(&report, &untouched, sizeof report) == 0);
+                         scratch, 20000, disp, 2 * N, &report), DK_ERR_INVALID_PARAMETER);
+    EXPECT(dk_rbf_scratch_len(NB, 2, NULL, &len), DK_ERR_NULL_POINTER);
+    EXPECT(dk_rbf_index_scratch_len(NB, 2, 2, &o, &len), DK_ERR_BAD_INDEX_BASE);
+    for (k = 0; k < 2 * N; k++) CHECK(disp[k] == 7.0);
+    CHECK(memcmp(&report, &untouched, sizeof report) == 0);
 
     if (failures) return 1;
     printf("rbf: every check held\n");
