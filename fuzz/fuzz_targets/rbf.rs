@@ -72,7 +72,15 @@ fn run<const D: usize>(inp: &Input) {
     let mut index = vec![0u32; rbf_index_len::<f64, D>(b, &options).saturating_sub(short & 1)];
     let mut scratch = vec![0.0; rbf_scratch_len::<f64, D>(b, &options).saturating_sub(short >> 1)];
     let mut out = vec![[f64::NAN; D]; n];
-    let r = rbf_deform(&points, &boundary, &motion, &options, &mut index, &mut scratch, &mut out);
+    let r = rbf_deform(
+        &points,
+        &boundary,
+        &motion,
+        &options,
+        &mut index,
+        &mut scratch,
+        &mut out,
+    );
     let Ok(report) = r else {
         assert!(out.iter().flatten().all(|v| v.is_nan()));
         return;
