@@ -115,8 +115,10 @@ impl<'a, T: Real, const D: usize> Grid<'a, T, D> {
     fn cell(&self, p: [T; D]) -> usize {
         let mut c = 0usize;
         for a in (0..D).rev() {
-            let k =
-                cell_of(p[a], self.lo[a], self.h, self.dims[a]).clamp(0, self.dims[a] as i64 - 1);
+            // max/min, not `Ord::clamp` (whose bound assertion would be a panic path).
+            let k = cell_of(p[a], self.lo[a], self.h, self.dims[a])
+                .min(self.dims[a] as i64 - 1)
+                .max(0);
             c = c * self.dims[a] + k as usize;
         }
         c
