@@ -3427,7 +3427,7 @@ fn rbf<T: Sc>(c: &mut Ctx, o: &dk_rbf_options) {
     let mut iscr = Buf::output(&mut c.kn, ilen, 0u32);
     let mut scr = Buf::output(&mut c.kn, len, T::SENT);
     let mut out = Buf::output(&mut c.kn, m.n * d, T::SENT);
-    let report = Slot::<dk_rbf_report>::new(&mut c.kn);
+    let mut report = Slot::<dk_rbf_report>::new(&mut c.kn);
     // SAFETY: every pointer is NULL or valid for the length passed with it.
     let s = unsafe {
         (T::RBF)(
