@@ -4,6 +4,9 @@ use std::path::PathBuf;
 
 use clap::{ArgGroup, Args, Parser, Subcommand, ValueEnum};
 
+mod rbf;
+pub use rbf::{check_rbf_args, RbfArgs, RbfKernelArg};
+
 /// Deform, smooth and check real mesh files (SU2, Plot3D, VTK) with deform-kernel.
 ///
 /// Exit status: 0 success, 1 bad input or failed run (nothing written), 2 bad command line,
@@ -184,6 +187,9 @@ pub enum Method {
     Tfi,
     /// Plain displacement transfinite interpolation (Plot3D grids, with --wall).
     TfiDisplacement,
+    /// Radial basis functions (SU2's and pyGeM's RBF): Wendland C2 or thin-plate splines,
+    /// greedy centres, the wall kept exact (--rbf-* options).
+    Rbf,
 }
 
 /// A face of a structured block.
@@ -391,6 +397,9 @@ pub struct MoveArgs {
     /// Also write a VTK .vtu file with displacement and cell-quality fields.
     #[arg(long)]
     pub vtk: Option<PathBuf>,
+    /// --method rbf options.
+    #[command(flatten)]
+    pub rbf: RbfArgs,
     /// Also draw the deformed mesh (.svg or .png) around the moved markers, folded or inverted
     /// cells in red. A 3D mesh is drawn as its section by the plane z = const through the
     /// middle of the moved markers.

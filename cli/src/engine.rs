@@ -9,6 +9,9 @@ use crate::error::CliError;
 use crate::formats::CellList;
 use crate::orientation::{Orientation, OrientationSummary};
 
+mod rbf;
+pub use rbf::{RbfFunction, RbfInfo, RbfSettings};
+
 fn kernel(context: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {
     move |source| CliError::Kernel {
         context: context.to_string(),
@@ -445,6 +448,8 @@ pub enum MoveMethod {
     AngleDirect,
     /// Yang & Özgen angle-inclusion springs, conjugate gradients.
     AngleCg,
+    /// Radial basis functions on the displacements (`engine/rbf.rs`).
+    Rbf(RbfSettings),
 }
 
 /// Over-relaxation factor of `--method angle-direct` (default solver, block SOR over the
@@ -577,6 +582,8 @@ pub struct MoveResult {
     /// The largest per-point error bound of the fast IDW (relative to the spread of the
     /// boundary motion; `None` when the exact propagation ran).
     pub idw_max_bound: Option<f64>,
+    /// What the RBF fit did (`--method rbf`; the last step's with `--steps`).
+    pub rbf: Option<RbfInfo>,
     /// Deformed points.
     pub deformed: Vec<[f64; 3]>,
     /// Displacement of every point.
@@ -1010,7 +1017,15 @@ fn move_d<const D: usize>(
         },
     };
     let mut out = pts.clone();
+    let mut rbf_info = None;
     let solved = match input.method {
+        MoveMethod::Rbf(settings) => {
+            let (moved_out, info) =
+                rbf::move_rbf(&settings, &pts, &pre.boundary, &pre.moved, &pre.disp)?;
+            out = moved_out;
+            rbf_info = Some(info);
+            (0, 0.0, true, None)
+        }
         MoveMethod::Spring | MoveMethod::AngleDirect | MoveMethod::AngleCg => {
             run.springs(&mut out)?
         }
@@ -1022,7 +1037,9 @@ fn move_d<const D: usize>(
         // up to rounding, so done for every method).
         slide_points(c, &pts, &mut out).map_err(kernel("sliding"))?;
     }
-    Ok(move_result(input, &pre, table.as_ref(), &pts, &out, solved))
+    let mut result = move_result(input, &pre, table.as_ref(), &pts, &out, solved);
+    result.rbf = rbf_info;
+    Ok(result)
 }
 
 /// The boundary of a motion: the moved markers' nodes, every boundary node (moved and
@@ -1492,6 +1509,7 @@ fn move_result<const D: usize>(
         .collect();
     MoveResult {
         idw_max_bound,
+        rbf: None,
         deformed,
         displacement,
         iterations,

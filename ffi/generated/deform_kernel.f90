@@ -128,6 +128,10 @@ module deform_kernel
   integer(c_int32_t), parameter, public :: DK_PLAN_COLD = 1
   !> "No such index" in the quality reports: `SIZE_MAX`.
   integer(c_size_t), parameter, public :: DK_NO_INDEX = -1_c_size_t
+  !> `dk_rbf_options::kernel`: Wendland's C2 function with compact support `radius`.
+  integer(c_int32_t), parameter, public :: DK_RBF_WENDLAND = 0
+  !> `dk_rbf_options::kernel`: the thin-plate spline `r² ln r` with linear terms.
+  integer(c_int32_t), parameter, public :: DK_RBF_THIN_PLATE = 1
   !> `dk_spring_solve_options::method`: the paper's Jacobi iteration (every node from the
   !! previous field).
   integer(c_int32_t), parameter, public :: DK_LINEAR_JACOBI = 0
@@ -606,6 +610,37 @@ module deform_kernel
     integer(c_size_t) :: skipped
   end type
 
+  !> Kernel, greedy selection and wall correction of `dk_rbf_deform`. Fill with
+  !! `dk_rbf_options_default` and set `radius` (Wendland) and what else you need.
+  type, bind(C), public :: dk_rbf_options
+    !> Most centres (at least 1; at least `dim + 1` for thin-plate splines). Default
+    !! `SIZE_MAX` (every boundary node may be a centre).
+    integer(c_size_t) :: max_centres
+    !> Wendland support radius (finite, positive; mesh units); ignored by thin-plate splines.
+    !! Default 0: must be set for `DK_RBF_WENDLAND`.
+    real(c_double) :: radius
+    !> Greedy selection stops once the largest boundary error is at most this (finite, ≥ 0;
+    !! mesh units). With 0 and `max_centres` at least the boundary size every boundary node
+    !! is a centre (no selection). Default 0.
+    real(c_double) :: tolerance
+    !> The remaining boundary error is faded into the volume over this distance and the
+    !! boundary nodes get their motion exactly (finite, ≥ 0; 0 writes the raw interpolant).
+    !! Default 0.
+    real(c_double) :: correction_radius
+    !> `DK_RBF_WENDLAND` (default) or `DK_RBF_THIN_PLATE`.
+    integer(c_int32_t) :: kernel
+  end type
+
+  !> What `dk_rbf_deform` did.
+  type, bind(C), public :: dk_rbf_report
+    !> Centres used.
+    integer(c_size_t) :: centres
+    !> Largest error of the interpolant at the boundary nodes, before the correction.
+    real(c_double) :: max_error
+    !> 1 when the selection stopped at a node numerically dependent on the centres.
+    integer(c_int32_t) :: dependent
+  end type
+
   !> Result of one sweep over a node range.
   type, bind(C), public :: dk_spring_sweep
     !> Largest `|new − old|` over the range's free nodes and all components (0 for an empty
@@ -806,7 +841,9 @@ module deform_kernel
             dk_quat_rotation_arc_f32, dk_quat_rotate_points, dk_quat_rotate_points_f32, &
             dk_quat_rotate_points_2d, dk_quat_rotate_points_2d_f32, dk_quat_slerp, &
             dk_quat_slerp_f32, dk_quat_nlerp, dk_quat_nlerp_f32, dk_quat_average, &
-            dk_quat_average_f32, dk_spring_batina_stiffness, dk_spring_batina_stiffness_f32, &
+            dk_quat_average_f32, dk_rbf_options_default, dk_rbf_scratch_len, &
+            dk_rbf_index_scratch_len, dk_rbf_deform, dk_rbf_deform_f32, &
+            dk_spring_batina_stiffness, dk_spring_batina_stiffness_f32, &
             dk_spring_index_scratch_len, dk_spring_solve_options_default, &
             dk_spring_solve_options_default_f32, dk_spring_solve_linear_scratch_len, &
             dk_spring_solve_linear, dk_spring_solve_linear_f32, dk_spring_jacobi_sweep, &
@@ -2198,6 +2235,74 @@ module deform_kernel
       real(c_float), intent(in) :: weights(*)
       integer(c_size_t), value :: weights_len
       real(c_float), intent(inout) :: out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_rbf_options_default(out) bind(C, name="dk_rbf_options_default") result(s)
+      import :: c_int32_t, dk_rbf_options
+      type(dk_rbf_options), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_rbf_scratch_len(boundary_len, dim, options, len_out) bind(C, &
+        name="dk_rbf_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_rbf_options
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: dim
+      type(dk_rbf_options), intent(in) :: options
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_rbf_index_scratch_len(boundary_len, dim, index_base, options, len_out) bind(C, &
+        name="dk_rbf_index_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_rbf_options
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), value :: index_base
+      type(dk_rbf_options), intent(in) :: options
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_rbf_deform(points, points_len, dim, boundary, boundary_len, index_base, motion, &
+        motion_len, options, index_scratch, index_scratch_len, scratch, scratch_len, &
+        displacements, displacements_len, report) bind(C, name="dk_rbf_deform") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_rbf_options, dk_rbf_report
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(in) :: motion(*)
+      integer(c_size_t), value :: motion_len
+      type(dk_rbf_options), intent(in) :: options
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_double), intent(inout) :: displacements(*)
+      integer(c_size_t), value :: displacements_len
+      type(dk_rbf_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_rbf_deform_f32(points, points_len, dim, boundary, boundary_len, index_base, &
+        motion, motion_len, options, index_scratch, index_scratch_len, scratch, scratch_len, &
+        displacements, displacements_len, report) bind(C, name="dk_rbf_deform_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_rbf_options, dk_rbf_report
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(in) :: motion(*)
+      integer(c_size_t), value :: motion_len
+      type(dk_rbf_options), intent(in) :: options
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_float), intent(inout) :: displacements(*)
+      integer(c_size_t), value :: displacements_len
+      type(dk_rbf_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
     function dk_spring_batina_stiffness(graph, points, points_len, dim, exponent, stiffness, &

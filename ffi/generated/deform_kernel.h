@@ -63,6 +63,12 @@
 // "No such index" in the quality reports: `SIZE_MAX`.
 #define DK_NO_INDEX (size_t)-1
 
+// `dk_rbf_options::kernel`: Wendland's C2 function with compact support `radius`.
+#define DK_RBF_WENDLAND 0
+
+// `dk_rbf_options::kernel`: the thin-plate spline `r² ln r` with linear terms.
+#define DK_RBF_THIN_PLATE 1
+
 // `dk_spring_solve_options::method`: the paper's Jacobi iteration (every node from the
 // previous field).
 #define DK_LINEAR_JACOBI 0
@@ -642,6 +648,37 @@ typedef struct {
   // Wall nodes skipped (no off-wall neighbour, zero normal or zero-length edge).
   size_t skipped;
 } dk_wall_angle_change;
+
+// Kernel, greedy selection and wall correction of `dk_rbf_deform`. Fill with
+// `dk_rbf_options_default` and set `radius` (Wendland) and what else you need.
+typedef struct {
+  // Most centres (at least 1; at least `dim + 1` for thin-plate splines). Default
+  // `SIZE_MAX` (every boundary node may be a centre).
+  size_t max_centres;
+  // Wendland support radius (finite, positive; mesh units); ignored by thin-plate splines.
+  // Default 0: must be set for `DK_RBF_WENDLAND`.
+  double radius;
+  // Greedy selection stops once the largest boundary error is at most this (finite, ≥ 0;
+  // mesh units). With 0 and `max_centres` at least the boundary size every boundary node
+  // is a centre (no selection). Default 0.
+  double tolerance;
+  // The remaining boundary error is faded into the volume over this distance and the
+  // boundary nodes get their motion exactly (finite, ≥ 0; 0 writes the raw interpolant).
+  // Default 0.
+  double correction_radius;
+  // `DK_RBF_WENDLAND` (default) or `DK_RBF_THIN_PLATE`.
+  uint32_t kernel;
+} dk_rbf_options;
+
+// What `dk_rbf_deform` did.
+typedef struct {
+  // Centres used.
+  size_t centres;
+  // Largest error of the interpolant at the boundary nodes, before the correction.
+  double max_error;
+  // 1 when the selection stopped at a node numerically dependent on the centres.
+  uint32_t dependent;
+} dk_rbf_report;
 
 // Result of one sweep over a node range.
 typedef struct {
@@ -2458,6 +2495,92 @@ dk_status dk_quat_average_f32(const float *quats,
                               const float *weights,
                               size_t weights_len,
                               float *out);
+
+// Fills `*out` with the defaults: Wendland (set `radius`), every boundary node a centre, no
+// correction.
+//
+// # Safety
+// `out` points to one writable options struct.
+dk_status dk_rbf_options_default(dk_rbf_options *out);
+
+// Scalars of `scratch` [`dk_rbf_deform`] needs (the same for both precisions): the dense
+// matrix `a²` (`a` = centres + `dim + 1` for thin-plate splines), coefficients and boundary
+// residuals. Errors: `DK_ERR_INVALID_PARAMETER` (`dim`, kernel code), `DK_ERR_TOO_LARGE`.
+//
+// # Safety
+// `options` points to one readable struct; `len_out` to one writable `size_t`.
+dk_status dk_rbf_scratch_len(size_t boundary_len,
+                             uint32_t dim,
+                             const dk_rbf_options *options,
+                             size_t *len_out);
+
+// `uint32_t`s of `index_scratch` [`dk_rbf_deform`] needs: centres, pivots, flags, the
+// search grids, and `boundary_len` more with `index_base` 1. Errors as
+// [`dk_rbf_scratch_len`], plus `DK_ERR_BAD_INDEX_BASE`.
+//
+// # Safety
+// `options` points to one readable struct; `len_out` to one writable `size_t`.
+dk_status dk_rbf_index_scratch_len(size_t boundary_len,
+                                   uint32_t dim,
+                                   uint32_t index_base,
+                                   const dk_rbf_options *options,
+                                   size_t *len_out);
+
+// RBF deformation (the kernel's `rbf_deform`): interpolates the motion of the boundary
+// nodes and writes the displacement of every mesh node.
+//
+// - `points`: `N * dim` scalars; `boundary`: `B` mesh nodes in `index_base` (0 or 1);
+//   `motion`: `B * dim` scalars, the displacement of each boundary node.
+// - `options`: see [`dk_rbf_options`]; `index_scratch` ([`dk_rbf_index_scratch_len`]) and
+//   `scratch` ([`dk_rbf_scratch_len`]) are workspaces.
+// - `displacements`: `N * dim` scalars, written on success; `report`: one struct.
+//
+// Errors: pointer and length errors, `DK_ERR_BAD_INDEX_BASE`, `DK_ERR_INDEX_OUT_OF_RANGE`,
+// `DK_ERR_DUPLICATE_NODE`, `DK_ERR_NON_FINITE`, `DK_ERR_INVALID_PARAMETER` (options, too few
+// boundary nodes, thin-plate splines on a boundary in one line/plane),
+// `DK_ERR_BUFFER_TOO_SMALL`, `DK_ERR_SINGULAR_SYSTEM` (coincident boundary nodes, or a
+// support too wide for the precision), `DK_ERR_OVERFLOW`. On error `displacements` and
+// `report` are unchanged.
+//
+// # Safety
+// Every pointer is valid for its length; the writable buffers overlap nothing else.
+dk_status dk_rbf_deform(const double *points,
+                        size_t points_len,
+                        uint32_t dim,
+                        const uint32_t *boundary,
+                        size_t boundary_len,
+                        uint32_t index_base,
+                        const double *motion,
+                        size_t motion_len,
+                        const dk_rbf_options *options,
+                        uint32_t *index_scratch,
+                        size_t index_scratch_len,
+                        double *scratch,
+                        size_t scratch_len,
+                        double *displacements,
+                        size_t displacements_len,
+                        dk_rbf_report *report);
+
+// `f32` twin of [`dk_rbf_deform`].
+//
+// # Safety
+// As [`dk_rbf_deform`].
+dk_status dk_rbf_deform_f32(const float *points,
+                            size_t points_len,
+                            uint32_t dim,
+                            const uint32_t *boundary,
+                            size_t boundary_len,
+                            uint32_t index_base,
+                            const float *motion,
+                            size_t motion_len,
+                            const dk_rbf_options *options,
+                            uint32_t *index_scratch,
+                            size_t index_scratch_len,
+                            float *scratch,
+                            size_t scratch_len,
+                            float *displacements,
+                            size_t displacements_len,
+                            dk_rbf_report *report);
 
 // Batina's stiffness `k_ij = 1 / |r_i − r_j|^exponent` for every directed edge of the 0-based
 // CSR graph into `stiffness` (`stiffness_len` = `graph->targets_len`). `exponent` 1 is the papers'

@@ -1401,6 +1401,74 @@ pub fn exercise() {
     });
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.
+    black_box(unsafe { deform_kernel_ffi::rbf::dk_rbf_options_default(black_box(null_mut())) });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::rbf::dk_rbf_scratch_len(
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::rbf::dk_rbf_index_scratch_len(
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::rbf::dk_rbf_deform(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::rbf::dk_rbf_deform_f32(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
     black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_batina_stiffness(
             black_box(null()),

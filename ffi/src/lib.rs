@@ -50,6 +50,8 @@ pub mod pools;
 pub mod quality;
 #[path = "../generated/quat.rs"]
 pub mod quat;
+#[path = "../generated/rbf.rs"]
+pub mod rbf;
 #[path = "../generated/spring.rs"]
 pub mod spring;
 #[path = "../generated/status.rs"]

@@ -32,6 +32,7 @@ use deform_kernel_ffi::quality::{self as qu, dk_cell_quality, dk_quality_report}
 use deform_kernel_ffi::quat::{
     dk_quat_average, dk_quat_mul, dk_quat_rotate_points, dk_quat_rotate_points_2d,
 };
+use deform_kernel_ffi::rbf::{self as rb, dk_rbf_options, dk_rbf_report};
 use deform_kernel_ffi::spring::{
     self as sp, dk_amg_options, dk_constraints, dk_constraints_f32, dk_spring_angle_options,
     dk_spring_solve_options, dk_spring_solve_report, dk_spring_sweep, dk_spring_system,
@@ -198,6 +199,15 @@ enum Op {
     Order {
         f32: bool,
     },
+    /// `dk_rbf_deform` (and `_f32`) with its two size queries, on the mesh's boundary.
+    Rbf {
+        kernel: u8,
+        radius: i16,
+        tolerance: i16,
+        max_centres: u8,
+        correction: i16,
+        f32: bool,
+    },
     Plan {
         quaternion: bool,
         amg: bool,
@@ -270,6 +280,24 @@ type DualVolumesFn<T> = unsafe extern "C" fn(
 ) -> dk_status;
 type ScaleFn<T> =
     unsafe extern "C" fn(*const dk_graph, *const T, usize, *mut T, usize) -> dk_status;
+type RbfFn<T> = unsafe extern "C" fn(
+    *const T,
+    usize,
+    u32,
+    *const u32,
+    usize,
+    u32,
+    *const T,
+    usize,
+    *const dk_rbf_options,
+    *mut u32,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut dk_rbf_report,
+) -> dk_status;
 type BatinaFn<T> =
     unsafe extern "C" fn(*const dk_graph, *const T, usize, u32, T, *mut T, usize) -> dk_status;
 type SolveLinearFn<T, S> = unsafe extern "C" fn(
@@ -500,6 +528,7 @@ trait Sc: Copy + Debug + Default + 'static {
         fixed: (*const u8, usize),
     ) -> Self::System;
     const BATINA: BatinaFn<Self>;
+    const RBF: RbfFn<Self>;
     const WALL_DISTANCES: WallDistancesFn<Self>;
     const WALL_FACTORS: FactorsFn<Self>;
     const DUAL_VOLUMES: DualVolumesFn<Self>;
@@ -593,6 +622,7 @@ impl Sc for f64 {
         system_of!(dk_spring_system, graph, stiffness, fixed)
     }
     const BATINA: BatinaFn<f64> = sp::dk_spring_batina_stiffness;
+    const RBF: RbfFn<f64> = rb::dk_rbf_deform;
     const WALL_DISTANCES: WallDistancesFn<f64> = st::dk_spring_wall_distances;
     const WALL_FACTORS: FactorsFn<f64> = st::dk_spring_wall_distance_factors;
     const DUAL_VOLUMES: DualVolumesFn<f64> = st::dk_spring_dual_volumes;
@@ -650,6 +680,7 @@ impl Sc for f32 {
         system_of!(dk_spring_system_f32, graph, stiffness, fixed)
     }
     const BATINA: BatinaFn<f32> = sp::dk_spring_batina_stiffness_f32;
+    const RBF: RbfFn<f32> = rb::dk_rbf_deform_f32;
     const WALL_DISTANCES: WallDistancesFn<f32> = st::dk_spring_wall_distances_f32;
     const WALL_FACTORS: FactorsFn<f32> = st::dk_spring_wall_distance_factors_f32;
     const DUAL_VOLUMES: DualVolumesFn<f32> = st::dk_spring_dual_volumes_f32;
@@ -3488,6 +3519,70 @@ fn plan<T: PlanSc>(c: &mut Ctx, quaternion: bool, amg: bool, steps: u8, corrupt:
     }
 }
 
+/// RBF deformation: the size queries, then the call with buffers the knobs may shorten or
+/// null; an error leaves the output and the report untouched, success on finite input gives
+/// finite displacements, and with a correction the boundary moves exactly as asked.
+fn rbf<T: Sc>(c: &mut Ctx, o: &dk_rbf_options) {
+    let m = c.m;
+    let (nb, d) = (m.boundary.len(), m.d);
+    let (mut len, mut ilen) = (0usize, 0usize);
+    // SAFETY: `o` and the lengths are valid for one read / one write each.
+    let sizes = unsafe {
+        (
+            rb::dk_rbf_scratch_len(nb, m.dim, o, &mut len),
+            rb::dk_rbf_index_scratch_len(nb, m.dim, m.base, o, &mut ilen),
+        )
+    };
+    if sizes != (dk_status::DK_OK, dk_status::DK_OK) {
+        return;
+    }
+    let motion: Vec<T> = (0..nb * d).map(|_| T::of(c.vals.next())).collect();
+    let p = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
+    let b = Buf::input(&mut c.kn, &m.based(&m.boundary), 0);
+    let mo = Buf::input(&mut c.kn, &motion, T::of(0.0));
+    let mut iscr = Buf::output(&mut c.kn, ilen, 0u32);
+    let mut scr = Buf::output(&mut c.kn, len, T::SENT);
+    let mut out = Buf::output(&mut c.kn, m.n * d, T::SENT);
+    let mut report = Slot::<dk_rbf_report>::new(&mut c.kn);
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    let s = unsafe {
+        (T::RBF)(
+            p.p(),
+            p.n(),
+            m.dim,
+            b.p(),
+            b.n(),
+            m.base,
+            mo.p(),
+            mo.n(),
+            o,
+            iscr.m(),
+            iscr.n(),
+            scr.m(),
+            scr.n(),
+            out.m(),
+            out.n(),
+            report.p(),
+        )
+    };
+    check_out("rbf", s, &out, m.finite && !c.vals.nonfinite);
+    check_slot("rbf", s, &report);
+    if s == dk_status::DK_OK
+        && m.dim as usize == d
+        && T::of(o.correction_radius).bits() != T::of(0.0).bits()
+    {
+        for (k, &node) in m.boundary.iter().enumerate() {
+            for a in 0..d {
+                assert_eq!(
+                    out.v[node as usize * d + a].bits(),
+                    motion[k * d + a].bits(),
+                    "rbf: wall moved off its motion"
+                );
+            }
+        }
+    }
+}
+
 fn run_op(c: &mut Ctx, op: &Op) {
     macro_rules! prec {
         ($f32:expr, $f:ident ( $($a:expr),* )) => {
@@ -3658,6 +3753,23 @@ fn run_op(c: &mut Ctx, op: &Op) {
             } else {
                 plan::<f64>(c, quaternion, amg, steps, corrupt, cold)
             }
+        }
+        Op::Rbf {
+            kernel,
+            radius,
+            tolerance,
+            max_centres,
+            correction,
+            f32,
+        } => {
+            let o = dk_rbf_options {
+                kernel: u32::from(kernel % 3),
+                radius: c.vals.note(real(radius)),
+                tolerance: c.vals.note(real(tolerance)).abs(),
+                max_centres: usize::from(max_centres),
+                correction_radius: c.vals.note(real(correction)).abs(),
+            };
+            prec!(f32, rbf(&o))
         }
         Op::Deform(ref s) => {
             if s.f32 {

@@ -41,6 +41,7 @@ pub mod plan;
 pub mod quality;
 pub mod quat;
 pub mod quaternion;
+pub mod rbf;
 pub mod real;
 pub mod spring;
 pub mod taubin;

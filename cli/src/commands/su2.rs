@@ -183,6 +183,13 @@ fn move_args(a: &Su2Args, config: &Su2Config) -> Result<(MoveArgs, bool), CliErr
         allow_folds: a.allow_folds,
         allow_unconverged: a.allow_unconverged,
         renumber: crate::renumber::Renumber::Auto,
+        rbf: crate::args::RbfArgs {
+            rbf_kernel: crate::args::RbfKernelArg::Wendland,
+            rbf_radius: None,
+            rbf_tolerance: 0.0,
+            rbf_max_centres: 1000,
+            rbf_correction: None,
+        },
         out: PathBuf::from(text("MESH_OUT_FILENAME", "mesh_out.su2")),
         vtk: None,
         plot: None,
@@ -228,7 +235,10 @@ fn stiffness(config: &Su2Config, method: Method) -> Result<StiffnessArg, CliErro
             ))
         }
     };
-    let springless = matches!(method, Method::Idw | Method::Tfi | Method::TfiDisplacement);
+    let springless = matches!(
+        method,
+        Method::Idw | Method::Rbf | Method::Tfi | Method::TfiDisplacement
+    );
     Ok(if springless { StiffnessArg::Batina } else { s })
 }
 

@@ -146,25 +146,6 @@ fn fortran_solver_wrappers_and_structs() {
     assert_eq!(fortran_test("solvers"), "solvers: every check held\n");
 }
 
-/// Builds `ffi/tests/<name>.f90` with the Fortran module (strict: f2008, `-Wall -Werror`),
-/// links the static library and returns what it prints.
-fn fortran_test(name: &str) -> String {
-    let module = workspace().join("ffi/generated/deform_kernel.f90");
-    let src = workspace().join(format!("ffi/tests/{name}.f90"));
-    let moddir = tmp(&format!("{name}_f_mod"));
-    std::fs::create_dir_all(&moddir).unwrap();
-    let jflag = format!("-J{}", moddir.display());
-    let exe = tmp(&format!("{name}_f"));
-    compile(
-        "gfortran",
-        &[module, src],
-        &["-std=f2008", "-Wall", "-Werror", &jflag],
-        Link::Static,
-        &exe,
-    );
-    run(&exe)
-}
-
 #[test]
 fn bad_input_from_c_returns_documented_status_and_writes_nothing() {
     let src = workspace().join("ffi/tests/bad_input.c");

@@ -119,3 +119,22 @@ pub fn hex32(name: &str, v: &[f32]) -> String {
     }
     s + "\n"
 }
+
+/// Builds `ffi/tests/<name>.f90` with the Fortran module (strict: f2008, `-Wall -Werror`),
+/// links the static library and returns what it prints.
+pub fn fortran_test(name: &str) -> String {
+    let module = workspace().join("ffi/generated/deform_kernel.f90");
+    let src = workspace().join(format!("ffi/tests/{name}.f90"));
+    let moddir = tmp(&format!("{name}_f_mod"));
+    std::fs::create_dir_all(&moddir).unwrap();
+    let jflag = format!("-J{}", moddir.display());
+    let exe = tmp(&format!("{name}_f"));
+    compile(
+        "gfortran",
+        &[module, src],
+        &["-std=f2008", "-Wall", "-Werror", &jflag],
+        Link::Static,
+        &exe,
+    );
+    run(&exe)
+}

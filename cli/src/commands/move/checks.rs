@@ -9,7 +9,10 @@ use crate::report::value_name;
 /// The method against the kind of input (`su2`: an SU2 mesh, else a Plot3D grid).
 pub(super) fn check_method(a: &MoveArgs, su2: bool) -> Result<(), CliError> {
     let tfi = matches!(a.method(), Method::Tfi | Method::TfiDisplacement);
-    if a.stiffness != StiffnessArg::Batina && (tfi || a.method() == Method::Idw) {
+    crate::args::check_rbf_args(&a.rbf, a.method() == Method::Rbf)?;
+    if a.stiffness != StiffnessArg::Batina
+        && (tfi || matches!(a.method(), Method::Idw | Method::Rbf))
+    {
         return Err(CliError::Invalid(format!(
             "--stiffness {} applies to the spring, angle-spring and quaternion methods; --method {} has no springs",
             value_name(&a.stiffness),

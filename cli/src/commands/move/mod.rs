@@ -186,6 +186,7 @@ fn move_input<'a>(
         Method::Spring => MoveMethod::Spring,
         Method::AngleDirect => MoveMethod::AngleDirect,
         Method::AngleCg => MoveMethod::AngleCg,
+        Method::Rbf => MoveMethod::Rbf(rbf_settings(&a.rbf)),
         Method::Tfi | Method::TfiDisplacement => unreachable_tfi()?,
     };
     let solver = match a.solver {
@@ -216,6 +217,20 @@ fn move_input<'a>(
             StiffnessArg::InverseVolume => Stiffness::InverseVolume,
         },
     })
+}
+
+/// The engine's settings of `--method rbf`.
+fn rbf_settings(r: &crate::args::RbfArgs) -> crate::engine::RbfSettings {
+    crate::engine::RbfSettings {
+        function: match r.rbf_kernel {
+            crate::args::RbfKernelArg::Wendland => crate::engine::RbfFunction::Wendland,
+            crate::args::RbfKernelArg::Tps => crate::engine::RbfFunction::Tps,
+        },
+        radius: r.rbf_radius,
+        tolerance: r.rbf_tolerance,
+        max_centres: r.rbf_max_centres,
+        correction: r.rbf_correction,
+    }
 }
 
 /// The failure policy for solves: an unconverged result is refused unless

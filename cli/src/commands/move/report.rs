@@ -26,6 +26,8 @@ pub(crate) struct MoveReport {
     steps: u32,
     reach: Option<f64>,
     idw_max_bound: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rbf: Option<crate::engine::RbfInfo>,
     moved_nodes: usize,
     fixed_nodes: usize,
     sliding_markers: Vec<String>,
@@ -124,6 +126,7 @@ pub(super) fn move_report(a: &MoveArgs, run: Run<'_>) -> MoveReport {
         steps: a.steps,
         reach: a.reach,
         idw_max_bound: result.idw_max_bound,
+        rbf: result.rbf,
         moved_nodes: result.moved_nodes,
         fixed_nodes: result.fixed_nodes,
         sliding_markers: a.slide.clone(),
@@ -156,7 +159,7 @@ pub(super) fn move_report(a: &MoveArgs, run: Run<'_>) -> MoveReport {
 /// The solver as the report names it (the angle springs pick theirs from the method).
 fn solver_name(a: &MoveArgs, mesh: &Su2Mesh) -> String {
     match a.method() {
-        Method::Idw | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
+        Method::Idw | Method::Rbf | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
         Method::AngleCg if a.solver == Solver::Amg && a.slide.is_empty() => "amg".to_string(),
         Method::AngleCg => "cg".to_string(),
         Method::AngleDirect if a.solver == Solver::Jacobi => "jacobi".to_string(),
@@ -238,6 +241,9 @@ pub(super) fn report_text(a: &MoveArgs, r: &MoveReport, dim: usize) -> String {
             a.idw_theta.unwrap_or(0.0)
         );
     }
+    if let Some(rbf) = &r.rbf {
+        options += &rbf_words(rbf);
+    }
     let mut text = format!(
         "{} -> {}: {} nodes ({} moved, {} fixed), method {}{options}, {} iterations, residual {:.3e}{}\n  {} mesh; inverted cells {}, folded cells {}, degenerate cells {}, {} ratio min {} max {}, max wall angle change {} deg, {:.2} s",
         r.mesh,
@@ -282,4 +288,21 @@ pub(super) fn report_text(a: &MoveArgs, r: &MoveReport, dim: usize) -> String {
         ));
     }
     text
+}
+
+/// ` (wendland radius 12, 80 of 460 centres, boundary error 1.2e-4 corrected over 1.0)`.
+fn rbf_words(r: &crate::engine::RbfInfo) -> String {
+    format!(
+        " ({}{}, {} of {} centres, boundary error {:.2e} corrected over {})",
+        match r.kernel {
+            crate::engine::RbfFunction::Wendland => "wendland",
+            crate::engine::RbfFunction::Tps => "tps",
+        },
+        r.radius
+            .map_or_else(String::new, |x| format!(" radius {x}")),
+        r.centres,
+        r.boundary_nodes,
+        r.max_error,
+        r.correction_radius
+    )
 }
