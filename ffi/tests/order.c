@@ -1,6 +1,6 @@
 /* Node orders from C99: dk_order_rcm, dk_order_hilbert (f64 and f32), dk_order_index_distance,
  * dk_order_permute (f64, f32; widths 1 and 2), dk_order_renumber (index_base 0 and 1),
- * dk_order_permute_graph with its edge map and dk_order_gather, on a 13 x 9 triangulated grid
+ * dk_order_permute_graph with its edge map and dk_order_gather (f64, f32), on a 13 x 9 triangulated grid
  * whose nodes are numbered at random (an LCG shuffle).
  *
  * Prints the edges, the points and every order, key, distance and permuted graph, so
@@ -74,7 +74,7 @@ int main(void) {
     static uint64_t keys[N], keys32[N];
     static uint32_t poff[N + 1], ptgt[2 * EDGES], map[2 * EDGES], boff[N + 1], btgt[2 * EDGES];
     static double stiff[2 * EDGES], pstiff[2 * EDGES], moved[2 * N], back[2 * N];
-    static float moved32[2 * N], back32[2 * N];
+    static float moved32[2 * N], back32[2 * N], stiff32[2 * EDGES], pstiff32[2 * EDGES];
     static uint32_t cells[3 * N], cells0[3 * N];
     uint32_t bad_order[N], before[N], maxd;
     uint64_t sumd, before_keys[N];
@@ -131,6 +131,13 @@ int main(void) {
     ints("edge_map", map, used);
     OK(dk_order_gather(map, used, stiff, used, pstiff, used));
     hex64("stiffness", pstiff, used);
+    for (i = 0; i < used; i++) stiff32[i] = (float)stiff[i];
+    OK(dk_order_gather_f32(map, used, stiff32, used, pstiff32, used));
+    hex32("stiffness_f32", pstiff32, used);
+    memcpy(before, pstiff32, sizeof before);
+    map[0] = (uint32_t)used; /* out of range: nothing written */
+    EXPECT(dk_order_gather_f32(map, used, stiff32, used, pstiff32, used), DK_ERR_INDEX_OUT_OF_RANGE);
+    SAME(before, pstiff32, sizeof before);
     permuted.offsets = poff; permuted.offsets_len = N + 1; permuted.targets = ptgt; permuted.targets_len = used;
     OK(dk_order_permute_graph(&undo, &permuted, boff, N + 1, btgt, used, NULL, 0));
     SAME(boff, offsets, sizeof offsets);

@@ -81,6 +81,10 @@ fn expected(edges: &[u32], points: &[f64]) -> String {
     let mut ps = vec![0.0; used];
     gather(&map, &stiff, &mut ps).unwrap();
     out += &hex64("stiffness", &ps);
+    let s32: Vec<f32> = stiff.iter().map(|&x| x as f32).collect();
+    let mut ps32 = vec![0.0f32; used];
+    gather(&map, &s32, &mut ps32).unwrap();
+    out += &hex32("stiffness_f32", &ps32);
     out
 }
 
