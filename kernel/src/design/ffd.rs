@@ -167,7 +167,7 @@ impl<'a, T: Real, const D: usize> FfdBox<'a, T, D> {
             for (o, &c) in out.iter_mut().zip(p) {
                 let mut term = c;
                 for a in 0..D {
-                    term = term * basis[a][ijk[a]];
+                    term *= basis[a][ijk[a]];
                 }
                 *o += term;
             }
