@@ -343,3 +343,101 @@ fn bad_input_is_a_typed_error_and_changes_nothing() {
     ));
     assert_eq!(moved, cps);
 }
+
+/// One box and its surface points read from `data/<name>` (see data/README.md).
+struct PublicBox {
+    degree: [usize; 3],
+    control_points: Vec<[f64; 3]>,
+    nodes: Vec<u32>,
+    params: Vec<[f64; 3]>,
+    /// Mesh coordinates of each surface point's node (z = 0 on a 2D mesh).
+    coords: Vec<[f64; 3]>,
+}
+
+fn read_public(name: &str) -> PublicBox {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/design/data")
+        .join(name);
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let head: Vec<usize> = lines
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let (dim, degree) = (head[0], [head[1], head[2], head[3]]);
+    let mut control_points = vec![[f64::NAN; 3]; ffd_control_point_count(degree).unwrap()];
+    let zeros = vec![[0.0; 3]; control_points.len()];
+    let probe = FfdBox::new(degree, &zeros).unwrap();
+    let mut pb = PublicBox {
+        degree,
+        control_points: vec![],
+        nodes: vec![],
+        params: vec![],
+        coords: vec![],
+    };
+    for line in lines.by_ref() {
+        if line.starts_with("surface") {
+            break;
+        }
+        let f: Vec<f64> = line
+            .split_whitespace()
+            .map(|v| v.parse().unwrap())
+            .collect();
+        let at = probe
+            .index([f[0] as usize, f[1] as usize, f[2] as usize])
+            .unwrap();
+        control_points[at] = [f[3], f[4], f[5]];
+    }
+    for line in lines {
+        let f: Vec<f64> = line
+            .split_whitespace()
+            .map(|v| v.parse().unwrap())
+            .collect();
+        pb.nodes.push(pb.coords.len() as u32);
+        pb.params.push([f[1], f[2], f[3]]);
+        pb.coords
+            .push([f[4], f[5], if dim == 3 { f[6] } else { 0.0 }]);
+    }
+    pb.control_points = control_points;
+    pb
+}
+
+/// The parametric coordinates SU2 stored in two public test meshes (su2code/TestCases) put
+/// the box's evaluation back on the mesh surface to rounding (numpy and the kernel both see
+/// ≤ 2e-15 on these meshes), so SU2's displacement with no design variable is (nearly) zero. Then an SU2-style FFD_CONTROL_POINT_2D moves the surface as numpy's
+/// evaluation of the moved box says.
+#[test]
+fn public_su2_meshes_stored_parametric_coordinates_reproduce_the_surface() {
+    for name in ["naca0012_inv_ffd.txt", "brick_hex_ffd.txt"] {
+        let pb = read_public(name);
+        assert!(
+            pb.control_points.iter().flatten().all(|v| v.is_finite()),
+            "{name}: missing control points"
+        );
+        let ffd = FfdBox::new(pb.degree, &pb.control_points).unwrap();
+        let mut d = vec![[0.0; 3]; pb.nodes.len()];
+        ffd_displacements(&ffd, &pb.coords, &pb.nodes, &pb.params, &mut d).unwrap();
+        let worst = d.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(
+            worst < 1e-14,
+            "{name}: surface reproduced to {worst:e} only"
+        );
+
+        let mut moved = pb.control_points.clone();
+        ffd_control_point_2d(pb.degree, &mut moved, [Some(3), Some(1)], [0.0, 0.01]).unwrap();
+        let b = FfdBox::new(pb.degree, &moved).unwrap();
+        let mut out = vec![[0.0; 3]; pb.params.len()];
+        ffd_eval(&b, &pb.params, &mut out).unwrap();
+        let reference = numpy_eval(pb.degree, &moved, &pb.params);
+        for (o, r) in out.iter().flatten().zip(&reference) {
+            assert!((o - r).abs() <= 1e-14 * 2.0, "{name}: {o} vs {r}");
+        }
+        ffd_displacements(&b, &pb.coords, &pb.nodes, &pb.params, &mut d).unwrap();
+        assert!(
+            d.iter().any(|v| v[1] > 1e-4),
+            "{name}: the design variable moved nothing"
+        );
+    }
+}
