@@ -326,6 +326,17 @@ fn bad_input_is_a_typed_error_and_changes_nothing() {
             ..
         })
     ));
+    let far = [[0.5; 3], [1e300, 0.5, 0.5]];
+    assert!(matches!(
+        ffd_eval(&ffd, &far, &mut out),
+        Err(Error::Overflow { arg: "params" })
+    ));
+    let mut d = [[7.0; 3]; 2];
+    assert!(matches!(
+        ffd_displacements_between(&ffd, &ffd, &far, &mut d),
+        Err(Error::Overflow { .. })
+    ));
+    assert_eq!(d, [[7.0; 3]; 2]);
     assert_eq!(out, [[7.0; 3]; 2]);
     let mut moved = cps.clone();
     assert!(matches!(

@@ -162,5 +162,14 @@ fn bad_input_is_a_typed_error_and_changes_nothing() {
             position: 0
         })
     ));
+    let far = [[1e6, 0.0], [0.2, 0.0]];
+    let near_one = HicksHenne {
+        x_max: 1.0 - f64::EPSILON,
+        ..ok
+    };
+    assert!(matches!(
+        hicks_henne(&far, &[1, 0], &normals, near_one, &mut d),
+        Err(Error::Overflow { arg: "x_max" })
+    ));
     assert_eq!(d, [[3.0; 2]; 2]);
 }

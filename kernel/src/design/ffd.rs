@@ -184,11 +184,22 @@ impl<'a, T: Real, const D: usize> FfdBox<'a, T, D> {
     }
 }
 
+/// [`Error::Overflow`] when some result is not finite (finite inputs far outside the box can
+/// overflow `t^n`); checked before anything is written, so results are computed twice.
+fn all_finite<T: Real, const D: usize>(mut items: impl Iterator<Item = [T; D]>) -> Result<()> {
+    if items.all(|x| x.iter().all(|c| c.is_finite())) {
+        Ok(())
+    } else {
+        Err(Error::Overflow { arg: "params" })
+    }
+}
+
 /// Evaluates `ffd` at every `params[p]` into `out[p]`.
 ///
 /// # Errors
 /// [`Error::LengthMismatch`] when `out` and `params` differ in length; [`Error::NonFinite`]
-/// for a non-finite parametric coordinate. Nothing is written on error.
+/// for a non-finite parametric coordinate; [`Error::Overflow`] when a result is not finite.
+/// Nothing is written on error.
 pub fn ffd_eval<T: Real, const D: usize>(
     ffd: &FfdBox<'_, T, D>,
     params: &[[T; D]],
@@ -196,6 +207,7 @@ pub fn ffd_eval<T: Real, const D: usize>(
 ) -> Result<()> {
     check::len("out", out.len(), params.len())?;
     check::finite_items("params", params)?;
+    all_finite(params.iter().map(|&u| ffd.eval(u)))?;
     for (o, &u) in out.iter_mut().zip(params) {
         *o = ffd.eval(u);
     }
@@ -216,7 +228,8 @@ pub fn ffd_eval<T: Real, const D: usize>(
 /// # Errors
 /// [`Error::LengthMismatch`] when `params` or `displacements` does not have one entry per
 /// node; [`Error::IndexOutOfRange`] for a node outside `points`; [`Error::NonFinite`] for a
-/// non-finite parametric coordinate or listed point. Nothing is written on error.
+/// non-finite parametric coordinate or listed point; [`Error::Overflow`] when a displacement
+/// is not finite. Nothing is written on error.
 pub fn ffd_displacements<T: Real, const D: usize>(
     moved: &FfdBox<'_, T, D>,
     points: &[[T; D]],
@@ -230,12 +243,20 @@ pub fn ffd_displacements<T: Real, const D: usize>(
     check::finite_items("params", params)?;
     super::listed_points_finite(points, nodes)?;
     let eps = T::from_f64(super::SU2_EPS);
+    let su2 = |n: u32, u: [T; D]| {
+        let (x, p) = (moved.eval(u), points[n as usize]);
+        core::array::from_fn(|a| {
+            let v = x[a] - p[a];
+            if v.abs() <= eps {
+                T::ZERO
+            } else {
+                v
+            }
+        })
+    };
+    all_finite(nodes.iter().zip(params).map(|(&n, &u)| su2(n, u)))?;
     for ((&n, &u), d) in nodes.iter().zip(params).zip(displacements.iter_mut()) {
-        let x = moved.eval(u);
-        for a in 0..D {
-            let v = x[a] - points[n as usize][a];
-            d[a] = if v.abs() <= eps { T::ZERO } else { v };
-        }
+        *d = su2(n, u);
     }
     Ok(())
 }
@@ -248,7 +269,8 @@ pub fn ffd_displacements<T: Real, const D: usize>(
 /// # Errors
 /// [`Error::InvalidParameter`] when the boxes differ in degree ("moved");
 /// [`Error::LengthMismatch`] when `displacements` and `params` differ in length; [`Error::NonFinite`] for a non-finite
-/// parametric coordinate. Nothing is written on error.
+/// parametric coordinate; [`Error::Overflow`] when a displacement is not finite. Nothing is
+/// written on error.
 pub fn ffd_displacements_between<T: Real, const D: usize>(
     original: &FfdBox<'_, T, D>,
     moved: &FfdBox<'_, T, D>,
@@ -263,11 +285,13 @@ pub fn ffd_displacements_between<T: Real, const D: usize>(
     }
     check::len("displacements", displacements.len(), params.len())?;
     check::finite_items("params", params)?;
-    for (d, &u) in displacements.iter_mut().zip(params) {
+    let diff = |u: [T; D]| {
         let (a, b) = (moved.eval(u), original.eval(u));
-        for c in 0..D {
-            d[c] = a[c] - b[c];
-        }
+        core::array::from_fn(|c| a[c] - b[c])
+    };
+    all_finite(params.iter().map(|&u| diff(u)))?;
+    for (d, &u) in displacements.iter_mut().zip(params) {
+        *d = diff(u);
     }
     Ok(())
 }

@@ -77,8 +77,9 @@ pub fn hicks_henne_bump<T: Real>(x: T, x_max: T) -> T {
 /// [`Error::LengthMismatch`] when `normals` or `displacements` does not have one entry per
 /// node; [`Error::IndexOutOfRange`] for a node outside `points`; [`Error::NonFinite`] for a
 /// non-finite listed point, normal, displacement, `x_max` or `amplitude`;
-/// [`Error::InvalidParameter`] when `x_max` is not strictly between 0 and 1. Nothing is
-/// written on error.
+/// [`Error::InvalidParameter`] when `x_max` is not strictly between 0 and 1;
+/// [`Error::Overflow`] when a displacement would not be finite (`x^e` overflows for `x_max`
+/// next to 1 and x far beyond 1). Nothing is written on error.
 pub fn hicks_henne<T: Real, const D: usize>(
     points: &[[T; D]],
     nodes: &[u32],
@@ -101,19 +102,29 @@ pub fn hicks_henne<T: Real, const D: usize>(
     check::finite_items("normals", normals)?;
     check::finite_items("displacements", displacements)?;
     super::listed_points_finite(points, nodes)?;
-    for ((&n, normal), d) in nodes.iter().zip(normals).zip(displacements.iter_mut()) {
+    // The y increment of listed node p (None: not on the bump's side).
+    let moved = |p: usize| {
         let on_side = if bump.upper {
-            normal[1] > T::ZERO
+            normals[p][1] > T::ZERO
         } else {
-            normal[1] < T::ZERO
+            normals[p][1] < T::ZERO
         };
-        if on_side {
-            let f = hicks_henne_bump(points[n as usize][0], bump.x_max);
-            let dy = if bump.upper {
-                bump.amplitude * f
+        on_side.then(|| {
+            let f = hicks_henne_bump(points[nodes[p] as usize][0], bump.x_max);
+            let a = if bump.upper {
+                bump.amplitude
             } else {
-                -bump.amplitude * f
+                -bump.amplitude
             };
+            a * f
+        })
+    };
+    let overflows = |p: usize| moved(p).is_some_and(|dy| !(displacements[p][1] + dy).is_finite());
+    if (0..nodes.len()).any(overflows) {
+        return Err(Error::Overflow { arg: "x_max" });
+    }
+    for (p, d) in displacements.iter_mut().enumerate() {
+        if let Some(dy) = moved(p) {
             d[1] += dy;
         }
     }
