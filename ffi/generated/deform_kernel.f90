@@ -112,6 +112,20 @@ module deform_kernel
   integer(c_int32_t), parameter, public :: DK_DIRECTION_J = 2
   !> Bit of a TFI `directions` mask: interpolate along `k` (3D blocks only).
   integer(c_int32_t), parameter, public :: DK_DIRECTION_K = 4
+  !> `FFD_CONTROL_POINT`: `index` = (i, j, k), −1 = all along that direction; `values` = the
+  !! movement (dx·a, dy·a, dz·a).
+  integer(c_int32_t), parameter, public :: DK_FFD_CONTROL_POINT = 0
+  !> `FFD_CONTROL_POINT_2D`: `index` = (i, j, unused), −1 = all; `values` = (dx·a, dy·a,
+  !! unused); layers k = 0 and 1 move.
+  integer(c_int32_t), parameter, public :: DK_FFD_CONTROL_POINT_2D = 1
+  !> `FFD_CAMBER`: `index` = (i, j, unused); `values[0]` = a.
+  integer(c_int32_t), parameter, public :: DK_FFD_CAMBER = 2
+  !> `FFD_THICKNESS`: `index` = (i, j, unused); `values[0]` = a.
+  integer(c_int32_t), parameter, public :: DK_FFD_THICKNESS = 3
+  !> `FFD_CAMBER_2D`: `index` = (i, unused, unused); `values[0]` = a.
+  integer(c_int32_t), parameter, public :: DK_FFD_CAMBER_2D = 4
+  !> `FFD_THICKNESS_2D`: `index` = (i, unused, unused); `values[0]` = a.
+  integer(c_int32_t), parameter, public :: DK_FFD_THICKNESS_2D = 5
   !> `dk_plan_options.method`: linear (Batina) springs on the displacements.
   integer(c_int32_t), parameter, public :: DK_PLAN_SPRING = 1
   !> `dk_plan_options.method`: Samareh's quaternion method with spring propagation (default).
@@ -821,7 +835,12 @@ module deform_kernel
             dk_deform_spring_scratch_len, dk_deform_spring_index_scratch_len, &
             dk_deform_spring_index_scratch_len_f32, dk_deform_spring, dk_deform_spring_f32, &
             dk_deform_propagate_spring_scratch_len, dk_deform_propagate_spring, &
-            dk_deform_propagate_spring_f32, dk_graph_from_edges_len, dk_graph_from_edges, &
+            dk_deform_propagate_spring_f32, dk_design_hicks_henne_bump, &
+            dk_design_hicks_henne_bump_f32, dk_design_hicks_henne, dk_design_hicks_henne_f32, &
+            dk_design_ffd_eval, dk_design_ffd_eval_f32, dk_design_ffd_displacements, &
+            dk_design_ffd_displacements_f32, dk_design_ffd_displacements_between, &
+            dk_design_ffd_displacements_between_f32, dk_design_ffd_variable, &
+            dk_design_ffd_variable_f32, dk_graph_from_edges_len, dk_graph_from_edges, &
             dk_cells_check, dk_graph_from_cells_len, dk_graph_from_cells, dk_graph_check, &
             dk_order_rcm, dk_order_hilbert, dk_order_hilbert_f32, dk_order_index_distance, &
             dk_order_permute, dk_order_permute_f32, dk_order_renumber, dk_order_permute_graph, &
@@ -1527,6 +1546,194 @@ module deform_kernel
       real(c_float), intent(inout) :: rotations(*)
       integer(c_size_t), value :: rotations_len
       type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_hicks_henne_bump(x, x_max, out) bind(C, name="dk_design_hicks_henne_bump") &
+        result(s)
+      import :: c_double, c_int32_t
+      real(c_double), value :: x
+      real(c_double), value :: x_max
+      real(c_double), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_hicks_henne_bump_f32(x, x_max, out) bind(C, &
+        name="dk_design_hicks_henne_bump_f32") result(s)
+      import :: c_float, c_int32_t
+      real(c_float), value :: x
+      real(c_float), value :: x_max
+      real(c_float), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_hicks_henne(points, points_len, dim, nodes, nodes_len, index_base, &
+        index_scratch, index_scratch_len, normals, normals_len, upper, x_max, amplitude, &
+        displacements, displacements_len) bind(C, name="dk_design_hicks_henne") result(s)
+      import :: c_bool, c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: nodes(*)
+      integer(c_size_t), value :: nodes_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(in) :: normals(*)
+      integer(c_size_t), value :: normals_len
+      logical(c_bool), value :: upper
+      real(c_double), value :: x_max
+      real(c_double), value :: amplitude
+      real(c_double), intent(inout) :: displacements(*)
+      integer(c_size_t), value :: displacements_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_hicks_henne_f32(points, points_len, dim, nodes, nodes_len, index_base, &
+        index_scratch, index_scratch_len, normals, normals_len, upper, x_max, amplitude, &
+        displacements, displacements_len) bind(C, name="dk_design_hicks_henne_f32") result(s)
+      import :: c_bool, c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: nodes(*)
+      integer(c_size_t), value :: nodes_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(in) :: normals(*)
+      integer(c_size_t), value :: normals_len
+      logical(c_bool), value :: upper
+      real(c_float), value :: x_max
+      real(c_float), value :: amplitude
+      real(c_float), intent(inout) :: displacements(*)
+      integer(c_size_t), value :: displacements_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_ffd_eval(degree, degree_len, control_points, control_points_len, dim, &
+        params, params_len, out, out_len) bind(C, name="dk_design_ffd_eval") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: degree(*)
+      integer(c_size_t), value :: degree_len
+      real(c_double), intent(in) :: control_points(*)
+      integer(c_size_t), value :: control_points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(in) :: params(*)
+      integer(c_size_t), value :: params_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_ffd_eval_f32(degree, degree_len, control_points, control_points_len, dim, &
+        params, params_len, out, out_len) bind(C, name="dk_design_ffd_eval_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: degree(*)
+      integer(c_size_t), value :: degree_len
+      real(c_float), intent(in) :: control_points(*)
+      integer(c_size_t), value :: control_points_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(in) :: params(*)
+      integer(c_size_t), value :: params_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_ffd_displacements(degree, degree_len, control_points, control_points_len, &
+        dim, points, points_len, nodes, nodes_len, index_base, index_scratch, index_scratch_len, &
+        params, params_len, displacements, displacements_len) bind(C, &
+        name="dk_design_ffd_displacements") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: degree(*)
+      integer(c_size_t), value :: degree_len
+      real(c_double), intent(in) :: control_points(*)
+      integer(c_size_t), value :: control_points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), intent(in) :: nodes(*)
+      integer(c_size_t), value :: nodes_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(in) :: params(*)
+      integer(c_size_t), value :: params_len
+      real(c_double), intent(inout) :: displacements(*)
+      integer(c_size_t), value :: displacements_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_ffd_displacements_f32(degree, degree_len, control_points, &
+        control_points_len, dim, points, points_len, nodes, nodes_len, index_base, index_scratch, &
+        index_scratch_len, params, params_len, displacements, displacements_len) bind(C, &
+        name="dk_design_ffd_displacements_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: degree(*)
+      integer(c_size_t), value :: degree_len
+      real(c_float), intent(in) :: control_points(*)
+      integer(c_size_t), value :: control_points_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), intent(in) :: nodes(*)
+      integer(c_size_t), value :: nodes_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(in) :: params(*)
+      integer(c_size_t), value :: params_len
+      real(c_float), intent(inout) :: displacements(*)
+      integer(c_size_t), value :: displacements_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_ffd_displacements_between(degree, degree_len, original, original_len, &
+        moved, moved_len, dim, params, params_len, displacements, displacements_len) bind(C, &
+        name="dk_design_ffd_displacements_between") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: degree(*)
+      integer(c_size_t), value :: degree_len
+      real(c_double), intent(in) :: original(*)
+      integer(c_size_t), value :: original_len
+      real(c_double), intent(in) :: moved(*)
+      integer(c_size_t), value :: moved_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(in) :: params(*)
+      integer(c_size_t), value :: params_len
+      real(c_double), intent(inout) :: displacements(*)
+      integer(c_size_t), value :: displacements_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_ffd_displacements_between_f32(degree, degree_len, original, original_len, &
+        moved, moved_len, dim, params, params_len, displacements, displacements_len) bind(C, &
+        name="dk_design_ffd_displacements_between_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: degree(*)
+      integer(c_size_t), value :: degree_len
+      real(c_float), intent(in) :: original(*)
+      integer(c_size_t), value :: original_len
+      real(c_float), intent(in) :: moved(*)
+      integer(c_size_t), value :: moved_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(in) :: params(*)
+      integer(c_size_t), value :: params_len
+      real(c_float), intent(inout) :: displacements(*)
+      integer(c_size_t), value :: displacements_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_ffd_variable(kind, degree, control_points, control_points_len, index, &
+        values) bind(C, name="dk_design_ffd_variable") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_int32_t), value :: kind
+      integer(c_int32_t), intent(in) :: degree(3)
+      real(c_double), intent(inout) :: control_points(*)
+      integer(c_size_t), value :: control_points_len
+      integer(c_int32_t), intent(in) :: index(3)
+      real(c_double), intent(in) :: values(3)
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_ffd_variable_f32(kind, degree, control_points, control_points_len, index, &
+        values) bind(C, name="dk_design_ffd_variable_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_int32_t), value :: kind
+      integer(c_int32_t), intent(in) :: degree(3)
+      real(c_float), intent(inout) :: control_points(*)
+      integer(c_size_t), value :: control_points_len
+      integer(c_int32_t), intent(in) :: index(3)
+      real(c_float), intent(in) :: values(3)
       integer(c_int32_t) :: s
     end function
     function dk_graph_from_edges_len(edges_len, len_out) bind(C, name="dk_graph_from_edges_len") &

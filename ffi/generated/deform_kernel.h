@@ -40,6 +40,26 @@
 // Bit of a TFI `directions` mask: interpolate along `k` (3D blocks only).
 #define DK_DIRECTION_K 4
 
+// `FFD_CONTROL_POINT`: `index` = (i, j, k), −1 = all along that direction; `values` = the
+// movement (dx·a, dy·a, dz·a).
+#define DK_FFD_CONTROL_POINT 0
+
+// `FFD_CONTROL_POINT_2D`: `index` = (i, j, unused), −1 = all; `values` = (dx·a, dy·a,
+// unused); layers k = 0 and 1 move.
+#define DK_FFD_CONTROL_POINT_2D 1
+
+// `FFD_CAMBER`: `index` = (i, j, unused); `values[0]` = a.
+#define DK_FFD_CAMBER 2
+
+// `FFD_THICKNESS`: `index` = (i, j, unused); `values[0]` = a.
+#define DK_FFD_THICKNESS 3
+
+// `FFD_CAMBER_2D`: `index` = (i, unused, unused); `values[0]` = a.
+#define DK_FFD_CAMBER_2D 4
+
+// `FFD_THICKNESS_2D`: `index` = (i, unused, unused); `values[0]` = a.
+#define DK_FFD_THICKNESS_2D 5
+
 // `dk_plan_options.method`: linear (Batina) springs on the displacements.
 #define DK_PLAN_SPRING 1
 
@@ -1653,6 +1673,205 @@ dk_status dk_deform_propagate_spring_f32(const dk_spring_system_f32 *system,
                                          float *rotations,
                                          size_t rotations_len,
                                          dk_spring_solve_report *report);
+
+// SU2's Hicks–Henne bump `sin(π max(0,x)^e)^3`, `e = log10(0.5)/log10(x_max)` (0 where
+// `max(0,x) ≤ 1e-15`) into `*out`. Never fails except for a NULL `out`.
+//
+// # Safety
+// `out` points to one writable scalar.
+dk_status dk_design_hicks_henne_bump(double x, double x_max, double *out);
+
+// `f32` twin of [`dk_design_hicks_henne_bump`].
+//
+// # Safety
+// As [`dk_design_hicks_henne_bump`].
+dk_status dk_design_hicks_henne_bump_f32(float x, float x_max, float *out);
+
+// Adds one `HICKS_HENNE` design variable (`DV_PARAM = (upper ? 1 : 0, x_max)`, `DV_VALUE ×
+// OPT_RELAX_FACTOR = amplitude`) to `displacements` (`nodes_len × dim`, one item per listed
+// node): y of node `nodes[p]` gains `±amplitude · bump(x)` where `normals[p]` (pointing into
+// the fluid) has y > 0 (upper) or y < 0 (lower, minus sign). `points` is the whole mesh
+// (`node_count × dim`). Errors (nothing written): `DK_ERR_INVALID_PARAMETER` (`dim`, `x_max`
+// not in (0, 1)), `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_NON_FINITE`, `DK_ERR_BAD_INDEX_BASE`,
+// length, buffer and pointer errors.
+//
+// # Safety
+// Every array is valid for its length; `displacements` and `index_scratch` are writable and
+// overlap no other argument.
+dk_status dk_design_hicks_henne(const double *points,
+                                size_t points_len,
+                                uint32_t dim,
+                                const uint32_t *nodes,
+                                size_t nodes_len,
+                                uint32_t index_base,
+                                uint32_t *index_scratch,
+                                size_t index_scratch_len,
+                                const double *normals,
+                                size_t normals_len,
+                                bool upper,
+                                double x_max,
+                                double amplitude,
+                                double *displacements,
+                                size_t displacements_len);
+
+// `f32` twin of [`dk_design_hicks_henne`].
+//
+// # Safety
+// As [`dk_design_hicks_henne`].
+dk_status dk_design_hicks_henne_f32(const float *points,
+                                    size_t points_len,
+                                    uint32_t dim,
+                                    const uint32_t *nodes,
+                                    size_t nodes_len,
+                                    uint32_t index_base,
+                                    uint32_t *index_scratch,
+                                    size_t index_scratch_len,
+                                    const float *normals,
+                                    size_t normals_len,
+                                    bool upper,
+                                    float x_max,
+                                    float amplitude,
+                                    float *displacements,
+                                    size_t displacements_len);
+
+// Evaluates an FFD box (degrees `degree[0..dim]`, `control_points`) at every parametric
+// coordinate of `params` into `out` (same length as `params`). Errors (nothing written):
+// `DK_ERR_INVALID_PARAMETER` (`dim`, a degree of 0 or above 32), `DK_ERR_NON_FINITE`, length
+// and pointer errors.
+//
+// # Safety
+// Every array is valid for its length; `out` is writable and overlaps no input.
+dk_status dk_design_ffd_eval(const uint32_t *degree,
+                             size_t degree_len,
+                             const double *control_points,
+                             size_t control_points_len,
+                             uint32_t dim,
+                             const double *params,
+                             size_t params_len,
+                             double *out,
+                             size_t out_len);
+
+// `f32` twin of [`dk_design_ffd_eval`].
+//
+// # Safety
+// As [`dk_design_ffd_eval`].
+dk_status dk_design_ffd_eval_f32(const uint32_t *degree,
+                                 size_t degree_len,
+                                 const float *control_points,
+                                 size_t control_points_len,
+                                 uint32_t dim,
+                                 const float *params,
+                                 size_t params_len,
+                                 float *out,
+                                 size_t out_len);
+
+// SU2's `SetCartesianCoord`: for each surface point p (node `nodes[p]` at parametric
+// coordinates `params[p]`), `displacements[p]` = box(`params[p]`) − `points[nodes[p]]`, each
+// component of magnitude ≤ 1e-16 set to 0 (overwrites). `control_points` are the moved
+// ones. Errors (nothing written): as `dk_design_ffd_eval`, plus
+// `DK_ERR_INDEX_OUT_OF_RANGE` and `DK_ERR_BAD_INDEX_BASE`.
+//
+// # Safety
+// Every array is valid for its length; `displacements` and `index_scratch` are writable and
+// overlap no other argument.
+dk_status dk_design_ffd_displacements(const uint32_t *degree,
+                                      size_t degree_len,
+                                      const double *control_points,
+                                      size_t control_points_len,
+                                      uint32_t dim,
+                                      const double *points,
+                                      size_t points_len,
+                                      const uint32_t *nodes,
+                                      size_t nodes_len,
+                                      uint32_t index_base,
+                                      uint32_t *index_scratch,
+                                      size_t index_scratch_len,
+                                      const double *params,
+                                      size_t params_len,
+                                      double *displacements,
+                                      size_t displacements_len);
+
+// `f32` twin of [`dk_design_ffd_displacements`].
+//
+// # Safety
+// As [`dk_design_ffd_displacements`].
+dk_status dk_design_ffd_displacements_f32(const uint32_t *degree,
+                                          size_t degree_len,
+                                          const float *control_points,
+                                          size_t control_points_len,
+                                          uint32_t dim,
+                                          const float *points,
+                                          size_t points_len,
+                                          const uint32_t *nodes,
+                                          size_t nodes_len,
+                                          uint32_t index_base,
+                                          uint32_t *index_scratch,
+                                          size_t index_scratch_len,
+                                          const float *params,
+                                          size_t params_len,
+                                          float *displacements,
+                                          size_t displacements_len);
+
+// Moved box minus original box at each of `params` into `displacements` (exactly zero where
+// nothing moved). Errors (nothing written): as `dk_design_ffd_eval`.
+//
+// # Safety
+// Every array is valid for its length; `displacements` is writable and overlaps no input.
+dk_status dk_design_ffd_displacements_between(const uint32_t *degree,
+                                              size_t degree_len,
+                                              const double *original,
+                                              size_t original_len,
+                                              const double *moved,
+                                              size_t moved_len,
+                                              uint32_t dim,
+                                              const double *params,
+                                              size_t params_len,
+                                              double *displacements,
+                                              size_t displacements_len);
+
+// `f32` twin of [`dk_design_ffd_displacements_between`].
+//
+// # Safety
+// As [`dk_design_ffd_displacements_between`].
+dk_status dk_design_ffd_displacements_between_f32(const uint32_t *degree,
+                                                  size_t degree_len,
+                                                  const float *original,
+                                                  size_t original_len,
+                                                  const float *moved,
+                                                  size_t moved_len,
+                                                  uint32_t dim,
+                                                  const float *params,
+                                                  size_t params_len,
+                                                  float *displacements,
+                                                  size_t displacements_len);
+
+// Applies one SU2 FFD design variable (`kind`: `DK_FFD_CONTROL_POINT`, `_2D`, `DK_FFD_CAMBER`,
+// `DK_FFD_THICKNESS`, `DK_FFD_CAMBER_2D`, `DK_FFD_THICKNESS_2D`; `index` and `values` as
+// each constant says) to the control points of an always-3D SU2 box (`degree[3]`,
+// `control_points` of `3 ∏(degree+1)` scalars, changed in place; movements add, as in SU2).
+// Errors (nothing written): `DK_ERR_INVALID_PARAMETER` (unknown kind, bad degree, all three
+// indices −1), `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_NON_FINITE`, length and pointer errors.
+//
+// # Safety
+// `degree`, `index` and `values` point to 3 elements each; `control_points` is readable and
+// writable for its length.
+dk_status dk_design_ffd_variable(uint32_t kind,
+                                 const uint32_t *degree,
+                                 double *control_points,
+                                 size_t control_points_len,
+                                 const int32_t *index,
+                                 const double *values);
+
+// `f32` twin of [`dk_design_ffd_variable`].
+//
+// # Safety
+// As [`dk_design_ffd_variable`].
+dk_status dk_design_ffd_variable_f32(uint32_t kind,
+                                     const uint32_t *degree,
+                                     float *control_points,
+                                     size_t control_points_len,
+                                     const int32_t *index,
+                                     const float *values);
 
 // Length `targets` needs for [`dk_graph_from_edges`]: `edges_len` (two entries per edge).
 //

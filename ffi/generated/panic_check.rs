@@ -649,6 +649,198 @@ pub fn exercise() {
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.
     black_box(unsafe {
+        deform_kernel_ffi::design::dk_design_hicks_henne_bump(
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design::dk_design_hicks_henne_bump_f32(
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design::dk_design_hicks_henne(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design::dk_design_hicks_henne_f32(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design::dk_design_ffd_eval(
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design::dk_design_ffd_eval_f32(
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design::dk_design_ffd_displacements(
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design::dk_design_ffd_displacements_f32(
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design::dk_design_ffd_displacements_between(
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design::dk_design_ffd_displacements_between_f32(
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design::dk_design_ffd_variable(
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(null()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design::dk_design_ffd_variable_f32(
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(null()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
         deform_kernel_ffi::graph::dk_graph_from_edges_len(
             black_box(Default::default()),
             black_box(null_mut()),

@@ -38,6 +38,8 @@ mod slice;
 
 #[path = "../generated/deformation.rs"]
 pub mod deformation;
+#[path = "../generated/design.rs"]
+pub mod design;
 #[path = "../generated/graph.rs"]
 pub mod graph;
 #[path = "../generated/order.rs"]

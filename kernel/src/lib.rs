@@ -32,6 +32,7 @@
 pub mod block;
 pub mod cells;
 mod check;
+pub mod design;
 pub mod error;
 pub mod exact_sum;
 pub mod graph;
