@@ -397,6 +397,10 @@ pub struct MoveArgs {
     /// Also write a VTK .vtu file with displacement and cell-quality fields.
     #[arg(long)]
     pub vtk: Option<PathBuf>,
+    /// A displacement per moved node computed by the caller (`deform su2`'s design
+    /// variables); not a command-line option.
+    #[arg(skip)]
+    pub design_field: Option<Vec<(u32, [f64; 3])>>,
     /// --method rbf options.
     #[command(flatten)]
     pub rbf: RbfArgs,

@@ -206,9 +206,19 @@ fn errors_name_the_option_or_the_line() {
     };
     let rotation = "DV_KIND= ROTATION\nDV_PARAM= ( 0.25, 0.0, 0.0, 0.25, 0.0, 1.0 )\nDV_VALUE= 3";
     refuse(
-        "DV_KIND= HICKS_HENNE\nDV_PARAM= ( 1, 0.5 )\nDV_VALUE= 0.01",
+        "DV_KIND= SCALE\nDV_PARAM= ( 1 )\nDV_VALUE= 0.01",
         "",
         "DV_KIND (line 8)",
+    );
+    refuse(
+        "DV_KIND= HICKS_HENNE\nDV_PARAM= ( 1, 0.5 ); ( 0, 0.2 )\nDV_VALUE= 0.01",
+        "",
+        "DV_PARAM (line 9)",
+    );
+    refuse(
+        "DV_KIND= FFD_CONTROL_POINT_2D\nDV_PARAM= ( BOX, 1, 1, 0, 1 )\nDV_VALUE= 0.01",
+        "",
+        "no FFD box",
     );
     refuse(
         "DV_KIND= ROTATION\nDV_PARAM= ( 0, 0, 0, 1, 0, 0 )\nDV_VALUE= 3",
@@ -258,4 +268,121 @@ fn errors_name_the_option_or_the_line() {
     let o = deform(&d, &["su2", "def.cfg"]);
     assert_ne!(o.status.code(), Some(0));
     assert!(!d.join("out.su2").exists());
+}
+
+/// NACA 2412's camber line (the 4-digit formula), to tell upper from lower surface nodes
+/// without the tool's normals.
+fn camber(x: f64) -> f64 {
+    let (m, p) = (0.02, 0.4);
+    if x < p {
+        m / (p * p) * (2.0 * p * x - x * x)
+    } else {
+        m / ((1.0 - p) * (1.0 - p)) * ((1.0 - 2.0 * p) + 2.0 * p * x - x * x)
+    }
+}
+
+#[test]
+fn hicks_henne_bumps_are_su2s() {
+    let d = tmp_dir("su2-config-hicks-henne");
+    naca_mesh(&d, "inviscid", 64, 14, "m.su2");
+    config(
+        &d,
+        "hh.cfg",
+        "DV_KIND= HICKS_HENNE, HICKS_HENNE\nDV_PARAM= ( 1, 0.5 ); ( 0, 0.3 )\nDV_VALUE= 0.01, 0.004",
+        "OPT_RELAX_FACTOR= 2",
+    );
+    deform_json(&d, &["--json", "su2", "hh.cfg", "--method", "spring"]);
+    let before = read_su2(&d.join("m.su2"));
+    let after = read_su2(&d.join("out.su2"));
+    // SU2's bump on the raw x: sin(π x^(ln 0.5 / ln x_max))^3, times DV_VALUE × OPT_RELAX_FACTOR.
+    let bump = |x: f64, x_max: f64| {
+        if x <= 1e-15 {
+            return 0.0;
+        }
+        let e = 0.5f64.log10() / x_max.log10();
+        (std::f64::consts::PI * x.powf(e)).sin().powi(3)
+    };
+    for n in airfoil_nodes(&before) {
+        let (p, q) = (before.points[n as usize], after.points[n as usize]);
+        let upper = p[1] > camber(p[0]);
+        let want = if upper {
+            0.02 * bump(p[0], 0.5)
+        } else {
+            -0.008 * bump(p[0], 0.3)
+        };
+        assert_eq!(q[0], p[0], "node {n} moved in x");
+        assert!(
+            (q[1] - p[1] - want).abs() < 1e-12,
+            "node {n} at {p:?}: {} vs {want}",
+            q[1] - p[1]
+        );
+    }
+}
+
+/// Bernstein polynomial B_i^n(t), written out here.
+fn bernstein(n: u32, i: u32, t: f64) -> f64 {
+    let binom = (1..=i).fold(1.0, |b, k| b * f64::from(n - k + 1) / f64::from(k));
+    binom * t.powi(i as i32) * (1.0 - t).powi((n - i) as i32)
+}
+
+#[test]
+fn ffd_control_points_move_the_surface_as_bernstein_boxes_do() {
+    let d = tmp_dir("su2-config-ffd");
+    naca_mesh(&d, "inviscid", 48, 12, "m.su2");
+    let mesh = read_su2(&d.join("m.su2"));
+    // A degree (4, 1) box around the airfoil, written as SU2 stores it (2D: k = 0, 1 at z = ±0.5).
+    let (x0, x1, y0, y1) = (-0.1, 1.1, -0.2, 0.2);
+    let mut ffd = String::from(
+        "FFD_NBOX= 1\nFFD_NLEVEL= 1\nFFD_TAG= BOX\nFFD_LEVEL= 0\nFFD_DEGREE_I= 4\nFFD_DEGREE_J= 1\n\
+         FFD_BLENDING= BEZIER\nFFD_PARENTS= 0\nFFD_CHILDREN= 0\nFFD_CORNER_POINTS= 4\n",
+    );
+    ffd += &format!("{x0} {y0}\n{x1} {y0}\n{x1} {y1}\n{x0} {y1}\nFFD_CONTROL_POINTS= 20\n");
+    for i in 0..=4 {
+        for j in 0..=1 {
+            for k in 0..=1 {
+                let x = x0 + (x1 - x0) * f64::from(i) / 4.0;
+                let y = y0 + (y1 - y0) * f64::from(j);
+                ffd += &format!("{i} {j} {k} {x:e} {y:e} {}\n", f64::from(k) - 0.5);
+            }
+        }
+    }
+    let nodes = airfoil_nodes(&mesh);
+    ffd += &format!("FFD_SURFACE_POINTS= {}\n", nodes.len());
+    for &n in &nodes {
+        let p = mesh.points[n as usize];
+        ffd += &format!(
+            "airfoil {n} {:e} {:e} 0.5\n",
+            (p[0] - x0) / (x1 - x0),
+            (p[1] - y0) / (y1 - y0)
+        );
+    }
+    let mut text = std::fs::read_to_string(d.join("m.su2")).unwrap();
+    text += &ffd;
+    std::fs::write(d.join("m.su2"), text).unwrap();
+    config(
+        &d,
+        "ffd.cfg",
+        "DV_KIND= FFD_CONTROL_POINT_2D\nDV_PARAM= ( BOX, 2, 1, 0.0, 1.0 )\nDV_VALUE= 0.01",
+        "",
+    );
+    deform_json(&d, &["--json", "su2", "ffd.cfg", "--method", "quaternion"]);
+    let after = read_su2(&d.join("out.su2"));
+    for &n in &nodes {
+        let (p, q) = (mesh.points[n as usize], after.points[n as usize]);
+        let (u, v) = ((p[0] - x0) / (x1 - x0), (p[1] - y0) / (y1 - y0));
+        let want = 0.01 * bernstein(4, 2, u) * bernstein(1, 1, v);
+        assert!(
+            (q[0] - p[0]).abs() < 1e-13,
+            "node {n}: x moved by {}",
+            q[0] - p[0]
+        );
+        assert!(
+            (q[1] - p[1] - want).abs() < 1e-13,
+            "node {n}: {} vs {want}",
+            q[1] - p[1]
+        );
+    }
+    // The FFD sections are written back with the mesh.
+    let out = std::fs::read_to_string(d.join("out.su2")).unwrap();
+    assert!(out.contains("FFD_TAG= BOX"));
 }

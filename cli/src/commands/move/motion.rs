@@ -29,6 +29,9 @@ pub(super) fn motion_from_args(
     if let Some((_, field)) = per_marker {
         return Ok((Motion::Field(field.clone()), Vec::new()));
     }
+    if let Some(field) = &a.design_field {
+        return Ok((Motion::Field(field.clone()), Vec::new()));
+    }
     let table = match (&a.displacements, &a.surface_positions) {
         (Some(path), _) => Some((path, false)),
         (None, Some(path)) => Some((path, true)),

@@ -6,6 +6,8 @@
 //! marker fixed, and the DEFORM_* options. Options deformation does not use are reported
 //! once as ignored; an option it cannot honour is an error that names it.
 
+mod design;
+
 use std::path::PathBuf;
 
 use crate::args::{Command, Coords, Method, MoveArgs, Solver, StiffnessArg, Su2Args};
@@ -31,6 +33,7 @@ const HONOURED: &[&str] = &[
     "DEFORM_LINEAR_SOLVER_ITER",
     "DEFORM_LINEAR_SOLVER_ERROR",
     "DEFORM_CONSOLE_OUTPUT",
+    "OPT_RELAX_FACTOR",
 ];
 
 /// Options only SU2's elasticity uses: ignored (and said so) with another `--method`.
@@ -183,6 +186,7 @@ fn move_args(a: &Su2Args, config: &Su2Config) -> Result<(MoveArgs, bool), CliErr
         allow_folds: a.allow_folds,
         allow_unconverged: a.allow_unconverged,
         renumber: crate::renumber::Renumber::Auto,
+        design_field: None,
         rbf: crate::args::RbfArgs {
             rbf_kernel: crate::args::RbfKernelArg::Wendland,
             rbf_radius: None,
@@ -253,12 +257,20 @@ fn design_variables(config: &Su2Config, dim: usize, args: &mut MoveArgs) -> Resu
                 .collect()
         })
         .unwrap_or_default();
+    if let Some(first) = kinds.first() {
+        if matches!(
+            first.as_str(),
+            "HICKS_HENNE" | "FFD_CONTROL_POINT" | "FFD_CONTROL_POINT_2D"
+        ) {
+            return surface_design(config, &kinds, dim, args);
+        }
+    }
     let [kind] = kinds.as_slice() else {
         return Err(option_error(
             config,
             "DV_KIND",
             format!(
-                "{} design variables: deform su2 applies one (SURFACE_FILE, TRANSLATION or ROTATION)",
+                "{} design variables: deform su2 applies one SURFACE_FILE, TRANSLATION or ROTATION (or several HICKS_HENNE or FFD_CONTROL_POINT(_2D))",
                 kinds.len()
             ),
         ));
@@ -291,7 +303,7 @@ fn design_variables(config: &Su2Config, dim: usize, args: &mut MoveArgs) -> Resu
         other => Err(option_error(
             config,
             "DV_KIND",
-            format!("{other} is not supported yet (SURFACE_FILE, TRANSLATION and ROTATION are)"),
+            format!("{other} is not supported yet (SURFACE_FILE, TRANSLATION, ROTATION, HICKS_HENNE and FFD_CONTROL_POINT(_2D) are)"),
         )),
     }
 }
@@ -388,4 +400,154 @@ fn mesh_dim(path: &std::path::Path) -> Result<usize, CliError> {
             path.display()
         ))),
     }
+}
+
+/// Several design variables of one kind (HICKS_HENNE, FFD_CONTROL_POINT or
+/// FFD_CONTROL_POINT_2D) on the DV_MARKER surface, evaluated by the kernel on the mesh.
+fn surface_design(
+    config: &Su2Config,
+    kinds: &[String],
+    dim: usize,
+    args: &mut MoveArgs,
+) -> Result<(), CliError> {
+    let kind = kinds[0].clone();
+    if kinds.iter().any(|k| *k != kind) {
+        return Err(option_error(
+            config,
+            "DV_KIND",
+            "design variables of one kind per run",
+        ));
+    }
+    let values: Vec<f64> = config
+        .get("DV_VALUE")
+        .map(|e| list_items(&e.value))
+        .unwrap_or_default()
+        .iter()
+        .map(|v| v.parse().ok().filter(|v: &f64| v.is_finite()))
+        .collect::<Option<_>>()
+        .ok_or_else(|| option_error(config, "DV_VALUE", "values must be numbers"))?;
+    let groups: Vec<Vec<String>> = config.get("DV_PARAM").map_or_else(Vec::new, |e| {
+        let g = list_groups(&e.value);
+        g.into_iter()
+            .map(|g| g.into_iter().map(String::from).collect())
+            .collect()
+    });
+    if values.len() != kinds.len() || groups.len() != kinds.len() {
+        return Err(option_error(
+            config,
+            "DV_PARAM",
+            format!(
+                "{} design variables need {0} DV_VALUE and {0} DV_PARAM groups; found {} and {}",
+                kinds.len(),
+                values.len(),
+                groups.len()
+            ),
+        ));
+    }
+    let relax: f64 = number(config, "OPT_RELAX_FACTOR", 1.0)?;
+    let mesh = crate::files::read_su2(&args.mesh)?;
+    let field = if kind == "HICKS_HENNE" {
+        if dim != 2 {
+            return Err(option_error(
+                config,
+                "DV_KIND",
+                "HICKS_HENNE needs a 2D mesh",
+            ));
+        }
+        let bumps = hicks_henne_params(config, &groups, &values, relax)?;
+        design::hicks_henne_field(&mesh, &args.markers, &bumps)?
+    } else {
+        let moves = ffd_moves(config, &groups, &values, kind == "FFD_CONTROL_POINT_2D")?;
+        design::ffd_field(&mesh, &moves)?
+    };
+    args.design_field = Some(field);
+    Ok(())
+}
+
+/// HICKS_HENNE's `( 0 | 1, x_max )` groups as `(upper, x_max, DV_VALUE × OPT_RELAX_FACTOR)`.
+fn hicks_henne_params(
+    config: &Su2Config,
+    groups: &[Vec<String>],
+    values: &[f64],
+    relax: f64,
+) -> Result<Vec<(bool, f64, f64)>, CliError> {
+    let bad = || {
+        option_error(
+            config,
+            "DV_PARAM",
+            "HICKS_HENNE needs ( 0 or 1, x of the peak )",
+        )
+    };
+    groups
+        .iter()
+        .zip(values)
+        .map(|(g, &v)| match g.as_slice() {
+            [side, x] => {
+                let upper = match side.as_str() {
+                    "1" | "1.0" => true,
+                    "0" | "0.0" => false,
+                    _ => return Err(bad()),
+                };
+                let x: f64 = x.parse().map_err(|_| bad())?;
+                Ok((upper, x, v * relax))
+            }
+            _ => Err(bad()),
+        })
+        .collect()
+}
+
+/// FFD_CONTROL_POINT `( box, i, j, k, dx, dy, dz )` or FFD_CONTROL_POINT_2D
+/// `( box, i, j, dx, dy )` groups as control-point moves by DV_VALUE × the direction (an index
+/// of −1: every index, as in SU2).
+fn ffd_moves(
+    config: &Su2Config,
+    groups: &[Vec<String>],
+    values: &[f64],
+    two_d: bool,
+) -> Result<Vec<design::ControlMove>, CliError> {
+    let n = if two_d { 5 } else { 7 };
+    let bad = || {
+        let what = if two_d {
+            "FFD_CONTROL_POINT_2D needs ( box, i, j, dx, dy )"
+        } else {
+            "FFD_CONTROL_POINT needs ( box, i, j, k, dx, dy, dz )"
+        };
+        option_error(config, "DV_PARAM", what)
+    };
+    let index = |t: &str| -> Result<Option<usize>, CliError> {
+        let v: f64 = t.parse().map_err(|_| bad())?;
+        match v {
+            -1.0 => Ok(None),
+            v if v >= 0.0 && v.fract() == 0.0 => Ok(Some(v as usize)),
+            _ => Err(bad()),
+        }
+    };
+    let number = |t: &str| -> Result<f64, CliError> {
+        t.parse()
+            .ok()
+            .filter(|v: &f64| v.is_finite())
+            .ok_or_else(bad)
+    };
+    let mut moves = Vec::new();
+    for (g, &value) in groups.iter().zip(values) {
+        if g.len() != n {
+            return Err(bad());
+        }
+        let nidx = if two_d { 2 } else { 3 };
+        let mut ijk = [None; 3];
+        for (slot, t) in ijk.iter_mut().zip(&g[1..=nidx]) {
+            *slot = index(t)?;
+        }
+        let mut movement = [0.0; 3];
+        for (slot, t) in movement.iter_mut().zip(&g[1 + nidx..]) {
+            *slot = value * number(t)?;
+        }
+        moves.push(design::ControlMove {
+            tag: g[0].clone(),
+            ijk,
+            movement,
+            two_d,
+        });
+    }
+    Ok(moves)
 }
