@@ -161,10 +161,30 @@ fn move_args(a: &Su2Args, config: &Su2Config) -> Result<(MoveArgs, bool), CliErr
         .get("MARKER_DEFORM_MESH_SYM_PLANE")
         .map(|e| list_items(&e.value).into_iter().map(String::from).collect())
         .unwrap_or_default();
-    let mut args = MoveArgs {
-        mesh: PathBuf::from(text("MESH_FILENAME", "mesh.su2")),
-        markers: design_markers(config)?,
-        slide,
+    let mut args = move_defaults(
+        PathBuf::from(text("MESH_FILENAME", "mesh.su2")),
+        PathBuf::from(text("MESH_OUT_FILENAME", "mesh_out.su2")),
+    );
+    args.markers = design_markers(config)?;
+    args.slide = slide;
+    args.method = Some(method);
+    args.stiffness = stiffness;
+    args.steps = steps;
+    args.tol = number(config, "DEFORM_LINEAR_SOLVER_ERROR", 1e-10)?;
+    args.max_iter = number(config, "DEFORM_LINEAR_SOLVER_ITER", 10_000)?;
+    args.allow_folds = a.allow_folds;
+    args.allow_unconverged = a.allow_unconverged;
+    let dim = mesh_dim(&args.mesh)?;
+    design_variables(config, dim, &mut args)?;
+    Ok((args, console))
+}
+
+/// `deform move MESH --out OUT` with every other option at its default (no motion yet).
+fn move_defaults(mesh: PathBuf, out: PathBuf) -> MoveArgs {
+    MoveArgs {
+        mesh,
+        markers: Vec::new(),
+        slide: Vec::new(),
         wall: None,
         rotate: None,
         axis: None,
@@ -173,18 +193,18 @@ fn move_args(a: &Su2Args, config: &Su2Config) -> Result<(MoveArgs, bool), CliErr
         displacements: None,
         surface_positions: None,
         motions: None,
-        method: Some(method),
+        method: None,
         solver: Solver::Amg,
-        stiffness,
-        steps,
-        tol: number(config, "DEFORM_LINEAR_SOLVER_ERROR", 1e-10)?,
-        max_iter: number(config, "DEFORM_LINEAR_SOLVER_ITER", 10_000)?,
+        stiffness: StiffnessArg::Batina,
+        steps: 1,
+        tol: 1e-10,
+        max_iter: 10_000,
         idw_exponent: 2.0,
         idw_theta: None,
         idw_tolerance: f64::INFINITY,
         reach: None,
-        allow_folds: a.allow_folds,
-        allow_unconverged: a.allow_unconverged,
+        allow_folds: false,
+        allow_unconverged: false,
         renumber: crate::renumber::Renumber::Auto,
         design_field: None,
         rbf: crate::args::RbfArgs {
@@ -194,13 +214,10 @@ fn move_args(a: &Su2Args, config: &Su2Config) -> Result<(MoveArgs, bool), CliErr
             rbf_max_centres: 1000,
             rbf_correction: None,
         },
-        out: PathBuf::from(text("MESH_OUT_FILENAME", "mesh_out.su2")),
+        out,
         vtk: None,
         plot: None,
-    };
-    let dim = mesh_dim(&args.mesh)?;
-    design_variables(config, dim, &mut args)?;
-    Ok((args, console))
+    }
 }
 
 /// DV_MARKER: the markers the design variables move.
