@@ -33,6 +33,7 @@ pub mod block;
 pub mod cells;
 mod check;
 pub mod deformation;
+pub mod elasticity;
 pub mod error;
 pub mod graph;
 pub mod graph_builder;

@@ -8,5 +8,6 @@
 
 pub mod c_build;
 pub mod deformation;
+pub mod elasticity;
 pub mod python;
 pub mod spring;
