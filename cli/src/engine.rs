@@ -9,6 +9,9 @@ use crate::error::CliError;
 use crate::formats::CellList;
 use crate::orientation::{Orientation, OrientationSummary};
 
+mod elasticity;
+pub use elasticity::run_elasticity;
+
 fn kernel(context: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {
     move |source| CliError::Kernel {
         context: context.to_string(),
@@ -919,6 +922,82 @@ impl AmgStorage {
     }
 }
 
+/// The prescribed displacement of every node (zero off the moved markers) for `input`'s
+/// motion of the `moved` nodes, the rotation centre used and the rigid rotation (when the
+/// motion is rigid).
+pub(crate) fn prescribed_displacements<const D: usize>(
+    input: &MoveInput<'_>,
+    moved: &[u32],
+) -> Result<PrescribedMotion, CliError> {
+    use deform_kernel::Quat;
+    let n = input.points.len();
+    let mut disp = vec![[0.0f64; 3]; n];
+    let mut center_used = None;
+    let mut rigid_q = None;
+    match &input.motion {
+        Motion::Rotate {
+            degrees,
+            axis,
+            center,
+        } => {
+            let c = center.unwrap_or_else(|| {
+                let mut c = [0.0; 3];
+                for &m in moved {
+                    let p = input.points.get(m as usize).copied().unwrap_or([0.0; 3]);
+                    for k in 0..3 {
+                        c[k] += p[k];
+                    }
+                }
+                c.map(|x| x / moved.len() as f64)
+            });
+            let c = if D == 2 { [c[0], c[1], 0.0] } else { c };
+            let q =
+                Quat::from_axis_angle(*axis, degrees.to_radians()).map_err(kernel("rotation"))?;
+            for &m in moved {
+                let p = input.points.get(m as usize).copied().unwrap_or([0.0; 3]);
+                let r = q.rotate([p[0] - c[0], p[1] - c[1], p[2] - c[2]]);
+                if let Some(d) = disp.get_mut(m as usize) {
+                    *d = [c[0] + r[0] - p[0], c[1] + r[1] - p[1], c[2] + r[2] - p[2]];
+                    if D == 2 {
+                        d[2] = 0.0;
+                    }
+                }
+            }
+            center_used = Some(c);
+            rigid_q = Some(q);
+        }
+        Motion::Translate(t) => {
+            for &m in moved {
+                if let Some(d) = disp.get_mut(m as usize) {
+                    *d = *t;
+                }
+            }
+            rigid_q = Some(Quat::identity());
+        }
+        Motion::Field(list) => {
+            for (node, d) in list {
+                if moved.binary_search(node).is_err() {
+                    return Err(CliError::Invalid(format!(
+                        "node {node} is not on the moved markers"
+                    )));
+                }
+                if let Some(slot) = disp.get_mut(*node as usize) {
+                    *slot = *d;
+                }
+            }
+        }
+    }
+
+    Ok((disp, center_used, rigid_q))
+}
+
+/// Displacements, rotation centre and rigid rotation of [`prescribed_displacements`].
+pub(crate) type PrescribedMotion = (
+    Vec<[f64; 3]>,
+    Option<[f64; 3]>,
+    Option<deform_kernel::Quat<f64>>,
+);
+
 fn move_d<const D: usize>(
     input: &MoveInput<'_>,
     sliding: &[SlideMarker<'_>],
@@ -950,62 +1029,7 @@ fn move_d<const D: usize>(
     }
 
     // Prescribed displacement of every boundary node.
-    let mut disp = vec![[0.0f64; 3]; n];
-    let mut center_used = None;
-    let mut rigid_q = None;
-    match &input.motion {
-        Motion::Rotate {
-            degrees,
-            axis,
-            center,
-        } => {
-            let c = center.unwrap_or_else(|| {
-                let mut c = [0.0; 3];
-                for &m in &moved {
-                    let p = input.points.get(m as usize).copied().unwrap_or([0.0; 3]);
-                    for k in 0..3 {
-                        c[k] += p[k];
-                    }
-                }
-                c.map(|x| x / moved.len() as f64)
-            });
-            let c = if D == 2 { [c[0], c[1], 0.0] } else { c };
-            let q =
-                Quat::from_axis_angle(*axis, degrees.to_radians()).map_err(kernel("rotation"))?;
-            for &m in &moved {
-                let p = input.points.get(m as usize).copied().unwrap_or([0.0; 3]);
-                let r = q.rotate([p[0] - c[0], p[1] - c[1], p[2] - c[2]]);
-                if let Some(d) = disp.get_mut(m as usize) {
-                    *d = [c[0] + r[0] - p[0], c[1] + r[1] - p[1], c[2] + r[2] - p[2]];
-                    if D == 2 {
-                        d[2] = 0.0;
-                    }
-                }
-            }
-            center_used = Some(c);
-            rigid_q = Some(q);
-        }
-        Motion::Translate(t) => {
-            for &m in &moved {
-                if let Some(d) = disp.get_mut(m as usize) {
-                    *d = *t;
-                }
-            }
-            rigid_q = Some(Quat::identity());
-        }
-        Motion::Field(list) => {
-            for (node, d) in list {
-                if moved.binary_search(node).is_err() {
-                    return Err(CliError::Invalid(format!(
-                        "node {node} is not on the moved markers"
-                    )));
-                }
-                if let Some(slot) = disp.get_mut(*node as usize) {
-                    *slot = *d;
-                }
-            }
-        }
-    }
+    let (disp, center_used, rigid_q) = prescribed_displacements::<D>(input, &moved)?;
 
     let view = cells_view(input.cells, n)?;
     let pts = points_d::<D>(input.points);

@@ -9,6 +9,7 @@ mod convert;
 mod demo;
 mod mesh;
 mod move_grid;
+mod move_elasticity;
 mod move_mesh;
 mod quality;
 mod smooth;

@@ -45,13 +45,14 @@ pub(crate) fn move_mesh(
         a
     };
     let tfi = matches!(a.method(), Method::Tfi | Method::TfiDisplacement);
-    if a.stiffness != StiffnessArg::Batina && (tfi || a.method() == Method::Idw) {
+    if a.stiffness() != StiffnessArg::Batina && (tfi || a.method() == Method::Idw) {
         return Err(CliError::Invalid(format!(
             "--stiffness {} applies to the spring, angle-spring and quaternion methods; --method {} has no springs",
-            value_name(&a.stiffness),
+            value_name(&a.stiffness()),
             value_name(&a.method())
         )));
     }
+    super::move_elasticity::check_args(a)?;
     if !su2 {
         if !tfi {
             return Err(CliError::NotAvailable {
@@ -308,6 +309,8 @@ pub(crate) fn move_mesh(
         Method::Spring => MoveMethod::Spring,
         Method::AngleDirect => MoveMethod::AngleDirect,
         Method::AngleCg => MoveMethod::AngleCg,
+        // Not a spring propagation: run by `move_elasticity::run`, which reads the rest.
+        Method::Elasticity => MoveMethod::Spring,
         Method::Tfi | Method::TfiDisplacement => unreachable_tfi()?,
     };
     let solver = match a.solver {
@@ -335,14 +338,18 @@ pub(crate) fn move_mesh(
         idw_exponent: a.idw_exponent,
         idw_fast: a.idw_theta.map(|theta| (theta, a.idw_tolerance)),
         reach: a.reach,
-        stiffness: match a.stiffness {
-            StiffnessArg::Batina => Stiffness::Batina,
+        stiffness: match a.stiffness() {
+            StiffnessArg::Batina | StiffnessArg::Constant => Stiffness::Batina,
             StiffnessArg::WallDistance => Stiffness::WallDistance,
             StiffnessArg::InverseVolume => Stiffness::InverseVolume,
         },
     };
     let spinner = crate::progress::spinner("deforming", quiet);
-    let result = run_move_in_steps(&input, &slide_markers, a.steps as usize);
+    let result = if a.method() == Method::Elasticity {
+        super::move_elasticity::run(a, &input)
+    } else {
+        run_move_in_steps(&input, &slide_markers, a.steps as usize)
+    };
     spinner.finish_and_clear();
     let mut result = result.map_err(|e| e.in_file(&a.mesh))?;
     if !result.converged && !a.allow_unconverged {
@@ -561,6 +568,8 @@ pub(crate) fn move_mesh(
             Method::Idw | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
             Method::AngleCg if a.solver == Solver::Amg && a.slide.is_empty() => "amg".to_string(),
             Method::AngleCg => "cg".to_string(),
+            Method::Elasticity if a.solver == Solver::Amg => "amg".to_string(),
+            Method::Elasticity => "cg".to_string(),
             Method::AngleDirect if a.solver == Solver::Jacobi => "jacobi".to_string(),
             Method::AngleDirect if a.solver == Solver::Gs => "gs".to_string(),
             Method::AngleDirect => format!(
@@ -571,7 +580,7 @@ pub(crate) fn move_mesh(
         },
         stiffness: match a.method() {
             Method::Idw | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
-            _ => value_name(&a.stiffness),
+            _ => value_name(&a.stiffness()),
         },
         steps: a.steps,
         reach: a.reach,
