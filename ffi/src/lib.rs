@@ -38,6 +38,8 @@ mod slice;
 
 #[path = "../generated/deformation.rs"]
 pub mod deformation;
+#[path = "../generated/elasticity.rs"]
+pub mod elasticity;
 #[path = "../generated/graph.rs"]
 pub mod graph;
 #[path = "../generated/plan.rs"]

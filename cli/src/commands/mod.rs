@@ -8,8 +8,8 @@
 mod convert;
 mod demo;
 mod mesh;
-mod move_grid;
 mod move_elasticity;
+mod move_grid;
 mod move_mesh;
 mod quality;
 mod smooth;

@@ -25,20 +25,23 @@ pub(super) fn check_args(a: &MoveArgs) -> Result<(), CliError> {
         ));
     }
     if !(a.poisson.is_finite() && a.poisson > -1.0 && a.poisson < 0.5) {
-        return Err(CliError::Invalid(
-            "--poisson must lie in (-1, 0.5)".into(),
-        ));
+        return Err(CliError::Invalid("--poisson must lie in (-1, 0.5)".into()));
     }
     if !a.slide.is_empty() {
         return Err(CliError::NotAvailable {
             feature: "--slide with --method elasticity",
-            needs: "a spring or quaternion method (sliding nodes are not in the elasticity solve yet)",
+            needs:
+                "a spring or quaternion method (sliding nodes are not in the elasticity solve yet)",
         });
     }
     if a.reach.is_some() || !matches!(a.solver, Solver::Amg | Solver::Cg) {
         return Err(CliError::Invalid(format!(
             "--method elasticity takes --solver amg or cg{}",
-            if a.reach.is_some() { " and no --reach" } else { "" }
+            if a.reach.is_some() {
+                " and no --reach"
+            } else {
+                ""
+            }
         )));
     }
     Ok(())

@@ -105,7 +105,8 @@ fn run_d<const D: usize>(
             solve_amg(sys, &graph, &fixed, u, &options)
         } else {
             let mut scratch = vec![[0.0; D]; elastic_scratch_len(n).unwrap_or(0)];
-            sys.solve(u, &options, &mut scratch).map_err(kernel("elasticity solve"))
+            sys.solve(u, &options, &mut scratch)
+                .map_err(kernel("elasticity solve"))
         };
         r.map_err(|e| {
             failure = Some(e);
@@ -153,10 +154,11 @@ fn solve_amg<const D: usize>(
 ) -> Result<SolveReport<f64>, CliError> {
     let n = u.len();
     let mut w = vec![0.0; graph.edge_count()];
-    sys.amg_weights(&mut w).map_err(kernel("elasticity multigrid"))?;
+    sys.amg_weights(&mut w)
+        .map_err(kernel("elasticity multigrid"))?;
     let mut anchor = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
-    let spring =
-        SpringSystem::new(*graph, &w, fixed, &mut anchor).map_err(kernel("elasticity multigrid"))?;
+    let spring = SpringSystem::new(*graph, &w, fixed, &mut anchor)
+        .map_err(kernel("elasticity multigrid"))?;
     let mut storage = AmgStorage::default();
     let h = storage.build(&spring)?;
     let len = elastic_amg_scratch_len(n, h.coarse_unknowns()).unwrap_or(0);
