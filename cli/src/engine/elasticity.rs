@@ -5,7 +5,7 @@
 
 use deform_kernel::elasticity::{
     deform_incremental, elastic_amg_scratch_len, elastic_scratch_len, elasticity_graph,
-    elasticity_graph_len, ElasticSystem, IncrementBuffers, Increments, Modulus,
+    elasticity_graph_len, ElasticSystem, IncrementBuffers, IncrementReport, Increments, Modulus,
 };
 use deform_kernel::spring::{SolveOptions, SolveReport, SpringSystem};
 use deform_kernel::Graph;
@@ -54,7 +54,6 @@ fn run_d<const D: usize>(
         )));
     }
     let (disp3, center, _) = prescribed_displacements::<D>(input, &moved)?;
-    let disp: Vec<[f64; D]> = points_d::<D>(&disp3);
     let mut fixed = vec![0u8; n];
     for &b in &boundary {
         fixed[b as usize] = 1;
@@ -75,51 +74,57 @@ fn run_d<const D: usize>(
     } else {
         None
     };
-    let params = Increments {
+    let run = Run {
+        cells: &cells,
+        graph: &graph,
+        fixed: &fixed,
+        wall: wall.as_deref(),
         modulus,
-        wall_distance: wall.as_deref(),
         poisson,
-        steps,
-    };
-    let options = SolveOptions {
-        max_iterations: input.max_iter,
-        residual_tol: input.tol,
-        update_tol: 0.0,
-    };
-    let mut moduli = vec![0.0; cells.len()];
-    let mut diag = vec![[[0.0; D]; D]; n];
-    let mut off = vec![[[0.0; D]; D]; used];
-    let (mut current, mut step) = (vec![[0.0; D]; n], vec![[0.0; D]; n]);
-    let buffers = IncrementBuffers {
-        moduli: &mut moduli,
-        diag: &mut diag,
-        off: &mut off,
-        current: &mut current,
-        step: &mut step,
+        options: SolveOptions {
+            max_iterations: input.max_iter,
+            residual_tol: input.tol,
+            update_tol: 0.0,
+        },
+        amg: input.solver == MoveSolver::Amg,
     };
     let mut out = pts.clone();
-    let amg = input.solver == MoveSolver::Amg;
-    let mut failure = None;
-    let solve = |sys: &ElasticSystem<'_, f64, D>, u: &mut [[f64; D]]| {
-        let r = if amg {
-            solve_amg(sys, &graph, &fixed, u, &options)
-        } else {
-            let mut scratch = vec![[0.0; D]; elastic_scratch_len(n).unwrap_or(0)];
-            sys.solve(u, &options, &mut scratch)
-                .map_err(kernel("elasticity solve"))
-        };
-        r.map_err(|e| {
-            failure = Some(e);
-            deform_kernel::Error::SingularSystem { iteration: 0 }
-        })
-    };
-    let report = deform_incremental(
-        &cells, &graph, &fixed, &params, &mut out, &disp, buffers, solve,
-    );
-    if let Some(e) = failure {
-        return Err(e);
+    let mut total = Totals::default();
+    if let (crate::motion::Motion::Rotate { degrees, .. }, true) = (&input.motion, steps > 1) {
+        // Along the arc: step s puts the moved markers at the rotation by s·θ/N (a chord
+        // split would shrink the body half-way by cos(θ/2)), the interior follows by one
+        // solve on the current mesh.
+        let mut before = vec![[0.0; D]; n];
+        for s in 1..=steps {
+            let partial = MoveInput {
+                motion: crate::motion::Motion::Rotate {
+                    degrees: degrees * s as f64 / steps as f64,
+                    axis: match &input.motion {
+                        crate::motion::Motion::Rotate { axis, .. } => *axis,
+                        _ => [0.0, 0.0, 1.0],
+                    },
+                    center,
+                },
+                moved: input.moved.clone(),
+                fixed: input.fixed.clone(),
+                ..*input
+            };
+            let now = points_d::<D>(&prescribed_displacements::<D>(&partial, &moved)?.0);
+            let step: Vec<[f64; D]> = now
+                .iter()
+                .zip(&before)
+                .map(|(a, b)| std::array::from_fn(|c| a[c] - b[c]))
+                .collect();
+            total.add(run.increments(&mut out, &step, 1)?);
+            for &b in &boundary {
+                let i = b as usize;
+                out[i] = std::array::from_fn(|c| pts[i][c] + now[i][c]);
+            }
+            before = now;
+        }
+    } else {
+        total.add(run.increments(&mut out, &points_d::<D>(&disp3), steps)?);
     }
-    let report = report.map_err(kernel("elasticity"))?;
     let deformed: Vec<[f64; 3]> = out
         .iter()
         .map(|p| std::array::from_fn(|c| p.get(c).copied().unwrap_or(0.0)))
@@ -133,15 +138,103 @@ fn run_d<const D: usize>(
         idw_max_bound: None,
         deformed,
         displacement,
-        iterations: report.iterations,
-        residual: report.residual,
-        converged: report.converged,
+        iterations: total.iterations,
+        residual: total.residual,
+        converged: total.converged,
         moved_nodes: moved.len(),
         fixed_nodes: boundary.len() - moved.len(),
         center,
         sliding_nodes: 0,
         max_slide_offset: 0.0,
     })
+}
+
+/// What every increment needs besides the mesh and the displacement.
+struct Run<'r, const D: usize> {
+    cells: &'r deform_kernel::Cells<'r>,
+    graph: &'r Graph<'r>,
+    fixed: &'r [u8],
+    wall: Option<&'r [f64]>,
+    modulus: Modulus,
+    poisson: f64,
+    options: SolveOptions<f64>,
+    amg: bool,
+}
+
+/// Iterations, worst residual and convergence over the increments.
+struct Totals {
+    iterations: usize,
+    residual: f64,
+    converged: bool,
+}
+
+impl Default for Totals {
+    fn default() -> Self {
+        Totals {
+            iterations: 0,
+            residual: 0.0,
+            converged: true,
+        }
+    }
+}
+
+impl Totals {
+    fn add(&mut self, r: IncrementReport<f64>) {
+        self.iterations += r.iterations;
+        self.residual = self.residual.max(r.residual);
+        self.converged &= r.converged;
+    }
+}
+
+impl<const D: usize> Run<'_, D> {
+    /// The kernel's increments: `points` moved by `disp` (at fixed nodes) in `steps` equal
+    /// parts, the stiffness re-assembled on the mesh of each.
+    fn increments(
+        &self,
+        points: &mut [[f64; D]],
+        disp: &[[f64; D]],
+        steps: usize,
+    ) -> Result<IncrementReport<f64>, CliError> {
+        let n = points.len();
+        let params = Increments {
+            modulus: self.modulus,
+            wall_distance: self.wall,
+            poisson: self.poisson,
+            steps,
+        };
+        let mut moduli = vec![0.0; self.cells.len()];
+        let mut diag = vec![[[0.0; D]; D]; n];
+        let mut off = vec![[[0.0; D]; D]; self.graph.edge_count()];
+        let (mut current, mut step) = (vec![[0.0; D]; n], vec![[0.0; D]; n]);
+        let buffers = IncrementBuffers {
+            moduli: &mut moduli,
+            diag: &mut diag,
+            off: &mut off,
+            current: &mut current,
+            step: &mut step,
+        };
+        let mut failure = None;
+        let solve = |sys: &ElasticSystem<'_, f64, D>, u: &mut [[f64; D]]| {
+            let r = if self.amg {
+                solve_amg(sys, self.graph, self.fixed, u, &self.options)
+            } else {
+                let mut scratch = vec![[0.0; D]; elastic_scratch_len(n).unwrap_or(0)];
+                sys.solve(u, &self.options, &mut scratch)
+                    .map_err(kernel("elasticity solve"))
+            };
+            r.map_err(|e| {
+                failure = Some(e);
+                deform_kernel::Error::SingularSystem { iteration: 0 }
+            })
+        };
+        let report = deform_incremental(
+            self.cells, self.graph, self.fixed, &params, points, disp, buffers, solve,
+        );
+        if let Some(e) = failure {
+            return Err(e);
+        }
+        report.map_err(kernel("elasticity"))
+    }
 }
 
 /// One multigrid-preconditioned solve: the hierarchy of the system's scalar edge weights.
