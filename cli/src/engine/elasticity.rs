@@ -15,6 +15,7 @@ use super::{
     MoveResult, MoveSolver,
 };
 use crate::error::CliError;
+use crate::motion::Motion;
 
 /// Runs the elasticity method on `input` (no sliding markers) with `modulus`, Poisson ratio
 /// `poisson` and `steps` increments; `--solver amg` preconditions CG with the scalar
@@ -59,11 +60,7 @@ fn run_d<const D: usize>(
         fixed[b as usize] = 1;
     }
     let cells = cells_view(input.cells, n)?;
-    let mut offsets = vec![0u32; n + 1];
-    let mut targets = vec![0u32; elasticity_graph_len(&cells)];
-    let used =
-        elasticity_graph(&cells, &mut offsets, &mut targets).map_err(kernel("elasticity graph"))?;
-    targets.truncate(used);
+    let (offsets, targets) = cell_pair_graph(&cells)?;
     let graph = Graph::new(&offsets, &targets).map_err(kernel("elasticity graph"))?;
     let pts = points_d::<D>(input.points);
     let wall = if modulus == Modulus::WallDistance {
@@ -89,64 +86,125 @@ fn run_d<const D: usize>(
         amg: input.solver == MoveSolver::Amg,
     };
     let mut out = pts.clone();
-    let mut total = Totals::default();
-    if let (crate::motion::Motion::Rotate { degrees, .. }, true) = (&input.motion, steps > 1) {
-        // Along the arc: step s puts the moved markers at the rotation by s·θ/N (a chord
-        // split would shrink the body half-way by cos(θ/2)), the interior follows by one
-        // solve on the current mesh.
-        let mut before = vec![[0.0; D]; n];
-        for s in 1..=steps {
-            let partial = MoveInput {
-                motion: crate::motion::Motion::Rotate {
-                    degrees: degrees * s as f64 / steps as f64,
-                    axis: match &input.motion {
-                        crate::motion::Motion::Rotate { axis, .. } => *axis,
-                        _ => [0.0, 0.0, 1.0],
-                    },
-                    center,
-                },
-                moved: input.moved.clone(),
-                fixed: input.fixed.clone(),
-                ..*input
+    let total = match (&input.motion, steps > 1) {
+        (Motion::Rotate { degrees, axis, .. }, true) => {
+            let arc = Arc {
+                input,
+                moved: &moved,
+                boundary: &boundary,
+                degrees: *degrees,
+                axis: *axis,
+                center,
             };
-            let now = points_d::<D>(&prescribed_displacements::<D>(&partial, &moved)?.0);
-            let step: Vec<[f64; D]> = now
-                .iter()
-                .zip(&before)
-                .map(|(a, b)| std::array::from_fn(|c| a[c] - b[c]))
-                .collect();
-            total.add(run.increments(&mut out, &step, 1)?);
-            for &b in &boundary {
-                let i = b as usize;
-                out[i] = std::array::from_fn(|c| pts[i][c] + now[i][c]);
-            }
-            before = now;
+            arc.run(&run, &pts, &mut out, steps)?
         }
-    } else {
-        total.add(run.increments(&mut out, &points_d::<D>(&disp3), steps)?);
-    }
+        _ => {
+            let mut total = Totals::default();
+            total.add(run.increments(&mut out, &points_d::<D>(&disp3), steps)?);
+            total
+        }
+    };
+    Ok(move_result(
+        input.points,
+        &out,
+        &total,
+        [moved.len(), boundary.len() - moved.len()],
+        center,
+    ))
+}
+
+/// The tool's result of a run: the moved points in 3D, displacements, solve totals, the
+/// moved and fixed node counts and the rotation centre.
+fn move_result<const D: usize>(
+    points: &[[f64; 3]],
+    out: &[[f64; D]],
+    total: &Totals,
+    [moved, fixed]: [usize; 2],
+    center: Option<[f64; 3]>,
+) -> MoveResult {
     let deformed: Vec<[f64; 3]> = out
         .iter()
         .map(|p| std::array::from_fn(|c| p.get(c).copied().unwrap_or(0.0)))
         .collect();
     let displacement = deformed
         .iter()
-        .zip(input.points)
+        .zip(points)
         .map(|(q, p)| [q[0] - p[0], q[1] - p[1], q[2] - p[2]])
         .collect();
-    Ok(MoveResult {
+    MoveResult {
         idw_max_bound: None,
         deformed,
         displacement,
         iterations: total.iterations,
         residual: total.residual,
         converged: total.converged,
-        moved_nodes: moved.len(),
-        fixed_nodes: boundary.len() - moved.len(),
+        moved_nodes: moved,
+        fixed_nodes: fixed,
         center,
         sliding_nodes: 0,
         max_slide_offset: 0.0,
-    })
+    }
+}
+
+/// The cell-pair graph of the stiffness: offsets and targets.
+fn cell_pair_graph(cells: &deform_kernel::Cells<'_>) -> Result<(Vec<u32>, Vec<u32>), CliError> {
+    let mut offsets = vec![0u32; cells.node_count() + 1];
+    let mut targets = vec![0u32; elasticity_graph_len(cells)];
+    let used =
+        elasticity_graph(cells, &mut offsets, &mut targets).map_err(kernel("elasticity graph"))?;
+    targets.truncate(used);
+    Ok((offsets, targets))
+}
+
+/// A rotation applied along its arc: step `s` puts the moved markers at the rotation by
+/// `s·θ/N` (a chord split would shrink the body half-way by `cos(θ/2)`), and the interior
+/// follows by one solve on the current mesh.
+struct Arc<'a, 'i> {
+    input: &'a MoveInput<'i>,
+    moved: &'a [u32],
+    boundary: &'a [u32],
+    degrees: f64,
+    axis: [f64; 3],
+    center: Option<[f64; 3]>,
+}
+
+impl Arc<'_, '_> {
+    fn run<const D: usize>(
+        &self,
+        run: &Run<'_, D>,
+        pts: &[[f64; D]],
+        out: &mut [[f64; D]],
+        steps: usize,
+    ) -> Result<Totals, CliError> {
+        let mut total = Totals::default();
+        let mut before = vec![[0.0; D]; pts.len()];
+        for s in 1..=steps {
+            let partial = MoveInput {
+                motion: Motion::Rotate {
+                    degrees: self.degrees * s as f64 / steps as f64,
+                    axis: self.axis,
+                    center: self.center,
+                },
+                moved: self.input.moved.clone(),
+                fixed: self.input.fixed.clone(),
+                ..*self.input
+            };
+            let now = points_d::<D>(&prescribed_displacements::<D>(&partial, self.moved)?.0);
+            let step: Vec<[f64; D]> = now
+                .iter()
+                .zip(&before)
+                .map(|(a, b)| std::array::from_fn(|c| a[c] - b[c]))
+                .collect();
+            total.add(run.increments(out, &step, 1)?);
+            // The moved markers exactly on the rotation by s·θ/N (not the sum of the steps).
+            for &b in self.boundary {
+                let i = b as usize;
+                out[i] = std::array::from_fn(|c| pts[i][c] + now[i][c]);
+            }
+            before = now;
+        }
+        Ok(total)
+    }
 }
 
 /// What every increment needs besides the mesh and the displacement.

@@ -241,13 +241,13 @@ fn dense_solve<const D: usize>(a: &Assembled<f64, D>, fixed: &[u8], u: &mut [[f6
         if index[i] == usize::MAX {
             return;
         }
-        for r in 0..D {
+        for (r, br) in b.iter().enumerate() {
             let row = index[i] * D + r;
-            for c in 0..D {
+            for (c, &k) in br.iter().enumerate() {
                 if index[j] == usize::MAX {
-                    mat[row][m] -= b[r][c] * u[j][c];
+                    mat[row][m] -= k * u[j][c];
                 } else {
-                    mat[row][index[j] * D + c] += b[r][c];
+                    mat[row][index[j] * D + c] += k;
                 }
             }
         }
@@ -263,10 +263,11 @@ fn dense_solve<const D: usize>(a: &Assembled<f64, D>, fixed: &[u8], u: &mut [[f6
             .max_by(|&x, &y| mat[x][col].abs().total_cmp(&mat[y][col].abs()))
             .unwrap();
         mat.swap(col, p);
-        for r in col + 1..m {
-            let f = mat[r][col] / mat[col][col];
-            for c in col..=m {
-                mat[r][c] -= f * mat[col][c];
+        let pivot = mat[col].clone();
+        for row in mat.iter_mut().skip(col + 1) {
+            let f = row[col] / pivot[col];
+            for (x, &p) in row.iter_mut().zip(&pivot).skip(col) {
+                *x -= f * p;
             }
         }
     }

@@ -119,14 +119,13 @@ where
         let sys = ElasticSystem::new(*graph, diag, off, fixed)?;
         let fraction = T::from_usize(s) / total;
         let before = T::from_usize(s - 1) / total;
-        for (i, st) in step.iter_mut().enumerate() {
-            *st = [T::ZERO; D];
-            if is_fixed(fixed.get(i).copied().unwrap_or(0)) {
-                let d = displacement.get(i).copied().unwrap_or([T::ZERO; D]);
-                let to = part(d, fraction, s == params.steps);
-                *st = crate::vector::sub(to, part(d, before, false));
-            }
-        }
+        step_data(
+            step,
+            displacement,
+            fixed,
+            [before, fraction],
+            s == params.steps,
+        );
         let r = solve(&sys, step)?;
         report.steps = s;
         report.iterations = report.iterations.saturating_add(r.iterations);
@@ -152,6 +151,24 @@ where
     }
     points.copy_from_slice(current);
     Ok(report)
+}
+
+/// The step's displacement: `(to − from) · d` at fixed nodes (`to` exactly 1 for the last
+/// step), zero (the initial guess) at free ones.
+fn step_data<T: Real, const D: usize>(
+    step: &mut [[T; D]],
+    displacement: &[[T; D]],
+    fixed: &[u8],
+    [from, to]: [T; 2],
+    last: bool,
+) {
+    for (i, st) in step.iter_mut().enumerate() {
+        *st = [T::ZERO; D];
+        if is_fixed(fixed.get(i).copied().unwrap_or(0)) {
+            let d = displacement.get(i).copied().unwrap_or([T::ZERO; D]);
+            *st = crate::vector::sub(part(d, to, last), part(d, from, false));
+        }
+    }
 }
 
 /// Fixed node `i`'s position after the step with `fraction` of the way done (exactly
