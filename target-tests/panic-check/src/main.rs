@@ -38,6 +38,7 @@ mod amg;
 #[path = "../../../ffi/generated/panic_check.rs"]
 mod c_abi;
 mod deformation;
+mod elasticity;
 mod foundation;
 mod plan;
 mod quality;
@@ -53,6 +54,7 @@ fn main() -> ! {
     quality::exercise();
     taubin::exercise();
     deformation::exercise();
+    elasticity::exercise();
     slide::exercise();
     plan::exercise();
     c_abi::exercise();
