@@ -72,14 +72,18 @@ fn reference_gradients(kind: CellKind, xi: [f64; 3], out: &mut [[f64; 3]; MAX_NO
     match kind {
         CellKind::Line => {}
         CellKind::Triangle => {
-            out[..3].copy_from_slice(&[[-1.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+            let g = [[-1.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+            out.iter_mut().zip(g).for_each(|(o, g)| *o = g);
         }
-        CellKind::Tetra => out[..4].copy_from_slice(&[
-            [-1.0, -1.0, -1.0],
-            [1.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-        ]),
+        CellKind::Tetra => {
+            let g = [
+                [-1.0, -1.0, -1.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+            ];
+            out.iter_mut().zip(g).for_each(|(o, g)| *o = g);
+        }
         CellKind::Quad => {
             for (a, o) in out.iter_mut().take(4).enumerate() {
                 let [p, q, _] = corner(a);
@@ -104,9 +108,10 @@ fn reference_gradients(kind: CellKind, xi: [f64; 3], out: &mut [[f64; 3]; MAX_NO
         CellKind::Prism => {
             let (lo, hi) = ((1.0 - z) / 2.0, (1.0 + z) / 2.0);
             let tri = [[-1.0, -1.0, 1.0 - x - y], [1.0, 0.0, x], [0.0, 1.0, y]];
-            for (a, [dr, ds, n]) in tri.into_iter().enumerate() {
-                out[a] = [dr * lo, ds * lo, -n / 2.0];
-                out[a + 3] = [dr * hi, ds * hi, n / 2.0];
+            let (bottom, top) = out.split_at_mut(3);
+            for ((b, t), [dr, ds, n]) in bottom.iter_mut().zip(top.iter_mut()).zip(tri) {
+                *b = [dr * lo, ds * lo, -n / 2.0];
+                *t = [dr * hi, ds * hi, n / 2.0];
             }
         }
     }

@@ -104,7 +104,9 @@ where
         current,
         step,
     } = buffers;
-    current.copy_from_slice(points);
+    for (c, p) in current.iter_mut().zip(points.iter()) {
+        *c = *p;
+    }
     let mut report = IncrementReport {
         steps: 0,
         iterations: 0,
@@ -149,7 +151,9 @@ where
             position,
         });
     }
-    points.copy_from_slice(current);
+    for (p, c) in points.iter_mut().zip(current.iter()) {
+        *p = *c;
+    }
     Ok(report)
 }
 

@@ -42,7 +42,16 @@ fn elasticity<T: Real>() {
     defmt::assert!(diag.iter().flatten().flatten().all(|&x| x == T::ZERO));
     // Patch test with uniform moduli.
     let one = [T::ONE; NT];
-    assemble(&cells, &m.points, &g, &one, T::from_f64(0.3), &mut diag, off).unwrap();
+    assemble(
+        &cells,
+        &m.points,
+        &g,
+        &one,
+        T::from_f64(0.3),
+        &mut diag,
+        off,
+    )
+    .unwrap();
     let sys = ElasticSystem::new(g, &diag, off, &m.fixed).unwrap();
     let mut u = [[T::ZERO; 2]; N];
     for (i, u) in u.iter_mut().enumerate() {
@@ -78,9 +87,16 @@ fn elasticity<T: Real>() {
         poisson: T::from_f64(0.3),
         steps: 2,
     };
-    let r = deform_incremental(&cells, &g, &m.fixed, &params, &mut points, &disp, buffers, |s, u| {
-        s.solve(u, &options, &mut cg)
-    })
+    let r = deform_incremental(
+        &cells,
+        &g,
+        &m.fixed,
+        &params,
+        &mut points,
+        &disp,
+        buffers,
+        |s, u| s.solve(u, &options, &mut cg),
+    )
     .unwrap();
     defmt::assert!(r.converged && r.steps == 2);
     for i in 0..N {

@@ -89,7 +89,7 @@ fn run<T: Real, const D: usize>(m: &Mesh) {
             &cells,
             points,
             modulus,
-            Some(&wall[..n]),
+            wall.get(..n),
             bb(&mut *moduli),
         ));
     }
@@ -136,7 +136,7 @@ fn run<T: Real, const D: usize>(m: &Mesh) {
         fixed,
         &params,
         bb(p),
-        &d[..n],
+        d.get(..n).unwrap_or(&[]),
         buffers,
         |s, u| s.solve(u, &opts, &mut cg[..]),
     ));
@@ -156,7 +156,10 @@ fn solves<T: Real, const D: usize>(
     let n = sys.node_count();
     let x: [[T; D]; N] = bb([[T::HALF; D]; N]);
     let mut y = [[T::ZERO; D]; N];
-    keep(sys.multiply(&x[..n], bb(y.get_mut(..n).unwrap_or(&mut []))));
+    keep(sys.multiply(
+        x.get(..n).unwrap_or(&[]),
+        bb(y.get_mut(..n).unwrap_or(&mut [])),
+    ));
     let opts = bb(SolveOptions::<T>::default());
     let mut scratch = [[T::ZERO; D]; 8 * N];
     let mut u = x;
