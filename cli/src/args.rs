@@ -190,6 +190,11 @@ pub enum Method {
     /// Radial basis functions (SU2's and pyGeM's RBF): Wendland C2 or thin-plate splines,
     /// greedy centres, the wall kept exact (--rbf-* options).
     Rbf,
+    /// Finite-element linear elasticity (SU2_DEF's method): the mesh is an elastic solid with
+    /// Young's modulus per cell from --stiffness (default inverse-volume) and Poisson ratio
+    /// --poisson; --steps N applies the boundary displacement in N equal increments,
+    /// re-assembling the stiffness on the updated mesh (SU2's DEFORM_NONLINEAR_ITER).
+    Elasticity,
 }
 
 /// A face of a structured block.
@@ -257,7 +262,11 @@ pub enum StiffnessArg {
     /// the moving wall move almost rigidly with it.
     WallDistance,
     /// 1/L times V̄/V, V the node's dual volume (SU2's INVERSE_VOLUME): small cells are stiffer.
+    /// --method elasticity: Young's modulus E = 1/V per cell.
     InverseVolume,
+    /// --method elasticity only: the same Young's modulus in every cell (SU2's
+    /// CONSTANT_STIFFNESS).
+    Constant,
 }
 
 /// Linear solvers for the spring methods.
@@ -338,10 +347,15 @@ pub struct MoveArgs {
     #[arg(long, value_enum, default_value = "amg")]
     pub solver: Solver,
     /// Spring stiffness of the spring, angle-spring and quaternion methods (IDW and TFI have
-    /// no springs). On the viscous NACA 2412 pitched 10°, linear springs invert 69 cells with
-    /// batina, 34 with wall-distance and 0 with inverse-volume.
-    #[arg(long, value_enum, default_value = "batina")]
-    pub stiffness: StiffnessArg,
+    /// no springs; default batina). On the viscous NACA 2412 pitched 10°, linear springs
+    /// invert 69 cells with batina, 34 with wall-distance and 0 with inverse-volume.
+    /// --method elasticity: Young's modulus per cell, inverse-volume (default), wall-distance
+    /// (E = 1/d, d the cell's mean distance to the moved markers) or constant.
+    #[arg(long, value_enum)]
+    pub stiffness: Option<StiffnessArg>,
+    /// --method elasticity: Poisson ratio, in (-1, 0.5).
+    #[arg(long, default_value_t = 0.3, allow_hyphen_values = true)]
+    pub poisson: f64,
     /// Move in N increments: each step moves the markers by 1/N of the motion starting from
     /// the previous step's mesh, so stiffness and rotations follow the deforming mesh (large
     /// rotations); the last step ends exactly on the prescribed motion.
@@ -416,6 +430,15 @@ impl MoveArgs {
     /// Plot3D grid fills in `tfi` before anything reads it).
     pub fn method(&self) -> Method {
         self.method.unwrap_or(Method::Quaternion)
+    }
+
+    /// `--stiffness`, or the method's default: inverse-volume for elasticity, batina else.
+    pub fn stiffness(&self) -> StiffnessArg {
+        match (self.stiffness, self.method()) {
+            (Some(s), _) => s,
+            (None, Method::Elasticity) => StiffnessArg::InverseVolume,
+            (None, _) => StiffnessArg::Batina,
+        }
     }
 }
 

@@ -9,7 +9,9 @@ use crate::error::CliError;
 use crate::formats::CellList;
 use crate::orientation::{Orientation, OrientationSummary};
 
+mod elasticity;
 mod rbf;
+pub use elasticity::run_elasticity;
 pub use rbf::{RbfFunction, RbfInfo, RbfSettings};
 
 fn kernel(context: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {
@@ -1044,7 +1046,7 @@ fn move_d<const D: usize>(
 
 /// The boundary of a motion: the moved markers' nodes, every boundary node (moved and
 /// fixed), the prescribed displacement of each, and the rigid motion when there is one.
-struct Prescribed {
+pub(crate) struct Prescribed {
     moved: Vec<u32>,
     boundary: Vec<u32>,
     disp: Vec<[f64; 3]>,
@@ -1055,7 +1057,7 @@ struct Prescribed {
 }
 
 /// What the motion prescribes on the boundary, checked against the mesh.
-fn prescribe<const D: usize>(input: &MoveInput<'_>) -> Result<Prescribed, CliError> {
+pub(crate) fn prescribe<const D: usize>(input: &MoveInput<'_>) -> Result<Prescribed, CliError> {
     use deform_kernel::Quat;
     let n = input.points.len();
     let moved = sorted_nodes(&input.moved);

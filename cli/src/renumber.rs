@@ -268,7 +268,7 @@ fn renumbered_field(
 }
 
 /// The report of a run in the input's numbering (nothing measured).
-fn off_report() -> RenumberReport {
+pub(crate) fn off_report() -> RenumberReport {
     RenumberReport {
         method: "off",
         mean_distance_before: None,

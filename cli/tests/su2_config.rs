@@ -9,7 +9,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{deform, deform_json, deform_ok, deform_refused, naca_mesh, read_su2, tmp_dir};
+use common::{deform_json, deform_ok, deform_refused, naca_mesh, read_su2, tmp_dir};
 
 /// A deformation config for `m.su2`'s airfoil with the given design-variable lines.
 fn config(dir: &Path, name: &str, design: &str, extra: &str) {
@@ -263,11 +263,12 @@ fn errors_name_the_option_or_the_line() {
         "DV_MARKER",
         "out.su2",
     );
-    // Without --method: SU2's elasticity, which this build does not have yet.
-    config(&d, "def.cfg", rotation, "");
-    let o = deform(&d, &["su2", "def.cfg"]);
-    assert_ne!(o.status.code(), Some(0));
-    assert!(!d.join("out.su2").exists());
+    // Without --method: SU2's elasticity, with SU2's Poisson ratio from DEFORM_COEFF.
+    config(&d, "def.cfg", rotation, "DEFORM_COEFF= 0.5");
+    let r = deform_json(&d, &["--json", "su2", "def.cfg"]);
+    assert_eq!(r["method"], "elasticity");
+    assert_eq!(r["stiffness"], "inverse-volume");
+    assert_eq!(r["ignored_options"], serde_json::json!(["MACH_NUMBER"]));
 }
 
 /// NACA 2412's camber line (the 4-digit formula), to tell upper from lower surface nodes

@@ -126,6 +126,13 @@ module deform_kernel
   integer(c_int32_t), parameter, public :: DK_FFD_CAMBER_2D = 4
   !> `FFD_THICKNESS_2D`: `index` = (i, unused, unused); `values[0]` = a.
   integer(c_int32_t), parameter, public :: DK_FFD_THICKNESS_2D = 5
+  !> `dk_elasticity_options::modulus`: `E = 1` in every cell (SU2 `CONSTANT_STIFFNESS`).
+  integer(c_int32_t), parameter, public :: DK_MODULUS_CONSTANT = 0
+  !> `dk_elasticity_options::modulus`: `E = 1/V` (SU2 `INVERSE_VOLUME`, the default).
+  integer(c_int32_t), parameter, public :: DK_MODULUS_INVERSE_VOLUME = 1
+  !> `dk_elasticity_options::modulus`: `E = 1/d`, `d` the cell's mean wall distance (SU2
+  !! `WALL_DISTANCE`; needs `wall_distance`).
+  integer(c_int32_t), parameter, public :: DK_MODULUS_WALL_DISTANCE = 2
   !> `dk_plan_options.method`: linear (Batina) springs on the displacements.
   integer(c_int32_t), parameter, public :: DK_PLAN_SPRING = 1
   !> `dk_plan_options.method`: Samareh's quaternion method with spring propagation (default).
@@ -384,6 +391,38 @@ module deform_kernel
     type(c_ptr) :: fixed
     !> Entries of `fixed` (the node count).
     integer(c_size_t) :: fixed_len
+  end type
+
+  !> Material, increments and stopping rules of `dk_elasticity_deform`. Fill with
+  !! `dk_elasticity_options_default` (or `_f32`) and change fields as needed.
+  type, bind(C), public :: dk_elasticity_options
+    !> CG iteration cap of each increment. Default 10 000.
+    integer(c_size_t) :: max_iterations
+    !> Relative residual tolerance of each increment's solve (finite, ≥ 0). Default
+    !! `max(1e-10, 100 ε)`.
+    real(c_double) :: residual_tol
+    !> Poisson ratio in (−1, ½). Default 0.3.
+    real(c_double) :: poisson
+    !> Load increments, at least 1. Default 1.
+    integer(c_int32_t) :: steps
+    !> `DK_MODULUS_CONSTANT`, `DK_MODULUS_INVERSE_VOLUME` (default) or
+    !! `DK_MODULUS_WALL_DISTANCE`.
+    integer(c_int32_t) :: modulus
+  end type
+
+  !> What `dk_elasticity_deform` did. A step that did not converge is reported here
+  !! (`converged` false, status `DK_OK`), never hidden.
+  type, bind(C), public :: dk_elasticity_report
+    !> Increments taken.
+    integer(c_size_t) :: steps
+    !> CG iterations of all increments.
+    integer(c_size_t) :: iterations
+    !> The most iterations one increment needed.
+    integer(c_size_t) :: max_step_iterations
+    !> The largest final relative residual of an increment.
+    real(c_double) :: residual
+    !> Whether every increment's solve converged.
+    logical(c_bool) :: converged
   end type
 
   !> A permutation of `n` nodes: `order[new] = old` and `inverse[old] = new`, `n` entries
@@ -840,14 +879,16 @@ module deform_kernel
             dk_design_ffd_eval, dk_design_ffd_eval_f32, dk_design_ffd_displacements, &
             dk_design_ffd_displacements_f32, dk_design_ffd_displacements_between, &
             dk_design_ffd_displacements_between_f32, dk_design_ffd_variable, &
-            dk_design_ffd_variable_f32, dk_graph_from_edges_len, dk_graph_from_edges, &
-            dk_cells_check, dk_graph_from_cells_len, dk_graph_from_cells, dk_graph_check, &
-            dk_order_rcm, dk_order_hilbert, dk_order_hilbert_f32, dk_order_index_distance, &
-            dk_order_permute, dk_order_permute_f32, dk_order_renumber, dk_order_permute_graph, &
-            dk_order_gather, dk_order_gather_f32, dk_plan_options_default, &
-            dk_plan_options_default_f32, dk_plan_work_sizes, dk_plan_work_sizes_f32, &
-            dk_plan_pool_sizes, dk_plan_pool_sizes_f32, dk_plan_init, dk_plan_init_f32, &
-            dk_plan_open, dk_plan_open_f32, dk_plan_step, dk_plan_step_f32, &
+            dk_design_ffd_variable_f32, dk_elasticity_graph_len, dk_elasticity_graph, &
+            dk_elasticity_scratch_len, dk_elasticity_options_default, &
+            dk_elasticity_options_default_f32, dk_elasticity_deform, dk_elasticity_deform_f32, &
+            dk_graph_from_edges_len, dk_graph_from_edges, dk_cells_check, dk_graph_from_cells_len, &
+            dk_graph_from_cells, dk_graph_check, dk_order_rcm, dk_order_hilbert, &
+            dk_order_hilbert_f32, dk_order_index_distance, dk_order_permute, dk_order_permute_f32, &
+            dk_order_renumber, dk_order_permute_graph, dk_order_gather, dk_order_gather_f32, &
+            dk_plan_options_default, dk_plan_options_default_f32, dk_plan_work_sizes, &
+            dk_plan_work_sizes_f32, dk_plan_pool_sizes, dk_plan_pool_sizes_f32, dk_plan_init, &
+            dk_plan_init_f32, dk_plan_open, dk_plan_open_f32, dk_plan_step, dk_plan_step_f32, &
             dk_quality_cell_quality, dk_quality_cell_quality_f32, dk_quality_cell_measures, &
             dk_quality_cell_measures_f32, dk_quality_min_corner_jacobians, &
             dk_quality_min_corner_jacobians_f32, dk_quality_inverted_cells, &
@@ -1734,6 +1775,107 @@ module deform_kernel
       integer(c_size_t), value :: control_points_len
       integer(c_int32_t), intent(in) :: index(3)
       real(c_float), intent(in) :: values(3)
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_graph_len(node_count, cells, index_base, index_scratch, &
+        index_scratch_len, len_out) bind(C, name="dk_elasticity_graph_len") result(s)
+      import :: c_int32_t, c_size_t, dk_cells
+      integer(c_size_t), value :: node_count
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_graph(node_count, cells, index_base, index_scratch, index_scratch_len, &
+        offsets, offsets_len, targets, targets_len, used_out) bind(C, name="dk_elasticity_graph") &
+        result(s)
+      import :: c_int32_t, c_size_t, dk_cells
+      integer(c_size_t), value :: node_count
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      integer(c_int32_t), intent(inout) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int32_t), intent(inout) :: targets(*)
+      integer(c_size_t), value :: targets_len
+      integer(c_size_t), intent(inout) :: used_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_scratch_len(node_count, cell_count, edge_count, dim, len_out) bind(C, &
+        name="dk_elasticity_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_size_t), value :: cell_count
+      integer(c_size_t), value :: edge_count
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_options_default(out) bind(C, name="dk_elasticity_options_default") &
+        result(s)
+      import :: c_int32_t, dk_elasticity_options
+      type(dk_elasticity_options), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_options_default_f32(out) bind(C, &
+        name="dk_elasticity_options_default_f32") result(s)
+      import :: c_int32_t, dk_elasticity_options
+      type(dk_elasticity_options), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_deform(cells, index_base, index_scratch, index_scratch_len, graph, dim, &
+        fixed, fixed_len, options, wall_distance, wall_distance_len, displacement, &
+        displacement_len, points, points_len, scratch, scratch_len, report) bind(C, &
+        name="dk_elasticity_deform") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_cells, dk_elasticity_options, &
+          dk_elasticity_report, dk_graph
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_elasticity_options), intent(in) :: options
+      real(c_double), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_double), intent(in) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      real(c_double), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_elasticity_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_deform_f32(cells, index_base, index_scratch, index_scratch_len, graph, &
+        dim, fixed, fixed_len, options, wall_distance, wall_distance_len, displacement, &
+        displacement_len, points, points_len, scratch, scratch_len, report) bind(C, &
+        name="dk_elasticity_deform_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_cells, dk_elasticity_options, &
+          dk_elasticity_report, dk_graph
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_elasticity_options), intent(in) :: options
+      real(c_float), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_float), intent(in) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      real(c_float), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_elasticity_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
     function dk_graph_from_edges_len(edges_len, len_out) bind(C, name="dk_graph_from_edges_len") &

@@ -60,6 +60,16 @@
 // `FFD_THICKNESS_2D`: `index` = (i, unused, unused); `values[0]` = a.
 #define DK_FFD_THICKNESS_2D 5
 
+// [`dk_elasticity_options::modulus`]: `E = 1` in every cell (SU2 `CONSTANT_STIFFNESS`).
+#define DK_MODULUS_CONSTANT 0
+
+// [`dk_elasticity_options::modulus`]: `E = 1/V` (SU2 `INVERSE_VOLUME`, the default).
+#define DK_MODULUS_INVERSE_VOLUME 1
+
+// [`dk_elasticity_options::modulus`]: `E = 1/d`, `d` the cell's mean wall distance (SU2
+// `WALL_DISTANCE`; needs `wall_distance`).
+#define DK_MODULUS_WALL_DISTANCE 2
+
 // `dk_plan_options.method`: linear (Batina) springs on the displacements.
 #define DK_PLAN_SPRING 1
 
@@ -430,6 +440,38 @@ typedef struct {
   // Entries of `fixed` (the node count).
   size_t fixed_len;
 } dk_spring_system_f32;
+
+// Material, increments and stopping rules of `dk_elasticity_deform`. Fill with
+// `dk_elasticity_options_default` (or `_f32`) and change fields as needed.
+typedef struct {
+  // CG iteration cap of each increment. Default 10 000.
+  size_t max_iterations;
+  // Relative residual tolerance of each increment's solve (finite, ≥ 0). Default
+  // `max(1e-10, 100 ε)`.
+  double residual_tol;
+  // Poisson ratio in (−1, ½). Default 0.3.
+  double poisson;
+  // Load increments, at least 1. Default 1.
+  uint32_t steps;
+  // `DK_MODULUS_CONSTANT`, `DK_MODULUS_INVERSE_VOLUME` (default) or
+  // `DK_MODULUS_WALL_DISTANCE`.
+  uint32_t modulus;
+} dk_elasticity_options;
+
+// What `dk_elasticity_deform` did. A step that did not converge is reported here
+// (`converged` false, status `DK_OK`), never hidden.
+typedef struct {
+  // Increments taken.
+  size_t steps;
+  // CG iterations of all increments.
+  size_t iterations;
+  // The most iterations one increment needed.
+  size_t max_step_iterations;
+  // The largest final relative residual of an increment.
+  double residual;
+  // Whether every increment's solve converged.
+  bool converged;
+} dk_elasticity_report;
 
 // A permutation of `n` nodes: `order[new] = old` and `inverse[old] = new`, `n` entries
 // each, 0-based, as `dk_order_rcm` and `dk_order_hilbert` write them. Borrowed for the call.
@@ -1872,6 +1914,119 @@ dk_status dk_design_ffd_variable_f32(uint32_t kind,
                                      size_t control_points_len,
                                      const int32_t *index,
                                      const float *values);
+
+// Length `targets` needs for [`dk_elasticity_graph`]: `Σ n_c (n_c − 1)` over the cells
+// (validates the cells first; `index_scratch` as in `dk_cells_check`).
+//
+// # Safety
+// Every pointer is valid for its length; `len_out` points to one writable `size_t`.
+dk_status dk_elasticity_graph_len(size_t node_count,
+                                  const dk_cells *cells,
+                                  uint32_t index_base,
+                                  uint32_t *index_scratch,
+                                  size_t index_scratch_len,
+                                  size_t *len_out);
+
+// Builds the graph of every pair of nodes that share a cell (the sparsity of the
+// elasticity stiffness: a hexahedron couples all its nodes) as a symmetric, sorted,
+// deduplicated 0-based CSR graph. `offsets` must have `node_count + 1` entries, `targets` at
+// least [`dk_elasticity_graph_len`]; `*used_out` receives the entries used.
+//
+// # Safety
+// Every pointer is valid for its length, and the writable buffers do not overlap each other
+// or the inputs.
+dk_status dk_elasticity_graph(size_t node_count,
+                              const dk_cells *cells,
+                              uint32_t index_base,
+                              uint32_t *index_scratch,
+                              size_t index_scratch_len,
+                              uint32_t *offsets,
+                              size_t offsets_len,
+                              uint32_t *targets,
+                              size_t targets_len,
+                              size_t *used_out);
+
+// Scalars of `scratch` [`dk_elasticity_deform`] needs: `cell_count + dim²·(node_count +
+// edge_count) + 6·dim·node_count`, `edge_count` the graph's `targets_len` (the same count
+// for both precisions).
+//
+// # Safety
+// `len_out` points to one writable `size_t`.
+dk_status dk_elasticity_scratch_len(size_t node_count,
+                                    size_t cell_count,
+                                    size_t edge_count,
+                                    uint32_t dim,
+                                    size_t *len_out);
+
+// Fills `*out` with the default elasticity settings for f64: inverse-volume modulus,
+// Poisson ratio 0.3, one increment, 10 000 iterations, residual tolerance 1e-10.
+//
+// # Safety
+// `out` points to one writable options struct.
+dk_status dk_elasticity_options_default(dk_elasticity_options *out);
+
+// As [`dk_elasticity_options_default`] with the f32 default residual tolerance
+// (`100 ε_f32` ≈ 1.19e-5).
+//
+// # Safety
+// As [`dk_elasticity_options_default`].
+dk_status dk_elasticity_options_default_f32(dk_elasticity_options *out);
+
+// Moves a mesh by linear elasticity (SU2_DEF's method) in `options->steps` load increments:
+// the nodes with a nonzero `fixed` byte move by `displacement` (`node_count * dim` scalars,
+// read at fixed nodes only), `1/steps` of it per increment; before each, the moduli
+// (`options->modulus`; `wall_distance`, one per node, for `DK_MODULUS_WALL_DISTANCE`, else
+// NULL with length 0) and the stiffness are recomputed on the current mesh and the free
+// nodes follow by block-Jacobi CG. `points` (`node_count * dim` scalars) holds the mesh and
+// receives the moved one; the fixed nodes end at `points + displacement` exactly. `graph`
+// comes from [`dk_elasticity_graph`]; `scratch` needs [`dk_elasticity_scratch_len`]
+// scalars. On any error `points` is unchanged.
+//
+// # Safety
+// Every pointer is valid for its length; `options` points to one readable struct and
+// `report` to one writable one; the writable buffers do not overlap each other or the
+// inputs.
+dk_status dk_elasticity_deform(const dk_cells *cells,
+                               uint32_t index_base,
+                               uint32_t *index_scratch,
+                               size_t index_scratch_len,
+                               const dk_graph *graph,
+                               uint32_t dim,
+                               const uint8_t *fixed,
+                               size_t fixed_len,
+                               const dk_elasticity_options *options,
+                               const double *wall_distance,
+                               size_t wall_distance_len,
+                               const double *displacement,
+                               size_t displacement_len,
+                               double *points,
+                               size_t points_len,
+                               double *scratch,
+                               size_t scratch_len,
+                               dk_elasticity_report *report);
+
+// `f32` twin of [`dk_elasticity_deform`].
+//
+// # Safety
+// As [`dk_elasticity_deform`].
+dk_status dk_elasticity_deform_f32(const dk_cells *cells,
+                                   uint32_t index_base,
+                                   uint32_t *index_scratch,
+                                   size_t index_scratch_len,
+                                   const dk_graph *graph,
+                                   uint32_t dim,
+                                   const uint8_t *fixed,
+                                   size_t fixed_len,
+                                   const dk_elasticity_options *options,
+                                   const float *wall_distance,
+                                   size_t wall_distance_len,
+                                   const float *displacement,
+                                   size_t displacement_len,
+                                   float *points,
+                                   size_t points_len,
+                                   float *scratch,
+                                   size_t scratch_len,
+                                   dk_elasticity_report *report);
 
 // Length `targets` needs for [`dk_graph_from_edges`]: `edges_len` (two entries per edge).
 //

@@ -40,6 +40,8 @@ mod slice;
 pub mod deformation;
 #[path = "../generated/design.rs"]
 pub mod design;
+#[path = "../generated/elasticity.rs"]
+pub mod elasticity;
 #[path = "../generated/graph.rs"]
 pub mod graph;
 #[path = "../generated/order.rs"]

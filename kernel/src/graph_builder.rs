@@ -14,6 +14,8 @@ use crate::error::{Error, Result};
 enum EdgeSource<'s, 'a> {
     List(&'s [[u32; 2]]),
     Cells(&'s Cells<'a>, bool),
+    /// Every pair of nodes of every cell (the coupling of a finite-element matrix).
+    Pairs(&'s Cells<'a>),
 }
 
 impl EdgeSource<'_, '_> {
@@ -34,6 +36,13 @@ impl EdgeSource<'_, '_> {
                         {
                             f(a, b);
                         }
+                    }
+                }
+            }
+            EdgeSource::Pairs(cells) => {
+                for (_, nodes) in cells.iter() {
+                    for (k, &a) in nodes.iter().enumerate() {
+                        nodes.iter().skip(k + 1).for_each(|&b| f(a, b));
                     }
                 }
             }
@@ -121,6 +130,24 @@ pub fn graph_from_cells(
 
 /// Shared CSR construction: count, prefix-sum, scatter, then sort and deduplicate each row.
 /// The source's indices are already validated.
+/// Symmetric CSR of every pair of nodes that share a cell (the sparsity of a
+/// finite-element matrix), `needed` directed entries at most; see
+/// [`elasticity_graph`](crate::elasticity::elasticity_graph).
+pub(crate) fn graph_from_cell_pairs(
+    cells: &Cells<'_>,
+    needed: usize,
+    offsets: &mut [u32],
+    targets: &mut [u32],
+) -> Result<usize> {
+    build(
+        cells.node_count(),
+        needed,
+        &EdgeSource::Pairs(cells),
+        offsets,
+        targets,
+    )
+}
+
 fn build(
     node_count: usize,
     needed: usize,

@@ -33,6 +33,7 @@ pub mod block;
 pub mod cells;
 mod check;
 pub mod design;
+pub mod elasticity;
 pub mod error;
 pub mod exact_sum;
 pub mod graph;

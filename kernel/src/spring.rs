@@ -49,9 +49,9 @@ mod amg;
 mod angle;
 pub mod constraints;
 mod distributed;
-mod krylov;
+pub(crate) mod krylov;
 mod linear;
-mod norms;
+pub(crate) mod norms;
 mod sliding;
 mod solver;
 mod stiffening;
@@ -63,7 +63,7 @@ pub use amg::{
     amg_sliding_cg_scratch_len, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, AmgSizes,
     AmgSmoother, AMG_MAX_DENSE, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
 };
-pub(crate) use amg::{Layout, Level};
+pub(crate) use amg::{Layout, Level, Vcycle};
 pub use angle::{
     angle_scratch_items, angle_sliding_scratch_items, AngleMethod, AngleSystem,
     DEFAULT_ANGLE_EPSILON, MAX_AMPLIFICATION,

@@ -8,6 +8,7 @@
 #![allow(dead_code)]
 
 pub mod c_build;
+pub mod elasticity;
 pub mod order;
 pub mod python;
 pub mod quaternion;

@@ -156,28 +156,30 @@ impl<'a, T: Real, const D: usize> FfdBox<'a, T, D> {
     /// a non-finite `param` gives a non-finite point.
     pub fn eval(&self, param: [T; D]) -> [T; D] {
         let mut basis = [[T::ZERO; MAX_DEGREE + 1]; D];
-        for a in 0..D {
-            for (i, b) in basis[a].iter_mut().enumerate().take(self.degree[a] + 1) {
-                *b = bernstein(self.degree[a], i, param[a]);
+        for ((row, &n), &t) in basis.iter_mut().zip(&self.degree).zip(&param) {
+            for (i, b) in row.iter_mut().enumerate().take(n + 1) {
+                *b = bernstein(n, i, t);
             }
         }
         let mut out = [T::ZERO; D];
         let mut ijk = [0usize; D];
         for p in self.control_points {
+            // The product of the axes' basis values at this multi-index, in axis order.
+            let weight = |c: T| {
+                (basis.iter().zip(&ijk)).fold(c, |term, (row, &i)| {
+                    term * row.get(i).copied().unwrap_or(T::ZERO)
+                })
+            };
             for (o, &c) in out.iter_mut().zip(p) {
-                let mut term = c;
-                for a in 0..D {
-                    term *= basis[a][ijk[a]];
-                }
-                *o += term;
+                *o += weight(c);
             }
             // Next multi-index, last axis fastest (the storage order).
-            for a in (0..D).rev() {
-                ijk[a] += 1;
-                if ijk[a] <= self.degree[a] {
+            for (i, &n) in ijk.iter_mut().zip(&self.degree).rev() {
+                *i += 1;
+                if *i <= n {
                     break;
                 }
-                ijk[a] = 0;
+                *i = 0;
             }
         }
         out
@@ -243,8 +245,12 @@ pub fn ffd_displacements<T: Real, const D: usize>(
     check::finite_items("params", params)?;
     super::listed_points_finite(points, nodes)?;
     let eps = T::from_f64(super::SU2_EPS);
+    let x_zero = [T::ZERO; D];
     let su2 = |n: u32, u: [T; D]| {
-        let (x, p) = (moved.eval(u), points[n as usize]);
+        let (x, p) = (
+            moved.eval(u),
+            points.get(n as usize).copied().unwrap_or(x_zero),
+        );
         core::array::from_fn(|a| {
             let v = x[a] - p[a];
             if v.abs() <= eps {

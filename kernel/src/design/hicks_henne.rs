@@ -103,29 +103,33 @@ pub fn hicks_henne<T: Real, const D: usize>(
     check::finite_items("displacements", displacements)?;
     super::listed_points_finite(points, nodes)?;
     // The y increment of listed node p (None: not on the bump's side).
-    let moved = |p: usize| {
+    let moved = |p: usize| -> Option<T> {
+        let ny = normals.get(p)?.get(1).copied()?;
         let on_side = if bump.upper {
-            normals[p][1] > T::ZERO
+            ny > T::ZERO
         } else {
-            normals[p][1] < T::ZERO
+            ny < T::ZERO
         };
-        on_side.then(|| {
-            let f = hicks_henne_bump(points[nodes[p] as usize][0], bump.x_max);
-            let a = if bump.upper {
-                bump.amplitude
-            } else {
-                -bump.amplitude
-            };
-            a * f
-        })
+        if !on_side {
+            return None;
+        }
+        let x = points.get(*nodes.get(p)? as usize)?.first().copied()?;
+        let f = hicks_henne_bump(x, bump.x_max);
+        let a = if bump.upper {
+            bump.amplitude
+        } else {
+            -bump.amplitude
+        };
+        Some(a * f)
     };
-    let overflows = |p: usize| moved(p).is_some_and(|dy| !(displacements[p][1] + dy).is_finite());
-    if (0..nodes.len()).any(overflows) {
+    let y = |d: &[T; D]| d.get(1).copied().unwrap_or(T::ZERO);
+    let overflows = |(p, d): (usize, &[T; D])| moved(p).is_some_and(|dy| !(y(d) + dy).is_finite());
+    if displacements.iter().enumerate().any(overflows) {
         return Err(Error::Overflow { arg: "x_max" });
     }
     for (p, d) in displacements.iter_mut().enumerate() {
-        if let Some(dy) = moved(p) {
-            d[1] += dy;
+        if let (Some(dy), Some(dv)) = (moved(p), d.get_mut(1)) {
+            *dv += dy;
         }
     }
     Ok(())

@@ -28,7 +28,7 @@ use crate::real::Real;
 fn listed_points_finite<T: Real, const D: usize>(points: &[[T; D]], nodes: &[u32]) -> Result<()> {
     match nodes
         .iter()
-        .find(|&&n| !points[n as usize].iter().all(|c| c.is_finite()))
+        .find(|&&n| (points.get(n as usize)).is_some_and(|p| !p.iter().all(|c| c.is_finite())))
     {
         Some(&n) => Err(Error::NonFinite {
             arg: "points",

@@ -27,10 +27,9 @@ fn add_where<T: Real>(degree: [usize; 3], cps: &mut [[T; 3]], ijk: [Option<usize
                     .iter()
                     .zip(&ijk)
                     .all(|(&x, f)| f.is_none_or(|f| f == x));
-                if hit {
-                    let p = &mut cps[flat(degree, [i, j, k])];
-                    for a in 0..3 {
-                        p[a] += m[a];
+                if let (true, Some(p)) = (hit, cps.get_mut(flat(degree, [i, j, k]))) {
+                    for (c, &d) in p.iter_mut().zip(&m) {
+                        *c += d;
                     }
                 }
             }

@@ -38,6 +38,7 @@ mod amg;
 #[path = "../../../ffi/generated/panic_check.rs"]
 mod c_abi;
 mod deformation;
+mod elasticity;
 mod foundation;
 mod order;
 mod plan;
@@ -54,6 +55,7 @@ fn main() -> ! {
     quality::exercise();
     taubin::exercise();
     deformation::exercise();
+    elasticity::exercise();
     slide::exercise();
     plan::exercise();
     order::exercise();

@@ -10,15 +10,16 @@ use crate::report::value_name;
 pub(super) fn check_method(a: &MoveArgs, su2: bool) -> Result<(), CliError> {
     let tfi = matches!(a.method(), Method::Tfi | Method::TfiDisplacement);
     crate::args::check_rbf_args(&a.rbf, a.method() == Method::Rbf)?;
-    if a.stiffness != StiffnessArg::Batina
+    if a.stiffness() != StiffnessArg::Batina
         && (tfi || matches!(a.method(), Method::Idw | Method::Rbf))
     {
         return Err(CliError::Invalid(format!(
-            "--stiffness {} applies to the spring, angle-spring and quaternion methods; --method {} has no springs",
-            value_name(&a.stiffness),
+            "--stiffness {} applies to the spring, angle-spring, quaternion and elasticity methods; --method {} has no springs",
+            value_name(&a.stiffness()),
             value_name(&a.method())
         )));
     }
+    super::elasticity::check_args(a)?;
     if !su2 && !tfi {
         return Err(CliError::NotAvailable {
             feature: "this method on Plot3D grids",

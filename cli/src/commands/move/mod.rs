@@ -6,6 +6,7 @@
 //! the engine's solve, the failure policy, [`outputs`] (staged files), [`report`].
 
 mod checks;
+mod elasticity;
 mod grid;
 mod motion;
 mod outputs;
@@ -117,7 +118,11 @@ fn move_su2(a: &MoveArgs, quiet: bool, split: Option<&dyn Splitter>) -> Result<O
     let input = move_input(a, &mesh, &roles, motion, split)?;
     let how = renumbering(a);
     let spinner = crate::progress::spinner("deforming", quiet);
-    let result = crate::renumber::run_move_renumbered(&input, &roles.slide, a.steps as usize, how);
+    let result = if a.method() == Method::Elasticity {
+        elasticity::run(a, &input).map(|r| (r, crate::renumber::off_report()))
+    } else {
+        crate::renumber::run_move_renumbered(&input, &roles.slide, a.steps as usize, how)
+    };
     spinner.finish_and_clear();
     let (mut result, renumbered) = result.map_err(|e| e.in_file(&a.mesh))?;
     check_converged(a, &result)?;
@@ -187,6 +192,8 @@ fn move_input<'a>(
         Method::AngleDirect => MoveMethod::AngleDirect,
         Method::AngleCg => MoveMethod::AngleCg,
         Method::Rbf => MoveMethod::Rbf(rbf_settings(&a.rbf)),
+        // Not a spring propagation: run by `elasticity::run`, which reads the rest.
+        Method::Elasticity => MoveMethod::Spring,
         Method::Tfi | Method::TfiDisplacement => unreachable_tfi()?,
     };
     let solver = match a.solver {
@@ -211,8 +218,8 @@ fn move_input<'a>(
         idw_exponent: a.idw_exponent,
         idw_fast: a.idw_theta.map(|theta| (theta, a.idw_tolerance)),
         reach: a.reach,
-        stiffness: match a.stiffness {
-            StiffnessArg::Batina => Stiffness::Batina,
+        stiffness: match a.stiffness() {
+            StiffnessArg::Batina | StiffnessArg::Constant => Stiffness::Batina,
             StiffnessArg::WallDistance => Stiffness::WallDistance,
             StiffnessArg::InverseVolume => Stiffness::InverseVolume,
         },

@@ -121,7 +121,7 @@ pub(super) fn move_report(a: &MoveArgs, run: Run<'_>) -> MoveReport {
         stiffness: if spring_free {
             "none".to_string()
         } else {
-            value_name(&a.stiffness)
+            value_name(&a.stiffness())
         },
         steps: a.steps,
         reach: a.reach,
@@ -162,6 +162,8 @@ fn solver_name(a: &MoveArgs, mesh: &Su2Mesh) -> String {
         Method::Idw | Method::Rbf | Method::Tfi | Method::TfiDisplacement => "none".to_string(),
         Method::AngleCg if a.solver == Solver::Amg && a.slide.is_empty() => "amg".to_string(),
         Method::AngleCg => "cg".to_string(),
+        Method::Elasticity if a.solver == Solver::Amg => "amg".to_string(),
+        Method::Elasticity => "cg".to_string(),
         Method::AngleDirect if a.solver == Solver::Jacobi => "jacobi".to_string(),
         Method::AngleDirect if a.solver == Solver::Gs => "gs".to_string(),
         Method::AngleDirect => format!(

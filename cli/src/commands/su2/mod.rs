@@ -45,11 +45,11 @@ const ELASTICITY_ONLY: &[&str] = &[
 
 /// The method when `--method` is not given: SU2_DEF's (finite-element elasticity) once the
 /// tool has it.
-const DEFAULT_METHOD: Option<Method> = None;
+const DEFAULT_METHOD: Option<Method> = Some(Method::Elasticity);
 
 /// Whether `method` is SU2's elasticity (which reads DEFORM_COEFF and the Poisson ratio).
-fn is_elasticity(_method: Method) -> bool {
-    false
+fn is_elasticity(method: Method) -> bool {
+    method == Method::Elasticity
 }
 
 /// `deform su2`.
@@ -168,7 +168,8 @@ fn move_args(a: &Su2Args, config: &Su2Config) -> Result<(MoveArgs, bool), CliErr
     args.markers = design_markers(config)?;
     args.slide = slide;
     args.method = Some(method);
-    args.stiffness = stiffness;
+    args.stiffness = Some(stiffness);
+    args.poisson = poisson_ratio(config, stiffness)?;
     args.steps = steps;
     args.tol = number(config, "DEFORM_LINEAR_SOLVER_ERROR", 1e-10)?;
     args.max_iter = number(config, "DEFORM_LINEAR_SOLVER_ITER", 10_000)?;
@@ -195,7 +196,8 @@ fn move_defaults(mesh: PathBuf, out: PathBuf) -> MoveArgs {
         motions: None,
         method: None,
         solver: Solver::Amg,
-        stiffness: StiffnessArg::Batina,
+        stiffness: None,
+        poisson: 0.3,
         steps: 1,
         tol: 1e-10,
         max_iter: 10_000,
@@ -236,6 +238,24 @@ fn design_markers(config: &Su2Config) -> Result<Vec<String>, CliError> {
     Ok(markers)
 }
 
+/// The Poisson ratio of the elasticity solve as SU2 reads it: DEFORM_POISSONS_RATIO (default
+/// 0.3) for CONSTANT_STIFFNESS; for INVERSE_VOLUME and SOLID_WALL_DISTANCE SU2 sets μ = E and
+/// λ = DEFORM_COEFF · E (default 1e6), which is ν = c / (2 (c + 1)).
+fn poisson_ratio(config: &Su2Config, stiffness: StiffnessArg) -> Result<f64, CliError> {
+    if stiffness == StiffnessArg::Constant {
+        return number(config, "DEFORM_POISSONS_RATIO", 0.3);
+    }
+    let c: f64 = number(config, "DEFORM_COEFF", 1e6)?;
+    if !(c.is_finite() && c > -1.0) {
+        return Err(option_error(
+            config,
+            "DEFORM_COEFF",
+            "must be a number above -1",
+        ));
+    }
+    Ok(c / (2.0 * (c + 1.0)))
+}
+
 /// DEFORM_STIFFNESS_TYPE for `method`: SU2's element stiffness for elasticity, the matching
 /// spring stiffness for the spring and quaternion methods (CONSTANT_STIFFNESS: Batina's springs
 /// unchanged); IDW has none.
@@ -247,6 +267,7 @@ fn stiffness(config: &Su2Config, method: Method) -> Result<StiffnessArg, CliErro
     let s = match kind.as_str() {
         "SOLID_WALL_DISTANCE" | "WALL_DISTANCE" => StiffnessArg::WallDistance,
         "INVERSE_VOLUME" => StiffnessArg::InverseVolume,
+        "CONSTANT_STIFFNESS" if method == Method::Elasticity => StiffnessArg::Constant,
         "CONSTANT_STIFFNESS" => StiffnessArg::Batina,
         other => {
             return Err(option_error(

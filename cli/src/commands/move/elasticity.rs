@@ -1,0 +1,58 @@
+//! `deform move --method elasticity`: its own arguments (--stiffness, --poisson, --steps,
+//! which solvers apply) and the run.
+
+use crate::args::{Method, MoveArgs, Solver, StiffnessArg};
+use crate::engine::{run_elasticity, MoveInput, MoveResult};
+use crate::error::CliError;
+use crate::report::value_name;
+use deform_kernel::elasticity::Modulus;
+
+/// Refuses what elasticity does not take (and `--stiffness constant` elsewhere).
+pub(super) fn check_args(a: &MoveArgs) -> Result<(), CliError> {
+    let elasticity = a.method() == Method::Elasticity;
+    if !elasticity {
+        if a.stiffness == Some(StiffnessArg::Constant) {
+            return Err(CliError::Invalid(format!(
+                "--stiffness constant applies to --method elasticity; --method {} takes batina, wall-distance or inverse-volume",
+                value_name(&a.method())
+            )));
+        }
+        return Ok(());
+    }
+    if a.stiffness() == StiffnessArg::Batina {
+        return Err(CliError::Invalid(
+            "--stiffness batina is a spring stiffness; --method elasticity takes inverse-volume, wall-distance or constant".into(),
+        ));
+    }
+    if !(a.poisson.is_finite() && a.poisson > -1.0 && a.poisson < 0.5) {
+        return Err(CliError::Invalid("--poisson must lie in (-1, 0.5)".into()));
+    }
+    if !a.slide.is_empty() {
+        return Err(CliError::NotAvailable {
+            feature: "--slide with --method elasticity",
+            needs:
+                "a spring or quaternion method (sliding nodes are not in the elasticity solve yet)",
+        });
+    }
+    if a.reach.is_some() || !matches!(a.solver, Solver::Amg | Solver::Cg) {
+        return Err(CliError::Invalid(format!(
+            "--method elasticity takes --solver amg or cg{}",
+            if a.reach.is_some() {
+                " and no --reach"
+            } else {
+                ""
+            }
+        )));
+    }
+    Ok(())
+}
+
+/// Runs the elasticity method with the command line's modulus, Poisson ratio and steps.
+pub(super) fn run(a: &MoveArgs, input: &MoveInput<'_>) -> Result<MoveResult, CliError> {
+    let modulus = match a.stiffness() {
+        StiffnessArg::WallDistance => Modulus::WallDistance,
+        StiffnessArg::Constant => Modulus::Constant,
+        StiffnessArg::InverseVolume | StiffnessArg::Batina => Modulus::InverseVolume,
+    };
+    run_elasticity(input, modulus, a.poisson, a.steps as usize)
+}

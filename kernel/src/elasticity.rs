@@ -1,0 +1,64 @@
+//! Mesh deformation by linear elasticity, as SU2_DEF does it: the mesh is an isotropic
+//! elastic solid (plane strain in 2D) whose boundary displacements are prescribed, and the
+//! interior follows by solving `K u = 0` at the free nodes.
+//!
+//! - **Elements**: P1 triangles and tetrahedra, Q1 quadrilaterals and hexahedra (2×2 and
+//!   2×2×2 Gauss points), prisms (3×2) and pyramids (the collapsed hexahedron, 2×2×2), the
+//!   kernel's [`CellKind`](crate::CellKind)s in VTK node order; every element passes the patch
+//!   test (a linear displacement field is reproduced to rounding).
+//! - **Young's modulus** per cell ([`Modulus`], SU2's `DEFORM_STIFFNESS_TYPE`): constant,
+//!   inverse volume or inverse wall distance ([`cell_moduli`]); Poisson ratio `ν ∈ (−1, ½)`.
+//! - **Assembly** ([`assemble`]) into `D×D` blocks on the graph of node pairs that share a
+//!   cell ([`elasticity_graph`]): one block per node, one per directed edge, in cell order
+//!   (the same bits everywhere; block `i → j` is exactly the transpose of `j → i`).
+//! - **Solve** ([`ElasticSystem`]): Dirichlet data eliminated symmetrically, conjugate
+//!   gradients of the kernel's Krylov core with exact inner products, preconditioned by the
+//!   node blocks or by the scalar smoothed-aggregation V-cycle on every displacement
+//!   component ([`ElasticSystem::solve_amg`]).
+//! - **Load increments** ([`deform_incremental`], SU2's `DEFORM_NONLINEAR_ITER`): the
+//!   boundary displacement in `N` equal steps, the moduli and stiffness recomputed on the
+//!   updated mesh before each.
+
+mod assemble;
+mod element;
+mod increments;
+mod modulus;
+mod system;
+
+pub use assemble::{assemble, elasticity_graph, elasticity_graph_len, Block};
+pub use increments::{deform_incremental, IncrementBuffers, IncrementReport, Increments};
+pub use modulus::{cell_moduli, Modulus};
+pub use system::{elastic_amg_scratch_len, elastic_scratch_len, ElasticSystem};
+
+use crate::cells::Cells;
+use crate::check;
+use crate::error::{Error, Result};
+use crate::real::Real;
+
+/// `points` fit `cells` (length, finite) and every cell is a volume element of dimension `D`.
+fn check_mesh<T: Real, const D: usize>(cells: &Cells<'_>, points: &[[T; D]]) -> Result<()> {
+    check::len("points", points.len(), cells.node_count())?;
+    check::finite_items("points", points)?;
+    for (cell, (kind, _)) in cells.iter().enumerate() {
+        if kind.dimension() != D {
+            return Err(Error::CellDimension {
+                cell,
+                kind: kind.vtk_code(),
+                dimension: D,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The Poisson ratio lies in `(−1, ½)` (the range where the material is stable).
+fn check_poisson<T: Real>(nu: T) -> Result<()> {
+    if nu.is_finite() && nu > -T::ONE && nu < T::HALF {
+        Ok(())
+    } else {
+        Err(Error::InvalidParameter {
+            arg: "poisson",
+            reason: "must lie in (-1, 1/2)",
+        })
+    }
+}

@@ -1,0 +1,201 @@
+//! Panic-check calls for linear elasticity (`deform_kernel::elasticity`): the graph, the
+//! moduli (every choice), the assembly, the system, its unconstrained product, both solves
+//! (block Jacobi and the scalar multigrid per component) and the increments, for `f32` and
+//! `f64` in 2D and 3D.
+//!
+//! The meshes are opaque: a unit square of two triangles and a quad, a cube of a hexahedron
+//! (small enough for stack buffers).
+
+use core::hint::black_box;
+
+use deform_kernel::elasticity::{
+    assemble, cell_moduli, deform_incremental, elastic_amg_scratch_len, elastic_scratch_len,
+    elasticity_graph, elasticity_graph_len, ElasticSystem, IncrementBuffers, Increments, Modulus,
+};
+use deform_kernel::spring::{AmgHierarchy, AmgOptions, SolveOptions, SpringSystem};
+use deform_kernel::{Cells, Graph, Real};
+
+/// Most nodes of the meshes.
+const N: usize = 8;
+/// Most directed edges (the hexahedron's 28 pairs, both ways).
+const E: usize = 56;
+
+/// Calls every elasticity entry point with opaque inputs.
+pub fn exercise() {
+    let square = bb(Mesh {
+        offsets: &[0, 3, 6],
+        nodes: &[0, 1, 2, 0, 2, 3],
+        kinds: &[5, 5],
+        nodes_count: 4,
+    });
+    let cube = bb(Mesh {
+        offsets: &[0, 8],
+        nodes: &[0, 1, 2, 3, 4, 5, 6, 7],
+        kinds: &[12],
+        nodes_count: 8,
+    });
+    run::<f32, 2>(&square);
+    run::<f64, 3>(&cube);
+}
+
+#[derive(Clone, Copy)]
+struct Mesh {
+    offsets: &'static [u32],
+    nodes: &'static [u32],
+    kinds: &'static [u8],
+    nodes_count: usize,
+}
+
+#[inline(always)]
+fn bb<T>(x: T) -> T {
+    black_box(x)
+}
+
+#[inline(always)]
+fn keep<T>(x: T) {
+    black_box(x);
+}
+
+#[inline(never)]
+fn run<T: Real, const D: usize>(m: &Mesh) {
+    let Ok(cells) = Cells::new(m.nodes_count, m.offsets, m.nodes, m.kinds) else {
+        return;
+    };
+    let n = m.nodes_count;
+    keep(elasticity_graph_len(&cells));
+    let (mut offsets, mut targets) = ([0u32; N + 1], [0u32; E]);
+    let o = offsets.get_mut(..n + 1).unwrap_or(&mut []);
+    let Ok(used) = elasticity_graph(&cells, bb(o), bb(&mut targets[..])) else {
+        return;
+    };
+    let (o, t) = (
+        offsets.get(..n + 1).unwrap_or(&[]),
+        targets.get(..used).unwrap_or(&[]),
+    );
+    let Ok(graph) = Graph::new(o, t) else {
+        return;
+    };
+    let points: [[T; D]; N] = bb([[T::HALF; D]; N]);
+    let points = points.get(..n).unwrap_or(&[]);
+    let wall: [T; N] = bb([T::ONE; N]);
+    let mut moduli = [T::ZERO; 2];
+    let moduli = moduli.get_mut(..cells.len()).unwrap_or(&mut []);
+    for modulus in bb([
+        Modulus::Constant,
+        Modulus::InverseVolume,
+        Modulus::WallDistance,
+    ]) {
+        keep(cell_moduli(
+            &cells,
+            points,
+            modulus,
+            wall.get(..n),
+            bb(&mut *moduli),
+        ));
+    }
+    let mut diag = [[[T::ZERO; D]; D]; N];
+    let mut off = [[[T::ZERO; D]; D]; E];
+    let (diag, off) = (
+        diag.get_mut(..n).unwrap_or(&mut []),
+        off.get_mut(..used).unwrap_or(&mut []),
+    );
+    keep(assemble(
+        &cells,
+        points,
+        &graph,
+        moduli,
+        bb(T::from_f64(0.3)),
+        bb(&mut *diag),
+        bb(&mut *off),
+    ));
+    let fixed: [u8; N] = bb([1, 0, 1, 0, 1, 0, 1, 0]);
+    let fixed = fixed.get(..n).unwrap_or(&[]);
+    solves(&graph, diag, off, fixed);
+    let mut p = [[T::HALF; D]; N];
+    let d: [[T; D]; N] = bb([[T::ONE; D]; N]);
+    let (mut cur, mut step) = ([[T::ZERO; D]; N], [[T::ZERO; D]; N]);
+    let mut cg = [[T::ZERO; D]; 4 * N];
+    let params = bb(Increments {
+        modulus: Modulus::InverseVolume,
+        wall_distance: None,
+        poisson: T::from_f64(0.3),
+        steps: 2,
+    });
+    let buffers = IncrementBuffers {
+        moduli,
+        diag,
+        off,
+        current: cur.get_mut(..n).unwrap_or(&mut []),
+        step: step.get_mut(..n).unwrap_or(&mut []),
+    };
+    let opts = bb(SolveOptions::<T>::default());
+    let p = p.get_mut(..n).unwrap_or(&mut []);
+    keep(deform_incremental(
+        &cells,
+        &graph,
+        fixed,
+        &params,
+        bb(p),
+        d.get(..n).unwrap_or(&[]),
+        buffers,
+        |s, u| s.solve(u, &opts, &mut cg[..]),
+    ));
+}
+
+#[inline(never)]
+fn solves<T: Real, const D: usize>(
+    graph: &Graph<'_>,
+    diag: &[[[T; D]; D]],
+    off: &[[[T; D]; D]],
+    fixed: &[u8],
+) {
+    let Ok(sys) = ElasticSystem::new(*graph, diag, off, fixed) else {
+        return;
+    };
+    let sys = bb(sys);
+    let n = sys.node_count();
+    let x: [[T; D]; N] = bb([[T::HALF; D]; N]);
+    let mut y = [[T::ZERO; D]; N];
+    keep(sys.multiply(
+        x.get(..n).unwrap_or(&[]),
+        bb(y.get_mut(..n).unwrap_or(&mut [])),
+    ));
+    let opts = bb(SolveOptions::<T>::default());
+    let mut scratch = [[T::ZERO; D]; 8 * N];
+    let mut u = x;
+    keep(elastic_scratch_len(bb(n)));
+    keep(sys.solve(
+        bb(u.get_mut(..n).unwrap_or(&mut [])),
+        &opts,
+        bb(&mut scratch[..]),
+    ));
+    let mut w = [T::ZERO; E];
+    let w = w.get_mut(..graph.edge_count()).unwrap_or(&mut []);
+    keep(sys.amg_weights(bb(&mut *w)));
+    let mut anchor = [0u32; N];
+    let Ok(spring) = SpringSystem::new(*graph, w, fixed, &mut anchor[..]) else {
+        return;
+    };
+    let amg = bb(AmgOptions {
+        max_coarse: 2,
+        ..AmgOptions::<T>::default()
+    });
+    let (mut work, mut index, mut values) = ([0u32; 4 * (N + E) + 64], [0u32; 512], [T::ZERO; 512]);
+    let Ok(h) = AmgHierarchy::setup(
+        &spring,
+        &amg,
+        &mut work[..],
+        &mut index[..],
+        &mut values[..],
+    ) else {
+        return;
+    };
+    keep(elastic_amg_scratch_len(bb(n), h.coarse_unknowns()));
+    keep(sys.solve_amg(
+        &spring,
+        &h,
+        bb(u.get_mut(..n).unwrap_or(&mut [])),
+        &opts,
+        bb(&mut scratch[..]),
+    ));
+}
