@@ -54,7 +54,10 @@ fuzz_target!(|inp: Input| {
         Err(_) => assert!(d.iter().flatten().all(|&v| v == 7.0)),
     }
     let t = [0.25, -0.5, 1.0];
-    let moved: Vec<[f64; 3]> = cps.iter().map(|p| [p[0] + t[0], p[1] + t[1], p[2] + t[2]]).collect();
+    let moved: Vec<[f64; 3]> = cps
+        .iter()
+        .map(|p| [p[0] + t[0], p[1] + t[1], p[2] + t[2]])
+        .collect();
     let shifted = FfdBox::new(degree, &moved).unwrap();
     if ffd_displacements_between(&ffd, &shifted, &params, &mut d).is_ok() {
         for (u, v) in params.iter().zip(&d) {
@@ -67,13 +70,20 @@ fuzz_target!(|inp: Input| {
         }
     }
     // SU2-style displacements against arbitrary mesh points.
-    let nodes: Vec<u32> = inp.nodes.iter().map(|&n| u32::from(n % 40)).take(params.len()).collect();
+    let nodes: Vec<u32> = inp
+        .nodes
+        .iter()
+        .map(|&n| u32::from(n % 40))
+        .take(params.len())
+        .collect();
     let mut d2 = vec![[7.0; 3]; nodes.len()];
     if ffd_displacements(&ffd, &moved, &nodes, &params[..nodes.len()], &mut d2).is_err() {
         assert!(d2.iter().flatten().all(|&v| v == 7.0));
     }
     // Design variables: errors change nothing.
-    let ijk = inp.index.map(|i| if i < 0 { None } else { Some(i as usize % 8) });
+    let ijk = inp
+        .index
+        .map(|i| if i < 0 { None } else { Some(i as usize % 8) });
     let mut c = cps.clone();
     if ffd_control_point(degree, &mut c, ijk, [raw[1], 0.5, raw[2]]).is_err() {
         assert_eq!(c, cps);
@@ -88,8 +98,15 @@ fuzz_target!(|inp: Input| {
         assert_eq!(c, cps);
     }
     // Hicks–Henne with arbitrary parameters on the control points as a point cloud.
-    let normals: Vec<[f64; 3]> = nodes.iter().map(|&n| [0.0, f64::from(n) - 20.0, 0.0]).collect();
-    let bump = HicksHenne { upper: inp.upper, x_max: raw[2], amplitude: raw[3] };
+    let normals: Vec<[f64; 3]> = nodes
+        .iter()
+        .map(|&n| [0.0, f64::from(n) - 20.0, 0.0])
+        .collect();
+    let bump = HicksHenne {
+        upper: inp.upper,
+        x_max: raw[2],
+        amplitude: raw[3],
+    };
     let mut d3 = vec![[7.0; 3]; nodes.len()];
     let cloud: Vec<[f64; 3]> = (0..40).map(|n| cps[n % cps.len()]).collect();
     if hicks_henne(&cloud, &nodes, &normals, bump, &mut d3).is_err() {

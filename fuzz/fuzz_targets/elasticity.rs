@@ -65,9 +65,16 @@ fuzz_target!(|inp: Input| {
     let wall: Vec<f64> = (0..n)
         .map(|i| f64::from(inp.wall.get(i).copied().unwrap_or(1)) / 16.0)
         .collect();
-    let modulus = [Modulus::Constant, Modulus::InverseVolume, Modulus::WallDistance]
-        [usize::from(inp.modulus % 3)];
-    let poisson = if inp.poisson == i8::MIN { f64::NAN } else { f64::from(inp.poisson) / 200.0 };
+    let modulus = [
+        Modulus::Constant,
+        Modulus::InverseVolume,
+        Modulus::WallDistance,
+    ][usize::from(inp.modulus % 3)];
+    let poisson = if inp.poisson == i8::MIN {
+        f64::NAN
+    } else {
+        f64::from(inp.poisson) / 200.0
+    };
     let params = Increments {
         modulus,
         wall_distance: (inp.modulus & 4 == 0).then_some(&wall[..]),
@@ -85,11 +92,21 @@ fuzz_target!(|inp: Input| {
         current: &mut cur,
         step: &mut step,
     };
-    let options = SolveOptions { max_iterations: 200, ..SolveOptions::default() };
+    let options = SolveOptions {
+        max_iterations: 200,
+        ..SolveOptions::default()
+    };
     let mut moved = points.clone();
-    let r = deform_incremental(&cells, &graph, &fixed, &params, &mut moved, &disp, buffers, |s, u| {
-        s.solve(u, &options, &mut cg)
-    });
+    let r = deform_incremental(
+        &cells,
+        &graph,
+        &fixed,
+        &params,
+        &mut moved,
+        &disp,
+        buffers,
+        |s, u| s.solve(u, &options, &mut cg),
+    );
     match r {
         Ok(_) => {
             assert!(moved.iter().flatten().all(|x| x.is_finite()));
@@ -101,8 +118,16 @@ fuzz_target!(|inp: Input| {
             }
         }
         Err(_) => assert_eq!(
-            moved.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>(),
-            points.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>()
+            moved
+                .iter()
+                .flatten()
+                .map(|x| x.to_bits())
+                .collect::<Vec<_>>(),
+            points
+                .iter()
+                .flatten()
+                .map(|x| x.to_bits())
+                .collect::<Vec<_>>()
         ),
     }
 });

@@ -9,13 +9,13 @@
 #![no_main]
 
 use arbitrary::Arbitrary;
-use deform_kernel::quaternion::{
-    deform_spring_scratch_len, deform_spring_with, propagate_spring_with_scratch_len,
-    BoundaryMotion, RotationSource,
-};
 use deform_kernel::plan::{
     Plan, PlanCounts, PlanMethod, PlanMotion, PlanSizes, PlanSolver, PlanSpec, PlanStiffness,
     PlanWork, Start,
+};
+use deform_kernel::quaternion::{
+    deform_spring_scratch_len, deform_spring_with, propagate_spring_with_scratch_len,
+    BoundaryMotion, RotationSource,
 };
 use deform_kernel::spring::{
     batina_stiffness, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, LinearMethod,

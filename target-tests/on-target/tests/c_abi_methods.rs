@@ -8,9 +8,9 @@
 
 use deform_on_target as _;
 
+use deform_kernel::quality::cell_measures;
 use deform_kernel::quaternion::RotationSource;
 use deform_kernel::quaternion::{deform_idw, deform_idw_scratch_len, BoundaryMotion};
-use deform_kernel::quality::cell_measures;
 use deform_kernel::spring::{
     batina_stiffness, LinearMethod, Preconditioner, SolveOptions, SpringSystem,
 };

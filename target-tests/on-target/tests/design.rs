@@ -46,7 +46,10 @@ fn hicks_henne_side<T: Real>() {
     hicks_henne(&points, &[0, 1, 2], &normals, bump, &mut d).unwrap();
     defmt::assert!(d[0] == [T::ZERO; 2] && d[2] == [T::ZERO; 2]);
     defmt::assert!((d[1][1] + f(0.01) * peak).abs() <= T::EPSILON);
-    let bad = HicksHenne { x_max: T::ONE, ..bump };
+    let bad = HicksHenne {
+        x_max: T::ONE,
+        ..bump
+    };
     let before = d;
     defmt::assert!(matches!(
         hicks_henne(&points, &[0, 1, 2], &normals, bad, &mut d),
@@ -59,7 +62,11 @@ fn ffd_lattice<T: Real>() {
     let f = T::from_f64;
     let cp = lattice::<T>();
     let ffd = FfdBox::new([3, 2, 1], &cp).unwrap();
-    let params = [[f(0.2), f(0.7), f(0.5)], [T::ONE, T::ZERO, T::ONE], [f(0.9), f(0.1), f(0.3)]];
+    let params = [
+        [f(0.2), f(0.7), f(0.5)],
+        [T::ONE, T::ZERO, T::ONE],
+        [f(0.9), f(0.1), f(0.3)],
+    ];
     let mut x = [[T::ZERO; 3]; 3];
     ffd_eval(&ffd, &params, &mut x).unwrap();
     for (x, u) in x.iter().zip(&params) {
@@ -68,8 +75,13 @@ fn ffd_lattice<T: Real>() {
         defmt::assert!((x[2] - (u[2] - T::HALF)).abs() <= f(8.0) * T::EPSILON);
     }
     let mut moved = cp;
-    ffd_control_point([3, 2, 1], &mut moved, [Some(1), None, Some(0)], [T::ZERO, f(0.1), T::ZERO])
-        .unwrap();
+    ffd_control_point(
+        [3, 2, 1],
+        &mut moved,
+        [Some(1), None, Some(0)],
+        [T::ZERO, f(0.1), T::ZERO],
+    )
+    .unwrap();
     ffd_thickness([3, 2, 1], &mut moved, 2, 1, f(0.05)).unwrap();
     let changed = cp.iter().zip(&moved).filter(|(a, b)| a != b).count();
     defmt::assert!(changed == 3 + 2);

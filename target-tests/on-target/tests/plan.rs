@@ -11,12 +11,12 @@
 
 use deform_on_target as _;
 
-use deform_kernel::quaternion::{
-    deform_spring_scratch_len, deform_spring_with, BoundaryMotion, RotationSource,
-};
 use deform_kernel::plan::{
     Plan, PlanCounts, PlanMethod, PlanMotion, PlanSizes, PlanSolver, PlanSpec, PlanStiffness,
     PlanStorage, Start,
+};
+use deform_kernel::quaternion::{
+    deform_spring_scratch_len, deform_spring_with, BoundaryMotion, RotationSource,
 };
 use deform_kernel::spring::{
     batina_stiffness, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, LinearMethod,

@@ -10,11 +10,11 @@
 use core::hint::black_box;
 
 use deform_kernel::cells::Cells;
-use deform_kernel::quaternion::RotationSource;
 use deform_kernel::plan::{
     Plan, PlanCounts, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanStorage,
     PlanWork, Start,
 };
+use deform_kernel::quaternion::RotationSource;
 use deform_kernel::spring::{AmgOptions, LinearMethod, Preconditioner, SolveOptions};
 use deform_kernel::{Graph, Quat, Real};
 
