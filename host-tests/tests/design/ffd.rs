@@ -77,7 +77,10 @@ fn numpy_eval<const D: usize>(degree: [usize; D], cps: &[[f64; D]], uvw: &[[f64;
     text.push('\n');
     let dir = std::env::temp_dir().join(format!("dk_design_ffd_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join(format!("ffd_{D}_{:?}.txt", degree));
+    // One file per call: tests run in parallel threads of one process.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let file = dir.join(format!("ffd_{D}_{:?}_{call}.txt", degree));
     std::fs::write(&file, text).unwrap();
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/design/ref_design.py");
     let out = support::python::run_script(&script, &["ffd", file.to_str().unwrap()]);

@@ -18,7 +18,10 @@ fn numpy_bumps(x_max: f64, xs: &[f64]) -> Vec<f64> {
     );
     let dir = std::env::temp_dir().join(format!("dk_design_hh_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join(format!("hh_{x_max}.txt"));
+    // One file per call: tests run in parallel threads of one process.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let file = dir.join(format!("hh_{x_max}_{call}.txt"));
     std::fs::write(&file, text).unwrap();
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/design/ref_design.py");
     let out = support::python::run_script(&script, &["hh", file.to_str().unwrap()]);

@@ -38,7 +38,10 @@ fn reference<const D: usize>(
     }
     let dir = std::env::temp_dir().join(format!("deform-elasticity-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let input = dir.join(format!("mesh{D}-{}.txt", m.kinds[0]));
+    // One file per call: tests run in parallel threads of one process.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let input = dir.join(format!("mesh{D}-{}-{call}.txt", m.kinds[0]));
     std::fs::write(&input, s).unwrap();
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/elasticity/ref_skfem.py");
     let out = run_script(&script, &[input.to_str().unwrap()]);

@@ -48,7 +48,13 @@ fn reference<const D: usize>(
     for p in &case.points {
         row(&mut text, p);
     }
-    let file = std::env::temp_dir().join(format!("dk_rbf_{name}_{D}_{}.txt", std::process::id()));
+    // One file per call: tests run in parallel threads of one process.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let file = std::env::temp_dir().join(format!(
+        "dk_rbf_{name}_{D}_{}_{call}.txt",
+        std::process::id()
+    ));
     std::fs::write(&file, text).unwrap();
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/rbf/ref_rbf.py");
     let out = run_script(&script, &[file.to_str().unwrap()]);
