@@ -17,7 +17,7 @@ pub enum RbfFunction {
 }
 
 /// The settings of an RBF move (`MoveMethod::Rbf`); distances in mesh units, `None` for the
-/// defaults [`move_rbf`] derives from the mesh.
+/// defaults `move_rbf` derives from the mesh.
 #[derive(Clone, Copy, Debug)]
 pub struct RbfSettings {
     /// The radial function.
