@@ -158,16 +158,20 @@ fn relative<const D: usize>(
     pts: &[[f64; D]],
     negative: &[bool],
 ) -> Result<Relative, CliError> {
-    use deform_kernel::quality::{cell_measures, min_corner_jacobians};
     let eval = |p: &[[f64; D]]| -> Result<Relative, CliError> {
         let mut r = Relative {
             measure: vec![0.0; view.len()],
             scaled: vec![0.0; view.len()],
             corner: vec![0.0; view.len()],
         };
-        cell_measures(view, p, &mut r.measure).map_err(kernel("quality"))?;
-        min_corner_jacobians(view, p, true, &mut r.scaled).map_err(kernel("quality"))?;
-        min_corner_jacobians(view, p, false, &mut r.corner).map_err(kernel("quality"))?;
+        deform_kernel::quality::cell_qualities(
+            view,
+            p,
+            &mut r.measure,
+            &mut r.corner,
+            &mut r.scaled,
+        )
+        .map_err(kernel("quality"))?;
         Ok(r)
     };
     let mut out = eval(pts)?;

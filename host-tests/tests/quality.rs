@@ -11,8 +11,8 @@
 
 use deform_host_tests::quality_ref;
 use deform_kernel::quality::{
-    cell_measures, cell_quality, compare, folded_cells, inverted_cells, min_corner_jacobians,
-    wall_angle_change, wall_angle_scratch_len, Wall,
+    cell_measures, cell_qualities, cell_quality, compare, folded_cells, inverted_cells,
+    min_corner_jacobians, wall_angle_change, wall_angle_scratch_len, Wall,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, CellKind, Cells, Error, Graph};
 use deform_meshgen::{
@@ -56,6 +56,14 @@ fn parity<const D: usize>(m: &Mesh<D>, p: &[[f64; D]], what: &str) {
     cell_measures(&cells, p, &mut meas).unwrap();
     min_corner_jacobians(&cells, p, false, &mut jac).unwrap();
     min_corner_jacobians(&cells, p, true, &mut sj).unwrap();
+    // The one-pass form gives the same bits.
+    let (mut m1, mut j1, mut s1) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    cell_qualities(&cells, p, &mut m1, &mut j1, &mut s1).unwrap();
+    assert_eq!(
+        (&m1, &j1, &s1),
+        (&meas, &jac, &sj),
+        "{what}: cell_qualities"
+    );
     let l = list(m);
     let rp = pts(p);
     let rm = quality_ref::measures(&l, &rp);
@@ -650,6 +658,16 @@ fn errors_leave_buffers_untouched() {
         Err(Error::LengthMismatch { arg: "out", .. })
     ));
     assert!(small.iter().all(|&x| x == sentinel));
+    // One pass of three outputs: a short one is named and nothing is written.
+    let (mut a, mut b) = (vec![sentinel; n], vec![sentinel; n]);
+    assert!(matches!(
+        cell_qualities(&cells, &m.points, &mut a, &mut b, &mut small),
+        Err(Error::LengthMismatch {
+            arg: "min_scaled_jacobian",
+            ..
+        })
+    ));
+    assert!(a.iter().chain(&b).chain(&small).all(|&x| x == sentinel));
     // Non-finite coordinates, named by argument and node.
     let mut bad = m.points.clone();
     bad[17][1] = f64::INFINITY;

@@ -171,6 +171,40 @@ pub fn min_corner_jacobians<T: Real, const D: usize>(
     Ok(())
 }
 
+/// Every cell's signed measure, smallest corner Jacobian and smallest scaled corner Jacobian
+/// in one pass: the values of [`cell_measures`] and [`min_corner_jacobians`] (both kinds),
+/// each cell evaluated once.
+///
+/// # Errors
+/// As [`cell_measures`]; any output of the wrong length ([`Error::LengthMismatch`]). Nothing
+/// is written on error.
+pub fn cell_qualities<T: Real, const D: usize>(
+    cells: &Cells<'_>,
+    points: &[[T; D]],
+    measure: &mut [T],
+    min_jacobian: &mut [T],
+    min_scaled_jacobian: &mut [T],
+) -> Result<()> {
+    check_cells(cells, "points", points)?;
+    check::len("measure", measure.len(), cells.len())?;
+    check::len("min_jacobian", min_jacobian.len(), cells.len())?;
+    check::len(
+        "min_scaled_jacobian",
+        min_scaled_jacobian.len(),
+        cells.len(),
+    )?;
+    let outs = measure
+        .iter_mut()
+        .zip(min_jacobian.iter_mut())
+        .zip(min_scaled_jacobian.iter_mut());
+    for (((m, j), s), q) in outs.zip(each_cell(cells, points)) {
+        *m = q.measure;
+        *j = q.min_jacobian;
+        *s = q.min_scaled_jacobian;
+    }
+    Ok(())
+}
+
 /// `true` when the measure changed sign (a positive measure became `≤ 0`, a negative one
 /// `≥ 0`). Cells with zero undeformed measure are never counted.
 #[inline]
