@@ -13,7 +13,9 @@ mod smooth;
 use numpy::prelude::*;
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::create_exception;
-use pyo3::exceptions::PyValueError;
+use deform_cli::error::CliError;
+use deform_cli::formats::CellList;
+use pyo3::exceptions::{PyNotImplementedError, PyValueError};
 use pyo3::prelude::*;
 
 create_exception!(
@@ -70,21 +72,34 @@ pub(crate) fn kernel_error(context: &str, e: deform_kernel::Error) -> PyErr {
     err
 }
 
-/// The kernel's cell arrays, borrowed from numpy.
-pub(crate) struct CellArrays<'py> {
-    offsets: PyReadonlyArray1<'py, u32>,
-    nodes: PyReadonlyArray1<'py, u32>,
-    kinds: PyReadonlyArray1<'py, u8>,
+/// Cells in the kernel's CSR form, borrowed from numpy: `(offsets, nodes, kinds)`.
+pub(crate) type Csr<'py> = (
+    PyReadonlyArray1<'py, u32>,
+    PyReadonlyArray1<'py, u32>,
+    PyReadonlyArray1<'py, u8>,
+);
+
+/// An owned copy of CSR cells (so the work can run without the GIL).
+pub(crate) fn cell_list((offsets, nodes, kinds): &Csr<'_>) -> PyResult<CellList> {
+    Ok(CellList {
+        offsets: offsets.as_slice()?.to_vec(),
+        nodes: nodes.as_slice()?.to_vec(),
+        kinds: kinds.as_slice()?.to_vec(),
+    })
 }
 
-impl CellArrays<'_> {
-    /// Owned copies (so the solve can run without the GIL).
-    pub(crate) fn to_vecs(&self) -> PyResult<(Vec<u32>, Vec<u32>, Vec<u8>)> {
-        Ok((
-            self.offsets.as_slice()?.to_vec(),
-            self.nodes.as_slice()?.to_vec(),
-            self.kinds.as_slice()?.to_vec(),
-        ))
+/// An error of the tool's engine as a Python exception: kernel errors as `KernelError` (with
+/// the kernel's variant, argument and position), unconverged solves as `KernelError`, inputs
+/// that do not fit together as `ValueError`, a missing feature as `NotImplementedError`.
+pub(crate) fn cli_error(e: CliError) -> PyErr {
+    match e {
+        CliError::Kernel { context, source } => kernel_error(&context, source),
+        CliError::Invalid(m) => PyValueError::new_err(m),
+        CliError::NotAvailable { feature, needs } => {
+            PyNotImplementedError::new_err(format!("{feature} needs {needs}"))
+        }
+        e @ (CliError::Unconverged(_) | CliError::Folded(_)) => KernelError::new_err(e.to_string()),
+        e => PyValueError::new_err(e.to_string()),
     }
 }
 
