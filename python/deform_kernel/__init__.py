@@ -11,12 +11,17 @@ are new arrays, bit-identical to the ``deform move`` tool on the same input.
 from ._cells import cells_from_blocks, normalise_cells
 from ._motion import Displacement, Rotation, Translation, deform, quality
 from ._native import KernelError
-from ._smooth import smooth_structured
+from ._plan import Plan
+from ._read import Grid, Mesh, read
+from ._smooth import smooth_graph, smooth_structured
 from ._meshio import boundary_nodes, from_meshio, to_meshio
 
 __all__ = [
     "Displacement",
+    "Grid",
     "KernelError",
+    "Mesh",
+    "Plan",
     "Rotation",
     "Translation",
     "boundary_nodes",
@@ -25,6 +30,8 @@ __all__ = [
     "from_meshio",
     "normalise_cells",
     "quality",
+    "read",
+    "smooth_graph",
     "smooth_structured",
     "to_meshio",
 ]

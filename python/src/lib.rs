@@ -7,7 +7,9 @@
 //! and, where the kernel names them, the argument (`arg`) and index (`position`).
 
 mod motion;
+mod plan;
 mod quality;
+mod read;
 mod smooth;
 
 use numpy::prelude::*;
@@ -103,6 +105,16 @@ pub(crate) fn cli_error(e: CliError) -> PyErr {
     }
 }
 
+/// The edge graph of `cells` (no diagonals) as owned CSR `(offsets, targets)`.
+pub(crate) fn edge_graph(cells: &deform_kernel::Cells<'_>) -> Result<(Vec<u32>, Vec<u32>), deform_kernel::Error> {
+    let n = cells.node_count();
+    let mut offsets = vec![0u32; n + 1];
+    let mut targets = vec![0u32; deform_kernel::graph_from_cells_len(cells, false)];
+    let used = deform_kernel::graph_from_cells(cells, false, &mut offsets, &mut targets)?;
+    targets.truncate(used);
+    Ok((offsets, targets))
+}
+
 /// Row-major `(n, d)` points as `[f64; D]` rows.
 pub(crate) fn rows<const D: usize>(flat: &[f64]) -> Vec<[f64; D]> {
     flat.chunks_exact(D)
@@ -110,14 +122,14 @@ pub(crate) fn rows<const D: usize>(flat: &[f64]) -> Vec<[f64; D]> {
         .collect()
 }
 
-/// `[f64; D]` rows as a new `(n, D)` numpy array.
-pub(crate) fn to_numpy<'py, const D: usize>(
-    py: Python<'py>,
-    rows: &[[f64; D]],
-) -> PyResult<Bound<'py, PyAny>> {
-    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
-    Ok(PyArray1::from_vec(py, flat)
-        .reshape([rows.len(), D])?
+/// `[f64; D]` rows as an `(n, D)` numpy array that takes over the vector's buffer (no copy).
+pub(crate) fn to_numpy<const D: usize>(
+    py: Python<'_>,
+    rows: Vec<[f64; D]>,
+) -> PyResult<Bound<'_, PyAny>> {
+    let n = rows.len();
+    Ok(PyArray1::from_vec(py, rows.into_flattened())
+        .reshape([n, D])?
         .into_any())
 }
 
@@ -127,5 +139,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(motion::move_points, m)?)?;
     m.add_function(wrap_pyfunction!(quality::cell_quality, m)?)?;
     m.add_function(wrap_pyfunction!(smooth::smooth_block, m)?)?;
+    m.add_function(wrap_pyfunction!(smooth::smooth_mesh_graph, m)?)?;
+    m.add_function(wrap_pyfunction!(read::read_su2, m)?)?;
+    m.add_function(wrap_pyfunction!(read::read_plot3d, m)?)?;
+    m.add_class::<plan::NativePlan>()?;
     Ok(())
 }
