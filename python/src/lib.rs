@@ -12,11 +12,11 @@ mod quality;
 mod read;
 mod smooth;
 
+use deform_cli::error::CliError;
+use deform_cli::formats::CellList;
 use numpy::prelude::*;
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::create_exception;
-use deform_cli::error::CliError;
-use deform_cli::formats::CellList;
 use pyo3::exceptions::{PyNotImplementedError, PyValueError};
 use pyo3::prelude::*;
 
@@ -106,7 +106,9 @@ pub(crate) fn cli_error(e: CliError) -> PyErr {
 }
 
 /// The edge graph of `cells` (no diagonals) as owned CSR `(offsets, targets)`.
-pub(crate) fn edge_graph(cells: &deform_kernel::Cells<'_>) -> Result<(Vec<u32>, Vec<u32>), deform_kernel::Error> {
+pub(crate) fn edge_graph(
+    cells: &deform_kernel::Cells<'_>,
+) -> Result<(Vec<u32>, Vec<u32>), deform_kernel::Error> {
     let n = cells.node_count();
     let mut offsets = vec![0u32; n + 1];
     let mut targets = vec![0u32; deform_kernel::graph_from_cells_len(cells, false)];

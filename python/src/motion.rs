@@ -77,10 +77,18 @@ fn motion(m: &MotionArgs<'_>, nodes: &[u32], dim: usize) -> PyResult<Motion> {
         },
         "translate" => Motion::Translate(m.vector),
         "field" => {
-            let f = m.field.as_ref().ok_or_else(|| invalid("displacement: missing"))?;
+            let f = m
+                .field
+                .as_ref()
+                .ok_or_else(|| invalid("displacement: missing"))?;
             let mut rows: Vec<(u32, [f64; 3])> = (nodes.iter().copied())
                 .zip(f.as_slice()?.chunks_exact(dim))
-                .map(|(n, d)| (n, core::array::from_fn(|k| d.get(k).copied().unwrap_or(0.0))))
+                .map(|(n, d)| {
+                    (
+                        n,
+                        core::array::from_fn(|k| d.get(k).copied().unwrap_or(0.0)),
+                    )
+                })
                 .collect();
             rows.sort_by_key(|r| r.0);
             Motion::Field(rows)
@@ -184,7 +192,9 @@ impl Job<'_> {
         if o.method == "elasticity" {
             return run_elasticity(&input, self.stiffness.1, o.poisson, o.steps);
         }
-        let names: Vec<String> = (0..self.slide.len()).map(|k| format!("slide[{k}]")).collect();
+        let names: Vec<String> = (0..self.slide.len())
+            .map(|k| format!("slide[{k}]"))
+            .collect();
         let sliding: Vec<SlideMarker<'_>> = (names.iter().zip(&self.slide))
             .map(|(name, elements)| SlideMarker { name, elements })
             .collect();
@@ -217,12 +227,20 @@ fn deformed<'py>(
     } else {
         result.deformed.iter().flat_map(|p| [p[0], p[1]]).collect()
     };
-    Ok(Some(PyArray1::from_vec(py, flat).reshape([n, dim])?.into_any()))
+    Ok(Some(
+        PyArray1::from_vec(py, flat).reshape([n, dim])?.into_any(),
+    ))
 }
 
 /// `(deformed or None, iterations, residual, converged, info)`: `info` holds the sliding
 /// nodes, the largest distance of a sliding node from its plane, and the RBF centres used.
-type Moved<'py> = (Option<Bound<'py, PyAny>>, usize, f64, bool, (usize, f64, Option<usize>));
+type Moved<'py> = (
+    Option<Bound<'py, PyAny>>,
+    usize,
+    f64,
+    bool,
+    (usize, f64, Option<usize>),
+);
 
 /// Moves a mesh (see `deform_kernel.deform`, which checks the arrays and builds the dicts).
 /// 3D points are read in place (no copy); `out`, when given, receives the result.
@@ -272,7 +290,11 @@ pub fn move_points<'py>(
             options.method, r.residual, r.iterations, options.tol
         )));
     }
-    let info = (r.sliding_nodes, r.max_slide_offset, r.rbf.map(|i| i.centres));
+    let info = (
+        r.sliding_nodes,
+        r.max_slide_offset,
+        r.rbf.map(|i| i.centres),
+    );
     let (it, res, conv) = (r.iterations, r.residual, r.converged);
     Ok((deformed(py, r, dim, out)?, it, res, conv, info))
 }

@@ -4,8 +4,7 @@
 //! check) and solves from the previous solution.
 
 use deform_kernel::plan::{
-    Plan, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanWork,
-    Start,
+    Plan, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
 };
 use deform_kernel::quaternion::RotationSource;
 use deform_kernel::spring::{AmgOptions, LinearMethod, Preconditioner, SolveOptions};
@@ -74,14 +73,22 @@ fn build<const D: usize>(b: &Build) -> Result<Pools, Failed> {
         options: b.options,
     };
     let ws = Plan::work_sizes(&spec).map_err(at("plan"))?;
-    let (mut wr, mut wi, mut wb) = (vec![0.0; ws.reals], vec![0u32; ws.indices], vec![0u8; ws.bytes]);
+    let (mut wr, mut wi, mut wb) = (
+        vec![0.0; ws.reals],
+        vec![0u32; ws.indices],
+        vec![0u8; ws.bytes],
+    );
     let mut work = PlanWork {
         reals: &mut wr,
         indices: &mut wi,
         bytes: &mut wb,
     };
     let s = Plan::sizes(&spec, &mut work).map_err(at("plan"))?;
-    let (mut r, mut i, mut by) = (vec![0.0; s.reals], vec![0u32; s.indices], vec![0u8; s.bytes]);
+    let (mut r, mut i, mut by) = (
+        vec![0.0; s.reals],
+        vec![0u32; s.indices],
+        vec![0u8; s.bytes],
+    );
     Plan::init(&spec, &mut work, &mut r, &mut i, &mut by).map_err(at("plan"))?;
     Ok((r, i, by))
 }
@@ -97,7 +104,10 @@ struct StepIn<'a> {
 /// `(iterations, residual, converged, warm, extrapolated, step)` of a plan step.
 type Stepped = (usize, f64, bool, bool, bool, u64);
 
-fn step<const D: usize>(pools: &mut Pools, s: &StepIn<'_>) -> Result<(Vec<[f64; D]>, Stepped), Failed> {
+fn step<const D: usize>(
+    pools: &mut Pools,
+    s: &StepIn<'_>,
+) -> Result<(Vec<[f64; D]>, Stepped), Failed> {
     let (r, i, b) = pools;
     let mut plan = Plan::<f64, D>::open(r, i, b).map_err(at("plan"))?;
     let deformed = rows::<D>(s.deformed);
@@ -116,7 +126,17 @@ fn step<const D: usize>(pools: &mut Pools, s: &StepIn<'_>) -> Result<(Vec<[f64; 
     let mut out = vec![[0.0; D]; plan.node_count()];
     let rep = plan.step(&motion, &mut out).map_err(at("plan step"))?;
     let sv = rep.solve;
-    Ok((out, (sv.iterations, sv.residual, sv.converged, rep.warm, rep.extrapolated, rep.step)))
+    Ok((
+        out,
+        (
+            sv.iterations,
+            sv.residual,
+            sv.converged,
+            rep.warm,
+            rep.extrapolated,
+            rep.step,
+        ),
+    ))
 }
 
 /// A deformation plan that owns its pools (see `deform_kernel.Plan`).
@@ -195,7 +215,9 @@ impl NativePlan {
         let pools = &mut self.pools;
         macro_rules! go {
             ($d:literal) => {{
-                let (pts, r) = py.detach(|| step::<$d>(pools, &s)).map_err(|(c, e)| kernel_error(c, e))?;
+                let (pts, r) = py
+                    .detach(|| step::<$d>(pools, &s))
+                    .map_err(|(c, e)| kernel_error(c, e))?;
                 let res = match out {
                     Some(mut o) => {
                         o.as_slice_mut()?.copy_from_slice(pts.as_flattened());

@@ -1,7 +1,7 @@
 //! `cell_quality`: signed measures and smallest scaled corner Jacobians of every cell.
 
-use deform_kernel::quality::{cell_measures, min_corner_jacobians};
 use deform_cli::formats::CellList;
+use deform_kernel::quality::{cell_measures, min_corner_jacobians};
 use deform_kernel::Cells;
 use numpy::prelude::*;
 use numpy::{PyArray1, PyReadonlyArray2};
@@ -14,13 +14,10 @@ use crate::{cell_list, kernel_error, rows, Csr};
 type Pair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
 
 /// `(measures, min_scaled_jacobians)` of `D`-dimensional points.
-fn run<const D: usize>(
-    flat: &[f64],
-    c: &CellList,
-) -> PyResult<(Vec<f64>, Vec<f64>)> {
+fn run<const D: usize>(flat: &[f64], c: &CellList) -> PyResult<(Vec<f64>, Vec<f64>)> {
     let pts = rows::<D>(flat);
-    let cells =
-        Cells::new(pts.len(), &c.offsets, &c.nodes, &c.kinds).map_err(|e| kernel_error("cells", e))?;
+    let cells = Cells::new(pts.len(), &c.offsets, &c.nodes, &c.kinds)
+        .map_err(|e| kernel_error("cells", e))?;
     let mut measures = vec![0.0; cells.len()];
     let mut jac = vec![0.0; cells.len()];
     cell_measures(&cells, &pts, &mut measures).map_err(|e| kernel_error("quality", e))?;

@@ -39,7 +39,12 @@ fn points(py: Python<'_>, p: Vec<[f64; 3]>, dim: usize) -> PyResult<Bound<'_, Py
 pub fn read_su2(
     py: Python<'_>,
     path: PathBuf,
-) -> PyResult<(usize, Bound<'_, PyAny>, CsrOut<'_>, Vec<(String, CsrOut<'_>)>)> {
+) -> PyResult<(
+    usize,
+    Bound<'_, PyAny>,
+    CsrOut<'_>,
+    Vec<(String, CsrOut<'_>)>,
+)> {
     let mesh = py
         .detach(|| deform_cli::files::read_su2(&path))
         .map_err(cli_error)?;

@@ -123,7 +123,7 @@ fn graph_run<const D: usize>(
     cells: &deform_cli::formats::CellList,
     g: &GraphSettings,
     fixed: Option<&[u8]>,
-) -> Result<(Vec<[f64; D]>, f64), (&'static str, deform_kernel::Error)> {
+) -> Result<(Vec<[f64; D]>, f64), Failed> {
     use deform_kernel::taubin::{inverse_distance_weights, smooth_graph, GraphOptions};
     let mut pts = rows::<D>(flat);
     let n = pts.len();
@@ -141,10 +141,20 @@ fn graph_run<const D: usize>(
         fixed,
     };
     let mut scratch = vec![[0.0; D]; n];
-    let r = smooth_graph(&graph, &mut pts, g.params, g.iterations, &options, &mut scratch)
-        .map_err(|e| ("graph smoothing", e))?;
+    let r = smooth_graph(
+        &graph,
+        &mut pts,
+        g.params,
+        g.iterations,
+        &options,
+        &mut scratch,
+    )
+    .map_err(|e| ("graph smoothing", e))?;
     Ok((pts, r.last_change))
 }
+
+/// A kernel error with the step that raised it.
+type Failed = (&'static str, deform_kernel::Error);
 
 /// The graph filter's settings.
 struct GraphSettings {
