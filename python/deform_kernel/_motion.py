@@ -144,7 +144,7 @@ def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver
     ``cells``: ``(offsets, nodes, kinds)`` numpy arrays (VTK codes) or meshio-style blocks
     ``[("triangle", conn), ...]``. ``moved``/``fixed``: node indices, or boundary elements in
     either cell form (the quaternion method with a ``Displacement`` takes the rotations from
-    the moved elements' shape). ``slide``: a list of such markers, each flat (a plane, a line
+    the boundary's shape: give moved and fixed as elements). ``slide``: a list of such markers, each flat (a plane, a line
     in 2D). ``steps``: the motion in equal increments (stiffness re-derived each step).
     ``solver``: "amg" (default), "cg", "cg-ssor", "gauss-seidel", "jacobi". ``stiffness``:
     "batina" (1/L, the default), "wall-distance", "inverse-volume" (elasticity's default),

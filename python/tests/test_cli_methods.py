@@ -88,3 +88,31 @@ def test_steps_end_on_the_exact_motion():
     b = np.unique(body)
     assert four[b].tobytes() == one[b].tobytes()
     assert np.max(np.abs(four - one)) > 1e-6  # the interior differs: stiffness re-derived
+
+
+@pytest.mark.parametrize("method,steps", [("spring", 1), ("quaternion", 1), ("rbf", 1),
+                                          ("elasticity", 2), ("spring", 3)])
+def test_displacement_field_same_bits(tmp_path, method, steps):
+    """A bending displacement of the body's nodes (`--displacements FILE`); the quaternion
+    method takes its rotations from the moved elements' shape."""
+    pts, tris, body, bottom, rest = mesh()
+    nodes = np.unique(body)
+    x, y = pts[nodes, 0], pts[nodes, 1]
+    disp = np.ascontiguousarray(np.column_stack([-0.02 * y * x, 0.04 * x * x + 0.01]))
+    table = tmp_path / "d.txt"
+    table.write_text("".join(f"{n} {float(a)!r} {float(b)!r}\n" for n, (a, b) in zip(nodes, disp)))
+    flags = ["--displacements", str(table), "--steps", str(steps)]
+    theirs = run_tool(tmp_path, {"_pts": pts, "_tris": tris, "body": body,
+                                 "farfield": np.concatenate([bottom, rest])}, flags, method)
+    # Elements as moved and fixed (rows per sorted distinct node; every boundary node needs
+    # an element for the shape's rotations), shuffled nodes for spring (rows follow them).
+    farfield = np.concatenate([bottom, rest])
+    if method == "spring":
+        order = np.random.default_rng(1).permutation(nodes.size)
+        moved, values, fixed = nodes[order], np.ascontiguousarray(disp[order]), np.unique(farfield)
+    else:
+        moved, values, fixed = [("line", body)], disp, [("line", farfield)]
+    ours = dk.deform(pts, [("triangle", tris)], moved, dk.Displacement(values), fixed,
+                     method=method, steps=steps)
+    assert np.max(np.abs(ours - pts)) > 1e-3
+    assert ours.tobytes() == theirs.tobytes()
