@@ -67,6 +67,8 @@ def deform(
     rbf_tolerance: float = 0.0,
     rbf_max_centres: int = 1000,
     rbf_correction: Optional[float] = None,
+    idw_theta: Optional[float] = None,
+    idw_tolerance: float = 0.1,
     out: Optional[Float2] = None,
 ) -> Union[Float2, Tuple[Float2, Dict[str, Any]]]:
     """New points (or ``out``); with ``return_info``, also ``{"iterations", "residual",

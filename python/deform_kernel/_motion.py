@@ -110,8 +110,19 @@ def _check_numbers(o):
         raise ValueError(f"steps: {o['steps']}, expected 1 to 10000")
     if not (np.isfinite(o["poisson"]) and -1.0 < o["poisson"] < 0.5):
         raise ValueError("poisson: must lie in (-1, 0.5)")
-    if not np.isfinite(o["idw_exponent"]):
-        raise ValueError("idw_exponent: not finite")
+    if not (np.isfinite(o["idw_exponent"]) and o["idw_exponent"] > 0):
+        raise ValueError("idw_exponent: must be positive")
+    if o["idw_theta"] is not None:
+        if o["method"] != "idw" or not 0.0 <= o["idw_theta"] < 1.0:
+            raise ValueError("idw_theta: applies to method='idw', in [0, 1)")
+        if np.isnan(o["idw_tolerance"]) or o["idw_tolerance"] < 0:
+            raise ValueError("idw_tolerance: must be >= 0 (inf: theta alone)")
+    if o["reach"] is not None and o["method"] not in ("quaternion", "idw"):
+        raise ValueError(f"reach: applies to the quaternion and idw methods, not {o['method']!r}")
+    rbf_given = (o["rbf_radius"], o["rbf_correction"]) != (None, None) or (
+        o["rbf_tolerance"], o["rbf_max_centres"], o["rbf_kernel"]) != (0.0, 1000, "wendland")
+    if rbf_given and o["method"] != "rbf":
+        raise ValueError("rbf_*: these options apply to method='rbf'")
     if o["rbf_kernel"] not in RBF_KERNELS:
         raise ValueError(f"rbf_kernel: {o['rbf_kernel']!r} is not one of {RBF_KERNELS}")
     if o["rbf_radius"] is not None and o["rbf_kernel"] == "tps":
@@ -120,15 +131,14 @@ def _check_numbers(o):
         raise ValueError("rbf_tolerance: must be >= 0")
     if o["rbf_max_centres"] < 1:
         raise ValueError("rbf_max_centres: at least 1")
-    if o["method"] == "elasticity" and (o["reach"] is not None):
-        raise ValueError("reach: not with method='elasticity'")
 
 
 def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver="amg",
            stiffness=None, tol=1e-10, max_iter=10000, idw_exponent=2.0,
            allow_unconverged=False, return_info=False, steps=1, slide=None, renumber="auto",
            poisson=0.3, reach=None, rbf_kernel="wendland", rbf_radius=None,
-           rbf_tolerance=0.0, rbf_max_centres=1000, rbf_correction=None, out=None):
+           rbf_tolerance=0.0, rbf_max_centres=1000, rbf_correction=None, idw_theta=None,
+           idw_tolerance=0.1, out=None):
     """Moves the mesh: the ``moved`` nodes follow ``motion``, the ``fixed`` nodes stay, the
     ``slide`` markers' nodes slide on their planes, and every other node follows by
     ``method``. Returns the deformed ``(N, dim)`` points (``out`` when given; and an info dict
@@ -150,7 +160,8 @@ def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver
     "batina" (1/L, the default), "wall-distance", "inverse-volume" (elasticity's default),
     "constant" (elasticity only). ``renumber``: "auto" (as the tool: RCM on large scattered
     meshes), "off", "rcm", "hilbert" (the result is in the input's numbering either way).
-    ``reach``: no motion beyond this distance (quaternion, idw). A solve that stops before
+    ``reach``: no motion beyond this distance (quaternion, idw). ``idw_theta``: the fast
+    tree-based IDW with this opening angle and ``idw_tolerance`` (``deform move --idw-theta``). A solve that stops before
     ``tol`` within ``max_iter`` raises ``KernelError`` unless ``allow_unconverged``. ``out``:
     a writable C-contiguous float64 ``(N, dim)`` array for the result (may be ``points``);
     it is written only on success. The GIL is released during the work.
@@ -168,7 +179,9 @@ def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver
                "rbf_radius": _positive("rbf_radius", rbf_radius),
                "rbf_tolerance": float(rbf_tolerance), "rbf_max_centres": int(rbf_max_centres),
                "rbf_correction": _positive("rbf_correction", rbf_correction),
-               "allow_unconverged": bool(allow_unconverged)}
+               "allow_unconverged": bool(allow_unconverged),
+               "idw_theta": None if idw_theta is None else float(idw_theta),
+               "idw_tolerance": float(idw_tolerance)}
     _check_numbers(options)
     cells = normalise_cells(cells, n)
     moved_cells, field_nodes = boundary_cells("moved", moved, n)

@@ -38,6 +38,8 @@ pub struct Options {
     rbf_max_centres: usize,
     rbf_correction: Option<f64>,
     allow_unconverged: bool,
+    idw_theta: Option<f64>,
+    idw_tolerance: f64,
 }
 
 /// A motion's kind and numbers, as `deform_kernel.deform` passes them.
@@ -185,7 +187,7 @@ impl Job<'_> {
             max_iter: o.max_iter,
             idw_exponent: o.idw_exponent,
             stiffness: self.stiffness.0,
-            idw_fast: None,
+            idw_fast: o.idw_theta.map(|theta| (theta, o.idw_tolerance)),
             reach: o.reach,
             split: None,
         };

@@ -23,6 +23,8 @@ CASES = [
     ("rbf", ["--translate", "0.1,0.05", "--rbf-radius", "1.5", "--rbf-tolerance", "0.01"],
      dk.Translation((0.1, 0.05)), {"rbf_radius": 1.5, "rbf_tolerance": 0.01}),
     ("elasticity", ["--rotate", "7"], dk.Rotation(7.0), {}),
+    ("idw", ["--rotate", "9", "--idw-theta", "0.5"], dk.Rotation(9.0), {"idw_theta": 0.5}),
+    ("quaternion", ["--rotate", "9", "--reach", "1.0"], dk.Rotation(9.0), {"reach": 1.0}),
     ("elasticity", ["--rotate", "7", "--stiffness", "constant", "--poisson", "0.25",
                     "--steps", "2", "--solver", "cg"], dk.Rotation(7.0),
      {"stiffness": "constant", "poisson": 0.25, "steps": 2, "solver": "cg"}),

@@ -85,6 +85,10 @@ BAD = [
     ({"method": "rbf", "rbf_radius": -1.0}, ValueError, "positive"),
     ({"renumber": "random"}, ValueError, "renumber"),
     ({"reach": float("nan")}, ValueError, "reach"),
+    ({"method": "spring", "reach": 1.0}, ValueError, "reach: applies"),
+    ({"method": "spring", "rbf_tolerance": 0.1}, ValueError, "rbf_"),
+    ({"method": "quaternion", "idw_theta": 0.5}, ValueError, "idw_theta"),
+    ({"method": "idw", "idw_exponent": 0.0}, ValueError, "idw_exponent"),
 ]
 
 
