@@ -17,7 +17,8 @@ class Plan:
     ``boundary`` nodes and deforms the *reference* mesh, starting the solve from the previous
     steps' solutions (warm start). ``method``: "spring" (linear springs on the displacements)
     or "quaternion" (Samareh's quaternion method, spring propagation; each step then needs
-    one rotation quaternion per boundary node). A cold step gives the stateless call's result.
+    one rotation quaternion per boundary node). A cold step gives the bits of the stateless
+    ``deform(method="spring", renumber="off")`` with the same solver (tested).
     """
 
     def __init__(self, points, cells, boundary, method="spring", solver="amg", tol=1e-10,
