@@ -14,7 +14,7 @@ from ._native import KernelError
 from ._plan import Plan
 from ._read import Grid, Mesh, read
 from ._smooth import smooth_graph, smooth_structured
-from ._meshio import boundary_nodes, from_meshio, to_meshio
+from ._meshio import boundary_nodes, from_meshio, mesh_from_meshio, to_meshio
 
 __all__ = [
     "Displacement",
@@ -28,6 +28,7 @@ __all__ = [
     "cells_from_blocks",
     "deform",
     "from_meshio",
+    "mesh_from_meshio",
     "normalise_cells",
     "quality",
     "read",

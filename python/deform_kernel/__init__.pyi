@@ -114,6 +114,7 @@ class Grid:
     dim: int
     blocks: List[Float2]
 
+def mesh_from_meshio(mesh: Any, dim: Optional[int] = None, key: str = "gmsh:physical") -> Mesh: ...
 def read(path: Union[str, "os.PathLike[str]"]) -> Union[Mesh, Grid]: ...
 def smooth_graph(
     points: Float2,

@@ -8,7 +8,6 @@ from typing import Dict, List, Tuple
 import numpy as np
 
 from . import _native
-from ._cells import cells_from_blocks
 
 PLOT3D_SUFFIXES = (".x", ".xyz", ".p3d", ".g", ".grd", ".xy", ".p2d")
 
@@ -53,8 +52,9 @@ def read(path):
     :class:`Mesh` with its markers and Plot3D grids (``.x .xyz .p3d .g .grd .xy .p2d``; ASCII
     or binary, detected) a :class:`Grid`, both through the ``deform`` tool's readers, so a
     script sees exactly what ``deform move`` sees. Anything else (VTK ``.vtu``/``.vtk``,
-    Gmsh, ...) is read by meshio when it is installed (a :class:`Mesh` of its volume cells,
-    no markers). Errors name the file and the line."""
+    Gmsh ``.msh``, ...) is read by meshio when it is installed (a :class:`Mesh` of its volume
+    cells, markers from Gmsh physical groups: :func:`mesh_from_meshio`). Errors name the file
+    and the line."""
     p = pathlib.Path(path)
     suffix = p.suffix.lower()
     if suffix == ".su2":
@@ -68,7 +68,6 @@ def read(path):
     except ImportError as e:
         raise ValueError(f"{p}: not SU2 or Plot3D, and meshio (for other formats) is not "
                          "installed") from e
-    from ._meshio import from_meshio
+    from ._meshio import mesh_from_meshio
 
-    points, blocks = from_meshio(meshio.read(p))
-    return Mesh(points, cells_from_blocks(blocks, points.shape[0]))
+    return mesh_from_meshio(meshio.read(p))

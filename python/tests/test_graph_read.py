@@ -102,3 +102,30 @@ def test_read_vtk_through_meshio_and_errors(tmp_path):
         dk.read(bad)
     with pytest.raises(ValueError, match="missing.su2"):
         dk.read(tmp_path / "missing.su2")
+
+
+def test_meshio_markers_from_physical_groups(tmp_path):
+    meshio = pytest.importorskip("meshio")
+    pts, tris, hole, outer, hole_edges, outer_edges = holed_square(n=9, half=2.0, hole=0.5)
+    lines = np.concatenate([hole_edges, outer_edges])
+    tags = np.array([7] * len(hole_edges) + [8] * len(outer_edges))
+    m = meshio.Mesh(np.column_stack([pts, np.zeros(len(pts))]),
+                    [("line", lines), ("triangle", tris)],
+                    cell_data={"gmsh:physical": [tags, np.full(len(tris), 1)],
+                               "gmsh:geometrical": [tags, np.full(len(tris), 1)]},
+                    field_data={"body": np.array([7, 1]), "farfield": np.array([8, 1]),
+                                "fluid": np.array([1, 2])})
+    mesh = dk.mesh_from_meshio(m)
+    assert sorted(mesh.markers) == ["body", "farfield"]
+    assert np.array_equal(mesh.markers["body"][1].reshape(-1, 2), hole_edges)
+    assert np.array_equal(mesh.marker_nodes("farfield"), np.unique(outer_edges))
+    path = tmp_path / "m.msh"
+    meshio.write(path, m, file_format="gmsh22", binary=False)
+    again = dk.read(path)
+    assert np.array_equal(again.points, pts)
+    assert np.array_equal(again.marker_nodes("body"), np.unique(hole_edges))
+    a = dk.deform(again.points, again.cells, again.markers["body"], dk.Rotation(4.0),
+                  again.markers["farfield"], method="spring")
+    b = dk.deform(pts, [("triangle", tris)], np.unique(hole_edges), dk.Rotation(4.0),
+                  np.unique(outer_edges), method="spring")
+    assert a.tobytes() == b.tobytes()
