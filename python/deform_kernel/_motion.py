@@ -150,18 +150,19 @@ def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver
     ``rbf_kernel`` "wendland"/"tps", ``rbf_radius``, ``rbf_tolerance``, ``rbf_max_centres``,
     ``rbf_correction``), "elasticity" (SU2's linear elasticity, ``poisson`` ratio).
 
-    ``points``: ``(N, 2|3)`` C-contiguous float64 (3D points are read in place, not copied).
-    ``cells``: ``(offsets, nodes, kinds)`` numpy arrays (VTK codes) or meshio-style blocks
-    ``[("triangle", conn), ...]``. ``moved``/``fixed``: node indices, or boundary elements in
-    either cell form (the quaternion method with a ``Displacement`` takes the rotations from
-    the boundary's shape: give moved and fixed as elements). ``slide``: a list of such markers, each flat (a plane, a line
-    in 2D). ``steps``: the motion in equal increments (stiffness re-derived each step).
-    ``solver``: "amg" (default), "cg", "cg-ssor", "gauss-seidel", "jacobi". ``stiffness``:
-    "batina" (1/L, the default), "wall-distance", "inverse-volume" (elasticity's default),
-    "constant" (elasticity only). ``renumber``: "auto" (as the tool: RCM on large scattered
-    meshes), "off", "rcm", "hilbert" (the result is in the input's numbering either way).
-    ``reach``: no motion beyond this distance (quaternion, idw). ``idw_theta``: the fast
-    tree-based IDW with this opening angle and ``idw_tolerance`` (``deform move --idw-theta``). A solve that stops before
+    ``points``: ``(N, 2|3)`` C-contiguous float64 (3D points are handed to the engine in
+    place, not copied). ``cells``: ``(offsets, nodes, kinds)`` numpy arrays (VTK codes) or
+    meshio-style blocks ``[("triangle", conn), ...]``. ``moved``/``fixed``: node indices, or
+    boundary elements in either cell form (the quaternion method with a ``Displacement`` takes
+    the rotations from the boundary's shape: give moved and fixed as elements). ``slide``: a
+    list of such markers, each flat (a plane, a line in 2D). ``steps``: the motion in equal
+    increments (stiffness re-derived each step). ``solver``: "amg" (default), "cg",
+    "cg-ssor", "gauss-seidel", "jacobi". ``stiffness``: "batina" (1/L, the default),
+    "wall-distance", "inverse-volume" (elasticity's default), "constant" (elasticity only).
+    ``renumber``: "auto" (as the tool: RCM on large scattered meshes), "off", "rcm",
+    "hilbert" (the result is in the input's numbering either way). ``reach``: no motion beyond
+    this distance (quaternion, idw). ``idw_theta``: the fast tree-based IDW with this opening
+    angle and ``idw_tolerance`` (``deform move --idw-theta``). A solve that stops before
     ``tol`` within ``max_iter`` raises ``KernelError`` unless ``allow_unconverged``. ``out``:
     a writable C-contiguous float64 ``(N, dim)`` array for the result (may be ``points``);
     it is written only on success. The GIL is released during the work.

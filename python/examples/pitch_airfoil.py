@@ -49,8 +49,9 @@ print(f"{len(points)} nodes, {len(quads)} quads; smallest scaled Jacobian "
 
 # %% [markdown]
 # ## Pitch 10° nose-up about the quarter chord
-# Nose-up is clockwise here (x downstream, y up): a rotation by -10°. The airfoil nodes follow the rigid rotation exactly, the far field stays, every other node
-# follows by the quaternion method (rotations and translations propagated by linear springs).
+# Nose-up is clockwise here (x downstream, y up): a rotation by -10°. The airfoil nodes
+# follow the rigid rotation exactly, the far field stays, every other node follows by the
+# quaternion method (rotations and translations propagated by linear springs).
 
 # %%
 ANGLE = -10.0
@@ -109,7 +110,8 @@ if len(sys.argv) > 1:
     from matplotlib.collections import PolyCollection
 
     fig, axes = plt.subplots(1, 2, figsize=(12, 5))
-    for ax, p, title in zip(axes, (points, pitched), ("undeformed", "pitched 10° nose-up (quaternion method)")):
+    titles = ("undeformed", "pitched 10° nose-up (quaternion method)")
+    for ax, p, title in zip(axes, (points, pitched), titles):
         ax.add_collection(PolyCollection(p[quads], facecolor="none", edgecolor="k", lw=0.3))
         ax.fill(*p[airfoil].T, color="tab:blue")
         ax.set_xlim(-0.4, 1.4)
