@@ -2,7 +2,7 @@
 
     python bench/python/deform_vs_cli.py [--deform PATH] [--method spring] [--repeat 3]
 
-Builds a triangulated square with a square hole (485 x 485 grid, 234 k nodes, irregular
+Builds a triangulated square with a square hole (505 x 505 grid, 234 k nodes, irregular
 interior coordinates) with numpy, writes it as SU2, and runs the same spring move (the body
 rotated 5 degrees, far field fixed, AMG-preconditioned CG to 1e-10) three ways:
 
@@ -34,8 +34,11 @@ sys.path.insert(0, str(ROOT / "python" / "tests"))
 from meshes import read_su2_points, write_su2  # noqa: E402
 
 
-def mesh(n=485, half=2.0, hole=0.5):
-    """(points, triangles, body edges, far-field edges), vectorised (234 k nodes)."""
+def mesh(n=505, half=2.0, hole_steps=72):
+    """(points, triangles, body edges, far-field edges), vectorised: an n x n grid on
+    [-half, half]^2 with the square hole of half-width hole_steps grid steps (505, 72: 234 k
+    nodes)."""
+    hole = hole_steps * 2.0 * half / (n - 1)
     xs = np.linspace(-half, half, n)
     x, y = np.meshgrid(xs, xs, indexing="xy")
     pts = np.column_stack([x.ravel(), y.ravel()])
@@ -80,9 +83,9 @@ def main():
     ap.add_argument("--deform", default=str(ROOT / "target" / "release" / "deform"))
     ap.add_argument("--method", default="spring")
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--n", type=int, default=485, help="grid points per side (485: 234 k nodes)")
+    ap.add_argument("--n", type=int, default=505, help="grid points per side (505: 234 k nodes)")
     args = ap.parse_args()
-    pts, tris, body, far = mesh(args.n)
+    pts, tris, body, far = mesh(args.n, 2.0, (args.n - 1) // 7)
     print(f"{len(pts)} nodes, {len(tris)} triangles, method {args.method}")
     with tempfile.TemporaryDirectory() as tmp:
         src, dst = pathlib.Path(tmp) / "in.su2", pathlib.Path(tmp) / "out.su2"
