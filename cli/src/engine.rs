@@ -516,6 +516,9 @@ pub struct MoveInput<'a> {
     /// The spring solves' rows split across processes (`mpirun`; `None`: this process
     /// alone). The result is bit-identical either way.
     pub split: Option<&'a dyn crate::split::Splitter>,
+    /// The edge graph of `cells` (no face diagonals) when the caller has it (renumbering
+    /// builds one; steps share one); `None`: built here. The same graph either way.
+    pub graph: Option<&'a OwnedGraph>,
 }
 
 /// `solver` with its rows split over `split`'s processes (unchanged when `None`).
@@ -793,6 +796,15 @@ pub fn run_move_in_steps(
         },
         center: None,
     };
+    // Every step has the same cells, so one edge graph.
+    let built = match input.graph {
+        Some(_) => None,
+        None => Some(edge_graph(
+            &cells_view(input.cells, original.len())?,
+            false,
+        )?),
+    };
+    let graph = input.graph.or(built.as_ref());
     let mut current = original.to_vec();
     let (mut iterations, mut residual, mut converged) = (0, 0.0f64, true);
     let mut last = None;
@@ -803,6 +815,7 @@ pub fn run_move_in_steps(
             moved: input.moved.clone(),
             fixed: input.fixed.clone(),
             motion: plan.motion(s, &current),
+            graph,
             ..*input
         };
         let r = run_move_sliding(&step_input, sliding)?;
@@ -1003,7 +1016,14 @@ fn move_d<const D: usize>(
         }
     }
     let diagonals = matches!(input.method, MoveMethod::AngleDirect | MoveMethod::AngleCg);
-    let graph = edge_graph(&view, diagonals)?;
+    let built;
+    let graph = match input.graph.filter(|_| !diagonals) {
+        Some(g) => g,
+        None => {
+            built = edge_graph(&view, diagonals)?;
+            &built
+        }
+    };
     let run = MoveRun {
         input,
         pre: &pre,

@@ -17,12 +17,16 @@
 use std::time::Instant;
 
 use clap::ValueEnum;
-use deform_kernel::order::{hilbert_order, permute, rcm_order, IndexDistance, Permutation};
+use deform_kernel::order::{
+    hilbert_order, permute, permute_graph, rcm_order, IndexDistance, Permutation,
+};
 use deform_kernel::CellKind;
 use serde::Serialize;
 
 use crate::engine::SlideMarker;
-use crate::engine::{cells_view, edge_graph, points_d, run_move_in_steps, MoveInput, MoveResult};
+use crate::engine::{
+    cells_view, edge_graph, points_d, run_move_in_steps, MoveInput, MoveResult, OwnedGraph,
+};
 use crate::error::CliError;
 use crate::formats::CellList;
 use crate::motion::Motion;
@@ -65,10 +69,12 @@ pub struct RenumberReport {
     pub seconds: f64,
 }
 
-/// A permutation with its two arrays owned.
+/// A permutation with its two arrays owned, and the edge graph RCM ordered (in the input's
+/// numbering), kept so that the solve does not build it again.
 struct Order {
     order: Vec<u32>,
     inverse: Vec<u32>,
+    graph: Option<OwnedGraph>,
 }
 
 impl Order {
@@ -138,12 +144,14 @@ fn choose(
     let mut order = Order {
         order: vec![0; n],
         inverse: vec![0; n],
+        graph: None,
     };
     let (o, i) = (&mut order.order, &mut order.inverse);
     match method {
         Renumber::Rcm => {
             let graph = edge_graph(&cells_view(input.cells, n)?, false)?;
             rcm_order(&graph.view()?, o, i).map_err(kernel)?;
+            order.graph = Some(graph);
         }
         Renumber::Hilbert => {
             let mut keys = vec![0u64; n];
@@ -231,12 +239,26 @@ pub fn run_move_renumbered(
         Motion::Field(list) => Motion::Field(renumbered_field(list, p)?),
         other => other.clone(),
     };
+    // RCM's graph, renumbered: the graph the renumbered cells give (rows sorted as built).
+    let graph = match &order.graph {
+        Some(g) => {
+            let g = g.view()?;
+            let mut out = OwnedGraph {
+                offsets: vec![0; g.node_count() + 1],
+                targets: vec![0; g.edge_count()],
+            };
+            permute_graph(p, &g, &mut out.offsets, &mut out.targets, None).map_err(kernel)?;
+            Some(out)
+        }
+        None => None,
+    };
     let renumbered_input = MoveInput {
         points: &points,
         cells: &cells,
         moved: moved.iter().collect(),
         fixed: fixed.iter().collect(),
         motion,
+        graph: graph.as_ref(),
         ..*input
     };
     let spent = t0.elapsed();

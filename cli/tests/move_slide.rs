@@ -38,6 +38,7 @@ fn input(mesh: &Su2Mesh, method: MoveMethod, pinned: bool) -> MoveInput<'_> {
     }
     MoveInput {
         split: None,
+        graph: None,
         dim: mesh.dim,
         points: &mesh.points,
         cells: &mesh.elements,
@@ -202,6 +203,7 @@ fn curved_marker_is_refused() {
     let inp = input(&mesh, MoveMethod::Spring, false);
     let inp = MoveInput {
         split: None,
+        graph: None,
         moved: markers(&mesh, &["farfield"]),
         fixed: Vec::new(),
         ..inp
@@ -232,6 +234,7 @@ fn curved_marker_is_refused() {
     top.push(CellKind::Line, &[3, 0]);
     let inp = MoveInput {
         split: None,
+        graph: None,
         dim: 2,
         points: &pts,
         cells: &cells,

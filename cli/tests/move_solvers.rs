@@ -137,6 +137,7 @@ fn run(mesh: &Su2Mesh, moved: &str, method: MoveMethod, solver: MoveSolver) -> V
         .collect();
     let input = MoveInput {
         split: None,
+        graph: None,
         dim: mesh.dim,
         points: &mesh.points,
         cells: &mesh.elements,

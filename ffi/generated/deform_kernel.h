@@ -913,7 +913,11 @@ extern "C" {
 // `has_origin` 0 (default origin), `index_base` 0. Set the fields you need afterwards.
 //
 // # Safety
-// `out` points to one writable `dk_boundary_motion` (or is NULL: `DK_ERR_NULL_POINTER`).
+// - `out`: one readable and writable `dk_boundary_motion`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_boundary_motion_default(dk_boundary_motion *out);
 
 // `f32` twin of [`dk_boundary_motion_default`].
@@ -929,7 +933,12 @@ dk_status dk_boundary_motion_default_f32(dk_boundary_motion_f32 *out);
 // `DK_ERR_TOO_LARGE` (the sum overflows).
 //
 // # Safety
-// `motion` points to one readable `dk_boundary_motion`; `len_out` to one writable `size_t`.
+// - `motion`: one readable `dk_boundary_motion`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_boundary_motion_index_scratch_len(const dk_boundary_motion *motion, size_t *len_out);
 
 // `f32` twin of [`dk_boundary_motion_index_scratch_len`].
@@ -945,7 +954,11 @@ dk_status dk_boundary_motion_index_scratch_len_f32(const dk_boundary_motion_f32 
 // kernel's `deform_idw_scratch_len`). The same for both precisions.
 //
 // # Safety
-// `len_out` points to one writable `size_t`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_idw_scratch_len(size_t node_count,
                                     size_t boundary_len,
                                     uint32_t dim,
@@ -978,9 +991,18 @@ dk_status dk_deform_idw_scratch_len(size_t node_count,
 // `out` and `origin_out` are unchanged.
 //
 // # Safety
-// `points` is readable for `points_len` scalars; `motion` points to one readable struct
-// whose arrays are readable for their lengths; every writable buffer is valid for its length;
-// no writable buffer overlaps another buffer or an input.
+// - `points`: readable for `points_len` elements (`double`).
+// - `motion`: one readable `dk_boundary_motion`.
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `translations`: readable and writable for `translations_len` elements (`double`).
+// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+// - `origin_out`: readable and writable for `origin_out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_idw(const double *points,
                         size_t points_len,
                         uint32_t dim,
@@ -1027,7 +1049,11 @@ dk_status dk_deform_idw_f32(const float *points,
 // dimension, too many points), `DK_ERR_INVALID_PARAMETER` (`dim` not 2 or 3).
 //
 // # Safety
-// `len_out` points to one writable `size_t`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_tfi_scratch_len(size_t ni,
                                     size_t nj,
                                     size_t nk,
@@ -1050,7 +1076,18 @@ dk_status dk_deform_tfi_scratch_len(size_t ni,
 // workspaces).
 //
 // # Safety
-// As [`dk_deform_idw`].
+// - `points`: readable for `points_len` elements (`double`).
+// - `motion`: one readable `dk_boundary_motion`.
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `translations`: readable and writable for `translations_len` elements (`double`).
+// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+// - `origin_out`: readable and writable for `origin_out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_tfi(size_t ni,
                         size_t nj,
                         size_t nk,
@@ -1101,7 +1138,11 @@ dk_status dk_deform_tfi_f32(size_t ni,
 // `3 * boundary_len` (saturating).
 //
 // # Safety
-// `len_out` points to one writable `size_t`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_boundary_normals_scratch_len(size_t boundary_len, size_t *len_out);
 
 // Area-weighted unit normals of a boundary at its nodes (the kernel's `boundary_normals`;
@@ -1122,8 +1163,15 @@ dk_status dk_deform_boundary_normals_scratch_len(size_t boundary_len, size_t *le
 // cancel at a node). On error `normals` is unchanged.
 //
 // # Safety
-// Every pointer is valid for its length (reads for inputs, writes for `scratch`,
-// `index_scratch`, `normals`); the writable buffers overlap nothing else.
+// - `points`: readable for `points_len` elements (`double`).
+// - `elements`: one readable `dk_cells`.
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `normals`: readable and writable for `normals_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_boundary_normals(const double *points,
                                      size_t points_len,
                                      uint32_t dim,
@@ -1156,7 +1204,11 @@ dk_status dk_deform_boundary_normals_f32(const float *points,
 // `13 B` in 3D (saturating). `DK_ERR_INVALID_PARAMETER` unless `dim` is 2 or 3.
 //
 // # Safety
-// `len_out` points to one writable `size_t`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_boundary_rotations_scratch_len(size_t boundary_len,
                                                    uint32_t dim,
                                                    size_t *len_out);
@@ -1177,7 +1229,16 @@ dk_status dk_deform_boundary_rotations_scratch_len(size_t boundary_len,
 // `rotations` is unchanged.
 //
 // # Safety
-// As [`dk_deform_boundary_normals`].
+// - `undeformed`: readable for `undeformed_len` elements (`double`).
+// - `deformed`: readable for `deformed_len` elements (`double`).
+// - `elements`: one readable `dk_cells`.
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_boundary_rotations(const double *undeformed,
                                        size_t undeformed_len,
                                        const double *deformed,
@@ -1216,8 +1277,12 @@ dk_status dk_deform_boundary_rotations_f32(const float *undeformed,
 // `DK_ERR_LENGTH_MISMATCH`; on error `rotations` is unchanged.
 //
 // # Safety
-// `q` points to 4 readable scalars; `rotations` is writable for `rotations_len` scalars and
-// does not overlap `q`.
+// - `q`: 4 readable elements (`double`).
+// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_rigid_rotations(const double *q, double *rotations, size_t rotations_len);
 
 // `f32` twin of [`dk_deform_rigid_rotations`].
@@ -1237,8 +1302,13 @@ dk_status dk_deform_rigid_rotations_f32(const float *q, float *rotations, size_t
 // unchanged.
 //
 // # Safety
-// The inputs are readable for their lengths; `origin_out` is writable for `origin_out_len`
-// scalars and overlaps no input.
+// - `undeformed`: readable for `undeformed_len` elements (`double`).
+// - `deformed`: readable for `deformed_len` elements (`double`).
+// - `origin_out`: readable and writable for `origin_out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_boundary_origin(const double *undeformed,
                                     size_t undeformed_len,
                                     const double *deformed,
@@ -1270,8 +1340,15 @@ dk_status dk_deform_boundary_origin_f32(const float *undeformed,
 // `translations` is unchanged.
 //
 // # Safety
-// The inputs are readable for their lengths; `translations` is writable for its length and
-// overlaps no input.
+// - `origin`: readable for `origin_len` elements (`double`).
+// - `undeformed`: readable for `undeformed_len` elements (`double`).
+// - `deformed`: readable for `deformed_len` elements (`double`).
+// - `rotations`: readable for `rotations_len` elements (`double`).
+// - `translations`: readable and writable for `translations_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_boundary_translations(const double *origin,
                                           size_t origin_len,
                                           const double *undeformed,
@@ -1315,8 +1392,15 @@ dk_status dk_deform_boundary_translations_f32(const float *origin,
 // written.
 //
 // # Safety
-// Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
-// the writable buffers overlap nothing else.
+// - `points`: readable for `points_len` elements (`double`).
+// - `boundary`: readable for `boundary_len` elements (`uint32_t`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `translations`: readable and writable for `translations_len` elements (`double`).
+// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_propagate_idw(const double *points,
                                   size_t points_len,
                                   uint32_t dim,
@@ -1354,7 +1438,11 @@ dk_status dk_deform_propagate_idw_f32(const float *points,
 // Errors: `DK_ERR_BAD_DIMENSIONS` (block), `DK_ERR_INVALID_PARAMETER` (`dim`).
 //
 // # Safety
-// `len_out` points to one writable `size_t`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_propagate_tfi_scratch_len(size_t ni,
                                               size_t nj,
                                               size_t nk,
@@ -1376,8 +1464,14 @@ dk_status dk_deform_propagate_tfi_scratch_len(size_t ni,
 // the values are unchanged.
 //
 // # Safety
-// Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
-// the writable buffers overlap nothing else.
+// - `points`: readable for `points_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `translations`: readable and writable for `translations_len` elements (`double`).
+// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_propagate_tfi(size_t ni,
                                   size_t nj,
                                   size_t nk,
@@ -1418,8 +1512,13 @@ dk_status dk_deform_propagate_tfi_f32(size_t ni,
 // error `displacements` is unchanged.
 //
 // # Safety
-// Every pointer is valid for its length (`displacements` for reads and writes); the writable
-// buffers overlap nothing else.
+// - `points`: readable for `points_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `displacements`: readable and writable for `displacements_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_displacement_tfi(size_t ni,
                                      size_t nj,
                                      size_t nk,
@@ -1460,7 +1559,18 @@ dk_status dk_deform_displacement_tfi_f32(size_t ni,
 // `DK_ERR_ZERO_LENGTH` (a zero rotation). On error `out` is unchanged.
 //
 // # Safety
-// Every pointer is valid for its length; `out` and `index_scratch` overlap nothing else.
+// - `origin`: readable for `origin_len` elements (`double`).
+// - `points`: readable for `points_len` elements (`double`).
+// - `translations`: readable for `translations_len` elements (`double`).
+// - `rotations`: readable for `rotations_len` elements (`double`).
+// - `boundary`: readable for `boundary_len` elements (`uint32_t`).
+// - `boundary_deformed`: readable for `boundary_deformed_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_update_points(const double *origin,
                                   size_t origin_len,
                                   const double *points,
@@ -1508,7 +1618,11 @@ dk_status dk_deform_update_points_f32(const float *origin,
 // Errors: `DK_ERR_BAD_INDEX_BASE`, `DK_ERR_TOO_LARGE` (overflow).
 //
 // # Safety
-// `len_out` points to one writable `size_t`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_localize_nodes_scratch_len(size_t node_count,
                                                size_t boundary_len,
                                                size_t global_len,
@@ -1530,8 +1644,14 @@ dk_status dk_deform_localize_nodes_scratch_len(size_t node_count,
 // `DK_ERR_BUFFER_TOO_SMALL`, `DK_ERR_TOO_LARGE`. On error `local` is unchanged.
 //
 // # Safety
-// `boundary`, `global` are readable for their lengths; `scratch`, `local` are writable for
-// theirs; the writable buffers overlap nothing else.
+// - `boundary`: readable for `boundary_len` elements (`uint32_t`).
+// - `global`: readable for `global_len` elements (`uint32_t`).
+// - `scratch`: readable and writable for `scratch_len` elements (`uint32_t`).
+// - `local`: readable and writable for `local_len` elements (`uint32_t`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_localize_nodes(size_t node_count,
                                    const uint32_t *boundary,
                                    size_t boundary_len,
@@ -1551,8 +1671,13 @@ dk_status dk_deform_localize_nodes(size_t node_count,
 // written on error.
 //
 // # Safety
-// `options` points to one readable `dk_spring_solve_options`; `scratch_len_out` and
-// `values_len_out` each to one writable `size_t`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `scratch_len_out`: one readable and writable `size_t`.
+// - `values_len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_spring_scratch_len(size_t node_count,
                                        size_t boundary_len,
                                        uint32_t dim,
@@ -1565,7 +1690,12 @@ dk_status dk_deform_spring_scratch_len(size_t node_count,
 // check).
 //
 // # Safety
-// `motion` points to one readable `dk_boundary_motion`; `len_out` to one writable `size_t`.
+// - `motion`: one readable `dk_boundary_motion`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_spring_index_scratch_len(const dk_boundary_motion *motion,
                                              size_t node_count,
                                              size_t *len_out);
@@ -1601,9 +1731,22 @@ dk_status dk_deform_spring_index_scratch_len_f32(const dk_boundary_motion_f32 *m
 // detected after the boundary entries of `translations` and `rotations` were written).
 //
 // # Safety
-// As [`dk_deform_idw`]; also the graph, stiffness and fixed arrays are readable for their
-// lengths, `options` points to one readable struct, `values` is writable for `values_len`
-// scalars and `report` points to one writable report, none overlapping another buffer.
+// - `points`: readable for `points_len` elements (`double`).
+// - `motion`: one readable `dk_boundary_motion`.
+// - `system`: one readable `dk_spring_system`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `values`: readable and writable for `values_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `translations`: readable and writable for `translations_len` elements (`double`).
+// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+// - `origin_out`: readable and writable for `origin_out_len` elements (`double`).
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_spring(const double *points,
                            size_t points_len,
                            uint32_t dim,
@@ -1658,8 +1801,12 @@ dk_status dk_deform_spring_f32(const float *points,
 // plus the solver's). Errors: `DK_ERR_INVALID_PARAMETER` (`dim`, method), `DK_ERR_TOO_LARGE`.
 //
 // # Safety
-// `options` points to one readable `dk_spring_solve_options`; `len_out` to one writable
-// `size_t`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_propagate_spring_scratch_len(size_t node_count,
                                                  uint32_t dim,
                                                  const dk_spring_solve_options *options,
@@ -1683,9 +1830,17 @@ dk_status dk_deform_propagate_spring_scratch_len(size_t node_count,
 // `DK_ERR_ZERO_LENGTH`. On error `translations`, `rotations` and `*report` are unchanged.
 //
 // # Safety
-// Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
-// `options` points to one readable struct and `report` to one writable report; the writable
-// buffers overlap nothing else.
+// - `system`: one readable `dk_spring_system`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `values`: readable and writable for `values_len` elements (`double`).
+// - `translations`: readable and writable for `translations_len` elements (`double`).
+// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_deform_propagate_spring(const dk_spring_system *system,
                                      const dk_spring_solve_options *options,
                                      uint32_t dim,
@@ -1720,7 +1875,11 @@ dk_status dk_deform_propagate_spring_f32(const dk_spring_system_f32 *system,
 // `max(0,x) ≤ 1e-15`) into `*out`. Never fails except for a NULL `out`.
 //
 // # Safety
-// `out` points to one writable scalar.
+// - `out`: one readable and writable `double`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_design_hicks_henne_bump(double x, double x_max, double *out);
 
 // `f32` twin of [`dk_design_hicks_henne_bump`].
@@ -1738,8 +1897,15 @@ dk_status dk_design_hicks_henne_bump_f32(float x, float x_max, float *out);
 // length, buffer and pointer errors.
 //
 // # Safety
-// Every array is valid for its length; `displacements` and `index_scratch` are writable and
-// overlap no other argument.
+// - `points`: readable for `points_len` elements (`double`).
+// - `nodes`: readable for `nodes_len` elements (`uint32_t`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `normals`: readable for `normals_len` elements (`double`).
+// - `displacements`: readable and writable for `displacements_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_design_hicks_henne(const double *points,
                                 size_t points_len,
                                 uint32_t dim,
@@ -1782,7 +1948,14 @@ dk_status dk_design_hicks_henne_f32(const float *points,
 // and pointer errors.
 //
 // # Safety
-// Every array is valid for its length; `out` is writable and overlaps no input.
+// - `degree`: readable for `degree_len` elements (`uint32_t`).
+// - `control_points`: readable for `control_points_len` elements (`double`).
+// - `params`: readable for `params_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_design_ffd_eval(const uint32_t *degree,
                              size_t degree_len,
                              const double *control_points,
@@ -1814,8 +1987,17 @@ dk_status dk_design_ffd_eval_f32(const uint32_t *degree,
 // `DK_ERR_INDEX_OUT_OF_RANGE` and `DK_ERR_BAD_INDEX_BASE`.
 //
 // # Safety
-// Every array is valid for its length; `displacements` and `index_scratch` are writable and
-// overlap no other argument.
+// - `degree`: readable for `degree_len` elements (`uint32_t`).
+// - `control_points`: readable for `control_points_len` elements (`double`).
+// - `points`: readable for `points_len` elements (`double`).
+// - `nodes`: readable for `nodes_len` elements (`uint32_t`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `params`: readable for `params_len` elements (`double`).
+// - `displacements`: readable and writable for `displacements_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_design_ffd_displacements(const uint32_t *degree,
                                       size_t degree_len,
                                       const double *control_points,
@@ -1858,7 +2040,15 @@ dk_status dk_design_ffd_displacements_f32(const uint32_t *degree,
 // nothing moved). Errors (nothing written): as `dk_design_ffd_eval`.
 //
 // # Safety
-// Every array is valid for its length; `displacements` is writable and overlaps no input.
+// - `degree`: readable for `degree_len` elements (`uint32_t`).
+// - `original`: readable for `original_len` elements (`double`).
+// - `moved`: readable for `moved_len` elements (`double`).
+// - `params`: readable for `params_len` elements (`double`).
+// - `displacements`: readable and writable for `displacements_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_design_ffd_displacements_between(const uint32_t *degree,
                                               size_t degree_len,
                                               const double *original,
@@ -1895,8 +2085,14 @@ dk_status dk_design_ffd_displacements_between_f32(const uint32_t *degree,
 // indices −1), `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_NON_FINITE`, length and pointer errors.
 //
 // # Safety
-// `degree`, `index` and `values` point to 3 elements each; `control_points` is readable and
-// writable for its length.
+// - `degree`: 3 readable elements (`uint32_t`).
+// - `control_points`: readable and writable for `control_points_len` elements (`double`).
+// - `index`: 3 readable elements (`int32_t`).
+// - `values`: 3 readable elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_design_ffd_variable(uint32_t kind,
                                  const uint32_t *degree,
                                  double *control_points,
@@ -1919,7 +2115,13 @@ dk_status dk_design_ffd_variable_f32(uint32_t kind,
 // (validates the cells first; `index_scratch` as in `dk_cells_check`).
 //
 // # Safety
-// Every pointer is valid for its length; `len_out` points to one writable `size_t`.
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_elasticity_graph_len(size_t node_count,
                                   const dk_cells *cells,
                                   uint32_t index_base,
@@ -1933,8 +2135,15 @@ dk_status dk_elasticity_graph_len(size_t node_count,
 // least [`dk_elasticity_graph_len`]; `*used_out` receives the entries used.
 //
 // # Safety
-// Every pointer is valid for its length, and the writable buffers do not overlap each other
-// or the inputs.
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `offsets`: readable and writable for `offsets_len` elements (`uint32_t`).
+// - `targets`: readable and writable for `targets_len` elements (`uint32_t`).
+// - `used_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_elasticity_graph(size_t node_count,
                               const dk_cells *cells,
                               uint32_t index_base,
@@ -1951,7 +2160,11 @@ dk_status dk_elasticity_graph(size_t node_count,
 // for both precisions).
 //
 // # Safety
-// `len_out` points to one writable `size_t`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_elasticity_scratch_len(size_t node_count,
                                     size_t cell_count,
                                     size_t edge_count,
@@ -1962,7 +2175,11 @@ dk_status dk_elasticity_scratch_len(size_t node_count,
 // Poisson ratio 0.3, one increment, 10 000 iterations, residual tolerance 1e-10.
 //
 // # Safety
-// `out` points to one writable options struct.
+// - `out`: one readable and writable `dk_elasticity_options`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_elasticity_options_default(dk_elasticity_options *out);
 
 // As [`dk_elasticity_options_default`] with the f32 default residual tolerance
@@ -1983,9 +2200,20 @@ dk_status dk_elasticity_options_default_f32(dk_elasticity_options *out);
 // scalars. On any error `points` is unchanged.
 //
 // # Safety
-// Every pointer is valid for its length; `options` points to one readable struct and
-// `report` to one writable one; the writable buffers do not overlap each other or the
-// inputs.
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `graph`: one readable `dk_graph`.
+// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+// - `options`: one readable `dk_elasticity_options`.
+// - `wall_distance`: readable for `wall_distance_len` elements (`double`).
+// - `displacement`: readable for `displacement_len` elements (`double`).
+// - `points`: readable and writable for `points_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `report`: one readable and writable `dk_elasticity_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_elasticity_deform(const dk_cells *cells,
                                uint32_t index_base,
                                uint32_t *index_scratch,
@@ -2031,7 +2259,11 @@ dk_status dk_elasticity_deform_f32(const dk_cells *cells,
 // Length `targets` needs for [`dk_graph_from_edges`]: `edges_len` (two entries per edge).
 //
 // # Safety
-// `len_out` points to one writable `size_t`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_graph_from_edges_len(size_t edges_len, size_t *len_out);
 
 // Builds the symmetric, sorted, deduplicated CSR graph of an undirected edge list.
@@ -2044,9 +2276,15 @@ dk_status dk_graph_from_edges_len(size_t edges_len, size_t *len_out);
 // failure.
 //
 // # Safety
-// Every pointer is valid for its length (`edges`: `edges_len` reads; `index_scratch`,
-// `offsets`, `targets`: their lengths in writes; `used_out`: one write), and the writable
-// buffers do not overlap each other or the inputs.
+// - `edges`: readable for `edges_len` elements (`uint32_t`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `offsets`: readable and writable for `offsets_len` elements (`uint32_t`).
+// - `targets`: readable and writable for `targets_len` elements (`uint32_t`).
+// - `used_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_graph_from_edges(size_t node_count,
                               const uint32_t *edges,
                               size_t edges_len,
@@ -2066,8 +2304,12 @@ dk_status dk_graph_from_edges(size_t node_count,
 // (their 0-based copies); with 0 it may be NULL with length 0.
 //
 // # Safety
-// Every pointer is valid for reading its length; `index_scratch` for writing its length,
-// overlapping nothing else.
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_cells_check(size_t node_count,
                          const dk_cells *cells,
                          uint32_t index_base,
@@ -2078,7 +2320,13 @@ dk_status dk_cells_check(size_t node_count,
 // `index_scratch` as in [`dk_cells_check`]).
 //
 // # Safety
-// Every pointer is valid for its length; `len_out` points to one writable `size_t`.
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_graph_from_cells_len(size_t node_count,
                                   const dk_cells *cells,
                                   uint32_t index_base,
@@ -2094,9 +2342,15 @@ dk_status dk_graph_from_cells_len(size_t node_count,
 // `index_scratch` as in [`dk_cells_check`].
 //
 // # Safety
-// Every pointer is valid for its length (reads for the cell arrays, writes for
-// `index_scratch`, `offsets`, `targets`, `used_out`), and the writable buffers do not overlap
-// each other or the inputs.
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `offsets`: readable and writable for `offsets_len` elements (`uint32_t`).
+// - `targets`: readable and writable for `targets_len` elements (`uint32_t`).
+// - `used_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_graph_from_cells(size_t node_count,
                               const dk_cells *cells,
                               uint32_t index_base,
@@ -2113,7 +2367,11 @@ dk_status dk_graph_from_cells(size_t node_count,
 // `require_symmetric` also checks that every edge has its reverse.
 //
 // # Safety
-// `graph` points to one readable struct whose arrays are readable for their lengths.
+// - `graph`: one readable `dk_graph`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_graph_check(const dk_graph *graph, bool require_symmetric);
 
 // Reverse Cuthill–McKee order of the graph's nodes into `order` and `inverse` (`node_count`
@@ -2122,8 +2380,13 @@ dk_status dk_graph_check(const dk_graph *graph, bool require_symmetric);
 // (nothing written): graph errors, `DK_ERR_LENGTH_MISMATCH`, pointer errors.
 //
 // # Safety
-// The graph's arrays readable for their lengths; `order` and `inverse` writable for theirs,
-// not overlapping each other or the graph.
+// - `graph`: one readable `dk_graph`.
+// - `order`: readable and writable for `order_len` elements (`uint32_t`).
+// - `inverse`: readable and writable for `inverse_len` elements (`uint32_t`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_order_rcm(const dk_graph *graph,
                        uint32_t *order,
                        size_t order_len,
@@ -2138,8 +2401,14 @@ dk_status dk_order_rcm(const dk_graph *graph,
 // (`keys`), length and pointer errors.
 //
 // # Safety
-// `points` readable for its length; `order`, `inverse` and `keys` writable for theirs, not
-// overlapping each other or `points`.
+// - `points`: readable for `points_len` elements (`double`).
+// - `order`: readable and writable for `order_len` elements (`uint32_t`).
+// - `inverse`: readable and writable for `inverse_len` elements (`uint32_t`).
+// - `keys`: readable and writable for `keys_len` elements (`uint64_t`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_order_hilbert(const double *points,
                            size_t points_len,
                            uint32_t dim,
@@ -2171,8 +2440,14 @@ dk_status dk_order_hilbert_f32(const float *points,
 // pointer errors.
 //
 // # Safety
-// The graph's and the permutation's arrays readable for their lengths; `max_out` and
-// `sum_out` point to one writable value each.
+// - `graph`: one readable `dk_graph`.
+// - `perm`: one readable `dk_permutation`.
+// - `max_out`: one readable and writable `uint32_t`.
+// - `sum_out`: one readable and writable `uint64_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_order_index_distance(const dk_graph *graph,
                                   const dk_permutation *perm,
                                   uint32_t *max_out,
@@ -2184,8 +2459,13 @@ dk_status dk_order_index_distance(const dk_graph *graph,
 // errors, `DK_ERR_INVALID_PARAMETER` (`width`), length and pointer errors.
 //
 // # Safety
-// The permutation's arrays and `src` readable for their lengths; `dst` writable for its
-// length, not overlapping `src` or the permutation.
+// - `perm`: one readable `dk_permutation`.
+// - `src`: readable for `src_len` elements (`double`).
+// - `dst`: readable and writable for `dst_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_order_permute(const dk_permutation *perm,
                            uint32_t width,
                            const double *src,
@@ -2210,8 +2490,12 @@ dk_status dk_order_permute_f32(const dk_permutation *perm,
 // `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_BAD_INDEX_BASE`, pointer errors.
 //
 // # Safety
-// The permutation's arrays readable for their lengths; `indices` readable and writable for
-// its length, not overlapping the permutation.
+// - `perm`: one readable `dk_permutation`.
+// - `indices`: readable and writable for `indices_len` elements (`uint32_t`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_order_renumber(const dk_permutation *perm,
                             uint32_t index_base,
                             uint32_t *indices,
@@ -2224,8 +2508,15 @@ dk_status dk_order_renumber(const dk_permutation *perm,
 // (nothing written): graph and permutation errors, length and pointer errors.
 //
 // # Safety
-// Inputs readable for their lengths; `offsets`, `targets` and `edge_map` writable for
-// theirs, not overlapping each other or the inputs.
+// - `perm`: one readable `dk_permutation`.
+// - `graph`: one readable `dk_graph`.
+// - `offsets`: readable and writable for `offsets_len` elements (`uint32_t`).
+// - `targets`: readable and writable for `targets_len` elements (`uint32_t`).
+// - `edge_map`: readable and writable for `edge_map_len` elements (`uint32_t`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_order_permute_graph(const dk_permutation *perm,
                                  const dk_graph *graph,
                                  uint32_t *offsets,
@@ -2240,8 +2531,13 @@ dk_status dk_order_permute_graph(const dk_permutation *perm,
 // `DK_ERR_INDEX_OUT_OF_RANGE`, length and pointer errors.
 //
 // # Safety
-// `map` and `src` readable for their lengths; `dst` writable for its length, not
-// overlapping them.
+// - `map`: readable for `map_len` elements (`uint32_t`).
+// - `src`: readable for `src_len` elements (`double`).
+// - `dst`: readable and writable for `dst_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_order_gather(const uint32_t *map,
                           size_t map_len,
                           const double *src,
@@ -2265,7 +2561,11 @@ dk_status dk_order_gather_f32(const uint32_t *map,
 // `dk_spring_solve_options_default` (10 000 iterations, residual tolerance 1e-10).
 //
 // # Safety
-// `out` points to one writable options struct.
+// - `out`: one readable and writable `dk_plan_options`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_plan_options_default(dk_plan_options *out);
 
 // As [`dk_plan_options_default`] with the f32 default residual tolerance (`100 ε_f32`).
@@ -2299,7 +2599,13 @@ dk_status dk_plan_options_default_f32(dk_plan_options *out);
 // reports them.
 //
 // # Safety
-// Inputs readable for their lengths; `options` and `sizes_out` point to one struct each.
+// - `mesh`: one readable `dk_plan_mesh`.
+// - `options`: one readable `dk_plan_options`.
+// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_plan_work_sizes(const dk_plan_mesh *mesh,
                              uint32_t dim,
                              const dk_plan_options *options,
@@ -2321,8 +2627,14 @@ dk_status dk_plan_work_sizes_f32(const dk_plan_mesh_f32 *mesh,
 // are written.
 //
 // # Safety
-// Inputs readable for their lengths; the work buffers writable for theirs and not
-// overlapping anything else; `options` and `sizes_out` point to one struct each.
+// - `mesh`: one readable `dk_plan_mesh`.
+// - `options`: one readable `dk_plan_options`.
+// - `work`: one readable `dk_plan_pools`.
+// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_plan_pool_sizes(const dk_plan_mesh *mesh,
                              uint32_t dim,
                              const dk_plan_options *options,
@@ -2352,8 +2664,15 @@ dk_status dk_plan_pool_sizes_f32(const dk_plan_mesh_f32 *mesh,
 // writing, and then the pools hold no plan.
 //
 // # Safety
-// As [`dk_plan_pool_sizes`]; the pools writable for their lengths, not overlapping anything else;
-// `info_out` points to one writable struct.
+// - `mesh`: one readable `dk_plan_mesh`.
+// - `options`: one readable `dk_plan_options`.
+// - `work`: one readable `dk_plan_pools`.
+// - `pools`: one readable `dk_plan_pools`.
+// - `info_out`: one readable and writable `dk_plan_info`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_plan_init(const dk_plan_mesh *mesh,
                        uint32_t dim,
                        const dk_plan_options *options,
@@ -2379,8 +2698,12 @@ dk_status dk_plan_init_f32(const dk_plan_mesh_f32 *mesh,
 // but `info_out`.
 //
 // # Safety
-// The pools readable and writable for their lengths; `info_out` points to one writable
-// struct.
+// - `pools`: one readable `dk_plan_pools`.
+// - `info_out`: one readable and writable `dk_plan_info`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_plan_open(const dk_plan_pools *pools, uint32_t dim, dk_plan_info *info_out);
 
 // `f32` twin of [`dk_plan_open`].
@@ -2414,9 +2737,16 @@ dk_status dk_plan_open_f32(const dk_plan_pools_f32 *pools, uint32_t dim, dk_plan
 // solutions and the step count are unchanged.
 //
 // # Safety
-// The pools readable and writable for their lengths; inputs readable for theirs; `out`
-// writable for `out_len` scalars; no writable buffer overlaps another buffer or an input;
-// `report_out` points to one writable struct.
+// - `pools`: one readable `dk_plan_pools`.
+// - `deformed`: readable for `deformed_len` elements (`double`).
+// - `rotations`: readable for `rotations_len` elements (`double`).
+// - `origin`: readable for `origin_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+// - `report_out`: one readable and writable `dk_plan_step_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_plan_step(const dk_plan_pools *pools,
                        uint32_t dim,
                        const double *deformed,
@@ -2456,7 +2786,12 @@ dk_status dk_plan_step_f32(const dk_plan_pools_f32 *pools,
 // `DK_ERR_NON_FINITE`, `DK_ERR_INVALID_PARAMETER` (`dim`), `DK_ERR_NULL_POINTER`.
 //
 // # Safety
-// `corners` readable for `corners_len` scalars; `out` points to one writable struct.
+// - `corners`: readable for `corners_len` elements (`double`).
+// - `out`: one readable and writable `dk_cell_quality`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quality_cell_quality(uint8_t kind,
                                   const double *corners,
                                   size_t corners_len,
@@ -2482,8 +2817,14 @@ dk_status dk_quality_cell_quality_f32(uint8_t kind,
 // may be NULL with length 0.
 //
 // # Safety
-// The cell arrays and `points` are readable for their lengths; `out` and `index_scratch`
-// writable for their lengths, not overlapping the inputs or each other.
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `points`: readable for `points_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quality_cell_measures(const dk_cells *cells,
                                    uint32_t index_base,
                                    uint32_t *index_scratch,
@@ -2513,7 +2854,14 @@ dk_status dk_quality_cell_measures_f32(const dk_cells *cells,
 // [`dk_quality_cell_measures`].
 //
 // # Safety
-// As [`dk_quality_cell_measures`].
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `points`: readable for `points_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quality_min_corner_jacobians(const dk_cells *cells,
                                           uint32_t index_base,
                                           uint32_t *index_scratch,
@@ -2545,8 +2893,15 @@ dk_status dk_quality_min_corner_jacobians_f32(const dk_cells *cells,
 // [`dk_quality_cell_measures`] for both point arrays.
 //
 // # Safety
-// The cell arrays and point arrays are readable for their lengths; `count_out` points to one
-// writable `size_t`.
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `undeformed`: readable for `undeformed_len` elements (`double`).
+// - `deformed`: readable for `deformed_len` elements (`double`).
+// - `count_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quality_inverted_cells(const dk_cells *cells,
                                     uint32_t index_base,
                                     uint32_t *index_scratch,
@@ -2578,8 +2933,14 @@ dk_status dk_quality_inverted_cells_f32(const dk_cells *cells,
 // [`dk_quality_cell_measures`].
 //
 // # Safety
-// The cell arrays and `points` are readable for their lengths; `count_out` points to one
-// writable `size_t`.
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `points`: readable for `points_len` elements (`double`).
+// - `count_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quality_folded_cells(const dk_cells *cells,
                                   uint32_t index_base,
                                   uint32_t *index_scratch,
@@ -2606,7 +2967,11 @@ dk_status dk_quality_folded_cells_f32(const dk_cells *cells,
 // wall) needs: `2 * node_count * dim`.
 //
 // # Safety
-// `len_out` points to one writable `size_t`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quality_wall_angle_scratch_len(size_t node_count, uint32_t dim, size_t *len_out);
 
 // Compares `deformed` against `undeformed` over the cells in one call: inverted and folded
@@ -2622,9 +2987,18 @@ dk_status dk_quality_wall_angle_scratch_len(size_t node_count, uint32_t dim, siz
 // [`dk_quality_wall_angle_change`] for the wall.
 //
 // # Safety
-// Every input array is NULL with length 0 or readable for its length; `scratch` writable for
-// `scratch_len` scalars; `report` points to one writable report; writable buffers overlap
-// nothing else.
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `wall`: one readable `dk_cells`.
+// - `graph`: one readable `dk_graph`.
+// - `undeformed`: readable for `undeformed_len` elements (`double`).
+// - `deformed`: readable for `deformed_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `report`: one readable and writable `dk_quality_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quality_compare(const dk_cells *cells,
                              uint32_t index_base,
                              uint32_t *index_scratch,
@@ -2671,8 +3045,17 @@ dk_status dk_quality_compare_f32(const dk_cells *cells,
 // pointer errors.
 //
 // # Safety
-// Every input array is readable for its length; `scratch` writable for `scratch_len`
-// scalars; `out` points to one writable struct; writable buffers overlap nothing else.
+// - `wall`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `graph`: one readable `dk_graph`.
+// - `undeformed`: readable for `undeformed_len` elements (`double`).
+// - `deformed`: readable for `deformed_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `out`: one readable and writable `dk_wall_angle_change`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quality_wall_angle_change(const dk_cells *wall,
                                        uint32_t index_base,
                                        uint32_t *index_scratch,
@@ -2708,7 +3091,13 @@ dk_status dk_quality_wall_angle_change_f32(const dk_cells *wall,
 // Hamilton product `out = a b` (each 4 scalars, scalar first). `out` may alias `a` or `b`.
 //
 // # Safety
-// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars (or NULL: error).
+// - `a`: 4 readable elements (`double`).
+// - `b`: 4 readable elements (`double`).
+// - `out`: 4 readable and writable elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quat_mul(const double *a, const double *b, double *out);
 
 // `f32` twin of [`dk_quat_mul`].
@@ -2720,7 +3109,12 @@ dk_status dk_quat_mul_f32(const float *a, const float *b, float *out);
 // `out = q / |q|`; a zero quaternion gives `DK_ERR_ZERO_LENGTH`, never NaN.
 //
 // # Safety
-// `q` points to 4 readable scalars, `out` to 4 writable scalars.
+// - `q`: 4 readable elements (`double`).
+// - `out`: 4 readable and writable elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quat_normalize(const double *q, double *out);
 
 // `f32` twin of [`dk_quat_normalize`].
@@ -2732,7 +3126,12 @@ dk_status dk_quat_normalize_f32(const float *q, float *out);
 // `out = q⁻¹ = q* / |q|²`.
 //
 // # Safety
-// `q` points to 4 readable scalars, `out` to 4 writable scalars.
+// - `q`: 4 readable elements (`double`).
+// - `out`: 4 readable and writable elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quat_inverse(const double *q, double *out);
 
 // `f32` twin of [`dk_quat_inverse`].
@@ -2744,7 +3143,12 @@ dk_status dk_quat_inverse_f32(const float *q, float *out);
 // Rotation by `angle` radians about `axis` (3 scalars, normalised here).
 //
 // # Safety
-// `axis` points to 3 readable scalars, `out` to 4 writable scalars.
+// - `axis`: 3 readable elements (`double`).
+// - `out`: 4 readable and writable elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quat_from_axis_angle(const double *axis, double angle, double *out);
 
 // `f32` twin of [`dk_quat_from_axis_angle`].
@@ -2756,7 +3160,13 @@ dk_status dk_quat_from_axis_angle_f32(const float *axis, float angle, float *out
 // Axis (3 scalars, unit) and angle in `[0, π]` of the rotation `q` (normalised here).
 //
 // # Safety
-// `q` points to 4 readable scalars, `axis_out` to 3 and `angle_out` to 1 writable scalar.
+// - `q`: 4 readable elements (`double`).
+// - `axis_out`: 3 readable and writable elements (`double`).
+// - `angle_out`: one readable and writable `double`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quat_to_axis_angle(const double *q, double *axis_out, double *angle_out);
 
 // `f32` twin of [`dk_quat_to_axis_angle`].
@@ -2768,7 +3178,13 @@ dk_status dk_quat_to_axis_angle_f32(const float *q, float *axis_out, float *angl
 // Shortest rotation taking direction `from` to direction `to` (3 scalars each).
 //
 // # Safety
-// `from`, `to` point to 3 readable scalars, `out` to 4 writable scalars.
+// - `from`: 3 readable elements (`double`).
+// - `to`: 3 readable elements (`double`).
+// - `out`: 4 readable and writable elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quat_rotation_arc(const double *from, const double *to, double *out);
 
 // `f32` twin of [`dk_quat_rotation_arc`].
@@ -2781,8 +3197,13 @@ dk_status dk_quat_rotation_arc_f32(const float *from, const float *to, float *ou
 // `out_len` must equal `points_len`, a multiple of 3.
 //
 // # Safety
-// `q` points to 4 readable scalars; `points` to `points_len` readable scalars; `out`
-// to `out_len` writable scalars not overlapping `points`.
+// - `q`: 4 readable elements (`double`).
+// - `points`: readable for `points_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quat_rotate_points(const double *q,
                                 const double *points,
                                 size_t points_len,
@@ -2806,7 +3227,13 @@ dk_status dk_quat_rotate_points_f32(const float *q,
 // `out_len` must equal `points_len`, a multiple of 2.
 //
 // # Safety
-// As [`dk_quat_rotate_points`].
+// - `q`: 4 readable elements (`double`).
+// - `points`: readable for `points_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quat_rotate_points_2d(const double *q,
                                    const double *points,
                                    size_t points_len,
@@ -2826,7 +3253,13 @@ dk_status dk_quat_rotate_points_2d_f32(const float *q,
 // Spherical linear interpolation on the shorter arc (`t` = 0 gives `a`, 1 gives `b`).
 //
 // # Safety
-// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
+// - `a`: 4 readable elements (`double`).
+// - `b`: 4 readable elements (`double`).
+// - `out`: 4 readable and writable elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quat_slerp(const double *a, const double *b, double t, double *out);
 
 // `f32` twin of [`dk_quat_slerp`].
@@ -2838,7 +3271,13 @@ dk_status dk_quat_slerp_f32(const float *a, const float *b, float t, float *out)
 // Normalised linear interpolation on the shorter arc.
 //
 // # Safety
-// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
+// - `a`: 4 readable elements (`double`).
+// - `b`: 4 readable elements (`double`).
+// - `out`: 4 readable and writable elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quat_nlerp(const double *a, const double *b, double t, double *out);
 
 // `f32` twin of [`dk_quat_nlerp`].
@@ -2852,8 +3291,13 @@ dk_status dk_quat_nlerp_f32(const float *a, const float *b, float t, float *out)
 // otherwise `weights_len == quats_len / 4`.
 //
 // # Safety
-// `quats` points to `quats_len` readable scalars, `weights` to `weights_len` (or is
-// NULL with 0), `out` to 4 writable scalars.
+// - `quats`: readable for `quats_len` elements (`double`).
+// - `weights`: readable for `weights_len` elements (`double`).
+// - `out`: 4 readable and writable elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_quat_average(const double *quats,
                           size_t quats_len,
                           const double *weights,
@@ -2874,7 +3318,11 @@ dk_status dk_quat_average_f32(const float *quats,
 // correction.
 //
 // # Safety
-// `out` points to one writable options struct.
+// - `out`: one readable and writable `dk_rbf_options`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_rbf_options_default(dk_rbf_options *out);
 
 // Scalars of `scratch` [`dk_rbf_deform`] needs (the same for both precisions): the dense
@@ -2882,7 +3330,12 @@ dk_status dk_rbf_options_default(dk_rbf_options *out);
 // residuals. Errors: `DK_ERR_INVALID_PARAMETER` (`dim`, kernel code), `DK_ERR_TOO_LARGE`.
 //
 // # Safety
-// `options` points to one readable struct; `len_out` to one writable `size_t`.
+// - `options`: one readable `dk_rbf_options`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_rbf_scratch_len(size_t boundary_len,
                              uint32_t dim,
                              const dk_rbf_options *options,
@@ -2893,7 +3346,12 @@ dk_status dk_rbf_scratch_len(size_t boundary_len,
 // [`dk_rbf_scratch_len`], plus `DK_ERR_BAD_INDEX_BASE`.
 //
 // # Safety
-// `options` points to one readable struct; `len_out` to one writable `size_t`.
+// - `options`: one readable `dk_rbf_options`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_rbf_index_scratch_len(size_t boundary_len,
                                    uint32_t dim,
                                    uint32_t index_base,
@@ -2917,7 +3375,18 @@ dk_status dk_rbf_index_scratch_len(size_t boundary_len,
 // `report` are unchanged.
 //
 // # Safety
-// Every pointer is valid for its length; the writable buffers overlap nothing else.
+// - `points`: readable for `points_len` elements (`double`).
+// - `boundary`: readable for `boundary_len` elements (`uint32_t`).
+// - `motion`: readable for `motion_len` elements (`double`).
+// - `options`: one readable `dk_rbf_options`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `displacements`: readable and writable for `displacements_len` elements (`double`).
+// - `report`: one readable and writable `dk_rbf_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_rbf_deform(const double *points,
                         size_t points_len,
                         uint32_t dim,
@@ -2965,8 +3434,13 @@ dk_status dk_rbf_deform_f32(const float *points,
 // pointer errors.
 //
 // # Safety
-// Inputs readable for their lengths; `stiffness` writable for `stiffness_len` scalars, not
-// overlapping the inputs.
+// - `graph`: one readable `dk_graph`.
+// - `points`: readable for `points_len` elements (`double`).
+// - `stiffness`: readable and writable for `stiffness_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_batina_stiffness(const dk_graph *graph,
                                      const double *points,
                                      size_t points_len,
@@ -2991,7 +3465,11 @@ dk_status dk_spring_batina_stiffness_f32(const dk_graph *graph,
 // its system (the anchoring search): `node_count`.
 //
 // # Safety
-// `len_out` points to one writable `size_t`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_index_scratch_len(size_t node_count, size_t *len_out);
 
 // Fills `*out` with the default linear-spring settings for f64: CG with the Jacobi
@@ -2999,7 +3477,11 @@ dk_status dk_spring_index_scratch_len(size_t node_count, size_t *len_out);
 // `omega` 1.
 //
 // # Safety
-// `out` points to one writable options struct.
+// - `out`: one readable and writable `dk_spring_solve_options`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_options_default(dk_spring_solve_options *out);
 
 // As [`dk_spring_solve_options_default`] with the f32 default residual tolerance
@@ -3014,7 +3496,12 @@ dk_status dk_spring_solve_options_default_f32(dk_spring_solve_options *out);
 // components` for CG (four vectors and the diagonal; same count for both precisions).
 //
 // # Safety
-// `options` points to one readable struct; `len_out` to one writable `size_t`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_linear_scratch_len(size_t node_count,
                                              uint32_t components,
                                              const dk_spring_solve_options *options,
@@ -3034,10 +3521,16 @@ dk_status dk_spring_solve_linear_scratch_len(size_t node_count,
 // length and pointer errors.
 //
 // # Safety
-// `system` points to one readable struct whose arrays are readable for their lengths;
-// `options` points to one readable struct; `values` is readable and writable for `values_len` scalars; `scratch` and `index_scratch`
-// writable for their lengths; `report` points to one writable report; writable buffers
-// overlap nothing else.
+// - `system`: one readable `dk_spring_system`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `values`: readable and writable for `values_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_linear(const dk_spring_system *system,
                                  const dk_spring_solve_options *options,
                                  uint32_t components,
@@ -3073,8 +3566,15 @@ dk_status dk_spring_solve_linear_f32(const dk_spring_system_f32 *system,
 // error.
 //
 // # Safety
-// As [`dk_spring_solve_linear`]; `src` readable for `src_len` scalars, `dst` writable for
-// `dst_len` and not overlapping `src`; `sweep` points to one writable struct.
+// - `system`: one readable `dk_spring_system`.
+// - `src`: readable for `src_len` elements (`double`).
+// - `dst`: readable and writable for `dst_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `sweep`: one readable and writable `dk_spring_sweep`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_jacobi_sweep(const dk_spring_system *system,
                                  size_t nodes_start,
                                  size_t nodes_end,
@@ -3112,7 +3612,16 @@ dk_status dk_spring_jacobi_sweep_f32(const dk_spring_system_f32 *system,
 // the nodes were split (docs/reductions.md). Nothing is written on error.
 //
 // # Safety
-// As [`dk_spring_jacobi_sweep`]; `residual_words` writable for `DK_EXACT_SUM_WORDS` values.
+// - `system`: one readable `dk_spring_system`.
+// - `src`: readable for `src_len` elements (`double`).
+// - `dst`: readable and writable for `dst_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `sweep`: one readable and writable `dk_spring_sweep`.
+// - `residual_words`: 72 readable and writable elements (`int64_t`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_jacobi_sweep_exact(const dk_spring_system *system,
                                        size_t nodes_start,
                                        size_t nodes_end,
@@ -3150,8 +3659,12 @@ dk_status dk_spring_jacobi_sweep_exact_f32(const dk_spring_system_f32 *system,
 // pointer errors.
 //
 // # Safety
-// `words` readable for [`DK_EXACT_SUM_WORDS`] values; `value_out` points to one writable
-// `double`.
+// - `words`: 72 readable elements (`int64_t`).
+// - `value_out`: one readable and writable `double`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_exact_sum_value(const int64_t *words, double *value_out);
 
 // One in-place Gauss–Seidel (`omega` = 1) or SOR sweep of the linear springs over the nodes
@@ -3162,8 +3675,14 @@ dk_status dk_exact_sum_value(const int64_t *words, double *value_out);
 // `omega` outside (0, 2).
 //
 // # Safety
-// As [`dk_spring_solve_linear`]; `values` readable and writable for `values_len` scalars;
-// `sweep` points to one writable struct.
+// - `system`: one readable `dk_spring_system`.
+// - `values`: readable and writable for `values_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `sweep`: one readable and writable `dk_spring_sweep`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_sor_sweep(const dk_spring_system *system,
                               size_t nodes_start,
                               size_t nodes_end,
@@ -3197,8 +3716,14 @@ dk_status dk_spring_sor_sweep_f32(const dk_spring_system_f32 *system,
 // nodes, plain `‖b − A x‖₂` when `b = 0`) into `*residual_out`.
 //
 // # Safety
-// As [`dk_spring_solve_linear`]; `values` readable for `values_len` scalars; `residual_out`
-// writable for one scalar.
+// - `system`: one readable `dk_spring_system`.
+// - `values`: readable for `values_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `residual_out`: one readable and writable `double`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_relative_residual(const dk_spring_system *system,
                                       uint32_t components,
                                       const double *values,
@@ -3223,7 +3748,11 @@ dk_status dk_spring_relative_residual_f32(const dk_spring_system_f32 *system,
 // `ε` = 0.01, 10 000 iterations, residual tolerance 1e-10, update tolerance off.
 //
 // # Safety
-// `out` points to one writable options struct.
+// - `out`: one readable and writable `dk_spring_angle_options`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_angle_options_default(dk_spring_angle_options *out);
 
 // As [`dk_spring_angle_options_default`] with the f32 default residual tolerance.
@@ -3237,7 +3766,12 @@ dk_status dk_spring_angle_options_default_f32(dk_spring_angle_options *out);
 // `options->epsilon` is 0 (the rigidity probe).
 //
 // # Safety
-// `options` points to one readable struct; `len_out` to one writable `size_t`.
+// - `options`: one readable `dk_spring_angle_options`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_angle_scratch_len(size_t node_count,
                                             uint32_t dim,
                                             const dk_spring_angle_options *options,
@@ -3256,7 +3790,11 @@ dk_status dk_spring_solve_angle_scratch_len_f32(size_t node_count,
 // Scalars of `scratch` [`dk_spring_angle_rigidity_probe`] needs: `4 * node_count * dim`.
 //
 // # Safety
-// `len_out` points to one writable `size_t`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_angle_rigidity_probe_scratch_len(size_t node_count,
                                                      uint32_t dim,
                                                      size_t *len_out);
@@ -3274,7 +3812,17 @@ dk_status dk_spring_angle_rigidity_probe_scratch_len(size_t node_count,
 // `DK_ERR_ZERO_LENGTH_EDGE`, the errors of [`dk_spring_solve_linear`].
 //
 // # Safety
-// As [`dk_spring_solve_linear`]; `points` readable for `points_len` scalars.
+// - `system`: one readable `dk_spring_system`.
+// - `points`: readable for `points_len` elements (`double`).
+// - `options`: one readable `dk_spring_angle_options`.
+// - `values`: readable and writable for `values_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_angle(const dk_spring_system *system,
                                 const double *points,
                                 size_t points_len,
@@ -3313,8 +3861,16 @@ dk_status dk_spring_solve_angle_f32(const dk_spring_system_f32 *system,
 // error.
 //
 // # Safety
-// As [`dk_spring_solve_angle`]; `src` readable for `src_len` scalars; `dst` writable for
-// `dst_len`, not overlapping `src`; `sweep` points to one writable struct.
+// - `system`: one readable `dk_spring_system`.
+// - `points`: readable for `points_len` elements (`double`).
+// - `src`: readable for `src_len` elements (`double`).
+// - `dst`: readable and writable for `dst_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `sweep`: one readable and writable `dk_spring_sweep`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_angle_jacobi_sweep(const dk_spring_system *system,
                                        const double *points,
                                        size_t points_len,
@@ -3357,8 +3913,15 @@ dk_status dk_spring_angle_jacobi_sweep_f32(const dk_spring_system_f32 *system,
 // Nothing is written on error.
 //
 // # Safety
-// As [`dk_spring_solve_angle`]; `values` readable and writable for `values_len` scalars;
-// `sweep` points to one writable struct.
+// - `system`: one readable `dk_spring_system`.
+// - `points`: readable for `points_len` elements (`double`).
+// - `values`: readable and writable for `values_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `sweep`: one readable and writable `dk_spring_sweep`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_angle_gauss_seidel_sweep(const dk_spring_system *system,
                                              const double *points,
                                              size_t points_len,
@@ -3400,7 +3963,16 @@ dk_status dk_spring_angle_gauss_seidel_sweep_f32(const dk_spring_system_f32 *sys
 // those of [`dk_spring_solve_angle`]; nothing is written on error.
 //
 // # Safety
-// As [`dk_spring_solve_angle`]; `amplification_out` writable for one scalar.
+// - `system`: one readable `dk_spring_system`.
+// - `points`: readable for `points_len` elements (`double`).
+// - `options`: one readable `dk_spring_angle_options`.
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `amplification_out`: one readable and writable `double`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_angle_rigidity_probe(const dk_spring_system *system,
                                          const double *points,
                                          size_t points_len,
@@ -3432,7 +4004,11 @@ dk_status dk_spring_angle_rigidity_probe_f32(const dk_spring_system_f32 *system,
 // Chebyshev smoothing of degree 2 (docs/amg.md).
 //
 // # Safety
-// `out` points to one writable options struct.
+// - `out`: one readable and writable `dk_amg_options`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_amg_options_default(dk_amg_options *out);
 
 // Length of the `uint32_t` `work` buffer [`dk_spring_solve_linear_amg_pool_sizes`] and
@@ -3442,7 +4018,11 @@ dk_status dk_amg_options_default(dk_amg_options *out);
 // pool of the solves. Errors: `DK_ERR_TOO_LARGE`, pointer errors.
 //
 // # Safety
-// `len_out` points to one writable `size_t`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_amg_work_len(size_t node_count, size_t directed_edges, size_t *len_out);
 
 // The exact pool lengths [`dk_spring_solve_linear_amg`] needs for this system, `components`
@@ -3459,9 +4039,14 @@ dk_status dk_spring_amg_work_len(size_t node_count, size_t directed_edges, size_
 // [`dk_spring_solve_linear`]), `DK_ERR_TOO_LARGE`, pointer errors.
 //
 // # Safety
-// `system` points to one readable struct whose arrays are readable for their lengths;
-// `amg` points to one readable struct; `work` is writable for `work_len` entries and overlaps
-// nothing else; `sizes_out` points to one writable struct.
+// - `system`: one readable `dk_spring_system`.
+// - `amg`: one readable `dk_amg_options`.
+// - `work`: readable and writable for `work_len` elements (`uint32_t`).
+// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_linear_amg_pool_sizes(const dk_spring_system *system,
                                                 uint32_t components,
                                                 const dk_amg_options *amg,
@@ -3501,11 +4086,16 @@ dk_status dk_spring_solve_linear_amg_pool_sizes_f32(const dk_spring_system_f32 *
 // of [`dk_spring_solve_linear`].
 //
 // # Safety
-// `system` points to one readable struct whose arrays are readable for their lengths;
-// `options` and `amg` point to one readable struct each; `values` is readable and writable
-// for `values_len` scalars; `pools` points to one readable struct whose buffers are writable
-// for their lengths; `report` points to one writable report; writable buffers overlap
-// nothing else.
+// - `system`: one readable `dk_spring_system`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `amg`: one readable `dk_amg_options`.
+// - `values`: readable and writable for `values_len` elements (`double`).
+// - `pools`: one readable `dk_plan_pools`.
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_linear_amg(const dk_spring_system *system,
                                      const dk_spring_solve_options *options,
                                      const dk_amg_options *amg,
@@ -3536,7 +4126,14 @@ dk_status dk_spring_solve_linear_amg_f32(const dk_spring_system_f32 *system,
 // [`dk_spring_solve_linear_amg_pool_sizes`] (`dim` instead of `components`).
 //
 // # Safety
-// As [`dk_spring_solve_linear_amg_pool_sizes`].
+// - `system`: one readable `dk_spring_system`.
+// - `amg`: one readable `dk_amg_options`.
+// - `work`: readable and writable for `work_len` elements (`uint32_t`).
+// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_angle_amg_pool_sizes(const dk_spring_system *system,
                                                uint32_t dim,
                                                const dk_amg_options *amg,
@@ -3572,7 +4169,17 @@ dk_status dk_spring_solve_angle_amg_pool_sizes_f32(const dk_spring_system_f32 *s
 // [`dk_spring_solve_linear_amg`].
 //
 // # Safety
-// As [`dk_spring_solve_linear_amg`]; `points` readable for `points_len` scalars.
+// - `system`: one readable `dk_spring_system`.
+// - `points`: readable for `points_len` elements (`double`).
+// - `options`: one readable `dk_spring_angle_options`.
+// - `amg`: one readable `dk_amg_options`.
+// - `values`: readable and writable for `values_len` elements (`double`).
+// - `pools`: one readable `dk_plan_pools`.
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_angle_amg(const dk_spring_system *system,
                                     const double *points,
                                     size_t points_len,
@@ -3611,8 +4218,12 @@ dk_status dk_spring_solve_angle_amg_f32(const dk_spring_system_f32 *system,
 // pointer errors.
 //
 // # Safety
-// `constraints` points to one readable struct whose arrays are readable for their lengths;
-// `mask` is writable for `mask_len` bytes and overlaps nothing else.
+// - `constraints`: one readable `dk_constraints`.
+// - `mask`: readable and writable for `mask_len` elements (`uint8_t`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_constraints_fixed_mask(const dk_constraints *constraints,
                                     uint32_t dim,
                                     uint8_t *mask,
@@ -3639,9 +4250,13 @@ dk_status dk_constraints_fixed_mask_f32(const dk_constraints_f32 *constraints,
 // of [`dk_constraints_fixed_mask`], pointer errors.
 //
 // # Safety
-// `constraints` points to one readable struct whose arrays are readable for their lengths;
-// `original` readable for `original_len` scalars; `points` readable and writable for
-// `points_len` scalars, overlapping nothing else.
+// - `constraints`: one readable `dk_constraints`.
+// - `original`: readable for `original_len` elements (`double`).
+// - `points`: readable and writable for `points_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_slide_points(const dk_constraints *constraints,
                           uint32_t dim,
                           const double *original,
@@ -3676,9 +4291,17 @@ dk_status dk_slide_points_f32(const dk_constraints_f32 *constraints,
 // `DK_ERR_BUFFER_TOO_SMALL` (`index_scratch`), length and pointer errors.
 //
 // # Safety
-// `points` readable for `points_len` scalars, `nodes` for `nodes_len` entries;
-// `index_scratch`, `normal_out` and `point_out` writable for their lengths; `residual_out`
-// and `extent_out` writable for one scalar each; writable buffers overlap nothing else.
+// - `points`: readable for `points_len` elements (`double`).
+// - `nodes`: readable for `nodes_len` elements (`uint32_t`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `normal_out`: readable and writable for `normal_out_len` elements (`double`).
+// - `point_out`: readable and writable for `point_out_len` elements (`double`).
+// - `residual_out`: one readable and writable `double`.
+// - `extent_out`: one readable and writable `double`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_fit_plane(const double *points,
                        size_t points_len,
                        uint32_t dim,
@@ -3721,7 +4344,13 @@ dk_status dk_fit_plane_f32(const float *points,
 // within `√ε`), pointer errors.
 //
 // # Safety
-// `a`, `b` point to 3 readable scalars, `out` to 3 writable scalars.
+// - `a`: 3 readable elements (`double`).
+// - `b`: 3 readable elements (`double`).
+// - `out`: 3 readable and writable elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_plane_intersection(const double *a, const double *b, double *out);
 
 // `f32` twin of [`dk_plane_intersection`].
@@ -3736,7 +4365,12 @@ dk_status dk_plane_intersection_f32(const float *a, const float *b, float *out);
 // same count for both precisions).
 //
 // # Safety
-// `options` points to one readable struct; `len_out` to one writable `size_t`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_linear_sliding_scratch_len(size_t node_count,
                                                      uint32_t dim,
                                                      const dk_spring_solve_options *options,
@@ -3762,8 +4396,17 @@ dk_status dk_spring_solve_linear_sliding_scratch_len(size_t node_count,
 // [`dk_spring_solve_linear`].
 //
 // # Safety
-// As [`dk_spring_solve_linear`]; `constraints` points to one readable struct whose arrays
-// are readable for their lengths.
+// - `system`: one readable `dk_spring_system`.
+// - `constraints`: one readable `dk_constraints`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `values`: readable and writable for `values_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_linear_sliding(const dk_spring_system *system,
                                          const dk_constraints *constraints,
                                          const dk_spring_solve_options *options,
@@ -3797,7 +4440,12 @@ dk_status dk_spring_solve_linear_sliding_f32(const dk_spring_system_f32 *system,
 // `options->epsilon` is 0 (the rigidity probe).
 //
 // # Safety
-// `options` points to one readable struct; `len_out` to one writable `size_t`.
+// - `options`: one readable `dk_spring_angle_options`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_angle_sliding_scratch_len(size_t node_count,
                                                     uint32_t dim,
                                                     const dk_spring_angle_options *options,
@@ -3827,7 +4475,18 @@ dk_status dk_spring_solve_angle_sliding_scratch_len_f32(size_t node_count,
 // [`dk_spring_solve_linear_sliding`]; `DK_ERR_INVALID_PARAMETER` for `omega`.
 //
 // # Safety
-// As [`dk_spring_solve_linear_sliding`]; `points` readable for `points_len` scalars.
+// - `system`: one readable `dk_spring_system`.
+// - `points`: readable for `points_len` elements (`double`).
+// - `constraints`: one readable `dk_constraints`.
+// - `options`: one readable `dk_spring_angle_options`.
+// - `values`: readable and writable for `values_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_angle_sliding(const dk_spring_system *system,
                                         const double *points,
                                         size_t points_len,
@@ -3871,7 +4530,14 @@ dk_status dk_spring_solve_angle_sliding_f32(const dk_spring_system_f32 *system,
 // `components`).
 //
 // # Safety
-// As [`dk_spring_solve_linear_amg_pool_sizes`].
+// - `system`: one readable `dk_spring_system`.
+// - `amg`: one readable `dk_amg_options`.
+// - `work`: readable and writable for `work_len` elements (`uint32_t`).
+// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_linear_sliding_amg_pool_sizes(const dk_spring_system *system,
                                                         uint32_t dim,
                                                         const dk_amg_options *amg,
@@ -3905,8 +4571,17 @@ dk_status dk_spring_solve_linear_sliding_amg_pool_sizes_f32(const dk_spring_syst
 // [`dk_spring_solve_linear_amg`].
 //
 // # Safety
-// As [`dk_spring_solve_linear_amg`]; `constraints` points to one readable struct whose
-// arrays are readable for their lengths.
+// - `system`: one readable `dk_spring_system`.
+// - `constraints`: one readable `dk_constraints`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `amg`: one readable `dk_amg_options`.
+// - `values`: readable and writable for `values_len` elements (`double`).
+// - `pools`: one readable `dk_plan_pools`.
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_linear_sliding_amg(const dk_spring_system *system,
                                              const dk_constraints *constraints,
                                              const dk_spring_solve_options *options,
@@ -3938,7 +4613,14 @@ dk_status dk_spring_solve_linear_sliding_amg_f32(const dk_spring_system_f32 *sys
 // [`dk_spring_solve_linear_sliding_amg_pool_sizes`].
 //
 // # Safety
-// As [`dk_spring_solve_linear_amg_pool_sizes`].
+// - `system`: one readable `dk_spring_system`.
+// - `amg`: one readable `dk_amg_options`.
+// - `work`: readable and writable for `work_len` elements (`uint32_t`).
+// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_angle_sliding_amg_pool_sizes(const dk_spring_system *system,
                                                        uint32_t dim,
                                                        const dk_amg_options *amg,
@@ -3971,8 +4653,18 @@ dk_status dk_spring_solve_angle_sliding_amg_pool_sizes_f32(const dk_spring_syste
 // [`dk_spring_solve_angle_amg`].
 //
 // # Safety
-// As [`dk_spring_solve_angle_amg`]; `constraints` points to one readable struct whose
-// arrays are readable for their lengths.
+// - `system`: one readable `dk_spring_system`.
+// - `points`: readable for `points_len` elements (`double`).
+// - `constraints`: one readable `dk_constraints`.
+// - `options`: one readable `dk_spring_angle_options`.
+// - `amg`: one readable `dk_amg_options`.
+// - `values`: readable and writable for `values_len` elements (`double`).
+// - `pools`: one readable `dk_plan_pools`.
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_solve_angle_sliding_amg(const dk_spring_system *system,
                                             const double *points,
                                             size_t points_len,
@@ -4017,8 +4709,14 @@ const char *dk_status_str(int32_t status);
 // errors.
 //
 // # Safety
-// Inputs readable for their lengths; `index_scratch` and `out` writable for theirs,
-// overlapping nothing else.
+// - `points`: readable for `points_len` elements (`double`).
+// - `wall`: readable for `wall_len` elements (`uint32_t`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_wall_distances(const double *points,
                                    size_t points_len,
                                    uint32_t dim,
@@ -4053,7 +4751,11 @@ dk_status dk_spring_wall_distances_f32(const float *points,
 // (`DK_ERR_INVALID_PARAMETER`), pointer errors.
 //
 // # Safety
-// `distances` readable and writable for `distances_len` scalars.
+// - `distances`: readable and writable for `distances_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_wall_distance_factors(double *distances,
                                           size_t distances_len,
                                           double exponent);
@@ -4074,8 +4776,15 @@ dk_status dk_spring_wall_distance_factors_f32(float *distances,
 // `DK_ERR_NON_FINITE`, `DK_ERR_INVALID_PARAMETER` (`dim`), length and pointer errors.
 //
 // # Safety
-// Inputs readable for their lengths; `index_scratch`, `out` and `scratch` writable for
-// theirs, overlapping nothing else.
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `points`: readable for `points_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_dual_volumes(const dk_cells *cells,
                                  uint32_t index_base,
                                  uint32_t *index_scratch,
@@ -4109,7 +4818,11 @@ dk_status dk_spring_dual_volumes_f32(const dk_cells *cells,
 // Errors as [`dk_spring_wall_distance_factors`].
 //
 // # Safety
-// `volumes` readable and writable for `volumes_len` scalars.
+// - `volumes`: readable and writable for `volumes_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_inverse_volume_factors(double *volumes,
                                            size_t volumes_len,
                                            double exponent);
@@ -4128,8 +4841,13 @@ dk_status dk_spring_inverse_volume_factors_f32(float *volumes, size_t volumes_le
 // `DK_ERR_NON_POSITIVE`, graph and pointer errors.
 //
 // # Safety
-// Inputs readable for their lengths; `stiffness` readable and writable for
-// `stiffness_len` scalars, overlapping nothing else.
+// - `graph`: one readable `dk_graph`.
+// - `factors`: readable for `factors_len` elements (`double`).
+// - `stiffness`: readable and writable for `stiffness_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_spring_scale_stiffness(const dk_graph *graph,
                                     const double *factors,
                                     size_t factors_len,
@@ -4149,7 +4867,12 @@ dk_status dk_spring_scale_stiffness_f32(const dk_graph *graph,
 // The λ|μ values Alter took from Taubin: `λ = 0.330`, `μ = −0.334` (pass band ≈ 0.0363).
 //
 // # Safety
-// `lambda_out` and `mu_out` each point to one writable scalar.
+// - `lambda_out`: one readable and writable `double`.
+// - `mu_out`: one readable and writable `double`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_params_paper(double *lambda_out, double *mu_out);
 
 // `f32` twin of [`dk_taubin_params_paper`].
@@ -4163,7 +4886,12 @@ dk_status dk_taubin_params_paper_f32(float *lambda_out, float *mu_out);
 // unchanged to `*lambda_out` and `μ` to `*mu_out`.
 //
 // # Safety
-// `lambda_out` and `mu_out` each point to one writable scalar.
+// - `lambda_out`: one readable and writable `double`.
+// - `mu_out`: one readable and writable `double`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_params_from_pass_band(double lambda,
                                           double pass_band,
                                           double *lambda_out,
@@ -4184,7 +4912,11 @@ dk_status dk_taubin_params_from_pass_band_f32(float lambda,
 // `direction > 2` gives `DK_ERR_INVALID_PARAMETER`.
 //
 // # Safety
-// `out` points to one writable `dk_smooth_arclength_options`.
+// - `out`: one readable and writable `dk_smooth_arclength_options`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_smooth_arclength_options_default(uint32_t direction, dk_smooth_arclength_options *out);
 
 // Scratch length (in scalars of the precision used) for [`dk_taubin_smooth_arclength`] with
@@ -4193,7 +4925,12 @@ dk_status dk_smooth_arclength_options_default(uint32_t direction, dk_smooth_arcl
 // 0, 1, 2 gives `DK_ERR_INVALID_PARAMETER`.
 //
 // # Safety
-// `options` points to one readable options struct; `len_out` to one writable `size_t`.
+// - `options`: one readable `dk_smooth_arclength_options`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_smooth_arclength_scratch_len(size_t ni,
                                                  size_t nj,
                                                  size_t nk,
@@ -4213,10 +4950,14 @@ dk_status dk_taubin_smooth_arclength_scratch_len(size_t ni,
 // scratch contents are unspecified afterwards.
 //
 // # Safety
-// `options` points to one readable options struct whose `pinned` is NULL or readable for
-// `pinned_len` bytes; `points` is readable and writable for `points_len` scalars; `scratch`
-// writable for `scratch_len` scalars; `report` points to one writable report; the writable
-// buffers overlap neither each other nor the inputs.
+// - `options`: one readable `dk_smooth_arclength_options`.
+// - `points`: readable and writable for `points_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `report`: one readable and writable `dk_smooth_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_smooth_arclength(size_t ni,
                                      size_t nj,
                                      size_t nk,
@@ -4256,7 +4997,14 @@ dk_status dk_taubin_smooth_arclength_f32(size_t ni,
 // axis: keep that face fixed). On any error `points` and `*report` are unchanged.
 //
 // # Safety
-// As [`dk_taubin_smooth_arclength`].
+// - `options`: one readable `dk_smooth_arclength_options`.
+// - `points`: readable and writable for `points_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `report`: one readable and writable `dk_smooth_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_smooth_arclength_ends(size_t ni,
                                           size_t nj,
                                           size_t nk,
@@ -4288,7 +5036,11 @@ dk_status dk_taubin_smooth_arclength_ends_f32(size_t ni,
 // Scratch length (in scalars) for [`dk_taubin_smooth_structured`]: the point count.
 //
 // # Safety
-// `len_out` points to one writable `size_t`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_smooth_structured_scratch_len(size_t ni, size_t nj, size_t nk, size_t *len_out);
 
 // Smooths a scalar field on a structured block (`ni·nj·nk` values, in place) with
@@ -4300,10 +5052,14 @@ dk_status dk_taubin_smooth_structured_scratch_len(size_t ni, size_t nj, size_t n
 // error `field` and `*report` are unchanged.
 //
 // # Safety
-// `options` points to one readable struct whose `pinned` is NULL or readable for
-// `pinned_len` bytes; `field` is readable and writable for `field_len` scalars; `scratch`
-// writable for `scratch_len` scalars; `report` points to one writable report; the writable
-// buffers overlap neither each other nor the inputs.
+// - `options`: one readable `dk_structured_options`.
+// - `field`: readable and writable for `field_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `report`: one readable and writable `dk_filter_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_smooth_structured(size_t ni,
                                       size_t nj,
                                       size_t nk,
@@ -4345,9 +5101,15 @@ dk_status dk_taubin_smooth_structured_f32(size_t ni,
 // `src`), `DK_ERR_BAD_INDEX_BASE`, length and pointer errors.
 //
 // # Safety
-// `src` is readable for `src_len` scalars; `options` and `region` point to one readable
-// struct each (`options->pinned` NULL or readable for `pinned_len` bytes); `dst` is writable
-// for `dst_len` scalars and `max_change_out` for one; `dst` overlaps no input.
+// - `src`: readable for `src_len` elements (`double`).
+// - `options`: one readable `dk_structured_options`.
+// - `region`: one readable `dk_block_region`.
+// - `dst`: readable and writable for `dst_len` elements (`double`).
+// - `max_change_out`: one readable and writable `double`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_structured_sweep(size_t ni,
                                      size_t nj,
                                      size_t nk,
@@ -4381,7 +5143,12 @@ dk_status dk_taubin_structured_sweep_f32(size_t ni,
 // Scratch length (in scalars) for [`dk_taubin_smooth_structured_coarse`]: two coarse fields.
 //
 // # Safety
-// `coarse` points to one readable struct; `len_out` to one writable `size_t`.
+// - `coarse`: one readable `dk_taubin_coarse`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_smooth_structured_coarse_scratch_len(size_t ni,
                                                          size_t nj,
                                                          size_t nk,
@@ -4397,7 +5164,15 @@ dk_status dk_taubin_smooth_structured_coarse_scratch_len(size_t ni,
 // unknown prolongation. On error `field` and `*report` are unchanged.
 //
 // # Safety
-// As [`dk_taubin_smooth_structured`]; `coarse` points to one readable struct.
+// - `coarse`: one readable `dk_taubin_coarse`.
+// - `options`: one readable `dk_structured_options`.
+// - `field`: readable and writable for `field_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `report`: one readable and writable `dk_filter_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_smooth_structured_coarse(size_t ni,
                                              size_t nj,
                                              size_t nk,
@@ -4434,7 +5209,11 @@ dk_status dk_taubin_smooth_structured_coarse_f32(size_t ni,
 // (`DK_ERR_TOO_LARGE` if that overflows `size_t`).
 //
 // # Safety
-// `len_out` points to one writable `size_t`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_smooth_graph_scratch_len(size_t node_count,
                                              uint32_t components,
                                              size_t *len_out);
@@ -4454,9 +5233,16 @@ dk_status dk_taubin_smooth_graph_scratch_len(size_t node_count,
 // `*report` are unchanged.
 //
 // # Safety
-// Every input pointer is NULL (with length 0) or readable for its length; `values` is
-// readable and writable for `values_len` scalars, `scratch` writable for `scratch_len`,
-// `report` points to one writable report; writable buffers overlap nothing else.
+// - `graph`: one readable `dk_graph`.
+// - `weights`: readable for `weights_len` elements (`double`).
+// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+// - `values`: readable and writable for `values_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `report`: one readable and writable `dk_filter_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_smooth_graph(const dk_graph *graph,
                                  const double *weights,
                                  size_t weights_len,
@@ -4500,8 +5286,16 @@ dk_status dk_taubin_smooth_graph_f32(const dk_graph *graph,
 // written on error.
 //
 // # Safety
-// Every input pointer is NULL (with length 0) or readable for its length; `dst` is writable
-// for `dst_len` scalars and `max_change_out` for one; `dst` overlaps no input.
+// - `graph`: one readable `dk_graph`.
+// - `weights`: readable for `weights_len` elements (`double`).
+// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+// - `src`: readable for `src_len` elements (`double`).
+// - `dst`: readable and writable for `dst_len` elements (`double`).
+// - `max_change_out`: one readable and writable `double`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_graph_sweep(const dk_graph *graph,
                                 const double *weights,
                                 size_t weights_len,
@@ -4545,8 +5339,13 @@ dk_status dk_taubin_graph_sweep_f32(const dk_graph *graph,
 // neighbours coincide), `DK_ERR_NON_FINITE`, length and pointer errors.
 //
 // # Safety
-// Inputs readable for their lengths; `weights` writable for `weights_len` scalars, not
-// overlapping the inputs.
+// - `graph`: one readable `dk_graph`.
+// - `points`: readable for `points_len` elements (`double`).
+// - `weights`: readable and writable for `weights_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_inverse_distance_weights(const dk_graph *graph,
                                              const double *points,
                                              size_t points_len,
@@ -4571,7 +5370,12 @@ dk_status dk_taubin_inverse_distance_weights_f32(const dk_graph *graph,
 // `out`: `ni·nj·nk` scalars. Nothing is written on error.
 //
 // # Safety
-// `points` readable for `points_len` scalars; `out` writable for `out_len`, not overlapping.
+// - `points`: readable for `points_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_arclength(size_t ni,
                               size_t nj,
                               size_t nk,
@@ -4602,7 +5406,11 @@ dk_status dk_taubin_arclength_f32(size_t ni,
 // in `direction` (`DK_ERR_INVALID_PARAMETER` for `dim` not 2 or 3 or `direction > 2`).
 //
 // # Safety
-// `len_out` points to one writable `size_t`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_redistribute_scratch_len(size_t ni,
                                              size_t nj,
                                              size_t nk,
@@ -4618,9 +5426,14 @@ dk_status dk_taubin_redistribute_scratch_len(size_t ni,
 // [`dk_taubin_redistribute_scratch_len`] scalars. On error `points` is unchanged.
 //
 // # Safety
-// `targets` readable for `targets_len` scalars; `points` readable and writable for
-// `points_len`; `scratch` writable for `scratch_len`; `max_displacement_out` writable for
-// one; writable buffers overlap nothing else.
+// - `targets`: readable for `targets_len` elements (`double`).
+// - `points`: readable and writable for `points_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `max_displacement_out`: one readable and writable `double`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_redistribute(size_t ni,
                                  size_t nj,
                                  size_t nk,
@@ -4658,7 +5471,12 @@ dk_status dk_taubin_redistribute_f32(size_t ni,
 // the two cells has zero length). `out`: `ni·nj·nk` scalars. Nothing is written on error.
 //
 // # Safety
-// `points` readable for `points_len` scalars; `out` writable for `out_len`, not overlapping.
+// - `points`: readable for `points_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_stretching(size_t ni,
                                size_t nj,
                                size_t nk,
@@ -4689,8 +5507,13 @@ dk_status dk_taubin_stretching_f32(size_t ni,
 // error.
 //
 // # Safety
-// `points` readable for `points_len` scalars; `value_out` and `point_out` writable for one
-// item each.
+// - `points`: readable for `points_len` elements (`double`).
+// - `value_out`: one readable and writable `double`.
+// - `point_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_max_stretching(size_t ni,
                                    size_t nj,
                                    size_t nk,
@@ -4722,7 +5545,12 @@ dk_status dk_taubin_max_stretching_f32(size_t ni,
 // exempt. Writes nothing.
 //
 // # Safety
-// `field` and `points` readable for their lengths (or NULL with length 0).
+// - `field`: readable for `field_len` elements (`double`).
+// - `points`: readable for `points_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 dk_status dk_taubin_check_lines_increasing(size_t ni,
                                            size_t nj,
                                            size_t nk,

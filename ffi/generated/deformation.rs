@@ -54,7 +54,11 @@ pub type dk_boundary_motion_f32 = DkBoundaryMotion<f32>;
 /// `has_origin` 0 (default origin), `index_base` 0. Set the fields you need afterwards.
 ///
 /// # Safety
-/// `out` points to one writable `dk_boundary_motion` (or is NULL: `DK_ERR_NULL_POINTER`).
+/// - `out`: one readable and writable `dk_boundary_motion`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_boundary_motion_default(out: *mut DkBoundaryMotion<f64>) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
@@ -84,7 +88,12 @@ pub unsafe extern "C" fn dk_boundary_motion_default_f32(
 /// `DK_ERR_TOO_LARGE` (the sum overflows).
 ///
 /// # Safety
-/// `motion` points to one readable `dk_boundary_motion`; `len_out` to one writable `size_t`.
+/// - `motion`: one readable `dk_boundary_motion`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_boundary_motion_index_scratch_len(
     motion: *const DkBoundaryMotion<f64>,
@@ -117,7 +126,11 @@ pub unsafe extern "C" fn dk_boundary_motion_index_scratch_len_f32(
 /// kernel's `deform_idw_scratch_len`). The same for both precisions.
 ///
 /// # Safety
-/// `len_out` points to one writable `size_t`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_idw_scratch_len(
     node_count: usize,
@@ -158,9 +171,18 @@ pub unsafe extern "C" fn dk_deform_idw_scratch_len(
 /// `out` and `origin_out` are unchanged.
 ///
 /// # Safety
-/// `points` is readable for `points_len` scalars; `motion` points to one readable struct
-/// whose arrays are readable for their lengths; every writable buffer is valid for its length;
-/// no writable buffer overlaps another buffer or an input.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `motion`: one readable `dk_boundary_motion`.
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `translations`: readable and writable for `translations_len` elements (`double`).
+/// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+/// - `origin_out`: readable and writable for `origin_out_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_idw(
     points: *const f64,
@@ -267,7 +289,11 @@ pub unsafe extern "C" fn dk_deform_idw_f32(
 /// dimension, too many points), `DK_ERR_INVALID_PARAMETER` (`dim` not 2 or 3).
 ///
 /// # Safety
-/// `len_out` points to one writable `size_t`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_tfi_scratch_len(
     ni: usize,
@@ -298,7 +324,18 @@ pub unsafe extern "C" fn dk_deform_tfi_scratch_len(
 /// workspaces).
 ///
 /// # Safety
-/// As [`dk_deform_idw`].
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `motion`: one readable `dk_boundary_motion`.
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `translations`: readable and writable for `translations_len` elements (`double`).
+/// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+/// - `origin_out`: readable and writable for `origin_out_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_tfi(
     ni: usize,
@@ -415,7 +452,11 @@ pub unsafe extern "C" fn dk_deform_tfi_f32(
 /// `3 * boundary_len` (saturating).
 ///
 /// # Safety
-/// `len_out` points to one writable `size_t`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_normals_scratch_len(
     boundary_len: usize,
@@ -445,8 +486,15 @@ pub unsafe extern "C" fn dk_deform_boundary_normals_scratch_len(
 /// cancel at a node). On error `normals` is unchanged.
 ///
 /// # Safety
-/// Every pointer is valid for its length (reads for inputs, writes for `scratch`,
-/// `index_scratch`, `normals`); the writable buffers overlap nothing else.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `elements`: one readable `dk_cells`.
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `normals`: readable and writable for `normals_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_normals(
     points: *const f64,
@@ -527,7 +575,11 @@ pub unsafe extern "C" fn dk_deform_boundary_normals_f32(
 /// `13 B` in 3D (saturating). `DK_ERR_INVALID_PARAMETER` unless `dim` is 2 or 3.
 ///
 /// # Safety
-/// `len_out` points to one writable `size_t`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_rotations_scratch_len(
     boundary_len: usize,
@@ -556,7 +608,16 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations_scratch_len(
 /// `rotations` is unchanged.
 ///
 /// # Safety
-/// As [`dk_deform_boundary_normals`].
+/// - `undeformed`: readable for `undeformed_len` elements (`double`).
+/// - `deformed`: readable for `deformed_len` elements (`double`).
+/// - `elements`: one readable `dk_cells`.
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_rotations(
     undeformed: *const f64,
@@ -647,8 +708,12 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations_f32(
 /// `DK_ERR_LENGTH_MISMATCH`; on error `rotations` is unchanged.
 ///
 /// # Safety
-/// `q` points to 4 readable scalars; `rotations` is writable for `rotations_len` scalars and
-/// does not overlap `q`.
+/// - `q`: 4 readable elements (`double`).
+/// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_rigid_rotations(
     q: *const f64,
@@ -688,8 +753,13 @@ pub unsafe extern "C" fn dk_deform_rigid_rotations_f32(
 /// unchanged.
 ///
 /// # Safety
-/// The inputs are readable for their lengths; `origin_out` is writable for `origin_out_len`
-/// scalars and overlaps no input.
+/// - `undeformed`: readable for `undeformed_len` elements (`double`).
+/// - `deformed`: readable for `deformed_len` elements (`double`).
+/// - `origin_out`: readable and writable for `origin_out_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_origin(
     undeformed: *const f64,
@@ -749,8 +819,15 @@ pub unsafe extern "C" fn dk_deform_boundary_origin_f32(
 /// `translations` is unchanged.
 ///
 /// # Safety
-/// The inputs are readable for their lengths; `translations` is writable for its length and
-/// overlaps no input.
+/// - `origin`: readable for `origin_len` elements (`double`).
+/// - `undeformed`: readable for `undeformed_len` elements (`double`).
+/// - `deformed`: readable for `deformed_len` elements (`double`).
+/// - `rotations`: readable for `rotations_len` elements (`double`).
+/// - `translations`: readable and writable for `translations_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_boundary_translations(
     origin: *const f64,
@@ -840,8 +917,15 @@ pub unsafe extern "C" fn dk_deform_boundary_translations_f32(
 /// written.
 ///
 /// # Safety
-/// Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
-/// the writable buffers overlap nothing else.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `boundary`: readable for `boundary_len` elements (`uint32_t`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `translations`: readable and writable for `translations_len` elements (`double`).
+/// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_propagate_idw(
     points: *const f64,
@@ -929,7 +1013,11 @@ pub unsafe extern "C" fn dk_deform_propagate_idw_f32(
 /// Errors: `DK_ERR_BAD_DIMENSIONS` (block), `DK_ERR_INVALID_PARAMETER` (`dim`).
 ///
 /// # Safety
-/// `len_out` points to one writable `size_t`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_propagate_tfi_scratch_len(
     ni: usize,
@@ -959,8 +1047,14 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi_scratch_len(
 /// the values are unchanged.
 ///
 /// # Safety
-/// Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
-/// the writable buffers overlap nothing else.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `translations`: readable and writable for `translations_len` elements (`double`).
+/// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_propagate_tfi(
     ni: usize,
@@ -1051,8 +1145,13 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi_f32(
 /// error `displacements` is unchanged.
 ///
 /// # Safety
-/// Every pointer is valid for its length (`displacements` for reads and writes); the writable
-/// buffers overlap nothing else.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `displacements`: readable and writable for `displacements_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_displacement_tfi(
     ni: usize,
@@ -1139,7 +1238,18 @@ pub unsafe extern "C" fn dk_deform_displacement_tfi_f32(
 /// `DK_ERR_ZERO_LENGTH` (a zero rotation). On error `out` is unchanged.
 ///
 /// # Safety
-/// Every pointer is valid for its length; `out` and `index_scratch` overlap nothing else.
+/// - `origin`: readable for `origin_len` elements (`double`).
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `translations`: readable for `translations_len` elements (`double`).
+/// - `rotations`: readable for `rotations_len` elements (`double`).
+/// - `boundary`: readable for `boundary_len` elements (`uint32_t`).
+/// - `boundary_deformed`: readable for `boundary_deformed_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_update_points(
     origin: *const f64,
@@ -1247,7 +1357,11 @@ pub unsafe extern "C" fn dk_deform_update_points_f32(
 /// Errors: `DK_ERR_BAD_INDEX_BASE`, `DK_ERR_TOO_LARGE` (overflow).
 ///
 /// # Safety
-/// `len_out` points to one writable `size_t`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_localize_nodes_scratch_len(
     node_count: usize,
@@ -1283,8 +1397,14 @@ pub unsafe extern "C" fn dk_deform_localize_nodes_scratch_len(
 /// `DK_ERR_BUFFER_TOO_SMALL`, `DK_ERR_TOO_LARGE`. On error `local` is unchanged.
 ///
 /// # Safety
-/// `boundary`, `global` are readable for their lengths; `scratch`, `local` are writable for
-/// theirs; the writable buffers overlap nothing else.
+/// - `boundary`: readable for `boundary_len` elements (`uint32_t`).
+/// - `global`: readable for `global_len` elements (`uint32_t`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`uint32_t`).
+/// - `local`: readable and writable for `local_len` elements (`uint32_t`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_localize_nodes(
     node_count: usize,
@@ -1319,8 +1439,13 @@ pub unsafe extern "C" fn dk_deform_localize_nodes(
 /// written on error.
 ///
 /// # Safety
-/// `options` points to one readable `dk_spring_solve_options`; `scratch_len_out` and
-/// `values_len_out` each to one writable `size_t`.
+/// - `options`: one readable `dk_spring_solve_options`.
+/// - `scratch_len_out`: one readable and writable `size_t`.
+/// - `values_len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_spring_scratch_len(
     node_count: usize,
@@ -1354,7 +1479,12 @@ pub unsafe extern "C" fn dk_deform_spring_scratch_len(
 /// check).
 ///
 /// # Safety
-/// `motion` points to one readable `dk_boundary_motion`; `len_out` to one writable `size_t`.
+/// - `motion`: one readable `dk_boundary_motion`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_spring_index_scratch_len(
     motion: *const DkBoundaryMotion<f64>,
@@ -1406,9 +1536,22 @@ pub unsafe extern "C" fn dk_deform_spring_index_scratch_len_f32(
 /// detected after the boundary entries of `translations` and `rotations` were written).
 ///
 /// # Safety
-/// As [`dk_deform_idw`]; also the graph, stiffness and fixed arrays are readable for their
-/// lengths, `options` points to one readable struct, `values` is writable for `values_len`
-/// scalars and `report` points to one writable report, none overlapping another buffer.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `motion`: one readable `dk_boundary_motion`.
+/// - `system`: one readable `dk_spring_system`.
+/// - `options`: one readable `dk_spring_solve_options`.
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `values`: readable and writable for `values_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `translations`: readable and writable for `translations_len` elements (`double`).
+/// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+/// - `origin_out`: readable and writable for `origin_out_len` elements (`double`).
+/// - `report`: one readable and writable `dk_spring_solve_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_spring(
     points: *const f64,
@@ -1563,8 +1706,12 @@ pub unsafe extern "C" fn dk_deform_spring_f32(
 /// plus the solver's). Errors: `DK_ERR_INVALID_PARAMETER` (`dim`, method), `DK_ERR_TOO_LARGE`.
 ///
 /// # Safety
-/// `options` points to one readable `dk_spring_solve_options`; `len_out` to one writable
-/// `size_t`.
+/// - `options`: one readable `dk_spring_solve_options`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_propagate_spring_scratch_len(
     node_count: usize,
@@ -1596,9 +1743,17 @@ pub unsafe extern "C" fn dk_deform_propagate_spring_scratch_len(
 /// `DK_ERR_ZERO_LENGTH`. On error `translations`, `rotations` and `*report` are unchanged.
 ///
 /// # Safety
-/// Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
-/// `options` points to one readable struct and `report` to one writable report; the writable
-/// buffers overlap nothing else.
+/// - `system`: one readable `dk_spring_system`.
+/// - `options`: one readable `dk_spring_solve_options`.
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `values`: readable and writable for `values_len` elements (`double`).
+/// - `translations`: readable and writable for `translations_len` elements (`double`).
+/// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+/// - `report`: one readable and writable `dk_spring_solve_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_deform_propagate_spring(
     system: *const DkSpringSystem<f64>,

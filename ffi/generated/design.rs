@@ -33,7 +33,11 @@ use crate::status::dk_status;
 /// `max(0,x) ≤ 1e-15`) into `*out`. Never fails except for a NULL `out`.
 ///
 /// # Safety
-/// `out` points to one writable scalar.
+/// - `out`: one readable and writable `double`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_design_hicks_henne_bump(
     x: f64,
@@ -71,8 +75,15 @@ pub unsafe extern "C" fn dk_design_hicks_henne_bump_f32(
 /// length, buffer and pointer errors.
 ///
 /// # Safety
-/// Every array is valid for its length; `displacements` and `index_scratch` are writable and
-/// overlap no other argument.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `nodes`: readable for `nodes_len` elements (`uint32_t`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `normals`: readable for `normals_len` elements (`double`).
+/// - `displacements`: readable and writable for `displacements_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_design_hicks_henne(
     points: *const f64,
@@ -169,7 +180,14 @@ pub unsafe extern "C" fn dk_design_hicks_henne_f32(
 /// and pointer errors.
 ///
 /// # Safety
-/// Every array is valid for its length; `out` is writable and overlaps no input.
+/// - `degree`: readable for `degree_len` elements (`uint32_t`).
+/// - `control_points`: readable for `control_points_len` elements (`double`).
+/// - `params`: readable for `params_len` elements (`double`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_design_ffd_eval(
     degree: *const u32,
@@ -231,8 +249,17 @@ pub unsafe extern "C" fn dk_design_ffd_eval_f32(
 /// `DK_ERR_INDEX_OUT_OF_RANGE` and `DK_ERR_BAD_INDEX_BASE`.
 ///
 /// # Safety
-/// Every array is valid for its length; `displacements` and `index_scratch` are writable and
-/// overlap no other argument.
+/// - `degree`: readable for `degree_len` elements (`uint32_t`).
+/// - `control_points`: readable for `control_points_len` elements (`double`).
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `nodes`: readable for `nodes_len` elements (`uint32_t`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `params`: readable for `params_len` elements (`double`).
+/// - `displacements`: readable and writable for `displacements_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_design_ffd_displacements(
     degree: *const u32,
@@ -331,7 +358,15 @@ pub unsafe extern "C" fn dk_design_ffd_displacements_f32(
 /// nothing moved). Errors (nothing written): as `dk_design_ffd_eval`.
 ///
 /// # Safety
-/// Every array is valid for its length; `displacements` is writable and overlaps no input.
+/// - `degree`: readable for `degree_len` elements (`uint32_t`).
+/// - `original`: readable for `original_len` elements (`double`).
+/// - `moved`: readable for `moved_len` elements (`double`).
+/// - `params`: readable for `params_len` elements (`double`).
+/// - `displacements`: readable and writable for `displacements_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_design_ffd_displacements_between(
     degree: *const u32,
@@ -414,8 +449,14 @@ pub unsafe extern "C" fn dk_design_ffd_displacements_between_f32(
 /// indices −1), `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_NON_FINITE`, length and pointer errors.
 ///
 /// # Safety
-/// `degree`, `index` and `values` point to 3 elements each; `control_points` is readable and
-/// writable for its length.
+/// - `degree`: 3 readable elements (`uint32_t`).
+/// - `control_points`: readable and writable for `control_points_len` elements (`double`).
+/// - `index`: 3 readable elements (`int32_t`).
+/// - `values`: 3 readable elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_design_ffd_variable(
     kind: u32,

@@ -27,7 +27,13 @@ use crate::status::dk_status;
 /// (validates the cells first; `index_scratch` as in `dk_cells_check`).
 ///
 /// # Safety
-/// Every pointer is valid for its length; `len_out` points to one writable `size_t`.
+/// - `cells`: one readable `dk_cells`.
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_elasticity_graph_len(
     node_count: usize,
@@ -55,8 +61,15 @@ pub unsafe extern "C" fn dk_elasticity_graph_len(
 /// least [`dk_elasticity_graph_len`]; `*used_out` receives the entries used.
 ///
 /// # Safety
-/// Every pointer is valid for its length, and the writable buffers do not overlap each other
-/// or the inputs.
+/// - `cells`: one readable `dk_cells`.
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `offsets`: readable and writable for `offsets_len` elements (`uint32_t`).
+/// - `targets`: readable and writable for `targets_len` elements (`uint32_t`).
+/// - `used_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_elasticity_graph(
     node_count: usize,
@@ -97,7 +110,11 @@ pub unsafe extern "C" fn dk_elasticity_graph(
 /// for both precisions).
 ///
 /// # Safety
-/// `len_out` points to one writable `size_t`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_elasticity_scratch_len(
     node_count: usize,
@@ -116,7 +133,11 @@ pub unsafe extern "C" fn dk_elasticity_scratch_len(
 /// Poisson ratio 0.3, one increment, 10 000 iterations, residual tolerance 1e-10.
 ///
 /// # Safety
-/// `out` points to one writable options struct.
+/// - `out`: one readable and writable `dk_elasticity_options`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_elasticity_options_default(
     out: *mut dk_elasticity_options,
@@ -153,9 +174,20 @@ pub unsafe extern "C" fn dk_elasticity_options_default_f32(
 /// scalars. On any error `points` is unchanged.
 ///
 /// # Safety
-/// Every pointer is valid for its length; `options` points to one readable struct and
-/// `report` to one writable one; the writable buffers do not overlap each other or the
-/// inputs.
+/// - `cells`: one readable `dk_cells`.
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `graph`: one readable `dk_graph`.
+/// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+/// - `options`: one readable `dk_elasticity_options`.
+/// - `wall_distance`: readable for `wall_distance_len` elements (`double`).
+/// - `displacement`: readable for `displacement_len` elements (`double`).
+/// - `points`: readable and writable for `points_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `report`: one readable and writable `dk_elasticity_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_elasticity_deform(
     cells: *const dk_cells,

@@ -27,7 +27,11 @@ use crate::status::dk_status;
 /// Length `targets` needs for [`dk_graph_from_edges`]: `edges_len` (two entries per edge).
 ///
 /// # Safety
-/// `len_out` points to one writable `size_t`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_graph_from_edges_len(
     edges_len: usize,
@@ -49,9 +53,15 @@ pub unsafe extern "C" fn dk_graph_from_edges_len(
 /// failure.
 ///
 /// # Safety
-/// Every pointer is valid for its length (`edges`: `edges_len` reads; `index_scratch`,
-/// `offsets`, `targets`: their lengths in writes; `used_out`: one write), and the writable
-/// buffers do not overlap each other or the inputs.
+/// - `edges`: readable for `edges_len` elements (`uint32_t`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `offsets`: readable and writable for `offsets_len` elements (`uint32_t`).
+/// - `targets`: readable and writable for `targets_len` elements (`uint32_t`).
+/// - `used_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_graph_from_edges(
     node_count: usize,
@@ -95,8 +105,12 @@ pub unsafe extern "C" fn dk_graph_from_edges(
 /// (their 0-based copies); with 0 it may be NULL with length 0.
 ///
 /// # Safety
-/// Every pointer is valid for reading its length; `index_scratch` for writing its length,
-/// overlapping nothing else.
+/// - `cells`: one readable `dk_cells`.
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_cells_check(
     node_count: usize,
@@ -120,7 +134,13 @@ pub unsafe extern "C" fn dk_cells_check(
 /// `index_scratch` as in [`dk_cells_check`]).
 ///
 /// # Safety
-/// Every pointer is valid for its length; `len_out` points to one writable `size_t`.
+/// - `cells`: one readable `dk_cells`.
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_graph_from_cells_len(
     node_count: usize,
@@ -157,9 +177,15 @@ pub unsafe extern "C" fn dk_graph_from_cells_len(
 /// `index_scratch` as in [`dk_cells_check`].
 ///
 /// # Safety
-/// Every pointer is valid for its length (reads for the cell arrays, writes for
-/// `index_scratch`, `offsets`, `targets`, `used_out`), and the writable buffers do not overlap
-/// each other or the inputs.
+/// - `cells`: one readable `dk_cells`.
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `offsets`: readable and writable for `offsets_len` elements (`uint32_t`).
+/// - `targets`: readable and writable for `targets_len` elements (`uint32_t`).
+/// - `used_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_graph_from_cells(
     node_count: usize,
@@ -201,7 +227,11 @@ pub unsafe extern "C" fn dk_graph_from_cells(
 /// `require_symmetric` also checks that every edge has its reverse.
 ///
 /// # Safety
-/// `graph` points to one readable struct whose arrays are readable for their lengths.
+/// - `graph`: one readable `dk_graph`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_graph_check(
     graph: *const dk_graph,

@@ -29,8 +29,13 @@ use crate::status::dk_status;
 /// (nothing written): graph errors, `DK_ERR_LENGTH_MISMATCH`, pointer errors.
 ///
 /// # Safety
-/// The graph's arrays readable for their lengths; `order` and `inverse` writable for theirs,
-/// not overlapping each other or the graph.
+/// - `graph`: one readable `dk_graph`.
+/// - `order`: readable and writable for `order_len` elements (`uint32_t`).
+/// - `inverse`: readable and writable for `inverse_len` elements (`uint32_t`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_order_rcm(
     graph: *const dk_graph,
@@ -59,8 +64,14 @@ pub unsafe extern "C" fn dk_order_rcm(
 /// (`keys`), length and pointer errors.
 ///
 /// # Safety
-/// `points` readable for its length; `order`, `inverse` and `keys` writable for theirs, not
-/// overlapping each other or `points`.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `order`: readable and writable for `order_len` elements (`uint32_t`).
+/// - `inverse`: readable and writable for `inverse_len` elements (`uint32_t`).
+/// - `keys`: readable and writable for `keys_len` elements (`uint64_t`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_order_hilbert(
     points: *const f64,
@@ -122,8 +133,14 @@ pub unsafe extern "C" fn dk_order_hilbert_f32(
 /// pointer errors.
 ///
 /// # Safety
-/// The graph's and the permutation's arrays readable for their lengths; `max_out` and
-/// `sum_out` point to one writable value each.
+/// - `graph`: one readable `dk_graph`.
+/// - `perm`: one readable `dk_permutation`.
+/// - `max_out`: one readable and writable `uint32_t`.
+/// - `sum_out`: one readable and writable `uint64_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_order_index_distance(
     graph: *const dk_graph,
@@ -150,8 +167,13 @@ pub unsafe extern "C" fn dk_order_index_distance(
 /// errors, `DK_ERR_INVALID_PARAMETER` (`width`), length and pointer errors.
 ///
 /// # Safety
-/// The permutation's arrays and `src` readable for their lengths; `dst` writable for its
-/// length, not overlapping `src` or the permutation.
+/// - `perm`: one readable `dk_permutation`.
+/// - `src`: readable for `src_len` elements (`double`).
+/// - `dst`: readable and writable for `dst_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_order_permute(
     perm: *const dk_permutation,
@@ -204,8 +226,12 @@ pub unsafe extern "C" fn dk_order_permute_f32(
 /// `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_BAD_INDEX_BASE`, pointer errors.
 ///
 /// # Safety
-/// The permutation's arrays readable for their lengths; `indices` readable and writable for
-/// its length, not overlapping the permutation.
+/// - `perm`: one readable `dk_permutation`.
+/// - `indices`: readable and writable for `indices_len` elements (`uint32_t`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_order_renumber(
     perm: *const dk_permutation,
@@ -226,8 +252,15 @@ pub unsafe extern "C" fn dk_order_renumber(
 /// (nothing written): graph and permutation errors, length and pointer errors.
 ///
 /// # Safety
-/// Inputs readable for their lengths; `offsets`, `targets` and `edge_map` writable for
-/// theirs, not overlapping each other or the inputs.
+/// - `perm`: one readable `dk_permutation`.
+/// - `graph`: one readable `dk_graph`.
+/// - `offsets`: readable and writable for `offsets_len` elements (`uint32_t`).
+/// - `targets`: readable and writable for `targets_len` elements (`uint32_t`).
+/// - `edge_map`: readable and writable for `edge_map_len` elements (`uint32_t`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_order_permute_graph(
     perm: *const dk_permutation,
@@ -258,8 +291,13 @@ pub unsafe extern "C" fn dk_order_permute_graph(
 /// `DK_ERR_INDEX_OUT_OF_RANGE`, length and pointer errors.
 ///
 /// # Safety
-/// `map` and `src` readable for their lengths; `dst` writable for its length, not
-/// overlapping them.
+/// - `map`: readable for `map_len` elements (`uint32_t`).
+/// - `src`: readable for `src_len` elements (`double`).
+/// - `dst`: readable and writable for `dst_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_order_gather(
     map: *const u32,

@@ -38,7 +38,11 @@ pub type dk_plan_mesh_f32 = DkPlanMesh<f32>;
 /// `dk_spring_solve_options_default` (10 000 iterations, residual tolerance 1e-10).
 ///
 /// # Safety
-/// `out` points to one writable options struct.
+/// - `out`: one readable and writable `dk_plan_options`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_options_default(out: *mut dk_plan_options) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
@@ -84,7 +88,13 @@ pub unsafe extern "C" fn dk_plan_options_default_f32(out: *mut dk_plan_options) 
 /// reports them.
 ///
 /// # Safety
-/// Inputs readable for their lengths; `options` and `sizes_out` point to one struct each.
+/// - `mesh`: one readable `dk_plan_mesh`.
+/// - `options`: one readable `dk_plan_options`.
+/// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_work_sizes(
     mesh: *const DkPlanMesh<f64>,
@@ -134,8 +144,14 @@ pub unsafe extern "C" fn dk_plan_work_sizes_f32(
 /// are written.
 ///
 /// # Safety
-/// Inputs readable for their lengths; the work buffers writable for theirs and not
-/// overlapping anything else; `options` and `sizes_out` point to one struct each.
+/// - `mesh`: one readable `dk_plan_mesh`.
+/// - `options`: one readable `dk_plan_options`.
+/// - `work`: one readable `dk_plan_pools`.
+/// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_pool_sizes(
     mesh: *const DkPlanMesh<f64>,
@@ -195,8 +211,15 @@ pub unsafe extern "C" fn dk_plan_pool_sizes_f32(
 /// writing, and then the pools hold no plan.
 ///
 /// # Safety
-/// As [`dk_plan_pool_sizes`]; the pools writable for their lengths, not overlapping anything else;
-/// `info_out` points to one writable struct.
+/// - `mesh`: one readable `dk_plan_mesh`.
+/// - `options`: one readable `dk_plan_options`.
+/// - `work`: one readable `dk_plan_pools`.
+/// - `pools`: one readable `dk_plan_pools`.
+/// - `info_out`: one readable and writable `dk_plan_info`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_init(
     mesh: *const DkPlanMesh<f64>,
@@ -254,8 +277,12 @@ pub unsafe extern "C" fn dk_plan_init_f32(
 /// but `info_out`.
 ///
 /// # Safety
-/// The pools readable and writable for their lengths; `info_out` points to one writable
-/// struct.
+/// - `pools`: one readable `dk_plan_pools`.
+/// - `info_out`: one readable and writable `dk_plan_info`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_open(
     pools: *const DkPlanPools<f64>,
@@ -309,9 +336,16 @@ pub unsafe extern "C" fn dk_plan_open_f32(
 /// solutions and the step count are unchanged.
 ///
 /// # Safety
-/// The pools readable and writable for their lengths; inputs readable for theirs; `out`
-/// writable for `out_len` scalars; no writable buffer overlaps another buffer or an input;
-/// `report_out` points to one writable struct.
+/// - `pools`: one readable `dk_plan_pools`.
+/// - `deformed`: readable for `deformed_len` elements (`double`).
+/// - `rotations`: readable for `rotations_len` elements (`double`).
+/// - `origin`: readable for `origin_len` elements (`double`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+/// - `report_out`: one readable and writable `dk_plan_step_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plan_step(
     pools: *const DkPlanPools<f64>,

@@ -39,7 +39,12 @@ use crate::status::dk_status;
 /// `DK_ERR_NON_FINITE`, `DK_ERR_INVALID_PARAMETER` (`dim`), `DK_ERR_NULL_POINTER`.
 ///
 /// # Safety
-/// `corners` readable for `corners_len` scalars; `out` points to one writable struct.
+/// - `corners`: readable for `corners_len` elements (`double`).
+/// - `out`: one readable and writable `dk_cell_quality`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_cell_quality(
     kind: u8,
@@ -81,8 +86,14 @@ pub unsafe extern "C" fn dk_quality_cell_quality_f32(
 /// may be NULL with length 0.
 ///
 /// # Safety
-/// The cell arrays and `points` are readable for their lengths; `out` and `index_scratch`
-/// writable for their lengths, not overlapping the inputs or each other.
+/// - `cells`: one readable `dk_cells`.
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_cell_measures(
     cells: *const dk_cells,
@@ -142,7 +153,14 @@ pub unsafe extern "C" fn dk_quality_cell_measures_f32(
 /// [`dk_quality_cell_measures`].
 ///
 /// # Safety
-/// As [`dk_quality_cell_measures`].
+/// - `cells`: one readable `dk_cells`.
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_min_corner_jacobians(
     cells: *const dk_cells,
@@ -220,8 +238,15 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians_f32(
 /// [`dk_quality_cell_measures`] for both point arrays.
 ///
 /// # Safety
-/// The cell arrays and point arrays are readable for their lengths; `count_out` points to one
-/// writable `size_t`.
+/// - `cells`: one readable `dk_cells`.
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `undeformed`: readable for `undeformed_len` elements (`double`).
+/// - `deformed`: readable for `deformed_len` elements (`double`).
+/// - `count_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_inverted_cells(
     cells: *const dk_cells,
@@ -301,8 +326,14 @@ pub unsafe extern "C" fn dk_quality_inverted_cells_f32(
 /// [`dk_quality_cell_measures`].
 ///
 /// # Safety
-/// The cell arrays and `points` are readable for their lengths; `count_out` points to one
-/// writable `size_t`.
+/// - `cells`: one readable `dk_cells`.
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `count_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_folded_cells(
     cells: *const dk_cells,
@@ -359,7 +390,11 @@ pub unsafe extern "C" fn dk_quality_folded_cells_f32(
 /// wall) needs: `2 * node_count * dim`.
 ///
 /// # Safety
-/// `len_out` points to one writable `size_t`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_wall_angle_scratch_len(
     node_count: usize,
@@ -385,9 +420,18 @@ pub unsafe extern "C" fn dk_quality_wall_angle_scratch_len(
 /// [`dk_quality_wall_angle_change`] for the wall.
 ///
 /// # Safety
-/// Every input array is NULL with length 0 or readable for its length; `scratch` writable for
-/// `scratch_len` scalars; `report` points to one writable report; writable buffers overlap
-/// nothing else.
+/// - `cells`: one readable `dk_cells`.
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `wall`: one readable `dk_cells`.
+/// - `graph`: one readable `dk_graph`.
+/// - `undeformed`: readable for `undeformed_len` elements (`double`).
+/// - `deformed`: readable for `deformed_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `report`: one readable and writable `dk_quality_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_compare(
     cells: *const dk_cells,
@@ -494,8 +538,17 @@ pub unsafe extern "C" fn dk_quality_compare_f32(
 /// pointer errors.
 ///
 /// # Safety
-/// Every input array is readable for its length; `scratch` writable for `scratch_len`
-/// scalars; `out` points to one writable struct; writable buffers overlap nothing else.
+/// - `wall`: one readable `dk_cells`.
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `graph`: one readable `dk_graph`.
+/// - `undeformed`: readable for `undeformed_len` elements (`double`).
+/// - `deformed`: readable for `deformed_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `out`: one readable and writable `dk_wall_angle_change`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quality_wall_angle_change(
     wall: *const dk_cells,

@@ -23,7 +23,13 @@ use crate::status::dk_status;
 /// Hamilton product `out = a b` (each 4 scalars, scalar first). `out` may alias `a` or `b`.
 ///
 /// # Safety
-/// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars (or NULL: error).
+/// - `a`: 4 readable elements (`double`).
+/// - `b`: 4 readable elements (`double`).
+/// - `out`: 4 readable and writable elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_mul(a: *const f64, b: *const f64, out: *mut f64) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
@@ -47,7 +53,12 @@ pub unsafe extern "C" fn dk_quat_mul_f32(a: *const f32, b: *const f32, out: *mut
 /// `out = q / |q|`; a zero quaternion gives `DK_ERR_ZERO_LENGTH`, never NaN.
 ///
 /// # Safety
-/// `q` points to 4 readable scalars, `out` to 4 writable scalars.
+/// - `q`: 4 readable elements (`double`).
+/// - `out`: 4 readable and writable elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_normalize(q: *const f64, out: *mut f64) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
@@ -71,7 +82,12 @@ pub unsafe extern "C" fn dk_quat_normalize_f32(q: *const f32, out: *mut f32) -> 
 /// `out = q⁻¹ = q* / |q|²`.
 ///
 /// # Safety
-/// `q` points to 4 readable scalars, `out` to 4 writable scalars.
+/// - `q`: 4 readable elements (`double`).
+/// - `out`: 4 readable and writable elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_inverse(q: *const f64, out: *mut f64) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
@@ -95,7 +111,12 @@ pub unsafe extern "C" fn dk_quat_inverse_f32(q: *const f32, out: *mut f32) -> dk
 /// Rotation by `angle` radians about `axis` (3 scalars, normalised here).
 ///
 /// # Safety
-/// `axis` points to 3 readable scalars, `out` to 4 writable scalars.
+/// - `axis`: 3 readable elements (`double`).
+/// - `out`: 4 readable and writable elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_from_axis_angle(
     axis: *const f64,
@@ -127,7 +148,13 @@ pub unsafe extern "C" fn dk_quat_from_axis_angle_f32(
 /// Axis (3 scalars, unit) and angle in `[0, π]` of the rotation `q` (normalised here).
 ///
 /// # Safety
-/// `q` points to 4 readable scalars, `axis_out` to 3 and `angle_out` to 1 writable scalar.
+/// - `q`: 4 readable elements (`double`).
+/// - `axis_out`: 3 readable and writable elements (`double`).
+/// - `angle_out`: one readable and writable `double`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_to_axis_angle(
     q: *const f64,
@@ -161,7 +188,13 @@ pub unsafe extern "C" fn dk_quat_to_axis_angle_f32(
 /// Shortest rotation taking direction `from` to direction `to` (3 scalars each).
 ///
 /// # Safety
-/// `from`, `to` point to 3 readable scalars, `out` to 4 writable scalars.
+/// - `from`: 3 readable elements (`double`).
+/// - `to`: 3 readable elements (`double`).
+/// - `out`: 4 readable and writable elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_rotation_arc(
     from: *const f64,
@@ -194,8 +227,13 @@ pub unsafe extern "C" fn dk_quat_rotation_arc_f32(
 /// `out_len` must equal `points_len`, a multiple of 3.
 ///
 /// # Safety
-/// `q` points to 4 readable scalars; `points` to `points_len` readable scalars; `out`
-/// to `out_len` writable scalars not overlapping `points`.
+/// - `q`: 4 readable elements (`double`).
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_rotate_points(
     q: *const f64,
@@ -247,7 +285,13 @@ pub unsafe extern "C" fn dk_quat_rotate_points_f32(
 /// `out_len` must equal `points_len`, a multiple of 2.
 ///
 /// # Safety
-/// As [`dk_quat_rotate_points`].
+/// - `q`: 4 readable elements (`double`).
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_rotate_points_2d(
     q: *const f64,
@@ -295,7 +339,13 @@ pub unsafe extern "C" fn dk_quat_rotate_points_2d_f32(
 /// Spherical linear interpolation on the shorter arc (`t` = 0 gives `a`, 1 gives `b`).
 ///
 /// # Safety
-/// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
+/// - `a`: 4 readable elements (`double`).
+/// - `b`: 4 readable elements (`double`).
+/// - `out`: 4 readable and writable elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_slerp(
     a: *const f64,
@@ -329,7 +379,13 @@ pub unsafe extern "C" fn dk_quat_slerp_f32(
 /// Normalised linear interpolation on the shorter arc.
 ///
 /// # Safety
-/// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
+/// - `a`: 4 readable elements (`double`).
+/// - `b`: 4 readable elements (`double`).
+/// - `out`: 4 readable and writable elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_nlerp(
     a: *const f64,
@@ -365,8 +421,13 @@ pub unsafe extern "C" fn dk_quat_nlerp_f32(
 /// otherwise `weights_len == quats_len / 4`.
 ///
 /// # Safety
-/// `quats` points to `quats_len` readable scalars, `weights` to `weights_len` (or is
-/// NULL with 0), `out` to 4 writable scalars.
+/// - `quats`: readable for `quats_len` elements (`double`).
+/// - `weights`: readable for `weights_len` elements (`double`).
+/// - `out`: 4 readable and writable elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_quat_average(
     quats: *const f64,

@@ -27,7 +27,11 @@ use crate::status::dk_status;
 /// correction.
 ///
 /// # Safety
-/// `out` points to one writable options struct.
+/// - `out`: one readable and writable `dk_rbf_options`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_rbf_options_default(out: *mut dk_rbf_options) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
@@ -41,7 +45,12 @@ pub unsafe extern "C" fn dk_rbf_options_default(out: *mut dk_rbf_options) -> dk_
 /// residuals. Errors: `DK_ERR_INVALID_PARAMETER` (`dim`, kernel code), `DK_ERR_TOO_LARGE`.
 ///
 /// # Safety
-/// `options` points to one readable struct; `len_out` to one writable `size_t`.
+/// - `options`: one readable `dk_rbf_options`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_rbf_scratch_len(
     boundary_len: usize,
@@ -60,7 +69,12 @@ pub unsafe extern "C" fn dk_rbf_scratch_len(
 /// [`dk_rbf_scratch_len`], plus `DK_ERR_BAD_INDEX_BASE`.
 ///
 /// # Safety
-/// `options` points to one readable struct; `len_out` to one writable `size_t`.
+/// - `options`: one readable `dk_rbf_options`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_rbf_index_scratch_len(
     boundary_len: usize,
@@ -92,7 +106,18 @@ pub unsafe extern "C" fn dk_rbf_index_scratch_len(
 /// `report` are unchanged.
 ///
 /// # Safety
-/// Every pointer is valid for its length; the writable buffers overlap nothing else.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `boundary`: readable for `boundary_len` elements (`uint32_t`).
+/// - `motion`: readable for `motion_len` elements (`double`).
+/// - `options`: one readable `dk_rbf_options`.
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `displacements`: readable and writable for `displacements_len` elements (`double`).
+/// - `report`: one readable and writable `dk_rbf_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_rbf_deform(
     points: *const f64,

@@ -63,8 +63,13 @@ pub type dk_constraints_f32 = DkConstraints<f32>;
 /// pointer errors.
 ///
 /// # Safety
-/// Inputs readable for their lengths; `stiffness` writable for `stiffness_len` scalars, not
-/// overlapping the inputs.
+/// - `graph`: one readable `dk_graph`.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `stiffness`: readable and writable for `stiffness_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_batina_stiffness(
     graph: *const dk_graph,
@@ -117,7 +122,11 @@ pub unsafe extern "C" fn dk_spring_batina_stiffness_f32(
 /// its system (the anchoring search): `node_count`.
 ///
 /// # Safety
-/// `len_out` points to one writable `size_t`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_index_scratch_len(
     node_count: usize,
@@ -134,7 +143,11 @@ pub unsafe extern "C" fn dk_spring_index_scratch_len(
 /// `omega` 1.
 ///
 /// # Safety
-/// `out` points to one writable options struct.
+/// - `out`: one readable and writable `dk_spring_solve_options`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_options_default(
     out: *mut dk_spring_solve_options,
@@ -165,7 +178,12 @@ pub unsafe extern "C" fn dk_spring_solve_options_default_f32(
 /// components` for CG (four vectors and the diagonal; same count for both precisions).
 ///
 /// # Safety
-/// `options` points to one readable struct; `len_out` to one writable `size_t`.
+/// - `options`: one readable `dk_spring_solve_options`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_linear_scratch_len(
     node_count: usize,
@@ -193,10 +211,16 @@ pub unsafe extern "C" fn dk_spring_solve_linear_scratch_len(
 /// length and pointer errors.
 ///
 /// # Safety
-/// `system` points to one readable struct whose arrays are readable for their lengths;
-/// `options` points to one readable struct; `values` is readable and writable for `values_len` scalars; `scratch` and `index_scratch`
-/// writable for their lengths; `report` points to one writable report; writable buffers
-/// overlap nothing else.
+/// - `system`: one readable `dk_spring_system`.
+/// - `options`: one readable `dk_spring_solve_options`.
+/// - `values`: readable and writable for `values_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `report`: one readable and writable `dk_spring_solve_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_linear(
     system: *const DkSpringSystem<f64>,
@@ -282,8 +306,15 @@ pub unsafe extern "C" fn dk_spring_solve_linear_f32(
 /// error.
 ///
 /// # Safety
-/// As [`dk_spring_solve_linear`]; `src` readable for `src_len` scalars, `dst` writable for
-/// `dst_len` and not overlapping `src`; `sweep` points to one writable struct.
+/// - `system`: one readable `dk_spring_system`.
+/// - `src`: readable for `src_len` elements (`double`).
+/// - `dst`: readable and writable for `dst_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `sweep`: one readable and writable `dk_spring_sweep`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_jacobi_sweep(
     system: *const DkSpringSystem<f64>,
@@ -373,7 +404,16 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_f32(
 /// the nodes were split (docs/reductions.md). Nothing is written on error.
 ///
 /// # Safety
-/// As [`dk_spring_jacobi_sweep`]; `residual_words` writable for `DK_EXACT_SUM_WORDS` values.
+/// - `system`: one readable `dk_spring_system`.
+/// - `src`: readable for `src_len` elements (`double`).
+/// - `dst`: readable and writable for `dst_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `sweep`: one readable and writable `dk_spring_sweep`.
+/// - `residual_words`: 72 readable and writable elements (`int64_t`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact(
     system: *const DkSpringSystem<f64>,
@@ -467,8 +507,12 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact_f32(
 /// pointer errors.
 ///
 /// # Safety
-/// `words` readable for [`DK_EXACT_SUM_WORDS`] values; `value_out` points to one writable
-/// `double`.
+/// - `words`: 72 readable elements (`int64_t`).
+/// - `value_out`: one readable and writable `double`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_exact_sum_value(words: *const i64, value_out: *mut f64) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
@@ -485,8 +529,14 @@ pub unsafe extern "C" fn dk_exact_sum_value(words: *const i64, value_out: *mut f
 /// `omega` outside (0, 2).
 ///
 /// # Safety
-/// As [`dk_spring_solve_linear`]; `values` readable and writable for `values_len` scalars;
-/// `sweep` points to one writable struct.
+/// - `system`: one readable `dk_spring_system`.
+/// - `values`: readable and writable for `values_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `sweep`: one readable and writable `dk_spring_sweep`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_sor_sweep(
     system: *const DkSpringSystem<f64>,
@@ -570,8 +620,14 @@ pub unsafe extern "C" fn dk_spring_sor_sweep_f32(
 /// nodes, plain `‖b − A x‖₂` when `b = 0`) into `*residual_out`.
 ///
 /// # Safety
-/// As [`dk_spring_solve_linear`]; `values` readable for `values_len` scalars; `residual_out`
-/// writable for one scalar.
+/// - `system`: one readable `dk_spring_system`.
+/// - `values`: readable for `values_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `residual_out`: one readable and writable `double`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_relative_residual(
     system: *const DkSpringSystem<f64>,
@@ -626,7 +682,11 @@ pub unsafe extern "C" fn dk_spring_relative_residual_f32(
 /// `ε` = 0.01, 10 000 iterations, residual tolerance 1e-10, update tolerance off.
 ///
 /// # Safety
-/// `out` points to one writable options struct.
+/// - `out`: one readable and writable `dk_spring_angle_options`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_options_default(
     out: *mut dk_spring_angle_options,
@@ -656,7 +716,12 @@ pub unsafe extern "C" fn dk_spring_angle_options_default_f32(
 /// `options->epsilon` is 0 (the rigidity probe).
 ///
 /// # Safety
-/// `options` points to one readable struct; `len_out` to one writable `size_t`.
+/// - `options`: one readable `dk_spring_angle_options`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_angle_scratch_len(
     node_count: usize,
@@ -691,7 +756,11 @@ pub unsafe extern "C" fn dk_spring_solve_angle_scratch_len_f32(
 /// Scalars of `scratch` [`dk_spring_angle_rigidity_probe`] needs: `4 * node_count * dim`.
 ///
 /// # Safety
-/// `len_out` points to one writable `size_t`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_scratch_len(
     node_count: usize,
@@ -717,7 +786,17 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_scratch_len(
 /// `DK_ERR_ZERO_LENGTH_EDGE`, the errors of [`dk_spring_solve_linear`].
 ///
 /// # Safety
-/// As [`dk_spring_solve_linear`]; `points` readable for `points_len` scalars.
+/// - `system`: one readable `dk_spring_system`.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `options`: one readable `dk_spring_angle_options`.
+/// - `values`: readable and writable for `values_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `report`: one readable and writable `dk_spring_solve_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_angle(
     system: *const DkSpringSystem<f64>,
@@ -810,8 +889,16 @@ pub unsafe extern "C" fn dk_spring_solve_angle_f32(
 /// error.
 ///
 /// # Safety
-/// As [`dk_spring_solve_angle`]; `src` readable for `src_len` scalars; `dst` writable for
-/// `dst_len`, not overlapping `src`; `sweep` points to one writable struct.
+/// - `system`: one readable `dk_spring_system`.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `src`: readable for `src_len` elements (`double`).
+/// - `dst`: readable and writable for `dst_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `sweep`: one readable and writable `dk_spring_sweep`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep(
     system: *const DkSpringSystem<f64>,
@@ -912,8 +999,15 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep_f32(
 /// Nothing is written on error.
 ///
 /// # Safety
-/// As [`dk_spring_solve_angle`]; `values` readable and writable for `values_len` scalars;
-/// `sweep` points to one writable struct.
+/// - `system`: one readable `dk_spring_system`.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `values`: readable and writable for `values_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `sweep`: one readable and writable `dk_spring_sweep`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep(
     system: *const DkSpringSystem<f64>,
@@ -1009,7 +1103,16 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep_f32(
 /// those of [`dk_spring_solve_angle`]; nothing is written on error.
 ///
 /// # Safety
-/// As [`dk_spring_solve_angle`]; `amplification_out` writable for one scalar.
+/// - `system`: one readable `dk_spring_system`.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `options`: one readable `dk_spring_angle_options`.
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `amplification_out`: one readable and writable `double`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_angle_rigidity_probe(
     system: *const DkSpringSystem<f64>,
@@ -1091,7 +1194,11 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_f32(
 /// Chebyshev smoothing of degree 2 (docs/amg.md).
 ///
 /// # Safety
-/// `out` points to one writable options struct.
+/// - `out`: one readable and writable `dk_amg_options`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_amg_options_default(out: *mut dk_amg_options) -> dk_status {
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
@@ -1107,7 +1214,11 @@ pub unsafe extern "C" fn dk_amg_options_default(out: *mut dk_amg_options) -> dk_
 /// pool of the solves. Errors: `DK_ERR_TOO_LARGE`, pointer errors.
 ///
 /// # Safety
-/// `len_out` points to one writable `size_t`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_amg_work_len(
     node_count: usize,
@@ -1134,9 +1245,14 @@ pub unsafe extern "C" fn dk_spring_amg_work_len(
 /// [`dk_spring_solve_linear`]), `DK_ERR_TOO_LARGE`, pointer errors.
 ///
 /// # Safety
-/// `system` points to one readable struct whose arrays are readable for their lengths;
-/// `amg` points to one readable struct; `work` is writable for `work_len` entries and overlaps
-/// nothing else; `sizes_out` points to one writable struct.
+/// - `system`: one readable `dk_spring_system`.
+/// - `amg`: one readable `dk_amg_options`.
+/// - `work`: readable and writable for `work_len` elements (`uint32_t`).
+/// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_linear_amg_pool_sizes(
     system: *const DkSpringSystem<f64>,
@@ -1206,11 +1322,16 @@ pub unsafe extern "C" fn dk_spring_solve_linear_amg_pool_sizes_f32(
 /// of [`dk_spring_solve_linear`].
 ///
 /// # Safety
-/// `system` points to one readable struct whose arrays are readable for their lengths;
-/// `options` and `amg` point to one readable struct each; `values` is readable and writable
-/// for `values_len` scalars; `pools` points to one readable struct whose buffers are writable
-/// for their lengths; `report` points to one writable report; writable buffers overlap
-/// nothing else.
+/// - `system`: one readable `dk_spring_system`.
+/// - `options`: one readable `dk_spring_solve_options`.
+/// - `amg`: one readable `dk_amg_options`.
+/// - `values`: readable and writable for `values_len` elements (`double`).
+/// - `pools`: one readable `dk_plan_pools`.
+/// - `report`: one readable and writable `dk_spring_solve_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_linear_amg(
     system: *const DkSpringSystem<f64>,
@@ -1275,7 +1396,14 @@ pub unsafe extern "C" fn dk_spring_solve_linear_amg_f32(
 /// [`dk_spring_solve_linear_amg_pool_sizes`] (`dim` instead of `components`).
 ///
 /// # Safety
-/// As [`dk_spring_solve_linear_amg_pool_sizes`].
+/// - `system`: one readable `dk_spring_system`.
+/// - `amg`: one readable `dk_amg_options`.
+/// - `work`: readable and writable for `work_len` elements (`uint32_t`).
+/// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_angle_amg_pool_sizes(
     system: *const DkSpringSystem<f64>,
@@ -1341,7 +1469,17 @@ pub unsafe extern "C" fn dk_spring_solve_angle_amg_pool_sizes_f32(
 /// [`dk_spring_solve_linear_amg`].
 ///
 /// # Safety
-/// As [`dk_spring_solve_linear_amg`]; `points` readable for `points_len` scalars.
+/// - `system`: one readable `dk_spring_system`.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `options`: one readable `dk_spring_angle_options`.
+/// - `amg`: one readable `dk_amg_options`.
+/// - `values`: readable and writable for `values_len` elements (`double`).
+/// - `pools`: one readable `dk_plan_pools`.
+/// - `report`: one readable and writable `dk_spring_solve_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_angle_amg(
     system: *const DkSpringSystem<f64>,
@@ -1416,8 +1554,12 @@ pub unsafe extern "C" fn dk_spring_solve_angle_amg_f32(
 /// pointer errors.
 ///
 /// # Safety
-/// `constraints` points to one readable struct whose arrays are readable for their lengths;
-/// `mask` is writable for `mask_len` bytes and overlaps nothing else.
+/// - `constraints`: one readable `dk_constraints`.
+/// - `mask`: readable and writable for `mask_len` elements (`uint8_t`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_constraints_fixed_mask(
     constraints: *const DkConstraints<f64>,
@@ -1460,9 +1602,13 @@ pub unsafe extern "C" fn dk_constraints_fixed_mask_f32(
 /// of [`dk_constraints_fixed_mask`], pointer errors.
 ///
 /// # Safety
-/// `constraints` points to one readable struct whose arrays are readable for their lengths;
-/// `original` readable for `original_len` scalars; `points` readable and writable for
-/// `points_len` scalars, overlapping nothing else.
+/// - `constraints`: one readable `dk_constraints`.
+/// - `original`: readable for `original_len` elements (`double`).
+/// - `points`: readable and writable for `points_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_slide_points(
     constraints: *const DkConstraints<f64>,
@@ -1525,9 +1671,17 @@ pub unsafe extern "C" fn dk_slide_points_f32(
 /// `DK_ERR_BUFFER_TOO_SMALL` (`index_scratch`), length and pointer errors.
 ///
 /// # Safety
-/// `points` readable for `points_len` scalars, `nodes` for `nodes_len` entries;
-/// `index_scratch`, `normal_out` and `point_out` writable for their lengths; `residual_out`
-/// and `extent_out` writable for one scalar each; writable buffers overlap nothing else.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `nodes`: readable for `nodes_len` elements (`uint32_t`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `normal_out`: readable and writable for `normal_out_len` elements (`double`).
+/// - `point_out`: readable and writable for `point_out_len` elements (`double`).
+/// - `residual_out`: one readable and writable `double`.
+/// - `extent_out`: one readable and writable `double`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_fit_plane(
     points: *const f64,
@@ -1628,7 +1782,13 @@ pub unsafe extern "C" fn dk_fit_plane_f32(
 /// within `√ε`), pointer errors.
 ///
 /// # Safety
-/// `a`, `b` point to 3 readable scalars, `out` to 3 writable scalars.
+/// - `a`: 3 readable elements (`double`).
+/// - `b`: 3 readable elements (`double`).
+/// - `out`: 3 readable and writable elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_plane_intersection(
     a: *const f64,
@@ -1663,7 +1823,12 @@ pub unsafe extern "C" fn dk_plane_intersection_f32(
 /// same count for both precisions).
 ///
 /// # Safety
-/// `options` points to one readable struct; `len_out` to one writable `size_t`.
+/// - `options`: one readable `dk_spring_solve_options`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_linear_sliding_scratch_len(
     node_count: usize,
@@ -1697,8 +1862,17 @@ pub unsafe extern "C" fn dk_spring_solve_linear_sliding_scratch_len(
 /// [`dk_spring_solve_linear`].
 ///
 /// # Safety
-/// As [`dk_spring_solve_linear`]; `constraints` points to one readable struct whose arrays
-/// are readable for their lengths.
+/// - `system`: one readable `dk_spring_system`.
+/// - `constraints`: one readable `dk_constraints`.
+/// - `options`: one readable `dk_spring_solve_options`.
+/// - `values`: readable and writable for `values_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `report`: one readable and writable `dk_spring_solve_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_linear_sliding(
     system: *const DkSpringSystem<f64>,
@@ -1786,7 +1960,12 @@ pub unsafe extern "C" fn dk_spring_solve_linear_sliding_f32(
 /// `options->epsilon` is 0 (the rigidity probe).
 ///
 /// # Safety
-/// `options` points to one readable struct; `len_out` to one writable `size_t`.
+/// - `options`: one readable `dk_spring_angle_options`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_angle_sliding_scratch_len(
     node_count: usize,
@@ -1832,7 +2011,18 @@ pub unsafe extern "C" fn dk_spring_solve_angle_sliding_scratch_len_f32(
 /// [`dk_spring_solve_linear_sliding`]; `DK_ERR_INVALID_PARAMETER` for `omega`.
 ///
 /// # Safety
-/// As [`dk_spring_solve_linear_sliding`]; `points` readable for `points_len` scalars.
+/// - `system`: one readable `dk_spring_system`.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `constraints`: one readable `dk_constraints`.
+/// - `options`: one readable `dk_spring_angle_options`.
+/// - `values`: readable and writable for `values_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `report`: one readable and writable `dk_spring_solve_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_angle_sliding(
     system: *const DkSpringSystem<f64>,
@@ -1936,7 +2126,14 @@ pub unsafe extern "C" fn dk_spring_solve_angle_sliding_f32(
 /// `components`).
 ///
 /// # Safety
-/// As [`dk_spring_solve_linear_amg_pool_sizes`].
+/// - `system`: one readable `dk_spring_system`.
+/// - `amg`: one readable `dk_amg_options`.
+/// - `work`: readable and writable for `work_len` elements (`uint32_t`).
+/// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_linear_sliding_amg_pool_sizes(
     system: *const DkSpringSystem<f64>,
@@ -2000,8 +2197,17 @@ pub unsafe extern "C" fn dk_spring_solve_linear_sliding_amg_pool_sizes_f32(
 /// [`dk_spring_solve_linear_amg`].
 ///
 /// # Safety
-/// As [`dk_spring_solve_linear_amg`]; `constraints` points to one readable struct whose
-/// arrays are readable for their lengths.
+/// - `system`: one readable `dk_spring_system`.
+/// - `constraints`: one readable `dk_constraints`.
+/// - `options`: one readable `dk_spring_solve_options`.
+/// - `amg`: one readable `dk_amg_options`.
+/// - `values`: readable and writable for `values_len` elements (`double`).
+/// - `pools`: one readable `dk_plan_pools`.
+/// - `report`: one readable and writable `dk_spring_solve_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_linear_sliding_amg(
     system: *const DkSpringSystem<f64>,
@@ -2087,7 +2293,14 @@ pub unsafe extern "C" fn dk_spring_solve_linear_sliding_amg_f32(
 /// [`dk_spring_solve_linear_sliding_amg_pool_sizes`].
 ///
 /// # Safety
-/// As [`dk_spring_solve_linear_amg_pool_sizes`].
+/// - `system`: one readable `dk_spring_system`.
+/// - `amg`: one readable `dk_amg_options`.
+/// - `work`: readable and writable for `work_len` elements (`uint32_t`).
+/// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_angle_sliding_amg_pool_sizes(
     system: *const DkSpringSystem<f64>,
@@ -2150,8 +2363,18 @@ pub unsafe extern "C" fn dk_spring_solve_angle_sliding_amg_pool_sizes_f32(
 /// [`dk_spring_solve_angle_amg`].
 ///
 /// # Safety
-/// As [`dk_spring_solve_angle_amg`]; `constraints` points to one readable struct whose
-/// arrays are readable for their lengths.
+/// - `system`: one readable `dk_spring_system`.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `constraints`: one readable `dk_constraints`.
+/// - `options`: one readable `dk_spring_angle_options`.
+/// - `amg`: one readable `dk_amg_options`.
+/// - `values`: readable and writable for `values_len` elements (`double`).
+/// - `pools`: one readable `dk_plan_pools`.
+/// - `report`: one readable and writable `dk_spring_solve_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_solve_angle_sliding_amg(
     system: *const DkSpringSystem<f64>,

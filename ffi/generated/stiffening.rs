@@ -38,8 +38,14 @@ use crate::status::dk_status;
 /// errors.
 ///
 /// # Safety
-/// Inputs readable for their lengths; `index_scratch` and `out` writable for theirs,
-/// overlapping nothing else.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `wall`: readable for `wall_len` elements (`uint32_t`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_wall_distances(
     points: *const f64,
@@ -104,7 +110,11 @@ pub unsafe extern "C" fn dk_spring_wall_distances_f32(
 /// (`DK_ERR_INVALID_PARAMETER`), pointer errors.
 ///
 /// # Safety
-/// `distances` readable and writable for `distances_len` scalars.
+/// - `distances`: readable and writable for `distances_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_wall_distance_factors(
     distances: *mut f64,
@@ -141,8 +151,15 @@ pub unsafe extern "C" fn dk_spring_wall_distance_factors_f32(
 /// `DK_ERR_NON_FINITE`, `DK_ERR_INVALID_PARAMETER` (`dim`), length and pointer errors.
 ///
 /// # Safety
-/// Inputs readable for their lengths; `index_scratch`, `out` and `scratch` writable for
-/// theirs, overlapping nothing else.
+/// - `cells`: one readable `dk_cells`.
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_dual_volumes(
     cells: *const dk_cells,
@@ -208,7 +225,11 @@ pub unsafe extern "C" fn dk_spring_dual_volumes_f32(
 /// Errors as [`dk_spring_wall_distance_factors`].
 ///
 /// # Safety
-/// `volumes` readable and writable for `volumes_len` scalars.
+/// - `volumes`: readable and writable for `volumes_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_inverse_volume_factors(
     volumes: *mut f64,
@@ -245,8 +266,13 @@ pub unsafe extern "C" fn dk_spring_inverse_volume_factors_f32(
 /// `DK_ERR_NON_POSITIVE`, graph and pointer errors.
 ///
 /// # Safety
-/// Inputs readable for their lengths; `stiffness` readable and writable for
-/// `stiffness_len` scalars, overlapping nothing else.
+/// - `graph`: one readable `dk_graph`.
+/// - `factors`: readable for `factors_len` elements (`double`).
+/// - `stiffness`: readable and writable for `stiffness_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_spring_scale_stiffness(
     graph: *const dk_graph,

@@ -40,7 +40,12 @@ use crate::status::dk_status;
 /// The λ|μ values Alter took from Taubin: `λ = 0.330`, `μ = −0.334` (pass band ≈ 0.0363).
 ///
 /// # Safety
-/// `lambda_out` and `mu_out` each point to one writable scalar.
+/// - `lambda_out`: one readable and writable `double`.
+/// - `mu_out`: one readable and writable `double`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_params_paper(
     lambda_out: *mut f64,
@@ -72,7 +77,12 @@ pub unsafe extern "C" fn dk_taubin_params_paper_f32(
 /// unchanged to `*lambda_out` and `μ` to `*mu_out`.
 ///
 /// # Safety
-/// `lambda_out` and `mu_out` each point to one writable scalar.
+/// - `lambda_out`: one readable and writable `double`.
+/// - `mu_out`: one readable and writable `double`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_params_from_pass_band(
     lambda: f64,
@@ -109,7 +119,11 @@ pub unsafe extern "C" fn dk_taubin_params_from_pass_band_f32(
 /// `direction > 2` gives `DK_ERR_INVALID_PARAMETER`.
 ///
 /// # Safety
-/// `out` points to one writable `dk_smooth_arclength_options`.
+/// - `out`: one readable and writable `dk_smooth_arclength_options`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_smooth_arclength_options_default(
     direction: u32,
@@ -127,7 +141,12 @@ pub unsafe extern "C" fn dk_smooth_arclength_options_default(
 /// 0, 1, 2 gives `DK_ERR_INVALID_PARAMETER`.
 ///
 /// # Safety
-/// `options` points to one readable options struct; `len_out` to one writable `size_t`.
+/// - `options`: one readable `dk_smooth_arclength_options`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_arclength_scratch_len(
     ni: usize,
@@ -155,10 +174,14 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength_scratch_len(
 /// scratch contents are unspecified afterwards.
 ///
 /// # Safety
-/// `options` points to one readable options struct whose `pinned` is NULL or readable for
-/// `pinned_len` bytes; `points` is readable and writable for `points_len` scalars; `scratch`
-/// writable for `scratch_len` scalars; `report` points to one writable report; the writable
-/// buffers overlap neither each other nor the inputs.
+/// - `options`: one readable `dk_smooth_arclength_options`.
+/// - `points`: readable and writable for `points_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `report`: one readable and writable `dk_smooth_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_arclength(
     ni: usize,
@@ -228,7 +251,14 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength_f32(
 /// axis: keep that face fixed). On any error `points` and `*report` are unchanged.
 ///
 /// # Safety
-/// As [`dk_taubin_smooth_arclength`].
+/// - `options`: one readable `dk_smooth_arclength_options`.
+/// - `points`: readable and writable for `points_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `report`: one readable and writable `dk_smooth_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_arclength_ends(
     ni: usize,
@@ -294,7 +324,11 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength_ends_f32(
 /// Scratch length (in scalars) for [`dk_taubin_smooth_structured`]: the point count.
 ///
 /// # Safety
-/// `len_out` points to one writable `size_t`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_structured_scratch_len(
     ni: usize,
@@ -317,10 +351,14 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_scratch_len(
 /// error `field` and `*report` are unchanged.
 ///
 /// # Safety
-/// `options` points to one readable struct whose `pinned` is NULL or readable for
-/// `pinned_len` bytes; `field` is readable and writable for `field_len` scalars; `scratch`
-/// writable for `scratch_len` scalars; `report` points to one writable report; the writable
-/// buffers overlap neither each other nor the inputs.
+/// - `options`: one readable `dk_structured_options`.
+/// - `field`: readable and writable for `field_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `report`: one readable and writable `dk_filter_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_structured(
     ni: usize,
@@ -396,9 +434,15 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_f32(
 /// `src`), `DK_ERR_BAD_INDEX_BASE`, length and pointer errors.
 ///
 /// # Safety
-/// `src` is readable for `src_len` scalars; `options` and `region` point to one readable
-/// struct each (`options->pinned` NULL or readable for `pinned_len` bytes); `dst` is writable
-/// for `dst_len` scalars and `max_change_out` for one; `dst` overlaps no input.
+/// - `src`: readable for `src_len` elements (`double`).
+/// - `options`: one readable `dk_structured_options`.
+/// - `region`: one readable `dk_block_region`.
+/// - `dst`: readable and writable for `dst_len` elements (`double`).
+/// - `max_change_out`: one readable and writable `double`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_structured_sweep(
     ni: usize,
@@ -486,7 +530,12 @@ pub unsafe extern "C" fn dk_taubin_structured_sweep_f32(
 /// Scratch length (in scalars) for [`dk_taubin_smooth_structured_coarse`]: two coarse fields.
 ///
 /// # Safety
-/// `coarse` points to one readable struct; `len_out` to one writable `size_t`.
+/// - `coarse`: one readable `dk_taubin_coarse`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse_scratch_len(
     ni: usize,
@@ -510,7 +559,15 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse_scratch_len(
 /// unknown prolongation. On error `field` and `*report` are unchanged.
 ///
 /// # Safety
-/// As [`dk_taubin_smooth_structured`]; `coarse` points to one readable struct.
+/// - `coarse`: one readable `dk_taubin_coarse`.
+/// - `options`: one readable `dk_structured_options`.
+/// - `field`: readable and writable for `field_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `report`: one readable and writable `dk_filter_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse(
     ni: usize,
@@ -583,7 +640,11 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse_f32(
 /// (`DK_ERR_TOO_LARGE` if that overflows `size_t`).
 ///
 /// # Safety
-/// `len_out` points to one writable `size_t`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_graph_scratch_len(
     node_count: usize,
@@ -611,9 +672,16 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph_scratch_len(
 /// `*report` are unchanged.
 ///
 /// # Safety
-/// Every input pointer is NULL (with length 0) or readable for its length; `values` is
-/// readable and writable for `values_len` scalars, `scratch` writable for `scratch_len`,
-/// `report` points to one writable report; writable buffers overlap nothing else.
+/// - `graph`: one readable `dk_graph`.
+/// - `weights`: readable for `weights_len` elements (`double`).
+/// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+/// - `values`: readable and writable for `values_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `report`: one readable and writable `dk_filter_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_smooth_graph(
     graph: *const dk_graph,
@@ -695,8 +763,16 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph_f32(
 /// written on error.
 ///
 /// # Safety
-/// Every input pointer is NULL (with length 0) or readable for its length; `dst` is writable
-/// for `dst_len` scalars and `max_change_out` for one; `dst` overlaps no input.
+/// - `graph`: one readable `dk_graph`.
+/// - `weights`: readable for `weights_len` elements (`double`).
+/// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+/// - `src`: readable for `src_len` elements (`double`).
+/// - `dst`: readable and writable for `dst_len` elements (`double`).
+/// - `max_change_out`: one readable and writable `double`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_graph_sweep(
     graph: *const dk_graph,
@@ -798,8 +874,13 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep_f32(
 /// neighbours coincide), `DK_ERR_NON_FINITE`, length and pointer errors.
 ///
 /// # Safety
-/// Inputs readable for their lengths; `weights` writable for `weights_len` scalars, not
-/// overlapping the inputs.
+/// - `graph`: one readable `dk_graph`.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `weights`: readable and writable for `weights_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_inverse_distance_weights(
     graph: *const dk_graph,
@@ -852,7 +933,12 @@ pub unsafe extern "C" fn dk_taubin_inverse_distance_weights_f32(
 /// `out`: `ni·nj·nk` scalars. Nothing is written on error.
 ///
 /// # Safety
-/// `points` readable for `points_len` scalars; `out` writable for `out_len`, not overlapping.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_arclength(
     ni: usize,
@@ -899,7 +985,11 @@ pub unsafe extern "C" fn dk_taubin_arclength_f32(
 /// in `direction` (`DK_ERR_INVALID_PARAMETER` for `dim` not 2 or 3 or `direction > 2`).
 ///
 /// # Safety
-/// `len_out` points to one writable `size_t`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_redistribute_scratch_len(
     ni: usize,
@@ -923,9 +1013,14 @@ pub unsafe extern "C" fn dk_taubin_redistribute_scratch_len(
 /// [`dk_taubin_redistribute_scratch_len`] scalars. On error `points` is unchanged.
 ///
 /// # Safety
-/// `targets` readable for `targets_len` scalars; `points` readable and writable for
-/// `points_len`; `scratch` writable for `scratch_len`; `max_displacement_out` writable for
-/// one; writable buffers overlap nothing else.
+/// - `targets`: readable for `targets_len` elements (`double`).
+/// - `points`: readable and writable for `points_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `max_displacement_out`: one readable and writable `double`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_redistribute(
     ni: usize,
@@ -1015,7 +1110,12 @@ pub unsafe extern "C" fn dk_taubin_redistribute_f32(
 /// the two cells has zero length). `out`: `ni·nj·nk` scalars. Nothing is written on error.
 ///
 /// # Safety
-/// `points` readable for `points_len` scalars; `out` writable for `out_len`, not overlapping.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_stretching(
     ni: usize,
@@ -1062,8 +1162,13 @@ pub unsafe extern "C" fn dk_taubin_stretching_f32(
 /// error.
 ///
 /// # Safety
-/// `points` readable for `points_len` scalars; `value_out` and `point_out` writable for one
-/// item each.
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `value_out`: one readable and writable `double`.
+/// - `point_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_max_stretching(
     ni: usize,
@@ -1123,7 +1228,12 @@ pub unsafe extern "C" fn dk_taubin_max_stretching_f32(
 /// exempt. Writes nothing.
 ///
 /// # Safety
-/// `field` and `points` readable for their lengths (or NULL with length 0).
+/// - `field`: readable for `field_len` elements (`double`).
+/// - `points`: readable for `points_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_taubin_check_lines_increasing(
     ni: usize,

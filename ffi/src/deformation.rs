@@ -657,9 +657,6 @@ fn propagate_spring_for_dim<T: Real, const D: usize>(
 /// Fills `*out` with an empty motion: no nodes, no elements, `rotation_source`
 /// [`DK_ROTATIONS_SHAPE`], identity `rigid_rotation` `(1, 0, 0, 0)`, zero `origin` with
 /// `has_origin` 0 (default origin), `index_base` 0. Set the fields you need afterwards.
-///
-/// # Safety
-/// `out` points to one writable `dk_boundary_motion` (or is NULL: `DK_ERR_NULL_POINTER`).
 #[export(twin, out[1])]
 pub(crate) fn dk_boundary_motion_default<T: Real>(out: Out<'_, DkBoundaryMotion<T>>) -> dk_status {
     motion_default(out)
@@ -670,9 +667,6 @@ pub(crate) fn dk_boundary_motion_default<T: Real>(out: Out<'_, DkBoundaryMotion<
 /// `index_base` 0 (then `index_scratch` may be NULL). [`dk_deform_spring`] needs `node_count`
 /// more (see [`dk_deform_spring_index_scratch_len`]). Errors: `DK_ERR_BAD_INDEX_BASE`,
 /// `DK_ERR_TOO_LARGE` (the sum overflows).
-///
-/// # Safety
-/// `motion` points to one readable `dk_boundary_motion`; `len_out` to one writable `size_t`.
 #[export(twin, motion[1], len_out[1])]
 pub(crate) fn dk_boundary_motion_index_scratch_len<T: Real>(
     motion: In<'_, DkBoundaryMotion<T>>,
@@ -685,9 +679,6 @@ pub(crate) fn dk_boundary_motion_index_scratch_len<T: Real>(
 /// `node_count` mesh nodes and `boundary_len` boundary nodes in dimension `dim` (2 or 3):
 /// `max(node_count, 3 boundary_len)` in 2D, `max(node_count, 13 boundary_len)` in 3D (the
 /// kernel's `deform_idw_scratch_len`). The same for both precisions.
-///
-/// # Safety
-/// `len_out` points to one writable `size_t`.
 #[export(len_out[1])]
 pub(crate) fn dk_deform_idw_scratch_len(
     node_count: usize,
@@ -730,11 +721,6 @@ pub(crate) fn dk_deform_idw_scratch_len(
 /// (`DK_ERR_ISOLATED_NODE`, `DK_ERR_ZERO_LENGTH_EDGE`, `DK_ERR_CELL_DIMENSION` for an element
 /// kind that does not fit `dim`). On error
 /// `out` and `origin_out` are unchanged.
-///
-/// # Safety
-/// `points` is readable for `points_len` scalars; `motion` points to one readable struct
-/// whose arrays are readable for their lengths; every writable buffer is valid for its length;
-/// no writable buffer overlaps another buffer or an input.
 #[export(twin, motion[1])]
 pub(crate) fn dk_deform_idw<T: Real>(
     points: In<'_, T>,
@@ -767,9 +753,6 @@ pub(crate) fn dk_deform_idw<T: Real>(
 /// `boundary_len` boundary nodes in dimension `dim`: `max(dim · ni nj nk, boundary rotation
 /// scratch)` (the kernel's `deform_tfi_scratch_len`). Errors: `DK_ERR_BAD_DIMENSIONS` (a zero
 /// dimension, too many points), `DK_ERR_INVALID_PARAMETER` (`dim` not 2 or 3).
-///
-/// # Safety
-/// `len_out` points to one writable `size_t`.
 #[export(len_out[1])]
 pub(crate) fn dk_deform_tfi_scratch_len(
     ni: usize,
@@ -802,9 +785,6 @@ pub(crate) fn dk_deform_tfi_scratch_len(
 /// `DK_ERR_INVALID_PARAMETER` (no or unknown direction bits, a direction with one point).
 /// On error `out` and `origin_out` are unchanged (`translations`, `rotations` are
 /// workspaces).
-///
-/// # Safety
-/// As [`dk_deform_idw`].
 #[export(twin, motion[1])]
 pub(crate) fn dk_deform_tfi<T: Real>(
     ni: usize,
@@ -838,9 +818,6 @@ pub(crate) fn dk_deform_tfi<T: Real>(
 
 /// Number of scalars the `scratch` of [`dk_deform_boundary_normals`] needs:
 /// `3 * boundary_len` (saturating).
-///
-/// # Safety
-/// `len_out` points to one writable `size_t`.
 #[export(len_out[1])]
 pub(crate) fn dk_deform_boundary_normals_scratch_len(
     boundary_len: usize,
@@ -865,10 +842,6 @@ pub(crate) fn dk_deform_boundary_normals_scratch_len(
 /// `DK_ERR_CELL_DIMENSION` (an element kind that does not fit `dim`), `DK_ERR_NON_FINITE`,
 /// `DK_ERR_ISOLATED_NODE` (a point in no element), `DK_ERR_ZERO_LENGTH` (the element normals
 /// cancel at a node). On error `normals` is unchanged.
-///
-/// # Safety
-/// Every pointer is valid for its length (reads for inputs, writes for `scratch`,
-/// `index_scratch`, `normals`); the writable buffers overlap nothing else.
 #[export(twin, elements[1])]
 pub(crate) fn dk_deform_boundary_normals<T: Real>(
     points: In<'_, T>,
@@ -893,9 +866,6 @@ pub(crate) fn dk_deform_boundary_normals<T: Real>(
 
 /// Number of scalars the `scratch` of [`dk_deform_boundary_rotations`] needs: `3 B` in 2D,
 /// `13 B` in 3D (saturating). `DK_ERR_INVALID_PARAMETER` unless `dim` is 2 or 3.
-///
-/// # Safety
-/// `len_out` points to one writable `size_t`.
 #[export(len_out[1])]
 pub(crate) fn dk_deform_boundary_rotations_scratch_len(
     boundary_len: usize,
@@ -926,9 +896,6 @@ pub(crate) fn dk_deform_boundary_rotations_scratch_len(
 /// Errors: as [`dk_deform_boundary_normals`], plus `DK_ERR_ZERO_LENGTH_EDGE` (in either
 /// shape) and `DK_ERR_ISOLATED_NODE` (in 3D also a node whose twist is undetermined). On error
 /// `rotations` is unchanged.
-///
-/// # Safety
-/// As [`dk_deform_boundary_normals`].
 #[export(twin, elements[1])]
 pub(crate) fn dk_deform_boundary_rotations<T: Real>(
     undeformed: In<'_, T>,
@@ -956,10 +923,6 @@ pub(crate) fn dk_deform_boundary_rotations<T: Real>(
 /// rotation `q` (4 scalars, normalised here): for a marker whose motion is known (the kernel's
 /// `rigid_rotations`). Errors: `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (`q`),
 /// `DK_ERR_LENGTH_MISMATCH`; on error `rotations` is unchanged.
-///
-/// # Safety
-/// `q` points to 4 readable scalars; `rotations` is writable for `rotations_len` scalars and
-/// does not overlap `q`.
 #[export(twin, q[4])]
 pub(crate) fn dk_deform_rigid_rotations<T: Real>(q: In<'_, T>, rotations: Out<'_, T>) -> dk_status {
     done((|| {
@@ -978,10 +941,6 @@ pub(crate) fn dk_deform_rigid_rotations<T: Real>(q: In<'_, T>, rotations: Out<'_
 /// (`origin_out_len` must be `dim`). Errors: length and pointer errors,
 /// `DK_ERR_INVALID_PARAMETER` (no points), `DK_ERR_NON_FINITE`. On error `origin_out` is
 /// unchanged.
-///
-/// # Safety
-/// The inputs are readable for their lengths; `origin_out` is writable for `origin_out_len`
-/// scalars and overlaps no input.
 #[export(twin)]
 pub(crate) fn dk_deform_boundary_origin<T: Real>(
     undeformed: In<'_, T>,
@@ -1005,10 +964,6 @@ pub(crate) fn dk_deform_boundary_origin<T: Real>(
 /// scalars; `rotations`: `4 B`; `translations` receives `B * dim`. Errors: length and pointer
 /// errors, `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero rotation). On error
 /// `translations` is unchanged.
-///
-/// # Safety
-/// The inputs are readable for their lengths; `translations` is writable for its length and
-/// overlaps no input.
 #[export(twin)]
 pub(crate) fn dk_deform_boundary_translations<T: Real>(
     origin: In<'_, T>,
@@ -1038,10 +993,6 @@ pub(crate) fn dk_deform_boundary_translations<T: Real>(
 /// `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_INVALID_PARAMETER` (empty boundary, bad exponent),
 /// `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero boundary rotation). On error nothing is
 /// written.
-///
-/// # Safety
-/// Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
-/// the writable buffers overlap nothing else.
 #[export(twin)]
 pub(crate) fn dk_deform_propagate_idw<T: Real>(
     points: In<'_, T>,
@@ -1071,9 +1022,6 @@ pub(crate) fn dk_deform_propagate_idw<T: Real>(
 /// Number of scalars the `scratch` of [`dk_deform_propagate_tfi`] and
 /// [`dk_deform_displacement_tfi`] needs: `dim · ni nj nk` (the kernel's `tfi_scratch_len`).
 /// Errors: `DK_ERR_BAD_DIMENSIONS` (block), `DK_ERR_INVALID_PARAMETER` (`dim`).
-///
-/// # Safety
-/// `len_out` points to one writable `size_t`.
 #[export(len_out[1])]
 pub(crate) fn dk_deform_propagate_tfi_scratch_len(
     ni: usize,
@@ -1105,10 +1053,6 @@ pub(crate) fn dk_deform_propagate_tfi_scratch_len(
 /// `DK_ERR_INVALID_PARAMETER` (directions), length and pointer errors, `DK_ERR_NON_FINITE`,
 /// `DK_ERR_ZERO_LENGTH` (a zero face rotation, or a blended rotation that cancels). On error
 /// the values are unchanged.
-///
-/// # Safety
-/// Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
-/// the writable buffers overlap nothing else.
 #[export(twin)]
 pub(crate) fn dk_deform_propagate_tfi<T: Real>(
     ni: usize,
@@ -1142,10 +1086,6 @@ pub(crate) fn dk_deform_propagate_tfi<T: Real>(
 /// (`N * dim`) is updated in place everywhere else. New points are `points + δ`. It reproduces
 /// translations but shears cells under rotation. Errors as [`dk_deform_propagate_tfi`]; on
 /// error `displacements` is unchanged.
-///
-/// # Safety
-/// Every pointer is valid for its length (`displacements` for reads and writes); the writable
-/// buffers overlap nothing else.
 #[export(twin)]
 pub(crate) fn dk_deform_displacement_tfi<T: Real>(
     ni: usize,
@@ -1182,9 +1122,6 @@ pub(crate) fn dk_deform_displacement_tfi<T: Real>(
 /// `boundary_len` entries); `boundary_deformed`: `B * dim`. Errors: length and pointer errors,
 /// `DK_ERR_BAD_INDEX_BASE`, `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_NON_FINITE`,
 /// `DK_ERR_ZERO_LENGTH` (a zero rotation). On error `out` is unchanged.
-///
-/// # Safety
-/// Every pointer is valid for its length; `out` and `index_scratch` overlap nothing else.
 #[export(twin)]
 pub(crate) fn dk_deform_update_points<T: Real>(
     origin: In<'_, T>,
@@ -1218,9 +1155,6 @@ pub(crate) fn dk_deform_update_points<T: Real>(
 /// Number of `uint32_t` entries the `scratch` of [`dk_deform_localize_nodes`] needs:
 /// `node_count` with `index_base` 0, `node_count + boundary_len + global_len` with 1.
 /// Errors: `DK_ERR_BAD_INDEX_BASE`, `DK_ERR_TOO_LARGE` (overflow).
-///
-/// # Safety
-/// `len_out` points to one writable `size_t`.
 #[export(len_out[1])]
 pub(crate) fn dk_deform_localize_nodes_scratch_len(
     node_count: usize,
@@ -1251,10 +1185,6 @@ pub(crate) fn dk_deform_localize_nodes_scratch_len(
 /// `DK_ERR_INDEX_OUT_OF_RANGE` (an entry `>= node_count`, or an element node not in
 /// `boundary`), `DK_ERR_DUPLICATE_NODE`, `DK_ERR_LENGTH_MISMATCH` (`local_len != global_len`),
 /// `DK_ERR_BUFFER_TOO_SMALL`, `DK_ERR_TOO_LARGE`. On error `local` is unchanged.
-///
-/// # Safety
-/// `boundary`, `global` are readable for their lengths; `scratch`, `local` are writable for
-/// theirs; the writable buffers overlap nothing else.
 #[export]
 pub(crate) fn dk_deform_localize_nodes(
     node_count: usize,
@@ -1291,10 +1221,6 @@ pub(crate) fn dk_deform_localize_nodes(
 /// solver's; depends on `options->method`). The same for both precisions. Errors: `DK_ERR_INVALID_PARAMETER`
 /// (`dim`, method, or the two outputs are one pointer), `DK_ERR_TOO_LARGE`; nothing is
 /// written on error.
-///
-/// # Safety
-/// `options` points to one readable `dk_spring_solve_options`; `scratch_len_out` and
-/// `values_len_out` each to one writable `size_t`.
 #[export(options[1], scratch_len_out[1], values_len_out[1])]
 pub(crate) fn dk_deform_spring_scratch_len(
     node_count: usize,
@@ -1324,9 +1250,6 @@ pub(crate) fn dk_deform_spring_scratch_len(
 /// Number of `uint32_t` entries the `index_scratch` of [`dk_deform_spring`] needs:
 /// [`dk_boundary_motion_index_scratch_len`] plus `node_count` (the spring system's anchoring
 /// check).
-///
-/// # Safety
-/// `motion` points to one readable `dk_boundary_motion`; `len_out` to one writable `size_t`.
 #[export(twin, motion[1], len_out[1])]
 pub(crate) fn dk_deform_spring_index_scratch_len<T: Real>(
     motion: In<'_, DkBoundaryMotion<T>>,
@@ -1357,11 +1280,6 @@ pub(crate) fn dk_deform_spring_index_scratch_len<T: Real>(
 /// (a solved quaternion cancels). On error `out`, `origin_out` and `*report` are unchanged;
 /// `translations`, `rotations`, `scratch`, `values` are workspaces (solver errors are
 /// detected after the boundary entries of `translations` and `rotations` were written).
-///
-/// # Safety
-/// As [`dk_deform_idw`]; also the graph, stiffness and fixed arrays are readable for their
-/// lengths, `options` points to one readable struct, `values` is writable for `values_len`
-/// scalars and `report` points to one writable report, none overlapping another buffer.
 ///
 /// # f32 twin
 /// `f32` twin of [`dk_deform_spring`] (the options' tolerances and `omega` are rounded to
@@ -1401,10 +1319,6 @@ pub(crate) fn dk_deform_spring<T: Real>(
 /// Number of scalars the packed `values` workspace of [`dk_deform_propagate_spring`] needs:
 /// the kernel's `propagate_spring_scratch_len(method, node_count)` (`dim + 4` scalars a node
 /// plus the solver's). Errors: `DK_ERR_INVALID_PARAMETER` (`dim`, method), `DK_ERR_TOO_LARGE`.
-///
-/// # Safety
-/// `options` points to one readable `dk_spring_solve_options`; `len_out` to one writable
-/// `size_t`.
 #[export(options[1], len_out[1])]
 pub(crate) fn dk_deform_propagate_spring_scratch_len(
     node_count: usize,
@@ -1431,11 +1345,6 @@ pub(crate) fn dk_deform_propagate_spring_scratch_len(
 /// Errors: the system's and solver's errors (as [`dk_deform_spring`]), length and pointer
 /// errors, `DK_ERR_INVALID_PARAMETER` (no fixed node, options), `DK_ERR_NON_FINITE`,
 /// `DK_ERR_ZERO_LENGTH`. On error `translations`, `rotations` and `*report` are unchanged.
-///
-/// # Safety
-/// Every pointer is valid for its length (`translations`, `rotations` for reads and writes);
-/// `options` points to one readable struct and `report` to one writable report; the writable
-/// buffers overlap nothing else.
 #[export(twin, system[1], options[1], report[1])]
 pub(crate) fn dk_deform_propagate_spring<T: Real>(
     system: In<'_, DkSpringSystem<T>>,

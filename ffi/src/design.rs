@@ -183,9 +183,6 @@ fn variable<T: Real>(
 
 /// SU2's Hicks–Henne bump `sin(π max(0,x)^e)^3`, `e = log10(0.5)/log10(x_max)` (0 where
 /// `max(0,x) ≤ 1e-15`) into `*out`. Never fails except for a NULL `out`.
-///
-/// # Safety
-/// `out` points to one writable scalar.
 #[export(twin, out[1])]
 pub(crate) fn dk_design_hicks_henne_bump<T: Real>(x: T, x_max: T, out: Out<'_, T>) -> dk_status {
     done(write_one(out, hicks_henne_bump(x, x_max)))
@@ -198,10 +195,6 @@ pub(crate) fn dk_design_hicks_henne_bump<T: Real>(x: T, x_max: T, out: Out<'_, T
 /// (`node_count × dim`). Errors (nothing written): `DK_ERR_INVALID_PARAMETER` (`dim`, `x_max`
 /// not in (0, 1)), `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_NON_FINITE`, `DK_ERR_BAD_INDEX_BASE`,
 /// length, buffer and pointer errors.
-///
-/// # Safety
-/// Every array is valid for its length; `displacements` and `index_scratch` are writable and
-/// overlap no other argument.
 #[export(twin)]
 pub(crate) fn dk_design_hicks_henne<T: Real>(
     points: In<'_, T>,
@@ -236,9 +229,6 @@ pub(crate) fn dk_design_hicks_henne<T: Real>(
 /// coordinate of `params` into `out` (same length as `params`). Errors (nothing written):
 /// `DK_ERR_INVALID_PARAMETER` (`dim`, a degree of 0 or above 32), `DK_ERR_NON_FINITE`, length
 /// and pointer errors.
-///
-/// # Safety
-/// Every array is valid for its length; `out` is writable and overlaps no input.
 #[export(twin)]
 pub(crate) fn dk_design_ffd_eval<T: Real>(
     degree: In<'_, u32>,
@@ -259,10 +249,6 @@ pub(crate) fn dk_design_ffd_eval<T: Real>(
 /// component of magnitude ≤ 1e-16 set to 0 (overwrites). `control_points` are the moved
 /// ones. Errors (nothing written): as `dk_design_ffd_eval`, plus
 /// `DK_ERR_INDEX_OUT_OF_RANGE` and `DK_ERR_BAD_INDEX_BASE`.
-///
-/// # Safety
-/// Every array is valid for its length; `displacements` and `index_scratch` are writable and
-/// overlap no other argument.
 #[export(twin)]
 pub(crate) fn dk_design_ffd_displacements<T: Real>(
     degree: In<'_, u32>,
@@ -289,9 +275,6 @@ pub(crate) fn dk_design_ffd_displacements<T: Real>(
 
 /// Moved box minus original box at each of `params` into `displacements` (exactly zero where
 /// nothing moved). Errors (nothing written): as `dk_design_ffd_eval`.
-///
-/// # Safety
-/// Every array is valid for its length; `displacements` is writable and overlaps no input.
 #[export(twin)]
 pub(crate) fn dk_design_ffd_displacements_between<T: Real>(
     degree: In<'_, u32>,
@@ -314,10 +297,6 @@ pub(crate) fn dk_design_ffd_displacements_between<T: Real>(
 /// `control_points` of `3 ∏(degree+1)` scalars, changed in place; movements add, as in SU2).
 /// Errors (nothing written): `DK_ERR_INVALID_PARAMETER` (unknown kind, bad degree, all three
 /// indices −1), `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_NON_FINITE`, length and pointer errors.
-///
-/// # Safety
-/// `degree`, `index` and `values` point to 3 elements each; `control_points` is readable and
-/// writable for its length.
 #[export(twin, degree[3], index[3], values[3])]
 pub(crate) fn dk_design_ffd_variable<T: Real>(
     kind: u32,

@@ -112,9 +112,6 @@ fn scratch_scalars(
 
 /// Length `targets` needs for [`dk_elasticity_graph`]: `Σ n_c (n_c − 1)` over the cells
 /// (validates the cells first; `index_scratch` as in `dk_cells_check`).
-///
-/// # Safety
-/// Every pointer is valid for its length; `len_out` points to one writable `size_t`.
 #[export(cells[1], len_out[1])]
 pub(crate) fn dk_elasticity_graph_len(
     node_count: usize,
@@ -134,10 +131,6 @@ pub(crate) fn dk_elasticity_graph_len(
 /// elasticity stiffness: a hexahedron couples all its nodes) as a symmetric, sorted,
 /// deduplicated 0-based CSR graph. `offsets` must have `node_count + 1` entries, `targets` at
 /// least [`dk_elasticity_graph_len`]; `*used_out` receives the entries used.
-///
-/// # Safety
-/// Every pointer is valid for its length, and the writable buffers do not overlap each other
-/// or the inputs.
 #[export(cells[1], used_out[1])]
 pub(crate) fn dk_elasticity_graph(
     node_count: usize,
@@ -160,9 +153,6 @@ pub(crate) fn dk_elasticity_graph(
 /// Scalars of `scratch` [`dk_elasticity_deform`] needs: `cell_count + dim²·(node_count +
 /// edge_count) + 6·dim·node_count`, `edge_count` the graph's `targets_len` (the same count
 /// for both precisions).
-///
-/// # Safety
-/// `len_out` points to one writable `size_t`.
 #[export(len_out[1])]
 pub(crate) fn dk_elasticity_scratch_len(
     node_count: usize,
@@ -182,9 +172,6 @@ pub(crate) fn dk_elasticity_scratch_len(
 
 /// Fills `*out` with the default elasticity settings for f64: inverse-volume modulus,
 /// Poisson ratio 0.3, one increment, 10 000 iterations, residual tolerance 1e-10.
-///
-/// # Safety
-/// `out` points to one writable options struct.
 ///
 /// # f32 twin
 /// As [`dk_elasticity_options_default`] with the f32 default residual tolerance
@@ -295,11 +282,6 @@ fn deform_for_dim<T: Real, const D: usize>(
 /// receives the moved one; the fixed nodes end at `points + displacement` exactly. `graph`
 /// comes from [`dk_elasticity_graph`]; `scratch` needs [`dk_elasticity_scratch_len`]
 /// scalars. On any error `points` is unchanged.
-///
-/// # Safety
-/// Every pointer is valid for its length; `options` points to one readable struct and
-/// `report` to one writable one; the writable buffers do not overlap each other or the
-/// inputs.
 #[export(twin, cells[1], graph[1], options[1], report[1])]
 pub(crate) fn dk_elasticity_deform<T: Real>(
     cells: In<'_, dk_cells>,

@@ -205,9 +205,6 @@ impl<'a> CellsIn<'a> {
 // ---------------------------------------------------------------------------------------------
 
 /// Length `targets` needs for [`dk_graph_from_edges`]: `edges_len` (two entries per edge).
-///
-/// # Safety
-/// `len_out` points to one writable `size_t`.
 #[export(len_out[1])]
 pub(crate) fn dk_graph_from_edges_len(edges_len: usize, len_out: Out<'_, usize>) -> dk_status {
     done((|| {
@@ -226,11 +223,6 @@ pub(crate) fn dk_graph_from_edges_len(edges_len: usize, len_out: Out<'_, usize>)
 /// `targets` at least `edges_len` entries. On success `*used_out` is the number of `targets`
 /// entries used (entries past it are unspecified). Nothing but `index_scratch` is written on
 /// failure.
-///
-/// # Safety
-/// Every pointer is valid for its length (`edges`: `edges_len` reads; `index_scratch`,
-/// `offsets`, `targets`: their lengths in writes; `used_out`: one write), and the writable
-/// buffers do not overlap each other or the inputs.
 #[export(used_out[1])]
 pub(crate) fn dk_graph_from_edges(
     node_count: usize,
@@ -265,10 +257,6 @@ pub(crate) fn dk_graph_from_edges(
 /// node indices are below `node_count`. With `index_base` 1, offsets and node indices are
 /// 1-based (Fortran), and `index_scratch` needs `cells->offsets_len + cells->nodes_len` entries
 /// (their 0-based copies); with 0 it may be NULL with length 0.
-///
-/// # Safety
-/// Every pointer is valid for reading its length; `index_scratch` for writing its length,
-/// overlapping nothing else.
 #[export(cells[1])]
 pub(crate) fn dk_cells_check(
     node_count: usize,
@@ -285,9 +273,6 @@ pub(crate) fn dk_cells_check(
 
 /// Length `targets` needs for [`dk_graph_from_cells`] (validates the cells first;
 /// `index_scratch` as in [`dk_cells_check`]).
-///
-/// # Safety
-/// Every pointer is valid for its length; `len_out` points to one writable `size_t`.
 #[export(cells[1], len_out[1])]
 pub(crate) fn dk_graph_from_cells_len(
     node_count: usize,
@@ -309,11 +294,6 @@ pub(crate) fn dk_graph_from_cells_len(
 /// `offsets` must have `node_count + 1` entries, `targets` at least the length from
 /// [`dk_graph_from_cells_len`]; `*used_out` receives the number of `targets` entries used.
 /// `index_scratch` as in [`dk_cells_check`].
-///
-/// # Safety
-/// Every pointer is valid for its length (reads for the cell arrays, writes for
-/// `index_scratch`, `offsets`, `targets`, `used_out`), and the writable buffers do not overlap
-/// each other or the inputs.
 #[export(cells[1], used_out[1])]
 pub(crate) fn dk_graph_from_cells(
     node_count: usize,
@@ -338,9 +318,6 @@ pub(crate) fn dk_graph_from_cells(
 
 /// Validates a 0-based CSR graph (`graph->offsets`: node count + 1 entries; `targets`); with
 /// `require_symmetric` also checks that every edge has its reverse.
-///
-/// # Safety
-/// `graph` points to one readable struct whose arrays are readable for their lengths.
 #[export(graph[1])]
 pub(crate) fn dk_graph_check(graph: In<'_, dk_graph>, require_symmetric: bool) -> dk_status {
     done((|| {

@@ -66,10 +66,6 @@ fn required_perm(p: In<'_, dk_permutation>) -> Result<Permutation<'_>, dk_status
 /// entries each): every connected component breadth-first from a pseudo-peripheral node,
 /// neighbours by increasing degree (ties: lower index), the whole order reversed. Errors
 /// (nothing written): graph errors, `DK_ERR_LENGTH_MISMATCH`, pointer errors.
-///
-/// # Safety
-/// The graph's arrays readable for their lengths; `order` and `inverse` writable for theirs,
-/// not overlapping each other or the graph.
 #[export(graph[1])]
 pub(crate) fn dk_order_rcm(
     graph: In<'_, dk_graph>,
@@ -98,10 +94,6 @@ fn hilbert_for_dim<T: Real, const D: usize>(
 /// box (32 bits an axis in 2D, 21 in 3D), ties by index. Errors (nothing written):
 /// `DK_ERR_NON_FINITE`, `DK_ERR_INVALID_PARAMETER` (`dim`), `DK_ERR_BUFFER_TOO_SMALL`
 /// (`keys`), length and pointer errors.
-///
-/// # Safety
-/// `points` readable for its length; `order`, `inverse` and `keys` writable for theirs, not
-/// overlapping each other or `points`.
 #[export(twin)]
 pub(crate) fn dk_order_hilbert<T: Real>(
     points: In<'_, T>,
@@ -122,10 +114,6 @@ pub(crate) fn dk_order_hilbert<T: Real>(
 /// the graph's numbering (`perm` with both arrays NULL, lengths 0) or in the numbering `perm`
 /// gives. Errors (nothing written): graph and permutation errors, `DK_ERR_LENGTH_MISMATCH`,
 /// pointer errors.
-///
-/// # Safety
-/// The graph's and the permutation's arrays readable for their lengths; `max_out` and
-/// `sum_out` point to one writable value each.
 #[export(graph[1], perm[1], max_out[1], sum_out[1])]
 pub(crate) fn dk_order_index_distance(
     graph: In<'_, dk_graph>,
@@ -157,10 +145,6 @@ fn permute_width<T: Real, const V: usize>(
 /// (1 to 7: a field, 2D or 3D points, ...), `src` and `dst` `node_count * width` scalars each.
 /// With `order` and `inverse` swapped it puts them back. Errors (nothing written): permutation
 /// errors, `DK_ERR_INVALID_PARAMETER` (`width`), length and pointer errors.
-///
-/// # Safety
-/// The permutation's arrays and `src` readable for their lengths; `dst` writable for its
-/// length, not overlapping `src` or the permutation.
 #[export(twin, perm[1])]
 pub(crate) fn dk_order_permute<T: Real>(
     perm: In<'_, dk_permutation>,
@@ -178,10 +162,6 @@ pub(crate) fn dk_order_permute<T: Real>(
 /// marker lists), read and written in `index_base` (0 or 1). With `order` and `inverse`
 /// swapped it puts them back. Errors (nothing written): permutation errors,
 /// `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_BAD_INDEX_BASE`, pointer errors.
-///
-/// # Safety
-/// The permutation's arrays readable for their lengths; `indices` readable and writable for
-/// its length, not overlapping the permutation.
 #[export(perm[1])]
 pub(crate) fn dk_order_renumber(
     perm: In<'_, dk_permutation>,
@@ -214,10 +194,6 @@ pub(crate) fn dk_order_renumber(
 /// sorted. `edge_map` (NULL with length 0, or `targets_len` entries) receives the old
 /// directed-edge index of each new one, for `dk_order_gather` of per-edge data. Errors
 /// (nothing written): graph and permutation errors, length and pointer errors.
-///
-/// # Safety
-/// Inputs readable for their lengths; `offsets`, `targets` and `edge_map` writable for
-/// theirs, not overlapping each other or the inputs.
 #[export(perm[1], graph[1])]
 pub(crate) fn dk_order_permute_graph(
     perm: In<'_, dk_permutation>,
@@ -238,10 +214,6 @@ pub(crate) fn dk_order_permute_graph(
 /// `dst[k] = src[map[k]]` (per-edge data such as stiffness after `dk_order_permute_graph`,
 /// with its `edge_map`); `dst` has `map_len` entries. Errors (nothing written):
 /// `DK_ERR_INDEX_OUT_OF_RANGE`, length and pointer errors.
-///
-/// # Safety
-/// `map` and `src` readable for their lengths; `dst` writable for its length, not
-/// overlapping them.
 #[export(twin)]
 pub(crate) fn dk_order_gather<T: Real>(
     map: In<'_, u32>,

@@ -410,9 +410,6 @@ fn step_for_dim<T: Real, const D: usize>(
 /// preconditioned CG, Batina stiffness (exponent 1), the default stopping rules of
 /// `dk_spring_solve_options_default` (10 000 iterations, residual tolerance 1e-10).
 ///
-/// # Safety
-/// `out` points to one writable options struct.
-///
 /// # f32 twin
 /// As [`dk_plan_options_default`] with the f32 default residual tolerance (`100 ε_f32`).
 #[export(twin, out[1])]
@@ -443,9 +440,6 @@ pub(crate) fn dk_plan_options_default<T: Real>(out: Out<'_, dk_plan_options>) ->
 /// code, an empty boundary), graph, cell, length (`points` not `N * dim` scalars, a given
 /// `stiffness` not one per directed edge) and pointer errors, as [`dk_plan_pool_sizes`]
 /// reports them.
-///
-/// # Safety
-/// Inputs readable for their lengths; `options` and `sizes_out` point to one struct each.
 #[export(twin, mesh[1], options[1], sizes_out[1])]
 pub(crate) fn dk_plan_work_sizes<T: Real>(
     mesh: In<'_, DkPlanMesh<T>>,
@@ -464,10 +458,6 @@ pub(crate) fn dk_plan_work_sizes<T: Real>(
 /// buffers (lengths from [`dk_plan_work_sizes`]). Arguments as [`dk_plan_work_sizes`], plus
 /// the work buffers. Errors: those of [`dk_plan_init`]'s validation; only the work buffers
 /// are written.
-///
-/// # Safety
-/// Inputs readable for their lengths; the work buffers writable for theirs and not
-/// overlapping anything else; `options` and `sizes_out` point to one struct each.
 #[export(twin, mesh[1], options[1], work[1], sizes_out[1])]
 pub(crate) fn dk_plan_pool_sizes<T: Real>(
     mesh: In<'_, DkPlanMesh<T>>,
@@ -494,10 +484,6 @@ pub(crate) fn dk_plan_pool_sizes<T: Real>(
 /// Errors: those of the validation (checked before any pool is written), `DK_ERR_BUFFER_TOO_SMALL`,
 /// `DK_ERR_TOO_LARGE`; a hierarchy set-up that breaks down in floating point fails after
 /// writing, and then the pools hold no plan.
-///
-/// # Safety
-/// As [`dk_plan_pool_sizes`]; the pools writable for their lengths, not overlapping anything else;
-/// `info_out` points to one writable struct.
 #[export(twin, mesh[1], options[1], work[1], pools[1], info_out[1])]
 pub(crate) fn dk_plan_init<T: Real>(
     mesh: In<'_, DkPlanMesh<T>>,
@@ -520,10 +506,6 @@ pub(crate) fn dk_plan_init<T: Real>(
 /// solutions) and says what it holds. Use it after restoring a checkpoint. Errors:
 /// `DK_ERR_BAD_PLAN`, `DK_ERR_INVALID_PARAMETER` (`dim`), pointer errors; nothing is written
 /// but `info_out`.
-///
-/// # Safety
-/// The pools readable and writable for their lengths; `info_out` points to one writable
-/// struct.
 #[export(twin, pools[1], info_out[1])]
 pub(crate) fn dk_plan_open<T: Real>(
     pools: In<'_, DkPlanPools<T>>,
@@ -559,11 +541,6 @@ pub(crate) fn dk_plan_open<T: Real>(
 /// `DK_ERR_INVALID_PARAMETER` (`dim`, `rotation_source` of a quaternion plan, `start`, shape
 /// rotations without elements), the boundary rotations' and the solver's errors. On error `out`, the stored
 /// solutions and the step count are unchanged.
-///
-/// # Safety
-/// The pools readable and writable for their lengths; inputs readable for theirs; `out`
-/// writable for `out_len` scalars; no writable buffer overlaps another buffer or an input;
-/// `report_out` points to one writable struct.
 #[export(twin, pools[1], rotations?, origin?, report_out[1])]
 pub(crate) fn dk_plan_step<T: Real>(
     pools: In<'_, DkPlanPools<T>>,

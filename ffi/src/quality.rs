@@ -317,9 +317,6 @@ fn wall_angle_for_dim<T: Real, const D: usize>(
 /// smallest scaled corner Jacobian. Errors (nothing written): `DK_ERR_UNKNOWN_CELL_KIND`,
 /// `DK_ERR_CELL_DIMENSION` (kind does not fit `dim`), `DK_ERR_LENGTH_MISMATCH`,
 /// `DK_ERR_NON_FINITE`, `DK_ERR_INVALID_PARAMETER` (`dim`), `DK_ERR_NULL_POINTER`.
-///
-/// # Safety
-/// `corners` readable for `corners_len` scalars; `out` points to one writable struct.
 #[export(twin, out[1])]
 pub(crate) fn dk_quality_cell_quality<T: Real>(
     kind: u8,
@@ -341,10 +338,6 @@ pub(crate) fn dk_quality_cell_quality<T: Real>(
 /// `index_scratch` receives the 0-based copies of the cell arrays and needs
 /// `cells->offsets_len + cells->nodes_len` entries (else `DK_ERR_BUFFER_TOO_SMALL`); with 0 it
 /// may be NULL with length 0.
-///
-/// # Safety
-/// The cell arrays and `points` are readable for their lengths; `out` and `index_scratch`
-/// writable for their lengths, not overlapping the inputs or each other.
 #[export(twin, cells[1])]
 pub(crate) fn dk_quality_cell_measures<T: Real>(
     cells: In<'_, dk_cells>,
@@ -365,9 +358,6 @@ pub(crate) fn dk_quality_cell_measures<T: Real>(
 /// Smallest corner Jacobian of every cell into `out` (one scalar per cell), divided by the
 /// product of the corner's edge lengths when `scaled`. Errors as
 /// [`dk_quality_cell_measures`].
-///
-/// # Safety
-/// As [`dk_quality_cell_measures`].
 #[export(twin, cells[1])]
 pub(crate) fn dk_quality_min_corner_jacobians<T: Real>(
     cells: In<'_, dk_cells>,
@@ -389,10 +379,6 @@ pub(crate) fn dk_quality_min_corner_jacobians<T: Real>(
 /// Number of cells whose signed measure changed sign between `undeformed` and `deformed`
 /// (cells with zero undeformed measure never count) into `*count_out`. Errors as
 /// [`dk_quality_cell_measures`] for both point arrays.
-///
-/// # Safety
-/// The cell arrays and point arrays are readable for their lengths; `count_out` points to one
-/// writable `size_t`.
 #[export(twin, cells[1], count_out[1])]
 pub(crate) fn dk_quality_inverted_cells<T: Real>(
     cells: In<'_, dk_cells>,
@@ -414,10 +400,6 @@ pub(crate) fn dk_quality_inverted_cells<T: Real>(
 /// Number of cells with some corner Jacobian `≤ 0` (folded or inverted at a corner; also
 /// catches a bow-tie quad whose net area is positive) into `*count_out`. Errors as
 /// [`dk_quality_cell_measures`].
-///
-/// # Safety
-/// The cell arrays and `points` are readable for their lengths; `count_out` points to one
-/// writable `size_t`.
 #[export(twin, cells[1], count_out[1])]
 pub(crate) fn dk_quality_folded_cells<T: Real>(
     cells: In<'_, dk_cells>,
@@ -437,9 +419,6 @@ pub(crate) fn dk_quality_folded_cells<T: Real>(
 
 /// Scalars of `scratch` [`dk_quality_wall_angle_change`] (and [`dk_quality_compare`] with a
 /// wall) needs: `2 * node_count * dim`.
-///
-/// # Safety
-/// `len_out` points to one writable `size_t`.
 #[export(len_out[1])]
 pub(crate) fn dk_quality_wall_angle_scratch_len(
     node_count: usize,
@@ -471,11 +450,6 @@ pub(crate) fn dk_quality_wall_angle_scratch_len(
 /// a wall. Errors (nothing written): as
 /// [`dk_quality_cell_measures`] for both point arrays and as
 /// [`dk_quality_wall_angle_change`] for the wall.
-///
-/// # Safety
-/// Every input array is NULL with length 0 or readable for its length; `scratch` writable for
-/// `scratch_len` scalars; `report` points to one writable report; writable buffers overlap
-/// nothing else.
 #[export(twin, cells[1], wall[1], graph[1], report[1])]
 pub(crate) fn dk_quality_compare<T: Real>(
     cells: In<'_, dk_cells>,
@@ -522,10 +496,6 @@ pub(crate) fn dk_quality_compare<T: Real>(
 /// `wall->offsets_len + wall->nodes_len` entries (NULL with 0 for `index_base` 0). Errors (nothing written): cell and graph
 /// errors, `DK_ERR_CELL_DIMENSION` (wrong element kind), `DK_ERR_NON_FINITE`, length and
 /// pointer errors.
-///
-/// # Safety
-/// Every input array is readable for its length; `scratch` writable for `scratch_len`
-/// scalars; `out` points to one writable struct; writable buffers overlap nothing else.
 #[export(twin, wall[1], graph[1], out[1])]
 pub(crate) fn dk_quality_wall_angle_change<T: Real>(
     wall: In<'_, dk_cells>,

@@ -87,9 +87,6 @@ fn interpolate<T: Real>(
 // ---------------------------------------------------------------------------------------------
 
 /// Hamilton product `out = a b` (each 4 scalars, scalar first). `out` may alias `a` or `b`.
-///
-/// # Safety
-/// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars (or NULL: error).
 #[export(twin, a[4], b[4], out[4])]
 pub(crate) fn dk_quat_mul<T: Real>(a: In<'_, T>, b: In<'_, T>, out: Out<'_, T>) -> dk_status {
     done((|| {
@@ -99,27 +96,18 @@ pub(crate) fn dk_quat_mul<T: Real>(a: In<'_, T>, b: In<'_, T>, out: Out<'_, T>) 
 }
 
 /// `out = q / |q|`; a zero quaternion gives `DK_ERR_ZERO_LENGTH`, never NaN.
-///
-/// # Safety
-/// `q` points to 4 readable scalars, `out` to 4 writable scalars.
 #[export(twin, q[4], out[4])]
 pub(crate) fn dk_quat_normalize<T: Real>(q: In<'_, T>, out: Out<'_, T>) -> dk_status {
     map(q, out, Quat::normalize)
 }
 
 /// `out = q⁻¹ = q* / |q|²`.
-///
-/// # Safety
-/// `q` points to 4 readable scalars, `out` to 4 writable scalars.
 #[export(twin, q[4], out[4])]
 pub(crate) fn dk_quat_inverse<T: Real>(q: In<'_, T>, out: Out<'_, T>) -> dk_status {
     map(q, out, Quat::inverse)
 }
 
 /// Rotation by `angle` radians about `axis` (3 scalars, normalised here).
-///
-/// # Safety
-/// `axis` points to 3 readable scalars, `out` to 4 writable scalars.
 #[export(twin, axis[3], out[4])]
 pub(crate) fn dk_quat_from_axis_angle<T: Real>(
     axis: In<'_, T>,
@@ -133,9 +121,6 @@ pub(crate) fn dk_quat_from_axis_angle<T: Real>(
 }
 
 /// Axis (3 scalars, unit) and angle in `[0, π]` of the rotation `q` (normalised here).
-///
-/// # Safety
-/// `q` points to 4 readable scalars, `axis_out` to 3 and `angle_out` to 1 writable scalar.
 #[export(twin, q[4], axis_out[3], angle_out[1])]
 pub(crate) fn dk_quat_to_axis_angle<T: Real>(
     q: In<'_, T>,
@@ -157,9 +142,6 @@ pub(crate) fn dk_quat_to_axis_angle<T: Real>(
 }
 
 /// Shortest rotation taking direction `from` to direction `to` (3 scalars each).
-///
-/// # Safety
-/// `from`, `to` point to 3 readable scalars, `out` to 4 writable scalars.
 #[export(twin, from[3], to[3], out[4])]
 pub(crate) fn dk_quat_rotation_arc<T: Real>(
     from: In<'_, T>,
@@ -174,10 +156,6 @@ pub(crate) fn dk_quat_rotation_arc<T: Real>(
 
 /// Rotates `points_len / 3` points `(x, y, z)` by `q` (normalised here) into `out`.
 /// `out_len` must equal `points_len`, a multiple of 3.
-///
-/// # Safety
-/// `q` points to 4 readable scalars; `points` to `points_len` readable scalars; `out`
-/// to `out_len` writable scalars not overlapping `points`.
 #[export(twin, q[4])]
 pub(crate) fn dk_quat_rotate_points<T: Real>(
     q: In<'_, T>,
@@ -192,9 +170,6 @@ pub(crate) fn dk_quat_rotate_points<T: Real>(
 /// a rotation about z (x and y components zero, as in every product of rotations about z);
 /// any other `q` is `DK_ERR_INVALID_PARAMETER`, since it would move points out of the plane.
 /// `out_len` must equal `points_len`, a multiple of 2.
-///
-/// # Safety
-/// As [`dk_quat_rotate_points`].
 #[export(twin, q[4])]
 pub(crate) fn dk_quat_rotate_points_2d<T: Real>(
     q: In<'_, T>,
@@ -205,9 +180,6 @@ pub(crate) fn dk_quat_rotate_points_2d<T: Real>(
 }
 
 /// Spherical linear interpolation on the shorter arc (`t` = 0 gives `a`, 1 gives `b`).
-///
-/// # Safety
-/// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
 #[export(twin, a[4], b[4], out[4])]
 pub(crate) fn dk_quat_slerp<T: Real>(
     a: In<'_, T>,
@@ -219,9 +191,6 @@ pub(crate) fn dk_quat_slerp<T: Real>(
 }
 
 /// Normalised linear interpolation on the shorter arc.
-///
-/// # Safety
-/// `a`, `b` point to 4 readable scalars, `out` to 4 writable scalars.
 #[export(twin, a[4], b[4], out[4])]
 pub(crate) fn dk_quat_nlerp<T: Real>(
     a: In<'_, T>,
@@ -235,10 +204,6 @@ pub(crate) fn dk_quat_nlerp<T: Real>(
 /// Hemisphere-aligned weighted average of `quats_len / 4` quaternions (`q` and `−q` are
 /// one rotation), renormalised. `weights` may be NULL with `weights_len` 0 (all 1);
 /// otherwise `weights_len == quats_len / 4`.
-///
-/// # Safety
-/// `quats` points to `quats_len` readable scalars, `weights` to `weights_len` (or is
-/// NULL with 0), `out` to 4 writable scalars.
 #[export(twin, out[4])]
 pub(crate) fn dk_quat_average<T: Real>(
     quats: In<'_, T>,

@@ -85,9 +85,6 @@ impl dk_rbf_options {
 
 /// Fills `*out` with the defaults: Wendland (set `radius`), every boundary node a centre, no
 /// correction.
-///
-/// # Safety
-/// `out` points to one writable options struct.
 #[export(out[1])]
 pub(crate) fn dk_rbf_options_default(out: Out<'_, dk_rbf_options>) -> dk_status {
     done(write_one(
@@ -132,9 +129,6 @@ fn sizes(
 /// Scalars of `scratch` [`dk_rbf_deform`] needs (the same for both precisions): the dense
 /// matrix `a²` (`a` = centres + `dim + 1` for thin-plate splines), coefficients and boundary
 /// residuals. Errors: `DK_ERR_INVALID_PARAMETER` (`dim`, kernel code), `DK_ERR_TOO_LARGE`.
-///
-/// # Safety
-/// `options` points to one readable struct; `len_out` to one writable `size_t`.
 #[export(options[1], len_out[1])]
 pub(crate) fn dk_rbf_scratch_len(
     boundary_len: usize,
@@ -148,9 +142,6 @@ pub(crate) fn dk_rbf_scratch_len(
 /// `uint32_t`s of `index_scratch` [`dk_rbf_deform`] needs: centres, pivots, flags, the
 /// search grids, and `boundary_len` more with `index_base` 1. Errors as
 /// [`dk_rbf_scratch_len`], plus `DK_ERR_BAD_INDEX_BASE`.
-///
-/// # Safety
-/// `options` points to one readable struct; `len_out` to one writable `size_t`.
 #[export(options[1], len_out[1])]
 pub(crate) fn dk_rbf_index_scratch_len(
     boundary_len: usize,
@@ -177,9 +168,6 @@ pub(crate) fn dk_rbf_index_scratch_len(
 /// `DK_ERR_BUFFER_TOO_SMALL`, `DK_ERR_SINGULAR_SYSTEM` (coincident boundary nodes, or a
 /// support too wide for the precision), `DK_ERR_OVERFLOW`. On error `displacements` and
 /// `report` are unchanged.
-///
-/// # Safety
-/// Every pointer is valid for its length; the writable buffers overlap nothing else.
 #[export(twin, options[1], report[1])]
 pub(crate) fn dk_rbf_deform<T: Real>(
     points: In<'_, T>,

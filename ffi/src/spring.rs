@@ -1066,10 +1066,6 @@ fn solve_angle_sliding_amg_for_dim<T: Real, const D: usize>(
 /// or 3. Errors (nothing written): `DK_ERR_ZERO_LENGTH_EDGE`, `DK_ERR_NON_FINITE`,
 /// `DK_ERR_INVALID_PARAMETER` (`exponent` negative or not finite, `dim`), graph, length and
 /// pointer errors.
-///
-/// # Safety
-/// Inputs readable for their lengths; `stiffness` writable for `stiffness_len` scalars, not
-/// overlapping the inputs.
 #[export(twin, graph[1])]
 pub(crate) fn dk_spring_batina_stiffness<T: Real>(
     graph: In<'_, dk_graph>,
@@ -1086,9 +1082,6 @@ pub(crate) fn dk_spring_batina_stiffness<T: Real>(
 
 /// Length of the `uint32_t` `index_scratch` every spring solver and sweep needs to validate
 /// its system (the anchoring search): `node_count`.
-///
-/// # Safety
-/// `len_out` points to one writable `size_t`.
 #[export(len_out[1])]
 pub(crate) fn dk_spring_index_scratch_len(node_count: usize, len_out: Out<'_, usize>) -> dk_status {
     done(write_len(
@@ -1100,9 +1093,6 @@ pub(crate) fn dk_spring_index_scratch_len(node_count: usize, len_out: Out<'_, us
 /// Fills `*out` with the default linear-spring settings for f64: CG with the Jacobi
 /// preconditioner, 10 000 iterations, residual tolerance 1e-10, update tolerance off,
 /// `omega` 1.
-///
-/// # Safety
-/// `out` points to one writable options struct.
 ///
 /// # f32 twin
 /// As [`dk_spring_solve_options_default`] with the f32 default residual tolerance
@@ -1117,9 +1107,6 @@ pub(crate) fn dk_spring_solve_options_default<T: Real>(
 /// Scalars of `scratch` [`dk_spring_solve_linear`] needs for `options->method`:
 /// `node_count * components` for Jacobi, 0 for Gauss–Seidel and SOR, `5 * node_count *
 /// components` for CG (four vectors and the diagonal; same count for both precisions).
-///
-/// # Safety
-/// `options` points to one readable struct; `len_out` to one writable `size_t`.
 #[export(options[1], len_out[1])]
 pub(crate) fn dk_spring_solve_linear_scratch_len(
     node_count: usize,
@@ -1153,12 +1140,6 @@ pub(crate) fn dk_spring_solve_linear_scratch_len(
 /// `DK_ERR_INVALID_PARAMETER` (method, preconditioner, `omega` outside (0, 2), tolerances,
 /// `components`), `DK_ERR_BUFFER_TOO_SMALL`, `DK_ERR_SINGULAR_SYSTEM` (CG breakdown), graph,
 /// length and pointer errors.
-///
-/// # Safety
-/// `system` points to one readable struct whose arrays are readable for their lengths;
-/// `options` points to one readable struct; `values` is readable and writable for `values_len` scalars; `scratch` and `index_scratch`
-/// writable for their lengths; `report` points to one writable report; writable buffers
-/// overlap nothing else.
 #[export(twin, system[1], options[1], report[1])]
 pub(crate) fn dk_spring_solve_linear<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -1189,10 +1170,6 @@ pub(crate) fn dk_spring_solve_linear<T: Real>(
 /// (`node_count * components` scalars; neighbours outside the range, e.g. halo nodes, are
 /// read). `*sweep` receives the range's maximum change and residual. Nothing is written on
 /// error.
-///
-/// # Safety
-/// As [`dk_spring_solve_linear`]; `src` readable for `src_len` scalars, `dst` writable for
-/// `dst_len` and not overlapping `src`; `sweep` points to one writable struct.
 #[export(twin, system[1], sweep[1])]
 pub(crate) fn dk_spring_jacobi_sweep<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -1223,9 +1200,6 @@ pub(crate) fn dk_spring_jacobi_sweep<T: Real>(
 /// processes add element-wise (`MPI_Allreduce` with `MPI_SUM` on `MPI_INT64_T`); rounded
 /// with [`dk_exact_sum_value`] they give the bits of one sweep over all their nodes, however
 /// the nodes were split (docs/reductions.md). Nothing is written on error.
-///
-/// # Safety
-/// As [`dk_spring_jacobi_sweep`]; `residual_words` writable for `DK_EXACT_SUM_WORDS` values.
 #[export(twin, system[1], sweep[1], residual_words[72])]
 pub(crate) fn dk_spring_jacobi_sweep_exact<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -1255,10 +1229,6 @@ pub(crate) fn dk_spring_jacobi_sweep_exact<T: Real>(
 /// Rounds an exact sum given by its words (from [`dk_spring_jacobi_sweep_exact`], or the
 /// element-wise sum of such word arrays) to the nearest `double`, ties to even. Errors:
 /// pointer errors.
-///
-/// # Safety
-/// `words` readable for [`DK_EXACT_SUM_WORDS`] values; `value_out` points to one writable
-/// `double`.
 #[export(words[72], value_out[1])]
 pub(crate) fn dk_exact_sum_value(words: In<'_, i64>, value_out: Out<'_, f64>) -> dk_status {
     done((|| {
@@ -1277,10 +1247,6 @@ pub(crate) fn dk_exact_sum_value(words: In<'_, i64>, value_out: Out<'_, f64>) ->
 /// skipped. `*sweep` receives the range's maximum change and residual estimate. Errors
 /// (nothing written): as [`dk_spring_jacobi_sweep`], plus `DK_ERR_INVALID_PARAMETER` for
 /// `omega` outside (0, 2).
-///
-/// # Safety
-/// As [`dk_spring_solve_linear`]; `values` readable and writable for `values_len` scalars;
-/// `sweep` points to one writable struct.
 #[export(twin, system[1], sweep[1])]
 pub(crate) fn dk_spring_sor_sweep<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -1309,10 +1275,6 @@ pub(crate) fn dk_spring_sor_sweep<T: Real>(
 /// The relative residual `‖b − A x‖₂ / ‖b‖₂` of a value field for the linear springs (the
 /// measure of `residual_tol` and of the solve report; `b` = the fixed nodes' pull on the free
 /// nodes, plain `‖b − A x‖₂` when `b = 0`) into `*residual_out`.
-///
-/// # Safety
-/// As [`dk_spring_solve_linear`]; `values` readable for `values_len` scalars; `residual_out`
-/// writable for one scalar.
 #[export(twin, system[1], residual_out[1])]
 pub(crate) fn dk_spring_relative_residual<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -1335,9 +1297,6 @@ pub(crate) fn dk_spring_relative_residual<T: Real>(
 /// Fills `*out` with the default angle-spring settings for f64: direct Gauss–Seidel,
 /// `ε` = 0.01, 10 000 iterations, residual tolerance 1e-10, update tolerance off.
 ///
-/// # Safety
-/// `out` points to one writable options struct.
-///
 /// # f32 twin
 /// As [`dk_spring_angle_options_default`] with the f32 default residual tolerance.
 #[export(twin, out[1])]
@@ -1358,9 +1317,6 @@ pub(crate) fn dk_spring_angle_options_default<T: Real>(
 /// Scalars of `scratch` [`dk_spring_solve_angle`] needs: per node and coordinate, 1 for
 /// direct Jacobi, 0 for direct Gauss–Seidel, 4 for CG, and at least 4 whenever
 /// `options->epsilon` is 0 (the rigidity probe).
-///
-/// # Safety
-/// `options` points to one readable struct; `len_out` to one writable `size_t`.
 ///
 /// # f32 twin
 /// `f32` twin of [`dk_spring_solve_angle_scratch_len`] (differs only when `epsilon` rounds to
@@ -1387,9 +1343,6 @@ pub(crate) fn dk_spring_solve_angle_scratch_len<T: Real>(
 }
 
 /// Scalars of `scratch` [`dk_spring_angle_rigidity_probe`] needs: `4 * node_count * dim`.
-///
-/// # Safety
-/// `len_out` points to one writable `size_t`.
 #[export(len_out[1])]
 pub(crate) fn dk_spring_angle_rigidity_probe_scratch_len(
     node_count: usize,
@@ -1416,9 +1369,6 @@ pub(crate) fn dk_spring_angle_rigidity_probe_scratch_len(
 /// Errors (values and report unchanged): `DK_ERR_SINGULAR_NODE` (a free node with colinear /
 /// coplanar edges), `DK_ERR_SINGULAR_SYSTEM` (probe or CG breakdown),
 /// `DK_ERR_ZERO_LENGTH_EDGE`, the errors of [`dk_spring_solve_linear`].
-///
-/// # Safety
-/// As [`dk_spring_solve_linear`]; `points` readable for `points_len` scalars.
 #[export(twin, system[1], options[1], report[1])]
 pub(crate) fn dk_spring_solve_angle<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -1450,10 +1400,6 @@ pub(crate) fn dk_spring_solve_angle<T: Real>(
 /// fixed nodes in the range are copied, `dst` outside the range is untouched. `*sweep`
 /// receives the range's maximum change and the residual of `src`. Nothing is written on
 /// error.
-///
-/// # Safety
-/// As [`dk_spring_solve_angle`]; `src` readable for `src_len` scalars; `dst` writable for
-/// `dst_len`, not overlapping `src`; `sweep` points to one writable struct.
 #[export(twin, system[1], sweep[1])]
 pub(crate) fn dk_spring_angle_jacobi_sweep<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -1486,10 +1432,6 @@ pub(crate) fn dk_spring_angle_jacobi_sweep<T: Real>(
 /// `nodes_start..nodes_end` (read with `index_base`): like
 /// [`dk_spring_angle_jacobi_sweep`] but each node uses its neighbours' newest values.
 /// Nothing is written on error.
-///
-/// # Safety
-/// As [`dk_spring_solve_angle`]; `values` readable and writable for `values_len` scalars;
-/// `sweep` points to one writable struct.
 #[export(twin, system[1], sweep[1])]
 pub(crate) fn dk_spring_angle_gauss_seidel_sweep<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -1524,9 +1466,6 @@ pub(crate) fn dk_spring_angle_gauss_seidel_sweep<T: Real>(
 /// (`method` is ignored). `scratch` needs [`dk_spring_angle_rigidity_probe_scratch_len`]
 /// scalars. Errors: `DK_ERR_SINGULAR_SYSTEM` (no convergence or non-positive curvature), and
 /// those of [`dk_spring_solve_angle`]; nothing is written on error.
-///
-/// # Safety
-/// As [`dk_spring_solve_angle`]; `amplification_out` writable for one scalar.
 #[export(twin, system[1], options[1], amplification_out[1])]
 pub(crate) fn dk_spring_angle_rigidity_probe<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -1554,9 +1493,6 @@ pub(crate) fn dk_spring_angle_rigidity_probe<T: Real>(
 /// Fills `*out` with the default multigrid options (the same for both precisions): θ = 0
 /// (every spring strong), at most 10 levels, a dense coarsest level of at most 256 unknowns,
 /// Chebyshev smoothing of degree 2 (docs/amg.md).
-///
-/// # Safety
-/// `out` points to one writable options struct.
 #[export(out[1])]
 pub(crate) fn dk_amg_options_default(out: Out<'_, dk_amg_options>) -> dk_status {
     done(write_one(
@@ -1570,9 +1506,6 @@ pub(crate) fn dk_amg_options_default(out: Out<'_, dk_amg_options>) -> dk_status 
 /// the system's validation in its front): `4 * (node_count + directed_edges) + 64`, with
 /// `directed_edges` the graph's `targets_len`. The same count is the front of the `indices`
 /// pool of the solves. Errors: `DK_ERR_TOO_LARGE`, pointer errors.
-///
-/// # Safety
-/// `len_out` points to one writable `size_t`.
 #[export(len_out[1])]
 pub(crate) fn dk_spring_amg_work_len(
     node_count: usize,
@@ -1597,11 +1530,6 @@ pub(crate) fn dk_spring_amg_work_len(
 /// Errors (only `work` is written): `DK_ERR_INVALID_PARAMETER` (`components`, multigrid
 /// options), `DK_ERR_BUFFER_TOO_SMALL` (`work`), the system's errors (as
 /// [`dk_spring_solve_linear`]), `DK_ERR_TOO_LARGE`, pointer errors.
-///
-/// # Safety
-/// `system` points to one readable struct whose arrays are readable for their lengths;
-/// `amg` points to one readable struct; `work` is writable for `work_len` entries and overlaps
-/// nothing else; `sizes_out` points to one writable struct.
 #[export(twin, system[1], amg[1], sizes_out[1])]
 pub(crate) fn dk_spring_solve_linear_amg_pool_sizes<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -1637,13 +1565,6 @@ pub(crate) fn dk_spring_solve_linear_amg_pool_sizes<T: Real>(
 /// `components`), `DK_ERR_SINGULAR_SYSTEM` (a coarse level not positive definite in floating
 /// point, or a CG breakdown), `DK_ERR_OVERFLOW`, and the system's, length and pointer errors
 /// of [`dk_spring_solve_linear`].
-///
-/// # Safety
-/// `system` points to one readable struct whose arrays are readable for their lengths;
-/// `options` and `amg` point to one readable struct each; `values` is readable and writable
-/// for `values_len` scalars; `pools` points to one readable struct whose buffers are writable
-/// for their lengths; `report` points to one writable report; writable buffers overlap
-/// nothing else.
 #[export(twin, system[1], options[1], amg[1], pools[1], report[1])]
 pub(crate) fn dk_spring_solve_linear_amg<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -1674,9 +1595,6 @@ pub(crate) fn dk_spring_solve_linear_amg<T: Real>(
 /// to each displacement component; its `5 N + 3 × coarse unknowns` scratch items also cover
 /// the rigidity probe when `epsilon` is 0). Errors as
 /// [`dk_spring_solve_linear_amg_pool_sizes`] (`dim` instead of `components`).
-///
-/// # Safety
-/// As [`dk_spring_solve_linear_amg_pool_sizes`].
 #[export(twin, system[1], amg[1], sizes_out[1])]
 pub(crate) fn dk_spring_solve_angle_amg_pool_sizes<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -1708,9 +1626,6 @@ pub(crate) fn dk_spring_solve_angle_amg_pool_sizes<T: Real>(
 ///
 /// Errors (values and report unchanged): those of [`dk_spring_solve_angle`] and of
 /// [`dk_spring_solve_linear_amg`].
-///
-/// # Safety
-/// As [`dk_spring_solve_linear_amg`]; `points` readable for `points_len` scalars.
 #[export(twin, system[1], options[1], amg[1], pools[1], report[1])]
 pub(crate) fn dk_spring_solve_angle_amg<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -1747,10 +1662,6 @@ pub(crate) fn dk_spring_solve_angle_amg<T: Real>(
 /// `dim * kinds_len`), `DK_ERR_INDEX_OUT_OF_RANGE` (a kind above 3), `DK_ERR_NON_FINITE`,
 /// `DK_ERR_NOT_UNIT` (a sliding node's direction), `DK_ERR_INVALID_PARAMETER` (`dim`),
 /// pointer errors.
-///
-/// # Safety
-/// `constraints` points to one readable struct whose arrays are readable for their lengths;
-/// `mask` is writable for `mask_len` bytes and overlaps nothing else.
 #[export(twin, constraints[1])]
 pub(crate) fn dk_constraints_fixed_mask<T: Real>(
     constraints: In<'_, DkConstraints<T>>,
@@ -1771,11 +1682,6 @@ pub(crate) fn dk_constraints_fixed_mask<T: Real>(
 /// Errors (`points` unchanged): `DK_ERR_LENGTH_MISMATCH`, `DK_ERR_NON_FINITE` (`original`,
 /// `points`), `DK_ERR_OVERFLOW` (a projected position not finite), the constraints' errors
 /// of [`dk_constraints_fixed_mask`], pointer errors.
-///
-/// # Safety
-/// `constraints` points to one readable struct whose arrays are readable for their lengths;
-/// `original` readable for `original_len` scalars; `points` readable and writable for
-/// `points_len` scalars, overlapping nothing else.
 #[export(twin, constraints[1])]
 pub(crate) fn dk_slide_points<T: Real>(
     constraints: In<'_, DkConstraints<T>>,
@@ -1805,11 +1711,6 @@ pub(crate) fn dk_slide_points<T: Real>(
 /// do not span a plane, `tolerance` NaN or negative, `dim`), `DK_ERR_INDEX_OUT_OF_RANGE`,
 /// `DK_ERR_NON_FINITE`, `DK_ERR_OVERFLOW`, `DK_ERR_NOT_PLANAR`, `DK_ERR_BAD_INDEX_BASE`,
 /// `DK_ERR_BUFFER_TOO_SMALL` (`index_scratch`), length and pointer errors.
-///
-/// # Safety
-/// `points` readable for `points_len` scalars, `nodes` for `nodes_len` entries;
-/// `index_scratch`, `normal_out` and `point_out` writable for their lengths; `residual_out`
-/// and `extent_out` writable for one scalar each; writable buffers overlap nothing else.
 #[export(twin, residual_out[1], extent_out[1])]
 pub(crate) fn dk_fit_plane<T: Real>(
     points: In<'_, T>,
@@ -1840,9 +1741,6 @@ pub(crate) fn dk_fit_plane<T: Real>(
 /// (3 scalars each) meet (the kernel's `slide::plane_intersection`). Errors (nothing
 /// written): `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero normal, or planes parallel to
 /// within `√ε`), pointer errors.
-///
-/// # Safety
-/// `a`, `b` point to 3 readable scalars, `out` to 3 writable scalars.
 #[export(twin, a[3], b[3], out[3])]
 pub(crate) fn dk_plane_intersection<T: Real>(
     a: In<'_, T>,
@@ -1858,9 +1756,6 @@ pub(crate) fn dk_plane_intersection<T: Real>(
 /// `2 * node_count * dim` for Jacobi, `node_count * dim` for Gauss–Seidel and SOR, `6 *
 /// node_count * dim` for CG (a scaled copy of the values, the CG vectors and the diagonal;
 /// same count for both precisions).
-///
-/// # Safety
-/// `options` points to one readable struct; `len_out` to one writable `size_t`.
 #[export(options[1], len_out[1])]
 pub(crate) fn dk_spring_solve_linear_sliding_scratch_len(
     node_count: usize,
@@ -1899,10 +1794,6 @@ pub(crate) fn dk_spring_solve_linear_sliding_scratch_len(
 /// constraints' errors of [`dk_constraints_fixed_mask`] (`DK_ERR_LENGTH_MISMATCH` when they
 /// do not have `node_count` nodes), `DK_ERR_OVERFLOW`, and those of
 /// [`dk_spring_solve_linear`].
-///
-/// # Safety
-/// As [`dk_spring_solve_linear`]; `constraints` points to one readable struct whose arrays
-/// are readable for their lengths.
 #[export(twin, system[1], constraints[1], options[1], report[1])]
 pub(crate) fn dk_spring_solve_linear_sliding<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -1931,9 +1822,6 @@ pub(crate) fn dk_spring_solve_linear_sliding<T: Real>(
 /// Scalars of `scratch` [`dk_spring_solve_angle_sliding`] needs: per node and coordinate, 2
 /// for direct Jacobi, 1 for direct Gauss–Seidel, 5 for CG, and at least 4 whenever
 /// `options->epsilon` is 0 (the rigidity probe).
-///
-/// # Safety
-/// `options` points to one readable struct; `len_out` to one writable `size_t`.
 ///
 /// # f32 twin
 /// `f32` twin of [`dk_spring_solve_angle_sliding_scratch_len`] (differs only when `epsilon`
@@ -1970,9 +1858,6 @@ pub(crate) fn dk_spring_solve_angle_sliding_scratch_len<T: Real>(
 ///
 /// Errors (values and report unchanged): those of [`dk_spring_solve_angle`] and of
 /// [`dk_spring_solve_linear_sliding`]; `DK_ERR_INVALID_PARAMETER` for `omega`.
-///
-/// # Safety
-/// As [`dk_spring_solve_linear_sliding`]; `points` readable for `points_len` scalars.
 #[export(twin, system[1], constraints[1], options[1], report[1])]
 pub(crate) fn dk_spring_solve_angle_sliding<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -2008,9 +1893,6 @@ pub(crate) fn dk_spring_solve_angle_sliding<T: Real>(
 /// (the sliding solve also keeps a scaled copy of the values). The sizes do not depend on the
 /// constraints. Errors as [`dk_spring_solve_linear_amg_pool_sizes`] (`dim` instead of
 /// `components`).
-///
-/// # Safety
-/// As [`dk_spring_solve_linear_amg_pool_sizes`].
 #[export(twin, system[1], amg[1], sizes_out[1])]
 pub(crate) fn dk_spring_solve_linear_sliding_amg_pool_sizes<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -2040,10 +1922,6 @@ pub(crate) fn dk_spring_solve_linear_sliding_amg_pool_sizes<T: Real>(
 ///
 /// Errors (values and report unchanged): those of [`dk_spring_solve_linear_sliding`] and of
 /// [`dk_spring_solve_linear_amg`].
-///
-/// # Safety
-/// As [`dk_spring_solve_linear_amg`]; `constraints` points to one readable struct whose
-/// arrays are readable for their lengths.
 #[export(twin, system[1], constraints[1], options[1], amg[1], pools[1], report[1])]
 pub(crate) fn dk_spring_solve_linear_sliding_amg<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -2075,9 +1953,6 @@ pub(crate) fn dk_spring_solve_linear_sliding_amg<T: Real>(
 /// applies the scalar linear-spring hierarchy to each displacement component; its scratch
 /// also covers the rigidity probe when `epsilon` is 0). Errors as
 /// [`dk_spring_solve_linear_sliding_amg_pool_sizes`].
-///
-/// # Safety
-/// As [`dk_spring_solve_linear_amg_pool_sizes`].
 #[export(twin, system[1], amg[1], sizes_out[1])]
 pub(crate) fn dk_spring_solve_angle_sliding_amg_pool_sizes<T: Real>(
     system: In<'_, DkSpringSystem<T>>,
@@ -2106,10 +1981,6 @@ pub(crate) fn dk_spring_solve_angle_sliding_amg_pool_sizes<T: Real>(
 ///
 /// Errors (values and report unchanged): those of [`dk_spring_solve_angle_sliding`] and of
 /// [`dk_spring_solve_angle_amg`].
-///
-/// # Safety
-/// As [`dk_spring_solve_angle_amg`]; `constraints` points to one readable struct whose
-/// arrays are readable for their lengths.
 #[export(twin, system[1], constraints[1], options[1], amg[1], pools[1], report[1])]
 pub(crate) fn dk_spring_solve_angle_sliding_amg<T: Real>(
     system: In<'_, DkSpringSystem<T>>,

@@ -69,10 +69,6 @@ fn factors<T: Real>(
 /// `DK_ERR_INVALID_PARAMETER` (empty wall, `dim`), `DK_ERR_INDEX_OUT_OF_RANGE`,
 /// `DK_ERR_NON_FINITE`, `DK_ERR_BAD_INDEX_BASE`, `DK_ERR_BUFFER_TOO_SMALL`, length and pointer
 /// errors.
-///
-/// # Safety
-/// Inputs readable for their lengths; `index_scratch` and `out` writable for theirs,
-/// overlapping nothing else.
 #[export(twin)]
 pub(crate) fn dk_spring_wall_distances<T: Real>(
     points: In<'_, T>,
@@ -95,9 +91,6 @@ pub(crate) fn dk_spring_wall_distances<T: Real>(
 /// SU2's `1/d`. Errors (nothing written): `DK_ERR_INVALID_PARAMETER` (`exponent` negative or
 /// not finite, or factors that overflow), `DK_ERR_NON_FINITE`, an empty array
 /// (`DK_ERR_INVALID_PARAMETER`), pointer errors.
-///
-/// # Safety
-/// `distances` readable and writable for `distances_len` scalars.
 #[export(twin)]
 pub(crate) fn dk_spring_wall_distance_factors<T: Real>(
     distances: Out<'_, T>,
@@ -112,10 +105,6 @@ pub(crate) fn dk_spring_wall_distance_factors<T: Real>(
 /// (NULL with length 0 for base 0). `scratch` needs one scalar per cell (`cells->kinds_len`).
 /// Errors (nothing written to `out`): cell errors, `DK_ERR_CELL_DIMENSION`,
 /// `DK_ERR_NON_FINITE`, `DK_ERR_INVALID_PARAMETER` (`dim`), length and pointer errors.
-///
-/// # Safety
-/// Inputs readable for their lengths; `index_scratch`, `out` and `scratch` writable for
-/// theirs, overlapping nothing else.
 #[export(twin, cells[1])]
 pub(crate) fn dk_spring_dual_volumes<T: Real>(
     cells: In<'_, dk_cells>,
@@ -136,9 +125,6 @@ pub(crate) fn dk_spring_dual_volumes<T: Real>(
 /// Turns dual volumes into stiffness factors in place (SU2's `INVERSE_VOLUME`):
 /// `v ← (v̄ / max(v, 10⁻¹² v̄))^exponent`, `v̄` the mean volume: small cells get stiff springs.
 /// Errors as [`dk_spring_wall_distance_factors`].
-///
-/// # Safety
-/// `volumes` readable and writable for `volumes_len` scalars.
 #[export(twin)]
 pub(crate) fn dk_spring_inverse_volume_factors<T: Real>(
     volumes: Out<'_, T>,
@@ -153,10 +139,6 @@ pub(crate) fn dk_spring_inverse_volume_factors<T: Real>(
 /// own, finite and positive); `stiffness`: one per directed edge of the 0-based CSR graph.
 /// Errors (nothing written): `DK_ERR_LENGTH_MISMATCH`, `DK_ERR_NON_FINITE`,
 /// `DK_ERR_NON_POSITIVE`, graph and pointer errors.
-///
-/// # Safety
-/// Inputs readable for their lengths; `stiffness` readable and writable for
-/// `stiffness_len` scalars, overlapping nothing else.
 #[export(twin, graph[1])]
 pub(crate) fn dk_spring_scale_stiffness<T: Real>(
     graph: In<'_, dk_graph>,

@@ -551,9 +551,6 @@ fn check_lines_for_dim<T: Real, const D: usize>(
 // ---------------------------------------------------------------------------------------------
 
 /// The λ|μ values Alter took from Taubin: `λ = 0.330`, `μ = −0.334` (pass band ≈ 0.0363).
-///
-/// # Safety
-/// `lambda_out` and `mu_out` each point to one writable scalar.
 #[export(twin, lambda_out[1], mu_out[1])]
 pub(crate) fn dk_taubin_params_paper<T: Real>(
     lambda_out: Out<'_, T>,
@@ -572,9 +569,6 @@ pub(crate) fn dk_taubin_params_paper<T: Real>(
 /// `λ` with `μ` from Taubin's pass-band relation `1/λ + 1/μ = pass_band`. Needs `λ > 0` and
 /// `0 < pass_band < 1/λ` (`DK_ERR_INVALID_PARAMETER`; NaN/∞: `DK_ERR_NON_FINITE`). Writes `λ`
 /// unchanged to `*lambda_out` and `μ` to `*mu_out`.
-///
-/// # Safety
-/// `lambda_out` and `mu_out` each point to one writable scalar.
 #[export(twin, lambda_out[1], mu_out[1])]
 pub(crate) fn dk_taubin_params_from_pass_band<T: Real>(
     lambda: T,
@@ -596,9 +590,6 @@ pub(crate) fn dk_taubin_params_from_pass_band<T: Real>(
 /// λ = 0.330, μ = −0.334, 30 iterations, dimensional arclength, no pins, no mirror faces, no
 /// coarse pass (coarse factor `{1, 1, 1}`, values prolongation, 15 coarse iterations).
 /// `direction > 2` gives `DK_ERR_INVALID_PARAMETER`.
-///
-/// # Safety
-/// `out` points to one writable `dk_smooth_arclength_options`.
 #[export(out[1])]
 pub(crate) fn dk_smooth_arclength_options_default(
     direction: u32,
@@ -632,9 +623,6 @@ pub(crate) fn dk_smooth_arclength_options_default(
 /// these dimensions, `dim` (2 or 3) and options (only `direction`, `use_coarse` and `coarse`
 /// matter): `n + max(n, 2 n_coarse, (dim + 1) × points per line)`. A `direction` other than
 /// 0, 1, 2 gives `DK_ERR_INVALID_PARAMETER`.
-///
-/// # Safety
-/// `options` points to one readable options struct; `len_out` to one writable `size_t`.
 #[export(options[1], len_out[1])]
 pub(crate) fn dk_taubin_smooth_arclength_scratch_len(
     ni: usize,
@@ -673,12 +661,6 @@ pub(crate) fn dk_taubin_smooth_arclength_scratch_len(
 /// On any error (including `DK_ERR_FOLDED_LINE`) `points` and `*report` are unchanged; the
 /// scratch contents are unspecified afterwards.
 ///
-/// # Safety
-/// `options` points to one readable options struct whose `pinned` is NULL or readable for
-/// `pinned_len` bytes; `points` is readable and writable for `points_len` scalars; `scratch`
-/// writable for `scratch_len` scalars; `report` points to one writable report; the writable
-/// buffers overlap neither each other nor the inputs.
-///
 /// # f32 twin
 /// `f32` twin of [`dk_taubin_smooth_arclength`] (`options->lambda`, `mu` are rounded to
 /// `float`; the report's values are widened exactly).
@@ -706,12 +688,6 @@ pub(crate) fn dk_taubin_smooth_arclength<T: Real>(
 /// end of `options->direction`, a free first face or a free face with `normalised`,
 /// `DK_ERR_SHARED_FREE_END` when a free end coincides with another line's end (a seam or an
 /// axis: keep that face fixed). On any error `points` and `*report` are unchanged.
-///
-/// # Safety
-/// As [`dk_taubin_smooth_arclength`].
-///
-/// # f32 twin
-/// `f32` twin of [`dk_taubin_smooth_arclength_ends`].
 #[allow(clippy::too_many_arguments)]
 #[export(twin, options[1], report[1])]
 pub(crate) fn dk_taubin_smooth_arclength_ends<T: Real>(
@@ -737,9 +713,6 @@ pub(crate) fn dk_taubin_smooth_arclength_ends<T: Real>(
 }
 
 /// Scratch length (in scalars) for [`dk_taubin_smooth_structured`]: the point count.
-///
-/// # Safety
-/// `len_out` points to one writable `size_t`.
 #[export(len_out[1])]
 pub(crate) fn dk_taubin_smooth_structured_scratch_len(
     ni: usize,
@@ -760,12 +733,6 @@ pub(crate) fn dk_taubin_smooth_structured_scratch_len(
 /// [`dk_taubin_smooth_structured_scratch_len`] scalars. Errors: `DK_ERR_INVALID_PARAMETER`
 /// (`λ ≤ 0`, `μ > 0`), `DK_ERR_NON_FINITE` (`λ`, `μ`, field), length and pointer errors. On
 /// error `field` and `*report` are unchanged.
-///
-/// # Safety
-/// `options` points to one readable struct whose `pinned` is NULL or readable for
-/// `pinned_len` bytes; `field` is readable and writable for `field_len` scalars; `scratch`
-/// writable for `scratch_len` scalars; `report` points to one writable report; the writable
-/// buffers overlap neither each other nor the inputs.
 #[export(twin, options[1], report[1])]
 pub(crate) fn dk_taubin_smooth_structured<T: Real>(
     ni: usize,
@@ -794,11 +761,6 @@ pub(crate) fn dk_taubin_smooth_structured<T: Real>(
 /// half-open `lo <= i < hi`; 1: Fortran's inclusive 1-based `lo <= i <= hi`). Errors
 /// (nothing written): `DK_ERR_INDEX_OUT_OF_RANGE` (region), `DK_ERR_NON_FINITE` (`weight`,
 /// `src`), `DK_ERR_BAD_INDEX_BASE`, length and pointer errors.
-///
-/// # Safety
-/// `src` is readable for `src_len` scalars; `options` and `region` point to one readable
-/// struct each (`options->pinned` NULL or readable for `pinned_len` bytes); `dst` is writable
-/// for `dst_len` scalars and `max_change_out` for one; `dst` overlaps no input.
 #[export(twin, options[1], region[1], max_change_out[1])]
 pub(crate) fn dk_taubin_structured_sweep<T: Real>(
     ni: usize,
@@ -827,9 +789,6 @@ pub(crate) fn dk_taubin_structured_sweep<T: Real>(
 }
 
 /// Scratch length (in scalars) for [`dk_taubin_smooth_structured_coarse`]: two coarse fields.
-///
-/// # Safety
-/// `coarse` points to one readable struct; `len_out` to one writable `size_t`.
 #[export(coarse[1], len_out[1])]
 pub(crate) fn dk_taubin_smooth_structured_coarse_scratch_len(
     ni: usize,
@@ -852,9 +811,6 @@ pub(crate) fn dk_taubin_smooth_structured_coarse_scratch_len(
 /// [`dk_taubin_smooth_structured_coarse_scratch_len`] scalars. Errors as
 /// [`dk_taubin_smooth_structured`], plus `DK_ERR_INVALID_PARAMETER` for a zero factor or an
 /// unknown prolongation. On error `field` and `*report` are unchanged.
-///
-/// # Safety
-/// As [`dk_taubin_smooth_structured`]; `coarse` points to one readable struct.
 #[export(twin, coarse[1], options[1], report[1])]
 pub(crate) fn dk_taubin_smooth_structured_coarse<T: Real>(
     ni: usize,
@@ -877,9 +833,6 @@ pub(crate) fn dk_taubin_smooth_structured_coarse<T: Real>(
 
 /// Scratch length (in scalars) for [`dk_taubin_smooth_graph`]: `node_count * components`
 /// (`DK_ERR_TOO_LARGE` if that overflows `size_t`).
-///
-/// # Safety
-/// `len_out` points to one writable `size_t`.
 #[export(len_out[1])]
 pub(crate) fn dk_taubin_smooth_graph_scratch_len(
     node_count: usize,
@@ -907,11 +860,6 @@ pub(crate) fn dk_taubin_smooth_graph_scratch_len(
 ///
 /// Fixed nodes and nodes without neighbours keep their values. On error `values` and
 /// `*report` are unchanged.
-///
-/// # Safety
-/// Every input pointer is NULL (with length 0) or readable for its length; `values` is
-/// readable and writable for `values_len` scalars, `scratch` writable for `scratch_len`,
-/// `report` points to one writable report; writable buffers overlap nothing else.
 #[export(twin, graph[1], weights?, fixed?, report[1])]
 pub(crate) fn dk_taubin_smooth_graph<T: Real>(
     graph: In<'_, dk_graph>,
@@ -945,10 +893,6 @@ pub(crate) fn dk_taubin_smooth_graph<T: Real>(
 /// with `index_base` (0: `start <= i < end`; 1: 1-based inclusive `start <= i <= end`).
 /// Graph, weights, fixed mask and `components` as in [`dk_taubin_smooth_graph`]. Nothing is
 /// written on error.
-///
-/// # Safety
-/// Every input pointer is NULL (with length 0) or readable for its length; `dst` is writable
-/// for `dst_len` scalars and `max_change_out` for one; `dst` overlaps no input.
 #[export(twin, graph[1], weights?, fixed?, max_change_out[1])]
 pub(crate) fn dk_taubin_graph_sweep<T: Real>(
     graph: In<'_, dk_graph>,
@@ -982,10 +926,6 @@ pub(crate) fn dk_taubin_graph_sweep<T: Real>(
 /// [`dk_taubin_smooth_graph`] on meshes with uneven edge lengths. `points`: `node_count *
 /// dim` scalars, `dim` 2 or 3. Errors (nothing written): `DK_ERR_ZERO_LENGTH_EDGE` (two
 /// neighbours coincide), `DK_ERR_NON_FINITE`, length and pointer errors.
-///
-/// # Safety
-/// Inputs readable for their lengths; `weights` writable for `weights_len` scalars, not
-/// overlapping the inputs.
 #[export(twin, graph[1], weights?)]
 pub(crate) fn dk_taubin_inverse_distance_weights<T: Real>(
     graph: In<'_, dk_graph>,
@@ -1006,9 +946,6 @@ pub(crate) fn dk_taubin_inverse_distance_weights<T: Real>(
 /// `S_0 = 0`, `S_t = S_{t−1} + |p_t − p_{t−1}|`, or with `normalised` `s_t = S_t / S_{n−1}`
 /// (a zero-length line gives the uniform `t / (n − 1)`). `points`: `ni·nj·nk·dim` scalars;
 /// `out`: `ni·nj·nk` scalars. Nothing is written on error.
-///
-/// # Safety
-/// `points` readable for `points_len` scalars; `out` writable for `out_len`, not overlapping.
 #[export(twin)]
 pub(crate) fn dk_taubin_arclength<T: Real>(
     ni: usize,
@@ -1031,9 +968,6 @@ pub(crate) fn dk_taubin_arclength<T: Real>(
 
 /// Scratch length (in scalars) for [`dk_taubin_redistribute`]: `(dim + 1) ×` points per line
 /// in `direction` (`DK_ERR_INVALID_PARAMETER` for `dim` not 2 or 3 or `direction > 2`).
-///
-/// # Safety
-/// `len_out` points to one writable `size_t`.
 #[export(len_out[1])]
 pub(crate) fn dk_taubin_redistribute_scratch_len(
     ni: usize,
@@ -1061,11 +995,6 @@ pub(crate) fn dk_taubin_redistribute_scratch_len(
 /// along the last non-zero segment; zero-length lines are left as they are.
 /// `*max_displacement_out` receives the largest point displacement. `scratch` needs
 /// [`dk_taubin_redistribute_scratch_len`] scalars. On error `points` is unchanged.
-///
-/// # Safety
-/// `targets` readable for `targets_len` scalars; `points` readable and writable for
-/// `points_len`; `scratch` writable for `scratch_len`; `max_displacement_out` writable for
-/// one; writable buffers overlap nothing else.
 #[export(twin, max_displacement_out[1])]
 pub(crate) fn dk_taubin_redistribute<T: Real>(
     ni: usize,
@@ -1099,9 +1028,6 @@ pub(crate) fn dk_taubin_redistribute<T: Real>(
 /// Grid stretching along `direction` at every point: the ratio of the larger to the smaller
 /// of the two cells meeting there (1 at line ends and for uniform spacing, `+∞` where one of
 /// the two cells has zero length). `out`: `ni·nj·nk` scalars. Nothing is written on error.
-///
-/// # Safety
-/// `points` readable for `points_len` scalars; `out` writable for `out_len`, not overlapping.
 #[export(twin)]
 pub(crate) fn dk_taubin_stretching<T: Real>(
     ni: usize,
@@ -1122,10 +1048,6 @@ pub(crate) fn dk_taubin_stretching<T: Real>(
 /// `*value_out`, and the 0-based linear index of the first point where it occurs into
 /// `*point_out` (`1` and `0` when no point has two adjacent cells). Nothing is written on
 /// error.
-///
-/// # Safety
-/// `points` readable for `points_len` scalars; `value_out` and `point_out` writable for one
-/// item each.
 #[export(twin, value_out[1], point_out[1])]
 pub(crate) fn dk_taubin_max_stretching<T: Real>(
     ni: usize,
@@ -1151,9 +1073,6 @@ pub(crate) fn dk_taubin_max_stretching<T: Real>(
 /// carried into the Rust error). With `points` (`ni·nj·nk·dim` scalars; NULL with
 /// `points_len` 0 for none, then `dim` is ignored), lines whose points all coincide are
 /// exempt. Writes nothing.
-///
-/// # Safety
-/// `field` and `points` readable for their lengths (or NULL with length 0).
 #[export(twin, points?)]
 pub(crate) fn dk_taubin_check_lines_increasing<T: Real>(
     ni: usize,

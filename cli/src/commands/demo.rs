@@ -485,6 +485,7 @@ fn one_case(
     let centre = deform_meshgen::AirfoilGrid::quarter_chord();
     let input = MoveInput {
         split: None,
+        graph: None,
         dim: 2,
         points: &mesh.points,
         cells: &mesh.elements,

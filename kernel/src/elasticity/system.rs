@@ -16,9 +16,10 @@ use crate::exact_sum::ExactSum;
 use crate::graph::Graph;
 use crate::real::Real;
 use crate::spring::krylov::{
-    apply_local, cg_len, exponents, solve_scaled, Operator, Precondition, Vectors,
+    apply_block_rows, cg_len, exponents, solve_scaled, NodeBlocks, NodeSolve, Operator,
+    Precondition, Vectors,
 };
-use crate::spring::norms::{pair_norms, scale_by, Norm, Pairs};
+use crate::spring::norms::{scaled_pair_norms, Norm, Pairs};
 use crate::spring::{
     amg_cg_scratch_len, is_fixed, AmgHierarchy, Collective, Serial, SolveOptions, SolveReport,
     SpringSystem, Vcycle,
@@ -244,22 +245,15 @@ impl<T: Real, const D: usize> Operator<T, D, 1> for ElasticSystem<'_, T, D> {
         pq: &mut [ExactSum; 1],
         dpp: &mut [T; 1],
     ) {
-        let ([pq], [dpp]) = (pq, dpp);
-        let (Some(qs), Some(ps)) = (q.get_mut(rows.clone()), p.get(rows.clone())) else {
-            return;
-        };
-        for (i, (qi, pi)) in rows.zip(qs.iter_mut().zip(ps)) {
+        apply_block_rows(rows, p, q, pq, dpp, |i, pi| {
             if self.is_fixed(i) {
-                *qi = [T::ZERO; D];
-                continue;
+                return None;
             }
             // p is zero at fixed nodes: the whole row is K_ff's.
             let acc = self.row_product(i, p, false);
-            let d = self.diag.get(i).map_or([T::ZERO; D], |d| mat_vec(d, pi));
-            *dpp = dpp.max(vector::dot(*pi, d));
-            pq.add(vector::dot(*pi, acc));
-            *qi = acc;
-        }
+            let d = self.diag.get(i).map_or([T::ZERO; D], |d| mat_vec(d, &pi));
+            Some((acc, vector::dot(pi, d)))
+        });
     }
 
     fn norms<C: Collective<T> + ?Sized>(
@@ -268,34 +262,23 @@ impl<T: Real, const D: usize> Operator<T, D, 1> for ElasticSystem<'_, T, D> {
         exps: &[i32; D],
         comm: &C,
     ) -> (Norm<T>, Norm<T>) {
-        let top = exps.iter().copied().max().unwrap_or(0);
-        let g = exps.map(|e| scale_by(T::ONE, e - top));
         let pairs = ElasticPairs {
             sys: self,
             rows: comm.owned(),
             x,
         };
-        let (r, b) = pair_norms(&pairs, &g, true, comm);
-        (r.shifted(top), b.shifted(top))
+        scaled_pair_norms(&pairs, exps, true, comm)
     }
 }
 
-/// Block Jacobi, `z_i = K_ii⁻¹ r_i` (zero at fixed nodes): node-local.
-struct NodeBlocks<'s, 'a, T: Real, const D: usize>(&'s ElasticSystem<'a, T, D>);
-
-impl<T: Real, const D: usize> Precondition<T, D> for NodeBlocks<'_, '_, T, D> {
-    fn local(&self) -> bool {
-        true
-    }
+/// Block Jacobi, `z_i = K_ii⁻¹ r_i` by Cholesky (zero at fixed nodes).
+impl<T: Real, const D: usize> NodeSolve<T, D> for ElasticSystem<'_, T, D> {
     #[inline]
-    fn node(&self, i: usize, r: [T; D]) -> [T; D] {
-        match self.0.diag.get(i) {
-            Some(d) if !self.0.is_fixed(i) => solve_block(d, &r).unwrap_or([T::ZERO; D]),
+    fn node_solve(&self, i: usize, r: [T; D]) -> [T; D] {
+        match self.diag.get(i) {
+            Some(d) if !self.is_fixed(i) => solve_block(d, &r).unwrap_or([T::ZERO; D]),
             _ => [T::ZERO; D],
         }
-    }
-    fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; D]], z: &mut [[T; D]], comm: &C) {
-        apply_local(self, r, z, comm);
     }
 }
 

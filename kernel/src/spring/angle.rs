@@ -5,10 +5,11 @@ use core::ops::Range;
 use super::amg::{amg_cg_scratch_len, AmgHierarchy, Vcycle};
 use super::distributed::{Collective, Serial};
 use super::krylov::{
-    apply_local, cg_len, exponents, pcg, solve_scaled, Operator, Precondition, Vectors,
+    apply_block_rows, cg_len, exponents, pcg, solve_scaled, NodeBlocks, NodeSolve, Operator,
+    Precondition, Vectors,
 };
 use super::linear::{drive_sweeps, gauss_seidel_order, jacobi_order, Sweeps};
-use super::norms::{pair_norms, scale_by, Norm, Pairs};
+use super::norms::{pair_norms, scaled_pair_norms, Norm, Pairs};
 use super::system::{check_omega, check_values, SolveOptions, SolveReport, SpringSystem, Sweep};
 use crate::check;
 use crate::error::{Error, Result};
@@ -447,14 +448,9 @@ impl<T: Real, const D: usize> Operator<T, D, 1> for AngleSystem<'_, T, D> {
         pq: &mut [ExactSum; 1],
         dpp: &mut [T; 1],
     ) {
-        let ([pq], [dpp]) = (pq, dpp);
-        let (Some(qs), Some(ps)) = (q.get_mut(rows.clone()), p.get(rows.clone())) else {
-            return;
-        };
-        for (i, (qi, &pi)) in rows.zip(qs.iter_mut().zip(ps)) {
+        apply_block_rows(rows, p, q, pq, dpp, |i, pi| {
             if self.base.is_fixed(i) {
-                *qi = [T::ZERO; D];
-                continue;
+                return None;
             }
             let mut acc = [T::ZERO; D];
             let mut diag = [T::ZERO; D];
@@ -466,10 +462,8 @@ impl<T: Real, const D: usize> Operator<T, D, 1> for AngleSystem<'_, T, D> {
                 acc = vector::add(acc, self.edge_apply(k, &d, d2, &vector::sub(pi, pj)));
                 diag = vector::add(diag, self.edge_apply(k, &d, d2, &pi));
             }
-            *dpp = dpp.max(vector::dot(pi, diag));
-            pq.add(vector::dot(pi, acc));
-            *qi = acc;
-        }
+            Some((acc, vector::dot(pi, diag)))
+        });
     }
 
     fn norms<C: Collective<T> + ?Sized>(
@@ -478,35 +472,24 @@ impl<T: Real, const D: usize> Operator<T, D, 1> for AngleSystem<'_, T, D> {
         exps: &[i32; D],
         comm: &C,
     ) -> (Norm<T>, Norm<T>) {
-        let top = exps.iter().copied().max().unwrap_or(0);
-        let g = exps.map(|e| scale_by(T::ONE, e - top));
         let pairs = AnglePairs {
             sys: self,
             rows: comm.owned(),
             x,
         };
-        let (r, b) = pair_norms(&pairs, &g, true, comm);
-        (r.shifted(top), b.shifted(top))
+        scaled_pair_norms(&pairs, exps, true, comm)
     }
 }
 
-/// The block-Jacobi preconditioner `z_i = A_ii⁻¹ r_i` (zero on fixed nodes): node-local.
-struct NodeBlocks<'s, 'a, T: Real, const D: usize>(&'s AngleSystem<'a, T, D>);
-
-impl<T: Real, const D: usize> Precondition<T, D> for NodeBlocks<'_, '_, T, D> {
-    fn local(&self) -> bool {
-        true
-    }
+/// Block Jacobi, `z_i = A_ii⁻¹ r_i` by Cramer's rule (zero on fixed nodes).
+impl<T: Real, const D: usize> NodeSolve<T, D> for AngleSystem<'_, T, D> {
     #[inline]
-    fn node(&self, i: usize, r: [T; D]) -> [T; D] {
-        if self.0.base.is_fixed(i) {
+    fn node_solve(&self, i: usize, r: [T; D]) -> [T; D] {
+        if self.base.is_fixed(i) {
             [T::ZERO; D]
         } else {
-            cramer(&self.0.node_block(i), &r).unwrap_or([T::ZERO; D])
+            cramer(&self.node_block(i), &r).unwrap_or([T::ZERO; D])
         }
-    }
-    fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; D]], z: &mut [[T; D]], comm: &C) {
-        apply_local(self, r, z, comm);
     }
 }
 

@@ -88,6 +88,53 @@ pub(crate) trait Precondition<T: Real, const V: usize> {
     fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; V]], z: &mut [[T; V]], comm: &C);
 }
 
+/// [`Operator::apply`] of a one-lane block operator, row by row: `row(i, p_i)` is
+/// `Some(((A p)_i, p_iᵀ A_ii p_i))` at a free node and `None` at a fixed one (`q_i = 0`).
+pub(crate) fn apply_block_rows<T: Real, const D: usize>(
+    rows: Range<usize>,
+    p: &[[T; D]],
+    q: &mut [[T; D]],
+    pq: &mut [ExactSum; 1],
+    dpp: &mut [T; 1],
+    row: impl Fn(usize, [T; D]) -> Option<([T; D], T)>,
+) {
+    let ([pq], [dpp]) = (pq, dpp);
+    let (Some(qs), Some(ps)) = (q.get_mut(rows.clone()), p.get(rows.clone())) else {
+        return;
+    };
+    for (i, (qi, &pi)) in rows.zip(qs.iter_mut().zip(ps)) {
+        let Some((acc, curvature)) = row(i, pi) else {
+            *qi = [T::ZERO; D];
+            continue;
+        };
+        *dpp = dpp.max(curvature);
+        pq.add(vector::dot(pi, acc));
+        *qi = acc;
+    }
+}
+
+/// An operator whose diagonal node blocks `A_ii` can be solved node by node.
+pub(crate) trait NodeSolve<T: Real, const V: usize> {
+    /// `A_ii⁻¹ r` at a free node, zero at a fixed node (or where the block is singular).
+    fn node_solve(&self, i: usize, r: [T; V]) -> [T; V];
+}
+
+/// The block-Jacobi preconditioner `z_i = A_ii⁻¹ r_i` of a [`NodeSolve`] operator: node-local.
+pub(crate) struct NodeBlocks<'s, S>(pub(crate) &'s S);
+
+impl<T: Real, const V: usize, S: NodeSolve<T, V>> Precondition<T, V> for NodeBlocks<'_, S> {
+    fn local(&self) -> bool {
+        true
+    }
+    #[inline]
+    fn node(&self, i: usize, r: [T; V]) -> [T; V] {
+        self.0.node_solve(i, r)
+    }
+    fn apply<C: Collective<T> + ?Sized>(&mut self, r: &[[T; V]], z: &mut [[T; V]], comm: &C) {
+        apply_local(self, r, z, comm);
+    }
+}
+
 /// Applies a node-local preconditioner over the owned rows.
 pub(crate) fn apply_local<T, const V: usize, M, C>(
     pre: &M,

@@ -7,7 +7,7 @@ use super::distributed::{check_owned, Collective, Serial};
 use super::krylov::{
     apply_local, cg_len, exponents, solve_scaled, Operator, Precondition, Vectors,
 };
-use super::norms::{pair_norms, scale_by, sweep_exponent, Norm, Pairs};
+use super::norms::{scale_by, scaled_pair_norms, sweep_exponent, Norm, Pairs};
 use super::system::{
     check_omega, check_values, is_fixed, LinearMethod, Preconditioner, SolveOptions, SolveReport,
     SpringSystem, Sweep,
@@ -277,16 +277,12 @@ pub(crate) fn residual_norms_scaled<T: Real, const V: usize, C: Collective<T> + 
     exps: &[i32; V],
     comm: &C,
 ) -> (Norm<T>, Norm<T>) {
-    // Bring every component to the largest component's scale (factors are 1 when unscaled).
-    let top = exps.iter().copied().max().unwrap_or(0);
-    let g = exps.map(|e| scale_by(T::ONE, e - top));
     let pairs = LinearPairs {
         sys,
         rows: comm.owned(),
         x,
     };
-    let (r, b) = pair_norms(&pairs, &g, false, comm);
-    (r.shifted(top), b.shifted(top))
+    scaled_pair_norms(&pairs, exps, false, comm)
 }
 
 impl<T: Real> SpringSystem<'_, T> {

@@ -173,6 +173,26 @@ pub(crate) trait Pairs<T: Real, const V: usize> {
     fn each<F: FnMut(&[T; V], &[T; V])>(&self, f: F);
 }
 
+/// [`pair_norms`] of a field stored as `x_c · 2^−exps[c]`, unscaled: every component is
+/// brought to the largest component's scale first (factors 1 when unscaled) and the norms are
+/// scaled back. The norms every [`Operator`](super::krylov::Operator) reports.
+pub(crate) fn scaled_pair_norms<T, const V: usize, P, C>(
+    pairs: &P,
+    exps: &[i32; V],
+    per_node: bool,
+    comm: &C,
+) -> (Norm<T>, Norm<T>)
+where
+    T: Real,
+    P: Pairs<T, V>,
+    C: crate::spring::Collective<T> + ?Sized,
+{
+    let top = exps.iter().copied().max().unwrap_or(0);
+    let g = exps.map(|e| scale_by(T::ONE, e - top));
+    let (r, b) = pair_norms(pairs, &g, per_node, comm);
+    (r.shifted(top), b.shifted(top))
+}
+
 /// `(‖r‖₂, ‖b‖₂)` over every pair of `pairs`, merged over the processes of `comm`, without
 /// overflow or underflow: summed plainly, and once more with every term multiplied by a power
 /// of two when a plain sum is out of range (see the module documentation). Component `c` is

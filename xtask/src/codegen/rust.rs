@@ -50,9 +50,10 @@ pub(crate) fn module(m: &Module, all: &[Module], symbols: Symbols) -> String {
     for t in &m.structs {
         aliases(&mut s, t);
     }
+    let twins: Vec<&TwinStruct> = all.iter().flat_map(|o| &o.structs).collect();
     for f in &m.funcs {
         for (name, prec) in f.variants() {
-            function(&mut s, f, &name, prec, symbols);
+            function(&mut s, f, &name, prec, symbols, &twins);
         }
     }
     s
@@ -107,13 +108,21 @@ fn aliases(s: &mut String, t: &TwinStruct) {
     );
 }
 
-fn function(s: &mut String, f: &Func, name: &str, prec: Prec, symbols: Symbols) {
+fn function(
+    s: &mut String,
+    f: &Func,
+    name: &str,
+    prec: Prec,
+    symbols: Symbols,
+    twins: &[&TwinStruct],
+) {
     s.push('\n');
     let base = f.c_name();
     if prec.suffix.is_empty() {
         for d in &f.doc {
             let _ = writeln!(s, "{d}");
         }
+        safety(s, f, twins);
     } else if f.doc32.is_empty() {
         let _ = writeln!(
             s,
@@ -192,6 +201,66 @@ fn function(s: &mut String, f: &Func, name: &str, prec: Prec, symbols: Symbols) 
             let _ = writeln!(s, "{call}.as_ptr()\n}}");
         }
     }
+}
+
+/// The `# Safety` section of an f64 function, from its signature and markers: what each
+/// pointer must be valid for, and the rules every function shares.
+fn safety(s: &mut String, f: &Func, twins: &[&TwinStruct]) {
+    let pointers: Vec<String> = f
+        .params
+        .iter()
+        .filter(|p| p.kind != Kind::Value)
+        .map(|p| {
+            let access = match p.kind {
+                Kind::In => "readable",
+                _ => "readable and writable",
+            };
+            let what = c_type(&p.ty, twins);
+            let null = if p.nullable { " (may be NULL)" } else { "" };
+            match p.cap.as_deref() {
+                Some("1") => format!("`{}`: one {access} {what}{null}", p.name),
+                Some(n) => format!("`{}`: {n} {access} elements ({what}){null}", p.name),
+                None => format!(
+                    "`{}`: {access} for `{}_len` elements ({what})",
+                    p.name, p.name
+                ),
+            }
+        })
+        .collect();
+    if pointers.is_empty() {
+        return;
+    }
+    s.push_str("///\n/// # Safety\n");
+    for line in pointers {
+        let _ = writeln!(s, "/// - {line}.");
+    }
+    s.push_str(
+        "///\n/// The arrays of a struct passed by pointer are valid for the lengths beside them; no\n\
+         /// writable buffer overlaps another argument unless the text above allows it. NULL is\n\
+         /// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.\n",
+    );
+}
+
+/// The C spelling of an element type in double precision (`T` → `double`, a twin struct
+/// `DkX < T >` → its C name).
+fn c_type(rust: &str, twins: &[&TwinStruct]) -> String {
+    let first = rust.split(' ').next().unwrap_or(rust);
+    if let Some(t) = twins.iter().find(|t| t.rust == first) {
+        return format!("`{}`", t.c);
+    }
+    let c = match rust {
+        "T" | "f64" => "double",
+        "i64" => "int64_t",
+        "f32" => "float",
+        "usize" => "size_t",
+        "u8" => "uint8_t",
+        "u32" => "uint32_t",
+        "i32" => "int32_t",
+        "u64" => "uint64_t",
+        "bool" => "bool",
+        other => other,
+    };
+    format!("`{c}`")
 }
 
 /// The panic-check's call of every C entry point: each function, f64 and `_f32`, called with

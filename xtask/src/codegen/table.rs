@@ -260,6 +260,12 @@ fn func(f: &syn::ItemFn, marks: &[Mark]) -> Result<Func, String> {
                 }) = &nv.value
                 {
                     let line = format!("///{}", s.value());
+                    if line == "/// # Safety" {
+                        return Err(err(
+                            "has a `# Safety` section: codegen writes it from the signature \
+                             and markers (say anything more in the description)",
+                        ));
+                    }
                     if line == "/// # f32 twin" || !doc32.is_empty() {
                         doc32.push(line);
                     } else {

@@ -205,6 +205,7 @@ fn move_input<'a>(
     };
     Ok(MoveInput {
         split,
+        graph: None,
         dim: mesh.dim,
         points: &mesh.points,
         cells: &mesh.elements,
