@@ -190,6 +190,7 @@ impl Job<'_> {
             idw_fast: o.idw_theta.map(|theta| (theta, o.idw_tolerance)),
             reach: o.reach,
             split: None,
+            graph: None,
         };
         if o.method == "elasticity" {
             return run_elasticity(&input, self.stiffness.1, o.poisson, o.steps);
