@@ -71,8 +71,40 @@ def normalise_cells(cells, node_count):
         offsets = index_array("cells offsets", offsets, nodes.size + 1)
         if offsets.size == 0:
             raise ValueError("cells offsets: empty (needs C + 1 entries)")
+        steps = np.diff(offsets.astype(np.int64))
+        if offsets[0] != 0 or offsets[-1] != nodes.size or (steps < 0).any():
+            raise ValueError("cells offsets: must rise from 0 to len(nodes)")
         kinds = np.asarray(kinds)
         if not np.issubdtype(kinds.dtype, np.integer) or (kinds < 0).any() or (kinds > 255).any():
             raise ValueError("cells kinds: expected VTK codes (integers 0..255)")
         return offsets, nodes, kinds.astype(np.uint8)
     return cells_from_blocks(cells, node_count)
+
+
+#: VTK code of a vertex (a boundary given as bare node indices).
+VTK_VERTEX = 1
+
+
+def _is_cells(value):
+    """Whether ``value`` is cells (CSR tuple or blocks) rather than node indices."""
+    if isinstance(value, tuple) and len(value) == 3 and all(
+            isinstance(c, np.ndarray) and c.ndim == 1 for c in value):
+        return True
+    if isinstance(value, (list, tuple)) and value:
+        first = value[0]
+        return hasattr(first, "data") or (isinstance(first, tuple) and len(first) == 2)
+    return False
+
+
+def boundary_cells(name, value, node_count):
+    """A boundary (node indices, or elements in either cell form) as CSR cells, and its
+    nodes: the entries as given (node indices) or the sorted distinct element nodes."""
+    if value is None:
+        value = np.zeros(0, dtype=np.uint32)
+    if _is_cells(value):
+        offsets, nodes, kinds = normalise_cells(value, node_count)
+        return (offsets, nodes, kinds), np.unique(nodes).astype(np.uint32)
+    nodes = index_array(name, value, node_count)
+    offsets = np.arange(nodes.size + 1, dtype=np.uint32)
+    kinds = np.full(nodes.size, VTK_VERTEX, dtype=np.uint8)
+    return (offsets, nodes, kinds), nodes

@@ -3,20 +3,33 @@
 import numpy as np
 
 
-def points_array(points):
+def points_array(points, name="points"):
     """``points`` as a C-contiguous ``(N, 2|3)`` float64 array with finite entries (not copied)."""
     if not isinstance(points, np.ndarray):
-        raise TypeError("points: expected a numpy array of shape (N, 2) or (N, 3), dtype float64")
+        raise TypeError(f"{name}: expected a numpy array of shape (N, 2) or (N, 3), dtype float64")
     if points.dtype != np.float64:
-        raise TypeError(f"points: dtype {points.dtype}, expected float64")
+        raise TypeError(f"{name}: dtype {points.dtype}, expected float64")
     if points.ndim != 2 or points.shape[1] not in (2, 3) or points.shape[0] == 0:
-        raise ValueError(f"points: shape {points.shape}, expected (N, 2) or (N, 3) with N > 0")
+        raise ValueError(f"{name}: shape {points.shape}, expected (N, 2) or (N, 3) with N > 0")
     if not points.flags.c_contiguous:
-        raise ValueError("points: not C-contiguous (pass np.ascontiguousarray(points))")
+        raise ValueError(f"{name}: not C-contiguous (pass np.ascontiguousarray({name}))")
     bad = np.flatnonzero(~np.isfinite(points).all(axis=1))
     if bad.size:
-        raise ValueError(f"points: row {bad[0]} is not finite")
+        raise ValueError(f"{name}: row {bad[0]} is not finite")
     return points
+
+
+def out_array(out, shape):
+    """``out`` checked as a writable C-contiguous float64 array of ``shape`` (or ``None``)."""
+    if out is None:
+        return None
+    if not isinstance(out, np.ndarray) or out.dtype != np.float64:
+        raise TypeError(f"out: expected a float64 numpy array of shape {shape}")
+    if out.shape != shape:
+        raise ValueError(f"out: shape {out.shape}, expected {shape}")
+    if not out.flags.c_contiguous or not out.flags.writeable:
+        raise ValueError("out: must be C-contiguous and writable")
+    return out
 
 
 def index_array(name, values, bound):

@@ -41,3 +41,27 @@ def boundary_nodes(mesh, cell_type, tag, key):
     nodes = [np.asarray(b.data)[np.asarray(d) == tag].reshape(-1)
              for b, d in zip(mesh.cells, mesh.cell_data[key]) if b.type == cell_type]
     return np.unique(np.concatenate(nodes)) if nodes else np.zeros(0, dtype=np.int64)
+
+
+def mesh_from_meshio(mesh, dim=None, key="gmsh:physical"):
+    """A :class:`deform_kernel.Mesh` of a ``meshio.Mesh``: its points and volume cells (as
+    :func:`from_meshio`) and its markers, the boundary cells (one dimension lower) grouped by
+    ``mesh.cell_data[key]`` (Gmsh physical groups by default), named from ``mesh.field_data``
+    (the tag's number when it has no name). Markers go straight into ``deform``."""
+    from ._cells import cells_from_blocks
+    from ._read import Mesh
+
+    points, volume = from_meshio(mesh, dim)
+    n, d = points.shape
+    names = {int(v[0]): name for name, v in getattr(mesh, "field_data", {}).items()
+             if len(v) >= 2 and int(v[1]) == d - 1}
+    groups = {}
+    for block, tags in zip(mesh.cells, mesh.cell_data.get(key, [])):
+        if block.type not in VTK_CODES or _DIM_OF[block.type] != d - 1:
+            continue
+        tags, conn = np.asarray(tags).reshape(-1), np.asarray(block.data)
+        for tag in np.unique(tags):
+            name = names.get(int(tag), str(int(tag)))
+            groups.setdefault(name, []).append((block.type, conn[tags == tag]))
+    markers = {name: cells_from_blocks(blocks, n) for name, blocks in groups.items()}
+    return Mesh(points, cells_from_blocks(volume, n), markers)

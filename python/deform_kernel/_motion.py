@@ -6,13 +6,14 @@ from typing import Optional, Sequence
 import numpy as np
 
 from . import _native
-from ._cells import normalise_cells
-from ._checks import index_array, points_array, vector
-from ._native import KernelError
+from ._cells import boundary_cells, normalise_cells
+from ._checks import out_array, points_array, vector
 
-METHODS = ("quaternion", "spring", "idw")
+METHODS = ("quaternion", "spring", "idw", "angle-direct", "angle-cg", "rbf", "elasticity")
 SOLVERS = ("amg", "cg", "cg-ssor", "gauss-seidel", "jacobi")
-STIFFNESS = ("batina", "wall-distance", "inverse-volume")
+STIFFNESS = ("batina", "wall-distance", "inverse-volume", "constant")
+RENUMBER = ("auto", "off", "rcm", "hilbert")
+RBF_KERNELS = ("wendland", "tps")
 
 
 @dataclass(frozen=True)
@@ -39,9 +40,11 @@ class Displacement:
     values: np.ndarray
 
 
-def _motion_args(motion, dim, moved):
-    """``(kind, degrees, axis, center, vector, field)`` for the native call, checked."""
+def _motion_args(motion, dim, field_nodes):
+    """The motion as the native call's dict, checked."""
     none3 = (0.0, 0.0, 0.0)
+    args = {"kind": "", "degrees": 0.0, "axis": none3, "center": None, "vector": none3,
+            "field": None}
     if isinstance(motion, Rotation):
         deg = float(motion.degrees)
         if not np.isfinite(deg):
@@ -51,84 +54,160 @@ def _motion_args(motion, dim, moved):
             raise ValueError("motion.axis: zero vector")
         if dim == 2 and (axis[0] != 0.0 or axis[1] != 0.0):
             raise ValueError("motion.axis: a 2D rotation turns about z")
-        center = None
         if motion.center is not None:
-            center = vector("motion.center", motion.center, dim, (2, 3) if dim == 3 else (2,))
-        return "rotate", deg, axis, center, none3, None
+            lengths = (2, 3) if dim == 3 else (2,)
+            args["center"] = vector("motion.center", motion.center, dim, lengths)
+        return {**args, "kind": "rotate", "degrees": deg, "axis": axis}
     if isinstance(motion, Translation):
-        return "translate", 0.0, none3, None, vector("motion.vector", motion.vector, dim), None
+        return {**args, "kind": "translate",
+                "vector": vector("motion.vector", motion.vector, dim)}
     if isinstance(motion, Displacement):
-        field = points_array(motion.values) if isinstance(motion.values, np.ndarray) else None
-        if field is None:
+        if not isinstance(motion.values, np.ndarray):
             raise TypeError("motion.values: expected a float64 numpy array (M, dim)")
-        if field.shape != (moved.size, dim):
-            raise ValueError(f"motion.values: shape {field.shape}, expected {(moved.size, dim)}")
-        if np.unique(moved).size != moved.size:
+        field = points_array(motion.values, "motion.values")
+        if field.shape != (field_nodes.size, dim):
+            raise ValueError(
+                f"motion.values: shape {field.shape}, expected {(field_nodes.size, dim)} "
+                "(one row per moved node)")
+        if np.unique(field_nodes).size != field_nodes.size:
             raise ValueError("moved: repeated nodes (each needs exactly one displacement row)")
-        return "field", 0.0, none3, None, none3, field
+        return {**args, "kind": "field", "field": field}
     raise TypeError("motion: expected Rotation, Translation or Displacement")
 
 
-def deform(
-    points,
-    cells,
-    moved,
-    motion,
-    fixed=None,
-    method="quaternion",
-    solver="amg",
-    stiffness="batina",
-    tol=1e-10,
-    max_iter=10000,
-    idw_exponent=2.0,
-    allow_unconverged=False,
-    return_info=False,
-):
-    """Moves the mesh: the ``moved`` nodes follow ``motion``, the ``fixed`` nodes stay, and
-    every other node follows by ``method`` ("quaternion": Samareh's quaternion method with
-    spring propagation; "spring": Batina's linear springs; "idw": quaternion inverse-distance
-    weighting). Returns new ``(N, dim)`` points (and an info dict with ``return_info``).
+def _check_choices(method, solver, stiffness, renumber):
+    """The method's names checked; the stiffness default (inverse-volume for elasticity)."""
+    for name, value, allowed in (("method", method, METHODS), ("solver", solver, SOLVERS),
+                                 ("renumber", renumber, RENUMBER)):
+        if value not in allowed:
+            raise ValueError(f"{name}: {value!r} is not one of {allowed}")
+    if stiffness is None:
+        stiffness = "inverse-volume" if method == "elasticity" else "batina"
+    if stiffness not in STIFFNESS:
+        raise ValueError(f"stiffness: {stiffness!r} is not one of {STIFFNESS}")
+    if method == "elasticity":
+        if stiffness == "batina":
+            raise ValueError("stiffness: 'batina' is a spring stiffness; elasticity takes "
+                             "'inverse-volume', 'wall-distance' or 'constant'")
+        if solver not in ("amg", "cg"):
+            raise ValueError("solver: elasticity takes 'amg' or 'cg'")
+    elif stiffness == "constant":
+        raise ValueError("stiffness: 'constant' applies to method='elasticity'")
+    return stiffness
 
-    ``points``: ``(N, 2|3)`` C-contiguous float64. ``cells``: a tuple of numpy arrays
-    ``(offsets, nodes, kinds)`` (VTK codes) or meshio-style blocks ``[("triangle", conn), ...]``.
-    ``moved``/``fixed``: node indices. ``solver`` (spring and quaternion): "amg" (default),
-    "cg", "cg-ssor", "gauss-seidel", "jacobi". ``stiffness`` (spring and quaternion): "batina"
-    (1/L), "wall-distance" (times d̄/d, d the distance to the moved nodes), "inverse-volume"
-    (times V̄/V, V the dual volume), as SU2's options. A solve that stops before ``tol`` within
-    ``max_iter`` raises ``KernelError`` unless ``allow_unconverged``. The same call on the same
-    input gives the same bits as ``deform move`` (one step).
+
+def _positive(name, value):
+    if value is not None and not (np.isfinite(value) and value > 0):
+        raise ValueError(f"{name}: must be a positive distance")
+    return None if value is None else float(value)
+
+
+def _check_numbers(o):
+    """The numeric options of ``deform`` checked (``o``: the options dict)."""
+    if not (o["tol"] > 0 and np.isfinite(o["tol"])) or o["max_iter"] < 1:
+        raise ValueError("tol must be positive and finite, max_iter at least 1")
+    if not 1 <= o["steps"] <= 10000:
+        raise ValueError(f"steps: {o['steps']}, expected 1 to 10000")
+    if not (np.isfinite(o["poisson"]) and -1.0 < o["poisson"] < 0.5):
+        raise ValueError("poisson: must lie in (-1, 0.5)")
+    if not (np.isfinite(o["idw_exponent"]) and o["idw_exponent"] > 0):
+        raise ValueError("idw_exponent: must be positive")
+    if o["idw_theta"] is not None:
+        if o["method"] != "idw" or not 0.0 <= o["idw_theta"] < 1.0:
+            raise ValueError("idw_theta: applies to method='idw', in [0, 1)")
+        if np.isnan(o["idw_tolerance"]) or o["idw_tolerance"] < 0:
+            raise ValueError("idw_tolerance: must be >= 0 (inf: theta alone)")
+    if o["reach"] is not None and o["method"] not in ("quaternion", "idw"):
+        raise ValueError(f"reach: applies to the quaternion and idw methods, not {o['method']!r}")
+    rbf_given = (o["rbf_radius"], o["rbf_correction"]) != (None, None) or (
+        o["rbf_tolerance"], o["rbf_max_centres"], o["rbf_kernel"]) != (0.0, 1000, "wendland")
+    if rbf_given and o["method"] != "rbf":
+        raise ValueError("rbf_*: these options apply to method='rbf'")
+    if o["rbf_kernel"] not in RBF_KERNELS:
+        raise ValueError(f"rbf_kernel: {o['rbf_kernel']!r} is not one of {RBF_KERNELS}")
+    if o["rbf_radius"] is not None and o["rbf_kernel"] == "tps":
+        raise ValueError("rbf_radius: the Wendland support; thin-plate splines have none")
+    if not (np.isfinite(o["rbf_tolerance"]) and o["rbf_tolerance"] >= 0):
+        raise ValueError("rbf_tolerance: must be >= 0")
+    if o["rbf_max_centres"] < 1:
+        raise ValueError("rbf_max_centres: at least 1")
+
+
+def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver="amg",
+           stiffness=None, tol=1e-10, max_iter=10000, idw_exponent=2.0,
+           allow_unconverged=False, return_info=False, steps=1, slide=None, renumber="auto",
+           poisson=0.3, reach=None, rbf_kernel="wendland", rbf_radius=None,
+           rbf_tolerance=0.0, rbf_max_centres=1000, rbf_correction=None, idw_theta=None,
+           idw_tolerance=0.1, out=None):
+    """Moves the mesh: the ``moved`` nodes follow ``motion``, the ``fixed`` nodes stay, the
+    ``slide`` markers' nodes slide on their planes, and every other node follows by
+    ``method``. Returns the deformed ``(N, dim)`` points (``out`` when given; and an info dict
+    with ``return_info``). Same bits as ``deform move`` with the same options.
+
+    Methods: "quaternion" (Samareh's quaternion method, spring propagation), "spring"
+    (Batina's linear springs), "idw" (quaternion inverse-distance weighting), "angle-direct"
+    and "angle-cg" (Yang & Özgen angle-inclusion springs), "rbf" (radial basis functions:
+    ``rbf_kernel`` "wendland"/"tps", ``rbf_radius``, ``rbf_tolerance``, ``rbf_max_centres``,
+    ``rbf_correction``), "elasticity" (SU2's linear elasticity, ``poisson`` ratio).
+
+    ``points``: ``(N, 2|3)`` C-contiguous float64 (3D points are handed to the engine in
+    place, not copied). ``cells``: ``(offsets, nodes, kinds)`` numpy arrays (VTK codes) or
+    meshio-style blocks ``[("triangle", conn), ...]``. ``moved``/``fixed``: node indices, or
+    boundary elements in either cell form (the quaternion method with a ``Displacement`` takes
+    the rotations from the boundary's shape: give moved and fixed as elements). ``slide``: a
+    list of such markers, each flat (a plane, a line in 2D). ``steps``: the motion in equal
+    increments (stiffness re-derived each step). ``solver``: "amg" (default), "cg",
+    "cg-ssor", "gauss-seidel", "jacobi". ``stiffness``: "batina" (1/L, the default),
+    "wall-distance", "inverse-volume" (elasticity's default), "constant" (elasticity only).
+    ``renumber``: "auto" (as the tool: RCM on large scattered meshes), "off", "rcm",
+    "hilbert" (the result is in the input's numbering either way). ``reach``: no motion beyond
+    this distance (quaternion, idw). ``idw_theta``: the fast tree-based IDW with this opening
+    angle and ``idw_tolerance`` (``deform move --idw-theta``). A solve that stops before
+    ``tol`` within ``max_iter`` raises ``KernelError`` unless ``allow_unconverged``. ``out``:
+    a writable C-contiguous float64 ``(N, dim)`` array for the result (may be ``points``);
+    it is written only on success. The GIL is released during the work.
     """
     points = points_array(points)
     n, dim = points.shape
+    out = out_array(out, points.shape)
+    if out is not None and np.shares_memory(out, points):
+        points = points.copy()
+    stiffness = _check_choices(method, solver, stiffness, renumber)
+    options = {"method": method, "solver": solver, "stiffness": stiffness, "tol": float(tol),
+               "max_iter": int(max_iter), "idw_exponent": float(idw_exponent),
+               "steps": int(steps), "renumber": renumber, "poisson": float(poisson),
+               "reach": _positive("reach", reach), "rbf_kernel": rbf_kernel,
+               "rbf_radius": _positive("rbf_radius", rbf_radius),
+               "rbf_tolerance": float(rbf_tolerance), "rbf_max_centres": int(rbf_max_centres),
+               "rbf_correction": _positive("rbf_correction", rbf_correction),
+               "allow_unconverged": bool(allow_unconverged),
+               "idw_theta": None if idw_theta is None else float(idw_theta),
+               "idw_tolerance": float(idw_tolerance)}
+    _check_numbers(options)
     cells = normalise_cells(cells, n)
-    moved = index_array("moved", moved, n)
-    if moved.size == 0:
+    moved_cells, field_nodes = boundary_cells("moved", moved, n)
+    if field_nodes.size == 0:
         raise ValueError("moved: no nodes")
-    fixed = index_array("fixed", [] if fixed is None else fixed, n)
-    if method not in METHODS:
-        raise ValueError(f"method: {method!r} is not one of {METHODS}")
-    if solver not in SOLVERS:
-        raise ValueError(f"solver: {solver!r} is not one of {SOLVERS}")
-    if stiffness not in STIFFNESS:
-        raise ValueError(f"stiffness: {stiffness!r} is not one of {STIFFNESS}")
-    if method != "spring" and isinstance(motion, Displacement):
-        raise ValueError(f"method {method!r} needs a Rotation or Translation in this version")
-    if not (tol > 0 and np.isfinite(tol)) or int(max_iter) < 1:
-        raise ValueError("tol must be positive and finite, max_iter at least 1")
-    kind, deg, axis, center, vec, field = _motion_args(motion, dim, moved)
-    out, iterations, residual, converged = _native.move_points(
-        points, *cells, moved, fixed, kind, deg, axis, center, vec, field,
-        method, solver, stiffness, float(tol), int(max_iter), float(idw_exponent),
-    )
-    if not converged and not allow_unconverged:
-        raise KernelError(
-            f"{method}: the solve stopped at relative residual {residual:.3e} after "
-            f"{iterations} iterations (tol {tol:g}); raise max_iter or pass allow_unconverged"
-        )
+    slide = [] if slide is None else list(slide)
+    if slide and method == "elasticity":
+        raise NotImplementedError("slide: not with method='elasticity' (sliding nodes are "
+                                  "not in the elasticity solve yet)")
+    roles = {"moved": moved_cells, "fixed": boundary_cells("fixed", fixed, n)[0],
+             "slide": [boundary_cells(f"slide[{k}]", s, n)[0] for k, s in enumerate(slide)],
+             "field_nodes": field_nodes}
+    if (isinstance(motion, Displacement) and method in ("quaternion", "idw")
+            and moved_cells[2].size and (moved_cells[2] == 1).all()):
+        raise ValueError(f"method {method!r} needs a Rotation or Translation, or a "
+                         "Displacement with the moved boundary elements (moved as cells)")
+    args = _motion_args(motion, dim, field_nodes)
+    res, iterations, residual, converged, (sliding, offset, centres) = _native.move_points(
+        points, cells, roles, args, options, out)
+    res = out if res is None else res
     if return_info:
-        info = {"iterations": iterations, "residual": residual, "converged": converged}
-        return out, info
-    return out
+        return res, {"iterations": iterations, "residual": residual, "converged": converged,
+                     "sliding_nodes": sliding, "max_slide_offset": offset,
+                     "rbf_centres": centres}
+    return res
 
 
 def quality(points, cells):
@@ -136,5 +215,5 @@ def quality(points, cells):
     cell: a dict of two new ``(C,)`` float64 arrays, ``measure`` and ``scaled_jacobian``."""
     points = points_array(points)
     offsets, nodes, kinds = normalise_cells(cells, points.shape[0])
-    measure, jac = _native.cell_quality(points, offsets, nodes, kinds)
+    measure, jac = _native.cell_quality(points, (offsets, nodes, kinds))
     return {"measure": measure, "scaled_jacobian": jac}

@@ -3,6 +3,8 @@
 import numpy as np
 
 from . import _native
+from ._cells import normalise_cells
+from ._checks import index_array, points_array
 
 
 def _checked_block(points):
@@ -50,3 +52,26 @@ def smooth_structured(points, direction, iterations=30, lam=0.33, mu=-0.334,
                 "max_point_move": moved}
         return back, info
     return back
+
+
+def smooth_graph(points, cells, iterations=10, lam=0.33, mu=-0.34, weights="uniform",
+                 fixed=None, return_info=False):
+    """Taubin λ|μ fairing of unstructured mesh points on the edge graph of ``cells`` (each
+    iteration ``x += λ (avg(x) − x)`` then ``x += μ (avg(x) − x)`` over the neighbours):
+    ``weights`` "uniform" or "inverse-distance" (1/|x_i − x_j|, Fujiwara); ``fixed`` node
+    indices keep their places (for instance the boundary). Returns new ``(N, dim)`` points
+    (and ``{"last_change"}`` with ``return_info``)."""
+    points = points_array(points)
+    n = points.shape[0]
+    cells = normalise_cells(cells, n)
+    if weights not in ("uniform", "inverse-distance"):
+        raise ValueError(f"weights: {weights!r} is not 'uniform' or 'inverse-distance'")
+    if int(iterations) < 0 or not (np.isfinite(lam) and np.isfinite(mu)):
+        raise ValueError("iterations must be >= 0, lam and mu finite")
+    mask = None
+    if fixed is not None:
+        mask = np.zeros(n, dtype=np.uint8)
+        mask[index_array("fixed", fixed, n)] = 1
+    out, change = _native.smooth_mesh_graph(points, cells, int(iterations), float(lam),
+                                            float(mu), weights == "inverse-distance", mask)
+    return (out, {"last_change": change}) if return_info else out

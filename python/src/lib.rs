@@ -7,13 +7,17 @@
 //! and, where the kernel names them, the argument (`arg`) and index (`position`).
 
 mod motion;
+mod plan;
 mod quality;
+mod read;
 mod smooth;
 
+use deform_cli::error::CliError;
+use deform_cli::formats::CellList;
 use numpy::prelude::*;
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::create_exception;
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyNotImplementedError, PyValueError};
 use pyo3::prelude::*;
 
 create_exception!(
@@ -70,22 +74,47 @@ pub(crate) fn kernel_error(context: &str, e: deform_kernel::Error) -> PyErr {
     err
 }
 
-/// The kernel's cell arrays, borrowed from numpy.
-pub(crate) struct CellArrays<'py> {
-    offsets: PyReadonlyArray1<'py, u32>,
-    nodes: PyReadonlyArray1<'py, u32>,
-    kinds: PyReadonlyArray1<'py, u8>,
+/// Cells in the kernel's CSR form, borrowed from numpy: `(offsets, nodes, kinds)`.
+pub(crate) type Csr<'py> = (
+    PyReadonlyArray1<'py, u32>,
+    PyReadonlyArray1<'py, u32>,
+    PyReadonlyArray1<'py, u8>,
+);
+
+/// An owned copy of CSR cells (so the work can run without the GIL).
+pub(crate) fn cell_list((offsets, nodes, kinds): &Csr<'_>) -> PyResult<CellList> {
+    Ok(CellList {
+        offsets: offsets.as_slice()?.to_vec(),
+        nodes: nodes.as_slice()?.to_vec(),
+        kinds: kinds.as_slice()?.to_vec(),
+    })
 }
 
-impl CellArrays<'_> {
-    /// Owned copies (so the solve can run without the GIL).
-    pub(crate) fn to_vecs(&self) -> PyResult<(Vec<u32>, Vec<u32>, Vec<u8>)> {
-        Ok((
-            self.offsets.as_slice()?.to_vec(),
-            self.nodes.as_slice()?.to_vec(),
-            self.kinds.as_slice()?.to_vec(),
-        ))
+/// An error of the tool's engine as a Python exception: kernel errors as `KernelError` (with
+/// the kernel's variant, argument and position), unconverged solves as `KernelError`, inputs
+/// that do not fit together as `ValueError`, a missing feature as `NotImplementedError`.
+pub(crate) fn cli_error(e: CliError) -> PyErr {
+    match e {
+        CliError::Kernel { context, source } => kernel_error(&context, source),
+        CliError::Invalid(m) => PyValueError::new_err(m),
+        CliError::NotAvailable { feature, needs } => {
+            PyNotImplementedError::new_err(format!("{feature} needs {needs}"))
+        }
+        e @ (CliError::Unconverged(_) | CliError::Folded(_)) => KernelError::new_err(e.to_string()),
+        e => PyValueError::new_err(e.to_string()),
     }
+}
+
+/// The edge graph of `cells` (no diagonals) as owned CSR `(offsets, targets)`.
+pub(crate) fn edge_graph(
+    cells: &deform_kernel::Cells<'_>,
+) -> Result<(Vec<u32>, Vec<u32>), deform_kernel::Error> {
+    let n = cells.node_count();
+    let mut offsets = vec![0u32; n + 1];
+    let mut targets = vec![0u32; deform_kernel::graph_from_cells_len(cells, false)];
+    let used = deform_kernel::graph_from_cells(cells, false, &mut offsets, &mut targets)?;
+    targets.truncate(used);
+    Ok((offsets, targets))
 }
 
 /// Row-major `(n, d)` points as `[f64; D]` rows.
@@ -95,14 +124,14 @@ pub(crate) fn rows<const D: usize>(flat: &[f64]) -> Vec<[f64; D]> {
         .collect()
 }
 
-/// `[f64; D]` rows as a new `(n, D)` numpy array.
-pub(crate) fn to_numpy<'py, const D: usize>(
-    py: Python<'py>,
-    rows: &[[f64; D]],
-) -> PyResult<Bound<'py, PyAny>> {
-    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
-    Ok(PyArray1::from_vec(py, flat)
-        .reshape([rows.len(), D])?
+/// `[f64; D]` rows as an `(n, D)` numpy array that takes over the vector's buffer (no copy).
+pub(crate) fn to_numpy<const D: usize>(
+    py: Python<'_>,
+    rows: Vec<[f64; D]>,
+) -> PyResult<Bound<'_, PyAny>> {
+    let n = rows.len();
+    Ok(PyArray1::from_vec(py, rows.into_flattened())
+        .reshape([n, D])?
         .into_any())
 }
 
@@ -112,5 +141,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(motion::move_points, m)?)?;
     m.add_function(wrap_pyfunction!(quality::cell_quality, m)?)?;
     m.add_function(wrap_pyfunction!(smooth::smooth_block, m)?)?;
+    m.add_function(wrap_pyfunction!(smooth::smooth_mesh_graph, m)?)?;
+    m.add_function(wrap_pyfunction!(read::read_su2, m)?)?;
+    m.add_function(wrap_pyfunction!(read::read_plot3d, m)?)?;
+    m.add_class::<plan::NativePlan>()?;
     Ok(())
 }

@@ -1,25 +1,23 @@
 //! `cell_quality`: signed measures and smallest scaled corner Jacobians of every cell.
 
+use deform_cli::formats::CellList;
 use deform_kernel::quality::{cell_measures, min_corner_jacobians};
 use deform_kernel::Cells;
 use numpy::prelude::*;
-use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{PyArray1, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::{kernel_error, rows, CellArrays};
+use crate::{cell_list, kernel_error, rows, Csr};
 
 /// Two new float64 arrays.
 type Pair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
 
 /// `(measures, min_scaled_jacobians)` of `D`-dimensional points.
-fn run<const D: usize>(
-    flat: &[f64],
-    (offsets, nodes, kinds): &(Vec<u32>, Vec<u32>, Vec<u8>),
-) -> PyResult<(Vec<f64>, Vec<f64>)> {
+fn run<const D: usize>(flat: &[f64], c: &CellList) -> PyResult<(Vec<f64>, Vec<f64>)> {
     let pts = rows::<D>(flat);
-    let cells =
-        Cells::new(pts.len(), offsets, nodes, kinds).map_err(|e| kernel_error("cells", e))?;
+    let cells = Cells::new(pts.len(), &c.offsets, &c.nodes, &c.kinds)
+        .map_err(|e| kernel_error("cells", e))?;
     let mut measures = vec![0.0; cells.len()];
     let mut jac = vec![0.0; cells.len()];
     cell_measures(&cells, &pts, &mut measures).map_err(|e| kernel_error("quality", e))?;
@@ -32,16 +30,9 @@ fn run<const D: usize>(
 pub fn cell_quality<'py>(
     py: Python<'py>,
     points: PyReadonlyArray2<'py, f64>,
-    offsets: PyReadonlyArray1<'py, u32>,
-    nodes: PyReadonlyArray1<'py, u32>,
-    kinds: PyReadonlyArray1<'py, u8>,
+    cells: Csr<'py>,
 ) -> PyResult<Pair<'py>> {
-    let cells = CellArrays {
-        offsets,
-        nodes,
-        kinds,
-    }
-    .to_vecs()?;
+    let cells = cell_list(&cells)?;
     let flat = points.as_slice()?;
     let (m, j) = match points.shape()[1] {
         2 => run::<2>(flat, &cells)?,

@@ -29,7 +29,7 @@ pub(crate) fn python_venv(ctx: &Ctx) -> bool {
 }
 
 /// `cargo xtask ci --step python`: rustfmt and clippy on the crate, the `deform` tool (for the
-/// bit-equality tests), the wheel built by maturin and installed into the venv, the example,
+/// bit-equality tests), the wheel built by maturin and installed into the venv, the examples,
 /// then pytest.
 /// The wheel is built in the dev profile (quicker to compile; the bits are the same as release,
 /// which `pip install ./python` builds). Clippy has its own target directory: maturin sets
@@ -74,9 +74,13 @@ pub(crate) fn python_step(ctx: &Ctx) -> bool {
         .arg(&wheels)
         .arg("deform-kernel"));
     let python = venv.join("bin").join("python");
-    ok && run(Command::new(&python)
-        .arg("python/examples/pitch_body.py")
-        .current_dir(&ctx.root))
+    let example = |name: &str| {
+        run(Command::new(&python)
+            .arg(format!("python/examples/{name}"))
+            .current_dir(&ctx.root))
+    };
+    ok && example("pitch_body.py")
+        && example("pitch_airfoil.py")
         && run(Command::new(&python)
             .args(["-m", "pytest", "-q", "python/tests"])
             .current_dir(&ctx.root)
