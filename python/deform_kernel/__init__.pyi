@@ -70,6 +70,7 @@ def deform(
     idw_theta: Optional[float] = None,
     idw_tolerance: float = 0.1,
     out: Optional[Float2] = None,
+    allow_folds: bool = False,
 ) -> Union[Float2, Tuple[Float2, Dict[str, Any]]]:
     """New points (or ``out``); with ``return_info``, also ``{"iterations", "residual",
     "converged", "sliding_nodes", "max_slide_offset", "rbf_centres"}``."""

@@ -138,7 +138,7 @@ def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver
            allow_unconverged=False, return_info=False, steps=1, slide=None, renumber="auto",
            poisson=0.3, reach=None, rbf_kernel="wendland", rbf_radius=None,
            rbf_tolerance=0.0, rbf_max_centres=1000, rbf_correction=None, idw_theta=None,
-           idw_tolerance=0.1, out=None):
+           idw_tolerance=0.1, out=None, allow_folds=False):
     """Moves the mesh: the ``moved`` nodes follow ``motion``, the ``fixed`` nodes stay, the
     ``slide`` markers' nodes slide on their planes, and every other node follows by
     ``method``. Returns the deformed ``(N, dim)`` points (``out`` when given; and an info dict
@@ -163,7 +163,9 @@ def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver
     "hilbert" (the result is in the input's numbering either way). ``reach``: no motion beyond
     this distance (quaternion, idw). ``idw_theta``: the fast tree-based IDW with this opening
     angle and ``idw_tolerance`` (``deform move --idw-theta``). A solve that stops before
-    ``tol`` within ``max_iter`` raises ``KernelError`` unless ``allow_unconverged``. ``out``:
+    ``tol`` within ``max_iter`` raises ``KernelError`` unless ``allow_unconverged``; so does
+    a result with cells inverted or folded that were valid in the input (as ``deform move``
+    refuses it), unless ``allow_folds``. ``out``:
     a writable C-contiguous float64 ``(N, dim)`` array for the result (may be ``points``);
     it is written only on success. The GIL is released during the work.
     """
@@ -181,6 +183,7 @@ def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver
                "rbf_tolerance": float(rbf_tolerance), "rbf_max_centres": int(rbf_max_centres),
                "rbf_correction": _positive("rbf_correction", rbf_correction),
                "allow_unconverged": bool(allow_unconverged),
+               "allow_folds": bool(allow_folds),
                "idw_theta": None if idw_theta is None else float(idw_theta),
                "idw_tolerance": float(idw_tolerance)}
     _check_numbers(options)

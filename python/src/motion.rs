@@ -38,6 +38,7 @@ pub struct Options {
     rbf_max_centres: usize,
     rbf_correction: Option<f64>,
     allow_unconverged: bool,
+    allow_folds: bool,
     idw_theta: Option<f64>,
     idw_tolerance: f64,
 }
@@ -235,6 +236,25 @@ fn deformed<'py>(
     ))
 }
 
+/// The tool's failure policy (`deform move` without `--allow-folds`): a result with cells
+/// inverted or folded that were valid in the input is an error, and nothing is written.
+fn refuse_new_folds(job: &Job<'_>, r: &MoveResult) -> PyResult<()> {
+    let q = deform_cli::engine::quality(job.dim, &job.cells, &r.deformed, Some(job.points), None)
+        .map_err(cli_error)?;
+    let bad = q.new_failures();
+    if bad == 0 {
+        return Ok(());
+    }
+    Err(KernelError::new_err(format!(
+        "{}: the result has {bad} cell(s) inverted or folded that were valid in the input \
+         ({} inverted, {} folded in all); nothing was written (allow_folds=True returns it \
+         anyway)",
+        job.options.method,
+        q.inverted_cells.unwrap_or(0),
+        q.folded_cells
+    )))
+}
+
 /// `(deformed or None, iterations, residual, converged, info)`: `info` holds the sliding
 /// nodes, the largest distance of a sliding node from its plane, and the RBF centres used.
 type Moved<'py> = (
@@ -292,6 +312,9 @@ pub fn move_points<'py>(
              raise max_iter or pass allow_unconverged (nothing was written)",
             options.method, r.residual, r.iterations, options.tol
         )));
+    }
+    if !options.allow_folds {
+        refuse_new_folds(&job, &r)?;
     }
     let info = (
         r.sliding_nodes,

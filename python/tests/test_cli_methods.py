@@ -118,3 +118,27 @@ def test_displacement_field_same_bits(tmp_path, method, steps):
                      method=method, steps=steps)
     assert np.max(np.abs(ours - pts)) > 1e-3
     assert ours.tobytes() == theirs.tobytes()
+
+
+def test_folds_are_refused_as_the_tool_refuses_them(tmp_path):
+    """Plain springs fold cells around a hole turned by 60 degrees: `deform move` refuses
+    the result (exit 1, nothing written) and so does deform(); with --allow-folds /
+    allow_folds=True both return the same bits."""
+    pts, tris, body, bottom, rest = mesh()
+    far = np.concatenate([bottom, rest])
+    src, dst = tmp_path / "in.su2", tmp_path / "out.su2"
+    write_su2(src, pts, tris, {"body": body, "farfield": far})
+    cmd = [deform_bin(), "move", str(src), "--marker", "body", "--method", "spring",
+           "--rotate", "60", "--out", str(dst)]
+    refused = subprocess.run(cmd, capture_output=True, text=True)
+    assert refused.returncode != 0 and not dst.exists(), refused.stderr
+    out = np.zeros_like(pts)
+    args = (pts, [("triangle", tris)], np.unique(body), dk.Rotation(60.0), np.unique(far))
+    with pytest.raises(dk.KernelError, match="inverted or folded"):
+        dk.deform(*args, method="spring", out=out)
+    assert not out.any()
+    subprocess.run(cmd + ["--allow-folds"], check=True, capture_output=True)
+    ours = dk.deform(*args, method="spring", allow_folds=True)
+    assert ours.tobytes() == read_su2_points(dst).tobytes()
+    q = dk.quality(ours, [("triangle", tris)])
+    assert (q["measure"] <= 0).any()
