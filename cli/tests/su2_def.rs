@@ -76,6 +76,21 @@ fn su2s_wedge_case_runs_unchanged_and_matches_independent_ffd_and_elasticity() {
     );
     assert_eq!(r["method"], "elasticity");
     assert_eq!(r["stiffness"], "inverse-volume");
+    let ignored: Vec<&str> = (r["ignored_options"].as_array().unwrap().iter())
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    // Read by the FFD variables: not ignored; only for FFD_SETTING or FFD_TWIST: ignored.
+    for used in ["FFD_CONTINUITY", "DV_PARAM", "DEFORM_LINEAR_SOLVER_ITER"] {
+        assert!(!ignored.contains(&used), "{used} in {ignored:?}");
+    }
+    for unused in [
+        "FFD_TOLERANCE",
+        "FFD_DEFINITION",
+        "REF_LENGTH",
+        "MACH_NUMBER",
+    ] {
+        assert!(ignored.contains(&unused), "{unused} not in {ignored:?}");
+    }
     let residual = r["residual"].as_f64().unwrap();
     assert!(residual < 1e-5, "{r}");
     // DV_PARAM= (MAIN_BOX, 3,0, 0,1.0,0,0 ), DV_VALUE= 0.5: control points (3, 0, k) up by 0.5.

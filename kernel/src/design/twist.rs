@@ -36,8 +36,9 @@ fn crossing<T: Real>(s: [[T; 3]; 2], plane_p0: [T; 3]) -> Option<[T; 3]> {
     let eps = T::from_f64(1e-6);
     let n = [T::ZERO + eps, T::ONE + eps, T::ZERO + eps];
     let dot = |a: [T; 3]| n[0] * a[0] + n[1] * a[1] + n[2] * a[2];
-    let u: [T; 3] = core::array::from_fn(|d| s[1][d] - s[0][d]);
-    let v: [T; 3] = core::array::from_fn(|d| (plane_p0[d] + eps) - s[0][d]);
+    let [s0, s1] = s;
+    let u = zip_with(s1, s0, |a, b| a - b);
+    let v = zip_with(plane_p0, s0, |p, b| (p + eps) - b);
     let (num, den) = (dot(v), dot(u));
     if den.abs() <= T::ZERO {
         return None;
@@ -46,20 +47,32 @@ fn crossing<T: Real>(s: [[T; 3]; 2], plane_p0: [T; 3]) -> Option<[T; 3]> {
     if aux < T::ZERO || aux > T::ONE {
         return None;
     }
-    let x: [T; 3] = core::array::from_fn(|d| s[0][d] + aux * u[d]);
-    let a: [T; 3] = core::array::from_fn(|d| s[0][d] - x[d]);
-    let b: [T; 3] = core::array::from_fn(|d| s[1][d] - x[d]);
+    let x = zip_with(s0, u, |a, d| a + aux * d);
+    let a = zip_with(s0, x, |p, q| p - q);
+    let b = zip_with(s1, x, |p, q| p - q);
     if dot(b) * dot(a) > T::ZERO {
         return None;
     }
     Some(x)
 }
 
-/// The movement of point `p` turned by `(cos, sin)` about the y-parallel axis through `c`
-/// (SU2's general closed form with the axis direction `(0, 1, 0)`).
-fn turned<T: Real>(p: [T; 3], c: [T; 3], (cos_t, sin_t): (T, T)) -> [T; 3] {
-    let ([x, y, z], [a, b, cc]) = (p, c);
-    let (u, v, w) = (T::ZERO, T::ONE, T::ZERO);
+/// `f` applied component by component (no indexing: no panic path).
+fn zip_with<T: Real>(a: [T; 3], b: [T; 3], f: impl Fn(T, T) -> T) -> [T; 3] {
+    let [a0, a1, a2] = a;
+    let [b0, b1, b2] = b;
+    [f(a0, b0), f(a1, b1), f(a2, b2)]
+}
+
+/// SU2's closed form for turning point `p` about the line through `c` with direction `axis`
+/// by the angle whose cosine and sine are given, as a movement (new position minus `p`), in
+/// SU2's order of operations (`SetRotation`, `SetFFDTwist`, `SetFFDRotation`).
+pub fn su2_rotation_movement<T: Real>(
+    p: [T; 3],
+    c: [T; 3],
+    axis: [T; 3],
+    (cos_t, sin_t): (T, T),
+) -> [T; 3] {
+    let ([x, y, z], [a, b, cc], [u, v, w]) = (p, c, axis);
     let (u2, v2, w2) = (u * u, v * v, w * w);
     let l2 = u2 + v2 + w2;
     let l = l2.sqrt();
@@ -128,8 +141,8 @@ pub fn ffd_twist<T: Real>(
         if fixed_i.contains(&(i as u32)) || fixed_k.contains(&(k as u32)) {
             return p;
         }
-        let m = turned(p, pivot, cs);
-        core::array::from_fn(|d| p[d] + m[d])
+        let axis = [T::ZERO, T::ONE, T::ZERO];
+        zip_with(p, su2_rotation_movement(p, pivot, axis, cs), |a, m| a + m)
     };
     let layer = |i: usize, k: usize| flat(degree, [i, twist.j, k]);
     let mut ok = true;

@@ -64,8 +64,7 @@ pub(crate) fn su2(a: &Su2Args, quiet: bool) -> Result<Outcome, CliError> {
     })?;
     let (mut args, console) = move_args(a, &config)?;
     let dvs = variables::read_dvs(&config)?;
-    let uses_ffd = dvs.iter().any(|d| d.kind.starts_with("FFD_"));
-    let ignored = ignored_options(&config, args.method(), uses_ffd);
+    let ignored = ignored_options(&config, args.method(), &used_options(&dvs));
     let command = Command::Move(args.clone());
     let (inputs, outputs) = super::files_of(&command);
     crate::guard::check_outputs(&inputs, &outputs)?;
@@ -90,6 +89,16 @@ pub(crate) fn su2(a: &Su2Args, quiet: bool) -> Result<Outcome, CliError> {
     Ok(outcome)
 }
 
+/// The options the design variables read besides DV_* (the FFD ones with FFD variables,
+/// REF_LENGTH with FFD_TWIST).
+fn used_options(dvs: &[variables::Dv]) -> Vec<&'static str> {
+    let ffd = dvs.iter().any(|d| d.kind.starts_with("FFD_"));
+    let twist = dvs.iter().any(|d| d.kind == "FFD_TWIST");
+    (ffd_planes::FFD_OPTIONS.iter().copied())
+        .filter(|&k| ffd && (k != "REF_LENGTH" || twist))
+        .collect()
+}
+
 /// An error naming the option (and its line) that cannot be honoured.
 pub(super) fn option_error(config: &Su2Config, key: &str, why: impl std::fmt::Display) -> CliError {
     match config.get(key) {
@@ -112,12 +121,12 @@ pub(super) fn number<T: std::str::FromStr>(
 }
 
 /// The options the file sets that deformation does not use, in file order.
-fn ignored_options(config: &Su2Config, method: Method, ffd: bool) -> Vec<String> {
+fn ignored_options(config: &Su2Config, method: Method, used: &[&str]) -> Vec<String> {
     let elasticity = is_elasticity(method);
     (config.entries.iter())
         .map(|e| e.key.as_str())
         .filter(|k| !HONOURED.contains(k) && !k.starts_with("MARKER_"))
-        .filter(|k| !(ffd && ffd_planes::FFD_OPTIONS.contains(k)))
+        .filter(|k| !used.contains(k))
         .filter(|k| !(elasticity && ELASTICITY_ONLY.contains(k)))
         .map(String::from)
         .collect()

@@ -10,6 +10,7 @@
 
 use std::path::PathBuf;
 
+use deform_kernel::design::twist::su2_rotation_movement;
 use deform_kernel::Real;
 
 use crate::args::{Coords, MoveArgs};
@@ -287,28 +288,11 @@ fn rotation_z0(config: &Su2Config, dvs: &[Dv], dv: &Dv, three: bool) -> Result<f
 /// movement) by `degrees`.
 fn su2_rotation(x: [f64; 3], p0: [f64; 3], p1: [f64; 3], degrees: f64, three: bool) -> [f64; 3] {
     let [a, b, c] = p0;
-    let (u, v) = (p1[0] - a, p1[1] - b);
     let w = if three { p1[2] - c } else { 1.0 };
     let theta = degrees * std::f64::consts::PI / 180.0;
-    let (u2, v2, w2) = (u * u, v * v, w * w);
-    let (cos_t, sin_t) = (<f64 as Real>::cos(theta), <f64 as Real>::sin(theta));
-    let l2 = u2 + v2 + w2;
-    let l = l2.sqrt();
-    let [x, y, z] = x;
-    let m0 = a * (v2 + w2)
-        + u * (-b * v - c * w + u * x + v * y + w * z)
-        + (-a * (v2 + w2) + u * (b * v + c * w - v * y - w * z) + (v2 + w2) * x) * cos_t
-        + l * (-c * v + b * w - w * y + v * z) * sin_t;
-    let m1 = b * (u2 + w2)
-        + v * (-a * u - c * w + u * x + v * y + w * z)
-        + (-b * (u2 + w2) + v * (a * u + c * w - u * x - w * z) + (u2 + w2) * y) * cos_t
-        + l * (c * u - a * w + w * x - u * z) * sin_t;
-    let m2 = c * (u2 + v2)
-        + w * (-a * u - b * v + u * x + v * y + w * z)
-        + (-c * (u2 + v2) + w * (a * u + b * v - u * x - v * y) + (u2 + v2) * z) * cos_t
-        + l * (-b * u + a * v - v * x + u * y) * sin_t;
-    let z_move = if three { m2 / l2 - z } else { 0.0 };
-    [m0 / l2 - x, m1 / l2 - y, z_move]
+    let cs = (<f64 as Real>::cos(theta), <f64 as Real>::sin(theta));
+    let m = su2_rotation_movement(x, p0, [p1[0] - a, p1[1] - b, w], cs);
+    [m[0], m[1], if three { m[2] } else { 0.0 }]
 }
 
 /// HICKS_HENNE's `( 0 | 1, x_max )` groups as `(upper, x_max, amplitude)`.
