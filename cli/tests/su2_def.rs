@@ -458,3 +458,62 @@ fn scale_and_translation_add_up_as_su2s_surface_variables() {
         }
     }
 }
+
+#[test]
+fn ffd_options_su2_would_compute_otherwise_are_refused_by_name() {
+    let d = tmp_dir("su2-def-refused");
+    let refuse = |extra: &str, needle: &str| {
+        let extra = extra.to_string();
+        wedge_case(&d, "r.cfg", &move |t| format!("{t}{extra}\n"));
+        deform_refused(
+            &d,
+            &["su2", "r.cfg", "--method", "spring"],
+            1,
+            needle,
+            "mesh_out.su2",
+        );
+    };
+    // The wedge's variable moves the surface by 0.053: beyond a bound of 0.01 SU2 rescales.
+    refuse("OPT_LINE_SEARCH_BOUND= 0.01", "OPT_LINE_SEARCH_BOUND");
+    refuse("FFD_INTPREV= YES", "FFD_INTPREV");
+    refuse(
+        "FFD_COORDINATE_SYSTEM= CYLINDRICAL",
+        "FFD_COORDINATE_SYSTEM",
+    );
+    refuse("FFD_BLENDING= BSPLINE", "FFD_BLENDING");
+    refuse("FFD_SYMMETRY_PLANE= MAYBE", "FFD_SYMMETRY_PLANE");
+    let bad_continuity = |t: String| t.replace("= 2ND_DERIVATIVE", "= 3RD_DERIVATIVE");
+    wedge_case(&d, "c.cfg", &bad_continuity);
+    deform_refused(
+        &d,
+        &["su2", "c.cfg", "--method", "spring"],
+        1,
+        "FFD_CONTINUITY (line",
+        "mesh_out.su2",
+    );
+    // FFD and surface kinds mixed: SU2 would apply only the first family.
+    let mixed = |t: String| {
+        t.replace(
+            "DV_KIND= FFD_CONTROL_POINT_2D",
+            "DV_KIND= FFD_CONTROL_POINT_2D, HICKS_HENNE",
+        )
+        .replace(
+            "DV_PARAM= (MAIN_BOX, 3,0, 0,1.0,0,0 )",
+            "DV_PARAM= (MAIN_BOX, 3,0, 0,1.0 ); ( 1, 0.5 )",
+        )
+        .replace("DV_VALUE= 0.5", "DV_VALUE= 0.5, 0.01")
+    };
+    wedge_case(&d, "m.cfg", &mixed);
+    deform_refused(
+        &d,
+        &["su2", "m.cfg", "--method", "spring"],
+        1,
+        "DV_KIND",
+        "mesh_out.su2",
+    );
+    // A bound the surface stays within: runs.
+    wedge_case(&d, "ok.cfg", &|t| {
+        format!("{t}OPT_LINE_SEARCH_BOUND= 0.06\nFFD_SYMMETRY_PLANE= NO\n")
+    });
+    deform_ok(&d, &["su2", "ok.cfg", "--method", "spring"]);
+}
