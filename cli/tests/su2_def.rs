@@ -278,8 +278,17 @@ fn wing_mesh(dir: &Path) -> Vec<(u32, [f64; 3], [f64; 3])> {
         far.len(),
         far.concat()
     );
+    let (ffd, surface) = ffd_section(&pts, (nx + 1) * (ny + 1));
+    s += &ffd;
+    std::fs::write(dir.join("wing.su2"), s).unwrap();
+    surface
+}
+
+/// The FFD section of box `B` (as SU2 stores it) with the first `wing` points as its surface
+/// points; the text and the surface points (node, point, parametric coordinates).
+fn ffd_section(pts: &[[f64; 3]], wing: usize) -> (String, Vec<(u32, [f64; 3], [f64; 3])>) {
     let (lo, hi) = BOX;
-    s += "FFD_NBOX= 1\nFFD_NLEVEL= 1\nFFD_TAG= B\nFFD_LEVEL= 0\nFFD_DEGREE_I= 3\nFFD_DEGREE_J= 2\nFFD_DEGREE_K= 1\nFFD_BLENDING= BEZIER\nFFD_PARENTS= 0\nFFD_CHILDREN= 0\nFFD_CORNER_POINTS= 8\n";
+    let mut s = String::from("FFD_NBOX= 1\nFFD_NLEVEL= 1\nFFD_TAG= B\nFFD_LEVEL= 0\nFFD_DEGREE_I= 3\nFFD_DEGREE_J= 2\nFFD_DEGREE_K= 1\nFFD_BLENDING= BEZIER\nFFD_PARENTS= 0\nFFD_CHILDREN= 0\nFFD_CORNER_POINTS= 8\n");
     for k in 0..2 {
         for (x, y) in [
             (lo[0], lo[1]),
@@ -295,21 +304,17 @@ fn wing_mesh(dir: &Path) -> Vec<(u32, [f64; 3], [f64; 3])> {
         let p = control_point(i, j, k);
         s += &format!("{i} {j} {k} {:e} {:e} {:e}\n", p[0], p[1], p[2]);
     }
+    // The wing (z = 0) nodes are the first `wing` nodes.
     let mut surface = Vec::new();
-    for j in 0..=ny {
-        for i in 0..=nx {
-            let n = id(i, j, 0);
-            let p = pts[n];
-            let uvw: [f64; 3] = std::array::from_fn(|a| (p[a] - lo[a]) / (hi[a] - lo[a]));
-            surface.push((n as u32, p, uvw));
-        }
+    for (n, &p) in pts.iter().enumerate().take(wing) {
+        let uvw: [f64; 3] = std::array::from_fn(|a| (p[a] - lo[a]) / (hi[a] - lo[a]));
+        surface.push((n as u32, p, uvw));
     }
     s += &format!("FFD_SURFACE_POINTS= {}\n", surface.len());
     for (n, _, u) in &surface {
         s += &format!("wing {n} {:e} {:e} {:e}\n", u[0], u[1], u[2]);
     }
-    std::fs::write(dir.join("wing.su2"), s).unwrap();
-    surface
+    (s, surface)
 }
 
 fn control_indices() -> Vec<(usize, usize, usize)> {
