@@ -179,9 +179,12 @@ fn bernstein(n: u32, i: u32, t: f64) -> f64 {
 const BOX: ([f64; 3], [f64; 3]) = ([-0.5, -0.5, -0.1], [2.5, 1.5, 0.3]);
 const DEG: [usize; 3] = [3, 2, 1];
 
+/// A surface point of the box: node, point, parametric coordinates.
+type SurfacePoint = (u32, [f64; 3], [f64; 3]);
+
 /// A 6 × 4 × 3 hexahedral block [0, 2] × [0, 1] × [0, 0.5] whose z = 0 face is marker `wing`
 /// (the rest `far`), with an FFD box `B` around the wing as SU2 stores it.
-fn wing_mesh(dir: &Path) -> Vec<(u32, [f64; 3], [f64; 3])> {
+fn wing_mesh(dir: &Path) -> Vec<SurfacePoint> {
     let (nx, ny, nz) = (6usize, 4usize, 3usize);
     let id = |i: usize, j: usize, k: usize| (k * (ny + 1) + j) * (nx + 1) + i;
     let mut pts = Vec::new();
@@ -220,6 +223,26 @@ fn wing_mesh(dir: &Path) -> Vec<(u32, [f64; 3], [f64; 3])> {
     for (n, p) in pts.iter().enumerate() {
         s += &format!("{:e} {:e} {:e} {n}\n", p[0], p[1], p[2]);
     }
+    let (wing, far) = block_faces(nx, ny, nz);
+    s += &format!(
+        "NMARK= 2\nMARKER_TAG= wing\nMARKER_ELEMS= {}\n{}",
+        wing.len(),
+        wing.concat()
+    );
+    s += &format!(
+        "MARKER_TAG= far\nMARKER_ELEMS= {}\n{}",
+        far.len(),
+        far.concat()
+    );
+    let (ffd, surface) = ffd_section(&pts, (nx + 1) * (ny + 1));
+    s += &ffd;
+    std::fs::write(dir.join("wing.su2"), s).unwrap();
+    surface
+}
+
+/// The boundary quads of the `nx × ny × nz` block: the z = 0 face (`wing`) and the rest.
+fn block_faces(nx: usize, ny: usize, nz: usize) -> (Vec<String>, Vec<String>) {
+    let id = |i: usize, j: usize, k: usize| (k * (ny + 1) + j) * (nx + 1) + i;
     let quad = |a: usize, b: usize, c: usize, d: usize| format!("9 {a} {b} {c} {d}\n");
     let (mut wing, mut far) = (Vec::new(), Vec::new());
     for j in 0..ny {
@@ -268,25 +291,12 @@ fn wing_mesh(dir: &Path) -> Vec<(u32, [f64; 3], [f64; 3])> {
             ));
         }
     }
-    s += &format!(
-        "NMARK= 2\nMARKER_TAG= wing\nMARKER_ELEMS= {}\n{}",
-        wing.len(),
-        wing.concat()
-    );
-    s += &format!(
-        "MARKER_TAG= far\nMARKER_ELEMS= {}\n{}",
-        far.len(),
-        far.concat()
-    );
-    let (ffd, surface) = ffd_section(&pts, (nx + 1) * (ny + 1));
-    s += &ffd;
-    std::fs::write(dir.join("wing.su2"), s).unwrap();
-    surface
+    (wing, far)
 }
 
 /// The FFD section of box `B` (as SU2 stores it) with the first `wing` points as its surface
 /// points; the text and the surface points (node, point, parametric coordinates).
-fn ffd_section(pts: &[[f64; 3]], wing: usize) -> (String, Vec<(u32, [f64; 3], [f64; 3])>) {
+fn ffd_section(pts: &[[f64; 3]], wing: usize) -> (String, Vec<SurfacePoint>) {
     let (lo, hi) = BOX;
     let mut s = String::from("FFD_NBOX= 1\nFFD_NLEVEL= 1\nFFD_TAG= B\nFFD_LEVEL= 0\nFFD_DEGREE_I= 3\nFFD_DEGREE_J= 2\nFFD_DEGREE_K= 1\nFFD_BLENDING= BEZIER\nFFD_PARENTS= 0\nFFD_CHILDREN= 0\nFFD_CORNER_POINTS= 8\n");
     for k in 0..2 {
