@@ -206,7 +206,7 @@ fn errors_name_the_option_or_the_line() {
     };
     let rotation = "DV_KIND= ROTATION\nDV_PARAM= ( 0.25, 0.0, 0.0, 0.25, 0.0, 1.0 )\nDV_VALUE= 3";
     refuse(
-        "DV_KIND= SCALE\nDV_PARAM= ( 1 )\nDV_VALUE= 0.01",
+        "DV_KIND= SURFACE_BUMP\nDV_PARAM= ( 0.1, 0.5, 0.3 )\nDV_VALUE= 0.01",
         "",
         "DV_KIND (line 8)",
     );
@@ -228,7 +228,7 @@ fn errors_name_the_option_or_the_line() {
     refuse(
         "DV_KIND= ROTATION\nDV_PARAM= ( 0.25, 0 )\nDV_VALUE= 3",
         "",
-        "ROTATION needs",
+        "(ROTATION) needs 6 parameters",
     );
     refuse(
         rotation,

@@ -879,16 +879,17 @@ module deform_kernel
             dk_design_ffd_eval, dk_design_ffd_eval_f32, dk_design_ffd_displacements, &
             dk_design_ffd_displacements_f32, dk_design_ffd_displacements_between, &
             dk_design_ffd_displacements_between_f32, dk_design_ffd_variable, &
-            dk_design_ffd_variable_f32, dk_elasticity_graph_len, dk_elasticity_graph, &
-            dk_elasticity_scratch_len, dk_elasticity_options_default, &
-            dk_elasticity_options_default_f32, dk_elasticity_deform, dk_elasticity_deform_f32, &
-            dk_graph_from_edges_len, dk_graph_from_edges, dk_cells_check, dk_graph_from_cells_len, &
-            dk_graph_from_cells, dk_graph_check, dk_order_rcm, dk_order_hilbert, &
-            dk_order_hilbert_f32, dk_order_index_distance, dk_order_permute, dk_order_permute_f32, &
-            dk_order_renumber, dk_order_permute_graph, dk_order_gather, dk_order_gather_f32, &
-            dk_plan_options_default, dk_plan_options_default_f32, dk_plan_work_sizes, &
-            dk_plan_work_sizes_f32, dk_plan_pool_sizes, dk_plan_pool_sizes_f32, dk_plan_init, &
-            dk_plan_init_f32, dk_plan_open, dk_plan_open_f32, dk_plan_step, dk_plan_step_f32, &
+            dk_design_ffd_variable_f32, dk_design_ffd_twist, dk_design_ffd_twist_f32, &
+            dk_elasticity_graph_len, dk_elasticity_graph, dk_elasticity_scratch_len, &
+            dk_elasticity_options_default, dk_elasticity_options_default_f32, &
+            dk_elasticity_deform, dk_elasticity_deform_f32, dk_graph_from_edges_len, &
+            dk_graph_from_edges, dk_cells_check, dk_graph_from_cells_len, dk_graph_from_cells, &
+            dk_graph_check, dk_order_rcm, dk_order_hilbert, dk_order_hilbert_f32, &
+            dk_order_index_distance, dk_order_permute, dk_order_permute_f32, dk_order_renumber, &
+            dk_order_permute_graph, dk_order_gather, dk_order_gather_f32, dk_plan_options_default, &
+            dk_plan_options_default_f32, dk_plan_work_sizes, dk_plan_work_sizes_f32, &
+            dk_plan_pool_sizes, dk_plan_pool_sizes_f32, dk_plan_init, dk_plan_init_f32, &
+            dk_plan_open, dk_plan_open_f32, dk_plan_step, dk_plan_step_f32, &
             dk_quality_cell_quality, dk_quality_cell_quality_f32, dk_quality_cell_measures, &
             dk_quality_cell_measures_f32, dk_quality_min_corner_jacobians, &
             dk_quality_min_corner_jacobians_f32, dk_quality_inverted_cells, &
@@ -1775,6 +1776,40 @@ module deform_kernel
       integer(c_size_t), value :: control_points_len
       integer(c_int32_t), intent(in) :: index(3)
       real(c_float), intent(in) :: values(3)
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_ffd_twist(degree, control_points, control_points_len, j, segment, &
+        amplitude, ref_length, fixed_i, fixed_i_len, fixed_k, fixed_k_len) bind(C, &
+        name="dk_design_ffd_twist") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: degree(3)
+      real(c_double), intent(inout) :: control_points(*)
+      integer(c_size_t), value :: control_points_len
+      integer(c_int32_t), value :: j
+      real(c_double), intent(in) :: segment(6)
+      real(c_double), value :: amplitude
+      real(c_double), value :: ref_length
+      integer(c_int32_t), intent(in) :: fixed_i(*)
+      integer(c_size_t), value :: fixed_i_len
+      integer(c_int32_t), intent(in) :: fixed_k(*)
+      integer(c_size_t), value :: fixed_k_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_ffd_twist_f32(degree, control_points, control_points_len, j, segment, &
+        amplitude, ref_length, fixed_i, fixed_i_len, fixed_k, fixed_k_len) bind(C, &
+        name="dk_design_ffd_twist_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: degree(3)
+      real(c_float), intent(inout) :: control_points(*)
+      integer(c_size_t), value :: control_points_len
+      integer(c_int32_t), value :: j
+      real(c_float), intent(in) :: segment(6)
+      real(c_float), value :: amplitude
+      real(c_float), value :: ref_length
+      integer(c_int32_t), intent(in) :: fixed_i(*)
+      integer(c_size_t), value :: fixed_i_len
+      integer(c_int32_t), intent(in) :: fixed_k(*)
+      integer(c_size_t), value :: fixed_k_len
       integer(c_int32_t) :: s
     end function
     function dk_elasticity_graph_len(node_count, cells, index_base, index_scratch, &

@@ -2111,6 +2111,48 @@ dk_status dk_design_ffd_variable_f32(uint32_t kind,
                                      const int32_t *index,
                                      const float *values);
 
+// Applies one SU2 `FFD_TWIST` design variable to the control points of an always-3D SU2 box
+// (`degree[3]`, `control_points` of `3 ∏(degree+1)` scalars, changed in place): layer `j`
+// turns by `atan(amplitude / ref_length)` about the y-parallel axis through the point where
+// the segment `segment[0..3]`–`segment[3..6]` crosses the plane `y = y(0, j, 0)` (SU2's
+// `SetFFDTwist`; `amplitude` = `DV_VALUE × OPT_RELAX_FACTOR`, `ref_length` = `REF_LENGTH`).
+// Control points whose i is listed in `fixed_i` or whose k is in `fixed_k` stay. Errors
+// (nothing written): `DK_ERR_INVALID_PARAMETER` (bad degree, `ref_length ≤ 0`, a segment that
+// does not cross the plane), `DK_ERR_INDEX_OUT_OF_RANGE` (`j`), `DK_ERR_NON_FINITE`,
+// `DK_ERR_OVERFLOW`, length and pointer errors.
+//
+// # Safety
+// `degree` points to 3 elements and `segment` to 6; `fixed_i` and `fixed_k` are valid for
+// their lengths (NULL with length 0 for none); `control_points` is readable and writable for
+// its length.
+dk_status dk_design_ffd_twist(const uint32_t *degree,
+                              double *control_points,
+                              size_t control_points_len,
+                              uint32_t j,
+                              const double *segment,
+                              double amplitude,
+                              double ref_length,
+                              const uint32_t *fixed_i,
+                              size_t fixed_i_len,
+                              const uint32_t *fixed_k,
+                              size_t fixed_k_len);
+
+// `f32` twin of [`dk_design_ffd_twist`].
+//
+// # Safety
+// As [`dk_design_ffd_twist`].
+dk_status dk_design_ffd_twist_f32(const uint32_t *degree,
+                                  float *control_points,
+                                  size_t control_points_len,
+                                  uint32_t j,
+                                  const float *segment,
+                                  float amplitude,
+                                  float ref_length,
+                                  const uint32_t *fixed_i,
+                                  size_t fixed_i_len,
+                                  const uint32_t *fixed_k,
+                                  size_t fixed_k_len);
+
 // Length `targets` needs for [`dk_elasticity_graph`]: `Σ n_c (n_c − 1)` over the cells
 // (validates the cells first; `index_scratch` as in `dk_cells_check`).
 //

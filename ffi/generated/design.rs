@@ -504,3 +504,95 @@ pub unsafe extern "C" fn dk_design_ffd_variable_f32(
     };
     imp::dk_design_ffd_variable::<f32>(kind, degree, control_points, index, values)
 }
+
+/// Applies one SU2 `FFD_TWIST` design variable to the control points of an always-3D SU2 box
+/// (`degree[3]`, `control_points` of `3 ∏(degree+1)` scalars, changed in place): layer `j`
+/// turns by `atan(amplitude / ref_length)` about the y-parallel axis through the point where
+/// the segment `segment[0..3]`–`segment[3..6]` crosses the plane `y = y(0, j, 0)` (SU2's
+/// `SetFFDTwist`; `amplitude` = `DV_VALUE × OPT_RELAX_FACTOR`, `ref_length` = `REF_LENGTH`).
+/// Control points whose i is listed in `fixed_i` or whose k is in `fixed_k` stay. Errors
+/// (nothing written): `DK_ERR_INVALID_PARAMETER` (bad degree, `ref_length ≤ 0`, a segment that
+/// does not cross the plane), `DK_ERR_INDEX_OUT_OF_RANGE` (`j`), `DK_ERR_NON_FINITE`,
+/// `DK_ERR_OVERFLOW`, length and pointer errors.
+///
+/// # Safety
+/// `degree` points to 3 elements and `segment` to 6; `fixed_i` and `fixed_k` are valid for
+/// their lengths (NULL with length 0 for none); `control_points` is readable and writable for
+/// its length.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_design_ffd_twist(
+    degree: *const u32,
+    control_points: *mut f64,
+    control_points_len: usize,
+    j: u32,
+    segment: *const f64,
+    amplitude: f64,
+    ref_length: f64,
+    fixed_i: *const u32,
+    fixed_i_len: usize,
+    fixed_k: *const u32,
+    fixed_k_len: usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (degree, control_points, segment, fixed_i, fixed_k) = unsafe {
+        (
+            In::new(degree, 3),
+            Out::new(control_points, control_points_len),
+            In::new(segment, 6),
+            In::new(fixed_i, fixed_i_len),
+            In::new(fixed_k, fixed_k_len),
+        )
+    };
+    imp::dk_design_ffd_twist::<f64>(
+        degree,
+        control_points,
+        j,
+        segment,
+        amplitude,
+        ref_length,
+        fixed_i,
+        fixed_k,
+    )
+}
+
+/// `f32` twin of [`dk_design_ffd_twist`].
+///
+/// # Safety
+/// As [`dk_design_ffd_twist`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_design_ffd_twist_f32(
+    degree: *const u32,
+    control_points: *mut f32,
+    control_points_len: usize,
+    j: u32,
+    segment: *const f32,
+    amplitude: f32,
+    ref_length: f32,
+    fixed_i: *const u32,
+    fixed_i_len: usize,
+    fixed_k: *const u32,
+    fixed_k_len: usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (degree, control_points, segment, fixed_i, fixed_k) = unsafe {
+        (
+            In::new(degree, 3),
+            Out::new(control_points, control_points_len),
+            In::new(segment, 6),
+            In::new(fixed_i, fixed_i_len),
+            In::new(fixed_k, fixed_k_len),
+        )
+    };
+    imp::dk_design_ffd_twist::<f32>(
+        degree,
+        control_points,
+        j,
+        segment,
+        amplitude,
+        ref_length,
+        fixed_i,
+        fixed_k,
+    )
+}

@@ -15,6 +15,7 @@
 
 use deform_kernel::design::ffd::{ffd_displacements, ffd_displacements_between, ffd_eval, FfdBox};
 use deform_kernel::design::hicks_henne::{hicks_henne, hicks_henne_bump, HicksHenne};
+use deform_kernel::design::twist::{ffd_twist, FfdTwist};
 use deform_kernel::design::variables::{
     ffd_camber, ffd_camber_2d, ffd_control_point, ffd_control_point_2d, ffd_thickness,
     ffd_thickness_2d,
@@ -311,6 +312,47 @@ pub(crate) fn dk_design_ffd_variable<T: Real>(
         let values = read_array::<T, 3>(values)?;
         let cps = chunks_mut::<T, 3>(control_points)?;
         variable(kind, degree, cps, index, values)
+    };
+    done(run())
+}
+
+/// Applies one SU2 `FFD_TWIST` design variable to the control points of an always-3D SU2 box
+/// (`degree[3]`, `control_points` of `3 ∏(degree+1)` scalars, changed in place): layer `j`
+/// turns by `atan(amplitude / ref_length)` about the y-parallel axis through the point where
+/// the segment `segment[0..3]`–`segment[3..6]` crosses the plane `y = y(0, j, 0)` (SU2's
+/// `SetFFDTwist`; `amplitude` = `DV_VALUE × OPT_RELAX_FACTOR`, `ref_length` = `REF_LENGTH`).
+/// Control points whose i is listed in `fixed_i` or whose k is in `fixed_k` stay. Errors
+/// (nothing written): `DK_ERR_INVALID_PARAMETER` (bad degree, `ref_length ≤ 0`, a segment that
+/// does not cross the plane), `DK_ERR_INDEX_OUT_OF_RANGE` (`j`), `DK_ERR_NON_FINITE`,
+/// `DK_ERR_OVERFLOW`, length and pointer errors.
+///
+/// # Safety
+/// `degree` points to 3 elements and `segment` to 6; `fixed_i` and `fixed_k` are valid for
+/// their lengths (NULL with length 0 for none); `control_points` is readable and writable for
+/// its length.
+#[export(twin, degree[3], segment[6])]
+pub(crate) fn dk_design_ffd_twist<T: Real>(
+    degree: In<'_, u32>,
+    control_points: Out<'_, T>,
+    j: u32,
+    segment: In<'_, T>,
+    amplitude: T,
+    ref_length: T,
+    fixed_i: In<'_, u32>,
+    fixed_k: In<'_, u32>,
+) -> dk_status {
+    let run = || {
+        let degree = read_degree::<3>(degree)?;
+        let s = read_array::<T, 6>(segment)?;
+        let twist = FfdTwist {
+            j: j as usize,
+            segment: [[s[0], s[1], s[2]], [s[3], s[4], s[5]]],
+            amplitude,
+            ref_length,
+        };
+        let (fi, fk) = (input(fixed_i)?, input(fixed_k)?);
+        let cps = chunks_mut::<T, 3>(control_points)?;
+        ffd_twist(degree, cps, twist, fi, fk).map_err(dk_status::from)
     };
     done(run())
 }

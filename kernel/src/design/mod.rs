@@ -7,6 +7,7 @@
 //!   points move.
 //! - [`variables`]: the control-point changes of `FFD_CONTROL_POINT(_2D)`,
 //!   `FFD_CAMBER(_2D)` and `FFD_THICKNESS(_2D)`.
+//! - [`twist`]: `FFD_TWIST`, a layer of control points turned about a y-parallel axis.
 //!
 //! Everything is allocation-free (the Bernstein basis lives in fixed stack arrays, hence
 //! [`ffd::MAX_DEGREE`]), validates before it writes, and uses libm for every transcendental
@@ -15,6 +16,7 @@
 
 pub mod ffd;
 pub mod hicks_henne;
+pub mod twist;
 pub mod variables;
 
 /// SU2's `EPS` (`option_structure.hpp`): displacements this small are set to zero by SU2's

@@ -21,7 +21,7 @@ use crate::engine::{
     MoveInput, MoveMethod, MoveResult, MoveSolver, QualitySummary, SlideMarker, Stiffness,
 };
 use crate::error::CliError;
-use crate::files::{input_kind, marker_nodes, marker_union, read_su2_zone, FileKind};
+use crate::files::{input_kind, marker_nodes, marker_union, read_su2_zone, FileKind, ZonedSu2};
 use crate::formats::su2::Su2Mesh;
 use crate::formats::CellList;
 use crate::report::{value_name, volume_words, Outcome};
@@ -86,7 +86,30 @@ fn move_su2(a: &MoveArgs, quiet: bool, split: Option<&dyn Splitter>) -> Result<O
     // A multi-zone file: the zone of the named markers (the others are written back unchanged).
     let names: [&[String]; 2] = [&a.markers, &a.slide];
     crate::files::check_su2_output(&a.mesh, &a.out)?;
-    let (mesh, zoned) = read_su2_zone(&a.mesh, &names, a.motions.as_deref())?;
+    let loaded = read_su2_zone(&a.mesh, &names, a.motions.as_deref())?;
+    move_su2_read(a, quiet, split, loaded)
+}
+
+/// `move_mesh` on an SU2 mesh already read with `read_su2_zone` (`deform su2` reads it once
+/// for its design variables): the same checks and run, no second read.
+pub(crate) fn move_loaded(
+    a: &MoveArgs,
+    quiet: bool,
+    loaded: (Su2Mesh, Option<ZonedSu2>),
+) -> Result<Outcome, CliError> {
+    checks::check_method(a, true)?;
+    checks::check_su2_args(a)?;
+    crate::files::check_su2_output(&a.mesh, &a.out)?;
+    move_su2_read(a, quiet, None, loaded)
+}
+
+/// `move_su2` after the read.
+fn move_su2_read(
+    a: &MoveArgs,
+    quiet: bool,
+    split: Option<&dyn Splitter>,
+    (mesh, zoned): (Su2Mesh, Option<ZonedSu2>),
+) -> Result<Outcome, CliError> {
     crate::guard::check_memory(
         &a.mesh,
         "deform move on this mesh",
