@@ -516,9 +516,15 @@ pub unsafe extern "C" fn dk_design_ffd_variable_f32(
 /// `DK_ERR_OVERFLOW`, length and pointer errors.
 ///
 /// # Safety
-/// `degree` points to 3 elements and `segment` to 6; `fixed_i` and `fixed_k` are valid for
-/// their lengths (NULL with length 0 for none); `control_points` is readable and writable for
-/// its length.
+/// - `degree`: 3 readable elements (`uint32_t`).
+/// - `control_points`: readable and writable for `control_points_len` elements (`double`).
+/// - `segment`: 6 readable elements (`double`).
+/// - `fixed_i`: readable for `fixed_i_len` elements (`uint32_t`).
+/// - `fixed_k`: readable for `fixed_k_len` elements (`uint32_t`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
 #[cfg_attr(feature = "export-symbols", no_mangle)]
 pub unsafe extern "C" fn dk_design_ffd_twist(
     degree: *const u32,

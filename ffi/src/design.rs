@@ -325,11 +325,6 @@ pub(crate) fn dk_design_ffd_variable<T: Real>(
 /// (nothing written): `DK_ERR_INVALID_PARAMETER` (bad degree, `ref_length ≤ 0`, a segment that
 /// does not cross the plane), `DK_ERR_INDEX_OUT_OF_RANGE` (`j`), `DK_ERR_NON_FINITE`,
 /// `DK_ERR_OVERFLOW`, length and pointer errors.
-///
-/// # Safety
-/// `degree` points to 3 elements and `segment` to 6; `fixed_i` and `fixed_k` are valid for
-/// their lengths (NULL with length 0 for none); `control_points` is readable and writable for
-/// its length.
 #[export(twin, degree[3], segment[6])]
 pub(crate) fn dk_design_ffd_twist<T: Real>(
     degree: In<'_, u32>,
