@@ -543,10 +543,8 @@ fn dense_jacobian_three_ways() {
     dense(&c3, &deformed(&c3, 0.5));
 }
 
-/// A rigid motion of the whole boundary (the body alone, no far field) deforms the mesh
-/// rigidly; the tangent along a further infinitesimal rotation `ω` and translation `τ` is
-/// `ω × (R − c) + τ` at every point.
-fn rigid<T: Real, const D: usize>(c: &Case<D>, tol: f64) -> f64 {
+/// The case without its far field: the body points, the body elements, the field points.
+fn body_only<const D: usize>(c: &Case<D>) -> Case<D> {
     let body = Case::<D> {
         points: c
             .points
@@ -578,6 +576,14 @@ fn rigid<T: Real, const D: usize>(c: &Case<D>, tol: f64) -> f64 {
         kinds: c.kinds[..ne].to_vec(),
         ..body
     };
+    body
+}
+
+/// A rigid motion of the whole boundary (the body alone, no far field) deforms the mesh
+/// rigidly; the tangent along a further infinitesimal rotation `ω` and translation `τ` is
+/// `ω × (R − c) + τ` at every point.
+fn rigid<T: Real, const D: usize>(c: &Case<D>, tol: f64) -> f64 {
+    let body = body_only(c);
     let q = if D == 2 {
         Quat::from_rotation_z(0.7)
     } else {
