@@ -570,13 +570,12 @@ fn body_only<const D: usize>(c: &Case<D>) -> Case<D> {
                 .all(|&v| (v as usize) < c.body)
         })
         .count();
-    let body = Case {
+    Case {
         offsets: c.offsets[..=ne].to_vec(),
         nodes: c.nodes[..c.offsets[ne] as usize].to_vec(),
         kinds: c.kinds[..ne].to_vec(),
         ..body
-    };
-    body
+    }
 }
 
 /// A rigid motion of the whole boundary (the body alone, no far field) deforms the mesh

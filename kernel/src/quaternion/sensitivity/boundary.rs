@@ -305,7 +305,8 @@ fn prep3<T: Real, const D: usize>(
         let n = scale(a, T::ONE / *l);
         store(w.nd, i, n);
         let nu: [T; 3] = load(w.nu, i);
-        if !(norm(add(nu, n)) >= T::EPSILON) {
+        let sum = norm(add(nu, n));
+        if !(sum.is_finite() && sum >= T::EPSILON) {
             return Err(Error::ZeroLength {
                 arg: "normal_sum",
                 position: i,
