@@ -1871,6 +1871,130 @@ dk_status dk_deform_propagate_spring_f32(const dk_spring_system_f32 *system,
                                          size_t rotations_len,
                                          dk_spring_solve_report *report);
 
+// Number of scalars the `scratch` of [`dk_deform_idw_tangent`] and [`dk_deform_idw_adjoint`]
+// needs for `node_count` mesh nodes and `boundary_len` boundary nodes in dimension `dim` (2
+// or 3): `max(node_count, 32 boundary_len)` (the kernel's
+// `deform_idw_sensitivity_scratch_len`). The same for both precisions. Errors:
+// `DK_ERR_INVALID_PARAMETER` (`dim` not 2 or 3).
+//
+// # Safety
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_deform_idw_sensitivity_scratch_len(size_t node_count,
+                                                size_t boundary_len,
+                                                uint32_t dim,
+                                                size_t *len_out);
+
+// Tangent of [`dk_deform_idw`](crate::deformation::dk_deform_idw): the first-order change
+// `out = δR` of every mesh point (`N * dim` scalars) for the change `direction = δd` of the
+// deformed boundary positions (`B * dim` scalars, in `motion->nodes` order), the undeformed
+// `points` held; boundary nodes get `δd` exactly. Held constant: the weights, the origin
+// (given, or the centroid of the undeformed moving points), rigid and per-node rotations.
+//
+// - `points`, `dim`, `motion`, `exponent`, `index_scratch`: as for `dk_deform_idw`.
+// - `scratch`: [`dk_deform_idw_sensitivity_scratch_len`] scalars.
+//
+// Errors: those of `dk_deform_idw`; `DK_ERR_NON_FINITE` for a non-finite `direction`;
+// `DK_ERR_ZERO_LENGTH` where (3D shape rotations) a point's undeformed and deformed normals
+// are antiparallel (no derivative). On error `out` is unchanged.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `motion`: one readable `dk_boundary_motion`.
+// - `direction`: readable for `direction_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_deform_idw_tangent(const double *points,
+                                size_t points_len,
+                                uint32_t dim,
+                                const dk_boundary_motion *motion,
+                                double exponent,
+                                const double *direction,
+                                size_t direction_len,
+                                double *scratch,
+                                size_t scratch_len,
+                                uint32_t *index_scratch,
+                                size_t index_scratch_len,
+                                double *out,
+                                size_t out_len);
+
+// `f32` twin of [`dk_deform_idw_tangent`].
+//
+// # Safety
+// As [`dk_deform_idw_tangent`].
+dk_status dk_deform_idw_tangent_f32(const float *points,
+                                    size_t points_len,
+                                    uint32_t dim,
+                                    const dk_boundary_motion_f32 *motion,
+                                    float exponent,
+                                    const float *direction,
+                                    size_t direction_len,
+                                    float *scratch,
+                                    size_t scratch_len,
+                                    uint32_t *index_scratch,
+                                    size_t index_scratch_len,
+                                    float *out,
+                                    size_t out_len);
+
+// Adjoint of [`dk_deform_idw`](crate::deformation::dk_deform_idw), the transpose of
+// [`dk_deform_idw_tangent`]: `out = (∂R/∂d)ᵀ w` (`B * dim` scalars, in `motion->nodes`
+// order) for `weights = w = dJ/dR` (`N * dim` scalars, e.g. a flow adjoint's volume
+// sensitivity): the sensitivity of `J` to the deformed boundary positions.
+//
+// Arguments and errors as for [`dk_deform_idw_tangent`], with `weights` (finite) in place of
+// `direction`. On error `out` is unchanged.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `motion`: one readable `dk_boundary_motion`.
+// - `weights`: readable for `weights_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_deform_idw_adjoint(const double *points,
+                                size_t points_len,
+                                uint32_t dim,
+                                const dk_boundary_motion *motion,
+                                double exponent,
+                                const double *weights,
+                                size_t weights_len,
+                                double *scratch,
+                                size_t scratch_len,
+                                uint32_t *index_scratch,
+                                size_t index_scratch_len,
+                                double *out,
+                                size_t out_len);
+
+// `f32` twin of [`dk_deform_idw_adjoint`].
+//
+// # Safety
+// As [`dk_deform_idw_adjoint`].
+dk_status dk_deform_idw_adjoint_f32(const float *points,
+                                    size_t points_len,
+                                    uint32_t dim,
+                                    const dk_boundary_motion_f32 *motion,
+                                    float exponent,
+                                    const float *weights,
+                                    size_t weights_len,
+                                    float *scratch,
+                                    size_t scratch_len,
+                                    uint32_t *index_scratch,
+                                    size_t index_scratch_len,
+                                    float *out,
+                                    size_t out_len);
+
 // SU2's Hicks–Henne bump `sin(π max(0,x)^e)^3`, `e = log10(0.5)/log10(x_max)` (0 where
 // `max(0,x) ≤ 1e-15`) into `*out`. Never fails except for a NULL `out`.
 //

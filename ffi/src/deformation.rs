@@ -160,7 +160,7 @@ fn write_optional<T: Real, const D: usize>(slot: Option<&mut [T]>, v: [T; D]) {
 
 /// The precision-independent view of a [`dk_boundary_motion`] or [`dk_boundary_motion_f32`].
 #[derive(Clone, Copy)]
-struct RawMotion<'a, T> {
+pub(crate) struct RawMotion<'a, T> {
     nodes: In<'a, u32>,
     deformed: In<'a, T>,
     elements: CellsIn<'a>,
@@ -173,7 +173,7 @@ struct RawMotion<'a, T> {
 }
 
 /// The two C motion structs, seen through [`RawMotion`].
-trait MotionC: Copy {
+pub(crate) trait MotionC: Copy {
     type T: Real;
     /// Reads the struct and wraps its arrays in tokens of the struct's lifetime.
     fn raw(p: In<'_, Self>) -> Result<RawMotion<'_, Self::T>, dk_status>;
@@ -220,7 +220,7 @@ impl<T: Real> MotionC for DkBoundaryMotion<T> {
 }
 
 /// Reads the caller's motion struct.
-fn read_raw<M: MotionC>(motion: In<'_, M>) -> Result<RawMotion<'_, M::T>, dk_status> {
+pub(crate) fn read_raw<M: MotionC>(motion: In<'_, M>) -> Result<RawMotion<'_, M::T>, dk_status> {
     M::raw(motion)
 }
 
@@ -239,7 +239,7 @@ impl<'a, T: Real> RawMotion<'a, T> {
 
     /// The kernel's view of the motion (indices rebased into `scratch`); returns the rest of
     /// `scratch`.
-    fn view<const D: usize>(
+    pub(crate) fn view<const D: usize>(
         &self,
         scratch: &'a mut [u32],
     ) -> Result<(BoundaryMotion<'a, T, D>, &'a mut [u32]), dk_status> {

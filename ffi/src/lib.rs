@@ -38,6 +38,8 @@ mod slice;
 
 #[path = "../generated/deformation.rs"]
 pub mod deformation;
+#[path = "../generated/deformation_sensitivity.rs"]
+pub mod deformation_sensitivity;
 #[path = "../generated/design.rs"]
 pub mod design;
 #[path = "../generated/elasticity.rs"]

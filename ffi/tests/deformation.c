@@ -322,6 +322,55 @@ static void SFX(check_rigid)(const REAL *p, const REAL *out, size_t n, int dim,
             }
 }
 
+/* Tangent and adjoint of the IDW deformation of the rigid motion m (dk_deform_idw_tangent,
+ * dk_deform_idw_adjoint): the deformation of a rigid motion is rigid, so the tangent along a
+ * further unit rotation about P2 is the rigid field (-(y - P2y), x - P2x) at the deformed
+ * points out; the adjoint is its transpose (dot-product test). */
+static void SFX(idw_sensitivities)(const REAL *p, const REAL *out,
+                                   const SFX(dk_boundary_motion) * m) {
+    static REAL scratch[WORK], dir[2 * B2], tan[2 * N2], w[2 * N2], back[2 * B2];
+    size_t i, len;
+    double jv_w = 0, v_jtw = 0, scale = 0;
+    OK(dk_deform_idw_sensitivity_scratch_len(N2, B2, 2, &len));
+    TRUE_(len == 32 * B2, "sensitivity scratch len = max(N, 32 B)");
+    for (i = 0; i < B2; i++) {
+        dir[2 * i] = -(m->deformed[2 * i + 1] - (REAL)P2[1]);
+        dir[2 * i + 1] = m->deformed[2 * i] - (REAL)P2[0];
+    }
+    OK(SFX(dk_deform_idw_tangent)(p, 2 * N2, 2, m, 3, dir, 2 * B2, scratch, len, NULL, 0, tan,
+                                  2 * N2));
+    for (i = 0; i < N2; i++) {
+        NEAR(tan[2 * i], -((double)out[2 * i + 1] - P2[1]), "idw tangent of a rigid rotation");
+        NEAR(tan[2 * i + 1], (double)out[2 * i] - P2[0], "idw tangent of a rigid rotation");
+    }
+    for (i = 0; i < 2 * N2; i++) w[i] = (REAL)sin(1.0 + 0.7 * (double)i);
+    OK(SFX(dk_deform_idw_adjoint)(p, 2 * N2, 2, m, 3, w, 2 * N2, scratch, len, NULL, 0, back,
+                                  2 * B2));
+    for (i = 0; i < 2 * N2; i++) {
+        jv_w += (double)tan[i] * (double)w[i];
+        scale += fabs((double)tan[i] * (double)w[i]);
+    }
+    for (i = 0; i < 2 * B2; i++) v_jtw += (double)dir[i] * (double)back[i];
+    NEAR(jv_w / scale, v_jtw / scale, "idw adjoint: <J v, w> = <v, J^T w>");
+    /* Bad input: nothing written. */
+    FILL(back, 2 * B2);
+    EXPECT(SFX(dk_deform_idw_adjoint)(p, 2 * N2, 2, m, 3, w, 2 * N2 - 1, scratch, len, NULL, 0,
+                                      back, 2 * B2),
+           DK_ERR_LENGTH_MISMATCH);
+    EXPECT(SFX(dk_deform_idw_adjoint)(p, 2 * N2, 2, m, 3, w, 2 * N2, scratch, B2, NULL, 0, back,
+                                      2 * B2),
+           DK_ERR_BUFFER_TOO_SMALL);
+    UNTOUCHED(back, 2 * B2);
+    FILL(tan, 2 * N2);
+    EXPECT(SFX(dk_deform_idw_tangent)(p, 2 * N2, 4, m, 3, dir, 2 * B2, scratch, len, NULL, 0,
+                                      tan, 2 * N2),
+           DK_ERR_INVALID_PARAMETER);
+    EXPECT(SFX(dk_deform_idw_tangent)(p, 2 * N2, 2, m, -1, dir, 2 * B2, scratch, len, NULL, 0,
+                                      tan, 2 * N2),
+           DK_ERR_INVALID_PARAMETER);
+    UNTOUCHED(tan, 2 * N2);
+}
+
 static void SFX(pipelines_rigid)(void) {
     static REAL p[2 * N2], out[2 * N2], t[2 * N2], r[4 * N2], scratch[WORK], values[WORK];
     static REAL def[2 * B2], nodeq[4 * B2], p3[3 * N3], out3[3 * N3], t3[3 * N3], r3[4 * N3];
@@ -365,6 +414,7 @@ static void SFX(pipelines_rigid)(void) {
     OK(SFX(dk_deform_idw)(p, 2 * N2, 2, &m, 3, scratch, len, NULL, 0, t, 2 * N2, r, 4 * N2, out,
                           2 * N2, origin, 2));
     SFX(check_rigid)(p, out, N2, 2, perimeter, def, B2, "idw, shape rotations");
+    SFX(idw_sensitivities)(p, out, &m);
 
     /* The same, 1-based. */
     for (i = 0; i < B2; i++) nodes1[i] = perimeter[i] + 1;

@@ -54,11 +54,12 @@
 
 mod idw_fast;
 mod localize;
-mod normals;
+pub(crate) mod normals;
 mod pipeline;
 mod propagate;
 mod reach;
 mod rotations;
+mod sensitivity;
 pub(crate) mod springs;
 mod tfi;
 mod update;
@@ -79,6 +80,7 @@ pub use rotations::{
     boundary_origin, boundary_rotations, boundary_rotations_scratch_len, boundary_translations,
     rigid_rotations,
 };
+pub use sensitivity::{deform_idw_adjoint, deform_idw_sensitivity_scratch_len, deform_idw_tangent};
 pub use springs::{
     propagate_spring, propagate_spring_scratch_len, propagate_spring_with,
     propagate_spring_with_scratch_len,

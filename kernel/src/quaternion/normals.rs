@@ -36,7 +36,7 @@ pub(crate) fn check_elements<const D: usize>(
 /// segment with tangent `t` (length = segment length), `(b − a) × (c − a)` for a triangle and
 /// `(c − a) × (d − b)` for a quadrilateral (both twice the area).
 #[inline]
-fn element_normal<T: Real, const D: usize>(
+pub(super) fn element_normal<T: Real, const D: usize>(
     points: Pts<'_, T, D>,
     kind: CellKind,
     nodes: &[u32],

@@ -64,10 +64,23 @@ fn validate<T: Real, const D: usize>(
 ) -> Result<()> {
     check::mesh_dim::<D>();
     let n = points.len();
-    let b = motion.nodes.len();
     check::len("translations", translations.len(), n)?;
     check::len("rotations", rotations.len(), n)?;
     check::len("out", out.len(), n)?;
+    validate_motion(points, motion, scratch, rot_scratch_needed)
+}
+
+/// The checks of [`validate`] on the points and the motion alone (also those of the
+/// sensitivities); leaves the same marks in `scratch[..N]`.
+pub(super) fn validate_motion<T: Real, const D: usize>(
+    points: &[[T; D]],
+    motion: &BoundaryMotion<'_, T, D>,
+    scratch: &mut [T],
+    rot_scratch_needed: usize,
+) -> Result<()> {
+    check::mesh_dim::<D>();
+    let n = points.len();
+    let b = motion.nodes.len();
     check::len("motion.deformed", motion.deformed.len(), b)?;
     if b == 0 {
         return Err(Error::InvalidParameter {
@@ -130,46 +143,17 @@ fn boundary_values<T: Real, const D: usize>(
     rotations: &mut [Quat<T>],
     scratch: &mut [T],
 ) -> Result<[T; D]> {
+    let origin = motion_origin(points, motion)?;
+    boundary_rotations_with(points, motion, origin, scratch, |k, q| {
+        if let Some(r) = motion
+            .nodes
+            .get(k)
+            .and_then(|&i| rotations.get_mut(i as usize))
+        {
+            *r = q;
+        }
+    })?;
     let u = Pts::mapped(points, motion.nodes);
-    let d = Pts::direct(motion.deformed);
-    let origin = match motion.origin {
-        Some(o) => o,
-        None => origin_core(u, d)?,
-    };
-    match (motion.rotations, motion.elements.as_ref()) {
-        (RotationSource::Shape, Some(elements)) => {
-            rotations_core(u, d, elements, scratch, |k, q| {
-                if let Some(r) = motion
-                    .nodes
-                    .get(k)
-                    .and_then(|&i| rotations.get_mut(i as usize))
-                {
-                    *r = q;
-                }
-            })?;
-        }
-        (RotationSource::Shape, None) => {
-            return Err(Error::InvalidParameter {
-                arg: "motion.elements",
-                reason: "is required for rotations from the boundary shape",
-            })
-        }
-        (RotationSource::Rigid(q), _) => {
-            let q = q.normalize()?;
-            for (k, &i) in motion.nodes.iter().enumerate() {
-                if let Some(r) = rotations.get_mut(i as usize) {
-                    *r = rigid_node_rotation(q, origin, u.get(k), d.get(k));
-                }
-            }
-        }
-        (RotationSource::PerNode(qs), _) => {
-            for (&i, &q) in motion.nodes.iter().zip(qs) {
-                if let Some(r) = rotations.get_mut(i as usize) {
-                    *r = q;
-                }
-            }
-        }
-    }
     for (k, (&i, &dk)) in motion.nodes.iter().zip(motion.deformed).enumerate() {
         let q = rotations
             .get(i as usize)
@@ -182,6 +166,54 @@ fn boundary_values<T: Real, const D: usize>(
         }
     }
     Ok(origin)
+}
+
+/// The origin of a validated motion: `motion.origin`, or [`origin_core`]'s default.
+pub(super) fn motion_origin<T: Real, const D: usize>(
+    points: &[[T; D]],
+    motion: &BoundaryMotion<'_, T, D>,
+) -> Result<[T; D]> {
+    match motion.origin {
+        Some(o) => Ok(o),
+        None => origin_core(
+            Pts::mapped(points, motion.nodes),
+            Pts::direct(motion.deformed),
+        ),
+    }
+}
+
+/// The boundary rotation of every boundary point `k` (from `motion.rotations`), handed to
+/// `put(k, Q_k)`; for the shape every rotation is computed before the first call.
+pub(super) fn boundary_rotations_with<T: Real, const D: usize>(
+    points: &[[T; D]],
+    motion: &BoundaryMotion<'_, T, D>,
+    origin: [T; D],
+    scratch: &mut [T],
+    mut put: impl FnMut(usize, Quat<T>),
+) -> Result<()> {
+    let u = Pts::mapped(points, motion.nodes);
+    let d = Pts::direct(motion.deformed);
+    match (motion.rotations, motion.elements.as_ref()) {
+        (RotationSource::Shape, Some(elements)) => rotations_core(u, d, elements, scratch, put)?,
+        (RotationSource::Shape, None) => {
+            return Err(Error::InvalidParameter {
+                arg: "motion.elements",
+                reason: "is required for rotations from the boundary shape",
+            })
+        }
+        (RotationSource::Rigid(q), _) => {
+            let q = q.normalize()?;
+            for k in 0..motion.nodes.len() {
+                put(k, rigid_node_rotation(q, origin, u.get(k), d.get(k)));
+            }
+        }
+        (RotationSource::PerNode(qs), _) => {
+            for (k, &q) in qs.iter().enumerate().take(motion.nodes.len()) {
+                put(k, q);
+            }
+        }
+    }
+    Ok(())
 }
 
 /// [`validate`] with the scratch the boundary rotations need: the checks [`deform_idw`],

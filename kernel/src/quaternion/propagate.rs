@@ -106,6 +106,107 @@ pub fn propagate_idw<T: Real, const D: usize>(
     Ok(())
 }
 
+/// What [`idw_point`] learns in its first pass over the boundary at one field point: the
+/// nearest boundary node and the distance scale of the weights.
+#[derive(Clone, Copy)]
+pub(super) struct IdwScan<T> {
+    /// Mesh node of the nearest boundary point (the first wins ties).
+    pub(super) nearest: u32,
+    /// Position of the nearest boundary point in `boundary`.
+    pub(super) nearest_pos: usize,
+    /// `true` when every squared distance is a normal number (or an exact zero): weights from
+    /// squared distances; `false`: from the robust distances.
+    plain: bool,
+    /// The smallest squared distance (`plain`) or robust distance (otherwise); zero when the
+    /// point coincides with a boundary point.
+    pub(super) dmin: T,
+}
+
+/// Distance / 4 without overflow or underflow (the quarter keeps `x − b` finite): the
+/// fallback when a squared distance leaves the normal range.
+#[inline]
+fn robust<T: Real, const D: usize>(x: [T; D], b: [T; D]) -> T {
+    let quarter = T::HALF * T::HALF;
+    norm_robust(sub(scale(x, quarter), scale(b, quarter)))
+}
+
+/// The first pass of [`idw_point`] at field point `x` (mesh node `i`); `None` when `i` is a
+/// boundary node.
+pub(super) fn idw_scan<T: Real, const D: usize>(
+    points: &[[T; D]],
+    boundary: &[u32],
+    i: usize,
+    x: [T; D],
+) -> Option<IdwScan<T>> {
+    let at = |i: u32| points.get(i as usize).copied().unwrap_or([T::ZERO; D]);
+    // Nearest boundary node (squared distances; the first wins ties); skip boundary nodes.
+    let mut d2min = T::INFINITY;
+    let mut nearest = 0u32;
+    let mut nearest_pos = 0usize;
+    let mut is_boundary = false;
+    let mut plain = true;
+    for (k, &b) in boundary.iter().enumerate() {
+        is_boundary |= b as usize == i;
+        let diff = sub(x, at(b));
+        let d2 = norm_sq(diff);
+        plain &= d2.is_finite() && (d2 >= T::MIN_POSITIVE || diff.iter().all(|&c| c == T::ZERO));
+        if d2 < d2min {
+            d2min = d2;
+            nearest = b;
+            nearest_pos = k;
+        }
+    }
+    if is_boundary {
+        return None;
+    }
+    // Squared distances overflowed or underflowed (points beyond ~1e154 or closer than
+    // ~1e-154 in f64): weigh by robust distances instead, `w = (h_min / h)^p`.
+    if !plain {
+        let mut hmin = T::INFINITY;
+        for (k, &b) in boundary.iter().enumerate() {
+            let h = robust(x, at(b));
+            if h < hmin {
+                hmin = h;
+                nearest = b;
+                nearest_pos = k;
+            }
+        }
+        d2min = hmin;
+    }
+    Some(IdwScan {
+        nearest,
+        nearest_pos,
+        plain,
+        dmin: d2min,
+    })
+}
+
+/// The weight `(d_min / d_b)^p` of boundary point `xb` at field point `x` (`scan.dmin > 0`).
+#[inline]
+pub(super) fn idw_weight<T: Real, const D: usize>(
+    scan: &IdwScan<T>,
+    exponent: T,
+    x: [T; D],
+    xb: [T; D],
+) -> T {
+    let half_p = exponent * T::HALF;
+    if scan.plain {
+        let ratio = scan.dmin / norm_sq(sub(x, xb));
+        if half_p == T::ONE {
+            ratio
+        } else {
+            ratio.powf(half_p)
+        }
+    } else {
+        let ratio = scan.dmin / robust(x, xb);
+        if half_p == T::ONE {
+            ratio * ratio
+        } else {
+            ratio.powf(exponent)
+        }
+    }
+}
+
 /// The exact inverse-distance value at one field point `x` (mesh node `i`), as
 /// [`propagate_idw`] computes it; `None` when `i` is a boundary node. Inputs are validated by
 /// the caller. Also the fast method's fallback for points whose squared distances leave the
@@ -119,43 +220,9 @@ pub(super) fn idw_point<T: Real, const D: usize>(
     i: usize,
     x: [T; D],
 ) -> Option<([T; D], Quat<T>)> {
-    let half_p = exponent * T::HALF;
+    let scan = idw_scan(points, boundary, i, x)?;
     let at = |i: u32| points.get(i as usize).copied().unwrap_or([T::ZERO; D]);
-    let quarter = T::HALF * T::HALF;
-    // Distance / 4 without overflow or underflow (the quarter keeps `x − b` finite): the
-    // fallback when a squared distance leaves the normal range.
-    let robust = |x: [T; D], b: [T; D]| norm_robust(sub(scale(x, quarter), scale(b, quarter)));
-    // Nearest boundary node (squared distances; the first wins ties); skip boundary nodes.
-    let mut d2min = T::INFINITY;
-    let mut nearest = 0u32;
-    let mut is_boundary = false;
-    let mut plain = true;
-    for &b in boundary {
-        is_boundary |= b as usize == i;
-        let diff = sub(x, at(b));
-        let d2 = norm_sq(diff);
-        plain &= d2.is_finite() && (d2 >= T::MIN_POSITIVE || diff.iter().all(|&c| c == T::ZERO));
-        if d2 < d2min {
-            d2min = d2;
-            nearest = b;
-        }
-    }
-    if is_boundary {
-        return None;
-    }
-    // Squared distances overflowed or underflowed (points beyond ~1e154 or closer than
-    // ~1e-154 in f64): weigh by robust distances instead, `w = (h_min / h)^p`.
-    let mut hmin = T::INFINITY;
-    if !plain {
-        for &b in boundary {
-            let h = robust(x, at(b));
-            if h < hmin {
-                hmin = h;
-                nearest = b;
-            }
-        }
-        d2min = hmin;
-    }
+    let nearest = scan.nearest;
     let tn = translations
         .get(nearest as usize)
         .copied()
@@ -164,26 +231,12 @@ pub(super) fn idw_point<T: Real, const D: usize>(
         .get(nearest as usize)
         .copied()
         .unwrap_or(Quat::identity());
-    if d2min > T::ZERO {
+    if scan.dmin > T::ZERO {
         let mut sum = [T::ZERO; D];
         let mut wsum = T::ZERO;
         let mut qavg = QuatAverage::with_reference(qn);
         for &b in boundary {
-            let w = if plain {
-                let ratio = d2min / norm_sq(sub(x, at(b)));
-                if half_p == T::ONE {
-                    ratio
-                } else {
-                    ratio.powf(half_p)
-                }
-            } else {
-                let ratio = hmin / robust(x, at(b));
-                if half_p == T::ONE {
-                    ratio * ratio
-                } else {
-                    ratio.powf(exponent)
-                }
-            };
+            let w = idw_weight(&scan, exponent, x, at(b));
             let bt = translations.get(b as usize).copied().unwrap_or(tn);
             for (s, c) in sum.iter_mut().zip(bt) {
                 *s += w * c;

@@ -1,0 +1,149 @@
+//! Sensitivities of the quaternion deformation with inverse-distance propagation
+//! (`dk_deform_idw`): the tangent `dk_deform_idw_tangent` (`δR = (∂R/∂d) δd`) and the adjoint
+//! `dk_deform_idw_adjoint` (`d̄ = (∂R/∂d)ᵀ w`, the boundary sensitivity `dJ/dd` from a volume
+//! sensitivity `w = dJ/dR`), the kernel's `deform_idw_tangent` / `deform_idw_adjoint`. The
+//! motion travels in the same [`dk_boundary_motion`](crate::deformation::dk_boundary_motion)
+//! as for the deformation, with the same index rules; see docs/sensitivities-quaternion.md
+//! for the derivation.
+
+use deform_kernel::quaternion::{
+    deform_idw_adjoint, deform_idw_sensitivity_scratch_len, deform_idw_tangent,
+};
+use deform_kernel::Real;
+use deform_kernel_ffi_export::export;
+
+use crate::args::{by_dim, done, read_points, write_len};
+use crate::deformation::{read_raw, DkBoundaryMotion, MotionC};
+use crate::slice::{chunks, chunks_mut, output, In, Out};
+use crate::status::dk_status;
+
+/// The two modes of [`sensitivity_for_dim`].
+#[derive(Clone, Copy)]
+enum Mode {
+    Tangent,
+    Adjoint,
+}
+
+/// Reads the arguments and runs one mode in dimension `D`.
+#[allow(clippy::too_many_arguments)]
+fn sensitivity_for_dim<M: MotionC, const D: usize>(
+    mode: Mode,
+    points: In<'_, M::T>,
+    motion: In<'_, M>,
+    exponent: M::T,
+    input: In<'_, M::T>,
+    scratch: Out<'_, M::T>,
+    index_scratch: Out<'_, u32>,
+    out: Out<'_, M::T>,
+) -> Result<(), dk_status> {
+    let raw = read_raw(motion)?;
+    let points = read_points::<M::T, D>(points)?;
+    let input = chunks::<M::T, D>(input)?;
+    let scratch = output(scratch)?;
+    let index_scratch = output(index_scratch)?;
+    let out = chunks_mut::<M::T, D>(out)?;
+    let (motion, _) = raw.view::<D>(index_scratch)?;
+    match mode {
+        Mode::Tangent => deform_idw_tangent(points, &motion, exponent, input, scratch, out),
+        Mode::Adjoint => deform_idw_adjoint(points, &motion, exponent, input, scratch, out),
+    }
+    .map_err(dk_status::from)
+}
+
+/// Number of scalars the `scratch` of [`dk_deform_idw_tangent`] and [`dk_deform_idw_adjoint`]
+/// needs for `node_count` mesh nodes and `boundary_len` boundary nodes in dimension `dim` (2
+/// or 3): `max(node_count, 32 boundary_len)` (the kernel's
+/// `deform_idw_sensitivity_scratch_len`). The same for both precisions. Errors:
+/// `DK_ERR_INVALID_PARAMETER` (`dim` not 2 or 3).
+#[export(len_out[1])]
+pub(crate) fn dk_deform_idw_sensitivity_scratch_len(
+    node_count: usize,
+    boundary_len: usize,
+    dim: u32,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done(match dim {
+        2 => write_len(
+            len_out,
+            deform_idw_sensitivity_scratch_len::<2>(node_count, boundary_len),
+        ),
+        3 => write_len(
+            len_out,
+            deform_idw_sensitivity_scratch_len::<3>(node_count, boundary_len),
+        ),
+        _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
+    })
+}
+
+/// Tangent of [`dk_deform_idw`](crate::deformation::dk_deform_idw): the first-order change
+/// `out = δR` of every mesh point (`N * dim` scalars) for the change `direction = δd` of the
+/// deformed boundary positions (`B * dim` scalars, in `motion->nodes` order), the undeformed
+/// `points` held; boundary nodes get `δd` exactly. Held constant: the weights, the origin
+/// (given, or the centroid of the undeformed moving points), rigid and per-node rotations.
+///
+/// - `points`, `dim`, `motion`, `exponent`, `index_scratch`: as for `dk_deform_idw`.
+/// - `scratch`: [`dk_deform_idw_sensitivity_scratch_len`] scalars.
+///
+/// Errors: those of `dk_deform_idw`; `DK_ERR_NON_FINITE` for a non-finite `direction`;
+/// `DK_ERR_ZERO_LENGTH` where (3D shape rotations) a point's undeformed and deformed normals
+/// are antiparallel (no derivative). On error `out` is unchanged.
+#[export(twin, motion[1])]
+pub(crate) fn dk_deform_idw_tangent<T: Real>(
+    points: In<'_, T>,
+    dim: u32,
+    motion: In<'_, DkBoundaryMotion<T>>,
+    exponent: T,
+    direction: In<'_, T>,
+    scratch: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    out: Out<'_, T>,
+) -> dk_status {
+    done(by_dim!(
+        dim,
+        sensitivity_for_dim::<DkBoundaryMotion<T>>,
+        (
+            Mode::Tangent,
+            points,
+            motion,
+            exponent,
+            direction,
+            scratch,
+            index_scratch,
+            out
+        )
+    ))
+}
+
+/// Adjoint of [`dk_deform_idw`](crate::deformation::dk_deform_idw), the transpose of
+/// [`dk_deform_idw_tangent`]: `out = (∂R/∂d)ᵀ w` (`B * dim` scalars, in `motion->nodes`
+/// order) for `weights = w = dJ/dR` (`N * dim` scalars, e.g. a flow adjoint's volume
+/// sensitivity): the sensitivity of `J` to the deformed boundary positions.
+///
+/// Arguments and errors as for [`dk_deform_idw_tangent`], with `weights` (finite) in place of
+/// `direction`. On error `out` is unchanged.
+#[export(twin, motion[1])]
+pub(crate) fn dk_deform_idw_adjoint<T: Real>(
+    points: In<'_, T>,
+    dim: u32,
+    motion: In<'_, DkBoundaryMotion<T>>,
+    exponent: T,
+    weights: In<'_, T>,
+    scratch: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    out: Out<'_, T>,
+) -> dk_status {
+    done(by_dim!(
+        dim,
+        sensitivity_for_dim::<DkBoundaryMotion<T>>,
+        (
+            Mode::Adjoint,
+            points,
+            motion,
+            exponent,
+            weights,
+            scratch,
+            index_scratch,
+            out
+        )
+    ))
+}
