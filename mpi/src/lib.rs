@@ -8,6 +8,10 @@
 
 use std::ops::Range;
 
+mod exchange;
+pub mod local;
+pub use exchange::MpiExchange;
+
 use deform_kernel::exact_sum::{ExactSum, EXACT_SUM_WORDS};
 use deform_kernel::spring::Collective;
 use mpi::collective::SystemOperation;

@@ -295,9 +295,17 @@ fn bench<C: Communicator>(world: &C) {
     }
 }
 
+mod partitioned_check;
+
 fn main() {
     let universe = mpi::initialize().expect("MPI init");
     let world = universe.world();
+    if std::env::args().any(|a| a == "--partitioned") {
+        if !partitioned_check::run(&world) {
+            std::process::exit(1);
+        }
+        return;
+    }
     if std::env::args().any(|a| a == "--bench") {
         bench(&world);
         return;
