@@ -9,7 +9,6 @@
 use std::ops::Range;
 
 mod exchange;
-pub mod local;
 pub use exchange::MpiExchange;
 
 use deform_kernel::exact_sum::{ExactSum, EXACT_SUM_WORDS};

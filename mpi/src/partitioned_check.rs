@@ -17,8 +17,8 @@ use deform_kernel::spring::{
     SolveReport, SpringSystem,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph};
+use deform_meshgen::partition::{local_view, owner_of, random_owner, LocalView};
 use deform_meshgen::{extrude, naca_triangulated, AirfoilGrid, Mesh};
-use deform_mpi::local::{local_view, owner_of, random_owner, LocalView};
 use deform_mpi::{rcb, MpiExchange};
 use mpi::collective::SystemOperation;
 use mpi::traits::*;

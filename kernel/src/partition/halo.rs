@@ -173,7 +173,10 @@ impl<'p, 'a, E: ?Sized> HaloCollective<'p, 'a, E> {
     /// The collective over `owned` rows, `halo` and `exchange`.
     pub(crate) fn new(owned: usize, halo: &'p Halo<'a>, exchange: &'p E) -> Self {
         HaloCollective {
-            owned: [0..owned],
+            owned: [Range {
+                start: 0,
+                end: owned,
+            }],
             halo,
             exchange,
         }

@@ -65,9 +65,10 @@ impl<'a, T: Real> PartitionedSprings<'a, T> {
     /// **Collective** (one `sum_words`): every process returns `Ok`, or every one `Err`.
     ///
     /// Checked across processes (as hashes that cancel, in the same reduction): every edge of
-    /// an owned row is seen from both ends with the same stiffness and fixed flags, so a
-    /// missing cell at a partition boundary, or a ghost whose coordinates or mask differ from
-    /// its owner's, is found. Whether every free node reaches a fixed one (serial
+    /// an owned row is seen from both ends with the same stiffness and fixed flags, so an
+    /// owned row that misses an edge (a cell missing at a partition boundary, unless other
+    /// local cells have its edges), or a ghost whose coordinates or mask differ from its
+    /// owner's, is found. Whether every free node reaches a fixed one (serial
     /// [`SpringSystem::new`]'s check) is global and not checked; CG reports a singular system.
     ///
     /// # Errors

@@ -1,10 +1,11 @@
-//! One process's view of a partitioned mesh, cut from a whole mesh the process read itself
-//! (as a solver's example program would): owned nodes first, then ghost layers, in a
+//! Partitioned views for the kernel's distributed-storage tests: one process's view of a
+//! partitioned mesh, cut from a whole mesh the process read itself (as a solver's example
+//! program would): owned nodes first, then ghost layers, in a
 //! shuffled local numbering with global ids, the cells that touch the owned nodes (and, for
 //! deeper ghost layers, the cells that reach them), and the communication pattern. The view
 //! holds local arrays only; the whole-mesh arrays used to cut it are dropped with the call.
 
-use deform_meshgen::Mesh;
+use crate::Mesh;
 
 /// What one process passes to the kernel's partitioned solves.
 #[derive(Clone, Debug, Default)]
@@ -52,7 +53,7 @@ pub fn random_owner(n: usize, parts: usize, seed: u64) -> Vec<u32> {
         .collect()
 }
 
-/// The owner of every node from [`rcb`](crate::rcb)'s node lists.
+/// The owner of every node from per-rank node lists (as `deform_mpi::rcb` returns).
 pub fn owner_of(parts: &[Vec<u32>], n: usize) -> Vec<u32> {
     let mut owner = vec![0u32; n];
     for (r, p) in parts.iter().enumerate() {
