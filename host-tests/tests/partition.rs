@@ -8,13 +8,12 @@ use std::collections::HashMap;
 use std::sync::{Barrier, Mutex};
 
 use deform_kernel::error::{Error, PartitionFault};
-use deform_kernel::partition::{Exchange, Halo, Partition};
+use deform_kernel::partition::{Exchange, Halo};
 use deform_kernel::spring::{
-    batina_stiffness, partitioned_cg_scratch_len, partitioned_targets_len,
-    solve_linear_scratch_len, LinearMethod, PartitionedSprings, Preconditioner, SolveOptions,
-    SolveReport, SpringSystem,
+    batina_stiffness, partitioned_cg_scratch_len, solve_linear_scratch_len, LinearMethod,
+    Preconditioner, SolveOptions, SolveReport, SpringSystem,
 };
-use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph};
+use deform_kernel::{graph_from_cells, graph_from_cells_len, Graph};
 use deform_meshgen::partition::{local_view, random_owner, LocalView};
 use deform_meshgen::{naca_triangulated, AirfoilGrid, Mesh};
 
@@ -160,40 +159,6 @@ fn serial(mesh: &Mesh<2>, fixed: &[u8]) -> (Vec<[f64; 2]>, SolveReport<f64>) {
     (x, r)
 }
 
-/// Partition, rows and CG + Jacobi on one view; `values` as long as the view.
-fn solve(
-    v: &LocalView<2>,
-    owned: usize,
-    size: u32,
-    rank: u32,
-    values: &mut [[f64; 2]],
-    pre: Preconditioner<f64>,
-    scratch_len: usize,
-    ex: &Threads<'_>,
-) -> Result<SolveReport<f64>, Error> {
-    let n = v.global_ids.len();
-    let halo = Halo::new(&v.ranks, &v.send_offsets, &v.send, &v.recv_offsets, &v.recv)?;
-    let mut s = vec![0u32; Partition::scratch_len(n)];
-    let part = Partition::new(
-        rank,
-        size,
-        owned,
-        &v.global_ids,
-        v.global_count,
-        halo,
-        ex,
-        &mut s,
-    )?;
-    let cells = Cells::new(n, &v.cell_offsets, &v.cell_nodes, &v.cell_kinds)?;
-    let len = partitioned_targets_len(&cells, false);
-    let (mut o, mut t, mut k) = (vec![0u32; n + 1], vec![0u32; len], vec![0.0; len]);
-    let springs = PartitionedSprings::new(
-        part, &cells, false, &v.points, 1.0, &v.fixed, &mut o, &mut t, &mut k, ex,
-    )?;
-    let mut scratch = vec![[0.0; 2]; scratch_len];
-    springs.solve_cg(values, pre, &options(), &mut scratch, ex)
-}
-
 /// The view's starting values: owned from `x0`, ghosts garbage (taken from their owners).
 fn local_start(v: &LocalView<2>, x0: &[[f64; 2]]) -> Vec<[f64; 2]> {
     let mut x: Vec<[f64; 2]> = v.global_ids.iter().map(|&g| x0[g as usize]).collect();
@@ -215,19 +180,11 @@ fn partitioned_cg_gives_the_serial_bits() {
         ] {
             for depth in [1, 2] {
                 let results = on_threads(size, |rank, ex| {
-                    let v = local_view(&mesh, &fixed, &owner, rank, depth, 5);
+                    let v = local_view(&mesh, &fixed, &owner, (rank, size as u32), depth, 5);
                     let mut values = local_start(&v, &x0);
                     let len = partitioned_cg_scratch_len::<2>(v.global_ids.len());
-                    let r = solve(
-                        &v,
-                        v.owned,
-                        size as u32,
-                        rank,
-                        &mut values,
-                        Preconditioner::Jacobi,
-                        len,
-                        ex,
-                    );
+                    let pre = Preconditioner::Jacobi;
+                    let r = v.solve_cg(v.owned, &mut values, pre, &options(), len, ex);
                     (v.global_ids, values, r)
                 });
                 for (rank, (ids, values, r)) in results.into_iter().enumerate() {
@@ -249,6 +206,9 @@ fn partitioned_cg_gives_the_serial_bits() {
     }
 }
 
+/// Spoils one thread's view (and owned count).
+type Spoil = Box<dyn Fn(&mut LocalView<2>, &mut usize) + Sync>;
+
 /// Every thread's error when thread `culprit`'s view is spoiled by `spoil`.
 fn errors_with(
     culprit: u32,
@@ -262,7 +222,7 @@ fn errors_with(
     let n = mesh.node_count();
     let owner: Vec<u32> = (0..n).map(|g| (g * 3 / n) as u32).collect();
     on_threads(3, |rank, ex| {
-        let mut v = local_view(&mesh, &fixed, &owner, rank, 1, 5);
+        let mut v = local_view(&mesh, &fixed, &owner, (rank, 3), 1, 5);
         let mut owned = v.owned;
         let mut len = partitioned_cg_scratch_len::<2>(v.global_ids.len());
         if rank == culprit {
@@ -271,7 +231,9 @@ fn errors_with(
         }
         let mut values = local_start(&v, &x0);
         let before = values.clone();
-        let e = solve(&v, owned, 3, rank, &mut values, pre, len, ex).err();
+        let e = v
+            .solve_cg(owned, &mut values, pre, &options(), len, ex)
+            .err();
         (e, values == before)
     })
 }
@@ -288,11 +250,7 @@ fn fault(e: &Option<Error>) -> Option<PartitionFault> {
 fn a_bad_partition_fails_on_every_thread() {
     use PartitionFault::*;
     let unspoiled = |_: &mut LocalView<2>, _: &mut usize| {};
-    let cases: [(
-        &str,
-        Box<dyn Fn(&mut LocalView<2>, &mut usize) + Sync>,
-        [PartitionFault; 3],
-    ); 5] = [
+    let cases: [(&str, Spoil, [PartitionFault; 3]); 5] = [
         (
             "no owned node",
             Box::new(|_, o| *o = 0),

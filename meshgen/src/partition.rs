@@ -6,10 +6,19 @@
 //! holds local arrays only; the whole-mesh arrays used to cut it are dropped with the call.
 
 use crate::Mesh;
+use deform_kernel::partition::{Exchange, Halo, Partition};
+use deform_kernel::spring::{
+    partitioned_targets_len, PartitionedSprings, Preconditioner, SolveOptions, SolveReport,
+};
+use deform_kernel::Cells;
 
 /// What one process passes to the kernel's partitioned solves.
 #[derive(Clone, Debug, Default)]
 pub struct LocalView<const D: usize> {
+    /// This process's rank.
+    pub rank: u32,
+    /// Number of processes.
+    pub size: u32,
     /// Nodes over all processes.
     pub global_count: u64,
     /// Local nodes `0..owned` are owned.
@@ -122,18 +131,17 @@ fn shuffle(v: &mut [usize], seed: u64) {
     }
 }
 
-/// `rank`'s view of `mesh` partitioned by `owner`, with `depth` ghost layers, owned and ghost
-/// nodes each in a shuffled local order (`seed`).
+/// `rank`'s view (of `size` ranks) of `mesh` partitioned by `owner`, with `depth` ghost
+/// layers, owned and ghost nodes each in a shuffled local order (`seed`).
 pub fn local_view<const D: usize>(
     mesh: &Mesh<D>,
     fixed: &[u8],
     owner: &[u32],
-    rank: u32,
+    (rank, size): (u32, u32),
     depth: usize,
     seed: u64,
 ) -> LocalView<D> {
     let n = mesh.node_count();
-    let size = owner.iter().copied().max().unwrap_or(0) + 1;
     let inc = incidence(mesh);
     let mine = layers(mesh, &inc, owner, rank, depth);
     let mut owned: Vec<usize> = (0..n).filter(|&g| mine[g] == 0).collect();
@@ -147,6 +155,8 @@ pub fn local_view<const D: usize>(
         local[g] = l as u32;
     }
     let mut v = LocalView {
+        rank,
+        size,
         global_count: n as u64,
         owned: owned.len(),
         ..LocalView::default()
@@ -192,4 +202,44 @@ pub fn local_view<const D: usize>(
         }
     }
     v
+}
+
+impl<const D: usize> LocalView<D> {
+    /// The kernel calls a partitioned solver makes, in order, each collective over `ex`:
+    /// the pattern and [`Partition::new`] (with `owned` owned nodes: the view's, or a wrong
+    /// count in a test), the local cells and [`PartitionedSprings::new`] (Batina, `p = 1`),
+    /// then [`PartitionedSprings::solve_cg`] with `scratch_len` items of scratch.
+    ///
+    /// # Errors
+    /// Those of the kernel calls.
+    pub fn solve_cg<E: Exchange<f64> + ?Sized>(
+        &self,
+        owned: usize,
+        values: &mut [[f64; D]],
+        pre: Preconditioner<f64>,
+        options: &SolveOptions<f64>,
+        scratch_len: usize,
+        ex: &E,
+    ) -> deform_kernel::Result<SolveReport<f64>> {
+        let n = self.global_ids.len();
+        let halo = Halo::new(
+            &self.ranks,
+            &self.send_offsets,
+            &self.send,
+            &self.recv_offsets,
+            &self.recv,
+        )?;
+        let mut s = vec![0u32; Partition::scratch_len(n)];
+        let (ids, count) = (&self.global_ids[..], self.global_count);
+        let part = Partition::new(self.rank, self.size, owned, ids, count, halo, ex, &mut s)?;
+        let cells = Cells::new(n, &self.cell_offsets, &self.cell_nodes, &self.cell_kinds)?;
+        let len = partitioned_targets_len(&cells, false);
+        let (mut o, mut t, mut k) = (vec![0u32; n + 1], vec![0u32; len], vec![0.0; len]);
+        let (points, fixed) = (&self.points[..], &self.fixed[..]);
+        let springs = PartitionedSprings::new(
+            part, &cells, false, points, 1.0, fixed, &mut o, &mut t, &mut k, ex,
+        )?;
+        let mut scratch = vec![[0.0; D]; scratch_len];
+        springs.solve_cg(values, pre, options, &mut scratch, ex)
+    }
 }

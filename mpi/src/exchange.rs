@@ -5,7 +5,7 @@
 //! one nonblocking receive per neighbour (`MPI_Isend`/`MPI_Irecv`, then wait for all): only
 //! the ghosts travel, never a whole vector.
 
-use deform_kernel::exact_sum::{ExactSum, EXACT_SUM_WORDS};
+use deform_kernel::exact_sum::ExactSum;
 use deform_kernel::partition::{Exchange, Halo};
 use mpi::collective::SystemOperation;
 use mpi::traits::*;
@@ -67,21 +67,7 @@ impl<C: Communicator> Exchange<f64> for MpiExchange<'_, C> {
 
     /// All sums in one `MPI_Allreduce`.
     fn sum_exact(&self, groups: &mut [&mut [ExactSum]]) {
-        let mut words: Vec<i64> = groups
-            .iter()
-            .flat_map(|g| g.iter())
-            .flat_map(|s| s.to_words())
-            .collect();
-        self.sum_words(&mut words);
-        for (s, w) in groups
-            .iter_mut()
-            .flat_map(|g| g.iter_mut())
-            .zip(words.chunks_exact(EXACT_SUM_WORDS))
-        {
-            let mut a = [0i64; EXACT_SUM_WORDS];
-            a.copy_from_slice(w);
-            *s = ExactSum::from_words(a);
-        }
+        crate::whole::sum_exact_packed(groups, |w| self.sum_words(w));
     }
 
     fn exchange(&self, halo: &Halo<'_>, field: &mut [f64], width: usize) {

@@ -10,16 +10,13 @@
 //! view alone.
 
 use deform_kernel::error::{Error, PartitionFault};
-use deform_kernel::partition::{Halo, Partition};
 use deform_kernel::spring::{
-    batina_stiffness, partitioned_cg_scratch_len, partitioned_targets_len,
-    solve_linear_scratch_len, LinearMethod, PartitionedSprings, Preconditioner, SolveOptions,
-    SolveReport, SpringSystem,
+    partitioned_cg_scratch_len, solve_linear_scratch_len, LinearMethod, Preconditioner,
+    SolveOptions, SolveReport,
 };
-use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph};
 use deform_meshgen::partition::{local_view, owner_of, random_owner, LocalView};
 use deform_meshgen::{extrude, naca_triangulated, AirfoilGrid, Mesh};
-use deform_mpi::{rcb, MpiExchange};
+use deform_mpi::{boundary_values, rcb, MpiExchange, WholeSprings};
 use mpi::collective::SystemOperation;
 use mpi::traits::*;
 
@@ -32,43 +29,15 @@ fn options() -> SolveOptions<f64> {
     }
 }
 
-/// The boundary displacement of the existing checks: a rotation plus a shear.
-fn boundary_values<const D: usize>(mesh: &Mesh<D>, fixed: &[u8]) -> Vec<[f64; D]> {
-    mesh.points
-        .iter()
-        .zip(fixed)
-        .map(|(p, &f)| {
-            let mut d = [0.0; D];
-            if f != 0 {
-                d[0] = -0.05 * p[1] + 0.01 * p[0] * p[1];
-                d[1] = 0.05 * p[0];
-                if D == 3 {
-                    d[D - 1] = 0.02 * p[0];
-                }
-            }
-            d
-        })
-        .collect()
-}
-
 /// The serial CG + Jacobi solve on the whole mesh.
-fn serial<const D: usize>(mesh: &Mesh<D>, fixed: &[u8]) -> (Vec<[f64; D]>, SolveReport<f64>) {
-    let n = mesh.node_count();
-    let cells = mesh.cells().expect("cells");
-    let mut offsets = vec![0u32; n + 1];
-    let mut targets = vec![0u32; graph_from_cells_len(&cells, false)];
-    let used = graph_from_cells(&cells, false, &mut offsets, &mut targets).expect("graph");
-    targets.truncate(used);
-    let g = Graph::new(&offsets, &targets).expect("graph");
-    let mut k = vec![0.0f64; g.edge_count()];
-    batina_stiffness(&g, &mesh.points, 1.0, &mut k).expect("stiffness");
-    let mut scratch = vec![0u32; n];
-    let sys = SpringSystem::new(g, &k, fixed, &mut scratch).expect("system");
+fn serial<const D: usize>(mesh: &Mesh<D>) -> (Vec<[f64; D]>, SolveReport<f64>) {
+    let whole = WholeSprings::new(mesh);
+    let sys = whole.system();
     let method = LinearMethod::Cg {
         preconditioner: Preconditioner::Jacobi,
     };
-    let mut x = boundary_values(mesh, fixed);
-    let mut s = vec![[0.0; D]; solve_linear_scratch_len(&method, n)];
+    let mut x = boundary_values(mesh, &whole.fixed);
+    let mut s = vec![[0.0; D]; solve_linear_scratch_len(&method, mesh.node_count())];
     let r = sys
         .solve_linear(&mut x, method, &options(), &mut s)
         .expect("serial solve");
@@ -78,9 +47,9 @@ fn serial<const D: usize>(mesh: &Mesh<D>, fixed: &[u8]) -> (Vec<[f64; D]>, Solve
 /// What a bad-input case changes in one rank's view before the calls.
 type Spoil<const D: usize> = fn(&mut LocalView<D>, &mut usize);
 
-/// The partitioned solve on a local view: partition, rows, CG + Jacobi. `values` holds the
-/// owned values (ghosts anything). Returns the report and the bytes this rank sent during the
-/// solve (halo, reductions).
+/// The partitioned solve on a local view (partition, rows, CG + Jacobi). `values` holds the
+/// owned values (ghosts anything). Returns the report and the bytes this rank sent (halo,
+/// reductions).
 fn partitioned<const D: usize, C: Communicator>(
     world: &C,
     v: &LocalView<D>,
@@ -88,40 +57,9 @@ fn partitioned<const D: usize, C: Communicator>(
     values: &mut [[f64; D]],
 ) -> Result<(SolveReport<f64>, (u64, u64)), Error> {
     let ex = MpiExchange::new(world);
-    let n = v.global_ids.len();
-    let halo = Halo::new(&v.ranks, &v.send_offsets, &v.send, &v.recv_offsets, &v.recv)?;
-    let mut scratch = vec![0u32; Partition::scratch_len(n)];
-    let (rank, size) = (world.rank() as u32, world.size() as u32);
-    let part = Partition::new(
-        rank,
-        size,
-        owned,
-        &v.global_ids,
-        v.global_count,
-        halo,
-        &ex,
-        &mut scratch,
-    )?;
-    let cells = Cells::new(n, &v.cell_offsets, &v.cell_nodes, &v.cell_kinds)?;
-    let len = partitioned_targets_len(&cells, false);
-    let (mut offsets, mut targets, mut k) = (vec![0u32; n + 1], vec![0u32; len], vec![0.0; len]);
-    let springs = PartitionedSprings::new(
-        part,
-        &cells,
-        false,
-        &v.points,
-        1.0,
-        &v.fixed,
-        &mut offsets,
-        &mut targets,
-        &mut k,
-        &ex,
-    )?;
-    let mut s = vec![[0.0; D]; partitioned_cg_scratch_len::<D>(n)];
-    let before = ex.bytes();
-    let r = springs.solve_cg(values, Preconditioner::Jacobi, &options(), &mut s, &ex)?;
-    let after = ex.bytes();
-    Ok((r, (after.0 - before.0, after.1 - before.1)))
+    let len = partitioned_cg_scratch_len::<D>(v.global_ids.len());
+    let r = v.solve_cg(owned, values, Preconditioner::Jacobi, &options(), len, &ex)?;
+    Ok((r, ex.bytes()))
 }
 
 /// `true` on every rank when `mine` holds on every rank.
@@ -135,7 +73,7 @@ fn all<C: Communicator>(world: &C, mine: bool) -> bool {
 fn mesh_cases<const D: usize, C: Communicator>(world: &C, name: &str, mesh: &Mesh<D>) -> bool {
     let (rank, size) = (world.rank() as u32, world.size() as usize);
     let fixed = mesh.boundary_mask();
-    let (x, sr) = serial(mesh, &fixed);
+    let (x, sr) = serial(mesh);
     let x0 = boundary_values(mesh, &fixed);
     let n = mesh.node_count();
     let mut ok = true;
@@ -144,7 +82,14 @@ fn mesh_cases<const D: usize, C: Communicator>(world: &C, name: &str, mesh: &Mes
         ("random", random_owner(n, size, 0x5eed)),
     ] {
         for depth in [1, 2] {
-            let view = local_view(mesh, &fixed, &owner, rank, depth, 0xc0ffee + depth as u64);
+            let view = local_view(
+                mesh,
+                &fixed,
+                &owner,
+                (rank, size as u32),
+                depth,
+                0xc0ffee + depth as u64,
+            );
             // Keep the serial values of the local nodes only; ghosts start as garbage.
             let expected: Vec<[f64; D]> = view.global_ids.iter().map(|&g| x[g as usize]).collect();
             let mut values: Vec<[f64; D]> = view
@@ -246,7 +191,7 @@ fn bad_inputs<C: Communicator>(world: &C, mesh: &Mesh<2>) -> bool {
     let fixed = mesh.boundary_mask();
     let n = mesh.node_count();
     let owner = owner_of(&rcb(&mesh.points, size), n);
-    let view = local_view(mesh, &fixed, &owner, rank, 1, 7);
+    let view = local_view(mesh, &fixed, &owner, (rank, size as u32), 1, 7);
     let last = (size - 1) as u32;
     let cases: [(&str, u32, Spoil<2>, PartitionFault, PartitionFault); 6] = [
         (
