@@ -267,12 +267,6 @@ mod partitioned_check;
 fn main() {
     let universe = mpi::initialize().expect("MPI init");
     let world = universe.world();
-    if std::env::args().any(|a| a == "--partitioned") {
-        if !partitioned_check::run(&world) {
-            std::process::exit(1);
-        }
-        return;
-    }
     if std::env::args().any(|a| a == "--bench") {
         bench(&world);
         return;
@@ -284,9 +278,14 @@ fn main() {
     };
     let mesh2 = naca_triangulated(&grid).expect("2D mesh");
     let mesh3 = extrude(&mesh2, 0.5, 4).expect("3D mesh");
-    let a = check(&world, "2D NACA 2412 triangles", &mesh2);
-    let b = check(&world, "3D extruded prisms", &mesh3);
-    if !(a && b) {
+    let ok = if std::env::args().any(|a| a == "--partitioned") {
+        partitioned_check::run(&world, &mesh2, &mesh3)
+    } else {
+        let a = check(&world, "2D NACA 2412 triangles", &mesh2);
+        let b = check(&world, "3D extruded prisms", &mesh3);
+        a && b
+    };
+    if !ok {
         std::process::exit(1);
     }
 }

@@ -15,7 +15,7 @@ use deform_kernel::spring::{
     SolveOptions, SolveReport,
 };
 use deform_meshgen::partition::{local_view, owner_of, random_owner, LocalView};
-use deform_meshgen::{extrude, naca_triangulated, AirfoilGrid, Mesh};
+use deform_meshgen::Mesh;
 use deform_mpi::{boundary_values, rcb, MpiExchange, WholeSprings};
 use mpi::collective::SystemOperation;
 use mpi::traits::*;
@@ -262,18 +262,11 @@ fn bad_inputs<C: Communicator>(world: &C, mesh: &Mesh<2>) -> bool {
 }
 
 /// All partitioned checks; `true` when every one passed on every rank.
-pub fn run<C: Communicator>(world: &C) -> bool {
-    let grid = AirfoilGrid {
-        surface_points: 96,
-        radial_points: 24,
-        ..AirfoilGrid::default()
-    };
-    let mesh2 = naca_triangulated(&grid).expect("2D mesh");
-    let mesh3 = extrude(&mesh2, 0.5, 4).expect("3D mesh");
-    let mut ok = mesh_cases(world, "2D NACA 2412 triangles", &mesh2);
-    ok &= mesh_cases(world, "3D extruded prisms", &mesh3);
+pub fn run<C: Communicator>(world: &C, mesh2: &Mesh<2>, mesh3: &Mesh<3>) -> bool {
+    let mut ok = mesh_cases(world, "2D NACA 2412 triangles", mesh2);
+    ok &= mesh_cases(world, "3D extruded prisms", mesh3);
     if world.size() >= 2 {
-        ok &= bad_inputs(world, &mesh2);
+        ok &= bad_inputs(world, mesh2);
     }
     ok
 }
