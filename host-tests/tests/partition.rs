@@ -289,6 +289,22 @@ fn a_bad_partition_fails_on_every_thread() {
         assert_eq!(faults, want.map(Some).to_vec(), "{label}");
         assert!(got.iter().all(|(_, same)| *same), "{label}: values written");
     }
+    // Errors of the caller's own arrays (halo offsets, cells): this thread's own error, the
+    // others' OtherProcess, at the stage that checks them.
+    let bad_offsets: Spoil = Box::new(|v, _| v.send_offsets[1] = u32::MAX);
+    let unknown_kind: Spoil = Box::new(|v, _| v.cell_kinds[0] = 99);
+    for (label, spoil) in [("halo offsets", bad_offsets), ("cell kind", unknown_kind)] {
+        let got = errors_with(1, spoil, Preconditioner::Jacobi, false);
+        assert!(
+            matches!(
+                got[1].0,
+                Some(Error::BadOffsets { .. } | Error::UnknownCellKind { .. })
+            ),
+            "{label}: {got:?}"
+        );
+        assert_eq!(fault(&got[0].0), Some(OtherProcess), "{label}");
+        assert_eq!(fault(&got[2].0), Some(OtherProcess), "{label}");
+    }
     // Solve-stage errors: agreed too, values untouched.
     let got = errors_with(2, unspoiled, Preconditioner::Jacobi, true);
     assert!(

@@ -57,9 +57,10 @@ impl<'a> Partition<'a> {
     ///
     /// # Errors
     /// [`Error::BadPartition`] with the [`PartitionFault`] found (see there), on every process;
-    /// `scratch` shorter than [`Partition::scratch_len`] or `rank >= size` also count as this
-    /// process's fault (reported as themselves here, as `OtherProcess` elsewhere). Only
-    /// `scratch` is written.
+    /// `scratch` shorter than [`Partition::scratch_len`], `rank >= size` and halo offsets
+    /// that do not fit their lists ([`Error::BadOffsets`]) also count as this process's
+    /// fault (reported as themselves here, as `OtherProcess` elsewhere). Only `scratch` is
+    /// written.
     #[allow(clippy::too_many_arguments)]
     pub fn new<T: crate::Real, E: Exchange<T> + ?Sized>(
         rank: u32,

@@ -8,9 +8,9 @@
 use crate::Mesh;
 use deform_kernel::partition::{Exchange, Halo, Partition};
 use deform_kernel::spring::{
-    partitioned_targets_len, PartitionedSprings, Preconditioner, SolveOptions, SolveReport,
+    partitioned_targets_len, LocalCells, PartitionedSprings, Preconditioner, SolveOptions,
+    SolveReport,
 };
-use deform_kernel::Cells;
 
 /// What one process passes to the kernel's partitioned solves.
 #[derive(Clone, Debug, Default)]
@@ -207,7 +207,7 @@ pub fn local_view<const D: usize>(
 impl<const D: usize> LocalView<D> {
     /// The kernel calls a partitioned solver makes, in order, each collective over `ex`:
     /// the pattern and [`Partition::new`] (with `owned` owned nodes: the view's, or a wrong
-    /// count in a test), the local cells and [`PartitionedSprings::new`] (Batina, `p = 1`),
+    /// count in a test), [`PartitionedSprings::new`] on the local cells (Batina, `p = 1`),
     /// then [`PartitionedSprings::solve_cg`] with `scratch_len` items of scratch.
     ///
     /// # Errors
@@ -228,17 +228,21 @@ impl<const D: usize> LocalView<D> {
             &self.send,
             &self.recv_offsets,
             &self.recv,
-        )?;
+        );
         let mut s = vec![0u32; Partition::scratch_len(n)];
         let (ids, count) = (&self.global_ids[..], self.global_count);
         let part = Partition::new(self.rank, self.size, owned, ids, count, halo, ex, &mut s)?;
-        let cells = Cells::new(n, &self.cell_offsets, &self.cell_nodes, &self.cell_kinds)?;
-        let len = partitioned_targets_len(&cells, false);
+        let cells = LocalCells {
+            offsets: &self.cell_offsets,
+            nodes: &self.cell_nodes,
+            kinds: &self.cell_kinds,
+            face_diagonals: false,
+        };
+        let len = partitioned_targets_len(&cells);
         let (mut o, mut t, mut k) = (vec![0u32; n + 1], vec![0u32; len], vec![0.0; len]);
         let (points, fixed) = (&self.points[..], &self.fixed[..]);
-        let springs = PartitionedSprings::new(
-            part, &cells, false, points, 1.0, fixed, &mut o, &mut t, &mut k, ex,
-        )?;
+        let springs =
+            PartitionedSprings::new(part, cells, points, 1.0, fixed, &mut o, &mut t, &mut k, ex)?;
         let mut scratch = vec![[0.0; D]; scratch_len];
         springs.solve_cg(values, pre, options, &mut scratch, ex)
     }

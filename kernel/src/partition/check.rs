@@ -79,6 +79,7 @@ pub(crate) fn local(part: &Partition<'_>, size: u32, scratch: &mut [u32]) -> Res
         });
     }
     check::buffer("scratch", scratch.len(), n)?;
+    part.halo.check_shape()?;
     if part.owned == 0 {
         return Err(fault(PartitionFault::NoOwnedNodes, 0));
     }

@@ -46,30 +46,40 @@ pub struct Halo<'a> {
 }
 
 impl<'a> Halo<'a> {
-    /// Wraps the lists after checking their shapes (the entries are checked by
-    /// [`Partition::new`](super::Partition::new), against the partition).
-    ///
-    /// # Errors
-    /// Offsets that are not `ranks.len() + 1` entries from 0, non-decreasing, ending at their
-    /// list's length ([`Error::BadOffsets`]).
-    pub fn new(
+    /// Wraps the lists. Nothing is checked here: [`Partition::new`](super::Partition::new)
+    /// checks the shapes and the entries, collectively, so a bad list fails on every process
+    /// together.
+    pub const fn new(
         ranks: &'a [u32],
         send_offsets: &'a [u32],
         send: &'a [u32],
         recv_offsets: &'a [u32],
         recv: &'a [u32],
-    ) -> Result<Self> {
-        check::len("send_offsets", send_offsets.len(), ranks.len() + 1)?;
-        check::len("recv_offsets", recv_offsets.len(), ranks.len() + 1)?;
-        check_offsets("send_offsets", send_offsets, send.len())?;
-        check_offsets("recv_offsets", recv_offsets, recv.len())?;
-        Ok(Halo {
+    ) -> Self {
+        Halo {
             ranks,
             send_offsets,
             send,
             recv_offsets,
             recv,
-        })
+        }
+    }
+
+    /// The shapes: offsets of `ranks.len() + 1` entries from 0, non-decreasing, ending at
+    /// their list's length.
+    pub(crate) fn check_shape(&self) -> Result<()> {
+        check::len(
+            "send_offsets",
+            self.send_offsets.len(),
+            self.ranks.len() + 1,
+        )?;
+        check::len(
+            "recv_offsets",
+            self.recv_offsets.len(),
+            self.ranks.len() + 1,
+        )?;
+        check_offsets("send_offsets", self.send_offsets, self.send.len())?;
+        check_offsets("recv_offsets", self.recv_offsets, self.recv.len())
     }
 
     /// No neighbour (a single process).

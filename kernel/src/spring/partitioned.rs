@@ -22,11 +22,11 @@ use super::krylov::{cg_len, component_max, exponents_from, pcg, Vectors};
 use super::linear::{diagonal, Laplacian, OneLevel};
 use super::system::{Preconditioner, SolveOptions, SolveReport, SpringSystem};
 use super::Collective;
-use crate::cells::Cells;
+use crate::cells::{CellKind, Cells};
 use crate::check;
 use crate::error::{Error, PartitionFault, Result};
 use crate::graph::Graph;
-use crate::graph_builder::{graph_from_cells, graph_from_cells_len};
+use crate::graph_builder::graph_from_cells;
 use crate::order::sort::{heap_sort, ByKey};
 use crate::partition::check::{hash, negate, P, SEEDS};
 use crate::partition::{agree, fault, Exchange, HaloCollective, Partition};
@@ -50,15 +50,42 @@ pub const fn partitioned_cg_scratch_len<const V: usize>(local_count: usize) -> u
     }
 }
 
-/// Length of the `targets` buffer [`PartitionedSprings::new`] needs (that of
-/// [`graph_from_cells_len`] for the local cells); `stiffness` needs as many.
-pub fn partitioned_targets_len(cells: &Cells<'_>, face_diagonals: bool) -> usize {
-    graph_from_cells_len(cells, face_diagonals)
+/// One process's cells in local numbering: the arrays of [`Cells::new`] (CSR offsets, nodes,
+/// VTK kinds), checked inside [`PartitionedSprings::new`] so that a bad array fails on every
+/// process together; with `face_diagonals`, quadrilateral faces' diagonals are springs too
+/// (as in [`graph_from_cells`]).
+#[derive(Clone, Copy, Debug)]
+pub struct LocalCells<'c> {
+    /// `nodes[offsets[c]..offsets[c + 1]]` are cell `c`'s local nodes.
+    pub offsets: &'c [u32],
+    /// The cells' local nodes.
+    pub nodes: &'c [u32],
+    /// VTK cell kinds, one per cell.
+    pub kinds: &'c [u8],
+    /// Quadrilateral-face diagonals as springs.
+    pub face_diagonals: bool,
+}
+
+/// Length of the `targets` buffer [`PartitionedSprings::new`] needs for `cells` (twice the
+/// cells' edges, as [`graph_from_cells_len`]; unknown kinds count nothing: they fail later);
+/// `stiffness` needs as many.
+pub fn partitioned_targets_len(cells: &LocalCells<'_>) -> usize {
+    cells.kinds.iter().fold(0usize, |n, &k| {
+        let edges = CellKind::from_vtk(k).map_or(0, |kind| {
+            let diagonals = if cells.face_diagonals {
+                kind.face_diagonals().len()
+            } else {
+                0
+            };
+            kind.edges().len() + diagonals
+        });
+        n.saturating_add(edges.saturating_mul(2))
+    })
 }
 
 impl<'a, T: Real> PartitionedSprings<'a, T> {
     /// Builds this process's rows: the graph of its local `cells` (local numbering; every cell
-    /// that touches an owned node must be there) into `offsets` (`local_count + 1`) and
+    /// that touches an owned node must be there; checked as [`Cells::new`] checks) into `offsets` (`local_count + 1`) and
     /// `targets` ([`partitioned_targets_len`]), each row sorted by global id, and Batina's
     /// stiffness with `exponent` from the local `points` into `stiffness` (as long as
     /// `targets`). `fixed` marks Dirichlet nodes (nonzero), ghosts as their owners.
@@ -72,15 +99,14 @@ impl<'a, T: Real> PartitionedSprings<'a, T> {
     /// [`SpringSystem::new`]'s check) is global and not checked; CG reports a singular system.
     ///
     /// # Errors
-    /// Those of [`graph_from_cells`] and [`batina_stiffness`](super::batina_stiffness) on the
-    /// local data, lengths ([`Error::LengthMismatch`], [`Error::BufferTooSmall`]), and
+    /// Those of [`Cells::new`], [`graph_from_cells`] and
+    /// [`batina_stiffness`](super::batina_stiffness) on the local data, lengths ([`Error::LengthMismatch`], [`Error::BufferTooSmall`]), and
     /// [`Error::BadPartition`] with [`PartitionFault::Rows`] or
     /// [`PartitionFault::OtherProcess`].
     #[allow(clippy::too_many_arguments)]
     pub fn new<const D: usize, E: Exchange<T> + ?Sized>(
         part: Partition<'a>,
-        cells: &Cells<'_>,
-        face_diagonals: bool,
+        cells: LocalCells<'_>,
         points: &[[T; D]],
         exponent: T,
         fixed: &'a [u8],
@@ -90,15 +116,7 @@ impl<'a, T: Real> PartitionedSprings<'a, T> {
         exchange: &E,
     ) -> Result<Self> {
         let built = build_rows(
-            &part,
-            cells,
-            face_diagonals,
-            points,
-            exponent,
-            fixed,
-            offsets,
-            targets,
-            stiffness,
+            &part, cells, points, exponent, fixed, offsets, targets, stiffness,
         );
         let (offsets, targets, stiffness): (&'a [u32], &'a [u32], &'a [T]) =
             (offsets, targets, stiffness);
@@ -136,8 +154,7 @@ impl<'a, T: Real> PartitionedSprings<'a, T> {
 #[allow(clippy::too_many_arguments)]
 fn build_rows<T: Real, const D: usize>(
     part: &Partition<'_>,
-    cells: &Cells<'_>,
-    face_diagonals: bool,
+    cells: LocalCells<'_>,
     points: &[[T; D]],
     exponent: T,
     fixed: &[u8],
@@ -146,10 +163,10 @@ fn build_rows<T: Real, const D: usize>(
     stiffness: &mut [T],
 ) -> Result<usize> {
     let n = part.local_count();
-    check::len("cells", cells.node_count(), n)?;
+    let local = Cells::new(n, cells.offsets, cells.nodes, cells.kinds)?;
     check::len("points", points.len(), n)?;
     check::len("fixed", fixed.len(), n)?;
-    let used = graph_from_cells(cells, face_diagonals, offsets, targets)?;
+    let used = graph_from_cells(&local, cells.face_diagonals, offsets, targets)?;
     for w in offsets.windows(2) {
         if let [a, b] = *w {
             if let Some(row) = targets.get_mut(a as usize..(b as usize).min(used)) {
