@@ -220,6 +220,15 @@ pub enum Error {
         /// Position (in the argument) of the node farthest from the fitted plane.
         position: usize,
     },
+    /// A process's partition ([`crate::partition`]) is inconsistent, in itself or with the
+    /// other processes' (found by the one reduction every process joins, so every process
+    /// returns an error together).
+    BadPartition {
+        /// What is wrong.
+        fault: PartitionFault,
+        /// The local node, neighbour or list entry concerned (0 when the fault is global).
+        position: usize,
+    },
 }
 
 impl fmt::Display for Error {
@@ -315,6 +324,9 @@ impl fmt::Display for Error {
                 f,
                 "the nodes of `{arg}` are not planar: item {position} is farther from the fitted plane than the tolerance"
             ),
+            Error::BadPartition { fault, position } => {
+                write!(f, "bad partition at {position}: {}", fault.describe())
+            }
         }
     }
 }
@@ -431,6 +443,71 @@ impl defmt::Format for Error {
             Error::NotPlanar { arg, position } => {
                 defmt::write!(f, "NotPlanar({=str}[{}])", arg, position)
             }
+            Error::BadPartition { fault, position } => {
+                defmt::write!(f, "BadPartition({=str} at {})", fault.describe(), position)
+            }
+        }
+    }
+}
+
+/// What [`Error::BadPartition`] found wrong with a process's partition.
+#[non_exhaustive]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PartitionFault {
+    /// The process owns no node (every process must own at least one).
+    NoOwnedNodes,
+    /// The owned count exceeds the local node count.
+    OwnedBeyondLocal,
+    /// A global id is not below the global node count.
+    GlobalIdRange,
+    /// Two local nodes have the same global id (`position`: the later one).
+    DuplicateGlobalId,
+    /// A neighbour rank is this process, not below the process count, or listed twice.
+    NeighbourRank,
+    /// A send list names a node this process does not own.
+    SendNotOwned,
+    /// A receive list names a node that is not a ghost (owned, or past the local nodes).
+    ReceiveNotGhost,
+    /// A ghost is received twice (from one neighbour or two).
+    GhostReceivedTwice,
+    /// A ghost is in no receive list: no owner sends it.
+    GhostNotReceived,
+    /// The owned counts of all processes do not add up to the global node count.
+    OwnedCount,
+    /// The owned global ids of all processes are not each id once (checksums of the ids and
+    /// their squares).
+    OwnedIds,
+    /// The send and receive lists of the processes do not match (a neighbour that does not
+    /// list this process back, a count, or a global id at some list position).
+    Pattern,
+    /// The owned rows disagree between processes: an edge seen from one side only (a missing
+    /// cell) or with another stiffness or fixed flag (a ghost's coordinates or mask differ
+    /// from its owner's).
+    Rows,
+    /// Another process found a fault in its own partition (this one found none).
+    OtherProcess,
+}
+
+impl PartitionFault {
+    /// One line of English.
+    pub const fn describe(self) -> &'static str {
+        match self {
+            PartitionFault::NoOwnedNodes => "the process owns no node",
+            PartitionFault::OwnedBeyondLocal => "more owned nodes than local nodes",
+            PartitionFault::GlobalIdRange => "a global id is not below the global node count",
+            PartitionFault::DuplicateGlobalId => "two local nodes have the same global id",
+            PartitionFault::NeighbourRank => {
+                "a neighbour rank is this process, out of range or listed twice"
+            }
+            PartitionFault::SendNotOwned => "a send list names a node that is not owned",
+            PartitionFault::ReceiveNotGhost => "a receive list names a node that is not a ghost",
+            PartitionFault::GhostReceivedTwice => "a ghost is received twice",
+            PartitionFault::GhostNotReceived => "a ghost is in no receive list",
+            PartitionFault::OwnedCount => "the owned counts do not add up to the global node count",
+            PartitionFault::OwnedIds => "the owned global ids are not each id exactly once",
+            PartitionFault::Pattern => "send and receive lists do not match between processes",
+            PartitionFault::Rows => "the owned rows do not match between processes",
+            PartitionFault::OtherProcess => "another process rejected its partition",
         }
     }
 }

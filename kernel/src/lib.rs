@@ -39,6 +39,7 @@ pub mod exact_sum;
 pub mod graph;
 pub mod graph_builder;
 pub mod order;
+pub mod partition;
 pub mod plan;
 pub mod quality;
 pub mod quat;

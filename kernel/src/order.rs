@@ -34,7 +34,7 @@
 
 mod hilbert;
 mod rcm;
-mod sort;
+pub(crate) mod sort;
 
 use crate::check;
 use crate::error::{Error, Result};

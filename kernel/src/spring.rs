@@ -52,6 +52,7 @@ mod distributed;
 pub(crate) mod krylov;
 mod linear;
 pub(crate) mod norms;
+mod partitioned;
 mod sliding;
 mod solver;
 mod stiffening;
@@ -70,6 +71,9 @@ pub use angle::{
 };
 pub use distributed::{Collective, Serial};
 pub use linear::solve_linear_scratch_len;
+pub use partitioned::{
+    partitioned_cg_scratch_len, partitioned_targets_len, LocalCells, PartitionedSprings,
+};
 pub use sliding::solve_linear_sliding_scratch_len;
 pub use solver::{solve_linear_with_scratch_len, LinearSolver};
 pub use stiffening::{

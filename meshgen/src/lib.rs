@@ -29,6 +29,7 @@ pub mod blocks;
 pub mod extrude;
 pub mod motion;
 pub mod naca;
+pub mod partition;
 pub mod rng;
 pub mod shapes;
 

@@ -8,7 +8,12 @@
 
 use std::ops::Range;
 
-use deform_kernel::exact_sum::{ExactSum, EXACT_SUM_WORDS};
+mod exchange;
+mod whole;
+pub use exchange::MpiExchange;
+pub use whole::{boundary_values, WholeSprings};
+
+use deform_kernel::exact_sum::ExactSum;
 use deform_kernel::spring::Collective;
 use mpi::collective::SystemOperation;
 use mpi::datatype::{Partition, PartitionMut};
@@ -238,21 +243,7 @@ impl<C: Communicator> Collective<f64> for MpiCollective<'_, C> {
 
     /// All sums in one `MPI_Allreduce` (their words packed into one buffer).
     fn sum_exact(&self, groups: &mut [&mut [ExactSum]]) {
-        let mut words: Vec<i64> = groups
-            .iter()
-            .flat_map(|g| g.iter())
-            .flat_map(|s| s.to_words())
-            .collect();
-        self.sum_words(&mut words);
-        for (s, w) in groups
-            .iter_mut()
-            .flat_map(|g| g.iter_mut())
-            .zip(words.chunks_exact(EXACT_SUM_WORDS))
-        {
-            let mut a = [0i64; EXACT_SUM_WORDS];
-            a.copy_from_slice(w);
-            *s = ExactSum::from_words(a);
-        }
+        whole::sum_exact_packed(groups, |w| self.sum_words(w));
     }
 
     fn max(&self, values: &mut [f64]) {

@@ -18,12 +18,11 @@
 
 use deform_kernel::exact_sum::{ExactSum, EXACT_SUM_WORDS};
 use deform_kernel::spring::{
-    batina_stiffness, solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, LinearMethod,
-    LinearSolver, Preconditioner, SolveOptions, SpringSystem,
+    solve_linear_with_scratch_len, AmgHierarchy, AmgOptions, LinearMethod, LinearSolver,
+    Preconditioner, SolveOptions,
 };
-use deform_kernel::{graph_from_cells, graph_from_cells_len, Graph};
 use deform_meshgen::{extrude, naca_triangulated, AirfoilGrid, Mesh};
-use deform_mpi::{rcb, runs, MpiCollective};
+use deform_mpi::{boundary_values, rcb, runs, MpiCollective, WholeSprings};
 use mpi::collective::SystemOperation;
 use mpi::datatype::PartitionMut;
 use mpi::traits::*;
@@ -36,34 +35,10 @@ fn check<const D: usize, C: Communicator>(world: &C, name: &str, mesh: &Mesh<D>)
     let rank = world.rank() as usize;
     let size = world.size() as usize;
     let n = mesh.node_count();
-    let cells = mesh.cells().expect("cells");
-    let mut offsets = vec![0u32; n + 1];
-    let mut targets = vec![0u32; graph_from_cells_len(&cells, false)];
-    let used = graph_from_cells(&cells, false, &mut offsets, &mut targets).expect("graph");
-    targets.truncate(used);
-    let g = Graph::new(&offsets, &targets).expect("graph");
-    let mut k = vec![0.0f64; g.edge_count()];
-    batina_stiffness(&g, &mesh.points, 1.0, &mut k).expect("stiffness");
-    let fixed = mesh.boundary_mask();
-    let mut scratch = vec![0u32; n];
-    let sys = SpringSystem::new(g, &k, &fixed, &mut scratch).expect("system");
-    // Boundary displacement: a small rotation plus a shear; free nodes start at zero.
-    let x0: Vec<[f64; D]> = mesh
-        .points
-        .iter()
-        .zip(&fixed)
-        .map(|(p, &f)| {
-            let mut d = [0.0; D];
-            if f != 0 {
-                d[0] = -0.05 * p[1] + 0.01 * p[0] * p[1];
-                d[1] = 0.05 * p[0];
-                if D == 3 {
-                    d[D - 1] = 0.02 * p[0];
-                }
-            }
-            d
-        })
-        .collect();
+    let whole = WholeSprings::new(mesh);
+    let (offsets, targets, fixed) = (&whole.offsets, &whole.targets, &whole.fixed);
+    let sys = whole.system();
+    let x0 = boundary_values(mesh, fixed);
 
     // Serial reference (rank 0 only; the others take its verdict).
     let mut serial_residuals = Vec::new();
@@ -153,7 +128,7 @@ fn check<const D: usize, C: Communicator>(world: &C, name: &str, mesh: &Mesh<D>)
     }
     // Whole solves with the rows split: CG + Jacobi and multigrid-preconditioned CG through
     // `LinearSolver::Distributed*`, against the serial solves.
-    let comm = MpiCollective::with_graph(world, &parts, &offsets, &targets);
+    let comm = MpiCollective::with_graph(world, &parts, offsets, targets);
     let options = SolveOptions {
         residual_tol: 1e-10,
         max_iterations: 20_000,
@@ -231,23 +206,15 @@ fn bench<C: Communicator>(world: &C) {
     };
     let mesh = naca_triangulated(&grid).expect("mesh");
     let n = mesh.node_count();
-    let cells = mesh.cells().expect("cells");
-    let mut offsets = vec![0u32; n + 1];
-    let mut targets = vec![0u32; graph_from_cells_len(&cells, false)];
-    let used = graph_from_cells(&cells, false, &mut offsets, &mut targets).expect("graph");
-    targets.truncate(used);
-    let g = Graph::new(&offsets, &targets).expect("graph");
-    let mut k = vec![0.0f64; g.edge_count()];
-    batina_stiffness(&g, &mesh.points, 1.0, &mut k).expect("stiffness");
-    let fixed = mesh.boundary_mask();
-    let mut scratch = vec![0u32; n];
-    let sys = SpringSystem::new(g, &k, &fixed, &mut scratch).expect("system");
+    let whole = WholeSprings::new(&mesh);
+    let (offsets, targets) = (&whole.offsets, &whole.targets);
+    let sys = whole.system();
     let rot =
         deform_meshgen::rotate_markers2(&mesh, &["airfoil"], AirfoilGrid::quarter_chord(), -10.0)
             .expect("rotation");
     let x0: Vec<[f64; 2]> = rot.to_field(n);
     let parts = rcb(&mesh.points, world.size() as usize);
-    let comm = MpiCollective::with_graph(world, &parts, &offsets, &targets);
+    let comm = MpiCollective::with_graph(world, &parts, offsets, targets);
     let options = SolveOptions {
         residual_tol: 1e-8,
         max_iterations: 100_000,
@@ -295,6 +262,8 @@ fn bench<C: Communicator>(world: &C) {
     }
 }
 
+mod partitioned_check;
+
 fn main() {
     let universe = mpi::initialize().expect("MPI init");
     let world = universe.world();
@@ -309,9 +278,14 @@ fn main() {
     };
     let mesh2 = naca_triangulated(&grid).expect("2D mesh");
     let mesh3 = extrude(&mesh2, 0.5, 4).expect("3D mesh");
-    let a = check(&world, "2D NACA 2412 triangles", &mesh2);
-    let b = check(&world, "3D extruded prisms", &mesh3);
-    if !(a && b) {
+    let ok = if std::env::args().any(|a| a == "--partitioned") {
+        partitioned_check::run(&world, &mesh2, &mesh3)
+    } else {
+        let a = check(&world, "2D NACA 2412 triangles", &mesh2);
+        let b = check(&world, "3D extruded prisms", &mesh3);
+        a && b
+    };
+    if !ok {
         std::process::exit(1);
     }
 }

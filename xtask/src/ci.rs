@@ -205,7 +205,7 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
         ),
         Step::new(
             "mpi",
-            "mpirun --oversubscribe -np 1, 2, 3: split spring sweeps + exact sums = serial bits (mpi/)",
+            "mpirun --oversubscribe -np 1, 2, 3: split spring sweeps + exact sums = serial bits; -np 1..7: partitioned storage (each rank its part + ghosts) CG = serial bits (mpi/)",
             || mpi_check(ctx),
         ),
         Step::new(

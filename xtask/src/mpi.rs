@@ -3,6 +3,10 @@
 //! 1. `mpi/`'s `deform-mpi-check` under `mpirun --oversubscribe -np 1, 2, 3`: spring sweeps
 //!    and whole solves (CG + Jacobi, multigrid CG) split across the ranks by recursive
 //!    coordinate bisection give the serial bits, on a generated 2D and 3D mesh;
+//!    then `deform-mpi-check --partitioned` under `-np 1, 2, 3, 4, 7`: each rank holds only
+//!    its partition (owned nodes, ghost layers of depth 1 or 2, local cells, the pattern;
+//!    RCB and random partitions, shuffled local numbering) and the kernel's partitioned CG +
+//!    Jacobi gives the serial bits; six bad partitions are rejected on every rank;
 //! 2. the `deform` tool built with `--features mpi`: `mpirun -np N deform move …` writes a
 //!    file byte-identical to the serial `deform move`, for the spring and quaternion methods,
 //!    on a generated triangle mesh, a generated viscous (quad + triangle) mesh and the public
@@ -19,6 +23,9 @@ use std::process::Command;
 
 /// Rank counts the step runs.
 pub(crate) const MPI_RANKS: &[usize] = &[1, 2, 3];
+
+/// Rank counts of the partitioned-storage checks (7 oversubscribed on small machines).
+pub(crate) const PARTITIONED_RANKS: &[usize] = &[1, 2, 3, 4, 7];
 
 /// `mpirun [--allow-run-as-root] --oversubscribe -np N`.
 fn mpirun(np: usize) -> Command {
@@ -41,6 +48,12 @@ pub(crate) fn mpi_check(ctx: &Ctx) -> bool {
     let mut ok = true;
     for &np in MPI_RANKS {
         ok &= run(mpirun(np).arg(&exe).current_dir(&ctx.root));
+    }
+    for &np in PARTITIONED_RANKS {
+        ok &= run(mpirun(np)
+            .arg(&exe)
+            .arg("--partitioned")
+            .current_dir(&ctx.root));
     }
     ok && deform_move_under_mpi(ctx) && c_example(ctx)
 }

@@ -217,17 +217,32 @@ pub(crate) fn exponents<T: Real, const V: usize>(
     joint: bool,
 ) -> [i32; V] {
     let kmax = stiffness.iter().fold(T::ZERO, |m, &k| m.max(k));
-    let ek = if kmax > T::ZERO {
-        kmax.exponent() / 2
-    } else {
-        0
-    };
+    exponents_from(kmax, component_max(x), joint)
+}
+
+/// `max_i |x_ic|` per component.
+pub(crate) fn component_max<T: Real, const V: usize>(x: &[[T; V]]) -> [T; V] {
     let mut vmax = [T::ZERO; V];
     for xi in x {
         for (m, &v) in vmax.iter_mut().zip(xi) {
             *m = m.max(v.abs());
         }
     }
+    vmax
+}
+
+/// [`exponents`] from the largest stiffness and the per-component `max |x|` (merged over the
+/// processes first in a partitioned solve).
+pub(crate) fn exponents_from<T: Real, const V: usize>(
+    kmax: T,
+    mut vmax: [T; V],
+    joint: bool,
+) -> [i32; V] {
+    let ek = if kmax > T::ZERO {
+        kmax.exponent() / 2
+    } else {
+        0
+    };
     if joint {
         let all = vmax.iter().fold(T::ZERO, |m, &v| m.max(v));
         vmax = [all; V];

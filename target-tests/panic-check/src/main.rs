@@ -41,6 +41,7 @@ mod deformation;
 mod elasticity;
 mod foundation;
 mod order;
+mod partition;
 mod plan;
 mod quality;
 mod slide;
@@ -58,6 +59,7 @@ fn main() -> ! {
     elasticity::exercise();
     slide::exercise();
     plan::exercise();
+    partition::exercise();
     order::exercise();
     c_abi::exercise();
     #[cfg(feature = "deliberate-panic")]
