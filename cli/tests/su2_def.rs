@@ -76,6 +76,12 @@ fn su2s_wedge_case_runs_unchanged_and_matches_independent_ffd_and_elasticity() {
     );
     assert_eq!(r["method"], "elasticity");
     assert_eq!(r["stiffness"], "inverse-volume");
+    // The report names the motion the config gave, not a rotation by 0°.
+    let motions = r.to_string();
+    assert!(
+        motions.contains("design variables") && !motions.contains("rotate 0"),
+        "{r}"
+    );
     let ignored: Vec<&str> = (r["ignored_options"].as_array().unwrap().iter())
         .map(|v| v.as_str().unwrap())
         .collect();

@@ -188,6 +188,8 @@ fn marker_motions(
         format!("displacements from {}", p.display())
     } else if let Some(p) = &a.surface_positions {
         format!("surface positions from {}", p.display())
+    } else if a.design_field.is_some() {
+        "the config's design variables".to_string()
     } else if let Some(Coords(t)) = &a.translate {
         format!("translate {t:?}")
     } else {
