@@ -28,6 +28,7 @@ mod system;
 pub use assemble::{assemble, elasticity_graph, elasticity_graph_len, Block};
 pub use increments::{deform_incremental, IncrementBuffers, IncrementReport, Increments};
 pub use modulus::{cell_moduli, Modulus};
+pub(crate) use system::NodeBlocks;
 pub use system::{elastic_amg_scratch_len, elastic_scratch_len, ElasticSystem};
 
 use crate::cells::Cells;

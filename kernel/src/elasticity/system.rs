@@ -281,7 +281,7 @@ impl<T: Real, const D: usize> Operator<T, D, 1> for ElasticSystem<'_, T, D> {
 }
 
 /// Block Jacobi, `z_i = K_ii⁻¹ r_i` (zero at fixed nodes): node-local.
-struct NodeBlocks<'s, 'a, T: Real, const D: usize>(&'s ElasticSystem<'a, T, D>);
+pub(crate) struct NodeBlocks<'s, 'a, T: Real, const D: usize>(pub(crate) &'s ElasticSystem<'a, T, D>);
 
 impl<T: Real, const D: usize> Precondition<T, D> for NodeBlocks<'_, '_, T, D> {
     fn local(&self) -> bool {
@@ -394,6 +394,15 @@ impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
         check::buffer("scratch", actual, needed)
     }
 
+    /// The largest `|entry|` of the diagonal blocks: the scale CG works at.
+    pub(crate) fn kmax(&self) -> T {
+        self.diag
+            .iter()
+            .flatten()
+            .flatten()
+            .fold(T::ZERO, |m, &k| m.max(k.abs()))
+    }
+
     /// CG of the Krylov core on the jointly scaled iterate.
     fn cg<M: Precondition<T, D>>(
         &self,
@@ -402,13 +411,7 @@ impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
         values: &mut [[T; D]],
         options: &SolveOptions<T>,
     ) -> Result<SolveReport<T>> {
-        let kmax = self
-            .diag
-            .iter()
-            .flatten()
-            .flatten()
-            .fold(T::ZERO, |m, &k| m.max(k.abs()));
-        let exps = exponents(&[kmax], values, true);
+        let exps = exponents(&[self.kmax()], values, true);
         let serial = Serial::new(self.node_count());
         solve_scaled(
             self,
