@@ -54,7 +54,42 @@ pub use springs::{
 use crate::check;
 use crate::error::{Error, Result};
 use crate::real::Real;
-use crate::spring::SolveReport;
+use crate::spring::krylov::Vectors;
+use crate::spring::{SolveOptions, SolveReport};
+
+/// The checks every adjoint makes before anything else: `w` and `g` one item per node, `w`
+/// finite, the options valid.
+fn check_adjoint<T: Real, const V: usize>(
+    n: usize,
+    w: &[[T; V]],
+    g: &[[T; V]],
+    options: &SolveOptions<T>,
+) -> Result<()> {
+    check::len("w", w.len(), n)?;
+    check::len("g", g.len(), n)?;
+    check::finite_items("w", w)?;
+    options.check()
+}
+
+/// The adjoint field `λ` (`n` items), the CG vectors and the rest (the preconditioner's) from
+/// the front of `scratch`, which must hold `needed` items.
+type AdjointParts<'s, T, const V: usize> = (&'s mut [[T; V]], Vectors<'s, T, V>, &'s mut [[T; V]]);
+
+fn adjoint_parts<T: Real, const V: usize>(
+    scratch: &mut [[T; V]],
+    n: usize,
+    needed: usize,
+) -> Result<AdjointParts<'_, T, V>> {
+    check::buffer("scratch", scratch.len(), needed)?;
+    let small = Error::BufferTooSmall {
+        arg: "scratch",
+        needed,
+        actual: scratch.len(),
+    };
+    let (lambda, rest) = scratch.split_at_mut_checked(n).ok_or(small)?;
+    let (v, rest) = Vectors::split(rest, n).ok_or(small)?;
+    Ok((lambda, v, rest))
+}
 
 /// `m · n` items hold `m ≥ 1` whole fields of `n` items.
 fn check_fields(arg: &'static str, n: usize, len: usize) -> Result<()> {

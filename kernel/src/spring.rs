@@ -69,8 +69,8 @@ pub use angle::{
     DEFAULT_ANGLE_EPSILON, MAX_AMPLIFICATION,
 };
 pub use distributed::{Collective, Serial};
-pub(crate) use linear::{diagonal, Laplacian, OneLevel};
 pub use linear::solve_linear_scratch_len;
+pub(crate) use linear::{diagonal, Laplacian, OneLevel};
 pub use sliding::solve_linear_sliding_scratch_len;
 pub use solver::{solve_linear_with_scratch_len, LinearSolver};
 pub use stiffening::{

@@ -5,10 +5,25 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use deform_kernel::spring::SolveOptions;
 use deform_kernel::Real;
 
 use crate::support::python::run_script;
 use crate::support::spring::Lcg;
+
+/// Tight stopping for the solves (1e-13 in f64, 1e-6 in f32): the dot-product identity
+/// then holds to about this.
+pub fn tight<T: Real>() -> SolveOptions<T> {
+    SolveOptions {
+        residual_tol: T::from_f64(if T::EPSILON.to_f64() < 1e-10 {
+            1e-13
+        } else {
+            1e-6
+        }),
+        max_iterations: 5000,
+        ..SolveOptions::default()
+    }
+}
 
 /// `Σ_i a_i · b_i` in f64.
 pub fn dot<T: Real, const V: usize>(a: &[[T; V]], b: &[[T; V]]) -> f64 {
@@ -55,7 +70,10 @@ pub fn assert_dot<T: Real, const V: usize>(
     let scale = norm(jv) * norm(w);
     assert!(scale > 0.0, "{what}: trivial fields");
     let err = (a - b).abs() / scale;
-    assert!(err <= tol, "{what}: <Jv,w> = {a:e}, <v,J^T w> = {b:e}, rel {err:e} > {tol:e}");
+    assert!(
+        err <= tol,
+        "{what}: <Jv,w> = {a:e}, <v,J^T w> = {b:e}, rel {err:e} > {tol:e}"
+    );
 }
 
 /// Largest `|a − b|` over `max |b|`.
@@ -78,7 +96,11 @@ fn push_rows<T: Real, const V: usize>(s: &mut String, rows: &[[T; V]]) {
 
 /// Runs `ref_dense.py MODE FILE` on `body` (after the header line `MODE`-specific) and parses
 /// its output: `J v` (`n` rows) then `Jᵀ w` (`n` rows), `V` columns each.
-pub fn reference<const V: usize>(mode: &str, body: String, n: usize) -> (Vec<[f64; V]>, Vec<[f64; V]>) {
+pub fn reference<const V: usize>(
+    mode: &str,
+    body: String,
+    n: usize,
+) -> (Vec<[f64; V]>, Vec<[f64; V]>) {
     let dir = std::env::temp_dir().join(format!("deform-sensitivity-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
@@ -111,8 +133,8 @@ pub fn springs_input<T: Real, const D: usize, const V: usize>(
 ) -> String {
     let mut edges = vec![];
     for i in 0..points.len() {
-        for e in offsets[i] as usize..offsets[i + 1] as usize {
-            let j = targets[e] as usize;
+        for &j in &targets[offsets[i] as usize..offsets[i + 1] as usize] {
+            let j = j as usize;
             if i < j {
                 edges.push((i, j));
             }

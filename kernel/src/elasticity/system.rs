@@ -281,7 +281,9 @@ impl<T: Real, const D: usize> Operator<T, D, 1> for ElasticSystem<'_, T, D> {
 }
 
 /// Block Jacobi, `z_i = K_ii⁻¹ r_i` (zero at fixed nodes): node-local.
-pub(crate) struct NodeBlocks<'s, 'a, T: Real, const D: usize>(pub(crate) &'s ElasticSystem<'a, T, D>);
+pub(crate) struct NodeBlocks<'s, 'a, T: Real, const D: usize>(
+    pub(crate) &'s ElasticSystem<'a, T, D>,
+);
 
 impl<T: Real, const D: usize> Precondition<T, D> for NodeBlocks<'_, '_, T, D> {
     fn local(&self) -> bool {

@@ -3,14 +3,12 @@
 //! nodes). Load increments re-assemble on the moved mesh and are not linear; they are not
 //! covered here.
 
-use super::{for_each_field, for_each_field_mut};
+use super::{adjoint_parts, check_adjoint, for_each_field, for_each_field_mut};
 use crate::check;
-use crate::elasticity::{
-    elastic_amg_scratch_len, elastic_scratch_len, ElasticSystem, NodeBlocks,
-};
+use crate::elasticity::{elastic_amg_scratch_len, elastic_scratch_len, ElasticSystem, NodeBlocks};
 use crate::error::{Error, Result};
 use crate::real::Real;
-use crate::spring::krylov::{solve_rhs, RhsLayout, Vectors};
+use crate::spring::krylov::{solve_rhs, RhsLayout};
 use crate::spring::{AmgHierarchy, Serial, SolveOptions, SolveReport, SpringSystem, Vcycle};
 
 /// Which preconditioner the elasticity solves use (the deformation's and its derivative's).
@@ -31,7 +29,9 @@ pub fn elastic_tangent_scratch_len<T: Real>(
 ) -> usize {
     match pre {
         ElasticPreconditioner::Blocks => elastic_scratch_len(node_count),
-        ElasticPreconditioner::Amg(_, h) => elastic_amg_scratch_len(node_count, h.coarse_unknowns()),
+        ElasticPreconditioner::Amg(_, h) => {
+            elastic_amg_scratch_len(node_count, h.coarse_unknowns())
+        }
     }
     .unwrap_or(usize::MAX)
 }
@@ -105,10 +105,7 @@ pub fn elastic_adjoint<T: Real, const D: usize>(
     scratch: &mut [[T; D]],
 ) -> Result<SolveReport<T>> {
     let n = sys.node_count();
-    check::len("w", w.len(), n)?;
-    check::len("g", g.len(), n)?;
-    check::finite_items("w", w)?;
-    options.check()?;
+    check_adjoint(n, w, g, options)?;
     if let ElasticPreconditioner::Amg(s, h) = pre {
         check::len("spring", s.node_count(), n)?;
         h.check_system(s)?;
@@ -119,15 +116,7 @@ pub fn elastic_adjoint<T: Real, const D: usize>(
             });
         }
     }
-    let needed = elastic_adjoint_scratch_len(&pre, n);
-    check::buffer("scratch", scratch.len(), needed)?;
-    let small = Error::BufferTooSmall {
-        arg: "scratch",
-        needed,
-        actual: scratch.len(),
-    };
-    let (lambda, rest) = scratch.split_at_mut_checked(n).ok_or(small)?;
-    let (v, rest) = Vectors::split(rest, n).ok_or(small)?;
+    let (lambda, v, rest) = adjoint_parts(scratch, n, elastic_adjoint_scratch_len(&pre, n))?;
     let layout = RhsLayout {
         kmax: sys.kmax(),
         joint: true,

@@ -247,9 +247,9 @@ pub fn idw_adjoint_many<T: Real, const D: usize>(
             Stencil::Exact(b) => scatter(g, w, n, m, i, b, T::ONE),
             Stencil::Weighted { plain, dmin } => {
                 let at = |b: u32| points.get(b as usize).copied().unwrap_or(x);
-                let wsum = boundary.iter().fold(T::ZERO, |s, &b| {
-                    s + weight(x, at(b), exponent, plain, dmin)
-                });
+                let wsum = boundary
+                    .iter()
+                    .fold(T::ZERO, |s, &b| s + weight(x, at(b), exponent, plain, dmin));
                 for &b in boundary {
                     let c = weight(x, at(b), exponent, plain, dmin) / wsum;
                     scatter(g, w, n, m, i, b, c);

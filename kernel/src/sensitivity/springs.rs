@@ -1,13 +1,19 @@
 //! Tangent and adjoint of the linear springs (Batina): `A x_f = B x_b` with `A = D − K_ff`
 //! the weighted graph Laplacian on the free nodes (symmetric positive definite) and `B = K_fb`.
 
-use super::{for_each_field, for_each_field_mut};
-use crate::check;
+use super::{adjoint_parts, check_adjoint, for_each_field, for_each_field_mut};
 use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::spring::krylov::{cg_len, solve_rhs, RhsLayout, Vectors};
 use crate::spring::{
-    diagonal, solve_linear_amg_scratch_len, Laplacian, LinearMethod, LinearSolver, OneLevel, Serial, SolveOptions, SolveReport, SpringSystem, Vcycle,
+    diagonal, solve_linear_amg_scratch_len, Laplacian, LinearMethod, LinearSolver, OneLevel,
+    Serial, SolveOptions, SolveReport, SpringSystem, Vcycle,
+};
+
+/// The error for a solver the adjoint does not take.
+const NOT_CG: Error = Error::InvalidParameter {
+    arg: "solver",
+    reason: "the adjoint needs CG (LinearMethod::Cg) or multigrid (LinearSolver::Amg)",
 };
 
 /// The tangent `δx = J δx_b` of the linear springs: the same solve as the deformation with
@@ -93,10 +99,7 @@ pub fn spring_adjoint<T: Real, const V: usize>(
     scratch: &mut [[T; V]],
 ) -> Result<SolveReport<T>> {
     let n = sys.node_count();
-    check::len("w", w.len(), n)?;
-    check::len("g", g.len(), n)?;
-    check::finite_items("w", w)?;
-    options.check()?;
+    check_adjoint(n, w, g, options)?;
     if let LinearSolver::Method(LinearMethod::Cg {
         preconditioner: crate::spring::Preconditioner::Ssor { omega },
     }) = solver
@@ -108,19 +111,9 @@ pub fn spring_adjoint<T: Real, const V: usize>(
     }
     let needed = spring_adjoint_scratch_len::<T, V>(&solver, n);
     if needed == usize::MAX {
-        return Err(Error::InvalidParameter {
-            arg: "solver",
-            reason: "the adjoint needs CG (LinearMethod::Cg) or multigrid (LinearSolver::Amg)",
-        });
+        return Err(NOT_CG);
     }
-    check::buffer("scratch", scratch.len(), needed)?;
-    let small = Error::BufferTooSmall {
-        arg: "scratch",
-        needed,
-        actual: scratch.len(),
-    };
-    let (lambda, rest) = scratch.split_at_mut_checked(n).ok_or(small)?;
-    let (v, rest) = Vectors::split(rest, n).ok_or(small)?;
+    let (lambda, v, rest) = adjoint_parts(scratch, n, needed)?;
     let report = adjoint_solve(sys, solver, options, w, lambda, v, rest)?;
     pull_back(sys, w, lambda, g);
     Ok(report)
@@ -162,10 +155,7 @@ fn adjoint_solve<T: Real, const V: usize>(
             };
             solve_rhs(&op, &mut pre, v, w, lambda, layout, fixed, options, &serial)
         }
-        _ => Err(Error::InvalidParameter {
-            arg: "solver",
-            reason: "the adjoint needs CG (LinearMethod::Cg) or multigrid (LinearSolver::Amg)",
-        }),
+        _ => Err(NOT_CG),
     }
 }
 

@@ -661,11 +661,8 @@ where
     };
     let limit = T::MAX.exponent() - 1;
     // `exponents` gives e_f + ek for the field f; the solution is about f / kmax: e_f − ek.
-    let exps = exponents(&[layout.kmax], rhs, layout.joint).map(|e| {
-        e.saturating_sub(ek)
-            .saturating_sub(ek)
-            .clamp(-limit, limit)
-    });
+    let exps = exponents(&[layout.kmax], rhs, layout.joint)
+        .map(|e| e.saturating_sub(ek).saturating_sub(ek).clamp(-limit, limit));
     v.x.iter_mut().for_each(|x| *x = [T::ZERO; V]);
     let wrapped = WithRhs {
         op,
