@@ -26,11 +26,7 @@ fn is_boundary<const D: usize>(m: &TestMesh<D>) -> Vec<bool> {
     b
 }
 
-fn both<T: Real, const D: usize>(
-    m: &TestMesh<D>,
-    p: f64,
-    seed: u64,
-) -> [Vec<[T; D]>; 4] {
+fn both<T: Real, const D: usize>(m: &TestMesh<D>, p: f64, seed: u64) -> [Vec<[T; D]>; 4] {
     let pts = m.points_t::<T>();
     let n = pts.len();
     let on = is_boundary(m);
