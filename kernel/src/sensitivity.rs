@@ -29,7 +29,7 @@
 //! springs also solve any `V` components in one pass (pack `m` fields of `D` components as
 //! `V = m·D`: one lane per component).
 //!
-//! **Accuracy**: the iterative solves meet [`SolveOptions`](crate::spring::SolveOptions), so
+//! **Accuracy**: the iterative solves meet [`SolveOptions`], so
 //! tangent and adjoint agree with each other (`⟨J v, w⟩ = ⟨v, Jᵀ w⟩`) to the solver
 //! tolerance, not to rounding; pick `residual_tol` accordingly. The report says whether the
 //! solve converged.
