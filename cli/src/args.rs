@@ -5,7 +5,9 @@ use std::path::PathBuf;
 use clap::{ArgGroup, Args, Parser, Subcommand, ValueEnum};
 
 mod rbf;
+mod sensitivity;
 pub use rbf::{check_rbf_args, RbfArgs, RbfKernelArg};
+pub use sensitivity::{AdjointArgs, SensitivityMethod, SensitivitySetup, TangentArgs};
 
 /// Deform, smooth and check real mesh files (SU2, Plot3D, VTK) with deform-kernel.
 ///
@@ -54,6 +56,12 @@ pub enum Command {
     /// deformation does not use are listed once on stderr (and in the JSON report) as ignored;
     /// an option it cannot honour is an error naming it. The failure policy is `move`'s.
     Su2(Su2Args),
+    /// Pull a volume sensitivity dJ/dx (SU2_CFD_AD's) back through the mesh deformation to the
+    /// boundary nodes, as SU2_DOT does: one adjoint solve of the linear deformation.
+    Adjoint(AdjointArgs),
+    /// The first-order motion of every node for one boundary perturbation (the tangent of the
+    /// linear deformation).
+    Tangent(TangentArgs),
     /// Smooth a Plot3D grid along one grid direction (Alter's arclength Taubin smoothing).
     ///
     /// Points slide along their own grid lines to the filtered arclength; the first and last

@@ -905,17 +905,20 @@ module deform_kernel
             dk_quat_slerp_f32, dk_quat_nlerp, dk_quat_nlerp_f32, dk_quat_average, &
             dk_quat_average_f32, dk_rbf_options_default, dk_rbf_scratch_len, &
             dk_rbf_index_scratch_len, dk_rbf_deform, dk_rbf_deform_f32, &
-            dk_spring_batina_stiffness, dk_spring_batina_stiffness_f32, &
-            dk_spring_index_scratch_len, dk_spring_solve_options_default, &
-            dk_spring_solve_options_default_f32, dk_spring_solve_linear_scratch_len, &
-            dk_spring_solve_linear, dk_spring_solve_linear_f32, dk_spring_jacobi_sweep, &
-            dk_spring_jacobi_sweep_f32, dk_spring_jacobi_sweep_exact, &
-            dk_spring_jacobi_sweep_exact_f32, dk_exact_sum_value, dk_spring_sor_sweep, &
-            dk_spring_sor_sweep_f32, dk_spring_relative_residual, dk_spring_relative_residual_f32, &
-            dk_spring_angle_options_default, dk_spring_angle_options_default_f32, &
-            dk_spring_solve_angle_scratch_len, dk_spring_solve_angle_scratch_len_f32, &
-            dk_spring_angle_rigidity_probe_scratch_len, dk_spring_solve_angle, &
-            dk_spring_solve_angle_f32, dk_spring_angle_jacobi_sweep, &
+            dk_sensitivity_spring_adjoint_scratch_len, dk_sensitivity_spring_adjoint, &
+            dk_sensitivity_spring_adjoint_f32, dk_sensitivity_idw_tangent, &
+            dk_sensitivity_idw_tangent_f32, dk_sensitivity_idw_adjoint, &
+            dk_sensitivity_idw_adjoint_f32, dk_spring_batina_stiffness, &
+            dk_spring_batina_stiffness_f32, dk_spring_index_scratch_len, &
+            dk_spring_solve_options_default, dk_spring_solve_options_default_f32, &
+            dk_spring_solve_linear_scratch_len, dk_spring_solve_linear, &
+            dk_spring_solve_linear_f32, dk_spring_jacobi_sweep, dk_spring_jacobi_sweep_f32, &
+            dk_spring_jacobi_sweep_exact, dk_spring_jacobi_sweep_exact_f32, dk_exact_sum_value, &
+            dk_spring_sor_sweep, dk_spring_sor_sweep_f32, dk_spring_relative_residual, &
+            dk_spring_relative_residual_f32, dk_spring_angle_options_default, &
+            dk_spring_angle_options_default_f32, dk_spring_solve_angle_scratch_len, &
+            dk_spring_solve_angle_scratch_len_f32, dk_spring_angle_rigidity_probe_scratch_len, &
+            dk_spring_solve_angle, dk_spring_solve_angle_f32, dk_spring_angle_jacobi_sweep, &
             dk_spring_angle_jacobi_sweep_f32, dk_spring_angle_gauss_seidel_sweep, &
             dk_spring_angle_gauss_seidel_sweep_f32, dk_spring_angle_rigidity_probe, &
             dk_spring_angle_rigidity_probe_f32, dk_amg_options_default, dk_spring_amg_work_len, &
@@ -2773,6 +2776,125 @@ module deform_kernel
       real(c_float), intent(inout) :: displacements(*)
       integer(c_size_t), value :: displacements_len
       type(dk_rbf_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_spring_adjoint_scratch_len(node_count, components, options, len_out) &
+        bind(C, name="dk_sensitivity_spring_adjoint_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_spring_solve_options
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), value :: components
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_spring_adjoint(system, options, components, w, w_len, g, g_len, &
+        scratch, scratch_len, index_scratch, index_scratch_len, report) bind(C, &
+        name="dk_sensitivity_spring_adjoint") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_spring_solve_options, dk_spring_solve_report, &
+          dk_spring_system
+      type(dk_spring_system), intent(in) :: system
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_int32_t), value :: components
+      real(c_double), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_double), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_spring_adjoint_f32(system, options, components, w, w_len, g, g_len, &
+        scratch, scratch_len, index_scratch, index_scratch_len, report) bind(C, &
+        name="dk_sensitivity_spring_adjoint_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_spring_solve_options, dk_spring_solve_report, &
+          dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_int32_t), value :: components
+      real(c_float), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_float), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_idw_tangent(points, points_len, dim, boundary, boundary_len, &
+        index_base, index_scratch, index_scratch_len, exponent, dx, dx_len) bind(C, &
+        name="dk_sensitivity_idw_tangent") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), value :: exponent
+      real(c_double), intent(inout) :: dx(*)
+      integer(c_size_t), value :: dx_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_idw_tangent_f32(points, points_len, dim, boundary, boundary_len, &
+        index_base, index_scratch, index_scratch_len, exponent, dx, dx_len) bind(C, &
+        name="dk_sensitivity_idw_tangent_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), value :: exponent
+      real(c_float), intent(inout) :: dx(*)
+      integer(c_size_t), value :: dx_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_idw_adjoint(points, points_len, dim, boundary, boundary_len, &
+        index_base, index_scratch, index_scratch_len, exponent, w, w_len, g, g_len) bind(C, &
+        name="dk_sensitivity_idw_adjoint") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), value :: exponent
+      real(c_double), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_double), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_idw_adjoint_f32(points, points_len, dim, boundary, boundary_len, &
+        index_base, index_scratch, index_scratch_len, exponent, w, w_len, g, g_len) bind(C, &
+        name="dk_sensitivity_idw_adjoint_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), value :: exponent
+      real(c_float), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_float), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
       integer(c_int32_t) :: s
     end function
     function dk_spring_batina_stiffness(graph, points, points_len, dim, exponent, stiffness, &

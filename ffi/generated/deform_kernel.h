@@ -3597,6 +3597,168 @@ dk_status dk_rbf_deform_f32(const float *points,
                             size_t displacements_len,
                             dk_rbf_report *report);
 
+// Scalars of `scratch` [`dk_sensitivity_spring_adjoint`] needs for `node_count` nodes,
+// `components` (1 to 7) and `options->method` (which must be `DK_LINEAR_CG`, else
+// `DK_ERR_INVALID_PARAMETER`): `components · (5 n + ⌈n / components⌉)` (the adjoint field,
+// the four CG vectors, the diagonal). The same for both precisions.
+//
+// # Safety
+// - `options`: one readable `dk_spring_solve_options`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_sensitivity_spring_adjoint_scratch_len(size_t node_count,
+                                                    uint32_t components,
+                                                    const dk_spring_solve_options *options,
+                                                    size_t *len_out);
+
+// The adjoint of the linear springs: for `w = dJ/dx` at every node (`node_count ·
+// components` scalars, node-major), `g = dJ/dx_b` at the fixed nodes and zero at the free
+// nodes, `(D − K_ff) λ = w_f`, `g_j = w_j + Σ_{i free} k_ij λ_i`: one CG solve with the
+// deformation's own operator and preconditioner (`options`: `DK_LINEAR_CG` only) on the
+// right-hand side `w_f`. `scratch`: [`dk_sensitivity_spring_adjoint_scratch_len`] scalars;
+// `index_scratch`: `node_count` entries (the system's validation); `*report` receives the
+// solve's report (not converged is `DK_OK` with `converged` false).
+//
+// Errors: those of `dk_spring_solve_linear`, `DK_ERR_INVALID_PARAMETER` for a method other
+// than CG; on error `g` is unchanged.
+//
+// # Safety
+// - `system`: one readable `dk_spring_system`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `w`: readable for `w_len` elements (`double`).
+// - `g`: readable and writable for `g_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_sensitivity_spring_adjoint(const dk_spring_system *system,
+                                        const dk_spring_solve_options *options,
+                                        uint32_t components,
+                                        const double *w,
+                                        size_t w_len,
+                                        double *g,
+                                        size_t g_len,
+                                        double *scratch,
+                                        size_t scratch_len,
+                                        uint32_t *index_scratch,
+                                        size_t index_scratch_len,
+                                        dk_spring_solve_report *report);
+
+// `f32` twin of [`dk_sensitivity_spring_adjoint`].
+//
+// # Safety
+// As [`dk_sensitivity_spring_adjoint`].
+dk_status dk_sensitivity_spring_adjoint_f32(const dk_spring_system_f32 *system,
+                                            const dk_spring_solve_options *options,
+                                            uint32_t components,
+                                            const float *w,
+                                            size_t w_len,
+                                            float *g,
+                                            size_t g_len,
+                                            float *scratch,
+                                            size_t scratch_len,
+                                            uint32_t *index_scratch,
+                                            size_t index_scratch_len,
+                                            dk_spring_solve_report *report);
+
+// The tangent of inverse-distance weighting of displacements for `m` fields back to back in
+// `dx` (`m · N · dim` scalars): on entry each holds `δx_b` at the boundary nodes (other
+// entries ignored); on success every other node holds `Σ_k ω_ik δx_k / Σ_k ω_ik`, `ω_ik =
+// (d_min / d_ik)^exponent` on the undeformed `points` (`N · dim`, `dim` 2 or 3), as
+// `dk_deform_idw` weighs its translations. Errors: pointer and length errors,
+// `DK_ERR_BAD_INDEX_BASE`, `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_NON_FINITE`,
+// `DK_ERR_INVALID_PARAMETER` (no boundary node, bad exponent); on error `dx` is unchanged.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `boundary`: readable for `boundary_len` elements (`uint32_t`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `dx`: readable and writable for `dx_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_sensitivity_idw_tangent(const double *points,
+                                     size_t points_len,
+                                     uint32_t dim,
+                                     const uint32_t *boundary,
+                                     size_t boundary_len,
+                                     uint32_t index_base,
+                                     uint32_t *index_scratch,
+                                     size_t index_scratch_len,
+                                     double exponent,
+                                     double *dx,
+                                     size_t dx_len);
+
+// `f32` twin of [`dk_sensitivity_idw_tangent`].
+//
+// # Safety
+// As [`dk_sensitivity_idw_tangent`].
+dk_status dk_sensitivity_idw_tangent_f32(const float *points,
+                                         size_t points_len,
+                                         uint32_t dim,
+                                         const uint32_t *boundary,
+                                         size_t boundary_len,
+                                         uint32_t index_base,
+                                         uint32_t *index_scratch,
+                                         size_t index_scratch_len,
+                                         float exponent,
+                                         float *dx,
+                                         size_t dx_len);
+
+// The adjoint of [`dk_sensitivity_idw_tangent`] for `m` fields `w` back to back (`m · N ·
+// dim` scalars): `g` (as long) receives `g_k = w_k + Σ_i w_i ω_ik / Σ_j ω_ij` at the
+// boundary nodes and zero elsewhere. Errors as [`dk_sensitivity_idw_tangent`]; on error `g`
+// is unchanged.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `boundary`: readable for `boundary_len` elements (`uint32_t`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `w`: readable for `w_len` elements (`double`).
+// - `g`: readable and writable for `g_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_sensitivity_idw_adjoint(const double *points,
+                                     size_t points_len,
+                                     uint32_t dim,
+                                     const uint32_t *boundary,
+                                     size_t boundary_len,
+                                     uint32_t index_base,
+                                     uint32_t *index_scratch,
+                                     size_t index_scratch_len,
+                                     double exponent,
+                                     const double *w,
+                                     size_t w_len,
+                                     double *g,
+                                     size_t g_len);
+
+// `f32` twin of [`dk_sensitivity_idw_adjoint`].
+//
+// # Safety
+// As [`dk_sensitivity_idw_adjoint`].
+dk_status dk_sensitivity_idw_adjoint_f32(const float *points,
+                                         size_t points_len,
+                                         uint32_t dim,
+                                         const uint32_t *boundary,
+                                         size_t boundary_len,
+                                         uint32_t index_base,
+                                         uint32_t *index_scratch,
+                                         size_t index_scratch_len,
+                                         float exponent,
+                                         const float *w,
+                                         size_t w_len,
+                                         float *g,
+                                         size_t g_len);
+
 // Batina's stiffness `k_ij = 1 / |r_i − r_j|^exponent` for every directed edge of the 0-based
 // CSR graph into `stiffness` (`stiffness_len` = `graph->targets_len`). `exponent` 1 is the papers'
 // choice (computed as `1/|d|`), 2 is `1/(d·d)`, 0 the uniform Laplacian. The result is

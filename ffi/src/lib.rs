@@ -58,6 +58,8 @@ pub mod quality;
 pub mod quat;
 #[path = "../generated/rbf.rs"]
 pub mod rbf;
+#[path = "../generated/sensitivity.rs"]
+pub mod sensitivity;
 #[path = "../generated/spring.rs"]
 pub mod spring;
 #[path = "../generated/status.rs"]

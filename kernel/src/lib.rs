@@ -46,6 +46,7 @@ pub mod quat;
 pub mod quaternion;
 pub mod rbf;
 pub mod real;
+pub mod sensitivity;
 pub mod spring;
 pub mod taubin;
 pub mod vector;

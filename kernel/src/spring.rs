@@ -71,6 +71,7 @@ pub use angle::{
 };
 pub use distributed::{Collective, Serial};
 pub use linear::solve_linear_scratch_len;
+pub(crate) use linear::{diagonal, Laplacian, OneLevel};
 pub use partitioned::{
     partitioned_cg_scratch_len, partitioned_targets_len, LocalCells, PartitionedSprings,
 };

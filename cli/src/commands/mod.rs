@@ -10,6 +10,7 @@ mod demo;
 mod mesh;
 mod r#move;
 mod quality;
+mod sensitivity;
 mod smooth;
 mod su2;
 
@@ -53,6 +54,8 @@ pub fn run_split(
         Command::Move(a) => move_mesh(a, quiet, split),
         Command::Smooth(a) => smooth(a, quiet),
         Command::Su2(a) => su2::su2(a, quiet),
+        Command::Adjoint(a) => sensitivity::adjoint(a),
+        Command::Tangent(a) => sensitivity::tangent(a),
         Command::Quality(a) => quality(a),
         Command::Convert(a) => convert(a),
     }
@@ -93,5 +96,7 @@ pub(crate) fn files_of(command: &Command) -> (Vec<&Path>, Vec<&Path>) {
             opt(&a.vtk).into_iter().collect(),
         ),
         Command::Convert(a) => (vec![&a.input], vec![&a.output]),
+        Command::Adjoint(a) => (vec![&a.setup.mesh, &a.sensitivity], vec![&a.out]),
+        Command::Tangent(a) => (vec![&a.setup.mesh, &a.perturbation], vec![&a.out]),
     }
 }

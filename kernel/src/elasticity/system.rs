@@ -377,6 +377,15 @@ impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
         check::buffer("scratch", actual, needed)
     }
 
+    /// The largest `|entry|` of the diagonal blocks: the scale CG works at.
+    pub(crate) fn kmax(&self) -> T {
+        self.diag
+            .iter()
+            .flatten()
+            .flatten()
+            .fold(T::ZERO, |m, &k| m.max(k.abs()))
+    }
+
     /// CG of the Krylov core on the jointly scaled iterate.
     fn cg<M: Precondition<T, D>>(
         &self,
@@ -385,13 +394,7 @@ impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
         values: &mut [[T; D]],
         options: &SolveOptions<T>,
     ) -> Result<SolveReport<T>> {
-        let kmax = self
-            .diag
-            .iter()
-            .flatten()
-            .flatten()
-            .fold(T::ZERO, |m, &k| m.max(k.abs()));
-        let exps = exponents(&[kmax], values, true);
+        let exps = exponents(&[self.kmax()], values, true);
         let serial = Serial::new(self.node_count());
         solve_scaled(
             self,

@@ -37,7 +37,7 @@ use core::ops::Range;
 use super::distributed::{
     merged, merged_max, merged_one, merged_with, share_field, share_halo, Collective,
 };
-use super::norms::{scale_by, Norm};
+use super::norms::{pair_norms, scale_by, Norm, Pairs};
 use super::system::{SolveOptions, SolveReport};
 use crate::error::{Error, Result};
 use crate::exact_sum::ExactSum;
@@ -579,4 +579,171 @@ fn new_direction<T, const V: usize, const L: usize, C>(
         }
     }
     share_halo(comm, v.p);
+}
+
+/// An [`Operator`] whose own right-hand side (the fixed nodes' pull) is replaced by an
+/// arbitrary one `f`: `(f − A x)_i` at a free node. The inner operator's residual must be
+/// `−(A x)_i` when `x` is zero at every fixed node (true of every operator here: the pull is
+/// the only affine part), and [`solve_rhs`] keeps `x` zero there. `f` is the caller's,
+/// unscaled; `scale` (`2^−e_c`) brings it to the scaled iterate's units on the fly (exact: a
+/// power of two), so no copy of it is needed. The adjoint solves use it.
+struct WithRhs<'s, T, O, F, const V: usize> {
+    op: &'s O,
+    rhs: &'s [[T; V]],
+    scale: [T; V],
+    fixed: F,
+    per_node: bool,
+}
+
+impl<T: Real, O, F: Fn(usize) -> bool, const V: usize> WithRhs<'_, T, O, F, V> {
+    /// `f_i` in the scaled units, zero at a fixed node.
+    #[inline]
+    fn rhs_at(&self, i: usize) -> [T; V] {
+        match self.rhs.get(i) {
+            Some(f) if !(self.fixed)(i) => {
+                let mut out = *f;
+                for (o, &s) in out.iter_mut().zip(&self.scale) {
+                    *o *= s;
+                }
+                out
+            }
+            _ => [T::ZERO; V],
+        }
+    }
+}
+
+impl<T, O, F, const V: usize, const L: usize> Operator<T, V, L> for WithRhs<'_, T, O, F, V>
+where
+    T: Real,
+    O: Operator<T, V, L>,
+    F: Fn(usize) -> bool,
+{
+    #[inline]
+    fn residual(&self, i: usize, x: &[[T; V]]) -> [T; V] {
+        vector::add(self.rhs_at(i), self.op.residual(i, x))
+    }
+
+    #[inline]
+    fn apply(
+        &self,
+        rows: Range<usize>,
+        p: &[[T; V]],
+        q: &mut [[T; V]],
+        pq: &mut [ExactSum; L],
+        dpp: &mut [T; L],
+    ) {
+        self.op.apply(rows, p, q, pq, dpp);
+    }
+
+    fn norms<C: Collective<T> + ?Sized>(
+        &self,
+        x: &[[T; V]],
+        exps: &[i32; V],
+        comm: &C,
+    ) -> (Norm<T>, Norm<T>) {
+        let top = exps.iter().copied().max().unwrap_or(0);
+        let g = exps.map(|e| scale_by(T::ONE, e - top));
+        let pairs = RhsPairs {
+            op: self,
+            rows: comm.owned(),
+            x,
+            lanes: core::marker::PhantomData::<[(); L]>,
+        };
+        let (r, b) = pair_norms(&pairs, &g, self.per_node, comm);
+        (r.shifted(top), b.shifted(top))
+    }
+}
+
+/// The residual pairs `(f − A x, f)` of [`WithRhs`] over the free nodes of some rows.
+struct RhsPairs<'s, 'x, T, O, F, const V: usize, const L: usize> {
+    op: &'s WithRhs<'s, T, O, F, V>,
+    rows: &'s [Range<usize>],
+    x: &'x [[T; V]],
+    lanes: core::marker::PhantomData<[(); L]>,
+}
+
+impl<T, O, F, const V: usize, const L: usize> Pairs<T, V> for RhsPairs<'_, '_, T, O, F, V, L>
+where
+    T: Real,
+    O: Operator<T, V, L>,
+    F: Fn(usize) -> bool,
+{
+    fn each<G: FnMut(&[T; V], &[T; V])>(&self, mut f: G) {
+        for i in self.rows.iter().flat_map(|r| r.clone()) {
+            if !(self.op.fixed)(i) {
+                let b = self.op.rhs_at(i);
+                let r = vector::add(b, self.op.op.residual(i, self.x));
+                f(&r, &b);
+            }
+        }
+    }
+}
+
+/// How [`solve_rhs`] scales and measures: the largest stiffness entry `kmax` (sets the
+/// scale), `joint` (one exponent for every component: operators that couple them) and
+/// `per_node` (each node's `|r_i|²` one term of the norms, as the coupled operators sum).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RhsLayout<T> {
+    pub kmax: T,
+    pub joint: bool,
+    pub per_node: bool,
+}
+
+/// Solves `A x = f` on the free nodes for an arbitrary right-hand side `f` (`rhs`, one item
+/// per node, ignored at fixed nodes) from a zero initial guess, with the same [`pcg`] loop,
+/// stopping rule and preconditioner as the operator's own solves; writes `x` into `out`
+/// (zero at fixed nodes). The iterate is scaled by `2^−e_c` with `e_c` chosen so that
+/// `x ≈ f / kmax` lands near `1/√kmax` (as [`exponents`] does for the Dirichlet solves).
+/// `rhs` must be finite (the caller checks); `out` is written only on `Ok`.
+///
+/// # Errors
+/// Those of [`pcg`].
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn solve_rhs<T, const V: usize, const L: usize, O, M, C>(
+    op: &O,
+    pre: &mut M,
+    mut v: Vectors<'_, T, V>,
+    rhs: &[[T; V]],
+    out: &mut [[T; V]],
+    layout: RhsLayout<T>,
+    fixed: impl Fn(usize) -> bool + Copy,
+    options: &SolveOptions<T>,
+    comm: &C,
+) -> Result<SolveReport<T>>
+where
+    T: Real,
+    O: Operator<T, V, L>,
+    M: Precondition<T, V>,
+    C: Collective<T> + ?Sized,
+{
+    let ek = if layout.kmax > T::ZERO {
+        layout.kmax.exponent() / 2
+    } else {
+        0
+    };
+    let limit = T::MAX.exponent() - 1;
+    // `exponents` gives e_f + ek for the field f; the solution is about f / kmax: e_f − ek.
+    let exps = exponents(&[layout.kmax], rhs, layout.joint)
+        .map(|e| e.saturating_sub(ek).saturating_sub(ek).clamp(-limit, limit));
+    v.x.iter_mut().for_each(|x| *x = [T::ZERO; V]);
+    let wrapped = WithRhs {
+        op,
+        rhs,
+        scale: exps.map(|e| T::pow2(-e)),
+        fixed,
+        per_node: layout.per_node,
+    };
+    let report = pcg(&wrapped, pre, &mut v, &exps, options, comm)?;
+    for (i, (o, x)) in out.iter_mut().zip(v.x.iter()).enumerate() {
+        *o = if fixed(i) {
+            [T::ZERO; V]
+        } else {
+            let mut y = *x;
+            for (y, &e) in y.iter_mut().zip(&exps) {
+                *y = scale_by(*y, e);
+            }
+            y
+        };
+    }
+    Ok(report)
 }

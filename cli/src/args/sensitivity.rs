@@ -1,0 +1,68 @@
+//! The arguments of `deform adjoint` and `deform tangent`.
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+
+/// The linear deformation whose derivative the sensitivity commands take.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SensitivityMethod {
+    /// Batina's linear springs (stiffness 1/length) on the mesh's edge graph, multigrid CG:
+    /// `deform move --method spring --stiffness batina`'s solve.
+    Spring,
+    /// Inverse-distance weighting of the boundary displacements (`--idw-exponent`).
+    Idw,
+}
+
+/// What the linear deformation needs (shared by `adjoint` and `tangent`).
+#[derive(Clone, Debug, Args)]
+pub struct SensitivitySetup {
+    /// The undeformed SU2 mesh. Every marker's nodes are the boundary (prescribed) nodes.
+    pub mesh: PathBuf,
+    /// The deformation to differentiate.
+    #[arg(long, value_enum, default_value = "spring")]
+    pub method: SensitivityMethod,
+    /// IDW weight exponent `p` in `(d_min / d)^p` (`--method idw`).
+    #[arg(long, default_value_t = 2.0)]
+    pub idw_exponent: f64,
+    /// Relative residual tolerance of the spring solve.
+    #[arg(long, default_value_t = 1e-12)]
+    pub tol: f64,
+    /// Iteration cap of the spring solve.
+    #[arg(long, default_value_t = 10_000)]
+    pub max_iter: usize,
+}
+
+/// `deform adjoint`.
+#[derive(Clone, Debug, Args)]
+pub struct AdjointArgs {
+    /// Mesh and method.
+    #[command(flatten)]
+    pub setup: SensitivitySetup,
+    /// The volume sensitivity dJ/dx at every mesh node: SU2_CFD_AD's adjoint restart in CSV
+    /// (a header with "Sensitivity_x", "Sensitivity_y"[, "Sensitivity_z"] and optionally
+    /// "PointID"), or plain rows `node dJ/dx dJ/dy [dJ/dz]` (0-based nodes, `%`/`#` comments).
+    #[arg(long)]
+    pub sensitivity: PathBuf,
+    /// Write the surface sensitivity of these markers' nodes (default: every marker).
+    #[arg(long, num_args = 1..)]
+    pub markers: Vec<String>,
+    /// The surface sensitivity CSV: `node,x,y[,z],dJ/dx,dJ/dy[,dJ/dz]` per boundary node.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// `deform tangent`.
+#[derive(Clone, Debug, Args)]
+pub struct TangentArgs {
+    /// Mesh and method.
+    #[command(flatten)]
+    pub setup: SensitivitySetup,
+    /// The boundary perturbation: rows `node dx dy [dz]` (0-based, CSV or whitespace,
+    /// `%`/`#` comments); boundary nodes not listed do not move.
+    #[arg(long)]
+    pub perturbation: PathBuf,
+    /// The tangent field CSV: `node,dx,dy[,dz]` for every mesh node.
+    #[arg(long)]
+    pub out: PathBuf,
+}

