@@ -119,7 +119,7 @@ fn move_su2(a: &MoveArgs, quiet: bool, split: Option<&dyn Splitter>) -> Result<O
     let how = renumbering(a);
     let spinner = crate::progress::spinner("deforming", quiet);
     let result = if a.method() == Method::Elasticity {
-        elasticity::run(a, &input).map(|r| (r, crate::renumber::off_report()))
+        elasticity::run(a, &input, &roles.slide).map(|r| (r, crate::renumber::off_report()))
     } else {
         crate::renumber::run_move_renumbered(&input, &roles.slide, a.steps as usize, how)
     };
