@@ -315,9 +315,13 @@ fn solve_amg<const D: usize>(
     let sizes = RigidAmg::setup_len(&spring, D, &opts, &mut work).map_err(&err)?;
     let mut index = vec![0u32; sizes.index];
     let mut values = vec![0.0; sizes.values];
-    let h = sys
-        .rigid_amg(&spring, mesh, &opts, &mut work, &mut index, &mut values)
-        .map_err(&err)?;
+    let h = match run.constraints {
+        Some(c) => {
+            sys.rigid_amg_sliding(c, &spring, mesh, &opts, &mut work, &mut index, &mut values)
+        }
+        None => sys.rigid_amg(&spring, mesh, &opts, &mut work, &mut index, &mut values),
+    }
+    .map_err(&err)?;
     let r = match run.constraints {
         Some(c) => {
             let len = elastic_rigid_amg_sliding_scratch_len(n, sizes.coarse_scalars, D);

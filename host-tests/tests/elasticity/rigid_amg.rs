@@ -354,3 +354,151 @@ fn typed_errors_write_nothing() {
     );
     assert_eq!(u, before);
 }
+
+/// The constrained problem solved densely on its own unknowns: both components at free
+/// nodes, `y` only at the sliding nodes (`x = 0` there: the plane `x = 0`), the rest given.
+fn dense_sliding(a: &Assembled<f64, 2>, kind: &[u8], u: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let n = u.len();
+    let mut k = vec![vec![0.0; 2 * n]; 2 * n];
+    for i in 0..n {
+        for (x, row) in a.diag[i].iter().enumerate() {
+            for (y, &v) in row.iter().enumerate() {
+                k[2 * i + x][2 * i + y] += v;
+            }
+        }
+        for q in a.offsets[i] as usize..a.offsets[i + 1] as usize {
+            let j = a.targets[q] as usize;
+            for (x, row) in a.off[q].iter().enumerate() {
+                for (y, &v) in row.iter().enumerate() {
+                    k[2 * i + x][2 * j + y] += v;
+                }
+            }
+        }
+    }
+    let unknown = |dof: usize| match kind[dof / 2] {
+        0 => true,
+        2 => dof % 2 == 1,
+        _ => false,
+    };
+    let dofs: Vec<usize> = (0..2 * n).filter(|&d| unknown(d)).collect();
+    let given: Vec<f64> = (0..2 * n)
+        .map(|d| {
+            if unknown(d) || kind[d / 2] == 2 {
+                0.0
+            } else {
+                u[d / 2][d % 2]
+            }
+        })
+        .collect();
+    let m = dofs.len();
+    let mut sys: Vec<Vec<f64>> = dofs
+        .iter()
+        .map(|&r| {
+            let mut row: Vec<f64> = dofs.iter().map(|&c| k[r][c]).collect();
+            row.push(-(0..2 * n).map(|c| k[r][c] * given[c]).sum::<f64>());
+            row
+        })
+        .collect();
+    for p in 0..m {
+        for r in p + 1..m {
+            let f = sys[r][p] / sys[p][p];
+            for c in p..=m {
+                sys[r][c] -= f * sys[p][c];
+            }
+        }
+    }
+    let mut x = vec![0.0; m];
+    for p in (0..m).rev() {
+        let s: f64 = (p + 1..m).map(|c| sys[p][c] * x[c]).sum();
+        x[p] = (sys[p][m] - s) / sys[p][p];
+    }
+    let mut out: Vec<[f64; 2]> = (0..n).map(|i| [given[2 * i], given[2 * i + 1]]).collect();
+    for (&d, &v) in dofs.iter().zip(&x) {
+        out[d / 2][d % 2] = v;
+    }
+    out
+}
+
+#[test]
+fn sliding_nodes_against_a_dense_constrained_solve() {
+    use deform_kernel::elasticity::{
+        elastic_rigid_amg_sliding_scratch_len, elastic_sliding_scratch_len,
+    };
+    use deform_kernel::spring::constraints::Constraints;
+    let m = grid2(16, Kind::Mixed, 0.3);
+    let n = m.points.len();
+    // The side x = 0 (corners excepted) slides on its plane; the rest of the boundary moves.
+    let kind: Vec<u8> = (0..n)
+        .map(|i| {
+            let [x, y] = m.points[i];
+            match (m.boundary[i], x == 0.0 && y > 0.0 && y < 1.0) {
+                (true, true) => 2,
+                (true, false) => 1,
+                _ => 0,
+            }
+        })
+        .collect();
+    let dirs = vec![[1.0, 0.0]; n];
+    let c = Constraints::new(&kind, &dirs).unwrap();
+    let fixed: Vec<u8> = kind.iter().map(|&k| u8::from(k == 1)).collect();
+    let a = assembled(&m, &m.points, Modulus::InverseVolume, None, 0.3);
+    let sys = a.system(&fixed);
+    let start: Vec<[f64; 2]> = m
+        .points
+        .iter()
+        .zip(&kind)
+        .map(|(p, &k)| {
+            if k == 1 {
+                [0.05 * (3.0 * p[1]).sin(), 0.04 * p[0]]
+            } else {
+                [0.0; 2]
+            }
+        })
+        .collect();
+    let reference = dense_sliding(&a, &kind, &start);
+    let opts = SolveOptions::default();
+    let mut bj = start.clone();
+    let mut scratch = vec![[0.0; 2]; elastic_sliding_scratch_len(n).unwrap()];
+    let rb = sys.solve_sliding(&c, &mut bj, &opts, &mut scratch).unwrap();
+    // The multigrid of K + s N (a stiff spring across each sliding node's plane).
+    let w = vec![1.0; a.targets.len()];
+    let mut anchor = vec![0u32; n];
+    let spring = SpringSystem::new(a.graph(), &w, &fixed, &mut anchor).unwrap();
+    let o = options();
+    let mut work = vec![0u32; AmgHierarchy::setup_work_len(&spring)];
+    let sizes = RigidAmg::setup_len(&spring, 2, &o, &mut work).unwrap();
+    let (mut index, mut values) = (vec![0u32; sizes.index], vec![0.0; sizes.values]);
+    let h = sys
+        .rigid_amg_sliding(
+            &c,
+            &spring,
+            &m.points,
+            &o,
+            &mut work,
+            &mut index,
+            &mut values,
+        )
+        .unwrap();
+    let len = elastic_rigid_amg_sliding_scratch_len(n, sizes.coarse_scalars, 2).unwrap();
+    let mut scratch = vec![[0.0; 2]; len];
+    let mut mg = start.clone();
+    let rm = sys
+        .solve_rigid_amg_sliding(&c, &h, &mut mg, &opts, &mut scratch)
+        .unwrap();
+    eprintln!(
+        "sliding: block Jacobi {} iterations, rigid multigrid {}",
+        rb.iterations, rm.iterations
+    );
+    assert!(rb.converged && rm.converged);
+    let scale = start.iter().flatten().fold(0.0f64, |s, x| s.max(x.abs()));
+    for (name, u) in [("block Jacobi", &bj), ("multigrid", &mg)] {
+        let err = max_diff(u, &reference);
+        assert!(err < 1e-8 * scale, "{name}: {err:e}");
+        for i in (0..n).filter(|&i| kind[i] == 2) {
+            assert_eq!(u[i][0], 0.0, "{name}: sliding node {i} left its plane");
+        }
+    }
+    // Some sliding node does slide.
+    assert!((0..n).any(|i| kind[i] == 2 && mg[i][1].abs() > 1e-3 * scale));
+    assert!(rm.iterations < rb.iterations);
+}

@@ -18,7 +18,9 @@ use crate::real::Real;
 use crate::spring::constraints::{Constraints, NodeKind};
 use crate::spring::krylov::{Operator, Precondition, Vectors};
 use crate::spring::norms::{pair_norms, scale_by, Norm, Pairs};
-use crate::spring::{Collective, RigidAmg, RigidVcycle, SolveOptions, SolveReport};
+use crate::spring::{
+    AmgOptions, Collective, RigidAmg, RigidVcycle, SolveOptions, SolveReport, SpringSystem,
+};
 
 /// `[T; D]` scratch items of [`ElasticSystem::solve_sliding`]: the four CG vectors and a
 /// copy of the values (`5 n`; `None` on overflow).
@@ -151,19 +153,20 @@ impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
         let n = self.node_count();
         let needed = elastic_sliding_scratch_len(n).unwrap_or(usize::MAX);
         self.check_sliding(constraints, values, options, scratch.len(), needed)?;
-        let (saved, rest) = scratch.split_at_mut(n);
-        let v = Vectors::split(rest, n).ok_or(Error::BufferTooSmall {
+        let too_small = Error::BufferTooSmall {
             arg: "scratch",
             needed,
-            actual: 0,
-        })?;
+            actual: scratch.len(),
+        };
+        let (saved, rest) = scratch.split_at_mut_checked(n).ok_or(too_small)?;
+        let v = Vectors::split(rest, n).ok_or(too_small)?;
         let pre = NodeBlocks(self);
         self.sliding_cg(constraints, pre, v.0, saved, values, options)
     }
 
     /// [`solve_rigid_amg`](Self::solve_rigid_amg) with sliding nodes (see
-    /// [`solve_sliding`](Self::solve_sliding)); the hierarchy is built for this system (the
-    /// sliding nodes free in it).
+    /// [`solve_sliding`](Self::solve_sliding)), with a hierarchy from
+    /// [`rigid_amg_sliding`](Self::rigid_amg_sliding) (the same constraints).
     ///
     /// # Errors
     /// Those of [`solve_sliding`](Self::solve_sliding) and
@@ -192,13 +195,14 @@ impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
             needed,
             actual: scratch.len(),
         };
-        let (saved, rest) = scratch.split_at_mut(n);
+        let (saved, rest) = scratch.split_at_mut_checked(n).ok_or(too_small)?;
         let (v, rest) = Vectors::split(rest, n).ok_or(too_small)?;
         let (t, coarse_buf) = rest
             .as_flattened_mut()
             .split_at_mut_checked(n * D)
             .ok_or(too_small)?;
-        let fine = self.fine();
+        let mut fine = self.fine();
+        fine.slide = Some((constraints.kinds(), constraints.directions().as_flattened()));
         let pre = RigidVcycle {
             h: hierarchy,
             fine: &fine,
@@ -206,6 +210,55 @@ impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
             coarse: coarse_buf,
         };
         self.sliding_cg(constraints, pre, v, saved, values, options)
+    }
+
+    /// [`rigid_amg`](Self::rigid_amg) for [`solve_rigid_amg_sliding`](Self::solve_rigid_amg_sliding):
+    /// the hierarchy of `K + s N` with a stiff spring across each sliding node's allowed
+    /// motion (`N_i = n nᵀ` on a plane, `I − t tᵀ` on a line, `s` the node's mean diagonal
+    /// entry), whose inverse approaches the constrained operator's; the hierarchy of the
+    /// unconstrained `K` preconditions the projected problem poorly (the normal motion of the
+    /// sliding nodes is free in it).
+    ///
+    /// # Errors
+    /// Those of [`rigid_amg`](Self::rigid_amg); constraints of another length or whose fixed
+    /// nodes differ from the system's.
+    #[allow(clippy::too_many_arguments)]
+    pub fn rigid_amg_sliding<'h>(
+        &self,
+        constraints: &Constraints<'_, T, D>,
+        spring: &SpringSystem<'_, T>,
+        points: &[[T; D]],
+        options: &AmgOptions<T>,
+        work: &mut [u32],
+        index: &'h mut [u32],
+        values: &'h mut [T],
+    ) -> Result<RigidAmg<'h, T>> {
+        check::len("constraints", constraints.len(), self.node_count())?;
+        self.check_kinds(constraints)?;
+        check::len("points", points.len(), self.node_count())?;
+        check::finite_items("points", points)?;
+        let mut fine = self.fine();
+        fine.slide = Some((constraints.kinds(), constraints.directions().as_flattened()));
+        RigidAmg::setup(
+            &fine,
+            spring,
+            points.as_flattened(),
+            options,
+            work,
+            index,
+            values,
+        )
+    }
+
+    /// Kind 1 exactly at the system's fixed nodes.
+    fn check_kinds(&self, c: &Constraints<'_, T, D>) -> Result<()> {
+        if (0..c.len()).any(|i| (c.kind(i) == NodeKind::Fixed) != self.is_fixed(i)) {
+            return Err(Error::InvalidParameter {
+                arg: "constraints",
+                reason: "must give kind 1 (fixed) exactly to the system's fixed nodes",
+            });
+        }
+        Ok(())
     }
 
     /// The checks of the sliding solves, before anything is written.
@@ -218,12 +271,7 @@ impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
         needed: usize,
     ) -> Result<()> {
         check::len("constraints", c.len(), self.node_count())?;
-        if (0..c.len()).any(|i| (c.kind(i) == NodeKind::Fixed) != self.is_fixed(i)) {
-            return Err(Error::InvalidParameter {
-                arg: "constraints",
-                reason: "must give kind 1 (fixed) exactly to the system's fixed nodes",
-            });
-        }
+        self.check_kinds(c)?;
         self.check_solve(values, options, actual, needed)
     }
 

@@ -390,6 +390,7 @@ impl<'a, T: Real, const D: usize> ElasticSystem<'a, T, D> {
             off: self.off.as_flattened().as_flattened(),
             fixed: self.fixed,
             d: D,
+            slide: None,
         }
     }
 

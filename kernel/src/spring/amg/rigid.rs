@@ -86,14 +86,50 @@ pub(crate) struct Fine<'s, T> {
     pub off: &'s [T],
     pub fixed: &'s [u8],
     pub d: usize,
+    /// Sliding nodes (kind codes and flattened directions of
+    /// [`Constraints`](crate::spring::constraints::Constraints)): the hierarchy is built for
+    /// `K + s Σ N_i`, with `N_i` the projector across node `i`'s allowed motion and `s` its
+    /// diagonal block's mean diagonal entry, whose inverse approaches the constrained
+    /// operator's on the allowed motions.
+    pub slide: Option<(&'s [u8], &'s [T])>,
 }
 
-impl<T> Fine<'_, T> {
+impl<T: Real> Fine<'_, T> {
     #[inline]
     pub fn is_fixed(&self, i: usize) -> bool {
         self.fixed
             .get(i)
             .is_some_and(|&m| crate::spring::is_fixed(m))
+    }
+
+    /// `blk += s N_i` at a sliding node (`N = n nᵀ/|n|²` on a plane, `I − t tᵀ/|t|²` on a
+    /// line); nothing elsewhere.
+    pub fn add_slide(&self, i: usize, blk: &mut [T]) {
+        let Some((kinds, dirs)) = self.slide else {
+            return;
+        };
+        let d = self.d;
+        let kind = kinds.get(i).copied().unwrap_or(0);
+        let v = seg(dirs, i * d, d);
+        let vv = v.iter().fold(T::ZERO, |s, &x| s + x * x);
+        if (kind != 2 && kind != 3) || !(vv > T::ZERO) {
+            return;
+        }
+        let tr = (0..d).fold(T::ZERO, |s, r| s + get(blk, r * d + r));
+        let s = tr * T::from_f64(10.0) / T::from_usize(d);
+        for r in 0..d {
+            for c in 0..d {
+                let nn = get(v, r) * get(v, c) / vv;
+                let m = match (kind, r == c) {
+                    (2, _) => nn,
+                    (_, true) => T::ONE - nn,
+                    _ => -nn,
+                };
+                if let Some(o) = blk.get_mut(r * d + c) {
+                    *o += s * m;
+                }
+            }
+        }
     }
 }
 

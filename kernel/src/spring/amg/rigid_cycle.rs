@@ -24,7 +24,7 @@ fn residual<T: Real>(op: &Op<'_, T>, x: &[T], b: &[T], t: &mut [T]) {
                     }
                 }
             };
-            add(i, op.diag(i));
+            add(i, &op.diag(i));
             op.row(i, add);
         }
         for (r, o) in t.iter_mut().skip(i * bs).take(bs).enumerate() {

@@ -48,11 +48,13 @@ impl<'s, T: Real> Op<'s, T> {
         self.l > 0 || !self.fine.is_fixed(i)
     }
 
-    /// Diagonal block of node `i` (`b × b`, row-major).
+    /// Diagonal block of node `i` (`b × b`, row-major); at level 0 a sliding node's block
+    /// gains a stiff spring across its allowed motion (see [`Fine::slide`]).
     #[inline]
-    pub fn diag(&self, i: usize) -> &'s [T] {
+    pub fn diag(&self, i: usize) -> [T; MAX_B * MAX_B] {
         let bb = self.b * self.b;
-        if self.l == 0 {
+        let mut out = [T::ZERO; MAX_B * MAX_B];
+        let src = if self.l == 0 {
             blk(self.fine.diag, 0, i, bb)
         } else {
             blk(
@@ -61,7 +63,14 @@ impl<'s, T: Real> Op<'s, T> {
                 i,
                 bb,
             )
+        };
+        for (o, &v) in out.iter_mut().zip(src) {
+            *o = v;
         }
+        if self.l == 0 {
+            self.fine.add_slide(i, &mut out);
+        }
+        out
     }
 
     /// Point diagonal entry of scalar row `r` of node `i`.
@@ -136,7 +145,11 @@ fn fine_start<T: Real>(h: &RigidAmg<'_, T>, fine: &Fine<'_, T>, points: &[T], va
         *c = (lo + hi) * T::HALF;
     }
     for i in 0..n {
-        let db = blk(fine.diag, 0, i, d * d);
+        let mut db = [T::ZERO; MAX_B * MAX_B];
+        for (o, &v) in db.iter_mut().zip(blk(fine.diag, 0, i, d * d)) {
+            *o = v;
+        }
+        fine.add_slide(i, &mut db);
         for (r, p) in blk_mut(values, h.vals.pd.first().copied().unwrap_or(0), i, d)
             .iter_mut()
             .enumerate()
@@ -144,7 +157,7 @@ fn fine_start<T: Real>(h: &RigidAmg<'_, T>, fine: &Fine<'_, T>, points: &[T], va
             *p = if fine.is_fixed(i) {
                 T::ZERO
             } else {
-                get(db, r * d + r)
+                get(&db, r * d + r)
             };
         }
         let mut x = [T::ZERO; 3];
@@ -170,7 +183,7 @@ fn spectral_bound<T: Real>(op: &Op<'_, T>) -> T {
                 continue;
             }
             let mut s = T::ZERO;
-            for &v in seg(op.diag(i), r * b, b) {
+            for &v in seg(&op.diag(i), r * b, b) {
                 s += v.abs();
             }
             op.row(i, |_, a| {
@@ -347,7 +360,7 @@ impl<T: Real> Levels<'_, '_, T> {
                     [b, b, k],
                 );
             };
-            add(i, op.diag(i));
+            add(i, &op.diag(i));
             op.row(i, &mut add);
             let ai = agg.get(i).copied().unwrap_or(NONE);
             let rel = s.saturating_sub(lv.p_cols);
@@ -404,7 +417,7 @@ impl<T: Real> Levels<'_, '_, T> {
                         mul_add(&m, pj, blk_mut(acc, 0, c as usize, kk), [k, b, k]);
                     }
                 };
-                visit(i, op.diag(i));
+                visit(i, &op.diag(i));
                 op.row(i, &mut visit);
             }
             let acc: &[T] = acc;
@@ -592,7 +605,7 @@ fn cholesky<T: Real>(op: &Op<'_, T>, m: usize, dense: &mut [T]) -> Result<()> {
                 }
             }
         };
-        put(i, op.diag(i));
+        put(i, &op.diag(i));
         op.row(i, put);
     }
     for j in 0..m {
