@@ -185,9 +185,9 @@ fn pyamg_reference<const D: usize>(
             if fixed[j] == 0 {
                 put(id[i], id[j], &a.off[q], &mut trip);
             } else {
-                for x in 0..D {
-                    for y in 0..D {
-                        rhs[id[i] * D + x] -= a.off[q][x][y] * u[j][y];
+                for (x, row) in a.off[q].iter().enumerate() {
+                    for (v, uy) in row.iter().zip(&u[j]) {
+                        rhs[id[i] * D + x] -= v * uy;
                     }
                 }
             }
@@ -402,8 +402,9 @@ fn dense_sliding(a: &Assembled<f64, 2>, kind: &[u8], u: &[[f64; 2]]) -> Vec<[f64
     for p in 0..m {
         for r in p + 1..m {
             let f = sys[r][p] / sys[p][p];
-            for c in p..=m {
-                sys[r][c] -= f * sys[p][c];
+            let pivot = sys[p].clone();
+            for (v, pv) in sys[r].iter_mut().zip(&pivot).skip(p) {
+                *v -= f * pv;
             }
         }
     }

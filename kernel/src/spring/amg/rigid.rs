@@ -112,7 +112,7 @@ impl<T: Real> Fine<'_, T> {
         let kind = kinds.get(i).copied().unwrap_or(0);
         let v = seg(dirs, i * d, d);
         let vv = v.iter().fold(T::ZERO, |s, &x| s + x * x);
-        if (kind != 2 && kind != 3) || !(vv > T::ZERO) {
+        if (kind != 2 && kind != 3) || vv <= T::ZERO || !vv.is_finite() {
             return;
         }
         let tr = (0..d).fold(T::ZERO, |s, r| s + get(blk, r * d + r));
