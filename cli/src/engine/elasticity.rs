@@ -15,7 +15,7 @@ use deform_kernel::spring::{
 use deform_kernel::Graph;
 
 use super::{
-    cells_view, kernel, move_result, points_d, prescribe, slide_table, MoveInput, MoveResult,
+    cells_view, kernel, move_result, points_d, prescribe, slide_setup, MoveInput, MoveResult,
     MoveSolver, Prescribed, SlideMarker,
 };
 use crate::error::CliError;
@@ -50,15 +50,7 @@ fn run_d<const D: usize>(
     let n = input.points.len();
     let mut pre = prescribe::<D>(input)?;
     let pts = points_d::<D>(input.points);
-    let table = if sliding.is_empty() {
-        None
-    } else {
-        let t = slide_table(&pts, &pre.boundary, sliding)?;
-        // Nodes on too many sliding planes are held where they are.
-        pre.boundary.extend(&t.pinned);
-        pre.boundary.sort_unstable();
-        Some(t)
-    };
+    let table = slide_setup(&pts, &mut pre, sliding)?;
     let constraints = match &table {
         Some(t) => {
             Some(Constraints::new(&t.kinds, &t.directions).map_err(kernel("sliding constraints"))?)

@@ -82,33 +82,46 @@ impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
         options: &SolveOptions<T>,
         scratch: &mut [[T; D]],
     ) -> Result<SolveReport<T>> {
-        let n = self.node_count();
-        check::len("hierarchy", hierarchy.node_count(), n)?;
-        check::len(
-            "hierarchy",
-            hierarchy.level_unknowns(0),
-            n.saturating_mul(D),
-        )?;
-        let coarse = hierarchy.coarse_scalars();
-        let needed = elastic_rigid_amg_scratch_len(n, coarse, D).unwrap_or(usize::MAX);
+        let needed = self.rigid_needed(hierarchy, 0)?;
         self.check_solve(values, options, scratch.len(), needed)?;
-        let too_small = Error::BufferTooSmall {
-            arg: "scratch",
-            needed,
-            actual: scratch.len(),
-        };
-        let (v, rest) = Vectors::split(scratch, n).ok_or(too_small)?;
-        let (t, coarse_buf) = rest
-            .as_flattened_mut()
-            .split_at_mut_checked(n * D)
-            .ok_or(too_small)?;
+        let (v, t, coarse) = rigid_split(scratch, self.node_count(), needed)?;
         let fine = self.fine();
-        let mut pre = RigidVcycle {
-            h: hierarchy,
-            fine: &fine,
-            t,
-            coarse: coarse_buf,
-        };
-        self.cg(&mut pre, v, values, options)
+        self.cg(
+            &mut RigidVcycle::new(hierarchy, &fine, t, coarse),
+            v,
+            values,
+            options,
+        )
     }
+
+    /// The scratch a rigid-multigrid solve needs (plus `extra` fine vectors), after checking
+    /// that the hierarchy fits this system.
+    pub(super) fn rigid_needed(&self, h: &RigidAmg<'_, T>, extra: usize) -> Result<usize> {
+        let n = self.node_count();
+        check::len("hierarchy", h.node_count(), n)?;
+        check::len("hierarchy", h.level_unknowns(0), n.saturating_mul(D))?;
+        Ok(elastic_rigid_amg_scratch_len(n, h.coarse_scalars(), D)
+            .and_then(|s| s.checked_add(extra.saturating_mul(n)))
+            .unwrap_or(usize::MAX))
+    }
+}
+
+/// The CG vectors, the V-cycle's fine vector and its coarse vectors from `scratch` (checked
+/// to hold `needed` items).
+pub(super) fn rigid_split<T: Real, const D: usize>(
+    scratch: &mut [[T; D]],
+    n: usize,
+    needed: usize,
+) -> Result<(Vectors<'_, T, D>, &mut [T], &mut [T])> {
+    let too_small = Error::BufferTooSmall {
+        arg: "scratch",
+        needed,
+        actual: scratch.len(),
+    };
+    let (v, rest) = Vectors::split(scratch, n).ok_or(too_small)?;
+    let (t, coarse) = rest
+        .as_flattened_mut()
+        .split_at_mut_checked(n.saturating_mul(D))
+        .ok_or(too_small)?;
+    Ok((v, t, coarse))
 }

@@ -8,8 +8,8 @@
 
 use core::ops::Range;
 
-use super::rigid::elastic_rigid_amg_scratch_len;
-use super::system::{elastic_scratch_len, NodeBlocks};
+use super::rigid::{elastic_rigid_amg_scratch_len, rigid_split};
+use super::system::{elastic_scratch_len, joint_norms, NodeBlocks};
 use super::ElasticSystem;
 use crate::check;
 use crate::error::{Error, Result};
@@ -17,7 +17,7 @@ use crate::exact_sum::ExactSum;
 use crate::real::Real;
 use crate::spring::constraints::{Constraints, NodeKind};
 use crate::spring::krylov::{Operator, Precondition, Vectors};
-use crate::spring::norms::{pair_norms, scale_by, Norm, Pairs};
+use crate::spring::norms::{Norm, Pairs};
 use crate::spring::{
     AmgOptions, Collective, RigidAmg, RigidVcycle, SolveOptions, SolveReport, SpringSystem,
 };
@@ -98,15 +98,12 @@ impl<T: Real, const D: usize> Operator<T, D, 1> for Slid<'_, '_, T, D> {
         exps: &[i32; D],
         comm: &C,
     ) -> (Norm<T>, Norm<T>) {
-        let top = exps.iter().copied().max().unwrap_or(0);
-        let g = exps.map(|e| scale_by(T::ONE, e - top));
         let pairs = SlidPairs {
             op: self,
             rows: comm.owned(),
             x,
         };
-        let (r, b) = pair_norms(&pairs, &g, true, comm);
-        (r.shifted(top), b.shifted(top))
+        joint_norms(&pairs, exps, comm)
     }
 }
 
@@ -181,34 +178,19 @@ impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
         scratch: &mut [[T; D]],
     ) -> Result<SolveReport<T>> {
         let n = self.node_count();
-        check::len("hierarchy", hierarchy.node_count(), n)?;
-        check::len(
-            "hierarchy",
-            hierarchy.level_unknowns(0),
-            n.saturating_mul(D),
-        )?;
-        let coarse = hierarchy.coarse_scalars();
-        let needed = elastic_rigid_amg_sliding_scratch_len(n, coarse, D).unwrap_or(usize::MAX);
+        let needed = self.rigid_needed(hierarchy, 1)?;
         self.check_sliding(constraints, values, options, scratch.len(), needed)?;
-        let too_small = Error::BufferTooSmall {
-            arg: "scratch",
-            needed,
-            actual: scratch.len(),
-        };
-        let (saved, rest) = scratch.split_at_mut_checked(n).ok_or(too_small)?;
-        let (v, rest) = Vectors::split(rest, n).ok_or(too_small)?;
-        let (t, coarse_buf) = rest
-            .as_flattened_mut()
-            .split_at_mut_checked(n * D)
-            .ok_or(too_small)?;
+        let (saved, rest) = scratch
+            .split_at_mut_checked(n)
+            .ok_or(Error::BufferTooSmall {
+                arg: "scratch",
+                needed,
+                actual: 0,
+            })?;
+        let (v, t, coarse) = rigid_split(rest, n, needed)?;
         let mut fine = self.fine();
         fine.slide = Some((constraints.kinds(), constraints.directions().as_flattened()));
-        let pre = RigidVcycle {
-            h: hierarchy,
-            fine: &fine,
-            t,
-            coarse: coarse_buf,
-        };
+        let pre = RigidVcycle::new(hierarchy, &fine, t, coarse);
         self.sliding_cg(constraints, pre, v, saved, values, options)
     }
 

@@ -268,16 +268,30 @@ impl<T: Real, const D: usize> Operator<T, D, 1> for ElasticSystem<'_, T, D> {
         exps: &[i32; D],
         comm: &C,
     ) -> (Norm<T>, Norm<T>) {
-        let top = exps.iter().copied().max().unwrap_or(0);
-        let g = exps.map(|e| scale_by(T::ONE, e - top));
         let pairs = ElasticPairs {
             sys: self,
             rows: comm.owned(),
             x,
         };
-        let (r, b) = pair_norms(&pairs, &g, true, comm);
-        (r.shifted(top), b.shifted(top))
+        joint_norms(&pairs, exps, comm)
     }
+}
+
+/// `(‖r‖, ‖b‖)` of residual pairs of the field scaled jointly by `exps`, unscaled.
+pub(super) fn joint_norms<T, const D: usize, P, C>(
+    pairs: &P,
+    exps: &[i32; D],
+    comm: &C,
+) -> (Norm<T>, Norm<T>)
+where
+    T: Real,
+    P: Pairs<T, D>,
+    C: Collective<T> + ?Sized,
+{
+    let top = exps.iter().copied().max().unwrap_or(0);
+    let g = exps.map(|e| scale_by(T::ONE, e - top));
+    let (r, b) = pair_norms(pairs, &g, true, comm);
+    (r.shifted(top), b.shifted(top))
 }
 
 /// Block Jacobi, `z_i = K_ii⁻¹ r_i` (zero at fixed nodes): node-local.

@@ -241,6 +241,18 @@ pub(crate) struct RigidVcycle<'s, 'a, 'h, T: Real> {
     pub(crate) coarse: &'s mut [T],
 }
 
+impl<'s, 'a, 'h, T: Real> RigidVcycle<'s, 'a, 'h, T> {
+    /// The preconditioner of `h` on `fine` with its fine and coarse scratch.
+    pub(crate) fn new(
+        h: &'s RigidAmg<'h, T>,
+        fine: &'s Fine<'a, T>,
+        t: &'s mut [T],
+        coarse: &'s mut [T],
+    ) -> Self {
+        RigidVcycle { h, fine, t, coarse }
+    }
+}
+
 impl<T: Real, const D: usize> Precondition<T, D> for RigidVcycle<'_, '_, '_, T> {
     fn local(&self) -> bool {
         false
