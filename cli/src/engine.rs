@@ -708,6 +708,23 @@ fn slide_table<const D: usize>(
     Ok(t)
 }
 
+/// The slide table of the `sliding` markers (none without), the nodes it pins added to the
+/// prescribed boundary.
+fn slide_setup<const D: usize>(
+    pts: &[[f64; D]],
+    pre: &mut Prescribed,
+    sliding: &[SlideMarker<'_>],
+) -> Result<Option<SlideTable<D>>, CliError> {
+    if sliding.is_empty() {
+        return Ok(None);
+    }
+    let t = slide_table(pts, &pre.boundary, sliding)?;
+    // Nodes on too many sliding planes are held where they are.
+    pre.boundary.extend(&t.pinned);
+    pre.boundary.sort_unstable();
+    Ok(Some(t))
+}
+
 /// A sliding node's kind, its direction (normal or line), and its distinct plane normals.
 type NodeConstraint<const D: usize> = (
     deform_kernel::spring::constraints::NodeKind,
@@ -998,15 +1015,7 @@ fn move_d<const D: usize>(
     let mut pre = prescribe::<D>(input)?;
     let view = cells_view(input.cells, n)?;
     let pts = points_d::<D>(input.points);
-    let table = if sliding.is_empty() {
-        None
-    } else {
-        let t = slide_table(&pts, &pre.boundary, sliding)?;
-        // Nodes on too many sliding planes are held where they are.
-        pre.boundary.extend(&t.pinned);
-        pre.boundary.sort_unstable();
-        Some(t)
-    };
+    let table = slide_setup(&pts, &mut pre, sliding)?;
     let constraints = match &table {
         Some(t) => {
             Some(Constraints::new(&t.kinds, &t.directions).map_err(kernel("sliding constraints"))?)

@@ -107,7 +107,7 @@ fn identity_holds(method: &str) {
 #[test]
 fn adjoint_and_tangent_files_satisfy_the_dot_product_identity() {
     identity_holds("spring");
-    identity_holds("idw");
+    identity_holds("idw-displacements");
 }
 
 #[test]

@@ -23,11 +23,17 @@ mod assemble;
 mod element;
 mod increments;
 mod modulus;
+mod rigid;
+mod sliding;
 mod system;
 
 pub use assemble::{assemble, elasticity_graph, elasticity_graph_len, Block};
-pub use increments::{deform_incremental, IncrementBuffers, IncrementReport, Increments};
+pub use increments::{
+    deform_incremental, deform_incremental_on, IncrementBuffers, IncrementReport, Increments,
+};
 pub use modulus::{cell_moduli, Modulus};
+pub use rigid::elastic_rigid_amg_scratch_len;
+pub use sliding::{elastic_rigid_amg_sliding_scratch_len, elastic_sliding_scratch_len};
 pub use system::{elastic_amg_scratch_len, elastic_scratch_len, ElasticSystem};
 
 use crate::cells::Cells;

@@ -59,12 +59,13 @@ mod stiffening;
 mod stiffness;
 mod system;
 
+pub use amg::rigid_mode_count;
 pub use amg::{
     amg_cg_scratch_len, amg_precondition_scratch_len, amg_setup_work_len,
     amg_sliding_cg_scratch_len, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, AmgSizes,
-    AmgSmoother, AMG_MAX_DENSE, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
+    AmgSmoother, RigidAmg, RigidAmgSizes, AMG_MAX_DENSE, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
 };
-pub(crate) use amg::{Layout, Level, Vcycle};
+pub(crate) use amg::{Fine, Layout, Level, RigidVcycle, Vcycle};
 pub use angle::{
     angle_scratch_items, angle_sliding_scratch_items, AngleMethod, AngleSystem,
     DEFAULT_ANGLE_EPSILON, MAX_AMPLIFICATION,

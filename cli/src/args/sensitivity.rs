@@ -10,8 +10,10 @@ pub enum SensitivityMethod {
     /// Batina's linear springs (stiffness 1/length) on the mesh's edge graph, multigrid CG:
     /// `deform move --method spring --stiffness batina`'s solve.
     Spring,
-    /// Inverse-distance weighting of the boundary displacements (`--idw-exponent`).
-    Idw,
+    /// Inverse-distance weighting of the boundary displacements (`--idw-exponent`), rotations
+    /// left out. Not `deform move --method idw`, whose quaternion rotations make it nonlinear
+    /// (its derivative is the kernel's `quaternion::deform_idw_tangent`/`_adjoint`).
+    IdwDisplacements,
 }
 
 /// What the linear deformation needs (shared by `adjoint` and `tangent`).
@@ -22,7 +24,7 @@ pub struct SensitivitySetup {
     /// The deformation to differentiate.
     #[arg(long, value_enum, default_value = "spring")]
     pub method: SensitivityMethod,
-    /// IDW weight exponent `p` in `(d_min / d)^p` (`--method idw`).
+    /// IDW weight exponent `p` in `(d_min / d)^p` (`--method idw-displacements`).
     #[arg(long, default_value_t = 2.0)]
     pub idw_exponent: f64,
     /// Relative residual tolerance of the spring solve.

@@ -4,61 +4,69 @@
 //! moduli and stiffness are recomputed on the mesh of each step.
 
 use deform_kernel::elasticity::{
-    deform_incremental, elastic_amg_scratch_len, elastic_scratch_len, elasticity_graph,
-    elasticity_graph_len, ElasticSystem, IncrementBuffers, IncrementReport, Increments, Modulus,
+    deform_incremental_on, elastic_rigid_amg_scratch_len, elastic_rigid_amg_sliding_scratch_len,
+    elastic_scratch_len, elastic_sliding_scratch_len, elasticity_graph, elasticity_graph_len,
+    ElasticSystem, IncrementBuffers, IncrementReport, Increments, Modulus,
 };
-use deform_kernel::spring::{SolveOptions, SolveReport, SpringSystem};
+use deform_kernel::spring::constraints::Constraints;
+use deform_kernel::spring::{
+    AmgHierarchy, AmgOptions, RigidAmg, SolveOptions, SolveReport, SpringSystem,
+};
 use deform_kernel::Graph;
 
 use super::{
-    cells_view, kernel, points_d, prescribe, AmgStorage, MoveInput, MoveResult, MoveSolver,
-    Prescribed,
+    cells_view, kernel, move_result, points_d, prescribe, slide_setup, MoveInput, MoveResult,
+    MoveSolver, Prescribed, SlideMarker,
 };
 use crate::error::CliError;
 use crate::motion::Motion;
 
-/// Runs the elasticity method on `input` (no sliding markers) with `modulus`, Poisson ratio
-/// `poisson` and `steps` increments; `--solver amg` preconditions CG with the scalar
-/// smoothed-aggregation V-cycle on every displacement component, any other solver with the
-/// node blocks.
+/// Runs the elasticity method on `input` with `modulus`, Poisson ratio `poisson` and `steps`
+/// increments; the nodes of the `sliding` markers slide on their planes (as
+/// [`run_move_sliding`](super::run_move_sliding) sets them up). `--solver amg` preconditions
+/// CG with smoothed aggregation with the rigid-body modes as near-null space, any other
+/// solver with the node blocks.
 pub fn run_elasticity(
     input: &MoveInput<'_>,
+    sliding: &[SlideMarker<'_>],
     modulus: Modulus,
     poisson: f64,
     steps: usize,
 ) -> Result<MoveResult, CliError> {
     match input.dim {
-        2 => run_d::<2>(input, modulus, poisson, steps),
-        3 => run_d::<3>(input, modulus, poisson, steps),
+        2 => run_d::<2>(input, sliding, modulus, poisson, steps),
+        3 => run_d::<3>(input, sliding, modulus, poisson, steps),
         d => Err(CliError::Invalid(format!("dimension {d} is not 2 or 3"))),
     }
 }
 
 fn run_d<const D: usize>(
     input: &MoveInput<'_>,
+    sliding: &[SlideMarker<'_>],
     modulus: Modulus,
     poisson: f64,
     steps: usize,
 ) -> Result<MoveResult, CliError> {
     let n = input.points.len();
-    let Prescribed {
-        moved,
-        boundary,
-        disp: disp3,
-        center,
-        ..
-    } = prescribe::<D>(input)?;
+    let mut pre = prescribe::<D>(input)?;
+    let pts = points_d::<D>(input.points);
+    let table = slide_setup(&pts, &mut pre, sliding)?;
+    let constraints = match &table {
+        Some(t) => {
+            Some(Constraints::new(&t.kinds, &t.directions).map_err(kernel("sliding constraints"))?)
+        }
+        None => None,
+    };
     let mut fixed = vec![0u8; n];
-    for &b in &boundary {
+    for &b in &pre.boundary {
         fixed[b as usize] = 1;
     }
     let cells = cells_view(input.cells, n)?;
     let (offsets, targets) = cell_pair_graph(&cells)?;
     let graph = Graph::new(&offsets, &targets).map_err(kernel("elasticity graph"))?;
-    let pts = points_d::<D>(input.points);
     let wall = if modulus == Modulus::WallDistance {
         let mut d = vec![0.0; n];
-        deform_kernel::spring::wall_distances(&pts, &moved, &mut d)
+        deform_kernel::spring::wall_distances(&pts, &pre.moved, &mut d)
             .map_err(kernel("wall distances"))?;
         Some(d)
     } else {
@@ -68,6 +76,7 @@ fn run_d<const D: usize>(
         cells: &cells,
         graph: &graph,
         fixed: &fixed,
+        constraints: constraints.as_ref(),
         wall: wall.as_deref(),
         modulus,
         poisson,
@@ -79,64 +88,9 @@ fn run_d<const D: usize>(
         amg: input.solver == MoveSolver::Amg,
     };
     let mut out = pts.clone();
-    let total = match (&input.motion, steps > 1) {
-        (Motion::Rotate { degrees, axis, .. }, true) => {
-            let arc = Arc {
-                input,
-                boundary: &boundary,
-                degrees: *degrees,
-                axis: *axis,
-                center,
-            };
-            arc.run(&run, &pts, &mut out, steps)?
-        }
-        _ => {
-            let mut total = Totals::default();
-            total.add(run.increments(&mut out, &points_d::<D>(&disp3), steps)?);
-            total
-        }
-    };
-    Ok(move_result(
-        input.points,
-        &out,
-        &total,
-        [moved.len(), boundary.len() - moved.len()],
-        center,
-    ))
-}
-
-/// The tool's result of a run: the moved points in 3D, displacements, solve totals, the
-/// moved and fixed node counts and the rotation centre.
-fn move_result<const D: usize>(
-    points: &[[f64; 3]],
-    out: &[[f64; D]],
-    total: &Totals,
-    [moved, fixed]: [usize; 2],
-    center: Option<[f64; 3]>,
-) -> MoveResult {
-    let deformed: Vec<[f64; 3]> = out
-        .iter()
-        .map(|p| std::array::from_fn(|c| p.get(c).copied().unwrap_or(0.0)))
-        .collect();
-    let displacement = deformed
-        .iter()
-        .zip(points)
-        .map(|(q, p)| [q[0] - p[0], q[1] - p[1], q[2] - p[2]])
-        .collect();
-    MoveResult {
-        rbf: None,
-        idw_max_bound: None,
-        deformed,
-        displacement,
-        iterations: total.iterations,
-        residual: total.residual,
-        converged: total.converged,
-        moved_nodes: moved,
-        fixed_nodes: fixed,
-        center,
-        sliding_nodes: 0,
-        max_slide_offset: 0.0,
-    }
+    let total = run.motion(input, &pre, &pts, &mut out, steps)?;
+    let solved = (total.iterations, total.residual, total.converged, None);
+    Ok(move_result(input, &pre, table.as_ref(), &pts, &out, solved))
 }
 
 /// The cell-pair graph of the stiffness: offsets and targets.
@@ -204,6 +158,7 @@ struct Run<'r, const D: usize> {
     cells: &'r deform_kernel::Cells<'r>,
     graph: &'r Graph<'r>,
     fixed: &'r [u8],
+    constraints: Option<&'r Constraints<'r, f64, D>>,
     wall: Option<&'r [f64]>,
     modulus: Modulus,
     poisson: f64,
@@ -237,6 +192,31 @@ impl Totals {
 }
 
 impl<const D: usize> Run<'_, D> {
+    /// The whole motion: a rotation in `steps > 1` is applied along its arc, anything else
+    /// in the kernel's equal increments.
+    fn motion(
+        &self,
+        input: &MoveInput<'_>,
+        pre: &Prescribed,
+        pts: &[[f64; D]],
+        out: &mut [[f64; D]],
+        steps: usize,
+    ) -> Result<Totals, CliError> {
+        if let (Motion::Rotate { degrees, axis, .. }, true) = (&input.motion, steps > 1) {
+            let arc = Arc {
+                input,
+                boundary: &pre.boundary,
+                degrees: *degrees,
+                axis: *axis,
+                center: pre.center,
+            };
+            return arc.run(self, pts, out, steps);
+        }
+        let mut total = Totals::default();
+        total.add(self.increments(out, &points_d::<D>(&pre.disp), steps)?);
+        Ok(total)
+    }
+
     /// The kernel's increments: `points` moved by `disp` (at fixed nodes) in `steps` equal
     /// parts, the stiffness re-assembled on the mesh of each.
     fn increments(
@@ -264,20 +244,18 @@ impl<const D: usize> Run<'_, D> {
             step: &mut step,
         };
         let mut failure = None;
-        let solve = |sys: &ElasticSystem<'_, f64, D>, u: &mut [[f64; D]]| {
+        let solve = |sys: &ElasticSystem<'_, f64, D>, mesh: &[[f64; D]], u: &mut [[f64; D]]| {
             let r = if self.amg {
-                solve_amg(sys, self.graph, self.fixed, u, &self.options)
+                solve_amg(sys, self, mesh, u)
             } else {
-                let mut scratch = vec![[0.0; D]; elastic_scratch_len(n).unwrap_or(0)];
-                sys.solve(u, &self.options, &mut scratch)
-                    .map_err(kernel("elasticity solve"))
+                solve_block_jacobi(sys, self.constraints, u, &self.options)
             };
             r.map_err(|e| {
                 failure = Some(e);
                 deform_kernel::Error::SingularSystem { iteration: 0 }
             })
         };
-        let report = deform_incremental(
+        let report = deform_incremental_on(
             self.cells, self.graph, self.fixed, &params, points, disp, buffers, solve,
         );
         if let Some(e) = failure {
@@ -287,25 +265,70 @@ impl<const D: usize> Run<'_, D> {
     }
 }
 
-/// One multigrid-preconditioned solve: the hierarchy of the system's scalar edge weights.
-fn solve_amg<const D: usize>(
+/// One block-Jacobi-preconditioned solve (projected on the sliding nodes' planes).
+fn solve_block_jacobi<const D: usize>(
     sys: &ElasticSystem<'_, f64, D>,
-    graph: &Graph<'_>,
-    fixed: &[u8],
+    constraints: Option<&Constraints<'_, f64, D>>,
     u: &mut [[f64; D]],
     options: &SolveOptions<f64>,
 ) -> Result<SolveReport<f64>, CliError> {
     let n = u.len();
-    let mut w = vec![0.0; graph.edge_count()];
-    sys.amg_weights(&mut w)
-        .map_err(kernel("elasticity multigrid"))?;
-    let mut anchor = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
-    let spring = SpringSystem::new(*graph, &w, fixed, &mut anchor)
-        .map_err(kernel("elasticity multigrid"))?;
-    let mut storage = AmgStorage::default();
-    let h = storage.build(&spring)?;
-    let len = elastic_amg_scratch_len(n, h.coarse_unknowns()).unwrap_or(0);
-    let mut scratch = vec![[0.0; D]; len];
-    sys.solve_amg(&spring, &h, u, options, &mut scratch)
-        .map_err(kernel("elasticity solve"))
+    let r = match constraints {
+        Some(c) => {
+            let mut scratch = vec![[0.0; D]; elastic_sliding_scratch_len(n).unwrap_or(0)];
+            sys.solve_sliding(c, u, options, &mut scratch)
+        }
+        None => {
+            let mut scratch = vec![[0.0; D]; elastic_scratch_len(n).unwrap_or(0)];
+            sys.solve(u, options, &mut scratch)
+        }
+    };
+    r.map_err(kernel("elasticity solve"))
 }
+
+/// One multigrid-preconditioned solve: smoothed aggregation with the rigid-body modes of
+/// `mesh` (the mesh the stiffness was assembled on) as near-null space.
+fn solve_amg<const D: usize>(
+    sys: &ElasticSystem<'_, f64, D>,
+    run: &Run<'_, D>,
+    mesh: &[[f64; D]],
+    u: &mut [[f64; D]],
+) -> Result<SolveReport<f64>, CliError> {
+    let n = u.len();
+    let err = kernel("elasticity multigrid");
+    let w = vec![1.0; run.graph.edge_count()];
+    let mut anchor = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
+    let spring = SpringSystem::new(*run.graph, &w, run.fixed, &mut anchor).map_err(&err)?;
+    let opts = AmgOptions {
+        max_coarse: RIGID_MAX_COARSE,
+        ..AmgOptions::default()
+    };
+    let mut work = vec![0u32; AmgHierarchy::setup_work_len(&spring)];
+    let sizes = RigidAmg::setup_len(&spring, D, &opts, &mut work).map_err(&err)?;
+    let mut index = vec![0u32; sizes.index];
+    let mut values = vec![0.0; sizes.values];
+    let h = match run.constraints {
+        Some(c) => {
+            sys.rigid_amg_sliding(c, &spring, mesh, &opts, &mut work, &mut index, &mut values)
+        }
+        None => sys.rigid_amg(&spring, mesh, &opts, &mut work, &mut index, &mut values),
+    }
+    .map_err(&err)?;
+    let r = match run.constraints {
+        Some(c) => {
+            let len = elastic_rigid_amg_sliding_scratch_len(n, sizes.coarse_scalars, D);
+            let mut scratch = vec![[0.0; D]; len.unwrap_or(0)];
+            sys.solve_rigid_amg_sliding(c, &h, u, &run.options, &mut scratch)
+        }
+        None => {
+            let len = elastic_rigid_amg_scratch_len(n, sizes.coarse_scalars, D);
+            let mut scratch = vec![[0.0; D]; len.unwrap_or(0)];
+            sys.solve_rigid_amg(&h, u, &run.options, &mut scratch)
+        }
+    };
+    r.map_err(kernel("elasticity solve"))
+}
+
+/// Coarsest level of the rigid-mode multigrid: at most this many nodes (3 or 6 unknowns
+/// each), solved densely.
+const RIGID_MAX_COARSE: usize = 64;

@@ -84,6 +84,39 @@ where
     T: Real,
     S: FnMut(&ElasticSystem<'_, T, D>, &mut [[T; D]]) -> Result<SolveReport<T>>,
 {
+    deform_incremental_on(
+        cells,
+        graph,
+        fixed,
+        params,
+        points,
+        displacement,
+        buffers,
+        |sys, _, step| solve(sys, step),
+    )
+}
+
+/// [`deform_incremental`] whose `solve` also sees the mesh of the step (the points the
+/// stiffness was assembled on), e.g. for the rigid-body modes of
+/// [`ElasticSystem::rigid_amg`]: `solve(system, mesh, step)`.
+///
+/// # Errors
+/// Those of [`deform_incremental`].
+#[allow(clippy::too_many_arguments)]
+pub fn deform_incremental_on<T, const D: usize, S>(
+    cells: &Cells<'_>,
+    graph: &Graph<'_>,
+    fixed: &[u8],
+    params: &Increments<'_, T>,
+    points: &mut [[T; D]],
+    displacement: &[[T; D]],
+    buffers: IncrementBuffers<'_, T, D>,
+    mut solve: S,
+) -> Result<IncrementReport<T>>
+where
+    T: Real,
+    S: FnMut(&ElasticSystem<'_, T, D>, &[[T; D]], &mut [[T; D]]) -> Result<SolveReport<T>>,
+{
     let n = points.len();
     check::len("displacement", displacement.len(), n)?;
     check::finite_items("displacement", displacement)?;
@@ -128,7 +161,7 @@ where
             [before, fraction],
             s == params.steps,
         );
-        let r = solve(&sys, step)?;
+        let r = solve(&sys, current, step)?;
         report.steps = s;
         report.iterations = report.iterations.saturating_add(r.iterations);
         report.max_step_iterations = report.max_step_iterations.max(r.iterations);

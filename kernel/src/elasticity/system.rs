@@ -132,7 +132,7 @@ impl<'a, T: Real, const D: usize> ElasticSystem<'a, T, D> {
     }
 
     /// `(r_i, b_i)` at a free node `i`: residual `b − K_ff x_f` and `b_i = −Σ_{j fixed} K_ij x_j`.
-    fn pair(&self, i: usize, x: &[[T; D]]) -> ([T; D], [T; D]) {
+    pub(super) fn pair(&self, i: usize, x: &[[T; D]]) -> ([T; D], [T; D]) {
         let all = self.row_product(i, x, false);
         let free = self.row_product(i, x, true);
         let b = vector::sub(free, all); // −Σ_{j fixed} K_ij x_j, exactly as the residual sees it
@@ -294,7 +294,7 @@ pub const fn elastic_amg_scratch_len(node_count: usize, coarse_unknowns: usize) 
     amg_cg_scratch_len(node_count, coarse_unknowns)
 }
 
-impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
+impl<'a, T: Real, const D: usize> ElasticSystem<'a, T, D> {
     /// Solves `K u = 0` at the free nodes for the displacements `values` (prescribed at fixed
     /// nodes, the initial guess at free ones) by conjugate gradients preconditioned with the
     /// node blocks (block Jacobi). On `Ok`, `values` holds the last iterate (fixed values
@@ -363,8 +363,20 @@ impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
         )
     }
 
+    /// The fine operator of the rigid-mode multigrid: the blocks flattened.
+    pub(super) fn fine(&self) -> crate::spring::Fine<'a, T> {
+        crate::spring::Fine {
+            graph: self.graph,
+            diag: self.diag.as_flattened().as_flattened(),
+            off: self.off.as_flattened().as_flattened(),
+            fixed: self.fixed,
+            d: D,
+            slide: None,
+        }
+    }
+
     /// The checks every solve makes before it writes.
-    fn check_solve(
+    pub(super) fn check_solve(
         &self,
         values: &[[T; D]],
         options: &SolveOptions<T>,
@@ -387,8 +399,21 @@ impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
     }
 
     /// CG of the Krylov core on the jointly scaled iterate.
-    fn cg<M: Precondition<T, D>>(
+    pub(super) fn cg<M: Precondition<T, D>>(
         &self,
+        pre: &mut M,
+        v: Vectors<'_, T, D>,
+        values: &mut [[T; D]],
+        options: &SolveOptions<T>,
+    ) -> Result<SolveReport<T>> {
+        self.cg_on(self, pre, v, values, options)
+    }
+
+    /// [`cg`](Self::cg) with another operator on this system's nodes (the projected one of
+    /// the sliding solves).
+    pub(super) fn cg_on<O: Operator<T, D, 1>, M: Precondition<T, D>>(
+        &self,
+        op: &O,
         pre: &mut M,
         v: Vectors<'_, T, D>,
         values: &mut [[T; D]],
@@ -397,7 +422,7 @@ impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
         let exps = exponents(&[self.kmax()], values, true);
         let serial = Serial::new(self.node_count());
         solve_scaled(
-            self,
+            op,
             pre,
             v,
             values,

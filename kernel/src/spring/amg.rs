@@ -39,7 +39,14 @@
 mod cycle;
 mod pcg;
 pub(crate) use pcg::{solve_amg_on, Vcycle};
+mod rigid;
+mod rigid_cycle;
+mod rigid_numeric;
 mod setup;
+
+pub(crate) use rigid::Fine;
+pub use rigid::{rigid_mode_count, RigidAmg, RigidAmgSizes};
+pub(crate) use rigid_cycle::RigidVcycle;
 
 pub use pcg::{
     amg_cg_scratch_len, amg_precondition_scratch_len, amg_sliding_cg_scratch_len,

@@ -2,7 +2,7 @@
 //! which solvers apply) and the run.
 
 use crate::args::{Method, MoveArgs, Solver, StiffnessArg};
-use crate::engine::{run_elasticity, MoveInput, MoveResult};
+use crate::engine::{run_elasticity, MoveInput, MoveResult, SlideMarker};
 use crate::error::CliError;
 use crate::report::value_name;
 use deform_kernel::elasticity::Modulus;
@@ -27,13 +27,6 @@ pub(super) fn check_args(a: &MoveArgs) -> Result<(), CliError> {
     if !(a.poisson.is_finite() && a.poisson > -1.0 && a.poisson < 0.5) {
         return Err(CliError::Invalid("--poisson must lie in (-1, 0.5)".into()));
     }
-    if !a.slide.is_empty() {
-        return Err(CliError::NotAvailable {
-            feature: "--slide with --method elasticity",
-            needs:
-                "a spring or quaternion method (sliding nodes are not in the elasticity solve yet)",
-        });
-    }
     if a.reach.is_some() || !matches!(a.solver, Solver::Amg | Solver::Cg) {
         return Err(CliError::Invalid(format!(
             "--method elasticity takes --solver amg or cg{}",
@@ -47,12 +40,17 @@ pub(super) fn check_args(a: &MoveArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Runs the elasticity method with the command line's modulus, Poisson ratio and steps.
-pub(super) fn run(a: &MoveArgs, input: &MoveInput<'_>) -> Result<MoveResult, CliError> {
+/// Runs the elasticity method with the command line's modulus, Poisson ratio and steps; the
+/// nodes of the `slide` markers slide on their planes.
+pub(super) fn run(
+    a: &MoveArgs,
+    input: &MoveInput<'_>,
+    slide: &[SlideMarker<'_>],
+) -> Result<MoveResult, CliError> {
     let modulus = match a.stiffness() {
         StiffnessArg::WallDistance => Modulus::WallDistance,
         StiffnessArg::Constant => Modulus::Constant,
         StiffnessArg::InverseVolume | StiffnessArg::Batina => Modulus::InverseVolume,
     };
-    run_elasticity(input, modulus, a.poisson, a.steps as usize)
+    run_elasticity(input, slide, modulus, a.poisson, a.steps as usize)
 }

@@ -142,7 +142,7 @@ fn move_su2_read(
     let how = renumbering(a);
     let spinner = crate::progress::spinner("deforming", quiet);
     let result = if a.method() == Method::Elasticity {
-        elasticity::run(a, &input).map(|r| (r, crate::renumber::off_report()))
+        elasticity::run(a, &input, &roles.slide).map(|r| (r, crate::renumber::off_report()))
     } else {
         crate::renumber::run_move_renumbered(&input, &roles.slide, a.steps as usize, how)
     };

@@ -121,7 +121,7 @@ fn adjoint_d<const D: usize>(
     let n = w.len();
     let mut g = vec![[0.0; D]; n];
     match setup.method {
-        SensitivityMethod::Idw => {
+        SensitivityMethod::IdwDisplacements => {
             let points = points_d::<D>(&mesh.points);
             idw_adjoint(&points, boundary, setup.idw_exponent, w, &mut g)
                 .map_err(kernel("IDW adjoint"))?;
@@ -148,7 +148,7 @@ fn tangent_d<const D: usize>(
     mut dx: Vec<[f64; D]>,
 ) -> Result<Solved<D>, CliError> {
     match setup.method {
-        SensitivityMethod::Idw => {
+        SensitivityMethod::IdwDisplacements => {
             let points = points_d::<D>(&mesh.points);
             idw_tangent(&points, boundary, setup.idw_exponent, &mut dx)
                 .map_err(kernel("IDW tangent"))?;
