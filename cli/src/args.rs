@@ -361,7 +361,8 @@ pub struct MoveArgs {
     /// (E = 1/d, d the cell's mean distance to the moved markers) or constant.
     #[arg(long, value_enum)]
     pub stiffness: Option<StiffnessArg>,
-    /// --method elasticity: Poisson ratio, in (-1, 0.5).
+    /// --method elasticity: Poisson ratio, in (-1, 0.5) (above 0.5: SU2's DEFORM_COEFF
+    /// convention, a near-zero bulk modulus).
     #[arg(long, default_value_t = 0.3, allow_hyphen_values = true)]
     pub poisson: f64,
     /// Move in N increments: each step moves the markers by 1/N of the motion starting from

@@ -263,8 +263,11 @@ fn errors_name_the_option_or_the_line() {
         "DV_MARKER",
         "out.su2",
     );
+    // DEFORM_COEFF is SU2's Poisson ratio itself: 0.5 (infinite λ) is refused by name.
+    config(&d, "half.cfg", rotation, "DEFORM_COEFF= 0.5");
+    deform_refused(&d, &["su2", "half.cfg"], 1, "DEFORM_COEFF", "out.su2");
     // Without --method: SU2's elasticity, with SU2's Poisson ratio from DEFORM_COEFF.
-    config(&d, "def.cfg", rotation, "DEFORM_COEFF= 0.5");
+    config(&d, "def.cfg", rotation, "DEFORM_COEFF= 0.25");
     let r = deform_json(&d, &["--json", "su2", "def.cfg"]);
     assert_eq!(r["method"], "elasticity");
     assert_eq!(r["stiffness"], "inverse-volume");

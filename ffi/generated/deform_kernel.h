@@ -449,7 +449,8 @@ typedef struct {
   // Relative residual tolerance of each increment's solve (finite, ≥ 0). Default
   // `max(1e-10, 100 ε)`.
   double residual_tol;
-  // Poisson ratio in (−1, ½). Default 0.3.
+  // Poisson ratio: in (−1, ½), or above ½ for SU2's `DEFORM_COEFF` convention (λ ≈ −μ;
+  // `DK_ERR_SINGULAR_SYSTEM` if the operator is then not positive definite). Default 0.3.
   double poisson;
   // Load increments, at least 1. Default 1.
   uint32_t steps;

@@ -38,7 +38,8 @@ pub struct dk_elasticity_options {
     /// Relative residual tolerance of each increment's solve (finite, ≥ 0). Default
     /// `max(1e-10, 100 ε)`.
     pub residual_tol: f64,
-    /// Poisson ratio in (−1, ½). Default 0.3.
+    /// Poisson ratio: in (−1, ½), or above ½ for SU2's `DEFORM_COEFF` convention (λ ≈ −μ;
+    /// `DK_ERR_SINGULAR_SYSTEM` if the operator is then not positive definite). Default 0.3.
     pub poisson: f64,
     /// Load increments, at least 1. Default 1.
     pub steps: u32,

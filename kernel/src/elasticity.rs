@@ -7,7 +7,8 @@
 //!   kernel's [`CellKind`](crate::CellKind)s in VTK node order; every element passes the patch
 //!   test (a linear displacement field is reproduced to rounding).
 //! - **Young's modulus** per cell ([`Modulus`], SU2's `DEFORM_STIFFNESS_TYPE`): constant,
-//!   inverse volume or inverse wall distance ([`cell_moduli`]); Poisson ratio `ν ∈ (−1, ½)`.
+//!   inverse volume or inverse wall distance ([`cell_moduli`]); Poisson ratio `ν ∈ (−1, ½)` (above ½:
+//!   SU2's `DEFORM_COEFF` convention, λ ≈ −μ).
 //! - **Assembly** ([`assemble`]) into `D×D` blocks on the graph of node pairs that share a
 //!   cell ([`elasticity_graph`]): one block per node, one per directed edge, in cell order
 //!   (the same bits everywhere; block `i → j` is exactly the transpose of `j → i`).
@@ -57,14 +58,18 @@ fn check_mesh<T: Real, const D: usize>(cells: &Cells<'_>, points: &[[T; D]]) -> 
     Ok(())
 }
 
-/// The Poisson ratio lies in `(−1, ½)` (the range where the material is stable).
+/// The Poisson ratio is finite, above −1 and not ½ (where λ is infinite). `(−1, ½)` is the
+/// stable range; above ½ is SU2's convention for mesh deformation (`DEFORM_COEFF`, 1e6 by
+/// default; Dwight 2009): λ ≈ −μ, a bulk modulus near zero that favours locally rigid-and-
+/// scaled motion. Such a material is not stable in general: a solve whose operator is not
+/// positive definite stops with [`Error::SingularSystem`], it never returns a wrong answer.
 fn check_poisson<T: Real>(nu: T) -> Result<()> {
-    if nu.is_finite() && nu > -T::ONE && nu < T::HALF {
+    if nu.is_finite() && nu > -T::ONE && nu != T::HALF {
         Ok(())
     } else {
         Err(Error::InvalidParameter {
             arg: "poisson",
-            reason: "must lie in (-1, 1/2)",
+            reason: "must be finite, above -1 and not 1/2",
         })
     }
 }

@@ -8,7 +8,8 @@ Reads the SU2 mesh before and after `deform su2`, and
    planes; here found by sign changes across the axis-aligned face, a simpler test than
    SU2's and the tool's);
 2. the volume: assembles SU2's linear elasticity with scikit-fem (P1 triangles, Q1 quads /
-   hexahedra, 2x2(x2) Gauss points), per cell mu = E and lambda = DEFORM_COEFF * E with
+   hexahedra, 2x2(x2) Gauss points), per cell nu = DEFORM_COEFF (SU2's convention),
+   mu = E / (2 (1 + nu)), lambda = nu E / ((1 + nu) (1 - 2 nu)) with
    E = 1 / |cell measure| (INVERSE_VOLUME), the DV_MARKER nodes displaced by (1), every
    other marker fixed, and solves it by a sparse direct solve.
 
@@ -181,8 +182,12 @@ def volume(mesh, surface, coeff, marker):
     # skfem keeps the cell order given: e[c] belongs to m.t[:, c].
     basis = Basis(m, ElementVector(elem()), intorder=3)
     nqp = basis.X.shape[1]
-    k = asm(elasticity, basis, lam=np.repeat((coeff * e)[:, None], nqp, 1),
-            mu=np.repeat(e[:, None], nqp, 1))
+    # SU2's CMeshSolver / CVolumetricMovement: nu = DEFORM_COEFF, E = 1/V.
+    nu = coeff
+    lam = nu * e / ((1.0 + nu) * (1.0 - 2.0 * nu))
+    mu = e / (2.0 * (1.0 + nu))
+    k = asm(elasticity, basis, lam=np.repeat(lam[:, None], nqp, 1),
+            mu=np.repeat(mu[:, None], nqp, 1))
     n = len(mesh["points"])
     x = np.zeros(k.shape[0])
     dofs = basis.nodal_dofs

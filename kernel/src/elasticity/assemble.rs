@@ -46,7 +46,7 @@ pub fn elasticity_graph(
 /// # Errors
 /// Nothing is written on error: `points`, `moduli`, `diag` or `off` of the wrong length
 /// ([`Error::LengthMismatch`]); a non-finite coordinate or modulus ([`Error::NonFinite`]); a
-/// modulus `≤ 0` ([`Error::NonPositive`]); `poisson` outside `(−1, 1/2)`
+/// modulus `≤ 0` ([`Error::NonPositive`]); `poisson` not finite, `≤ −1` or `½` (see `check_poisson`)
 /// ([`Error::InvalidParameter`]); a cell of the wrong dimension ([`Error::CellDimension`]);
 /// two nodes of a cell that are not neighbours in `graph` ([`Error::NotSymmetric`] naming
 /// them: build the graph with [`elasticity_graph`]); a degenerate cell (a singular Jacobian

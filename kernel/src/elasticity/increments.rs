@@ -19,7 +19,7 @@ pub struct Increments<'w, T> {
     /// Per-node wall distances for [`Modulus::WallDistance`] (of the reference mesh, as
     /// SU2 computes them once); ignored otherwise.
     pub wall_distance: Option<&'w [T]>,
-    /// Poisson ratio in `(−1, ½)`.
+    /// Poisson ratio: `(−1, ½)`, or above ½ for SU2's `DEFORM_COEFF` convention.
     pub poisson: T,
     /// Number of increments `N ≥ 1` (1: one linear solve).
     pub steps: usize,

@@ -24,8 +24,12 @@ pub(super) fn check_args(a: &MoveArgs) -> Result<(), CliError> {
             "--stiffness batina is a spring stiffness; --method elasticity takes inverse-volume, wall-distance or constant".into(),
         ));
     }
-    if !(a.poisson.is_finite() && a.poisson > -1.0 && a.poisson < 0.5) {
-        return Err(CliError::Invalid("--poisson must lie in (-1, 0.5)".into()));
+    if !(a.poisson.is_finite() && a.poisson > -1.0 && a.poisson != 0.5) {
+        return Err(CliError::Invalid(
+            "--poisson must be finite, above -1 and not 0.5 ((-1, 0.5) is the stable range; \
+             above 0.5 is SU2's DEFORM_COEFF convention)"
+                .into(),
+        ));
     }
     if a.reach.is_some() || !matches!(a.solver, Solver::Amg | Solver::Cg) {
         return Err(CliError::Invalid(format!(

@@ -270,21 +270,22 @@ fn design_markers(config: &Su2Config) -> Result<Vec<String>, CliError> {
 }
 
 /// The Poisson ratio of the elasticity solve as SU2 reads it: DEFORM_POISSONS_RATIO (default
-/// 0.3) for CONSTANT_STIFFNESS; for INVERSE_VOLUME and SOLID_WALL_DISTANCE SU2 sets μ = E and
-/// λ = DEFORM_COEFF · E (default 1e6), which is ν = c / (2 (c + 1)).
+/// 0.3) for CONSTANT_STIFFNESS; for INVERSE_VOLUME and SOLID_WALL_DISTANCE ν = DEFORM_COEFF
+/// itself (default 1e6: "Nu is normally a very large number, for rigid-body rotations, see
+/// Dwight (2009)", SU2's CMeshSolver; μ = E/(2(1+ν)), λ = νE/((1+ν)(1−2ν)), so λ ≈ −μ).
 fn poisson_ratio(config: &Su2Config, stiffness: StiffnessArg) -> Result<f64, CliError> {
     if stiffness == StiffnessArg::Constant {
         return number(config, "DEFORM_POISSONS_RATIO", 0.3);
     }
     let c: f64 = number(config, "DEFORM_COEFF", 1e6)?;
-    if !(c.is_finite() && c > -1.0) {
+    if !(c.is_finite() && c > -1.0 && c != 0.5) {
         return Err(option_error(
             config,
             "DEFORM_COEFF",
-            "must be a number above -1",
+            "must be a number above -1 other than 0.5",
         ));
     }
-    Ok(c / (2.0 * (c + 1.0)))
+    Ok(c)
 }
 
 /// DEFORM_STIFFNESS_TYPE for `method`: SU2's element stiffness for elasticity, the matching
