@@ -3,7 +3,8 @@
  * x_max, a bump moves only the chosen side (1-based node indices through index_scratch), an
  * unjittered FFD lattice reproduces its affine map, an FFD_CONTROL_POINT moves one control
  * point, box-minus-box displacements are exactly zero where nothing moved, SU2's
- * SetCartesianCoord displacements vanish for points on the box; bad input returns its status
+ * SetCartesianCoord displacements vanish for points on the box, an FFD_TWIST turns its layer
+ * rigidly about SU2's axis; bad input returns its status
  * with outputs untouched. Prints "design: every check held" and exits 0, or names the
  * failed check. */
 #ifndef REAL
@@ -103,8 +104,44 @@ static void SFX(check_ffd)(void) {
     SAME(keep, d, sizeof keep);
 }
 
+/* FFD_TWIST on the lattice: layer j = 1 (y = 1) turns by atan(0.1 / 1) about the y-parallel
+ * axis through (0.5, 1, 0), where the segment crosses y = 1; the other layers, y, the distance
+ * from the axis and the points with i = 0 (fixed_i) stay. */
+static void SFX(check_twist)(void) {
+    uint32_t degree[3] = {2, 2, 1}, fixed_i[1] = {0};
+    REAL cp[54], moved[54], keep[54], seg[6] = {0.5, -1, 0, 0.5, 3, 0};
+    int i, j, k, at = 0;
+    SFX(lattice)(cp);
+    memcpy(moved, cp, sizeof cp);
+    OK(SFX(dk_design_ffd_twist)(degree, moved, 54, 1, seg, (REAL)0.1, (REAL)1.0, fixed_i, 1,
+                                NULL, 0));
+    for (i = 0; i <= 2; i++)
+        for (j = 0; j <= 2; j++)
+            for (k = 0; k <= 1; k++, at += 3) {
+                double ax = cp[at] - 0.5, az = cp[at + 2], bx = moved[at] - 0.5,
+                       bz = moved[at + 2];
+                CHECK(moved[at + 1] == cp[at + 1]);
+                if (j != 1 || i == 0) {
+                    CHECK(moved[at] == cp[at] && moved[at + 2] == cp[at + 2]);
+                    continue;
+                }
+                CHECK(fabs(sqrt(ax * ax + az * az) - sqrt(bx * bx + bz * bz)) < 10 * TOL);
+                CHECK(fabs((ax * bx + az * bz) / (ax * ax + az * az) - 1 / sqrt(1.01)) <
+                      10 * TOL);
+            }
+    memcpy(keep, moved, sizeof keep);
+    EXPECT(SFX(dk_design_ffd_twist)(degree, moved, 54, 1, seg, (REAL)0.1, (REAL)0.0, NULL, 0,
+                                    NULL, 0),
+           DK_ERR_INVALID_PARAMETER);
+    EXPECT(SFX(dk_design_ffd_twist)(degree, moved, 54, 7, seg, (REAL)0.1, (REAL)1.0, NULL, 0,
+                                    NULL, 0),
+           DK_ERR_INDEX_OUT_OF_RANGE);
+    SAME(keep, moved, sizeof keep);
+}
+
 static void SFX(check_)(void) {
     SFX(check_hicks_henne)();
     SFX(check_ffd)();
+    SFX(check_twist)();
 }
 #endif

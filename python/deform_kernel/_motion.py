@@ -108,8 +108,9 @@ def _check_numbers(o):
         raise ValueError("tol must be positive and finite, max_iter at least 1")
     if not 1 <= o["steps"] <= 10000:
         raise ValueError(f"steps: {o['steps']}, expected 1 to 10000")
-    if not (np.isfinite(o["poisson"]) and -1.0 < o["poisson"] < 0.5):
-        raise ValueError("poisson: must lie in (-1, 0.5)")
+    if not (np.isfinite(o["poisson"]) and o["poisson"] > -1.0 and o["poisson"] != 0.5):
+        raise ValueError("poisson: must be finite, above -1 and not 0.5 ((-1, 0.5) is the "
+                         "stable range; above 0.5 is SU2's DEFORM_COEFF convention)")
     if not (np.isfinite(o["idw_exponent"]) and o["idw_exponent"] > 0):
         raise ValueError("idw_exponent: must be positive")
     if o["idw_theta"] is not None:
@@ -192,9 +193,6 @@ def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver
     if field_nodes.size == 0:
         raise ValueError("moved: no nodes")
     slide = [] if slide is None else list(slide)
-    if slide and method == "elasticity":
-        raise NotImplementedError("slide: not with method='elasticity' (sliding nodes are "
-                                  "not in the elasticity solve yet)")
     roles = {"moved": moved_cells, "fixed": boundary_cells("fixed", fixed, n)[0],
              "slide": [boundary_cells(f"slide[{k}]", s, n)[0] for k, s in enumerate(slide)],
              "field_nodes": field_nodes}

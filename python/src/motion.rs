@@ -193,15 +193,15 @@ impl Job<'_> {
             split: None,
             graph: None,
         };
-        if o.method == "elasticity" {
-            return run_elasticity(&input, self.stiffness.1, o.poisson, o.steps);
-        }
         let names: Vec<String> = (0..self.slide.len())
             .map(|k| format!("slide[{k}]"))
             .collect();
         let sliding: Vec<SlideMarker<'_>> = (names.iter().zip(&self.slide))
             .map(|(name, elements)| SlideMarker { name, elements })
             .collect();
+        if o.method == "elasticity" {
+            return run_elasticity(&input, &sliding, self.stiffness.1, o.poisson, o.steps);
+        }
         let how = match (self.method, self.renumber) {
             (MoveMethod::Idw, Renumber::Auto) => Renumber::Off,
             (_, r) => r,

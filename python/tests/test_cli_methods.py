@@ -63,7 +63,7 @@ def test_same_bits_as_deform_move(tmp_path, method, flags, motion, kw):
     assert ours.tobytes() == theirs.tobytes()
 
 
-@pytest.mark.parametrize("method", ["spring", "quaternion", "angle-cg"])
+@pytest.mark.parametrize("method", ["spring", "quaternion", "angle-cg", "elasticity"])
 def test_sliding_plane_same_bits(tmp_path, method):
     pts, tris, body, bottom, rest = mesh()
     flags = ["--translate", "0.3,0.2", "--slide", "symm"]
