@@ -67,8 +67,8 @@ pub struct LocalCells<'c> {
 }
 
 /// Length of the `targets` buffer [`PartitionedSprings::new`] needs for `cells` (twice the
-/// cells' edges, as [`graph_from_cells_len`]; unknown kinds count nothing: they fail later);
-/// `stiffness` needs as many.
+/// cells' edges, as [`graph_from_cells_len`](crate::graph_builder::graph_from_cells_len);
+/// unknown kinds count nothing: they fail later); `stiffness` needs as many.
 pub fn partitioned_targets_len(cells: &LocalCells<'_>) -> usize {
     cells.kinds.iter().fold(0usize, |n, &k| {
         let edges = CellKind::from_vtk(k).map_or(0, |kind| {
