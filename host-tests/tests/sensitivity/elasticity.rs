@@ -4,7 +4,7 @@
 //! is checked against scikit-fem in `elasticity_skfem`), central differences of the
 //! deformation, an infinitesimal rigid motion reproduced, and typed errors.
 
-#[path = "common.rs"]
+#[path = "../support/sensitivity_common.rs"]
 mod common;
 #[path = "../support/mod.rs"]
 mod support;

@@ -4,7 +4,7 @@
 //! `deform_idw` pipeline with identity rotations (its weights are the ones differentiated), a
 //! uniform translation reproduced, several fields at once, and typed errors.
 
-#[path = "common.rs"]
+#[path = "../support/sensitivity_common.rs"]
 mod common;
 #[path = "../support/mod.rs"]
 mod support;

@@ -4,7 +4,7 @@
 //! deformation itself (a linear map: exact up to rounding and solver tolerance at every step),
 //! a uniform translation reproduced, and typed errors that write nothing.
 
-#[path = "common.rs"]
+#[path = "../support/sensitivity_common.rs"]
 mod common;
 #[path = "../support/mod.rs"]
 mod support;
