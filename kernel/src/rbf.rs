@@ -378,19 +378,28 @@ pub fn rbf_deform<T: Real, const D: usize>(
     };
     let grid_c = Grid::build(k, radius, |j| model.centre(j), grid_c_buf);
     let residual = &*work.residual;
-    for (x, out) in points.iter().zip(displacements.iter_mut()) {
+    let value = |x: [T; D]| {
         let mut v = if k == 0 {
             [T::ZERO; D]
         } else {
-            model.eval(*x, Some(&grid_c))
+            model.eval(x, Some(&grid_c))
         };
         if rc > T::ZERO {
-            let c = correct::correction(&model, &grid_b, residual, rc, *x);
+            let c = correct::correction(&model, &grid_b, residual, rc, x);
             for (vi, ci) in v.iter_mut().zip(c) {
                 *vi += ci;
             }
         }
-        *out = v;
+        v
+    };
+    // `output_bound` does not cover every intermediate near the overflow range (fuzzing found
+    // a NaN at coordinates of 1e151): every value is checked before any is written, so
+    // `displacements` stays unchanged on error. This evaluates the model twice.
+    if !points.iter().all(|&x| value(x).iter().all(|v| v.is_finite())) {
+        return Err(Error::Overflow { arg: "motion" });
+    }
+    for (x, out) in points.iter().zip(displacements.iter_mut()) {
+        *out = value(*x);
     }
     if rc > T::ZERO {
         for (&node, d) in boundary.iter().zip(motion) {
