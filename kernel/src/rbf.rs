@@ -395,7 +395,10 @@ pub fn rbf_deform<T: Real, const D: usize>(
     // `output_bound` does not cover every intermediate near the overflow range (fuzzing found
     // a NaN at coordinates of 1e151): every value is checked before any is written, so
     // `displacements` stays unchanged on error. This evaluates the model twice.
-    if !points.iter().all(|&x| value(x).iter().all(|v| v.is_finite())) {
+    if !points
+        .iter()
+        .all(|&x| value(x).iter().all(|v| v.is_finite()))
+    {
         return Err(Error::Overflow { arg: "motion" });
     }
     for (x, out) in points.iter().zip(displacements.iter_mut()) {
