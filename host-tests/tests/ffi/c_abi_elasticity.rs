@@ -107,14 +107,6 @@ fn expected<T: Real>(
         )
 }
 
-/// The bits after `name` on one printed line.
-fn parse_hex64(line: &str, name: &str) -> Vec<f64> {
-    let rest = line.strip_prefix(name).expect("the line's name");
-    rest.split_whitespace()
-        .map(|h| f64::from_bits(u64::from_str_radix(h, 16).unwrap()))
-        .collect()
-}
-
 #[test]
 fn elasticity_from_c_equals_the_kernel_bit_for_bit() {
     let src = workspace().join("ffi/tests/elasticity.c");

@@ -63,15 +63,6 @@ fn mesh() -> (Vec<u32>, Vec<u32>, Vec<u8>, Vec<u32>) {
     (offsets, targets, kinds, sym)
 }
 
-fn parse_hex64(line: &str, name: &str) -> Vec<f64> {
-    let rest = line
-        .strip_prefix(name)
-        .unwrap_or_else(|| panic!("expected {name}: {}", &line[..line.len().min(80)]));
-    rest.split_whitespace()
-        .map(|h| f64::from_bits(u64::from_str_radix(h, 16).expect("hex")))
-        .collect()
-}
-
 /// The three lines slide.c prints for a solve.
 fn solve_lines<T: Real>(
     what: &str,

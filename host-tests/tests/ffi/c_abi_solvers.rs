@@ -255,15 +255,6 @@ fn amg_mesh() -> (Csr, Vec<u8>) {
     (csr(NI * NJ, &e), fixed)
 }
 
-fn parse_hex64(line: &str, name: &str) -> Vec<f64> {
-    let rest = line
-        .strip_prefix(name)
-        .unwrap_or_else(|| panic!("expected {name}: {}", &line[..line.len().min(80)]));
-    rest.split_whitespace()
-        .map(|h| f64::from_bits(u64::from_str_radix(h, 16).expect("hex")))
-        .collect()
-}
-
 /// What solvers_amg.c prints for one precision, from the kernel called directly: the pool
 /// sizes (`setup_work_len`, then the hierarchy's sizes and the solve scratch, for 2 and 1
 /// components), the linear and the angle (ε = 0.1) multigrid solves with the default options.

@@ -120,6 +120,16 @@ pub fn hex32(name: &str, v: &[f32]) -> String {
     s + "\n"
 }
 
+/// The doubles of a `name h h ...` line written by [`hex64`] (or a C program's `%016llx`).
+pub fn parse_hex64(line: &str, name: &str) -> Vec<f64> {
+    let rest = line
+        .strip_prefix(name)
+        .unwrap_or_else(|| panic!("expected {name}: {}", &line[..line.len().min(80)]));
+    rest.split_whitespace()
+        .map(|h| f64::from_bits(u64::from_str_radix(h, 16).expect("hex")))
+        .collect()
+}
+
 /// Builds `ffi/tests/<name>.f90` with the Fortran module (strict: f2008, `-Wall -Werror`),
 /// links the static library and returns what it prints.
 pub fn fortran_test(name: &str) -> String {
