@@ -75,6 +75,8 @@ pub use pipeline::{
     deform_spring_with, deform_tfi, deform_tfi_scratch_len, BoundaryMotion, RotationSource,
 };
 pub use propagate::propagate_idw;
+/// The inverse-distance weights, shared with the IDW sensitivities.
+pub(crate) use propagate::{idw_scan, idw_weight, IdwScan};
 pub use reach::{limit_reach, reach_weight};
 pub use rotations::{
     boundary_origin, boundary_rotations, boundary_rotations_scratch_len, boundary_translations,

@@ -109,9 +109,9 @@ pub fn propagate_idw<T: Real, const D: usize>(
 /// What [`idw_point`] learns in its first pass over the boundary at one field point: the
 /// nearest boundary node and the distance scale of the weights.
 #[derive(Clone, Copy)]
-pub(super) struct IdwScan<T> {
+pub(crate) struct IdwScan<T> {
     /// Mesh node of the nearest boundary point (the first wins ties).
-    pub(super) nearest: u32,
+    pub(crate) nearest: u32,
     /// Position of the nearest boundary point in `boundary`.
     pub(super) nearest_pos: usize,
     /// `true` when every squared distance is a normal number (or an exact zero): weights from
@@ -119,7 +119,7 @@ pub(super) struct IdwScan<T> {
     plain: bool,
     /// The smallest squared distance (`plain`) or robust distance (otherwise); zero when the
     /// point coincides with a boundary point.
-    pub(super) dmin: T,
+    pub(crate) dmin: T,
 }
 
 /// Distance / 4 without overflow or underflow (the quarter keeps `x − b` finite): the
@@ -132,7 +132,7 @@ fn robust<T: Real, const D: usize>(x: [T; D], b: [T; D]) -> T {
 
 /// The first pass of [`idw_point`] at field point `x` (mesh node `i`); `None` when `i` is a
 /// boundary node.
-pub(super) fn idw_scan<T: Real, const D: usize>(
+pub(crate) fn idw_scan<T: Real, const D: usize>(
     points: &[[T; D]],
     boundary: &[u32],
     i: usize,
@@ -183,7 +183,7 @@ pub(super) fn idw_scan<T: Real, const D: usize>(
 
 /// The weight `(d_min / d_b)^p` of boundary point `xb` at field point `x` (`scan.dmin > 0`).
 #[inline]
-pub(super) fn idw_weight<T: Real, const D: usize>(
+pub(crate) fn idw_weight<T: Real, const D: usize>(
     scan: &IdwScan<T>,
     exponent: T,
     x: [T; D],

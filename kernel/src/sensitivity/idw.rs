@@ -17,8 +17,8 @@
 
 use crate::check;
 use crate::error::{Error, Result};
+use crate::quaternion::{idw_scan, idw_weight, IdwScan};
 use crate::real::Real;
-use crate::vector::{norm_robust, norm_sq, scale, sub};
 
 /// How node `i` takes its value.
 enum Stencil<T> {
@@ -26,76 +26,23 @@ enum Stencil<T> {
     Boundary,
     /// At zero distance from this boundary node: takes its value.
     Exact(u32),
-    /// Weighted: `ω_k = (dmin / d_k)^p` from squared distances (`plain`) or, when those
-    /// leave the normal range, from robust distances (`propagate_idw`'s fallback).
-    Weighted { plain: bool, dmin: T },
+    /// Weighted: `ω_k = (dmin / d_k)^p` from squared distances or, when those leave the
+    /// normal range, from robust distances (`propagate_idw`'s scan and weights).
+    Weighted(IdwScan<T>),
 }
 
-/// The stencil of node `i` at `x` (the same nearest node and range test as `propagate_idw`).
+/// The stencil of node `i` at `x`: [`propagate_idw`](crate::quaternion::propagate_idw)'s own
+/// scan (the same nearest node and range test).
 fn stencil<T: Real, const D: usize>(
     points: &[[T; D]],
     boundary: &[u32],
     i: usize,
     x: [T; D],
 ) -> Stencil<T> {
-    let at = |b: u32| points.get(b as usize).copied().unwrap_or([T::ZERO; D]);
-    let mut d2min = T::INFINITY;
-    let mut nearest = 0u32;
-    let mut plain = true;
-    for &b in boundary {
-        if b as usize == i {
-            return Stencil::Boundary;
-        }
-        let diff = sub(x, at(b));
-        let d2 = norm_sq(diff);
-        plain &= d2.is_finite() && (d2 >= T::MIN_POSITIVE || diff.iter().all(|&c| c == T::ZERO));
-        if d2 < d2min {
-            d2min = d2;
-            nearest = b;
-        }
-    }
-    if !plain {
-        let mut hmin = T::INFINITY;
-        for &b in boundary {
-            let h = robust(x, at(b));
-            if h < hmin {
-                hmin = h;
-                nearest = b;
-            }
-        }
-        d2min = hmin;
-    }
-    if d2min > T::ZERO {
-        Stencil::Weighted { plain, dmin: d2min }
-    } else {
-        Stencil::Exact(nearest)
-    }
-}
-
-/// Distance / 4 without overflow or underflow.
-fn robust<T: Real, const D: usize>(x: [T; D], b: [T; D]) -> T {
-    let quarter = T::HALF * T::HALF;
-    norm_robust(sub(scale(x, quarter), scale(b, quarter)))
-}
-
-/// The weight `ω` of the boundary point `b` seen from `x` (`dmin` of [`Stencil::Weighted`]).
-#[inline]
-fn weight<T: Real, const D: usize>(x: [T; D], b: [T; D], exponent: T, plain: bool, dmin: T) -> T {
-    let half_p = exponent * T::HALF;
-    if plain {
-        let ratio = dmin / norm_sq(sub(x, b));
-        if half_p == T::ONE {
-            ratio
-        } else {
-            ratio.powf(half_p)
-        }
-    } else {
-        let ratio = dmin / robust(x, b);
-        if half_p == T::ONE {
-            ratio * ratio
-        } else {
-            ratio.powf(exponent)
-        }
+    match idw_scan(points, boundary, i, x) {
+        None => Stencil::Boundary,
+        Some(scan) if scan.dmin > T::ZERO => Stencil::Weighted(scan),
+        Some(scan) => Stencil::Exact(scan.nearest),
     }
 }
 
@@ -168,7 +115,7 @@ pub fn idw_tangent_many<T: Real, const D: usize>(
                     }
                 }
             }
-            Stencil::Weighted { plain, dmin } => {
+            Stencil::Weighted(scan) => {
                 let mut wsum = T::ZERO;
                 for f in 0..m {
                     if let Some(o) = dx.get_mut(f * n + i) {
@@ -177,7 +124,7 @@ pub fn idw_tangent_many<T: Real, const D: usize>(
                 }
                 for &b in boundary {
                     let pb = points.get(b as usize).copied().unwrap_or(x);
-                    let w = weight(x, pb, exponent, plain, dmin);
+                    let w = idw_weight(&scan, exponent, x, pb);
                     wsum += w;
                     for f in 0..m {
                         let v = get(dx, f, b);
@@ -245,13 +192,13 @@ pub fn idw_adjoint_many<T: Real, const D: usize>(
         match stencil(points, boundary, i, x) {
             Stencil::Boundary => {}
             Stencil::Exact(b) => scatter(g, w, n, m, i, b, T::ONE),
-            Stencil::Weighted { plain, dmin } => {
+            Stencil::Weighted(scan) => {
                 let at = |b: u32| points.get(b as usize).copied().unwrap_or(x);
                 let wsum = boundary
                     .iter()
-                    .fold(T::ZERO, |s, &b| s + weight(x, at(b), exponent, plain, dmin));
+                    .fold(T::ZERO, |s, &b| s + idw_weight(&scan, exponent, x, at(b)));
                 for &b in boundary {
-                    let c = weight(x, at(b), exponent, plain, dmin) / wsum;
+                    let c = idw_weight(&scan, exponent, x, at(b)) / wsum;
                     scatter(g, w, n, m, i, b, c);
                 }
             }
