@@ -7,7 +7,7 @@
 ! contiguous arrays and pass their sizes for you.
 module deform_kernel
   use, intrinsic :: iso_c_binding, only: c_int32_t, c_int64_t, c_int8_t, c_size_t, c_double, c_float, &
-                                         c_bool, c_ptr, c_char, c_f_pointer, c_associated
+                                         c_bool, c_ptr, c_funptr, c_char, c_f_pointer, c_associated
   implicit none
   private
 

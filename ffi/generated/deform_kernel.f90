@@ -9,7 +9,7 @@
 ! contiguous arrays and pass their sizes for you.
 module deform_kernel
   use, intrinsic :: iso_c_binding, only: c_int32_t, c_int64_t, c_int8_t, c_size_t, c_double, c_float, &
-                                         c_bool, c_ptr, c_char, c_f_pointer, c_associated
+                                         c_bool, c_ptr, c_funptr, c_char, c_f_pointer, c_associated
   implicit none
   private
 
@@ -92,6 +92,8 @@ module deform_kernel
   integer(c_int32_t), parameter, public :: DK_ERR_NOT_PLANAR = 28
   integer(c_int32_t), parameter, public :: DK_ERR_BAD_PLAN = 29
   integer(c_int32_t), parameter, public :: DK_ERR_SHARED_FREE_END = 30
+  integer(c_int32_t), parameter, public :: DK_ERR_BAD_PARTITION = 31
+  integer(c_int32_t), parameter, public :: DK_ERR_EXCHANGE = 32
   integer(c_int32_t), parameter, public :: DK_ERR_OTHER = 99
 
   !> `dk_boundary_motion::rotation_source`: rotations from the undeformed and deformed boundary
@@ -437,6 +439,62 @@ module deform_kernel
     type(c_ptr) :: inverse
     !> Entries of `inverse`.
     integer(c_size_t) :: inverse_len
+  end type
+
+  !> One process's partition, in its own local numbering (0-based): local nodes `0..owned` are
+  !! owned, the rest (`global_ids_len - owned`) are ghosts; `global_ids[i]` is local node `i`'s
+  !! global id, below `global_count`. Neighbour `k` (rank `neighbour_ranks[k]`) is sent the
+  !! owned nodes `send[send_offsets[k]..send_offsets[k + 1]]` and sends the ghosts
+  !! `recv[recv_offsets[k]..recv_offsets[k + 1]]`; position `q` of one process's send list to
+  !! another is position `q` of the other's receive list (ordering both by global id is one way
+  !! to agree). Borrowed for the call that receives it, and passed back to the halo callback.
+  type, bind(C), public :: dk_partition
+    !> This process's rank.
+    integer(c_int32_t) :: rank
+    !> Number of processes.
+    integer(c_int32_t) :: size
+    !> Number of owned nodes (the first local nodes).
+    integer(c_size_t) :: owned
+    !> Number of nodes over all processes.
+    integer(c_int64_t) :: global_count
+    !> The global id of each local node.
+    type(c_ptr) :: global_ids
+    !> Entries of `global_ids` (the local node count, owned and ghosts).
+    integer(c_size_t) :: global_ids_len
+    !> The rank of each neighbour process.
+    type(c_ptr) :: neighbour_ranks
+    !> Entries of `neighbour_ranks` (the neighbour count).
+    integer(c_size_t) :: neighbour_ranks_len
+    !> Start of each neighbour's list in `send`, and the end (`neighbour_ranks_len + 1`).
+    type(c_ptr) :: send_offsets
+    !> Entries of `send_offsets`.
+    integer(c_size_t) :: send_offsets_len
+    !> The owned local nodes sent, neighbour by neighbour.
+    type(c_ptr) :: send
+    !> Entries of `send`.
+    integer(c_size_t) :: send_len
+    !> Start of each neighbour's list in `recv`, and the end (`neighbour_ranks_len + 1`).
+    type(c_ptr) :: recv_offsets
+    !> Entries of `recv_offsets`.
+    integer(c_size_t) :: recv_offsets_len
+    !> The ghosts received, neighbour by neighbour.
+    type(c_ptr) :: recv
+    !> Entries of `recv`.
+    integer(c_size_t) :: recv_len
+  end type
+
+  !> The caller's exchanges, one struct per process: every callback is collective over the
+  !! processes of the partition (the halo exchange only between neighbours), called with `user`
+  !! as its first argument. Every callback is required.
+  type, bind(C), public :: dk_exchange
+    !> Passed back to every callback (an MPI communicator, a context).
+    type(c_ptr) :: user
+    !> All-reduce sum of `int64_t` words.
+    type(c_funptr) :: sum_words
+    !> All-reduce maximum of doubles.
+    type(c_funptr) :: max
+    !> Halo exchange of a field (`width` doubles per local node).
+    type(c_funptr) :: halo
   end type
 
   !> The smoothed-aggregation multigrid preconditioner (the kernel's `AmgOptions`; see
@@ -889,6 +947,7 @@ module deform_kernel
             dk_graph_from_cells, dk_graph_check, dk_order_rcm, dk_order_hilbert, &
             dk_order_hilbert_f32, dk_order_index_distance, dk_order_permute, dk_order_permute_f32, &
             dk_order_renumber, dk_order_permute_graph, dk_order_gather, dk_order_gather_f32, &
+            dk_partitioned_spring_scratch_len, dk_partitioned_spring_solve, &
             dk_plan_options_default, dk_plan_options_default_f32, dk_plan_work_sizes, &
             dk_plan_work_sizes_f32, dk_plan_pool_sizes, dk_plan_pool_sizes_f32, dk_plan_init, &
             dk_plan_init_f32, dk_plan_open, dk_plan_open_f32, dk_plan_step, dk_plan_step_f32, &
@@ -2184,6 +2243,45 @@ module deform_kernel
       integer(c_size_t), value :: src_len
       real(c_float), intent(inout) :: dst(*)
       integer(c_size_t), value :: dst_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_partitioned_spring_scratch_len(partition, cells, face_diagonals, components, &
+        scratch_len_out, index_scratch_len_out) bind(C, name="dk_partitioned_spring_scratch_len") &
+        result(s)
+      import :: c_bool, c_int32_t, c_size_t, dk_cells, dk_partition
+      type(dk_partition), intent(in) :: partition
+      type(dk_cells), intent(in) :: cells
+      logical(c_bool), value :: face_diagonals
+      integer(c_int32_t), value :: components
+      integer(c_size_t), intent(inout) :: scratch_len_out
+      integer(c_size_t), intent(inout) :: index_scratch_len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_partitioned_spring_solve(partition, cells, face_diagonals, points, points_len, &
+        dim, exponent, fixed, fixed_len, options, components, values, values_len, scratch, &
+        scratch_len, index_scratch, index_scratch_len, exchange, report) bind(C, &
+        name="dk_partitioned_spring_solve") result(s)
+      import :: c_bool, c_double, c_int32_t, c_int8_t, c_size_t, dk_cells, dk_exchange, &
+          dk_partition, dk_spring_solve_options, dk_spring_solve_report
+      type(dk_partition), intent(in) :: partition
+      type(dk_cells), intent(in) :: cells
+      logical(c_bool), value :: face_diagonals
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), value :: exponent
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_int32_t), value :: components
+      real(c_double), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_exchange), intent(in) :: exchange
+      type(dk_spring_solve_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
     function dk_plan_options_default(out) bind(C, name="dk_plan_options_default") result(s)

@@ -240,6 +240,13 @@ enum dk_status
   // A line end that must be free to slide coincides with another grid point (a seam, an
   // axis or an interface).
   DK_ERR_SHARED_FREE_END = 30,
+  // A distributed call's partitions are inconsistent (ghost or send/receive lists,
+  // duplicate global ids, counts, rows across processes), or another process found a fault
+  // of its own: every process of the call returns an error.
+  DK_ERR_BAD_PARTITION = 31,
+  // A caller's exchange callback returned nonzero on some process of a distributed call:
+  // every process returns this.
+  DK_ERR_EXCHANGE = 32,
   // An error this version of the header does not know (a newer kernel).
   DK_ERR_OTHER = 99,
 };
@@ -486,6 +493,76 @@ typedef struct {
   // Entries of `inverse`.
   size_t inverse_len;
 } dk_permutation;
+
+// One process's partition, in its own local numbering (0-based): local nodes `0..owned` are
+// owned, the rest (`global_ids_len - owned`) are ghosts; `global_ids[i]` is local node `i`'s
+// global id, below `global_count`. Neighbour `k` (rank `neighbour_ranks[k]`) is sent the
+// owned nodes `send[send_offsets[k]..send_offsets[k + 1]]` and sends the ghosts
+// `recv[recv_offsets[k]..recv_offsets[k + 1]]`; position `q` of one process's send list to
+// another is position `q` of the other's receive list (ordering both by global id is one way
+// to agree). Borrowed for the call that receives it, and passed back to the halo callback.
+typedef struct {
+  // This process's rank.
+  uint32_t rank;
+  // Number of processes.
+  uint32_t size;
+  // Number of owned nodes (the first local nodes).
+  size_t owned;
+  // Number of nodes over all processes.
+  uint64_t global_count;
+  // The global id of each local node.
+  const uint64_t *global_ids;
+  // Entries of `global_ids` (the local node count, owned and ghosts).
+  size_t global_ids_len;
+  // The rank of each neighbour process.
+  const uint32_t *neighbour_ranks;
+  // Entries of `neighbour_ranks` (the neighbour count).
+  size_t neighbour_ranks_len;
+  // Start of each neighbour's list in `send`, and the end (`neighbour_ranks_len + 1`).
+  const uint32_t *send_offsets;
+  // Entries of `send_offsets`.
+  size_t send_offsets_len;
+  // The owned local nodes sent, neighbour by neighbour.
+  const uint32_t *send;
+  // Entries of `send`.
+  size_t send_len;
+  // Start of each neighbour's list in `recv`, and the end (`neighbour_ranks_len + 1`).
+  const uint32_t *recv_offsets;
+  // Entries of `recv_offsets`.
+  size_t recv_offsets_len;
+  // The ghosts received, neighbour by neighbour.
+  const uint32_t *recv;
+  // Entries of `recv`.
+  size_t recv_len;
+} dk_partition;
+
+// Sums `len` `int64_t` words over all processes, in place (`MPI_Allreduce`, `MPI_SUM`,
+// `MPI_INT64_T`). Returns 0 on success.
+typedef int32_t (*dk_exchange_sum_words)(void*, int64_t*, size_t);
+
+// Maximum of `len` `double`s over all processes, element-wise, in place (`MPI_Allreduce`,
+// `MPI_MAX`, `MPI_DOUBLE`). Returns 0 on success.
+typedef int32_t (*dk_exchange_max)(void*, double*, size_t);
+
+// The halo exchange over `partition`'s lists: for every neighbour `k`, send the `width`
+// doubles of each node of its send list (in list order) to `neighbour_ranks[k]`, and store
+// the doubles received from it at the nodes of its receive list (in list order). `field`
+// holds `field_len` doubles (`width` per local node). Returns 0 on success.
+typedef int32_t (*dk_exchange_halo)(void*, const dk_partition*, double*, size_t, size_t);
+
+// The caller's exchanges, one struct per process: every callback is collective over the
+// processes of the partition (the halo exchange only between neighbours), called with `user`
+// as its first argument. Every callback is required.
+typedef struct {
+  // Passed back to every callback (an MPI communicator, a context).
+  void *user;
+  // All-reduce sum of `int64_t` words.
+  dk_exchange_sum_words sum_words;
+  // All-reduce maximum of doubles.
+  dk_exchange_max max;
+  // Halo exchange of a field (`width` doubles per local node).
+  dk_exchange_halo halo;
+} dk_exchange;
 
 // The smoothed-aggregation multigrid preconditioner (the kernel's `AmgOptions`; see
 // docs/amg.md) of [`dk_spring_solve_linear_amg`], [`dk_spring_solve_angle_amg`] and of plans
@@ -2728,6 +2805,83 @@ dk_status dk_order_gather_f32(const uint32_t *map,
                               size_t src_len,
                               float *dst,
                               size_t dst_len);
+
+// Lengths of `scratch` (doubles) and `index_scratch` (`uint32_t`) that
+// [`dk_partitioned_spring_solve`] needs for this partition, these cells and `components`
+// (1 to 7) values per node. Local only (no exchange). Errors: `DK_ERR_INVALID_PARAMETER`
+// (`components`), `DK_ERR_TOO_LARGE`, pointer errors.
+//
+// # Safety
+// - `partition`: one readable `dk_partition`.
+// - `cells`: one readable `dk_cells`.
+// - `scratch_len_out`: one readable and writable `size_t`.
+// - `index_scratch_len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_partitioned_spring_scratch_len(const dk_partition *partition,
+                                            const dk_cells *cells,
+                                            bool face_diagonals,
+                                            uint32_t components,
+                                            size_t *scratch_len_out,
+                                            size_t *index_scratch_len_out);
+
+// Solves the linear springs on distributed data: each process passes its partition, the
+// local cells (0-based local nodes; every cell that touches an owned node, as `VTK` kinds),
+// the local points (`dim` 2 or 3 per local node, ghosts as their owners), Batina's
+// `exponent` (1 is the papers'), the fixed mask (one byte per local node, nonzero = fixed)
+// and `values` (`components` doubles per local node: Dirichlet data and the initial guess at
+// the owned nodes; ghosts' values are ignored). The method is CG with `options->
+// preconditioner` `DK_PRECONDITIONER_JACOBI` or `DK_PRECONDITIONER_NONE` (`options->method`
+// must be `DK_LINEAR_CG`). On `DK_OK` every local node holds the last iterate and `*report`
+// the serial solve's report: the owned values, the iterations and the residual are those of
+// [`dk_spring_solve_linear`](crate::spring::dk_spring_solve_linear) on the whole mesh, bit
+// for bit. `scratch` and `index_scratch` need [`dk_partitioned_spring_scratch_len`] entries.
+//
+// **Collective**: every process of the partition calls it with its own part, and all return
+// `DK_OK` or all an error (see the module doc for how they agree): `DK_ERR_BAD_PARTITION`
+// (inconsistent ghost or send/receive lists, duplicate global ids, a process without owned
+// nodes, counts that do not add up, rows that disagree across processes, or another
+// process's fault), `DK_ERR_EXCHANGE` (a callback returned nonzero on some process), and the
+// errors of the serial solve and of the local arrays (on the process concerned; the others
+// report `DK_ERR_BAD_PARTITION`). A NULL `exchange` or callback is `DK_ERR_NULL_POINTER`
+// at once, without any exchange. Values and report unchanged on every error.
+//
+// # Safety
+// - `partition`: one readable `dk_partition`.
+// - `cells`: one readable `dk_cells`.
+// - `points`: readable for `points_len` elements (`double`).
+// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+// - `options`: one readable `dk_spring_solve_options`.
+// - `values`: readable and writable for `values_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `exchange`: one readable `dk_exchange`.
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_partitioned_spring_solve(const dk_partition *partition,
+                                      const dk_cells *cells,
+                                      bool face_diagonals,
+                                      const double *points,
+                                      size_t points_len,
+                                      uint32_t dim,
+                                      double exponent,
+                                      const uint8_t *fixed,
+                                      size_t fixed_len,
+                                      const dk_spring_solve_options *options,
+                                      uint32_t components,
+                                      double *values,
+                                      size_t values_len,
+                                      double *scratch,
+                                      size_t scratch_len,
+                                      uint32_t *index_scratch,
+                                      size_t index_scratch_len,
+                                      const dk_exchange *exchange,
+                                      dk_spring_solve_report *report);
 
 // Fills `*out` with the default plan options for f64: the quaternion method, multigrid-
 // preconditioned CG, Batina stiffness (exponent 1), the default stopping rules of

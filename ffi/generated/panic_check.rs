@@ -1251,6 +1251,43 @@ pub fn exercise() {
     });
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::partition::dk_partitioned_spring_scratch_len(
+            black_box(null()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::partition::dk_partitioned_spring_solve(
+            black_box(null()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
     black_box(unsafe { deform_kernel_ffi::plan::dk_plan_options_default(black_box(null_mut())) });
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.

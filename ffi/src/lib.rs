@@ -48,6 +48,8 @@ pub mod elasticity;
 pub mod graph;
 #[path = "../generated/order.rs"]
 pub mod order;
+#[path = "../generated/partition.rs"]
+pub mod partition;
 #[path = "../generated/plan.rs"]
 pub mod plan;
 #[path = "../generated/pools.rs"]

@@ -73,6 +73,13 @@ pub enum dk_status {
     /// A line end that must be free to slide coincides with another grid point (a seam, an
     /// axis or an interface).
     DK_ERR_SHARED_FREE_END = 30,
+    /// A distributed call's partitions are inconsistent (ghost or send/receive lists,
+    /// duplicate global ids, counts, rows across processes), or another process found a fault
+    /// of its own: every process of the call returns an error.
+    DK_ERR_BAD_PARTITION = 31,
+    /// A caller's exchange callback returned nonzero on some process of a distributed call:
+    /// every process returns this.
+    DK_ERR_EXCHANGE = 32,
     /// An error this version of the header does not know (a newer kernel).
     DK_ERR_OTHER = 99,
 }
@@ -108,6 +115,7 @@ impl From<Error> for dk_status {
             Error::NotPlanar { .. } => dk_status::DK_ERR_NOT_PLANAR,
             Error::BadPlan { .. } => dk_status::DK_ERR_BAD_PLAN,
             Error::SharedFreeEnd { .. } => dk_status::DK_ERR_SHARED_FREE_END,
+            Error::BadPartition { .. } => dk_status::DK_ERR_BAD_PARTITION,
             _ => dk_status::DK_ERR_OTHER,
         }
     }
@@ -149,6 +157,8 @@ pub(crate) fn dk_status_str(status: i32) -> &'static core::ffi::CStr {
         28 => c"a node set that must be planar deviates from its fitted plane",
         29 => c"the plan pools do not hold a valid plan (none, another type, or overwritten)",
         30 => c"a free line end coincides with another grid point (seam, axis or interface)",
+        31 => c"the processes' partitions are inconsistent, or another process found a fault",
+        32 => c"an exchange callback failed on some process",
         99 => c"an error unknown to this header version",
         _ => c"unknown status",
     }

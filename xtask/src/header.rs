@@ -5,7 +5,8 @@
 //! are read from it rather than kept by hand: a field added, moved or retyped in Rust reaches
 //! Fortran with the next `cargo xtask codegen`, and a stale Fortran layout fails
 //! `cargo xtask codegen --check`. Reads only what cbindgen writes: `//` doc lines, `#define
-//! NAME VALUE`, the `dk_status` enum and `typedef struct { TYPE name[N]; … } dk_name;`.
+//! NAME VALUE`, the `dk_status` enum, `typedef struct { TYPE name[N]; … } dk_name;` and the
+//! names of function-pointer typedefs (`typedef R (*dk_name)(…);`, fields of `type(c_funptr)`).
 
 /// The checked-in C header.
 pub(crate) const HEADER: &str = "ffi/generated/deform_kernel.h";
@@ -30,10 +31,14 @@ impl Doc {
     }
 }
 
-/// The Fortran type of a C field type (`const double *` → `type(c_ptr)`).
-fn fortran_field_type(c: &str) -> Result<String, String> {
+/// The Fortran type of a C field type (`const double *` → `type(c_ptr)`, a function-pointer
+/// typedef named in `funptrs` → `type(c_funptr)`).
+fn fortran_field_type(c: &str, funptrs: &[String]) -> Result<String, String> {
     if c.ends_with('*') {
         return Ok("type(c_ptr)".into());
+    }
+    if funptrs.iter().any(|f| f == c) {
+        return Ok("type(c_funptr)".into());
     }
     Ok(match c {
         "double" => "real(c_double)",
@@ -66,6 +71,13 @@ fn constant(name: &str, value: &str) -> Option<String> {
 /// The generated Fortran declarations: status codes, constants, then the structs in header
 /// order (so a struct is declared before a struct that contains it).
 pub(crate) fn fortran_declarations(header: &str) -> Result<String, String> {
+    // `typedef int32_t (*dk_name)(…);`: callback types (Fortran `type(c_funptr)`).
+    let funptrs: Vec<String> = header
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("typedef "))
+        .filter_map(|l| l.split_once("(*")?.1.split_once(')'))
+        .map(|(name, _)| name.to_string())
+        .collect();
     let mut status = String::new();
     let mut constants = String::new();
     let mut types = String::new();
@@ -120,7 +132,10 @@ pub(crate) fn fortran_declarations(header: &str) -> Result<String, String> {
                     None => (field, String::new()),
                 };
                 fields += &Doc(std::mem::take(&mut field_doc)).fortran("    ");
-                fields += &format!("    {} :: {field}{shape}\n", fortran_field_type(ty)?);
+                fields += &format!(
+                    "    {} :: {field}{shape}\n",
+                    fortran_field_type(ty, &funptrs)?
+                );
             };
             types += &format!("\n{}", this.fortran("  "));
             types += &format!("  type, bind(C), public :: {name}\n{fields}  end type\n");

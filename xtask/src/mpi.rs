@@ -13,7 +13,13 @@
 //!    3D SU2 half-model in `cli/tests/data`;
 //! 3. `ffi/examples/mpi_deform.c`, built with `mpicc` against the static C library: a C
 //!    solver with its own (interleaved) partition sweeps its rows with the kernel, merges the
-//!    exact residual words with `MPI_Allreduce` and checks the serial bits.
+//!    exact residual words with `MPI_Allreduce` and checks the serial bits; and
+//!    `ffi/examples/mpi_partitioned.c` under `-np 1, 2, 3, 4, 7`: each rank builds only its
+//!    local view (owned columns, ghost columns, local cells, the lists), solves through
+//!    `dk_partitioned_spring_solve` with the callbacks of `mpi/c/deform_kernel_mpi.c`, and
+//!    the assembled field equals the serial `dk_spring_solve_linear` bit for bit; bad inputs
+//!    (a duplicate global id, a short ghost list, failing callbacks) are rejected on every
+//!    rank.
 
 use crate::ctx::Ctx;
 use crate::install::is_root;
@@ -58,7 +64,9 @@ pub(crate) fn mpi_check(ctx: &Ctx) -> bool {
     ok && deform_move_under_mpi(ctx) && c_example(ctx)
 }
 
-/// `ffi/examples/mpi_deform.c` under mpirun.
+/// `ffi/examples/mpi_deform.c` (replicated data) and `ffi/examples/mpi_partitioned.c`
+/// (distributed data through `dk_partitioned_spring_solve` and `mpi/c/deform_kernel_mpi.c`)
+/// under mpirun.
 fn c_example(ctx: &Ctx) -> bool {
     // Where host-tests build the C library (CARGO_TARGET_TMPDIR/capi-build): reused.
     let target = ctx.root.join("target/tmp/capi-build");
@@ -68,27 +76,38 @@ fn c_example(ctx: &Ctx) -> bool {
     if !run(&mut build) {
         return false;
     }
-    let exe = target.join("mpi_deform");
-    let mut cc = Command::new("mpicc");
-    cc.args([
-        "-std=c11",
-        "-O2",
-        "-Wall",
-        "-Wextra",
-        "-Werror",
-        "-Iffi/generated",
-    ])
-    .arg("ffi/examples/mpi_deform.c")
-    .arg(target.join("release/libdeform_kernel.a"))
-    .args(["-lm", "-lpthread", "-ldl", "-o"])
-    .arg(&exe)
-    .current_dir(&ctx.root);
-    if !run(&mut cc) {
-        return false;
-    }
+    let examples: [(&str, &[&str], &[usize]); 2] = [
+        ("mpi_deform", &[], MPI_RANKS),
+        (
+            "mpi_partitioned",
+            &["-Impi/c", "mpi/c/deform_kernel_mpi.c"],
+            PARTITIONED_RANKS,
+        ),
+    ];
     let mut ok = true;
-    for &np in MPI_RANKS {
-        ok &= run(mpirun(np).arg(&exe).current_dir(&ctx.root));
+    for (name, extra, ranks) in examples {
+        let exe = target.join(name);
+        let mut cc = Command::new("mpicc");
+        cc.args([
+            "-std=c11",
+            "-O2",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            "-Iffi/generated",
+        ])
+        .args(extra)
+        .arg(format!("ffi/examples/{name}.c"))
+        .arg(target.join("release/libdeform_kernel.a"))
+        .args(["-lm", "-lpthread", "-ldl", "-o"])
+        .arg(&exe)
+        .current_dir(&ctx.root);
+        if !run(&mut cc) {
+            return false;
+        }
+        for &np in ranks {
+            ok &= run(mpirun(np).arg(&exe).current_dir(&ctx.root));
+        }
     }
     ok
 }

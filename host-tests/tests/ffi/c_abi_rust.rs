@@ -526,6 +526,14 @@ fn every_kernel_error_has_its_own_status_and_description() {
             dk_status::DK_ERR_SHARED_FREE_END,
             30,
         ),
+        (
+            Error::BadPartition {
+                fault: deform_kernel::error::PartitionFault::Pattern,
+                position: 0,
+            },
+            dk_status::DK_ERR_BAD_PARTITION,
+            31,
+        ),
     ];
     for (error, status, code) in cases {
         assert_eq!(dk_status::from(error), status);
