@@ -271,10 +271,9 @@ impl CExchange {
     /// The first agreement: `Err` on every process when any found a fault of its own
     /// (`local`; the others report `DK_ERR_BAD_PARTITION`).
     fn agree_local<U>(&self, local: Result<U, dk_status>) -> Result<U, dk_status> {
-        let mut words = [0i64; 2];
-        words[1] = i64::from(local.is_err());
+        let mut words = [0, i64::from(local.is_err())];
         self.flagged_sum(&mut words);
-        let any = words[1] != 0;
+        let any = words.get(1).is_some_and(|&w| w != 0);
         self.verdict_if_agreed()?;
         let v = local?;
         if any {
@@ -306,7 +305,7 @@ impl Exchange<f64> for CExchange {
             for (b, &w) in tail.iter_mut().zip(chunk.iter()) {
                 *b = w;
             }
-            let len = chunk.len() + 1;
+            let len = chunk.len().saturating_add(1);
             self.flagged_sum(buf.get_mut(..len).unwrap_or(&mut []));
             for (w, &b) in chunk.iter_mut().zip(buf.iter().skip(1)) {
                 *w = b;
@@ -320,11 +319,16 @@ impl Exchange<f64> for CExchange {
                 continue;
             }
             let mut buf = [0.0f64; MAX_CHUNK + 1];
-            buf[0] = if self.failed.get() { 1.0 } else { 0.0 };
-            for (b, &v) in buf.iter_mut().skip(1).zip(chunk.iter()) {
+            let flag = if self.failed.get() { 1.0 } else { 0.0 };
+            for (b, &v) in buf
+                .iter_mut()
+                .zip(core::iter::once(&flag).chain(chunk.iter()))
+            {
                 *b = v;
             }
-            let buf = buf.get_mut(..chunk.len() + 1).unwrap_or(&mut []);
+            let buf = buf
+                .get_mut(..chunk.len().saturating_add(1))
+                .unwrap_or(&mut []);
             if let Some(f) = self.ex.max {
                 // SAFETY: as in `flagged_sum`.
                 self.note(unsafe { f(self.ex.user, buf.as_mut_ptr(), buf.len()) });
@@ -375,7 +379,8 @@ fn scratch_lens(
         .ok_or(dk_status::DK_ERR_TOO_LARGE)?;
     let index = local
         .checked_mul(2)
-        .and_then(|i| i.checked_add(targets + 1))
+        .and_then(|i| i.checked_add(targets))
+        .and_then(|i| i.checked_add(1))
         .ok_or(dk_status::DK_ERR_TOO_LARGE)?;
     Ok((reals, index))
 }
@@ -545,11 +550,16 @@ fn prepare<'a>(
     if scratch.len() < reals || index_scratch.len() < index {
         return Err(dk_status::DK_ERR_BUFFER_TOO_SMALL);
     }
-    let (stiffness, rest) = scratch.split_at_mut(targets);
-    let (copy, cg) = rest.split_at_mut(values.len());
-    copy.copy_from_slice(values);
-    let (part_scratch, rest) = index_scratch.split_at_mut(n);
-    let (offsets, rest) = rest.split_at_mut(n + 1);
+    let short = dk_status::DK_ERR_BUFFER_TOO_SMALL;
+    let (stiffness, rest) = scratch.split_at_mut_checked(targets).ok_or(short)?;
+    let (copy, cg) = rest.split_at_mut_checked(values.len()).ok_or(short)?;
+    for (c, &v) in copy.iter_mut().zip(values.iter()) {
+        *c = v;
+    }
+    let (part_scratch, rest) = index_scratch.split_at_mut_checked(n).ok_or(short)?;
+    let (offsets, rest) = rest
+        .split_at_mut_checked(n.saturating_add(1))
+        .ok_or(short)?;
     Ok(Work {
         rank: p.rank,
         size: p.size,

@@ -19,7 +19,8 @@
 //!    `dk_partitioned_spring_solve` with the callbacks of `mpi/c/deform_kernel_mpi.c`, and
 //!    the assembled field equals the serial `dk_spring_solve_linear` bit for bit; bad inputs
 //!    (a duplicate global id, a short ghost list, failing callbacks) are rejected on every
-//!    rank.
+//!    rank; `ffi/examples/mpi_partitioned.f90`, the same from Fortran (built with `mpif90`,
+//!    its communicator through `dk_mpi_exchange_new_f`), under the same rank counts.
 
 use crate::ctx::Ctx;
 use crate::install::is_root;
@@ -108,6 +109,51 @@ fn c_example(ctx: &Ctx) -> bool {
         for &np in ranks {
             ok &= run(mpirun(np).arg(&exe).current_dir(&ctx.root));
         }
+    }
+    ok && fortran_example(ctx, &target)
+}
+
+/// `ffi/examples/mpi_partitioned.f90` (the same solve from Fortran, its communicator through
+/// `dk_mpi_exchange_new_f`) under mpirun, against the C library built in `target`.
+fn fortran_example(ctx: &Ctx, target: &Path) -> bool {
+    let work = target.join("fortran-mpi");
+    if std::fs::create_dir_all(&work).is_err() {
+        println!("xtask: cannot create {}", work.display());
+        return false;
+    }
+    let object = work.join("deform_kernel_mpi.o");
+    let mut cc = Command::new("mpicc");
+    cc.args([
+        "-std=c11",
+        "-O2",
+        "-Wall",
+        "-Werror",
+        "-Iffi/generated",
+        "-c",
+    ])
+    .arg("mpi/c/deform_kernel_mpi.c")
+    .arg("-o")
+    .arg(&object)
+    .current_dir(&ctx.root);
+    let exe = work.join("mpi_partitioned_f90");
+    let mut fc = Command::new("mpif90");
+    fc.args(["-O2", "-J"])
+        .arg(&work)
+        .args([
+            "ffi/generated/deform_kernel.f90",
+            "ffi/examples/mpi_partitioned.f90",
+        ])
+        .arg(&object)
+        .arg(target.join("release/libdeform_kernel.a"))
+        .args(["-lm", "-lpthread", "-ldl", "-o"])
+        .arg(&exe)
+        .current_dir(&ctx.root);
+    if !(run(&mut cc) && run(&mut fc)) {
+        return false;
+    }
+    let mut ok = true;
+    for &np in PARTITIONED_RANKS {
+        ok &= run(mpirun(np).arg(&exe).current_dir(&ctx.root));
     }
     ok
 }
