@@ -324,7 +324,7 @@ fn run_ranks(
     size: u32,
     depth: usize,
     fail_max: Option<(u32, usize)>,
-    spoil: fn(&mut LocalView<2>),
+    spoil: &(dyn Fn(&mut LocalView<2>) + Sync),
     check: &Check<'_>,
 ) {
     let fixed = mesh.boundary_mask();
@@ -375,7 +375,7 @@ fn threads_give_the_serial_bits() {
     let (want, sr) = serial(&mesh);
     for size in [1, 2, 3, 4] {
         for depth in [1, 2] {
-            run_ranks(&mesh, size, depth, None, |_| {}, &|v, st, x, _, r| {
+            run_ranks(&mesh, size, depth, None, &|_| {}, &|v, st, x, _, r| {
                 assert_eq!(st, dk_status::DK_OK, "rank {} of {size}", v.rank);
                 assert_eq!((r.iterations, r.converged), (sr.iterations, sr.converged));
                 assert_eq!(r.residual.to_bits(), sr.residual.to_bits());
@@ -414,83 +414,48 @@ fn rejected_at(
     }
 }
 
+/// What a bad case changes in the culprit's view.
+type Spoil = fn(&mut LocalView<2>);
+
 #[test]
 fn bad_partitions_fail_on_every_rank() {
+    use dk_status::{DK_ERR_BAD_PARTITION as BAD, DK_ERR_LENGTH_MISMATCH as LENGTH};
     let mesh = mesh();
-    let bad = dk_status::DK_ERR_BAD_PARTITION;
-    // A duplicate global id on rank 1; a ghost in no receive list on rank 2; no owned node.
-    run_ranks(
-        &mesh,
-        3,
-        1,
-        None,
-        |v| {
-            if v.rank == 1 {
-                v.global_ids[1] = v.global_ids[0]
-            }
-        },
-        &rejected(bad),
-    );
-    run_ranks(
-        &mesh,
-        3,
-        1,
-        None,
-        |v| {
-            if v.rank == 2 {
+    // (ranks, culprit, its fault, its status); the others report BAD.
+    let cases: [(u32, u32, Spoil, dk_status); 5] = [
+        (3, 1, |v| v.global_ids[1] = v.global_ids[0], BAD), // a duplicate global id
+        (
+            3,
+            2,
+            |v| {
+                // A ghost in no receive list.
                 v.recv.pop();
                 *v.recv_offsets.last_mut().unwrap() -= 1;
+            },
+            BAD,
+        ),
+        (2, 0, |v| v.owned = 0, BAD), // no owned node
+        // A short fixed mask: found by the kernel's row check, its own status there.
+        (2, 1, |v| v.fixed.truncate(v.fixed.len() - 1), LENGTH),
+        // One more global id than values: found before any kernel call (the first one-word
+        // agreement), its own status there.
+        (3, 2, |v| v.global_ids.push(0), LENGTH),
+    ];
+    for (size, culprit, fault, own) in cases {
+        let spoil = |v: &mut LocalView<2>| {
+            if v.rank == culprit {
+                fault(v);
             }
-        },
-        &rejected(bad),
-    );
-    run_ranks(
-        &mesh,
-        2,
-        1,
-        None,
-        |v| {
-            if v.rank == 0 {
-                v.owned = 0
-            }
-        },
-        &rejected(bad),
-    );
-    // A fault in one rank's own arrays (a short fixed mask): its own status there.
-    run_ranks(
-        &mesh,
-        2,
-        1,
-        None,
-        |v| {
-            if v.rank == 1 {
-                v.fixed.pop();
-            }
-        },
-        &rejected_at(
+        };
+        run_ranks(
+            &mesh,
+            size,
             1,
-            dk_status::DK_ERR_LENGTH_MISMATCH,
-            dk_status::DK_ERR_BAD_PARTITION,
-        ),
-    );
-    // One more global id than values on rank 2: found before any kernel call (the first
-    // one-word agreement), its own status there.
-    run_ranks(
-        &mesh,
-        3,
-        1,
-        None,
-        |v| {
-            if v.rank == 2 {
-                v.global_ids.push(0);
-            }
-        },
-        &rejected_at(
-            2,
-            dk_status::DK_ERR_LENGTH_MISMATCH,
-            dk_status::DK_ERR_BAD_PARTITION,
-        ),
-    );
+            None,
+            &spoil,
+            &rejected_at(culprit, own, BAD),
+        );
+    }
 }
 
 #[test]
@@ -502,7 +467,7 @@ fn a_failing_callback_fails_every_rank() {
             3,
             1,
             Some((rank, at)),
-            |_| {},
+            &|_| {},
             &rejected(dk_status::DK_ERR_EXCHANGE),
         );
     }
