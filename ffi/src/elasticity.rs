@@ -146,7 +146,7 @@ pub(crate) fn dk_elasticity_graph(
         let scratch = output(index_scratch)?;
         let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
         let (o, t, used) = (output(offsets)?, output(targets)?, out_one(used_out)?);
-        *used = elasticity_graph(&cells, o, t).map_err(dk_status::from)?;
+        *used = elasticity_graph(&cells, o, t)?;
         Ok(())
     })())
 }
@@ -263,8 +263,7 @@ fn deform_for_dim<T: Real, const D: usize>(
         chunks::<T, D>(a.displacement)?,
         buffers,
         |sys, u| sys.solve(u, &solve_options, cg),
-    )
-    .map_err(dk_status::from)?;
+    )?;
     Ok(dk_elasticity_report {
         steps: r.steps,
         iterations: r.iterations,
