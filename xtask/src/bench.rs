@@ -8,15 +8,21 @@
 //!    numpy/scipy, scipy.ndimage, trimesh and pyamg on those very inputs and checks that their
 //!    answers agree with the kernel's;
 //! 3. the release `deform` tool moves the 234k-node NACA 2412 mesh with the spring and the
-//!    quaternion method (wall time, peak resident memory);
+//!    quaternion method (wall time, peak resident memory), and runs `deform adjoint` of each
+//!    method it differentiates on the same mesh ([`sensitivity_cost`]);
 //! 4. `bench/peers/unordered.py` writes meshes numbered as users have them (the NACA mesh
 //!    randomly permuted; a gmsh tetrahedral mesh in gmsh's numbering) and times the whole
 //!    `deform move` (`--renumber off` and `auto`) against pyamg setup + solve of the same
 //!    spring system (issue 34);
-//! 5. the figures and ratios (kernel ÷ peer, below 1 = kernel faster) go to stdout and to
+//! 5. `bench/python/deform_vs_cli.py` times a 234k-node spring move through the Python package
+//!    against the same move in the tool (issue 32; [`python_call`]);
+//! 6. the figures and ratios (kernel ÷ peer, below 1 = kernel faster) go to stdout and to
 //!    `target/bench/report.md`, with the machine, the date and the load.
 //!
-//! `--unordered-only` runs step 4 alone (with the NACA mesh it needs).
+//! `--unordered-only` runs step 4 alone (with the NACA mesh it needs), `--python-only` step 5.
+
+mod python_call;
+mod sensitivity_cost;
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -175,12 +181,15 @@ pub(crate) fn bench_command(ctx: &Ctx, args: &[String]) -> ExitCode {
     let quick = args.iter().any(|a| a == "--quick");
     let no_peers = args.iter().any(|a| a == "--no-peers");
     let unordered_only = args.iter().any(|a| a == "--unordered-only");
-    if let Some(bad) = args
-        .iter()
-        .find(|a| !matches!(a.as_str(), "--quick" | "--no-peers" | "--unordered-only"))
-    {
+    let python_only = args.iter().any(|a| a == "--python-only");
+    if let Some(bad) = args.iter().find(|a| {
+        !matches!(
+            a.as_str(),
+            "--quick" | "--no-peers" | "--unordered-only" | "--python-only"
+        )
+    }) {
         eprintln!(
-            "xtask bench: unknown option `{bad}` (options: --quick, --no-peers, --unordered-only)"
+            "xtask bench: unknown option `{bad}` (options: --quick, --no-peers, --unordered-only, --python-only)"
         );
         return ExitCode::from(2);
     }
@@ -192,8 +201,8 @@ pub(crate) fn bench_command(ctx: &Ctx, args: &[String]) -> ExitCode {
     let load_before = load_average();
     let started = Instant::now();
 
-    if unordered_only {
-        return unordered_alone(ctx, &dir, quick, &load_before);
+    if unordered_only || python_only {
+        return alone(ctx, &dir, quick, python_only, &load_before);
     }
 
     // 1. The kernel.
@@ -228,14 +237,19 @@ pub(crate) fn bench_command(ctx: &Ctx, args: &[String]) -> ExitCode {
     let reps = if quick { 1 } else { 3 };
     let spring = move_figures(&deform, &dir, &mesh, "spring", reps);
     let quaternion = move_figures(&deform, &dir, &mesh, "quaternion", reps);
+    let moves = [("spring", spring), ("quaternion", quaternion)].map(|(m, f)| (m, f.map(|f| f.0)));
+    let adjoint_rows = sensitivity_cost::rows(&deform, &dir, &mesh, moves, reps);
 
     // 4. The unordered meshes.
+    // 5. The Python package.
     let rows = match &python {
-        Some(python) => match unordered(ctx, python, &dir, &deform, quick) {
-            Some(rows) => rows,
+        Some(python) => match unordered(ctx, python, &dir, &deform, quick)
+            .zip(python_call::row(ctx, python, &dir, &deform, quick))
+        {
+            Some((rows, python_row)) => adjoint_rows + &rows + &python_row,
             None => return ExitCode::FAILURE,
         },
-        None => String::new(),
+        None => adjoint_rows,
     };
 
     let k = read_figures(&dir.join("kernel.txt"));
@@ -431,26 +445,33 @@ fn deform_and_naca(
     .then_some((deform, mesh))
 }
 
-/// `--unordered-only`: step 4 alone, its rows as the report.
-fn unordered_alone(ctx: &Ctx, dir: &Path, quick: bool, load_before: &str) -> ExitCode {
+/// `--unordered-only` (step 4) or `--python-only` (step 5) alone, its rows as the report.
+fn alone(ctx: &Ctx, dir: &Path, quick: bool, python_step: bool, load_before: &str) -> ExitCode {
     let Some(python) = peers_python(ctx) else {
         return ExitCode::FAILURE;
     };
     let Some((deform, _)) = deform_and_naca(ctx, dir, quick) else {
         return ExitCode::FAILURE;
     };
-    let Some(rows) = unordered(ctx, &python, dir, &deform, quick) else {
+    let (rows, option, file) = if python_step {
+        let rows = python_call::row(ctx, &python, dir, &deform, quick);
+        (rows, "--python-only", "report_python.md")
+    } else {
+        let rows = unordered(ctx, &python, dir, &deform, quick);
+        (rows, "--unordered-only", "report_unordered.md")
+    };
+    let Some(rows) = rows else {
         return ExitCode::FAILURE;
     };
     let report = format!(
-        "## `cargo xtask bench --unordered-only{}`\n\n{}; load average before {load_before}, after {}.\n\n\
+        "## `cargo xtask bench {option}{}`\n\n{}; load average before {load_before}, after {}.\n\n\
          | work | kernel | peer | ratio | target |\n|---|---|---|---|---|\n{rows}",
         if quick { " --quick" } else { "" },
         cpu_model(),
         load_average()
     );
     print!("\n{report}");
-    let path = dir.join("report_unordered.md");
+    let path = dir.join(file);
     if std::fs::write(&path, &report).is_err() {
         eprintln!("xtask bench: cannot write {}", path.display());
         return ExitCode::FAILURE;
