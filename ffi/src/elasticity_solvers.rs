@@ -152,9 +152,17 @@ impl<'a, T: Real> Common<'a, T> {
 
 impl<T: Real, const D: usize> Open<'_, T, D> {
     /// The increments, each solved by `solve(system, mesh, step)`.
-    fn run<S>(self, buffers: IncrementBuffers<'_, T, D>, solve: S) -> Result<dk_elasticity_report, dk_status>
+    fn run<S>(
+        self,
+        buffers: IncrementBuffers<'_, T, D>,
+        solve: S,
+    ) -> Result<dk_elasticity_report, dk_status>
     where
-        S: FnMut(&ElasticSystem<'_, T, D>, &[[T; D]], &mut [[T; D]]) -> deform_kernel::Result<SolveReport<T>>,
+        S: FnMut(
+            &ElasticSystem<'_, T, D>,
+            &[[T; D]],
+            &mut [[T; D]],
+        ) -> deform_kernel::Result<SolveReport<T>>,
     {
         let params = self.options.increments(self.wall_distance)?;
         let r: IncrementReport<T> = deform_incremental_on(
@@ -205,7 +213,11 @@ fn deform_amg_for_dim<T: Real, const D: usize>(
     let c: Option<Constraints<'_, T, D>> = constraints.map(|c| c.build::<D>()).transpose()?;
     let (reals, indices, _) = pools?.borrow()?;
     let a = common.open::<D>()?;
-    let (n, e, short) = (a.points.len(), a.graph.edge_count(), dk_status::DK_ERR_BUFFER_TOO_SMALL);
+    let (n, e, short) = (
+        a.points.len(),
+        a.graph.edge_count(),
+        dk_status::DK_ERR_BUFFER_TOO_SMALL,
+    );
     let (work, index) = indices
         .split_at_mut_checked(amg_setup_work_len(n, e))
         .ok_or(short)?;

@@ -61,7 +61,8 @@ fn solve_step<T: Real>(
     let (mut index, mut values) = (vec![0u32; sizes.index], vec![T::ZERO; sizes.values]);
     let (w, i, v) = (&mut work, &mut index, &mut values);
     if solver == Solver::Amg {
-        let mut s = vec![[T::ZERO; 2]; elastic_rigid_amg_scratch_len(N, sizes.coarse_scalars, 2).unwrap()];
+        let mut s =
+            vec![[T::ZERO; 2]; elastic_rigid_amg_scratch_len(N, sizes.coarse_scalars, 2).unwrap()];
         let h = sys.rigid_amg(spring, mesh, &amg, w, i, v)?;
         sys.solve_rigid_amg(&h, u, &stop, &mut s)
     } else {
