@@ -88,17 +88,7 @@ fn expected<T: Real>(
 
 #[test]
 fn elasticity_from_c_equals_the_kernel_bit_for_bit() {
-    let src = workspace().join("ffi/tests/elasticity.c");
-    let mut flags = c_flags();
-    flags.push("-Wl,--disable-new-dtags".to_string());
-    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
-    for (link, name) in [
-        (Link::Static, "elasticity_static"),
-        (Link::Shared, "elasticity_shared"),
-    ] {
-        let exe = tmp(name);
-        compile("gcc", std::slice::from_ref(&src), &flags, link, &exe);
-        let printed = run(&exe);
+    for (name, printed) in run_c_both("elasticity") {
         let lines: Vec<&str> = printed.lines().collect();
         assert_eq!(
             lines.last(),
