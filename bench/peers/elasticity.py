@@ -21,7 +21,8 @@ from pathlib import Path
 import numpy as np
 import pyamg
 import scipy.sparse as sp
-from skfem import Basis, BilinearForm, ElementHex1, ElementTriP1, ElementVector, MeshHex, MeshTri
+from skfem import (Basis, BilinearForm, ElementHex0, ElementHex1, ElementTriP0, ElementTriP1,
+                   ElementVector, MeshHex, MeshTri)
 from skfem.helpers import ddot, sym_grad, trace
 from skfem.quadrature import get_quadrature
 
@@ -72,18 +73,29 @@ def rigid_modes(pts):
     return b.reshape(n * dim, -1)
 
 
+# Elements per assembly chunk: scikit-fem holds every basis function's gradient at every
+# quadrature point of the elements it assembles (24 dofs x 9 x 8 points per hexahedron), ~3 GB
+# for the whole 205k-node cube at once; chunks keep the peer's memory near the matrix's.
+CHUNK = 40000
+
+
 def assemble(pts, cells, dim):
     """The stiffness in node-major (x0, y0[, z0], x1, ...) order, as CSR."""
     if dim == 2:
         mesh = MeshTri(pts.T.copy(), cells.T.copy(), sort_t=False, validate=False)
-        basis = Basis(mesh, ElementVector(ElementTriP1()), intorder=2)
+        elem, scalar0, quad = ElementVector(ElementTriP1()), ElementTriP0(), {"intorder": 2}
     else:
         t = cells[:, VTK_TO_SKFEM_HEX]
         mesh = MeshHex(pts.T.copy(), t.T.copy(), sort_t=False, validate=False)
-        basis = Basis(mesh, ElementVector(ElementHex1()), quadrature=get_quadrature(mesh.elem.refdom, 3))
-    measure = basis.dx.sum(axis=1)
+        q = get_quadrature(mesh.elem.refdom, 3)
+        elem, scalar0, quad = ElementVector(ElementHex1()), ElementHex0(), {"quadrature": q}
+    measure = Basis(mesh, scalar0, **quad).dx.sum(axis=1)
     e = measure.mean() / measure
-    k = elasticity.assemble(basis, E=np.repeat(e[:, None], basis.dx.shape[1], axis=1))
+    k = None
+    for idx in np.array_split(np.arange(mesh.nelements), max(1, mesh.nelements // CHUNK)):
+        basis = Basis(mesh, elem, elements=idx, **quad)
+        part = elasticity.assemble(basis, E=np.repeat(e[idx, None], basis.dx.shape[1], axis=1))
+        k = part if k is None else k + part
     # scikit-fem's vector dofs: nodal_dofs[c, i] is component c of node i.
     order = basis.nodal_dofs.T.reshape(-1)
     return k[order][:, order].tocsr()
