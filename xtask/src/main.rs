@@ -34,6 +34,7 @@
 //! Only std is used, so the tool builds in a second.
 
 mod bench;
+mod bench_elasticity;
 mod ci;
 mod codegen;
 mod ctx;
@@ -98,7 +99,7 @@ pub(crate) fn help() -> String {
          \x20   cargo xtask ci [--skip-install] [--step NAME]... [--list]\n\
          \x20   cargo xtask install\n\
          \x20   cargo xtask fuzz [--seconds N] [--target NAME]\n\
-         \x20   cargo xtask bench [--quick] [--no-peers] [--unordered-only] [--python-only]\n\
+         \x20   cargo xtask bench [--quick] [--no-peers] [--unordered-only | --python-only | --elasticity-only]\n\
          \x20   cargo xtask codegen [--check]\n\
          \x20   cargo xtask panic-locate [--features F]\n\
          \x20   cargo xtask help\n\
