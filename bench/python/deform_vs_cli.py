@@ -1,6 +1,8 @@
-"""deform_kernel.deform against the `deform move` tool on a 234k-node mesh (not run in CI).
+"""deform_kernel.deform against the `deform move` tool on a 234k-node mesh (not run in CI;
+`cargo xtask bench` runs it as its step 5 and puts its figures in the report).
 
     python bench/python/deform_vs_cli.py [--deform PATH] [--method spring] [--repeat 3]
+                                         [--n 505] [--figures FILE]
 
 Builds a triangulated square with a square hole (505 x 505 grid, 234 k nodes, irregular
 interior coordinates) with numpy, writes it as SU2, and runs the same spring move (the body
@@ -14,7 +16,8 @@ rotated 5 degrees, far field fixed, AMG-preconditioned CG to 1e-10) three ways:
 It checks that the points are bit-identical and prints the ratio of the Python call to the
 tool's own move time (the issue asks for no more than 10 % over the Rust call). Needs a release
 build of both: `cargo build --release -p deform-cli` and `pip install ./python` (maturin
-builds release). Timings are medians of --repeat runs after a warm-up call.
+builds release). Timings are medians of --repeat runs after a warm-up call. With --figures,
+the figures are also written to FILE as `name value` lines.
 """
 
 import argparse
@@ -84,6 +87,7 @@ def main():
     ap.add_argument("--method", default="spring")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--n", type=int, default=505, help="grid points per side (505: 234 k nodes)")
+    ap.add_argument("--figures", help="also write the figures here, `name value` a line")
     args = ap.parse_args()
     pts, tris, body, far = mesh(args.n, 2.0, (args.n - 1) // 7)
     print(f"{len(pts)} nodes, {len(tris)} triangles, method {args.method}")
@@ -109,11 +113,18 @@ def main():
     out = np.empty_like(pts)
     py = median_time(call, args.repeat)
     py_out = median_time(lambda: call(out=out), args.repeat)
-    print(f"bit-identical to deform move: {ours.tobytes() == theirs.tobytes()}")
+    identical = ours.tobytes() == theirs.tobytes()
+    print(f"bit-identical to deform move: {identical}")
     print(f"deform move: {tool_wall:.3f} s wall, {tool_move:.3f} s reported for the move")
     print(f"deform_kernel.deform: {py:.3f} s ({py / tool_move:.3f} x the tool's move), "
           f"with out=: {py_out:.3f} s")
-    return 0 if ours.tobytes() == theirs.tobytes() else 1
+    if args.figures:
+        figures = {"nodes": len(pts), "method": args.method, "repeat": args.repeat,
+                   "tool_wall_s": tool_wall, "tool_move_s": tool_move, "python_s": py,
+                   "python_out_s": py_out, "bit_identical": int(identical)}
+        pathlib.Path(args.figures).write_text(
+            "".join(f"python_{k} {v}\n" for k, v in figures.items()))
+    return 0 if identical else 1
 
 
 if __name__ == "__main__":

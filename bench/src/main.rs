@@ -2,7 +2,8 @@
 //! issue's sizes, timed here, with their inputs written for the Python peers
 //! (`bench/peers/peers.py`) so both sides solve the very same problem in the same run.
 //!
-//! `cargo run --release --manifest-path bench/Cargo.toml -- --out DIR [--quick]`
+//! `cargo run --release --manifest-path bench/Cargo.toml -- --out DIR [--quick] [--only a,b]`
+//! (`--only` picks among graph, structured, spring, rotation, elasticity)
 //!
 //! Writes `DIR/kernel.txt` (`name value` lines: the figures) and raw little-endian inputs and
 //! results (`*.f64`, `*.u32`, plus `*.dims` text files) that peers.py reads back. Speed is
@@ -23,6 +24,8 @@ use deform_kernel::taubin::{
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Block, CellKind, Cells, Graph, Quat};
 use deform_meshgen::{naca_triangulated, rotate_markers2, AirfoilGrid};
 
+mod elasticity;
+
 /// Sizes of one run.
 struct Sizes {
     torus: [usize; 2],
@@ -30,6 +33,8 @@ struct Sizes {
     airfoil: [usize; 2],
     rotations: usize,
     repeats: usize,
+    /// Nodes per side of the elasticity square (2D) and cube (3D).
+    elastic: [usize; 2],
 }
 
 const FULL: Sizes = Sizes {
@@ -38,6 +43,7 @@ const FULL: Sizes = Sizes {
     airfoil: [1024, 229],
     rotations: 10_000_000,
     repeats: 5,
+    elastic: [450, 59],
 };
 
 const QUICK: Sizes = Sizes {
@@ -46,6 +52,7 @@ const QUICK: Sizes = Sizes {
     airfoil: [256, 80],
     rotations: 1_000_000,
     repeats: 3,
+    elastic: [60, 14],
 };
 
 /// Taubin iterations per filter run: 10 λ|μ iterations = 20 passes, as in the issue.
@@ -406,6 +413,10 @@ fn main() {
     }
     if want("rotation") {
         rotations(sz, &mut fig);
+    }
+    if want("elasticity") {
+        let [n2, n3] = sz.elastic;
+        elasticity::elasticity(n2, n3, sz.repeats.min(3), &dir, &mut fig);
     }
     std::fs::write(dir.join("kernel.txt"), &fig.0).expect("write kernel.txt");
 }

@@ -362,27 +362,21 @@ contains
     real(c_double), intent(in), optional :: rigid_rotation(4)
     real(c_double), intent(in), target, contiguous, optional :: node_rotations(:, :)
     real(c_double), intent(in), optional :: origin(:)
-    real(c_double), intent(inout), contiguous, optional :: origin_out(:)
+    real(c_double), intent(inout), target, contiguous, optional :: origin_out(:)
     integer(c_int32_t) :: s
     type(dk_boundary_motion) :: m
-    real(c_double) :: none(1)
+    real(c_double), target :: none(1)
+    real(c_double), pointer, contiguous :: o(:)
     call dkf_fill_motion(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
                          rigid_rotation, node_rotations, origin)
-    if (present(origin_out)) then
-      s = dk_deform_idw(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
-                        m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        origin_out, size(origin_out, kind=c_size_t))
-    else
-      s = dk_deform_idw(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
-                        m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        none, 0_c_size_t)
-    end if
+    o => none(1:0)
+    if (present(origin_out)) o => origin_out
+    s = dk_deform_idw(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
+                      m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
+                      size(index_scratch, kind=c_size_t), translations, &
+                      size(translations, kind=c_size_t), rotations, &
+                      size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                      o, size(o, kind=c_size_t))
   end function
 
   !> dk_deform_tfi with Fortran arrays: a dims(1) x dims(2) x dims(3) block (dims(3) = 1 in
@@ -407,29 +401,22 @@ contains
     real(c_double), intent(in), optional :: rigid_rotation(4)
     real(c_double), intent(in), target, contiguous, optional :: node_rotations(:, :)
     real(c_double), intent(in), optional :: origin(:)
-    real(c_double), intent(inout), contiguous, optional :: origin_out(:)
+    real(c_double), intent(inout), target, contiguous, optional :: origin_out(:)
     integer(c_int32_t) :: s
     type(dk_boundary_motion) :: m
-    real(c_double) :: none(1)
+    real(c_double), target :: none(1)
+    real(c_double), pointer, contiguous :: o(:)
     call dkf_fill_motion(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
                          rigid_rotation, node_rotations, origin)
-    if (present(origin_out)) then
-      s = dk_deform_tfi(dims(1), dims(2), dims(3), directions, points, &
-                        size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
-                        scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        origin_out, size(origin_out, kind=c_size_t))
-    else
-      s = dk_deform_tfi(dims(1), dims(2), dims(3), directions, points, &
-                        size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
-                        scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        none, 0_c_size_t)
-    end if
+    o => none(1:0)
+    if (present(origin_out)) o => origin_out
+    s = dk_deform_tfi(dims(1), dims(2), dims(3), directions, points, &
+                      size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
+                      scratch, size(scratch, kind=c_size_t), index_scratch, &
+                      size(index_scratch, kind=c_size_t), translations, &
+                      size(translations, kind=c_size_t), rotations, &
+                      size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                      o, size(o, kind=c_size_t))
   end function
 
   !> dk_deform_spring with Fortran arrays: the 0-based CSR graph offsets(n + 1), targets(:)
@@ -459,31 +446,24 @@ contains
     real(c_double), intent(in), optional :: rigid_rotation(4)
     real(c_double), intent(in), target, contiguous, optional :: node_rotations(:, :)
     real(c_double), intent(in), optional :: origin(:)
-    real(c_double), intent(inout), contiguous, optional :: origin_out(:)
+    real(c_double), intent(inout), target, contiguous, optional :: origin_out(:)
     integer(c_int32_t) :: s
     type(dk_boundary_motion) :: m
     type(dk_spring_system) :: sys
-    real(c_double) :: none(1)
+    real(c_double), target :: none(1)
+    real(c_double), pointer, contiguous :: o(:)
     call dkf_fill_motion(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
                          rigid_rotation, node_rotations, origin)
     sys = dkf_spring_system(dkf_graph(offsets, targets), stiffness, fixed)
-    if (present(origin_out)) then
-      s = dk_deform_spring(points, size(points, kind=c_size_t), &
-                           int(size(points, 1), c_int32_t), m, sys, options, scratch, &
-                           size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
-                           index_scratch, size(index_scratch, kind=c_size_t), translations, &
-                           size(translations, kind=c_size_t), rotations, &
-                           size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                           origin_out, size(origin_out, kind=c_size_t), report)
-    else
-      s = dk_deform_spring(points, size(points, kind=c_size_t), &
-                           int(size(points, 1), c_int32_t), m, sys, options, scratch, &
-                           size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
-                           index_scratch, size(index_scratch, kind=c_size_t), translations, &
-                           size(translations, kind=c_size_t), rotations, &
-                           size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                           none, 0_c_size_t, report)
-    end if
+    o => none(1:0)
+    if (present(origin_out)) o => origin_out
+    s = dk_deform_spring(points, size(points, kind=c_size_t), &
+                         int(size(points, 1), c_int32_t), m, sys, options, scratch, &
+                         size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
+                         index_scratch, size(index_scratch, kind=c_size_t), translations, &
+                         size(translations, kind=c_size_t), rotations, &
+                         size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                         o, size(o, kind=c_size_t), report)
   end function
 
   !> dk_plan_work_sizes + dk_plan_pool_sizes with Fortran arrays: points(dim, n), the CSR

@@ -1015,7 +1015,11 @@ module deform_kernel
             dk_taubin_arclength, dk_taubin_arclength_f32, dk_taubin_redistribute_scratch_len, &
             dk_taubin_redistribute, dk_taubin_redistribute_f32, dk_taubin_stretching, &
             dk_taubin_stretching_f32, dk_taubin_max_stretching, dk_taubin_max_stretching_f32, &
-            dk_taubin_check_lines_increasing, dk_taubin_check_lines_increasing_f32
+            dk_taubin_check_lines_increasing, dk_taubin_check_lines_increasing_f32, &
+            dk_elasticity_amg_pool_sizes, dk_elasticity_deform_amg, dk_elasticity_deform_amg_f32, &
+            dk_elasticity_sliding_scratch_len, dk_elasticity_deform_sliding, &
+            dk_elasticity_deform_sliding_f32, dk_elasticity_deform_sliding_amg, &
+            dk_elasticity_deform_sliding_amg_f32
 
   interface
     function dk_boundary_motion_default(out) bind(C, name="dk_boundary_motion_default") result(s)
@@ -4480,6 +4484,195 @@ module deform_kernel
       integer(c_int32_t), value :: dim
       integer(c_int32_t) :: s
     end function
+    function dk_elasticity_amg_pool_sizes(cell_count, graph, dim, fixed, fixed_len, sliding, amg, &
+        work, work_len, weight_scratch, weight_scratch_len, sizes_out) bind(C, &
+        name="dk_elasticity_amg_pool_sizes") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_amg_options, dk_graph, dk_plan_sizes
+      integer(c_size_t), value :: cell_count
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      integer(c_int32_t), value :: sliding
+      type(dk_amg_options), intent(in) :: amg
+      integer(c_int32_t), intent(inout) :: work(*)
+      integer(c_size_t), value :: work_len
+      real(c_double), intent(inout) :: weight_scratch(*)
+      integer(c_size_t), value :: weight_scratch_len
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_deform_amg(cells, index_base, index_scratch, index_scratch_len, graph, &
+        dim, fixed, fixed_len, options, amg, wall_distance, wall_distance_len, displacement, &
+        displacement_len, points, points_len, pools, report) bind(C, &
+        name="dk_elasticity_deform_amg") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_amg_options, dk_cells, &
+          dk_elasticity_options, dk_elasticity_report, dk_graph, dk_plan_pools
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_elasticity_options), intent(in) :: options
+      type(dk_amg_options), intent(in) :: amg
+      real(c_double), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_double), intent(in) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      real(c_double), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      type(dk_plan_pools), intent(in) :: pools
+      type(dk_elasticity_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_deform_amg_f32(cells, index_base, index_scratch, index_scratch_len, &
+        graph, dim, fixed, fixed_len, options, amg, wall_distance, wall_distance_len, &
+        displacement, displacement_len, points, points_len, pools, report) bind(C, &
+        name="dk_elasticity_deform_amg_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_amg_options, dk_cells, &
+          dk_elasticity_options, dk_elasticity_report, dk_graph, dk_plan_pools_f32
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_elasticity_options), intent(in) :: options
+      type(dk_amg_options), intent(in) :: amg
+      real(c_float), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_float), intent(in) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      real(c_float), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      type(dk_plan_pools_f32), intent(in) :: pools
+      type(dk_elasticity_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_sliding_scratch_len(node_count, cell_count, edge_count, dim, len_out) &
+        bind(C, name="dk_elasticity_sliding_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_size_t), value :: cell_count
+      integer(c_size_t), value :: edge_count
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_deform_sliding(cells, index_base, index_scratch, index_scratch_len, &
+        graph, dim, fixed, fixed_len, constraints, options, wall_distance, wall_distance_len, &
+        displacement, displacement_len, points, points_len, scratch, scratch_len, report) bind(C, &
+        name="dk_elasticity_deform_sliding") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_cells, dk_constraints, &
+          dk_elasticity_options, dk_elasticity_report, dk_graph
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_constraints), intent(in) :: constraints
+      type(dk_elasticity_options), intent(in) :: options
+      real(c_double), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_double), intent(in) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      real(c_double), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_elasticity_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_deform_sliding_f32(cells, index_base, index_scratch, index_scratch_len, &
+        graph, dim, fixed, fixed_len, constraints, options, wall_distance, wall_distance_len, &
+        displacement, displacement_len, points, points_len, scratch, scratch_len, report) bind(C, &
+        name="dk_elasticity_deform_sliding_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_cells, dk_constraints_f32, &
+          dk_elasticity_options, dk_elasticity_report, dk_graph
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_constraints_f32), intent(in) :: constraints
+      type(dk_elasticity_options), intent(in) :: options
+      real(c_float), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_float), intent(in) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      real(c_float), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_elasticity_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_deform_sliding_amg(cells, index_base, index_scratch, index_scratch_len, &
+        graph, dim, fixed, fixed_len, constraints, options, amg, wall_distance, wall_distance_len, &
+        displacement, displacement_len, points, points_len, pools, report) bind(C, &
+        name="dk_elasticity_deform_sliding_amg") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_amg_options, dk_cells, dk_constraints, &
+          dk_elasticity_options, dk_elasticity_report, dk_graph, dk_plan_pools
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_constraints), intent(in) :: constraints
+      type(dk_elasticity_options), intent(in) :: options
+      type(dk_amg_options), intent(in) :: amg
+      real(c_double), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_double), intent(in) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      real(c_double), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      type(dk_plan_pools), intent(in) :: pools
+      type(dk_elasticity_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_deform_sliding_amg_f32(cells, index_base, index_scratch, &
+        index_scratch_len, graph, dim, fixed, fixed_len, constraints, options, amg, wall_distance, &
+        wall_distance_len, displacement, displacement_len, points, points_len, pools, report) &
+        bind(C, name="dk_elasticity_deform_sliding_amg_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_amg_options, dk_cells, &
+          dk_constraints_f32, dk_elasticity_options, dk_elasticity_report, dk_graph, &
+          dk_plan_pools_f32
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_constraints_f32), intent(in) :: constraints
+      type(dk_elasticity_options), intent(in) :: options
+      type(dk_amg_options), intent(in) :: amg
+      real(c_float), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_float), intent(in) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      real(c_float), intent(inout) :: points(*)
+      integer(c_size_t), value :: points_len
+      type(dk_plan_pools_f32), intent(in) :: pools
+      type(dk_elasticity_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
   end interface
 
 contains
@@ -4788,27 +4981,21 @@ contains
     real(c_double), intent(in), optional :: rigid_rotation(4)
     real(c_double), intent(in), target, contiguous, optional :: node_rotations(:, :)
     real(c_double), intent(in), optional :: origin(:)
-    real(c_double), intent(inout), contiguous, optional :: origin_out(:)
+    real(c_double), intent(inout), target, contiguous, optional :: origin_out(:)
     integer(c_int32_t) :: s
     type(dk_boundary_motion) :: m
-    real(c_double) :: none(1)
+    real(c_double), target :: none(1)
+    real(c_double), pointer, contiguous :: o(:)
     call dkf_fill_motion(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
                          rigid_rotation, node_rotations, origin)
-    if (present(origin_out)) then
-      s = dk_deform_idw(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
-                        m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        origin_out, size(origin_out, kind=c_size_t))
-    else
-      s = dk_deform_idw(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
-                        m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        none, 0_c_size_t)
-    end if
+    o => none(1:0)
+    if (present(origin_out)) o => origin_out
+    s = dk_deform_idw(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
+                      m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
+                      size(index_scratch, kind=c_size_t), translations, &
+                      size(translations, kind=c_size_t), rotations, &
+                      size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                      o, size(o, kind=c_size_t))
   end function
 
   !> dk_deform_tfi with Fortran arrays: a dims(1) x dims(2) x dims(3) block (dims(3) = 1 in
@@ -4833,29 +5020,22 @@ contains
     real(c_double), intent(in), optional :: rigid_rotation(4)
     real(c_double), intent(in), target, contiguous, optional :: node_rotations(:, :)
     real(c_double), intent(in), optional :: origin(:)
-    real(c_double), intent(inout), contiguous, optional :: origin_out(:)
+    real(c_double), intent(inout), target, contiguous, optional :: origin_out(:)
     integer(c_int32_t) :: s
     type(dk_boundary_motion) :: m
-    real(c_double) :: none(1)
+    real(c_double), target :: none(1)
+    real(c_double), pointer, contiguous :: o(:)
     call dkf_fill_motion(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
                          rigid_rotation, node_rotations, origin)
-    if (present(origin_out)) then
-      s = dk_deform_tfi(dims(1), dims(2), dims(3), directions, points, &
-                        size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
-                        scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        origin_out, size(origin_out, kind=c_size_t))
-    else
-      s = dk_deform_tfi(dims(1), dims(2), dims(3), directions, points, &
-                        size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
-                        scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        none, 0_c_size_t)
-    end if
+    o => none(1:0)
+    if (present(origin_out)) o => origin_out
+    s = dk_deform_tfi(dims(1), dims(2), dims(3), directions, points, &
+                      size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
+                      scratch, size(scratch, kind=c_size_t), index_scratch, &
+                      size(index_scratch, kind=c_size_t), translations, &
+                      size(translations, kind=c_size_t), rotations, &
+                      size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                      o, size(o, kind=c_size_t))
   end function
 
   !> dk_deform_spring with Fortran arrays: the 0-based CSR graph offsets(n + 1), targets(:)
@@ -4885,31 +5065,24 @@ contains
     real(c_double), intent(in), optional :: rigid_rotation(4)
     real(c_double), intent(in), target, contiguous, optional :: node_rotations(:, :)
     real(c_double), intent(in), optional :: origin(:)
-    real(c_double), intent(inout), contiguous, optional :: origin_out(:)
+    real(c_double), intent(inout), target, contiguous, optional :: origin_out(:)
     integer(c_int32_t) :: s
     type(dk_boundary_motion) :: m
     type(dk_spring_system) :: sys
-    real(c_double) :: none(1)
+    real(c_double), target :: none(1)
+    real(c_double), pointer, contiguous :: o(:)
     call dkf_fill_motion(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
                          rigid_rotation, node_rotations, origin)
     sys = dkf_spring_system(dkf_graph(offsets, targets), stiffness, fixed)
-    if (present(origin_out)) then
-      s = dk_deform_spring(points, size(points, kind=c_size_t), &
-                           int(size(points, 1), c_int32_t), m, sys, options, scratch, &
-                           size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
-                           index_scratch, size(index_scratch, kind=c_size_t), translations, &
-                           size(translations, kind=c_size_t), rotations, &
-                           size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                           origin_out, size(origin_out, kind=c_size_t), report)
-    else
-      s = dk_deform_spring(points, size(points, kind=c_size_t), &
-                           int(size(points, 1), c_int32_t), m, sys, options, scratch, &
-                           size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
-                           index_scratch, size(index_scratch, kind=c_size_t), translations, &
-                           size(translations, kind=c_size_t), rotations, &
-                           size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                           none, 0_c_size_t, report)
-    end if
+    o => none(1:0)
+    if (present(origin_out)) o => origin_out
+    s = dk_deform_spring(points, size(points, kind=c_size_t), &
+                         int(size(points, 1), c_int32_t), m, sys, options, scratch, &
+                         size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
+                         index_scratch, size(index_scratch, kind=c_size_t), translations, &
+                         size(translations, kind=c_size_t), rotations, &
+                         size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                         o, size(o, kind=c_size_t), report)
   end function
 
   !> dk_plan_work_sizes + dk_plan_pool_sizes with Fortran arrays: points(dim, n), the CSR
@@ -5335,27 +5508,21 @@ contains
     real(c_float), intent(in), optional :: rigid_rotation(4)
     real(c_float), intent(in), target, contiguous, optional :: node_rotations(:, :)
     real(c_float), intent(in), optional :: origin(:)
-    real(c_float), intent(inout), contiguous, optional :: origin_out(:)
+    real(c_float), intent(inout), target, contiguous, optional :: origin_out(:)
     integer(c_int32_t) :: s
     type(dk_boundary_motion_f32) :: m
-    real(c_float) :: none(1)
+    real(c_float), target :: none(1)
+    real(c_float), pointer, contiguous :: o(:)
     call dkf_fill_motion_f32(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
                          rigid_rotation, node_rotations, origin)
-    if (present(origin_out)) then
-      s = dk_deform_idw_f32(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
-                        m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        origin_out, size(origin_out, kind=c_size_t))
-    else
-      s = dk_deform_idw_f32(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
-                        m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        none, 0_c_size_t)
-    end if
+    o => none(1:0)
+    if (present(origin_out)) o => origin_out
+    s = dk_deform_idw_f32(points, size(points, kind=c_size_t), int(size(points, 1), c_int32_t), &
+                      m, exponent, scratch, size(scratch, kind=c_size_t), index_scratch, &
+                      size(index_scratch, kind=c_size_t), translations, &
+                      size(translations, kind=c_size_t), rotations, &
+                      size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                      o, size(o, kind=c_size_t))
   end function
 
   !> Single-precision twin of dkf_deform_tfi.
@@ -5380,29 +5547,22 @@ contains
     real(c_float), intent(in), optional :: rigid_rotation(4)
     real(c_float), intent(in), target, contiguous, optional :: node_rotations(:, :)
     real(c_float), intent(in), optional :: origin(:)
-    real(c_float), intent(inout), contiguous, optional :: origin_out(:)
+    real(c_float), intent(inout), target, contiguous, optional :: origin_out(:)
     integer(c_int32_t) :: s
     type(dk_boundary_motion_f32) :: m
-    real(c_float) :: none(1)
+    real(c_float), target :: none(1)
+    real(c_float), pointer, contiguous :: o(:)
     call dkf_fill_motion_f32(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
                          rigid_rotation, node_rotations, origin)
-    if (present(origin_out)) then
-      s = dk_deform_tfi_f32(dims(1), dims(2), dims(3), directions, points, &
-                        size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
-                        scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        origin_out, size(origin_out, kind=c_size_t))
-    else
-      s = dk_deform_tfi_f32(dims(1), dims(2), dims(3), directions, points, &
-                        size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
-                        scratch, size(scratch, kind=c_size_t), index_scratch, &
-                        size(index_scratch, kind=c_size_t), translations, &
-                        size(translations, kind=c_size_t), rotations, &
-                        size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                        none, 0_c_size_t)
-    end if
+    o => none(1:0)
+    if (present(origin_out)) o => origin_out
+    s = dk_deform_tfi_f32(dims(1), dims(2), dims(3), directions, points, &
+                      size(points, kind=c_size_t), int(size(points, 1), c_int32_t), m, &
+                      scratch, size(scratch, kind=c_size_t), index_scratch, &
+                      size(index_scratch, kind=c_size_t), translations, &
+                      size(translations, kind=c_size_t), rotations, &
+                      size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                      o, size(o, kind=c_size_t))
   end function
 
   !> Single-precision twin of dkf_deform_spring.
@@ -5432,31 +5592,24 @@ contains
     real(c_float), intent(in), optional :: rigid_rotation(4)
     real(c_float), intent(in), target, contiguous, optional :: node_rotations(:, :)
     real(c_float), intent(in), optional :: origin(:)
-    real(c_float), intent(inout), contiguous, optional :: origin_out(:)
+    real(c_float), intent(inout), target, contiguous, optional :: origin_out(:)
     integer(c_int32_t) :: s
     type(dk_boundary_motion_f32) :: m
     type(dk_spring_system_f32) :: sys
-    real(c_float) :: none(1)
+    real(c_float), target :: none(1)
+    real(c_float), pointer, contiguous :: o(:)
     call dkf_fill_motion_f32(m, nodes, deformed, element_offsets, element_nodes, element_kinds, &
                          rigid_rotation, node_rotations, origin)
     sys = dkf_spring_system_f32(dkf_graph(offsets, targets), stiffness, fixed)
-    if (present(origin_out)) then
-      s = dk_deform_spring_f32(points, size(points, kind=c_size_t), &
-                           int(size(points, 1), c_int32_t), m, sys, options, scratch, &
-                           size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
-                           index_scratch, size(index_scratch, kind=c_size_t), translations, &
-                           size(translations, kind=c_size_t), rotations, &
-                           size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                           origin_out, size(origin_out, kind=c_size_t), report)
-    else
-      s = dk_deform_spring_f32(points, size(points, kind=c_size_t), &
-                           int(size(points, 1), c_int32_t), m, sys, options, scratch, &
-                           size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
-                           index_scratch, size(index_scratch, kind=c_size_t), translations, &
-                           size(translations, kind=c_size_t), rotations, &
-                           size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
-                           none, 0_c_size_t, report)
-    end if
+    o => none(1:0)
+    if (present(origin_out)) o => origin_out
+    s = dk_deform_spring_f32(points, size(points, kind=c_size_t), &
+                         int(size(points, 1), c_int32_t), m, sys, options, scratch, &
+                         size(scratch, kind=c_size_t), values, size(values, kind=c_size_t), &
+                         index_scratch, size(index_scratch, kind=c_size_t), translations, &
+                         size(translations, kind=c_size_t), rotations, &
+                         size(rotations, kind=c_size_t), out, size(out, kind=c_size_t), &
+                         o, size(o, kind=c_size_t), report)
   end function
 
   !> Single-precision twin of dkf_plan_pool_sizes.

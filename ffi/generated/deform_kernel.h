@@ -6066,6 +6066,274 @@ dk_status dk_taubin_check_lines_increasing_f32(size_t ni,
                                                size_t points_len,
                                                uint32_t dim);
 
+// The exact pool lengths [`dk_elasticity_deform_amg`] (`sliding` 0) or
+// [`dk_elasticity_deform_sliding_amg`] (`sliding` 1) needs for `cell_count` cells on `graph`
+// (from `dk_elasticity_graph`) with the fixed mask `fixed` (one byte per node) in dimension
+// `dim`: validates the graph, the mask and `amg` and runs the rigid-mode hierarchy's symbolic
+// pass (aggregation and the sparsity of every level; it depends on the graph and the mask
+// only). `work` needs `dk_spring_amg_work_len(node_count, graph->targets_len)` entries,
+// `weight_scratch` `graph->targets_len`; both are overwritten. `sizes_out->reals` counts
+// scalars of either precision (the same for both), `sizes_out->bytes` is 0. The `amg`
+// options' `max_coarse` counts nodes here (`dim (dim + 1) / 2` unknowns each); the tool uses
+// 64.
+//
+// Errors (only `work` and `weight_scratch` are written): `DK_ERR_INVALID_PARAMETER` (`dim`,
+// `sliding`, multigrid options, a free node with no path to a fixed one),
+// `DK_ERR_BUFFER_TOO_SMALL`, the graph's and the mask's errors, `DK_ERR_TOO_LARGE`, pointer
+// errors.
+//
+// # Safety
+// - `graph`: one readable `dk_graph`.
+// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+// - `amg`: one readable `dk_amg_options`.
+// - `work`: readable and writable for `work_len` elements (`uint32_t`).
+// - `weight_scratch`: readable and writable for `weight_scratch_len` elements (`double`).
+// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_elasticity_amg_pool_sizes(size_t cell_count,
+                                       const dk_graph *graph,
+                                       uint32_t dim,
+                                       const uint8_t *fixed,
+                                       size_t fixed_len,
+                                       uint32_t sliding,
+                                       const dk_amg_options *amg,
+                                       uint32_t *work,
+                                       size_t work_len,
+                                       double *weight_scratch,
+                                       size_t weight_scratch_len,
+                                       dk_plan_sizes *sizes_out);
+
+// [`dk_elasticity_deform`]'s motion with every increment solved by CG preconditioned with
+// one V-cycle of smoothed aggregation with the rigid-body modes of the increment's mesh as
+// near-null space (the kernel's `ElasticSystem::rigid_amg` and `solve_rigid_amg`, the same
+// bits; the hierarchy is rebuilt on every increment). Arguments as
+// [`dk_elasticity_deform`], with `amg` (`dk_amg_options_default`) and `pools` instead of
+// `scratch`: `reals` and `indices` of at least the lengths [`dk_elasticity_amg_pool_sizes`]
+// gave with `sliding` 0 (`bytes` unused; contents afterwards unspecified).
+//
+// Errors (points and report unchanged): those of [`dk_elasticity_deform`],
+// `DK_ERR_BUFFER_TOO_SMALL` (a pool), `DK_ERR_INVALID_PARAMETER` (multigrid options),
+// `DK_ERR_SINGULAR_SYSTEM` (a coarse level not positive definite, or a CG breakdown).
+//
+// # Safety
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `graph`: one readable `dk_graph`.
+// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+// - `options`: one readable `dk_elasticity_options`.
+// - `amg`: one readable `dk_amg_options`.
+// - `wall_distance`: readable for `wall_distance_len` elements (`double`).
+// - `displacement`: readable for `displacement_len` elements (`double`).
+// - `points`: readable and writable for `points_len` elements (`double`).
+// - `pools`: one readable `dk_plan_pools`.
+// - `report`: one readable and writable `dk_elasticity_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_elasticity_deform_amg(const dk_cells *cells,
+                                   uint32_t index_base,
+                                   uint32_t *index_scratch,
+                                   size_t index_scratch_len,
+                                   const dk_graph *graph,
+                                   uint32_t dim,
+                                   const uint8_t *fixed,
+                                   size_t fixed_len,
+                                   const dk_elasticity_options *options,
+                                   const dk_amg_options *amg,
+                                   const double *wall_distance,
+                                   size_t wall_distance_len,
+                                   const double *displacement,
+                                   size_t displacement_len,
+                                   double *points,
+                                   size_t points_len,
+                                   const dk_plan_pools *pools,
+                                   dk_elasticity_report *report);
+
+// `f32` twin of [`dk_elasticity_deform_amg`].
+//
+// # Safety
+// As [`dk_elasticity_deform_amg`].
+dk_status dk_elasticity_deform_amg_f32(const dk_cells *cells,
+                                       uint32_t index_base,
+                                       uint32_t *index_scratch,
+                                       size_t index_scratch_len,
+                                       const dk_graph *graph,
+                                       uint32_t dim,
+                                       const uint8_t *fixed,
+                                       size_t fixed_len,
+                                       const dk_elasticity_options *options,
+                                       const dk_amg_options *amg,
+                                       const float *wall_distance,
+                                       size_t wall_distance_len,
+                                       const float *displacement,
+                                       size_t displacement_len,
+                                       float *points,
+                                       size_t points_len,
+                                       const dk_plan_pools_f32 *pools,
+                                       dk_elasticity_report *report);
+
+// Scalars of `scratch` [`dk_elasticity_deform_sliding`] needs: `cell_count +
+// dim²·(node_count + edge_count) + 7·dim·node_count`, `edge_count` the graph's
+// `targets_len` (the same count for both precisions).
+//
+// # Safety
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_elasticity_sliding_scratch_len(size_t node_count,
+                                            size_t cell_count,
+                                            size_t edge_count,
+                                            uint32_t dim,
+                                            size_t *len_out);
+
+// [`dk_elasticity_deform`] with sliding nodes: `constraints` (as for
+// `dk_spring_solve_linear_sliding`) gives every node's kind and direction, `fixed` must be
+// nonzero exactly at its kind-1 nodes (`dk_constraints_fixed_mask`); a kind-2 node moves in
+// its plane (a line in 2D), a kind-3 node along its line, and the motion minimises the
+// elastic energy over those (the kernel's `ElasticSystem::solve_sliding`, projected
+// block-Jacobi CG, in every increment; the same bits). `scratch` needs
+// [`dk_elasticity_sliding_scratch_len`] scalars.
+//
+// Errors (points and report unchanged): those of [`dk_elasticity_deform`], the constraints'
+// (as `dk_spring_solve_linear_sliding`), `DK_ERR_INVALID_PARAMETER` when `fixed` and the
+// kind-1 nodes differ.
+//
+// # Safety
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `graph`: one readable `dk_graph`.
+// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+// - `constraints`: one readable `dk_constraints`.
+// - `options`: one readable `dk_elasticity_options`.
+// - `wall_distance`: readable for `wall_distance_len` elements (`double`).
+// - `displacement`: readable for `displacement_len` elements (`double`).
+// - `points`: readable and writable for `points_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `report`: one readable and writable `dk_elasticity_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_elasticity_deform_sliding(const dk_cells *cells,
+                                       uint32_t index_base,
+                                       uint32_t *index_scratch,
+                                       size_t index_scratch_len,
+                                       const dk_graph *graph,
+                                       uint32_t dim,
+                                       const uint8_t *fixed,
+                                       size_t fixed_len,
+                                       const dk_constraints *constraints,
+                                       const dk_elasticity_options *options,
+                                       const double *wall_distance,
+                                       size_t wall_distance_len,
+                                       const double *displacement,
+                                       size_t displacement_len,
+                                       double *points,
+                                       size_t points_len,
+                                       double *scratch,
+                                       size_t scratch_len,
+                                       dk_elasticity_report *report);
+
+// `f32` twin of [`dk_elasticity_deform_sliding`].
+//
+// # Safety
+// As [`dk_elasticity_deform_sliding`].
+dk_status dk_elasticity_deform_sliding_f32(const dk_cells *cells,
+                                           uint32_t index_base,
+                                           uint32_t *index_scratch,
+                                           size_t index_scratch_len,
+                                           const dk_graph *graph,
+                                           uint32_t dim,
+                                           const uint8_t *fixed,
+                                           size_t fixed_len,
+                                           const dk_constraints_f32 *constraints,
+                                           const dk_elasticity_options *options,
+                                           const float *wall_distance,
+                                           size_t wall_distance_len,
+                                           const float *displacement,
+                                           size_t displacement_len,
+                                           float *points,
+                                           size_t points_len,
+                                           float *scratch,
+                                           size_t scratch_len,
+                                           dk_elasticity_report *report);
+
+// [`dk_elasticity_deform_sliding`] with every increment solved by the rigid-mode multigrid
+// of [`dk_elasticity_deform_amg`] (built for the constrained operator: the kernel's
+// `rigid_amg_sliding` and `solve_rigid_amg_sliding`, the same bits). `pools` as for
+// [`dk_elasticity_deform_amg`], with the lengths [`dk_elasticity_amg_pool_sizes`] gave with
+// `sliding` 1.
+//
+// Errors (points and report unchanged): those of [`dk_elasticity_deform_sliding`] and
+// [`dk_elasticity_deform_amg`].
+//
+// # Safety
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `graph`: one readable `dk_graph`.
+// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+// - `constraints`: one readable `dk_constraints`.
+// - `options`: one readable `dk_elasticity_options`.
+// - `amg`: one readable `dk_amg_options`.
+// - `wall_distance`: readable for `wall_distance_len` elements (`double`).
+// - `displacement`: readable for `displacement_len` elements (`double`).
+// - `points`: readable and writable for `points_len` elements (`double`).
+// - `pools`: one readable `dk_plan_pools`.
+// - `report`: one readable and writable `dk_elasticity_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_elasticity_deform_sliding_amg(const dk_cells *cells,
+                                           uint32_t index_base,
+                                           uint32_t *index_scratch,
+                                           size_t index_scratch_len,
+                                           const dk_graph *graph,
+                                           uint32_t dim,
+                                           const uint8_t *fixed,
+                                           size_t fixed_len,
+                                           const dk_constraints *constraints,
+                                           const dk_elasticity_options *options,
+                                           const dk_amg_options *amg,
+                                           const double *wall_distance,
+                                           size_t wall_distance_len,
+                                           const double *displacement,
+                                           size_t displacement_len,
+                                           double *points,
+                                           size_t points_len,
+                                           const dk_plan_pools *pools,
+                                           dk_elasticity_report *report);
+
+// `f32` twin of [`dk_elasticity_deform_sliding_amg`].
+//
+// # Safety
+// As [`dk_elasticity_deform_sliding_amg`].
+dk_status dk_elasticity_deform_sliding_amg_f32(const dk_cells *cells,
+                                               uint32_t index_base,
+                                               uint32_t *index_scratch,
+                                               size_t index_scratch_len,
+                                               const dk_graph *graph,
+                                               uint32_t dim,
+                                               const uint8_t *fixed,
+                                               size_t fixed_len,
+                                               const dk_constraints_f32 *constraints,
+                                               const dk_elasticity_options *options,
+                                               const dk_amg_options *amg,
+                                               const float *wall_distance,
+                                               size_t wall_distance_len,
+                                               const float *displacement,
+                                               size_t displacement_len,
+                                               float *points,
+                                               size_t points_len,
+                                               const dk_plan_pools_f32 *pools,
+                                               dk_elasticity_report *report);
+
 #ifdef __cplusplus
 }  // extern "C"
 #endif  // __cplusplus

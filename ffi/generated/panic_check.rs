@@ -3552,4 +3552,181 @@ pub fn exercise() {
             black_box(Default::default()),
         )
     });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::elasticity_solvers::dk_elasticity_amg_pool_sizes(
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::elasticity_solvers::dk_elasticity_deform_amg(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::elasticity_solvers::dk_elasticity_deform_amg_f32(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::elasticity_solvers::dk_elasticity_sliding_scratch_len(
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::elasticity_solvers::dk_elasticity_deform_sliding(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::elasticity_solvers::dk_elasticity_deform_sliding_f32(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::elasticity_solvers::dk_elasticity_deform_sliding_amg(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(null()),
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::elasticity_solvers::dk_elasticity_deform_sliding_amg_f32(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(null()),
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+        )
+    });
 }

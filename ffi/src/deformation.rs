@@ -367,8 +367,7 @@ fn idw_for_dim<M: MotionC, const D: usize>(
         b.rotations,
         b.scratch,
         b.out,
-    )
-    .map_err(dk_status::from)?;
+    )?;
     write_optional(b.origin_out, origin);
     Ok(())
 }
@@ -398,8 +397,7 @@ fn tfi_for_dim<M: MotionC, const D: usize>(
         b.rotations,
         b.scratch,
         b.out,
-    )
-    .map_err(dk_status::from)?;
+    )?;
     write_optional(b.origin_out, origin);
     Ok(())
 }
@@ -464,7 +462,7 @@ fn origin_for_dim<T: Real, const D: usize>(
         return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
     }
     let o = output(origin_out)?;
-    let origin = boundary_origin(u, d).map_err(dk_status::from)?;
+    let origin = boundary_origin(u, d)?;
     write_optional(Some(o), origin);
     Ok(())
 }
@@ -620,8 +618,7 @@ fn spring_for_dim<M: MotionC, const D: usize>(
         b.scratch,
         values,
         b.out,
-    )
-    .map_err(dk_status::from)?;
+    )?;
     write_optional(b.origin_out, origin);
     *report = dk_spring_solve_report::of(rep);
     Ok(())
@@ -645,7 +642,7 @@ fn propagate_spring_for_dim<T: Real, const D: usize>(
     let q = quats_mut(rotations)?;
     let report = out_one(report)?;
     let sys = system?.build(s)?;
-    let rep = propagate_spring(&sys, method, &stop, t, q, values).map_err(dk_status::from)?;
+    let rep = propagate_spring(&sys, method, &stop, t, q, values)?;
     *report = dk_spring_solve_report::of(rep);
     Ok(())
 }
@@ -1205,7 +1202,7 @@ pub(crate) fn dk_deform_localize_nodes(
         }
         let (b, s) = rebase(b, index_base, s)?;
         let (g, s) = rebase(g, index_base, s)?;
-        localize_nodes(node_count, b, g, s, l).map_err(dk_status::from)?;
+        localize_nodes(node_count, b, g, s, l)?;
         // Positions are < B <= u32::MAX (checked above), so adding a base of 0 or 1 cannot
         // overflow; wrapping_add keeps the arithmetic visibly panic-free.
         for x in l.iter_mut() {

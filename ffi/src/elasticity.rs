@@ -8,7 +8,7 @@
 
 use deform_kernel::elasticity::{
     deform_incremental, elasticity_graph, elasticity_graph_len, Block, IncrementBuffers,
-    Increments, Modulus,
+    IncrementReport, Increments, Modulus,
 };
 use deform_kernel::spring::SolveOptions;
 use deform_kernel::{Graph, Real};
@@ -74,7 +74,42 @@ assert_layout!(
     steps = 0, iterations = 8, max_step_iterations = 16, residual = 24, converged = 32,
 );
 
+impl dk_elasticity_report {
+    /// The C report of the kernel's.
+    pub(crate) fn of<T: Real>(r: IncrementReport<T>) -> Self {
+        dk_elasticity_report {
+            steps: r.steps,
+            iterations: r.iterations,
+            max_step_iterations: r.max_step_iterations,
+            residual: r.residual.to_f64(),
+            converged: r.converged,
+        }
+    }
+}
+
 impl dk_elasticity_options {
+    /// The kernel's increments (modulus and Poisson ratio checked by the kernel).
+    pub(crate) fn increments<'w, T: Real>(
+        &self,
+        wall_distance: Option<&'w [T]>,
+    ) -> Result<Increments<'w, T>, dk_status> {
+        Ok(Increments {
+            modulus: self.modulus()?,
+            wall_distance,
+            poisson: T::from_f64(self.poisson),
+            steps: self.steps as usize,
+        })
+    }
+
+    /// The stopping rules of each increment's solve.
+    pub(crate) fn solve_options<T: Real>(&self) -> SolveOptions<T> {
+        SolveOptions {
+            max_iterations: self.max_iterations,
+            residual_tol: T::from_f64(self.residual_tol),
+            update_tol: T::ZERO,
+        }
+    }
+
     fn modulus(&self) -> Result<Modulus, dk_status> {
         Ok(match self.modulus {
             DK_MODULUS_CONSTANT => Modulus::Constant,
@@ -86,9 +121,22 @@ impl dk_elasticity_options {
 }
 
 /// Scalars of `scratch` [`dk_elasticity_deform`] needs: `cell_count + dim²·(node_count +
-/// edge_count) + 6·dim·node_count` (moduli, node and edge blocks, the current mesh, the
-/// increment, the four CG vectors); `edge_count` is the graph's `targets_len`.
+/// edge_count) + 6·dim·node_count` (the increments' buffers, then the four CG vectors);
+/// `edge_count` is the graph's `targets_len`.
 fn scratch_scalars(
+    cells: usize,
+    nodes: usize,
+    edges: usize,
+    dim: usize,
+) -> Result<usize, dk_status> {
+    increment_scalars(cells, nodes, edges, dim)?
+        .checked_add(mul_len(mul_len(4, dim)?, nodes)?)
+        .ok_or(dk_status::DK_ERR_TOO_LARGE)
+}
+
+/// Scalars of the increments' own buffers: `cell_count + dim²·(node_count + edge_count) +
+/// 2·dim·node_count` (moduli, node and edge blocks, the current mesh, the increment).
+pub(crate) fn increment_scalars(
     cells: usize,
     nodes: usize,
     edges: usize,
@@ -100,11 +148,35 @@ fn scratch_scalars(
             .checked_add(edges)
             .ok_or(dk_status::DK_ERR_TOO_LARGE)?,
     )?;
-    let vectors = mul_len(mul_len(6, dim)?, nodes)?;
+    let vectors = mul_len(mul_len(2, dim)?, nodes)?;
     cells
         .checked_add(blocks)
         .and_then(|s| s.checked_add(vectors))
         .ok_or(dk_status::DK_ERR_TOO_LARGE)
+}
+
+/// The increments' buffers carved from the front of `scratch` (in the order of
+/// [`increment_scalars`]) and the rest of it.
+pub(crate) fn increment_buffers<T, const D: usize>(
+    scratch: &mut [T],
+    cells: usize,
+    n: usize,
+    e: usize,
+) -> Result<(IncrementBuffers<'_, T, D>, &mut [T]), dk_status> {
+    let short = dk_status::DK_ERR_BUFFER_TOO_SMALL;
+    let (moduli, rest) = scratch.split_at_mut_checked(cells).ok_or(short)?;
+    let (diag, rest) = rest.split_at_mut_checked(mul_len(D * D, n)?).ok_or(short)?;
+    let (off, rest) = rest.split_at_mut_checked(mul_len(D * D, e)?).ok_or(short)?;
+    let (current, rest) = rest.split_at_mut_checked(mul_len(D, n)?).ok_or(short)?;
+    let (step, rest) = rest.split_at_mut_checked(mul_len(D, n)?).ok_or(short)?;
+    let buffers = IncrementBuffers {
+        moduli,
+        diag: blocks::<T, D>(diag),
+        off: blocks::<T, D>(off),
+        current: current.as_chunks_mut::<D>().0,
+        step: step.as_chunks_mut::<D>().0,
+    };
+    Ok((buffers, rest))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -146,7 +218,7 @@ pub(crate) fn dk_elasticity_graph(
         let scratch = output(index_scratch)?;
         let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
         let (o, t, used) = (output(offsets)?, output(targets)?, out_one(used_out)?);
-        *used = elasticity_graph(&cells, o, t).map_err(dk_status::from)?;
+        *used = elasticity_graph(&cells, o, t)?;
         Ok(())
     })())
 }
@@ -228,32 +300,10 @@ fn deform_for_dim<T: Real, const D: usize>(
     if a.displacement.len() != a.points.len() {
         return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
     }
-    let short = dk_status::DK_ERR_BUFFER_TOO_SMALL;
-    let (moduli, rest) = scratch.split_at_mut_checked(cells.len()).ok_or(short)?;
-    let (diag, rest) = rest.split_at_mut_checked(mul_len(D * D, n)?).ok_or(short)?;
-    let (off, rest) = rest.split_at_mut_checked(mul_len(D * D, e)?).ok_or(short)?;
-    let (current, rest) = rest.split_at_mut_checked(mul_len(D, n)?).ok_or(short)?;
-    let (step, cg) = rest.split_at_mut_checked(mul_len(D, n)?).ok_or(short)?;
+    let (buffers, cg) = increment_buffers::<T, D>(scratch, cells.len(), n, e)?;
     let cg = cg.as_chunks_mut::<D>().0;
-    let buffers = IncrementBuffers {
-        moduli,
-        diag: blocks::<T, D>(diag),
-        off: blocks::<T, D>(off),
-        current: current.as_chunks_mut::<D>().0,
-        step: step.as_chunks_mut::<D>().0,
-    };
-    let o = a.options;
-    let params = Increments {
-        modulus: o.modulus()?,
-        wall_distance: optional(a.wall_distance)?,
-        poisson: T::from_f64(o.poisson),
-        steps: o.steps as usize,
-    };
-    let solve_options = SolveOptions {
-        max_iterations: o.max_iterations,
-        residual_tol: T::from_f64(o.residual_tol),
-        update_tol: T::ZERO,
-    };
+    let params = a.options.increments(optional(a.wall_distance)?)?;
+    let solve_options = a.options.solve_options();
     let r = deform_incremental(
         &cells,
         &graph,
@@ -263,15 +313,8 @@ fn deform_for_dim<T: Real, const D: usize>(
         chunks::<T, D>(a.displacement)?,
         buffers,
         |sys, u| sys.solve(u, &solve_options, cg),
-    )
-    .map_err(dk_status::from)?;
-    Ok(dk_elasticity_report {
-        steps: r.steps,
-        iterations: r.iterations,
-        max_step_iterations: r.max_step_iterations,
-        residual: r.residual.to_f64(),
-        converged: r.converged,
-    })
+    )?;
+    Ok(dk_elasticity_report::of(r))
 }
 
 /// Moves a mesh by linear elasticity (SU2_DEF's method) in `options->steps` load increments:

@@ -176,7 +176,7 @@ impl<'a> CellsIn<'a> {
         // Offsets are positions in `nodes`; with index_base 1 they are 1-based too.
         let (offs, scratch) = rebase(offs, index_base, scratch)?;
         let (nodes, scratch) = rebase(nodes, index_base, scratch)?;
-        let cells = Cells::new(node_count, offs, nodes, kinds).map_err(dk_status::from)?;
+        let cells = Cells::new(node_count, offs, nodes, kinds)?;
         Ok((cells, scratch))
     }
 
@@ -247,7 +247,7 @@ pub(crate) fn dk_graph_from_edges(
         if graph_from_edges_len(pairs) != edges_len {
             return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
         }
-        *used = graph_from_edges(node_count, pairs, o, t).map_err(dk_status::from)?;
+        *used = graph_from_edges(node_count, pairs, o, t)?;
         Ok(())
     })())
 }
@@ -311,7 +311,7 @@ pub(crate) fn dk_graph_from_cells(
         let o = output(offsets)?;
         let t = output(targets)?;
         let used = out_one(used_out)?;
-        *used = graph_from_cells(&cells, face_diagonals, o, t).map_err(dk_status::from)?;
+        *used = graph_from_cells(&cells, face_diagonals, o, t)?;
         Ok(())
     })())
 }
@@ -323,7 +323,7 @@ pub(crate) fn dk_graph_check(graph: In<'_, dk_graph>, require_symmetric: bool) -
     done((|| {
         let g = read_graph(graph)?;
         if require_symmetric {
-            g.check_symmetric().map_err(dk_status::from)?;
+            g.check_symmetric()?;
         }
         Ok(())
     })())

@@ -70,5 +70,9 @@ pub mod status;
 pub mod stiffening;
 #[path = "../generated/taubin.rs"]
 pub mod taubin;
+// Last, so the header keeps its earlier declarations where they were (cbindgen emits structs
+// in the order of first use).
+#[path = "../generated/elasticity_solvers.rs"]
+pub mod elasticity_solvers;
 
 pub use status::{dk_status, dk_status_str};

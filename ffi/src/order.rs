@@ -124,7 +124,7 @@ pub(crate) fn dk_order_index_distance(
     done((|| {
         let g = read_graph(graph)?;
         let p = read_perm(perm)?;
-        let d = index_distance(&g, p).map_err(dk_status::from)?;
+        let d = index_distance(&g, p)?;
         let (m, s) = (out_one(max_out)?, out_one(sum_out)?);
         *m = d.max;
         *s = d.sum;

@@ -288,7 +288,7 @@ fn work_sizes_for_dim<T: Real, const D: usize>(
     out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
     let s = spec.spec::<D>()?;
-    let sizes = Plan::<T, D>::work_sizes(&s).map_err(dk_status::from)?;
+    let sizes = Plan::<T, D>::work_sizes(&s)?;
     write_one(out, sizes.into())
 }
 
@@ -299,7 +299,7 @@ fn sizes_for_dim<T: Real, const D: usize>(
 ) -> Result<(), dk_status> {
     let s = spec.spec::<D>()?;
     let mut work = work.work()?;
-    let sizes = Plan::<T, D>::sizes(&s, &mut work).map_err(dk_status::from)?;
+    let sizes = Plan::<T, D>::sizes(&s, &mut work)?;
     write_one(out, sizes.into())
 }
 
@@ -313,7 +313,7 @@ fn init_for_dim<T: Real, const D: usize>(
     let mut work = work.work()?;
     let info_slot = crate::slice::out_one(info_out)?;
     let (reals, indices, bytes) = pools.borrow()?;
-    let plan = Plan::<T, D>::init(&s, &mut work, reals, indices, bytes).map_err(dk_status::from)?;
+    let plan = Plan::<T, D>::init(&s, &mut work, reals, indices, bytes)?;
     *info_slot = info(&plan);
     Ok(())
 }
@@ -389,7 +389,7 @@ fn step_for_dim<T: Real, const D: usize>(
     let motion = motion.motion::<D>(plan.method())?;
     let out = chunks_mut::<T, D>(out)?;
     let report_slot = crate::slice::out_one(report_out)?;
-    let r = plan.step(&motion, out).map_err(dk_status::from)?;
+    let r = plan.step(&motion, out)?;
     *report_slot = dk_plan_step_report {
         iterations: r.solve.iterations,
         residual: r.solve.residual.to_f64(),

@@ -196,7 +196,7 @@ fn cell_quality_for_dim<T: Real, const D: usize>(
     let kind = CellKind::from_vtk(kind).ok_or(dk_status::DK_ERR_UNKNOWN_CELL_KIND)?;
     let c = read_points::<T, D>(corners)?;
     let o = out_one(out)?;
-    *o = dk_cell_quality::of(cell_quality(kind, c).map_err(dk_status::from)?);
+    *o = dk_cell_quality::of(cell_quality(kind, c)?);
     Ok(())
 }
 
@@ -229,7 +229,7 @@ fn inverted_for_dim<T: Real, const D: usize>(
     let d = read_points::<T, D>(deformed)?;
     let (c, _) = cells.read(u.len(), output(index_scratch)?)?;
     let o = out_one(count_out)?;
-    *o = inverted_cells(&c, u, d).map_err(dk_status::from)?;
+    *o = inverted_cells(&c, u, d)?;
     Ok(())
 }
 
@@ -242,7 +242,7 @@ fn folded_for_dim<T: Real, const D: usize>(
     let p = read_points::<T, D>(pts)?;
     let (c, _) = cells.read(p.len(), output(index_scratch)?)?;
     let o = out_one(count_out)?;
-    *o = folded_cells(&c, p).map_err(dk_status::from)?;
+    *o = folded_cells(&c, p)?;
     Ok(())
 }
 
@@ -280,10 +280,9 @@ fn compare_for_dim<T: Real, const D: usize>(
     } else {
         let (we, _) = wall.elements.read(u.len(), index_rest)?;
         let g = read_graph(wall.graph)?;
-        let w = Wall::new(we, g).map_err(dk_status::from)?;
+        let w = Wall::new(we, g)?;
         compare(&c, u, d, Some(&w), s)
-    }
-    .map_err(dk_status::from)?;
+    }?;
     *r = dk_quality_report::of(rep, cells.index_base);
     Ok(())
 }
@@ -300,10 +299,10 @@ fn wall_angle_for_dim<T: Real, const D: usize>(
     let d = read_points::<T, D>(deformed)?;
     let (we, _) = wall.elements.read(u.len(), output(index_scratch)?)?;
     let g = read_graph(wall.graph)?;
-    let w = Wall::new(we, g).map_err(dk_status::from)?;
+    let w = Wall::new(we, g)?;
     let s = whole_chunks_mut::<T, D>(scratch)?;
     let o = out_one(out)?;
-    let r = wall_angle_change(&w, u, d, s).map_err(dk_status::from)?;
+    let r = wall_angle_change(&w, u, d, s)?;
     *o = dk_wall_angle_change::of(r, wall.elements.index_base);
     Ok(())
 }

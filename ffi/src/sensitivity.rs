@@ -152,7 +152,7 @@ fn adjoint_for_components<T: Real, const V: usize>(
     let g = chunks_mut::<T, V>(g)?;
     let s = whole_chunks_mut::<T, V>(scratch)?;
     let r = out_one(report)?;
-    let rep = spring_adjoint(sys, solver, &stop, w, g, s).map_err(dk_status::from)?;
+    let rep = spring_adjoint(sys, solver, &stop, w, g, s)?;
     *r = dk_spring_solve_report::of(rep);
     Ok(())
 }

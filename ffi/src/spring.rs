@@ -495,26 +495,8 @@ fn solve_linear_for_components<T: Real, const V: usize>(
     let system = sys.build()?;
     // The kernel validates before it writes, and CG works on a copy in the scratch: on any
     // error `values` is unchanged.
-    let rep = system
-        .solve_linear(v, method, &stop, s)
-        .map_err(dk_status::from)?;
+    let rep = system.solve_linear(v, method, &stop, s)?;
     *r = dk_spring_solve_report::of(rep);
-    Ok(())
-}
-
-fn jacobi_sweep_for_components<T: Real, const V: usize>(
-    sys: SysArgs<'_, T>,
-    nodes: [usize; 2],
-    src: In<'_, T>,
-    dst: Out<'_, T>,
-    sweep: Out<'_, dk_spring_sweep>,
-) -> Result<(), dk_status> {
-    let s = chunks::<T, V>(src)?;
-    let d = chunks_mut::<T, V>(dst)?;
-    let w = out_one(sweep)?;
-    let system = sys.build()?;
-    let [a, b] = nodes;
-    *w = dk_spring_sweep::of(system.jacobi_sweep(a..b, s, d).map_err(dk_status::from)?);
     Ok(())
 }
 
@@ -522,23 +504,29 @@ fn jacobi_sweep_for_components<T: Real, const V: usize>(
 pub const DK_EXACT_SUM_WORDS: usize = 72;
 const _: () = assert!(DK_EXACT_SUM_WORDS == EXACT_SUM_WORDS);
 
-fn jacobi_sweep_exact_for_components<T: Real, const V: usize>(
+/// One Jacobi sweep; with `residual_words`, also the range's exact residual sum.
+fn jacobi_sweep_for_components<T: Real, const V: usize>(
     sys: SysArgs<'_, T>,
     nodes: [usize; 2],
     src: In<'_, T>,
     dst: Out<'_, T>,
     sweep: Out<'_, dk_spring_sweep>,
-    residual_words: Out<'_, i64>,
+    residual_words: Option<Out<'_, i64>>,
 ) -> Result<(), dk_status> {
     let s = chunks::<T, V>(src)?;
     let d = chunks_mut::<T, V>(dst)?;
     let w = out_one(sweep)?;
-    let words = output_n(residual_words, EXACT_SUM_WORDS)?;
+    let words = match residual_words {
+        Some(p) => Some(output_n(p, EXACT_SUM_WORDS)?),
+        None => None,
+    };
     let system = sys.build()?;
     let [a, b] = nodes;
-    let result = system.jacobi_sweep(a..b, s, d).map_err(dk_status::from)?;
+    let result = system.jacobi_sweep(a..b, s, d)?;
     *w = dk_spring_sweep::of(result);
-    words.copy_from_slice(&result.residual_sum.to_words());
+    if let Some(words) = words {
+        words.copy_from_slice(&result.residual_sum.to_words());
+    }
     Ok(())
 }
 
@@ -553,7 +541,7 @@ fn sor_sweep_for_components<T: Real, const V: usize>(
     let w = out_one(sweep)?;
     let system = sys.build()?;
     let [a, b] = nodes;
-    *w = dk_spring_sweep::of(system.sor_sweep(a..b, v, omega).map_err(dk_status::from)?);
+    *w = dk_spring_sweep::of(system.sor_sweep(a..b, v, omega)?);
     Ok(())
 }
 
@@ -565,7 +553,7 @@ fn relative_residual_for_components<T: Real, const V: usize>(
     let v = chunks::<T, V>(values)?;
     let r = out_one(residual_out)?;
     let system = sys.build()?;
-    *r = system.relative_residual(v).map_err(dk_status::from)?;
+    *r = system.relative_residual(v)?;
     Ok(())
 }
 
@@ -601,9 +589,7 @@ fn solve_angle_for_dim<T: Real, const D: usize>(
     let base = sys.build()?;
     let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
     // Values are written only after the probe and only by a successful solve.
-    let rep = system
-        .solve_angle(v, method, &stop, s)
-        .map_err(dk_status::from)?;
+    let rep = system.solve_angle(v, method, &stop, s)?;
     *r = dk_spring_solve_report::of(rep);
     Ok(())
 }
@@ -622,11 +608,7 @@ fn angle_jacobi_for_dim<T: Real, const D: usize>(
     let w = out_one(sweep)?;
     let system = pts.build::<D>(sys.build()?, epsilon)?;
     let [a, b] = nodes;
-    *w = dk_spring_sweep::of(
-        system
-            .angle_jacobi_sweep(a..b, s, d)
-            .map_err(dk_status::from)?,
-    );
+    *w = dk_spring_sweep::of(system.angle_jacobi_sweep(a..b, s, d)?);
     Ok(())
 }
 
@@ -642,11 +624,7 @@ fn angle_gs_for_dim<T: Real, const D: usize>(
     let w = out_one(sweep)?;
     let system = pts.build::<D>(sys.build()?, epsilon)?;
     let [a, b] = nodes;
-    *w = dk_spring_sweep::of(
-        system
-            .angle_gauss_seidel_sweep(a..b, v)
-            .map_err(dk_status::from)?,
-    );
+    *w = dk_spring_sweep::of(system.angle_gauss_seidel_sweep(a..b, v)?);
     Ok(())
 }
 
@@ -661,9 +639,7 @@ fn probe_for_dim<T: Real, const D: usize>(
     let s = whole_chunks_mut::<T, D>(scratch)?;
     let a = out_one(amplification_out)?;
     let system = pts.build::<D>(sys.build()?, T::from_f64(options.epsilon))?;
-    *a = system
-        .angle_rigidity_probe(&stop, s)
-        .map_err(dk_status::from)?;
+    *a = system.angle_rigidity_probe(&stop, s)?;
     Ok(())
 }
 
@@ -706,7 +682,7 @@ impl AmgPlan {
         let front = indices
             .get_mut(..work)
             .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
-        let sizes = AmgHierarchy::setup_len(sys, options, front).map_err(dk_status::from)?;
+        let sizes = AmgHierarchy::setup_len(sys, options, front)?;
         let items =
             scratch(sys.node_count(), sizes.coarse_unknowns).ok_or(dk_status::DK_ERR_TOO_LARGE)?;
         Ok(AmgPlan {
@@ -762,7 +738,7 @@ fn amg_setup<'p, T: Real, const V: usize>(
         .split_at_mut_checked(plan.values)
         .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
     let scratch = rest.as_chunks_mut::<V>().0;
-    let h = AmgHierarchy::setup(sys, options, work, index, values).map_err(dk_status::from)?;
+    let h = AmgHierarchy::setup(sys, options, work, index, values)?;
     Ok((h, scratch))
 }
 
@@ -845,9 +821,7 @@ fn solve_linear_amg_for_components<T: Real, const V: usize>(
     let (h, scratch) = amg_setup::<T, V>(&sys, &amg, &plan, reals, indices)?;
     // The kernel validates before it writes and iterates on a copy in the scratch: on any
     // error `values` is unchanged.
-    let rep = sys
-        .solve_linear_amg(&h, v, &stop, scratch)
-        .map_err(dk_status::from)?;
+    let rep = sys.solve_linear_amg(&h, v, &stop, scratch)?;
     *r = dk_spring_solve_report::of(rep);
     Ok(())
 }
@@ -872,9 +846,7 @@ fn solve_angle_amg_for_dim<T: Real, const D: usize>(
     let plan = AmgPlan::of(system.base(), &amg, indices, AMG_CG)?;
     let (h, scratch) = amg_setup::<T, D>(system.base(), &amg, &plan, reals, indices)?;
     // Values are written only after the probe and only by a successful solve.
-    let rep = system
-        .solve_angle_amg(&h, v, &stop, scratch)
-        .map_err(dk_status::from)?;
+    let rep = system.solve_angle_amg(&h, v, &stop, scratch)?;
     *r = dk_spring_solve_report::of(rep);
     Ok(())
 }
@@ -931,7 +903,7 @@ fn fit_plane_for_dim<T: Real, const D: usize>(
     let residual = out_one(out.residual)?;
     let extent = out_one(out.extent)?;
     let (nodes, _) = rebase(nodes, index_base, output(index_scratch)?)?;
-    let fit = fit_plane(p, nodes, tolerance).map_err(dk_status::from)?;
+    let fit = fit_plane(p, nodes, tolerance)?;
     normal.copy_from_slice(&fit.normal);
     point.copy_from_slice(&fit.point);
     *residual = fit.residual;
@@ -956,9 +928,7 @@ fn solve_linear_sliding_for_dim<T: Real, const D: usize>(
     let system = sys.build()?;
     // The kernel validates (the mask against the constraints too) before it writes and
     // iterates on a scaled copy in the scratch: on any error `values` is unchanged.
-    let rep = system
-        .solve_linear_sliding(&c, v, LinearSolver::Method(method), &stop, s)
-        .map_err(dk_status::from)?;
+    let rep = system.solve_linear_sliding(&c, v, LinearSolver::Method(method), &stop, s)?;
     *r = dk_spring_solve_report::of(rep);
     Ok(())
 }
@@ -982,9 +952,7 @@ fn solve_angle_sliding_for_dim<T: Real, const D: usize>(
     let base = sys.build()?;
     let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
     // Values are written only after the probe and only by a successful solve.
-    let rep = system
-        .solve_angle_sliding(&c, v, method, omega, &stop, s)
-        .map_err(dk_status::from)?;
+    let rep = system.solve_angle_sliding(&c, v, method, omega, &stop, s)?;
     *r = dk_spring_solve_report::of(rep);
     Ok(())
 }
@@ -1019,9 +987,7 @@ fn solve_linear_sliding_amg_for_dim<T: Real, const D: usize>(
     let (h, scratch) = amg_setup::<T, D>(&sys, &amg, &plan, reals, indices)?;
     // The kernel validates before it writes and iterates on a copy in the scratch: on any
     // error `values` is unchanged.
-    let rep = sys
-        .solve_linear_sliding(&c, v, LinearSolver::Amg(&h), &stop, scratch)
-        .map_err(dk_status::from)?;
+    let rep = sys.solve_linear_sliding(&c, v, LinearSolver::Amg(&h), &stop, scratch)?;
     *r = dk_spring_solve_report::of(rep);
     Ok(())
 }
@@ -1048,9 +1014,7 @@ fn solve_angle_sliding_amg_for_dim<T: Real, const D: usize>(
     let plan = AmgPlan::of(system.base(), &amg, indices, SLIDING_AMG_CG)?;
     let (h, scratch) = amg_setup::<T, D>(system.base(), &amg, &plan, reals, indices)?;
     // Values are written only after the probe and only by a successful solve.
-    let rep = system
-        .solve_angle_sliding_amg(&c, v, &h, &stop, scratch)
-        .map_err(dk_status::from)?;
+    let rep = system.solve_angle_sliding_amg(&c, v, &h, &stop, scratch)?;
     *r = dk_spring_solve_report::of(rep);
     Ok(())
 }
@@ -1190,7 +1154,7 @@ pub(crate) fn dk_spring_jacobi_sweep<T: Real>(
         by_components!(
             components,
             jacobi_sweep_for_components::<T>,
-            (sys, nodes, src, dst, sweep)
+            (sys, nodes, src, dst, sweep, None)
         )
     }))
 }
@@ -1220,8 +1184,8 @@ pub(crate) fn dk_spring_jacobi_sweep_exact<T: Real>(
     done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
         by_components!(
             components,
-            jacobi_sweep_exact_for_components::<T>,
-            (sys, nodes, src, dst, sweep, residual_words)
+            jacobi_sweep_for_components::<T>,
+            (sys, nodes, src, dst, sweep, Some(residual_words))
         )
     }))
 }

@@ -337,7 +337,7 @@ fn smooth_arclength_for_dim<T: Real, const D: usize>(
     let s = output(scratch)?;
     let r = out_one(report)?;
     // The kernel validates everything before it moves a point: on Err `points` is unchanged.
-    let rep = smooth_arclength(block, p, &opts, s).map_err(dk_status::from)?;
+    let rep = smooth_arclength(block, p, &opts, s)?;
     *r = dk_smooth_report::of(rep);
     Ok(())
 }
@@ -369,8 +369,7 @@ fn smooth_structured_t<T: Real>(
         let rep = match c {
             None => smooth_structured(&b, f, p, iterations, &o, s),
             Some(c) => smooth_structured_coarse(&b, f, &c, p, iterations, &o, s),
-        }
-        .map_err(dk_status::from)?;
+        }?;
         *r = dk_filter_report::of(rep);
         Ok(())
     })())
@@ -407,8 +406,7 @@ fn structured_sweep_t<T: Real>(
         let s = input(src)?;
         let d = output(dst)?;
         let m = out_one(max_change_out)?;
-        let change = structured_sweep(&b, s, d, weight, &o, &BlockRegion { lo, hi })
-            .map_err(dk_status::from)?;
+        let change = structured_sweep(&b, s, d, weight, &o, &BlockRegion { lo, hi })?;
         *m = change;
         Ok(())
     })())
@@ -445,7 +443,7 @@ fn smooth_graph_for_components<T: Real, const V: usize>(
     // The scratch may be longer than needed: use only whole items.
     let s = whole_chunks_mut::<T, V>(scratch)?;
     let r = out_one(report)?;
-    let rep = smooth_graph(&g, v, params, iterations, &o, s).map_err(dk_status::from)?;
+    let rep = smooth_graph(&g, v, params, iterations, &o, s)?;
     *r = dk_filter_report::of(rep);
     Ok(())
 }
@@ -463,7 +461,7 @@ fn graph_sweep_for_components<T: Real, const V: usize>(
     let d = chunks_mut::<T, V>(dst)?;
     let m = out_one(max_change_out)?;
     let [a, b] = nodes;
-    *m = graph_sweep(&g, s, d, weight, &o, a..b).map_err(dk_status::from)?;
+    *m = graph_sweep(&g, s, d, weight, &o, a..b)?;
     Ok(())
 }
 
@@ -503,7 +501,7 @@ fn redistribute_for_dim<T: Real, const D: usize>(
     let s = output(scratch)?;
     let m = out_one(max_displacement_out)?;
     // The kernel validates everything before it moves a point.
-    *m = redistribute(b, p, to_direction(direction)?, t, normalised, s).map_err(dk_status::from)?;
+    *m = redistribute(b, p, to_direction(direction)?, t, normalised, s)?;
     Ok(())
 }
 
@@ -528,7 +526,7 @@ fn max_stretching_for_dim<T: Real, const D: usize>(
     let p = read_points::<T, D>(points)?;
     let v = out_one(value_out)?;
     let i = out_one(point_out)?;
-    let (r, at) = max_stretching(b, p, to_direction(direction)?).map_err(dk_status::from)?;
+    let (r, at) = max_stretching(b, p, to_direction(direction)?)?;
     *v = r;
     *i = at;
     Ok(())
@@ -577,7 +575,7 @@ pub(crate) fn dk_taubin_params_from_pass_band<T: Real>(
     mu_out: Out<'_, T>,
 ) -> dk_status {
     done((|| {
-        let p = TaubinParams::from_pass_band(lambda, pass_band).map_err(dk_status::from)?;
+        let p = TaubinParams::from_pass_band(lambda, pass_band)?;
         let l = out_one(lambda_out)?;
         let m = out_one(mu_out)?;
         *l = p.lambda;

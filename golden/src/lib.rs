@@ -52,6 +52,7 @@
 pub mod graph_cases;
 pub mod hash;
 pub mod mesh_cases;
+pub mod method_cases;
 pub mod quat_cases;
 pub mod rng;
 
@@ -210,5 +211,33 @@ pub const CASES: &[Case] = &[
         run_f32: mesh_cases::spring_angle_amg::<f32>,
         expected_f64: 0xaa05_af4d_ec6d_75fe,
         expected_f32: 0x8137_6c2f_1da4_cd36,
+    },
+    Case {
+        name: "elasticity_2d",
+        run_f64: method_cases::elasticity_2d::<f64>,
+        run_f32: method_cases::elasticity_2d::<f32>,
+        expected_f64: 0xcc13_796d_a282_5ee1,
+        expected_f32: 0xc15c_97a7_f692_4dc5,
+    },
+    Case {
+        name: "elasticity_3d",
+        run_f64: method_cases::elasticity_3d::<f64>,
+        run_f32: method_cases::elasticity_3d::<f32>,
+        expected_f64: 0x986e_ef0a_6729_8eac,
+        expected_f32: 0x4665_c8b2_643e_38d3,
+    },
+    Case {
+        name: "rbf_2d",
+        run_f64: method_cases::rbf_2d::<f64>,
+        run_f32: method_cases::rbf_2d::<f32>,
+        expected_f64: 0x5ffd_dd03_8ec1_7063,
+        expected_f32: 0x41e7_09c6_dcce_3f5a,
+    },
+    Case {
+        name: "rbf_3d",
+        run_f64: method_cases::rbf_3d::<f64>,
+        run_f32: method_cases::rbf_3d::<f32>,
+        expected_f64: 0xa1cd_ffaa_c944_7465,
+        expected_f32: 0xb0a7_9e50_3b30_4640,
     },
 ];

@@ -8,15 +8,26 @@
 //!    numpy/scipy, scipy.ndimage, trimesh and pyamg on those very inputs and checks that their
 //!    answers agree with the kernel's;
 //! 3. the release `deform` tool moves the 234k-node NACA 2412 mesh with the spring and the
-//!    quaternion method (wall time, peak resident memory);
+//!    quaternion method (wall time, peak resident memory), and runs `deform adjoint` of each
+//!    method it differentiates on the same mesh ([`sensitivity_cost`]);
 //! 4. `bench/peers/unordered.py` writes meshes numbered as users have them (the NACA mesh
 //!    randomly permuted; a gmsh tetrahedral mesh in gmsh's numbering) and times the whole
 //!    `deform move` (`--renumber off` and `auto`) against pyamg setup + solve of the same
 //!    spring system (issue 34);
-//! 5. the figures and ratios (kernel ÷ peer, below 1 = kernel faster) go to stdout and to
+//! 5. `bench/python/deform_vs_cli.py` times a 234k-node spring move through the Python package
+//!    against the same move in the tool (issue 32; [`python_call`]);
+//! 6. linear elasticity (issue 28 item 4): the kernel's assembly + rigid-mode multigrid +
+//!    CG (step 1) against scikit-fem assembly + pyamg `smoothed_aggregation_solver(A,
+//!    B=rigid_modes)` (`bench/peers/elasticity.py`) on the same 2D and 3D meshes;
+//! 7. the figures and ratios (kernel ÷ peer, below 1 = kernel faster) go to stdout and to
 //!    `target/bench/report.md`, with the machine, the date and the load.
 //!
-//! `--unordered-only` runs step 4 alone (with the NACA mesh it needs).
+//! `--unordered-only` runs step 4 alone (with the NACA mesh it needs), `--python-only` step 5,
+//! `--elasticity-only` step 6 (in `target/bench/elasticity/`; with `--quick`, 3 600 and
+//! 2 744 nodes instead of 202 500 and 205 379).
+
+mod python_call;
+mod sensitivity_cost;
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -28,7 +39,7 @@ use crate::ctx::Ctx;
 use crate::process::run;
 
 /// `name value` lines of a figures file.
-fn read_figures(path: &Path) -> BTreeMap<String, String> {
+pub(crate) fn read_figures(path: &Path) -> BTreeMap<String, String> {
     std::fs::read_to_string(path)
         .unwrap_or_default()
         .lines()
@@ -37,13 +48,13 @@ fn read_figures(path: &Path) -> BTreeMap<String, String> {
         .collect()
 }
 
-fn load_average() -> String {
+pub(crate) fn load_average() -> String {
     std::fs::read_to_string("/proc/loadavg")
         .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
         .unwrap_or_else(|_| "unknown".into())
 }
 
-fn cpu_model() -> String {
+pub(crate) fn cpu_model() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
         .ok()
         .and_then(|s| {
@@ -121,12 +132,12 @@ fn move_figures(
     Some((times[times.len() / 2], peak))
 }
 
-fn num(m: &BTreeMap<String, String>, k: &str) -> Option<f64> {
+pub(crate) fn num(m: &BTreeMap<String, String>, k: &str) -> Option<f64> {
     m.get(k).and_then(|v| v.parse().ok())
 }
 
 /// The bench venv's Python with the pinned peers installed (created on first use).
-fn peers_python(ctx: &Ctx) -> Option<std::path::PathBuf> {
+pub(crate) fn peers_python(ctx: &Ctx) -> Option<std::path::PathBuf> {
     let venv = ctx.root.join("target").join("bench-venv");
     let python = venv.join("bin").join("python");
     if !python.exists() && !run(Command::new("python3").args(["-m", "venv"]).arg(&venv)) {
@@ -146,7 +157,7 @@ fn peers_python(ctx: &Ctx) -> Option<std::path::PathBuf> {
 /// A peers script run single-threaded: one thread for BLAS/OpenMP, as the kernel has (on a
 /// shared 2-core machine idle-spinning BLAS threads slowed pyamg 40×: 20k mesh, 3.85 s
 /// against 0.11 s single-threaded).
-fn peers_command(python: &Path, script: &Path) -> Command {
+pub(crate) fn peers_command(python: &Path, script: &Path) -> Command {
     let mut c = Command::new(python);
     c.arg(script);
     for var in ["OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"] {
@@ -170,17 +181,23 @@ fn unordered(ctx: &Ctx, python: &Path, dir: &Path, deform: &Path, quick: bool) -
     std::fs::read_to_string(dir.join("unordered.md")).ok()
 }
 
-/// `cargo xtask bench [--quick] [--no-peers] [--unordered-only]`.
+/// `cargo xtask bench [--quick] [--no-peers] [--unordered-only | --python-only |
+/// --elasticity-only]`.
 pub(crate) fn bench_command(ctx: &Ctx, args: &[String]) -> ExitCode {
     let quick = args.iter().any(|a| a == "--quick");
     let no_peers = args.iter().any(|a| a == "--no-peers");
     let unordered_only = args.iter().any(|a| a == "--unordered-only");
-    if let Some(bad) = args
-        .iter()
-        .find(|a| !matches!(a.as_str(), "--quick" | "--no-peers" | "--unordered-only"))
-    {
+    let python_only = args.iter().any(|a| a == "--python-only");
+    let elasticity_only = args.iter().any(|a| a == "--elasticity-only");
+    if let Some(bad) = args.iter().find(|a| {
+        !matches!(
+            a.as_str(),
+            "--quick" | "--no-peers" | "--unordered-only" | "--python-only" | "--elasticity-only"
+        )
+    }) {
         eprintln!(
-            "xtask bench: unknown option `{bad}` (options: --quick, --no-peers, --unordered-only)"
+            "xtask bench: unknown option `{bad}` (options: --quick, --no-peers, \
+             --unordered-only, --python-only, --elasticity-only)"
         );
         return ExitCode::from(2);
     }
@@ -192,8 +209,11 @@ pub(crate) fn bench_command(ctx: &Ctx, args: &[String]) -> ExitCode {
     let load_before = load_average();
     let started = Instant::now();
 
-    if unordered_only {
-        return unordered_alone(ctx, &dir, quick, &load_before);
+    if unordered_only || python_only {
+        return alone(ctx, &dir, quick, python_only, &load_before);
+    }
+    if elasticity_only {
+        return crate::bench_elasticity::alone(ctx, &dir.join("elasticity"), quick, &load_before);
     }
 
     // 1. The kernel.
@@ -228,15 +248,26 @@ pub(crate) fn bench_command(ctx: &Ctx, args: &[String]) -> ExitCode {
     let reps = if quick { 1 } else { 3 };
     let spring = move_figures(&deform, &dir, &mesh, "spring", reps);
     let quaternion = move_figures(&deform, &dir, &mesh, "quaternion", reps);
+    let moves = [("spring", spring), ("quaternion", quaternion)].map(|(m, f)| (m, f.map(|f| f.0)));
+    let adjoint_rows = sensitivity_cost::rows(&deform, &dir, &mesh, moves, reps);
 
-    // 4. The unordered meshes.
-    let rows = match &python {
-        Some(python) => match unordered(ctx, python, &dir, &deform, quick) {
-            Some(rows) => rows,
+    // 4. The unordered meshes; 5. the Python package; 6. linear elasticity (its kernel
+    // figures are in kernel.txt).
+    let mut rows = match &python {
+        Some(python) => match unordered(ctx, python, &dir, &deform, quick)
+            .zip(python_call::row(ctx, python, &dir, &deform, quick))
+        {
+            Some((rows, python_row)) => adjoint_rows + &rows + &python_row,
             None => return ExitCode::FAILURE,
         },
-        None => String::new(),
+        None => adjoint_rows,
     };
+    if let Some(python) = &python {
+        if !crate::bench_elasticity::peer(ctx, python, &dir) {
+            return ExitCode::FAILURE;
+        }
+    }
+    rows.push_str(&crate::bench_elasticity::rows(&dir));
 
     let k = read_figures(&dir.join("kernel.txt"));
     let p = read_figures(&dir.join("peers.txt"));
@@ -431,26 +462,33 @@ fn deform_and_naca(
     .then_some((deform, mesh))
 }
 
-/// `--unordered-only`: step 4 alone, its rows as the report.
-fn unordered_alone(ctx: &Ctx, dir: &Path, quick: bool, load_before: &str) -> ExitCode {
+/// `--unordered-only` (step 4) or `--python-only` (step 5) alone, its rows as the report.
+fn alone(ctx: &Ctx, dir: &Path, quick: bool, python_step: bool, load_before: &str) -> ExitCode {
     let Some(python) = peers_python(ctx) else {
         return ExitCode::FAILURE;
     };
     let Some((deform, _)) = deform_and_naca(ctx, dir, quick) else {
         return ExitCode::FAILURE;
     };
-    let Some(rows) = unordered(ctx, &python, dir, &deform, quick) else {
+    let (rows, option, file) = if python_step {
+        let rows = python_call::row(ctx, &python, dir, &deform, quick);
+        (rows, "--python-only", "report_python.md")
+    } else {
+        let rows = unordered(ctx, &python, dir, &deform, quick);
+        (rows, "--unordered-only", "report_unordered.md")
+    };
+    let Some(rows) = rows else {
         return ExitCode::FAILURE;
     };
     let report = format!(
-        "## `cargo xtask bench --unordered-only{}`\n\n{}; load average before {load_before}, after {}.\n\n\
+        "## `cargo xtask bench {option}{}`\n\n{}; load average before {load_before}, after {}.\n\n\
          | work | kernel | peer | ratio | target |\n|---|---|---|---|---|\n{rows}",
         if quick { " --quick" } else { "" },
         cpu_model(),
         load_average()
     );
     print!("\n{report}");
-    let path = dir.join("report_unordered.md");
+    let path = dir.join(file);
     if std::fs::write(&path, &report).is_err() {
         eprintln!("xtask bench: cannot write {}", path.display());
         return ExitCode::FAILURE;

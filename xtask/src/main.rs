@@ -34,6 +34,7 @@
 //! Only std is used, so the tool builds in a second.
 
 mod bench;
+mod bench_elasticity;
 mod ci;
 mod codegen;
 mod ctx;
@@ -98,7 +99,7 @@ pub(crate) fn help() -> String {
          \x20   cargo xtask ci [--skip-install] [--step NAME]... [--list]\n\
          \x20   cargo xtask install\n\
          \x20   cargo xtask fuzz [--seconds N] [--target NAME]\n\
-         \x20   cargo xtask bench [--quick] [--no-peers] [--unordered-only]\n\
+         \x20   cargo xtask bench [--quick] [--no-peers] [--unordered-only | --python-only | --elasticity-only]\n\
          \x20   cargo xtask codegen [--check]\n\
          \x20   cargo xtask panic-locate [--features F]\n\
          \x20   cargo xtask help\n\
@@ -115,8 +116,10 @@ pub(crate) fn help() -> String {
          \x20                 the corpus in fuzz/corpus/<target>; prints executions and findings.\n\
          \x20   bench         The kernel against numpy/scipy, scipy.ndimage, trimesh, pyamg and\n\
          \x20                 nalgebra on the same generated inputs (bench/, bench/peers/), and\n\
-         \x20                 `deform move` on the 234k NACA 2412 mesh; ratios and load to stdout\n\
-         \x20                 and target/bench/report.md (see docs/performance.md).\n\
+         \x20                 `deform move` on the 234k NACA 2412 mesh and on unordered meshes, and\n\
+         \x20                 the Python package against the tool; ratios and load to stdout and\n\
+         \x20                 target/bench/report.md (see docs/performance.md). --unordered-only\n\
+         \x20                 and --python-only run one of those steps alone.\n\
          \x20   codegen       Write ffi/generated/ from the #[export] items of ffi/src: the extern \"C\"\n\
          \x20                 functions (f64 and _f32), the C header (cbindgen), the Fortran module,\n\
          \x20                 the panic-check calls and symbols.txt; --check only compares (CI).\n\

@@ -9,6 +9,7 @@
 mod support;
 
 use support::c_build::*;
+use support::elasticity::c_square_cells;
 
 use deform_kernel::elasticity::{
     deform_incremental, elasticity_graph, elasticity_graph_len, IncrementBuffers, Increments,
@@ -20,28 +21,6 @@ use deform_kernel::{Cells, Graph, Real};
 const S: usize = 6;
 const N: usize = S * S;
 
-/// The cells of elasticity.c: quads where `i + j` is odd, two triangles elsewhere.
-fn cells() -> (Vec<u32>, Vec<u32>, Vec<u8>) {
-    let (mut offs, mut nodes, mut kinds) = (vec![0u32], vec![], vec![]);
-    for j in 0..S - 1 {
-        for i in 0..S - 1 {
-            let a = (i + S * j) as u32;
-            let q = [a, a + 1, a + 1 + S as u32, a + S as u32];
-            let parts: Vec<Vec<u32>> = if (i + j) % 2 == 1 {
-                vec![q.to_vec()]
-            } else {
-                vec![vec![q[0], q[1], q[2]], vec![q[0], q[2], q[3]]]
-            };
-            for p in parts {
-                kinds.push(if p.len() == 4 { 9 } else { 5 });
-                nodes.extend(p);
-                offs.push(nodes.len() as u32);
-            }
-        }
-    }
-    (offs, nodes, kinds)
-}
-
 /// The kernel's run on the C program's inputs, printed as the C program prints it.
 fn expected<T: Real>(
     tag: &str,
@@ -49,7 +28,7 @@ fn expected<T: Real>(
     disp: &[f64],
     hex: fn(&str, &[T]) -> String,
 ) -> String {
-    let (offs, nodes, kinds) = cells();
+    let (offs, nodes, kinds) = c_square_cells(S);
     let cells = Cells::new(N, &offs, &nodes, &kinds).unwrap();
     let mut go = vec![0u32; N + 1];
     let mut gt = vec![0u32; elasticity_graph_len(&cells)];
@@ -109,17 +88,7 @@ fn expected<T: Real>(
 
 #[test]
 fn elasticity_from_c_equals_the_kernel_bit_for_bit() {
-    let src = workspace().join("ffi/tests/elasticity.c");
-    let mut flags = c_flags();
-    flags.push("-Wl,--disable-new-dtags".to_string());
-    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
-    for (link, name) in [
-        (Link::Static, "elasticity_static"),
-        (Link::Shared, "elasticity_shared"),
-    ] {
-        let exe = tmp(name);
-        compile("gcc", std::slice::from_ref(&src), &flags, link, &exe);
-        let printed = run(&exe);
+    for (name, printed) in run_c_both("elasticity") {
         let lines: Vec<&str> = printed.lines().collect();
         assert_eq!(
             lines.last(),

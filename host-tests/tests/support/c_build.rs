@@ -95,6 +95,25 @@ pub fn run_c_test(name: &str, exe: &str, link: Link) -> String {
     run(&exe)
 }
 
+/// Compiles `ffi/tests/<name>.c` against the static and the shared library (with
+/// [`c_flags`] and `-Wl,--disable-new-dtags`), runs both and returns `(executable name,
+/// printed text)` of each.
+pub fn run_c_both(name: &str) -> Vec<(String, String)> {
+    let src = workspace().join(format!("ffi/tests/{name}.c"));
+    let mut flags = c_flags();
+    flags.push("-Wl,--disable-new-dtags".to_string());
+    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
+    [(Link::Static, "static"), (Link::Shared, "shared")]
+        .into_iter()
+        .map(|(link, kind)| {
+            let exe_name = format!("{name}_{kind}");
+            let exe = tmp(&exe_name);
+            compile("gcc", std::slice::from_ref(&src), &flags, link, &exe);
+            (exe_name, run(&exe))
+        })
+        .collect()
+}
+
 pub fn c_flags() -> Vec<String> {
     let inc = workspace().join("ffi/generated");
     ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"]

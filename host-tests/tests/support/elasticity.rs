@@ -257,3 +257,26 @@ pub fn solve<T: Real, const D: usize>(
     let mut scratch = vec![[T::ZERO; D]; elastic_scratch_len(values.len()).unwrap()];
     sys.solve(values, options, &mut scratch).expect("solve")
 }
+
+/// The cells of ffi/tests/elasticity.c and elasticity_solvers.c on an `s × s` node square
+/// (offsets, nodes, VTK kinds): quads where `i + j` is odd, two triangles elsewhere.
+pub fn c_square_cells(s: usize) -> (Vec<u32>, Vec<u32>, Vec<u8>) {
+    let (mut offs, mut nodes, mut kinds) = (vec![0u32], vec![], vec![]);
+    for j in 0..s - 1 {
+        for i in 0..s - 1 {
+            let a = (i + s * j) as u32;
+            let q = [a, a + 1, a + 1 + s as u32, a + s as u32];
+            let parts: Vec<Vec<u32>> = if (i + j) % 2 == 1 {
+                vec![q.to_vec()]
+            } else {
+                vec![vec![q[0], q[1], q[2]], vec![q[0], q[2], q[3]]]
+            };
+            for p in parts {
+                kinds.push(if p.len() == 4 { 9 } else { 5 });
+                nodes.extend(p);
+                offs.push(nodes.len() as u32);
+            }
+        }
+    }
+    (offs, nodes, kinds)
+}

@@ -103,6 +103,27 @@ pub(crate) fn move_loaded(
     move_su2_read(a, quiet, None, loaded)
 }
 
+/// The deformed mesh's quality against the input (wall angles at the moved markers); an
+/// error when cells that were valid are now inverted or folded, unless `--allow-folds`.
+fn moved_quality(
+    a: &MoveArgs,
+    mesh: &Su2Mesh,
+    markers: &[String],
+    deformed: &[[f64; 3]],
+) -> Result<crate::engine::QualitySummary, CliError> {
+    let wall = marker_union(mesh, markers, &a.mesh)?;
+    let q = crate::engine::quality(
+        mesh.dim,
+        &mesh.elements,
+        deformed,
+        Some(&mesh.points),
+        Some(&wall),
+    )
+    .map_err(|e| e.in_file(&a.mesh))?;
+    check_new_folds(&q, a.allow_folds, &a.mesh)?;
+    Ok(q)
+}
+
 /// `move_su2` after the read.
 fn move_su2_read(
     a: &MoveArgs,
@@ -161,16 +182,7 @@ fn move_su2_read(
             *x = *p;
         }
     }
-    let wall = marker_union(&mesh, &markers, &a.mesh)?;
-    let q = crate::engine::quality(
-        mesh.dim,
-        &mesh.elements,
-        &result.deformed,
-        Some(&mesh.points),
-        Some(&wall),
-    )
-    .map_err(|e| e.in_file(&a.mesh))?;
-    check_new_folds(&q, a.allow_folds, &a.mesh)?;
+    let q = moved_quality(a, &mesh, &markers, &result.deformed)?;
     let out_mesh = Su2Mesh {
         points: result.deformed.clone(),
         ..mesh.clone()
