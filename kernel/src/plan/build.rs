@@ -114,32 +114,10 @@ pub(super) const fn one_level_sizes<T>(
     }
 }
 
-/// Validates the spec; returns the counts (with the hierarchy's exact sizes) and the mesh in
-/// the plan's numbering (in `work` where computed: stiffness, fixed mask, permuted parts).
-fn prepare<'m, T: Real, const D: usize>(
-    spec: &PlanSpec<'m, T, D>,
-    work: &'m mut PlanWork<'_, T>,
-) -> Result<(Counts, Mesh<'m, T, D>)> {
-    check::mesh_dim::<D>();
-    let n = spec.graph.node_count();
-    let b = spec.boundary.len();
-    let need = work_sizes(spec);
-    for (arg, have, needed) in [
-        ("work.reals", work.reals.len(), need.reals),
-        ("work.indices", work.indices.len(), need.indices),
-        ("work.bytes", work.bytes.len(), need.bytes),
-    ] {
-        check::buffer(arg, have, needed)?;
-    }
-    check_lengths(spec)?;
-    if let Some(p) = crate::real::first_non_finite(spec.points) {
-        return Err(Error::NonFinite {
-            arg: "points",
-            position: p,
-        });
-    }
-    // The fixed mask, with the duplicate and range checks of the boundary list.
-    let mask = work.bytes.get_mut(..n).unwrap_or(&mut []);
+/// The fixed mask of the boundary list in the caller's numbering into `mask` (`N` bytes),
+/// with the boundary's range and duplicate checks and the constraint table's.
+fn fixed_mask<T: Real, const D: usize>(spec: &PlanSpec<'_, T, D>, mask: &mut [u8]) -> Result<()> {
+    let n = mask.len();
     mask.fill(0);
     for (position, &node) in spec.boundary.iter().enumerate() {
         match mask.get_mut(node as usize) {
@@ -180,6 +158,34 @@ fn prepare<'m, T: Real, const D: usize>(
             }
         }
     }
+    Ok(())
+}
+
+/// Validates the spec; returns the counts (with the hierarchy's exact sizes) and the mesh in
+/// the plan's numbering (in `work` where computed: stiffness, fixed mask, permuted parts).
+fn prepare<'m, T: Real, const D: usize>(
+    spec: &PlanSpec<'m, T, D>,
+    work: &'m mut PlanWork<'_, T>,
+) -> Result<(Counts, Mesh<'m, T, D>)> {
+    check::mesh_dim::<D>();
+    let n = spec.graph.node_count();
+    let b = spec.boundary.len();
+    let need = work_sizes(spec);
+    for (arg, have, needed) in [
+        ("work.reals", work.reals.len(), need.reals),
+        ("work.indices", work.indices.len(), need.indices),
+        ("work.bytes", work.bytes.len(), need.bytes),
+    ] {
+        check::buffer(arg, have, needed)?;
+    }
+    check_lengths(spec)?;
+    if let Some(p) = crate::real::first_non_finite(spec.points) {
+        return Err(Error::NonFinite {
+            arg: "points",
+            position: p,
+        });
+    }
+    fixed_mask(spec, work.bytes.get_mut(..n).unwrap_or(&mut []))?;
     if let (Some(el), PlanMethod::QuaternionSpring) = (&spec.elements, spec.method) {
         check_elements::<D>(el, b)?;
     }
