@@ -138,12 +138,7 @@ fuzz_target!(|inp: Input| {
         stiffness: PlanStiffness::Batina { exponent: 1.0 },
         solver,
         options,
-        // The solver byte's higher digits pick the node order (old seeds keep theirs).
-        renumber: match inp.solver / 3 % 3 {
-            0 => deform_kernel::plan::PlanOrder::AsGiven,
-            1 => deform_kernel::plan::PlanOrder::Rcm,
-            _ => deform_kernel::plan::PlanOrder::Hilbert,
-        },
+        renumber: deform_kernel::plan::PlanOrder::AsGiven,
     };
     let ws = match Plan::<f64, 2>::work_sizes(&spec) {
         Ok(ws) => ws,
