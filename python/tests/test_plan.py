@@ -122,8 +122,12 @@ def test_renumbered_plan_matches_the_plain_plan(renumber):
     shuffle = np.random.default_rng(3).permutation(len(pts))  # new -> old
     where = np.argsort(shuffle)  # old -> new
     pts, tris, boundary = pts[shuffle], where[tris], where[boundary]
-    plan = dk.Plan(pts, [("triangle", tris)], boundary, method="quaternion", renumber=renumber)
-    plain = dk.Plan(pts, [("triangle", tris)], boundary, method="quaternion")
+    cells = [("triangle", tris)]
+    plan = dk.Plan(pts, cells, boundary, method="quaternion", solver="cg", renumber=renumber)
+    plain = dk.Plan(pts, cells, boundary, method="quaternion", solver="cg")
+    # The same pools but the stored permutation (2 N indices).
+    reals, indices, nbytes = plain.pool_sizes()
+    assert plan.pool_sizes() == (reals, indices + 2 * len(pts), nbytes)
     for s in (1, 2):
         half = np.radians(pitch(s)) / 2
         q = np.tile([np.cos(half), 0.0, 0.0, np.sin(half)], (boundary.size, 1))
