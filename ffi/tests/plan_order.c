@@ -24,17 +24,8 @@ static double points[2 * N], deformed[2 * B];
 /* The grid, numbered at random; the perimeter is the boundary, the top row moved up. */
 static void build(void) {
     static uint32_t label[N];
-    uint64_t s = 777;
     size_t i, j, e = 0, b = 0;
-    for (i = 0; i < N; i++) label[i] = (uint32_t)i;
-    for (i = N - 1; i > 0; i--) {
-        uint32_t t;
-        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-        j = (size_t)((s >> 33) % (i + 1));
-        t = label[i];
-        label[i] = label[j];
-        label[j] = t;
-    }
+    lcg_shuffle(label, N, 777);
     for (j = 0; j < NY; j++)
         for (i = 0; i < NX; i++) {
             uint32_t n = label[i + NX * j];

@@ -250,21 +250,8 @@ fn c_renumbered_plans_equal_the_rust_plan_bit_for_bit() {
             options: SolveOptions::default(),
             renumber: PlanOrder::Rcm,
         };
-        let ws = Plan::<f64, 2>::work_sizes(&spec).unwrap();
-        let (mut wr, mut wi, mut wb) =
-            (vec![0.0; ws.reals], vec![0; ws.indices], vec![0; ws.bytes]);
-        let mut work = PlanWork {
-            reals: &mut wr,
-            indices: &mut wi,
-            bytes: &mut wb,
-        };
-        let sizes = Plan::<f64, 2>::sizes(&spec, &mut work).unwrap();
-        let (mut r, mut i, mut b) = (
-            vec![0.0; sizes.reals],
-            vec![0; sizes.indices],
-            vec![0; sizes.bytes],
-        );
-        let mut plan = Plan::init(&spec, &mut work, &mut r, &mut i, &mut b).unwrap();
+        let (mut pools, _) = support::plan::Pools::build(&spec).unwrap();
+        let mut plan = pools.open::<2>().unwrap();
         let mut out = vec![[0.0; 2]; points.len()];
         for start in [Start::Cold, Start::Warm] {
             let motion = PlanMotion {

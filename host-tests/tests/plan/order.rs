@@ -19,6 +19,7 @@ use deform_kernel::plan::{
 use deform_kernel::spring::{AmgOptions, LinearMethod, Preconditioner, SolveOptions};
 use deform_kernel::{Cells, Error, Graph};
 use support::order::{OwnedGraph, OwnedPerm};
+use support::plan::Pools;
 use support::quaternion::{block2, block3, TestMesh};
 
 /// A mesh numbered at random: points, graph, boundary (elements over the boundary order).
@@ -108,38 +109,6 @@ impl<const D: usize> Scrambled<D> {
 }
 
 type Spec<'a, const D: usize> = PlanSpec<'a, f64, D>;
-
-/// Owned pools of a plan built from `spec`.
-struct Pools {
-    reals: Vec<f64>,
-    indices: Vec<u32>,
-    bytes: Vec<u8>,
-}
-
-impl Pools {
-    fn build<const D: usize>(spec: &Spec<'_, D>) -> deform_kernel::Result<(Self, PlanSizes)> {
-        let ws = Plan::<f64, D>::work_sizes(spec)?;
-        let (mut wr, mut wi, mut wb) =
-            (vec![0.0; ws.reals], vec![0; ws.indices], vec![0; ws.bytes]);
-        let mut work = PlanWork {
-            reals: &mut wr,
-            indices: &mut wi,
-            bytes: &mut wb,
-        };
-        let sizes = Plan::<f64, D>::sizes(spec, &mut work)?;
-        let mut p = Pools {
-            reals: vec![0.0; sizes.reals],
-            indices: vec![0; sizes.indices],
-            bytes: vec![0; sizes.bytes],
-        };
-        Plan::init(spec, &mut work, &mut p.reals, &mut p.indices, &mut p.bytes)?;
-        Ok((p, sizes))
-    }
-
-    fn open<const D: usize>(&mut self) -> deform_kernel::Result<Plan<'_, f64, D>> {
-        Plan::open(&mut self.reals, &mut self.indices, &mut self.bytes)
-    }
-}
 
 fn bits<const D: usize>(v: &[[f64; D]]) -> Vec<[u64; D]> {
     v.iter().map(|p| p.map(f64::to_bits)).collect()
