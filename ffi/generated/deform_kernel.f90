@@ -144,6 +144,13 @@ module deform_kernel
   integer(c_int32_t), parameter, public :: DK_PLAN_SOLVER_AMG = 0
   !> `dk_plan_options.solver`: the one-level method of `dk_plan_options.linear`.
   integer(c_int32_t), parameter, public :: DK_PLAN_SOLVER_LINEAR = 1
+  !> `renumber` of `dk_plan_init_ordered` and its sizing calls: the caller's numbering (as
+  !! `dk_plan_init`).
+  integer(c_int32_t), parameter, public :: DK_PLAN_ORDER_NONE = 0
+  !> `renumber`: reverse Cuthill–McKee of the graph (as `dk_order_rcm`).
+  integer(c_int32_t), parameter, public :: DK_PLAN_ORDER_RCM = 1
+  !> `renumber`: a Hilbert curve through the reference points (as `dk_order_hilbert`).
+  integer(c_int32_t), parameter, public :: DK_PLAN_ORDER_HILBERT = 2
   !> `dk_plan_step` `start`: from the stored solutions (the last one or the extrapolation of
   !! the last two, whichever has the smaller residual, or the cold guess when smaller still).
   integer(c_int32_t), parameter, public :: DK_PLAN_WARM = 0
@@ -951,18 +958,20 @@ module deform_kernel
             dk_plan_options_default, dk_plan_options_default_f32, dk_plan_work_sizes, &
             dk_plan_work_sizes_f32, dk_plan_pool_sizes, dk_plan_pool_sizes_f32, dk_plan_init, &
             dk_plan_init_f32, dk_plan_open, dk_plan_open_f32, dk_plan_step, dk_plan_step_f32, &
-            dk_quality_cell_quality, dk_quality_cell_quality_f32, dk_quality_cell_measures, &
-            dk_quality_cell_measures_f32, dk_quality_min_corner_jacobians, &
-            dk_quality_min_corner_jacobians_f32, dk_quality_inverted_cells, &
-            dk_quality_inverted_cells_f32, dk_quality_folded_cells, dk_quality_folded_cells_f32, &
-            dk_quality_wall_angle_scratch_len, dk_quality_compare, dk_quality_compare_f32, &
-            dk_quality_wall_angle_change, dk_quality_wall_angle_change_f32, dk_quat_mul, &
-            dk_quat_mul_f32, dk_quat_normalize, dk_quat_normalize_f32, dk_quat_inverse, &
-            dk_quat_inverse_f32, dk_quat_from_axis_angle, dk_quat_from_axis_angle_f32, &
-            dk_quat_to_axis_angle, dk_quat_to_axis_angle_f32, dk_quat_rotation_arc, &
-            dk_quat_rotation_arc_f32, dk_quat_rotate_points, dk_quat_rotate_points_f32, &
-            dk_quat_rotate_points_2d, dk_quat_rotate_points_2d_f32, dk_quat_slerp, &
-            dk_quat_slerp_f32, dk_quat_nlerp, dk_quat_nlerp_f32, dk_quat_average, &
+            dk_plan_work_sizes_ordered, dk_plan_work_sizes_ordered_f32, &
+            dk_plan_pool_sizes_ordered, dk_plan_pool_sizes_ordered_f32, dk_plan_init_ordered, &
+            dk_plan_init_ordered_f32, dk_quality_cell_quality, dk_quality_cell_quality_f32, &
+            dk_quality_cell_measures, dk_quality_cell_measures_f32, &
+            dk_quality_min_corner_jacobians, dk_quality_min_corner_jacobians_f32, &
+            dk_quality_inverted_cells, dk_quality_inverted_cells_f32, dk_quality_folded_cells, &
+            dk_quality_folded_cells_f32, dk_quality_wall_angle_scratch_len, dk_quality_compare, &
+            dk_quality_compare_f32, dk_quality_wall_angle_change, &
+            dk_quality_wall_angle_change_f32, dk_quat_mul, dk_quat_mul_f32, dk_quat_normalize, &
+            dk_quat_normalize_f32, dk_quat_inverse, dk_quat_inverse_f32, dk_quat_from_axis_angle, &
+            dk_quat_from_axis_angle_f32, dk_quat_to_axis_angle, dk_quat_to_axis_angle_f32, &
+            dk_quat_rotation_arc, dk_quat_rotation_arc_f32, dk_quat_rotate_points, &
+            dk_quat_rotate_points_f32, dk_quat_rotate_points_2d, dk_quat_rotate_points_2d_f32, &
+            dk_quat_slerp, dk_quat_slerp_f32, dk_quat_nlerp, dk_quat_nlerp_f32, dk_quat_average, &
             dk_quat_average_f32, dk_rbf_options_default, dk_rbf_scratch_len, &
             dk_rbf_index_scratch_len, dk_rbf_deform, dk_rbf_deform_f32, &
             dk_sensitivity_spring_adjoint_scratch_len, dk_sensitivity_spring_adjoint, &
@@ -2409,6 +2418,72 @@ module deform_kernel
       real(c_float), intent(inout) :: out(*)
       integer(c_size_t), value :: out_len
       type(dk_plan_step_report), intent(inout) :: report_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_work_sizes_ordered(mesh, dim, options, renumber, sizes_out) bind(C, &
+        name="dk_plan_work_sizes_ordered") result(s)
+      import :: c_int32_t, dk_plan_mesh, dk_plan_options, dk_plan_sizes
+      type(dk_plan_mesh), intent(in) :: mesh
+      integer(c_int32_t), value :: dim
+      type(dk_plan_options), intent(in) :: options
+      integer(c_int32_t), value :: renumber
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_work_sizes_ordered_f32(mesh, dim, options, renumber, sizes_out) bind(C, &
+        name="dk_plan_work_sizes_ordered_f32") result(s)
+      import :: c_int32_t, dk_plan_mesh_f32, dk_plan_options, dk_plan_sizes
+      type(dk_plan_mesh_f32), intent(in) :: mesh
+      integer(c_int32_t), value :: dim
+      type(dk_plan_options), intent(in) :: options
+      integer(c_int32_t), value :: renumber
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_pool_sizes_ordered(mesh, dim, options, renumber, work, sizes_out) bind(C, &
+        name="dk_plan_pool_sizes_ordered") result(s)
+      import :: c_int32_t, dk_plan_mesh, dk_plan_options, dk_plan_pools, dk_plan_sizes
+      type(dk_plan_mesh), intent(in) :: mesh
+      integer(c_int32_t), value :: dim
+      type(dk_plan_options), intent(in) :: options
+      integer(c_int32_t), value :: renumber
+      type(dk_plan_pools), intent(in) :: work
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_pool_sizes_ordered_f32(mesh, dim, options, renumber, work, sizes_out) bind(C, &
+        name="dk_plan_pool_sizes_ordered_f32") result(s)
+      import :: c_int32_t, dk_plan_mesh_f32, dk_plan_options, dk_plan_pools_f32, dk_plan_sizes
+      type(dk_plan_mesh_f32), intent(in) :: mesh
+      integer(c_int32_t), value :: dim
+      type(dk_plan_options), intent(in) :: options
+      integer(c_int32_t), value :: renumber
+      type(dk_plan_pools_f32), intent(in) :: work
+      type(dk_plan_sizes), intent(inout) :: sizes_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_init_ordered(mesh, dim, options, renumber, work, pools, info_out) bind(C, &
+        name="dk_plan_init_ordered") result(s)
+      import :: c_int32_t, dk_plan_info, dk_plan_mesh, dk_plan_options, dk_plan_pools
+      type(dk_plan_mesh), intent(in) :: mesh
+      integer(c_int32_t), value :: dim
+      type(dk_plan_options), intent(in) :: options
+      integer(c_int32_t), value :: renumber
+      type(dk_plan_pools), intent(in) :: work
+      type(dk_plan_pools), intent(in) :: pools
+      type(dk_plan_info), intent(inout) :: info_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_init_ordered_f32(mesh, dim, options, renumber, work, pools, info_out) bind(C, &
+        name="dk_plan_init_ordered_f32") result(s)
+      import :: c_int32_t, dk_plan_info, dk_plan_mesh_f32, dk_plan_options, dk_plan_pools_f32
+      type(dk_plan_mesh_f32), intent(in) :: mesh
+      integer(c_int32_t), value :: dim
+      type(dk_plan_options), intent(in) :: options
+      integer(c_int32_t), value :: renumber
+      type(dk_plan_pools_f32), intent(in) :: work
+      type(dk_plan_pools_f32), intent(in) :: pools
+      type(dk_plan_info), intent(inout) :: info_out
       integer(c_int32_t) :: s
     end function
     function dk_quality_cell_quality(kind, corners, corners_len, dim, out) bind(C, &

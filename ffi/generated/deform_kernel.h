@@ -83,6 +83,16 @@
 // `dk_plan_options.solver`: the one-level method of `dk_plan_options.linear`.
 #define DK_PLAN_SOLVER_LINEAR 1
 
+// `renumber` of [`dk_plan_init_ordered`] and its sizing calls: the caller's numbering (as
+// [`dk_plan_init`]).
+#define DK_PLAN_ORDER_NONE 0
+
+// `renumber`: reverse Cuthill–McKee of the graph (as `dk_order_rcm`).
+#define DK_PLAN_ORDER_RCM 1
+
+// `renumber`: a Hilbert curve through the reference points (as `dk_order_hilbert`).
+#define DK_PLAN_ORDER_HILBERT 2
+
 // `dk_plan_step` `start`: from the stored solutions (the last one or the extrapolation of
 // the last two, whichever has the smaller residual, or the cold guess when smaller still).
 #define DK_PLAN_WARM 0
@@ -3105,6 +3115,110 @@ dk_status dk_plan_step_f32(const dk_plan_pools_f32 *pools,
                            float *out,
                            size_t out_len,
                            dk_plan_step_report *report_out);
+
+// [`dk_plan_work_sizes`] for a plan that renumbers its mesh for memory locality at init
+// (`renumber`: `DK_PLAN_ORDER_RCM` or `DK_PLAN_ORDER_HILBERT`; `DK_PLAN_ORDER_NONE` is
+// [`dk_plan_work_sizes`]). Renumbered, the work holds the permutation and the permuted mesh
+// as well. Errors: those of [`dk_plan_work_sizes`], `DK_ERR_INVALID_PARAMETER` for an
+// unknown `renumber`.
+//
+// # Safety
+// - `mesh`: one readable `dk_plan_mesh`.
+// - `options`: one readable `dk_plan_options`.
+// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_plan_work_sizes_ordered(const dk_plan_mesh *mesh,
+                                     uint32_t dim,
+                                     const dk_plan_options *options,
+                                     uint32_t renumber,
+                                     dk_plan_sizes *sizes_out);
+
+// `f32` twin of [`dk_plan_work_sizes_ordered`].
+//
+// # Safety
+// As [`dk_plan_work_sizes_ordered`].
+dk_status dk_plan_work_sizes_ordered_f32(const dk_plan_mesh_f32 *mesh,
+                                         uint32_t dim,
+                                         const dk_plan_options *options,
+                                         uint32_t renumber,
+                                         dk_plan_sizes *sizes_out);
+
+// [`dk_plan_pool_sizes`] for a plan that renumbers its mesh (`renumber` as
+// [`dk_plan_work_sizes_ordered`]): `2 N` indices more than without (the stored permutation).
+// Errors: those of [`dk_plan_pool_sizes`], `DK_ERR_INVALID_PARAMETER` for an unknown
+// `renumber`.
+//
+// # Safety
+// - `mesh`: one readable `dk_plan_mesh`.
+// - `options`: one readable `dk_plan_options`.
+// - `work`: one readable `dk_plan_pools`.
+// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_plan_pool_sizes_ordered(const dk_plan_mesh *mesh,
+                                     uint32_t dim,
+                                     const dk_plan_options *options,
+                                     uint32_t renumber,
+                                     const dk_plan_pools *work,
+                                     dk_plan_sizes *sizes_out);
+
+// `f32` twin of [`dk_plan_pool_sizes_ordered`].
+//
+// # Safety
+// As [`dk_plan_pool_sizes_ordered`].
+dk_status dk_plan_pool_sizes_ordered_f32(const dk_plan_mesh_f32 *mesh,
+                                         uint32_t dim,
+                                         const dk_plan_options *options,
+                                         uint32_t renumber,
+                                         const dk_plan_pools_f32 *work,
+                                         dk_plan_sizes *sizes_out);
+
+// [`dk_plan_init`] with the mesh renumbered for memory locality (`renumber`:
+// `DK_PLAN_ORDER_RCM`, reverse Cuthill–McKee of the graph, or `DK_PLAN_ORDER_HILBERT`, a
+// Hilbert curve through the points; sizes from [`dk_plan_work_sizes_ordered`] and
+// [`dk_plan_pool_sizes_ordered`]). The plan stores the permutation (checksummed, it travels
+// with copied pools) and solves in its numbering; the caller sees nothing of it:
+// [`dk_plan_step`] takes the boundary positions in the caller's boundary order and writes
+// `out` in the caller's numbering, bit for bit the un-permuted output of [`dk_plan_init`]'s
+// plan on the mesh renumbered by the same permutation (`dk_order_rcm`, `dk_order_permute_graph`).
+// Worth it on meshes numbered as a generator writes them; a solver that already orders its
+// mesh should use [`dk_plan_init`]. Node indices in errors are the caller's. Errors: those
+// of [`dk_plan_init`], `DK_ERR_INVALID_PARAMETER` for an unknown `renumber`.
+//
+// # Safety
+// - `mesh`: one readable `dk_plan_mesh`.
+// - `options`: one readable `dk_plan_options`.
+// - `work`: one readable `dk_plan_pools`.
+// - `pools`: one readable `dk_plan_pools`.
+// - `info_out`: one readable and writable `dk_plan_info`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_plan_init_ordered(const dk_plan_mesh *mesh,
+                               uint32_t dim,
+                               const dk_plan_options *options,
+                               uint32_t renumber,
+                               const dk_plan_pools *work,
+                               const dk_plan_pools *pools,
+                               dk_plan_info *info_out);
+
+// `f32` twin of [`dk_plan_init_ordered`].
+//
+// # Safety
+// As [`dk_plan_init_ordered`].
+dk_status dk_plan_init_ordered_f32(const dk_plan_mesh_f32 *mesh,
+                                   uint32_t dim,
+                                   const dk_plan_options *options,
+                                   uint32_t renumber,
+                                   const dk_plan_pools_f32 *work,
+                                   const dk_plan_pools_f32 *pools,
+                                   dk_plan_info *info_out);
 
 // Quality of one cell of VTK kind `kind` from its corner coordinates (`corners_len` =
 // node count of the kind × `dim`, VTK order): signed measure, smallest corner Jacobian,

@@ -1419,6 +1419,78 @@ pub fn exercise() {
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.
     black_box(unsafe {
+        deform_kernel_ffi::plan::dk_plan_work_sizes_ordered(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::plan::dk_plan_work_sizes_ordered_f32(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::plan::dk_plan_pool_sizes_ordered(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::plan::dk_plan_pool_sizes_ordered_f32(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::plan::dk_plan_init_ordered(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::plan::dk_plan_init_ordered_f32(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
         deform_kernel_ffi::quality::dk_quality_cell_quality(
             black_box(Default::default()),
             black_box(null()),

@@ -431,3 +431,197 @@ pub unsafe extern "C" fn dk_plan_step_f32(
         report_out,
     )
 }
+
+/// [`dk_plan_work_sizes`] for a plan that renumbers its mesh for memory locality at init
+/// (`renumber`: `DK_PLAN_ORDER_RCM` or `DK_PLAN_ORDER_HILBERT`; `DK_PLAN_ORDER_NONE` is
+/// [`dk_plan_work_sizes`]). Renumbered, the work holds the permutation and the permuted mesh
+/// as well. Errors: those of [`dk_plan_work_sizes`], `DK_ERR_INVALID_PARAMETER` for an
+/// unknown `renumber`.
+///
+/// # Safety
+/// - `mesh`: one readable `dk_plan_mesh`.
+/// - `options`: one readable `dk_plan_options`.
+/// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_plan_work_sizes_ordered(
+    mesh: *const DkPlanMesh<f64>,
+    dim: u32,
+    options: *const dk_plan_options,
+    renumber: u32,
+    sizes_out: *mut dk_plan_sizes,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (mesh, options, sizes_out) = unsafe {
+        (
+            In::new(mesh, 1),
+            In::new(options, 1),
+            Out::new(sizes_out, 1),
+        )
+    };
+    imp::dk_plan_work_sizes_ordered::<f64>(mesh, dim, options, renumber, sizes_out)
+}
+
+/// `f32` twin of [`dk_plan_work_sizes_ordered`].
+///
+/// # Safety
+/// As [`dk_plan_work_sizes_ordered`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_plan_work_sizes_ordered_f32(
+    mesh: *const DkPlanMesh<f32>,
+    dim: u32,
+    options: *const dk_plan_options,
+    renumber: u32,
+    sizes_out: *mut dk_plan_sizes,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (mesh, options, sizes_out) = unsafe {
+        (
+            In::new(mesh, 1),
+            In::new(options, 1),
+            Out::new(sizes_out, 1),
+        )
+    };
+    imp::dk_plan_work_sizes_ordered::<f32>(mesh, dim, options, renumber, sizes_out)
+}
+
+/// [`dk_plan_pool_sizes`] for a plan that renumbers its mesh (`renumber` as
+/// [`dk_plan_work_sizes_ordered`]): `2 N` indices more than without (the stored permutation).
+/// Errors: those of [`dk_plan_pool_sizes`], `DK_ERR_INVALID_PARAMETER` for an unknown
+/// `renumber`.
+///
+/// # Safety
+/// - `mesh`: one readable `dk_plan_mesh`.
+/// - `options`: one readable `dk_plan_options`.
+/// - `work`: one readable `dk_plan_pools`.
+/// - `sizes_out`: one readable and writable `dk_plan_sizes`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_plan_pool_sizes_ordered(
+    mesh: *const DkPlanMesh<f64>,
+    dim: u32,
+    options: *const dk_plan_options,
+    renumber: u32,
+    work: *const DkPlanPools<f64>,
+    sizes_out: *mut dk_plan_sizes,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (mesh, options, work, sizes_out) = unsafe {
+        (
+            In::new(mesh, 1),
+            In::new(options, 1),
+            In::new(work, 1),
+            Out::new(sizes_out, 1),
+        )
+    };
+    imp::dk_plan_pool_sizes_ordered::<f64>(mesh, dim, options, renumber, work, sizes_out)
+}
+
+/// `f32` twin of [`dk_plan_pool_sizes_ordered`].
+///
+/// # Safety
+/// As [`dk_plan_pool_sizes_ordered`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_plan_pool_sizes_ordered_f32(
+    mesh: *const DkPlanMesh<f32>,
+    dim: u32,
+    options: *const dk_plan_options,
+    renumber: u32,
+    work: *const DkPlanPools<f32>,
+    sizes_out: *mut dk_plan_sizes,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (mesh, options, work, sizes_out) = unsafe {
+        (
+            In::new(mesh, 1),
+            In::new(options, 1),
+            In::new(work, 1),
+            Out::new(sizes_out, 1),
+        )
+    };
+    imp::dk_plan_pool_sizes_ordered::<f32>(mesh, dim, options, renumber, work, sizes_out)
+}
+
+/// [`dk_plan_init`] with the mesh renumbered for memory locality (`renumber`:
+/// `DK_PLAN_ORDER_RCM`, reverse Cuthill–McKee of the graph, or `DK_PLAN_ORDER_HILBERT`, a
+/// Hilbert curve through the points; sizes from [`dk_plan_work_sizes_ordered`] and
+/// [`dk_plan_pool_sizes_ordered`]). The plan stores the permutation (checksummed, it travels
+/// with copied pools) and solves in its numbering; the caller sees nothing of it:
+/// [`dk_plan_step`] takes the boundary positions in the caller's boundary order and writes
+/// `out` in the caller's numbering, bit for bit the un-permuted output of [`dk_plan_init`]'s
+/// plan on the mesh renumbered by the same permutation (`dk_order_rcm`, `dk_order_permute_graph`).
+/// Worth it on meshes numbered as a generator writes them; a solver that already orders its
+/// mesh should use [`dk_plan_init`]. Node indices in errors are the caller's. Errors: those
+/// of [`dk_plan_init`], `DK_ERR_INVALID_PARAMETER` for an unknown `renumber`.
+///
+/// # Safety
+/// - `mesh`: one readable `dk_plan_mesh`.
+/// - `options`: one readable `dk_plan_options`.
+/// - `work`: one readable `dk_plan_pools`.
+/// - `pools`: one readable `dk_plan_pools`.
+/// - `info_out`: one readable and writable `dk_plan_info`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_plan_init_ordered(
+    mesh: *const DkPlanMesh<f64>,
+    dim: u32,
+    options: *const dk_plan_options,
+    renumber: u32,
+    work: *const DkPlanPools<f64>,
+    pools: *const DkPlanPools<f64>,
+    info_out: *mut dk_plan_info,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (mesh, options, work, pools, info_out) = unsafe {
+        (
+            In::new(mesh, 1),
+            In::new(options, 1),
+            In::new(work, 1),
+            In::new(pools, 1),
+            Out::new(info_out, 1),
+        )
+    };
+    imp::dk_plan_init_ordered::<f64>(mesh, dim, options, renumber, work, pools, info_out)
+}
+
+/// `f32` twin of [`dk_plan_init_ordered`].
+///
+/// # Safety
+/// As [`dk_plan_init_ordered`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_plan_init_ordered_f32(
+    mesh: *const DkPlanMesh<f32>,
+    dim: u32,
+    options: *const dk_plan_options,
+    renumber: u32,
+    work: *const DkPlanPools<f32>,
+    pools: *const DkPlanPools<f32>,
+    info_out: *mut dk_plan_info,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (mesh, options, work, pools, info_out) = unsafe {
+        (
+            In::new(mesh, 1),
+            In::new(options, 1),
+            In::new(work, 1),
+            In::new(pools, 1),
+            Out::new(info_out, 1),
+        )
+    };
+    imp::dk_plan_init_ordered::<f32>(mesh, dim, options, renumber, work, pools, info_out)
+}

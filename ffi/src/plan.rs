@@ -11,7 +11,7 @@
 #![allow(unsafe_code)] // a parameter struct's arrays become `In`/`Out` tokens (`In::new`) here.
 
 use deform_kernel::plan::{
-    Plan, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
+    Plan, PlanMethod, PlanMotion, PlanOrder, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
 };
 use deform_kernel::quaternion::RotationSource;
 use deform_kernel::spring::AmgOptions;
@@ -35,6 +35,13 @@ pub const DK_PLAN_QUATERNION: u32 = 2;
 pub const DK_PLAN_SOLVER_AMG: u32 = 0;
 /// `dk_plan_options.solver`: the one-level method of `dk_plan_options.linear`.
 pub const DK_PLAN_SOLVER_LINEAR: u32 = 1;
+/// `renumber` of [`dk_plan_init_ordered`] and its sizing calls: the caller's numbering (as
+/// [`dk_plan_init`]).
+pub const DK_PLAN_ORDER_NONE: u32 = 0;
+/// `renumber`: reverse Cuthill–McKee of the graph (as `dk_order_rcm`).
+pub const DK_PLAN_ORDER_RCM: u32 = 1;
+/// `renumber`: a Hilbert curve through the reference points (as `dk_order_hilbert`).
+pub const DK_PLAN_ORDER_HILBERT: u32 = 2;
 /// `dk_plan_step` `start`: from the stored solutions (the last one or the extrapolation of
 /// the last two, whichever has the smaller residual, or the cold guess when smaller still).
 pub const DK_PLAN_WARM: u32 = 0;
@@ -184,6 +191,8 @@ pub(crate) struct SpecArgs<'a, T> {
     /// Per directed edge, or NULL with length 0 for Batina's with `stiffness_exponent`.
     stiffness: In<'a, T>,
     options: In<'a, dk_plan_options>,
+    /// `DK_PLAN_ORDER_*`.
+    renumber: u32,
 }
 
 /// The precision twins of the plan structs, seen through [`SpecArgs`] and [`PoolArgs`].
@@ -217,6 +226,7 @@ impl<T: Real> PlanC for DkPlanMesh<T> {
                 elements: m.elements.tokens(),
                 stiffness: In::new(m.stiffness, m.stiffness_len),
                 options,
+                renumber: DK_PLAN_ORDER_NONE,
             }
         })
     }
@@ -263,6 +273,12 @@ impl<'a, T: Real> SpecArgs<'a, T> {
             DK_PLAN_SOLVER_LINEAR => PlanSolver::Method(o.linear.method::<T>()?),
             _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
         };
+        let renumber = match self.renumber {
+            DK_PLAN_ORDER_NONE => PlanOrder::AsGiven,
+            DK_PLAN_ORDER_RCM => PlanOrder::Rcm,
+            DK_PLAN_ORDER_HILBERT => PlanOrder::Hilbert,
+            _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        };
         Ok(PlanSpec {
             points,
             graph,
@@ -279,6 +295,7 @@ impl<'a, T: Real> SpecArgs<'a, T> {
             },
             solver,
             options: o.linear.stopping::<T>(),
+            renumber,
         })
     }
 }
@@ -447,10 +464,20 @@ pub(crate) fn dk_plan_work_sizes<T: Real>(
     options: In<'_, dk_plan_options>,
     sizes_out: Out<'_, dk_plan_sizes>,
 ) -> dk_status {
-    done(
-        PlanC::spec(mesh, options)
-            .and_then(|spec| by_dim!(dim, work_sizes_for_dim::<T>, (&spec, sizes_out))),
-    )
+    work_sizes(mesh, dim, options, DK_PLAN_ORDER_NONE, sizes_out)
+}
+
+fn work_sizes<T: Real>(
+    mesh: In<'_, DkPlanMesh<T>>,
+    dim: u32,
+    options: In<'_, dk_plan_options>,
+    renumber: u32,
+    sizes_out: Out<'_, dk_plan_sizes>,
+) -> dk_status {
+    done(PlanC::spec(mesh, options).and_then(|spec| {
+        let spec = SpecArgs { renumber, ..spec };
+        by_dim!(dim, work_sizes_for_dim::<T>, (&spec, sizes_out))
+    }))
 }
 
 /// The exact lengths of the three plan pools for this mesh: validates the mesh and options
@@ -466,8 +493,22 @@ pub(crate) fn dk_plan_pool_sizes<T: Real>(
     work: In<'_, DkPlanPools<T>>,
     sizes_out: Out<'_, dk_plan_sizes>,
 ) -> dk_status {
+    pool_sizes(mesh, dim, options, DK_PLAN_ORDER_NONE, work, sizes_out)
+}
+
+fn pool_sizes<T: Real>(
+    mesh: In<'_, DkPlanMesh<T>>,
+    dim: u32,
+    options: In<'_, dk_plan_options>,
+    renumber: u32,
+    work: In<'_, DkPlanPools<T>>,
+    sizes_out: Out<'_, dk_plan_sizes>,
+) -> dk_status {
     done((|| {
-        let spec = PlanC::spec(mesh, options)?;
+        let spec = SpecArgs {
+            renumber,
+            ..PlanC::spec(mesh, options)?
+        };
         let work = <DkPlanMesh<T> as PlanC>::pools(work)?;
         by_dim!(dim, sizes_for_dim::<T>, (&spec, work, sizes_out))
     })())
@@ -493,8 +534,31 @@ pub(crate) fn dk_plan_init<T: Real>(
     pools: In<'_, DkPlanPools<T>>,
     info_out: Out<'_, dk_plan_info>,
 ) -> dk_status {
+    init(
+        mesh,
+        dim,
+        options,
+        DK_PLAN_ORDER_NONE,
+        work,
+        pools,
+        info_out,
+    )
+}
+
+fn init<T: Real>(
+    mesh: In<'_, DkPlanMesh<T>>,
+    dim: u32,
+    options: In<'_, dk_plan_options>,
+    renumber: u32,
+    work: In<'_, DkPlanPools<T>>,
+    pools: In<'_, DkPlanPools<T>>,
+    info_out: Out<'_, dk_plan_info>,
+) -> dk_status {
     done((|| {
-        let spec = PlanC::spec(mesh, options)?;
+        let spec = SpecArgs {
+            renumber,
+            ..PlanC::spec(mesh, options)?
+        };
         let work = <DkPlanMesh<T> as PlanC>::pools(work)?;
         let pools = <DkPlanMesh<T> as PlanC>::pools(pools)?;
         by_dim!(dim, init_for_dim::<T>, (&spec, work, pools, info_out))
@@ -566,4 +630,60 @@ pub(crate) fn dk_plan_step<T: Real>(
         step_for_dim::<T>,
         (pools, motion, out, report_out)
     ))
+}
+
+/// [`dk_plan_work_sizes`] for a plan that renumbers its mesh for memory locality at init
+/// (`renumber`: `DK_PLAN_ORDER_RCM` or `DK_PLAN_ORDER_HILBERT`; `DK_PLAN_ORDER_NONE` is
+/// [`dk_plan_work_sizes`]). Renumbered, the work holds the permutation and the permuted mesh
+/// as well. Errors: those of [`dk_plan_work_sizes`], `DK_ERR_INVALID_PARAMETER` for an
+/// unknown `renumber`.
+#[export(twin, mesh[1], options[1], sizes_out[1])]
+pub(crate) fn dk_plan_work_sizes_ordered<T: Real>(
+    mesh: In<'_, DkPlanMesh<T>>,
+    dim: u32,
+    options: In<'_, dk_plan_options>,
+    renumber: u32,
+    sizes_out: Out<'_, dk_plan_sizes>,
+) -> dk_status {
+    work_sizes(mesh, dim, options, renumber, sizes_out)
+}
+
+/// [`dk_plan_pool_sizes`] for a plan that renumbers its mesh (`renumber` as
+/// [`dk_plan_work_sizes_ordered`]): `2 N` indices more than without (the stored permutation).
+/// Errors: those of [`dk_plan_pool_sizes`], `DK_ERR_INVALID_PARAMETER` for an unknown
+/// `renumber`.
+#[export(twin, mesh[1], options[1], work[1], sizes_out[1])]
+pub(crate) fn dk_plan_pool_sizes_ordered<T: Real>(
+    mesh: In<'_, DkPlanMesh<T>>,
+    dim: u32,
+    options: In<'_, dk_plan_options>,
+    renumber: u32,
+    work: In<'_, DkPlanPools<T>>,
+    sizes_out: Out<'_, dk_plan_sizes>,
+) -> dk_status {
+    pool_sizes(mesh, dim, options, renumber, work, sizes_out)
+}
+
+/// [`dk_plan_init`] with the mesh renumbered for memory locality (`renumber`:
+/// `DK_PLAN_ORDER_RCM`, reverse Cuthill–McKee of the graph, or `DK_PLAN_ORDER_HILBERT`, a
+/// Hilbert curve through the points; sizes from [`dk_plan_work_sizes_ordered`] and
+/// [`dk_plan_pool_sizes_ordered`]). The plan stores the permutation (checksummed, it travels
+/// with copied pools) and solves in its numbering; the caller sees nothing of it:
+/// [`dk_plan_step`] takes the boundary positions in the caller's boundary order and writes
+/// `out` in the caller's numbering, bit for bit the un-permuted output of [`dk_plan_init`]'s
+/// plan on the mesh renumbered by the same permutation (`dk_order_rcm`, `dk_order_permute_graph`).
+/// Worth it on meshes numbered as a generator writes them; a solver that already orders its
+/// mesh should use [`dk_plan_init`]. Node indices in errors are the caller's. Errors: those
+/// of [`dk_plan_init`], `DK_ERR_INVALID_PARAMETER` for an unknown `renumber`.
+#[export(twin, mesh[1], options[1], work[1], pools[1], info_out[1])]
+pub(crate) fn dk_plan_init_ordered<T: Real>(
+    mesh: In<'_, DkPlanMesh<T>>,
+    dim: u32,
+    options: In<'_, dk_plan_options>,
+    renumber: u32,
+    work: In<'_, DkPlanPools<T>>,
+    pools: In<'_, DkPlanPools<T>>,
+    info_out: Out<'_, dk_plan_info>,
+) -> dk_status {
+    init(mesh, dim, options, renumber, work, pools, info_out)
 }

@@ -53,6 +53,20 @@ static inline void *xmalloc(size_t bytes) {
     return p;
 }
 
+/* `label[0..n)` = a random permutation of 0..n (Fisher–Yates on an LCG from `seed`). */
+static inline void lcg_shuffle(uint32_t *label, size_t n, uint64_t seed) {
+    size_t i, j;
+    for (i = 0; i < n; i++) label[i] = (uint32_t)i;
+    for (i = n; i-- > 1;) {
+        uint32_t t;
+        seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+        j = (size_t)((seed >> 33) % (i + 1));
+        t = label[i];
+        label[i] = label[j];
+        label[j] = t;
+    }
+}
+
 /* `name` and the bits of `v[0..n)`, as the host tests print them from Rust. */
 static inline void hex64(const char *name, const double *v, size_t n) {
     size_t i;

@@ -138,6 +138,7 @@ fuzz_target!(|inp: Input| {
         stiffness: PlanStiffness::Batina { exponent: 1.0 },
         solver,
         options,
+        renumber: deform_kernel::plan::PlanOrder::AsGiven,
     };
     let ws = match Plan::<f64, 2>::work_sizes(&spec) {
         Ok(ws) => ws,

@@ -238,6 +238,7 @@ fn run(label: &str, period: usize) {
             stiffness: PlanStiffness::Batina { exponent: 1.0 },
             solver: PlanSolver::Amg(AmgOptions::default()),
             options: options(),
+            renumber: deform_kernel::plan::PlanOrder::AsGiven,
         };
         let t0 = Instant::now();
         let ws = Plan::<f64, 2>::work_sizes(&spec).unwrap();

@@ -151,6 +151,7 @@ impl<T: Real, const D: usize> Case<T, D> {
             stiffness: PlanStiffness::Batina { exponent: T::ONE },
             solver,
             options: options(),
+            renumber: deform_kernel::plan::PlanOrder::AsGiven,
         }
     }
 }
@@ -1175,6 +1176,7 @@ impl Grid {
             stiffness: PlanStiffness::Batina { exponent: 1.0 },
             solver: PlanSolver::Method(GRID_CG),
             options: options(),
+            renumber: deform_kernel::plan::PlanOrder::AsGiven,
         }
     }
 }

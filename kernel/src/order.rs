@@ -174,20 +174,49 @@ pub fn hilbert_order<T: Real, const D: usize>(
     for (k, p) in keys.iter_mut().zip(points) {
         *k = hilbert::key(p, &frame);
     }
+    let keys: &[u64] = keys;
+    sort_by_key(order, inverse, |v| keys.get(v as usize).copied());
+    Ok(())
+}
+
+/// [`hilbert_order`] with its keys kept in `2 × points.len()` words of `keys` (low and high
+/// halves), for callers whose scratch is `u32` (a plan's init work): the same order.
+/// Arguments are checked by the caller (finite points, lengths).
+pub(crate) fn hilbert_order_words<T: Real, const D: usize>(
+    points: &[[T; D]],
+    order: &mut [u32],
+    inverse: &mut [u32],
+    keys: &mut [u32],
+) {
+    let frame = hilbert::half_box(points);
+    for (k, p) in keys.chunks_exact_mut(2).zip(points) {
+        let key = hilbert::key(p, &frame);
+        if let [lo, hi] = k {
+            (*lo, *hi) = (key as u32, (key >> 32) as u32);
+        }
+    }
+    let keys: &[u32] = keys;
+    sort_by_key(order, inverse, |v| {
+        let at = (v as usize).checked_mul(2)?;
+        let (lo, hi) = (keys.get(at)?, keys.get(at.checked_add(1)?)?);
+        Some(u64::from(*lo) | (u64::from(*hi) << 32))
+    });
+}
+
+/// `order` sorted by `(key(node), node)` (a missing key sorts last), `inverse` its inverse.
+fn sort_by_key(order: &mut [u32], inverse: &mut [u32], key: impl Fn(u32) -> Option<u64>) {
     for (k, o) in order.iter_mut().enumerate() {
         *o = k as u32;
     }
-    let keys: &[u64] = keys;
     heap_sort(&mut ByKey {
         items: order,
-        key: |v| (keys.get(v as usize).copied().unwrap_or(u64::MAX), v),
+        key: |v| (key(v).unwrap_or(u64::MAX), v),
     });
     for (k, &v) in order.iter().enumerate() {
         if let Some(slot) = inverse.get_mut(v as usize) {
             *slot = k as u32;
         }
     }
-    Ok(())
 }
 
 /// How far apart in memory the two ends of a graph's edges are.

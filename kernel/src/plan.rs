@@ -47,11 +47,29 @@
 //! nodes, and a table with sliding kinds is refused with
 //! [`Error::InvalidParameter`](crate::Error::InvalidParameter).
 //!
+//! **Node order** ([`PlanSpec::renumber`], [`PlanOrder`]). A mesh numbered as a generator
+//! writes it puts neighbours far apart in memory, and every sweep, product and multigrid
+//! level of every step misses the cache (issue 34: half of a spring solve on a 234k-node gmsh
+//! mesh). Asked to, `init` renumbers the mesh once for locality (reverse Cuthill–McKee from
+//! the graph, or a Hilbert curve through the points), in the init work, and stores the
+//! permutation in the index pool (checksummed, so a copied plan reopens with it) and the
+//! graph, points, boundary list and stiffness permuted. The caller sees nothing of it:
+//! `step` takes the boundary positions in [`PlanSpec::boundary`] order as always and writes
+//! `out` in the caller's numbering. The output is bit for bit the un-permuted output of a
+//! plan built without the option on the mesh renumbered by the same permutation
+//! ([`Plan::permutation`] returns it), and equal to the unordered plan's to solver
+//! tolerance. Node indices in `init`'s errors are the caller's. The default,
+//! [`PlanOrder::AsGiven`], keeps every plan's bits and pool sizes. A solver that already
+//! orders its mesh (most finite-volume codes renumber for their own sweeps) should leave it
+//! off and not pay twice: the ordering costs `O(E)` (RCM) or `O(N log N)` (Hilbert) at init,
+//! `2N` indices in the pool and a scattered write of `out` each step.
+//!
 //! **Errors.** `step` validates its input before it touches anything: on `Err` the caller's
 //! `out` and the plan's state (previous solution, step counter) are unchanged.
 
 mod build;
 mod layout;
+mod order;
 mod step;
 mod storage;
 
@@ -61,6 +79,7 @@ use crate::cells::Cells;
 use crate::check;
 use crate::error::Result;
 use crate::graph::Graph;
+use crate::order::Permutation;
 use crate::quaternion::RotationSource;
 use crate::real::Real;
 use crate::spring::constraints::Constraints;
@@ -105,6 +124,21 @@ pub enum PlanStiffness<'a, T> {
     Given(&'a [T]),
 }
 
+/// How a plan numbers its mesh for the solve ([`PlanSpec::renumber`]; see the module doc).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum PlanOrder {
+    /// The caller's numbering: no permutation stored (the sizes and bits of every plan built
+    /// before the option existed).
+    #[default]
+    AsGiven,
+    /// Reverse Cuthill–McKee of the graph ([`rcm_order`](crate::order::rcm_order)).
+    Rcm,
+    /// A Hilbert curve through the reference points
+    /// ([`hilbert_order`](crate::order::hilbert_order)).
+    Hilbert,
+}
+
 /// Everything a plan is built from. Nothing here is borrowed after [`Plan::init`].
 #[derive(Clone, Copy, Debug)]
 pub struct PlanSpec<'a, T: Real, const D: usize> {
@@ -131,6 +165,8 @@ pub struct PlanSpec<'a, T: Real, const D: usize> {
     pub solver: PlanSolver<T>,
     /// Stopping rules of every step's solve.
     pub options: SolveOptions<T>,
+    /// Renumber the mesh for memory locality at init ([`PlanOrder::AsGiven`]: no).
+    pub renumber: PlanOrder,
 }
 
 /// Lengths of the three plan pools (or of the transient [`PlanWork`]).
@@ -253,13 +289,16 @@ impl<T: Real, const D: usize> core::fmt::Debug for Plan<'_, T, D> {
             .field("used", &self.meta.sizes)
             .field("steps", &self.meta.steps)
             .field("amg_levels", &self.amg_levels())
+            .field("renumbering", &self.renumbering())
             .finish()
     }
 }
 
 impl<'a, T: Real, const D: usize> Plan<'a, T, D> {
     /// Lengths of the transient [`PlanWork`] for this spec: `E` reals, `max(4 (N + E) + 64,
-    /// N)` indices, `N` bytes.
+    /// N)` indices, `N` bytes; renumbered ([`PlanSpec::renumber`]) `E + N D` reals and
+    /// `3 N + 1 + 2 E` indices more (the permutation, the permuted graph with its edge map,
+    /// the permuted points).
     ///
     /// # Errors
     /// The length checks of [`Plan::sizes`] that need no work buffers: `points` not `N`
@@ -302,15 +341,31 @@ impl<'a, T: Real, const D: usize> Plan<'a, T, D> {
         method: PlanMethod,
         solver: &LinearMethod<T>,
     ) -> Option<PlanSizes> {
+        Self::capacity_ordered(counts, method, solver, PlanOrder::AsGiven)
+    }
+
+    /// [`Plan::capacity`] of a plan that renumbers its mesh (`renumber`, as
+    /// [`PlanSpec::renumber`]): `2 N` indices more than without.
+    pub const fn capacity_ordered(
+        counts: &PlanCounts,
+        method: PlanMethod,
+        solver: &LinearMethod<T>,
+        renumber: PlanOrder,
+    ) -> Option<PlanSizes> {
         check::mesh_dim::<D>();
-        build::one_level_sizes(counts, D, method, solver)
+        build::one_level_sizes(counts, D, method, solver, renumber)
     }
 
     /// The transient work sizes from the counts alone: what [`Plan::work_sizes`] returns for a
     /// spec with `counts.nodes` nodes and `counts.edges` directed edges (`const`, as
     /// [`Plan::capacity`]).
     pub const fn work_capacity(counts: &PlanCounts) -> PlanSizes {
-        build::work_sizes_of(counts.nodes, counts.edges)
+        Self::work_capacity_ordered(counts, PlanOrder::AsGiven)
+    }
+
+    /// [`Plan::work_capacity`] of a plan that renumbers its mesh (`renumber`).
+    pub const fn work_capacity_ordered(counts: &PlanCounts, renumber: PlanOrder) -> PlanSizes {
+        build::work_sizes_of(counts.nodes, counts.edges, D, renumber)
     }
 
     /// The exact pool sizes for `spec` (validates the spec and runs the hierarchy's symbolic
@@ -420,6 +475,18 @@ impl<'a, T: Real, const D: usize> Plan<'a, T, D> {
     /// Levels of the multigrid hierarchy (0 without one).
     pub fn amg_levels(&self) -> usize {
         self.amg.as_ref().map_or(0, |a| a.layout.count)
+    }
+
+    /// How the plan numbers its mesh ([`PlanSpec::renumber`]).
+    pub fn renumbering(&self) -> PlanOrder {
+        self.meta.counts.order
+    }
+
+    /// The permutation the plan solves in (`order[new] = old`), `None` for
+    /// [`PlanOrder::AsGiven`]: renumbering the mesh by it and building a plan without the
+    /// option gives the same bits, permuted.
+    pub fn permutation(&self) -> Option<Permutation<'_>> {
+        order::stored(&self.meta.sec, self.indices)
     }
 }
 

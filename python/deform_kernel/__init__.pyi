@@ -91,6 +91,7 @@ class Plan:
         solver: Solver = "amg",
         tol: float = 1e-10,
         max_iter: int = 10000,
+        renumber: Literal["off", "rcm", "hilbert"] = "off",
     ) -> None: ...
     def pool_sizes(self) -> Tuple[int, int, int]: ...
     def step(

@@ -4,7 +4,7 @@
 //! check) and solves from the previous solution.
 
 use deform_kernel::plan::{
-    Plan, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
+    Plan, PlanMethod, PlanMotion, PlanOrder, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
 };
 use deform_kernel::quaternion::RotationSource;
 use deform_kernel::spring::{AmgOptions, LinearMethod, Preconditioner, SolveOptions};
@@ -48,6 +48,7 @@ struct Build {
     method: PlanMethod,
     solver: PlanSolver<f64>,
     options: SolveOptions<f64>,
+    renumber: PlanOrder,
 }
 
 /// The three pools.
@@ -71,6 +72,7 @@ fn build<const D: usize>(b: &Build) -> Result<Pools, Failed> {
         stiffness: PlanStiffness::Batina { exponent: 1.0 },
         solver: b.solver,
         options: b.options,
+        renumber: b.renumber,
     };
     let ws = Plan::work_sizes(&spec).map_err(at("plan"))?;
     let (mut wr, mut wi, mut wb) = (
@@ -150,7 +152,7 @@ pub struct NativePlan {
 impl NativePlan {
     /// Validates the mesh and builds the plan (stiffness, hierarchy) with the GIL released.
     #[new]
-    #[pyo3(signature = (points, cells, boundary, method, solver, tol, max_iter))]
+    #[pyo3(signature = (points, cells, boundary, method, solver, tol, max_iter, renumber))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -161,6 +163,7 @@ impl NativePlan {
         solver: &str,
         tol: f64,
         max_iter: usize,
+        renumber: &str,
     ) -> PyResult<Self> {
         let dim = points.shape()[1];
         let b = Build {
@@ -177,6 +180,12 @@ impl NativePlan {
                 max_iterations: max_iter,
                 residual_tol: tol,
                 update_tol: 0.0,
+            },
+            renumber: match renumber {
+                "off" => PlanOrder::AsGiven,
+                "rcm" => PlanOrder::Rcm,
+                "hilbert" => PlanOrder::Hilbert,
+                r => return Err(PyValueError::new_err(format!("renumber: unknown {r:?}"))),
             },
         };
         let pools = match dim {

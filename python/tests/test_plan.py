@@ -103,6 +103,7 @@ def test_bad_steps_change_nothing():
 
 @pytest.mark.parametrize("kw,message", [
     ({"method": "idw"}, "method"), ({"solver": "lu"}, "solver"), ({"tol": 0.0}, "tol"),
+    ({"renumber": "auto"}, "renumber"),
 ])
 def test_bad_plans(kw, message):
     pts, tris, _, _, boundary = case()
@@ -110,3 +111,28 @@ def test_bad_plans(kw, message):
         dk.Plan(pts, [("triangle", tris)], boundary, **kw)
     with pytest.raises(ValueError, match="distinct"):
         dk.Plan(pts, [("triangle", tris)], np.append(boundary, boundary[0]))
+
+
+@pytest.mark.parametrize("renumber", ["rcm", "hilbert"])
+def test_renumbered_plan_matches_the_plain_plan(renumber):
+    """A plan that renumbers itself, on a randomly numbered mesh, returns its meshes in the
+    caller's numbering: the plain plan's to solver tolerance, the boundary exactly (the bits
+    against a caller-renumbered mesh are checked in host-tests/tests/plan/order.rs)."""
+    pts, tris, _, _, boundary = case()
+    shuffle = np.random.default_rng(3).permutation(len(pts))  # new -> old
+    where = np.argsort(shuffle)  # old -> new
+    pts, tris, boundary = pts[shuffle], where[tris], where[boundary]
+    cells = [("triangle", tris)]
+    plan = dk.Plan(pts, cells, boundary, method="quaternion", solver="cg", renumber=renumber)
+    plain = dk.Plan(pts, cells, boundary, method="quaternion", solver="cg")
+    # The same pools but the stored permutation (2 N indices).
+    reals, indices, nbytes = plain.pool_sizes()
+    assert plan.pool_sizes() == (reals, indices + 2 * len(pts), nbytes)
+    for s in (1, 2):
+        half = np.radians(pitch(s)) / 2
+        q = np.tile([np.cos(half), 0.0, 0.0, np.sin(half)], (boundary.size, 1))
+        moved = pts[boundary] + 0.01 * s
+        a = plan.step(moved, q)
+        b = plain.step(moved, q)
+        assert np.max(np.abs(a - b)) < 1e-7
+        assert np.array_equal(a[boundary], moved)

@@ -2,7 +2,8 @@
 //! O-grid 20 times through one plan (checkpointed halfway); the Fortran program must print
 //! exactly what the C one prints, and the Rust `Plan` API on the same input must give the same
 //! iterations, warm/extrapolated choices and final mesh, bit for bit. The examples fail
-//! unless warm starts take fewer iterations than cold ones. Needs `gcc` and `gfortran`.
+//! unless warm starts take fewer iterations than cold ones. Renumbered plans
+//! (`ffi/tests/plan_order.c`) against the Rust plan. Needs `gcc` and `gfortran`.
 
 #[path = "../support/mod.rs"]
 mod support;
@@ -10,10 +11,11 @@ mod support;
 use support::c_build::*;
 
 use deform_kernel::plan::{
-    Plan, PlanMethod, PlanMotion, PlanSolver, PlanSpec, PlanStiffness, PlanWork,
+    Plan, PlanMethod, PlanMotion, PlanOrder, PlanSolver, PlanSpec, PlanStiffness, PlanWork, Start,
 };
-use deform_kernel::spring::{AmgOptions, SolveOptions};
-use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph};
+use deform_kernel::quaternion::RotationSource;
+use deform_kernel::spring::{AmgOptions, LinearMethod, Preconditioner, SolveOptions};
+use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph, Quat};
 
 const NI: usize = 48;
 const NJ: usize = 16;
@@ -112,6 +114,7 @@ fn c_plan_steps_equal_the_rust_plan_bit_for_bit() {
         stiffness: PlanStiffness::Batina { exponent: 1.0 },
         solver: PlanSolver::Amg(AmgOptions::default()),
         options: SolveOptions::default(),
+        renumber: PlanOrder::AsGiven,
     };
     let ws = Plan::<f64, 2>::work_sizes(&spec).unwrap();
     let (mut wr, mut wi, mut wb) = (
@@ -197,4 +200,74 @@ fn c_plan_edge_cases() {
         run_c_test("plan_edges", "plan_edges_c", Link::Static),
         "plan_edges: every check held\n"
     );
+}
+
+/// Renumbered plans from C (`ffi/tests/plan_order.c`, which checks them against plain plans on
+/// the mesh it renumbers itself): each method's final mesh is the Rust plan's with
+/// `PlanOrder::Rcm` on the same input, bit for bit.
+#[test]
+fn c_renumbered_plans_equal_the_rust_plan_bit_for_bit() {
+    let printed = run_c_test("plan_order", "plan_order_c", Link::Static);
+    let mut lines = printed.lines();
+    let mut next = |name: &str| lines.next().unwrap_or_else(|| panic!("{name}: {printed}"));
+    let ints = |line: &str, name: &str| -> Vec<u32> {
+        let rest = line
+            .strip_prefix(name)
+            .unwrap_or_else(|| panic!("{name}: {line}"));
+        rest.split_whitespace()
+            .map(|x| x.parse().unwrap())
+            .collect()
+    };
+    let points = pairs(&parse_hex(next("points"), "points"));
+    let offsets = ints(next("offsets"), "offsets");
+    let targets = ints(next("targets"), "targets");
+    let boundary = ints(next("boundary"), "boundary");
+    let deformed = pairs(&parse_hex(next("deformed"), "deformed"));
+    let rotation = Quat::new(0.9987502603949663, 0.0, 0.0, 0.04997916927067833);
+    for (method, solver, name) in [
+        (
+            PlanMethod::Spring,
+            PlanSolver::Amg(AmgOptions::default()),
+            "spring",
+        ),
+        (
+            PlanMethod::QuaternionSpring,
+            PlanSolver::Method(LinearMethod::Cg {
+                preconditioner: Preconditioner::Jacobi,
+            }),
+            "quaternion",
+        ),
+    ] {
+        let spec = PlanSpec {
+            points: &points,
+            graph: Graph::new(&offsets, &targets).unwrap(),
+            boundary: &boundary,
+            elements: None,
+            constraints: None,
+            method,
+            stiffness: PlanStiffness::Batina { exponent: 1.0 },
+            solver,
+            options: SolveOptions::default(),
+            renumber: PlanOrder::Rcm,
+        };
+        let (mut pools, _) = support::plan::Pools::build(&spec).unwrap();
+        let mut plan = pools.open::<2>().unwrap();
+        let mut out = vec![[0.0; 2]; points.len()];
+        for start in [Start::Cold, Start::Warm] {
+            let motion = PlanMotion {
+                rotations: RotationSource::Rigid(rotation),
+                start,
+                ..PlanMotion::new(&deformed)
+            };
+            plan.step(&motion, &mut out).unwrap();
+        }
+        let c_final = parse_hex(next(name), name);
+        let rust: Vec<u64> = out.iter().flatten().map(|x| x.to_bits()).collect();
+        assert_eq!(
+            c_final.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+            rust,
+            "{name}"
+        );
+    }
+    assert_eq!(next("end"), "plan_order: every check held");
 }

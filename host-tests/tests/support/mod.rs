@@ -2,7 +2,7 @@
 //! and compiles C/Fortran programs against it, `quaternion` the structured test meshes and
 //! rigid motions of the quaternion tests, `spring` the spring systems, reference nets and
 //! multigrid buffers of the spring tests, `rbf` the point clouds of the RBF tests, `order` the
-//! meshes of the ordering tests, `python` the interpreter of the independent Python
+//! meshes of the ordering tests, `plan` owned plan pools, `python` the interpreter of the independent Python
 //! references. A binary at the top of `tests/` declares
 //! `mod support;`, one in a subdirectory `#[path = "../support/mod.rs"] mod support;`.
 #![allow(dead_code)]
@@ -10,6 +10,7 @@
 pub mod c_build;
 pub mod elasticity;
 pub mod order;
+pub mod plan;
 pub mod python;
 pub mod quaternion;
 pub mod rbf;

@@ -3,7 +3,7 @@
 
 use core::ops::Range;
 
-use super::{PlanCounts, PlanMethod, PlanSizes, AMG_LAYOUT_WORDS, AMG_WEIGHTS};
+use super::{PlanCounts, PlanMethod, PlanOrder, PlanSizes, AMG_LAYOUT_WORDS, AMG_WEIGHTS};
 use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::spring::{
@@ -42,6 +42,9 @@ pub(super) mod w {
     pub const REALS: usize = 19;
     pub const INDICES: usize = 20;
     pub const BYTES: usize = 21;
+    /// The node order (0: the caller's, 1: RCM, 2: Hilbert); 0 in every plan built before
+    /// the option, so their header and checksum are unchanged.
+    pub const ORDER: usize = 22;
     /// Words `0..CHECKED` are covered by the checksum.
     pub const CHECKED: usize = 40;
     pub const SUM_LO: usize = 40;
@@ -100,6 +103,15 @@ impl SolverKind {
     }
 }
 
+/// The stored code of a node order (header word [`w::ORDER`]).
+pub(super) const fn order_code(o: PlanOrder) -> u32 {
+    match o {
+        PlanOrder::AsGiven => 0,
+        PlanOrder::Rcm => 1,
+        PlanOrder::Hilbert => 2,
+    }
+}
+
 /// The counts a layout is computed from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct Counts {
@@ -116,6 +128,8 @@ pub(super) struct Counts {
     pub amg_values: usize,
     /// Solver scratch items of `V` values.
     pub scratch: usize,
+    /// The node order (a renumbered plan stores its permutation).
+    pub order: PlanOrder,
 }
 
 impl Counts {
@@ -125,8 +139,7 @@ impl Counts {
     /// values) lengths, `scratch` the solver's scratch items.
     pub(super) const fn of(
         mesh: &PlanCounts,
-        d: usize,
-        method: PlanMethod,
+        (d, method, order): (usize, PlanMethod, PlanOrder),
         solver: SolverKind,
         amg: (usize, usize),
         scratch: usize,
@@ -148,7 +161,13 @@ impl Counts {
             amg_index: amg.0,
             amg_values: amg.1,
             scratch,
+            order,
         }
+    }
+
+    /// Whether the plan stores a permutation.
+    pub const fn ordered(&self) -> bool {
+        !matches!(self.order, PlanOrder::AsGiven)
     }
 
     /// Values per node of the solve.
@@ -175,6 +194,8 @@ pub(super) struct Sections {
     pub cell_nodes: Range<usize>,
     pub amg_words: Range<usize>,
     pub amg_index: Range<usize>,
+    /// `order` then `inverse` (`2 N`) of a renumbered plan, empty otherwise.
+    pub perm: Range<usize>,
     // byte pool
     pub kinds: Range<usize>,
     pub mask: Range<usize>,
@@ -241,6 +262,14 @@ impl Sections {
         let cell_nodes = take!(i, Some(if el { c.cn } else { 0 }));
         let amg_words = take!(i, Some(if amg { AMG_LAYOUT_WORDS } else { 0 }));
         let amg_index = take!(i, Some(if amg { c.amg_index } else { 0 }));
+        let perm = take!(
+            i,
+            if c.ordered() {
+                c.n.checked_mul(2)
+            } else {
+                Some(0)
+            }
+        );
         let mut y: usize = 0;
         let kinds = take!(y, Some(c.n));
         let mask = take!(y, Some(c.n));
@@ -290,6 +319,7 @@ impl Sections {
             cell_nodes,
             amg_words,
             amg_index,
+            perm,
             kinds,
             mask,
             cell_kinds,
@@ -602,6 +632,12 @@ pub(super) fn open<T: Real, const D: usize>(
         amg_index: h(w::AMG_INDEX),
         amg_values: h(w::AMG_VALUES),
         scratch: h(w::SCRATCH),
+        order: match hw(indices, w::ORDER) {
+            0 => PlanOrder::AsGiven,
+            1 => PlanOrder::Rcm,
+            2 => PlanOrder::Hilbert,
+            _ => return Err(bad("unknown node order code")),
+        },
     };
     let sec = Sections::new(&counts).map_err(|_| bad("counts overflow"))?;
     let sizes = sec.sizes;
@@ -630,6 +666,9 @@ pub(super) fn open<T: Real, const D: usize>(
         if stored >= needed && state.iter().any(|x| !x.is_finite()) {
             return Err(bad("stored solution is not finite"));
         }
+    }
+    if counts.ordered() && super::order::stored(&sec, indices).is_none() {
+        return Err(bad("stored node order is not a permutation"));
     }
     let amg = if solver == SolverKind::Amg {
         let (layout, sweeps) = read_amg_words(indices.get(sec.amg_words.clone()).unwrap_or(&[]));

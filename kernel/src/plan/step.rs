@@ -140,6 +140,8 @@ struct Fixed<'p, T: Real, const D: usize> {
     sys: SpringSystem<'p, T>,
     points: &'p [[T; D]],
     boundary: &'p [u32],
+    /// `order[new] = old` of a renumbered plan (empty: the caller's numbering).
+    order: &'p [u32],
     options: SolveOptions<T>,
     omega: T,
 }
@@ -191,6 +193,7 @@ fn views<'p, T: Real, const D: usize, const V: usize>(
             sys,
             points: sec(fixed, &s.points).as_chunks::<D>().0,
             boundary: sec(indices, &s.boundary),
+            order: sec(indices, &s.perm).get(..meta.n).unwrap_or(&[]),
             options,
             omega: p(layout::P_OMEGA),
         },
@@ -267,16 +270,31 @@ fn run_spring<T: Real, const D: usize>(
     if crate::real::first_non_finite(m.work).is_some() {
         return Err(Error::Overflow { arg: "values" });
     }
-    for ((o, p), v) in out.iter_mut().zip(f.points).zip(m.work.iter()) {
-        *o = add(*p, *v);
+    for (i, (p, v)) in f.points.iter().zip(m.work.iter()).enumerate() {
+        if let Some(o) = out_at(out, f.order, i) {
+            *o = add(*p, *v);
+        }
     }
     for (&i, d) in f.boundary.iter().zip(motion.deformed) {
-        if let Some(o) = out.get_mut(i as usize) {
+        if let Some(o) = out_at(out, f.order, i as usize) {
             *o = *d;
         }
     }
     commit(&mut m, meta.stored, Quat::identity());
     Ok((report, guess, [T::ZERO; D]))
+}
+
+/// `out`'s entry for plan node `i`: the caller's node `order[i]` (`i` without an order).
+#[inline]
+fn out_at<'o, T, const D: usize>(
+    out: &'o mut [[T; D]],
+    order: &[u32],
+    i: usize,
+) -> Option<&'o mut [T; D]> {
+    match order.get(i) {
+        Some(&old) => out.get_mut(old as usize),
+        None => out.get_mut(i),
+    }
 }
 
 /// Stores the solution in `work` as the last one (the last becomes the one before).
@@ -500,17 +518,19 @@ fn run_quaternion<T: Real, const D: usize, const V: usize>(
         return Err(Error::Overflow { arg: "values" });
     }
     // The field update (eq. 6) with the twice-normalised rotations of the stateless path.
-    for (i, ((o, p), v)) in out.iter_mut().zip(f.points).zip(m.work.iter()).enumerate() {
+    for (i, (p, v)) in f.points.iter().zip(m.work.iter()).enumerate() {
         if f.sys.is_fixed(i) {
             continue;
         }
         let (t, q) = unpack::<T, D, V>(v);
         let q = q.normalize().unwrap_or(reference);
         let q = q.normalize().unwrap_or(Quat::identity());
-        *o = apply(origin, *p, t, q);
+        if let Some(o) = out_at(out, f.order, i) {
+            *o = apply(origin, *p, t, q);
+        }
     }
     for (&i, dk) in f.boundary.iter().zip(motion.deformed) {
-        if let Some(o) = out.get_mut(i as usize) {
+        if let Some(o) = out_at(out, f.order, i as usize) {
             *o = *dk;
         }
     }

@@ -183,6 +183,7 @@ fn rust_plan<T: Abi>(
         stiffness: PlanStiffness::Batina { exponent: T::ONE },
         solver: PlanSolver::Amg(AmgOptions::default()),
         options,
+        renumber: deform_kernel::plan::PlanOrder::AsGiven,
     };
     let mut wr = [T::ZERO; NE];
     let mut wi = [0u32; WORK];

@@ -85,6 +85,7 @@ fn spec<T: Real>(m: &Mesh<T>, method: PlanMethod, solver: PlanSolver<T>) -> Plan
         stiffness: PlanStiffness::Batina { exponent: T::ONE },
         solver,
         options: SolveOptions::default(),
+        renumber: deform_kernel::plan::PlanOrder::AsGiven,
     }
 }
 

@@ -98,6 +98,7 @@ fn run<T: Real, const D: usize>() {
                 stiffness: PlanStiffness::Batina { exponent: T::ONE },
                 solver,
                 options: SolveOptions::default(),
+                renumber: deform_kernel::plan::PlanOrder::AsGiven,
             });
             plan::<T, D>(&spec);
             storage::<T, D>(&spec);
