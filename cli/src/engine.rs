@@ -987,22 +987,40 @@ struct AmgStorage {
 }
 
 impl AmgStorage {
-    /// Builds the hierarchy of `sys` with the default options (two-phase: exact sizes, then
-    /// values).
+    /// Builds the hierarchy of `sys` with the default options in one symbolic pass (not
+    /// `setup_len` and then `setup`, which runs it again): `index` and `values` are allocated
+    /// at bounds that hold every hierarchy of `sys` ([`amg_bounds`]). The kernel writes only
+    /// the prefixes it needs and gives the same bits in larger buffers; the untouched zeroed
+    /// tails cost address space, not memory.
     fn build<'a>(
         &'a mut self,
         sys: &deform_kernel::spring::SpringSystem<'_, f64>,
     ) -> Result<deform_kernel::spring::AmgHierarchy<'a, f64>, CliError> {
         use deform_kernel::spring::{AmgHierarchy, AmgOptions};
         let opts = AmgOptions::default();
-        let mut work = vec![0u32; AmgHierarchy::setup_work_len(sys)];
-        let sizes =
-            AmgHierarchy::setup_len(sys, &opts, &mut work).map_err(kernel("multigrid setup"))?;
-        self.index = vec![0; sizes.index];
-        self.values = vec![0.0; sizes.values];
+        let work_len = AmgHierarchy::setup_work_len(sys);
+        let mut work = vec![0u32; work_len];
+        let (index_len, values_len) = amg_bounds(sys.node_count(), work_len, opts.max_coarse);
+        self.index = vec![0; index_len];
+        self.values = vec![0.0; values_len];
         AmgHierarchy::setup(sys, &opts, &mut work, &mut self.index, &mut self.values)
             .map_err(kernel("multigrid setup"))
     }
+}
+
+/// Bounds on a hierarchy's `index` and `values` lengths for `n` nodes and a symbolic `work`
+/// of `work_len` (from the kernel's layout): `index` is a prefix of `work`; `values` holds the
+/// fine diagonal (`n`), per level the prolongator, coarse diagonal and coarse operator (fewer
+/// entries than their structure takes in `index`, so at most `work_len` together), the dense
+/// coarsest factor (at most `max_coarse²`) and an accumulator (a coarse size, below `n`).
+/// Were a bound ever short, `setup` would refuse the buffer (`BufferTooSmall`), not guess.
+fn amg_bounds(n: usize, work_len: usize, max_coarse: usize) -> (usize, usize) {
+    let dense = max_coarse.saturating_mul(max_coarse);
+    let values = n
+        .saturating_mul(2)
+        .saturating_add(work_len)
+        .saturating_add(dense);
+    (work_len, values)
 }
 
 fn move_d<const D: usize>(
