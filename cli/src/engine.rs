@@ -137,12 +137,29 @@ pub fn quality(
     reference: Option<&[[f64; 3]]>,
     wall: Option<&CellList>,
 ) -> Result<QualitySummary, CliError> {
+    quality_with_graph(dim, cells, points, reference, wall, None)
+}
+
+/// [`quality`], with the cells' edge graph (no face diagonals, [`edge_graph`]) when the
+/// caller has it, so that the wall angles do not build it again.
+pub fn quality_with_graph(
+    dim: usize,
+    cells: &CellList,
+    points: &[[f64; 3]],
+    reference: Option<&[[f64; 3]]>,
+    wall: Option<&CellList>,
+    graph: Option<&OwnedGraph>,
+) -> Result<QualitySummary, CliError> {
+    let wall = wall.map(|w| (w, graph));
     match dim {
         2 => quality_d::<2>(cells, points, reference, wall),
         3 => quality_d::<3>(cells, points, reference, wall),
         _ => Err(CliError::Invalid(format!("dimension {dim} is not 2 or 3"))),
     }
 }
+
+/// Wall elements, with the cells' edge graph when the caller has one.
+type WallInput<'w> = Option<(&'w CellList, Option<&'w OwnedGraph>)>;
 
 /// Per-cell measure, smallest scaled and unscaled corner Jacobian, each relative to the cell's
 /// own orientation in the reference mesh (`negative[c]`: negated, exactly, by evaluating the
@@ -277,15 +294,21 @@ fn compare_with_wall<const D: usize>(
     view: &Cells<'_>,
     undeformed: &[[f64; D]],
     deformed: &[[f64; D]],
-    wall: Option<&CellList>,
+    wall: WallInput<'_>,
 ) -> Result<deform_kernel::quality::QualityReport<f64>, CliError> {
     use deform_kernel::quality::{compare, wall_angle_scratch_len, Wall};
     let n = undeformed.len();
-    let graph;
+    let built;
     let wall_view;
     let wall_obj = match wall {
-        Some(w) => {
-            graph = edge_graph(view, false)?;
+        Some((w, given)) => {
+            let graph = match given {
+                Some(g) => g,
+                None => {
+                    built = edge_graph(view, false)?;
+                    &built
+                }
+            };
             wall_view = cells_view(w, n)?;
             Some(Wall::new(wall_view, graph.view()?).map_err(kernel("wall"))?)
         }
@@ -300,7 +323,7 @@ fn quality_d<const D: usize>(
     cells: &CellList,
     points: &[[f64; 3]],
     reference: Option<&[[f64; 3]]>,
-    wall: Option<&CellList>,
+    wall: WallInput<'_>,
 ) -> Result<QualitySummary, CliError> {
     let n = points.len();
     let view = cells_view(cells, n)?;
@@ -318,7 +341,7 @@ fn quality_d<const D: usize>(
     // the same numbers as on the input's, angles measured the same way in every region.
     let undeformed = base.orientation.canonical(&input_undeformed);
     let pts = base.orientation.canonical(&input_deformed);
-    let wall = wall.filter(|w| reference.is_some() && !w.is_empty());
+    let wall = wall.filter(|(w, _)| reference.is_some() && !w.is_empty());
     let r = compare_with_wall(&view, &undeformed, &pts, wall)?;
     let has_ref = reference.is_some();
     let folded_in = |corner: &[f64]| -> Vec<bool> {
@@ -614,6 +637,9 @@ pub struct MoveResult {
     /// Largest distance of a sliding node from its plane(s) after the motion, measured from
     /// the written coordinates (0 without `--slide`).
     pub max_slide_offset: f64,
+    /// The mesh's edge graph (no face diagonals) in the input's numbering, when the run built
+    /// it: the quality pass's wall angles use it instead of building it again.
+    pub graph: Option<OwnedGraph>,
 }
 
 /// A marker whose nodes slide on the plane (a line in 2D) fitted to them (`deform move
@@ -868,6 +894,7 @@ pub fn run_move_in_steps(
     result.converged = converged;
     result.center = plan.center;
     result.idw_max_bound = idw_bound;
+    result.graph = result.graph.or(built);
     Ok(result)
 }
 
@@ -1047,13 +1074,12 @@ fn move_d<const D: usize>(
         }
     }
     let diagonals = matches!(input.method, MoveMethod::AngleDirect | MoveMethod::AngleCg);
-    let built;
-    let graph = match input.graph.filter(|_| !diagonals) {
-        Some(g) => g,
-        None => {
-            built = edge_graph(&view, diagonals)?;
-            &built
-        }
+    let built = match input.graph.filter(|_| !diagonals) {
+        Some(_) => None,
+        None => Some(edge_graph(&view, diagonals)?),
+    };
+    let Some(graph) = built.as_ref().or(input.graph) else {
+        return Err(CliError::Invalid("no edge graph".into()));
     };
     let run = MoveRun {
         input,
@@ -1092,6 +1118,7 @@ fn move_d<const D: usize>(
     }
     let mut result = move_result(input, &pre, table.as_ref(), &pts, &out, solved);
     result.rbf = rbf_info;
+    result.graph = built.filter(|_| !diagonals);
     Ok(result)
 }
 
@@ -1573,6 +1600,7 @@ fn move_result<const D: usize>(
         center: pre.center,
         sliding_nodes: table.map_or(0, |t| t.sliding),
         max_slide_offset,
+        graph: None,
     }
 }
 

@@ -162,12 +162,13 @@ fn move_su2_read(
         }
     }
     let wall = marker_union(&mesh, &markers, &a.mesh)?;
-    let q = crate::engine::quality(
+    let q = crate::engine::quality_with_graph(
         mesh.dim,
         &mesh.elements,
         &result.deformed,
         Some(&mesh.points),
         Some(&wall),
+        result.graph.as_ref(),
     )
     .map_err(|e| e.in_file(&a.mesh))?;
     check_new_folds(&q, a.allow_folds, &a.mesh)?;
