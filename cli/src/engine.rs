@@ -114,6 +114,10 @@ pub struct QualitySummary {
     /// Per cell: folded already in the reference mesh.
     #[serde(skip)]
     pub reference_folded: Vec<bool>,
+    /// The faces (edges in 2D) that belong to one cell only, as node cycles in key order:
+    /// [`crate::validity::boundary_faces`], found by the same face sort as the overlaps.
+    #[serde(skip)]
+    pub boundary_faces: Vec<Vec<u32>>,
 }
 
 impl QualitySummary {
@@ -218,6 +222,8 @@ struct Reference {
     negative: Vec<bool>,
     /// Per cell: overlaps a neighbour and is blamed for it.
     overlap: Vec<bool>,
+    /// The mesh's boundary faces ([`crate::validity::boundary_faces`]).
+    boundary: Vec<Vec<u32>>,
     /// The reference measured relative to each cell's own orientation.
     rel: Relative,
     orientation: Orientation,
@@ -250,10 +256,11 @@ fn reference_cells<const D: usize>(
         })
         .collect();
     let against = orientation.against(cells, &measure);
-    let overlap = crate::validity::overlapping(cells, &sense, &against);
+    let (overlap, boundary) = crate::validity::overlapping_and_boundary(cells, &sense, &against);
     Ok(Reference {
         negative,
         overlap,
+        boundary,
         rel,
         orientation,
     })
@@ -389,6 +396,7 @@ fn quality_d<const D: usize>(
         inverted,
         folded,
         reference_folded,
+        boundary_faces: base.boundary,
     })
 }
 
