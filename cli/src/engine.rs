@@ -179,23 +179,29 @@ fn relative<const D: usize>(
     pts: &[[f64; D]],
     negative: &[bool],
 ) -> Result<Relative, CliError> {
-    let eval = |p: &[[f64; D]]| -> Result<Relative, CliError> {
-        let mut r = Relative {
-            measure: vec![0.0; view.len()],
-            scaled: vec![0.0; view.len()],
-            corner: vec![0.0; view.len()],
-        };
-        deform_kernel::quality::cell_qualities(
-            view,
-            p,
-            &mut r.measure,
-            &mut r.corner,
-            &mut r.scaled,
-        )
-        .map_err(kernel("quality"))?;
-        Ok(r)
+    mirror_negative(view, pts, negative, qualities(view, pts)?)
+}
+
+/// Per-cell signed measure and smallest corner Jacobians as the cells are listed.
+fn qualities<const D: usize>(view: &Cells<'_>, p: &[[f64; D]]) -> Result<Relative, CliError> {
+    let mut r = Relative {
+        measure: vec![0.0; view.len()],
+        scaled: vec![0.0; view.len()],
+        corner: vec![0.0; view.len()],
     };
-    let mut out = eval(pts)?;
+    deform_kernel::quality::cell_qualities(view, p, &mut r.measure, &mut r.corner, &mut r.scaled)
+        .map_err(kernel("quality"))?;
+    Ok(r)
+}
+
+/// [`relative`] from the cells' [`qualities`] at `pts`: the `negative` cells re-evaluated on
+/// the mirrored points.
+fn mirror_negative<const D: usize>(
+    view: &Cells<'_>,
+    pts: &[[f64; D]],
+    negative: &[bool],
+    mut out: Relative,
+) -> Result<Relative, CliError> {
     if negative.iter().any(|&n| n) {
         let mirrored: Vec<[f64; D]> = pts
             .iter()
@@ -205,7 +211,7 @@ fn relative<const D: usize>(
                 q
             })
             .collect();
-        let m = eval(&mirrored)?;
+        let m = qualities(view, &mirrored)?;
         for (c, _) in negative.iter().enumerate().filter(|(_, &n)| n) {
             out.measure[c] = m.measure[c];
             out.scaled[c] = m.scaled[c];
@@ -234,12 +240,12 @@ fn reference_cells<const D: usize>(
     view: &Cells<'_>,
     undeformed: &[[f64; D]],
 ) -> Result<Reference, CliError> {
-    let mut measure = vec![0.0; view.len()];
-    deform_kernel::quality::cell_measures(view, undeformed, &mut measure)
-        .map_err(kernel("quality"))?;
+    // The measures as listed (`cell_measures`' bits) come with the qualities: one evaluation.
+    let listed = qualities(view, undeformed)?;
+    let measure = listed.measure.clone();
     let negative: Vec<bool> = measure.iter().map(|&m| m < 0.0).collect();
     let orientation = Orientation::of(cells, undeformed.len(), &measure);
-    let rel = relative(view, undeformed, &negative)?;
+    let rel = mirror_negative(view, undeformed, &negative, listed)?;
     // The outward direction is known only for cells whose corners agree and whose measure is
     // not 0.
     let sense: Vec<i8> = measure
