@@ -114,6 +114,10 @@ pub struct QualitySummary {
     /// Per cell: folded already in the reference mesh.
     #[serde(skip)]
     pub reference_folded: Vec<bool>,
+    /// The faces (edges in 2D) that belong to one cell only, as node cycles in key order:
+    /// [`crate::validity::boundary_faces`], found by the same face sort as the overlaps.
+    #[serde(skip)]
+    pub boundary_faces: Vec<Vec<u32>>,
 }
 
 impl QualitySummary {
@@ -137,12 +141,29 @@ pub fn quality(
     reference: Option<&[[f64; 3]]>,
     wall: Option<&CellList>,
 ) -> Result<QualitySummary, CliError> {
+    quality_with_graph(dim, cells, points, reference, wall, None)
+}
+
+/// [`quality`], with the cells' edge graph (no face diagonals, [`edge_graph`]) when the
+/// caller has it, so that the wall angles do not build it again.
+pub fn quality_with_graph(
+    dim: usize,
+    cells: &CellList,
+    points: &[[f64; 3]],
+    reference: Option<&[[f64; 3]]>,
+    wall: Option<&CellList>,
+    graph: Option<&OwnedGraph>,
+) -> Result<QualitySummary, CliError> {
+    let wall = wall.map(|w| (w, graph));
     match dim {
         2 => quality_d::<2>(cells, points, reference, wall),
         3 => quality_d::<3>(cells, points, reference, wall),
         _ => Err(CliError::Invalid(format!("dimension {dim} is not 2 or 3"))),
     }
 }
+
+/// Wall elements, with the cells' edge graph when the caller has one.
+type WallInput<'w> = Option<(&'w CellList, Option<&'w OwnedGraph>)>;
 
 /// Per-cell measure, smallest scaled and unscaled corner Jacobian, each relative to the cell's
 /// own orientation in the reference mesh (`negative[c]`: negated, exactly, by evaluating the
@@ -158,23 +179,29 @@ fn relative<const D: usize>(
     pts: &[[f64; D]],
     negative: &[bool],
 ) -> Result<Relative, CliError> {
-    let eval = |p: &[[f64; D]]| -> Result<Relative, CliError> {
-        let mut r = Relative {
-            measure: vec![0.0; view.len()],
-            scaled: vec![0.0; view.len()],
-            corner: vec![0.0; view.len()],
-        };
-        deform_kernel::quality::cell_qualities(
-            view,
-            p,
-            &mut r.measure,
-            &mut r.corner,
-            &mut r.scaled,
-        )
-        .map_err(kernel("quality"))?;
-        Ok(r)
+    mirror_negative(view, pts, negative, qualities(view, pts)?)
+}
+
+/// Per-cell signed measure and smallest corner Jacobians as the cells are listed.
+fn qualities<const D: usize>(view: &Cells<'_>, p: &[[f64; D]]) -> Result<Relative, CliError> {
+    let mut r = Relative {
+        measure: vec![0.0; view.len()],
+        scaled: vec![0.0; view.len()],
+        corner: vec![0.0; view.len()],
     };
-    let mut out = eval(pts)?;
+    deform_kernel::quality::cell_qualities(view, p, &mut r.measure, &mut r.corner, &mut r.scaled)
+        .map_err(kernel("quality"))?;
+    Ok(r)
+}
+
+/// [`relative`] from the cells' [`qualities`] at `pts`: the `negative` cells re-evaluated on
+/// the mirrored points.
+fn mirror_negative<const D: usize>(
+    view: &Cells<'_>,
+    pts: &[[f64; D]],
+    negative: &[bool],
+    mut out: Relative,
+) -> Result<Relative, CliError> {
     if negative.iter().any(|&n| n) {
         let mirrored: Vec<[f64; D]> = pts
             .iter()
@@ -184,7 +211,7 @@ fn relative<const D: usize>(
                 q
             })
             .collect();
-        let m = eval(&mirrored)?;
+        let m = qualities(view, &mirrored)?;
         for (c, _) in negative.iter().enumerate().filter(|(_, &n)| n) {
             out.measure[c] = m.measure[c];
             out.scaled[c] = m.scaled[c];
@@ -201,6 +228,8 @@ struct Reference {
     negative: Vec<bool>,
     /// Per cell: overlaps a neighbour and is blamed for it.
     overlap: Vec<bool>,
+    /// The mesh's boundary faces ([`crate::validity::boundary_faces`]).
+    boundary: Vec<Vec<u32>>,
     /// The reference measured relative to each cell's own orientation.
     rel: Relative,
     orientation: Orientation,
@@ -211,12 +240,12 @@ fn reference_cells<const D: usize>(
     view: &Cells<'_>,
     undeformed: &[[f64; D]],
 ) -> Result<Reference, CliError> {
-    let mut measure = vec![0.0; view.len()];
-    deform_kernel::quality::cell_measures(view, undeformed, &mut measure)
-        .map_err(kernel("quality"))?;
+    // The measures as listed (`cell_measures`' bits) come with the qualities: one evaluation.
+    let listed = qualities(view, undeformed)?;
+    let measure = listed.measure.clone();
     let negative: Vec<bool> = measure.iter().map(|&m| m < 0.0).collect();
     let orientation = Orientation::of(cells, undeformed.len(), &measure);
-    let rel = relative(view, undeformed, &negative)?;
+    let rel = mirror_negative(view, undeformed, &negative, listed)?;
     // The outward direction is known only for cells whose corners agree and whose measure is
     // not 0.
     let sense: Vec<i8> = measure
@@ -233,10 +262,11 @@ fn reference_cells<const D: usize>(
         })
         .collect();
     let against = orientation.against(cells, &measure);
-    let overlap = crate::validity::overlapping(cells, &sense, &against);
+    let (overlap, boundary) = crate::validity::overlapping_and_boundary(cells, &sense, &against);
     Ok(Reference {
         negative,
         overlap,
+        boundary,
         rel,
         orientation,
     })
@@ -277,15 +307,21 @@ fn compare_with_wall<const D: usize>(
     view: &Cells<'_>,
     undeformed: &[[f64; D]],
     deformed: &[[f64; D]],
-    wall: Option<&CellList>,
+    wall: WallInput<'_>,
 ) -> Result<deform_kernel::quality::QualityReport<f64>, CliError> {
     use deform_kernel::quality::{compare, wall_angle_scratch_len, Wall};
     let n = undeformed.len();
-    let graph;
+    let built;
     let wall_view;
     let wall_obj = match wall {
-        Some(w) => {
-            graph = edge_graph(view, false)?;
+        Some((w, given)) => {
+            let graph = match given {
+                Some(g) => g,
+                None => {
+                    built = edge_graph(view, false)?;
+                    &built
+                }
+            };
             wall_view = cells_view(w, n)?;
             Some(Wall::new(wall_view, graph.view()?).map_err(kernel("wall"))?)
         }
@@ -300,7 +336,7 @@ fn quality_d<const D: usize>(
     cells: &CellList,
     points: &[[f64; 3]],
     reference: Option<&[[f64; 3]]>,
-    wall: Option<&CellList>,
+    wall: WallInput<'_>,
 ) -> Result<QualitySummary, CliError> {
     let n = points.len();
     let view = cells_view(cells, n)?;
@@ -318,7 +354,7 @@ fn quality_d<const D: usize>(
     // the same numbers as on the input's, angles measured the same way in every region.
     let undeformed = base.orientation.canonical(&input_undeformed);
     let pts = base.orientation.canonical(&input_deformed);
-    let wall = wall.filter(|w| reference.is_some() && !w.is_empty());
+    let wall = wall.filter(|(w, _)| reference.is_some() && !w.is_empty());
     let r = compare_with_wall(&view, &undeformed, &pts, wall)?;
     let has_ref = reference.is_some();
     let folded_in = |corner: &[f64]| -> Vec<bool> {
@@ -366,6 +402,7 @@ fn quality_d<const D: usize>(
         inverted,
         folded,
         reference_folded,
+        boundary_faces: base.boundary,
     })
 }
 
@@ -614,6 +651,9 @@ pub struct MoveResult {
     /// Largest distance of a sliding node from its plane(s) after the motion, measured from
     /// the written coordinates (0 without `--slide`).
     pub max_slide_offset: f64,
+    /// The mesh's edge graph (no face diagonals) in the input's numbering, when the run built
+    /// it: the quality pass's wall angles use it instead of building it again.
+    pub graph: Option<OwnedGraph>,
 }
 
 /// A marker whose nodes slide on the plane (a line in 2D) fitted to them (`deform move
@@ -868,6 +908,7 @@ pub fn run_move_in_steps(
     result.converged = converged;
     result.center = plan.center;
     result.idw_max_bound = idw_bound;
+    result.graph = result.graph.or(built);
     Ok(result)
 }
 
@@ -987,22 +1028,40 @@ struct AmgStorage {
 }
 
 impl AmgStorage {
-    /// Builds the hierarchy of `sys` with the default options (two-phase: exact sizes, then
-    /// values).
+    /// Builds the hierarchy of `sys` with the default options in one symbolic pass (not
+    /// `setup_len` and then `setup`, which runs it again): `index` and `values` are allocated
+    /// at bounds that hold every hierarchy of `sys` ([`amg_bounds`]). The kernel writes only
+    /// the prefixes it needs and gives the same bits in larger buffers; the untouched zeroed
+    /// tails cost address space, not memory.
     fn build<'a>(
         &'a mut self,
         sys: &deform_kernel::spring::SpringSystem<'_, f64>,
     ) -> Result<deform_kernel::spring::AmgHierarchy<'a, f64>, CliError> {
         use deform_kernel::spring::{AmgHierarchy, AmgOptions};
         let opts = AmgOptions::default();
-        let mut work = vec![0u32; AmgHierarchy::setup_work_len(sys)];
-        let sizes =
-            AmgHierarchy::setup_len(sys, &opts, &mut work).map_err(kernel("multigrid setup"))?;
-        self.index = vec![0; sizes.index];
-        self.values = vec![0.0; sizes.values];
+        let work_len = AmgHierarchy::setup_work_len(sys);
+        let mut work = vec![0u32; work_len];
+        let (index_len, values_len) = amg_bounds(sys.node_count(), work_len, opts.max_coarse);
+        self.index = vec![0; index_len];
+        self.values = vec![0.0; values_len];
         AmgHierarchy::setup(sys, &opts, &mut work, &mut self.index, &mut self.values)
             .map_err(kernel("multigrid setup"))
     }
+}
+
+/// Bounds on a hierarchy's `index` and `values` lengths for `n` nodes and a symbolic `work`
+/// of `work_len` (from the kernel's layout): `index` is a prefix of `work`; `values` holds the
+/// fine diagonal (`n`), per level the prolongator, coarse diagonal and coarse operator (fewer
+/// entries than their structure takes in `index`, so at most `work_len` together), the dense
+/// coarsest factor (at most `max_coarse²`) and an accumulator (a coarse size, below `n`).
+/// Were a bound ever short, `setup` would refuse the buffer (`BufferTooSmall`), not guess.
+fn amg_bounds(n: usize, work_len: usize, max_coarse: usize) -> (usize, usize) {
+    let dense = max_coarse.saturating_mul(max_coarse);
+    let values = n
+        .saturating_mul(2)
+        .saturating_add(work_len)
+        .saturating_add(dense);
+    (work_len, values)
 }
 
 fn move_d<const D: usize>(
@@ -1029,13 +1088,12 @@ fn move_d<const D: usize>(
         }
     }
     let diagonals = matches!(input.method, MoveMethod::AngleDirect | MoveMethod::AngleCg);
-    let built;
-    let graph = match input.graph.filter(|_| !diagonals) {
-        Some(g) => g,
-        None => {
-            built = edge_graph(&view, diagonals)?;
-            &built
-        }
+    let built = match input.graph.filter(|_| !diagonals) {
+        Some(_) => None,
+        None => Some(edge_graph(&view, diagonals)?),
+    };
+    let Some(graph) = built.as_ref().or(input.graph) else {
+        return Err(CliError::Invalid("no edge graph".into()));
     };
     let run = MoveRun {
         input,
@@ -1074,6 +1132,7 @@ fn move_d<const D: usize>(
     }
     let mut result = move_result(input, &pre, table.as_ref(), &pts, &out, solved);
     result.rbf = rbf_info;
+    result.graph = built.filter(|_| !diagonals);
     Ok(result)
 }
 
@@ -1555,6 +1614,7 @@ fn move_result<const D: usize>(
         center: pre.center,
         sliding_nodes: table.map_or(0, |t| t.sliding),
         max_slide_offset,
+        graph: None,
     }
 }
 

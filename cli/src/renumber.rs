@@ -205,10 +205,11 @@ pub fn run_move_renumbered(
     } else {
         choose(how, input)?
     };
-    let Some(order) = order else {
+    let Some(mut order) = order else {
         report.seconds = t0.elapsed().as_secs_f64();
         return Ok((run_move_in_steps(input, sliding, steps)?, report));
     };
+    let input_graph = order.graph.take();
     let p = order.view()?;
     let mut points = vec![[0.0; 3]; input.points.len()];
     permute(p, input.points, &mut points).map_err(kernel)?;
@@ -240,7 +241,7 @@ pub fn run_move_renumbered(
         other => other.clone(),
     };
     // RCM's graph, renumbered: the graph the renumbered cells give (rows sorted as built).
-    let graph = match &order.graph {
+    let graph = match &input_graph {
         Some(g) => {
             let g = g.view()?;
             let mut out = OwnedGraph {
@@ -270,6 +271,8 @@ pub fn run_move_renumbered(
         *field = back;
     }
     report.seconds = (spent + t1.elapsed()).as_secs_f64();
+    // The graph in the input's numbering, for the quality pass.
+    result.graph = input_graph;
     Ok((result, report))
 }
 

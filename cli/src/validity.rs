@@ -157,11 +157,24 @@ fn sort_by_key(faces: Vec<CellFace>) -> Vec<CellFace> {
 /// triangle flipped over its neighbours: all of its faces, one of each neighbour's), both on a
 /// tie. Faces shared by more than two cells are not judged.
 pub fn overlapping(cells: &CellList, sense: &[i8], against: &[bool]) -> Vec<bool> {
+    overlapping_and_boundary(cells, sense, against).0
+}
+
+/// [`overlapping`], and [`boundary_faces`] from the same sorted faces (one sort for both).
+pub fn overlapping_and_boundary(
+    cells: &CellList,
+    sense: &[i8],
+    against: &[bool],
+) -> (Vec<bool>, Vec<Vec<u32>>) {
     let faces = cell_faces(cells, sense);
     // The judged pairs (both directions known) and, per cell, (bad faces, judged faces).
     let mut bad_pairs = Vec::new();
     let mut share = vec![(0u32, 0u32); cells.len()];
+    let mut boundary = Vec::new();
     for group in faces.chunk_by(|a, b| a.key == b.key) {
+        if let [f] = group {
+            boundary.extend(face_cycle(cells, f));
+        }
         let [a, b] = group else { continue };
         if a.side == 0 || b.side == 0 {
             continue;
@@ -197,7 +210,18 @@ pub fn overlapping(cells: &CellList, sense: &[i8], against: &[bool]) -> Vec<bool
         out[a] |= blame_a;
         out[b] |= blame_b;
     }
-    out
+    (out, boundary)
+}
+
+/// The node cycle of one cell face.
+fn face_cycle(cells: &CellList, f: &CellFace) -> Option<Vec<u32>> {
+    let (kind, nodes) = cells.cell(f.cell as usize);
+    local_faces(kind).get(f.local as usize).map(|local| {
+        local
+            .iter()
+            .filter_map(|&i| nodes.get(i as usize).copied())
+            .collect()
+    })
 }
 
 /// The faces (edges in 2D) that belong to one cell only: the mesh's boundary, as node cycles
@@ -207,15 +231,7 @@ pub fn boundary_faces(cells: &CellList) -> Vec<Vec<u32>> {
     let mut out = Vec::new();
     for group in faces.chunk_by(|a, b| a.key == b.key) {
         if let [f] = group {
-            let (kind, nodes) = cells.cell(f.cell as usize);
-            if let Some(local) = local_faces(kind).get(f.local as usize) {
-                out.push(
-                    local
-                        .iter()
-                        .filter_map(|&i| nodes.get(i as usize).copied())
-                        .collect(),
-                );
-            }
+            out.extend(face_cycle(cells, f));
         }
     }
     out
@@ -235,6 +251,16 @@ pub struct Unmarked {
 /// The boundary faces of `cells` (edges in 2D) that are elements of none of `markers`: a wall
 /// left out of the marker list is moved like the field around it, so it is worth a warning.
 pub fn unmarked_boundary(cells: &CellList, markers: &[&CellList], points: &[[f64; 3]]) -> Unmarked {
+    unmarked_among(&boundary_faces(cells), markers, points)
+}
+
+/// [`unmarked_boundary`] of the mesh whose [`boundary_faces`] are `boundary` (e.g. the
+/// quality pass's, [`crate::engine::QualitySummary::boundary_faces`]).
+pub fn unmarked_among(
+    boundary: &[Vec<u32>],
+    markers: &[&CellList],
+    points: &[[f64; 3]],
+) -> Unmarked {
     let mut marked: Vec<[u32; 4]> = markers
         .iter()
         .flat_map(|m| m.iter().map(|(_, nodes)| face_key(nodes)))
@@ -246,8 +272,8 @@ pub fn unmarked_boundary(cells: &CellList, markers: &[&CellList], points: &[[f64
         .collect();
     on_marker.sort_unstable();
     let mut out = Unmarked::default();
-    for face in boundary_faces(cells) {
-        if marked.binary_search(&face_key(&face)).is_ok() {
+    for face in boundary {
+        if marked.binary_search(&face_key(face)).is_ok() {
             continue;
         }
         out.faces += 1;

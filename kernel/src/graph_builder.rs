@@ -210,30 +210,72 @@ fn build(
     let mut row_start = 0usize;
     for i in 0..node_count {
         let row_end = offsets.get(i + 1).map_or(row_start, |&e| e as usize);
-        let new_start = write;
-        if let Some(row) = targets.get_mut(row_start..row_end) {
-            heapsort(row);
-        }
-        let mut last: Option<u32> = None;
-        for r in row_start..row_end {
-            let Some(&v) = targets.get(r) else { break };
-            if last != Some(v) {
-                if let Some(t) = targets.get_mut(write) {
+        let unique = targets.get_mut(row_start..row_end).map_or(0, sort_unique);
+        // `write <= row_start`: a forward copy never overwrites what it has still to read.
+        for k in 0..unique {
+            if let Some(&v) = targets.get(row_start + k) {
+                if let Some(t) = targets.get_mut(write + k) {
                     *t = v;
                 }
-                write += 1;
-                last = Some(v);
             }
         }
         if let Some(o) = offsets.get_mut(i) {
-            *o = new_start as u32;
+            *o = write as u32;
         }
+        write += unique;
         row_start = row_end;
     }
     if let Some(o) = offsets.get_mut(node_count) {
         *o = write as u32;
     }
     Ok(write)
+}
+
+/// Rows longer than this are sorted by [`heapsort`]; shorter ones by binary insertion.
+const INSERTION_MAX: usize = 256;
+
+/// Sorts `row` ascending and removes repeats, the distinct values ending at the front;
+/// returns how many there are. A mesh row holds each neighbour once per cell around the edge
+/// (about 70 entries for 14 neighbours in a tetrahedral mesh): binary insertion into the
+/// growing distinct prefix touches each entry a few times where a heapsort of the whole row
+/// moves it `log n` times. Longer rows (a hub) take the `O(n log n)` heapsort.
+fn sort_unique(row: &mut [u32]) -> usize {
+    if row.len() > INSERTION_MAX {
+        heapsort(row);
+        let mut unique = 0usize;
+        for r in 0..row.len() {
+            let v = row.get(r).copied();
+            if unique == 0 || row.get(unique - 1).copied() != v {
+                if let (Some(v), Some(t)) = (v, row.get_mut(unique)) {
+                    *t = v;
+                }
+                unique += 1;
+            }
+        }
+        return unique;
+    }
+    let mut unique = 0usize;
+    for r in 0..row.len() {
+        let Some(&v) = row.get(r) else { break };
+        let Some(prefix) = row.get(..unique) else {
+            break;
+        };
+        if let Err(at) = prefix.binary_search(&v) {
+            // `at <= unique <= r`: the shift ends at `r`, whose value is held in `v`.
+            for k in (at..unique).rev() {
+                if let Some(&x) = row.get(k) {
+                    if let Some(t) = row.get_mut(k + 1) {
+                        *t = x;
+                    }
+                }
+            }
+            if let Some(t) = row.get_mut(at) {
+                *t = v;
+            }
+            unique += 1;
+        }
+    }
+    unique
 }
 
 /// In-place ascending heapsort (no allocation, no panic path, O(n log n) worst case).
@@ -289,5 +331,35 @@ mod tests {
         let mut v = [5u32, 1, 4, 1, 5, 9, 2, 6, 5, 3, 5];
         heapsort(&mut v);
         assert_eq!(v, [1, 1, 2, 3, 4, 5, 5, 5, 5, 6, 9]);
+    }
+
+    /// Both paths of `sort_unique` (binary insertion up to `INSERTION_MAX` entries, heapsort
+    /// beyond) give the sorted distinct values, checked against a sort-then-scan reference.
+    #[test]
+    fn sort_unique_both_paths() {
+        let mut state = 0x9E37_79B9_7F4A_7C15u64;
+        for len in [0usize, 1, 2, 7, 70, 255, 256, 257, 600] {
+            for range in [1u32, 5, 40, 1000] {
+                let mut row = [0u32; 600];
+                for x in row.iter_mut().take(len) {
+                    state ^= state << 13;
+                    state ^= state >> 7;
+                    state ^= state << 17;
+                    *x = (state % u64::from(range)) as u32;
+                }
+                let mut want = row;
+                heapsort(&mut want[..len]);
+                let mut distinct = 0;
+                for k in 0..len {
+                    if k == 0 || want[k] != want[k - 1] {
+                        want[distinct] = want[k];
+                        distinct += 1;
+                    }
+                }
+                let got = sort_unique(&mut row[..len]);
+                assert_eq!(got, distinct, "len {len} range {range}");
+                assert_eq!(row[..got], want[..distinct], "len {len} range {range}");
+            }
+        }
     }
 }

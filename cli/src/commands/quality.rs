@@ -189,7 +189,7 @@ fn quality_su2(a: &QualityArgs, staged: &mut Staged) -> Result<QualityReport, Cl
         wall.as_ref(),
     )?;
     let markers: Vec<_> = m.markers.iter().map(|k| &k.elements).collect();
-    let unmarked = crate::validity::unmarked_boundary(&m.elements, &markers, &m.points);
+    let unmarked = crate::validity::unmarked_among(&summary.boundary_faces, &markers, &m.points);
     if let Some(v) = &a.vtk {
         let cells = quality_fields(&summary);
         staged

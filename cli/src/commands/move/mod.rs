@@ -109,15 +109,16 @@ fn moved_quality(
     a: &MoveArgs,
     mesh: &Su2Mesh,
     markers: &[String],
-    deformed: &[[f64; 3]],
+    result: &crate::engine::MoveResult,
 ) -> Result<crate::engine::QualitySummary, CliError> {
     let wall = marker_union(mesh, markers, &a.mesh)?;
-    let q = crate::engine::quality(
+    let q = crate::engine::quality_with_graph(
         mesh.dim,
         &mesh.elements,
-        deformed,
+        &result.deformed,
         Some(&mesh.points),
         Some(&wall),
+        result.graph.as_ref(),
     )
     .map_err(|e| e.in_file(&a.mesh))?;
     check_new_folds(&q, a.allow_folds, &a.mesh)?;
@@ -182,7 +183,7 @@ fn move_su2_read(
             *x = *p;
         }
     }
-    let q = moved_quality(a, &mesh, &markers, &result.deformed)?;
+    let q = moved_quality(a, &mesh, &markers, &result)?;
     let out_mesh = Su2Mesh {
         points: result.deformed.clone(),
         ..mesh.clone()

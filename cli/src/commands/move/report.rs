@@ -90,7 +90,7 @@ fn norm(d: &[f64; 3]) -> f64 {
 pub(super) fn move_report(a: &MoveArgs, run: Run<'_>) -> MoveReport {
     let (mesh, result, q) = (run.mesh, run.result, run.quality);
     let all_markers: Vec<&CellList> = mesh.markers.iter().map(|m| &m.elements).collect();
-    let unmarked = crate::validity::unmarked_boundary(&mesh.elements, &all_markers, &mesh.points);
+    let unmarked = crate::validity::unmarked_among(&q.boundary_faces, &all_markers, &mesh.points);
     let unmarked_moved = unmarked
         .free_nodes
         .iter()

@@ -401,13 +401,9 @@ fn build_next<T: Real>(
             neighbours(sys, done, &cur, fine, i, &mut visit);
         }
     };
-    marker.fill(NONE);
-    let mut a_nnz = 0usize;
-    for big in 0..nc {
-        galerkin_row(big, marker, &mut |_| a_nnz += 1);
-    }
-    let (a_offs, r7) = r6.split_at_mut_checked(nc + 1)?;
-    let a_cols = r7.get_mut(..a_nnz)?;
+    // One pass writes the rows straight into the rest of `work` (no counting pass first);
+    // rows that would run past it mean the level does not fit the budget, as a count would.
+    let (a_offs, a_cols) = r6.split_at_mut_checked(nc + 1)?;
     marker.fill(NONE);
     let mut pos = 0usize;
     for big in 0..nc {
@@ -421,11 +417,15 @@ fn build_next<T: Real>(
             }
             pos += 1;
         });
+        if pos > a_cols.len() {
+            return None;
+        }
         sort_u32(a_cols.get_mut(start..pos).unwrap_or(&mut []));
     }
     if let Some(o) = a_offs.get_mut(nc) {
         *o = pos as u32;
     }
+    let a_nnz = pos;
     let mut cur = cur;
     cur.agg = ic;
     cur.p_offs = ic + nl;
