@@ -209,10 +209,10 @@ fn quaternion_tangent_is_the_central_difference_of_deform_move() {
     let (p, m) = (read_su2(&d.join("dp.su2")), read_su2(&d.join("dm.su2")));
     let (mut err, mut big) = (0.0f64, 0.0f64);
     for (i, x) in &t {
-        for c in 0..2 {
+        for (c, &xc) in x.iter().enumerate() {
             let fd = (p.points[*i][c] - m.points[*i][c]) / (2.0 * h);
-            err = err.max((fd - x[c]).abs());
-            big = big.max(x[c].abs());
+            err = err.max((fd - xc).abs());
+            big = big.max(xc.abs());
         }
     }
     println!("quaternion tangent vs central difference (h = {h:e}): {:.2e}", err / big);
