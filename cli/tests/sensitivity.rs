@@ -215,7 +215,10 @@ fn quaternion_tangent_is_the_central_difference_of_deform_move() {
             big = big.max(xc.abs());
         }
     }
-    println!("quaternion tangent vs central difference (h = {h:e}): {:.2e}", err / big);
+    println!(
+        "quaternion tangent vs central difference (h = {h:e}): {:.2e}",
+        err / big
+    );
     assert!(big > 0.1, "a trivial tangent: {big}");
     assert!(
         err <= 1e-6 * big,
