@@ -61,18 +61,17 @@ fn pairs<T: Real>(flat: &[f64]) -> Vec<[T; 2]> {
         .collect()
 }
 
-/// The kernel's results on the C program's inputs, printed as the C program prints them.
-fn expected<T: Real>(
-    tag: &str,
-    inputs: [&[f64]; 3],
+/// Runs `f` with the Batina spring system of sensitivity.c's mesh at `points`, CG + Jacobi
+/// and the relative tolerance `tol`.
+fn with_system<T: Real, R>(
+    points: &[[T; 2]],
     tol: f64,
-    hex: fn(&str, &[T]) -> String,
-) -> (String, String) {
-    let [points, w, v] = inputs.map(pairs::<T>);
-    let (offsets, targets, fixed, boundary) = mesh();
+    f: impl FnOnce(&SpringSystem<'_, T>, LinearSolver<'_, T>, &SolveOptions<T>) -> R,
+) -> R {
+    let (offsets, targets, fixed, _) = mesh();
     let graph = Graph::new(&offsets, &targets).unwrap();
     let mut k = vec![T::ZERO; targets.len()];
-    batina_stiffness(&graph, &points, T::ONE, &mut k).unwrap();
+    batina_stiffness(&graph, points, T::ONE, &mut k).unwrap();
     let mut anchor = vec![0u32; N];
     let sys = SpringSystem::new(graph, &k, &fixed, &mut anchor).unwrap();
     let solver = LinearSolver::Method(LinearMethod::Cg {
@@ -82,9 +81,23 @@ fn expected<T: Real>(
         residual_tol: T::from_f64(tol),
         ..SolveOptions::default()
     };
+    f(&sys, solver, &opts)
+}
+
+/// The kernel's results on the C program's inputs, printed as the C program prints them.
+fn expected<T: Real>(
+    tag: &str,
+    inputs: [&[f64]; 3],
+    tol: f64,
+    hex: fn(&str, &[T]) -> String,
+) -> (String, String) {
+    let [points, w, v] = inputs.map(pairs::<T>);
+    let boundary = mesh().3;
     let mut g = vec![[T::ZERO; 2]; N];
-    let mut s = vec![[T::ZERO; 2]; spring_adjoint_scratch_len::<T, 2>(&solver, N)];
-    let r = spring_adjoint(&sys, solver, &opts, &w, &mut g, &mut s).unwrap();
+    let r = with_system(&points, tol, |sys, solver, opts| {
+        let mut s = vec![[T::ZERO; 2]; spring_adjoint_scratch_len::<T, 2>(&solver, N)];
+        spring_adjoint(sys, solver, opts, &w, &mut g, &mut s).unwrap()
+    });
     let flat = |x: &[[T; 2]]| x.iter().flatten().copied().collect::<Vec<T>>();
     let springs = hex(&format!("spring {tag}"), &flat(&g))
         + &format!(
@@ -122,19 +135,7 @@ fn expected_quaternion<T: Real>(
     hex: fn(&str, &[T]) -> String,
 ) -> String {
     let [points, w, deformed, direction] = inputs.map(pairs::<T>);
-    let (offsets, targets, fixed, boundary) = mesh();
-    let graph = Graph::new(&offsets, &targets).unwrap();
-    let mut k = vec![T::ZERO; targets.len()];
-    batina_stiffness(&graph, &points, T::ONE, &mut k).unwrap();
-    let mut anchor = vec![0u32; N];
-    let sys = SpringSystem::new(graph, &k, &fixed, &mut anchor).unwrap();
-    let solver = LinearSolver::Method(LinearMethod::Cg {
-        preconditioner: Preconditioner::Jacobi,
-    });
-    let opts = SolveOptions {
-        residual_tol: T::from_f64(tol),
-        ..SolveOptions::default()
-    };
+    let boundary = mesh().3;
     let seg = segments(&boundary);
     let offs: Vec<u32> = (0..=seg.len() as u32 / 2).map(|i| 2 * i).collect();
     let kinds = vec![3u8; seg.len() / 2];
@@ -146,14 +147,15 @@ fn expected_quaternion<T: Real>(
         origin: None,
     };
     let b = boundary.len();
-    let mut s = vec![T::ZERO; deform_spring_sensitivity_scratch_len::<T, 2>(&solver, N, b)];
     let (mut jv, mut g) = (vec![[T::ZERO; 2]; N], vec![[T::ZERO; 2]; b]);
-    let rt = deform_spring_tangent(
-        &points, &motion, &sys, solver, &opts, &direction, &mut s, &mut jv,
-    )
-    .unwrap();
-    let ra =
-        deform_spring_adjoint(&points, &motion, &sys, solver, &opts, &w, &mut s, &mut g).unwrap();
+    let (rt, ra) = with_system(&points, tol, |sys, solver, opts| {
+        let len = deform_spring_sensitivity_scratch_len::<T, 2>(&solver, N, b);
+        let mut s = vec![T::ZERO; len];
+        let m = &motion;
+        let t = deform_spring_tangent(&points, m, sys, solver, opts, &direction, &mut s, &mut jv);
+        let a = deform_spring_adjoint(&points, m, sys, solver, opts, &w, &mut s, &mut g);
+        (t.unwrap(), a.unwrap())
+    });
     let flat = |x: &[[T; 2]]| x.iter().flatten().copied().collect::<Vec<T>>();
     let report = |mode: &str, r: deform_kernel::spring::SolveReport<T>| {
         format!(

@@ -30,7 +30,8 @@ use deform_kernel::quaternion::{
     RotationSource,
 };
 use deform_kernel::spring::{
-    batina_stiffness, AmgOptions, LinearMethod, LinearSolver, Preconditioner, SpringSystem,
+    batina_stiffness, AmgOptions, LinearMethod, LinearSolver, Preconditioner, SolveOptions,
+    SolveReport, SpringSystem,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Error, Graph, Quat, Real};
 use deform_meshgen::{annulus, box_with_inner_box3, Mesh};
@@ -178,6 +179,18 @@ fn with_solver<T: Real, const D: usize, R>(
     }
 }
 
+/// The signature `deform_spring_tangent` and `deform_spring_adjoint` share.
+type Mode<T, const D: usize> = fn(
+    &[[T; D]],
+    &BoundaryMotion<'_, T, D>,
+    &SpringSystem<'_, T>,
+    LinearSolver<'_, T>,
+    &SolveOptions<T>,
+    &[[T; D]],
+    &mut [T],
+    &mut [[T; D]],
+) -> deform_kernel::Result<SolveReport<T>>;
+
 /// One linearisation point: the fixture, its system and solver, the deformed boundary.
 struct Point<'a, T: Real, const D: usize> {
     fx: &'a Fixture<D>,
@@ -229,37 +242,31 @@ impl<T: Real, const D: usize> Point<'_, T, D> {
         vec![T::ZERO; deform_spring_sensitivity_scratch_len::<T, D>(&self.solver, n, b)]
     }
 
+    /// `J v` (tangent).
     fn tangent(&self, v: &[[T; D]]) -> Vec<[T; D]> {
-        let mut out = vec![[T::ZERO; D]; self.points.len()];
-        let r = deform_spring_tangent(
-            self.points,
-            &self.motion(&self.d),
-            self.sys,
-            self.solver,
-            &tight(),
-            v,
-            &mut self.scratch(),
-            &mut out,
-        )
-        .unwrap();
-        assert!(r.converged);
-        out
+        self.apply(deform_spring_tangent, v, self.points.len())
     }
 
+    /// `Jᵀ w` (adjoint).
     fn adjoint(&self, w: &[[T; D]]) -> Vec<[T; D]> {
-        let mut out = vec![[T::ZERO; D]; self.d.len()];
-        let r = deform_spring_adjoint(
+        self.apply(deform_spring_adjoint, w, self.d.len())
+    }
+
+    /// Runs one mode (`f`, the kernel's tangent or adjoint) on `input` into `len` items.
+    fn apply(&self, f: Mode<T, D>, input: &[[T; D]], len: usize) -> Vec<[T; D]> {
+        let mut out = vec![[T::ZERO; D]; len];
+        let (m, opts, mut s) = (self.motion(&self.d), tight(), self.scratch());
+        let r = f(
             self.points,
-            &self.motion(&self.d),
+            &m,
             self.sys,
             self.solver,
-            &tight(),
-            w,
-            &mut self.scratch(),
+            &opts,
+            input,
+            &mut s,
             &mut out,
-        )
-        .unwrap();
-        assert!(r.converged);
+        );
+        assert!(r.unwrap().converged);
         out
     }
 }

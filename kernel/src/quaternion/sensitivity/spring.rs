@@ -88,7 +88,52 @@ struct Parts<'s, T, const V: usize> {
     solve: &'s mut [[T; V]],
 }
 
+/// The two modes.
+#[derive(Clone, Copy)]
+enum Mode {
+    Tangent,
+    Adjoint,
+}
+
+/// The arguments of [`Setup`] in the order the public functions take them.
+type Args<'a, 'm, T, const D: usize> = (
+    &'a [[T; D]],
+    &'a BoundaryMotion<'m, T, D>,
+    &'a SpringSystem<'a, T>,
+    LinearSolver<'a, T>,
+    &'a SolveOptions<T>,
+);
+
+impl<'a, 'm, T: Real, const D: usize> From<Args<'a, 'm, T, D>> for Setup<'a, 'm, T, D> {
+    fn from((points, motion, sys, solver, options): Args<'a, 'm, T, D>) -> Self {
+        Setup {
+            points,
+            motion,
+            sys,
+            solver,
+            options,
+        }
+    }
+}
+
 impl<T: Real, const D: usize> Setup<'_, '_, T, D> {
+    /// Runs `mode` on `V = D + 4` lanes (`input`: `δd` or `w`).
+    fn run(
+        &self,
+        mode: Mode,
+        input: &[[T; D]],
+        scratch: &mut [T],
+        out: &mut [[T; D]],
+    ) -> Result<SolveReport<T>> {
+        check::mesh_dim::<D>();
+        match (mode, D) {
+            (Mode::Tangent, 2) => tangent_packed::<T, D, 6>(self, input, scratch, out),
+            (Mode::Tangent, _) => tangent_packed::<T, D, 7>(self, input, scratch, out),
+            (Mode::Adjoint, 2) => adjoint_packed::<T, D, 6>(self, input, scratch, out),
+            (Mode::Adjoint, _) => adjoint_packed::<T, D, 7>(self, input, scratch, out),
+        }
+    }
+
     /// Validates the input (those of [`deform_spring_with`](crate::quaternion::deform_spring_with)),
     /// splits `scratch` and computes the boundary rotations into `bnd`. Returns the origin.
     fn prepare<'s, const V: usize>(
@@ -230,21 +275,10 @@ pub fn deform_spring_tangent<T: Real, const D: usize>(
     scratch: &mut [T],
     out: &mut [[T; D]],
 ) -> Result<SolveReport<T>> {
-    check::mesh_dim::<D>();
     check::len("direction", direction.len(), motion.nodes.len())?;
     check::len("out", out.len(), points.len())?;
-    let s = Setup {
-        points,
-        motion,
-        sys,
-        solver,
-        options,
-    };
-    if D == 2 {
-        tangent_packed::<T, D, 6>(&s, direction, scratch, out)
-    } else {
-        tangent_packed::<T, D, 7>(&s, direction, scratch, out)
-    }
+    let s = (points, motion, sys, solver, options);
+    Setup::from(s).run(Mode::Tangent, direction, scratch, out)
 }
 
 /// [`deform_spring_tangent`] on `V = D + 4` lanes, after its length checks.
@@ -316,21 +350,10 @@ pub fn deform_spring_adjoint<T: Real, const D: usize>(
     scratch: &mut [T],
     out: &mut [[T; D]],
 ) -> Result<SolveReport<T>> {
-    check::mesh_dim::<D>();
     check::len("weights", weights.len(), points.len())?;
     check::len("out", out.len(), motion.nodes.len())?;
-    let s = Setup {
-        points,
-        motion,
-        sys,
-        solver,
-        options,
-    };
-    if D == 2 {
-        adjoint_packed::<T, D, 6>(&s, weights, scratch, out)
-    } else {
-        adjoint_packed::<T, D, 7>(&s, weights, scratch, out)
-    }
+    let s = (points, motion, sys, solver, options);
+    Setup::from(s).run(Mode::Adjoint, weights, scratch, out)
 }
 
 /// [`deform_spring_adjoint`] on `V = D + 4` lanes, after its length checks.
