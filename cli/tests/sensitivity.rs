@@ -2,13 +2,15 @@
 //! methods, the adjoint of a volume sensitivity in SU2's restart CSV form and the tangent of a
 //! boundary perturbation satisfy the dot-product identity `⟨J v, w⟩ = ⟨v, Jᵀ w⟩` through the
 //! files; the adjoint of a uniform sensitivity sums to it (a translation is reproduced); bad
-//! files are refused with nothing written.
+//! files are refused with nothing written. `--method quaternion` (linearised about
+//! `--deformed`) satisfies the identity too, and its tangent is the central difference of
+//! `deform move --method quaternion` itself.
 
 mod common;
 
 use std::fmt::Write as _;
 
-use common::{deform_json, deform_refused, mesh_2d, su2_bytes, tmp_dir, Rng};
+use common::{deform_json, deform_refused, mesh_2d, read_su2, su2_bytes, tmp_dir, Rng};
 
 /// Rows `node, values...` of an output CSV (header skipped).
 fn read_csv(path: &std::path::Path) -> Vec<(usize, Vec<f64>)> {
@@ -26,10 +28,19 @@ fn read_csv(path: &std::path::Path) -> Vec<(usize, Vec<f64>)> {
         .collect()
 }
 
-fn identity_holds(method: &str) {
+fn identity_holds(method: &str, extra: &[&str]) {
     let d = tmp_dir(&format!("sensitivity-{method}"));
     let mesh = mesh_2d(7, 5);
     std::fs::write(d.join("m.su2"), su2_bytes(&mesh)).unwrap();
+    if !extra.is_empty() {
+        // The linearisation point of --method quaternion: `deform move`'s own output.
+        let mut moved = mesh.clone();
+        for (i, p) in moved.points.iter_mut().enumerate() {
+            let [x, y] = turned(mesh.points[i]);
+            *p = [x, y, 0.0];
+        }
+        std::fs::write(d.join("def.su2"), su2_bytes(&moved)).unwrap();
+    }
     let n = mesh.points.len();
     let mut boundary = vec![false; n];
     for m in &mesh.markers {
@@ -58,7 +69,8 @@ fn identity_holds(method: &str) {
         writeln!(pert, "{i} {:e} {:e}", v[0], v[1]).unwrap();
     }
     std::fs::write(d.join("v.txt"), pert).unwrap();
-    let common = ["--method", method, "--tol", "1e-14"];
+    let mut common = vec!["--method", method, "--tol", "1e-14"];
+    common.extend(extra);
     let mut a = vec![
         "--json",
         "adjoint",
@@ -68,7 +80,7 @@ fn identity_holds(method: &str) {
         "--out",
         "g.csv",
     ];
-    a.extend(common);
+    a.extend(&common);
     let r = deform_json(&d, &a);
     assert_eq!(r["command"], "adjoint");
     let mut t = vec![
@@ -80,7 +92,7 @@ fn identity_holds(method: &str) {
         "--out",
         "t.csv",
     ];
-    t.extend(common);
+    t.extend(&common);
     deform_json(&d, &t);
     let g = read_csv(&d.join("g.csv"));
     let jv = read_csv(&d.join("t.csv"));
@@ -106,8 +118,112 @@ fn identity_holds(method: &str) {
 
 #[test]
 fn adjoint_and_tangent_files_satisfy_the_dot_product_identity() {
-    identity_holds("spring");
-    identity_holds("idw-displacements");
+    identity_holds("spring", &[]);
+    identity_holds("idw-displacements", &[]);
+    identity_holds("quaternion", &["--deformed", "def.su2"]);
+}
+
+/// A point of `mesh_2d(7, 5)` turned by 0.15 rad about the centre `(3.5, 1.75)`, shifted and
+/// bulged.
+fn turned(p: [f64; 3]) -> [f64; 2] {
+    let (x, y) = (p[0] - 3.5, p[1] - 1.75);
+    let (c, s) = (0.15f64.cos(), 0.15f64.sin());
+    [
+        3.5 + c * x - s * y + 0.1 + 0.05 * (0.8 * p[1]).sin(),
+        1.75 + s * x + c * y - 0.05 + 0.05 * (0.6 * p[0]).cos(),
+    ]
+}
+
+/// Writes `node dx dy` rows for the boundary nodes.
+fn write_rows(path: &std::path::Path, rows: &[(usize, [f64; 2])]) {
+    let mut text = String::new();
+    for (i, v) in rows {
+        writeln!(text, "{i} {:e} {:e}", v[0], v[1]).unwrap();
+    }
+    std::fs::write(path, text).unwrap();
+}
+
+#[test]
+fn quaternion_tangent_is_the_central_difference_of_deform_move() {
+    let d = tmp_dir("sensitivity-quaternion-fd");
+    let mesh = mesh_2d(7, 5);
+    std::fs::write(d.join("m.su2"), su2_bytes(&mesh)).unwrap();
+    let mut boundary: Vec<usize> = (mesh.markers.iter())
+        .flat_map(|m| m.elements.nodes.iter().map(|&i| i as usize))
+        .collect();
+    boundary.sort_unstable();
+    boundary.dedup();
+    let mut rng = Rng(11);
+    let h = 1e-4;
+    let (mut d0, mut dp, mut dm, mut v) = (vec![], vec![], vec![], vec![]);
+    for &i in &boundary {
+        let (p, t) = (mesh.points[i], turned(mesh.points[i]));
+        let base = [t[0] - p[0], t[1] - p[1]];
+        let dir = [rng.real(), rng.real()];
+        d0.push((i, base));
+        dp.push((i, [base[0] + h * dir[0], base[1] + h * dir[1]]));
+        dm.push((i, [base[0] - h * dir[0], base[1] - h * dir[1]]));
+        v.push((i, dir));
+    }
+    for (name, rows) in [("d0", &d0), ("dp", &dp), ("dm", &dm), ("v", &v)] {
+        write_rows(&d.join(format!("{name}.txt")), rows);
+    }
+    for name in ["d0", "dp", "dm"] {
+        let (input, out) = (format!("{name}.txt"), format!("{name}.su2"));
+        let args = [
+            "--json",
+            "move",
+            "m.su2",
+            "--method",
+            "quaternion",
+            "--marker",
+            "wall",
+            "--marker",
+            "farfield",
+            "--displacements",
+            &input,
+            "--tol",
+            "1e-14",
+            "--out",
+            &out,
+        ];
+        deform_json(&d, &args);
+    }
+    let args = [
+        "--json",
+        "tangent",
+        "m.su2",
+        "--method",
+        "quaternion",
+        "--deformed",
+        "d0.su2",
+        "--perturbation",
+        "v.txt",
+        "--tol",
+        "1e-14",
+        "--out",
+        "t.csv",
+    ];
+    deform_json(&d, &args);
+    let t = read_csv(&d.join("t.csv"));
+    let (p, m) = (read_su2(&d.join("dp.su2")), read_su2(&d.join("dm.su2")));
+    let (mut err, mut big) = (0.0f64, 0.0f64);
+    for (i, x) in &t {
+        for (c, &xc) in x.iter().enumerate() {
+            let fd = (p.points[*i][c] - m.points[*i][c]) / (2.0 * h);
+            err = err.max((fd - xc).abs());
+            big = big.max(xc.abs());
+        }
+    }
+    println!(
+        "quaternion tangent vs central difference (h = {h:e}): {:.2e}",
+        err / big
+    );
+    assert!(big > 0.1, "a trivial tangent: {big}");
+    assert!(
+        err <= 1e-6 * big,
+        "tangent vs central difference: {err:e} (max {big:e})"
+    );
 }
 
 #[test]

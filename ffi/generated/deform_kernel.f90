@@ -942,18 +942,21 @@ module deform_kernel
             dk_deform_propagate_spring_scratch_len, dk_deform_propagate_spring, &
             dk_deform_propagate_spring_f32, dk_deform_idw_sensitivity_scratch_len, &
             dk_deform_idw_tangent, dk_deform_idw_tangent_f32, dk_deform_idw_adjoint, &
-            dk_deform_idw_adjoint_f32, dk_design_hicks_henne_bump, dk_design_hicks_henne_bump_f32, &
-            dk_design_hicks_henne, dk_design_hicks_henne_f32, dk_design_ffd_eval, &
-            dk_design_ffd_eval_f32, dk_design_ffd_displacements, dk_design_ffd_displacements_f32, &
-            dk_design_ffd_displacements_between, dk_design_ffd_displacements_between_f32, &
-            dk_design_ffd_variable, dk_design_ffd_variable_f32, dk_design_ffd_twist, &
-            dk_design_ffd_twist_f32, dk_elasticity_graph_len, dk_elasticity_graph, &
-            dk_elasticity_scratch_len, dk_elasticity_options_default, &
-            dk_elasticity_options_default_f32, dk_elasticity_deform, dk_elasticity_deform_f32, &
-            dk_graph_from_edges_len, dk_graph_from_edges, dk_cells_check, dk_graph_from_cells_len, &
-            dk_graph_from_cells, dk_graph_check, dk_order_rcm, dk_order_hilbert, &
-            dk_order_hilbert_f32, dk_order_index_distance, dk_order_permute, dk_order_permute_f32, &
-            dk_order_renumber, dk_order_permute_graph, dk_order_gather, dk_order_gather_f32, &
+            dk_deform_idw_adjoint_f32, dk_deform_spring_sensitivity_scratch_len, &
+            dk_deform_spring_tangent, dk_deform_spring_tangent_f32, dk_deform_spring_adjoint, &
+            dk_deform_spring_adjoint_f32, dk_design_hicks_henne_bump, &
+            dk_design_hicks_henne_bump_f32, dk_design_hicks_henne, dk_design_hicks_henne_f32, &
+            dk_design_ffd_eval, dk_design_ffd_eval_f32, dk_design_ffd_displacements, &
+            dk_design_ffd_displacements_f32, dk_design_ffd_displacements_between, &
+            dk_design_ffd_displacements_between_f32, dk_design_ffd_variable, &
+            dk_design_ffd_variable_f32, dk_design_ffd_twist, dk_design_ffd_twist_f32, &
+            dk_elasticity_graph_len, dk_elasticity_graph, dk_elasticity_scratch_len, &
+            dk_elasticity_options_default, dk_elasticity_options_default_f32, &
+            dk_elasticity_deform, dk_elasticity_deform_f32, dk_graph_from_edges_len, &
+            dk_graph_from_edges, dk_cells_check, dk_graph_from_cells_len, dk_graph_from_cells, &
+            dk_graph_check, dk_order_rcm, dk_order_hilbert, dk_order_hilbert_f32, &
+            dk_order_index_distance, dk_order_permute, dk_order_permute_f32, dk_order_renumber, &
+            dk_order_permute_graph, dk_order_gather, dk_order_gather_f32, &
             dk_partitioned_spring_scratch_len, dk_partitioned_spring_solve, &
             dk_plan_options_default, dk_plan_options_default_f32, dk_plan_work_sizes, &
             dk_plan_work_sizes_f32, dk_plan_pool_sizes, dk_plan_pool_sizes_f32, dk_plan_init, &
@@ -1750,6 +1753,104 @@ module deform_kernel
       integer(c_size_t), value :: index_scratch_len
       real(c_float), intent(inout) :: out(*)
       integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_spring_sensitivity_scratch_len(node_count, boundary_len, dim, options, &
+        len_out) bind(C, name="dk_deform_spring_sensitivity_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_spring_solve_options
+      integer(c_size_t), value :: node_count
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: dim
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_spring_tangent(points, points_len, dim, motion, system, options, direction, &
+        direction_len, scratch, scratch_len, index_scratch, index_scratch_len, out, out_len, &
+        report) bind(C, name="dk_deform_spring_tangent") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_boundary_motion, dk_spring_solve_options, &
+          dk_spring_solve_report, dk_spring_system
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion), intent(in) :: motion
+      type(dk_spring_system), intent(in) :: system
+      type(dk_spring_solve_options), intent(in) :: options
+      real(c_double), intent(in) :: direction(*)
+      integer(c_size_t), value :: direction_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_spring_tangent_f32(points, points_len, dim, motion, system, options, &
+        direction, direction_len, scratch, scratch_len, index_scratch, index_scratch_len, out, &
+        out_len, report) bind(C, name="dk_deform_spring_tangent_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_boundary_motion_f32, dk_spring_solve_options, &
+          dk_spring_solve_report, dk_spring_system_f32
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      type(dk_spring_system_f32), intent(in) :: system
+      type(dk_spring_solve_options), intent(in) :: options
+      real(c_float), intent(in) :: direction(*)
+      integer(c_size_t), value :: direction_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_spring_adjoint(points, points_len, dim, motion, system, options, weights, &
+        weights_len, scratch, scratch_len, index_scratch, index_scratch_len, out, out_len, report) &
+        bind(C, name="dk_deform_spring_adjoint") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_boundary_motion, dk_spring_solve_options, &
+          dk_spring_solve_report, dk_spring_system
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion), intent(in) :: motion
+      type(dk_spring_system), intent(in) :: system
+      type(dk_spring_solve_options), intent(in) :: options
+      real(c_double), intent(in) :: weights(*)
+      integer(c_size_t), value :: weights_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_spring_adjoint_f32(points, points_len, dim, motion, system, options, &
+        weights, weights_len, scratch, scratch_len, index_scratch, index_scratch_len, out, &
+        out_len, report) bind(C, name="dk_deform_spring_adjoint_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_boundary_motion_f32, dk_spring_solve_options, &
+          dk_spring_solve_report, dk_spring_system_f32
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      type(dk_spring_system_f32), intent(in) :: system
+      type(dk_spring_solve_options), intent(in) :: options
+      real(c_float), intent(in) :: weights(*)
+      integer(c_size_t), value :: weights_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      type(dk_spring_solve_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
     function dk_design_hicks_henne_bump(x, x_max, out) bind(C, name="dk_design_hicks_henne_bump") &

@@ -2083,6 +2083,155 @@ dk_status dk_deform_idw_adjoint_f32(const float *points,
                                     float *out,
                                     size_t out_len);
 
+// Number of scalars the `scratch` of [`dk_deform_spring_tangent`] and
+// [`dk_deform_spring_adjoint`] needs for `node_count` mesh nodes, `boundary_len` boundary
+// nodes, dimension `dim` (2 or 3) and `options->method` (the kernel's
+// `deform_spring_sensitivity_scratch_len`: two packed fields of `dim + 4` scalars a node, the
+// boundary stage and the solver's). `index_scratch` needs
+// [`dk_deform_spring_index_scratch_len`](crate::deformation::dk_deform_spring_index_scratch_len)
+// entries, as for `dk_deform_spring`. The same for both precisions. Errors:
+// `DK_ERR_INVALID_PARAMETER` (`dim`, method), `DK_ERR_TOO_LARGE`.
+//
+// # Safety
+// - `options`: one readable `dk_spring_solve_options`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_deform_spring_sensitivity_scratch_len(size_t node_count,
+                                                   size_t boundary_len,
+                                                   uint32_t dim,
+                                                   const dk_spring_solve_options *options,
+                                                   size_t *len_out);
+
+// Tangent of [`dk_deform_spring`](crate::deformation::dk_deform_spring) (the quaternion
+// method with linear-spring propagation): the first-order change `out = δR` of every mesh
+// point (`N * dim` scalars) for the change `direction = δd` of the deformed boundary
+// positions (`B * dim` scalars, in `motion->nodes` order), the undeformed `points` held;
+// boundary nodes get `δd` exactly. It repeats the deformation's spring solve and solves once
+// more with the same operator and `options`, so the result is the derivative to the solver
+// tolerance (set it tight). `*report` receives the merged report of the two solves (not
+// converged is `DK_OK` with `converged` false).
+//
+// - `points`, `dim`, `motion`, `system`, `options`, `index_scratch`: as for
+//   `dk_deform_spring`.
+// - `scratch`: [`dk_deform_spring_sensitivity_scratch_len`] scalars.
+//
+// Errors: those of `dk_deform_spring`; `DK_ERR_NON_FINITE` for a non-finite `direction`;
+// `DK_ERR_ZERO_LENGTH` where (3D shape rotations) a point's undeformed and deformed normals
+// are antiparallel. On error `out` and `*report` are unchanged.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `motion`: one readable `dk_boundary_motion`.
+// - `system`: one readable `dk_spring_system`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `direction`: readable for `direction_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_deform_spring_tangent(const double *points,
+                                   size_t points_len,
+                                   uint32_t dim,
+                                   const dk_boundary_motion *motion,
+                                   const dk_spring_system *system,
+                                   const dk_spring_solve_options *options,
+                                   const double *direction,
+                                   size_t direction_len,
+                                   double *scratch,
+                                   size_t scratch_len,
+                                   uint32_t *index_scratch,
+                                   size_t index_scratch_len,
+                                   double *out,
+                                   size_t out_len,
+                                   dk_spring_solve_report *report);
+
+// `f32` twin of [`dk_deform_spring_tangent`].
+//
+// # Safety
+// As [`dk_deform_spring_tangent`].
+dk_status dk_deform_spring_tangent_f32(const float *points,
+                                       size_t points_len,
+                                       uint32_t dim,
+                                       const dk_boundary_motion_f32 *motion,
+                                       const dk_spring_system_f32 *system,
+                                       const dk_spring_solve_options *options,
+                                       const float *direction,
+                                       size_t direction_len,
+                                       float *scratch,
+                                       size_t scratch_len,
+                                       uint32_t *index_scratch,
+                                       size_t index_scratch_len,
+                                       float *out,
+                                       size_t out_len,
+                                       dk_spring_solve_report *report);
+
+// Adjoint of [`dk_deform_spring`](crate::deformation::dk_deform_spring), the transpose of
+// [`dk_deform_spring_tangent`]: `out = (∂R/∂d)ᵀ w` (`B * dim` scalars, in `motion->nodes`
+// order) for `weights = w = dJ/dR` (`N * dim` scalars, e.g. a flow adjoint's volume
+// sensitivity). The adjoint solve has the deformation's operator (symmetric) and
+// preconditioner; `options->method` must be `DK_LINEAR_CG`.
+//
+// Arguments and errors as for [`dk_deform_spring_tangent`], with `weights` (finite) in place
+// of `direction`, and `DK_ERR_INVALID_PARAMETER` for a method other than CG. On error `out`
+// and `*report` are unchanged.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `motion`: one readable `dk_boundary_motion`.
+// - `system`: one readable `dk_spring_system`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `weights`: readable for `weights_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_deform_spring_adjoint(const double *points,
+                                   size_t points_len,
+                                   uint32_t dim,
+                                   const dk_boundary_motion *motion,
+                                   const dk_spring_system *system,
+                                   const dk_spring_solve_options *options,
+                                   const double *weights,
+                                   size_t weights_len,
+                                   double *scratch,
+                                   size_t scratch_len,
+                                   uint32_t *index_scratch,
+                                   size_t index_scratch_len,
+                                   double *out,
+                                   size_t out_len,
+                                   dk_spring_solve_report *report);
+
+// `f32` twin of [`dk_deform_spring_adjoint`].
+//
+// # Safety
+// As [`dk_deform_spring_adjoint`].
+dk_status dk_deform_spring_adjoint_f32(const float *points,
+                                       size_t points_len,
+                                       uint32_t dim,
+                                       const dk_boundary_motion_f32 *motion,
+                                       const dk_spring_system_f32 *system,
+                                       const dk_spring_solve_options *options,
+                                       const float *weights,
+                                       size_t weights_len,
+                                       float *scratch,
+                                       size_t scratch_len,
+                                       uint32_t *index_scratch,
+                                       size_t index_scratch_len,
+                                       float *out,
+                                       size_t out_len,
+                                       dk_spring_solve_report *report);
+
 // SU2's Hicks–Henne bump `sin(π max(0,x)^e)^3`, `e = log10(0.5)/log10(x_max)` (0 where
 // `max(0,x) ≤ 1e-15`) into `*out`. Never fails except for a NULL `out`.
 //

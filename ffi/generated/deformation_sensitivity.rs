@@ -6,7 +6,8 @@
 //! sensitivity `w = dJ/dR`), the kernel's `deform_idw_tangent` / `deform_idw_adjoint`. The
 //! motion travels in the same [`dk_boundary_motion`](crate::deformation::dk_boundary_motion)
 //! as for the deformation, with the same index rules; see docs/sensitivities-quaternion.md
-//! for the derivation.
+//! for the derivation. The same two for the spring propagation (`dk_deform_spring`):
+//! `dk_deform_spring_tangent`, `dk_deform_spring_adjoint` (docs/sensitivities.md).
 #![allow(unsafe_code)] // the ABI boundary: raw pointers become `In`/`Out` tokens here
 
 // Its docs link C names: the safe functions there (private), the aliases here.
@@ -21,6 +22,7 @@ pub use imp::*;
 use crate::deformation::DkBoundaryMotion;
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
+use crate::spring::{dk_spring_solve_options, dk_spring_solve_report, DkSpringSystem};
 use crate::status::dk_status;
 
 /// Number of scalars the `scratch` of [`dk_deform_idw_tangent`] and [`dk_deform_idw_adjoint`]
@@ -256,5 +258,286 @@ pub unsafe extern "C" fn dk_deform_idw_adjoint_f32(
         scratch,
         index_scratch,
         out,
+    )
+}
+
+/// Number of scalars the `scratch` of [`dk_deform_spring_tangent`] and
+/// [`dk_deform_spring_adjoint`] needs for `node_count` mesh nodes, `boundary_len` boundary
+/// nodes, dimension `dim` (2 or 3) and `options->method` (the kernel's
+/// `deform_spring_sensitivity_scratch_len`: two packed fields of `dim + 4` scalars a node, the
+/// boundary stage and the solver's). `index_scratch` needs
+/// [`dk_deform_spring_index_scratch_len`](crate::deformation::dk_deform_spring_index_scratch_len)
+/// entries, as for `dk_deform_spring`. The same for both precisions. Errors:
+/// `DK_ERR_INVALID_PARAMETER` (`dim`, method), `DK_ERR_TOO_LARGE`.
+///
+/// # Safety
+/// - `options`: one readable `dk_spring_solve_options`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_deform_spring_sensitivity_scratch_len(
+    node_count: usize,
+    boundary_len: usize,
+    dim: u32,
+    options: *const dk_spring_solve_options,
+    len_out: *mut usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
+    imp::dk_deform_spring_sensitivity_scratch_len(node_count, boundary_len, dim, options, len_out)
+}
+
+/// Tangent of [`dk_deform_spring`](crate::deformation::dk_deform_spring) (the quaternion
+/// method with linear-spring propagation): the first-order change `out = δR` of every mesh
+/// point (`N * dim` scalars) for the change `direction = δd` of the deformed boundary
+/// positions (`B * dim` scalars, in `motion->nodes` order), the undeformed `points` held;
+/// boundary nodes get `δd` exactly. It repeats the deformation's spring solve and solves once
+/// more with the same operator and `options`, so the result is the derivative to the solver
+/// tolerance (set it tight). `*report` receives the merged report of the two solves (not
+/// converged is `DK_OK` with `converged` false).
+///
+/// - `points`, `dim`, `motion`, `system`, `options`, `index_scratch`: as for
+///   `dk_deform_spring`.
+/// - `scratch`: [`dk_deform_spring_sensitivity_scratch_len`] scalars.
+///
+/// Errors: those of `dk_deform_spring`; `DK_ERR_NON_FINITE` for a non-finite `direction`;
+/// `DK_ERR_ZERO_LENGTH` where (3D shape rotations) a point's undeformed and deformed normals
+/// are antiparallel. On error `out` and `*report` are unchanged.
+///
+/// # Safety
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `motion`: one readable `dk_boundary_motion`.
+/// - `system`: one readable `dk_spring_system`.
+/// - `options`: one readable `dk_spring_solve_options`.
+/// - `direction`: readable for `direction_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+/// - `report`: one readable and writable `dk_spring_solve_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_deform_spring_tangent(
+    points: *const f64,
+    points_len: usize,
+    dim: u32,
+    motion: *const DkBoundaryMotion<f64>,
+    system: *const DkSpringSystem<f64>,
+    options: *const dk_spring_solve_options,
+    direction: *const f64,
+    direction_len: usize,
+    scratch: *mut f64,
+    scratch_len: usize,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    out: *mut f64,
+    out_len: usize,
+    report: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, motion, system, options, direction, scratch, index_scratch, out, report) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(motion, 1),
+            In::new(system, 1),
+            In::new(options, 1),
+            In::new(direction, direction_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(out, out_len),
+            Out::new(report, 1),
+        )
+    };
+    imp::dk_deform_spring_tangent::<f64>(
+        points,
+        dim,
+        motion,
+        system,
+        options,
+        direction,
+        scratch,
+        index_scratch,
+        out,
+        report,
+    )
+}
+
+/// `f32` twin of [`dk_deform_spring_tangent`].
+///
+/// # Safety
+/// As [`dk_deform_spring_tangent`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_deform_spring_tangent_f32(
+    points: *const f32,
+    points_len: usize,
+    dim: u32,
+    motion: *const DkBoundaryMotion<f32>,
+    system: *const DkSpringSystem<f32>,
+    options: *const dk_spring_solve_options,
+    direction: *const f32,
+    direction_len: usize,
+    scratch: *mut f32,
+    scratch_len: usize,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    out: *mut f32,
+    out_len: usize,
+    report: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, motion, system, options, direction, scratch, index_scratch, out, report) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(motion, 1),
+            In::new(system, 1),
+            In::new(options, 1),
+            In::new(direction, direction_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(out, out_len),
+            Out::new(report, 1),
+        )
+    };
+    imp::dk_deform_spring_tangent::<f32>(
+        points,
+        dim,
+        motion,
+        system,
+        options,
+        direction,
+        scratch,
+        index_scratch,
+        out,
+        report,
+    )
+}
+
+/// Adjoint of [`dk_deform_spring`](crate::deformation::dk_deform_spring), the transpose of
+/// [`dk_deform_spring_tangent`]: `out = (∂R/∂d)ᵀ w` (`B * dim` scalars, in `motion->nodes`
+/// order) for `weights = w = dJ/dR` (`N * dim` scalars, e.g. a flow adjoint's volume
+/// sensitivity). The adjoint solve has the deformation's operator (symmetric) and
+/// preconditioner; `options->method` must be `DK_LINEAR_CG`.
+///
+/// Arguments and errors as for [`dk_deform_spring_tangent`], with `weights` (finite) in place
+/// of `direction`, and `DK_ERR_INVALID_PARAMETER` for a method other than CG. On error `out`
+/// and `*report` are unchanged.
+///
+/// # Safety
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `motion`: one readable `dk_boundary_motion`.
+/// - `system`: one readable `dk_spring_system`.
+/// - `options`: one readable `dk_spring_solve_options`.
+/// - `weights`: readable for `weights_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+/// - `report`: one readable and writable `dk_spring_solve_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_deform_spring_adjoint(
+    points: *const f64,
+    points_len: usize,
+    dim: u32,
+    motion: *const DkBoundaryMotion<f64>,
+    system: *const DkSpringSystem<f64>,
+    options: *const dk_spring_solve_options,
+    weights: *const f64,
+    weights_len: usize,
+    scratch: *mut f64,
+    scratch_len: usize,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    out: *mut f64,
+    out_len: usize,
+    report: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, motion, system, options, weights, scratch, index_scratch, out, report) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(motion, 1),
+            In::new(system, 1),
+            In::new(options, 1),
+            In::new(weights, weights_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(out, out_len),
+            Out::new(report, 1),
+        )
+    };
+    imp::dk_deform_spring_adjoint::<f64>(
+        points,
+        dim,
+        motion,
+        system,
+        options,
+        weights,
+        scratch,
+        index_scratch,
+        out,
+        report,
+    )
+}
+
+/// `f32` twin of [`dk_deform_spring_adjoint`].
+///
+/// # Safety
+/// As [`dk_deform_spring_adjoint`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_deform_spring_adjoint_f32(
+    points: *const f32,
+    points_len: usize,
+    dim: u32,
+    motion: *const DkBoundaryMotion<f32>,
+    system: *const DkSpringSystem<f32>,
+    options: *const dk_spring_solve_options,
+    weights: *const f32,
+    weights_len: usize,
+    scratch: *mut f32,
+    scratch_len: usize,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    out: *mut f32,
+    out_len: usize,
+    report: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, motion, system, options, weights, scratch, index_scratch, out, report) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(motion, 1),
+            In::new(system, 1),
+            In::new(options, 1),
+            In::new(weights, weights_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(out, out_len),
+            Out::new(report, 1),
+        )
+    };
+    imp::dk_deform_spring_adjoint::<f32>(
+        points,
+        dim,
+        motion,
+        system,
+        options,
+        weights,
+        scratch,
+        index_scratch,
+        out,
+        report,
     )
 }

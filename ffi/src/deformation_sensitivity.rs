@@ -4,17 +4,21 @@
 //! sensitivity `w = dJ/dR`), the kernel's `deform_idw_tangent` / `deform_idw_adjoint`. The
 //! motion travels in the same [`dk_boundary_motion`](crate::deformation::dk_boundary_motion)
 //! as for the deformation, with the same index rules; see docs/sensitivities-quaternion.md
-//! for the derivation.
+//! for the derivation. The same two for the spring propagation (`dk_deform_spring`):
+//! `dk_deform_spring_tangent`, `dk_deform_spring_adjoint` (docs/sensitivities.md).
 
 use deform_kernel::quaternion::{
     deform_idw_adjoint, deform_idw_sensitivity_scratch_len, deform_idw_tangent,
+    deform_spring_adjoint, deform_spring_sensitivity_scratch_len, deform_spring_tangent,
 };
+use deform_kernel::spring::LinearSolver;
 use deform_kernel::Real;
 use deform_kernel_ffi_export::export;
 
-use crate::args::{by_dim, done, read_points, write_len};
+use crate::args::{by_dim, done, read_one, read_points, write_len};
 use crate::deformation::{read_raw, DkBoundaryMotion, MotionC};
-use crate::slice::{chunks, chunks_mut, output, In, Out};
+use crate::slice::{chunks, chunks_mut, out_one, output, In, Out};
+use crate::spring::{dk_spring_solve_options, dk_spring_solve_report, DkSpringSystem, SystemC};
 use crate::status::dk_status;
 
 /// The two modes of [`sensitivity_for_dim`].
@@ -144,6 +148,157 @@ pub(crate) fn dk_deform_idw_adjoint<T: Real>(
             scratch,
             index_scratch,
             out
+        )
+    ))
+}
+
+/// Reads the arguments of [`dk_deform_spring_tangent`] / [`dk_deform_spring_adjoint`] and
+/// runs one mode in dimension `D`.
+#[allow(clippy::too_many_arguments)]
+fn spring_sensitivity_for_dim<M: MotionC, const D: usize>(
+    mode: Mode,
+    points: In<'_, M::T>,
+    motion: In<'_, M>,
+    system: In<'_, DkSpringSystem<M::T>>,
+    options: In<'_, dk_spring_solve_options>,
+    input: In<'_, M::T>,
+    bufs: (Out<'_, M::T>, Out<'_, u32>, Out<'_, M::T>),
+    report: Out<'_, dk_spring_solve_report>,
+) -> Result<(), dk_status> {
+    let (scratch, index_scratch, out) = bufs;
+    let o = read_one(options)?;
+    let solver = LinearSolver::Method(o.method::<M::T>()?);
+    let stop = o.stopping::<M::T>();
+    let raw = read_raw(motion)?;
+    let points = read_points::<M::T, D>(points)?;
+    let input = chunks::<M::T, D>(input)?;
+    let scratch = output(scratch)?;
+    let out = chunks_mut::<M::T, D>(out)?;
+    let report = out_one(report)?;
+    let (motion, rest) = raw.view::<D>(output(index_scratch)?)?;
+    let sys = SystemC::read(system)?.build(rest)?;
+    let (m, s) = (&motion, &sys);
+    let rep = match mode {
+        Mode::Tangent => deform_spring_tangent(points, m, s, solver, &stop, input, scratch, out),
+        Mode::Adjoint => deform_spring_adjoint(points, m, s, solver, &stop, input, scratch, out),
+    }?;
+    *report = dk_spring_solve_report::of(rep);
+    Ok(())
+}
+
+/// Number of scalars the `scratch` of [`dk_deform_spring_tangent`] and
+/// [`dk_deform_spring_adjoint`] needs for `node_count` mesh nodes, `boundary_len` boundary
+/// nodes, dimension `dim` (2 or 3) and `options->method` (the kernel's
+/// `deform_spring_sensitivity_scratch_len`: two packed fields of `dim + 4` scalars a node, the
+/// boundary stage and the solver's). `index_scratch` needs
+/// [`dk_deform_spring_index_scratch_len`](crate::deformation::dk_deform_spring_index_scratch_len)
+/// entries, as for `dk_deform_spring`. The same for both precisions. Errors:
+/// `DK_ERR_INVALID_PARAMETER` (`dim`, method), `DK_ERR_TOO_LARGE`.
+#[export(options[1], len_out[1])]
+pub(crate) fn dk_deform_spring_sensitivity_scratch_len(
+    node_count: usize,
+    boundary_len: usize,
+    dim: u32,
+    options: In<'_, dk_spring_solve_options>,
+    len_out: Out<'_, usize>,
+) -> dk_status {
+    done((|| {
+        let solver = LinearSolver::Method(read_one(options)?.method::<f64>()?);
+        let len = match dim {
+            2 => deform_spring_sensitivity_scratch_len::<f64, 2>(&solver, node_count, boundary_len),
+            3 => deform_spring_sensitivity_scratch_len::<f64, 3>(&solver, node_count, boundary_len),
+            _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
+        };
+        if len == usize::MAX {
+            return Err(dk_status::DK_ERR_TOO_LARGE);
+        }
+        write_len(len_out, len)
+    })())
+}
+
+/// Tangent of [`dk_deform_spring`](crate::deformation::dk_deform_spring) (the quaternion
+/// method with linear-spring propagation): the first-order change `out = δR` of every mesh
+/// point (`N * dim` scalars) for the change `direction = δd` of the deformed boundary
+/// positions (`B * dim` scalars, in `motion->nodes` order), the undeformed `points` held;
+/// boundary nodes get `δd` exactly. It repeats the deformation's spring solve and solves once
+/// more with the same operator and `options`, so the result is the derivative to the solver
+/// tolerance (set it tight). `*report` receives the merged report of the two solves (not
+/// converged is `DK_OK` with `converged` false).
+///
+/// - `points`, `dim`, `motion`, `system`, `options`, `index_scratch`: as for
+///   `dk_deform_spring`.
+/// - `scratch`: [`dk_deform_spring_sensitivity_scratch_len`] scalars.
+///
+/// Errors: those of `dk_deform_spring`; `DK_ERR_NON_FINITE` for a non-finite `direction`;
+/// `DK_ERR_ZERO_LENGTH` where (3D shape rotations) a point's undeformed and deformed normals
+/// are antiparallel. On error `out` and `*report` are unchanged.
+#[export(twin, motion[1], system[1], options[1], report[1])]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn dk_deform_spring_tangent<T: Real>(
+    points: In<'_, T>,
+    dim: u32,
+    motion: In<'_, DkBoundaryMotion<T>>,
+    system: In<'_, DkSpringSystem<T>>,
+    options: In<'_, dk_spring_solve_options>,
+    direction: In<'_, T>,
+    scratch: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    out: Out<'_, T>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> dk_status {
+    let bufs = (scratch, index_scratch, out);
+    done(by_dim!(
+        dim,
+        spring_sensitivity_for_dim::<DkBoundaryMotion<T>>,
+        (
+            Mode::Tangent,
+            points,
+            motion,
+            system,
+            options,
+            direction,
+            bufs,
+            report
+        )
+    ))
+}
+
+/// Adjoint of [`dk_deform_spring`](crate::deformation::dk_deform_spring), the transpose of
+/// [`dk_deform_spring_tangent`]: `out = (∂R/∂d)ᵀ w` (`B * dim` scalars, in `motion->nodes`
+/// order) for `weights = w = dJ/dR` (`N * dim` scalars, e.g. a flow adjoint's volume
+/// sensitivity). The adjoint solve has the deformation's operator (symmetric) and
+/// preconditioner; `options->method` must be `DK_LINEAR_CG`.
+///
+/// Arguments and errors as for [`dk_deform_spring_tangent`], with `weights` (finite) in place
+/// of `direction`, and `DK_ERR_INVALID_PARAMETER` for a method other than CG. On error `out`
+/// and `*report` are unchanged.
+#[export(twin, motion[1], system[1], options[1], report[1])]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn dk_deform_spring_adjoint<T: Real>(
+    points: In<'_, T>,
+    dim: u32,
+    motion: In<'_, DkBoundaryMotion<T>>,
+    system: In<'_, DkSpringSystem<T>>,
+    options: In<'_, dk_spring_solve_options>,
+    weights: In<'_, T>,
+    scratch: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    out: Out<'_, T>,
+    report: Out<'_, dk_spring_solve_report>,
+) -> dk_status {
+    let bufs = (scratch, index_scratch, out);
+    done(by_dim!(
+        dim,
+        spring_sensitivity_for_dim::<DkBoundaryMotion<T>>,
+        (
+            Mode::Adjoint,
+            points,
+            motion,
+            system,
+            options,
+            weights,
+            bufs,
+            report
         )
     ))
 }

@@ -10,7 +10,10 @@
  * can compute the same with the kernel and compare the text. Checks here: the dot-product
  * identity <J v, w> = <v, J^T w> of the IDW pair, zero adjoint at the free nodes, and bad
  * input (a stationary method, a short scratch, dim 4, index base 2) returns its status and
- * leaves the output untouched. Ends with "sensitivity: every check held" (exit 0). */
+ * leaves the output untouched. Then the quaternion method with spring propagation
+ * (dk_deform_spring_tangent and _adjoint, f64 0-based and f32 1-based, shape rotations of
+ * the boundary loop): bits, the dot-product identity, bad input. Ends with
+ * "sensitivity: every check held" (exit 0). */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -145,6 +148,147 @@ static void idw(void) {
     SAME(g, g0, sizeof g);
 }
 
+/* The quaternion method with spring propagation (dk_deform_spring_tangent, _adjoint and the
+ * f32 twins): the boundary loop turned by 0.2 rad about the centre, shifted and jittered,
+ * rotations from its shape (segments along the loop), CG + Jacobi; f64 with 0-based nodes,
+ * f32 with 1-based ones. */
+static uint32_t seg_off[NB + 1], seg_nodes[2 * NB], seg_off1[NB + 1], seg_nodes1[2 * NB];
+static uint8_t seg_kinds[NB];
+static double dfm[2 * NB], dir[2 * NB];
+static float dfm32[2 * NB], dir32[2 * NB];
+
+/* The segments of the boundary loop (counter-clockwise, boundary-local numbering), the
+ * deformed loop and the perturbation. */
+static void loop(void) {
+    uint32_t local[N], ring[NB];
+    size_t i, k = 0;
+    for (i = 0; i < NB; i++) local[boundary[i]] = (uint32_t)i;
+    for (i = 0; i + 1 < S; i++) ring[k++] = (uint32_t)i;                  /* bottom */
+    for (i = 0; i + 1 < S; i++) ring[k++] = (uint32_t)(S - 1 + S * i);    /* right */
+    for (i = 0; i + 1 < S; i++) ring[k++] = (uint32_t)(N - 1 - i);        /* top */
+    for (i = 0; i + 1 < S; i++) ring[k++] = (uint32_t)(S * (S - 1 - i));  /* left */
+    for (i = 0; i < NB; i++) {
+        double x = points[2 * boundary[i]] - 0.5, y = points[2 * boundary[i] + 1] - 0.5;
+        seg_off[i] = (uint32_t)(2 * i);
+        seg_off1[i] = (uint32_t)(2 * i + 1);
+        seg_nodes[2 * i] = local[ring[i]];
+        seg_nodes[2 * i + 1] = local[ring[(i + 1) % NB]];
+        seg_nodes1[2 * i] = seg_nodes[2 * i] + 1;
+        seg_nodes1[2 * i + 1] = seg_nodes[2 * i + 1] + 1;
+        seg_kinds[i] = 3;
+        dfm[2 * i] = 0.5 + cos(0.2) * x - sin(0.2) * y + 0.03 + 0.01 * sin(7.0 * (double)i);
+        dfm[2 * i + 1] = 0.5 + sin(0.2) * x + cos(0.2) * y - 0.02 + 0.01 * cos(5.0 * (double)i);
+        dir[2 * i] = sin(3.0 + (double)i);
+        dir[2 * i + 1] = cos(1.0 + 2.0 * (double)i);
+    }
+    seg_off[NB] = 2 * NB;
+    seg_off1[NB] = 2 * NB + 1;
+    for (i = 0; i < 2 * NB; i++) {
+        dfm32[i] = (float)dfm[i];
+        dir32[i] = (float)dir[i];
+    }
+}
+
+/* f64, 0-based: tangent, adjoint, the dot-product identity, bad input. */
+static void quaternion_springs64(const dk_spring_system *sys, uint32_t *index, size_t ilen) {
+    dk_boundary_motion m;
+    dk_spring_solve_options o;
+    dk_spring_solve_report r, r0;
+    double jv[2 * N], g[2 * NB], g0[2 * NB], bad[2 * NB], a = 0.0, b = 0.0;
+    size_t len = 0, need = 0, i;
+    OK(dk_boundary_motion_default(&m));
+    m.nodes = boundary;
+    m.nodes_len = NB;
+    m.deformed = dfm;
+    m.deformed_len = 2 * NB;
+    m.elements = (dk_cells){seg_off, NB + 1, seg_nodes, 2 * NB, seg_kinds, NB};
+    OK(dk_spring_solve_options_default(&o));
+    o.residual_tol = 1e-13;
+    OK(dk_deform_spring_sensitivity_scratch_len(N, NB, 2, &o, &len));
+    OK(dk_deform_spring_index_scratch_len(&m, N, &need));
+    CHECK(need <= ilen);
+    double *s = xmalloc(len * sizeof(double));
+    OK(dk_deform_spring_tangent(points, 2 * N, 2, &m, sys, &o, dir, 2 * NB, s, len, index, ilen,
+                                jv, 2 * N, &r));
+    hex64("qspring tangent f64", jv, 2 * N);
+    printf("qspring tangent f64 report %zu %d\n", r.iterations, (int)r.converged);
+    OK(dk_deform_spring_adjoint(points, 2 * N, 2, &m, sys, &o, w, 2 * N, s, len, index, ilen, g,
+                                2 * NB, &r));
+    hex64("qspring adjoint f64", g, 2 * NB);
+    printf("qspring adjoint f64 report %zu %d\n", r.iterations, (int)r.converged);
+    a = dot(jv, w);
+    for (i = 0; i < 2 * NB; i++) b += dir[i] * g[i];
+    CHECK(fabs(a - b) <= 1e-11 * fabs(a));
+    /* Bad input: nothing written. */
+    memcpy(g0, g, sizeof g);
+    r0 = r;
+    memcpy(bad, dir, sizeof dir);
+    bad[3] = NAN;
+    EXPECT(dk_deform_spring_tangent(points, 2 * N, 2, &m, sys, &o, bad, 2 * NB, s, len, index,
+                                    ilen, jv, 2 * N, &r),
+           DK_ERR_NON_FINITE);
+    EXPECT(dk_deform_spring_adjoint(points, 2 * N, 2, &m, sys, &o, w, 2 * N, s, len - 1, index,
+                                    ilen, g, 2 * NB, &r),
+           DK_ERR_BUFFER_TOO_SMALL);
+    o.method = DK_LINEAR_SOR;
+    EXPECT(dk_deform_spring_adjoint(points, 2 * N, 2, &m, sys, &o, w, 2 * N, s, len, index, ilen,
+                                    g, 2 * NB, &r),
+           DK_ERR_INVALID_PARAMETER);
+    SAME(g, g0, sizeof g);
+    SAME(&r, &r0, sizeof r);
+    free(s);
+}
+
+/* f32, 1-based: tangent and adjoint. */
+static void quaternion_springs32(const dk_spring_system_f32 *sys, uint32_t *index, size_t ilen) {
+    dk_boundary_motion_f32 m;
+    dk_spring_solve_options o;
+    dk_spring_solve_report r;
+    float jv[2 * N], g[2 * NB];
+    size_t len = 0, need = 0;
+    OK(dk_boundary_motion_default_f32(&m));
+    m.nodes = boundary1;
+    m.nodes_len = NB;
+    m.deformed = dfm32;
+    m.deformed_len = 2 * NB;
+    m.elements = (dk_cells){seg_off1, NB + 1, seg_nodes1, 2 * NB, seg_kinds, NB};
+    m.index_base = 1;
+    OK(dk_spring_solve_options_default_f32(&o));
+    OK(dk_deform_spring_sensitivity_scratch_len(N, NB, 2, &o, &len));
+    OK(dk_deform_spring_index_scratch_len_f32(&m, N, &need));
+    CHECK(need <= ilen);
+    float *s = xmalloc(len * sizeof(float));
+    OK(dk_deform_spring_tangent_f32(points32, 2 * N, 2, &m, sys, &o, dir32, 2 * NB, s, len, index,
+                                    ilen, jv, 2 * N, &r));
+    hex32("qspring tangent f32", jv, 2 * N);
+    printf("qspring tangent f32 report %zu %d\n", r.iterations, (int)r.converged);
+    OK(dk_deform_spring_adjoint_f32(points32, 2 * N, 2, &m, sys, &o, w32, 2 * N, s, len, index,
+                                    ilen, g, 2 * NB, &r));
+    hex32("qspring adjoint f32", g, 2 * NB);
+    printf("qspring adjoint f32 report %zu %d\n", r.iterations, (int)r.converged);
+    free(s);
+}
+
+static void quaternion_springs(void) {
+    size_t e = offsets[N], ilen = N + NB + 3 * NB + 1;
+    dk_graph graph = {offsets, N + 1, targets, e};
+    double *k = xmalloc(e * sizeof(double));
+    float *k32 = xmalloc(e * sizeof(float));
+    uint32_t *index = xmalloc(ilen * sizeof(uint32_t));
+    loop();
+    hex64("qdeformed", dfm, 2 * NB);
+    hex64("qdirection", dir, 2 * NB);
+    OK(dk_spring_batina_stiffness(&graph, points, 2 * N, 2, 1.0, k, e));
+    OK(dk_spring_batina_stiffness_f32(&graph, points32, 2 * N, 2, 1.0f, k32, e));
+    dk_spring_system sys = {graph, k, e, fixed, N};
+    dk_spring_system_f32 sys32 = {graph, k32, e, fixed, N};
+    quaternion_springs64(&sys, index, ilen);
+    quaternion_springs32(&sys32, index, ilen);
+    free(k);
+    free(k32);
+    free(index);
+}
+
 int main(void) {
     build();
     hex64("points", points, 2 * N);
@@ -152,6 +296,7 @@ int main(void) {
     hex64("v", v, 2 * N);
     springs();
     idw();
+    quaternion_springs();
     if (failures) return 1;
     printf("sensitivity: every check held\n");
     return 0;

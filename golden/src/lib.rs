@@ -55,6 +55,7 @@ pub mod mesh_cases;
 pub mod method_cases;
 pub mod quat_cases;
 pub mod rng;
+pub mod sensitivity_cases;
 
 pub use hash::Fnv;
 pub use rng::XorShift;
@@ -239,5 +240,19 @@ pub const CASES: &[Case] = &[
         run_f32: method_cases::rbf_3d::<f32>,
         expected_f64: 0xa1cd_ffaa_c944_7465,
         expected_f32: 0xb0a7_9e50_3b30_4640,
+    },
+    Case {
+        name: "quaternion_spring_tangent",
+        run_f64: sensitivity_cases::quaternion_spring_tangent::<f64>,
+        run_f32: sensitivity_cases::quaternion_spring_tangent::<f32>,
+        expected_f64: 0x8ddf_8f7c_cf49_6d19,
+        expected_f32: 0x5b11_74b6_53c0_7422,
+    },
+    Case {
+        name: "quaternion_spring_adjoint",
+        run_f64: sensitivity_cases::quaternion_spring_adjoint::<f64>,
+        run_f32: sensitivity_cases::quaternion_spring_adjoint::<f32>,
+        expected_f64: 0xa174_19ef_1a71_36e4,
+        expected_f32: 0xf373_07bb_5508_82d6,
     },
 ];

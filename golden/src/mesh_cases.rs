@@ -24,31 +24,31 @@ use deform_kernel::{
 use crate::{Fnv, XorShift};
 
 /// Grid points along x and y of the triangle mesh.
-const NX: usize = 7;
-const NY: usize = 6;
+pub(crate) const NX: usize = 7;
+pub(crate) const NY: usize = 6;
 /// Mesh nodes.
-const N: usize = NX * NY;
+pub(crate) const N: usize = NX * NY;
 /// Triangles (two per quad).
 const NT: usize = 2 * (NX - 1) * (NY - 1);
 /// Boundary nodes (the perimeter).
-const NB: usize = 2 * (NX + NY) - 4;
+pub(crate) const NB: usize = 2 * (NX + NY) - 4;
 /// Upper bound of directed edges: 3 per triangle, twice.
 const NE: usize = 6 * NT;
 
 /// The mesh: jittered points, triangle cells, the edge graph and the perimeter.
-struct Mesh<T> {
-    points: [[T; 2]; N],
+pub(crate) struct Mesh<T> {
+    pub(crate) points: [[T; 2]; N],
     offsets: [u32; NT + 1],
     nodes: [u32; 3 * NT],
     kinds: [u8; NT],
     graph_offsets: [u32; N + 1],
     targets: [u32; NE],
     used: usize,
-    boundary: [u32; NB],
+    pub(crate) boundary: [u32; NB],
     fixed: [u8; N],
 }
 
-fn mesh<T: Real>() -> Mesh<T> {
+pub(crate) fn mesh<T: Real>() -> Mesh<T> {
     let mut rng = XorShift::new(0x5EED_0003);
     let mut m = Mesh {
         points: [[T::ZERO; 2]; N],
@@ -114,7 +114,7 @@ fn mesh<T: Real>() -> Mesh<T> {
 
 /// The prescribed motion: the bottom row (j = 0) turns by 20° about its midpoint; the rest of
 /// the perimeter stays. Returns the displacement of every node (zero inside).
-fn boundary_displacement<T: Real>(m: &Mesh<T>) -> [[T; 2]; N] {
+pub(crate) fn boundary_displacement<T: Real>(m: &Mesh<T>) -> [[T; 2]; N] {
     let q = Quat::from_rotation_z(T::from_f64(20f64.to_radians()));
     let centre = [T::from_f64((NX - 1) as f64 * 0.5), T::ZERO];
     let mut d = [[T::ZERO; 2]; N];
@@ -129,7 +129,7 @@ fn boundary_displacement<T: Real>(m: &Mesh<T>) -> [[T; 2]; N] {
 
 /// Builds the Batina spring system of the mesh (stiffness `1/|e|`, perimeter fixed) and runs
 /// `f` on it with the stiffness slice; `None` when a step fails (never for this mesh).
-fn with_system<T: Real, R>(
+pub(crate) fn with_system<T: Real, R>(
     m: &Mesh<T>,
     f: impl FnOnce(&SpringSystem<'_, T>, &[T]) -> R,
 ) -> Option<R> {
@@ -143,14 +143,14 @@ fn with_system<T: Real, R>(
     Some(f(&sys, k))
 }
 
-fn hash_report<T: Real>(h: &mut Fnv, r: &SolveReport<T>) {
+pub(crate) fn hash_report<T: Real>(h: &mut Fnv, r: &SolveReport<T>) {
     h.usize(r.iterations);
     h.real(r.residual);
     h.real(r.max_update);
     h.byte(r.converged as u8);
 }
 
-fn hash_points<T: Real, const D: usize>(h: &mut Fnv, pts: &[[T; D]]) {
+pub(crate) fn hash_points<T: Real, const D: usize>(h: &mut Fnv, pts: &[[T; D]]) {
     for p in pts {
         h.reals(*p);
     }

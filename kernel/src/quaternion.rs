@@ -82,7 +82,10 @@ pub use rotations::{
     boundary_origin, boundary_rotations, boundary_rotations_scratch_len, boundary_translations,
     rigid_rotations,
 };
-pub use sensitivity::{deform_idw_adjoint, deform_idw_sensitivity_scratch_len, deform_idw_tangent};
+pub use sensitivity::{
+    deform_idw_adjoint, deform_idw_sensitivity_scratch_len, deform_idw_tangent,
+    deform_spring_adjoint, deform_spring_sensitivity_scratch_len, deform_spring_tangent,
+};
 pub use springs::{
     propagate_spring, propagate_spring_scratch_len, propagate_spring_with,
     propagate_spring_with_scratch_len,

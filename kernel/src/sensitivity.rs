@@ -105,7 +105,7 @@ fn check_fields(arg: &'static str, n: usize, len: usize) -> Result<()> {
 
 /// The reports of several solves as one: the most iterations, the largest residual and
 /// update, converged only when every solve did.
-fn merge<T: Real>(a: Option<SolveReport<T>>, b: SolveReport<T>) -> SolveReport<T> {
+pub(crate) fn merge<T: Real>(a: Option<SolveReport<T>>, b: SolveReport<T>) -> SolveReport<T> {
     match a {
         None => b,
         Some(a) => SolveReport {

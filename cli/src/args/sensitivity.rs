@@ -14,6 +14,10 @@ pub enum SensitivityMethod {
     /// left out. Not `deform move --method idw`, whose quaternion rotations make it nonlinear
     /// (its derivative is the kernel's `quaternion::deform_idw_tangent`/`_adjoint`).
     IdwDisplacements,
+    /// Samareh's quaternion method with linear-spring propagation (`deform move --method
+    /// quaternion`: Batina stiffness, multigrid CG), rotations from the boundary shape,
+    /// default origin. Nonlinear: linearised about the boundary of `--deformed`.
+    Quaternion,
 }
 
 /// What the linear deformation needs (shared by `adjoint` and `tangent`).
@@ -24,6 +28,10 @@ pub struct SensitivitySetup {
     /// The deformation to differentiate.
     #[arg(long, value_enum, default_value = "spring")]
     pub method: SensitivityMethod,
+    /// The deformed mesh (e.g. `deform move`'s output, same nodes) whose boundary positions
+    /// are the linearisation point of `--method quaternion` (default: the undeformed mesh).
+    #[arg(long)]
+    pub deformed: Option<PathBuf>,
     /// IDW weight exponent `p` in `(d_min / d)^p` (`--method idw-displacements`).
     #[arg(long, default_value_t = 2.0)]
     pub idw_exponent: f64,

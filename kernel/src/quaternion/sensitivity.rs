@@ -42,12 +42,16 @@
 mod boundary;
 mod field;
 mod lin;
+mod spring;
 
 use self::boundary::{
     rotations2_adjoint, rotations2_tangent, rotations3_adjoint, rotations3_tangent,
     translations_adjoint, translations_tangent, zero, WORK3,
 };
 use self::field::{idw_adjoint, idw_tangent, Field};
+pub use self::spring::{
+    deform_spring_adjoint, deform_spring_sensitivity_scratch_len, deform_spring_tangent,
+};
 use super::pipeline::{boundary_rotations_with, motion_origin, validate_motion};
 use super::{check_exponent, store, take, BoundaryMotion, Pts, RotationSource};
 use crate::cells::Cells;
@@ -68,13 +72,14 @@ pub fn deform_idw_sensitivity_scratch_len<const D: usize>(
     node_count.max(boundary_len.saturating_mul(PER_POINT))
 }
 
-/// The base state both modes share: validated input, the origin, the boundary rotations
-/// `Q_k` in `scratch[..4 B]`. Returns the origin.
-fn prepare<T: Real, const D: usize>(
+/// The base state every mode shares: validated input (`check` sees the boundary marks the
+/// validation leaves in `scratch[..N]`: 1 at boundary nodes, 0 elsewhere), the origin, the
+/// boundary rotations `Q_k` in `scratch[..4 B]`. Returns the origin.
+pub(super) fn prepare<T: Real, const D: usize>(
     points: &[[T; D]],
     motion: &BoundaryMotion<'_, T, D>,
-    exponent: T,
     scratch: &mut [T],
+    check: impl FnOnce(&[T]) -> Result<()>,
 ) -> Result<[T; D]> {
     let (n, b) = (points.len(), motion.nodes.len());
     validate_motion(
@@ -83,7 +88,7 @@ fn prepare<T: Real, const D: usize>(
         scratch,
         deform_idw_sensitivity_scratch_len::<D>(n, b),
     )?;
-    check_exponent(exponent)?;
+    check(scratch.get(..n).unwrap_or_default())?;
     let origin = motion_origin(points, motion)?;
     let (qs, work) = take(scratch, 4 * b);
     let work = work.get_mut(7 * b..).unwrap_or_default();
@@ -91,6 +96,88 @@ fn prepare<T: Real, const D: usize>(
         store(qs, k, q.to_array())
     })?;
     Ok(origin)
+}
+
+/// The boundary stage of the tangent: with `Q_k` in `scratch[..4 B]` (from [`prepare`]),
+/// writes `δQ_k` to `scratch[4 B..8 B]` and `δΔ_k` to `scratch[8 B..11 B]` for the
+/// perturbation `direction = δd`.
+///
+/// # Errors
+/// [`Error::ZeroLength`] (`"normal_sum"`, antiparallel normals), [`Error::NonFinite`]
+/// (`"tangent"`) when the derivatives overflow.
+pub(super) fn boundary_tangent<T: Real, const D: usize>(
+    points: &[[T; D]],
+    motion: &BoundaryMotion<'_, T, D>,
+    origin: [T; D],
+    direction: &[[T; D]],
+    scratch: &mut [T],
+) -> Result<()> {
+    let b = motion.nodes.len();
+    let (qs, rest) = take(scratch, 4 * b);
+    let (dq, rest) = take(rest, 4 * b);
+    let (dt, work) = take(rest, 3 * b);
+    zero(dq);
+    let u = Pts::mapped(points, motion.nodes);
+    let d = Pts::direct(motion.deformed);
+    if let Some(elements) = shape(motion) {
+        if D == 2 {
+            rotations2_tangent(d, &elements, direction, qs, work, dq);
+        } else {
+            rotations3_tangent(u, d, &elements, direction, work, dq)?;
+        }
+    }
+    translations_tangent(u, origin, qs, dq, direction, dt);
+    if let Some(position) = dq.iter().chain(dt.iter()).position(|x| !x.is_finite()) {
+        return Err(Error::NonFinite {
+            arg: "tangent",
+            position,
+        });
+    }
+    Ok(())
+}
+
+/// Everything in the boundary stage of the adjoint that can fail (the 3D rotations of
+/// antiparallel normals), run before `out` is written. `scratch` as for [`boundary_tangent`].
+pub(super) fn boundary_adjoint_check<T: Real, const D: usize>(
+    points: &[[T; D]],
+    motion: &BoundaryMotion<'_, T, D>,
+    scratch: &mut [T],
+) -> Result<()> {
+    let b = motion.nodes.len();
+    let (_, rest) = take(scratch, 4 * b);
+    let (dq, rest) = take(rest, 4 * b);
+    let (_, work) = take(rest, 3 * b);
+    if let (Some(el), 3) = (shape(motion).as_ref(), D) {
+        zero(dq);
+        let u = Pts::mapped(points, motion.nodes);
+        rotations3_adjoint(u, Pts::direct(motion.deformed), el, dq, work, &mut [])?;
+    }
+    Ok(())
+}
+
+/// The boundary stage of the adjoint: with `Q_k`, `Q̄_k` and `Δ̄_k` in `scratch` (the layout
+/// of [`boundary_tangent`]), adds `d̄_k` to `out` (`B` items). Call
+/// [`boundary_adjoint_check`] first: the error here comes after `out` was written.
+pub(super) fn boundary_adjoint<T: Real, const D: usize>(
+    points: &[[T; D]],
+    motion: &BoundaryMotion<'_, T, D>,
+    origin: [T; D],
+    scratch: &mut [T],
+    out: &mut [[T; D]],
+) -> Result<()> {
+    let b = motion.nodes.len();
+    let (qs, rest) = take(scratch, 4 * b);
+    let (dq, rest) = take(rest, 4 * b);
+    let (dt, work) = take(rest, 3 * b);
+    let u = Pts::mapped(points, motion.nodes);
+    let d = Pts::direct(motion.deformed);
+    translations_adjoint(u, origin, qs, dt, dq, out);
+    match shape(motion) {
+        Some(el) if D == 2 => rotations2_adjoint(d, &el, qs, dq, work, out),
+        Some(el) => rotations3_adjoint(u, d, &el, dq, work, out)?,
+        None => {}
+    }
+    Ok(())
 }
 
 /// The boundary elements when the rotations come from the shape (the only source whose
@@ -125,28 +212,12 @@ pub fn deform_idw_tangent<T: Real, const D: usize>(
     let b = motion.nodes.len();
     check::len("direction", direction.len(), b)?;
     check::len("out", out.len(), points.len())?;
-    let origin = prepare(points, motion, exponent, scratch)?;
+    let origin = prepare(points, motion, scratch, |_| check_exponent(exponent))?;
     check::finite_items("direction", direction)?;
+    boundary_tangent(points, motion, origin, direction, scratch)?;
     let (qs, rest) = take(scratch, 4 * b);
     let (dq, rest) = take(rest, 4 * b);
-    let (dt, work) = take(rest, 3 * b);
-    zero(dq);
-    let u = Pts::mapped(points, motion.nodes);
-    let d = Pts::direct(motion.deformed);
-    if let Some(elements) = shape(motion) {
-        if D == 2 {
-            rotations2_tangent(d, &elements, direction, qs, work, dq);
-        } else {
-            rotations3_tangent(u, d, &elements, direction, work, dq)?;
-        }
-    }
-    translations_tangent(u, origin, qs, dq, direction, dt);
-    if let Some(position) = dq.iter().chain(dt.iter()).position(|x| !x.is_finite()) {
-        return Err(Error::NonFinite {
-            arg: "tangent",
-            position,
-        });
-    }
+    let (dt, _) = take(rest, 3 * b);
     let field = Field {
         points,
         boundary: motion.nodes,
@@ -177,19 +248,12 @@ pub fn deform_idw_adjoint<T: Real, const D: usize>(
     let b = motion.nodes.len();
     check::len("weights", weights.len(), points.len())?;
     check::len("out", out.len(), b)?;
-    let origin = prepare(points, motion, exponent, scratch)?;
+    let origin = prepare(points, motion, scratch, |_| check_exponent(exponent))?;
     check::finite_items("weights", weights)?;
+    boundary_adjoint_check(points, motion, scratch)?;
     let (qs, rest) = take(scratch, 4 * b);
     let (dq, rest) = take(rest, 4 * b);
     let (dt, work) = take(rest, 3 * b);
-    let u = Pts::mapped(points, motion.nodes);
-    let d = Pts::direct(motion.deformed);
-    let elements = shape(motion);
-    if let (Some(el), 3) = (elements.as_ref(), D) {
-        // Everything that can fail in the 3D rotations fails here, before `out` is written.
-        zero(dq);
-        rotations3_adjoint(u, d, el, dq, work, &mut [])?;
-    }
     zero(dq);
     zero(dt);
     let field = Field {
@@ -203,11 +267,6 @@ pub fn deform_idw_adjoint<T: Real, const D: usize>(
         *o = [T::ZERO; D];
     }
     idw_adjoint(&field, weights, work, dq, dt, out);
-    translations_adjoint(u, origin, qs, dt, dq, out);
-    match elements {
-        Some(el) if D == 2 => rotations2_adjoint(d, &el, qs, dq, work, out),
-        Some(el) => rotations3_adjoint(u, d, &el, dq, work, out)?,
-        None => {}
-    }
+    boundary_adjoint(points, motion, origin, scratch, out)?;
     Ok(())
 }

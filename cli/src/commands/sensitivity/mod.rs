@@ -1,11 +1,13 @@
 //! `deform adjoint` and `deform tangent`: the derivative of the linear deformations (Batina
 //! springs, inverse-distance weighting) with respect to the boundary motion, through the
-//! kernel's `sensitivity` module (see docs/sensitivities.md).
+//! kernel's `sensitivity` module, and of the quaternion method with spring propagation
+//! linearised about a deformed boundary (`quaternion.rs`); see docs/sensitivities.md.
 //!
 //! `adjoint` is SU2_DOT's first step: the volume sensitivity `dJ/dx` of a flow adjoint becomes
 //! `dJ/dx_b` at the boundary nodes (one adjoint solve with the deformation's own operator and
 //! multigrid hierarchy). `tangent` is the forward direction for one boundary perturbation.
 
+mod quaternion;
 mod read;
 
 use std::io::Write as _;
@@ -39,6 +41,13 @@ fn load(setup: &SensitivitySetup) -> Result<(Su2Mesh, Vec<u32>), CliError> {
     if !(setup.tol.is_finite() && setup.tol > 0.0) {
         return Err(CliError::Invalid(
             "--tol must be finite and positive".into(),
+        ));
+    }
+    if setup.deformed.is_some() && setup.method != SensitivityMethod::Quaternion {
+        return Err(CliError::Invalid(
+            "--deformed is the linearisation point of --method quaternion; the other methods \
+             are linear"
+                .into(),
         ));
     }
     if !(setup.idw_exponent.is_finite() && setup.idw_exponent > 0.0) {
@@ -127,6 +136,7 @@ fn adjoint_d<const D: usize>(
                 .map_err(kernel("IDW adjoint"))?;
             Ok((g, None))
         }
+        SensitivityMethod::Quaternion => quaternion::adjoint(setup, mesh, boundary, w),
         SensitivityMethod::Spring => {
             with_springs::<D, _>(setup, mesh, boundary, |sys, solver, stop| {
                 let len =
@@ -154,6 +164,7 @@ fn tangent_d<const D: usize>(
                 .map_err(kernel("IDW tangent"))?;
             Ok((dx, None))
         }
+        SensitivityMethod::Quaternion => quaternion::tangent(setup, mesh, boundary, &dx),
         SensitivityMethod::Spring => {
             with_springs::<D, _>(setup, mesh, boundary, |sys, solver, stop| {
                 let len = deform_kernel::spring::solve_linear_with_scratch_len(&solver, dx.len());
