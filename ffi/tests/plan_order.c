@@ -6,7 +6,7 @@
  * (dk_plan_init) gives on the mesh this program renumbers with dk_order_rcm,
  * dk_order_permute, dk_order_permute_graph and dk_order_renumber, put back with the
  * permutation inverted; its pools are 2 N indices larger; an unknown `renumber` is
- * DK_ERR_INVALID_PARAMETER with the outputs untouched. Prints the mesh, the motion and each
+ * DK_ERR_INVALID_PARAMETER with the outputs untouched; the _f32 twins give the same identity. Prints the mesh, the motion and each
  * method's final mesh in hex, so host-tests/tests/ffi/c_abi_plan.rs can compare with the
  * Rust plan. Ends with "plan_order: every check held" (exit 0). */
 #include "check.h"
@@ -153,6 +153,75 @@ static void bad_renumber(void) {
     release(&pools);
 }
 
+/* Zeroed f32 pools of these sizes. */
+static dk_plan_pools_f32 alloc_pools_f32(dk_plan_sizes s) {
+    dk_plan_pools_f32 p = {xmalloc(s.reals * sizeof(float)), s.reals,
+                           xmalloc(s.indices * sizeof(uint32_t)), s.indices, xmalloc(s.bytes),
+                           s.bytes};
+    memset(p.reals, 0, s.reals * sizeof(float));
+    memset(p.indices, 0, s.indices * sizeof(uint32_t));
+    memset(p.bytes, 0, s.bytes);
+    return p;
+}
+
+/* An f32 plan of `mesh` in fresh pools, renumbered by `renumber`. */
+static dk_plan_pools_f32 plan_f32(const dk_plan_mesh_f32 *mesh, const dk_plan_options *o,
+                                  uint32_t renumber) {
+    dk_plan_sizes ws, ps;
+    dk_plan_pools_f32 work, pools;
+    dk_plan_info info;
+    OK(dk_plan_work_sizes_ordered_f32(mesh, 2, o, renumber, &ws));
+    work = alloc_pools_f32(ws);
+    OK(dk_plan_pool_sizes_ordered_f32(mesh, 2, o, renumber, &work, &ps));
+    pools = alloc_pools_f32(ps);
+    OK(dk_plan_init_ordered_f32(mesh, 2, o, renumber, &work, &pools, &info));
+    CHECK(info.nodes == N && info.boundary == B);
+    free(work.reals);
+    free(work.indices);
+    free(work.bytes);
+    return pools;
+}
+
+/* The f32 twins: an RCM spring plan against the plain f32 plan on the renumbered mesh. */
+static void against_renumbered_f32(void) {
+    static uint32_t order[N], inverse[N], r_offsets[N + 1], r_targets[2 * EDGES], r_boundary[B];
+    static float p32[2 * N], d32[2 * B], r_points[2 * N], out[2 * N], r_out[2 * N], back[2 * N];
+    dk_graph graph = {offsets, N + 1, targets, used};
+    dk_permutation perm = {order, N, inverse, N}, undo = {inverse, N, order, N};
+    dk_plan_options o;
+    dk_plan_pools_f32 po, pr;
+    dk_plan_step_report ro, rr;
+    size_t i;
+    for (i = 0; i < 2 * N; i++) p32[i] = (float)points[i];
+    for (i = 0; i < 2 * B; i++) d32[i] = (float)deformed[i];
+    OK(dk_plan_options_default_f32(&o));
+    o.method = DK_PLAN_SPRING;
+    {
+        dk_plan_mesh_f32 mesh = {p32, 2 * N, {offsets, N + 1, targets, used}, boundary, B, {0},
+                                 NULL, 0};
+        po = plan_f32(&mesh, &o, DK_PLAN_ORDER_RCM);
+    }
+    OK(dk_order_rcm(&graph, order, N, inverse, N));
+    OK(dk_order_permute_f32(&perm, 2, p32, 2 * N, r_points, 2 * N));
+    OK(dk_order_permute_graph(&perm, &graph, r_offsets, N + 1, r_targets, used, NULL, 0));
+    memcpy(r_boundary, boundary, sizeof boundary);
+    OK(dk_order_renumber(&perm, 0, r_boundary, B));
+    {
+        dk_plan_mesh_f32 mesh = {r_points, 2 * N, {r_offsets, N + 1, r_targets, used}, r_boundary,
+                                 B, {0}, NULL, 0};
+        pr = plan_f32(&mesh, &o, DK_PLAN_ORDER_NONE);
+    }
+    OK(dk_plan_step_f32(&po, 2, d32, 2 * B, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0, DK_PLAN_COLD,
+                        out, 2 * N, &ro));
+    OK(dk_plan_step_f32(&pr, 2, d32, 2 * B, DK_ROTATIONS_SHAPE, NULL, 0, NULL, 0, DK_PLAN_COLD,
+                        r_out, 2 * N, &rr));
+    OK(dk_order_permute_f32(&undo, 2, r_out, 2 * N, back, 2 * N));
+    SAME(out, back, sizeof out);
+    CHECK(ro.iterations == rr.iterations && ro.converged);
+    free(po.reals); free(po.indices); free(po.bytes);
+    free(pr.reals); free(pr.indices); free(pr.bytes);
+}
+
 int main(void) {
     build();
     hex64("points", points, 2 * N);
@@ -162,6 +231,7 @@ int main(void) {
     hex64("deformed", deformed, 2 * B);
     against_renumbered(DK_PLAN_SPRING, "spring");
     against_renumbered(DK_PLAN_QUATERNION, "quaternion");
+    against_renumbered_f32();
     bad_renumber();
     if (failures) return 1;
     printf("plan_order: every check held\n");
