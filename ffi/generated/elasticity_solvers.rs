@@ -95,15 +95,15 @@ pub unsafe extern "C" fn dk_elasticity_amg_pool_sizes(
     )
 }
 
-/// [`dk_elasticity_deform`]'s motion with every increment solved by CG preconditioned with
+/// `dk_elasticity_deform`'s motion with every increment solved by CG preconditioned with
 /// one V-cycle of smoothed aggregation with the rigid-body modes of the increment's mesh as
 /// near-null space (the kernel's `ElasticSystem::rigid_amg` and `solve_rigid_amg`, the same
 /// bits; the hierarchy is rebuilt on every increment). Arguments as
-/// [`dk_elasticity_deform`], with `amg` (`dk_amg_options_default`) and `pools` instead of
+/// `dk_elasticity_deform`, with `amg` (`dk_amg_options_default`) and `pools` instead of
 /// `scratch`: `reals` and `indices` of at least the lengths [`dk_elasticity_amg_pool_sizes`]
 /// gave with `sliding` 0 (`bytes` unused; contents afterwards unspecified).
 ///
-/// Errors (points and report unchanged): those of [`dk_elasticity_deform`],
+/// Errors (points and report unchanged): those of `dk_elasticity_deform`,
 /// `DK_ERR_BUFFER_TOO_SMALL` (a pool), `DK_ERR_INVALID_PARAMETER` (multigrid options),
 /// `DK_ERR_SINGULAR_SYSTEM` (a coarse level not positive definite, or a CG breakdown).
 ///
@@ -285,7 +285,7 @@ pub unsafe extern "C" fn dk_elasticity_sliding_scratch_len(
     imp::dk_elasticity_sliding_scratch_len(node_count, cell_count, edge_count, dim, len_out)
 }
 
-/// [`dk_elasticity_deform`] with sliding nodes: `constraints` (as for
+/// `dk_elasticity_deform` with sliding nodes: `constraints` (as for
 /// `dk_spring_solve_linear_sliding`) gives every node's kind and direction, `fixed` must be
 /// nonzero exactly at its kind-1 nodes (`dk_constraints_fixed_mask`); a kind-2 node moves in
 /// its plane (a line in 2D), a kind-3 node along its line, and the motion minimises the
@@ -293,7 +293,7 @@ pub unsafe extern "C" fn dk_elasticity_sliding_scratch_len(
 /// block-Jacobi CG, in every increment; the same bits). `scratch` needs
 /// [`dk_elasticity_sliding_scratch_len`] scalars.
 ///
-/// Errors (points and report unchanged): those of [`dk_elasticity_deform`], the constraints'
+/// Errors (points and report unchanged): those of `dk_elasticity_deform`, the constraints'
 /// (as `dk_spring_solve_linear_sliding`), `DK_ERR_INVALID_PARAMETER` when `fixed` and the
 /// kind-1 nodes differ.
 ///
