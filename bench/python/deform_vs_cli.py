@@ -120,8 +120,8 @@ def main():
           f"with out=: {py_out:.3f} s")
     if args.figures:
         figures = {"nodes": len(pts), "method": args.method, "repeat": args.repeat,
-                   "tool_wall_s": tool_wall, "tool_move_s": tool_move, "python_s": py,
-                   "python_out_s": py_out, "bit_identical": int(identical)}
+                   "tool_wall_s": tool_wall, "tool_move_s": tool_move, "call_s": py,
+                   "call_out_s": py_out, "bit_identical": int(identical)}
         pathlib.Path(args.figures).write_text(
             "".join(f"python_{k} {v}\n" for k, v in figures.items()))
     return 0 if identical else 1

@@ -253,16 +253,16 @@ pub(crate) fn bench_command(ctx: &Ctx, args: &[String]) -> ExitCode {
 
     // 4. The unordered meshes; 5. the Python package; 6. linear elasticity (its kernel
     // figures are in kernel.txt).
-    let mut rows = match &python {
-        Some(python) => match unordered(ctx, python, &dir, &deform, quick)
-            .zip(python_call::row(ctx, python, &dir, &deform, quick))
-        {
-            Some((rows, python_row)) => adjoint_rows + &rows + &python_row,
-            None => return ExitCode::FAILURE,
-        },
-        None => adjoint_rows,
-    };
+    let mut rows = adjoint_rows;
     if let Some(python) = &python {
+        let Some(unordered_rows) = unordered(ctx, python, &dir, &deform, quick) else {
+            return ExitCode::FAILURE;
+        };
+        let Some(python_row) = python_call::row(ctx, python, &dir, &deform, quick) else {
+            return ExitCode::FAILURE;
+        };
+        rows += &unordered_rows;
+        rows += &python_row;
         if !crate::bench_elasticity::peer(ctx, python, &dir) {
             return ExitCode::FAILURE;
         }

@@ -99,7 +99,7 @@ pub(super) fn row(
 /// The report's row: the Python call's time against the tool's own move time.
 fn format_row(f: &BTreeMap<String, String>) -> String {
     let get = |k: &str| f.get(k).and_then(|v| v.parse::<f64>().ok());
-    let (py, tool) = (get("python_python_s"), get("python_tool_move_s"));
+    let (py, tool) = (get("python_call_s"), get("python_tool_move_s"));
     let ratio = match (py, tool) {
         (Some(p), Some(t)) if t > 0.0 => format!("{:.2}", p / t),
         _ => "—".into(),
@@ -108,7 +108,7 @@ fn format_row(f: &BTreeMap<String, String>) -> String {
     format!(
         "| spring move through Python, {} nodes: `deform_kernel.deform` on numpy arrays (with `out=`: {}), same bits | {} | the same move in the Rust tool {} (whole command {}) | {} | ≤ 1.10 |\n",
         f.get("python_nodes").map_or("—", String::as_str),
-        s(get("python_python_out_s")),
+        s(get("python_call_out_s")),
         s(py),
         s(tool),
         s(get("python_tool_wall_s")),
