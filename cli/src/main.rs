@@ -20,6 +20,11 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         };
         let world = universe.world();
+        if let deform_cli::args::Command::Move(a) = &cli.command {
+            if a.distributed {
+                return deform_cli::commands::run_distributed(&cli, a, &world);
+            }
+        }
         let splitter = deform_cli::split::MpiSplitter::new(&world);
         if splitter.size() > 1 {
             return finish(&cli, run_split(&cli, Some(&splitter)), splitter.is_root());

@@ -91,7 +91,7 @@ fn kernel(source: deform_kernel::Error) -> CliError {
 }
 
 /// The mean of an index distance (0 without edges).
-fn mean(d: &IndexDistance) -> f64 {
+pub(crate) fn mean(d: &IndexDistance) -> f64 {
     if d.edges == 0 {
         0.0
     } else {
@@ -109,7 +109,7 @@ pub fn auto_renumbers(n: usize, dim: usize, mean: f64) -> bool {
 /// Index distance across the cells' edges (each cell's own edges, so an edge shared by two
 /// cells counts twice): no graph to build, so `auto` costs one pass over the cells on a mesh
 /// it leaves alone. `inverse`: the numbering to measure in (`None`: the input's).
-fn cell_distance(cells: &CellList, inverse: Option<&[u32]>) -> IndexDistance {
+pub(crate) fn cell_distance(cells: &CellList, inverse: Option<&[u32]>) -> IndexDistance {
     let new = |v: u32| inverse.map_or(Some(v), |i| i.get(v as usize).copied());
     let mut d = IndexDistance::default();
     for (code, nodes) in cells.iter() {

@@ -11,6 +11,11 @@
 //!    file byte-identical to the serial `deform move`, for the spring and quaternion methods,
 //!    on a generated triangle mesh, a generated viscous (quad + triangle) mesh and the public
 //!    3D SU2 half-model in `cli/tests/data`;
+//!    then `deform move --distributed` under `-np 1, 2, 3` (each rank reads a byte range of
+//!    the file, holds its block of nodes with one ghost layer, solves CG + Jacobi on it and
+//!    writes its own rows): byte-identical to the serial `--solver cg` run, the same exit
+//!    status as the serial run without `--allow-folds`, and an option it does not run
+//!    refused with nothing written;
 //! 3. `ffi/examples/mpi_deform.c`, built with `mpicc` against the static C library: a C
 //!    solver with its own (interleaved) partition sweeps its rows with the kernel, merges the
 //!    exact residual words with `MPI_Allreduce` and checks the serial bits; and
@@ -62,7 +67,7 @@ pub(crate) fn mpi_check(ctx: &Ctx) -> bool {
             .arg("--partitioned")
             .current_dir(&ctx.root));
     }
-    ok && deform_move_under_mpi(ctx) && c_example(ctx)
+    ok && deform_move_under_mpi(ctx) && distributed_move(ctx) && c_example(ctx)
 }
 
 /// `ffi/examples/mpi_deform.c` (replicated data) and `ffi/examples/mpi_partitioned.c`
@@ -233,4 +238,84 @@ fn deform_move_under_mpi(ctx: &Ctx) -> bool {
         }
     }
     ok
+}
+
+/// `deform move --distributed` (each rank reads, holds and writes only its part) against the
+/// serial `--solver cg` run: the same bytes, the same exit status without `--allow-folds`,
+/// and an option the distributed path does not run refused with nothing written.
+fn distributed_move(ctx: &Ctx) -> bool {
+    let target = ctx.root.join("target");
+    let deform = target.join("debug/deform");
+    let work = target.join("mpi-runs");
+    let cases: [(&str, &[&str]); 2] = [
+        (
+            "inviscid",
+            &[
+                "--marker", "airfoil", "--rotate", "-10", "--center", "0.25,0",
+            ],
+        ),
+        // The rotation centre from the moved nodes (summed in the serial order).
+        ("viscous", &["--marker", "airfoil", "--rotate", "3"]),
+    ];
+    let spring = ["--method", "spring", "--solver", "cg"];
+    let status = |c: &mut Command| c.status().ok().and_then(|s| s.code());
+    let mut ok = true;
+    for (name, motion) in cases {
+        let mesh = work.join(format!("{name}.su2"));
+        // `np` = 0: the serial run; otherwise `--distributed` under `mpirun -np np`.
+        let base = |np: usize| {
+            let mut c = if np == 0 {
+                Command::new(&deform)
+            } else {
+                let mut c = mpirun(np);
+                c.arg(&deform);
+                c
+            };
+            c.arg("move").arg(&mesh).args(motion).args(spring);
+            if np > 0 {
+                c.arg("--distributed");
+            }
+            c
+        };
+        let policy = status(base(0).arg("--out").arg(work.join("policy.su2")));
+        let serial = work.join(format!("{name}_distributed_serial.su2"));
+        ok &= run(base(0).arg("--allow-folds").arg("--out").arg(&serial));
+        for &np in MPI_RANKS {
+            let out = work.join(format!("{name}_distributed_np{np}.su2"));
+            let split_policy = status(base(np).arg("--out").arg(work.join("policy_np.su2")));
+            ok &= run(base(np).arg("--allow-folds").arg("--out").arg(&out));
+            let same = matches!(
+                (std::fs::read(&serial), std::fs::read(&out)),
+                (Ok(a), Ok(b)) if a == b
+            );
+            println!(
+                "deform move --distributed {name}, {np} rank(s): {}; exit status without --allow-folds {split_policy:?} (serial {policy:?})",
+                if same { "byte-identical to serial" } else { "DIFFERS from serial" }
+            );
+            ok &= same && split_policy == policy && policy.is_some();
+        }
+    }
+    let refused = work.join("refused.su2");
+    let _ = std::fs::remove_file(&refused);
+    let mut c = mpirun(2);
+    c.arg(&deform).arg("move").arg(work.join("inviscid.su2"));
+    c.args([
+        "--marker",
+        "airfoil",
+        "--rotate",
+        "5",
+        "--distributed",
+        "--out",
+    ]);
+    let code = status(c.arg(&refused));
+    let clean = code.is_some_and(|c| c != 0) && !refused.exists();
+    println!(
+        "deform move --distributed with the default multigrid solver: {}",
+        if clean {
+            "refused, nothing written"
+        } else {
+            "NOT REFUSED"
+        }
+    );
+    ok && clean
 }

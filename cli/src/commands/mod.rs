@@ -61,6 +61,17 @@ pub fn run_split(
     }
 }
 
+/// `deform move --distributed` on every process of `world` (the `mpi` feature): the exit
+/// status; the first process prints the outcome or the error.
+#[cfg(feature = "mpi")]
+pub fn run_distributed(
+    cli: &Cli,
+    a: &crate::args::MoveArgs,
+    world: &mpi::topology::SimpleCommunicator,
+) -> std::process::ExitCode {
+    r#move::distributed::main(cli, a, world)
+}
+
 /// The input and output files a command names on its command line.
 pub(crate) fn files_of(command: &Command) -> (Vec<&Path>, Vec<&Path>) {
     fn opt(p: &Option<PathBuf>) -> Option<&Path> {

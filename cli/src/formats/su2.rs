@@ -173,13 +173,13 @@ fn is_passthrough_keyword(key: &[u8]) -> bool {
     upper == b"NPERIODIC" || upper == b"PERIODIC_INDEX" || upper.starts_with(b"FFD_")
 }
 
-fn tokens(line: &[u8]) -> impl Iterator<Item = &[u8]> {
+pub(crate) fn tokens(line: &[u8]) -> impl Iterator<Item = &[u8]> {
     line.split(|b| b.is_ascii_whitespace())
         .filter(|t| !t.is_empty())
 }
 
 /// Splits `KEY= value` into (key, value) if the line has that shape.
-pub(super) fn key_value(line: &[u8]) -> Option<(&[u8], &[u8])> {
+pub(crate) fn key_value(line: &[u8]) -> Option<(&[u8], &[u8])> {
     let eq = line.iter().position(|&b| b == b'=')?;
     let key = line.get(..eq)?.trim_ascii();
     let value = line.get(eq + 1..)?.trim_ascii();
@@ -215,7 +215,7 @@ pub(super) fn parse_count(line: usize, value: &[u8], keyword: &str) -> Result<us
         })
 }
 
-fn parse_real(line: usize, tok: &[u8], what: &str) -> Result<f64, FormatError> {
+pub(crate) fn parse_real(line: usize, tok: &[u8], what: &str) -> Result<f64, FormatError> {
     let v: f64 = std::str::from_utf8(tok)
         .ok()
         .and_then(|s| s.parse().ok())
@@ -233,7 +233,7 @@ fn parse_real(line: usize, tok: &[u8], what: &str) -> Result<f64, FormatError> {
 }
 
 /// Parses one element line into `cells`; `allowed` lists the codes valid here.
-fn parse_element(
+pub(crate) fn parse_element(
     line: usize,
     content: &[u8],
     allowed: &[CellKind],
@@ -315,6 +315,32 @@ fn parse_element(
     Ok(())
 }
 
+/// One point line `c` (at line `l`): point `p` of `n` (`NPOIN=` at line `key`), `d`
+/// coordinates (`z` is 0 in 2D); trailing columns ignored.
+pub(crate) fn parse_point(
+    d: usize,
+    (l, c): (usize, &[u8]),
+    (p, n, key): (usize, usize, usize),
+) -> Result<[f64; 3], FormatError> {
+    let mut it = tokens(c);
+    let mut xyz = [0.0f64; 3];
+    for (k, slot) in xyz.iter_mut().take(d).enumerate() {
+        let name = ["x", "y", "z"].get(k).copied().unwrap_or("coordinate");
+        let tok = it.next().ok_or_else(|| {
+            FormatError::expected_at_line(
+                l,
+                format!(
+                    "{d} coordinates for point {} of {n} (NPOIN= {n} at line {key})",
+                    p + 1
+                ),
+                c,
+            )
+        })?;
+        *slot = parse_real(l, tok, &format!("{name} of point {p}"))?;
+    }
+    Ok(xyz)
+}
+
 fn check_indices(cells: &CellList, lines: &[usize], npoin: usize) -> Result<(), FormatError> {
     for (c, (_, nodes)) in cells.iter().enumerate() {
         if let Some(&v) = nodes.iter().find(|&&v| v as usize >= npoin) {
@@ -330,8 +356,8 @@ fn check_indices(cells: &CellList, lines: &[usize], npoin: usize) -> Result<(), 
     Ok(())
 }
 
-const VOLUME_2D: [CellKind; 2] = [CellKind::Triangle, CellKind::Quad];
-const VOLUME_3D: [CellKind; 4] = [
+pub(crate) const VOLUME_2D: [CellKind; 2] = [CellKind::Triangle, CellKind::Quad];
+pub(crate) const VOLUME_3D: [CellKind; 4] = [
     CellKind::Tetra,
     CellKind::Hexahedron,
     CellKind::Prism,
@@ -342,7 +368,21 @@ const SURFACE_3D: [CellKind; 2] = [CellKind::Triangle, CellKind::Quad];
 
 /// Parses an SU2 native ASCII mesh. Never panics; errors name the line.
 pub fn parse_su2(bytes: &[u8]) -> Result<Su2Mesh, FormatError> {
+    parse_su2_with(bytes, false).map(|(mesh, _)| mesh)
+}
+
+/// [`parse_su2`] of a file whose element and point lines were cut out (`deform move
+/// --distributed` reads those in parallel): `NELEM=` and `NPOIN=` read no lines; the mesh
+/// comes back with no elements and no points, with the two counts `(nelem, npoin)`; marker
+/// indices are checked against `npoin`.
+pub fn parse_su2_skeleton(bytes: &[u8]) -> Result<(Su2Mesh, (usize, usize)), FormatError> {
+    parse_su2_with(bytes, true)
+}
+
+fn parse_su2_with(bytes: &[u8], skeleton: bool) -> Result<(Su2Mesh, (usize, usize)), FormatError> {
     let mut p = Su2Parser {
+        skeleton,
+        counts: (0, 0),
         bytes,
         lines: Lines::new(bytes),
         dim: None,
@@ -363,6 +403,10 @@ type LinedCells = (CellList, Vec<usize>);
 
 /// The state of [`parse_su2`]: the sections read so far.
 struct Su2Parser<'b> {
+    /// Element and point lines are not in `bytes` ([`parse_su2_skeleton`]).
+    skeleton: bool,
+    /// `NELEM=` and `NPOIN=` counts.
+    counts: (usize, usize),
     bytes: &'b [u8],
     lines: Lines<'b>,
     dim: Option<usize>,
@@ -452,6 +496,11 @@ impl<'b> Su2Parser<'b> {
             return Err(duplicate(line, "NELEM".into()));
         }
         let n = parse_count(line, value, "NELEM")?;
+        self.counts.0 = n;
+        if self.skeleton {
+            self.elements = Some((CellList::new(), Vec::new()));
+            return Ok(());
+        }
         let allowed: &[CellKind] = if d == 2 { &VOLUME_2D } else { &VOLUME_3D };
         let cells = self.cells(n, allowed, |e, eof| match eof {
             true => format!("element {} of {n} (NELEM= {n})", e + 1),
@@ -491,6 +540,11 @@ impl<'b> Su2Parser<'b> {
             return Err(duplicate(line, "NPOIN".into()));
         }
         let n = parse_count(line, value, "NPOIN")?;
+        self.counts.1 = n;
+        if self.skeleton {
+            self.points = Some(Vec::new());
+            return Ok(());
+        }
         let mut pts = Vec::new();
         for p in 0..n {
             let (l, c) = self.lines.next_content().ok_or_else(|| {
@@ -499,23 +553,7 @@ impl<'b> Su2Parser<'b> {
                     format!("point {} of {n} (NPOIN= {n})", p + 1),
                 )
             })?;
-            let mut it = tokens(c);
-            let mut xyz = [0.0f64; 3];
-            for (k, slot) in xyz.iter_mut().take(d).enumerate() {
-                let name = ["x", "y", "z"].get(k).copied().unwrap_or("coordinate");
-                let tok = it.next().ok_or_else(|| {
-                    FormatError::expected_at_line(
-                        l,
-                        format!(
-                            "{d} coordinates for point {} of {n} (NPOIN= {n} at line {line})",
-                            p + 1
-                        ),
-                        c,
-                    )
-                })?;
-                *slot = parse_real(l, tok, &format!("{name} of point {p}"))?;
-            }
-            pts.push(xyz);
+            pts.push(parse_point(d, (l, c), (p, n, line))?);
         }
         self.points = Some(pts);
         Ok(())
@@ -633,7 +671,7 @@ impl<'b> Su2Parser<'b> {
     }
 
     /// The mesh, once every required section was read and every index is in range.
-    fn finish(mut self) -> Result<Su2Mesh, FormatError> {
+    fn finish(mut self) -> Result<(Su2Mesh, (usize, usize)), FormatError> {
         let comments = self.lines.take_comments();
         self.text.note("end", comments);
         self.text.crlf = self.lines.crlf == Some(true);
@@ -649,20 +687,26 @@ impl<'b> Su2Parser<'b> {
         let dim = self.dim.ok_or_else(|| missing("NDIME="))?;
         let (elements, elem_lines) = self.elements.ok_or_else(|| missing("NELEM="))?;
         let points = self.points.ok_or_else(|| missing("NPOIN="))?;
-        check_indices(&elements, &elem_lines, points.len())?;
+        let npoin = if self.skeleton {
+            self.counts.1
+        } else {
+            points.len()
+        };
+        check_indices(&elements, &elem_lines, npoin)?;
         let mut out = Vec::new();
         for (m, where_) in self.markers.unwrap_or_default() {
-            check_indices(&m.elements, &where_, points.len())?;
+            check_indices(&m.elements, &where_, npoin)?;
             out.push(m);
         }
-        Ok(Su2Mesh {
+        let mesh = Su2Mesh {
             dim,
             points,
             elements,
             markers: out,
             passthrough: self.passthrough,
             text: self.text,
-        })
+        };
+        Ok((mesh, self.counts))
     }
 }
 
@@ -673,6 +717,41 @@ fn invalid(msg: String) -> io::Error {
 /// Writes `mesh` as SU2 native ASCII (with SU2's trailing index columns). Coordinates are
 /// written in Rust's shortest round-trip form, so reading the file back gives the same bits.
 pub fn write_su2<W: Write>(mesh: &Su2Mesh, w: &mut W) -> io::Result<()> {
+    let mut w = io::BufWriter::new(w);
+    write_su2_head(mesh, mesh.elements.len(), &mut w)?;
+    let nl = su2_newline(mesh);
+    for (c, (code, nodes)) in mesh.elements.iter().enumerate() {
+        write_su2_element(&mut w, code, nodes, c, nl)?;
+    }
+    write_su2_points_head(mesh, mesh.points.len(), &mut w)?;
+    for (i, p) in mesh.points.iter().enumerate() {
+        write_su2_point(&mut w, p, mesh.dim, i, nl)?;
+    }
+    write_su2_tail(mesh, &mut w)?;
+    w.flush()
+}
+
+/// The line end [`write_su2`] writes for `mesh`.
+pub(crate) fn su2_newline(mesh: &Su2Mesh) -> &'static str {
+    if mesh.text.crlf {
+        "\r\n"
+    } else {
+        "\n"
+    }
+}
+
+/// The comment lines kept before `key`, each ended by `nl`.
+fn write_comments<W: Write>(w: &mut W, t: &Su2Text, key: &str, nl: &str) -> io::Result<()> {
+    for line in t.before(key).split_inclusive(|&b| b == b'\n') {
+        w.write_all(line.strip_suffix(b"\n").unwrap_or(line))?;
+        w.write_all(nl.as_bytes())?;
+    }
+    Ok(())
+}
+
+/// What [`write_su2`] writes before the element lines, for `nelem` elements (the mesh's
+/// dimension and marker names checked first).
+pub(crate) fn write_su2_head<W: Write>(mesh: &Su2Mesh, nelem: usize, w: &mut W) -> io::Result<()> {
     if mesh.dim != 2 && mesh.dim != 3 {
         return Err(invalid(format!(
             "SU2 dimension must be 2 or 3, not {}",
@@ -687,44 +766,67 @@ pub fn write_su2<W: Write>(mesh: &Su2Mesh, w: &mut W) -> io::Result<()> {
             )));
         }
     }
-    let mut w = io::BufWriter::new(w);
     let t = &mesh.text;
-    let nl = if t.crlf { "\r\n" } else { "\n" };
-    let comments = |w: &mut io::BufWriter<&mut W>, key: &str| -> io::Result<()> {
-        for line in t.before(key).split_inclusive(|&b| b == b'\n') {
-            w.write_all(line.strip_suffix(b"\n").unwrap_or(line))?;
-            w.write_all(nl.as_bytes())?;
-        }
-        Ok(())
-    };
+    let nl = su2_newline(mesh);
     if t.comments.is_empty() {
         let banner = BANNER.strip_suffix(b"\n").unwrap_or(BANNER);
         w.write_all(banner)?;
         w.write_all(nl.as_bytes())?;
     }
-    comments(&mut w, "NDIME")?;
+    write_comments(w, t, "NDIME", nl)?;
     write!(w, "NDIME= {}{nl}", mesh.dim)?;
-    comments(&mut w, "NELEM")?;
-    write!(w, "NELEM= {}{nl}", mesh.elements.len())?;
-    for (c, (code, nodes)) in mesh.elements.iter().enumerate() {
-        write!(w, "{code}")?;
-        for n in nodes {
-            write!(w, " {n}")?;
-        }
-        write!(w, " {c}{nl}")?;
+    write_comments(w, t, "NELEM", nl)?;
+    write!(w, "NELEM= {nelem}{nl}")
+}
+
+/// Element line `c` as [`write_su2`] writes it.
+pub(crate) fn write_su2_element<W: Write>(
+    w: &mut W,
+    code: u8,
+    nodes: &[u32],
+    c: usize,
+    nl: &str,
+) -> io::Result<()> {
+    write!(w, "{code}")?;
+    for n in nodes {
+        write!(w, " {n}")?;
     }
-    comments(&mut w, "NPOIN")?;
-    write!(w, "NPOIN= {}{nl}", mesh.points.len())?;
-    for (i, p) in mesh.points.iter().enumerate() {
-        for x in p.iter().take(mesh.dim) {
-            write!(w, "{x:e} ")?;
-        }
-        write!(w, "{i}{nl}")?;
+    write!(w, " {c}{nl}")
+}
+
+/// What [`write_su2`] writes between the element lines and the `npoin` point lines.
+pub(crate) fn write_su2_points_head<W: Write>(
+    mesh: &Su2Mesh,
+    npoin: usize,
+    w: &mut W,
+) -> io::Result<()> {
+    let nl = su2_newline(mesh);
+    write_comments(w, &mesh.text, "NPOIN", nl)?;
+    write!(w, "NPOIN= {npoin}{nl}")
+}
+
+/// Point line `i` as [`write_su2`] writes it (`dim` coordinates).
+pub(crate) fn write_su2_point<W: Write>(
+    w: &mut W,
+    p: &[f64; 3],
+    dim: usize,
+    i: usize,
+    nl: &str,
+) -> io::Result<()> {
+    for x in p.iter().take(dim) {
+        write!(w, "{x:e} ")?;
     }
-    comments(&mut w, "NMARK")?;
+    write!(w, "{i}{nl}")
+}
+
+/// What [`write_su2`] writes after the point lines: the markers, the passed-through
+/// sections, the last comments.
+pub(crate) fn write_su2_tail<W: Write>(mesh: &Su2Mesh, w: &mut W) -> io::Result<()> {
+    let (t, nl) = (&mesh.text, su2_newline(mesh));
+    write_comments(w, t, "NMARK", nl)?;
     write!(w, "NMARK= {}{nl}", mesh.markers.len())?;
     for m in &mesh.markers {
-        comments(&mut w, &format!("MARKER_TAG={}", m.name))?;
+        write_comments(w, t, &format!("MARKER_TAG={}", m.name), nl)?;
         write!(w, "MARKER_TAG= {}{nl}", m.name)?;
         write!(w, "MARKER_ELEMS= {}{nl}", m.elements.len())?;
         for (code, nodes) in m.elements.iter() {
@@ -735,8 +837,7 @@ pub fn write_su2<W: Write>(mesh: &Su2Mesh, w: &mut W) -> io::Result<()> {
             write!(w, "{nl}")?;
         }
     }
-    comments(&mut w, "passthrough")?;
+    write_comments(w, t, "passthrough", nl)?;
     w.write_all(&mesh.passthrough)?;
-    comments(&mut w, "end")?;
-    w.flush()
+    write_comments(w, t, "end", nl)
 }

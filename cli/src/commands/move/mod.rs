@@ -6,6 +6,8 @@
 //! the engine's solve, the failure policy, [`outputs`] (staged files), [`report`].
 
 mod checks;
+#[cfg(feature = "mpi")]
+pub(crate) mod distributed;
 mod elasticity;
 mod grid;
 mod motion;
@@ -34,6 +36,13 @@ pub(crate) fn move_mesh(
     quiet: bool,
     split: Option<&dyn Splitter>,
 ) -> Result<Outcome, CliError> {
+    if a.distributed {
+        // A build with the `mpi` feature runs it before reaching here (`main`).
+        return Err(CliError::NotAvailable {
+            feature: "deform move --distributed",
+            needs: "the deform tool built with --features mpi (cargo build -p deform-cli --features mpi)",
+        });
+    }
     let su2 = input_kind(&a.mesh)? == FileKind::Su2;
     // Without --method: quaternion TFI on a Plot3D grid (`a.method()` gives quaternion else).
     let resolved;

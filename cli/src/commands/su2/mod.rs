@@ -239,6 +239,7 @@ fn move_defaults(mesh: PathBuf, out: PathBuf) -> MoveArgs {
         allow_folds: false,
         allow_unconverged: false,
         renumber: crate::renumber::Renumber::Auto,
+        distributed: false,
         design_field: None,
         rbf: crate::args::RbfArgs {
             rbf_kernel: crate::args::RbfKernelArg::Wendland,
