@@ -71,21 +71,26 @@ impl<'w> World<'w> {
         split(all, &counts)
     }
 
-    /// `send[r]` goes to process `r`; returns what each process sent here, in rank order.
-    pub fn all_to_all<T: Equivalence + Default + Clone>(&self, send: &[Vec<T>]) -> Vec<Vec<T>> {
-        let counts: Vec<i32> = send.iter().map(|v| v.len() as i32).collect();
+    /// `send` holds, one after the other, `counts[r]` items for each process `r`; returns
+    /// what every process sent here, one after the other in rank order, and how many from
+    /// each. One buffer each way: no copies.
+    pub fn all_to_all<T: Equivalence + Default + Clone>(
+        &self,
+        send: &[T],
+        counts: &[usize],
+    ) -> (Vec<T>, Vec<usize>) {
+        let counts: Vec<i32> = counts.iter().map(|&c| c as i32).collect();
         let mut rcounts = vec![0i32; self.size];
         self.comm.all_to_all_into(&counts[..], &mut rcounts[..]);
-        let flat: Vec<T> = send.iter().flatten().cloned().collect();
         let (sd, rd) = (offsets(&counts), offsets(&rcounts));
         let total = rcounts.iter().map(|&c| c as usize).sum();
         let mut recv = vec![T::default(); total];
         {
-            let s = Partition::new(&flat[..], &counts[..], &sd[..]);
+            let s = Partition::new(send, &counts[..], &sd[..]);
             let mut r = PartitionMut::new(&mut recv[..], &rcounts[..], &rd[..]);
             self.comm.all_to_all_varcount_into(&s, &mut r);
         }
-        split(recv, &rcounts)
+        (recv, rcounts.iter().map(|&c| c as usize).collect())
     }
 
     /// The bytes `mine` of process `root`, on every process.

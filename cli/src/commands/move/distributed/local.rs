@@ -19,42 +19,60 @@ pub(super) struct Local<const D: usize> {
 /// points, in global order.
 fn owned_points(world: &World<'_>, r: &Read) -> Vec<[f64; 3]> {
     let (n, p) = (r.npoin, world.size);
-    let mut send: Vec<Vec<f64>> = vec![Vec::new(); p];
-    for (k, x) in r.points.iter().enumerate() {
-        let g = r.first_point + k as u64;
-        send[block_owner(n, p, g)].extend_from_slice(x);
+    let mut counts = vec![0usize; p];
+    for k in 0..r.points.len() {
+        counts[block_owner(n, p, r.first_point + k as u64)] += 3;
     }
-    let got = world.all_to_all(&send);
+    // The points read are consecutive ids: already grouped by owner, in rank order.
+    let send: Vec<f64> = r.points.iter().flatten().copied().collect();
+    let (got, _) = world.all_to_all(&send, &counts);
     drop(send);
-    got.concat()
-        .chunks_exact(3)
-        .map(|c| [c[0], c[1], c[2]])
-        .collect()
+    got.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
 }
 
 /// Sends every element read here to each process that owns one of its nodes, as
-/// `[index, code, node count, nodes…]`; returns the cells received, ascending by index.
-fn touching_cells(world: &World<'_>, r: &Read) -> Vec<u64> {
+/// `[index, code, node count, nodes…]` (32-bit words: SU2 counts are below 2³²); returns
+/// the cells received, ascending by index.
+fn touching_cells(world: &World<'_>, r: &Read) -> Vec<u32> {
     let (n, p) = (r.npoin, world.size);
-    let mut send: Vec<Vec<u64>> = vec![Vec::new(); p];
-    let mut to: Vec<usize> = Vec::with_capacity(8);
-    for (c, (code, nodes)) in r.elements.iter().enumerate() {
+    let owners = |nodes: &[u32], to: &mut Vec<usize>| {
         to.clear();
         to.extend(nodes.iter().map(|&v| block_owner(n, p, u64::from(v))));
         to.sort_unstable();
         to.dedup();
+    };
+    let mut to: Vec<usize> = Vec::with_capacity(8);
+    let mut counts = vec![0usize; p];
+    for (_, nodes) in r.elements.iter() {
+        owners(nodes, &mut to);
         for &q in &to {
-            let s = &mut send[q];
-            s.extend([
-                r.first_element + c as u64,
-                u64::from(code),
-                nodes.len() as u64,
-            ]);
-            s.extend(nodes.iter().map(|&v| u64::from(v)));
+            counts[q] += 3 + nodes.len();
         }
     }
-    // Senders hold ascending ranges of elements, so the concatenation is ascending.
-    world.all_to_all(&send).concat()
+    let mut at: Vec<usize> = counts
+        .iter()
+        .scan(0, |acc, &c| {
+            let d = *acc;
+            *acc += c;
+            Some(d)
+        })
+        .collect();
+    let mut send = vec![0u32; counts.iter().sum()];
+    for (c, (code, nodes)) in r.elements.iter().enumerate() {
+        owners(nodes, &mut to);
+        for &q in &to {
+            let head = [
+                (r.first_element as usize + c) as u32,
+                u32::from(code),
+                nodes.len() as u32,
+            ];
+            send[at[q]..at[q] + 3].copy_from_slice(&head);
+            send[at[q] + 3..at[q] + 3 + nodes.len()].copy_from_slice(nodes);
+            at[q] += 3 + nodes.len();
+        }
+    }
+    // Senders hold ascending ranges of elements, so what arrives is ascending.
+    world.all_to_all(&send, &counts).0
 }
 
 /// The local view of this process.
@@ -71,7 +89,7 @@ pub(super) fn build<const D: usize>(
     let is_owned = |g: u64| g >= first && g < first + owned as u64;
     let mut ghosts: Vec<u64> = Vec::new();
     walk(&cells, |_, _, nodes| {
-        ghosts.extend(nodes.iter().copied().filter(|&g| !is_owned(g)));
+        ghosts.extend((nodes.iter().map(|&g| u64::from(g))).filter(|&g| !is_owned(g)));
     });
     ghosts.sort_unstable();
     ghosts.dedup();
@@ -92,7 +110,8 @@ pub(super) fn build<const D: usize>(
     v.cell_offsets.push(0);
     walk(&cells, |_, code, nodes| {
         v.cell_kinds.push(code as u8);
-        v.cell_nodes.extend(nodes.iter().map(|&g| local_of(g)));
+        v.cell_nodes
+            .extend(nodes.iter().map(|&g| local_of(u64::from(g))));
         v.cell_offsets.push(v.cell_nodes.len() as u32);
     });
     drop(cells);
@@ -112,7 +131,7 @@ pub(super) fn build<const D: usize>(
 }
 
 /// Calls `f(index, code, nodes)` for every cell of the `[index, code, count, nodes…]` list.
-fn walk(list: &[u64], mut f: impl FnMut(u64, u64, &[u64])) {
+fn walk(list: &[u32], mut f: impl FnMut(u32, u32, &[u32])) {
     let mut at = 0usize;
     while at + 3 <= list.len() {
         let count = list[at + 2] as usize;
@@ -134,44 +153,37 @@ fn ghost_points<const D: usize>(
     v: &mut LocalView<D>,
 ) -> Vec<[f64; 3]> {
     let p = world.size;
-    let mut ask: Vec<Vec<u64>> = vec![Vec::new(); p];
+    // Ghosts ascend by id and blocks by rank: `ghosts` is grouped by owner already.
+    let mut ask = vec![0usize; p];
     for &g in ghosts {
-        ask[block_owner(n, p, g)].push(g);
+        ask[block_owner(n, p, g)] += 1;
     }
-    let asked = world.all_to_all(&ask);
-    let reply: Vec<Vec<f64>> = asked
-        .iter()
-        .map(|ids| {
-            ids.iter()
-                .flat_map(|&g| {
-                    owned3
-                        .get((g - first) as usize)
-                        .copied()
-                        .unwrap_or([0.0; 3])
-                })
-                .collect()
+    let (asked, from) = world.all_to_all(ghosts, &ask);
+    let reply: Vec<f64> = (asked.iter())
+        .flat_map(|&g| {
+            owned3
+                .get((g - first) as usize)
+                .copied()
+                .unwrap_or([0.0; 3])
         })
         .collect();
-    let got = world.all_to_all(&reply);
+    let sizes: Vec<usize> = from.iter().map(|&c| 3 * c).collect();
+    let (got, _) = world.all_to_all(&reply, &sizes);
     v.send_offsets.push(0);
     v.recv_offsets.push(0);
-    let owned = owned3.len() as u32;
-    let mut next_ghost = owned;
+    let (mut next_ghost, mut next_asked) = (owned3.len() as u32, 0usize);
     for q in 0..p {
-        if asked[q].is_empty() && ask[q].is_empty() {
+        if from[q] == 0 && ask[q] == 0 {
             continue;
         }
         v.ranks.push(q as u32);
-        v.send.extend(asked[q].iter().map(|&g| (g - first) as u32));
+        let theirs = &asked[next_asked..next_asked + from[q]];
+        next_asked += from[q];
+        v.send.extend(theirs.iter().map(|&g| (g - first) as u32));
         v.send_offsets.push(v.send.len() as u32);
-        // Ghosts are ascending by id and owners' blocks ascending by rank: `ask[q]` is the
-        // next run of ghosts.
-        v.recv.extend(next_ghost..next_ghost + ask[q].len() as u32);
-        next_ghost += ask[q].len() as u32;
+        v.recv.extend(next_ghost..next_ghost + ask[q] as u32);
+        next_ghost += ask[q] as u32;
         v.recv_offsets.push(v.recv.len() as u32);
     }
-    got.concat()
-        .chunks_exact(3)
-        .map(|c| [c[0], c[1], c[2]])
-        .collect()
+    got.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
 }

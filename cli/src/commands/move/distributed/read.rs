@@ -107,6 +107,30 @@ impl Range {
     }
 }
 
+/// Bytes read at a time: the reads stream through the file, never holding a process's whole
+/// range.
+const BLOCK: u64 = 1 << 22;
+
+/// Calls `f(file offset, line without its end)` for every line that starts in `lo..hi`, in
+/// order, reading blocks of [`BLOCK`] bytes.
+fn for_each_line(
+    file: &File,
+    size: u64,
+    (lo, hi): (u64, u64),
+    f: &mut dyn FnMut(u64, &[u8]),
+) -> std::io::Result<()> {
+    let mut a = lo;
+    while a < hi {
+        let b = (a + BLOCK).min(hi);
+        let r = Range::read(file, size, (a, b))?;
+        for (at, raw) in r.lines() {
+            f(at, raw);
+        }
+        a = b;
+    }
+    Ok(())
+}
+
 /// A line's content without comment, trimmed, and its comment.
 fn content(raw: &[u8]) -> (&[u8], &[u8]) {
     match raw.iter().position(|&b| b == b'%') {
@@ -115,11 +139,12 @@ fn content(raw: &[u8]) -> (&[u8], &[u8]) {
     }
 }
 
-/// Pass 1: this process's keyword and comment-only lines, and its line count.
-fn events(r: &Range) -> (Vec<Event>, u64) {
+/// Pass 1: the keyword and comment-only lines among the lines that start in `lo..hi`, and
+/// the number of those lines.
+fn events(file: &File, size: u64, range: (u64, u64)) -> std::io::Result<(Vec<Event>, u64)> {
     let mut out = Vec::new();
     let mut count = 0u64;
-    for (offset, raw) in r.lines() {
+    for_each_line(file, size, range, &mut |offset, raw| {
         let (t, comment) = content(raw);
         let keyword = !t.is_empty() && key_value(t).is_some();
         if keyword || (t.is_empty() && !comment.is_empty()) {
@@ -131,8 +156,8 @@ fn events(r: &Range) -> (Vec<Event>, u64) {
             });
         }
         count += 1;
-    }
-    (out, count)
+    })?;
+    Ok((out, count))
 }
 
 /// Every process's events, in file order, with global line numbers.
@@ -220,8 +245,8 @@ pub(super) fn read(world: &World<'_>, path: &Path) -> Result<Read, Failed> {
     let (file, size) = world.agree(opened)?;
     let (p, r) = (world.size as u64, world.rank as u64);
     let cut = |k: u64| (u128::from(size) * u128::from(k) / u128::from(p)) as u64;
-    let range = world.agree(Range::read(&file, size, (cut(r), cut(r + 1))).map_err(io(path)))?;
-    let (mine, lines) = events(&range);
+    let scanned = events(&file, size, (cut(r), cut(r + 1))).map_err(io(path));
+    let (mine, lines) = world.agree(scanned)?;
     let every = all_events(world, &mine, lines);
     let b = bodies(&every, size);
     let parsed = skeleton(&file, size, &every, &b)
@@ -233,15 +258,7 @@ pub(super) fn read(world: &World<'_>, path: &Path) -> Result<Read, Failed> {
             })
         });
     let (skeleton, (nelem, npoin)) = world.agree(parsed)?;
-    let line0 = world.before(lines) + 1;
-    let parts = world.agree(parse_bodies(
-        &range,
-        &b,
-        skeleton.dim,
-        line0,
-        npoin,
-        (world, path),
-    ))?;
+    let parts = parse_bodies(&file, size, &b, (skeleton.dim, npoin), (world, path))?;
     let parts = world.agree(check_counts(parts, world, (nelem, npoin), path))?;
     let (elements, first_element, points, first_point) = parts;
     Ok(Read {
@@ -258,56 +275,105 @@ pub(super) fn read(world: &World<'_>, path: &Path) -> Result<Read, Failed> {
 /// This process's elements and points, each with the number of the same before it.
 type Parts = (CellList, u64, Vec<[f64; 3]>, u64);
 
-/// Pass 2: the data lines of the two bodies in this process's range (`line0`: the 1-based
-/// number of its first line).
-fn parse_bodies(
-    r: &Range,
-    b: &Bodies,
-    dim: usize,
+/// This process's share of a body: an even cut of its bytes.
+fn share(body: &std::ops::Range<u64>, world: &World<'_>) -> (u64, u64) {
+    let len = u128::from(body.end - body.start);
+    let at = |k: usize| body.start + (len * k as u128 / world.size as u128) as u64;
+    (at(world.rank), at(world.rank + 1))
+}
+
+/// Calls `f(1-based line number, content)` for the data lines of this process's share of
+/// `body`, whose first line has number `line0`.
+fn each_data_line(
+    file: &File,
+    size: u64,
+    share: (u64, u64),
     line0: u64,
-    npoin: usize,
+    f: &mut dyn FnMut(usize, &[u8]),
+) -> std::io::Result<()> {
+    let mut line = line0 as usize;
+    for_each_line(file, size, share, &mut |_, raw| {
+        let c = content(raw).0;
+        if !c.is_empty() {
+            f(line, c);
+        }
+        line += 1;
+    })
+}
+
+/// The lines and the data lines of this process's share of each body.
+fn count_shares(file: &File, size: u64, shares: &[(u64, u64); 2]) -> std::io::Result<[u64; 4]> {
+    let mut out = [0u64; 4];
+    for (k, &s) in shares.iter().enumerate() {
+        let (mut lines, mut data) = (0u64, 0u64);
+        for_each_line(file, size, s, &mut |_, raw| {
+            lines += 1;
+            data += u64::from(!content(raw).0.is_empty());
+        })?;
+        out[2 * k] = lines;
+        out[2 * k + 1] = data;
+    }
+    Ok(out)
+}
+
+/// Pass 2: each process parses an even share of the element lines' bytes and of the point
+/// lines' bytes (two streaming reads: one to count the lines before its share, one to
+/// parse).
+fn parse_bodies(
+    file: &File,
+    size: u64,
+    b: &Bodies,
+    (dim, npoin): (usize, usize),
     (world, path): (&World<'_>, &Path),
-) -> Result<Parts, CliError> {
-    let data = |body: &std::ops::Range<u64>| data_lines(r, body.clone(), line0);
-    let counts = [data(&b[0].0).count() as u64, data(&b[1].0).count() as u64];
-    let before = [world.before(counts[0]), world.before(counts[1])];
-    let allowed: &[CellKind] = if dim == 2 { &VOLUME_2D } else { &VOLUME_3D };
-    let mut cells = CellList::new();
+) -> Result<Parts, Failed> {
+    let shares = [share(&b[0].0, world), share(&b[1].0, world)];
+    let counts = world.agree(count_shares(file, size, &shares).map_err(io(path)))?;
+    let before: Vec<u64> = counts.iter().map(|&c| world.before(c)).collect();
     let read_err = |source: FormatError| CliError::Read {
         path: path.to_path_buf(),
         source,
     };
-    for (l, c) in data(&b[0].0) {
-        parse_element(l, c, allowed, &mut cells).map_err(read_err)?;
-        let (_, nodes) = cells.cell(cells.len() - 1);
-        if let Some(&v) = nodes.iter().find(|&&v| v as usize >= npoin) {
-            let kind = FormatErrorKind::IndexOutOfRange {
-                index: u64::from(v),
-                bound: npoin,
-            };
-            return Err(read_err(FormatError::new(Location::Line(l), kind)));
+    let allowed: &[CellKind] = if dim == 2 { &VOLUME_2D } else { &VOLUME_3D };
+    let mut cells = CellList::new();
+    let mut points = Vec::with_capacity(counts[3] as usize);
+    let mut failed: Option<CliError> = None;
+    let line0 = |k: usize| b[k].1 + 1 + before[2 * k];
+    let elements = each_data_line(file, size, shares[0], line0(0), &mut |l, c| {
+        if failed.is_none() {
+            failed = parse_element(l, c, allowed, &mut cells)
+                .and_then(|()| check_nodes(&cells, l, npoin))
+                .map_err(read_err)
+                .err();
         }
-    }
-    let mut points = Vec::with_capacity(counts[1] as usize);
-    for (k, (l, c)) in data(&b[1].0).enumerate() {
-        let p = before[1] as usize + k;
-        points.push(parse_point(dim, (l, c), (p, npoin, b[1].1 as usize)).map_err(read_err)?);
-    }
-    Ok((cells, before[0], points, before[1]))
+    });
+    let first_point = before[3] as usize;
+    let points_read = each_data_line(file, size, shares[1], line0(1), &mut |l, c| {
+        if failed.is_none() {
+            let p = (first_point + points.len(), npoin, b[1].1 as usize);
+            match parse_point(dim, (l, c), p) {
+                Ok(x) => points.push(x),
+                Err(e) => failed = Some(read_err(e)),
+            }
+        }
+    });
+    let done = elements.and(points_read).map_err(io(path));
+    world.agree(done.and_then(|()| failed.map_or(Ok(()), Err)))?;
+    Ok((cells, before[1], points, before[3]))
 }
 
-/// `(1-based line number, content)` of the data lines of `body` in `r` (`line0`: the number
-/// of `r`'s first line).
-fn data_lines(
-    r: &Range,
-    body: std::ops::Range<u64>,
-    line0: u64,
-) -> impl Iterator<Item = (usize, &[u8])> + '_ {
-    r.lines()
-        .enumerate()
-        .filter(move |(_, (at, _))| body.contains(at))
-        .map(move |(k, (_, raw))| (line0 as usize + k, content(raw).0))
-        .filter(|(_, c)| !c.is_empty())
+/// The last cell's nodes must be below `npoin` (the serial parser's index check).
+fn check_nodes(cells: &CellList, l: usize, npoin: usize) -> Result<(), FormatError> {
+    let (_, nodes) = cells.cell(cells.len() - 1);
+    match nodes.iter().find(|&&v| v as usize >= npoin) {
+        Some(&v) => Err(FormatError::new(
+            Location::Line(l),
+            FormatErrorKind::IndexOutOfRange {
+                index: u64::from(v),
+                bound: npoin,
+            },
+        )),
+        None => Ok(()),
+    }
 }
 
 /// The element and point lines must be as many as `NELEM=` and `NPOIN=` say.
