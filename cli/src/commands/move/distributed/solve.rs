@@ -98,11 +98,11 @@ fn centroid<const D: usize>(world: &World<'_>, l: &Local<D>, moved: &[u32]) -> [
     c.map(|x| x / moved.len() as f64)
 }
 
+/// A rigid motion: the rotation and its centre, or (`None`) the translation.
+type Rigid = (Option<Quat<f64>>, [f64; 3], [f64; 3]);
+
 /// The prescribed displacement of a moved node at `p` (the serial run's arithmetic).
-fn displacement<const D: usize>(
-    rigid: &(Option<Quat<f64>>, [f64; 3], [f64; 3]),
-    p: [f64; 3],
-) -> [f64; 3] {
+fn displacement<const D: usize>(rigid: &Rigid, p: [f64; 3]) -> [f64; 3] {
     let (q, c, t) = rigid;
     match q {
         Some(q) => {
@@ -124,7 +124,7 @@ fn rigid<const D: usize>(
     r: &Read,
     l: &Local<D>,
     moved: &[u32],
-) -> Result<(Option<Quat<f64>>, [f64; 3], [f64; 3]), Failed> {
+) -> Result<Rigid, Failed> {
     let none = None;
     let (motion, _) = world.agree(super::super::motion::motion_from_args(
         a,
@@ -280,7 +280,9 @@ fn local_folds<const D: usize>(l: &Local<D>, deformed: &[[f64; 3]]) -> Result<[u
     let mut out = [0u64; 2];
     for c in 0..cells.len() {
         let inverted = (m0[c] > 0.0 && m1[c] <= 0.0) || (m0[c] < 0.0 && m1[c] >= 0.0);
-        if (inverted || j1[c] < 0.0) && j0[c] >= 0.0 {
+        // As the serial check: folded before means a negative corner (a NaN is not).
+        let folded_before = j0[c] < 0.0;
+        if (inverted || j1[c] < 0.0) && !folded_before {
             out[0] += 1;
             out[1] += u64::from(inverted);
         }
