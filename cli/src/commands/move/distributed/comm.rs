@@ -147,3 +147,31 @@ pub(super) fn block_owner(n: u64, p: usize, g: u64) -> usize {
     }
     r
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{block_owner, block_start};
+
+    /// Every id's owner is the block that holds it, for uneven and tiny cuts.
+    #[test]
+    fn owners_match_blocks() {
+        for (n, p) in [
+            (10u64, 3usize),
+            (7, 7),
+            (5, 8),
+            (2_097_152, 8),
+            (1_000_003, 7),
+        ] {
+            for r in 0..p {
+                let (a, b) = (block_start(n, p, r), block_start(n, p, r + 1));
+                for g in [a, b.saturating_sub(1)]
+                    .into_iter()
+                    .filter(|&g| g >= a && g < b)
+                {
+                    assert_eq!(block_owner(n, p, g), r, "n {n} p {p} g {g}");
+                }
+            }
+            assert_eq!(block_start(n, p, p), n);
+        }
+    }
+}

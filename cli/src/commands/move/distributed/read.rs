@@ -252,9 +252,16 @@ pub(super) fn read(world: &World<'_>, path: &Path) -> Result<Read, Failed> {
     let parsed = skeleton(&file, size, &every, &b)
         .map_err(io(path))
         .and_then(|bytes| {
-            parse_su2_skeleton(&bytes).map_err(|source| CliError::Read {
-                path: path.to_path_buf(),
-                source,
+            parse_su2_skeleton(&bytes).map_err(|source| match source.kind {
+                // The serial parser's only `Unsupported`: `NZONE=`/`IZONE=` other than 1.
+                FormatErrorKind::Unsupported { .. } => CliError::NotAvailable {
+                    feature: "a multi-zone SU2 file with --distributed",
+                    needs: "a single-zone file, or a run without --distributed",
+                },
+                _ => CliError::Read {
+                    path: path.to_path_buf(),
+                    source,
+                },
             })
         });
     let (skeleton, (nelem, npoin)) = world.agree(parsed)?;
