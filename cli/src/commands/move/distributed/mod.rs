@@ -113,8 +113,9 @@ fn report(
     s: &solve::Summary,
     started: Instant,
 ) -> Outcome {
-    let peak = world.gather_all(&[peak_rss_kib()]);
-    let peak: Vec<u64> = peak.iter().map(|v| v[0]).collect();
+    let per_rank = world.gather_all(&[peak_rss_kib(), s.ghosts]);
+    let peak: Vec<u64> = per_rank.iter().map(|v| v[0]).collect();
+    let ghosts: Vec<u64> = per_rank.iter().map(|v| v[1]).collect();
     let largest = peak.iter().copied().max().unwrap_or(0);
     let text = format!(
         "moved {} -> {} on {} processes (distributed, contiguous blocks of global ids): {} nodes, {} cells, {} moved and {} fixed nodes\nlinear springs, CG + Jacobi: {} iterations, relative residual {:.3e}{}\ncells newly inverted or folded: {} ({} inverted)\npeak memory per process: largest {:.1} MiB\ntime {:.2} s",
@@ -147,6 +148,7 @@ fn report(
         "new_failures": s.new_failures,
         "inverted_cells": s.inverted,
         "peak_rss_kib": peak,
+        "ghost_nodes": ghosts,
         "seconds": started.elapsed().as_secs_f64(),
     });
     Outcome { json, text }

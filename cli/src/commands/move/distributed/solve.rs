@@ -26,6 +26,8 @@ pub(super) struct Summary {
     pub inverted: u64,
     pub moved: usize,
     pub fixed: usize,
+    /// Ghost nodes of this process (one layer).
+    pub ghosts: u64,
 }
 
 fn kernel(context: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {
@@ -205,6 +207,7 @@ pub(super) fn run<const D: usize>(
         inverted,
         moved: moved.len(),
         fixed: boundary.len() - moved.len(),
+        ghosts: (l.view.global_ids.len() - owned) as u64,
     })
 }
 
