@@ -82,6 +82,10 @@ pub(super) fn write(world: &World<'_>, out: &Path, rows: &Rows<'_>) -> Result<()
     } else {
         Ok(())
     };
+    if root && created.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+        crate::guard::forget_temp(&tmp);
+    }
     world.agree(created)?;
     let mut writes: Vec<(u64, &[u8])> = vec![(h + before[0], &elements)];
     writes.push((at_points + before[1], &points));
@@ -98,6 +102,7 @@ pub(super) fn write(world: &World<'_>, out: &Path, rows: &Rows<'_>) -> Result<()
     let done = world.agree(wrote.map_err(io));
     if root && done.is_err() {
         let _ = std::fs::remove_file(&tmp);
+        crate::guard::forget_temp(&tmp);
     }
     done?;
     let renamed = if root {
