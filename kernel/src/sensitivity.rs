@@ -37,10 +37,15 @@
 //! Everything works on caller slices (`*_scratch_len` gives the sizes), validates before it
 //! writes and returns typed errors.
 
+mod angle;
 mod elasticity;
 mod idw;
 mod springs;
 
+pub use angle::{
+    angle_adjoint, angle_adjoint_many, angle_adjoint_scratch_items, angle_adjoint_scratch_len, angle_tangent,
+    angle_tangent_many, angle_tangent_scratch_len, AngleSolver,
+};
 pub use elasticity::{
     elastic_adjoint, elastic_adjoint_many, elastic_adjoint_scratch_len, elastic_tangent,
     elastic_tangent_many, elastic_tangent_scratch_len, ElasticPreconditioner,
