@@ -62,6 +62,8 @@ pub mod quat;
 pub mod rbf;
 #[path = "../generated/sensitivity.rs"]
 pub mod sensitivity;
+#[path = "../generated/sensitivity_angle.rs"]
+pub mod sensitivity_angle;
 #[path = "../generated/spring.rs"]
 pub mod spring;
 #[path = "../generated/status.rs"]

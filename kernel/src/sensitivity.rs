@@ -50,6 +50,7 @@ pub use elasticity::{
     elastic_adjoint, elastic_adjoint_many, elastic_adjoint_scratch_len, elastic_tangent,
     elastic_tangent_many, elastic_tangent_scratch_len, ElasticPreconditioner,
 };
+pub use crate::rbf::{rbf_adjoint, rbf_tangent};
 pub use idw::{idw_adjoint, idw_adjoint_many, idw_tangent, idw_tangent_many};
 pub use springs::{
     spring_adjoint, spring_adjoint_many, spring_adjoint_scratch_len, spring_tangent,
