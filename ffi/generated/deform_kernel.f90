@@ -982,6 +982,8 @@ module deform_kernel
             dk_sensitivity_idw_tangent_f32, dk_sensitivity_idw_adjoint, &
             dk_sensitivity_idw_adjoint_f32, dk_sensitivity_angle_adjoint_scratch_len, &
             dk_sensitivity_angle_adjoint, dk_sensitivity_angle_adjoint_f32, &
+            dk_sensitivity_rbf_tangent, dk_sensitivity_rbf_tangent_f32, &
+            dk_sensitivity_rbf_adjoint, dk_sensitivity_rbf_adjoint_f32, &
             dk_spring_batina_stiffness, dk_spring_batina_stiffness_f32, &
             dk_spring_index_scratch_len, dk_spring_solve_options_default, &
             dk_spring_solve_options_default_f32, dk_spring_solve_linear_scratch_len, &
@@ -3226,6 +3228,100 @@ module deform_kernel
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
       type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_rbf_tangent(points, points_len, dim, boundary, boundary_len, &
+        index_base, motion, motion_len, options, index_scratch, index_scratch_len, scratch, &
+        scratch_len, dmotion, dmotion_len, dx, dx_len) bind(C, name="dk_sensitivity_rbf_tangent") &
+        result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_rbf_options
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(in) :: motion(*)
+      integer(c_size_t), value :: motion_len
+      type(dk_rbf_options), intent(in) :: options
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_double), intent(in) :: dmotion(*)
+      integer(c_size_t), value :: dmotion_len
+      real(c_double), intent(inout) :: dx(*)
+      integer(c_size_t), value :: dx_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_rbf_tangent_f32(points, points_len, dim, boundary, boundary_len, &
+        index_base, motion, motion_len, options, index_scratch, index_scratch_len, scratch, &
+        scratch_len, dmotion, dmotion_len, dx, dx_len) bind(C, &
+        name="dk_sensitivity_rbf_tangent_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_rbf_options
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(in) :: motion(*)
+      integer(c_size_t), value :: motion_len
+      type(dk_rbf_options), intent(in) :: options
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_float), intent(in) :: dmotion(*)
+      integer(c_size_t), value :: dmotion_len
+      real(c_float), intent(inout) :: dx(*)
+      integer(c_size_t), value :: dx_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_rbf_adjoint(points, points_len, dim, boundary, boundary_len, &
+        index_base, motion, motion_len, options, index_scratch, index_scratch_len, scratch, &
+        scratch_len, w, w_len, g, g_len) bind(C, name="dk_sensitivity_rbf_adjoint") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_rbf_options
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(in) :: motion(*)
+      integer(c_size_t), value :: motion_len
+      type(dk_rbf_options), intent(in) :: options
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_double), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_double), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_rbf_adjoint_f32(points, points_len, dim, boundary, boundary_len, &
+        index_base, motion, motion_len, options, index_scratch, index_scratch_len, scratch, &
+        scratch_len, w, w_len, g, g_len) bind(C, name="dk_sensitivity_rbf_adjoint_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_rbf_options
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(in) :: motion(*)
+      integer(c_size_t), value :: motion_len
+      type(dk_rbf_options), intent(in) :: options
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_float), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_float), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
       integer(c_int32_t) :: s
     end function
     function dk_spring_batina_stiffness(graph, points, points_len, dim, exponent, stiffness, &

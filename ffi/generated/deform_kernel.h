@@ -4248,6 +4248,124 @@ dk_status dk_sensitivity_angle_adjoint_f32(const dk_spring_system_f32 *system,
                                            size_t index_scratch_len,
                                            dk_spring_solve_report *report);
 
+// The tangent of `dk_rbf_deform` (same `points`, `dim`, `boundary`, `index_base`, `motion`,
+// `options`, workspaces) at `motion`: for `m` boundary perturbations back to back in
+// `dmotion` (`m · B · dim` scalars, boundary order), the first-order change of every node's
+// displacement into `dx` (`m · N · dim` scalars). Errors: those of `dk_rbf_deform`, and
+// `dmotion`/`dx` not whole fields of the same count; on an error found before the first
+// field `dx` is unchanged.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `boundary`: readable for `boundary_len` elements (`uint32_t`).
+// - `motion`: readable for `motion_len` elements (`double`).
+// - `options`: one readable `dk_rbf_options`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `dmotion`: readable for `dmotion_len` elements (`double`).
+// - `dx`: readable and writable for `dx_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_sensitivity_rbf_tangent(const double *points,
+                                     size_t points_len,
+                                     uint32_t dim,
+                                     const uint32_t *boundary,
+                                     size_t boundary_len,
+                                     uint32_t index_base,
+                                     const double *motion,
+                                     size_t motion_len,
+                                     const dk_rbf_options *options,
+                                     uint32_t *index_scratch,
+                                     size_t index_scratch_len,
+                                     double *scratch,
+                                     size_t scratch_len,
+                                     const double *dmotion,
+                                     size_t dmotion_len,
+                                     double *dx,
+                                     size_t dx_len);
+
+// `f32` twin of [`dk_sensitivity_rbf_tangent`].
+//
+// # Safety
+// As [`dk_sensitivity_rbf_tangent`].
+dk_status dk_sensitivity_rbf_tangent_f32(const float *points,
+                                         size_t points_len,
+                                         uint32_t dim,
+                                         const uint32_t *boundary,
+                                         size_t boundary_len,
+                                         uint32_t index_base,
+                                         const float *motion,
+                                         size_t motion_len,
+                                         const dk_rbf_options *options,
+                                         uint32_t *index_scratch,
+                                         size_t index_scratch_len,
+                                         float *scratch,
+                                         size_t scratch_len,
+                                         const float *dmotion,
+                                         size_t dmotion_len,
+                                         float *dx,
+                                         size_t dx_len);
+
+// The adjoint of `dk_rbf_deform` (arguments as [`dk_sensitivity_rbf_tangent`]) at `motion`:
+// for `m` fields `w = dJ/du` back to back (`m · N · dim` scalars, one per mesh node), `g =
+// dJ/dmotion` (`m · B · dim` scalars, boundary order). Errors as
+// [`dk_sensitivity_rbf_tangent`]; on an error found before the first field `g` is unchanged.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `boundary`: readable for `boundary_len` elements (`uint32_t`).
+// - `motion`: readable for `motion_len` elements (`double`).
+// - `options`: one readable `dk_rbf_options`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `w`: readable for `w_len` elements (`double`).
+// - `g`: readable and writable for `g_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_sensitivity_rbf_adjoint(const double *points,
+                                     size_t points_len,
+                                     uint32_t dim,
+                                     const uint32_t *boundary,
+                                     size_t boundary_len,
+                                     uint32_t index_base,
+                                     const double *motion,
+                                     size_t motion_len,
+                                     const dk_rbf_options *options,
+                                     uint32_t *index_scratch,
+                                     size_t index_scratch_len,
+                                     double *scratch,
+                                     size_t scratch_len,
+                                     const double *w,
+                                     size_t w_len,
+                                     double *g,
+                                     size_t g_len);
+
+// `f32` twin of [`dk_sensitivity_rbf_adjoint`].
+//
+// # Safety
+// As [`dk_sensitivity_rbf_adjoint`].
+dk_status dk_sensitivity_rbf_adjoint_f32(const float *points,
+                                         size_t points_len,
+                                         uint32_t dim,
+                                         const uint32_t *boundary,
+                                         size_t boundary_len,
+                                         uint32_t index_base,
+                                         const float *motion,
+                                         size_t motion_len,
+                                         const dk_rbf_options *options,
+                                         uint32_t *index_scratch,
+                                         size_t index_scratch_len,
+                                         float *scratch,
+                                         size_t scratch_len,
+                                         const float *w,
+                                         size_t w_len,
+                                         float *g,
+                                         size_t g_len);
+
 // Batina's stiffness `k_ij = 1 / |r_i − r_j|^exponent` for every directed edge of the 0-based
 // CSR graph into `stiffness` (`stiffness_len` = `graph->targets_len`). `exponent` 1 is the papers'
 // choice (computed as `1/|d|`), 2 is `1/(d·d)`, 0 the uniform Laplacian. The result is

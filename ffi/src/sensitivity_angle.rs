@@ -10,9 +10,7 @@ use deform_kernel_ffi_export::export;
 
 use crate::args::{by_dim, done, mul_len, read_one, read_points, write_len};
 use crate::slice::{chunks, chunks_mut, out_one, output, whole_chunks_mut, In, Out};
-use crate::spring::{
-    dk_spring_angle_options, dk_spring_solve_report, DkSpringSystem, SystemC,
-};
+use crate::spring::{dk_spring_angle_options, dk_spring_solve_report, DkSpringSystem, SystemC};
 use crate::status::dk_status;
 
 /// Scalars of `scratch` [`dk_sensitivity_angle_adjoint`] needs for `node_count` nodes in

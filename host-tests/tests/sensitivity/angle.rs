@@ -45,12 +45,12 @@ fn dot_test<T: Real, const D: usize>(case: &Case<T, D>, eps: f64, tol: f64) {
     let v: Vec<[T; D]> = random(n, &mut rng, |i| case.fixed[i] != 0);
     let w: Vec<[T; D]> = random(n, &mut rng, |_| true);
     let (jv, g) = both(&sys, AngleSolver::Method(AngleMethod::Cg), &v, &w);
-    assert_dot(&jv, &w, &v, &g, tol, &format!("{D}D eps {eps} block CG"));
+    check_dot(&jv, &w, &v, &g, tol, &format!("{D}D eps {eps} block CG"));
     let opts = AmgOptions::default();
     let mut b = AmgBuffers::new(sys.base(), &opts);
     let h = b.build(sys.base(), &opts);
     let (jv, g) = both(&sys, AngleSolver::Amg(&h), &v, &w);
-    assert_dot(&jv, &w, &v, &g, tol, &format!("{D}D eps {eps} multigrid"));
+    check_dot(&jv, &w, &v, &g, tol, &format!("{D}D eps {eps} multigrid"));
 }
 
 #[test]
@@ -86,6 +86,7 @@ fn dense<T: Real, const D: usize>(case: &Case<T, D>, eps: f64, tol: f64) {
     let body = format!("{head} {eps:e}\n{rest}");
     let (jv_ref, g_ref) = reference::<D>("angle", body, n);
     let (e1, e2) = (rel_err(&jv, &jv_ref), rel_err(&g, &g_ref));
+    eprintln!("{D}D eps {eps}: against numpy, tangent {e1:.1e}, adjoint {e2:.1e}");
     assert!(
         e1 <= tol && e2 <= tol,
         "{D}D eps {eps}: tangent {e1:e}, adjoint {e2:e}"
@@ -139,6 +140,7 @@ fn tangent_matches_central_differences_at_every_step() {
             .collect();
         errs.push(rel_err(&fd, &jv));
     }
+    eprintln!("central differences, h = 1e-1 … 1e-6: {errs:?}");
     for (k, e) in errs.iter().enumerate() {
         let h = 10f64.powi(-(k as i32 + 1));
         assert!(*e <= 1e-11 / h, "step 1e-{}: {e:e} ({errs:?})", k + 1);
@@ -160,12 +162,19 @@ fn infinitesimal_rigid_motion_is_reproduced_with_eps_zero() {
         .map(|p| [t[0] - om * p[1], t[1] + om * p[0]])
         .collect();
     let mut dx: Vec<[f64; 2]> = (0..n)
-        .map(|i| if case.fixed[i] != 0 { rigid[i] } else { [0.0; 2] })
+        .map(|i| {
+            if case.fixed[i] != 0 {
+                rigid[i]
+            } else {
+                [0.0; 2]
+            }
+        })
         .collect();
     let solver = AngleSolver::Method(AngleMethod::Cg);
     let mut s = vec![[0.0; 2]; angle_adjoint_scratch_len(&sys, &solver)];
     angle_tangent(&sys, solver, &tight(), &mut dx, &mut s).unwrap();
     let e = rel_err(&dx, &rigid);
+    eprintln!("eps 0, rigid field reproduced to {e:.1e}");
     assert!(e <= 1e-11, "rigid field: {e:e}");
     let mut rng = Lcg(9);
     let w: Vec<[f64; 2]> = random(n, &mut rng, |_| true);
@@ -182,7 +191,10 @@ fn infinitesimal_rigid_motion_is_reproduced_with_eps_zero() {
     };
     let (mg, mw) = (moments(&g), moments(&w));
     for c in 0..3 {
-        assert!((mg[c] - mw[c]).abs() <= 1e-10 * norm(&w), "{mg:?} vs {mw:?}");
+        assert!(
+            (mg[c] - mw[c]).abs() <= 1e-10 * norm(&w),
+            "{mg:?} vs {mw:?}"
+        );
     }
 }
 

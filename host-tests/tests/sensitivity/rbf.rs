@@ -62,10 +62,16 @@ fn motion<T: Real, const D: usize>(pts: &[[T; D]], bnd: &[u32]) -> Vec<[T; D]> {
     bnd.iter()
         .map(|&i| {
             let p = pts[i as usize].map(|x| x.to_f64());
-            let r2: f64 = (0..D).map(|a| (p[a] - if a == 0 { 1.0 } else { 0.3 }).powi(2)).sum();
+            let r2: f64 = (0..D)
+                .map(|a| (p[a] - if a == 0 { 1.0 } else { 0.3 }).powi(2))
+                .sum();
             std::array::from_fn(|a| {
                 let q = p[(a + 1) % D];
-                let bump = if a == 0 { 0.1 * (-10.0 * r2).exp() } else { 0.0 };
+                let bump = if a == 0 {
+                    0.1 * (-10.0 * r2).exp()
+                } else {
+                    0.0
+                };
                 T::from_f64(0.05 * (3.0 * q).sin() + 0.02 * p[a] * q + bump)
             })
         })
@@ -98,13 +104,21 @@ fn dot_case<T: Real, const D: usize>(s: usize, tol: f64) {
     let v: Vec<[T; D]> = random(bnd.len(), &mut rng, |_| true);
     let w: Vec<[T; D]> = random(pts.len(), &mut rng, |_| true);
     let b = bnd.len();
-    for kernel in [RbfKernel::Wendland { radius: T::from_f64(0.8) }, RbfKernel::ThinPlate] {
+    for kernel in [
+        RbfKernel::Wendland {
+            radius: T::from_f64(0.8),
+        },
+        RbfKernel::ThinPlate,
+    ] {
         for (greedy, rc) in [(false, 0.0), (false, 0.4), (true, 0.0), (true, 0.4)] {
             let o = options(kernel, b, greedy, rc);
             let (jv, g, r) = both(&pts, &bnd, &d0, &o, &v, &w);
-            let what = format!("{D}D {kernel:?} greedy {greedy} rc {rc}: {} centres", r.centres);
+            let what = format!(
+                "{D}D {kernel:?} greedy {greedy} rc {rc}: {} centres",
+                r.centres
+            );
             assert!(!greedy || r.centres < b, "{what}");
-            assert_dot(&jv, &w, &v, &g, tol, &what);
+            check_dot(&jv, &w, &v, &g, tol, &what);
         }
     }
 }
@@ -144,13 +158,23 @@ fn dense_case<const D: usize>(kernel: RbfKernel<f64>, rc: f64) {
     let d0 = vec![[0.0; D]; b];
     let (jv, g, _) = both(&pts, &bnd, &d0, &o, &v, &w);
     let jv_ref: Vec<[f64; D]> = (0..n)
-        .map(|i| std::array::from_fn(|a| (0..b * D).map(|kc| cols[kc][i][a] * v[kc / D][kc % D]).sum()))
+        .map(|i| {
+            std::array::from_fn(|a| {
+                (0..b * D)
+                    .map(|kc| cols[kc][i][a] * v[kc / D][kc % D])
+                    .sum()
+            })
+        })
         .collect();
     let g_ref: Vec<[f64; D]> = (0..b)
         .map(|k| std::array::from_fn(|c| dot(&cols[k * D + c], &w)))
         .collect();
     let (e1, e2) = (rel_err(&jv, &jv_ref), rel_err(&g, &g_ref));
-    assert!(e1 <= 1e-12 && e2 <= 1e-12, "{D}D {kernel:?} rc {rc}: tangent {e1:e}, adjoint {e2:e}");
+    eprintln!("{D}D {kernel:?} rc {rc}: dense tangent {e1:.1e}, adjoint {e2:.1e}");
+    assert!(
+        e1 <= 1e-12 && e2 <= 1e-12,
+        "{D}D {kernel:?} rc {rc}: tangent {e1:e}, adjoint {e2:e}"
+    );
 }
 
 #[test]
@@ -181,8 +205,8 @@ fn tangent_matches_central_differences_of_rbf_deform() {
             let o = options(kernel, b, greedy, 0.4);
             let (mut index, mut scratch) = buffers::<f64, 2>(b, &o);
             let mut jv = vec![[0.0; 2]; n];
-            let r0 = rbf_tangent(&pts, &bnd, &d0, &o, &mut index, &mut scratch, &v, &mut jv)
-                .unwrap();
+            let r0 =
+                rbf_tangent(&pts, &bnd, &d0, &o, &mut index, &mut scratch, &v, &mut jv).unwrap();
             let centres = index[..r0.centres].to_vec();
             let (mut same, mut errs) = (0, vec![]);
             for k in 2..=7 {
@@ -206,10 +230,16 @@ fn tangent_matches_central_differences_of_rbf_deform() {
                     .collect();
                 let e = rel_err(&fd, &jv);
                 errs.push((h, e, kp && km));
-                assert!(greedy || (kp && km), "{kernel:?}: every centre, always kept");
+                assert!(
+                    greedy || (kp && km),
+                    "{kernel:?}: every centre, always kept"
+                );
                 if kp && km {
                     same += 1;
-                    assert!(e <= 1e-13 / h, "{kernel:?} greedy {greedy} h {h:e}: {errs:?}");
+                    assert!(
+                        e <= 1e-13 / h,
+                        "{kernel:?} greedy {greedy} h {h:e}: {errs:?}"
+                    );
                 }
             }
             assert!(same >= 2, "{kernel:?} greedy {greedy}: {errs:?}");
@@ -241,6 +271,7 @@ fn thin_plate_tangent_of_a_rigid_motion_is_rigid() {
         let mut jv = vec![[0.0; 3]; pts.len()];
         rbf_tangent(&pts, &bnd, &d0, &o, &mut index, &mut scratch, &v, &mut jv).unwrap();
         let e = rel_err(&jv, &want);
+        eprintln!("greedy {greedy}: rigid field reproduced to {e:.1e}");
         assert!(e <= 1e-12, "greedy {greedy}: {e:e}");
     }
 }
@@ -261,7 +292,14 @@ fn several_fields_match_single_calls() {
     rbf_tangent(&pts, &bnd, &d0, &o, &mut index, &mut scratch, &v, &mut jv).unwrap();
     rbf_adjoint(&pts, &bnd, &d0, &o, &mut index, &mut scratch, &w, &mut g).unwrap();
     for f in 0..3 {
-        let (one_t, one_a, _) = both(&pts, &bnd, &d0, &o, &v[f * b..(f + 1) * b], &w[f * n..(f + 1) * n]);
+        let (one_t, one_a, _) = both(
+            &pts,
+            &bnd,
+            &d0,
+            &o,
+            &v[f * b..(f + 1) * b],
+            &w[f * n..(f + 1) * n],
+        );
         assert_eq!(one_t, jv[f * n..(f + 1) * n]);
         assert_eq!(one_a, g[f * b..(f + 1) * b]);
     }
@@ -281,24 +319,62 @@ fn bad_input_is_a_typed_error_and_writes_nothing() {
     let t = |v: &[[f64; 2]], jv: &mut [[f64; 2]], s: &mut [f64], o: &RbfOptions<f64>| {
         rbf_tangent(&pts, &bnd, &d0, o, &mut index.clone(), s, v, jv)
     };
-    assert!(matches!(t(&v[1..], &mut jv, &mut scratch, &o), Err(Error::LengthMismatch { .. })));
-    assert!(matches!(t(&v, &mut jv[1..], &mut scratch, &o), Err(Error::LengthMismatch { .. })));
+    assert!(matches!(
+        t(&v[1..], &mut jv, &mut scratch, &o),
+        Err(Error::LengthMismatch { .. })
+    ));
+    assert!(matches!(
+        t(&v, &mut jv[1..], &mut scratch, &o),
+        Err(Error::LengthMismatch { .. })
+    ));
     let len = scratch.len();
-    assert!(matches!(t(&v, &mut jv, &mut scratch[..len - 1], &o), Err(Error::BufferTooSmall { .. })));
-    let bad = RbfOptions { tolerance: -1.0, ..o };
-    assert!(matches!(t(&v, &mut jv, &mut scratch, &bad), Err(Error::InvalidParameter { .. })));
+    assert!(matches!(
+        t(&v, &mut jv, &mut scratch[..len - 1], &o),
+        Err(Error::BufferTooSmall { .. })
+    ));
+    let bad = RbfOptions {
+        tolerance: -1.0,
+        ..o
+    };
+    assert!(matches!(
+        t(&v, &mut jv, &mut scratch, &bad),
+        Err(Error::InvalidParameter { .. })
+    ));
     let mut vn = v.clone();
     vn[2][0] = f64::NAN;
-    assert!(matches!(t(&vn, &mut jv, &mut scratch, &o), Err(Error::NonFinite { .. })));
+    assert!(matches!(
+        t(&vn, &mut jv, &mut scratch, &o),
+        Err(Error::NonFinite { .. })
+    ));
     assert!(jv.iter().all(|x| *x == [7.0; 2]));
     w[4][1] = f64::INFINITY;
     let r = rbf_adjoint(&pts, &bnd, &d0, &o, &mut index, &mut scratch, &w, &mut g);
     assert!(matches!(r, Err(Error::NonFinite { arg: "w", .. })));
     w[4][1] = 0.0;
-    let r = rbf_adjoint(&pts, &bnd, &d0, &o, &mut index, &mut scratch, &w, &mut g[1..]);
+    let r = rbf_adjoint(
+        &pts,
+        &bnd,
+        &d0,
+        &o,
+        &mut index,
+        &mut scratch,
+        &w,
+        &mut g[1..],
+    );
     assert!(matches!(r, Err(Error::LengthMismatch { .. })));
-    let r = rbf_adjoint(&pts, &bnd, &d0[1..], &o, &mut index, &mut scratch, &w, &mut g);
-    assert!(matches!(r, Err(Error::LengthMismatch { arg: "motion", .. })));
+    let r = rbf_adjoint(
+        &pts,
+        &bnd,
+        &d0[1..],
+        &o,
+        &mut index,
+        &mut scratch,
+        &w,
+        &mut g,
+    );
+    assert!(matches!(
+        r,
+        Err(Error::LengthMismatch { arg: "motion", .. })
+    ));
     assert!(g.iter().all(|x| *x == [7.0; 2]));
 }
-

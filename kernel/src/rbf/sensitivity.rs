@@ -27,9 +27,9 @@
 use super::{fit, Fitted, RbfOptions, RbfReport};
 use crate::check;
 use crate::error::{Error, Result};
-use crate::real::Real;
 use crate::rbf::model::{dist_sq, phi, to_frame, Model};
 use crate::rbf::RbfKernel;
+use crate::real::Real;
 
 /// `len` items hold `m ≥ 1` whole fields of `per` items; returns `m`.
 fn fields(arg: &'static str, per: usize, len: usize) -> Result<usize> {
@@ -148,7 +148,11 @@ impl<T: Real, const D: usize> Fitted<'_, T, D> {
     fn is_boundary(&self, i: usize, x: [T; D]) -> bool {
         let mut found = false;
         self.grid_b.for_near(x, T::ZERO, |k| {
-            found |= self.problem.boundary.get(k).is_some_and(|&b| b as usize == i);
+            found |= self
+                .problem
+                .boundary
+                .get(k)
+                .is_some_and(|&b| b as usize == i);
         });
         found
     }
@@ -191,7 +195,11 @@ impl<T: Real, const D: usize> Fitted<'_, T, D> {
         if rc > T::ZERO {
             for (kb, &node) in self.problem.boundary.iter().enumerate() {
                 let r: [T; D] = core::array::from_fn(|c| {
-                    self.work.residual.get(kb * D + c).copied().unwrap_or(T::ZERO)
+                    self.work
+                        .residual
+                        .get(kb * D + c)
+                        .copied()
+                        .unwrap_or(T::ZERO)
                 });
                 if k > 0 {
                     self.eval_adjoint(self.problem.pos(kb), r.map(|v| -v));

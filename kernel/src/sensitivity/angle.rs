@@ -11,8 +11,10 @@ use super::{adjoint_parts, check_adjoint, for_each_field, for_each_field_mut};
 use crate::error::{Error, Result};
 use crate::real::Real;
 use crate::spring::krylov::{solve_rhs, NodeBlocks, RhsLayout};
-use crate::spring::{angle_scratch_items, AmgHierarchy, AngleMethod, AngleSystem, Serial, SolveOptions, SolveReport};
 use crate::spring::Vcycle;
+use crate::spring::{
+    angle_scratch_items, AmgHierarchy, AngleMethod, AngleSystem, Serial, SolveOptions, SolveReport,
+};
 use crate::vector;
 
 /// How the angle springs are solved: [`AngleSystem::solve_angle`] with a method, or
