@@ -10,7 +10,7 @@ use crate::formats::CellList;
 use crate::orientation::{Orientation, OrientationSummary};
 
 mod elasticity;
-mod rbf;
+pub(crate) mod rbf;
 pub use elasticity::run_elasticity;
 pub use rbf::{RbfFunction, RbfInfo, RbfSettings};
 

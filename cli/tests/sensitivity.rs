@@ -4,7 +4,9 @@
 //! files; the adjoint of a uniform sensitivity sums to it (a translation is reproduced); bad
 //! files are refused with nothing written. `--method quaternion` (linearised about
 //! `--deformed`) satisfies the identity too, and its tangent is the central difference of
-//! `deform move --method quaternion` itself.
+//! `deform move --method quaternion` itself; so are those of `--method angle` (`deform move
+//! --method angle-cg`) and `--method rbf`, whose greedy form satisfies the identity about
+//! `--deformed`.
 
 mod common;
 
@@ -121,6 +123,18 @@ fn adjoint_and_tangent_files_satisfy_the_dot_product_identity() {
     identity_holds("spring", &[]);
     identity_holds("idw-displacements", &[]);
     identity_holds("quaternion", &["--deformed", "def.su2"]);
+    identity_holds("angle", &[]);
+    identity_holds("rbf", &["--rbf-kernel", "tps", "--rbf-correction", "2"]);
+    // Greedy centres: linearised about the motion of --deformed, its centres kept.
+    let greedy = [
+        "--deformed",
+        "def.su2",
+        "--rbf-max-centres",
+        "8",
+        "--rbf-radius",
+        "4",
+    ];
+    identity_holds("rbf", &greedy);
 }
 
 /// A point of `mesh_2d(7, 5)` turned by 0.15 rad about the centre `(3.5, 1.75)`, shifted and
@@ -145,7 +159,21 @@ fn write_rows(path: &std::path::Path, rows: &[(usize, [f64; 2])]) {
 
 #[test]
 fn quaternion_tangent_is_the_central_difference_of_deform_move() {
-    let d = tmp_dir("sensitivity-quaternion-fd");
+    tangent_vs_move("quaternion", "quaternion", &["--deformed", "d0.su2"], &[]);
+}
+
+#[test]
+fn angle_and_rbf_tangents_are_the_central_differences_of_deform_move() {
+    tangent_vs_move("angle", "angle-cg", &[], &[]);
+    let rbf = ["--rbf-kernel", "tps", "--rbf-correction", "2"];
+    tangent_vs_move("rbf", "rbf", &rbf, &rbf);
+}
+
+/// The tangent of `--method sens` along a random boundary direction against the central
+/// difference of `deform move --method mv` (`mv_extra` its options) about the turned
+/// boundary, `h = 1e-4`.
+fn tangent_vs_move(sens: &str, mv: &str, sens_extra: &[&str], mv_extra: &[&str]) {
+    let d = tmp_dir(&format!("sensitivity-{sens}-fd"));
     let mesh = mesh_2d(7, 5);
     std::fs::write(d.join("m.su2"), su2_bytes(&mesh)).unwrap();
     let mut boundary: Vec<usize> = (mesh.markers.iter())
@@ -170,40 +198,28 @@ fn quaternion_tangent_is_the_central_difference_of_deform_move() {
     }
     for name in ["d0", "dp", "dm"] {
         let (input, out) = (format!("{name}.txt"), format!("{name}.su2"));
-        let args = [
-            "--json",
-            "move",
-            "m.su2",
-            "--method",
-            "quaternion",
+        let mut args = vec!["--json", "move", "m.su2", "--method", mv];
+        args.extend([
             "--marker",
             "wall",
             "--marker",
             "farfield",
             "--displacements",
-            &input,
-            "--tol",
-            "1e-14",
-            "--out",
-            &out,
-        ];
+        ]);
+        args.extend([input.as_str(), "--tol", "1e-14", "--out", &out]);
+        args.extend(mv_extra);
         deform_json(&d, &args);
     }
-    let args = [
-        "--json",
-        "tangent",
-        "m.su2",
-        "--method",
-        "quaternion",
-        "--deformed",
-        "d0.su2",
+    let mut args = vec!["--json", "tangent", "m.su2", "--method", sens];
+    args.extend([
         "--perturbation",
         "v.txt",
         "--tol",
         "1e-14",
         "--out",
         "t.csv",
-    ];
+    ]);
+    args.extend(sens_extra);
     deform_json(&d, &args);
     let t = read_csv(&d.join("t.csv"));
     let (p, m) = (read_su2(&d.join("dp.su2")), read_su2(&d.join("dm.su2")));
@@ -216,13 +232,13 @@ fn quaternion_tangent_is_the_central_difference_of_deform_move() {
         }
     }
     println!(
-        "quaternion tangent vs central difference (h = {h:e}): {:.2e}",
+        "{sens} tangent vs central difference (h = {h:e}): {:.2e}",
         err / big
     );
-    assert!(big > 0.1, "a trivial tangent: {big}");
+    assert!(big > 0.1, "{sens}: a trivial tangent: {big}");
     assert!(
         err <= 1e-6 * big,
-        "tangent vs central difference: {err:e} (max {big:e})"
+        "{sens}: tangent vs central difference: {err:e} (max {big:e})"
     );
 }
 

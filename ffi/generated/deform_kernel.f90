@@ -760,17 +760,6 @@ module deform_kernel
     integer(c_int32_t) :: dependent
   end type
 
-  !> Result of one sweep over a node range.
-  type, bind(C), public :: dk_spring_sweep
-    !> Largest `|new − old|` over the range's free nodes and all components (0 for an empty
-    !! range).
-    real(c_double) :: max_change
-    !> `Σ |r_i|²` over the range's free nodes and all components (exact residual of the input
-    !! for Jacobi sweeps, an estimate for Gauss–Seidel/SOR); summed over ranks it gives a
-    !! global residual.
-    real(c_double) :: residual_sq
-  end type
-
   !> Method, regularisation and stopping rules of the angle-inclusion springs
   !! (`dk_spring_solve_angle`, `dk_spring_angle_rigidity_probe`). Fill with
   !! `dk_spring_angle_options_default` (or `_f32`).
@@ -787,6 +776,17 @@ module deform_kernel
     real(c_double) :: epsilon
     !> `DK_ANGLE_DIRECT_GAUSS_SEIDEL` (default), `DK_ANGLE_DIRECT_JACOBI` or `DK_ANGLE_CG`.
     integer(c_int32_t) :: method
+  end type
+
+  !> Result of one sweep over a node range.
+  type, bind(C), public :: dk_spring_sweep
+    !> Largest `|new − old|` over the range's free nodes and all components (0 for an empty
+    !! range).
+    real(c_double) :: max_change
+    !> `Σ |r_i|²` over the range's free nodes and all components (exact residual of the input
+    !! for Jacobi sweeps, an estimate for Gauss–Seidel/SOR); summed over ranks it gives a
+    !! global residual.
+    real(c_double) :: residual_sq
   end type
 
   !> What every node of a sliding (symmetry-plane) solve may do: the kernel's
@@ -980,17 +980,21 @@ module deform_kernel
             dk_sensitivity_spring_adjoint_scratch_len, dk_sensitivity_spring_adjoint, &
             dk_sensitivity_spring_adjoint_f32, dk_sensitivity_idw_tangent, &
             dk_sensitivity_idw_tangent_f32, dk_sensitivity_idw_adjoint, &
-            dk_sensitivity_idw_adjoint_f32, dk_spring_batina_stiffness, &
-            dk_spring_batina_stiffness_f32, dk_spring_index_scratch_len, &
-            dk_spring_solve_options_default, dk_spring_solve_options_default_f32, &
-            dk_spring_solve_linear_scratch_len, dk_spring_solve_linear, &
-            dk_spring_solve_linear_f32, dk_spring_jacobi_sweep, dk_spring_jacobi_sweep_f32, &
-            dk_spring_jacobi_sweep_exact, dk_spring_jacobi_sweep_exact_f32, dk_exact_sum_value, &
-            dk_spring_sor_sweep, dk_spring_sor_sweep_f32, dk_spring_relative_residual, &
-            dk_spring_relative_residual_f32, dk_spring_angle_options_default, &
-            dk_spring_angle_options_default_f32, dk_spring_solve_angle_scratch_len, &
-            dk_spring_solve_angle_scratch_len_f32, dk_spring_angle_rigidity_probe_scratch_len, &
-            dk_spring_solve_angle, dk_spring_solve_angle_f32, dk_spring_angle_jacobi_sweep, &
+            dk_sensitivity_idw_adjoint_f32, dk_sensitivity_angle_adjoint_scratch_len, &
+            dk_sensitivity_angle_adjoint, dk_sensitivity_angle_adjoint_f32, &
+            dk_sensitivity_rbf_tangent, dk_sensitivity_rbf_tangent_f32, &
+            dk_sensitivity_rbf_adjoint, dk_sensitivity_rbf_adjoint_f32, &
+            dk_spring_batina_stiffness, dk_spring_batina_stiffness_f32, &
+            dk_spring_index_scratch_len, dk_spring_solve_options_default, &
+            dk_spring_solve_options_default_f32, dk_spring_solve_linear_scratch_len, &
+            dk_spring_solve_linear, dk_spring_solve_linear_f32, dk_spring_jacobi_sweep, &
+            dk_spring_jacobi_sweep_f32, dk_spring_jacobi_sweep_exact, &
+            dk_spring_jacobi_sweep_exact_f32, dk_exact_sum_value, dk_spring_sor_sweep, &
+            dk_spring_sor_sweep_f32, dk_spring_relative_residual, dk_spring_relative_residual_f32, &
+            dk_spring_angle_options_default, dk_spring_angle_options_default_f32, &
+            dk_spring_solve_angle_scratch_len, dk_spring_solve_angle_scratch_len_f32, &
+            dk_spring_angle_rigidity_probe_scratch_len, dk_spring_solve_angle, &
+            dk_spring_solve_angle_f32, dk_spring_angle_jacobi_sweep, &
             dk_spring_angle_jacobi_sweep_f32, dk_spring_angle_gauss_seidel_sweep, &
             dk_spring_angle_gauss_seidel_sweep_f32, dk_spring_angle_rigidity_probe, &
             dk_spring_angle_rigidity_probe_f32, dk_amg_options_default, dk_spring_amg_work_len, &
@@ -3170,6 +3174,150 @@ module deform_kernel
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
       real(c_float), value :: exponent
+      real(c_float), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_float), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_angle_adjoint_scratch_len(node_count, dim, len_out) bind(C, &
+        name="dk_sensitivity_angle_adjoint_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_angle_adjoint(system, points, points_len, dim, options, w, w_len, g, &
+        g_len, scratch, scratch_len, index_scratch, index_scratch_len, report) bind(C, &
+        name="dk_sensitivity_angle_adjoint") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_spring_angle_options, dk_spring_solve_report, &
+          dk_spring_system
+      type(dk_spring_system), intent(in) :: system
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_spring_angle_options), intent(in) :: options
+      real(c_double), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_double), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_angle_adjoint_f32(system, points, points_len, dim, options, w, w_len, &
+        g, g_len, scratch, scratch_len, index_scratch, index_scratch_len, report) bind(C, &
+        name="dk_sensitivity_angle_adjoint_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_spring_angle_options, dk_spring_solve_report, &
+          dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_spring_angle_options), intent(in) :: options
+      real(c_float), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_float), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_rbf_tangent(points, points_len, dim, boundary, boundary_len, &
+        index_base, motion, motion_len, options, index_scratch, index_scratch_len, scratch, &
+        scratch_len, dmotion, dmotion_len, dx, dx_len) bind(C, name="dk_sensitivity_rbf_tangent") &
+        result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_rbf_options
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(in) :: motion(*)
+      integer(c_size_t), value :: motion_len
+      type(dk_rbf_options), intent(in) :: options
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_double), intent(in) :: dmotion(*)
+      integer(c_size_t), value :: dmotion_len
+      real(c_double), intent(inout) :: dx(*)
+      integer(c_size_t), value :: dx_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_rbf_tangent_f32(points, points_len, dim, boundary, boundary_len, &
+        index_base, motion, motion_len, options, index_scratch, index_scratch_len, scratch, &
+        scratch_len, dmotion, dmotion_len, dx, dx_len) bind(C, &
+        name="dk_sensitivity_rbf_tangent_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_rbf_options
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(in) :: motion(*)
+      integer(c_size_t), value :: motion_len
+      type(dk_rbf_options), intent(in) :: options
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_float), intent(in) :: dmotion(*)
+      integer(c_size_t), value :: dmotion_len
+      real(c_float), intent(inout) :: dx(*)
+      integer(c_size_t), value :: dx_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_rbf_adjoint(points, points_len, dim, boundary, boundary_len, &
+        index_base, motion, motion_len, options, index_scratch, index_scratch_len, scratch, &
+        scratch_len, w, w_len, g, g_len) bind(C, name="dk_sensitivity_rbf_adjoint") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_rbf_options
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      real(c_double), intent(in) :: motion(*)
+      integer(c_size_t), value :: motion_len
+      type(dk_rbf_options), intent(in) :: options
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_double), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_double), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_rbf_adjoint_f32(points, points_len, dim, boundary, boundary_len, &
+        index_base, motion, motion_len, options, index_scratch, index_scratch_len, scratch, &
+        scratch_len, w, w_len, g, g_len) bind(C, name="dk_sensitivity_rbf_adjoint_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_rbf_options
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: boundary(*)
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: index_base
+      real(c_float), intent(in) :: motion(*)
+      integer(c_size_t), value :: motion_len
+      type(dk_rbf_options), intent(in) :: options
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
       real(c_float), intent(in) :: w(*)
       integer(c_size_t), value :: w_len
       real(c_float), intent(inout) :: g(*)

@@ -830,17 +830,6 @@ typedef struct {
   uint32_t dependent;
 } dk_rbf_report;
 
-// Result of one sweep over a node range.
-typedef struct {
-  // Largest `|new − old|` over the range's free nodes and all components (0 for an empty
-  // range).
-  double max_change;
-  // `Σ |r_i|²` over the range's free nodes and all components (exact residual of the input
-  // for Jacobi sweeps, an estimate for Gauss–Seidel/SOR); summed over ranks it gives a
-  // global residual.
-  double residual_sq;
-} dk_spring_sweep;
-
 // Method, regularisation and stopping rules of the angle-inclusion springs
 // (`dk_spring_solve_angle`, `dk_spring_angle_rigidity_probe`). Fill with
 // `dk_spring_angle_options_default` (or `_f32`).
@@ -858,6 +847,17 @@ typedef struct {
   // `DK_ANGLE_DIRECT_GAUSS_SEIDEL` (default), `DK_ANGLE_DIRECT_JACOBI` or `DK_ANGLE_CG`.
   uint32_t method;
 } dk_spring_angle_options;
+
+// Result of one sweep over a node range.
+typedef struct {
+  // Largest `|new − old|` over the range's free nodes and all components (0 for an empty
+  // range).
+  double max_change;
+  // `Σ |r_i|²` over the range's free nodes and all components (exact residual of the input
+  // for Jacobi sweeps, an estimate for Gauss–Seidel/SOR); summed over ranks it gives a
+  // global residual.
+  double residual_sq;
+} dk_spring_sweep;
 
 // What every node of a sliding (symmetry-plane) solve may do: the kernel's
 // `slide::Constraints`, for [`dk_spring_solve_linear_sliding`],
@@ -4172,6 +4172,195 @@ dk_status dk_sensitivity_idw_adjoint_f32(const float *points,
                                          uint32_t *index_scratch,
                                          size_t index_scratch_len,
                                          float exponent,
+                                         const float *w,
+                                         size_t w_len,
+                                         float *g,
+                                         size_t g_len);
+
+// Scalars of `scratch` [`dk_sensitivity_angle_adjoint`] needs for `node_count` nodes in
+// `dim` (2 or 3) dimensions: `5 · node_count · dim` (the adjoint field and the four CG
+// vectors, which also hold the rigidity probe's when `ε = 0`).
+//
+// # Safety
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_sensitivity_angle_adjoint_scratch_len(size_t node_count,
+                                                   uint32_t dim,
+                                                   size_t *len_out);
+
+// The adjoint of the angle-inclusion springs (`dk_spring_solve_angle`'s system, `points`
+// and `options`): for `w = dJ/dx` at every node (`node_count · dim` scalars), `g = dJ/dx_b`
+// at the fixed nodes and zero at the free nodes: `A λ = w_f`, `g_j = w_j + Σ_{i free} B_ij
+// λ_i`, one block-Jacobi CG solve with the deformation's own operator (symmetric) and
+// stopping rule (`options->method` must be `DK_ANGLE_CG`, else `DK_ERR_INVALID_PARAMETER`;
+// with `epsilon` 0 the rigidity probe runs first). `scratch`:
+// [`dk_sensitivity_angle_adjoint_scratch_len`] scalars; `index_scratch`: `node_count`
+// entries; `*report` receives the solve's report (not converged is `DK_OK` with `converged`
+// false). Errors: those of `dk_spring_solve_angle`; on error `g` is unchanged.
+//
+// # Safety
+// - `system`: one readable `dk_spring_system`.
+// - `points`: readable for `points_len` elements (`double`).
+// - `options`: one readable `dk_spring_angle_options`.
+// - `w`: readable for `w_len` elements (`double`).
+// - `g`: readable and writable for `g_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_sensitivity_angle_adjoint(const dk_spring_system *system,
+                                       const double *points,
+                                       size_t points_len,
+                                       uint32_t dim,
+                                       const dk_spring_angle_options *options,
+                                       const double *w,
+                                       size_t w_len,
+                                       double *g,
+                                       size_t g_len,
+                                       double *scratch,
+                                       size_t scratch_len,
+                                       uint32_t *index_scratch,
+                                       size_t index_scratch_len,
+                                       dk_spring_solve_report *report);
+
+// `f32` twin of [`dk_sensitivity_angle_adjoint`].
+//
+// # Safety
+// As [`dk_sensitivity_angle_adjoint`].
+dk_status dk_sensitivity_angle_adjoint_f32(const dk_spring_system_f32 *system,
+                                           const float *points,
+                                           size_t points_len,
+                                           uint32_t dim,
+                                           const dk_spring_angle_options *options,
+                                           const float *w,
+                                           size_t w_len,
+                                           float *g,
+                                           size_t g_len,
+                                           float *scratch,
+                                           size_t scratch_len,
+                                           uint32_t *index_scratch,
+                                           size_t index_scratch_len,
+                                           dk_spring_solve_report *report);
+
+// The tangent of `dk_rbf_deform` (same `points`, `dim`, `boundary`, `index_base`, `motion`,
+// `options`, workspaces) at `motion`: for `m` boundary perturbations back to back in
+// `dmotion` (`m · B · dim` scalars, boundary order), the first-order change of every node's
+// displacement into `dx` (`m · N · dim` scalars). Errors: those of `dk_rbf_deform`, and
+// `dmotion`/`dx` not whole fields of the same count; on an error found before the first
+// field `dx` is unchanged.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `boundary`: readable for `boundary_len` elements (`uint32_t`).
+// - `motion`: readable for `motion_len` elements (`double`).
+// - `options`: one readable `dk_rbf_options`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `dmotion`: readable for `dmotion_len` elements (`double`).
+// - `dx`: readable and writable for `dx_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_sensitivity_rbf_tangent(const double *points,
+                                     size_t points_len,
+                                     uint32_t dim,
+                                     const uint32_t *boundary,
+                                     size_t boundary_len,
+                                     uint32_t index_base,
+                                     const double *motion,
+                                     size_t motion_len,
+                                     const dk_rbf_options *options,
+                                     uint32_t *index_scratch,
+                                     size_t index_scratch_len,
+                                     double *scratch,
+                                     size_t scratch_len,
+                                     const double *dmotion,
+                                     size_t dmotion_len,
+                                     double *dx,
+                                     size_t dx_len);
+
+// `f32` twin of [`dk_sensitivity_rbf_tangent`].
+//
+// # Safety
+// As [`dk_sensitivity_rbf_tangent`].
+dk_status dk_sensitivity_rbf_tangent_f32(const float *points,
+                                         size_t points_len,
+                                         uint32_t dim,
+                                         const uint32_t *boundary,
+                                         size_t boundary_len,
+                                         uint32_t index_base,
+                                         const float *motion,
+                                         size_t motion_len,
+                                         const dk_rbf_options *options,
+                                         uint32_t *index_scratch,
+                                         size_t index_scratch_len,
+                                         float *scratch,
+                                         size_t scratch_len,
+                                         const float *dmotion,
+                                         size_t dmotion_len,
+                                         float *dx,
+                                         size_t dx_len);
+
+// The adjoint of `dk_rbf_deform` (arguments as [`dk_sensitivity_rbf_tangent`]) at `motion`:
+// for `m` fields `w = dJ/du` back to back (`m · N · dim` scalars, one per mesh node), `g =
+// dJ/dmotion` (`m · B · dim` scalars, boundary order). Errors as
+// [`dk_sensitivity_rbf_tangent`]; on an error found before the first field `g` is unchanged.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `boundary`: readable for `boundary_len` elements (`uint32_t`).
+// - `motion`: readable for `motion_len` elements (`double`).
+// - `options`: one readable `dk_rbf_options`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `w`: readable for `w_len` elements (`double`).
+// - `g`: readable and writable for `g_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_sensitivity_rbf_adjoint(const double *points,
+                                     size_t points_len,
+                                     uint32_t dim,
+                                     const uint32_t *boundary,
+                                     size_t boundary_len,
+                                     uint32_t index_base,
+                                     const double *motion,
+                                     size_t motion_len,
+                                     const dk_rbf_options *options,
+                                     uint32_t *index_scratch,
+                                     size_t index_scratch_len,
+                                     double *scratch,
+                                     size_t scratch_len,
+                                     const double *w,
+                                     size_t w_len,
+                                     double *g,
+                                     size_t g_len);
+
+// `f32` twin of [`dk_sensitivity_rbf_adjoint`].
+//
+// # Safety
+// As [`dk_sensitivity_rbf_adjoint`].
+dk_status dk_sensitivity_rbf_adjoint_f32(const float *points,
+                                         size_t points_len,
+                                         uint32_t dim,
+                                         const uint32_t *boundary,
+                                         size_t boundary_len,
+                                         uint32_t index_base,
+                                         const float *motion,
+                                         size_t motion_len,
+                                         const dk_rbf_options *options,
+                                         uint32_t *index_scratch,
+                                         size_t index_scratch_len,
+                                         float *scratch,
+                                         size_t scratch_len,
                                          const float *w,
                                          size_t w_len,
                                          float *g,

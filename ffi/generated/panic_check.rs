@@ -2201,6 +2201,147 @@ pub fn exercise() {
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.
     black_box(unsafe {
+        deform_kernel_ffi::sensitivity_angle::dk_sensitivity_angle_adjoint_scratch_len(
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::sensitivity_angle::dk_sensitivity_angle_adjoint(
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::sensitivity_angle::dk_sensitivity_angle_adjoint_f32(
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::sensitivity_rbf::dk_sensitivity_rbf_tangent(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::sensitivity_rbf::dk_sensitivity_rbf_tangent_f32(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::sensitivity_rbf::dk_sensitivity_rbf_adjoint(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::sensitivity_rbf::dk_sensitivity_rbf_adjoint_f32(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
         deform_kernel_ffi::spring::dk_spring_batina_stiffness(
             black_box(null()),
             black_box(null()),

@@ -62,6 +62,10 @@ pub mod quat;
 pub mod rbf;
 #[path = "../generated/sensitivity.rs"]
 pub mod sensitivity;
+#[path = "../generated/sensitivity_angle.rs"]
+pub mod sensitivity_angle;
+#[path = "../generated/sensitivity_rbf.rs"]
+pub mod sensitivity_rbf;
 #[path = "../generated/spring.rs"]
 pub mod spring;
 #[path = "../generated/status.rs"]

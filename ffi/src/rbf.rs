@@ -66,7 +66,7 @@ assert_layout!(dk_rbf_report, 24; centres = 0, max_error = 8, dependent = 16);
 
 impl dk_rbf_options {
     /// The kernel's options in `T` (`DK_ERR_INVALID_PARAMETER` for an unknown kernel code).
-    fn kernel_options<T: Real>(&self) -> Result<RbfOptions<T>, dk_status> {
+    pub(crate) fn kernel_options<T: Real>(&self) -> Result<RbfOptions<T>, dk_status> {
         let kernel = match self.kernel {
             DK_RBF_WENDLAND => RbfKernel::Wendland {
                 radius: T::from_f64(self.radius),

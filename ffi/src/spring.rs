@@ -184,7 +184,7 @@ assert_layout!(
 );
 
 impl dk_spring_angle_options {
-    fn method(&self) -> Result<AngleMethod, dk_status> {
+    pub(crate) fn method(&self) -> Result<AngleMethod, dk_status> {
         match self.method {
             DK_ANGLE_DIRECT_GAUSS_SEIDEL => Ok(AngleMethod::DirectGaussSeidel),
             DK_ANGLE_DIRECT_JACOBI => Ok(AngleMethod::DirectJacobi),
@@ -193,7 +193,7 @@ impl dk_spring_angle_options {
         }
     }
 
-    fn stopping<T: Real>(&self) -> SolveOptions<T> {
+    pub(crate) fn stopping<T: Real>(&self) -> SolveOptions<T> {
         stopping(self.max_iterations, self.residual_tol, self.update_tol)
     }
 }

@@ -49,6 +49,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod angle_rbf_sensitivity_cases;
 pub mod graph_cases;
 pub mod hash;
 pub mod mesh_cases;
@@ -254,5 +255,19 @@ pub const CASES: &[Case] = &[
         run_f32: sensitivity_cases::quaternion_spring_adjoint::<f32>,
         expected_f64: 0xa174_19ef_1a71_36e4,
         expected_f32: 0xf373_07bb_5508_82d6,
+    },
+    Case {
+        name: "angle_spring_adjoint",
+        run_f64: angle_rbf_sensitivity_cases::angle_spring_adjoint::<f64>,
+        run_f32: angle_rbf_sensitivity_cases::angle_spring_adjoint::<f32>,
+        expected_f64: 0x37c1_a2dd_1013_54f2,
+        expected_f32: 0xc354_0272_6be0_90c1,
+    },
+    Case {
+        name: "rbf_adjoint_tps",
+        run_f64: angle_rbf_sensitivity_cases::rbf_adjoint_tps::<f64>,
+        run_f32: angle_rbf_sensitivity_cases::rbf_adjoint_tps::<f32>,
+        expected_f64: 0x0034_95fa_40ff_b0c5,
+        expected_f32: 0x1453_0525_65f8_bd43,
     },
 ];

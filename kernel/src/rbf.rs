@@ -52,6 +52,7 @@ mod dense;
 mod fit;
 mod grid;
 mod model;
+mod sensitivity;
 
 use crate::check;
 use crate::error::{Error, Result};
@@ -59,6 +60,7 @@ use crate::real::Real;
 use fit::{Problem, Work};
 use grid::{grid_len, Grid};
 use model::{frame_of, Model};
+pub use sensitivity::{rbf_adjoint, rbf_tangent};
 
 /// The radial function.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -295,10 +297,37 @@ pub fn rbf_deform<T: Real, const D: usize>(
     scratch: &mut [T],
     displacements: &mut [[T; D]],
 ) -> Result<RbfReport<T>> {
+    check::len("displacements", displacements.len(), points.len())?;
+    let fitted = fit(points, boundary, motion, options, index, scratch)?;
+    fitted.write(displacements)?;
+    Ok(fitted.report)
+}
+
+/// A fitted interpolant in the caller's buffers: the problem, the centres and the factor of
+/// their matrix, the coefficients and boundary residuals of the last motion solved for, and
+/// the two search grids. [`rbf_deform`] writes it; the derivatives re-solve it for other
+/// motions with the same centres and factor.
+struct Fitted<'a, T: Real, const D: usize> {
+    problem: Problem<'a, T, D>,
+    work: Work<'a, T>,
+    grid_b: Grid<'a, T, D>,
+    grid_c: Grid<'a, T, D>,
+    correction_radius: T,
+    report: RbfReport<T>,
+}
+
+/// Validates the inputs and fits `motion` (the centres chosen, their matrix factored).
+fn fit<'a, T: Real, const D: usize>(
+    points: &'a [[T; D]],
+    boundary: &'a [u32],
+    motion: &'a [[T; D]],
+    options: &RbfOptions<T>,
+    index: &'a mut [u32],
+    scratch: &'a mut [T],
+) -> Result<Fitted<'a, T, D>> {
     check::mesh_dim::<D>();
     let n = points.len();
     let b = boundary.len();
-    check::len("displacements", displacements.len(), n)?;
     check::len("motion", motion.len(), b)?;
     check_options::<T, D>(b, options)?;
     check::buffer("index", index.len(), rbf_index_len::<T, D>(b, options))?;
@@ -358,62 +387,95 @@ pub fn rbf_deform<T: Real, const D: usize>(
         problem.fit_greedy(&mut work, options.tolerance)?
     };
     let k = fitted.centres;
-    let used = (k + if k > 0 { p } else { 0 }) * D;
-    let coeffs = work.coeffs.get(..used).unwrap_or(&[]);
-    if !output_bound::<T, D>(points, options.kernel, k, coeffs, problem.frame).is_finite() {
-        return Err(Error::Overflow { arg: "motion" });
-    }
-    let centres = work.centres.get(..k).unwrap_or(&[]);
-    let model = Model {
-        kernel: options.kernel,
-        points,
-        boundary,
-        centres,
-        coeffs: &*work.coeffs,
-        frame: problem.frame,
-    };
     let radius = match options.kernel {
         RbfKernel::Wendland { radius } => radius,
         RbfKernel::ThinPlate => T::INFINITY,
     };
-    let grid_c = Grid::build(k, radius, |j| model.centre(j), grid_c_buf);
-    let residual = &*work.residual;
-    let value = |x: [T; D]| {
-        let mut v = if k == 0 {
+    let centre = |j: usize| pos(work.centres.get(j).copied().unwrap_or(0) as usize);
+    let grid_c = Grid::build(k, radius, centre, grid_c_buf);
+    Ok(Fitted {
+        problem,
+        work,
+        grid_b,
+        grid_c,
+        correction_radius: rc,
+        report: RbfReport {
+            centres: k,
+            max_error: fitted.max_error,
+            dependent: fitted.dependent,
+        },
+    })
+}
+
+impl<'a, T: Real, const D: usize> Fitted<'a, T, D> {
+    /// The interpolant of the last motion solved for.
+    fn model(&self) -> Model<'_, T, D> {
+        let k = self.report.centres;
+        Model {
+            kernel: self.problem.kernel,
+            points: self.problem.points,
+            boundary: self.problem.boundary,
+            centres: self.work.centres.get(..k).unwrap_or(&[]),
+            coeffs: &*self.work.coeffs,
+            frame: self.problem.frame,
+        }
+    }
+
+    /// The displacement at `x`: the interpolant plus the wall correction.
+    fn value(&self, model: &Model<'_, T, D>, x: [T; D]) -> [T; D] {
+        let rc = self.correction_radius;
+        let mut v = if self.report.centres == 0 {
             [T::ZERO; D]
         } else {
-            model.eval(x, Some(&grid_c))
+            model.eval(x, Some(&self.grid_c))
         };
         if rc > T::ZERO {
-            let c = correct::correction(&model, &grid_b, residual, rc, x);
+            let c = correct::correction(model, &self.grid_b, &*self.work.residual, rc, x);
             for (vi, ci) in v.iter_mut().zip(c) {
                 *vi += ci;
             }
         }
         v
-    };
-    // `output_bound` does not cover every intermediate near the overflow range (fuzzing found
-    // a NaN at coordinates of 1e151): every value is checked before any is written, so
-    // `displacements` stays unchanged on error. This evaluates the model twice.
-    if !points
-        .iter()
-        .all(|&x| value(x).iter().all(|v| v.is_finite()))
-    {
-        return Err(Error::Overflow { arg: "motion" });
     }
-    for (x, out) in points.iter().zip(displacements.iter_mut()) {
-        *out = value(*x);
-    }
-    if rc > T::ZERO {
-        for (&node, d) in boundary.iter().zip(motion) {
-            if let Some(out) = displacements.get_mut(node as usize) {
-                *out = *d;
+
+    /// Writes the displacement of every node for the last motion solved for (boundary nodes:
+    /// that motion itself when there is a correction). Nothing is written on error.
+    fn write(&self, displacements: &mut [[T; D]]) -> Result<()> {
+        let points = self.problem.points;
+        let k = self.report.centres;
+        let p = self.problem.poly_terms();
+        let used = (k + if k > 0 { p } else { 0 }) * D;
+        let coeffs = self.work.coeffs.get(..used).unwrap_or(&[]);
+        let kernel = self.problem.kernel;
+        if !output_bound::<T, D>(points, kernel, k, coeffs, self.problem.frame).is_finite() {
+            return Err(Error::Overflow { arg: "motion" });
+        }
+        let model = self.model();
+        // `output_bound` does not cover every intermediate near the overflow range (fuzzing
+        // found a NaN at coordinates of 1e151): every value is checked before any is written,
+        // so `displacements` stays unchanged on error. This evaluates the model twice.
+        if !points
+            .iter()
+            .all(|&x| self.value(&model, x).iter().all(|v| v.is_finite()))
+        {
+            return Err(Error::Overflow { arg: "motion" });
+        }
+        for (x, out) in points.iter().zip(displacements.iter_mut()) {
+            *out = self.value(&model, *x);
+        }
+        if self.correction_radius > T::ZERO {
+            for (&node, d) in self.problem.boundary.iter().zip(self.problem.motion) {
+                if let Some(out) = displacements.get_mut(node as usize) {
+                    *out = *d;
+                }
             }
         }
+        Ok(())
     }
-    Ok(RbfReport {
-        centres: k,
-        max_error: fitted.max_error,
-        dependent: fitted.dependent,
-    })
+
+    /// Solves for `motion` with the centres and factor of the fit (linear in `motion`).
+    fn resolve(&mut self, motion: &'a [[T; D]]) {
+        self.problem.motion = motion;
+        self.problem.resolve(&mut self.work, self.report.centres);
+    }
 }

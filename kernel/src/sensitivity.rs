@@ -7,6 +7,9 @@
 //! - linear springs (Batina) and single-step linear elasticity: `x_f = A⁻¹ B x_b` with `A`
 //!   the free-node operator (symmetric positive definite) and `B` the free–fixed coupling
 //!   (`A = D − K_ff`, `B = K_fb` for the springs; `A = K_ff`, `B = −K_fb` for elasticity);
+//! - the angle-inclusion springs: the same form with `D×D` edge blocks (`angle_*`);
+//! - radial basis functions with the centres of a fit kept (`rbf_tangent`, `rbf_adjoint`,
+//!   in [`crate::rbf`]: the greedy selection is differentiated about a linearisation point);
 //! - inverse-distance weighting of the displacements: `x_i = Σ_k w_ik x_k / Σ_k w_ik`, the
 //!   weights from the undeformed distances alone.
 //!
@@ -37,10 +40,16 @@
 //! Everything works on caller slices (`*_scratch_len` gives the sizes), validates before it
 //! writes and returns typed errors.
 
+mod angle;
 mod elasticity;
 mod idw;
 mod springs;
 
+pub use crate::rbf::{rbf_adjoint, rbf_tangent};
+pub use angle::{
+    angle_adjoint, angle_adjoint_many, angle_adjoint_scratch_items, angle_adjoint_scratch_len,
+    angle_tangent, angle_tangent_many, angle_tangent_scratch_len, AngleSolver,
+};
 pub use elasticity::{
     elastic_adjoint, elastic_adjoint_many, elastic_adjoint_scratch_len, elastic_tangent,
     elastic_tangent_many, elastic_tangent_scratch_len, ElasticPreconditioner,

@@ -18,6 +18,13 @@ pub enum SensitivityMethod {
     /// quaternion`: Batina stiffness, multigrid CG), rotations from the boundary shape,
     /// default origin. Nonlinear: linearised about the boundary of `--deformed`.
     Quaternion,
+    /// The angle-inclusion springs (Yang & Özgen; `deform move --method angle-cg`: Batina
+    /// stiffness, face diagonals, ε = 0.01, multigrid CG).
+    Angle,
+    /// Radial basis functions (`deform move --method rbf` with the --rbf-* options), every
+    /// marker's nodes as the boundary. Linear with every boundary node a centre; with greedy
+    /// centres linearised about the boundary motion of `--deformed`, its centres kept.
+    Rbf,
 }
 
 /// What the linear deformation needs (shared by `adjoint` and `tangent`).
@@ -29,7 +36,8 @@ pub struct SensitivitySetup {
     #[arg(long, value_enum, default_value = "spring")]
     pub method: SensitivityMethod,
     /// The deformed mesh (e.g. `deform move`'s output, same nodes) whose boundary positions
-    /// are the linearisation point of `--method quaternion` (default: the undeformed mesh).
+    /// are the linearisation point of `--method quaternion` and of `--method rbf` (default: the
+    /// undeformed mesh).
     #[arg(long)]
     pub deformed: Option<PathBuf>,
     /// IDW weight exponent `p` in `(d_min / d)^p` (`--method idw-displacements`).
@@ -41,6 +49,9 @@ pub struct SensitivitySetup {
     /// Iteration cap of the spring solve.
     #[arg(long, default_value_t = 10_000)]
     pub max_iter: usize,
+    /// The --rbf-* options of `--method rbf`.
+    #[command(flatten)]
+    pub rbf: super::RbfArgs,
 }
 
 /// `deform adjoint`.

@@ -63,7 +63,7 @@ pub struct RbfInfo {
 }
 
 /// Diagonal of the bounding box of `pts`.
-fn diagonal<const D: usize>(pts: impl Iterator<Item = [f64; D]>) -> f64 {
+pub(crate) fn diagonal<const D: usize>(pts: impl Iterator<Item = [f64; D]>) -> f64 {
     let mut lo = [f64::INFINITY; D];
     let mut hi = [f64::NEG_INFINITY; D];
     for p in pts {

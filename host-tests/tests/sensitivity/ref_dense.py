@@ -5,6 +5,8 @@ transposed to w (adjoint).
 Modes (input file as written by common.rs):
   springs  n D V m / points / edges (i j) / fixed / v / w: Batina stiffness 1/|e|, the
            graph Laplacian K; per component x_f = -K_ff^{-1} K_fb x_b.
+  angle    n D V m eps / as springs: the angle-inclusion blocks k (d d^T/|d|^2 + eps I),
+           k = 1/|d|, assembled over node-major dofs (V = D).
   matrix   n V / dense K (n V square, node-major) / fixed / v / w: x_f = -K_ff^{-1} K_fb x_b.
   idw      n D B p / points / boundary / v / w: x_i = sum_k w_ik x_k / sum_k w_ik with
            w_ik = |x_i - x_k|^-p (boundary nodes keep their own value).
@@ -57,6 +59,30 @@ def springs(rows):
     return np.stack([o[0] for o in out], 1), np.stack([o[1] for o in out], 1)
 
 
+def angle(rows):
+    n, D, V, m = (int(x) for x in rows[0][:4])
+    eps = float(rows[0][4])
+    pts = np.array(rows[1:1 + n], float)
+    edges = np.array(rows[1 + n:1 + n + m], int)
+    at = 1 + n + m
+    fixed = np.repeat(np.array([int(r[0]) != 0 for r in rows[at:at + n]]), D)
+    v = np.array(rows[at + n:at + 2 * n], float).reshape(-1)
+    w = np.array(rows[at + 2 * n:at + 3 * n], float).reshape(-1)
+    K = np.zeros((n * D, n * D))
+    for i, j in edges:
+        d = pts[j] - pts[i]
+        k = 1.0 / np.linalg.norm(d)
+        B = k * (np.outer(d, d) / d.dot(d) + eps * np.eye(D))
+        si, sj = slice(i * D, i * D + D), slice(j * D, j * D + D)
+        K[si, si] += B
+        K[sj, sj] += B
+        K[si, sj] -= B
+        K[sj, si] -= B
+    J = dirichlet_jacobian(K, fixed)
+    jv, g = apply(J, fixed, v, w)
+    return jv.reshape(n, D), g.reshape(n, D)
+
+
 def matrix(rows):
     n, V = (int(x) for x in rows[0])
     K = np.array(rows[1:1 + n * V], float)
@@ -98,7 +124,7 @@ def idw(rows):
 
 def main():
     mode, path = sys.argv[1], sys.argv[2]
-    jv, g = {"springs": springs, "matrix": matrix, "idw": idw}[mode](read(path))
+    jv, g = {"springs": springs, "angle": angle, "matrix": matrix, "idw": idw}[mode](read(path))
     for r in np.vstack([jv, g]):
         print(" ".join(repr(float(x)) for x in r))
 

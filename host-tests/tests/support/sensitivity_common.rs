@@ -76,6 +76,20 @@ pub fn assert_dot<T: Real, const V: usize>(
     );
 }
 
+/// The dot-product test, its relative error printed (the docs quote it).
+pub fn check_dot<T: Real, const V: usize>(
+    jv: &[[T; V]],
+    w: &[[T; V]],
+    v: &[[T; V]],
+    g: &[[T; V]],
+    tol: f64,
+    what: &str,
+) {
+    let err = (dot(jv, w) - dot(v, g)).abs() / (norm(jv) * norm(w));
+    eprintln!("{what}: dot-product relative error {err:.1e}");
+    assert_dot(jv, w, v, g, tol, what);
+}
+
 /// Largest `|a − b|` over `max |b|`.
 pub fn rel_err<T: Real, const V: usize>(a: &[[T; V]], b: &[[f64; V]]) -> f64 {
     let scale = b.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));

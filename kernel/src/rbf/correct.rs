@@ -17,20 +17,18 @@ use super::model::{dist_sq, wendland, Model};
 use crate::exact_sum::ExactSum;
 use crate::real::Real;
 
-/// The correction at `x` (zeros when no boundary entry is within `radius`).
-pub(super) fn correction<T: Real, const D: usize>(
+/// Calls `each(k, w_k)` for every boundary entry strictly within `radius` of `x` and not at
+/// it; returns the first entry at `x` (if any) and the smallest `ρ_k` of the others.
+fn weights<T: Real, const D: usize>(
     model: &Model<'_, T, D>,
     grid: &Grid<'_, T, D>,
-    residual: &[T],
     radius: T,
     x: [T; D],
-) -> [T; D] {
+    mut each: impl FnMut(usize, T),
+) -> (Option<usize>, T) {
     let r2max = radius * radius;
-    let mut sums = [ExactSum::new(); D];
-    let mut weight = ExactSum::new();
     let mut nearest = T::INFINITY;
     let mut hit: Option<usize> = None;
-    let res = |k: usize, c: usize| residual.get(k * D + c).copied().unwrap_or(T::ZERO);
     grid.for_near(x, radius, |k| {
         let d2 = dist_sq(x, model.boundary_point(k));
         if d2 >= r2max {
@@ -43,7 +41,23 @@ pub(super) fn correction<T: Real, const D: usize>(
         let rho = (d2.sqrt() / radius).max(T::EPSILON);
         nearest = nearest.min(rho);
         let q = (T::ONE - rho) / rho;
-        let w = q * q;
+        each(k, q * q);
+    });
+    (hit, nearest)
+}
+
+/// The correction at `x` (zeros when no boundary entry is within `radius`).
+pub(super) fn correction<T: Real, const D: usize>(
+    model: &Model<'_, T, D>,
+    grid: &Grid<'_, T, D>,
+    residual: &[T],
+    radius: T,
+    x: [T; D],
+) -> [T; D] {
+    let mut sums = [ExactSum::new(); D];
+    let mut weight = ExactSum::new();
+    let res = |k: usize, c: usize| residual.get(k * D + c).copied().unwrap_or(T::ZERO);
+    let (hit, nearest) = weights(model, grid, radius, x, |k, w| {
         weight.add(w);
         for (c, s) in sums.iter_mut().enumerate() {
             s.add(w * res(k, c));
@@ -61,4 +75,36 @@ pub(super) fn correction<T: Real, const D: usize>(
         let mean = sums.get(c).map_or(T::ZERO, |s| s.value::<T>()) / total;
         fade * mean
     })
+}
+
+/// The transpose of [`correction`] at `x` applied to `wx`: adds `∂c(x)/∂r_k ᵀ wx` to
+/// `rbar[k]` for every boundary entry `k` (`fade · w_k / Σ w` times `wx`, or `wx` itself at
+/// the entry `x` sits on). The correction is linear in the residuals.
+pub(super) fn correction_adjoint<T: Real, const D: usize>(
+    model: &Model<'_, T, D>,
+    grid: &Grid<'_, T, D>,
+    radius: T,
+    x: [T; D],
+    wx: [T; D],
+    rbar: &mut [T],
+) {
+    let mut weight = ExactSum::new();
+    let (hit, nearest) = weights(model, grid, radius, x, |_, w| weight.add(w));
+    let mut add = |k: usize, f: T| {
+        for (c, &wc) in wx.iter().enumerate() {
+            if let Some(r) = rbar.get_mut(k * D + c) {
+                *r += f * wc;
+            }
+        }
+    };
+    if let Some(k) = hit {
+        add(k, T::ONE);
+        return;
+    }
+    let total: T = weight.value();
+    if total <= T::ZERO || total.is_nan() {
+        return;
+    }
+    let fade = wendland(nearest) / total;
+    weights(model, grid, radius, x, |k, w| add(k, fade * w));
 }

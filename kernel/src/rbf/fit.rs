@@ -32,6 +32,7 @@ pub(super) struct Fitted<T> {
 }
 
 /// The problem of one fit.
+#[derive(Clone, Copy)]
 pub(super) struct Problem<'a, T, const D: usize> {
     pub kernel: RbfKernel<T>,
     pub points: &'a [[T; D]],
@@ -44,14 +45,14 @@ pub(super) struct Problem<'a, T, const D: usize> {
 }
 
 impl<T: Real, const D: usize> Problem<'_, T, D> {
-    fn poly_terms(&self) -> usize {
+    pub fn poly_terms(&self) -> usize {
         match self.kernel {
             RbfKernel::ThinPlate => D + 1,
             RbfKernel::Wendland { .. } => 0,
         }
     }
 
-    fn pos(&self, k: usize) -> [T; D] {
+    pub fn pos(&self, k: usize) -> [T; D] {
         let node = self.boundary.get(k).copied().unwrap_or(0) as usize;
         self.points.get(node).copied().unwrap_or([T::ZERO; D])
     }
@@ -69,7 +70,7 @@ impl<T: Real, const D: usize> Problem<'_, T, D> {
 
     /// Residuals at every boundary entry for `k` centres; returns the largest error (2-norm)
     /// and the first non-centre entry with the largest error.
-    fn residuals(&self, w: &mut Work<'_, T>, k: usize) -> (T, Option<usize>) {
+    pub fn residuals(&self, w: &mut Work<'_, T>, k: usize) -> (T, Option<usize>) {
         let mut worst = (T::ZERO, None, -T::ONE);
         for b in 0..self.boundary.len() {
             let s = if k == 0 {
@@ -150,6 +151,31 @@ impl<T: Real, const D: usize> Problem<'_, T, D> {
             lu_solve(w.matrix, self.a, n, w.piv, w.coeffs, D, c);
         }
         true
+    }
+
+    /// The coefficients of this problem's motion with the factor the last fit of `k` centres
+    /// left (the derivative: the same matrix, another right-hand side), then the residuals.
+    pub fn resolve(&self, w: &mut Work<'_, T>, k: usize) {
+        self.load_rhs(w, k);
+        self.solve_factored(w, k);
+        self.residuals(w, k);
+    }
+
+    /// Solves in place in `w.coeffs` with the factor of `k` centres (nothing for `k = 0`).
+    /// The matrix is symmetric (`φ(|y_i − y_j|)` bit for bit both ways), so this is also
+    /// the transposed solve.
+    pub fn solve_factored(&self, w: &mut Work<'_, T>, k: usize) {
+        if k == 0 {
+            return;
+        }
+        for c in 0..D {
+            match self.kernel {
+                RbfKernel::Wendland { .. } => cholesky_solve(w.matrix, self.a, k, w.coeffs, D, c),
+                RbfKernel::ThinPlate => {
+                    lu_solve(w.matrix, self.a, k + D + 1, w.piv, w.coeffs, D, c);
+                }
+            }
+        }
     }
 
     /// `[[Φ, P], [Pᵀ, 0]]` for `k` centres, `P` rows `[1, ξ]`.

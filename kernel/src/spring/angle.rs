@@ -200,7 +200,7 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
 
     /// `d = r_j − r_i` and `|d|²`, or `None` for a zero-length (or overflowing) edge.
     #[inline]
-    pub(super) fn direction(&self, i: usize, j: usize) -> Option<([T; D], T)> {
+    pub(crate) fn direction(&self, i: usize, j: usize) -> Option<([T; D], T)> {
         let d = vector::sub(*self.points.get(j)?, *self.points.get(i)?);
         let d2 = vector::norm_sq(d);
         (d2 > T::ZERO && d2.is_finite()).then_some((d, d2))
@@ -208,7 +208,7 @@ impl<'a, T: Real, const D: usize> AngleSystem<'a, T, D> {
 
     /// `B v = k (d (d·v) / |d|² + ε v)` for one edge.
     #[inline]
-    pub(super) fn edge_apply(&self, k: T, d: &[T; D], d2: T, v: &[T; D]) -> [T; D] {
+    pub(crate) fn edge_apply(&self, k: T, d: &[T; D], d2: T, v: &[T; D]) -> [T; D] {
         let s = k * vector::dot(*d, *v) / d2;
         let ke = k * self.epsilon;
         let mut out = [T::ZERO; D];
@@ -390,7 +390,7 @@ impl<T: Real, const D: usize> AngleSystem<'_, T, D> {
 
     /// `scratch` of at least `needed` items, then (for `ε = 0`) the unconstrained rigidity
     /// probe in it: a rigid unconstrained system stays rigid when nodes are restricted further.
-    pub(super) fn probe_rigidity(
+    pub(crate) fn probe_rigidity(
         &self,
         options: &SolveOptions<T>,
         scratch: &mut [[T; D]],

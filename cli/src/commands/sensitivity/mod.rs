@@ -7,7 +7,9 @@
 //! `dJ/dx_b` at the boundary nodes (one adjoint solve with the deformation's own operator and
 //! multigrid hierarchy). `tangent` is the forward direction for one boundary perturbation.
 
+mod angle;
 mod quaternion;
+mod rbf;
 mod read;
 
 use std::io::Write as _;
@@ -43,13 +45,18 @@ fn load(setup: &SensitivitySetup) -> Result<(Su2Mesh, Vec<u32>), CliError> {
             "--tol must be finite and positive".into(),
         ));
     }
-    if setup.deformed.is_some() && setup.method != SensitivityMethod::Quaternion {
+    let nonlinear = matches!(
+        setup.method,
+        SensitivityMethod::Quaternion | SensitivityMethod::Rbf
+    );
+    if setup.deformed.is_some() && !nonlinear {
         return Err(CliError::Invalid(
-            "--deformed is the linearisation point of --method quaternion; the other methods \
-             are linear"
+            "--deformed is the linearisation point of --method quaternion and rbf; the other \
+             methods are linear"
                 .into(),
         ));
     }
+    crate::args::check_rbf_args(&setup.rbf, setup.method == SensitivityMethod::Rbf)?;
     if !(setup.idw_exponent.is_finite() && setup.idw_exponent > 0.0) {
         return Err(CliError::Invalid(
             "--idw-exponent must be finite and positive".into(),
@@ -80,7 +87,8 @@ fn with_springs<const D: usize, R>(
 ) -> Result<R, CliError> {
     let n = mesh.points.len();
     let cells = cells_view(&mesh.elements, n)?;
-    let graph = edge_graph(&cells, false)?;
+    // The angle springs run on the graph with face diagonals, as `deform move` builds it.
+    let graph = edge_graph(&cells, setup.method == SensitivityMethod::Angle)?;
     let g = graph.view()?;
     let points = points_d::<D>(&mesh.points);
     let mut k = vec![0.0; graph.targets.len()];
@@ -137,6 +145,8 @@ fn adjoint_d<const D: usize>(
             Ok((g, None))
         }
         SensitivityMethod::Quaternion => quaternion::adjoint(setup, mesh, boundary, w),
+        SensitivityMethod::Angle => angle::adjoint(setup, mesh, boundary, w),
+        SensitivityMethod::Rbf => rbf::adjoint(setup, mesh, boundary, w),
         SensitivityMethod::Spring => {
             with_springs::<D, _>(setup, mesh, boundary, |sys, solver, stop| {
                 let len =
@@ -165,6 +175,8 @@ fn tangent_d<const D: usize>(
             Ok((dx, None))
         }
         SensitivityMethod::Quaternion => quaternion::tangent(setup, mesh, boundary, &dx),
+        SensitivityMethod::Angle => angle::tangent(setup, mesh, boundary, dx),
+        SensitivityMethod::Rbf => rbf::tangent(setup, mesh, boundary, &dx),
         SensitivityMethod::Spring => {
             with_springs::<D, _>(setup, mesh, boundary, |sys, solver, stop| {
                 let len = deform_kernel::spring::solve_linear_with_scratch_len(&solver, dx.len());
