@@ -43,7 +43,10 @@ fn objective(path: &Path, w: &[[f64; 3]]) -> f64 {
 fn grad_file(path: &Path, objective: &str) -> Vec<f64> {
     let text = std::fs::read_to_string(path).unwrap();
     let mut lines = text.lines();
-    assert_eq!(lines.next(), Some(format!("{objective} gradient ").as_str()));
+    assert_eq!(
+        lines.next(),
+        Some(format!("{objective} gradient ").as_str())
+    );
     lines.map(|l| l.parse().unwrap()).collect()
 }
 
@@ -56,15 +59,30 @@ fn chain(dir: &Path, cfg: &dyn Fn(&[f64]) -> String, count: usize, objective_nam
     let r = deform_json(
         dir,
         &[
-            "--json", "adjoint", mesh, "--sensitivity", "w.txt", "--out", "s.csv", "--config",
-            "grad.cfg", "--grad-out", "of_grad.dat", "--tol", "1e-14",
+            "--json",
+            "adjoint",
+            mesh,
+            "--sensitivity",
+            "w.txt",
+            "--out",
+            "s.csv",
+            "--config",
+            "grad.cfg",
+            "--grad-out",
+            "of_grad.dat",
+            "--tol",
+            "1e-14",
         ],
     );
     let grad: Vec<f64> = (r["gradient"].as_array().unwrap().iter())
         .map(|v| v.as_f64().unwrap())
         .collect();
     assert_eq!(grad.len(), count);
-    assert_eq!(grad_file(&dir.join("of_grad.dat"), objective_name), grad, "17 digits");
+    assert_eq!(
+        grad_file(&dir.join("of_grad.dat"), objective_name),
+        grad,
+        "17 digits"
+    );
     let scale = grad.iter().fold(0.0f64, |s, g| s.max(g.abs()));
     assert!(scale > 1e-3, "a test that cannot fail: {grad:?}");
     for (k, &g) in grad.iter().enumerate() {
@@ -85,7 +103,10 @@ fn chain(dir: &Path, cfg: &dyn Fn(&[f64]) -> String, count: usize, objective_nam
 
 /// DV_VALUE as SU2 lists it.
 fn values(v: &[f64]) -> String {
-    v.iter().map(|x| format!("{x:e}")).collect::<Vec<_>>().join(", ")
+    v.iter()
+        .map(|x| format!("{x:e}"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 #[test]
@@ -114,7 +135,11 @@ fn ffd_gradient_is_the_central_difference_of_deform_su2() {
     let base = std::fs::read_to_string(data.join("su2_def/inv_wedge_ROE.cfg")).unwrap();
     let cfg = |v: &[f64]| {
         let kept: Vec<&str> = (base.lines())
-            .filter(|l| !["DV_", "MESH_", "DEFORM_STIFF"].iter().any(|k| l.starts_with(k)))
+            .filter(|l| {
+                !["DV_", "MESH_", "DEFORM_STIFF"]
+                    .iter()
+                    .any(|k| l.starts_with(k))
+            })
             .collect();
         format!(
             "{}\nMESH_FILENAME= m.su2\nMESH_OUT_FILENAME= out.su2\nDV_MARKER= ( lower )\n\
@@ -136,8 +161,16 @@ fn unsupported_design_variables_are_refused_with_nothing_written() {
     let m = read_su2(&d.join("m.su2"));
     sensitivity(&d, m.points.len(), 2);
     let args = [
-        "adjoint", "m.su2", "--sensitivity", "w.txt", "--out", "s.csv", "--config", "c.cfg",
-        "--grad-out", "g.dat",
+        "adjoint",
+        "m.su2",
+        "--sensitivity",
+        "w.txt",
+        "--out",
+        "s.csv",
+        "--config",
+        "c.cfg",
+        "--grad-out",
+        "g.dat",
     ];
     let cfg = "MESH_FILENAME= m.su2\nDV_MARKER= ( airfoil )\nDV_KIND= TRANSLATION\n\
                DV_PARAM= ( 1, 0, 0 )\nDV_VALUE= 0.1\n";

@@ -55,7 +55,10 @@ fn hicks_henne_identity<T: Real, const D: usize>(tol: f64) {
         let lhs = dot(&v, &g);
         assert!(lhs.abs() > 0.1, "a test that cannot fail: {lhs}");
         let err = (lhs - adj.to_f64()).abs() / lhs.abs();
-        assert!(err <= tol, "D = {D}, upper = {upper}: {lhs} vs {adj:?} ({err:e})");
+        assert!(
+            err <= tol,
+            "D = {D}, upper = {upper}: {lhs} vs {adj:?} ({err:e})"
+        );
     }
 }
 
@@ -81,7 +84,10 @@ fn ffd_identity<T: Real, const D: usize>(degree: [usize; D], tol: f64) {
     assert!(lhs.abs() > 0.01, "a test that cannot fail: {lhs}");
     let err = (lhs - rhs).abs() / lhs.abs();
     assert!(err <= tol, "{degree:?}: {lhs} vs {rhs} ({err:e})");
-    println!("FFD {degree:?} {}: ⟨J v, w⟩ − ⟨v, Jᵀ w⟩ relative {err:.1e}", core::any::type_name::<T>());
+    println!(
+        "FFD {degree:?} {}: ⟨J v, w⟩ − ⟨v, Jᵀ w⟩ relative {err:.1e}",
+        core::any::type_name::<T>()
+    );
 }
 
 #[test]
@@ -102,7 +108,11 @@ fn ffd_twist_tangent_is_the_derivative_at_zero() {
     for f in 0..count {
         let (i, j, k) = (f / 6, (f / 2) % 3, f % 2);
         let jitter = 0.05 * rng.real();
-        cps.push([i as f64 / 3.0 + jitter, j as f64 * 0.5, k as f64 * 0.2 - 0.1]);
+        cps.push([
+            i as f64 / 3.0 + jitter,
+            j as f64 * 0.5,
+            k as f64 * 0.2 - 0.1,
+        ]);
     }
     let twist = FfdTwist {
         j: 1,
@@ -119,7 +129,17 @@ fn ffd_twist_tangent_is_the_derivative_at_zero() {
     for h in [1e-2, 1e-3, 1e-4] {
         let at = |a: f64| {
             let mut c = cps.clone();
-            ffd_twist(degree, &mut c, FfdTwist { amplitude: a, ..twist }, &fi, &fk).unwrap();
+            ffd_twist(
+                degree,
+                &mut c,
+                FfdTwist {
+                    amplitude: a,
+                    ..twist
+                },
+                &fi,
+                &fk,
+            )
+            .unwrap();
             c
         };
         let (p, m) = (at(h), at(-h));
@@ -130,7 +150,10 @@ fn ffd_twist_tangent_is_the_derivative_at_zero() {
         errors.push(err);
     }
     assert!(errors[0] > 1e-8 && errors[0] < 1e-3, "{errors:?}");
-    assert!(errors[1] < errors[0] / 50.0 && errors[2] < 1e-8, "{errors:?}");
+    assert!(
+        errors[1] < errors[0] / 50.0 && errors[2] < 1e-8,
+        "{errors:?}"
+    );
 }
 
 #[test]
@@ -154,7 +177,13 @@ fn bad_input_is_refused_and_out_is_unchanged() {
     assert_eq!(out, before);
     let pts = [[0.5f64, 0.0]; 3];
     let r = hicks_henne_adjoint(&pts, &[0, 1], &[[0.0, 1.0]; 2], true, 1.5, &[[1.0; 2]; 2]);
-    assert!(matches!(r, Err(Error::InvalidParameter { arg: "x_max", .. })), "{r:?}");
+    assert!(
+        matches!(r, Err(Error::InvalidParameter { arg: "x_max", .. })),
+        "{r:?}"
+    );
     let r = hicks_henne_adjoint(&pts, &[0, 1], &[[0.0, 1.0]; 2], true, 0.3, &[[1.0; 2]; 1]);
-    assert!(matches!(r, Err(Error::LengthMismatch { arg: "dj_dx", .. })), "{r:?}");
+    assert!(
+        matches!(r, Err(Error::LengthMismatch { arg: "dj_dx", .. })),
+        "{r:?}"
+    );
 }

@@ -87,7 +87,13 @@ pub fn hicks_henne<T: Real, const D: usize>(
     bump: HicksHenne<T>,
     displacements: &mut [[T; D]],
 ) -> Result<()> {
-    check_inputs(points, nodes, normals, bump, ("displacements", displacements.len()))?;
+    check_inputs(
+        points,
+        nodes,
+        normals,
+        bump,
+        ("displacements", displacements.len()),
+    )?;
     check::finite_items("displacements", displacements)?;
     let moved = |p: usize| increment(points, nodes, normals, bump, p);
     let y = |d: &[T; D]| d.get(1).copied().unwrap_or(T::ZERO);

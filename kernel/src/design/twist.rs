@@ -141,7 +141,11 @@ pub fn ffd_twist<T: Real>(
 }
 
 /// The checks of [`ffd_twist`] and the pivot of the turn.
-fn pivot<T: Real>(degree: [usize; 3], control_points: &[[T; 3]], twist: FfdTwist<T>) -> Result<[T; 3]> {
+fn pivot<T: Real>(
+    degree: [usize; 3],
+    control_points: &[[T; 3]],
+    twist: FfdTwist<T>,
+) -> Result<[T; 3]> {
     check_box(degree, control_points)?;
     check::finite_items("control_points", control_points)?;
     check::finite_items("segment", &twist.segment)?;

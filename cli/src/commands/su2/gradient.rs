@@ -17,8 +17,8 @@ use crate::formats::su2::Su2Mesh;
 use crate::formats::su2_config::{list_items, Su2Config};
 use crate::formats::su2_ffd::{parse_ffd_boxes, FfdBox as StoredBox};
 
-use super::design::{apply, control_points, fluid_normals, on_fixed, FfdChange};
 use super::design::FfdSetup;
+use super::design::{apply, control_points, fluid_normals, on_fixed, FfdChange};
 use super::ffd_planes::{fixed_planes, setup};
 use super::variables::{ffd_moves, hicks_henne_params, read_dvs, Dv};
 use super::{design_markers, number, option_error};
@@ -55,23 +55,24 @@ pub(crate) fn design_gradient(
     let mut values = Vec::with_capacity(dvs.len());
     let mut boxes = None;
     for dv in &dvs {
-        let value = match dv.kind.as_str() {
-            "HICKS_HENNE" => relax * hicks_henne_gradient(config, dv, mesh, &markers, g)?,
-            k if k.starts_with("FFD_") => {
-                if boxes.is_none() {
-                    boxes = Some(box_adjoints(config, mesh, &markers, g)?);
+        let value =
+            match dv.kind.as_str() {
+                "HICKS_HENNE" => relax * hicks_henne_gradient(config, dv, mesh, &markers, g)?,
+                k if k.starts_with("FFD_") => {
+                    if boxes.is_none() {
+                        boxes = Some(box_adjoints(config, mesh, &markers, g)?);
+                    }
+                    let (b, _) = boxes.as_ref().ok_or(CliError::Invalid("FFD".into()))?;
+                    ffd_gradient(config, dv, relax, b, mesh)?
                 }
-                let (b, _) = boxes.as_ref().ok_or(CliError::Invalid("FFD".into()))?;
-                ffd_gradient(config, dv, relax, b, mesh)?
-            }
-            k => {
-                return Err(option_error(
+                k => return Err(option_error(
                     config,
                     "DV_KIND",
-                    format!("{k}: deform adjoint --config projects HICKS_HENNE and the FFD variables"),
-                ))
-            }
-        };
+                    format!(
+                        "{k}: deform adjoint --config projects HICKS_HENNE and the FFD variables"
+                    ),
+                )),
+            };
         values.push(value);
     }
     let objective = config
@@ -95,13 +96,20 @@ fn hicks_henne_gradient(
     g: &[[f64; 3]],
 ) -> Result<f64, CliError> {
     if mesh.dim != 2 {
-        return Err(option_error(config, "DV_KIND", "HICKS_HENNE needs a 2D mesh"));
+        return Err(option_error(
+            config,
+            "DV_KIND",
+            "HICKS_HENNE needs a 2D mesh",
+        ));
     }
     let (upper, x_max, _) = hicks_henne_params(config, std::slice::from_ref(dv))?[0];
     let nodes = marker_nodes(mesh, markers, std::path::Path::new("DV_MARKER"))?;
     let normals = fluid_normals(mesh, markers, &nodes);
     let points: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
-    let gn: Vec<[f64; 2]> = nodes.iter().map(|&n| [g[n as usize][0], g[n as usize][1]]).collect();
+    let gn: Vec<[f64; 2]> = nodes
+        .iter()
+        .map(|&n| [g[n as usize][0], g[n as usize][1]])
+        .collect();
     hicks_henne_adjoint(&points, &nodes, &normals, upper, x_max, &gn).map_err(kernel("HICKS_HENNE"))
 }
 
@@ -207,8 +215,15 @@ fn ffd_gradient(
         let mut delta = vec![[0.0; 3]; b.control.len()];
         match mv.change {
             FfdChange::Twist(t) if !on_fixed(&b.fixed, [None, Some(t.j)], &[]) => {
-                ffd_twist_tangent(b.degree, &b.control, t, &b.fixed[0], &b.fixed[2], &mut delta)
-                    .map_err(kernel(mv.kind))?;
+                ffd_twist_tangent(
+                    b.degree,
+                    &b.control,
+                    t,
+                    &b.fixed[0],
+                    &b.fixed[2],
+                    &mut delta,
+                )
+                .map_err(kernel(mv.kind))?;
                 delta.iter_mut().flatten().for_each(|x| *x *= relax);
             }
             FfdChange::Twist(_) => {}

@@ -296,7 +296,10 @@ fn su2_rotation(x: [f64; 3], p0: [f64; 3], p1: [f64; 3], degrees: f64, three: bo
 }
 
 /// HICKS_HENNE's `( 0 | 1, x_max )` groups as `(upper, x_max, amplitude)`.
-pub(super) fn hicks_henne_params(config: &Su2Config, dvs: &[Dv]) -> Result<Vec<(bool, f64, f64)>, CliError> {
+pub(super) fn hicks_henne_params(
+    config: &Su2Config,
+    dvs: &[Dv],
+) -> Result<Vec<(bool, f64, f64)>, CliError> {
     let bad = || {
         option_error(
             config,
