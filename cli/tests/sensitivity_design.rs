@@ -1,9 +1,11 @@
 //! `deform adjoint --config`: dJ/dα of an SU2 config's design variables (SU2_DOT's job)
 //! against central differences of the whole chain, `deform su2 --method spring` at DV_VALUE
 //! = ±h (the surface moved by the design variables, the volume by Batina's springs) and
-//! `J = ⟨w, x⟩` for a fixed random `w`: Hicks–Henne bumps on a NACA 0012 mesh and FFD
+//! `J = ⟨w, x⟩` for a fixed random `w`: TRANSLATION, ROTATION and Hicks–Henne bumps on a
+//! NACA 0012 mesh and FFD
 //! variables on SU2's supersonic wedge case (its mesh file carries the FFD box). The maps are
-//! linear in α, so the difference equals the gradient up to rounding and solver tolerance.
+//! linear in α (the rotation to O(h²)), so the difference equals the gradient up to rounding
+//! and solver tolerance.
 //! The gradient file has SU2_DOT's `of_grad.dat` form.
 
 mod common;
@@ -110,21 +112,22 @@ fn values(v: &[f64]) -> String {
 }
 
 #[test]
-fn hicks_henne_gradient_is_the_central_difference_of_deform_su2() {
+fn surface_variables_gradient_is_the_central_difference_of_deform_su2() {
     let d = tmp_dir("sensitivity-design-hh");
     naca_mesh(&d, "inviscid", 64, 14, "m.su2");
     let cfg = |v: &[f64]| {
         format!(
             "MESH_FILENAME= m.su2\nMESH_OUT_FILENAME= out.su2\nMARKER_EULER= ( airfoil )\n\
              MARKER_FAR= ( farfield )\nDV_MARKER= ( airfoil )\n\
-             DV_KIND= HICKS_HENNE, HICKS_HENNE, HICKS_HENNE\n\
-             DV_PARAM= ( 1, 0.5 ); ( 0, 0.3 ); ( 1, 0.1 )\nDV_VALUE= {}\n\
+             DV_KIND= TRANSLATION, ROTATION, HICKS_HENNE, HICKS_HENNE, HICKS_HENNE\n\
+             DV_PARAM= ( 0.3, -0.8, 0 ); ( 0.25, 0.1, 0, 0.25, 0.1, 1 ); ( 1, 0.5 ); ( 0, 0.3 ); ( 1, 0.1 )\n\
+             DV_VALUE= {}\n\
              OPT_RELAX_FACTOR= 2\nOUTPUT_PRECISION= 17\n\
              DEFORM_STIFFNESS_TYPE= CONSTANT_STIFFNESS\nDEFORM_LINEAR_SOLVER_ERROR= 1E-14\n",
             values(v)
         )
     };
-    chain(&d, &cfg, 3, "DRAG");
+    chain(&d, &cfg, 5, "DRAG");
 }
 
 #[test]
@@ -172,9 +175,9 @@ fn unsupported_design_variables_are_refused_with_nothing_written() {
         "--grad-out",
         "g.dat",
     ];
-    let cfg = "MESH_FILENAME= m.su2\nDV_MARKER= ( airfoil )\nDV_KIND= TRANSLATION\n\
-               DV_PARAM= ( 1, 0, 0 )\nDV_VALUE= 0.1\n";
+    let cfg = "MESH_FILENAME= m.su2\nDV_MARKER= ( airfoil )\nDV_KIND= SCALE\n\
+               DV_PARAM= ( )\nDV_VALUE= 1.1\n";
     std::fs::write(d.join("c.cfg"), cfg).unwrap();
-    deform_refused(&d, &args, 1, "TRANSLATION", "s.csv");
+    deform_refused(&d, &args, 1, "SCALE", "s.csv");
     assert!(!d.join("g.dat").exists());
 }

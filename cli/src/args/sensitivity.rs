@@ -62,7 +62,8 @@ pub struct AdjointArgs {
     pub out: PathBuf,
     /// An SU2 config with design variables (DV_KIND, DV_PARAM, DV_VALUE, DV_MARKER,
     /// OPT_RELAX_FACTOR; FFD boxes from the mesh file given here): also write dJ/dα of each
-    /// variable to --grad-out, as SU2_DOT (HICKS_HENNE and the FFD variables of `deform su2`).
+    /// variable to --grad-out, as SU2_DOT (TRANSLATION, ROTATION, HICKS_HENNE and the FFD
+    /// variables of `deform su2`).
     #[arg(long, requires = "grad_out")]
     pub config: Option<PathBuf>,
     /// Where dJ/dα goes, in SU2_DOT's `of_grad.dat` form ("OBJECTIVE gradient" line, then one

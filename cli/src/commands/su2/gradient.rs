@@ -2,7 +2,7 @@
 //! every node, from the deformation's adjoint) onto the design variables of an SU2 config,
 //! `dJ/dα_k = Σ_p dJ/dx_p · dx_p/dα_k` at `α = 0` (SU2_DOT's point: `SetProjection_AD`
 //! registers every DV_VALUE as 0), through the kernel's `design::sensitivity`. Covered:
-//! HICKS_HENNE and the FFD variables `deform su2` applies (FFD_CONTROL_POINT(_2D),
+//! TRANSLATION, ROTATION, HICKS_HENNE and the FFD variables `deform su2` applies (FFD_CONTROL_POINT(_2D),
 //! FFD_CAMBER(_2D), FFD_THICKNESS(_2D), FFD_TWIST), with SU2_DEF's fixed planes and
 //! OPT_RELAX_FACTOR, exactly as `deform su2` moves the surface.
 
@@ -20,7 +20,7 @@ use crate::formats::su2_ffd::{parse_ffd_boxes, FfdBox as StoredBox};
 use super::design::FfdSetup;
 use super::design::{apply, control_points, fluid_normals, on_fixed, FfdChange};
 use super::ffd_planes::{fixed_planes, setup};
-use super::variables::{ffd_moves, hicks_henne_params, read_dvs, Dv};
+use super::variables::{dv_numbers, ffd_moves, hicks_henne_params, read_dvs, rotation_z0, Dv};
 use super::{design_markers, number, option_error};
 
 /// `dJ/dα` for each design variable (one value each), and the objective's name as SU2_DOT
@@ -55,24 +55,28 @@ pub(crate) fn design_gradient(
     let mut values = Vec::with_capacity(dvs.len());
     let mut boxes = None;
     for dv in &dvs {
-        let value =
-            match dv.kind.as_str() {
-                "HICKS_HENNE" => relax * hicks_henne_gradient(config, dv, mesh, &markers, g)?,
-                k if k.starts_with("FFD_") => {
-                    if boxes.is_none() {
-                        boxes = Some(box_adjoints(config, mesh, &markers, g)?);
-                    }
-                    let (b, _) = boxes.as_ref().ok_or(CliError::Invalid("FFD".into()))?;
-                    ffd_gradient(config, dv, relax, b, mesh)?
+        let value = match dv.kind.as_str() {
+            "HICKS_HENNE" => relax * hicks_henne_gradient(config, dv, mesh, &markers, g)?,
+            "TRANSLATION" | "ROTATION" => {
+                relax * rigid_gradient(config, (&dvs, dv), mesh, &markers, g)?
+            }
+            k if k.starts_with("FFD_") => {
+                if boxes.is_none() {
+                    boxes = Some(box_adjoints(config, mesh, &markers, g)?);
                 }
-                k => return Err(option_error(
+                let (b, _) = boxes.as_ref().ok_or(CliError::Invalid("FFD".into()))?;
+                ffd_gradient(config, dv, relax, b, mesh)?
+            }
+            k => {
+                return Err(option_error(
                     config,
                     "DV_KIND",
                     format!(
                         "{k}: deform adjoint --config projects HICKS_HENNE and the FFD variables"
                     ),
-                )),
-            };
+                ))
+            }
+        };
         values.push(value);
     }
     let objective = config
@@ -111,6 +115,48 @@ fn hicks_henne_gradient(
         .map(|&n| [g[n as usize][0], g[n as usize][1]])
         .collect();
     hicks_henne_adjoint(&points, &nodes, &normals, upper, x_max, &gn).map_err(kernel("HICKS_HENNE"))
+}
+
+/// One TRANSLATION's or ROTATION's `dJ/da` on the DV_MARKER nodes (`deform su2`'s movement
+/// differentiated at 0: the direction `(dx, dy, dz)`; `ω × (x − c)` with `ω` the unit axis
+/// times π/180 per degree, c with SU2's z0 of the first variable).
+fn rigid_gradient(
+    config: &Su2Config,
+    (dvs, dv): (&[Dv], &Dv),
+    mesh: &Su2Mesh,
+    markers: &[String],
+    g: &[[f64; 3]],
+) -> Result<f64, CliError> {
+    let p = dv_numbers(config, dv, mesh.dim)?;
+    let three = mesh.dim == 3;
+    let nodes = marker_nodes(mesh, markers, std::path::Path::new("DV_MARKER"))?;
+    let rate: Box<dyn Fn([f64; 3]) -> [f64; 3]> = if dv.kind == "TRANSLATION" {
+        Box::new(|_| [p[0], p[1], p[2]])
+    } else {
+        let z0 = rotation_z0(config, dvs, dv, three)?;
+        let a = [
+            p[3] - p[0],
+            p[4] - p[1],
+            if three { p[5] - z0 } else { 1.0 },
+        ];
+        let len = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        let w = a.map(|c| c / len * std::f64::consts::PI / 180.0);
+        let c = [p[0], p[1], z0];
+        Box::new(move |x: [f64; 3]| {
+            let r = [x[0] - c[0], x[1] - c[1], x[2] - c[2]];
+            [
+                w[1] * r[2] - w[2] * r[1],
+                w[2] * r[0] - w[0] * r[2],
+                w[0] * r[1] - w[1] * r[0],
+            ]
+        })
+    };
+    Ok((nodes.iter().map(|&n| n as usize))
+        .map(|n| {
+            let (v, gn) = (rate(mesh.points[n]), g[n]);
+            v[0] * gn[0] + v[1] * gn[1] + if three { v[2] * gn[2] } else { 0.0 }
+        })
+        .sum())
 }
 
 /// A box with its original control points, fixed planes and `P̄ = Σ_p B(u_p) dJ/dx_p`.

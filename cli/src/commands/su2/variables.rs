@@ -208,7 +208,7 @@ fn rigid(config: &Su2Config, dv: &Dv, dim: usize, args: &mut MoveArgs) -> Result
 
 /// A variable's parameters as numbers; a 2D ROTATION must turn about z (SU2 would tilt its
 /// axis to (x1 − x0, y1 − y0, 1) and drop the z movement).
-fn dv_numbers(config: &Su2Config, dv: &Dv, dim: usize) -> Result<Vec<f64>, CliError> {
+pub(super) fn dv_numbers(config: &Su2Config, dv: &Dv, dim: usize) -> Result<Vec<f64>, CliError> {
     let p = (dv.params.iter())
         .map(|t| num(config, t, &dv.kind))
         .collect::<Result<Vec<f64>, _>>()?;
@@ -272,7 +272,12 @@ fn surface_field(
 
 /// The z of the rotation point: SU2's SetRotation reads it from the *first* design variable's
 /// DV_PARAM in 3D (0 in 2D); refused where that differs from the variable's own z0.
-fn rotation_z0(config: &Su2Config, dvs: &[Dv], dv: &Dv, three: bool) -> Result<f64, CliError> {
+pub(super) fn rotation_z0(
+    config: &Su2Config,
+    dvs: &[Dv],
+    dv: &Dv,
+    three: bool,
+) -> Result<f64, CliError> {
     if dv.kind != "ROTATION" || !three {
         return Ok(0.0);
     }
