@@ -57,7 +57,8 @@ pub enum Command {
     /// an option it cannot honour is an error naming it. The failure policy is `move`'s.
     Su2(Su2Args),
     /// Pull a volume sensitivity dJ/dx (SU2_CFD_AD's) back through the mesh deformation to the
-    /// boundary nodes, as SU2_DOT does: one adjoint solve of the linear deformation.
+    /// boundary nodes, as SU2_DOT does: one adjoint solve of the linear deformation; with
+    /// --config, on to dJ/dα of the config's design variables (SU2_DOT's of_grad.dat).
     Adjoint(AdjointArgs),
     /// The first-order motion of every node for one boundary perturbation (the tangent of the
     /// linear deformation).

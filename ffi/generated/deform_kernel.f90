@@ -950,13 +950,15 @@ module deform_kernel
             dk_design_ffd_displacements_f32, dk_design_ffd_displacements_between, &
             dk_design_ffd_displacements_between_f32, dk_design_ffd_variable, &
             dk_design_ffd_variable_f32, dk_design_ffd_twist, dk_design_ffd_twist_f32, &
-            dk_elasticity_graph_len, dk_elasticity_graph, dk_elasticity_scratch_len, &
-            dk_elasticity_options_default, dk_elasticity_options_default_f32, &
-            dk_elasticity_deform, dk_elasticity_deform_f32, dk_graph_from_edges_len, &
-            dk_graph_from_edges, dk_cells_check, dk_graph_from_cells_len, dk_graph_from_cells, &
-            dk_graph_check, dk_order_rcm, dk_order_hilbert, dk_order_hilbert_f32, &
-            dk_order_index_distance, dk_order_permute, dk_order_permute_f32, dk_order_renumber, &
-            dk_order_permute_graph, dk_order_gather, dk_order_gather_f32, &
+            dk_design_hicks_henne_adjoint, dk_design_hicks_henne_adjoint_f32, &
+            dk_design_ffd_adjoint, dk_design_ffd_adjoint_f32, dk_design_ffd_twist_tangent, &
+            dk_design_ffd_twist_tangent_f32, dk_elasticity_graph_len, dk_elasticity_graph, &
+            dk_elasticity_scratch_len, dk_elasticity_options_default, &
+            dk_elasticity_options_default_f32, dk_elasticity_deform, dk_elasticity_deform_f32, &
+            dk_graph_from_edges_len, dk_graph_from_edges, dk_cells_check, dk_graph_from_cells_len, &
+            dk_graph_from_cells, dk_graph_check, dk_order_rcm, dk_order_hilbert, &
+            dk_order_hilbert_f32, dk_order_index_distance, dk_order_permute, dk_order_permute_f32, &
+            dk_order_renumber, dk_order_permute_graph, dk_order_gather, dk_order_gather_f32, &
             dk_partitioned_spring_scratch_len, dk_partitioned_spring_solve, &
             dk_plan_options_default, dk_plan_options_default_f32, dk_plan_work_sizes, &
             dk_plan_work_sizes_f32, dk_plan_pool_sizes, dk_plan_pool_sizes_f32, dk_plan_init, &
@@ -2077,6 +2079,112 @@ module deform_kernel
       integer(c_size_t), value :: fixed_i_len
       integer(c_int32_t), intent(in) :: fixed_k(*)
       integer(c_size_t), value :: fixed_k_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_hicks_henne_adjoint(points, points_len, dim, nodes, nodes_len, index_base, &
+        index_scratch, index_scratch_len, normals, normals_len, upper, x_max, dj_dx, dj_dx_len, &
+        out) bind(C, name="dk_design_hicks_henne_adjoint") result(s)
+      import :: c_bool, c_double, c_int32_t, c_size_t
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: nodes(*)
+      integer(c_size_t), value :: nodes_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(in) :: normals(*)
+      integer(c_size_t), value :: normals_len
+      logical(c_bool), value :: upper
+      real(c_double), value :: x_max
+      real(c_double), intent(in) :: dj_dx(*)
+      integer(c_size_t), value :: dj_dx_len
+      real(c_double), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_hicks_henne_adjoint_f32(points, points_len, dim, nodes, nodes_len, &
+        index_base, index_scratch, index_scratch_len, normals, normals_len, upper, x_max, dj_dx, &
+        dj_dx_len, out) bind(C, name="dk_design_hicks_henne_adjoint_f32") result(s)
+      import :: c_bool, c_float, c_int32_t, c_size_t
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: nodes(*)
+      integer(c_size_t), value :: nodes_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(in) :: normals(*)
+      integer(c_size_t), value :: normals_len
+      logical(c_bool), value :: upper
+      real(c_float), value :: x_max
+      real(c_float), intent(in) :: dj_dx(*)
+      integer(c_size_t), value :: dj_dx_len
+      real(c_float), intent(inout) :: out
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_ffd_adjoint(degree, degree_len, dim, params, params_len, dj_dx, dj_dx_len, &
+        out, out_len) bind(C, name="dk_design_ffd_adjoint") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: degree(*)
+      integer(c_size_t), value :: degree_len
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(in) :: params(*)
+      integer(c_size_t), value :: params_len
+      real(c_double), intent(in) :: dj_dx(*)
+      integer(c_size_t), value :: dj_dx_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_ffd_adjoint_f32(degree, degree_len, dim, params, params_len, dj_dx, &
+        dj_dx_len, out, out_len) bind(C, name="dk_design_ffd_adjoint_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: degree(*)
+      integer(c_size_t), value :: degree_len
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(in) :: params(*)
+      integer(c_size_t), value :: params_len
+      real(c_float), intent(in) :: dj_dx(*)
+      integer(c_size_t), value :: dj_dx_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_ffd_twist_tangent(degree, control_points, control_points_len, j, segment, &
+        ref_length, fixed_i, fixed_i_len, fixed_k, fixed_k_len, out, out_len) bind(C, &
+        name="dk_design_ffd_twist_tangent") result(s)
+      import :: c_double, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: degree(3)
+      real(c_double), intent(in) :: control_points(*)
+      integer(c_size_t), value :: control_points_len
+      integer(c_int32_t), value :: j
+      real(c_double), intent(in) :: segment(6)
+      real(c_double), value :: ref_length
+      integer(c_int32_t), intent(in) :: fixed_i(*)
+      integer(c_size_t), value :: fixed_i_len
+      integer(c_int32_t), intent(in) :: fixed_k(*)
+      integer(c_size_t), value :: fixed_k_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_design_ffd_twist_tangent_f32(degree, control_points, control_points_len, j, &
+        segment, ref_length, fixed_i, fixed_i_len, fixed_k, fixed_k_len, out, out_len) bind(C, &
+        name="dk_design_ffd_twist_tangent_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t
+      integer(c_int32_t), intent(in) :: degree(3)
+      real(c_float), intent(in) :: control_points(*)
+      integer(c_size_t), value :: control_points_len
+      integer(c_int32_t), value :: j
+      real(c_float), intent(in) :: segment(6)
+      real(c_float), value :: ref_length
+      integer(c_int32_t), intent(in) :: fixed_i(*)
+      integer(c_size_t), value :: fixed_i_len
+      integer(c_int32_t), intent(in) :: fixed_k(*)
+      integer(c_size_t), value :: fixed_k_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
       integer(c_int32_t) :: s
     end function
     function dk_elasticity_graph_len(node_count, cells, index_base, index_scratch, &

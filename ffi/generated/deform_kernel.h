@@ -2520,6 +2520,146 @@ dk_status dk_design_ffd_twist_f32(const uint32_t *degree,
                                   const uint32_t *fixed_k,
                                   size_t fixed_k_len);
 
+// `dJ/da` of one `HICKS_HENNE` variable (as `dk_design_hicks_henne`: `points`, `nodes` in
+// `index_base` with `index_scratch`, `normals`, `upper`, `x_max`) into `*out`:
+// `Σ_p ±bump(x) · dj_dx[p].y` over the listed nodes on the bump's side, `dj_dx` holding
+// `dJ/dx` per listed node (`nodes_len × dim`). Multiply by `OPT_RELAX_FACTOR` for the
+// derivative in `DV_VALUE`. Errors (nothing written): as `dk_design_hicks_henne`, plus
+// `DK_ERR_OVERFLOW`.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `nodes`: readable for `nodes_len` elements (`uint32_t`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `normals`: readable for `normals_len` elements (`double`).
+// - `dj_dx`: readable for `dj_dx_len` elements (`double`).
+// - `out`: one readable and writable `double`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_design_hicks_henne_adjoint(const double *points,
+                                        size_t points_len,
+                                        uint32_t dim,
+                                        const uint32_t *nodes,
+                                        size_t nodes_len,
+                                        uint32_t index_base,
+                                        uint32_t *index_scratch,
+                                        size_t index_scratch_len,
+                                        const double *normals,
+                                        size_t normals_len,
+                                        bool upper,
+                                        double x_max,
+                                        const double *dj_dx,
+                                        size_t dj_dx_len,
+                                        double *out);
+
+// `f32` twin of [`dk_design_hicks_henne_adjoint`].
+//
+// # Safety
+// As [`dk_design_hicks_henne_adjoint`].
+dk_status dk_design_hicks_henne_adjoint_f32(const float *points,
+                                            size_t points_len,
+                                            uint32_t dim,
+                                            const uint32_t *nodes,
+                                            size_t nodes_len,
+                                            uint32_t index_base,
+                                            uint32_t *index_scratch,
+                                            size_t index_scratch_len,
+                                            const float *normals,
+                                            size_t normals_len,
+                                            bool upper,
+                                            float x_max,
+                                            const float *dj_dx,
+                                            size_t dj_dx_len,
+                                            float *out);
+
+// The transpose of evaluating a box (degrees `degree[0..dim]`) at `params`:
+// `out[c] = Σ_p B_c(params[p]) · dj_dx[p]` for every control point `c` (`out` holds
+// `∏(degree+1) × dim` scalars, overwritten; `dj_dx` one item per parametric coordinate).
+// `Σ_c δP_c · out[c]` is then `dJ/dα` for a control-point change `δP` per unit `α`.
+// Errors (nothing written): `DK_ERR_INVALID_PARAMETER` (`dim`, degree), `DK_ERR_NON_FINITE`,
+// `DK_ERR_OVERFLOW`, length and pointer errors.
+//
+// # Safety
+// - `degree`: readable for `degree_len` elements (`uint32_t`).
+// - `params`: readable for `params_len` elements (`double`).
+// - `dj_dx`: readable for `dj_dx_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_design_ffd_adjoint(const uint32_t *degree,
+                                size_t degree_len,
+                                uint32_t dim,
+                                const double *params,
+                                size_t params_len,
+                                const double *dj_dx,
+                                size_t dj_dx_len,
+                                double *out,
+                                size_t out_len);
+
+// `f32` twin of [`dk_design_ffd_adjoint`].
+//
+// # Safety
+// As [`dk_design_ffd_adjoint`].
+dk_status dk_design_ffd_adjoint_f32(const uint32_t *degree,
+                                    size_t degree_len,
+                                    uint32_t dim,
+                                    const float *params,
+                                    size_t params_len,
+                                    const float *dj_dx,
+                                    size_t dj_dx_len,
+                                    float *out,
+                                    size_t out_len);
+
+// The derivative of `dk_design_ffd_twist`'s control points in `amplitude` at amplitude 0
+// (SU2_DOT's point) into `out` (`3 ∏(degree+1)` scalars, overwritten): layer `j`'s points
+// not on a fixed plane move by `(0, 1/ref_length, 0) × (p − pivot)`, the rest by 0. Errors
+// (nothing written): as `dk_design_ffd_twist`.
+//
+// # Safety
+// - `degree`: 3 readable elements (`uint32_t`).
+// - `control_points`: readable for `control_points_len` elements (`double`).
+// - `segment`: 6 readable elements (`double`).
+// - `fixed_i`: readable for `fixed_i_len` elements (`uint32_t`).
+// - `fixed_k`: readable for `fixed_k_len` elements (`uint32_t`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_design_ffd_twist_tangent(const uint32_t *degree,
+                                      const double *control_points,
+                                      size_t control_points_len,
+                                      uint32_t j,
+                                      const double *segment,
+                                      double ref_length,
+                                      const uint32_t *fixed_i,
+                                      size_t fixed_i_len,
+                                      const uint32_t *fixed_k,
+                                      size_t fixed_k_len,
+                                      double *out,
+                                      size_t out_len);
+
+// `f32` twin of [`dk_design_ffd_twist_tangent`].
+//
+// # Safety
+// As [`dk_design_ffd_twist_tangent`].
+dk_status dk_design_ffd_twist_tangent_f32(const uint32_t *degree,
+                                          const float *control_points,
+                                          size_t control_points_len,
+                                          uint32_t j,
+                                          const float *segment,
+                                          float ref_length,
+                                          const uint32_t *fixed_i,
+                                          size_t fixed_i_len,
+                                          const uint32_t *fixed_k,
+                                          size_t fixed_k_len,
+                                          float *out,
+                                          size_t out_len);
+
 // Length `targets` needs for [`dk_elasticity_graph`]: `Σ n_c (n_c − 1)` over the cells
 // (validates the cells first; `index_scratch` as in `dk_cells_check`).
 //

@@ -1056,6 +1056,114 @@ pub fn exercise() {
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.
     black_box(unsafe {
+        deform_kernel_ffi::design_sensitivity::dk_design_hicks_henne_adjoint(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design_sensitivity::dk_design_hicks_henne_adjoint_f32(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design_sensitivity::dk_design_ffd_adjoint(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design_sensitivity::dk_design_ffd_adjoint_f32(
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design_sensitivity::dk_design_ffd_twist_tangent(
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::design_sensitivity::dk_design_ffd_twist_tangent_f32(
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
         deform_kernel_ffi::elasticity::dk_elasticity_graph_len(
             black_box(Default::default()),
             black_box(null()),

@@ -42,6 +42,8 @@ pub mod deformation;
 pub mod deformation_sensitivity;
 #[path = "../generated/design.rs"]
 pub mod design;
+#[path = "../generated/design_sensitivity.rs"]
+pub mod design_sensitivity;
 #[path = "../generated/elasticity.rs"]
 pub mod elasticity;
 #[path = "../generated/graph.rs"]

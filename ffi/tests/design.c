@@ -4,7 +4,8 @@
  * unjittered FFD lattice reproduces its affine map, an FFD_CONTROL_POINT moves one control
  * point, box-minus-box displacements are exactly zero where nothing moved, SU2's
  * SetCartesianCoord displacements vanish for points on the box, an FFD_TWIST turns its layer
- * rigidly about SU2's axis; bad input returns its status
+ * rigidly about SU2's axis, the derivatives (dk_design_*_adjoint, _twist_tangent) are
+ * transposes of the tangents; bad input returns its status
  * with outputs untouched. Prints "design: every check held" and exits 0, or names the
  * failed check. */
 #ifndef REAL
@@ -139,9 +140,47 @@ static void SFX(check_twist)(void) {
     SAME(keep, moved, sizeof keep);
 }
 
+/* The derivatives (dk_design_*_adjoint, dk_design_ffd_twist_tangent): the adjoints equal the
+ * tangents' dot products (a bump of amplitude 1; the box of a change evaluated), the twist's
+ * tangent turns layer j about the pivot (perpendicular to p - pivot, y fixed); bad input
+ * leaves out unchanged. */
+static void SFX(check_derivatives)(void) {
+    uint32_t degree[3] = {2, 2, 1}, nodes[2] = {1, 2}, scratch[2];
+    REAL pts[6] = {0.5, 0.1, 0.5, -0.1, 0.25, 0.0}, normals[4] = {0, 1, 0, -1};
+    REAL g[9] = {0.3, -0.7, 0.2, 0.9, 0.4, -0.5, 0.1, 0.8, -0.6}, d[4] = {0, 0, 0, 0};
+    REAL uvw[9] = {0.25, 0.5, 0.5, 1.0, 0.0, 0.0, 0.6, 0.3, 0.9}, cp[54], v[9], bar[54];
+    REAL seg[6] = {0.5, -1, 0, 0.5, 3, 0}, t[54], keep[54], adj = 0;
+    double lhs = 0, rhs = 0;
+    int c;
+    OK(SFX(dk_design_hicks_henne)(pts, 6, 2, nodes, 2, 1, scratch, 2, normals, 4, false,
+                                  (REAL)0.3, (REAL)1.0, d, 4));
+    OK(SFX(dk_design_hicks_henne_adjoint)(pts, 6, 2, nodes, 2, 1, scratch, 2, normals, 4,
+                                          false, (REAL)0.3, g, 4, &adj));
+    CHECK(adj != 0 && fabs((double)(d[3] * g[3] - adj)) < TOL);
+    for (c = 0; c < 54; c++) cp[c] = (REAL)sin(c + 1.0);
+    OK(SFX(dk_design_ffd_eval)(degree, 3, cp, 54, 3, uvw, 9, v, 9));
+    OK(SFX(dk_design_ffd_adjoint)(degree, 3, 3, uvw, 9, g, 9, bar, 54));
+    for (c = 0; c < 9; c++) lhs += (double)(v[c] * g[c]);
+    for (c = 0; c < 54; c++) rhs += (double)(cp[c] * bar[c]);
+    CHECK(fabs(lhs) > 0.1 && fabs(lhs - rhs) < 10 * TOL * fabs(lhs));
+    SFX(lattice)(cp);
+    OK(SFX(dk_design_ffd_twist_tangent)(degree, cp, 54, 1, seg, (REAL)2.0, NULL, 0, NULL, 0,
+                                        t, 54));
+    for (c = 0; c < 54; c += 3) {
+        int layer = (c / 6) % 3 == 1;
+        CHECK(t[c + 1] == 0 && (layer ? t[c] != 0 || t[c + 2] != 0 : t[c] == 0 && t[c + 2] == 0));
+        CHECK(fabs((double)(t[c] * (cp[c] - (REAL)0.5) + t[c + 2] * cp[c + 2])) < TOL);
+    }
+    memcpy(keep, bar, sizeof keep);
+    EXPECT(SFX(dk_design_ffd_adjoint)(degree, 3, 3, uvw, 9, g, 6, bar, 54),
+           DK_ERR_LENGTH_MISMATCH);
+    SAME(keep, bar, sizeof keep);
+}
+
 static void SFX(check_)(void) {
     SFX(check_hicks_henne)();
     SFX(check_ffd)();
     SFX(check_twist)();
+    SFX(check_derivatives)();
 }
 #endif

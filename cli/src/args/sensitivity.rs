@@ -71,6 +71,16 @@ pub struct AdjointArgs {
     /// The surface sensitivity CSV: `node,x,y[,z],dJ/dx,dJ/dy[,dJ/dz]` per boundary node.
     #[arg(long)]
     pub out: PathBuf,
+    /// An SU2 config with design variables (DV_KIND, DV_PARAM, DV_VALUE, DV_MARKER,
+    /// OPT_RELAX_FACTOR; FFD boxes from the mesh file given here): also write dJ/dα of each
+    /// variable to --grad-out, as SU2_DOT (TRANSLATION, ROTATION, HICKS_HENNE and the FFD
+    /// variables of `deform su2`).
+    #[arg(long, requires = "grad_out")]
+    pub config: Option<PathBuf>,
+    /// Where dJ/dα goes, in SU2_DOT's `of_grad.dat` form ("OBJECTIVE gradient" line, then one
+    /// value per design variable, OUTPUT_PRECISION digits, 6 by default).
+    #[arg(long, requires = "config")]
+    pub grad_out: Option<PathBuf>,
 }
 
 /// `deform tangent`.

@@ -107,7 +107,18 @@ pub(crate) fn files_of(command: &Command) -> (Vec<&Path>, Vec<&Path>) {
             opt(&a.vtk).into_iter().collect(),
         ),
         Command::Convert(a) => (vec![&a.input], vec![&a.output]),
-        Command::Adjoint(a) => (vec![&a.setup.mesh, &a.sensitivity], vec![&a.out]),
+        Command::Adjoint(a) => (
+            [&a.setup.mesh, &a.sensitivity]
+                .into_iter()
+                .chain(&a.config)
+                .map(|p| p.as_path())
+                .collect(),
+            [&a.out]
+                .into_iter()
+                .chain(&a.grad_out)
+                .map(|p| p.as_path())
+                .collect(),
+        ),
         Command::Tangent(a) => (vec![&a.setup.mesh, &a.perturbation], vec![&a.out]),
     }
 }

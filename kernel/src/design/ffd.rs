@@ -155,34 +155,53 @@ impl<'a, T: Real, const D: usize> FfdBox<'a, T, D> {
     /// The box at parametric coordinates `param` (SU2's `EvalCartesianCoord`). No checks:
     /// a non-finite `param` gives a non-finite point.
     pub fn eval(&self, param: [T; D]) -> [T; D] {
-        let mut basis = [[T::ZERO; MAX_DEGREE + 1]; D];
-        for ((row, &n), &t) in basis.iter_mut().zip(&self.degree).zip(&param) {
-            for (i, b) in row.iter_mut().enumerate().take(n + 1) {
-                *b = bernstein(n, i, t);
-            }
-        }
+        let basis = basis(self.degree, param);
         let mut out = [T::ZERO; D];
         let mut ijk = [0usize; D];
         for p in self.control_points {
-            // The product of the axes' basis values at this multi-index, in axis order.
-            let weight = |c: T| {
-                (basis.iter().zip(&ijk)).fold(c, |term, (row, &i)| {
-                    term * row.get(i).copied().unwrap_or(T::ZERO)
-                })
-            };
             for (o, &c) in out.iter_mut().zip(p) {
-                *o += weight(c);
+                *o += weight(&basis, &ijk, c);
             }
-            // Next multi-index, last axis fastest (the storage order).
-            for (i, &n) in ijk.iter_mut().zip(&self.degree).rev() {
-                *i += 1;
-                if *i <= n {
-                    break;
-                }
-                *i = 0;
-            }
+            next_index(&mut ijk, self.degree);
         }
         out
+    }
+}
+
+/// The Bernstein basis of every axis at `param` (row `a`: `B_n,i(param[a])`, `i ≤ n`).
+pub(super) fn basis<T: Real, const D: usize>(
+    degree: [usize; D],
+    param: [T; D],
+) -> [[T; MAX_DEGREE + 1]; D] {
+    let mut basis = [[T::ZERO; MAX_DEGREE + 1]; D];
+    for ((row, &n), &t) in basis.iter_mut().zip(&degree).zip(&param) {
+        for (i, b) in row.iter_mut().enumerate().take(n + 1) {
+            *b = bernstein(n, i, t);
+        }
+    }
+    basis
+}
+
+/// `c` times the axes' basis values at multi-index `ijk`, in axis order (SU2's
+/// `((c · B_i) · B_j) · B_k`).
+pub(super) fn weight<T: Real, const D: usize>(
+    basis: &[[T; MAX_DEGREE + 1]; D],
+    ijk: &[usize; D],
+    c: T,
+) -> T {
+    (basis.iter().zip(ijk)).fold(c, |term, (row, &i)| {
+        term * row.get(i).copied().unwrap_or(T::ZERO)
+    })
+}
+
+/// The next multi-index in storage order (last axis fastest).
+pub(super) fn next_index<const D: usize>(ijk: &mut [usize; D], degree: [usize; D]) {
+    for (i, &n) in ijk.iter_mut().zip(&degree).rev() {
+        *i += 1;
+        if *i <= n {
+            break;
+        }
+        *i = 0;
     }
 }
 

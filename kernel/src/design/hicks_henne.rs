@@ -87,41 +87,15 @@ pub fn hicks_henne<T: Real, const D: usize>(
     bump: HicksHenne<T>,
     displacements: &mut [[T; D]],
 ) -> Result<()> {
-    check::mesh_dim::<D>();
-    check::len("normals", normals.len(), nodes.len())?;
-    check::len("displacements", displacements.len(), nodes.len())?;
-    check::indices("nodes", nodes, points.len())?;
-    check::scalar("x_max", bump.x_max)?;
-    check::scalar("amplitude", bump.amplitude)?;
-    if !(bump.x_max > T::ZERO && bump.x_max < T::ONE) {
-        return Err(Error::InvalidParameter {
-            arg: "x_max",
-            reason: "must lie strictly between 0 and 1",
-        });
-    }
-    check::finite_items("normals", normals)?;
+    check_inputs(
+        points,
+        nodes,
+        normals,
+        bump,
+        ("displacements", displacements.len()),
+    )?;
     check::finite_items("displacements", displacements)?;
-    super::listed_points_finite(points, nodes)?;
-    // The y increment of listed node p (None: not on the bump's side).
-    let moved = |p: usize| -> Option<T> {
-        let ny = normals.get(p)?.get(1).copied()?;
-        let on_side = if bump.upper {
-            ny > T::ZERO
-        } else {
-            ny < T::ZERO
-        };
-        if !on_side {
-            return None;
-        }
-        let x = points.get(*nodes.get(p)? as usize)?.first().copied()?;
-        let f = hicks_henne_bump(x, bump.x_max);
-        let a = if bump.upper {
-            bump.amplitude
-        } else {
-            -bump.amplitude
-        };
-        Some(a * f)
-    };
+    let moved = |p: usize| increment(points, nodes, normals, bump, p);
     let y = |d: &[T; D]| d.get(1).copied().unwrap_or(T::ZERO);
     let overflows = |(p, d): (usize, &[T; D])| moved(p).is_some_and(|dy| !(y(d) + dy).is_finite());
     if displacements.iter().enumerate().any(overflows) {
@@ -133,4 +107,56 @@ pub fn hicks_henne<T: Real, const D: usize>(
         }
     }
     Ok(())
+}
+
+/// The checks of [`hicks_henne`] on everything but the displacements (`values`: their name
+/// and number, one per node).
+pub(super) fn check_inputs<T: Real, const D: usize>(
+    points: &[[T; D]],
+    nodes: &[u32],
+    normals: &[[T; D]],
+    bump: HicksHenne<T>,
+    (name, values_len): (&'static str, usize),
+) -> Result<()> {
+    check::mesh_dim::<D>();
+    check::len("normals", normals.len(), nodes.len())?;
+    check::len(name, values_len, nodes.len())?;
+    check::indices("nodes", nodes, points.len())?;
+    check::scalar("x_max", bump.x_max)?;
+    check::scalar("amplitude", bump.amplitude)?;
+    if !(bump.x_max > T::ZERO && bump.x_max < T::ONE) {
+        return Err(Error::InvalidParameter {
+            arg: "x_max",
+            reason: "must lie strictly between 0 and 1",
+        });
+    }
+    check::finite_items("normals", normals)?;
+    super::listed_points_finite(points, nodes)
+}
+
+/// The y increment `±amplitude · f(x)` of listed node `p` (`None`: not on the bump's side).
+pub(super) fn increment<T: Real, const D: usize>(
+    points: &[[T; D]],
+    nodes: &[u32],
+    normals: &[[T; D]],
+    bump: HicksHenne<T>,
+    p: usize,
+) -> Option<T> {
+    let ny = normals.get(p)?.get(1).copied()?;
+    let on_side = if bump.upper {
+        ny > T::ZERO
+    } else {
+        ny < T::ZERO
+    };
+    if !on_side {
+        return None;
+    }
+    let x = points.get(*nodes.get(p)? as usize)?.first().copied()?;
+    let f = hicks_henne_bump(x, bump.x_max);
+    let a = if bump.upper {
+        bump.amplitude
+    } else {
+        -bump.amplitude
+    };
+    Some(a * f)
 }

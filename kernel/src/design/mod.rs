@@ -8,6 +8,7 @@
 //! - [`variables`]: the control-point changes of `FFD_CONTROL_POINT(_2D)`,
 //!   `FFD_CAMBER(_2D)` and `FFD_THICKNESS(_2D)`.
 //! - [`twist`]: `FFD_TWIST`, a layer of control points turned about a y-parallel axis.
+//! - [`sensitivity`]: their derivatives (tangent and adjoint), for SU2_DOT's `dJ/dα`.
 //!
 //! Everything is allocation-free (the Bernstein basis lives in fixed stack arrays, hence
 //! [`ffd::MAX_DEGREE`]), validates before it writes, and uses libm for every transcendental
@@ -16,6 +17,7 @@
 
 pub mod ffd;
 pub mod hicks_henne;
+pub mod sensitivity;
 pub mod twist;
 pub mod variables;
 

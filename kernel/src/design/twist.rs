@@ -108,33 +108,7 @@ pub fn ffd_twist<T: Real>(
     fixed_i: &[u32],
     fixed_k: &[u32],
 ) -> Result<()> {
-    check_box(degree, control_points)?;
-    check::finite_items("control_points", control_points)?;
-    check::finite_items("segment", &twist.segment)?;
-    check::scalar("amplitude", twist.amplitude)?;
-    check::scalar("ref_length", twist.ref_length)?;
-    if twist.j > degree[1] {
-        return Err(Error::IndexOutOfRange {
-            arg: "j",
-            position: 0,
-            index: twist.j,
-            bound: degree[1] + 1,
-        });
-    }
-    if twist.ref_length <= T::ZERO {
-        return Err(Error::InvalidParameter {
-            arg: "ref_length",
-            reason: "must be positive",
-        });
-    }
-    let origin = control_points
-        .get(flat(degree, [0, twist.j, 0]))
-        .copied()
-        .unwrap_or([T::ZERO; 3]);
-    let pivot = crossing(twist.segment, origin).ok_or(Error::InvalidParameter {
-        arg: "segment",
-        reason: "does not cross the plane of layer j (SU2 moves nothing then)",
-    })?;
+    let pivot = pivot(degree, control_points, twist)?;
     let theta = (twist.amplitude / twist.ref_length).atan();
     let cs = (theta.cos(), theta.sin());
     let moved = |i: usize, k: usize, p: [T; 3]| -> [T; 3] {
@@ -160,6 +134,77 @@ pub fn ffd_twist<T: Real>(
         for k in 0..=degree[2] {
             if let Some(p) = control_points.get_mut(layer(i, k)) {
                 *p = moved(i, k, *p);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The checks of [`ffd_twist`] and the pivot of the turn.
+fn pivot<T: Real>(
+    degree: [usize; 3],
+    control_points: &[[T; 3]],
+    twist: FfdTwist<T>,
+) -> Result<[T; 3]> {
+    check_box(degree, control_points)?;
+    check::finite_items("control_points", control_points)?;
+    check::finite_items("segment", &twist.segment)?;
+    check::scalar("amplitude", twist.amplitude)?;
+    check::scalar("ref_length", twist.ref_length)?;
+    if twist.j > degree[1] {
+        return Err(Error::IndexOutOfRange {
+            arg: "j",
+            position: 0,
+            index: twist.j,
+            bound: degree[1] + 1,
+        });
+    }
+    if twist.ref_length <= T::ZERO {
+        return Err(Error::InvalidParameter {
+            arg: "ref_length",
+            reason: "must be positive",
+        });
+    }
+    let origin = control_points
+        .get(flat(degree, [0, twist.j, 0]))
+        .copied()
+        .unwrap_or([T::ZERO; 3]);
+    crossing(twist.segment, origin).ok_or(Error::InvalidParameter {
+        arg: "segment",
+        reason: "does not cross the plane of layer j (SU2 moves nothing then)",
+    })
+}
+
+/// The derivative of [`ffd_twist`]'s control points with respect to `twist.amplitude` at
+/// amplitude 0 (SU2_DOT's linearisation point; `twist.amplitude` itself is not read): the
+/// turned points of layer `twist.j` (except the fixed planes) move by `ω × (p − pivot)` with
+/// `ω = (0, 1/ref_length, 0)` (`dθ/da = 1/ref_length` at 0), everything else by 0. Overwrites
+/// `out` (one item per control point).
+///
+/// # Errors
+/// As [`ffd_twist`]; [`Error::LengthMismatch`] when `out` does not hold one item per control
+/// point. Nothing is written on error.
+pub fn ffd_twist_tangent<T: Real>(
+    degree: [usize; 3],
+    control_points: &[[T; 3]],
+    twist: FfdTwist<T>,
+    fixed_i: &[u32],
+    fixed_k: &[u32],
+    out: &mut [[T; 3]],
+) -> Result<()> {
+    let twist = FfdTwist {
+        amplitude: T::ZERO,
+        ..twist
+    };
+    let c = pivot(degree, control_points, twist)?;
+    check::len("out", out.len(), control_points.len())?;
+    out.iter_mut().for_each(|o| *o = [T::ZERO; 3]);
+    let rate = T::ONE / twist.ref_length;
+    for i in (0..=degree[0]).filter(|&i| !fixed_i.contains(&(i as u32))) {
+        for k in (0..=degree[2]).filter(|&k| !fixed_k.contains(&(k as u32))) {
+            let at = flat(degree, [i, twist.j, k]);
+            if let (Some(&[x, _, z]), Some(o)) = (control_points.get(at), out.get_mut(at)) {
+                *o = [rate * (z - c[2]), T::ZERO, rate * (c[0] - x)];
             }
         }
     }

@@ -8,6 +8,7 @@
 //! multigrid hierarchy). `tangent` is the forward direction for one boundary perturbation.
 
 mod angle;
+mod design;
 mod quaternion;
 mod rbf;
 mod read;
@@ -200,8 +201,12 @@ fn to_3<const D: usize>(v: &[[f64; D]]) -> Vec<[f64; 3]> {
 }
 
 /// Writes `rows` (node and values) as CSV with `header` through a staged file.
-fn write_csv(path: &Path, header: &str, rows: &[(u32, Vec<f64>)]) -> Result<(), CliError> {
-    let mut staged = Staged::new();
+fn write_csv(
+    staged: &mut Staged,
+    path: &Path,
+    header: &str,
+    rows: &[(u32, Vec<f64>)],
+) -> Result<(), CliError> {
     staged
         .write(path, |f| {
             let mut w = std::io::BufWriter::new(f);
@@ -215,8 +220,7 @@ fn write_csv(path: &Path, header: &str, rows: &[(u32, Vec<f64>)]) -> Result<(), 
             }
             w.flush()
         })
-        .map_err(io_err(path))?;
-    staged.commit().map_err(io_err(path))
+        .map_err(io_err(path))
 }
 
 /// The JSON and text report of a run.
@@ -277,8 +281,20 @@ pub(crate) fn adjoint(a: &AdjointArgs) -> Result<Outcome, CliError> {
     } else {
         "node,x,y,z,dJ/dx,dJ/dy,dJ/dz"
     };
-    write_csv(&a.out, header, &rows)?;
-    Ok(outcome("adjoint", &a.setup, rows.len(), report, &a.out))
+    let gradient = design::gradient(a, &mesh, &g)?;
+    let mut staged = Staged::new();
+    write_csv(&mut staged, &a.out, header, &rows)?;
+    if let (Some((text, _)), Some(path)) = (&gradient, &a.grad_out) {
+        staged
+            .write(path, |f| f.write_all(text.as_bytes()))
+            .map_err(io_err(path))?;
+    }
+    staged.commit().map_err(io_err(&a.out))?;
+    let mut o = outcome("adjoint", &a.setup, rows.len(), report, &a.out);
+    if let Some((_, values)) = gradient {
+        o.json["gradient"] = json!(values);
+    }
+    Ok(o)
 }
 
 /// `deform tangent`.
@@ -300,6 +316,8 @@ pub(crate) fn tangent(a: &TangentArgs) -> Result<Outcome, CliError> {
     } else {
         "node,dx,dy,dz"
     };
-    write_csv(&a.out, header, &rows)?;
+    let mut staged = Staged::new();
+    write_csv(&mut staged, &a.out, header, &rows)?;
+    staged.commit().map_err(io_err(&a.out))?;
     Ok(outcome("tangent", &a.setup, rows.len(), report, &a.out))
 }

@@ -34,7 +34,7 @@ fn kernel(what: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {
 
 /// The 2D normals of the `nodes` of the `markers` (summed over their boundary edges, each
 /// turned to point into the fluid: towards the volume cell on the edge, SU2's convention).
-fn fluid_normals(mesh: &Su2Mesh, markers: &[String], nodes: &[u32]) -> Vec<[f64; 2]> {
+pub(super) fn fluid_normals(mesh: &Su2Mesh, markers: &[String], nodes: &[u32]) -> Vec<[f64; 2]> {
     let key = |a: u32, b: u32| (a.min(b), a.max(b));
     let mut edges: BTreeMap<(u32, u32), Option<[f64; 2]>> = BTreeMap::new();
     for m in mesh.markers.iter().filter(|m| markers.contains(&m.name)) {
@@ -164,7 +164,7 @@ pub(super) fn ffd_field(
 }
 
 /// A box's control points in flat order (checked: each listed once, all listed).
-fn control_points(b: &StoredBox) -> Result<Vec<[f64; 3]>, CliError> {
+pub(super) fn control_points(b: &StoredBox) -> Result<Vec<[f64; 3]>, CliError> {
     let [l, m, n] = b.degree;
     let mut cps = vec![[0.0f64; 3]; (l + 1) * (m + 1) * (n + 1)];
     let mut seen = vec![false; cps.len()];
@@ -196,7 +196,7 @@ fn control_points(b: &StoredBox) -> Result<Vec<[f64; 3]>, CliError> {
 
 /// Whether SU2 skips the variable: an index it names lies on a fixed plane (`k`: the k
 /// indices SU2 checks).
-fn on_fixed(fixed: &[Vec<u32>; 3], ij: [Option<usize>; 2], k: &[usize]) -> bool {
+pub(super) fn on_fixed(fixed: &[Vec<u32>; 3], ij: [Option<usize>; 2], k: &[usize]) -> bool {
     let hit = |axis: usize, x: usize| fixed[axis].contains(&(x as u32));
     ij.iter()
         .enumerate()
@@ -230,7 +230,7 @@ fn control_point(
 }
 
 /// Applies one design variable to the control points of a box with fixed planes `fixed`.
-fn apply(
+pub(super) fn apply(
     degree: [usize; 3],
     cps: &mut [[f64; 3]],
     fixed: &[Vec<u32>; 3],

@@ -8,6 +8,7 @@
 
 mod design;
 mod ffd_planes;
+pub(super) mod gradient;
 mod variables;
 
 use std::path::PathBuf;

@@ -208,7 +208,7 @@ fn rigid(config: &Su2Config, dv: &Dv, dim: usize, args: &mut MoveArgs) -> Result
 
 /// A variable's parameters as numbers; a 2D ROTATION must turn about z (SU2 would tilt its
 /// axis to (x1 − x0, y1 − y0, 1) and drop the z movement).
-fn dv_numbers(config: &Su2Config, dv: &Dv, dim: usize) -> Result<Vec<f64>, CliError> {
+pub(super) fn dv_numbers(config: &Su2Config, dv: &Dv, dim: usize) -> Result<Vec<f64>, CliError> {
     let p = (dv.params.iter())
         .map(|t| num(config, t, &dv.kind))
         .collect::<Result<Vec<f64>, _>>()?;
@@ -272,7 +272,12 @@ fn surface_field(
 
 /// The z of the rotation point: SU2's SetRotation reads it from the *first* design variable's
 /// DV_PARAM in 3D (0 in 2D); refused where that differs from the variable's own z0.
-fn rotation_z0(config: &Su2Config, dvs: &[Dv], dv: &Dv, three: bool) -> Result<f64, CliError> {
+pub(super) fn rotation_z0(
+    config: &Su2Config,
+    dvs: &[Dv],
+    dv: &Dv,
+    three: bool,
+) -> Result<f64, CliError> {
     if dv.kind != "ROTATION" || !three {
         return Ok(0.0);
     }
@@ -296,7 +301,10 @@ fn su2_rotation(x: [f64; 3], p0: [f64; 3], p1: [f64; 3], degrees: f64, three: bo
 }
 
 /// HICKS_HENNE's `( 0 | 1, x_max )` groups as `(upper, x_max, amplitude)`.
-fn hicks_henne_params(config: &Su2Config, dvs: &[Dv]) -> Result<Vec<(bool, f64, f64)>, CliError> {
+pub(super) fn hicks_henne_params(
+    config: &Su2Config,
+    dvs: &[Dv],
+) -> Result<Vec<(bool, f64, f64)>, CliError> {
     let bad = || {
         option_error(
             config,
@@ -321,7 +329,7 @@ fn hicks_henne_params(config: &Su2Config, dvs: &[Dv]) -> Result<Vec<(bool, f64, 
 }
 
 /// The FFD variables as control-point changes.
-fn ffd_moves(config: &Su2Config, dvs: &[Dv]) -> Result<Vec<ControlMove>, CliError> {
+pub(super) fn ffd_moves(config: &Su2Config, dvs: &[Dv]) -> Result<Vec<ControlMove>, CliError> {
     let ref_length: f64 = number(config, "REF_LENGTH", 1.0)?;
     dvs.iter()
         .map(|dv| {
