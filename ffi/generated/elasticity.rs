@@ -18,6 +18,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::done;
 use crate::graph::{dk_cells, dk_graph};
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
@@ -52,7 +53,13 @@ pub unsafe extern "C" fn dk_elasticity_graph_len(
             Out::new(len_out, 1),
         )
     };
-    imp::dk_elasticity_graph_len(node_count, cells, index_base, index_scratch, len_out)
+    done(imp::dk_elasticity_graph_len(
+        node_count,
+        cells,
+        index_base,
+        index_scratch,
+        len_out,
+    ))
 }
 
 /// Builds the graph of every pair of nodes that share a cell (the sparsity of the
@@ -94,7 +101,7 @@ pub unsafe extern "C" fn dk_elasticity_graph(
             Out::new(used_out, 1),
         )
     };
-    imp::dk_elasticity_graph(
+    done(imp::dk_elasticity_graph(
         node_count,
         cells,
         index_base,
@@ -102,7 +109,7 @@ pub unsafe extern "C" fn dk_elasticity_graph(
         offsets,
         targets,
         used_out,
-    )
+    ))
 }
 
 /// Scalars of `scratch` [`dk_elasticity_deform`] needs: `cell_count + dim²·(node_count +
@@ -126,7 +133,9 @@ pub unsafe extern "C" fn dk_elasticity_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_elasticity_scratch_len(node_count, cell_count, edge_count, dim, len_out)
+    done(imp::dk_elasticity_scratch_len(
+        node_count, cell_count, edge_count, dim, len_out,
+    ))
 }
 
 /// Fills `*out` with the default elasticity settings for f64: inverse-volume modulus,
@@ -236,7 +245,7 @@ pub unsafe extern "C" fn dk_elasticity_deform(
             Out::new(report, 1),
         )
     };
-    imp::dk_elasticity_deform::<f64>(
+    done(imp::dk_elasticity_deform::<f64>(
         cells,
         index_base,
         index_scratch,
@@ -249,7 +258,7 @@ pub unsafe extern "C" fn dk_elasticity_deform(
         points,
         scratch,
         report,
-    )
+    ))
 }
 
 /// `f32` twin of [`dk_elasticity_deform`].
@@ -304,7 +313,7 @@ pub unsafe extern "C" fn dk_elasticity_deform_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_elasticity_deform::<f32>(
+    done(imp::dk_elasticity_deform::<f32>(
         cells,
         index_base,
         index_scratch,
@@ -317,5 +326,5 @@ pub unsafe extern "C" fn dk_elasticity_deform_f32(
         points,
         scratch,
         report,
-    )
+    ))
 }

@@ -20,6 +20,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::done;
 use crate::elasticity::{dk_elasticity_options, dk_elasticity_report};
 use crate::graph::{dk_cells, dk_graph};
 use crate::pools::{dk_plan_sizes, DkPlanPools};
@@ -282,7 +283,9 @@ pub unsafe extern "C" fn dk_elasticity_sliding_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_elasticity_sliding_scratch_len(node_count, cell_count, edge_count, dim, len_out)
+    done(imp::dk_elasticity_sliding_scratch_len(
+        node_count, cell_count, edge_count, dim, len_out,
+    ))
 }
 
 /// `dk_elasticity_deform` with sliding nodes: `constraints` (as for

@@ -302,12 +302,8 @@ struct PipelineBufs<'a, T, const D: usize> {
 
 /// Borrows the output buffers every pipeline shares.
 fn pipeline<'a, T: Real, const D: usize>(
-    scratch: Out<'a, T>,
+    [scratch, translations, rotations, out, origin_out]: [Out<'a, T>; 5],
     index_scratch: Out<'a, u32>,
-    translations: Out<'a, T>,
-    rotations: Out<'a, T>,
-    out: Out<'a, T>,
-    origin_out: Out<'a, T>,
 ) -> Result<PipelineBufs<'a, T, D>, dk_status> {
     Ok(PipelineBufs {
         scratch: output(scratch)?,
@@ -409,7 +405,8 @@ pub(crate) fn dk_deform_idw_scratch_len<const D: usize>(
     _dim: Dim<D>,
     len_out: Out<'_, usize>,
 ) -> Result<(), dk_status> {
-    write_len(len_out, deform_idw_scratch_len::<D>(node_count, boundary_len))
+    let len = deform_idw_scratch_len::<D>(node_count, boundary_len);
+    write_len(len_out, len)
 }
 
 /// The whole quaternion deformation with inverse-distance propagation (the kernel's
@@ -452,7 +449,8 @@ pub(crate) fn dk_deform_idw<T: Real, const D: usize>(
 ) -> Result<(), dk_status> {
     let raw = read_raw(motion)?;
     let points = read_points::<T, D>(points)?;
-    let b = pipeline::<T, D>(scratch, index_scratch, translations, rotations, out, origin_out)?;
+    let outs = [scratch, translations, rotations, out, origin_out];
+    let b = pipeline::<T, D>(outs, index_scratch)?;
     let (motion, _) = raw.view::<D>(b.index_scratch)?;
     let (t, q) = (b.translations, b.rotations);
     let origin = deform_idw(points, &motion, exponent, t, q, b.scratch, b.out)?;
@@ -509,7 +507,8 @@ pub(crate) fn dk_deform_tfi<T: Real, const D: usize>(
     let (block, directions) = tfi_setup(ni, nj, nk, directions)?;
     let raw = read_raw(motion)?;
     let points = read_points::<T, D>(points)?;
-    let b = pipeline::<T, D>(scratch, index_scratch, translations, rotations, out, origin_out)?;
+    let outs = [scratch, translations, rotations, out, origin_out];
+    let b = pipeline::<T, D>(outs, index_scratch)?;
     let (motion, _) = raw.view::<D>(b.index_scratch)?;
     let (t, q) = (b.translations, b.rotations);
     let origin = deform_tfi(&block, directions, points, &motion, t, q, b.scratch, b.out)?;
@@ -600,7 +599,8 @@ pub(crate) fn dk_deform_boundary_rotations<T: Real, const D: usize>(
     let d = read_points::<T, D>(deformed)?;
     let cells = required_elements(elements, index_base, index_scratch, u.len())?;
     let scratch = output(scratch)?;
-    Ok(boundary_rotations(u, d, &cells, scratch, quats_mut(rotations)?)?)
+    let q = quats_mut(rotations)?;
+    Ok(boundary_rotations(u, d, &cells, scratch, q)?)
 }
 
 /// Fills `rotations` (`rotations_len` scalars, a multiple of 4) with copies of the rigid
@@ -947,14 +947,14 @@ pub(crate) fn dk_deform_spring<T: Real, const D: usize>(
     let method = o.method::<T>()?;
     let raw = read_raw(motion)?;
     let points = read_points::<T, D>(points)?;
-    let b = pipeline::<T, D>(scratch, index_scratch, translations, rotations, out, origin_out)?;
+    let outs = [scratch, translations, rotations, out, origin_out];
+    let b = pipeline::<T, D>(outs, index_scratch)?;
     let values = output(values)?;
     let report = out_one(report)?;
     let (motion, rest) = raw.view::<D>(b.index_scratch)?;
     let sys = DkSpringSystem::read(system)?.build(rest)?;
-    let (t, q, s) = (b.translations, b.rotations, b.scratch);
-    let (origin, rep) =
-        deform_spring(points, &motion, &sys, method, &o.stopping(), t, q, s, values, b.out)?;
+    let (stop, t, q, s, out) = (o.stopping(), b.translations, b.rotations, b.scratch, b.out);
+    let (origin, rep) = deform_spring(points, &motion, &sys, method, &stop, t, q, s, values, out)?;
     write_optional(b.origin_out, origin);
     *report = dk_spring_solve_report::of(rep);
     Ok(())

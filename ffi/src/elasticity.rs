@@ -192,12 +192,10 @@ pub(crate) fn dk_elasticity_graph_len(
     index_base: u32,
     index_scratch: Out<'_, u32>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let scratch = output(index_scratch)?;
-        let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
-        write_len(len_out, elasticity_graph_len(&cells))
-    })())
+) -> Result<(), dk_status> {
+    let scratch = output(index_scratch)?;
+    let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
+    write_len(len_out, elasticity_graph_len(&cells))
 }
 
 /// Builds the graph of every pair of nodes that share a cell (the sparsity of the
@@ -213,14 +211,12 @@ pub(crate) fn dk_elasticity_graph(
     offsets: Out<'_, u32>,
     targets: Out<'_, u32>,
     used_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let scratch = output(index_scratch)?;
-        let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
-        let (o, t, used) = (output(offsets)?, output(targets)?, out_one(used_out)?);
-        *used = elasticity_graph(&cells, o, t)?;
-        Ok(())
-    })())
+) -> Result<(), dk_status> {
+    let scratch = output(index_scratch)?;
+    let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
+    let (o, t, used) = (output(offsets)?, output(targets)?, out_one(used_out)?);
+    *used = elasticity_graph(&cells, o, t)?;
+    Ok(())
 }
 
 /// Scalars of `scratch` [`dk_elasticity_deform`] needs: `cell_count + dim²·(node_count +
@@ -233,14 +229,12 @@ pub(crate) fn dk_elasticity_scratch_len(
     edge_count: usize,
     dim: u32,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        if !(2..=3).contains(&dim) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        let n = scratch_scalars(cell_count, node_count, edge_count, dim as usize)?;
-        write_len(len_out, n)
-    })())
+) -> Result<(), dk_status> {
+    if !(2..=3).contains(&dim) {
+        return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+    }
+    let n = scratch_scalars(cell_count, node_count, edge_count, dim as usize)?;
+    write_len(len_out, n)
 }
 
 /// Fills `*out` with the default elasticity settings for f64: inverse-volume modulus,
@@ -340,22 +334,20 @@ pub(crate) fn dk_elasticity_deform<T: Real>(
     points: Out<'_, T>,
     scratch: Out<'_, T>,
     report: Out<'_, dk_elasticity_report>,
-) -> dk_status {
-    done((|| {
-        let out = out_one(report)?;
-        let args = DeformArgs {
-            cells,
-            index_base,
-            index_scratch,
-            graph,
-            fixed,
-            options: read_one(options)?,
-            wall_distance,
-            displacement,
-            points,
-            scratch,
-        };
-        *out = by_dim!(dim, deform_for_dim::<T>, (args))?;
-        Ok(())
-    })())
+) -> Result<(), dk_status> {
+    let out = out_one(report)?;
+    let args = DeformArgs {
+        cells,
+        index_base,
+        index_scratch,
+        graph,
+        fixed,
+        options: read_one(options)?,
+        wall_distance,
+        displacement,
+        points,
+        scratch,
+    };
+    *out = by_dim!(dim, deform_for_dim::<T>, (args))?;
+    Ok(())
 }

@@ -380,14 +380,12 @@ pub(crate) fn dk_elasticity_sliding_scratch_len(
     edge_count: usize,
     dim: u32,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        if !(2..=3).contains(&dim) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        let n = sliding_scalars(cell_count, node_count, edge_count, dim as usize)?;
-        write_len(len_out, n)
-    })())
+) -> Result<(), dk_status> {
+    if !(2..=3).contains(&dim) {
+        return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+    }
+    let n = sliding_scalars(cell_count, node_count, edge_count, dim as usize)?;
+    write_len(len_out, n)
 }
 
 /// `dk_elasticity_deform` with sliding nodes: `constraints` (as for

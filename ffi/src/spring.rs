@@ -486,7 +486,8 @@ fn angle_system<'a, T: Real, const D: usize>(
     points: In<'a, T>,
     epsilon: T,
 ) -> Result<AngleSystem<'a, T, D>, dk_status> {
-    Ok(AngleSystem::new(base, read_points::<T, D>(points)?, epsilon)?)
+    let p = read_points::<T, D>(points)?;
+    Ok(AngleSystem::new(base, p, epsilon)?)
 }
 
 /// Words of an exact sum ([`ExactSum::to_words`]): the C ABI's merge protocol.

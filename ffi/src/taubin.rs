@@ -462,13 +462,14 @@ pub(crate) fn dk_taubin_smooth_arclength_scratch_len<const D: usize>(
 ) -> Result<(), dk_status> {
     let b = block(ni, nj, nk)?;
     let o = read_one(options)?;
-    let coarse = if o.use_coarse != 0 {
-        Some(o.coarse.to_kernel()?)
-    } else {
-        None
-    };
+    let coarse = (o.use_coarse != 0)
+        .then(|| o.coarse.to_kernel())
+        .transpose()?;
     let d = crate::taubin::to_direction(o.direction)?;
-    write_len(len_out, smooth_arclength_scratch_len::<D>(&b, d, coarse.as_ref()))
+    write_len(
+        len_out,
+        smooth_arclength_scratch_len::<D>(&b, d, coarse.as_ref()),
+    )
 }
 
 /// Smooths a structured grid along one family of lines, Alter's way: arclength along
