@@ -18,7 +18,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
-use crate::args::done;
+use crate::args::{done, Dim};
 use crate::graph::{dk_cells, dk_graph};
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
@@ -154,7 +154,7 @@ pub unsafe extern "C" fn dk_elasticity_options_default(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_elasticity_options_default::<f64>(out)
+    done(imp::dk_elasticity_options_default::<f64>(out))
 }
 
 /// As [`dk_elasticity_options_default`] with the f32 default residual tolerance
@@ -169,7 +169,7 @@ pub unsafe extern "C" fn dk_elasticity_options_default_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_elasticity_options_default::<f32>(out)
+    done(imp::dk_elasticity_options_default::<f32>(out))
 }
 
 /// Moves a mesh by linear elasticity (SU2_DEF's method) in `options->steps` load increments:
@@ -245,20 +245,37 @@ pub unsafe extern "C" fn dk_elasticity_deform(
             Out::new(report, 1),
         )
     };
-    done(imp::dk_elasticity_deform::<f64>(
-        cells,
-        index_base,
-        index_scratch,
-        graph,
-        dim,
-        fixed,
-        options,
-        wall_distance,
-        displacement,
-        points,
-        scratch,
-        report,
-    ))
+    match dim {
+        2 => done(imp::dk_elasticity_deform::<f64, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            options,
+            wall_distance,
+            displacement,
+            points,
+            scratch,
+            report,
+        )),
+        3 => done(imp::dk_elasticity_deform::<f64, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            options,
+            wall_distance,
+            displacement,
+            points,
+            scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_elasticity_deform`].
@@ -313,18 +330,35 @@ pub unsafe extern "C" fn dk_elasticity_deform_f32(
             Out::new(report, 1),
         )
     };
-    done(imp::dk_elasticity_deform::<f32>(
-        cells,
-        index_base,
-        index_scratch,
-        graph,
-        dim,
-        fixed,
-        options,
-        wall_distance,
-        displacement,
-        points,
-        scratch,
-        report,
-    ))
+    match dim {
+        2 => done(imp::dk_elasticity_deform::<f32, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            options,
+            wall_distance,
+            displacement,
+            points,
+            scratch,
+            report,
+        )),
+        3 => done(imp::dk_elasticity_deform::<f32, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            options,
+            wall_distance,
+            displacement,
+            points,
+            scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
