@@ -26,11 +26,10 @@ use deform_kernel::spring::constraints::{
     fit_plane, plane_intersection, slide_points, Constraints,
 };
 use deform_kernel::spring::{
-    amg_cg_scratch_len, amg_setup_work_len, amg_sliding_cg_scratch_len, angle_scratch_items,
-    angle_sliding_scratch_items, batina_stiffness, solve_linear_scratch_len,
-    solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother, AngleMethod,
-    AngleSystem, LinearMethod, LinearSolver, Preconditioner, SolveOptions, SolveReport,
-    SpringSystem, Sweep, DEFAULT_ANGLE_EPSILON,
+    amg_setup_work_len, angle_scratch_items, angle_sliding_scratch_items, batina_stiffness,
+    solve_linear_scratch_len, solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AmgPools,
+    AmgSmoother, AmgSolve, AngleMethod, AngleSystem, LinearMethod, LinearSolver, Preconditioner,
+    SolveOptions, SolveReport, SpringSystem, Sweep, DEFAULT_ANGLE_EPSILON,
 };
 use deform_kernel::Real;
 use deform_kernel_ffi_export::export;
@@ -527,71 +526,9 @@ fn jacobi_sweep<T: Real, const V: usize>(
 // Stateless multigrid solves: the hierarchy set up in the caller's pools every call.
 // ---------------------------------------------------------------------------------------------
 
-/// The multigrid pools of one solve, in the order the caller laid them out: `work` (the
-/// symbolic pass, `setup_work_len` entries, whose front also validates the system) and the
-/// hierarchy's `index` in `indices`; the hierarchy's `values` and the solve's scratch in
-/// `reals`.
-struct AmgPlan {
-    work: usize,
-    index: usize,
-    values: usize,
-    /// Scratch items (`[T; V]`) of the solve, from the kernel's formula ([`AMG_CG`] or
-    /// [`SLIDING_AMG_CG`]).
-    items: usize,
-}
-
-impl AmgPlan {
-    /// Validated system in hand, runs the symbolic pass in the front of `indices` and says
-    /// where everything goes, for a solve whose scratch items `scratch(N, coarse unknowns)`
-    /// gives.
-    fn of<T: Real>(
-        sys: &SpringSystem<'_, T>,
-        options: &AmgOptions<T>,
-        indices: &mut [u32],
-        scratch: ScratchItems,
-    ) -> Result<Self, dk_status> {
-        let work = AmgHierarchy::setup_work_len(sys);
-        let front = indices
-            .get_mut(..work)
-            .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
-        let sizes = AmgHierarchy::setup_len(sys, options, front)?;
-        let items =
-            scratch(sys.node_count(), sizes.coarse_unknowns).ok_or(dk_status::DK_ERR_TOO_LARGE)?;
-        Ok(AmgPlan {
-            work,
-            index: sizes.index,
-            values: sizes.values,
-            items,
-        })
-    }
-
-    /// The exact pool lengths for `V` value components.
-    fn sizes(&self, components: usize) -> Result<dk_plan_sizes, dk_status> {
-        let scalars = mul_len(self.items, components)?;
-        Ok(dk_plan_sizes {
-            reals: self
-                .values
-                .checked_add(scalars)
-                .ok_or(dk_status::DK_ERR_TOO_LARGE)?,
-            indices: self
-                .work
-                .checked_add(self.index)
-                .ok_or(dk_status::DK_ERR_TOO_LARGE)?,
-            bytes: 0,
-        })
-    }
-}
-
-/// A multigrid solve's scratch items from the node count and the coarse unknowns.
-type ScratchItems = fn(usize, usize) -> Option<usize>;
-/// The multigrid CG's scratch (linear and angle springs): the kernel's formula.
-const AMG_CG: ScratchItems = amg_cg_scratch_len;
-/// The sliding multigrid CG's scratch: the kernel's formula.
-const SLIDING_AMG_CG: ScratchItems = amg_sliding_cg_scratch_len;
-
 /// The pools of a stateless multigrid solve, opened: the multigrid options and the `reals`
 /// and `indices` buffers (`bytes` is not used).
-struct AmgPools<'a, T: Real> {
+struct AmgBuffers<'a, T: Real> {
     options: AmgOptions<T>,
     reals: &'a mut [T],
     indices: &'a mut [u32],
@@ -603,11 +540,11 @@ fn amg_open<'a, T: Real>(
     system: In<'a, DkSpringSystem<T>>,
     amg: In<'a, dk_amg_options>,
     pools: In<'a, DkPlanPools<T>>,
-) -> Result<(SpringSystem<'a, T>, AmgPools<'a, T>), dk_status> {
+) -> Result<(SpringSystem<'a, T>, AmgBuffers<'a, T>), dk_status> {
     let options = read_one(amg)?.to_kernel::<T>()?;
     let (reals, indices, _bytes) = DkPlanPools::read(pools)?.borrow()?;
     let system = DkSpringSystem::read(system)?.build(indices)?;
-    let pools = AmgPools {
+    let pools = AmgBuffers {
         options,
         reals,
         indices,
@@ -615,48 +552,38 @@ fn amg_open<'a, T: Real>(
     Ok((system, pools))
 }
 
-impl<'a, T: Real> AmgPools<'a, T> {
-    /// Runs the symbolic pass of `sys` in the front of `indices`, checks every pool length
-    /// (a pool too short is `DK_ERR_BUFFER_TOO_SMALL`, before anything else is written), then
-    /// sets the hierarchy up and returns it with the solve's scratch of
-    /// `scratch(N, coarse unknowns)` items.
+impl<'a, T: Real> AmgBuffers<'a, T> {
+    /// Lays the pools out for `solve` (the symbolic pass of `sys` in the front of `indices`),
+    /// checks their lengths (a pool too short is `DK_ERR_BUFFER_TOO_SMALL`, before anything
+    /// else is written), then sets the hierarchy up: returns it with the solve's scratch.
     fn hierarchy<const V: usize>(
         self,
         sys: &SpringSystem<'_, T>,
-        scratch: ScratchItems,
+        solve: AmgSolve,
     ) -> Result<(AmgHierarchy<'a, T>, &'a mut [[T; V]]), dk_status> {
-        let plan = AmgPlan::of(sys, &self.options, self.indices, scratch)?;
-        let need = plan.sizes(V)?;
-        if self.reals.len() < need.reals || self.indices.len() < need.indices {
-            return Err(dk_status::DK_ERR_BUFFER_TOO_SMALL);
-        }
-        let (work, index) = self
-            .indices
-            .split_at_mut_checked(plan.work)
-            .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
-        let (values, rest) = self
-            .reals
-            .split_at_mut_checked(plan.values)
-            .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
-        let h = AmgHierarchy::setup(sys, &self.options, work, index, values)?;
-        Ok((h, rest.as_chunks_mut::<V>().0))
+        let layout = AmgPools::layout(sys, &self.options, solve, self.indices)?;
+        Ok(layout.setup::<T, V>(sys, &self.options, self.reals, self.indices)?)
     }
 }
 
-/// The pool lengths of a multigrid solve of `V` components whose scratch items `scratch`
-/// gives.
+/// The pool lengths of a multigrid solve of `V` components.
 fn amg_pool_sizes<T: Real, const V: usize>(
     system: In<'_, DkSpringSystem<T>>,
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
-    scratch: ScratchItems,
+    solve: AmgSolve,
 ) -> Result<(), dk_status> {
     let options = read_one(amg)?.to_kernel::<T>()?;
     let work = output(work)?;
     let out = out_one(sizes_out)?;
     let sys = DkSpringSystem::read(system)?.build(work)?;
-    *out = AmgPlan::of(&sys, &options, work, scratch)?.sizes(V)?;
+    let [reals, indices] = AmgPools::layout(&sys, &options, solve, work)?.lens(V)?;
+    *out = dk_plan_sizes {
+        reals,
+        indices,
+        bytes: 0,
+    };
     Ok(())
 }
 
@@ -1085,7 +1012,7 @@ pub(crate) fn dk_spring_solve_linear_amg_pool_sizes<T: Real, const V: usize>(
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
-    amg_pool_sizes::<T, V>(system, amg, work, sizes_out, AMG_CG)
+    amg_pool_sizes::<T, V>(system, amg, work, sizes_out, AmgSolve::Cg)
 }
 
 /// [`dk_spring_solve_linear`]'s problem solved by conjugate gradients preconditioned with one
@@ -1121,7 +1048,7 @@ pub(crate) fn dk_spring_solve_linear_amg<T: Real, const V: usize>(
     let v = chunks_mut::<T, V>(values)?;
     let r = out_one(report)?;
     let (base, pools) = amg_open(system, amg, pools)?;
-    let (h, scratch) = pools.hierarchy::<V>(&base, AMG_CG)?;
+    let (h, scratch) = pools.hierarchy::<V>(&base, AmgSolve::Cg)?;
     // The kernel validates before it writes and iterates on a copy in the scratch: on any
     // error `values` is unchanged.
     *r = dk_spring_solve_report::of(base.solve_linear_amg(&h, v, &stop, scratch)?);
@@ -1142,7 +1069,7 @@ pub(crate) fn dk_spring_solve_angle_amg_pool_sizes<T: Real, const D: usize>(
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
-    amg_pool_sizes::<T, D>(system, amg, work, sizes_out, AMG_CG)
+    amg_pool_sizes::<T, D>(system, amg, work, sizes_out, AmgSolve::Cg)
 }
 
 /// [`dk_spring_solve_angle`]'s problem (angle-inclusion springs) solved by its CG with one
@@ -1176,7 +1103,7 @@ pub(crate) fn dk_spring_solve_angle_amg<T: Real, const D: usize>(
     let r = out_one(report)?;
     let (base, pools) = amg_open(system, amg, pools)?;
     let system = angle_system::<T, D>(base, points, T::from_f64(o.epsilon))?;
-    let (h, scratch) = pools.hierarchy::<D>(system.base(), AMG_CG)?;
+    let (h, scratch) = pools.hierarchy::<D>(system.base(), AmgSolve::Cg)?;
     // Values are written only after the probe and only by a successful solve.
     *r = dk_spring_solve_report::of(system.solve_angle_amg(&h, v, &o.stopping(), scratch)?);
     Ok(())
@@ -1422,7 +1349,7 @@ pub(crate) fn dk_spring_solve_linear_sliding_amg_pool_sizes<T: Real, const D: us
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
-    amg_pool_sizes::<T, D>(system, amg, work, sizes_out, SLIDING_AMG_CG)
+    amg_pool_sizes::<T, D>(system, amg, work, sizes_out, AmgSolve::SlidingCg)
 }
 
 /// [`dk_spring_solve_linear_sliding`]'s problem solved by its projected CG preconditioned
@@ -1454,7 +1381,7 @@ pub(crate) fn dk_spring_solve_linear_sliding_amg<T: Real, const D: usize>(
     let v = chunks_mut::<T, D>(values)?;
     let r = out_one(report)?;
     let (base, pools) = amg_open(system, amg, pools)?;
-    let (h, scratch) = pools.hierarchy::<D>(&base, SLIDING_AMG_CG)?;
+    let (h, scratch) = pools.hierarchy::<D>(&base, AmgSolve::SlidingCg)?;
     // The kernel validates before it writes and iterates on a copy in the scratch: on any
     // error `values` is unchanged.
     let rep = base.solve_linear_sliding(&c, v, LinearSolver::Amg(&h), &stop, scratch)?;
@@ -1475,7 +1402,7 @@ pub(crate) fn dk_spring_solve_angle_sliding_amg_pool_sizes<T: Real, const D: usi
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
 ) -> Result<(), dk_status> {
-    amg_pool_sizes::<T, D>(system, amg, work, sizes_out, SLIDING_AMG_CG)
+    amg_pool_sizes::<T, D>(system, amg, work, sizes_out, AmgSolve::SlidingCg)
 }
 
 /// [`dk_spring_solve_angle_sliding`]'s projected CG preconditioned by one V-cycle of the
@@ -1508,7 +1435,7 @@ pub(crate) fn dk_spring_solve_angle_sliding_amg<T: Real, const D: usize>(
     let r = out_one(report)?;
     let (base, pools) = amg_open(system, amg, pools)?;
     let system = angle_system::<T, D>(base, points, T::from_f64(o.epsilon))?;
-    let (h, scratch) = pools.hierarchy::<D>(system.base(), SLIDING_AMG_CG)?;
+    let (h, scratch) = pools.hierarchy::<D>(system.base(), AmgSolve::SlidingCg)?;
     // Values are written only after the probe and only by a successful solve.
     let rep = system.solve_angle_sliding_amg(&c, v, &h, &o.stopping(), scratch)?;
     *r = dk_spring_solve_report::of(rep);
