@@ -315,6 +315,39 @@ fn pipeline<'a, T: Real, const D: usize>(
     })
 }
 
+/// A one-call pipeline: reads the motion and the points, borrows the buffers every pipeline
+/// shares, runs `deform` (the kernel's pipeline on the points, the motion, the translations,
+/// rotations, scratch and output) and writes the origin it returns.
+fn run_pipeline<T: Real, const D: usize>(
+    points: In<'_, T>,
+    motion: In<'_, DkBoundaryMotion<T>>,
+    outs: [Out<'_, T>; 5],
+    index_scratch: Out<'_, u32>,
+    deform: impl FnOnce(
+        &[[T; D]],
+        &BoundaryMotion<'_, T, D>,
+        &mut [[T; D]],
+        &mut [Quat<T>],
+        &mut [T],
+        &mut [[T; D]],
+    ) -> deform_kernel::Result<[T; D]>,
+) -> Result<(), dk_status> {
+    let raw = read_raw(motion)?;
+    let points = read_points::<T, D>(points)?;
+    let b = pipeline::<T, D>(outs, index_scratch)?;
+    let (motion, _) = raw.view::<D>(b.index_scratch)?;
+    let origin = deform(
+        points,
+        &motion,
+        b.translations,
+        b.rotations,
+        b.scratch,
+        b.out,
+    )?;
+    write_optional(b.origin_out, origin);
+    Ok(())
+}
+
 /// A required boundary element list over `boundary_len` points (offsets and nodes in
 /// `index_base`; no elements is a length mismatch).
 fn required_elements<'a>(
@@ -447,15 +480,10 @@ pub(crate) fn dk_deform_idw<T: Real, const D: usize>(
     out: Out<'_, T>,
     origin_out: Out<'_, T>,
 ) -> Result<(), dk_status> {
-    let raw = read_raw(motion)?;
-    let points = read_points::<T, D>(points)?;
     let outs = [scratch, translations, rotations, out, origin_out];
-    let b = pipeline::<T, D>(outs, index_scratch)?;
-    let (motion, _) = raw.view::<D>(b.index_scratch)?;
-    let (t, q) = (b.translations, b.rotations);
-    let origin = deform_idw(points, &motion, exponent, t, q, b.scratch, b.out)?;
-    write_optional(b.origin_out, origin);
-    Ok(())
+    run_pipeline::<T, D>(points, motion, outs, index_scratch, |p, m, t, q, s, o| {
+        deform_idw(p, m, exponent, t, q, s, o)
+    })
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_tfi`] needs for a `ni × nj × nk` block with
@@ -505,15 +533,10 @@ pub(crate) fn dk_deform_tfi<T: Real, const D: usize>(
     origin_out: Out<'_, T>,
 ) -> Result<(), dk_status> {
     let (block, directions) = tfi_setup(ni, nj, nk, directions)?;
-    let raw = read_raw(motion)?;
-    let points = read_points::<T, D>(points)?;
     let outs = [scratch, translations, rotations, out, origin_out];
-    let b = pipeline::<T, D>(outs, index_scratch)?;
-    let (motion, _) = raw.view::<D>(b.index_scratch)?;
-    let (t, q) = (b.translations, b.rotations);
-    let origin = deform_tfi(&block, directions, points, &motion, t, q, b.scratch, b.out)?;
-    write_optional(b.origin_out, origin);
-    Ok(())
+    run_pipeline::<T, D>(points, motion, outs, index_scratch, |p, m, t, q, s, o| {
+        deform_tfi(&block, directions, p, m, t, q, s, o)
+    })
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_boundary_normals`] needs:
