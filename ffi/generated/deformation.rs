@@ -35,6 +35,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Dim};
 use crate::graph::dk_cells;
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
@@ -64,7 +65,7 @@ pub unsafe extern "C" fn dk_boundary_motion_default(out: *mut DkBoundaryMotion<f
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_boundary_motion_default::<f64>(out)
+    done(imp::dk_boundary_motion_default::<f64>(out))
 }
 
 /// `f32` twin of [`dk_boundary_motion_default`].
@@ -78,7 +79,7 @@ pub unsafe extern "C" fn dk_boundary_motion_default_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_boundary_motion_default::<f32>(out)
+    done(imp::dk_boundary_motion_default::<f32>(out))
 }
 
 /// Number of `uint32_t` entries the `index_scratch` of a pipeline needs for `*motion`:
@@ -102,7 +103,9 @@ pub unsafe extern "C" fn dk_boundary_motion_index_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (motion, len_out) = unsafe { (In::new(motion, 1), Out::new(len_out, 1)) };
-    imp::dk_boundary_motion_index_scratch_len::<f64>(motion, len_out)
+    done(imp::dk_boundary_motion_index_scratch_len::<f64>(
+        motion, len_out,
+    ))
 }
 
 /// `f32` twin of [`dk_boundary_motion_index_scratch_len`].
@@ -117,7 +120,9 @@ pub unsafe extern "C" fn dk_boundary_motion_index_scratch_len_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (motion, len_out) = unsafe { (In::new(motion, 1), Out::new(len_out, 1)) };
-    imp::dk_boundary_motion_index_scratch_len::<f32>(motion, len_out)
+    done(imp::dk_boundary_motion_index_scratch_len::<f32>(
+        motion, len_out,
+    ))
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_idw`] (and [`dk_deform_spring`]) needs for
@@ -141,7 +146,21 @@ pub unsafe extern "C" fn dk_deform_idw_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_deform_idw_scratch_len(node_count, boundary_len, dim, len_out)
+    match dim {
+        2 => done(imp::dk_deform_idw_scratch_len::<2>(
+            node_count,
+            boundary_len,
+            Dim,
+            len_out,
+        )),
+        3 => done(imp::dk_deform_idw_scratch_len::<3>(
+            node_count,
+            boundary_len,
+            Dim,
+            len_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The whole quaternion deformation with inverse-distance propagation (the kernel's
@@ -217,18 +236,33 @@ pub unsafe extern "C" fn dk_deform_idw(
             Out::new(origin_out, origin_out_len),
         )
     };
-    imp::dk_deform_idw::<f64>(
-        points,
-        dim,
-        motion,
-        exponent,
-        scratch,
-        index_scratch,
-        translations,
-        rotations,
-        out,
-        origin_out,
-    )
+    match dim {
+        2 => done(imp::dk_deform_idw::<f64, 2>(
+            points,
+            Dim,
+            motion,
+            exponent,
+            scratch,
+            index_scratch,
+            translations,
+            rotations,
+            out,
+            origin_out,
+        )),
+        3 => done(imp::dk_deform_idw::<f64, 3>(
+            points,
+            Dim,
+            motion,
+            exponent,
+            scratch,
+            index_scratch,
+            translations,
+            rotations,
+            out,
+            origin_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_deform_idw`].
@@ -269,18 +303,33 @@ pub unsafe extern "C" fn dk_deform_idw_f32(
             Out::new(origin_out, origin_out_len),
         )
     };
-    imp::dk_deform_idw::<f32>(
-        points,
-        dim,
-        motion,
-        exponent,
-        scratch,
-        index_scratch,
-        translations,
-        rotations,
-        out,
-        origin_out,
-    )
+    match dim {
+        2 => done(imp::dk_deform_idw::<f32, 2>(
+            points,
+            Dim,
+            motion,
+            exponent,
+            scratch,
+            index_scratch,
+            translations,
+            rotations,
+            out,
+            origin_out,
+        )),
+        3 => done(imp::dk_deform_idw::<f32, 3>(
+            points,
+            Dim,
+            motion,
+            exponent,
+            scratch,
+            index_scratch,
+            translations,
+            rotations,
+            out,
+            origin_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_tfi`] needs for a `ni × nj × nk` block with
@@ -306,7 +355,25 @@ pub unsafe extern "C" fn dk_deform_tfi_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_deform_tfi_scratch_len(ni, nj, nk, boundary_len, dim, len_out)
+    match dim {
+        2 => done(imp::dk_deform_tfi_scratch_len::<2>(
+            ni,
+            nj,
+            nk,
+            boundary_len,
+            Dim,
+            len_out,
+        )),
+        3 => done(imp::dk_deform_tfi_scratch_len::<3>(
+            ni,
+            nj,
+            nk,
+            boundary_len,
+            Dim,
+            len_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The whole quaternion deformation of a structured block with transfinite interpolation (the
@@ -373,21 +440,39 @@ pub unsafe extern "C" fn dk_deform_tfi(
             Out::new(origin_out, origin_out_len),
         )
     };
-    imp::dk_deform_tfi::<f64>(
-        ni,
-        nj,
-        nk,
-        directions,
-        points,
-        dim,
-        motion,
-        scratch,
-        index_scratch,
-        translations,
-        rotations,
-        out,
-        origin_out,
-    )
+    match dim {
+        2 => done(imp::dk_deform_tfi::<f64, 2>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            motion,
+            scratch,
+            index_scratch,
+            translations,
+            rotations,
+            out,
+            origin_out,
+        )),
+        3 => done(imp::dk_deform_tfi::<f64, 3>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            motion,
+            scratch,
+            index_scratch,
+            translations,
+            rotations,
+            out,
+            origin_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_deform_tfi`].
@@ -431,21 +516,39 @@ pub unsafe extern "C" fn dk_deform_tfi_f32(
             Out::new(origin_out, origin_out_len),
         )
     };
-    imp::dk_deform_tfi::<f32>(
-        ni,
-        nj,
-        nk,
-        directions,
-        points,
-        dim,
-        motion,
-        scratch,
-        index_scratch,
-        translations,
-        rotations,
-        out,
-        origin_out,
-    )
+    match dim {
+        2 => done(imp::dk_deform_tfi::<f32, 2>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            motion,
+            scratch,
+            index_scratch,
+            translations,
+            rotations,
+            out,
+            origin_out,
+        )),
+        3 => done(imp::dk_deform_tfi::<f32, 3>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            motion,
+            scratch,
+            index_scratch,
+            translations,
+            rotations,
+            out,
+            origin_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_boundary_normals`] needs:
@@ -465,7 +568,10 @@ pub unsafe extern "C" fn dk_deform_boundary_normals_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_deform_boundary_normals_scratch_len(boundary_len, len_out)
+    done(imp::dk_deform_boundary_normals_scratch_len(
+        boundary_len,
+        len_out,
+    ))
 }
 
 /// Area-weighted unit normals of a boundary at its nodes (the kernel's `boundary_normals`;
@@ -520,15 +626,27 @@ pub unsafe extern "C" fn dk_deform_boundary_normals(
             Out::new(normals, normals_len),
         )
     };
-    imp::dk_deform_boundary_normals::<f64>(
-        points,
-        dim,
-        elements,
-        index_base,
-        scratch,
-        index_scratch,
-        normals,
-    )
+    match dim {
+        2 => done(imp::dk_deform_boundary_normals::<f64, 2>(
+            points,
+            Dim,
+            elements,
+            index_base,
+            scratch,
+            index_scratch,
+            normals,
+        )),
+        3 => done(imp::dk_deform_boundary_normals::<f64, 3>(
+            points,
+            Dim,
+            elements,
+            index_base,
+            scratch,
+            index_scratch,
+            normals,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_deform_boundary_normals`].
@@ -560,15 +678,27 @@ pub unsafe extern "C" fn dk_deform_boundary_normals_f32(
             Out::new(normals, normals_len),
         )
     };
-    imp::dk_deform_boundary_normals::<f32>(
-        points,
-        dim,
-        elements,
-        index_base,
-        scratch,
-        index_scratch,
-        normals,
-    )
+    match dim {
+        2 => done(imp::dk_deform_boundary_normals::<f32, 2>(
+            points,
+            Dim,
+            elements,
+            index_base,
+            scratch,
+            index_scratch,
+            normals,
+        )),
+        3 => done(imp::dk_deform_boundary_normals::<f32, 3>(
+            points,
+            Dim,
+            elements,
+            index_base,
+            scratch,
+            index_scratch,
+            normals,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_boundary_rotations`] needs: `3 B` in 2D,
@@ -589,7 +719,19 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_deform_boundary_rotations_scratch_len(boundary_len, dim, len_out)
+    match dim {
+        2 => done(imp::dk_deform_boundary_rotations_scratch_len::<2>(
+            boundary_len,
+            Dim,
+            len_out,
+        )),
+        3 => done(imp::dk_deform_boundary_rotations_scratch_len::<3>(
+            boundary_len,
+            Dim,
+            len_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Per-node rotations of a boundary from its undeformed and deformed shapes (the kernel's
@@ -646,16 +788,29 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations(
             Out::new(rotations, rotations_len),
         )
     };
-    imp::dk_deform_boundary_rotations::<f64>(
-        undeformed,
-        deformed,
-        dim,
-        elements,
-        index_base,
-        scratch,
-        index_scratch,
-        rotations,
-    )
+    match dim {
+        2 => done(imp::dk_deform_boundary_rotations::<f64, 2>(
+            undeformed,
+            deformed,
+            Dim,
+            elements,
+            index_base,
+            scratch,
+            index_scratch,
+            rotations,
+        )),
+        3 => done(imp::dk_deform_boundary_rotations::<f64, 3>(
+            undeformed,
+            deformed,
+            Dim,
+            elements,
+            index_base,
+            scratch,
+            index_scratch,
+            rotations,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_deform_boundary_rotations`].
@@ -690,16 +845,29 @@ pub unsafe extern "C" fn dk_deform_boundary_rotations_f32(
             Out::new(rotations, rotations_len),
         )
     };
-    imp::dk_deform_boundary_rotations::<f32>(
-        undeformed,
-        deformed,
-        dim,
-        elements,
-        index_base,
-        scratch,
-        index_scratch,
-        rotations,
-    )
+    match dim {
+        2 => done(imp::dk_deform_boundary_rotations::<f32, 2>(
+            undeformed,
+            deformed,
+            Dim,
+            elements,
+            index_base,
+            scratch,
+            index_scratch,
+            rotations,
+        )),
+        3 => done(imp::dk_deform_boundary_rotations::<f32, 3>(
+            undeformed,
+            deformed,
+            Dim,
+            elements,
+            index_base,
+            scratch,
+            index_scratch,
+            rotations,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Fills `rotations` (`rotations_len` scalars, a multiple of 4) with copies of the rigid
@@ -723,7 +891,7 @@ pub unsafe extern "C" fn dk_deform_rigid_rotations(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (q, rotations) = unsafe { (In::new(q, 4), Out::new(rotations, rotations_len)) };
-    imp::dk_deform_rigid_rotations::<f64>(q, rotations)
+    done(imp::dk_deform_rigid_rotations::<f64>(q, rotations))
 }
 
 /// `f32` twin of [`dk_deform_rigid_rotations`].
@@ -739,7 +907,7 @@ pub unsafe extern "C" fn dk_deform_rigid_rotations_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (q, rotations) = unsafe { (In::new(q, 4), Out::new(rotations, rotations_len)) };
-    imp::dk_deform_rigid_rotations::<f32>(q, rotations)
+    done(imp::dk_deform_rigid_rotations::<f32>(q, rotations))
 }
 
 /// The default rotation origin (the kernel's `boundary_origin`): the centroid of the
@@ -779,7 +947,15 @@ pub unsafe extern "C" fn dk_deform_boundary_origin(
             Out::new(origin_out, origin_out_len),
         )
     };
-    imp::dk_deform_boundary_origin::<f64>(undeformed, deformed, dim, origin_out)
+    match dim {
+        2 => done(imp::dk_deform_boundary_origin::<f64, 2>(
+            undeformed, deformed, Dim, origin_out,
+        )),
+        3 => done(imp::dk_deform_boundary_origin::<f64, 3>(
+            undeformed, deformed, Dim, origin_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_deform_boundary_origin`].
@@ -805,7 +981,15 @@ pub unsafe extern "C" fn dk_deform_boundary_origin_f32(
             Out::new(origin_out, origin_out_len),
         )
     };
-    imp::dk_deform_boundary_origin::<f32>(undeformed, deformed, dim, origin_out)
+    match dim {
+        2 => done(imp::dk_deform_boundary_origin::<f32, 2>(
+            undeformed, deformed, Dim, origin_out,
+        )),
+        3 => done(imp::dk_deform_boundary_origin::<f32, 3>(
+            undeformed, deformed, Dim, origin_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The boundary translations `Δ_i = (r_i^d − o) − Q_i (r_i^u − o) Q_i*` about `origin` (the
@@ -853,14 +1037,25 @@ pub unsafe extern "C" fn dk_deform_boundary_translations(
             Out::new(translations, translations_len),
         )
     };
-    imp::dk_deform_boundary_translations::<f64>(
-        origin,
-        undeformed,
-        deformed,
-        dim,
-        rotations,
-        translations,
-    )
+    match dim {
+        2 => done(imp::dk_deform_boundary_translations::<f64, 2>(
+            origin,
+            undeformed,
+            deformed,
+            Dim,
+            rotations,
+            translations,
+        )),
+        3 => done(imp::dk_deform_boundary_translations::<f64, 3>(
+            origin,
+            undeformed,
+            deformed,
+            Dim,
+            rotations,
+            translations,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_deform_boundary_translations`].
@@ -892,14 +1087,25 @@ pub unsafe extern "C" fn dk_deform_boundary_translations_f32(
             Out::new(translations, translations_len),
         )
     };
-    imp::dk_deform_boundary_translations::<f32>(
-        origin,
-        undeformed,
-        deformed,
-        dim,
-        rotations,
-        translations,
-    )
+    match dim {
+        2 => done(imp::dk_deform_boundary_translations::<f32, 2>(
+            origin,
+            undeformed,
+            deformed,
+            Dim,
+            rotations,
+            translations,
+        )),
+        3 => done(imp::dk_deform_boundary_translations::<f32, 3>(
+            origin,
+            undeformed,
+            deformed,
+            Dim,
+            rotations,
+            translations,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Inverse-distance weighting of boundary translations and rotations into the rest of the
@@ -953,16 +1159,29 @@ pub unsafe extern "C" fn dk_deform_propagate_idw(
             Out::new(rotations, rotations_len),
         )
     };
-    imp::dk_deform_propagate_idw::<f64>(
-        points,
-        dim,
-        boundary,
-        index_base,
-        exponent,
-        index_scratch,
-        translations,
-        rotations,
-    )
+    match dim {
+        2 => done(imp::dk_deform_propagate_idw::<f64, 2>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            exponent,
+            index_scratch,
+            translations,
+            rotations,
+        )),
+        3 => done(imp::dk_deform_propagate_idw::<f64, 3>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            exponent,
+            index_scratch,
+            translations,
+            rotations,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_deform_propagate_idw`].
@@ -996,16 +1215,29 @@ pub unsafe extern "C" fn dk_deform_propagate_idw_f32(
             Out::new(rotations, rotations_len),
         )
     };
-    imp::dk_deform_propagate_idw::<f32>(
-        points,
-        dim,
-        boundary,
-        index_base,
-        exponent,
-        index_scratch,
-        translations,
-        rotations,
-    )
+    match dim {
+        2 => done(imp::dk_deform_propagate_idw::<f32, 2>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            exponent,
+            index_scratch,
+            translations,
+            rotations,
+        )),
+        3 => done(imp::dk_deform_propagate_idw::<f32, 3>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            exponent,
+            index_scratch,
+            translations,
+            rotations,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_propagate_tfi`] and
@@ -1029,7 +1261,15 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_deform_propagate_tfi_scratch_len(ni, nj, nk, dim, len_out)
+    match dim {
+        2 => done(imp::dk_deform_propagate_tfi_scratch_len::<2>(
+            ni, nj, nk, Dim, len_out,
+        )),
+        3 => done(imp::dk_deform_propagate_tfi_scratch_len::<3>(
+            ni, nj, nk, Dim, len_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Transfinite interpolation of translations and rotations from the faces of a structured
@@ -1081,17 +1321,31 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi(
             Out::new(rotations, rotations_len),
         )
     };
-    imp::dk_deform_propagate_tfi::<f64>(
-        ni,
-        nj,
-        nk,
-        directions,
-        points,
-        dim,
-        scratch,
-        translations,
-        rotations,
-    )
+    match dim {
+        2 => done(imp::dk_deform_propagate_tfi::<f64, 2>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            scratch,
+            translations,
+            rotations,
+        )),
+        3 => done(imp::dk_deform_propagate_tfi::<f64, 3>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            scratch,
+            translations,
+            rotations,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_deform_propagate_tfi`].
@@ -1124,17 +1378,31 @@ pub unsafe extern "C" fn dk_deform_propagate_tfi_f32(
             Out::new(rotations, rotations_len),
         )
     };
-    imp::dk_deform_propagate_tfi::<f32>(
-        ni,
-        nj,
-        nk,
-        directions,
-        points,
-        dim,
-        scratch,
-        translations,
-        rotations,
-    )
+    match dim {
+        2 => done(imp::dk_deform_propagate_tfi::<f32, 2>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            scratch,
+            translations,
+            rotations,
+        )),
+        3 => done(imp::dk_deform_propagate_tfi::<f32, 3>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            scratch,
+            translations,
+            rotations,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Plain displacement TFI (the kernel's `displacement_tfi`, Samareh eq. 1; for comparison
@@ -1175,16 +1443,29 @@ pub unsafe extern "C" fn dk_deform_displacement_tfi(
             Out::new(displacements, displacements_len),
         )
     };
-    imp::dk_deform_displacement_tfi::<f64>(
-        ni,
-        nj,
-        nk,
-        directions,
-        points,
-        dim,
-        scratch,
-        displacements,
-    )
+    match dim {
+        2 => done(imp::dk_deform_displacement_tfi::<f64, 2>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            scratch,
+            displacements,
+        )),
+        3 => done(imp::dk_deform_displacement_tfi::<f64, 3>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            scratch,
+            displacements,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_deform_displacement_tfi`].
@@ -1214,16 +1495,29 @@ pub unsafe extern "C" fn dk_deform_displacement_tfi_f32(
             Out::new(displacements, displacements_len),
         )
     };
-    imp::dk_deform_displacement_tfi::<f32>(
-        ni,
-        nj,
-        nk,
-        directions,
-        points,
-        dim,
-        scratch,
-        displacements,
-    )
+    match dim {
+        2 => done(imp::dk_deform_displacement_tfi::<f32, 2>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            scratch,
+            displacements,
+        )),
+        3 => done(imp::dk_deform_displacement_tfi::<f32, 3>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            scratch,
+            displacements,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Moves every mesh point by its translation and rotation (the kernel's `update_points`,
@@ -1285,18 +1579,33 @@ pub unsafe extern "C" fn dk_deform_update_points(
             Out::new(out, out_len),
         )
     };
-    imp::dk_deform_update_points::<f64>(
-        origin,
-        points,
-        dim,
-        translations,
-        rotations,
-        boundary,
-        index_base,
-        boundary_deformed,
-        index_scratch,
-        out,
-    )
+    match dim {
+        2 => done(imp::dk_deform_update_points::<f64, 2>(
+            origin,
+            points,
+            Dim,
+            translations,
+            rotations,
+            boundary,
+            index_base,
+            boundary_deformed,
+            index_scratch,
+            out,
+        )),
+        3 => done(imp::dk_deform_update_points::<f64, 3>(
+            origin,
+            points,
+            Dim,
+            translations,
+            rotations,
+            boundary,
+            index_base,
+            boundary_deformed,
+            index_scratch,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_deform_update_points`].
@@ -1338,18 +1647,33 @@ pub unsafe extern "C" fn dk_deform_update_points_f32(
             Out::new(out, out_len),
         )
     };
-    imp::dk_deform_update_points::<f32>(
-        origin,
-        points,
-        dim,
-        translations,
-        rotations,
-        boundary,
-        index_base,
-        boundary_deformed,
-        index_scratch,
-        out,
-    )
+    match dim {
+        2 => done(imp::dk_deform_update_points::<f32, 2>(
+            origin,
+            points,
+            Dim,
+            translations,
+            rotations,
+            boundary,
+            index_base,
+            boundary_deformed,
+            index_scratch,
+            out,
+        )),
+        3 => done(imp::dk_deform_update_points::<f32, 3>(
+            origin,
+            points,
+            Dim,
+            translations,
+            rotations,
+            boundary,
+            index_base,
+            boundary_deformed,
+            index_scratch,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Number of `uint32_t` entries the `scratch` of [`dk_deform_localize_nodes`] needs:
@@ -1373,13 +1697,13 @@ pub unsafe extern "C" fn dk_deform_localize_nodes_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_deform_localize_nodes_scratch_len(
+    done(imp::dk_deform_localize_nodes_scratch_len(
         node_count,
         boundary_len,
         global_len,
         index_base,
         len_out,
-    )
+    ))
 }
 
 /// Rewrites mesh node numbers as positions in `boundary` (the kernel's `localize_nodes`):
@@ -1428,7 +1752,9 @@ pub unsafe extern "C" fn dk_deform_localize_nodes(
             Out::new(local, local_len),
         )
     };
-    imp::dk_deform_localize_nodes(node_count, boundary, global, index_base, scratch, local)
+    done(imp::dk_deform_localize_nodes(
+        node_count, boundary, global, index_base, scratch, local,
+    ))
 }
 
 /// Sizes for [`dk_deform_spring`]: `*scratch_len_out` scalars of `scratch` (as
@@ -1464,14 +1790,14 @@ pub unsafe extern "C" fn dk_deform_spring_scratch_len(
             Out::new(values_len_out, 1),
         )
     };
-    imp::dk_deform_spring_scratch_len(
+    done(imp::dk_deform_spring_scratch_len(
         node_count,
         boundary_len,
         dim,
         options,
         scratch_len_out,
         values_len_out,
-    )
+    ))
 }
 
 /// Number of `uint32_t` entries the `index_scratch` of [`dk_deform_spring`] needs:
@@ -1494,7 +1820,9 @@ pub unsafe extern "C" fn dk_deform_spring_index_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (motion, len_out) = unsafe { (In::new(motion, 1), Out::new(len_out, 1)) };
-    imp::dk_deform_spring_index_scratch_len::<f64>(motion, node_count, len_out)
+    done(imp::dk_deform_spring_index_scratch_len::<f64>(
+        motion, node_count, len_out,
+    ))
 }
 
 /// `f32` twin of [`dk_deform_spring_index_scratch_len`].
@@ -1510,7 +1838,9 @@ pub unsafe extern "C" fn dk_deform_spring_index_scratch_len_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (motion, len_out) = unsafe { (In::new(motion, 1), Out::new(len_out, 1)) };
-    imp::dk_deform_spring_index_scratch_len::<f32>(motion, node_count, len_out)
+    done(imp::dk_deform_spring_index_scratch_len::<f32>(
+        motion, node_count, len_out,
+    ))
 }
 
 /// The whole quaternion deformation with linear-spring propagation (the kernel's
@@ -1607,21 +1937,39 @@ pub unsafe extern "C" fn dk_deform_spring(
             Out::new(report, 1),
         )
     };
-    imp::dk_deform_spring::<f64>(
-        points,
-        dim,
-        motion,
-        system,
-        options,
-        scratch,
-        values,
-        index_scratch,
-        translations,
-        rotations,
-        out,
-        origin_out,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_deform_spring::<f64, 2>(
+            points,
+            Dim,
+            motion,
+            system,
+            options,
+            scratch,
+            values,
+            index_scratch,
+            translations,
+            rotations,
+            out,
+            origin_out,
+            report,
+        )),
+        3 => done(imp::dk_deform_spring::<f64, 3>(
+            points,
+            Dim,
+            motion,
+            system,
+            options,
+            scratch,
+            values,
+            index_scratch,
+            translations,
+            rotations,
+            out,
+            origin_out,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_deform_spring`] (the options' tolerances and `omega` are rounded to
@@ -1684,21 +2032,39 @@ pub unsafe extern "C" fn dk_deform_spring_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_deform_spring::<f32>(
-        points,
-        dim,
-        motion,
-        system,
-        options,
-        scratch,
-        values,
-        index_scratch,
-        translations,
-        rotations,
-        out,
-        origin_out,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_deform_spring::<f32, 2>(
+            points,
+            Dim,
+            motion,
+            system,
+            options,
+            scratch,
+            values,
+            index_scratch,
+            translations,
+            rotations,
+            out,
+            origin_out,
+            report,
+        )),
+        3 => done(imp::dk_deform_spring::<f32, 3>(
+            points,
+            Dim,
+            motion,
+            system,
+            options,
+            scratch,
+            values,
+            index_scratch,
+            translations,
+            rotations,
+            out,
+            origin_out,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Number of scalars the packed `values` workspace of [`dk_deform_propagate_spring`] needs:
@@ -1722,7 +2088,9 @@ pub unsafe extern "C" fn dk_deform_propagate_spring_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
-    imp::dk_deform_propagate_spring_scratch_len(node_count, dim, options, len_out)
+    done(imp::dk_deform_propagate_spring_scratch_len(
+        node_count, dim, options, len_out,
+    ))
 }
 
 /// Propagates translations and rotations through a linear spring network (the kernel's
@@ -1782,16 +2150,29 @@ pub unsafe extern "C" fn dk_deform_propagate_spring(
             Out::new(report, 1),
         )
     };
-    imp::dk_deform_propagate_spring::<f64>(
-        system,
-        options,
-        dim,
-        index_scratch,
-        values,
-        translations,
-        rotations,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_deform_propagate_spring::<f64, 2>(
+            system,
+            options,
+            Dim,
+            index_scratch,
+            values,
+            translations,
+            rotations,
+            report,
+        )),
+        3 => done(imp::dk_deform_propagate_spring::<f64, 3>(
+            system,
+            options,
+            Dim,
+            index_scratch,
+            values,
+            translations,
+            rotations,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_deform_propagate_spring`].
@@ -1826,14 +2207,27 @@ pub unsafe extern "C" fn dk_deform_propagate_spring_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_deform_propagate_spring::<f32>(
-        system,
-        options,
-        dim,
-        index_scratch,
-        values,
-        translations,
-        rotations,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_deform_propagate_spring::<f32, 2>(
+            system,
+            options,
+            Dim,
+            index_scratch,
+            values,
+            translations,
+            rotations,
+            report,
+        )),
+        3 => done(imp::dk_deform_propagate_spring::<f32, 3>(
+            system,
+            options,
+            Dim,
+            index_scratch,
+            values,
+            translations,
+            rotations,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }

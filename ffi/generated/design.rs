@@ -25,6 +25,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Dim};
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
 use crate::status::dk_status;
@@ -47,7 +48,7 @@ pub unsafe extern "C" fn dk_design_hicks_henne_bump(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_design_hicks_henne_bump::<f64>(x, x_max, out)
+    done(imp::dk_design_hicks_henne_bump::<f64>(x, x_max, out))
 }
 
 /// `f32` twin of [`dk_design_hicks_henne_bump`].
@@ -63,7 +64,7 @@ pub unsafe extern "C" fn dk_design_hicks_henne_bump_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_design_hicks_henne_bump::<f32>(x, x_max, out)
+    done(imp::dk_design_hicks_henne_bump::<f32>(x, x_max, out))
 }
 
 /// Adds one `HICKS_HENNE` design variable (`DV_PARAM = (upper ? 1 : 0, x_max)`, `DV_VALUE ×
@@ -113,18 +114,33 @@ pub unsafe extern "C" fn dk_design_hicks_henne(
             Out::new(displacements, displacements_len),
         )
     };
-    imp::dk_design_hicks_henne::<f64>(
-        points,
-        dim,
-        nodes,
-        index_base,
-        index_scratch,
-        normals,
-        upper,
-        x_max,
-        amplitude,
-        displacements,
-    )
+    match dim {
+        2 => done(imp::dk_design_hicks_henne::<f64, 2>(
+            points,
+            Dim,
+            nodes,
+            index_base,
+            index_scratch,
+            normals,
+            upper,
+            x_max,
+            amplitude,
+            displacements,
+        )),
+        3 => done(imp::dk_design_hicks_henne::<f64, 3>(
+            points,
+            Dim,
+            nodes,
+            index_base,
+            index_scratch,
+            normals,
+            upper,
+            x_max,
+            amplitude,
+            displacements,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_design_hicks_henne`].
@@ -160,18 +176,33 @@ pub unsafe extern "C" fn dk_design_hicks_henne_f32(
             Out::new(displacements, displacements_len),
         )
     };
-    imp::dk_design_hicks_henne::<f32>(
-        points,
-        dim,
-        nodes,
-        index_base,
-        index_scratch,
-        normals,
-        upper,
-        x_max,
-        amplitude,
-        displacements,
-    )
+    match dim {
+        2 => done(imp::dk_design_hicks_henne::<f32, 2>(
+            points,
+            Dim,
+            nodes,
+            index_base,
+            index_scratch,
+            normals,
+            upper,
+            x_max,
+            amplitude,
+            displacements,
+        )),
+        3 => done(imp::dk_design_hicks_henne::<f32, 3>(
+            points,
+            Dim,
+            nodes,
+            index_base,
+            index_scratch,
+            normals,
+            upper,
+            x_max,
+            amplitude,
+            displacements,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Evaluates an FFD box (degrees `degree[0..dim]`, `control_points`) at every parametric
@@ -210,7 +241,23 @@ pub unsafe extern "C" fn dk_design_ffd_eval(
             Out::new(out, out_len),
         )
     };
-    imp::dk_design_ffd_eval::<f64>(degree, control_points, dim, params, out)
+    match dim {
+        2 => done(imp::dk_design_ffd_eval::<f64, 2>(
+            degree,
+            control_points,
+            Dim,
+            params,
+            out,
+        )),
+        3 => done(imp::dk_design_ffd_eval::<f64, 3>(
+            degree,
+            control_points,
+            Dim,
+            params,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_design_ffd_eval`].
@@ -239,7 +286,23 @@ pub unsafe extern "C" fn dk_design_ffd_eval_f32(
             Out::new(out, out_len),
         )
     };
-    imp::dk_design_ffd_eval::<f32>(degree, control_points, dim, params, out)
+    match dim {
+        2 => done(imp::dk_design_ffd_eval::<f32, 2>(
+            degree,
+            control_points,
+            Dim,
+            params,
+            out,
+        )),
+        3 => done(imp::dk_design_ffd_eval::<f32, 3>(
+            degree,
+            control_points,
+            Dim,
+            params,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// SU2's `SetCartesianCoord`: for each surface point p (node `nodes[p]` at parametric
@@ -292,17 +355,31 @@ pub unsafe extern "C" fn dk_design_ffd_displacements(
             Out::new(displacements, displacements_len),
         )
     };
-    imp::dk_design_ffd_displacements::<f64>(
-        degree,
-        control_points,
-        dim,
-        points,
-        nodes,
-        index_base,
-        index_scratch,
-        params,
-        displacements,
-    )
+    match dim {
+        2 => done(imp::dk_design_ffd_displacements::<f64, 2>(
+            degree,
+            control_points,
+            Dim,
+            points,
+            nodes,
+            index_base,
+            index_scratch,
+            params,
+            displacements,
+        )),
+        3 => done(imp::dk_design_ffd_displacements::<f64, 3>(
+            degree,
+            control_points,
+            Dim,
+            points,
+            nodes,
+            index_base,
+            index_scratch,
+            params,
+            displacements,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_design_ffd_displacements`].
@@ -341,17 +418,31 @@ pub unsafe extern "C" fn dk_design_ffd_displacements_f32(
             Out::new(displacements, displacements_len),
         )
     };
-    imp::dk_design_ffd_displacements::<f32>(
-        degree,
-        control_points,
-        dim,
-        points,
-        nodes,
-        index_base,
-        index_scratch,
-        params,
-        displacements,
-    )
+    match dim {
+        2 => done(imp::dk_design_ffd_displacements::<f32, 2>(
+            degree,
+            control_points,
+            Dim,
+            points,
+            nodes,
+            index_base,
+            index_scratch,
+            params,
+            displacements,
+        )),
+        3 => done(imp::dk_design_ffd_displacements::<f32, 3>(
+            degree,
+            control_points,
+            Dim,
+            points,
+            nodes,
+            index_base,
+            index_scratch,
+            params,
+            displacements,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Moved box minus original box at each of `params` into `displacements` (exactly zero where
@@ -392,14 +483,25 @@ pub unsafe extern "C" fn dk_design_ffd_displacements_between(
             Out::new(displacements, displacements_len),
         )
     };
-    imp::dk_design_ffd_displacements_between::<f64>(
-        degree,
-        original,
-        moved,
-        dim,
-        params,
-        displacements,
-    )
+    match dim {
+        2 => done(imp::dk_design_ffd_displacements_between::<f64, 2>(
+            degree,
+            original,
+            moved,
+            Dim,
+            params,
+            displacements,
+        )),
+        3 => done(imp::dk_design_ffd_displacements_between::<f64, 3>(
+            degree,
+            original,
+            moved,
+            Dim,
+            params,
+            displacements,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_design_ffd_displacements_between`].
@@ -431,14 +533,25 @@ pub unsafe extern "C" fn dk_design_ffd_displacements_between_f32(
             Out::new(displacements, displacements_len),
         )
     };
-    imp::dk_design_ffd_displacements_between::<f32>(
-        degree,
-        original,
-        moved,
-        dim,
-        params,
-        displacements,
-    )
+    match dim {
+        2 => done(imp::dk_design_ffd_displacements_between::<f32, 2>(
+            degree,
+            original,
+            moved,
+            Dim,
+            params,
+            displacements,
+        )),
+        3 => done(imp::dk_design_ffd_displacements_between::<f32, 3>(
+            degree,
+            original,
+            moved,
+            Dim,
+            params,
+            displacements,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Applies one SU2 FFD design variable (`kind`: `DK_FFD_CONTROL_POINT`, `_2D`, `DK_FFD_CAMBER`,
@@ -476,7 +589,13 @@ pub unsafe extern "C" fn dk_design_ffd_variable(
             In::new(values, 3),
         )
     };
-    imp::dk_design_ffd_variable::<f64>(kind, degree, control_points, index, values)
+    done(imp::dk_design_ffd_variable::<f64>(
+        kind,
+        degree,
+        control_points,
+        index,
+        values,
+    ))
 }
 
 /// `f32` twin of [`dk_design_ffd_variable`].
@@ -502,7 +621,13 @@ pub unsafe extern "C" fn dk_design_ffd_variable_f32(
             In::new(values, 3),
         )
     };
-    imp::dk_design_ffd_variable::<f32>(kind, degree, control_points, index, values)
+    done(imp::dk_design_ffd_variable::<f32>(
+        kind,
+        degree,
+        control_points,
+        index,
+        values,
+    ))
 }
 
 /// Applies one SU2 `FFD_TWIST` design variable to the control points of an always-3D SU2 box
@@ -550,7 +675,7 @@ pub unsafe extern "C" fn dk_design_ffd_twist(
             In::new(fixed_k, fixed_k_len),
         )
     };
-    imp::dk_design_ffd_twist::<f64>(
+    done(imp::dk_design_ffd_twist::<f64>(
         degree,
         control_points,
         j,
@@ -559,7 +684,7 @@ pub unsafe extern "C" fn dk_design_ffd_twist(
         ref_length,
         fixed_i,
         fixed_k,
-    )
+    ))
 }
 
 /// `f32` twin of [`dk_design_ffd_twist`].
@@ -591,7 +716,7 @@ pub unsafe extern "C" fn dk_design_ffd_twist_f32(
             In::new(fixed_k, fixed_k_len),
         )
     };
-    imp::dk_design_ffd_twist::<f32>(
+    done(imp::dk_design_ffd_twist::<f32>(
         degree,
         control_points,
         j,
@@ -600,5 +725,5 @@ pub unsafe extern "C" fn dk_design_ffd_twist_f32(
         ref_length,
         fixed_i,
         fixed_k,
-    )
+    ))
 }

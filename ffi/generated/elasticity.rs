@@ -18,6 +18,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Dim};
 use crate::graph::{dk_cells, dk_graph};
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
@@ -52,7 +53,13 @@ pub unsafe extern "C" fn dk_elasticity_graph_len(
             Out::new(len_out, 1),
         )
     };
-    imp::dk_elasticity_graph_len(node_count, cells, index_base, index_scratch, len_out)
+    done(imp::dk_elasticity_graph_len(
+        node_count,
+        cells,
+        index_base,
+        index_scratch,
+        len_out,
+    ))
 }
 
 /// Builds the graph of every pair of nodes that share a cell (the sparsity of the
@@ -94,7 +101,7 @@ pub unsafe extern "C" fn dk_elasticity_graph(
             Out::new(used_out, 1),
         )
     };
-    imp::dk_elasticity_graph(
+    done(imp::dk_elasticity_graph(
         node_count,
         cells,
         index_base,
@@ -102,7 +109,7 @@ pub unsafe extern "C" fn dk_elasticity_graph(
         offsets,
         targets,
         used_out,
-    )
+    ))
 }
 
 /// Scalars of `scratch` [`dk_elasticity_deform`] needs: `cell_count + dim²·(node_count +
@@ -126,7 +133,9 @@ pub unsafe extern "C" fn dk_elasticity_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_elasticity_scratch_len(node_count, cell_count, edge_count, dim, len_out)
+    done(imp::dk_elasticity_scratch_len(
+        node_count, cell_count, edge_count, dim, len_out,
+    ))
 }
 
 /// Fills `*out` with the default elasticity settings for f64: inverse-volume modulus,
@@ -145,7 +154,7 @@ pub unsafe extern "C" fn dk_elasticity_options_default(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_elasticity_options_default::<f64>(out)
+    done(imp::dk_elasticity_options_default::<f64>(out))
 }
 
 /// As [`dk_elasticity_options_default`] with the f32 default residual tolerance
@@ -160,7 +169,7 @@ pub unsafe extern "C" fn dk_elasticity_options_default_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_elasticity_options_default::<f32>(out)
+    done(imp::dk_elasticity_options_default::<f32>(out))
 }
 
 /// Moves a mesh by linear elasticity (SU2_DEF's method) in `options->steps` load increments:
@@ -236,20 +245,37 @@ pub unsafe extern "C" fn dk_elasticity_deform(
             Out::new(report, 1),
         )
     };
-    imp::dk_elasticity_deform::<f64>(
-        cells,
-        index_base,
-        index_scratch,
-        graph,
-        dim,
-        fixed,
-        options,
-        wall_distance,
-        displacement,
-        points,
-        scratch,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_elasticity_deform::<f64, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            options,
+            wall_distance,
+            displacement,
+            points,
+            scratch,
+            report,
+        )),
+        3 => done(imp::dk_elasticity_deform::<f64, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            options,
+            wall_distance,
+            displacement,
+            points,
+            scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_elasticity_deform`].
@@ -304,18 +330,35 @@ pub unsafe extern "C" fn dk_elasticity_deform_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_elasticity_deform::<f32>(
-        cells,
-        index_base,
-        index_scratch,
-        graph,
-        dim,
-        fixed,
-        options,
-        wall_distance,
-        displacement,
-        points,
-        scratch,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_elasticity_deform::<f32, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            options,
+            wall_distance,
+            displacement,
+            points,
+            scratch,
+            report,
+        )),
+        3 => done(imp::dk_elasticity_deform::<f32, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            options,
+            wall_distance,
+            displacement,
+            points,
+            scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }

@@ -20,6 +20,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Dim};
 use crate::elasticity::{dk_elasticity_options, dk_elasticity_report};
 use crate::graph::{dk_cells, dk_graph};
 use crate::pools::{dk_plan_sizes, DkPlanPools};
@@ -82,17 +83,31 @@ pub unsafe extern "C" fn dk_elasticity_amg_pool_sizes(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_elasticity_amg_pool_sizes(
-        cell_count,
-        graph,
-        dim,
-        fixed,
-        sliding,
-        amg,
-        work,
-        weight_scratch,
-        sizes_out,
-    )
+    match dim {
+        2 => done(imp::dk_elasticity_amg_pool_sizes::<2>(
+            cell_count,
+            graph,
+            Dim,
+            fixed,
+            sliding,
+            amg,
+            work,
+            weight_scratch,
+            sizes_out,
+        )),
+        3 => done(imp::dk_elasticity_amg_pool_sizes::<3>(
+            cell_count,
+            graph,
+            Dim,
+            fixed,
+            sliding,
+            amg,
+            work,
+            weight_scratch,
+            sizes_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `dk_elasticity_deform`'s motion with every increment solved by CG preconditioned with
@@ -173,21 +188,39 @@ pub unsafe extern "C" fn dk_elasticity_deform_amg(
             Out::new(report, 1),
         )
     };
-    imp::dk_elasticity_deform_amg::<f64>(
-        cells,
-        index_base,
-        index_scratch,
-        graph,
-        dim,
-        fixed,
-        options,
-        amg,
-        wall_distance,
-        displacement,
-        points,
-        pools,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_elasticity_deform_amg::<f64, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            options,
+            amg,
+            wall_distance,
+            displacement,
+            points,
+            pools,
+            report,
+        )),
+        3 => done(imp::dk_elasticity_deform_amg::<f64, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            options,
+            amg,
+            wall_distance,
+            displacement,
+            points,
+            pools,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_elasticity_deform_amg`].
@@ -244,21 +277,39 @@ pub unsafe extern "C" fn dk_elasticity_deform_amg_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_elasticity_deform_amg::<f32>(
-        cells,
-        index_base,
-        index_scratch,
-        graph,
-        dim,
-        fixed,
-        options,
-        amg,
-        wall_distance,
-        displacement,
-        points,
-        pools,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_elasticity_deform_amg::<f32, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            options,
+            amg,
+            wall_distance,
+            displacement,
+            points,
+            pools,
+            report,
+        )),
+        3 => done(imp::dk_elasticity_deform_amg::<f32, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            options,
+            amg,
+            wall_distance,
+            displacement,
+            points,
+            pools,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Scalars of `scratch` [`dk_elasticity_deform_sliding`] needs: `cell_count +
@@ -282,7 +333,9 @@ pub unsafe extern "C" fn dk_elasticity_sliding_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_elasticity_sliding_scratch_len(node_count, cell_count, edge_count, dim, len_out)
+    done(imp::dk_elasticity_sliding_scratch_len(
+        node_count, cell_count, edge_count, dim, len_out,
+    ))
 }
 
 /// `dk_elasticity_deform` with sliding nodes: `constraints` (as for
@@ -364,21 +417,39 @@ pub unsafe extern "C" fn dk_elasticity_deform_sliding(
             Out::new(report, 1),
         )
     };
-    imp::dk_elasticity_deform_sliding::<f64>(
-        cells,
-        index_base,
-        index_scratch,
-        graph,
-        dim,
-        fixed,
-        constraints,
-        options,
-        wall_distance,
-        displacement,
-        points,
-        scratch,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_elasticity_deform_sliding::<f64, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            constraints,
+            options,
+            wall_distance,
+            displacement,
+            points,
+            scratch,
+            report,
+        )),
+        3 => done(imp::dk_elasticity_deform_sliding::<f64, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            constraints,
+            options,
+            wall_distance,
+            displacement,
+            points,
+            scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_elasticity_deform_sliding`].
@@ -436,21 +507,39 @@ pub unsafe extern "C" fn dk_elasticity_deform_sliding_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_elasticity_deform_sliding::<f32>(
-        cells,
-        index_base,
-        index_scratch,
-        graph,
-        dim,
-        fixed,
-        constraints,
-        options,
-        wall_distance,
-        displacement,
-        points,
-        scratch,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_elasticity_deform_sliding::<f32, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            constraints,
+            options,
+            wall_distance,
+            displacement,
+            points,
+            scratch,
+            report,
+        )),
+        3 => done(imp::dk_elasticity_deform_sliding::<f32, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            constraints,
+            options,
+            wall_distance,
+            displacement,
+            points,
+            scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// [`dk_elasticity_deform_sliding`] with every increment solved by the rigid-mode multigrid
@@ -532,22 +621,41 @@ pub unsafe extern "C" fn dk_elasticity_deform_sliding_amg(
             Out::new(report, 1),
         )
     };
-    imp::dk_elasticity_deform_sliding_amg::<f64>(
-        cells,
-        index_base,
-        index_scratch,
-        graph,
-        dim,
-        fixed,
-        constraints,
-        options,
-        amg,
-        wall_distance,
-        displacement,
-        points,
-        pools,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_elasticity_deform_sliding_amg::<f64, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            constraints,
+            options,
+            amg,
+            wall_distance,
+            displacement,
+            points,
+            pools,
+            report,
+        )),
+        3 => done(imp::dk_elasticity_deform_sliding_amg::<f64, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            constraints,
+            options,
+            amg,
+            wall_distance,
+            displacement,
+            points,
+            pools,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_elasticity_deform_sliding_amg`].
@@ -607,20 +715,39 @@ pub unsafe extern "C" fn dk_elasticity_deform_sliding_amg_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_elasticity_deform_sliding_amg::<f32>(
-        cells,
-        index_base,
-        index_scratch,
-        graph,
-        dim,
-        fixed,
-        constraints,
-        options,
-        amg,
-        wall_distance,
-        displacement,
-        points,
-        pools,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_elasticity_deform_sliding_amg::<f32, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            constraints,
+            options,
+            amg,
+            wall_distance,
+            displacement,
+            points,
+            pools,
+            report,
+        )),
+        3 => done(imp::dk_elasticity_deform_sliding_amg::<f32, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            graph,
+            Dim,
+            fixed,
+            constraints,
+            options,
+            amg,
+            wall_distance,
+            displacement,
+            points,
+            pools,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }

@@ -20,6 +20,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::done;
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
 use crate::status::dk_status;
@@ -40,7 +41,7 @@ pub unsafe extern "C" fn dk_graph_from_edges_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_graph_from_edges_len(edges_len, len_out)
+    done(imp::dk_graph_from_edges_len(edges_len, len_out))
 }
 
 /// Builds the symmetric, sorted, deduplicated CSR graph of an undirected edge list.
@@ -127,7 +128,12 @@ pub unsafe extern "C" fn dk_cells_check(
             Out::new(index_scratch, index_scratch_len),
         )
     };
-    imp::dk_cells_check(node_count, cells, index_base, index_scratch)
+    done(imp::dk_cells_check(
+        node_count,
+        cells,
+        index_base,
+        index_scratch,
+    ))
 }
 
 /// Length `targets` needs for [`dk_graph_from_cells`] (validates the cells first;
@@ -160,14 +166,14 @@ pub unsafe extern "C" fn dk_graph_from_cells_len(
             Out::new(len_out, 1),
         )
     };
-    imp::dk_graph_from_cells_len(
+    done(imp::dk_graph_from_cells_len(
         node_count,
         cells,
         index_base,
         index_scratch,
         face_diagonals,
         len_out,
-    )
+    ))
 }
 
 /// Builds the edge graph of a mixed-element mesh (cell edges, plus quadrilateral-face
@@ -211,7 +217,7 @@ pub unsafe extern "C" fn dk_graph_from_cells(
             Out::new(used_out, 1),
         )
     };
-    imp::dk_graph_from_cells(
+    done(imp::dk_graph_from_cells(
         node_count,
         cells,
         index_base,
@@ -220,7 +226,7 @@ pub unsafe extern "C" fn dk_graph_from_cells(
         offsets,
         targets,
         used_out,
-    )
+    ))
 }
 
 /// Validates a 0-based CSR graph (`graph->offsets`: node count + 1 entries; `targets`); with
@@ -240,5 +246,5 @@ pub unsafe extern "C" fn dk_graph_check(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let graph = unsafe { In::new(graph, 1) };
-    imp::dk_graph_check(graph, require_symmetric)
+    done(imp::dk_graph_check(graph, require_symmetric))
 }

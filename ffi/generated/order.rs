@@ -18,6 +18,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Components, Dim};
 use crate::graph::dk_graph;
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
@@ -53,7 +54,7 @@ pub unsafe extern "C" fn dk_order_rcm(
             Out::new(inverse, inverse_len),
         )
     };
-    imp::dk_order_rcm(graph, order, inverse)
+    done(imp::dk_order_rcm(graph, order, inverse))
 }
 
 /// Hilbert-curve order of `points` (`node_count * dim` scalars, `dim` 2 or 3) into `order`
@@ -94,7 +95,15 @@ pub unsafe extern "C" fn dk_order_hilbert(
             Out::new(keys, keys_len),
         )
     };
-    imp::dk_order_hilbert::<f64>(points, dim, order, inverse, keys)
+    match dim {
+        2 => done(imp::dk_order_hilbert::<f64, 2>(
+            points, Dim, order, inverse, keys,
+        )),
+        3 => done(imp::dk_order_hilbert::<f64, 3>(
+            points, Dim, order, inverse, keys,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_order_hilbert`].
@@ -123,7 +132,15 @@ pub unsafe extern "C" fn dk_order_hilbert_f32(
             Out::new(keys, keys_len),
         )
     };
-    imp::dk_order_hilbert::<f32>(points, dim, order, inverse, keys)
+    match dim {
+        2 => done(imp::dk_order_hilbert::<f32, 2>(
+            points, Dim, order, inverse, keys,
+        )),
+        3 => done(imp::dk_order_hilbert::<f32, 3>(
+            points, Dim, order, inverse, keys,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Index distance across the graph's directed edges: the largest `|i - j|` (the bandwidth)
@@ -158,7 +175,7 @@ pub unsafe extern "C" fn dk_order_index_distance(
             Out::new(sum_out, 1),
         )
     };
-    imp::dk_order_index_distance(graph, perm, max_out, sum_out)
+    done(imp::dk_order_index_distance(graph, perm, max_out, sum_out))
 }
 
 /// Per-node values in the new numbering: `dst[new] = src[order[new]]`, `width` scalars a node
@@ -192,7 +209,16 @@ pub unsafe extern "C" fn dk_order_permute(
             Out::new(dst, dst_len),
         )
     };
-    imp::dk_order_permute::<f64>(perm, width, src, dst)
+    match width {
+        1 => done(imp::dk_order_permute::<f64, 1>(perm, Components, src, dst)),
+        2 => done(imp::dk_order_permute::<f64, 2>(perm, Components, src, dst)),
+        3 => done(imp::dk_order_permute::<f64, 3>(perm, Components, src, dst)),
+        4 => done(imp::dk_order_permute::<f64, 4>(perm, Components, src, dst)),
+        5 => done(imp::dk_order_permute::<f64, 5>(perm, Components, src, dst)),
+        6 => done(imp::dk_order_permute::<f64, 6>(perm, Components, src, dst)),
+        7 => done(imp::dk_order_permute::<f64, 7>(perm, Components, src, dst)),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_order_permute`].
@@ -217,7 +243,16 @@ pub unsafe extern "C" fn dk_order_permute_f32(
             Out::new(dst, dst_len),
         )
     };
-    imp::dk_order_permute::<f32>(perm, width, src, dst)
+    match width {
+        1 => done(imp::dk_order_permute::<f32, 1>(perm, Components, src, dst)),
+        2 => done(imp::dk_order_permute::<f32, 2>(perm, Components, src, dst)),
+        3 => done(imp::dk_order_permute::<f32, 3>(perm, Components, src, dst)),
+        4 => done(imp::dk_order_permute::<f32, 4>(perm, Components, src, dst)),
+        5 => done(imp::dk_order_permute::<f32, 5>(perm, Components, src, dst)),
+        6 => done(imp::dk_order_permute::<f32, 6>(perm, Components, src, dst)),
+        7 => done(imp::dk_order_permute::<f32, 7>(perm, Components, src, dst)),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Node indices in the new numbering, in place: `i` becomes `inverse[i]` (cell node lists,
@@ -242,7 +277,7 @@ pub unsafe extern "C" fn dk_order_renumber(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (perm, indices) = unsafe { (In::new(perm, 1), Out::new(indices, indices_len)) };
-    imp::dk_order_renumber(perm, index_base, indices)
+    done(imp::dk_order_renumber(perm, index_base, indices))
 }
 
 /// The graph in the new numbering into `offsets` (`node_count + 1` entries) and `targets`
@@ -283,7 +318,9 @@ pub unsafe extern "C" fn dk_order_permute_graph(
             Out::new(edge_map, edge_map_len),
         )
     };
-    imp::dk_order_permute_graph(perm, graph, offsets, targets, edge_map)
+    done(imp::dk_order_permute_graph(
+        perm, graph, offsets, targets, edge_map,
+    ))
 }
 
 /// `dst[k] = src[map[k]]` (per-edge data such as stiffness after `dk_order_permute_graph`,
@@ -316,7 +353,7 @@ pub unsafe extern "C" fn dk_order_gather(
             Out::new(dst, dst_len),
         )
     };
-    imp::dk_order_gather::<f64>(map, src, dst)
+    done(imp::dk_order_gather::<f64>(map, src, dst))
 }
 
 /// `f32` twin of [`dk_order_gather`].
@@ -341,5 +378,5 @@ pub unsafe extern "C" fn dk_order_gather_f32(
             Out::new(dst, dst_len),
         )
     };
-    imp::dk_order_gather::<f32>(map, src, dst)
+    done(imp::dk_order_gather::<f32>(map, src, dst))
 }

@@ -36,6 +36,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::done;
 use crate::graph::dk_cells;
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
@@ -75,14 +76,14 @@ pub unsafe extern "C" fn dk_partitioned_spring_scratch_len(
             Out::new(index_scratch_len_out, 1),
         )
     };
-    imp::dk_partitioned_spring_scratch_len(
+    done(imp::dk_partitioned_spring_scratch_len(
         partition,
         cells,
         face_diagonals,
         components,
         scratch_len_out,
         index_scratch_len_out,
-    )
+    ))
 }
 
 /// Solves the linear springs on distributed data: each process passes its partition, the
@@ -170,7 +171,7 @@ pub unsafe extern "C" fn dk_partitioned_spring_solve(
             Out::new(report, 1),
         )
     };
-    imp::dk_partitioned_spring_solve(
+    done(imp::dk_partitioned_spring_solve(
         partition,
         cells,
         face_diagonals,
@@ -185,5 +186,5 @@ pub unsafe extern "C" fn dk_partitioned_spring_solve(
         index_scratch,
         exchange,
         report,
-    )
+    ))
 }

@@ -21,6 +21,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Dim};
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
 use crate::status::dk_status;
@@ -48,7 +49,7 @@ pub unsafe extern "C" fn dk_plan_options_default(out: *mut dk_plan_options) -> d
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_plan_options_default::<f64>(out)
+    done(imp::dk_plan_options_default::<f64>(out))
 }
 
 /// As [`dk_plan_options_default`] with the f32 default residual tolerance (`100 ε_f32`).
@@ -60,7 +61,7 @@ pub unsafe extern "C" fn dk_plan_options_default_f32(out: *mut dk_plan_options) 
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_plan_options_default::<f32>(out)
+    done(imp::dk_plan_options_default::<f32>(out))
 }
 
 /// Lengths of the transient work buffers [`dk_plan_pool_sizes`] and [`dk_plan_init`] need for this
@@ -111,7 +112,15 @@ pub unsafe extern "C" fn dk_plan_work_sizes(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_plan_work_sizes::<f64>(mesh, dim, options, sizes_out)
+    match dim {
+        2 => done(imp::dk_plan_work_sizes::<f64, 2>(
+            mesh, Dim, options, sizes_out,
+        )),
+        3 => done(imp::dk_plan_work_sizes::<f64, 3>(
+            mesh, Dim, options, sizes_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_plan_work_sizes`].
@@ -134,7 +143,15 @@ pub unsafe extern "C" fn dk_plan_work_sizes_f32(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_plan_work_sizes::<f32>(mesh, dim, options, sizes_out)
+    match dim {
+        2 => done(imp::dk_plan_work_sizes::<f32, 2>(
+            mesh, Dim, options, sizes_out,
+        )),
+        3 => done(imp::dk_plan_work_sizes::<f32, 3>(
+            mesh, Dim, options, sizes_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The exact lengths of the three plan pools for this mesh: validates the mesh and options
@@ -170,7 +187,15 @@ pub unsafe extern "C" fn dk_plan_pool_sizes(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_plan_pool_sizes::<f64>(mesh, dim, options, work, sizes_out)
+    match dim {
+        2 => done(imp::dk_plan_pool_sizes::<f64, 2>(
+            mesh, Dim, options, work, sizes_out,
+        )),
+        3 => done(imp::dk_plan_pool_sizes::<f64, 3>(
+            mesh, Dim, options, work, sizes_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_plan_pool_sizes`].
@@ -195,7 +220,15 @@ pub unsafe extern "C" fn dk_plan_pool_sizes_f32(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_plan_pool_sizes::<f32>(mesh, dim, options, work, sizes_out)
+    match dim {
+        2 => done(imp::dk_plan_pool_sizes::<f32, 2>(
+            mesh, Dim, options, work, sizes_out,
+        )),
+        3 => done(imp::dk_plan_pool_sizes::<f32, 3>(
+            mesh, Dim, options, work, sizes_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Builds a plan in the pools `reals`, `indices`, `bytes` (each at least the length
@@ -240,7 +273,15 @@ pub unsafe extern "C" fn dk_plan_init(
             Out::new(info_out, 1),
         )
     };
-    imp::dk_plan_init::<f64>(mesh, dim, options, work, pools, info_out)
+    match dim {
+        2 => done(imp::dk_plan_init::<f64, 2>(
+            mesh, Dim, options, work, pools, info_out,
+        )),
+        3 => done(imp::dk_plan_init::<f64, 3>(
+            mesh, Dim, options, work, pools, info_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_plan_init`].
@@ -267,7 +308,15 @@ pub unsafe extern "C" fn dk_plan_init_f32(
             Out::new(info_out, 1),
         )
     };
-    imp::dk_plan_init::<f32>(mesh, dim, options, work, pools, info_out)
+    match dim {
+        2 => done(imp::dk_plan_init::<f32, 2>(
+            mesh, Dim, options, work, pools, info_out,
+        )),
+        3 => done(imp::dk_plan_init::<f32, 3>(
+            mesh, Dim, options, work, pools, info_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Checks that the pools hold a plan for this precision and `dim` (magic, version, counts,
@@ -292,7 +341,11 @@ pub unsafe extern "C" fn dk_plan_open(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (pools, info_out) = unsafe { (In::new(pools, 1), Out::new(info_out, 1)) };
-    imp::dk_plan_open::<f64>(pools, dim, info_out)
+    match dim {
+        2 => done(imp::dk_plan_open::<f64, 2>(pools, Dim, info_out)),
+        3 => done(imp::dk_plan_open::<f64, 3>(pools, Dim, info_out)),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_plan_open`].
@@ -308,7 +361,11 @@ pub unsafe extern "C" fn dk_plan_open_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (pools, info_out) = unsafe { (In::new(pools, 1), Out::new(info_out, 1)) };
-    imp::dk_plan_open::<f32>(pools, dim, info_out)
+    match dim {
+        2 => done(imp::dk_plan_open::<f32, 2>(pools, Dim, info_out)),
+        3 => done(imp::dk_plan_open::<f32, 3>(pools, Dim, info_out)),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// One time step: the new boundary positions in, the deformed mesh out (`out`: `N * dim`
@@ -374,17 +431,31 @@ pub unsafe extern "C" fn dk_plan_step(
             Out::new(report_out, 1),
         )
     };
-    imp::dk_plan_step::<f64>(
-        pools,
-        dim,
-        deformed,
-        rotation_source,
-        rotations,
-        origin,
-        start,
-        out,
-        report_out,
-    )
+    match dim {
+        2 => done(imp::dk_plan_step::<f64, 2>(
+            pools,
+            Dim,
+            deformed,
+            rotation_source,
+            rotations,
+            origin,
+            start,
+            out,
+            report_out,
+        )),
+        3 => done(imp::dk_plan_step::<f64, 3>(
+            pools,
+            Dim,
+            deformed,
+            rotation_source,
+            rotations,
+            origin,
+            start,
+            out,
+            report_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_plan_step`].
@@ -419,17 +490,31 @@ pub unsafe extern "C" fn dk_plan_step_f32(
             Out::new(report_out, 1),
         )
     };
-    imp::dk_plan_step::<f32>(
-        pools,
-        dim,
-        deformed,
-        rotation_source,
-        rotations,
-        origin,
-        start,
-        out,
-        report_out,
-    )
+    match dim {
+        2 => done(imp::dk_plan_step::<f32, 2>(
+            pools,
+            Dim,
+            deformed,
+            rotation_source,
+            rotations,
+            origin,
+            start,
+            out,
+            report_out,
+        )),
+        3 => done(imp::dk_plan_step::<f32, 3>(
+            pools,
+            Dim,
+            deformed,
+            rotation_source,
+            rotations,
+            origin,
+            start,
+            out,
+            report_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// [`dk_plan_work_sizes`] for a plan that renumbers its mesh for memory locality at init
@@ -463,7 +548,15 @@ pub unsafe extern "C" fn dk_plan_work_sizes_ordered(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_plan_work_sizes_ordered::<f64>(mesh, dim, options, renumber, sizes_out)
+    match dim {
+        2 => done(imp::dk_plan_work_sizes_ordered::<f64, 2>(
+            mesh, Dim, options, renumber, sizes_out,
+        )),
+        3 => done(imp::dk_plan_work_sizes_ordered::<f64, 3>(
+            mesh, Dim, options, renumber, sizes_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_plan_work_sizes_ordered`].
@@ -487,7 +580,15 @@ pub unsafe extern "C" fn dk_plan_work_sizes_ordered_f32(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_plan_work_sizes_ordered::<f32>(mesh, dim, options, renumber, sizes_out)
+    match dim {
+        2 => done(imp::dk_plan_work_sizes_ordered::<f32, 2>(
+            mesh, Dim, options, renumber, sizes_out,
+        )),
+        3 => done(imp::dk_plan_work_sizes_ordered::<f32, 3>(
+            mesh, Dim, options, renumber, sizes_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// [`dk_plan_pool_sizes`] for a plan that renumbers its mesh (`renumber` as
@@ -523,7 +624,15 @@ pub unsafe extern "C" fn dk_plan_pool_sizes_ordered(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_plan_pool_sizes_ordered::<f64>(mesh, dim, options, renumber, work, sizes_out)
+    match dim {
+        2 => done(imp::dk_plan_pool_sizes_ordered::<f64, 2>(
+            mesh, Dim, options, renumber, work, sizes_out,
+        )),
+        3 => done(imp::dk_plan_pool_sizes_ordered::<f64, 3>(
+            mesh, Dim, options, renumber, work, sizes_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_plan_pool_sizes_ordered`].
@@ -549,7 +658,15 @@ pub unsafe extern "C" fn dk_plan_pool_sizes_ordered_f32(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_plan_pool_sizes_ordered::<f32>(mesh, dim, options, renumber, work, sizes_out)
+    match dim {
+        2 => done(imp::dk_plan_pool_sizes_ordered::<f32, 2>(
+            mesh, Dim, options, renumber, work, sizes_out,
+        )),
+        3 => done(imp::dk_plan_pool_sizes_ordered::<f32, 3>(
+            mesh, Dim, options, renumber, work, sizes_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// [`dk_plan_init`] with the mesh renumbered for memory locality (`renumber`:
@@ -595,7 +712,15 @@ pub unsafe extern "C" fn dk_plan_init_ordered(
             Out::new(info_out, 1),
         )
     };
-    imp::dk_plan_init_ordered::<f64>(mesh, dim, options, renumber, work, pools, info_out)
+    match dim {
+        2 => done(imp::dk_plan_init_ordered::<f64, 2>(
+            mesh, Dim, options, renumber, work, pools, info_out,
+        )),
+        3 => done(imp::dk_plan_init_ordered::<f64, 3>(
+            mesh, Dim, options, renumber, work, pools, info_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_plan_init_ordered`].
@@ -623,5 +748,13 @@ pub unsafe extern "C" fn dk_plan_init_ordered_f32(
             Out::new(info_out, 1),
         )
     };
-    imp::dk_plan_init_ordered::<f32>(mesh, dim, options, renumber, work, pools, info_out)
+    match dim {
+        2 => done(imp::dk_plan_init_ordered::<f32, 2>(
+            mesh, Dim, options, renumber, work, pools, info_out,
+        )),
+        3 => done(imp::dk_plan_init_ordered::<f32, 3>(
+            mesh, Dim, options, renumber, work, pools, info_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }

@@ -27,6 +27,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Dim};
 use crate::graph::{dk_cells, dk_graph};
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
@@ -56,7 +57,15 @@ pub unsafe extern "C" fn dk_quality_cell_quality(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (corners, out) = unsafe { (In::new(corners, corners_len), Out::new(out, 1)) };
-    imp::dk_quality_cell_quality::<f64>(kind, corners, dim, out)
+    match dim {
+        2 => done(imp::dk_quality_cell_quality::<f64, 2>(
+            kind, corners, Dim, out,
+        )),
+        3 => done(imp::dk_quality_cell_quality::<f64, 3>(
+            kind, corners, Dim, out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_quality_cell_quality`].
@@ -74,7 +83,15 @@ pub unsafe extern "C" fn dk_quality_cell_quality_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (corners, out) = unsafe { (In::new(corners, corners_len), Out::new(out, 1)) };
-    imp::dk_quality_cell_quality::<f32>(kind, corners, dim, out)
+    match dim {
+        2 => done(imp::dk_quality_cell_quality::<f32, 2>(
+            kind, corners, Dim, out,
+        )),
+        3 => done(imp::dk_quality_cell_quality::<f32, 3>(
+            kind, corners, Dim, out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Signed area (`dim` 2) or volume (`dim` 3) of every cell into `out` (one scalar per cell).
@@ -116,7 +133,25 @@ pub unsafe extern "C" fn dk_quality_cell_measures(
             Out::new(out, out_len),
         )
     };
-    imp::dk_quality_cell_measures::<f64>(cells, index_base, index_scratch, points, dim, out)
+    match dim {
+        2 => done(imp::dk_quality_cell_measures::<f64, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            out,
+        )),
+        3 => done(imp::dk_quality_cell_measures::<f64, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_quality_cell_measures`].
@@ -145,7 +180,25 @@ pub unsafe extern "C" fn dk_quality_cell_measures_f32(
             Out::new(out, out_len),
         )
     };
-    imp::dk_quality_cell_measures::<f32>(cells, index_base, index_scratch, points, dim, out)
+    match dim {
+        2 => done(imp::dk_quality_cell_measures::<f32, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            out,
+        )),
+        3 => done(imp::dk_quality_cell_measures::<f32, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Smallest corner Jacobian of every cell into `out` (one scalar per cell), divided by the
@@ -184,15 +237,27 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians(
             Out::new(out, out_len),
         )
     };
-    imp::dk_quality_min_corner_jacobians::<f64>(
-        cells,
-        index_base,
-        index_scratch,
-        points,
-        dim,
-        scaled,
-        out,
-    )
+    match dim {
+        2 => done(imp::dk_quality_min_corner_jacobians::<f64, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            scaled,
+            out,
+        )),
+        3 => done(imp::dk_quality_min_corner_jacobians::<f64, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            scaled,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_quality_min_corner_jacobians`].
@@ -222,15 +287,27 @@ pub unsafe extern "C" fn dk_quality_min_corner_jacobians_f32(
             Out::new(out, out_len),
         )
     };
-    imp::dk_quality_min_corner_jacobians::<f32>(
-        cells,
-        index_base,
-        index_scratch,
-        points,
-        dim,
-        scaled,
-        out,
-    )
+    match dim {
+        2 => done(imp::dk_quality_min_corner_jacobians::<f32, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            scaled,
+            out,
+        )),
+        3 => done(imp::dk_quality_min_corner_jacobians::<f32, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            scaled,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Number of cells whose signed measure changed sign between `undeformed` and `deformed`
@@ -271,15 +348,27 @@ pub unsafe extern "C" fn dk_quality_inverted_cells(
             Out::new(count_out, 1),
         )
     };
-    imp::dk_quality_inverted_cells::<f64>(
-        cells,
-        index_base,
-        index_scratch,
-        undeformed,
-        deformed,
-        dim,
-        count_out,
-    )
+    match dim {
+        2 => done(imp::dk_quality_inverted_cells::<f64, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            undeformed,
+            deformed,
+            Dim,
+            count_out,
+        )),
+        3 => done(imp::dk_quality_inverted_cells::<f64, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            undeformed,
+            deformed,
+            Dim,
+            count_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_quality_inverted_cells`].
@@ -310,15 +399,27 @@ pub unsafe extern "C" fn dk_quality_inverted_cells_f32(
             Out::new(count_out, 1),
         )
     };
-    imp::dk_quality_inverted_cells::<f32>(
-        cells,
-        index_base,
-        index_scratch,
-        undeformed,
-        deformed,
-        dim,
-        count_out,
-    )
+    match dim {
+        2 => done(imp::dk_quality_inverted_cells::<f32, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            undeformed,
+            deformed,
+            Dim,
+            count_out,
+        )),
+        3 => done(imp::dk_quality_inverted_cells::<f32, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            undeformed,
+            deformed,
+            Dim,
+            count_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Number of cells with some corner Jacobian `≤ 0` (folded or inverted at a corner; also
@@ -355,7 +456,25 @@ pub unsafe extern "C" fn dk_quality_folded_cells(
             Out::new(count_out, 1),
         )
     };
-    imp::dk_quality_folded_cells::<f64>(cells, index_base, index_scratch, points, dim, count_out)
+    match dim {
+        2 => done(imp::dk_quality_folded_cells::<f64, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            count_out,
+        )),
+        3 => done(imp::dk_quality_folded_cells::<f64, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            count_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_quality_folded_cells`].
@@ -383,7 +502,25 @@ pub unsafe extern "C" fn dk_quality_folded_cells_f32(
             Out::new(count_out, 1),
         )
     };
-    imp::dk_quality_folded_cells::<f32>(cells, index_base, index_scratch, points, dim, count_out)
+    match dim {
+        2 => done(imp::dk_quality_folded_cells::<f32, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            count_out,
+        )),
+        3 => done(imp::dk_quality_folded_cells::<f32, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            count_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Scalars of `scratch` [`dk_quality_wall_angle_change`] (and [`dk_quality_compare`] with a
@@ -404,7 +541,9 @@ pub unsafe extern "C" fn dk_quality_wall_angle_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_quality_wall_angle_scratch_len(node_count, dim, len_out)
+    done(imp::dk_quality_wall_angle_scratch_len(
+        node_count, dim, len_out,
+    ))
 }
 
 /// Compares `deformed` against `undeformed` over the cells in one call: inverted and folded
@@ -463,18 +602,33 @@ pub unsafe extern "C" fn dk_quality_compare(
             Out::new(report, 1),
         )
     };
-    imp::dk_quality_compare::<f64>(
-        cells,
-        index_base,
-        index_scratch,
-        wall,
-        graph,
-        undeformed,
-        deformed,
-        dim,
-        scratch,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_quality_compare::<f64, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            wall,
+            graph,
+            undeformed,
+            deformed,
+            Dim,
+            scratch,
+            report,
+        )),
+        3 => done(imp::dk_quality_compare::<f64, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            wall,
+            graph,
+            undeformed,
+            deformed,
+            Dim,
+            scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_quality_compare`].
@@ -512,18 +666,33 @@ pub unsafe extern "C" fn dk_quality_compare_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_quality_compare::<f32>(
-        cells,
-        index_base,
-        index_scratch,
-        wall,
-        graph,
-        undeformed,
-        deformed,
-        dim,
-        scratch,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_quality_compare::<f32, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            wall,
+            graph,
+            undeformed,
+            deformed,
+            Dim,
+            scratch,
+            report,
+        )),
+        3 => done(imp::dk_quality_compare::<f32, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            wall,
+            graph,
+            undeformed,
+            deformed,
+            Dim,
+            scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Change of the first grid-line angle at a wall, in radians (boundary-layer orthogonality):
@@ -578,17 +747,31 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change(
             Out::new(out, 1),
         )
     };
-    imp::dk_quality_wall_angle_change::<f64>(
-        wall,
-        index_base,
-        index_scratch,
-        graph,
-        undeformed,
-        deformed,
-        dim,
-        scratch,
-        out,
-    )
+    match dim {
+        2 => done(imp::dk_quality_wall_angle_change::<f64, 2>(
+            wall,
+            index_base,
+            index_scratch,
+            graph,
+            undeformed,
+            deformed,
+            Dim,
+            scratch,
+            out,
+        )),
+        3 => done(imp::dk_quality_wall_angle_change::<f64, 3>(
+            wall,
+            index_base,
+            index_scratch,
+            graph,
+            undeformed,
+            deformed,
+            Dim,
+            scratch,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_quality_wall_angle_change`].
@@ -624,15 +807,29 @@ pub unsafe extern "C" fn dk_quality_wall_angle_change_f32(
             Out::new(out, 1),
         )
     };
-    imp::dk_quality_wall_angle_change::<f32>(
-        wall,
-        index_base,
-        index_scratch,
-        graph,
-        undeformed,
-        deformed,
-        dim,
-        scratch,
-        out,
-    )
+    match dim {
+        2 => done(imp::dk_quality_wall_angle_change::<f32, 2>(
+            wall,
+            index_base,
+            index_scratch,
+            graph,
+            undeformed,
+            deformed,
+            Dim,
+            scratch,
+            out,
+        )),
+        3 => done(imp::dk_quality_wall_angle_change::<f32, 3>(
+            wall,
+            index_base,
+            index_scratch,
+            graph,
+            undeformed,
+            deformed,
+            Dim,
+            scratch,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }

@@ -16,6 +16,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::done;
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
 use crate::status::dk_status;
@@ -35,7 +36,7 @@ pub unsafe extern "C" fn dk_quat_mul(a: *const f64, b: *const f64, out: *mut f64
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (a, b, out) = unsafe { (In::new(a, 4), In::new(b, 4), Out::new(out, 4)) };
-    imp::dk_quat_mul::<f64>(a, b, out)
+    done(imp::dk_quat_mul::<f64>(a, b, out))
 }
 
 /// `f32` twin of [`dk_quat_mul`].
@@ -47,7 +48,7 @@ pub unsafe extern "C" fn dk_quat_mul_f32(a: *const f32, b: *const f32, out: *mut
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (a, b, out) = unsafe { (In::new(a, 4), In::new(b, 4), Out::new(out, 4)) };
-    imp::dk_quat_mul::<f32>(a, b, out)
+    done(imp::dk_quat_mul::<f32>(a, b, out))
 }
 
 /// `out = q / |q|`; a zero quaternion gives `DK_ERR_ZERO_LENGTH`, never NaN.
@@ -126,7 +127,7 @@ pub unsafe extern "C" fn dk_quat_from_axis_angle(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (axis, out) = unsafe { (In::new(axis, 3), Out::new(out, 4)) };
-    imp::dk_quat_from_axis_angle::<f64>(axis, angle, out)
+    done(imp::dk_quat_from_axis_angle::<f64>(axis, angle, out))
 }
 
 /// `f32` twin of [`dk_quat_from_axis_angle`].
@@ -142,7 +143,7 @@ pub unsafe extern "C" fn dk_quat_from_axis_angle_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (axis, out) = unsafe { (In::new(axis, 3), Out::new(out, 4)) };
-    imp::dk_quat_from_axis_angle::<f32>(axis, angle, out)
+    done(imp::dk_quat_from_axis_angle::<f32>(axis, angle, out))
 }
 
 /// Axis (3 scalars, unit) and angle in `[0, π]` of the rotation `q` (normalised here).
@@ -165,7 +166,7 @@ pub unsafe extern "C" fn dk_quat_to_axis_angle(
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (q, axis_out, angle_out) =
         unsafe { (In::new(q, 4), Out::new(axis_out, 3), Out::new(angle_out, 1)) };
-    imp::dk_quat_to_axis_angle::<f64>(q, axis_out, angle_out)
+    done(imp::dk_quat_to_axis_angle::<f64>(q, axis_out, angle_out))
 }
 
 /// `f32` twin of [`dk_quat_to_axis_angle`].
@@ -182,7 +183,7 @@ pub unsafe extern "C" fn dk_quat_to_axis_angle_f32(
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (q, axis_out, angle_out) =
         unsafe { (In::new(q, 4), Out::new(axis_out, 3), Out::new(angle_out, 1)) };
-    imp::dk_quat_to_axis_angle::<f32>(q, axis_out, angle_out)
+    done(imp::dk_quat_to_axis_angle::<f32>(q, axis_out, angle_out))
 }
 
 /// Shortest rotation taking direction `from` to direction `to` (3 scalars each).
@@ -204,7 +205,7 @@ pub unsafe extern "C" fn dk_quat_rotation_arc(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (from, to, out) = unsafe { (In::new(from, 3), In::new(to, 3), Out::new(out, 4)) };
-    imp::dk_quat_rotation_arc::<f64>(from, to, out)
+    done(imp::dk_quat_rotation_arc::<f64>(from, to, out))
 }
 
 /// `f32` twin of [`dk_quat_rotation_arc`].
@@ -220,7 +221,7 @@ pub unsafe extern "C" fn dk_quat_rotation_arc_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (from, to, out) = unsafe { (In::new(from, 3), In::new(to, 3), Out::new(out, 4)) };
-    imp::dk_quat_rotation_arc::<f32>(from, to, out)
+    done(imp::dk_quat_rotation_arc::<f32>(from, to, out))
 }
 
 /// Rotates `points_len / 3` points `(x, y, z)` by `q` (normalised here) into `out`.
@@ -445,7 +446,7 @@ pub unsafe extern "C" fn dk_quat_average(
             Out::new(out, 4),
         )
     };
-    imp::dk_quat_average::<f64>(quats, weights, out)
+    done(imp::dk_quat_average::<f64>(quats, weights, out))
 }
 
 /// `f32` twin of [`dk_quat_average`].
@@ -469,5 +470,5 @@ pub unsafe extern "C" fn dk_quat_average_f32(
             Out::new(out, 4),
         )
     };
-    imp::dk_quat_average::<f32>(quats, weights, out)
+    done(imp::dk_quat_average::<f32>(quats, weights, out))
 }

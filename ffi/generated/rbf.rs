@@ -19,6 +19,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Dim};
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
 use crate::status::dk_status;
@@ -37,7 +38,7 @@ pub unsafe extern "C" fn dk_rbf_options_default(out: *mut dk_rbf_options) -> dk_
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_rbf_options_default(out)
+    done(imp::dk_rbf_options_default(out))
 }
 
 /// Scalars of `scratch` [`dk_rbf_deform`] needs (the same for both precisions): the dense
@@ -61,7 +62,7 @@ pub unsafe extern "C" fn dk_rbf_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
-    imp::dk_rbf_scratch_len(boundary_len, dim, options, len_out)
+    done(imp::dk_rbf_scratch_len(boundary_len, dim, options, len_out))
 }
 
 /// `uint32_t`s of `index_scratch` [`dk_rbf_deform`] needs: centres, pivots, flags, the
@@ -86,7 +87,13 @@ pub unsafe extern "C" fn dk_rbf_index_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
-    imp::dk_rbf_index_scratch_len(boundary_len, dim, index_base, options, len_out)
+    done(imp::dk_rbf_index_scratch_len(
+        boundary_len,
+        dim,
+        index_base,
+        options,
+        len_out,
+    ))
 }
 
 /// RBF deformation (the kernel's `rbf_deform`): interpolates the motion of the boundary
@@ -151,18 +158,33 @@ pub unsafe extern "C" fn dk_rbf_deform(
             Out::new(report, 1),
         )
     };
-    imp::dk_rbf_deform::<f64>(
-        points,
-        dim,
-        boundary,
-        index_base,
-        motion,
-        options,
-        index_scratch,
-        scratch,
-        displacements,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_rbf_deform::<f64, 2>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            motion,
+            options,
+            index_scratch,
+            scratch,
+            displacements,
+            report,
+        )),
+        3 => done(imp::dk_rbf_deform::<f64, 3>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            motion,
+            options,
+            index_scratch,
+            scratch,
+            displacements,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_rbf_deform`].
@@ -202,16 +224,31 @@ pub unsafe extern "C" fn dk_rbf_deform_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_rbf_deform::<f32>(
-        points,
-        dim,
-        boundary,
-        index_base,
-        motion,
-        options,
-        index_scratch,
-        scratch,
-        displacements,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_rbf_deform::<f32, 2>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            motion,
+            options,
+            index_scratch,
+            scratch,
+            displacements,
+            report,
+        )),
+        3 => done(imp::dk_rbf_deform::<f32, 3>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            motion,
+            options,
+            index_scratch,
+            scratch,
+            displacements,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }

@@ -32,6 +32,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Components, Dim};
 use crate::graph::dk_graph;
 use crate::pools::{dk_plan_sizes, DkPlanPools};
 #[allow(unused_imports)]
@@ -89,7 +90,15 @@ pub unsafe extern "C" fn dk_spring_batina_stiffness(
             Out::new(stiffness, stiffness_len),
         )
     };
-    imp::dk_spring_batina_stiffness::<f64>(graph, points, dim, exponent, stiffness)
+    match dim {
+        2 => done(imp::dk_spring_batina_stiffness::<f64, 2>(
+            graph, points, Dim, exponent, stiffness,
+        )),
+        3 => done(imp::dk_spring_batina_stiffness::<f64, 3>(
+            graph, points, Dim, exponent, stiffness,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_batina_stiffness`].
@@ -115,7 +124,15 @@ pub unsafe extern "C" fn dk_spring_batina_stiffness_f32(
             Out::new(stiffness, stiffness_len),
         )
     };
-    imp::dk_spring_batina_stiffness::<f32>(graph, points, dim, exponent, stiffness)
+    match dim {
+        2 => done(imp::dk_spring_batina_stiffness::<f32, 2>(
+            graph, points, Dim, exponent, stiffness,
+        )),
+        3 => done(imp::dk_spring_batina_stiffness::<f32, 3>(
+            graph, points, Dim, exponent, stiffness,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Length of the `uint32_t` `index_scratch` every spring solver and sweep needs to validate
@@ -135,7 +152,7 @@ pub unsafe extern "C" fn dk_spring_index_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_spring_index_scratch_len(node_count, len_out)
+    done(imp::dk_spring_index_scratch_len(node_count, len_out))
 }
 
 /// Fills `*out` with the default linear-spring settings for f64: CG with the Jacobi
@@ -155,7 +172,7 @@ pub unsafe extern "C" fn dk_spring_solve_options_default(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_spring_solve_options_default::<f64>(out)
+    done(imp::dk_spring_solve_options_default::<f64>(out))
 }
 
 /// As [`dk_spring_solve_options_default`] with the f32 default residual tolerance
@@ -170,7 +187,7 @@ pub unsafe extern "C" fn dk_spring_solve_options_default_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_spring_solve_options_default::<f32>(out)
+    done(imp::dk_spring_solve_options_default::<f32>(out))
 }
 
 /// Scalars of `scratch` [`dk_spring_solve_linear`] needs for `options->method`:
@@ -194,7 +211,9 @@ pub unsafe extern "C" fn dk_spring_solve_linear_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
-    imp::dk_spring_solve_linear_scratch_len(node_count, components, options, len_out)
+    done(imp::dk_spring_solve_linear_scratch_len(
+        node_count, components, options, len_out,
+    ))
 }
 
 /// Solves the linear springs for every free node, `Σ_j k_ij (x_j − x_i) = 0` per component
@@ -246,15 +265,72 @@ pub unsafe extern "C" fn dk_spring_solve_linear(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_linear::<f64>(
-        system,
-        options,
-        components,
-        values,
-        scratch,
-        index_scratch,
-        report,
-    )
+    match components {
+        1 => done(imp::dk_spring_solve_linear::<f64, 1>(
+            system,
+            options,
+            Components,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        2 => done(imp::dk_spring_solve_linear::<f64, 2>(
+            system,
+            options,
+            Components,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        3 => done(imp::dk_spring_solve_linear::<f64, 3>(
+            system,
+            options,
+            Components,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        4 => done(imp::dk_spring_solve_linear::<f64, 4>(
+            system,
+            options,
+            Components,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        5 => done(imp::dk_spring_solve_linear::<f64, 5>(
+            system,
+            options,
+            Components,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        6 => done(imp::dk_spring_solve_linear::<f64, 6>(
+            system,
+            options,
+            Components,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        7 => done(imp::dk_spring_solve_linear::<f64, 7>(
+            system,
+            options,
+            Components,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_solve_linear`].
@@ -286,15 +362,72 @@ pub unsafe extern "C" fn dk_spring_solve_linear_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_linear::<f32>(
-        system,
-        options,
-        components,
-        values,
-        scratch,
-        index_scratch,
-        report,
-    )
+    match components {
+        1 => done(imp::dk_spring_solve_linear::<f32, 1>(
+            system,
+            options,
+            Components,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        2 => done(imp::dk_spring_solve_linear::<f32, 2>(
+            system,
+            options,
+            Components,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        3 => done(imp::dk_spring_solve_linear::<f32, 3>(
+            system,
+            options,
+            Components,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        4 => done(imp::dk_spring_solve_linear::<f32, 4>(
+            system,
+            options,
+            Components,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        5 => done(imp::dk_spring_solve_linear::<f32, 5>(
+            system,
+            options,
+            Components,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        6 => done(imp::dk_spring_solve_linear::<f32, 6>(
+            system,
+            options,
+            Components,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        7 => done(imp::dk_spring_solve_linear::<f32, 7>(
+            system,
+            options,
+            Components,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// One Jacobi sweep of the linear springs over the nodes `nodes_start..nodes_end` (read with
@@ -341,17 +474,86 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep(
             Out::new(sweep, 1),
         )
     };
-    imp::dk_spring_jacobi_sweep::<f64>(
-        system,
-        nodes_start,
-        nodes_end,
-        index_base,
-        components,
-        src,
-        dst,
-        index_scratch,
-        sweep,
-    )
+    match components {
+        1 => done(imp::dk_spring_jacobi_sweep::<f64, 1>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        2 => done(imp::dk_spring_jacobi_sweep::<f64, 2>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        3 => done(imp::dk_spring_jacobi_sweep::<f64, 3>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        4 => done(imp::dk_spring_jacobi_sweep::<f64, 4>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        5 => done(imp::dk_spring_jacobi_sweep::<f64, 5>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        6 => done(imp::dk_spring_jacobi_sweep::<f64, 6>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        7 => done(imp::dk_spring_jacobi_sweep::<f64, 7>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_jacobi_sweep`].
@@ -384,17 +586,86 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_f32(
             Out::new(sweep, 1),
         )
     };
-    imp::dk_spring_jacobi_sweep::<f32>(
-        system,
-        nodes_start,
-        nodes_end,
-        index_base,
-        components,
-        src,
-        dst,
-        index_scratch,
-        sweep,
-    )
+    match components {
+        1 => done(imp::dk_spring_jacobi_sweep::<f32, 1>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        2 => done(imp::dk_spring_jacobi_sweep::<f32, 2>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        3 => done(imp::dk_spring_jacobi_sweep::<f32, 3>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        4 => done(imp::dk_spring_jacobi_sweep::<f32, 4>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        5 => done(imp::dk_spring_jacobi_sweep::<f32, 5>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        6 => done(imp::dk_spring_jacobi_sweep::<f32, 6>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        7 => done(imp::dk_spring_jacobi_sweep::<f32, 7>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// [`dk_spring_jacobi_sweep`], and the range's `Σ |r_i|²` as the words of an exact sum:
@@ -442,18 +713,93 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact(
             Out::new(residual_words, 72),
         )
     };
-    imp::dk_spring_jacobi_sweep_exact::<f64>(
-        system,
-        nodes_start,
-        nodes_end,
-        index_base,
-        components,
-        src,
-        dst,
-        index_scratch,
-        sweep,
-        residual_words,
-    )
+    match components {
+        1 => done(imp::dk_spring_jacobi_sweep_exact::<f64, 1>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+            residual_words,
+        )),
+        2 => done(imp::dk_spring_jacobi_sweep_exact::<f64, 2>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+            residual_words,
+        )),
+        3 => done(imp::dk_spring_jacobi_sweep_exact::<f64, 3>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+            residual_words,
+        )),
+        4 => done(imp::dk_spring_jacobi_sweep_exact::<f64, 4>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+            residual_words,
+        )),
+        5 => done(imp::dk_spring_jacobi_sweep_exact::<f64, 5>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+            residual_words,
+        )),
+        6 => done(imp::dk_spring_jacobi_sweep_exact::<f64, 6>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+            residual_words,
+        )),
+        7 => done(imp::dk_spring_jacobi_sweep_exact::<f64, 7>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+            residual_words,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_jacobi_sweep_exact`].
@@ -488,18 +834,93 @@ pub unsafe extern "C" fn dk_spring_jacobi_sweep_exact_f32(
             Out::new(residual_words, 72),
         )
     };
-    imp::dk_spring_jacobi_sweep_exact::<f32>(
-        system,
-        nodes_start,
-        nodes_end,
-        index_base,
-        components,
-        src,
-        dst,
-        index_scratch,
-        sweep,
-        residual_words,
-    )
+    match components {
+        1 => done(imp::dk_spring_jacobi_sweep_exact::<f32, 1>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+            residual_words,
+        )),
+        2 => done(imp::dk_spring_jacobi_sweep_exact::<f32, 2>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+            residual_words,
+        )),
+        3 => done(imp::dk_spring_jacobi_sweep_exact::<f32, 3>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+            residual_words,
+        )),
+        4 => done(imp::dk_spring_jacobi_sweep_exact::<f32, 4>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+            residual_words,
+        )),
+        5 => done(imp::dk_spring_jacobi_sweep_exact::<f32, 5>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+            residual_words,
+        )),
+        6 => done(imp::dk_spring_jacobi_sweep_exact::<f32, 6>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+            residual_words,
+        )),
+        7 => done(imp::dk_spring_jacobi_sweep_exact::<f32, 7>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            Components,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+            residual_words,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Rounds an exact sum given by its words (from [`dk_spring_jacobi_sweep_exact`], or the
@@ -518,7 +939,7 @@ pub unsafe extern "C" fn dk_exact_sum_value(words: *const i64, value_out: *mut f
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (words, value_out) = unsafe { (In::new(words, 72), Out::new(value_out, 1)) };
-    imp::dk_exact_sum_value(words, value_out)
+    done(imp::dk_exact_sum_value(words, value_out))
 }
 
 /// One in-place Gauss–Seidel (`omega` = 1) or SOR sweep of the linear springs over the nodes
@@ -561,17 +982,86 @@ pub unsafe extern "C" fn dk_spring_sor_sweep(
             Out::new(sweep, 1),
         )
     };
-    imp::dk_spring_sor_sweep::<f64>(
-        system,
-        nodes_start,
-        nodes_end,
-        index_base,
-        omega,
-        components,
-        values,
-        index_scratch,
-        sweep,
-    )
+    match components {
+        1 => done(imp::dk_spring_sor_sweep::<f64, 1>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            omega,
+            Components,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        2 => done(imp::dk_spring_sor_sweep::<f64, 2>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            omega,
+            Components,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        3 => done(imp::dk_spring_sor_sweep::<f64, 3>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            omega,
+            Components,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        4 => done(imp::dk_spring_sor_sweep::<f64, 4>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            omega,
+            Components,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        5 => done(imp::dk_spring_sor_sweep::<f64, 5>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            omega,
+            Components,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        6 => done(imp::dk_spring_sor_sweep::<f64, 6>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            omega,
+            Components,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        7 => done(imp::dk_spring_sor_sweep::<f64, 7>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            omega,
+            Components,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_sor_sweep`].
@@ -602,17 +1092,86 @@ pub unsafe extern "C" fn dk_spring_sor_sweep_f32(
             Out::new(sweep, 1),
         )
     };
-    imp::dk_spring_sor_sweep::<f32>(
-        system,
-        nodes_start,
-        nodes_end,
-        index_base,
-        omega,
-        components,
-        values,
-        index_scratch,
-        sweep,
-    )
+    match components {
+        1 => done(imp::dk_spring_sor_sweep::<f32, 1>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            omega,
+            Components,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        2 => done(imp::dk_spring_sor_sweep::<f32, 2>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            omega,
+            Components,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        3 => done(imp::dk_spring_sor_sweep::<f32, 3>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            omega,
+            Components,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        4 => done(imp::dk_spring_sor_sweep::<f32, 4>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            omega,
+            Components,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        5 => done(imp::dk_spring_sor_sweep::<f32, 5>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            omega,
+            Components,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        6 => done(imp::dk_spring_sor_sweep::<f32, 6>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            omega,
+            Components,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        7 => done(imp::dk_spring_sor_sweep::<f32, 7>(
+            system,
+            nodes_start,
+            nodes_end,
+            index_base,
+            omega,
+            Components,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The relative residual `‖b − A x‖₂ / ‖b‖₂` of a value field for the linear springs (the
@@ -648,7 +1207,58 @@ pub unsafe extern "C" fn dk_spring_relative_residual(
             Out::new(residual_out, 1),
         )
     };
-    imp::dk_spring_relative_residual::<f64>(system, components, values, index_scratch, residual_out)
+    match components {
+        1 => done(imp::dk_spring_relative_residual::<f64, 1>(
+            system,
+            Components,
+            values,
+            index_scratch,
+            residual_out,
+        )),
+        2 => done(imp::dk_spring_relative_residual::<f64, 2>(
+            system,
+            Components,
+            values,
+            index_scratch,
+            residual_out,
+        )),
+        3 => done(imp::dk_spring_relative_residual::<f64, 3>(
+            system,
+            Components,
+            values,
+            index_scratch,
+            residual_out,
+        )),
+        4 => done(imp::dk_spring_relative_residual::<f64, 4>(
+            system,
+            Components,
+            values,
+            index_scratch,
+            residual_out,
+        )),
+        5 => done(imp::dk_spring_relative_residual::<f64, 5>(
+            system,
+            Components,
+            values,
+            index_scratch,
+            residual_out,
+        )),
+        6 => done(imp::dk_spring_relative_residual::<f64, 6>(
+            system,
+            Components,
+            values,
+            index_scratch,
+            residual_out,
+        )),
+        7 => done(imp::dk_spring_relative_residual::<f64, 7>(
+            system,
+            Components,
+            values,
+            index_scratch,
+            residual_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_relative_residual`].
@@ -675,7 +1285,58 @@ pub unsafe extern "C" fn dk_spring_relative_residual_f32(
             Out::new(residual_out, 1),
         )
     };
-    imp::dk_spring_relative_residual::<f32>(system, components, values, index_scratch, residual_out)
+    match components {
+        1 => done(imp::dk_spring_relative_residual::<f32, 1>(
+            system,
+            Components,
+            values,
+            index_scratch,
+            residual_out,
+        )),
+        2 => done(imp::dk_spring_relative_residual::<f32, 2>(
+            system,
+            Components,
+            values,
+            index_scratch,
+            residual_out,
+        )),
+        3 => done(imp::dk_spring_relative_residual::<f32, 3>(
+            system,
+            Components,
+            values,
+            index_scratch,
+            residual_out,
+        )),
+        4 => done(imp::dk_spring_relative_residual::<f32, 4>(
+            system,
+            Components,
+            values,
+            index_scratch,
+            residual_out,
+        )),
+        5 => done(imp::dk_spring_relative_residual::<f32, 5>(
+            system,
+            Components,
+            values,
+            index_scratch,
+            residual_out,
+        )),
+        6 => done(imp::dk_spring_relative_residual::<f32, 6>(
+            system,
+            Components,
+            values,
+            index_scratch,
+            residual_out,
+        )),
+        7 => done(imp::dk_spring_relative_residual::<f32, 7>(
+            system,
+            Components,
+            values,
+            index_scratch,
+            residual_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Fills `*out` with the default angle-spring settings for f64: direct Gauss–Seidel,
@@ -694,7 +1355,7 @@ pub unsafe extern "C" fn dk_spring_angle_options_default(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_spring_angle_options_default::<f64>(out)
+    done(imp::dk_spring_angle_options_default::<f64>(out))
 }
 
 /// As [`dk_spring_angle_options_default`] with the f32 default residual tolerance.
@@ -708,7 +1369,7 @@ pub unsafe extern "C" fn dk_spring_angle_options_default_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_spring_angle_options_default::<f32>(out)
+    done(imp::dk_spring_angle_options_default::<f32>(out))
 }
 
 /// Scalars of `scratch` [`dk_spring_solve_angle`] needs: per node and coordinate, 1 for
@@ -732,7 +1393,9 @@ pub unsafe extern "C" fn dk_spring_solve_angle_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
-    imp::dk_spring_solve_angle_scratch_len::<f64>(node_count, dim, options, len_out)
+    done(imp::dk_spring_solve_angle_scratch_len::<f64>(
+        node_count, dim, options, len_out,
+    ))
 }
 
 /// `f32` twin of [`dk_spring_solve_angle_scratch_len`] (differs only when `epsilon` rounds to
@@ -750,7 +1413,9 @@ pub unsafe extern "C" fn dk_spring_solve_angle_scratch_len_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
-    imp::dk_spring_solve_angle_scratch_len::<f32>(node_count, dim, options, len_out)
+    done(imp::dk_spring_solve_angle_scratch_len::<f32>(
+        node_count, dim, options, len_out,
+    ))
 }
 
 /// Scalars of `scratch` [`dk_spring_angle_rigidity_probe`] needs: `4 * node_count * dim`.
@@ -770,7 +1435,9 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_spring_angle_rigidity_probe_scratch_len(node_count, dim, len_out)
+    done(imp::dk_spring_angle_rigidity_probe_scratch_len(
+        node_count, dim, len_out,
+    ))
 }
 
 /// Solves the angle-inclusion springs (Yang & Özgen §2.2) for the free nodes' displacements:
@@ -825,16 +1492,29 @@ pub unsafe extern "C" fn dk_spring_solve_angle(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_angle::<f64>(
-        system,
-        points,
-        dim,
-        options,
-        values,
-        scratch,
-        index_scratch,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_spring_solve_angle::<f64, 2>(
+            system,
+            points,
+            Dim,
+            options,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        3 => done(imp::dk_spring_solve_angle::<f64, 3>(
+            system,
+            points,
+            Dim,
+            options,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_solve_angle`].
@@ -869,16 +1549,29 @@ pub unsafe extern "C" fn dk_spring_solve_angle_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_angle::<f32>(
-        system,
-        points,
-        dim,
-        options,
-        values,
-        scratch,
-        index_scratch,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_spring_solve_angle::<f32, 2>(
+            system,
+            points,
+            Dim,
+            options,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        3 => done(imp::dk_spring_solve_angle::<f32, 3>(
+            system,
+            points,
+            Dim,
+            options,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// One Jacobi-order sweep of the angle-spring direct method over the nodes
@@ -929,19 +1622,35 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep(
             Out::new(sweep, 1),
         )
     };
-    imp::dk_spring_angle_jacobi_sweep::<f64>(
-        system,
-        points,
-        dim,
-        epsilon,
-        nodes_start,
-        nodes_end,
-        index_base,
-        src,
-        dst,
-        index_scratch,
-        sweep,
-    )
+    match dim {
+        2 => done(imp::dk_spring_angle_jacobi_sweep::<f64, 2>(
+            system,
+            points,
+            Dim,
+            epsilon,
+            nodes_start,
+            nodes_end,
+            index_base,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        3 => done(imp::dk_spring_angle_jacobi_sweep::<f64, 3>(
+            system,
+            points,
+            Dim,
+            epsilon,
+            nodes_start,
+            nodes_end,
+            index_base,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_angle_jacobi_sweep`].
@@ -978,19 +1687,35 @@ pub unsafe extern "C" fn dk_spring_angle_jacobi_sweep_f32(
             Out::new(sweep, 1),
         )
     };
-    imp::dk_spring_angle_jacobi_sweep::<f32>(
-        system,
-        points,
-        dim,
-        epsilon,
-        nodes_start,
-        nodes_end,
-        index_base,
-        src,
-        dst,
-        index_scratch,
-        sweep,
-    )
+    match dim {
+        2 => done(imp::dk_spring_angle_jacobi_sweep::<f32, 2>(
+            system,
+            points,
+            Dim,
+            epsilon,
+            nodes_start,
+            nodes_end,
+            index_base,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        3 => done(imp::dk_spring_angle_jacobi_sweep::<f32, 3>(
+            system,
+            points,
+            Dim,
+            epsilon,
+            nodes_start,
+            nodes_end,
+            index_base,
+            src,
+            dst,
+            index_scratch,
+            sweep,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// One in-place Gauss–Seidel-order sweep of the angle-spring direct method over the nodes
@@ -1035,18 +1760,33 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep(
             Out::new(sweep, 1),
         )
     };
-    imp::dk_spring_angle_gauss_seidel_sweep::<f64>(
-        system,
-        points,
-        dim,
-        epsilon,
-        nodes_start,
-        nodes_end,
-        index_base,
-        values,
-        index_scratch,
-        sweep,
-    )
+    match dim {
+        2 => done(imp::dk_spring_angle_gauss_seidel_sweep::<f64, 2>(
+            system,
+            points,
+            Dim,
+            epsilon,
+            nodes_start,
+            nodes_end,
+            index_base,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        3 => done(imp::dk_spring_angle_gauss_seidel_sweep::<f64, 3>(
+            system,
+            points,
+            Dim,
+            epsilon,
+            nodes_start,
+            nodes_end,
+            index_base,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_angle_gauss_seidel_sweep`].
@@ -1080,18 +1820,33 @@ pub unsafe extern "C" fn dk_spring_angle_gauss_seidel_sweep_f32(
             Out::new(sweep, 1),
         )
     };
-    imp::dk_spring_angle_gauss_seidel_sweep::<f32>(
-        system,
-        points,
-        dim,
-        epsilon,
-        nodes_start,
-        nodes_end,
-        index_base,
-        values,
-        index_scratch,
-        sweep,
-    )
+    match dim {
+        2 => done(imp::dk_spring_angle_gauss_seidel_sweep::<f32, 2>(
+            system,
+            points,
+            Dim,
+            epsilon,
+            nodes_start,
+            nodes_end,
+            index_base,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        3 => done(imp::dk_spring_angle_gauss_seidel_sweep::<f32, 3>(
+            system,
+            points,
+            Dim,
+            epsilon,
+            nodes_start,
+            nodes_end,
+            index_base,
+            values,
+            index_scratch,
+            sweep,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The rigidity probe of the angle springs: block-Jacobi CG on a deterministic pseudo-random
@@ -1138,15 +1893,27 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe(
             Out::new(amplification_out, 1),
         )
     };
-    imp::dk_spring_angle_rigidity_probe::<f64>(
-        system,
-        points,
-        dim,
-        options,
-        scratch,
-        index_scratch,
-        amplification_out,
-    )
+    match dim {
+        2 => done(imp::dk_spring_angle_rigidity_probe::<f64, 2>(
+            system,
+            points,
+            Dim,
+            options,
+            scratch,
+            index_scratch,
+            amplification_out,
+        )),
+        3 => done(imp::dk_spring_angle_rigidity_probe::<f64, 3>(
+            system,
+            points,
+            Dim,
+            options,
+            scratch,
+            index_scratch,
+            amplification_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_angle_rigidity_probe`].
@@ -1178,15 +1945,27 @@ pub unsafe extern "C" fn dk_spring_angle_rigidity_probe_f32(
             Out::new(amplification_out, 1),
         )
     };
-    imp::dk_spring_angle_rigidity_probe::<f32>(
-        system,
-        points,
-        dim,
-        options,
-        scratch,
-        index_scratch,
-        amplification_out,
-    )
+    match dim {
+        2 => done(imp::dk_spring_angle_rigidity_probe::<f32, 2>(
+            system,
+            points,
+            Dim,
+            options,
+            scratch,
+            index_scratch,
+            amplification_out,
+        )),
+        3 => done(imp::dk_spring_angle_rigidity_probe::<f32, 3>(
+            system,
+            points,
+            Dim,
+            options,
+            scratch,
+            index_scratch,
+            amplification_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Fills `*out` with the default multigrid options (the same for both precisions): θ = 0
@@ -1204,7 +1983,7 @@ pub unsafe extern "C" fn dk_amg_options_default(out: *mut dk_amg_options) -> dk_
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_amg_options_default(out)
+    done(imp::dk_amg_options_default(out))
 }
 
 /// Length of the `uint32_t` `work` buffer [`dk_spring_solve_linear_amg_pool_sizes`] and
@@ -1228,7 +2007,11 @@ pub unsafe extern "C" fn dk_spring_amg_work_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_spring_amg_work_len(node_count, directed_edges, len_out)
+    done(imp::dk_spring_amg_work_len(
+        node_count,
+        directed_edges,
+        len_out,
+    ))
 }
 
 /// The exact pool lengths [`dk_spring_solve_linear_amg`] needs for this system, `components`
@@ -1272,7 +2055,30 @@ pub unsafe extern "C" fn dk_spring_solve_linear_amg_pool_sizes(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_spring_solve_linear_amg_pool_sizes::<f64>(system, components, amg, work, sizes_out)
+    match components {
+        1 => done(imp::dk_spring_solve_linear_amg_pool_sizes::<f64, 1>(
+            system, Components, amg, work, sizes_out,
+        )),
+        2 => done(imp::dk_spring_solve_linear_amg_pool_sizes::<f64, 2>(
+            system, Components, amg, work, sizes_out,
+        )),
+        3 => done(imp::dk_spring_solve_linear_amg_pool_sizes::<f64, 3>(
+            system, Components, amg, work, sizes_out,
+        )),
+        4 => done(imp::dk_spring_solve_linear_amg_pool_sizes::<f64, 4>(
+            system, Components, amg, work, sizes_out,
+        )),
+        5 => done(imp::dk_spring_solve_linear_amg_pool_sizes::<f64, 5>(
+            system, Components, amg, work, sizes_out,
+        )),
+        6 => done(imp::dk_spring_solve_linear_amg_pool_sizes::<f64, 6>(
+            system, Components, amg, work, sizes_out,
+        )),
+        7 => done(imp::dk_spring_solve_linear_amg_pool_sizes::<f64, 7>(
+            system, Components, amg, work, sizes_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_solve_linear_amg_pool_sizes`].
@@ -1298,7 +2104,30 @@ pub unsafe extern "C" fn dk_spring_solve_linear_amg_pool_sizes_f32(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_spring_solve_linear_amg_pool_sizes::<f32>(system, components, amg, work, sizes_out)
+    match components {
+        1 => done(imp::dk_spring_solve_linear_amg_pool_sizes::<f32, 1>(
+            system, Components, amg, work, sizes_out,
+        )),
+        2 => done(imp::dk_spring_solve_linear_amg_pool_sizes::<f32, 2>(
+            system, Components, amg, work, sizes_out,
+        )),
+        3 => done(imp::dk_spring_solve_linear_amg_pool_sizes::<f32, 3>(
+            system, Components, amg, work, sizes_out,
+        )),
+        4 => done(imp::dk_spring_solve_linear_amg_pool_sizes::<f32, 4>(
+            system, Components, amg, work, sizes_out,
+        )),
+        5 => done(imp::dk_spring_solve_linear_amg_pool_sizes::<f32, 5>(
+            system, Components, amg, work, sizes_out,
+        )),
+        6 => done(imp::dk_spring_solve_linear_amg_pool_sizes::<f32, 6>(
+            system, Components, amg, work, sizes_out,
+        )),
+        7 => done(imp::dk_spring_solve_linear_amg_pool_sizes::<f32, 7>(
+            system, Components, amg, work, sizes_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// [`dk_spring_solve_linear`]'s problem solved by conjugate gradients preconditioned with one
@@ -1355,7 +2184,30 @@ pub unsafe extern "C" fn dk_spring_solve_linear_amg(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_linear_amg::<f64>(system, options, amg, components, values, pools, report)
+    match components {
+        1 => done(imp::dk_spring_solve_linear_amg::<f64, 1>(
+            system, options, amg, Components, values, pools, report,
+        )),
+        2 => done(imp::dk_spring_solve_linear_amg::<f64, 2>(
+            system, options, amg, Components, values, pools, report,
+        )),
+        3 => done(imp::dk_spring_solve_linear_amg::<f64, 3>(
+            system, options, amg, Components, values, pools, report,
+        )),
+        4 => done(imp::dk_spring_solve_linear_amg::<f64, 4>(
+            system, options, amg, Components, values, pools, report,
+        )),
+        5 => done(imp::dk_spring_solve_linear_amg::<f64, 5>(
+            system, options, amg, Components, values, pools, report,
+        )),
+        6 => done(imp::dk_spring_solve_linear_amg::<f64, 6>(
+            system, options, amg, Components, values, pools, report,
+        )),
+        7 => done(imp::dk_spring_solve_linear_amg::<f64, 7>(
+            system, options, amg, Components, values, pools, report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_solve_linear_amg`].
@@ -1385,7 +2237,30 @@ pub unsafe extern "C" fn dk_spring_solve_linear_amg_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_linear_amg::<f32>(system, options, amg, components, values, pools, report)
+    match components {
+        1 => done(imp::dk_spring_solve_linear_amg::<f32, 1>(
+            system, options, amg, Components, values, pools, report,
+        )),
+        2 => done(imp::dk_spring_solve_linear_amg::<f32, 2>(
+            system, options, amg, Components, values, pools, report,
+        )),
+        3 => done(imp::dk_spring_solve_linear_amg::<f32, 3>(
+            system, options, amg, Components, values, pools, report,
+        )),
+        4 => done(imp::dk_spring_solve_linear_amg::<f32, 4>(
+            system, options, amg, Components, values, pools, report,
+        )),
+        5 => done(imp::dk_spring_solve_linear_amg::<f32, 5>(
+            system, options, amg, Components, values, pools, report,
+        )),
+        6 => done(imp::dk_spring_solve_linear_amg::<f32, 6>(
+            system, options, amg, Components, values, pools, report,
+        )),
+        7 => done(imp::dk_spring_solve_linear_amg::<f32, 7>(
+            system, options, amg, Components, values, pools, report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The exact pool lengths [`dk_spring_solve_angle_amg`] needs for this system, `dim` (2 or 3)
@@ -1423,7 +2298,15 @@ pub unsafe extern "C" fn dk_spring_solve_angle_amg_pool_sizes(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_spring_solve_angle_amg_pool_sizes::<f64>(system, dim, amg, work, sizes_out)
+    match dim {
+        2 => done(imp::dk_spring_solve_angle_amg_pool_sizes::<f64, 2>(
+            system, Dim, amg, work, sizes_out,
+        )),
+        3 => done(imp::dk_spring_solve_angle_amg_pool_sizes::<f64, 3>(
+            system, Dim, amg, work, sizes_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_solve_angle_amg_pool_sizes`].
@@ -1449,7 +2332,15 @@ pub unsafe extern "C" fn dk_spring_solve_angle_amg_pool_sizes_f32(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_spring_solve_angle_amg_pool_sizes::<f32>(system, dim, amg, work, sizes_out)
+    match dim {
+        2 => done(imp::dk_spring_solve_angle_amg_pool_sizes::<f32, 2>(
+            system, Dim, amg, work, sizes_out,
+        )),
+        3 => done(imp::dk_spring_solve_angle_amg_pool_sizes::<f32, 3>(
+            system, Dim, amg, work, sizes_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// [`dk_spring_solve_angle`]'s problem (angle-inclusion springs) solved by its CG with one
@@ -1506,7 +2397,15 @@ pub unsafe extern "C" fn dk_spring_solve_angle_amg(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_angle_amg::<f64>(system, points, dim, options, amg, values, pools, report)
+    match dim {
+        2 => done(imp::dk_spring_solve_angle_amg::<f64, 2>(
+            system, points, Dim, options, amg, values, pools, report,
+        )),
+        3 => done(imp::dk_spring_solve_angle_amg::<f64, 3>(
+            system, points, Dim, options, amg, values, pools, report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_solve_angle_amg`].
@@ -1539,7 +2438,15 @@ pub unsafe extern "C" fn dk_spring_solve_angle_amg_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_angle_amg::<f32>(system, points, dim, options, amg, values, pools, report)
+    match dim {
+        2 => done(imp::dk_spring_solve_angle_amg::<f32, 2>(
+            system, points, Dim, options, amg, values, pools, report,
+        )),
+        3 => done(imp::dk_spring_solve_angle_amg::<f32, 3>(
+            system, points, Dim, options, amg, values, pools, report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Writes the fixed mask of the spring system a sliding solve needs: `mask[i]` = 1 where
@@ -1570,7 +2477,19 @@ pub unsafe extern "C" fn dk_constraints_fixed_mask(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (constraints, mask) = unsafe { (In::new(constraints, 1), Out::new(mask, mask_len)) };
-    imp::dk_constraints_fixed_mask::<f64>(constraints, dim, mask)
+    match dim {
+        2 => done(imp::dk_constraints_fixed_mask::<f64, 2>(
+            constraints,
+            Dim,
+            mask,
+        )),
+        3 => done(imp::dk_constraints_fixed_mask::<f64, 3>(
+            constraints,
+            Dim,
+            mask,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_constraints_fixed_mask`].
@@ -1587,7 +2506,19 @@ pub unsafe extern "C" fn dk_constraints_fixed_mask_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (constraints, mask) = unsafe { (In::new(constraints, 1), Out::new(mask, mask_len)) };
-    imp::dk_constraints_fixed_mask::<f32>(constraints, dim, mask)
+    match dim {
+        2 => done(imp::dk_constraints_fixed_mask::<f32, 2>(
+            constraints,
+            Dim,
+            mask,
+        )),
+        3 => done(imp::dk_constraints_fixed_mask::<f32, 3>(
+            constraints,
+            Dim,
+            mask,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Projects the motion of every sliding node onto its plane or line (the kernel's
@@ -1627,7 +2558,21 @@ pub unsafe extern "C" fn dk_slide_points(
             Out::new(points, points_len),
         )
     };
-    imp::dk_slide_points::<f64>(constraints, dim, original, points)
+    match dim {
+        2 => done(imp::dk_slide_points::<f64, 2>(
+            constraints,
+            Dim,
+            original,
+            points,
+        )),
+        3 => done(imp::dk_slide_points::<f64, 3>(
+            constraints,
+            Dim,
+            original,
+            points,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_slide_points`].
@@ -1652,7 +2597,21 @@ pub unsafe extern "C" fn dk_slide_points_f32(
             Out::new(points, points_len),
         )
     };
-    imp::dk_slide_points::<f32>(constraints, dim, original, points)
+    match dim {
+        2 => done(imp::dk_slide_points::<f32, 2>(
+            constraints,
+            Dim,
+            original,
+            points,
+        )),
+        3 => done(imp::dk_slide_points::<f32, 3>(
+            constraints,
+            Dim,
+            original,
+            points,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Fits a plane (3D) or line (2D) to the nodes `nodes` (read with `index_base`) of `points`
@@ -1713,18 +2672,33 @@ pub unsafe extern "C" fn dk_fit_plane(
             Out::new(extent_out, 1),
         )
     };
-    imp::dk_fit_plane::<f64>(
-        points,
-        dim,
-        nodes,
-        index_base,
-        tolerance,
-        index_scratch,
-        normal_out,
-        point_out,
-        residual_out,
-        extent_out,
-    )
+    match dim {
+        2 => done(imp::dk_fit_plane::<f64, 2>(
+            points,
+            Dim,
+            nodes,
+            index_base,
+            tolerance,
+            index_scratch,
+            normal_out,
+            point_out,
+            residual_out,
+            extent_out,
+        )),
+        3 => done(imp::dk_fit_plane::<f64, 3>(
+            points,
+            Dim,
+            nodes,
+            index_base,
+            tolerance,
+            index_scratch,
+            normal_out,
+            point_out,
+            residual_out,
+            extent_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_fit_plane`].
@@ -1762,18 +2736,33 @@ pub unsafe extern "C" fn dk_fit_plane_f32(
             Out::new(extent_out, 1),
         )
     };
-    imp::dk_fit_plane::<f32>(
-        points,
-        dim,
-        nodes,
-        index_base,
-        tolerance,
-        index_scratch,
-        normal_out,
-        point_out,
-        residual_out,
-        extent_out,
-    )
+    match dim {
+        2 => done(imp::dk_fit_plane::<f32, 2>(
+            points,
+            Dim,
+            nodes,
+            index_base,
+            tolerance,
+            index_scratch,
+            normal_out,
+            point_out,
+            residual_out,
+            extent_out,
+        )),
+        3 => done(imp::dk_fit_plane::<f32, 3>(
+            points,
+            Dim,
+            nodes,
+            index_base,
+            tolerance,
+            index_scratch,
+            normal_out,
+            point_out,
+            residual_out,
+            extent_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The unit tangent `(a × b) / |a × b|` of the line where two planes with normals `a` and `b`
@@ -1798,7 +2787,7 @@ pub unsafe extern "C" fn dk_plane_intersection(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (a, b, out) = unsafe { (In::new(a, 3), In::new(b, 3), Out::new(out, 3)) };
-    imp::dk_plane_intersection::<f64>(a, b, out)
+    done(imp::dk_plane_intersection::<f64>(a, b, out))
 }
 
 /// `f32` twin of [`dk_plane_intersection`].
@@ -1814,7 +2803,7 @@ pub unsafe extern "C" fn dk_plane_intersection_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (a, b, out) = unsafe { (In::new(a, 3), In::new(b, 3), Out::new(out, 3)) };
-    imp::dk_plane_intersection::<f32>(a, b, out)
+    done(imp::dk_plane_intersection::<f32>(a, b, out))
 }
 
 /// Scalars of `scratch` [`dk_spring_solve_linear_sliding`] needs for `options->method`:
@@ -1839,7 +2828,9 @@ pub unsafe extern "C" fn dk_spring_solve_linear_sliding_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
-    imp::dk_spring_solve_linear_sliding_scratch_len(node_count, dim, options, len_out)
+    done(imp::dk_spring_solve_linear_sliding_scratch_len(
+        node_count, dim, options, len_out,
+    ))
 }
 
 /// [`dk_spring_solve_linear`] with sliding nodes (symmetry planes; the kernel's
@@ -1900,16 +2891,29 @@ pub unsafe extern "C" fn dk_spring_solve_linear_sliding(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_linear_sliding::<f64>(
-        system,
-        constraints,
-        options,
-        dim,
-        values,
-        scratch,
-        index_scratch,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_spring_solve_linear_sliding::<f64, 2>(
+            system,
+            constraints,
+            options,
+            Dim,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        3 => done(imp::dk_spring_solve_linear_sliding::<f64, 3>(
+            system,
+            constraints,
+            options,
+            Dim,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_solve_linear_sliding`].
@@ -1943,16 +2947,29 @@ pub unsafe extern "C" fn dk_spring_solve_linear_sliding_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_linear_sliding::<f32>(
-        system,
-        constraints,
-        options,
-        dim,
-        values,
-        scratch,
-        index_scratch,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_spring_solve_linear_sliding::<f32, 2>(
+            system,
+            constraints,
+            options,
+            Dim,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        3 => done(imp::dk_spring_solve_linear_sliding::<f32, 3>(
+            system,
+            constraints,
+            options,
+            Dim,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Scalars of `scratch` [`dk_spring_solve_angle_sliding`] needs: per node and coordinate, 2
@@ -1976,7 +2993,9 @@ pub unsafe extern "C" fn dk_spring_solve_angle_sliding_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
-    imp::dk_spring_solve_angle_sliding_scratch_len::<f64>(node_count, dim, options, len_out)
+    done(imp::dk_spring_solve_angle_sliding_scratch_len::<f64>(
+        node_count, dim, options, len_out,
+    ))
 }
 
 /// `f32` twin of [`dk_spring_solve_angle_sliding_scratch_len`] (differs only when `epsilon`
@@ -1994,7 +3013,9 @@ pub unsafe extern "C" fn dk_spring_solve_angle_sliding_scratch_len_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
-    imp::dk_spring_solve_angle_sliding_scratch_len::<f32>(node_count, dim, options, len_out)
+    done(imp::dk_spring_solve_angle_sliding_scratch_len::<f32>(
+        node_count, dim, options, len_out,
+    ))
 }
 
 /// [`dk_spring_solve_angle`] with sliding nodes (the kernel's
@@ -2054,18 +3075,33 @@ pub unsafe extern "C" fn dk_spring_solve_angle_sliding(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_angle_sliding::<f64>(
-        system,
-        points,
-        dim,
-        constraints,
-        options,
-        omega,
-        values,
-        scratch,
-        index_scratch,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_spring_solve_angle_sliding::<f64, 2>(
+            system,
+            points,
+            Dim,
+            constraints,
+            options,
+            omega,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        3 => done(imp::dk_spring_solve_angle_sliding::<f64, 3>(
+            system,
+            points,
+            Dim,
+            constraints,
+            options,
+            omega,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_solve_angle_sliding`].
@@ -2103,18 +3139,33 @@ pub unsafe extern "C" fn dk_spring_solve_angle_sliding_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_angle_sliding::<f32>(
-        system,
-        points,
-        dim,
-        constraints,
-        options,
-        omega,
-        values,
-        scratch,
-        index_scratch,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_spring_solve_angle_sliding::<f32, 2>(
+            system,
+            points,
+            Dim,
+            constraints,
+            options,
+            omega,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        3 => done(imp::dk_spring_solve_angle_sliding::<f32, 3>(
+            system,
+            points,
+            Dim,
+            constraints,
+            options,
+            omega,
+            values,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The exact pool lengths [`dk_spring_solve_linear_sliding_amg`] needs for this system (built
@@ -2153,7 +3204,19 @@ pub unsafe extern "C" fn dk_spring_solve_linear_sliding_amg_pool_sizes(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_spring_solve_linear_sliding_amg_pool_sizes::<f64>(system, dim, amg, work, sizes_out)
+    match dim {
+        2 => done(
+            imp::dk_spring_solve_linear_sliding_amg_pool_sizes::<f64, 2>(
+                system, Dim, amg, work, sizes_out,
+            ),
+        ),
+        3 => done(
+            imp::dk_spring_solve_linear_sliding_amg_pool_sizes::<f64, 3>(
+                system, Dim, amg, work, sizes_out,
+            ),
+        ),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_solve_linear_sliding_amg_pool_sizes`].
@@ -2179,7 +3242,19 @@ pub unsafe extern "C" fn dk_spring_solve_linear_sliding_amg_pool_sizes_f32(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_spring_solve_linear_sliding_amg_pool_sizes::<f32>(system, dim, amg, work, sizes_out)
+    match dim {
+        2 => done(
+            imp::dk_spring_solve_linear_sliding_amg_pool_sizes::<f32, 2>(
+                system, Dim, amg, work, sizes_out,
+            ),
+        ),
+        3 => done(
+            imp::dk_spring_solve_linear_sliding_amg_pool_sizes::<f32, 3>(
+                system, Dim, amg, work, sizes_out,
+            ),
+        ),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// [`dk_spring_solve_linear_sliding`]'s problem solved by its projected CG preconditioned
@@ -2233,16 +3308,29 @@ pub unsafe extern "C" fn dk_spring_solve_linear_sliding_amg(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_linear_sliding_amg::<f64>(
-        system,
-        constraints,
-        options,
-        amg,
-        dim,
-        values,
-        pools,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_spring_solve_linear_sliding_amg::<f64, 2>(
+            system,
+            constraints,
+            options,
+            amg,
+            Dim,
+            values,
+            pools,
+            report,
+        )),
+        3 => done(imp::dk_spring_solve_linear_sliding_amg::<f64, 3>(
+            system,
+            constraints,
+            options,
+            amg,
+            Dim,
+            values,
+            pools,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_solve_linear_sliding_amg`].
@@ -2274,16 +3362,29 @@ pub unsafe extern "C" fn dk_spring_solve_linear_sliding_amg_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_linear_sliding_amg::<f32>(
-        system,
-        constraints,
-        options,
-        amg,
-        dim,
-        values,
-        pools,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_spring_solve_linear_sliding_amg::<f32, 2>(
+            system,
+            constraints,
+            options,
+            amg,
+            Dim,
+            values,
+            pools,
+            report,
+        )),
+        3 => done(imp::dk_spring_solve_linear_sliding_amg::<f32, 3>(
+            system,
+            constraints,
+            options,
+            amg,
+            Dim,
+            values,
+            pools,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The exact pool lengths [`dk_spring_solve_angle_sliding_amg`] needs: the same as
@@ -2320,7 +3421,15 @@ pub unsafe extern "C" fn dk_spring_solve_angle_sliding_amg_pool_sizes(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_spring_solve_angle_sliding_amg_pool_sizes::<f64>(system, dim, amg, work, sizes_out)
+    match dim {
+        2 => done(imp::dk_spring_solve_angle_sliding_amg_pool_sizes::<f64, 2>(
+            system, Dim, amg, work, sizes_out,
+        )),
+        3 => done(imp::dk_spring_solve_angle_sliding_amg_pool_sizes::<f64, 3>(
+            system, Dim, amg, work, sizes_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_solve_angle_sliding_amg_pool_sizes`].
@@ -2346,7 +3455,15 @@ pub unsafe extern "C" fn dk_spring_solve_angle_sliding_amg_pool_sizes_f32(
             Out::new(sizes_out, 1),
         )
     };
-    imp::dk_spring_solve_angle_sliding_amg_pool_sizes::<f32>(system, dim, amg, work, sizes_out)
+    match dim {
+        2 => done(imp::dk_spring_solve_angle_sliding_amg_pool_sizes::<f32, 2>(
+            system, Dim, amg, work, sizes_out,
+        )),
+        3 => done(imp::dk_spring_solve_angle_sliding_amg_pool_sizes::<f32, 3>(
+            system, Dim, amg, work, sizes_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// [`dk_spring_solve_angle_sliding`]'s projected CG preconditioned by one V-cycle of the
@@ -2403,17 +3520,31 @@ pub unsafe extern "C" fn dk_spring_solve_angle_sliding_amg(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_angle_sliding_amg::<f64>(
-        system,
-        points,
-        dim,
-        constraints,
-        options,
-        amg,
-        values,
-        pools,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_spring_solve_angle_sliding_amg::<f64, 2>(
+            system,
+            points,
+            Dim,
+            constraints,
+            options,
+            amg,
+            values,
+            pools,
+            report,
+        )),
+        3 => done(imp::dk_spring_solve_angle_sliding_amg::<f64, 3>(
+            system,
+            points,
+            Dim,
+            constraints,
+            options,
+            amg,
+            values,
+            pools,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_solve_angle_sliding_amg`].
@@ -2448,15 +3579,29 @@ pub unsafe extern "C" fn dk_spring_solve_angle_sliding_amg_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_spring_solve_angle_sliding_amg::<f32>(
-        system,
-        points,
-        dim,
-        constraints,
-        options,
-        amg,
-        values,
-        pools,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_spring_solve_angle_sliding_amg::<f32, 2>(
+            system,
+            points,
+            Dim,
+            constraints,
+            options,
+            amg,
+            values,
+            pools,
+            report,
+        )),
+        3 => done(imp::dk_spring_solve_angle_sliding_amg::<f32, 3>(
+            system,
+            points,
+            Dim,
+            constraints,
+            options,
+            amg,
+            values,
+            pools,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }

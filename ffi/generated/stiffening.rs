@@ -21,6 +21,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Dim};
 use crate::graph::{dk_cells, dk_graph};
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
@@ -69,7 +70,25 @@ pub unsafe extern "C" fn dk_spring_wall_distances(
             Out::new(out, out_len),
         )
     };
-    imp::dk_spring_wall_distances::<f64>(points, dim, wall, index_base, index_scratch, out)
+    match dim {
+        2 => done(imp::dk_spring_wall_distances::<f64, 2>(
+            points,
+            Dim,
+            wall,
+            index_base,
+            index_scratch,
+            out,
+        )),
+        3 => done(imp::dk_spring_wall_distances::<f64, 3>(
+            points,
+            Dim,
+            wall,
+            index_base,
+            index_scratch,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_wall_distances`].
@@ -99,7 +118,25 @@ pub unsafe extern "C" fn dk_spring_wall_distances_f32(
             Out::new(out, out_len),
         )
     };
-    imp::dk_spring_wall_distances::<f32>(points, dim, wall, index_base, index_scratch, out)
+    match dim {
+        2 => done(imp::dk_spring_wall_distances::<f32, 2>(
+            points,
+            Dim,
+            wall,
+            index_base,
+            index_scratch,
+            out,
+        )),
+        3 => done(imp::dk_spring_wall_distances::<f32, 3>(
+            points,
+            Dim,
+            wall,
+            index_base,
+            index_scratch,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Turns wall distances into stiffness factors in place (SU2's `WALL_DISTANCE`):
@@ -124,7 +161,9 @@ pub unsafe extern "C" fn dk_spring_wall_distance_factors(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let distances = unsafe { Out::new(distances, distances_len) };
-    imp::dk_spring_wall_distance_factors::<f64>(distances, exponent)
+    done(imp::dk_spring_wall_distance_factors::<f64>(
+        distances, exponent,
+    ))
 }
 
 /// `f32` twin of [`dk_spring_wall_distance_factors`].
@@ -140,7 +179,9 @@ pub unsafe extern "C" fn dk_spring_wall_distance_factors_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let distances = unsafe { Out::new(distances, distances_len) };
-    imp::dk_spring_wall_distance_factors::<f32>(distances, exponent)
+    done(imp::dk_spring_wall_distance_factors::<f32>(
+        distances, exponent,
+    ))
 }
 
 /// The dual volume of every node (each cell's absolute area or volume shared equally among
@@ -185,7 +226,27 @@ pub unsafe extern "C" fn dk_spring_dual_volumes(
             Out::new(scratch, scratch_len),
         )
     };
-    imp::dk_spring_dual_volumes::<f64>(cells, index_base, index_scratch, points, dim, out, scratch)
+    match dim {
+        2 => done(imp::dk_spring_dual_volumes::<f64, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            out,
+            scratch,
+        )),
+        3 => done(imp::dk_spring_dual_volumes::<f64, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            out,
+            scratch,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_spring_dual_volumes`].
@@ -217,7 +278,27 @@ pub unsafe extern "C" fn dk_spring_dual_volumes_f32(
             Out::new(scratch, scratch_len),
         )
     };
-    imp::dk_spring_dual_volumes::<f32>(cells, index_base, index_scratch, points, dim, out, scratch)
+    match dim {
+        2 => done(imp::dk_spring_dual_volumes::<f32, 2>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            out,
+            scratch,
+        )),
+        3 => done(imp::dk_spring_dual_volumes::<f32, 3>(
+            cells,
+            index_base,
+            index_scratch,
+            points,
+            Dim,
+            out,
+            scratch,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Turns dual volumes into stiffness factors in place (SU2's `INVERSE_VOLUME`):
@@ -239,7 +320,9 @@ pub unsafe extern "C" fn dk_spring_inverse_volume_factors(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let volumes = unsafe { Out::new(volumes, volumes_len) };
-    imp::dk_spring_inverse_volume_factors::<f64>(volumes, exponent)
+    done(imp::dk_spring_inverse_volume_factors::<f64>(
+        volumes, exponent,
+    ))
 }
 
 /// `f32` twin of [`dk_spring_inverse_volume_factors`].
@@ -255,7 +338,9 @@ pub unsafe extern "C" fn dk_spring_inverse_volume_factors_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let volumes = unsafe { Out::new(volumes, volumes_len) };
-    imp::dk_spring_inverse_volume_factors::<f32>(volumes, exponent)
+    done(imp::dk_spring_inverse_volume_factors::<f32>(
+        volumes, exponent,
+    ))
 }
 
 /// Multiplies every directed edge's stiffness by the mean factor of its two nodes, in place:
@@ -290,7 +375,9 @@ pub unsafe extern "C" fn dk_spring_scale_stiffness(
             Out::new(stiffness, stiffness_len),
         )
     };
-    imp::dk_spring_scale_stiffness::<f64>(graph, factors, stiffness)
+    done(imp::dk_spring_scale_stiffness::<f64>(
+        graph, factors, stiffness,
+    ))
 }
 
 /// `f32` twin of [`dk_spring_scale_stiffness`].
@@ -314,5 +401,7 @@ pub unsafe extern "C" fn dk_spring_scale_stiffness_f32(
             Out::new(stiffness, stiffness_len),
         )
     };
-    imp::dk_spring_scale_stiffness::<f32>(graph, factors, stiffness)
+    done(imp::dk_spring_scale_stiffness::<f32>(
+        graph, factors, stiffness,
+    ))
 }

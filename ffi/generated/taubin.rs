@@ -32,6 +32,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Components, Dim};
 use crate::graph::dk_graph;
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
@@ -54,7 +55,7 @@ pub unsafe extern "C" fn dk_taubin_params_paper(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (lambda_out, mu_out) = unsafe { (Out::new(lambda_out, 1), Out::new(mu_out, 1)) };
-    imp::dk_taubin_params_paper::<f64>(lambda_out, mu_out)
+    done(imp::dk_taubin_params_paper::<f64>(lambda_out, mu_out))
 }
 
 /// `f32` twin of [`dk_taubin_params_paper`].
@@ -69,7 +70,7 @@ pub unsafe extern "C" fn dk_taubin_params_paper_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (lambda_out, mu_out) = unsafe { (Out::new(lambda_out, 1), Out::new(mu_out, 1)) };
-    imp::dk_taubin_params_paper::<f32>(lambda_out, mu_out)
+    done(imp::dk_taubin_params_paper::<f32>(lambda_out, mu_out))
 }
 
 /// `λ` with `μ` from Taubin's pass-band relation `1/λ + 1/μ = pass_band`. Needs `λ > 0` and
@@ -93,7 +94,9 @@ pub unsafe extern "C" fn dk_taubin_params_from_pass_band(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (lambda_out, mu_out) = unsafe { (Out::new(lambda_out, 1), Out::new(mu_out, 1)) };
-    imp::dk_taubin_params_from_pass_band::<f64>(lambda, pass_band, lambda_out, mu_out)
+    done(imp::dk_taubin_params_from_pass_band::<f64>(
+        lambda, pass_band, lambda_out, mu_out,
+    ))
 }
 
 /// `f32` twin of [`dk_taubin_params_from_pass_band`].
@@ -110,7 +113,9 @@ pub unsafe extern "C" fn dk_taubin_params_from_pass_band_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (lambda_out, mu_out) = unsafe { (Out::new(lambda_out, 1), Out::new(mu_out, 1)) };
-    imp::dk_taubin_params_from_pass_band::<f32>(lambda, pass_band, lambda_out, mu_out)
+    done(imp::dk_taubin_params_from_pass_band::<f32>(
+        lambda, pass_band, lambda_out, mu_out,
+    ))
 }
 
 /// Fills `*out` with the paper's settings for lines along `direction` (0 = i, 1 = j, 2 = k):
@@ -132,7 +137,7 @@ pub unsafe extern "C" fn dk_smooth_arclength_options_default(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let out = unsafe { Out::new(out, 1) };
-    imp::dk_smooth_arclength_options_default(direction, out)
+    done(imp::dk_smooth_arclength_options_default(direction, out))
 }
 
 /// Scratch length (in scalars of the precision used) for [`dk_taubin_smooth_arclength`] with
@@ -159,7 +164,15 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (options, len_out) = unsafe { (In::new(options, 1), Out::new(len_out, 1)) };
-    imp::dk_taubin_smooth_arclength_scratch_len(ni, nj, nk, options, dim, len_out)
+    match dim {
+        2 => done(imp::dk_taubin_smooth_arclength_scratch_len::<2>(
+            ni, nj, nk, options, Dim, len_out,
+        )),
+        3 => done(imp::dk_taubin_smooth_arclength_scratch_len::<3>(
+            ni, nj, nk, options, Dim, len_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Smooths a structured grid along one family of lines, Alter's way: arclength along
@@ -205,7 +218,15 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength(
             Out::new(report, 1),
         )
     };
-    imp::dk_taubin_smooth_arclength::<f64>(ni, nj, nk, options, points, dim, scratch, report)
+    match dim {
+        2 => done(imp::dk_taubin_smooth_arclength::<f64, 2>(
+            ni, nj, nk, options, points, Dim, scratch, report,
+        )),
+        3 => done(imp::dk_taubin_smooth_arclength::<f64, 3>(
+            ni, nj, nk, options, points, Dim, scratch, report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_taubin_smooth_arclength`] (`options->lambda`, `mu` are rounded to
@@ -236,7 +257,15 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_taubin_smooth_arclength::<f32>(ni, nj, nk, options, points, dim, scratch, report)
+    match dim {
+        2 => done(imp::dk_taubin_smooth_arclength::<f32, 2>(
+            ni, nj, nk, options, points, Dim, scratch, report,
+        )),
+        3 => done(imp::dk_taubin_smooth_arclength::<f32, 3>(
+            ni, nj, nk, options, points, Dim, scratch, report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// [`dk_taubin_smooth_arclength`] with a choice of line ends: `free_faces` is a mask of
@@ -283,9 +312,15 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength_ends(
             Out::new(report, 1),
         )
     };
-    imp::dk_taubin_smooth_arclength_ends::<f64>(
-        ni, nj, nk, options, free_faces, points, dim, scratch, report,
-    )
+    match dim {
+        2 => done(imp::dk_taubin_smooth_arclength_ends::<f64, 2>(
+            ni, nj, nk, options, free_faces, points, Dim, scratch, report,
+        )),
+        3 => done(imp::dk_taubin_smooth_arclength_ends::<f64, 3>(
+            ni, nj, nk, options, free_faces, points, Dim, scratch, report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_taubin_smooth_arclength_ends`].
@@ -316,9 +351,15 @@ pub unsafe extern "C" fn dk_taubin_smooth_arclength_ends_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_taubin_smooth_arclength_ends::<f32>(
-        ni, nj, nk, options, free_faces, points, dim, scratch, report,
-    )
+    match dim {
+        2 => done(imp::dk_taubin_smooth_arclength_ends::<f32, 2>(
+            ni, nj, nk, options, free_faces, points, Dim, scratch, report,
+        )),
+        3 => done(imp::dk_taubin_smooth_arclength_ends::<f32, 3>(
+            ni, nj, nk, options, free_faces, points, Dim, scratch, report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Scratch length (in scalars) for [`dk_taubin_smooth_structured`]: the point count.
@@ -339,7 +380,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_taubin_smooth_structured_scratch_len(ni, nj, nk, len_out)
+    done(imp::dk_taubin_smooth_structured_scratch_len(
+        ni, nj, nk, len_out,
+    ))
 }
 
 /// Smooths a scalar field on a structured block (`ni·nj·nk` values, in place) with
@@ -384,9 +427,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured(
             Out::new(report, 1),
         )
     };
-    imp::dk_taubin_smooth_structured::<f64>(
+    done(imp::dk_taubin_smooth_structured::<f64>(
         ni, nj, nk, lambda, mu, iterations, options, field, scratch, report,
-    )
+    ))
 }
 
 /// `f32` twin of [`dk_taubin_smooth_structured`].
@@ -418,9 +461,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_taubin_smooth_structured::<f32>(
+    done(imp::dk_taubin_smooth_structured::<f32>(
         ni, nj, nk, lambda, mu, iterations, options, field, scratch, report,
-    )
+    ))
 }
 
 /// One Jacobi pass of the structured filter over `region` only: `dst = src + weight ·
@@ -469,7 +512,7 @@ pub unsafe extern "C" fn dk_taubin_structured_sweep(
             Out::new(max_change_out, 1),
         )
     };
-    imp::dk_taubin_structured_sweep::<f64>(
+    done(imp::dk_taubin_structured_sweep::<f64>(
         ni,
         nj,
         nk,
@@ -480,7 +523,7 @@ pub unsafe extern "C" fn dk_taubin_structured_sweep(
         index_base,
         dst,
         max_change_out,
-    )
+    ))
 }
 
 /// `f32` twin of [`dk_taubin_structured_sweep`].
@@ -513,7 +556,7 @@ pub unsafe extern "C" fn dk_taubin_structured_sweep_f32(
             Out::new(max_change_out, 1),
         )
     };
-    imp::dk_taubin_structured_sweep::<f32>(
+    done(imp::dk_taubin_structured_sweep::<f32>(
         ni,
         nj,
         nk,
@@ -524,7 +567,7 @@ pub unsafe extern "C" fn dk_taubin_structured_sweep_f32(
         index_base,
         dst,
         max_change_out,
-    )
+    ))
 }
 
 /// Scratch length (in scalars) for [`dk_taubin_smooth_structured_coarse`]: two coarse fields.
@@ -547,7 +590,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (coarse, len_out) = unsafe { (In::new(coarse, 1), Out::new(len_out, 1)) };
-    imp::dk_taubin_smooth_structured_coarse_scratch_len(ni, nj, nk, coarse, len_out)
+    done(imp::dk_taubin_smooth_structured_coarse_scratch_len(
+        ni, nj, nk, coarse, len_out,
+    ))
 }
 
 /// The coarse-grid variant of [`dk_taubin_smooth_structured`] (Alter's multi-grid step):
@@ -595,9 +640,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse(
             Out::new(report, 1),
         )
     };
-    imp::dk_taubin_smooth_structured_coarse::<f64>(
+    done(imp::dk_taubin_smooth_structured_coarse::<f64>(
         ni, nj, nk, coarse, lambda, mu, iterations, options, field, scratch, report,
-    )
+    ))
 }
 
 /// `f32` twin of [`dk_taubin_smooth_structured_coarse`].
@@ -631,9 +676,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_structured_coarse_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_taubin_smooth_structured_coarse::<f32>(
+    done(imp::dk_taubin_smooth_structured_coarse::<f32>(
         ni, nj, nk, coarse, lambda, mu, iterations, options, field, scratch, report,
-    )
+    ))
 }
 
 /// Scratch length (in scalars) for [`dk_taubin_smooth_graph`]: `node_count * components`
@@ -654,7 +699,9 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_taubin_smooth_graph_scratch_len(node_count, components, len_out)
+    done(imp::dk_taubin_smooth_graph_scratch_len(
+        node_count, components, len_out,
+    ))
 }
 
 /// Taubin fairing of per-node values on a CSR graph (the classic unstructured variant):
@@ -711,9 +758,30 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph(
             Out::new(report, 1),
         )
     };
-    imp::dk_taubin_smooth_graph::<f64>(
-        graph, weights, fixed, lambda, mu, iterations, components, values, scratch, report,
-    )
+    match components {
+        1 => done(imp::dk_taubin_smooth_graph::<f64, 1>(
+            graph, weights, fixed, lambda, mu, iterations, Components, values, scratch, report,
+        )),
+        2 => done(imp::dk_taubin_smooth_graph::<f64, 2>(
+            graph, weights, fixed, lambda, mu, iterations, Components, values, scratch, report,
+        )),
+        3 => done(imp::dk_taubin_smooth_graph::<f64, 3>(
+            graph, weights, fixed, lambda, mu, iterations, Components, values, scratch, report,
+        )),
+        4 => done(imp::dk_taubin_smooth_graph::<f64, 4>(
+            graph, weights, fixed, lambda, mu, iterations, Components, values, scratch, report,
+        )),
+        5 => done(imp::dk_taubin_smooth_graph::<f64, 5>(
+            graph, weights, fixed, lambda, mu, iterations, Components, values, scratch, report,
+        )),
+        6 => done(imp::dk_taubin_smooth_graph::<f64, 6>(
+            graph, weights, fixed, lambda, mu, iterations, Components, values, scratch, report,
+        )),
+        7 => done(imp::dk_taubin_smooth_graph::<f64, 7>(
+            graph, weights, fixed, lambda, mu, iterations, Components, values, scratch, report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_taubin_smooth_graph`].
@@ -749,9 +817,30 @@ pub unsafe extern "C" fn dk_taubin_smooth_graph_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_taubin_smooth_graph::<f32>(
-        graph, weights, fixed, lambda, mu, iterations, components, values, scratch, report,
-    )
+    match components {
+        1 => done(imp::dk_taubin_smooth_graph::<f32, 1>(
+            graph, weights, fixed, lambda, mu, iterations, Components, values, scratch, report,
+        )),
+        2 => done(imp::dk_taubin_smooth_graph::<f32, 2>(
+            graph, weights, fixed, lambda, mu, iterations, Components, values, scratch, report,
+        )),
+        3 => done(imp::dk_taubin_smooth_graph::<f32, 3>(
+            graph, weights, fixed, lambda, mu, iterations, Components, values, scratch, report,
+        )),
+        4 => done(imp::dk_taubin_smooth_graph::<f32, 4>(
+            graph, weights, fixed, lambda, mu, iterations, Components, values, scratch, report,
+        )),
+        5 => done(imp::dk_taubin_smooth_graph::<f32, 5>(
+            graph, weights, fixed, lambda, mu, iterations, Components, values, scratch, report,
+        )),
+        6 => done(imp::dk_taubin_smooth_graph::<f32, 6>(
+            graph, weights, fixed, lambda, mu, iterations, Components, values, scratch, report,
+        )),
+        7 => done(imp::dk_taubin_smooth_graph::<f32, 7>(
+            graph, weights, fixed, lambda, mu, iterations, Components, values, scratch, report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// One Jacobi pass of the graph filter over the nodes `nodes_start..nodes_end` only:
@@ -803,19 +892,100 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep(
             Out::new(max_change_out, 1),
         )
     };
-    imp::dk_taubin_graph_sweep::<f64>(
-        graph,
-        weights,
-        fixed,
-        src,
-        components,
-        weight,
-        nodes_start,
-        nodes_end,
-        index_base,
-        dst,
-        max_change_out,
-    )
+    match components {
+        1 => done(imp::dk_taubin_graph_sweep::<f64, 1>(
+            graph,
+            weights,
+            fixed,
+            src,
+            Components,
+            weight,
+            nodes_start,
+            nodes_end,
+            index_base,
+            dst,
+            max_change_out,
+        )),
+        2 => done(imp::dk_taubin_graph_sweep::<f64, 2>(
+            graph,
+            weights,
+            fixed,
+            src,
+            Components,
+            weight,
+            nodes_start,
+            nodes_end,
+            index_base,
+            dst,
+            max_change_out,
+        )),
+        3 => done(imp::dk_taubin_graph_sweep::<f64, 3>(
+            graph,
+            weights,
+            fixed,
+            src,
+            Components,
+            weight,
+            nodes_start,
+            nodes_end,
+            index_base,
+            dst,
+            max_change_out,
+        )),
+        4 => done(imp::dk_taubin_graph_sweep::<f64, 4>(
+            graph,
+            weights,
+            fixed,
+            src,
+            Components,
+            weight,
+            nodes_start,
+            nodes_end,
+            index_base,
+            dst,
+            max_change_out,
+        )),
+        5 => done(imp::dk_taubin_graph_sweep::<f64, 5>(
+            graph,
+            weights,
+            fixed,
+            src,
+            Components,
+            weight,
+            nodes_start,
+            nodes_end,
+            index_base,
+            dst,
+            max_change_out,
+        )),
+        6 => done(imp::dk_taubin_graph_sweep::<f64, 6>(
+            graph,
+            weights,
+            fixed,
+            src,
+            Components,
+            weight,
+            nodes_start,
+            nodes_end,
+            index_base,
+            dst,
+            max_change_out,
+        )),
+        7 => done(imp::dk_taubin_graph_sweep::<f64, 7>(
+            graph,
+            weights,
+            fixed,
+            src,
+            Components,
+            weight,
+            nodes_start,
+            nodes_end,
+            index_base,
+            dst,
+            max_change_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_taubin_graph_sweep`].
@@ -852,19 +1022,100 @@ pub unsafe extern "C" fn dk_taubin_graph_sweep_f32(
             Out::new(max_change_out, 1),
         )
     };
-    imp::dk_taubin_graph_sweep::<f32>(
-        graph,
-        weights,
-        fixed,
-        src,
-        components,
-        weight,
-        nodes_start,
-        nodes_end,
-        index_base,
-        dst,
-        max_change_out,
-    )
+    match components {
+        1 => done(imp::dk_taubin_graph_sweep::<f32, 1>(
+            graph,
+            weights,
+            fixed,
+            src,
+            Components,
+            weight,
+            nodes_start,
+            nodes_end,
+            index_base,
+            dst,
+            max_change_out,
+        )),
+        2 => done(imp::dk_taubin_graph_sweep::<f32, 2>(
+            graph,
+            weights,
+            fixed,
+            src,
+            Components,
+            weight,
+            nodes_start,
+            nodes_end,
+            index_base,
+            dst,
+            max_change_out,
+        )),
+        3 => done(imp::dk_taubin_graph_sweep::<f32, 3>(
+            graph,
+            weights,
+            fixed,
+            src,
+            Components,
+            weight,
+            nodes_start,
+            nodes_end,
+            index_base,
+            dst,
+            max_change_out,
+        )),
+        4 => done(imp::dk_taubin_graph_sweep::<f32, 4>(
+            graph,
+            weights,
+            fixed,
+            src,
+            Components,
+            weight,
+            nodes_start,
+            nodes_end,
+            index_base,
+            dst,
+            max_change_out,
+        )),
+        5 => done(imp::dk_taubin_graph_sweep::<f32, 5>(
+            graph,
+            weights,
+            fixed,
+            src,
+            Components,
+            weight,
+            nodes_start,
+            nodes_end,
+            index_base,
+            dst,
+            max_change_out,
+        )),
+        6 => done(imp::dk_taubin_graph_sweep::<f32, 6>(
+            graph,
+            weights,
+            fixed,
+            src,
+            Components,
+            weight,
+            nodes_start,
+            nodes_end,
+            index_base,
+            dst,
+            max_change_out,
+        )),
+        7 => done(imp::dk_taubin_graph_sweep::<f32, 7>(
+            graph,
+            weights,
+            fixed,
+            src,
+            Components,
+            weight,
+            nodes_start,
+            nodes_end,
+            index_base,
+            dst,
+            max_change_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Fujiwara's inverse-distance weights `weights[e] = 1 / |x_i − x_j|` for every directed edge
@@ -899,7 +1150,15 @@ pub unsafe extern "C" fn dk_taubin_inverse_distance_weights(
             Out::new(weights, weights_len),
         )
     };
-    imp::dk_taubin_inverse_distance_weights::<f64>(graph, points, dim, weights)
+    match dim {
+        2 => done(imp::dk_taubin_inverse_distance_weights::<f64, 2>(
+            graph, points, Dim, weights,
+        )),
+        3 => done(imp::dk_taubin_inverse_distance_weights::<f64, 3>(
+            graph, points, Dim, weights,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_taubin_inverse_distance_weights`].
@@ -924,7 +1183,15 @@ pub unsafe extern "C" fn dk_taubin_inverse_distance_weights_f32(
             Out::new(weights, weights_len),
         )
     };
-    imp::dk_taubin_inverse_distance_weights::<f32>(graph, points, dim, weights)
+    match dim {
+        2 => done(imp::dk_taubin_inverse_distance_weights::<f32, 2>(
+            graph, points, Dim, weights,
+        )),
+        3 => done(imp::dk_taubin_inverse_distance_weights::<f32, 3>(
+            graph, points, Dim, weights,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Arclength along grid lines in `direction` (0 = i, 1 = j, 2 = k) at every point:
@@ -955,7 +1222,15 @@ pub unsafe extern "C" fn dk_taubin_arclength(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
-    imp::dk_taubin_arclength::<f64>(ni, nj, nk, points, dim, direction, normalised, out)
+    match dim {
+        2 => done(imp::dk_taubin_arclength::<f64, 2>(
+            ni, nj, nk, points, Dim, direction, normalised, out,
+        )),
+        3 => done(imp::dk_taubin_arclength::<f64, 3>(
+            ni, nj, nk, points, Dim, direction, normalised, out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_taubin_arclength`].
@@ -978,7 +1253,15 @@ pub unsafe extern "C" fn dk_taubin_arclength_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
-    imp::dk_taubin_arclength::<f32>(ni, nj, nk, points, dim, direction, normalised, out)
+    match dim {
+        2 => done(imp::dk_taubin_arclength::<f32, 2>(
+            ni, nj, nk, points, Dim, direction, normalised, out,
+        )),
+        3 => done(imp::dk_taubin_arclength::<f32, 3>(
+            ni, nj, nk, points, Dim, direction, normalised, out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Scratch length (in scalars) for [`dk_taubin_redistribute`]: `(dim + 1) ×` points per line
@@ -1002,7 +1285,15 @@ pub unsafe extern "C" fn dk_taubin_redistribute_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_taubin_redistribute_scratch_len(ni, nj, nk, dim, direction, len_out)
+    match dim {
+        2 => done(imp::dk_taubin_redistribute_scratch_len::<2>(
+            ni, nj, nk, Dim, direction, len_out,
+        )),
+        3 => done(imp::dk_taubin_redistribute_scratch_len::<3>(
+            ni, nj, nk, Dim, direction, len_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Alter's reverse transformation: moves every point of every line in `direction` (in place)
@@ -1047,18 +1338,33 @@ pub unsafe extern "C" fn dk_taubin_redistribute(
             Out::new(max_displacement_out, 1),
         )
     };
-    imp::dk_taubin_redistribute::<f64>(
-        ni,
-        nj,
-        nk,
-        direction,
-        targets,
-        normalised,
-        points,
-        dim,
-        scratch,
-        max_displacement_out,
-    )
+    match dim {
+        2 => done(imp::dk_taubin_redistribute::<f64, 2>(
+            ni,
+            nj,
+            nk,
+            direction,
+            targets,
+            normalised,
+            points,
+            Dim,
+            scratch,
+            max_displacement_out,
+        )),
+        3 => done(imp::dk_taubin_redistribute::<f64, 3>(
+            ni,
+            nj,
+            nk,
+            direction,
+            targets,
+            normalised,
+            points,
+            Dim,
+            scratch,
+            max_displacement_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_taubin_redistribute`].
@@ -1091,18 +1397,33 @@ pub unsafe extern "C" fn dk_taubin_redistribute_f32(
             Out::new(max_displacement_out, 1),
         )
     };
-    imp::dk_taubin_redistribute::<f32>(
-        ni,
-        nj,
-        nk,
-        direction,
-        targets,
-        normalised,
-        points,
-        dim,
-        scratch,
-        max_displacement_out,
-    )
+    match dim {
+        2 => done(imp::dk_taubin_redistribute::<f32, 2>(
+            ni,
+            nj,
+            nk,
+            direction,
+            targets,
+            normalised,
+            points,
+            Dim,
+            scratch,
+            max_displacement_out,
+        )),
+        3 => done(imp::dk_taubin_redistribute::<f32, 3>(
+            ni,
+            nj,
+            nk,
+            direction,
+            targets,
+            normalised,
+            points,
+            Dim,
+            scratch,
+            max_displacement_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// Grid stretching along `direction` at every point: the ratio of the larger to the smaller
@@ -1131,7 +1452,15 @@ pub unsafe extern "C" fn dk_taubin_stretching(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
-    imp::dk_taubin_stretching::<f64>(ni, nj, nk, points, dim, direction, out)
+    match dim {
+        2 => done(imp::dk_taubin_stretching::<f64, 2>(
+            ni, nj, nk, points, Dim, direction, out,
+        )),
+        3 => done(imp::dk_taubin_stretching::<f64, 3>(
+            ni, nj, nk, points, Dim, direction, out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_taubin_stretching`].
@@ -1153,7 +1482,15 @@ pub unsafe extern "C" fn dk_taubin_stretching_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (points, out) = unsafe { (In::new(points, points_len), Out::new(out, out_len)) };
-    imp::dk_taubin_stretching::<f32>(ni, nj, nk, points, dim, direction, out)
+    match dim {
+        2 => done(imp::dk_taubin_stretching::<f32, 2>(
+            ni, nj, nk, points, Dim, direction, out,
+        )),
+        3 => done(imp::dk_taubin_stretching::<f32, 3>(
+            ni, nj, nk, points, Dim, direction, out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The largest stretching along `direction` (see [`dk_taubin_stretching`]) into
@@ -1190,7 +1527,15 @@ pub unsafe extern "C" fn dk_taubin_max_stretching(
             Out::new(point_out, 1),
         )
     };
-    imp::dk_taubin_max_stretching::<f64>(ni, nj, nk, points, dim, direction, value_out, point_out)
+    match dim {
+        2 => done(imp::dk_taubin_max_stretching::<f64, 2>(
+            ni, nj, nk, points, Dim, direction, value_out, point_out,
+        )),
+        3 => done(imp::dk_taubin_max_stretching::<f64, 3>(
+            ni, nj, nk, points, Dim, direction, value_out, point_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_taubin_max_stretching`].
@@ -1218,7 +1563,15 @@ pub unsafe extern "C" fn dk_taubin_max_stretching_f32(
             Out::new(point_out, 1),
         )
     };
-    imp::dk_taubin_max_stretching::<f32>(ni, nj, nk, points, dim, direction, value_out, point_out)
+    match dim {
+        2 => done(imp::dk_taubin_max_stretching::<f32, 2>(
+            ni, nj, nk, points, Dim, direction, value_out, point_out,
+        )),
+        3 => done(imp::dk_taubin_max_stretching::<f32, 3>(
+            ni, nj, nk, points, Dim, direction, value_out, point_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The fold guard: `DK_OK` when `field` (an arclength function, `ni·nj·nk` scalars) increases
@@ -1250,9 +1603,9 @@ pub unsafe extern "C" fn dk_taubin_check_lines_increasing(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (field, points) = unsafe { (In::new(field, field_len), In::new(points, points_len)) };
-    imp::dk_taubin_check_lines_increasing::<f64>(
+    done(imp::dk_taubin_check_lines_increasing::<f64>(
         ni, nj, nk, field, direction, iteration, points, dim,
-    )
+    ))
 }
 
 /// `f32` twin of [`dk_taubin_check_lines_increasing`].
@@ -1275,7 +1628,7 @@ pub unsafe extern "C" fn dk_taubin_check_lines_increasing_f32(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let (field, points) = unsafe { (In::new(field, field_len), In::new(points, points_len)) };
-    imp::dk_taubin_check_lines_increasing::<f32>(
+    done(imp::dk_taubin_check_lines_increasing::<f32>(
         ni, nj, nk, field, direction, iteration, points, dim,
-    )
+    ))
 }

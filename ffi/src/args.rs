@@ -189,3 +189,14 @@ macro_rules! by_components {
     };
 }
 pub(crate) use by_components;
+
+/// The point dimension `D` (2 or 3) of an exported function that takes `_dim: Dim<D>`: in C a
+/// `uint32_t dim`, whose value the generated wrapper turns into `D` before anything else is
+/// read (any other value is `DK_ERR_INVALID_PARAMETER`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Dim<const D: usize>;
+
+/// The number of value components `V` (1 to 7) of an exported function that takes
+/// `_components: Components<V>`: in C a `uint32_t components`, dispatched as [`Dim`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Components<const V: usize>;

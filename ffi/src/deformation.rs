@@ -37,14 +37,12 @@ use deform_kernel::{Block, Cells, Directions, Quat, Real};
 use deform_kernel_ffi_export::export;
 
 use crate::args::{
-    assert_layout, block, by_dim, check_base, done, index_need, read_array, read_one, read_points,
-    rebase, write_len, write_one,
+    assert_layout, block, check_base, index_need, read_array, read_one, read_points, rebase,
+    write_len, write_one, Dim,
 };
 use crate::graph::{dk_cells, CellsIn};
 use crate::slice::{chunks, chunks_mut, input, out_one, output, quats, quats_mut, In, Out};
-use crate::spring::{
-    dk_spring_solve_options, dk_spring_solve_report, DkSpringSystem, SystemC, SystemIn,
-};
+use crate::spring::{dk_spring_solve_options, dk_spring_solve_report, DkSpringSystem, SystemC};
 use crate::status::dk_status;
 
 // ---------------------------------------------------------------------------------------------
@@ -288,37 +286,9 @@ fn tfi_setup(
     Ok((block, directions))
 }
 
-/// Writes the size `v` to a `size_t` out-parameter, or returns the error that computing it
-/// gave (then `len_out` is not checked).
-fn len_status(len_out: Out<'_, usize>, v: Result<usize, dk_status>) -> dk_status {
-    done(v.and_then(|v| write_len(len_out, v)))
-}
-
 // ---------------------------------------------------------------------------------------------
-// The motion struct
+// Pipelines and building blocks
 // ---------------------------------------------------------------------------------------------
-
-fn motion_default<M: MotionC>(out: Out<'_, M>) -> dk_status {
-    done(write_one(out, M::default_value()))
-}
-
-fn motion_index_len<M: MotionC>(motion: In<'_, M>, len_out: Out<'_, usize>) -> dk_status {
-    len_status(len_out, read_raw(motion).and_then(|m| m.index_need()))
-}
-
-// ---------------------------------------------------------------------------------------------
-// Pipelines: IDW
-// ---------------------------------------------------------------------------------------------
-
-/// Outputs common to the pipelines.
-struct PipelineOut<'a, T> {
-    scratch: Out<'a, T>,
-    index_scratch: Out<'a, u32>,
-    translations: Out<'a, T>,
-    rotations: Out<'a, T>,
-    out: Out<'a, T>,
-    origin_out: Out<'a, T>,
-}
 
 /// The borrowed pipeline buffers (validated pointers).
 struct PipelineBufs<'a, T, const D: usize> {
@@ -330,67 +300,43 @@ struct PipelineBufs<'a, T, const D: usize> {
     origin_out: Option<&'a mut [T]>,
 }
 
-impl<'a, T: Real> PipelineOut<'a, T> {
-    fn borrow<const D: usize>(self) -> Result<PipelineBufs<'a, T, D>, dk_status> {
-        let scratch = output(self.scratch)?;
-        let index_scratch = output(self.index_scratch)?;
-        let translations = chunks_mut::<T, D>(self.translations)?;
-        let rotations = quats_mut(self.rotations)?;
-        let out = chunks_mut::<T, D>(self.out)?;
-        let origin_out = optional_out::<T, D>(self.origin_out)?;
-        Ok(PipelineBufs {
-            scratch,
-            index_scratch,
-            translations,
-            rotations,
-            out,
-            origin_out,
-        })
-    }
+/// Borrows the output buffers every pipeline shares.
+fn pipeline<'a, T: Real, const D: usize>(
+    [scratch, translations, rotations, out, origin_out]: [Out<'a, T>; 5],
+    index_scratch: Out<'a, u32>,
+) -> Result<PipelineBufs<'a, T, D>, dk_status> {
+    Ok(PipelineBufs {
+        scratch: output(scratch)?,
+        index_scratch: output(index_scratch)?,
+        translations: chunks_mut::<T, D>(translations)?,
+        rotations: quats_mut(rotations)?,
+        out: chunks_mut::<T, D>(out)?,
+        origin_out: optional_out::<T, D>(origin_out)?,
+    })
 }
 
-fn idw_for_dim<M: MotionC, const D: usize>(
-    points: In<'_, M::T>,
-    motion: In<'_, M>,
-    exponent: M::T,
-    bufs: PipelineOut<'_, M::T>,
+/// A one-call pipeline: reads the motion and the points, borrows the buffers every pipeline
+/// shares, runs `deform` (the kernel's pipeline on the points, the motion, the translations,
+/// rotations, scratch and output) and writes the origin it returns.
+fn run_pipeline<T: Real, const D: usize>(
+    points: In<'_, T>,
+    motion: In<'_, DkBoundaryMotion<T>>,
+    outs: [Out<'_, T>; 5],
+    index_scratch: Out<'_, u32>,
+    deform: impl FnOnce(
+        &[[T; D]],
+        &BoundaryMotion<'_, T, D>,
+        &mut [[T; D]],
+        &mut [Quat<T>],
+        &mut [T],
+        &mut [[T; D]],
+    ) -> deform_kernel::Result<[T; D]>,
 ) -> Result<(), dk_status> {
     let raw = read_raw(motion)?;
-    let points = read_points::<M::T, D>(points)?;
-    let b = bufs.borrow::<D>()?;
+    let points = read_points::<T, D>(points)?;
+    let b = pipeline::<T, D>(outs, index_scratch)?;
     let (motion, _) = raw.view::<D>(b.index_scratch)?;
-    let origin = deform_idw(
-        points,
-        &motion,
-        exponent,
-        b.translations,
-        b.rotations,
-        b.scratch,
-        b.out,
-    )?;
-    write_optional(b.origin_out, origin);
-    Ok(())
-}
-
-// ---------------------------------------------------------------------------------------------
-// Pipelines: TFI
-// ---------------------------------------------------------------------------------------------
-
-fn tfi_for_dim<M: MotionC, const D: usize>(
-    [ni, nj, nk]: [usize; 3],
-    directions: u32,
-    points: In<'_, M::T>,
-    motion: In<'_, M>,
-    bufs: PipelineOut<'_, M::T>,
-) -> Result<(), dk_status> {
-    let (block, directions) = tfi_setup(ni, nj, nk, directions)?;
-    let raw = read_raw(motion)?;
-    let points = read_points::<M::T, D>(points)?;
-    let b = bufs.borrow::<D>()?;
-    let (motion, _) = raw.view::<D>(b.index_scratch)?;
-    let origin = deform_tfi(
-        &block,
-        directions,
+    let origin = deform(
         points,
         &motion,
         b.translations,
@@ -402,155 +348,36 @@ fn tfi_for_dim<M: MotionC, const D: usize>(
     Ok(())
 }
 
-// ---------------------------------------------------------------------------------------------
-// Building blocks: boundary level
-// ---------------------------------------------------------------------------------------------
-
-/// A boundary element list as it crosses the ABI (offsets and nodes in `index_base`).
-struct ElementsIn<'a> {
+/// A required boundary element list over `boundary_len` points (offsets and nodes in
+/// `index_base`; no elements is a length mismatch).
+fn required_elements<'a>(
     elements: In<'a, dk_cells>,
     index_base: u32,
     index_scratch: Out<'a, u32>,
-}
-
-impl<'a> ElementsIn<'a> {
-    /// The validated cells over `boundary_len` points (required: no elements is a length
-    /// mismatch).
-    fn read(self, boundary_len: usize) -> Result<Cells<'a>, dk_status> {
-        let scratch = output(self.index_scratch)?;
-        let elements = CellsIn::read(self.elements)?;
-        read_required_elements(boundary_len, elements, self.index_base, scratch)
-    }
-}
-
-fn normals_for_dim<T: Real, const D: usize>(
-    points: In<'_, T>,
-    elements: ElementsIn<'_>,
-    scratch: Out<'_, T>,
-    normals: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let points = read_points::<T, D>(points)?;
-    let cells = elements.read(points.len())?;
-    let scratch = output(scratch)?;
-    let normals = chunks_mut::<T, D>(normals)?;
-    boundary_normals(points, &cells, scratch, normals).map_err(dk_status::from)
-}
-
-fn rotations_for_dim<T: Real, const D: usize>(
-    undeformed: In<'_, T>,
-    deformed: In<'_, T>,
-    elements: ElementsIn<'_>,
-    scratch: Out<'_, T>,
-    rotations: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let u = read_points::<T, D>(undeformed)?;
-    let d = read_points::<T, D>(deformed)?;
-    let cells = elements.read(u.len())?;
-    let scratch = output(scratch)?;
-    let rotations = quats_mut(rotations)?;
-    boundary_rotations(u, d, &cells, scratch, rotations).map_err(dk_status::from)
-}
-
-fn origin_for_dim<T: Real, const D: usize>(
-    undeformed: In<'_, T>,
-    deformed: In<'_, T>,
-    origin_out: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let u = read_points::<T, D>(undeformed)?;
-    let d = read_points::<T, D>(deformed)?;
-    if origin_out.len() != D {
-        return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
-    }
-    let o = output(origin_out)?;
-    let origin = boundary_origin(u, d)?;
-    write_optional(Some(o), origin);
-    Ok(())
-}
-
-fn translations_for_dim<T: Real, const D: usize>(
-    origin: In<'_, T>,
-    undeformed: In<'_, T>,
-    deformed: In<'_, T>,
-    rotations: In<'_, T>,
-    translations: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let origin = read_array::<T, D>(origin)?;
-    let u = read_points::<T, D>(undeformed)?;
-    let d = read_points::<T, D>(deformed)?;
-    let q = quats(rotations)?;
-    let t = chunks_mut::<T, D>(translations)?;
-    boundary_translations(origin, u, d, q, t).map_err(dk_status::from)
-}
-
-// ---------------------------------------------------------------------------------------------
-// Building blocks: field level
-// ---------------------------------------------------------------------------------------------
-
-fn propagate_idw_for_dim<T: Real, const D: usize>(
-    points: In<'_, T>,
-    boundary: In<'_, u32>,
-    index_base: u32,
-    exponent: T,
-    index_scratch: Out<'_, u32>,
-    translations: Out<'_, T>,
-    rotations: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let points = read_points::<T, D>(points)?;
-    let boundary = input(boundary)?;
+    boundary_len: usize,
+) -> Result<Cells<'a>, dk_status> {
     let scratch = output(index_scratch)?;
-    let (boundary, _) = rebase(boundary, index_base, scratch)?;
-    let t = chunks_mut::<T, D>(translations)?;
-    let q = quats_mut(rotations)?;
-    propagate_idw(points, boundary, exponent, t, q).map_err(dk_status::from)
+    let elements = CellsIn::read(elements)?;
+    read_required_elements(boundary_len, elements, index_base, scratch)
 }
 
-/// `rotations` NULL with length 0 and `displacement` set: plain displacement TFI.
+/// TFI of the translations and `rotations`, or of plain displacements without them.
 fn propagate_tfi_for_dim<T: Real, const D: usize>(
-    [ni, nj, nk]: [usize; 3],
-    directions: u32,
-    points: In<'_, T>,
+    ([ni, nj, nk], directions, points): ([usize; 3], u32, In<'_, T>),
     scratch: Out<'_, T>,
     translations: Out<'_, T>,
-    rotations: Out<'_, T>,
-    displacement: bool,
+    rotations: Option<Out<'_, T>>,
 ) -> Result<(), dk_status> {
     let (block, directions) = tfi_setup(ni, nj, nk, directions)?;
     let points = read_points::<T, D>(points)?;
     let scratch = output(scratch)?;
     let t = chunks_mut::<T, D>(translations)?;
-    if displacement {
-        return displacement_tfi(&block, directions, points, t, scratch).map_err(dk_status::from);
-    }
+    let Some(rotations) = rotations else {
+        return Ok(displacement_tfi(&block, directions, points, t, scratch)?);
+    };
     let q = quats_mut(rotations)?;
-    propagate_tfi(&block, directions, points, t, q, scratch).map_err(dk_status::from)
+    Ok(propagate_tfi(&block, directions, points, t, q, scratch)?)
 }
-
-fn update_for_dim<T: Real, const D: usize>(
-    origin: In<'_, T>,
-    points: In<'_, T>,
-    translations: In<'_, T>,
-    rotations: In<'_, T>,
-    boundary: In<'_, u32>,
-    index_base: u32,
-    boundary_deformed: In<'_, T>,
-    index_scratch: Out<'_, u32>,
-    out: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let origin = read_array::<T, D>(origin)?;
-    let points = read_points::<T, D>(points)?;
-    let t = chunks::<T, D>(translations)?;
-    let q = quats(rotations)?;
-    let boundary = input(boundary)?;
-    let bd = read_points::<T, D>(boundary_deformed)?;
-    let scratch = output(index_scratch)?;
-    let (boundary, _) = rebase(boundary, index_base, scratch)?;
-    let out = chunks_mut::<T, D>(out)?;
-    update_points(origin, points, t, q, boundary, bd, out).map_err(dk_status::from)
-}
-
-// ---------------------------------------------------------------------------------------------
-// Springs (options and report types from the spring module)
-// ---------------------------------------------------------------------------------------------
 
 /// Number of scalars of the packed `values` workspace of the spring propagation (the
 /// kernel's `propagate_spring_scratch_len`).
@@ -573,80 +400,6 @@ fn spring_values_len(
     Ok(len)
 }
 
-fn spring_index_len<M: MotionC>(
-    motion: In<'_, M>,
-    node_count: usize,
-    len_out: Out<'_, usize>,
-) -> dk_status {
-    len_status(
-        len_out,
-        read_raw(motion).and_then(|m| {
-            m.index_need()?
-                .checked_add(SpringSystem::<M::T>::scratch_len(node_count))
-                .ok_or(dk_status::DK_ERR_TOO_LARGE)
-        }),
-    )
-}
-
-fn spring_for_dim<M: MotionC, const D: usize>(
-    points: In<'_, M::T>,
-    motion: In<'_, M>,
-    system: Result<SystemIn<'_, M::T>, dk_status>,
-    options: In<'_, dk_spring_solve_options>,
-    values: Out<'_, M::T>,
-    bufs: PipelineOut<'_, M::T>,
-    report: Out<'_, dk_spring_solve_report>,
-) -> Result<(), dk_status> {
-    let o = read_one(options)?;
-    let method = o.method::<M::T>()?;
-    let stop = o.stopping::<M::T>();
-    let raw = read_raw(motion)?;
-    let points = read_points::<M::T, D>(points)?;
-    let b = bufs.borrow::<D>()?;
-    let values = output(values)?;
-    let report = out_one(report)?;
-    let (motion, rest) = raw.view::<D>(b.index_scratch)?;
-    let sys = system?.build(rest)?;
-    let (origin, rep) = deform_spring(
-        points,
-        &motion,
-        &sys,
-        method,
-        &stop,
-        b.translations,
-        b.rotations,
-        b.scratch,
-        values,
-        b.out,
-    )?;
-    write_optional(b.origin_out, origin);
-    *report = dk_spring_solve_report::of(rep);
-    Ok(())
-}
-
-fn propagate_spring_for_dim<T: Real, const D: usize>(
-    system: Result<SystemIn<'_, T>, dk_status>,
-    options: In<'_, dk_spring_solve_options>,
-    index_scratch: Out<'_, u32>,
-    values: Out<'_, T>,
-    translations: Out<'_, T>,
-    rotations: Out<'_, T>,
-    report: Out<'_, dk_spring_solve_report>,
-) -> Result<(), dk_status> {
-    let o = read_one(options)?;
-    let method = o.method::<T>()?;
-    let stop = o.stopping::<T>();
-    let s = output(index_scratch)?;
-    let values = output(values)?;
-    let t = chunks_mut::<T, D>(translations)?;
-    let q = quats_mut(rotations)?;
-    let report = out_one(report)?;
-    let sys = system?.build(s)?;
-    let rep = propagate_spring(&sys, method, &stop, t, q, values)?;
-    *report = dk_spring_solve_report::of(rep);
-    Ok(())
-}
-
 // ---------------------------------------------------------------------------------------------
 // The C functions (`cargo xtask codegen` exports each, see ffi/README.md).
 // ---------------------------------------------------------------------------------------------
@@ -655,8 +408,10 @@ fn propagate_spring_for_dim<T: Real, const D: usize>(
 /// [`DK_ROTATIONS_SHAPE`], identity `rigid_rotation` `(1, 0, 0, 0)`, zero `origin` with
 /// `has_origin` 0 (default origin), `index_base` 0. Set the fields you need afterwards.
 #[export(twin, out[1])]
-pub(crate) fn dk_boundary_motion_default<T: Real>(out: Out<'_, DkBoundaryMotion<T>>) -> dk_status {
-    motion_default(out)
+pub(crate) fn dk_boundary_motion_default<T: Real>(
+    out: Out<'_, DkBoundaryMotion<T>>,
+) -> Result<(), dk_status> {
+    write_one(out, DkBoundaryMotion::default_value())
 }
 
 /// Number of `uint32_t` entries the `index_scratch` of a pipeline needs for `*motion`:
@@ -668,8 +423,8 @@ pub(crate) fn dk_boundary_motion_default<T: Real>(out: Out<'_, DkBoundaryMotion<
 pub(crate) fn dk_boundary_motion_index_scratch_len<T: Real>(
     motion: In<'_, DkBoundaryMotion<T>>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    motion_index_len(motion, len_out)
+) -> Result<(), dk_status> {
+    write_len(len_out, read_raw(motion)?.index_need()?)
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_idw`] (and [`dk_deform_spring`]) needs for
@@ -677,20 +432,14 @@ pub(crate) fn dk_boundary_motion_index_scratch_len<T: Real>(
 /// `max(node_count, 3 boundary_len)` in 2D, `max(node_count, 13 boundary_len)` in 3D (the
 /// kernel's `deform_idw_scratch_len`). The same for both precisions.
 #[export(len_out[1])]
-pub(crate) fn dk_deform_idw_scratch_len(
+pub(crate) fn dk_deform_idw_scratch_len<const D: usize>(
     node_count: usize,
     boundary_len: usize,
-    dim: u32,
+    _dim: Dim<D>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    len_status(
-        len_out,
-        match dim {
-            2 => Ok(deform_idw_scratch_len::<2>(node_count, boundary_len)),
-            3 => Ok(deform_idw_scratch_len::<3>(node_count, boundary_len)),
-            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
-        },
-    )
+) -> Result<(), dk_status> {
+    let len = deform_idw_scratch_len::<D>(node_count, boundary_len);
+    write_len(len_out, len)
 }
 
 /// The whole quaternion deformation with inverse-distance propagation (the kernel's
@@ -719,9 +468,9 @@ pub(crate) fn dk_deform_idw_scratch_len(
 /// kind that does not fit `dim`). On error
 /// `out` and `origin_out` are unchanged.
 #[export(twin, motion[1])]
-pub(crate) fn dk_deform_idw<T: Real>(
+pub(crate) fn dk_deform_idw<T: Real, const D: usize>(
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     motion: In<'_, DkBoundaryMotion<T>>,
     exponent: T,
     scratch: Out<'_, T>,
@@ -730,20 +479,11 @@ pub(crate) fn dk_deform_idw<T: Real>(
     rotations: Out<'_, T>,
     out: Out<'_, T>,
     origin_out: Out<'_, T>,
-) -> dk_status {
-    let bufs = PipelineOut {
-        scratch,
-        index_scratch,
-        translations,
-        rotations,
-        out,
-        origin_out,
-    };
-    done(by_dim!(
-        dim,
-        idw_for_dim::<DkBoundaryMotion<T>>,
-        (points, motion, exponent, bufs)
-    ))
+) -> Result<(), dk_status> {
+    let outs = [scratch, translations, rotations, out, origin_out];
+    run_pipeline::<T, D>(points, motion, outs, index_scratch, |p, m, t, q, s, o| {
+        deform_idw(p, m, exponent, t, q, s, o)
+    })
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_tfi`] needs for a `ni × nj × nk` block with
@@ -751,22 +491,16 @@ pub(crate) fn dk_deform_idw<T: Real>(
 /// scratch)` (the kernel's `deform_tfi_scratch_len`). Errors: `DK_ERR_BAD_DIMENSIONS` (a zero
 /// dimension, too many points), `DK_ERR_INVALID_PARAMETER` (`dim` not 2 or 3).
 #[export(len_out[1])]
-pub(crate) fn dk_deform_tfi_scratch_len(
+pub(crate) fn dk_deform_tfi_scratch_len<const D: usize>(
     ni: usize,
     nj: usize,
     nk: usize,
     boundary_len: usize,
-    dim: u32,
+    _dim: Dim<D>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    len_status(
-        len_out,
-        block(ni, nj, nk).and_then(|b| match dim {
-            2 => Ok(deform_tfi_scratch_len::<2>(&b, boundary_len)),
-            3 => Ok(deform_tfi_scratch_len::<3>(&b, boundary_len)),
-            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
-        }),
-    )
+) -> Result<(), dk_status> {
+    let b = block(ni, nj, nk)?;
+    write_len(len_out, deform_tfi_scratch_len::<D>(&b, boundary_len))
 }
 
 /// The whole quaternion deformation of a structured block with transfinite interpolation (the
@@ -783,13 +517,13 @@ pub(crate) fn dk_deform_tfi_scratch_len(
 /// On error `out` and `origin_out` are unchanged (`translations`, `rotations` are
 /// workspaces).
 #[export(twin, motion[1])]
-pub(crate) fn dk_deform_tfi<T: Real>(
+pub(crate) fn dk_deform_tfi<T: Real, const D: usize>(
     ni: usize,
     nj: usize,
     nk: usize,
     directions: u32,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     motion: In<'_, DkBoundaryMotion<T>>,
     scratch: Out<'_, T>,
     index_scratch: Out<'_, u32>,
@@ -797,20 +531,12 @@ pub(crate) fn dk_deform_tfi<T: Real>(
     rotations: Out<'_, T>,
     out: Out<'_, T>,
     origin_out: Out<'_, T>,
-) -> dk_status {
-    let bufs = PipelineOut {
-        scratch,
-        index_scratch,
-        translations,
-        rotations,
-        out,
-        origin_out,
-    };
-    done(by_dim!(
-        dim,
-        tfi_for_dim::<DkBoundaryMotion<T>>,
-        ([ni, nj, nk], directions, points, motion, bufs)
-    ))
+) -> Result<(), dk_status> {
+    let (block, directions) = tfi_setup(ni, nj, nk, directions)?;
+    let outs = [scratch, translations, rotations, out, origin_out];
+    run_pipeline::<T, D>(points, motion, outs, index_scratch, |p, m, t, q, s, o| {
+        deform_tfi(&block, directions, p, m, t, q, s, o)
+    })
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_boundary_normals`] needs:
@@ -819,8 +545,8 @@ pub(crate) fn dk_deform_tfi<T: Real>(
 pub(crate) fn dk_deform_boundary_normals_scratch_len(
     boundary_len: usize,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    len_status(len_out, Ok(boundary_normals_scratch_len(boundary_len)))
+) -> Result<(), dk_status> {
+    write_len(len_out, boundary_normals_scratch_len(boundary_len))
 }
 
 /// Area-weighted unit normals of a boundary at its nodes (the kernel's `boundary_normals`;
@@ -840,43 +566,31 @@ pub(crate) fn dk_deform_boundary_normals_scratch_len(
 /// `DK_ERR_ISOLATED_NODE` (a point in no element), `DK_ERR_ZERO_LENGTH` (the element normals
 /// cancel at a node). On error `normals` is unchanged.
 #[export(twin, elements[1])]
-pub(crate) fn dk_deform_boundary_normals<T: Real>(
+pub(crate) fn dk_deform_boundary_normals<T: Real, const D: usize>(
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     elements: In<'_, dk_cells>,
     index_base: u32,
     scratch: Out<'_, T>,
     index_scratch: Out<'_, u32>,
     normals: Out<'_, T>,
-) -> dk_status {
-    let elements = ElementsIn {
-        elements,
-        index_base,
-        index_scratch,
-    };
-    done(by_dim!(
-        dim,
-        normals_for_dim::<T>,
-        (points, elements, scratch, normals)
-    ))
+) -> Result<(), dk_status> {
+    let points = read_points::<T, D>(points)?;
+    let cells = required_elements(elements, index_base, index_scratch, points.len())?;
+    let scratch = output(scratch)?;
+    let normals = chunks_mut::<T, D>(normals)?;
+    Ok(boundary_normals(points, &cells, scratch, normals)?)
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_boundary_rotations`] needs: `3 B` in 2D,
 /// `13 B` in 3D (saturating). `DK_ERR_INVALID_PARAMETER` unless `dim` is 2 or 3.
 #[export(len_out[1])]
-pub(crate) fn dk_deform_boundary_rotations_scratch_len(
+pub(crate) fn dk_deform_boundary_rotations_scratch_len<const D: usize>(
     boundary_len: usize,
-    dim: u32,
+    _dim: Dim<D>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    len_status(
-        len_out,
-        match dim {
-            2 => Ok(boundary_rotations_scratch_len::<2>(boundary_len)),
-            3 => Ok(boundary_rotations_scratch_len::<3>(boundary_len)),
-            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
-        },
-    )
+) -> Result<(), dk_status> {
+    write_len(len_out, boundary_rotations_scratch_len::<D>(boundary_len))
 }
 
 /// Per-node rotations of a boundary from its undeformed and deformed shapes (the kernel's
@@ -894,26 +608,22 @@ pub(crate) fn dk_deform_boundary_rotations_scratch_len(
 /// shape) and `DK_ERR_ISOLATED_NODE` (in 3D also a node whose twist is undetermined). On error
 /// `rotations` is unchanged.
 #[export(twin, elements[1])]
-pub(crate) fn dk_deform_boundary_rotations<T: Real>(
+pub(crate) fn dk_deform_boundary_rotations<T: Real, const D: usize>(
     undeformed: In<'_, T>,
     deformed: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     elements: In<'_, dk_cells>,
     index_base: u32,
     scratch: Out<'_, T>,
     index_scratch: Out<'_, u32>,
     rotations: Out<'_, T>,
-) -> dk_status {
-    let elements = ElementsIn {
-        elements,
-        index_base,
-        index_scratch,
-    };
-    done(by_dim!(
-        dim,
-        rotations_for_dim::<T>,
-        (undeformed, deformed, elements, scratch, rotations)
-    ))
+) -> Result<(), dk_status> {
+    let u = read_points::<T, D>(undeformed)?;
+    let d = read_points::<T, D>(deformed)?;
+    let cells = required_elements(elements, index_base, index_scratch, u.len())?;
+    let scratch = output(scratch)?;
+    let q = quats_mut(rotations)?;
+    Ok(boundary_rotations(u, d, &cells, scratch, q)?)
 }
 
 /// Fills `rotations` (`rotations_len` scalars, a multiple of 4) with copies of the rigid
@@ -921,12 +631,12 @@ pub(crate) fn dk_deform_boundary_rotations<T: Real>(
 /// `rigid_rotations`). Errors: `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (`q`),
 /// `DK_ERR_LENGTH_MISMATCH`; on error `rotations` is unchanged.
 #[export(twin, q[4])]
-pub(crate) fn dk_deform_rigid_rotations<T: Real>(q: In<'_, T>, rotations: Out<'_, T>) -> dk_status {
-    done((|| {
-        let q = read_array::<T, 4>(q).map(Quat::from_array)?;
-        let r = quats_mut(rotations)?;
-        rigid_rotations(q, r).map_err(dk_status::from)
-    })())
+pub(crate) fn dk_deform_rigid_rotations<T: Real>(
+    q: In<'_, T>,
+    rotations: Out<'_, T>,
+) -> Result<(), dk_status> {
+    let q = read_array::<T, 4>(q).map(Quat::from_array)?;
+    Ok(rigid_rotations(q, quats_mut(rotations)?)?)
 }
 
 /// The default rotation origin (the kernel's `boundary_origin`): the centroid of the
@@ -939,17 +649,20 @@ pub(crate) fn dk_deform_rigid_rotations<T: Real>(q: In<'_, T>, rotations: Out<'_
 /// `DK_ERR_INVALID_PARAMETER` (no points), `DK_ERR_NON_FINITE`. On error `origin_out` is
 /// unchanged.
 #[export(twin)]
-pub(crate) fn dk_deform_boundary_origin<T: Real>(
+pub(crate) fn dk_deform_boundary_origin<T: Real, const D: usize>(
     undeformed: In<'_, T>,
     deformed: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     origin_out: Out<'_, T>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        origin_for_dim::<T>,
-        (undeformed, deformed, origin_out)
-    ))
+) -> Result<(), dk_status> {
+    let u = read_points::<T, D>(undeformed)?;
+    let d = read_points::<T, D>(deformed)?;
+    if origin_out.len() != D {
+        return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+    }
+    let o = output(origin_out)?;
+    write_optional(Some(o), boundary_origin(u, d)?);
+    Ok(())
 }
 
 /// The boundary translations `Δ_i = (r_i^d − o) − Q_i (r_i^u − o) Q_i*` about `origin` (the
@@ -962,19 +675,20 @@ pub(crate) fn dk_deform_boundary_origin<T: Real>(
 /// errors, `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero rotation). On error
 /// `translations` is unchanged.
 #[export(twin)]
-pub(crate) fn dk_deform_boundary_translations<T: Real>(
+pub(crate) fn dk_deform_boundary_translations<T: Real, const D: usize>(
     origin: In<'_, T>,
     undeformed: In<'_, T>,
     deformed: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     rotations: In<'_, T>,
     translations: Out<'_, T>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        translations_for_dim::<T>,
-        (origin, undeformed, deformed, rotations, translations)
-    ))
+) -> Result<(), dk_status> {
+    let origin = read_array::<T, D>(origin)?;
+    let u = read_points::<T, D>(undeformed)?;
+    let d = read_points::<T, D>(deformed)?;
+    let q = quats(rotations)?;
+    let t = chunks_mut::<T, D>(translations)?;
+    Ok(boundary_translations(origin, u, d, q, t)?)
 }
 
 /// Inverse-distance weighting of boundary translations and rotations into the rest of the
@@ -991,50 +705,38 @@ pub(crate) fn dk_deform_boundary_translations<T: Real>(
 /// `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a zero boundary rotation). On error nothing is
 /// written.
 #[export(twin)]
-pub(crate) fn dk_deform_propagate_idw<T: Real>(
+pub(crate) fn dk_deform_propagate_idw<T: Real, const D: usize>(
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     boundary: In<'_, u32>,
     index_base: u32,
     exponent: T,
     index_scratch: Out<'_, u32>,
     translations: Out<'_, T>,
     rotations: Out<'_, T>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        propagate_idw_for_dim::<T>,
-        (
-            points,
-            boundary,
-            index_base,
-            exponent,
-            index_scratch,
-            translations,
-            rotations
-        )
-    ))
+) -> Result<(), dk_status> {
+    let points = read_points::<T, D>(points)?;
+    let boundary = input(boundary)?;
+    let scratch = output(index_scratch)?;
+    let (boundary, _) = rebase(boundary, index_base, scratch)?;
+    let t = chunks_mut::<T, D>(translations)?;
+    let q = quats_mut(rotations)?;
+    Ok(propagate_idw(points, boundary, exponent, t, q)?)
 }
 
 /// Number of scalars the `scratch` of [`dk_deform_propagate_tfi`] and
 /// [`dk_deform_displacement_tfi`] needs: `dim · ni nj nk` (the kernel's `tfi_scratch_len`).
 /// Errors: `DK_ERR_BAD_DIMENSIONS` (block), `DK_ERR_INVALID_PARAMETER` (`dim`).
 #[export(len_out[1])]
-pub(crate) fn dk_deform_propagate_tfi_scratch_len(
+pub(crate) fn dk_deform_propagate_tfi_scratch_len<const D: usize>(
     ni: usize,
     nj: usize,
     nk: usize,
-    dim: u32,
+    _dim: Dim<D>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    len_status(
-        len_out,
-        block(ni, nj, nk).and_then(|b| match dim {
-            2 => Ok(tfi_scratch_len::<2>(&b)),
-            3 => Ok(tfi_scratch_len::<3>(&b)),
-            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
-        }),
-    )
+) -> Result<(), dk_status> {
+    let b = block(ni, nj, nk)?;
+    write_len(len_out, tfi_scratch_len::<D>(&b))
 }
 
 /// Transfinite interpolation of translations and rotations from the faces of a structured
@@ -1051,30 +753,19 @@ pub(crate) fn dk_deform_propagate_tfi_scratch_len(
 /// `DK_ERR_ZERO_LENGTH` (a zero face rotation, or a blended rotation that cancels). On error
 /// the values are unchanged.
 #[export(twin)]
-pub(crate) fn dk_deform_propagate_tfi<T: Real>(
+pub(crate) fn dk_deform_propagate_tfi<T: Real, const D: usize>(
     ni: usize,
     nj: usize,
     nk: usize,
     directions: u32,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     scratch: Out<'_, T>,
     translations: Out<'_, T>,
     rotations: Out<'_, T>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        propagate_tfi_for_dim::<T>,
-        (
-            [ni, nj, nk],
-            directions,
-            points,
-            scratch,
-            translations,
-            rotations,
-            false
-        )
-    ))
+) -> Result<(), dk_status> {
+    let tfi = ([ni, nj, nk], directions, points);
+    propagate_tfi_for_dim::<T, D>(tfi, scratch, translations, Some(rotations))
 }
 
 /// Plain displacement TFI (the kernel's `displacement_tfi`, Samareh eq. 1; for comparison
@@ -1084,29 +775,18 @@ pub(crate) fn dk_deform_propagate_tfi<T: Real>(
 /// translations but shears cells under rotation. Errors as [`dk_deform_propagate_tfi`]; on
 /// error `displacements` is unchanged.
 #[export(twin)]
-pub(crate) fn dk_deform_displacement_tfi<T: Real>(
+pub(crate) fn dk_deform_displacement_tfi<T: Real, const D: usize>(
     ni: usize,
     nj: usize,
     nk: usize,
     directions: u32,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     scratch: Out<'_, T>,
     displacements: Out<'_, T>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        propagate_tfi_for_dim::<T>,
-        (
-            [ni, nj, nk],
-            directions,
-            points,
-            scratch,
-            displacements,
-            Out::null(),
-            true
-        )
-    ))
+) -> Result<(), dk_status> {
+    let tfi = ([ni, nj, nk], directions, points);
+    propagate_tfi_for_dim::<T, D>(tfi, scratch, displacements, None)
 }
 
 /// Moves every mesh point by its translation and rotation (the kernel's `update_points`,
@@ -1120,10 +800,10 @@ pub(crate) fn dk_deform_displacement_tfi<T: Real>(
 /// `DK_ERR_BAD_INDEX_BASE`, `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_NON_FINITE`,
 /// `DK_ERR_ZERO_LENGTH` (a zero rotation). On error `out` is unchanged.
 #[export(twin)]
-pub(crate) fn dk_deform_update_points<T: Real>(
+pub(crate) fn dk_deform_update_points<T: Real, const D: usize>(
     origin: In<'_, T>,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     translations: In<'_, T>,
     rotations: In<'_, T>,
     boundary: In<'_, u32>,
@@ -1131,22 +811,17 @@ pub(crate) fn dk_deform_update_points<T: Real>(
     boundary_deformed: In<'_, T>,
     index_scratch: Out<'_, u32>,
     out: Out<'_, T>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        update_for_dim::<T>,
-        (
-            origin,
-            points,
-            translations,
-            rotations,
-            boundary,
-            index_base,
-            boundary_deformed,
-            index_scratch,
-            out
-        )
-    ))
+) -> Result<(), dk_status> {
+    let origin = read_array::<T, D>(origin)?;
+    let points = read_points::<T, D>(points)?;
+    let t = chunks::<T, D>(translations)?;
+    let q = quats(rotations)?;
+    let boundary = input(boundary)?;
+    let bd = read_points::<T, D>(boundary_deformed)?;
+    let scratch = output(index_scratch)?;
+    let (boundary, _) = rebase(boundary, index_base, scratch)?;
+    let out = chunks_mut::<T, D>(out)?;
+    Ok(update_points(origin, points, t, q, boundary, bd, out)?)
 }
 
 /// Number of `uint32_t` entries the `scratch` of [`dk_deform_localize_nodes`] needs:
@@ -1159,14 +834,10 @@ pub(crate) fn dk_deform_localize_nodes_scratch_len(
     global_len: usize,
     index_base: u32,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    len_status(
-        len_out,
-        index_need(index_base, &[boundary_len, global_len]).and_then(|n| {
-            n.checked_add(localize_nodes_scratch_len(node_count))
-                .ok_or(dk_status::DK_ERR_TOO_LARGE)
-        }),
-    )
+) -> Result<(), dk_status> {
+    let n = index_need(index_base, &[boundary_len, global_len])?;
+    let len = n.checked_add(localize_nodes_scratch_len(node_count));
+    write_len(len_out, len.ok_or(dk_status::DK_ERR_TOO_LARGE)?)
 }
 
 /// Rewrites mesh node numbers as positions in `boundary` (the kernel's `localize_nodes`):
@@ -1190,26 +861,24 @@ pub(crate) fn dk_deform_localize_nodes(
     index_base: u32,
     scratch: Out<'_, u32>,
     local: Out<'_, u32>,
-) -> dk_status {
-    done((|| {
-        check_base(index_base)?;
-        let b = input(boundary)?;
-        let g = input(global)?;
-        let s = output(scratch)?;
-        let l = output(local)?;
-        if u32::try_from(b.len()).is_err() {
-            return Err(dk_status::DK_ERR_TOO_LARGE);
-        }
-        let (b, s) = rebase(b, index_base, s)?;
-        let (g, s) = rebase(g, index_base, s)?;
-        localize_nodes(node_count, b, g, s, l)?;
-        // Positions are < B <= u32::MAX (checked above), so adding a base of 0 or 1 cannot
-        // overflow; wrapping_add keeps the arithmetic visibly panic-free.
-        for x in l.iter_mut() {
-            *x = x.wrapping_add(index_base);
-        }
-        Ok(())
-    })())
+) -> Result<(), dk_status> {
+    check_base(index_base)?;
+    let b = input(boundary)?;
+    let g = input(global)?;
+    let s = output(scratch)?;
+    let l = output(local)?;
+    if u32::try_from(b.len()).is_err() {
+        return Err(dk_status::DK_ERR_TOO_LARGE);
+    }
+    let (b, s) = rebase(b, index_base, s)?;
+    let (g, s) = rebase(g, index_base, s)?;
+    localize_nodes(node_count, b, g, s, l)?;
+    // Positions are < B <= u32::MAX (checked above), so adding a base of 0 or 1 cannot
+    // overflow; wrapping_add keeps the arithmetic visibly panic-free.
+    for x in l.iter_mut() {
+        *x = x.wrapping_add(index_base);
+    }
+    Ok(())
 }
 
 /// Sizes for [`dk_deform_spring`]: `*scratch_len_out` scalars of `scratch` (as
@@ -1226,22 +895,20 @@ pub(crate) fn dk_deform_spring_scratch_len(
     options: In<'_, dk_spring_solve_options>,
     scratch_len_out: Out<'_, usize>,
     values_len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let values = spring_values_len(node_count, dim, options)?;
-        if scratch_len_out.same_address(&values_len_out) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        let scratch = match dim {
-            2 => deform_spring_scratch_len::<2>(node_count, boundary_len),
-            _ => deform_spring_scratch_len::<3>(node_count, boundary_len),
-        };
-        let a = out_one(scratch_len_out)?;
-        let b = out_one(values_len_out)?;
-        *a = scratch;
-        *b = values;
-        Ok(())
-    })())
+) -> Result<(), dk_status> {
+    let values = spring_values_len(node_count, dim, options)?;
+    if scratch_len_out.same_address(&values_len_out) {
+        return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+    }
+    let scratch = match dim {
+        2 => deform_spring_scratch_len::<2>(node_count, boundary_len),
+        _ => deform_spring_scratch_len::<3>(node_count, boundary_len),
+    };
+    let a = out_one(scratch_len_out)?;
+    let b = out_one(values_len_out)?;
+    *a = scratch;
+    *b = values;
+    Ok(())
 }
 
 /// Number of `uint32_t` entries the `index_scratch` of [`dk_deform_spring`] needs:
@@ -1252,8 +919,10 @@ pub(crate) fn dk_deform_spring_index_scratch_len<T: Real>(
     motion: In<'_, DkBoundaryMotion<T>>,
     node_count: usize,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    spring_index_len(motion, node_count, len_out)
+) -> Result<(), dk_status> {
+    let need = read_raw(motion)?.index_need()?;
+    let len = need.checked_add(SpringSystem::<T>::scratch_len(node_count));
+    write_len(len_out, len.ok_or(dk_status::DK_ERR_TOO_LARGE)?)
 }
 
 /// The whole quaternion deformation with linear-spring propagation (the kernel's
@@ -1282,9 +951,9 @@ pub(crate) fn dk_deform_spring_index_scratch_len<T: Real>(
 /// `f32` twin of [`dk_deform_spring`] (the options' tolerances and `omega` are rounded to
 /// `float`; the report's values are widened exactly).
 #[export(twin, motion[1], system[1], options[1], report[1])]
-pub(crate) fn dk_deform_spring<T: Real>(
+pub(crate) fn dk_deform_spring<T: Real, const D: usize>(
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     motion: In<'_, DkBoundaryMotion<T>>,
     system: In<'_, DkSpringSystem<T>>,
     options: In<'_, dk_spring_solve_options>,
@@ -1296,21 +965,22 @@ pub(crate) fn dk_deform_spring<T: Real>(
     out: Out<'_, T>,
     origin_out: Out<'_, T>,
     report: Out<'_, dk_spring_solve_report>,
-) -> dk_status {
-    let system = SystemC::read(system);
-    let bufs = PipelineOut {
-        scratch,
-        index_scratch,
-        translations,
-        rotations,
-        out,
-        origin_out,
-    };
-    done(by_dim!(
-        dim,
-        spring_for_dim::<DkBoundaryMotion<T>>,
-        (points, motion, system, options, values, bufs, report)
-    ))
+) -> Result<(), dk_status> {
+    let o = read_one(options)?;
+    let method = o.method::<T>()?;
+    let raw = read_raw(motion)?;
+    let points = read_points::<T, D>(points)?;
+    let outs = [scratch, translations, rotations, out, origin_out];
+    let b = pipeline::<T, D>(outs, index_scratch)?;
+    let values = output(values)?;
+    let report = out_one(report)?;
+    let (motion, rest) = raw.view::<D>(b.index_scratch)?;
+    let sys = DkSpringSystem::read(system)?.build(rest)?;
+    let (stop, t, q, s, out) = (o.stopping(), b.translations, b.rotations, b.scratch, b.out);
+    let (origin, rep) = deform_spring(points, &motion, &sys, method, &stop, t, q, s, values, out)?;
+    write_optional(b.origin_out, origin);
+    *report = dk_spring_solve_report::of(rep);
+    Ok(())
 }
 
 /// Number of scalars the packed `values` workspace of [`dk_deform_propagate_spring`] needs:
@@ -1322,8 +992,8 @@ pub(crate) fn dk_deform_propagate_spring_scratch_len(
     dim: u32,
     options: In<'_, dk_spring_solve_options>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    len_status(len_out, spring_values_len(node_count, dim, options))
+) -> Result<(), dk_status> {
+    write_len(len_out, spring_values_len(node_count, dim, options)?)
 }
 
 /// Propagates translations and rotations through a linear spring network (the kernel's
@@ -1343,28 +1013,25 @@ pub(crate) fn dk_deform_propagate_spring_scratch_len(
 /// errors, `DK_ERR_INVALID_PARAMETER` (no fixed node, options), `DK_ERR_NON_FINITE`,
 /// `DK_ERR_ZERO_LENGTH`. On error `translations`, `rotations` and `*report` are unchanged.
 #[export(twin, system[1], options[1], report[1])]
-pub(crate) fn dk_deform_propagate_spring<T: Real>(
+pub(crate) fn dk_deform_propagate_spring<T: Real, const D: usize>(
     system: In<'_, DkSpringSystem<T>>,
     options: In<'_, dk_spring_solve_options>,
-    dim: u32,
+    _dim: Dim<D>,
     index_scratch: Out<'_, u32>,
     values: Out<'_, T>,
     translations: Out<'_, T>,
     rotations: Out<'_, T>,
     report: Out<'_, dk_spring_solve_report>,
-) -> dk_status {
-    let system = SystemC::read(system);
-    done(by_dim!(
-        dim,
-        propagate_spring_for_dim::<T>,
-        (
-            system,
-            options,
-            index_scratch,
-            values,
-            translations,
-            rotations,
-            report
-        )
-    ))
+) -> Result<(), dk_status> {
+    let o = read_one(options)?;
+    let method = o.method::<T>()?;
+    let s = output(index_scratch)?;
+    let values = output(values)?;
+    let t = chunks_mut::<T, D>(translations)?;
+    let q = quats_mut(rotations)?;
+    let report = out_one(report)?;
+    let sys = DkSpringSystem::read(system)?.build(s)?;
+    let rep = propagate_spring(&sys, method, &o.stopping(), t, q, values)?;
+    *report = dk_spring_solve_report::of(rep);
+    Ok(())
 }

@@ -23,7 +23,7 @@ use deform_kernel::design::variables::{
 use deform_kernel::Real;
 use deform_kernel_ffi_export::export;
 
-use crate::args::{by_dim, done, read_array, read_points, rebase, write_one};
+use crate::args::{read_array, read_points, rebase, write_one, Dim};
 use crate::slice::{chunks_mut, input, output, In, Out};
 use crate::status::dk_status;
 
@@ -60,77 +60,14 @@ fn read_box<'a, T: Real, const D: usize>(
     FfdBox::new(degree, read_points::<T, D>(control_points)?).map_err(dk_status::from)
 }
 
-/// Surface nodes, 0-based, with the caller's `index_base`.
-struct Nodes<'a> {
+/// A node list read in `index_base` (rebased into `index_scratch` when it is 1).
+fn read_nodes<'a>(
     nodes: In<'a, u32>,
     index_base: u32,
     index_scratch: Out<'a, u32>,
-}
-
-impl<'a> Nodes<'a> {
-    fn read(self) -> Result<&'a [u32], dk_status> {
-        let (n, _) = rebase(
-            input(self.nodes)?,
-            self.index_base,
-            output(self.index_scratch)?,
-        )?;
-        Ok(n)
-    }
-}
-
-fn hicks_henne_for_dim<T: Real, const D: usize>(
-    points: In<'_, T>,
-    nodes: Nodes<'_>,
-    normals: In<'_, T>,
-    bump: HicksHenne<T>,
-    displacements: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points)?;
-    let n = read_points::<T, D>(normals)?;
-    let nodes = nodes.read()?;
-    let d = chunks_mut::<T, D>(displacements)?;
-    hicks_henne(p, nodes, n, bump, d).map_err(dk_status::from)
-}
-
-fn eval_for_dim<T: Real, const D: usize>(
-    degree: In<'_, u32>,
-    control_points: In<'_, T>,
-    params: In<'_, T>,
-    out: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let b = read_box::<T, D>(degree, control_points)?;
-    let u = read_points::<T, D>(params)?;
-    ffd_eval(&b, u, chunks_mut::<T, D>(out)?).map_err(dk_status::from)
-}
-
-fn displacements_for_dim<T: Real, const D: usize>(
-    degree: In<'_, u32>,
-    control_points: In<'_, T>,
-    points: In<'_, T>,
-    nodes: Nodes<'_>,
-    params: In<'_, T>,
-    displacements: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let b = read_box::<T, D>(degree, control_points)?;
-    let p = read_points::<T, D>(points)?;
-    let u = read_points::<T, D>(params)?;
-    let nodes = nodes.read()?;
-    let d = chunks_mut::<T, D>(displacements)?;
-    ffd_displacements(&b, p, nodes, u, d).map_err(dk_status::from)
-}
-
-fn between_for_dim<T: Real, const D: usize>(
-    degree: In<'_, u32>,
-    original: In<'_, T>,
-    moved: In<'_, T>,
-    params: In<'_, T>,
-    displacements: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let a = read_box::<T, D>(degree, original)?;
-    let b = read_box::<T, D>(degree, moved)?;
-    let u = read_points::<T, D>(params)?;
-    let d = chunks_mut::<T, D>(displacements)?;
-    ffd_displacements_between(&a, &b, u, d).map_err(dk_status::from)
+) -> Result<&'a [u32], dk_status> {
+    let (n, _) = rebase(input(nodes)?, index_base, output(index_scratch)?)?;
+    Ok(n)
 }
 
 /// An SU2 index: `Some(i)` for `i ≥ 0`, `None` for −1 where `wild` allows it.
@@ -185,8 +122,12 @@ fn variable<T: Real>(
 /// SU2's Hicks–Henne bump `sin(π max(0,x)^e)^3`, `e = log10(0.5)/log10(x_max)` (0 where
 /// `max(0,x) ≤ 1e-15`) into `*out`. Never fails except for a NULL `out`.
 #[export(twin, out[1])]
-pub(crate) fn dk_design_hicks_henne_bump<T: Real>(x: T, x_max: T, out: Out<'_, T>) -> dk_status {
-    done(write_one(out, hicks_henne_bump(x, x_max)))
+pub(crate) fn dk_design_hicks_henne_bump<T: Real>(
+    x: T,
+    x_max: T,
+    out: Out<'_, T>,
+) -> Result<(), dk_status> {
+    write_one(out, hicks_henne_bump(x, x_max))
 }
 
 /// Adds one `HICKS_HENNE` design variable (`DV_PARAM = (upper ? 1 : 0, x_max)`, `DV_VALUE ×
@@ -197,9 +138,9 @@ pub(crate) fn dk_design_hicks_henne_bump<T: Real>(x: T, x_max: T, out: Out<'_, T
 /// not in (0, 1)), `DK_ERR_INDEX_OUT_OF_RANGE`, `DK_ERR_NON_FINITE`, `DK_ERR_BAD_INDEX_BASE`,
 /// length, buffer and pointer errors.
 #[export(twin)]
-pub(crate) fn dk_design_hicks_henne<T: Real>(
+pub(crate) fn dk_design_hicks_henne<T: Real, const D: usize>(
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     nodes: In<'_, u32>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
@@ -208,22 +149,17 @@ pub(crate) fn dk_design_hicks_henne<T: Real>(
     x_max: T,
     amplitude: T,
     displacements: Out<'_, T>,
-) -> dk_status {
-    let nodes = Nodes {
-        nodes,
-        index_base,
-        index_scratch,
-    };
+) -> Result<(), dk_status> {
     let bump = HicksHenne {
         upper,
         x_max,
         amplitude,
     };
-    done(by_dim!(
-        dim,
-        hicks_henne_for_dim::<T>,
-        (points, nodes, normals, bump, displacements)
-    ))
+    let p = read_points::<T, D>(points)?;
+    let n = read_points::<T, D>(normals)?;
+    let nodes = read_nodes(nodes, index_base, index_scratch)?;
+    let d = chunks_mut::<T, D>(displacements)?;
+    Ok(hicks_henne(p, nodes, n, bump, d)?)
 }
 
 /// Evaluates an FFD box (degrees `degree[0..dim]`, `control_points`) at every parametric
@@ -231,18 +167,16 @@ pub(crate) fn dk_design_hicks_henne<T: Real>(
 /// `DK_ERR_INVALID_PARAMETER` (`dim`, a degree of 0 or above 32), `DK_ERR_NON_FINITE`, length
 /// and pointer errors.
 #[export(twin)]
-pub(crate) fn dk_design_ffd_eval<T: Real>(
+pub(crate) fn dk_design_ffd_eval<T: Real, const D: usize>(
     degree: In<'_, u32>,
     control_points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     params: In<'_, T>,
     out: Out<'_, T>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        eval_for_dim::<T>,
-        (degree, control_points, params, out)
-    ))
+) -> Result<(), dk_status> {
+    let b = read_box::<T, D>(degree, control_points)?;
+    let u = read_points::<T, D>(params)?;
+    Ok(ffd_eval(&b, u, chunks_mut::<T, D>(out)?)?)
 }
 
 /// SU2's `SetCartesianCoord`: for each surface point p (node `nodes[p]` at parametric
@@ -251,45 +185,41 @@ pub(crate) fn dk_design_ffd_eval<T: Real>(
 /// ones. Errors (nothing written): as `dk_design_ffd_eval`, plus
 /// `DK_ERR_INDEX_OUT_OF_RANGE` and `DK_ERR_BAD_INDEX_BASE`.
 #[export(twin)]
-pub(crate) fn dk_design_ffd_displacements<T: Real>(
+pub(crate) fn dk_design_ffd_displacements<T: Real, const D: usize>(
     degree: In<'_, u32>,
     control_points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     points: In<'_, T>,
     nodes: In<'_, u32>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
     params: In<'_, T>,
     displacements: Out<'_, T>,
-) -> dk_status {
-    let nodes = Nodes {
-        nodes,
-        index_base,
-        index_scratch,
-    };
-    done(by_dim!(
-        dim,
-        displacements_for_dim::<T>,
-        (degree, control_points, points, nodes, params, displacements)
-    ))
+) -> Result<(), dk_status> {
+    let b = read_box::<T, D>(degree, control_points)?;
+    let p = read_points::<T, D>(points)?;
+    let u = read_points::<T, D>(params)?;
+    let nodes = read_nodes(nodes, index_base, index_scratch)?;
+    let d = chunks_mut::<T, D>(displacements)?;
+    Ok(ffd_displacements(&b, p, nodes, u, d)?)
 }
 
 /// Moved box minus original box at each of `params` into `displacements` (exactly zero where
 /// nothing moved). Errors (nothing written): as `dk_design_ffd_eval`.
 #[export(twin)]
-pub(crate) fn dk_design_ffd_displacements_between<T: Real>(
+pub(crate) fn dk_design_ffd_displacements_between<T: Real, const D: usize>(
     degree: In<'_, u32>,
     original: In<'_, T>,
     moved: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     params: In<'_, T>,
     displacements: Out<'_, T>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        between_for_dim::<T>,
-        (degree, original, moved, params, displacements)
-    ))
+) -> Result<(), dk_status> {
+    let a = read_box::<T, D>(degree, original)?;
+    let b = read_box::<T, D>(degree, moved)?;
+    let u = read_points::<T, D>(params)?;
+    let d = chunks_mut::<T, D>(displacements)?;
+    Ok(ffd_displacements_between(&a, &b, u, d)?)
 }
 
 /// Applies one SU2 FFD design variable (`kind`: `DK_FFD_CONTROL_POINT`, `_2D`, `DK_FFD_CAMBER`,
@@ -305,15 +235,12 @@ pub(crate) fn dk_design_ffd_variable<T: Real>(
     control_points: Out<'_, T>,
     index: In<'_, i32>,
     values: In<'_, T>,
-) -> dk_status {
-    let run = || {
-        let degree = read_degree::<3>(degree)?;
-        let index = read_array::<i32, 3>(index)?;
-        let values = read_array::<T, 3>(values)?;
-        let cps = chunks_mut::<T, 3>(control_points)?;
-        variable(kind, degree, cps, index, values)
-    };
-    done(run())
+) -> Result<(), dk_status> {
+    let degree = read_degree::<3>(degree)?;
+    let index = read_array::<i32, 3>(index)?;
+    let values = read_array::<T, 3>(values)?;
+    let cps = chunks_mut::<T, 3>(control_points)?;
+    variable(kind, degree, cps, index, values)
 }
 
 /// Applies one SU2 `FFD_TWIST` design variable to the control points of an always-3D SU2 box
@@ -335,19 +262,16 @@ pub(crate) fn dk_design_ffd_twist<T: Real>(
     ref_length: T,
     fixed_i: In<'_, u32>,
     fixed_k: In<'_, u32>,
-) -> dk_status {
-    let run = || {
-        let degree = read_degree::<3>(degree)?;
-        let s = read_array::<T, 6>(segment)?;
-        let twist = FfdTwist {
-            j: j as usize,
-            segment: [[s[0], s[1], s[2]], [s[3], s[4], s[5]]],
-            amplitude,
-            ref_length,
-        };
-        let (fi, fk) = (input(fixed_i)?, input(fixed_k)?);
-        let cps = chunks_mut::<T, 3>(control_points)?;
-        ffd_twist(degree, cps, twist, fi, fk).map_err(dk_status::from)
+) -> Result<(), dk_status> {
+    let degree = read_degree::<3>(degree)?;
+    let s = read_array::<T, 6>(segment)?;
+    let twist = FfdTwist {
+        j: j as usize,
+        segment: [[s[0], s[1], s[2]], [s[3], s[4], s[5]]],
+        amplitude,
+        ref_length,
     };
-    done(run())
+    let (fi, fk) = (input(fixed_i)?, input(fixed_k)?);
+    let cps = chunks_mut::<T, 3>(control_points)?;
+    Ok(ffd_twist(degree, cps, twist, fi, fk)?)
 }

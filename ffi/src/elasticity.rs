@@ -14,7 +14,7 @@ use deform_kernel::spring::SolveOptions;
 use deform_kernel::{Graph, Real};
 use deform_kernel_ffi_export::export;
 
-use crate::args::{assert_layout, by_dim, done, mul_len, optional, read_one, write_len, write_one};
+use crate::args::{assert_layout, mul_len, optional, read_one, write_len, write_one, Dim};
 use crate::graph::{dk_cells, dk_graph, read_graph, CellsIn};
 use crate::slice::{chunks, chunks_mut, input, out_one, output, In, Out};
 use crate::status::dk_status;
@@ -192,12 +192,10 @@ pub(crate) fn dk_elasticity_graph_len(
     index_base: u32,
     index_scratch: Out<'_, u32>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let scratch = output(index_scratch)?;
-        let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
-        write_len(len_out, elasticity_graph_len(&cells))
-    })())
+) -> Result<(), dk_status> {
+    let scratch = output(index_scratch)?;
+    let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
+    write_len(len_out, elasticity_graph_len(&cells))
 }
 
 /// Builds the graph of every pair of nodes that share a cell (the sparsity of the
@@ -213,14 +211,12 @@ pub(crate) fn dk_elasticity_graph(
     offsets: Out<'_, u32>,
     targets: Out<'_, u32>,
     used_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let scratch = output(index_scratch)?;
-        let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
-        let (o, t, used) = (output(offsets)?, output(targets)?, out_one(used_out)?);
-        *used = elasticity_graph(&cells, o, t)?;
-        Ok(())
-    })())
+) -> Result<(), dk_status> {
+    let scratch = output(index_scratch)?;
+    let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
+    let (o, t, used) = (output(offsets)?, output(targets)?, out_one(used_out)?);
+    *used = elasticity_graph(&cells, o, t)?;
+    Ok(())
 }
 
 /// Scalars of `scratch` [`dk_elasticity_deform`] needs: `cell_count + dim²·(node_count +
@@ -233,14 +229,12 @@ pub(crate) fn dk_elasticity_scratch_len(
     edge_count: usize,
     dim: u32,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        if !(2..=3).contains(&dim) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        let n = scratch_scalars(cell_count, node_count, edge_count, dim as usize)?;
-        write_len(len_out, n)
-    })())
+) -> Result<(), dk_status> {
+    if !(2..=3).contains(&dim) {
+        return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+    }
+    let n = scratch_scalars(cell_count, node_count, edge_count, dim as usize)?;
+    write_len(len_out, n)
 }
 
 /// Fills `*out` with the default elasticity settings for f64: inverse-volume modulus,
@@ -252,69 +246,21 @@ pub(crate) fn dk_elasticity_scratch_len(
 #[export(twin, out[1])]
 pub(crate) fn dk_elasticity_options_default<T: Real>(
     out: Out<'_, dk_elasticity_options>,
-) -> dk_status {
+) -> Result<(), dk_status> {
     let s = SolveOptions::<T>::default();
-    done(write_one(
-        out,
-        dk_elasticity_options {
-            max_iterations: s.max_iterations,
-            residual_tol: s.residual_tol.to_f64(),
-            poisson: 0.3,
-            steps: 1,
-            modulus: DK_MODULUS_INVERSE_VOLUME,
-        },
-    ))
-}
-
-/// The arguments of [`dk_elasticity_deform`] past the dimension dispatch.
-struct DeformArgs<'a, T> {
-    cells: In<'a, dk_cells>,
-    index_base: u32,
-    index_scratch: Out<'a, u32>,
-    graph: In<'a, dk_graph>,
-    fixed: In<'a, u8>,
-    options: dk_elasticity_options,
-    wall_distance: In<'a, T>,
-    displacement: In<'a, T>,
-    points: Out<'a, T>,
-    scratch: Out<'a, T>,
+    let v = dk_elasticity_options {
+        max_iterations: s.max_iterations,
+        residual_tol: s.residual_tol.to_f64(),
+        poisson: 0.3,
+        steps: 1,
+        modulus: DK_MODULUS_INVERSE_VOLUME,
+    };
+    write_one(out, v)
 }
 
 /// `D×D` blocks carved from a flat scalar slice.
 fn blocks<T, const D: usize>(flat: &mut [T]) -> &mut [Block<T, D>] {
     flat.as_chunks_mut::<D>().0.as_chunks_mut::<D>().0
-}
-
-fn deform_for_dim<T: Real, const D: usize>(
-    a: DeformArgs<'_, T>,
-) -> Result<dk_elasticity_report, dk_status> {
-    let n = a.points.len() / D;
-    let (cells, _) = CellsIn::read(a.cells)?.cells(n, a.index_base, output(a.index_scratch)?)?;
-    let graph: Graph<'_> = read_graph(a.graph)?;
-    let e = graph.edge_count();
-    let need = scratch_scalars(cells.len(), n, e, D)?;
-    let scratch = output(a.scratch)?;
-    if scratch.len() < need {
-        return Err(dk_status::DK_ERR_BUFFER_TOO_SMALL);
-    }
-    if a.displacement.len() != a.points.len() {
-        return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
-    }
-    let (buffers, cg) = increment_buffers::<T, D>(scratch, cells.len(), n, e)?;
-    let cg = cg.as_chunks_mut::<D>().0;
-    let params = a.options.increments(optional(a.wall_distance)?)?;
-    let solve_options = a.options.solve_options();
-    let r = deform_incremental(
-        &cells,
-        &graph,
-        input(a.fixed)?,
-        &params,
-        chunks_mut::<T, D>(a.points)?,
-        chunks::<T, D>(a.displacement)?,
-        buffers,
-        |sys, u| sys.solve(u, &solve_options, cg),
-    )?;
-    Ok(dk_elasticity_report::of(r))
 }
 
 /// Moves a mesh by linear elasticity (SU2_DEF's method) in `options->steps` load increments:
@@ -327,12 +273,12 @@ fn deform_for_dim<T: Real, const D: usize>(
 /// comes from [`dk_elasticity_graph`]; `scratch` needs [`dk_elasticity_scratch_len`]
 /// scalars. On any error `points` is unchanged.
 #[export(twin, cells[1], graph[1], options[1], report[1])]
-pub(crate) fn dk_elasticity_deform<T: Real>(
+pub(crate) fn dk_elasticity_deform<T: Real, const D: usize>(
     cells: In<'_, dk_cells>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
     graph: In<'_, dk_graph>,
-    dim: u32,
+    _dim: Dim<D>,
     fixed: In<'_, u8>,
     options: In<'_, dk_elasticity_options>,
     wall_distance: In<'_, T>,
@@ -340,22 +286,35 @@ pub(crate) fn dk_elasticity_deform<T: Real>(
     points: Out<'_, T>,
     scratch: Out<'_, T>,
     report: Out<'_, dk_elasticity_report>,
-) -> dk_status {
-    done((|| {
-        let out = out_one(report)?;
-        let args = DeformArgs {
-            cells,
-            index_base,
-            index_scratch,
-            graph,
-            fixed,
-            options: read_one(options)?,
-            wall_distance,
-            displacement,
-            points,
-            scratch,
-        };
-        *out = by_dim!(dim, deform_for_dim::<T>, (args))?;
-        Ok(())
-    })())
+) -> Result<(), dk_status> {
+    let out = out_one(report)?;
+    let options = read_one(options)?;
+    let n = points.len() / D;
+    let (cells, _) = CellsIn::read(cells)?.cells(n, index_base, output(index_scratch)?)?;
+    let graph: Graph<'_> = read_graph(graph)?;
+    let e = graph.edge_count();
+    let need = scratch_scalars(cells.len(), n, e, D)?;
+    let scratch = output(scratch)?;
+    if scratch.len() < need {
+        return Err(dk_status::DK_ERR_BUFFER_TOO_SMALL);
+    }
+    if displacement.len() != points.len() {
+        return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+    }
+    let (buffers, cg) = increment_buffers::<T, D>(scratch, cells.len(), n, e)?;
+    let cg = cg.as_chunks_mut::<D>().0;
+    let params = options.increments(optional(wall_distance)?)?;
+    let solve_options = options.solve_options();
+    let r = deform_incremental(
+        &cells,
+        &graph,
+        input(fixed)?,
+        &params,
+        chunks_mut::<T, D>(points)?,
+        chunks::<T, D>(displacement)?,
+        buffers,
+        |sys, u| sys.solve(u, &solve_options, cg),
+    )?;
+    *out = dk_elasticity_report::of(r);
+    Ok(())
 }

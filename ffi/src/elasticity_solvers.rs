@@ -19,14 +19,14 @@ use deform_kernel::spring::{
 use deform_kernel::{Cells, Graph, Real};
 use deform_kernel_ffi_export::export;
 
-use crate::args::{by_dim, done, mul_len, optional, read_one, write_len};
+use crate::args::{mul_len, optional, read_one, write_len, Dim};
 use crate::elasticity::{
     dk_elasticity_options, dk_elasticity_report, increment_buffers, increment_scalars,
 };
 use crate::graph::{dk_cells, dk_graph, read_graph, CellsIn};
-use crate::pools::{dk_plan_sizes, DkPlanPools, PoolArgs, PoolsC};
+use crate::pools::{dk_plan_sizes, DkPlanPools, PoolsC};
 use crate::slice::{chunks, chunks_mut, input, out_one, output, In, Out};
-use crate::spring::{dk_amg_options, ConstraintsC, ConstraintsIn, DkConstraints};
+use crate::spring::{dk_amg_options, DkConstraints};
 use crate::status::dk_status;
 
 /// Where the pools of a multigrid deformation go: `reals` = increments' buffers, spring
@@ -179,38 +179,19 @@ impl<T: Real, const D: usize> Open<'_, T, D> {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn amg_pool_sizes_for_dim<const D: usize>(
-    cell_count: usize,
-    graph: In<'_, dk_graph>,
-    fixed: In<'_, u8>,
-    sliding: bool,
-    amg: In<'_, dk_amg_options>,
-    work: Out<'_, u32>,
-    weight_scratch: Out<'_, f64>,
-    sizes_out: Out<'_, dk_plan_sizes>,
-) -> Result<(), dk_status> {
-    let amg = read_one(amg)?.to_kernel::<f64>()?;
-    let (graph, fixed) = (read_graph(graph)?, input(fixed)?);
-    let (work, weights) = (output(work)?, output(weight_scratch)?);
-    let out = out_one(sizes_out)?;
-    let spring = unit_spring(graph, fixed, weights, work)?;
-    *out = AmgLayout::of::<f64, D>(&spring, cell_count, sliding, &amg, work)?.sizes()?;
-    Ok(())
-}
-
 /// A multigrid deformation: the pools split as [`AmgLayout`] says, the hierarchy rebuilt
 /// with the rigid-body modes of each increment's mesh, sliding nodes when `constraints` is
 /// given.
-fn deform_amg_for_dim<T: Real, const D: usize>(
-    common: Common<'_, T>,
-    constraints: Option<ConstraintsIn<'_, T>>,
-    amg: In<'_, dk_amg_options>,
-    pools: Result<PoolArgs<'_, T>, dk_status>,
+/// The multigrid deformation, with sliding nodes or without.
+fn deform_amg_for_dim<'a, T: Real, const D: usize>(
+    common: Common<'a, T>,
+    constraints: Option<In<'a, DkConstraints<T>>>,
+    amg: In<'a, dk_amg_options>,
+    pools: In<'a, DkPlanPools<T>>,
 ) -> Result<dk_elasticity_report, dk_status> {
     let amg = read_one(amg)?.to_kernel::<T>()?;
-    let c: Option<Constraints<'_, T, D>> = constraints.map(|c| c.build::<D>()).transpose()?;
-    let (reals, indices, _) = pools?.borrow()?;
+    let c: Option<Constraints<'_, T, D>> = constraints.map(DkConstraints::open::<D>).transpose()?;
+    let (reals, indices, _) = DkPlanPools::read(pools)?.borrow()?;
     let a = common.open::<D>()?;
     let (n, e, short) = (
         a.points.len(),
@@ -250,25 +231,6 @@ fn deform_amg_for_dim<T: Real, const D: usize>(
     })
 }
 
-fn deform_sliding_for_dim<T: Real, const D: usize>(
-    common: Common<'_, T>,
-    constraints: Result<ConstraintsIn<'_, T>, dk_status>,
-    scratch: Out<'_, T>,
-) -> Result<dk_elasticity_report, dk_status> {
-    let c = constraints?.build::<D>()?;
-    let scratch = output(scratch)?;
-    let a = common.open::<D>()?;
-    let (n, e) = (a.points.len(), a.graph.edge_count());
-    let need = sliding_scalars(a.cells.len(), n, e, D)?;
-    if scratch.len() < need {
-        return Err(dk_status::DK_ERR_BUFFER_TOO_SMALL);
-    }
-    let (buffers, rest) = increment_buffers::<T, D>(scratch, a.cells.len(), n, e)?;
-    let cg = rest.as_chunks_mut::<D>().0;
-    let stop = a.options.solve_options::<T>();
-    a.run(buffers, |sys, _, u| sys.solve_sliding(&c, u, &stop, cg))
-}
-
 /// Scalars of `scratch` [`dk_elasticity_deform_sliding`] needs.
 fn sliding_scalars(cells: usize, n: usize, e: usize, dim: usize) -> Result<usize, dk_status> {
     let items = elastic_sliding_scratch_len(n).ok_or(dk_status::DK_ERR_TOO_LARGE)?;
@@ -298,29 +260,28 @@ fn sliding_scalars(cells: usize, n: usize, e: usize, dim: usize) -> Result<usize
 /// errors.
 #[export(graph[1], amg[1], sizes_out[1])]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn dk_elasticity_amg_pool_sizes(
+pub(crate) fn dk_elasticity_amg_pool_sizes<const D: usize>(
     cell_count: usize,
     graph: In<'_, dk_graph>,
-    dim: u32,
+    _dim: Dim<D>,
     fixed: In<'_, u8>,
     sliding: u32,
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
     weight_scratch: Out<'_, f64>,
     sizes_out: Out<'_, dk_plan_sizes>,
-) -> dk_status {
-    done((|| {
-        if sliding > 1 {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        let s = sliding == 1;
-        let (w, ws) = (work, weight_scratch);
-        match dim {
-            2 => amg_pool_sizes_for_dim::<2>(cell_count, graph, fixed, s, amg, w, ws, sizes_out),
-            3 => amg_pool_sizes_for_dim::<3>(cell_count, graph, fixed, s, amg, w, ws, sizes_out),
-            _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
-        }
-    })())
+) -> Result<(), dk_status> {
+    if sliding > 1 {
+        return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+    }
+    let amg = read_one(amg)?.to_kernel::<f64>()?;
+    let (graph, fixed) = (read_graph(graph)?, input(fixed)?);
+    let (work, weights) = (output(work)?, output(weight_scratch)?);
+    let out = out_one(sizes_out)?;
+    let spring = unit_spring(graph, fixed, weights, work)?;
+    let layout = AmgLayout::of::<f64, D>(&spring, cell_count, sliding == 1, &amg, work)?;
+    *out = layout.sizes()?;
+    Ok(())
 }
 
 /// `dk_elasticity_deform`'s motion with every increment solved by CG preconditioned with
@@ -336,12 +297,12 @@ pub(crate) fn dk_elasticity_amg_pool_sizes(
 /// `DK_ERR_SINGULAR_SYSTEM` (a coarse level not positive definite, or a CG breakdown).
 #[export(twin, cells[1], graph[1], options[1], amg[1], pools[1], report[1])]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn dk_elasticity_deform_amg<T: Real>(
+pub(crate) fn dk_elasticity_deform_amg<T: Real, const D: usize>(
     cells: In<'_, dk_cells>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
     graph: In<'_, dk_graph>,
-    dim: u32,
+    _dim: Dim<D>,
     fixed: In<'_, u8>,
     options: In<'_, dk_elasticity_options>,
     amg: In<'_, dk_amg_options>,
@@ -350,7 +311,7 @@ pub(crate) fn dk_elasticity_deform_amg<T: Real>(
     points: Out<'_, T>,
     pools: In<'_, DkPlanPools<T>>,
     report: Out<'_, dk_elasticity_report>,
-) -> dk_status {
+) -> Result<(), dk_status> {
     let common = Common {
         cells,
         index_base,
@@ -362,12 +323,9 @@ pub(crate) fn dk_elasticity_deform_amg<T: Real>(
         displacement,
         points,
     };
-    let pools = PoolsC::read(pools);
-    done((|| {
-        let out = out_one(report)?;
-        *out = by_dim!(dim, deform_amg_for_dim::<T>, (common, None, amg, pools))?;
-        Ok(())
-    })())
+    let out = out_one(report)?;
+    *out = deform_amg_for_dim::<T, D>(common, None, amg, pools)?;
+    Ok(())
 }
 
 /// Scalars of `scratch` [`dk_elasticity_deform_sliding`] needs: `cell_count +
@@ -380,14 +338,12 @@ pub(crate) fn dk_elasticity_sliding_scratch_len(
     edge_count: usize,
     dim: u32,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        if !(2..=3).contains(&dim) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        let n = sliding_scalars(cell_count, node_count, edge_count, dim as usize)?;
-        write_len(len_out, n)
-    })())
+) -> Result<(), dk_status> {
+    if !(2..=3).contains(&dim) {
+        return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+    }
+    let n = sliding_scalars(cell_count, node_count, edge_count, dim as usize)?;
+    write_len(len_out, n)
 }
 
 /// `dk_elasticity_deform` with sliding nodes: `constraints` (as for
@@ -403,12 +359,12 @@ pub(crate) fn dk_elasticity_sliding_scratch_len(
 /// kind-1 nodes differ.
 #[export(twin, cells[1], graph[1], constraints[1], options[1], report[1])]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn dk_elasticity_deform_sliding<T: Real>(
+pub(crate) fn dk_elasticity_deform_sliding<T: Real, const D: usize>(
     cells: In<'_, dk_cells>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
     graph: In<'_, dk_graph>,
-    dim: u32,
+    _dim: Dim<D>,
     fixed: In<'_, u8>,
     constraints: In<'_, DkConstraints<T>>,
     options: In<'_, dk_elasticity_options>,
@@ -417,7 +373,7 @@ pub(crate) fn dk_elasticity_deform_sliding<T: Real>(
     points: Out<'_, T>,
     scratch: Out<'_, T>,
     report: Out<'_, dk_elasticity_report>,
-) -> dk_status {
+) -> Result<(), dk_status> {
     let common = Common {
         cells,
         index_base,
@@ -429,12 +385,20 @@ pub(crate) fn dk_elasticity_deform_sliding<T: Real>(
         displacement,
         points,
     };
-    let c = ConstraintsC::read(constraints);
-    done((|| {
-        let out = out_one(report)?;
-        *out = by_dim!(dim, deform_sliding_for_dim::<T>, (common, c, scratch))?;
-        Ok(())
-    })())
+    let out = out_one(report)?;
+    let c = DkConstraints::open::<D>(constraints)?;
+    let scratch = output(scratch)?;
+    let a = common.open::<D>()?;
+    let (n, e) = (a.points.len(), a.graph.edge_count());
+    let need = sliding_scalars(a.cells.len(), n, e, D)?;
+    if scratch.len() < need {
+        return Err(dk_status::DK_ERR_BUFFER_TOO_SMALL);
+    }
+    let (buffers, rest) = increment_buffers::<T, D>(scratch, a.cells.len(), n, e)?;
+    let cg = rest.as_chunks_mut::<D>().0;
+    let stop = a.options.solve_options::<T>();
+    *out = a.run(buffers, |sys, _, u| sys.solve_sliding(&c, u, &stop, cg))?;
+    Ok(())
 }
 
 /// [`dk_elasticity_deform_sliding`] with every increment solved by the rigid-mode multigrid
@@ -447,12 +411,12 @@ pub(crate) fn dk_elasticity_deform_sliding<T: Real>(
 /// [`dk_elasticity_deform_amg`].
 #[export(twin, cells[1], graph[1], constraints[1], options[1], amg[1], pools[1], report[1])]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn dk_elasticity_deform_sliding_amg<T: Real>(
+pub(crate) fn dk_elasticity_deform_sliding_amg<T: Real, const D: usize>(
     cells: In<'_, dk_cells>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
     graph: In<'_, dk_graph>,
-    dim: u32,
+    _dim: Dim<D>,
     fixed: In<'_, u8>,
     constraints: In<'_, DkConstraints<T>>,
     options: In<'_, dk_elasticity_options>,
@@ -462,7 +426,7 @@ pub(crate) fn dk_elasticity_deform_sliding_amg<T: Real>(
     points: Out<'_, T>,
     pools: In<'_, DkPlanPools<T>>,
     report: Out<'_, dk_elasticity_report>,
-) -> dk_status {
+) -> Result<(), dk_status> {
     let common = Common {
         cells,
         index_base,
@@ -474,12 +438,8 @@ pub(crate) fn dk_elasticity_deform_sliding_amg<T: Real>(
         displacement,
         points,
     };
-    let pools = PoolsC::read(pools);
-    let c = ConstraintsC::read(constraints);
-    done((|| {
-        let out = out_one(report)?;
-        let c = Some(c?);
-        *out = by_dim!(dim, deform_amg_for_dim::<T>, (common, c, amg, pools))?;
-        Ok(())
-    })())
+    let out = out_one(report)?;
+    let c = Some(constraints);
+    *out = deform_amg_for_dim::<T, D>(common, c, amg, pools)?;
+    Ok(())
 }

@@ -206,13 +206,14 @@ impl<'a> CellsIn<'a> {
 
 /// Length `targets` needs for [`dk_graph_from_edges`]: `edges_len` (two entries per edge).
 #[export(len_out[1])]
-pub(crate) fn dk_graph_from_edges_len(edges_len: usize, len_out: Out<'_, usize>) -> dk_status {
-    done((|| {
-        if edges_len % 2 != 0 {
-            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
-        }
-        write_len(len_out, edges_len)
-    })())
+pub(crate) fn dk_graph_from_edges_len(
+    edges_len: usize,
+    len_out: Out<'_, usize>,
+) -> Result<(), dk_status> {
+    if edges_len % 2 != 0 {
+        return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+    }
+    write_len(len_out, edges_len)
 }
 
 /// Builds the symmetric, sorted, deduplicated CSR graph of an undirected edge list.
@@ -263,12 +264,10 @@ pub(crate) fn dk_cells_check(
     cells: In<'_, dk_cells>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
-) -> dk_status {
-    done((|| {
-        let scratch = output(index_scratch)?;
-        CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
-        Ok(())
-    })())
+) -> Result<(), dk_status> {
+    let scratch = output(index_scratch)?;
+    CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
+    Ok(())
 }
 
 /// Length `targets` needs for [`dk_graph_from_cells`] (validates the cells first;
@@ -281,12 +280,10 @@ pub(crate) fn dk_graph_from_cells_len(
     index_scratch: Out<'_, u32>,
     face_diagonals: bool,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let scratch = output(index_scratch)?;
-        let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
-        write_len(len_out, graph_from_cells_len(&cells, face_diagonals))
-    })())
+) -> Result<(), dk_status> {
+    let scratch = output(index_scratch)?;
+    let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
+    write_len(len_out, graph_from_cells_len(&cells, face_diagonals))
 }
 
 /// Builds the edge graph of a mixed-element mesh (cell edges, plus quadrilateral-face
@@ -304,27 +301,26 @@ pub(crate) fn dk_graph_from_cells(
     offsets: Out<'_, u32>,
     targets: Out<'_, u32>,
     used_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let scratch = output(index_scratch)?;
-        let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
-        let o = output(offsets)?;
-        let t = output(targets)?;
-        let used = out_one(used_out)?;
-        *used = graph_from_cells(&cells, face_diagonals, o, t)?;
-        Ok(())
-    })())
+) -> Result<(), dk_status> {
+    let scratch = output(index_scratch)?;
+    let (cells, _) = CellsIn::read(cells)?.cells(node_count, index_base, scratch)?;
+    let o = output(offsets)?;
+    let t = output(targets)?;
+    let used = out_one(used_out)?;
+    *used = graph_from_cells(&cells, face_diagonals, o, t)?;
+    Ok(())
 }
 
 /// Validates a 0-based CSR graph (`graph->offsets`: node count + 1 entries; `targets`); with
 /// `require_symmetric` also checks that every edge has its reverse.
 #[export(graph[1])]
-pub(crate) fn dk_graph_check(graph: In<'_, dk_graph>, require_symmetric: bool) -> dk_status {
-    done((|| {
-        let g = read_graph(graph)?;
-        if require_symmetric {
-            g.check_symmetric()?;
-        }
-        Ok(())
-    })())
+pub(crate) fn dk_graph_check(
+    graph: In<'_, dk_graph>,
+    require_symmetric: bool,
+) -> Result<(), dk_status> {
+    let g = read_graph(graph)?;
+    if require_symmetric {
+        g.check_symmetric()?;
+    }
+    Ok(())
 }

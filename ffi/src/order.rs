@@ -13,9 +13,7 @@ use deform_kernel::order::{
 use deform_kernel::Real;
 use deform_kernel_ffi_export::export;
 
-use crate::args::{
-    assert_layout, by_components, by_dim, check_base, done, read_one, read_points, zero_based,
-};
+use crate::args::{assert_layout, check_base, read_one, read_points, zero_based, Components, Dim};
 use crate::graph::{dk_graph, read_graph};
 use crate::slice::{chunks, chunks_mut, input, out_one, output, In, Out};
 use crate::status::dk_status;
@@ -71,21 +69,9 @@ pub(crate) fn dk_order_rcm(
     graph: In<'_, dk_graph>,
     order: Out<'_, u32>,
     inverse: Out<'_, u32>,
-) -> dk_status {
-    done((|| {
-        let g = read_graph(graph)?;
-        rcm_order(&g, output(order)?, output(inverse)?).map_err(dk_status::from)
-    })())
-}
-
-fn hilbert_for_dim<T: Real, const D: usize>(
-    points: In<'_, T>,
-    order: Out<'_, u32>,
-    inverse: Out<'_, u32>,
-    keys: Out<'_, u64>,
 ) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points)?;
-    hilbert_order(p, output(order)?, output(inverse)?, output(keys)?).map_err(dk_status::from)
+    let g = read_graph(graph)?;
+    rcm_order(&g, output(order)?, output(inverse)?).map_err(dk_status::from)
 }
 
 /// Hilbert-curve order of `points` (`node_count * dim` scalars, `dim` 2 or 3) into `order`
@@ -95,18 +81,20 @@ fn hilbert_for_dim<T: Real, const D: usize>(
 /// `DK_ERR_NON_FINITE`, `DK_ERR_INVALID_PARAMETER` (`dim`), `DK_ERR_BUFFER_TOO_SMALL`
 /// (`keys`), length and pointer errors.
 #[export(twin)]
-pub(crate) fn dk_order_hilbert<T: Real>(
+pub(crate) fn dk_order_hilbert<T: Real, const D: usize>(
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     order: Out<'_, u32>,
     inverse: Out<'_, u32>,
     keys: Out<'_, u64>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        hilbert_for_dim::<T>,
-        (points, order, inverse, keys)
-    ))
+) -> Result<(), dk_status> {
+    let p = read_points::<T, D>(points)?;
+    Ok(hilbert_order(
+        p,
+        output(order)?,
+        output(inverse)?,
+        output(keys)?,
+    )?)
 }
 
 /// Index distance across the graph's directed edges: the largest `|i - j|` (the bandwidth)
@@ -120,25 +108,14 @@ pub(crate) fn dk_order_index_distance(
     perm: In<'_, dk_permutation>,
     max_out: Out<'_, u32>,
     sum_out: Out<'_, u64>,
-) -> dk_status {
-    done((|| {
-        let g = read_graph(graph)?;
-        let p = read_perm(perm)?;
-        let d = index_distance(&g, p)?;
-        let (m, s) = (out_one(max_out)?, out_one(sum_out)?);
-        *m = d.max;
-        *s = d.sum;
-        Ok(())
-    })())
-}
-
-fn permute_width<T: Real, const V: usize>(
-    p: Permutation<'_>,
-    src: In<'_, T>,
-    dst: Out<'_, T>,
 ) -> Result<(), dk_status> {
-    let s = chunks::<T, V>(src)?;
-    permute(p, s, chunks_mut::<T, V>(dst)?).map_err(dk_status::from)
+    let g = read_graph(graph)?;
+    let p = read_perm(perm)?;
+    let d = index_distance(&g, p)?;
+    let (m, s) = (out_one(max_out)?, out_one(sum_out)?);
+    *m = d.max;
+    *s = d.sum;
+    Ok(())
 }
 
 /// Per-node values in the new numbering: `dst[new] = src[order[new]]`, `width` scalars a node
@@ -146,16 +123,15 @@ fn permute_width<T: Real, const V: usize>(
 /// With `order` and `inverse` swapped it puts them back. Errors (nothing written): permutation
 /// errors, `DK_ERR_INVALID_PARAMETER` (`width`), length and pointer errors.
 #[export(twin, perm[1])]
-pub(crate) fn dk_order_permute<T: Real>(
+pub(crate) fn dk_order_permute<T: Real, const V: usize>(
     perm: In<'_, dk_permutation>,
-    width: u32,
+    _width: Components<V>,
     src: In<'_, T>,
     dst: Out<'_, T>,
-) -> dk_status {
-    done((|| {
-        let p = required_perm(perm)?;
-        by_components!(width, permute_width::<T>, (p, src, dst))
-    })())
+) -> Result<(), dk_status> {
+    let p = required_perm(perm)?;
+    let s = chunks::<T, V>(src)?;
+    Ok(permute(p, s, chunks_mut::<T, V>(dst)?)?)
 }
 
 /// Node indices in the new numbering, in place: `i` becomes `inverse[i]` (cell node lists,
@@ -167,26 +143,24 @@ pub(crate) fn dk_order_renumber(
     perm: In<'_, dk_permutation>,
     index_base: u32,
     indices: Out<'_, u32>,
-) -> dk_status {
-    done((|| {
-        check_base(index_base)?;
-        let p = required_perm(perm)?;
-        let idx = output(indices)?;
-        if idx
-            .iter()
-            .any(|&i| zero_based(i, index_base) as usize >= p.len())
-        {
-            return Err(dk_status::DK_ERR_INDEX_OUT_OF_RANGE);
-        }
-        for i in idx.iter_mut() {
-            let new = p
-                .inverse()
-                .get(zero_based(*i, index_base) as usize)
-                .copied();
-            *i = new.unwrap_or(0).wrapping_add(index_base);
-        }
-        Ok(())
-    })())
+) -> Result<(), dk_status> {
+    check_base(index_base)?;
+    let p = required_perm(perm)?;
+    let idx = output(indices)?;
+    if idx
+        .iter()
+        .any(|&i| zero_based(i, index_base) as usize >= p.len())
+    {
+        return Err(dk_status::DK_ERR_INDEX_OUT_OF_RANGE);
+    }
+    for i in idx.iter_mut() {
+        let new = p
+            .inverse()
+            .get(zero_based(*i, index_base) as usize)
+            .copied();
+        *i = new.unwrap_or(0).wrapping_add(index_base);
+    }
+    Ok(())
 }
 
 /// The graph in the new numbering into `offsets` (`node_count + 1` entries) and `targets`
@@ -201,14 +175,12 @@ pub(crate) fn dk_order_permute_graph(
     offsets: Out<'_, u32>,
     targets: Out<'_, u32>,
     edge_map: Out<'_, u32>,
-) -> dk_status {
-    done((|| {
-        let p = required_perm(perm)?;
-        let g = read_graph(graph)?;
-        let map = output(edge_map)?;
-        let map = if map.is_empty() { None } else { Some(map) };
-        permute_graph(p, &g, output(offsets)?, output(targets)?, map).map_err(dk_status::from)
-    })())
+) -> Result<(), dk_status> {
+    let p = required_perm(perm)?;
+    let g = read_graph(graph)?;
+    let map = output(edge_map)?;
+    let map = if map.is_empty() { None } else { Some(map) };
+    permute_graph(p, &g, output(offsets)?, output(targets)?, map).map_err(dk_status::from)
 }
 
 /// `dst[k] = src[map[k]]` (per-edge data such as stiffness after `dk_order_permute_graph`,
@@ -219,8 +191,6 @@ pub(crate) fn dk_order_gather<T: Real>(
     map: In<'_, u32>,
     src: In<'_, T>,
     dst: Out<'_, T>,
-) -> dk_status {
-    done((|| {
-        gather(input(map)?, input(src)?, output(dst)?).map_err(dk_status::from)
-    })())
+) -> Result<(), dk_status> {
+    gather(input(map)?, input(src)?, output(dst)?).map_err(dk_status::from)
 }

@@ -37,7 +37,7 @@ use deform_kernel::spring::{
 use deform_kernel::Real;
 use deform_kernel_ffi_export::export;
 
-use crate::args::{assert_layout, by_components, by_dim, done, mul_len, read_one, write_one};
+use crate::args::{assert_layout, by_components, by_dim, mul_len, read_one, write_one};
 use crate::graph::dk_cells;
 use crate::slice::{input, output, In, Out};
 use crate::spring::{dk_spring_solve_options, dk_spring_solve_report};
@@ -406,16 +406,14 @@ pub(crate) fn dk_partitioned_spring_scratch_len(
     components: u32,
     scratch_len_out: Out<'_, usize>,
     index_scratch_len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let (p, c) = (read_one(partition)?, read_one(cells)?);
-        // SAFETY: the contract of this function: the structs' arrays are readable.
-        let local = unsafe { Local::read(&p, &c, face_diagonals)? };
-        let targets = partitioned_targets_len(&local.cells);
-        let (reals, index) = scratch_lens(local.ids.len(), targets, components as usize)?;
-        write_one(scratch_len_out, reals)?;
-        write_one(index_scratch_len_out, index)
-    })())
+) -> Result<(), dk_status> {
+    let (p, c) = (read_one(partition)?, read_one(cells)?);
+    // SAFETY: the contract of this function: the structs' arrays are readable.
+    let local = unsafe { Local::read(&p, &c, face_diagonals)? };
+    let targets = partitioned_targets_len(&local.cells);
+    let (reals, index) = scratch_lens(local.ids.len(), targets, components as usize)?;
+    write_one(scratch_len_out, reals)?;
+    write_one(index_scratch_len_out, index)
 }
 
 /// Solves the linear springs on distributed data: each process passes its partition, the
@@ -454,38 +452,36 @@ pub(crate) fn dk_partitioned_spring_solve(
     index_scratch: Out<'_, u32>,
     exchange: In<'_, dk_exchange>,
     report: Out<'_, dk_spring_solve_report>,
-) -> dk_status {
-    done((|| {
-        let ex = read_one(exchange)?;
-        let part = read_one(partition);
-        let comm = CExchange::new(ex, *part.as_ref().unwrap_or(&dk_partition::NONE))?;
-        let args = Args {
-            points,
-            dim,
-            exponent,
-            fixed,
-            values,
-            scratch,
-            index_scratch,
-        };
-        let prepared = part.and_then(|p| {
-            let c = read_one(cells)?;
-            // SAFETY: the contract of this function: the structs' arrays are readable.
-            let local = unsafe { Local::read(&p, &c, face_diagonals)? };
-            let o = read_one(options)?;
-            let report = crate::slice::out_one(report)?;
-            prepare(p, local, &o, components as usize, args).map(|w| (w, report))
-        });
-        let (mut work, report) = comm.agree_local(prepared)?;
-        let solved = work.solve(&comm);
-        comm.verdict()?;
-        let r = solved?;
-        for (v, c) in work.values.iter_mut().zip(work.copy.iter()) {
-            *v = *c;
-        }
-        *report = dk_spring_solve_report::of(r);
-        Ok(())
-    })())
+) -> Result<(), dk_status> {
+    let ex = read_one(exchange)?;
+    let part = read_one(partition);
+    let comm = CExchange::new(ex, *part.as_ref().unwrap_or(&dk_partition::NONE))?;
+    let args = Args {
+        points,
+        dim,
+        exponent,
+        fixed,
+        values,
+        scratch,
+        index_scratch,
+    };
+    let prepared = part.and_then(|p| {
+        let c = read_one(cells)?;
+        // SAFETY: the contract of this function: the structs' arrays are readable.
+        let local = unsafe { Local::read(&p, &c, face_diagonals)? };
+        let o = read_one(options)?;
+        let report = crate::slice::out_one(report)?;
+        prepare(p, local, &o, components as usize, args).map(|w| (w, report))
+    });
+    let (mut work, report) = comm.agree_local(prepared)?;
+    let solved = work.solve(&comm);
+    comm.verdict()?;
+    let r = solved?;
+    for (v, c) in work.values.iter_mut().zip(work.copy.iter()) {
+        *v = *c;
+    }
+    *report = dk_spring_solve_report::of(r);
+    Ok(())
 }
 
 /// The per-node arrays and buffers of a solve, as the caller passed them.

@@ -18,11 +18,11 @@ use deform_kernel::spring::AmgOptions;
 use deform_kernel::{Quat, Real};
 use deform_kernel_ffi_export::export;
 
-use crate::args::{assert_layout, by_dim, done, read_array, read_one, read_points, write_one};
+use crate::args::{assert_layout, read_array, read_one, read_points, write_one, Dim};
 use crate::graph::{dk_cells, dk_graph, CellsIn, GraphIn};
 pub use crate::pools::{dk_plan_pools, dk_plan_pools_f32, dk_plan_sizes, DkPlanPools};
 use crate::pools::{PoolArgs, PoolsC};
-use crate::slice::{chunks_mut, input, quats, In, Out};
+use crate::slice::{chunks_mut, input, out_one, quats, In, Out};
 use crate::spring::{dk_amg_options, dk_spring_solve_options};
 use crate::status::dk_status;
 
@@ -138,19 +138,6 @@ fn info<T: Real, const D: usize>(p: &Plan<'_, T, D>) -> dk_plan_info {
     }
 }
 
-pub(crate) fn options_default<T: Real>(out: Out<'_, dk_plan_options>) -> dk_status {
-    done(write_one(
-        out,
-        dk_plan_options {
-            method: DK_PLAN_QUATERNION,
-            solver: DK_PLAN_SOLVER_AMG,
-            stiffness_exponent: 1.0,
-            linear: dk_spring_solve_options::default_for::<T>(),
-            amg: dk_amg_options::of(AmgOptions::<T>::default()),
-        },
-    ))
-}
-
 /// The mesh a plan is built from ([`dk_plan_work_sizes`], [`dk_plan_pool_sizes`],
 /// [`dk_plan_init`]); borrowed for the call and copied into the plan.
 #[export(twin = dk_plan_mesh)]
@@ -195,25 +182,13 @@ pub(crate) struct SpecArgs<'a, T> {
     renumber: u32,
 }
 
-/// The precision twins of the plan structs, seen through [`SpecArgs`] and [`PoolArgs`].
-pub(crate) trait PlanC: Copy {
-    type T: Real;
-    type Pools: Copy;
-    /// Reads the mesh and wraps its arrays in tokens of the struct's lifetime.
+impl<T: Real> DkPlanMesh<T> {
+    /// Reads the mesh and wraps its arrays in tokens of the struct's lifetime, with the
+    /// caller's options and node order (`DK_PLAN_ORDER_*`).
     fn spec<'a>(
         mesh: In<'a, Self>,
         options: In<'a, dk_plan_options>,
-    ) -> Result<SpecArgs<'a, Self::T>, dk_status>;
-    /// Reads a pools struct and wraps its buffers in tokens of the struct's lifetime.
-    fn pools(p: In<'_, Self::Pools>) -> Result<PoolArgs<'_, Self::T>, dk_status>;
-}
-
-impl<T: Real> PlanC for DkPlanMesh<T> {
-    type T = T;
-    type Pools = DkPlanPools<T>;
-    fn spec<'a>(
-        mesh: In<'a, Self>,
-        options: In<'a, dk_plan_options>,
+        renumber: u32,
     ) -> Result<SpecArgs<'a, T>, dk_status> {
         let m = read_one(mesh)?;
         // SAFETY: a token for a mesh struct carries the contract of the functions
@@ -226,14 +201,12 @@ impl<T: Real> PlanC for DkPlanMesh<T> {
                 elements: m.elements.tokens(),
                 stiffness: In::new(m.stiffness, m.stiffness_len),
                 options,
-                renumber: DK_PLAN_ORDER_NONE,
+                renumber,
             }
         })
     }
-    fn pools(p: In<'_, DkPlanPools<T>>) -> Result<PoolArgs<'_, T>, dk_status> {
-        PoolsC::read(p)
-    }
 }
+
 impl<'a, T: Real> PoolArgs<'a, T> {
     fn work(self) -> Result<PlanWork<'a, T>, dk_status> {
         let (reals, indices, bytes) = self.borrow()?;
@@ -300,51 +273,6 @@ impl<'a, T: Real> SpecArgs<'a, T> {
     }
 }
 
-fn work_sizes_for_dim<T: Real, const D: usize>(
-    spec: &SpecArgs<'_, T>,
-    out: Out<'_, dk_plan_sizes>,
-) -> Result<(), dk_status> {
-    let s = spec.spec::<D>()?;
-    let sizes = Plan::<T, D>::work_sizes(&s)?;
-    write_one(out, sizes.into())
-}
-
-fn sizes_for_dim<T: Real, const D: usize>(
-    spec: &SpecArgs<'_, T>,
-    work: PoolArgs<'_, T>,
-    out: Out<'_, dk_plan_sizes>,
-) -> Result<(), dk_status> {
-    let s = spec.spec::<D>()?;
-    let mut work = work.work()?;
-    let sizes = Plan::<T, D>::sizes(&s, &mut work)?;
-    write_one(out, sizes.into())
-}
-
-fn init_for_dim<T: Real, const D: usize>(
-    spec: &SpecArgs<'_, T>,
-    work: PoolArgs<'_, T>,
-    pools: PoolArgs<'_, T>,
-    info_out: Out<'_, dk_plan_info>,
-) -> Result<(), dk_status> {
-    let s = spec.spec::<D>()?;
-    let mut work = work.work()?;
-    let info_slot = crate::slice::out_one(info_out)?;
-    let (reals, indices, bytes) = pools.borrow()?;
-    let plan = Plan::<T, D>::init(&s, &mut work, reals, indices, bytes)?;
-    *info_slot = info(&plan);
-    Ok(())
-}
-
-fn open_for_dim<T: Real, const D: usize>(
-    pools: PoolArgs<'_, T>,
-    info_out: Out<'_, dk_plan_info>,
-) -> Result<(), dk_status> {
-    let info_slot = crate::slice::out_one(info_out)?;
-    let plan = pools.open::<D>()?;
-    *info_slot = info(&plan);
-    Ok(())
-}
-
 /// One step's motion, as the C caller passed it.
 pub(crate) struct MotionArgs<'a, T> {
     pub(crate) deformed: In<'a, T>,
@@ -396,29 +324,6 @@ impl<'a, T: Real> MotionArgs<'a, T> {
     }
 }
 
-fn step_for_dim<T: Real, const D: usize>(
-    pools: Result<PoolArgs<'_, T>, dk_status>,
-    motion: MotionArgs<'_, T>,
-    out: Out<'_, T>,
-    report_out: Out<'_, dk_plan_step_report>,
-) -> Result<(), dk_status> {
-    let mut plan = pools?.open::<D>()?;
-    let motion = motion.motion::<D>(plan.method())?;
-    let out = chunks_mut::<T, D>(out)?;
-    let report_slot = crate::slice::out_one(report_out)?;
-    let r = plan.step(&motion, out)?;
-    *report_slot = dk_plan_step_report {
-        iterations: r.solve.iterations,
-        residual: r.solve.residual.to_f64(),
-        max_update: r.solve.max_update.to_f64(),
-        step: r.step,
-        converged: r.solve.converged,
-        warm: r.warm,
-        extrapolated: r.extrapolated,
-    };
-    Ok(())
-}
-
 // ---------------------------------------------------------------------------------------------
 // The C functions (`cargo xtask codegen` exports each, see ffi/README.md).
 // ---------------------------------------------------------------------------------------------
@@ -430,8 +335,17 @@ fn step_for_dim<T: Real, const D: usize>(
 /// # f32 twin
 /// As [`dk_plan_options_default`] with the f32 default residual tolerance (`100 ε_f32`).
 #[export(twin, out[1])]
-pub(crate) fn dk_plan_options_default<T: Real>(out: Out<'_, dk_plan_options>) -> dk_status {
-    options_default::<T>(out)
+pub(crate) fn dk_plan_options_default<T: Real>(
+    out: Out<'_, dk_plan_options>,
+) -> Result<(), dk_status> {
+    let v = dk_plan_options {
+        method: DK_PLAN_QUATERNION,
+        solver: DK_PLAN_SOLVER_AMG,
+        stiffness_exponent: 1.0,
+        linear: dk_spring_solve_options::default_for::<T>(),
+        amg: dk_amg_options::of(AmgOptions::<T>::default()),
+    };
+    write_one(out, v)
 }
 
 /// Lengths of the transient work buffers [`dk_plan_pool_sizes`] and [`dk_plan_init`] need for this
@@ -458,26 +372,13 @@ pub(crate) fn dk_plan_options_default<T: Real>(out: Out<'_, dk_plan_options>) ->
 /// `stiffness` not one per directed edge) and pointer errors, as [`dk_plan_pool_sizes`]
 /// reports them.
 #[export(twin, mesh[1], options[1], sizes_out[1])]
-pub(crate) fn dk_plan_work_sizes<T: Real>(
+pub(crate) fn dk_plan_work_sizes<T: Real, const D: usize>(
     mesh: In<'_, DkPlanMesh<T>>,
-    dim: u32,
+    _dim: Dim<D>,
     options: In<'_, dk_plan_options>,
     sizes_out: Out<'_, dk_plan_sizes>,
-) -> dk_status {
-    work_sizes(mesh, dim, options, DK_PLAN_ORDER_NONE, sizes_out)
-}
-
-fn work_sizes<T: Real>(
-    mesh: In<'_, DkPlanMesh<T>>,
-    dim: u32,
-    options: In<'_, dk_plan_options>,
-    renumber: u32,
-    sizes_out: Out<'_, dk_plan_sizes>,
-) -> dk_status {
-    done(PlanC::spec(mesh, options).and_then(|spec| {
-        let spec = SpecArgs { renumber, ..spec };
-        by_dim!(dim, work_sizes_for_dim::<T>, (&spec, sizes_out))
-    }))
+) -> Result<(), dk_status> {
+    dk_plan_work_sizes_ordered::<T, D>(mesh, Dim, options, DK_PLAN_ORDER_NONE, sizes_out)
 }
 
 /// The exact lengths of the three plan pools for this mesh: validates the mesh and options
@@ -486,32 +387,15 @@ fn work_sizes<T: Real>(
 /// the work buffers. Errors: those of [`dk_plan_init`]'s validation; only the work buffers
 /// are written.
 #[export(twin, mesh[1], options[1], work[1], sizes_out[1])]
-pub(crate) fn dk_plan_pool_sizes<T: Real>(
+pub(crate) fn dk_plan_pool_sizes<T: Real, const D: usize>(
     mesh: In<'_, DkPlanMesh<T>>,
-    dim: u32,
+    _dim: Dim<D>,
     options: In<'_, dk_plan_options>,
     work: In<'_, DkPlanPools<T>>,
     sizes_out: Out<'_, dk_plan_sizes>,
-) -> dk_status {
-    pool_sizes(mesh, dim, options, DK_PLAN_ORDER_NONE, work, sizes_out)
-}
-
-fn pool_sizes<T: Real>(
-    mesh: In<'_, DkPlanMesh<T>>,
-    dim: u32,
-    options: In<'_, dk_plan_options>,
-    renumber: u32,
-    work: In<'_, DkPlanPools<T>>,
-    sizes_out: Out<'_, dk_plan_sizes>,
-) -> dk_status {
-    done((|| {
-        let spec = SpecArgs {
-            renumber,
-            ..PlanC::spec(mesh, options)?
-        };
-        let work = <DkPlanMesh<T> as PlanC>::pools(work)?;
-        by_dim!(dim, sizes_for_dim::<T>, (&spec, work, sizes_out))
-    })())
+) -> Result<(), dk_status> {
+    let none = DK_PLAN_ORDER_NONE;
+    dk_plan_pool_sizes_ordered::<T, D>(mesh, Dim, options, none, work, sizes_out)
 }
 
 /// Builds a plan in the pools `reals`, `indices`, `bytes` (each at least the length
@@ -526,43 +410,16 @@ fn pool_sizes<T: Real>(
 /// `DK_ERR_TOO_LARGE`; a hierarchy set-up that breaks down in floating point fails after
 /// writing, and then the pools hold no plan.
 #[export(twin, mesh[1], options[1], work[1], pools[1], info_out[1])]
-pub(crate) fn dk_plan_init<T: Real>(
+pub(crate) fn dk_plan_init<T: Real, const D: usize>(
     mesh: In<'_, DkPlanMesh<T>>,
-    dim: u32,
+    _dim: Dim<D>,
     options: In<'_, dk_plan_options>,
     work: In<'_, DkPlanPools<T>>,
     pools: In<'_, DkPlanPools<T>>,
     info_out: Out<'_, dk_plan_info>,
-) -> dk_status {
-    init(
-        mesh,
-        dim,
-        options,
-        DK_PLAN_ORDER_NONE,
-        work,
-        pools,
-        info_out,
-    )
-}
-
-fn init<T: Real>(
-    mesh: In<'_, DkPlanMesh<T>>,
-    dim: u32,
-    options: In<'_, dk_plan_options>,
-    renumber: u32,
-    work: In<'_, DkPlanPools<T>>,
-    pools: In<'_, DkPlanPools<T>>,
-    info_out: Out<'_, dk_plan_info>,
-) -> dk_status {
-    done((|| {
-        let spec = SpecArgs {
-            renumber,
-            ..PlanC::spec(mesh, options)?
-        };
-        let work = <DkPlanMesh<T> as PlanC>::pools(work)?;
-        let pools = <DkPlanMesh<T> as PlanC>::pools(pools)?;
-        by_dim!(dim, init_for_dim::<T>, (&spec, work, pools, info_out))
-    })())
+) -> Result<(), dk_status> {
+    let none = DK_PLAN_ORDER_NONE;
+    dk_plan_init_ordered::<T, D>(mesh, Dim, options, none, work, pools, info_out)
 }
 
 /// Checks that the pools hold a plan for this precision and `dim` (magic, version, counts,
@@ -571,15 +428,15 @@ fn init<T: Real>(
 /// `DK_ERR_BAD_PLAN`, `DK_ERR_INVALID_PARAMETER` (`dim`), pointer errors; nothing is written
 /// but `info_out`.
 #[export(twin, pools[1], info_out[1])]
-pub(crate) fn dk_plan_open<T: Real>(
+pub(crate) fn dk_plan_open<T: Real, const D: usize>(
     pools: In<'_, DkPlanPools<T>>,
-    dim: u32,
+    _dim: Dim<D>,
     info_out: Out<'_, dk_plan_info>,
-) -> dk_status {
-    done(
-        <DkPlanMesh<T> as PlanC>::pools(pools)
-            .and_then(|pools| by_dim!(dim, open_for_dim::<T>, (pools, info_out))),
-    )
+) -> Result<(), dk_status> {
+    let pools = DkPlanPools::read(pools)?;
+    let info_slot = out_one(info_out)?;
+    *info_slot = info(&pools.open::<D>()?);
+    Ok(())
 }
 
 /// One time step: the new boundary positions in, the deformed mesh out (`out`: `N * dim`
@@ -606,9 +463,9 @@ pub(crate) fn dk_plan_open<T: Real>(
 /// rotations without elements), the boundary rotations' and the solver's errors. On error `out`, the stored
 /// solutions and the step count are unchanged.
 #[export(twin, pools[1], rotations?, origin?, report_out[1])]
-pub(crate) fn dk_plan_step<T: Real>(
+pub(crate) fn dk_plan_step<T: Real, const D: usize>(
     pools: In<'_, DkPlanPools<T>>,
-    dim: u32,
+    _dim: Dim<D>,
     deformed: In<'_, T>,
     rotation_source: u32,
     rotations: In<'_, T>,
@@ -616,8 +473,8 @@ pub(crate) fn dk_plan_step<T: Real>(
     start: u32,
     out: Out<'_, T>,
     report_out: Out<'_, dk_plan_step_report>,
-) -> dk_status {
-    let pools = <DkPlanMesh<T> as PlanC>::pools(pools);
+) -> Result<(), dk_status> {
+    let mut plan = DkPlanPools::read(pools)?.open::<D>()?;
     let motion = MotionArgs {
         deformed,
         rotation_source,
@@ -625,11 +482,20 @@ pub(crate) fn dk_plan_step<T: Real>(
         origin,
         start,
     };
-    done(by_dim!(
-        dim,
-        step_for_dim::<T>,
-        (pools, motion, out, report_out)
-    ))
+    let motion = motion.motion::<D>(plan.method())?;
+    let out = chunks_mut::<T, D>(out)?;
+    let report_slot = out_one(report_out)?;
+    let r = plan.step(&motion, out)?;
+    *report_slot = dk_plan_step_report {
+        iterations: r.solve.iterations,
+        residual: r.solve.residual.to_f64(),
+        max_update: r.solve.max_update.to_f64(),
+        step: r.step,
+        converged: r.solve.converged,
+        warm: r.warm,
+        extrapolated: r.extrapolated,
+    };
+    Ok(())
 }
 
 /// [`dk_plan_work_sizes`] for a plan that renumbers its mesh for memory locality at init
@@ -638,14 +504,16 @@ pub(crate) fn dk_plan_step<T: Real>(
 /// as well. Errors: those of [`dk_plan_work_sizes`], `DK_ERR_INVALID_PARAMETER` for an
 /// unknown `renumber`.
 #[export(twin, mesh[1], options[1], sizes_out[1])]
-pub(crate) fn dk_plan_work_sizes_ordered<T: Real>(
+pub(crate) fn dk_plan_work_sizes_ordered<T: Real, const D: usize>(
     mesh: In<'_, DkPlanMesh<T>>,
-    dim: u32,
+    _dim: Dim<D>,
     options: In<'_, dk_plan_options>,
     renumber: u32,
     sizes_out: Out<'_, dk_plan_sizes>,
-) -> dk_status {
-    work_sizes(mesh, dim, options, renumber, sizes_out)
+) -> Result<(), dk_status> {
+    let spec = DkPlanMesh::spec(mesh, options, renumber)?;
+    let sizes = Plan::<T, D>::work_sizes(&spec.spec::<D>()?)?;
+    write_one(sizes_out, sizes.into())
 }
 
 /// [`dk_plan_pool_sizes`] for a plan that renumbers its mesh (`renumber` as
@@ -653,15 +521,19 @@ pub(crate) fn dk_plan_work_sizes_ordered<T: Real>(
 /// Errors: those of [`dk_plan_pool_sizes`], `DK_ERR_INVALID_PARAMETER` for an unknown
 /// `renumber`.
 #[export(twin, mesh[1], options[1], work[1], sizes_out[1])]
-pub(crate) fn dk_plan_pool_sizes_ordered<T: Real>(
+pub(crate) fn dk_plan_pool_sizes_ordered<T: Real, const D: usize>(
     mesh: In<'_, DkPlanMesh<T>>,
-    dim: u32,
+    _dim: Dim<D>,
     options: In<'_, dk_plan_options>,
     renumber: u32,
     work: In<'_, DkPlanPools<T>>,
     sizes_out: Out<'_, dk_plan_sizes>,
-) -> dk_status {
-    pool_sizes(mesh, dim, options, renumber, work, sizes_out)
+) -> Result<(), dk_status> {
+    let spec = DkPlanMesh::spec(mesh, options, renumber)?;
+    let work = DkPlanPools::read(work)?;
+    let s = spec.spec::<D>()?;
+    let sizes = Plan::<T, D>::sizes(&s, &mut work.work()?)?;
+    write_one(sizes_out, sizes.into())
 }
 
 /// [`dk_plan_init`] with the mesh renumbered for memory locality (`renumber`:
@@ -676,14 +548,23 @@ pub(crate) fn dk_plan_pool_sizes_ordered<T: Real>(
 /// mesh should use [`dk_plan_init`]. Node indices in errors are the caller's. Errors: those
 /// of [`dk_plan_init`], `DK_ERR_INVALID_PARAMETER` for an unknown `renumber`.
 #[export(twin, mesh[1], options[1], work[1], pools[1], info_out[1])]
-pub(crate) fn dk_plan_init_ordered<T: Real>(
+pub(crate) fn dk_plan_init_ordered<T: Real, const D: usize>(
     mesh: In<'_, DkPlanMesh<T>>,
-    dim: u32,
+    _dim: Dim<D>,
     options: In<'_, dk_plan_options>,
     renumber: u32,
     work: In<'_, DkPlanPools<T>>,
     pools: In<'_, DkPlanPools<T>>,
     info_out: Out<'_, dk_plan_info>,
-) -> dk_status {
-    init(mesh, dim, options, renumber, work, pools, info_out)
+) -> Result<(), dk_status> {
+    let spec = DkPlanMesh::spec(mesh, options, renumber)?;
+    let work = DkPlanPools::read(work)?;
+    let pools = DkPlanPools::read(pools)?;
+    let s = spec.spec::<D>()?;
+    let mut work = work.work()?;
+    let info_slot = out_one(info_out)?;
+    let (reals, indices, bytes) = pools.borrow()?;
+    let plan = Plan::<T, D>::init(&s, &mut work, reals, indices, bytes)?;
+    *info_slot = info(&plan);
+    Ok(())
 }

@@ -22,7 +22,7 @@ use deform_kernel::quality::{
 use deform_kernel::{CellKind, Cells, Real};
 use deform_kernel_ffi_export::export;
 
-use crate::args::{assert_layout, by_dim, done, mul_len, read_points, write_len};
+use crate::args::{assert_layout, mul_len, read_points, write_len, Dim};
 use crate::graph::{dk_cells, dk_graph, read_graph, CellsIn, GraphIn};
 use crate::slice::{out_one, output, whole_chunks_mut, In, Out};
 use crate::status::dk_status;
@@ -165,146 +165,15 @@ impl dk_quality_report {
 // Argument handling.
 // ---------------------------------------------------------------------------------------------
 
-/// A caller's cells and the `index_base` they are read in.
-#[derive(Clone, Copy)]
-struct CellArgs<'a> {
+/// Reads cells as 0-based arrays (with `index_base` 1, copies at the front of `scratch`, whose
+/// rest is returned) and validates them over `node_count` nodes.
+fn read_cells<'a>(
     cells: In<'a, dk_cells>,
     index_base: u32,
-}
-
-impl<'a> CellArgs<'a> {
-    /// Reads the cells as 0-based arrays (with `index_base` 1, copies at the front of
-    /// `scratch`, whose rest is returned) and validates them over `node_count` nodes.
-    fn read(
-        &self,
-        node_count: usize,
-        scratch: &'a mut [u32],
-    ) -> Result<(Cells<'a>, &'a mut [u32]), dk_status> {
-        CellsIn::read(self.cells)?.cells(node_count, self.index_base, scratch)
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Generic inner functions.
-// ---------------------------------------------------------------------------------------------
-
-fn cell_quality_for_dim<T: Real, const D: usize>(
-    kind: u8,
-    corners: In<'_, T>,
-    out: Out<'_, dk_cell_quality>,
-) -> Result<(), dk_status> {
-    let kind = CellKind::from_vtk(kind).ok_or(dk_status::DK_ERR_UNKNOWN_CELL_KIND)?;
-    let c = read_points::<T, D>(corners)?;
-    let o = out_one(out)?;
-    *o = dk_cell_quality::of(cell_quality(kind, c)?);
-    Ok(())
-}
-
-/// Per-cell output: measures (`jacobians` None) or minimum corner Jacobians.
-fn per_cell_for_dim<T: Real, const D: usize>(
-    cells: CellArgs,
-    index_scratch: Out<'_, u32>,
-    pts: In<'_, T>,
-    jacobians: Option<bool>,
-    out: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(pts)?;
-    let (c, _) = cells.read(p.len(), output(index_scratch)?)?;
-    let o = output(out)?;
-    match jacobians {
-        None => cell_measures(&c, p, o),
-        Some(scaled) => min_corner_jacobians(&c, p, scaled, o),
-    }
-    .map_err(dk_status::from)
-}
-
-fn inverted_for_dim<T: Real, const D: usize>(
-    cells: CellArgs,
-    index_scratch: Out<'_, u32>,
-    undeformed: In<'_, T>,
-    deformed: In<'_, T>,
-    count_out: Out<'_, usize>,
-) -> Result<(), dk_status> {
-    let u = read_points::<T, D>(undeformed)?;
-    let d = read_points::<T, D>(deformed)?;
-    let (c, _) = cells.read(u.len(), output(index_scratch)?)?;
-    let o = out_one(count_out)?;
-    *o = inverted_cells(&c, u, d)?;
-    Ok(())
-}
-
-fn folded_for_dim<T: Real, const D: usize>(
-    cells: CellArgs,
-    index_scratch: Out<'_, u32>,
-    pts: In<'_, T>,
-    count_out: Out<'_, usize>,
-) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(pts)?;
-    let (c, _) = cells.read(p.len(), output(index_scratch)?)?;
-    let o = out_one(count_out)?;
-    *o = folded_cells(&c, p)?;
-    Ok(())
-}
-
-/// The arguments describing a wall: its elements (cells, in the mesh's `index_base`) and the
-/// mesh graph.
-struct WallArgs<'a> {
-    elements: CellArgs<'a>,
-    graph: In<'a, dk_graph>,
-}
-
-impl WallArgs<'_> {
-    /// `true` when no wall was given (every wall and graph array NULL with length 0).
-    fn absent(&self) -> Result<bool, dk_status> {
-        let e = CellsIn::read(self.elements.cells)?;
-        Ok(e.is_absent() && GraphIn::read(self.graph)?.is_absent())
-    }
-}
-
-fn compare_for_dim<T: Real, const D: usize>(
-    cells: CellArgs,
-    wall: WallArgs,
-    index_scratch: Out<'_, u32>,
-    undeformed: In<'_, T>,
-    deformed: In<'_, T>,
-    scratch: Out<'_, T>,
-    report: Out<'_, dk_quality_report>,
-) -> Result<(), dk_status> {
-    let u = read_points::<T, D>(undeformed)?;
-    let d = read_points::<T, D>(deformed)?;
-    let (c, index_rest) = cells.read(u.len(), output(index_scratch)?)?;
-    let s = whole_chunks_mut::<T, D>(scratch)?;
-    let r = out_one(report)?;
-    let rep = if wall.absent()? {
-        compare(&c, u, d, None, s)
-    } else {
-        let (we, _) = wall.elements.read(u.len(), index_rest)?;
-        let g = read_graph(wall.graph)?;
-        let w = Wall::new(we, g)?;
-        compare(&c, u, d, Some(&w), s)
-    }?;
-    *r = dk_quality_report::of(rep, cells.index_base);
-    Ok(())
-}
-
-fn wall_angle_for_dim<T: Real, const D: usize>(
-    wall: WallArgs,
-    index_scratch: Out<'_, u32>,
-    undeformed: In<'_, T>,
-    deformed: In<'_, T>,
-    scratch: Out<'_, T>,
-    out: Out<'_, dk_wall_angle_change>,
-) -> Result<(), dk_status> {
-    let u = read_points::<T, D>(undeformed)?;
-    let d = read_points::<T, D>(deformed)?;
-    let (we, _) = wall.elements.read(u.len(), output(index_scratch)?)?;
-    let g = read_graph(wall.graph)?;
-    let w = Wall::new(we, g)?;
-    let s = whole_chunks_mut::<T, D>(scratch)?;
-    let o = out_one(out)?;
-    let r = wall_angle_change(&w, u, d, s)?;
-    *o = dk_wall_angle_change::of(r, wall.elements.index_base);
-    Ok(())
+    node_count: usize,
+    scratch: &'a mut [u32],
+) -> Result<(Cells<'a>, &'a mut [u32]), dk_status> {
+    CellsIn::read(cells)?.cells(node_count, index_base, scratch)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -317,17 +186,17 @@ fn wall_angle_for_dim<T: Real, const D: usize>(
 /// `DK_ERR_CELL_DIMENSION` (kind does not fit `dim`), `DK_ERR_LENGTH_MISMATCH`,
 /// `DK_ERR_NON_FINITE`, `DK_ERR_INVALID_PARAMETER` (`dim`), `DK_ERR_NULL_POINTER`.
 #[export(twin, out[1])]
-pub(crate) fn dk_quality_cell_quality<T: Real>(
+pub(crate) fn dk_quality_cell_quality<T: Real, const D: usize>(
     kind: u8,
     corners: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     out: Out<'_, dk_cell_quality>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        cell_quality_for_dim::<T>,
-        (kind, corners, out)
-    ))
+) -> Result<(), dk_status> {
+    let kind = CellKind::from_vtk(kind).ok_or(dk_status::DK_ERR_UNKNOWN_CELL_KIND)?;
+    let c = read_points::<T, D>(corners)?;
+    let o = out_one(out)?;
+    *o = dk_cell_quality::of(cell_quality(kind, c)?);
+    Ok(())
 }
 
 /// Signed area (`dim` 2) or volume (`dim` 3) of every cell into `out` (one scalar per cell).
@@ -338,82 +207,75 @@ pub(crate) fn dk_quality_cell_quality<T: Real>(
 /// `cells->offsets_len + cells->nodes_len` entries (else `DK_ERR_BUFFER_TOO_SMALL`); with 0 it
 /// may be NULL with length 0.
 #[export(twin, cells[1])]
-pub(crate) fn dk_quality_cell_measures<T: Real>(
+pub(crate) fn dk_quality_cell_measures<T: Real, const D: usize>(
     cells: In<'_, dk_cells>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     out: Out<'_, T>,
-) -> dk_status {
-    let cells = CellArgs { cells, index_base };
-    done(by_dim!(
-        dim,
-        per_cell_for_dim::<T>,
-        (cells, index_scratch, points, None, out)
-    ))
+) -> Result<(), dk_status> {
+    let p = read_points::<T, D>(points)?;
+    let (c, _) = read_cells(cells, index_base, p.len(), output(index_scratch)?)?;
+    Ok(cell_measures(&c, p, output(out)?)?)
 }
 
 /// Smallest corner Jacobian of every cell into `out` (one scalar per cell), divided by the
 /// product of the corner's edge lengths when `scaled`. Errors as
 /// [`dk_quality_cell_measures`].
 #[export(twin, cells[1])]
-pub(crate) fn dk_quality_min_corner_jacobians<T: Real>(
+pub(crate) fn dk_quality_min_corner_jacobians<T: Real, const D: usize>(
     cells: In<'_, dk_cells>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     scaled: bool,
     out: Out<'_, T>,
-) -> dk_status {
-    let cells = CellArgs { cells, index_base };
-    done(by_dim!(
-        dim,
-        per_cell_for_dim::<T>,
-        (cells, index_scratch, points, Some(scaled), out)
-    ))
+) -> Result<(), dk_status> {
+    let p = read_points::<T, D>(points)?;
+    let (c, _) = read_cells(cells, index_base, p.len(), output(index_scratch)?)?;
+    Ok(min_corner_jacobians(&c, p, scaled, output(out)?)?)
 }
 
 /// Number of cells whose signed measure changed sign between `undeformed` and `deformed`
 /// (cells with zero undeformed measure never count) into `*count_out`. Errors as
 /// [`dk_quality_cell_measures`] for both point arrays.
 #[export(twin, cells[1], count_out[1])]
-pub(crate) fn dk_quality_inverted_cells<T: Real>(
+pub(crate) fn dk_quality_inverted_cells<T: Real, const D: usize>(
     cells: In<'_, dk_cells>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
     undeformed: In<'_, T>,
     deformed: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     count_out: Out<'_, usize>,
-) -> dk_status {
-    let cells = CellArgs { cells, index_base };
-    done(by_dim!(
-        dim,
-        inverted_for_dim::<T>,
-        (cells, index_scratch, undeformed, deformed, count_out)
-    ))
+) -> Result<(), dk_status> {
+    let u = read_points::<T, D>(undeformed)?;
+    let d = read_points::<T, D>(deformed)?;
+    let (c, _) = read_cells(cells, index_base, u.len(), output(index_scratch)?)?;
+    let o = out_one(count_out)?;
+    *o = inverted_cells(&c, u, d)?;
+    Ok(())
 }
 
 /// Number of cells with some corner Jacobian `≤ 0` (folded or inverted at a corner; also
 /// catches a bow-tie quad whose net area is positive) into `*count_out`. Errors as
 /// [`dk_quality_cell_measures`].
 #[export(twin, cells[1], count_out[1])]
-pub(crate) fn dk_quality_folded_cells<T: Real>(
+pub(crate) fn dk_quality_folded_cells<T: Real, const D: usize>(
     cells: In<'_, dk_cells>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     count_out: Out<'_, usize>,
-) -> dk_status {
-    let cells = CellArgs { cells, index_base };
-    done(by_dim!(
-        dim,
-        folded_for_dim::<T>,
-        (cells, index_scratch, points, count_out)
-    ))
+) -> Result<(), dk_status> {
+    let p = read_points::<T, D>(points)?;
+    let (c, _) = read_cells(cells, index_base, p.len(), output(index_scratch)?)?;
+    let o = out_one(count_out)?;
+    *o = folded_cells(&c, p)?;
+    Ok(())
 }
 
 /// Scalars of `scratch` [`dk_quality_wall_angle_change`] (and [`dk_quality_compare`] with a
@@ -423,19 +285,15 @@ pub(crate) fn dk_quality_wall_angle_scratch_len(
     node_count: usize,
     dim: u32,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        if !(2..=3).contains(&dim) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        if node_count > usize::MAX / 2 {
-            return Err(dk_status::DK_ERR_TOO_LARGE);
-        }
-        write_len(
-            len_out,
-            mul_len(wall_angle_scratch_len(node_count), dim as usize)?,
-        )
-    })())
+) -> Result<(), dk_status> {
+    if !(2..=3).contains(&dim) {
+        return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+    }
+    if node_count > usize::MAX / 2 {
+        return Err(dk_status::DK_ERR_TOO_LARGE);
+    }
+    let len = mul_len(wall_angle_scratch_len(node_count), dim as usize)?;
+    write_len(len_out, len)
 }
 
 /// Compares `deformed` against `undeformed` over the cells in one call: inverted and folded
@@ -450,7 +308,7 @@ pub(crate) fn dk_quality_wall_angle_scratch_len(
 /// [`dk_quality_cell_measures`] for both point arrays and as
 /// [`dk_quality_wall_angle_change`] for the wall.
 #[export(twin, cells[1], wall[1], graph[1], report[1])]
-pub(crate) fn dk_quality_compare<T: Real>(
+pub(crate) fn dk_quality_compare<T: Real, const D: usize>(
     cells: In<'_, dk_cells>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
@@ -458,31 +316,25 @@ pub(crate) fn dk_quality_compare<T: Real>(
     graph: In<'_, dk_graph>,
     undeformed: In<'_, T>,
     deformed: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     scratch: Out<'_, T>,
     report: Out<'_, dk_quality_report>,
-) -> dk_status {
-    let cells = CellArgs { cells, index_base };
-    let wall = WallArgs {
-        elements: CellArgs {
-            cells: wall,
-            index_base,
-        },
-        graph,
-    };
-    done(by_dim!(
-        dim,
-        compare_for_dim::<T>,
-        (
-            cells,
-            wall,
-            index_scratch,
-            undeformed,
-            deformed,
-            scratch,
-            report
-        )
-    ))
+) -> Result<(), dk_status> {
+    let u = read_points::<T, D>(undeformed)?;
+    let d = read_points::<T, D>(deformed)?;
+    let (c, index_rest) = read_cells(cells, index_base, u.len(), output(index_scratch)?)?;
+    let s = whole_chunks_mut::<T, D>(scratch)?;
+    let r = out_one(report)?;
+    let absent = CellsIn::read(wall)?.is_absent() && GraphIn::read(graph)?.is_absent();
+    let rep = if absent {
+        compare(&c, u, d, None, s)
+    } else {
+        let (we, _) = read_cells(wall, index_base, u.len(), index_rest)?;
+        let w = Wall::new(we, read_graph(graph)?)?;
+        compare(&c, u, d, Some(&w), s)
+    }?;
+    *r = dk_quality_report::of(rep, index_base);
+    Ok(())
 }
 
 /// Change of the first grid-line angle at a wall, in radians (boundary-layer orthogonality):
@@ -496,27 +348,23 @@ pub(crate) fn dk_quality_compare<T: Real>(
 /// errors, `DK_ERR_CELL_DIMENSION` (wrong element kind), `DK_ERR_NON_FINITE`, length and
 /// pointer errors.
 #[export(twin, wall[1], graph[1], out[1])]
-pub(crate) fn dk_quality_wall_angle_change<T: Real>(
+pub(crate) fn dk_quality_wall_angle_change<T: Real, const D: usize>(
     wall: In<'_, dk_cells>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
     graph: In<'_, dk_graph>,
     undeformed: In<'_, T>,
     deformed: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     scratch: Out<'_, T>,
     out: Out<'_, dk_wall_angle_change>,
-) -> dk_status {
-    let wall = WallArgs {
-        elements: CellArgs {
-            cells: wall,
-            index_base,
-        },
-        graph,
-    };
-    done(by_dim!(
-        dim,
-        wall_angle_for_dim::<T>,
-        (wall, index_scratch, undeformed, deformed, scratch, out)
-    ))
+) -> Result<(), dk_status> {
+    let u = read_points::<T, D>(undeformed)?;
+    let d = read_points::<T, D>(deformed)?;
+    let (we, _) = read_cells(wall, index_base, u.len(), output(index_scratch)?)?;
+    let w = Wall::new(we, read_graph(graph)?)?;
+    let s = whole_chunks_mut::<T, D>(scratch)?;
+    let o = out_one(out)?;
+    *o = dk_wall_angle_change::of(wall_angle_change(&w, u, d, s)?, index_base);
+    Ok(())
 }

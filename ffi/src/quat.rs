@@ -88,11 +88,13 @@ fn interpolate<T: Real>(
 
 /// Hamilton product `out = a b` (each 4 scalars, scalar first). `out` may alias `a` or `b`.
 #[export(twin, a[4], b[4], out[4])]
-pub(crate) fn dk_quat_mul<T: Real>(a: In<'_, T>, b: In<'_, T>, out: Out<'_, T>) -> dk_status {
-    done((|| {
-        let q = finite_quat(read4(a)?)? * finite_quat(read4(b)?)?;
-        write_array(out, q.to_array())
-    })())
+pub(crate) fn dk_quat_mul<T: Real>(
+    a: In<'_, T>,
+    b: In<'_, T>,
+    out: Out<'_, T>,
+) -> Result<(), dk_status> {
+    let q = finite_quat(read4(a)?)? * finite_quat(read4(b)?)?;
+    write_array(out, q.to_array())
 }
 
 /// `out = q / |q|`; a zero quaternion gives `DK_ERR_ZERO_LENGTH`, never NaN.
@@ -113,11 +115,9 @@ pub(crate) fn dk_quat_from_axis_angle<T: Real>(
     axis: In<'_, T>,
     angle: T,
     out: Out<'_, T>,
-) -> dk_status {
-    done((|| {
-        let q = Quat::from_axis_angle(read_array(axis)?, angle)?;
-        write_array(out, q.to_array())
-    })())
+) -> Result<(), dk_status> {
+    let q = Quat::from_axis_angle(read_array(axis)?, angle)?;
+    write_array(out, q.to_array())
 }
 
 /// Axis (3 scalars, unit) and angle in `[0, π]` of the rotation `q` (normalised here).
@@ -126,19 +126,17 @@ pub(crate) fn dk_quat_to_axis_angle<T: Real>(
     q: In<'_, T>,
     axis_out: Out<'_, T>,
     angle_out: Out<'_, T>,
-) -> dk_status {
-    done((|| {
-        let q = read4(q)?.normalize()?;
-        let (axis, angle) = q.to_axis_angle();
-        // Check both outputs before writing either.
-        let angle_slot = out_one(angle_out)?;
-        let axis_slot = output_n(axis_out, 3)?;
-        for (d, x) in axis_slot.iter_mut().zip(axis) {
-            *d = x;
-        }
-        *angle_slot = angle;
-        Ok(())
-    })())
+) -> Result<(), dk_status> {
+    let q = read4(q)?.normalize()?;
+    let (axis, angle) = q.to_axis_angle();
+    // Check both outputs before writing either.
+    let angle_slot = out_one(angle_out)?;
+    let axis_slot = output_n(axis_out, 3)?;
+    for (d, x) in axis_slot.iter_mut().zip(axis) {
+        *d = x;
+    }
+    *angle_slot = angle;
+    Ok(())
 }
 
 /// Shortest rotation taking direction `from` to direction `to` (3 scalars each).
@@ -147,11 +145,9 @@ pub(crate) fn dk_quat_rotation_arc<T: Real>(
     from: In<'_, T>,
     to: In<'_, T>,
     out: Out<'_, T>,
-) -> dk_status {
-    done((|| {
-        let q = Quat::rotation_arc(read_array(from)?, read_array(to)?)?;
-        write_array(out, q.to_array())
-    })())
+) -> Result<(), dk_status> {
+    let q = Quat::rotation_arc(read_array(from)?, read_array(to)?)?;
+    write_array(out, q.to_array())
 }
 
 /// Rotates `points_len / 3` points `(x, y, z)` by `q` (normalised here) into `out`.
@@ -209,22 +205,20 @@ pub(crate) fn dk_quat_average<T: Real>(
     quats: In<'_, T>,
     weights: In<'_, T>,
     out: Out<'_, T>,
-) -> dk_status {
-    done((|| {
-        let qs = chunks::<T, 4>(quats)?;
-        let w = optional(weights)?;
-        if w.is_some_and(|w| w.len() != qs.len()) {
-            return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
-        }
-        let mut all = qs.iter().flatten().chain(w.unwrap_or(&[]));
-        if all.any(|x| !x.is_finite()) {
-            return Err(dk_status::DK_ERR_NON_FINITE);
-        }
-        let mut acc = QuatAverage::new();
-        for (k, &c) in qs.iter().enumerate() {
-            let wk = w.and_then(|w| w.get(k).copied()).unwrap_or(T::ONE);
-            acc.add(Quat::from_array(c), wk);
-        }
-        write_array(out, acc.result()?.to_array())
-    })())
+) -> Result<(), dk_status> {
+    let qs = chunks::<T, 4>(quats)?;
+    let w = optional(weights)?;
+    if w.is_some_and(|w| w.len() != qs.len()) {
+        return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+    }
+    let mut all = qs.iter().flatten().chain(w.unwrap_or(&[]));
+    if all.any(|x| !x.is_finite()) {
+        return Err(dk_status::DK_ERR_NON_FINITE);
+    }
+    let mut acc = QuatAverage::new();
+    for (k, &c) in qs.iter().enumerate() {
+        let wk = w.and_then(|w| w.get(k).copied()).unwrap_or(T::ONE);
+        acc.add(Quat::from_array(c), wk);
+    }
+    write_array(out, acc.result()?.to_array())
 }

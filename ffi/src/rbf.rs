@@ -12,7 +12,7 @@ use deform_kernel::Real;
 use deform_kernel_ffi_export::export;
 
 use crate::args::{
-    assert_layout, by_dim, check_base, done, read_one, read_points, rebase, write_len, write_one,
+    assert_layout, check_base, read_one, read_points, rebase, write_len, write_one, Dim,
 };
 use crate::slice::{chunks_mut, input, out_one, output, In, Out};
 use crate::status::dk_status;
@@ -86,8 +86,8 @@ impl dk_rbf_options {
 /// Fills `*out` with the defaults: Wendland (set `radius`), every boundary node a centre, no
 /// correction.
 #[export(out[1])]
-pub(crate) fn dk_rbf_options_default(out: Out<'_, dk_rbf_options>) -> dk_status {
-    done(write_one(
+pub(crate) fn dk_rbf_options_default(out: Out<'_, dk_rbf_options>) -> Result<(), dk_status> {
+    write_one(
         out,
         dk_rbf_options {
             max_centres: usize::MAX,
@@ -96,7 +96,7 @@ pub(crate) fn dk_rbf_options_default(out: Out<'_, dk_rbf_options>) -> dk_status 
             correction_radius: 0.0,
             kernel: DK_RBF_WENDLAND,
         },
-    ))
+    )
 }
 
 /// The two workspace sizes for `boundary_len` boundary nodes: scalars and `uint32_t`s.
@@ -135,8 +135,8 @@ pub(crate) fn dk_rbf_scratch_len(
     dim: u32,
     options: In<'_, dk_rbf_options>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done(sizes(boundary_len, dim, 0, options).and_then(|[r, _]| write_len(len_out, r)))
+) -> Result<(), dk_status> {
+    sizes(boundary_len, dim, 0, options).and_then(|[r, _]| write_len(len_out, r))
 }
 
 /// `uint32_t`s of `index_scratch` [`dk_rbf_deform`] needs: centres, pivots, flags, the
@@ -149,8 +149,8 @@ pub(crate) fn dk_rbf_index_scratch_len(
     index_base: u32,
     options: In<'_, dk_rbf_options>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done(sizes(boundary_len, dim, index_base, options).and_then(|[_, i]| write_len(len_out, i)))
+) -> Result<(), dk_status> {
+    sizes(boundary_len, dim, index_base, options).and_then(|[_, i]| write_len(len_out, i))
 }
 
 /// RBF deformation (the kernel's `rbf_deform`): interpolates the motion of the boundary
@@ -169,9 +169,9 @@ pub(crate) fn dk_rbf_index_scratch_len(
 /// support too wide for the precision), `DK_ERR_OVERFLOW`. On error `displacements` and
 /// `report` are unchanged.
 #[export(twin, options[1], report[1])]
-pub(crate) fn dk_rbf_deform<T: Real>(
+pub(crate) fn dk_rbf_deform<T: Real, const D: usize>(
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     boundary: In<'_, u32>,
     index_base: u32,
     motion: In<'_, T>,
@@ -180,46 +180,11 @@ pub(crate) fn dk_rbf_deform<T: Real>(
     scratch: Out<'_, T>,
     displacements: Out<'_, T>,
     report: Out<'_, dk_rbf_report>,
-) -> dk_status {
-    done((|| {
-        check_base(index_base)?;
-        let o = read_one(options)?.kernel_options::<T>()?;
-        // Borrowed first: a NULL report is refused before anything is written.
-        let rep = out_one(report)?;
-        let r = by_dim!(
-            dim,
-            deform_for_dim::<T>,
-            (
-                points,
-                boundary,
-                index_base,
-                motion,
-                &o,
-                index_scratch,
-                scratch,
-                displacements
-            )
-        )?;
-        *rep = dk_rbf_report {
-            centres: r.centres,
-            max_error: r.max_error.to_f64(),
-            dependent: u32::from(r.dependent),
-        };
-        Ok(())
-    })())
-}
-
-#[allow(clippy::too_many_arguments)]
-fn deform_for_dim<T: Real, const D: usize>(
-    points: In<'_, T>,
-    boundary: In<'_, u32>,
-    index_base: u32,
-    motion: In<'_, T>,
-    options: &RbfOptions<T>,
-    index_scratch: Out<'_, u32>,
-    scratch: Out<'_, T>,
-    displacements: Out<'_, T>,
-) -> Result<deform_kernel::rbf::RbfReport<T>, dk_status> {
+) -> Result<(), dk_status> {
+    check_base(index_base)?;
+    let o = read_one(options)?.kernel_options::<T>()?;
+    // Borrowed first: a NULL report is refused before anything is written.
+    let rep = out_one(report)?;
     let p = read_points::<T, D>(points)?;
     let m = read_points::<T, D>(motion)?;
     let b = input(boundary)?;
@@ -227,5 +192,11 @@ fn deform_for_dim<T: Real, const D: usize>(
     let s = output(scratch)?;
     let out = chunks_mut::<T, D>(displacements)?;
     let (b, idx) = rebase(b, index_base, idx)?;
-    rbf_deform(p, b, m, options, idx, s, out).map_err(dk_status::from)
+    let r = rbf_deform(p, b, m, &o, idx, s, out)?;
+    *rep = dk_rbf_report {
+        centres: r.centres,
+        max_error: r.max_error.to_f64(),
+        dependent: u32::from(r.dependent),
+    };
+    Ok(())
 }

@@ -82,15 +82,6 @@ impl<'a, T> Out<'a, T> {
         }
     }
 
-    /// A NULL token (no buffer).
-    pub(crate) fn null() -> Self {
-        Out {
-            ptr: core::ptr::null_mut(),
-            cap: 0,
-            life: PhantomData,
-        }
-    }
-
     /// The number of elements the caller promised (its `_len` argument).
     pub(crate) fn len(&self) -> usize {
         self.cap

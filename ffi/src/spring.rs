@@ -26,21 +26,20 @@ use deform_kernel::spring::constraints::{
     fit_plane, plane_intersection, slide_points, Constraints,
 };
 use deform_kernel::spring::{
-    amg_cg_scratch_len, amg_setup_work_len, amg_sliding_cg_scratch_len, angle_scratch_items,
-    angle_sliding_scratch_items, batina_stiffness, solve_linear_scratch_len,
-    solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AmgSmoother, AngleMethod,
-    AngleSystem, LinearMethod, LinearSolver, Preconditioner, SolveOptions, SolveReport,
-    SpringSystem, Sweep, DEFAULT_ANGLE_EPSILON,
+    amg_setup_work_len, angle_scratch_items, angle_sliding_scratch_items, batina_stiffness,
+    solve_linear_scratch_len, solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AmgPools,
+    AmgSmoother, AmgSolve, AngleMethod, AngleSystem, LinearMethod, LinearSolver, Preconditioner,
+    SolveOptions, SolveReport, SpringSystem, Sweep, DEFAULT_ANGLE_EPSILON,
 };
 use deform_kernel::Real;
 use deform_kernel_ffi_export::export;
 
 use crate::args::{
-    assert_layout, by_components, by_dim, done, mul_len, range, read_array, read_one, read_points,
-    rebase, write_array, write_len, write_one,
+    assert_layout, mul_len, range, read_array, read_one, read_points, rebase, write_array,
+    write_len, write_one, Components, Dim,
 };
 use crate::graph::{dk_graph, read_graph, GraphIn};
-use crate::pools::{dk_plan_sizes, DkPlanPools, PoolArgs, PoolsC};
+use crate::pools::{dk_plan_sizes, DkPlanPools, PoolsC};
 use crate::slice::{
     chunks, chunks_mut, input, input_n, out_one, output, output_n, whole_chunks_mut, In, Out,
 };
@@ -195,6 +194,16 @@ impl dk_spring_angle_options {
 
     pub(crate) fn stopping<T: Real>(&self) -> SolveOptions<T> {
         stopping(self.max_iterations, self.residual_tol, self.update_tol)
+    }
+
+    /// The method, and whether the rigidity probe runs (`epsilon` 0 in `T`), of a scratch
+    /// query in dimension `dim` (2 or 3, else `DK_ERR_INVALID_PARAMETER`).
+    fn scratch_query<T: Real>(&self, dim: u32) -> Result<(AngleMethod, bool), dk_status> {
+        let method = self.method()?;
+        if !(2..=3).contains(&dim) {
+            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+        }
+        Ok((method, T::from_f64(self.epsilon) == T::ZERO))
     }
 }
 
@@ -450,64 +459,45 @@ impl<'a, T: Real> ConstraintsIn<'a, T> {
 // Shared argument handling.
 // ---------------------------------------------------------------------------------------------
 
-/// The arguments that describe a spring system: the caller's struct (read, not yet borrowed)
-/// and the index scratch its validation needs.
-struct SysArgs<'a, T> {
-    system: Result<SystemIn<'a, T>, dk_status>,
-    index_scratch: Out<'a, u32>,
-}
-
-impl<'a, T: Real> SysArgs<'a, T> {
-    /// Borrows and validates the system (writes only `index_scratch`).
-    fn build(self) -> Result<SpringSystem<'a, T>, dk_status> {
-        self.system?.build(output(self.index_scratch)?)
+impl<T: Real> DkSpringSystem<T> {
+    /// Reads the struct behind `p`, then borrows and validates the system with
+    /// `index_scratch` (`node_count` entries) for the anchoring check.
+    pub(crate) fn open<'a>(
+        p: In<'a, Self>,
+        index_scratch: Out<'a, u32>,
+    ) -> Result<SpringSystem<'a, T>, dk_status> {
+        Self::read(p)?.build(output(index_scratch)?)
     }
 }
 
-// ---------------------------------------------------------------------------------------------
-// Generic inner functions.
-// ---------------------------------------------------------------------------------------------
-
-fn batina_for_dim<T: Real, const D: usize>(
-    g: &deform_kernel::Graph<'_>,
-    points: In<'_, T>,
-    exponent: T,
-    stiffness: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points)?;
-    let k = output(stiffness)?;
-    batina_stiffness(g, p, exponent, k).map_err(dk_status::from)
+impl<T: Real> DkConstraints<T> {
+    /// Reads the struct behind `p`, then borrows and validates the table in dimension `D`.
+    pub(crate) fn open<const D: usize>(
+        p: In<'_, Self>,
+    ) -> Result<Constraints<'_, T, D>, dk_status> {
+        Self::read(p)?.build::<D>()
+    }
 }
 
-fn solve_linear_for_components<T: Real, const V: usize>(
-    sys: SysArgs<'_, T>,
-    options: &dk_spring_solve_options,
-    values: Out<'_, T>,
-    scratch: Out<'_, T>,
-    report: Out<'_, dk_spring_solve_report>,
-) -> Result<(), dk_status> {
-    let method = options.method::<T>()?;
-    let stop = options.stopping::<T>();
-    let v = chunks_mut::<T, V>(values)?;
-    // Only whole items of the scratch are used.
-    let s = whole_chunks_mut::<T, V>(scratch)?;
-    let r = out_one(report)?;
-    let system = sys.build()?;
-    // The kernel validates before it writes, and CG works on a copy in the scratch: on any
-    // error `values` is unchanged.
-    let rep = system.solve_linear(v, method, &stop, s)?;
-    *r = dk_spring_solve_report::of(rep);
-    Ok(())
+/// The angle springs of a validated system on the undeformed `points`.
+fn angle_system<'a, T: Real, const D: usize>(
+    base: SpringSystem<'a, T>,
+    points: In<'a, T>,
+    epsilon: T,
+) -> Result<AngleSystem<'a, T, D>, dk_status> {
+    let p = read_points::<T, D>(points)?;
+    Ok(AngleSystem::new(base, p, epsilon)?)
 }
 
 /// Words of an exact sum ([`ExactSum::to_words`]): the C ABI's merge protocol.
 pub const DK_EXACT_SUM_WORDS: usize = 72;
 const _: () = assert!(DK_EXACT_SUM_WORDS == EXACT_SUM_WORDS);
 
-/// One Jacobi sweep; with `residual_words`, also the range's exact residual sum.
-fn jacobi_sweep_for_components<T: Real, const V: usize>(
-    sys: SysArgs<'_, T>,
-    nodes: [usize; 2],
+/// One Jacobi sweep of the system (with its index scratch); with `residual_words`, also the
+/// range's exact residual sum.
+fn jacobi_sweep<T: Real, const V: usize>(
+    (system, index_scratch): (In<'_, DkSpringSystem<T>>, Out<'_, u32>),
+    [a, b]: [usize; 2],
     src: In<'_, T>,
     dst: Out<'_, T>,
     sweep: Out<'_, dk_spring_sweep>,
@@ -520,8 +510,7 @@ fn jacobi_sweep_for_components<T: Real, const V: usize>(
         Some(p) => Some(output_n(p, EXACT_SUM_WORDS)?),
         None => None,
     };
-    let system = sys.build()?;
-    let [a, b] = nodes;
+    let system = DkSpringSystem::open(system, index_scratch)?;
     let result = system.jacobi_sweep(a..b, s, d)?;
     *w = dk_spring_sweep::of(result);
     // A zip, not `copy_from_slice`: no length check left for the panic proof to remove.
@@ -533,492 +522,68 @@ fn jacobi_sweep_for_components<T: Real, const V: usize>(
     Ok(())
 }
 
-fn sor_sweep_for_components<T: Real, const V: usize>(
-    sys: SysArgs<'_, T>,
-    nodes: [usize; 2],
-    omega: T,
-    values: Out<'_, T>,
-    sweep: Out<'_, dk_spring_sweep>,
-) -> Result<(), dk_status> {
-    let v = chunks_mut::<T, V>(values)?;
-    let w = out_one(sweep)?;
-    let system = sys.build()?;
-    let [a, b] = nodes;
-    *w = dk_spring_sweep::of(system.sor_sweep(a..b, v, omega)?);
-    Ok(())
-}
-
-fn relative_residual_for_components<T: Real, const V: usize>(
-    sys: SysArgs<'_, T>,
-    values: In<'_, T>,
-    residual_out: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let v = chunks::<T, V>(values)?;
-    let r = out_one(residual_out)?;
-    let system = sys.build()?;
-    *r = system.relative_residual(v)?;
-    Ok(())
-}
-
-/// The angle system's arguments beyond the spring system.
-struct AngleArgs<'a, T> {
-    points: In<'a, T>,
-}
-
-impl<'a, T: Real> AngleArgs<'a, T> {
-    fn build<const D: usize>(
-        &self,
-        base: SpringSystem<'a, T>,
-        epsilon: T,
-    ) -> Result<AngleSystem<'a, T, D>, dk_status> {
-        let p = read_points::<T, D>(self.points)?;
-        AngleSystem::new(base, p, epsilon).map_err(dk_status::from)
-    }
-}
-
-fn solve_angle_for_dim<T: Real, const D: usize>(
-    sys: SysArgs<'_, T>,
-    pts: &AngleArgs<T>,
-    options: &dk_spring_angle_options,
-    values: Out<'_, T>,
-    scratch: Out<'_, T>,
-    report: Out<'_, dk_spring_solve_report>,
-) -> Result<(), dk_status> {
-    let method = options.method()?;
-    let stop = options.stopping::<T>();
-    let v = chunks_mut::<T, D>(values)?;
-    let s = whole_chunks_mut::<T, D>(scratch)?;
-    let r = out_one(report)?;
-    let base = sys.build()?;
-    let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
-    // Values are written only after the probe and only by a successful solve.
-    let rep = system.solve_angle(v, method, &stop, s)?;
-    *r = dk_spring_solve_report::of(rep);
-    Ok(())
-}
-
-fn angle_jacobi_for_dim<T: Real, const D: usize>(
-    sys: SysArgs<'_, T>,
-    pts: &AngleArgs<T>,
-    epsilon: T,
-    nodes: [usize; 2],
-    src: In<'_, T>,
-    dst: Out<'_, T>,
-    sweep: Out<'_, dk_spring_sweep>,
-) -> Result<(), dk_status> {
-    let s = chunks::<T, D>(src)?;
-    let d = chunks_mut::<T, D>(dst)?;
-    let w = out_one(sweep)?;
-    let system = pts.build::<D>(sys.build()?, epsilon)?;
-    let [a, b] = nodes;
-    *w = dk_spring_sweep::of(system.angle_jacobi_sweep(a..b, s, d)?);
-    Ok(())
-}
-
-fn angle_gs_for_dim<T: Real, const D: usize>(
-    sys: SysArgs<'_, T>,
-    pts: &AngleArgs<T>,
-    epsilon: T,
-    nodes: [usize; 2],
-    values: Out<'_, T>,
-    sweep: Out<'_, dk_spring_sweep>,
-) -> Result<(), dk_status> {
-    let v = chunks_mut::<T, D>(values)?;
-    let w = out_one(sweep)?;
-    let system = pts.build::<D>(sys.build()?, epsilon)?;
-    let [a, b] = nodes;
-    *w = dk_spring_sweep::of(system.angle_gauss_seidel_sweep(a..b, v)?);
-    Ok(())
-}
-
-fn probe_for_dim<T: Real, const D: usize>(
-    sys: SysArgs<'_, T>,
-    pts: &AngleArgs<T>,
-    options: &dk_spring_angle_options,
-    scratch: Out<'_, T>,
-    amplification_out: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let stop = options.stopping::<T>();
-    let s = whole_chunks_mut::<T, D>(scratch)?;
-    let a = out_one(amplification_out)?;
-    let system = pts.build::<D>(sys.build()?, T::from_f64(options.epsilon))?;
-    *a = system.angle_rigidity_probe(&stop, s)?;
-    Ok(())
-}
-
 // ---------------------------------------------------------------------------------------------
 // Stateless multigrid solves: the hierarchy set up in the caller's pools every call.
 // ---------------------------------------------------------------------------------------------
 
-/// The arguments of a stateless multigrid solve beyond the values: the system, the multigrid
-/// options and the pools (read, not yet borrowed).
-struct AmgArgs<'a, T> {
-    system: Result<SystemIn<'a, T>, dk_status>,
-    amg: In<'a, dk_amg_options>,
-    pools: Result<PoolArgs<'a, T>, dk_status>,
-}
-
-/// The multigrid pools of one solve, in the order the caller laid them out: `work` (the
-/// symbolic pass, `setup_work_len` entries, whose front also validates the system) and the
-/// hierarchy's `index` in `indices`; the hierarchy's `values` and the solve's scratch in
-/// `reals`.
-struct AmgPlan {
-    work: usize,
-    index: usize,
-    values: usize,
-    /// Scratch items (`[T; V]`) of the solve, from the kernel's formula ([`AMG_CG`] or
-    /// [`SLIDING_AMG_CG`]).
-    items: usize,
-}
-
-impl AmgPlan {
-    /// Validated system in hand, runs the symbolic pass in the front of `indices` and says
-    /// where everything goes, for a solve whose scratch items `scratch(N, coarse unknowns)`
-    /// gives.
-    fn of<T: Real>(
-        sys: &SpringSystem<'_, T>,
-        options: &AmgOptions<T>,
-        indices: &mut [u32],
-        scratch: ScratchItems,
-    ) -> Result<Self, dk_status> {
-        let work = AmgHierarchy::setup_work_len(sys);
-        let front = indices
-            .get_mut(..work)
-            .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
-        let sizes = AmgHierarchy::setup_len(sys, options, front)?;
-        let items =
-            scratch(sys.node_count(), sizes.coarse_unknowns).ok_or(dk_status::DK_ERR_TOO_LARGE)?;
-        Ok(AmgPlan {
-            work,
-            index: sizes.index,
-            values: sizes.values,
-            items,
-        })
-    }
-
-    /// The exact pool lengths for `V` value components.
-    fn sizes(&self, components: usize) -> Result<dk_plan_sizes, dk_status> {
-        let scalars = mul_len(self.items, components)?;
-        Ok(dk_plan_sizes {
-            reals: self
-                .values
-                .checked_add(scalars)
-                .ok_or(dk_status::DK_ERR_TOO_LARGE)?,
-            indices: self
-                .work
-                .checked_add(self.index)
-                .ok_or(dk_status::DK_ERR_TOO_LARGE)?,
-            bytes: 0,
-        })
-    }
-}
-
-/// A multigrid solve's scratch items from the node count and the coarse unknowns.
-type ScratchItems = fn(usize, usize) -> Option<usize>;
-/// The multigrid CG's scratch (linear and angle springs): the kernel's formula.
-const AMG_CG: ScratchItems = amg_cg_scratch_len;
-/// The sliding multigrid CG's scratch: the kernel's formula.
-const SLIDING_AMG_CG: ScratchItems = amg_sliding_cg_scratch_len;
-
-/// Sets the hierarchy up in the pools (after [`AmgPlan::of`] ran the symbolic pass in the
-/// front of `indices`) and returns it with the solve's scratch. Every length is checked
-/// before the numeric pass writes: a pool too short is `DK_ERR_BUFFER_TOO_SMALL`.
-fn amg_setup<'p, T: Real, const V: usize>(
-    sys: &SpringSystem<'_, T>,
-    options: &AmgOptions<T>,
-    plan: &AmgPlan,
-    reals: &'p mut [T],
-    indices: &'p mut [u32],
-) -> Result<(AmgHierarchy<'p, T>, &'p mut [[T; V]]), dk_status> {
-    let need = plan.sizes(V)?;
-    if reals.len() < need.reals || indices.len() < need.indices {
-        return Err(dk_status::DK_ERR_BUFFER_TOO_SMALL);
-    }
-    let (work, index) = indices
-        .split_at_mut_checked(plan.work)
-        .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
-    let (values, rest) = reals
-        .split_at_mut_checked(plan.values)
-        .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)?;
-    let scratch = rest.as_chunks_mut::<V>().0;
-    let h = AmgHierarchy::setup(sys, options, work, index, values)?;
-    Ok((h, scratch))
-}
-
-/// An [`AmgArgs`] opened: the multigrid options, the pools' `reals` and `indices` (`bytes`
-/// is not used) and the validated system.
-struct AmgOpen<'a, T: Real> {
+/// The pools of a stateless multigrid solve, opened: the multigrid options and the `reals`
+/// and `indices` buffers (`bytes` is not used).
+struct AmgBuffers<'a, T: Real> {
     options: AmgOptions<T>,
     reals: &'a mut [T],
     indices: &'a mut [u32],
-    system: SpringSystem<'a, T>,
 }
 
-impl<'a, T: Real> AmgArgs<'a, T> {
-    /// Reads the options, borrows the pools (each NULL only with length 0) and validates the
-    /// system with the front of `indices` as its `index_scratch`.
-    fn open(self) -> Result<AmgOpen<'a, T>, dk_status> {
-        let options = read_one(self.amg)?.to_kernel::<T>()?;
-        let (reals, indices, _bytes) = self.pools?.borrow()?;
-        let system = self.system?.build(indices)?;
-        Ok(AmgOpen {
-            options,
-            reals,
-            indices,
-            system,
-        })
+/// Reads the multigrid options, borrows the pools (each NULL only with length 0) and
+/// validates the system with the front of `indices` as its `index_scratch`.
+fn amg_open<'a, T: Real>(
+    system: In<'a, DkSpringSystem<T>>,
+    amg: In<'a, dk_amg_options>,
+    pools: In<'a, DkPlanPools<T>>,
+) -> Result<(SpringSystem<'a, T>, AmgBuffers<'a, T>), dk_status> {
+    let options = read_one(amg)?.to_kernel::<T>()?;
+    let (reals, indices, _bytes) = DkPlanPools::read(pools)?.borrow()?;
+    let system = DkSpringSystem::read(system)?.build(indices)?;
+    let pools = AmgBuffers {
+        options,
+        reals,
+        indices,
+    };
+    Ok((system, pools))
+}
+
+impl<'a, T: Real> AmgBuffers<'a, T> {
+    /// Lays the pools out for `solve` (the symbolic pass of `sys` in the front of `indices`),
+    /// checks their lengths (a pool too short is `DK_ERR_BUFFER_TOO_SMALL`, before anything
+    /// else is written), then sets the hierarchy up: returns it with the solve's scratch.
+    fn hierarchy<const V: usize>(
+        self,
+        sys: &SpringSystem<'_, T>,
+        solve: AmgSolve,
+    ) -> Result<(AmgHierarchy<'a, T>, &'a mut [[T; V]]), dk_status> {
+        let layout = AmgPools::layout(sys, &self.options, solve, self.indices)?;
+        Ok(layout.setup::<T, V>(sys, &self.options, self.reals, self.indices)?)
     }
 }
 
-fn amg_pool_sizes_for_components<T: Real, const V: usize>(
-    system: Result<SystemIn<'_, T>, dk_status>,
+/// The pool lengths of a multigrid solve of `V` components.
+fn amg_pool_sizes<T: Real, const V: usize>(
+    system: In<'_, DkSpringSystem<T>>,
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
-) -> Result<(), dk_status> {
-    pool_sizes_for_components::<T, V>(system, amg, work, sizes_out, AMG_CG)
-}
-
-/// The pool lengths of a multigrid solve of `V` components with `fine` fine-level vectors.
-fn pool_sizes_for_components<T: Real, const V: usize>(
-    system: Result<SystemIn<'_, T>, dk_status>,
-    amg: In<'_, dk_amg_options>,
-    work: Out<'_, u32>,
-    sizes_out: Out<'_, dk_plan_sizes>,
-    scratch: ScratchItems,
+    solve: AmgSolve,
 ) -> Result<(), dk_status> {
     let options = read_one(amg)?.to_kernel::<T>()?;
     let work = output(work)?;
     let out = out_one(sizes_out)?;
-    let sys = system?.build(work)?;
-    let plan = AmgPlan::of(&sys, &options, work, scratch)?;
-    *out = plan.sizes(V)?;
-    Ok(())
-}
-
-fn angle_amg_pool_sizes_for_dim<T: Real, const D: usize>(
-    system: Result<SystemIn<'_, T>, dk_status>,
-    amg: In<'_, dk_amg_options>,
-    work: Out<'_, u32>,
-    sizes_out: Out<'_, dk_plan_sizes>,
-) -> Result<(), dk_status> {
-    amg_pool_sizes_for_components::<T, D>(system, amg, work, sizes_out)
-}
-
-fn solve_linear_amg_for_components<T: Real, const V: usize>(
-    args: AmgArgs<'_, T>,
-    options: &dk_spring_solve_options,
-    values: Out<'_, T>,
-    report: Out<'_, dk_spring_solve_report>,
-) -> Result<(), dk_status> {
-    let stop = options.stopping::<T>();
-    let v = chunks_mut::<T, V>(values)?;
-    let r = out_one(report)?;
-    let AmgOpen {
-        options: amg,
+    let sys = DkSpringSystem::read(system)?.build(work)?;
+    let [reals, indices] = AmgPools::layout(&sys, &options, solve, work)?.lens(V)?;
+    *out = dk_plan_sizes {
         reals,
         indices,
-        system: sys,
-    } = args.open()?;
-    let plan = AmgPlan::of(&sys, &amg, indices, AMG_CG)?;
-    let (h, scratch) = amg_setup::<T, V>(&sys, &amg, &plan, reals, indices)?;
-    // The kernel validates before it writes and iterates on a copy in the scratch: on any
-    // error `values` is unchanged.
-    let rep = sys.solve_linear_amg(&h, v, &stop, scratch)?;
-    *r = dk_spring_solve_report::of(rep);
-    Ok(())
-}
-
-fn solve_angle_amg_for_dim<T: Real, const D: usize>(
-    args: AmgArgs<'_, T>,
-    pts: &AngleArgs<T>,
-    options: &dk_spring_angle_options,
-    values: Out<'_, T>,
-    report: Out<'_, dk_spring_solve_report>,
-) -> Result<(), dk_status> {
-    let stop = options.stopping::<T>();
-    let v = chunks_mut::<T, D>(values)?;
-    let r = out_one(report)?;
-    let AmgOpen {
-        options: amg,
-        reals,
-        indices,
-        system: base,
-    } = args.open()?;
-    let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
-    let plan = AmgPlan::of(system.base(), &amg, indices, AMG_CG)?;
-    let (h, scratch) = amg_setup::<T, D>(system.base(), &amg, &plan, reals, indices)?;
-    // Values are written only after the probe and only by a successful solve.
-    let rep = system.solve_angle_amg(&h, v, &stop, scratch)?;
-    *r = dk_spring_solve_report::of(rep);
-    Ok(())
-}
-
-// ---------------------------------------------------------------------------------------------
-// Sliding nodes (symmetry planes): deform_kernel::spring::constraints and the constrained solves.
-// ---------------------------------------------------------------------------------------------
-
-fn constraints_fixed_mask_for_dim<T: Real, const D: usize>(
-    constraints: Result<ConstraintsIn<'_, T>, dk_status>,
-    mask: Out<'_, u8>,
-) -> Result<(), dk_status> {
-    let c = constraints?.build::<D>()?;
-    let m = output(mask)?;
-    // The kernel checks the length before it writes.
-    c.fixed_mask(m).map_err(dk_status::from)
-}
-
-fn slide_points_for_dim<T: Real, const D: usize>(
-    constraints: Result<ConstraintsIn<'_, T>, dk_status>,
-    original: In<'_, T>,
-    points: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let c = constraints?.build::<D>()?;
-    let o = chunks::<T, D>(original)?;
-    let p = chunks_mut::<T, D>(points)?;
-    // The kernel checks every node before it writes any.
-    slide_points(&c, o, p).map_err(dk_status::from)
-}
-
-/// The outputs of [`dk_fit_plane`].
-struct FitOut<'a, T> {
-    normal: Out<'a, T>,
-    point: Out<'a, T>,
-    residual: Out<'a, T>,
-    extent: Out<'a, T>,
-}
-
-fn fit_plane_for_dim<T: Real, const D: usize>(
-    points: In<'_, T>,
-    nodes: In<'_, u32>,
-    index_base: u32,
-    tolerance: T,
-    index_scratch: Out<'_, u32>,
-    out: FitOut<'_, T>,
-) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points)?;
-    let nodes = input(nodes)?;
-    if out.normal.len() != D || out.point.len() != D {
-        return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
-    }
-    let normal = output_n(out.normal, D)?;
-    let point = output_n(out.point, D)?;
-    let residual = out_one(out.residual)?;
-    let extent = out_one(out.extent)?;
-    let (nodes, _) = rebase(nodes, index_base, output(index_scratch)?)?;
-    let fit = fit_plane(p, nodes, tolerance)?;
-    normal.copy_from_slice(&fit.normal);
-    point.copy_from_slice(&fit.point);
-    *residual = fit.residual;
-    *extent = fit.extent;
-    Ok(())
-}
-
-fn solve_linear_sliding_for_dim<T: Real, const D: usize>(
-    sys: SysArgs<'_, T>,
-    constraints: Result<ConstraintsIn<'_, T>, dk_status>,
-    options: &dk_spring_solve_options,
-    values: Out<'_, T>,
-    scratch: Out<'_, T>,
-    report: Out<'_, dk_spring_solve_report>,
-) -> Result<(), dk_status> {
-    let method = options.method::<T>()?;
-    let stop = options.stopping::<T>();
-    let c = constraints?.build::<D>()?;
-    let v = chunks_mut::<T, D>(values)?;
-    let s = whole_chunks_mut::<T, D>(scratch)?;
-    let r = out_one(report)?;
-    let system = sys.build()?;
-    // The kernel validates (the mask against the constraints too) before it writes and
-    // iterates on a scaled copy in the scratch: on any error `values` is unchanged.
-    let rep = system.solve_linear_sliding(&c, v, LinearSolver::Method(method), &stop, s)?;
-    *r = dk_spring_solve_report::of(rep);
-    Ok(())
-}
-
-fn solve_angle_sliding_for_dim<T: Real, const D: usize>(
-    sys: SysArgs<'_, T>,
-    pts: &AngleArgs<T>,
-    constraints: Result<ConstraintsIn<'_, T>, dk_status>,
-    options: &dk_spring_angle_options,
-    omega: T,
-    values: Out<'_, T>,
-    scratch: Out<'_, T>,
-    report: Out<'_, dk_spring_solve_report>,
-) -> Result<(), dk_status> {
-    let method = options.method()?;
-    let stop = options.stopping::<T>();
-    let c = constraints?.build::<D>()?;
-    let v = chunks_mut::<T, D>(values)?;
-    let s = whole_chunks_mut::<T, D>(scratch)?;
-    let r = out_one(report)?;
-    let base = sys.build()?;
-    let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
-    // Values are written only after the probe and only by a successful solve.
-    let rep = system.solve_angle_sliding(&c, v, method, omega, &stop, s)?;
-    *r = dk_spring_solve_report::of(rep);
-    Ok(())
-}
-
-fn sliding_amg_pool_sizes_for_dim<T: Real, const D: usize>(
-    system: Result<SystemIn<'_, T>, dk_status>,
-    amg: In<'_, dk_amg_options>,
-    work: Out<'_, u32>,
-    sizes_out: Out<'_, dk_plan_sizes>,
-) -> Result<(), dk_status> {
-    pool_sizes_for_components::<T, D>(system, amg, work, sizes_out, SLIDING_AMG_CG)
-}
-
-fn solve_linear_sliding_amg_for_dim<T: Real, const D: usize>(
-    args: AmgArgs<'_, T>,
-    constraints: Result<ConstraintsIn<'_, T>, dk_status>,
-    options: &dk_spring_solve_options,
-    values: Out<'_, T>,
-    report: Out<'_, dk_spring_solve_report>,
-) -> Result<(), dk_status> {
-    let stop = options.stopping::<T>();
-    let c = constraints?.build::<D>()?;
-    let v = chunks_mut::<T, D>(values)?;
-    let r = out_one(report)?;
-    let AmgOpen {
-        options: amg,
-        reals,
-        indices,
-        system: sys,
-    } = args.open()?;
-    let plan = AmgPlan::of(&sys, &amg, indices, SLIDING_AMG_CG)?;
-    let (h, scratch) = amg_setup::<T, D>(&sys, &amg, &plan, reals, indices)?;
-    // The kernel validates before it writes and iterates on a copy in the scratch: on any
-    // error `values` is unchanged.
-    let rep = sys.solve_linear_sliding(&c, v, LinearSolver::Amg(&h), &stop, scratch)?;
-    *r = dk_spring_solve_report::of(rep);
-    Ok(())
-}
-
-fn solve_angle_sliding_amg_for_dim<T: Real, const D: usize>(
-    args: AmgArgs<'_, T>,
-    pts: &AngleArgs<T>,
-    constraints: Result<ConstraintsIn<'_, T>, dk_status>,
-    options: &dk_spring_angle_options,
-    values: Out<'_, T>,
-    report: Out<'_, dk_spring_solve_report>,
-) -> Result<(), dk_status> {
-    let stop = options.stopping::<T>();
-    let c = constraints?.build::<D>()?;
-    let v = chunks_mut::<T, D>(values)?;
-    let r = out_one(report)?;
-    let AmgOpen {
-        options: amg,
-        reals,
-        indices,
-        system: base,
-    } = args.open()?;
-    let system = pts.build::<D>(base, T::from_f64(options.epsilon))?;
-    let plan = AmgPlan::of(system.base(), &amg, indices, SLIDING_AMG_CG)?;
-    let (h, scratch) = amg_setup::<T, D>(system.base(), &amg, &plan, reals, indices)?;
-    // Values are written only after the probe and only by a successful solve.
-    let rep = system.solve_angle_sliding_amg(&c, v, &h, &stop, scratch)?;
-    *r = dk_spring_solve_report::of(rep);
+        bytes: 0,
+    };
     Ok(())
 }
 
@@ -1034,27 +599,26 @@ fn solve_angle_sliding_amg_for_dim<T: Real, const D: usize>(
 /// `DK_ERR_INVALID_PARAMETER` (`exponent` negative or not finite, `dim`), graph, length and
 /// pointer errors.
 #[export(twin, graph[1])]
-pub(crate) fn dk_spring_batina_stiffness<T: Real>(
+pub(crate) fn dk_spring_batina_stiffness<T: Real, const D: usize>(
     graph: In<'_, dk_graph>,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     exponent: T,
     stiffness: Out<'_, T>,
-) -> dk_status {
-    done(
-        read_graph(graph)
-            .and_then(|g| by_dim!(dim, batina_for_dim::<T>, (&g, points, exponent, stiffness))),
-    )
+) -> Result<(), dk_status> {
+    let g = read_graph(graph)?;
+    let p = read_points::<T, D>(points)?;
+    Ok(batina_stiffness(&g, p, exponent, output(stiffness)?)?)
 }
 
 /// Length of the `uint32_t` `index_scratch` every spring solver and sweep needs to validate
 /// its system (the anchoring search): `node_count`.
 #[export(len_out[1])]
-pub(crate) fn dk_spring_index_scratch_len(node_count: usize, len_out: Out<'_, usize>) -> dk_status {
-    done(write_len(
-        len_out,
-        SpringSystem::<f64>::scratch_len(node_count),
-    ))
+pub(crate) fn dk_spring_index_scratch_len(
+    node_count: usize,
+    len_out: Out<'_, usize>,
+) -> Result<(), dk_status> {
+    write_len(len_out, SpringSystem::<f64>::scratch_len(node_count))
 }
 
 /// Fills `*out` with the default linear-spring settings for f64: CG with the Jacobi
@@ -1067,8 +631,8 @@ pub(crate) fn dk_spring_index_scratch_len(node_count: usize, len_out: Out<'_, us
 #[export(twin, out[1])]
 pub(crate) fn dk_spring_solve_options_default<T: Real>(
     out: Out<'_, dk_spring_solve_options>,
-) -> dk_status {
-    done(write_one(out, dk_spring_solve_options::default_for::<T>()))
+) -> Result<(), dk_status> {
+    write_one(out, dk_spring_solve_options::default_for::<T>())
 }
 
 /// Scalars of `scratch` [`dk_spring_solve_linear`] needs for `options->method`:
@@ -1080,19 +644,16 @@ pub(crate) fn dk_spring_solve_linear_scratch_len(
     components: u32,
     options: In<'_, dk_spring_solve_options>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let o = read_one(options)?;
-        let method = o.method::<f64>()?;
-        if !(1..=7).contains(&components) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        if node_count > usize::MAX / 4 {
-            return Err(dk_status::DK_ERR_TOO_LARGE);
-        }
-        let items = solve_linear_scratch_len(&method, node_count);
-        write_len(len_out, mul_len(items, components as usize)?)
-    })())
+) -> Result<(), dk_status> {
+    let method = read_one(options)?.method::<f64>()?;
+    if !(1..=7).contains(&components) {
+        return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+    }
+    if node_count > usize::MAX / 4 {
+        return Err(dk_status::DK_ERR_TOO_LARGE);
+    }
+    let items = solve_linear_scratch_len(&method, node_count);
+    write_len(len_out, mul_len(items, components as usize)?)
 }
 
 /// Solves the linear springs for every free node, `Σ_j k_ij (x_j − x_i) = 0` per component
@@ -1108,26 +669,26 @@ pub(crate) fn dk_spring_solve_linear_scratch_len(
 /// `components`), `DK_ERR_BUFFER_TOO_SMALL`, `DK_ERR_SINGULAR_SYSTEM` (CG breakdown), graph,
 /// length and pointer errors.
 #[export(twin, system[1], options[1], report[1])]
-pub(crate) fn dk_spring_solve_linear<T: Real>(
+pub(crate) fn dk_spring_solve_linear<T: Real, const V: usize>(
     system: In<'_, DkSpringSystem<T>>,
     options: In<'_, dk_spring_solve_options>,
-    components: u32,
+    _components: Components<V>,
     values: Out<'_, T>,
     scratch: Out<'_, T>,
     index_scratch: Out<'_, u32>,
     report: Out<'_, dk_spring_solve_report>,
-) -> dk_status {
-    let sys = SysArgs {
-        system: SystemC::read(system),
-        index_scratch,
-    };
-    done(read_one(options).and_then(|o| {
-        by_components!(
-            components,
-            solve_linear_for_components::<T>,
-            (sys, &o, values, scratch, report)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let o = read_one(options)?;
+    let method = o.method::<T>()?;
+    let v = chunks_mut::<T, V>(values)?;
+    // Only whole items of the scratch are used.
+    let s = whole_chunks_mut::<T, V>(scratch)?;
+    let r = out_one(report)?;
+    let system = DkSpringSystem::open(system, index_scratch)?;
+    // The kernel validates before it writes, and CG works on a copy in the scratch: on any
+    // error `values` is unchanged.
+    *r = dk_spring_solve_report::of(system.solve_linear(v, method, &o.stopping(), s)?);
+    Ok(())
 }
 
 /// One Jacobi sweep of the linear springs over the nodes `nodes_start..nodes_end` (read with
@@ -1138,28 +699,20 @@ pub(crate) fn dk_spring_solve_linear<T: Real>(
 /// read). `*sweep` receives the range's maximum change and residual. Nothing is written on
 /// error.
 #[export(twin, system[1], sweep[1])]
-pub(crate) fn dk_spring_jacobi_sweep<T: Real>(
+pub(crate) fn dk_spring_jacobi_sweep<T: Real, const V: usize>(
     system: In<'_, DkSpringSystem<T>>,
     nodes_start: usize,
     nodes_end: usize,
     index_base: u32,
-    components: u32,
+    _components: Components<V>,
     src: In<'_, T>,
     dst: Out<'_, T>,
     index_scratch: Out<'_, u32>,
     sweep: Out<'_, dk_spring_sweep>,
-) -> dk_status {
-    let sys = SysArgs {
-        system: SystemC::read(system),
-        index_scratch,
-    };
-    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
-        by_components!(
-            components,
-            jacobi_sweep_for_components::<T>,
-            (sys, nodes, src, dst, sweep, None)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let nodes = range(nodes_start, nodes_end, index_base)?;
+    let sys = (system, index_scratch);
+    jacobi_sweep::<T, V>(sys, nodes, src, dst, sweep, None)
 }
 
 /// [`dk_spring_jacobi_sweep`], and the range's `Σ |r_i|²` as the words of an exact sum:
@@ -1168,44 +721,37 @@ pub(crate) fn dk_spring_jacobi_sweep<T: Real>(
 /// with [`dk_exact_sum_value`] they give the bits of one sweep over all their nodes, however
 /// the nodes were split (docs/reductions.md). Nothing is written on error.
 #[export(twin, system[1], sweep[1], residual_words[72])]
-pub(crate) fn dk_spring_jacobi_sweep_exact<T: Real>(
+pub(crate) fn dk_spring_jacobi_sweep_exact<T: Real, const V: usize>(
     system: In<'_, DkSpringSystem<T>>,
     nodes_start: usize,
     nodes_end: usize,
     index_base: u32,
-    components: u32,
+    _components: Components<V>,
     src: In<'_, T>,
     dst: Out<'_, T>,
     index_scratch: Out<'_, u32>,
     sweep: Out<'_, dk_spring_sweep>,
     residual_words: Out<'_, i64>,
-) -> dk_status {
-    let sys = SysArgs {
-        system: SystemC::read(system),
-        index_scratch,
-    };
-    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
-        by_components!(
-            components,
-            jacobi_sweep_for_components::<T>,
-            (sys, nodes, src, dst, sweep, Some(residual_words))
-        )
-    }))
+) -> Result<(), dk_status> {
+    let nodes = range(nodes_start, nodes_end, index_base)?;
+    let sys = (system, index_scratch);
+    jacobi_sweep::<T, V>(sys, nodes, src, dst, sweep, Some(residual_words))
 }
 
 /// Rounds an exact sum given by its words (from [`dk_spring_jacobi_sweep_exact`], or the
 /// element-wise sum of such word arrays) to the nearest `double`, ties to even. Errors:
 /// pointer errors.
 #[export(words[72], value_out[1])]
-pub(crate) fn dk_exact_sum_value(words: In<'_, i64>, value_out: Out<'_, f64>) -> dk_status {
-    done((|| {
-        let w: &[i64] = input_n(words, EXACT_SUM_WORDS)?;
-        let out = out_one(value_out)?;
-        let mut a = [0i64; EXACT_SUM_WORDS];
-        a.copy_from_slice(w);
-        *out = ExactSum::from_words(a).value();
-        Ok(())
-    })())
+pub(crate) fn dk_exact_sum_value(
+    words: In<'_, i64>,
+    value_out: Out<'_, f64>,
+) -> Result<(), dk_status> {
+    let w: &[i64] = input_n(words, EXACT_SUM_WORDS)?;
+    let out = out_one(value_out)?;
+    let mut a = [0i64; EXACT_SUM_WORDS];
+    a.copy_from_slice(w);
+    *out = ExactSum::from_words(a).value();
+    Ok(())
 }
 
 /// One in-place Gauss–Seidel (`omega` = 1) or SOR sweep of the linear springs over the nodes
@@ -1215,50 +761,40 @@ pub(crate) fn dk_exact_sum_value(words: In<'_, i64>, value_out: Out<'_, f64>) ->
 /// (nothing written): as [`dk_spring_jacobi_sweep`], plus `DK_ERR_INVALID_PARAMETER` for
 /// `omega` outside (0, 2).
 #[export(twin, system[1], sweep[1])]
-pub(crate) fn dk_spring_sor_sweep<T: Real>(
+pub(crate) fn dk_spring_sor_sweep<T: Real, const V: usize>(
     system: In<'_, DkSpringSystem<T>>,
     nodes_start: usize,
     nodes_end: usize,
     index_base: u32,
     omega: T,
-    components: u32,
+    _components: Components<V>,
     values: Out<'_, T>,
     index_scratch: Out<'_, u32>,
     sweep: Out<'_, dk_spring_sweep>,
-) -> dk_status {
-    let sys = SysArgs {
-        system: SystemC::read(system),
-        index_scratch,
-    };
-    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
-        by_components!(
-            components,
-            sor_sweep_for_components::<T>,
-            (sys, nodes, omega, values, sweep)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let [a, b] = range(nodes_start, nodes_end, index_base)?;
+    let v = chunks_mut::<T, V>(values)?;
+    let w = out_one(sweep)?;
+    let system = DkSpringSystem::open(system, index_scratch)?;
+    *w = dk_spring_sweep::of(system.sor_sweep(a..b, v, omega)?);
+    Ok(())
 }
 
 /// The relative residual `‖b − A x‖₂ / ‖b‖₂` of a value field for the linear springs (the
 /// measure of `residual_tol` and of the solve report; `b` = the fixed nodes' pull on the free
 /// nodes, plain `‖b − A x‖₂` when `b = 0`) into `*residual_out`.
 #[export(twin, system[1], residual_out[1])]
-pub(crate) fn dk_spring_relative_residual<T: Real>(
+pub(crate) fn dk_spring_relative_residual<T: Real, const V: usize>(
     system: In<'_, DkSpringSystem<T>>,
-    components: u32,
+    _components: Components<V>,
     values: In<'_, T>,
     index_scratch: Out<'_, u32>,
     residual_out: Out<'_, T>,
-) -> dk_status {
-    let sys = SysArgs {
-        system: SystemC::read(system),
-        index_scratch,
-    };
-    done(by_components!(
-        components,
-        relative_residual_for_components::<T>,
-        (sys, values, residual_out)
-    ))
+) -> Result<(), dk_status> {
+    let v = chunks::<T, V>(values)?;
+    let r = out_one(residual_out)?;
+    *r = DkSpringSystem::open(system, index_scratch)?.relative_residual(v)?;
+    Ok(())
 }
 
 /// Fills `*out` with the default angle-spring settings for f64: direct Gauss–Seidel,
@@ -1269,7 +805,7 @@ pub(crate) fn dk_spring_relative_residual<T: Real>(
 #[export(twin, out[1])]
 pub(crate) fn dk_spring_angle_options_default<T: Real>(
     out: Out<'_, dk_spring_angle_options>,
-) -> dk_status {
+) -> Result<(), dk_status> {
     let k = SolveOptions::<T>::default();
     let v = dk_spring_angle_options {
         max_iterations: k.max_iterations,
@@ -1278,7 +814,7 @@ pub(crate) fn dk_spring_angle_options_default<T: Real>(
         epsilon: DEFAULT_ANGLE_EPSILON,
         method: DK_ANGLE_DIRECT_GAUSS_SEIDEL,
     };
-    done(write_one(out, v))
+    write_one(out, v)
 }
 
 /// Scalars of `scratch` [`dk_spring_solve_angle`] needs: per node and coordinate, 1 for
@@ -1294,19 +830,11 @@ pub(crate) fn dk_spring_solve_angle_scratch_len<T: Real>(
     dim: u32,
     options: In<'_, dk_spring_angle_options>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let o = read_one(options)?;
-        let method = o.method()?;
-        if !(2..=3).contains(&dim) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        let probe = T::from_f64(o.epsilon) == T::ZERO;
-        let items =
-            angle_scratch_items(node_count, method, probe).ok_or(dk_status::DK_ERR_TOO_LARGE)?;
-        let len = mul_len(items, dim as usize)?;
-        write_len(len_out, len)
-    })())
+) -> Result<(), dk_status> {
+    let (method, probe) = read_one(options)?.scratch_query::<T>(dim)?;
+    let items =
+        angle_scratch_items(node_count, method, probe).ok_or(dk_status::DK_ERR_TOO_LARGE)?;
+    write_len(len_out, mul_len(items, dim as usize)?)
 }
 
 /// Scalars of `scratch` [`dk_spring_angle_rigidity_probe`] needs: `4 * node_count * dim`.
@@ -1315,14 +843,12 @@ pub(crate) fn dk_spring_angle_rigidity_probe_scratch_len(
     node_count: usize,
     dim: u32,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        if !(2..=3).contains(&dim) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        let items = mul_len(node_count, 4)?;
-        write_len(len_out, mul_len(items, dim as usize)?)
-    })())
+) -> Result<(), dk_status> {
+    if !(2..=3).contains(&dim) {
+        return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+    }
+    let items = mul_len(node_count, 4)?;
+    write_len(len_out, mul_len(items, dim as usize)?)
 }
 
 /// Solves the angle-inclusion springs (Yang & Özgen §2.2) for the free nodes' displacements:
@@ -1337,28 +863,26 @@ pub(crate) fn dk_spring_angle_rigidity_probe_scratch_len(
 /// coplanar edges), `DK_ERR_SINGULAR_SYSTEM` (probe or CG breakdown),
 /// `DK_ERR_ZERO_LENGTH_EDGE`, the errors of [`dk_spring_solve_linear`].
 #[export(twin, system[1], options[1], report[1])]
-pub(crate) fn dk_spring_solve_angle<T: Real>(
+pub(crate) fn dk_spring_solve_angle<T: Real, const D: usize>(
     system: In<'_, DkSpringSystem<T>>,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     options: In<'_, dk_spring_angle_options>,
     values: Out<'_, T>,
     scratch: Out<'_, T>,
     index_scratch: Out<'_, u32>,
     report: Out<'_, dk_spring_solve_report>,
-) -> dk_status {
-    let sys = SysArgs {
-        system: SystemC::read(system),
-        index_scratch,
-    };
-    let pts = AngleArgs { points };
-    done(read_one(options).and_then(|o| {
-        by_dim!(
-            dim,
-            solve_angle_for_dim::<T>,
-            (sys, &pts, &o, values, scratch, report)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let o = read_one(options)?;
+    let method = o.method()?;
+    let v = chunks_mut::<T, D>(values)?;
+    let s = whole_chunks_mut::<T, D>(scratch)?;
+    let r = out_one(report)?;
+    let base = DkSpringSystem::open(system, index_scratch)?;
+    let system = angle_system::<T, D>(base, points, T::from_f64(o.epsilon))?;
+    // Values are written only after the probe and only by a successful solve.
+    *r = dk_spring_solve_report::of(system.solve_angle(v, method, &o.stopping(), s)?);
+    Ok(())
 }
 
 /// One Jacobi-order sweep of the angle-spring direct method over the nodes
@@ -1368,10 +892,10 @@ pub(crate) fn dk_spring_solve_angle<T: Real>(
 /// receives the range's maximum change and the residual of `src`. Nothing is written on
 /// error.
 #[export(twin, system[1], sweep[1])]
-pub(crate) fn dk_spring_angle_jacobi_sweep<T: Real>(
+pub(crate) fn dk_spring_angle_jacobi_sweep<T: Real, const D: usize>(
     system: In<'_, DkSpringSystem<T>>,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     epsilon: T,
     nodes_start: usize,
     nodes_end: usize,
@@ -1380,19 +904,15 @@ pub(crate) fn dk_spring_angle_jacobi_sweep<T: Real>(
     dst: Out<'_, T>,
     index_scratch: Out<'_, u32>,
     sweep: Out<'_, dk_spring_sweep>,
-) -> dk_status {
-    let sys = SysArgs {
-        system: SystemC::read(system),
-        index_scratch,
-    };
-    let pts = AngleArgs { points };
-    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
-        by_dim!(
-            dim,
-            angle_jacobi_for_dim::<T>,
-            (sys, &pts, epsilon, nodes, src, dst, sweep)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let [a, b] = range(nodes_start, nodes_end, index_base)?;
+    let s = chunks::<T, D>(src)?;
+    let d = chunks_mut::<T, D>(dst)?;
+    let w = out_one(sweep)?;
+    let base = DkSpringSystem::open(system, index_scratch)?;
+    let system = angle_system::<T, D>(base, points, epsilon)?;
+    *w = dk_spring_sweep::of(system.angle_jacobi_sweep(a..b, s, d)?);
+    Ok(())
 }
 
 /// One in-place Gauss–Seidel-order sweep of the angle-spring direct method over the nodes
@@ -1400,10 +920,10 @@ pub(crate) fn dk_spring_angle_jacobi_sweep<T: Real>(
 /// [`dk_spring_angle_jacobi_sweep`] but each node uses its neighbours' newest values.
 /// Nothing is written on error.
 #[export(twin, system[1], sweep[1])]
-pub(crate) fn dk_spring_angle_gauss_seidel_sweep<T: Real>(
+pub(crate) fn dk_spring_angle_gauss_seidel_sweep<T: Real, const D: usize>(
     system: In<'_, DkSpringSystem<T>>,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     epsilon: T,
     nodes_start: usize,
     nodes_end: usize,
@@ -1411,19 +931,14 @@ pub(crate) fn dk_spring_angle_gauss_seidel_sweep<T: Real>(
     values: Out<'_, T>,
     index_scratch: Out<'_, u32>,
     sweep: Out<'_, dk_spring_sweep>,
-) -> dk_status {
-    let sys = SysArgs {
-        system: SystemC::read(system),
-        index_scratch,
-    };
-    let pts = AngleArgs { points };
-    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
-        by_dim!(
-            dim,
-            angle_gs_for_dim::<T>,
-            (sys, &pts, epsilon, nodes, values, sweep)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let [a, b] = range(nodes_start, nodes_end, index_base)?;
+    let v = chunks_mut::<T, D>(values)?;
+    let w = out_one(sweep)?;
+    let base = DkSpringSystem::open(system, index_scratch)?;
+    let system = angle_system::<T, D>(base, points, epsilon)?;
+    *w = dk_spring_sweep::of(system.angle_gauss_seidel_sweep(a..b, v)?);
+    Ok(())
 }
 
 /// The rigidity probe of the angle springs: block-Jacobi CG on a deterministic pseudo-random
@@ -1434,38 +949,30 @@ pub(crate) fn dk_spring_angle_gauss_seidel_sweep<T: Real>(
 /// scalars. Errors: `DK_ERR_SINGULAR_SYSTEM` (no convergence or non-positive curvature), and
 /// those of [`dk_spring_solve_angle`]; nothing is written on error.
 #[export(twin, system[1], options[1], amplification_out[1])]
-pub(crate) fn dk_spring_angle_rigidity_probe<T: Real>(
+pub(crate) fn dk_spring_angle_rigidity_probe<T: Real, const D: usize>(
     system: In<'_, DkSpringSystem<T>>,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     options: In<'_, dk_spring_angle_options>,
     scratch: Out<'_, T>,
     index_scratch: Out<'_, u32>,
     amplification_out: Out<'_, T>,
-) -> dk_status {
-    let sys = SysArgs {
-        system: SystemC::read(system),
-        index_scratch,
-    };
-    let pts = AngleArgs { points };
-    done(read_one(options).and_then(|o| {
-        by_dim!(
-            dim,
-            probe_for_dim::<T>,
-            (sys, &pts, &o, scratch, amplification_out)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let o = read_one(options)?;
+    let s = whole_chunks_mut::<T, D>(scratch)?;
+    let a = out_one(amplification_out)?;
+    let base = DkSpringSystem::open(system, index_scratch)?;
+    let system = angle_system::<T, D>(base, points, T::from_f64(o.epsilon))?;
+    *a = system.angle_rigidity_probe(&o.stopping(), s)?;
+    Ok(())
 }
 
 /// Fills `*out` with the default multigrid options (the same for both precisions): θ = 0
 /// (every spring strong), at most 10 levels, a dense coarsest level of at most 256 unknowns,
 /// Chebyshev smoothing of degree 2 (docs/amg.md).
 #[export(out[1])]
-pub(crate) fn dk_amg_options_default(out: Out<'_, dk_amg_options>) -> dk_status {
-    done(write_one(
-        out,
-        dk_amg_options::of(AmgOptions::<f64>::default()),
-    ))
+pub(crate) fn dk_amg_options_default(out: Out<'_, dk_amg_options>) -> Result<(), dk_status> {
+    write_one(out, dk_amg_options::of(AmgOptions::<f64>::default()))
 }
 
 /// Length of the `uint32_t` `work` buffer [`dk_spring_solve_linear_amg_pool_sizes`] and
@@ -1478,11 +985,11 @@ pub(crate) fn dk_spring_amg_work_len(
     node_count: usize,
     directed_edges: usize,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done(match amg_setup_work_len(node_count, directed_edges) {
+) -> Result<(), dk_status> {
+    match amg_setup_work_len(node_count, directed_edges) {
         usize::MAX => Err(dk_status::DK_ERR_TOO_LARGE),
         len => write_len(len_out, len),
-    })
+    }
 }
 
 /// The exact pool lengths [`dk_spring_solve_linear_amg`] needs for this system, `components`
@@ -1498,19 +1005,14 @@ pub(crate) fn dk_spring_amg_work_len(
 /// options), `DK_ERR_BUFFER_TOO_SMALL` (`work`), the system's errors (as
 /// [`dk_spring_solve_linear`]), `DK_ERR_TOO_LARGE`, pointer errors.
 #[export(twin, system[1], amg[1], sizes_out[1])]
-pub(crate) fn dk_spring_solve_linear_amg_pool_sizes<T: Real>(
+pub(crate) fn dk_spring_solve_linear_amg_pool_sizes<T: Real, const V: usize>(
     system: In<'_, DkSpringSystem<T>>,
-    components: u32,
+    _components: Components<V>,
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
-) -> dk_status {
-    let system = SystemC::read(system);
-    done(by_components!(
-        components,
-        amg_pool_sizes_for_components::<T>,
-        (system, amg, work, sizes_out)
-    ))
+) -> Result<(), dk_status> {
+    amg_pool_sizes::<T, V>(system, amg, work, sizes_out, AmgSolve::Cg)
 }
 
 /// [`dk_spring_solve_linear`]'s problem solved by conjugate gradients preconditioned with one
@@ -1533,27 +1035,24 @@ pub(crate) fn dk_spring_solve_linear_amg_pool_sizes<T: Real>(
 /// point, or a CG breakdown), `DK_ERR_OVERFLOW`, and the system's, length and pointer errors
 /// of [`dk_spring_solve_linear`].
 #[export(twin, system[1], options[1], amg[1], pools[1], report[1])]
-pub(crate) fn dk_spring_solve_linear_amg<T: Real>(
+pub(crate) fn dk_spring_solve_linear_amg<T: Real, const V: usize>(
     system: In<'_, DkSpringSystem<T>>,
     options: In<'_, dk_spring_solve_options>,
     amg: In<'_, dk_amg_options>,
-    components: u32,
+    _components: Components<V>,
     values: Out<'_, T>,
     pools: In<'_, DkPlanPools<T>>,
     report: Out<'_, dk_spring_solve_report>,
-) -> dk_status {
-    let args = AmgArgs {
-        system: SystemC::read(system),
-        amg,
-        pools: PoolsC::read(pools),
-    };
-    done(read_one(options).and_then(|o| {
-        by_components!(
-            components,
-            solve_linear_amg_for_components::<T>,
-            (args, &o, values, report)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let stop = read_one(options)?.stopping::<T>();
+    let v = chunks_mut::<T, V>(values)?;
+    let r = out_one(report)?;
+    let (base, pools) = amg_open(system, amg, pools)?;
+    let (h, scratch) = pools.hierarchy::<V>(&base, AmgSolve::Cg)?;
+    // The kernel validates before it writes and iterates on a copy in the scratch: on any
+    // error `values` is unchanged.
+    *r = dk_spring_solve_report::of(base.solve_linear_amg(&h, v, &stop, scratch)?);
+    Ok(())
 }
 
 /// The exact pool lengths [`dk_spring_solve_angle_amg`] needs for this system, `dim` (2 or 3)
@@ -1563,19 +1062,14 @@ pub(crate) fn dk_spring_solve_linear_amg<T: Real>(
 /// the rigidity probe when `epsilon` is 0). Errors as
 /// [`dk_spring_solve_linear_amg_pool_sizes`] (`dim` instead of `components`).
 #[export(twin, system[1], amg[1], sizes_out[1])]
-pub(crate) fn dk_spring_solve_angle_amg_pool_sizes<T: Real>(
+pub(crate) fn dk_spring_solve_angle_amg_pool_sizes<T: Real, const D: usize>(
     system: In<'_, DkSpringSystem<T>>,
-    dim: u32,
+    _dim: Dim<D>,
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
-) -> dk_status {
-    let system = SystemC::read(system);
-    done(by_dim!(
-        dim,
-        angle_amg_pool_sizes_for_dim::<T>,
-        (system, amg, work, sizes_out)
-    ))
+) -> Result<(), dk_status> {
+    amg_pool_sizes::<T, D>(system, amg, work, sizes_out, AmgSolve::Cg)
 }
 
 /// [`dk_spring_solve_angle`]'s problem (angle-inclusion springs) solved by its CG with one
@@ -1594,29 +1088,25 @@ pub(crate) fn dk_spring_solve_angle_amg_pool_sizes<T: Real>(
 /// Errors (values and report unchanged): those of [`dk_spring_solve_angle`] and of
 /// [`dk_spring_solve_linear_amg`].
 #[export(twin, system[1], options[1], amg[1], pools[1], report[1])]
-pub(crate) fn dk_spring_solve_angle_amg<T: Real>(
+pub(crate) fn dk_spring_solve_angle_amg<T: Real, const D: usize>(
     system: In<'_, DkSpringSystem<T>>,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     options: In<'_, dk_spring_angle_options>,
     amg: In<'_, dk_amg_options>,
     values: Out<'_, T>,
     pools: In<'_, DkPlanPools<T>>,
     report: Out<'_, dk_spring_solve_report>,
-) -> dk_status {
-    let args = AmgArgs {
-        system: SystemC::read(system),
-        amg,
-        pools: PoolsC::read(pools),
-    };
-    let pts = AngleArgs { points };
-    done(read_one(options).and_then(|o| {
-        by_dim!(
-            dim,
-            solve_angle_amg_for_dim::<T>,
-            (args, &pts, &o, values, report)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let o = read_one(options)?;
+    let v = chunks_mut::<T, D>(values)?;
+    let r = out_one(report)?;
+    let (base, pools) = amg_open(system, amg, pools)?;
+    let system = angle_system::<T, D>(base, points, T::from_f64(o.epsilon))?;
+    let (h, scratch) = pools.hierarchy::<D>(system.base(), AmgSolve::Cg)?;
+    // Values are written only after the probe and only by a successful solve.
+    *r = dk_spring_solve_report::of(system.solve_angle_amg(&h, v, &o.stopping(), scratch)?);
+    Ok(())
 }
 
 /// Writes the fixed mask of the spring system a sliding solve needs: `mask[i]` = 1 where
@@ -1630,13 +1120,14 @@ pub(crate) fn dk_spring_solve_angle_amg<T: Real>(
 /// `DK_ERR_NOT_UNIT` (a sliding node's direction), `DK_ERR_INVALID_PARAMETER` (`dim`),
 /// pointer errors.
 #[export(twin, constraints[1])]
-pub(crate) fn dk_constraints_fixed_mask<T: Real>(
+pub(crate) fn dk_constraints_fixed_mask<T: Real, const D: usize>(
     constraints: In<'_, DkConstraints<T>>,
-    dim: u32,
+    _dim: Dim<D>,
     mask: Out<'_, u8>,
-) -> dk_status {
-    let c = ConstraintsC::read(constraints);
-    done(by_dim!(dim, constraints_fixed_mask_for_dim::<T>, (c, mask)))
+) -> Result<(), dk_status> {
+    let c = DkConstraints::open::<D>(constraints)?;
+    // The kernel checks the length before it writes.
+    Ok(c.fixed_mask(output(mask)?)?)
 }
 
 /// Projects the motion of every sliding node onto its plane or line (the kernel's
@@ -1650,18 +1141,16 @@ pub(crate) fn dk_constraints_fixed_mask<T: Real>(
 /// `points`), `DK_ERR_OVERFLOW` (a projected position not finite), the constraints' errors
 /// of [`dk_constraints_fixed_mask`], pointer errors.
 #[export(twin, constraints[1])]
-pub(crate) fn dk_slide_points<T: Real>(
+pub(crate) fn dk_slide_points<T: Real, const D: usize>(
     constraints: In<'_, DkConstraints<T>>,
-    dim: u32,
+    _dim: Dim<D>,
     original: In<'_, T>,
     points: Out<'_, T>,
-) -> dk_status {
-    let c = ConstraintsC::read(constraints);
-    done(by_dim!(
-        dim,
-        slide_points_for_dim::<T>,
-        (c, original, points)
-    ))
+) -> Result<(), dk_status> {
+    let c = DkConstraints::open::<D>(constraints)?;
+    let o = chunks::<T, D>(original)?;
+    // The kernel checks every node before it writes any.
+    Ok(slide_points(&c, o, chunks_mut::<T, D>(points)?)?)
 }
 
 /// Fits a plane (3D) or line (2D) to the nodes `nodes` (read with `index_base`) of `points`
@@ -1679,9 +1168,9 @@ pub(crate) fn dk_slide_points<T: Real>(
 /// `DK_ERR_NON_FINITE`, `DK_ERR_OVERFLOW`, `DK_ERR_NOT_PLANAR`, `DK_ERR_BAD_INDEX_BASE`,
 /// `DK_ERR_BUFFER_TOO_SMALL` (`index_scratch`), length and pointer errors.
 #[export(twin, residual_out[1], extent_out[1])]
-pub(crate) fn dk_fit_plane<T: Real>(
+pub(crate) fn dk_fit_plane<T: Real, const D: usize>(
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     nodes: In<'_, u32>,
     index_base: u32,
     tolerance: T,
@@ -1690,18 +1179,23 @@ pub(crate) fn dk_fit_plane<T: Real>(
     point_out: Out<'_, T>,
     residual_out: Out<'_, T>,
     extent_out: Out<'_, T>,
-) -> dk_status {
-    let out = FitOut {
-        normal: normal_out,
-        point: point_out,
-        residual: residual_out,
-        extent: extent_out,
-    };
-    done(by_dim!(
-        dim,
-        fit_plane_for_dim::<T>,
-        (points, nodes, index_base, tolerance, index_scratch, out)
-    ))
+) -> Result<(), dk_status> {
+    let p = read_points::<T, D>(points)?;
+    let nodes = input(nodes)?;
+    if normal_out.len() != D || point_out.len() != D {
+        return Err(dk_status::DK_ERR_LENGTH_MISMATCH);
+    }
+    let normal = output_n(normal_out, D)?;
+    let point = output_n(point_out, D)?;
+    let residual = out_one(residual_out)?;
+    let extent = out_one(extent_out)?;
+    let (nodes, _) = rebase(nodes, index_base, output(index_scratch)?)?;
+    let fit = fit_plane(p, nodes, tolerance)?;
+    normal.copy_from_slice(&fit.normal);
+    point.copy_from_slice(&fit.point);
+    *residual = fit.residual;
+    *extent = fit.extent;
+    Ok(())
 }
 
 /// The unit tangent `(a × b) / |a × b|` of the line where two planes with normals `a` and `b`
@@ -1713,10 +1207,8 @@ pub(crate) fn dk_plane_intersection<T: Real>(
     a: In<'_, T>,
     b: In<'_, T>,
     out: Out<'_, T>,
-) -> dk_status {
-    done((|| {
-        write_array(out, plane_intersection(read_array(a)?, read_array(b)?)?)
-    })())
+) -> Result<(), dk_status> {
+    write_array(out, plane_intersection(read_array(a)?, read_array(b)?)?)
 }
 
 /// Scalars of `scratch` [`dk_spring_solve_linear_sliding`] needs for `options->method`:
@@ -1729,18 +1221,15 @@ pub(crate) fn dk_spring_solve_linear_sliding_scratch_len(
     dim: u32,
     options: In<'_, dk_spring_solve_options>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let o = read_one(options)?;
-        let method = o.method::<f64>()?;
-        if !(2..=3).contains(&dim) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        // The kernel's count saturates; the largest is 6 n.
-        mul_len(node_count, 6)?;
-        let items = solve_linear_sliding_scratch_len(&LinearSolver::Method(method), node_count);
-        write_len(len_out, mul_len(items, dim as usize)?)
-    })())
+) -> Result<(), dk_status> {
+    let method = read_one(options)?.method::<f64>()?;
+    if !(2..=3).contains(&dim) {
+        return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+    }
+    // The kernel's count saturates; the largest is 6 n.
+    mul_len(node_count, 6)?;
+    let items = solve_linear_sliding_scratch_len(&LinearSolver::Method(method), node_count);
+    write_len(len_out, mul_len(items, dim as usize)?)
 }
 
 /// [`dk_spring_solve_linear`] with sliding nodes (symmetry planes; the kernel's
@@ -1762,28 +1251,28 @@ pub(crate) fn dk_spring_solve_linear_sliding_scratch_len(
 /// do not have `node_count` nodes), `DK_ERR_OVERFLOW`, and those of
 /// [`dk_spring_solve_linear`].
 #[export(twin, system[1], constraints[1], options[1], report[1])]
-pub(crate) fn dk_spring_solve_linear_sliding<T: Real>(
+pub(crate) fn dk_spring_solve_linear_sliding<T: Real, const D: usize>(
     system: In<'_, DkSpringSystem<T>>,
     constraints: In<'_, DkConstraints<T>>,
     options: In<'_, dk_spring_solve_options>,
-    dim: u32,
+    _dim: Dim<D>,
     values: Out<'_, T>,
     scratch: Out<'_, T>,
     index_scratch: Out<'_, u32>,
     report: Out<'_, dk_spring_solve_report>,
-) -> dk_status {
-    let sys = SysArgs {
-        system: SystemC::read(system),
-        index_scratch,
-    };
-    let c = ConstraintsC::read(constraints);
-    done(read_one(options).and_then(|o| {
-        by_dim!(
-            dim,
-            solve_linear_sliding_for_dim::<T>,
-            (sys, c, &o, values, scratch, report)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let o = read_one(options)?;
+    let method = LinearSolver::Method(o.method::<T>()?);
+    let c = DkConstraints::open::<D>(constraints)?;
+    let v = chunks_mut::<T, D>(values)?;
+    let s = whole_chunks_mut::<T, D>(scratch)?;
+    let r = out_one(report)?;
+    let system = DkSpringSystem::open(system, index_scratch)?;
+    // The kernel validates (the mask against the constraints too) before it writes and
+    // iterates on a scaled copy in the scratch: on any error `values` is unchanged.
+    let rep = system.solve_linear_sliding(&c, v, method, &o.stopping(), s)?;
+    *r = dk_spring_solve_report::of(rep);
+    Ok(())
 }
 
 /// Scalars of `scratch` [`dk_spring_solve_angle_sliding`] needs: per node and coordinate, 2
@@ -1799,18 +1288,11 @@ pub(crate) fn dk_spring_solve_angle_sliding_scratch_len<T: Real>(
     dim: u32,
     options: In<'_, dk_spring_angle_options>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let o = read_one(options)?;
-        let method = o.method()?;
-        if !(2..=3).contains(&dim) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        let probe = T::from_f64(o.epsilon) == T::ZERO;
-        let items = angle_sliding_scratch_items(node_count, method, probe)
-            .ok_or(dk_status::DK_ERR_TOO_LARGE)?;
-        write_len(len_out, mul_len(items, dim as usize)?)
-    })())
+) -> Result<(), dk_status> {
+    let (method, probe) = read_one(options)?.scratch_query::<T>(dim)?;
+    let items = angle_sliding_scratch_items(node_count, method, probe)
+        .ok_or(dk_status::DK_ERR_TOO_LARGE)?;
+    write_len(len_out, mul_len(items, dim as usize)?)
 }
 
 /// [`dk_spring_solve_angle`] with sliding nodes (the kernel's
@@ -1826,10 +1308,10 @@ pub(crate) fn dk_spring_solve_angle_sliding_scratch_len<T: Real>(
 /// Errors (values and report unchanged): those of [`dk_spring_solve_angle`] and of
 /// [`dk_spring_solve_linear_sliding`]; `DK_ERR_INVALID_PARAMETER` for `omega`.
 #[export(twin, system[1], constraints[1], options[1], report[1])]
-pub(crate) fn dk_spring_solve_angle_sliding<T: Real>(
+pub(crate) fn dk_spring_solve_angle_sliding<T: Real, const D: usize>(
     system: In<'_, DkSpringSystem<T>>,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     constraints: In<'_, DkConstraints<T>>,
     options: In<'_, dk_spring_angle_options>,
     omega: T,
@@ -1837,20 +1319,19 @@ pub(crate) fn dk_spring_solve_angle_sliding<T: Real>(
     scratch: Out<'_, T>,
     index_scratch: Out<'_, u32>,
     report: Out<'_, dk_spring_solve_report>,
-) -> dk_status {
-    let sys = SysArgs {
-        system: SystemC::read(system),
-        index_scratch,
-    };
-    let pts = AngleArgs { points };
-    let c = ConstraintsC::read(constraints);
-    done(read_one(options).and_then(|o| {
-        by_dim!(
-            dim,
-            solve_angle_sliding_for_dim::<T>,
-            (sys, &pts, c, &o, omega, values, scratch, report)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let o = read_one(options)?;
+    let method = o.method()?;
+    let c = DkConstraints::open::<D>(constraints)?;
+    let v = chunks_mut::<T, D>(values)?;
+    let s = whole_chunks_mut::<T, D>(scratch)?;
+    let r = out_one(report)?;
+    let base = DkSpringSystem::open(system, index_scratch)?;
+    let system = angle_system::<T, D>(base, points, T::from_f64(o.epsilon))?;
+    // Values are written only after the probe and only by a successful solve.
+    let rep = system.solve_angle_sliding(&c, v, method, omega, &o.stopping(), s)?;
+    *r = dk_spring_solve_report::of(rep);
+    Ok(())
 }
 
 /// The exact pool lengths [`dk_spring_solve_linear_sliding_amg`] needs for this system (built
@@ -1861,19 +1342,14 @@ pub(crate) fn dk_spring_solve_angle_sliding<T: Real>(
 /// constraints. Errors as [`dk_spring_solve_linear_amg_pool_sizes`] (`dim` instead of
 /// `components`).
 #[export(twin, system[1], amg[1], sizes_out[1])]
-pub(crate) fn dk_spring_solve_linear_sliding_amg_pool_sizes<T: Real>(
+pub(crate) fn dk_spring_solve_linear_sliding_amg_pool_sizes<T: Real, const D: usize>(
     system: In<'_, DkSpringSystem<T>>,
-    dim: u32,
+    _dim: Dim<D>,
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
-) -> dk_status {
-    let system = SystemC::read(system);
-    done(by_dim!(
-        dim,
-        sliding_amg_pool_sizes_for_dim::<T>,
-        (system, amg, work, sizes_out)
-    ))
+) -> Result<(), dk_status> {
+    amg_pool_sizes::<T, D>(system, amg, work, sizes_out, AmgSolve::SlidingCg)
 }
 
 /// [`dk_spring_solve_linear_sliding`]'s problem solved by its projected CG preconditioned
@@ -1890,29 +1366,27 @@ pub(crate) fn dk_spring_solve_linear_sliding_amg_pool_sizes<T: Real>(
 /// Errors (values and report unchanged): those of [`dk_spring_solve_linear_sliding`] and of
 /// [`dk_spring_solve_linear_amg`].
 #[export(twin, system[1], constraints[1], options[1], amg[1], pools[1], report[1])]
-pub(crate) fn dk_spring_solve_linear_sliding_amg<T: Real>(
+pub(crate) fn dk_spring_solve_linear_sliding_amg<T: Real, const D: usize>(
     system: In<'_, DkSpringSystem<T>>,
     constraints: In<'_, DkConstraints<T>>,
     options: In<'_, dk_spring_solve_options>,
     amg: In<'_, dk_amg_options>,
-    dim: u32,
+    _dim: Dim<D>,
     values: Out<'_, T>,
     pools: In<'_, DkPlanPools<T>>,
     report: Out<'_, dk_spring_solve_report>,
-) -> dk_status {
-    let args = AmgArgs {
-        system: SystemC::read(system),
-        amg,
-        pools: PoolsC::read(pools),
-    };
-    let c = ConstraintsC::read(constraints);
-    done(read_one(options).and_then(|o| {
-        by_dim!(
-            dim,
-            solve_linear_sliding_amg_for_dim::<T>,
-            (args, c, &o, values, report)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let stop = read_one(options)?.stopping::<T>();
+    let c = DkConstraints::open::<D>(constraints)?;
+    let v = chunks_mut::<T, D>(values)?;
+    let r = out_one(report)?;
+    let (base, pools) = amg_open(system, amg, pools)?;
+    let (h, scratch) = pools.hierarchy::<D>(&base, AmgSolve::SlidingCg)?;
+    // The kernel validates before it writes and iterates on a copy in the scratch: on any
+    // error `values` is unchanged.
+    let rep = base.solve_linear_sliding(&c, v, LinearSolver::Amg(&h), &stop, scratch)?;
+    *r = dk_spring_solve_report::of(rep);
+    Ok(())
 }
 
 /// The exact pool lengths [`dk_spring_solve_angle_sliding_amg`] needs: the same as
@@ -1921,19 +1395,14 @@ pub(crate) fn dk_spring_solve_linear_sliding_amg<T: Real>(
 /// also covers the rigidity probe when `epsilon` is 0). Errors as
 /// [`dk_spring_solve_linear_sliding_amg_pool_sizes`].
 #[export(twin, system[1], amg[1], sizes_out[1])]
-pub(crate) fn dk_spring_solve_angle_sliding_amg_pool_sizes<T: Real>(
+pub(crate) fn dk_spring_solve_angle_sliding_amg_pool_sizes<T: Real, const D: usize>(
     system: In<'_, DkSpringSystem<T>>,
-    dim: u32,
+    _dim: Dim<D>,
     amg: In<'_, dk_amg_options>,
     work: Out<'_, u32>,
     sizes_out: Out<'_, dk_plan_sizes>,
-) -> dk_status {
-    let system = SystemC::read(system);
-    done(by_dim!(
-        dim,
-        sliding_amg_pool_sizes_for_dim::<T>,
-        (system, amg, work, sizes_out)
-    ))
+) -> Result<(), dk_status> {
+    amg_pool_sizes::<T, D>(system, amg, work, sizes_out, AmgSolve::SlidingCg)
 }
 
 /// [`dk_spring_solve_angle_sliding`]'s projected CG preconditioned by one V-cycle of the
@@ -1949,29 +1418,26 @@ pub(crate) fn dk_spring_solve_angle_sliding_amg_pool_sizes<T: Real>(
 /// Errors (values and report unchanged): those of [`dk_spring_solve_angle_sliding`] and of
 /// [`dk_spring_solve_angle_amg`].
 #[export(twin, system[1], constraints[1], options[1], amg[1], pools[1], report[1])]
-pub(crate) fn dk_spring_solve_angle_sliding_amg<T: Real>(
+pub(crate) fn dk_spring_solve_angle_sliding_amg<T: Real, const D: usize>(
     system: In<'_, DkSpringSystem<T>>,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     constraints: In<'_, DkConstraints<T>>,
     options: In<'_, dk_spring_angle_options>,
     amg: In<'_, dk_amg_options>,
     values: Out<'_, T>,
     pools: In<'_, DkPlanPools<T>>,
     report: Out<'_, dk_spring_solve_report>,
-) -> dk_status {
-    let args = AmgArgs {
-        system: SystemC::read(system),
-        amg,
-        pools: PoolsC::read(pools),
-    };
-    let pts = AngleArgs { points };
-    let c = ConstraintsC::read(constraints);
-    done(read_one(options).and_then(|o| {
-        by_dim!(
-            dim,
-            solve_angle_sliding_amg_for_dim::<T>,
-            (args, &pts, c, &o, values, report)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let o = read_one(options)?;
+    let c = DkConstraints::open::<D>(constraints)?;
+    let v = chunks_mut::<T, D>(values)?;
+    let r = out_one(report)?;
+    let (base, pools) = amg_open(system, amg, pools)?;
+    let system = angle_system::<T, D>(base, points, T::from_f64(o.epsilon))?;
+    let (h, scratch) = pools.hierarchy::<D>(system.base(), AmgSolve::SlidingCg)?;
+    // Values are written only after the probe and only by a successful solve.
+    let rep = system.solve_angle_sliding_amg(&c, v, &h, &o.stopping(), scratch)?;
+    *r = dk_spring_solve_report::of(rep);
+    Ok(())
 }

@@ -15,45 +15,10 @@ use deform_kernel::spring::{
 use deform_kernel::Real;
 use deform_kernel_ffi_export::export;
 
-use crate::args::{by_dim, done, read_points, rebase};
+use crate::args::{read_points, rebase, Dim};
 use crate::graph::{dk_cells, dk_graph, read_graph, CellsIn};
 use crate::slice::{input, output, In, Out};
 use crate::status::dk_status;
-
-fn wall_distances_for_dim<T: Real, const D: usize>(
-    points: In<'_, T>,
-    wall: In<'_, u32>,
-    index_base: u32,
-    index_scratch: Out<'_, u32>,
-    out: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points)?;
-    let (w, _) = rebase(input(wall)?, index_base, output(index_scratch)?)?;
-    wall_distances(p, w, output(out)?).map_err(dk_status::from)
-}
-
-fn dual_volumes_for_dim<T: Real, const D: usize>(
-    cells: In<'_, dk_cells>,
-    index_base: u32,
-    index_scratch: Out<'_, u32>,
-    points: In<'_, T>,
-    out: Out<'_, T>,
-    scratch: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points)?;
-    let s = output(index_scratch)?;
-    let (c, _) = CellsIn::read(cells)?.cells(p.len(), index_base, s)?;
-    dual_volumes(&c, p, output(out)?, output(scratch)?).map_err(dk_status::from)
-}
-
-/// `values ← factors(values)` in place with `f` (the wall-distance or inverse-volume rule).
-fn factors<T: Real>(
-    values: Out<'_, T>,
-    exponent: T,
-    f: fn(&mut [T], T) -> deform_kernel::Result<()>,
-) -> dk_status {
-    done(output(values).and_then(|v| f(v, exponent).map_err(dk_status::from)))
-}
 
 // ---------------------------------------------------------------------------------------------
 // The C functions (`cargo xtask codegen` exports each, see ffi/README.md).
@@ -70,19 +35,17 @@ fn factors<T: Real>(
 /// `DK_ERR_NON_FINITE`, `DK_ERR_BAD_INDEX_BASE`, `DK_ERR_BUFFER_TOO_SMALL`, length and pointer
 /// errors.
 #[export(twin)]
-pub(crate) fn dk_spring_wall_distances<T: Real>(
+pub(crate) fn dk_spring_wall_distances<T: Real, const D: usize>(
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     wall: In<'_, u32>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
     out: Out<'_, T>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        wall_distances_for_dim::<T>,
-        (points, wall, index_base, index_scratch, out)
-    ))
+) -> Result<(), dk_status> {
+    let p = read_points::<T, D>(points)?;
+    let (w, _) = rebase(input(wall)?, index_base, output(index_scratch)?)?;
+    Ok(wall_distances(p, w, output(out)?)?)
 }
 
 /// Turns wall distances into stiffness factors in place (SU2's `WALL_DISTANCE`):
@@ -95,8 +58,8 @@ pub(crate) fn dk_spring_wall_distances<T: Real>(
 pub(crate) fn dk_spring_wall_distance_factors<T: Real>(
     distances: Out<'_, T>,
     exponent: T,
-) -> dk_status {
-    factors(distances, exponent, wall_distance_factors)
+) -> Result<(), dk_status> {
+    Ok(wall_distance_factors(output(distances)?, exponent)?)
 }
 
 /// The dual volume of every node (each cell's absolute area or volume shared equally among
@@ -106,20 +69,19 @@ pub(crate) fn dk_spring_wall_distance_factors<T: Real>(
 /// Errors (nothing written to `out`): cell errors, `DK_ERR_CELL_DIMENSION`,
 /// `DK_ERR_NON_FINITE`, `DK_ERR_INVALID_PARAMETER` (`dim`), length and pointer errors.
 #[export(twin, cells[1])]
-pub(crate) fn dk_spring_dual_volumes<T: Real>(
+pub(crate) fn dk_spring_dual_volumes<T: Real, const D: usize>(
     cells: In<'_, dk_cells>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     out: Out<'_, T>,
     scratch: Out<'_, T>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        dual_volumes_for_dim::<T>,
-        (cells, index_base, index_scratch, points, out, scratch)
-    ))
+) -> Result<(), dk_status> {
+    let p = read_points::<T, D>(points)?;
+    let s = output(index_scratch)?;
+    let (c, _) = CellsIn::read(cells)?.cells(p.len(), index_base, s)?;
+    Ok(dual_volumes(&c, p, output(out)?, output(scratch)?)?)
 }
 
 /// Turns dual volumes into stiffness factors in place (SU2's `INVERSE_VOLUME`):
@@ -129,8 +91,8 @@ pub(crate) fn dk_spring_dual_volumes<T: Real>(
 pub(crate) fn dk_spring_inverse_volume_factors<T: Real>(
     volumes: Out<'_, T>,
     exponent: T,
-) -> dk_status {
-    factors(volumes, exponent, inverse_volume_factors)
+) -> Result<(), dk_status> {
+    Ok(inverse_volume_factors(output(volumes)?, exponent)?)
 }
 
 /// Multiplies every directed edge's stiffness by the mean factor of its two nodes, in place:
@@ -144,10 +106,8 @@ pub(crate) fn dk_spring_scale_stiffness<T: Real>(
     graph: In<'_, dk_graph>,
     factors: In<'_, T>,
     stiffness: Out<'_, T>,
-) -> dk_status {
-    done((|| {
-        let g = read_graph(graph)?;
-        let f = input(factors)?;
-        scale_stiffness(&g, f, output(stiffness)?).map_err(dk_status::from)
-    })())
+) -> Result<(), dk_status> {
+    let g = read_graph(graph)?;
+    let f = input(factors)?;
+    scale_stiffness(&g, f, output(stiffness)?).map_err(dk_status::from)
 }

@@ -33,8 +33,8 @@ use deform_kernel::{Block, Direction, Directions, Graph, Real};
 use deform_kernel_ffi_export::export;
 
 use crate::args::{
-    assert_layout, block, by_components, by_dim, done, mul_len, optional, range, read_one,
-    read_optional_points, read_points, write_len,
+    assert_layout, block, mul_len, optional, range, read_one, read_optional_points, read_points,
+    write_len, Components, Dim,
 };
 use crate::graph::{dk_graph, read_graph};
 use crate::slice::{chunks, chunks_mut, input, out_one, output, whole_chunks_mut, In, Out};
@@ -320,219 +320,55 @@ impl dk_smooth_report {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Generic inner functions.
+// Shared argument handling.
 // ---------------------------------------------------------------------------------------------
 
-fn smooth_arclength_for_dim<T: Real, const D: usize>(
-    block: &Block,
-    options: &dk_smooth_arclength_options,
-    (pinned, free_faces): (Option<&[u8]>, u32),
-    points: Out<'_, T>,
-    scratch: Out<'_, T>,
-    report: Out<'_, dk_smooth_report>,
-) -> Result<(), dk_status> {
-    let mut opts = options.to_kernel::<T>(pinned)?;
-    opts.ends = line_ends(opts.direction, free_faces)?;
-    let p = chunks_mut::<T, D>(points)?;
-    let s = output(scratch)?;
-    let r = out_one(report)?;
-    // The kernel validates everything before it moves a point: on Err `points` is unchanged.
-    let rep = smooth_arclength(block, p, &opts, s)?;
-    *r = dk_smooth_report::of(rep);
-    Ok(())
-}
+/// A structured filter's job: the Taubin parameters, the iteration count and the options.
+type StructuredJob<'a, T> = (TaubinParams<T>, usize, In<'a, dk_structured_options>);
 
-/// The structured filter, on the fine grid only (`coarse` None) or with a coarse-grid pass.
+/// [`dk_taubin_smooth_structured`], or its coarse-grid variant when `coarse` is given.
 fn smooth_structured_t<T: Real>(
     [ni, nj, nk]: [usize; 3],
     coarse: Option<In<'_, dk_taubin_coarse>>,
-    lambda: T,
-    mu: T,
-    iterations: usize,
-    options: In<'_, dk_structured_options>,
+    (p, iterations, options): StructuredJob<'_, T>,
     field: Out<'_, T>,
     scratch: Out<'_, T>,
     report: Out<'_, dk_filter_report>,
-) -> dk_status {
-    done((|| {
-        let b = block(ni, nj, nk)?;
-        let c = match coarse {
-            Some(c) => Some(read_one(c)?.to_kernel()?),
-            None => None,
-        };
-        let (o, pinned) = read_with_pins(options)?;
-        let o = o.to_kernel(pinned);
-        let f = output(field)?;
-        let s = output(scratch)?;
-        let r = out_one(report)?;
-        let p = TaubinParams { lambda, mu };
-        let rep = match c {
-            None => smooth_structured(&b, f, p, iterations, &o, s),
-            Some(c) => smooth_structured_coarse(&b, f, &c, p, iterations, &o, s),
-        }?;
-        *r = dk_filter_report::of(rep);
-        Ok(())
-    })())
-}
-
-fn structured_sweep_t<T: Real>(
-    ni: usize,
-    nj: usize,
-    nk: usize,
-    src: In<'_, T>,
-    weight: T,
-    options: In<'_, dk_structured_options>,
-    region: In<'_, dk_block_region>,
-    index_base: u32,
-    dst: Out<'_, T>,
-    max_change_out: Out<'_, T>,
-) -> dk_status {
-    done((|| {
-        let b = block(ni, nj, nk)?;
-        let (o, pinned) = read_with_pins(options)?;
-        let o = o.to_kernel(pinned);
-        let reg = read_one(region)?;
-        let mut lo = [0usize; 3];
-        let mut hi = [0usize; 3];
-        for ((l, h), (&rl, &rh)) in lo
-            .iter_mut()
-            .zip(hi.iter_mut())
-            .zip(reg.lo.iter().zip(&reg.hi))
-        {
-            let [a, z] = range(rl, rh, index_base)?;
-            *l = a;
-            *h = z;
-        }
-        let s = input(src)?;
-        let d = output(dst)?;
-        let m = out_one(max_change_out)?;
-        let change = structured_sweep(&b, s, d, weight, &o, &BlockRegion { lo, hi })?;
-        *m = change;
-        Ok(())
-    })())
-}
-
-/// Graph arguments shared by the graph filter functions.
-struct GraphArgs<'a, T> {
-    graph: In<'a, dk_graph>,
-    weights: In<'a, T>,
-    fixed: In<'a, u8>,
-}
-
-impl<'a, T> GraphArgs<'a, T> {
-    fn read(&self) -> Result<(Graph<'a>, GraphOptions<'a, T>), dk_status> {
-        let g = read_graph(self.graph)?;
-        let o = GraphOptions {
-            weights: optional(self.weights)?,
-            fixed: optional(self.fixed)?,
-        };
-        Ok((g, o))
-    }
-}
-
-fn smooth_graph_for_components<T: Real, const V: usize>(
-    args: &GraphArgs<T>,
-    params: TaubinParams<T>,
-    iterations: usize,
-    values: Out<'_, T>,
-    scratch: Out<'_, T>,
-    report: Out<'_, dk_filter_report>,
 ) -> Result<(), dk_status> {
-    let (g, o) = args.read()?;
-    let v = chunks_mut::<T, V>(values)?;
-    // The scratch may be longer than needed: use only whole items.
-    let s = whole_chunks_mut::<T, V>(scratch)?;
+    let b = block(ni, nj, nk)?;
+    let c = match coarse {
+        Some(c) => Some(read_one(c)?.to_kernel()?),
+        None => None,
+    };
+    let (o, pinned) = read_with_pins(options)?;
+    let o = o.to_kernel(pinned);
+    let f = output(field)?;
+    let s = output(scratch)?;
     let r = out_one(report)?;
-    let rep = smooth_graph(&g, v, params, iterations, &o, s)?;
+    let rep = match c {
+        None => smooth_structured(&b, f, p, iterations, &o, s),
+        Some(c) => smooth_structured_coarse(&b, f, &c, p, iterations, &o, s),
+    }?;
     *r = dk_filter_report::of(rep);
     Ok(())
 }
 
-fn graph_sweep_for_components<T: Real, const V: usize>(
-    args: &GraphArgs<T>,
-    src: In<'_, T>,
-    weight: T,
-    nodes: [usize; 2],
-    dst: Out<'_, T>,
-    max_change_out: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let (g, o) = args.read()?;
-    let s = chunks::<T, V>(src)?;
-    let d = chunks_mut::<T, V>(dst)?;
-    let m = out_one(max_change_out)?;
-    let [a, b] = nodes;
-    *m = graph_sweep(&g, s, d, weight, &o, a..b)?;
-    Ok(())
+/// The graph and the options (optional weights and fixed mask) of a graph filter.
+fn graph_options<'a, T>(
+    graph: In<'a, dk_graph>,
+    weights: In<'a, T>,
+    fixed: In<'a, u8>,
+) -> Result<(Graph<'a>, GraphOptions<'a, T>), dk_status> {
+    let g = read_graph(graph)?;
+    let o = GraphOptions {
+        weights: optional(weights)?,
+        fixed: optional(fixed)?,
+    };
+    Ok((g, o))
 }
 
-fn inverse_distance_weights_for_dim<T: Real, const D: usize>(
-    g: &Graph<'_>,
-    points: In<'_, T>,
-    weights: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points)?;
-    let w = output(weights)?;
-    inverse_distance_weights(g, p, w).map_err(dk_status::from)
-}
-
-fn arclength_for_dim<T: Real, const D: usize>(
-    b: &Block,
-    points: In<'_, T>,
-    direction: u32,
-    normalised: bool,
-    out: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points)?;
-    let o = output(out)?;
-    arclength(b, p, to_direction(direction)?, normalised, o).map_err(dk_status::from)
-}
-
-fn redistribute_for_dim<T: Real, const D: usize>(
-    b: &Block,
-    direction: u32,
-    targets: In<'_, T>,
-    normalised: bool,
-    points: Out<'_, T>,
-    scratch: Out<'_, T>,
-    max_displacement_out: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let t = input(targets)?;
-    let p = chunks_mut::<T, D>(points)?;
-    let s = output(scratch)?;
-    let m = out_one(max_displacement_out)?;
-    // The kernel validates everything before it moves a point.
-    *m = redistribute(b, p, to_direction(direction)?, t, normalised, s)?;
-    Ok(())
-}
-
-fn stretching_for_dim<T: Real, const D: usize>(
-    b: &Block,
-    points: In<'_, T>,
-    direction: u32,
-    out: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points)?;
-    let o = output(out)?;
-    stretching(b, p, to_direction(direction)?, o).map_err(dk_status::from)
-}
-
-fn max_stretching_for_dim<T: Real, const D: usize>(
-    b: &Block,
-    points: In<'_, T>,
-    direction: u32,
-    value_out: Out<'_, T>,
-    point_out: Out<'_, usize>,
-) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points)?;
-    let v = out_one(value_out)?;
-    let i = out_one(point_out)?;
-    let (r, at) = max_stretching(b, p, to_direction(direction)?)?;
-    *v = r;
-    *i = at;
-    Ok(())
-}
-
-fn check_lines_for_dim<T: Real, const D: usize>(
+/// [`dk_taubin_check_lines_increasing`] with the optional points in dimension `D`.
+fn check_lines<T: Real, const D: usize>(
     b: &Block,
     field: &[T],
     direction: u32,
@@ -553,15 +389,13 @@ fn check_lines_for_dim<T: Real, const D: usize>(
 pub(crate) fn dk_taubin_params_paper<T: Real>(
     lambda_out: Out<'_, T>,
     mu_out: Out<'_, T>,
-) -> dk_status {
-    done((|| {
-        let p = TaubinParams::<T>::paper();
-        let l = out_one(lambda_out)?;
-        let m = out_one(mu_out)?;
-        *l = p.lambda;
-        *m = p.mu;
-        Ok(())
-    })())
+) -> Result<(), dk_status> {
+    let p = TaubinParams::<T>::paper();
+    let l = out_one(lambda_out)?;
+    let m = out_one(mu_out)?;
+    *l = p.lambda;
+    *m = p.mu;
+    Ok(())
 }
 
 /// `λ` with `μ` from Taubin's pass-band relation `1/λ + 1/μ = pass_band`. Needs `λ > 0` and
@@ -573,15 +407,13 @@ pub(crate) fn dk_taubin_params_from_pass_band<T: Real>(
     pass_band: T,
     lambda_out: Out<'_, T>,
     mu_out: Out<'_, T>,
-) -> dk_status {
-    done((|| {
-        let p = TaubinParams::from_pass_band(lambda, pass_band)?;
-        let l = out_one(lambda_out)?;
-        let m = out_one(mu_out)?;
-        *l = p.lambda;
-        *m = p.mu;
-        Ok(())
-    })())
+) -> Result<(), dk_status> {
+    let p = TaubinParams::from_pass_band(lambda, pass_band)?;
+    let l = out_one(lambda_out)?;
+    let m = out_one(mu_out)?;
+    *l = p.lambda;
+    *m = p.mu;
+    Ok(())
 }
 
 /// Fills `*out` with the paper's settings for lines along `direction` (0 = i, 1 = j, 2 = k):
@@ -592,29 +424,27 @@ pub(crate) fn dk_taubin_params_from_pass_band<T: Real>(
 pub(crate) fn dk_smooth_arclength_options_default(
     direction: u32,
     out: Out<'_, dk_smooth_arclength_options>,
-) -> dk_status {
-    done((|| {
-        let k = SmoothOptions::<f64>::new(crate::taubin::to_direction(direction)?);
-        let v = dk_smooth_arclength_options {
-            lambda: k.params.lambda,
-            mu: k.params.mu,
-            iterations: k.iterations,
-            coarse_iterations: k.coarse_iterations,
-            pinned: core::ptr::null(),
-            pinned_len: 0,
-            coarse: dk_taubin_coarse {
-                factor: [1, 1, 1],
-                prolongation: DK_PROLONGATION_VALUES,
-            },
-            direction,
-            normalised: u8::from(k.normalised),
-            use_coarse: 0,
-            mirror: k.mirror.flags().map(u8::from),
-        };
-        let o = out_one(out)?;
-        *o = v;
-        Ok(())
-    })())
+) -> Result<(), dk_status> {
+    let k = SmoothOptions::<f64>::new(crate::taubin::to_direction(direction)?);
+    let v = dk_smooth_arclength_options {
+        lambda: k.params.lambda,
+        mu: k.params.mu,
+        iterations: k.iterations,
+        coarse_iterations: k.coarse_iterations,
+        pinned: core::ptr::null(),
+        pinned_len: 0,
+        coarse: dk_taubin_coarse {
+            factor: [1, 1, 1],
+            prolongation: DK_PROLONGATION_VALUES,
+        },
+        direction,
+        normalised: u8::from(k.normalised),
+        use_coarse: 0,
+        mirror: k.mirror.flags().map(u8::from),
+    };
+    let o = out_one(out)?;
+    *o = v;
+    Ok(())
 }
 
 /// Scratch length (in scalars of the precision used) for [`dk_taubin_smooth_arclength`] with
@@ -622,30 +452,24 @@ pub(crate) fn dk_smooth_arclength_options_default(
 /// matter): `n + max(n, 2 n_coarse, (dim + 1) × points per line)`. A `direction` other than
 /// 0, 1, 2 gives `DK_ERR_INVALID_PARAMETER`.
 #[export(options[1], len_out[1])]
-pub(crate) fn dk_taubin_smooth_arclength_scratch_len(
+pub(crate) fn dk_taubin_smooth_arclength_scratch_len<const D: usize>(
     ni: usize,
     nj: usize,
     nk: usize,
     options: In<'_, dk_smooth_arclength_options>,
-    dim: u32,
+    _dim: Dim<D>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let b = block(ni, nj, nk)?;
-        let o = read_one(options)?;
-        let coarse = if o.use_coarse != 0 {
-            Some(o.coarse.to_kernel()?)
-        } else {
-            None
-        };
-        let d = crate::taubin::to_direction(o.direction)?;
-        let len = match dim {
-            2 => smooth_arclength_scratch_len::<2>(&b, d, coarse.as_ref()),
-            3 => smooth_arclength_scratch_len::<3>(&b, d, coarse.as_ref()),
-            _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
-        };
-        write_len(len_out, len)
-    })())
+) -> Result<(), dk_status> {
+    let b = block(ni, nj, nk)?;
+    let o = read_one(options)?;
+    let coarse = (o.use_coarse != 0)
+        .then(|| o.coarse.to_kernel())
+        .transpose()?;
+    let d = crate::taubin::to_direction(o.direction)?;
+    write_len(
+        len_out,
+        smooth_arclength_scratch_len::<D>(&b, d, coarse.as_ref()),
+    )
 }
 
 /// Smooths a structured grid along one family of lines, Alter's way: arclength along
@@ -663,17 +487,17 @@ pub(crate) fn dk_taubin_smooth_arclength_scratch_len(
 /// `f32` twin of [`dk_taubin_smooth_arclength`] (`options->lambda`, `mu` are rounded to
 /// `float`; the report's values are widened exactly).
 #[export(twin, options[1], report[1])]
-pub(crate) fn dk_taubin_smooth_arclength<T: Real>(
+pub(crate) fn dk_taubin_smooth_arclength<T: Real, const D: usize>(
     ni: usize,
     nj: usize,
     nk: usize,
     options: In<'_, dk_smooth_arclength_options>,
     points: Out<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     scratch: Out<'_, T>,
     report: Out<'_, dk_smooth_report>,
-) -> dk_status {
-    dk_taubin_smooth_arclength_ends(ni, nj, nk, options, 0, points, dim, scratch, report)
+) -> Result<(), dk_status> {
+    dk_taubin_smooth_arclength_ends::<T, D>(ni, nj, nk, options, 0, points, Dim, scratch, report)
 }
 
 /// [`dk_taubin_smooth_arclength`] with a choice of line ends: `free_faces` is a mask of
@@ -688,26 +512,27 @@ pub(crate) fn dk_taubin_smooth_arclength<T: Real>(
 /// axis: keep that face fixed). On any error `points` and `*report` are unchanged.
 #[allow(clippy::too_many_arguments)]
 #[export(twin, options[1], report[1])]
-pub(crate) fn dk_taubin_smooth_arclength_ends<T: Real>(
+pub(crate) fn dk_taubin_smooth_arclength_ends<T: Real, const D: usize>(
     ni: usize,
     nj: usize,
     nk: usize,
     options: In<'_, dk_smooth_arclength_options>,
     free_faces: u32,
     points: Out<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     scratch: Out<'_, T>,
     report: Out<'_, dk_smooth_report>,
-) -> dk_status {
-    done((|| {
-        let b = block(ni, nj, nk)?;
-        let (o, pinned) = read_with_pins(options)?;
-        by_dim!(
-            dim,
-            smooth_arclength_for_dim::<T>,
-            (&b, &o, (pinned, free_faces), points, scratch, report)
-        )
-    })())
+) -> Result<(), dk_status> {
+    let b = block(ni, nj, nk)?;
+    let (o, pinned) = read_with_pins(options)?;
+    let mut opts = o.to_kernel::<T>(pinned)?;
+    opts.ends = line_ends(opts.direction, free_faces)?;
+    let p = chunks_mut::<T, D>(points)?;
+    let s = output(scratch)?;
+    let r = out_one(report)?;
+    // The kernel validates everything before it moves a point: on Err `points` is unchanged.
+    *r = dk_smooth_report::of(smooth_arclength(&b, p, &opts, s)?);
+    Ok(())
 }
 
 /// Scratch length (in scalars) for [`dk_taubin_smooth_structured`]: the point count.
@@ -717,11 +542,9 @@ pub(crate) fn dk_taubin_smooth_structured_scratch_len(
     nj: usize,
     nk: usize,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let b = block(ni, nj, nk)?;
-        write_len(len_out, structured_scratch_len(&b))
-    })())
+) -> Result<(), dk_status> {
+    let b = block(ni, nj, nk)?;
+    write_len(len_out, structured_scratch_len(&b))
 }
 
 /// Smooths a scalar field on a structured block (`ni·nj·nk` values, in place) with
@@ -743,11 +566,10 @@ pub(crate) fn dk_taubin_smooth_structured<T: Real>(
     field: Out<'_, T>,
     scratch: Out<'_, T>,
     report: Out<'_, dk_filter_report>,
-) -> dk_status {
-    let dims = [ni, nj, nk];
-    smooth_structured_t(
-        dims, None, lambda, mu, iterations, options, field, scratch, report,
-    )
+) -> Result<(), dk_status> {
+    let p = TaubinParams { lambda, mu };
+    let job = (p, iterations, options);
+    smooth_structured_t([ni, nj, nk], None, job, field, scratch, report)
 }
 
 /// One Jacobi pass of the structured filter over `region` only: `dst = src + weight ·
@@ -771,19 +593,25 @@ pub(crate) fn dk_taubin_structured_sweep<T: Real>(
     index_base: u32,
     dst: Out<'_, T>,
     max_change_out: Out<'_, T>,
-) -> dk_status {
-    structured_sweep_t(
-        ni,
-        nj,
-        nk,
-        src,
-        weight,
-        options,
-        region,
-        index_base,
-        dst,
-        max_change_out,
-    )
+) -> Result<(), dk_status> {
+    let b = block(ni, nj, nk)?;
+    let (o, pinned) = read_with_pins(options)?;
+    let o = o.to_kernel(pinned);
+    let reg = read_one(region)?;
+    let mut lo = [0usize; 3];
+    let mut hi = [0usize; 3];
+    for ((l, h), (&rl, &rh)) in lo
+        .iter_mut()
+        .zip(hi.iter_mut())
+        .zip(reg.lo.iter().zip(&reg.hi))
+    {
+        [*l, *h] = range(rl, rh, index_base)?;
+    }
+    let s = input(src)?;
+    let d = output(dst)?;
+    let m = out_one(max_change_out)?;
+    *m = structured_sweep(&b, s, d, weight, &o, &BlockRegion { lo, hi })?;
+    Ok(())
 }
 
 /// Scratch length (in scalars) for [`dk_taubin_smooth_structured_coarse`]: two coarse fields.
@@ -794,12 +622,10 @@ pub(crate) fn dk_taubin_smooth_structured_coarse_scratch_len(
     nk: usize,
     coarse: In<'_, dk_taubin_coarse>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let b = block(ni, nj, nk)?;
-        let c = read_one(coarse)?.to_kernel()?;
-        write_len(len_out, structured_coarse_scratch_len(&b, &c))
-    })())
+) -> Result<(), dk_status> {
+    let b = block(ni, nj, nk)?;
+    let c = read_one(coarse)?.to_kernel()?;
+    write_len(len_out, structured_coarse_scratch_len(&b, &c))
 }
 
 /// The coarse-grid variant of [`dk_taubin_smooth_structured`] (Alter's multi-grid step):
@@ -822,11 +648,10 @@ pub(crate) fn dk_taubin_smooth_structured_coarse<T: Real>(
     field: Out<'_, T>,
     scratch: Out<'_, T>,
     report: Out<'_, dk_filter_report>,
-) -> dk_status {
-    let (dims, c) = ([ni, nj, nk], Some(coarse));
-    smooth_structured_t(
-        dims, c, lambda, mu, iterations, options, field, scratch, report,
-    )
+) -> Result<(), dk_status> {
+    let p = TaubinParams { lambda, mu };
+    let job = (p, iterations, options);
+    smooth_structured_t([ni, nj, nk], Some(coarse), job, field, scratch, report)
 }
 
 /// Scratch length (in scalars) for [`dk_taubin_smooth_graph`]: `node_count * components`
@@ -836,13 +661,11 @@ pub(crate) fn dk_taubin_smooth_graph_scratch_len(
     node_count: usize,
     components: u32,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        if !(1..=7).contains(&components) {
-            return Err(dk_status::DK_ERR_INVALID_PARAMETER);
-        }
-        write_len(len_out, mul_len(node_count, components as usize)?)
-    })())
+) -> Result<(), dk_status> {
+    if !(1..=7).contains(&components) {
+        return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+    }
+    write_len(len_out, mul_len(node_count, components as usize)?)
 }
 
 /// Taubin fairing of per-node values on a CSR graph (the classic unstructured variant):
@@ -859,29 +682,26 @@ pub(crate) fn dk_taubin_smooth_graph_scratch_len(
 /// Fixed nodes and nodes without neighbours keep their values. On error `values` and
 /// `*report` are unchanged.
 #[export(twin, graph[1], weights?, fixed?, report[1])]
-pub(crate) fn dk_taubin_smooth_graph<T: Real>(
+pub(crate) fn dk_taubin_smooth_graph<T: Real, const V: usize>(
     graph: In<'_, dk_graph>,
     weights: In<'_, T>,
     fixed: In<'_, u8>,
     lambda: T,
     mu: T,
     iterations: usize,
-    components: u32,
+    _components: Components<V>,
     values: Out<'_, T>,
     scratch: Out<'_, T>,
     report: Out<'_, dk_filter_report>,
-) -> dk_status {
-    let args = GraphArgs {
-        graph,
-        weights,
-        fixed,
-    };
-    let params = TaubinParams { lambda, mu };
-    done(by_components!(
-        components,
-        smooth_graph_for_components::<T>,
-        (&args, params, iterations, values, scratch, report)
-    ))
+) -> Result<(), dk_status> {
+    let (g, o) = graph_options(graph, weights, fixed)?;
+    let v = chunks_mut::<T, V>(values)?;
+    // The scratch may be longer than needed: use only whole items.
+    let s = whole_chunks_mut::<T, V>(scratch)?;
+    let r = out_one(report)?;
+    let rep = smooth_graph(&g, v, TaubinParams { lambda, mu }, iterations, &o, s)?;
+    *r = dk_filter_report::of(rep);
+    Ok(())
 }
 
 /// One Jacobi pass of the graph filter over the nodes `nodes_start..nodes_end` only:
@@ -892,31 +712,26 @@ pub(crate) fn dk_taubin_smooth_graph<T: Real>(
 /// Graph, weights, fixed mask and `components` as in [`dk_taubin_smooth_graph`]. Nothing is
 /// written on error.
 #[export(twin, graph[1], weights?, fixed?, max_change_out[1])]
-pub(crate) fn dk_taubin_graph_sweep<T: Real>(
+pub(crate) fn dk_taubin_graph_sweep<T: Real, const V: usize>(
     graph: In<'_, dk_graph>,
     weights: In<'_, T>,
     fixed: In<'_, u8>,
     src: In<'_, T>,
-    components: u32,
+    _components: Components<V>,
     weight: T,
     nodes_start: usize,
     nodes_end: usize,
     index_base: u32,
     dst: Out<'_, T>,
     max_change_out: Out<'_, T>,
-) -> dk_status {
-    let args = GraphArgs {
-        graph,
-        weights,
-        fixed,
-    };
-    done(range(nodes_start, nodes_end, index_base).and_then(|nodes| {
-        by_components!(
-            components,
-            graph_sweep_for_components::<T>,
-            (&args, src, weight, nodes, dst, max_change_out)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let [a, b] = range(nodes_start, nodes_end, index_base)?;
+    let (g, o) = graph_options(graph, weights, fixed)?;
+    let s = chunks::<T, V>(src)?;
+    let d = chunks_mut::<T, V>(dst)?;
+    let m = out_one(max_change_out)?;
+    *m = graph_sweep(&g, s, d, weight, &o, a..b)?;
+    Ok(())
 }
 
 /// Fujiwara's inverse-distance weights `weights[e] = 1 / |x_i − x_j|` for every directed edge
@@ -925,19 +740,15 @@ pub(crate) fn dk_taubin_graph_sweep<T: Real>(
 /// dim` scalars, `dim` 2 or 3. Errors (nothing written): `DK_ERR_ZERO_LENGTH_EDGE` (two
 /// neighbours coincide), `DK_ERR_NON_FINITE`, length and pointer errors.
 #[export(twin, graph[1], weights?)]
-pub(crate) fn dk_taubin_inverse_distance_weights<T: Real>(
+pub(crate) fn dk_taubin_inverse_distance_weights<T: Real, const D: usize>(
     graph: In<'_, dk_graph>,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     weights: Out<'_, T>,
-) -> dk_status {
-    done(read_graph(graph).and_then(|g| {
-        by_dim!(
-            dim,
-            inverse_distance_weights_for_dim::<T>,
-            (&g, points, weights)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let g = read_graph(graph)?;
+    let p = read_points::<T, D>(points)?;
+    Ok(inverse_distance_weights(&g, p, output(weights)?)?)
 }
 
 /// Arclength along grid lines in `direction` (0 = i, 1 = j, 2 = k) at every point:
@@ -945,46 +756,36 @@ pub(crate) fn dk_taubin_inverse_distance_weights<T: Real>(
 /// (a zero-length line gives the uniform `t / (n − 1)`). `points`: `ni·nj·nk·dim` scalars;
 /// `out`: `ni·nj·nk` scalars. Nothing is written on error.
 #[export(twin)]
-pub(crate) fn dk_taubin_arclength<T: Real>(
+pub(crate) fn dk_taubin_arclength<T: Real, const D: usize>(
     ni: usize,
     nj: usize,
     nk: usize,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     direction: u32,
     normalised: bool,
     out: Out<'_, T>,
-) -> dk_status {
-    done(block(ni, nj, nk).and_then(|b| {
-        by_dim!(
-            dim,
-            arclength_for_dim::<T>,
-            (&b, points, direction, normalised, out)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let b = block(ni, nj, nk)?;
+    let p = read_points::<T, D>(points)?;
+    let o = output(out)?;
+    Ok(arclength(&b, p, to_direction(direction)?, normalised, o)?)
 }
 
 /// Scratch length (in scalars) for [`dk_taubin_redistribute`]: `(dim + 1) ×` points per line
 /// in `direction` (`DK_ERR_INVALID_PARAMETER` for `dim` not 2 or 3 or `direction > 2`).
 #[export(len_out[1])]
-pub(crate) fn dk_taubin_redistribute_scratch_len(
+pub(crate) fn dk_taubin_redistribute_scratch_len<const D: usize>(
     ni: usize,
     nj: usize,
     nk: usize,
-    dim: u32,
+    _dim: Dim<D>,
     direction: u32,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let b = block(ni, nj, nk)?;
-        let d = crate::taubin::to_direction(direction)?;
-        let len = match dim {
-            2 => redistribute_scratch_len::<2>(&b, d),
-            3 => redistribute_scratch_len::<3>(&b, d),
-            _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
-        };
-        write_len(len_out, len)
-    })())
+) -> Result<(), dk_status> {
+    let b = block(ni, nj, nk)?;
+    let d = crate::taubin::to_direction(direction)?;
+    write_len(len_out, redistribute_scratch_len::<D>(&b, d))
 }
 
 /// Alter's reverse transformation: moves every point of every line in `direction` (in place)
@@ -994,7 +795,7 @@ pub(crate) fn dk_taubin_redistribute_scratch_len(
 /// `*max_displacement_out` receives the largest point displacement. `scratch` needs
 /// [`dk_taubin_redistribute_scratch_len`] scalars. On error `points` is unchanged.
 #[export(twin, max_displacement_out[1])]
-pub(crate) fn dk_taubin_redistribute<T: Real>(
+pub(crate) fn dk_taubin_redistribute<T: Real, const D: usize>(
     ni: usize,
     nj: usize,
     nk: usize,
@@ -1002,44 +803,36 @@ pub(crate) fn dk_taubin_redistribute<T: Real>(
     targets: In<'_, T>,
     normalised: bool,
     points: Out<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     scratch: Out<'_, T>,
     max_displacement_out: Out<'_, T>,
-) -> dk_status {
-    done(block(ni, nj, nk).and_then(|b| {
-        by_dim!(
-            dim,
-            redistribute_for_dim::<T>,
-            (
-                &b,
-                direction,
-                targets,
-                normalised,
-                points,
-                scratch,
-                max_displacement_out
-            )
-        )
-    }))
+) -> Result<(), dk_status> {
+    let b = block(ni, nj, nk)?;
+    let t = input(targets)?;
+    let p = chunks_mut::<T, D>(points)?;
+    let s = output(scratch)?;
+    let m = out_one(max_displacement_out)?;
+    // The kernel validates everything before it moves a point.
+    *m = redistribute(&b, p, to_direction(direction)?, t, normalised, s)?;
+    Ok(())
 }
 
 /// Grid stretching along `direction` at every point: the ratio of the larger to the smaller
 /// of the two cells meeting there (1 at line ends and for uniform spacing, `+∞` where one of
 /// the two cells has zero length). `out`: `ni·nj·nk` scalars. Nothing is written on error.
 #[export(twin)]
-pub(crate) fn dk_taubin_stretching<T: Real>(
+pub(crate) fn dk_taubin_stretching<T: Real, const D: usize>(
     ni: usize,
     nj: usize,
     nk: usize,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     direction: u32,
     out: Out<'_, T>,
-) -> dk_status {
-    done(
-        block(ni, nj, nk)
-            .and_then(|b| by_dim!(dim, stretching_for_dim::<T>, (&b, points, direction, out))),
-    )
+) -> Result<(), dk_status> {
+    let b = block(ni, nj, nk)?;
+    let p = read_points::<T, D>(points)?;
+    Ok(stretching(&b, p, to_direction(direction)?, output(out)?)?)
 }
 
 /// The largest stretching along `direction` (see [`dk_taubin_stretching`]) into
@@ -1047,23 +840,22 @@ pub(crate) fn dk_taubin_stretching<T: Real>(
 /// `*point_out` (`1` and `0` when no point has two adjacent cells). Nothing is written on
 /// error.
 #[export(twin, value_out[1], point_out[1])]
-pub(crate) fn dk_taubin_max_stretching<T: Real>(
+pub(crate) fn dk_taubin_max_stretching<T: Real, const D: usize>(
     ni: usize,
     nj: usize,
     nk: usize,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     direction: u32,
     value_out: Out<'_, T>,
     point_out: Out<'_, usize>,
-) -> dk_status {
-    done(block(ni, nj, nk).and_then(|b| {
-        by_dim!(
-            dim,
-            max_stretching_for_dim::<T>,
-            (&b, points, direction, value_out, point_out)
-        )
-    }))
+) -> Result<(), dk_status> {
+    let b = block(ni, nj, nk)?;
+    let p = read_points::<T, D>(points)?;
+    let v = out_one(value_out)?;
+    let i = out_one(point_out)?;
+    (*v, *i) = max_stretching(&b, p, to_direction(direction)?)?;
+    Ok(())
 }
 
 /// The fold guard: `DK_OK` when `field` (an arclength function, `ni·nj·nk` scalars) increases
@@ -1081,18 +873,13 @@ pub(crate) fn dk_taubin_check_lines_increasing<T: Real>(
     iteration: usize,
     points: In<'_, T>,
     dim: u32,
-) -> dk_status {
-    done((|| {
-        let b = block(ni, nj, nk)?;
-        let f = input(field)?;
-        if points.is_absent() {
-            // No points: `dim` is not used.
-            return check_lines_for_dim::<T, 3>(&b, f, direction, iteration, points);
-        }
-        by_dim!(
-            dim,
-            check_lines_for_dim::<T>,
-            (&b, f, direction, iteration, points)
-        )
-    })())
+) -> Result<(), dk_status> {
+    let b = block(ni, nj, nk)?;
+    let f = input(field)?;
+    match (points.is_absent(), dim) {
+        // No points: `dim` is not used.
+        (true, _) | (false, 3) => check_lines::<T, 3>(&b, f, direction, iteration, points),
+        (false, 2) => check_lines::<T, 2>(&b, f, direction, iteration, points),
+        _ => Err(dk_status::DK_ERR_INVALID_PARAMETER),
+    }
 }

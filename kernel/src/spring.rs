@@ -62,8 +62,9 @@ mod system;
 pub use amg::rigid_mode_count;
 pub use amg::{
     amg_cg_scratch_len, amg_precondition_scratch_len, amg_setup_work_len,
-    amg_sliding_cg_scratch_len, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, AmgSizes,
-    AmgSmoother, RigidAmg, RigidAmgSizes, AMG_MAX_DENSE, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
+    amg_sliding_cg_scratch_len, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, AmgPools,
+    AmgSizes, AmgSmoother, AmgSolve, RigidAmg, RigidAmgSizes, AMG_MAX_DENSE, AMG_MAX_LEVELS,
+    AMG_MAX_SWEEPS,
 };
 pub(crate) use amg::{Fine, Layout, Level, RigidVcycle, Vcycle};
 pub use angle::{

@@ -2,11 +2,15 @@
 //! source, written into `ffi/generated/` and checked in.
 //!
 //! Each C function is written once, in `ffi/src/<module>.rs`, as a safe function that takes
-//! `In`/`Out` tokens (`crate::slice`) and returns a `dk_status`, marked with the inert
-//! `#[export(...)]` attribute (`ffi/export-macro`): `fn quat_mul` exports `dk_quat_mul`;
+//! `In`/`Out` tokens (`crate::slice`) and returns `Result<(), dk_status>` (or a `dk_status`),
+//! marked with the inert `#[export(...)]` attribute (`ffi/export-macro`): `fn quat_mul`
+//! exports `dk_quat_mul`;
 //! `twin` also exports `dk_quat_mul_f32` (the function is generic over `T: Real`); `name[N]`
 //! reads the pointer `name` for `N` elements without a `name_len` argument; `name?` lets it be
 //! NULL (Fortran `type(c_ptr)`). A doc section `# f32 twin` is the twin's first paragraph.
+//! An argument `_dim: Dim<D>` or `_components: Components<V>` is a `uint32_t dim` (or
+//! `components`) in C whose value the wrapper turns into the const parameter by a `match`
+//! (2–3, 1–7; any other value is `DK_ERR_INVALID_PARAMETER`).
 //! A `#[repr(C)]` struct generic over the real type marked `#[export(twin = dk_name)]` is
 //! the C structs `dk_name` and `dk_name_f32` (type aliases of its two instances).
 //!

@@ -8,6 +8,9 @@
 //!   argument (`[1]` is one value or struct, a Fortran scalar);
 //! - `name?`: the pointer `name` may be NULL (Fortran passes `type(c_ptr)`).
 //!
+//! An argument `_dim: Dim<D>` or `_components: Components<V>` needs no marker: it is a
+//! `uint32_t` in C that picks the instance of the const parameter.
+//!
 //! On a `#[repr(C)]` struct generic over the real type, `#[export(twin = dk_name)]` names its
 //! two C structs `dk_name` (f64) and `dk_name_f32`.
 

@@ -9,9 +9,10 @@ mod support;
 
 use deform_host_tests::spring_ref;
 use deform_kernel::spring::{
-    amg_precondition_scratch_len, solve_linear_amg_scratch_len, solve_linear_scratch_len,
-    AmgHierarchy, AmgOptions, AmgSizes, AmgSmoother, LinearMethod, Preconditioner, SolveOptions,
-    SolveReport, SpringSystem,
+    amg_cg_scratch_len, amg_precondition_scratch_len, amg_sliding_cg_scratch_len,
+    solve_linear_amg_scratch_len, solve_linear_scratch_len, AmgHierarchy, AmgOptions, AmgPools,
+    AmgSizes, AmgSmoother, AmgSolve, LinearMethod, Preconditioner, SolveOptions, SolveReport,
+    SpringSystem,
 };
 use deform_kernel::{Error, Graph, Real};
 use deform_meshgen::AirfoilGrid;
@@ -579,4 +580,49 @@ fn power_of_two_scaling_is_exact() {
             assert!((x - 1e154).abs() <= 1e154 * 1e-10, "{x:e}");
         }
     }
+}
+
+/// The two-buffer layout of `AmgPools`: its lengths are exact (one entry less in either buffer
+/// is `BufferTooSmall`, both buffers untouched), and a solve with the hierarchy and scratch it
+/// lays out gives the bits of separately allocated buffers, for both kinds of CG.
+#[test]
+fn pools_layout_is_exact_and_gives_the_same_bits() {
+    let ann = annulus::<f64>(12, 32);
+    let sys = ann.system();
+    let opts = AmgOptions {
+        max_coarse: 8,
+        ..AmgOptions::default()
+    };
+    let expected = {
+        let mut b = AmgBuffers::new(&sys, &opts);
+        let h = b.build(&sys, &opts);
+        solve_bits(&sys, &h, &ann)
+    };
+    for solve in [AmgSolve::Cg, AmgSolve::SlidingCg] {
+        let mut work = vec![0u32; AmgHierarchy::setup_work_len(&sys)];
+        let layout = AmgPools::layout(&sys, &opts, solve, &mut work).unwrap();
+        let [r, i] = layout.lens(2).unwrap();
+        let items = match solve {
+            AmgSolve::Cg => amg_cg_scratch_len(ann.n(), 0),
+            AmgSolve::SlidingCg => amg_sliding_cg_scratch_len(ann.n(), 0),
+        };
+        assert!(r > items.unwrap() * 2 && i > work.len());
+        for (dr, di) in [(1, 0), (0, 1)] {
+            let (mut reals, mut indices) = (vec![7.0; r - dr], vec![7u32; i - di]);
+            let e = layout.setup::<f64, 2>(&sys, &opts, &mut reals, &mut indices);
+            assert!(matches!(e, Err(Error::BufferTooSmall { .. })));
+            assert!(reals.iter().all(|&x| x == 7.0) && indices.iter().all(|&x| x == 7));
+        }
+        let (mut reals, mut indices) = (vec![0.0; r], vec![0u32; i]);
+        let (h, scratch) = layout.setup::<f64, 2>(&sys, &opts, &mut reals, &mut indices).unwrap();
+        assert!(scratch.len() >= solve_linear_amg_scratch_len(&h));
+        let mut x = field::<f64, 2, 2>(&ann);
+        sys.solve_linear_amg(&h, &mut x, &tight(), &mut scratch[..solve_linear_amg_scratch_len(&h)])
+            .unwrap();
+        let bits: Vec<[u64; 2]> = x.iter().map(|v| v.map(f64::to_bits)).collect();
+        assert_eq!(bits, expected);
+    }
+    let mut short = vec![0u32; AmgHierarchy::setup_work_len(&sys) - 1];
+    let e = AmgPools::layout(&sys, &opts, AmgSolve::Cg, &mut short);
+    assert!(matches!(e, Err(Error::BufferTooSmall { .. })));
 }

@@ -38,6 +38,7 @@
 
 mod cycle;
 mod pcg;
+mod pools;
 pub(crate) use pcg::{solve_amg_on, Vcycle};
 mod rigid;
 mod rigid_cycle;
@@ -52,6 +53,7 @@ pub use pcg::{
     amg_cg_scratch_len, amg_precondition_scratch_len, amg_sliding_cg_scratch_len,
     solve_linear_amg_scratch_len,
 };
+pub use pools::{AmgPools, AmgSolve};
 
 use crate::check;
 use crate::error::{Error, Result};

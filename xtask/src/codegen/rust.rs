@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use super::table::{Func, Kind, Module, Prec, Ret, TwinStruct};
+use super::table::{Func, Generic, Kind, Module, Prec, Ret, TwinStruct};
 
 /// How an `extern "C"` function gets its symbol name: behind the crate's `export-symbols`
 /// feature in the crate, plainly in the copy cbindgen reads (it does not evaluate `cfg_attr`).
@@ -40,10 +40,15 @@ pub(crate) fn module(m: &Module, all: &[Module], symbols: Symbols) -> String {
          pub use imp::*;\n\
          \n\
          #[allow(unused_imports)]\n\
-         use crate::slice::{{In, Out}};\n",
+         use crate::slice::{{In, Out}};\n\
+",
         m.name,
         m.doc.join("\n"),
     );
+    let helpers = helpers(m);
+    if !helpers.is_empty() {
+        let _ = writeln!(s, "use crate::args::{{{}}};", helpers.join(", "));
+    }
     for (other, names) in imports(m, all) {
         let _ = writeln!(s, "use crate::{other}::{{{}}};", names.join(", "));
     }
@@ -57,6 +62,24 @@ pub(crate) fn module(m: &Module, all: &[Module], symbols: Symbols) -> String {
         }
     }
     s
+}
+
+/// What the wrappers of `m` call from `crate::args`: `done` for a `Result`, the markers of
+/// their `Dim`/`Components` arguments.
+fn helpers(m: &Module) -> Vec<&'static str> {
+    let mut names = Vec::new();
+    if m.funcs.iter().any(|f| f.result) {
+        names.push("done");
+    }
+    for p in m.funcs.iter().flat_map(|f| &f.params) {
+        if let Some(d) = &p.dispatch {
+            if !names.contains(&d.marker) {
+                names.push(d.marker);
+            }
+        }
+    }
+    names.sort_by_key(|n| n.to_lowercase());
+    names
 }
 
 /// The types of other modules that the functions of `m` name, by module.
@@ -186,19 +209,62 @@ fn function(
             );
         }
     }
-    let args: Vec<&str> = f.params.iter().map(|p| p.name.as_str()).collect();
-    let generic = if f.twin {
-        format!("::<{}>", prec.real)
-    } else {
-        String::new()
-    };
-    let call = format!("imp::{}{generic}({})", f.rust, args.join(", "));
     match f.ret {
         Ret::Status => {
-            let _ = writeln!(s, "{call}\n}}");
+            let _ = writeln!(s, "{}\n}}", call(f, prec));
         }
         Ret::CStr => {
-            let _ = writeln!(s, "{call}.as_ptr()\n}}");
+            let _ = writeln!(s, "{}.as_ptr()\n}}", call(f, prec));
+        }
+    }
+}
+
+/// The call of the safe function: its generic arguments (the real type; a const parameter
+/// from the value of its `Dim`/`Components` argument, by a `match` that refuses any other
+/// value), and `done` around a `Result`.
+fn call(f: &Func, prec: Prec) -> String {
+    let dispatch = f.params.iter().find_map(|p| Some((p.name.as_str(), p.dispatch.as_ref()?)));
+    let instance = |value: Option<u32>| {
+        let args: Vec<&str> = f
+            .params
+            .iter()
+            .map(|p| match &p.dispatch {
+                Some(d) => d.marker,
+                None => p.name.as_str(),
+            })
+            .collect();
+        let generics: Vec<String> = f
+            .generics
+            .iter()
+            .map(|g| match (g, value) {
+                (Generic::Real, _) => prec.real.to_string(),
+                (Generic::Const(_), v) => v.unwrap_or_default().to_string(),
+            })
+            .collect();
+        let generic = if generics.is_empty() {
+            String::new()
+        } else {
+            format!("::<{}>", generics.join(", "))
+        };
+        let call = format!("imp::{}{generic}({})", f.rust, args.join(", "));
+        if f.result {
+            format!("done({call})")
+        } else {
+            call
+        }
+    };
+    match dispatch {
+        None => instance(None),
+        Some((name, d)) => {
+            let arms: Vec<String> = d
+                .values
+                .clone()
+                .map(|v| format!("{v} => {},", instance(Some(v))))
+                .collect();
+            format!(
+                "match {name} {{\n{}\n_ => dk_status::DK_ERR_INVALID_PARAMETER,\n}}",
+                arms.join("\n")
+            )
         }
     }
 }

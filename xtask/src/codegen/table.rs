@@ -29,6 +29,28 @@ pub(crate) struct Param {
     pub(crate) cap: Option<String>,
     /// `name?`: may be NULL (Fortran passes `type(c_ptr)`).
     pub(crate) nullable: bool,
+    /// `_dim: Dim<D>` or `_components: Components<V>`: a `uint32_t` in C (named without the
+    /// underscore) whose value the wrapper turns into the const parameter.
+    pub(crate) dispatch: Option<Dispatch>,
+}
+
+/// A C argument that selects an instance of a function generic over a const parameter.
+#[derive(Clone)]
+pub(crate) struct Dispatch {
+    /// The Rust marker type (`Dim`, `Components`), also the value the wrapper passes.
+    pub(crate) marker: &'static str,
+    /// The const parameter it sets.
+    pub(crate) generic: String,
+    /// The values the C argument may take; any other is `DK_ERR_INVALID_PARAMETER`.
+    pub(crate) values: std::ops::RangeInclusive<u32>,
+}
+
+/// A generic parameter of an exported function, in order: the real type of a twin, or a
+/// const parameter set by a [`Dispatch`] argument.
+#[derive(Clone, PartialEq, Eq)]
+pub(crate) enum Generic {
+    Real,
+    Const(String),
 }
 
 impl Param {
@@ -59,6 +81,10 @@ pub(crate) struct Func {
     pub(crate) doc32: Vec<String>,
     pub(crate) params: Vec<Param>,
     pub(crate) ret: Ret,
+    /// Returns `Result<(), dk_status>` (the wrapper maps `Ok` to `DK_OK`) rather than a status.
+    pub(crate) result: bool,
+    /// The generic parameters, in order.
+    pub(crate) generics: Vec<Generic>,
 }
 
 impl Func {
@@ -281,10 +307,11 @@ fn func(f: &syn::ItemFn, marks: &[Mark]) -> Result<Func, String> {
             doc.pop();
         }
     }
-    let ret = match &f.sig.output {
+    let (ret, result) = match &f.sig.output {
         syn::ReturnType::Type(_, t) => match t.to_token_stream().to_string().as_str() {
-            "dk_status" => Ret::Status,
-            "& 'static core :: ffi :: CStr" => Ret::CStr,
+            "dk_status" => (Ret::Status, false),
+            "Result < () , dk_status >" => (Ret::Status, true),
+            "& 'static core :: ffi :: CStr" => (Ret::CStr, false),
             t => return Err(err(&format!("returns `{t}`, not `dk_status`"))),
         },
         syn::ReturnType::Default => return Err(err("returns nothing")),
@@ -294,9 +321,15 @@ fn func(f: &syn::ItemFn, marks: &[Mark]) -> Result<Func, String> {
         let syn::FnArg::Typed(pt) = input else {
             return Err(err("takes self"));
         };
-        let name = pt.pat.to_token_stream().to_string();
-        let (kind, ty) = token_type(&pt.ty);
+        let mut name = pt.pat.to_token_stream().to_string();
+        let (kind, mut ty) = token_type(&pt.ty);
+        let dispatch = dispatch(&pt.ty);
+        if dispatch.is_some() {
+            name = name.trim_start_matches('_').to_string();
+            ty = "u32".into();
+        }
         params.push(Param {
+            dispatch,
             cap: marks.iter().find_map(|m| match m {
                 Mark::Cap(n, c) if *n == name => Some(c.clone()),
                 _ => None,
@@ -324,6 +357,23 @@ fn func(f: &syn::ItemFn, marks: &[Mark]) -> Result<Func, String> {
             "a `twin` has one type parameter (the real type `T`), others none",
         ));
     }
+    let mut generics = Vec::new();
+    for g in &f.sig.generics.params {
+        match g {
+            syn::GenericParam::Type(_) => generics.push(Generic::Real),
+            syn::GenericParam::Const(c) => {
+                let n = c.ident.to_string();
+                let set = params
+                    .iter()
+                    .filter(|p| p.dispatch.as_ref().is_some_and(|d| d.generic == n));
+                if set.count() != 1 {
+                    return Err(err(&format!("no one `Dim<{n}>`/`Components<{n}>` sets `{n}`")));
+                }
+                generics.push(Generic::Const(n));
+            }
+            syn::GenericParam::Lifetime(_) => {}
+        }
+    }
     Ok(Func {
         rust,
         twin,
@@ -331,6 +381,28 @@ fn func(f: &syn::ItemFn, marks: &[Mark]) -> Result<Func, String> {
         doc32,
         params,
         ret,
+        result,
+        generics,
+    })
+}
+
+/// `Dim<D>` (2 or 3) or `Components<V>` (1 to 7): the C argument that picks the instance.
+fn dispatch(ty: &syn::Type) -> Option<Dispatch> {
+    let syn::Type::Path(p) = ty else { return None };
+    let last = p.path.segments.last()?;
+    let (marker, values) = match last.ident.to_string().as_str() {
+        "Dim" => ("Dim", 2..=3),
+        "Components" => ("Components", 1..=7),
+        _ => return None,
+    };
+    let syn::PathArguments::AngleBracketed(a) = &last.arguments else {
+        return None;
+    };
+    let generic = a.args.first()?.to_token_stream().to_string();
+    Some(Dispatch {
+        marker,
+        generic,
+        values,
     })
 }
 
