@@ -105,7 +105,7 @@ fn nearest<T: Real, const D: usize>(
         };
         let e = sub(x, p);
         let d2 = e.iter().fold(T::ZERO, |s, &c| s + c * c);
-        if best.map_or(true, |(_, b)| d2 < b) {
+        if best.is_none_or(|(_, b)| d2 < b) {
             best = Some((k, d2));
         }
     }
