@@ -1028,11 +1028,11 @@ module deform_kernel
             dk_taubin_redistribute, dk_taubin_redistribute_f32, dk_taubin_stretching, &
             dk_taubin_stretching_f32, dk_taubin_max_stretching, dk_taubin_max_stretching_f32, &
             dk_taubin_check_lines_increasing, dk_taubin_check_lines_increasing_f32, &
+            dk_elasticity_rigid_layer, dk_elasticity_rigid_layer_f32, &
             dk_elasticity_amg_pool_sizes, dk_elasticity_deform_amg, dk_elasticity_deform_amg_f32, &
             dk_elasticity_sliding_scratch_len, dk_elasticity_deform_sliding, &
             dk_elasticity_deform_sliding_f32, dk_elasticity_deform_sliding_amg, &
-            dk_elasticity_deform_sliding_amg_f32, dk_elasticity_rigid_layer, &
-            dk_elasticity_rigid_layer_f32
+            dk_elasticity_deform_sliding_amg_f32
 
   interface
     function dk_boundary_motion_default(out) bind(C, name="dk_boundary_motion_default") result(s)
@@ -4661,6 +4661,51 @@ module deform_kernel
       integer(c_int32_t), value :: dim
       integer(c_int32_t) :: s
     end function
+    function dk_elasticity_rigid_layer(points, points_len, dim, wall, wall_len, index_base, &
+        index_scratch, index_scratch_len, rotations, rotations_len, thickness, fixed, fixed_len, &
+        displacement, displacement_len, added) bind(C, name="dk_elasticity_rigid_layer") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: wall(*)
+      integer(c_size_t), value :: wall_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(in) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_double), value :: thickness
+      integer(c_int8_t), intent(inout) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      real(c_double), intent(inout) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      integer(c_size_t), intent(inout) :: added
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_rigid_layer_f32(points, points_len, dim, wall, wall_len, index_base, &
+        index_scratch, index_scratch_len, rotations, rotations_len, thickness, fixed, fixed_len, &
+        displacement, displacement_len, added) bind(C, name="dk_elasticity_rigid_layer_f32") &
+        result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: wall(*)
+      integer(c_size_t), value :: wall_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(in) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_float), value :: thickness
+      integer(c_int8_t), intent(inout) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      real(c_float), intent(inout) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      integer(c_size_t), intent(inout) :: added
+      integer(c_int32_t) :: s
+    end function
     function dk_elasticity_amg_pool_sizes(cell_count, graph, dim, fixed, fixed_len, sliding, amg, &
         work, work_len, weight_scratch, weight_scratch_len, sizes_out) bind(C, &
         name="dk_elasticity_amg_pool_sizes") result(s)
@@ -4848,51 +4893,6 @@ module deform_kernel
       integer(c_size_t), value :: points_len
       type(dk_plan_pools_f32), intent(in) :: pools
       type(dk_elasticity_report), intent(inout) :: report
-      integer(c_int32_t) :: s
-    end function
-    function dk_elasticity_rigid_layer(points, points_len, dim, wall, wall_len, index_base, &
-        index_scratch, index_scratch_len, rotations, rotations_len, thickness, fixed, fixed_len, &
-        displacement, displacement_len, added) bind(C, name="dk_elasticity_rigid_layer") result(s)
-      import :: c_double, c_int32_t, c_int8_t, c_size_t
-      real(c_double), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len
-      integer(c_int32_t), value :: dim
-      integer(c_int32_t), intent(in) :: wall(*)
-      integer(c_size_t), value :: wall_len
-      integer(c_int32_t), value :: index_base
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      integer(c_size_t), value :: index_scratch_len
-      real(c_double), intent(in) :: rotations(*)
-      integer(c_size_t), value :: rotations_len
-      real(c_double), value :: thickness
-      integer(c_int8_t), intent(inout) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
-      real(c_double), intent(inout) :: displacement(*)
-      integer(c_size_t), value :: displacement_len
-      integer(c_size_t), intent(inout) :: added
-      integer(c_int32_t) :: s
-    end function
-    function dk_elasticity_rigid_layer_f32(points, points_len, dim, wall, wall_len, index_base, &
-        index_scratch, index_scratch_len, rotations, rotations_len, thickness, fixed, fixed_len, &
-        displacement, displacement_len, added) bind(C, name="dk_elasticity_rigid_layer_f32") &
-        result(s)
-      import :: c_float, c_int32_t, c_int8_t, c_size_t
-      real(c_float), intent(in) :: points(*)
-      integer(c_size_t), value :: points_len
-      integer(c_int32_t), value :: dim
-      integer(c_int32_t), intent(in) :: wall(*)
-      integer(c_size_t), value :: wall_len
-      integer(c_int32_t), value :: index_base
-      integer(c_int32_t), intent(inout) :: index_scratch(*)
-      integer(c_size_t), value :: index_scratch_len
-      real(c_float), intent(in) :: rotations(*)
-      integer(c_size_t), value :: rotations_len
-      real(c_float), value :: thickness
-      integer(c_int8_t), intent(inout) :: fixed(*)
-      integer(c_size_t), value :: fixed_len
-      real(c_float), intent(inout) :: displacement(*)
-      integer(c_size_t), value :: displacement_len
-      integer(c_size_t), intent(inout) :: added
       integer(c_int32_t) :: s
     end function
   end interface

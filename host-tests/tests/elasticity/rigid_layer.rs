@@ -14,7 +14,7 @@ use deform_kernel::elasticity::{
 };
 use deform_kernel::spring::SolveOptions;
 use deform_kernel::{Error, Quat, Real};
-use support::elasticity::{assembled, grid2, Kind, Mesh};
+use support::elasticity::{assembled, fnv, grid2, Kind, Mesh};
 
 /// The wall: the nodes on the left side `x = 0`.
 fn left_wall<const D: usize>(m: &Mesh<D>) -> Vec<u32> {
@@ -315,17 +315,6 @@ fn golden_bits() {
 
 const GOLDEN_F64: u64 = 0x1f72_a36a_3a0e_2388;
 const GOLDEN_F32: u64 = 0xa081_3a77_bd20_4ed3;
-
-/// FNV-1a over the bits of a field.
-fn fnv<T: Real, const D: usize>(v: &[[T; D]]) -> u64 {
-    let mut h = 0xcbf2_9ce4_8422_2325u64;
-    for x in v.iter().flatten() {
-        for b in x.to_bits_u64().to_le_bytes() {
-            h = (h ^ b as u64).wrapping_mul(0x100_0000_01b3);
-        }
-    }
-    h
-}
 
 /// The C ABI (called by path) against the kernel, bit for bit: 1-based wall indices, f64 and
 /// f32; a negative thickness is `DK_ERR_INVALID_PARAMETER` and writes nothing.
