@@ -366,6 +366,12 @@ pub struct MoveArgs {
     /// convention, a near-zero bulk modulus).
     #[arg(long, default_value_t = 0.3, allow_hyphen_values = true)]
     pub poisson: f64,
+    /// --method elasticity: the nodes within this distance of the moved markers move rigidly
+    /// with them (so the first grid lines keep their angle to the wall); the rest is solved.
+    /// Rigid motions (--rotate, --translate) only. With --poisson 0.45 the best method on the
+    /// viscous NACA 2412 pitched 50° (docs/methods.md, "Elasticity with a rigid wall layer").
+    #[arg(long, value_name = "DIST")]
+    pub rigid_layer: Option<f64>,
     /// Move in N increments: each step moves the markers by 1/N of the motion starting from
     /// the previous step's mesh, so stiffness and rotations follow the deforming mesh (large
     /// rotations); the last step ends exactly on the prescribed motion.

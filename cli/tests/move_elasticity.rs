@@ -128,4 +128,75 @@ fn options_that_do_not_apply_are_refused_and_nothing_is_written() {
         "--method elasticity",
         "o.su2",
     );
+    deform_refused(
+        &d,
+        &with(&["--method", "spring", "--rigid-layer", "1e-3"]),
+        1,
+        "--rigid-layer applies to --method elasticity",
+        "o.su2",
+    );
+    deform_refused(
+        &d,
+        &with(&["--method", "elasticity", "--rigid-layer=-1"]),
+        1,
+        "--rigid-layer must be",
+        "o.su2",
+    );
+}
+
+/// `--rigid-layer`: the first grid lines keep their angle to the wall (a rigid motion turns
+/// both), where plain elasticity turns them; with `--poisson 0.45` the minimum area ratio is
+/// above SU2's ν = 0.3 (issue 28's done-when; docs/methods.md).
+#[test]
+fn a_rigid_wall_layer_keeps_the_first_grid_lines_at_their_angle() {
+    let d = tmp_dir("move-elasticity-layer");
+    naca_mesh(&d, "viscous", 48, 32, "m.su2");
+    let plain = pitch(&d, "-50", "10", &[]);
+    let layer = pitch(
+        &d,
+        "-50",
+        "10",
+        &["--poisson", "0.45", "--rigid-layer", "1e-4"],
+    );
+    let get = |r: &Value, k: &str| r[k].as_f64().unwrap();
+    eprintln!(
+        "plain: ratio {} turn {}; layer: ratio {} turn {}",
+        plain["min_area_ratio"],
+        plain["max_wall_angle_change_deg"],
+        layer["min_area_ratio"],
+        layer["max_wall_angle_change_deg"]
+    );
+    assert_eq!(layer["inverted_cells"], 0);
+    assert_eq!(layer["folded_cells"], 0);
+    assert!(get(&layer, "max_wall_angle_change_deg") < 1e-6, "{layer}");
+    assert!(get(&plain, "max_wall_angle_change_deg") > 0.1, "{plain}");
+    assert!(
+        get(&layer, "min_area_ratio") > get(&plain, "min_area_ratio"),
+        "{plain} {layer}"
+    );
+    // A displacement field has no single rigid motion: refused, nothing written.
+    let mesh = read_su2(&d.join("m.su2"));
+    let wall = mesh.markers.iter().find(|m| m.name == "airfoil").unwrap();
+    let node = wall.elements.nodes[0];
+    std::fs::write(d.join("disp.dat"), format!("{node} 0.01 0\n")).unwrap();
+    deform_refused(
+        &d,
+        &[
+            "move",
+            "m.su2",
+            "--marker",
+            "airfoil",
+            "--displacements",
+            "disp.dat",
+            "--method",
+            "elasticity",
+            "--rigid-layer",
+            "1e-4",
+            "--out",
+            "f.su2",
+        ],
+        3,
+        "--rigid-layer with a displacement field",
+        "f.su2",
+    );
 }

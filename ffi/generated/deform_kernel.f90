@@ -1034,6 +1034,7 @@ module deform_kernel
             dk_taubin_redistribute, dk_taubin_redistribute_f32, dk_taubin_stretching, &
             dk_taubin_stretching_f32, dk_taubin_max_stretching, dk_taubin_max_stretching_f32, &
             dk_taubin_check_lines_increasing, dk_taubin_check_lines_increasing_f32, &
+            dk_elasticity_rigid_layer, dk_elasticity_rigid_layer_f32, &
             dk_elasticity_amg_pool_sizes, dk_elasticity_deform_amg, dk_elasticity_deform_amg_f32, &
             dk_elasticity_sliding_scratch_len, dk_elasticity_deform_sliding, &
             dk_elasticity_deform_sliding_f32, dk_elasticity_deform_sliding_amg, &
@@ -4914,6 +4915,51 @@ module deform_kernel
       type(c_ptr), value :: points
       integer(c_size_t), value :: points_len
       integer(c_int32_t), value :: dim
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_rigid_layer(points, points_len, dim, wall, wall_len, index_base, &
+        index_scratch, index_scratch_len, rotations, rotations_len, thickness, fixed, fixed_len, &
+        displacement, displacement_len, added) bind(C, name="dk_elasticity_rigid_layer") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: wall(*)
+      integer(c_size_t), value :: wall_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(in) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_double), value :: thickness
+      integer(c_int8_t), intent(inout) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      real(c_double), intent(inout) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      integer(c_size_t), intent(inout) :: added
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_rigid_layer_f32(points, points_len, dim, wall, wall_len, index_base, &
+        index_scratch, index_scratch_len, rotations, rotations_len, thickness, fixed, fixed_len, &
+        displacement, displacement_len, added) bind(C, name="dk_elasticity_rigid_layer_f32") &
+        result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), intent(in) :: wall(*)
+      integer(c_size_t), value :: wall_len
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(in) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_float), value :: thickness
+      integer(c_int8_t), intent(inout) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      real(c_float), intent(inout) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      integer(c_size_t), intent(inout) :: added
       integer(c_int32_t) :: s
     end function
     function dk_elasticity_amg_pool_sizes(cell_count, graph, dim, fixed, fixed_len, sliding, amg, &

@@ -6658,6 +6658,69 @@ dk_status dk_taubin_check_lines_increasing_f32(size_t ni,
                                                size_t points_len,
                                                uint32_t dim);
 
+// Marks every node within `thickness` of a `wall` node (node indices in `index_base`) as
+// fixed (`fixed[i] = 1`) and writes its displacement: the rigid motion of its nearest wall
+// node `w`, `d_w + Q_w (x − x_w) Q_w* − (x − x_w)`, `d_w` read from `displacement` at `w` and
+// `Q_w` from `rotations` (4 scalars per wall node, scalar first; one rotation repeated for a
+// rigid body). Nodes already fixed keep their displacement; `added` gets the number of nodes
+// marked. Then run the increments with this `fixed` and `displacement`. `points`: `N * dim`
+// scalars of the undeformed mesh, `dim` 2 or 3; `fixed`: `N` bytes; `displacement`:
+// `N * dim`. With `index_base` 1, `index_scratch` needs `wall_len` entries (NULL with length
+// 0 for base 0). `O(N·B)`. Errors (nothing written): `DK_ERR_INVALID_PARAMETER` (empty wall,
+// `thickness` negative or not finite, `dim`), `DK_ERR_INDEX_OUT_OF_RANGE`,
+// `DK_ERR_NON_FINITE`, `DK_ERR_ZERO_LENGTH` (a rotation too short to normalise),
+// `DK_ERR_BAD_INDEX_BASE`, length and pointer errors.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `wall`: readable for `wall_len` elements (`uint32_t`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `rotations`: readable for `rotations_len` elements (`double`).
+// - `fixed`: readable and writable for `fixed_len` elements (`uint8_t`).
+// - `displacement`: readable and writable for `displacement_len` elements (`double`).
+// - `added`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_elasticity_rigid_layer(const double *points,
+                                    size_t points_len,
+                                    uint32_t dim,
+                                    const uint32_t *wall,
+                                    size_t wall_len,
+                                    uint32_t index_base,
+                                    uint32_t *index_scratch,
+                                    size_t index_scratch_len,
+                                    const double *rotations,
+                                    size_t rotations_len,
+                                    double thickness,
+                                    uint8_t *fixed,
+                                    size_t fixed_len,
+                                    double *displacement,
+                                    size_t displacement_len,
+                                    size_t *added);
+
+// `f32` twin of [`dk_elasticity_rigid_layer`].
+//
+// # Safety
+// As [`dk_elasticity_rigid_layer`].
+dk_status dk_elasticity_rigid_layer_f32(const float *points,
+                                        size_t points_len,
+                                        uint32_t dim,
+                                        const uint32_t *wall,
+                                        size_t wall_len,
+                                        uint32_t index_base,
+                                        uint32_t *index_scratch,
+                                        size_t index_scratch_len,
+                                        const float *rotations,
+                                        size_t rotations_len,
+                                        float thickness,
+                                        uint8_t *fixed,
+                                        size_t fixed_len,
+                                        float *displacement,
+                                        size_t displacement_len,
+                                        size_t *added);
+
 // The exact pool lengths [`dk_elasticity_deform_amg`] (`sliding` 0) or
 // [`dk_elasticity_deform_sliding_amg`] (`sliding` 1) needs for `cell_count` cells on `graph`
 // (from `dk_elasticity_graph`) with the fixed mask `fixed` (one byte per node) in dimension

@@ -78,6 +78,8 @@ pub mod stiffening;
 pub mod taubin;
 // Last, so the header keeps its earlier declarations where they were (cbindgen emits structs
 // in the order of first use).
+#[path = "../generated/elasticity_layer.rs"]
+pub mod elasticity_layer;
 #[path = "../generated/elasticity_solvers.rs"]
 pub mod elasticity_solvers;
 

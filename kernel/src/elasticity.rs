@@ -16,6 +16,9 @@
 //!   gradients of the kernel's Krylov core with exact inner products, preconditioned by the
 //!   node blocks or by the scalar smoothed-aggregation V-cycle on every displacement
 //!   component ([`ElasticSystem::solve_amg`]).
+//! - **Rigid wall layer** ([`rigid_layer`]): the nodes near the moving wall take its local
+//!   rigid motion (the quaternion method's near-wall rotation), so the first grid lines keep
+//!   their angle to the wall.
 //! - **Load increments** ([`deform_incremental`], SU2's `DEFORM_NONLINEAR_ITER`): the
 //!   boundary displacement in `N` equal steps, the moduli and stiffness recomputed on the
 //!   updated mesh before each.
@@ -23,6 +26,7 @@
 mod assemble;
 mod element;
 mod increments;
+mod layer;
 mod modulus;
 mod rigid;
 mod sliding;
@@ -32,6 +36,7 @@ pub use assemble::{assemble, elasticity_graph, elasticity_graph_len, Block};
 pub use increments::{
     deform_incremental, deform_incremental_on, IncrementBuffers, IncrementReport, Increments,
 };
+pub use layer::rigid_layer;
 pub use modulus::{cell_moduli, Modulus};
 pub use rigid::elastic_rigid_amg_scratch_len;
 pub use sliding::{elastic_rigid_amg_sliding_scratch_len, elastic_sliding_scratch_len};

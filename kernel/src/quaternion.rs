@@ -185,7 +185,7 @@ fn drop3<T: Real, const D: usize>(v: [T; 3]) -> [T; D] {
 
 /// Rotates a `D`-vector (2D points are taken at `z = 0`).
 #[inline]
-fn rotate_d<T: Real, const D: usize>(q: Quat<T>, v: [T; D]) -> [T; D] {
+pub(crate) fn rotate_d<T: Real, const D: usize>(q: Quat<T>, v: [T; D]) -> [T; D] {
     drop3(q.rotate(lift(v)))
 }
 

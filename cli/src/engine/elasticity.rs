@@ -25,17 +25,18 @@ use crate::motion::Motion;
 /// increments; the nodes of the `sliding` markers slide on their planes (as
 /// [`run_move_sliding`](super::run_move_sliding) sets them up). `--solver amg` preconditions
 /// CG with smoothed aggregation with the rigid-body modes as near-null space, any other
-/// solver with the node blocks.
+/// solver with the node blocks. `layer`: the nodes within this distance of the moved
+/// markers move rigidly with them (the kernel's `rigid_layer`; rigid motions only).
 pub fn run_elasticity(
     input: &MoveInput<'_>,
     sliding: &[SlideMarker<'_>],
     modulus: Modulus,
-    poisson: f64,
+    (poisson, layer): (f64, Option<f64>),
     steps: usize,
 ) -> Result<MoveResult, CliError> {
     match input.dim {
-        2 => run_d::<2>(input, sliding, modulus, poisson, steps),
-        3 => run_d::<3>(input, sliding, modulus, poisson, steps),
+        2 => run_d::<2>(input, sliding, modulus, (poisson, layer), steps),
+        3 => run_d::<3>(input, sliding, modulus, (poisson, layer), steps),
         d => Err(CliError::Invalid(format!("dimension {d} is not 2 or 3"))),
     }
 }
@@ -44,7 +45,7 @@ fn run_d<const D: usize>(
     input: &MoveInput<'_>,
     sliding: &[SlideMarker<'_>],
     modulus: Modulus,
-    poisson: f64,
+    (poisson, layer): (f64, Option<f64>),
     steps: usize,
 ) -> Result<MoveResult, CliError> {
     let n = input.points.len();
@@ -60,6 +61,10 @@ fn run_d<const D: usize>(
     let mut fixed = vec![0u8; n];
     for &b in &pre.boundary {
         fixed[b as usize] = 1;
+    }
+    let base = fixed.clone();
+    if let Some(thickness) = layer {
+        with_layer::<D>(&pre, &pts, thickness, &mut fixed)?;
     }
     let cells = cells_view(input.cells, n)?;
     let (offsets, targets) = cell_pair_graph(&cells)?;
@@ -86,6 +91,7 @@ fn run_d<const D: usize>(
             update_tol: 0.0,
         },
         amg: input.solver == MoveSolver::Amg,
+        layer: layer.map(|t| (t, base.as_slice())),
     };
     let mut out = pts.clone();
     let total = run.motion(input, &pre, &pts, &mut out, steps)?;
@@ -108,7 +114,6 @@ fn cell_pair_graph(cells: &deform_kernel::Cells<'_>) -> Result<(Vec<u32>, Vec<u3
 /// follows by one solve on the current mesh.
 struct Arc<'a, 'i> {
     input: &'a MoveInput<'i>,
-    boundary: &'a [u32],
     degrees: f64,
     axis: [f64; 3],
     center: Option<[f64; 3]>,
@@ -135,16 +140,16 @@ impl Arc<'_, '_> {
                 fixed: self.input.fixed.clone(),
                 ..*self.input
             };
-            let now = points_d::<D>(&prescribe::<D>(&partial)?.disp);
+            let now = run.prescribed(&prescribe::<D>(&partial)?, pts)?;
             let step: Vec<[f64; D]> = now
                 .iter()
                 .zip(&before)
                 .map(|(a, b)| std::array::from_fn(|c| a[c] - b[c]))
                 .collect();
             total.add(run.increments(out, &step, 1)?);
-            // The moved markers exactly on the rotation by s·θ/N (not the sum of the steps).
-            for &b in self.boundary {
-                let i = b as usize;
+            // The moved markers (and the rigid layer) exactly on the rotation by s·θ/N (not
+            // the sum of the steps).
+            for (i, _) in run.fixed.iter().enumerate().filter(|(_, &f)| f != 0) {
                 out[i] = std::array::from_fn(|c| pts[i][c] + now[i][c]);
             }
             before = now;
@@ -164,6 +169,32 @@ struct Run<'r, const D: usize> {
     poisson: f64,
     options: SolveOptions<f64>,
     amg: bool,
+    /// The rigid layer's thickness (`--rigid-layer`) and the fixed nodes without it.
+    layer: Option<(f64, &'r [u8])>,
+}
+
+/// The prescribed displacement in `D` coordinates, extended to the rigid layer of
+/// `thickness` (whose nodes are marked in `fixed`): each layer node takes the rigid motion of
+/// its nearest moved node. Needs a rigid motion (`pre.rigid_q`).
+fn with_layer<const D: usize>(
+    pre: &Prescribed,
+    pts: &[[f64; D]],
+    thickness: f64,
+    fixed: &mut [u8],
+) -> Result<Vec<[f64; D]>, CliError> {
+    let mut disp = points_d::<D>(&pre.disp);
+    let Some(q) = pre.rigid_q else {
+        return Err(CliError::NotAvailable {
+            feature: "--rigid-layer with a displacement field",
+            needs: "a rigid motion (--rotate or --translate)",
+        });
+    };
+    let rotations = vec![q; pre.moved.len()];
+    deform_kernel::elasticity::rigid_layer(
+        pts, &pre.moved, &rotations, thickness, fixed, &mut disp,
+    )
+    .map_err(kernel("rigid layer"))?;
+    Ok(disp)
 }
 
 /// Iterations, worst residual and convergence over the increments.
@@ -205,7 +236,6 @@ impl<const D: usize> Run<'_, D> {
         if let (Motion::Rotate { degrees, axis, .. }, true) = (&input.motion, steps > 1) {
             let arc = Arc {
                 input,
-                boundary: &pre.boundary,
                 degrees: *degrees,
                 axis: *axis,
                 center: pre.center,
@@ -213,8 +243,16 @@ impl<const D: usize> Run<'_, D> {
             return arc.run(self, pts, out, steps);
         }
         let mut total = Totals::default();
-        total.add(self.increments(out, &points_d::<D>(&pre.disp), steps)?);
+        total.add(self.increments(out, &self.prescribed(pre, pts)?, steps)?);
         Ok(total)
+    }
+
+    /// `pre`'s displacement in `D` coordinates, extended to the rigid layer when there is one.
+    fn prescribed(&self, pre: &Prescribed, pts: &[[f64; D]]) -> Result<Vec<[f64; D]>, CliError> {
+        match self.layer {
+            Some((t, base)) => with_layer::<D>(pre, pts, t, &mut base.to_vec()),
+            None => Ok(points_d::<D>(&pre.disp)),
+        }
     }
 
     /// The kernel's increments: `points` moved by `disp` (at fixed nodes) in `steps` equal

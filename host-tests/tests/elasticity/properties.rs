@@ -12,7 +12,7 @@ use deform_kernel::elasticity::{
 };
 use deform_kernel::spring::{wall_distances, AmgHierarchy, AmgOptions, SolveOptions, SpringSystem};
 use deform_kernel::{Error, Real};
-use support::elasticity::{assembled, grid2, grid3, solve, Assembled, Kind, Mesh};
+use support::elasticity::{assembled, fnv, grid2, grid3, solve, Assembled, Kind, Mesh};
 
 /// A linear field `A x + c` (the patch test's exact solution for a uniform material).
 fn linear<const D: usize>(x: &[f64; D]) -> [f64; D] {
@@ -588,17 +588,6 @@ fn typed_errors_leave_every_buffer_unchanged() {
         Err(Error::InvalidParameter { arg: "steps", .. })
     ));
     assert_eq!(p, m.points);
-}
-
-/// FNV-1a over the bits of a field.
-fn fnv<T: Real, const D: usize>(v: &[[T; D]]) -> u64 {
-    let mut h = 0xcbf2_9ce4_8422_2325u64;
-    for x in v.iter().flatten() {
-        for b in x.to_bits_u64().to_le_bytes() {
-            h = (h ^ b as u64).wrapping_mul(0x100_0000_01b3);
-        }
-    }
-    h
 }
 
 /// The committed output bits of a fixed problem (10 increments of a 30° rotation on a mixed

@@ -280,3 +280,14 @@ pub fn c_square_cells(s: usize) -> (Vec<u32>, Vec<u32>, Vec<u8>) {
     }
     (offs, nodes, kinds)
 }
+
+/// FNV-1a over the bits of a field.
+pub fn fnv<T: Real, const D: usize>(v: &[[T; D]]) -> u64 {
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    for x in v.iter().flatten() {
+        for b in x.to_bits_u64().to_le_bytes() {
+            h = (h ^ b as u64).wrapping_mul(0x100_0000_01b3);
+        }
+    }
+    h
+}

@@ -17,7 +17,20 @@ pub(super) fn check_args(a: &MoveArgs) -> Result<(), CliError> {
                 value_name(&a.method())
             )));
         }
+        if a.rigid_layer.is_some() {
+            return Err(CliError::Invalid(format!(
+                "--rigid-layer applies to --method elasticity, not --method {}",
+                value_name(&a.method())
+            )));
+        }
         return Ok(());
+    }
+    if let Some(t) = a.rigid_layer {
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(CliError::Invalid(
+                "--rigid-layer must be a finite distance, not negative".into(),
+            ));
+        }
     }
     if a.stiffness() == StiffnessArg::Batina {
         return Err(CliError::Invalid(
@@ -56,5 +69,11 @@ pub(super) fn run(
         StiffnessArg::Constant => Modulus::Constant,
         StiffnessArg::InverseVolume | StiffnessArg::Batina => Modulus::InverseVolume,
     };
-    run_elasticity(input, slide, modulus, a.poisson, a.steps as usize)
+    run_elasticity(
+        input,
+        slide,
+        modulus,
+        (a.poisson, a.rigid_layer),
+        a.steps as usize,
+    )
 }

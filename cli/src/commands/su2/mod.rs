@@ -230,6 +230,7 @@ fn move_defaults(mesh: PathBuf, out: PathBuf) -> MoveArgs {
         solver: Solver::Amg,
         stiffness: None,
         poisson: 0.3,
+        rigid_layer: None,
         steps: 1,
         tol: 1e-10,
         max_iter: 10_000,
