@@ -614,11 +614,18 @@ fn pools_layout_is_exact_and_gives_the_same_bits() {
             assert!(reals.iter().all(|&x| x == 7.0) && indices.iter().all(|&x| x == 7));
         }
         let (mut reals, mut indices) = (vec![0.0; r], vec![0u32; i]);
-        let (h, scratch) = layout.setup::<f64, 2>(&sys, &opts, &mut reals, &mut indices).unwrap();
+        let (h, scratch) = layout
+            .setup::<f64, 2>(&sys, &opts, &mut reals, &mut indices)
+            .unwrap();
         assert!(scratch.len() >= solve_linear_amg_scratch_len(&h));
         let mut x = field::<f64, 2, 2>(&ann);
-        sys.solve_linear_amg(&h, &mut x, &tight(), &mut scratch[..solve_linear_amg_scratch_len(&h)])
-            .unwrap();
+        sys.solve_linear_amg(
+            &h,
+            &mut x,
+            &tight(),
+            &mut scratch[..solve_linear_amg_scratch_len(&h)],
+        )
+        .unwrap();
         let bits: Vec<[u64; 2]> = x.iter().map(|v| v.map(f64::to_bits)).collect();
         assert_eq!(bits, expected);
     }

@@ -223,7 +223,10 @@ fn function(
 /// from the value of its `Dim`/`Components` argument, by a `match` that refuses any other
 /// value), and `done` around a `Result`.
 fn call(f: &Func, prec: Prec) -> String {
-    let dispatch = f.params.iter().find_map(|p| Some((p.name.as_str(), p.dispatch.as_ref()?)));
+    let dispatch = f
+        .params
+        .iter()
+        .find_map(|p| Some((p.name.as_str(), p.dispatch.as_ref()?)));
     let instance = |value: Option<u32>| {
         let args: Vec<&str> = f
             .params

@@ -367,7 +367,9 @@ fn func(f: &syn::ItemFn, marks: &[Mark]) -> Result<Func, String> {
                     .iter()
                     .filter(|p| p.dispatch.as_ref().is_some_and(|d| d.generic == n));
                 if set.count() != 1 {
-                    return Err(err(&format!("no one `Dim<{n}>`/`Components<{n}>` sets `{n}`")));
+                    return Err(err(&format!(
+                        "no one `Dim<{n}>`/`Components<{n}>` sets `{n}`"
+                    )));
                 }
                 generics.push(Generic::Const(n));
             }
