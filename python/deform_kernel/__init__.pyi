@@ -71,6 +71,7 @@ def deform(
     idw_tolerance: float = 0.1,
     out: Optional[Float2] = None,
     allow_folds: bool = False,
+    rigid_layer: Optional[float] = None,
 ) -> Union[Float2, Tuple[Float2, Dict[str, Any]]]:
     """New points (or ``out``); with ``return_info``, also ``{"iterations", "residual",
     "converged", "sliding_nodes", "max_slide_offset", "rbf_centres"}``."""

@@ -118,6 +118,9 @@ def _check_numbers(o):
             raise ValueError("idw_theta: applies to method='idw', in [0, 1)")
         if np.isnan(o["idw_tolerance"]) or o["idw_tolerance"] < 0:
             raise ValueError("idw_tolerance: must be >= 0 (inf: theta alone)")
+    if o["rigid_layer"] is not None and (o["method"] != "elasticity" or not (
+            np.isfinite(o["rigid_layer"]) and o["rigid_layer"] >= 0)):
+        raise ValueError("rigid_layer: a finite distance >= 0, for method='elasticity'")
     if o["reach"] is not None and o["method"] not in ("quaternion", "idw"):
         raise ValueError(f"reach: applies to the quaternion and idw methods, not {o['method']!r}")
     rbf_given = (o["rbf_radius"], o["rbf_correction"]) != (None, None) or (
@@ -139,7 +142,7 @@ def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver
            allow_unconverged=False, return_info=False, steps=1, slide=None, renumber="auto",
            poisson=0.3, reach=None, rbf_kernel="wendland", rbf_radius=None,
            rbf_tolerance=0.0, rbf_max_centres=1000, rbf_correction=None, idw_theta=None,
-           idw_tolerance=0.1, out=None, allow_folds=False):
+           idw_tolerance=0.1, out=None, allow_folds=False, rigid_layer=None):
     """Moves the mesh: the ``moved`` nodes follow ``motion``, the ``fixed`` nodes stay, the
     ``slide`` markers' nodes slide on their planes, and every other node follows by
     ``method``. Returns the deformed ``(N, dim)`` points (``out`` when given; and an info dict
@@ -149,7 +152,9 @@ def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver
     (Batina's linear springs), "idw" (quaternion inverse-distance weighting), "angle-direct"
     and "angle-cg" (Yang & Özgen angle-inclusion springs), "rbf" (radial basis functions:
     ``rbf_kernel`` "wendland"/"tps", ``rbf_radius``, ``rbf_tolerance``, ``rbf_max_centres``,
-    ``rbf_correction``), "elasticity" (SU2's linear elasticity, ``poisson`` ratio).
+    ``rbf_correction``), "elasticity" (SU2's linear elasticity, ``poisson`` ratio;
+    ``rigid_layer``: the nodes within this distance of the moved nodes move rigidly with
+    them, ``deform move --rigid-layer``, rigid motions only).
 
     ``points``: ``(N, 2|3)`` C-contiguous float64 (3D points are handed to the engine in
     place, not copied). ``cells``: ``(offsets, nodes, kinds)`` numpy arrays (VTK codes) or
@@ -179,6 +184,7 @@ def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver
     options = {"method": method, "solver": solver, "stiffness": stiffness, "tol": float(tol),
                "max_iter": int(max_iter), "idw_exponent": float(idw_exponent),
                "steps": int(steps), "renumber": renumber, "poisson": float(poisson),
+               "rigid_layer": None if rigid_layer is None else float(rigid_layer),
                "reach": _positive("reach", reach), "rbf_kernel": rbf_kernel,
                "rbf_radius": _positive("rbf_radius", rbf_radius),
                "rbf_tolerance": float(rbf_tolerance), "rbf_max_centres": int(rbf_max_centres),

@@ -31,6 +31,7 @@ pub struct Options {
     steps: usize,
     renumber: String,
     poisson: f64,
+    rigid_layer: Option<f64>,
     reach: Option<f64>,
     rbf_kernel: String,
     rbf_radius: Option<f64>,
@@ -200,7 +201,13 @@ impl Job<'_> {
             .map(|(name, elements)| SlideMarker { name, elements })
             .collect();
         if o.method == "elasticity" {
-            return run_elasticity(&input, &sliding, self.stiffness.1, o.poisson, o.steps);
+            return run_elasticity(
+                &input,
+                &sliding,
+                self.stiffness.1,
+                (o.poisson, o.rigid_layer),
+                o.steps,
+            );
         }
         let how = match (self.method, self.renumber) {
             (MoveMethod::Idw, Renumber::Auto) => Renumber::Off,

@@ -30,6 +30,8 @@ CASES = [
      {"stiffness": "constant", "poisson": 0.25, "steps": 2, "solver": "cg"}),
     ("elasticity", ["--translate", "0.1,0", "--stiffness", "wall-distance"],
      dk.Translation((0.1, 0.0)), {"stiffness": "wall-distance"}),
+    ("elasticity", ["--rotate", "7", "--steps", "3", "--poisson", "0.45", "--rigid-layer", "0.3"],
+     dk.Rotation(7.0), {"steps": 3, "poisson": 0.45, "rigid_layer": 0.3}),
 ]
 
 

@@ -80,6 +80,8 @@ BAD = [
     ({"method": "elasticity", "solver": "jacobi"}, ValueError, "elasticity takes"),
     ({"method": "spring", "stiffness": "constant"}, ValueError, "constant"),
     ({"method": "elasticity", "poisson": 0.5}, ValueError, "poisson"),
+    ({"method": "spring", "rigid_layer": 0.1}, ValueError, "rigid_layer"),
+    ({"method": "elasticity", "rigid_layer": -0.1}, ValueError, "rigid_layer"),
     ({"method": "rbf", "rbf_kernel": "gauss"}, ValueError, "rbf_kernel"),
     ({"method": "rbf", "rbf_kernel": "tps", "rbf_radius": 1.0}, ValueError, "Wendland"),
     ({"method": "rbf", "rbf_radius": -1.0}, ValueError, "positive"),

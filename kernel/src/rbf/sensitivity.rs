@@ -46,7 +46,7 @@ fn fields(arg: &'static str, per: usize, len: usize) -> Result<usize> {
 /// The tangent of [`rbf_deform`](super::rbf_deform) at `motion`: for `m` boundary
 /// perturbations `δd` back to back in `dmotion` (`m · B` items, boundary order), the first-
 /// order change of every node's displacement into `dx` (`m · N` items), with the centres and
-/// factor of the fit of `motion` (see the [module documentation](self)). `index` and
+/// factor of the fit of `motion` (see docs/sensitivities.md). `index` and
 /// `scratch` as for `rbf_deform`. Returns the fit's report.
 ///
 /// # Errors
@@ -80,7 +80,7 @@ pub fn rbf_tangent<T: Real, const D: usize>(
 /// The adjoint of [`rbf_deform`](super::rbf_deform) at `motion`: for `m` fields `w = dJ/du`
 /// back to back (`m · N` items, one per mesh node), `g = dJ/dd` at the boundary entries
 /// (`m · B` items, boundary order), with the centres and factor of the fit of `motion` (see
-/// the [module documentation](self)). `index` and `scratch` as for `rbf_deform`. Returns the
+/// docs/sensitivities.md). `index` and `scratch` as for `rbf_deform`. Returns the
 /// fit's report.
 ///
 /// # Errors
