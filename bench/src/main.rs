@@ -3,7 +3,7 @@
 //! (`bench/peers/peers.py`) so both sides solve the very same problem in the same run.
 //!
 //! `cargo run --release --manifest-path bench/Cargo.toml -- --out DIR [--quick] [--only a,b]`
-//! (`--only` picks among graph, structured, spring, rotation, elasticity)
+//! (`--only` picks among graph, structured, spring, rotation, elasticity, rbf)
 //!
 //! Writes `DIR/kernel.txt` (`name value` lines: the figures) and raw little-endian inputs and
 //! results (`*.f64`, `*.u32`, plus `*.dims` text files) that peers.py reads back. Speed is
@@ -25,6 +25,7 @@ use deform_kernel::{graph_from_cells, graph_from_cells_len, Block, CellKind, Cel
 use deform_meshgen::{naca_triangulated, rotate_markers2, AirfoilGrid};
 
 mod elasticity;
+mod rbf;
 
 /// Sizes of one run.
 struct Sizes {
@@ -35,6 +36,8 @@ struct Sizes {
     repeats: usize,
     /// Nodes per side of the elasticity square (2D) and cube (3D).
     elastic: [usize; 2],
+    /// The RBF row's NACA mesh (every boundary node a centre: the evaluation is `N · B`).
+    rbf_airfoil: [usize; 2],
 }
 
 const FULL: Sizes = Sizes {
@@ -44,6 +47,7 @@ const FULL: Sizes = Sizes {
     rotations: 10_000_000,
     repeats: 5,
     elastic: [450, 59],
+    rbf_airfoil: [512, 160],
 };
 
 const QUICK: Sizes = Sizes {
@@ -53,6 +57,7 @@ const QUICK: Sizes = Sizes {
     rotations: 1_000_000,
     repeats: 3,
     elastic: [60, 14],
+    rbf_airfoil: [256, 80],
 };
 
 /// Taubin iterations per filter run: 10 λ|μ iterations = 20 passes, as in the issue.
@@ -417,6 +422,9 @@ fn main() {
     if want("elasticity") {
         let [n2, n3] = sz.elastic;
         elasticity::elasticity(n2, n3, sz.repeats.min(3), &dir, &mut fig);
+    }
+    if want("rbf") {
+        rbf::rbf(sz.rbf_airfoil, if quick { 3 } else { 1 }, &dir, &mut fig);
     }
     std::fs::write(dir.join("kernel.txt"), &fig.0).expect("write kernel.txt");
 }

@@ -18,7 +18,9 @@
 //!    against the same move in the tool (issue 32; [`python_call`]);
 //! 6. linear elasticity (issue 28 item 4): the kernel's assembly + rigid-mode multigrid +
 //!    CG (step 1) against scikit-fem assembly + pyamg `smoothed_aggregation_solver(A,
-//!    B=rigid_modes)` (`bench/peers/elasticity.py`) on the same 2D and 3D meshes;
+//!    B=rigid_modes)` (`bench/peers/elasticity.py`) on the same 2D and 3D meshes, and RBF
+//!    (thin-plate spline, every boundary node a centre) against scipy's `RBFInterpolator`
+//!    (`bench/peers/rbf.py`) on the NACA mesh;
 //! 7. the figures and ratios (kernel ÷ peer, below 1 = kernel faster) go to stdout and to
 //!    `target/bench/report.md`, with the machine, the date and the load.
 //!

@@ -3,7 +3,10 @@
 //! `kernel.txt`) against scikit-fem assembly, pyamg `smoothed_aggregation_solver(A,
 //! B=rigid_modes)` and CG (`bench/peers/elasticity.py`, figures in `peers_elasticity.txt`) on
 //! the same 2D and 3D meshes, to the same relative residual (1e-8). Goals: at most 0.5× the
-//! peer's time, iterations within 1.5× of pyamg's.
+//! peer's time, iterations within 1.5× of pyamg's. Beside it the other method of issue 28,
+//! RBF: the kernel's thin-plate spline with every boundary node a centre on the NACA mesh
+//! (`bench/src/rbf.rs`) against scipy's `RBFInterpolator` on the same centres
+//! (`bench/peers/rbf.py`, figures in `peers_rbf.txt`).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -13,10 +16,41 @@ use crate::bench::{cpu_model, load_average, num, peers_command, peers_python, re
 use crate::ctx::Ctx;
 use crate::process::run;
 
-/// Runs the peer script on the inputs step 1 wrote to `dir`.
+/// Runs the peer scripts (elasticity, RBF) on the inputs step 1 wrote to `dir`.
 pub(crate) fn peer(ctx: &Ctx, python: &Path, dir: &Path) -> bool {
-    let script = ctx.root.join("bench").join("peers").join("elasticity.py");
-    run(peers_command(python, &script).arg(dir))
+    let peers = ctx.root.join("bench").join("peers");
+    let quick = read_figures(&dir.join("kernel.txt"))
+        .get("quick")
+        .map(String::as_str)
+        == Some("true");
+    run(peers_command(python, &peers.join("elasticity.py")).arg(dir))
+        && run(peers_command(python, &peers.join("rbf.py"))
+            .arg(dir)
+            .arg(if quick { "3" } else { "1" }))
+}
+
+/// The RBF row: fit + evaluation of each side, the ratio, the agreement.
+fn rbf_row(dir: &Path) -> String {
+    let k = read_figures(&dir.join("kernel.txt"));
+    let p = read_figures(&dir.join("peers_rbf.txt"));
+    let get = |m: &std::collections::BTreeMap<String, String>, key: &str| {
+        m.get(key).cloned().unwrap_or_else(|| "—".into())
+    };
+    let secs = |m, key: &str| num(m, key).map_or("—".into(), |v| format!("{v:.3} s"));
+    let ratio = match (num(&k, "rbf_s"), num(&p, "rbf_scipy_s")) {
+        (Some(a), Some(b)) if b > 0.0 => format!("{:.2}", a / b),
+        _ => "—".into(),
+    };
+    format!(
+        "| RBF, NACA 2412 {} nodes, {} centres (every boundary node), thin-plate spline + linear polynomial: fit + evaluation | `rbf_deform` {} | scipy `RBFInterpolator` {} (fit {}, evaluation {}) | {ratio} (displacements differ by {} of the largest) | — |\n",
+        get(&k, "rbf_nodes"),
+        get(&k, "rbf_centres"),
+        secs(&k, "rbf_s"),
+        secs(&p, "rbf_scipy_s"),
+        secs(&p, "rbf_scipy_fit_s"),
+        secs(&p, "rbf_scipy_evaluate_s"),
+        get(&p, "rbf_max_relative_difference"),
+    )
 }
 
 /// The report's rows: time and iterations of each side, the ratio, the agreement.
@@ -74,10 +108,10 @@ pub(crate) fn rows(dir: &Path) -> String {
             get(&p, "max_relative_difference"),
         );
     }
-    s
+    s + &rbf_row(dir)
 }
 
-/// `--elasticity-only`: the kernel side (`--only elasticity`) and the peer in `dir`, the
+/// `--elasticity-only`: the kernel side (`--only elasticity,rbf`) and the peers in `dir`, the
 /// rows as the report (`dir/report.md`).
 pub(crate) fn alone(ctx: &Ctx, dir: &Path, quick: bool, load_before: &str) -> ExitCode {
     if std::fs::create_dir_all(dir).is_err() {
@@ -87,7 +121,7 @@ pub(crate) fn alone(ctx: &Ctx, dir: &Path, quick: bool, load_before: &str) -> Ex
     let manifest = ctx.root.join("bench").join("Cargo.toml");
     let mut c = ctx.cargo(&["run", "--release", "--manifest-path"]);
     c.arg(&manifest)
-        .args(["--", "--only", "elasticity", "--out"])
+        .args(["--", "--only", "elasticity,rbf", "--out"])
         .arg(dir);
     if quick {
         c.arg("--quick");
