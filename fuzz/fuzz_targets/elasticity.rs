@@ -2,16 +2,20 @@
 //! indices, degenerate and inverted cells, duplicate points), moduli choices, Poisson ratios
 //! (in and out of range, NaN), increments, fixed masks and displacements: never panics; an
 //! error leaves the points bit-identical; on success every point is finite and the fixed
-//! nodes end exactly at `points + displacement`.
+//! nodes end exactly at `points + displacement`. Before the increments, `rigid_layer` with
+//! arbitrary wall indices (in and out of range), rotations (zero among them) and thicknesses
+//! (negative, NaN): an error leaves the mask and the displacement bit-identical; on success the
+//! nodes it reports are newly fixed, every node fixed before keeps its displacement, every
+//! value is finite, and the increments then run on the layered mask.
 #![no_main]
 
 use arbitrary::Arbitrary;
 use deform_kernel::elasticity::{
-    deform_incremental, elasticity_graph, elasticity_graph_len, IncrementBuffers, Increments,
-    Modulus,
+    deform_incremental, elasticity_graph, elasticity_graph_len, rigid_layer, IncrementBuffers,
+    Increments, Modulus,
 };
 use deform_kernel::spring::SolveOptions;
-use deform_kernel::{Cells, Graph};
+use deform_kernel::{Cells, Graph, Quat};
 use libfuzzer_sys::fuzz_target;
 
 #[derive(Arbitrary, Debug)]
@@ -25,6 +29,54 @@ struct Input {
     poisson: i8,
     steps: u8,
     wall: Vec<u8>,
+    layer_wall: Vec<u8>,
+    layer_turn: [i8; 4],
+    layer_thickness: i8,
+}
+
+/// `rigid_layer` on copies of `fixed` and `disp`, checked; the layered pair on success.
+fn layered(
+    inp: &Input,
+    points: &[[f64; 2]],
+    fixed: &[u8],
+    disp: &[[f64; 2]],
+) -> Option<(Vec<u8>, Vec<[f64; 2]>)> {
+    let n = points.len() as u32;
+    let wall: Vec<u32> = inp
+        .layer_wall
+        .iter()
+        .take(6)
+        .map(|&w| u32::from(w) % (n + 2))
+        .collect();
+    let q = Quat::from_array(inp.layer_turn.map(|c| f64::from(c) / 64.0));
+    let rotations = vec![q; wall.len()];
+    let thickness = match inp.layer_thickness {
+        i8::MIN => f64::NAN,
+        t => f64::from(t) / 32.0,
+    };
+    let (mut f, mut d) = (fixed.to_vec(), disp.to_vec());
+    match rigid_layer(points, &wall, &rotations, thickness, &mut f, &mut d) {
+        Ok(added) => {
+            let new = (0..points.len())
+                .filter(|&i| fixed[i] == 0 && f[i] != 0)
+                .count();
+            assert_eq!(added, new);
+            for i in 0..points.len() {
+                assert!(f[i] != 0 || fixed[i] == 0, "a fixed node was freed");
+                if fixed[i] != 0 {
+                    assert_eq!(d[i].map(f64::to_bits), disp[i].map(f64::to_bits));
+                }
+            }
+            assert!(d.iter().flatten().all(|x| x.is_finite()));
+            Some((f, d))
+        }
+        Err(_) => {
+            assert_eq!(f, fixed);
+            let bits = |v: &[[f64; 2]]| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&d), bits(disp));
+            None
+        }
+    }
 }
 
 fuzz_target!(|inp: Input| {
@@ -62,6 +114,7 @@ fuzz_target!(|inp: Input| {
             [f64::from(m[0]) / 64.0, f64::from(m[1]) / 64.0]
         })
         .collect();
+    let (fixed, disp) = layered(&inp, &points, &fixed, &disp).unwrap_or((fixed, disp));
     let wall: Vec<f64> = (0..n)
         .map(|i| f64::from(inp.wall.get(i).copied().unwrap_or(1)) / 16.0)
         .collect();
