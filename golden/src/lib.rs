@@ -52,6 +52,7 @@
 pub mod angle_rbf_sensitivity_cases;
 pub mod graph_cases;
 pub mod hash;
+pub mod layer_cases;
 pub mod mesh_cases;
 pub mod method_cases;
 pub mod quat_cases;
@@ -269,5 +270,12 @@ pub const CASES: &[Case] = &[
         run_f32: angle_rbf_sensitivity_cases::rbf_adjoint_tps::<f32>,
         expected_f64: 0x0034_95fa_40ff_b0c5,
         expected_f32: 0x1453_0525_65f8_bd43,
+    },
+    Case {
+        name: "rigid_wall_layer",
+        run_f64: layer_cases::rigid_wall_layer::<f64>,
+        run_f32: layer_cases::rigid_wall_layer::<f32>,
+        expected_f64: 0xae88_e80e_3618_3821,
+        expected_f32: 0x1048_e211_d3f3_a496,
     },
 ];
