@@ -50,6 +50,7 @@
 #![warn(missing_docs)]
 
 pub mod angle_rbf_sensitivity_cases;
+pub mod design_cases;
 pub mod graph_cases;
 pub mod hash;
 pub mod layer_cases;
@@ -277,5 +278,12 @@ pub const CASES: &[Case] = &[
         run_f32: layer_cases::rigid_wall_layer::<f32>,
         expected_f64: 0xae88_e80e_3618_3821,
         expected_f32: 0x1048_e211_d3f3_a496,
+    },
+    Case {
+        name: "design_adjoints",
+        run_f64: design_cases::design_adjoints::<f64>,
+        run_f32: design_cases::design_adjoints::<f32>,
+        expected_f64: 0x56fa_9052_490b_a19b,
+        expected_f32: 0x8011_7f06_d41a_341b,
     },
 ];
