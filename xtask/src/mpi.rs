@@ -25,7 +25,10 @@
 //!    the assembled field equals the serial `dk_spring_solve_linear` bit for bit; bad inputs
 //!    (a duplicate global id, a short ghost list, failing callbacks) are rejected on every
 //!    rank; `ffi/examples/mpi_partitioned.f90`, the same from Fortran (built with `mpif90`,
-//!    its communicator through `dk_mpi_exchange_new_f`), under the same rank counts.
+//!    its communicator through `dk_mpi_exchange_new_f`), under the same rank counts;
+//! 4. `make install` of `mpi/c` (`libdeform_kernel_mpi` and `deform_kernel_mpi.pc`) into a
+//!    staging prefix, and `mpi_partitioned.c` built by `gcc` with nothing but `pkg-config
+//!    --cflags --libs deform_kernel_mpi`, run under `-np 3`.
 
 use crate::ctx::Ctx;
 use crate::install::is_root;
@@ -115,7 +118,79 @@ fn c_example(ctx: &Ctx) -> bool {
             ok &= run(mpirun(np).arg(&exe).current_dir(&ctx.root));
         }
     }
-    ok && fortran_example(ctx, &target)
+    ok && fortran_example(ctx, &target) && installed_library(ctx)
+}
+
+/// `mpi/c/Makefile`'s `make install` of `libdeform_kernel_mpi` into a staging prefix, then
+/// `ffi/examples/mpi_partitioned.c` built by plain `gcc` with only what `pkg-config --cflags
+/// --libs deform_kernel_mpi` gives (deform_kernel's and MPI's flags through its `Requires`),
+/// linked to both shared libraries and run under `mpirun -np 3`. deform_kernel comes from
+/// the `cinstall` step's staged tree (installed again here when it is missing), seen through
+/// a copy of its `.pc` file whose prefix points into the stage.
+fn installed_library(ctx: &Ctx) -> bool {
+    let staged = ctx.root.join("target/cinstall/root/usr");
+    let staged_pc = staged.join("lib/pkgconfig/deform_kernel.pc");
+    if !staged_pc.exists() && !crate::install::cinstall(ctx) {
+        return false;
+    }
+    let prefix = ctx.root.join("target/cinstall/mpi");
+    let _ = std::fs::remove_dir_all(&prefix);
+    let mut make = Command::new("make");
+    make.args(["-C", "mpi/c", "install"])
+        .arg(format!("BUILD={}", prefix.join("build").display()))
+        .arg(format!("PREFIX={}", prefix.display()))
+        .arg(format!("DK_CFLAGS=-I{}", staged.join("include").display()))
+        .current_dir(&ctx.root);
+    if !run(&mut make) {
+        return false;
+    }
+    let pc_dir = prefix.join("lib/pkgconfig");
+    let relocated = std::fs::read_to_string(&staged_pc)
+        .map(|pc| pc.replace("prefix=/usr\n", &format!("prefix={}\n", staged.display())));
+    if relocated
+        .and_then(|pc| std::fs::write(pc_dir.join("deform_kernel.pc"), pc))
+        .is_err()
+    {
+        println!("xtask: cannot relocate {}", staged_pc.display());
+        return false;
+    }
+    let mut pc = Command::new("pkg-config");
+    pc.args(["--cflags", "--libs", "deform_kernel_mpi"])
+        .env("PKG_CONFIG_PATH", &pc_dir);
+    let (found, flags, err) = crate::process::capture(&mut pc);
+    println!(
+        "$ pkg-config --cflags --libs deform_kernel_mpi -> {}",
+        flags.trim()
+    );
+    if !found {
+        print!("{err}");
+        return false;
+    }
+    let exe = prefix.join("mpi_partitioned_pc");
+    let mut cc = Command::new("gcc");
+    cc.args(["-std=c11", "-O2", "-Wall", "-Wextra", "-Werror"])
+        .arg("ffi/examples/mpi_partitioned.c")
+        .args(flags.split_whitespace())
+        .args(["-lm", "-o"]) // the example's own sin and cos
+        .arg(&exe)
+        .current_dir(&ctx.root);
+    let libs = format!(
+        "{}:{}",
+        staged.join("lib").display(),
+        prefix.join("lib").display()
+    );
+    let ok = run(&mut cc)
+        && run(mpirun(3)
+            .args(["-x", "LD_LIBRARY_PATH"])
+            .arg(&exe)
+            .env("LD_LIBRARY_PATH", libs)
+            .current_dir(&ctx.root));
+    if ok {
+        println!(
+            "mpi: mpi_partitioned built with pkg-config deform_kernel_mpi (installed) and ran"
+        );
+    }
+    ok
 }
 
 /// `ffi/examples/mpi_partitioned.f90` (the same solve from Fortran, its communicator through
