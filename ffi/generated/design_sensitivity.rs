@@ -15,6 +15,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Dim};
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
 use crate::status::dk_status;
@@ -67,18 +68,33 @@ pub unsafe extern "C" fn dk_design_hicks_henne_adjoint(
             Out::new(out, 1),
         )
     };
-    imp::dk_design_hicks_henne_adjoint::<f64>(
-        points,
-        dim,
-        nodes,
-        index_base,
-        index_scratch,
-        normals,
-        upper,
-        x_max,
-        dj_dx,
-        out,
-    )
+    match dim {
+        2 => done(imp::dk_design_hicks_henne_adjoint::<f64, 2>(
+            points,
+            Dim,
+            nodes,
+            index_base,
+            index_scratch,
+            normals,
+            upper,
+            x_max,
+            dj_dx,
+            out,
+        )),
+        3 => done(imp::dk_design_hicks_henne_adjoint::<f64, 3>(
+            points,
+            Dim,
+            nodes,
+            index_base,
+            index_scratch,
+            normals,
+            upper,
+            x_max,
+            dj_dx,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_design_hicks_henne_adjoint`].
@@ -115,18 +131,33 @@ pub unsafe extern "C" fn dk_design_hicks_henne_adjoint_f32(
             Out::new(out, 1),
         )
     };
-    imp::dk_design_hicks_henne_adjoint::<f32>(
-        points,
-        dim,
-        nodes,
-        index_base,
-        index_scratch,
-        normals,
-        upper,
-        x_max,
-        dj_dx,
-        out,
-    )
+    match dim {
+        2 => done(imp::dk_design_hicks_henne_adjoint::<f32, 2>(
+            points,
+            Dim,
+            nodes,
+            index_base,
+            index_scratch,
+            normals,
+            upper,
+            x_max,
+            dj_dx,
+            out,
+        )),
+        3 => done(imp::dk_design_hicks_henne_adjoint::<f32, 3>(
+            points,
+            Dim,
+            nodes,
+            index_base,
+            index_scratch,
+            normals,
+            upper,
+            x_max,
+            dj_dx,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The transpose of evaluating a box (degrees `degree[0..dim]`) at `params`:
@@ -167,7 +198,15 @@ pub unsafe extern "C" fn dk_design_ffd_adjoint(
             Out::new(out, out_len),
         )
     };
-    imp::dk_design_ffd_adjoint::<f64>(degree, dim, params, dj_dx, out)
+    match dim {
+        2 => done(imp::dk_design_ffd_adjoint::<f64, 2>(
+            degree, Dim, params, dj_dx, out,
+        )),
+        3 => done(imp::dk_design_ffd_adjoint::<f64, 3>(
+            degree, Dim, params, dj_dx, out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_design_ffd_adjoint`].
@@ -196,7 +235,15 @@ pub unsafe extern "C" fn dk_design_ffd_adjoint_f32(
             Out::new(out, out_len),
         )
     };
-    imp::dk_design_ffd_adjoint::<f32>(degree, dim, params, dj_dx, out)
+    match dim {
+        2 => done(imp::dk_design_ffd_adjoint::<f32, 2>(
+            degree, Dim, params, dj_dx, out,
+        )),
+        3 => done(imp::dk_design_ffd_adjoint::<f32, 3>(
+            degree, Dim, params, dj_dx, out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The derivative of `dk_design_ffd_twist`'s control points in `amplitude` at amplitude 0
@@ -242,7 +289,7 @@ pub unsafe extern "C" fn dk_design_ffd_twist_tangent(
             Out::new(out, out_len),
         )
     };
-    imp::dk_design_ffd_twist_tangent::<f64>(
+    done(imp::dk_design_ffd_twist_tangent::<f64>(
         degree,
         control_points,
         j,
@@ -251,7 +298,7 @@ pub unsafe extern "C" fn dk_design_ffd_twist_tangent(
         fixed_i,
         fixed_k,
         out,
-    )
+    ))
 }
 
 /// `f32` twin of [`dk_design_ffd_twist_tangent`].
@@ -285,7 +332,7 @@ pub unsafe extern "C" fn dk_design_ffd_twist_tangent_f32(
             Out::new(out, out_len),
         )
     };
-    imp::dk_design_ffd_twist_tangent::<f32>(
+    done(imp::dk_design_ffd_twist_tangent::<f32>(
         degree,
         control_points,
         j,
@@ -294,5 +341,5 @@ pub unsafe extern "C" fn dk_design_ffd_twist_tangent_f32(
         fixed_i,
         fixed_k,
         out,
-    )
+    ))
 }

@@ -15,6 +15,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Dim};
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
 use crate::status::dk_status;
@@ -76,18 +77,33 @@ pub unsafe extern "C" fn dk_elasticity_rigid_layer(
             Out::new(added, 1),
         )
     };
-    imp::dk_elasticity_rigid_layer::<f64>(
-        points,
-        dim,
-        wall,
-        index_base,
-        index_scratch,
-        rotations,
-        thickness,
-        fixed,
-        displacement,
-        added,
-    )
+    match dim {
+        2 => done(imp::dk_elasticity_rigid_layer::<f64, 2>(
+            points,
+            Dim,
+            wall,
+            index_base,
+            index_scratch,
+            rotations,
+            thickness,
+            fixed,
+            displacement,
+            added,
+        )),
+        3 => done(imp::dk_elasticity_rigid_layer::<f64, 3>(
+            points,
+            Dim,
+            wall,
+            index_base,
+            index_scratch,
+            rotations,
+            thickness,
+            fixed,
+            displacement,
+            added,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_elasticity_rigid_layer`].
@@ -126,16 +142,31 @@ pub unsafe extern "C" fn dk_elasticity_rigid_layer_f32(
             Out::new(added, 1),
         )
     };
-    imp::dk_elasticity_rigid_layer::<f32>(
-        points,
-        dim,
-        wall,
-        index_base,
-        index_scratch,
-        rotations,
-        thickness,
-        fixed,
-        displacement,
-        added,
-    )
+    match dim {
+        2 => done(imp::dk_elasticity_rigid_layer::<f32, 2>(
+            points,
+            Dim,
+            wall,
+            index_base,
+            index_scratch,
+            rotations,
+            thickness,
+            fixed,
+            displacement,
+            added,
+        )),
+        3 => done(imp::dk_elasticity_rigid_layer::<f32, 3>(
+            points,
+            Dim,
+            wall,
+            index_base,
+            index_scratch,
+            rotations,
+            thickness,
+            fixed,
+            displacement,
+            added,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }

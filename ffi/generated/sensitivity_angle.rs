@@ -15,6 +15,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Dim};
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
 use crate::spring::{dk_spring_angle_options, dk_spring_solve_report, DkSpringSystem};
@@ -39,7 +40,15 @@ pub unsafe extern "C" fn dk_sensitivity_angle_adjoint_scratch_len(
     // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
     // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
     let len_out = unsafe { Out::new(len_out, 1) };
-    imp::dk_sensitivity_angle_adjoint_scratch_len(node_count, dim, len_out)
+    match dim {
+        2 => done(imp::dk_sensitivity_angle_adjoint_scratch_len::<2>(
+            node_count, Dim, len_out,
+        )),
+        3 => done(imp::dk_sensitivity_angle_adjoint_scratch_len::<3>(
+            node_count, Dim, len_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The adjoint of the angle-inclusion springs (`dk_spring_solve_angle`'s system, `points`
@@ -96,17 +105,31 @@ pub unsafe extern "C" fn dk_sensitivity_angle_adjoint(
             Out::new(report, 1),
         )
     };
-    imp::dk_sensitivity_angle_adjoint::<f64>(
-        system,
-        points,
-        dim,
-        options,
-        w,
-        g,
-        scratch,
-        index_scratch,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_sensitivity_angle_adjoint::<f64, 2>(
+            system,
+            points,
+            Dim,
+            options,
+            w,
+            g,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        3 => done(imp::dk_sensitivity_angle_adjoint::<f64, 3>(
+            system,
+            points,
+            Dim,
+            options,
+            w,
+            g,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_sensitivity_angle_adjoint`].
@@ -144,15 +167,29 @@ pub unsafe extern "C" fn dk_sensitivity_angle_adjoint_f32(
             Out::new(report, 1),
         )
     };
-    imp::dk_sensitivity_angle_adjoint::<f32>(
-        system,
-        points,
-        dim,
-        options,
-        w,
-        g,
-        scratch,
-        index_scratch,
-        report,
-    )
+    match dim {
+        2 => done(imp::dk_sensitivity_angle_adjoint::<f32, 2>(
+            system,
+            points,
+            Dim,
+            options,
+            w,
+            g,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        3 => done(imp::dk_sensitivity_angle_adjoint::<f32, 3>(
+            system,
+            points,
+            Dim,
+            options,
+            w,
+            g,
+            scratch,
+            index_scratch,
+            report,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }

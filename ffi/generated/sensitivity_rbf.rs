@@ -16,6 +16,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Dim};
 use crate::rbf::dk_rbf_options;
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
@@ -75,18 +76,33 @@ pub unsafe extern "C" fn dk_sensitivity_rbf_tangent(
             Out::new(dx, dx_len),
         )
     };
-    imp::dk_sensitivity_rbf_tangent::<f64>(
-        points,
-        dim,
-        boundary,
-        index_base,
-        motion,
-        options,
-        index_scratch,
-        scratch,
-        dmotion,
-        dx,
-    )
+    match dim {
+        2 => done(imp::dk_sensitivity_rbf_tangent::<f64, 2>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            motion,
+            options,
+            index_scratch,
+            scratch,
+            dmotion,
+            dx,
+        )),
+        3 => done(imp::dk_sensitivity_rbf_tangent::<f64, 3>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            motion,
+            options,
+            index_scratch,
+            scratch,
+            dmotion,
+            dx,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_sensitivity_rbf_tangent`].
@@ -127,18 +143,33 @@ pub unsafe extern "C" fn dk_sensitivity_rbf_tangent_f32(
             Out::new(dx, dx_len),
         )
     };
-    imp::dk_sensitivity_rbf_tangent::<f32>(
-        points,
-        dim,
-        boundary,
-        index_base,
-        motion,
-        options,
-        index_scratch,
-        scratch,
-        dmotion,
-        dx,
-    )
+    match dim {
+        2 => done(imp::dk_sensitivity_rbf_tangent::<f32, 2>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            motion,
+            options,
+            index_scratch,
+            scratch,
+            dmotion,
+            dx,
+        )),
+        3 => done(imp::dk_sensitivity_rbf_tangent::<f32, 3>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            motion,
+            options,
+            index_scratch,
+            scratch,
+            dmotion,
+            dx,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// The adjoint of `dk_rbf_deform` (arguments as [`dk_sensitivity_rbf_tangent`]) at `motion`:
@@ -193,18 +224,33 @@ pub unsafe extern "C" fn dk_sensitivity_rbf_adjoint(
             Out::new(g, g_len),
         )
     };
-    imp::dk_sensitivity_rbf_adjoint::<f64>(
-        points,
-        dim,
-        boundary,
-        index_base,
-        motion,
-        options,
-        index_scratch,
-        scratch,
-        w,
-        g,
-    )
+    match dim {
+        2 => done(imp::dk_sensitivity_rbf_adjoint::<f64, 2>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            motion,
+            options,
+            index_scratch,
+            scratch,
+            w,
+            g,
+        )),
+        3 => done(imp::dk_sensitivity_rbf_adjoint::<f64, 3>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            motion,
+            options,
+            index_scratch,
+            scratch,
+            w,
+            g,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }
 
 /// `f32` twin of [`dk_sensitivity_rbf_adjoint`].
@@ -245,16 +291,31 @@ pub unsafe extern "C" fn dk_sensitivity_rbf_adjoint_f32(
             Out::new(g, g_len),
         )
     };
-    imp::dk_sensitivity_rbf_adjoint::<f32>(
-        points,
-        dim,
-        boundary,
-        index_base,
-        motion,
-        options,
-        index_scratch,
-        scratch,
-        w,
-        g,
-    )
+    match dim {
+        2 => done(imp::dk_sensitivity_rbf_adjoint::<f32, 2>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            motion,
+            options,
+            index_scratch,
+            scratch,
+            w,
+            g,
+        )),
+        3 => done(imp::dk_sensitivity_rbf_adjoint::<f32, 3>(
+            points,
+            Dim,
+            boundary,
+            index_base,
+            motion,
+            options,
+            index_scratch,
+            scratch,
+            w,
+            g,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }

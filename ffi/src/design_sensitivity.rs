@@ -8,7 +8,7 @@ use deform_kernel::design::twist::{ffd_twist_tangent, FfdTwist};
 use deform_kernel::Real;
 use deform_kernel_ffi_export::export;
 
-use crate::args::{by_dim, done, read_array, read_points, rebase, write_one};
+use crate::args::{read_array, read_points, rebase, write_one, Dim};
 use crate::slice::{chunks_mut, input, output, In, Out};
 use crate::status::dk_status;
 
@@ -19,32 +19,6 @@ fn degree<const D: usize>(degree: In<'_, u32>) -> Result<[usize; D], dk_status> 
         [d] => Ok(d.map(|x| x as usize)),
         _ => Err(dk_status::DK_ERR_LENGTH_MISMATCH),
     }
-}
-
-fn hicks_henne_for_dim<T: Real, const D: usize>(
-    (points, nodes, normals): (In<'_, T>, &[u32], In<'_, T>),
-    (upper, x_max): (bool, T),
-    dj_dx: In<'_, T>,
-    out: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let (p, n, g) = (
-        read_points(points)?,
-        read_points(normals)?,
-        read_points(dj_dx)?,
-    );
-    let v = hicks_henne_adjoint::<T, D>(p, nodes, n, upper, x_max, g)?;
-    write_one(out, v)
-}
-
-fn ffd_for_dim<T: Real, const D: usize>(
-    deg: In<'_, u32>,
-    params: In<'_, T>,
-    dj_dx: In<'_, T>,
-    out: Out<'_, T>,
-) -> Result<(), dk_status> {
-    let d = degree::<D>(deg)?;
-    let (u, g) = (read_points(params)?, read_points(dj_dx)?);
-    Ok(ffd_adjoint::<T, D>(d, u, g, chunks_mut(out)?)?)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -58,9 +32,9 @@ fn ffd_for_dim<T: Real, const D: usize>(
 /// derivative in `DV_VALUE`. Errors (nothing written): as `dk_design_hicks_henne`, plus
 /// `DK_ERR_OVERFLOW`.
 #[export(twin, out[1])]
-pub(crate) fn dk_design_hicks_henne_adjoint<T: Real>(
+pub(crate) fn dk_design_hicks_henne_adjoint<T: Real, const D: usize>(
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     nodes: In<'_, u32>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
@@ -69,17 +43,15 @@ pub(crate) fn dk_design_hicks_henne_adjoint<T: Real>(
     x_max: T,
     dj_dx: In<'_, T>,
     out: Out<'_, T>,
-) -> dk_status {
-    let run = || {
-        let (nodes, _) = rebase(input(nodes)?, index_base, output(index_scratch)?)?;
-        let geometry = (points, nodes, normals);
-        by_dim!(
-            dim,
-            hicks_henne_for_dim::<T>,
-            (geometry, (upper, x_max), dj_dx, out)
-        )
-    };
-    done(run())
+) -> Result<(), dk_status> {
+    let (nodes, _) = rebase(input(nodes)?, index_base, output(index_scratch)?)?;
+    let (p, n, g) = (
+        read_points(points)?,
+        read_points(normals)?,
+        read_points(dj_dx)?,
+    );
+    let v = hicks_henne_adjoint::<T, D>(p, nodes, n, upper, x_max, g)?;
+    write_one(out, v)
 }
 
 /// The transpose of evaluating a box (degrees `degree[0..dim]`) at `params`:
@@ -89,14 +61,16 @@ pub(crate) fn dk_design_hicks_henne_adjoint<T: Real>(
 /// Errors (nothing written): `DK_ERR_INVALID_PARAMETER` (`dim`, degree), `DK_ERR_NON_FINITE`,
 /// `DK_ERR_OVERFLOW`, length and pointer errors.
 #[export(twin)]
-pub(crate) fn dk_design_ffd_adjoint<T: Real>(
+pub(crate) fn dk_design_ffd_adjoint<T: Real, const D: usize>(
     degree: In<'_, u32>,
-    dim: u32,
+    _dim: Dim<D>,
     params: In<'_, T>,
     dj_dx: In<'_, T>,
     out: Out<'_, T>,
-) -> dk_status {
-    done(by_dim!(dim, ffd_for_dim::<T>, (degree, params, dj_dx, out)))
+) -> Result<(), dk_status> {
+    let d = self::degree::<D>(degree)?;
+    let (u, g) = (read_points(params)?, read_points(dj_dx)?);
+    Ok(ffd_adjoint::<T, D>(d, u, g, chunks_mut(out)?)?)
 }
 
 /// The derivative of `dk_design_ffd_twist`'s control points in `amplitude` at amplitude 0
@@ -113,22 +87,19 @@ pub(crate) fn dk_design_ffd_twist_tangent<T: Real>(
     fixed_i: In<'_, u32>,
     fixed_k: In<'_, u32>,
     out: Out<'_, T>,
-) -> dk_status {
-    let run = || {
-        let d = read_array::<u32, 3>(degree)?.map(|x| x as usize);
-        let s = read_array::<T, 6>(segment)?;
-        let twist = FfdTwist {
-            j: j as usize,
-            segment: [[s[0], s[1], s[2]], [s[3], s[4], s[5]]],
-            amplitude: T::ZERO,
-            ref_length,
-        };
-        let (cps, fi, fk) = (
-            read_points(control_points)?,
-            input(fixed_i)?,
-            input(fixed_k)?,
-        );
-        Ok(ffd_twist_tangent(d, cps, twist, fi, fk, chunks_mut(out)?)?)
+) -> Result<(), dk_status> {
+    let d = read_array::<u32, 3>(degree)?.map(|x| x as usize);
+    let s = read_array::<T, 6>(segment)?;
+    let twist = FfdTwist {
+        j: j as usize,
+        segment: [[s[0], s[1], s[2]], [s[3], s[4], s[5]]],
+        amplitude: T::ZERO,
+        ref_length,
     };
-    done(run())
+    let (cps, fi, fk) = (
+        read_points(control_points)?,
+        input(fixed_i)?,
+        input(fixed_k)?,
+    );
+    Ok(ffd_twist_tangent(d, cps, twist, fi, fk, chunks_mut(out)?)?)
 }

@@ -7,37 +7,9 @@ use deform_kernel::elasticity::rigid_layer;
 use deform_kernel::Real;
 use deform_kernel_ffi_export::export;
 
-use crate::args::{by_dim, done, read_points, rebase};
+use crate::args::{read_points, rebase, Dim};
 use crate::slice::{chunks_mut, input, output, quats, In, Out};
 use crate::status::dk_status;
-
-#[allow(clippy::too_many_arguments)]
-fn layer_for_dim<T: Real, const D: usize>(
-    points: In<'_, T>,
-    wall: In<'_, u32>,
-    index_base: u32,
-    index_scratch: Out<'_, u32>,
-    rotations: In<'_, T>,
-    thickness: T,
-    fixed: Out<'_, u8>,
-    displacement: Out<'_, T>,
-    added: Out<'_, usize>,
-) -> Result<(), dk_status> {
-    let p = read_points::<T, D>(points)?;
-    let (w, _) = rebase(input(wall)?, index_base, output(index_scratch)?)?;
-    let q = quats(rotations)?;
-    let count = crate::slice::out_one(added)?;
-    let n = rigid_layer(
-        p,
-        w,
-        q,
-        thickness,
-        output(fixed)?,
-        chunks_mut::<T, D>(displacement)?,
-    )?;
-    *count = n;
-    Ok(())
-}
 
 // ---------------------------------------------------------------------------------------------
 // The C functions (`cargo xtask codegen` exports each, see ffi/README.md).
@@ -57,9 +29,9 @@ fn layer_for_dim<T: Real, const D: usize>(
 /// `DK_ERR_BAD_INDEX_BASE`, length and pointer errors.
 #[export(twin, added[1])]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn dk_elasticity_rigid_layer<T: Real>(
+pub(crate) fn dk_elasticity_rigid_layer<T: Real, const D: usize>(
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     wall: In<'_, u32>,
     index_base: u32,
     index_scratch: Out<'_, u32>,
@@ -68,20 +40,12 @@ pub(crate) fn dk_elasticity_rigid_layer<T: Real>(
     fixed: Out<'_, u8>,
     displacement: Out<'_, T>,
     added: Out<'_, usize>,
-) -> dk_status {
-    done(by_dim!(
-        dim,
-        layer_for_dim::<T>,
-        (
-            points,
-            wall,
-            index_base,
-            index_scratch,
-            rotations,
-            thickness,
-            fixed,
-            displacement,
-            added
-        )
-    ))
+) -> Result<(), dk_status> {
+    let p = read_points::<T, D>(points)?;
+    let (w, _) = rebase(input(wall)?, index_base, output(index_scratch)?)?;
+    let q = quats(rotations)?;
+    let count = crate::slice::out_one(added)?;
+    let displacement = chunks_mut::<T, D>(displacement)?;
+    *count = rigid_layer(p, w, q, thickness, output(fixed)?, displacement)?;
+    Ok(())
 }

@@ -4,11 +4,11 @@
 //! is linear). See docs/sensitivities.md.
 
 use deform_kernel::sensitivity::{angle_adjoint, angle_adjoint_scratch_items, AngleSolver};
-use deform_kernel::spring::{AngleSystem, SpringSystem};
+use deform_kernel::spring::AngleSystem;
 use deform_kernel::Real;
 use deform_kernel_ffi_export::export;
 
-use crate::args::{by_dim, done, mul_len, read_one, read_points, write_len};
+use crate::args::{mul_len, read_one, read_points, write_len, Dim};
 use crate::slice::{chunks, chunks_mut, out_one, output, whole_chunks_mut, In, Out};
 use crate::spring::{dk_spring_angle_options, dk_spring_solve_report, DkSpringSystem, SystemC};
 use crate::status::dk_status;
@@ -17,18 +17,13 @@ use crate::status::dk_status;
 /// `dim` (2 or 3) dimensions: `5 · node_count · dim` (the adjoint field and the four CG
 /// vectors, which also hold the rigidity probe's when `ε = 0`).
 #[export(len_out[1])]
-pub(crate) fn dk_sensitivity_angle_adjoint_scratch_len(
+pub(crate) fn dk_sensitivity_angle_adjoint_scratch_len<const D: usize>(
     node_count: usize,
-    dim: u32,
+    _dim: Dim<D>,
     len_out: Out<'_, usize>,
-) -> dk_status {
-    done((|| {
-        let items = match dim {
-            2 | 3 => angle_adjoint_scratch_items(node_count).ok_or(dk_status::DK_ERR_TOO_LARGE)?,
-            _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
-        };
-        write_len(len_out, mul_len(items, dim as usize)?)
-    })())
+) -> Result<(), dk_status> {
+    let items = angle_adjoint_scratch_items(node_count).ok_or(dk_status::DK_ERR_TOO_LARGE)?;
+    write_len(len_out, mul_len(items, D)?)
 }
 
 /// The adjoint of the angle-inclusion springs (`dk_spring_solve_angle`'s system, `points`
@@ -42,38 +37,19 @@ pub(crate) fn dk_sensitivity_angle_adjoint_scratch_len(
 /// false). Errors: those of `dk_spring_solve_angle`; on error `g` is unchanged.
 #[export(twin, system[1], options[1], report[1])]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn dk_sensitivity_angle_adjoint<T: Real>(
+pub(crate) fn dk_sensitivity_angle_adjoint<T: Real, const D: usize>(
     system: In<'_, DkSpringSystem<T>>,
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     options: In<'_, dk_spring_angle_options>,
     w: In<'_, T>,
     g: Out<'_, T>,
     scratch: Out<'_, T>,
     index_scratch: Out<'_, u32>,
     report: Out<'_, dk_spring_solve_report>,
-) -> dk_status {
-    done((|| {
-        let o = read_one(options)?;
-        let sys = SystemC::read(system)?.build(output(index_scratch)?)?;
-        let args = (sys, points, &o, w, g, scratch, report);
-        by_dim!(dim, adjoint_for_dim::<T>, (args))
-    })())
-}
-
-type AdjointArgs<'a, 'o, T> = (
-    SpringSystem<'a, T>,
-    In<'a, T>,
-    &'o dk_spring_angle_options,
-    In<'a, T>,
-    Out<'a, T>,
-    Out<'a, T>,
-    Out<'a, dk_spring_solve_report>,
-);
-
-fn adjoint_for_dim<T: Real, const D: usize>(
-    (sys, points, o, w, g, scratch, report): AdjointArgs<'_, '_, T>,
 ) -> Result<(), dk_status> {
+    let o = read_one(options)?;
+    let sys = SystemC::read(system)?.build(output(index_scratch)?)?;
     let p = read_points::<T, D>(points)?;
     let asys = AngleSystem::new(sys, p, T::from_f64(o.epsilon))?;
     let (w, g) = (chunks::<T, D>(w)?, chunks_mut::<T, D>(g)?);

@@ -8,7 +8,7 @@ use deform_kernel::rbf::{rbf_adjoint, rbf_tangent, RbfOptions};
 use deform_kernel::Real;
 use deform_kernel_ffi_export::export;
 
-use crate::args::{by_dim, check_base, done, read_one, read_points, rebase};
+use crate::args::{check_base, read_one, read_points, rebase, Dim};
 use crate::rbf::dk_rbf_options;
 use crate::slice::{chunks_mut, input, output, In, Out};
 use crate::status::dk_status;
@@ -21,9 +21,9 @@ use crate::status::dk_status;
 /// field `dx` is unchanged.
 #[export(twin, options[1])]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn dk_sensitivity_rbf_tangent<T: Real>(
+pub(crate) fn dk_sensitivity_rbf_tangent<T: Real, const D: usize>(
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     boundary: In<'_, u32>,
     index_base: u32,
     motion: In<'_, T>,
@@ -32,18 +32,9 @@ pub(crate) fn dk_sensitivity_rbf_tangent<T: Real>(
     scratch: Out<'_, T>,
     dmotion: In<'_, T>,
     dx: Out<'_, T>,
-) -> dk_status {
-    let args = (
-        points,
-        boundary,
-        index_base,
-        motion,
-        index_scratch,
-        scratch,
-        dmotion,
-        dx,
-    );
-    done(read_one(options).and_then(|o| by_dim!(dim, run::<T>, (true, &o, args))))
+) -> Result<(), dk_status> {
+    let fit = Fit::<T, D>::read(points, boundary, index_base, motion, options, index_scratch)?;
+    fit.run(true, scratch, dmotion, dx)
 }
 
 /// The adjoint of `dk_rbf_deform` (arguments as [`dk_sensitivity_rbf_tangent`]) at `motion`:
@@ -52,9 +43,9 @@ pub(crate) fn dk_sensitivity_rbf_tangent<T: Real>(
 /// [`dk_sensitivity_rbf_tangent`]; on an error found before the first field `g` is unchanged.
 #[export(twin, options[1])]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn dk_sensitivity_rbf_adjoint<T: Real>(
+pub(crate) fn dk_sensitivity_rbf_adjoint<T: Real, const D: usize>(
     points: In<'_, T>,
-    dim: u32,
+    _dim: Dim<D>,
     boundary: In<'_, u32>,
     index_base: u32,
     motion: In<'_, T>,
@@ -63,48 +54,65 @@ pub(crate) fn dk_sensitivity_rbf_adjoint<T: Real>(
     scratch: Out<'_, T>,
     w: In<'_, T>,
     g: Out<'_, T>,
-) -> dk_status {
-    let args = (
-        points,
-        boundary,
-        index_base,
-        motion,
-        index_scratch,
-        scratch,
-        w,
-        g,
-    );
-    done(read_one(options).and_then(|o| by_dim!(dim, run::<T>, (false, &o, args))))
+) -> Result<(), dk_status> {
+    let fit = Fit::<T, D>::read(points, boundary, index_base, motion, options, index_scratch)?;
+    fit.run(false, scratch, w, g)
 }
 
-type Args<'a, T> = (
-    In<'a, T>,
-    In<'a, u32>,
-    u32,
-    In<'a, T>,
-    Out<'a, u32>,
-    Out<'a, T>,
-    In<'a, T>,
-    Out<'a, T>,
-);
+/// What both directions read: points, boundary (rebased), motion and options.
+struct Fit<'a, T, const D: usize> {
+    points: &'a [[T; D]],
+    boundary: &'a [u32],
+    index: &'a mut [u32],
+    motion: &'a [[T; D]],
+    options: RbfOptions<T>,
+}
 
-/// Either direction: `tangent` maps `x` (perturbations) to `y` (fields), else `x` (`w`) to
-/// `y` (`g`).
-fn run<T: Real, const D: usize>(
-    tangent: bool,
-    o: &dk_rbf_options,
-    (points, boundary, base, motion, index, scratch, x, y): Args<'_, T>,
-) -> Result<(), dk_status> {
-    check_base(base)?;
-    let o: RbfOptions<T> = o.kernel_options::<T>()?;
-    let (p, m) = (read_points::<T, D>(points)?, read_points::<T, D>(motion)?);
-    let (x, y) = (read_points::<T, D>(x)?, chunks_mut::<T, D>(y)?);
-    let s = output(scratch)?;
-    let (b, idx) = rebase(input(boundary)?, base, output(index)?)?;
-    let r = if tangent {
-        rbf_tangent(p, b, m, &o, idx, s, x, y)
-    } else {
-        rbf_adjoint(p, b, m, &o, idx, s, x, y)
-    };
-    r.map(|_| ()).map_err(dk_status::from)
+impl<'a, T: Real, const D: usize> Fit<'a, T, D> {
+    fn read(
+        points: In<'a, T>,
+        boundary: In<'a, u32>,
+        base: u32,
+        motion: In<'a, T>,
+        options: In<'_, dk_rbf_options>,
+        index: Out<'a, u32>,
+    ) -> Result<Self, dk_status> {
+        let options = read_one(options)?.kernel_options::<T>()?;
+        check_base(base)?;
+        let (points, motion) = (read_points::<T, D>(points)?, read_points::<T, D>(motion)?);
+        let (boundary, index) = rebase(input(boundary)?, base, output(index)?)?;
+        Ok(Fit {
+            points,
+            boundary,
+            index,
+            motion,
+            options,
+        })
+    }
+
+    /// Either direction: `tangent` maps `x` (perturbations) to `y` (fields), else `x` (`w`)
+    /// to `y` (`g`).
+    fn run(
+        self,
+        tangent: bool,
+        scratch: Out<'_, T>,
+        x: In<'_, T>,
+        y: Out<'_, T>,
+    ) -> Result<(), dk_status> {
+        let (x, y) = (read_points::<T, D>(x)?, chunks_mut::<T, D>(y)?);
+        let (p, b, m, o, idx, s) = (
+            self.points,
+            self.boundary,
+            self.motion,
+            &self.options,
+            self.index,
+            output(scratch)?,
+        );
+        let r = if tangent {
+            rbf_tangent(p, b, m, o, idx, s, x, y)
+        } else {
+            rbf_adjoint(p, b, m, o, idx, s, x, y)
+        };
+        r.map(|_| ()).map_err(dk_status::from)
+    }
 }
