@@ -85,6 +85,7 @@ pub use rotations::{
 pub use sensitivity::{
     deform_idw_adjoint, deform_idw_sensitivity_scratch_len, deform_idw_tangent,
     deform_spring_adjoint, deform_spring_sensitivity_scratch_len, deform_spring_tangent,
+    deform_tfi_adjoint, deform_tfi_sensitivity_scratch_len, deform_tfi_tangent,
 };
 pub use springs::{
     propagate_spring, propagate_spring_scratch_len, propagate_spring_with,

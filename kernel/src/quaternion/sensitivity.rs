@@ -43,12 +43,16 @@ mod boundary;
 mod field;
 mod lin;
 mod spring;
+mod tfi;
 
 use self::boundary::{
     rotations2_adjoint, rotations2_tangent, rotations3_adjoint, rotations3_tangent,
     translations_adjoint, translations_tangent, zero, WORK3,
 };
 use self::field::{idw_adjoint, idw_tangent, Field};
+pub use self::tfi::{
+    deform_tfi_adjoint, deform_tfi_sensitivity_scratch_len, deform_tfi_tangent,
+};
 pub use self::spring::{
     deform_spring_adjoint, deform_spring_sensitivity_scratch_len, deform_spring_tangent,
 };

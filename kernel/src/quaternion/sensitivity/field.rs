@@ -142,7 +142,7 @@ pub(super) fn idw_adjoint<T: Real, const D: usize>(
 
 /// `s[k] += a x` on a flat slice of `N`-vectors.
 #[inline]
-fn accumulate<T: Real, const N: usize>(s: &mut [T], k: usize, a: T, x: [T; N]) {
+pub(super) fn accumulate<T: Real, const N: usize>(s: &mut [T], k: usize, a: T, x: [T; N]) {
     let mut v: [T; N] = load(s, k);
     axpy(&mut v, a, x);
     store(s, k, v);
