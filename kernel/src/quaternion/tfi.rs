@@ -155,7 +155,12 @@ impl Setup {
     /// subset `S` of the active directions, sign `(−1)^(|S|+1)` times the tensor-product
     /// projector over `S` (weights `1 − s_d` at the low face, `s_d` at the high face). Returns
     /// the number of terms written.
-    pub(super) fn terms<T: Real>(&self, p: usize, params: &[T], out: &mut [(usize, T); MAX_TERMS]) -> usize {
+    pub(super) fn terms<T: Real>(
+        &self,
+        p: usize,
+        params: &[T],
+        out: &mut [(usize, T); MAX_TERMS],
+    ) -> usize {
         let c = self.ijk(p);
         let mut s = [T::ZERO; 3];
         for (d, x) in s.iter_mut().enumerate() {
