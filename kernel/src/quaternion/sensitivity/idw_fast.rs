@@ -104,7 +104,7 @@ type Grown<'s, T> = (&'s [u32], &'s [T], &'s [T]);
 /// Calls `each(base, start, members)` for every tree node that holds more than one boundary
 /// node (only those can be used as clusters), `base` its record's offset, `start` the tree
 /// position of its first member.
-fn for_clusters<T: Real, const D: usize>(
+fn for_clusters<const D: usize>(
     index: &[u32],
     mut each: impl FnMut(usize, usize, &[u32]),
 ) {
@@ -155,7 +155,7 @@ fn perturbation_moments<T: Real, const D: usize>(
             .copied()
             .unwrap_or([T::ZERO; D])
     };
-    for_clusters::<T, D>(index, |base, _, members| {
+    for_clusters::<D>(index, |base, _, members| {
         let c: [T; D] = get_n(nodes, base + Layout::<D>::C);
         let qref: [T; 4] = get_n(nodes, base + Layout::<D>::QR);
         let value = |pos: u32| {
@@ -434,7 +434,7 @@ fn distribute<T: Real, const D: usize>(
     dt: &mut [T],
 ) {
     let (index, nodes, leaves) = grown;
-    for_clusters::<T, D>(index, |base, start, members| {
+    for_clusters::<D>(index, |base, start, members| {
         let c: [T; D] = get_n(nodes, base + Layout::<D>::C);
         let qref: [T; 4] = get_n(nodes, base + Layout::<D>::QR);
         let nt = T::from_usize(members.len());
