@@ -4,7 +4,7 @@
 //! boundary, one rigid rotation source, origin given).
 //!
 //! `cargo build --release -p deform-host-tests --example sensitivity_cost`, then
-//! `valgrind --tool=callgrind target/release/examples/sensitivity_cost fast|tfi deform|tangent|adjoint [SURFACE RADIAL LAYERS]`
+//! `valgrind --tool=callgrind target/release/examples/sensitivity_cost fast|tfi setup|deform|tangent|adjoint [SURFACE RADIAL LAYERS]`
 //! (default `120 16 12`).
 
 use deform_kernel::quaternion::{
@@ -19,7 +19,8 @@ use deform_meshgen::{extrude, naca_ogrid, twist_bend, AirfoilGrid, TwistBend};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: sensitivity_cost fast|tfi deform|tangent|adjoint [SURFACE RADIAL LAYERS]";
+    let usage =
+        "usage: sensitivity_cost fast|tfi setup|deform|tangent|adjoint [SURFACE RADIAL LAYERS]";
     let (method, mode) = (args.first().expect(usage), args.get(1).expect(usage));
     let size: Vec<usize> = args
         .iter()
@@ -92,6 +93,7 @@ fn main() {
         ("fast", "adjoint") => {
             deform_idw_fast_adjoint(p, m, 2.0, &options, &w, t, r, &mut s, ix, tr2, &mut back)
         }
+        (_, "setup") => Ok(()),
         ("tfi", "deform") => deform_tfi(&block, dirs, p, m, t, r, &mut s, &mut out).map(|_| ()),
         ("tfi", "tangent") => deform_tfi_tangent(&block, dirs, p, m, &dir, &mut s, &mut out),
         ("tfi", "adjoint") => deform_tfi_adjoint(&block, dirs, p, m, &w, &mut s, &mut back),

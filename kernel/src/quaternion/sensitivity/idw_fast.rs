@@ -104,10 +104,7 @@ type Grown<'s, T> = (&'s [u32], &'s [T], &'s [T]);
 /// Calls `each(base, start, members)` for every tree node that holds more than one boundary
 /// node (only those can be used as clusters), `base` its record's offset, `start` the tree
 /// position of its first member.
-fn for_clusters<const D: usize>(
-    index: &[u32],
-    mut each: impl FnMut(usize, usize, &[u32]),
-) {
+fn for_clusters<const D: usize>(index: &[u32], mut each: impl FnMut(usize, usize, &[u32])) {
     let mut stack = Stack::new((0, 0, index.len()));
     while let Some((node, s, e)) = stack.pop() {
         if e - s > 1 {
