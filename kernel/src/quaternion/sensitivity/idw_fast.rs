@@ -56,22 +56,28 @@ pub fn deform_idw_fast_sensitivity_scratch_len<const D: usize>(
         .saturating_add(nodes_len::<D>(boundary_len))
 }
 
-/// Validates (as [`deform_idw_fast`](crate::quaternion::deform_idw_fast) does) and computes
-/// the boundary rotations into `scratch` (the layout of the exact IDW's sensitivities), then
-/// fills the boundary entries of `translations` and `rotations` as the forward does. Returns
-/// the origin.
+/// Validates (as [`deform_idw_fast`](crate::quaternion::deform_idw_fast) does, and the mode's
+/// `io`: the input, its name — `"direction"`, one per boundary point, or `"weights"`, one per
+/// mesh point — and the length of `out`) and computes the boundary rotations into `scratch`
+/// (the layout of the exact IDW's sensitivities), then fills the boundary entries of
+/// `translations` and `rotations` as the forward does. Returns the origin.
 #[allow(clippy::too_many_arguments)]
 fn validate<T: Real, const D: usize>(
     points: &[[T; D]],
     motion: &BoundaryMotion<'_, T, D>,
     exponent: T,
     options: &IdwFastOptions<T>,
+    io: (&[[T; D]], &'static str, usize),
     translations: &mut [[T; D]],
     rotations: &mut [Quat<T>],
     scratch: &mut [T],
     buffers: (usize, usize),
 ) -> Result<[T; D]> {
     let (n, b) = (points.len(), motion.nodes.len());
+    let (input, arg, out_len) = io;
+    let (input_len, out_needed) = if arg == "direction" { (b, n) } else { (n, b) };
+    check::len(arg, input.len(), input_len)?;
+    check::len("out", out_len, out_needed)?;
     check::len("translations", translations.len(), n)?;
     check::len("rotations", rotations.len(), n)?;
     let needed = deform_idw_fast_sensitivity_scratch_len::<D>(n, b);
@@ -80,6 +86,7 @@ fn validate<T: Real, const D: usize>(
         check_exponent(exponent)?;
         check_options_and_buffers::<T, D>(options, b, buffers.0, buffers.1, "tree")
     })?;
+    check::finite_items(arg, input)?;
     let u = Pts::mapped(points, motion.nodes);
     for (k, (&i, &dk)) in motion.nodes.iter().zip(motion.deformed).enumerate() {
         let q = Quat::from_array(load(scratch, k));
@@ -96,6 +103,25 @@ fn validate<T: Real, const D: usize>(
         }
     }
     Ok(origin)
+}
+
+/// The parts of the validated `scratch`: `Q_k`, `δQ_k`/`Q̄_k`, `δΔ_k`/`Δ̄_k` (per boundary
+/// position), the boundary stage's workspace, the cluster records.
+type Split<'s, T> = (
+    &'s mut [T],
+    &'s mut [T],
+    &'s mut [T],
+    &'s mut [T],
+    &'s mut [T],
+);
+
+/// Splits the validated `scratch` for `n` mesh and `b` boundary points.
+fn split<T: Real, const D: usize>(scratch: &mut [T], n: usize, b: usize) -> Split<'_, T> {
+    let (bnd, cl) = take(scratch, deform_idw_sensitivity_scratch_len::<D>(n, b));
+    let (qs, rest) = take(bnd, 4 * b);
+    let (dq, rest) = take(rest, 4 * b);
+    let (dt, work) = take(rest, 3 * b);
+    (qs, dq, dt, work, cl)
 }
 
 /// The tree as grown by [`grow`]: `index` (tree order), node records, leaves.
@@ -277,20 +303,17 @@ pub fn deform_idw_fast_tangent<T: Real, const D: usize>(
     out: &mut [[T; D]],
 ) -> Result<()> {
     let (n, b) = (points.len(), motion.nodes.len());
-    check::len("direction", direction.len(), b)?;
-    check::len("out", out.len(), n)?;
-    let sizes = (index.len(), tree.len());
-    let fields = (translations, rotations);
+    let (sizes, io) = (
+        (index.len(), tree.len()),
+        (direction, "direction", out.len()),
+    );
+    let (tr, rot) = (translations, rotations);
     let origin = validate(
-        points, motion, exponent, options, fields.0, fields.1, scratch, sizes,
+        points, motion, exponent, options, io, tr, rot, scratch, sizes,
     )?;
-    check::finite_items("direction", direction)?;
     boundary_tangent(points, motion, origin, direction, scratch)?;
-    let (translations, rotations) = (&*fields.0, &*fields.1);
-    let (bnd, cl) = take(scratch, deform_idw_sensitivity_scratch_len::<D>(n, b));
-    let (qs, rest) = take(bnd, 4 * b);
-    let (dq, rest) = take(rest, 4 * b);
-    let (dt, _) = take(rest, 3 * b);
+    let (translations, rotations) = (&*tr, &*rot);
+    let (qs, dq, dt, _, cl) = split::<T, D>(scratch, n, b);
     let grown = grow(points, motion.nodes, translations, rotations, index, tree);
     perturbation_moments(grown, points, motion.nodes, qs, dq, dt, cl);
     let t = Tree::new(
@@ -478,20 +501,14 @@ pub fn deform_idw_fast_adjoint<T: Real, const D: usize>(
     out: &mut [[T; D]],
 ) -> Result<()> {
     let (n, b) = (points.len(), motion.nodes.len());
-    check::len("weights", weights.len(), n)?;
-    check::len("out", out.len(), b)?;
-    let sizes = (index.len(), tree.len());
-    let fields = (translations, rotations);
+    let (sizes, io) = ((index.len(), tree.len()), (weights, "weights", out.len()));
+    let (tr, rot) = (translations, rotations);
     let origin = validate(
-        points, motion, exponent, options, fields.0, fields.1, scratch, sizes,
+        points, motion, exponent, options, io, tr, rot, scratch, sizes,
     )?;
-    check::finite_items("weights", weights)?;
     boundary_adjoint_check(points, motion, scratch)?;
-    let (translations, rotations) = (&*fields.0, &*fields.1);
-    let (bnd, cl) = take(scratch, deform_idw_sensitivity_scratch_len::<D>(n, b));
-    let (qs, rest) = take(bnd, 4 * b);
-    let (dq, rest) = take(rest, 4 * b);
-    let (dt, work) = take(rest, 3 * b);
+    let (translations, rotations) = (&*tr, &*rot);
+    let (qs, dq, dt, work, cl) = split::<T, D>(scratch, n, b);
     zero(dq);
     zero(dt);
     zero(cl);
