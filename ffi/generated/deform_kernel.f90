@@ -944,16 +944,17 @@ module deform_kernel
             dk_deform_idw_tangent, dk_deform_idw_tangent_f32, dk_deform_idw_adjoint, &
             dk_deform_idw_adjoint_f32, dk_deform_spring_sensitivity_scratch_len, &
             dk_deform_spring_tangent, dk_deform_spring_tangent_f32, dk_deform_spring_adjoint, &
-            dk_deform_spring_adjoint_f32, dk_design_hicks_henne_bump, &
-            dk_design_hicks_henne_bump_f32, dk_design_hicks_henne, dk_design_hicks_henne_f32, &
-            dk_design_ffd_eval, dk_design_ffd_eval_f32, dk_design_ffd_displacements, &
-            dk_design_ffd_displacements_f32, dk_design_ffd_displacements_between, &
-            dk_design_ffd_displacements_between_f32, dk_design_ffd_variable, &
-            dk_design_ffd_variable_f32, dk_design_ffd_twist, dk_design_ffd_twist_f32, &
-            dk_design_hicks_henne_adjoint, dk_design_hicks_henne_adjoint_f32, &
-            dk_design_ffd_adjoint, dk_design_ffd_adjoint_f32, dk_design_ffd_twist_tangent, &
-            dk_design_ffd_twist_tangent_f32, dk_elasticity_graph_len, dk_elasticity_graph, &
-            dk_elasticity_scratch_len, dk_elasticity_options_default, &
+            dk_deform_spring_adjoint_f32, dk_deform_tfi_sensitivity_scratch_len, &
+            dk_deform_tfi_tangent, dk_deform_tfi_tangent_f32, dk_deform_tfi_adjoint, &
+            dk_deform_tfi_adjoint_f32, dk_design_hicks_henne_bump, dk_design_hicks_henne_bump_f32, &
+            dk_design_hicks_henne, dk_design_hicks_henne_f32, dk_design_ffd_eval, &
+            dk_design_ffd_eval_f32, dk_design_ffd_displacements, dk_design_ffd_displacements_f32, &
+            dk_design_ffd_displacements_between, dk_design_ffd_displacements_between_f32, &
+            dk_design_ffd_variable, dk_design_ffd_variable_f32, dk_design_ffd_twist, &
+            dk_design_ffd_twist_f32, dk_design_hicks_henne_adjoint, &
+            dk_design_hicks_henne_adjoint_f32, dk_design_ffd_adjoint, dk_design_ffd_adjoint_f32, &
+            dk_design_ffd_twist_tangent, dk_design_ffd_twist_tangent_f32, dk_elasticity_graph_len, &
+            dk_elasticity_graph, dk_elasticity_scratch_len, dk_elasticity_options_default, &
             dk_elasticity_options_default_f32, dk_elasticity_deform, dk_elasticity_deform_f32, &
             dk_graph_from_edges_len, dk_graph_from_edges, dk_cells_check, dk_graph_from_cells_len, &
             dk_graph_from_cells, dk_graph_check, dk_order_rcm, dk_order_hilbert, &
@@ -1858,6 +1859,105 @@ module deform_kernel
       real(c_float), intent(inout) :: out(*)
       integer(c_size_t), value :: out_len
       type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_tfi_sensitivity_scratch_len(ni, nj, nk, boundary_len, dim, len_out) bind(C, &
+        name="dk_deform_tfi_sensitivity_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_tfi_tangent(ni, nj, nk, directions, points, points_len, dim, motion, &
+        direction, direction_len, scratch, scratch_len, index_scratch, index_scratch_len, out, &
+        out_len) bind(C, name="dk_deform_tfi_tangent") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_boundary_motion
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_int32_t), value :: directions
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion), intent(in) :: motion
+      real(c_double), intent(in) :: direction(*)
+      integer(c_size_t), value :: direction_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_tfi_tangent_f32(ni, nj, nk, directions, points, points_len, dim, motion, &
+        direction, direction_len, scratch, scratch_len, index_scratch, index_scratch_len, out, &
+        out_len) bind(C, name="dk_deform_tfi_tangent_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_boundary_motion_f32
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_int32_t), value :: directions
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      real(c_float), intent(in) :: direction(*)
+      integer(c_size_t), value :: direction_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_tfi_adjoint(ni, nj, nk, directions, points, points_len, dim, motion, &
+        weights, weights_len, scratch, scratch_len, index_scratch, index_scratch_len, out, &
+        out_len) bind(C, name="dk_deform_tfi_adjoint") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_boundary_motion
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_int32_t), value :: directions
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion), intent(in) :: motion
+      real(c_double), intent(in) :: weights(*)
+      integer(c_size_t), value :: weights_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_tfi_adjoint_f32(ni, nj, nk, directions, points, points_len, dim, motion, &
+        weights, weights_len, scratch, scratch_len, index_scratch, index_scratch_len, out, &
+        out_len) bind(C, name="dk_deform_tfi_adjoint_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_boundary_motion_f32
+      integer(c_size_t), value :: ni
+      integer(c_size_t), value :: nj
+      integer(c_size_t), value :: nk
+      integer(c_int32_t), value :: directions
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      real(c_float), intent(in) :: weights(*)
+      integer(c_size_t), value :: weights_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
       integer(c_int32_t) :: s
     end function
     function dk_design_hicks_henne_bump(x, x_max, out) bind(C, name="dk_design_hicks_henne_bump") &

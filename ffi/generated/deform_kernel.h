@@ -2232,6 +2232,146 @@ dk_status dk_deform_spring_adjoint_f32(const float *points,
                                        size_t out_len,
                                        dk_spring_solve_report *report);
 
+// Number of scalars the `scratch` of [`dk_deform_tfi_tangent`] and [`dk_deform_tfi_adjoint`]
+// needs for a `ni × nj × nk` block with `boundary_len` boundary nodes in dimension `dim`:
+// `max(N, 32 boundary_len) + (dim + 11) N`, `N = ni nj nk` (the kernel's
+// `deform_tfi_sensitivity_scratch_len`). The same for both precisions. Errors:
+// `DK_ERR_BAD_DIMENSIONS` (a zero dimension, too many points), `DK_ERR_INVALID_PARAMETER`
+// (`dim` not 2 or 3).
+//
+// # Safety
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_deform_tfi_sensitivity_scratch_len(size_t ni,
+                                                size_t nj,
+                                                size_t nk,
+                                                size_t boundary_len,
+                                                uint32_t dim,
+                                                size_t *len_out);
+
+// Tangent of [`dk_deform_tfi`](crate::deformation::dk_deform_tfi): the first-order change
+// `out = δR` of every block point (`N * dim` scalars) for the change `direction = δd` of the
+// deformed boundary positions (`B * dim` scalars, in `motion->nodes` order), the undeformed
+// `points` held; listed nodes get `δd` exactly. Held constant: the blending weights (the
+// undeformed arclengths), the origin (given, or the centroid of the undeformed moving
+// points), rigid and per-node rotations, the hemisphere signs.
+//
+// - `ni`, `nj`, `nk`, `directions`, `points`, `dim`, `motion`, `index_scratch`: as for
+//   `dk_deform_tfi`.
+// - `scratch`: [`dk_deform_tfi_sensitivity_scratch_len`] scalars.
+//
+// Errors: those of `dk_deform_tfi`; `DK_ERR_NON_FINITE` for a non-finite `direction`;
+// `DK_ERR_ZERO_LENGTH` where (3D shape rotations) a point's undeformed and deformed normals
+// are antiparallel, or a blended rotation cancels. On error `out` is unchanged.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `motion`: one readable `dk_boundary_motion`.
+// - `direction`: readable for `direction_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_deform_tfi_tangent(size_t ni,
+                                size_t nj,
+                                size_t nk,
+                                uint32_t directions,
+                                const double *points,
+                                size_t points_len,
+                                uint32_t dim,
+                                const dk_boundary_motion *motion,
+                                const double *direction,
+                                size_t direction_len,
+                                double *scratch,
+                                size_t scratch_len,
+                                uint32_t *index_scratch,
+                                size_t index_scratch_len,
+                                double *out,
+                                size_t out_len);
+
+// `f32` twin of [`dk_deform_tfi_tangent`].
+//
+// # Safety
+// As [`dk_deform_tfi_tangent`].
+dk_status dk_deform_tfi_tangent_f32(size_t ni,
+                                    size_t nj,
+                                    size_t nk,
+                                    uint32_t directions,
+                                    const float *points,
+                                    size_t points_len,
+                                    uint32_t dim,
+                                    const dk_boundary_motion_f32 *motion,
+                                    const float *direction,
+                                    size_t direction_len,
+                                    float *scratch,
+                                    size_t scratch_len,
+                                    uint32_t *index_scratch,
+                                    size_t index_scratch_len,
+                                    float *out,
+                                    size_t out_len);
+
+// Adjoint of [`dk_deform_tfi`](crate::deformation::dk_deform_tfi), the transpose of
+// [`dk_deform_tfi_tangent`]: `out = (∂R/∂d)ᵀ w` (`B * dim` scalars, in `motion->nodes`
+// order) for `weights = w = dJ/dR` (`N * dim` scalars).
+//
+// Arguments and errors as for [`dk_deform_tfi_tangent`], with `weights` (finite) in place of
+// `direction`. On error `out` is unchanged.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `motion`: one readable `dk_boundary_motion`.
+// - `weights`: readable for `weights_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_deform_tfi_adjoint(size_t ni,
+                                size_t nj,
+                                size_t nk,
+                                uint32_t directions,
+                                const double *points,
+                                size_t points_len,
+                                uint32_t dim,
+                                const dk_boundary_motion *motion,
+                                const double *weights,
+                                size_t weights_len,
+                                double *scratch,
+                                size_t scratch_len,
+                                uint32_t *index_scratch,
+                                size_t index_scratch_len,
+                                double *out,
+                                size_t out_len);
+
+// `f32` twin of [`dk_deform_tfi_adjoint`].
+//
+// # Safety
+// As [`dk_deform_tfi_adjoint`].
+dk_status dk_deform_tfi_adjoint_f32(size_t ni,
+                                    size_t nj,
+                                    size_t nk,
+                                    uint32_t directions,
+                                    const float *points,
+                                    size_t points_len,
+                                    uint32_t dim,
+                                    const dk_boundary_motion_f32 *motion,
+                                    const float *weights,
+                                    size_t weights_len,
+                                    float *scratch,
+                                    size_t scratch_len,
+                                    uint32_t *index_scratch,
+                                    size_t index_scratch_len,
+                                    float *out,
+                                    size_t out_len);
+
 // SU2's Hicks–Henne bump `sin(π max(0,x)^e)^3`, `e = log10(0.5)/log10(x_max)` (0 where
 // `max(0,x) ≤ 1e-15`) into `*out`. Never fails except for a NULL `out`.
 //

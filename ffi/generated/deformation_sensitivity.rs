@@ -7,7 +7,9 @@
 //! motion travels in the same [`dk_boundary_motion`](crate::deformation::dk_boundary_motion)
 //! as for the deformation, with the same index rules; see docs/sensitivities-quaternion.md
 //! for the derivation. The same two for the spring propagation (`dk_deform_spring`):
-//! `dk_deform_spring_tangent`, `dk_deform_spring_adjoint` (docs/sensitivities.md).
+//! `dk_deform_spring_tangent`, `dk_deform_spring_adjoint` (docs/sensitivities.md), and for the
+//! transfinite interpolation of a structured block (`dk_deform_tfi`): `dk_deform_tfi_tangent`,
+//! `dk_deform_tfi_adjoint`.
 #![allow(unsafe_code)] // the ABI boundary: raw pointers become `In`/`Out` tokens here
 
 // Its docs link C names: the safe functions there (private), the aliases here.
@@ -19,6 +21,7 @@ mod imp;
 #[allow(unused_imports)]
 pub use imp::*;
 
+use crate::args::{done, Dim};
 use crate::deformation::DkBoundaryMotion;
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
@@ -540,4 +543,350 @@ pub unsafe extern "C" fn dk_deform_spring_adjoint_f32(
         out,
         report,
     )
+}
+
+/// Number of scalars the `scratch` of [`dk_deform_tfi_tangent`] and [`dk_deform_tfi_adjoint`]
+/// needs for a `ni × nj × nk` block with `boundary_len` boundary nodes in dimension `dim`:
+/// `max(N, 32 boundary_len) + (dim + 11) N`, `N = ni nj nk` (the kernel's
+/// `deform_tfi_sensitivity_scratch_len`). The same for both precisions. Errors:
+/// `DK_ERR_BAD_DIMENSIONS` (a zero dimension, too many points), `DK_ERR_INVALID_PARAMETER`
+/// (`dim` not 2 or 3).
+///
+/// # Safety
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_deform_tfi_sensitivity_scratch_len(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    boundary_len: usize,
+    dim: u32,
+    len_out: *mut usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let len_out = unsafe { Out::new(len_out, 1) };
+    match dim {
+        2 => done(imp::dk_deform_tfi_sensitivity_scratch_len::<2>(
+            ni,
+            nj,
+            nk,
+            boundary_len,
+            Dim,
+            len_out,
+        )),
+        3 => done(imp::dk_deform_tfi_sensitivity_scratch_len::<3>(
+            ni,
+            nj,
+            nk,
+            boundary_len,
+            Dim,
+            len_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
+}
+
+/// Tangent of [`dk_deform_tfi`](crate::deformation::dk_deform_tfi): the first-order change
+/// `out = δR` of every block point (`N * dim` scalars) for the change `direction = δd` of the
+/// deformed boundary positions (`B * dim` scalars, in `motion->nodes` order), the undeformed
+/// `points` held; listed nodes get `δd` exactly. Held constant: the blending weights (the
+/// undeformed arclengths), the origin (given, or the centroid of the undeformed moving
+/// points), rigid and per-node rotations, the hemisphere signs.
+///
+/// - `ni`, `nj`, `nk`, `directions`, `points`, `dim`, `motion`, `index_scratch`: as for
+///   `dk_deform_tfi`.
+/// - `scratch`: [`dk_deform_tfi_sensitivity_scratch_len`] scalars.
+///
+/// Errors: those of `dk_deform_tfi`; `DK_ERR_NON_FINITE` for a non-finite `direction`;
+/// `DK_ERR_ZERO_LENGTH` where (3D shape rotations) a point's undeformed and deformed normals
+/// are antiparallel, or a blended rotation cancels. On error `out` is unchanged.
+///
+/// # Safety
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `motion`: one readable `dk_boundary_motion`.
+/// - `direction`: readable for `direction_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_deform_tfi_tangent(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    directions: u32,
+    points: *const f64,
+    points_len: usize,
+    dim: u32,
+    motion: *const DkBoundaryMotion<f64>,
+    direction: *const f64,
+    direction_len: usize,
+    scratch: *mut f64,
+    scratch_len: usize,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    out: *mut f64,
+    out_len: usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, motion, direction, scratch, index_scratch, out) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(motion, 1),
+            In::new(direction, direction_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(out, out_len),
+        )
+    };
+    match dim {
+        2 => done(imp::dk_deform_tfi_tangent::<f64, 2>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            motion,
+            direction,
+            scratch,
+            index_scratch,
+            out,
+        )),
+        3 => done(imp::dk_deform_tfi_tangent::<f64, 3>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            motion,
+            direction,
+            scratch,
+            index_scratch,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
+}
+
+/// `f32` twin of [`dk_deform_tfi_tangent`].
+///
+/// # Safety
+/// As [`dk_deform_tfi_tangent`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_deform_tfi_tangent_f32(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    directions: u32,
+    points: *const f32,
+    points_len: usize,
+    dim: u32,
+    motion: *const DkBoundaryMotion<f32>,
+    direction: *const f32,
+    direction_len: usize,
+    scratch: *mut f32,
+    scratch_len: usize,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    out: *mut f32,
+    out_len: usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, motion, direction, scratch, index_scratch, out) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(motion, 1),
+            In::new(direction, direction_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(out, out_len),
+        )
+    };
+    match dim {
+        2 => done(imp::dk_deform_tfi_tangent::<f32, 2>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            motion,
+            direction,
+            scratch,
+            index_scratch,
+            out,
+        )),
+        3 => done(imp::dk_deform_tfi_tangent::<f32, 3>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            motion,
+            direction,
+            scratch,
+            index_scratch,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
+}
+
+/// Adjoint of [`dk_deform_tfi`](crate::deformation::dk_deform_tfi), the transpose of
+/// [`dk_deform_tfi_tangent`]: `out = (∂R/∂d)ᵀ w` (`B * dim` scalars, in `motion->nodes`
+/// order) for `weights = w = dJ/dR` (`N * dim` scalars).
+///
+/// Arguments and errors as for [`dk_deform_tfi_tangent`], with `weights` (finite) in place of
+/// `direction`. On error `out` is unchanged.
+///
+/// # Safety
+/// - `points`: readable for `points_len` elements (`double`).
+/// - `motion`: one readable `dk_boundary_motion`.
+/// - `weights`: readable for `weights_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_deform_tfi_adjoint(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    directions: u32,
+    points: *const f64,
+    points_len: usize,
+    dim: u32,
+    motion: *const DkBoundaryMotion<f64>,
+    weights: *const f64,
+    weights_len: usize,
+    scratch: *mut f64,
+    scratch_len: usize,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    out: *mut f64,
+    out_len: usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, motion, weights, scratch, index_scratch, out) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(motion, 1),
+            In::new(weights, weights_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(out, out_len),
+        )
+    };
+    match dim {
+        2 => done(imp::dk_deform_tfi_adjoint::<f64, 2>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            motion,
+            weights,
+            scratch,
+            index_scratch,
+            out,
+        )),
+        3 => done(imp::dk_deform_tfi_adjoint::<f64, 3>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            motion,
+            weights,
+            scratch,
+            index_scratch,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
+}
+
+/// `f32` twin of [`dk_deform_tfi_adjoint`].
+///
+/// # Safety
+/// As [`dk_deform_tfi_adjoint`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_deform_tfi_adjoint_f32(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    directions: u32,
+    points: *const f32,
+    points_len: usize,
+    dim: u32,
+    motion: *const DkBoundaryMotion<f32>,
+    weights: *const f32,
+    weights_len: usize,
+    scratch: *mut f32,
+    scratch_len: usize,
+    index_scratch: *mut u32,
+    index_scratch_len: usize,
+    out: *mut f32,
+    out_len: usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (points, motion, weights, scratch, index_scratch, out) = unsafe {
+        (
+            In::new(points, points_len),
+            In::new(motion, 1),
+            In::new(weights, weights_len),
+            Out::new(scratch, scratch_len),
+            Out::new(index_scratch, index_scratch_len),
+            Out::new(out, out_len),
+        )
+    };
+    match dim {
+        2 => done(imp::dk_deform_tfi_adjoint::<f32, 2>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            motion,
+            weights,
+            scratch,
+            index_scratch,
+            out,
+        )),
+        3 => done(imp::dk_deform_tfi_adjoint::<f32, 3>(
+            ni,
+            nj,
+            nk,
+            directions,
+            points,
+            Dim,
+            motion,
+            weights,
+            scratch,
+            index_scratch,
+            out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
 }

@@ -273,7 +273,7 @@ impl<'a, T: Real> RawMotion<'a, T> {
 }
 
 /// Validated TFI setup: the block and the active directions.
-fn tfi_setup(
+pub(crate) fn tfi_setup(
     ni: usize,
     nj: usize,
     nk: usize,

@@ -5,18 +5,21 @@
 //! motion travels in the same [`dk_boundary_motion`](crate::deformation::dk_boundary_motion)
 //! as for the deformation, with the same index rules; see docs/sensitivities-quaternion.md
 //! for the derivation. The same two for the spring propagation (`dk_deform_spring`):
-//! `dk_deform_spring_tangent`, `dk_deform_spring_adjoint` (docs/sensitivities.md).
+//! `dk_deform_spring_tangent`, `dk_deform_spring_adjoint` (docs/sensitivities.md), and for the
+//! transfinite interpolation of a structured block (`dk_deform_tfi`): `dk_deform_tfi_tangent`,
+//! `dk_deform_tfi_adjoint`.
 
 use deform_kernel::quaternion::{
     deform_idw_adjoint, deform_idw_sensitivity_scratch_len, deform_idw_tangent,
     deform_spring_adjoint, deform_spring_sensitivity_scratch_len, deform_spring_tangent,
+    deform_tfi_adjoint, deform_tfi_sensitivity_scratch_len, deform_tfi_tangent,
 };
 use deform_kernel::spring::LinearSolver;
 use deform_kernel::Real;
 use deform_kernel_ffi_export::export;
 
-use crate::args::{by_dim, done, read_one, read_points, write_len};
-use crate::deformation::{read_raw, DkBoundaryMotion, MotionC};
+use crate::args::{block, by_dim, done, read_one, read_points, write_len, Dim};
+use crate::deformation::{read_raw, tfi_setup, DkBoundaryMotion, MotionC};
 use crate::slice::{chunks, chunks_mut, out_one, output, In, Out};
 use crate::spring::{dk_spring_solve_options, dk_spring_solve_report, DkSpringSystem, SystemC};
 use crate::status::dk_status;
@@ -301,4 +304,130 @@ pub(crate) fn dk_deform_spring_adjoint<T: Real>(
             report
         )
     ))
+}
+
+/// Number of scalars the `scratch` of [`dk_deform_tfi_tangent`] and [`dk_deform_tfi_adjoint`]
+/// needs for a `ni × nj × nk` block with `boundary_len` boundary nodes in dimension `dim`:
+/// `max(N, 32 boundary_len) + (dim + 11) N`, `N = ni nj nk` (the kernel's
+/// `deform_tfi_sensitivity_scratch_len`). The same for both precisions. Errors:
+/// `DK_ERR_BAD_DIMENSIONS` (a zero dimension, too many points), `DK_ERR_INVALID_PARAMETER`
+/// (`dim` not 2 or 3).
+#[export(len_out[1])]
+pub(crate) fn dk_deform_tfi_sensitivity_scratch_len<const D: usize>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    boundary_len: usize,
+    _dim: Dim<D>,
+    len_out: Out<'_, usize>,
+) -> Result<(), dk_status> {
+    let b = block(ni, nj, nk)?;
+    write_len(
+        len_out,
+        deform_tfi_sensitivity_scratch_len::<D>(&b, boundary_len),
+    )
+}
+
+/// Reads the arguments of [`dk_deform_tfi_tangent`] / [`dk_deform_tfi_adjoint`] and runs one
+/// mode.
+#[allow(clippy::too_many_arguments)]
+fn tfi_sensitivity<T: Real, const D: usize>(
+    mode: Mode,
+    dims: [usize; 3],
+    directions: u32,
+    points: In<'_, T>,
+    motion: In<'_, DkBoundaryMotion<T>>,
+    input: In<'_, T>,
+    bufs: (Out<'_, T>, Out<'_, u32>, Out<'_, T>),
+) -> Result<(), dk_status> {
+    let (scratch, index_scratch, out) = bufs;
+    let (block, directions) = tfi_setup(dims[0], dims[1], dims[2], directions)?;
+    let raw = read_raw(motion)?;
+    let points = read_points::<T, D>(points)?;
+    let input = chunks::<T, D>(input)?;
+    let scratch = output(scratch)?;
+    let out = chunks_mut::<T, D>(out)?;
+    let (motion, _) = raw.view::<D>(output(index_scratch)?)?;
+    let (b, m) = (&block, &motion);
+    match mode {
+        Mode::Tangent => deform_tfi_tangent(b, directions, points, m, input, scratch, out),
+        Mode::Adjoint => deform_tfi_adjoint(b, directions, points, m, input, scratch, out),
+    }
+    .map_err(dk_status::from)
+}
+
+/// Tangent of [`dk_deform_tfi`](crate::deformation::dk_deform_tfi): the first-order change
+/// `out = δR` of every block point (`N * dim` scalars) for the change `direction = δd` of the
+/// deformed boundary positions (`B * dim` scalars, in `motion->nodes` order), the undeformed
+/// `points` held; listed nodes get `δd` exactly. Held constant: the blending weights (the
+/// undeformed arclengths), the origin (given, or the centroid of the undeformed moving
+/// points), rigid and per-node rotations, the hemisphere signs.
+///
+/// - `ni`, `nj`, `nk`, `directions`, `points`, `dim`, `motion`, `index_scratch`: as for
+///   `dk_deform_tfi`.
+/// - `scratch`: [`dk_deform_tfi_sensitivity_scratch_len`] scalars.
+///
+/// Errors: those of `dk_deform_tfi`; `DK_ERR_NON_FINITE` for a non-finite `direction`;
+/// `DK_ERR_ZERO_LENGTH` where (3D shape rotations) a point's undeformed and deformed normals
+/// are antiparallel, or a blended rotation cancels. On error `out` is unchanged.
+#[export(twin, motion[1])]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn dk_deform_tfi_tangent<T: Real, const D: usize>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    directions: u32,
+    points: In<'_, T>,
+    _dim: Dim<D>,
+    motion: In<'_, DkBoundaryMotion<T>>,
+    direction: In<'_, T>,
+    scratch: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    out: Out<'_, T>,
+) -> Result<(), dk_status> {
+    let bufs = (scratch, index_scratch, out);
+    let dims = [ni, nj, nk];
+    tfi_sensitivity::<T, D>(
+        Mode::Tangent,
+        dims,
+        directions,
+        points,
+        motion,
+        direction,
+        bufs,
+    )
+}
+
+/// Adjoint of [`dk_deform_tfi`](crate::deformation::dk_deform_tfi), the transpose of
+/// [`dk_deform_tfi_tangent`]: `out = (∂R/∂d)ᵀ w` (`B * dim` scalars, in `motion->nodes`
+/// order) for `weights = w = dJ/dR` (`N * dim` scalars).
+///
+/// Arguments and errors as for [`dk_deform_tfi_tangent`], with `weights` (finite) in place of
+/// `direction`. On error `out` is unchanged.
+#[export(twin, motion[1])]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn dk_deform_tfi_adjoint<T: Real, const D: usize>(
+    ni: usize,
+    nj: usize,
+    nk: usize,
+    directions: u32,
+    points: In<'_, T>,
+    _dim: Dim<D>,
+    motion: In<'_, DkBoundaryMotion<T>>,
+    weights: In<'_, T>,
+    scratch: Out<'_, T>,
+    index_scratch: Out<'_, u32>,
+    out: Out<'_, T>,
+) -> Result<(), dk_status> {
+    let bufs = (scratch, index_scratch, out);
+    let dims = [ni, nj, nk];
+    tfi_sensitivity::<T, D>(
+        Mode::Adjoint,
+        dims,
+        directions,
+        points,
+        motion,
+        weights,
+        bufs,
+    )
 }

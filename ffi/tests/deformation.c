@@ -371,6 +371,49 @@ static void SFX(idw_sensitivities)(const REAL *p, const REAL *out,
     UNTOUCHED(tan, 2 * N2);
 }
 
+/* Tangent and adjoint of the TFI deformation of the motion m (dk_deform_tfi_tangent,
+ * dk_deform_tfi_adjoint): the dot-product test <J v, w> = <v, J^T w> for smooth v, w, the
+ * scratch length, and bad input that writes nothing. */
+static void SFX(tfi_sensitivities)(const REAL *p, const SFX(dk_boundary_motion) * m) {
+    static REAL scratch[WORK], dir[2 * B2], tan[2 * N2], w[2 * N2], back[2 * B2];
+    static uint32_t idx[WORK];
+    const uint32_t ij = DK_DIRECTION_I | DK_DIRECTION_J;
+    size_t i, len;
+    double jv_w = 0, v_jtw = 0, scale = 0;
+    OK(dk_deform_tfi_sensitivity_scratch_len(NX, NY, 1, B2, 2, &len));
+    TRUE_(len == 32 * B2 + 13 * N2, "tfi sensitivity scratch len = max(N, 32 B) + 13 N");
+    for (i = 0; i < 2 * B2; i++) dir[i] = (REAL)sin(0.3 + 1.1 * (double)i);
+    for (i = 0; i < 2 * N2; i++) w[i] = (REAL)cos(0.2 + 0.9 * (double)i);
+    OK(SFX(dk_deform_tfi_tangent)(NX, NY, 1, ij, p, 2 * N2, 2, m, dir, 2 * B2, scratch, len,
+                                  idx, WORK, tan, 2 * N2));
+    OK(SFX(dk_deform_tfi_adjoint)(NX, NY, 1, ij, p, 2 * N2, 2, m, w, 2 * N2, scratch, len, idx,
+                                  WORK, back, 2 * B2));
+    for (i = 0; i < 2 * N2; i++) {
+        jv_w += (double)tan[i] * (double)w[i];
+        scale += fabs((double)tan[i] * (double)w[i]);
+    }
+    for (i = 0; i < 2 * B2; i++) v_jtw += (double)dir[i] * (double)back[i];
+    TRUE_(scale > 1, "tfi tangent is not zero");
+    NEAR(jv_w / scale, v_jtw / scale, "tfi adjoint: <J v, w> = <v, J^T w>");
+    /* Bad input: nothing written. */
+    FILL(back, 2 * B2);
+    EXPECT(SFX(dk_deform_tfi_adjoint)(NX, NY, 1, ij, p, 2 * N2, 2, m, w, 2 * N2 - 1, scratch,
+                                      len, idx, WORK, back, 2 * B2),
+           DK_ERR_LENGTH_MISMATCH);
+    EXPECT(SFX(dk_deform_tfi_adjoint)(NX, NY, 1, ij, p, 2 * N2, 2, m, w, 2 * N2, scratch,
+                                      len - 1, idx, WORK, back, 2 * B2),
+           DK_ERR_BUFFER_TOO_SMALL);
+    UNTOUCHED(back, 2 * B2);
+    FILL(tan, 2 * N2);
+    EXPECT(SFX(dk_deform_tfi_tangent)(NX, NY, 1, 8, p, 2 * N2, 2, m, dir, 2 * B2, scratch, len,
+                                      idx, WORK, tan, 2 * N2),
+           DK_ERR_INVALID_PARAMETER);
+    EXPECT(SFX(dk_deform_tfi_tangent)(NX, 0, 1, ij, p, 2 * N2, 2, m, dir, 2 * B2, scratch, len,
+                                      idx, WORK, tan, 2 * N2),
+           DK_ERR_BAD_DIMENSIONS);
+    UNTOUCHED(tan, 2 * N2);
+}
+
 static void SFX(pipelines_rigid)(void) {
     static REAL p[2 * N2], out[2 * N2], t[2 * N2], r[4 * N2], scratch[WORK], values[WORK];
     static REAL def[2 * B2], nodeq[4 * B2], p3[3 * N3], out3[3 * N3], t3[3 * N3], r3[4 * N3];
@@ -442,6 +485,7 @@ static void SFX(pipelines_rigid)(void) {
                           len, idx, WORK, t, 2 * N2, r, 4 * N2, out, 2 * N2, origin, 2));
     SFX(check_rigid)(p, out, N2, 2, perimeter, def, B2, "tfi, per-node rotations");
     TRUE_(origin[0] == m.origin[0] && origin[1] == m.origin[1], "tfi origin_out = given origin");
+    SFX(tfi_sensitivities)(p, &m);
 
     /* Linear springs, one rigid rotation (quaternion not normalised: scaled by 2). */
     m.rotation_source = DK_ROTATIONS_RIGID;

@@ -259,6 +259,20 @@ pub const CASES: &[Case] = &[
         expected_f32: 0xf373_07bb_5508_82d6,
     },
     Case {
+        name: "quaternion_tfi_tangent",
+        run_f64: sensitivity_cases::quaternion_tfi_tangent::<f64>,
+        run_f32: sensitivity_cases::quaternion_tfi_tangent::<f32>,
+        expected_f64: 0x412d_c609_6218_c8da,
+        expected_f32: 0x9db5_1531_60ac_99b2,
+    },
+    Case {
+        name: "quaternion_tfi_adjoint",
+        run_f64: sensitivity_cases::quaternion_tfi_adjoint::<f64>,
+        run_f32: sensitivity_cases::quaternion_tfi_adjoint::<f32>,
+        expected_f64: 0x5eb6_b77c_5482_d2d1,
+        expected_f32: 0xb788_8270_d9d6_d0a9,
+    },
+    Case {
         name: "angle_spring_adjoint",
         run_f64: angle_rbf_sensitivity_cases::angle_spring_adjoint::<f64>,
         run_f32: angle_rbf_sensitivity_cases::angle_spring_adjoint::<f32>,

@@ -2,14 +2,16 @@
 //! (`deform_spring_tangent`, `deform_spring_adjoint`) on the jittered triangle mesh of
 //! [`mesh_cases`](crate::mesh_cases): the bottom row turned by 20°, rotations from the shape
 //! of the perimeter loop, CG with the Jacobi preconditioner. The hashes cover every output
-//! value and the merged solve report.
+//! value and the merged solve report. The same motion through transfinite interpolation of the
+//! grid as a structured block (`deform_tfi_tangent`, `deform_tfi_adjoint`, both directions).
 
 use deform_kernel::quaternion::{
     deform_spring_adjoint, deform_spring_sensitivity_scratch_len, deform_spring_tangent,
-    BoundaryMotion, RotationSource,
+    deform_tfi_adjoint, deform_tfi_sensitivity_scratch_len, deform_tfi_tangent, BoundaryMotion,
+    RotationSource,
 };
 use deform_kernel::spring::{LinearMethod, LinearSolver, Preconditioner, SolveOptions};
-use deform_kernel::{Cells, Real};
+use deform_kernel::{Block, Cells, Direction, Directions, Real};
 
 use crate::mesh_cases::{
     boundary_displacement, hash_points, hash_report, mesh, with_system, Mesh, N, NB, NX, NY,
@@ -151,6 +153,53 @@ pub fn quaternion_spring_adjoint<T: Real>() -> u64 {
         ) {
             Ok(r) => hash_report(h, &r),
             Err(e) => h.error(&e),
+        }
+        hash_points(h, &out);
+    })
+}
+
+/// The grid as a TFI block over both directions and the scratch length it needs (within
+/// [`SCRATCH`]); `None` when the block is refused.
+fn tfi_block() -> Option<(Block, Directions, usize)> {
+    let block = Block::new([NX, NY, 1]).ok()?;
+    let dirs = Directions::only(Direction::I).with(Direction::J);
+    let len = deform_tfi_sensitivity_scratch_len::<2>(&block, NB).min(SCRATCH);
+    Some((block, dirs, len))
+}
+
+/// Tangent of the quaternion TFI along a random boundary perturbation.
+pub fn quaternion_tfi_tangent<T: Real>() -> u64 {
+    with_point::<T>(|m, run, h| {
+        let mut rng = XorShift::new(0x5EED_0032);
+        let dir: [[T; 2]; NB] =
+            core::array::from_fn(|_| [rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5)]);
+        let mut scratch = [T::ZERO; SCRATCH];
+        let mut out = [[T::ZERO; 2]; N];
+        let Some((block, dirs, len)) = tfi_block() else {
+            return;
+        };
+        let s = scratch.get_mut(..len).unwrap_or(&mut []);
+        if let Err(e) = deform_tfi_tangent(&block, dirs, &m.points, run.motion, &dir, s, &mut out) {
+            h.error(&e);
+        }
+        hash_points(h, &out);
+    })
+}
+
+/// Adjoint of the quaternion TFI for a random volume sensitivity.
+pub fn quaternion_tfi_adjoint<T: Real>() -> u64 {
+    with_point::<T>(|m, run, h| {
+        let mut rng = XorShift::new(0x5EED_0033);
+        let w: [[T; 2]; N] =
+            core::array::from_fn(|_| [rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0)]);
+        let mut scratch = [T::ZERO; SCRATCH];
+        let mut out = [[T::ZERO; 2]; NB];
+        let Some((block, dirs, len)) = tfi_block() else {
+            return;
+        };
+        let s = scratch.get_mut(..len).unwrap_or(&mut []);
+        if let Err(e) = deform_tfi_adjoint(&block, dirs, &m.points, run.motion, &w, s, &mut out) {
+            h.error(&e);
         }
         hash_points(h, &out);
     })

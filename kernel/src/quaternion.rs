@@ -83,8 +83,10 @@ pub use rotations::{
     rigid_rotations,
 };
 pub use sensitivity::{
-    deform_idw_adjoint, deform_idw_sensitivity_scratch_len, deform_idw_tangent,
+    deform_idw_adjoint, deform_idw_fast_adjoint, deform_idw_fast_sensitivity_scratch_len,
+    deform_idw_fast_tangent, deform_idw_sensitivity_scratch_len, deform_idw_tangent,
     deform_spring_adjoint, deform_spring_sensitivity_scratch_len, deform_spring_tangent,
+    deform_tfi_adjoint, deform_tfi_sensitivity_scratch_len, deform_tfi_tangent,
 };
 pub use springs::{
     propagate_spring, propagate_spring_scratch_len, propagate_spring_with,

@@ -1,5 +1,8 @@
 //! Tangent and adjoint of the quaternion deformation with inverse-distance propagation
-//! (`deform_idw_tangent`, `deform_idw_adjoint`), checked against what they linearise:
+//! (`deform_idw_tangent`, `deform_idw_adjoint`), its fast tree-based variant
+//! (`deform_idw_fast_tangent`, `deform_idw_fast_adjoint`) and transfinite interpolation of
+//! structured blocks (`deform_tfi_tangent`, `deform_tfi_adjoint`), checked against what they
+//! linearise:
 //!
 //! - central finite differences of `deform_idw` itself, with a step study (the error falls as
 //!   `h²` until rounding; print with `-- --nocapture`);
@@ -12,13 +15,18 @@
 //!
 //! Meshes: a body (2D: a closed polygon; 3D: a cube surface of quadrilaterals) inside a fixed
 //! far field (2D: a square loop; 3D: an octahedron of triangles), field points scattered
-//! between them (inverse distance needs no cells).
+//! between them (inverse distance needs no cells); for TFI a curved structured block whose
+//! whole boundary (its faces) moves.
 
 use deform_kernel::quaternion::{
-    deform_idw, deform_idw_adjoint, deform_idw_scratch_len, deform_idw_sensitivity_scratch_len,
-    deform_idw_tangent, BoundaryMotion, RotationSource,
+    deform_idw, deform_idw_adjoint, deform_idw_fast, deform_idw_fast_adjoint,
+    deform_idw_fast_sensitivity_scratch_len, deform_idw_fast_tangent, deform_idw_scratch_len,
+    deform_idw_sensitivity_scratch_len, deform_idw_tangent, deform_tfi, deform_tfi_adjoint,
+    deform_tfi_scratch_len, deform_tfi_sensitivity_scratch_len, deform_tfi_tangent,
+    propagate_idw_fast_index_len, propagate_idw_fast_scratch_len, BoundaryMotion, IdwFastOptions,
+    RotationSource,
 };
-use deform_kernel::{Cells, Error, Quat, Real};
+use deform_kernel::{Block, Cells, Directions, Error, Quat, Real};
 use std::collections::BTreeMap;
 
 /// A deterministic pseudo-random value in `[-1, 1)` (splitmix64).
@@ -31,8 +39,20 @@ fn rnd(seed: &mut u64) -> f64 {
     (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
 }
 
-/// A test case: mesh points (boundary points first), boundary elements, which boundary points
-/// belong to the body.
+/// The deformation under test.
+#[derive(Clone, Copy, Debug)]
+enum Method {
+    /// `deform_idw`.
+    Idw,
+    /// `deform_idw_fast` with this opening parameter `θ` (tolerance 0.1).
+    Fast(f64),
+    /// `deform_tfi` on this block and these directions.
+    Tfi(Block, Directions),
+}
+
+/// A test case: mesh points, boundary nodes (the first `body` of them move), boundary elements
+/// (indexing boundary positions), the method.
+#[derive(Clone)]
 struct Case<const D: usize> {
     points: Vec<[f64; D]>,
     boundary: Vec<u32>,
@@ -40,9 +60,18 @@ struct Case<const D: usize> {
     offsets: Vec<u32>,
     nodes: Vec<u32>,
     kinds: Vec<u8>,
+    method: Method,
 }
 
 impl<const D: usize> Case<D> {
+    /// The same case deformed by `method`.
+    fn with(&self, method: Method) -> Self {
+        Case {
+            method,
+            ..self.clone()
+        }
+    }
+
     fn elements(&self) -> Cells<'_> {
         Cells::new(self.boundary.len(), &self.offsets, &self.nodes, &self.kinds).unwrap()
     }
@@ -74,6 +103,7 @@ fn case2(m: usize, field: usize) -> Case<2> {
         offsets: vec![0],
         nodes: Vec::new(),
         kinds: Vec::new(),
+        method: Method::Idw,
     };
     for k in 0..m {
         let a = 2.0 * std::f64::consts::PI * k as f64 / m as f64;
@@ -109,6 +139,7 @@ fn case3(s: usize, field: usize) -> Case<3> {
         offsets: vec![0],
         nodes: Vec::new(),
         kinds: Vec::new(),
+        method: Method::Idw,
     };
     let mut ids: BTreeMap<[i64; 3], u32> = BTreeMap::new();
     let mut id = |c: &mut Case<3>, g: [i64; 3]| -> u32 {
@@ -171,6 +202,105 @@ fn case3(s: usize, field: usize) -> Case<3> {
     c
 }
 
+/// 2D TFI: a curved `ni × nj` block (an annular sector, radii graded), both directions
+/// active; its whole perimeter is the boundary (a closed loop of segments) and moves.
+fn block2(ni: usize, nj: usize) -> Case<2> {
+    let block = Block::new([ni, nj, 1]).unwrap();
+    let mut points = Vec::new();
+    for j in 0..nj {
+        for i in 0..ni {
+            let (u, v) = (i as f64 / (ni - 1) as f64, j as f64 / (nj - 1) as f64);
+            let (r, a) = (
+                1.0 + 2.0 * v.powf(1.3),
+                0.2 + 2.0 * u + 0.1 * (3.0 * v).sin(),
+            );
+            points.push([r * a.cos(), r * a.sin()]);
+        }
+    }
+    let mut ring: Vec<[usize; 2]> = (0..ni).map(|i| [i, 0]).collect();
+    ring.extend((1..nj).map(|j| [ni - 1, j]));
+    ring.extend((0..ni - 1).rev().map(|i| [i, nj - 1]));
+    ring.extend((1..nj - 1).rev().map(|j| [0, j]));
+    let mut c = Case {
+        points,
+        boundary: ring
+            .iter()
+            .map(|&[i, j]| block.index(i, j, 0) as u32)
+            .collect(),
+        body: ring.len(),
+        offsets: vec![0],
+        nodes: Vec::new(),
+        kinds: Vec::new(),
+        method: Method::Tfi(block, Directions::ALL.without(deform_kernel::Direction::K)),
+    };
+    let b = ring.len() as u32;
+    for k in 0..b {
+        c.push(3, &[k, (k + 1) % b]);
+    }
+    c
+}
+
+/// 3D TFI: a curved `n × n × n` block, all directions active; its whole surface is the
+/// boundary (outward quadrilaterals) and moves.
+fn block3(n: usize) -> Case<3> {
+    let block = Block::new([n, n, n]).unwrap();
+    let g = |i: usize| 2.0 * (i as f64 / (n - 1) as f64).powf(1.2) - 1.0;
+    let mut points = Vec::new();
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let (u, v, w) = (g(i), g(j), g(k));
+                points.push([
+                    u + 0.15 * (2.0 * v).sin(),
+                    v + 0.1 * w * w,
+                    w + 0.1 * u.sin(),
+                ]);
+            }
+        }
+    }
+    let on_surface = |c: [usize; 3]| c.iter().any(|&x| x == 0 || x == n - 1);
+    let boundary: Vec<u32> = (0..block.point_count())
+        .filter(|&p| on_surface(block.ijk(p)))
+        .map(|p| p as u32)
+        .collect();
+    let position: BTreeMap<u32, u32> = boundary
+        .iter()
+        .enumerate()
+        .map(|(k, &p)| (p, k as u32))
+        .collect();
+    let mut c = Case {
+        points,
+        body: boundary.len(),
+        boundary,
+        offsets: vec![0],
+        nodes: Vec::new(),
+        kinds: Vec::new(),
+        method: Method::Tfi(block, Directions::ALL),
+    };
+    for a in 0..3 {
+        let (b, cc) = ((a + 1) % 3, (a + 2) % 3);
+        for side in [0, n - 1] {
+            for i in 0..n - 1 {
+                for j in 0..n - 1 {
+                    let at = |di: usize, dj: usize| {
+                        let mut x = [0usize; 3];
+                        x[a] = side;
+                        x[b] = i + di;
+                        x[cc] = j + dj;
+                        position[&(block.index(x[0], x[1], x[2]) as u32)]
+                    };
+                    let mut q = [at(0, 0), at(1, 0), at(1, 1), at(0, 1)];
+                    if side == 0 {
+                        q.reverse();
+                    }
+                    c.push(9, &q);
+                }
+            }
+        }
+    }
+    c
+}
+
 /// The body's deformed shape: a rotation about `z` (2D) or a tilted axis (3D) by `angle`, a
 /// translation and a smooth non-rigid bulge; the far field stays.
 fn deformed<const D: usize>(c: &Case<D>, angle: f64) -> Vec<[f64; D]> {
@@ -181,7 +311,7 @@ fn deformed<const D: usize>(c: &Case<D>, angle: f64) -> Vec<[f64; D]> {
     };
     (0..c.boundary.len())
         .map(|k| {
-            let p = c.points[k];
+            let p = c.points[c.boundary[k] as usize];
             if k >= c.body {
                 return p;
             }
@@ -264,53 +394,123 @@ impl<T: Real, const D: usize> Setup<T, D> {
         let (n, b) = (self.points.len(), d.len());
         let mut tr = vec![[T::ZERO; D]; n];
         let mut rot = vec![Quat::identity(); n];
-        let mut scratch = vec![T::ZERO; deform_idw_scratch_len::<D>(n, b)];
         let mut out = vec![[T::ZERO; D]; n];
         let motion = self.motion(c, d);
-        deform_idw(
-            &self.points,
-            &motion,
-            T::from_f64(3.0),
-            &mut tr,
-            &mut rot,
-            &mut scratch,
-            &mut out,
-        )
+        let p = &self.points;
+        let e = T::from_f64(3.0);
+        match c.method {
+            Method::Idw => {
+                let mut scratch = vec![T::ZERO; deform_idw_scratch_len::<D>(n, b)];
+                deform_idw(p, &motion, e, &mut tr, &mut rot, &mut scratch, &mut out).map(|_| ())
+            }
+            Method::Fast(theta) => {
+                let mut scratch = vec![T::ZERO; deform_idw_scratch_len::<D>(n, b)];
+                let (mut index, mut tree) = fast_buffers::<T, D>(b);
+                deform_idw_fast(
+                    p,
+                    &motion,
+                    e,
+                    &fast_options(theta),
+                    &mut tr,
+                    &mut rot,
+                    &mut scratch,
+                    &mut index,
+                    &mut tree,
+                    &mut out,
+                )
+                .map(|_| ())
+            }
+            Method::Tfi(block, dirs) => {
+                let mut scratch = vec![T::ZERO; deform_tfi_scratch_len::<D>(&block, b)];
+                deform_tfi(
+                    &block,
+                    dirs,
+                    p,
+                    &motion,
+                    &mut tr,
+                    &mut rot,
+                    &mut scratch,
+                    &mut out,
+                )
+                .map(|_| ())
+            }
+        }
         .unwrap();
         out
     }
 
     fn tangent(&self, c: &Case<D>, v: &[[T; D]]) -> Vec<[T; D]> {
         let n = self.points.len();
-        let mut scratch = vec![T::ZERO; deform_idw_sensitivity_scratch_len::<D>(n, v.len())];
         let mut out = vec![[T::ZERO; D]; n];
-        deform_idw_tangent(
-            &self.points,
-            &self.motion(c, &self.d),
-            T::from_f64(3.0),
-            v,
-            &mut scratch,
-            &mut out,
-        )
-        .unwrap();
+        self.sensitivity(c, v, &mut out).unwrap();
         out
     }
 
     fn adjoint(&self, c: &Case<D>, w: &[[T; D]]) -> Vec<[T; D]> {
-        let b = self.d.len();
-        let mut scratch = vec![T::ZERO; deform_idw_sensitivity_scratch_len::<D>(w.len(), b)];
-        let mut out = vec![[T::ZERO; D]; b];
-        deform_idw_adjoint(
-            &self.points,
-            &self.motion(c, &self.d),
-            T::from_f64(3.0),
-            w,
-            &mut scratch,
-            &mut out,
-        )
-        .unwrap();
+        let mut out = vec![[T::ZERO; D]; self.d.len()];
+        self.sensitivity(c, w, &mut out).unwrap();
         out
     }
+
+    /// The tangent (`input` one per boundary point) or the adjoint (`input` one per mesh
+    /// point) of `c.method` into `out`.
+    fn sensitivity(&self, c: &Case<D>, input: &[[T; D]], out: &mut [[T; D]]) -> Result<(), Error> {
+        let (n, b) = (self.points.len(), self.d.len());
+        let tangent = input.len() == b && out.len() == n;
+        let motion = self.motion(c, &self.d);
+        let p = &self.points;
+        let e = T::from_f64(3.0);
+        match c.method {
+            Method::Idw => {
+                let mut scratch = vec![T::ZERO; deform_idw_sensitivity_scratch_len::<D>(n, b)];
+                if tangent {
+                    deform_idw_tangent(p, &motion, e, input, &mut scratch, out)
+                } else {
+                    deform_idw_adjoint(p, &motion, e, input, &mut scratch, out)
+                }
+            }
+            Method::Fast(theta) => {
+                let len = deform_idw_fast_sensitivity_scratch_len::<D>(n, b);
+                let mut scratch = vec![T::ZERO; len];
+                let (mut tr, mut rot) = (vec![[T::ZERO; D]; n], vec![Quat::identity(); n]);
+                let (mut index, mut tree) = fast_buffers::<T, D>(b);
+                let o = fast_options(theta);
+                let f = if tangent {
+                    deform_idw_fast_tangent
+                } else {
+                    deform_idw_fast_adjoint
+                };
+                let (s, ix, tr2) = (&mut scratch, &mut index, &mut tree);
+                f(p, &motion, e, &o, input, &mut tr, &mut rot, s, ix, tr2, out)
+            }
+            Method::Tfi(block, dirs) => {
+                let len = deform_tfi_sensitivity_scratch_len::<D>(&block, b);
+                let mut scratch = vec![T::ZERO; len];
+                let f = if tangent {
+                    deform_tfi_tangent
+                } else {
+                    deform_tfi_adjoint
+                };
+                f(&block, dirs, p, &motion, input, &mut scratch, out)
+            }
+        }
+    }
+}
+
+/// The fast IDW's options under test: `θ`, tolerance 0.1 (the default).
+fn fast_options<T: Real>(theta: f64) -> IdwFastOptions<T> {
+    IdwFastOptions {
+        theta: T::from_f64(theta),
+        tolerance: T::from_f64(0.1),
+    }
+}
+
+/// The fast IDW's `index` and `tree` buffers for `b` boundary nodes.
+fn fast_buffers<T: Real, const D: usize>(b: usize) -> (Vec<u32>, Vec<T>) {
+    (
+        vec![0; propagate_idw_fast_index_len(b)],
+        vec![T::ZERO; propagate_idw_fast_scratch_len::<D>(b)],
+    )
 }
 
 /// Random vectors, `scale` in the first `body` entries and `rest` after them.
@@ -402,45 +602,55 @@ fn step_study<const D: usize>(
     );
 }
 
+/// The step study of every method on `cases` (shape rotations, default and given origin).
+fn central_differences<const D: usize>(cases: &[Case<D>], angle: f64, origin: [f64; D]) {
+    for c in cases {
+        let d = deformed(c, angle);
+        for origin in [None, Some(origin)] {
+            let s = Setup::<f64, D>::new(c, &d, Source::Shape, origin);
+            // With the default origin only moving points are perturbed (the origin's point
+            // set is then unchanged); with a given origin the far field too.
+            let rest = if origin.is_some() { 0.3 } else { 0.0 };
+            let v = random::<f64, D>(c.boundary.len(), c.body, rest, 3 + D as u64);
+            let label = format!("{D}D {:?} shape, origin {origin:?}", c.method);
+            step_study(c, &s, &v, &label, false);
+        }
+    }
+}
+
 #[test]
 fn tangent_matches_central_differences_2d() {
     let c = case2(24, 120);
-    let d = deformed(&c, 0.4);
-    for origin in [None, Some([0.3, -0.2])] {
-        let s = Setup::<f64, 2>::new(&c, &d, Source::Shape, origin);
-        // With the default origin only moving points are perturbed (the origin's point set
-        // is then unchanged); with a given origin the far field too.
-        let rest = if origin.is_some() { 0.3 } else { 0.0 };
-        let v = random::<f64, 2>(c.boundary.len(), c.body, rest, 3);
-        step_study(&c, &s, &v, &format!("2D shape, origin {origin:?}"), false);
-    }
+    central_differences(
+        &[c.with(Method::Fast(0.5)), block2(9, 6), c],
+        0.4,
+        [0.3, -0.2],
+    );
 }
 
 #[test]
 fn tangent_matches_central_differences_3d() {
     let c = case3(3, 150);
-    let d = deformed(&c, 0.5);
-    for origin in [None, Some([0.2, 0.1, -0.3])] {
-        let s = Setup::<f64, 3>::new(&c, &d, Source::Shape, origin);
-        let rest = if origin.is_some() { 0.3 } else { 0.0 };
-        let v = random::<f64, 3>(c.boundary.len(), c.body, rest, 4);
-        step_study(&c, &s, &v, &format!("3D shape, origin {origin:?}"), false);
-    }
+    let cases = [c.with(Method::Fast(0.5)), block3(5), c];
+    central_differences(&cases, 0.5, [0.2, 0.1, -0.3]);
 }
 
 #[test]
 fn tangent_matches_central_differences_other_sources() {
-    let c2 = case2(16, 60);
-    let d2 = deformed(&c2, 0.3);
-    let c3 = case3(2, 60);
-    let d3 = deformed(&c3, 0.3);
+    let (c2, c3) = (case2(16, 60), case3(2, 60));
+    let cases2 = [c2.with(Method::Fast(0.5)), block2(6, 5), c2];
+    let cases3 = [case3(3, 100).with(Method::Fast(0.5)), block3(4), c3];
     for source in [Source::Rigid, Source::PerNode] {
-        let s = Setup::<f64, 2>::new(&c2, &d2, source, Some([0.1, 0.0]));
-        let v = random::<f64, 2>(c2.boundary.len(), c2.body, 0.0, 8);
-        step_study(&c2, &s, &v, &format!("2D {source:?}"), true);
-        let s = Setup::<f64, 3>::new(&c3, &d3, source, Some([0.1, 0.0, 0.2]));
-        let v = random::<f64, 3>(c3.boundary.len(), c3.body, 0.0, 9);
-        step_study(&c3, &s, &v, &format!("3D {source:?}"), true);
+        for c2 in &cases2 {
+            let s = Setup::<f64, 2>::new(c2, &deformed(c2, 0.3), source, Some([0.1, 0.0]));
+            let v = random::<f64, 2>(c2.boundary.len(), c2.body, 0.0, 8);
+            step_study(c2, &s, &v, &format!("2D {:?} {source:?}", c2.method), true);
+        }
+        for c3 in &cases3 {
+            let s = Setup::<f64, 3>::new(c3, &deformed(c3, 0.3), source, Some([0.1, 0.0, 0.2]));
+            let v = random::<f64, 3>(c3.boundary.len(), c3.body, 0.0, 9);
+            step_study(c3, &s, &v, &format!("3D {:?} {source:?}", c3.method), true);
+        }
     }
 }
 
@@ -462,18 +672,32 @@ fn dot_test<T: Real, const D: usize>(c: &Case<D>, source: Source, origin: Option
 }
 
 fn dot_tests<T: Real>(tol: f64) {
-    let c2 = case2(20, 80);
-    let c3 = case3(2, 80);
-    for source in [Source::Shape, Source::Rigid, Source::PerNode] {
-        for (o2, o3) in [(None, None), (Some([0.2, 0.1]), Some([0.2, 0.1, -0.1]))] {
-            let e2 = dot_test::<T, 2>(&c2, source, o2);
-            let e3 = dot_test::<T, 3>(&c3, source, o3);
-            println!(
-                "{} {source:?} origin {:?}: 2D {e2:.2e}, 3D {e3:.2e}",
-                core::any::type_name::<T>(),
-                o2.is_some()
-            );
-            assert!(e2 < tol && e3 < tol, "{source:?}: {e2:e} {e3:e}");
+    let (c2, c3) = (case2(20, 80), case3(2, 80));
+    let cases = [
+        (
+            c2.with(Method::Fast(0.5)),
+            case3(3, 100).with(Method::Fast(0.5)),
+        ),
+        (block2(8, 6), block3(4)),
+        (c2, c3),
+    ];
+    for (c2, c3) in &cases {
+        for source in [Source::Shape, Source::Rigid, Source::PerNode] {
+            for (o2, o3) in [(None, None), (Some([0.2, 0.1]), Some([0.2, 0.1, -0.1]))] {
+                let e2 = dot_test::<T, 2>(c2, source, o2);
+                let e3 = dot_test::<T, 3>(c3, source, o3);
+                println!(
+                    "{} {:?} {source:?} origin {:?}: 2D {e2:.2e}, 3D {e3:.2e}",
+                    core::any::type_name::<T>(),
+                    c2.method,
+                    o2.is_some()
+                );
+                assert!(
+                    e2 < tol && e3 < tol,
+                    "{:?} {source:?}: {e2:e} {e3:e}",
+                    c2.method
+                );
+            }
         }
     }
 }
@@ -525,7 +749,8 @@ fn dense<const D: usize>(c: &Case<D>, d: &[[f64; D]]) {
         }
     }
     println!(
-        "{D}D dense {}×{}: max |J| {big:.3e}, adjoint {:.2e}, FD {:.2e}",
+        "{D}D {:?} dense {}×{}: max |J| {big:.3e}, adjoint {:.2e}, FD {:.2e}",
+        c.method,
         n * D,
         b * D,
         e_adj / big,
@@ -538,9 +763,15 @@ fn dense<const D: usize>(c: &Case<D>, d: &[[f64; D]]) {
 #[test]
 fn dense_jacobian_three_ways() {
     let c2 = case2(10, 30);
-    dense(&c2, &deformed(&c2, 0.5));
     let c3 = case3(1, 20);
-    dense(&c3, &deformed(&c3, 0.5));
+    // The fast IDW on cases with clusters (see `fast_idw_cases_use_clusters`).
+    let (f2, f3) = (case2(16, 60), case3(3, 100));
+    for c2 in [f2.with(Method::Fast(0.5)), block2(5, 4), c2] {
+        dense(&c2, &deformed(&c2, 0.5));
+    }
+    for c3 in [f3.with(Method::Fast(0.5)), block3(3), c3] {
+        dense(&c3, &deformed(&c3, 0.5));
+    }
 }
 
 /// The case without its far field: the body points, the body elements, the field points.
@@ -558,6 +789,7 @@ fn body_only<const D: usize>(c: &Case<D>) -> Case<D> {
         offsets: Vec::new(),
         nodes: Vec::new(),
         kinds: Vec::new(),
+        method: c.method,
     };
     // The body's elements are the first ones (they only index body points).
     let ne = c
@@ -582,15 +814,21 @@ fn body_only<const D: usize>(c: &Case<D>) -> Case<D> {
 /// rigidly; the tangent along a further infinitesimal rotation `ω` and translation `τ` is
 /// `ω × (R − c) + τ` at every point.
 fn rigid<T: Real, const D: usize>(c: &Case<D>, tol: f64) -> f64 {
-    let body = body_only(c);
+    let body = if c.body == c.boundary.len() {
+        c.clone()
+    } else {
+        body_only(c)
+    };
     let q = if D == 2 {
         Quat::from_rotation_z(0.7)
     } else {
         Quat::from_axis_angle([1.0, 2.0, -0.5], 0.7).unwrap()
     };
     let (cen, tr) = ([0.3, -0.2, 0.1], [0.5, 0.25, -0.4]);
-    let d: Vec<[f64; D]> = body.points[..body.body]
+    let d: Vec<[f64; D]> = body
+        .boundary
         .iter()
+        .map(|&k| body.points[k as usize])
         .map(|p| {
             let mut v = [0.0; 3];
             for i in 0..D {
@@ -631,8 +869,9 @@ fn rigid<T: Real, const D: usize>(c: &Case<D>, tol: f64) -> f64 {
     let t = s.tangent(&body, &v);
     let err = max_diff(&t, &expect) / expect.iter().flatten().fold(0.0f64, |a, x| a.max(x.abs()));
     println!(
-        "{} {D}D rigid tangent: relative error {err:.2e}",
-        core::any::type_name::<T>()
+        "{} {D}D {:?} rigid tangent: relative error {err:.2e}",
+        core::any::type_name::<T>(),
+        c.method
     );
     assert!(err < tol, "{err:e}");
     err
@@ -640,12 +879,15 @@ fn rigid<T: Real, const D: usize>(c: &Case<D>, tol: f64) -> f64 {
 
 #[test]
 fn rigid_motion_tangent_is_rigid() {
-    let c2 = case2(24, 100);
-    let c3 = case3(3, 100);
-    rigid::<f64, 2>(&c2, 1e-12);
-    rigid::<f64, 3>(&c3, 1e-12);
-    rigid::<f32, 2>(&c2, 1e-4);
-    rigid::<f32, 3>(&c3, 1e-4);
+    let (c2, c3) = (case2(24, 100), case3(3, 100));
+    for c2 in [c2.with(Method::Fast(0.5)), block2(9, 6), c2] {
+        rigid::<f64, 2>(&c2, 1e-12);
+        rigid::<f32, 2>(&c2, 1e-4);
+    }
+    for c3 in [c3.with(Method::Fast(0.5)), block3(5), c3] {
+        rigid::<f64, 3>(&c3, 1e-12);
+        rigid::<f32, 3>(&c3, 1e-4);
+    }
 }
 
 #[test]
@@ -703,4 +945,175 @@ fn bad_input_is_a_typed_error_and_out_is_unchanged() {
         "{e:?}"
     );
     assert!(back.iter().flatten().all(|&x| x == 7.0));
+}
+
+/// With `θ = 0` the fast IDW uses no cluster: it is the exact IDW up to summation order, and
+/// so are its tangent and adjoint.
+#[test]
+fn fast_idw_with_theta_zero_is_the_exact_idw() {
+    fn check<const D: usize>(c: &Case<D>) {
+        let d = deformed(c, 0.4);
+        let exact = Setup::<f64, D>::new(c, &d, Source::Shape, None);
+        let fast_case = c.with(Method::Fast(0.0));
+        let (b, n) = (c.boundary.len(), c.points.len());
+        let v = random::<f64, D>(b, c.body, 0.0, 31);
+        let w = random::<f64, D>(n, n, 1.0, 32);
+        let (t0, t1) = (exact.tangent(c, &v), exact.tangent(&fast_case, &v));
+        let (a0, a1) = (exact.adjoint(c, &w), exact.adjoint(&fast_case, &w));
+        let rel = |x: &[[f64; D]], y: &[[f64; D]]| max_diff(x, y) / norm(y);
+        let (et, ea) = (rel(&t1, &t0), rel(&a1, &a0));
+        println!("{D}D θ = 0 fast vs exact: tangent {et:.2e}, adjoint {ea:.2e}");
+        assert!(et < 1e-13 && ea < 1e-13, "{et:e} {ea:e}");
+        // And θ = 0.5 is not the exact method here (clusters are used).
+        let t5 = exact.tangent(&c.with(Method::Fast(0.5)), &v);
+        assert!(rel(&t5, &t0) > 1e-9, "θ = 0.5 used no cluster");
+    }
+    check(&case2(24, 120));
+    check(&case3(3, 150));
+}
+
+/// The cases above exercise the clusters of the fast IDW: the deformation uses some.
+#[test]
+fn fast_idw_cases_use_clusters() {
+    fn clusters<const D: usize>(c: &Case<D>) -> u64 {
+        let s = Setup::<f64, D>::new(c, &deformed(c, 0.4), Source::Shape, None);
+        let (n, b) = (c.points.len(), c.boundary.len());
+        let (mut tr, mut rot) = (vec![[0.0; D]; n], vec![Quat::identity(); n]);
+        let mut scratch = vec![0.0; deform_idw_scratch_len::<D>(n, b)];
+        let (mut index, mut tree) = fast_buffers::<f64, D>(b);
+        let mut out = vec![[0.0; D]; n];
+        let (_, report) = deform_idw_fast(
+            &s.points,
+            &s.motion(c, &s.d),
+            3.0,
+            &fast_options(0.5),
+            &mut tr,
+            &mut rot,
+            &mut scratch,
+            &mut index,
+            &mut tree,
+            &mut out,
+        )
+        .unwrap();
+        report.clusters
+    }
+    for c in [case2(16, 60), case2(20, 80), case2(24, 100), case2(24, 120)] {
+        let k = clusters(&c);
+        println!(
+            "2D B = {}, N = {}: {k} clusters",
+            c.boundary.len(),
+            c.points.len()
+        );
+        assert!(k > 0);
+    }
+    for c in [case3(3, 100), case3(3, 150)] {
+        let k = clusters(&c);
+        println!(
+            "3D B = {}, N = {}: {k} clusters",
+            c.boundary.len(),
+            c.points.len()
+        );
+        assert!(k > 0);
+    }
+}
+
+/// Bad input to the fast IDW's and TFI's sensitivities: typed errors, `out` unchanged.
+#[test]
+fn fast_idw_and_tfi_bad_input_is_a_typed_error_and_out_is_unchanged() {
+    for c in [case2(8, 10).with(Method::Fast(0.5)), block2(5, 4)] {
+        let s = Setup::<f64, 2>::new(&c, &deformed(&c, 0.2), Source::Shape, None);
+        let (n, b) = (c.points.len(), c.boundary.len());
+        let mut out = vec![[7.0; 2]; n];
+        let mut v = vec![[0.0; 2]; b];
+        v[3][1] = f64::NAN;
+        let e = s.sensitivity(&c, &v, &mut out);
+        assert!(
+            matches!(
+                e,
+                Err(Error::NonFinite {
+                    arg: "direction",
+                    position: 3
+                })
+            ),
+            "{e:?}"
+        );
+        let mut back = vec![[7.0; 2]; b];
+        let mut w = vec![[0.0; 2]; n];
+        w[n - 1][0] = f64::INFINITY;
+        let e = s.sensitivity(&c, &w, &mut back);
+        assert!(
+            matches!(e, Err(Error::NonFinite { arg: "weights", .. })),
+            "{e:?}"
+        );
+        let e = s.sensitivity(&c, &w[1..], &mut back);
+        assert!(matches!(e, Err(Error::LengthMismatch { .. })), "{e:?}");
+        assert!(out.iter().chain(&back).flatten().all(|&x| x == 7.0));
+    }
+    // θ out of range; scratch too short.
+    let c = case2(8, 10);
+    let s = Setup::<f64, 2>::new(&c, &deformed(&c, 0.2), Source::Shape, None);
+    let (n, b) = (c.points.len(), c.boundary.len());
+    let motion = s.motion(&c, &s.d);
+    let (mut tr, mut rot) = (vec![[0.0; 2]; n], vec![Quat::identity(); n]);
+    let (mut index, mut tree) = fast_buffers::<f64, 2>(b);
+    let mut scratch = vec![0.0; deform_idw_fast_sensitivity_scratch_len::<2>(n, b)];
+    let mut out = vec![[7.0; 2]; n];
+    let v = vec![[0.1; 2]; b];
+    for (theta, len) in [(1.0, scratch.len()), (0.5, scratch.len() - 1)] {
+        let e = deform_idw_fast_tangent(
+            &s.points,
+            &motion,
+            3.0,
+            &fast_options(theta),
+            &v,
+            &mut tr,
+            &mut rot,
+            &mut scratch[..len],
+            &mut index,
+            &mut tree,
+            &mut out,
+        );
+        assert!(
+            matches!(
+                e,
+                Err(Error::InvalidParameter {
+                    arg: "options.theta",
+                    ..
+                }) | Err(Error::BufferTooSmall { .. })
+            ),
+            "{e:?}"
+        );
+    }
+    assert!(out.iter().flatten().all(|&x| x == 7.0));
+    // TFI: a face point missing from the motion.
+    let c = block2(5, 4);
+    let s = Setup::<f64, 2>::new(&c, &deformed(&c, 0.2), Source::Rigid, None);
+    let Method::Tfi(block, dirs) = c.method else {
+        unreachable!()
+    };
+    let b = c.boundary.len() - 1;
+    let motion = BoundaryMotion {
+        nodes: &c.boundary[..b],
+        deformed: &s.d[..b],
+        elements: None,
+        rotations: RotationSource::Rigid(Quat::identity()),
+        origin: None,
+    };
+    let mut scratch = vec![0.0; deform_tfi_sensitivity_scratch_len::<2>(&block, b)];
+    let mut out = vec![[7.0; 2]; c.points.len()];
+    let e = deform_tfi_tangent(
+        &block,
+        dirs,
+        &s.points,
+        &motion,
+        &v[..b],
+        &mut scratch,
+        &mut out,
+    );
+    let missing = c.boundary[b] as usize;
+    assert!(
+        matches!(e, Err(Error::Unanchored { node }) if node == missing),
+        "{e:?}"
+    );
+    assert!(out.iter().flatten().all(|&x| x == 7.0));
 }

@@ -153,7 +153,7 @@ pub struct IdwFastReport<T> {
 /// Scalars stored per tree node: box `lo`, `hi`, centroid (`D` each), radius, mean
 /// translation (`D`), mean aligned rotation (4), reference rotation (4), cone cosine, mean
 /// squared distance to the centroid, first moments (`D × (D + 4)`).
-const fn node_len(d: usize) -> usize {
+pub(super) const fn node_len(d: usize) -> usize {
     4 * d + 11 + d * (d + 4)
 }
 
@@ -193,12 +193,12 @@ pub fn propagate_idw_fast_scratch_len<const D: usize>(boundary_len: usize) -> us
 }
 
 /// Scalars of the node records.
-fn nodes_len<const D: usize>(b: usize) -> usize {
+pub(super) fn nodes_len<const D: usize>(b: usize) -> usize {
     slots(b).saturating_mul(node_len(D))
 }
 
 /// Scalars per boundary node in tree order: position, translation, rotation.
-const fn leaf_len(d: usize) -> usize {
+pub(super) const fn leaf_len(d: usize) -> usize {
     2 * d + 4
 }
 
@@ -255,32 +255,11 @@ pub fn propagate_idw_fast<T: Real, const D: usize>(
     }
     check_exponent(exponent)?;
     check_options_and_buffers::<T, D>(options, b, index.len(), scratch.len(), "scratch")?;
-    let nodes_needed = propagate_idw_fast_scratch_len::<D>(b);
     check::finite_items("points", points)?;
     check_boundary_entries(boundary, translations, rotations)?;
 
-    let index = index.get_mut(..b).unwrap_or(&mut []);
-    let (nodes, leaves) = scratch
-        .get_mut(..nodes_needed)
-        .unwrap_or(&mut [])
-        .split_at_mut_checked(nodes_len::<D>(b))
-        .unwrap_or_default();
-    build(points, boundary, translations, rotations, index, nodes);
-    // Positions and values in tree order, so that leaves are read contiguously.
-    for (&pos, rec) in index.iter().zip(leaves.chunks_exact_mut(leaf_len(D))) {
-        let m = boundary.get(pos as usize).copied().unwrap_or(0) as usize;
-        let y = points.get(m).copied().unwrap_or([T::ZERO; D]);
-        let t = translations.get(m).copied().unwrap_or([T::ZERO; D]);
-        let q = rotations.get(m).copied().unwrap_or(Quat::identity());
-        put_n(rec, 0, y);
-        put_n(rec, D, t);
-        put_n(rec, 2 * D, q.to_array());
-    }
-    let (nodes, leaves) = (&*nodes, &*leaves);
-    let mut hint = Hint {
-        nearest: 0,
-        gamma: T::INFINITY,
-    };
+    let (index, nodes, leaves) = grow(points, boundary, translations, rotations, index, scratch);
+    let mut hint = Hint::new();
 
     let mut report = IdwFastReport {
         max_bound: T::ZERO,
@@ -298,7 +277,8 @@ pub fn propagate_idw_fast<T: Real, const D: usize>(
             rotations,
             half_p: exponent * T::HALF,
         };
-        let Some((t, q, eta)) = tree.point(i, x, options, &mut hint, &mut report) else {
+        let Some((t, q, eta)) = tree.point(i, x, options, &mut hint, &mut report, &mut |_| {})
+        else {
             continue;
         };
         if eta > report.max_bound {
@@ -347,25 +327,57 @@ pub(super) fn check_options_and_buffers<T: Real, const D: usize>(
     )
 }
 
+/// Builds the tree over `boundary` (sizes checked by the caller): `index` in tree order, the
+/// node records and the leaves (position, translation, rotation per boundary node in tree
+/// order, so that leaves are read contiguously). Only the boundary entries of
+/// `translations` and `rotations` are read.
+pub(super) fn grow<'s, T: Real, const D: usize>(
+    points: &[[T; D]],
+    boundary: &[u32],
+    translations: &[[T; D]],
+    rotations: &[Quat<T>],
+    index: &'s mut [u32],
+    scratch: &'s mut [T],
+) -> (&'s [u32], &'s [T], &'s [T]) {
+    let b = boundary.len();
+    let index = index.get_mut(..b).unwrap_or(&mut []);
+    let (nodes, leaves) = scratch
+        .get_mut(..propagate_idw_fast_scratch_len::<D>(b))
+        .unwrap_or(&mut [])
+        .split_at_mut_checked(nodes_len::<D>(b))
+        .unwrap_or_default();
+    build(points, boundary, translations, rotations, index, nodes);
+    for (&pos, rec) in index.iter().zip(leaves.chunks_exact_mut(leaf_len(D))) {
+        let m = boundary.get(pos as usize).copied().unwrap_or(0) as usize;
+        let y = points.get(m).copied().unwrap_or([T::ZERO; D]);
+        let t = translations.get(m).copied().unwrap_or([T::ZERO; D]);
+        let q = rotations.get(m).copied().unwrap_or(Quat::identity());
+        put_n(rec, 0, y);
+        put_n(rec, D, t);
+        put_n(rec, 2 * D, q.to_array());
+    }
+    (index, nodes, leaves)
+}
+
 /// Offsets of the fields of a node record.
-struct Layout<const D: usize>;
+pub(super) struct Layout<const D: usize>;
 
 impl<const D: usize> Layout<D> {
     const LO: usize = 0;
     const HI: usize = D;
-    const C: usize = 2 * D;
+    pub(super) const C: usize = 2 * D;
     const R: usize = 3 * D;
-    const T: usize = 3 * D + 1;
-    const QS: usize = 4 * D + 1;
-    const QR: usize = 4 * D + 5;
+    pub(super) const T: usize = 3 * D + 1;
+    pub(super) const QS: usize = 4 * D + 1;
+    pub(super) const QR: usize = 4 * D + 5;
     const QC: usize = 4 * D + 9;
     const S2: usize = 4 * D + 10;
-    const M: usize = 4 * D + 11;
+    pub(super) const M: usize = 4 * D + 11;
 }
 
 /// Reads `N` scalars at `at` (zeros when out of range).
 #[inline]
-fn get_n<T: Real, const N: usize>(s: &[T], at: usize) -> [T; N] {
+pub(super) fn get_n<T: Real, const N: usize>(s: &[T], at: usize) -> [T; N] {
     let mut r = [T::ZERO; N];
     if let Some(c) = s.get(at..at.wrapping_add(N)) {
         for (a, b) in r.iter_mut().zip(c) {
@@ -377,7 +389,7 @@ fn get_n<T: Real, const N: usize>(s: &[T], at: usize) -> [T; N] {
 
 /// Writes `N` scalars at `at` (ignored when out of range).
 #[inline]
-fn put_n<T: Real, const N: usize>(s: &mut [T], at: usize, v: [T; N]) {
+pub(super) fn put_n<T: Real, const N: usize>(s: &mut [T], at: usize, v: [T; N]) {
     if let Some(c) = s.get_mut(at..at.wrapping_add(N)) {
         for (a, b) in c.iter_mut().zip(v) {
             *a = b;
@@ -393,13 +405,13 @@ fn get1<T: Real>(s: &[T], at: usize) -> T {
 
 /// A depth-first work stack of `(node, start, end)` (no allocation; the tree depth is at most
 /// 32 and a pre-order walk holds at most one pending sibling per level).
-struct Stack {
+pub(super) struct Stack {
     items: [(usize, usize, usize); 72],
     len: usize,
 }
 
 impl Stack {
-    fn new(root: (usize, usize, usize)) -> Self {
+    pub(super) fn new(root: (usize, usize, usize)) -> Self {
         let mut s = Stack {
             items: [(0, 0, 0); 72],
             len: 0,
@@ -409,7 +421,7 @@ impl Stack {
     }
 
     #[inline]
-    fn push(&mut self, v: (usize, usize, usize)) {
+    pub(super) fn push(&mut self, v: (usize, usize, usize)) {
         if let Some(slot) = self.items.get_mut(self.len) {
             *slot = v;
             self.len += 1;
@@ -417,7 +429,7 @@ impl Stack {
     }
 
     #[inline]
-    fn pop(&mut self) -> Option<(usize, usize, usize)> {
+    pub(super) fn pop(&mut self) -> Option<(usize, usize, usize)> {
         self.len = self.len.checked_sub(1)?;
         self.items.get(self.len).copied()
     }
@@ -425,7 +437,7 @@ impl Stack {
 
 /// The children of node `(i, s, e)`: left `[s, s + len/2)`, right `[s + len/2, e)`.
 #[inline]
-fn children(i: usize, s: usize, e: usize) -> [(usize, usize, usize); 2] {
+pub(super) fn children(i: usize, s: usize, e: usize) -> [(usize, usize, usize); 2] {
     let m = s + (e - s) / 2;
     let l = i.wrapping_mul(2).wrapping_add(1);
     [(l, s, m), (l.wrapping_add(1), m, e)]
@@ -472,15 +484,9 @@ fn build<T: Real, const D: usize>(
         // ulps so that rounding cannot put a member outside).
         let nt = T::from_usize(count.max(1));
         let mut c = [T::ZERO; D];
-        let mut tm = [T::ZERO; D];
         for &pos in members {
             let y = pos_point(pos);
             for (a, v) in c.iter_mut().zip(y) {
-                *a += v / nt;
-            }
-            let m = boundary.get(pos as usize).copied().unwrap_or(0) as usize;
-            let t = translations.get(m).copied().unwrap_or([T::ZERO; D]);
-            for (a, v) in tm.iter_mut().zip(t) {
                 *a += v / nt;
             }
         }
@@ -504,57 +510,34 @@ fn build<T: Real, const D: usize>(
             .unwrap_or(Quat::identity())
             .normalize()
             .unwrap_or(Quat::identity());
-        let mut qm = [T::ZERO; 4];
         let mut cmin = T::ONE;
         for &pos in members {
             let q = rot(pos);
             let q = if qref.dot(q) < T::ZERO { -q } else { q };
-            for (a, v) in qm.iter_mut().zip(q.to_array()) {
-                *a += v / nt;
-            }
             let cosine = q.normalize().map_or(T::ZERO, |u| qref.dot(u));
             cmin = cmin.min(cosine);
         }
         let cmin = (cmin - T::from_f64(64.0) * eps).max(T::ZERO);
-        // First moments `Σ δ_k ⊗ v_k / n` (`δ_k = y_k − c`, `v_k` translation and aligned
-        // rotation) and the mean squared distance `Σ |δ_k|² / n`.
-        let mut mom = [[T::ZERO; 7]; 3];
+        // The mean squared distance `Σ |δ_k|² / n` to the centroid.
         let mut s2 = T::ZERO;
         for &pos in members {
-            let delta = sub(pos_point(pos), c);
-            s2 += norm_sq(delta) / nt;
-            let m = boundary.get(pos as usize).copied().unwrap_or(0) as usize;
-            let t = translations.get(m).copied().unwrap_or([T::ZERO; D]);
-            let q = rot(pos);
-            let q = if qref.dot(q) < T::ZERO { -q } else { q };
-            for (row, dj) in mom.iter_mut().zip(delta) {
-                let (rt, rq) = row.split_at_mut(D.min(7));
-                for (a, v) in rt.iter_mut().zip(t) {
-                    *a += dj * v / nt;
-                }
-                for (a, v) in rq.iter_mut().zip(q.to_array()) {
-                    *a += dj * v / nt;
-                }
-            }
+            s2 += norm_sq(sub(pos_point(pos), c)) / nt;
         }
         if let Some(rec) = nodes.get_mut(base..base.saturating_add(nl)) {
             put_n(rec, Layout::<D>::LO, lo);
             put_n(rec, Layout::<D>::HI, hi);
             put_n(rec, Layout::<D>::C, c);
             put_n(rec, Layout::<D>::R, [r]);
-            put_n(rec, Layout::<D>::T, tm);
-            put_n(rec, Layout::<D>::QS, qm);
             put_n(rec, Layout::<D>::QR, qref.to_array());
             put_n(rec, Layout::<D>::QC, [cmin]);
             put_n(rec, Layout::<D>::S2, [s2]);
-            for (j, row) in mom.iter().take(D).enumerate() {
-                let at = Layout::<D>::M + j * (D + 4);
-                if let Some(dst) = rec.get_mut(at..at + D + 4) {
-                    for (a, v) in dst.iter_mut().zip(row) {
-                        *a = *v;
-                    }
-                }
-            }
+            let value = |pos: u32| {
+                let m = boundary.get(pos as usize).copied().unwrap_or(0) as usize;
+                let t = translations.get(m).copied().unwrap_or([T::ZERO; D]);
+                let q = rot(pos);
+                (t, if qref.dot(q) < T::ZERO { -q } else { q }.to_array())
+            };
+            moments(members, c, nt, pos_point, value, rec);
         }
         if count > IDW_FAST_LEAF {
             // Split the longest side (first axis on ties) at the median.
@@ -576,6 +559,51 @@ fn build<T: Real, const D: usize>(
             let [l, rr] = children(i, s, e);
             stack.push(rr);
             stack.push(l);
+        }
+    }
+}
+
+/// Writes the value moments of a node record (at its start): the means `Σ v_k / n` of the
+/// translations and aligned rotations and the first moments `Σ δ_k ⊗ v_k / n` (`δ_k = y_k −
+/// c`) of the `members` (boundary positions; `nt = n`, `value(pos) = (Δ, ±Q)`).
+pub(super) fn moments<T: Real, const D: usize>(
+    members: &[u32],
+    c: [T; D],
+    nt: T,
+    pos_point: impl Fn(u32) -> [T; D],
+    value: impl Fn(u32) -> ([T; D], [T; 4]),
+    rec: &mut [T],
+) {
+    let mut tm = [T::ZERO; D];
+    let mut qm = [T::ZERO; 4];
+    let mut mom = [[T::ZERO; 7]; 3];
+    for &pos in members {
+        let (t, q) = value(pos);
+        for (a, v) in tm.iter_mut().zip(t) {
+            *a += v / nt;
+        }
+        for (a, v) in qm.iter_mut().zip(q) {
+            *a += v / nt;
+        }
+        let delta = sub(pos_point(pos), c);
+        for (row, dj) in mom.iter_mut().zip(delta) {
+            let (rt, rq) = row.split_at_mut(D.min(7));
+            for (a, v) in rt.iter_mut().zip(t) {
+                *a += dj * v / nt;
+            }
+            for (a, v) in rq.iter_mut().zip(q) {
+                *a += dj * v / nt;
+            }
+        }
+    }
+    put_n(rec, Layout::<D>::T, tm);
+    put_n(rec, Layout::<D>::QS, qm);
+    for (j, row) in mom.iter().take(D).enumerate() {
+        let at = Layout::<D>::M + j * (D + 4);
+        if let Some(dst) = rec.get_mut(at..at + D + 4) {
+            for (a, v) in dst.iter_mut().zip(row) {
+                *a = *v;
+            }
         }
     }
 }
@@ -625,7 +653,7 @@ fn sift_down(v: &mut [u32], mut root: usize, end: usize, less: impl Fn(u32, u32)
 }
 
 /// The built tree and the field it interpolates (read-only during the queries).
-struct Tree<'a, T, const D: usize> {
+pub(super) struct Tree<'a, T, const D: usize> {
     points: &'a [[T; D]],
     boundary: &'a [u32],
     index: &'a [u32],
@@ -637,11 +665,47 @@ struct Tree<'a, T, const D: usize> {
 }
 
 /// What the previous point leaves for the next (mesh order is usually local).
-struct Hint<T> {
+#[derive(Clone, Copy)]
+pub(super) struct Hint<T> {
     /// Tree position of its nearest boundary node: the nearest-node search starts there.
     nearest: usize,
     /// Its `W̃ / W̃_far` (total over clustered weight): the first pass's budget factor.
     gamma: T,
+}
+
+impl<T: Real> Hint<T> {
+    /// The hint before the first point.
+    pub(super) fn new() -> Self {
+        Hint {
+            nearest: 0,
+            gamma: T::INFINITY,
+        }
+    }
+}
+
+/// What a query decided, step by step, for callers that replay its weights (the
+/// sensitivities): the weights depend on the geometry and on these decisions only.
+#[derive(Clone, Copy)]
+pub(super) enum Visit<T, const D: usize> {
+    /// A pass starts (the sums restart from zero).
+    Pass,
+    /// Tree node `node` used as a whole with total weight `nw = n_C w_C` and `a = p (x − c) /
+    /// d²` (member `k` weighs `nw / n_C (1 + a·δ_k)`); its aligned rotations enter negated
+    /// when `neg`.
+    Cluster {
+        node: usize,
+        nw: T,
+        a: [T; D],
+        neg: bool,
+    },
+    /// Tree position `k` weighted individually by `w`; its rotation negated when `neg`.
+    Leaf { k: usize, w: T, neg: bool },
+    /// The pass's sums: the rotation sum `S = Σ ±w̃_k Q_k` and `W̃ = Σ w̃_k`.
+    Totals { q: [T; 4], w: T },
+    /// The point's value comes from the exact method's robust path.
+    Robust,
+    /// The point lies on boundary position `pos` (its value is that node's).
+    Coincident { pos: usize },
 }
 
 /// Sums of one weighted traversal.
@@ -655,6 +719,28 @@ struct Sums<T, const D: usize> {
 }
 
 impl<'a, T: Real, const D: usize> Tree<'a, T, D> {
+    /// The tree of [`grow`] over the field (`translations`, `rotations` at the boundary nodes).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn new(
+        points: &'a [[T; D]],
+        boundary: &'a [u32],
+        exponent: T,
+        grown: (&'a [u32], &'a [T], &'a [T]),
+        translations: &'a [[T; D]],
+        rotations: &'a [Quat<T>],
+    ) -> Self {
+        Tree {
+            points,
+            boundary,
+            index: grown.0,
+            nodes: grown.1,
+            leaves: grown.2,
+            translations,
+            rotations,
+            half_p: exponent * T::HALF,
+        }
+    }
+
     /// Mesh node, point of tree position `k`.
     #[inline]
     fn at(&self, k: usize) -> [T; D] {
@@ -748,6 +834,7 @@ impl<'a, T: Real, const D: usize> Tree<'a, T, D> {
 
     /// One weighted traversal: a cluster is used as a whole when `r < θ d`, its rotations
     /// pass the cone test, and its bound `e_C ≤ budget · n_C w_C` (`budget = ∞`: no limit).
+    #[allow(clippy::too_many_arguments)]
     fn sums(
         &self,
         x: [T; D],
@@ -756,7 +843,9 @@ impl<'a, T: Real, const D: usize> Tree<'a, T, D> {
         qn_unit: Quat<T>,
         theta: T,
         budget: T,
+        visit: &mut impl FnMut(Visit<T, D>),
     ) -> (Sums<T, D>, u64, u64) {
+        visit(Visit::Pass);
         let b = self.index.len();
         let nl = node_len(D);
         let theta2 = theta * theta;
@@ -805,6 +894,12 @@ impl<'a, T: Real, const D: usize> Tree<'a, T, D> {
                     let e_c = half_pp1 * self.weight(d2min / near2) * (s2 / near2) * nt;
                     if e_c <= budget * nw {
                         self.add_cluster(&mut acc, x, base, c, dc2, p, nw, qn, qref);
+                        visit(Visit::Cluster {
+                            node,
+                            nw,
+                            a: scale(sub(x, c), p / dc2),
+                            neg: qn.dot(qref) < T::ZERO,
+                        });
                         acc.err += e_c;
                         clusters += 1;
                         continue;
@@ -824,7 +919,9 @@ impl<'a, T: Real, const D: usize> Tree<'a, T, D> {
                     }
                     acc.w += w;
                     let q = Quat::from_array(get_n(self.leaves, at + 2 * D));
-                    let q = if qn.dot(q) < T::ZERO { -q } else { q };
+                    let neg = qn.dot(q) < T::ZERO;
+                    visit(Visit::Leaf { k, w, neg });
+                    let q = if neg { -q } else { q };
                     for (a, v) in acc.q.iter_mut().zip(q.to_array()) {
                         *a += w * v;
                     }
@@ -836,6 +933,7 @@ impl<'a, T: Real, const D: usize> Tree<'a, T, D> {
                 stack.push(l);
             }
         }
+        visit(Visit::Totals { q: acc.q, w: acc.w });
         (acc, clusters, direct)
     }
 
@@ -880,20 +978,22 @@ impl<'a, T: Real, const D: usize> Tree<'a, T, D> {
     }
 
     /// The value at field point `x` (mesh node `i`) and its bound `η`; `None` for a boundary
-    /// node.
-    fn point(
+    /// node. `visit` sees every decision ([`Visit`]).
+    pub(super) fn point(
         &self,
         i: usize,
         x: [T; D],
         options: &IdwFastOptions<T>,
         hint: &mut Hint<T>,
         report: &mut IdwFastReport<T>,
+        visit: &mut impl FnMut(Visit<T, D>),
     ) -> Option<([T; D], Quat<T>, T)> {
         let (d2min, pos, is_boundary, plain) = self.nearest(i, x, hint);
         if is_boundary {
             return None;
         }
-        let exact = |report: &mut IdwFastReport<T>| {
+        let exact = |report: &mut IdwFastReport<T>, visit: &mut dyn FnMut(Visit<T, D>)| {
+            visit(Visit::Robust);
             report.robust += 1;
             idw_point(
                 self.points,
@@ -907,12 +1007,13 @@ impl<'a, T: Real, const D: usize> Tree<'a, T, D> {
             .map(|(t, q)| (t, q, T::ZERO))
         };
         if !plain {
-            return exact(report);
+            return exact(report, visit);
         }
         let m = self.boundary.get(pos).copied().unwrap_or(0) as usize;
         let tn = self.translations.get(m).copied().unwrap_or([T::ZERO; D]);
         let qn = self.rotations.get(m).copied().unwrap_or(Quat::identity());
         if d2min <= T::ZERO {
+            visit(Visit::Coincident { pos });
             return Some((tn, qn, T::ZERO));
         }
         let qn_unit = qn.normalize().unwrap_or(Quat::identity());
@@ -934,12 +1035,12 @@ impl<'a, T: Real, const D: usize> Tree<'a, T, D> {
         let mut budget = scaled(hint.gamma);
         let mut round = 0;
         loop {
-            let (acc, clusters, direct) = self.sums(x, d2min, qn, qn_unit, theta, budget);
+            let (acc, clusters, direct) = self.sums(x, d2min, qn, qn_unit, theta, budget, visit);
             report.clusters += clusters;
             report.direct += direct;
             let eta = acc.err / acc.w;
             if !acc.plain || acc.w <= T::ZERO || !eta.is_finite() {
-                return exact(report);
+                return exact(report, visit);
             }
             let gamma = if acc.w_far > T::ZERO {
                 acc.w / acc.w_far
@@ -956,7 +1057,7 @@ impl<'a, T: Real, const D: usize> Tree<'a, T, D> {
                 }
                 if !(t.iter().all(|v| v.is_finite()) && acc.q.iter().all(|v| v.is_finite())) {
                     // Moments out of range (values near the overflow threshold).
-                    return exact(report);
+                    return exact(report, visit);
                 }
                 let q = Quat::from_array(acc.q).normalize().unwrap_or(qn);
                 return Some((t, q, eta));

@@ -41,17 +41,23 @@
 
 mod boundary;
 mod field;
+mod idw_fast;
 mod lin;
 mod spring;
+mod tfi;
 
 use self::boundary::{
     rotations2_adjoint, rotations2_tangent, rotations3_adjoint, rotations3_tangent,
     translations_adjoint, translations_tangent, zero, WORK3,
 };
 use self::field::{idw_adjoint, idw_tangent, Field};
+pub use self::idw_fast::{
+    deform_idw_fast_adjoint, deform_idw_fast_sensitivity_scratch_len, deform_idw_fast_tangent,
+};
 pub use self::spring::{
     deform_spring_adjoint, deform_spring_sensitivity_scratch_len, deform_spring_tangent,
 };
+pub use self::tfi::{deform_tfi_adjoint, deform_tfi_sensitivity_scratch_len, deform_tfi_tangent};
 use super::pipeline::{boundary_rotations_with, motion_origin, validate_motion};
 use super::{check_exponent, store, take, BoundaryMotion, Pts, RotationSource};
 use crate::cells::Cells;

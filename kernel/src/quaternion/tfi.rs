@@ -15,12 +15,12 @@ pub fn tfi_scratch_len<const D: usize>(block: &Block) -> usize {
 }
 
 /// At most 26 terms: 6 faces, 12 edges, 8 corners.
-const MAX_TERMS: usize = 26;
+pub(super) const MAX_TERMS: usize = 26;
 
 /// Validated TFI setup: block, active-direction bit mask.
-struct Setup {
+pub(super) struct Setup {
     dims: [usize; 3],
-    n: usize,
+    pub(super) n: usize,
     active: usize,
 }
 
@@ -57,7 +57,7 @@ pub(super) fn check_directions<const D: usize>(
 }
 
 /// Validates the block, the directions and the sizes common to both TFI routines.
-fn setup<T: Real, const D: usize>(
+pub(super) fn setup<T: Real, const D: usize>(
     block: &Block,
     directions: Directions,
     points: &[[T; D]],
@@ -85,7 +85,7 @@ fn setup<T: Real, const D: usize>(
 impl Setup {
     /// `(i, j, k)` of a linear index.
     #[inline]
-    fn ijk(&self, p: usize) -> [usize; 3] {
+    pub(super) fn ijk(&self, p: usize) -> [usize; 3] {
         let ni = self.dims[0].max(1);
         let nj = self.dims[1].max(1);
         [p % ni, (p / ni) % nj, p / ni / nj]
@@ -99,7 +99,7 @@ impl Setup {
 
     /// `true` when `p` lies on a face of an active direction (its value is given).
     #[inline]
-    fn on_face(&self, c: [usize; 3]) -> bool {
+    pub(super) fn on_face(&self, c: [usize; 3]) -> bool {
         c.iter()
             .zip(self.dims.iter())
             .enumerate()
@@ -109,7 +109,7 @@ impl Setup {
     /// Normalised arclength (from the undeformed points) of every point along its grid line
     /// in each active direction, into `params[d · n + p]`. A zero-length line gets the uniform
     /// parameter `m / (n_d − 1)`.
-    fn arclength<T: Real, const D: usize>(&self, points: &[[T; D]], params: &mut [T]) {
+    pub(super) fn arclength<T: Real, const D: usize>(&self, points: &[[T; D]], params: &mut [T]) {
         for d in 0..3 {
             if self.active & (1 << d) == 0 {
                 continue;
@@ -155,7 +155,12 @@ impl Setup {
     /// subset `S` of the active directions, sign `(−1)^(|S|+1)` times the tensor-product
     /// projector over `S` (weights `1 − s_d` at the low face, `s_d` at the high face). Returns
     /// the number of terms written.
-    fn terms<T: Real>(&self, p: usize, params: &[T], out: &mut [(usize, T); MAX_TERMS]) -> usize {
+    pub(super) fn terms<T: Real>(
+        &self,
+        p: usize,
+        params: &[T],
+        out: &mut [(usize, T); MAX_TERMS],
+    ) -> usize {
         let c = self.ijk(p);
         let mut s = [T::ZERO; 3];
         for (d, x) in s.iter_mut().enumerate() {

@@ -66,34 +66,68 @@ pub(super) fn idw_tangent<T: Real, const D: usize>(
     out: &mut [[T; D]],
 ) {
     for (i, (x, o)) in f.points.iter().zip(out.iter_mut()).enumerate() {
-        let Some(scan) = idw_scan(f.points, f.boundary, i, *x) else {
-            continue;
-        };
-        let qn = Quat::from_array(load(f.qs, scan.nearest_pos));
-        let (mut s, mut ds, mut dtv) = ([T::ZERO; 4], [T::ZERO; 4], [T::ZERO; 3]);
-        if scan.dmin > T::ZERO {
-            let mut wsum = T::ZERO;
-            for (k, &b) in f.boundary.iter().enumerate() {
-                let (sw, q) = f.weight(&scan, qn, *x, k, b);
-                axpy(&mut s, sw, q);
-                axpy(&mut ds, sw, load(dq, k));
-                axpy(&mut dtv, sw.abs(), load(dt, k));
-                wsum += sw.abs();
-            }
-            dtv = scale(dtv, T::ONE / wsum);
-        } else {
-            s = qn.to_array();
-            ds = load(dq, scan.nearest_pos);
-            dtv = load(dt, scan.nearest_pos);
+        if let Some(v) = tangent_at(f, dq, dt, i, *x) {
+            *o = v;
         }
-        let (q, len) = Field::<T, D>::unit(s, qn);
-        let m = drot(q, lift(sub(*x, f.origin)));
-        *o = drop3(add(dtv, mul34(&m, proj4(q, len, ds))));
     }
     for (k, &b) in f.boundary.iter().enumerate() {
         if let Some(o) = out.get_mut(b as usize) {
             *o = dd.get(k).copied().unwrap_or([T::ZERO; D]);
         }
+    }
+}
+
+/// Tangent at field point `x` (mesh node `i`; `None` for a boundary node).
+pub(super) fn tangent_at<T: Real, const D: usize>(
+    f: &Field<'_, T, D>,
+    dq: &[T],
+    dt: &[T],
+    i: usize,
+    x: [T; D],
+) -> Option<[T; D]> {
+    let scan = idw_scan(f.points, f.boundary, i, x)?;
+    let qn = Quat::from_array(load(f.qs, scan.nearest_pos));
+    let (mut s, mut ds, mut dtv) = ([T::ZERO; 4], [T::ZERO; 4], [T::ZERO; 3]);
+    if scan.dmin > T::ZERO {
+        let mut wsum = T::ZERO;
+        for (k, &b) in f.boundary.iter().enumerate() {
+            let (sw, q) = f.weight(&scan, qn, x, k, b);
+            axpy(&mut s, sw, q);
+            axpy(&mut ds, sw, load(dq, k));
+            axpy(&mut dtv, sw.abs(), load(dt, k));
+            wsum += sw.abs();
+        }
+        dtv = scale(dtv, T::ONE / wsum);
+    } else {
+        s = qn.to_array();
+        ds = load(dq, scan.nearest_pos);
+        dtv = load(dt, scan.nearest_pos);
+    }
+    Some(f.update_tangent(x, s, qn, ds, dtv))
+}
+
+impl<T: Real, const D: usize> Field<'_, T, D> {
+    /// `δR = δΔ + M(Q, x − o) (I − Q Qᵀ) δS / |S|` from the rotation sum `S` (`qn` the
+    /// fallback when it cannot be normalised), `δS` and `δΔ`.
+    pub(super) fn update_tangent(
+        &self,
+        x: [T; D],
+        s: [T; 4],
+        qn: Quat<T>,
+        ds: [T; 4],
+        dtv: [T; 3],
+    ) -> [T; D] {
+        let (q, len) = Field::<T, D>::unit(s, qn);
+        let m = drot(q, lift(sub(x, self.origin)));
+        drop3(add(dtv, mul34(&m, proj4(q, len, ds))))
+    }
+
+    /// The transpose of [`Field::update_tangent`] for `w = R̄`: `S̄ = (I − Q Qᵀ) M(Q, x −
+    /// o)ᵀ w / |S|` (and `Δ̄ = w`).
+    pub(super) fn update_adjoint(&self, x: [T; D], s: [T; 4], qn: Quat<T>, g: [T; 3]) -> [T; 4] {
+        let (q, len) = Field::<T, D>::unit(s, qn);
+        let m = drot(q, lift(sub(x, self.origin)));
+        proj4(q, len, mul34t(&m, g))
     }
 }
 
@@ -108,41 +142,51 @@ pub(super) fn idw_adjoint<T: Real, const D: usize>(
     out: &mut [[T; D]],
 ) {
     for (i, (x, g)) in f.points.iter().zip(weights).enumerate() {
-        let Some(scan) = idw_scan(f.points, f.boundary, i, *x) else {
-            continue;
-        };
-        let gb = lift(*g);
-        let qn = Quat::from_array(load(f.qs, scan.nearest_pos));
-        if scan.dmin > T::ZERO {
-            let (mut s, mut wsum) = ([T::ZERO; 4], T::ZERO);
-            for ((k, &b), slot) in f.boundary.iter().enumerate().zip(wk.iter_mut()) {
-                let (sw, q) = f.weight(&scan, qn, *x, k, b);
-                *slot = sw;
-                axpy(&mut s, sw, q);
-                wsum += sw.abs();
-            }
-            let (q, len) = Field::<T, D>::unit(s, qn);
-            let m = drot(q, lift(sub(*x, f.origin)));
-            let qb = proj4(q, len, mul34t(&m, gb));
-            for (k, &sw) in wk.iter().enumerate().take(f.boundary.len()) {
-                accumulate(dq, k, sw, qb);
-                accumulate(dt, k, sw.abs() / wsum, gb);
-            }
-        } else {
-            let (q, len) = Field::<T, D>::unit(qn.to_array(), qn);
-            let m = drot(q, lift(sub(*x, f.origin)));
-            accumulate(dq, scan.nearest_pos, T::ONE, proj4(q, len, mul34t(&m, gb)));
-            accumulate(dt, scan.nearest_pos, T::ONE, gb);
-        }
+        adjoint_at(f, i, *x, lift(*g), wk, dq, dt);
     }
     for (k, &b) in f.boundary.iter().enumerate() {
         add_to(out, k, get3(weights, b as usize));
     }
 }
 
+/// Adjoint at field point `x` (mesh node `i`, nothing for a boundary node) for `g = R̄_i`:
+/// adds to `Q̄` in `dq` and `Δ̄` in `dt`. `wk` needs `B` scalars.
+pub(super) fn adjoint_at<T: Real, const D: usize>(
+    f: &Field<'_, T, D>,
+    i: usize,
+    x: [T; D],
+    gb: [T; 3],
+    wk: &mut [T],
+    dq: &mut [T],
+    dt: &mut [T],
+) {
+    let Some(scan) = idw_scan(f.points, f.boundary, i, x) else {
+        return;
+    };
+    let qn = Quat::from_array(load(f.qs, scan.nearest_pos));
+    if scan.dmin > T::ZERO {
+        let (mut s, mut wsum) = ([T::ZERO; 4], T::ZERO);
+        for ((k, &b), slot) in f.boundary.iter().enumerate().zip(wk.iter_mut()) {
+            let (sw, q) = f.weight(&scan, qn, x, k, b);
+            *slot = sw;
+            axpy(&mut s, sw, q);
+            wsum += sw.abs();
+        }
+        let qb = f.update_adjoint(x, s, qn, gb);
+        for (k, &sw) in wk.iter().enumerate().take(f.boundary.len()) {
+            accumulate(dq, k, sw, qb);
+            accumulate(dt, k, sw.abs() / wsum, gb);
+        }
+    } else {
+        let qb = f.update_adjoint(x, qn.to_array(), qn, gb);
+        accumulate(dq, scan.nearest_pos, T::ONE, qb);
+        accumulate(dt, scan.nearest_pos, T::ONE, gb);
+    }
+}
+
 /// `s[k] += a x` on a flat slice of `N`-vectors.
 #[inline]
-fn accumulate<T: Real, const N: usize>(s: &mut [T], k: usize, a: T, x: [T; N]) {
+pub(super) fn accumulate<T: Real, const N: usize>(s: &mut [T], k: usize, a: T, x: [T; N]) {
     let mut v: [T; N] = load(s, k);
     axpy(&mut v, a, x);
     store(s, k, v);
