@@ -70,6 +70,7 @@
 mod build;
 mod layout;
 mod order;
+mod sensitivity;
 mod step;
 mod storage;
 

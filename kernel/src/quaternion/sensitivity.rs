@@ -49,6 +49,7 @@ use self::boundary::{
     translations_adjoint, translations_tangent, zero, WORK3,
 };
 use self::field::{idw_adjoint, idw_tangent, Field};
+pub(crate) use self::spring::SolvedSpring;
 pub use self::spring::{
     deform_spring_adjoint, deform_spring_sensitivity_scratch_len, deform_spring_tangent,
 };
