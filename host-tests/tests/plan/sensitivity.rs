@@ -175,10 +175,11 @@ fn dot<T: Real, const D: usize>(a: &[[T; D]], b: &[[T; D]]) -> f64 {
         .sum()
 }
 
-/// The tolerance of a comparison to solver tolerance in `T`.
+/// The tolerance of a comparison to solver tolerance in `T` (relative residuals 1e-5 in f32
+/// and 1e-10 in f64, times the conditioning of the spring operator).
 fn tol<T: Real>() -> f64 {
     if T::EPSILON > T::from_f64(1e-10) {
-        1e-3
+        1e-2
     } else {
         1e-7
     }
