@@ -68,8 +68,15 @@ impl Problem {
         }
         let rot = rotate_markers2(&mesh, &["airfoil"], AirfoilGrid::quarter_chord(), -10.0)
             .expect("rotation");
+        // The rotation's displacement field, added to the points.
         let field: Vec<[f64; 2]> = rot.to_field(n);
-        let deformed = boundary.iter().map(|&b| field[b as usize]).collect();
+        let deformed = boundary
+            .iter()
+            .map(|&b| {
+                let (p, u) = (mesh.points[b as usize], field[b as usize]);
+                [p[0] + u[0], p[1] + u[1]]
+            })
+            .collect();
         Problem {
             points: mesh.points.clone(),
             offsets,
