@@ -621,16 +621,11 @@ pub(crate) fn dk_plan_tangent<T: Real, const D: usize>(
     out: Out<'_, T>,
     report_out: Out<'_, dk_spring_solve_report>,
 ) -> Result<(), dk_status> {
-    let plan = DkPlanPools::read(pools)?.open::<D>()?;
     let motion = last_motion(deformed, rotation_source, rotations, origin);
-    let motion = motion.motion::<D>(plan.method())?;
-    let direction = read_points::<T, D>(direction)?;
-    let scratch = output(scratch)?;
-    let out = chunks_mut::<T, D>(out)?;
-    let report_slot = out_one(report_out)?;
-    let r = plan.tangent(&motion, direction, scratch, out)?;
-    *report_slot = dk_spring_solve_report::of(r);
-    Ok(())
+    let buffers = (direction, scratch, out, report_out);
+    derivative::<T, D>(pools, motion, buffers, |p, m, i, s, o| {
+        p.tangent(m, i, s, o)
+    })
 }
 
 /// The adjoint of the plan's last step: `out = dJ/dd` (`B * dim` scalars, in the plan's
@@ -654,14 +649,42 @@ pub(crate) fn dk_plan_adjoint<T: Real, const D: usize>(
     out: Out<'_, T>,
     report_out: Out<'_, dk_spring_solve_report>,
 ) -> Result<(), dk_status> {
-    let plan = DkPlanPools::read(pools)?.open::<D>()?;
     let motion = last_motion(deformed, rotation_source, rotations, origin);
+    let buffers = (weights, scratch, out, report_out);
+    derivative::<T, D>(pools, motion, buffers, |p, m, i, s, o| {
+        p.adjoint(m, i, s, o)
+    })
+}
+
+/// The input field, scratch, output and report of a derivative call.
+type DerivativeBuffers<'a, T> = (
+    In<'a, T>,
+    Out<'a, T>,
+    Out<'a, T>,
+    Out<'a, dk_spring_solve_report>,
+);
+
+/// Opens the plan, reads the motion and the buffers, runs `f` (the tangent or the adjoint)
+/// and writes its report.
+fn derivative<T: Real, const D: usize>(
+    pools: In<'_, DkPlanPools<T>>,
+    motion: MotionArgs<'_, T>,
+    (input, scratch, out, report_out): DerivativeBuffers<'_, T>,
+    f: impl FnOnce(
+        &Plan<'_, T, D>,
+        &PlanMotion<'_, T, D>,
+        &[[T; D]],
+        &mut [T],
+        &mut [[T; D]],
+    ) -> deform_kernel::Result<deform_kernel::spring::SolveReport<T>>,
+) -> Result<(), dk_status> {
+    let plan = DkPlanPools::read(pools)?.open::<D>()?;
     let motion = motion.motion::<D>(plan.method())?;
-    let weights = read_points::<T, D>(weights)?;
+    let input = read_points::<T, D>(input)?;
     let scratch = output(scratch)?;
     let out = chunks_mut::<T, D>(out)?;
     let report_slot = out_one(report_out)?;
-    let r = plan.adjoint(&motion, weights, scratch, out)?;
+    let r = f(&plan, &motion, input, scratch, out)?;
     *report_slot = dk_spring_solve_report::of(r);
     Ok(())
 }

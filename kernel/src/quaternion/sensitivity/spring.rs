@@ -87,6 +87,9 @@ struct Setup<'a, 'm, T: Real, const D: usize> {
     order: &'a [u32],
 }
 
+/// The base field and the report of its solve (`None`: given, not solved).
+type Base<'v, T, const V: usize> = (&'v [[T; V]], Option<SolveReport<T>>);
+
 /// A deformation whose propagation solve is done: the problem and the solved packed field
 /// `(Δ_i, S_i)` (solve numbering, hemisphere-aligned as the forward leaves it), e.g. a plan's
 /// last step. [`SolvedSpring::tangent`] and [`SolvedSpring::adjoint`] are
@@ -333,7 +336,7 @@ impl<T: Real, const D: usize> Setup<'_, '_, T, D> {
         qs: &[T],
         values: &'v mut [[T; V]],
         solve: &mut [[T; V]],
-    ) -> Result<(&'v [[T; V]], Option<SolveReport<T>>)> {
+    ) -> Result<Base<'v, T, V>> {
         let Some(field) = self.solved else {
             let report = self.base_solve(origin, qs, values, solve)?;
             return Ok((values, Some(report)));
