@@ -200,8 +200,9 @@ fn rows(p: &Problem, method: PlanMethod, tag: &str, reps: usize, fig: &mut Figur
     fig.put(&format!("sensitivity_{tag}_adjoint_over_deformation"), a / d);
 }
 
-/// The sensitivity rows on the NACA mesh of `airfoil` points, `reps` runs each.
-pub(crate) fn sensitivity(airfoil: [usize; 2], reps: usize, fig: &mut Figures) {
+/// The sensitivity rows on the NACA mesh of `airfoil` points, `reps` runs each, of the linear
+/// springs and of the quaternion method (`which`: whether to run each).
+pub(crate) fn sensitivity(airfoil: [usize; 2], reps: usize, which: [bool; 2], fig: &mut Figures) {
     let p = Problem::new(airfoil);
     println!(
         "sensitivities: NACA 2412 {} × {} = {} nodes, {} boundary points",
@@ -211,6 +212,10 @@ pub(crate) fn sensitivity(airfoil: [usize; 2], reps: usize, fig: &mut Figures) {
         p.boundary.len()
     );
     fig.put("sensitivity_nodes", p.points.len());
-    rows(&p, PlanMethod::Spring, "spring", reps, fig);
-    rows(&p, PlanMethod::QuaternionSpring, "quaternion", reps, fig);
+    if which[0] {
+        rows(&p, PlanMethod::Spring, "spring", reps, fig);
+    }
+    if which[1] {
+        rows(&p, PlanMethod::QuaternionSpring, "quaternion", reps, fig);
+    }
 }
