@@ -3,7 +3,8 @@
 //! (`bench/peers/peers.py`) so both sides solve the very same problem in the same run.
 //!
 //! `cargo run --release --manifest-path bench/Cargo.toml -- --out DIR [--quick] [--only a,b]`
-//! (`--only` picks among graph, structured, spring, rotation, elasticity, rbf)
+//! (`--only` picks among graph, structured, spring, rotation, elasticity, rbf, sensitivity,
+//! sensitivity-spring, sensitivity-quaternion)
 //!
 //! Writes `DIR/kernel.txt` (`name value` lines: the figures) and raw little-endian inputs and
 //! results (`*.f64`, `*.u32`, plus `*.dims` text files) that peers.py reads back. Speed is
@@ -26,6 +27,7 @@ use deform_meshgen::{naca_triangulated, rotate_markers2, AirfoilGrid};
 
 mod elasticity;
 mod rbf;
+mod sensitivity;
 
 /// Sizes of one run.
 struct Sizes {
@@ -425,6 +427,14 @@ fn main() {
     }
     if want("rbf") {
         rbf::rbf(sz.rbf_airfoil, if quick { 3 } else { 1 }, &dir, &mut fig);
+    }
+    // `sensitivity-spring` / `sensitivity-quaternion`: one method's rows (one callgrind run each).
+    let rows = [
+        want("sensitivity") || only.contains(&"sensitivity-spring"),
+        want("sensitivity") || only.contains(&"sensitivity-quaternion"),
+    ];
+    if rows.contains(&true) {
+        sensitivity::sensitivity(sz.airfoil, sz.repeats.min(3), rows, &mut fig);
     }
     std::fs::write(dir.join("kernel.txt"), &fig.0).expect("write kernel.txt");
 }

@@ -966,8 +966,10 @@ module deform_kernel
             dk_plan_init_f32, dk_plan_open, dk_plan_open_f32, dk_plan_step, dk_plan_step_f32, &
             dk_plan_work_sizes_ordered, dk_plan_work_sizes_ordered_f32, &
             dk_plan_pool_sizes_ordered, dk_plan_pool_sizes_ordered_f32, dk_plan_init_ordered, &
-            dk_plan_init_ordered_f32, dk_quality_cell_quality, dk_quality_cell_quality_f32, &
-            dk_quality_cell_measures, dk_quality_cell_measures_f32, &
+            dk_plan_init_ordered_f32, dk_plan_sensitivity_scratch_len, &
+            dk_plan_sensitivity_scratch_len_f32, dk_plan_tangent, dk_plan_tangent_f32, &
+            dk_plan_adjoint, dk_plan_adjoint_f32, dk_quality_cell_quality, &
+            dk_quality_cell_quality_f32, dk_quality_cell_measures, dk_quality_cell_measures_f32, &
             dk_quality_min_corner_jacobians, dk_quality_min_corner_jacobians_f32, &
             dk_quality_inverted_cells, dk_quality_inverted_cells_f32, dk_quality_folded_cells, &
             dk_quality_folded_cells_f32, dk_quality_wall_angle_scratch_len, dk_quality_compare, &
@@ -2798,6 +2800,110 @@ module deform_kernel
       type(dk_plan_pools_f32), intent(in) :: work
       type(dk_plan_pools_f32), intent(in) :: pools
       type(dk_plan_info), intent(inout) :: info_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_sensitivity_scratch_len(pools, dim, len_out) bind(C, &
+        name="dk_plan_sensitivity_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_plan_pools
+      type(dk_plan_pools), intent(in) :: pools
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_sensitivity_scratch_len_f32(pools, dim, len_out) bind(C, &
+        name="dk_plan_sensitivity_scratch_len_f32") result(s)
+      import :: c_int32_t, c_size_t, dk_plan_pools_f32
+      type(dk_plan_pools_f32), intent(in) :: pools
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_tangent(pools, dim, deformed, deformed_len, rotation_source, rotations, &
+        rotations_len, origin, origin_len, direction, direction_len, scratch, scratch_len, out, &
+        out_len, report_out) bind(C, name="dk_plan_tangent") result(s)
+      import :: c_double, c_int32_t, c_ptr, c_size_t, dk_plan_pools, dk_spring_solve_report
+      type(dk_plan_pools), intent(in) :: pools
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: rotation_source
+      type(c_ptr), value :: rotations
+      integer(c_size_t), value :: rotations_len
+      type(c_ptr), value :: origin
+      integer(c_size_t), value :: origin_len
+      real(c_double), intent(in) :: direction(*)
+      integer(c_size_t), value :: direction_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      type(dk_spring_solve_report), intent(inout) :: report_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_tangent_f32(pools, dim, deformed, deformed_len, rotation_source, rotations, &
+        rotations_len, origin, origin_len, direction, direction_len, scratch, scratch_len, out, &
+        out_len, report_out) bind(C, name="dk_plan_tangent_f32") result(s)
+      import :: c_float, c_int32_t, c_ptr, c_size_t, dk_plan_pools_f32, dk_spring_solve_report
+      type(dk_plan_pools_f32), intent(in) :: pools
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: rotation_source
+      type(c_ptr), value :: rotations
+      integer(c_size_t), value :: rotations_len
+      type(c_ptr), value :: origin
+      integer(c_size_t), value :: origin_len
+      real(c_float), intent(in) :: direction(*)
+      integer(c_size_t), value :: direction_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      type(dk_spring_solve_report), intent(inout) :: report_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_adjoint(pools, dim, deformed, deformed_len, rotation_source, rotations, &
+        rotations_len, origin, origin_len, weights, weights_len, scratch, scratch_len, out, &
+        out_len, report_out) bind(C, name="dk_plan_adjoint") result(s)
+      import :: c_double, c_int32_t, c_ptr, c_size_t, dk_plan_pools, dk_spring_solve_report
+      type(dk_plan_pools), intent(in) :: pools
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: rotation_source
+      type(c_ptr), value :: rotations
+      integer(c_size_t), value :: rotations_len
+      type(c_ptr), value :: origin
+      integer(c_size_t), value :: origin_len
+      real(c_double), intent(in) :: weights(*)
+      integer(c_size_t), value :: weights_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      type(dk_spring_solve_report), intent(inout) :: report_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_plan_adjoint_f32(pools, dim, deformed, deformed_len, rotation_source, rotations, &
+        rotations_len, origin, origin_len, weights, weights_len, scratch, scratch_len, out, &
+        out_len, report_out) bind(C, name="dk_plan_adjoint_f32") result(s)
+      import :: c_float, c_int32_t, c_ptr, c_size_t, dk_plan_pools_f32, dk_spring_solve_report
+      type(dk_plan_pools_f32), intent(in) :: pools
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(in) :: deformed(*)
+      integer(c_size_t), value :: deformed_len
+      integer(c_int32_t), value :: rotation_source
+      type(c_ptr), value :: rotations
+      integer(c_size_t), value :: rotations_len
+      type(c_ptr), value :: origin
+      integer(c_size_t), value :: origin_len
+      real(c_float), intent(in) :: weights(*)
+      integer(c_size_t), value :: weights_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      type(dk_spring_solve_report), intent(inout) :: report_out
       integer(c_int32_t) :: s
     end function
     function dk_quality_cell_quality(kind, corners, corners_len, dim, out) bind(C, &

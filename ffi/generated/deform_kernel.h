@@ -3649,6 +3649,158 @@ dk_status dk_plan_init_ordered_f32(const dk_plan_mesh_f32 *mesh,
                                    const dk_plan_pools_f32 *pools,
                                    dk_plan_info *info_out);
 
+// Scalars of `scratch` that [`dk_plan_tangent`] and [`dk_plan_adjoint`] need for the plan in
+// the pools (one length for both; `Plan::sensitivity_scratch_len`). Errors:
+// `DK_ERR_BAD_PLAN`, `DK_ERR_INVALID_PARAMETER` (`dim`), pointer errors, `DK_ERR_TOO_LARGE`
+// when the length overflows.
+//
+// # Safety
+// - `pools`: one readable `dk_plan_pools`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_plan_sensitivity_scratch_len(const dk_plan_pools *pools,
+                                          uint32_t dim,
+                                          size_t *len_out);
+
+// `f32` twin of [`dk_plan_sensitivity_scratch_len`].
+//
+// # Safety
+// As [`dk_plan_sensitivity_scratch_len`].
+dk_status dk_plan_sensitivity_scratch_len_f32(const dk_plan_pools_f32 *pools,
+                                              uint32_t dim,
+                                              size_t *len_out);
+
+// The tangent of the plan's last step: `out = δx` (`N * dim` scalars, every mesh node) for
+// the perturbation `direction = δd` of the deformed boundary positions (`B * dim` scalars,
+// in the plan's boundary order); boundary nodes get `δd` exactly. One solve with the plan's
+// solver and multigrid hierarchy, linearised at the last step (for the quaternion method
+// with its stored solved field, so the deformation's solve is not repeated); after a
+// `DK_PLAN_COLD` step the bits of the stateless derivatives (`dk_deform_spring_tangent`,
+// `dk_spring_solve_linear` with `δd` as the fixed values).
+//
+// - `deformed`, `rotation_source`, `rotations`, `origin`: the last step's motion, exactly as
+//   passed to [`dk_plan_step`] (checked against the plan's stored boundary values);
+// - `scratch`: [`dk_plan_sensitivity_scratch_len`] scalars;
+// - `report_out`: the solve's report (not converged is `DK_OK` with `converged` false).
+//
+// Errors (nothing written but `scratch`; the plan is never written): `DK_ERR_BAD_PLAN`,
+// length and pointer errors, `DK_ERR_NON_FINITE` (`direction`), `DK_ERR_BUFFER_TOO_SMALL`,
+// `DK_ERR_INVALID_PARAMETER` (`dim`, `rotation_source`, a plan that has not stepped yet, a
+// motion that is not the last step's), the boundary rotations' and the solver's errors.
+//
+// # Safety
+// - `pools`: one readable `dk_plan_pools`.
+// - `deformed`: readable for `deformed_len` elements (`double`).
+// - `rotations`: readable for `rotations_len` elements (`double`).
+// - `origin`: readable for `origin_len` elements (`double`).
+// - `direction`: readable for `direction_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+// - `report_out`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_plan_tangent(const dk_plan_pools *pools,
+                          uint32_t dim,
+                          const double *deformed,
+                          size_t deformed_len,
+                          uint32_t rotation_source,
+                          const double *rotations,
+                          size_t rotations_len,
+                          const double *origin,
+                          size_t origin_len,
+                          const double *direction,
+                          size_t direction_len,
+                          double *scratch,
+                          size_t scratch_len,
+                          double *out,
+                          size_t out_len,
+                          dk_spring_solve_report *report_out);
+
+// `f32` twin of [`dk_plan_tangent`].
+//
+// # Safety
+// As [`dk_plan_tangent`].
+dk_status dk_plan_tangent_f32(const dk_plan_pools_f32 *pools,
+                              uint32_t dim,
+                              const float *deformed,
+                              size_t deformed_len,
+                              uint32_t rotation_source,
+                              const float *rotations,
+                              size_t rotations_len,
+                              const float *origin,
+                              size_t origin_len,
+                              const float *direction,
+                              size_t direction_len,
+                              float *scratch,
+                              size_t scratch_len,
+                              float *out,
+                              size_t out_len,
+                              dk_spring_solve_report *report_out);
+
+// The adjoint of the plan's last step: `out = dJ/dd` (`B * dim` scalars, in the plan's
+// boundary order) for `weights = dJ/dx` at every mesh node (`N * dim` scalars), the
+// transpose of [`dk_plan_tangent`]: one CG solve with the plan's operator and
+// preconditioner (the multigrid hierarchy reused), linearised at the last step. The plan's
+// solver must be multigrid or CG. Arguments and errors as [`dk_plan_tangent`], with
+// `DK_ERR_INVALID_PARAMETER` for a stationary solver (Jacobi, Gauss–Seidel, SOR); on error
+// `out` is unchanged.
+//
+// # Safety
+// - `pools`: one readable `dk_plan_pools`.
+// - `deformed`: readable for `deformed_len` elements (`double`).
+// - `rotations`: readable for `rotations_len` elements (`double`).
+// - `origin`: readable for `origin_len` elements (`double`).
+// - `weights`: readable for `weights_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+// - `report_out`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_plan_adjoint(const dk_plan_pools *pools,
+                          uint32_t dim,
+                          const double *deformed,
+                          size_t deformed_len,
+                          uint32_t rotation_source,
+                          const double *rotations,
+                          size_t rotations_len,
+                          const double *origin,
+                          size_t origin_len,
+                          const double *weights,
+                          size_t weights_len,
+                          double *scratch,
+                          size_t scratch_len,
+                          double *out,
+                          size_t out_len,
+                          dk_spring_solve_report *report_out);
+
+// `f32` twin of [`dk_plan_adjoint`].
+//
+// # Safety
+// As [`dk_plan_adjoint`].
+dk_status dk_plan_adjoint_f32(const dk_plan_pools_f32 *pools,
+                              uint32_t dim,
+                              const float *deformed,
+                              size_t deformed_len,
+                              uint32_t rotation_source,
+                              const float *rotations,
+                              size_t rotations_len,
+                              const float *origin,
+                              size_t origin_len,
+                              const float *weights,
+                              size_t weights_len,
+                              float *scratch,
+                              size_t scratch_len,
+                              float *out,
+                              size_t out_len,
+                              dk_spring_solve_report *report_out);
+
 // Quality of one cell of VTK kind `kind` from its corner coordinates (`corners_len` =
 // node count of the kind × `dim`, VTK order): signed measure, smallest corner Jacobian,
 // smallest scaled corner Jacobian. Errors (nothing written): `DK_ERR_UNKNOWN_CELL_KIND`,

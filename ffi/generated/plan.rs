@@ -24,6 +24,7 @@ pub use imp::*;
 use crate::args::{done, Dim};
 #[allow(unused_imports)]
 use crate::slice::{In, Out};
+use crate::spring::dk_spring_solve_report;
 use crate::status::dk_status;
 
 /// [`DkPlanMesh`] in double precision.
@@ -754,6 +755,370 @@ pub unsafe extern "C" fn dk_plan_init_ordered_f32(
         )),
         3 => done(imp::dk_plan_init_ordered::<f32, 3>(
             mesh, Dim, options, renumber, work, pools, info_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
+}
+
+/// Scalars of `scratch` that [`dk_plan_tangent`] and [`dk_plan_adjoint`] need for the plan in
+/// the pools (one length for both; `Plan::sensitivity_scratch_len`). Errors:
+/// `DK_ERR_BAD_PLAN`, `DK_ERR_INVALID_PARAMETER` (`dim`), pointer errors, `DK_ERR_TOO_LARGE`
+/// when the length overflows.
+///
+/// # Safety
+/// - `pools`: one readable `dk_plan_pools`.
+/// - `len_out`: one readable and writable `size_t`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_plan_sensitivity_scratch_len(
+    pools: *const DkPlanPools<f64>,
+    dim: u32,
+    len_out: *mut usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (pools, len_out) = unsafe { (In::new(pools, 1), Out::new(len_out, 1)) };
+    match dim {
+        2 => done(imp::dk_plan_sensitivity_scratch_len::<f64, 2>(
+            pools, Dim, len_out,
+        )),
+        3 => done(imp::dk_plan_sensitivity_scratch_len::<f64, 3>(
+            pools, Dim, len_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
+}
+
+/// `f32` twin of [`dk_plan_sensitivity_scratch_len`].
+///
+/// # Safety
+/// As [`dk_plan_sensitivity_scratch_len`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_plan_sensitivity_scratch_len_f32(
+    pools: *const DkPlanPools<f32>,
+    dim: u32,
+    len_out: *mut usize,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (pools, len_out) = unsafe { (In::new(pools, 1), Out::new(len_out, 1)) };
+    match dim {
+        2 => done(imp::dk_plan_sensitivity_scratch_len::<f32, 2>(
+            pools, Dim, len_out,
+        )),
+        3 => done(imp::dk_plan_sensitivity_scratch_len::<f32, 3>(
+            pools, Dim, len_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
+}
+
+/// The tangent of the plan's last step: `out = δx` (`N * dim` scalars, every mesh node) for
+/// the perturbation `direction = δd` of the deformed boundary positions (`B * dim` scalars,
+/// in the plan's boundary order); boundary nodes get `δd` exactly. One solve with the plan's
+/// solver and multigrid hierarchy, linearised at the last step (for the quaternion method
+/// with its stored solved field, so the deformation's solve is not repeated); after a
+/// `DK_PLAN_COLD` step the bits of the stateless derivatives (`dk_deform_spring_tangent`,
+/// `dk_spring_solve_linear` with `δd` as the fixed values).
+///
+/// - `deformed`, `rotation_source`, `rotations`, `origin`: the last step's motion, exactly as
+///   passed to [`dk_plan_step`] (checked against the plan's stored boundary values);
+/// - `scratch`: [`dk_plan_sensitivity_scratch_len`] scalars;
+/// - `report_out`: the solve's report (not converged is `DK_OK` with `converged` false).
+///
+/// Errors (nothing written but `scratch`; the plan is never written): `DK_ERR_BAD_PLAN`,
+/// length and pointer errors, `DK_ERR_NON_FINITE` (`direction`), `DK_ERR_BUFFER_TOO_SMALL`,
+/// `DK_ERR_INVALID_PARAMETER` (`dim`, `rotation_source`, a plan that has not stepped yet, a
+/// motion that is not the last step's), the boundary rotations' and the solver's errors.
+///
+/// # Safety
+/// - `pools`: one readable `dk_plan_pools`.
+/// - `deformed`: readable for `deformed_len` elements (`double`).
+/// - `rotations`: readable for `rotations_len` elements (`double`).
+/// - `origin`: readable for `origin_len` elements (`double`).
+/// - `direction`: readable for `direction_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+/// - `report_out`: one readable and writable `dk_spring_solve_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_plan_tangent(
+    pools: *const DkPlanPools<f64>,
+    dim: u32,
+    deformed: *const f64,
+    deformed_len: usize,
+    rotation_source: u32,
+    rotations: *const f64,
+    rotations_len: usize,
+    origin: *const f64,
+    origin_len: usize,
+    direction: *const f64,
+    direction_len: usize,
+    scratch: *mut f64,
+    scratch_len: usize,
+    out: *mut f64,
+    out_len: usize,
+    report_out: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (pools, deformed, rotations, origin, direction, scratch, out, report_out) = unsafe {
+        (
+            In::new(pools, 1),
+            In::new(deformed, deformed_len),
+            In::new(rotations, rotations_len),
+            In::new(origin, origin_len),
+            In::new(direction, direction_len),
+            Out::new(scratch, scratch_len),
+            Out::new(out, out_len),
+            Out::new(report_out, 1),
+        )
+    };
+    match dim {
+        2 => done(imp::dk_plan_tangent::<f64, 2>(
+            pools,
+            Dim,
+            deformed,
+            rotation_source,
+            rotations,
+            origin,
+            direction,
+            scratch,
+            out,
+            report_out,
+        )),
+        3 => done(imp::dk_plan_tangent::<f64, 3>(
+            pools,
+            Dim,
+            deformed,
+            rotation_source,
+            rotations,
+            origin,
+            direction,
+            scratch,
+            out,
+            report_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
+}
+
+/// `f32` twin of [`dk_plan_tangent`].
+///
+/// # Safety
+/// As [`dk_plan_tangent`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_plan_tangent_f32(
+    pools: *const DkPlanPools<f32>,
+    dim: u32,
+    deformed: *const f32,
+    deformed_len: usize,
+    rotation_source: u32,
+    rotations: *const f32,
+    rotations_len: usize,
+    origin: *const f32,
+    origin_len: usize,
+    direction: *const f32,
+    direction_len: usize,
+    scratch: *mut f32,
+    scratch_len: usize,
+    out: *mut f32,
+    out_len: usize,
+    report_out: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (pools, deformed, rotations, origin, direction, scratch, out, report_out) = unsafe {
+        (
+            In::new(pools, 1),
+            In::new(deformed, deformed_len),
+            In::new(rotations, rotations_len),
+            In::new(origin, origin_len),
+            In::new(direction, direction_len),
+            Out::new(scratch, scratch_len),
+            Out::new(out, out_len),
+            Out::new(report_out, 1),
+        )
+    };
+    match dim {
+        2 => done(imp::dk_plan_tangent::<f32, 2>(
+            pools,
+            Dim,
+            deformed,
+            rotation_source,
+            rotations,
+            origin,
+            direction,
+            scratch,
+            out,
+            report_out,
+        )),
+        3 => done(imp::dk_plan_tangent::<f32, 3>(
+            pools,
+            Dim,
+            deformed,
+            rotation_source,
+            rotations,
+            origin,
+            direction,
+            scratch,
+            out,
+            report_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
+}
+
+/// The adjoint of the plan's last step: `out = dJ/dd` (`B * dim` scalars, in the plan's
+/// boundary order) for `weights = dJ/dx` at every mesh node (`N * dim` scalars), the
+/// transpose of [`dk_plan_tangent`]: one CG solve with the plan's operator and
+/// preconditioner (the multigrid hierarchy reused), linearised at the last step. The plan's
+/// solver must be multigrid or CG. Arguments and errors as [`dk_plan_tangent`], with
+/// `DK_ERR_INVALID_PARAMETER` for a stationary solver (Jacobi, Gauss–Seidel, SOR); on error
+/// `out` is unchanged.
+///
+/// # Safety
+/// - `pools`: one readable `dk_plan_pools`.
+/// - `deformed`: readable for `deformed_len` elements (`double`).
+/// - `rotations`: readable for `rotations_len` elements (`double`).
+/// - `origin`: readable for `origin_len` elements (`double`).
+/// - `weights`: readable for `weights_len` elements (`double`).
+/// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+/// - `out`: readable and writable for `out_len` elements (`double`).
+/// - `report_out`: one readable and writable `dk_spring_solve_report`.
+///
+/// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+/// writable buffer overlaps another argument unless the text above allows it. NULL is
+/// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_plan_adjoint(
+    pools: *const DkPlanPools<f64>,
+    dim: u32,
+    deformed: *const f64,
+    deformed_len: usize,
+    rotation_source: u32,
+    rotations: *const f64,
+    rotations_len: usize,
+    origin: *const f64,
+    origin_len: usize,
+    weights: *const f64,
+    weights_len: usize,
+    scratch: *mut f64,
+    scratch_len: usize,
+    out: *mut f64,
+    out_len: usize,
+    report_out: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (pools, deformed, rotations, origin, weights, scratch, out, report_out) = unsafe {
+        (
+            In::new(pools, 1),
+            In::new(deformed, deformed_len),
+            In::new(rotations, rotations_len),
+            In::new(origin, origin_len),
+            In::new(weights, weights_len),
+            Out::new(scratch, scratch_len),
+            Out::new(out, out_len),
+            Out::new(report_out, 1),
+        )
+    };
+    match dim {
+        2 => done(imp::dk_plan_adjoint::<f64, 2>(
+            pools,
+            Dim,
+            deformed,
+            rotation_source,
+            rotations,
+            origin,
+            weights,
+            scratch,
+            out,
+            report_out,
+        )),
+        3 => done(imp::dk_plan_adjoint::<f64, 3>(
+            pools,
+            Dim,
+            deformed,
+            rotation_source,
+            rotations,
+            origin,
+            weights,
+            scratch,
+            out,
+            report_out,
+        )),
+        _ => dk_status::DK_ERR_INVALID_PARAMETER,
+    }
+}
+
+/// `f32` twin of [`dk_plan_adjoint`].
+///
+/// # Safety
+/// As [`dk_plan_adjoint`].
+#[cfg_attr(feature = "export-symbols", no_mangle)]
+pub unsafe extern "C" fn dk_plan_adjoint_f32(
+    pools: *const DkPlanPools<f32>,
+    dim: u32,
+    deformed: *const f32,
+    deformed_len: usize,
+    rotation_source: u32,
+    rotations: *const f32,
+    rotations_len: usize,
+    origin: *const f32,
+    origin_len: usize,
+    weights: *const f32,
+    weights_len: usize,
+    scratch: *mut f32,
+    scratch_len: usize,
+    out: *mut f32,
+    out_len: usize,
+    report_out: *mut dk_spring_solve_report,
+) -> dk_status {
+    // SAFETY: the contract under `# Safety` above: each pointer is NULL or valid for the
+    // length given here (its `_len` argument, one struct or value, a 3-vector or quaternion).
+    let (pools, deformed, rotations, origin, weights, scratch, out, report_out) = unsafe {
+        (
+            In::new(pools, 1),
+            In::new(deformed, deformed_len),
+            In::new(rotations, rotations_len),
+            In::new(origin, origin_len),
+            In::new(weights, weights_len),
+            Out::new(scratch, scratch_len),
+            Out::new(out, out_len),
+            Out::new(report_out, 1),
+        )
+    };
+    match dim {
+        2 => done(imp::dk_plan_adjoint::<f32, 2>(
+            pools,
+            Dim,
+            deformed,
+            rotation_source,
+            rotations,
+            origin,
+            weights,
+            scratch,
+            out,
+            report_out,
+        )),
+        3 => done(imp::dk_plan_adjoint::<f32, 3>(
+            pools,
+            Dim,
+            deformed,
+            rotation_source,
+            rotations,
+            origin,
+            weights,
+            scratch,
+            out,
+            report_out,
         )),
         _ => dk_status::DK_ERR_INVALID_PARAMETER,
     }

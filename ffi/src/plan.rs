@@ -22,8 +22,8 @@ use crate::args::{assert_layout, read_array, read_one, read_points, write_one, D
 use crate::graph::{dk_cells, dk_graph, CellsIn, GraphIn};
 pub use crate::pools::{dk_plan_pools, dk_plan_pools_f32, dk_plan_sizes, DkPlanPools};
 use crate::pools::{PoolArgs, PoolsC};
-use crate::slice::{chunks_mut, input, out_one, quats, In, Out};
-use crate::spring::{dk_amg_options, dk_spring_solve_options};
+use crate::slice::{chunks_mut, input, out_one, output, quats, In, Out};
+use crate::spring::{dk_amg_options, dk_spring_solve_options, dk_spring_solve_report};
 use crate::status::dk_status;
 
 /// `dk_plan_options.method`: linear (Batina) springs on the displacements.
@@ -567,4 +567,140 @@ pub(crate) fn dk_plan_init_ordered<T: Real, const D: usize>(
     let plan = Plan::<T, D>::init(&s, &mut work, reals, indices, bytes)?;
     *info_slot = info(&plan);
     Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// The derivative of the last step (`Plan::tangent`, `Plan::adjoint`).
+// ---------------------------------------------------------------------------------------------
+
+/// Scalars of `scratch` that [`dk_plan_tangent`] and [`dk_plan_adjoint`] need for the plan in
+/// the pools (one length for both; `Plan::sensitivity_scratch_len`). Errors:
+/// `DK_ERR_BAD_PLAN`, `DK_ERR_INVALID_PARAMETER` (`dim`), pointer errors, `DK_ERR_TOO_LARGE`
+/// when the length overflows.
+#[export(twin, pools[1], len_out[1])]
+pub(crate) fn dk_plan_sensitivity_scratch_len<T: Real, const D: usize>(
+    pools: In<'_, DkPlanPools<T>>,
+    _dim: Dim<D>,
+    len_out: Out<'_, usize>,
+) -> Result<(), dk_status> {
+    let plan = DkPlanPools::read(pools)?.open::<D>()?;
+    match plan.sensitivity_scratch_len() {
+        usize::MAX => Err(dk_status::DK_ERR_TOO_LARGE),
+        len => write_one(len_out, len),
+    }
+}
+
+/// The tangent of the plan's last step: `out = δx` (`N * dim` scalars, every mesh node) for
+/// the perturbation `direction = δd` of the deformed boundary positions (`B * dim` scalars,
+/// in the plan's boundary order); boundary nodes get `δd` exactly. One solve with the plan's
+/// solver and multigrid hierarchy, linearised at the last step (for the quaternion method
+/// with its stored solved field, so the deformation's solve is not repeated); after a
+/// `DK_PLAN_COLD` step the bits of the stateless derivatives (`dk_deform_spring_tangent`,
+/// `dk_spring_solve_linear` with `δd` as the fixed values).
+///
+/// - `deformed`, `rotation_source`, `rotations`, `origin`: the last step's motion, exactly as
+///   passed to [`dk_plan_step`] (checked against the plan's stored boundary values);
+/// - `scratch`: [`dk_plan_sensitivity_scratch_len`] scalars;
+/// - `report_out`: the solve's report (not converged is `DK_OK` with `converged` false).
+///
+/// Errors (nothing written but `scratch`; the plan is never written): `DK_ERR_BAD_PLAN`,
+/// length and pointer errors, `DK_ERR_NON_FINITE` (`direction`), `DK_ERR_BUFFER_TOO_SMALL`,
+/// `DK_ERR_INVALID_PARAMETER` (`dim`, `rotation_source`, a plan that has not stepped yet, a
+/// motion that is not the last step's), the boundary rotations' and the solver's errors.
+#[export(twin, pools[1], rotations?, origin?, report_out[1])]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn dk_plan_tangent<T: Real, const D: usize>(
+    pools: In<'_, DkPlanPools<T>>,
+    _dim: Dim<D>,
+    deformed: In<'_, T>,
+    rotation_source: u32,
+    rotations: In<'_, T>,
+    origin: In<'_, T>,
+    direction: In<'_, T>,
+    scratch: Out<'_, T>,
+    out: Out<'_, T>,
+    report_out: Out<'_, dk_spring_solve_report>,
+) -> Result<(), dk_status> {
+    let motion = last_motion(deformed, rotation_source, rotations, origin);
+    let buffers = (direction, scratch, out, report_out);
+    derivative::<T, D>(pools, motion, buffers, |p, m, i, s, o| {
+        p.tangent(m, i, s, o)
+    })
+}
+
+/// The adjoint of the plan's last step: `out = dJ/dd` (`B * dim` scalars, in the plan's
+/// boundary order) for `weights = dJ/dx` at every mesh node (`N * dim` scalars), the
+/// transpose of [`dk_plan_tangent`]: one CG solve with the plan's operator and
+/// preconditioner (the multigrid hierarchy reused), linearised at the last step. The plan's
+/// solver must be multigrid or CG. Arguments and errors as [`dk_plan_tangent`], with
+/// `DK_ERR_INVALID_PARAMETER` for a stationary solver (Jacobi, Gauss–Seidel, SOR); on error
+/// `out` is unchanged.
+#[export(twin, pools[1], rotations?, origin?, report_out[1])]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn dk_plan_adjoint<T: Real, const D: usize>(
+    pools: In<'_, DkPlanPools<T>>,
+    _dim: Dim<D>,
+    deformed: In<'_, T>,
+    rotation_source: u32,
+    rotations: In<'_, T>,
+    origin: In<'_, T>,
+    weights: In<'_, T>,
+    scratch: Out<'_, T>,
+    out: Out<'_, T>,
+    report_out: Out<'_, dk_spring_solve_report>,
+) -> Result<(), dk_status> {
+    let motion = last_motion(deformed, rotation_source, rotations, origin);
+    let buffers = (weights, scratch, out, report_out);
+    derivative::<T, D>(pools, motion, buffers, |p, m, i, s, o| {
+        p.adjoint(m, i, s, o)
+    })
+}
+
+/// The input field, scratch, output and report of a derivative call.
+type DerivativeBuffers<'a, T> = (
+    In<'a, T>,
+    Out<'a, T>,
+    Out<'a, T>,
+    Out<'a, dk_spring_solve_report>,
+);
+
+/// Opens the plan, reads the motion and the buffers, runs `f` (the tangent or the adjoint)
+/// and writes its report.
+fn derivative<T: Real, const D: usize>(
+    pools: In<'_, DkPlanPools<T>>,
+    motion: MotionArgs<'_, T>,
+    (input, scratch, out, report_out): DerivativeBuffers<'_, T>,
+    f: impl FnOnce(
+        &Plan<'_, T, D>,
+        &PlanMotion<'_, T, D>,
+        &[[T; D]],
+        &mut [T],
+        &mut [[T; D]],
+    ) -> deform_kernel::Result<deform_kernel::spring::SolveReport<T>>,
+) -> Result<(), dk_status> {
+    let plan = DkPlanPools::read(pools)?.open::<D>()?;
+    let motion = motion.motion::<D>(plan.method())?;
+    let input = read_points::<T, D>(input)?;
+    let scratch = output(scratch)?;
+    let out = chunks_mut::<T, D>(out)?;
+    let report_slot = out_one(report_out)?;
+    let r = f(&plan, &motion, input, scratch, out)?;
+    *report_slot = dk_spring_solve_report::of(r);
+    Ok(())
+}
+
+/// The last step's motion as a derivative call passes it (the start code is not used).
+fn last_motion<'a, T>(
+    deformed: In<'a, T>,
+    rotation_source: u32,
+    rotations: In<'a, T>,
+    origin: In<'a, T>,
+) -> MotionArgs<'a, T> {
+    MotionArgs {
+        deformed,
+        rotation_source,
+        rotations,
+        origin,
+        start: DK_PLAN_WARM,
+    }
 }

@@ -26,6 +26,9 @@ use deform_meshgen::{extrude, naca_hybrid, naca_triangulated, AirfoilGrid, Mesh,
 
 const STEPS: usize = 20;
 
+#[path = "plan/sensitivity.rs"]
+mod sensitivity;
+
 /// A NACA mesh with its graph and boundary (airfoil then far field, elements in boundary
 /// numbering), in precision `T`.
 struct Case<T, const D: usize = 2> {
@@ -41,6 +44,14 @@ struct Case<T, const D: usize = 2> {
 
 impl<T: Real, const D: usize> Case<T, D> {
     fn new(mesh: &Mesh<D>) -> Self {
+        // In 3D the end caps share nodes with the airfoil and the far field.
+        let names = ["airfoil", "farfield", "zmin", "zmax"];
+        Self::with_markers(mesh, &names[..D + D - 2], "airfoil")
+    }
+
+    /// The boundary of the markers `names` in order; the points of those up to `moving`
+    /// included pitch.
+    fn with_markers(mesh: &Mesh<D>, names: &[&str], moving: &str) -> Self {
         let n = mesh.points.len();
         let cells = mesh.cells().unwrap();
         let mut offsets = vec![0u32; n + 1];
@@ -58,11 +69,7 @@ impl<T: Real, const D: usize> Case<T, D> {
             el_kinds: Vec::new(),
             airfoil: 0,
         };
-        // In 3D the end caps share nodes with the airfoil and the far field.
-        for name in ["airfoil", "farfield", "zmin", "zmax"]
-            .iter()
-            .take(D + D - 2)
-        {
+        for name in names {
             let m = mesh.marker(name).unwrap();
             for &i in &m.node_list {
                 if local[i as usize] == u32::MAX {
@@ -70,7 +77,7 @@ impl<T: Real, const D: usize> Case<T, D> {
                     c.nodes.push(i);
                 }
             }
-            if *name == "airfoil" {
+            if *name == moving {
                 c.airfoil = c.nodes.len();
             }
             for e in 0..m.kinds.len() {
@@ -254,11 +261,6 @@ fn stateless_quaternion<T: Real, const D: usize>(
     s: usize,
     period: usize,
 ) -> (Vec<[T; D]>, SolveReport<T>) {
-    let n = c.points.len();
-    let k = c.stiffness();
-    let fixed = c.fixed();
-    let mut ss = vec![0u32; n];
-    let sys = SpringSystem::new(c.graph(), &k, &fixed, &mut ss).unwrap();
     let deformed = c.pitched(s, period);
     let motion = BoundaryMotion {
         nodes: &c.nodes,
@@ -267,6 +269,21 @@ fn stateless_quaternion<T: Real, const D: usize>(
         rotations: RotationSource::Shape,
         origin: None,
     };
+    with_system(c, solver, |sys, ls| stateless_deform(c, &motion, sys, ls))
+}
+
+/// The stateless spring system of `c` (Batina stiffness, fixed at the boundary) and the solver
+/// of `solver` (its own hierarchy, set up with the plan's options), handed to `f`.
+fn with_system<T: Real, const D: usize, R>(
+    c: &Case<T, D>,
+    solver: &PlanSolver<T>,
+    f: impl FnOnce(&SpringSystem<'_, T>, LinearSolver<'_, T>) -> R,
+) -> R {
+    let n = c.points.len();
+    let k = c.stiffness();
+    let fixed = c.fixed();
+    let mut ss = vec![0u32; n];
+    let sys = SpringSystem::new(c.graph(), &k, &fixed, &mut ss).unwrap();
     let (mut work, mut index, mut values);
     let h;
     let ls = match solver {
@@ -280,6 +297,17 @@ fn stateless_quaternion<T: Real, const D: usize>(
         }
         PlanSolver::Method(m) => LinearSolver::Method(*m),
     };
+    f(&sys, ls)
+}
+
+/// `deform_spring_with` of `motion` on `sys` with `ls`.
+fn stateless_deform<T: Real, const D: usize>(
+    c: &Case<T, D>,
+    motion: &BoundaryMotion<'_, T, D>,
+    sys: &SpringSystem<'_, T>,
+    ls: LinearSolver<'_, T>,
+) -> (Vec<[T; D]>, SolveReport<T>) {
+    let n = c.points.len();
     let mut t = vec![[T::ZERO; D]; n];
     let mut q = vec![Quat::identity(); n];
     let mut sc = vec![T::ZERO; deform_spring_scratch_len::<D>(n, c.nodes.len())];
@@ -287,8 +315,8 @@ fn stateless_quaternion<T: Real, const D: usize>(
     let mut out = vec![[T::ZERO; D]; n];
     let (_, rep) = deform_spring_with::<T, D>(
         &c.points,
-        &motion,
-        &sys,
+        motion,
+        sys,
         ls,
         &options(),
         &mut t,

@@ -64,12 +64,20 @@
 //! off and not pay twice: the ordering costs `O(E)` (RCM) or `O(N log N)` (Hilbert) at init,
 //! `2N` indices in the pool and a scattered write of `out` each step.
 //!
+//! **Derivatives** ([`Plan::tangent`], [`Plan::adjoint`], scratch from
+//! [`Plan::sensitivity_scratch_len`]): the tangent and adjoint of the last step with respect to
+//! the deformed boundary positions, one solve each with the stored hierarchy and, for the
+//! quaternion method, the stored solved field (the stateless
+//! [`deform_spring_adjoint`](crate::quaternion::deform_spring_adjoint) solves the deformation
+//! again first). They read the plan and never write it.
+//!
 //! **Errors.** `step` validates its input before it touches anything: on `Err` the caller's
 //! `out` and the plan's state (previous solution, step counter) are unchanged.
 
 mod build;
 mod layout;
 mod order;
+mod sensitivity;
 mod step;
 mod storage;
 

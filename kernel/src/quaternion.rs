@@ -99,6 +99,8 @@ pub use update::update_points;
 /// very same arithmetic.
 pub(crate) use normals::check_elements;
 pub(crate) use rotations::{origin_core, rigid_node_rotation, rotations_core, translation};
+/// The quaternion-spring sensitivities at a solved field (a plan's last step).
+pub(crate) use sensitivity::SolvedSpring;
 pub(crate) use update::apply;
 
 use crate::error::{Error, Result};

@@ -271,3 +271,15 @@ fn c_renumbered_plans_equal_the_rust_plan_bit_for_bit() {
     }
     assert_eq!(next("end"), "plan_order: every check held");
 }
+
+/// The derivative of a plan's last step from C (`ffi/tests/plan_sensitivity.c`):
+/// `dk_plan_tangent` and `dk_plan_adjoint` (and the `_f32` twins) after a cold step equal bit
+/// for bit the stateless C calls of the same kernel (`dk_deform_spring_tangent` / `_adjoint`,
+/// `dk_sensitivity_spring_adjoint`) on the same mesh and solver; bad calls write nothing.
+#[test]
+fn c_plan_derivatives_equal_the_stateless_calls() {
+    assert_eq!(
+        run_c_test("plan_sensitivity", "plan_sensitivity_c", Link::Static),
+        "plan_sensitivity: every check held\n"
+    );
+}

@@ -22,7 +22,7 @@ use crate::vector::{add, sub};
 
 /// `buf[r]`, empty when out of range.
 #[inline]
-fn sec<'b, X>(buf: &'b [X], r: &core::ops::Range<usize>) -> &'b [X] {
+pub(super) fn sec<'b, X>(buf: &'b [X], r: &core::ops::Range<usize>) -> &'b [X] {
     buf.get(r.clone()).unwrap_or(&[])
 }
 
@@ -79,7 +79,7 @@ fn validate<T: Real, const D: usize>(
 }
 
 /// The stored solver.
-fn solver<'h, T: Real>(
+pub(super) fn solver<'h, T: Real>(
     kind: SolverKind,
     omega: T,
     amg: Option<&'h AmgHierarchy<'h, T>>,
@@ -136,14 +136,14 @@ pub(super) fn step<T: Real, const D: usize>(
 }
 
 /// The read-only parts every step needs.
-struct Fixed<'p, T: Real, const D: usize> {
-    sys: SpringSystem<'p, T>,
-    points: &'p [[T; D]],
-    boundary: &'p [u32],
+pub(super) struct Fixed<'p, T: Real, const D: usize> {
+    pub sys: SpringSystem<'p, T>,
+    pub points: &'p [[T; D]],
+    pub boundary: &'p [u32],
     /// `order[new] = old` of a renumbered plan (empty: the caller's numbering).
-    order: &'p [u32],
-    options: SolveOptions<T>,
-    omega: T,
+    pub order: &'p [u32],
+    pub options: SolveOptions<T>,
+    pub omega: T,
 }
 
 /// The step workspaces and the state, as `V`-vectors.
@@ -179,24 +179,8 @@ fn views<'p, T: Real, const D: usize, const V: usize>(
     let scratch = carve(&mut rest, s.scratch.len()).as_chunks_mut::<V>().0;
     let rot = carve(&mut rest, s.rot.len());
     let bq = carve(&mut rest, s.bq.len()).as_chunks_mut::<4>().0;
-    let graph = Graph::trusted(sec(indices, &s.offs), sec(indices, &s.targets));
-    let sys = SpringSystem::trusted(graph, sec(fixed, &s.stiffness), sec(bytes, &s.mask));
-    let params = sec(fixed, &s.params);
-    let p = |i: usize| params.get(i).copied().unwrap_or(T::ZERO);
-    let options = SolveOptions {
-        max_iterations: meta.max_iterations,
-        residual_tol: p(layout::P_RESIDUAL),
-        update_tol: p(layout::P_UPDATE),
-    };
     (
-        Fixed {
-            sys,
-            points: sec(fixed, &s.points).as_chunks::<D>().0,
-            boundary: sec(indices, &s.boundary),
-            order: sec(indices, &s.perm).get(..meta.n).unwrap_or(&[]),
-            options,
-            omega: p(layout::P_OMEGA),
-        },
+        fixed_view(meta, fixed, indices, bytes),
         fixed,
         Mutable {
             state,
@@ -211,8 +195,35 @@ fn views<'p, T: Real, const D: usize, const V: usize>(
     )
 }
 
+/// The read-only plan data (`fixed`: the real pool before the state section).
+pub(super) fn fixed_view<'p, T: Real, const D: usize>(
+    meta: &Meta,
+    fixed: &'p [T],
+    indices: &'p [u32],
+    bytes: &'p [u8],
+) -> Fixed<'p, T, D> {
+    let s = &meta.sec;
+    let graph = Graph::trusted(sec(indices, &s.offs), sec(indices, &s.targets));
+    let sys = SpringSystem::trusted(graph, sec(fixed, &s.stiffness), sec(bytes, &s.mask));
+    let params = sec(fixed, &s.params);
+    let p = |i: usize| params.get(i).copied().unwrap_or(T::ZERO);
+    let options = SolveOptions {
+        max_iterations: meta.max_iterations,
+        residual_tol: p(layout::P_RESIDUAL),
+        update_tol: p(layout::P_UPDATE),
+    };
+    Fixed {
+        sys,
+        points: sec(fixed, &s.points).as_chunks::<D>().0,
+        boundary: sec(indices, &s.boundary),
+        order: sec(indices, &s.perm).get(..meta.n).unwrap_or(&[]),
+        options,
+        omega: p(layout::P_OMEGA),
+    }
+}
+
 /// The hierarchy view, when the plan has one.
-fn hierarchy<'p, T: Real>(
+pub(super) fn hierarchy<'p, T: Real>(
     meta: &Meta,
     amg: &Option<AmgParts<T>>,
     fixed: &'p [T],
@@ -286,7 +297,7 @@ fn run_spring<T: Real, const D: usize>(
 
 /// `out`'s entry for plan node `i`: the caller's node `order[i]` (`i` without an order).
 #[inline]
-fn out_at<'o, T, const D: usize>(
+pub(super) fn out_at<'o, T, const D: usize>(
     out: &'o mut [[T; D]],
     order: &[u32],
     i: usize,

@@ -54,6 +54,7 @@ use self::field::{idw_adjoint, idw_tangent, Field};
 pub use self::idw_fast::{
     deform_idw_fast_adjoint, deform_idw_fast_sensitivity_scratch_len, deform_idw_fast_tangent,
 };
+pub(crate) use self::spring::SolvedSpring;
 pub use self::spring::{
     deform_spring_adjoint, deform_spring_sensitivity_scratch_len, deform_spring_tangent,
 };

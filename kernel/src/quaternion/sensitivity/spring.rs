@@ -16,7 +16,9 @@
 //!   stage's transpose.
 //!
 //! Both first repeat the forward's solve (same packing, start and solver) for `S_i`, so each
-//! costs two solves. The solves are iterative: the results are the derivative of the exact
+//! costs two solves; a prepared plan ([`Plan::tangent`](crate::plan::Plan::tangent),
+//! [`Plan::adjoint`](crate::plan::Plan::adjoint)) keeps its last step's solved field and
+//! skips that repetition (the split after the base solve, [`SolvedSpring`]). The solves are iterative: the results are the derivative of the exact
 //! solve to the solver's tolerance, and tangent and adjoint agree (`⟨J v, w⟩ = ⟨v, Jᵀ w⟩`) to
 //! that tolerance; pick `options.residual_tol` tight.
 
@@ -78,6 +80,87 @@ struct Setup<'a, 'm, T: Real, const D: usize> {
     sys: &'a SpringSystem<'a, T>,
     solver: LinearSolver<'a, T>,
     options: &'a SolveOptions<T>,
+    /// The forward's solved packed field (`N (D + 4)` scalars) when the caller has it (a
+    /// plan's last step): then the base solve is not repeated. `None`: solve it here.
+    solved: Option<&'a [T]>,
+    /// The caller's node of solve node `i`: `order[i]` (empty: `i`), for `out` and `weights`.
+    order: &'a [u32],
+}
+
+/// The base field and the report of its solve (`None`: given, not solved).
+type Base<'v, T, const V: usize> = (&'v [[T; V]], Option<SolveReport<T>>);
+
+/// A deformation whose propagation solve is done: the problem and the solved packed field
+/// `(Δ_i, S_i)` (solve numbering, hemisphere-aligned as the forward leaves it), e.g. a plan's
+/// last step. [`SolvedSpring::tangent`] and [`SolvedSpring::adjoint`] are
+/// [`deform_spring_tangent`] and [`deform_spring_adjoint`] without the repeated base solve
+/// (the same bits when `field` is the bits that solve gives), with the same scratch length.
+pub(crate) struct SolvedSpring<'a, 'm, T: Real, const D: usize> {
+    /// Mesh points in the solve's numbering.
+    pub points: &'a [[T; D]],
+    /// The motion of the solved step (its `nodes` in the solve's numbering).
+    pub motion: &'a BoundaryMotion<'m, T, D>,
+    /// The spring system of the solve.
+    pub sys: &'a SpringSystem<'a, T>,
+    /// Its solver (the adjoint needs CG or multigrid).
+    pub solver: LinearSolver<'a, T>,
+    /// Its stopping rules.
+    pub options: &'a SolveOptions<T>,
+    /// The solved packed field, `N (D + 4)` scalars.
+    pub field: &'a [T],
+    /// `order[i]`: the caller's node of solve node `i` (empty: the same numbering).
+    pub order: &'a [u32],
+}
+
+impl<T: Real, const D: usize> SolvedSpring<'_, '_, T, D> {
+    fn setup(&self) -> Setup<'_, '_, T, D> {
+        Setup {
+            points: self.points,
+            motion: self.motion,
+            sys: self.sys,
+            solver: self.solver,
+            options: self.options,
+            solved: Some(self.field),
+            order: self.order,
+        }
+    }
+
+    /// [`deform_spring_tangent`] at the solved field (`out` in the caller's numbering).
+    ///
+    /// # Errors
+    /// Those of [`deform_spring_tangent`]; a `motion` whose packed boundary values are not
+    /// the field's ([`Error::InvalidParameter`], `"motion"`). On error `out` is unchanged.
+    pub fn tangent(
+        &self,
+        direction: &[[T; D]],
+        scratch: &mut [T],
+        out: &mut [[T; D]],
+    ) -> Result<SolveReport<T>> {
+        check::len("direction", direction.len(), self.motion.nodes.len())?;
+        check::len("out", out.len(), self.points.len())?;
+        self.setup().run(Mode::Tangent, direction, scratch, out)
+    }
+
+    /// [`deform_spring_adjoint`] at the solved field (`weights` in the caller's numbering).
+    ///
+    /// # Errors
+    /// As [`SolvedSpring::tangent`], with those of [`deform_spring_adjoint`].
+    pub fn adjoint(
+        &self,
+        weights: &[[T; D]],
+        scratch: &mut [T],
+        out: &mut [[T; D]],
+    ) -> Result<SolveReport<T>> {
+        check::len("weights", weights.len(), self.points.len())?;
+        check::len("out", out.len(), self.motion.nodes.len())?;
+        self.setup().run(Mode::Adjoint, weights, scratch, out)
+    }
+}
+
+/// The caller's node of solve node `i`.
+#[inline]
+fn caller(order: &[u32], i: usize) -> usize {
+    order.get(i).map_or(i, |&o| o as usize)
 }
 
 /// The scratch of both modes: two packed fields, the boundary stage, the solver's.
@@ -112,6 +195,8 @@ impl<'a, 'm, T: Real, const D: usize> From<Args<'a, 'm, T, D>> for Setup<'a, 'm,
             sys,
             solver,
             options,
+            solved: None,
+            order: &[],
         }
     }
 }
@@ -192,15 +277,13 @@ impl<T: Real, const D: usize> Setup<'_, '_, T, D> {
         Quat::from_array(load(qs, first))
     }
 
-    /// The forward's propagation solve: `(Δ_k, ±Q_k)` packed at the fixed nodes, the free
-    /// nodes started at their mean, solved; every free `S_i` must normalise.
-    fn base_solve<const V: usize>(
+    /// The forward's packed boundary values `(Δ_k, ±Q_k)`, given to `f` with their node.
+    fn pack_boundary<const V: usize>(
         &self,
         origin: [T; D],
         qs: &[T],
-        values: &mut [[T; V]],
-        solve: &mut [[T; V]],
-    ) -> Result<SolveReport<T>> {
+        mut f: impl FnMut(usize, [T; V]),
+    ) {
         let reference = self.reference(qs);
         let u = Pts::mapped(self.points, self.motion.nodes);
         for (k, (&i, &dk)) in self
@@ -218,16 +301,57 @@ impl<T: Real, const D: usize> Setup<'_, '_, T, D> {
                 q.normalize().unwrap_or(Quat::identity()),
             );
             let q = if q.dot(reference) < T::ZERO { -q } else { q };
-            if let Some(v) = values.get_mut(i as usize) {
-                *v = pack(t, q);
-            }
+            f(i as usize, pack(t, q));
         }
+    }
+
+    /// The forward's propagation solve: `(Δ_k, ±Q_k)` packed at the fixed nodes, the free
+    /// nodes started at their mean, solved; every free `S_i` must normalise.
+    fn base_solve<const V: usize>(
+        &self,
+        origin: [T; D],
+        qs: &[T],
+        values: &mut [[T; V]],
+        solve: &mut [[T; V]],
+    ) -> Result<SolveReport<T>> {
+        self.pack_boundary::<V>(origin, qs, |i, p| {
+            if let Some(v) = values.get_mut(i) {
+                *v = p;
+            }
+        });
         start_at_fixed_mean(self.sys, values);
         let report = self
             .sys
             .solve_linear_with(values, self.solver, self.options, solve)?;
         check_rotations::<T, D, V>(self.sys, values)?;
         Ok(report)
+    }
+
+    /// The base field: the given solved one (checked: `N` packed values whose boundary
+    /// values are this motion's, bit for bit) or the base solve into `values`. `None` for
+    /// the report when nothing was solved.
+    fn base<'v, const V: usize>(
+        &'v self,
+        origin: [T; D],
+        qs: &[T],
+        values: &'v mut [[T; V]],
+        solve: &mut [[T; V]],
+    ) -> Result<Base<'v, T, V>> {
+        let Some(field) = self.solved else {
+            let report = self.base_solve(origin, qs, values, solve)?;
+            return Ok((values, Some(report)));
+        };
+        let field = field.as_chunks::<V>().0;
+        check::len("field", field.len(), self.points.len())?;
+        let mut same = true;
+        self.pack_boundary::<V>(origin, qs, |i, p| same &= field.get(i) == Some(&p));
+        if !same {
+            return Err(Error::InvalidParameter {
+                arg: "motion",
+                reason: "not the motion of the solved step (the plan's last step)",
+            });
+        }
+        Ok((field, None))
     }
 
     /// `±1`: the hemisphere sign the forward gave boundary rotation `k`.
@@ -295,7 +419,7 @@ fn tangent_packed<T: Real, const D: usize, const V: usize>(
     let (qs, rest) = take(p.bnd, 4 * b);
     let (dq, rest) = take(rest, 4 * b);
     let dt = rest.get(..3 * b).unwrap_or_default();
-    let base = s.base_solve(origin, qs, p.base, p.solve)?;
+    let (base, base_report) = s.base(origin, qs, p.base, p.solve)?;
     let reference = s.reference(qs);
     for v in p.second.iter_mut() {
         *v = [T::ZERO; V];
@@ -310,22 +434,20 @@ fn tangent_packed<T: Real, const D: usize, const V: usize>(
     let report = s
         .sys
         .solve_linear_with(p.second, s.solver, s.options, p.solve)?;
-    for (i, (o, (v, dv))) in out
-        .iter_mut()
-        .zip(p.base.iter().zip(p.second.iter()))
-        .enumerate()
-    {
+    for (i, (v, dv)) in base.iter().zip(p.second.iter()).enumerate() {
         let r = s.points.get(i).copied().unwrap_or([T::ZERO; D]);
         let (q, len, m) = free_rotation::<T, D, V>(v, r, origin);
         let (dtv, ds) = unpack::<T, D, V>(dv);
-        *o = add(dtv, drop3(mul34(&m, proj4(q, len, ds.to_array()))));
+        if let Some(o) = out.get_mut(caller(s.order, i)) {
+            *o = add(dtv, drop3(mul34(&m, proj4(q, len, ds.to_array()))));
+        }
     }
     for (k, &i) in s.motion.nodes.iter().enumerate() {
-        if let Some(o) = out.get_mut(i as usize) {
+        if let Some(o) = out.get_mut(caller(s.order, i as usize)) {
             *o = direction.get(k).copied().unwrap_or([T::ZERO; D]);
         }
     }
-    Ok(merge(Some(base), report))
+    Ok(merge(base_report, report))
 }
 
 /// Adjoint of [`deform_spring_with`](crate::quaternion::deform_spring_with): `out = (∂R/∂d)ᵀ
@@ -373,22 +495,13 @@ fn adjoint_packed<T: Real, const D: usize, const V: usize>(
     check::finite_items("weights", weights)?;
     boundary_adjoint_check(s.points, s.motion, p.bnd)?;
     let b = s.motion.nodes.len();
-    let base = {
+    let base_report = {
         let qs = p.bnd.get(..4 * b).unwrap_or_default();
-        s.base_solve(origin, qs, p.base, p.solve)?
+        let (base, report) = s.base(origin, qs, &mut *p.base, &mut *p.solve)?;
+        sources(s, origin, base, weights, p.second);
+        report
     };
-    // The free nodes' sources (Δ̄_i, S̄_i) into `second`; zero at the fixed nodes.
-    for (i, (f, v)) in p.second.iter_mut().zip(p.base.iter()).enumerate() {
-        if s.sys.is_fixed(i) {
-            *f = [T::ZERO; V];
-            continue;
-        }
-        let r = s.points.get(i).copied().unwrap_or([T::ZERO; D]);
-        let (q, len, m) = free_rotation::<T, D, V>(v, r, origin);
-        let w = weights.get(i).copied().unwrap_or([T::ZERO; D]);
-        let sb = proj4(q, len, mul34t(&m, lift(w)));
-        *f = pack(w, Quat::from_array(sb));
-    }
+    // `base` is free again: it receives the adjoint solve's `g`.
     let report = spring_adjoint(s.sys, s.solver, s.options, p.second, p.base, p.solve)?;
     let (qs, rest) = take(p.bnd, 4 * b);
     let (dq, dt) = take(rest, 4 * b);
@@ -399,8 +512,33 @@ fn adjoint_packed<T: Real, const D: usize, const V: usize>(
         let sign = Setup::<T, D>::sign(load(qs, k), reference);
         store(dq, k, qb.to_array().map(|x| sign * x));
         store(dt, k, lift(tb));
-        *o = drop3(get3(weights, i as usize));
+        *o = drop3(get3(weights, caller(s.order, i as usize)));
     }
     boundary_adjoint(s.points, s.motion, origin, p.bnd, out)?;
-    Ok(merge(Some(base), report))
+    Ok(merge(base_report, report))
+}
+
+/// The free nodes' adjoint sources `(Δ̄_i, S̄_i)` from the solved field `base` into `f`;
+/// zero at the fixed nodes.
+fn sources<T: Real, const D: usize, const V: usize>(
+    s: &Setup<'_, '_, T, D>,
+    origin: [T; D],
+    base: &[[T; V]],
+    weights: &[[T; D]],
+    f: &mut [[T; V]],
+) {
+    for (i, (f, v)) in f.iter_mut().zip(base.iter()).enumerate() {
+        if s.sys.is_fixed(i) {
+            *f = [T::ZERO; V];
+            continue;
+        }
+        let r = s.points.get(i).copied().unwrap_or([T::ZERO; D]);
+        let (q, len, m) = free_rotation::<T, D, V>(v, r, origin);
+        let w = weights
+            .get(caller(s.order, i))
+            .copied()
+            .unwrap_or([T::ZERO; D]);
+        let sb = proj4(q, len, mul34t(&m, lift(w)));
+        *f = pack(w, Quat::from_array(sb));
+    }
 }
