@@ -174,14 +174,6 @@ struct Relative {
     corner: Vec<f64>,
 }
 
-fn relative<const D: usize>(
-    view: &Cells<'_>,
-    pts: &[[f64; D]],
-    negative: &[bool],
-) -> Result<Relative, CliError> {
-    mirror_negative(view, pts, negative, qualities(view, pts)?)
-}
-
 /// Per-cell signed measure and smallest corner Jacobians as the cells are listed.
 fn qualities<const D: usize>(view: &Cells<'_>, p: &[[f64; D]]) -> Result<Relative, CliError> {
     let mut r = Relative {
@@ -194,7 +186,7 @@ fn qualities<const D: usize>(view: &Cells<'_>, p: &[[f64; D]]) -> Result<Relativ
     Ok(r)
 }
 
-/// [`relative`] from the cells' [`qualities`] at `pts`: the `negative` cells re-evaluated on
+/// The cells measured relative to their own orientation, from their [`qualities`] at `pts`: the `negative` cells re-evaluated on
 /// the mirrored points.
 fn mirror_negative<const D: usize>(
     view: &Cells<'_>,
@@ -348,8 +340,17 @@ fn quality_d<const D: usize>(
     }
     let input_undeformed = points_d::<D>(reference.unwrap_or(points));
     let input_deformed = points_d::<D>(points);
-    let base = reference_cells(cells, &view, &input_undeformed)?;
-    let rel = relative(&view, &input_deformed, &base.negative)?;
+    // The deformed cells' qualities do not depend on the reference's: evaluated alongside.
+    let (base, listed) = std::thread::scope(|s| {
+        let deformed = s.spawn(|| qualities(&view, &input_deformed));
+        let base = reference_cells(cells, &view, &input_undeformed);
+        let listed = deformed
+            .join()
+            .unwrap_or_else(|p| std::panic::resume_unwind(p));
+        (base, listed)
+    });
+    let base = base?;
+    let rel = mirror_negative(&view, &input_deformed, &base.negative, listed?)?;
     // Ratios, inversions and wall angles on canonical coordinates (negative regions mirrored):
     // the same numbers as on the input's, angles measured the same way in every region.
     let undeformed = base.orientation.canonical(&input_undeformed);

@@ -58,6 +58,7 @@ mod solver;
 mod stiffening;
 mod stiffness;
 mod system;
+mod zero_components;
 
 pub use amg::rigid_mode_count;
 pub use amg::{

@@ -9,11 +9,13 @@
 //! free-form deformation boxes — are kept byte for byte ([`Su2Mesh::passthrough`]) and written
 //! back unchanged; any other keyword is an error naming its line.
 
+use std::fmt;
 use std::io::{self, Write};
 
 use deform_kernel::CellKind;
 
 use super::error::{show, FormatError, FormatErrorKind, Location};
+use super::line::{too_long, Line};
 use super::CellList;
 
 /// A boundary marker: its tag and its boundary elements (lines in 2D, triangles/quads in 3D).
@@ -189,11 +191,14 @@ pub(crate) fn key_value(line: &[u8]) -> Option<(&[u8], &[u8])> {
     Some((key, value))
 }
 
+/// A non-negative integer of 1 to 19 ASCII digits (always fits a `u64`).
 fn parse_uint(tok: &[u8]) -> Option<u64> {
-    if tok.is_empty() || tok.len() > 19 || !tok.iter().all(u8::is_ascii_digit) {
+    if tok.is_empty() || tok.len() > 19 {
         return None;
     }
-    std::str::from_utf8(tok).ok()?.parse().ok()
+    tok.iter().try_fold(0u64, |v, &b| {
+        b.is_ascii_digit().then(|| v * 10 + u64::from(b - b'0'))
+    })
 }
 
 pub(super) fn parse_count(line: usize, value: &[u8], keyword: &str) -> Result<usize, FormatError> {
@@ -215,16 +220,19 @@ pub(super) fn parse_count(line: usize, value: &[u8], keyword: &str) -> Result<us
         })
 }
 
-pub(crate) fn parse_real(line: usize, tok: &[u8], what: &str) -> Result<f64, FormatError> {
+/// A finite number; `what()` names it, called only for an error.
+fn parse_real(line: usize, tok: &[u8], what: impl Fn() -> String) -> Result<f64, FormatError> {
     let v: f64 = std::str::from_utf8(tok)
         .ok()
         .and_then(|s| s.parse().ok())
-        .ok_or_else(|| FormatError::expected_at_line(line, format!("{what} (a number)"), tok))?;
+        .ok_or_else(|| {
+            FormatError::expected_at_line(line, format!("{} (a number)", what()), tok)
+        })?;
     if !v.is_finite() {
         return Err(FormatError::new(
             Location::Line(line),
             FormatErrorKind::NotFinite {
-                what: what.to_string(),
+                what: what(),
                 found: show(tok),
             },
         ));
@@ -248,9 +256,8 @@ pub(crate) fn parse_element(
     };
     let mut it = tokens(content);
     let code_tok = it.next().unwrap_or(&[]);
-    let code = std::str::from_utf8(code_tok)
-        .ok()
-        .and_then(|s| s.parse::<i64>().ok())
+    let code = (parse_uint(code_tok).and_then(|c| i64::try_from(c).ok()))
+        .or_else(|| std::str::from_utf8(code_tok).ok()?.parse::<i64>().ok())
         .ok_or_else(|| {
             FormatError::expected_at_line(
                 line,
@@ -336,7 +343,7 @@ pub(crate) fn parse_point(
                 c,
             )
         })?;
-        *slot = parse_real(l, tok, &format!("{name} of point {p}"))?;
+        *slot = parse_real(l, tok, || format!("{name} of point {p}"))?;
     }
     Ok(xyz)
 }
@@ -787,11 +794,24 @@ pub(crate) fn write_su2_element<W: Write>(
     c: usize,
     nl: &str,
 ) -> io::Result<()> {
-    write!(w, "{code}")?;
-    for n in nodes {
-        write!(w, " {n}")?;
+    let mut line = Line::new();
+    if !(push_cell(&mut line, code, nodes)
+        && line.push(b" ")
+        && line.push_uint(c as u64)
+        && line.push(nl.as_bytes()))
+    {
+        return Err(too_long());
     }
-    write!(w, " {c}{nl}")
+    line.flush_to(w)
+}
+
+/// `code n0 n1 …` of an element line; `false` when it does not fit.
+fn push_cell(line: &mut Line, code: u8, nodes: &[u32]) -> bool {
+    let mut fits = line.push_uint(code.into());
+    for &n in nodes {
+        fits = fits && line.push(b" ") && line.push_uint(n.into());
+    }
+    fits
 }
 
 /// What [`write_su2`] writes between the element lines and the `npoin` point lines.
@@ -813,10 +833,14 @@ pub(crate) fn write_su2_point<W: Write>(
     i: usize,
     nl: &str,
 ) -> io::Result<()> {
+    let mut line = Line::new();
     for x in p.iter().take(dim) {
-        write!(w, "{x:e} ")?;
+        fmt::Write::write_fmt(&mut line, format_args!("{x:e} ")).map_err(|_| too_long())?;
     }
-    write!(w, "{i}{nl}")
+    if !(line.push_uint(i as u64) && line.push(nl.as_bytes())) {
+        return Err(too_long());
+    }
+    line.flush_to(w)
 }
 
 /// What [`write_su2`] writes after the point lines: the markers, the passed-through
@@ -830,11 +854,11 @@ pub(crate) fn write_su2_tail<W: Write>(mesh: &Su2Mesh, w: &mut W) -> io::Result<
         write!(w, "MARKER_TAG= {}{nl}", m.name)?;
         write!(w, "MARKER_ELEMS= {}{nl}", m.elements.len())?;
         for (code, nodes) in m.elements.iter() {
-            write!(w, "{code}")?;
-            for n in nodes {
-                write!(w, " {n}")?;
+            let mut line = Line::new();
+            if !(push_cell(&mut line, code, nodes) && line.push(nl.as_bytes())) {
+                return Err(too_long());
             }
-            write!(w, "{nl}")?;
+            line.flush_to(w)?;
         }
     }
     write_comments(w, t, "passthrough", nl)?;

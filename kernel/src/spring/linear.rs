@@ -370,6 +370,14 @@ impl<T: Real> SpringSystem<'_, T> {
         options: &SolveOptions<T>,
         scratch: &mut [[T; V]],
     ) -> Result<SolveReport<T>> {
+        if matches!(method, LinearMethod::Cg { .. }) {
+            let packed = super::zero_components::Packed::Cg(method);
+            let solved =
+                super::zero_components::solve_nonzero(self, values, packed, options, scratch);
+            if let Some(report) = solved {
+                return report;
+            }
+        }
         solve_linear_on(self, values, method, options, scratch, None)
     }
 }

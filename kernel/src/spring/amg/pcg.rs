@@ -189,6 +189,12 @@ impl<T: Real> SpringSystem<'_, T> {
         options: &SolveOptions<T>,
         scratch: &mut [[T; V]],
     ) -> Result<SolveReport<T>> {
+        let packed = crate::spring::zero_components::Packed::Amg(hierarchy);
+        let solved =
+            crate::spring::zero_components::solve_nonzero(self, values, packed, options, scratch);
+        if let Some(report) = solved {
+            return report;
+        }
         solve_amg_on(
             self,
             hierarchy,
