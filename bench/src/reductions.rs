@@ -48,24 +48,49 @@ pub fn cost(
     fig: &mut Figures,
 ) {
     let n = y.len();
-    let p: Vec<[f64; 2]> = y.iter().zip(x0).map(|(a, b)| [a[0] - b[0], a[1] - b[1]]).collect();
-    let r: Vec<[f64; 2]> = y.iter().zip(x).map(|(a, b)| [a[0] - b[0], a[1] - b[1]]).collect();
+    let p: Vec<[f64; 2]> = y
+        .iter()
+        .zip(x0)
+        .map(|(a, b)| [a[0] - b[0], a[1] - b[1]])
+        .collect();
+    let r: Vec<[f64; 2]> = y
+        .iter()
+        .zip(x)
+        .map(|(a, b)| [a[0] - b[0], a[1] - b[1]])
+        .collect();
     let f = |i: usize| 1.0 + 0.5 * (i as f64 * 0.01).sin();
-    let q: Vec<[f64; 2]> = p.iter().enumerate().map(|(i, v)| v.map(|v| v * f(i))).collect();
-    let z: Vec<[f64; 2]> = r.iter().enumerate().map(|(i, v)| v.map(|v| v / f(i))).collect();
+    let q: Vec<[f64; 2]> = p
+        .iter()
+        .enumerate()
+        .map(|(i, v)| v.map(|v| v * f(i)))
+        .collect();
+    let z: Vec<[f64; 2]> = r
+        .iter()
+        .enumerate()
+        .map(|(i, v)| v.map(|v| v / f(i)))
+        .collect();
     // Many rounds per timing: one round is a fraction of a millisecond.
     let rounds = 20;
-    let time = |g: fn(&_, &_, &_, &_) -> [f64; 5]| {
+    type Reduce = fn(&[[f64; 2]], &[[f64; 2]], &[[f64; 2]], &[[f64; 2]]) -> [f64; 5];
+    let time = |g: Reduce| {
         median(reps, || {
             for _ in 0..rounds {
-                black_box(g(black_box(&p), black_box(&q), black_box(&r), black_box(&z)));
+                black_box(g(
+                    black_box(&p),
+                    black_box(&q),
+                    black_box(&r),
+                    black_box(&z),
+                ));
             }
         }) / rounds as f64
     };
     let (t_exact, t_plain) = (time(exact), time(plain));
     // Timings on a shared machine: say how busy it was (1-minute load average, Linux).
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    fig.put("load_average_1min", load.split(' ').next().unwrap_or("unknown"));
+    fig.put(
+        "load_average_1min",
+        load.split(' ').next().unwrap_or("unknown"),
+    );
     fig.put("reduction_terms_per_iteration", 6 * n);
     fig.put("reduction_exact_s", format!("{t_exact:.3e}"));
     fig.put("reduction_plain_s", format!("{t_plain:.3e}"));

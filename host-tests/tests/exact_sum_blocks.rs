@@ -108,10 +108,18 @@ fn adversarial_cases_equal_the_per_term_path() {
         c.extend(c.clone().iter().map(|x| -x * (1.0 + f64::EPSILON)));
         check(&c);
         // 2^±1000 mixed, every binade between, subnormals, the largest finite values.
-        check(&terms(n, 3, |x, i| x * p(2.0, [1000, -1000, 0, 500][i % 4])));
-        check(&terms(n, 4, |x, i| x * p(2.0, (i as i32 * 37) % 2000 - 1000)));
+        check(&terms(n, 3, |x, i| {
+            x * p(2.0, [1000, -1000, 0, 500][i % 4])
+        }));
+        check(&terms(n, 4, |x, i| {
+            x * p(2.0, (i as i32 * 37) % 2000 - 1000)
+        }));
         check(&terms(n, 5, |x, _| x * 1e-310));
-        check(&terms(n, 6, |x, i| if i % 3 == 0 { 5e-324 } else { x * 1e-300 }));
+        check(&terms(
+            n,
+            6,
+            |x, i| if i % 3 == 0 { 5e-324 } else { x * 1e-300 },
+        ));
         check(&terms(n, 7, |x, _| f64::MAX * x.signum()));
         check(&terms(n, 8, |_, _| f64::MAX)); // the plain sum overflows
         check(&terms(n, 9, |x, i| if i == n / 2 { f64::MAX } else { x }));
@@ -125,8 +133,14 @@ fn adversarial_cases_equal_the_per_term_path() {
                 check(&terms(n, 13, |x, i| if i == at { bad } else { x }));
             }
         }
-        check(&terms(n, 14, |x, i| [f64::INFINITY, f64::NEG_INFINITY, x][i % 3]));
-        check(&terms(n, 15, |x, i| if i % 5 == 0 { f64::NAN } else { x * 1e300 }));
+        check(&terms(n, 14, |x, i| {
+            [f64::INFINITY, f64::NEG_INFINITY, x][i % 3]
+        }));
+        check(&terms(
+            n,
+            15,
+            |x, i| if i % 5 == 0 { f64::NAN } else { x * 1e300 },
+        ));
         // Ties: terms half an ulp apart from the running sum.
         check(&terms(n, 16, |_, i| if i == 0 { 1.0 } else { p(2.0, -53) }));
     }
@@ -134,7 +148,9 @@ fn adversarial_cases_equal_the_per_term_path() {
 
 #[test]
 fn merge_orders_equal_the_per_term_path() {
-    let xs = terms(1000, 21, |x, i| x * f64::powi(2.0, (i as i32 * 7) % 120 - 60));
+    let xs = terms(1000, 21, |x, i| {
+        x * f64::powi(2.0, (i as i32 * 7) % 120 - 60)
+    });
     for cut in [1, 63, 64, 65, 300, 999] {
         let (a, b) = xs.split_at(cut);
         let (mut sa, mut sb) = (ExactSum::new(), ExactSum::new());
@@ -168,10 +184,12 @@ fn merge_orders_equal_the_per_term_path() {
 
 #[test]
 fn f32_terms_equal_the_per_term_path() {
-    let xs: Vec<f32> = terms(500, 31, |x, i| x * f64::powi(2.0, (i as i32 * 5) % 200 - 100))
-        .iter()
-        .map(|&x| x as f32)
-        .collect();
+    let xs: Vec<f32> = terms(500, 31, |x, i| {
+        x * f64::powi(2.0, (i as i32 * 5) % 200 - 100)
+    })
+    .iter()
+    .map(|&x| x as f32)
+    .collect();
     let mut s = ExactSum::new();
     s.add_all(&xs);
     let mut r = PerTerm::new();
