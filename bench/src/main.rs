@@ -27,6 +27,7 @@ use deform_meshgen::{naca_triangulated, rotate_markers2, AirfoilGrid};
 
 mod elasticity;
 mod rbf;
+mod reductions;
 mod sensitivity;
 
 /// Sizes of one run.
@@ -296,8 +297,12 @@ fn spring(sz: &Sizes, dir: &Path, fig: &mut Figures) {
     let rep = sys
         .solve_linear(&mut y, m, &opts, &mut scratch)
         .expect("cg");
+    let t_cg = t.elapsed().as_secs_f64();
     fig.put("spring_cg_jacobi_iterations", rep.iterations);
-    fig.put("spring_cg_jacobi_s", t.elapsed().as_secs_f64());
+    fig.put("spring_cg_jacobi_s", t_cg);
+    // What the exact sums cost of one of those iterations (issue 27 item 6).
+    let iteration_s = t_cg / rep.iterations.max(1) as f64;
+    reductions::cost(&y, &x, &x0, iteration_s, sz.repeats, fig);
     // The free-node system for the peers: K_ff u_f = −K_fb u_b per component (CSR, sorted
     // columns), and the kernel's solution of it.
     let free: Vec<usize> = (0..n).filter(|&i| fixed[i] == 0).collect();

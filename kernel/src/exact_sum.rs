@@ -17,6 +17,19 @@
 //!
 //! Non-finite terms are counted, not added: any NaN, or `+∞` together with `−∞`, makes the
 //! value NaN; otherwise an infinity makes it that infinity (the IEEE result of a plain sum).
+//!
+//! **Blocks.** Adding a term only stores it in a small buffer (64 terms on 64-bit hosts, 8
+//! elsewhere). A full buffer is summed exactly with plain `f64` arithmetic the compiler
+//! vectorises, and only the block's partial sums reach the digits: Rump, Ogita and Oishi's
+//! error-free extraction (*Accurate floating-point summation part I*, 2008) against a power of
+//! two `σ ≥ 2^(b+1) · max |t|` (`2^b` terms a block) splits every term exactly into a high
+//! part, whose sum over the block is exact in any order, and a remainder below `2^−53 σ`.
+//! Two such levels take every bit of the terms within about `2^−39` of the block's largest;
+//! one more pass of two levels is made if bits remain, and what is still left (a block
+//! spanning more than some 180 binades) is added term by term, as are blocks holding a
+//! non-finite term or a term of `2^1016` or more. The sum is exact either way, so the value
+//! and the words are those of adding every term on its own, bit for bit
+//! (`host-tests/tests/exact_sum_blocks.rs` keeps that path as the reference).
 
 use crate::real::Real;
 
@@ -39,13 +52,36 @@ const PENDING_LIMIT: u32 = 1 << 20;
 /// load counter. The layout is stable (part of the C ABI's merge protocol).
 pub const EXACT_SUM_WORDS: usize = DIGITS + 4;
 
-/// An exact, order-independent sum of `f32`/`f64` terms (see the [module docs](self)).
-#[derive(Clone, Copy, PartialEq, Eq)]
-pub struct ExactSum {
+/// Terms buffered before they are summed as one block: `2^BLOCK_BITS`. 64 on 64-bit hosts; 8
+/// on narrower targets, whose stacks are small (a Cortex-M4F has 64 KiB of RAM in all).
+#[cfg(target_pointer_width = "64")]
+const BLOCK_BITS: i32 = 6;
+#[cfg(not(target_pointer_width = "64"))]
+const BLOCK_BITS: i32 = 3;
+/// Terms a block holds.
+const BLOCK: usize = 1 << BLOCK_BITS;
+/// Independent lanes of the block loops (kept in vector registers by the compiler).
+const LANES: usize = 4;
+/// Passes of two extraction levels a block gets before its remaining low parts are added
+/// one by one.
+const PASSES: usize = 2;
+
+/// The fixed-point digits and their bookkeeping (Neal's small superaccumulator).
+#[derive(Clone, Copy)]
+struct Digits {
     words: [i64; EXACT_SUM_WORDS],
     /// Terms added since the words' load was last updated (kept apart from the words so that
     /// counting is a register increment, not a memory round trip in the add loop).
     pending: u32,
+}
+
+/// An exact, order-independent sum of `f32`/`f64` terms (see the [module docs](self)).
+#[derive(Clone, Copy)]
+pub struct ExactSum {
+    digits: Digits,
+    /// Terms in `block` not yet added to the digits.
+    len: u32,
+    block: [f64; BLOCK],
 }
 
 impl core::fmt::Debug for ExactSum {
@@ -62,12 +98,26 @@ impl Default for ExactSum {
     }
 }
 
+/// Two sums are equal when they hold the same exact number and the same non-finite counts
+/// (whatever the order, blocking or carries of their terms).
+impl PartialEq for ExactSum {
+    fn eq(&self, other: &Self) -> bool {
+        self.to_words() == other.to_words()
+    }
+}
+
+impl Eq for ExactSum {}
+
 impl ExactSum {
     /// The empty sum (value `+0`).
     pub const fn new() -> Self {
         ExactSum {
-            words: [0; EXACT_SUM_WORDS],
-            pending: 0,
+            digits: Digits {
+                words: [0; EXACT_SUM_WORDS],
+                pending: 0,
+            },
+            len: 0,
+            block: [0.0; BLOCK],
         }
     }
 
@@ -77,9 +127,225 @@ impl ExactSum {
         self.add_f64(x.to_f64());
     }
 
-    /// Adds `x` exactly.
+    /// Adds `x` exactly (buffered: the block is summed when it is full).
     #[inline]
     pub fn add_f64(&mut self, x: f64) {
+        let len = self.len as usize;
+        match self.block.get_mut(len) {
+            Some(slot) => {
+                *slot = x;
+                self.len = len as u32 + 1;
+                if len + 1 >= BLOCK {
+                    self.flush();
+                }
+            }
+            None => self.add_cold(x), // unreachable: `len < BLOCK` between calls
+        }
+    }
+
+    /// The per-term path, out of line (keeps the buffered add small where it is inlined).
+    #[cold]
+    #[inline(never)]
+    fn add_cold(&mut self, x: f64) {
+        self.digits.add(x);
+    }
+
+    /// Adds every term of `xs`, in any order (the result does not depend on it).
+    pub fn add_all<T: Real>(&mut self, xs: &[T]) {
+        for &x in xs {
+            self.add(x);
+        }
+    }
+
+    /// Sums the buffered terms into the digits.
+    fn flush(&mut self) {
+        let n = (self.len as usize).min(BLOCK);
+        self.len = 0;
+        if n > 0 {
+            add_block(&mut self.digits, &self.block, n);
+        }
+    }
+
+    /// Adds another partial sum (element-wise word addition: associative and commutative).
+    pub fn merge(&mut self, other: &ExactSum) {
+        self.digits.merge(&other.digits);
+        let n = (other.len as usize).min(BLOCK);
+        for &x in other.block.get(..n).unwrap_or(&[]) {
+            self.add_f64(x);
+        }
+    }
+
+    /// Sums this partial sum over all processes in place: the words are brought to the form
+    /// [`ExactSum::to_words`] returns, `sum_words` adds every other process's words into them
+    /// (`MPI_Allreduce` with `MPI_SUM` on `MPI_INT64_T`), and they are read back as
+    /// [`ExactSum::from_words`] would. No copy of the accumulator is made.
+    pub fn exchange(&mut self, sum_words: impl FnOnce(&mut [i64; EXACT_SUM_WORDS])) {
+        self.flush();
+        let d = &mut self.digits;
+        d.pending = 0;
+        d.normalize();
+        d.words[LOAD] = 1;
+        sum_words(&mut d.words);
+        d.words[LOAD] = d.words[LOAD].max(0);
+        if d.words[LOAD] >= LOAD_LIMIT {
+            d.normalize();
+        }
+    }
+
+    /// The words to send to another rank: carries propagated, so that adding up to `2^29`
+    /// such word arrays element-wise (`MPI_SUM` on `MPI_INT64_T`) and reading the result with
+    /// [`ExactSum::from_words`] is the same as [`ExactSum::merge`].
+    pub fn to_words(&self) -> [i64; EXACT_SUM_WORDS] {
+        let mut s = *self;
+        s.flush();
+        s.digits.normalize();
+        s.digits.words[LOAD] = 1;
+        s.digits.words
+    }
+
+    /// A sum from words made by [`ExactSum::to_words`] (or element-wise sums of them).
+    pub fn from_words(words: [i64; EXACT_SUM_WORDS]) -> Self {
+        let mut s = ExactSum::new();
+        s.digits.words = words;
+        let d = &mut s.digits;
+        d.words[LOAD] = d.words[LOAD].max(0);
+        if d.words[LOAD] >= LOAD_LIMIT {
+            d.normalize();
+        }
+        s
+    }
+
+    /// The exact sum rounded once to `T` (to nearest, ties to even; for `f32` via `f64`).
+    /// Values below `f64`'s normal range may round twice; an exactly zero sum is `+0`.
+    pub fn value<T: Real>(&self) -> T {
+        if self.len == 0 {
+            return self.digits.value();
+        }
+        let mut s = *self;
+        s.flush();
+        s.digits.value()
+    }
+}
+
+/// Adds the terms of `block` (at most [`BLOCK`]) exactly to `digits` with a few additions for
+/// the whole block (see "Blocks" in the [module docs](self)). Level by level, each term `t` is
+/// split exactly into `q + t'` against `σ`, a power of two at least `2^(b+1)` times the
+/// terms' `max |t|` (`2^b` = [`BLOCK`]); the `q` are multiples of `2^−53 σ` and their sum is
+/// at most `σ` in magnitude, so their plain `f64` sum is exact in any order and is added as
+/// one term. Non-finite terms and terms too large for a finite `σ` take the per-term path.
+fn add_block(digits: &mut Digits, block: &[f64; BLOCK], n: usize) {
+    let mut all = *block;
+    let (Some(terms), Some(rest)) = (block.get(..n), all.get_mut(..n)) else {
+        return;
+    };
+    let mut max = max_abs(rest);
+    for pass in 0..PASSES {
+        // The first pass always runs: a NaN (ignored by the maximum) shows in its sums.
+        if pass > 0 && max == 0.0 {
+            return;
+        }
+        let Some(k) = sigma_exponent(max) else {
+            // ±∞ or a term too large for a finite σ (only at the first pass): per term.
+            return terms.iter().for_each(|&t| digits.add(t));
+        };
+        // Two levels a pass: the second's σ follows from the first's bound `|t'| ≤ 2^−53 σ`.
+        let (s1, s2) = (pow2_or_zero(k), pow2_or_zero(k - 53 + BLOCK_BITS + 1));
+        let (sum1, sum2, m) = extract2(rest, s1, s2);
+        if sum1.is_nan() {
+            // A NaN term (first pass): count every term as the per-term path does.
+            return terms.iter().for_each(|&t| digits.add(t));
+        }
+        digits.add(sum1);
+        digits.add(sum2);
+        max = m;
+    }
+    if max != 0.0 {
+        // Low parts left (a block spanning more than some 180 binades): one by one.
+        rest.iter().for_each(|&t| digits.add(t));
+    }
+}
+
+/// `max |t|` over `terms`, NaN ignored ([`add_block`]'s first sums find it).
+fn max_abs(terms: &[f64]) -> f64 {
+    let mut m = [0.0f64; LANES];
+    let (chunks, tail) = terms.as_chunks::<LANES>();
+    for c in chunks.iter().map(|c| c.as_slice()).chain([tail]) {
+        for (m, t) in m.iter_mut().zip(c) {
+            *m = greater(t.abs(), *m);
+        }
+    }
+    m.iter().fold(0.0, |a, &b| greater(b, a))
+}
+
+/// Two extraction levels in place (see [`split`]): every term `t` becomes `t − q1 − q2`;
+/// returns `(Σ q1, Σ q2, max |t − q1 − q2|)`.
+fn extract2(terms: &mut [f64], s1: f64, s2: f64) -> (f64, f64, f64) {
+    let (mut q1, mut q2, mut m) = ([0.0f64; LANES], [0.0f64; LANES], [0.0f64; LANES]);
+    let (chunks, tail) = terms.as_chunks_mut::<LANES>();
+    let step = |t: &mut f64, ((a, b), c): ((&mut f64, &mut f64), &mut f64)| {
+        *a += split(t, s1);
+        *b += split(t, s2);
+        *c = greater(t.abs(), *c);
+    };
+    for chunk in chunks {
+        let acc = q1.iter_mut().zip(&mut q2).zip(&mut m);
+        chunk.iter_mut().zip(acc).for_each(|(t, a)| step(t, a));
+    }
+    let acc = q1.iter_mut().zip(&mut q2).zip(&mut m);
+    tail.iter_mut().zip(acc).for_each(|(t, a)| step(t, a));
+    let sum = |q: [f64; LANES]| q.iter().fold(0.0, |a, &b| a + b);
+    (sum(q1), sum(q2), m.iter().fold(0.0, |a, &b| greater(b, a)))
+}
+
+/// The exponent `k = e + 2 + b` of the extraction constant `σ = 2^k` for terms of magnitude
+/// at most `max < 2^(e+1)` in a block of at most `2^b` = [`BLOCK`] terms, so that
+/// `BLOCK · max ≤ σ/2`; `None` when `σ` would not be finite (`max ≥ 2^(1022−b)`, `±∞`).
+fn sigma_exponent(max: f64) -> Option<i32> {
+    let field = ((max.to_bits() >> 52) & 0x7ff) as i32;
+    let k = field - 1023 + 2 + BLOCK_BITS;
+    (k <= 1023).then_some(k)
+}
+
+/// `2^k` for `−1021 < k ≤ 1023`; zero for smaller `k`. A zero `σ` makes `q = t`: the terms'
+/// plain sum is then exact, every partial sum being a multiple of `2^−1074` smaller than
+/// `σ_k ≤ 2^−1021` in magnitude (bits a subnormal holds).
+fn pow2_or_zero(k: i32) -> f64 {
+    if k <= -1021 {
+        0.0
+    } else {
+        f64::from_bits(((k.min(1023) + 1023) as u64) << 52)
+    }
+}
+
+/// `a` if `a > b`, else `b` (one `maxpd`; NaN needs no care here).
+#[inline(always)]
+fn greater(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// One extraction step: `t` becomes `t' = t − q` and `q = (σ + t) − σ` is returned. Exact
+/// when `|t| ≤ σ/2` (σ a power of two, or zero): `σ + t` lies in `[σ/2, 3σ/2]`, so `q` is a
+/// multiple of `u σ` (`u = 2^−53`) computed without error (Sterbenz), and `t'` is the
+/// rounding error of `σ + t`, representable, with `|t'| ≤ u σ`. With `n · max |t| ≤ σ/2` and
+/// `n ≤ 2^52`, every partial sum of the `q` is a multiple of `u σ` of magnitude at most
+/// `Σ (|t| + u σ) ≤ σ`: representable, so their sum in any order is exact (Rump, Ogita and
+/// Oishi, *Accurate floating-point summation part I*, SIAM J. Sci. Comput. 31, 2008,
+/// `ExtractVector`).
+#[inline(always)]
+fn split(t: &mut f64, sigma: f64) -> f64 {
+    let q = (sigma + *t) - sigma;
+    *t -= q;
+    q
+}
+
+impl Digits {
+    /// Adds `x` exactly to the digits (the per-term path).
+    #[inline]
+    fn add(&mut self, x: f64) {
         let bits = x.to_bits();
         if bits << 1 == 0 {
             return; // ±0 changes no sum
@@ -122,13 +388,6 @@ impl ExactSum {
         }
     }
 
-    /// Adds every term of `xs`, in any order (the result does not depend on it).
-    pub fn add_all<T: Real>(&mut self, xs: &[T]) {
-        for &x in xs {
-            self.add(x);
-        }
-    }
-
     /// Moves the pending count into the load (and propagates carries if it is due).
     fn settle(&mut self) {
         self.words[LOAD] = self.words[LOAD].saturating_add(i64::from(self.pending));
@@ -144,8 +403,8 @@ impl ExactSum {
         }
     }
 
-    /// Adds another partial sum (element-wise word addition: associative and commutative).
-    pub fn merge(&mut self, other: &ExactSum) {
+    /// Adds another sum's digits (element-wise word addition: associative and commutative).
+    fn merge(&mut self, other: &Digits) {
         self.settle();
         // `other` is read in place (no copy: 584 bytes matter on a small stack). Its digits
         // obey `|d| ≤ (load + pending + 1) 2^32`; the sum obeys the bound with the two loads
@@ -166,21 +425,6 @@ impl ExactSum {
         }
     }
 
-    /// Sums this partial sum over all processes in place: the words are brought to the form
-    /// [`ExactSum::to_words`] returns, `sum_words` adds every other process's words into them
-    /// (`MPI_Allreduce` with `MPI_SUM` on `MPI_INT64_T`), and they are read back as
-    /// [`ExactSum::from_words`] would. No copy of the accumulator is made.
-    pub fn exchange(&mut self, sum_words: impl FnOnce(&mut [i64; EXACT_SUM_WORDS])) {
-        self.pending = 0;
-        self.normalize();
-        self.words[LOAD] = 1;
-        sum_words(&mut self.words);
-        self.words[LOAD] = self.words[LOAD].max(0);
-        if self.words[LOAD] >= LOAD_LIMIT {
-            self.normalize();
-        }
-    }
-
     /// Propagates carries: digits `0 … 66` end in `[0, 2^32)`, the top digit holds the sign.
     fn normalize(&mut self) {
         let mut carry = 0i64;
@@ -195,29 +439,9 @@ impl ExactSum {
         self.words[LOAD] = 0;
     }
 
-    /// The words to send to another rank: carries propagated, so that adding up to `2^29`
-    /// such word arrays element-wise (`MPI_SUM` on `MPI_INT64_T`) and reading the result with
-    /// [`ExactSum::from_words`] is the same as [`ExactSum::merge`].
-    pub fn to_words(&self) -> [i64; EXACT_SUM_WORDS] {
-        let mut s = *self;
-        s.normalize();
-        s.words[LOAD] = 1;
-        s.words
-    }
-
-    /// A sum from words made by [`ExactSum::to_words`] (or element-wise sums of them).
-    pub fn from_words(words: [i64; EXACT_SUM_WORDS]) -> Self {
-        let mut s = ExactSum { words, pending: 0 };
-        s.words[LOAD] = s.words[LOAD].max(0);
-        if s.words[LOAD] >= LOAD_LIMIT {
-            s.normalize();
-        }
-        s
-    }
-
-    /// The exact sum rounded once to `T` (to nearest, ties to even; for `f32` via `f64`).
+    /// The digits' exact sum rounded once to `T` (to nearest, ties to even; for `f32` via `f64`).
     /// Values below `f64`'s normal range may round twice; an exactly zero sum is `+0`.
-    pub fn value<T: Real>(&self) -> T {
+    fn value<T: Real>(&self) -> T {
         let w = &self.words;
         let (nan, pos, neg) = (w[NAN], w[POS_INF], w[NEG_INF]);
         if nan > 0 || (pos > 0 && neg > 0) {
