@@ -197,7 +197,10 @@ fn rows(p: &Problem, method: PlanMethod, tag: &str, reps: usize, fig: &mut Figur
     fig.put(&format!("sensitivity_{tag}_deformation_iterations"), it_def);
     fig.put(&format!("sensitivity_{tag}_adjoint_s"), a);
     fig.put(&format!("sensitivity_{tag}_adjoint_iterations"), it_adj);
-    fig.put(&format!("sensitivity_{tag}_adjoint_over_deformation"), a / d);
+    fig.put(
+        &format!("sensitivity_{tag}_adjoint_over_deformation"),
+        a / d,
+    );
 }
 
 /// The sensitivity rows on the NACA mesh of `airfoil` points, `reps` runs each, of the linear
