@@ -406,7 +406,7 @@ impl Digits {
     /// Adds another sum's digits (element-wise word addition: associative and commutative).
     fn merge(&mut self, other: &Digits) {
         self.settle();
-        // `other` is read in place (no copy: 584 bytes matter on a small stack). Its digits
+        // `other` is read in place (no copy: an accumulator of about 650 bytes on 32-bit targets matters on a small stack). Its digits
         // obey `|d| ≤ (load + pending + 1) 2^32`; the sum obeys the bound with the two loads
         // plus one, which stays far below `2^63` (each load is below `2^29 + 2^20`).
         let other_load = other.words[LOAD].saturating_add(i64::from(other.pending));
