@@ -41,7 +41,9 @@
 //! writes and returns typed errors.
 
 mod angle;
+mod elastic_geometry;
 mod elasticity;
+mod elasticity_steps;
 mod idw;
 mod springs;
 
@@ -53,6 +55,10 @@ pub use angle::{
 pub use elasticity::{
     elastic_adjoint, elastic_adjoint_many, elastic_adjoint_scratch_len, elastic_tangent,
     elastic_tangent_many, elastic_tangent_scratch_len, ElasticPreconditioner,
+};
+pub use elasticity_steps::{
+    elastic_incremental_adjoint, elastic_incremental_adjoint_scratch_len,
+    elastic_incremental_tangent, elastic_incremental_tangent_scratch_len, IncrementProblem,
 };
 pub use idw::{idw_adjoint, idw_adjoint_many, idw_tangent, idw_tangent_many};
 pub use springs::{
