@@ -492,3 +492,24 @@ fn a_mesh_that_collapses_on_the_way_is_an_error_and_writes_nothing() {
     );
     assert!(dx.iter().all(|x| *x == [0.5; 2]) && g.iter().all(|x| *x == [5.0; 2]));
 }
+
+/// The cost probe of docs/sensitivities.md: the deformation, the tangent and the adjoint once
+/// each on a 61 × 61 node mixed square (3 steps, inverse volume, tolerance 1e-13), for
+/// `valgrind --tool=callgrind --toggle-collect='*deform_incremental*'` (and
+/// `'*elastic_incremental_tangent*'`, `'*elastic_incremental_adjoint*'`). Checks that every
+/// solve converged and the identity.
+#[test]
+#[ignore = "a callgrind probe (docs/sensitivities.md, Cost)"]
+fn cost_probe() {
+    let case = Case::<f64, 2>::new(grid2(60, Kind::Mixed, 0.25));
+    let ms = (Modulus::InverseVolume, 3);
+    let d = motion::<f64, 2>(&case.mesh, 20.0, 41);
+    let v = boundary_field::<f64, 2>(&case.mesh, 43);
+    let w = random(case.n(), &mut Lcg(47), |_| true);
+    let x = case.deform(&d, ms.0, ms.1);
+    assert!(x.iter().flatten().all(|x| x.is_finite()));
+    let pre = ElasticPreconditioner::Blocks;
+    let jv = tangent(&case, &d, &v, ms, pre);
+    let g = adjoint(&case, &d, &w, ms, pre);
+    check_dot(&jv, &w, &v, &g, 1e-8, "cost probe");
+}
