@@ -53,7 +53,7 @@ pub unsafe extern "C" fn dk_elasticity_sensitivity_scratch_len(
     ))
 }
 
-/// The tangent of [`dk_elasticity_deform`](crate::elasticity::dk_elasticity_deform) with
+/// The tangent of `dk_elasticity_deform` with
 /// the same arguments (`points`, the undeformed mesh, is read only): `dx` (`node_count * dim`
 /// scalars) holds the boundary perturbation `δd` at fixed nodes on entry and receives the
 /// first-order change of the deformed mesh `δx = J δd` at every node (exactly `δd` at fixed
