@@ -494,14 +494,14 @@ fn a_mesh_that_collapses_on_the_way_is_an_error_and_writes_nothing() {
 }
 
 /// The cost probe of docs/sensitivities.md: the deformation, the tangent and the adjoint once
-/// each on a 61 × 61 node mixed square (3 steps, inverse volume, tolerance 1e-13), for
+/// each on a 25 × 25 node mixed square (3 steps, inverse volume, tolerance 1e-13), for
 /// `valgrind --tool=callgrind --toggle-collect='*deform_incremental*'` (and
 /// `'*elastic_incremental_tangent*'`, `'*elastic_incremental_adjoint*'`). Checks that every
 /// solve converged and the identity.
 #[test]
 #[ignore = "a callgrind probe (docs/sensitivities.md, Cost)"]
 fn cost_probe() {
-    let case = Case::<f64, 2>::new(grid2(60, Kind::Mixed, 0.25));
+    let case = Case::<f64, 2>::new(grid2(24, Kind::Mixed, 0.25));
     let ms = (Modulus::InverseVolume, 3);
     let d = motion::<f64, 2>(&case.mesh, 20.0, 41);
     let v = boundary_field::<f64, 2>(&case.mesh, 43);
