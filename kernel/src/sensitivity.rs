@@ -13,6 +13,10 @@
 //! - inverse-distance weighting of the displacements: `x_i = Σ_k w_ik x_k / Σ_k w_ik`, the
 //!   weights from the undeformed distances alone.
 //!
+//! Multi-step elasticity (load increments re-assembled on the moved mesh,
+//! `elastic_incremental_tangent` / `_adjoint`) is not linear: its exact linearisation adds the
+//! derivative of the stiffness with respect to the mesh, step by step (see that module).
+//!
 //! So the **tangent** is the deformation itself applied to `δx_b` (one more solve with the
 //! same operator and preconditioner, or one more weighting pass), and the **adjoint** of a
 //! given `w = dJ/dx` at every node is
