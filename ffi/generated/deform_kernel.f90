@@ -1038,6 +1038,8 @@ module deform_kernel
             dk_taubin_stretching_f32, dk_taubin_max_stretching, dk_taubin_max_stretching_f32, &
             dk_taubin_check_lines_increasing, dk_taubin_check_lines_increasing_f32, &
             dk_elasticity_rigid_layer, dk_elasticity_rigid_layer_f32, &
+            dk_elasticity_sensitivity_scratch_len, dk_elasticity_tangent, &
+            dk_elasticity_tangent_f32, dk_elasticity_adjoint, dk_elasticity_adjoint_f32, &
             dk_elasticity_amg_pool_sizes, dk_elasticity_deform_amg, dk_elasticity_deform_amg_f32, &
             dk_elasticity_sliding_scratch_len, dk_elasticity_deform_sliding, &
             dk_elasticity_deform_sliding_f32, dk_elasticity_deform_sliding_amg, &
@@ -5166,6 +5168,133 @@ module deform_kernel
       real(c_float), intent(inout) :: displacement(*)
       integer(c_size_t), value :: displacement_len
       integer(c_size_t), intent(inout) :: added
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_sensitivity_scratch_len(node_count, cell_count, edge_count, dim, steps, &
+        len_out) bind(C, name="dk_elasticity_sensitivity_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_size_t), value :: cell_count
+      integer(c_size_t), value :: edge_count
+      integer(c_int32_t), value :: dim
+      integer(c_int32_t), value :: steps
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_tangent(cells, index_base, index_scratch, index_scratch_len, graph, &
+        dim, fixed, fixed_len, options, wall_distance, wall_distance_len, points, points_len, &
+        displacement, displacement_len, dx, dx_len, scratch, scratch_len, report) bind(C, &
+        name="dk_elasticity_tangent") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_cells, dk_elasticity_options, &
+          dk_elasticity_report, dk_graph
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_elasticity_options), intent(in) :: options
+      real(c_double), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_double), intent(in) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      real(c_double), intent(inout) :: dx(*)
+      integer(c_size_t), value :: dx_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_elasticity_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_tangent_f32(cells, index_base, index_scratch, index_scratch_len, graph, &
+        dim, fixed, fixed_len, options, wall_distance, wall_distance_len, points, points_len, &
+        displacement, displacement_len, dx, dx_len, scratch, scratch_len, report) bind(C, &
+        name="dk_elasticity_tangent_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_cells, dk_elasticity_options, &
+          dk_elasticity_report, dk_graph
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_elasticity_options), intent(in) :: options
+      real(c_float), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_float), intent(in) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      real(c_float), intent(inout) :: dx(*)
+      integer(c_size_t), value :: dx_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_elasticity_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_adjoint(cells, index_base, index_scratch, index_scratch_len, graph, &
+        dim, fixed, fixed_len, options, wall_distance, wall_distance_len, points, points_len, &
+        displacement, displacement_len, w, w_len, g, g_len, scratch, scratch_len, report) bind(C, &
+        name="dk_elasticity_adjoint") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_cells, dk_elasticity_options, &
+          dk_elasticity_report, dk_graph
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_elasticity_options), intent(in) :: options
+      real(c_double), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_double), intent(in) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      real(c_double), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_double), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_elasticity_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_adjoint_f32(cells, index_base, index_scratch, index_scratch_len, graph, &
+        dim, fixed, fixed_len, options, wall_distance, wall_distance_len, points, points_len, &
+        displacement, displacement_len, w, w_len, g, g_len, scratch, scratch_len, report) bind(C, &
+        name="dk_elasticity_adjoint_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_cells, dk_elasticity_options, &
+          dk_elasticity_report, dk_graph
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_elasticity_options), intent(in) :: options
+      real(c_float), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_float), intent(in) :: displacement(*)
+      integer(c_size_t), value :: displacement_len
+      real(c_float), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_float), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_elasticity_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
     function dk_elasticity_amg_pool_sizes(cell_count, graph, dim, fixed, fixed_len, sliding, amg, &

@@ -7013,6 +7013,166 @@ dk_status dk_elasticity_rigid_layer_f32(const float *points,
                                         size_t displacement_len,
                                         size_t *added);
 
+// Scalars of `scratch` [`dk_elasticity_tangent`] and [`dk_elasticity_adjoint`] need for
+// `steps` increments: `cell_count + dim²·(node_count + edge_count) + dim·node_count·(steps +
+// 10)`, `edge_count` the graph's `targets_len` (the same count for both precisions).
+//
+// # Safety
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_elasticity_sensitivity_scratch_len(size_t node_count,
+                                                size_t cell_count,
+                                                size_t edge_count,
+                                                uint32_t dim,
+                                                uint32_t steps,
+                                                size_t *len_out);
+
+// The tangent of `dk_elasticity_deform` with
+// the same arguments (`points`, the undeformed mesh, is read only): `dx` (`node_count * dim`
+// scalars) holds the boundary perturbation `δd` at fixed nodes on entry and receives the
+// first-order change of the deformed mesh `δx = J δd` at every node (exactly `δd` at fixed
+// nodes). The deformation runs alongside (two block-Jacobi CG solves per increment);
+// `*report` counts both. `scratch` needs [`dk_elasticity_sensitivity_scratch_len`]
+// scalars. On any error `dx` is unchanged.
+//
+// # Safety
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `graph`: one readable `dk_graph`.
+// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+// - `options`: one readable `dk_elasticity_options`.
+// - `wall_distance`: readable for `wall_distance_len` elements (`double`).
+// - `points`: readable for `points_len` elements (`double`).
+// - `displacement`: readable for `displacement_len` elements (`double`).
+// - `dx`: readable and writable for `dx_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `report`: one readable and writable `dk_elasticity_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_elasticity_tangent(const dk_cells *cells,
+                                uint32_t index_base,
+                                uint32_t *index_scratch,
+                                size_t index_scratch_len,
+                                const dk_graph *graph,
+                                uint32_t dim,
+                                const uint8_t *fixed,
+                                size_t fixed_len,
+                                const dk_elasticity_options *options,
+                                const double *wall_distance,
+                                size_t wall_distance_len,
+                                const double *points,
+                                size_t points_len,
+                                const double *displacement,
+                                size_t displacement_len,
+                                double *dx,
+                                size_t dx_len,
+                                double *scratch,
+                                size_t scratch_len,
+                                dk_elasticity_report *report);
+
+// `f32` twin of [`dk_elasticity_tangent`].
+//
+// # Safety
+// As [`dk_elasticity_tangent`].
+dk_status dk_elasticity_tangent_f32(const dk_cells *cells,
+                                    uint32_t index_base,
+                                    uint32_t *index_scratch,
+                                    size_t index_scratch_len,
+                                    const dk_graph *graph,
+                                    uint32_t dim,
+                                    const uint8_t *fixed,
+                                    size_t fixed_len,
+                                    const dk_elasticity_options *options,
+                                    const float *wall_distance,
+                                    size_t wall_distance_len,
+                                    const float *points,
+                                    size_t points_len,
+                                    const float *displacement,
+                                    size_t displacement_len,
+                                    float *dx,
+                                    size_t dx_len,
+                                    float *scratch,
+                                    size_t scratch_len,
+                                    dk_elasticity_report *report);
+
+// The adjoint of [`dk_elasticity_tangent`]: for `w = dJ/dx` of the deformed mesh
+// (`node_count * dim` scalars), `g` (as long) receives `dJ/dd` at the fixed nodes and zero
+// at the free nodes, so that `⟨J δd, w⟩ = ⟨δd, g⟩`: the deformation once, then one
+// block-Jacobi CG solve per increment backwards; `*report` counts both sweeps. Arguments
+// otherwise as [`dk_elasticity_tangent`]. On any error `g` is unchanged.
+//
+// # Safety
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `graph`: one readable `dk_graph`.
+// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+// - `options`: one readable `dk_elasticity_options`.
+// - `wall_distance`: readable for `wall_distance_len` elements (`double`).
+// - `points`: readable for `points_len` elements (`double`).
+// - `displacement`: readable for `displacement_len` elements (`double`).
+// - `w`: readable for `w_len` elements (`double`).
+// - `g`: readable and writable for `g_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `report`: one readable and writable `dk_elasticity_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_elasticity_adjoint(const dk_cells *cells,
+                                uint32_t index_base,
+                                uint32_t *index_scratch,
+                                size_t index_scratch_len,
+                                const dk_graph *graph,
+                                uint32_t dim,
+                                const uint8_t *fixed,
+                                size_t fixed_len,
+                                const dk_elasticity_options *options,
+                                const double *wall_distance,
+                                size_t wall_distance_len,
+                                const double *points,
+                                size_t points_len,
+                                const double *displacement,
+                                size_t displacement_len,
+                                const double *w,
+                                size_t w_len,
+                                double *g,
+                                size_t g_len,
+                                double *scratch,
+                                size_t scratch_len,
+                                dk_elasticity_report *report);
+
+// `f32` twin of [`dk_elasticity_adjoint`].
+//
+// # Safety
+// As [`dk_elasticity_adjoint`].
+dk_status dk_elasticity_adjoint_f32(const dk_cells *cells,
+                                    uint32_t index_base,
+                                    uint32_t *index_scratch,
+                                    size_t index_scratch_len,
+                                    const dk_graph *graph,
+                                    uint32_t dim,
+                                    const uint8_t *fixed,
+                                    size_t fixed_len,
+                                    const dk_elasticity_options *options,
+                                    const float *wall_distance,
+                                    size_t wall_distance_len,
+                                    const float *points,
+                                    size_t points_len,
+                                    const float *displacement,
+                                    size_t displacement_len,
+                                    const float *w,
+                                    size_t w_len,
+                                    float *g,
+                                    size_t g_len,
+                                    float *scratch,
+                                    size_t scratch_len,
+                                    dk_elasticity_report *report);
+
 // The exact pool lengths [`dk_elasticity_deform_amg`] (`sliding` 0) or
 // [`dk_elasticity_deform_sliding_amg`] (`sliding` 1) needs for `cell_count` cells on `graph`
 // (from `dk_elasticity_graph`) with the fixed mask `fixed` (one byte per node) in dimension

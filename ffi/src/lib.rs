@@ -80,6 +80,8 @@ pub mod taubin;
 // in the order of first use).
 #[path = "../generated/elasticity_layer.rs"]
 pub mod elasticity_layer;
+#[path = "../generated/elasticity_sensitivity.rs"]
+pub mod elasticity_sensitivity;
 #[path = "../generated/elasticity_solvers.rs"]
 pub mod elasticity_solvers;
 

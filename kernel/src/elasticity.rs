@@ -24,7 +24,7 @@
 //!   updated mesh before each.
 
 mod assemble;
-mod element;
+pub(crate) mod element;
 mod increments;
 mod layer;
 mod modulus;
@@ -33,6 +33,7 @@ mod sliding;
 mod system;
 
 pub use assemble::{assemble, elasticity_graph, elasticity_graph_len, Block};
+pub(crate) use increments::{advance, step_data};
 pub use increments::{
     deform_incremental, deform_incremental_on, IncrementBuffers, IncrementReport, Increments,
 };
@@ -68,7 +69,7 @@ fn check_mesh<T: Real, const D: usize>(cells: &Cells<'_>, points: &[[T; D]]) -> 
 /// default; Dwight 2009): λ ≈ −μ, a bulk modulus near zero that favours locally rigid-and-
 /// scaled motion. Such a material is not stable in general: a solve whose operator is not
 /// positive definite stops with [`Error::SingularSystem`], it never returns a wrong answer.
-fn check_poisson<T: Real>(nu: T) -> Result<()> {
+pub(crate) fn check_poisson<T: Real>(nu: T) -> Result<()> {
     if nu.is_finite() && nu > -T::ONE && nu != T::HALF {
         Ok(())
     } else {

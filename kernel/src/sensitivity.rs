@@ -13,6 +13,10 @@
 //! - inverse-distance weighting of the displacements: `x_i = Σ_k w_ik x_k / Σ_k w_ik`, the
 //!   weights from the undeformed distances alone.
 //!
+//! Multi-step elasticity (load increments re-assembled on the moved mesh,
+//! `elastic_incremental_tangent` / `_adjoint`) is not linear: its exact linearisation adds the
+//! derivative of the stiffness with respect to the mesh, step by step (see that module).
+//!
 //! So the **tangent** is the deformation itself applied to `δx_b` (one more solve with the
 //! same operator and preconditioner, or one more weighting pass), and the **adjoint** of a
 //! given `w = dJ/dx` at every node is
@@ -41,7 +45,9 @@
 //! writes and returns typed errors.
 
 mod angle;
+mod elastic_geometry;
 mod elasticity;
+mod elasticity_steps;
 mod idw;
 mod springs;
 
@@ -53,6 +59,10 @@ pub use angle::{
 pub use elasticity::{
     elastic_adjoint, elastic_adjoint_many, elastic_adjoint_scratch_len, elastic_tangent,
     elastic_tangent_many, elastic_tangent_scratch_len, ElasticPreconditioner,
+};
+pub use elasticity_steps::{
+    elastic_incremental_adjoint, elastic_incremental_adjoint_scratch_len,
+    elastic_incremental_tangent, elastic_incremental_tangent_scratch_len, IncrementProblem,
 };
 pub use idw::{idw_adjoint, idw_adjoint_many, idw_tangent, idw_tangent_many};
 pub use springs::{

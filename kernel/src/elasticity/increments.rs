@@ -167,13 +167,15 @@ where
         report.max_step_iterations = report.max_step_iterations.max(r.iterations);
         report.residual = report.residual.max(r.residual);
         report.converged &= r.converged;
-        for (i, (c, d)) in current.iter_mut().zip(step.iter()).enumerate() {
-            *c = if is_fixed(fixed.get(i).copied().unwrap_or(0)) {
-                target(points, displacement, i, fraction, s == params.steps)
-            } else {
-                crate::vector::add(*c, *d)
-            };
-        }
+        advance(
+            current,
+            step,
+            points,
+            displacement,
+            fixed,
+            fraction,
+            s == params.steps,
+        );
     }
     if let Some(position) = current
         .iter()
@@ -190,9 +192,30 @@ where
     Ok(report)
 }
 
+/// Moves `current` by the step's displacement `step`: free nodes by `step`, fixed nodes to
+/// `points + fraction · displacement` (exactly `points + displacement` after the `last`).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn advance<T: Real, const D: usize>(
+    current: &mut [[T; D]],
+    step: &[[T; D]],
+    points: &[[T; D]],
+    displacement: &[[T; D]],
+    fixed: &[u8],
+    fraction: T,
+    last: bool,
+) {
+    for (i, (c, d)) in current.iter_mut().zip(step.iter()).enumerate() {
+        *c = if is_fixed(fixed.get(i).copied().unwrap_or(0)) {
+            target(points, displacement, i, fraction, last)
+        } else {
+            crate::vector::add(*c, *d)
+        };
+    }
+}
+
 /// The step's displacement: `(to − from) · d` at fixed nodes (`to` exactly 1 for the last
 /// step), zero (the initial guess) at free ones.
-fn step_data<T: Real, const D: usize>(
+pub(crate) fn step_data<T: Real, const D: usize>(
     step: &mut [[T; D]],
     displacement: &[[T; D]],
     fixed: &[u8],

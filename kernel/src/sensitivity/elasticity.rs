@@ -1,15 +1,14 @@
 //! Tangent and adjoint of single-step linear elasticity: `K_ff u_f = −K_fb u_b` with the
 //! stiffness assembled on the undeformed mesh (symmetric positive definite on the free
-//! nodes). Load increments re-assemble on the moved mesh and are not linear; they are not
-//! covered here.
+//! nodes). Load increments re-assemble on the moved mesh and are not linear: see
+//! `elasticity_steps`.
 
-use super::{adjoint_parts, check_adjoint, for_each_field, for_each_field_mut};
+use super::{check_adjoint, for_each_field, for_each_field_mut};
 use crate::check;
 use crate::elasticity::{elastic_amg_scratch_len, elastic_scratch_len, ElasticSystem};
 use crate::error::{Error, Result};
 use crate::real::Real;
-use crate::spring::krylov::NodeBlocks;
-use crate::spring::krylov::{solve_rhs, RhsLayout};
+use crate::spring::krylov::{solve_rhs, NodeBlocks, RhsLayout, Vectors};
 use crate::spring::{AmgHierarchy, Serial, SolveOptions, SolveReport, SpringSystem, Vcycle};
 
 /// Which preconditioner the elasticity solves use (the deformation's and its derivative's).
@@ -117,24 +116,16 @@ pub fn elastic_adjoint<T: Real, const D: usize>(
             });
         }
     }
-    let (lambda, v, rest) = adjoint_parts(scratch, n, elastic_adjoint_scratch_len(&pre, n))?;
-    let layout = RhsLayout {
-        kmax: sys.kmax(),
-        joint: true,
-        per_node: true,
-    };
-    let fixed = |i| sys.is_fixed(i);
-    let serial = Serial::new(n);
-    let report = match pre {
-        ElasticPreconditioner::Blocks => {
-            let mut m = NodeBlocks(sys);
-            solve_rhs(sys, &mut m, v, w, lambda, layout, fixed, options, &serial)?
-        }
-        ElasticPreconditioner::Amg(s, h) => {
-            let mut m = Vcycle::new(s, h, rest);
-            solve_rhs(sys, &mut m, v, w, lambda, layout, fixed, options, &serial)?
-        }
-    };
+    let needed = elastic_adjoint_scratch_len(&pre, n);
+    check::buffer("scratch", scratch.len(), needed)?;
+    let (lambda, rest) = scratch
+        .split_at_mut_checked(n)
+        .ok_or(Error::BufferTooSmall {
+            arg: "scratch",
+            needed,
+            actual: 0,
+        })?;
+    let report = solve_free(sys, pre, options, w, lambda, rest)?;
     // g = K λ (λ zero at fixed nodes: the fixed rows give K_bf λ), then g_b = w_b − g_b.
     sys.multiply(lambda, g)?;
     for (i, (gi, &wi)) in g.iter_mut().zip(w).enumerate() {
@@ -145,6 +136,44 @@ pub fn elastic_adjoint<T: Real, const D: usize>(
         };
     }
     Ok(report)
+}
+
+/// Solves `K_ff λ = w_f` (zero initial guess, `λ` zero at fixed nodes) with the deformation's
+/// preconditioner; `scratch` holds [`elastic_tangent_scratch_len`] items. `λ` is written only
+/// on `Ok`.
+pub(super) fn solve_free<T: Real, const D: usize>(
+    sys: &ElasticSystem<'_, T, D>,
+    pre: ElasticPreconditioner<'_, T>,
+    options: &SolveOptions<T>,
+    w: &[[T; D]],
+    lambda: &mut [[T; D]],
+    scratch: &mut [[T; D]],
+) -> Result<SolveReport<T>> {
+    let n = sys.node_count();
+    let needed = elastic_tangent_scratch_len(&pre, n);
+    check::buffer("scratch", scratch.len(), needed)?;
+    let (v, rest) = Vectors::split(scratch, n).ok_or(Error::BufferTooSmall {
+        arg: "scratch",
+        needed,
+        actual: 0,
+    })?;
+    let layout = RhsLayout {
+        kmax: sys.kmax(),
+        joint: true,
+        per_node: true,
+    };
+    let fixed = |i| sys.is_fixed(i);
+    let serial = Serial::new(n);
+    match pre {
+        ElasticPreconditioner::Blocks => {
+            let mut m = NodeBlocks(sys);
+            solve_rhs(sys, &mut m, v, w, lambda, layout, fixed, options, &serial)
+        }
+        ElasticPreconditioner::Amg(s, h) => {
+            let mut m = Vcycle::new(s, h, rest);
+            solve_rhs(sys, &mut m, v, w, lambda, layout, fixed, options, &serial)
+        }
+    }
 }
 
 /// [`elastic_adjoint`] for `m` fields `w` back to back (`m · n` items; `g` as long), one
