@@ -52,14 +52,19 @@ const PENDING_LIMIT: u32 = 1 << 20;
 /// load counter. The layout is stable (part of the C ABI's merge protocol).
 pub const EXACT_SUM_WORDS: usize = DIGITS + 4;
 
-/// Terms buffered before they are summed as one block: `2^BLOCK_BITS`. 64 on 64-bit hosts; 8
-/// on narrower targets, whose stacks are small (a Cortex-M4F has 64 KiB of RAM in all).
+/// Terms buffered before they are summed as one block: `2^BLOCK_BITS` = 64 on 64-bit hosts.
 #[cfg(target_pointer_width = "64")]
 const BLOCK_BITS: i32 = 6;
-#[cfg(not(target_pointer_width = "64"))]
-const BLOCK_BITS: i32 = 3;
 /// Terms a block holds.
+#[cfg(target_pointer_width = "64")]
 const BLOCK: usize = 1 << BLOCK_BITS;
+/// Narrower targets keep no block: their stacks are small (a Cortex-M4F has 64 KiB of RAM in
+/// all, and the footprint run's multigrid angle solve had 16 bytes to spare), so every term
+/// takes the per-term path and an accumulator keeps its old size (584 bytes).
+#[cfg(not(target_pointer_width = "64"))]
+const BLOCK_BITS: i32 = 0;
+#[cfg(not(target_pointer_width = "64"))]
+const BLOCK: usize = 0;
 /// Independent lanes of the block loops (kept in vector registers by the compiler).
 const LANES: usize = 4;
 /// Passes of two extraction levels a block gets before its remaining low parts are added
@@ -73,14 +78,15 @@ struct Digits {
     /// Terms added since the words' load was last updated (kept apart from the words so that
     /// counting is a register increment, not a memory round trip in the add loop).
     pending: u32,
+    /// Terms in the owning [`ExactSum`]'s block not yet added to the words (here, in what
+    /// would be padding, so that an accumulator without a block is no larger than before).
+    buffered: u32,
 }
 
 /// An exact, order-independent sum of `f32`/`f64` terms (see the [module docs](self)).
 #[derive(Clone, Copy)]
 pub struct ExactSum {
     digits: Digits,
-    /// Terms in `block` not yet added to the digits.
-    len: u32,
     block: [f64; BLOCK],
 }
 
@@ -115,8 +121,8 @@ impl ExactSum {
             digits: Digits {
                 words: [0; EXACT_SUM_WORDS],
                 pending: 0,
+                buffered: 0,
             },
-            len: 0,
             block: [0.0; BLOCK],
         }
     }
@@ -127,23 +133,33 @@ impl ExactSum {
         self.add_f64(x.to_f64());
     }
 
-    /// Adds `x` exactly (buffered: the block is summed when it is full).
+    /// Adds `x` exactly (no block on 32-bit targets: straight into the digits, inline, as
+    /// before blocks, so that the solvers' stack frames on a Cortex-M do not grow).
+    #[cfg(not(target_pointer_width = "64"))]
     #[inline]
     pub fn add_f64(&mut self, x: f64) {
-        let len = self.len as usize;
+        self.digits.add(x);
+    }
+
+    /// Adds `x` exactly (buffered: the block is summed when it is full).
+    #[cfg(target_pointer_width = "64")]
+    #[inline]
+    pub fn add_f64(&mut self, x: f64) {
+        let len = self.digits.buffered as usize;
         match self.block.get_mut(len) {
             Some(slot) => {
                 *slot = x;
-                self.len = len as u32 + 1;
-                if len + 1 >= BLOCK {
+                self.digits.buffered = len as u32 + 1;
+                if len + 1 == BLOCK {
                     self.flush();
                 }
             }
-            None => self.add_cold(x), // unreachable: `len < BLOCK` between calls
+            None => self.add_cold(x), // no block (narrow targets); else `len < BLOCK` between calls
         }
     }
 
     /// The per-term path, out of line (keeps the buffered add small where it is inlined).
+    #[cfg(target_pointer_width = "64")]
     #[cold]
     #[inline(never)]
     fn add_cold(&mut self, x: f64) {
@@ -159,8 +175,8 @@ impl ExactSum {
 
     /// Sums the buffered terms into the digits.
     fn flush(&mut self) {
-        let n = (self.len as usize).min(BLOCK);
-        self.len = 0;
+        let n = self.digits.buffered as usize; // at most BLOCK (`add_block` reads `..n` checked)
+        self.digits.buffered = 0;
         if n > 0 {
             add_block(&mut self.digits, &self.block, n);
         }
@@ -169,7 +185,7 @@ impl ExactSum {
     /// Adds another partial sum (element-wise word addition: associative and commutative).
     pub fn merge(&mut self, other: &ExactSum) {
         self.digits.merge(&other.digits);
-        let n = (other.len as usize).min(BLOCK);
+        let n = other.digits.buffered as usize; // at most BLOCK
         for &x in other.block.get(..n).unwrap_or(&[]) {
             self.add_f64(x);
         }
@@ -218,9 +234,18 @@ impl ExactSum {
     /// The exact sum rounded once to `T` (to nearest, ties to even; for `f32` via `f64`).
     /// Values below `f64`'s normal range may round twice; an exactly zero sum is `+0`.
     pub fn value<T: Real>(&self) -> T {
-        if self.len == 0 {
+        if self.digits.buffered == 0 {
             return self.digits.value();
         }
+        self.value_flushed()
+    }
+
+    /// [`ExactSum::value`] of a sum with buffered terms: a copy with its block summed. Out of
+    /// line, so that the copy's stack frame exists only when there is a block to sum (never
+    /// on 32-bit targets, whose small stacks would otherwise pay for it in every caller).
+    #[cold]
+    #[inline(never)]
+    fn value_flushed<T: Real>(&self) -> T {
         let mut s = *self;
         s.flush();
         s.digits.value()
@@ -406,7 +431,7 @@ impl Digits {
     /// Adds another sum's digits (element-wise word addition: associative and commutative).
     fn merge(&mut self, other: &Digits) {
         self.settle();
-        // `other` is read in place (no copy: an accumulator of about 650 bytes on 32-bit targets matters on a small stack). Its digits
+        // `other` is read in place (no copy: 584 bytes on a 32-bit target matter on a small stack). Its digits
         // obey `|d| ≤ (load + pending + 1) 2^32`; the sum obeys the bound with the two loads
         // plus one, which stays far below `2^63` (each load is below `2^29 + 2^20`).
         let other_load = other.words[LOAD].saturating_add(i64::from(other.pending));

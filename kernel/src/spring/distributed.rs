@@ -25,7 +25,7 @@ pub trait Collective<T: Real>: core::fmt::Debug {
     fn sum_words(&self, words: &mut [i64]);
     /// Replaces every exact sum in `groups` by its sum over all processes. The default
     /// exchanges each sum's words in place with [`sum_words`](Self::sum_words) (no buffer:
-    /// the kernel keeps no stack copies of its accumulators, 656 bytes each on 32-bit targets); an implementation
+    /// the kernel keeps no stack copies of its 584-byte accumulators on 32-bit targets); an implementation
     /// with a heap may pack all of them into one exchange, as `deform-mpi` does.
     fn sum_exact(&self, groups: &mut [&mut [ExactSum]]) {
         for sum in groups.iter_mut().flat_map(|g| g.iter_mut()) {

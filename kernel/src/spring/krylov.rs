@@ -330,7 +330,7 @@ where
         return Ok(report);
     }
     // One set of per-lane accumulators for every per-lane sum of an iteration (each is
-    // rounded before the next begins): an accumulator (656 bytes on 32-bit targets, 1,104 on 64-bit hosts) a lane matters on a small stack.
+    // rounded before the next begins): an accumulator (584 bytes on 32-bit targets, 1,096 on 64-bit hosts) a lane matters on a small stack.
     let mut sums = [ExactSum::new(); L];
     let local = pre.local();
     let mut rz = restart(op, pre, v, &mut sums, comm);

@@ -14,6 +14,11 @@
 //! common power of two the norms are summed at (the largest component exponent) may differ,
 //! and powers of two scale the sums, their square roots and the relative residual exactly
 //! (see `norms`), so the iterations, the bits and the report are those of the full solve.
+//!
+//! Only on 64-bit hosts: the packed instances enlarge the solves' stack frames, and on a
+//! Cortex-M4F with 64 KiB of RAM the footprint run's solves no longer fitted (32-bit targets
+//! run the full solve, with the same bits).
+#![cfg_attr(not(target_pointer_width = "64"), allow(dead_code))]
 
 use super::amg::{solve_amg_on, solve_linear_amg_scratch_len, AmgHierarchy};
 use super::distributed::{Collective, Serial};
@@ -57,6 +62,7 @@ fn zero_components<T: Real, const V: usize>(
 /// `scratch` (at least the full solve's length) holds the packed values and the packed
 /// solve's scratch; `None` otherwise (the caller runs the full solve). `values` is written
 /// only on `Ok`.
+#[cfg(target_pointer_width = "64")]
 pub(crate) fn solve_nonzero<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     values: &mut [[T; V]],
@@ -88,6 +94,19 @@ pub(crate) fn solve_nonzero<T: Real, const V: usize>(
         5 => packed::<T, V, 5>(sys, values, comps, solve, options, scratch),
         _ => None, // none to drop, all zero (the full solve returns at once), or too many
     }
+}
+
+/// On 32-bit targets the full solve always runs (see the module docs).
+#[cfg(not(target_pointer_width = "64"))]
+#[inline(always)]
+pub(crate) fn solve_nonzero<T: Real, const V: usize>(
+    _sys: &SpringSystem<'_, T>,
+    _values: &mut [[T; V]],
+    _solve: Packed<'_, '_, T>,
+    _options: &SolveOptions<T>,
+    _scratch: &mut [[T; V]],
+) -> Option<Result<SolveReport<T>>> {
+    None
 }
 
 /// [`solve_nonzero`] with `W < V` components `comps` packed.
