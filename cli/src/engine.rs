@@ -11,7 +11,7 @@ use crate::orientation::{Orientation, OrientationSummary};
 
 mod elasticity;
 pub(crate) mod rbf;
-pub use elasticity::run_elasticity;
+pub use elasticity::{cell_pair_graph, run_elasticity};
 pub use rbf::{RbfFunction, RbfInfo, RbfSettings};
 
 fn kernel(context: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {

@@ -12,8 +12,13 @@ pub enum SensitivityMethod {
     Spring,
     /// Inverse-distance weighting of the boundary displacements (`--idw-exponent`), rotations
     /// left out. Not `deform move --method idw`, whose quaternion rotations make it nonlinear
-    /// (its derivative is the kernel's `quaternion::deform_idw_tangent`/`_adjoint`).
+    /// (that one is `--method idw`).
     IdwDisplacements,
+    /// Samareh's quaternion method with inverse-distance propagation (`deform move --method
+    /// idw`, `--idw-exponent`; the fast tree-based form with `--idw-theta`/`--idw-tolerance`),
+    /// rotations from the boundary shape, default origin. Nonlinear: linearised about the
+    /// boundary of `--deformed` (the fast form with the forward's cluster choices held).
+    Idw,
     /// Samareh's quaternion method with linear-spring propagation (`deform move --method
     /// quaternion`: Batina stiffness, multigrid CG), rotations from the boundary shape,
     /// default origin. Nonlinear: linearised about the boundary of `--deformed`.
@@ -25,6 +30,11 @@ pub enum SensitivityMethod {
     /// marker's nodes as the boundary. Linear with every boundary node a centre; with greedy
     /// centres linearised about the boundary motion of `--deformed`, its centres kept.
     Rbf,
+    /// Finite-element linear elasticity (`deform move --method elasticity` with the same
+    /// --stiffness, --poisson and --steps; multigrid-preconditioned CG). One step is linear;
+    /// with `--steps N` the boundary displacement of `--deformed` is applied in N equal
+    /// increments re-assembled on the moved mesh, and that map is linearised.
+    Elasticity,
 }
 
 /// What the linear deformation needs (shared by `adjoint` and `tangent`).
@@ -36,17 +46,45 @@ pub struct SensitivitySetup {
     #[arg(long, value_enum, default_value = "spring")]
     pub method: SensitivityMethod,
     /// The deformed mesh (e.g. `deform move`'s output, same nodes) whose boundary positions
-    /// are the linearisation point of `--method quaternion` and of `--method rbf` (default: the
-    /// undeformed mesh).
+    /// are the linearisation point of `--method quaternion`, `idw`, `rbf` and `elasticity`
+    /// with `--steps` above 1 (default: the undeformed mesh).
     #[arg(long)]
     pub deformed: Option<PathBuf>,
     /// IDW weight exponent `p` in `(d_min / d)^p` (`--method idw-displacements`).
     #[arg(long, default_value_t = 2.0)]
     pub idw_exponent: f64,
-    /// Relative residual tolerance of the spring solve.
+    /// `--method idw`: the fast tree-based propagation with opening parameter THETA in
+    /// [0, 1), as `deform move --idw-theta` (default: the exact sums).
+    #[arg(long, value_name = "THETA")]
+    pub idw_theta: Option<f64>,
+    /// `--method idw` with --idw-theta: the largest accepted per-point error bound, as
+    /// `deform move --idw-tolerance`.
+    #[arg(
+        long,
+        value_name = "ETA",
+        default_value_t = 0.1,
+        requires = "idw_theta"
+    )]
+    pub idw_tolerance: f64,
+    /// `--method elasticity`: Young's modulus per cell, as `deform move --stiffness`:
+    /// inverse-volume (default), wall-distance (needs --wall-markers) or constant.
+    #[arg(long, value_enum)]
+    pub stiffness: Option<super::StiffnessArg>,
+    /// `--method elasticity` with `--stiffness wall-distance`: the markers `deform move
+    /// --marker` moved (the modulus is the inverse distance to their nodes).
+    #[arg(long, num_args = 1.., value_name = "MARKER")]
+    pub wall_markers: Vec<String>,
+    /// `--method elasticity`: Poisson ratio, as `deform move --poisson` (default 0.3).
+    #[arg(long, allow_hyphen_values = true)]
+    pub poisson: Option<f64>,
+    /// `--method elasticity`: load increments, as `deform move --steps` (the displacement in N
+    /// equal parts; a `deform move --rotate` in steps follows its arc instead, another map).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    pub steps: u32,
+    /// Relative residual tolerance of the spring (and elasticity) solves.
     #[arg(long, default_value_t = 1e-12)]
     pub tol: f64,
-    /// Iteration cap of the spring solve.
+    /// Iteration cap of the spring (and elasticity) solves.
     #[arg(long, default_value_t = 10_000)]
     pub max_iter: usize,
     /// The --rbf-* options of `--method rbf`.

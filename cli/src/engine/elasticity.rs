@@ -100,7 +100,7 @@ fn run_d<const D: usize>(
 }
 
 /// The cell-pair graph of the stiffness: offsets and targets.
-fn cell_pair_graph(cells: &deform_kernel::Cells<'_>) -> Result<(Vec<u32>, Vec<u32>), CliError> {
+pub fn cell_pair_graph(cells: &deform_kernel::Cells<'_>) -> Result<(Vec<u32>, Vec<u32>), CliError> {
     let mut offsets = vec![0u32; cells.node_count() + 1];
     let mut targets = vec![0u32; elasticity_graph_len(cells)];
     let used =

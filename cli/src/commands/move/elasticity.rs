@@ -37,13 +37,7 @@ pub(super) fn check_args(a: &MoveArgs) -> Result<(), CliError> {
             "--stiffness batina is a spring stiffness; --method elasticity takes inverse-volume, wall-distance or constant".into(),
         ));
     }
-    if !(a.poisson.is_finite() && a.poisson > -1.0 && a.poisson != 0.5) {
-        return Err(CliError::Invalid(
-            "--poisson must be finite, above -1 and not 0.5 ((-1, 0.5) is the stable range; \
-             above 0.5 is SU2's DEFORM_COEFF convention)"
-                .into(),
-        ));
-    }
+    check_poisson(a.poisson)?;
     if a.reach.is_some() || !matches!(a.solver, Solver::Amg | Solver::Cg) {
         return Err(CliError::Invalid(format!(
             "--method elasticity takes --solver amg or cg{}",
@@ -53,6 +47,18 @@ pub(super) fn check_args(a: &MoveArgs) -> Result<(), CliError> {
                 ""
             }
         )));
+    }
+    Ok(())
+}
+
+/// `--poisson` (also of `deform adjoint`/`tangent --method elasticity`).
+pub(crate) fn check_poisson(poisson: f64) -> Result<(), CliError> {
+    if !(poisson.is_finite() && poisson > -1.0 && poisson != 0.5) {
+        return Err(CliError::Invalid(
+            "--poisson must be finite, above -1 and not 0.5 ((-1, 0.5) is the stable range; \
+             above 0.5 is SU2's DEFORM_COEFF convention)"
+                .into(),
+        ));
     }
     Ok(())
 }

@@ -14,6 +14,8 @@ mod motion;
 mod outputs;
 mod report;
 
+pub(crate) use elasticity::check_poisson;
+
 use std::time::Instant;
 
 use serde_json::json;

@@ -1,7 +1,9 @@
 //! `deform adjoint` and `deform tangent`: the derivative of the linear deformations (Batina
 //! springs, inverse-distance weighting) with respect to the boundary motion, through the
-//! kernel's `sensitivity` module, and of the quaternion method with spring propagation
-//! linearised about a deformed boundary (`quaternion.rs`); see docs/sensitivities.md.
+//! kernel's `sensitivity` module, of the angle springs (`angle.rs`), RBF (`rbf.rs`) and
+//! linear elasticity (`elasticity.rs`, also in load increments), and of the quaternion method
+//! with spring (`quaternion.rs`) or IDW (`idw.rs`) propagation linearised about a deformed
+//! boundary; see docs/sensitivities.md.
 //!
 //! `adjoint` is SU2_DOT's first step: the volume sensitivity `dJ/dx` of a flow adjoint becomes
 //! `dJ/dx_b` at the boundary nodes (one adjoint solve with the deformation's own operator and
@@ -9,6 +11,9 @@
 
 mod angle;
 mod design;
+mod elasticity;
+mod idw;
+mod options;
 mod quaternion;
 mod rbf;
 mod read;
@@ -46,23 +51,8 @@ fn load(setup: &SensitivitySetup) -> Result<(Su2Mesh, Vec<u32>), CliError> {
             "--tol must be finite and positive".into(),
         ));
     }
-    let nonlinear = matches!(
-        setup.method,
-        SensitivityMethod::Quaternion | SensitivityMethod::Rbf
-    );
-    if setup.deformed.is_some() && !nonlinear {
-        return Err(CliError::Invalid(
-            "--deformed is the linearisation point of --method quaternion and rbf; the other \
-             methods are linear"
-                .into(),
-        ));
-    }
+    options::check(setup)?;
     crate::args::check_rbf_args(&setup.rbf, setup.method == SensitivityMethod::Rbf)?;
-    if !(setup.idw_exponent.is_finite() && setup.idw_exponent > 0.0) {
-        return Err(CliError::Invalid(
-            "--idw-exponent must be finite and positive".into(),
-        ));
-    }
     let mesh = read_su2(&setup.mesh)?;
     let names: Vec<String> = mesh.markers.iter().map(|m| m.name.clone()).collect();
     let boundary = marker_nodes(&mesh, &names, &setup.mesh)?;
@@ -114,10 +104,20 @@ fn with_springs<const D: usize, R>(
     f(&sys, LinearSolver::Amg(&h), &stop)
 }
 
+/// What the solves did (for the report).
+#[derive(Clone, Copy, Debug)]
+struct Report {
+    iterations: usize,
+    residual: f64,
+}
+
 /// A solve that did not converge is an error (nothing written).
-fn converged(r: SolveReport<f64>) -> Result<SolveReport<f64>, CliError> {
+fn converged(r: SolveReport<f64>) -> Result<Report, CliError> {
     if r.converged {
-        Ok(r)
+        Ok(Report {
+            iterations: r.iterations,
+            residual: r.residual,
+        })
     } else {
         Err(CliError::Unconverged(format!(
             "the spring solve stopped after {} iterations at relative residual {:e}",
@@ -126,8 +126,8 @@ fn converged(r: SolveReport<f64>) -> Result<SolveReport<f64>, CliError> {
     }
 }
 
-/// A field and the spring solve's report (none for IDW).
-type Solved<const D: usize> = (Vec<[f64; D]>, Option<SolveReport<f64>>);
+/// A field and the solves' report (none for IDW).
+type Solved<const D: usize> = (Vec<[f64; D]>, Option<Report>);
 
 /// `Jᵀ w` for `D` components; the spring solve's report when there is one.
 fn adjoint_d<const D: usize>(
@@ -146,6 +146,8 @@ fn adjoint_d<const D: usize>(
             Ok((g, None))
         }
         SensitivityMethod::Quaternion => quaternion::adjoint(setup, mesh, boundary, w),
+        SensitivityMethod::Idw => idw::adjoint(setup, mesh, boundary, w),
+        SensitivityMethod::Elasticity => elasticity::adjoint(setup, mesh, boundary, w),
         SensitivityMethod::Angle => angle::adjoint(setup, mesh, boundary, w),
         SensitivityMethod::Rbf => rbf::adjoint(setup, mesh, boundary, w),
         SensitivityMethod::Spring => {
@@ -176,6 +178,8 @@ fn tangent_d<const D: usize>(
             Ok((dx, None))
         }
         SensitivityMethod::Quaternion => quaternion::tangent(setup, mesh, boundary, &dx),
+        SensitivityMethod::Idw => idw::tangent(setup, mesh, boundary, &dx),
+        SensitivityMethod::Elasticity => elasticity::tangent(setup, mesh, boundary, dx),
         SensitivityMethod::Angle => angle::tangent(setup, mesh, boundary, dx),
         SensitivityMethod::Rbf => rbf::tangent(setup, mesh, boundary, &dx),
         SensitivityMethod::Spring => {
@@ -228,7 +232,7 @@ fn outcome(
     command: &str,
     a: &SensitivitySetup,
     rows: usize,
-    r: Option<SolveReport<f64>>,
+    r: Option<Report>,
     out: &Path,
 ) -> Outcome {
     let json = json!({

@@ -19,33 +19,44 @@ use crate::files::read_su2;
 use crate::formats::su2::Su2Mesh;
 use crate::formats::CellList;
 
+/// The points of `--deformed` (same count and dimension as `mesh`), or `mesh`'s own.
+pub(super) fn deformed_points(
+    setup: &SensitivitySetup,
+    mesh: &Su2Mesh,
+) -> Result<Vec<[f64; 3]>, CliError> {
+    let Some(path) = &setup.deformed else {
+        return Ok(mesh.points.clone());
+    };
+    let (def, n) = (read_su2(path)?, mesh.points.len());
+    if def.points.len() != n || def.dim != mesh.dim {
+        return Err(CliError::Invalid(format!(
+            "{}: {} points in {}D, the mesh has {n} in {}D",
+            path.display(),
+            def.points.len(),
+            def.dim,
+            mesh.dim
+        )));
+    }
+    Ok(def.points)
+}
+
 /// The linearisation point: the undeformed points, the deformed boundary (one per boundary
-/// node, in `boundary` order) and every marker's elements in boundary numbering.
-struct Point<const D: usize> {
-    points: Vec<[f64; D]>,
+/// node, in `boundary` order) and every marker's elements in boundary numbering (also that of
+/// `--method idw`).
+pub(super) struct Point<const D: usize> {
+    pub(super) points: Vec<[f64; D]>,
     deformed: Vec<[f64; D]>,
     elements: CellList,
 }
 
 impl<const D: usize> Point<D> {
-    fn new(setup: &SensitivitySetup, mesh: &Su2Mesh, boundary: &[u32]) -> Result<Self, CliError> {
+    pub(super) fn new(
+        setup: &SensitivitySetup,
+        mesh: &Su2Mesh,
+        boundary: &[u32],
+    ) -> Result<Self, CliError> {
         let n = mesh.points.len();
-        let at = match &setup.deformed {
-            Some(path) => {
-                let def = read_su2(path)?;
-                if def.points.len() != n || def.dim != mesh.dim {
-                    return Err(CliError::Invalid(format!(
-                        "{}: {} points in {}D, the mesh has {n} in {}D",
-                        path.display(),
-                        def.points.len(),
-                        def.dim,
-                        mesh.dim
-                    )));
-                }
-                def.points
-            }
-            None => mesh.points.clone(),
-        };
+        let at = deformed_points(setup, mesh)?;
         let mut local = vec![u32::MAX; n];
         for (k, &b) in boundary.iter().enumerate() {
             local[b as usize] = k as u32;
@@ -72,7 +83,10 @@ impl<const D: usize> Point<D> {
     }
 
     /// The boundary motion of this point (`boundary`: the mesh node of each boundary point).
-    fn motion<'a>(&'a self, boundary: &'a [u32]) -> Result<BoundaryMotion<'a, f64, D>, CliError> {
+    pub(super) fn motion<'a>(
+        &'a self,
+        boundary: &'a [u32],
+    ) -> Result<BoundaryMotion<'a, f64, D>, CliError> {
         Ok(BoundaryMotion {
             nodes: boundary,
             deformed: &self.deformed,
