@@ -12,23 +12,7 @@ mod common;
 
 use std::fmt::Write as _;
 
-use common::{deform_json, deform_refused, mesh_2d, read_su2, su2_bytes, tmp_dir, Rng};
-
-/// Rows `node, values...` of an output CSV (header skipped).
-fn read_csv(path: &std::path::Path) -> Vec<(usize, Vec<f64>)> {
-    std::fs::read_to_string(path)
-        .expect("output")
-        .lines()
-        .skip(1)
-        .map(|l| {
-            let f: Vec<&str> = l.split(',').collect();
-            (
-                f[0].parse().unwrap(),
-                f[1..].iter().map(|x| x.parse().unwrap()).collect(),
-            )
-        })
-        .collect()
-}
+use common::{deform_json, deform_refused, mesh_2d, read_csv, read_su2, su2_bytes, tmp_dir, Rng};
 
 fn identity_holds(method: &str, extra: &[&str]) {
     let d = tmp_dir(&format!("sensitivity-{method}"));

@@ -224,3 +224,19 @@ pub fn naca_mesh(dir: &Path, kind: &str, surface: usize, radial: usize, out: &st
 pub fn read_su2(path: &Path) -> Su2Mesh {
     deform_cli::parse_su2(&std::fs::read(path).expect("read")).expect("parse SU2")
 }
+
+/// Rows `node, values...` of an output CSV (header skipped).
+pub fn read_csv(path: &Path) -> Vec<(usize, Vec<f64>)> {
+    std::fs::read_to_string(path)
+        .expect("output")
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (
+                f[0].parse().unwrap(),
+                f[1..].iter().map(|x| x.parse().unwrap()).collect(),
+            )
+        })
+        .collect()
+}

@@ -1,0 +1,345 @@
+//! `deform adjoint` and `deform tangent` for linear elasticity (one step and load increments,
+//! each modulus) and the quaternion method with IDW propagation (exact and tree-based), end
+//! to end through the files: the tangent is the central difference of `deform move` itself
+//! (exact for the linear one-step map; for the nonlinear maps the difference's error falls
+//! as h²), tangent and adjoint satisfy `⟨J v, w⟩ = ⟨v, Jᵀ w⟩`, a uniform translation of the
+//! boundary is reproduced exactly, and options a method cannot honour or files of the wrong
+//! size are refused with nothing written.
+
+mod common;
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use common::{deform_json, deform_refused, mesh_2d, read_csv, read_su2, su2_bytes};
+use common::{tmp_dir, Rng};
+use deform_cli::formats::su2::Su2Mesh;
+
+/// The linearisation point: a point of `mesh_2d` stretched, sheared and bent.
+fn bent(p: [f64; 3]) -> [f64; 2] {
+    let (x, y) = (p[0], p[1]);
+    let bend = 0.08 * (0.9 * x).sin() * (1.0 + 0.2 * y);
+    [1.04 * x + 0.06 * y + 0.05, 0.97 * y + bend - 0.03]
+}
+
+/// A case in its own directory: `m.su2`, `def.su2` (every point bent), the boundary nodes.
+struct Case {
+    dir: PathBuf,
+    mesh: Su2Mesh,
+    boundary: Vec<usize>,
+}
+
+impl Case {
+    fn new(name: &str) -> Case {
+        Case::sized(name, 7, 5)
+    }
+
+    /// On `mesh_2d(nx, ny)`.
+    fn sized(name: &str, nx: usize, ny: usize) -> Case {
+        let dir = tmp_dir(&format!("sensitivity-methods-{name}"));
+        let mesh = mesh_2d(nx, ny);
+        std::fs::write(dir.join("m.su2"), su2_bytes(&mesh)).unwrap();
+        let mut def = mesh.clone();
+        for p in &mut def.points {
+            let [x, y] = bent(*p);
+            *p = [x, y, 0.0];
+        }
+        std::fs::write(dir.join("def.su2"), su2_bytes(&def)).unwrap();
+        let mut boundary: Vec<usize> = (mesh.markers.iter())
+            .flat_map(|m| m.elements.nodes.iter().map(|&i| i as usize))
+            .collect();
+        boundary.sort_unstable();
+        boundary.dedup();
+        Case {
+            dir,
+            mesh,
+            boundary,
+        }
+    }
+
+    /// Writes `node dx dy` rows `f(k, node)` for the boundary nodes into `name`.
+    fn rows(&self, name: &str, f: impl Fn(usize, usize) -> [f64; 2]) {
+        let mut text = String::from("% node dx dy\n");
+        for (k, &i) in self.boundary.iter().enumerate() {
+            let v = f(k, i);
+            writeln!(text, "{i} {:e} {:e}", v[0], v[1]).unwrap();
+        }
+        std::fs::write(self.dir.join(name), text).unwrap();
+    }
+
+    /// The bent boundary's displacement at node `i`.
+    fn base(&self, i: usize) -> [f64; 2] {
+        let (p, b) = (self.mesh.points[i], bent(self.mesh.points[i]));
+        [b[0] - p[0], b[1] - p[1]]
+    }
+
+    /// `deform tangent` of the perturbation file `input` into `out`, read back.
+    fn tangent(&self, input: &str, sens: &[&str]) -> Vec<(usize, Vec<f64>)> {
+        let mut args = vec!["--json", "tangent", "m.su2", "--perturbation", input];
+        args.extend(["--tol", "1e-13", "--out", "t.csv"]);
+        args.extend(sens);
+        let r = deform_json(&self.dir, &args);
+        assert_eq!(r["command"], "tangent");
+        read_csv(&self.dir.join("t.csv"))
+    }
+
+    /// `deform move` with the boundary displacement file `input` into `out`.
+    fn moved(&self, input: &str, out: &str, mv: &[&str]) -> Su2Mesh {
+        let mut args = vec!["--json", "move", "m.su2", "--displacements", input];
+        args.extend(["--marker", "wall", "--marker", "farfield"]);
+        args.extend(["--tol", "1e-13", "--out", out]);
+        args.extend(mv);
+        deform_json(&self.dir, &args);
+        read_su2(&self.dir.join(out))
+    }
+}
+
+/// The random direction at the `k`-th boundary node.
+fn dir(k: usize) -> [f64; 2] {
+    let mut rng = Rng(31 + k as u64);
+    [rng.real(), rng.real()]
+}
+
+/// The largest difference between the tangent `t` and the central difference of `deform
+/// move` (`mv`) about the bent boundary along `dir` (direction file `v.txt`), step `h`,
+/// relative to the largest tangent entry.
+fn central_difference_error(c: &Case, t: &[(usize, Vec<f64>)], mv: &[&str], h: f64) -> f64 {
+    for (name, s) in [("dp.txt", h), ("dm.txt", -h)] {
+        c.rows(name, |k, i| {
+            let (b, v) = (c.base(i), dir(k));
+            [b[0] + s * v[0], b[1] + s * v[1]]
+        });
+    }
+    let (p, m) = (
+        c.moved("dp.txt", "dp.su2", mv),
+        c.moved("dm.txt", "dm.su2", mv),
+    );
+    let (mut err, mut big) = (0.0f64, 0.0f64);
+    for (i, x) in t {
+        for (k, &xk) in x.iter().enumerate() {
+            let fd = (p.points[*i][k] - m.points[*i][k]) / (2.0 * h);
+            err = err.max((fd - xk).abs());
+            big = big.max(xk.abs());
+        }
+    }
+    assert!(big > 0.1, "a trivial tangent: {big}");
+    err / big
+}
+
+/// The tangent of `--method` `sens` along a random boundary direction against central
+/// differences of `deform move` `mv` at `h` and `h/2`: within `exact` of it for a linear
+/// map (`quadratic` false), else an error that falls about fourfold when `h` halves.
+/// Returns the tangent.
+fn step_study(
+    c: &Case,
+    sens: &[&str],
+    mv: &[&str],
+    h: f64,
+    quadratic: bool,
+) -> Vec<(usize, Vec<f64>)> {
+    let name = c.dir.file_name().unwrap_or_default().to_string_lossy();
+    c.rows("v.txt", |k, _| dir(k));
+    let t = c.tangent("v.txt", sens);
+    let e1 = central_difference_error(c, &t, mv, h);
+    let e2 = central_difference_error(c, &t, mv, h / 2.0);
+    println!("{name}: tangent vs central difference: {e1:.3e} (h = {h:e}), {e2:.3e} (h/2)");
+    if quadratic {
+        assert!(e1 < 1e-2, "{name}: {e1:e}");
+        let ratio = e1 / e2;
+        assert!(
+            (3.0..5.5).contains(&ratio),
+            "{name}: the error does not fall as h²: {e1:e} then {e2:e}"
+        );
+    } else {
+        assert!(e1.max(e2) < 1e-8, "{name}: {e1:e}, {e2:e}");
+    }
+    t
+}
+
+#[test]
+fn elasticity_one_step_tangent_is_the_difference_of_deform_move() {
+    let mv = ["--method", "elasticity"];
+    step_study(&Case::new("el1"), &mv, &mv, 1e-2, false);
+    let constant = ["--stiffness", "constant", "--poisson", "0.4"];
+    let sens = [&mv[..], &constant[..]].concat();
+    step_study(&Case::new("el1c"), &sens, &sens, 1e-2, false);
+}
+
+#[test]
+fn elasticity_increments_tangent_is_the_difference_of_deform_move() {
+    let mv = ["--method", "elasticity", "--steps", "3"];
+    let sens = [&mv[..], &["--deformed", "def.su2"][..]].concat();
+    step_study(&Case::new("el3"), &sens, &mv, 4e-2, true);
+    // Wall distances to the moved markers' nodes (here every marker).
+    let wall = ["--stiffness", "wall-distance"];
+    let mv = [&mv[..], &wall[..]].concat();
+    let markers = ["--wall-markers", "wall", "farfield"];
+    let sens = [&sens[..], &wall[..], &markers[..]].concat();
+    step_study(&Case::new("el3w"), &sens, &mv, 4e-2, true);
+}
+
+#[test]
+fn quaternion_idw_tangent_is_the_difference_of_deform_move() {
+    let mv = ["--method", "idw"];
+    let sens = [&mv[..], &["--deformed", "def.su2"][..]].concat();
+    // A boundary of 64 nodes (8 leaves): the tree's far-field clusters are used.
+    let exact = step_study(&Case::sized("idw", 20, 12), &sens, &mv, 4e-2, true);
+    let fast = ["--idw-theta", "0.7", "--idw-tolerance", "0.5"];
+    let mv = [&mv[..], &fast[..]].concat();
+    let sens = [&sens[..], &fast[..]].concat();
+    let c = Case::sized("idw-fast", 20, 12);
+    let t = step_study(&c, &sens, &mv, 4e-2, true);
+    let apart = (t.iter().zip(&exact))
+        .flat_map(|((_, a), (_, b))| a.iter().zip(b).map(|(a, b)| (a - b).abs()))
+        .fold(0.0f64, f64::max);
+    println!("fast vs exact IDW tangent: {apart:.3e}");
+    assert!(apart > 1e-6, "the fast tangent is the exact one: {apart:e}");
+}
+
+/// `⟨J v, w⟩ = ⟨v, Jᵀ w⟩` through the files for `--method` `sens`, and the tangent of a
+/// uniform translation of the boundary is that translation at every node.
+fn identity_holds(name: &str, sens: &[&str]) {
+    let c = Case::new(name);
+    let n = c.mesh.points.len();
+    let mut rng = Rng(7);
+    let w: Vec<[f64; 2]> = (0..n).map(|_| [rng.real(), rng.real()]).collect();
+    let mut text = String::from("\"PointID\",\"Sensitivity_x\",\"Sensitivity_y\"\n");
+    for (i, w) in w.iter().enumerate() {
+        writeln!(text, "{i},{:e},{:e}", w[0], w[1]).unwrap();
+    }
+    std::fs::write(c.dir.join("sens.csv"), text).unwrap();
+    let v: Vec<[f64; 2]> = (0..c.boundary.len())
+        .map(|_| [rng.real(), rng.real()])
+        .collect();
+    c.rows("v.txt", |k, _| v[k]);
+    let jv = c.tangent("v.txt", sens);
+    let mut args = vec!["--json", "adjoint", "m.su2", "--sensitivity", "sens.csv"];
+    args.extend(["--tol", "1e-13", "--out", "g.csv"]);
+    args.extend(sens);
+    deform_json(&c.dir, &args);
+    let g = read_csv(&c.dir.join("g.csv"));
+    assert_eq!((jv.len(), g.len()), (n, c.boundary.len()));
+    let lhs: f64 = jv
+        .iter()
+        .map(|(i, x)| x[0] * w[*i][0] + x[1] * w[*i][1])
+        .sum();
+    let rhs: f64 = (g.iter().zip(&v))
+        .map(|((_, x), v)| x[2] * v[0] + x[3] * v[1])
+        .sum();
+    println!("{name}: <Jv, w> = {lhs:e}, <v, J^T w> = {rhs:e}");
+    assert!(
+        (lhs - rhs).abs() <= 1e-9 * lhs.abs().max(1.0),
+        "{name}: {lhs} vs {rhs}"
+    );
+    c.rows("u.txt", |_, _| [0.3, -0.2]);
+    for (i, x) in c.tangent("u.txt", sens) {
+        let e = (x[0] - 0.3).abs().max((x[1] + 0.2).abs());
+        assert!(e < 1e-9, "{name}: node {i} of a translation moves by {x:?}");
+    }
+}
+
+#[test]
+fn adjoint_and_tangent_files_satisfy_the_dot_product_identity() {
+    identity_holds("dot-el1", &["--method", "elasticity"]);
+    let steps = [
+        "--method",
+        "elasticity",
+        "--steps",
+        "3",
+        "--deformed",
+        "def.su2",
+    ];
+    identity_holds("dot-el3", &steps);
+    let wall = ["--stiffness", "wall-distance", "--wall-markers", "wall"];
+    identity_holds("dot-el3w", &[&steps[..], &wall[..]].concat());
+    let idw = ["--method", "idw", "--deformed", "def.su2"];
+    identity_holds("dot-idw", &idw);
+    let fast = ["--idw-theta", "0.5"];
+    identity_holds("dot-idw-fast", &[&idw[..], &fast[..]].concat());
+}
+
+/// Runs `tangent` with `extra` and expects exit 1 with `needle` on stderr, nothing written.
+fn refused(c: &Case, extra: &[&str], needle: &str) {
+    let mut args = vec![
+        "tangent",
+        "m.su2",
+        "--perturbation",
+        "v.txt",
+        "--out",
+        "t.csv",
+    ];
+    args.extend(extra);
+    deform_refused(&c.dir, &args, 1, needle, "t.csv");
+}
+
+#[test]
+fn options_a_method_cannot_honour_and_bad_sizes_are_refused() {
+    let c = Case::new("bad");
+    c.rows("v.txt", |_, _| [0.1, 0.0]);
+    let el = ["--method", "elasticity"];
+    refused(
+        &c,
+        &["--method", "spring", "--steps", "2"],
+        "--steps applies",
+    );
+    refused(
+        &c,
+        &["--method", "idw", "--poisson", "0.3"],
+        "--poisson applies",
+    );
+    refused(
+        &c,
+        &["--method", "quaternion", "--idw-theta", "0.5"],
+        "--idw-theta applies",
+    );
+    refused(
+        &c,
+        &["--method", "angle", "--stiffness", "constant"],
+        "--stiffness applies",
+    );
+    refused(
+        &c,
+        &[&el[..], &["--stiffness", "batina"]].concat(),
+        "spring stiffness",
+    );
+    refused(
+        &c,
+        &[&el[..], &["--stiffness", "wall-distance"]].concat(),
+        "--wall-markers",
+    );
+    refused(
+        &c,
+        &[&el[..], &["--poisson", "0.5"]].concat(),
+        "--poisson must be",
+    );
+    refused(
+        &c,
+        &[&el[..], &["--deformed", "def.su2"]].concat(),
+        "this map is linear",
+    );
+    refused(&c, &["--method", "idw", "--idw-theta", "1.5"], "[0, 1)");
+    let nowhere = ["--stiffness", "wall-distance", "--wall-markers", "nowhere"];
+    refused(&c, &[&el[..], &nowhere[..]].concat(), "nowhere");
+    // A linearisation point with another number of nodes.
+    std::fs::write(c.dir.join("small.su2"), su2_bytes(&mesh_2d(4, 3))).unwrap();
+    let small = ["--deformed", "small.su2"];
+    refused(
+        &c,
+        &[&["--method", "idw"][..], &small[..]].concat(),
+        "points in 2D",
+    );
+    let steps = ["--method", "elasticity", "--steps", "2"];
+    refused(&c, &[&steps[..], &small[..]].concat(), "points in 2D");
+    // A volume sensitivity with a node missing, for the adjoint.
+    std::fs::write(c.dir.join("short.txt"), "0 1 2\n1 1 2\n").unwrap();
+    let args = [
+        "adjoint",
+        "m.su2",
+        "--sensitivity",
+        "short.txt",
+        "--out",
+        "g.csv",
+    ];
+    let args = [&args[..], &el[..]].concat();
+    deform_refused(&c.dir, &args, 1, "has no sensitivity", "g.csv");
+}
