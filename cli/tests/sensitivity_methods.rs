@@ -13,13 +13,65 @@ use std::path::PathBuf;
 
 use common::{deform_json, deform_refused, mesh_2d, read_csv, read_su2, su2_bytes};
 use common::{tmp_dir, Rng};
-use deform_cli::formats::su2::Su2Mesh;
+use deform_cli::formats::su2::{Su2Marker, Su2Mesh};
+use deform_cli::formats::CellList;
+use deform_kernel::CellKind;
 
-/// The linearisation point: a point of `mesh_2d` stretched, sheared and bent.
-fn bent(p: [f64; 3]) -> [f64; 2] {
-    let (x, y) = (p[0], p[1]);
+/// The linearisation point: a point stretched, sheared and bent (`z = 0` stays 0).
+fn bent(p: [f64; 3]) -> [f64; 3] {
+    let (x, y, z) = (p[0], p[1], p[2]);
     let bend = 0.08 * (0.9 * x).sin() * (1.0 + 0.2 * y);
-    [1.04 * x + 0.06 * y + 0.05, 0.97 * y + bend - 0.03]
+    [
+        1.04 * x + 0.06 * y + 0.05,
+        0.97 * y + bend - 0.03,
+        z * (1.03 + 0.05 * (0.8 * x).sin()),
+    ]
+}
+
+/// A 3D box of `3 × 3 × 3` jittered hexahedra, markers "wall" (z = 0) and "farfield" (the
+/// other faces).
+fn box_3d() -> Su2Mesh {
+    let mut rng = Rng(99);
+    let id = |i: usize, j: usize, k: usize| (i + 4 * (j + 4 * k)) as u32;
+    let mut points = Vec::new();
+    for k in 0..4 {
+        for j in 0..4 {
+            for i in 0..4 {
+                points.push([i, j, k].map(|c| c as f64 + 0.1 * rng.real()));
+            }
+        }
+    }
+    let mut elements = CellList::new();
+    for (i, j, k) in (0..27).map(|c| (c % 3, (c / 3) % 3, c / 9)) {
+        let f = |a: usize, b: usize, c: usize| id(i + a, j + b, k + c);
+        let hex = [f(0, 0, 0), f(1, 0, 0), f(1, 1, 0), f(0, 1, 0)];
+        let top = [f(0, 0, 1), f(1, 0, 1), f(1, 1, 1), f(0, 1, 1)];
+        elements.push(CellKind::Hexahedron, &[hex, top].concat());
+    }
+    let (mut wall, mut far) = (CellList::new(), CellList::new());
+    for (a, b) in (0..9).map(|c| (c % 3, c / 3)) {
+        let quad =
+            |f: &dyn Fn(usize, usize) -> u32| [f(a, b), f(a + 1, b), f(a + 1, b + 1), f(a, b + 1)];
+        // The six faces: z = 0 (the wall), z = 3, y = 0, y = 3, x = 0, x = 3.
+        wall.push(CellKind::Quad, &quad(&|u, v| id(u, v, 0)));
+        far.push(CellKind::Quad, &quad(&|u, v| id(u, v, 3)));
+        far.push(CellKind::Quad, &quad(&|u, v| id(u, 0, v)));
+        far.push(CellKind::Quad, &quad(&|u, v| id(u, 3, v)));
+        far.push(CellKind::Quad, &quad(&|u, v| id(0, u, v)));
+        far.push(CellKind::Quad, &quad(&|u, v| id(3, u, v)));
+    }
+    let marker = |name: &str, elements| Su2Marker {
+        name: name.into(),
+        elements,
+    };
+    Su2Mesh {
+        dim: 3,
+        points,
+        elements,
+        markers: vec![marker("wall", wall), marker("farfield", far)],
+        passthrough: Vec::new(),
+        text: Default::default(),
+    }
 }
 
 /// A case in its own directory: `m.su2`, `def.su2` (every point bent), the boundary nodes.
@@ -36,13 +88,16 @@ impl Case {
 
     /// On `mesh_2d(nx, ny)`.
     fn sized(name: &str, nx: usize, ny: usize) -> Case {
+        Case::on(name, mesh_2d(nx, ny))
+    }
+
+    /// On `mesh`.
+    fn on(name: &str, mesh: Su2Mesh) -> Case {
         let dir = tmp_dir(&format!("sensitivity-methods-{name}"));
-        let mesh = mesh_2d(nx, ny);
         std::fs::write(dir.join("m.su2"), su2_bytes(&mesh)).unwrap();
         let mut def = mesh.clone();
         for p in &mut def.points {
-            let [x, y] = bent(*p);
-            *p = [x, y, 0.0];
+            *p = bent(*p);
         }
         std::fs::write(dir.join("def.su2"), su2_bytes(&def)).unwrap();
         let mut boundary: Vec<usize> = (mesh.markers.iter())
@@ -57,20 +112,23 @@ impl Case {
         }
     }
 
-    /// Writes `node dx dy` rows `f(k, node)` for the boundary nodes into `name`.
-    fn rows(&self, name: &str, f: impl Fn(usize, usize) -> [f64; 2]) {
-        let mut text = String::from("% node dx dy\n");
+    /// Writes `node dx dy [dz]` rows `f(k, node)` for the boundary nodes into `name`.
+    fn rows(&self, name: &str, f: impl Fn(usize, usize) -> [f64; 3]) {
+        let mut text = String::from("% node dx dy [dz]\n");
         for (k, &i) in self.boundary.iter().enumerate() {
-            let v = f(k, i);
-            writeln!(text, "{i} {:e} {:e}", v[0], v[1]).unwrap();
+            write!(text, "{i}").unwrap();
+            for x in &f(k, i)[..self.mesh.dim] {
+                write!(text, " {x:e}").unwrap();
+            }
+            text.push('\n');
         }
         std::fs::write(self.dir.join(name), text).unwrap();
     }
 
     /// The bent boundary's displacement at node `i`.
-    fn base(&self, i: usize) -> [f64; 2] {
+    fn base(&self, i: usize) -> [f64; 3] {
         let (p, b) = (self.mesh.points[i], bent(self.mesh.points[i]));
-        [b[0] - p[0], b[1] - p[1]]
+        [b[0] - p[0], b[1] - p[1], b[2] - p[2]]
     }
 
     /// `deform tangent` of the perturbation file `input` into `out`, read back.
@@ -95,9 +153,9 @@ impl Case {
 }
 
 /// The random direction at the `k`-th boundary node.
-fn dir(k: usize) -> [f64; 2] {
+fn dir(k: usize) -> [f64; 3] {
     let mut rng = Rng(31 + k as u64);
-    [rng.real(), rng.real()]
+    [rng.real(), rng.real(), rng.real()]
 }
 
 /// The largest difference between the tangent `t` and the central difference of `deform
@@ -107,7 +165,7 @@ fn central_difference_error(c: &Case, t: &[(usize, Vec<f64>)], mv: &[&str], h: f
     for (name, s) in [("dp.txt", h), ("dm.txt", -h)] {
         c.rows(name, |k, i| {
             let (b, v) = (c.base(i), dir(k));
-            [b[0] + s * v[0], b[1] + s * v[1]]
+            [0, 1, 2].map(|d| b[d] + s * v[d])
         });
     }
     let (p, m) = (
@@ -199,18 +257,23 @@ fn quaternion_idw_tangent_is_the_difference_of_deform_move() {
 /// `⟨J v, w⟩ = ⟨v, Jᵀ w⟩` through the files for `--method` `sens`, and the tangent of a
 /// uniform translation of the boundary is that translation at every node.
 fn identity_holds(name: &str, sens: &[&str]) {
-    let c = Case::new(name);
-    let n = c.mesh.points.len();
+    identity_holds_on(&Case::new(name), sens);
+}
+
+/// [`identity_holds`] on the case `c` (2D or 3D).
+fn identity_holds_on(c: &Case, sens: &[&str]) {
+    let (n, dim) = (c.mesh.points.len(), c.mesh.dim);
+    let name = c.dir.file_name().unwrap_or_default().to_string_lossy();
     let mut rng = Rng(7);
-    let w: Vec<[f64; 2]> = (0..n).map(|_| [rng.real(), rng.real()]).collect();
-    let mut text = String::from("\"PointID\",\"Sensitivity_x\",\"Sensitivity_y\"\n");
+    let mut random = || [rng.real(), rng.real(), rng.real()];
+    let w: Vec<[f64; 3]> = (0..n).map(|_| random()).collect();
+    let mut text =
+        String::from("\"PointID\",\"Sensitivity_x\",\"Sensitivity_y\",\"Sensitivity_z\"\n");
     for (i, w) in w.iter().enumerate() {
-        writeln!(text, "{i},{:e},{:e}", w[0], w[1]).unwrap();
+        writeln!(text, "{i},{:e},{:e},{:e}", w[0], w[1], w[2]).unwrap();
     }
     std::fs::write(c.dir.join("sens.csv"), text).unwrap();
-    let v: Vec<[f64; 2]> = (0..c.boundary.len())
-        .map(|_| [rng.real(), rng.real()])
-        .collect();
+    let v: Vec<[f64; 3]> = (0..c.boundary.len()).map(|_| random()).collect();
     c.rows("v.txt", |k, _| v[k]);
     let jv = c.tangent("v.txt", sens);
     let mut args = vec!["--json", "adjoint", "m.su2", "--sensitivity", "sens.csv"];
@@ -219,21 +282,23 @@ fn identity_holds(name: &str, sens: &[&str]) {
     deform_json(&c.dir, &args);
     let g = read_csv(&c.dir.join("g.csv"));
     assert_eq!((jv.len(), g.len()), (n, c.boundary.len()));
-    let lhs: f64 = jv
-        .iter()
-        .map(|(i, x)| x[0] * w[*i][0] + x[1] * w[*i][1])
-        .sum();
+    let dot = |a: &[f64], b: &[f64; 3]| (0..dim).map(|d| a[d] * b[d]).sum::<f64>();
+    let lhs: f64 = jv.iter().map(|(i, x)| dot(x, &w[*i])).sum();
+    // The adjoint rows: node, coordinates, then dJ/dx_b.
     let rhs: f64 = (g.iter().zip(&v))
-        .map(|((_, x), v)| x[2] * v[0] + x[3] * v[1])
+        .map(|((_, x), v)| dot(&x[dim..], v))
         .sum();
     println!("{name}: <Jv, w> = {lhs:e}, <v, J^T w> = {rhs:e}");
     assert!(
         (lhs - rhs).abs() <= 1e-9 * lhs.abs().max(1.0),
         "{name}: {lhs} vs {rhs}"
     );
-    c.rows("u.txt", |_, _| [0.3, -0.2]);
+    let shift = [0.3, -0.2, 0.1];
+    c.rows("u.txt", |_, _| shift);
     for (i, x) in c.tangent("u.txt", sens) {
-        let e = (x[0] - 0.3).abs().max((x[1] + 0.2).abs());
+        let e = (0..dim)
+            .map(|d| (x[d] - shift[d]).abs())
+            .fold(0.0, f64::max);
         assert!(e < 1e-9, "{name}: node {i} of a translation moves by {x:?}");
     }
 }
@@ -258,6 +323,42 @@ fn adjoint_and_tangent_files_satisfy_the_dot_product_identity() {
     identity_holds("dot-idw-fast", &[&idw[..], &fast[..]].concat());
 }
 
+#[test]
+fn in_3d_the_identity_holds_and_translations_are_reproduced() {
+    let el = [
+        "--method",
+        "elasticity",
+        "--steps",
+        "2",
+        "--deformed",
+        "def.su2",
+    ];
+    identity_holds_on(&Case::on("dot3-el2", box_3d()), &el);
+    identity_holds_on(&Case::on("dot3-el1", box_3d()), &el[..2]);
+    let idw = ["--method", "idw", "--deformed", "def.su2"];
+    identity_holds_on(&Case::on("dot3-idw", box_3d()), &idw);
+    let fast = ["--idw-theta", "0.6"];
+    let c = Case::on("dot3-idw-fast", box_3d());
+    identity_holds_on(&c, &[&idw[..], &fast[..]].concat());
+}
+
+#[test]
+fn in_3d_the_tangents_are_the_differences_of_deform_move() {
+    let mv = ["--method", "elasticity", "--steps", "2"];
+    let sens = [&mv[..], &["--deformed", "def.su2"][..]].concat();
+    step_study(&Case::on("fd3-el2", box_3d()), &sens, &mv, 4e-2, true);
+    step_study(
+        &Case::on("fd3-el1", box_3d()),
+        &mv[..2],
+        &mv[..2],
+        1e-2,
+        false,
+    );
+    let mv = ["--method", "idw"];
+    let sens = [&mv[..], &["--deformed", "def.su2"][..]].concat();
+    step_study(&Case::on("fd3-idw", box_3d()), &sens, &mv, 4e-2, true);
+}
+
 /// Runs `tangent` with `extra` and expects exit 1 with `needle` on stderr, nothing written.
 fn refused(c: &Case, extra: &[&str], needle: &str) {
     let mut args = vec![
@@ -275,7 +376,7 @@ fn refused(c: &Case, extra: &[&str], needle: &str) {
 #[test]
 fn options_a_method_cannot_honour_and_bad_sizes_are_refused() {
     let c = Case::new("bad");
-    c.rows("v.txt", |_, _| [0.1, 0.0]);
+    c.rows("v.txt", |_, _| [0.1, 0.0, 0.0]);
     let el = ["--method", "elasticity"];
     refused(
         &c,
