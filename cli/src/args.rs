@@ -57,11 +57,13 @@ pub enum Command {
     /// an option it cannot honour is an error naming it. The failure policy is `move`'s.
     Su2(Su2Args),
     /// Pull a volume sensitivity dJ/dx (SU2_CFD_AD's) back through the mesh deformation to the
-    /// boundary nodes, as SU2_DOT does: one adjoint solve of the linear deformation; with
-    /// --config, on to dJ/dα of the config's design variables (SU2_DOT's of_grad.dat).
+    /// boundary nodes, as SU2_DOT does: the adjoint of the deformation (springs, angle springs,
+    /// quaternion with spring or IDW propagation, IDW, RBF, elasticity; the nonlinear ones
+    /// linearised about --deformed); with --config, on to dJ/dα of the config's design
+    /// variables (SU2_DOT's of_grad.dat).
     Adjoint(AdjointArgs),
     /// The first-order motion of every node for one boundary perturbation (the tangent of the
-    /// linear deformation).
+    /// deformation, the nonlinear ones linearised about --deformed).
     Tangent(TangentArgs),
     /// Smooth a Plot3D grid along one grid direction (Alter's arclength Taubin smoothing).
     ///

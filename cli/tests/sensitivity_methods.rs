@@ -431,6 +431,26 @@ fn options_a_method_cannot_honour_and_bad_sizes_are_refused() {
     );
     let steps = ["--method", "elasticity", "--steps", "2"];
     refused(&c, &[&steps[..], &small[..]].concat(), "points in 2D");
+    // Solves that stop short of --tol: exit 5, nothing written.
+    let short = ["--max-iter", "1"];
+    let args = [
+        "tangent",
+        "m.su2",
+        "--perturbation",
+        "v.txt",
+        "--out",
+        "t.csv",
+    ];
+    let unconverged = [&args[..], &el[..], &short[..]].concat();
+    deform_refused(
+        &c.dir,
+        &unconverged,
+        5,
+        "elasticity solves stopped",
+        "t.csv",
+    );
+    let steps = [&unconverged[..], &["--steps", "2"][..]].concat();
+    deform_refused(&c.dir, &steps, 5, "elasticity solves stopped", "t.csv");
     // A volume sensitivity with a node missing, for the adjoint.
     std::fs::write(c.dir.join("short.txt"), "0 1 2\n1 1 2\n").unwrap();
     let args = [

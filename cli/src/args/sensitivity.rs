@@ -50,7 +50,8 @@ pub struct SensitivitySetup {
     /// with `--steps` above 1 (default: the undeformed mesh).
     #[arg(long)]
     pub deformed: Option<PathBuf>,
-    /// IDW weight exponent `p` in `(d_min / d)^p` (`--method idw-displacements`).
+    /// IDW weight exponent `p` in `(d_min / d)^p` (`--method idw-displacements` and `idw`, as
+    /// `deform move --idw-exponent`).
     #[arg(long, default_value_t = 2.0)]
     pub idw_exponent: f64,
     /// `--method idw`: the fast tree-based propagation with opening parameter THETA in
