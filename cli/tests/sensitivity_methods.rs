@@ -378,49 +378,34 @@ fn options_a_method_cannot_honour_and_bad_sizes_are_refused() {
     let c = Case::new("bad");
     c.rows("v.txt", |_, _| [0.1, 0.0, 0.0]);
     let el = ["--method", "elasticity"];
-    refused(
-        &c,
-        &["--method", "spring", "--steps", "2"],
-        "--steps applies",
-    );
-    refused(
-        &c,
-        &["--method", "idw", "--poisson", "0.3"],
-        "--poisson applies",
-    );
-    refused(
-        &c,
-        &["--method", "quaternion", "--idw-theta", "0.5"],
-        "--idw-theta applies",
-    );
-    refused(
-        &c,
-        &["--method", "angle", "--stiffness", "constant"],
-        "--stiffness applies",
-    );
-    refused(
-        &c,
-        &[&el[..], &["--stiffness", "batina"]].concat(),
-        "spring stiffness",
-    );
-    refused(
-        &c,
-        &[&el[..], &["--stiffness", "wall-distance"]].concat(),
-        "--wall-markers",
-    );
-    refused(
-        &c,
-        &[&el[..], &["--poisson", "0.5"]].concat(),
-        "--poisson must be",
-    );
-    refused(
-        &c,
-        &[&el[..], &["--deformed", "def.su2"]].concat(),
-        "this map is linear",
-    );
-    refused(&c, &["--method", "idw", "--idw-theta", "1.5"], "[0, 1)");
-    let nowhere = ["--stiffness", "wall-distance", "--wall-markers", "nowhere"];
-    refused(&c, &[&el[..], &nowhere[..]].concat(), "nowhere");
+    // Each line: the method, an option it cannot honour, what the error says.
+    let cases: [(&str, &[&str], &str); 10] = [
+        ("spring", &["--steps", "2"], "--steps applies"),
+        ("idw", &["--poisson", "0.3"], "--poisson applies"),
+        ("quaternion", &["--idw-theta", "0.5"], "--idw-theta applies"),
+        ("angle", &["--stiffness", "constant"], "--stiffness applies"),
+        ("elasticity", &["--stiffness", "batina"], "spring stiffness"),
+        (
+            "elasticity",
+            &["--stiffness", "wall-distance"],
+            "--wall-markers",
+        ),
+        ("elasticity", &["--poisson", "0.5"], "--poisson must be"),
+        (
+            "elasticity",
+            &["--deformed", "def.su2"],
+            "this map is linear",
+        ),
+        ("idw", &["--idw-theta", "1.5"], "[0, 1)"),
+        (
+            "elasticity",
+            &["--stiffness", "wall-distance", "--wall-markers", "nowhere"],
+            "nowhere",
+        ),
+    ];
+    for (method, extra, needle) in cases {
+        refused(&c, &[&["--method", method][..], extra].concat(), needle);
+    }
     // A linearisation point with another number of nodes.
     std::fs::write(c.dir.join("small.su2"), su2_bytes(&mesh_2d(4, 3))).unwrap();
     let small = ["--deformed", "small.su2"];

@@ -13,7 +13,7 @@ use deform_kernel::quaternion::{
 use deform_kernel::Quat;
 
 use super::quaternion::Point;
-use super::{kernel, Solved};
+use super::{kernel, scatter, Solved};
 use crate::args::SensitivitySetup;
 use crate::error::CliError;
 use crate::formats::su2::Su2Mesh;
@@ -106,9 +106,5 @@ pub(super) fn adjoint<const D: usize>(
     let p = Point::<D>::new(setup, mesh, boundary)?;
     let mut back = vec![[0.0; D]; boundary.len()];
     run(setup, &p, &p.motion(boundary)?, false, (w, &mut back))?;
-    let mut g = vec![[0.0; D]; p.points.len()];
-    for (&b, x) in boundary.iter().zip(back) {
-        g[b as usize] = x;
-    }
-    Ok((g, None))
+    Ok((scatter(boundary, &back, p.points.len()), None))
 }

@@ -194,6 +194,15 @@ fn tangent_d<const D: usize>(
     }
 }
 
+/// One value per boundary node (in `boundary` order) spread to `n` nodes, zero elsewhere.
+fn scatter<const D: usize>(boundary: &[u32], back: &[[f64; D]], n: usize) -> Vec<[f64; D]> {
+    let mut g = vec![[0.0; D]; n];
+    for (&b, x) in boundary.iter().zip(back) {
+        g[b as usize] = *x;
+    }
+    g
+}
+
 /// `[f64; 3]` rows as `[f64; D]` and back.
 fn to_d<const D: usize>(v: &[[f64; 3]]) -> Vec<[f64; D]> {
     points_d::<D>(v)

@@ -11,7 +11,7 @@ use deform_kernel::quaternion::{
     BoundaryMotion, RotationSource,
 };
 
-use super::{converged, kernel, with_springs, Solved};
+use super::{converged, kernel, scatter, with_springs, Solved};
 use crate::args::SensitivitySetup;
 use crate::engine::{cells_view, points_d};
 use crate::error::CliError;
@@ -134,10 +134,6 @@ pub(super) fn adjoint<const D: usize>(
         let (mut s, mut back) = (vec![0.0; len], vec![[0.0; D]; boundary.len()]);
         let r = deform_spring_adjoint(&p.points, &motion, sys, solver, stop, w, &mut s, &mut back)
             .map_err(kernel("quaternion adjoint"))?;
-        let mut g = vec![[0.0; D]; n];
-        for (&b, x) in boundary.iter().zip(back) {
-            g[b as usize] = x;
-        }
-        Ok((g, Some(converged(r)?)))
+        Ok((scatter(boundary, &back, n), Some(converged(r)?)))
     })
 }
