@@ -74,11 +74,14 @@ fn box_3d() -> Su2Mesh {
     }
 }
 
-/// A case in its own directory: `m.su2`, `def.su2` (every point bent), the boundary nodes.
+/// A case in its own directory: `m.su2`, `def.su2` (the moving nodes bent), the boundary
+/// nodes, the moving ones (files list them) and the markers `deform move` moves.
 struct Case {
     dir: PathBuf,
     mesh: Su2Mesh,
     boundary: Vec<usize>,
+    moving: Vec<usize>,
+    markers: Vec<String>,
 }
 
 impl Case {
@@ -91,31 +94,43 @@ impl Case {
         Case::on(name, mesh_2d(nx, ny))
     }
 
-    /// On `mesh`.
+    /// On `mesh`, every marker moving.
     fn on(name: &str, mesh: Su2Mesh) -> Case {
+        let markers: Vec<String> = mesh.markers.iter().map(|m| m.name.clone()).collect();
+        Case::moving(name, mesh, &markers)
+    }
+
+    /// On `mesh`, the `markers` moving, the others fixed.
+    fn moving(name: &str, mesh: Su2Mesh, markers: &[String]) -> Case {
         let dir = tmp_dir(&format!("sensitivity-methods-{name}"));
         std::fs::write(dir.join("m.su2"), su2_bytes(&mesh)).unwrap();
+        let nodes = |keep: &dyn Fn(&str) -> bool| {
+            let mut v: Vec<usize> = (mesh.markers.iter().filter(|m| keep(&m.name)))
+                .flat_map(|m| m.elements.nodes.iter().map(|&i| i as usize))
+                .collect();
+            v.sort_unstable();
+            v.dedup();
+            v
+        };
+        let (boundary, moving) = (nodes(&|_| true), nodes(&|m| markers.iter().any(|k| k == m)));
         let mut def = mesh.clone();
-        for p in &mut def.points {
-            *p = bent(*p);
+        for &i in &moving {
+            def.points[i] = bent(def.points[i]);
         }
         std::fs::write(dir.join("def.su2"), su2_bytes(&def)).unwrap();
-        let mut boundary: Vec<usize> = (mesh.markers.iter())
-            .flat_map(|m| m.elements.nodes.iter().map(|&i| i as usize))
-            .collect();
-        boundary.sort_unstable();
-        boundary.dedup();
         Case {
             dir,
             mesh,
             boundary,
+            moving,
+            markers: markers.to_vec(),
         }
     }
 
-    /// Writes `node dx dy [dz]` rows `f(k, node)` for the boundary nodes into `name`.
+    /// Writes `node dx dy [dz]` rows `f(k, node)` for the moving nodes into `name`.
     fn rows(&self, name: &str, f: impl Fn(usize, usize) -> [f64; 3]) {
         let mut text = String::from("% node dx dy [dz]\n");
-        for (k, &i) in self.boundary.iter().enumerate() {
+        for (k, &i) in self.moving.iter().enumerate() {
             write!(text, "{i}").unwrap();
             for x in &f(k, i)[..self.mesh.dim] {
                 write!(text, " {x:e}").unwrap();
@@ -144,7 +159,9 @@ impl Case {
     /// `deform move` with the boundary displacement file `input` into `out`.
     fn moved(&self, input: &str, out: &str, mv: &[&str]) -> Su2Mesh {
         let mut args = vec!["--json", "move", "m.su2", "--displacements", input];
-        args.extend(["--marker", "wall", "--marker", "farfield"]);
+        for m in &self.markers {
+            args.extend(["--marker", m]);
+        }
         args.extend(["--tol", "1e-13", "--out", out]);
         args.extend(mv);
         deform_json(&self.dir, &args);
@@ -231,9 +248,13 @@ fn elasticity_increments_tangent_is_the_difference_of_deform_move() {
     // Wall distances to the moved markers' nodes (here every marker).
     let wall = ["--stiffness", "wall-distance"];
     let mv = [&mv[..], &wall[..]].concat();
-    let markers = ["--wall-markers", "wall", "farfield"];
-    let sens = [&sens[..], &wall[..], &markers[..]].concat();
-    step_study(&Case::new("el3w"), &sens, &mv, 4e-2, true);
+    let every = ["--wall-markers", "wall", "farfield"];
+    let both = [&sens[..], &wall[..], &every[..]].concat();
+    step_study(&Case::new("el3w"), &both, &mv, 4e-2, true);
+    // Only the wall moves (the far field is fixed): the distances to the wall's nodes.
+    let one = [&sens[..], &wall[..], &["--wall-markers", "wall"][..]].concat();
+    let c = Case::moving("el3w-wall", mesh_2d(7, 5), &["wall".to_string()]);
+    step_study(&c, &one, &mv, 4e-2, true);
 }
 
 #[test]
@@ -273,6 +294,10 @@ fn identity_holds_on(c: &Case, sens: &[&str]) {
         writeln!(text, "{i},{:e},{:e},{:e}", w[0], w[1], w[2]).unwrap();
     }
     std::fs::write(c.dir.join("sens.csv"), text).unwrap();
+    assert_eq!(
+        c.moving, c.boundary,
+        "the identity pairs every boundary row"
+    );
     let v: Vec<[f64; 3]> = (0..c.boundary.len()).map(|_| random()).collect();
     c.rows("v.txt", |k, _| v[k]);
     let jv = c.tangent("v.txt", sens);
