@@ -9,6 +9,7 @@ use crate::error::CliError;
 use crate::formats::CellList;
 use crate::orientation::{Orientation, OrientationSummary};
 
+mod compare;
 mod elasticity;
 pub(crate) mod rbf;
 pub use elasticity::run_elasticity;
@@ -224,6 +225,8 @@ struct Reference {
     boundary: Vec<Vec<u32>>,
     /// The reference measured relative to each cell's own orientation.
     rel: Relative,
+    /// The reference's signed measures as the cells are listed.
+    listed: Vec<f64>,
     orientation: Orientation,
 }
 
@@ -260,6 +263,7 @@ fn reference_cells<const D: usize>(
         overlap,
         boundary,
         rel,
+        listed: measure,
         orientation,
     })
 }
@@ -294,36 +298,6 @@ fn ratios_and_inversions(before: &[f64], after: &[f64]) -> (Vec<f64>, Vec<bool>)
         .unzip()
 }
 
-/// The kernel's comparison, with the wall-angle change when `wall` is given.
-fn compare_with_wall<const D: usize>(
-    view: &Cells<'_>,
-    undeformed: &[[f64; D]],
-    deformed: &[[f64; D]],
-    wall: WallInput<'_>,
-) -> Result<deform_kernel::quality::QualityReport<f64>, CliError> {
-    use deform_kernel::quality::{compare, wall_angle_scratch_len, Wall};
-    let n = undeformed.len();
-    let built;
-    let wall_view;
-    let wall_obj = match wall {
-        Some((w, given)) => {
-            let graph = match given {
-                Some(g) => g,
-                None => {
-                    built = edge_graph(view, false)?;
-                    &built
-                }
-            };
-            wall_view = cells_view(w, n)?;
-            Some(Wall::new(wall_view, graph.view()?).map_err(kernel("wall"))?)
-        }
-        None => None,
-    };
-    let scratch_len = wall_obj.as_ref().map_or(0, |_| wall_angle_scratch_len(n));
-    let mut scratch = vec![[0.0; D]; scratch_len];
-    compare(view, undeformed, deformed, wall_obj.as_ref(), &mut scratch).map_err(kernel("quality"))
-}
-
 fn quality_d<const D: usize>(
     cells: &CellList,
     points: &[[f64; 3]],
@@ -350,13 +324,23 @@ fn quality_d<const D: usize>(
         (base, listed)
     });
     let base = base?;
-    let rel = mirror_negative(&view, &input_deformed, &base.negative, listed?)?;
+    let listed = listed?;
+    let listed_deformed = listed.measure.clone();
+    let rel = mirror_negative(&view, &input_deformed, &base.negative, listed)?;
     // Ratios, inversions and wall angles on canonical coordinates (negative regions mirrored):
     // the same numbers as on the input's, angles measured the same way in every region.
     let undeformed = base.orientation.canonical(&input_undeformed);
     let pts = base.orientation.canonical(&input_deformed);
     let wall = wall.filter(|(w, _)| reference.is_some() && !w.is_empty());
-    let r = compare_with_wall(&view, &undeformed, &pts, wall)?;
+    // With every region positive the canonical points are the input's, whose measures are at
+    // hand; otherwise the canonical cells are measured.
+    let r = if base.orientation.all_positive() {
+        compare::measure_ratios(&base.listed, &listed_deformed)
+    } else {
+        let before = compare::measures(&view, &undeformed)?;
+        compare::measure_ratios(&before, &compare::measures(&view, &pts)?)
+    };
+    let wall_change = compare::wall_angles(&view, &undeformed, &pts, wall)?;
     let has_ref = reference.is_some();
     let folded_in = |corner: &[f64]| -> Vec<bool> {
         corner
@@ -382,7 +366,7 @@ fn quality_d<const D: usize>(
     let finite = |x: f64| has_ref.then_some(x).filter(|x| x.is_finite());
     let min = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
     Ok(QualitySummary {
-        cells: r.cells,
+        cells: view.len(),
         inverted_cells: has_ref.then_some(r.inverted_cells),
         folded_cells: folded.iter().filter(|&&f| f).count(),
         degenerate_cells: folded
@@ -396,7 +380,7 @@ fn quality_d<const D: usize>(
         min_scaled_jacobian: min(&rel.scaled),
         min_area_ratio: finite(r.min_measure_ratio),
         max_area_ratio: finite(r.max_measure_ratio),
-        max_wall_angle_change_deg: r.wall.map(|w| w.max_change.to_degrees()),
+        max_wall_angle_change_deg: wall_change.map(|w| w.max_change.to_degrees()),
         measure: rel.measure,
         scaled_jacobian: rel.scaled,
         ratio,
