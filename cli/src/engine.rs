@@ -155,10 +155,47 @@ pub fn quality_with_graph(
     wall: Option<&CellList>,
     graph: Option<&OwnedGraph>,
 ) -> Result<QualitySummary, CliError> {
-    let wall = wall.map(|w| (w, graph));
+    quality_prepared(dim, cells, points, reference, None, wall, graph)
+}
+
+/// The reference mesh's half of the quality table (each cell's own orientation, overlaps,
+/// boundary faces, regions): it does not depend on the deformation, so `deform move` prepares
+/// it while the solve runs ([`quality_prepared`]).
+pub struct PreparedReference(Reference);
+
+/// [`PreparedReference`] of the mesh `cells` at `points`.
+pub fn prepare_reference(
+    dim: usize,
+    cells: &CellList,
+    points: &[[f64; 3]],
+) -> Result<PreparedReference, CliError> {
+    fn run<const D: usize>(cells: &CellList, points: &[[f64; 3]]) -> Result<Reference, CliError> {
+        let view = cells_view(cells, points.len())?;
+        reference_cells(cells, &view, &points_d::<D>(points))
+    }
     match dim {
-        2 => quality_d::<2>(cells, points, reference, wall),
-        3 => quality_d::<3>(cells, points, reference, wall),
+        2 => run::<2>(cells, points).map(PreparedReference),
+        3 => run::<3>(cells, points).map(PreparedReference),
+        _ => Err(CliError::Invalid(format!("dimension {dim} is not 2 or 3"))),
+    }
+}
+
+/// [`quality_with_graph`] with the reference's half already prepared (by
+/// [`prepare_reference`] on `reference`, or on `points` without one): the same table.
+pub fn quality_prepared(
+    dim: usize,
+    cells: &CellList,
+    points: &[[f64; 3]],
+    reference: Option<&[[f64; 3]]>,
+    prepared: Option<PreparedReference>,
+    wall: Option<&CellList>,
+    graph: Option<&OwnedGraph>,
+) -> Result<QualitySummary, CliError> {
+    let wall = wall.map(|w| (w, graph));
+    let prepared = prepared.map(|p| p.0);
+    match dim {
+        2 => quality_d::<2>(cells, points, reference, prepared, wall),
+        3 => quality_d::<3>(cells, points, reference, prepared, wall),
         _ => Err(CliError::Invalid(format!("dimension {dim} is not 2 or 3"))),
     }
 }
@@ -302,6 +339,7 @@ fn quality_d<const D: usize>(
     cells: &CellList,
     points: &[[f64; 3]],
     reference: Option<&[[f64; 3]]>,
+    prepared: Option<Reference>,
     wall: WallInput<'_>,
 ) -> Result<QualitySummary, CliError> {
     let n = points.len();
@@ -315,14 +353,17 @@ fn quality_d<const D: usize>(
     let input_undeformed = points_d::<D>(reference.unwrap_or(points));
     let input_deformed = points_d::<D>(points);
     // The deformed cells' qualities do not depend on the reference's: evaluated alongside.
-    let (base, listed) = std::thread::scope(|s| {
-        let deformed = s.spawn(|| qualities(&view, &input_deformed));
-        let base = reference_cells(cells, &view, &input_undeformed);
-        let listed = deformed
-            .join()
-            .unwrap_or_else(|p| std::panic::resume_unwind(p));
-        (base, listed)
-    });
+    let (base, listed) = match prepared {
+        Some(base) => (Ok(base), qualities(&view, &input_deformed)),
+        None => std::thread::scope(|s| {
+            let deformed = s.spawn(|| qualities(&view, &input_deformed));
+            let base = reference_cells(cells, &view, &input_undeformed);
+            let listed = deformed
+                .join()
+                .unwrap_or_else(|p| std::panic::resume_unwind(p));
+            (base, listed)
+        }),
+    };
     let base = base?;
     let listed = listed?;
     let listed_deformed = listed.measure.clone();

@@ -77,7 +77,7 @@ fn key_and_direction(cycle: &[u32]) -> ([u32; 4], i8) {
     for (k, &n) in key.iter_mut().zip(cycle) {
         *k = n;
     }
-    key[..cycle.len().min(4)].sort_unstable();
+    sort4(&mut key);
     let len = cycle.len();
     let Some(m) = (0..len).min_by_key(|&i| cycle[i]) else {
         return (key, 1);
@@ -87,6 +87,16 @@ fn key_and_direction(cycle: &[u32]) -> ([u32; 4], i8) {
         _ => cycle[(m + 1) % len] < cycle[(m + len - 1) % len],
     };
     (key, if direction { 1 } else { -1 })
+}
+
+/// Sorts four values ascending (a five-comparator network; unused slots hold `u32::MAX`, which
+/// stays last).
+fn sort4(k: &mut [u32; 4]) {
+    for (i, j) in [(0, 1), (2, 3), (0, 2), (1, 3), (1, 2)] {
+        let (a, b) = (k[i], k[j]);
+        k[i] = a.min(b);
+        k[j] = a.max(b);
+    }
 }
 
 /// Every face of every cell, sorted by key (the two cells sharing a face come together).
@@ -138,14 +148,26 @@ fn sort_by_key(faces: Vec<CellFace>) -> Vec<CellFace> {
         start[i] += start[i - 1];
     }
     let mut cursor = start.clone();
-    let mut sorted = faces.clone();
+    let blank = CellFace {
+        key: [0; 4],
+        cell: 0,
+        local: 0,
+        side: 0,
+    };
+    let mut sorted = vec![blank; faces.len()];
     for f in faces {
         let c = &mut cursor[f.key[0] as usize];
         sorted[*c] = f;
         *c += 1;
     }
+    // Within a bucket `key[0]` is equal: the rest of the key and the cell packed in one
+    // integer order as `(key, cell)` does.
+    let rank = |f: &CellFace| {
+        let k = |i: usize| u128::from(f.key[i]);
+        (k(1) << 96 | k(2) << 64 | k(3) << 32 | u128::from(f.cell), f.local)
+    };
     for w in start.windows(2) {
-        sorted[w[0]..w[1]].sort_unstable_by_key(|f| (f.key, f.cell, f.local));
+        sorted[w[0]..w[1]].sort_unstable_by_key(rank);
     }
     sorted
 }
@@ -451,6 +473,22 @@ mod tests {
             [false, false]
         );
         assert_eq!(boundary_faces(&cells).len(), 4);
+    }
+
+    #[test]
+    fn the_sorting_network_sorts() {
+        let mut x = 7u32;
+        for _ in 0..10_000 {
+            let mut k = [0u32; 4];
+            for v in k.iter_mut() {
+                x = x.wrapping_mul(1_103_515_245).wrapping_add(12345);
+                *v = (x >> 16) % 6;
+            }
+            let mut want = k;
+            want.sort_unstable();
+            sort4(&mut k);
+            assert_eq!(k, want);
+        }
     }
 
     #[test]

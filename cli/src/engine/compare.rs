@@ -103,7 +103,7 @@ mod tests {
         for round in 0..40 {
             let n = 60;
             let mut unit = || (next() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-            let before: Vec<[f64; 3]> = (0..n).map(|_| [unit(), unit(), unit()]).collect();
+            let mut before: Vec<[f64; 3]> = (0..n).map(|_| [unit(), unit(), unit()]).collect();
             let mut after = before.clone();
             for p in after.iter_mut() {
                 for v in p.iter_mut() {
@@ -111,14 +111,21 @@ mod tests {
                 }
             }
             let mut nodes = Vec::new();
-            for _ in 0..150 {
-                for _ in 0..4 {
-                    nodes.push((next() % n as u64) as u32);
+            while nodes.len() < 4 * 150 {
+                let mut cell = [0u32; 4];
+                for k in 0..4 {
+                    cell[k] = (next() % n as u64) as u32;
+                    while cell[..k].contains(&cell[k]) {
+                        cell[k] = (cell[k] + 1) % n as u32;
+                    }
                 }
+                nodes.extend(cell);
             }
             if round % 3 == 0 {
-                // Collapse: repeated nodes give exact zeros before and after.
-                nodes[4] = nodes[5];
+                // Two nodes at one place: the cells with both have measure exactly 0.
+                nodes[..4].copy_from_slice(&[0, 1, 2, 3]);
+                before[1] = before[0];
+                after[1] = after[0];
             }
             let offsets: Vec<u32> = (0..=150).map(|c| 4 * c).collect();
             let kinds = vec![10u8; 150];

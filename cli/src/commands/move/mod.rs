@@ -20,7 +20,8 @@ use serde_json::json;
 
 use crate::args::{Method, MoveArgs, Solver, StiffnessArg};
 use crate::engine::{
-    MoveInput, MoveMethod, MoveResult, MoveSolver, QualitySummary, SlideMarker, Stiffness,
+    prepare_reference, MoveInput, MoveMethod, MoveResult, MoveSolver, PreparedReference,
+    QualitySummary, SlideMarker, Stiffness,
 };
 use crate::error::CliError;
 use crate::files::{input_kind, marker_nodes, marker_union, read_su2_zone, FileKind, ZonedSu2};
@@ -119,13 +120,17 @@ fn moved_quality(
     mesh: &Su2Mesh,
     markers: &[String],
     result: &crate::engine::MoveResult,
+    prepared: Option<Result<PreparedReference, CliError>>,
 ) -> Result<crate::engine::QualitySummary, CliError> {
     let wall = marker_union(mesh, markers, &a.mesh)?;
-    let q = crate::engine::quality_with_graph(
+    // A failed preparation is left to the full pass, which reports it as before.
+    let prepared = prepared.and_then(Result::ok);
+    let q = crate::engine::quality_prepared(
         mesh.dim,
         &mesh.elements,
         &result.deformed,
         Some(&mesh.points),
+        prepared,
         Some(&wall),
         result.graph.as_ref(),
     )
@@ -172,11 +177,22 @@ fn move_su2_read(
     let input = move_input(a, &mesh, &roles, motion, split)?;
     let how = renumbering(a);
     let spinner = crate::progress::spinner("deforming", quiet);
-    let result = if a.method() == Method::Elasticity {
-        elasticity::run(a, &input, &roles.slide).map(|r| (r, crate::renumber::off_report()))
-    } else {
-        crate::renumber::run_move_renumbered(&input, &roles.slide, a.steps as usize, how)
-    };
+    // The reference mesh's half of the quality check runs beside the solve (the process that
+    // writes only: the others of a split run return after the solve).
+    let writes = split.is_none_or(|s| s.is_root());
+    let (result, prepared) = std::thread::scope(|s| {
+        let prepared = writes.then(|| {
+            s.spawn(|| prepare_reference(mesh.dim, &mesh.elements, &mesh.points))
+        });
+        let result = if a.method() == Method::Elasticity {
+            elasticity::run(a, &input, &roles.slide).map(|r| (r, crate::renumber::off_report()))
+        } else {
+            crate::renumber::run_move_renumbered(&input, &roles.slide, a.steps as usize, how)
+        };
+        let prepared =
+            prepared.map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
+        (result, prepared)
+    });
     spinner.finish_and_clear();
     let (mut result, renumbered) = result.map_err(|e| e.in_file(&a.mesh))?;
     check_converged(a, &result)?;
@@ -192,7 +208,7 @@ fn move_su2_read(
             *x = *p;
         }
     }
-    let q = moved_quality(a, &mesh, &markers, &result)?;
+    let q = moved_quality(a, &mesh, &markers, &result, prepared)?;
     let out_mesh = Su2Mesh {
         points: result.deformed.clone(),
         ..mesh.clone()
