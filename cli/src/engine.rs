@@ -335,6 +335,48 @@ fn ratios_and_inversions(before: &[f64], after: &[f64]) -> (Vec<f64>, Vec<bool>)
         .unzip()
 }
 
+/// The reference's half (`prepared`, or computed here) and the deformed cells' qualities as
+/// listed; the latter do not depend on the former, so without `prepared` they run alongside.
+fn both_halves<const D: usize>(
+    cells: &CellList,
+    view: &Cells<'_>,
+    undeformed: &[[f64; D]],
+    deformed: &[[f64; D]],
+    prepared: Option<Reference>,
+) -> Result<(Reference, Relative), CliError> {
+    let (base, listed) = match prepared {
+        Some(base) => (Ok(base), qualities(view, deformed)),
+        None => std::thread::scope(|s| {
+            let listed = s.spawn(|| qualities(view, deformed));
+            let base = reference_cells(cells, view, undeformed);
+            let listed = listed
+                .join()
+                .unwrap_or_else(|p| std::panic::resume_unwind(p));
+            (base, listed)
+        }),
+    };
+    Ok((base?, listed?))
+}
+
+/// Inversions and measure ratios on the canonical points `[undeformed, deformed]`: with every
+/// region positive those are the input's points, whose measures are at hand (the reference's
+/// in `base`, the deformed cells' `listed`); otherwise the canonical cells are measured.
+fn canonical_ratios<const D: usize>(
+    view: &Cells<'_>,
+    base: &Reference,
+    listed: &[f64],
+    [undeformed, deformed]: [&[[f64; D]]; 2],
+) -> Result<compare::MeasureRatios, CliError> {
+    if base.orientation.all_positive() {
+        return Ok(compare::measure_ratios(&base.listed, listed));
+    }
+    let before = compare::measures(view, undeformed)?;
+    Ok(compare::measure_ratios(
+        &before,
+        &compare::measures(view, deformed)?,
+    ))
+}
+
 fn quality_d<const D: usize>(
     cells: &CellList,
     points: &[[f64; 3]],
@@ -352,20 +394,7 @@ fn quality_d<const D: usize>(
     }
     let input_undeformed = points_d::<D>(reference.unwrap_or(points));
     let input_deformed = points_d::<D>(points);
-    // The deformed cells' qualities do not depend on the reference's: evaluated alongside.
-    let (base, listed) = match prepared {
-        Some(base) => (Ok(base), qualities(&view, &input_deformed)),
-        None => std::thread::scope(|s| {
-            let deformed = s.spawn(|| qualities(&view, &input_deformed));
-            let base = reference_cells(cells, &view, &input_undeformed);
-            let listed = deformed
-                .join()
-                .unwrap_or_else(|p| std::panic::resume_unwind(p));
-            (base, listed)
-        }),
-    };
-    let base = base?;
-    let listed = listed?;
+    let (base, listed) = both_halves(cells, &view, &input_undeformed, &input_deformed, prepared)?;
     let listed_deformed = listed.measure.clone();
     let rel = mirror_negative(&view, &input_deformed, &base.negative, listed)?;
     // Ratios, inversions and wall angles on canonical coordinates (negative regions mirrored):
@@ -373,14 +402,7 @@ fn quality_d<const D: usize>(
     let undeformed = base.orientation.canonical(&input_undeformed);
     let pts = base.orientation.canonical(&input_deformed);
     let wall = wall.filter(|(w, _)| reference.is_some() && !w.is_empty());
-    // With every region positive the canonical points are the input's, whose measures are at
-    // hand; otherwise the canonical cells are measured.
-    let r = if base.orientation.all_positive() {
-        compare::measure_ratios(&base.listed, &listed_deformed)
-    } else {
-        let before = compare::measures(&view, &undeformed)?;
-        compare::measure_ratios(&before, &compare::measures(&view, &pts)?)
-    };
+    let r = canonical_ratios(&view, &base, &listed_deformed, [&undeformed, &pts])?;
     let wall_change = compare::wall_angles(&view, &undeformed, &pts, wall)?;
     let has_ref = reference.is_some();
     let folded_in = |corner: &[f64]| -> Vec<bool> {

@@ -132,9 +132,16 @@ pub fn cell_faces(cells: &CellList, sense: &[i8]) -> Vec<CellFace> {
     sort_by_key(faces)
 }
 
-/// `faces` sorted by `(key, cell, local)`: a counting sort by the smallest node (`key[0]`)
-/// and a sort of each small bucket, the order a full sort gives at a fraction of its cost.
+/// `faces` sorted by `(key, position in faces)`, which is `(key, cell, local)` for faces listed
+/// by cell and local index as [`cell_faces`] lists them: a counting sort by the smallest node
+/// (`key[0]`), then each small bucket sorted as plain integers (the rest of the key and the
+/// position packed in one `u128`), the order a full sort gives at a fraction of its cost.
 fn sort_by_key(faces: Vec<CellFace>) -> Vec<CellFace> {
+    if u32::try_from(faces.len()).is_err() {
+        let mut all = faces;
+        all.sort_by_key(|f| f.key);
+        return all;
+    }
     let buckets = faces
         .iter()
         .map(|f| f.key[0] as usize + 1)
@@ -148,28 +155,20 @@ fn sort_by_key(faces: Vec<CellFace>) -> Vec<CellFace> {
         start[i] += start[i - 1];
     }
     let mut cursor = start.clone();
-    let blank = CellFace {
-        key: [0; 4],
-        cell: 0,
-        local: 0,
-        side: 0,
-    };
-    let mut sorted = vec![blank; faces.len()];
-    for f in faces {
+    let mut packed = vec![0u128; faces.len()];
+    for (i, f) in faces.iter().enumerate() {
+        let k = |j: usize| u128::from(f.key[j]);
         let c = &mut cursor[f.key[0] as usize];
-        sorted[*c] = f;
+        packed[*c] = k(1) << 96 | k(2) << 64 | k(3) << 32 | i as u128;
         *c += 1;
     }
-    // Within a bucket `key[0]` is equal: the rest of the key and the cell packed in one
-    // integer order as `(key, cell)` does.
-    let rank = |f: &CellFace| {
-        let k = |i: usize| u128::from(f.key[i]);
-        (k(1) << 96 | k(2) << 64 | k(3) << 32 | u128::from(f.cell), f.local)
-    };
     for w in start.windows(2) {
-        sorted[w[0]..w[1]].sort_unstable_by_key(rank);
+        packed[w[0]..w[1]].sort_unstable();
     }
-    sorted
+    packed
+        .iter()
+        .filter_map(|&p| faces.get(p as u32 as usize).copied())
+        .collect()
 }
 
 /// Per cell: overlaps a neighbour across a shared face (both on the same side of it), and is
@@ -357,7 +356,7 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             ((x >> 33) as u32) % m
         };
-        let faces: Vec<CellFace> = (0..5000)
+        let mut faces: Vec<CellFace> = (0..5000)
             .map(|c| {
                 let mut key = [next(300), next(300), next(300), u32::MAX];
                 key[..3].sort_unstable();
@@ -369,6 +368,8 @@ mod tests {
                 }
             })
             .collect();
+        // Listed by cell and local index, as `cell_faces` lists them.
+        faces.sort_by_key(|f| (f.cell, f.local));
         let mut full = faces.clone();
         full.sort_unstable_by_key(|f| (f.key, f.cell, f.local));
         assert_eq!(sort_by_key(faces), full);

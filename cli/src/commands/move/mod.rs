@@ -175,24 +175,10 @@ fn move_su2_read(
         s.check_move(a)?;
     }
     let input = move_input(a, &mesh, &roles, motion, split)?;
-    let how = renumbering(a);
     let spinner = crate::progress::spinner("deforming", quiet);
-    // The reference mesh's half of the quality check runs beside the solve (the process that
-    // writes only: the others of a split run return after the solve).
+    // The process that writes (not the others of a split run) checks the quality.
     let writes = split.is_none_or(|s| s.is_root());
-    let (result, prepared) = std::thread::scope(|s| {
-        let prepared = writes.then(|| {
-            s.spawn(|| prepare_reference(mesh.dim, &mesh.elements, &mesh.points))
-        });
-        let result = if a.method() == Method::Elasticity {
-            elasticity::run(a, &input, &roles.slide).map(|r| (r, crate::renumber::off_report()))
-        } else {
-            crate::renumber::run_move_renumbered(&input, &roles.slide, a.steps as usize, how)
-        };
-        let prepared =
-            prepared.map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
-        (result, prepared)
-    });
+    let (result, prepared) = solve_beside_reference(a, &mesh, &input, &roles, writes);
     spinner.finish_and_clear();
     let (mut result, renumbered) = result.map_err(|e| e.in_file(&a.mesh))?;
     check_converged(a, &result)?;
@@ -226,6 +212,33 @@ fn move_su2_read(
     };
     let report = report::move_report(a, run);
     finish(a, report, &q, mesh.dim)
+}
+
+/// The engine's solve, with the reference mesh's half of the quality check prepared beside it
+/// on a second thread when `quality` (it does not depend on the solve).
+fn solve_beside_reference(
+    a: &MoveArgs,
+    mesh: &Su2Mesh,
+    input: &MoveInput<'_>,
+    roles: &Roles<'_>,
+    quality: bool,
+) -> (
+    Result<(MoveResult, crate::renumber::RenumberReport), CliError>,
+    Option<Result<PreparedReference, CliError>>,
+) {
+    std::thread::scope(|s| {
+        let prepared = quality
+            .then(|| s.spawn(|| prepare_reference(mesh.dim, &mesh.elements, &mesh.points)));
+        let result = if a.method() == Method::Elasticity {
+            elasticity::run(a, input, &roles.slide).map(|r| (r, crate::renumber::off_report()))
+        } else {
+            let how = renumbering(a);
+            crate::renumber::run_move_renumbered(input, &roles.slide, a.steps as usize, how)
+        };
+        let prepared =
+            prepared.map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
+        (result, prepared)
+    })
 }
 
 /// `--renumber`, except that `auto` leaves IDW alone (no graph solve to speed up).
