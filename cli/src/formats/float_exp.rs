@@ -12,18 +12,14 @@
 /// `|x| == n · 10^j` exactly, for odd `n < 2^61` (`x`'s significand `m`, exponent `e`:
 /// `m 2^e == n 5^j 2^j`). The odd parts must agree, so a power of 5 above `2^61` never does.
 fn is_exact(x: f64, n: u64, j: i32) -> bool {
-    let bits = x.to_bits() & !(1u64 << 63);
-    let (biased, frac) = ((bits >> 52) as i32, bits & ((1u64 << 52) - 1));
-    let (m, e) = if biased == 0 {
-        (frac, -1074)
-    } else {
-        (frac | (1u64 << 52), biased - 1075)
+    let (m, e) = significand(x);
+    let Some(&five) = POW5.get(j.unsigned_abs() as usize) else {
+        return false;
     };
-    if m == 0 || !(-26..=26).contains(&j) {
+    if !may_tie(x, j) {
         return false;
     }
     let (m, n) = (u128::from(m), u128::from(n));
-    let five = 5u128.pow(j.unsigned_abs()); // < 2^61
     // Both sides below 2^122 before a shift of at most 60 bits that must not lose bits.
     let shifted = |v: u128, s: i32| (s <= 60).then(|| v << s).filter(|w| w >> s == v);
     if j >= 0 {
@@ -45,11 +41,46 @@ fn is_exact(x: f64, n: u64, j: i32) -> bool {
     }
 }
 
+/// `|x| = m 2^e` with an integer `m < 2^53`.
+fn significand(x: f64) -> (u64, i32) {
+    let bits = x.to_bits() & !(1u64 << 63);
+    let (biased, frac) = ((bits >> 52) as i32, bits & ((1u64 << 52) - 1));
+    if biased == 0 {
+        (frac, -1074)
+    } else {
+        (frac | (1u64 << 52), biased - 1075)
+    }
+}
+
+/// A necessary condition of [`is_exact`] for some odd `n`, cheap enough to reject almost
+/// every double before any product: `n` and `5^|j|` are odd, so `m` must hold exactly the
+/// power of two that `2^e` lacks against `2^j`, and `5^|j|` must not exceed `2^61`.
+fn may_tie(x: f64, j: i32) -> bool {
+    let (m, e) = significand(x);
+    m != 0
+        && j.unsigned_abs() < POW5.len() as u32
+        && i64::from(m.trailing_zeros()) == i64::from(j) - i64::from(e)
+}
+
+/// `5^0 ..= 5^26` (all below `2^61`).
+const POW5: [u128; 27] = {
+    let mut p = [1u128; 27];
+    let mut i = 1;
+    while i < 27 {
+        p[i] = p[i - 1] * 5;
+        i += 1;
+    }
+    p
+};
+
 /// The decimal digits (no leading or trailing zeros) and the exponent of the first digit of
 /// zmij's text for a finite `x` (`1.5e-7`, `0.001`, `123.0`, `1e+16`); no digits for zero.
 fn digits(text: &[u8], out: &mut [u8; 24]) -> (usize, i32) {
     let (mant, exp) = match text.iter().position(|&c| c == b'e') {
-        Some(i) => (text.get(..i).unwrap_or(&[]), text.get(i + 1..).unwrap_or(&[])),
+        Some(i) => (
+            text.get(..i).unwrap_or(&[]),
+            text.get(i + 1..).unwrap_or(&[]),
+        ),
         None => (text, &[][..]),
     };
     let (neg, exp) = match exp.split_first() {
@@ -101,12 +132,13 @@ pub(crate) fn exp_bytes(x: f64, out: &mut [u8; EXP_CAP]) -> Option<usize> {
         return Some(w.len);
     };
     let digits = d.get_mut(..n)?;
-    if digits.last().is_some_and(|&c| (c - b'0') % 2 == 0) {
+    let j = e - n as i32;
+    if digits.last().is_some_and(|&c| (c - b'0') % 2 == 0) && may_tie(x, j) {
         let v = digits.iter().fold(0u64, |a, &c| {
             a.wrapping_mul(10).wrapping_add(u64::from(c - b'0'))
         });
         // Halfway above the even digit (it is never a 9, so no carry): core rounds up.
-        if is_exact(x, v.wrapping_mul(10).wrapping_add(5), e - n as i32) {
+        if is_exact(x, v.wrapping_mul(10).wrapping_add(5), j) {
             if let Some(l) = digits.get_mut(last) {
                 *l += 1;
             }
@@ -144,10 +176,12 @@ struct Cursor<'a> {
 
 impl Cursor<'_> {
     fn put(&mut self, bytes: &[u8]) {
-        let end = self.len + bytes.len();
-        if let Some(dst) = self.out.get_mut(self.len..end) {
-            dst.copy_from_slice(bytes);
-            self.len = end;
+        // Byte by byte: the pieces are a few bytes, shorter than a call to `memcpy`.
+        for &b in bytes {
+            if let Some(d) = self.out.get_mut(self.len) {
+                *d = b;
+                self.len += 1;
+            }
         }
     }
 }

@@ -214,6 +214,9 @@ fn move_su2_read(
     finish(a, report, &q, mesh.dim)
 }
 
+/// The engine's result and how the mesh was renumbered for it.
+type Solved = Result<(MoveResult, crate::renumber::RenumberReport), CliError>;
+
 /// The engine's solve, with the reference mesh's half of the quality check prepared beside it
 /// on a second thread when `quality` (it does not depend on the solve).
 fn solve_beside_reference(
@@ -222,21 +225,17 @@ fn solve_beside_reference(
     input: &MoveInput<'_>,
     roles: &Roles<'_>,
     quality: bool,
-) -> (
-    Result<(MoveResult, crate::renumber::RenumberReport), CliError>,
-    Option<Result<PreparedReference, CliError>>,
-) {
+) -> (Solved, Option<Result<PreparedReference, CliError>>) {
     std::thread::scope(|s| {
-        let prepared = quality
-            .then(|| s.spawn(|| prepare_reference(mesh.dim, &mesh.elements, &mesh.points)));
+        let prepared =
+            quality.then(|| s.spawn(|| prepare_reference(mesh.dim, &mesh.elements, &mesh.points)));
         let result = if a.method() == Method::Elasticity {
             elasticity::run(a, input, &roles.slide).map(|r| (r, crate::renumber::off_report()))
         } else {
             let how = renumbering(a);
             crate::renumber::run_move_renumbered(input, &roles.slide, a.steps as usize, how)
         };
-        let prepared =
-            prepared.map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
+        let prepared = prepared.map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
         (result, prepared)
     })
 }
