@@ -37,6 +37,7 @@
 //! angle-inclusion CG (SPD, and spectrally equivalent to the angle operator for `ε > 0`).
 
 mod cycle;
+mod mis2;
 mod pcg;
 mod pools;
 pub(crate) use pcg::{solve_amg_on, Vcycle};
@@ -49,6 +50,10 @@ pub(crate) use rigid::Fine;
 pub use rigid::{rigid_mode_count, RigidAmg, RigidAmgSizes};
 pub(crate) use rigid_cycle::RigidVcycle;
 
+pub use mis2::{
+    aggregate_mis2, aggregate_mis2_partitioned, mis2_exchange_len, mis2_scratch_len, Mis2Report,
+    MIS2_NONE,
+};
 pub use pcg::{
     amg_cg_scratch_len, amg_precondition_scratch_len, amg_sliding_cg_scratch_len,
     solve_linear_amg_scratch_len,
