@@ -15,7 +15,8 @@ use deform_kernel::error::{Error, PartitionFault};
 use deform_kernel::partition::{Halo, Partition};
 use deform_kernel::spring::{
     aggregate_mis2, aggregate_mis2_partitioned, batina_stiffness, mis2_exchange_len,
-    mis2_scratch_len, AmgOptions, Mis2Report, SpringSystem, MIS2_NONE,
+    mis2_scratch_len, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, Mis2Report,
+    SolveOptions, SpringSystem, MIS2_NONE,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph};
 use deform_meshgen::partition::{local_view, mix, random_owner, LocalView};
@@ -451,33 +452,102 @@ fn sizes(agg: &[u64]) -> (usize, usize, f64, usize) {
 #[test]
 fn aggregate_sizes_are_like_todays() {
     for case in cases() {
-        let (agg, _) = serial(&case);
+        let (agg, report) = serial(&case);
         let today = greedy(&case);
         // The greedy reference is today's hierarchy: same first coarse level size.
-        let mut k = vec![0.0; case.csr.targets.len()];
-        let pts2: Vec<[f64; 3]> = case
-            .points
-            .iter()
-            .map(|p| [p[0], p[1], p.get(2).copied().unwrap_or(0.0)])
-            .collect();
-        let g = case.csr.graph();
-        batina_stiffness(&g, &pts2, 1.0, &mut k).unwrap();
-        let mut s = vec![0u32; case.n()];
-        let sys = SpringSystem::new(g, &k, &case.fixed, &mut s).unwrap();
-        let opts = AmgOptions::default();
-        let mut b = AmgBuffers::new(&sys, &opts);
-        let h = b.build(&sys, &opts);
+        let level1 = with_system(&case, |sys| {
+            let opts = AmgOptions::default();
+            let mut b = AmgBuffers::new(sys, &opts);
+            b.build(sys, &opts).level_size(1)
+        });
         let (kt, mint, meant, maxt) = sizes(&today);
-        assert_eq!(h.level_size(1), kt, "{}", case.name);
+        assert_eq!(level1, kt, "{}", case.name);
         let (km, minm, meanm, maxm) = sizes(&agg);
         eprintln!(
             "{}: {} nodes; today {kt} aggregates (sizes {mint}..{maxt}, mean {meant:.2}); \
-             MIS-2 {km} (sizes {minm}..{maxm}, mean {meanm:.2})",
+             MIS-2 {km} (sizes {minm}..{maxm}, mean {meanm:.2}, {} rounds)",
             case.name,
-            case.n()
+            case.n(),
+            report.rounds
         );
         let ratio = km as f64 / kt as f64;
         assert!((0.6..1.6).contains(&ratio), "{}: ratio {ratio}", case.name);
         assert!(maxm <= 4 * maxt, "{}", case.name);
+    }
+}
+
+/// Runs `f` on the case's spring system (Batina stiffness, `p = 1`).
+fn with_system<R>(case: &Case, f: impl FnOnce(&SpringSystem<'_, f64>) -> R) -> R {
+    let mut k = vec![0.0; case.csr.targets.len()];
+    let pts: Vec<[f64; 3]> = case
+        .points
+        .iter()
+        .map(|p| [p[0], p[1], p.get(2).copied().unwrap_or(0.0)])
+        .collect();
+    let g = case.csr.graph();
+    batina_stiffness(&g, &pts, 1.0, &mut k).unwrap();
+    let mut s = vec![0u32; case.n()];
+    let sys = SpringSystem::new(g, &k, &case.fixed, &mut s).unwrap();
+    f(&sys)
+}
+
+/// The AMG-CG solve of a rotation of the fixed nodes with hierarchy `h`: iterations.
+fn amg_cg(sys: &SpringSystem<'_, f64>, h: &AmgHierarchy<'_, f64>, case: &Case) -> usize {
+    let mut x: Vec<[f64; 2]> = (0..case.n())
+        .map(|i| {
+            let p = &case.points[i];
+            let f = if case.fixed[i] != 0 { 0.05 } else { 0.0 };
+            [-f * p[1], f * p[0]]
+        })
+        .collect();
+    let stop = SolveOptions {
+        residual_tol: 1e-8,
+        max_iterations: 1000,
+        update_tol: 0.0,
+    };
+    let mut scratch = vec![[0.0; 2]; solve_linear_amg_scratch_len(h)];
+    let r = sys
+        .solve_linear_amg(h, &mut x, &stop, &mut scratch)
+        .unwrap();
+    assert!(r.converged);
+    r.iterations
+}
+
+#[test]
+fn the_hierarchy_built_on_mis2_aggregates_solves() {
+    for case in [airfoil(), hexes()] {
+        let (agg, report) = serial(&case);
+        with_system(&case, |sys| {
+            let opts = AmgOptions {
+                max_coarse: 16,
+                ..AmgOptions::default()
+            };
+            let mut work = vec![0u32; AmgHierarchy::setup_work_len(sys)];
+            let mut mwork = vec![0u64; AmgHierarchy::mis2_work_len(sys)];
+            let short = AmgHierarchy::setup_len_mis2(sys, &opts, &mut work, &mut mwork[1..]);
+            assert!(matches!(short, Err(Error::BufferTooSmall { .. })));
+            let sizes = AmgHierarchy::setup_len_mis2(sys, &opts, &mut work, &mut mwork).unwrap();
+            let mut index = vec![0u32; sizes.index];
+            let mut values = vec![0.0; sizes.values];
+            let (w, m, i, v) = (&mut work, &mut mwork, &mut index, &mut values);
+            let h = AmgHierarchy::setup_mis2(sys, &opts, w, m, i, v).unwrap();
+            assert!(h.levels() >= 3, "{}", case.name);
+            // The fine level's aggregates are those of aggregate_mis2.
+            assert_eq!(h.level_size(1) as u64, report.aggregates, "{}", case.name);
+            assert_eq!(
+                agg.iter().filter(|&&a| a != MIS2_NONE).count(),
+                (0..case.n()).filter(|&i| case.fixed[i] == 0).count(),
+                "{}: every free node aggregated",
+                case.name
+            );
+            let mis2 = amg_cg(sys, &h, &case);
+            let mut b = AmgBuffers::new(sys, &opts);
+            let greedy = amg_cg(sys, &b.build(sys, &opts), &case);
+            eprintln!(
+                "{}: AMG-CG iterations greedy {greedy}, MIS-2 {mis2}",
+                case.name
+            );
+            assert!(mis2 <= 2 * greedy + 5, "{}: {mis2} vs {greedy}", case.name);
+        });
     }
 }

@@ -87,20 +87,32 @@ fn larger(a: u64, b: u64) -> u64 {
     }
 }
 
-/// The active graph: free neighbours of free nodes.
+/// A graph to aggregate: which nodes are free, and the free neighbours of a node.
+pub(crate) trait Adjacency {
+    /// Whether `i` is free (fixed nodes are in no aggregate and no one's neighbour).
+    fn free(&self, i: usize) -> bool;
+    /// Calls `f(j)` for every free neighbour `j ≠ i` of `i`.
+    fn each(&self, i: usize, f: impl FnMut(usize));
+    /// Whether `i` is free with a free neighbour (in the aggregation).
+    fn member(&self, i: usize) -> bool {
+        let mut any = false;
+        self.each(i, |_| any = true);
+        self.free(i) && any
+    }
+}
+
+/// The graph of the public entry points: free neighbours of free nodes.
 struct Active<'g> {
     graph: &'g Graph<'g>,
     fixed: &'g [u8],
 }
 
-impl Active<'_> {
-    /// Whether `i` is free.
+impl Adjacency for Active<'_> {
     #[inline]
     fn free(&self, i: usize) -> bool {
         self.fixed.get(i) == Some(&0)
     }
 
-    /// Calls `f(j)` for every free neighbour `j ≠ i` of `i`.
     #[inline]
     fn each(&self, i: usize, mut f: impl FnMut(usize)) {
         for &j in self.graph.neighbors(i) {
@@ -109,13 +121,6 @@ impl Active<'_> {
                 f(j);
             }
         }
-    }
-
-    /// Whether `i` is free with a free neighbour (in the aggregation).
-    fn member(&self, i: usize) -> bool {
-        let mut any = false;
-        self.each(i, |_| any = true);
-        self.free(i) && any
     }
 }
 
@@ -240,6 +245,47 @@ pub fn aggregate_mis2_partitioned<T: Real, E: Exchange<T> + ?Sized>(
     Ok(report)
 }
 
+/// `u64` scratch of [`hierarchy_aggregates`] on `n` nodes: keys, `m1` and root ids.
+pub(crate) const fn hierarchy_scratch_len(n: usize) -> usize {
+    n.saturating_mul(3)
+}
+
+/// The MIS-2 aggregation of one hierarchy level (serial, global id = node index) as the
+/// hierarchy numbers aggregates: `agg[i]` in `0..nc` by increasing root index, or `none`.
+/// Returns `nc`; 0 when `scratch` is shorter than [`hierarchy_scratch_len`].
+pub(crate) fn hierarchy_aggregates<A: Adjacency>(
+    adj: &A,
+    agg: &mut [u32],
+    none: u32,
+    scratch: &mut [u64],
+) -> usize {
+    let n = agg.len();
+    let Some(scratch) = scratch.get_mut(..hierarchy_scratch_len(n)) else {
+        return 0;
+    };
+    let (work, roots) = scratch.split_at_mut(mis2_scratch_len(n));
+    if run(adj, n, &|i| i as u64, &mut Alone, roots, work).is_err() {
+        return 0;
+    }
+    let mut nc = 0u32;
+    for (i, (a, &r)) in agg.iter_mut().zip(roots.iter()).enumerate() {
+        *a = none;
+        if r == i as u64 {
+            *a = nc;
+            nc += 1;
+        }
+    }
+    for (i, &r) in roots.iter().enumerate() {
+        if r != MIS2_NONE && r != i as u64 {
+            let number = agg.get(r as usize).copied().unwrap_or(none);
+            if let Some(a) = agg.get_mut(i) {
+                *a = number;
+            }
+        }
+    }
+    nc as usize
+}
+
 /// The checks of [`aggregate_mis2_partitioned`] one process makes alone.
 fn check_lengths(
     part: &Partition<'_>,
@@ -264,8 +310,8 @@ fn check_lengths(
 }
 
 /// The rounds, then the aggregates, on local nodes `0..owned` (the rest ghosts).
-fn run<P: Processes>(
-    act: &Active<'_>,
+fn run<A: Adjacency, P: Processes>(
+    act: &A,
     owned: usize,
     gid: &dyn Fn(usize) -> u64,
     procs: &mut P,
@@ -300,7 +346,7 @@ fn run<P: Processes>(
 }
 
 /// `m1[i]`: the largest key over `i` and its neighbours, for owned `i`.
-fn spread(act: &Active<'_>, owned: usize, key: &[u64], m1: &mut [u64]) {
+fn spread<A: Adjacency>(act: &A, owned: usize, key: &[u64], m1: &mut [u64]) {
     for (i, m) in m1.iter_mut().enumerate().take(owned) {
         let mut best = key.get(i).copied().unwrap_or(0);
         act.each(i, |j| best = larger(best, key.get(j).copied().unwrap_or(0)));
@@ -310,7 +356,7 @@ fn spread(act: &Active<'_>, owned: usize, key: &[u64], m1: &mut [u64]) {
 
 /// Every undecided owned node: out when a root is within distance 2, a root when it is the
 /// largest key there.
-fn decide(act: &Active<'_>, owned: usize, key: &mut [u64], m1: &[u64]) {
+fn decide<A: Adjacency>(act: &A, owned: usize, key: &mut [u64], m1: &[u64]) {
     for i in 0..owned {
         let Some(&k) = key.get(i) else { break };
         if k >> 62 != UNDECIDED {
@@ -333,8 +379,8 @@ fn decide(act: &Active<'_>, owned: usize, key: &mut [u64], m1: &[u64]) {
 
 /// Aggregates from the roots in `key` (ghosts synced): phase A roots and their neighbours,
 /// phase B the rest through a neighbour of phase A; ghosts synced at the end.
-fn join<P: Processes>(
-    act: &Active<'_>,
+fn join<A: Adjacency, P: Processes>(
+    act: &A,
     owned: usize,
     gid: &dyn Fn(usize) -> u64,
     procs: &mut P,
