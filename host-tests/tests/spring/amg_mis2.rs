@@ -199,13 +199,24 @@ fn distances(case: &Case, s: usize, cap: usize) -> Vec<usize> {
     d
 }
 
-/// The definition, sequentially: visit members in descending `(mix'(g), g)` (the kernel's
-/// splitmix64 finaliser, i.e. meshgen's `mix` without its additive constant); a node with no
-/// root within distance 2 becomes a root. Then neighbours of a root join it, and the rest join
-/// the largest-key root among their neighbours' roots.
+/// The kernel's priority of global id `g` (its definition, docs/amg.md): the splitmix64
+/// finaliser's steps modulo `2^62`.
+fn priority(g: usize) -> u64 {
+    let m = (1u64 << 62) - 1;
+    let mut x = g as u64 & m;
+    x ^= x >> 31;
+    x = x.wrapping_mul(0xbf58_476d_1ce4_e5b9) & m;
+    x ^= x >> 29;
+    x = x.wrapping_mul(0x94d0_49bb_1331_11eb) & m;
+    x ^ (x >> 32)
+}
+
+/// The definition, sequentially: visit members in descending priority; a node with no root
+/// within distance 2 becomes a root. Then neighbours of a root join it, and the rest join the
+/// highest-priority root among their neighbours' roots.
 fn reference(case: &Case) -> Vec<u64> {
     let n = case.n();
-    let key = |g: usize| (mix((g as u64).wrapping_sub(0x9e37_79b9_7f4a_7c15)), g);
+    let key = priority;
     let member = members(case);
     let mut order: Vec<usize> = (0..n).filter(|&i| member[i]).collect();
     order.sort_by_key(|&i| std::cmp::Reverse(key(i)));

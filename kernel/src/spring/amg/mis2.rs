@@ -4,9 +4,10 @@
 //! aggregate the serial run ([`aggregate_mis2`]) gives it, whatever the partition and the
 //! ghost depth (docs/amg.md, "Partition-independent aggregation").
 //!
-//! **Order.** Node keys are `(state, h(g), g)`, compared lexicographically, with `state` out <
-//! undecided < root, `g` the global id and `h` the splitmix64 finaliser (a bijection of
-//! `u64`, so ties never reach `g`; the `g` term only makes the order total on its face).
+//! **Order.** Node keys are `(state, p(g))`, compared lexicographically, with `state` out <
+//! undecided < root, `g` the global id and `p` a fixed hash that is a bijection of the 62-bit
+//! integers ([`priority`]: xor-shifts and odd multiplications modulo `2^62`), so two nodes
+//! never tie. A key is one `u64` (state in the top two bits) and compares as one.
 //!
 //! **Rounds** (Luby's MIS on the square of the graph, as in Bell, Dalton and Olson 2012):
 //! every node takes the largest key over itself and its neighbours (`m1`), then the largest
@@ -28,7 +29,6 @@
 use crate::check;
 use crate::error::{Error, PartitionFault, Result};
 use crate::graph::Graph;
-use crate::partition::check::mix;
 use crate::partition::{agree, Exchange, Partition};
 use crate::real::Real;
 
@@ -36,7 +36,7 @@ use crate::real::Real;
 pub const MIS2_NONE: u64 = u64::MAX;
 /// Global ids must be below this (the two top bits of a key hold its state).
 const ID_LIMIT: u64 = 1 << 62;
-/// Mask of a key's global id.
+/// Mask of a key's priority (and of a global id).
 const ID_MASK: u64 = ID_LIMIT - 1;
 /// Key states (the top two bits).
 const OUT: u64 = 0;
@@ -70,21 +70,22 @@ pub const fn mis2_exchange_len(local_count: usize) -> usize {
     local_count.saturating_mul(DIGITS)
 }
 
-/// A key's place in the order: `(state, h(g), g)`.
+/// The priority of global id `g < 2^62`: a bijection of `0..2^62` (each step is one), the
+/// splitmix64 finaliser's steps cut to 62 bits.
 #[inline]
-fn order(key: u64) -> (u64, u64, u64) {
-    let g = key & ID_MASK;
-    (key >> 62, mix(g), g)
+fn priority(g: u64) -> u64 {
+    let mut x = g & ID_MASK;
+    x ^= x >> 31;
+    x = x.wrapping_mul(0xbf58_476d_1ce4_e5b9) & ID_MASK;
+    x ^= x >> 29;
+    x = x.wrapping_mul(0x94d0_49bb_1331_11eb) & ID_MASK;
+    x ^ (x >> 32)
 }
 
-/// The larger of two keys.
+/// The key of global id `g` in `state`.
 #[inline]
-fn larger(a: u64, b: u64) -> u64 {
-    if order(b) > order(a) {
-        b
-    } else {
-        a
-    }
+fn key_of(state: u64, g: u64) -> u64 {
+    (state << 62) | priority(g)
 }
 
 /// A graph to aggregate: which nodes are free, and the free neighbours of a node.
@@ -253,6 +254,7 @@ pub(crate) const fn hierarchy_scratch_len(n: usize) -> usize {
 /// The MIS-2 aggregation of one hierarchy level (serial, global id = node index) as the
 /// hierarchy numbers aggregates: `agg[i]` in `0..nc` by increasing root index, or `none`.
 /// Returns `nc`; 0 when `scratch` is shorter than [`hierarchy_scratch_len`].
+#[inline(never)]
 pub(crate) fn hierarchy_aggregates<A: Adjacency>(
     adj: &A,
     agg: &mut [u32],
@@ -323,7 +325,7 @@ fn run<A: Adjacency, P: Processes>(
     let m1 = rest.get_mut(..n).unwrap_or(&mut []);
     for (i, k) in key.iter_mut().enumerate().take(owned) {
         let state = if act.member(i) { UNDECIDED } else { OUT };
-        *k = (state << 62) | (gid(i) & ID_MASK);
+        *k = key_of(state, gid(i));
     }
     // A bound no consistent run reaches (one root per round at least).
     let cap = procs.total(owned as u64).saturating_add(1);
@@ -349,7 +351,7 @@ fn run<A: Adjacency, P: Processes>(
 fn spread<A: Adjacency>(act: &A, owned: usize, key: &[u64], m1: &mut [u64]) {
     for (i, m) in m1.iter_mut().enumerate().take(owned) {
         let mut best = key.get(i).copied().unwrap_or(0);
-        act.each(i, |j| best = larger(best, key.get(j).copied().unwrap_or(0)));
+        act.each(i, |j| best = best.max(key.get(j).copied().unwrap_or(0)));
         *m = best;
     }
 }
@@ -363,7 +365,7 @@ fn decide<A: Adjacency>(act: &A, owned: usize, key: &mut [u64], m1: &[u64]) {
             continue;
         }
         let mut m2 = m1.get(i).copied().unwrap_or(0);
-        act.each(i, |j| m2 = larger(m2, m1.get(j).copied().unwrap_or(0)));
+        act.each(i, |j| m2 = m2.max(m1.get(j).copied().unwrap_or(0)));
         let next = if m2 >> 62 == ROOT {
             OUT
         } else if m2 == k {
@@ -394,14 +396,14 @@ fn join<A: Adjacency, P: Processes>(
         } else if state(i) == ROOT {
             gid(i)
         } else {
-            let mut best = None;
+            let mut best: Option<(u64, usize)> = None;
             act.each(i, |j| {
-                if state(j) == ROOT {
-                    let k = key.get(j).copied().unwrap_or(0);
-                    best = Some(best.map_or(k, |b| larger(b, k)));
+                let k = key.get(j).copied().unwrap_or(0);
+                if k >> 62 == ROOT && best.is_none_or(|(b, _)| k > b) {
+                    best = Some((k, j));
                 }
             });
-            best.map_or(PENDING, |k| k & ID_MASK)
+            best.map_or(PENDING, |(_, j)| gid(j))
         };
     }
     procs.sync(agg);
@@ -409,16 +411,18 @@ fn join<A: Adjacency, P: Processes>(
         if agg.get(i) != Some(&PENDING) {
             continue;
         }
-        let mut best = None;
+        let mut best: Option<(u64, u64)> = None;
         act.each(i, |j| {
             if let Some(&r) = agg.get(j).filter(|&&r| r < ID_LIMIT) {
-                let k = (ROOT << 62) | r;
-                best = Some(best.map_or(k, |b| larger(b, k)));
+                let k = priority(r);
+                if best.is_none_or(|(b, _)| k > b) {
+                    best = Some((k, r));
+                }
             }
         });
         // No neighbour in phase A cannot happen in a consistent run (every node out has a
         // root within distance 2); the node then stands alone.
-        let root = best.map_or(gid(i), |k| k & ID_MASK);
+        let root = best.map_or(gid(i), |(_, r)| r);
         if let Some(a) = agg.get_mut(i) {
             *a = root | JOINED;
         }
