@@ -3,7 +3,7 @@
 //! rigid motions of the quaternion tests, `spring` the spring systems, reference nets and
 //! multigrid buffers of the spring tests, `rbf` the point clouds of the RBF tests, `order` the
 //! meshes of the ordering tests, `plan` owned plan pools, `python` the interpreter of the independent Python
-//! references. A binary at the top of `tests/` declares
+//! references, `threads` the in-process processes of the partitioned tests. A binary at the top of `tests/` declares
 //! `mod support;`, one in a subdirectory `#[path = "../support/mod.rs"] mod support;`.
 #![allow(dead_code)]
 
@@ -15,3 +15,4 @@ pub mod python;
 pub mod quaternion;
 pub mod rbf;
 pub mod spring;
+pub mod threads;
