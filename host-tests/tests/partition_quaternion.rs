@@ -50,8 +50,9 @@ fn boundary<const D: usize>(mesh: &Mesh<D>) -> Bnd {
         }
     }
     let b = nodes.len();
-    nodes = (0..b).map(|k| nodes[(k * 7 + 3) % b]).collect();
-    assert!(b % 7 != 0);
+    // A stride coprime to `b` (a prime that does not divide it) scrambles the order.
+    let step = [7, 11, 13].into_iter().find(|s| b % s != 0).unwrap();
+    nodes = (0..b).map(|k| nodes[(k * step + 3) % b]).collect();
     let mut pos = vec![u32::MAX; mesh.points.len()];
     for (k, &n) in nodes.iter().enumerate() {
         pos[n as usize] = k as u32;
@@ -114,7 +115,15 @@ fn serial<const D: usize>(mesh: &Mesh<D>, motion: &BoundaryMotion<'_, f64, D>) -
     let mut values = vec![0.0; propagate_spring_with_scratch_len::<D>(&solver, n)];
     let mut out = vec![[0.0; D]; n];
     let (_, rep) = deform_spring_with(
-        &mesh.points, motion, &sys, solver, &options(), &mut t, &mut q, &mut s, &mut values,
+        &mesh.points,
+        motion,
+        &sys,
+        solver,
+        &options(),
+        &mut t,
+        &mut q,
+        &mut s,
+        &mut values,
         &mut out,
     )
     .unwrap();
@@ -149,7 +158,11 @@ fn share<const D: usize>(
         elements: Vec::new(),
         kinds: Vec::new(),
     };
-    let owns = |g: u32| v.global_ids[..v.owned].iter().position(|&x| x == u64::from(g));
+    let owns = |g: u32| {
+        v.global_ids[..v.owned]
+            .iter()
+            .position(|&x| x == u64::from(g))
+    };
     for (k, &g) in bnd.nodes.iter().enumerate() {
         if let Some(i) = owns(g) {
             s.nodes.push(i as u32);
@@ -190,9 +203,10 @@ fn run_rank<const D: usize, E: Exchange<f64> + ?Sized>(
     };
     let len = partitioned_targets_len(&cells);
     let (mut o, mut t, mut k) = (vec![0u32; n + 1], vec![0u32; len], vec![0.0; len]);
-    let springs =
-        PartitionedSprings::new(part, cells, &v.points, 1.0, &v.fixed, &mut o, &mut t, &mut k, ex)
-            .unwrap();
+    let springs = PartitionedSprings::new(
+        part, cells, &v.points, 1.0, &v.fixed, &mut o, &mut t, &mut k, ex,
+    )
+    .unwrap();
     let motion = motion_of(s);
     let e = motion.elements.map_or(0, |e| e.count);
     let lens = deform_spring_partitioned_lens::<D>(n, motion.boundary_count, e);
@@ -208,8 +222,17 @@ fn run_rank<const D: usize, E: Exchange<f64> + ?Sized>(
     };
     let mut out = vec![[f64::NAN; D]; v.owned];
     let pre = Preconditioner::Jacobi;
-    let r = deform_spring_partitioned(&springs, &v.points, &motion, pre, &options(), work, &mut out, ex)
-        .map(|(origin, _)| origin);
+    let r = deform_spring_partitioned(
+        &springs,
+        &v.points,
+        &motion,
+        pre,
+        &options(),
+        work,
+        &mut out,
+        ex,
+    )
+    .map(|(origin, _)| origin);
     (r, out)
 }
 
@@ -296,4 +319,108 @@ fn partitioned_quaternion_springs_give_the_serial_bits_3d() {
     .unwrap();
     let mesh = extrude(&mesh2, 1.0, 3).unwrap();
     bits_equal_serial(&mesh, 8.0);
+}
+
+/// What a spoiled share should give: the culprit's error, and every other rank's.
+type Expect = fn(&Option<Error>, bool) -> bool;
+
+fn boundary_fault(e: &Option<Error>, _culprit: bool) -> bool {
+    matches!(
+        e,
+        Some(Error::BadPartition {
+            fault: PartitionFault::Boundary,
+            ..
+        })
+    )
+}
+
+fn own_then_others(e: &Option<Error>, culprit: bool) -> bool {
+    match e {
+        Some(Error::InvalidParameter { .. }) => culprit,
+        Some(Error::BadPartition {
+            fault: PartitionFault::OtherProcess,
+            ..
+        }) => !culprit,
+        _ => false,
+    }
+}
+
+#[test]
+fn inconsistent_boundary_lists_fail_on_every_thread() {
+    let mesh = naca_triangulated(&AirfoilGrid {
+        surface_points: 24,
+        radial_points: 6,
+        ..AirfoilGrid::default()
+    })
+    .unwrap();
+    let bnd = boundary(&mesh);
+    let deformed = moved(&mesh, &bnd.nodes, 10.0);
+    let n = mesh.node_count();
+    let mut fixed = vec![0u8; n];
+    bnd.nodes.iter().for_each(|&i| fixed[i as usize] = 1);
+    let (b, e) = (bnd.nodes.len(), bnd.kinds.len());
+    // Random owners: every thread holds boundary nodes and elements to spoil.
+    let owner = random_owner(n, 3, 5);
+    type Spoil = fn(&mut Share<2>, &mut usize);
+    let cases: [(&str, u32, Spoil, Expect); 5] = [
+        (
+            "an element given by nobody",
+            1,
+            |s, _| {
+                s.ids.pop();
+                s.kinds.pop();
+                s.offsets.pop();
+                s.elements.truncate(*s.offsets.last().unwrap() as usize);
+            },
+            boundary_fault,
+        ),
+        ("another boundary count", 2, |_, b| *b += 1, boundary_fault),
+        (
+            "two ranks give one position",
+            0,
+            |s, _| {
+                s.positions[0] = s.positions[1];
+            },
+            boundary_fault,
+        ),
+        (
+            "an element given twice",
+            0,
+            |s, _| {
+                s.ids.push(s.ids[0]);
+                let el = s.elements[..2].to_vec();
+                s.elements.extend(el);
+                s.kinds.push(s.kinds[0]);
+                s.offsets.push(s.elements.len() as u32);
+            },
+            boundary_fault,
+        ),
+        (
+            "an owned fixed node not listed",
+            1,
+            |s, _| {
+                s.nodes.pop();
+                s.positions.pop();
+                s.deformed.pop();
+            },
+            own_then_others,
+        ),
+    ];
+    for (what, culprit, spoil, expect) in cases {
+        let results = on_threads(3, |rank, ex| {
+            let v = local_view(&mesh, &fixed, &owner, (rank, 3), 1, 5);
+            let mut s = share(&v, &bnd, &deformed, |_, first_owned| first_owned);
+            let mut bb = b;
+            if rank == culprit {
+                spoil(&mut s, &mut bb);
+            }
+            let (r, out) = run_rank(&v, &s, |s| motion(s, bb, e), ex);
+            (r.err(), out.iter().flatten().all(|x| x.is_nan()))
+        });
+        for (rank, (err, untouched)) in results.into_iter().enumerate() {
+            let here = rank as u32 == culprit;
+            assert!(expect(&err, here), "{what}: rank {rank}: {err:?}");
+            assert!(untouched, "{what}: rank {rank} wrote out");
+        }
+    }
 }

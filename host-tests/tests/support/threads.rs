@@ -92,4 +92,3 @@ pub fn on_threads<R: Send>(size: usize, f: impl Fn(u32, &Threads<'_>) -> R + Syn
         handles.into_iter().map(|h| h.join().unwrap()).collect()
     })
 }
-

@@ -169,9 +169,27 @@ pub fn deform_spring_partitioned<T: Real, const D: usize, E: Exchange<T> + ?Size
     let local = check_local(springs, points, motion, &work, out.len());
     agree_sizes(exchange, local, motion)?;
     if D == 2 {
-        run::<T, D, 6, E>(springs, points, motion, preconditioner, options, work, out, exchange)
+        run::<T, D, 6, E>(
+            springs,
+            points,
+            motion,
+            preconditioner,
+            options,
+            work,
+            out,
+            exchange,
+        )
     } else {
-        run::<T, D, 7, E>(springs, points, motion, preconditioner, options, work, out, exchange)
+        run::<T, D, 7, E>(
+            springs,
+            points,
+            motion,
+            preconditioner,
+            options,
+            work,
+            out,
+            exchange,
+        )
     }
 }
 
@@ -192,7 +210,11 @@ fn check_local<T: Real, const D: usize>(
     let (n, owned, b) = (part.local_count(), part.owned(), motion.boundary_count);
     check::len("points", points.len(), n)?;
     check::len("out", out_len, owned)?;
-    check::len("motion.positions", motion.positions.len(), motion.nodes.len())?;
+    check::len(
+        "motion.positions",
+        motion.positions.len(),
+        motion.nodes.len(),
+    )?;
     check::len("motion.deformed", motion.deformed.len(), motion.nodes.len())?;
     let lens = deform_spring_partitioned_lens::<D>(n, b, element_count(motion));
     check::buffer("work.words", work.words.len(), lens.words)?;
@@ -346,7 +368,9 @@ fn run<T: Real, const D: usize, const V: usize, E: Exchange<T> + ?Sized>(
         d,
         quats,
         origin,
-        reference: quats.get(reference).map_or(Quat::identity(), |&q| Quat::from_array(q)),
+        reference: quats
+            .get(reference)
+            .map_or(Quat::identity(), |&q| Quat::from_array(q)),
     };
     let values = work.values.as_chunks_mut::<V>().0;
     let (values, scratch) = super::take(values, springs.partition().local_count());
@@ -397,13 +421,17 @@ fn gather_words<T: Real, const D: usize, E: Exchange<T> + ?Sized>(
 ) -> Result<()> {
     let b = motion.boundary_count;
     let e = element_count(motion);
-    let words = words.get_mut(..1 + NODE_WORDS * b + ELEMENT_WORDS * e).unwrap_or(&mut []);
+    let words = words
+        .get_mut(..1 + NODE_WORDS * b + ELEMENT_WORDS * e)
+        .unwrap_or(&mut []);
     words.fill(0);
     let part = springs.partition();
     for (&i, &p) in motion.nodes.iter().zip(motion.positions) {
         let slot = 1 + NODE_WORDS * p as usize;
-        if let Some(w) = words.get_mut(slot..slot + NODE_WORDS) {
-            w.copy_from_slice(&[1, part.global_id(i as usize) as i64]);
+        if let Some([count, gid]) = words.get_mut(slot..slot + NODE_WORDS) {
+            // Counted, not set: a position listed twice, even by one process, is found.
+            *count += 1;
+            *gid = part.global_id(i as usize) as i64;
         }
     }
     if let Some(el) = motion.elements {
@@ -411,7 +439,7 @@ fn gather_words<T: Real, const D: usize, E: Exchange<T> + ?Sized>(
         for (&id, (kind, nodes)) in el.ids.iter().zip(cells.iter()) {
             let slot = 1 + NODE_WORDS * b + ELEMENT_WORDS * id as usize;
             if let Some(w) = words.get_mut(slot..slot + ELEMENT_WORDS) {
-                w[0] = 1;
+                w[0] += 1;
                 w[1] = i64::from(kind.vtk_code());
                 for (x, &v) in w.iter_mut().skip(2).zip(nodes) {
                     *x = i64::from(v);
@@ -445,7 +473,12 @@ fn gather_points<T: Real, const D: usize, E: Exchange<T> + ?Sized>(
     up.fill(T::from_f64(f64::NEG_INFINITY));
     let up_items = up.as_chunks_mut::<D>().0;
     let (u, d) = super::take(up_items, b);
-    for ((&i, &p), &dk) in motion.nodes.iter().zip(motion.positions).zip(motion.deformed) {
+    for ((&i, &p), &dk) in motion
+        .nodes
+        .iter()
+        .zip(motion.positions)
+        .zip(motion.deformed)
+    {
         if let (Some(x), Some(&r)) = (u.get_mut(p as usize), points.get(i as usize)) {
             *x = r;
         }
@@ -518,7 +551,11 @@ impl<T: Real, const D: usize> Boundary<'_, T, D> {
             .map_or(Quat::identity(), |&q| Quat::from_array(q));
         let unit = q.normalize().unwrap_or(Quat::identity());
         let t = translation(self.origin, self.u.get(k), self.d.get(k), unit);
-        let q = if q.dot(self.reference) < T::ZERO { -q } else { q };
+        let q = if q.dot(self.reference) < T::ZERO {
+            -q
+        } else {
+            q
+        };
         pack(t, q)
     }
 }
