@@ -273,6 +273,8 @@ fn bits_equal_serial<const D: usize>(mesh: &Mesh<D>, deg: f64) {
     let mut fixed = vec![0u8; n];
     bnd.nodes.iter().for_each(|&i| fixed[i as usize] = 1);
     let (b, e) = (bnd.nodes.len(), bnd.kinds.len());
+    let bytes = 8 * (1 + 2 * b + 6 * e) + 8 * 2 * D * b;
+    println!("{D}D: {n} nodes, B = {b}, E = {e}: the gather is {bytes} bytes per rank");
     for size in [1usize, 2, 3, 4] {
         for (label, owner) in [
             ("blocks", (0..n).map(|g| (g * size / n) as u32).collect()),
