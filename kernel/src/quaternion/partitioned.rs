@@ -309,7 +309,10 @@ fn agree_sizes<T: Real, E: Exchange<T> + ?Sized, const D: usize>(
         .get(2..)
         .unwrap_or(&[])
         .chunks_exact(2)
-        .all(|p| count * i128::from(p[1]) == i128::from(p[0]) * i128::from(p[0]));
+        .all(|p| match *p {
+            [h, h2] => count * i128::from(h2) == i128::from(h) * i128::from(h),
+            _ => false,
+        });
     if !equal || motion.boundary_count > u32::MAX as usize {
         return Err(fault(PartitionFault::Boundary, 0));
     }
@@ -400,7 +403,8 @@ fn sort_by_global_id(words: &[i64], order: &mut [u32]) -> Result<usize> {
         items: order,
         key: gid,
     });
-    if let Some(p) = order.windows(2).position(|w| gid(w[0]) == gid(w[1])) {
+    let same = |w: &[u32]| matches!(*w, [a, b] if gid(a) == gid(b));
+    if let Some(p) = order.windows(2).position(same) {
         return Err(fault(PartitionFault::Boundary, p + 1));
     }
     Ok(order.first().map_or(0, |&k| k as usize))
@@ -438,10 +442,10 @@ fn gather_words<T: Real, const D: usize, E: Exchange<T> + ?Sized>(
         let cells = Cells::trusted(b, el.offsets, el.nodes, el.kinds);
         for (&id, (kind, nodes)) in el.ids.iter().zip(cells.iter()) {
             let slot = 1 + NODE_WORDS * b + ELEMENT_WORDS * id as usize;
-            if let Some(w) = words.get_mut(slot..slot + ELEMENT_WORDS) {
-                w[0] += 1;
-                w[1] = i64::from(kind.vtk_code());
-                for (x, &v) in w.iter_mut().skip(2).zip(nodes) {
+            if let Some([count, code, rest @ ..]) = words.get_mut(slot..slot + ELEMENT_WORDS) {
+                *count += 1;
+                *code = i64::from(kind.vtk_code());
+                for (x, &v) in rest.iter_mut().zip(nodes) {
                     *x = i64::from(v);
                 }
             }
