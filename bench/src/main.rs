@@ -2,7 +2,8 @@
 //! issue's sizes, timed here, with their inputs written for the Python peers
 //! (`bench/peers/peers.py`) so both sides solve the very same problem in the same run.
 //!
-//! `cargo run --release --manifest-path bench/Cargo.toml -- --out DIR [--quick] [--only a,b]`
+//! `cargo run --release --manifest-path bench/Cargo.toml -- --out DIR [--quick] [--only a,b]
+//! [--reps N]` (`--reps`: runs of each sensitivity row)
 //! (`--only` picks among graph, structured, spring, rotation, elasticity, rbf, sensitivity,
 //! sensitivity-spring, sensitivity-quaternion)
 //!
@@ -409,6 +410,12 @@ fn main() {
         .and_then(|i| args.get(i + 1))
         .map(|s| s.split(',').collect())
         .unwrap_or_default();
+    // `--reps N`: runs of each sensitivity row (default 3; 1 for a full-size callgrind run).
+    let reps: Option<usize> = args
+        .iter()
+        .position(|a| a == "--reps")
+        .and_then(|i| args.get(i + 1))
+        .map(|s| s.parse().expect("--reps N"));
     std::fs::create_dir_all(&dir).expect("create the output directory");
     let sz = if quick { &QUICK } else { &FULL };
     let mut fig = Figures(String::new());
@@ -439,7 +446,8 @@ fn main() {
         want("sensitivity") || only.contains(&"sensitivity-quaternion"),
     ];
     if rows.contains(&true) {
-        sensitivity::sensitivity(sz.airfoil, sz.repeats.min(3), rows, &mut fig);
+        let reps = reps.unwrap_or(sz.repeats.min(3));
+        sensitivity::sensitivity(sz.airfoil, reps, rows, &mut fig);
     }
     std::fs::write(dir.join("kernel.txt"), &fig.0).expect("write kernel.txt");
 }

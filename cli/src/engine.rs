@@ -9,6 +9,7 @@ use crate::error::CliError;
 use crate::formats::CellList;
 use crate::orientation::{Orientation, OrientationSummary};
 
+mod compare;
 mod elasticity;
 pub(crate) mod rbf;
 pub use elasticity::{cell_pair_graph, run_elasticity};
@@ -154,10 +155,47 @@ pub fn quality_with_graph(
     wall: Option<&CellList>,
     graph: Option<&OwnedGraph>,
 ) -> Result<QualitySummary, CliError> {
-    let wall = wall.map(|w| (w, graph));
+    quality_prepared(dim, cells, points, reference, None, wall, graph)
+}
+
+/// The reference mesh's half of the quality table (each cell's own orientation, overlaps,
+/// boundary faces, regions): it does not depend on the deformation, so `deform move` prepares
+/// it while the solve runs ([`quality_prepared`]).
+pub struct PreparedReference(Reference);
+
+/// [`PreparedReference`] of the mesh `cells` at `points`.
+pub fn prepare_reference(
+    dim: usize,
+    cells: &CellList,
+    points: &[[f64; 3]],
+) -> Result<PreparedReference, CliError> {
+    fn run<const D: usize>(cells: &CellList, points: &[[f64; 3]]) -> Result<Reference, CliError> {
+        let view = cells_view(cells, points.len())?;
+        reference_cells(cells, &view, &points_d::<D>(points))
+    }
     match dim {
-        2 => quality_d::<2>(cells, points, reference, wall),
-        3 => quality_d::<3>(cells, points, reference, wall),
+        2 => run::<2>(cells, points).map(PreparedReference),
+        3 => run::<3>(cells, points).map(PreparedReference),
+        _ => Err(CliError::Invalid(format!("dimension {dim} is not 2 or 3"))),
+    }
+}
+
+/// [`quality_with_graph`] with the reference's half already prepared (by
+/// [`prepare_reference`] on `reference`, or on `points` without one): the same table.
+pub fn quality_prepared(
+    dim: usize,
+    cells: &CellList,
+    points: &[[f64; 3]],
+    reference: Option<&[[f64; 3]]>,
+    prepared: Option<PreparedReference>,
+    wall: Option<&CellList>,
+    graph: Option<&OwnedGraph>,
+) -> Result<QualitySummary, CliError> {
+    let wall = wall.map(|w| (w, graph));
+    let prepared = prepared.map(|p| p.0);
+    match dim {
+        2 => quality_d::<2>(cells, points, reference, prepared, wall),
+        3 => quality_d::<3>(cells, points, reference, prepared, wall),
         _ => Err(CliError::Invalid(format!("dimension {dim} is not 2 or 3"))),
     }
 }
@@ -224,6 +262,8 @@ struct Reference {
     boundary: Vec<Vec<u32>>,
     /// The reference measured relative to each cell's own orientation.
     rel: Relative,
+    /// The reference's signed measures as the cells are listed.
+    listed: Vec<f64>,
     orientation: Orientation,
 }
 
@@ -260,6 +300,7 @@ fn reference_cells<const D: usize>(
         overlap,
         boundary,
         rel,
+        listed: measure,
         orientation,
     })
 }
@@ -294,40 +335,53 @@ fn ratios_and_inversions(before: &[f64], after: &[f64]) -> (Vec<f64>, Vec<bool>)
         .unzip()
 }
 
-/// The kernel's comparison, with the wall-angle change when `wall` is given.
-fn compare_with_wall<const D: usize>(
+/// The reference's half (`prepared`, or computed here) and the deformed cells' qualities as
+/// listed; the latter do not depend on the former, so without `prepared` they run alongside.
+fn both_halves<const D: usize>(
+    cells: &CellList,
     view: &Cells<'_>,
     undeformed: &[[f64; D]],
     deformed: &[[f64; D]],
-    wall: WallInput<'_>,
-) -> Result<deform_kernel::quality::QualityReport<f64>, CliError> {
-    use deform_kernel::quality::{compare, wall_angle_scratch_len, Wall};
-    let n = undeformed.len();
-    let built;
-    let wall_view;
-    let wall_obj = match wall {
-        Some((w, given)) => {
-            let graph = match given {
-                Some(g) => g,
-                None => {
-                    built = edge_graph(view, false)?;
-                    &built
-                }
-            };
-            wall_view = cells_view(w, n)?;
-            Some(Wall::new(wall_view, graph.view()?).map_err(kernel("wall"))?)
-        }
-        None => None,
+    prepared: Option<Reference>,
+) -> Result<(Reference, Relative), CliError> {
+    let (base, listed) = match prepared {
+        Some(base) => (Ok(base), qualities(view, deformed)),
+        None => std::thread::scope(|s| {
+            let listed = s.spawn(|| qualities(view, deformed));
+            let base = reference_cells(cells, view, undeformed);
+            let listed = listed
+                .join()
+                .unwrap_or_else(|p| std::panic::resume_unwind(p));
+            (base, listed)
+        }),
     };
-    let scratch_len = wall_obj.as_ref().map_or(0, |_| wall_angle_scratch_len(n));
-    let mut scratch = vec![[0.0; D]; scratch_len];
-    compare(view, undeformed, deformed, wall_obj.as_ref(), &mut scratch).map_err(kernel("quality"))
+    Ok((base?, listed?))
+}
+
+/// Inversions and measure ratios on the canonical points `[undeformed, deformed]`: with every
+/// region positive those are the input's points, whose measures are at hand (the reference's
+/// in `base`, the deformed cells' `listed`); otherwise the canonical cells are measured.
+fn canonical_ratios<const D: usize>(
+    view: &Cells<'_>,
+    base: &Reference,
+    listed: &[f64],
+    [undeformed, deformed]: [&[[f64; D]]; 2],
+) -> Result<compare::MeasureRatios, CliError> {
+    if base.orientation.all_positive() {
+        return Ok(compare::measure_ratios(&base.listed, listed));
+    }
+    let before = compare::measures(view, undeformed)?;
+    Ok(compare::measure_ratios(
+        &before,
+        &compare::measures(view, deformed)?,
+    ))
 }
 
 fn quality_d<const D: usize>(
     cells: &CellList,
     points: &[[f64; 3]],
     reference: Option<&[[f64; 3]]>,
+    prepared: Option<Reference>,
     wall: WallInput<'_>,
 ) -> Result<QualitySummary, CliError> {
     let n = points.len();
@@ -340,23 +394,16 @@ fn quality_d<const D: usize>(
     }
     let input_undeformed = points_d::<D>(reference.unwrap_or(points));
     let input_deformed = points_d::<D>(points);
-    // The deformed cells' qualities do not depend on the reference's: evaluated alongside.
-    let (base, listed) = std::thread::scope(|s| {
-        let deformed = s.spawn(|| qualities(&view, &input_deformed));
-        let base = reference_cells(cells, &view, &input_undeformed);
-        let listed = deformed
-            .join()
-            .unwrap_or_else(|p| std::panic::resume_unwind(p));
-        (base, listed)
-    });
-    let base = base?;
-    let rel = mirror_negative(&view, &input_deformed, &base.negative, listed?)?;
+    let (base, listed) = both_halves(cells, &view, &input_undeformed, &input_deformed, prepared)?;
+    let listed_deformed = listed.measure.clone();
+    let rel = mirror_negative(&view, &input_deformed, &base.negative, listed)?;
     // Ratios, inversions and wall angles on canonical coordinates (negative regions mirrored):
     // the same numbers as on the input's, angles measured the same way in every region.
     let undeformed = base.orientation.canonical(&input_undeformed);
     let pts = base.orientation.canonical(&input_deformed);
     let wall = wall.filter(|(w, _)| reference.is_some() && !w.is_empty());
-    let r = compare_with_wall(&view, &undeformed, &pts, wall)?;
+    let r = canonical_ratios(&view, &base, &listed_deformed, [&undeformed, &pts])?;
+    let wall_change = compare::wall_angles(&view, &undeformed, &pts, wall)?;
     let has_ref = reference.is_some();
     let folded_in = |corner: &[f64]| -> Vec<bool> {
         corner
@@ -382,7 +429,7 @@ fn quality_d<const D: usize>(
     let finite = |x: f64| has_ref.then_some(x).filter(|x| x.is_finite());
     let min = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
     Ok(QualitySummary {
-        cells: r.cells,
+        cells: view.len(),
         inverted_cells: has_ref.then_some(r.inverted_cells),
         folded_cells: folded.iter().filter(|&&f| f).count(),
         degenerate_cells: folded
@@ -396,7 +443,7 @@ fn quality_d<const D: usize>(
         min_scaled_jacobian: min(&rel.scaled),
         min_area_ratio: finite(r.min_measure_ratio),
         max_area_ratio: finite(r.max_measure_ratio),
-        max_wall_angle_change_deg: r.wall.map(|w| w.max_change.to_degrees()),
+        max_wall_angle_change_deg: wall_change.map(|w| w.max_change.to_degrees()),
         measure: rel.measure,
         scaled_jacobian: rel.scaled,
         ratio,

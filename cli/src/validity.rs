@@ -77,7 +77,7 @@ fn key_and_direction(cycle: &[u32]) -> ([u32; 4], i8) {
     for (k, &n) in key.iter_mut().zip(cycle) {
         *k = n;
     }
-    key[..cycle.len().min(4)].sort_unstable();
+    sort4(&mut key);
     let len = cycle.len();
     let Some(m) = (0..len).min_by_key(|&i| cycle[i]) else {
         return (key, 1);
@@ -87,6 +87,16 @@ fn key_and_direction(cycle: &[u32]) -> ([u32; 4], i8) {
         _ => cycle[(m + 1) % len] < cycle[(m + len - 1) % len],
     };
     (key, if direction { 1 } else { -1 })
+}
+
+/// Sorts four values ascending (a five-comparator network; unused slots hold `u32::MAX`, which
+/// stays last).
+fn sort4(k: &mut [u32; 4]) {
+    for (i, j) in [(0, 1), (2, 3), (0, 2), (1, 3), (1, 2)] {
+        let (a, b) = (k[i], k[j]);
+        k[i] = a.min(b);
+        k[j] = a.max(b);
+    }
 }
 
 /// Every face of every cell, sorted by key (the two cells sharing a face come together).
@@ -122,9 +132,16 @@ pub fn cell_faces(cells: &CellList, sense: &[i8]) -> Vec<CellFace> {
     sort_by_key(faces)
 }
 
-/// `faces` sorted by `(key, cell, local)`: a counting sort by the smallest node (`key[0]`)
-/// and a sort of each small bucket, the order a full sort gives at a fraction of its cost.
+/// `faces` sorted by `(key, position in faces)`, which is `(key, cell, local)` for faces listed
+/// by cell and local index as [`cell_faces`] lists them: a counting sort by the smallest node
+/// (`key[0]`), then each small bucket sorted as plain integers (the rest of the key and the
+/// position packed in one `u128`), the order a full sort gives at a fraction of its cost.
 fn sort_by_key(faces: Vec<CellFace>) -> Vec<CellFace> {
+    if u32::try_from(faces.len()).is_err() {
+        let mut all = faces;
+        all.sort_by_key(|f| f.key);
+        return all;
+    }
     let buckets = faces
         .iter()
         .map(|f| f.key[0] as usize + 1)
@@ -138,16 +155,20 @@ fn sort_by_key(faces: Vec<CellFace>) -> Vec<CellFace> {
         start[i] += start[i - 1];
     }
     let mut cursor = start.clone();
-    let mut sorted = faces.clone();
-    for f in faces {
+    let mut packed = vec![0u128; faces.len()];
+    for (i, f) in faces.iter().enumerate() {
+        let k = |j: usize| u128::from(f.key[j]);
         let c = &mut cursor[f.key[0] as usize];
-        sorted[*c] = f;
+        packed[*c] = k(1) << 96 | k(2) << 64 | k(3) << 32 | i as u128;
         *c += 1;
     }
     for w in start.windows(2) {
-        sorted[w[0]..w[1]].sort_unstable_by_key(|f| (f.key, f.cell, f.local));
+        packed[w[0]..w[1]].sort_unstable();
     }
-    sorted
+    packed
+        .iter()
+        .filter_map(|&p| faces.get(p as u32 as usize).copied())
+        .collect()
 }
 
 /// Per cell: overlaps a neighbour across a shared face (both on the same side of it), and is
@@ -335,7 +356,7 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             ((x >> 33) as u32) % m
         };
-        let faces: Vec<CellFace> = (0..5000)
+        let mut faces: Vec<CellFace> = (0..5000)
             .map(|c| {
                 let mut key = [next(300), next(300), next(300), u32::MAX];
                 key[..3].sort_unstable();
@@ -347,6 +368,8 @@ mod tests {
                 }
             })
             .collect();
+        // Listed by cell and local index, as `cell_faces` lists them.
+        faces.sort_by_key(|f| (f.cell, f.local));
         let mut full = faces.clone();
         full.sort_unstable_by_key(|f| (f.key, f.cell, f.local));
         assert_eq!(sort_by_key(faces), full);
@@ -451,6 +474,22 @@ mod tests {
             [false, false]
         );
         assert_eq!(boundary_faces(&cells).len(), 4);
+    }
+
+    #[test]
+    fn the_sorting_network_sorts() {
+        let mut x = 7u32;
+        for _ in 0..10_000 {
+            let mut k = [0u32; 4];
+            for v in k.iter_mut() {
+                x = x.wrapping_mul(1_103_515_245).wrapping_add(12345);
+                *v = (x >> 16) % 6;
+            }
+            let mut want = k;
+            want.sort_unstable();
+            sort4(&mut k);
+            assert_eq!(k, want);
+        }
     }
 
     #[test]

@@ -1,6 +1,8 @@
 //! Multigrid-preconditioned CG against CG+Jacobi on meshgen's NACA 2412 meshes (airfoil rotated
 //! 10° about the quarter chord), both displacement components together, to relative residual
-//! 1e-8: iterations, setup and solve time, hierarchy shape.
+//! 1e-8: iterations, setup and solve time, hierarchy shape; and the default options on the
+//! partition-independent MIS-2 aggregation ([`AmgHierarchy::setup_mis2`], docs/amg.md) with
+//! the operator complexity of both.
 //!
 //! `cargo run --release -p deform-host-tests --example spring_amg [-- 20k|234k|both] [--csr DIR]`
 //!
@@ -144,6 +146,9 @@ fn run(label: &str, mesh: &Mesh2, csr: Option<&str>) {
             sizes.values
         );
     }
+    for mis2 in [false, true] {
+        mis2_row(&sys, &x0, &opts, mis2);
+    }
     let m = LinearMethod::Cg {
         preconditioner: Preconditioner::Jacobi,
     };
@@ -157,6 +162,54 @@ fn run(label: &str, mesh: &Mesh2, csr: Option<&str>) {
         rep.residual,
         rep.converged,
         t.elapsed().as_secs_f64()
+    );
+}
+
+/// Default options on the greedy (today) or the MIS-2 aggregation: iterations, levels,
+/// operator complexity, setup and solve time.
+fn mis2_row(sys: &SpringSystem<'_, f64>, x0: &[[f64; 2]], stop: &SolveOptions<f64>, mis2: bool) {
+    let opts = AmgOptions::default();
+    let t = Instant::now();
+    let mut work = vec![0u32; AmgHierarchy::setup_work_len(sys)];
+    let mut mwork = vec![0u64; AmgHierarchy::mis2_work_len(sys)];
+    let sizes = if mis2 {
+        AmgHierarchy::setup_len_mis2(sys, &opts, &mut work, &mut mwork)
+    } else {
+        AmgHierarchy::setup_len(sys, &opts, &mut work)
+    }
+    .unwrap();
+    let mut index = vec![0u32; sizes.index];
+    let mut values = vec![0.0f64; sizes.values];
+    let (w, m, i, v) = (&mut work, &mut mwork, &mut index, &mut values);
+    let h = if mis2 {
+        AmgHierarchy::setup_mis2(sys, &opts, w, m, i, v)
+    } else {
+        AmgHierarchy::setup(sys, &opts, w, i, v)
+    }
+    .unwrap();
+    let t_setup = t.elapsed().as_secs_f64();
+    let shape: Vec<String> = (0..h.levels())
+        .map(|l| h.level_size(l).to_string())
+        .collect();
+    let nnz: usize = (0..h.levels())
+        .map(|l| h.level_entries(l) + h.level_size(l))
+        .sum();
+    let complexity = nnz as f64 / (h.level_entries(0) + h.level_size(0)) as f64;
+    let mut x = x0.to_vec();
+    let mut scratch = vec![[0.0; 2]; solve_linear_amg_scratch_len(&h)];
+    let t = Instant::now();
+    let rep = sys
+        .solve_linear_amg(&h, &mut x, stop, &mut scratch)
+        .unwrap();
+    println!(
+        "  AMG-CG default, {} aggregation: iterations {:>4}  converged {}  setup {:.3} s  \
+         solve {:.3} s  operator complexity {complexity:.3}  levels [{}]",
+        if mis2 { "MIS-2" } else { "greedy" },
+        rep.iterations,
+        rep.converged,
+        t_setup,
+        t.elapsed().as_secs_f64(),
+        shape.join(", ")
     );
 }
 

@@ -50,6 +50,7 @@ mod elasticity;
 mod elasticity_steps;
 mod idw;
 mod springs;
+mod zero_lanes;
 
 pub use crate::rbf::{rbf_adjoint, rbf_tangent};
 pub use angle::{

@@ -62,6 +62,10 @@ mod zero_components;
 
 pub use amg::rigid_mode_count;
 pub use amg::{
+    aggregate_mis2, aggregate_mis2_partitioned, mis2_exchange_len, mis2_scratch_len, Mis2Report,
+    MIS2_NONE,
+};
+pub use amg::{
     amg_cg_scratch_len, amg_precondition_scratch_len, amg_setup_work_len,
     amg_sliding_cg_scratch_len, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, AmgPools,
     AmgSizes, AmgSmoother, AmgSolve, RigidAmg, RigidAmgSizes, AMG_MAX_DENSE, AMG_MAX_LEVELS,

@@ -6,6 +6,29 @@
 use std::fmt;
 use std::io::{self, Write};
 
+/// `10^1 ..= 10^19`: a `u64` has one digit more than the powers it is at least.
+const POW10: [u64; 19] = {
+    let mut p = [10u64; 19];
+    let mut i = 1;
+    while i < 19 {
+        p[i] = p[i - 1] * 10;
+        i += 1;
+    }
+    p
+};
+
+/// `"00" "01" … "99"`.
+const PAIRS: [u8; 200] = {
+    let mut t = [0u8; 200];
+    let mut i = 0;
+    while i < 100 {
+        t[2 * i] = b'0' + (i / 10) as u8;
+        t[2 * i + 1] = b'0' + (i % 10) as u8;
+        i += 1;
+    }
+    t
+};
+
 /// A line of at most [`Line::CAP`] bytes.
 pub(crate) struct Line {
     buf: [u8; Line::CAP],
@@ -36,21 +59,37 @@ impl Line {
         }
     }
 
-    /// Appends `v` in decimal, the bytes `Display` writes.
-    pub(crate) fn push_uint(&mut self, mut v: u64) -> bool {
-        let mut digits = [0u8; 20];
-        let mut at = digits.len();
-        loop {
-            at -= 1;
-            if let Some(d) = digits.get_mut(at) {
-                *d = b'0' + (v % 10) as u8;
-            }
-            v /= 10;
-            if v == 0 {
-                break;
+    /// Appends `v` in decimal, the bytes `Display` writes: two digits at a time, straight
+    /// into the line.
+    pub(crate) fn push_uint(&mut self, v: u64) -> bool {
+        let n = 1 + POW10.iter().take_while(|&&p| v >= p).count();
+        let end = self.len + n;
+        let Some(dst) = self.buf.get_mut(self.len..end) else {
+            return false;
+        };
+        let (mut v, mut i) = (v, n);
+        while i >= 2 {
+            let d = (v % 100) as usize * 2;
+            v /= 100;
+            i -= 2;
+            if let (Some(to), Some(from)) = (dst.get_mut(i..i + 2), PAIRS.get(d..d + 2)) {
+                to.copy_from_slice(from);
             }
         }
-        self.push(digits.get(at..).unwrap_or(&[]))
+        if let (1, Some(first)) = (i, dst.first_mut()) {
+            *first = b'0' + v as u8;
+        }
+        self.len = end;
+        true
+    }
+
+    /// Appends `x` as `{:e}` writes it (see [`super::float_exp`]).
+    pub(crate) fn push_exp(&mut self, x: f64) -> bool {
+        let mut text = [0u8; super::float_exp::EXP_CAP];
+        match super::float_exp::exp_bytes(x, &mut text) {
+            Some(len) => self.push(text.get(..len).unwrap_or(&[])),
+            None => fmt::Write::write_fmt(self, format_args!("{x:e}")).is_ok(),
+        }
     }
 
     /// Writes the line to `w` and empties it.

@@ -10,6 +10,7 @@ pub mod base64;
 pub mod cgns;
 pub mod displacements;
 pub mod error;
+mod float_exp;
 pub(crate) mod line;
 pub mod listdirected;
 pub mod motions;

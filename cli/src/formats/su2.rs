@@ -9,7 +9,6 @@
 //! free-form deformation boxes — are kept byte for byte ([`Su2Mesh::passthrough`]) and written
 //! back unchanged; any other keyword is an error naming its line.
 
-use std::fmt;
 use std::io::{self, Write};
 
 use deform_kernel::CellKind;
@@ -834,8 +833,10 @@ pub(crate) fn write_su2_point<W: Write>(
     nl: &str,
 ) -> io::Result<()> {
     let mut line = Line::new();
-    for x in p.iter().take(dim) {
-        fmt::Write::write_fmt(&mut line, format_args!("{x:e} ")).map_err(|_| too_long())?;
+    for &x in p.iter().take(dim) {
+        if !(line.push_exp(x) && line.push(b" ")) {
+            return Err(too_long());
+        }
     }
     if !(line.push_uint(i as u64) && line.push(nl.as_bytes())) {
         return Err(too_long());

@@ -2,8 +2,9 @@
 //! and compiles C/Fortran programs against it, `quaternion` the structured test meshes and
 //! rigid motions of the quaternion tests, `spring` the spring systems, reference nets and
 //! multigrid buffers of the spring tests, `rbf` the point clouds of the RBF tests, `order` the
-//! meshes of the ordering tests, `plan` owned plan pools, `python` the interpreter of the independent Python
-//! references, `threads` the in-process processes of the partitioned tests. A binary at the top of `tests/` declares
+//! meshes of the ordering tests, `plan` owned plan pools, `threads` the
+//! in-process exchange of the partitioned tests, `python` the interpreter of the independent Python
+//! references. A binary at the top of `tests/` declares
 //! `mod support;`, one in a subdirectory `#[path = "../support/mod.rs"] mod support;`.
 #![allow(dead_code)]
 

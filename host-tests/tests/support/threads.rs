@@ -1,5 +1,6 @@
-//! In-process "processes" for the partitioned tests: each is a thread with only its view of
-//! the mesh, and [`Threads`] is its [`Exchange`] through shared memory behind barriers.
+//! Processes as threads for the partitioned tests: each thread gets an [`Exchange`] over
+//! shared memory behind barriers (sums, maxima, and the halo exchange through mailboxes), so
+//! a partitioned run is checked in one process without MPI.
 
 use std::collections::HashMap;
 use std::sync::{Barrier, Mutex};

@@ -1,6 +1,7 @@
 //! Tangent and adjoint of the linear springs (Batina): `A x_f = B x_b` with `A = D − K_ff`
 //! the weighted graph Laplacian on the free nodes (symmetric positive definite) and `B = K_fb`.
 
+use super::zero_lanes::adjoint_nonzero;
 use super::{adjoint_parts, check_adjoint, for_each_field, for_each_field_mut};
 use crate::error::{Error, Result};
 use crate::real::Real;
@@ -113,14 +114,23 @@ pub fn spring_adjoint<T: Real, const V: usize>(
     if needed == usize::MAX {
         return Err(NOT_CG);
     }
+    if let Some(packed) = adjoint_nonzero(sys, solver, options, w, g, scratch) {
+        return packed;
+    }
     let (lambda, v, rest) = adjoint_parts(scratch, n, needed)?;
     let report = adjoint_solve(sys, solver, options, w, lambda, v, rest)?;
-    pull_back(sys, w, lambda, g);
+    let lambda: &[[T; V]] = lambda;
+    pull_back(
+        sys,
+        w,
+        |i| lambda.get(i).copied().unwrap_or([T::ZERO; V]),
+        g,
+    );
     Ok(report)
 }
 
 /// `(D − K_ff) λ = w_f` with `solver`'s preconditioner (`rest`: its scratch).
-fn adjoint_solve<T: Real, const V: usize>(
+pub(super) fn adjoint_solve<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     solver: LinearSolver<'_, T>,
     options: &SolveOptions<T>,
@@ -160,10 +170,10 @@ fn adjoint_solve<T: Real, const V: usize>(
 }
 
 /// `g_j = w_j + Σ_{i free} k_ji λ_i` at fixed `j` (CSR order; `k_ji = k_ij`), zero at free.
-fn pull_back<T: Real, const V: usize>(
+pub(super) fn pull_back<T: Real, const V: usize>(
     sys: &SpringSystem<'_, T>,
     w: &[[T; V]],
-    lambda: &[[T; V]],
+    lambda: impl Fn(usize) -> [T; V],
     g: &mut [[T; V]],
 ) {
     for (j, (gj, &wj)) in g.iter_mut().zip(w).enumerate() {
@@ -176,8 +186,7 @@ fn pull_back<T: Real, const V: usize>(
             if sys.is_fixed(i) {
                 continue;
             }
-            let li = lambda.get(i).copied().unwrap_or([T::ZERO; V]);
-            for (a, &l) in acc.iter_mut().zip(&li) {
+            for (a, &l) in acc.iter_mut().zip(&lambda(i)) {
                 *a += k * l;
             }
         }

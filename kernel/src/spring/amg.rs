@@ -37,6 +37,7 @@
 //! angle-inclusion CG (SPD, and spectrally equivalent to the angle operator for `ε > 0`).
 
 mod cycle;
+mod mis2;
 mod pcg;
 mod pools;
 pub(crate) use pcg::{solve_amg_on, Vcycle};
@@ -49,6 +50,10 @@ pub(crate) use rigid::Fine;
 pub use rigid::{rigid_mode_count, RigidAmg, RigidAmgSizes};
 pub(crate) use rigid_cycle::RigidVcycle;
 
+pub use mis2::{
+    aggregate_mis2, aggregate_mis2_partitioned, mis2_exchange_len, mis2_scratch_len, Mis2Report,
+    MIS2_NONE,
+};
 pub use pcg::{
     amg_cg_scratch_len, amg_precondition_scratch_len, amg_sliding_cg_scratch_len,
     solve_linear_amg_scratch_len,
@@ -233,6 +238,16 @@ impl Layout {
         self.levels.get(l).copied().unwrap_or_default()
     }
 
+    /// The buffer sizes this layout needs.
+    pub fn sizes(&self) -> AmgSizes {
+        AmgSizes {
+            index: self.index_len,
+            values: self.values_len,
+            levels: self.count,
+            coarse_unknowns: self.coarse_unknowns(),
+        }
+    }
+
     /// Unknowns on all coarse levels.
     pub fn coarse_unknowns(&self) -> usize {
         self.levels
@@ -323,12 +338,7 @@ impl<'a, T: Real> AmgHierarchy<'a, T> {
         work: &mut [u32],
     ) -> Result<AmgSizes> {
         let layout = setup::symbolic(sys, options, work)?;
-        Ok(AmgSizes {
-            index: layout.index_len,
-            values: layout.values_len,
-            levels: layout.count,
-            coarse_unknowns: layout.coarse_unknowns(),
-        })
+        Ok(layout.sizes())
     }
 
     /// Builds the hierarchy: the symbolic pass again in `work` (scratch), then the numeric pass
@@ -350,6 +360,60 @@ impl<'a, T: Real> AmgHierarchy<'a, T> {
         values: &'a mut [T],
     ) -> Result<Self> {
         let layout = setup::symbolic(sys, options, work)?;
+        Self::numeric(sys, options, layout, work, index, values)
+    }
+
+    /// `u64` entries of the extra scratch of [`AmgHierarchy::setup_len_mis2`] and
+    /// [`AmgHierarchy::setup_mis2`]: three per node.
+    pub fn mis2_work_len(sys: &SpringSystem<'_, T>) -> usize {
+        mis2::hierarchy_scratch_len(sys.node_count())
+    }
+
+    /// [`AmgHierarchy::setup_len`] with every level aggregated by the partition-independent
+    /// MIS-2 ([`aggregate_mis2`]) instead of the greedy node-order aggregation. Experimental:
+    /// not the default (docs/amg.md, "Partition-independent aggregation").
+    ///
+    /// # Errors
+    /// Those of [`AmgHierarchy::setup_len`]; `mis2_work` shorter than
+    /// [`AmgHierarchy::mis2_work_len`] ([`Error::BufferTooSmall`]). Only the two work
+    /// buffers are written.
+    pub fn setup_len_mis2(
+        sys: &SpringSystem<'_, T>,
+        options: &AmgOptions<T>,
+        work: &mut [u32],
+        mis2_work: &mut [u64],
+    ) -> Result<AmgSizes> {
+        check::buffer("mis2_work", mis2_work.len(), Self::mis2_work_len(sys))?;
+        let layout = setup::symbolic_with(sys, options, work, Some(mis2_work))?;
+        Ok(layout.sizes())
+    }
+
+    /// [`AmgHierarchy::setup`] with the aggregation of [`AmgHierarchy::setup_len_mis2`].
+    ///
+    /// # Errors
+    /// Those of [`AmgHierarchy::setup`] and [`AmgHierarchy::setup_len_mis2`].
+    pub fn setup_mis2(
+        sys: &SpringSystem<'_, T>,
+        options: &AmgOptions<T>,
+        work: &mut [u32],
+        mis2_work: &mut [u64],
+        index: &'a mut [u32],
+        values: &'a mut [T],
+    ) -> Result<Self> {
+        check::buffer("mis2_work", mis2_work.len(), Self::mis2_work_len(sys))?;
+        let layout = setup::symbolic_with(sys, options, work, Some(mis2_work))?;
+        Self::numeric(sys, options, layout, work, index, values)
+    }
+
+    /// The numeric pass of a setup on the symbolic `layout` in `work`.
+    fn numeric(
+        sys: &SpringSystem<'_, T>,
+        options: &AmgOptions<T>,
+        layout: Layout,
+        work: &[u32],
+        index: &'a mut [u32],
+        values: &'a mut [T],
+    ) -> Result<Self> {
         check::buffer("index", index.len(), layout.index_len)?;
         check::buffer("values", values.len(), layout.values_len)?;
         let index = index.get_mut(..layout.index_len).unwrap_or(&mut []);

@@ -22,7 +22,8 @@ use serde_json::json;
 
 use crate::args::{Method, MoveArgs, Solver, StiffnessArg};
 use crate::engine::{
-    MoveInput, MoveMethod, MoveResult, MoveSolver, QualitySummary, SlideMarker, Stiffness,
+    prepare_reference, MoveInput, MoveMethod, MoveResult, MoveSolver, PreparedReference,
+    QualitySummary, SlideMarker, Stiffness,
 };
 use crate::error::CliError;
 use crate::files::{input_kind, marker_nodes, marker_union, read_su2_zone, FileKind, ZonedSu2};
@@ -121,13 +122,17 @@ fn moved_quality(
     mesh: &Su2Mesh,
     markers: &[String],
     result: &crate::engine::MoveResult,
+    prepared: Option<Result<PreparedReference, CliError>>,
 ) -> Result<crate::engine::QualitySummary, CliError> {
     let wall = marker_union(mesh, markers, &a.mesh)?;
-    let q = crate::engine::quality_with_graph(
+    // A failed preparation is left to the full pass, which reports it as before.
+    let prepared = prepared.and_then(Result::ok);
+    let q = crate::engine::quality_prepared(
         mesh.dim,
         &mesh.elements,
         &result.deformed,
         Some(&mesh.points),
+        prepared,
         Some(&wall),
         result.graph.as_ref(),
     )
@@ -172,13 +177,10 @@ fn move_su2_read(
         s.check_move(a)?;
     }
     let input = move_input(a, &mesh, &roles, motion, split)?;
-    let how = renumbering(a);
     let spinner = crate::progress::spinner("deforming", quiet);
-    let result = if a.method() == Method::Elasticity {
-        elasticity::run(a, &input, &roles.slide).map(|r| (r, crate::renumber::off_report()))
-    } else {
-        crate::renumber::run_move_renumbered(&input, &roles.slide, a.steps as usize, how)
-    };
+    // The process that writes (not the others of a split run) checks the quality.
+    let writes = split.is_none_or(|s| s.is_root());
+    let (result, prepared) = solve_beside_reference(a, &mesh, &input, &roles, writes);
     spinner.finish_and_clear();
     let (mut result, renumbered) = result.map_err(|e| e.in_file(&a.mesh))?;
     check_converged(a, &result)?;
@@ -194,7 +196,7 @@ fn move_su2_read(
             *x = *p;
         }
     }
-    let q = moved_quality(a, &mesh, &markers, &result)?;
+    let q = moved_quality(a, &mesh, &markers, &result, prepared)?;
     let out_mesh = Su2Mesh {
         points: result.deformed.clone(),
         ..mesh.clone()
@@ -212,6 +214,32 @@ fn move_su2_read(
     };
     let report = report::move_report(a, run);
     finish(a, report, &q, mesh.dim)
+}
+
+/// The engine's result and how the mesh was renumbered for it.
+type Solved = Result<(MoveResult, crate::renumber::RenumberReport), CliError>;
+
+/// The engine's solve, with the reference mesh's half of the quality check prepared beside it
+/// on a second thread when `quality` (it does not depend on the solve).
+fn solve_beside_reference(
+    a: &MoveArgs,
+    mesh: &Su2Mesh,
+    input: &MoveInput<'_>,
+    roles: &Roles<'_>,
+    quality: bool,
+) -> (Solved, Option<Result<PreparedReference, CliError>>) {
+    std::thread::scope(|s| {
+        let prepared =
+            quality.then(|| s.spawn(|| prepare_reference(mesh.dim, &mesh.elements, &mesh.points)));
+        let result = if a.method() == Method::Elasticity {
+            elasticity::run(a, input, &roles.slide).map(|r| (r, crate::renumber::off_report()))
+        } else {
+            let how = renumbering(a);
+            crate::renumber::run_move_renumbered(input, &roles.slide, a.steps as usize, how)
+        };
+        let prepared = prepared.map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
+        (result, prepared)
+    })
 }
 
 /// `--renumber`, except that `auto` leaves IDW alone (no graph solve to speed up).

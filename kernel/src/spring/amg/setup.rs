@@ -2,6 +2,7 @@
 //! and the numeric pass (diagonals, smoothed prolongator, Galerkin values, dense coarsest
 //! Cholesky factor).
 
+use super::mis2;
 use super::{
     at, seg, seg_mut, AmgOptions, AmgSmoother, Layout, Level, AMG_MAX_LEVELS, AMG_MAX_SWEEPS,
 };
@@ -216,6 +217,29 @@ fn aggregate<T: Real>(
     nc as usize
 }
 
+/// One level's strong graph as [`mis2`] reads it.
+struct LevelGraph<'s, 'g, T: Real> {
+    sys: &'s SpringSystem<'g, T>,
+    index: &'s [u32],
+    lv: &'s Level,
+    fine: bool,
+    theta: T,
+}
+
+impl<T: Real> mis2::Adjacency for LevelGraph<'_, '_, T> {
+    fn free(&self, i: usize) -> bool {
+        !(self.fine && self.sys.is_fixed(i))
+    }
+    fn each(&self, i: usize, mut f: impl FnMut(usize)) {
+        let (sys, index, lv) = (self.sys, self.index, self.lv);
+        strong(sys, index, lv, self.fine, self.theta, i, |j| {
+            if j != i {
+                f(j);
+            }
+        });
+    }
+}
+
 /// Swaps `v[a]` and `v[b]` when both exist.
 #[inline]
 fn swap_u32(v: &mut [u32], a: usize, b: usize) {
@@ -259,6 +283,8 @@ pub(crate) fn sort_u32(v: &mut [u32]) {
 /// Builds level `l + 1`'s structure above `ic` in `work`. Returns the updated level `l`
 /// (aggregates and prolongator), level `l + 1` and the new index cursor; `None` when level `l`
 /// does not coarsen (no aggregate, no reduction, or the next level would not fit the budget).
+/// `mis2`: aggregate by MIS-2 in this scratch instead of greedily.
+#[allow(clippy::too_many_arguments)]
 fn build_next<T: Real>(
     sys: &SpringSystem<'_, T>,
     theta: T,
@@ -267,13 +293,26 @@ fn build_next<T: Real>(
     l: usize,
     cur: Level,
     active: usize,
+    mis2: Option<&mut [u64]>,
 ) -> Option<(Level, Level, usize)> {
     let fine = l == 0;
     let nl = cur.n;
     let (done, rest) = work.split_at_mut_checked(ic)?;
     let done: &[u32] = done;
     let (agg, r1) = rest.split_at_mut_checked(nl)?;
-    let nc = aggregate(sys, done, &cur, fine, theta, agg);
+    let nc = match mis2 {
+        None => aggregate(sys, done, &cur, fine, theta, agg),
+        Some(scratch) => {
+            let adj = LevelGraph {
+                sys,
+                index: done,
+                lv: &cur,
+                fine,
+                theta,
+            };
+            mis2::hierarchy_aggregates(&adj, agg, NONE, scratch)
+        }
+    };
     if nc == 0 || nc >= active {
         return None;
     }
@@ -450,6 +489,17 @@ pub(crate) fn symbolic<T: Real>(
     options: &AmgOptions<T>,
     work: &mut [u32],
 ) -> Result<Layout> {
+    symbolic_with(sys, options, work, None)
+}
+
+/// [`symbolic`], aggregating every level by MIS-2 ([`mis2`]) when `mis2` holds
+/// [`mis2::hierarchy_scratch_len`] words of scratch for the fine level.
+pub(crate) fn symbolic_with<T: Real>(
+    sys: &SpringSystem<'_, T>,
+    options: &AmgOptions<T>,
+    work: &mut [u32],
+    mut mis2: Option<&mut [u64]>,
+) -> Result<Layout> {
     options.check()?;
     let n = sys.node_count();
     let e = sys.graph().edge_count();
@@ -496,9 +546,16 @@ pub(crate) fn symbolic<T: Real>(
         if l + 1 >= options.max_levels || (l > 0 && active <= options.max_coarse) || active == 0 {
             break;
         }
-        let Some((cur, next, new_ic)) =
-            build_next(sys, options.strength_theta, work, ic, l, cur, active)
-        else {
+        let Some((cur, next, new_ic)) = build_next(
+            sys,
+            options.strength_theta,
+            work,
+            ic,
+            l,
+            cur,
+            active,
+            mis2.as_deref_mut(),
+        ) else {
             break;
         };
         let mut cur = cur;
