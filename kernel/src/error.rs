@@ -484,6 +484,11 @@ pub enum PartitionFault {
     /// cell) or with another stiffness or fixed flag (a ghost's coordinates or mask differ
     /// from its owner's).
     Rows,
+    /// The boundary of a partitioned quaternion deformation does not match between processes:
+    /// the boundary or element counts differ, or a boundary position, element or global id
+    /// is given by no process or twice (`position`: the boundary position, or `B +` the
+    /// element).
+    Boundary,
     /// Another process found a fault in its own partition (this one found none).
     OtherProcess,
 }
@@ -507,6 +512,7 @@ impl PartitionFault {
             PartitionFault::OwnedIds => "the owned global ids are not each id exactly once",
             PartitionFault::Pattern => "send and receive lists do not match between processes",
             PartitionFault::Rows => "the owned rows do not match between processes",
+            PartitionFault::Boundary => "the boundary lists do not match between processes",
             PartitionFault::OtherProcess => "another process rejected its partition",
         }
     }

@@ -55,6 +55,7 @@
 mod idw_fast;
 mod localize;
 pub(crate) mod normals;
+mod partitioned;
 mod pipeline;
 mod propagate;
 mod reach;
@@ -70,6 +71,10 @@ pub use idw_fast::{
 };
 pub use localize::{localize_nodes, localize_nodes_scratch_len};
 pub use normals::{boundary_normals, boundary_normals_scratch_len};
+pub use partitioned::{
+    deform_spring_partitioned, deform_spring_partitioned_lens, BoundaryElements, PartitionedLens,
+    PartitionedMotion, PartitionedWorkspace,
+};
 pub use pipeline::{
     deform_idw, deform_idw_fast, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len,
     deform_spring_with, deform_tfi, deform_tfi_scratch_len, BoundaryMotion, RotationSource,
