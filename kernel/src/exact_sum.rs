@@ -18,8 +18,8 @@
 //! Non-finite terms are counted, not added: any NaN, or `+∞` together with `−∞`, makes the
 //! value NaN; otherwise an infinity makes it that infinity (the IEEE result of a plain sum).
 //!
-//! **Blocks.** Adding a term only stores it in a small buffer (64 terms on 64-bit hosts, 8
-//! elsewhere). A full buffer is summed exactly with plain `f64` arithmetic the compiler
+//! **Blocks.** Adding a term only stores it in a small buffer (64 terms on 64-bit hosts; none
+//! on narrower targets, whose small stacks add every term on its own). A full buffer is summed exactly with plain `f64` arithmetic the compiler
 //! vectorises, and only the block's partial sums reach the digits: Rump, Ogita and Oishi's
 //! error-free extraction (*Accurate floating-point summation part I*, 2008) against a power of
 //! two `σ ≥ 2^(b+1) · max |t|` (`2^b` terms a block) splits every term exactly into a high
@@ -29,7 +29,13 @@
 //! spanning more than some 180 binades) is added term by term, as are blocks holding a
 //! non-finite term or a term of `2^1016` or more. The sum is exact either way, so the value
 //! and the words are those of adding every term on its own, bit for bit
-//! (`host-tests/tests/exact_sum_blocks.rs` keeps that path as the reference).
+//! (`host-tests/tests/exact_sum_blocks.rs` keeps that path as the reference). The common
+//! block (every bit in the first two levels) is read twice (maximum, extraction) and never
+//! written.
+//!
+//! **Loops.** A loop that adds a few terms per row (CG's inner products) uses [`Gather`]: its
+//! rows go to a stack block whose fill count stays in a register, and each column is summed
+//! as a block when full, so a term costs a store instead of a buffered add.
 
 use crate::real::Real;
 
@@ -385,7 +391,7 @@ fn add_block(digits: &mut Digits, terms: &mut [f64]) {
     let (s1, s2) = levels(k);
     let (sum1, sum2, mut max) = extract2::<false>(terms, s1, s2);
     if sum1.is_nan() {
-        // A NaN term (ignored by the maximum; the terms are untouched): per term.
+        // A NaN term (the maximum and σ may be wrong; nothing is touched yet): per term.
         return terms.iter().for_each(|&t| digits.add(t));
     }
     digits.add(sum1);
@@ -412,19 +418,26 @@ fn add_block(digits: &mut Digits, terms: &mut [f64]) {
     terms.iter().for_each(|&t| digits.add(t));
 }
 
-/// `max |t|` over `terms`, NaN ignored ([`add_block`]'s first sums find it).
+/// `max |t|` over `terms` (meaningless when a term is NaN: see [`greater`]).
 fn max_abs(terms: &[f64]) -> f64 {
+    max_lanes(terms).iter().fold(0.0, |a, &b| greater(a, b))
+}
+
+/// [`max_abs`] per lane (out of line, for the same reason as [`extract2_lanes`]).
+#[inline(never)]
+fn max_lanes(terms: &[f64]) -> [f64; LANES] {
     let mut m = [0.0f64; LANES];
     let (chunks, tail) = terms.as_chunks::<LANES>();
     for c in chunks {
+        // Indexed lanes of fixed-size arrays: what the compiler turns into vector operations.
         for j in 0..LANES {
-            m[j] = greater(c[j].abs(), m[j]);
+            m[j] = greater(m[j], c[j].abs());
         }
     }
     for (m, t) in m.iter_mut().zip(tail) {
-        *m = greater(t.abs(), *m);
+        *m = greater(*m, t.abs());
     }
-    m.iter().fold(0.0, |a, &b| greater(b, a))
+    m
 }
 
 /// Two extraction levels (see [`split`]) of every term `t` into `q1 + q2 + t''`; returns
@@ -433,7 +446,7 @@ fn max_abs(terms: &[f64]) -> f64 {
 fn extract2<const STORE: bool>(terms: &mut [f64], s1: f64, s2: f64) -> (f64, f64, f64) {
     let [q1, q2, m] = extract2_lanes::<STORE>(terms, s1, s2);
     let sum = |q: [f64; LANES]| q.iter().fold(0.0, |a, &b| a + b);
-    (sum(q1), sum(q2), m.iter().fold(0.0, |a, &b| greater(b, a)))
+    (sum(q1), sum(q2), m.iter().fold(0.0, |a, &b| greater(a, b)))
 }
 
 /// [`extract2`]'s pass, per lane: `[Σ q1, Σ q2, max |t''|]` of the terms `j mod LANES`. Out
@@ -448,13 +461,12 @@ fn extract2_lanes<const STORE: bool>(terms: &mut [f64], s1: f64, s2: f64) -> [[f
         let mut v = *t;
         *q.0 += split(&mut v, s.0);
         *q.1 += split(&mut v, s.1);
-        *m = greater(v.abs(), *m);
+        *m = greater(*m, v.abs());
         if STORE {
             *t = v;
         }
     }
     for c in chunks {
-        // Indexed lanes of fixed-size arrays: what the compiler turns into vector operations.
         for j in 0..LANES {
             step::<STORE>(&mut c[j], (s1, s2), (&mut q1[j], &mut q2[j]), &mut m[j]);
         }
@@ -487,7 +499,10 @@ fn pow2_or_zero(k: i32) -> f64 {
     }
 }
 
-/// `a` if `a > b`, else `b` (one `maxpd`; NaN needs no care here).
+/// `a` if `a > b`, else `b` (one `maxpd`, in place on `a`). With a NaN among the terms a
+/// running maximum may come out NaN or too small; [`add_block`] never uses it then: a NaN
+/// `σ` takes the per-term path, and otherwise the first pass's `Σ q1` is NaN and the
+/// per-term path is taken before the digits or the terms are touched.
 #[inline(always)]
 fn greater(a: f64, b: f64) -> f64 {
     if a > b {
