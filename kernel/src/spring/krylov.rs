@@ -514,7 +514,7 @@ where
     if local {
         sums.iter_mut().for_each(|s| *s = ExactSum::new());
     }
-    let (mut rr_terms, mut rz_terms) = (Gather::<V>::one(&mut rr), Gather::lanes(sums));
+    let (mut rr_terms, mut rz_terms) = (Gather::<1>::one(&mut rr), Gather::lanes(sums));
     for range in comm.owned() {
         let rows = range.clone();
         let (Some(x), Some(r), Some(p), Some(w)) = (
@@ -526,8 +526,7 @@ where
             continue;
         };
         for (i, (((x, r), &p), w)) in rows.zip(x.iter_mut().zip(r.iter_mut()).zip(p).zip(w)) {
-            let mut rr_row = [T::ZERO; V];
-            for (((((((x, r), &p), &q), &a), m), &g), t) in x
+            for ((((((x, r), &p), &q), &a), m), &g) in x
                 .iter_mut()
                 .zip(r.iter_mut())
                 .zip(&p)
@@ -535,16 +534,15 @@ where
                 .zip(&a)
                 .zip(max_update.iter_mut())
                 .zip(to_top)
-                .zip(&mut rr_row)
             {
                 let dx = a * p;
                 *x += dx;
                 *r -= a * q;
                 *m = m.max(dx.abs());
                 let rg = *r * g;
-                *t = rg * rg;
+                // One term a push: no row array, which a Cortex-M's frame would hold.
+                rr_terms.push([rg * rg]);
             }
-            rr_terms.push(rr_row);
             if local {
                 *w = pre.node(i, *r);
                 rz_terms.push(lane_terms(r, w));
