@@ -1,25 +1,31 @@
 //! The cost of reproducible sums in a CG + Jacobi iteration (issue 27 item 6): the exact
 //! reductions of one 2D iteration (`pᵀq` and `rᵀz` per component, `Σ r²`: 6 terms a node)
-//! summed with `ExactSum`, as the kernel's CG does, against plain `f64` accumulators (not
+//! summed with `ExactSum` through `Gather`, as the kernel's CG does, against plain `f64` accumulators (not
 //! reproducible) over the same vectors, as a fraction of the measured iteration time.
 
 use std::hint::black_box;
 
-use deform_kernel::exact_sum::ExactSum;
+use deform_kernel::exact_sum::{ExactSum, Gather};
 
 use crate::{median, Figures};
 
-/// One iteration's reductions, exact: `[pᵀq₀, pᵀq₁, rᵀz₀, rᵀz₁, Σ r²]`.
+/// One iteration's reductions, exact, gathered a node at a time as the kernel's CG does
+/// (`Gather`: a stack block per sum, summed 64 terms at a time): `[pᵀq₀, pᵀq₁, rᵀz₀, rᵀz₁,
+/// Σ r²]`.
 fn exact(p: &[[f64; 2]], q: &[[f64; 2]], r: &[[f64; 2]], z: &[[f64; 2]]) -> [f64; 5] {
-    let mut s = [ExactSum::new(); 5];
-    for (((p, q), r), z) in p.iter().zip(q).zip(r).zip(z) {
-        for c in 0..2 {
-            s[c].add(p[c] * q[c]);
-            s[2 + c].add(r[c] * z[c]);
-            s[4].add(r[c] * r[c]);
+    let (mut pq, mut rz, mut rr) = ([ExactSum::new(); 2], [ExactSum::new(); 2], ExactSum::new());
+    {
+        let mut pq = Gather::lanes(&mut pq);
+        let mut rz = Gather::lanes(&mut rz);
+        let mut rr = Gather::<2>::one(&mut rr);
+        for (((p, q), r), z) in p.iter().zip(q).zip(r).zip(z) {
+            pq.push([p[0] * q[0], p[1] * q[1]]);
+            rz.push([r[0] * z[0], r[1] * z[1]]);
+            rr.push([r[0] * r[0], r[1] * r[1]]);
         }
     }
-    s.map(|s| s.value::<f64>())
+    let v = |s: &ExactSum| s.value::<f64>();
+    [v(&pq[0]), v(&pq[1]), v(&rz[0]), v(&rz[1]), v(&rr)]
 }
 
 /// The same with plain `f64` accumulators.

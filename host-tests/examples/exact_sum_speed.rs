@@ -3,14 +3,15 @@
 //! ([`ExactSum`], as the kernel does) and with plain `f64` accumulators (not reproducible).
 //! Speed is measured here, never asserted. Deterministic instruction counts:
 //!
-//! `valgrind --tool=callgrind target/release/examples/exact_sum_speed exact` (or `plain`)
+//! `valgrind --tool=callgrind target/release/examples/exact_sum_speed exact` (or `gathered`,
+//! `plain`)
 //!
-//! `cargo run --release -p deform-host-tests --example exact_sum_speed [-- exact|plain|both] [N] [REPS]`
+//! `cargo run --release -p deform-host-tests --example exact_sum_speed [-- exact|gathered|plain|both] [N] [REPS]`
 
 use std::hint::black_box;
 use std::time::Instant;
 
-use deform_kernel::exact_sum::ExactSum;
+use deform_kernel::exact_sum::{ExactSum, Gather};
 
 /// Deterministic values in [-1, 1).
 fn lcg(state: &mut u64) -> f64 {
@@ -46,6 +47,22 @@ fn exact(p: &[[f64; 2]], q: &[[f64; 2]], r: &[[f64; 2]], z: &[[f64; 2]]) -> f64 
     pq.iter().chain(&rz).map(|s| s.value::<f64>()).sum::<f64>() + rr.value::<f64>()
 }
 
+/// The same exact reductions gathered a node at a time ([`Gather`], as the kernel's CG loops
+/// add their terms: a stack block per sum instead of one buffered add per term).
+fn gathered(p: &[[f64; 2]], q: &[[f64; 2]], r: &[[f64; 2]], z: &[[f64; 2]]) -> f64 {
+    let (mut pq, mut rz, mut rr) = ([ExactSum::new(); 2], [ExactSum::new(); 2], ExactSum::new());
+    {
+        let (mut gpq, mut grz) = (Gather::lanes(&mut pq), Gather::lanes(&mut rz));
+        let mut grr = Gather::<2>::one(&mut rr);
+        for (((p, q), r), z) in p.iter().zip(q).zip(r).zip(z) {
+            gpq.push([p[0] * q[0], p[1] * q[1]]);
+            grr.push([r[0] * r[0], r[1] * r[1]]);
+            grz.push([r[0] * z[0], r[1] * z[1]]);
+        }
+    }
+    pq.iter().chain(&rz).map(|s| s.value::<f64>()).sum::<f64>() + rr.value::<f64>()
+}
+
 /// The same reductions with plain `f64` accumulators.
 fn plain(p: &[[f64; 2]], q: &[[f64; 2]], r: &[[f64; 2]], z: &[[f64; 2]]) -> f64 {
     let (mut pq, mut rz, mut rr) = ([0.0f64; 2], [0.0f64; 2], 0.0f64);
@@ -68,6 +85,7 @@ fn main() {
     let terms = (6 * n * reps) as f64;
     for (name, f) in [
         ("exact", exact as fn(&_, &_, &_, &_) -> f64),
+        ("gathered", gathered),
         ("plain", plain),
     ] {
         if which != "both" && which != name {

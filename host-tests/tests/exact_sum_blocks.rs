@@ -2,7 +2,7 @@
 //! the same exact sum (the normalized words, non-finite counts included) and so the same
 //! bits, on random, adversarial and merge-order cases, for `f64` and `f32` terms.
 
-use deform_kernel::exact_sum::{ExactSum, EXACT_SUM_WORDS};
+use deform_kernel::exact_sum::{ExactSum, Gather, EXACT_SUM_WORDS};
 use proptest::prelude::*;
 
 /// Neal's small superaccumulator adding one term at a time: the code `ExactSum::add_f64`
@@ -79,6 +79,52 @@ fn check(xs: &[f64]) {
     let (a, b) = (s.value::<f32>(), reference.value::<f32>());
     assert!(a.to_bits() == b.to_bits(), "{a:e} vs {b:e} (f32)");
     assert_eq!(s, reference);
+    check_gathered(xs, &r);
+}
+
+/// The per-term reference of `xs`.
+fn per_term(xs: impl Iterator<Item = f64>) -> PerTerm {
+    let mut r = PerTerm::new();
+    xs.for_each(|x| r.add(x));
+    r
+}
+
+/// Asserts that `xs` gathered into sums ([`Gather`], as the CG loops add their terms) gives
+/// the per-term words `r`: one column into a sum already holding a few buffered terms, rows
+/// of three into one sum, and two lanes (even and odd terms) against their own references.
+fn check_gathered(xs: &[f64], r: &PerTerm) {
+    let (head, tail) = xs.split_at(xs.len().min(5));
+    let mut s = ExactSum::new();
+    head.iter().for_each(|&x| s.add_f64(x));
+    {
+        let mut g = Gather::lanes(core::array::from_mut(&mut s));
+        tail.iter().for_each(|&x| g.push([x]));
+    }
+    assert_eq!(s.to_words(), r.to_words(), "one column of {xs:?}");
+    let mut s = ExactSum::new();
+    {
+        let mut g = Gather::<3>::one(&mut s);
+        for row in xs.chunks(3) {
+            let mut padded = [0.0; 3]; // +0 terms change no sum
+            padded[..row.len()].copy_from_slice(row);
+            g.push(padded);
+        }
+    }
+    assert_eq!(s.to_words(), r.to_words(), "rows of three of {xs:?}");
+    let mut lanes = [ExactSum::new(); 2];
+    {
+        let mut g = Gather::lanes(&mut lanes);
+        xs.chunks_exact(2).for_each(|c| g.push([c[0], c[1]]));
+    }
+    let even = per_term(xs.chunks_exact(2).map(|c| c[0]));
+    let odd = per_term(xs.chunks_exact(2).map(|c| c[1]));
+    assert_eq!(lanes[0].to_words(), even.to_words(), "even lane of {xs:?}");
+    assert_eq!(lanes[1].to_words(), odd.to_words(), "odd lane of {xs:?}");
+    let (a, b) = (
+        lanes[1].value::<f64>(),
+        ExactSum::from_words(odd.to_words()).value::<f64>(),
+    );
+    assert!(a.to_bits() == b.to_bits(), "{a:e} vs {b:e}, odd lane");
 }
 
 /// Lengths around the block size (64 on 64-bit hosts, 8 on 32-bit targets).

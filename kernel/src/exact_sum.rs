@@ -18,8 +18,8 @@
 //! Non-finite terms are counted, not added: any NaN, or `+∞` together with `−∞`, makes the
 //! value NaN; otherwise an infinity makes it that infinity (the IEEE result of a plain sum).
 //!
-//! **Blocks.** Adding a term only stores it in a small buffer (64 terms on 64-bit hosts, 8
-//! elsewhere). A full buffer is summed exactly with plain `f64` arithmetic the compiler
+//! **Blocks.** Adding a term only stores it in a small buffer (64 terms on 64-bit hosts; none
+//! on narrower targets, whose small stacks add every term on its own). A full buffer is summed exactly with plain `f64` arithmetic the compiler
 //! vectorises, and only the block's partial sums reach the digits: Rump, Ogita and Oishi's
 //! error-free extraction (*Accurate floating-point summation part I*, 2008) against a power of
 //! two `σ ≥ 2^(b+1) · max |t|` (`2^b` terms a block) splits every term exactly into a high
@@ -29,7 +29,13 @@
 //! spanning more than some 180 binades) is added term by term, as are blocks holding a
 //! non-finite term or a term of `2^1016` or more. The sum is exact either way, so the value
 //! and the words are those of adding every term on its own, bit for bit
-//! (`host-tests/tests/exact_sum_blocks.rs` keeps that path as the reference).
+//! (`host-tests/tests/exact_sum_blocks.rs` keeps that path as the reference). The common
+//! block (every bit in the first two levels) is read twice (maximum, extraction) and never
+//! written.
+//!
+//! **Loops.** A loop that adds a few terms per row (CG's inner products) uses [`Gather`]: its
+//! rows go to a stack block whose fill count stays in a register, and each column is summed
+//! as a block when full, so a term costs a store instead of a buffered add.
 
 use crate::real::Real;
 
@@ -175,10 +181,10 @@ impl ExactSum {
 
     /// Sums the buffered terms into the digits.
     fn flush(&mut self) {
-        let n = self.digits.buffered as usize; // at most BLOCK (`add_block` reads `..n` checked)
+        let n = self.digits.buffered as usize; // at most BLOCK (`add_block` checks)
         self.digits.buffered = 0;
-        if n > 0 {
-            add_block(&mut self.digits, &self.block, n);
+        if let Some(terms) = self.block.get_mut(..n) {
+            add_block(&mut self.digits, terms);
         }
     }
 
@@ -252,74 +258,225 @@ impl ExactSum {
     }
 }
 
-/// Adds the terms of `block` (at most [`BLOCK`]) exactly to `digits` with a few additions for
-/// the whole block (see "Blocks" in the [module docs](self)). Level by level, each term `t` is
+/// Terms of a loop, a row of `C` at a time, gathered for exact sums: column `c` goes to sum
+/// `c` (or every column to one sum, [`Gather::one`]). On 64-bit hosts the rows are kept in a
+/// stack block of 64 and each full column is summed at once ([`add_block`]), so a term costs
+/// a store where [`ExactSum::add`] keeps its own fill count in memory; on narrower targets
+/// (small stacks) each term goes straight to its sum. The block is summed when full and when
+/// the gather is dropped, so the sums are complete once it is gone. The result is the exact
+/// sum either way: the same words and bits as adding every term on its own.
+pub struct Gather<'s, const C: usize> {
+    sums: &'s mut [ExactSum],
+    #[cfg(target_pointer_width = "64")]
+    block: [[f64; BLOCK]; C],
+    #[cfg(target_pointer_width = "64")]
+    len: usize,
+}
+
+impl<'s, const C: usize> Gather<'s, C> {
+    /// Column `c` into `sums[c]`.
+    #[inline]
+    pub fn lanes(sums: &'s mut [ExactSum; C]) -> Self {
+        Self::over(sums)
+    }
+
+    /// Every column into `sum`.
+    #[inline]
+    pub fn one(sum: &'s mut ExactSum) -> Self {
+        Self::over(core::slice::from_mut(sum))
+    }
+
+    #[inline]
+    fn over(sums: &'s mut [ExactSum]) -> Self {
+        Gather {
+            sums,
+            #[cfg(target_pointer_width = "64")]
+            block: [[0.0; BLOCK]; C],
+            #[cfg(target_pointer_width = "64")]
+            len: 0,
+        }
+    }
+
+    /// The sum column `c` goes to.
+    #[inline(always)]
+    fn target(sums: &mut [ExactSum], c: usize) -> Option<&mut ExactSum> {
+        let last = sums.len().saturating_sub(1);
+        sums.get_mut(c.min(last))
+    }
+
+    /// Adds one row of terms, `row[c]` to column `c`'s sum.
+    #[cfg(not(target_pointer_width = "64"))]
+    #[inline(always)]
+    pub fn push<T: Real>(&mut self, row: [T; C]) {
+        for (c, t) in row.into_iter().enumerate() {
+            if let Some(s) = Self::target(self.sums, c) {
+                s.add(t);
+            }
+        }
+    }
+
+    /// Adds one row of terms, `row[c]` to column `c`'s sum.
+    #[cfg(target_pointer_width = "64")]
+    #[inline(always)]
+    pub fn push<T: Real>(&mut self, row: [T; C]) {
+        let n = self.len % BLOCK; // `len < BLOCK` between calls: the mask only tells the compiler
+        for (col, t) in self.block.iter_mut().zip(row) {
+            if let Some(slot) = col.get_mut(n) {
+                *slot = t.to_f64();
+            }
+        }
+        self.len = n + 1;
+        if self.len == BLOCK {
+            self.flush();
+        }
+    }
+
+    /// Sums the gathered rows into their sums (the fill count stays a local of the caller's
+    /// loop: only the block and the sums are passed).
+    #[cfg(target_pointer_width = "64")]
+    #[inline]
+    fn flush(&mut self) {
+        let n = core::mem::take(&mut self.len);
+        flush_columns(self.sums, &mut self.block, n);
+    }
+}
+
+/// Sums the first `n` terms of each column of `block` into its sum ([`Gather`]).
+#[cfg(target_pointer_width = "64")]
+#[inline(never)]
+fn flush_columns<const C: usize>(sums: &mut [ExactSum], block: &mut [[f64; BLOCK]; C], n: usize) {
+    for (c, col) in block.iter_mut().enumerate() {
+        if let (Some(s), Some(terms)) = (Gather::<C>::target(sums, c), col.get_mut(..n)) {
+            add_block(&mut s.digits, terms);
+        }
+    }
+}
+
+/// Sums what is left in the block (nothing to do where terms go straight to their sums).
+impl<const C: usize> Drop for Gather<'_, C> {
+    #[inline]
+    fn drop(&mut self) {
+        #[cfg(target_pointer_width = "64")]
+        if self.len > 0 {
+            self.flush();
+        }
+    }
+}
+
+/// Adds `terms` (at most [`BLOCK`]; more take the per-term path) exactly to `digits` with a
+/// few additions for the whole block (see "Blocks" in the [module docs](self)), using
+/// `terms` as scratch (their values are left unspecified). Level by level, each term `t` is
 /// split exactly into `q + t'` against `σ`, a power of two at least `2^(b+1)` times the
 /// terms' `max |t|` (`2^b` = [`BLOCK`]); the `q` are multiples of `2^−53 σ` and their sum is
 /// at most `σ` in magnitude, so their plain `f64` sum is exact in any order and is added as
 /// one term. Non-finite terms and terms too large for a finite `σ` take the per-term path.
-fn add_block(digits: &mut Digits, block: &[f64; BLOCK], n: usize) {
-    let mut all = *block;
-    let (Some(terms), Some(rest)) = (block.get(..n), all.get_mut(..n)) else {
+///
+/// The first pass only reads the terms (the common case, every bit taken in two levels, needs
+/// no stores and no copy); only when bits remain are the remainders formed in place again.
+fn add_block(digits: &mut Digits, terms: &mut [f64]) {
+    if terms.is_empty() {
         return;
+    }
+    if terms.len() > BLOCK {
+        // More terms than the bound below holds for (no caller passes them): per term.
+        return terms.iter().for_each(|&t| digits.add(t));
+    }
+    let max = max_abs(terms);
+    let Some(k) = sigma_exponent(max) else {
+        // ±∞ or a term too large for a finite σ: per term.
+        return terms.iter().for_each(|&t| digits.add(t));
     };
-    let mut max = max_abs(rest);
-    for pass in 0..PASSES {
-        // The first pass always runs: a NaN (ignored by the maximum) shows in its sums.
-        if pass > 0 && max == 0.0 {
-            return;
-        }
+    // Two levels a pass: the second's σ follows from the first's bound `|t'| ≤ 2^−53 σ`.
+    let levels = |k: i32| (pow2_or_zero(k), pow2_or_zero(k - 53 + BLOCK_BITS + 1));
+    let (s1, s2) = levels(k);
+    let (sum1, sum2, mut max) = extract2::<false>(terms, s1, s2);
+    if sum1.is_nan() {
+        // A NaN term (the maximum and σ may be wrong; nothing is touched yet): per term.
+        return terms.iter().for_each(|&t| digits.add(t));
+    }
+    digits.add(sum1);
+    digits.add(sum2);
+    if max == 0.0 {
+        return;
+    }
+    // Bits remain: form the remainders in place (the same splits), then more passes.
+    extract2::<true>(terms, s1, s2);
+    for _ in 1..PASSES {
         let Some(k) = sigma_exponent(max) else {
-            // ±∞ or a term too large for a finite σ (only at the first pass): per term.
-            return terms.iter().for_each(|&t| digits.add(t));
+            break; // unreachable: the remainders are far below the first σ
         };
-        // Two levels a pass: the second's σ follows from the first's bound `|t'| ≤ 2^−53 σ`.
-        let (s1, s2) = (pow2_or_zero(k), pow2_or_zero(k - 53 + BLOCK_BITS + 1));
-        let (sum1, sum2, m) = extract2(rest, s1, s2);
-        if sum1.is_nan() {
-            // A NaN term (first pass): count every term as the per-term path does.
-            return terms.iter().for_each(|&t| digits.add(t));
-        }
+        let (s1, s2) = levels(k);
+        let (sum1, sum2, m) = extract2::<true>(terms, s1, s2);
         digits.add(sum1);
         digits.add(sum2);
         max = m;
-    }
-    if max != 0.0 {
-        // Low parts left (a block spanning more than some 180 binades): one by one.
-        rest.iter().for_each(|&t| digits.add(t));
-    }
-}
-
-/// `max |t|` over `terms`, NaN ignored ([`add_block`]'s first sums find it).
-fn max_abs(terms: &[f64]) -> f64 {
-    let mut m = [0.0f64; LANES];
-    let (chunks, tail) = terms.as_chunks::<LANES>();
-    for c in chunks.iter().map(|c| c.as_slice()).chain([tail]) {
-        for (m, t) in m.iter_mut().zip(c) {
-            *m = greater(t.abs(), *m);
+        if max == 0.0 {
+            return;
         }
     }
-    m.iter().fold(0.0, |a, &b| greater(b, a))
+    // Low parts left (a block spanning more than some 180 binades): one by one.
+    terms.iter().for_each(|&t| digits.add(t));
 }
 
-/// Two extraction levels in place (see [`split`]): every term `t` becomes `t − q1 − q2`;
-/// returns `(Σ q1, Σ q2, max |t − q1 − q2|)`.
-fn extract2(terms: &mut [f64], s1: f64, s2: f64) -> (f64, f64, f64) {
+/// `max |t|` over `terms` (meaningless when a term is NaN: see [`greater`]).
+fn max_abs(terms: &[f64]) -> f64 {
+    max_lanes(terms).iter().fold(0.0, |a, &b| greater(a, b))
+}
+
+/// [`max_abs`] per lane (out of line, for the same reason as [`extract2_lanes`]).
+#[inline(never)]
+fn max_lanes(terms: &[f64]) -> [f64; LANES] {
+    let mut m = [0.0f64; LANES];
+    let (chunks, tail) = terms.as_chunks::<LANES>();
+    for c in chunks {
+        // Indexed lanes of fixed-size arrays: what the compiler turns into vector operations.
+        for j in 0..LANES {
+            m[j] = greater(m[j], c[j].abs());
+        }
+    }
+    for (m, t) in m.iter_mut().zip(tail) {
+        *m = greater(*m, t.abs());
+    }
+    m
+}
+
+/// Two extraction levels (see [`split`]) of every term `t` into `q1 + q2 + t''`; returns
+/// `(Σ q1, Σ q2, max |t''|)`, and when `STORE` leaves `t''` in place of `t` (else the terms
+/// are only read).
+fn extract2<const STORE: bool>(terms: &mut [f64], s1: f64, s2: f64) -> (f64, f64, f64) {
+    let [q1, q2, m] = extract2_lanes::<STORE>(terms, s1, s2);
+    let sum = |q: [f64; LANES]| q.iter().fold(0.0, |a, &b| a + b);
+    (sum(q1), sum(q2), m.iter().fold(0.0, |a, &b| greater(a, b)))
+}
+
+/// [`extract2`]'s pass, per lane: `[Σ q1, Σ q2, max |t''|]` of the terms `j mod LANES`. Out
+/// of line so that the compiler lays each accumulator's lanes out in one vector (folded in
+/// line, it paired `q1` and `q2` lanes for the final sums and shuffled them every step).
+#[inline(never)]
+fn extract2_lanes<const STORE: bool>(terms: &mut [f64], s1: f64, s2: f64) -> [[f64; LANES]; 3] {
     let (mut q1, mut q2, mut m) = ([0.0f64; LANES], [0.0f64; LANES], [0.0f64; LANES]);
     let (chunks, tail) = terms.as_chunks_mut::<LANES>();
-    let step = |t: &mut f64, ((a, b), c): ((&mut f64, &mut f64), &mut f64)| {
-        *a += split(t, s1);
-        *b += split(t, s2);
-        *c = greater(t.abs(), *c);
-    };
-    for chunk in chunks {
-        let acc = q1.iter_mut().zip(&mut q2).zip(&mut m);
-        chunk.iter_mut().zip(acc).for_each(|(t, a)| step(t, a));
+    #[inline(always)]
+    fn step<const STORE: bool>(t: &mut f64, s: (f64, f64), q: (&mut f64, &mut f64), m: &mut f64) {
+        let mut v = *t;
+        *q.0 += split(&mut v, s.0);
+        *q.1 += split(&mut v, s.1);
+        *m = greater(*m, v.abs());
+        if STORE {
+            *t = v;
+        }
     }
-    let acc = q1.iter_mut().zip(&mut q2).zip(&mut m);
-    tail.iter_mut().zip(acc).for_each(|(t, a)| step(t, a));
-    let sum = |q: [f64; LANES]| q.iter().fold(0.0, |a, &b| a + b);
-    (sum(q1), sum(q2), m.iter().fold(0.0, |a, &b| greater(b, a)))
+    for c in chunks {
+        for j in 0..LANES {
+            step::<STORE>(&mut c[j], (s1, s2), (&mut q1[j], &mut q2[j]), &mut m[j]);
+        }
+    }
+    for (j, t) in tail.iter_mut().enumerate() {
+        if let (Some(a), Some(b), Some(m)) = (q1.get_mut(j), q2.get_mut(j), m.get_mut(j)) {
+            step::<STORE>(t, (s1, s2), (a, b), m);
+        }
+    }
+    [q1, q2, m]
 }
 
 /// The exponent `k = e + 2 + b` of the extraction constant `σ = 2^k` for terms of magnitude
@@ -342,7 +499,10 @@ fn pow2_or_zero(k: i32) -> f64 {
     }
 }
 
-/// `a` if `a > b`, else `b` (one `maxpd`; NaN needs no care here).
+/// `a` if `a > b`, else `b` (one `maxpd`, in place on `a`). With a NaN among the terms a
+/// running maximum may come out NaN or too small; [`add_block`] never uses it then: a NaN
+/// `σ` takes the per-term path, and otherwise the first pass's `Σ q1` is NaN and the
+/// per-term path is taken before the digits or the terms are touched.
 #[inline(always)]
 fn greater(a: f64, b: f64) -> f64 {
     if a > b {

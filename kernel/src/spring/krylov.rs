@@ -40,7 +40,7 @@ use super::distributed::{
 use super::norms::{pair_norms, scale_by, Norm, Pairs};
 use super::system::{SolveOptions, SolveReport};
 use crate::error::{Error, Result};
-use crate::exact_sum::ExactSum;
+use crate::exact_sum::{ExactSum, Gather};
 use crate::real::Real;
 use crate::vector;
 
@@ -98,17 +98,18 @@ pub(crate) fn apply_block_rows<T: Real, const D: usize>(
     dpp: &mut [T; 1],
     row: impl Fn(usize, [T; D]) -> Option<([T; D], T)>,
 ) {
-    let ([pq], [dpp]) = (pq, dpp);
+    let [dpp] = dpp;
     let (Some(qs), Some(ps)) = (q.get_mut(rows.clone()), p.get(rows.clone())) else {
         return;
     };
+    let mut pq = Gather::lanes(pq);
     for (i, (qi, &pi)) in rows.zip(qs.iter_mut().zip(ps)) {
         let Some((acc, curvature)) = row(i, pi) else {
             *qi = [T::ZERO; D];
             continue;
         };
         *dpp = dpp.max(curvature);
-        pq.add(vector::dot(pi, acc));
+        pq.push([vector::dot(pi, acc)]);
         *qi = acc;
     }
 }
@@ -156,23 +157,24 @@ pub(crate) fn apply_local<T, const V: usize, M, C>(
     }
 }
 
-/// Adds a node's `aᵢ · bᵢ` to the lanes' sums: per component (`L = V`) or the node's dot
+/// A node's terms of the lanes' `Σ aᵢ · bᵢ`: per component (`L = V`) or the node's dot
 /// product in component order, rounded (`L = 1`).
 #[inline(always)]
-pub(crate) fn lane_dot<T: Real, const V: usize, const L: usize>(
-    s: &mut [ExactSum; L],
+pub(crate) fn lane_terms<T: Real, const V: usize, const L: usize>(
     a: &[T; V],
     b: &[T; V],
-) {
+) -> [T; L] {
+    let mut t = [T::ZERO; L];
     if L == 1 {
-        if let Some(s) = s.first_mut() {
-            s.add(vector::dot(*a, *b));
+        if let Some(t) = t.first_mut() {
+            *t = vector::dot(*a, *b);
         }
     } else {
-        for ((s, &a), &b) in s.iter_mut().zip(a).zip(b) {
-            s.add(a * b);
+        for ((t, &a), &b) in t.iter_mut().zip(a).zip(b) {
+            *t = a * b;
         }
     }
+    t
 }
 
 /// The lane of component `c`.
@@ -431,14 +433,16 @@ where
     C: Collective<T> + ?Sized,
 {
     sums.iter_mut().for_each(|s| *s = ExactSum::new());
+    let mut terms = Gather::lanes(sums);
     for range in comm.owned() {
         let (Some(a), Some(b)) = (a.get(range.clone()), b.get(range.clone())) else {
             continue;
         };
         for (a, b) in a.iter().zip(b) {
-            lane_dot(sums, a, b);
+            terms.push(lane_terms(a, b));
         }
     }
+    drop(terms);
     merged(comm, sums)
 }
 
@@ -510,6 +514,7 @@ where
     if local {
         sums.iter_mut().for_each(|s| *s = ExactSum::new());
     }
+    let (mut rr_terms, mut rz_terms) = (Gather::<1>::one(&mut rr), Gather::lanes(sums));
     for range in comm.owned() {
         let rows = range.clone();
         let (Some(x), Some(r), Some(p), Some(w)) = (
@@ -535,14 +540,16 @@ where
                 *r -= a * q;
                 *m = m.max(dx.abs());
                 let rg = *r * g;
-                rr.add(rg * rg);
+                // One term a push: no row array, which a Cortex-M's frame would hold.
+                rr_terms.push([rg * rg]);
             }
             if local {
                 *w = pre.node(i, *r);
-                lane_dot(sums, r, w);
+                rz_terms.push(lane_terms(r, w));
             }
         }
     }
+    drop((rr_terms, rz_terms));
     (merged_max(comm, max_update), rr)
 }
 

@@ -14,7 +14,7 @@ use super::system::{
 };
 use crate::check;
 use crate::error::{Error, Result};
-use crate::exact_sum::ExactSum;
+use crate::exact_sum::{ExactSum, Gather};
 use crate::real::Real;
 
 /// Node `i`'s residual `r_i = Σ_j k_ij (x_j − x_i)` (= `b − A x` at a free node, Yang & Özgen
@@ -650,13 +650,14 @@ fn laplacian_rows<T: Real, const V: usize, const STORED: bool>(
         return;
     };
     let rows = sys.rows_in(rows);
+    let mut pq = Gather::lanes(pq);
     if STORED {
         for ((_, fixed, row), ((qi, &pi), &d)) in rows.zip(qs.iter_mut().zip(ps).zip(diag)) {
-            *qi = laplacian_row::<T, V, true>(fixed, row, pi, d, p, pq, dpp);
+            *qi = laplacian_row::<T, V, true>(fixed, row, pi, d, p, &mut pq, dpp);
         }
     } else {
         for ((_, fixed, row), (qi, &pi)) in rows.zip(qs.iter_mut().zip(ps)) {
-            *qi = laplacian_row::<T, V, false>(fixed, row, pi, T::ZERO, p, pq, dpp);
+            *qi = laplacian_row::<T, V, false>(fixed, row, pi, T::ZERO, p, &mut pq, dpp);
         }
     }
 }
@@ -670,7 +671,7 @@ fn laplacian_row<T: Real, const V: usize, const STORED: bool>(
     pi: [T; V],
     d: T,
     p: &[[T; V]],
-    pq: &mut [ExactSum; V],
+    pq: &mut Gather<'_, V>,
     dpp: &mut [T; V],
 ) -> [T; V] {
     if fixed {
@@ -688,10 +689,12 @@ fn laplacian_row<T: Real, const V: usize, const STORED: bool>(
         }
     }
     let d = if STORED { d } else { sum };
-    for (((s, t), &x), &a) in dpp.iter_mut().zip(pq.iter_mut()).zip(&pi).zip(&acc) {
+    let mut terms = [T::ZERO; V];
+    for (((s, t), &x), &a) in dpp.iter_mut().zip(&mut terms).zip(&pi).zip(&acc) {
         *s = s.max(d * x * x);
-        t.add(x * a);
+        *t = x * a;
     }
+    pq.push(terms);
     acc
 }
 

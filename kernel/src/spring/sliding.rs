@@ -48,7 +48,7 @@ use super::system::{
 };
 use crate::check;
 use crate::error::{Error, Result};
-use crate::exact_sum::ExactSum;
+use crate::exact_sum::{ExactSum, Gather};
 use crate::real::Real;
 use crate::spring::constraints::{Constraints, NodeKind};
 use crate::vector;
@@ -684,7 +684,8 @@ impl<T: Real, const D: usize, O: BlockOp<T, D>> Operator<T, D, 1> for Projected<
         pq: &mut [ExactSum; 1],
         dpp: &mut [T; 1],
     ) {
-        let ([pq], [dpp]) = (pq, dpp);
+        let [dpp] = dpp;
+        let mut pq = Gather::lanes(pq);
         for i in rows {
             let Some(qi) = q.get_mut(i) else { continue };
             if self.op.fixed(i) {
@@ -694,7 +695,7 @@ impl<T: Real, const D: usize, O: BlockOp<T, D>> Operator<T, D, 1> for Projected<
             let (r, m) = self.op.node(i, p);
             *qi = self.c.project(i, vector::scale(r, -T::ONE));
             let pi = p.get(i).copied().unwrap_or([T::ZERO; D]);
-            pq.add(vector::dot(pi, *qi));
+            pq.push([vector::dot(pi, *qi)]);
             *dpp = dpp.max(quad_form(&m, &pi));
         }
     }
