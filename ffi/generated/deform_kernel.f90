@@ -940,15 +940,18 @@ module deform_kernel
             dk_deform_spring_scratch_len, dk_deform_spring_index_scratch_len, &
             dk_deform_spring_index_scratch_len_f32, dk_deform_spring, dk_deform_spring_f32, &
             dk_deform_propagate_spring_scratch_len, dk_deform_propagate_spring, &
-            dk_deform_propagate_spring_f32, dk_deform_idw_sensitivity_scratch_len, &
-            dk_deform_idw_tangent, dk_deform_idw_tangent_f32, dk_deform_idw_adjoint, &
-            dk_deform_idw_adjoint_f32, dk_deform_spring_sensitivity_scratch_len, &
-            dk_deform_spring_tangent, dk_deform_spring_tangent_f32, dk_deform_spring_adjoint, &
-            dk_deform_spring_adjoint_f32, dk_deform_tfi_sensitivity_scratch_len, &
-            dk_deform_tfi_tangent, dk_deform_tfi_tangent_f32, dk_deform_tfi_adjoint, &
-            dk_deform_tfi_adjoint_f32, dk_design_hicks_henne_bump, dk_design_hicks_henne_bump_f32, &
-            dk_design_hicks_henne, dk_design_hicks_henne_f32, dk_design_ffd_eval, &
-            dk_design_ffd_eval_f32, dk_design_ffd_displacements, dk_design_ffd_displacements_f32, &
+            dk_deform_propagate_spring_f32, dk_deform_idw_fast_lens, dk_deform_idw_fast, &
+            dk_deform_idw_fast_f32, dk_deform_idw_fast_tangent, dk_deform_idw_fast_tangent_f32, &
+            dk_deform_idw_fast_adjoint, dk_deform_idw_fast_adjoint_f32, &
+            dk_deform_idw_sensitivity_scratch_len, dk_deform_idw_tangent, &
+            dk_deform_idw_tangent_f32, dk_deform_idw_adjoint, dk_deform_idw_adjoint_f32, &
+            dk_deform_spring_sensitivity_scratch_len, dk_deform_spring_tangent, &
+            dk_deform_spring_tangent_f32, dk_deform_spring_adjoint, dk_deform_spring_adjoint_f32, &
+            dk_deform_tfi_sensitivity_scratch_len, dk_deform_tfi_tangent, &
+            dk_deform_tfi_tangent_f32, dk_deform_tfi_adjoint, dk_deform_tfi_adjoint_f32, &
+            dk_design_hicks_henne_bump, dk_design_hicks_henne_bump_f32, dk_design_hicks_henne, &
+            dk_design_hicks_henne_f32, dk_design_ffd_eval, dk_design_ffd_eval_f32, &
+            dk_design_ffd_displacements, dk_design_ffd_displacements_f32, &
             dk_design_ffd_displacements_between, dk_design_ffd_displacements_between_f32, &
             dk_design_ffd_variable, dk_design_ffd_variable_f32, dk_design_ffd_twist, &
             dk_design_ffd_twist_f32, dk_design_hicks_henne_adjoint, &
@@ -1680,6 +1683,203 @@ module deform_kernel
       real(c_float), intent(inout) :: rotations(*)
       integer(c_size_t), value :: rotations_len
       type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_idw_fast_lens(node_count, boundary_len, dim, lens_out) bind(C, &
+        name="dk_deform_idw_fast_lens") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_size_t), value :: boundary_len
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: lens_out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_idw_fast(points, points_len, dim, motion, exponent, theta, tolerance, &
+        scratch, scratch_len, index_scratch, index_scratch_len, tree_index, tree_index_len, tree, &
+        tree_len, translations, translations_len, rotations, rotations_len, out, out_len, &
+        origin_out, origin_out_len, bound_out, bound_out_len) bind(C, name="dk_deform_idw_fast") &
+        result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_boundary_motion
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion), intent(in) :: motion
+      real(c_double), value :: exponent
+      real(c_double), value :: theta
+      real(c_double), value :: tolerance
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      integer(c_int32_t), intent(inout) :: tree_index(*)
+      integer(c_size_t), value :: tree_index_len
+      real(c_double), intent(inout) :: tree(*)
+      integer(c_size_t), value :: tree_len
+      real(c_double), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_double), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      real(c_double), intent(inout) :: origin_out(*)
+      integer(c_size_t), value :: origin_out_len
+      real(c_double), intent(inout) :: bound_out(*)
+      integer(c_size_t), value :: bound_out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_idw_fast_f32(points, points_len, dim, motion, exponent, theta, tolerance, &
+        scratch, scratch_len, index_scratch, index_scratch_len, tree_index, tree_index_len, tree, &
+        tree_len, translations, translations_len, rotations, rotations_len, out, out_len, &
+        origin_out, origin_out_len, bound_out, bound_out_len) bind(C, &
+        name="dk_deform_idw_fast_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_boundary_motion_f32
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      real(c_float), value :: exponent
+      real(c_float), value :: theta
+      real(c_float), value :: tolerance
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      integer(c_int32_t), intent(inout) :: tree_index(*)
+      integer(c_size_t), value :: tree_index_len
+      real(c_float), intent(inout) :: tree(*)
+      integer(c_size_t), value :: tree_len
+      real(c_float), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_float), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      real(c_float), intent(inout) :: origin_out(*)
+      integer(c_size_t), value :: origin_out_len
+      real(c_float), intent(inout) :: bound_out(*)
+      integer(c_size_t), value :: bound_out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_idw_fast_tangent(points, points_len, dim, motion, exponent, theta, &
+        tolerance, direction, direction_len, scratch, scratch_len, index_scratch, &
+        index_scratch_len, tree_index, tree_index_len, tree, tree_len, translations, &
+        translations_len, rotations, rotations_len, out, out_len) bind(C, &
+        name="dk_deform_idw_fast_tangent") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_boundary_motion
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion), intent(in) :: motion
+      real(c_double), value :: exponent
+      real(c_double), value :: theta
+      real(c_double), value :: tolerance
+      real(c_double), intent(in) :: direction(*)
+      integer(c_size_t), value :: direction_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      integer(c_int32_t), intent(inout) :: tree_index(*)
+      integer(c_size_t), value :: tree_index_len
+      real(c_double), intent(inout) :: tree(*)
+      integer(c_size_t), value :: tree_len
+      real(c_double), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_double), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_idw_fast_tangent_f32(points, points_len, dim, motion, exponent, theta, &
+        tolerance, direction, direction_len, scratch, scratch_len, index_scratch, &
+        index_scratch_len, tree_index, tree_index_len, tree, tree_len, translations, &
+        translations_len, rotations, rotations_len, out, out_len) bind(C, &
+        name="dk_deform_idw_fast_tangent_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_boundary_motion_f32
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      real(c_float), value :: exponent
+      real(c_float), value :: theta
+      real(c_float), value :: tolerance
+      real(c_float), intent(in) :: direction(*)
+      integer(c_size_t), value :: direction_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      integer(c_int32_t), intent(inout) :: tree_index(*)
+      integer(c_size_t), value :: tree_index_len
+      real(c_float), intent(inout) :: tree(*)
+      integer(c_size_t), value :: tree_len
+      real(c_float), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_float), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_idw_fast_adjoint(points, points_len, dim, motion, exponent, theta, &
+        tolerance, weights, weights_len, scratch, scratch_len, index_scratch, index_scratch_len, &
+        tree_index, tree_index_len, tree, tree_len, translations, translations_len, rotations, &
+        rotations_len, out, out_len) bind(C, name="dk_deform_idw_fast_adjoint") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_boundary_motion
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion), intent(in) :: motion
+      real(c_double), value :: exponent
+      real(c_double), value :: theta
+      real(c_double), value :: tolerance
+      real(c_double), intent(in) :: weights(*)
+      integer(c_size_t), value :: weights_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      integer(c_int32_t), intent(inout) :: tree_index(*)
+      integer(c_size_t), value :: tree_index_len
+      real(c_double), intent(inout) :: tree(*)
+      integer(c_size_t), value :: tree_len
+      real(c_double), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_double), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_deform_idw_fast_adjoint_f32(points, points_len, dim, motion, exponent, theta, &
+        tolerance, weights, weights_len, scratch, scratch_len, index_scratch, index_scratch_len, &
+        tree_index, tree_index_len, tree, tree_len, translations, translations_len, rotations, &
+        rotations_len, out, out_len) bind(C, name="dk_deform_idw_fast_adjoint_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_boundary_motion_f32
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      type(dk_boundary_motion_f32), intent(in) :: motion
+      real(c_float), value :: exponent
+      real(c_float), value :: theta
+      real(c_float), value :: tolerance
+      real(c_float), intent(in) :: weights(*)
+      integer(c_size_t), value :: weights_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      integer(c_int32_t), intent(inout) :: tree_index(*)
+      integer(c_size_t), value :: tree_index_len
+      real(c_float), intent(inout) :: tree(*)
+      integer(c_size_t), value :: tree_len
+      real(c_float), intent(inout) :: translations(*)
+      integer(c_size_t), value :: translations_len
+      real(c_float), intent(inout) :: rotations(*)
+      integer(c_size_t), value :: rotations_len
+      real(c_float), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
       integer(c_int32_t) :: s
     end function
     function dk_deform_idw_sensitivity_scratch_len(node_count, boundary_len, dim, len_out) bind(C, &

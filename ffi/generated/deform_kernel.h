@@ -1959,6 +1959,267 @@ dk_status dk_deform_propagate_spring_f32(const dk_spring_system_f32 *system,
                                          size_t rotations_len,
                                          dk_spring_solve_report *report);
 
+// The buffer lengths of the fast IDW for `node_count` mesh nodes and `boundary_len` boundary
+// nodes in dimension `dim` (2 or 3), the same for both precisions: `lens_out[0]` the
+// `scratch` scalars of [`dk_deform_idw_fast`] (those of `dk_deform_idw`), `lens_out[1]` the
+// `tree_index` entries, `lens_out[2]` the `tree` scalars, `lens_out[3]` the `scratch`
+// scalars of [`dk_deform_idw_fast_tangent`] and [`dk_deform_idw_fast_adjoint`] (the kernel's
+// `deform_idw_scratch_len`, `propagate_idw_fast_index_len`, `propagate_idw_fast_scratch_len`
+// and `deform_idw_fast_sensitivity_scratch_len`; `SIZE_MAX` where a length overflows).
+//
+// # Safety
+// - `lens_out`: 4 readable and writable elements (`size_t`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_deform_idw_fast_lens(size_t node_count,
+                                  size_t boundary_len,
+                                  uint32_t dim,
+                                  size_t *lens_out);
+
+// The quaternion deformation of [`dk_deform_idw`](crate::deformation::dk_deform_idw) with the
+// fast propagation (the kernel's `deform_idw_fast`): a cluster of boundary nodes of radius `r`
+// at distance `d` from a point is weighted as a whole when `r < theta d` and its share of the
+// per-point error bound stays within `tolerance`.
+//
+// - `points`, `dim`, `motion`, `exponent`, `index_scratch`, `translations`, `rotations`,
+//   `out`, `origin_out`: as for `dk_deform_idw`.
+// - `theta` in `[0, 1)` (0: every node weighted individually, the exact method up to
+//   summation order; 0.5 is typical); `tolerance`: the largest accepted per-point bound `η`
+//   (`INFINITY`: `theta` alone; 0.1 is typical), not negative or NaN.
+// - `scratch`, `tree_index`, `tree`: the lengths of [`dk_deform_idw_fast_lens`].
+// - `bound_out`: the largest per-point bound `η` (every translation is within `η · max_k
+//   |Δ_k − Δ(x)|` of the exact method's), or NULL with length 0.
+//
+// Errors: those of `dk_deform_idw`; `DK_ERR_INVALID_PARAMETER` (`theta`, `tolerance`),
+// `DK_ERR_BUFFER_TOO_SMALL` (`tree_index`, `tree`). On error `out`, `origin_out` and
+// `bound_out` are unchanged.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `motion`: one readable `dk_boundary_motion`.
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `tree_index`: readable and writable for `tree_index_len` elements (`uint32_t`).
+// - `tree`: readable and writable for `tree_len` elements (`double`).
+// - `translations`: readable and writable for `translations_len` elements (`double`).
+// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+// - `origin_out`: readable and writable for `origin_out_len` elements (`double`).
+// - `bound_out`: readable and writable for `bound_out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_deform_idw_fast(const double *points,
+                             size_t points_len,
+                             uint32_t dim,
+                             const dk_boundary_motion *motion,
+                             double exponent,
+                             double theta,
+                             double tolerance,
+                             double *scratch,
+                             size_t scratch_len,
+                             uint32_t *index_scratch,
+                             size_t index_scratch_len,
+                             uint32_t *tree_index,
+                             size_t tree_index_len,
+                             double *tree,
+                             size_t tree_len,
+                             double *translations,
+                             size_t translations_len,
+                             double *rotations,
+                             size_t rotations_len,
+                             double *out,
+                             size_t out_len,
+                             double *origin_out,
+                             size_t origin_out_len,
+                             double *bound_out,
+                             size_t bound_out_len);
+
+// `f32` twin of [`dk_deform_idw_fast`].
+//
+// # Safety
+// As [`dk_deform_idw_fast`].
+dk_status dk_deform_idw_fast_f32(const float *points,
+                                 size_t points_len,
+                                 uint32_t dim,
+                                 const dk_boundary_motion_f32 *motion,
+                                 float exponent,
+                                 float theta,
+                                 float tolerance,
+                                 float *scratch,
+                                 size_t scratch_len,
+                                 uint32_t *index_scratch,
+                                 size_t index_scratch_len,
+                                 uint32_t *tree_index,
+                                 size_t tree_index_len,
+                                 float *tree,
+                                 size_t tree_len,
+                                 float *translations,
+                                 size_t translations_len,
+                                 float *rotations,
+                                 size_t rotations_len,
+                                 float *out,
+                                 size_t out_len,
+                                 float *origin_out,
+                                 size_t origin_out_len,
+                                 float *bound_out,
+                                 size_t bound_out_len);
+
+// Tangent of [`dk_deform_idw_fast`]: `out = δR` (`N * dim` scalars) for the change
+// `direction = δd` of the deformed boundary positions (`B * dim` scalars, in
+// `motion->nodes` order), with the clusters the deformation opens held (the derivative of
+// what it computed); boundary nodes get `δd` exactly. Held constant as for
+// `dk_deform_idw_tangent`: the undeformed points, the origin, rigid and per-node rotations.
+//
+// - Arguments as for [`dk_deform_idw_fast`]; `scratch`: `lens_out[3]` of
+//   [`dk_deform_idw_fast_lens`]; `translations` and `rotations` are workspaces.
+//
+// Errors: those of `dk_deform_idw_fast`; `DK_ERR_NON_FINITE` for a non-finite `direction`;
+// `DK_ERR_ZERO_LENGTH` where (3D shape rotations) a point's normals are antiparallel. On
+// error `out` is unchanged.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `motion`: one readable `dk_boundary_motion`.
+// - `direction`: readable for `direction_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `tree_index`: readable and writable for `tree_index_len` elements (`uint32_t`).
+// - `tree`: readable and writable for `tree_len` elements (`double`).
+// - `translations`: readable and writable for `translations_len` elements (`double`).
+// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_deform_idw_fast_tangent(const double *points,
+                                     size_t points_len,
+                                     uint32_t dim,
+                                     const dk_boundary_motion *motion,
+                                     double exponent,
+                                     double theta,
+                                     double tolerance,
+                                     const double *direction,
+                                     size_t direction_len,
+                                     double *scratch,
+                                     size_t scratch_len,
+                                     uint32_t *index_scratch,
+                                     size_t index_scratch_len,
+                                     uint32_t *tree_index,
+                                     size_t tree_index_len,
+                                     double *tree,
+                                     size_t tree_len,
+                                     double *translations,
+                                     size_t translations_len,
+                                     double *rotations,
+                                     size_t rotations_len,
+                                     double *out,
+                                     size_t out_len);
+
+// `f32` twin of [`dk_deform_idw_fast_tangent`].
+//
+// # Safety
+// As [`dk_deform_idw_fast_tangent`].
+dk_status dk_deform_idw_fast_tangent_f32(const float *points,
+                                         size_t points_len,
+                                         uint32_t dim,
+                                         const dk_boundary_motion_f32 *motion,
+                                         float exponent,
+                                         float theta,
+                                         float tolerance,
+                                         const float *direction,
+                                         size_t direction_len,
+                                         float *scratch,
+                                         size_t scratch_len,
+                                         uint32_t *index_scratch,
+                                         size_t index_scratch_len,
+                                         uint32_t *tree_index,
+                                         size_t tree_index_len,
+                                         float *tree,
+                                         size_t tree_len,
+                                         float *translations,
+                                         size_t translations_len,
+                                         float *rotations,
+                                         size_t rotations_len,
+                                         float *out,
+                                         size_t out_len);
+
+// Adjoint of [`dk_deform_idw_fast`], the transpose of [`dk_deform_idw_fast_tangent`]:
+// `out = (∂R/∂d)ᵀ w` (`B * dim` scalars, in `motion->nodes` order) for `weights = w =
+// dJ/dR` (`N * dim` scalars). Arguments and errors as for the tangent, with `weights`
+// (finite) in place of `direction`. On error `out` is unchanged.
+//
+// # Safety
+// - `points`: readable for `points_len` elements (`double`).
+// - `motion`: one readable `dk_boundary_motion`.
+// - `weights`: readable for `weights_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `tree_index`: readable and writable for `tree_index_len` elements (`uint32_t`).
+// - `tree`: readable and writable for `tree_len` elements (`double`).
+// - `translations`: readable and writable for `translations_len` elements (`double`).
+// - `rotations`: readable and writable for `rotations_len` elements (`double`).
+// - `out`: readable and writable for `out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_deform_idw_fast_adjoint(const double *points,
+                                     size_t points_len,
+                                     uint32_t dim,
+                                     const dk_boundary_motion *motion,
+                                     double exponent,
+                                     double theta,
+                                     double tolerance,
+                                     const double *weights,
+                                     size_t weights_len,
+                                     double *scratch,
+                                     size_t scratch_len,
+                                     uint32_t *index_scratch,
+                                     size_t index_scratch_len,
+                                     uint32_t *tree_index,
+                                     size_t tree_index_len,
+                                     double *tree,
+                                     size_t tree_len,
+                                     double *translations,
+                                     size_t translations_len,
+                                     double *rotations,
+                                     size_t rotations_len,
+                                     double *out,
+                                     size_t out_len);
+
+// `f32` twin of [`dk_deform_idw_fast_adjoint`].
+//
+// # Safety
+// As [`dk_deform_idw_fast_adjoint`].
+dk_status dk_deform_idw_fast_adjoint_f32(const float *points,
+                                         size_t points_len,
+                                         uint32_t dim,
+                                         const dk_boundary_motion_f32 *motion,
+                                         float exponent,
+                                         float theta,
+                                         float tolerance,
+                                         const float *weights,
+                                         size_t weights_len,
+                                         float *scratch,
+                                         size_t scratch_len,
+                                         uint32_t *index_scratch,
+                                         size_t index_scratch_len,
+                                         uint32_t *tree_index,
+                                         size_t tree_index_len,
+                                         float *tree,
+                                         size_t tree_len,
+                                         float *translations,
+                                         size_t translations_len,
+                                         float *rotations,
+                                         size_t rotations_len,
+                                         float *out,
+                                         size_t out_len);
+
 // Number of scalars the `scratch` of [`dk_deform_idw_tangent`] and [`dk_deform_idw_adjoint`]
 // needs for `node_count` mesh nodes and `boundary_len` boundary nodes in dimension `dim` (2
 // or 3): `max(node_count, 32 boundary_len)` (the kernel's

@@ -148,7 +148,7 @@ fn optional_out<T: Real, const D: usize>(ptr: Out<'_, T>) -> Result<Option<&mut 
 }
 
 /// Writes `v` into an optional output (see [`optional_out`]).
-fn write_optional<T: Real, const D: usize>(slot: Option<&mut [T]>, v: [T; D]) {
+pub(crate) fn write_optional<T: Real, const D: usize>(slot: Option<&mut [T]>, v: [T; D]) {
     if let Some(s) = slot {
         for (d, x) in s.iter_mut().zip(v) {
             *d = x;
@@ -291,17 +291,17 @@ pub(crate) fn tfi_setup(
 // ---------------------------------------------------------------------------------------------
 
 /// The borrowed pipeline buffers (validated pointers).
-struct PipelineBufs<'a, T, const D: usize> {
-    scratch: &'a mut [T],
-    index_scratch: &'a mut [u32],
-    translations: &'a mut [[T; D]],
-    rotations: &'a mut [Quat<T>],
-    out: &'a mut [[T; D]],
-    origin_out: Option<&'a mut [T]>,
+pub(crate) struct PipelineBufs<'a, T, const D: usize> {
+    pub(crate) scratch: &'a mut [T],
+    pub(crate) index_scratch: &'a mut [u32],
+    pub(crate) translations: &'a mut [[T; D]],
+    pub(crate) rotations: &'a mut [Quat<T>],
+    pub(crate) out: &'a mut [[T; D]],
+    pub(crate) origin_out: Option<&'a mut [T]>,
 }
 
 /// Borrows the output buffers every pipeline shares.
-fn pipeline<'a, T: Real, const D: usize>(
+pub(crate) fn pipeline<'a, T: Real, const D: usize>(
     [scratch, translations, rotations, out, origin_out]: [Out<'a, T>; 5],
     index_scratch: Out<'a, u32>,
 ) -> Result<PipelineBufs<'a, T, D>, dk_status> {

@@ -38,6 +38,8 @@ mod slice;
 
 #[path = "../generated/deformation.rs"]
 pub mod deformation;
+#[path = "../generated/deformation_fast.rs"]
+pub mod deformation_fast;
 #[path = "../generated/deformation_sensitivity.rs"]
 pub mod deformation_sensitivity;
 #[path = "../generated/design.rs"]

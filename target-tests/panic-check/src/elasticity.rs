@@ -1,7 +1,8 @@
 //! Panic-check calls for linear elasticity (`deform_kernel::elasticity`): the graph, the
 //! moduli (every choice), the assembly, the system, its unconstrained product, both solves
-//! (block Jacobi and the scalar multigrid per component) and the increments, for `f32` and
-//! `f64` in 2D and 3D.
+//! (block Jacobi and the scalar multigrid per component), the increments and their tangent
+//! and adjoint (`deform_kernel::sensitivity`, both preconditioners), for `f32` and `f64` in
+//! 2D and 3D.
 //!
 //! The meshes are opaque: a unit square of two triangles and a quad, a cube of a hexahedron
 //! (small enough for stack buffers).
@@ -11,6 +12,11 @@ use core::hint::black_box;
 use deform_kernel::elasticity::{
     assemble, cell_moduli, deform_incremental, elastic_amg_scratch_len, elastic_scratch_len,
     elasticity_graph, elasticity_graph_len, ElasticSystem, IncrementBuffers, Increments, Modulus,
+};
+use deform_kernel::sensitivity::{
+    elastic_incremental_adjoint, elastic_incremental_adjoint_scratch_len,
+    elastic_incremental_tangent, elastic_incremental_tangent_scratch_len, ElasticPreconditioner,
+    IncrementProblem,
 };
 use deform_kernel::spring::{AmgHierarchy, AmgOptions, SolveOptions, SpringSystem};
 use deform_kernel::{Cells, Graph, Real};
@@ -35,6 +41,8 @@ pub fn exercise() {
         nodes_count: 8,
     });
     run::<f32, 2>(&square);
+    run::<f64, 2>(&square);
+    run::<f32, 3>(&cube);
     run::<f64, 3>(&cube);
 }
 
@@ -110,7 +118,8 @@ fn run<T: Real, const D: usize>(m: &Mesh) {
     ));
     let fixed: [u8; N] = bb([1, 0, 1, 0, 1, 0, 1, 0]);
     let fixed = fixed.get(..n).unwrap_or(&[]);
-    solves(&graph, diag, off, fixed);
+    solves(&graph, diag, off, fixed, &cells, points);
+    increment_derivatives(&cells, &graph, fixed, points, ElasticPreconditioner::Blocks);
     let mut p = [[T::HALF; D]; N];
     let d: [[T; D]; N] = bb([[T::ONE; D]; N]);
     let (mut cur, mut step) = ([[T::ZERO; D]; N], [[T::ZERO; D]; N]);
@@ -148,6 +157,8 @@ fn solves<T: Real, const D: usize>(
     diag: &[[[T; D]; D]],
     off: &[[[T; D]; D]],
     fixed: &[u8],
+    cells: &Cells<'_>,
+    points: &[[T; D]],
 ) {
     let Ok(sys) = ElasticSystem::new(*graph, diag, off, fixed) else {
         return;
@@ -198,4 +209,69 @@ fn solves<T: Real, const D: usize>(
         &opts,
         bb(&mut scratch[..]),
     ));
+    let pre = bb(ElasticPreconditioner::Amg(&spring, &h));
+    increment_derivatives(cells, graph, fixed, points, pre);
+}
+
+/// Tangent and adjoint of two load increments (inverse-volume modulus) with `pre`.
+#[inline(never)]
+fn increment_derivatives<T: Real, const D: usize>(
+    cells: &Cells<'_>,
+    graph: &Graph<'_>,
+    fixed: &[u8],
+    points: &[[T; D]],
+    pre: ElasticPreconditioner<'_, T>,
+) {
+    let n = points.len();
+    let d: [[T; D]; N] = bb([[T::ONE; D]; N]);
+    let params = bb(Increments {
+        modulus: Modulus::InverseVolume,
+        wall_distance: None,
+        poisson: T::from_f64(0.3),
+        steps: 2,
+    });
+    let p = IncrementProblem {
+        cells,
+        graph,
+        fixed,
+        params: &params,
+        points,
+        displacement: d.get(..n).unwrap_or(&[]),
+        pre,
+        options: bb(SolveOptions::default()),
+    };
+    keep(elastic_incremental_tangent_scratch_len(&pre, bb(n)));
+    keep(elastic_incremental_adjoint_scratch_len(&pre, bb(n), bb(2)));
+    let mut moduli = [T::ZERO; 2];
+    let mut diag = [[[T::ZERO; D]; D]; N];
+    let mut off = [[[T::ZERO; D]; D]; E];
+    let (mut cur, mut step) = ([[T::ZERO; D]; N], [[T::ZERO; D]; N]);
+    let mut scratch = [[T::ZERO; D]; 20 * N];
+    let mut dx: [[T; D]; N] = bb([[T::HALF; D]; N]);
+    macro_rules! buffers {
+        () => {
+            IncrementBuffers {
+                moduli: moduli.get_mut(..cells.len()).unwrap_or(&mut []),
+                diag: diag.get_mut(..n).unwrap_or(&mut []),
+                off: off.get_mut(..graph.edge_count()).unwrap_or(&mut []),
+                current: cur.get_mut(..n).unwrap_or(&mut []),
+                step: step.get_mut(..n).unwrap_or(&mut []),
+            }
+        };
+    }
+    keep(elastic_incremental_tangent(
+        &p,
+        bb(dx.get_mut(..n).unwrap_or(&mut [])),
+        buffers!(),
+        bb(&mut scratch[..]),
+    ));
+    let mut g = [[T::ZERO; D]; N];
+    keep(elastic_incremental_adjoint(
+        &p,
+        dx.get(..n).unwrap_or(&[]),
+        bb(g.get_mut(..n).unwrap_or(&mut [])),
+        buffers!(),
+        bb(&mut scratch[..]),
+    ));
+    keep(&g);
 }

@@ -38,6 +38,7 @@ mod amg;
 #[path = "../../../ffi/generated/panic_check.rs"]
 mod c_abi;
 mod deformation;
+mod deformation_sensitivity;
 mod elasticity;
 mod foundation;
 mod order;
@@ -56,6 +57,7 @@ fn main() -> ! {
     quality::exercise();
     taubin::exercise();
     deformation::exercise();
+    deformation_sensitivity::exercise();
     elasticity::exercise();
     slide::exercise();
     plan::exercise();

@@ -1,5 +1,6 @@
 //! Panic-check calls for prepared plans (`deform_kernel::plan`): the work and pool size
-//! queries, `init`, `open`, `step` (warm and cold, every rotation source) and the accessors,
+//! queries, `init`, `open`, `step` (warm and cold, every rotation source), the tangent and
+//! adjoint at the last step and the accessors,
 //! for `f32` and `f64`, `D` = 2 and 3 (so `V` = 2, 3, 6 and 7), both methods, the multigrid
 //! and a one-level solver; the capacity queries from counts and the fixed-capacity
 //! `PlanStorage`.
@@ -160,7 +161,23 @@ fn plan<T: Real, const D: usize>(spec: &PlanSpec<'_, T, D>) {
         };
         keep(p.step(&motion, bb(&mut out[..])));
         keep(&out);
+        derivatives(&p, &motion);
     }
+}
+
+/// The plan's tangent and adjoint at the last step (`sensitivity_scratch_len` first).
+#[inline(never)]
+fn derivatives<T: Real, const D: usize>(p: &Plan<'_, T, D>, motion: &PlanMotion<'_, T, D>) {
+    keep(p.sensitivity_scratch_len());
+    let mut scratch = [T::ZERO; WORK];
+    let direction = bb([[T::HALF; D]; B]);
+    let mut out = [[T::ZERO; D]; N];
+    keep(p.tangent(motion, &direction, bb(&mut scratch[..]), bb(&mut out[..])));
+    keep(&out);
+    let weights = bb([[T::ONE; D]; N]);
+    let mut g = [[T::ZERO; D]; B];
+    keep(p.adjoint(motion, &weights, bb(&mut scratch[..]), bb(&mut g[..])));
+    keep(&g);
 }
 
 /// The capacity queries (run-time counts) and a plan in `PlanStorage`.
