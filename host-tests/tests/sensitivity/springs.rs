@@ -339,9 +339,8 @@ fn zero_lanes<T: Real>(tol: f64) {
                 .iter()
                 .any(|&j| case.fixed[j as usize] == 0);
             for c in [1, 4] {
-                let want = if case.fixed[i] == 0 {
-                    T::ZERO
-                } else if wide[i][c] == T::ZERO && free_neighbour {
+                let free = case.fixed[i] == 0;
+                let want = if free || (wide[i][c] == T::ZERO && free_neighbour) {
                     T::ZERO
                 } else {
                     wide[i][c]
