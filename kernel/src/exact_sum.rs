@@ -260,7 +260,7 @@ impl ExactSum {
 
 /// Terms of a loop, a row of `C` at a time, gathered for exact sums: column `c` goes to sum
 /// `c` (or every column to one sum, [`Gather::one`]). On 64-bit hosts the rows are kept in a
-/// stack block of 64 and each full column is summed at once ([`add_block`]), so a term costs
+/// stack block of 64 and each full column is summed at once (`add_block`), so a term costs
 /// a store where [`ExactSum::add`] keeps its own fill count in memory; on narrower targets
 /// (small stacks) each term goes straight to its sum. The block is summed when full and when
 /// the gather is dropped, so the sums are complete once it is gone. The result is the exact
