@@ -1,17 +1,23 @@
 //! Panic-check calls for partitioned storage (`deform_kernel::partition` and
 //! `deform_kernel::spring::PartitionedSprings`): the pattern, the partition's validation, the
-//! local rows and the partitioned CG, for `f32` and `f64`, `D` = 2 and 3, through an exchange
-//! whose results the optimiser cannot see.
+//! local rows and the partitioned CG, the MIS-2 aggregation (serial and partitioned) and the
+//! quaternion deformation on partitioned data, for `f32` and `f64`, `D` = 2 and 3, through an
+//! exchange whose results the optimiser cannot see.
 
 use core::hint::black_box;
 
 use deform_kernel::error::PartitionFault;
 use deform_kernel::partition::{Exchange, Halo, Partition};
+use deform_kernel::quaternion::{
+    deform_spring_partitioned, deform_spring_partitioned_lens, BoundaryElements, PartitionedMotion,
+    PartitionedWorkspace, RotationSource,
+};
 use deform_kernel::spring::{
+    aggregate_mis2, aggregate_mis2_partitioned, mis2_exchange_len, mis2_scratch_len,
     partitioned_cg_scratch_len, partitioned_targets_len, LocalCells, PartitionedSprings,
     Preconditioner, SolveOptions,
 };
-use deform_kernel::Real;
+use deform_kernel::{Graph, Quat, Real};
 
 /// Local nodes: two owned, two ghosts.
 const N: usize = 4;
@@ -128,4 +134,82 @@ fn run<T: Real, const D: usize>() {
         ));
     }
     keep(&x);
+    mis2::<T>(&springs);
+    quaternion::<T, D>(&springs, &p);
+}
+
+/// The MIS-2 aggregation of opaque graphs, serial and on the partition.
+#[inline(never)]
+fn mis2<T: Real>(springs: &PartitionedSprings<'_, T>) {
+    keep((mis2_scratch_len(bb(N)), mis2_exchange_len(bb(N))));
+    let (offsets, targets): (&[u32], &[u32]) =
+        (bb(&[0, 2, 4, 6, 8]), bb(&[1, 3, 0, 2, 1, 3, 0, 2]));
+    let Ok(graph) = Graph::new(offsets, targets) else {
+        return;
+    };
+    let fixed: &[u8] = bb(&[1, 0, 0, 1]);
+    let (mut agg, mut scratch, mut reals) = ([0u64; N], [0u64; 64], [T::ZERO; 64]);
+    keep(aggregate_mis2(
+        &graph,
+        fixed,
+        bb(&mut agg[..]),
+        bb(&mut scratch[..]),
+    ));
+    keep(aggregate_mis2_partitioned(
+        springs.partition(),
+        &graph,
+        fixed,
+        &Opaque,
+        bb(&mut agg[..]),
+        bb(&mut scratch[..]),
+        bb(&mut reals[..]),
+    ));
+}
+
+/// Samareh's deformation with spring propagation on the partition (shape and rigid
+/// rotations), opaque boundary lists.
+#[inline(never)]
+fn quaternion<T: Real, const D: usize>(springs: &PartitionedSprings<'_, T>, p: &[[T; D]; N]) {
+    keep(deform_spring_partitioned_lens::<D>(bb(N), bb(2), bb(2)));
+    let deformed = bb([[T::ONE; D]; 2]);
+    let elements = BoundaryElements {
+        ids: bb(&[0, 1]),
+        offsets: bb(&[0, 2, 4]),
+        nodes: bb(&[0, 1, 1, 0]),
+        kinds: bb(&[3, 3]),
+        count: bb(2),
+    };
+    let (mut words, mut reals, mut index) = ([0i64; 96], [T::ZERO; 96], [0u32; 32]);
+    let (mut kinds, mut values, mut out) = ([0u8; 8], [T::ZERO; 96], [[T::ZERO; D]; N]);
+    for rotations in [
+        RotationSource::Shape,
+        RotationSource::Rigid(bb(Quat::new(T::ONE, T::ZERO, T::ZERO, T::ZERO))),
+    ] {
+        let motion = PartitionedMotion {
+            nodes: bb(&[0, 3]),
+            positions: bb(&[0, 1]),
+            deformed: &deformed,
+            boundary_count: bb(2),
+            elements: Some(elements),
+            rotations,
+            origin: bb(None),
+        };
+        let work = PartitionedWorkspace {
+            words: bb(&mut words[..]),
+            reals: bb(&mut reals[..]),
+            index: bb(&mut index[..]),
+            kinds: bb(&mut kinds[..]),
+            values: bb(&mut values[..]),
+        };
+        keep(deform_spring_partitioned(
+            springs,
+            bb(&p[..]),
+            &motion,
+            bb(Preconditioner::Jacobi),
+            &SolveOptions::default(),
+            work,
+            bb(&mut out[..]),
+            &Opaque,
+        ));
+    }
 }
