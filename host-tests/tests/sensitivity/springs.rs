@@ -350,3 +350,31 @@ fn zero_lanes<T: Real>(tol: f64) {
         }
     }
 }
+
+/// A scratch one item short of the full adjoint's is refused with the full solve's numbers
+/// even when zero lanes would let the packed solve fit, and `g` is untouched.
+#[test]
+fn short_scratch_is_refused_although_zero_lanes_would_fit() {
+    let case = annulus::<f64>(5, 16);
+    let sys = case.system();
+    let n = case.n();
+    let cg = LinearSolver::Method(LinearMethod::Cg {
+        preconditioner: Preconditioner::Jacobi,
+    });
+    let w: Vec<[f64; 6]> = (0..n)
+        .map(|i| [1.0, 0.0, 0.5, 0.0, 0.0, i as f64])
+        .collect();
+    let needed = spring_adjoint_scratch_len::<f64, 6>(&cg, n);
+    let mut s = vec![[0.0; 6]; needed - 1];
+    let mut g = vec![[7.0; 6]; n];
+    let r = spring_adjoint(&sys, cg, &tight(), &w, &mut g, &mut s);
+    assert_eq!(
+        r.unwrap_err(),
+        Error::BufferTooSmall {
+            arg: "scratch",
+            needed,
+            actual: needed - 1
+        }
+    );
+    assert!(g.iter().all(|v| *v == [7.0; 6]));
+}

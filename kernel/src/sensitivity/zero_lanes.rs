@@ -35,6 +35,9 @@ pub(super) fn adjoint_nonzero<T: Real, const V: usize>(
     g: &mut [[T; V]],
     scratch: &mut [[T; V]],
 ) -> Option<Result<SolveReport<T>>> {
+    if scratch.len() < spring_adjoint_scratch_len::<T, V>(&solver, w.len()) {
+        return None; // the full solve's error, with its own numbers, whatever the lanes
+    }
     let mut zero = [true; V];
     for (i, wi) in w.iter().enumerate() {
         if !sys.is_fixed(i) {
