@@ -7,7 +7,10 @@ use clap::{ArgGroup, Args, Parser, Subcommand, ValueEnum};
 mod rbf;
 mod sensitivity;
 pub use rbf::{check_rbf_args, RbfArgs, RbfKernelArg};
-pub use sensitivity::{AdjointArgs, SensitivityMethod, SensitivitySetup, TangentArgs};
+pub use sensitivity::{
+    AdjointArgs, GridMotionArgs, SensitivityMethod, SensitivitySetup, TangentArgs,
+    DEFAULT_IDW_EXPONENT, DEFAULT_MAX_ITER, DEFAULT_TOL,
+};
 
 /// Deform, smooth and check real mesh files (SU2, Plot3D, VTK) with deform-kernel.
 ///
@@ -60,10 +63,13 @@ pub enum Command {
     /// boundary nodes, as SU2_DOT does: the adjoint of the deformation (springs, angle springs,
     /// quaternion with spring or IDW propagation, IDW, RBF, elasticity; the nonlinear ones
     /// linearised about --deformed); with --config, on to dJ/dα of the config's design
-    /// variables (SU2_DOT's of_grad.dat).
+    /// variables (SU2_DOT's of_grad.dat). On a Plot3D grid: the TFI of `deform move --wall`
+    /// (--method tfi|tfi-displacement, about the move's --rotate/--translate), dJ/dx at the
+    /// wall faces' nodes.
     Adjoint(AdjointArgs),
     /// The first-order motion of every node for one boundary perturbation (the tangent of the
-    /// deformation, the nonlinear ones linearised about --deformed).
+    /// deformation, the nonlinear ones linearised about --deformed; on a Plot3D grid the TFI
+    /// of `deform move --wall` about its --rotate/--translate, the wall faces' nodes perturbed).
     Tangent(TangentArgs),
     /// Smooth a Plot3D grid along one grid direction (Alter's arclength Taubin smoothing).
     ///

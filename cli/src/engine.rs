@@ -12,8 +12,10 @@ use crate::orientation::{Orientation, OrientationSummary};
 mod compare;
 mod elasticity;
 pub(crate) mod rbf;
+mod tfi_sensitivity;
 pub use elasticity::{cell_pair_graph, run_elasticity};
 pub use rbf::{RbfFunction, RbfInfo, RbfSettings};
+pub use tfi_sensitivity::{tfi_block_adjoint, tfi_block_tangent, tfi_wall_nodes};
 
 fn kernel(context: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {
     move |source| CliError::Kernel {
@@ -1876,22 +1878,7 @@ fn tfi_d<const D: usize>(
 ) -> Result<Vec<[f64; 3]>, CliError> {
     let block = deform_kernel::Block::new(dims).map_err(kernel("block"))?;
     let pts = points_d::<D>(points);
-    let n = pts.len();
-    let len = dims[wall.direction.index()];
-    let wall_t = if wall.max { len - 1 } else { 0 };
-    let far_t = if wall.max { 0 } else { len - 1 };
-    let mut faces = TfiFaces {
-        wall: Vec::new(),
-        far: Vec::new(),
-    };
-    for p in 0..n {
-        let t = block.ijk(p)[wall.direction.index()];
-        if t == wall_t {
-            faces.wall.push(p as u32);
-        } else if t == far_t {
-            faces.far.push(p as u32);
-        }
-    }
+    let faces = TfiFaces::new(&block, wall);
     let rigid = WallMotion::new(motion, points, &faces.wall)?;
     let out = if quaternion {
         quaternion_tfi(&block, wall, (points, &pts), &faces, &rigid)?
@@ -1913,6 +1900,28 @@ fn tfi_d<const D: usize>(
 struct TfiFaces {
     wall: Vec<u32>,
     far: Vec<u32>,
+}
+
+impl TfiFaces {
+    /// The nodes (ascending) on `wall` and on the face opposite it.
+    fn new(block: &deform_kernel::Block, wall: Face) -> Self {
+        let len = block.dims()[wall.direction.index()];
+        let wall_t = if wall.max { len - 1 } else { 0 };
+        let far_t = if wall.max { 0 } else { len - 1 };
+        let mut faces = TfiFaces {
+            wall: Vec::new(),
+            far: Vec::new(),
+        };
+        for p in 0..block.point_count() {
+            let t = block.ijk(p)[wall.direction.index()];
+            if t == wall_t {
+                faces.wall.push(p as u32);
+            } else if t == far_t {
+                faces.far.push(p as u32);
+            }
+        }
+        faces
+    }
 }
 
 /// A wall's rigid motion: `p ↦ Q (p − c) + c + shift`.

@@ -35,16 +35,64 @@ pub enum SensitivityMethod {
     /// with `--steps N` the boundary displacement of `--deformed` is applied in N equal
     /// increments re-assembled on the moved mesh, and that map is linearised.
     Elasticity,
+    /// Plot3D grids: Samareh's quaternion TFI of `deform move --method tfi` (the default
+    /// there), the rotations of the wall taken from its shape (for `deform move`'s rigid
+    /// motions, the motion's own rotation), linearised about the motion of --rotate/--translate.
+    Tfi,
+    /// Plot3D grids: the displacement TFI of `deform move --method tfi-displacement` (linear).
+    TfiDisplacement,
 }
+
+/// The wall and its rigid motion on a Plot3D grid (`deform move`'s options of the same names):
+/// the linearisation point of `--method tfi`.
+#[derive(Clone, Debug, Args)]
+pub struct GridMotionArgs {
+    /// Plot3D grids: the block face `deform move --wall` moved (`[BLOCK:]FACE`, `all:FACE`);
+    /// its nodes are the ones perturbed (tangent) and written (adjoint); the opposite face stays.
+    #[arg(long, value_name = "[BLOCK:]FACE", value_parser = super::parse_wall)]
+    pub wall: Option<super::WallArg>,
+    /// Plot3D grids: the `deform move --rotate DEG` of the linearisation point.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub rotate: Option<f64>,
+    /// Plot3D grids: `deform move --axis` (default z).
+    #[arg(long, value_name = "X,Y,Z", requires = "rotate", value_parser = super::parse_vec3)]
+    pub axis: Option<super::Coords>,
+    /// Plot3D grids: `deform move --center` (default: the centroid of the block's wall face);
+    /// also the quaternion TFI's origin.
+    #[arg(long, value_name = "X,Y[,Z]", requires = "rotate", value_parser = super::parse_vec23, allow_hyphen_values = true)]
+    pub center: Option<super::Coords>,
+    /// Plot3D grids: the `deform move --translate DX,DY[,DZ]` of the linearisation point.
+    #[arg(long, value_name = "DX,DY[,DZ]", value_parser = super::parse_vec23, allow_hyphen_values = true)]
+    pub translate: Option<super::Coords>,
+}
+
+impl GridMotionArgs {
+    /// Whether any of these options was given (they belong to Plot3D grids).
+    pub fn any(&self) -> bool {
+        self.wall.is_some()
+            || self.rotate.is_some()
+            || self.axis.is_some()
+            || self.center.is_some()
+            || self.translate.is_some()
+    }
+}
+
+/// `--idw-exponent`'s default (a Plot3D run, which has no IDW, refuses any other value).
+pub const DEFAULT_IDW_EXPONENT: f64 = 2.0;
+/// `--tol`'s default (a Plot3D run, which has no solve, refuses any other value).
+pub const DEFAULT_TOL: f64 = 1e-12;
+/// `--max-iter`'s default (a Plot3D run refuses any other value).
+pub const DEFAULT_MAX_ITER: usize = 10_000;
 
 /// What the linear deformation needs (shared by `adjoint` and `tangent`).
 #[derive(Clone, Debug, Args)]
 pub struct SensitivitySetup {
-    /// The undeformed SU2 mesh. Every marker's nodes are the boundary (prescribed) nodes.
+    /// The undeformed SU2 mesh (every marker's nodes are the boundary, prescribed, nodes), or
+    /// a Plot3D grid (with --wall; the wall faces' nodes are the boundary).
     pub mesh: PathBuf,
-    /// The deformation to differentiate.
-    #[arg(long, value_enum, default_value = "spring")]
-    pub method: SensitivityMethod,
+    /// The deformation to differentiate (default: spring on SU2 meshes, tfi on Plot3D grids).
+    #[arg(long, value_enum)]
+    pub method: Option<SensitivityMethod>,
     /// The deformed mesh (e.g. `deform move`'s output, same nodes) whose boundary positions
     /// are the linearisation point of `--method quaternion`, `idw`, `rbf` and `elasticity`
     /// with `--steps` above 1 (default: the undeformed mesh).
@@ -52,7 +100,7 @@ pub struct SensitivitySetup {
     pub deformed: Option<PathBuf>,
     /// IDW weight exponent `p` in `(d_min / d)^p` (`--method idw-displacements` and `idw`, as
     /// `deform move --idw-exponent`).
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = DEFAULT_IDW_EXPONENT)]
     pub idw_exponent: f64,
     /// `--method idw`: the fast tree-based propagation with opening parameter THETA in
     /// [0, 1), as `deform move --idw-theta` (default: the exact sums).
@@ -83,14 +131,25 @@ pub struct SensitivitySetup {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub steps: u32,
     /// Relative residual tolerance of the spring (and elasticity) solves.
-    #[arg(long, default_value_t = 1e-12)]
+    #[arg(long, default_value_t = DEFAULT_TOL)]
     pub tol: f64,
     /// Iteration cap of the spring (and elasticity) solves.
-    #[arg(long, default_value_t = 10_000)]
+    #[arg(long, default_value_t = DEFAULT_MAX_ITER)]
     pub max_iter: usize,
     /// The --rbf-* options of `--method rbf`.
     #[command(flatten)]
     pub rbf: super::RbfArgs,
+    /// The wall and motion of a Plot3D grid's `deform move`.
+    #[command(flatten)]
+    pub grid: GridMotionArgs,
+}
+
+impl SensitivitySetup {
+    /// `--method`, or the default for an SU2 mesh: spring (a Plot3D grid's run fills in `tfi`
+    /// before anything reads it).
+    pub fn method(&self) -> SensitivityMethod {
+        self.method.unwrap_or(SensitivityMethod::Spring)
+    }
 }
 
 /// `deform adjoint`.
@@ -101,13 +160,15 @@ pub struct AdjointArgs {
     pub setup: SensitivitySetup,
     /// The volume sensitivity dJ/dx at every mesh node: SU2_CFD_AD's adjoint restart in CSV
     /// (a header with "Sensitivity_x", "Sensitivity_y"[, "Sensitivity_z"] and optionally
-    /// "PointID"), or plain rows `node dJ/dx dJ/dy [dJ/dz]` (0-based nodes, `%`/`#` comments).
+    /// "PointID"), or plain rows `node dJ/dx dJ/dy [dJ/dz]` (0-based nodes, `%`/`#` comments;
+    /// Plot3D grids: numbered block by block in Plot3D order, i fastest).
     #[arg(long)]
     pub sensitivity: PathBuf,
     /// Write the surface sensitivity of these markers' nodes (default: every marker).
     #[arg(long, num_args = 1..)]
     pub markers: Vec<String>,
-    /// The surface sensitivity CSV: `node,x,y[,z],dJ/dx,dJ/dy[,dJ/dz]` per boundary node.
+    /// The surface sensitivity CSV: `node,x,y[,z],dJ/dx,dJ/dy[,dJ/dz]` per boundary node
+    /// (Plot3D grids: per node of the moving --wall faces).
     #[arg(long)]
     pub out: PathBuf,
     /// An SU2 config with design variables (DV_KIND, DV_PARAM, DV_VALUE, DV_MARKER,
@@ -129,7 +190,8 @@ pub struct TangentArgs {
     #[command(flatten)]
     pub setup: SensitivitySetup,
     /// The boundary perturbation: rows `node dx dy [dz]` (0-based, CSV or whitespace,
-    /// `%`/`#` comments); boundary nodes not listed do not move.
+    /// `%`/`#` comments); boundary nodes not listed do not move. Plot3D grids: nodes of the
+    /// moving --wall faces, numbered block by block in Plot3D order (i fastest).
     #[arg(long)]
     pub perturbation: PathBuf,
     /// The tangent field CSV: `node,dx,dy[,dz]` for every mesh node.

@@ -29,11 +29,7 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
     let count = grid.blocks.len();
     check_wall_blocks(a, blocks, face, count)?;
     let motion = grid_motion(a)?;
-    let moves = |b: usize| match blocks {
-        WallBlocks::All => true,
-        WallBlocks::One(n) => n == b + 1,
-        WallBlocks::Unnamed => count == 1,
-    };
+    let moves = |b: usize| wall_moves(blocks, count, b);
     let moved = move_blocks(a, &mut grid, face, &motion, &moves)?;
     let q = &moved.quality;
     super::check_new_folds(q, a.allow_folds, &a.mesh)?;
@@ -133,23 +129,54 @@ fn check_wall_blocks(
     face: FaceArg,
     count: usize,
 ) -> Result<(), CliError> {
+    check_wall(&a.mesh, blocks, face, count)
+}
+
+/// `--wall BLOCK:FACE` against the `count` blocks of the grid `mesh` (shared with the
+/// sensitivities).
+pub(crate) fn check_wall(
+    mesh: &std::path::Path,
+    blocks: WallBlocks,
+    face: FaceArg,
+    count: usize,
+) -> Result<(), CliError> {
     match blocks {
         WallBlocks::Unnamed if count > 1 => Err(CliError::Invalid(format!(
             "{}: the grid has {count} blocks: say whose {} face moves, e.g. --wall 1:{1} (blocks 1 to {count}), or --wall all:{1} for every block",
-            a.mesh.display(),
+            mesh.display(),
             value_name(&face)
         ))),
         WallBlocks::One(n) if n > count => Err(CliError::Invalid(format!(
             "{}: --wall {n}:{}: the grid has {count} block(s)",
-            a.mesh.display(),
+            mesh.display(),
             value_name(&face)
         ))),
         _ => Ok(()),
     }
 }
 
+/// Whether block `b` (0-based) of a grid of `count` blocks moves under `--wall`.
+pub(crate) fn wall_moves(blocks: WallBlocks, count: usize, b: usize) -> bool {
+    match blocks {
+        WallBlocks::All => true,
+        WallBlocks::One(n) => n == b + 1,
+        WallBlocks::Unnamed => count == 1,
+    }
+}
+
 /// The wall's rigid motion: `--rotate` (about `--axis`, `--center`) or `--translate`.
 fn grid_motion(a: &MoveArgs) -> Result<crate::motion::Motion, CliError> {
+    rigid_motion(a.rotate, &a.translate, &a.axis, &a.center)
+}
+
+/// A wall's rigid motion from `--rotate` (about `--axis`, `--center`) or `--translate`
+/// (shared with the sensitivities).
+pub(crate) fn rigid_motion(
+    rotate: Option<f64>,
+    translate: &Option<Coords>,
+    axis: &Option<Coords>,
+    center: &Option<Coords>,
+) -> Result<crate::motion::Motion, CliError> {
     let coords = |c: &Option<Coords>, fill: f64| {
         c.as_ref().map(|Coords(v)| {
             [
@@ -159,11 +186,11 @@ fn grid_motion(a: &MoveArgs) -> Result<crate::motion::Motion, CliError> {
             ]
         })
     };
-    match (a.rotate, coords(&a.translate, 0.0)) {
+    match (rotate, coords(translate, 0.0)) {
         (Some(deg), None) if deg.is_finite() => Ok(crate::motion::Motion::Rotate {
             degrees: deg,
-            axis: coords(&a.axis, 0.0).unwrap_or([0.0, 0.0, 1.0]),
-            center: coords(&a.center, 0.0),
+            axis: coords(axis, 0.0).unwrap_or([0.0, 0.0, 1.0]),
+            center: coords(center, 0.0),
         }),
         (None, Some(t)) if t.iter().all(|x| x.is_finite()) => {
             Ok(crate::motion::Motion::Translate(t))
@@ -191,14 +218,7 @@ fn move_blocks(
     motion: &crate::motion::Motion,
     moves: &dyn Fn(usize) -> bool,
 ) -> Result<MovedBlocks, CliError> {
-    let (direction, max) = match face {
-        FaceArg::Imin => (Direction::I, false),
-        FaceArg::Imax => (Direction::I, true),
-        FaceArg::Jmin => (Direction::J, false),
-        FaceArg::Jmax => (Direction::J, true),
-        FaceArg::Kmin => (Direction::K, false),
-        FaceArg::Kmax => (Direction::K, true),
-    };
+    let wall = wall_face(face);
     let quaternion = a.method() == Method::Tfi;
     let mut total: Option<QualitySummary> = None;
     let mut max_displacement = 0.0f64;
@@ -207,24 +227,9 @@ fn move_blocks(
         if !moves(b) {
             continue;
         }
-        let dim = cell_dim(grid.dim, blk);
+        let dim = block_dim(grid.dim, blk, face, b, &a.mesh)?;
         measured_dim = measured_dim.max(dim);
-        if dim == 2 && direction == Direction::K {
-            return Err(CliError::Invalid(format!(
-                "{}: block {}: --wall {} needs a 3D block",
-                a.mesh.display(),
-                b + 1,
-                value_name(&face)
-            )));
-        }
-        if dim == 3 && blk.dims.contains(&1) {
-            return Err(CliError::NotAvailable {
-                feature: "TFI on a surface block of a 3D grid",
-                needs: "volume blocks, or constant-z k-planes",
-            });
-        }
-        let face = crate::engine::Face { direction, max };
-        let new = crate::engine::tfi_block(dim, blk.dims, &blk.points, face, motion, quaternion)
+        let new = crate::engine::tfi_block(dim, blk.dims, &blk.points, wall, motion, quaternion)
             .map_err(|e| e.within(&format!("block {}", b + 1)).in_file(&a.mesh))?;
         for (p, q) in blk.points.iter().zip(&new) {
             let d = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
@@ -244,4 +249,44 @@ fn move_blocks(
         max_displacement,
         dim: measured_dim,
     })
+}
+
+/// The engine's face of `--wall`'s face.
+pub(crate) fn wall_face(face: FaceArg) -> crate::engine::Face {
+    let (direction, max) = match face {
+        FaceArg::Imin => (Direction::I, false),
+        FaceArg::Imax => (Direction::I, true),
+        FaceArg::Jmin => (Direction::J, false),
+        FaceArg::Jmax => (Direction::J, true),
+        FaceArg::Kmin => (Direction::K, false),
+        FaceArg::Kmax => (Direction::K, true),
+    };
+    crate::engine::Face { direction, max }
+}
+
+/// The dimension TFI runs block `b` (0-based) in, or why it cannot move `face` (shared with
+/// the sensitivities).
+pub(crate) fn block_dim(
+    grid_dim: usize,
+    blk: &crate::formats::plot3d::Plot3dBlock,
+    face: FaceArg,
+    b: usize,
+    mesh: &std::path::Path,
+) -> Result<usize, CliError> {
+    let dim = cell_dim(grid_dim, blk);
+    if dim == 2 && wall_face(face).direction == Direction::K {
+        return Err(CliError::Invalid(format!(
+            "{}: block {}: --wall {} needs a 3D block",
+            mesh.display(),
+            b + 1,
+            value_name(&face)
+        )));
+    }
+    if dim == 3 && blk.dims.contains(&1) {
+        return Err(CliError::NotAvailable {
+            feature: "TFI on a surface block of a 3D grid",
+            needs: "volume blocks, or constant-z k-planes",
+        });
+    }
+    Ok(dim)
 }

@@ -9,7 +9,7 @@ mod checks;
 #[cfg(feature = "mpi")]
 pub(crate) mod distributed;
 mod elasticity;
-mod grid;
+pub(crate) mod grid;
 mod motion;
 mod outputs;
 mod report;

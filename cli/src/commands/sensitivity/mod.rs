@@ -12,6 +12,7 @@
 mod angle;
 mod design;
 mod elasticity;
+mod grid;
 mod idw;
 mod options;
 mod quaternion;
@@ -31,7 +32,7 @@ use serde_json::json;
 use crate::args::{AdjointArgs, SensitivityMethod, SensitivitySetup, TangentArgs};
 use crate::engine::{cells_view, edge_graph, points_d};
 use crate::error::CliError;
-use crate::files::{io_err, marker_nodes, read_bytes, read_su2};
+use crate::files::{input_kind, io_err, marker_nodes, read_bytes, read_su2, FileKind};
 use crate::formats::su2::Su2Mesh;
 use crate::output::Staged;
 use crate::report::Outcome;
@@ -52,7 +53,7 @@ fn load(setup: &SensitivitySetup) -> Result<(Su2Mesh, Vec<u32>), CliError> {
         ));
     }
     options::check(setup)?;
-    crate::args::check_rbf_args(&setup.rbf, setup.method == SensitivityMethod::Rbf)?;
+    crate::args::check_rbf_args(&setup.rbf, setup.method() == SensitivityMethod::Rbf)?;
     let mesh = read_su2(&setup.mesh)?;
     let names: Vec<String> = mesh.markers.iter().map(|m| m.name.clone()).collect();
     let boundary = marker_nodes(&mesh, &names, &setup.mesh)?;
@@ -79,7 +80,7 @@ fn with_springs<const D: usize, R>(
     let n = mesh.points.len();
     let cells = cells_view(&mesh.elements, n)?;
     // The angle springs run on the graph with face diagonals, as `deform move` builds it.
-    let graph = edge_graph(&cells, setup.method == SensitivityMethod::Angle)?;
+    let graph = edge_graph(&cells, setup.method() == SensitivityMethod::Angle)?;
     let g = graph.view()?;
     let points = points_d::<D>(&mesh.points);
     let mut k = vec![0.0; graph.targets.len()];
@@ -138,7 +139,7 @@ fn adjoint_d<const D: usize>(
 ) -> Result<Solved<D>, CliError> {
     let n = w.len();
     let mut g = vec![[0.0; D]; n];
-    match setup.method {
+    match setup.method() {
         SensitivityMethod::IdwDisplacements => {
             let points = points_d::<D>(&mesh.points);
             idw_adjoint(&points, boundary, setup.idw_exponent, w, &mut g)
@@ -150,6 +151,7 @@ fn adjoint_d<const D: usize>(
         SensitivityMethod::Elasticity => elasticity::adjoint(setup, mesh, boundary, w),
         SensitivityMethod::Angle => angle::adjoint(setup, mesh, boundary, w),
         SensitivityMethod::Rbf => rbf::adjoint(setup, mesh, boundary, w),
+        SensitivityMethod::Tfi | SensitivityMethod::TfiDisplacement => Err(options::tfi_on_su2()),
         SensitivityMethod::Spring => {
             with_springs::<D, _>(setup, mesh, boundary, |sys, solver, stop| {
                 let len =
@@ -170,7 +172,7 @@ fn tangent_d<const D: usize>(
     boundary: &[u32],
     mut dx: Vec<[f64; D]>,
 ) -> Result<Solved<D>, CliError> {
-    match setup.method {
+    match setup.method() {
         SensitivityMethod::IdwDisplacements => {
             let points = points_d::<D>(&mesh.points);
             idw_tangent(&points, boundary, setup.idw_exponent, &mut dx)
@@ -182,6 +184,7 @@ fn tangent_d<const D: usize>(
         SensitivityMethod::Elasticity => elasticity::tangent(setup, mesh, boundary, dx),
         SensitivityMethod::Angle => angle::tangent(setup, mesh, boundary, dx),
         SensitivityMethod::Rbf => rbf::tangent(setup, mesh, boundary, &dx),
+        SensitivityMethod::Tfi | SensitivityMethod::TfiDisplacement => Err(options::tfi_on_su2()),
         SensitivityMethod::Spring => {
             with_springs::<D, _>(setup, mesh, boundary, |sys, solver, stop| {
                 let len = deform_kernel::spring::solve_linear_with_scratch_len(&solver, dx.len());
@@ -247,7 +250,7 @@ fn outcome(
     let json = json!({
         "command": command,
         "mesh": a.mesh.display().to_string(),
-        "method": crate::report::value_name(&a.method),
+        "method": crate::report::value_name(&a.method()),
         "rows": rows,
         "iterations": r.map(|r| r.iterations),
         "residual": r.map(|r| r.residual),
@@ -265,6 +268,9 @@ fn outcome(
 
 /// `deform adjoint`.
 pub(crate) fn adjoint(a: &AdjointArgs) -> Result<Outcome, CliError> {
+    if input_kind(&a.setup.mesh)? != FileKind::Su2 {
+        return grid::adjoint(a);
+    }
     let (mesh, boundary) = load(&a.setup)?;
     let n = mesh.points.len();
     let text = String::from_utf8_lossy(&read_bytes(&a.sensitivity)?).into_owned();
@@ -312,10 +318,14 @@ pub(crate) fn adjoint(a: &AdjointArgs) -> Result<Outcome, CliError> {
 
 /// `deform tangent`.
 pub(crate) fn tangent(a: &TangentArgs) -> Result<Outcome, CliError> {
+    if input_kind(&a.setup.mesh)? != FileKind::Su2 {
+        return grid::tangent(a);
+    }
     let (mesh, boundary) = load(&a.setup)?;
     let n = mesh.points.len();
     let text = String::from_utf8_lossy(&read_bytes(&a.perturbation)?).into_owned();
-    let v = parse_perturbation(&text, n, mesh.dim, &boundary, &a.perturbation)?;
+    let on = (&boundary[..], "on a marker");
+    let v = parse_perturbation(&text, n, mesh.dim, on, &a.perturbation)?;
     let (dx, report) = if mesh.dim == 2 {
         let (dx, r) = tangent_d::<2>(&a.setup, &mesh, &boundary, to_d::<2>(&v))?;
         (to_3(&dx), r)

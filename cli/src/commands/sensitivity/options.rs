@@ -19,16 +19,37 @@ fn only(flag: &str, methods: &str, method: SensitivityMethod) -> Result<(), CliE
 
 /// Whether `--deformed` (the linearisation point) means anything for this method and steps.
 pub(super) fn nonlinear(setup: &SensitivitySetup) -> bool {
-    match setup.method {
+    match setup.method() {
         SensitivityMethod::Quaternion | SensitivityMethod::Idw | SensitivityMethod::Rbf => true,
         SensitivityMethod::Elasticity => setup.steps > 1,
         _ => false,
     }
 }
 
-/// Refuses the options the method does not take and out-of-range values.
+/// `--method tfi` or `tfi-displacement` on an SU2 mesh.
+pub(super) fn tfi_on_su2() -> CliError {
+    CliError::NotAvailable {
+        feature: "transfinite interpolation on SU2 meshes",
+        needs: "a structured Plot3D grid with --wall (TFI interpolates along grid lines)",
+    }
+}
+
+/// Refuses the options the method does not take and out-of-range values (SU2 meshes).
 pub(super) fn check(setup: &SensitivitySetup) -> Result<(), CliError> {
-    let m = setup.method;
+    let m = setup.method();
+    if matches!(
+        m,
+        SensitivityMethod::Tfi | SensitivityMethod::TfiDisplacement
+    ) {
+        return Err(tfi_on_su2());
+    }
+    if setup.grid.any() {
+        return Err(CliError::Invalid(
+            "--wall, --rotate, --translate, --axis and --center set the motion of a Plot3D \
+             grid's TFI; on an SU2 mesh the linearisation point is --deformed"
+                .into(),
+        ));
+    }
     if setup.deformed.is_some() && !nonlinear(setup) {
         return Err(CliError::Invalid(
             "--deformed is the linearisation point of --method quaternion, idw, rbf and \
@@ -62,8 +83,8 @@ pub(super) fn check(setup: &SensitivitySetup) -> Result<(), CliError> {
 /// `--idw-theta`, `--idw-tolerance`, `--idw-exponent`.
 fn check_idw(setup: &SensitivitySetup) -> Result<(), CliError> {
     if let Some(theta) = setup.idw_theta {
-        if setup.method != SensitivityMethod::Idw {
-            return only("--idw-theta", "idw", setup.method);
+        if setup.method() != SensitivityMethod::Idw {
+            return only("--idw-theta", "idw", setup.method());
         }
         if !(0.0..1.0).contains(&theta) {
             return Err(CliError::Invalid("--idw-theta must be in [0, 1)".into()));

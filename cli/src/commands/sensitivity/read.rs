@@ -123,12 +123,13 @@ pub(super) fn parse_sensitivity(
 }
 
 /// The perturbation of the boundary nodes (`boundary` sorted), zero elsewhere; a node
-/// listed twice or one that is not a boundary node is an error.
+/// listed twice or one that is not a boundary node (`on`: where they are, for the message)
+/// is an error.
 pub(super) fn parse_perturbation(
     text: &str,
     n: usize,
     dim: usize,
-    boundary: &[u32],
+    (boundary, on): (&[u32], &str),
     path: &Path,
 ) -> Result<Vec<[f64; 3]>, CliError> {
     let mut out = vec![[0.0; 3]; n];
@@ -140,7 +141,7 @@ pub(super) fn parse_perturbation(
             return Err(bad(
                 path,
                 line,
-                format!("node {i} is not on a marker: only boundary nodes are prescribed"),
+                format!("node {i} is not {on}: only boundary nodes are prescribed"),
             ));
         }
         if std::mem::replace(&mut seen[i], true) {
