@@ -27,7 +27,7 @@ pub(crate) fn move_grid(a: &MoveArgs) -> Result<Outcome, CliError> {
     check_grid_args(a)?;
     let (mut grid, layout) = read_plot3d(&a.mesh, &Plot3dOptions::default())?;
     let count = grid.blocks.len();
-    check_wall_blocks(a, blocks, face, count)?;
+    check_wall(&a.mesh, blocks, face, count)?;
     let motion = grid_motion(a)?;
     let moves = |b: usize| wall_moves(blocks, count, b);
     let moved = move_blocks(a, &mut grid, face, &motion, &moves)?;
@@ -120,16 +120,6 @@ fn check_grid_args(a: &MoveArgs) -> Result<(), CliError> {
         });
     }
     Ok(())
-}
-
-/// `--wall BLOCK:FACE` against the grid's `count` blocks.
-fn check_wall_blocks(
-    a: &MoveArgs,
-    blocks: WallBlocks,
-    face: FaceArg,
-    count: usize,
-) -> Result<(), CliError> {
-    check_wall(&a.mesh, blocks, face, count)
 }
 
 /// `--wall BLOCK:FACE` against the `count` blocks of the grid `mesh` (shared with the
