@@ -72,8 +72,9 @@ pub use idw_fast::{
 pub use localize::{localize_nodes, localize_nodes_scratch_len};
 pub use normals::{boundary_normals, boundary_normals_scratch_len};
 pub use partitioned::{
-    deform_spring_partitioned, deform_spring_partitioned_lens, BoundaryElements, PartitionedLens,
-    PartitionedMotion, PartitionedWorkspace,
+    deform_idw_partitioned, deform_idw_partitioned_lens, deform_spring_partitioned,
+    deform_spring_partitioned_lens, BoundaryElements, PartitionedIdwLens, PartitionedIdwWorkspace,
+    PartitionedLens, PartitionedMotion, PartitionedWorkspace,
 };
 pub use pipeline::{
     deform_idw, deform_idw_fast, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len,
