@@ -29,6 +29,8 @@
 //!
 //! [`deform_idw`], [`deform_idw_fast`], [`deform_tfi`] and [`deform_spring`] run the whole
 //! pipeline in one call.
+//! [`deform_spring_partitioned`] and [`deform_idw_partitioned`] run the spring and the exact
+//! IDW pipelines on partitioned data (each process its owned nodes), with the serial bits.
 //!
 //! **Boundary exactness.** `o + ((r^d − o) − x) + x` is not `r^d` in floating point (the
 //! subtraction can lose the low bits of `r^d`), so no evaluation order of eq. 6 reproduces the

@@ -68,8 +68,8 @@ pub struct BoundaryElements<'a> {
 /// One process's share of the prescribed boundary motion.
 #[derive(Clone, Copy, Debug)]
 pub struct PartitionedMotion<'a, T, const D: usize> {
-    /// The owned local nodes on the boundary: exactly the owned nodes the springs' fixed mask
-    /// marks.
+    /// The owned local nodes on the boundary, distinct (for the springs exactly the owned
+    /// nodes the fixed mask marks).
     pub nodes: &'a [u32],
     /// Position of each in the global boundary list (the serial `motion.nodes` order).
     pub positions: &'a [u32],

@@ -94,7 +94,6 @@ pub fn deform_idw_partitioned_lens<const D: usize>(
 /// `out` is unchanged on all these errors. Only a propagated translation that overflows
 /// (boundary displacements near the largest finite value; [`Error::NonFinite`],
 /// `"translations"`, position = global id) is found after `out` was written.
-#[allow(clippy::too_many_arguments)]
 pub fn deform_idw_partitioned<T: Real, const D: usize, E: Exchange<T> + ?Sized>(
     partition: &Partition<'_>,
     points: &[[T; D]],
