@@ -21,6 +21,9 @@ use deform_kernel::spring::{
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph};
 use deform_meshgen::partition::{local_view, random_owner, LocalView};
 use deform_meshgen::{extrude, naca_triangulated, AirfoilGrid, Mesh};
+use support::partition_boundary::{
+    boundary, moved, per_node_rotations, share, share_rotations, Share,
+};
 use support::threads::on_threads;
 
 fn options() -> SolveOptions<f64> {
@@ -29,68 +32,6 @@ fn options() -> SolveOptions<f64> {
         max_iterations: 20_000,
         update_tol: 0.0,
     }
-}
-
-/// The serial boundary: mesh nodes of every marker in a scrambled order (so that the
-/// boundary order is not the node order), and every marker's elements in that numbering.
-struct Bnd {
-    nodes: Vec<u32>,
-    offsets: Vec<u32>,
-    elements: Vec<u32>,
-    kinds: Vec<u8>,
-}
-
-fn boundary<const D: usize>(mesh: &Mesh<D>) -> Bnd {
-    let mut nodes: Vec<u32> = Vec::new();
-    for m in &mesh.markers {
-        for &n in &m.node_list {
-            if !nodes.contains(&n) {
-                nodes.push(n);
-            }
-        }
-    }
-    let b = nodes.len();
-    // A stride coprime to `b` (a prime that does not divide it) scrambles the order.
-    let step = [7, 11, 13].into_iter().find(|s| b % s != 0).unwrap();
-    nodes = (0..b).map(|k| nodes[(k * step + 3) % b]).collect();
-    let mut pos = vec![u32::MAX; mesh.points.len()];
-    for (k, &n) in nodes.iter().enumerate() {
-        pos[n as usize] = k as u32;
-    }
-    let (mut offsets, mut elements, mut kinds) = (vec![0u32], Vec::new(), Vec::new());
-    for m in &mesh.markers {
-        for e in 0..m.kinds.len() {
-            let el = &m.nodes[m.offsets[e] as usize..m.offsets[e + 1] as usize];
-            elements.extend(el.iter().map(|&n| pos[n as usize]));
-            kinds.push(m.kinds[e]);
-            offsets.push(elements.len() as u32);
-        }
-    }
-    Bnd {
-        nodes,
-        offsets,
-        elements,
-        kinds,
-    }
-}
-
-/// A pitch by `deg` about the quarter chord plus a heave of the `"airfoil"` nodes; the rest
-/// of the boundary stays.
-fn moved<const D: usize>(mesh: &Mesh<D>, nodes: &[u32], deg: f64) -> Vec<[f64; D]> {
-    let wall = &mesh.marker("airfoil").unwrap().node_list;
-    let (s, c) = deg.to_radians().sin_cos();
-    nodes
-        .iter()
-        .map(|&n| {
-            let mut p = mesh.points[n as usize];
-            if wall.binary_search(&n).is_ok() {
-                let (x, y) = (p[0] - 0.25, p[1]);
-                p[0] = 0.25 + c * x - s * y;
-                p[1] = s * x + c * y + 0.02;
-            }
-            p
-        })
-        .collect()
 }
 
 /// The serial `deform_spring_with` (CG + Jacobi, Batina `p = 1`, no face diagonals).
@@ -129,57 +70,6 @@ fn serial<const D: usize>(mesh: &Mesh<D>, motion: &BoundaryMotion<'_, f64, D>) -
     .unwrap();
     assert!(rep.converged);
     out
-}
-
-/// One thread's share of the boundary: its owned boundary nodes with their positions and
-/// deformed points, and the elements whose first node it owns (or `give` decides).
-struct Share<const D: usize> {
-    nodes: Vec<u32>,
-    positions: Vec<u32>,
-    deformed: Vec<[f64; D]>,
-    ids: Vec<u32>,
-    offsets: Vec<u32>,
-    elements: Vec<u32>,
-    kinds: Vec<u8>,
-}
-
-fn share<const D: usize>(
-    v: &LocalView<D>,
-    bnd: &Bnd,
-    deformed: &[[f64; D]],
-    give: impl Fn(usize, bool) -> bool,
-) -> Share<D> {
-    let mut s = Share {
-        nodes: Vec::new(),
-        positions: Vec::new(),
-        deformed: Vec::new(),
-        ids: Vec::new(),
-        offsets: vec![0],
-        elements: Vec::new(),
-        kinds: Vec::new(),
-    };
-    let owns = |g: u32| {
-        v.global_ids[..v.owned]
-            .iter()
-            .position(|&x| x == u64::from(g))
-    };
-    for (k, &g) in bnd.nodes.iter().enumerate() {
-        if let Some(i) = owns(g) {
-            s.nodes.push(i as u32);
-            s.positions.push(k as u32);
-            s.deformed.push(deformed[k]);
-        }
-    }
-    for c in 0..bnd.kinds.len() {
-        let el = &bnd.elements[bnd.offsets[c] as usize..bnd.offsets[c + 1] as usize];
-        if give(c, owns(bnd.nodes[el[0] as usize]).is_some()) {
-            s.ids.push(c as u32);
-            s.elements.extend_from_slice(el);
-            s.kinds.push(bnd.kinds[c]);
-            s.offsets.push(s.elements.len() as u32);
-        }
-    }
-    s
 }
 
 /// The kernel calls of one thread: partition, springs, then the partitioned deformation
@@ -255,17 +145,35 @@ fn motion<const D: usize>(s: &Share<D>, b: usize, e: usize) -> PartitionedMotion
     }
 }
 
-/// Serial and partitioned runs on `mesh` for 1–4 threads, block and random owners, depths 1
-/// and 2: the owned nodes' bits must be the serial ones.
-fn bits_equal_serial<const D: usize>(mesh: &Mesh<D>, deg: f64) {
+/// [`motion`] with the share's `RotationSource::PerNode` rotations.
+fn motion_per_node<const D: usize>(
+    s: &Share<D>,
+    b: usize,
+    e: usize,
+) -> PartitionedMotion<'_, f64, D> {
+    PartitionedMotion {
+        rotations: RotationSource::PerNode(&s.rotations),
+        ..motion(s, b, e)
+    }
+}
+
+/// Serial and partitioned runs on `mesh` for `sizes` threads, block and random owners, depths
+/// 1 and 2: the owned nodes' bits must be the serial ones. Rotations from the shape, or
+/// `PerNode` from [`per_node_rotations`] when `per_node`.
+fn bits_equal_serial<const D: usize>(mesh: &Mesh<D>, deg: f64, per_node: bool, sizes: &[usize]) {
     let bnd = boundary(mesh);
     let deformed = moved(mesh, &bnd.nodes, deg);
     let elements = Cells::new(bnd.nodes.len(), &bnd.offsets, &bnd.elements, &bnd.kinds).unwrap();
+    let all = per_node_rotations(bnd.nodes.len());
     let smotion = BoundaryMotion {
         nodes: &bnd.nodes,
         deformed: &deformed,
         elements: Some(elements),
-        rotations: RotationSource::Shape,
+        rotations: if per_node {
+            RotationSource::PerNode(&all)
+        } else {
+            RotationSource::Shape
+        },
         origin: None,
     };
     let want = serial(mesh, &smotion);
@@ -273,9 +181,10 @@ fn bits_equal_serial<const D: usize>(mesh: &Mesh<D>, deg: f64) {
     let mut fixed = vec![0u8; n];
     bnd.nodes.iter().for_each(|&i| fixed[i as usize] = 1);
     let (b, e) = (bnd.nodes.len(), bnd.kinds.len());
-    let bytes = 8 * (1 + 2 * b + 6 * e) + 8 * 2 * D * b;
+    let reals = if per_node { 2 * D + 4 } else { 2 * D } * b;
+    let bytes = 8 * (1 + 2 * b + 6 * e) + 8 * reals;
     println!("{D}D: {n} nodes, B = {b}, E = {e}: the gather is {bytes} bytes per rank");
-    for size in [1usize, 2, 3, 4] {
+    for &size in sizes {
         for (label, owner) in [
             ("blocks", (0..n).map(|g| (g * size / n) as u32).collect()),
             ("random", random_owner(n, size, 7)),
@@ -283,8 +192,10 @@ fn bits_equal_serial<const D: usize>(mesh: &Mesh<D>, deg: f64) {
             for depth in [1, 2] {
                 let results = on_threads(size, |rank, ex| {
                     let v = local_view(mesh, &fixed, &owner, (rank, size as u32), depth, 5);
-                    let s = share(&v, &bnd, &deformed, |_, first_owned| first_owned);
-                    let (r, out) = run_rank(&v, &s, |s| motion(s, b, e), ex);
+                    let mut s = share(&v, &bnd, &deformed, |_, first_owned| first_owned);
+                    s.rotations = share_rotations(&s, &all);
+                    let of = if per_node { motion_per_node } else { motion };
+                    let (r, out) = run_rank(&v, &s, |s| of(s, b, e), ex);
                     (v.global_ids, r, out)
                 });
                 for (rank, (ids, r, out)) in results.into_iter().enumerate() {
@@ -308,7 +219,7 @@ fn partitioned_quaternion_springs_give_the_serial_bits_2d() {
         ..AirfoilGrid::default()
     })
     .unwrap();
-    bits_equal_serial(&mesh, 12.0);
+    bits_equal_serial(&mesh, 12.0, false, &[1, 2, 3, 4]);
 }
 
 #[test]
@@ -320,7 +231,30 @@ fn partitioned_quaternion_springs_give_the_serial_bits_3d() {
     })
     .unwrap();
     let mesh = extrude(&mesh2, 1.0, 3).unwrap();
-    bits_equal_serial(&mesh, 8.0);
+    bits_equal_serial(&mesh, 8.0, false, &[1, 2, 3, 4]);
+}
+
+#[test]
+fn partitioned_quaternion_springs_with_per_node_rotations_give_the_serial_bits_2d() {
+    let mesh = naca_triangulated(&AirfoilGrid {
+        surface_points: 40,
+        radial_points: 10,
+        ..AirfoilGrid::default()
+    })
+    .unwrap();
+    bits_equal_serial(&mesh, 12.0, true, &[1, 2, 5]);
+}
+
+#[test]
+fn partitioned_quaternion_springs_with_per_node_rotations_give_the_serial_bits_3d() {
+    let mesh2 = naca_triangulated(&AirfoilGrid {
+        surface_points: 16,
+        radial_points: 5,
+        ..AirfoilGrid::default()
+    })
+    .unwrap();
+    let mesh = extrude(&mesh2, 1.0, 3).unwrap();
+    bits_equal_serial(&mesh, 8.0, true, &[1, 3, 5]);
 }
 
 /// What a spoiled share should give: the culprit's error, and every other rank's.

@@ -29,6 +29,8 @@
 //!
 //! [`deform_idw`], [`deform_idw_fast`], [`deform_tfi`] and [`deform_spring`] run the whole
 //! pipeline in one call.
+//! [`deform_spring_partitioned`] and [`deform_idw_partitioned`] run the spring and the exact
+//! IDW pipelines on partitioned data (each process its owned nodes), with the serial bits.
 //!
 //! **Boundary exactness.** `o + ((r^d − o) − x) + x` is not `r^d` in floating point (the
 //! subtraction can lose the low bits of `r^d`), so no evaluation order of eq. 6 reproduces the
@@ -72,8 +74,9 @@ pub use idw_fast::{
 pub use localize::{localize_nodes, localize_nodes_scratch_len};
 pub use normals::{boundary_normals, boundary_normals_scratch_len};
 pub use partitioned::{
-    deform_spring_partitioned, deform_spring_partitioned_lens, BoundaryElements, PartitionedLens,
-    PartitionedMotion, PartitionedWorkspace,
+    deform_idw_partitioned, deform_idw_partitioned_lens, deform_spring_partitioned,
+    deform_spring_partitioned_lens, BoundaryElements, PartitionedIdwLens, PartitionedIdwWorkspace,
+    PartitionedLens, PartitionedMotion, PartitionedWorkspace,
 };
 pub use pipeline::{
     deform_idw, deform_idw_fast, deform_idw_scratch_len, deform_spring, deform_spring_scratch_len,

@@ -19,30 +19,35 @@
 //! **Cost** (docs/scaling.md): two small `sum_words` (agreement), one `sum_words` of
 //! `2 B + 6 E + 1` words and one `max` of `2 D B` reals (`B` boundary nodes, `E` boundary
 //! elements), i.e. `8 (2 B + 6 E + 1) + 8 · 2 D B` bytes per process for `f64`, once per
-//! deformation; and `2 D B + 4 B` reals of storage per process.
+//! deformation (the `max` takes `4 B` more reals with [`RotationSource::PerNode`], whose
+//! rotations it gathers too); and `2 D B + 4 B` reals of storage per process.
+//!
+//! [`deform_idw_partitioned`] gathers the same way and then weighs the gathered boundary into
+//! each owned node exactly as [`propagate_idw`](super::propagate_idw) does (no solve).
 
-use super::rotations::{origin_core, rigid_node_rotation, rotations_core, translation};
+mod gather;
+mod idw;
+
+pub use idw::{
+    deform_idw_partitioned, deform_idw_partitioned_lens, PartitionedIdwLens,
+    PartitionedIdwWorkspace,
+};
+
+use super::rotations::translation;
 use super::springs::{pack, unpack};
 use super::update::apply;
 use super::{boundary_rotations_scratch_len, Pts, RotationSource};
-use crate::cells::Cells;
 use crate::check;
-use crate::error::{Error, PartitionFault, Result};
-use crate::order::sort::{heap_sort, ByKey};
-use crate::partition::{agree, fault, Exchange};
+use crate::error::{Error, Result};
+use crate::partition::{agree, Exchange};
 use crate::quat::Quat;
 use crate::real::Real;
 use crate::spring::{
     partitioned_cg_scratch_len, PartitionedSprings, Preconditioner, SolveOptions, SolveReport,
 };
-
-/// Words per gathered boundary node: a presence count and the global id.
-const NODE_WORDS: usize = 2;
-/// Words per gathered boundary element: a presence count, the VTK kind, up to four nodes.
-const ELEMENT_WORDS: usize = 6;
-/// Words of the size agreement: fault flag, process count, and for each of `B` and `E` the
-/// low and high 16-bit halves and their squares.
-const SIZE_WORDS: usize = 10;
+use gather::{
+    agree_sizes, check_motion, element_count, gather_boundary, index_len, words_len, GatherBuffers,
+};
 
 /// The boundary elements one process contributes, each given by exactly one process (for
 /// example the owner of its first node), in global boundary numbering.
@@ -63,8 +68,8 @@ pub struct BoundaryElements<'a> {
 /// One process's share of the prescribed boundary motion.
 #[derive(Clone, Copy, Debug)]
 pub struct PartitionedMotion<'a, T, const D: usize> {
-    /// The owned local nodes on the boundary: exactly the owned nodes the springs' fixed mask
-    /// marks.
+    /// The owned local nodes on the boundary, distinct (for the springs exactly the owned
+    /// nodes the fixed mask marks).
     pub nodes: &'a [u32],
     /// Position of each in the global boundary list (the serial `motion.nodes` order).
     pub positions: &'a [u32],
@@ -74,7 +79,8 @@ pub struct PartitionedMotion<'a, T, const D: usize> {
     pub boundary_count: usize,
     /// This process's boundary elements (needed for [`RotationSource::Shape`]).
     pub elements: Option<BoundaryElements<'a>>,
-    /// [`RotationSource::Shape`] or [`RotationSource::Rigid`].
+    /// Where the rotations come from; [`RotationSource::PerNode`] gives one rotation per entry
+    /// of `nodes` (in `nodes` order, gathered to every process with the points).
     pub rotations: RotationSource<'a, T>,
     /// The rotation origin; `None` for the centroid of the moving boundary.
     pub origin: Option<[T; D]>,
@@ -124,14 +130,11 @@ pub fn deform_spring_partitioned_lens<const D: usize>(
         partitioned_cg_scratch_len::<7>(local_count)
     };
     PartitionedLens {
-        words: b
-            .saturating_mul(NODE_WORDS)
-            .saturating_add(e.saturating_mul(ELEMENT_WORDS))
-            .saturating_add(1),
+        words: words_len(b, e),
         reals: b
             .saturating_mul(2 * D + 4)
             .saturating_add(boundary_rotations_scratch_len::<D>(b)),
-        index: e.saturating_mul(5).saturating_add(1).saturating_add(b),
+        index: index_len(b, e),
         kinds: e,
         values: local_count.saturating_add(cg).saturating_mul(D + 4),
     }
@@ -145,12 +148,12 @@ pub fn deform_spring_partitioned_lens<const D: usize>(
 /// **Collective**: every process calls it, and all return `Ok` or all `Err`.
 ///
 /// # Errors
-/// On every process alike (a process's own error, [`PartitionFault::OtherProcess`] on the
+/// On every process alike (a process's own error, [`PartitionFault::OtherProcess`](crate::error::PartitionFault::OtherProcess) on the
 /// others): lengths and buffers, non-finite points, a listed node that is not an owned fixed
 /// node or an owned fixed node not listed, positions or element ids out of range, bad element
-/// arrays, [`RotationSource::PerNode`] ([`Error::InvalidParameter`]); `B` or `E` differing
+/// arrays, per-node rotations not one per listed node or not normalisable; `B` or `E` differing
 /// between processes, or a boundary position or element given by no process or by two
-/// ([`Error::BadPartition`] with [`PartitionFault::Boundary`]); then the errors of the serial
+/// ([`Error::BadPartition`] with [`PartitionFault::Boundary`](crate::error::PartitionFault::Boundary)); then the errors of the serial
 /// boundary stage and of [`PartitionedSprings::solve_cg`], and [`Error::ZeroLength`]
 /// (`"rotations"`, position = global id) for a solved quaternion that cancels. `out` is
 /// unchanged on error.
@@ -193,11 +196,6 @@ pub fn deform_spring_partitioned<T: Real, const D: usize, E: Exchange<T> + ?Size
     }
 }
 
-/// Number of boundary elements `motion` declares (0 without elements).
-fn element_count<T, const D: usize>(motion: &PartitionedMotion<'_, T, D>) -> usize {
-    motion.elements.map_or(0, |e| e.count)
-}
-
 /// Everything one process can check alone.
 fn check_local<T: Real, const D: usize>(
     springs: &PartitionedSprings<'_, T>,
@@ -210,28 +208,14 @@ fn check_local<T: Real, const D: usize>(
     let (n, owned, b) = (part.local_count(), part.owned(), motion.boundary_count);
     check::len("points", points.len(), n)?;
     check::len("out", out_len, owned)?;
-    check::len(
-        "motion.positions",
-        motion.positions.len(),
-        motion.nodes.len(),
-    )?;
-    check::len("motion.deformed", motion.deformed.len(), motion.nodes.len())?;
     let lens = deform_spring_partitioned_lens::<D>(n, b, element_count(motion));
     check::buffer("work.words", work.words.len(), lens.words)?;
     check::buffer("work.reals", work.reals.len(), lens.reals)?;
     check::buffer("work.index", work.index.len(), lens.index)?;
     check::buffer("work.kinds", work.kinds.len(), lens.kinds)?;
     check::buffer("work.values", work.values.len(), lens.values)?;
-    if b == 0 || u32::try_from(b).is_err() {
-        return Err(Error::InvalidParameter {
-            arg: "motion.boundary_count",
-            reason: "must be positive and fit a u32",
-        });
-    }
-    check::indices("motion.nodes", motion.nodes, owned)?;
-    check::indices("motion.positions", motion.positions, b)?;
+    check_motion(motion, owned)?;
     check::finite_items("points", points.get(..owned).unwrap_or(&[]))?;
-    check::finite_items("motion.deformed", motion.deformed)?;
     let sys = springs.system();
     let fixed_owned = (0..owned).filter(|&i| sys.is_fixed(i)).count();
     let all_fixed = motion.nodes.iter().all(|&i| sys.is_fixed(i as usize));
@@ -240,81 +224,6 @@ fn check_local<T: Real, const D: usize>(
             arg: "motion.nodes",
             reason: "must list exactly the owned nodes the fixed mask marks",
         });
-    }
-    check_source(motion)
-}
-
-/// The rotation source, origin and elements of `motion`.
-fn check_source<T: Real, const D: usize>(motion: &PartitionedMotion<'_, T, D>) -> Result<()> {
-    match (motion.rotations, motion.elements) {
-        (RotationSource::Shape, None) => {
-            return Err(Error::InvalidParameter {
-                arg: "motion.elements",
-                reason: "is required for rotations from the boundary shape",
-            })
-        }
-        (RotationSource::Rigid(q), _) => check::quats("motion.rotations", &[q])?,
-        (RotationSource::PerNode(_), _) => {
-            return Err(Error::InvalidParameter {
-                arg: "motion.rotations",
-                reason: "partitioned: from the shape or one rigid rotation",
-            })
-        }
-        (RotationSource::Shape, Some(_)) => {}
-    }
-    for x in motion.origin.into_iter().flatten() {
-        check::scalar("motion.origin", x)?;
-    }
-    if let Some(e) = motion.elements {
-        check::len("elements.ids", e.ids.len(), e.kinds.len())?;
-        check::indices("elements.ids", e.ids, e.count)?;
-        let cells = Cells::new(motion.boundary_count, e.offsets, e.nodes, e.kinds)?;
-        if let Some((c, _)) = cells.iter().enumerate().find(|(_, (_, v))| v.len() > 4) {
-            return Err(Error::WrongNodeCount {
-                cell: c,
-                kind: e.kinds.get(c).copied().unwrap_or(0),
-                expected: 4,
-                actual: cells.cell(c).map_or(0, |(_, v)| v.len()),
-            });
-        }
-    }
-    Ok(())
-}
-
-/// Agrees on this process's verdict and on `B` and `E` (the same on every process: each
-/// splits into 16-bit halves `h`, and `n Σ h² = (Σ h)²` holds exactly when all `h` are equal).
-fn agree_sizes<T: Real, E: Exchange<T> + ?Sized, const D: usize>(
-    exchange: &E,
-    local: Result<()>,
-    motion: &PartitionedMotion<'_, T, D>,
-) -> Result<()> {
-    let mut words = [0i64; SIZE_WORDS];
-    if let Some(w) = words.get_mut(1) {
-        *w = 1;
-    }
-    let sizes = [motion.boundary_count, element_count(motion)];
-    let halves = sizes.iter().flat_map(|&s| [s & 0xffff, (s >> 16) & 0xffff]);
-    for (k, h) in halves.enumerate() {
-        let h = h as i64;
-        if let Some(w) = words.get_mut(2 + 2 * k) {
-            *w = h;
-        }
-        if let Some(w) = words.get_mut(3 + 2 * k) {
-            *w = h * h;
-        }
-    }
-    agree(exchange, local, &mut words)?;
-    let count = i128::from(words.get(1).copied().unwrap_or(0));
-    let equal = words
-        .get(2..)
-        .unwrap_or(&[])
-        .chunks_exact(2)
-        .all(|p| match *p {
-            [h, h2] => count * i128::from(h2) == i128::from(h) * i128::from(h),
-            _ => false,
-        });
-    if !equal || motion.boundary_count > u32::MAX as usize {
-        return Err(fault(PartitionFault::Boundary, 0));
     }
     Ok(())
 }
@@ -331,50 +240,25 @@ fn run<T: Real, const D: usize, const V: usize, E: Exchange<T> + ?Sized>(
     out: &mut [[T; D]],
     exchange: &E,
 ) -> Result<([T; D], SolveReport<T>)> {
-    let b = motion.boundary_count;
-    let e = element_count(motion);
-    gather_words(springs, motion, work.words, exchange)?;
-    let (up, rest) = super::take(work.reals, 2 * D * b);
-    gather_points(points, motion, up, exchange);
-    let (quats, rot_scratch) = super::take(rest, 4 * b);
-    let (elements, order) = super::take(work.index, 5 * e + 1);
-    let words: &[i64] = work.words;
-    let cells = decode_elements(words, b, e, elements, work.kinds, motion.elements.is_some())?;
-    let up = up.as_chunks::<D>().0;
-    let (u, d) = up.split_at(b.min(up.len()));
-    let (u, d) = (Pts::direct(u), Pts::direct(d));
-    let origin = match motion.origin {
-        Some(o) => o,
-        None => origin_core(u, d)?,
+    let buffers = GatherBuffers {
+        words: work.words,
+        reals: work.reals,
+        index: work.index,
+        kinds: work.kinds,
     };
-    let quats = quats.as_chunks_mut::<4>().0;
-    let mut put = |k: usize, q: Quat<T>| {
-        if let Some(s) = quats.get_mut(k) {
-            *s = q.to_array();
-        }
-    };
-    match (motion.rotations, cells) {
-        (RotationSource::Shape, Some(cells)) => rotations_core(u, d, &cells, rot_scratch, put)?,
-        (RotationSource::Rigid(q), _) => {
-            let q = q.normalize()?;
-            for k in 0..b {
-                put(k, rigid_node_rotation(q, origin, u.get(k), d.get(k)));
-            }
-        }
-        _ => return Err(fault(PartitionFault::Boundary, 0)),
-    }
-    let order = order.get_mut(..b).unwrap_or(&mut []);
-    let reference = sort_by_global_id(words, order)?;
-    let quats: &[[T; 4]] = quats;
+    let g = gather_boundary(springs.partition(), points, motion, buffers, exchange)?;
     let boundary = Boundary {
-        u,
-        d,
-        quats,
-        origin,
-        reference: quats
-            .get(reference)
+        u: Pts::direct(g.u),
+        d: Pts::direct(g.d),
+        quats: g.quats,
+        origin: g.origin,
+        reference: g
+            .quats
+            .get(g.first)
             .map_or(Quat::identity(), |&q| Quat::from_array(q)),
     };
+    let order: &[u32] = g.order;
+    let origin = g.origin;
     let values = work.values.as_chunks_mut::<V>().0;
     let (values, scratch) = super::take(values, springs.partition().local_count());
     start::<T, D, V>(motion, &boundary, order, values);
@@ -382,157 +266,6 @@ fn run<T: Real, const D: usize, const V: usize, E: Exchange<T> + ?Sized>(
     check_solved::<T, D, V, E>(springs, values, exchange)?;
     update_owned::<T, D, V>(springs, points, motion, &boundary, values, out);
     Ok((origin, report))
-}
-
-/// Fills `order` with the boundary positions sorted by global id (the serial node order) and
-/// returns the first one (the serial reference for the quaternion hemisphere).
-///
-/// # Errors
-/// [`PartitionFault::Boundary`] when two positions hold one global id.
-fn sort_by_global_id(words: &[i64], order: &mut [u32]) -> Result<usize> {
-    for (k, o) in order.iter_mut().enumerate() {
-        *o = k as u32;
-    }
-    let gid = |k: u32| {
-        words
-            .get(1 + NODE_WORDS * k as usize + 1)
-            .copied()
-            .unwrap_or(i64::MAX)
-    };
-    heap_sort(&mut ByKey {
-        items: order,
-        key: gid,
-    });
-    let same = |w: &[u32]| matches!(*w, [a, b] if gid(a) == gid(b));
-    if let Some(p) = order.windows(2).position(same) {
-        return Err(fault(PartitionFault::Boundary, p + 1));
-    }
-    Ok(order.first().map_or(0, |&k| k as usize))
-}
-
-/// The gather of the integers: per boundary position its presence count and global id, per
-/// element its presence count, kind and nodes (one `sum_words`; each slot written by the one
-/// process that gives it).
-///
-/// # Errors
-/// [`PartitionFault::Boundary`] (position: the boundary position, or `B +` the element) when a
-/// slot was given by no process or by two: on every process alike.
-fn gather_words<T: Real, const D: usize, E: Exchange<T> + ?Sized>(
-    springs: &PartitionedSprings<'_, T>,
-    motion: &PartitionedMotion<'_, T, D>,
-    words: &mut [i64],
-    exchange: &E,
-) -> Result<()> {
-    let b = motion.boundary_count;
-    let e = element_count(motion);
-    let words = words
-        .get_mut(..1 + NODE_WORDS * b + ELEMENT_WORDS * e)
-        .unwrap_or(&mut []);
-    words.fill(0);
-    let part = springs.partition();
-    for (&i, &p) in motion.nodes.iter().zip(motion.positions) {
-        let slot = 1 + NODE_WORDS * p as usize;
-        if let Some([count, gid]) = words.get_mut(slot..slot + NODE_WORDS) {
-            // Counted, not set: a position listed twice, even by one process, is found.
-            *count += 1;
-            *gid = part.global_id(i as usize) as i64;
-        }
-    }
-    if let Some(el) = motion.elements {
-        let cells = Cells::trusted(b, el.offsets, el.nodes, el.kinds);
-        for (&id, (kind, nodes)) in el.ids.iter().zip(cells.iter()) {
-            let slot = 1 + NODE_WORDS * b + ELEMENT_WORDS * id as usize;
-            if let Some([count, code, rest @ ..]) = words.get_mut(slot..slot + ELEMENT_WORDS) {
-                *count += 1;
-                *code = i64::from(kind.vtk_code());
-                for (x, &v) in rest.iter_mut().zip(nodes) {
-                    *x = i64::from(v);
-                }
-            }
-        }
-    }
-    exchange.sum_words(words);
-    let counts = words.iter().skip(1).step_by(NODE_WORDS).take(b).chain(
-        words
-            .iter()
-            .skip(1 + NODE_WORDS * b)
-            .step_by(ELEMENT_WORDS)
-            .take(e),
-    );
-    if let Some(p) = counts.clone().position(|&c| c != 1) {
-        return Err(fault(PartitionFault::Boundary, p));
-    }
-    Ok(())
-}
-
-/// The gather of the reals (one `max`): undeformed then deformed position of every boundary
-/// point, `−∞` where another process gives it.
-fn gather_points<T: Real, const D: usize, E: Exchange<T> + ?Sized>(
-    points: &[[T; D]],
-    motion: &PartitionedMotion<'_, T, D>,
-    up: &mut [T],
-    exchange: &E,
-) {
-    let b = motion.boundary_count;
-    up.fill(T::from_f64(f64::NEG_INFINITY));
-    let up_items = up.as_chunks_mut::<D>().0;
-    let (u, d) = super::take(up_items, b);
-    for ((&i, &p), &dk) in motion
-        .nodes
-        .iter()
-        .zip(motion.positions)
-        .zip(motion.deformed)
-    {
-        if let (Some(x), Some(&r)) = (u.get_mut(p as usize), points.get(i as usize)) {
-            *x = r;
-        }
-        if let Some(x) = d.get_mut(p as usize) {
-            *x = dk;
-        }
-    }
-    exchange.max(up);
-}
-
-/// The gathered elements as cells over the `B` boundary points (`None` without elements).
-///
-/// # Errors
-/// Those of [`Cells::new`] (on every process alike: the words are the same everywhere).
-fn decode_elements<'w>(
-    words: &[i64],
-    b: usize,
-    e: usize,
-    index: &'w mut [u32],
-    kinds: &'w mut [u8],
-    with_elements: bool,
-) -> Result<Option<Cells<'w>>> {
-    if !with_elements {
-        return Ok(None);
-    }
-    let (offsets, nodes) = super::take(index, e + 1);
-    let slots = words.get(1 + NODE_WORDS * b..).unwrap_or(&[]);
-    let mut used = 0usize;
-    if let Some(o) = offsets.first_mut() {
-        *o = 0;
-    }
-    for (c, slot) in slots.chunks_exact(ELEMENT_WORDS).take(e).enumerate() {
-        let kind = slot.get(1).copied().unwrap_or(0) as u8;
-        let count = crate::cells::CellKind::from_vtk(kind).map_or(0, |k| k.node_count());
-        for &v in slot.iter().skip(2).take(count) {
-            if let Some(x) = nodes.get_mut(used) {
-                *x = v as u32;
-            }
-            used += 1;
-        }
-        if let Some(k) = kinds.get_mut(c) {
-            *k = kind;
-        }
-        if let Some(o) = offsets.get_mut(c + 1) {
-            *o = used as u32;
-        }
-    }
-    let (offsets, nodes, kinds): (&'w [u32], &'w [u32], &'w [u8]) = (offsets, nodes, kinds);
-    let nodes = nodes.get(..used).unwrap_or(&[]);
-    Cells::new(b, offsets, nodes, kinds.get(..e).unwrap_or(&[])).map(Some)
 }
 
 /// The gathered boundary and what the serial boundary stage made of it.

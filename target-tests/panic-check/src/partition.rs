@@ -1,15 +1,17 @@
 //! Panic-check calls for partitioned storage (`deform_kernel::partition` and
 //! `deform_kernel::spring::PartitionedSprings`): the pattern, the partition's validation, the
 //! local rows and the partitioned CG, the MIS-2 aggregation (serial and partitioned) and the
-//! quaternion deformation on partitioned data, for `f32` and `f64`, `D` = 2 and 3, through an
-//! exchange whose results the optimiser cannot see.
+//! quaternion deformation on partitioned data (springs and IDW; rotations from the shape, rigid
+//! and per node), for `f32` and `f64`, `D` = 2 and 3, through an exchange whose results the
+//! optimiser cannot see.
 
 use core::hint::black_box;
 
 use deform_kernel::error::PartitionFault;
 use deform_kernel::partition::{Exchange, Halo, Partition};
 use deform_kernel::quaternion::{
-    deform_spring_partitioned, deform_spring_partitioned_lens, BoundaryElements, PartitionedMotion,
+    deform_idw_partitioned, deform_idw_partitioned_lens, deform_spring_partitioned,
+    deform_spring_partitioned_lens, BoundaryElements, PartitionedIdwWorkspace, PartitionedMotion,
     PartitionedWorkspace, RotationSource,
 };
 use deform_kernel::spring::{
@@ -166,8 +168,8 @@ fn mis2<T: Real>(springs: &PartitionedSprings<'_, T>) {
     ));
 }
 
-/// Samareh's deformation with spring propagation on the partition (shape and rigid
-/// rotations), opaque boundary lists.
+/// Samareh's deformation with spring and with IDW propagation on the partition (shape, rigid
+/// and per-node rotations), opaque boundary lists.
 #[inline(never)]
 fn quaternion<T: Real, const D: usize>(springs: &PartitionedSprings<'_, T>, p: &[[T; D]; N]) {
     keep(deform_spring_partitioned_lens::<D>(bb(N), bb(2), bb(2)));
@@ -179,11 +181,15 @@ fn quaternion<T: Real, const D: usize>(springs: &PartitionedSprings<'_, T>, p: &
         kinds: bb(&[3, 3]),
         count: bb(2),
     };
+    keep(deform_idw_partitioned_lens::<D>(bb(2), bb(2)));
     let (mut words, mut reals, mut index) = ([0i64; 96], [T::ZERO; 96], [0u32; 32]);
     let (mut kinds, mut values, mut out) = ([0u8; 8], [T::ZERO; 96], [[T::ZERO; D]; N]);
+    let mut quats = [Quat::new(T::ONE, T::ZERO, T::ZERO, T::ZERO); 2];
+    let per_node = bb([Quat::new(T::ONE, T::ZERO, T::ZERO, T::ZERO); 2]);
     for rotations in [
         RotationSource::Shape,
         RotationSource::Rigid(bb(Quat::new(T::ONE, T::ZERO, T::ZERO, T::ZERO))),
+        RotationSource::PerNode(&per_node[..]),
     ] {
         let motion = PartitionedMotion {
             nodes: bb(&[0, 3]),
@@ -209,6 +215,22 @@ fn quaternion<T: Real, const D: usize>(springs: &PartitionedSprings<'_, T>, p: &
             &SolveOptions::default(),
             work,
             bb(&mut out[..]),
+            &Opaque,
+        ));
+        let work = PartitionedIdwWorkspace {
+            words: bb(&mut words[..]),
+            reals: bb(&mut reals[..]),
+            index: bb(&mut index[..]),
+            kinds: bb(&mut kinds[..]),
+            rotations: bb(&mut quats[..]),
+        };
+        keep(deform_idw_partitioned(
+            springs.partition(),
+            bb(&p[..]),
+            &motion,
+            bb(T::TWO),
+            work,
+            bb(&mut out[..N / 2]),
             &Opaque,
         ));
     }
