@@ -20,7 +20,7 @@ use clap::ValueEnum;
 use deform_kernel::order::{
     hilbert_order, permute, permute_graph, rcm_order, IndexDistance, Permutation,
 };
-use deform_kernel::CellKind;
+use deform_kernel::{CellKind, Graph};
 use serde::Serialize;
 
 use crate::engine::SlideMarker;
@@ -108,17 +108,16 @@ pub fn auto_renumbers(n: usize, dim: usize, mean: f64) -> bool {
 
 /// Index distance across the cells' edges (each cell's own edges, so an edge shared by two
 /// cells counts twice): no graph to build, so `auto` costs one pass over the cells on a mesh
-/// it leaves alone. `inverse`: the numbering to measure in (`None`: the input's).
-pub(crate) fn cell_distance(cells: &CellList, inverse: Option<&[u32]>) -> IndexDistance {
-    let new = |v: u32| inverse.map_or(Some(v), |i| i.get(v as usize).copied());
+/// it leaves alone. Measured in the cells' own numbering (after renumbering, on the
+/// renumbered cells: sequential reads, no look-up per node).
+pub(crate) fn cell_distance(cells: &CellList) -> IndexDistance {
     let mut d = IndexDistance::default();
     for (code, nodes) in cells.iter() {
         let Some(kind) = CellKind::from_vtk(code) else {
             continue;
         };
         for &[a, b] in kind.edges() {
-            let pair = nodes.get(a as usize).copied().and_then(new);
-            if let (Some(x), Some(y)) = (pair, nodes.get(b as usize).copied().and_then(new)) {
+            if let (Some(&x), Some(&y)) = (nodes.get(a as usize), nodes.get(b as usize)) {
                 let gap = x.abs_diff(y);
                 d.max = d.max.max(gap);
                 d.sum = d.sum.saturating_add(u64::from(gap));
@@ -135,7 +134,7 @@ fn choose(
     input: &MoveInput<'_>,
 ) -> Result<(Option<Order>, RenumberReport), CliError> {
     let n = input.points.len();
-    let before = cell_distance(input.cells, None);
+    let before = cell_distance(input.cells);
     let method = match how {
         Renumber::Auto if auto_renumbers(n, input.dim, mean(&before)) => Renumber::Rcm,
         Renumber::Auto => Renumber::Off,
@@ -164,11 +163,9 @@ fn choose(
         }
         Renumber::Off | Renumber::Auto => {}
     }
-    let after = if method == Renumber::Off {
-        before
-    } else {
-        cell_distance(input.cells, Some(&order.inverse))
-    };
+    // Renumbered, the distance after is measured on the renumbered cells (no second
+    // pass of scattered look-ups); left alone, it is the distance before.
+    let after = (method == Renumber::Off).then_some(before);
     let report = RenumberReport {
         method: match method {
             Renumber::Rcm => "rcm",
@@ -176,9 +173,9 @@ fn choose(
             Renumber::Off | Renumber::Auto => "off",
         },
         mean_distance_before: Some(mean(&before)),
-        mean_distance_after: Some(mean(&after)),
+        mean_distance_after: after.as_ref().map(mean),
         bandwidth_before: Some(before.max),
-        bandwidth_after: Some(after.max),
+        bandwidth_after: after.map(|a| a.max),
         seconds: 0.0,
     };
     Ok(((method != Renumber::Off).then_some(order), report))
@@ -214,6 +211,9 @@ pub fn run_move_renumbered(
     let mut points = vec![[0.0; 3]; input.points.len()];
     permute(p, input.points, &mut points).map_err(kernel)?;
     let cells = renumbered(input.cells, p)?;
+    let after = cell_distance(&cells);
+    report.mean_distance_after = Some(mean(&after));
+    report.bandwidth_after = Some(after.max);
     let moved: Vec<CellList> = input
         .moved
         .iter()
@@ -242,15 +242,7 @@ pub fn run_move_renumbered(
     };
     // RCM's graph, renumbered: the graph the renumbered cells give (rows sorted as built).
     let graph = match &input_graph {
-        Some(g) => {
-            let g = g.view()?;
-            let mut out = OwnedGraph {
-                offsets: vec![0; g.node_count() + 1],
-                targets: vec![0; g.edge_count()],
-            };
-            permute_graph(p, &g, &mut out.offsets, &mut out.targets, None).map_err(kernel)?;
-            Some(out)
-        }
+        Some(g) => Some(permuted_symmetric(p, &g.view()?)?),
         None => None,
     };
     let renumbered_input = MoveInput {
@@ -274,6 +266,53 @@ pub fn run_move_renumbered(
     // The graph in the input's numbering, for the quality pass.
     result.graph = input_graph;
     Ok((result, report))
+}
+
+/// The symmetric graph `g` (as [`edge_graph`] builds every mesh graph) in the new numbering:
+/// what the kernel's `permute_graph` writes (row `new` holds the new indices of old row
+/// `order[new]`'s neighbours, ascending), without sorting any row. The new rows are visited
+/// in order and each is appended to the rows of its neighbours, so every row fills in
+/// ascending order; on an RCM order those writes stay within the band. Only for symmetric
+/// graphs (on others it would list in-neighbours): a graph whose rows do not fill exactly
+/// goes to `permute_graph` instead, which catches most but not every non-symmetric graph.
+fn permuted_symmetric(p: Permutation<'_>, g: &Graph<'_>) -> Result<OwnedGraph, CliError> {
+    let (order, inverse) = (p.order(), p.inverse());
+    let mut offsets = Vec::with_capacity(order.len() + 1);
+    let mut at = 0u32;
+    offsets.push(at);
+    for &old in order {
+        at += g.neighbors(old as usize).len() as u32;
+        offsets.push(at);
+    }
+    let mut cursor = offsets.clone();
+    let mut targets = vec![0u32; g.edge_count()];
+    let mut filled = true;
+    for (new, &old) in order.iter().enumerate() {
+        for &t in g.neighbors(old as usize) {
+            let row = inverse.get(t as usize).map_or(0, |&r| r as usize);
+            let (Some(c), Some(&end)) = (cursor.get_mut(row), offsets.get(row + 1)) else {
+                continue;
+            };
+            match targets.get_mut(*c as usize).filter(|_| *c < end) {
+                Some(slot) => *slot = new as u32,
+                None => filled = false,
+            }
+            *c += 1;
+        }
+    }
+    let exact = cursor
+        .iter()
+        .zip(offsets.iter().skip(1))
+        .all(|(c, o)| c == o);
+    if filled && exact {
+        return Ok(OwnedGraph { offsets, targets });
+    }
+    let mut out = OwnedGraph {
+        offsets: vec![0; g.node_count() + 1],
+        targets: vec![0; g.edge_count()],
+    };
+    permute_graph(p, g, &mut out.offsets, &mut out.targets, None).map_err(kernel)?;
+    Ok(out)
 }
 
 /// A per-node displacement list in the new numbering, ascending by node as the engine
@@ -301,5 +340,73 @@ pub(crate) fn off_report() -> RenumberReport {
         bandwidth_before: None,
         bandwidth_after: None,
         seconds: 0.0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `order[new] = old` from a seeded shuffle, and its inverse.
+    fn shuffled(n: usize, mut state: u64) -> (Vec<u32>, Vec<u32>) {
+        let mut order: Vec<u32> = (0..n as u32).collect();
+        for i in (1..n).rev() {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            order.swap(i, (state % (i as u64 + 1)) as usize);
+        }
+        let mut inverse = vec![0u32; n];
+        for (k, &v) in order.iter().enumerate() {
+            inverse[v as usize] = k as u32;
+        }
+        (order, inverse)
+    }
+
+    /// The kernel's `permute_graph` of `g`.
+    fn kernel_permuted(p: Permutation<'_>, g: &Graph<'_>) -> OwnedGraph {
+        let mut out = OwnedGraph {
+            offsets: vec![0; g.node_count() + 1],
+            targets: vec![0; g.edge_count()],
+        };
+        permute_graph(p, g, &mut out.offsets, &mut out.targets, None).unwrap();
+        out
+    }
+
+    /// On a mesh graph (symmetric) the row-sort-free permutation writes the kernel's bits;
+    /// on a non-symmetric graph it falls back to the kernel.
+    #[test]
+    fn permuted_symmetric_is_the_kernels_permute_graph() {
+        // Tetrahedra of a 4 x 4 x 4 lattice of points split along one diagonal each.
+        let mut cells = CellList::new();
+        let at = |x: u32, y: u32, z: u32| x + 4 * y + 16 * z;
+        for (x, y, z) in (0..27u32).map(|c| (c % 3, c / 3 % 3, c / 9)) {
+            let [a, b, c, d] = [
+                at(x, y, z),
+                at(x + 1, y, z),
+                at(x, y + 1, z),
+                at(x, y, z + 1),
+            ];
+            let e = at(x + 1, y + 1, z + 1);
+            for tet in [[a, b, c, d], [b, c, d, e]] {
+                assert!(cells.push(CellKind::Tetra, &tet));
+            }
+        }
+        let mesh = edge_graph(&cells_view(&cells, 64).unwrap(), false).unwrap();
+        // Out-degrees 2, 0, 1 and in-degrees 1, 1, 1: the rows cannot fill.
+        let directed = OwnedGraph {
+            offsets: vec![0, 2, 2, 3],
+            targets: vec![1, 2, 0],
+        };
+        for seed in 1..20u64 {
+            for g in [&mesh, &directed] {
+                let g = g.view().unwrap();
+                let (order, inverse) = shuffled(g.node_count(), seed * 0x9e37_79b9);
+                let p = Permutation::new(&order, &inverse).unwrap();
+                let (got, want) = (permuted_symmetric(p, &g).unwrap(), kernel_permuted(p, &g));
+                assert_eq!(got.offsets, want.offsets);
+                assert_eq!(got.targets, want.targets);
+            }
+        }
     }
 }

@@ -124,7 +124,16 @@ impl<'a> Lines<'a> {
     pub(super) fn next_content(&mut self) -> Option<(usize, &'a [u8])> {
         while self.pos < self.data.len() {
             let rest = self.data.get(self.pos..).unwrap_or(&[]);
-            let len = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
+            // One scan finds the line's end or its comment, whichever comes first (a line
+            // without a comment, every element and point line, is read once).
+            let stop = memchr::memchr2(b'\n', b'%', rest).unwrap_or(rest.len());
+            let len = match rest.get(stop) {
+                Some(b'%') => {
+                    let tail = rest.get(stop..).unwrap_or(&[]);
+                    stop + memchr::memchr(b'\n', tail).unwrap_or(tail.len())
+                }
+                _ => stop,
+            };
             let raw = rest.get(..len).unwrap_or(&[]);
             if self.crlf.is_none() && len < rest.len() {
                 self.crlf = Some(raw.ends_with(b"\r"));
@@ -132,10 +141,10 @@ impl<'a> Lines<'a> {
             self.start = self.pos;
             self.pos += len + 1;
             self.line += 1;
-            let (data, comment) = match raw.iter().position(|&b| b == b'%') {
-                Some(p) => (raw.get(..p).unwrap_or(&[]), raw.get(p..).unwrap_or(&[])),
-                None => (raw, &[][..]),
-            };
+            let (data, comment) = (
+                raw.get(..stop.min(len)).unwrap_or(&[]),
+                raw.get(stop.min(len)..).unwrap_or(&[]),
+            );
             let t = data.trim_ascii();
             if !t.is_empty() {
                 return Some((self.line, t));
@@ -181,7 +190,7 @@ pub(crate) fn tokens(line: &[u8]) -> impl Iterator<Item = &[u8]> {
 
 /// Splits `KEY= value` into (key, value) if the line has that shape.
 pub(crate) fn key_value(line: &[u8]) -> Option<(&[u8], &[u8])> {
-    let eq = line.iter().position(|&b| b == b'=')?;
+    let eq = memchr::memchr(b'=', line)?;
     let key = line.get(..eq)?.trim_ascii();
     let value = line.get(eq + 1..)?.trim_ascii();
     if key.is_empty() || !key.iter().all(|b| b.is_ascii_alphanumeric() || *b == b'_') {
@@ -239,8 +248,69 @@ fn parse_real(line: usize, tok: &[u8], what: impl Fn() -> String) -> Result<f64,
     Ok(v)
 }
 
+/// Reads the next run of ASCII digits in `bytes` from `*at` (whitespace before it skipped):
+/// its value when it has 1 to 9 digits (below 10⁹, so it fits a `u32`) and ends at
+/// whitespace or the line's end; `None` for anything else.
+#[inline]
+fn next_small_uint(bytes: &[u8], at: &mut usize) -> Option<u32> {
+    while bytes.get(*at).is_some_and(u8::is_ascii_whitespace) {
+        *at += 1;
+    }
+    let start = *at;
+    let mut v = 0u32;
+    while let Some(&b) = bytes.get(*at).filter(|b| b.is_ascii_digit()) {
+        if *at - start == 9 {
+            return None; // a tenth digit
+        }
+        v = v * 10 + u32::from(b - b'0');
+        *at += 1;
+    }
+    let ends = bytes.get(*at).is_none_or(u8::is_ascii_whitespace);
+    (*at > start && ends).then_some(v)
+}
+
+/// The common element line in one pass: a type code of `allowed`, its node indices (plain
+/// digits, fewer than ten each) and distinct nodes; whatever follows them is ignored, as
+/// [`parse_element`] ignores it. `false` (nothing pushed) for any other line, which
+/// [`parse_element`] then reads token by token, with its messages.
+fn push_plain_element(content: &[u8], allowed: &[CellKind], cells: &mut CellList) -> bool {
+    let mut at = 0usize;
+    let Some(kind) = next_small_uint(content, &mut at)
+        .and_then(|c| u8::try_from(c).ok())
+        .and_then(CellKind::from_vtk)
+        .filter(|k| allowed.contains(k))
+    else {
+        return false;
+    };
+    let mut nodes = [0u32; 8];
+    let Some(cell) = nodes.get_mut(..kind.node_count()) else {
+        return false;
+    };
+    for slot in cell.iter_mut() {
+        let Some(v) = next_small_uint(content, &mut at) else {
+            return false;
+        };
+        *slot = v;
+    }
+    let distinct = (1..cell.len()).all(|k| cell.iter().take(k).all(|&u| Some(&u) != cell.get(k)));
+    distinct && cells.push(kind, cell)
+}
+
 /// Parses one element line into `cells`; `allowed` lists the codes valid here.
 pub(crate) fn parse_element(
+    line: usize,
+    content: &[u8],
+    allowed: &[CellKind],
+    cells: &mut CellList,
+) -> Result<(), FormatError> {
+    if push_plain_element(content, allowed, cells) {
+        return Ok(());
+    }
+    parse_element_tokens(line, content, allowed, cells)
+}
+
+/// [`parse_element`] token by token: any element line, with the messages for bad ones.
+fn parse_element_tokens(
     line: usize,
     content: &[u8],
     allowed: &[CellKind],
@@ -865,4 +935,48 @@ pub(crate) fn write_su2_tail<W: Write>(mesh: &Su2Mesh, w: &mut W) -> io::Result<
     write_comments(w, t, "passthrough", nl)?;
     w.write_all(&mesh.passthrough)?;
     write_comments(w, t, "end", nl)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The one-pass element reader pushes exactly what the token reader pushes, and leaves
+    /// every line the token reader refuses (or reads differently) to it.
+    #[test]
+    fn plain_element_lines_read_as_tokens_read_them() {
+        let lines: [&[u8]; 16] = [
+            b"10 0 1 2 3 7",
+            b"10 0 1 2 3",
+            b"10\t4  5\t6 7",
+            b"010 0001 2 3 4 99 extra",
+            b"5 1 2 3 4",
+            b"10 1 2 3",
+            b"10 1 2 2 3",
+            b"10 1 2 3 4294967296",
+            b"10 1 2 3 999999999",
+            b"10 1 2 3 1000000000",
+            b"10 1 2 3x 4",
+            b"+10 1 2 3 4",
+            b"-10 1 2 3 4",
+            b"12 0 1 2 3 4 5 6 7 8",
+            b"256 0 1",
+            b"10 1 2 3 4\x0c",
+        ];
+        let mut plain = 0;
+        for content in lines {
+            let (mut fast, mut slow) = (CellList::new(), CellList::new());
+            let pushed = push_plain_element(content, &VOLUME_3D, &mut fast);
+            let tokens = parse_element_tokens(1, content, &VOLUME_3D, &mut slow);
+            let text = String::from_utf8_lossy(content);
+            if pushed {
+                assert!(tokens.is_ok(), "{text}");
+                assert_eq!(fast, slow, "{text}");
+                plain += 1;
+            } else {
+                assert!(fast.is_empty(), "{text}");
+            }
+        }
+        assert_eq!(plain, 7, "the plain lines above");
+    }
 }

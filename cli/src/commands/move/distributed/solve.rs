@@ -59,7 +59,7 @@ fn marker_sets(a: &MoveArgs, r: &Read) -> Result<(Vec<u32>, Vec<u32>), CliError>
 /// distance across the cells' edges, summed over the processes); otherwise the serial run
 /// would solve in another order, and its bits are not these.
 fn check_renumber(world: &World<'_>, a: &MoveArgs, r: &Read) -> Result<(), Failed> {
-    let d = crate::renumber::cell_distance(&r.elements, None);
+    let d = crate::renumber::cell_distance(&r.elements);
     let t = world.sum(&[d.sum, d.edges]);
     let total = deform_kernel::order::IndexDistance {
         max: 0,
