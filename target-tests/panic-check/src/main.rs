@@ -57,7 +57,8 @@ mod taubin;
 fn main() -> ! {
     foundation::exercise();
     // The deliberate-panic control needs only the mechanism (profile, handler, link), not the
-    // whole proof: without the rest its fat-LTO build takes seconds, not minutes.
+    // whole proof: without the rest its fat-LTO build is short (146 s against 1,520 s for the
+    // two full builds, both at once, on a loaded 2-core machine).
     #[cfg(not(feature = "deliberate-panic"))]
     exercise_the_rest();
     #[cfg(feature = "deliberate-panic")]
