@@ -6,7 +6,10 @@
 //!    then `deform-mpi-check --partitioned` under `-np 1, 2, 3, 4, 7`: each rank holds only
 //!    its partition (owned nodes, ghost layers of depth 1 or 2, local cells, the pattern;
 //!    RCB and random partitions, shuffled local numbering) and the kernel's partitioned CG +
-//!    Jacobi gives the serial bits; six bad partitions are rejected on every rank;
+//!    Jacobi gives the serial bits; six bad partitions are rejected on every rank; and the
+//!    partitioned quaternion deformation with spring propagation (`deform_spring_partitioned`,
+//!    the boundary gathered through the exchange) gives the serial `deform_spring_with` bits
+//!    on every owned node, with inconsistent boundaries rejected on every rank;
 //! 2. the `deform` tool built with `--features mpi`: `mpirun -np N deform move …` writes a
 //!    file byte-identical to the serial `deform move`, for the spring and quaternion methods,
 //!    on a generated triangle mesh, a generated viscous (quad + triangle) mesh and the public
