@@ -512,8 +512,10 @@ static double *serial_deform(double origin[2], dk_spring_solve_report *report) {
 }
 
 /* A bad deformation: every rank must return `want` with `out`, origin and report untouched. */
+#define BAD_DEFORM(label, v, m, ex, want, rank) bad_deform(label, v, m, ex, want, #want, rank)
+
 static int bad_deform(const char *label, const view *v, const dk_partitioned_motion *m,
-                      const dk_exchange *ex, dk_status want, int rank) {
+                      const dk_exchange *ex, dk_status want, const char *want_name, int rank) {
     size_t len = v->owned * 2 + 2;
     double *out = malloc(len * sizeof *out), *before = malloc(len * sizeof *before);
     for (size_t k = 0; k < len; k++) out[k] = before[k] = -1.0 - (double)k;
@@ -524,7 +526,7 @@ static int bad_deform(const char *label, const view *v, const dk_partitioned_mot
     if (!right) fprintf(stderr, "rank %d: %s: got %s\n", rank, label, dk_status_str(s));
     int ok = all(right);
     if (rank == 0)
-        printf("  %-40s %s on every rank, out untouched: %s\n", label, dk_status_str(want),
+        printf("  %-40s %s on every rank, out untouched: %s\n", label, want_name,
                ok ? "yes" : "NO");
     free(out), free(before);
     return ok;
@@ -551,11 +553,11 @@ static int quaternion_checks(view *v, const dk_exchange *ex, int rank, int size)
     if (rank == 0) printf("bad inputs of the quaternion deformation:\n");
     dk_partitioned_motion m = s.m;
     if (rank == size - 1) m.boundary_count++;
-    ok &= bad_deform("boundary count differs on the last rank", v, &m, ex, DK_ERR_BAD_PARTITION,
+    ok &= BAD_DEFORM("boundary count differs on the last rank", v, &m, ex, DK_ERR_BAD_PARTITION,
                      rank);
     flaky f = {*ex, 0, rank, 2, 0, 0};
     dk_exchange fx = {&f, flaky_sum, flaky_max, flaky_halo};
-    ok &= bad_deform("max callback fails on rank 0", v, &s.m, &fx, DK_ERR_EXCHANGE, rank);
+    ok &= BAD_DEFORM("max callback fails on rank 0", v, &s.m, &fx, DK_ERR_EXCHANGE, rank);
     free(out), free(want);
     free_share(&s);
     return ok;

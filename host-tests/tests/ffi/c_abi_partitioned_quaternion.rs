@@ -449,8 +449,12 @@ fn threads_give_the_serial_bits_3d() {
     bits_equal_serial(&mesh, 8.0);
 }
 
-/// A bad case: which rank spoils what, and the status the culprit and the others must get.
+/// What a bad case changes on the culprit's rank.
 type Spoil = fn(&mut LocalView<2>, &mut Share);
+
+/// A bad case: what, the culprit, its spoil, a failing `max` at this call, the culprit's
+/// status and the others'.
+type Case = (&'static str, u32, Spoil, Option<usize>, dk_status, dk_status);
 
 #[test]
 fn bad_partitions_and_boundaries_fail_on_every_rank() {
@@ -467,8 +471,7 @@ fn bad_partitions_and_boundaries_fail_on_every_rank() {
     let bnd = boundary(&mesh);
     let deformed = moved(&mesh, &bnd.nodes, 10.0);
     let none: Spoil = |_, _| {};
-    // (what, culprit, spoil, a failing max at this call, culprit's status, the others').
-    let cases: [(&str, u32, Spoil, Option<usize>, dk_status, dk_status); 7] = [
+    let cases: [Case; 7] = [
         (
             "duplicate global ids",
             1,
