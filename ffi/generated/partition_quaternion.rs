@@ -4,13 +4,13 @@
 //! Fortran: `dk_partitioned_deform_spring*` (the kernel's `deform_spring_partitioned`).
 //!
 //! Each process passes its partition and local cells as for `dk_partitioned_spring_solve`
-//! (a [`dk_partition`], a `dk_cells`, the local points and fixed mask), and its share of the
+//! (a `dk_partition`, a `dk_cells`, the local points and fixed mask), and its share of the
 //! boundary motion ([`dk_partitioned_motion`]): the owned boundary nodes with their positions
 //! in the global boundary list and their deformed points, and the boundary elements it
 //! contributes. Every process gets the serial `dk_deform_spring` result (CG, Jacobi or no
 //! preconditioner) on its owned nodes, bit for bit (docs/scaling.md).
 //!
-//! **Errors** are agreed as in `dk_partitioned_spring_solve` (the same [`CExchange`]): what a
+//! **Errors** are agreed as in `dk_partitioned_spring_solve` (the same `CExchange`): what a
 //! process checks alone in a first one-word sum, then the kernel's collective checks, and a
 //! failing callback seen by every process at the same reduction. Every
 //! `deform_kernel::error::PartitionFault` (the partition's, the rows', and

@@ -454,7 +454,14 @@ type Spoil = fn(&mut LocalView<2>, &mut Share);
 
 /// A bad case: what, the culprit, its spoil, a failing `max` at this call, the culprit's
 /// status and the others'.
-type Case = (&'static str, u32, Spoil, Option<usize>, dk_status, dk_status);
+type Case = (
+    &'static str,
+    u32,
+    Spoil,
+    Option<usize>,
+    dk_status,
+    dk_status,
+);
 
 #[test]
 fn bad_partitions_and_boundaries_fail_on_every_rank() {
