@@ -23,6 +23,15 @@
  * compared bit for bit, and so are the iteration count and residual. Then bad inputs: a
  * duplicate global id, a ghost list one short, a failing max callback and a failing halo
  * callback are each rejected on every rank with a typed status, the values untouched.
+ *
+ * Then the same views move the mesh with Samareh's quaternion deformation and spring
+ * propagation (dk_partitioned_deform_spring): each rank passes its owned boundary nodes (the
+ * fixed ones) with their positions in the global boundary list (the fixed nodes in global id
+ * order, counted from the grid's formulas) and their deformed points, and one rigid rotation
+ * (the plate's pitch; the outer boundary, which stays, gets the identity). The owned deformed
+ * points gathered on rank 0 equal the serial dk_deform_spring bit for bit, and so do the
+ * origin and the report; a boundary count that differs on one rank and a failing max
+ * callback are rejected on every rank with `out` untouched.
  * Exit status 0 only if everything holds.
  */
 #include <math.h>
@@ -368,6 +377,192 @@ static int bad_inputs(view *v, const dk_exchange *ex, int rank, int size) {
     return ok;
 }
 
+/* ---------------------------------------------------------------------------------------
+ * The quaternion deformation on the same views.
+ * ------------------------------------------------------------------------------------- */
+
+static const double PI = 3.14159265358979323846;
+
+/* Position of fixed node (i, j) in the global boundary list: the fixed nodes with a smaller
+ * global id (rows below, then columns left in row j), from the grid's formulas. */
+static uint32_t boundary_position(int i, int j) {
+    uint32_t k = 0;
+    for (int r = 0; r < j; r++)
+        k += (r == 0 || r == NY - 1) ? NX : 2 + (r == NY / 2 ? PLATE1 - PLATE0 + 1 : 0);
+    for (int c = 0; c < i; c++) k += (uint32_t)fixed_at(c, j);
+    return k;
+}
+
+static uint32_t boundary_count(void) { return boundary_position(NX - 1, NY - 1) + 1; }
+
+/* The plate's rigid pitch about its quarter chord: quaternion and origin. */
+static void pitch(double q[4], double origin[3]) {
+    double a[2], b[2], th = -PITCH_DEG * PI / 180.0;
+    point(PLATE0, NY / 2, a), point(PLATE1, NY / 2, b);
+    q[0] = cos(th / 2), q[1] = 0.0, q[2] = 0.0, q[3] = sin(th / 2);
+    origin[0] = a[0] + 0.25 * (b[0] - a[0]), origin[1] = a[1], origin[2] = 0.0;
+}
+
+/* Deformed position of grid node (i, j): the point plus its prescribed displacement. */
+static void deformed_at(int i, int j, double d[2]) {
+    double p[2], u[2];
+    point(i, j, p), prescribed(i, j, u);
+    d[0] = p[0] + u[0], d[1] = p[1] + u[1];
+}
+
+/* One rank's share of the motion: its owned fixed nodes, their positions, deformed points. */
+typedef struct {
+    uint32_t *nodes, *positions;
+    double *deformed;
+    size_t len;
+    dk_partitioned_motion m;
+} share;
+
+static void build_share(share *s, const view *v) {
+    s->nodes = malloc((v->owned + 1) * sizeof *s->nodes);
+    s->positions = malloc((v->owned + 1) * sizeof *s->positions);
+    s->deformed = malloc((v->owned + 1) * 2 * sizeof *s->deformed);
+    s->len = 0;
+    for (size_t l = 0; l < v->owned; l++) {
+        if (!v->fixed[l]) continue;
+        int i = (int)(v->ids[l] % NX), j = (int)(v->ids[l] / NX);
+        s->nodes[s->len] = (uint32_t)l, s->positions[s->len] = boundary_position(i, j);
+        deformed_at(i, j, &s->deformed[2 * s->len]);
+        s->len++;
+    }
+    memset(&s->m, 0, sizeof s->m);
+    s->m.nodes = s->nodes, s->m.nodes_len = s->len;
+    s->m.positions = s->positions, s->m.positions_len = s->len;
+    s->m.deformed = s->deformed, s->m.deformed_len = 2 * s->len;
+    s->m.boundary_count = boundary_count();
+    s->m.rotation_source = DK_ROTATIONS_RIGID, s->m.has_origin = 1;
+    pitch(s->m.rigid_rotation, s->m.origin);
+}
+
+static void free_share(share *s) { free(s->nodes), free(s->positions), free(s->deformed); }
+
+/* The partitioned deformation of a view: `out` (owned * 2), `origin` (2), `report`. */
+static dk_status deform(const view *v, const dk_partitioned_motion *m, const dk_exchange *ex,
+                        double *out, double *origin, dk_spring_solve_report *report) {
+    dk_spring_solve_options o;
+    CHECK(dk_spring_solve_options_default(&o));
+    size_t lens[4];
+    CHECK(dk_partitioned_deform_spring_lens(&v->part, &v->cellv, false, 2, m->boundary_count,
+                                            m->element_count, lens));
+    double *scratch = malloc((lens[0] + 1) * sizeof *scratch);
+    uint32_t *index = malloc((lens[1] + 1) * sizeof *index);
+    int64_t *words = malloc((lens[2] + 1) * sizeof *words);
+    uint8_t *kinds = malloc(lens[3] + 1);
+    dk_status s = dk_partitioned_deform_spring(
+        &v->part, &v->cellv, false, v->points, v->local * 2, 2, 1.0, v->fixed, v->local, m, &o,
+        scratch, lens[0], index, lens[1], words, lens[2], kinds, lens[3], ex, out,
+        v->owned * 2, origin, 2, report);
+    free(scratch), free(index), free(words), free(kinds);
+    return s;
+}
+
+/* The serial dk_deform_spring on the whole mesh: deformed points, origin, report. */
+static double *serial_deform(double origin[2], dk_spring_solve_report *report) {
+    size_t n = (size_t)NX * NY, cells = (size_t)(NX - 1) * (NY - 1) * 2, b = boundary_count();
+    uint32_t *off = malloc((cells + 1) * sizeof *off), *nodes = malloc(cells * 3 * sizeof *nodes);
+    uint8_t *kinds = malloc(cells), *fixed = malloc(n);
+    double *pts = malloc(n * 2 * sizeof *pts), *out = malloc(n * 2 * sizeof *out);
+    uint32_t *bnodes = malloc(b * sizeof *bnodes);
+    double *bdef = malloc(b * 2 * sizeof *bdef);
+    size_t c = 0, k = 0;
+    for (int q = 0; q < NX - 1; q++)
+        for (int j = 0; j < NY - 1; j++, c += 2) quad_triangles(q, j, global_of, NULL, &nodes[3 * c]);
+    for (size_t e = 0; e <= cells; e++) off[e] = (uint32_t)(3 * e);
+    memset(kinds, VTK_TRIANGLE, cells);
+    for (int j = 0; j < NY; j++)
+        for (int i = 0; i < NX; i++) {
+            size_t g = (size_t)gid(i, j);
+            point(i, j, &pts[2 * g]);
+            fixed[g] = (uint8_t)fixed_at(i, j);
+            if (fixed[g]) bnodes[k] = (uint32_t)g, deformed_at(i, j, &bdef[2 * k]), k++;
+        }
+    dk_cells cv = {off, cells + 1, nodes, cells * 3, kinds, cells};
+    size_t tl, used;
+    CHECK(dk_graph_from_cells_len(n, &cv, 0, NULL, 0, false, &tl));
+    uint32_t *goff = malloc((n + 1) * sizeof *goff), *targets = malloc(tl * sizeof *targets);
+    CHECK(dk_graph_from_cells(n, &cv, 0, NULL, 0, false, goff, n + 1, targets, tl, &used));
+    dk_graph g = {goff, n + 1, targets, used};
+    double *stiff = malloc(used * sizeof *stiff);
+    CHECK(dk_spring_batina_stiffness(&g, pts, n * 2, 2, 1.0, stiff, used));
+    dk_spring_system sys = {g, stiff, used, fixed, n};
+    dk_boundary_motion m;
+    CHECK(dk_boundary_motion_default(&m));
+    m.nodes = bnodes, m.nodes_len = b, m.deformed = bdef, m.deformed_len = 2 * b;
+    m.rotation_source = DK_ROTATIONS_RIGID, m.has_origin = 1;
+    pitch(m.rigid_rotation, m.origin);
+    dk_spring_solve_options o;
+    CHECK(dk_spring_solve_options_default(&o));
+    size_t sl, vl, il;
+    CHECK(dk_deform_spring_scratch_len(n, b, 2, &o, &sl, &vl));
+    CHECK(dk_deform_spring_index_scratch_len(&m, n, &il));
+    double *scratch = malloc(sl * sizeof *scratch), *values = malloc(vl * sizeof *values);
+    double *t = malloc(n * 2 * sizeof *t), *rot = malloc(n * 4 * sizeof *rot);
+    uint32_t *iscratch = malloc((il + 1) * sizeof *iscratch);
+    CHECK(dk_deform_spring(pts, n * 2, 2, &m, &sys, &o, scratch, sl, values, vl, iscratch, il,
+                           t, n * 2, rot, n * 4, out, n * 2, origin, 2, report));
+    free(off), free(nodes), free(kinds), free(fixed), free(pts), free(bnodes), free(bdef);
+    free(goff), free(targets), free(stiff), free(scratch), free(values), free(t), free(rot);
+    free(iscratch);
+    return out;
+}
+
+/* A bad deformation: every rank must return `want` with `out`, origin and report untouched. */
+#define BAD_DEFORM(label, v, m, ex, want, rank) bad_deform(label, v, m, ex, want, #want, rank)
+
+static int bad_deform(const char *label, const view *v, const dk_partitioned_motion *m,
+                      const dk_exchange *ex, dk_status want, const char *want_name, int rank) {
+    size_t len = v->owned * 2 + 2;
+    double *out = malloc(len * sizeof *out), *before = malloc(len * sizeof *before);
+    for (size_t k = 0; k < len; k++) out[k] = before[k] = -1.0 - (double)k;
+    dk_spring_solve_report report = {0}, blank = {0};
+    dk_status s = deform(v, m, ex, out, out + v->owned * 2, &report);
+    int right = s == want && memcmp(out, before, len * sizeof *out) == 0 &&
+                memcmp(&report, &blank, sizeof report) == 0;
+    if (!right) fprintf(stderr, "rank %d: %s: got %s\n", rank, label, dk_status_str(s));
+    int ok = all(right);
+    if (rank == 0)
+        printf("  %-40s %s on every rank, out untouched: %s\n", label, want_name,
+               ok ? "yes" : "NO");
+    free(out), free(before);
+    return ok;
+}
+
+/* The quaternion deformation on every rank's view against the serial one, and bad inputs. */
+static int quaternion_checks(view *v, const dk_exchange *ex, int rank, int size) {
+    share s;
+    build_share(&s, v);
+    double *out = malloc((v->owned + 1) * 2 * sizeof *out), origin[2], sorigin[2];
+    dk_spring_solve_report rep, srep;
+    CHECK(deform(v, &s.m, ex, out, origin, &rep));
+    double *want = serial_deform(sorigin, &srep);
+    int same = rep.iterations == srep.iterations && rep.converged == srep.converged &&
+               memcmp(&rep.residual, &srep.residual, sizeof rep.residual) == 0 &&
+               memcmp(origin, sorigin, sizeof origin) == 0;
+    int ok = all(same);
+    ok &= assembled_equal(v, out, want, rank, size);
+    if (rank == 0)
+        printf("mpi_partitioned: quaternion deformation (spring propagation), %d rank(s), "
+               "B = %u, %zu CG iterations: owned points, origin and report %s the serial "
+               "dk_deform_spring\n",
+               size, boundary_count(), rep.iterations, ok ? "bit-identical to" : "DIFFER from");
+    if (rank == 0) printf("bad inputs of the quaternion deformation:\n");
+    dk_partitioned_motion m = s.m;
+    if (rank == size - 1) m.boundary_count++;
+    ok &= BAD_DEFORM("boundary count differs on the last rank", v, &m, ex, DK_ERR_BAD_PARTITION,
+                     rank);
+    flaky f = {*ex, 0, rank, 2, 0, 0};
+    dk_exchange fx = {&f, flaky_sum, flaky_max, flaky_halo};
+    ok &= BAD_DEFORM("max callback fails on rank 0", v, &s.m, &fx, DK_ERR_EXCHANGE, rank);
+    free(out), free(want);
+    free_share(&s);
+    return ok;
+}
+
 int main(int argc, char **argv) {
     MPI_Init(&argc, &argv);
     int rank, size;
@@ -395,6 +590,7 @@ int main(int argc, char **argv) {
                ok ? "bit-identical to" : "DIFFERS from");
     if (rank == 0) printf("bad inputs:\n");
     ok &= bad_inputs(&v, &ex, rank, size);
+    ok &= quaternion_checks(&v, &ex, rank, size);
 
     free(x), free(want);
     free_view(&v);

@@ -2,7 +2,12 @@
 ! column on each side and the triangles around them, solves the linear springs through
 ! dk_partitioned_spring_solve with the MPI callbacks of mpi/c/deform_kernel_mpi.c (from a
 ! Fortran communicator: dk_mpi_exchange_new_f), and the owned values, gathered on rank 0 by
-! global id, equal the serial dk_spring_solve_linear bit for bit (issue 27).
+! global id, equal the serial dk_spring_solve_linear bit for bit (issue 27). Then the same
+! view moves the mesh with the quaternion deformation (dk_partitioned_deform_spring): the owned
+! fixed nodes with their positions in the global boundary list (the fixed nodes by global id,
+! counted from the grid's formulas), their deformed points and one rigid rotation (the plate's
+! pitch); the gathered owned points, the origin and the report equal the serial
+! dk_deform_spring (through dkf_deform_spring) bit for bit.
 !
 !   mpicc -c -Iffi/generated -Impi/c mpi/c/deform_kernel_mpi.c
 !   mpif90 ffi/generated/deform_kernel.f90 ffi/examples/mpi_partitioned.f90 \
@@ -41,8 +46,10 @@ program mpi_partitioned
   type(dk_cells) :: cells
   type(dk_exchange) :: ex
   type(dk_spring_solve_options) :: opts
-  type(dk_spring_solve_report) :: rep, srep
+  type(dk_spring_solve_report) :: rep, srep, qrep, qsrep
   integer(c_size_t) :: sl, il
+  real(c_double), allocatable :: qwant(:, :)
+  real(c_double) :: qorigin(2), qsorigin(2)
 
   call MPI_Init(ierr)
   call MPI_Comm_rank(MPI_COMM_WORLD, rank, ierr)
@@ -113,7 +120,7 @@ program mpi_partitioned
                                          int(V, c_int32_t), x, size(x, kind=c_size_t), scratch, sl, &
                                          iscratch, il, ex, rep), "dk_partitioned_spring_solve")
 
-  call serial(want, srep)
+  call serial(want, srep, qwant, qsorigin, qsrep)
   ok = merge(1, 0, rep%iterations == srep%iterations .and. &
                    transfer(rep%residual, 0_c_int64_t) == transfer(srep%residual, 0_c_int64_t))
   ok = min(ok, gathered_equal())
@@ -121,6 +128,20 @@ program mpi_partitioned
   if (rank == 0) write (*, '(a, i0, a, i0, a, a)') 'mpi_partitioned.f90: ', nranks, &
       ' rank(s), ', rep%iterations, ' CG iterations: assembled field ', &
       merge('bit-identical to the serial solve', 'DIFFERS from the serial solve    ', all_ok == 1)
+
+  ! The quaternion deformation on the same view, its owned points compared as the values were.
+  call deform_quaternion(x, qorigin, qrep)
+  want = qwant
+  ok = merge(1, 0, qrep%iterations == qsrep%iterations .and. &
+                   transfer(qrep%residual, 0_c_int64_t) == transfer(qsrep%residual, 0_c_int64_t) &
+                   .and. all(transfer(qorigin, 0_c_int64_t, 2) == transfer(qsorigin, 0_c_int64_t, 2)))
+  ok = min(ok, gathered_equal())
+  call MPI_Allreduce(ok, i, 1, MPI_INTEGER, MPI_MIN, MPI_COMM_WORLD, ierr)
+  if (rank == 0) write (*, '(a, i0, a, i0, a, a)') 'mpi_partitioned.f90: quaternion deformation, ', &
+      nranks, ' rank(s), ', qrep%iterations, ' CG iterations: owned points, origin and report ', &
+      merge('bit-identical to the serial dk_deform_spring', 'DIFFER from the serial dk_deform_spring     ', &
+            i == 1)
+  all_ok = min(all_ok, i)
   call dk_mpi_exchange_free(ex)
   call MPI_Finalize(ierr)
   if (all_ok /= 1) error stop 1
@@ -193,9 +214,10 @@ contains
   end subroutine
 
   ! The whole mesh on one process (1-based cells through the dkf_ wrappers).
-  subroutine serial(w, r)
-    real(c_double), allocatable, intent(out) :: w(:, :)
-    type(dk_spring_solve_report), intent(out) :: r
+  subroutine serial(w, r, qw, qo, qr)
+    real(c_double), allocatable, intent(out) :: w(:, :), qw(:, :)
+    real(c_double), intent(out) :: qo(2)
+    type(dk_spring_solve_report), intent(out) :: r, qr
     integer(c_int32_t), allocatable, target :: off(:), nodes(:), goff(:), targets(:), isc(:)
     integer(c_int8_t), allocatable, target :: kk(:), fx(:)
     real(c_double), allocatable, target :: p(:, :), k(:), sc(:)
@@ -230,6 +252,116 @@ contains
     call check(dk_spring_solve_linear_scratch_len(n, int(V, c_int32_t), opts, scl), "scratch")
     allocate(sc(scl))
     call check(dkf_spring_solve_linear(goff, targets(1:used), k, fx, opts, w, sc, isc, r), "serial")
+    call serial_deform(p, fx, goff, targets(1:used), k, qw, qo, qr)
+  end subroutine
+
+  ! The serial quaternion deformation of the whole mesh: the fixed nodes by global id
+  ! (1-based), the plate's rigid pitch.
+  subroutine serial_deform(p, fx, goff, targets, k, qw, qo, qr)
+    real(c_double), intent(in) :: p(:, :), k(:)
+    integer(c_int8_t), intent(in) :: fx(:)
+    integer(c_int32_t), intent(in) :: goff(:), targets(:)
+    real(c_double), allocatable, intent(out) :: qw(:, :)
+    real(c_double), intent(out) :: qo(2)
+    type(dk_spring_solve_report), intent(out) :: qr
+    integer(c_int32_t), allocatable :: bn(:), isc(:)
+    real(c_double), allocatable :: bd(:, :), sc(:), vals(:), tr(:, :), rot(:, :)
+    real(c_double) :: q(4), o(3), u(2)
+    integer(c_size_t) :: n, nbs, scl, vl
+    integer :: ii, jj, c
+    n = size(fx, kind=c_size_t)
+    nbs = count(fx /= 0)
+    allocate(bn(nbs), bd(2, nbs), qw(2, n), tr(2, n), rot(4, n), isc(n + nbs))
+    c = 0
+    do jj = 0, NY - 1
+      do ii = 0, NX - 1
+        if (.not. fixed_at(ii, jj)) cycle
+        c = c + 1
+        bn(c) = g(ii, jj) + 1
+        call prescribed(ii, jj, u)
+        bd(:, c) = p(:, g(ii, jj) + 1) + u
+      end do
+    end do
+    call pitch(q, o)
+    call check(dk_deform_spring_scratch_len(n, nbs, 2_c_int32_t, opts, scl, vl), "deform lens")
+    allocate(sc(scl), vals(vl))
+    call check(dkf_deform_spring(p, bn, bd, goff, targets, k, fx, opts, sc, vals, isc, tr, rot, &
+                                 qw, qr, rigid_rotation=q, origin=o(1:2), origin_out=qo), &
+               "serial deform")
+  end subroutine
+
+  ! The plate's pitch about its quarter chord: quaternion (w, x, y, z) and origin.
+  subroutine pitch(q, o)
+    real(c_double), intent(out) :: q(4), o(3)
+    real(c_double) :: a(2), b(2), th
+    call point(PLATE0, MIDROW, a)
+    call point(PLATE1, MIDROW, b)
+    th = -8d0 * 3.14159265358979323846d0 / 180d0
+    q = [cos(th / 2), 0d0, 0d0, sin(th / 2)]
+    o = [a(1) + 0.25d0 * (b(1) - a(1)), a(2), 0d0]
+  end subroutine
+
+  ! Position of fixed node (i, j) in the global boundary list: the fixed nodes with a smaller
+  ! global id, from the grid's formulas.
+  integer(c_int32_t) function bpos(i, j)
+    integer, intent(in) :: i, j
+    integer :: r, c
+    bpos = 0
+    do r = 0, j - 1
+      if (r == 0 .or. r == NY - 1) then
+        bpos = bpos + NX
+      else
+        bpos = bpos + 2 + merge(PLATE1 - PLATE0 + 1, 0, r == MIDROW)
+      end if
+    end do
+    do c = 0, i - 1
+      if (fixed_at(c, j)) bpos = bpos + 1
+    end do
+  end function
+
+  ! The partitioned quaternion deformation of this rank's view into xo(0:2 nown - 1).
+  subroutine deform_quaternion(xo, qo, qr)
+    real(c_double), intent(inout) :: xo(0:)
+    real(c_double), intent(out) :: qo(2)
+    type(dk_spring_solve_report), intent(out) :: qr
+    integer(c_int32_t), allocatable, target :: bn(:), bp(:), isc(:)
+    real(c_double), allocatable, target :: bd(:), sc(:)
+    integer(c_int64_t), allocatable :: words(:)
+    integer(c_int8_t), allocatable :: kk(:)
+    real(c_double) :: q(4), o(3), p(2), u(2)
+    integer(c_size_t) :: lens(4)
+    type(dk_partitioned_motion) :: m
+    integer :: nbn, ll, ii, jj
+    nbn = count(fixed(0:nown - 1) /= 0)
+    allocate(bn(0:max(nbn, 1) - 1), bp(0:max(nbn, 1) - 1), bd(0:2 * max(nbn, 1) - 1))
+    nbn = 0
+    do ll = 0, nown - 1
+      if (fixed(ll) == 0) cycle
+      ii = int(mod(ids(ll), int(NX, c_int64_t)))
+      jj = int(ids(ll) / NX)
+      call point(ii, jj, p)
+      call prescribed(ii, jj, u)
+      bn(nbn) = ll
+      bp(nbn) = bpos(ii, jj)
+      bd(2 * nbn:2 * nbn + 1) = p + u
+      nbn = nbn + 1
+    end do
+    call pitch(q, o)
+    m = dk_partitioned_motion(c_loc(bn), int(nbn, c_size_t), c_loc(bp), int(nbn, c_size_t), &
+                              c_loc(bd), int(2 * nbn, c_size_t), &
+                              int(bpos(NX - 1, NY - 1) + 1, c_size_t), c_null_ptr, 0_c_size_t, &
+                              dk_cells(c_null_ptr, 0_c_size_t, c_null_ptr, 0_c_size_t, &
+                                       c_null_ptr, 0_c_size_t), &
+                              0_c_size_t, q, o, DK_ROTATIONS_RIGID, 1_c_int32_t)
+    call check(dk_partitioned_deform_spring_lens(part, cells, .false._c_bool, 2_c_int32_t, &
+                                                 m%boundary_count, 0_c_size_t, lens), "lens")
+    allocate(sc(lens(1)), isc(lens(2)), words(lens(3)), kk(max(lens(4), 1_c_size_t)))
+    call check(dk_partitioned_deform_spring(part, cells, .false._c_bool, pts, &
+                                            size(pts, kind=c_size_t), 2_c_int32_t, 1d0, fixed, &
+                                            size(fixed, kind=c_size_t), m, opts, sc, lens(1), &
+                                            isc, lens(2), words, lens(3), kk, lens(4), ex, xo, &
+                                            int(2 * nown, c_size_t), qo, 2_c_size_t, qr), &
+               "dk_partitioned_deform_spring")
   end subroutine
 
   integer(c_int32_t) function g(ii, jj)

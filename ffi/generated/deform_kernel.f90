@@ -504,6 +504,48 @@ module deform_kernel
     type(c_funptr) :: halo
   end type
 
+  !> One process's share of the prescribed boundary motion of
+  !! `dk_partitioned_deform_spring` (the kernel's `PartitionedMotion`). Indices are 0-based.
+  !! The arrays are borrowed for the call that receives the struct.
+  type, bind(C), public :: dk_partitioned_motion
+    !> The owned local nodes on the boundary: exactly the owned nodes the fixed mask marks.
+    type(c_ptr) :: nodes
+    !> Entries of `nodes`.
+    integer(c_size_t) :: nodes_len
+    !> Position of each node in the global boundary list (`0..boundary_count`; the order of
+    !! the serial `dk_boundary_motion`'s `nodes`).
+    type(c_ptr) :: positions
+    !> Entries of `positions` (`nodes_len`).
+    integer(c_size_t) :: positions_len
+    !> Deformed position of each node (`dim` doubles a node); reproduced exactly in `out`.
+    type(c_ptr) :: deformed
+    !> Doubles in `deformed` (`nodes_len * dim`).
+    integer(c_size_t) :: deformed_len
+    !> Number of boundary nodes over all processes (`B`, the same on every process).
+    integer(c_size_t) :: boundary_count
+    !> Global element number (`0..element_count`, the serial element order) of each of this
+    !! process's boundary elements. Each element is given by exactly one process.
+    type(c_ptr) :: element_ids
+    !> Entries of `element_ids`.
+    integer(c_size_t) :: element_ids_len
+    !> This process's boundary elements, their nodes as global boundary positions: segments
+    !! (VTK 3) in 2D, triangles or quadrilaterals (5, 9) in 3D. A process without elements
+    !! may pass every array NULL with length 0.
+    type(dk_cells) :: elements
+    !> Number of boundary elements over all processes (`E`, the same on every process); 0
+    !! for no elements (then `rotation_source` must be `DK_ROTATIONS_RIGID`).
+    integer(c_size_t) :: element_count
+    !> With `DK_ROTATIONS_RIGID`: the rotation `(w, x, y, z)` of the moving boundary nodes
+    !! (normalised by the library). Ignored otherwise.
+    real(c_double) :: rigid_rotation(4)
+    !> The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
+    real(c_double) :: origin(3)
+    !> `DK_ROTATIONS_SHAPE` or `DK_ROTATIONS_RIGID` (per-node rotations are refused).
+    integer(c_int32_t) :: rotation_source
+    !> Nonzero: rotate about `origin`; 0: about the centroid of the moving boundary points.
+    integer(c_int32_t) :: has_origin
+  end type
+
   !> The smoothed-aggregation multigrid preconditioner (the kernel's `AmgOptions`; see
   !! docs/amg.md) of `dk_spring_solve_linear_amg`, `dk_spring_solve_angle_amg` and of plans
   !! with `DK_PLAN_SOLVER_AMG`. `dk_amg_options_default` (and `dk_plan_options_default`) fill
@@ -964,6 +1006,7 @@ module deform_kernel
             dk_order_hilbert_f32, dk_order_index_distance, dk_order_permute, dk_order_permute_f32, &
             dk_order_renumber, dk_order_permute_graph, dk_order_gather, dk_order_gather_f32, &
             dk_partitioned_spring_scratch_len, dk_partitioned_spring_solve, &
+            dk_partitioned_deform_spring_lens, dk_partitioned_deform_spring, &
             dk_plan_options_default, dk_plan_options_default_f32, dk_plan_work_sizes, &
             dk_plan_work_sizes_f32, dk_plan_pool_sizes, dk_plan_pool_sizes_f32, dk_plan_init, &
             dk_plan_init_f32, dk_plan_open, dk_plan_open_f32, dk_plan_step, dk_plan_step_f32, &
@@ -2812,6 +2855,53 @@ module deform_kernel
       integer(c_int32_t), intent(inout) :: index_scratch(*)
       integer(c_size_t), value :: index_scratch_len
       type(dk_exchange), intent(in) :: exchange
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_partitioned_deform_spring_lens(partition, cells, face_diagonals, dim, &
+        boundary_count, element_count, lens_out) bind(C, name="dk_partitioned_deform_spring_lens") &
+        result(s)
+      import :: c_bool, c_int32_t, c_size_t, dk_cells, dk_partition
+      type(dk_partition), intent(in) :: partition
+      type(dk_cells), intent(in) :: cells
+      logical(c_bool), value :: face_diagonals
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), value :: boundary_count
+      integer(c_size_t), value :: element_count
+      integer(c_size_t), intent(inout) :: lens_out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_partitioned_deform_spring(partition, cells, face_diagonals, points, points_len, &
+        dim, exponent, fixed, fixed_len, motion, options, scratch, scratch_len, index_scratch, &
+        index_scratch_len, word_scratch, word_scratch_len, kind_scratch, kind_scratch_len, &
+        exchange, out, out_len, origin_out, origin_out_len, report) bind(C, &
+        name="dk_partitioned_deform_spring") result(s)
+      import :: c_bool, c_double, c_int32_t, c_int64_t, c_int8_t, c_size_t, dk_cells, dk_exchange, &
+          dk_partition, dk_partitioned_motion, dk_spring_solve_options, dk_spring_solve_report
+      type(dk_partition), intent(in) :: partition
+      type(dk_cells), intent(in) :: cells
+      logical(c_bool), value :: face_diagonals
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), value :: exponent
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_partitioned_motion), intent(in) :: motion
+      type(dk_spring_solve_options), intent(in) :: options
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      integer(c_int64_t), intent(inout) :: word_scratch(*)
+      integer(c_size_t), value :: word_scratch_len
+      integer(c_int8_t), intent(inout) :: kind_scratch(*)
+      integer(c_size_t), value :: kind_scratch_len
+      type(dk_exchange), intent(in) :: exchange
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      real(c_double), intent(inout) :: origin_out(*)
+      integer(c_size_t), value :: origin_out_len
       type(dk_spring_solve_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function

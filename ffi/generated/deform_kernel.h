@@ -574,6 +574,48 @@ typedef struct {
   dk_exchange_halo halo;
 } dk_exchange;
 
+// One process's share of the prescribed boundary motion of
+// [`dk_partitioned_deform_spring`] (the kernel's `PartitionedMotion`). Indices are 0-based.
+// The arrays are borrowed for the call that receives the struct.
+typedef struct {
+  // The owned local nodes on the boundary: exactly the owned nodes the fixed mask marks.
+  const uint32_t *nodes;
+  // Entries of `nodes`.
+  size_t nodes_len;
+  // Position of each node in the global boundary list (`0..boundary_count`; the order of
+  // the serial `dk_boundary_motion`'s `nodes`).
+  const uint32_t *positions;
+  // Entries of `positions` (`nodes_len`).
+  size_t positions_len;
+  // Deformed position of each node (`dim` doubles a node); reproduced exactly in `out`.
+  const double *deformed;
+  // Doubles in `deformed` (`nodes_len * dim`).
+  size_t deformed_len;
+  // Number of boundary nodes over all processes (`B`, the same on every process).
+  size_t boundary_count;
+  // Global element number (`0..element_count`, the serial element order) of each of this
+  // process's boundary elements. Each element is given by exactly one process.
+  const uint32_t *element_ids;
+  // Entries of `element_ids`.
+  size_t element_ids_len;
+  // This process's boundary elements, their nodes as global boundary positions: segments
+  // (VTK 3) in 2D, triangles or quadrilaterals (5, 9) in 3D. A process without elements
+  // may pass every array NULL with length 0.
+  dk_cells elements;
+  // Number of boundary elements over all processes (`E`, the same on every process); 0
+  // for no elements (then `rotation_source` must be [`DK_ROTATIONS_RIGID`]).
+  size_t element_count;
+  // With [`DK_ROTATIONS_RIGID`]: the rotation `(w, x, y, z)` of the moving boundary nodes
+  // (normalised by the library). Ignored otherwise.
+  double rigid_rotation[4];
+  // The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
+  double origin[3];
+  // [`DK_ROTATIONS_SHAPE`] or [`DK_ROTATIONS_RIGID`] (per-node rotations are refused).
+  uint32_t rotation_source;
+  // Nonzero: rotate about `origin`; 0: about the centroid of the moving boundary points.
+  uint32_t has_origin;
+} dk_partitioned_motion;
+
 // The smoothed-aggregation multigrid preconditioner (the kernel's `AmgOptions`; see
 // docs/amg.md) of [`dk_spring_solve_linear_amg`], [`dk_spring_solve_angle_amg`] and of plans
 // with `DK_PLAN_SOLVER_AMG`. [`dk_amg_options_default`] (and `dk_plan_options_default`) fill
@@ -3582,6 +3624,100 @@ dk_status dk_partitioned_spring_solve(const dk_partition *partition,
                                       size_t index_scratch_len,
                                       const dk_exchange *exchange,
                                       dk_spring_solve_report *report);
+
+// The scratch lengths of [`dk_partitioned_deform_spring`] for this partition, these cells,
+// `boundary_count` boundary nodes and `element_count` boundary elements in dimension `dim`
+// (2 or 3): `lens_out[0]` doubles of `scratch`, `lens_out[1]` entries of `index_scratch`
+// (`uint32_t`), `lens_out[2]` entries of `word_scratch` (`int64_t`: the boundary gather's
+// words, `1 + 2 B + 6 E`), `lens_out[3]` bytes of `kind_scratch` (`E`). Local only (no
+// exchange). Errors: `DK_ERR_TOO_LARGE`, pointer errors; nothing written on error.
+//
+// # Safety
+// - `partition`: one readable `dk_partition`.
+// - `cells`: one readable `dk_cells`.
+// - `lens_out`: 4 readable and writable elements (`size_t`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_partitioned_deform_spring_lens(const dk_partition *partition,
+                                            const dk_cells *cells,
+                                            bool face_diagonals,
+                                            uint32_t dim,
+                                            size_t boundary_count,
+                                            size_t element_count,
+                                            size_t *lens_out);
+
+// The quaternion deformation with linear-spring propagation on distributed data (the
+// kernel's `deform_spring_partitioned`): each process passes its partition, its local cells
+// and points (`dim` 2 or 3 doubles per local node, ghosts as their owners), Batina's
+// `exponent`, the fixed mask (one byte per local node, nonzero = fixed: the boundary) and its
+// share of the boundary motion (`*motion`). `options->method` must be `DK_LINEAR_CG` with
+// `DK_PRECONDITIONER_JACOBI` or `DK_PRECONDITIONER_NONE`. On `DK_OK`, `out` (`owned * dim`
+// doubles) holds the deformed owned nodes, `origin_out` the origin (`dim` doubles, or NULL
+// with length 0) and `*report` the solver's report: the bits of the serial
+// [`dk_deform_spring`](crate::deformation::dk_deform_spring) with the same options on the
+// whole mesh, for every partition and local numbering. The four scratch buffers need the
+// lengths of [`dk_partitioned_deform_spring_lens`].
+//
+// **Collective**: every process of the partition calls it with its own part, and all return
+// `DK_OK` or all an error: `DK_ERR_BAD_PARTITION` for a partition fault on any process
+// (inconsistent ghost or send/receive lists, duplicate global ids, counts, rows that
+// disagree), boundary lists that do not match between processes (`boundary_count` or
+// `element_count` differing, a boundary position or element given by no process or by two,
+// one global id at two positions), or another process's own error; `DK_ERR_EXCHANGE` (a
+// callback returned nonzero on some process); the errors of the local arrays and of the
+// serial deformation (on the process concerned, or on every process when they follow from
+// the gathered boundary), among them `DK_ERR_INVALID_PARAMETER` (`dim`, method, rotation
+// source, a listed node that is not an owned fixed node or an owned fixed node not listed).
+// A NULL `exchange` or callback is `DK_ERR_NULL_POINTER` at once, without any exchange.
+// `out`, `origin_out` and `*report` are unchanged on every error; the scratch buffers are
+// workspaces.
+//
+// # Safety
+// - `partition`: one readable `dk_partition`.
+// - `cells`: one readable `dk_cells`.
+// - `points`: readable for `points_len` elements (`double`).
+// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+// - `motion`: one readable `dk_partitioned_motion`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `word_scratch`: readable and writable for `word_scratch_len` elements (`int64_t`).
+// - `kind_scratch`: readable and writable for `kind_scratch_len` elements (`uint8_t`).
+// - `exchange`: one readable `dk_exchange`.
+// - `out`: readable and writable for `out_len` elements (`double`).
+// - `origin_out`: readable and writable for `origin_out_len` elements (`double`).
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_partitioned_deform_spring(const dk_partition *partition,
+                                       const dk_cells *cells,
+                                       bool face_diagonals,
+                                       const double *points,
+                                       size_t points_len,
+                                       uint32_t dim,
+                                       double exponent,
+                                       const uint8_t *fixed,
+                                       size_t fixed_len,
+                                       const dk_partitioned_motion *motion,
+                                       const dk_spring_solve_options *options,
+                                       double *scratch,
+                                       size_t scratch_len,
+                                       uint32_t *index_scratch,
+                                       size_t index_scratch_len,
+                                       int64_t *word_scratch,
+                                       size_t word_scratch_len,
+                                       uint8_t *kind_scratch,
+                                       size_t kind_scratch_len,
+                                       const dk_exchange *exchange,
+                                       double *out,
+                                       size_t out_len,
+                                       double *origin_out,
+                                       size_t origin_out_len,
+                                       dk_spring_solve_report *report);
 
 // Fills `*out` with the default plan options for f64: the quaternion method, multigrid-
 // preconditioned CG, Batina stiffness (exponent 1), the default stopping rules of

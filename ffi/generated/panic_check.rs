@@ -1779,6 +1779,50 @@ pub fn exercise() {
     });
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::partition_quaternion::dk_partitioned_deform_spring_lens(
+            black_box(null()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::partition_quaternion::dk_partitioned_deform_spring(
+            black_box(null()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null()),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
     black_box(unsafe { deform_kernel_ffi::plan::dk_plan_options_default(black_box(null_mut())) });
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.

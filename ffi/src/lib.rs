@@ -54,6 +54,8 @@ pub mod graph;
 pub mod order;
 #[path = "../generated/partition.rs"]
 pub mod partition;
+#[path = "../generated/partition_quaternion.rs"]
+pub mod partition_quaternion;
 #[path = "../generated/plan.rs"]
 pub mod plan;
 #[path = "../generated/pools.rs"]

@@ -130,7 +130,7 @@ assert_layout!(
 impl dk_partition {
     /// No nodes, no neighbours: what the halo callback sees when the caller's struct could not
     /// be read (it is then never called).
-    const NONE: dk_partition = dk_partition {
+    pub(crate) const NONE: dk_partition = dk_partition {
         rank: 0,
         size: 0,
         owned: 0,
@@ -151,10 +151,10 @@ impl dk_partition {
 }
 
 /// The borrowed arrays of a [`dk_partition`] and a [`dk_cells`].
-struct Local<'a> {
-    ids: &'a [u64],
-    halo: Halo<'a>,
-    cells: LocalCells<'a>,
+pub(crate) struct Local<'a> {
+    pub(crate) ids: &'a [u64],
+    pub(crate) halo: Halo<'a>,
+    pub(crate) cells: LocalCells<'a>,
 }
 
 impl<'a> Local<'a> {
@@ -163,7 +163,7 @@ impl<'a> Local<'a> {
     /// # Safety
     /// The arrays are NULL or readable for their lengths for `'a` (the contract of the
     /// functions that take the structs).
-    unsafe fn read(
+    pub(crate) unsafe fn read(
         p: &dk_partition,
         c: &dk_cells,
         face_diagonals: bool,
@@ -204,7 +204,7 @@ impl<'a> Local<'a> {
 /// The caller's callbacks as the kernel's [`Exchange`], with the failure flag every reduction
 /// carries (see the module doc).
 #[derive(Debug)]
-struct CExchange {
+pub(crate) struct CExchange {
     ex: dk_exchange,
     part: dk_partition,
     /// A callback of this process returned nonzero.
@@ -220,7 +220,7 @@ const MAX_CHUNK: usize = 8;
 
 impl CExchange {
     /// Checks that every callback is there.
-    fn new(ex: dk_exchange, part: dk_partition) -> Result<Self, dk_status> {
+    pub(crate) fn new(ex: dk_exchange, part: dk_partition) -> Result<Self, dk_status> {
         if ex.sum_words.is_none() || ex.max.is_none() || ex.halo.is_none() {
             return Err(dk_status::DK_ERR_NULL_POINTER);
         }
@@ -257,7 +257,7 @@ impl CExchange {
 
     /// `Err(DK_ERR_EXCHANGE)` on every process when a callback failed on any: one last
     /// flagged sum unless all know already.
-    fn verdict(&self) -> Result<(), dk_status> {
+    pub(crate) fn verdict(&self) -> Result<(), dk_status> {
         if !self.agreed.get() {
             self.flagged_sum(&mut [0i64]);
         }
@@ -270,7 +270,7 @@ impl CExchange {
 
     /// The first agreement: `Err` on every process when any found a fault of its own
     /// (`local`; the others report `DK_ERR_BAD_PARTITION`).
-    fn agree_local<U>(&self, local: Result<U, dk_status>) -> Result<U, dk_status> {
+    pub(crate) fn agree_local<U>(&self, local: Result<U, dk_status>) -> Result<U, dk_status> {
         let mut words = [0, i64::from(local.is_err())];
         self.flagged_sum(&mut words);
         let any = words.get(1).is_some_and(|&w| w != 0);
@@ -618,7 +618,7 @@ impl Work<'_> {
 
 /// The local rows ([`PartitionedSprings::new`]) with `D`-dimensional points.
 #[allow(clippy::too_many_arguments)]
-fn springs<'a, T: Real, const D: usize>(
+pub(crate) fn springs<'a, T: Real, const D: usize>(
     part: Partition<'a>,
     cells: LocalCells<'_>,
     points: &[T],

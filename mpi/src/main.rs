@@ -263,6 +263,7 @@ fn bench<C: Communicator>(world: &C) {
 }
 
 mod partitioned_check;
+mod partitioned_quaternion_check;
 
 fn main() {
     let universe = mpi::initialize().expect("MPI init");
@@ -279,7 +280,8 @@ fn main() {
     let mesh2 = naca_triangulated(&grid).expect("2D mesh");
     let mesh3 = extrude(&mesh2, 0.5, 4).expect("3D mesh");
     let ok = if std::env::args().any(|a| a == "--partitioned") {
-        partitioned_check::run(&world, &mesh2, &mesh3)
+        let springs = partitioned_check::run(&world, &mesh2, &mesh3);
+        partitioned_quaternion_check::run(&world, &mesh2, &mesh3) && springs
     } else {
         let a = check(&world, "2D NACA 2412 triangles", &mesh2);
         let b = check(&world, "3D extruded prisms", &mesh3);

@@ -6,7 +6,10 @@
 //!    then `deform-mpi-check --partitioned` under `-np 1, 2, 3, 4, 7`: each rank holds only
 //!    its partition (owned nodes, ghost layers of depth 1 or 2, local cells, the pattern;
 //!    RCB and random partitions, shuffled local numbering) and the kernel's partitioned CG +
-//!    Jacobi gives the serial bits; six bad partitions are rejected on every rank;
+//!    Jacobi gives the serial bits; six bad partitions are rejected on every rank; and the
+//!    partitioned quaternion deformation with spring propagation (`deform_spring_partitioned`,
+//!    the boundary gathered through the exchange) gives the serial `deform_spring_with` bits
+//!    on every owned node, with inconsistent boundaries rejected on every rank;
 //! 2. the `deform` tool built with `--features mpi`: `mpirun -np N deform move …` writes a
 //!    file byte-identical to the serial `deform move`, for the spring and quaternion methods,
 //!    on a generated triangle mesh, a generated viscous (quad + triangle) mesh and the public
@@ -24,8 +27,11 @@
 //!    `dk_partitioned_spring_solve` with the callbacks of `mpi/c/deform_kernel_mpi.c`, and
 //!    the assembled field equals the serial `dk_spring_solve_linear` bit for bit; bad inputs
 //!    (a duplicate global id, a short ghost list, failing callbacks) are rejected on every
-//!    rank; `ffi/examples/mpi_partitioned.f90`, the same from Fortran (built with `mpif90`,
-//!    its communicator through `dk_mpi_exchange_new_f`), under the same rank counts;
+//!    rank; then the same views through `dk_partitioned_deform_spring` (the quaternion
+//!    deformation with spring propagation): the serial `dk_deform_spring` bits, and bad
+//!    boundaries and a failing callback rejected on every rank;
+//!    `ffi/examples/mpi_partitioned.f90`, the same from Fortran (built with `mpif90`, its
+//!    communicator through `dk_mpi_exchange_new_f`), under the same rank counts;
 //! 4. `make install` of `mpi/c` (`libdeform_kernel_mpi` and `deform_kernel_mpi.pc`) into a
 //!    staging prefix, and `mpi_partitioned.c` built by `gcc` with nothing but `pkg-config
 //!    --cflags --libs deform_kernel_mpi`, run under `-np 3`.
