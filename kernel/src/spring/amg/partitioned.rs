@@ -64,7 +64,7 @@ pub fn prolongator_partitioned<T: Real, E: Exchange<T> + ?Sized>(
             *o = pos as u32;
         }
         let len = row_columns(springs, agg, i, columns.get_mut(pos..).unwrap_or(&mut []));
-        let cols = columns.get(pos..pos + len).unwrap_or(&[]);
+        let cols = columns.get(pos..pos.saturating_add(len)).unwrap_or(&[]);
         row_values(
             springs,
             agg,
@@ -73,7 +73,7 @@ pub fn prolongator_partitioned<T: Real, E: Exchange<T> + ?Sized>(
             cols,
             values.get_mut(pos..).unwrap_or(&mut []),
         );
-        pos += len;
+        pos = pos.saturating_add(len);
     }
     if let Some(o) = offsets.get_mut(springs.partition().owned()) {
         *o = pos as u32;
@@ -166,13 +166,15 @@ fn row_columns<T: Real>(
             Ok(_) => return,
             Err(at) => at,
         };
-        if let Some(tail) = out.get_mut(at..=len) {
-            tail.rotate_right(1);
-            if let Some(x) = tail.first_mut() {
-                *x = a;
-            }
-            len += 1;
+        if len >= out.len() {
+            return;
         }
+        // Shift `out[at..len]` up by one and put `a` at `at`.
+        let mut carry = a;
+        for x in out.iter_mut().take(len + 1).skip(at) {
+            core::mem::swap(x, &mut carry);
+        }
+        len += 1;
     };
     insert(i);
     for &j in sys.graph().neighbors(i) {
