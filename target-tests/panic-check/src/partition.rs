@@ -14,8 +14,8 @@ use deform_kernel::quaternion::{
 };
 use deform_kernel::spring::{
     aggregate_mis2, aggregate_mis2_partitioned, mis2_exchange_len, mis2_scratch_len,
-    partitioned_cg_scratch_len, prolongator_partitioned, prolongator_partitioned_len, partitioned_targets_len, LocalCells, PartitionedSprings,
-    Preconditioner, SolveOptions,
+    partitioned_cg_scratch_len, partitioned_targets_len, prolongator_partitioned,
+    prolongator_partitioned_len, LocalCells, PartitionedSprings, Preconditioner, SolveOptions,
 };
 use deform_kernel::{Graph, Quat, Real};
 
