@@ -62,8 +62,8 @@ mod zero_components;
 
 pub use amg::rigid_mode_count;
 pub use amg::{
-    aggregate_mis2, aggregate_mis2_partitioned, mis2_exchange_len, mis2_scratch_len, Mis2Report,
-    MIS2_NONE,
+    aggregate_mis2, aggregate_mis2_partitioned, mis2_exchange_len, mis2_scratch_len,
+    prolongator_partitioned, prolongator_partitioned_len, Mis2Report, MIS2_NONE,
 };
 pub use amg::{
     amg_cg_scratch_len, amg_precondition_scratch_len, amg_setup_work_len,

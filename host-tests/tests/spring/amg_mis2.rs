@@ -4,7 +4,8 @@
 //! within distance 2 of its root), and every partitioned run (threads as processes: stripes,
 //! recursive coordinate bisection and random owners, 2 to 7 processes, ghost depth 1 and 2)
 //! against the serial aggregates, bit for bit. Also the sizes against today's greedy
-//! aggregation (printed with `--nocapture`) and the collective length error.
+//! aggregation (printed with `--nocapture`) and the collective length error. Then the fine
+//! level's prolongator on partitions against `setup_mis2`'s, bit for bit (1 to 5 processes).
 
 #[path = "../support/mod.rs"]
 mod support;
@@ -15,8 +16,10 @@ use deform_kernel::error::{Error, PartitionFault};
 use deform_kernel::partition::{Halo, Partition};
 use deform_kernel::spring::{
     aggregate_mis2, aggregate_mis2_partitioned, batina_stiffness, mis2_exchange_len,
-    mis2_scratch_len, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions, Mis2Report,
-    SolveOptions, SpringSystem, MIS2_NONE,
+    mis2_scratch_len, partitioned_targets_len, prolongator_partitioned,
+    prolongator_partitioned_len, solve_linear_amg_scratch_len, AmgHierarchy, AmgOptions,
+    LocalCells as KernelCells, Mis2Report, PartitionedSprings, SolveOptions, SpringSystem,
+    MIS2_NONE,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph};
 use deform_meshgen::partition::{local_view, mix, random_owner, LocalView};
@@ -560,5 +563,156 @@ fn the_hierarchy_built_on_mis2_aggregates_solves() {
             );
             assert!(mis2 <= 2 * greedy + 5, "{}: {mis2} vs {greedy}", case.name);
         });
+    }
+}
+
+/// A view's points in 3D (`z = 0` in 2D, as [`with_system`] builds the serial system) and
+/// its cells.
+fn points_cells<const D: usize>(v: LocalView<D>) -> (Vec<[f64; 3]>, LocalCells) {
+    let points = v.points.iter();
+    let points = points.map(|p| [p[0], p[1], p.get(2).copied().unwrap_or(0.0)]);
+    (
+        points.collect(),
+        (v.cell_offsets, v.cell_nodes, v.cell_kinds),
+    )
+}
+
+/// `rank`'s view with its points (3D) and cells, numbered as [`Case::view`] numbers them (the
+/// same seed).
+fn springs_view(
+    case: &Case,
+    owner: &[u32],
+    (rank, size, depth): (u32, u32, usize),
+) -> (View, Vec<[f64; 3]>, LocalCells) {
+    let seed = 7 + depth as u64;
+    let at = (rank, size);
+    let (points, cells) = match (&case.mesh2, &case.mesh3) {
+        (Some(m), _) => points_cells(local_view(m, &case.fixed, owner, at, depth, seed)),
+        (_, Some(m)) => points_cells(local_view(m, &case.fixed, owner, at, depth, seed)),
+        _ => unreachable!(),
+    };
+    (case.view(owner, rank, size, depth), points, cells)
+}
+
+/// A prolongator row: `(root global id, value bits)` per entry.
+type Row = Vec<(u64, u64)>;
+
+/// One process's fine prolongator rows (owned nodes, by global id): `(root, value bits)`;
+/// `short` cuts `values` by one (an error case).
+fn partitioned_prolongator(
+    case: &Case,
+    owner: &[u32],
+    (rank, size, depth): (u32, u32, usize),
+    ex: &Threads<'_>,
+    short: bool,
+) -> deform_kernel::Result<Vec<(u64, Row)>> {
+    let at = (rank, size, depth);
+    let (v, points, (cell_offsets, cell_nodes, cell_kinds)) = springs_view(case, owner, at);
+    let [r, so, s, ro, rv] = &v.pattern;
+    let halo = Halo::new(r, so, s, ro, rv);
+    let n = v.ids.len();
+    let mut ps = vec![0u32; Partition::scratch_len(n)];
+    let part = Partition::new(rank, size, v.owned, &v.ids, v.count, halo, ex, &mut ps)?;
+    let cells = KernelCells {
+        offsets: &cell_offsets,
+        nodes: &cell_nodes,
+        kinds: &cell_kinds,
+        face_diagonals: false,
+    };
+    let len = partitioned_targets_len(&cells);
+    let (mut o, mut t, mut k) = (vec![0u32; n + 1], vec![0u32; len], vec![0.0; len]);
+    let springs = PartitionedSprings::new(
+        part, cells, &points, 1.0, &v.fixed, &mut o, &mut t, &mut k, ex,
+    )?;
+    let (agg, _) = v.aggregate(rank, size, ex, false)?;
+    let len = prolongator_partitioned_len(&springs);
+    let mut offsets = vec![0u32; v.owned + 1];
+    let mut cols = vec![0u64; len];
+    let mut vals = vec![f64::NAN; len - usize::from(short)];
+    let (p, vo) = (&mut offsets, &mut cols);
+    let nnz = prolongator_partitioned(&springs, &agg, ex, p, vo, &mut vals)?;
+    assert_eq!(offsets[v.owned] as usize, nnz);
+    let rows = (0..v.owned).map(|i| {
+        let (a, b) = (offsets[i] as usize, offsets[i + 1] as usize);
+        let row = (a..b).map(|q| (cols[q], vals[q].to_bits())).collect();
+        (v.ids[i], row)
+    });
+    Ok(rows.collect())
+}
+
+/// The serial MIS-2 hierarchy's fine prolongator, every node's row with its columns named by
+/// the aggregates' roots: `(root, value bits)`.
+fn serial_prolongator(case: &Case) -> Vec<Row> {
+    let (agg, _) = serial(case);
+    let roots: Vec<u64> = (0..case.n() as u64)
+        .filter(|&i| agg[i as usize] == i)
+        .collect();
+    with_system(case, |sys| {
+        let opts = AmgOptions {
+            max_coarse: 16,
+            ..AmgOptions::default()
+        };
+        let mut work = vec![0u32; AmgHierarchy::setup_work_len(sys)];
+        let mut mwork = vec![0u64; AmgHierarchy::mis2_work_len(sys)];
+        let sizes = AmgHierarchy::setup_len_mis2(sys, &opts, &mut work, &mut mwork).unwrap();
+        let mut index = vec![0u32; sizes.index];
+        let mut values = vec![0.0; sizes.values];
+        let (w, m, i, v) = (&mut work, &mut mwork, &mut index, &mut values);
+        let h = AmgHierarchy::setup_mis2(sys, &opts, w, m, i, v).unwrap();
+        assert!(h.levels() >= 2, "{}", case.name);
+        assert_eq!(h.level_size(1), roots.len(), "{}", case.name);
+        (0..case.n())
+            .map(|i| {
+                let (c, v) = h.prolongator_row(0, i);
+                let row = c.iter().zip(v);
+                row.map(|(&c, &v)| (roots[c as usize], v.to_bits()))
+                    .collect()
+            })
+            .collect()
+    })
+}
+
+#[test]
+fn every_partition_gives_the_serial_fine_prolongator() {
+    for case in cases() {
+        let want = serial_prolongator(&case);
+        // Not a trivial operator: smoothed rows reach beyond their own aggregate.
+        assert!(want.iter().any(|r| r.len() > 1), "{}", case.name);
+        for size in 1..=5usize {
+            for ((label, owner), depth) in owners(&case, size).into_iter().zip([1, 2, 1]) {
+                let what = format!("{}, {label}, {size} processes, depth {depth}", case.name);
+                let got = on_threads(size, |rank, ex| {
+                    let at = (rank, size as u32, depth);
+                    partitioned_prolongator(&case, &owner, at, ex, false)
+                });
+                let mut seen = 0;
+                for (rank, rows) in got.into_iter().enumerate() {
+                    for (g, row) in rows.unwrap() {
+                        assert_eq!(row, want[g as usize], "{what}, rank {rank}, node {g}");
+                        seen += 1;
+                    }
+                }
+                assert_eq!(seen, case.n(), "{what}: every row once");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_short_prolongator_buffer_fails_on_every_process() {
+    let case = hexes();
+    let owner = random_owner(case.n(), 3, 5);
+    let got = on_threads(3, |rank, ex| {
+        partitioned_prolongator(&case, &owner, (rank, 3, 1), ex, rank == 2).err()
+    });
+    assert!(matches!(got[2], Some(Error::BufferTooSmall { .. })));
+    for r in [0, 1] {
+        assert!(matches!(
+            got[r],
+            Some(Error::BadPartition {
+                fault: PartitionFault::OtherProcess,
+                ..
+            })
+        ));
     }
 }

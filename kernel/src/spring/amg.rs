@@ -38,6 +38,7 @@
 
 mod cycle;
 mod mis2;
+mod partitioned;
 mod pcg;
 mod pools;
 pub(crate) use pcg::{solve_amg_on, Vcycle};
@@ -54,6 +55,7 @@ pub use mis2::{
     aggregate_mis2, aggregate_mis2_partitioned, mis2_exchange_len, mis2_scratch_len, Mis2Report,
     MIS2_NONE,
 };
+pub use partitioned::{prolongator_partitioned, prolongator_partitioned_len};
 pub use pcg::{
     amg_cg_scratch_len, amg_precondition_scratch_len, amg_sliding_cg_scratch_len,
     solve_linear_amg_scratch_len,
@@ -484,6 +486,21 @@ impl<'a, T: Real> AmgHierarchy<'a, T> {
             l if l < self.layout.count => self.layout.level(l).a_nnz,
             _ => 0,
         }
+    }
+
+    /// Row `i` of level `l`'s prolongator (`l + 1 < levels()`): its columns (level `l + 1`
+    /// unknowns, increasing) and values; empty past the end.
+    pub fn prolongator_row(&self, l: usize, i: usize) -> (&'a [u32], &'a [T]) {
+        if l + 1 >= self.layout.count || i >= self.layout.level(l).n {
+            return (&[], &[]);
+        }
+        let lv = self.layout.level(l);
+        let (s, len) = setup::csr_row(self.index, lv.p_offs, lv.p_cols, i);
+        let rel = s.saturating_sub(lv.p_cols);
+        (
+            seg(self.index, s, len),
+            seg(self.values, lv.p_vals.saturating_add(rel), len),
+        )
     }
 
     /// Unknowns on all coarse levels together.

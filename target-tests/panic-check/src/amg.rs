@@ -80,6 +80,7 @@ fn run<T: Real, const V: usize, const W: usize>() {
         keep(h.level_size(bb(1)));
         keep(h.level_entries(bb(1)));
         keep(h.coarse_unknowns());
+        keep(h.prolongator_row(bb(0), bb(1)));
         solve::<T, V>(&sys, &h);
         solve::<T, W>(&sys, &h);
     }

@@ -16,8 +16,8 @@ use deform_kernel::quaternion::{
 };
 use deform_kernel::spring::{
     aggregate_mis2, aggregate_mis2_partitioned, mis2_exchange_len, mis2_scratch_len,
-    partitioned_cg_scratch_len, partitioned_targets_len, LocalCells, PartitionedSprings,
-    Preconditioner, SolveOptions,
+    partitioned_cg_scratch_len, partitioned_targets_len, prolongator_partitioned,
+    prolongator_partitioned_len, LocalCells, PartitionedSprings, Preconditioner, SolveOptions,
 };
 use deform_kernel::{Graph, Quat, Real};
 
@@ -165,6 +165,16 @@ fn mis2<T: Real>(springs: &PartitionedSprings<'_, T>) {
         bb(&mut agg[..]),
         bb(&mut scratch[..]),
         bb(&mut reals[..]),
+    ));
+    keep(prolongator_partitioned_len(springs));
+    let (mut offsets, mut columns, mut values) = ([0u32; N + 1], [0u64; 16], [T::ZERO; 16]);
+    keep(prolongator_partitioned(
+        springs,
+        bb(&agg[..]),
+        &Opaque,
+        bb(&mut offsets[..]),
+        bb(&mut columns[..]),
+        bb(&mut values[..]),
     ));
 }
 

@@ -616,7 +616,7 @@ fn spectral_bound<T: Real>(
 
 /// The prolongator-smoothing (and Jacobi) weight `(4/3) / ρ` (0 when `ρ = 0`).
 #[inline]
-fn jacobi_weight<T: Real>(rho: T) -> T {
+pub(crate) fn jacobi_weight<T: Real>(rho: T) -> T {
     if rho > T::ZERO {
         T::from_f64(4.0 / 3.0) / rho
     } else {
