@@ -10,6 +10,8 @@
 
 #[path = "c_exchange.rs"]
 mod c_exchange;
+#[path = "../support/mod.rs"]
+mod support;
 
 use std::collections::HashMap;
 use std::ffi::c_void;
@@ -37,6 +39,7 @@ use deform_kernel_ffi::spring::{
 use deform_kernel_ffi::status::dk_status;
 use deform_meshgen::partition::{local_view, random_owner, LocalView};
 use deform_meshgen::{extrude, naca_triangulated, AirfoilGrid, Mesh};
+use support::partition_boundary::{self, boundary, moved, Bnd};
 
 /// The C options (CG + Jacobi, the defaults) and the same as the kernel's stopping rule.
 fn options() -> dk_spring_solve_options {
@@ -57,66 +60,6 @@ fn stopping() -> SolveOptions<f64> {
         max_iterations: o.max_iterations,
         update_tol: o.update_tol,
     }
-}
-
-/// The serial boundary: every marker's nodes in a scrambled order (not the node order), and
-/// every marker's elements in that numbering.
-struct Bnd {
-    nodes: Vec<u32>,
-    offsets: Vec<u32>,
-    elements: Vec<u32>,
-    kinds: Vec<u8>,
-}
-
-fn boundary<const D: usize>(mesh: &Mesh<D>) -> Bnd {
-    let mut nodes: Vec<u32> = Vec::new();
-    for m in &mesh.markers {
-        for &n in &m.node_list {
-            if !nodes.contains(&n) {
-                nodes.push(n);
-            }
-        }
-    }
-    let b = nodes.len();
-    let step = [7, 11, 13].into_iter().find(|s| b % s != 0).unwrap();
-    nodes = (0..b).map(|k| nodes[(k * step + 3) % b]).collect();
-    let mut pos = vec![u32::MAX; mesh.points.len()];
-    for (k, &n) in nodes.iter().enumerate() {
-        pos[n as usize] = k as u32;
-    }
-    let (mut offsets, mut elements, mut kinds) = (vec![0u32], Vec::new(), Vec::new());
-    for m in &mesh.markers {
-        for e in 0..m.kinds.len() {
-            let el = &m.nodes[m.offsets[e] as usize..m.offsets[e + 1] as usize];
-            elements.extend(el.iter().map(|&n| pos[n as usize]));
-            kinds.push(m.kinds[e]);
-            offsets.push(elements.len() as u32);
-        }
-    }
-    Bnd {
-        nodes,
-        offsets,
-        elements,
-        kinds,
-    }
-}
-
-/// A pitch by `deg` about the quarter chord plus a heave of the `"airfoil"` nodes.
-fn moved<const D: usize>(mesh: &Mesh<D>, nodes: &[u32], deg: f64) -> Vec<[f64; D]> {
-    let wall = &mesh.marker("airfoil").unwrap().node_list;
-    let (s, c) = deg.to_radians().sin_cos();
-    nodes
-        .iter()
-        .map(|&n| {
-            let mut p = mesh.points[n as usize];
-            if wall.binary_search(&n).is_ok() {
-                let (x, y) = (p[0] - 0.25, p[1]);
-                p[0] = 0.25 + c * x - s * y;
-                p[1] = s * x + c * y + 0.02;
-            }
-            p
-        })
-        .collect()
 }
 
 /// The serial result: deformed points, origin, iterations and residual bits.
@@ -184,40 +127,18 @@ struct Share {
 }
 
 fn share<const D: usize>(v: &LocalView<D>, bnd: &Bnd, deformed: &[[f64; D]]) -> Share {
-    let local: HashMap<u64, usize> = v.global_ids[..v.owned]
-        .iter()
-        .enumerate()
-        .map(|(i, &g)| (g, i))
-        .collect();
-    let owns = |g: u32| local.get(&u64::from(g)).copied();
-    let mut s = Share {
-        nodes: Vec::new(),
-        positions: Vec::new(),
-        deformed: Vec::new(),
-        ids: Vec::new(),
-        offsets: vec![0],
-        elements: Vec::new(),
-        kinds: Vec::new(),
+    let s = partition_boundary::share(v, bnd, deformed, |_, owns_first| owns_first);
+    Share {
+        nodes: s.nodes,
+        positions: s.positions,
+        deformed: s.deformed.concat(),
+        ids: s.ids,
+        offsets: s.offsets,
+        elements: s.elements,
+        kinds: s.kinds,
         boundary_count: bnd.nodes.len(),
         element_count: bnd.kinds.len(),
-    };
-    for (k, &g) in bnd.nodes.iter().enumerate() {
-        if let Some(i) = owns(g) {
-            s.nodes.push(i as u32);
-            s.positions.push(k as u32);
-            s.deformed.extend_from_slice(&deformed[k]);
-        }
     }
-    for c in 0..bnd.kinds.len() {
-        let el = &bnd.elements[bnd.offsets[c] as usize..bnd.offsets[c + 1] as usize];
-        if owns(bnd.nodes[el[0] as usize]).is_some() {
-            s.ids.push(c as u32);
-            s.elements.extend_from_slice(el);
-            s.kinds.push(bnd.kinds[c]);
-            s.offsets.push(s.elements.len() as u32);
-        }
-    }
-    s
 }
 
 /// What one thread got: status, `out` (owned nodes, flat), origin, report, and whether
