@@ -14,11 +14,11 @@ use std::collections::HashMap;
 use std::ffi::c_void;
 use std::sync::{Barrier, Mutex};
 
-use c_exchange::{halo, max, sum_words, Rank, Shared};
+use c_exchange::{c_cells, c_partition, halo, max, sum_words, Rank, Shared};
 
 use deform_kernel_ffi::graph::{dk_cells, dk_graph, dk_graph_from_cells, dk_graph_from_cells_len};
 use deform_kernel_ffi::partition::{
-    dk_exchange, dk_partition, dk_partitioned_spring_scratch_len, dk_partitioned_spring_solve,
+    dk_exchange, dk_partitioned_spring_scratch_len, dk_partitioned_spring_solve,
 };
 use deform_kernel_ffi::spring::{
     dk_spring_batina_stiffness, dk_spring_solve_linear, dk_spring_solve_linear_scratch_len,
@@ -147,33 +147,8 @@ fn solve(
     v: &LocalView<2>,
     me: &mut Rank<'_>,
 ) -> (dk_status, Vec<f64>, Vec<f64>, dk_spring_solve_report) {
-    let n = v.global_ids.len();
-    let part = dk_partition {
-        rank: v.rank,
-        size: v.size,
-        owned: v.owned,
-        global_count: v.global_count,
-        global_ids: v.global_ids.as_ptr(),
-        global_ids_len: n,
-        neighbour_ranks: v.ranks.as_ptr(),
-        neighbour_ranks_len: v.ranks.len(),
-        send_offsets: v.send_offsets.as_ptr(),
-        send_offsets_len: v.send_offsets.len(),
-        send: v.send.as_ptr(),
-        send_len: v.send.len(),
-        recv_offsets: v.recv_offsets.as_ptr(),
-        recv_offsets_len: v.recv_offsets.len(),
-        recv: v.recv.as_ptr(),
-        recv_len: v.recv.len(),
-    };
-    let cells = dk_cells {
-        offsets: v.cell_offsets.as_ptr(),
-        offsets_len: v.cell_offsets.len(),
-        nodes: v.cell_nodes.as_ptr(),
-        nodes_len: v.cell_nodes.len(),
-        kinds: v.cell_kinds.as_ptr(),
-        kinds_len: v.cell_kinds.len(),
-    };
+    let part = c_partition(v);
+    let cells = c_cells(v);
     let ex = dk_exchange {
         user: me as *mut Rank as *mut c_void,
         sum_words: Some(sum_words),

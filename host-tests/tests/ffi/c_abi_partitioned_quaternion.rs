@@ -17,7 +17,7 @@ use std::collections::HashMap;
 use std::ffi::c_void;
 use std::sync::{Barrier, Mutex};
 
-use c_exchange::{halo, max, sum_words, Rank, Shared};
+use c_exchange::{c_cells, c_partition, halo, max, sum_words, Rank, Shared};
 use deform_kernel::quat::Quat;
 use deform_kernel::quaternion::{
     deform_spring_scratch_len, deform_spring_with, propagate_spring_with_scratch_len,
@@ -29,7 +29,7 @@ use deform_kernel::spring::{
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph};
 use deform_kernel_ffi::deformation::DK_ROTATIONS_SHAPE;
 use deform_kernel_ffi::graph::dk_cells;
-use deform_kernel_ffi::partition::{dk_exchange, dk_partition};
+use deform_kernel_ffi::partition::dk_exchange;
 use deform_kernel_ffi::partition_quaternion::{
     dk_partitioned_deform_spring, dk_partitioned_deform_spring_lens, dk_partitioned_motion,
 };
@@ -155,33 +155,8 @@ const SENTINEL: f64 = -7.25e11;
 
 /// One thread's C calls on its view and share.
 fn deform<const D: usize>(v: &LocalView<D>, s: &Share, me: &mut Rank<'_>) -> Got {
-    let n = v.global_ids.len();
-    let part = dk_partition {
-        rank: v.rank,
-        size: v.size,
-        owned: v.owned,
-        global_count: v.global_count,
-        global_ids: v.global_ids.as_ptr(),
-        global_ids_len: n,
-        neighbour_ranks: v.ranks.as_ptr(),
-        neighbour_ranks_len: v.ranks.len(),
-        send_offsets: v.send_offsets.as_ptr(),
-        send_offsets_len: v.send_offsets.len(),
-        send: v.send.as_ptr(),
-        send_len: v.send.len(),
-        recv_offsets: v.recv_offsets.as_ptr(),
-        recv_offsets_len: v.recv_offsets.len(),
-        recv: v.recv.as_ptr(),
-        recv_len: v.recv.len(),
-    };
-    let cells = dk_cells {
-        offsets: v.cell_offsets.as_ptr(),
-        offsets_len: v.cell_offsets.len(),
-        nodes: v.cell_nodes.as_ptr(),
-        nodes_len: v.cell_nodes.len(),
-        kinds: v.cell_kinds.as_ptr(),
-        kinds_len: v.cell_kinds.len(),
-    };
+    let part = c_partition(v);
+    let cells = c_cells(v);
     let motion = dk_partitioned_motion {
         nodes: s.nodes.as_ptr(),
         nodes_len: s.nodes.len(),

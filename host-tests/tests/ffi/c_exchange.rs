@@ -8,7 +8,9 @@ use std::collections::HashMap;
 use std::ffi::c_void;
 use std::sync::{Barrier, Mutex};
 
+use deform_kernel_ffi::graph::dk_cells;
 use deform_kernel_ffi::partition::dk_partition;
+use deform_meshgen::partition::LocalView;
 
 /// What the threads share: one slot per rank for reductions, a mailbox for halos.
 pub struct Shared {
@@ -109,4 +111,38 @@ pub unsafe extern "C" fn halo(
     }
     me.shared.barrier.wait();
     0
+}
+
+/// The C view of a thread's partition (`LocalView`'s lists, borrowed).
+pub fn c_partition<const D: usize>(v: &LocalView<D>) -> dk_partition {
+    dk_partition {
+        rank: v.rank,
+        size: v.size,
+        owned: v.owned,
+        global_count: v.global_count,
+        global_ids: v.global_ids.as_ptr(),
+        global_ids_len: v.global_ids.len(),
+        neighbour_ranks: v.ranks.as_ptr(),
+        neighbour_ranks_len: v.ranks.len(),
+        send_offsets: v.send_offsets.as_ptr(),
+        send_offsets_len: v.send_offsets.len(),
+        send: v.send.as_ptr(),
+        send_len: v.send.len(),
+        recv_offsets: v.recv_offsets.as_ptr(),
+        recv_offsets_len: v.recv_offsets.len(),
+        recv: v.recv.as_ptr(),
+        recv_len: v.recv.len(),
+    }
+}
+
+/// The C view of a thread's local cells (borrowed).
+pub fn c_cells<const D: usize>(v: &LocalView<D>) -> dk_cells {
+    dk_cells {
+        offsets: v.cell_offsets.as_ptr(),
+        offsets_len: v.cell_offsets.len(),
+        nodes: v.cell_nodes.as_ptr(),
+        nodes_len: v.cell_nodes.len(),
+        kinds: v.cell_kinds.as_ptr(),
+        kinds_len: v.cell_kinds.len(),
+    }
 }
