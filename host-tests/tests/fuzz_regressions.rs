@@ -2,9 +2,10 @@
 //! test names the fuzz target and the kernel line that was wrong; the crash inputs themselves
 //! are kept in `fuzz/seeds/<target>/` so the CI smoke run replays them too.
 
+use deform_host_tests::spring_ref::{solve_linear_dense, Net};
 use deform_kernel::spring::{
-    batina_stiffness, solve_linear_scratch_len, LinearMethod, Preconditioner, SolveOptions,
-    SpringSystem,
+    batina_stiffness, solve_linear_amg_scratch_len, solve_linear_scratch_len, LinearMethod,
+    Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::taubin::{redistribute, redistribute_scratch_len};
 use deform_kernel::vector::{norm, norm_robust};
@@ -108,5 +109,91 @@ fn every_linear_method_keeps_fixed_values_bitwise() {
         assert_eq!(values[0][0].to_bits(), (-0.0f64).to_bits(), "{method:?}");
         assert_eq!(values[2][0].to_bits(), 1.0f64.to_bits(), "{method:?}");
         assert!((values[1][0] - 0.5).abs() < 1e-12, "{method:?}");
+    }
+}
+
+/// `amg_setup_cycle` fuzzing (CI, stop 42): a valid six-node system whose three free nodes
+/// hang on fixed ones by springs of 2⁻¹⁰ … 2⁻⁸ made the two-level set-up report
+/// `SingularSystem` (`spring/amg/setup.rs`). The hierarchy must set up, and AMG-CG must agree
+/// with the plain CG solve.
+#[test]
+fn amg_setup_accepts_weak_springs_to_fixed_nodes() {
+    use deform_kernel::spring::{AmgHierarchy, AmgOptions, AmgSmoother};
+    let p = |e: i32| 2f64.powi(e);
+    // (a, b, stiffness); nodes 0, 1, 2 fixed, 3, 4, 5 free.
+    let springs = [
+        (0u32, 4u32, p(-8)),
+        (1, 3, p(-8)),
+        (2, 1, p(-9)),
+        (3, 5, p(-10)),
+        (0, 5, p(-8)),
+        (0, 1, p(-10)),
+        (2, 4, p(-9)),
+        (1, 5, p(-9)),
+        (0, 3, p(-9)),
+    ];
+    let n = 6;
+    let edges: Vec<[u32; 2]> = springs.iter().map(|&(a, b, _)| [a, b]).collect();
+    let mut offsets = vec![0u32; n + 1];
+    let mut targets = vec![0u32; deform_kernel::graph_from_edges_len(&edges)];
+    let used = deform_kernel::graph_from_edges(n, &edges, &mut offsets, &mut targets).unwrap();
+    targets.truncate(used);
+    let mut k = Vec::new();
+    for i in 0..n {
+        for &t in &targets[offsets[i] as usize..offsets[i + 1] as usize] {
+            let (a, b) = ((i as u32).min(t), (i as u32).max(t));
+            let w = springs
+                .iter()
+                .find(|s| (s.0.min(s.1), s.0.max(s.1)) == (a, b));
+            k.push(w.unwrap().2);
+        }
+    }
+    let fixed = [1u8, 1, 1, 0, 0, 0];
+    let graph = Graph::new(&offsets, &targets).unwrap();
+    let mut s = vec![0u32; n];
+    let sys = SpringSystem::new(graph, &k, &fixed, &mut s).unwrap();
+    let opts = AmgOptions {
+        strength_theta: 0.02,
+        max_levels: 2,
+        max_coarse: 2,
+        smoother: AmgSmoother::Chebyshev,
+        sweeps: 3,
+    };
+    let mut work = vec![0u32; AmgHierarchy::setup_work_len(&sys)];
+    let sizes = AmgHierarchy::setup_len(&sys, &opts, &mut work).unwrap();
+    let mut index = vec![0u32; sizes.index];
+    let mut values = vec![0.0f64; sizes.values];
+    let h = AmgHierarchy::setup(&sys, &opts, &mut work, &mut index, &mut values).unwrap();
+    assert_eq!(h.levels(), 2);
+    let x0: Vec<[f64; 2]> = (0..n)
+        .map(|i| {
+            if fixed[i] != 0 {
+                [i as f64, 1.0 - i as f64]
+            } else {
+                [0.0; 2]
+            }
+        })
+        .collect();
+    let mut x = x0.clone();
+    let mut ws = vec![[0.0f64; 2]; solve_linear_amg_scratch_len(&h)];
+    let stop = SolveOptions {
+        max_iterations: 100,
+        residual_tol: 1e-12,
+        update_tol: 0.0,
+    };
+    let rep = sys.solve_linear_amg(&h, &mut x, &stop, &mut ws).unwrap();
+    assert!(rep.converged, "{rep:?}");
+    let net = Net {
+        offsets: offsets.clone(),
+        targets: targets.clone(),
+        k: k.clone(),
+        fixed: fixed.to_vec(),
+    };
+    let start: Vec<Vec<f64>> = x0.iter().map(|v| v.to_vec()).collect();
+    let exact = solve_linear_dense(&net, &start).unwrap();
+    for (e, v) in exact.iter().zip(&x) {
+        for c in 0..2 {
+            assert!((e[c] - v[c]).abs() <= 1e-10, "{} vs dense {}", v[c], e[c]);
+        }
     }
 }

@@ -684,6 +684,10 @@ pub(crate) fn numeric<T: Real>(
         let diag = seg(lo, lv.diag, lv.n);
         let agg = seg(index, lv.agg, lv.n);
         let (pv, rest) = hi.split_at_mut_checked(lv.p_nnz).ok_or(singular)?;
+        let nd_off = next.diag.saturating_sub(lv.p_vals + lv.p_nnz);
+        let nv_off = next.a_vals.saturating_sub(lv.p_vals + lv.p_nnz);
+        // The coarse diagonal's slots first hold each aggregate's tentative energy `tᵀ A t`.
+        seg_mut(rest, nd_off, next.n).fill(T::ZERO);
         // P = (I − ω D⁻¹ A) T, row by row.
         for i in 0..lv.n {
             let (s, len) = csr_row(index, lv.p_offs, lv.p_cols, i);
@@ -704,6 +708,10 @@ pub(crate) fn numeric<T: Real>(
                     *x += a;
                 }
             });
+            let slot = nd_off.saturating_add(ai as usize);
+            if let (Some(e), Some(&x)) = (rest.get_mut(slot), acc.get(ai as usize)) {
+                *e += x;
+            }
             let scale = w / di;
             let rel = s.saturating_sub(lv.p_cols);
             for (&c, p) in cols.iter().zip(seg_mut(pv, rel, len)) {
@@ -713,8 +721,6 @@ pub(crate) fn numeric<T: Real>(
         }
         let pv: &[T] = pv;
         // Pᵀ A P, coarse row by coarse row, then exact symmetrisation.
-        let nd_off = next.diag.saturating_sub(lv.p_vals + lv.p_nnz);
-        let nv_off = next.a_vals.saturating_sub(lv.p_vals + lv.p_nnz);
         let p_row = |j: usize| {
             let (s, len) = csr_row(index, lv.p_offs, lv.p_cols, j);
             let rel = s.saturating_sub(lv.p_cols);
@@ -749,13 +755,14 @@ pub(crate) fn numeric<T: Real>(
                 entries(sys, index, lo, &lv, fine, i, &mut spread);
             }
             if let Some(d) = rest.get_mut(nd_off + big) {
-                *d = acc.get(big).copied().unwrap_or(T::ZERO);
+                *d = degenerate_mark(acc.get(big).copied().unwrap_or(T::ZERO), *d)?;
             }
             let rel = s.saturating_sub(next.a_cols);
             for (&c, v) in cols.iter().zip(seg_mut(rest, nv_off + rel, len)) {
                 *v = acc.get(c as usize).copied().unwrap_or(T::ZERO);
             }
         }
+        isolate_degenerate(index, &next, rest, nd_off, nv_off);
         let half = T::from_f64(0.5);
         for big in 0..next.n {
             let (s, len) = csr_row(index, next.a_offs, next.a_cols, big);
@@ -796,6 +803,53 @@ pub(crate) fn numeric<T: Real>(
         cholesky(sys, index, lo, &lv, layout.dense_n, dense)?;
     }
     Ok(weights)
+}
+
+/// The coarse diagonal `d = pᵀ A p` of an aggregate whose tentative energy is `e = tᵀ A t`,
+/// or `−e` when smoothing annihilated the column (`d ≤ √ε e`: the aggregate's indicator is, to
+/// rounding, an eigenvector of `D⁻¹ A` for the eigenvalue `1/ω`, which small symmetric
+/// structures with power-of-two springs hit exactly). A degenerate column adds nothing to the
+/// coarse space but would make the coarse operator singular.
+fn degenerate_mark<T: Real>(d: T, e: T) -> Result<T> {
+    if e > T::ZERO && e.is_finite() && !(d > T::EPSILON.sqrt() * e) {
+        Ok(-e)
+    } else if d > T::ZERO && d.is_finite() {
+        Ok(d)
+    } else {
+        Err(Error::SingularSystem { iteration: 0 })
+    }
+}
+
+/// Decouples the coarse unknowns [`degenerate_mark`] marked: their rows and columns become zero
+/// and their diagonal the tentative energy, so the coarse operator stays positive definite and
+/// the V-cycle symmetric (the coarse correction then ignores that direction, as a
+/// pseudo-inverse would). Unmarked operators are untouched, bit for bit.
+fn isolate_degenerate<T: Real>(
+    index: &[u32],
+    next: &Level,
+    rest: &mut [T],
+    nd_off: usize,
+    nv_off: usize,
+) {
+    let marked = |rest: &[T], i: usize| rest.get(nd_off + i).is_some_and(|&d| d < T::ZERO);
+    if !(0..next.n).any(|i| marked(rest, i)) {
+        return;
+    }
+    for big in 0..next.n {
+        let (s, len) = csr_row(index, next.a_offs, next.a_cols, big);
+        let row_marked = marked(rest, big);
+        for q in 0..len {
+            let c = at(index, s + q);
+            if row_marked || marked(rest, c) {
+                if let Some(v) = rest.get_mut(nv_off + s.saturating_sub(next.a_cols) + q) {
+                    *v = T::ZERO;
+                }
+            }
+        }
+    }
+    for d in seg_mut(rest, nd_off, next.n) {
+        *d = d.abs();
+    }
 }
 
 /// Assembles the coarsest operator densely (lower triangle, row-major `m × m`) and factors it
