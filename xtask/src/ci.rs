@@ -3,7 +3,7 @@
 use crate::codegen::codegen;
 use crate::ctx::Ctx;
 use crate::embedded::{cross_build, footprint, on_target};
-use crate::fuzz::{fuzz, FUZZ_SMOKE_SECONDS};
+use crate::fuzz::{fuzz, FUZZ_SMOKE_SECONDS, FUZZ_SMOKE_SEED};
 use crate::help;
 use crate::install::{cinstall, install, CROSS_TARGETS, FUZZ_TOOLCHAIN};
 use crate::mpi::mpi_check;
@@ -210,8 +210,8 @@ pub(crate) fn steps(ctx: &Ctx) -> Vec<Step<'_>> {
         ),
         Step::new(
             "fuzz-smoke",
-            "build every cargo-fuzz target and run each for 15 s from its committed seeds",
-            || fuzz(ctx, FUZZ_SMOKE_SECONDS, None),
+            "build every cargo-fuzz target and run each for 15 s from its committed seeds, libFuzzer seed fixed",
+            || fuzz(ctx, FUZZ_SMOKE_SECONDS, None, Some(FUZZ_SMOKE_SEED)),
         ),
         Step::new(
             "clippy-target-tests",

@@ -11,6 +11,10 @@ use std::sync::Mutex;
 
 /// Seconds each fuzz target runs in `cargo xtask ci` (the smoke run).
 pub(crate) const FUZZ_SMOKE_SECONDS: u64 = 15;
+/// libFuzzer's `-seed` in the smoke run: a gate must not pass or fail by chance, so CI replays
+/// one fixed sequence of mutations (a slower machine runs a prefix of it). Long runs (`cargo
+/// xtask fuzz`) draw a new seed each time; what they find becomes a committed seed.
+pub(crate) const FUZZ_SMOKE_SEED: u64 = 20_261_128;
 
 /// `cargo xtask fuzz [--seconds N] [--target NAME]`.
 pub(crate) fn fuzz_command(ctx: &Ctx, args: &[String]) -> ExitCode {
@@ -33,7 +37,7 @@ pub(crate) fn fuzz_command(ctx: &Ctx, args: &[String]) -> ExitCode {
             }
         }
     }
-    if fuzz(ctx, seconds, target.as_deref()) {
+    if fuzz(ctx, seconds, target.as_deref(), None) {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE
@@ -41,8 +45,9 @@ pub(crate) fn fuzz_command(ctx: &Ctx, args: &[String]) -> ExitCode {
 }
 
 /// Builds the fuzz targets with cargo-fuzz on nightly and runs each (or `only`) for `seconds`,
-/// starting from the committed seeds; `true` when nothing crashed.
-pub(crate) fn fuzz(ctx: &Ctx, seconds: u64, only: Option<&str>) -> bool {
+/// starting from the committed seeds, with libFuzzer's `seed` when given; `true` when nothing
+/// crashed.
+pub(crate) fn fuzz(ctx: &Ctx, seconds: u64, only: Option<&str>, seed: Option<u64>) -> bool {
     let dir = ctx.root.join("fuzz");
     let fuzz_cmd = |args: &[&str]| {
         let mut c = Command::new("cargo");
@@ -79,7 +84,7 @@ pub(crate) fn fuzz(ctx: &Ctx, seconds: u64, only: Option<&str>) -> bool {
             scope.spawn(|| loop {
                 let k = next.fetch_add(1, Ordering::Relaxed);
                 let Some(t) = targets.get(k) else { break };
-                let r = run_target(&dir, &fuzz_cmd, t, seconds);
+                let r = run_target(&dir, &fuzz_cmd, t, (seconds, seed));
                 let mut all = results.lock().unwrap_or_else(|e| e.into_inner());
                 if let Some(slot) = all.get_mut(k) {
                     *slot = Some(r);
@@ -122,7 +127,7 @@ fn run_target(
     dir: &Path,
     fuzz_cmd: &dyn Fn(&[&str]) -> Command,
     t: &str,
-    seconds: u64,
+    (seconds, seed): (u64, Option<u64>),
 ) -> (bool, String) {
     let corpus = dir.join("corpus").join(t);
     let seeds = dir.join("seeds").join(t);
@@ -139,6 +144,9 @@ fn run_target(
     args.push("--".into());
     args.push(format!("-max_total_time={seconds}"));
     args.push("-print_final_stats=1".into());
+    if let Some(seed) = seed {
+        args.push(format!("-seed={seed}"));
+    }
     let dict = dir.join("dicts").join(format!("{t}.dict"));
     if dict.is_file() {
         args.push(format!("-dict={}", dict.display()));
