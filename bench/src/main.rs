@@ -5,7 +5,8 @@
 //! `cargo run --release --manifest-path bench/Cargo.toml -- --out DIR [--quick] [--only a,b]
 //! [--reps N]` (`--reps`: runs of each sensitivity row)
 //! (`--only` picks among graph, structured, spring, rotation, elasticity, rbf, sensitivity,
-//! sensitivity-spring, sensitivity-quaternion)
+//! sensitivity-spring, sensitivity-quaternion; with sensitivity-default or sensitivity-layer
+//! only that hierarchy's sensitivity rows)
 //!
 //! Writes `DIR/kernel.txt` (`name value` lines: the figures) and raw little-endian inputs and
 //! results (`*.f64`, `*.u32`, plus `*.dims` text files) that peers.py reads back. Speed is
@@ -440,14 +441,22 @@ fn main() {
     if want("rbf") {
         rbf::rbf(sz.rbf_airfoil, if quick { 3 } else { 1 }, &dir, &mut fig);
     }
-    // `sensitivity-spring` / `sensitivity-quaternion`: one method's rows (one callgrind run each).
+    // `sensitivity-spring` / `sensitivity-quaternion`: one method's rows (one callgrind run each);
+    // `sensitivity-default` / `sensitivity-layer`: one hierarchy's (both when neither).
     let rows = [
         want("sensitivity") || only.contains(&"sensitivity-spring"),
         want("sensitivity") || only.contains(&"sensitivity-quaternion"),
     ];
+    let thetas = match (
+        only.contains(&"sensitivity-default"),
+        only.contains(&"sensitivity-layer"),
+    ) {
+        (false, false) => [true, true],
+        (a, b) => [a, b],
+    };
     if rows.contains(&true) {
         let reps = reps.unwrap_or(sz.repeats.min(3));
-        sensitivity::sensitivity(sz.airfoil, reps, rows, &mut fig);
+        sensitivity::sensitivity(sz.airfoil, reps, (rows, thetas), &mut fig);
     }
     std::fs::write(dir.join("kernel.txt"), &fig.0).expect("write kernel.txt");
 }

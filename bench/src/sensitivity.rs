@@ -96,7 +96,7 @@ impl Problem {
         }
     }
 
-    fn spec(&self, method: PlanMethod) -> PlanSpec<'_, f64, 2> {
+    fn spec(&self, method: PlanMethod, amg: AmgOptions<f64>) -> PlanSpec<'_, f64, 2> {
         let b = self.boundary.len();
         PlanSpec {
             points: &self.points,
@@ -106,7 +106,7 @@ impl Problem {
             constraints: None,
             method,
             stiffness: PlanStiffness::Batina { exponent: 1.0 },
-            solver: PlanSolver::Amg(AmgOptions::default()),
+            solver: PlanSolver::Amg(amg),
             options: SolveOptions {
                 residual_tol: 1e-8,
                 max_iterations: 100_000,
@@ -147,8 +147,13 @@ struct Pools {
 /// The deformation as a caller runs it once: work and pool sizes, `init`, one cold step.
 /// Never inlined, so callgrind counts it as one function (`--quick` under callgrind).
 #[inline(never)]
-fn deform(p: &Problem, method: PlanMethod, out: &mut [[f64; 2]]) -> (Pools, usize) {
-    let spec = p.spec(method);
+fn deform(
+    p: &Problem,
+    method: PlanMethod,
+    amg: AmgOptions<f64>,
+    out: &mut [[f64; 2]],
+) -> (Pools, usize) {
+    let spec = p.spec(method, amg);
     let ws = Plan::<f64, 2>::work_sizes(&spec).expect("work sizes");
     let (mut wr, mut wi, mut wb) = (vec![0.0; ws.reals], vec![0; ws.indices], vec![0; ws.bytes]);
     let mut work = PlanWork {
@@ -210,8 +215,15 @@ fn med(v: &mut [f64]) -> f64 {
     v[v.len() / 2]
 }
 
-/// The rows of one method (`tag`: `spring` or `quaternion`).
-fn rows(p: &Problem, method: PlanMethod, tag: &str, reps: usize, fig: &mut Figures) {
+/// The rows of one method and hierarchy (`tag`: `spring` or `quaternion`, with `_layer` for
+/// [`layer_hierarchy`]'s).
+fn rows(
+    p: &Problem,
+    (method, amg): (PlanMethod, AmgOptions<f64>),
+    tag: &str,
+    reps: usize,
+    fig: &mut Figures,
+) {
     let n = p.points.len();
     let mut state = 3u64;
     let w: Vec<[f64; 2]> = (0..n).map(|_| [lcg(&mut state), lcg(&mut state)]).collect();
@@ -222,7 +234,7 @@ fn rows(p: &Problem, method: PlanMethod, tag: &str, reps: usize, fig: &mut Figur
     let (mut it_def, mut it_adj, mut it_wall) = (0, 0, 0);
     for _ in 0..reps {
         let t = Instant::now();
-        let (mut pools, iterations) = deform(p, method, &mut out);
+        let (mut pools, iterations) = deform(p, method, amg, &mut out);
         t_def.push(t.elapsed().as_secs_f64());
         it_def = iterations;
         let plan = Plan::<f64, 2>::open(&mut pools.reals, &mut pools.indices, &mut pools.bytes)
@@ -261,9 +273,25 @@ fn rows(p: &Problem, method: PlanMethod, tag: &str, reps: usize, fig: &mut Figur
     );
 }
 
+/// A hierarchy for meshes with a stretched boundary layer: strength threshold θ = 0.08 (strong
+/// connections on the fine level only, so aggregates follow the layer), otherwise the default.
+/// Fewer iterations for a dearer set-up (docs/amg.md, docs/sensitivities.md).
+fn layer_hierarchy() -> AmgOptions<f64> {
+    AmgOptions {
+        strength_theta: 0.08,
+        ..AmgOptions::default()
+    }
+}
+
 /// The sensitivity rows on the NACA mesh of `airfoil` points, `reps` runs each, of the linear
-/// springs and of the quaternion method (`which`: whether to run each).
-pub(crate) fn sensitivity(airfoil: [usize; 2], reps: usize, which: [bool; 2], fig: &mut Figures) {
+/// springs and of the quaternion method (`which.0`: whether to run each), with the default
+/// hierarchy and with [`layer_hierarchy`]'s (`which.1`).
+pub(crate) fn sensitivity(
+    airfoil: [usize; 2],
+    reps: usize,
+    which: ([bool; 2], [bool; 2]),
+    fig: &mut Figures,
+) {
     let p = Problem::new(airfoil);
     println!(
         "sensitivities: NACA 2412 {} × {} = {} nodes, {} boundary points",
@@ -273,10 +301,19 @@ pub(crate) fn sensitivity(airfoil: [usize; 2], reps: usize, which: [bool; 2], fi
         p.boundary.len()
     );
     fig.put("sensitivity_nodes", p.points.len());
-    if which[0] {
-        rows(&p, PlanMethod::Spring, "spring", reps, fig);
-    }
-    if which[1] {
-        rows(&p, PlanMethod::QuaternionSpring, "quaternion", reps, fig);
+    let layer = layer_hierarchy();
+    for (k, (method, tag)) in [
+        (PlanMethod::Spring, "spring"),
+        (PlanMethod::QuaternionSpring, "quaternion"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        if which.0[k] && which.1[0] {
+            rows(&p, (method, AmgOptions::default()), tag, reps, fig);
+        }
+        if which.0[k] && which.1[1] {
+            rows(&p, (method, layer), &format!("{tag}_layer"), reps, fig);
+        }
     }
 }
