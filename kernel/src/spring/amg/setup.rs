@@ -811,7 +811,8 @@ pub(crate) fn numeric<T: Real>(
 /// structures with power-of-two springs hit exactly). A degenerate column adds nothing to the
 /// coarse space but would make the coarse operator singular.
 fn degenerate_mark<T: Real>(d: T, e: T) -> Result<T> {
-    if e > T::ZERO && e.is_finite() && !(d > T::EPSILON.sqrt() * e) {
+    let kept = d > T::EPSILON.sqrt() * e; // false for NaN too
+    if e > T::ZERO && e.is_finite() && !kept {
         Ok(-e)
     } else if d > T::ZERO && d.is_finite() {
         Ok(d)
