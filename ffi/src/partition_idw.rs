@@ -314,8 +314,7 @@ impl Work<'_> {
         };
         let copy = self.copy.as_chunks_mut::<D>().0;
         let motion = self.motion.view::<D>(self.per_node);
-        let origin =
-            deform_idw_partitioned(&part, pts, &motion, self.exponent, work, copy, comm)?;
+        let origin = deform_idw_partitioned(&part, pts, &motion, self.exponent, work, copy, comm)?;
         let mut o = [0.0; 3];
         for (x, y) in o.iter_mut().zip(origin) {
             *x = y;

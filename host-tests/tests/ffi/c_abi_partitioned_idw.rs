@@ -18,7 +18,9 @@ use std::sync::{Barrier, Mutex};
 
 use c_exchange::{c_partition, halo, max, sum_words, Rank, Shared};
 use deform_kernel::quat::Quat;
-use deform_kernel::quaternion::{deform_idw, deform_idw_scratch_len, BoundaryMotion, RotationSource};
+use deform_kernel::quaternion::{
+    deform_idw, deform_idw_scratch_len, BoundaryMotion, RotationSource,
+};
 use deform_kernel::Cells;
 use deform_kernel_ffi::deformation::{
     DK_ROTATIONS_PER_NODE, DK_ROTATIONS_RIGID, DK_ROTATIONS_SHAPE,
@@ -305,9 +307,11 @@ fn bits_equal_serial<const D: usize>(mesh: &Mesh<D>, deg: f64, sizes: &[u32]) {
         for &size in sizes {
             for depth in [1, 2] {
                 let how = (source, deg);
-                let results = run_ranks(mesh, &bnd, &deformed, how, size, depth, None, &|_, _, _| {});
+                let results =
+                    run_ranks(mesh, &bnd, &deformed, how, size, depth, None, &|_, _, _| {});
                 for (rank, (ids, got)) in results.iter().enumerate() {
-                    let what = format!("{D}D {source:?}, {size} threads, depth {depth}, rank {rank}");
+                    let what =
+                        format!("{D}D {source:?}, {size} threads, depth {depth}, rank {rank}");
                     assert_eq!(got.status, dk_status::DK_OK, "{what}");
                     let o: Vec<u64> = got.origin.iter().map(|x| x.to_bits()).collect();
                     assert_eq!(o, origin.map(f64::to_bits), "{what}: origin");
@@ -347,14 +351,21 @@ type Bad = fn(&mut LocalView<2>, &mut Share);
 
 /// A bad case: what, the source, the culprit, its spoil, a failing `max` at this call, the
 /// culprit's status and the others'.
-type Case = (&'static str, Source, u32, Bad, Option<usize>, dk_status, dk_status);
+type Case = (
+    &'static str,
+    Source,
+    u32,
+    Bad,
+    Option<usize>,
+    dk_status,
+    dk_status,
+);
 
 #[test]
 fn bad_input_fails_on_every_rank_with_nothing_written() {
     use dk_status::{
-        DK_ERR_BAD_PARTITION as BAD, DK_ERR_BUFFER_TOO_SMALL as SHORT,
-        DK_ERR_EXCHANGE as EXCHANGE, DK_ERR_ZERO_LENGTH as ZERO,
-        DK_ERR_LENGTH_MISMATCH as LENGTH, DK_ERR_NULL_POINTER as NULL,
+        DK_ERR_BAD_PARTITION as BAD, DK_ERR_BUFFER_TOO_SMALL as SHORT, DK_ERR_EXCHANGE as EXCHANGE,
+        DK_ERR_LENGTH_MISMATCH as LENGTH, DK_ERR_NULL_POINTER as NULL, DK_ERR_ZERO_LENGTH as ZERO,
     };
     let mesh = mesh_2d(24, 6);
     let bnd = boundary(&mesh);
@@ -459,11 +470,20 @@ fn bad_input_fails_on_every_rank_with_nothing_written() {
     ];
     for (what, source, culprit, spoil, fail_at, own, others) in cases {
         let fail = fail_at.map(|c| (culprit, c));
-        let results = run_ranks(&mesh, &bnd, &deformed, (source, 10.0), 3, 1, fail, &|rank, v, s| {
-            if rank == culprit {
-                spoil(v, s);
-            }
-        });
+        let results = run_ranks(
+            &mesh,
+            &bnd,
+            &deformed,
+            (source, 10.0),
+            3,
+            1,
+            fail,
+            &|rank, v, s| {
+                if rank == culprit {
+                    spoil(v, s);
+                }
+            },
+        );
         for (rank, (_, got)) in results.iter().enumerate() {
             let want = if rank as u32 == culprit { own } else { others };
             assert_eq!(got.status, want, "{what}: rank {rank}");

@@ -290,9 +290,9 @@ type Case = (&'static str, u32, Bad, Option<usize>, dk_status, dk_status);
 #[test]
 fn bad_input_fails_on_every_rank_with_nothing_written() {
     use dk_status::{
-        DK_ERR_BAD_PARTITION as BAD, DK_ERR_BUFFER_TOO_SMALL as SHORT,
-        DK_ERR_EXCHANGE as EXCHANGE, DK_ERR_INVALID_PARAMETER as INVALID,
-        DK_ERR_LENGTH_MISMATCH as LENGTH, DK_ERR_NULL_POINTER as NULL,
+        DK_ERR_BAD_PARTITION as BAD, DK_ERR_BUFFER_TOO_SMALL as SHORT, DK_ERR_EXCHANGE as EXCHANGE,
+        DK_ERR_INVALID_PARAMETER as INVALID, DK_ERR_LENGTH_MISMATCH as LENGTH,
+        DK_ERR_NULL_POINTER as NULL,
     };
     let mesh = mesh_2d(24, 6);
     let cases: [Case; 9] = [
@@ -326,12 +326,47 @@ fn bad_input_fails_on_every_rank_with_nothing_written() {
             BAD,
             BAD,
         ),
-        ("short values", 1, |_, k| k.values_short = 1, None, SHORT, BAD),
-        ("short id scratch", 2, |_, k| k.ids_short = 1, None, SHORT, BAD),
-        ("offsets one too long", 0, |_, k| k.offsets_long = true, None, LENGTH, BAD),
-        ("a NULL counts_out", 1, |_, k| k.counts_null = true, None, NULL, BAD),
+        (
+            "short values",
+            1,
+            |_, k| k.values_short = 1,
+            None,
+            SHORT,
+            BAD,
+        ),
+        (
+            "short id scratch",
+            2,
+            |_, k| k.ids_short = 1,
+            None,
+            SHORT,
+            BAD,
+        ),
+        (
+            "offsets one too long",
+            0,
+            |_, k| k.offsets_long = true,
+            None,
+            LENGTH,
+            BAD,
+        ),
+        (
+            "a NULL counts_out",
+            1,
+            |_, k| k.counts_null = true,
+            None,
+            NULL,
+            BAD,
+        ),
         ("dimension 4", 2, |_, k| k.dim = 4, None, INVALID, BAD),
-        ("a failing max callback", 1, |_, _| {}, Some(1), EXCHANGE, EXCHANGE),
+        (
+            "a failing max callback",
+            1,
+            |_, _| {},
+            Some(1),
+            EXCHANGE,
+            EXCHANGE,
+        ),
     ];
     for (what, culprit, spoil, fail_at, own, others) in cases {
         let fail = fail_at.map(|c| (culprit, c));
