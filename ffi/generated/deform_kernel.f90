@@ -540,7 +540,9 @@ module deform_kernel
     real(c_double) :: rigid_rotation(4)
     !> The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
     real(c_double) :: origin(3)
-    !> `DK_ROTATIONS_SHAPE` or `DK_ROTATIONS_RIGID` (per-node rotations are refused).
+    !> `DK_ROTATIONS_SHAPE` or `DK_ROTATIONS_RIGID`; `DK_ROTATIONS_PER_NODE` only with
+    !! `dk_partitioned_deform_idw`(crate::partition_idw::dk_partitioned_deform_idw) (its
+    !! `node_rotations`), refused by `dk_partitioned_deform_spring`.
     integer(c_int32_t) :: rotation_source
     !> Nonzero: rotate about `origin`; 0: about the centroid of the moving boundary points.
     integer(c_int32_t) :: has_origin
@@ -1006,6 +1008,8 @@ module deform_kernel
             dk_order_hilbert_f32, dk_order_index_distance, dk_order_permute, dk_order_permute_f32, &
             dk_order_renumber, dk_order_permute_graph, dk_order_gather, dk_order_gather_f32, &
             dk_partitioned_spring_scratch_len, dk_partitioned_spring_solve, &
+            dk_partitioned_deform_idw_lens, dk_partitioned_deform_idw, &
+            dk_partitioned_prolongator_lens, dk_partitioned_prolongator, &
             dk_partitioned_deform_spring_lens, dk_partitioned_deform_spring, &
             dk_plan_options_default, dk_plan_options_default_f32, dk_plan_work_sizes, &
             dk_plan_work_sizes_f32, dk_plan_pool_sizes, dk_plan_pool_sizes_f32, dk_plan_init, &
@@ -2856,6 +2860,86 @@ module deform_kernel
       integer(c_size_t), value :: index_scratch_len
       type(dk_exchange), intent(in) :: exchange
       type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_partitioned_deform_idw_lens(partition, dim, boundary_count, element_count, &
+        lens_out) bind(C, name="dk_partitioned_deform_idw_lens") result(s)
+      import :: c_int32_t, c_size_t, dk_partition
+      type(dk_partition), intent(in) :: partition
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), value :: boundary_count
+      integer(c_size_t), value :: element_count
+      integer(c_size_t), intent(inout) :: lens_out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_partitioned_deform_idw(partition, points, points_len, dim, exponent, motion, &
+        node_rotations, node_rotations_len, scratch, scratch_len, index_scratch, &
+        index_scratch_len, word_scratch, word_scratch_len, kind_scratch, kind_scratch_len, &
+        exchange, out, out_len, origin_out, origin_out_len) bind(C, &
+        name="dk_partitioned_deform_idw") result(s)
+      import :: c_double, c_int32_t, c_int64_t, c_int8_t, c_size_t, dk_exchange, dk_partition, &
+          dk_partitioned_motion
+      type(dk_partition), intent(in) :: partition
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), value :: exponent
+      type(dk_partitioned_motion), intent(in) :: motion
+      real(c_double), intent(in) :: node_rotations(*)
+      integer(c_size_t), value :: node_rotations_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      integer(c_int64_t), intent(inout) :: word_scratch(*)
+      integer(c_size_t), value :: word_scratch_len
+      integer(c_int8_t), intent(inout) :: kind_scratch(*)
+      integer(c_size_t), value :: kind_scratch_len
+      type(dk_exchange), intent(in) :: exchange
+      real(c_double), intent(inout) :: out(*)
+      integer(c_size_t), value :: out_len
+      real(c_double), intent(inout) :: origin_out(*)
+      integer(c_size_t), value :: origin_out_len
+      integer(c_int32_t) :: s
+    end function
+    function dk_partitioned_prolongator_lens(partition, cells, face_diagonals, lens_out) bind(C, &
+        name="dk_partitioned_prolongator_lens") result(s)
+      import :: c_bool, c_int32_t, c_size_t, dk_cells, dk_partition
+      type(dk_partition), intent(in) :: partition
+      type(dk_cells), intent(in) :: cells
+      logical(c_bool), value :: face_diagonals
+      integer(c_size_t), intent(inout) :: lens_out(4)
+      integer(c_int32_t) :: s
+    end function
+    function dk_partitioned_prolongator(partition, cells, face_diagonals, points, points_len, dim, &
+        exponent, fixed, fixed_len, scratch, scratch_len, index_scratch, index_scratch_len, &
+        id_scratch, id_scratch_len, exchange, offsets, offsets_len, columns, columns_len, values, &
+        values_len, counts_out) bind(C, name="dk_partitioned_prolongator") result(s)
+      import :: c_bool, c_double, c_int32_t, c_int64_t, c_int8_t, c_size_t, dk_cells, dk_exchange, &
+          dk_partition
+      type(dk_partition), intent(in) :: partition
+      type(dk_cells), intent(in) :: cells
+      logical(c_bool), value :: face_diagonals
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      integer(c_int32_t), value :: dim
+      real(c_double), value :: exponent
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      integer(c_int64_t), intent(inout) :: id_scratch(*)
+      integer(c_size_t), value :: id_scratch_len
+      type(dk_exchange), intent(in) :: exchange
+      integer(c_int32_t), intent(inout) :: offsets(*)
+      integer(c_size_t), value :: offsets_len
+      integer(c_int64_t), intent(inout) :: columns(*)
+      integer(c_size_t), value :: columns_len
+      real(c_double), intent(inout) :: values(*)
+      integer(c_size_t), value :: values_len
+      integer(c_size_t), intent(inout) :: counts_out(2)
       integer(c_int32_t) :: s
     end function
     function dk_partitioned_deform_spring_lens(partition, cells, face_diagonals, dim, &

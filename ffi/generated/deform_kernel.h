@@ -610,7 +610,9 @@ typedef struct {
   double rigid_rotation[4];
   // The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
   double origin[3];
-  // [`DK_ROTATIONS_SHAPE`] or [`DK_ROTATIONS_RIGID`] (per-node rotations are refused).
+  // [`DK_ROTATIONS_SHAPE`] or [`DK_ROTATIONS_RIGID`]; [`DK_ROTATIONS_PER_NODE`] only with
+  // [`dk_partitioned_deform_idw`](crate::partition_idw::dk_partitioned_deform_idw) (its
+  // `node_rotations`), refused by [`dk_partitioned_deform_spring`].
   uint32_t rotation_source;
   // Nonzero: rotate about `origin`; 0: about the centroid of the moving boundary points.
   uint32_t has_origin;
@@ -3624,6 +3626,179 @@ dk_status dk_partitioned_spring_solve(const dk_partition *partition,
                                       size_t index_scratch_len,
                                       const dk_exchange *exchange,
                                       dk_spring_solve_report *report);
+
+// The scratch lengths of [`dk_partitioned_deform_idw`] for this partition, `boundary_count`
+// boundary nodes and `element_count` boundary elements in dimension `dim` (2 or 3):
+// `lens_out[0]` doubles of `scratch`, `lens_out[1]` entries of `index_scratch` (`uint32_t`),
+// `lens_out[2]` entries of `word_scratch` (`int64_t`: the boundary gather's words,
+// `1 + 2 B + 6 E`), `lens_out[3]` bytes of `kind_scratch` (`E`). Apart from the partition's
+// node counts, all are in the boundary's size. Local only (no exchange). Errors:
+// `DK_ERR_TOO_LARGE`, pointer errors; nothing written on error.
+//
+// # Safety
+// - `partition`: one readable `dk_partition`.
+// - `lens_out`: 4 readable and writable elements (`size_t`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_partitioned_deform_idw_lens(const dk_partition *partition,
+                                         uint32_t dim,
+                                         size_t boundary_count,
+                                         size_t element_count,
+                                         size_t *lens_out);
+
+// The quaternion deformation with inverse-distance propagation on distributed data (the
+// kernel's `deform_idw_partitioned`): each process passes its partition, its local points
+// (`dim` 2 or 3 doubles per local node, ghosts as their owners; only the owned ones are
+// read), the IDW `exponent` and its share of the boundary motion (`*motion`; elements are
+// needed only for `DK_ROTATIONS_SHAPE`). With `motion->rotation_source`
+// `DK_ROTATIONS_PER_NODE`, `node_rotations` holds one quaternion `(w, x, y, z)` per listed
+// node (`4 * motion->nodes_len` doubles, in the order of `motion->nodes`); otherwise it is
+// ignored (NULL with length 0). On `DK_OK`, `out` (`owned * dim` doubles) holds the deformed
+// owned nodes and `origin_out` the origin (`dim` doubles, or NULL with length 0): the bits of
+// the serial [`dk_deform_idw`](crate::deformation::dk_deform_idw) with the same exponent on
+// the whole mesh, for every partition and local numbering. The four scratch buffers need the
+// lengths of [`dk_partitioned_deform_idw_lens`].
+//
+// **Collective**: every process of the partition calls it with its own part, and all return
+// `DK_OK` or all an error: `DK_ERR_BAD_PARTITION` for a partition fault on any process
+// (inconsistent ghost or send/receive lists, duplicate global ids, counts), boundary lists
+// that do not match between processes (`boundary_count` or `element_count` differing, a
+// boundary position or element given by no process or by two, one global id at two
+// positions), or another process's own error; `DK_ERR_EXCHANGE` (a callback returned nonzero
+// on some process); the errors of the local arrays and of the serial deformation (on the
+// process concerned, or on every process when they follow from the gathered boundary), among
+// them `DK_ERR_INVALID_PARAMETER` (`dim`, the rotation source, the exponent, a listed node
+// that is not owned) and `DK_ERR_LENGTH_MISMATCH` (`node_rotations` not 4 doubles per listed
+// node). A NULL `exchange` or callback is `DK_ERR_NULL_POINTER` at once, without any
+// exchange. `out` and `origin_out` are unchanged on every error; the scratch buffers are
+// workspaces.
+//
+// # Safety
+// - `partition`: one readable `dk_partition`.
+// - `points`: readable for `points_len` elements (`double`).
+// - `motion`: one readable `dk_partitioned_motion`.
+// - `node_rotations`: readable for `node_rotations_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `word_scratch`: readable and writable for `word_scratch_len` elements (`int64_t`).
+// - `kind_scratch`: readable and writable for `kind_scratch_len` elements (`uint8_t`).
+// - `exchange`: one readable `dk_exchange`.
+// - `out`: readable and writable for `out_len` elements (`double`).
+// - `origin_out`: readable and writable for `origin_out_len` elements (`double`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_partitioned_deform_idw(const dk_partition *partition,
+                                    const double *points,
+                                    size_t points_len,
+                                    uint32_t dim,
+                                    double exponent,
+                                    const dk_partitioned_motion *motion,
+                                    const double *node_rotations,
+                                    size_t node_rotations_len,
+                                    double *scratch,
+                                    size_t scratch_len,
+                                    uint32_t *index_scratch,
+                                    size_t index_scratch_len,
+                                    int64_t *word_scratch,
+                                    size_t word_scratch_len,
+                                    uint8_t *kind_scratch,
+                                    size_t kind_scratch_len,
+                                    const dk_exchange *exchange,
+                                    double *out,
+                                    size_t out_len,
+                                    double *origin_out,
+                                    size_t origin_out_len);
+
+// The buffer lengths of [`dk_partitioned_prolongator`] for this partition and these cells:
+// `lens_out[0]` doubles of `scratch`, `lens_out[1]` entries of `index_scratch`
+// (`uint32_t`), `lens_out[2]` entries of `id_scratch` (`uint64_t`), `lens_out[3]` entries
+// `columns` and `values` need (a bound: one per owned node and per local row entry; the
+// rows written may be shorter). Local only (no exchange). Errors: `DK_ERR_TOO_LARGE`,
+// pointer errors; nothing written on error.
+//
+// # Safety
+// - `partition`: one readable `dk_partition`.
+// - `cells`: one readable `dk_cells`.
+// - `lens_out`: 4 readable and writable elements (`size_t`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_partitioned_prolongator_lens(const dk_partition *partition,
+                                          const dk_cells *cells,
+                                          bool face_diagonals,
+                                          size_t *lens_out);
+
+// This process's rows of the fine level's smoothed-aggregation prolongator on distributed
+// data: each process passes its partition, its local cells (0-based local nodes; every cell
+// that touches an owned node, as `VTK` kinds), its local points (`dim` 2 or 3 per local node,
+// ghosts as their owners), Batina's `exponent` (1 is the papers') and the fixed mask (one
+// byte per local node, nonzero = fixed). The spring rows are built as by
+// [`dk_partitioned_spring_solve`](crate::partition::dk_partitioned_spring_solve), the free
+// nodes aggregated by the partition-independent MIS-2, and on `DK_OK` owned row `i` is
+// `columns[offsets[i]..offsets[i + 1]]` (the global ids of the aggregates' roots, increasing;
+// no entry for a fixed node) with `values` alike: bit for bit row `i` of the serial MIS-2
+// hierarchy's fine prolongator on the whole mesh. `offsets` has `owned + 1` entries;
+// `columns` (`uint64_t`) and `values` at least `lens_out[3]` of
+// [`dk_partitioned_prolongator_lens`], which also gives the scratch lengths.
+// `counts_out[0]` = the entries written on this process (`offsets[owned]`), `counts_out[1]`
+// = the aggregates over all processes (the coarse level's size).
+//
+// **Collective**: every process of the partition calls it with its own part, and all return
+// `DK_OK` or all an error: `DK_ERR_BAD_PARTITION` (inconsistent ghost or send/receive lists,
+// duplicate global ids, counts, rows that disagree across processes, or another process's
+// fault), `DK_ERR_EXCHANGE` (a callback returned nonzero on some process), and the errors of
+// the local arrays (on the process concerned; the others report `DK_ERR_BAD_PARTITION`):
+// `DK_ERR_INVALID_PARAMETER` (`dim`), `DK_ERR_LENGTH_MISMATCH` (`offsets`, `points`,
+// `fixed`), `DK_ERR_BUFFER_TOO_SMALL` (scratch, `columns`, `values`). A NULL `exchange` or
+// callback is `DK_ERR_NULL_POINTER` at once, without any exchange. `offsets`, `columns`,
+// `values` and `counts_out` are unchanged on every error; the scratch buffers are
+// workspaces.
+//
+// # Safety
+// - `partition`: one readable `dk_partition`.
+// - `cells`: one readable `dk_cells`.
+// - `points`: readable for `points_len` elements (`double`).
+// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `id_scratch`: readable and writable for `id_scratch_len` elements (`uint64_t`).
+// - `exchange`: one readable `dk_exchange`.
+// - `offsets`: readable and writable for `offsets_len` elements (`uint32_t`).
+// - `columns`: readable and writable for `columns_len` elements (`uint64_t`).
+// - `values`: readable and writable for `values_len` elements (`double`).
+// - `counts_out`: 2 readable and writable elements (`size_t`).
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_partitioned_prolongator(const dk_partition *partition,
+                                     const dk_cells *cells,
+                                     bool face_diagonals,
+                                     const double *points,
+                                     size_t points_len,
+                                     uint32_t dim,
+                                     double exponent,
+                                     const uint8_t *fixed,
+                                     size_t fixed_len,
+                                     double *scratch,
+                                     size_t scratch_len,
+                                     uint32_t *index_scratch,
+                                     size_t index_scratch_len,
+                                     uint64_t *id_scratch,
+                                     size_t id_scratch_len,
+                                     const dk_exchange *exchange,
+                                     uint32_t *offsets,
+                                     size_t offsets_len,
+                                     uint64_t *columns,
+                                     size_t columns_len,
+                                     double *values,
+                                     size_t values_len,
+                                     size_t *counts_out);
 
 // The scratch lengths of [`dk_partitioned_deform_spring`] for this partition, these cells,
 // `boundary_count` boundary nodes and `element_count` boundary elements in dimension `dim`

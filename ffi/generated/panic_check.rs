@@ -1780,6 +1780,83 @@ pub fn exercise() {
     // SAFETY: never executed (the binary is only linked); the opaque arguments
     // keep every path of the function.
     black_box(unsafe {
+        deform_kernel_ffi::partition_idw::dk_partitioned_deform_idw_lens(
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::partition_idw::dk_partitioned_deform_idw(
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::partition_prolongator::dk_partitioned_prolongator_lens(
+            black_box(null()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
+        deform_kernel_ffi::partition_prolongator::dk_partitioned_prolongator(
+            black_box(null()),
+            black_box(null()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(Default::default()),
+            black_box(Default::default()),
+            black_box(null()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null()),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+            black_box(0),
+            black_box(null_mut()),
+        )
+    });
+    // SAFETY: never executed (the binary is only linked); the opaque arguments
+    // keep every path of the function.
+    black_box(unsafe {
         deform_kernel_ffi::partition_quaternion::dk_partitioned_deform_spring_lens(
             black_box(null()),
             black_box(null()),

@@ -54,6 +54,10 @@ pub mod graph;
 pub mod order;
 #[path = "../generated/partition.rs"]
 pub mod partition;
+#[path = "../generated/partition_idw.rs"]
+pub mod partition_idw;
+#[path = "../generated/partition_prolongator.rs"]
+pub mod partition_prolongator;
 #[path = "../generated/partition_quaternion.rs"]
 pub mod partition_quaternion;
 #[path = "../generated/plan.rs"]

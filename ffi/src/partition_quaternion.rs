@@ -28,7 +28,7 @@ use deform_kernel::spring::{partitioned_targets_len, Preconditioner, SolveOption
 use deform_kernel_ffi_export::export;
 
 use crate::args::{assert_layout, mul_len, read_one, write_array, Dim};
-use crate::deformation::{DK_ROTATIONS_RIGID, DK_ROTATIONS_SHAPE};
+use crate::deformation::{DK_ROTATIONS_PER_NODE, DK_ROTATIONS_RIGID, DK_ROTATIONS_SHAPE};
 use crate::graph::dk_cells;
 use crate::partition::{dk_exchange, dk_partition, springs, CExchange, Local};
 use crate::slice::{input, out_one, output, In, Out};
@@ -74,7 +74,9 @@ pub struct dk_partitioned_motion {
     pub rigid_rotation: [f64; 4],
     /// The rotation origin, used when `has_origin` is nonzero (the first `dim` entries).
     pub origin: [f64; 3],
-    /// [`DK_ROTATIONS_SHAPE`] or [`DK_ROTATIONS_RIGID`] (per-node rotations are refused).
+    /// [`DK_ROTATIONS_SHAPE`] or [`DK_ROTATIONS_RIGID`]; [`DK_ROTATIONS_PER_NODE`] only with
+    /// [`dk_partitioned_deform_idw`](crate::partition_idw::dk_partitioned_deform_idw) (its
+    /// `node_rotations`), refused by [`dk_partitioned_deform_spring`].
     pub rotation_source: u32,
     /// Nonzero: rotate about `origin`; 0: about the centroid of the moving boundary points.
     pub has_origin: u32,
@@ -263,18 +265,27 @@ pub(crate) fn dk_partitioned_deform_spring(
     Ok(())
 }
 
+/// Where a [`dk_partitioned_motion`]'s rotations come from.
+#[derive(Clone, Copy)]
+pub(crate) enum Source {
+    Shape,
+    Rigid(Quat<f64>),
+    /// From an argument beside the struct (`node_rotations`).
+    PerNode,
+}
+
 /// The borrowed arrays and settings of a [`dk_partitioned_motion`].
-struct MotionIn<'a> {
-    nodes: &'a [u32],
+pub(crate) struct MotionIn<'a> {
+    pub(crate) nodes: &'a [u32],
     positions: &'a [u32],
-    deformed: &'a [f64],
-    boundary_count: usize,
+    pub(crate) deformed: &'a [f64],
+    pub(crate) boundary_count: usize,
     ids: &'a [u32],
     offsets: &'a [u32],
     element_nodes: &'a [u32],
     kinds: &'a [u8],
-    element_count: usize,
-    rigid: Option<Quat<f64>>,
+    pub(crate) element_count: usize,
+    pub(crate) source: Source,
     origin: Option<[f64; 3]>,
 }
 
@@ -286,7 +297,7 @@ impl<'a> MotionIn<'a> {
     ///
     /// # Safety
     /// The arrays are NULL or readable for their lengths for `'a`.
-    unsafe fn read(m: &dk_partitioned_motion) -> Result<Self, dk_status> {
+    pub(crate) unsafe fn read(m: &dk_partitioned_motion) -> Result<Self, dk_status> {
         // SAFETY: forwarded from the caller.
         let t = unsafe {
             [
@@ -305,9 +316,10 @@ impl<'a> MotionIn<'a> {
             )
         };
         let [nodes, positions, ids, offsets, element_nodes] = t.map(input);
-        let rigid = match m.rotation_source {
-            DK_ROTATIONS_SHAPE => None,
-            DK_ROTATIONS_RIGID => Some(Quat::from_array(m.rigid_rotation)),
+        let source = match m.rotation_source {
+            DK_ROTATIONS_SHAPE => Source::Shape,
+            DK_ROTATIONS_RIGID => Source::Rigid(Quat::from_array(m.rigid_rotation)),
+            DK_ROTATIONS_PER_NODE => Source::PerNode,
             _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
         };
         let offsets = offsets?;
@@ -325,14 +337,17 @@ impl<'a> MotionIn<'a> {
             element_nodes: element_nodes?,
             kinds: input(kinds)?,
             element_count: m.element_count,
-            rigid,
+            source,
             origin: (m.has_origin != 0).then_some(m.origin),
         })
     }
 
     /// The kernel's view in dimension `D` (`deformed` is a whole number of points: checked
-    /// when the work is prepared).
-    fn view<const D: usize>(&self) -> PartitionedMotion<'a, f64, D> {
+    /// when the work is prepared), with `per_node` as the rotations of [`Source::PerNode`].
+    pub(crate) fn view<const D: usize>(
+        &self,
+        per_node: &'a [Quat<f64>],
+    ) -> PartitionedMotion<'a, f64, D> {
         let elements = (self.element_count > 0).then_some(BoundaryElements {
             ids: self.ids,
             offsets: self.offsets,
@@ -346,9 +361,11 @@ impl<'a> MotionIn<'a> {
             deformed: self.deformed.as_chunks::<D>().0,
             boundary_count: self.boundary_count,
             elements,
-            rotations: self
-                .rigid
-                .map_or(RotationSource::Shape, RotationSource::Rigid),
+            rotations: match self.source {
+                Source::Shape => RotationSource::Shape,
+                Source::Rigid(q) => RotationSource::Rigid(q),
+                Source::PerNode => RotationSource::PerNode(per_node),
+            },
             origin: self
                 .origin
                 .map(|o| core::array::from_fn(|d| o.get(d).copied().unwrap_or(0.0))),
@@ -397,7 +414,7 @@ struct Work<'a> {
 }
 
 /// Splits `n` entries off the front of `buf` (`DK_ERR_BUFFER_TOO_SMALL` when shorter).
-fn carve<T>(buf: &mut [T], n: usize) -> Result<(&mut [T], &mut [T]), dk_status> {
+pub(crate) fn carve<T>(buf: &mut [T], n: usize) -> Result<(&mut [T], &mut [T]), dk_status> {
     buf.split_at_mut_checked(n)
         .ok_or(dk_status::DK_ERR_BUFFER_TOO_SMALL)
 }
@@ -414,6 +431,9 @@ fn prepare<'a>(
         deform_kernel::spring::LinearMethod::Cg { preconditioner } => preconditioner,
         _ => return Err(dk_status::DK_ERR_INVALID_PARAMETER),
     };
+    if matches!(motion.source, Source::PerNode) {
+        return Err(dk_status::DK_ERR_INVALID_PARAMETER);
+    }
     let (b, e) = (motion.boundary_count, motion.element_count);
     let l = lens_for(a.dim, p.owned, &local, b, e)?;
     let dim = a.dim as usize;
@@ -509,7 +529,7 @@ impl Work<'_> {
             values: &mut *self.values,
         };
         let copy = self.copy.as_chunks_mut::<D>().0;
-        let motion = self.motion.view::<D>();
+        let motion = self.motion.view::<D>(&[]);
         let (origin, report) = deform_spring_partitioned(
             &springs,
             pts,

@@ -208,6 +208,14 @@ pub(crate) fn quats_mut<T: Real>(p: Out<'_, T>) -> Result<&mut [Quat<T>], dk_sta
     Ok(unsafe { core::slice::from_raw_parts_mut(flat.as_mut_ptr().cast::<Quat<T>>(), flat.len()) })
 }
 
+/// A scratch slice of `4 k` scalars (whole quaternions only: a tail of fewer than 4 is left
+/// out) as `k` quaternions, as [`quats_mut`] does for a caller's buffer.
+pub(crate) fn quats_of_mut<T: Real>(flat: &mut [T]) -> &mut [Quat<T>] {
+    let flat: &mut [[T; 4]] = flat.as_chunks_mut::<4>().0;
+    // SAFETY: as in `quats`; the exclusive borrow of `flat` moves into the returned slice.
+    unsafe { core::slice::from_raw_parts_mut(flat.as_mut_ptr().cast::<Quat<T>>(), flat.len()) }
+}
+
 const _: () = assert!(
     core::mem::size_of::<Quat<f64>>() == core::mem::size_of::<[f64; 4]>()
         && core::mem::align_of::<Quat<f64>>() == core::mem::align_of::<[f64; 4]>()

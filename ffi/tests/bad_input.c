@@ -160,6 +160,39 @@ int main(void) {
     }
     UNTOUCHED(pout, 6);
 
+    /* The partitioned IDW and prolongator: a NULL partition or exchange is refused at once
+     * (no callback called), nothing written. */
+    {
+        size_t lens[4] = {99, 99, 99, 99}, counts[2] = {99, 99};
+        dk_partitioned_motion motion;
+        uint32_t p_offsets[2] = {7, 7};
+        uint64_t p_columns[2] = {7, 7};
+        double p_values[2] = {sentinel, sentinel};
+        memset(&motion, 0, sizeof motion);
+        EXPECT(dk_partitioned_deform_idw_lens(NULL, 2, 4, 4, lens), DK_ERR_NULL_POINTER);
+        EXPECT(dk_partitioned_prolongator_lens(NULL, &one_quad, false, lens),
+               DK_ERR_NULL_POINTER);
+        for (i = 0; i < 4; i++)
+            if (lens[i] != 99) {
+                printf("FAIL lens_out was written\n");
+                failures++;
+                break;
+            }
+        EXPECT(dk_partitioned_deform_idw(NULL, pts, 6, 3, 2.0, &motion, NULL, 0, NULL, 0, NULL,
+                                         0, NULL, 0, NULL, 0, NULL, pout, 6, NULL, 0),
+               DK_ERR_NULL_POINTER);
+        UNTOUCHED(pout, 6);
+        EXPECT(dk_partitioned_prolongator(NULL, &one_quad, false, pts, 6, 3, 1.0, NULL, 0, NULL,
+                                          0, NULL, 0, NULL, 0, NULL, p_offsets, 2, p_columns, 2,
+                                          p_values, 2, counts),
+               DK_ERR_NULL_POINTER);
+        UNTOUCHED(p_values, 2);
+        if (p_offsets[0] != 7 || p_columns[0] != 7 || counts[0] != 99 || counts[1] != 99) {
+            printf("FAIL a prolongator output was written\n");
+            failures++;
+        }
+    }
+
     if (strcmp(dk_status_str(DK_OK), "success") != 0 || dk_status_str(-7) == NULL) {
         printf("FAIL dk_status_str\n");
         failures++;

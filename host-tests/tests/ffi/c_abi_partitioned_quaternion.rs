@@ -27,7 +27,7 @@ use deform_kernel::spring::{
     batina_stiffness, LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
 };
 use deform_kernel::{graph_from_cells, graph_from_cells_len, Cells, Graph};
-use deform_kernel_ffi::deformation::DK_ROTATIONS_SHAPE;
+use deform_kernel_ffi::deformation::{DK_ROTATIONS_PER_NODE, DK_ROTATIONS_SHAPE};
 use deform_kernel_ffi::graph::dk_cells;
 use deform_kernel_ffi::partition::dk_exchange;
 use deform_kernel_ffi::partition_quaternion::{
@@ -124,6 +124,7 @@ struct Share {
     kinds: Vec<u8>,
     boundary_count: usize,
     element_count: usize,
+    rotation_source: u32,
 }
 
 fn share<const D: usize>(v: &LocalView<D>, bnd: &Bnd, deformed: &[[f64; D]]) -> Share {
@@ -138,6 +139,7 @@ fn share<const D: usize>(v: &LocalView<D>, bnd: &Bnd, deformed: &[[f64; D]]) -> 
         kinds: s.kinds,
         boundary_count: bnd.nodes.len(),
         element_count: bnd.kinds.len(),
+        rotation_source: DK_ROTATIONS_SHAPE,
     }
 }
 
@@ -178,7 +180,7 @@ fn deform<const D: usize>(v: &LocalView<D>, s: &Share, me: &mut Rank<'_>) -> Got
         element_count: s.element_count,
         rigid_rotation: [1.0, 0.0, 0.0, 0.0],
         origin: [0.0; 3],
-        rotation_source: DK_ROTATIONS_SHAPE,
+        rotation_source: s.rotation_source,
         has_origin: 0,
     };
     let ex = dk_exchange {
@@ -374,7 +376,7 @@ fn bad_partitions_and_boundaries_fail_on_every_rank() {
     let bnd = boundary(&mesh);
     let deformed = moved(&mesh, &bnd.nodes, 10.0);
     let none: Spoil = |_, _| {};
-    let cases: [Case; 7] = [
+    let cases: [Case; 8] = [
         (
             "duplicate global ids",
             1,
@@ -426,6 +428,14 @@ fn bad_partitions_and_boundaries_fail_on_every_rank() {
                 s.positions.pop();
                 s.deformed.truncate(2 * s.nodes.len());
             },
+            None,
+            INVALID,
+            BAD,
+        ),
+        (
+            "per-node rotations (dk_partitioned_deform_idw only)",
+            2,
+            |_, s| s.rotation_source = DK_ROTATIONS_PER_NODE,
             None,
             INVALID,
             BAD,
