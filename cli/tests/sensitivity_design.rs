@@ -13,7 +13,7 @@ mod common;
 use std::fmt::Write as _;
 use std::path::Path;
 
-use common::{deform_json, deform_refused, naca_mesh, read_su2, tmp_dir, Rng};
+use common::{deform_json, deform_refused, naca_mesh, read_csv, read_su2, tmp_dir, Rng};
 
 /// A random sensitivity per node in plain rows; returns it.
 fn sensitivity(dir: &Path, n: usize, dim: usize) -> Vec<[f64; 3]> {
@@ -230,6 +230,94 @@ fn symmetry_plane_gradient_is_the_central_difference_of_deform_su2() {
         let held = chain_with(&d, &cfg, (2, objective), (adjoint, su2));
         let differ = (sliding.iter().zip(&held)).any(|(a, b)| (a - b).abs() > 1e-6 * a.abs());
         assert!(differ, "{name}: sliding {sliding:?} = held {held:?}");
+    }
+}
+
+/// `deform tangent --slide` and `deform adjoint --slide` on the wedge (upper and outlet
+/// sliding): the dot-product identity through the files, the tangent of the sliding nodes along
+/// their lines (upper: `dy = 0`; outlet: `dx = 0`), and the boundary rows without them.
+#[test]
+fn slide_tangent_and_adjoint_files_satisfy_the_dot_product_identity() {
+    for method in [
+        &["--method", "spring"][..],
+        &["--method", "elasticity", "--stiffness", "constant"],
+    ] {
+        let d = tmp_dir(&format!("sensitivity-slide-{}", method[1]));
+        let _copied = wedge_cfg(&d, "");
+        let m = read_su2(&d.join("m.su2"));
+        let n = m.points.len();
+        let w = sensitivity(&d, n, 2);
+        let nodes = |name: &str| m.marker(name).unwrap().elements.nodes.clone();
+        let (upper, outlet) = (nodes("upper"), nodes("outlet"));
+        let mut fixed: Vec<u32> = [nodes("inlet"), nodes("lower")].concat();
+        fixed.sort_unstable();
+        fixed.dedup();
+        let mut rng = Rng(5);
+        let mut v = vec![[0.0; 2]; n];
+        let mut text = String::from("% node dx dy\n");
+        for &i in &fixed {
+            v[i as usize] = [rng.real(), rng.real()];
+            writeln!(text, "{i} {:e} {:e}", v[i as usize][0], v[i as usize][1]).unwrap();
+        }
+        std::fs::write(d.join("v.txt"), text).unwrap();
+        let slide = ["--slide", "upper", "--slide", "outlet", "--tol", "1e-14"];
+        let run = |head: &[&str]| {
+            let args: Vec<&str> = head.iter().chain(&slide).chain(method).copied().collect();
+            deform_json(&d, &args);
+        };
+        run(&[
+            "--json",
+            "tangent",
+            "m.su2",
+            "--perturbation",
+            "v.txt",
+            "--out",
+            "t.csv",
+        ]);
+        run(&[
+            "--json",
+            "adjoint",
+            "m.su2",
+            "--sensitivity",
+            "w.txt",
+            "--out",
+            "g.csv",
+        ]);
+        let (jv, g) = (read_csv(&d.join("t.csv")), read_csv(&d.join("g.csv")));
+        let lhs: f64 = (jv.iter())
+            .map(|(i, x)| x[0] * w[*i][0] + x[1] * w[*i][1])
+            .sum();
+        let rhs: f64 = (g.iter())
+            .map(|(i, x)| x[2] * v[*i][0] + x[3] * v[*i][1])
+            .sum();
+        assert!(
+            (lhs - rhs).abs() <= 1e-10 * lhs.abs(),
+            "{method:?}: {lhs} vs {rhs}"
+        );
+        let scale = jv
+            .iter()
+            .flat_map(|(_, x)| x.iter())
+            .fold(0.0f64, |a, x| a.max(x.abs()));
+        let on =
+            |list: &[u32], i: usize| list.contains(&(i as u32)) && !fixed.contains(&(i as u32));
+        let moved = (jv.iter()).filter(|(i, x)| on(&upper, *i) && x[0].abs() > 1e-3 * scale);
+        assert!(
+            moved.count() > 10,
+            "{method:?}: the upper nodes do not slide"
+        );
+        for (i, x) in &jv {
+            if on(&upper, *i) {
+                assert!(x[1].abs() <= 1e-14 * scale, "upper node {i}: {x:?}");
+            }
+            if on(&outlet, *i) {
+                assert!(x[0].abs() <= 1e-14 * scale, "outlet node {i}: {x:?}");
+            }
+        }
+        // The adjoint's rows: the fixed markers' nodes and the held corner, no sliding node.
+        assert!(g.iter().all(|(i, _)| {
+            let i = *i as u32;
+            fixed.contains(&i) || (upper.contains(&i) && outlet.contains(&i))
+        }));
     }
 }
 

@@ -12,13 +12,13 @@ use core::hint::black_box;
 
 use deform_kernel::elasticity::{
     assemble, cell_moduli, deform_incremental, elastic_amg_scratch_len,
-    elastic_amg_sliding_scratch_len, elastic_scratch_len,
-    elasticity_graph, elasticity_graph_len, ElasticSystem, IncrementBuffers, Increments, Modulus,
+    elastic_amg_sliding_scratch_len, elastic_scratch_len, elasticity_graph, elasticity_graph_len,
+    ElasticSystem, IncrementBuffers, Increments, Modulus,
 };
 use deform_kernel::sensitivity::{
     elastic_incremental_adjoint, elastic_incremental_adjoint_scratch_len,
-    elastic_incremental_tangent, elastic_incremental_tangent_scratch_len,
-    elastic_sliding_adjoint, elastic_sliding_adjoint_scratch_len, elastic_sliding_tangent,
+    elastic_incremental_tangent, elastic_incremental_tangent_scratch_len, elastic_sliding_adjoint,
+    elastic_sliding_adjoint_scratch_len, elastic_sliding_tangent,
     elastic_sliding_tangent_scratch_len, ElasticPreconditioner, IncrementProblem,
 };
 use deform_kernel::spring::constraints::Constraints;
@@ -254,7 +254,15 @@ fn sliding<T: Real, const D: usize>(
     let mut g = [[T::ZERO; D]; N];
     let sc = scratch.get_mut(..len).unwrap_or(&mut []);
     let (w, g) = (x.get(..n).unwrap_or(&[]), g.get_mut(..n).unwrap_or(&mut []));
-    keep(elastic_sliding_adjoint(sys, &c, pre, &opts, bb(w), bb(g), bb(sc)));
+    keep(elastic_sliding_adjoint(
+        sys,
+        &c,
+        pre,
+        &opts,
+        bb(w),
+        bb(g),
+        bb(sc),
+    ));
 }
 
 /// Tangent and adjoint of two load increments (inverse-volume modulus) with `pre`.

@@ -9,15 +9,15 @@
 
 use core::hint::black_box;
 
+use deform_kernel::sensitivity::{
+    spring_sliding_adjoint, spring_sliding_adjoint_scratch_len, spring_sliding_tangent,
+};
 use deform_kernel::spring::constraints::{
     fit_plane, plane_intersection, slide_points, unit_tolerance, Constraints, NodeKind,
 };
 use deform_kernel::spring::{
     solve_linear_sliding_scratch_len, AmgHierarchy, AmgOptions, AngleMethod, AngleSystem,
     LinearMethod, LinearSolver, Preconditioner, SolveOptions, SpringSystem,
-};
-use deform_kernel::sensitivity::{
-    spring_sliding_adjoint, spring_sliding_adjoint_scratch_len, spring_sliding_tangent,
 };
 use deform_kernel::{Graph, Real};
 
@@ -197,11 +197,26 @@ fn derivatives<T: Real, const D: usize>(
     let len = solve_linear_sliding_scratch_len(&solver, bb(N));
     let mut y = *x;
     let sc = scratch.get_mut(..len).unwrap_or(&mut []);
-    keep(spring_sliding_tangent(sys, c, solver, opts, bb(&mut y[..]), bb(sc)));
+    keep(spring_sliding_tangent(
+        sys,
+        c,
+        solver,
+        opts,
+        bb(&mut y[..]),
+        bb(sc),
+    ));
     keep(&y);
     let len = spring_sliding_adjoint_scratch_len::<T, D>(&solver, bb(N));
     let mut g = [[T::ZERO; D]; N];
     let sc = scratch.get_mut(..len).unwrap_or(&mut []);
-    keep(spring_sliding_adjoint(sys, c, solver, opts, bb(&x[..]), bb(&mut g[..]), bb(sc)));
+    keep(spring_sliding_adjoint(
+        sys,
+        c,
+        solver,
+        opts,
+        bb(&x[..]),
+        bb(&mut g[..]),
+        bb(sc),
+    ));
     keep(&g);
 }
