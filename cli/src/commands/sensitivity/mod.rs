@@ -354,7 +354,7 @@ pub(crate) fn tangent(a: &TangentArgs) -> Result<Outcome, CliError> {
     let (mesh, boundary, table) = load(&a.setup)?;
     let n = mesh.points.len();
     let text = String::from_utf8_lossy(&read_bytes(&a.perturbation)?).into_owned();
-    let on = (&boundary[..], "on a fixed marker (not sliding)");
+    let on = (&boundary[..], "on a marker (not a sliding one)");
     let v = parse_perturbation(&text, n, mesh.dim, on, &a.perturbation)?;
     let problem = (&mesh, &boundary[..], table.as_ref());
     let (dx, report) = if mesh.dim == 2 {
