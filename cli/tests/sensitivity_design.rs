@@ -25,9 +25,12 @@ fn sensitivity(dir: &Path, n: usize, dim: usize) -> Vec<[f64; 3]> {
             v
         })
         .collect();
-    let mut text = String::from("% node dJ/dx dJ/dy\n");
+    let mut text = String::from("% node dJ/dx dJ/dy [dJ/dz]\n");
     for (i, v) in w.iter().enumerate() {
-        writeln!(text, "{i} {:e} {:e}", v[0], v[1]).unwrap();
+        match dim {
+            3 => writeln!(text, "{i} {:e} {:e} {:e}", v[0], v[1], v[2]).unwrap(),
+            _ => writeln!(text, "{i} {:e} {:e}", v[0], v[1]).unwrap(),
+        }
     }
     std::fs::write(dir.join("w.txt"), text).unwrap();
     w
@@ -230,6 +233,38 @@ fn symmetry_plane_gradient_is_the_central_difference_of_deform_su2() {
         let held = chain_with(&d, &cfg, (2, objective), (adjoint, su2));
         let differ = (sliding.iter().zip(&held)).any(|(a, b)| (a - b).abs() > 1e-6 * a.abs());
         assert!(differ, "{name}: sliding {sliding:?} = held {held:?}");
+    }
+}
+
+/// 3D: SU2's sphere slice (two symmetry planes meeting on the axis, whose nodes slide on the
+/// line) with the wall translated obliquely: dJ/dα of the springs and of SU2_DEF's elasticity equals
+/// central differences of `deform su2`.
+#[test]
+fn symmetry_planes_in_3d_gradient_is_the_central_difference_of_deform_su2() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let runs: [(&str, &[&str], &[&str]); 2] = [
+        ("spring", &[], &["--method", "spring"]),
+        (
+            "elasticity",
+            &["--method", "elasticity", "--stiffness", "constant"],
+            &["--method", "elasticity"],
+        ),
+    ];
+    for (name, adjoint, su2) in runs {
+        let d = tmp_dir(&format!("sensitivity-design-sphere-{name}"));
+        std::fs::copy(data.join("sphere_slice_2syms.su2"), d.join("m.su2")).unwrap();
+        let cfg = |v: &[f64]| {
+            format!(
+                "MESH_FILENAME= m.su2\nMESH_OUT_FILENAME= out.su2\nMARKER_FAR= ( farfield )\n\
+                 MARKER_DEFORM_MESH_SYM_PLANE= ( symmetry_left, symmetry_right )\n\
+                 DV_MARKER= ( wall )\nDV_KIND= TRANSLATION\n\
+                 DV_PARAM= ( 0.2, 0.3, -0.1 )\nDV_VALUE= {}\n\
+                 OUTPUT_PRECISION= 17\nDEFORM_STIFFNESS_TYPE= CONSTANT_STIFFNESS\n\
+                 DEFORM_LINEAR_SOLVER_ERROR= 1E-14\n",
+                values(v)
+            )
+        };
+        chain_with(&d, &cfg, (1, "DRAG"), (adjoint, su2));
     }
 }
 
