@@ -798,6 +798,21 @@ fn slide_table<const D: usize>(
     Ok(t)
 }
 
+/// The constraint table of the `sliding` markers as `deform move --slide` builds it, for the
+/// derivatives (`deform adjoint` / `tangent --slide`): each node's kind code and direction,
+/// and the nodes pinned because they lie on too many sliding planes (fixed, besides
+/// `boundary`).
+pub(crate) type SlideConstraints<const D: usize> = (Vec<u8>, Vec<[f64; D]>, Vec<u32>);
+
+pub(crate) fn slide_constraints<const D: usize>(
+    pts: &[[f64; D]],
+    boundary: &[u32],
+    sliding: &[SlideMarker<'_>],
+) -> Result<SlideConstraints<D>, CliError> {
+    let t = slide_table(pts, boundary, sliding)?;
+    Ok((t.kinds, t.directions, t.pinned))
+}
+
 /// The slide table of the `sliding` markers (none without), the nodes it pins added to the
 /// prescribed boundary.
 fn slide_setup<const D: usize>(

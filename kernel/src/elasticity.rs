@@ -40,7 +40,10 @@ pub use increments::{
 pub use layer::rigid_layer;
 pub use modulus::{cell_moduli, Modulus};
 pub use rigid::elastic_rigid_amg_scratch_len;
-pub use sliding::{elastic_rigid_amg_sliding_scratch_len, elastic_sliding_scratch_len};
+pub use sliding::{
+    elastic_amg_sliding_scratch_len, elastic_rigid_amg_sliding_scratch_len,
+    elastic_sliding_scratch_len,
+};
 pub use system::{elastic_amg_scratch_len, elastic_scratch_len, ElasticSystem};
 
 use crate::cells::Cells;

@@ -13,6 +13,10 @@
 //! - inverse-distance weighting of the displacements: `x_i = Σ_k w_ik x_k / Σ_k w_ik`, the
 //!   weights from the undeformed distances alone.
 //!
+//! With sliding nodes (symmetry planes, [`Constraints`](crate::spring::constraints::Constraints))
+//! the linear springs and single-step elasticity stay linear (the planes are fixed): the
+//! `*_sliding_*` functions solve the projected system `P A P` (see that module).
+//!
 //! Multi-step elasticity (load increments re-assembled on the moved mesh,
 //! `elastic_incremental_tangent` / `_adjoint`) is not linear: its exact linearisation adds the
 //! derivative of the stiffness with respect to the mesh, step by step (see that module).
@@ -49,6 +53,7 @@ mod elastic_geometry;
 mod elasticity;
 mod elasticity_steps;
 mod idw;
+mod sliding;
 mod springs;
 mod zero_lanes;
 
@@ -66,6 +71,11 @@ pub use elasticity_steps::{
     elastic_incremental_tangent, elastic_incremental_tangent_scratch_len, IncrementProblem,
 };
 pub use idw::{idw_adjoint, idw_adjoint_many, idw_tangent, idw_tangent_many};
+pub use sliding::{
+    elastic_sliding_adjoint, elastic_sliding_adjoint_scratch_len, elastic_sliding_tangent,
+    elastic_sliding_tangent_scratch_len, spring_sliding_adjoint,
+    spring_sliding_adjoint_scratch_len, spring_sliding_tangent,
+};
 pub use springs::{
     spring_adjoint, spring_adjoint_many, spring_adjoint_scratch_len, spring_tangent,
     spring_tangent_many,

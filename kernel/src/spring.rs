@@ -82,6 +82,7 @@ pub(crate) use linear::{diagonal, Laplacian, OneLevel};
 pub use partitioned::{
     partitioned_cg_scratch_len, partitioned_targets_len, LocalCells, PartitionedSprings,
 };
+pub(crate) use sliding::solve_linear_sliding_rhs;
 pub use sliding::solve_linear_sliding_scratch_len;
 pub use solver::{solve_linear_with_scratch_len, LinearSolver};
 pub use stiffening::{

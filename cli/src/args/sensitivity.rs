@@ -130,6 +130,12 @@ pub struct SensitivitySetup {
     /// equal parts; a `deform move --rotate` in steps follows its arc instead, another map).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub steps: u32,
+    /// A symmetry marker whose nodes slide on its plane (a line in 2D) instead of staying
+    /// fixed, as `deform move --slide` (repeat for several; with `adjoint --config` the
+    /// config's MARKER_DEFORM_MESH_SYM_PLANE markers are added): `--method spring` and
+    /// `elasticity` with one step.
+    #[arg(long = "slide", value_name = "MARKER")]
+    pub slide: Vec<String>,
     /// Relative residual tolerance of the spring (and elasticity) solves.
     #[arg(long, default_value_t = DEFAULT_TOL)]
     pub tol: f64,

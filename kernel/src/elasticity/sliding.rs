@@ -9,7 +9,7 @@
 use core::ops::Range;
 
 use super::rigid::{elastic_rigid_amg_scratch_len, rigid_split};
-use super::system::elastic_scratch_len;
+use super::system::{elastic_amg_scratch_len, elastic_scratch_len};
 use super::ElasticSystem;
 use crate::check;
 use crate::error::{Error, Result};
@@ -17,17 +17,30 @@ use crate::exact_sum::ExactSum;
 use crate::real::Real;
 use crate::spring::constraints::{Constraints, NodeKind};
 use crate::spring::krylov::NodeBlocks;
-use crate::spring::krylov::{Operator, Precondition, Vectors};
+use crate::spring::krylov::{solve_rhs, Operator, Precondition, RhsLayout, Vectors};
 use crate::spring::norms::scaled_pair_norms;
 use crate::spring::norms::{Norm, Pairs};
 use crate::spring::{
-    AmgOptions, Collective, RigidAmg, RigidVcycle, SolveOptions, SolveReport, SpringSystem,
+    AmgHierarchy, AmgOptions, Collective, RigidAmg, RigidVcycle, Serial, SolveOptions, SolveReport,
+    SpringSystem, Vcycle,
 };
 
 /// `[T; D]` scratch items of [`ElasticSystem::solve_sliding`]: the four CG vectors and a
 /// copy of the values (`5 n`; `None` on overflow).
 pub const fn elastic_sliding_scratch_len(node_count: usize) -> Option<usize> {
     match elastic_scratch_len(node_count) {
+        Some(s) => s.checked_add(node_count),
+        None => None,
+    }
+}
+
+/// `[T; D]` scratch items of [`ElasticSystem::solve_amg_sliding`]:
+/// [`elastic_amg_scratch_len`] and `n` more (`None` on overflow).
+pub const fn elastic_amg_sliding_scratch_len(
+    node_count: usize,
+    coarse_unknowns: usize,
+) -> Option<usize> {
+    match elastic_amg_scratch_len(node_count, coarse_unknowns) {
         Some(s) => s.checked_add(node_count),
         None => None,
     }
@@ -196,6 +209,68 @@ impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
         self.sliding_cg(constraints, pre, v, saved, values, options)
     }
 
+    /// [`solve_amg`](Self::solve_amg) with sliding nodes (see
+    /// [`solve_sliding`](Self::solve_sliding)): the scalar V-cycle of `hierarchy` (built on
+    /// `spring`, the sliding nodes free in it) per component, projected (`z = P M⁻¹ r`).
+    ///
+    /// # Errors
+    /// Those of [`solve_sliding`](Self::solve_sliding) and [`solve_amg`](Self::solve_amg);
+    /// `scratch` shorter than [`elastic_amg_sliding_scratch_len`].
+    pub fn solve_amg_sliding(
+        &self,
+        constraints: &Constraints<'_, T, D>,
+        spring: &SpringSystem<'_, T>,
+        hierarchy: &AmgHierarchy<'_, T>,
+        values: &mut [[T; D]],
+        options: &SolveOptions<T>,
+        scratch: &mut [[T; D]],
+    ) -> Result<SolveReport<T>> {
+        let n = self.node_count();
+        self.check_amg(spring, hierarchy)?;
+        let needed =
+            elastic_amg_sliding_scratch_len(n, hierarchy.coarse_unknowns()).unwrap_or(usize::MAX);
+        self.check_sliding(constraints, values, options, scratch.len(), needed)?;
+        let too_small = Error::BufferTooSmall {
+            arg: "scratch",
+            needed,
+            actual: scratch.len(),
+        };
+        let (saved, rest) = scratch.split_at_mut_checked(n).ok_or(too_small)?;
+        let (v, rest) = Vectors::split(rest, n).ok_or(too_small)?;
+        let pre = Vcycle::new(spring, hierarchy, rest);
+        self.sliding_cg(constraints, pre, v, saved, values, options)
+    }
+
+    /// `P K P λ = f` on `range(P)` for an arbitrary right-hand side `f` (`rhs`, already in
+    /// `range(P)`: projected at sliding nodes, ignored at fixed ones) from a zero initial
+    /// guess, by the sliding solves' projected CG with `inner` projected as the
+    /// preconditioner: the adjoint solves. `λ` (`out`) is zero at fixed nodes, projected once
+    /// more at sliding ones, and written only on `Ok`. The caller checks sizes and finiteness.
+    pub(crate) fn solve_sliding_rhs<M: Precondition<T, D>>(
+        &self,
+        c: &Constraints<'_, T, D>,
+        inner: M,
+        v: Vectors<'_, T, D>,
+        rhs: &[[T; D]],
+        out: &mut [[T; D]],
+        options: &SolveOptions<T>,
+    ) -> Result<SolveReport<T>> {
+        let op = Slid { sys: self, c };
+        let mut pre = Projected { inner, c };
+        let layout = RhsLayout {
+            kmax: self.kmax(),
+            joint: true,
+            per_node: true,
+        };
+        let fixed = |i| self.is_fixed(i);
+        let serial = Serial::new(self.node_count());
+        let report = solve_rhs(&op, &mut pre, v, rhs, out, layout, fixed, options, &serial)?;
+        for (i, x) in out.iter_mut().enumerate() {
+            *x = c.project(i, *x);
+        }
+        Ok(report)
+    }
+
     /// [`rigid_amg`](Self::rigid_amg) for [`solve_rigid_amg_sliding`](Self::solve_rigid_amg_sliding):
     /// the hierarchy of `K + s N` with a stiff spring across each sliding node's allowed
     /// motion (`N_i = n nᵀ` on a plane, `I − t tᵀ` on a line, `s` the node's mean diagonal
@@ -235,7 +310,7 @@ impl<T: Real, const D: usize> ElasticSystem<'_, T, D> {
     }
 
     /// Kind 1 exactly at the system's fixed nodes.
-    fn check_kinds(&self, c: &Constraints<'_, T, D>) -> Result<()> {
+    pub(crate) fn check_kinds(&self, c: &Constraints<'_, T, D>) -> Result<()> {
         if (0..c.len()).any(|i| (c.kind(i) == NodeKind::Fixed) != self.is_fixed(i)) {
             return Err(Error::InvalidParameter {
                 arg: "constraints",

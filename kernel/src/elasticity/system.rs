@@ -340,14 +340,7 @@ impl<'a, T: Real, const D: usize> ElasticSystem<'a, T, D> {
         scratch: &mut [[T; D]],
     ) -> Result<SolveReport<T>> {
         let n = self.node_count();
-        check::len("spring", spring.node_count(), n)?;
-        hierarchy.check_system(spring)?;
-        if (0..n).any(|i| spring.is_fixed(i) != self.is_fixed(i)) {
-            return Err(Error::InvalidParameter {
-                arg: "spring",
-                reason: "must have the same fixed nodes",
-            });
-        }
+        self.check_amg(spring, hierarchy)?;
         let needed = elastic_amg_scratch_len(n, hierarchy.coarse_unknowns()).unwrap_or(usize::MAX);
         self.check_solve(values, options, scratch.len(), needed)?;
         let (v, rest) = Vectors::split(scratch, n).ok_or(Error::BufferTooSmall {
@@ -361,6 +354,25 @@ impl<'a, T: Real, const D: usize> ElasticSystem<'a, T, D> {
             values,
             options,
         )
+    }
+
+    /// A scalar multigrid preconditioner's spring system and hierarchy fit this system: same
+    /// size and fixed mask, the hierarchy built on `spring`.
+    pub(crate) fn check_amg(
+        &self,
+        spring: &SpringSystem<'_, T>,
+        hierarchy: &AmgHierarchy<'_, T>,
+    ) -> Result<()> {
+        let n = self.node_count();
+        check::len("spring", spring.node_count(), n)?;
+        hierarchy.check_system(spring)?;
+        if (0..n).any(|i| spring.is_fixed(i) != self.is_fixed(i)) {
+            return Err(Error::InvalidParameter {
+                arg: "spring",
+                reason: "must have the same fixed nodes",
+            });
+        }
+        Ok(())
     }
 
     /// The fine operator of the rigid-mode multigrid: the blocks flattened.

@@ -106,16 +106,7 @@ pub fn elastic_adjoint<T: Real, const D: usize>(
 ) -> Result<SolveReport<T>> {
     let n = sys.node_count();
     check_adjoint(n, w, g, options)?;
-    if let ElasticPreconditioner::Amg(s, h) = pre {
-        check::len("spring", s.node_count(), n)?;
-        h.check_system(s)?;
-        if (0..n).any(|i| s.is_fixed(i) != sys.is_fixed(i)) {
-            return Err(Error::InvalidParameter {
-                arg: "spring",
-                reason: "must have the same fixed nodes",
-            });
-        }
-    }
+    check_pre(sys, &pre)?;
     let needed = elastic_adjoint_scratch_len(&pre, n);
     check::buffer("scratch", scratch.len(), needed)?;
     let (lambda, rest) = scratch
@@ -136,6 +127,18 @@ pub fn elastic_adjoint<T: Real, const D: usize>(
         };
     }
     Ok(report)
+}
+
+/// A multigrid preconditioner's spring system and hierarchy fit `sys` (same size and fixed
+/// mask, the hierarchy built on the spring system); nothing to check for the blocks.
+pub(super) fn check_pre<T: Real, const D: usize>(
+    sys: &ElasticSystem<'_, T, D>,
+    pre: &ElasticPreconditioner<'_, T>,
+) -> Result<()> {
+    match pre {
+        ElasticPreconditioner::Blocks => Ok(()),
+        ElasticPreconditioner::Amg(s, h) => sys.check_amg(s, h),
+    }
 }
 
 /// Solves `K_ff λ = w_f` (zero initial guess, `λ` zero at fixed nodes) with the deformation's

@@ -101,19 +101,8 @@ pub fn spring_adjoint<T: Real, const V: usize>(
 ) -> Result<SolveReport<T>> {
     let n = sys.node_count();
     check_adjoint(n, w, g, options)?;
-    if let LinearSolver::Method(LinearMethod::Cg {
-        preconditioner: crate::spring::Preconditioner::Ssor { omega },
-    }) = solver
-    {
-        crate::spring::check_omega(omega)?;
-    }
-    if let LinearSolver::Amg(h) = solver {
-        h.check_system(sys)?;
-    }
+    check_solver(sys, solver)?;
     let needed = spring_adjoint_scratch_len::<T, V>(&solver, n);
-    if needed == usize::MAX {
-        return Err(NOT_CG);
-    }
     if let Some(packed) = adjoint_nonzero(sys, solver, options, w, g, scratch) {
         return packed;
     }
@@ -127,6 +116,23 @@ pub fn spring_adjoint<T: Real, const V: usize>(
         g,
     );
     Ok(report)
+}
+
+/// The adjoint's solver: CG (a valid SSOR `omega`) or multigrid with a hierarchy of `sys`.
+pub(super) fn check_solver<T: Real>(
+    sys: &SpringSystem<'_, T>,
+    solver: LinearSolver<'_, T>,
+) -> Result<()> {
+    match solver {
+        LinearSolver::Method(LinearMethod::Cg { preconditioner }) => {
+            if let crate::spring::Preconditioner::Ssor { omega } = preconditioner {
+                crate::spring::check_omega(omega)?;
+            }
+            Ok(())
+        }
+        LinearSolver::Amg(h) => h.check_system(sys),
+        _ => Err(NOT_CG),
+    }
 }
 
 /// `(D − K_ff) λ = w_f` with `solver`'s preconditioner (`rest`: its scratch).

@@ -36,7 +36,9 @@ use core::ops::Range;
 use super::amg::{amg_sliding_cg_scratch_len, AmgHierarchy, Vcycle};
 use super::angle::{angle_sliding_scratch_items, cramer, AngleMethod, AngleSystem};
 use super::distributed::{Collective, Serial};
-use super::krylov::{apply_local, cg_len, exponents, pcg, Operator, Precondition, Vectors};
+use super::krylov::{
+    apply_local, cg_len, exponents, pcg, solve_rhs, Operator, Precondition, RhsLayout, Vectors,
+};
 use super::linear::{
     diagonal, drive_sweeps, node_residual, solve_linear_scratch_len, OneLevel, Sweeps,
 };
@@ -318,6 +320,63 @@ impl<T: Real> SpringSystem<'_, T> {
             scratch,
         )
     }
+}
+
+/// `P (D − K) P λ = f` on `range(P)` for the linear springs and an arbitrary right-hand side
+/// `f` (`rhs`, already in `range(P)`, ignored at fixed nodes), from a zero initial guess, by
+/// the projected CG of [`solve_linear_sliding`](SpringSystem::solve_linear_sliding) (one
+/// lane, the same preconditioner `P M⁻¹ P`): the adjoint solves. `solver` must be CG or
+/// multigrid (the caller checks it, `omega`, the hierarchy, sizes and finiteness); `rest`
+/// holds the preconditioner's scratch (the diagonal, `⌈n / D⌉` items, or the V-cycle's). `λ`
+/// (`out`) is zero at fixed nodes, projected once more at sliding ones, written only on `Ok`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn solve_linear_sliding_rhs<T: Real, const D: usize>(
+    sys: &SpringSystem<'_, T>,
+    c: &Constraints<'_, T, D>,
+    solver: LinearSolver<'_, T>,
+    options: &SolveOptions<T>,
+    rhs: &[[T; D]],
+    out: &mut [[T; D]],
+    v: Vectors<'_, T, D>,
+    rest: &mut [[T; D]],
+) -> Result<SolveReport<T>> {
+    let n = sys.node_count();
+    let op = LinearOp(sys);
+    let proj = Projected { op: &op, c };
+    let layout = RhsLayout {
+        kmax: sys.stiffness().iter().fold(T::ZERO, |m, &k| m.max(k)),
+        joint: true,
+        per_node: false,
+    };
+    let fixed = |i| sys.is_fixed(i);
+    let serial = Serial::new(n);
+    let report = match solver {
+        LinearSolver::Amg(h) => {
+            let inner = Vcycle::new(sys, h, rest);
+            let mut m = ProjectedPre { op: &op, c, inner };
+            solve_rhs(&proj, &mut m, v, rhs, out, layout, fixed, options, &serial)
+        }
+        LinearSolver::Method(LinearMethod::Cg { preconditioner }) => {
+            let diag = rest.as_flattened_mut().get_mut(..n).unwrap_or(&mut []);
+            diagonal(sys, diag);
+            let diag: &[T] = diag;
+            let inner = OneLevel {
+                sys,
+                diag,
+                pre: preconditioner,
+            };
+            let mut m = ProjectedPre { op: &op, c, inner };
+            solve_rhs(&proj, &mut m, v, rhs, out, layout, fixed, options, &serial)
+        }
+        _ => Err(Error::InvalidParameter {
+            arg: "solver",
+            reason: "the sliding adjoint needs CG (LinearMethod::Cg) or multigrid",
+        }),
+    }?;
+    for (i, x) in out.iter_mut().enumerate() {
+        *x = c.project(i, *x);
+    }
+    Ok(report)
 }
 
 impl<T: Real, const D: usize> AngleSystem<'_, T, D> {

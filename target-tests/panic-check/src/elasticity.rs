@@ -1,8 +1,9 @@
 //! Panic-check calls for linear elasticity (`deform_kernel::elasticity`): the graph, the
 //! moduli (every choice), the assembly, the system, its unconstrained product, both solves
 //! (block Jacobi and the scalar multigrid per component), the increments and their tangent
-//! and adjoint (`deform_kernel::sensitivity`, both preconditioners), for `f32` and `f64` in
-//! 2D and 3D.
+//! and adjoint (`deform_kernel::sensitivity`, both preconditioners), the sliding solves and
+//! derivatives (`solve_amg_sliding`, `elastic_sliding_tangent` / `_adjoint`), for `f32` and
+//! `f64` in 2D and 3D.
 //!
 //! The meshes are opaque: a unit square of two triangles and a quad, a cube of a hexahedron
 //! (small enough for stack buffers).
@@ -10,14 +11,17 @@
 use core::hint::black_box;
 
 use deform_kernel::elasticity::{
-    assemble, cell_moduli, deform_incremental, elastic_amg_scratch_len, elastic_scratch_len,
-    elasticity_graph, elasticity_graph_len, ElasticSystem, IncrementBuffers, Increments, Modulus,
+    assemble, cell_moduli, deform_incremental, elastic_amg_scratch_len,
+    elastic_amg_sliding_scratch_len, elastic_scratch_len, elasticity_graph, elasticity_graph_len,
+    ElasticSystem, IncrementBuffers, Increments, Modulus,
 };
 use deform_kernel::sensitivity::{
     elastic_incremental_adjoint, elastic_incremental_adjoint_scratch_len,
-    elastic_incremental_tangent, elastic_incremental_tangent_scratch_len, ElasticPreconditioner,
-    IncrementProblem,
+    elastic_incremental_tangent, elastic_incremental_tangent_scratch_len, elastic_sliding_adjoint,
+    elastic_sliding_adjoint_scratch_len, elastic_sliding_tangent,
+    elastic_sliding_tangent_scratch_len, ElasticPreconditioner, IncrementProblem,
 };
+use deform_kernel::spring::constraints::Constraints;
 use deform_kernel::spring::{AmgHierarchy, AmgOptions, SolveOptions, SpringSystem};
 use deform_kernel::{Cells, Graph, Real};
 
@@ -209,8 +213,56 @@ fn solves<T: Real, const D: usize>(
         &opts,
         bb(&mut scratch[..]),
     ));
+    keep(elastic_amg_sliding_scratch_len(bb(n), h.coarse_unknowns()));
     let pre = bb(ElasticPreconditioner::Amg(&spring, &h));
+    sliding(&sys, pre);
+    sliding(&sys, bb(ElasticPreconditioner::Blocks));
     increment_derivatives(cells, graph, fixed, points, pre);
+}
+
+/// The sliding solve and derivatives with `pre` (the free nodes of the system on a plane).
+#[inline(never)]
+fn sliding<T: Real, const D: usize>(
+    sys: &ElasticSystem<'_, T, D>,
+    pre: ElasticPreconditioner<'_, T>,
+) {
+    let n = sys.node_count();
+    let kinds: [u8; N] = bb([1, 2, 1, 0, 1, 2, 1, 0]);
+    let mut e = [T::ZERO; D];
+    if let Some(x) = e.last_mut() {
+        *x = T::ONE;
+    }
+    let dirs: [[T; D]; N] = bb([e; N]);
+    let Ok(c) = Constraints::new(kinds.get(..n).unwrap_or(&[]), dirs.get(..n).unwrap_or(&[]))
+    else {
+        return;
+    };
+    let opts = bb(SolveOptions::<T>::default());
+    let mut scratch = [[T::ZERO; D]; 16 * N];
+    let x: [[T; D]; N] = bb([[T::HALF; D]; N]);
+    let mut u = x;
+    let len = elastic_sliding_tangent_scratch_len(&pre, bb(n));
+    let sc = scratch.get_mut(..len).unwrap_or(&mut []);
+    let u = u.get_mut(..n).unwrap_or(&mut []);
+    keep(elastic_sliding_tangent(sys, &c, pre, &opts, bb(u), bb(sc)));
+    if let ElasticPreconditioner::Amg(s, h) = pre {
+        let mut v = x;
+        let v = v.get_mut(..n).unwrap_or(&mut []);
+        keep(sys.solve_amg_sliding(&c, s, h, bb(v), &opts, bb(&mut scratch[..])));
+    }
+    let len = elastic_sliding_adjoint_scratch_len(&pre, bb(n));
+    let mut g = [[T::ZERO; D]; N];
+    let sc = scratch.get_mut(..len).unwrap_or(&mut []);
+    let (w, g) = (x.get(..n).unwrap_or(&[]), g.get_mut(..n).unwrap_or(&mut []));
+    keep(elastic_sliding_adjoint(
+        sys,
+        &c,
+        pre,
+        &opts,
+        bb(w),
+        bb(g),
+        bb(sc),
+    ));
 }
 
 /// Tangent and adjoint of two load increments (inverse-volume modulus) with `pre`.

@@ -2,12 +2,16 @@
 //! solves): the constraint table, projections, plane fit, plane intersection, `slide_points`,
 //! and `solve_linear_sliding` (every linear method and AMG) / `solve_angle_sliding` (every
 //! angle method, `ε` 0 and 0.01) / `solve_angle_sliding_amg`, for `f32` and `f64`, `D` = 2
-//! and 3.
+//! and 3; the derivatives with sliding nodes (`deform_kernel::sensitivity`:
+//! `spring_sliding_tangent` / `_adjoint` with CG and multigrid).
 //!
 //! The system is an opaque 8-node path (both ends fixed, one node on a plane, one on a line).
 
 use core::hint::black_box;
 
+use deform_kernel::sensitivity::{
+    spring_sliding_adjoint, spring_sliding_adjoint_scratch_len, spring_sliding_tangent,
+};
 use deform_kernel::spring::constraints::{
     fit_plane, plane_intersection, slide_points, unit_tolerance, Constraints, NodeKind,
 };
@@ -25,7 +29,7 @@ const WORK: usize = 4 * (N + 14) + 64;
 const INDEX: usize = 256;
 const VALUES: usize = 256;
 /// Solve scratch items.
-const SCRATCH: usize = 10 * N;
+const SCRATCH: usize = 16 * N;
 
 /// Calls every sliding-boundary entry point with opaque inputs.
 pub fn exercise() {
@@ -125,6 +129,7 @@ fn run<T: Real, const D: usize>() {
         let sc = scratch.get_mut(..len).unwrap_or(&mut []);
         keep(sys.solve_linear_sliding(&c, bb(&mut y[..]), solver, &opts, bb(sc)));
         keep(&y);
+        derivatives(&sys, &c, solver, &opts, &x, &mut scratch);
     }
     let amg_opts = bb(AmgOptions {
         max_coarse: 2,
@@ -147,6 +152,7 @@ fn run<T: Real, const D: usize>() {
         let sc = scratch.get_mut(..len).unwrap_or(&mut []);
         keep(sys.solve_linear_sliding(&c, bb(&mut y[..]), solver, &opts, bb(sc)));
         keep(&y);
+        derivatives(&sys, &c, solver, &opts, &x, &mut scratch);
         for eps in [T::ZERO, T::from_f64(0.01)] {
             let Ok(a) = AngleSystem::new(sys, bb(&p[..]), bb(eps)) else {
                 continue;
@@ -176,4 +182,41 @@ fn run<T: Real, const D: usize>() {
             keep(&y);
         }
     }
+}
+
+/// The sliding tangent and adjoint of the linear springs with `solver`.
+#[inline(never)]
+fn derivatives<T: Real, const D: usize>(
+    sys: &SpringSystem<'_, T>,
+    c: &Constraints<'_, T, D>,
+    solver: LinearSolver<'_, T>,
+    opts: &SolveOptions<T>,
+    x: &[[T; D]; N],
+    scratch: &mut [[T; D]; SCRATCH],
+) {
+    let len = solve_linear_sliding_scratch_len(&solver, bb(N));
+    let mut y = *x;
+    let sc = scratch.get_mut(..len).unwrap_or(&mut []);
+    keep(spring_sliding_tangent(
+        sys,
+        c,
+        solver,
+        opts,
+        bb(&mut y[..]),
+        bb(sc),
+    ));
+    keep(&y);
+    let len = spring_sliding_adjoint_scratch_len::<T, D>(&solver, bb(N));
+    let mut g = [[T::ZERO; D]; N];
+    let sc = scratch.get_mut(..len).unwrap_or(&mut []);
+    keep(spring_sliding_adjoint(
+        sys,
+        c,
+        solver,
+        opts,
+        bb(&x[..]),
+        bb(&mut g[..]),
+        bb(sc),
+    ));
+    keep(&g);
 }

@@ -4,7 +4,8 @@
 //! `elastic_adjoint` (one step: linear, one more solve with the deformation's operator) and
 //! `elastic_incremental_tangent` / `_adjoint` (`--steps N`: the increments re-assembled on the
 //! moved mesh, linearised about the boundary of `--deformed`). Every solve is CG
-//! preconditioned by a scalar multigrid V-cycle on the cell-pair graph (`deform move`'s
+//! preconditioned by a scalar multigrid V-cycle on the cell-pair graph (projected on the
+//! sliding planes with `--slide`: `elastic_sliding_tangent` / `_adjoint`, one step only) (`deform move`'s
 //! default solver is another multigrid: the solves agree to the tolerance).
 
 use deform_kernel::elasticity::{
@@ -13,15 +14,18 @@ use deform_kernel::elasticity::{
 use deform_kernel::sensitivity::{
     elastic_adjoint, elastic_adjoint_scratch_len, elastic_incremental_adjoint,
     elastic_incremental_adjoint_scratch_len, elastic_incremental_tangent,
-    elastic_incremental_tangent_scratch_len, elastic_tangent, elastic_tangent_scratch_len,
+    elastic_incremental_tangent_scratch_len, elastic_sliding_adjoint,
+    elastic_sliding_adjoint_scratch_len, elastic_sliding_tangent,
+    elastic_sliding_tangent_scratch_len, elastic_tangent, elastic_tangent_scratch_len,
     ElasticPreconditioner, IncrementProblem,
 };
+use deform_kernel::spring::constraints::Constraints;
 use deform_kernel::spring::{AmgHierarchy, AmgOptions, SolveOptions, SpringSystem};
 use deform_kernel::{Cells, Graph};
 
 use super::options::DEFAULT_POISSON;
 use super::quaternion::deformed_points;
-use super::{kernel, Report, Solved};
+use super::{kernel, Report, Slide, Solved};
 use crate::args::{SensitivitySetup, StiffnessArg};
 use crate::engine::{cell_pair_graph, cells_view, points_d};
 use crate::error::CliError;
@@ -229,14 +233,20 @@ fn converged(iterations: usize, residual: f64, ok: bool) -> Result<Report, CliEr
 /// `J v` (`dx` holds `v` at the boundary, zero elsewhere).
 pub(super) fn tangent<const D: usize>(
     setup: &SensitivitySetup,
-    mesh: &Su2Mesh,
-    boundary: &[u32],
+    (mesh, boundary, table): (&Su2Mesh, &[u32], Option<&Slide>),
     mut dx: Vec<[f64; D]>,
 ) -> Result<Solved<D>, CliError> {
     let m = Mesh::<D>::new(setup, mesh, boundary)?;
     let n = dx.len();
     with_solver(setup, &m, |s, graph| {
-        let r = if s.params.steps == 1 {
+        let r = if let Some(t) = table {
+            let dirs = t.directions::<D>();
+            let c = Constraints::new(&t.kinds, &dirs).map_err(kernel("sliding"))?;
+            let mut scratch = vec![[0.0; D]; elastic_sliding_tangent_scratch_len(&s.pre, n)];
+            let r = elastic_sliding_tangent(&s.sys, &c, s.pre, &s.options, &mut dx, &mut scratch)
+                .map_err(kernel("elasticity tangent"))?;
+            converged(r.iterations, r.residual, r.converged)?
+        } else if s.params.steps == 1 {
             let mut scratch = vec![[0.0; D]; elastic_tangent_scratch_len(&s.pre, n)];
             let r = elastic_tangent(&s.sys, s.pre, &s.options, &mut dx, &mut scratch)
                 .map_err(kernel("elasticity tangent"))?;
@@ -256,15 +266,22 @@ pub(super) fn tangent<const D: usize>(
 /// `Jᵀ w` (zero off the boundary).
 pub(super) fn adjoint<const D: usize>(
     setup: &SensitivitySetup,
-    mesh: &Su2Mesh,
-    boundary: &[u32],
+    (mesh, boundary, table): (&Su2Mesh, &[u32], Option<&Slide>),
     w: &[[f64; D]],
 ) -> Result<Solved<D>, CliError> {
     let m = Mesh::<D>::new(setup, mesh, boundary)?;
     let n = w.len();
     let mut g = vec![[0.0; D]; n];
     with_solver(setup, &m, |s, graph| {
-        let r = if s.params.steps == 1 {
+        let r = if let Some(t) = table {
+            let dirs = t.directions::<D>();
+            let c = Constraints::new(&t.kinds, &dirs).map_err(kernel("sliding"))?;
+            let len = elastic_sliding_adjoint_scratch_len(&s.pre, n);
+            let mut scratch = vec![[0.0; D]; len];
+            let r = elastic_sliding_adjoint(&s.sys, &c, s.pre, &s.options, w, &mut g, &mut scratch)
+                .map_err(kernel("elasticity adjoint"))?;
+            converged(r.iterations, r.residual, r.converged)?
+        } else if s.params.steps == 1 {
             let mut scratch = vec![[0.0; D]; elastic_adjoint_scratch_len(&s.pre, n)];
             let r = elastic_adjoint(&s.sys, s.pre, &s.options, w, &mut g, &mut scratch)
                 .map_err(kernel("elasticity adjoint"))?;

@@ -18,14 +18,19 @@ mod options;
 mod quaternion;
 mod rbf;
 mod read;
+mod slide;
 
 use std::io::Write as _;
 use std::path::Path;
 
-use deform_kernel::sensitivity::{idw_adjoint, idw_tangent, spring_adjoint, spring_tangent};
+use deform_kernel::sensitivity::{
+    idw_adjoint, idw_tangent, spring_adjoint, spring_adjoint_scratch_len, spring_sliding_adjoint,
+    spring_sliding_adjoint_scratch_len, spring_sliding_tangent, spring_tangent,
+};
+use deform_kernel::spring::constraints::Constraints;
 use deform_kernel::spring::{
-    batina_stiffness, AmgHierarchy, AmgOptions, LinearSolver, SolveOptions, SolveReport,
-    SpringSystem,
+    batina_stiffness, solve_linear_sliding_scratch_len, solve_linear_with_scratch_len,
+    AmgHierarchy, AmgOptions, LinearSolver, SolveOptions, SolveReport, SpringSystem,
 };
 use serde_json::json;
 
@@ -37,6 +42,7 @@ use crate::formats::su2::Su2Mesh;
 use crate::output::Staged;
 use crate::report::Outcome;
 use read::{parse_perturbation, parse_sensitivity};
+use slide::Slide;
 
 fn kernel(context: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {
     move |source| CliError::Kernel {
@@ -45,25 +51,26 @@ fn kernel(context: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {
     }
 }
 
-/// The mesh and its boundary nodes (every marker's), after the option checks.
-fn load(setup: &SensitivitySetup) -> Result<(Su2Mesh, Vec<u32>), CliError> {
+/// The mesh, its boundary nodes (every marker's but the sliding ones') and the sliding
+/// markers' constraint table, after the option checks.
+fn load(setup: &SensitivitySetup) -> Result<(Su2Mesh, Vec<u32>, Option<Slide>), CliError> {
     if !(setup.tol.is_finite() && setup.tol > 0.0) {
         return Err(CliError::Invalid(
             "--tol must be finite and positive".into(),
         ));
     }
     options::check(setup)?;
+    slide::check(setup)?;
     crate::args::check_rbf_args(&setup.rbf, setup.method() == SensitivityMethod::Rbf)?;
     let mesh = read_su2(&setup.mesh)?;
-    let names: Vec<String> = mesh.markers.iter().map(|m| m.name.clone()).collect();
-    let boundary = marker_nodes(&mesh, &names, &setup.mesh)?;
+    let (boundary, table) = slide::boundary(setup, &mesh)?;
     if boundary.is_empty() {
         return Err(CliError::Invalid(format!(
             "{}: no marker nodes: the deformation has no boundary to differentiate by",
             setup.mesh.display()
         )));
     }
-    Ok((mesh, boundary))
+    Ok((mesh, boundary, table))
 }
 
 /// Runs `f` with the spring system, its multigrid hierarchy and the stopping rules of `setup`.
@@ -133,8 +140,7 @@ type Solved<const D: usize> = (Vec<[f64; D]>, Option<Report>);
 /// `Jᵀ w` for `D` components; the spring solve's report when there is one.
 fn adjoint_d<const D: usize>(
     setup: &SensitivitySetup,
-    mesh: &Su2Mesh,
-    boundary: &[u32],
+    (mesh, boundary, table): (&Su2Mesh, &[u32], Option<&Slide>),
     w: &[[f64; D]],
 ) -> Result<Solved<D>, CliError> {
     let n = w.len();
@@ -148,17 +154,27 @@ fn adjoint_d<const D: usize>(
         }
         SensitivityMethod::Quaternion => quaternion::adjoint(setup, mesh, boundary, w),
         SensitivityMethod::Idw => idw::adjoint(setup, mesh, boundary, w),
-        SensitivityMethod::Elasticity => elasticity::adjoint(setup, mesh, boundary, w),
+        SensitivityMethod::Elasticity => elasticity::adjoint(setup, (mesh, boundary, table), w),
         SensitivityMethod::Angle => angle::adjoint(setup, mesh, boundary, w),
         SensitivityMethod::Rbf => rbf::adjoint(setup, mesh, boundary, w),
         SensitivityMethod::Tfi | SensitivityMethod::TfiDisplacement => Err(options::tfi_on_su2()),
         SensitivityMethod::Spring => {
             with_springs::<D, _>(setup, mesh, boundary, |sys, solver, stop| {
-                let len =
-                    deform_kernel::sensitivity::spring_adjoint_scratch_len::<f64, D>(&solver, n);
-                let mut s = vec![[0.0; D]; len];
-                let r = spring_adjoint(sys, solver, stop, w, &mut g, &mut s)
-                    .map_err(kernel("spring adjoint"))?;
+                let r = match table {
+                    Some(t) => {
+                        let dirs = t.directions::<D>();
+                        let c = Constraints::new(&t.kinds, &dirs).map_err(kernel("sliding"))?;
+                        let len = spring_sliding_adjoint_scratch_len::<f64, D>(&solver, n);
+                        let mut s = vec![[0.0; D]; len];
+                        spring_sliding_adjoint(sys, &c, solver, stop, w, &mut g, &mut s)
+                    }
+                    None => {
+                        let len = spring_adjoint_scratch_len::<f64, D>(&solver, n);
+                        let mut s = vec![[0.0; D]; len];
+                        spring_adjoint(sys, solver, stop, w, &mut g, &mut s)
+                    }
+                }
+                .map_err(kernel("spring adjoint"))?;
                 Ok((g, Some(converged(r)?)))
             })
         }
@@ -168,8 +184,7 @@ fn adjoint_d<const D: usize>(
 /// `J v` for `D` components (`dx` holds `v` at the boundary on entry).
 fn tangent_d<const D: usize>(
     setup: &SensitivitySetup,
-    mesh: &Su2Mesh,
-    boundary: &[u32],
+    (mesh, boundary, table): (&Su2Mesh, &[u32], Option<&Slide>),
     mut dx: Vec<[f64; D]>,
 ) -> Result<Solved<D>, CliError> {
     match setup.method() {
@@ -181,16 +196,27 @@ fn tangent_d<const D: usize>(
         }
         SensitivityMethod::Quaternion => quaternion::tangent(setup, mesh, boundary, &dx),
         SensitivityMethod::Idw => idw::tangent(setup, mesh, boundary, &dx),
-        SensitivityMethod::Elasticity => elasticity::tangent(setup, mesh, boundary, dx),
+        SensitivityMethod::Elasticity => elasticity::tangent(setup, (mesh, boundary, table), dx),
         SensitivityMethod::Angle => angle::tangent(setup, mesh, boundary, dx),
         SensitivityMethod::Rbf => rbf::tangent(setup, mesh, boundary, &dx),
         SensitivityMethod::Tfi | SensitivityMethod::TfiDisplacement => Err(options::tfi_on_su2()),
         SensitivityMethod::Spring => {
             with_springs::<D, _>(setup, mesh, boundary, |sys, solver, stop| {
-                let len = deform_kernel::spring::solve_linear_with_scratch_len(&solver, dx.len());
-                let mut s = vec![[0.0; D]; len];
-                let r = spring_tangent(sys, solver, stop, &mut dx, &mut s)
-                    .map_err(kernel("spring tangent"))?;
+                let r = match table {
+                    Some(t) => {
+                        let dirs = t.directions::<D>();
+                        let c = Constraints::new(&t.kinds, &dirs).map_err(kernel("sliding"))?;
+                        let len = solve_linear_sliding_scratch_len(&solver, dx.len());
+                        let mut s = vec![[0.0; D]; len];
+                        spring_sliding_tangent(sys, &c, solver, stop, &mut dx, &mut s)
+                    }
+                    None => {
+                        let len = solve_linear_with_scratch_len(&solver, dx.len());
+                        let mut s = vec![[0.0; D]; len];
+                        spring_tangent(sys, solver, stop, &mut dx, &mut s)
+                    }
+                }
+                .map_err(kernel("spring tangent"))?;
                 Ok((dx, Some(converged(r)?)))
             })
         }
@@ -269,17 +295,20 @@ fn outcome(
 /// `deform adjoint`.
 pub(crate) fn adjoint(a: &AdjointArgs) -> Result<Outcome, CliError> {
     if input_kind(&a.setup.mesh)? != FileKind::Su2 {
+        slide::not_on_grid(&a.setup)?;
         return grid::adjoint(a);
     }
-    let (mesh, boundary) = load(&a.setup)?;
+    let setup = design::with_symmetry_planes(a)?;
+    let (mesh, boundary, table) = load(&setup)?;
     let n = mesh.points.len();
     let text = String::from_utf8_lossy(&read_bytes(&a.sensitivity)?).into_owned();
     let w = parse_sensitivity(&text, n, mesh.dim, &a.sensitivity)?;
+    let problem = (&mesh, &boundary[..], table.as_ref());
     let (g, report) = if mesh.dim == 2 {
-        let (g, r) = adjoint_d::<2>(&a.setup, &mesh, &boundary, &to_d::<2>(&w))?;
+        let (g, r) = adjoint_d::<2>(&setup, problem, &to_d::<2>(&w))?;
         (to_3(&g), r)
     } else {
-        let (g, r) = adjoint_d::<3>(&a.setup, &mesh, &boundary, &to_d::<3>(&w))?;
+        let (g, r) = adjoint_d::<3>(&setup, problem, &to_d::<3>(&w))?;
         (g, r)
     };
     let nodes = if a.markers.is_empty() {
@@ -319,18 +348,20 @@ pub(crate) fn adjoint(a: &AdjointArgs) -> Result<Outcome, CliError> {
 /// `deform tangent`.
 pub(crate) fn tangent(a: &TangentArgs) -> Result<Outcome, CliError> {
     if input_kind(&a.setup.mesh)? != FileKind::Su2 {
+        slide::not_on_grid(&a.setup)?;
         return grid::tangent(a);
     }
-    let (mesh, boundary) = load(&a.setup)?;
+    let (mesh, boundary, table) = load(&a.setup)?;
     let n = mesh.points.len();
     let text = String::from_utf8_lossy(&read_bytes(&a.perturbation)?).into_owned();
-    let on = (&boundary[..], "on a marker");
+    let on = (&boundary[..], "on a marker (not a sliding one)");
     let v = parse_perturbation(&text, n, mesh.dim, on, &a.perturbation)?;
+    let problem = (&mesh, &boundary[..], table.as_ref());
     let (dx, report) = if mesh.dim == 2 {
-        let (dx, r) = tangent_d::<2>(&a.setup, &mesh, &boundary, to_d::<2>(&v))?;
+        let (dx, r) = tangent_d::<2>(&a.setup, problem, to_d::<2>(&v))?;
         (to_3(&dx), r)
     } else {
-        tangent_d::<3>(&a.setup, &mesh, &boundary, to_d::<3>(&v))?
+        tangent_d::<3>(&a.setup, problem, to_d::<3>(&v))?
     };
     let d = mesh.dim;
     let rows: Vec<(u32, Vec<f64>)> = (0..n).map(|i| (i as u32, dx[i][..d].to_vec())).collect();

@@ -4,7 +4,9 @@
 //! registers every DV_VALUE as 0), through the kernel's `design::sensitivity`. Covered:
 //! TRANSLATION, ROTATION, HICKS_HENNE and the FFD variables `deform su2` applies (FFD_CONTROL_POINT(_2D),
 //! FFD_CAMBER(_2D), FFD_THICKNESS(_2D), FFD_TWIST), with SU2_DEF's fixed planes and
-//! OPT_RELAX_FACTOR, exactly as `deform su2` moves the surface.
+//! OPT_RELAX_FACTOR, exactly as `deform su2` moves the surface. MARKER_DEFORM_MESH_SYM_PLANE
+//! markers slide in the deformation's adjoint as in `deform su2` (`--method spring` and
+//! single-step `elasticity`; the other methods refuse them before any solve).
 
 use std::collections::BTreeSet;
 
@@ -46,9 +48,6 @@ pub(crate) fn design_gradient(
     mesh: &Su2Mesh,
     g: &[[f64; 3]],
 ) -> Result<Gradient, CliError> {
-    if config.get("MARKER_DEFORM_MESH_SYM_PLANE").is_some() {
-        return Err(option_error(config, "MARKER_DEFORM_MESH_SYM_PLANE", "sliding markers are not in deform adjoint's deformation (every marker is fixed or moved): the gradient would not be that of deform su2"));
-    }
     let dvs = read_dvs(config)?;
     let markers = design_markers(config)?;
     let relax: f64 = number(config, "OPT_RELAX_FACTOR", 1.0)?;
