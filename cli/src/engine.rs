@@ -591,6 +591,8 @@ pub struct MoveInput<'a> {
     pub method: MoveMethod,
     /// Solver (spring-based methods).
     pub solver: MoveSolver,
+    /// Multigrid strength threshold θ (`MoveSolver::Amg`; 0 is the kernel's default).
+    pub amg_strength: f64,
     /// Relative residual tolerance.
     pub tol: f64,
     /// Iteration cap.
@@ -1093,7 +1095,8 @@ struct AmgStorage {
 }
 
 impl AmgStorage {
-    /// Builds the hierarchy of `sys` with the default options in one symbolic pass (not
+    /// Builds the hierarchy of `sys` with the default options and strength threshold
+    /// `theta` in one symbolic pass (not
     /// `setup_len` and then `setup`, which runs it again): `index` and `values` are allocated
     /// at bounds that hold every hierarchy of `sys` ([`amg_bounds`]). The kernel writes only
     /// the prefixes it needs and gives the same bits in larger buffers; the untouched zeroed
@@ -1101,9 +1104,13 @@ impl AmgStorage {
     fn build<'a>(
         &'a mut self,
         sys: &deform_kernel::spring::SpringSystem<'_, f64>,
+        theta: f64,
     ) -> Result<deform_kernel::spring::AmgHierarchy<'a, f64>, CliError> {
         use deform_kernel::spring::{AmgHierarchy, AmgOptions};
-        let opts = AmgOptions::default();
+        let opts = AmgOptions {
+            strength_theta: theta,
+            ..AmgOptions::default()
+        };
         let work_len = AmgHierarchy::setup_work_len(sys);
         let mut work = vec![0u32; work_len];
         let (index_len, values_len) = amg_bounds(sys.node_count(), work_len, opts.max_coarse);
@@ -1342,7 +1349,7 @@ impl<const D: usize> MoveRun<'_, D> {
         let solver = match linear_method(self.input.solver) {
             Some(m) => LinearSolver::Method(m),
             None => {
-                hierarchy = storage.build(sys)?;
+                hierarchy = storage.build(sys, self.input.amg_strength)?;
                 LinearSolver::Amg(&hierarchy)
             }
         };
@@ -1396,7 +1403,7 @@ impl<const D: usize> MoveRun<'_, D> {
         let amg = input.method == MoveMethod::AngleCg && input.solver == MoveSolver::Amg;
         // CG preconditioned by the linear springs' multigrid V-cycle per component.
         let hierarchy = if amg {
-            Some(storage.build(&sys)?)
+            Some(storage.build(&sys, input.amg_strength)?)
         } else {
             None
         };
@@ -1571,7 +1578,7 @@ impl<const D: usize> MoveRun<'_, D> {
         let solver = match linear_method(self.input.solver) {
             Some(m) => LinearSolver::Method(m),
             None => {
-                hierarchy = storage.build(&sys)?;
+                hierarchy = storage.build(&sys, self.input.amg_strength)?;
                 LinearSolver::Amg(&hierarchy)
             }
         };

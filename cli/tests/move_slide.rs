@@ -47,6 +47,7 @@ fn input(mesh: &Su2Mesh, method: MoveMethod, pinned: bool) -> MoveInput<'_> {
         motion: Motion::Translate([0.1, 0.0, 0.0]),
         method,
         solver: MoveSolver::Amg,
+        amg_strength: 0.0,
         tol: 1e-10,
         max_iter: 20_000,
         idw_exponent: 2.0,
@@ -170,6 +171,7 @@ fn angle_cg_sliding_multigrid_matches_node_blocks() {
     let blocks = run_move_sliding(
         &MoveInput {
             solver: MoveSolver::Cg,
+            amg_strength: 0.0,
             ..input(&mesh, MoveMethod::AngleCg, false)
         },
         &slide(&mesh),
@@ -243,6 +245,7 @@ fn curved_marker_is_refused() {
         motion: Motion::Translate([0.1, 0.0, 0.0]),
         method: MoveMethod::Spring,
         solver: MoveSolver::Cg,
+        amg_strength: 0.0,
         tol: 1e-10,
         max_iter: 100,
         idw_exponent: 2.0,

@@ -123,6 +123,16 @@ fn block_3d(n: usize) -> Su2Mesh {
 }
 
 fn run(mesh: &Su2Mesh, moved: &str, method: MoveMethod, solver: MoveSolver) -> Vec<[f64; 3]> {
+    run_with(mesh, moved, (method, solver), 0.0)
+}
+
+/// [`run`] with the multigrid strength threshold `theta`.
+fn run_with(
+    mesh: &Su2Mesh,
+    moved: &str,
+    (method, solver): (MoveMethod, MoveSolver),
+    theta: f64,
+) -> Vec<[f64; 3]> {
     let moved_list: Vec<_> = mesh
         .markers
         .iter()
@@ -150,6 +160,7 @@ fn run(mesh: &Su2Mesh, moved: &str, method: MoveMethod, solver: MoveSolver) -> V
         },
         method,
         solver,
+        amg_strength: theta,
         tol: 1e-12,
         max_iter: 10_000,
         idw_exponent: 2.0,
@@ -187,4 +198,63 @@ fn every_solver_gives_the_same_deformation() {
             }
         }
     }
+}
+
+/// `--amg-strength` reaches the hierarchy (other bits) and changes only the solver, not the
+/// deformation (the same answer to the tolerance).
+#[test]
+fn amg_strength_changes_the_hierarchy_not_the_answer() {
+    let m2 = mesh_2d(14, 9);
+    let m3 = block_3d(8);
+    for (mesh, moved) in [(&m2, "wall"), (&m3, "bottom")] {
+        for method in [MoveMethod::Spring, MoveMethod::Quaternion] {
+            let how = (method, MoveSolver::Amg);
+            let plain = run_with(mesh, moved, how, 0.0);
+            let strong = run_with(mesh, moved, how, 0.25);
+            assert_close(&plain, &strong, &format!("{method:?} θ = 0 vs 0.25"));
+            let bits = |v: &[[f64; 3]]| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_ne!(bits(&plain), bits(&strong), "{method:?}: θ was not used");
+        }
+    }
+}
+
+/// `--amg-strength` outside [0, 1), or where no multigrid is built, is refused before
+/// anything is written (`deform move` and `deform adjoint`).
+#[test]
+fn amg_strength_is_checked_and_only_for_multigrid() {
+    let d = common::tmp_dir("move-amg-strength-bad");
+    common::naca_mesh(&d, "inviscid", 32, 8, "m.su2");
+    for (extra, needle) in [
+        (&["--method", "idw"][..], "applies to --solver amg"),
+        (&["--method", "elasticity"][..], "applies to --solver amg"),
+        (
+            &["--method", "spring", "--solver", "cg"][..],
+            "applies to --solver amg",
+        ),
+        (&["--method", "spring"][..], "[0, 1)"),
+    ] {
+        let theta = if needle == "[0, 1)" { "1" } else { "0.1" };
+        let mut args = vec!["move", "m.su2", "--marker", "airfoil", "--rotate", "3"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--amg-strength", theta, "--out", "o.su2"]);
+        common::deform_refused(&d, &args, 1, needle, "o.su2");
+    }
+    common::deform_refused(
+        &d,
+        &[
+            "adjoint",
+            "m.su2",
+            "--sensitivity",
+            "s.csv",
+            "--method",
+            "idw",
+            "--amg-strength",
+            "0.1",
+            "--out",
+            "g.csv",
+        ],
+        1,
+        "--amg-strength applies to --method spring, quaternion or angle",
+        "g.csv",
+    );
 }

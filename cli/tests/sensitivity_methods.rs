@@ -346,6 +346,8 @@ fn adjoint_and_tangent_files_satisfy_the_dot_product_identity() {
     identity_holds("dot-idw", &idw);
     let fast = ["--idw-theta", "0.5"];
     identity_holds("dot-idw-fast", &[&idw[..], &fast[..]].concat());
+    let theta = ["--method", "spring", "--amg-strength", "0.25"];
+    identity_holds("dot-spring-theta", &theta);
 }
 
 #[test]

@@ -185,6 +185,7 @@ impl Job<'_> {
             motion: self.motion.clone(),
             method: self.method,
             solver: self.solver,
+            amg_strength: 0.0,
             tol: o.tol,
             max_iter: o.max_iter,
             idw_exponent: o.idw_exponent,

@@ -498,6 +498,7 @@ fn one_case(
         },
         method,
         solver: MoveSolver::Cg,
+        amg_strength: 0.0,
         tol: 1e-10,
         max_iter: if method == MoveMethod::AngleDirect {
             ANGLE_DIRECT_SWEEPS

@@ -1,7 +1,7 @@
 //! The arguments of `deform move`, checked before anything is read or written (in the order
 //! the errors were always reported).
 
-use crate::args::{Coords, Method, MoveArgs, StiffnessArg};
+use crate::args::{Coords, Method, MoveArgs, Solver, StiffnessArg};
 use crate::error::CliError;
 use crate::files::{file_kind, is_cgns_path, FileKind};
 use crate::report::value_name;
@@ -20,6 +20,7 @@ pub(super) fn check_method(a: &MoveArgs, su2: bool) -> Result<(), CliError> {
         )));
     }
     super::elasticity::check_args(a)?;
+    check_amg_strength(a)?;
     if !su2 && !tfi {
         return Err(CliError::NotAvailable {
             feature: "this method on Plot3D grids",
@@ -31,6 +32,30 @@ pub(super) fn check_method(a: &MoveArgs, su2: bool) -> Result<(), CliError> {
             feature: "transfinite interpolation on SU2 meshes",
             needs: "a structured Plot3D grid (TFI interpolates along grid lines)",
         });
+    }
+    Ok(())
+}
+
+/// `--amg-strength`: a threshold in [0, 1) for a method and solver that build a multigrid
+/// hierarchy (refused, never ignored, elsewhere).
+fn check_amg_strength(a: &MoveArgs) -> Result<(), CliError> {
+    let Some(theta) = a.amg_strength else {
+        return Ok(());
+    };
+    let multigrid = matches!(
+        a.method(),
+        Method::Spring | Method::Quaternion | Method::AngleCg
+    ) && a.solver == Solver::Amg;
+    // Elasticity's multigrid (rigid-body modes) keeps every connection.
+    if !multigrid {
+        return Err(CliError::Invalid(format!(
+            "--amg-strength applies to --solver amg with --method spring, quaternion or angle-cg, not --method {} --solver {}",
+            value_name(&a.method()),
+            value_name(&a.solver)
+        )));
+    }
+    if !(theta.is_finite() && (0.0..1.0).contains(&theta)) {
+        return Err(CliError::Invalid("--amg-strength must be in [0, 1)".into()));
     }
     Ok(())
 }

@@ -289,6 +289,7 @@ fn move_input<'a>(
         motion,
         method,
         solver,
+        amg_strength: a.amg_strength.unwrap_or(0.0),
         tol: a.tol,
         max_iter: a.max_iter,
         idw_exponent: a.idw_exponent,

@@ -56,6 +56,7 @@ fn check(setup: &SensitivitySetup) -> Result<(SensitivitySetup, WallArg, Motion)
         (setup.idw_exponent != DEFAULT_IDW_EXPONENT, "--idw-exponent"),
         (setup.tol != DEFAULT_TOL, "--tol"),
         (setup.max_iter != DEFAULT_MAX_ITER, "--max-iter"),
+        (setup.amg_strength.is_some(), "--amg-strength"),
     ];
     if let Some((_, what)) = flags.iter().find(|(given, _)| *given) {
         refuse(what)?;

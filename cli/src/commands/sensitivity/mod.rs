@@ -98,7 +98,10 @@ fn with_springs<const D: usize, R>(
     }
     let mut anchor = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
     let sys = SpringSystem::new(g, &k, &fixed, &mut anchor).map_err(kernel("spring system"))?;
-    let opts = AmgOptions::default();
+    let opts = AmgOptions {
+        strength_theta: setup.amg_strength.unwrap_or(0.0),
+        ..AmgOptions::default()
+    };
     let mut work = vec![0u32; AmgHierarchy::setup_work_len(&sys)];
     let sizes = AmgHierarchy::setup_len(&sys, &opts, &mut work).map_err(kernel("multigrid"))?;
     let (mut index, mut values) = (vec![0u32; sizes.index], vec![0.0; sizes.values]);

@@ -58,6 +58,7 @@ pub(super) fn check(setup: &SensitivitySetup) -> Result<(), CliError> {
         ));
     }
     check_idw(setup)?;
+    check_amg_strength(setup)?;
     if m == SensitivityMethod::Elasticity {
         return check_elasticity(setup);
     }
@@ -76,6 +77,30 @@ pub(super) fn check(setup: &SensitivitySetup) -> Result<(), CliError> {
     }
     if !setup.wall_markers.is_empty() {
         return only("--wall-markers", "elasticity", m);
+    }
+    Ok(())
+}
+
+/// `--amg-strength`: in [0, 1), for the methods whose solves use the multigrid.
+fn check_amg_strength(setup: &SensitivitySetup) -> Result<(), CliError> {
+    let Some(theta) = setup.amg_strength else {
+        return Ok(());
+    };
+    if matches!(
+        setup.method(),
+        SensitivityMethod::Idw
+            | SensitivityMethod::IdwDisplacements
+            | SensitivityMethod::Rbf
+            | SensitivityMethod::Elasticity
+    ) {
+        return only(
+            "--amg-strength",
+            "spring, quaternion or angle",
+            setup.method(),
+        );
+    }
+    if !(theta.is_finite() && (0.0..1.0).contains(&theta)) {
+        return Err(CliError::Invalid("--amg-strength must be in [0, 1)".into()));
     }
     Ok(())
 }

@@ -228,6 +228,7 @@ fn move_defaults(mesh: PathBuf, out: PathBuf) -> MoveArgs {
         motions: None,
         method: None,
         solver: Solver::Amg,
+        amg_strength: None,
         stiffness: None,
         poisson: 0.3,
         rigid_layer: None,
