@@ -72,6 +72,7 @@ def deform(
     out: Optional[Float2] = None,
     allow_folds: bool = False,
     rigid_layer: Optional[float] = None,
+    amg_strength: Optional[float] = None,
 ) -> Union[Float2, Tuple[Float2, Dict[str, Any]]]:
     """New points (or ``out``); with ``return_info``, also ``{"iterations", "residual",
     "converged", "sliding_nodes", "max_slide_offset", "rbf_centres"}``."""

@@ -118,6 +118,11 @@ def _check_numbers(o):
             raise ValueError("idw_theta: applies to method='idw', in [0, 1)")
         if np.isnan(o["idw_tolerance"]) or o["idw_tolerance"] < 0:
             raise ValueError("idw_tolerance: must be >= 0 (inf: theta alone)")
+    if o["amg_strength"] is not None:
+        multigrid = o["method"] in ("spring", "quaternion", "angle-cg") and o["solver"] == "amg"
+        if not multigrid or not 0.0 <= o["amg_strength"] < 1.0:
+            raise ValueError("amg_strength: applies to solver='amg' with method='spring', "
+                             "'quaternion' or 'angle-cg', in [0, 1)")
     if o["rigid_layer"] is not None and (o["method"] != "elasticity" or not (
             np.isfinite(o["rigid_layer"]) and o["rigid_layer"] >= 0)):
         raise ValueError("rigid_layer: a finite distance >= 0, for method='elasticity'")
@@ -142,7 +147,8 @@ def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver
            allow_unconverged=False, return_info=False, steps=1, slide=None, renumber="auto",
            poisson=0.3, reach=None, rbf_kernel="wendland", rbf_radius=None,
            rbf_tolerance=0.0, rbf_max_centres=1000, rbf_correction=None, idw_theta=None,
-           idw_tolerance=0.1, out=None, allow_folds=False, rigid_layer=None):
+           idw_tolerance=0.1, out=None, allow_folds=False, rigid_layer=None,
+           amg_strength=None):
     """Moves the mesh: the ``moved`` nodes follow ``motion``, the ``fixed`` nodes stay, the
     ``slide`` markers' nodes slide on their planes, and every other node follows by
     ``method``. Returns the deformed ``(N, dim)`` points (``out`` when given; and an info dict
@@ -168,7 +174,9 @@ def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver
     ``renumber``: "auto" (as the tool: RCM on large scattered meshes), "off", "rcm",
     "hilbert" (the result is in the input's numbering either way). ``reach``: no motion beyond
     this distance (quaternion, idw). ``idw_theta``: the fast tree-based IDW with this opening
-    angle and ``idw_tolerance`` (``deform move --idw-theta``). A solve that stops before
+    angle and ``idw_tolerance`` (``deform move --idw-theta``). ``amg_strength``: the
+    multigrid's strength threshold θ (``deform move --amg-strength``; 0 by default, 0.08 for
+    meshes with a stretched boundary layer: fewer iterations). A solve that stops before
     ``tol`` within ``max_iter`` raises ``KernelError`` unless ``allow_unconverged``; so does
     a result with cells inverted or folded that were valid in the input (as ``deform move``
     refuses it), unless ``allow_folds``. ``out``:
@@ -192,7 +200,8 @@ def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver
                "allow_unconverged": bool(allow_unconverged),
                "allow_folds": bool(allow_folds),
                "idw_theta": None if idw_theta is None else float(idw_theta),
-               "idw_tolerance": float(idw_tolerance)}
+               "idw_tolerance": float(idw_tolerance),
+               "amg_strength": None if amg_strength is None else float(amg_strength)}
     _check_numbers(options)
     cells = normalise_cells(cells, n)
     moved_cells, field_nodes = boundary_cells("moved", moved, n)

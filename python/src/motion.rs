@@ -42,6 +42,7 @@ pub struct Options {
     allow_folds: bool,
     idw_theta: Option<f64>,
     idw_tolerance: f64,
+    amg_strength: Option<f64>,
 }
 
 /// A motion's kind and numbers, as `deform_kernel.deform` passes them.
@@ -185,7 +186,7 @@ impl Job<'_> {
             motion: self.motion.clone(),
             method: self.method,
             solver: self.solver,
-            amg_strength: 0.0,
+            amg_strength: o.amg_strength.unwrap_or(0.0),
             tol: o.tol,
             max_iter: o.max_iter,
             idw_exponent: o.idw_exponent,

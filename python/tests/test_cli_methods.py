@@ -25,6 +25,8 @@ CASES = [
     ("elasticity", ["--rotate", "7"], dk.Rotation(7.0), {}),
     ("idw", ["--rotate", "9", "--idw-theta", "0.5"], dk.Rotation(9.0), {"idw_theta": 0.5}),
     ("quaternion", ["--rotate", "9", "--reach", "1.0"], dk.Rotation(9.0), {"reach": 1.0}),
+    ("spring", ["--rotate", "8", "--amg-strength", "0.25"], dk.Rotation(8.0),
+     {"amg_strength": 0.25}),
     ("elasticity", ["--rotate", "7", "--stiffness", "constant", "--poisson", "0.25",
                     "--steps", "2", "--solver", "cg"], dk.Rotation(7.0),
      {"stiffness": "constant", "poisson": 0.25, "steps": 2, "solver": "cg"}),

@@ -90,6 +90,8 @@ BAD = [
     ({"method": "spring", "reach": 1.0}, ValueError, "reach: applies"),
     ({"method": "spring", "rbf_tolerance": 0.1}, ValueError, "rbf_"),
     ({"method": "quaternion", "idw_theta": 0.5}, ValueError, "idw_theta"),
+    ({"method": "idw", "amg_strength": 0.1}, ValueError, "amg_strength"),
+    ({"method": "spring", "amg_strength": 1.0}, ValueError, "amg_strength"),
     ({"method": "idw", "idw_exponent": 0.0}, ValueError, "idw_exponent"),
 ]
 
