@@ -21,6 +21,7 @@ use std::ptr;
 use arbitrary::Arbitrary;
 use deform_kernel::{graph_from_edges, Quat};
 use deform_kernel_ffi::deformation::{self as de, dk_boundary_motion, dk_boundary_motion_f32};
+use deform_kernel_ffi::deformation_fast as fa;
 use deform_kernel_ffi::dk_status;
 use deform_kernel_ffi::graph::{dk_cells, dk_graph, dk_graph_from_edges};
 use deform_kernel_ffi::order::{self as or, dk_permutation};
@@ -195,6 +196,8 @@ enum Op {
         f32: bool,
     },
     Deform(DeformSpec),
+    /// `dk_deform_idw_fast` and its tangent and adjoint (and `_f32`).
+    DeformFast(DeformSpec, FastSpec),
     /// Node orders: `dk_order_rcm`, `dk_order_hilbert` and `dk_order_permute` there and back.
     Order {
         f32: bool,
@@ -246,6 +249,17 @@ struct DeformSpec {
     max_iter: u8,
     fixed_flip: u8,
     f32: bool,
+}
+
+/// The fast IDW's own parameters beside a [`DeformSpec`].
+#[derive(Arbitrary, Debug)]
+struct FastSpec {
+    /// Deformation, tangent or adjoint.
+    mode: u8,
+    /// `theta` in twelfths below 1, or 1, NaN, negative.
+    theta: u8,
+    /// `tolerance` (a fuzzed value, or infinite).
+    tolerance: i16,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -448,6 +462,60 @@ type IdwFn<T, M> = unsafe extern "C" fn(
     *mut T,
     usize,
 ) -> dk_status;
+/// `dk_deform_idw_fast(_f32)`.
+type IdwFastFn<T, M> = unsafe extern "C" fn(
+    *const T,
+    usize,
+    u32,
+    *const M,
+    T,
+    T,
+    T,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut u32,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+) -> dk_status;
+/// `dk_deform_idw_fast_tangent` and `_adjoint` (and `_f32`).
+type IdwFastDerivativeFn<T, M> = unsafe extern "C" fn(
+    *const T,
+    usize,
+    u32,
+    *const M,
+    T,
+    T,
+    T,
+    *const T,
+    usize,
+    *mut T,
+    usize,
+    *mut u32,
+    usize,
+    *mut u32,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+    *mut T,
+    usize,
+) -> dk_status;
 type TfiFn<T, M> = unsafe extern "C" fn(
     usize,
     usize,
@@ -548,6 +616,9 @@ trait Sc: Copy + Debug + Default + 'static {
     const ARCLENGTH: ArclengthFn<Self>;
     const REDISTRIBUTE: RedistributeFn<Self>;
     const IDW: IdwFn<Self, Self::Motion>;
+    const IDW_FAST: IdwFastFn<Self, Self::Motion>;
+    const IDW_FAST_TANGENT: IdwFastDerivativeFn<Self, Self::Motion>;
+    const IDW_FAST_ADJOINT: IdwFastDerivativeFn<Self, Self::Motion>;
     const TFI: TfiFn<Self, Self::Motion>;
     const SPRING: SpringFn<Self, Self::Motion, Self::System>;
     const MOTION_LEN: MotionLenFn<Self::Motion>;
@@ -644,6 +715,11 @@ impl Sc for f64 {
     const ARCLENGTH: ArclengthFn<f64> = ta::dk_taubin_arclength;
     const REDISTRIBUTE: RedistributeFn<f64> = ta::dk_taubin_redistribute;
     const IDW: IdwFn<f64, dk_boundary_motion> = de::dk_deform_idw;
+    const IDW_FAST: IdwFastFn<f64, dk_boundary_motion> = fa::dk_deform_idw_fast;
+    const IDW_FAST_TANGENT: IdwFastDerivativeFn<f64, dk_boundary_motion> =
+        fa::dk_deform_idw_fast_tangent;
+    const IDW_FAST_ADJOINT: IdwFastDerivativeFn<f64, dk_boundary_motion> =
+        fa::dk_deform_idw_fast_adjoint;
     const TFI: TfiFn<f64, dk_boundary_motion> = de::dk_deform_tfi;
     const SPRING: SpringFn<f64, dk_boundary_motion, dk_spring_system> = de::dk_deform_spring;
     const MOTION_LEN: MotionLenFn<dk_boundary_motion> = de::dk_boundary_motion_index_scratch_len;
@@ -702,6 +778,11 @@ impl Sc for f32 {
     const ARCLENGTH: ArclengthFn<f32> = ta::dk_taubin_arclength_f32;
     const REDISTRIBUTE: RedistributeFn<f32> = ta::dk_taubin_redistribute_f32;
     const IDW: IdwFn<f32, dk_boundary_motion_f32> = de::dk_deform_idw_f32;
+    const IDW_FAST: IdwFastFn<f32, dk_boundary_motion_f32> = fa::dk_deform_idw_fast_f32;
+    const IDW_FAST_TANGENT: IdwFastDerivativeFn<f32, dk_boundary_motion_f32> =
+        fa::dk_deform_idw_fast_tangent_f32;
+    const IDW_FAST_ADJOINT: IdwFastDerivativeFn<f32, dk_boundary_motion_f32> =
+        fa::dk_deform_idw_fast_adjoint_f32;
     const TFI: TfiFn<f32, dk_boundary_motion_f32> = de::dk_deform_tfi_f32;
     const SPRING: SpringFn<f32, dk_boundary_motion_f32, dk_spring_system_f32> =
         de::dk_deform_spring_f32;
@@ -2256,7 +2337,22 @@ fn to_f64<T: Sc>(x: T) -> f64 {
     }
 }
 
-fn deform<T: Sc>(c: &mut Ctx, sp_: &DeformSpec) {
+/// A knob-shaped `dk_boundary_motion(_f32)` of a [`DeformSpec`] on the mesh's boundary, with
+/// the buffers its pointers lead into (moving this struct keeps them valid).
+struct MotionBuild<T: Sc> {
+    /// Boundary positions (0..B) -> mesh nodes, 0-based.
+    nodes: Vec<u32>,
+    /// The deformed boundary positions passed.
+    deformed: Vec<T>,
+    /// The arrays `motion` points into: nodes and element offsets and nodes; element kinds.
+    _index: [Buf<u32>; 3],
+    _kinds: Buf<u8>,
+    /// Deformed positions and node rotations.
+    _reals: [Buf<T>; 2],
+    motion: T::Motion,
+}
+
+fn build_motion<T: Sc>(c: &mut Ctx, sp_: &DeformSpec) -> MotionBuild<T> {
     let m = c.m;
     let d = m.d;
     // Boundary positions (0..B) -> mesh nodes, 0-based.
@@ -2352,6 +2448,22 @@ fn deform<T: Sc>(c: &mut Ctx, sp_: &DeformSpec) {
         has_origin: u32::from(sp_.has_origin),
     };
     let motion = T::motion(&parts);
+    MotionBuild {
+        nodes,
+        deformed,
+        _index: [nb, eob, enb],
+        _kinds: ekb,
+        _reals: [db, rb],
+        motion,
+    }
+}
+
+fn deform<T: Sc>(c: &mut Ctx, sp_: &DeformSpec) {
+    let m = c.m;
+    let d = m.d;
+    let mb = build_motion::<T>(c, sp_);
+    let (nodes, deformed, bl) = (&mb.nodes, &mb.deformed, mb.nodes.len());
+    let motion = mb.motion;
     let mp = opt_ptr(&mut c.kn, &motion);
     let method = sp_.method % 3;
     let dims = m.dims;
@@ -2533,6 +2645,137 @@ fn deform<T: Sc>(c: &mut Ctx, sp_: &DeformSpec) {
                 &deformed[b * d..(b + 1) * d]
             );
         }
+    }
+}
+
+/// The fast IDW's C functions: `dk_deform_idw_fast_lens` for the sizes, then
+/// `dk_deform_idw_fast`, its tangent or its adjoint (`mode % 3`) with knob-shaped buffers and
+/// fuzzed `theta` and `tolerance` (valid, out of range or NaN).
+fn deform_fast<T: Sc>(c: &mut Ctx, sp_: &DeformSpec, f: &FastSpec) {
+    let m = c.m;
+    let d = m.d;
+    let mb = build_motion::<T>(c, sp_);
+    let bl = mb.nodes.len();
+    let motion = mb.motion;
+    let mp = opt_ptr(&mut c.kn, &motion);
+    let mut lens = [0usize; 4];
+    // SAFETY: four writable size_t.
+    let q = unsafe { fa::dk_deform_idw_fast_lens(m.n, bl, m.d as u32, lens.as_mut_ptr()) };
+    if q != dk_status::DK_OK {
+        lens = [16 * (m.n + bl), 2 * bl + 4, 16 * bl + 16, 16 * (m.n + bl)];
+    }
+    let mode = f.mode % 3;
+    let mut ineed = 0usize;
+    // SAFETY: `motion` is valid (its arrays as described), writable size_t.
+    if unsafe { (T::MOTION_LEN)(&motion, &mut ineed) } != dk_status::DK_OK {
+        ineed = 3 * bl + m.n + 4;
+    }
+    let theta = T::of(match f.theta {
+        0..=239 => f64::from(f.theta % 12) / 12.0,
+        240..=247 => 1.0,
+        248..=251 => f64::NAN,
+        _ => -0.25,
+    });
+    let tolerance = T::of(match f.tolerance {
+        i16::MIN..=-30000 => f64::INFINITY,
+        t => c.vals.note(real(t) / 64.0),
+    });
+    let e = T::of(c.vals.note(real(sp_.exponent) / 16.0));
+    let p = Buf::input(&mut c.kn, &m.pts::<T>(), T::of(0.5));
+    let field_len = if mode == 1 { bl * d } else { m.n * d };
+    let field: Vec<T> = (0..field_len).map(|_| T::of(c.vals.next())).collect();
+    let fb = Buf::input(&mut c.kn, &field, T::of(0.0));
+    let scratch_need = if mode == 0 { lens[0] } else { lens[3] };
+    let mut scratch = Buf::output(&mut c.kn, scratch_need, T::SENT);
+    let mut idx = Buf::output(&mut c.kn, ineed, 0u32);
+    let mut ti = Buf::output(&mut c.kn, lens[1], 0u32);
+    let mut tree = Buf::output(&mut c.kn, lens[2], T::SENT);
+    let mut tr = Buf::output(&mut c.kn, m.n * d, T::SENT);
+    let mut rot = Buf::output(&mut c.kn, 4 * m.n, T::SENT);
+    let out_len = if mode == 2 { bl * d } else { m.n * d };
+    let mut out = Buf::output(&mut c.kn, out_len, T::SENT);
+    let wants = usize::from(c.kn.next());
+    let mut org = Buf::output(&mut c.kn, d * (wants & 1), T::SENT);
+    let mut bound = Buf::output(&mut c.kn, (wants >> 1) & 1, T::SENT);
+    // SAFETY: every pointer is NULL or valid for the length passed with it.
+    let s = unsafe {
+        match mode {
+            0 => (T::IDW_FAST)(
+                p.p(),
+                p.n(),
+                m.dim,
+                mp,
+                e,
+                theta,
+                tolerance,
+                scratch.m(),
+                scratch.n(),
+                idx.m(),
+                idx.n(),
+                ti.m(),
+                ti.n(),
+                tree.m(),
+                tree.n(),
+                tr.m(),
+                tr.n(),
+                rot.m(),
+                rot.n(),
+                out.m(),
+                out.n(),
+                org.m(),
+                org.n(),
+                bound.m(),
+                bound.n(),
+            ),
+            _ => (if mode == 1 {
+                T::IDW_FAST_TANGENT
+            } else {
+                T::IDW_FAST_ADJOINT
+            })(
+                p.p(),
+                p.n(),
+                m.dim,
+                mp,
+                e,
+                theta,
+                tolerance,
+                fb.p(),
+                fb.n(),
+                scratch.m(),
+                scratch.n(),
+                idx.m(),
+                idx.n(),
+                ti.m(),
+                ti.n(),
+                tree.m(),
+                tree.n(),
+                tr.m(),
+                tr.n(),
+                rot.m(),
+                rot.n(),
+                out.m(),
+                out.n(),
+            ),
+        }
+    };
+    let finite_in = m.finite && !c.vals.nonfinite;
+    check_out("deform_idw_fast out", s, &out, finite_in);
+    if mode == 0 {
+        // The derivatives take neither.
+        check_out("deform_idw_fast origin_out", s, &org, finite_in);
+        check_out("deform_idw_fast bound_out", s, &bound, finite_in);
+    }
+    if s != dk_status::DK_OK || m.dim as usize != d || mode == 2 {
+        return;
+    }
+    // Boundary nodes get the deformed positions (deformation) or `δd` (tangent) bitwise.
+    let given = if mode == 0 { &mb.deformed } else { &field };
+    for (b, &node) in mb.nodes.iter().enumerate() {
+        let node = node as usize;
+        assert!(
+            bits(&out.v[node * d..(node + 1) * d]) == bits(&given[b * d..(b + 1) * d]),
+            "fast IDW (mode {mode}): boundary node {node} (position {b}) not reproduced"
+        );
     }
 }
 
@@ -3776,6 +4019,13 @@ fn run_op(c: &mut Ctx, op: &Op) {
                 deform::<f32>(c, s)
             } else {
                 deform::<f64>(c, s)
+            }
+        }
+        Op::DeformFast(ref s, ref f) => {
+            if s.f32 {
+                deform_fast::<f32>(c, s, f)
+            } else {
+                deform_fast::<f64>(c, s, f)
             }
         }
     }
