@@ -6,7 +6,8 @@
 //! [--reps N]` (`--reps`: runs of each sensitivity row)
 //! (`--only` picks among graph, structured, spring, rotation, elasticity, rbf, sensitivity,
 //! sensitivity-spring, sensitivity-quaternion; with sensitivity-default or sensitivity-layer
-//! only that hierarchy's sensitivity rows)
+//! only that hierarchy's sensitivity rows, with sensitivity-pitch or sensitivity-shape only
+//! that motion's)
 //!
 //! Writes `DIR/kernel.txt` (`name value` lines: the figures) and raw little-endian inputs and
 //! results (`*.f64`, `*.u32`, plus `*.dims` text files) that peers.py reads back. Speed is
@@ -442,21 +443,23 @@ fn main() {
         rbf::rbf(sz.rbf_airfoil, if quick { 3 } else { 1 }, &dir, &mut fig);
     }
     // `sensitivity-spring` / `sensitivity-quaternion`: one method's rows (one callgrind run each);
-    // `sensitivity-default` / `sensitivity-layer`: one hierarchy's (both when neither).
-    let rows = [
-        want("sensitivity") || only.contains(&"sensitivity-spring"),
-        want("sensitivity") || only.contains(&"sensitivity-quaternion"),
-    ];
-    let thetas = match (
-        only.contains(&"sensitivity-default"),
-        only.contains(&"sensitivity-layer"),
-    ) {
+    // `sensitivity-default` / `sensitivity-layer`: one hierarchy's, `sensitivity-pitch` /
+    // `sensitivity-shape` one motion's (both when neither).
+    let pick = |a: &str, b: &str| match (only.contains(&a), only.contains(&b)) {
         (false, false) => [true, true],
-        (a, b) => [a, b],
+        (x, y) => [x, y],
     };
-    if rows.contains(&true) {
+    let which = sensitivity::Which {
+        methods: [
+            want("sensitivity") || only.contains(&"sensitivity-spring"),
+            want("sensitivity") || only.contains(&"sensitivity-quaternion"),
+        ],
+        hierarchies: pick("sensitivity-default", "sensitivity-layer"),
+        motions: pick("sensitivity-pitch", "sensitivity-shape"),
+    };
+    if which.methods.contains(&true) {
         let reps = reps.unwrap_or(sz.repeats.min(3));
-        sensitivity::sensitivity(sz.airfoil, reps, (rows, thetas), &mut fig);
+        sensitivity::sensitivity(sz.airfoil, reps, &which, &mut fig);
     }
     std::fs::write(dir.join("kernel.txt"), &fig.0).expect("write kernel.txt");
 }
