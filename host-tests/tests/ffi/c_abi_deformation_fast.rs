@@ -120,3 +120,15 @@ fn fast_idw_from_c_equals_the_kernel_bit_for_bit() {
         assert_eq!(lines[8..12].join("\n") + "\n", want32, "{name} f32");
     }
 }
+
+/// The generated Fortran interfaces (`ffi/tests/deformation_fast.f90`): a `dk_boundary_motion`
+/// built from Fortran arrays (1-based), a rigid turn reproduced at every node with clusters in
+/// use and equal to the exact IDW, the tangent/adjoint dot product, the `_f32` twin's boundary
+/// bit for bit, and a bad `theta` refused with the output untouched. Needs `gfortran`.
+#[test]
+fn fortran_fast_idw_interfaces() {
+    assert_eq!(
+        fortran_test("deformation_fast"),
+        "deformation_fast: every check held\n"
+    );
+}
