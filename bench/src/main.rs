@@ -5,7 +5,7 @@
 //! `cargo run --release --manifest-path bench/Cargo.toml -- --out DIR [--quick] [--only a,b]
 //! [--reps N]` (`--reps`: runs of each sensitivity row)
 //! (`--only` picks among graph, structured, spring, rotation, elasticity, rbf, sensitivity,
-//! sensitivity-spring, sensitivity-quaternion; with sensitivity-default or sensitivity-layer
+//! sensitivity-spring, sensitivity-quaternion; with sensitivity-default or sensitivity-theta0
 //! only that hierarchy's sensitivity rows, with sensitivity-pitch or sensitivity-shape only
 //! that motion's)
 //!
@@ -443,7 +443,7 @@ fn main() {
         rbf::rbf(sz.rbf_airfoil, if quick { 3 } else { 1 }, &dir, &mut fig);
     }
     // `sensitivity-spring` / `sensitivity-quaternion`: one method's rows (one callgrind run each);
-    // `sensitivity-default` / `sensitivity-layer`: one hierarchy's, `sensitivity-pitch` /
+    // `sensitivity-default` / `sensitivity-theta0`: one hierarchy's, `sensitivity-pitch` /
     // `sensitivity-shape` one motion's (both when neither).
     let pick = |a: &str, b: &str| match (only.contains(&a), only.contains(&b)) {
         (false, false) => [true, true],
@@ -454,7 +454,7 @@ fn main() {
             want("sensitivity") || only.contains(&"sensitivity-spring"),
             want("sensitivity") || only.contains(&"sensitivity-quaternion"),
         ],
-        hierarchies: pick("sensitivity-default", "sensitivity-layer"),
+        hierarchies: pick("sensitivity-default", "sensitivity-theta0"),
         motions: pick("sensitivity-pitch", "sensitivity-shape"),
     };
     if which.methods.contains(&true) {

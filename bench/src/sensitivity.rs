@@ -238,8 +238,8 @@ fn med(v: &mut [f64]) -> f64 {
     v[v.len() / 2]
 }
 
-/// The rows of one method and hierarchy (`tag`: `spring` or `quaternion`, with `_layer` for
-/// [`layer_hierarchy`]'s).
+/// The rows of one method and hierarchy (`tag`: `spring` or `quaternion`, with `_theta0` for
+/// [`all_strong`]'s).
 fn rows(
     p: &Problem,
     (method, amg): (PlanMethod, AmgOptions<f64>),
@@ -296,18 +296,17 @@ fn rows(
     );
 }
 
-/// A hierarchy for meshes with a stretched boundary layer: strength threshold θ = 0.08 (strong
-/// connections on the fine level only, so aggregates follow the layer), otherwise the default.
-/// Fewer iterations for a dearer set-up (docs/amg.md, docs/sensitivities.md).
-fn layer_hierarchy() -> AmgOptions<f64> {
+/// The hierarchy with every spring strong (strength threshold 0, pyamg's default and the
+/// kernel's before 2026-11-29), for comparison with the default θ = 0.25 (docs/amg.md).
+fn all_strong() -> AmgOptions<f64> {
     AmgOptions {
-        strength_theta: 0.08,
+        strength_theta: 0.0,
         ..AmgOptions::default()
     }
 }
 
 /// Which sensitivity rows to run: per method (linear springs, quaternion), per hierarchy
-/// (default, [`layer_hierarchy`]) and per motion (the pitch, the bumped pitch).
+/// (default, [`all_strong`]) and per motion (the pitch, the bumped pitch).
 pub(crate) struct Which {
     pub(crate) methods: [bool; 2],
     pub(crate) hierarchies: [bool; 2],
@@ -317,7 +316,7 @@ pub(crate) struct Which {
 /// The sensitivity rows on the NACA mesh of `airfoil` points, `reps` runs each, for the
 /// chosen methods, hierarchies and motions (`_shape` in the tags of the bumped pitch's).
 pub(crate) fn sensitivity(airfoil: [usize; 2], reps: usize, which: &Which, fig: &mut Figures) {
-    let layer = layer_hierarchy();
+    let theta0 = all_strong();
     for (shape, suffix) in [(false, ""), (true, "_shape")] {
         if !which.motions[usize::from(shape)] {
             continue;
@@ -343,8 +342,8 @@ pub(crate) fn sensitivity(airfoil: [usize; 2], reps: usize, which: &Which, fig: 
                 rows(&p, (method, AmgOptions::default()), &t, reps, fig);
             }
             if which.methods[k] && which.hierarchies[1] {
-                let t = format!("{tag}_layer{suffix}");
-                rows(&p, (method, layer), &t, reps, fig);
+                let t = format!("{tag}_theta0{suffix}");
+                rows(&p, (method, theta0), &t, reps, fig);
             }
         }
     }

@@ -365,10 +365,11 @@ pub struct MoveArgs {
     pub solver: Solver,
     /// Multigrid strength threshold θ in [0, 1) for `--solver amg` with the spring,
     /// quaternion and angle-cg methods (elasticity's multigrid keeps every connection).
-    /// Default 0: every spring strong, pyamg's default. On meshes with a stretched boundary
-    /// layer θ = 0.08 coarsens along the layer: on the 234k-node NACA mesh 52 → 31 iterations
-    /// for the springs, and the quaternion adjoint 1.95× → 1.39× its deformation
-    /// (docs/sensitivities.md).
+    /// A spring is strong when it is at least θ times the geometric mean of the stiffest
+    /// springs at its two ends. Default 0.25: on a stretched boundary layer the multigrid
+    /// coarsens along the layer (234k-node NACA mesh: 52 → 30 iterations for the springs,
+    /// quaternion adjoint about 1.2× its deformation), on isotropic meshes nothing changes;
+    /// 0 makes every spring strong (pyamg's default; docs/amg.md).
     #[arg(long, value_name = "THETA")]
     pub amg_strength: Option<f64>,
     /// Spring stiffness of the spring, angle-spring and quaternion methods (IDW and TFI have

@@ -1086,6 +1086,12 @@ fn linear_method(s: MoveSolver) -> Option<deform_kernel::spring::LinearMethod<f6
     }
 }
 
+/// The multigrid strength threshold when none is given: the kernel's default
+/// (`AmgOptions::default().strength_theta`).
+pub fn default_amg_strength() -> f64 {
+    deform_kernel::spring::AmgOptions::<f64>::default().strength_theta
+}
+
 /// Owned storage of a multigrid hierarchy (`index`, `values`; the setup's work buffer is
 /// freed before the solve).
 #[derive(Default)]

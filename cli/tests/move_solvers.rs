@@ -201,7 +201,8 @@ fn every_solver_gives_the_same_deformation() {
 }
 
 /// `--amg-strength` reaches the hierarchy (other bits) and changes only the solver, not the
-/// deformation (the same answer to the tolerance).
+/// deformation (the same answer to the tolerance). These meshes are nearly isotropic, so the
+/// default θ = 0.25 keeps every spring strong; θ = 0.9 drops the softer ones.
 #[test]
 fn amg_strength_changes_the_hierarchy_not_the_answer() {
     let m2 = mesh_2d(14, 9);
@@ -210,8 +211,8 @@ fn amg_strength_changes_the_hierarchy_not_the_answer() {
         for method in [MoveMethod::Spring, MoveMethod::Quaternion] {
             let how = (method, MoveSolver::Amg);
             let plain = run_with(mesh, moved, how, 0.0);
-            let strong = run_with(mesh, moved, how, 0.25);
-            assert_close(&plain, &strong, &format!("{method:?} θ = 0 vs 0.25"));
+            let strong = run_with(mesh, moved, how, 0.9);
+            assert_close(&plain, &strong, &format!("{method:?} θ = 0 vs 0.9"));
             let bits = |v: &[[f64; 3]]| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_ne!(bits(&plain), bits(&strong), "{method:?}: θ was not used");
         }

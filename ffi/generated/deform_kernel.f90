@@ -551,10 +551,12 @@ module deform_kernel
   !> The smoothed-aggregation multigrid preconditioner (the kernel's `AmgOptions`; see
   !! docs/amg.md) of `dk_spring_solve_linear_amg`, `dk_spring_solve_angle_amg` and of plans
   !! with `DK_PLAN_SOLVER_AMG`. `dk_amg_options_default` (and `dk_plan_options_default`) fill
-  !! pyamg-like defaults. The same struct serves both precisions (the `_f32` functions round
+  !! the defaults (pyamg's, but for the strength threshold). The same struct serves both precisions (the `_f32` functions round
   !! `strength_theta` to `float`).
   type, bind(C), public :: dk_amg_options
-    !> Strength-of-connection threshold θ in `[0, 1)` (default 0: every spring strong).
+    !> Strength-of-connection threshold θ in `[0, 1)`: a spring is strong when it is at least θ
+    !! times the geometric mean of the stiffest springs at its two nodes (default 0.25; 0:
+    !! every spring strong, and hierarchy sizes that do not depend on the stiffness).
     real(c_double) :: strength_theta
     !> Most levels, 1 to 16 (default 10).
     integer(c_size_t) :: max_levels

@@ -621,10 +621,12 @@ typedef struct {
 // The smoothed-aggregation multigrid preconditioner (the kernel's `AmgOptions`; see
 // docs/amg.md) of [`dk_spring_solve_linear_amg`], [`dk_spring_solve_angle_amg`] and of plans
 // with `DK_PLAN_SOLVER_AMG`. [`dk_amg_options_default`] (and `dk_plan_options_default`) fill
-// pyamg-like defaults. The same struct serves both precisions (the `_f32` functions round
+// the defaults (pyamg's, but for the strength threshold). The same struct serves both precisions (the `_f32` functions round
 // `strength_theta` to `float`).
 typedef struct {
-  // Strength-of-connection threshold θ in `[0, 1)` (default 0: every spring strong).
+  // Strength-of-connection threshold θ in `[0, 1)`: a spring is strong when it is at least θ
+  // times the geometric mean of the stiffest springs at its two nodes (default 0.25; 0:
+  // every spring strong, and hierarchy sizes that do not depend on the stiffness).
   double strength_theta;
   // Most levels, 1 to 16 (default 10).
   size_t max_levels;
@@ -5976,8 +5978,9 @@ dk_status dk_spring_amg_work_len(size_t node_count, size_t directed_edges, size_
 // ([`dk_spring_amg_work_len`] entries). `sizes_out->reals` = the hierarchy's values + `(5 N +
 // 3 × coarse unknowns) * components` scratch scalars; `sizes_out->indices` = the work length +
 // the hierarchy's index entries; `sizes_out->bytes` = 0. The sizes depend on the graph and
-// the fixed mask (and on the stiffness only when `strength_theta` > 0), so a time loop on one
-// mesh queries once.
+// the fixed mask, and on the stiffness when `strength_theta` > 0 (the default): a time loop
+// whose stiffness changes queries again before each setup, or passes `strength_theta` = 0 to
+// query once.
 //
 // Errors (only `work` is written): `DK_ERR_INVALID_PARAMETER` (`components`, multigrid
 // options), `DK_ERR_BUFFER_TOO_SMALL` (`work`), the system's errors (as

@@ -2020,8 +2020,9 @@ pub unsafe extern "C" fn dk_spring_amg_work_len(
 /// ([`dk_spring_amg_work_len`] entries). `sizes_out->reals` = the hierarchy's values + `(5 N +
 /// 3 × coarse unknowns) * components` scratch scalars; `sizes_out->indices` = the work length +
 /// the hierarchy's index entries; `sizes_out->bytes` = 0. The sizes depend on the graph and
-/// the fixed mask (and on the stiffness only when `strength_theta` > 0), so a time loop on one
-/// mesh queries once.
+/// the fixed mask, and on the stiffness when `strength_theta` > 0 (the default): a time loop
+/// whose stiffness changes queries again before each setup, or passes `strength_theta` = 0 to
+/// query once.
 ///
 /// Errors (only `work` is written): `DK_ERR_INVALID_PARAMETER` (`components`, multigrid
 /// options), `DK_ERR_BUFFER_TOO_SMALL` (`work`), the system's errors (as

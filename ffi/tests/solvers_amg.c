@@ -108,7 +108,7 @@ static void precision_independent(void) {
     dk_amg_options a;
     size_t len = 99;
     OK(dk_amg_options_default(&a));
-    CHECK(a.strength_theta == 0 && a.max_levels == 10 && a.max_coarse == 256);
+    CHECK(a.strength_theta == 0.25 && a.max_levels == 10 && a.max_coarse == 256);
     CHECK(a.sweeps == 2 && a.smoother == DK_AMG_CHEBYSHEV);
     {
         /* The plans' default multigrid options are the same. */

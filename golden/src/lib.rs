@@ -210,6 +210,13 @@ pub const CASES: &[Case] = &[
         expected_f32: 0xdd8b_e5f1_9ea3_e6e8,
     },
     Case {
+        name: "spring_amg_strength",
+        run_f64: mesh_cases::spring_amg_strength::<f64>,
+        run_f32: mesh_cases::spring_amg_strength::<f32>,
+        expected_f64: 0x2638_2be8_8e55_b1c5,
+        expected_f32: 0x1b10_3d7f_a78e_d7b7,
+    },
+    Case {
         name: "spring_angle_amg",
         run_f64: mesh_cases::spring_angle_amg::<f64>,
         run_f32: mesh_cases::spring_angle_amg::<f32>,

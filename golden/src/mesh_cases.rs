@@ -199,14 +199,27 @@ pub fn spring_linear<T: Real>() -> u64 {
 /// of a fixed residual and the whole solve, for both smoothers (coarse levels down to 4
 /// unknowns, so the small mesh still has a coarse level).
 pub fn spring_amg<T: Real>() -> u64 {
+    spring_amg_with::<T>(None)
+}
+
+/// [`spring_amg`] with the strength threshold θ = 0.9, which makes the softer springs of this
+/// mesh weak: the strength test's arithmetic and the aggregation it steers.
+pub fn spring_amg_strength<T: Real>() -> u64 {
+    spring_amg_with::<T>(Some(T::from_f64(0.9)))
+}
+
+/// [`spring_amg`] with the default options, or with `theta` as the strength threshold.
+fn spring_amg_with<T: Real>(theta: Option<T>) -> u64 {
     let m = mesh::<T>();
     with_system(&m, |sys, _| {
         let mut h = Fnv::new();
         for smoother in [AmgSmoother::Jacobi, AmgSmoother::Chebyshev] {
+            let base = AmgOptions::default();
             let opts = AmgOptions {
                 smoother,
                 max_coarse: 4,
-                ..AmgOptions::default()
+                strength_theta: theta.unwrap_or(base.strength_theta),
+                ..base
             };
             let mut work = [0u32; 4 * (N + NE) + 64];
             let mut index = [0u32; 2048];

@@ -175,8 +175,8 @@ def deform(points, cells, moved, motion, fixed=None, method="quaternion", solver
     "hilbert" (the result is in the input's numbering either way). ``reach``: no motion beyond
     this distance (quaternion, idw). ``idw_theta``: the fast tree-based IDW with this opening
     angle and ``idw_tolerance`` (``deform move --idw-theta``). ``amg_strength``: the
-    multigrid's strength threshold θ (``deform move --amg-strength``; 0 by default, 0.08 for
-    meshes with a stretched boundary layer: fewer iterations). A solve that stops before
+    multigrid's strength threshold θ (``deform move --amg-strength``; 0.25 by default, which
+    coarsens along stretched boundary layers; 0 makes every spring strong). A solve that stops before
     ``tol`` within ``max_iter`` raises ``KernelError`` unless ``allow_unconverged``; so does
     a result with cells inverted or folded that were valid in the input (as ``deform move``
     refuses it), unless ``allow_folds``. ``out``:

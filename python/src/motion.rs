@@ -186,7 +186,9 @@ impl Job<'_> {
             motion: self.motion.clone(),
             method: self.method,
             solver: self.solver,
-            amg_strength: o.amg_strength.unwrap_or(0.0),
+            amg_strength: o
+                .amg_strength
+                .unwrap_or_else(deform_cli::engine::default_amg_strength),
             tol: o.tol,
             max_iter: o.max_iter,
             idw_exponent: o.idw_exponent,

@@ -140,8 +140,8 @@ pub struct SensitivitySetup {
     #[arg(long, default_value_t = DEFAULT_TOL)]
     pub tol: f64,
     /// Strength threshold θ in [0, 1) of the solves' multigrid, as `deform move
-    /// --amg-strength` (default 0). The derivative is the same to the tolerance; θ = 0.08
-    /// needs fewer iterations on meshes with a stretched boundary layer.
+    /// --amg-strength` (default 0.25). The derivative is the same to the tolerance for any θ;
+    /// θ = 0 makes every spring strong.
     #[arg(long, value_name = "THETA")]
     pub amg_strength: Option<f64>,
     /// Iteration cap of the spring (and elasticity) solves.

@@ -498,7 +498,7 @@ fn one_case(
         },
         method,
         solver: MoveSolver::Cg,
-        amg_strength: 0.0,
+        amg_strength: crate::engine::default_amg_strength(),
         tol: 1e-10,
         max_iter: if method == MoveMethod::AngleDirect {
             ANGLE_DIRECT_SWEEPS

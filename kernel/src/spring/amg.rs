@@ -8,8 +8,10 @@
 //! components at once.
 //!
 //! Construction (Vaněk, Mandel & Brezina's smoothed aggregation, as in pyamg's defaults):
-//! - **strength of connection**: the symmetric measure `|a_ij| ≥ θ √(a_ii a_jj)` on the fine
-//!   level (θ = 0 by default: every spring is strong); coarse levels use all their connections
+//! - **strength of connection** on the fine level: a spring is strong when `k_ij ≥ θ √(m_i m_j)`,
+//!   `m_i` the stiffest spring at node `i` (θ = 0.25 by default: on a stretched boundary layer
+//!   the long, soft springs along the layer are weak, so aggregates follow the layer; on an
+//!   isotropic mesh nearly every spring is strong); coarse levels use all their connections
 //!   (their sparsity is then known before their values, which makes the size query exact);
 //! - **aggregation**: pyamg's standard two-pass aggregation in fixed node order (roots with all
 //!   their free neighbours, then leftovers join a neighbouring aggregate); fixed nodes belong to
@@ -79,8 +81,10 @@ pub const AMG_MAX_DENSE: usize = 2048;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct AmgOptions<T> {
     /// Strength-of-connection threshold θ in `[0, 1)` for the fine level: a spring `i–j` is
-    /// strong when `k_ij ≥ θ √(A_ii A_jj)`. Default 0 (all springs strong, pyamg's default for
-    /// smoothed aggregation).
+    /// strong when `k_ij ≥ θ √(m_i m_j)`, `m_i` the stiffest spring at node `i` (the classical
+    /// measure relative to the row's largest entry, made symmetric). Default 0.25; 0 makes every
+    /// spring strong (pyamg's smoothed-aggregation default). Only the preconditioner depends
+    /// on it, not the answer (docs/amg.md, "Strength of connection").
     pub strength_theta: T,
     /// Most levels, in `1..=`[`AMG_MAX_LEVELS`] (1 = the smoother alone). Default 10.
     pub max_levels: usize,
@@ -114,12 +118,20 @@ pub enum AmgSmoother {
 impl<T: Real> Default for AmgOptions<T> {
     fn default() -> Self {
         AmgOptions {
-            strength_theta: T::ZERO,
+            strength_theta: T::from_f64(0.25),
             max_levels: 10,
             max_coarse: 256,
             smoother: AmgSmoother::Chebyshev,
             sweeps: 2,
         }
+    }
+}
+
+/// `options` with every connection strong (`strength_theta` = 0): the MIS-2 hierarchy's.
+fn every_connection<T: Real>(options: &AmgOptions<T>) -> AmgOptions<T> {
+    AmgOptions {
+        strength_theta: T::ZERO,
+        ..*options
     }
 }
 
@@ -372,8 +384,11 @@ impl<'a, T: Real> AmgHierarchy<'a, T> {
     }
 
     /// [`AmgHierarchy::setup_len`] with every level aggregated by the partition-independent
-    /// MIS-2 ([`aggregate_mis2`]) instead of the greedy node-order aggregation. Experimental:
-    /// not the default (docs/amg.md, "Partition-independent aggregation").
+    /// MIS-2 ([`aggregate_mis2`]) instead of the greedy node-order aggregation, on every
+    /// connection (`strength_theta` is not used: the partitioned aggregation,
+    /// [`aggregate_mis2_partitioned`](crate::spring::aggregate_mis2_partitioned), has no
+    /// strength test). Experimental: not the default (docs/amg.md, "Partition-independent
+    /// aggregation").
     ///
     /// # Errors
     /// Those of [`AmgHierarchy::setup_len`]; `mis2_work` shorter than
@@ -386,7 +401,7 @@ impl<'a, T: Real> AmgHierarchy<'a, T> {
         mis2_work: &mut [u64],
     ) -> Result<AmgSizes> {
         check::buffer("mis2_work", mis2_work.len(), Self::mis2_work_len(sys))?;
-        let layout = setup::symbolic_with(sys, options, work, Some(mis2_work))?;
+        let layout = setup::symbolic_with(sys, &every_connection(options), work, Some(mis2_work))?;
         Ok(layout.sizes())
     }
 
@@ -403,7 +418,7 @@ impl<'a, T: Real> AmgHierarchy<'a, T> {
         values: &'a mut [T],
     ) -> Result<Self> {
         check::buffer("mis2_work", mis2_work.len(), Self::mis2_work_len(sys))?;
-        let layout = setup::symbolic_with(sys, options, work, Some(mis2_work))?;
+        let layout = setup::symbolic_with(sys, &every_connection(options), work, Some(mis2_work))?;
         Self::numeric(sys, options, layout, work, index, values)
     }
 

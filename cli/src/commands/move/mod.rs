@@ -289,7 +289,9 @@ fn move_input<'a>(
         motion,
         method,
         solver,
-        amg_strength: a.amg_strength.unwrap_or(0.0),
+        amg_strength: a
+            .amg_strength
+            .unwrap_or_else(crate::engine::default_amg_strength),
         tol: a.tol,
         max_iter: a.max_iter,
         idw_exponent: a.idw_exponent,

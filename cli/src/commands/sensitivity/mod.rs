@@ -99,7 +99,9 @@ fn with_springs<const D: usize, R>(
     let mut anchor = vec![0u32; SpringSystem::<f64>::scratch_len(n)];
     let sys = SpringSystem::new(g, &k, &fixed, &mut anchor).map_err(kernel("spring system"))?;
     let opts = AmgOptions {
-        strength_theta: setup.amg_strength.unwrap_or(0.0),
+        strength_theta: setup
+            .amg_strength
+            .unwrap_or_else(crate::engine::default_amg_strength),
         ..AmgOptions::default()
     };
     let mut work = vec![0u32; AmgHierarchy::setup_work_len(&sys)];

@@ -101,8 +101,21 @@ fn fine_diag<T: Real>(sys: &SpringSystem<'_, T>, i: usize) -> T {
     d
 }
 
-/// Calls `f(j)` for every strong neighbour of `i`: level 0 with `θ > 0` applies the symmetric
-/// strength test `k_ij ≥ θ √(d_i d_j)`; otherwise every neighbour is strong.
+/// The stiffest spring at node `i` (every neighbour, fixed ones too): the scale of the strength
+/// test.
+fn fine_max<T: Real>(sys: &SpringSystem<'_, T>, i: usize) -> T {
+    let mut m = T::ZERO;
+    for (_, k) in sys.row(i) {
+        m = m.max(k);
+    }
+    m
+}
+
+/// Calls `f(j)` for every strong neighbour of `i`: level 0 with `θ > 0` keeps the free
+/// neighbours whose spring is at least `θ` times the geometric mean of the stiffest springs at
+/// `i` and at `j`, `k_ij ≥ θ √(m_i m_j)` (symmetric; on a stretched boundary layer it drops the
+/// long, soft springs along the layer, on an isotropic mesh next to nothing); otherwise every
+/// neighbour is strong.
 #[inline]
 fn strong<T: Real>(
     sys: &SpringSystem<'_, T>,
@@ -114,9 +127,9 @@ fn strong<T: Real>(
     mut f: impl FnMut(usize),
 ) {
     if fine && theta > T::ZERO {
-        let di = fine_diag(sys, i);
+        let mi = fine_max(sys, i);
         for (j, k) in sys.row(i) {
-            if !sys.is_fixed(j) && k >= theta * (di * fine_diag(sys, j)).sqrt() {
+            if !sys.is_fixed(j) && k >= theta * (mi * fine_max(sys, j)).sqrt() {
                 f(j);
             }
         }
