@@ -457,8 +457,9 @@ pub struct MoveArgs {
     #[arg(long)]
     pub plot: Option<PathBuf>,
     /// Under mpirun (a build with the `mpi` feature): each process reads, holds, solves and
-    /// writes only its part of the mesh (linear springs, --solver cg, a rigid motion of
-    /// markers; other options are refused); the output is the serial run's, byte for byte.
+    /// writes only its part of the mesh (--method spring or quaternion, --solver cg, a rigid
+    /// motion of markers; other options are refused); the output is the serial run's, byte
+    /// for byte.
     #[arg(long)]
     pub distributed: bool,
 }

@@ -221,17 +221,48 @@ impl<const D: usize> LocalView<D> {
         scratch_len: usize,
         ex: &E,
     ) -> deform_kernel::Result<SolveReport<f64>> {
-        let n = self.global_ids.len();
-        let halo = Halo::new(
+        self.with_springs(owned, ex, |springs| {
+            let mut scratch = vec![[0.0; D]; scratch_len];
+            springs.solve_cg(values, pre, options, &mut scratch, ex)
+        })
+    }
+
+    /// The pattern of the view (its neighbours' send and receive lists).
+    pub fn halo(&self) -> Halo<'_> {
+        Halo::new(
             &self.ranks,
             &self.send_offsets,
             &self.send,
             &self.recv_offsets,
             &self.recv,
-        );
+        )
+    }
+
+    /// [`Partition::new`] (with `owned` owned nodes) and [`PartitionedSprings::new`] on the
+    /// local cells (Batina, `p = 1`), each collective over `ex`, then `f` on the springs: what
+    /// every partitioned solve of the view (linear springs, the quaternion method) starts from.
+    ///
+    /// # Errors
+    /// Those of the kernel calls and of `f`.
+    pub fn with_springs<E: Exchange<f64> + ?Sized, R>(
+        &self,
+        owned: usize,
+        ex: &E,
+        f: impl FnOnce(&PartitionedSprings<'_, f64>) -> deform_kernel::Result<R>,
+    ) -> deform_kernel::Result<R> {
+        let n = self.global_ids.len();
         let mut s = vec![0u32; Partition::scratch_len(n)];
         let (ids, count) = (&self.global_ids[..], self.global_count);
-        let part = Partition::new(self.rank, self.size, owned, ids, count, halo, ex, &mut s)?;
+        let part = Partition::new(
+            self.rank,
+            self.size,
+            owned,
+            ids,
+            count,
+            self.halo(),
+            ex,
+            &mut s,
+        )?;
         let cells = LocalCells {
             offsets: &self.cell_offsets,
             nodes: &self.cell_nodes,
@@ -243,7 +274,6 @@ impl<const D: usize> LocalView<D> {
         let (points, fixed) = (&self.points[..], &self.fixed[..]);
         let springs =
             PartitionedSprings::new(part, cells, points, 1.0, fixed, &mut o, &mut t, &mut k, ex)?;
-        let mut scratch = vec![[0.0; D]; scratch_len];
-        springs.solve_cg(values, pre, options, &mut scratch, ex)
+        f(&springs)
     }
 }

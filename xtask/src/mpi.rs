@@ -16,9 +16,10 @@
 //!    3D SU2 half-model in `cli/tests/data`;
 //!    then `deform move --distributed` under `-np 1, 2, 3` (each rank reads a byte range of
 //!    the file, holds its block of nodes with one ghost layer, solves CG + Jacobi on it and
-//!    writes its own rows): byte-identical to the serial `--solver cg` run, the same exit
-//!    status as the serial run without `--allow-folds`, and an option it does not run
-//!    refused with nothing written;
+//!    writes its own rows), the linear springs on the two NACA meshes and the quaternion
+//!    method on those and the 3D half-model: byte-identical to the serial `--solver cg` run,
+//!    the same exit status as the serial run without `--allow-folds`, and options it does
+//!    not run refused with nothing written;
 //! 3. `ffi/examples/mpi_deform.c`, built with `mpicc` against the static C library: a C
 //!    solver with its own (interleaved) partition sweeps its rows with the kernel, merges the
 //!    exact residual words with `MPI_Allreduce` and checks the serial bits; and
@@ -322,91 +323,192 @@ fn deform_move_under_mpi(ctx: &Ctx) -> bool {
 }
 
 /// `deform move --distributed` (each rank reads, holds and writes only its part) against the
-/// serial `--solver cg` run: the same bytes, the same exit status without `--allow-folds`,
-/// and an option the distributed path does not run refused with nothing written.
+/// serial `--solver cg` run, for the linear springs and the quaternion method: the same
+/// bytes, the same exit status without `--allow-folds`, and options the distributed path
+/// does not run refused with nothing written.
 fn distributed_move(ctx: &Ctx) -> bool {
     let target = ctx.root.join("target");
     let deform = target.join("debug/deform");
     let work = target.join("mpi-runs");
-    let cases: [(&str, &[&str]); 2] = [
+    // A small viscous mesh (2,048 nodes) keeps the quaternion runs short.
+    let small = work.join("viscous_small.su2");
+    let made = run(Command::new(&deform)
+        .args([
+            "mesh",
+            "naca",
+            "--kind",
+            "viscous",
+            "--boundary-layers",
+            "12",
+        ])
+        .args(["--surface-points", "64", "--radial-points", "32", "--out"])
+        .arg(&small));
+    let sphere = ctx.root.join("cli/tests/data/sphere_slice_2syms.su2");
+    let (inviscid, viscous) = (work.join("inviscid.su2"), work.join("viscous.su2"));
+    // (name, mesh, motion, method, whether the exit status without --allow-folds is compared)
+    let cases: [(&str, &Path, &[&str], &str, bool); 6] = [
         (
             "inviscid",
+            &inviscid,
             &[
                 "--marker", "airfoil", "--rotate", "-10", "--center", "0.25,0",
             ],
+            "spring",
+            true,
         ),
         // The rotation centre from the moved nodes (summed in the serial order).
-        ("viscous", &["--marker", "airfoil", "--rotate", "3"]),
+        (
+            "viscous",
+            &viscous,
+            &["--marker", "airfoil", "--rotate", "3"],
+            "spring",
+            true,
+        ),
+        // The quaternion method: rotations about the moved nodes' centroid (2D), about a
+        // given centre (3D), and a translation (3D; the origin is then the kernel's centroid
+        // of the gathered boundary, summed in the serial order).
+        (
+            "viscous_small",
+            &small,
+            &["--marker", "airfoil", "--rotate", "3"],
+            "quaternion",
+            false,
+        ),
+        // Stopped after 20 iterations: cells folded, exit 4 without --allow-folds.
+        (
+            "viscous_small_unconverged",
+            &small,
+            &[
+                "--marker",
+                "airfoil",
+                "--rotate",
+                "3",
+                "--max-iter",
+                "20",
+                "--allow-unconverged",
+            ],
+            "quaternion",
+            true,
+        ),
+        (
+            "sphere_rotate",
+            &sphere,
+            &[
+                "--marker", "wall", "--rotate", "5", "--axis", "0,0,1", "--center", "0,0,0",
+            ],
+            "quaternion",
+            false,
+        ),
+        (
+            "sphere_translate",
+            &sphere,
+            &["--marker", "wall", "--translate", "0.05,0.02,0"],
+            "quaternion",
+            false,
+        ),
     ];
-    let spring = ["--method", "spring", "--solver", "cg"];
+    let mut ok = made;
+    for (name, mesh, motion, method, policy) in cases {
+        ok &= distributed_case(&deform, &work, (name, mesh, motion), method, policy);
+    }
+    ok && distributed_refusals(&deform, &work)
+}
+
+/// One mesh, motion and method: `deform move --distributed` under `-np 1, 2, 3` against the
+/// serial `--solver cg` run, byte for byte, and with `policy` the same exit status without
+/// `--allow-folds` under 2 ranks.
+fn distributed_case(
+    deform: &Path,
+    work: &Path,
+    (name, mesh, motion): (&str, &Path, &[&str]),
+    method: &str,
+    policy: bool,
+) -> bool {
     let status = |c: &mut Command| c.status().ok().and_then(|s| s.code());
-    let mut ok = true;
-    for (name, motion) in cases {
-        let mesh = work.join(format!("{name}.su2"));
-        // `np` = 0: the serial run; otherwise `--distributed` under `mpirun -np np`.
-        let base = |np: usize| {
-            let mut c = if np == 0 {
-                Command::new(&deform)
-            } else {
-                let mut c = mpirun(np);
-                c.arg(&deform);
-                c
-            };
-            c.arg("move").arg(&mesh).args(motion).args(spring);
-            if np > 0 {
-                c.arg("--distributed");
-            }
+    // `np` = 0: the serial run; otherwise `--distributed` under `mpirun -np np`.
+    let base = |np: usize| {
+        let mut c = if np == 0 {
+            Command::new(deform)
+        } else {
+            let mut c = mpirun(np);
+            c.arg(deform);
             c
         };
-        let serial = work.join(format!("{name}_distributed_serial.su2"));
-        ok &= run(base(0).arg("--allow-folds").arg("--out").arg(&serial));
-        for &np in MPI_RANKS {
-            let out = work.join(format!("{name}_distributed_np{np}.su2"));
-            ok &= run(base(np).arg("--allow-folds").arg("--out").arg(&out));
-            let same = matches!(
-                (std::fs::read(&serial), std::fs::read(&out)),
-                (Ok(a), Ok(b)) if a == b
-            );
-            println!(
-                "deform move --distributed {name}, {np} rank(s): {}",
-                if same {
-                    "byte-identical to serial"
-                } else {
-                    "DIFFERS from serial"
-                }
-            );
-            ok &= same;
+        c.arg("move").arg(mesh).args(motion);
+        c.args(["--method", method, "--solver", "cg"]);
+        if np > 0 {
+            c.arg("--distributed");
         }
-        // The failure policy without --allow-folds: the same exit status (4 when the motion
-        // inverted cells).
-        let policy = status(base(0).arg("--out").arg(work.join("policy.su2")));
-        let split_policy = status(base(2).arg("--out").arg(work.join("policy_np.su2")));
-        println!(
-            "deform move --distributed {name} without --allow-folds, 2 ranks: exit status {split_policy:?} (serial {policy:?})"
+        c
+    };
+    let serial = work.join(format!("{name}_{method}_distributed_serial.su2"));
+    let mut ok = run(base(0).arg("--allow-folds").arg("--out").arg(&serial));
+    for &np in MPI_RANKS {
+        let out = work.join(format!("{name}_{method}_distributed_np{np}.su2"));
+        ok &= run(base(np).arg("--allow-folds").arg("--out").arg(&out));
+        let same = matches!(
+            (std::fs::read(&serial), std::fs::read(&out)),
+            (Ok(a), Ok(b)) if a == b
         );
-        ok &= split_policy == policy && policy.is_some();
+        println!(
+            "deform move --distributed {name} --method {method}, {np} rank(s): {}",
+            if same {
+                "byte-identical to serial"
+            } else {
+                "DIFFERS from serial"
+            }
+        );
+        ok &= same;
     }
-    let refused = work.join("refused.su2");
-    let _ = std::fs::remove_file(&refused);
-    let mut c = mpirun(2);
-    c.arg(&deform).arg("move").arg(work.join("inviscid.su2"));
-    c.args([
-        "--marker",
-        "airfoil",
-        "--rotate",
-        "5",
-        "--distributed",
-        "--out",
-    ]);
-    let code = status(c.arg(&refused));
-    let clean = code.is_some_and(|c| c != 0) && !refused.exists();
+    if !policy {
+        return ok;
+    }
+    // The failure policy without --allow-folds: the same exit status (4 when the motion
+    // inverted cells).
+    let serial = status(base(0).arg("--out").arg(work.join("policy.su2")));
+    let split = status(base(2).arg("--out").arg(work.join("policy_np.su2")));
     println!(
-        "deform move --distributed with the default multigrid solver: {}",
-        if clean {
-            "refused, nothing written"
-        } else {
-            "NOT REFUSED"
-        }
+        "deform move --distributed {name} --method {method} without --allow-folds, 2 ranks: exit status {split:?} (serial {serial:?})"
     );
-    ok && clean
+    ok && split == serial && serial.is_some()
+}
+
+/// Options the distributed path does not run (the default multigrid solver, IDW, `--reach`),
+/// refused under `-np 2` with nothing written.
+fn distributed_refusals(deform: &Path, work: &Path) -> bool {
+    let status = |c: &mut Command| c.status().ok().and_then(|s| s.code());
+    let refusals: [(&str, &[&str]); 3] = [
+        (
+            "--method quaternion --solver amg (the default)",
+            &["--method", "quaternion", "--solver", "amg"],
+        ),
+        (
+            "--method idw --solver cg",
+            &["--method", "idw", "--solver", "cg"],
+        ),
+        (
+            "--method quaternion --solver cg --reach 1",
+            &["--method", "quaternion", "--solver", "cg", "--reach", "1"],
+        ),
+    ];
+    let mut ok = true;
+    for (what, options) in refusals {
+        let refused = work.join("refused.su2");
+        let _ = std::fs::remove_file(&refused);
+        let mut c = mpirun(2);
+        c.arg(deform).arg("move").arg(work.join("inviscid.su2"));
+        c.args(["--marker", "airfoil", "--rotate", "5", "--distributed"]);
+        let code = status(c.args(options).arg("--out").arg(&refused));
+        let clean = code.is_some_and(|c| c != 0) && !refused.exists();
+        println!(
+            "deform move --distributed with {what}: {}",
+            if clean {
+                "refused, nothing written"
+            } else {
+                "NOT REFUSED"
+            }
+        );
+        ok &= clean;
+    }
+    ok
 }

@@ -1,26 +1,28 @@
-//! `mpirun -np N deform move … --distributed` (the `mpi` feature): the linear springs solved
-//! by CG + Jacobi on data that no process holds whole, with the serial run's output, byte for
-//! byte.
+//! `mpirun -np N deform move … --distributed` (the `mpi` feature): the linear springs or
+//! Samareh's quaternion method with spring propagation, solved by CG + Jacobi on data that no
+//! process holds whole, with the serial run's output, byte for byte.
 //!
 //! Each process reads one byte range of the SU2 file ([`read`]), keeps a contiguous block of
 //! global ids with the cells that touch it and one ghost layer ([`local`]), runs the kernel's
-//! partitioned solve (`PartitionedSprings`, `deform_mpi::MpiExchange`), counts the cells the
-//! motion inverted or folded with a summed reduction, and writes its own rows into their
-//! place of the output ([`write`]). Only the boundary (the markers, small) is read whole by
-//! every process.
+//! partitioned solve through `deform_mpi::MpiExchange` (`PartitionedSprings` for the springs,
+//! [`solve`]; `quaternion::deform_spring_partitioned` for the quaternion method, which gathers
+//! the boundary to every process, [`solve_quaternion`]), counts the cells the motion inverted
+//! or folded with a summed reduction, and writes its own rows into their place of the output
+//! ([`write`]). Only the boundary (the markers, small) is read whole by every process.
 //!
-//! What runs: a rigid `--rotate` or `--translate` of named markers, `--method spring`,
-//! `--solver cg`, Batina stiffness, one step. Every other option is refused with a message,
-//! never run differently. The serial run's quality table, wall angles and `--vtk`/`--plot`
-//! are not computed; its failure policies are kept (an unconverged solve exits 5; cells
-//! newly inverted or folded exit 4, counted per cell without the serial check's discount for
-//! cells that overlap a neighbour in the input, so a mesh with such cells may be refused where
-//! the serial run writes it, never the other way round).
+//! What runs: a rigid `--rotate` or `--translate` of named markers, `--method spring` or
+//! `quaternion` (without `--reach`), `--solver cg`, Batina stiffness, one step. Every other
+//! option is refused with a message, never run differently. The serial run's quality table,
+//! wall angles and `--vtk`/`--plot` are not computed; its failure policies are kept (an
+//! unconverged solve exits 5; cells newly inverted or folded exit 4, counted per cell without
+//! the serial check's discount for cells that overlap a neighbour in the input, so a mesh with
+//! such cells may be refused where the serial run writes it, never the other way round).
 
 mod comm;
 mod local;
 mod read;
 mod solve;
+mod solve_quaternion;
 mod write;
 
 use std::process::ExitCode;
@@ -41,7 +43,7 @@ fn check_options(a: &MoveArgs) -> Result<(), CliError> {
     super::checks::check_method_options(a)?;
     let refuse = |what: &str| {
         Err(CliError::Invalid(format!(
-            "--distributed runs linear springs (--method spring --solver cg) with a rigid --rotate or --translate of named markers in one step: {what} (run it without --distributed)"
+            "--distributed runs linear springs or the quaternion method (--method spring or quaternion, --solver cg) with a rigid --rotate or --translate of named markers in one step: {what} (run it without --distributed)"
         )))
     };
     if crate::files::input_kind(&a.mesh)? != crate::files::FileKind::Su2
@@ -50,8 +52,11 @@ fn check_options(a: &MoveArgs) -> Result<(), CliError> {
     {
         return refuse("the input and the output must be SU2 files");
     }
-    if a.method() != Method::Spring || a.solver != Solver::Cg {
+    if !matches!(a.method(), Method::Spring | Method::Quaternion) || a.solver != Solver::Cg {
         return refuse("another --method or --solver");
+    }
+    if a.reach.is_some() {
+        return refuse("--reach");
     }
     if !matches!(a.stiffness(), StiffnessArg::Batina | StiffnessArg::Constant) {
         return refuse("--stiffness other than batina");
@@ -79,8 +84,10 @@ fn run(world: &World<'_>, cli: &Cli, a: &MoveArgs) -> Result<Outcome, Failed> {
     let checked = check_common(cli).and_then(|()| check_options(a));
     world.agree(checked)?;
     let r = read::read(world, &a.mesh)?;
-    let summary = match r.skeleton.dim {
-        2 => solve::run::<2>(world, a, &r)?,
+    let summary = match (a.method(), r.skeleton.dim) {
+        (Method::Quaternion, 2) => solve_quaternion::run::<2>(world, a, &r)?,
+        (Method::Quaternion, _) => solve_quaternion::run::<3>(world, a, &r)?,
+        (_, 2) => solve::run::<2>(world, a, &r)?,
         _ => solve::run::<3>(world, a, &r)?,
     };
     let rows = write::Rows {
@@ -117,8 +124,12 @@ fn report(
     let peak: Vec<u64> = per_rank.iter().map(|v| v[0]).collect();
     let ghosts: Vec<u64> = per_rank.iter().map(|v| v[1]).collect();
     let largest = peak.iter().copied().max().unwrap_or(0);
+    let (method, method_text) = match a.method() {
+        Method::Quaternion => ("quaternion", "quaternion method, spring propagation"),
+        _ => ("spring", "linear springs"),
+    };
     let text = format!(
-        "moved {} -> {} on {} processes (distributed, contiguous blocks of global ids): {} nodes, {} cells, {} moved and {} fixed nodes\nlinear springs, CG + Jacobi: {} iterations, relative residual {:.3e}{}\ncells newly inverted or folded: {} ({} inverted)\npeak memory per process: largest {:.1} MiB\ntime {:.2} s",
+        "moved {} -> {} on {} processes (distributed, contiguous blocks of global ids): {} nodes, {} cells, {} moved and {} fixed nodes\n{method_text}, CG + Jacobi: {} iterations, relative residual {:.3e}{}\ncells newly inverted or folded: {} ({} inverted)\npeak memory per process: largest {:.1} MiB\ntime {:.2} s",
         a.mesh.display(),
         a.out.display(),
         world.size,
@@ -138,6 +149,8 @@ fn report(
         "mesh": a.mesh.display().to_string(),
         "out": a.out.display().to_string(),
         "processes": world.size,
+        "method": method,
+        "solver": "cg",
         "nodes": r.npoin,
         "cells": r.nelem,
         "moved_nodes": s.moved,

@@ -1,6 +1,8 @@
 //! The motion, the partitioned solve and the failure policies on each process's local view.
 
-use deform_kernel::spring::{partitioned_cg_scratch_len, Preconditioner, SolveOptions};
+use deform_kernel::spring::{
+    partitioned_cg_scratch_len, Preconditioner, SolveOptions, SolveReport,
+};
 use deform_kernel::Quat;
 use deform_mpi::MpiExchange;
 
@@ -30,7 +32,7 @@ pub(super) struct Summary {
     pub ghosts: u64,
 }
 
-fn kernel(context: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {
+pub(super) fn kernel(context: &str) -> impl Fn(deform_kernel::Error) -> CliError + '_ {
     move |source| CliError::Kernel {
         context: context.into(),
         source,
@@ -101,10 +103,10 @@ fn centroid<const D: usize>(world: &World<'_>, l: &Local<D>, moved: &[u32]) -> [
 }
 
 /// A rigid motion: the rotation and its centre, or (`None`) the translation.
-type Rigid = (Option<Quat<f64>>, [f64; 3], [f64; 3]);
+pub(super) type Rigid = (Option<Quat<f64>>, [f64; 3], [f64; 3]);
 
 /// The prescribed displacement of a moved node at `p` (the serial run's arithmetic).
-fn displacement<const D: usize>(rigid: &Rigid, p: [f64; 3]) -> [f64; 3] {
+pub(super) fn displacement<const D: usize>(rigid: &Rigid, p: [f64; 3]) -> [f64; 3] {
     let (q, c, t) = rigid;
     match q {
         Some(q) => {
@@ -153,31 +155,63 @@ fn rigid<const D: usize>(
     }
 }
 
-/// The motion, the partitioned solve, the failure policies (see the module's documentation).
-pub(super) fn run<const D: usize>(
+/// What every distributed method starts from: the markers' nodes, the local view (fixed
+/// mask on the boundary) and the rigid motion.
+pub(super) struct Setup<const D: usize> {
+    /// The moved markers' nodes, ascending.
+    pub moved: Vec<u32>,
+    /// Every marker's nodes (moved and fixed), ascending: the serial boundary order.
+    pub boundary: Vec<u32>,
+    pub l: Local<D>,
+    pub motion: Rigid,
+}
+
+/// The checks every method shares, the local view and the motion.
+pub(super) fn setup<const D: usize>(
     world: &World<'_>,
     a: &MoveArgs,
     r: &Read,
-) -> Result<Summary, Failed> {
+) -> Result<Setup<D>, Failed> {
     let (moved, boundary) = world.agree(marker_sets(a, r))?;
     world.agree(super::super::checks::check_rigid_args(a, D))?;
     check_renumber(world, a, r)?;
     let l = build::<D>(world, r, &|g| boundary.binary_search(&(g as u32)).is_ok());
     let motion = rigid(world, a, r, &l, &moved)?;
+    Ok(Setup {
+        moved,
+        boundary,
+        l,
+        motion,
+    })
+}
+
+/// The solve options of the arguments (as the serial run's).
+pub(super) fn options(a: &MoveArgs) -> SolveOptions<f64> {
+    SolveOptions {
+        max_iterations: a.max_iter,
+        residual_tol: a.tol,
+        update_tol: 0.0,
+    }
+}
+
+/// The linear springs: the motion, the partitioned solve, the failure policies (see the
+/// module's documentation).
+pub(super) fn run<const D: usize>(
+    world: &World<'_>,
+    a: &MoveArgs,
+    r: &Read,
+) -> Result<Summary, Failed> {
+    let s = setup::<D>(world, a, r)?;
+    let l = &s.l;
     let mut values: Vec<[f64; D]> = (l.view.global_ids.iter().zip(&l.points3))
-        .map(|(&g, &p)| match moved.binary_search(&(g as u32)) {
+        .map(|(&g, &p)| match s.moved.binary_search(&(g as u32)) {
             Ok(_) => {
-                let d = displacement::<D>(&motion, p);
+                let d = displacement::<D>(&s.motion, p);
                 core::array::from_fn(|k| d[k])
             }
             Err(_) => [0.0; D],
         })
         .collect();
-    let options = SolveOptions {
-        max_iterations: a.max_iter,
-        residual_tol: a.tol,
-        update_tol: 0.0,
-    };
     let ex = MpiExchange::new(world.comm);
     let len = partitioned_cg_scratch_len::<D>(l.view.global_ids.len());
     let solved = (l.view)
@@ -185,19 +219,30 @@ pub(super) fn run<const D: usize>(
             l.view.owned,
             &mut values,
             Preconditioner::Jacobi,
-            &options,
+            &options(a),
             len,
             &ex,
         )
         .map_err(kernel("linear springs (partitioned)"));
     let report = world.agree(solved)?;
-    world.agree(converged(a, &report))?;
+    world.agree(converged(a, &report, "spring"))?;
     let deformed: Vec<[f64; 3]> = (l.points3.iter().zip(&values))
         .map(|(p, v)| core::array::from_fn(|k| if k < D { p[k] + v[k] } else { 0.0 }))
         .collect();
-    let mine = world.agree(local_folds::<D>(&l, &deformed))?;
+    finish(world, a, &s, &report, deformed)
+}
+
+/// The fold policy on the deformed local nodes (owned and ghosts), and the summary.
+pub(super) fn finish<const D: usize>(
+    world: &World<'_>,
+    a: &MoveArgs,
+    s: &Setup<D>,
+    report: &SolveReport<f64>,
+    deformed: Vec<[f64; 3]>,
+) -> Result<Summary, Failed> {
+    let mine = world.agree(local_folds::<D>(&s.l, &deformed))?;
     let (new_failures, inverted) = world.agree(folds(a, &world.sum(&mine), world.rank == 0))?;
-    let owned = l.view.owned;
+    let owned = s.l.view.owned;
     Ok(Summary {
         deformed: deformed.into_iter().take(owned).collect(),
         iterations: report.iterations,
@@ -205,19 +250,20 @@ pub(super) fn run<const D: usize>(
         converged: report.converged,
         new_failures,
         inverted,
-        moved: moved.len(),
-        fixed: boundary.len() - moved.len(),
-        ghosts: (l.view.global_ids.len() - owned) as u64,
+        moved: s.moved.len(),
+        fixed: s.boundary.len() - s.moved.len(),
+        ghosts: (s.l.view.global_ids.len() - owned) as u64,
     })
 }
 
-/// The serial run's policy: an unconverged solve is refused unless `--allow-unconverged`.
-fn converged(a: &MoveArgs, r: &deform_kernel::spring::SolveReport<f64>) -> Result<(), CliError> {
+/// The serial run's policy: an unconverged solve is refused unless `--allow-unconverged`
+/// (`what`: the method's solve, as the message names it).
+pub(super) fn converged(a: &MoveArgs, r: &SolveReport<f64>, what: &str) -> Result<(), CliError> {
     if r.converged || a.allow_unconverged {
         return Ok(());
     }
     Err(CliError::Unconverged(format!(
-        "{}: the spring solve (CG + Jacobi, distributed) stopped at relative residual {:.3e} after {} iterations (--tol {:e}, --max-iter {}); nothing was written (--allow-unconverged writes it anyway)",
+        "{}: the {what} solve (CG + Jacobi, distributed) stopped at relative residual {:.3e} after {} iterations (--tol {:e}, --max-iter {}); nothing was written (--allow-unconverged writes it anyway)",
         a.mesh.display(),
         r.residual,
         r.iterations,
