@@ -1095,7 +1095,13 @@ module deform_kernel
             dk_elasticity_amg_pool_sizes, dk_elasticity_deform_amg, dk_elasticity_deform_amg_f32, &
             dk_elasticity_sliding_scratch_len, dk_elasticity_deform_sliding, &
             dk_elasticity_deform_sliding_f32, dk_elasticity_deform_sliding_amg, &
-            dk_elasticity_deform_sliding_amg_f32
+            dk_elasticity_deform_sliding_amg_f32, dk_sensitivity_spring_sliding_tangent, &
+            dk_sensitivity_spring_sliding_tangent_f32, &
+            dk_sensitivity_spring_sliding_adjoint_scratch_len, &
+            dk_sensitivity_spring_sliding_adjoint, dk_sensitivity_spring_sliding_adjoint_f32, &
+            dk_elasticity_sliding_sensitivity_scratch_len, dk_elasticity_sliding_tangent, &
+            dk_elasticity_sliding_tangent_f32, dk_elasticity_sliding_adjoint, &
+            dk_elasticity_sliding_adjoint_f32
 
   interface
     function dk_boundary_motion_default(out) bind(C, name="dk_boundary_motion_default") result(s)
@@ -5860,6 +5866,213 @@ module deform_kernel
       integer(c_size_t), value :: points_len
       type(dk_plan_pools_f32), intent(in) :: pools
       type(dk_elasticity_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_spring_sliding_tangent(system, constraints, options, dim, dx, dx_len, &
+        scratch, scratch_len, index_scratch, index_scratch_len, report) bind(C, &
+        name="dk_sensitivity_spring_sliding_tangent") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_constraints, dk_spring_solve_options, &
+          dk_spring_solve_report, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
+      type(dk_constraints), intent(in) :: constraints
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(inout) :: dx(*)
+      integer(c_size_t), value :: dx_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_spring_sliding_tangent_f32(system, constraints, options, dim, dx, &
+        dx_len, scratch, scratch_len, index_scratch, index_scratch_len, report) bind(C, &
+        name="dk_sensitivity_spring_sliding_tangent_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_constraints_f32, dk_spring_solve_options, &
+          dk_spring_solve_report, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
+      type(dk_constraints_f32), intent(in) :: constraints
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(inout) :: dx(*)
+      integer(c_size_t), value :: dx_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_spring_sliding_adjoint_scratch_len(node_count, dim, options, len_out) &
+        bind(C, name="dk_sensitivity_spring_sliding_adjoint_scratch_len") result(s)
+      import :: c_int32_t, c_size_t, dk_spring_solve_options
+      integer(c_size_t), value :: node_count
+      integer(c_int32_t), value :: dim
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_spring_sliding_adjoint(system, constraints, options, dim, w, w_len, g, &
+        g_len, scratch, scratch_len, index_scratch, index_scratch_len, report) bind(C, &
+        name="dk_sensitivity_spring_sliding_adjoint") result(s)
+      import :: c_double, c_int32_t, c_size_t, dk_constraints, dk_spring_solve_options, &
+          dk_spring_solve_report, dk_spring_system
+      type(dk_spring_system), intent(in) :: system
+      type(dk_constraints), intent(in) :: constraints
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_int32_t), value :: dim
+      real(c_double), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_double), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_sensitivity_spring_sliding_adjoint_f32(system, constraints, options, dim, w, &
+        w_len, g, g_len, scratch, scratch_len, index_scratch, index_scratch_len, report) bind(C, &
+        name="dk_sensitivity_spring_sliding_adjoint_f32") result(s)
+      import :: c_float, c_int32_t, c_size_t, dk_constraints_f32, dk_spring_solve_options, &
+          dk_spring_solve_report, dk_spring_system_f32
+      type(dk_spring_system_f32), intent(in) :: system
+      type(dk_constraints_f32), intent(in) :: constraints
+      type(dk_spring_solve_options), intent(in) :: options
+      integer(c_int32_t), value :: dim
+      real(c_float), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_float), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_sliding_sensitivity_scratch_len(node_count, cell_count, edge_count, &
+        dim, len_out) bind(C, name="dk_elasticity_sliding_sensitivity_scratch_len") result(s)
+      import :: c_int32_t, c_size_t
+      integer(c_size_t), value :: node_count
+      integer(c_size_t), value :: cell_count
+      integer(c_size_t), value :: edge_count
+      integer(c_int32_t), value :: dim
+      integer(c_size_t), intent(inout) :: len_out
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_sliding_tangent(cells, index_base, index_scratch, index_scratch_len, &
+        graph, dim, fixed, fixed_len, constraints, options, wall_distance, wall_distance_len, &
+        points, points_len, dx, dx_len, scratch, scratch_len, report) bind(C, &
+        name="dk_elasticity_sliding_tangent") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_cells, dk_constraints, &
+          dk_elasticity_options, dk_graph, dk_spring_solve_report
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_constraints), intent(in) :: constraints
+      type(dk_elasticity_options), intent(in) :: options
+      real(c_double), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_double), intent(inout) :: dx(*)
+      integer(c_size_t), value :: dx_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_sliding_tangent_f32(cells, index_base, index_scratch, &
+        index_scratch_len, graph, dim, fixed, fixed_len, constraints, options, wall_distance, &
+        wall_distance_len, points, points_len, dx, dx_len, scratch, scratch_len, report) bind(C, &
+        name="dk_elasticity_sliding_tangent_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_cells, dk_constraints_f32, &
+          dk_elasticity_options, dk_graph, dk_spring_solve_report
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_constraints_f32), intent(in) :: constraints
+      type(dk_elasticity_options), intent(in) :: options
+      real(c_float), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_float), intent(inout) :: dx(*)
+      integer(c_size_t), value :: dx_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_sliding_adjoint(cells, index_base, index_scratch, index_scratch_len, &
+        graph, dim, fixed, fixed_len, constraints, options, wall_distance, wall_distance_len, &
+        points, points_len, w, w_len, g, g_len, scratch, scratch_len, report) bind(C, &
+        name="dk_elasticity_sliding_adjoint") result(s)
+      import :: c_double, c_int32_t, c_int8_t, c_size_t, dk_cells, dk_constraints, &
+          dk_elasticity_options, dk_graph, dk_spring_solve_report
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_constraints), intent(in) :: constraints
+      type(dk_elasticity_options), intent(in) :: options
+      real(c_double), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_double), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_double), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_double), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
+      real(c_double), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
+      integer(c_int32_t) :: s
+    end function
+    function dk_elasticity_sliding_adjoint_f32(cells, index_base, index_scratch, &
+        index_scratch_len, graph, dim, fixed, fixed_len, constraints, options, wall_distance, &
+        wall_distance_len, points, points_len, w, w_len, g, g_len, scratch, scratch_len, report) &
+        bind(C, name="dk_elasticity_sliding_adjoint_f32") result(s)
+      import :: c_float, c_int32_t, c_int8_t, c_size_t, dk_cells, dk_constraints_f32, &
+          dk_elasticity_options, dk_graph, dk_spring_solve_report
+      type(dk_cells), intent(in) :: cells
+      integer(c_int32_t), value :: index_base
+      integer(c_int32_t), intent(inout) :: index_scratch(*)
+      integer(c_size_t), value :: index_scratch_len
+      type(dk_graph), intent(in) :: graph
+      integer(c_int32_t), value :: dim
+      integer(c_int8_t), intent(in) :: fixed(*)
+      integer(c_size_t), value :: fixed_len
+      type(dk_constraints_f32), intent(in) :: constraints
+      type(dk_elasticity_options), intent(in) :: options
+      real(c_float), intent(in) :: wall_distance(*)
+      integer(c_size_t), value :: wall_distance_len
+      real(c_float), intent(in) :: points(*)
+      integer(c_size_t), value :: points_len
+      real(c_float), intent(in) :: w(*)
+      integer(c_size_t), value :: w_len
+      real(c_float), intent(inout) :: g(*)
+      integer(c_size_t), value :: g_len
+      real(c_float), intent(inout) :: scratch(*)
+      integer(c_size_t), value :: scratch_len
+      type(dk_spring_solve_report), intent(inout) :: report
       integer(c_int32_t) :: s
     end function
   end interface

@@ -8016,6 +8016,297 @@ dk_status dk_elasticity_deform_sliding_amg_f32(const dk_cells *cells,
                                                const dk_plan_pools_f32 *pools,
                                                dk_elasticity_report *report);
 
+// The tangent of the linear springs with sliding nodes: `dk_spring_solve_linear_sliding` with
+// the boundary perturbation as Dirichlet data (the kernel's
+// `sensitivity::spring_sliding_tangent`, the same bits). `dx` (`node_count * dim` scalars)
+// holds `δx_b` at the fixed nodes and the initial guess (zero, usually) elsewhere; on `DK_OK`
+// it receives `δx = J δx_b` at every node, in its plane or on its line at sliding nodes.
+// Arguments, `scratch` (`dk_spring_solve_linear_sliding_scratch_len`) and `index_scratch` as
+// for `dk_spring_solve_linear_sliding` (any one-level method).
+//
+// Errors (`dx` and report unchanged): those of `dk_spring_solve_linear_sliding`.
+//
+// # Safety
+// - `system`: one readable `dk_spring_system`.
+// - `constraints`: one readable `dk_constraints`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `dx`: readable and writable for `dx_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_sensitivity_spring_sliding_tangent(const dk_spring_system *system,
+                                                const dk_constraints *constraints,
+                                                const dk_spring_solve_options *options,
+                                                uint32_t dim,
+                                                double *dx,
+                                                size_t dx_len,
+                                                double *scratch,
+                                                size_t scratch_len,
+                                                uint32_t *index_scratch,
+                                                size_t index_scratch_len,
+                                                dk_spring_solve_report *report);
+
+// `f32` twin of [`dk_sensitivity_spring_sliding_tangent`].
+//
+// # Safety
+// As [`dk_sensitivity_spring_sliding_tangent`].
+dk_status dk_sensitivity_spring_sliding_tangent_f32(const dk_spring_system_f32 *system,
+                                                    const dk_constraints_f32 *constraints,
+                                                    const dk_spring_solve_options *options,
+                                                    uint32_t dim,
+                                                    float *dx,
+                                                    size_t dx_len,
+                                                    float *scratch,
+                                                    size_t scratch_len,
+                                                    uint32_t *index_scratch,
+                                                    size_t index_scratch_len,
+                                                    dk_spring_solve_report *report);
+
+// Scalars of `scratch` [`dk_sensitivity_spring_sliding_adjoint`] needs for `node_count`
+// nodes in dimension `dim` (2 or 3) with `options->method` (`DK_LINEAR_CG` only, else
+// `DK_ERR_INVALID_PARAMETER`): `dim · (6 n + ⌈n / dim⌉)` (the adjoint field, `P w`, the four
+// CG vectors, the diagonal). The same for both precisions.
+//
+// # Safety
+// - `options`: one readable `dk_spring_solve_options`.
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_sensitivity_spring_sliding_adjoint_scratch_len(size_t node_count,
+                                                            uint32_t dim,
+                                                            const dk_spring_solve_options *options,
+                                                            size_t *len_out);
+
+// The adjoint of [`dk_sensitivity_spring_sliding_tangent`]: for `w = dJ/dx` at every node
+// (`node_count * dim` scalars), `g` (as long) receives `dJ/dx_b` at the fixed nodes and zero
+// elsewhere, so that `⟨J δx_b, w⟩ = ⟨δx_b, g⟩`: `P (D − K) P λ = P w` by one projected CG
+// solve jointly over the components with the deformation's operator and preconditioner
+// (`options`: `DK_LINEAR_CG` with any preconditioner), then `g_j = w_j + Σ_{i not fixed}
+// k_ij λ_i` (the kernel's `sensitivity::spring_sliding_adjoint`, the same bits). `scratch`
+// needs [`dk_sensitivity_spring_sliding_adjoint_scratch_len`] scalars, `index_scratch`
+// `node_count` entries; `*report` is the solve's (not converged is `DK_OK` with `converged`
+// false).
+//
+// Errors (`g` and report unchanged): those of [`dk_sensitivity_spring_sliding_tangent`],
+// `DK_ERR_INVALID_PARAMETER` for a method other than CG, `DK_ERR_NON_FINITE` (`w`),
+// `DK_ERR_LENGTH_MISMATCH` (`w`, `g`), `DK_ERR_BUFFER_TOO_SMALL` (`scratch`).
+//
+// # Safety
+// - `system`: one readable `dk_spring_system`.
+// - `constraints`: one readable `dk_constraints`.
+// - `options`: one readable `dk_spring_solve_options`.
+// - `w`: readable for `w_len` elements (`double`).
+// - `g`: readable and writable for `g_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_sensitivity_spring_sliding_adjoint(const dk_spring_system *system,
+                                                const dk_constraints *constraints,
+                                                const dk_spring_solve_options *options,
+                                                uint32_t dim,
+                                                const double *w,
+                                                size_t w_len,
+                                                double *g,
+                                                size_t g_len,
+                                                double *scratch,
+                                                size_t scratch_len,
+                                                uint32_t *index_scratch,
+                                                size_t index_scratch_len,
+                                                dk_spring_solve_report *report);
+
+// `f32` twin of [`dk_sensitivity_spring_sliding_adjoint`].
+//
+// # Safety
+// As [`dk_sensitivity_spring_sliding_adjoint`].
+dk_status dk_sensitivity_spring_sliding_adjoint_f32(const dk_spring_system_f32 *system,
+                                                    const dk_constraints_f32 *constraints,
+                                                    const dk_spring_solve_options *options,
+                                                    uint32_t dim,
+                                                    const float *w,
+                                                    size_t w_len,
+                                                    float *g,
+                                                    size_t g_len,
+                                                    float *scratch,
+                                                    size_t scratch_len,
+                                                    uint32_t *index_scratch,
+                                                    size_t index_scratch_len,
+                                                    dk_spring_solve_report *report);
+
+// Scalars of `scratch` [`dk_elasticity_sliding_tangent`] and
+// [`dk_elasticity_sliding_adjoint`] need: `cell_count + dim²·(node_count + edge_count) +
+// 6·dim·node_count` (the moduli, the node and edge blocks, then `λ`, `P w` and the four CG
+// vectors), `edge_count` the graph's `targets_len` (the same for both precisions).
+//
+// # Safety
+// - `len_out`: one readable and writable `size_t`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_elasticity_sliding_sensitivity_scratch_len(size_t node_count,
+                                                        size_t cell_count,
+                                                        size_t edge_count,
+                                                        uint32_t dim,
+                                                        size_t *len_out);
+
+// The tangent of `dk_elasticity_deform_sliding` with one step (`options->steps` must be 1:
+// the map is then linear): the stiffness assembled on `points` (the undeformed mesh, read
+// only) and the deformation's own projected block-Jacobi CG solve with the boundary
+// perturbation as Dirichlet data (the kernel's `sensitivity::elastic_sliding_tangent`, the
+// same bits). `dx` (`node_count * dim` scalars) holds `δu_b` at the fixed nodes and the
+// initial guess (zero, usually) elsewhere; on `DK_OK` it receives `δu = J δu_b` at every
+// node, in its plane or on its line at sliding nodes. Other arguments as
+// `dk_elasticity_deform_sliding`; `scratch` needs
+// [`dk_elasticity_sliding_sensitivity_scratch_len`] scalars; `*report` is the solve's.
+//
+// Errors (`dx` and report unchanged): those of `dk_elasticity_deform_sliding`,
+// `DK_ERR_INVALID_PARAMETER` for `steps` other than 1.
+//
+// # Safety
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `graph`: one readable `dk_graph`.
+// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+// - `constraints`: one readable `dk_constraints`.
+// - `options`: one readable `dk_elasticity_options`.
+// - `wall_distance`: readable for `wall_distance_len` elements (`double`).
+// - `points`: readable for `points_len` elements (`double`).
+// - `dx`: readable and writable for `dx_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_elasticity_sliding_tangent(const dk_cells *cells,
+                                        uint32_t index_base,
+                                        uint32_t *index_scratch,
+                                        size_t index_scratch_len,
+                                        const dk_graph *graph,
+                                        uint32_t dim,
+                                        const uint8_t *fixed,
+                                        size_t fixed_len,
+                                        const dk_constraints *constraints,
+                                        const dk_elasticity_options *options,
+                                        const double *wall_distance,
+                                        size_t wall_distance_len,
+                                        const double *points,
+                                        size_t points_len,
+                                        double *dx,
+                                        size_t dx_len,
+                                        double *scratch,
+                                        size_t scratch_len,
+                                        dk_spring_solve_report *report);
+
+// `f32` twin of [`dk_elasticity_sliding_tangent`].
+//
+// # Safety
+// As [`dk_elasticity_sliding_tangent`].
+dk_status dk_elasticity_sliding_tangent_f32(const dk_cells *cells,
+                                            uint32_t index_base,
+                                            uint32_t *index_scratch,
+                                            size_t index_scratch_len,
+                                            const dk_graph *graph,
+                                            uint32_t dim,
+                                            const uint8_t *fixed,
+                                            size_t fixed_len,
+                                            const dk_constraints_f32 *constraints,
+                                            const dk_elasticity_options *options,
+                                            const float *wall_distance,
+                                            size_t wall_distance_len,
+                                            const float *points,
+                                            size_t points_len,
+                                            float *dx,
+                                            size_t dx_len,
+                                            float *scratch,
+                                            size_t scratch_len,
+                                            dk_spring_solve_report *report);
+
+// The adjoint of [`dk_elasticity_sliding_tangent`]: for `w = dJ/du` at every node
+// (`node_count * dim` scalars), `g` (as long) receives `dJ/du_b` at the fixed nodes and zero
+// elsewhere, so that `⟨J δu_b, w⟩ = ⟨δu_b, g⟩`: `P K P λ = P w` by one projected
+// block-Jacobi CG solve from a zero guess, then `g_b = w_b − (K λ)_b` (the kernel's
+// `sensitivity::elastic_sliding_adjoint`, the same bits). Arguments otherwise as
+// [`dk_elasticity_sliding_tangent`].
+//
+// Errors (`g` and report unchanged): those of [`dk_elasticity_sliding_tangent`],
+// `DK_ERR_NON_FINITE` (`w`), `DK_ERR_LENGTH_MISMATCH` (`w`, `g`).
+//
+// # Safety
+// - `cells`: one readable `dk_cells`.
+// - `index_scratch`: readable and writable for `index_scratch_len` elements (`uint32_t`).
+// - `graph`: one readable `dk_graph`.
+// - `fixed`: readable for `fixed_len` elements (`uint8_t`).
+// - `constraints`: one readable `dk_constraints`.
+// - `options`: one readable `dk_elasticity_options`.
+// - `wall_distance`: readable for `wall_distance_len` elements (`double`).
+// - `points`: readable for `points_len` elements (`double`).
+// - `w`: readable for `w_len` elements (`double`).
+// - `g`: readable and writable for `g_len` elements (`double`).
+// - `scratch`: readable and writable for `scratch_len` elements (`double`).
+// - `report`: one readable and writable `dk_spring_solve_report`.
+//
+// The arrays of a struct passed by pointer are valid for the lengths beside them; no
+// writable buffer overlaps another argument unless the text above allows it. NULL is
+// never read: it is `DK_ERR_NULL_POINTER`, or an empty array where the length is 0.
+dk_status dk_elasticity_sliding_adjoint(const dk_cells *cells,
+                                        uint32_t index_base,
+                                        uint32_t *index_scratch,
+                                        size_t index_scratch_len,
+                                        const dk_graph *graph,
+                                        uint32_t dim,
+                                        const uint8_t *fixed,
+                                        size_t fixed_len,
+                                        const dk_constraints *constraints,
+                                        const dk_elasticity_options *options,
+                                        const double *wall_distance,
+                                        size_t wall_distance_len,
+                                        const double *points,
+                                        size_t points_len,
+                                        const double *w,
+                                        size_t w_len,
+                                        double *g,
+                                        size_t g_len,
+                                        double *scratch,
+                                        size_t scratch_len,
+                                        dk_spring_solve_report *report);
+
+// `f32` twin of [`dk_elasticity_sliding_adjoint`].
+//
+// # Safety
+// As [`dk_elasticity_sliding_adjoint`].
+dk_status dk_elasticity_sliding_adjoint_f32(const dk_cells *cells,
+                                            uint32_t index_base,
+                                            uint32_t *index_scratch,
+                                            size_t index_scratch_len,
+                                            const dk_graph *graph,
+                                            uint32_t dim,
+                                            const uint8_t *fixed,
+                                            size_t fixed_len,
+                                            const dk_constraints_f32 *constraints,
+                                            const dk_elasticity_options *options,
+                                            const float *wall_distance,
+                                            size_t wall_distance_len,
+                                            const float *points,
+                                            size_t points_len,
+                                            const float *w,
+                                            size_t w_len,
+                                            float *g,
+                                            size_t g_len,
+                                            float *scratch,
+                                            size_t scratch_len,
+                                            dk_spring_solve_report *report);
+
 #ifdef __cplusplus
 }  // extern "C"
 #endif  // __cplusplus

@@ -259,7 +259,7 @@ pub(crate) fn dk_elasticity_options_default<T: Real>(
 }
 
 /// `D×D` blocks carved from a flat scalar slice.
-fn blocks<T, const D: usize>(flat: &mut [T]) -> &mut [Block<T, D>] {
+pub(crate) fn blocks<T, const D: usize>(flat: &mut [T]) -> &mut [Block<T, D>] {
     flat.as_chunks_mut::<D>().0.as_chunks_mut::<D>().0
 }
 

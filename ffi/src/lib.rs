@@ -92,5 +92,7 @@ pub mod elasticity_layer;
 pub mod elasticity_sensitivity;
 #[path = "../generated/elasticity_solvers.rs"]
 pub mod elasticity_solvers;
+#[path = "../generated/sliding_sensitivity.rs"]
+pub mod sliding_sensitivity;
 
 pub use status::{dk_status, dk_status_str};

@@ -193,6 +193,61 @@ int main(void) {
         }
     }
 
+    /* The sliding sensitivities: a NULL struct (system, constraints, cells, graph) or a bad
+     * dim is refused, nothing written. */
+    {
+        double dx[2] = {sentinel, sentinel}, g[2] = {sentinel, sentinel}, w2[2] = {0.0, 0.0};
+        float dx32[2] = {12345.0f, 12345.0f}, g32[2] = {12345.0f, 12345.0f}, w32[2] = {0, 0};
+        float p32[2] = {0, 0};
+        size_t len = 99;
+        dk_spring_solve_options so;
+        dk_elasticity_options eo;
+        dk_spring_solve_report rep, rep0;
+        EXPECT(dk_spring_solve_options_default(&so), DK_OK);
+        EXPECT(dk_elasticity_options_default(&eo), DK_OK);
+        memset(&rep, 0x5a, sizeof rep);
+        memcpy(&rep0, &rep, sizeof rep);
+        EXPECT(dk_sensitivity_spring_sliding_adjoint_scratch_len(4, 5, &so, &len),
+               DK_ERR_INVALID_PARAMETER);
+        EXPECT(dk_elasticity_sliding_sensitivity_scratch_len(4, 1, 4, 0, &len),
+               DK_ERR_INVALID_PARAMETER);
+        if (len != 99) {
+            printf("FAIL len_out was written\n");
+            failures++;
+        }
+        EXPECT(dk_sensitivity_spring_sliding_tangent(NULL, NULL, &so, 2, dx, 2, NULL, 0, NULL, 0,
+                                                     &rep),
+               DK_ERR_NULL_POINTER);
+        EXPECT(dk_sensitivity_spring_sliding_tangent_f32(NULL, NULL, &so, 2, dx32, 2, NULL, 0,
+                                                         NULL, 0, &rep),
+               DK_ERR_NULL_POINTER);
+        EXPECT(dk_sensitivity_spring_sliding_adjoint(NULL, NULL, &so, 2, w2, 2, g, 2, NULL, 0,
+                                                     NULL, 0, &rep),
+               DK_ERR_NULL_POINTER);
+        EXPECT(dk_sensitivity_spring_sliding_adjoint_f32(NULL, NULL, &so, 7, w32, 2, g32, 2, NULL,
+                                                         0, NULL, 0, &rep),
+               DK_ERR_INVALID_PARAMETER);
+        EXPECT(dk_elasticity_sliding_tangent(&one_quad, 0, NULL, 0, NULL, 2, NULL, 0, NULL, &eo,
+                                             NULL, 0, w2, 2, dx, 2, NULL, 0, &rep),
+               DK_ERR_NULL_POINTER);
+        EXPECT(dk_elasticity_sliding_tangent_f32(NULL, 0, NULL, 0, NULL, 2, NULL, 0, NULL, &eo,
+                                                 NULL, 0, p32, 2, dx32, 2, NULL, 0, &rep),
+               DK_ERR_NULL_POINTER);
+        EXPECT(dk_elasticity_sliding_adjoint(NULL, 0, NULL, 0, NULL, 2, NULL, 0, NULL, &eo, NULL,
+                                             0, pts, 2, w2, 2, g, 2, NULL, 0, &rep),
+               DK_ERR_NULL_POINTER);
+        EXPECT(dk_elasticity_sliding_adjoint_f32(NULL, 0, NULL, 0, NULL, 2, NULL, 0, NULL, &eo,
+                                                 NULL, 0, p32, 2, w32, 2, g32, 2, NULL, 0, NULL),
+               DK_ERR_NULL_POINTER);
+        UNTOUCHED(dx, 2);
+        UNTOUCHED(g, 2);
+        if (dx32[0] != 12345.0f || dx32[1] != 12345.0f || g32[0] != 12345.0f ||
+            memcmp(&rep, &rep0, sizeof rep) != 0) {
+            printf("FAIL a sliding sensitivity output was written\n");
+            failures++;
+        }
+    }
+
     if (strcmp(dk_status_str(DK_OK), "success") != 0 || dk_status_str(-7) == NULL) {
         printf("FAIL dk_status_str\n");
         failures++;
