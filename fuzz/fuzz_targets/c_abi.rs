@@ -2635,16 +2635,7 @@ fn deform<T: Sc>(c: &mut Ctx, sp_: &DeformSpec) {
         assert!(rep.untouched());
     }
     if s == dk_status::DK_OK && m.dim as usize == d {
-        // Boundary nodes are reproduced bitwise.
-        for (b, &node) in nodes.iter().enumerate() {
-            let node = node as usize;
-            assert!(
-                bits(&out.v[node * d..(node + 1) * d]) == bits(&deformed[b * d..(b + 1) * d]),
-                "boundary node {node} (position {b}) not reproduced: {:?} vs {:?}",
-                &out.v[node * d..(node + 1) * d],
-                &deformed[b * d..(b + 1) * d]
-            );
-        }
+        assert_boundary_bits("deform", &out.v, nodes, deformed, d);
     }
 }
 
@@ -2770,11 +2761,18 @@ fn deform_fast<T: Sc>(c: &mut Ctx, sp_: &DeformSpec, f: &FastSpec) {
     }
     // Boundary nodes get the deformed positions (deformation) or `δd` (tangent) bitwise.
     let given = if mode == 0 { &mb.deformed } else { &field };
-    for (b, &node) in mb.nodes.iter().enumerate() {
+    assert_boundary_bits("deform_idw_fast", &out.v, &mb.nodes, given, d);
+}
+
+/// `out` (`d` values per mesh node) holds `given` (`d` per boundary position) at every boundary
+/// node `nodes[b]`, bit for bit.
+fn assert_boundary_bits<T: Sc>(what: &str, out: &[T], nodes: &[u32], given: &[T], d: usize) {
+    for (b, &node) in nodes.iter().enumerate() {
         let node = node as usize;
+        let (o, g) = (&out[node * d..(node + 1) * d], &given[b * d..(b + 1) * d]);
         assert!(
-            bits(&out.v[node * d..(node + 1) * d]) == bits(&given[b * d..(b + 1) * d]),
-            "fast IDW (mode {mode}): boundary node {node} (position {b}) not reproduced"
+            bits(o) == bits(g),
+            "{what}: boundary node {node} (position {b}) not reproduced: {o:?} vs {g:?}"
         );
     }
 }
@@ -3746,15 +3744,7 @@ fn plan<T: PlanSc>(c: &mut Ctx, quaternion: bool, amg: bool, steps: u8, corrupt:
             assert!(all_sent(&out.v), "plan step: out written on {s:?}");
             return;
         }
-        for (j, &node) in m.boundary.iter().enumerate() {
-            for k in 0..d {
-                assert_eq!(
-                    out.v[node as usize * d + k].bits(),
-                    deformed[j * d + k].bits(),
-                    "plan step: boundary point not reproduced"
-                );
-            }
-        }
+        assert_boundary_bits("plan step", &out.v, &m.boundary, &deformed, d);
         let r = report.get();
         if r.converged && m.finite && !c.vals.nonfinite {
             assert!(all_fin(&out.v[..m.n * d]), "plan step: non-finite output");
